@@ -1,0 +1,304 @@
+r"""Planar geometrically exact (Simo–Reissner) beam on a scikit-fem ``MeshLine``.
+
+Total Lagrangian description. Each node carries the displacement (u_x, u_y) in m and the
+rotation θ in rad (counter-clockwise positive) of its cross-section. The reference centreline
+X(ξ) is parametrised by its arc length ξ, which is the coordinate of the ``MeshLine``; X itself
+is a nodal field interpolated with the same shape functions, so inclined beams and polylines
+need nothing special.
+
+With J = |X'|, φ = atan2(X'_2, X'_1) + θ, t(φ) = (cos φ, sin φ), n(φ) = (−sin φ, cos φ) and
+a = (X' + u')/J, the strains are
+
+    axial  Γ = a·t − 1,    shear  γ = a·n,    curvature  κ = θ'/J,
+
+and the strain energy is W = ½ ∫ (EA Γ² + G A_s γ² + EI κ²) J dξ. The internal force is ∂W/∂q
+and the tangent its exact (symmetric) Hessian. A rigid motion leaves Γ, γ and κ at zero.
+
+Stiffness is integrated with the one-point rule (reduced integration, free of shear locking for
+linear elements); the mass needs the full rule, a one-point mass matrix being singular. In the
+plane the mass matrix is constant: ρA on the translations, ρI on the rotation, plus point masses.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+import skfem
+from skfem.models.poisson import mass as _mass_form
+
+from .errors import InputError, check_finite, check_positive, check_range
+
+__all__ = ["Material", "Section", "Beam2D"]
+
+_MIDPOINT = (np.array([[0.5]]), np.array([1.0]))
+
+
+@dataclass(frozen=True)
+class Material:
+    """Isotropic linear elastic material.
+
+    Parameters
+    ----------
+    E : Young's modulus in Pa (> 0).
+    rho : density in kg/m³ (> 0).
+    nu : Poisson's ratio, in (−1, 0.5].
+    """
+
+    E: float
+    rho: float
+    nu: float = 0.3
+
+    def __post_init__(self):
+        object.__setattr__(self, "E", check_positive("E", self.E))
+        object.__setattr__(self, "rho", check_positive("rho", self.rho))
+        object.__setattr__(self, "nu", check_range("nu", self.nu, -1.0, 0.5, (False, True)))
+
+    @property
+    def G(self) -> float:
+        """Shear modulus E / (2(1 + ν)) in Pa."""
+        return self.E / (2.0 * (1.0 + self.nu))
+
+
+@dataclass(frozen=True)
+class Section:
+    """Beam cross-section: area A in m², second moment I in m⁴, shear correction factor."""
+
+    area: float
+    inertia: float
+    shear_factor: float = 5.0 / 6.0
+
+    def __post_init__(self):
+        object.__setattr__(self, "area", check_positive("area", self.area))
+        object.__setattr__(self, "inertia", check_positive("inertia", self.inertia))
+        object.__setattr__(
+            self, "shear_factor", check_positive("shear_factor", self.shear_factor)
+        )
+
+    @classmethod
+    def rectangle(cls, width: float, thickness: float) -> Section:
+        """Solid rectangle ``width`` × ``thickness`` (m), bending about the width axis."""
+        b = check_positive("width", width)
+        t = check_positive("thickness", thickness)
+        return cls(area=b * t, inertia=b * t**3 / 12.0, shear_factor=5.0 / 6.0)
+
+    @classmethod
+    def circle(cls, radius: float) -> Section:
+        """Solid circle of ``radius`` (m)."""
+        r = check_positive("radius", radius)
+        return cls(area=np.pi * r**2, inertia=np.pi * r**4 / 4.0, shear_factor=0.9)
+
+
+class Beam2D:
+    """Planar Simo–Reissner beam through ``nodes`` (an (n, 2) array in m, in order).
+
+    Elements join consecutive nodes. Supports (``pin``, ``clamp``) and point masses
+    (``add_mass``) are set with chainable methods; node indices may be negative (``-1`` is the
+    last node). Dofs are ordered node by node as (u_x, u_y, θ).
+    """
+
+    dofs_per_node = 3
+
+    def __init__(self, nodes, material: Material, section: Section):
+        X = check_finite("nodes", nodes)
+        if X.ndim != 2 or X.shape[1] != 2 or X.shape[0] < 2:
+            raise InputError(f"nodes must be an (n >= 2, 2) array, got shape {X.shape}")
+        seg = np.linalg.norm(np.diff(X, axis=0), axis=1)
+        if np.any(seg <= 1e-12 * seg.sum()):
+            k = int(np.argmin(seg))
+            raise InputError(f"nodes: element {k} has zero length (nodes {k} and {k + 1})")
+        self.X = X
+        self.material = material
+        self.section = section
+        self.mesh = skfem.MeshLine(np.concatenate([[0.0], np.cumsum(seg)]))
+        self.length = float(seg.sum())
+        self.fixed: set[int] = set()
+        self.point_masses = np.zeros(len(X))
+        self._stiffness_basis = skfem.Basis(self.mesh, skfem.ElementLineP1(), quadrature=_MIDPOINT)
+        self._mass_basis = skfem.Basis(self.mesh, skfem.ElementLineP1(), intorder=2)
+        self._init_kernel_data()
+
+    # -- construction -----------------------------------------------------------------------
+    @classmethod
+    def straight(cls, start, end, n_elements: int, material: Material, section: Section):
+        """Straight beam from ``start`` to ``end`` (m) with ``n_elements`` equal elements."""
+        n = _check_count("n_elements", n_elements)
+        a, b = check_finite("start", start), check_finite("end", end)
+        if np.linalg.norm(b - a) == 0.0:
+            raise InputError("length must be > 0: start and end coincide")
+        s = np.linspace(0.0, 1.0, n + 1)[:, None]
+        return cls(a + s * (b - a), material, section)
+
+    @classmethod
+    def polyline(cls, points, n_elements, material: Material, section: Section):
+        """Beam along the polyline ``points`` with ``n_elements`` per segment (int or list)."""
+        P = check_finite("points", points)
+        counts = np.broadcast_to(np.asarray(n_elements), (len(P) - 1,))
+        parts = [P[:1]]
+        for k, n in enumerate(counts):
+            s = np.linspace(0.0, 1.0, _check_count("n_elements", n) + 1)[1:, None]
+            parts.append(P[k] + s * (P[k + 1] - P[k]))
+        return cls(np.vstack(parts), material, section)
+
+    def _node(self, node: int) -> int:
+        n = len(self.X)
+        if not -n <= int(node) < n:
+            raise InputError(f"node must be in [{-n}, {n - 1}], got {node}")
+        return int(node) % n
+
+    def pin(self, node: int) -> Beam2D:
+        """Fix the displacement of ``node``; its rotation stays free."""
+        i = self._node(node)
+        self.fixed.update((3 * i, 3 * i + 1))
+        return self
+
+    def clamp(self, node: int) -> Beam2D:
+        """Fix the displacement and the rotation of ``node``."""
+        i = self._node(node)
+        self.fixed.update((3 * i, 3 * i + 1, 3 * i + 2))
+        return self
+
+    def add_mass(self, node: int, mass: float) -> Beam2D:
+        """Attach a point mass (kg) to the translations of ``node``."""
+        self.point_masses[self._node(node)] += check_positive("mass", mass, allow_zero=True)
+        return self
+
+    # -- sizes -------------------------------------------------------------------------------
+    @property
+    def n_nodes(self) -> int:
+        return len(self.X)
+
+    @property
+    def ndof(self) -> int:
+        return 3 * len(self.X)
+
+    @property
+    def element_dofs(self) -> np.ndarray:
+        """(n_elements, 6) local dof indices of each element."""
+        nodes = self._stiffness_basis.element_dofs.T
+        return (3 * nodes[:, :, None] + np.arange(3)).reshape(len(nodes), -1)
+
+    @property
+    def beam_mass(self) -> float:
+        """Mass of the beam without point masses, kg."""
+        return self.material.rho * self.section.area * self.length
+
+    # -- kernels -----------------------------------------------------------------------------
+    def _init_kernel_data(self):
+        b = self._stiffness_basis
+        self._N = np.array([phi[0].value for phi in b.basis])  # (n_loc, E, Q)
+        self._dN = np.array([phi[0].grad[0] for phi in b.basis])
+        self._w = b.dx  # (E, Q) quadrature weight in ξ
+        self._enodes = b.element_dofs  # (n_loc, E)
+        dX = np.einsum("aeq,aei->eqi", self._dN, self.X[self._enodes])
+        self._J = np.linalg.norm(dX, axis=-1)
+        self._dX = dX
+        self._phi0 = np.arctan2(dX[..., 1], dX[..., 0])
+        m, s = self.material, self.section
+        self._C = np.array([m.E * s.area, m.G * s.area * s.shear_factor, m.E * s.inertia])
+
+    def strains(self, q: np.ndarray) -> tuple[np.ndarray, ...]:
+        """Axial Γ, shear γ and curvature κ (1/m) at the stiffness quadrature points."""
+        return self._kinematics(q)[:3]
+
+    def _kinematics(self, q):
+        U = q.reshape(-1, 3)
+        N, dN, en = self._N, self._dN, self._enodes
+        a = (self._dX + np.einsum("aeq,aei->eqi", dN, U[en, :2])) / self._J[..., None]
+        phi = self._phi0 + np.einsum("aeq,ae->eq", N, U[en, 2])
+        t = np.stack([np.cos(phi), np.sin(phi)], axis=-1)
+        n = np.stack([-t[..., 1], t[..., 0]], axis=-1)
+        Gam = np.einsum("eqi,eqi->eq", a, t) - 1.0
+        gam = np.einsum("eqi,eqi->eq", a, n)
+        kap = np.einsum("aeq,ae->eq", dN, U[en, 2]) / self._J
+        return Gam, gam, kap, t, n
+
+    def energy(self, q: np.ndarray) -> float:
+        """Strain energy W(q) in J."""
+        Gam, gam, kap = self.strains(q)
+        C = self._C
+        return 0.5 * float(np.sum(self._w * self._J * (C[0] * Gam**2 + C[1] * gam**2 + C[2] * kap**2)))
+
+    def internal(self, q: np.ndarray, tangent: bool = True):
+        """Strain energy (J), internal force ∂W/∂q (N, N·m) and element tangents (E, 6, 6)."""
+        Gam, gam, kap, t, n = self._kinematics(q)
+        C, J, N, dN = self._C, self._J, self._N, self._dN
+        w = self._w * J
+        S = C[:, None, None] * np.stack([Gam, gam, kap])  # resultants: axial, shear, moment
+        nl = N.shape[0]
+        # B[e, q, strain, a, dof]: derivatives of (Γ, γ, κ) w.r.t. node a's (u_x, u_y, θ)
+        B = np.zeros(Gam.shape + (3, nl, 3))
+        dNJ = np.moveaxis(dN / J, 0, -1)  # (E, Q, a)
+        Nq = np.moveaxis(N, 0, -1)
+        B[..., 0, :, :2] = dNJ[..., None] * t[:, :, None, :]
+        B[..., 0, :, 2] = Nq * gam[..., None]
+        B[..., 1, :, :2] = dNJ[..., None] * n[:, :, None, :]
+        B[..., 1, :, 2] = -Nq * (1.0 + Gam)[..., None]
+        B[..., 2, :, 2] = dNJ
+        B = B.reshape(Gam.shape + (3, 3 * nl))
+        f_e = np.einsum("eq,seq,eqsi->ei", w, S, B)
+        W = 0.5 * float(np.sum(w * np.einsum("s,seq->eq", C, np.stack([Gam, gam, kap]) ** 2)))
+        f = np.bincount(self.element_dofs.ravel(), f_e.ravel(), minlength=self.ndof)
+        if not tangent:
+            return W, f, None
+        K_e = np.einsum("eq,s,eqsi,eqsj->eij", w, C, B, B)
+        # geometric stiffness: resultants times second derivatives of the strains
+        Nax, V = S[0], S[1]
+        k_ut = (w / J)[..., None] * (Nax[..., None] * n - V[..., None] * t)  # (E, Q, 2)
+        k_tt = -w * (Nax * (1.0 + Gam) + V * gam)
+        G = np.zeros(Gam.shape[:1] + (nl, 3, nl, 3))
+        G[:, :, :2, :, 2] = np.einsum("aeq,beq,eqi->eaib", dN, N, k_ut)
+        G[:, :, 2, :, :2] = G[:, :, :2, :, 2].transpose(0, 3, 1, 2)
+        G[:, :, 2, :, 2] = np.einsum("aeq,beq,eq->eab", N, N, k_tt)
+        K_e += G.reshape(K_e.shape)
+        return W, f, K_e
+
+    def mass_matrix(self) -> sp.csr_matrix:
+        """Consistent mass (kg, kg·m²): kron(scalar P1 mass, diag(ρA, ρA, ρI)) + point masses."""
+        rho = self.material.rho
+        m1 = _mass_form.assemble(self._mass_basis)
+        diag = np.array([rho * self.section.area, rho * self.section.area, rho * self.section.inertia])
+        M = sp.kron(m1, sp.diags(diag), format="csr")
+        M = M + sp.diags(np.repeat(self.point_masses, 3) * np.tile([1.0, 1.0, 0.0], self.n_nodes))
+        return M.tocsr()
+
+    def translation_field(self, vector) -> np.ndarray:
+        """Nodal dof vector with ``vector`` on every translation and 0 on the rotations."""
+        f = np.zeros((self.n_nodes, 3))
+        f[:, :2] = vector
+        return f.ravel()
+
+    # -- geometry and output -----------------------------------------------------------------
+    def positions(self, q: np.ndarray) -> np.ndarray:
+        """Current node coordinates X + u (m), shape (n, 2)."""
+        return self.X + q.reshape(-1, 3)[:, :2]
+
+    def node_translation_dofs(self, nodes) -> np.ndarray:
+        """(len(nodes), 2) local dof indices of (u_x, u_y) at ``nodes``."""
+        idx = np.array([self._node(i) for i in np.atleast_1d(nodes)], dtype=int)
+        return 3 * idx[:, None] + np.arange(2)
+
+    def segments(self) -> np.ndarray:
+        """(n_elements, 2) node indices of the centreline segments."""
+        return self._enodes.T
+
+    def point_data(self, q: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:
+        """Nodal fields for output: displacement, velocity (2D vectors) and rotation (rad)."""
+        Q, V = q.reshape(-1, 3), v.reshape(-1, 3)
+        return {
+            "displacement": Q[:, :2],
+            "velocity": V[:, :2],
+            "rotation": Q[:, 2],
+            "angular_velocity": V[:, 2],
+        }
+
+    def cells(self) -> list[tuple[str, np.ndarray]]:
+        """Cells for VTU output: the centreline as ``line`` cells."""
+        return [("line", self.segments())]
+
+
+def _check_count(name: str, value) -> int:
+    if isinstance(value, bool) or int(value) != value or int(value) < 1:
+        raise InputError(f"{name} must be an integer >= 1, got {value!r}")
+    return int(value)

@@ -1,0 +1,339 @@
+r"""Unilateral contact: gaps, their derivatives, and the Alart–Curnier augmented Lagrangian.
+
+Notation (after Brüls, Acary & Cardona 2014, eqs. 9–10):
+
+=========  ==============================================================================
+g_j(q)     signed gap of contact j in m (> 0 open, 0 closed, < 0 penetrating)
+G_j        ∂g_j/∂q, a row over the dofs
+ν_j        position-level multiplier (kg·m); the contact force of the correction is k ν_j
+Λ_j        velocity-level multiplier; k Λ_j is the contact impulse in N·s
+p, k       augmentation (penalty) and multiplier scaling, both > 0
+[x]_+      max(x, 0)
+=========  ==============================================================================
+
+Position level: with s_j = k ν_j − p g_j the contact force is Σ G_jᵀ [s_j]_+ and the
+complementarity residual k ν_j − [s_j]_+ vanishes exactly when 0 ≤ g_j ⊥ ν_j ≥ 0. Velocity
+level: the same with ġ_j = G_j(q_{n+1}) v_{n+1} + e_j G_j(q_n) v_n (Newton's impact law with
+restitution e_j) in place of g_j and Λ_j in place of ν_j.
+
+Semi-smooth Newton on these residuals is a primal–dual active-set method: the active set
+A = {j : s_j > 0} is re-evaluated after every update, and on A the linearised constraint is
+enforced exactly, so the converged answer does not depend on p or k; they only steer the path.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .errors import InputError, check_range
+from .obstacles import Circle, Plane, Point
+
+__all__ = [
+    "Contact",
+    "NodeContact",
+    "PointSegmentContact",
+    "alart_curnier_residual",
+    "contact_force_multiplier",
+    "solve_position_correction",
+    "solve_velocity_jump",
+]
+
+
+def contact_force_multiplier(nu, g, p, k):
+    """[k ν − p g]_+ : the contact force (or impulse) multiplier of the augmented Lagrangian."""
+    return np.maximum(k * np.asarray(nu) - p * np.asarray(g), 0.0)
+
+
+def alart_curnier_residual(nu, g, p, k):
+    """k ν − [k ν − p g]_+, zero exactly when 0 ≤ g ⊥ ν ≥ 0 (any p, k > 0)."""
+    return k * np.asarray(nu) - contact_force_multiplier(nu, g, p, k)
+
+
+# -- contact pairs -----------------------------------------------------------------------------
+
+
+class NodeContact:
+    """Nodes of a body against a rigid ``Plane`` or ``Circle``; one contact per node.
+
+    ``restitution`` (Newton's coefficient e_N in [0, 1]) applies to every node of the pair.
+    """
+
+    def __init__(self, body, obstacle, nodes=None, restitution: float = 0.0):
+        if not isinstance(obstacle, (Plane, Circle)):
+            raise InputError(f"obstacle must be a Plane or Circle, got {type(obstacle).__name__}")
+        self.body = body
+        self.obstacle = obstacle
+        nodes = np.arange(body.n_nodes) if nodes is None else np.atleast_1d(nodes)
+        if len(nodes) == 0:
+            raise InputError("nodes must name at least one node")
+        self.local_dofs = body.node_translation_dofs(nodes)
+        self.nodes = self.local_dofs[:, 0] // body.dofs_per_node
+        self.restitution = check_range("restitution", restitution, 0.0, 1.0)
+        self.linear = obstacle.linear
+        self.dofs = self.local_dofs
+
+    @property
+    def size(self) -> int:
+        return len(self.nodes)
+
+    def bind(self, offset: int) -> None:
+        """Place the pair in the global dof vector; ``offset`` is the body's first dof."""
+        self.dofs = offset + self.local_dofs
+
+    def evaluate(self, q: np.ndarray):
+        """Gaps (m,), dof indices (m, 2), gradient values (m, 2), Hessians (m, 2, 2) or None."""
+        x = self.body.X[self.nodes] + q[self.dofs]
+        g, G, H = self.obstacle.gap(x)
+        return g, self.dofs, G, H
+
+
+class PointSegmentContact:
+    """A rigid ``Point`` (or small disk) against the centreline segments of a beam.
+
+    The contact point slides along the beam: the gap is the distance from the point to the
+    closest segment minus the radius, signed by the side of the beam the point started on.
+    When the closest point is a vertex the gap is the distance to that node.
+    """
+
+    linear = False
+
+    def __init__(self, body, obstacle: Point, restitution: float = 0.0):
+        self.body = body
+        self.obstacle = obstacle
+        self.restitution = check_range("restitution", restitution, 0.0, 1.0)
+        self.segments = body.segments()
+        self.offset = 0
+        self.side = 1.0
+        f0 = self._signed_distance(np.zeros(body.ndof))
+        if f0 == 0.0:
+            raise InputError("the Point lies exactly on the beam centreline at t = 0")
+        self.side = np.sign(f0)
+
+    size = 1
+
+    def bind(self, offset: int) -> None:
+        self.offset = offset
+
+    def _closest(self, x):
+        x1, x2 = x[self.segments[:, 0]], x[self.segments[:, 1]]
+        d = x2 - x1
+        xi = np.clip(np.einsum("ei,ei->e", self.obstacle.position - x1, d) / np.sum(d * d, 1), 0, 1)
+        dist = np.linalg.norm(self.obstacle.position - (x1 + xi[:, None] * d), axis=1)
+        e = int(np.argmin(dist))
+        return e, xi[e], x1[e], d[e]
+
+    def _signed_distance(self, q_local):
+        e, xi, x1, d = self._closest(self.body.positions(q_local))
+        w = self.obstacle.position - x1
+        return (d[0] * w[1] - d[1] * w[0]) / np.linalg.norm(d)
+
+    def evaluate(self, q: np.ndarray):
+        body = self.body
+        q_local = q[self.offset : self.offset + body.ndof]
+        e, xi, x1, d = self._closest(body.positions(q_local))
+        a, b = self.segments[e]
+        tdofs = self.offset + body.node_translation_dofs([a, b]).ravel()
+        P, r = self.obstacle.position, self.obstacle.radius
+        if 0.0 < xi < 1.0:
+            g, G, H = _point_line_gap(P, x1, d, self.side)
+            g -= r
+        else:
+            xv = x1 + xi * d
+            ev = xv - P
+            dist = np.linalg.norm(ev)
+            ev = ev / dist
+            g = dist - r
+            G = np.zeros(4)
+            H = np.zeros((4, 4))
+            k = 0 if xi == 0.0 else 2
+            G[k : k + 2] = ev
+            H[k : k + 2, k : k + 2] = (np.eye(2) - np.outer(ev, ev)) / dist
+        return np.array([g]), tdofs[None, :], G[None, :], H[None, :, :]
+
+
+def _point_line_gap(P, x1, d, side):
+    """Signed distance f = (d × w)/|d| of P from the line x1 + ξ d (w = P − x1), with its
+    gradient and Hessian with respect to the segment end points (x1, x2)."""
+    w = P - x1
+    L = np.linalg.norm(d)
+    c = d[0] * w[1] - d[1] * w[0]
+    rho = np.array([w[1], -w[0]])
+    dperp = np.array([-d[1], d[0]])
+    f_d = rho / L - c * d / L**3
+    f_w = dperp / L
+    R = np.array([[0.0, 1.0], [-1.0, 0.0]])
+    H_dd = -(np.outer(rho, d) + np.outer(d, rho)) / L**3 - c * np.eye(2) / L**3
+    H_dd += 3.0 * c * np.outer(d, d) / L**5
+    H_dw = R / L - np.outer(d, dperp) / L**3
+    Hz = np.block([[H_dd, H_dw], [H_dw.T, np.zeros((2, 2))]])
+    eye = np.eye(2)
+    T = np.block([[-eye, eye], [-eye, np.zeros((2, 2))]])  # (d, w) = T (x1, x2) + (0, P)
+    G = T.T @ np.concatenate([f_d, f_w])
+    return side * c / L, side * G, side * (T.T @ Hz @ T)
+
+
+def Contact(body, obstacle, nodes=None, restitution: float = 0.0):
+    """Contact pair between ``body`` and a rigid ``obstacle``.
+
+    ``Plane`` and ``Circle`` act on ``nodes`` of the body (all nodes by default); a ``Point``
+    acts on the beam's centreline segments. ``restitution`` is Newton's e_N in [0, 1].
+    """
+    if isinstance(obstacle, Point):
+        if nodes is not None:
+            raise InputError("nodes: a Point obstacle acts on beam segments, not on nodes")
+        return PointSegmentContact(body, obstacle, restitution)
+    return NodeContact(body, obstacle, nodes, restitution)
+
+
+# -- semi-smooth Newton on the Alart–Curnier residuals -------------------------------------------
+
+
+def _kkt_multipliers(GA, Y, rhs, k):
+    """Solve k (G_A Y) μ = rhs for the active multipliers (least squares if redundant)."""
+    S = k * (GA @ Y)
+    try:
+        return np.linalg.solve(S, rhs)
+    except np.linalg.LinAlgError:
+        return np.linalg.lstsq(S, rhs, rcond=None)[0]
+
+
+def solve_position_correction(gaps, system, n, p, k, tol_gap, tol_u, max_iter=30):
+    """Position correction q = q̃ + U: find (U, ν) with H U = Σ G_jᵀ [k ν_j − p g_j(q)]_+ and
+    k ν_j − [k ν_j − p g_j(q)]_+ = 0 for every candidate j.
+
+    ``gaps(U) -> (g, G)`` evaluates the candidate gaps (m,) and their gradient (m × n dense) at
+    q̃ + U. ``system(U, s, A) -> (solve, C)`` gives the solver of the Newton matrix
+    H − C, where C = Σ_A s_j ∇²g_j is the curvature of the gaps (``None`` when they are linear).
+    Each Newton step solves the bordered system [H − C, −k G_Aᵀ; G_A, 0] through its Schur
+    complement. Returns (U, ν, iterations); raises ``RuntimeError`` when it does not settle.
+    """
+    U = np.zeros(n)
+    g, G = gaps(U)
+    nu = np.zeros(len(g))
+    A_prev, dU = None, np.inf
+    for it in range(max_iter + 1):
+        A = (k * nu - p * g) > 0
+        if A_prev is not None and np.array_equal(A, A_prev) and dU <= tol_u:
+            if np.all(g >= -tol_gap) and np.all(np.abs(g[A]) <= tol_gap):
+                return U, nu, it
+        solve, C = system(U, k * nu - p * g, A)
+        x0 = np.zeros(n) if C is None else solve(-(C @ U))
+        nu = np.zeros(len(g))
+        U_new = x0
+        if A.any():
+            GA = G[A]
+            Y = solve(GA.T).reshape(n, -1)
+            nu[A] = _kkt_multipliers(GA, Y, GA @ (U - x0) - g[A], k)
+            U_new = x0 + k * (Y @ nu[A])
+        dU = 0.0 if C is None else float(np.max(np.abs(U_new - U), initial=0.0))
+        U, A_prev = U_new, A
+        g, G = gaps(U)
+    raise RuntimeError(f"position correction: active set did not settle in {max_iter} iterations")
+
+
+def solve_velocity_jump(G, c, solve_M, p, k, max_iter=30):
+    """Velocity jump v = ṽ + W: M W = Σ G_jᵀ [k Λ_j − p ġ_j]_+ with ġ = c + G W and
+    k Λ_j − [k Λ_j − p ġ_j]_+ = 0 (c_j = G_j ṽ + e_j G_j(q_n) v_n). Linear in W for a given
+    active set, so the iteration ends when the set repeats. Returns (W, Λ, iterations)."""
+    m = len(c)
+    Lam = np.zeros(m)
+    gd = np.asarray(c, dtype=float)
+    Gd = np.asarray(G.todense()) if hasattr(G, "todense") else np.asarray(G)
+    Y_all = solve_M(Gd.T).reshape(-1, m)
+    A_prev = None
+    W = np.zeros(Y_all.shape[0])
+    for it in range(1, max_iter + 1):
+        A = (k * Lam - p * gd) > 0
+        if A_prev is not None and np.array_equal(A, A_prev):
+            return W, Lam, it - 1
+        Lam = np.zeros(m)
+        if A.any():
+            Lam[A] = _kkt_multipliers(Gd[A], Y_all[:, A], -c[A], k)
+        W = k * (Y_all @ Lam)
+        gd = c + Gd @ W
+        A_prev = A
+    raise RuntimeError(f"velocity jump: active set did not settle in {max_iter} iterations")
+
+
+class ContactSet:
+    """All contact pairs of a model, numbered globally and restricted to the free dofs."""
+
+    def __init__(self, pairs, free_index: np.ndarray, n_free: int):
+        self.pairs = list(pairs)
+        self.free_index = free_index
+        self.n_free = n_free
+        self.size = sum(pair.size for pair in self.pairs)
+        self.restitution = np.concatenate(
+            [np.full(pair.size, pair.restitution) for pair in self.pairs] or [np.zeros(0)]
+        )
+        self.linear = all(pair.linear for pair in self.pairs)
+        self.owner = np.concatenate(
+            [np.full(pair.size, i) for i, pair in enumerate(self.pairs)] or [np.zeros(0, int)]
+        )
+
+    def evaluate(self, q: np.ndarray):
+        """Gaps (m,), dofs (list per pair), gradient values and Hessians of every contact."""
+        return [pair.evaluate(q) for pair in self.pairs]
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        if not self.pairs:
+            return np.zeros(0)
+        return np.concatenate([pair.evaluate(q)[0] for pair in self.pairs])
+
+    def jacobian(self, q: np.ndarray, select: np.ndarray):
+        """Gaps and dense gradient (len(select) × n_free) of the contacts ``select``."""
+        g, rows, cols, vals = self._gather(q, select)[:4]
+        G = np.zeros((len(select), self.n_free))
+        np.add.at(G, (rows, cols), vals)
+        return g, G
+
+    def curvature(self, q: np.ndarray, select: np.ndarray, weights: np.ndarray):
+        """Σ_j weights_j ∇²g_j over ``select``, as a dense n_free × n_free array."""
+        C = np.zeros((self.n_free, self.n_free))
+        parts = self.evaluate(q)
+        offset = 0
+        wfull = np.zeros(self.size)
+        wfull[select] = weights
+        for g, dofs, _, H in parts:
+            m = len(g)
+            w = wfull[offset : offset + m]
+            offset += m
+            if H is None or not np.any(w):
+                continue
+            fi = self.free_index[dofs]  # (m, d)
+            r = np.broadcast_to(fi[:, :, None], H.shape)
+            c = np.broadcast_to(fi[:, None, :], H.shape)
+            ok = (r >= 0) & (c >= 0)
+            np.add.at(C, (r[ok], c[ok]), (w[:, None, None] * H)[ok])
+        return C
+
+    def generalized_force(self, q: np.ndarray, select: np.ndarray, mult: np.ndarray, n: int):
+        """Σ_j G_jᵀ mult_j over ``select`` on all n dofs (for output of nodal forces)."""
+        parts = self.evaluate(q)
+        f = np.zeros(n)
+        wfull = np.zeros(self.size)
+        wfull[select] = mult
+        offset = 0
+        for g, dofs, G, _ in parts:
+            m = len(g)
+            f += np.bincount(
+                dofs.ravel(), (wfull[offset : offset + m, None] * G).ravel(), minlength=n
+            )
+            offset += m
+        return f
+
+    def _gather(self, q, select):
+        parts = self.evaluate(q)
+        pos = np.full(self.size, -1)
+        pos[select] = np.arange(len(select))
+        rows, cols, vals, offset = [], [], [], 0
+        for g, dofs, G, _ in parts:
+            r = np.broadcast_to(pos[offset : offset + len(g), None], dofs.shape)
+            offset += len(g)
+            fi = self.free_index[dofs]
+            ok = (r >= 0) & (fi >= 0)
+            rows.append(r[ok])
+            cols.append(fi[ok])
+            vals.append(np.broadcast_to(G, dofs.shape)[ok])
+        g = np.concatenate([p[0] for p in parts])
+        return g[select], np.concatenate(rows), np.concatenate(cols), np.concatenate(vals)
