@@ -1,3 +1,54 @@
-"""fecontact: finite element impact dynamics with exact unilateral contact."""
+"""fecontact: finite element impact dynamics with exact unilateral contact.
+
+Bodies (geometrically exact beams), rigid obstacles and contact pairs make a ``Model``; a
+``Simulation`` adds the time step, end time and probes; ``run`` integrates it with the
+nonsmooth generalized-α method (contact enforced exactly at position and velocity level with
+Alart–Curnier multipliers) and writes VTU frames, ``history.csv`` and ``summary.json``.
+SI units throughout.
+"""
 
 __version__ = "0.1.0"
+
+from .beam import Beam2D, Material, Section
+from .contact import Contact
+from .errors import InputError, SolverError
+from .integrator import IntegratorOptions, State, simulate
+from .model import Model
+from .obstacles import Circle, Plane, Point
+from .simulation import Probe, Simulation, node_probe, run
+
+__all__ = [
+    "Beam2D",
+    "Circle",
+    "Contact",
+    "InputError",
+    "IntegratorOptions",
+    "Material",
+    "Model",
+    "Plane",
+    "Point",
+    "Probe",
+    "Section",
+    "Simulation",
+    "SolverError",
+    "State",
+    "load_run",
+    "node_probe",
+    "run",
+    "run_cli",
+    "simulate",
+]
+
+
+def load_run(out_dir):
+    """Load a finished run (history arrays, summary, frames): see ``fecontact.output``."""
+    from .output import load_run as _load
+
+    return _load(out_dir)
+
+
+def run_cli(build, argv=None):
+    """Command line of a case file: ``python cases/NAME.py [--dt ...] [--set ...]``."""
+    from .cli import run_cli as _run_cli
+
+    _run_cli(build, argv)

@@ -72,9 +72,7 @@ class Section:
     def __post_init__(self):
         object.__setattr__(self, "area", check_positive("area", self.area))
         object.__setattr__(self, "inertia", check_positive("inertia", self.inertia))
-        object.__setattr__(
-            self, "shear_factor", check_positive("shear_factor", self.shear_factor)
-        )
+        object.__setattr__(self, "shear_factor", check_positive("shear_factor", self.shear_factor))
 
     @classmethod
     def rectangle(cls, width: float, thickness: float) -> Section:
@@ -218,7 +216,9 @@ class Beam2D:
         """Strain energy W(q) in J."""
         Gam, gam, kap = self.strains(q)
         C = self._C
-        return 0.5 * float(np.sum(self._w * self._J * (C[0] * Gam**2 + C[1] * gam**2 + C[2] * kap**2)))
+        return 0.5 * float(
+            np.sum(self._w * self._J * (C[0] * Gam**2 + C[1] * gam**2 + C[2] * kap**2))
+        )
 
     def internal(self, q: np.ndarray, tangent: bool = True):
         """Strain energy (J), internal force ∂W/∂q (N, N·m) and element tangents (E, 6, 6)."""
@@ -258,7 +258,9 @@ class Beam2D:
         """Consistent mass (kg, kg·m²): kron(scalar P1 mass, diag(ρA, ρA, ρI)) + point masses."""
         rho = self.material.rho
         m1 = _mass_form.assemble(self._mass_basis)
-        diag = np.array([rho * self.section.area, rho * self.section.area, rho * self.section.inertia])
+        diag = np.array(
+            [rho * self.section.area, rho * self.section.area, rho * self.section.inertia]
+        )
         M = sp.kron(m1, sp.diags(diag), format="csr")
         M = M + sp.diags(np.repeat(self.point_masses, 3) * np.tile([1.0, 1.0, 0.0], self.n_nodes))
         return M.tocsr()
@@ -282,6 +284,10 @@ class Beam2D:
     def segments(self) -> np.ndarray:
         """(n_elements, 2) node indices of the centreline segments."""
         return self._enodes.T
+
+    def nodal(self, x: np.ndarray) -> np.ndarray:
+        """Translation part (n, 2) of a nodal dof vector (displacement, velocity, force)."""
+        return x.reshape(-1, 3)[:, :2]
 
     def point_data(self, q: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:
         """Nodal fields for output: displacement, velocity (2D vectors) and rotation (rad)."""

@@ -20,8 +20,9 @@ class InputError(ValueError):
 class SolverError(RuntimeError):
     """Newton did not converge; carries the time, step and residual where it stopped."""
 
-    def __init__(self, message: str, time: float = math.nan, step: int = -1,
-                 residual: float = math.nan):
+    def __init__(
+        self, message: str, time: float = math.nan, step: int = -1, residual: float = math.nan
+    ):
         super().__init__(message)
         self.time = time
         self.step = step

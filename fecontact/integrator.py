@@ -84,7 +84,13 @@ class IntegratorOptions:
         alpha_coefficients(self.rho_inf)
         if self.metric not in METRICS:
             raise InputError(f"metric must be one of {', '.join(METRICS)}, got {self.metric!r}")
-        for name in ("penalty_scale", "multiplier_scale", "tol_residual", "tol_increment", "tol_gap"):
+        for name in (
+            "penalty_scale",
+            "multiplier_scale",
+            "tol_residual",
+            "tol_increment",
+            "tol_gap",
+        ):
             setattr(self, name, check_positive(name, getattr(self, name)))
         self.detection_margin = check_positive(
             "detection_margin", self.detection_margin, allow_zero=True
@@ -158,8 +164,13 @@ def initial_state(model, timer: PhaseTimer | None = None) -> State:
     return State(0.0, q, v, vd, vd.copy(), gaps=g, nu=np.zeros(m), impulse=np.zeros(m))
 
 
-def simulate(model, dt: float, t_end: float, options: IntegratorOptions | None = None,
-             timer: PhaseTimer | None = None) -> Iterator[State]:
+def simulate(
+    model,
+    dt: float,
+    t_end: float,
+    options: IntegratorOptions | None = None,
+    timer: PhaseTimer | None = None,
+) -> Iterator[State]:
     """Yield the state at t = 0 and after every step of size ``dt`` (s) up to ``t_end`` (s).
 
     A step whose Newton iterations fail is retried as two half steps, recursively up to
@@ -180,7 +191,9 @@ def simulate(model, dt: float, t_end: float, options: IntegratorOptions | None =
             raise SolverError(
                 f"Newton did not converge at t = {state.t:.6g} s (step {n}): {err} "
                 f"(residual {err.residual:.3e}) after {opts.max_halvings} step halvings",
-                time=state.t, step=n, residual=err.residual,
+                time=state.t,
+                step=n,
+                residual=err.residual,
             ) from None
         state.t = t_next
         state.step = n
@@ -328,12 +341,14 @@ def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer
         p = opts.penalty_scale / np.einsum("ij,ji->i", G1, model.solve_M(G1.T).reshape(len(F), -1))
         k = opts.multiplier_scale
         try:
-            W, Lam, iters["velocity"] = solve_velocity_jump(G1, c, model.solve_M, p, k,
-                                                            opts.max_iterations)
+            W, Lam, iters["velocity"] = solve_velocity_jump(
+                G1, c, model.solve_M, p, k, opts.max_iterations
+            )
         except RuntimeError as err:
             raise _StepFailure(str(err), np.nan) from None
         v[F] += W
         impulse[closed] = k * Lam
     timer.add("contact", clock)
-    return State(t, q, v, vd, a, h=h, gaps=gaps, candidates=cand, nu=nu, impulse=impulse,
-                 iterations=iters)
+    return State(
+        t, q, v, vd, a, h=h, gaps=gaps, candidates=cand, nu=nu, impulse=impulse, iterations=iters
+    )

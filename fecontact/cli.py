@@ -1,0 +1,213 @@
+"""The ``fecontact`` command: run a case, describe its parameters, render a finished run.
+
+    fecontact run CASE.py [--out DIR] [--dt H] [--t-end T] [--output-interval S]
+                          [--set NAME=VALUE]... [--render] [--quiet]
+    fecontact info CASE.py
+    fecontact render OUT_DIR_OR_PVD
+
+A case is a Python file with ``build(**params) -> Simulation`` and, optionally, a
+``PARAMETERS`` dict ``{name: (unit, description)}``. ``--set`` values are read as an int, else
+a float (``nan`` and ``inf`` parse, then fail validation), else a string; names of
+``IntegratorOptions`` fields (``rho_inf``, ``metric``, ...) set the integrator unless the case
+takes them itself. Every input error prints one line and exits with status 2; a run that
+fails mid-way exits with status 1 and keeps what it wrote.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import importlib.util
+import inspect
+import sys
+from pathlib import Path
+
+from .errors import InputError, SolverError
+
+__all__ = ["main", "run_cli", "load_case", "parse_value"]
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):
+        raise InputError(message)
+
+
+def parse_value(text: str):
+    """``--set`` value: int, else float, else the string itself."""
+    for kind in (int, float):
+        try:
+            return kind(text)
+        except ValueError:
+            pass
+    return text
+
+
+def load_case(path) -> object:
+    """Import a case file and return its module (it must define ``build``)."""
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(f"case file not found: {path}")
+    spec = importlib.util.spec_from_file_location(f"fecontact_case_{p.stem}", p)
+    module = importlib.util.module_from_spec(spec)
+    try:
+        spec.loader.exec_module(module)
+    except Exception as err:
+        raise InputError(f"cannot import case file {path}: {err}") from err
+    if not callable(getattr(module, "build", None)):
+        raise InputError(f"case file {path} defines no build() function")
+    return module
+
+
+def _split_overrides(build, pairs: list[str]):
+    from .integrator import IntegratorOptions
+
+    params = inspect.signature(build).parameters
+    option_names = {f.name for f in dataclasses.fields(IntegratorOptions)}
+    case_kw, option_kw = {}, {}
+    for item in pairs:
+        name, sep, text = item.partition("=")
+        name = name.strip()
+        if not sep or not name:
+            raise InputError(f"--set expects NAME=VALUE, got {item!r}")
+        if name in params:
+            case_kw[name] = parse_value(text)
+        elif name in option_names:
+            option_kw[name] = parse_value(text)
+        else:
+            known = ", ".join(list(params) + sorted(option_names - set(params)))
+            raise InputError(f"--set: unknown parameter {name!r}; known: {known}")
+    return case_kw, option_kw
+
+
+def _add_run_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--out", help="output folder (default: out/<case>)")
+    p.add_argument("--dt", type=float, help="time step h in s")
+    p.add_argument("--t-end", type=float, help="end time in s")
+    p.add_argument("--output-interval", type=float, help="simulated time between frames, s")
+    p.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="override a case parameter or an integrator option",
+    )
+    p.add_argument("--render", action="store_true", help="render snapshots and an animation")
+    p.add_argument("--quiet", action="store_true", help="no progress display")
+
+
+def _prepare(build, args, name: str):
+    case_kw, option_kw = _split_overrides(build, args.set)
+    sim = build(**case_kw)
+    changes = {}
+    if args.dt is not None:
+        changes["dt"] = args.dt
+    if args.t_end is not None:
+        changes["t_end"] = args.t_end
+    if args.output_interval is not None:
+        changes["output_interval"] = args.output_interval
+    if option_kw:
+        changes["options"] = dataclasses.replace(sim.options, **option_kw)
+    if sim.name == "simulation":
+        changes["name"] = name
+    return sim.replace(**changes) if changes else sim
+
+
+def _execute(build, args, name: str) -> int:
+    from .simulation import run
+
+    sim = _prepare(build, args, name)
+    out = Path(args.out) if args.out else Path("out") / sim.name
+    try:
+        summary = run(sim, out, progress=not args.quiet)
+    except SolverError as err:
+        print(f"fecontact: run failed: {err}; results so far are in {out}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print(f"fecontact: interrupted; results so far are in {out}", file=sys.stderr)
+        return 130
+    if not args.quiet:
+        print(
+            f"{sim.name}: {summary['steps']} steps in {summary['wall_time_s']:.2f} s, "
+            f"{len(summary['impacts'])} impacts, max penetration "
+            f"{summary['max_penetration']:.2e} m -> {out}"
+        )
+    if args.render:
+        from .render import render_run
+
+        for path in render_run(out):
+            if not args.quiet:
+                print(f"  wrote {path}")
+    return 0
+
+
+def _info(module) -> int:
+    build = module.build
+    doc = inspect.getdoc(module) or ""
+    print(doc.splitlines()[0] if doc else module.__name__)
+    units = getattr(module, "PARAMETERS", {})
+    rows = []
+    for name, par in inspect.signature(build).parameters.items():
+        unit, text = units.get(name, ("", ""))
+        default = "" if par.default is inspect.Parameter.empty else repr(par.default)
+        rows.append((name, default, unit or "-", text))
+    width = [
+        max(len(r[i]) for r in rows + [("parameter", "default", "unit", "")]) for i in range(3)
+    ]
+    print(f"{'parameter':<{width[0]}}  {'default':<{width[1]}}  {'unit':<{width[2]}}  meaning")
+    for r in rows:
+        print(f"{r[0]:<{width[0]}}  {r[1]:<{width[1]}}  {r[2]:<{width[2]}}  {r[3]}")
+    from .integrator import IntegratorOptions
+
+    names = [f.name for f in dataclasses.fields(IntegratorOptions)]
+    print("integrator options (also --set NAME=VALUE): " + ", ".join(names))
+    return 0
+
+
+def _render(target: str) -> int:
+    path = Path(target)
+    folder = path.parent if path.suffix == ".pvd" else path
+    if not path.exists():
+        raise InputError(f"no such run: {target}")
+    from .render import render_run
+
+    for p in render_run(folder):
+        print(f"wrote {p}")
+    return 0
+
+
+def main(argv=None) -> int:
+    """Entry point of the ``fecontact`` command; returns the exit status."""
+    parser = _Parser(prog="fecontact", description="Finite element impact dynamics.")
+    sub = parser.add_subparsers(dest="command", required=True)
+    p_run = sub.add_parser("run", help="run a case")
+    p_run.add_argument("case", help="case file (Python, defines build())")
+    _add_run_options(p_run)
+    p_info = sub.add_parser("info", help="list a case's parameters")
+    p_info.add_argument("case")
+    p_render = sub.add_parser("render", help="render a finished run")
+    p_render.add_argument("target", help="run folder or its .pvd file")
+    try:
+        args = parser.parse_args(argv)
+        if args.command == "render":
+            return _render(args.target)
+        module = load_case(args.case)
+        if args.command == "info":
+            return _info(module)
+        return _execute(module.build, args, Path(args.case).stem)
+    except InputError as err:
+        print(f"fecontact: error: {err}", file=sys.stderr)
+        return 2
+
+
+def run_cli(build, argv=None) -> None:
+    """Run a case from its own file: ``python cases/NAME.py [run options]``."""
+    name = Path(sys.modules[build.__module__].__file__ or "case").stem
+    parser = _Parser(prog=f"python {name}.py")
+    _add_run_options(parser)
+    try:
+        args = parser.parse_args(argv)
+        status = _execute(build, args, name)
+    except InputError as err:
+        print(f"fecontact: error: {err}", file=sys.stderr)
+        status = 2
+    sys.exit(status)

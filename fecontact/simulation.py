@@ -1,0 +1,284 @@
+"""A simulation (model, step, end time, probes) and the driver that runs it to disk.
+
+``run`` steps the integrator and writes, in the output folder, the VTU frames with their
+``.pvd`` collection, ``history.csv`` (one row per step) and ``summary.json``. Frames are written
+at the output interval only; the ``.pvd`` is rewritten atomically after each frame, so a run
+that stops (an error, Ctrl-C) leaves every frame so far readable.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import platform
+import sys
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from . import __version__
+from .errors import InputError, SolverError, check_positive
+from .integrator import IntegratorOptions, PhaseTimer, State, simulate
+
+__all__ = ["Probe", "Simulation", "node_probe", "run", "HISTORY_COLUMNS"]
+
+HISTORY_COLUMNS = (
+    "t",
+    "kinetic_energy",
+    "strain_energy",
+    "potential_energy",
+    "total_energy",
+    "min_gap",
+    "n_active",
+    "impulse",
+    "newton_iterations",
+)
+
+
+@dataclass(frozen=True)
+class Probe:
+    """A scalar recorded every step: ``fn(model, state)`` in ``unit``."""
+
+    fn: Callable
+    unit: str
+    description: str = ""
+
+
+_NODE_QUANTITIES = {
+    "x": ("m", "position x", lambda b, q, v: b.positions(q)[:, 0]),
+    "y": ("m", "position y", lambda b, q, v: b.positions(q)[:, 1]),
+    "ux": ("m", "displacement x", lambda b, q, v: b.nodal(q)[:, 0]),
+    "uy": ("m", "displacement y", lambda b, q, v: b.nodal(q)[:, 1]),
+    "vx": ("m/s", "velocity x", lambda b, q, v: b.nodal(v)[:, 0]),
+    "vy": ("m/s", "velocity y", lambda b, q, v: b.nodal(v)[:, 1]),
+    "rotation": ("rad", "rotation", lambda b, q, v: q.reshape(b.n_nodes, -1)[:, 2]),
+}
+
+
+def node_probe(model, body, node: int, quantity: str) -> Probe:
+    """Probe of one node of ``body``: ``quantity`` in x, y (m), ux, uy (m), vx, vy (m/s),
+    rotation (rad, counter-clockwise)."""
+    if quantity not in _NODE_QUANTITIES:
+        raise InputError(f"quantity must be one of {', '.join(_NODE_QUANTITIES)}, got {quantity!r}")
+    unit, text, get = _NODE_QUANTITIES[quantity]
+    i = body._node(node)
+    s = model.body_slice(model.bodies.index(body))
+    return Probe(lambda m, st: float(get(body, st.q[s], st.v[s])[i]), unit, f"{text} of node {i}")
+
+
+@dataclass
+class Simulation:
+    """What to run: the model, the step ``dt`` (s), the end time ``t_end`` (s), probes,
+    integrator options, the output interval (s of simulated time) and the case's name and
+    parameters (recorded in ``summary.json``)."""
+
+    model: object
+    dt: float
+    t_end: float
+    probes: dict = field(default_factory=dict)
+    options: IntegratorOptions = field(default_factory=IntegratorOptions)
+    output_interval: float = 0.01
+    name: str = "simulation"
+    parameters: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        self.dt = check_positive("dt", self.dt)
+        self.t_end = check_positive("t_end", self.t_end)
+        self.output_interval = check_positive("output_interval", self.output_interval)
+        if not self.name.replace("_", "").replace("-", "").isalnum():
+            raise InputError(f"name must be letters, digits, '_' or '-', got {self.name!r}")
+
+    def replace(self, **changes) -> Simulation:
+        """A copy with some fields changed (validated again)."""
+        return dataclasses.replace(self, **changes)
+
+
+def _frame_parts(model, state: State):
+    from .output import line_mesh
+
+    f_imp = model.contacts.generalized_force(
+        state.q, np.arange(model.contacts.size), state.impulse, model.n
+    )
+    h = state.h if state.h > 0 else math.inf
+    parts = {}
+    for i, body in enumerate(model.bodies):
+        s = model.body_slice(i)
+        data = dict(body.point_data(state.q[s], state.v[s]))
+        data["contact_impulse"] = body.nodal(f_imp[s])
+        data["contact_force"] = data["contact_impulse"] / h
+        cells = body.cells()
+        parts[f"body{i}"] = line_mesh(body.positions(state.q[s]), cells[0][1], data)
+    return parts
+
+
+def _static_parts(model):
+    from .output import line_mesh
+
+    parts = {}
+    for j, pair in enumerate(model.contacts.pairs):
+        obs = pair.obstacle
+        pts = obs.outline(2.0 * model.length) if hasattr(obs, "normal") else obs.outline()
+        conn = np.stack([np.arange(len(pts) - 1), np.arange(1, len(pts))], axis=1)
+        parts[f"obstacle{j}"] = line_mesh(pts, conn, {})
+    return parts
+
+
+class _Recorder:
+    """History rows, impact detection and summary statistics over a run."""
+
+    def __init__(self, sim: Simulation, out: Path):
+        from .output import HistoryWriter
+
+        self.sim = sim
+        self.model = sim.model
+        self.columns = list(HISTORY_COLUMNS) + list(sim.probes)
+        self.history = HistoryWriter(out / "history.csv", self.columns)
+        self.impacts: list[dict] = []
+        self.closed = np.zeros(self.model.contacts.size, dtype=bool)
+        self.iter_total = 0
+        self.iter_max = 0
+        self.halvings = 0
+        self.min_gap = math.inf
+        self.energy_initial = math.nan
+        self.energy_final = math.nan
+        self.energy_max = -math.inf
+        self.steps = 0
+
+    def record(self, st: State) -> None:
+        m = self.model
+        ke, se, pe = m.kinetic_energy(st.v), m.strain_energy(st.q), m.potential_energy(st.q)
+        total = ke + se + pe
+        near = st.gaps[st.candidates] if st.step > 0 else st.gaps
+        near = near[near <= m.length * self.sim.options.detection_margin]
+        min_gap = float(near.min()) if near.size else math.inf
+        active = (st.nu > 0) | (st.impulse > 0)
+        for j in np.flatnonzero(active & ~self.closed):
+            self.impacts.append({"time": st.t, "contact": int(j), "impulse": st.impulse[j]})
+        self.closed = active
+        its = st.newton_iterations
+        row = [st.t, ke, se, pe, total, min_gap, int(active.sum()), float(st.impulse.sum()), its]
+        row += [p.fn(m, st) for p in self.sim.probes.values()]
+        self.history.write(row)
+        if st.step == 0:
+            self.energy_initial = total
+        else:
+            self.steps += 1
+            self.iter_total += its
+            self.iter_max = max(self.iter_max, its)
+            self.halvings += st.halvings
+        self.energy_final = total
+        self.energy_max = max(self.energy_max, total)
+        self.min_gap = min(self.min_gap, min_gap)
+
+    def summary(self, status: str, wall: float, timer: dict, message: str = "") -> dict:
+        sim = self.sim
+        import scipy
+        import skfem
+
+        return {
+            "case": sim.name,
+            "status": status,
+            "message": message,
+            "steps": self.steps,
+            "dt": sim.dt,
+            "t_end": sim.t_end,
+            "wall_time_s": wall,
+            "time_per_step_s": wall / max(self.steps, 1),
+            "phase_times_s": dict(timer),
+            "newton_iterations_total": self.iter_total,
+            "newton_iterations_max": self.iter_max,
+            "newton_iterations_mean": self.iter_total / max(self.steps, 1),
+            "step_halvings": self.halvings,
+            "max_penetration": max(0.0, -self.min_gap),
+            "min_gap": self.min_gap,
+            "energy_initial": self.energy_initial,
+            "energy_final": self.energy_final,
+            "energy_max": self.energy_max,
+            "impacts": self.impacts,
+            "parameters": _jsonable(sim.parameters),
+            "options": dataclasses.asdict(sim.options),
+            "probes": {
+                k: {"unit": p.unit, "description": p.description} for k, p in sim.probes.items()
+            },
+            "n_dofs": self.model.n,
+            "versions": {
+                "fecontact": __version__,
+                "python": platform.python_version(),
+                "numpy": np.__version__,
+                "scipy": scipy.__version__,
+                "scikit-fem": getattr(skfem, "__version__", "unknown"),
+            },
+        }
+
+
+def _jsonable(params: dict) -> dict:
+    out = {}
+    for k, v in params.items():
+        try:
+            json.dumps(v)
+            out[k] = v
+        except TypeError:
+            out[k] = repr(v)
+    return out
+
+
+def run(sim: Simulation, out_dir, progress: bool = False, frames: bool = True) -> dict:
+    """Run ``sim`` and write its results into ``out_dir``; return the summary.
+
+    ``progress`` shows a progress bar with the step, time and Newton iterations (on a
+    terminal). On ``SolverError`` or ``KeyboardInterrupt`` the summary records the failure,
+    every frame written so far stays readable, and the exception propagates.
+    """
+    from .output import PVDWriter, write_json
+
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    pvd = PVDWriter(out, sim.name)
+    timer = PhaseTimer()
+    rec = _Recorder(sim, out)
+    bar = _progress_bar(sim) if progress else None
+    next_frame = 0.0
+    status, message = "completed", ""
+    t_start = time.perf_counter()
+    try:
+        if frames:
+            for part, mesh in _static_parts(sim.model).items():
+                pvd.write_static(part, mesh)
+        for st in simulate(sim.model, sim.dt, sim.t_end, sim.options, timer):
+            clock = time.perf_counter()
+            rec.record(st)
+            if frames and (st.t >= next_frame - 1e-9 * sim.dt or st.t >= sim.t_end - 1e-12):
+                pvd.write_frame(st.t, _frame_parts(sim.model, st))
+                next_frame = (
+                    math.floor(st.t / sim.output_interval + 1e-6) + 1
+                ) * sim.output_interval
+            timer.add("output", clock)
+            if bar is not None and st.step:
+                bar.update(1)
+                if st.step % 25 == 0:
+                    bar.set_postfix(t=f"{st.t:.4f}", it=st.newton_iterations, refresh=False)
+    except SolverError as err:
+        status, message = "failed", str(err)
+        raise
+    except KeyboardInterrupt:
+        status, message = "interrupted", "interrupted by the user"
+        raise
+    finally:
+        wall = time.perf_counter() - t_start
+        rec.history.close()
+        if bar is not None:
+            bar.close()
+        summary = rec.summary(status, wall, timer, message)
+        write_json(out / "summary.json", summary)
+    return summary
+
+
+def _progress_bar(sim: Simulation):
+    from tqdm import tqdm
+
+    total = max(1, math.ceil(sim.t_end / sim.dt - 1e-9))
+    return tqdm(total=total, desc=sim.name, unit="step", disable=None, file=sys.stderr)
