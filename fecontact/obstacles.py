@@ -38,7 +38,7 @@ class Plane:
         return g, G, None
 
     def outline(self, size: float) -> np.ndarray:
-        """Two end points (2, 2) of a segment of the boundary line of length ``size``, for output."""
+        """End points (2, 2) of a piece of the boundary line of length ``size`` (for output)."""
         t = np.array([-self.normal[1], self.normal[0]])
         return self.point + 0.5 * size * np.array([-t, t])
 
