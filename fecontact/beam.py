@@ -276,6 +276,27 @@ class Beam2D:
         """Current node coordinates X + u (m), shape (n, 2)."""
         return self.X + q.reshape(-1, 3)[:, :2]
 
+    linear_kinematics = True
+    """Node positions are linear in the dofs (x = X + u)."""
+
+    @property
+    def characteristic_length(self) -> float:
+        """Length of the centreline, m."""
+        return self.length
+
+    def contact_nodes(self, nodes=None) -> np.ndarray:
+        """Validated node indices (all nodes when ``nodes`` is None)."""
+        if nodes is None:
+            return np.arange(self.n_nodes)
+        return np.array([self._node(i) for i in np.atleast_1d(nodes)], dtype=int)
+
+    def point_kinematics(self, q: np.ndarray, nodes: np.ndarray):
+        """Positions x (m, 2) of ``nodes``, their local dofs (m, 2), ∂x/∂q (m, 2, 2) and
+        ∂²x/∂q² (None: linear)."""
+        dofs = 3 * nodes[:, None] + np.arange(2)
+        x = self.X[nodes] + q[dofs]
+        return x, dofs, np.broadcast_to(np.eye(2), (len(nodes), 2, 2)), None
+
     def node_translation_dofs(self, nodes) -> np.ndarray:
         """(len(nodes), 2) local dof indices of (u_x, u_y) at ``nodes``."""
         idx = np.array([self._node(i) for i in np.atleast_1d(nodes)], dtype=int)

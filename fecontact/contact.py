@@ -53,9 +53,12 @@ def alart_curnier_residual(nu, g, p, k):
 
 
 class NodeContact:
-    """Nodes of a body against a rigid ``Plane`` or ``Circle``; one contact per node.
+    """Points of a body (its nodes, or a rigid body's vertices) against a rigid ``Plane`` or
+    ``Circle``; one contact per point.
 
-    ``restitution`` (Newton's coefficient e_N in [0, 1]) applies to every node of the pair.
+    ``restitution`` (Newton's coefficient e_N in [0, 1]) applies to every point of the pair.
+    The body maps its dofs to the point positions x(q) (``point_kinematics``); the gap of the
+    obstacle φ(x) then gives G = ∇φ ∂x/∂q and ∇²g = (∂x/∂q)ᵀ ∇²φ (∂x/∂q) + ∇φ·∂²x/∂q².
     """
 
     def __init__(self, body, obstacle, nodes=None, restitution: float = 0.0):
@@ -63,28 +66,33 @@ class NodeContact:
             raise InputError(f"obstacle must be a Plane or Circle, got {type(obstacle).__name__}")
         self.body = body
         self.obstacle = obstacle
-        nodes = np.arange(body.n_nodes) if nodes is None else np.atleast_1d(nodes)
-        if len(nodes) == 0:
+        self.nodes = body.contact_nodes(nodes)
+        if len(self.nodes) == 0:
             raise InputError("nodes must name at least one node")
-        self.local_dofs = body.node_translation_dofs(nodes)
-        self.nodes = self.local_dofs[:, 0] // body.dofs_per_node
         self.restitution = check_range("restitution", restitution, 0.0, 1.0)
-        self.linear = obstacle.linear
-        self.dofs = self.local_dofs
+        self.linear = obstacle.linear and body.linear_kinematics
+        self.offset = 0
 
     @property
     def size(self) -> int:
         return len(self.nodes)
 
-    def bind(self, offset: int) -> None:
-        """Place the pair in the global dof vector; ``offset`` is the body's first dof."""
-        self.dofs = offset + self.local_dofs
+    def bind(self, model) -> None:
+        """Place the pair in the global dof vector of ``model``."""
+        self.offset = model.offset_of(self.body)
 
     def evaluate(self, q: np.ndarray):
-        """Gaps (m,), dof indices (m, 2), gradient values (m, 2), Hessians (m, 2, 2) or None."""
-        x = self.body.X[self.nodes] + q[self.dofs]
-        g, G, H = self.obstacle.gap(x)
-        return g, self.dofs, G, H
+        """Gaps (m,), dof indices (m, d), gradient values (m, d), Hessians (m, d, d) or None."""
+        qb = q[self.offset : self.offset + self.body.ndof]
+        x, dofs, Jx, Hx = self.body.point_kinematics(qb, self.nodes)
+        g, Gx, Hphi = self.obstacle.gap(x)
+        G = np.einsum("mi,mik->mk", Gx, Jx)
+        H = None
+        if Hphi is not None:
+            H = np.einsum("mik,mij,mjl->mkl", Jx, Hphi, Jx)
+        if Hx is not None:
+            H = np.einsum("mi,mikl->mkl", Gx, Hx) + (0.0 if H is None else H)
+        return g, dofs + self.offset, G, H
 
 
 class PointSegmentContact:
@@ -111,8 +119,8 @@ class PointSegmentContact:
 
     size = 1
 
-    def bind(self, offset: int) -> None:
-        self.offset = offset
+    def bind(self, model) -> None:
+        self.offset = model.offset_of(self.body)
 
     def _closest(self, x):
         x1, x2 = x[self.segments[:, 0]], x[self.segments[:, 1]]

@@ -32,7 +32,7 @@ class Model:
         self.bodies = list(bodies)
         if not self.bodies:
             raise InputError("bodies must contain at least one body")
-        self.gravity = check_finite("gravity", gravity).reshape(2)
+        self.gravity = check_finite("gravity", gravity).ravel()
         sizes = [b.ndof for b in self.bodies]
         self.offsets = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
         self.n = int(self.offsets[-1])
@@ -57,11 +57,9 @@ class Model:
             [b.translation_field(self.gravity) for b in self.bodies]
         )
         for pair in contacts:
-            pair.bind(self.offset_of(pair.body))
+            pair.bind(self)
         self.contacts = ContactSet(contacts, self.free_index, len(self.free))
-        self.length = max(
-            float(np.ptp(b.X, axis=0).max()) if len(b.X) > 1 else 1.0 for b in self.bodies
-        )
+        self.length = max(b.characteristic_length for b in self.bodies)
 
     def offset_of(self, body) -> int:
         for b, o in zip(self.bodies, self.offsets, strict=False):
