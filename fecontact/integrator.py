@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .contact import solve_position_correction, solve_velocity_jump
-from .errors import InputError, SolverError, check_positive, check_range
+from .errors import InputError, SolverError, check_finite, check_positive, check_range
 from .linalg import factorize
 
 __all__ = ["IntegratorOptions", "State", "alpha_coefficients", "simulate"]
@@ -145,10 +145,15 @@ class PhaseTimer(dict):
         return now
 
 
-def initial_state(model, timer: PhaseTimer | None = None) -> State:
-    """State at t = 0 from rest in the reference configuration: M v̇₀ = f_ext − f_int(q₀)."""
+def initial_state(model, q0=None, v0=None) -> State:
+    """State at t = 0 from q₀, v₀ (default: rest in the reference configuration), with the
+    consistent acceleration M v̇₀ = f_ext − f_int(q₀). Fixed dofs are kept at zero."""
     n = model.n
-    q, v = np.zeros(n), np.zeros(n)
+    q = np.zeros(n) if q0 is None else check_finite("q0", q0).reshape(n).copy()
+    v = np.zeros(n) if v0 is None else check_finite("v0", v0).reshape(n).copy()
+    fixed = model.free_index < 0
+    if np.any(q[fixed] != 0.0) or np.any(v[fixed] != 0.0):
+        raise InputError("q0, v0: supported (fixed) dofs must start at zero")
     g = model.contacts.gaps(q)
     tol = 1e-12 * model.length
     if np.any(g < -tol):
@@ -170,8 +175,12 @@ def simulate(
     t_end: float,
     options: IntegratorOptions | None = None,
     timer: PhaseTimer | None = None,
+    q0=None,
+    v0=None,
 ) -> Iterator[State]:
     """Yield the state at t = 0 and after every step of size ``dt`` (s) up to ``t_end`` (s).
+
+    ``q0`` and ``v0`` are the initial dof vectors (default: rest in the reference state).
 
     A step whose Newton iterations fail is retried as two half steps, recursively up to
     ``options.max_halvings`` times; then ``SolverError`` reports the time, step and residual.
@@ -180,7 +189,7 @@ def simulate(
     dt = check_positive("dt", dt)
     t_end = check_positive("t_end", t_end)
     timer = PhaseTimer() if timer is None else timer
-    state = initial_state(model, timer)
+    state = initial_state(model, q0, v0)
     yield state
     n_steps = max(1, math.ceil(t_end / dt - 1e-9))
     for n in range(1, n_steps + 1):

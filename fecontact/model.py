@@ -74,6 +74,14 @@ class Model:
     def n_free(self) -> int:
         return len(self.free)
 
+    def translation(self, body, vector) -> np.ndarray:
+        """Global dof vector with ``vector`` on every translation of ``body`` (a uniform
+        initial velocity, say) and zero elsewhere."""
+        x = np.zeros(self.n)
+        o = self.offset_of(body)
+        x[o : o + body.ndof] = body.translation_field(check_finite("vector", vector))
+        return x
+
     def internal(self, q: np.ndarray, tangent: bool = True):
         """Strain energy (J), internal force on all dofs and tangent on the free dofs."""
         W, f, K = 0.0, np.zeros(self.n), None

@@ -73,8 +73,9 @@ def node_probe(model, body, node: int, quantity: str) -> Probe:
 @dataclass
 class Simulation:
     """What to run: the model, the step ``dt`` (s), the end time ``t_end`` (s), probes,
-    integrator options, the output interval (s of simulated time) and the case's name and
-    parameters (recorded in ``summary.json``)."""
+    integrator options, the output interval (s of simulated time), the case's name and
+    parameters (recorded in ``summary.json``) and the initial dof vectors ``q0``, ``v0``
+    (default: rest in the reference configuration)."""
 
     model: object
     dt: float
@@ -84,6 +85,8 @@ class Simulation:
     output_interval: float = 0.01
     name: str = "simulation"
     parameters: dict = field(default_factory=dict)
+    q0: np.ndarray | None = None
+    v0: np.ndarray | None = None
 
     def __post_init__(self):
         self.dt = check_positive("dt", self.dt)
@@ -248,7 +251,7 @@ def run(sim: Simulation, out_dir, progress: bool = False, frames: bool = True) -
         if frames:
             for part, mesh in _static_parts(sim.model).items():
                 pvd.write_static(part, mesh)
-        for st in simulate(sim.model, sim.dt, sim.t_end, sim.options, timer):
+        for st in simulate(sim.model, sim.dt, sim.t_end, sim.options, timer, sim.q0, sim.v0):
             clock = time.perf_counter()
             rec.record(st)
             if frames and (st.t >= next_frame - 1e-9 * sim.dt or st.t >= sim.t_end - 1e-12):
