@@ -26,13 +26,17 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 import skfem
-from skfem.models.poisson import mass as _mass_form
 
 from .errors import InputError, check_finite, check_positive, check_range
 
 __all__ = ["Material", "Section", "Beam2D"]
 
 _MIDPOINT = (np.array([[0.5]]), np.array([1.0]))
+
+
+@skfem.BilinearForm
+def _mass_form(u, v, _):
+    return u * v
 
 
 @dataclass(frozen=True)
@@ -185,7 +189,7 @@ class Beam2D:
     # -- kernels -----------------------------------------------------------------------------
     def _init_kernel_data(self):
         b = self._stiffness_basis
-        self._N = np.array([phi[0].value for phi in b.basis])  # (n_loc, E, Q)
+        self._N = np.array([np.asarray(phi[0]) for phi in b.basis])  # (n_loc, E, Q)
         self._dN = np.array([phi[0].grad[0] for phi in b.basis])
         self._w = b.dx  # (E, Q) quadrature weight in ξ
         self._enodes = b.element_dofs  # (n_loc, E)

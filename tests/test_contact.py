@@ -1,0 +1,173 @@
+"""Contact geometry (gaps and their derivatives) and the Alart–Curnier laws."""
+
+import numpy as np
+import pytest
+
+from fecontact import Beam2D, Circle, Contact, InputError, Material, Model, Plane, Point, Section
+from fecontact.contact import (
+    alart_curnier_residual,
+    contact_force_multiplier,
+    solve_position_correction,
+    solve_velocity_jump,
+)
+
+MATERIAL = Material(E=70e9, rho=2700.0, nu=0.33)
+SECTION = Section.rectangle(0.02, 0.002)
+
+
+def fd_check(pair, q, eps=1e-7):
+    """Compare G and ∇²g of every contact of ``pair`` with central differences."""
+    g, dofs, G, H = pair.evaluate(q)
+    for j in range(len(g)):
+        for a, i in enumerate(dofs[j]):
+            dq = np.zeros_like(q)
+            dq[i] = eps
+            gp, dp, Gp, _ = pair.evaluate(q + dq)
+            gm, dm, Gm, _ = pair.evaluate(q - dq)
+            assert np.array_equal(dp, dofs) and np.array_equal(dm, dofs)
+            assert (gp[j] - gm[j]) / (2 * eps) == pytest.approx(
+                G[j, a] * (np.count_nonzero(dofs[j] == i) > 0), abs=1e-7
+            ) or np.count_nonzero(dofs[j] == i) > 1
+            hess_fd = (Gp[j] - Gm[j]) / (2 * eps)
+            hess = np.zeros(len(dofs[j])) if H is None else H[j, :, a]
+            assert np.allclose(hess, hess_fd, atol=1e-6 * max(1.0, np.abs(hess).max()))
+    return g
+
+
+def beam_model(obstacle, nodes=None, seed=0):
+    beam = Beam2D.polyline([[0, 0], [0.3, 0.1], [0.5, -0.1]], [2, 2], MATERIAL, SECTION)
+    pair = Contact(beam, obstacle, nodes=nodes)
+    model = Model([beam], [pair])
+    rng = np.random.default_rng(seed)
+    q = 0.03 * rng.normal(size=model.n)
+    return pair, q
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_plane_gap_gradient(seed):
+    pair, q = beam_model(Plane([0.1, -0.5], [0.3, 1.0]), seed=seed)
+    g = fd_check(pair, q)
+    x = pair.body.positions(q)
+    n = np.array([0.3, 1.0]) / np.hypot(0.3, 1.0)
+    assert np.allclose(g, (x - [0.1, -0.5]) @ n)
+
+
+@pytest.mark.parametrize("inside", [False, True])
+@pytest.mark.parametrize("seed", [0, 1])
+def test_circle_gap_gradient_and_curvature(inside, seed):
+    center, radius = np.array([0.2, 0.9]), 0.5 if not inside else 1.5
+    pair, q = beam_model(Circle(center, radius, inside=inside), seed=seed)
+    g = fd_check(pair, q)
+    r = np.linalg.norm(pair.body.positions(q) - center, axis=1)
+    assert np.allclose(g, (radius - r) if inside else (r - radius))
+
+
+@pytest.mark.parametrize("position", [[0.22, 0.2], [0.41, 0.15], [0.35, -0.25]])
+@pytest.mark.parametrize("seed", [0, 1])
+def test_point_against_beam_segments(position, seed):
+    """Interior projections: signed distance to the segment line and its exact Hessian."""
+    pair, q = beam_model(Point(position, radius=0.01), seed=seed)
+    g = fd_check(pair, q, eps=1e-7)
+    x = pair.body.positions(q)
+    P = np.asarray(position)
+
+    def segment_distance(a, b):
+        s = np.clip((P - a) @ (b - a) / ((b - a) @ (b - a)), 0, 1)
+        return np.linalg.norm(P - a - s * (b - a))
+
+    d = min(segment_distance(a, b) for a, b in zip(x[:-1], x[1:], strict=True))
+    assert abs(g[0] + 0.01) == pytest.approx(d, abs=1e-12)
+
+
+def test_point_beyond_the_beam_end_uses_the_end_node():
+    pair, q = beam_model(Point([0.7, -0.2], radius=0.0), seed=3)
+    g = fd_check(pair, q)
+    tip = pair.body.positions(q)[-1]
+    assert g[0] == pytest.approx(np.linalg.norm(tip - [0.7, -0.2]))
+
+
+def test_contact_input_is_validated():
+    beam = Beam2D.straight([0, 0], [1, 0], 2, MATERIAL, SECTION)
+    with pytest.raises(InputError, match="restitution"):
+        Contact(beam, Plane([0, -1], [0, 1]), restitution=1.5)
+    with pytest.raises(InputError, match="restitution"):
+        Contact(beam, Plane([0, -1], [0, 1]), restitution=-0.1)
+    with pytest.raises(InputError, match="normal"):
+        Plane([0, 0], [0, 0])
+    with pytest.raises(InputError, match="radius"):
+        Circle([0, 0], -1.0)
+    with pytest.raises(InputError, match="node"):
+        Contact(beam, Plane([0, -1], [0, 1]), nodes=[7])
+
+
+# -- Alart–Curnier ------------------------------------------------------------------------------
+
+CASES = [  # (nu, g, satisfies 0 <= g ⊥ nu >= 0)
+    (0.0, 0.3, True),  # open, no force
+    (2.0, 0.0, True),  # closed with force
+    (0.0, 0.0, True),  # touching, no force
+    (1.0, 0.2, False),  # force at a distance
+    (0.0, -0.1, False),  # penetration
+    (-1.0, 0.0, False),  # adhesive force
+]
+
+
+@pytest.mark.parametrize("nu, g, ok", CASES)
+@pytest.mark.parametrize("p, k", [(1.0, 1.0), (1e-3, 10.0), (1e4, 0.01)])
+def test_alart_curnier_residual_is_zero_exactly_at_complementarity(nu, g, ok, p, k):
+    r = alart_curnier_residual(nu, g, p, k)
+    assert (r == 0.0) == ok
+    if ok:
+        assert contact_force_multiplier(nu, g, p, k) == pytest.approx(k * nu)
+
+
+def test_position_correction_on_two_masses_against_a_wall():
+    """Two unit masses on a line, coupled by a spring; the first penetrates a wall at x = 0
+    by 0.1. With metric H = diag(1, 1) + spring the corrected state is known in closed form."""
+    kspring = 3.0
+    H = np.array([[1.0 + kspring, -kspring], [-kspring, 1.0 + kspring]])
+    x_tilde = np.array([-0.1, 0.5])
+
+    def gaps(U):
+        return (x_tilde + U)[:1].copy(), np.array([[1.0, 0.0]])
+
+    solve = lambda b: np.linalg.solve(H, b)  # noqa: E731
+    for p, k in [(1.0, 1.0), (1e-6, 1.0), (1e6, 1e-3)]:
+        U, nu, its = solve_position_correction(
+            gaps, lambda U, s, A: (solve, None), 2, np.array([p]), k, 1e-14, 1e-14
+        )
+        assert U[0] == pytest.approx(0.1, abs=1e-15)
+        # H U = Gᵀ (k ν): the second mass follows through the spring metric
+        assert np.allclose(H @ U, [k * nu[0], 0.0], atol=1e-14)
+        assert nu[0] > 0 and its <= 3
+
+
+def test_position_correction_leaves_separated_contacts_alone():
+    x_tilde = np.array([0.2])
+    U, nu, _ = solve_position_correction(
+        lambda U: ((x_tilde + U).copy(), np.eye(1)),
+        lambda U, s, A: ((lambda b: b), None),
+        1,
+        np.ones(1),
+        1.0,
+        1e-14,
+        1e-14,
+    )
+    assert U[0] == 0.0 and nu[0] == 0.0
+
+
+@pytest.mark.parametrize("e", [0.0, 0.5, 1.0])
+def test_velocity_jump_applies_newtons_impact_law(e):
+    """A unit mass hits a wall at 2 m/s: after the jump v⁺ = −e v⁻, impulse (1 + e)·2."""
+    v_minus = -2.0
+    G = np.array([[1.0]])
+    c = np.array([v_minus + e * v_minus])
+    for p, k in [(1.0, 1.0), (1e-5, 1e3)]:
+        W, Lam, its = solve_velocity_jump(G, c, lambda b: b, np.array([p]), k)
+        assert v_minus + W[0] == pytest.approx(-e * v_minus, abs=1e-14)
+        assert k * Lam[0] == pytest.approx((1 + e) * 2.0)
+
+
+def test_velocity_jump_ignores_separating_contacts():
+    W, Lam, _ = solve_velocity_jump(np.eye(1), np.array([0.5]), lambda b: b, np.ones(1), 1.0)
+    assert W[0] == 0.0 and Lam[0] == 0.0
