@@ -178,8 +178,7 @@ class Beam2D:
     @property
     def element_dofs(self) -> np.ndarray:
         """(n_elements, 6) local dof indices of each element."""
-        nodes = self._stiffness_basis.element_dofs.T
-        return (3 * nodes[:, :, None] + np.arange(3)).reshape(len(nodes), -1)
+        return self._edofs
 
     @property
     def beam_mass(self) -> float:
@@ -188,74 +187,71 @@ class Beam2D:
 
     # -- kernels -----------------------------------------------------------------------------
     def _init_kernel_data(self):
+        # P1 with the one-point rule: N_a = ½ and N_a' = ±1/ℓ_e at the midpoint, so the
+        # kernel works on element end values, vectorised over elements.
         b = self._stiffness_basis
-        self._N = np.array([np.asarray(phi[0]) for phi in b.basis])  # (n_loc, E, Q)
-        self._dN = np.array([phi[0].grad[0] for phi in b.basis])
-        self._w = b.dx  # (E, Q) quadrature weight in ξ
-        self._enodes = b.element_dofs  # (n_loc, E)
-        dX = np.einsum("aeq,aei->eqi", self._dN, self.X[self._enodes])
-        self._J = np.linalg.norm(dX, axis=-1)
-        self._dX = dX
-        self._phi0 = np.arctan2(dX[..., 1], dX[..., 0])
+        self._n0, self._n1 = b.element_dofs
+        self._edofs = (3 * b.element_dofs.T[:, :, None] + np.arange(3)).reshape(b.nelems, -1)
+        chord = self.X[self._n1] - self.X[self._n0]
+        self._chord = chord
+        self._w = np.linalg.norm(chord, axis=1)  # ∫ J dξ over the element: its length
+        self._phi0 = np.arctan2(chord[:, 1], chord[:, 0])
         m, s = self.material, self.section
         self._C = np.array([m.E * s.area, m.G * s.area * s.shear_factor, m.E * s.inertia])
 
     def strains(self, q: np.ndarray) -> tuple[np.ndarray, ...]:
-        """Axial Γ, shear γ and curvature κ (1/m) at the stiffness quadrature points."""
+        """Axial Γ, shear γ and curvature κ (1/m) at the element midpoints."""
         return self._kinematics(q)[:3]
 
     def _kinematics(self, q):
         U = q.reshape(-1, 3)
-        N, dN, en = self._N, self._dN, self._enodes
-        a = (self._dX + np.einsum("aeq,aei->eqi", dN, U[en, :2])) / self._J[..., None]
-        phi = self._phi0 + np.einsum("aeq,ae->eq", N, U[en, 2])
-        t = np.stack([np.cos(phi), np.sin(phi)], axis=-1)
-        n = np.stack([-t[..., 1], t[..., 0]], axis=-1)
-        Gam = np.einsum("eqi,eqi->eq", a, t) - 1.0
-        gam = np.einsum("eqi,eqi->eq", a, n)
-        kap = np.einsum("aeq,ae->eq", dN, U[en, 2]) / self._J
-        return Gam, gam, kap, t, n
+        Ua, Ub = U[self._n0], U[self._n1]
+        inv = 1.0 / self._w
+        ax = (self._chord[:, 0] + Ub[:, 0] - Ua[:, 0]) * inv
+        ay = (self._chord[:, 1] + Ub[:, 1] - Ua[:, 1]) * inv
+        phi = self._phi0 + 0.5 * (Ua[:, 2] + Ub[:, 2])
+        c, s = np.cos(phi), np.sin(phi)
+        Gam = ax * c + ay * s - 1.0
+        gam = ay * c - ax * s
+        kap = (Ub[:, 2] - Ua[:, 2]) * inv
+        return Gam, gam, kap, c, s
 
     def energy(self, q: np.ndarray) -> float:
         """Strain energy W(q) in J."""
         Gam, gam, kap = self.strains(q)
         C = self._C
-        return 0.5 * float(
-            np.sum(self._w * self._J * (C[0] * Gam**2 + C[1] * gam**2 + C[2] * kap**2))
-        )
+        return 0.5 * float(self._w @ (C[0] * Gam**2 + C[1] * gam**2 + C[2] * kap**2))
 
     def internal(self, q: np.ndarray, tangent: bool = True):
         """Strain energy (J), internal force ∂W/∂q (N, N·m) and element tangents (E, 6, 6)."""
-        Gam, gam, kap, t, n = self._kinematics(q)
-        C, J, N, dN = self._C, self._J, self._N, self._dN
-        w = self._w * J
-        S = C[:, None, None] * np.stack([Gam, gam, kap])  # resultants: axial, shear, moment
-        nl = N.shape[0]
-        # B[e, q, strain, a, dof]: derivatives of (Γ, γ, κ) w.r.t. node a's (u_x, u_y, θ)
-        B = np.zeros(Gam.shape + (3, nl, 3))
-        dNJ = np.moveaxis(dN / J, 0, -1)  # (E, Q, a)
-        Nq = np.moveaxis(N, 0, -1)
-        B[..., 0, :, :2] = dNJ[..., None] * t[:, :, None, :]
-        B[..., 0, :, 2] = Nq * gam[..., None]
-        B[..., 1, :, :2] = dNJ[..., None] * n[:, :, None, :]
-        B[..., 1, :, 2] = -Nq * (1.0 + Gam)[..., None]
-        B[..., 2, :, 2] = dNJ
-        B = B.reshape(Gam.shape + (3, 3 * nl))
-        f_e = np.einsum("eq,seq,eqsi->ei", w, S, B)
-        W = 0.5 * float(np.sum(w * np.einsum("s,seq->eq", C, np.stack([Gam, gam, kap]) ** 2)))
-        f = np.bincount(self.element_dofs.ravel(), f_e.ravel(), minlength=self.ndof)
+        Gam, gam, kap, c, s = self._kinematics(q)
+        C, w = self._C, self._w
+        E = len(w)
+        N, V, Mb = C[0] * Gam, C[1] * gam, C[2] * kap  # axial force, shear force, moment
+        # b[e, strain, dof] = ∂(Γ, γ, κ)/∂(u_x, u_y, θ) of the element's second node; the
+        # first node has the opposite translation and curvature terms and the same θ terms.
+        b = np.zeros((E, 3, 3))
+        b[:, 0, 0], b[:, 0, 1], b[:, 0, 2] = c / w, s / w, 0.5 * gam
+        b[:, 1, 0], b[:, 1, 1], b[:, 1, 2] = -s / w, c / w, -0.5 * (1.0 + Gam)
+        b[:, 2, 2] = 1.0 / w
+        B = np.concatenate([b * [-1.0, -1.0, 1.0], b], axis=2)
+        B[:, 2, 2] = -1.0 / w
+        S = np.stack([N, V, Mb], axis=1)
+        W = 0.5 * float(w @ (N * Gam + V * gam + Mb * kap))
+        f_e = w[:, None] * np.einsum("es,esi->ei", S, B)
+        f = np.bincount(self._edofs.ravel(), f_e.ravel(), minlength=self.ndof)
         if not tangent:
             return W, f, None
-        K_e = np.einsum("eq,s,eqsi,eqsj->eij", w, C, B, B)
+        K_e = np.matmul(B.transpose(0, 2, 1) * (w[:, None] * C)[:, None, :], B)
         # geometric stiffness: resultants times second derivatives of the strains
-        Nax, V = S[0], S[1]
-        k_ut = (w / J)[..., None] * (Nax[..., None] * n - V[..., None] * t)  # (E, Q, 2)
-        k_tt = -w * (Nax * (1.0 + Gam) + V * gam)
-        G = np.zeros(Gam.shape[:1] + (nl, 3, nl, 3))
-        G[:, :, :2, :, 2] = np.einsum("aeq,beq,eqi->eaib", dN, N, k_ut)
-        G[:, :, 2, :, :2] = G[:, :, :2, :, 2].transpose(0, 3, 1, 2)
-        G[:, :, 2, :, 2] = np.einsum("aeq,beq,eq->eab", N, N, k_tt)
-        K_e += G.reshape(K_e.shape)
+        k_ut = 0.5 * np.stack([-N * s - V * c, N * c - V * s], axis=1)  # (E, 2), per ±1
+        k_tt = -0.25 * w * (N * (1.0 + Gam) + V * gam)
+        Kg = K_e.reshape(E, 2, 3, 2, 3)
+        sign = np.array([-1.0, 1.0])
+        ut = sign[None, :, None, None] * k_ut[:, None, :, None]  # (E, a, i, 1) for any b
+        Kg[:, :, :2, :, 2] += ut
+        Kg[:, :, 2, :, :2] += ut.transpose(0, 3, 1, 2)
+        Kg[:, :, 2, :, 2] += k_tt[:, None, None]
         return W, f, K_e
 
     def mass_matrix(self) -> sp.csr_matrix:
@@ -308,7 +304,7 @@ class Beam2D:
 
     def segments(self) -> np.ndarray:
         """(n_elements, 2) node indices of the centreline segments."""
-        return self._enodes.T
+        return np.stack([self._n0, self._n1], axis=1)
 
     def nodal(self, x: np.ndarray) -> np.ndarray:
         """Translation part (n, 2) of a nodal dof vector (displacement, velocity, force)."""

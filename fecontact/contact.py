@@ -180,12 +180,23 @@ def _point_line_gap(P, x1, d, side):
     return side * c / L, side * G, side * (T.T @ Hz @ T)
 
 
-def Contact(body, obstacle, nodes=None, restitution: float = 0.0):
-    """Contact pair between ``body`` and a rigid ``obstacle``.
+def Contact(body, obstacle, nodes=None, restitution: float = 0.0, clearance: float = 0.0):
+    """Contact pair between ``body`` and a rigid ``obstacle`` or a second body.
 
-    ``Plane`` and ``Circle`` act on ``nodes`` of the body (all nodes by default); a ``Point``
-    acts on the beam's centreline segments. ``restitution`` is Newton's e_N in [0, 1].
+    ``Plane`` and ``Circle`` act on ``nodes`` of the body (all nodes, or all polygon vertices
+    of a rigid body, by default); a ``Point`` acts on the beam's centreline segments. A rigid
+    disk (``RigidBody2D`` with a ``Disk``) contacts a ``Plane``, a ``Circle``, another disk, a
+    rigid polygon or a ``Beam2D`` (``clearance``: extra distance in m, e.g. half the beam
+    thickness) through its centre and radius; see :mod:`fecontact.rigid_contact`.
+    ``restitution`` is Newton's e_N in [0, 1].
     """
+    from .rigid_contact import rigid_pair
+
+    pair = rigid_pair(body, obstacle, nodes, restitution, clearance)
+    if pair is not None:
+        return pair
+    if clearance:
+        raise InputError("clearance applies to a rigid disk against a beam only")
     if isinstance(obstacle, Point):
         if nodes is not None:
             raise InputError("nodes: a Point obstacle acts on beam segments, not on nodes")

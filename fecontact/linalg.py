@@ -19,13 +19,30 @@ DENSE_LIMIT = 400
 """Systems with at most this many unknowns are assembled and factorized dense."""
 
 
+_getrf, _getrs = sla.get_lapack_funcs(("getrf", "getrs"), (np.zeros(1),))
+
+
 def factorize(A):
-    """Return ``solve(b)`` applying A⁻¹ to a vector or to the columns of a matrix."""
+    """Return ``solve(b)`` applying A⁻¹ to a vector or to the columns of a matrix.
+
+    Raises ``np.linalg.LinAlgError`` if A is singular.
+    """
     if sp.issparse(A):
-        lu = spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A")
+        try:
+            lu = spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A")
+        except RuntimeError as err:
+            raise np.linalg.LinAlgError(str(err)) from None
         return lambda b: lu.solve(np.asarray(b, dtype=float))
-    lu = sla.lu_factor(A, check_finite=False)
-    return lambda b: sla.lu_solve(lu, b, check_finite=False)
+    # LAPACK directly: the scipy wrappers cost more than the factorization of small systems
+    lu, piv, info = _getrf(A)
+    if info != 0:
+        raise np.linalg.LinAlgError(f"singular matrix (LAPACK getrf info {info})")
+
+    def solve(b):
+        x, _ = _getrs(lu, piv, b)
+        return x
+
+    return solve
 
 
 class Pattern:

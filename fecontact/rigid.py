@@ -1,0 +1,376 @@
+r"""Planar rigid bodies and point masses.
+
+A ``RigidBody2D`` has three dofs q = (u_x, u_y, θ): the displacement (m) of its centre of mass
+from the initial ``position`` and its rotation (rad, counter-clockwise) from the initial
+``angle``. With c = c₀ + u, φ = φ₀ + θ and R(φ) the rotation by φ, a point r of the body frame
+(measured from the centre of mass) sits at
+
+    x = c + R(φ) r,   ∂x/∂(u, θ) = [I | R′(φ) r] = [I | J R(φ) r],   ∂²x/∂θ² = −R(φ) r,
+
+J = [[0, −1], [1, 0]] being the rotation by +90°; every other second derivative vanishes.
+The mass matrix diag(m, m, I_G) about the centre of mass is constant in planar motion and there
+is no internal energy, so the body has no elements.
+
+Contact geometry comes from a ``shape``: a ``Disk`` (contact through its centre and radius, see
+:mod:`fecontact.rigid_contact`) or a convex ``Polygon`` whose vertices are the contact points.
+Output points are the vertices, then the centre of mass, then (for a disk) points on its rim;
+they are drawn as the closed outline (plus a radius of the disk, so that its rotation shows).
+
+A ``PointMass`` is a body of its own with two translation dofs and one output point.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from .errors import InputError, check_finite, check_positive
+
+__all__ = ["Disk", "Polygon", "RigidBody2D", "PointMass"]
+
+_PERP = np.array([[0.0, -1.0], [1.0, 0.0]])  # rotation by +90°: J a = (−a_y, a_x)
+
+
+def rotation(phi) -> np.ndarray:
+    """Rotation matrix R(φ) for an angle in rad (counter-clockwise)."""
+    c, s = np.cos(phi), np.sin(phi)
+    return np.array([[c, -s], [s, c]])
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """z component of the cross products of rows of a and b."""
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
+def _point(name: str, value) -> np.ndarray:
+    x = check_finite(name, value)
+    if x.shape != (2,):
+        raise InputError(f"{name} must be a 2-vector (x, y) in m, got shape {x.shape}")
+    return x
+
+
+class Disk:
+    """Circular shape of ``radius`` (m) centred on the centre of mass.
+
+    ``n_outline`` points on the rim are written for output; they take no part in contact.
+    """
+
+    vertices = np.zeros((0, 2))
+
+    def __init__(self, radius: float, n_outline: int = 48):
+        self.radius = check_positive("radius", radius)
+        if isinstance(n_outline, bool) or int(n_outline) != n_outline or n_outline < 8:
+            raise InputError(f"n_outline must be an integer >= 8, got {n_outline!r}")
+        s = np.linspace(0.0, 2.0 * np.pi, int(n_outline), endpoint=False)
+        self._rim = self.radius * np.column_stack([np.cos(s), np.sin(s)])
+
+    @property
+    def size(self) -> float:
+        """Diameter, m."""
+        return 2.0 * self.radius
+
+    def moment(self, mass: float) -> float:
+        """Moment of inertia (kg·m²) of a uniform disk of ``mass`` (kg) about its centre."""
+        return 0.5 * check_positive("mass", mass) * self.radius**2
+
+    def output_points(self) -> np.ndarray:
+        """Body-frame output points: the centre, then the rim."""
+        return np.vstack([[0.0, 0.0], self._rim])
+
+    def cells(self) -> np.ndarray:
+        """Line cells: the rim as a closed loop and the radius to its first point."""
+        n = len(self._rim)
+        rim = 1 + np.arange(n)
+        loop = np.column_stack([rim, np.roll(rim, -1)])
+        return np.vstack([loop, [[0, 1]]])
+
+
+class Polygon:
+    """Convex polygon with ``vertices`` (n ≥ 3, 2) in m in the body frame, counter-clockwise,
+    measured from the centre of mass. The vertices are the contact points of the shape."""
+
+    def __init__(self, vertices):
+        V = check_finite("vertices", vertices)
+        if V.ndim != 2 or V.shape[1] != 2 or V.shape[0] < 3:
+            raise InputError(f"vertices must be an (n >= 3, 2) array, got shape {V.shape}")
+        edges = np.roll(V, -1, axis=0) - V
+        lengths = np.linalg.norm(edges, axis=1)
+        scale = np.max(np.linalg.norm(V - V.mean(axis=0), axis=1))
+        if scale == 0.0 or np.any(lengths <= 1e-12 * scale):
+            raise InputError("vertices must be distinct (consecutive vertices coincide)")
+        turn = _cross(edges, np.roll(edges, -1, axis=0))
+        if np.all(turn < 0.0):
+            raise InputError("vertices must be counter-clockwise (they are clockwise)")
+        # the exterior angles of a simple convex polygon add up to one full turn
+        angles = np.arctan2(turn, np.einsum("ij,ij->i", edges, np.roll(edges, -1, axis=0)))
+        if np.any(turn <= 1e-12 * scale**2) or abs(angles.sum() - 2.0 * np.pi) > 1e-9:
+            raise InputError("vertices must form a convex polygon, counter-clockwise")
+        self.vertices = V
+        self.normals = (edges @ _PERP) / lengths[:, None]  # outward: edge rotated by −90°
+        self.radius = float(np.max(np.linalg.norm(V, axis=1)))
+
+    @classmethod
+    def box(cls, width: float, height: float) -> Polygon:
+        """Rectangle ``width`` × ``height`` (m) centred on the centre of mass, edges along the
+        body axes; vertices from the bottom-left corner, counter-clockwise."""
+        w = 0.5 * check_positive("width", width)
+        h = 0.5 * check_positive("height", height)
+        return cls([[-w, -h], [w, -h], [w, h], [-w, h]])
+
+    @classmethod
+    def regular(cls, n: int, radius: float) -> Polygon:
+        """Regular polygon with ``n`` ≥ 3 vertices on a circle of ``radius`` (m)."""
+        if isinstance(n, bool) or int(n) != n or n < 3:
+            raise InputError(f"n must be an integer >= 3, got {n!r}")
+        r = check_positive("radius", radius)
+        s = 2.0 * np.pi * np.arange(int(n)) / int(n)
+        return cls(r * np.column_stack([np.cos(s), np.sin(s)]))
+
+    @property
+    def size(self) -> float:
+        """Largest distance between two vertices, m."""
+        d = self.vertices[:, None, :] - self.vertices[None, :, :]
+        return float(np.max(np.linalg.norm(d, axis=-1)))
+
+    @property
+    def area(self) -> float:
+        """Area, m²."""
+        V, W = self.vertices, np.roll(self.vertices, -1, axis=0)
+        return 0.5 * float(np.sum(_cross(V, W)))
+
+    @property
+    def centroid(self) -> np.ndarray:
+        """Centroid of the area in the body frame, m (the origin for a uniform body)."""
+        V, W = self.vertices, np.roll(self.vertices, -1, axis=0)
+        c = _cross(V, W)
+        return np.sum((V + W) * c[:, None], axis=0) / (6.0 * self.area)
+
+    def moment(self, mass: float) -> float:
+        """Moment of inertia (kg·m²) about the body-frame origin of a uniform plate of
+        ``mass`` (kg) with this outline."""
+        V, W = self.vertices, np.roll(self.vertices, -1, axis=0)
+        c = _cross(V, W)
+        Jo = np.sum(c * (np.sum(V * V, 1) + np.sum(V * W, 1) + np.sum(W * W, 1))) / 12.0
+        return check_positive("mass", mass) * float(Jo) / self.area
+
+    def output_points(self) -> np.ndarray:
+        """Body-frame output points: the vertices, then the centre of mass."""
+        return np.vstack([self.vertices, [[0.0, 0.0]]])
+
+    def cells(self) -> np.ndarray:
+        """Line cells: the outline as a closed loop."""
+        n = len(self.vertices)
+        return np.column_stack([np.arange(n), np.roll(np.arange(n), -1)])
+
+
+class RigidBody2D:
+    """Planar rigid body: ``mass`` (kg), ``inertia`` I_G (kg·m²) about the centre of mass,
+    initial ``position`` of the centre of mass (m), initial ``angle`` (rad) and a ``shape``
+    (``Disk`` or ``Polygon``, in the body frame about the centre of mass).
+
+    Dofs (u_x, u_y, θ): displacement of the centre of mass (m) and rotation (rad,
+    counter-clockwise) from the initial pose. ``fix("x", "y", "theta")`` holds some of them.
+    """
+
+    dofs_per_node = 3
+    ndof = 3
+    linear_kinematics = False
+    element_dofs = np.zeros((0, 3), dtype=int)
+    _DOF_NAMES = {"x": 0, "y": 1, "theta": 2}
+
+    def __init__(self, mass: float, inertia: float, position, angle: float = 0.0, shape=None):
+        self.mass = check_positive("mass", mass)
+        self.inertia = check_positive("inertia", inertia)
+        self.position = _point("position", position)
+        self.angle = float(check_finite("angle", angle))
+        if not isinstance(shape, (Disk, Polygon)):
+            raise InputError(f"shape must be a Disk or a Polygon, got {type(shape).__name__}")
+        self.shape = shape
+        self.fixed: set[int] = set()
+        self._points = shape.output_points()
+        self.center_index = len(shape.vertices)
+
+    @classmethod
+    def uniform(cls, mass: float, position, shape, angle: float = 0.0) -> RigidBody2D:
+        """Body of uniform density: the inertia is that of the shape's area about its origin,
+        which must be the centroid of the area."""
+        if isinstance(shape, Polygon) and np.linalg.norm(shape.centroid) > 1e-9 * shape.size:
+            raise InputError(
+                f"shape: the centroid {shape.centroid} of a uniform polygon must be the origin "
+                "of its vertices (the centre of mass)"
+            )
+        if not isinstance(shape, (Disk, Polygon)):
+            raise InputError(f"shape must be a Disk or a Polygon, got {type(shape).__name__}")
+        return cls(mass, shape.moment(mass), position, angle, shape)
+
+    def fix(self, *names: str) -> RigidBody2D:
+        """Hold dofs at their initial value: any of "x", "y", "theta"."""
+        for name in names:
+            if name not in self._DOF_NAMES:
+                raise InputError(f"dof must be one of x, y, theta, got {name!r}")
+            self.fixed.add(self._DOF_NAMES[name])
+        return self
+
+    # -- the body protocol -------------------------------------------------------------------
+    @property
+    def n_nodes(self) -> int:
+        """Number of output points."""
+        return len(self._points)
+
+    @property
+    def characteristic_length(self) -> float:
+        """Size of the shape (diameter of a disk, largest vertex distance of a polygon), m."""
+        return self.shape.size
+
+    def _node(self, node: int) -> int:
+        n = self.n_nodes
+        if not -n <= int(node) < n:
+            raise InputError(f"point must be in [{-n}, {n - 1}], got {node}")
+        return int(node) % n
+
+    def internal(self, q: np.ndarray, tangent: bool = True):
+        """No strain energy: (0, zero force, no element tangents)."""
+        return 0.0, np.zeros(3), (np.zeros((0, 3, 3)) if tangent else None)
+
+    def energy(self, q: np.ndarray) -> float:
+        return 0.0
+
+    def mass_matrix(self) -> sp.csr_matrix:
+        """diag(m, m, I_G) in kg, kg, kg·m²."""
+        return sp.diags([self.mass, self.mass, self.inertia]).tocsr()
+
+    def translation_field(self, vector) -> np.ndarray:
+        """(v_x, v_y, 0): ``vector`` on the translation of the centre of mass."""
+        return np.array([vector[0], vector[1], 0.0])
+
+    def velocity(self, vx: float, vy: float, omega: float = 0.0) -> np.ndarray:
+        """Body dof vector of a velocity: centre of mass (m/s) and angular velocity (rad/s)."""
+        return check_finite("velocity", [vx, vy, omega])
+
+    def center(self, q: np.ndarray) -> np.ndarray:
+        """Current centre of mass c₀ + u, m."""
+        return self.position + q[:2]
+
+    def orientation(self, q: np.ndarray) -> float:
+        """Current angle φ₀ + θ of the body frame, rad."""
+        return self.angle + q[2]
+
+    def positions(self, q: np.ndarray) -> np.ndarray:
+        """Current output points c + R(φ) r, shape (n, 2), m."""
+        return self.center(q) + self._points @ rotation(self.orientation(q)).T
+
+    def nodal(self, x: np.ndarray, q: np.ndarray | None = None) -> np.ndarray:
+        """Rigid-body field of the dof vector ``x`` = (a_x, a_y, ω) at the output points:
+        a + ω J R(φ) r, with the orientation of configuration ``q`` (the initial pose when
+        None). For a velocity, the velocities of the points (m/s); the centre of mass gets
+        (a_x, a_y) whatever ``q``."""
+        q = np.zeros(3) if q is None else q
+        arm = self._points @ rotation(self.orientation(q)).T
+        return x[:2] + x[2] * (arm @ _PERP.T)
+
+    def contact_nodes(self, nodes=None) -> np.ndarray:
+        """Validated indices of contact points: the polygon's vertices (all by default)."""
+        n = len(self.shape.vertices)
+        if n == 0:
+            raise InputError(
+                "a Disk has no vertices: contact it through Contact(body, obstacle), which "
+                "uses its centre and radius"
+            )
+        if nodes is None:
+            return np.arange(n)
+        idx = np.array([self._node(i) for i in np.atleast_1d(nodes)], dtype=int)
+        if np.any(idx >= n):
+            raise InputError(f"nodes must be vertices of the polygon, in [{-n}, {n - 1}]")
+        return idx
+
+    def point_kinematics(self, q: np.ndarray, nodes: np.ndarray):
+        """Positions x = c + R(φ) r (m, 2) of output points ``nodes``, their local dofs (m, 3),
+        ∂x/∂q (m, 2, 3) and the exact ∂²x/∂q² (m, 2, 3, 3) (only the θθ entry, −R r)."""
+        arm = self._points[nodes] @ rotation(self.orientation(q)).T
+        m = len(nodes)
+        x = self.center(q) + arm
+        Jx = np.zeros((m, 2, 3))
+        Jx[:, 0, 0] = Jx[:, 1, 1] = 1.0
+        Jx[:, :, 2] = arm @ _PERP.T
+        Hx = np.zeros((m, 2, 3, 3))
+        Hx[:, :, 2, 2] = -arm
+        return x, np.broadcast_to(np.arange(3), (m, 3)), Jx, Hx
+
+    def point_data(self, q: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:
+        """Output fields at the output points: displacement and velocity (2D vectors, m and
+        m/s), rotation θ (rad) and angular velocity ω (rad/s) of the body."""
+        n = self.n_nodes
+        return {
+            "displacement": self.positions(q) - self.positions(np.zeros(3)),
+            "velocity": self.nodal(v, q),
+            "rotation": np.full(n, q[2]),
+            "angular_velocity": np.full(n, v[2]),
+        }
+
+    def cells(self) -> list[tuple[str, np.ndarray]]:
+        """Cells for VTU output: the outline as ``line`` cells."""
+        return [("line", self.shape.cells())]
+
+
+class PointMass:
+    """A point of ``mass`` (kg) at ``position`` (m): two dofs (u_x, u_y), one output point.
+
+    ``size`` (m) is the length scale of the scene it belongs to; it sets the gap tolerance and
+    the contact detection margin of a model made of point masses only.
+    """
+
+    dofs_per_node = 2
+    ndof = 2
+    n_nodes = 1
+    linear_kinematics = True
+    element_dofs = np.zeros((0, 2), dtype=int)
+
+    def __init__(self, mass: float, position, size: float = 1.0):
+        self.mass = check_positive("mass", mass)
+        self.position = _point("position", position)
+        self.characteristic_length = check_positive("size", size)
+        self.fixed: set[int] = set()
+
+    def _node(self, node: int) -> int:
+        if int(node) not in (0, -1):
+            raise InputError(f"point must be 0 (a point mass has one point), got {node}")
+        return 0
+
+    def internal(self, q: np.ndarray, tangent: bool = True):
+        return 0.0, np.zeros(2), (np.zeros((0, 2, 2)) if tangent else None)
+
+    def energy(self, q: np.ndarray) -> float:
+        return 0.0
+
+    def mass_matrix(self) -> sp.csr_matrix:
+        """diag(m, m) in kg."""
+        return sp.diags([self.mass, self.mass]).tocsr()
+
+    def translation_field(self, vector) -> np.ndarray:
+        return np.array([vector[0], vector[1]], dtype=float)
+
+    def positions(self, q: np.ndarray) -> np.ndarray:
+        """Current position (1, 2), m."""
+        return (self.position + q[:2])[None, :]
+
+    def nodal(self, x: np.ndarray, q: np.ndarray | None = None) -> np.ndarray:
+        return x[None, :2]
+
+    def contact_nodes(self, nodes=None) -> np.ndarray:
+        if nodes is not None:
+            for i in np.atleast_1d(nodes):
+                self._node(i)
+        return np.zeros(1, dtype=int)
+
+    def point_kinematics(self, q: np.ndarray, nodes: np.ndarray):
+        """Position (m, 2), local dofs (m, 2), ∂x/∂q = I (m, 2, 2), no curvature (None)."""
+        m = len(nodes)
+        x = np.broadcast_to(self.position + q[:2], (m, 2))
+        return x, np.broadcast_to(np.arange(2), (m, 2)), np.broadcast_to(np.eye(2), (m, 2, 2)), None
+
+    def point_data(self, q: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:
+        return {"displacement": q[None, :2], "velocity": v[None, :2]}
+
+    def cells(self) -> list[tuple[str, np.ndarray]]:
+        """No cells: the point is written on its own."""
+        return [("line", np.zeros((0, 2), dtype=int))]
