@@ -224,6 +224,29 @@ def _advance(model, st, h, opts, timer, depth):
     return second
 
 
+def _line_search(model, q, dq, b, slope, bp):
+    """Step length along a large Newton update dq of the smooth step.
+
+    The smooth step is stationary for Π(q) = ½β′|q − q_pred|²_M + (M v̇_pred − f_ext)·q + W(q).
+    Far from the solution (right after an impact, the rotations of a slender beam's nodes,
+    whose inertia is tiny, take large Newton updates) a full step can leap to another branch
+    of the periodic dependence on θ; backtracking on Π (Armijo) keeps Newton on the nearest one.
+    """
+    F = model.free
+    W0 = model.strain_energy(q)
+    quad = 0.5 * bp * float(dq @ (model.M @ dq))
+    lin = float(b @ dq)
+    qt = q.copy()
+    s = 1.0
+    for _ in range(16):
+        qt[F] = q[F] + s * dq
+        change = s * lin + s * s * quad + model.strain_energy(qt) - W0
+        if change <= 1e-4 * s * slope:
+            break
+        s *= 0.5
+    return s
+
+
 def _factorize(A, residual):
     try:
         return factorize(A)
@@ -247,6 +270,7 @@ def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer
     da = (1.0 - af) / (1.0 - am) * bp
     S = None
     inc_tol = opts.tol_increment * max(model.length, 1.0)
+    big_step = 0.05 * max(model.length, 1.0)
     clock = time.perf_counter()
     for it in range(opts.max_iterations + 1):
         _, fint, K = model.internal(q)
@@ -265,6 +289,8 @@ def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer
         S = bp * model.M + K
         solve_S = _factorize(S, rnorm / ref)
         dq = -solve_S(r)
+        if np.max(np.abs(dq)) > big_step:
+            dq *= _line_search(model, q, dq, Mvd - fext, r @ dq, bp)
         q[F] += dq
         v[F] += gp * dq
         vd[F] += bp * dq
