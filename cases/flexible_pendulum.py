@@ -14,6 +14,7 @@ from fecontact import (
     Plane,
     Section,
     Simulation,
+    check_positive,
     node_probe,
     run_cli,
 )
@@ -50,11 +51,14 @@ def build(
     penalty_scale=1.0,
     multiplier_scale=1.0,
 ):
+    check_positive("length", length)
+    check_positive("gravity", gravity, allow_zero=True)
     material = Material(E=E, rho=rho, nu=nu)
     section = Section.rectangle(width, thickness)
     beam = Beam2D.straight([0.0, 0.0], [length, 0.0], n_elements, material, section)
     beam.pin(0).add_mass(-1, tip_mass)
-    stop = Contact(beam, Plane([0.0, -0.3], [1.0, 0.0]), nodes=[-1], restitution=restitution)
+    wall = Plane([0.0, -0.3], [1.0, 0.0], extent=0.08)
+    stop = Contact(beam, wall, nodes=[-1], restitution=restitution)
     model = Model([beam], [stop], gravity=(0.0, -gravity))
     probes = {f"tip_{q}": node_probe(model, beam, -1, q) for q in ("x", "y", "vx", "vy")}
     options = IntegratorOptions(

@@ -11,7 +11,7 @@ __version__ = "0.1.0"
 
 from .beam import Beam2D, Material, Section
 from .contact import Contact
-from .errors import InputError, SolverError
+from .errors import InputError, SolverError, check_positive, check_range
 from .integrator import IntegratorOptions, State, simulate
 from .model import Model
 from .obstacles import Circle, Plane, Point
@@ -32,6 +32,8 @@ __all__ = [
     "Simulation",
     "SolverError",
     "State",
+    "check_positive",
+    "check_range",
     "load_run",
     "node_probe",
     "run",

@@ -18,12 +18,14 @@ __all__ = ["Plane", "Circle", "Point"]
 class Plane:
     """Half-plane bounded by the line through ``point`` with outward unit ``normal``.
 
-    g(x) = n·(x − p): material is allowed on the side the normal points to.
+    g(x) = n·(x − p): material is allowed on the side the normal points to. ``extent`` (m) is
+    only the length drawn in the output (default: twice the model size).
     """
 
     linear = True
 
-    def __init__(self, point, normal):
+    def __init__(self, point, normal, extent: float | None = None):
+        self.extent = None if extent is None else check_positive("extent", extent)
         self.point = check_finite("point", point).reshape(2)
         n = check_finite("normal", normal).reshape(2)
         norm = np.linalg.norm(n)

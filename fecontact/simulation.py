@@ -22,7 +22,7 @@ import numpy as np
 
 from . import __version__
 from .errors import InputError, SolverError, check_positive
-from .integrator import IntegratorOptions, PhaseTimer, State, simulate
+from .integrator import IntegratorOptions, PhaseTimer, State, initial_state, simulate
 
 __all__ = ["Probe", "Simulation", "node_probe", "run", "HISTORY_COLUMNS"]
 
@@ -124,7 +124,10 @@ def _static_parts(model):
     parts = {}
     for j, pair in enumerate(model.contacts.pairs):
         obs = pair.obstacle
-        pts = obs.outline(2.0 * model.length) if hasattr(obs, "normal") else obs.outline()
+        if hasattr(obs, "normal"):
+            pts = obs.outline(obs.extent or 2.0 * model.length)
+        else:
+            pts = obs.outline()
         conn = np.stack([np.arange(len(pts) - 1), np.arange(1, len(pts))], axis=1)
         parts[f"obstacle{j}"] = line_mesh(pts, conn, {})
     return parts
@@ -238,6 +241,7 @@ def run(sim: Simulation, out_dir, progress: bool = False, frames: bool = True) -
     """
     from .output import PVDWriter, write_json
 
+    initial_state(sim.model, sim.q0, sim.v0)  # input errors surface before any file exists
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     pvd = PVDWriter(out, sim.name)

@@ -1,0 +1,148 @@
+"""The fecontact command: runs, outputs, and every input error as exit status 2."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from conftest import ROOT
+
+from fecontact import load_run
+from fecontact.cli import main, parse_value
+from fecontact.simulation import HISTORY_COLUMNS
+
+CASE = str(ROOT / "cases" / "flexible_pendulum.py")
+
+
+@pytest.fixture(scope="module")
+def short_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("run")
+    status = main(["run", CASE, "--out", str(out), "--t-end", "0.35", "--quiet",
+                   "--output-interval", "0.05"])
+    assert status == 0
+    return out
+
+
+def test_run_writes_frames_history_and_summary(short_run):
+    files = sorted(p.name for p in short_run.iterdir())
+    assert "flexible_pendulum.pvd" in files
+    assert "history.csv" in files and "summary.json" in files
+    run = load_run(short_run)
+    for column in HISTORY_COLUMNS + ("tip_x", "tip_y", "tip_vx", "tip_vy"):
+        assert np.all(np.isfinite(run.history[column]) | (column == "min_gap"))
+    assert len(run.history["t"]) == 351
+    s = run.summary
+    for key in ("steps", "wall_time_s", "phase_times_s", "newton_iterations_total",
+                "newton_iterations_max", "max_penetration", "energy_initial", "energy_final",
+                "impacts", "parameters", "versions"):
+        assert key in s
+    assert s["steps"] == 350 and s["status"] == "completed"
+    assert {"assembly", "solve", "contact", "output"} <= set(s["phase_times_s"])
+    assert s["parameters"]["tip_mass"] == 0.14
+    assert s["max_penetration"] <= 1e-10
+    assert s["impacts"][0]["time"] == pytest.approx(0.319)
+    # frames at the output interval, with real times, readable by pyvista
+    times = [t for t, _ in run.frames()]
+    assert np.allclose(times, np.r_[np.arange(0, 0.35, 0.05), 0.35])
+    t, parts = run.frames([-1])[0]
+    beam = next(m for name, m in parts.items() if "obstacle" not in name)
+    assert beam.point_data["displacement"].shape == (5, 3)
+    assert np.allclose(beam.points[-1, :2], [run.history["tip_x"][-1], run.history["tip_y"][-1]])
+    assert beam.n_cells == 4
+
+
+def test_info_lists_parameters_with_units(capsys):
+    assert main(["info", CASE]) == 0
+    out = capsys.readouterr().out
+    for name, unit in [("length", "m"), ("E", "Pa"), ("tip_mass", "kg"), ("restitution", "-")]:
+        line = next(row for row in out.splitlines() if row.split()[:1] == [name])
+        assert unit in line.split()
+
+
+@pytest.mark.parametrize(
+    "args, word",
+    [
+        (["--set", "E=-1"], "E"),
+        (["--set", "length=-1"], "length"),
+        (["--set", "restitution=1.5"], "restitution"),
+        (["--set", "restitution=-0.5"], "restitution"),
+        (["--set", "E=nan"], "E"),
+        (["--set", "rho=inf"], "rho"),
+        (["--set", "tip_mass=-0.1"], "mass"),
+        (["--set", "n_elements=0"], "n_elements"),
+        (["--set", "rho_inf=1.5"], "rho_inf"),
+        (["--set", "metric=diagonal"], "metric"),
+        (["--set", "bogus=1"], "bogus"),
+        (["--set", "E"], "NAME=VALUE"),
+        (["--dt", "0"], "dt"),
+        (["--dt", "-1e-3"], "dt"),
+        (["--t-end", "nan"], "t_end"),
+        (["--output-interval", "0"], "output_interval"),
+        (["--dt", "abc"], "dt"),
+    ],
+)
+def test_bad_input_exits_2_with_one_line(tmp_path, capsys, args, word):
+    out = tmp_path / "out"
+    assert main(["run", CASE, "--out", str(out), "--quiet", *args]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and word in err
+    assert not out.exists()  # stopped before any work
+
+
+def test_unknown_name_lists_the_known_ones(capsys):
+    main(["run", CASE, "--set", "lenght=1"])
+    err = capsys.readouterr().err
+    assert "length" in err and "restitution" in err
+
+
+def test_missing_case_file_exits_2(tmp_path, capsys):
+    assert main(["run", str(tmp_path / "nope.py")]) == 2
+    assert "not found" in capsys.readouterr().err
+    assert main(["info", str(tmp_path / "nope.py")]) == 2
+    assert main(["render", str(tmp_path / "nothing")]) == 2
+
+
+def test_set_values_parse_as_int_float_or_string():
+    assert parse_value("4") == 4 and isinstance(parse_value("4"), int)
+    assert parse_value("7e10") == 7e10
+    assert np.isnan(parse_value("nan")) and parse_value("inf") == np.inf
+    assert parse_value("mass") == "mass"
+
+
+def test_run_that_fails_midway_keeps_its_frames(tmp_path, capsys):
+    """Too few Newton iterations and no step halving: the run stops after the impact, with
+    exit status 1, the time and step in the message, and a readable partial .pvd."""
+    out = tmp_path / "fail"
+    status = main(["run", CASE, "--out", str(out), "--quiet", "--set", "max_iterations=3",
+                   "--set", "max_halvings=0"])
+    assert status == 1
+    err = capsys.readouterr().err
+    assert "t = " in err and "step" in err and "residual" in err
+    run = load_run(out)
+    assert run.summary["status"] == "failed"
+    assert 0.3 < run.history["t"][-1] < 1.5
+    frames = run.frames()
+    assert len(frames) >= 30
+    assert frames[-1][0] <= run.history["t"][-1]
+    assert not list(out.glob("*.tmp*"))
+
+
+def test_case_file_runs_as_a_script(tmp_path):
+    out = tmp_path / "script"
+    proc = subprocess.run(
+        [sys.executable, CASE, "--t-end", "0.02", "--quiet", "--out", str(out)],
+        capture_output=True, text=True, timeout=120,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert json.loads((out / "summary.json").read_text())["steps"] == 20
+    bad = subprocess.run([sys.executable, CASE, "--set", "E=-5"], capture_output=True,
+                         text=True, timeout=120)
+    assert bad.returncode == 2 and "Traceback" not in bad.stderr
+
+
+def test_render_a_finished_run(short_run, capsys):
+    assert main(["render", str(short_run / "flexible_pendulum.pvd")]) == 0
+    for name in ("snapshot_start.png", "snapshot_impact.png", "snapshot_end.png",
+                 "history.png", "animation.gif"):
+        assert (short_run / name).stat().st_size > 1000
