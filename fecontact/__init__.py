@@ -13,7 +13,8 @@ from .beam import Beam2D, Material, Section
 from .contact import Contact
 from .errors import InputError, SolverError, check_positive, check_range
 from .integrator import IntegratorOptions, State, simulate
-from .model import Model
+from .joints import Pin
+from .model import Model, NodalLoad
 from .obstacles import Circle, Plane, Point
 from .simulation import Probe, Simulation, node_probe, run
 
@@ -25,6 +26,8 @@ __all__ = [
     "IntegratorOptions",
     "Material",
     "Model",
+    "NodalLoad",
+    "Pin",
     "Plane",
     "Point",
     "Probe",

@@ -290,6 +290,14 @@ class Beam2D:
             return np.arange(self.n_nodes)
         return np.array([self._node(i) for i in np.atleast_1d(nodes)], dtype=int)
 
+    def locate(self, point) -> int:
+        """Index of the node at ``point`` (reference coordinates, m)."""
+        d = np.linalg.norm(self.X - np.asarray(point, dtype=float), axis=1)
+        i = int(np.argmin(d))
+        if d[i] > 1e-9 * self.length:
+            raise InputError(f"point {list(point)} is not a node of the beam")
+        return i
+
     def point_kinematics(self, q: np.ndarray, nodes: np.ndarray):
         """Positions x (m, 2) of ``nodes``, their local dofs (m, 2), ∂x/∂q (m, 2, 2) and
         ∂²x/∂q² (None: linear)."""

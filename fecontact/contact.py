@@ -216,7 +216,7 @@ def _kkt_multipliers(GA, Y, rhs, k):
         return np.linalg.lstsq(S, rhs, rcond=None)[0]
 
 
-def solve_position_correction(gaps, system, n, p, k, tol_gap, tol_u, max_iter=30):
+def solve_position_correction(gaps, system, n, p, k, tol_gap, tol_u, max_iter=30, bilateral=None):
     """Position correction q = q̃ + U: find (U, ν) with H U = Σ G_jᵀ [k ν_j − p g_j(q)]_+ and
     k ν_j − [k ν_j − p g_j(q)]_+ = 0 for every candidate j.
 
@@ -224,16 +224,19 @@ def solve_position_correction(gaps, system, n, p, k, tol_gap, tol_u, max_iter=30
     q̃ + U. ``system(U, s, A) -> (solve, C)`` gives the solver of the Newton matrix
     H − C, where C = Σ_A s_j ∇²g_j is the curvature of the gaps (``None`` when they are linear).
     Each Newton step solves the bordered system [H − C, −k G_Aᵀ; G_A, 0] through its Schur
-    complement. Returns (U, ν, iterations); raises ``RuntimeError`` when it does not settle.
+    complement. ``bilateral`` marks equality constraints (joints): always active, with
+    multipliers of either sign. Returns (U, ν, iterations); raises ``RuntimeError`` when the
+    iteration does not settle.
     """
     U = np.zeros(n)
     g, G = gaps(U)
     nu = np.zeros(len(g))
+    eq = np.zeros(len(g), bool) if bilateral is None else bilateral
     A_prev, dU = None, np.inf
     for it in range(max_iter + 1):
-        A = (k * nu - p * g) > 0
+        A = ((k * nu - p * g) > 0) | eq
         if A_prev is not None and np.array_equal(A, A_prev) and dU <= tol_u:
-            if np.all(g >= -tol_gap) and np.all(np.abs(g[A]) <= tol_gap):
+            if np.all(g[~eq] >= -tol_gap) and np.all(np.abs(g[A]) <= tol_gap):
                 return U, nu, it
         solve, C = system(U, k * nu - p * g, A)
         x0 = np.zeros(n) if C is None else solve(-(C @ U))
@@ -250,19 +253,21 @@ def solve_position_correction(gaps, system, n, p, k, tol_gap, tol_u, max_iter=30
     raise RuntimeError(f"position correction: active set did not settle in {max_iter} iterations")
 
 
-def solve_velocity_jump(G, c, solve_M, p, k, max_iter=30):
+def solve_velocity_jump(G, c, solve_M, p, k, max_iter=30, bilateral=None):
     """Velocity jump v = ṽ + W: M W = Σ G_jᵀ [k Λ_j − p ġ_j]_+ with ġ = c + G W and
     k Λ_j − [k Λ_j − p ġ_j]_+ = 0 (c_j = G_j ṽ + e_j G_j(q_n) v_n). Linear in W for a given
-    active set, so the iteration ends when the set repeats. Returns (W, Λ, iterations)."""
+    active set, so the iteration ends when the set repeats. ``bilateral`` rows (joints) are
+    always active: G_b v = 0. Returns (W, Λ, iterations)."""
     m = len(c)
     Lam = np.zeros(m)
     gd = np.asarray(c, dtype=float)
     Gd = np.asarray(G.todense()) if hasattr(G, "todense") else np.asarray(G)
     Y_all = solve_M(Gd.T).reshape(-1, m)
+    eq = np.zeros(m, bool) if bilateral is None else bilateral
     A_prev = None
     W = np.zeros(Y_all.shape[0])
     for it in range(1, max_iter + 1):
-        A = (k * Lam - p * gd) > 0
+        A = ((k * Lam - p * gd) > 0) | eq
         if A_prev is not None and np.array_equal(A, A_prev):
             return W, Lam, it - 1
         Lam = np.zeros(m)
@@ -290,6 +295,21 @@ class ContactSet:
             [np.full(pair.size, i) for i, pair in enumerate(self.pairs)] or [np.zeros(0, int)]
         )
 
+    @property
+    def all(self) -> np.ndarray:
+        return np.arange(self.size)
+
+    def quadratic(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """vᵀ ∇²g_j v for every constraint j (the acceleration term of a holonomic one)."""
+        out = []
+        for g, dofs, _, H in self.evaluate(q):
+            if H is None:
+                out.append(np.zeros(len(g)))
+            else:
+                vd = v[np.broadcast_to(dofs, H.shape[:2])]
+                out.append(np.einsum("mi,mij,mj->m", vd, H, vd))
+        return np.concatenate(out) if out else np.zeros(0)
+
     def evaluate(self, q: np.ndarray):
         """Gaps (m,), dofs (list per pair), gradient values and Hessians of every contact."""
         return [pair.evaluate(q) for pair in self.pairs]
@@ -301,6 +321,8 @@ class ContactSet:
 
     def jacobian(self, q: np.ndarray, select: np.ndarray):
         """Gaps and dense gradient (len(select) × n_free) of the contacts ``select``."""
+        if not self.pairs:
+            return np.zeros(0), np.zeros((0, self.n_free))
         g, rows, cols, vals = self._gather(q, select)[:4]
         G = np.zeros((len(select), self.n_free))
         np.add.at(G, (rows, cols), vals)

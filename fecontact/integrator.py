@@ -33,6 +33,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 
 import numpy as np
+import scipy.sparse as sp
 
 from .contact import solve_position_correction, solve_velocity_jump
 from .errors import InputError, SolverError, check_finite, check_positive, check_range
@@ -123,6 +124,7 @@ class State:
     nu: np.ndarray = field(default_factory=lambda: np.zeros(0))
     impulse: np.ndarray = field(default_factory=lambda: np.zeros(0))
     iterations: dict = field(default_factory=lambda: {"smooth": 0, "position": 0, "velocity": 0})
+    lam: np.ndarray = field(default_factory=lambda: np.zeros(0))
     halvings: int = 0
 
     @property
@@ -161,12 +163,35 @@ def initial_state(model, q0=None, v0=None) -> State:
         raise InputError(
             f"initial configuration: contact {j} penetrates by {-g[j]:.3e} m (gap must be >= 0)"
         )
-    _, fint, _ = model.internal(q, tangent=False)
-    vd = np.zeros(n)
+    _, fint, K = model.internal(q)
     F = model.free
-    vd[F] = model.solve_M(model.external(0.0)[F] - fint[F])
+    f = model.external(0.0)[F] - fint[F]
+    alpha, beta_k = model.damping
+    if alpha or beta_k:
+        f -= (alpha * model.M + beta_k * K) @ v[F]
+    vd = np.zeros(n)
+    joints = model.joints
+    if joints.size:
+        gb, Gb = joints.jacobian(q, joints.all)
+        if np.max(np.abs(gb)) > tol or np.max(np.abs(Gb @ v[F])) > tol:
+            raise InputError("initial configuration: a joint is violated by q0 or v0")
+        # consistent acceleration: G_b v̇ = −vᵀ ∇²g_b v
+        x = factorize(_bordered(model.M, Gb))(np.r_[f, -joints.quadratic(q, v)])
+        vd[F] = x[: len(F)]
+    else:
+        vd[F] = model.solve_M(f)
     m = model.contacts.size
-    return State(0.0, q, v, vd, vd.copy(), gaps=g, nu=np.zeros(m), impulse=np.zeros(m))
+    return State(
+        0.0,
+        q,
+        v,
+        vd,
+        vd.copy(),
+        gaps=g,
+        nu=np.zeros(m),
+        impulse=np.zeros(m),
+        lam=np.zeros(model.joints.size),
+    )
 
 
 def simulate(
@@ -255,120 +280,225 @@ def _factorize(A, residual):
 
 
 def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer) -> State:
-    am, af, gm, be = alpha_coefficients(opts.rho_inf)
-    bp = (1.0 - am) / (be * h * h * (1.0 - af))
-    gp = gm / (be * h)
-    F = model.free
+    c = _Coefficients(opts.rho_inf, h)
     t = st.t + h
+    q, v, vd, a, lam, S, it = _smooth_step(model, st, t, c, opts, timer)
+    iters = {"smooth": it, "position": 0, "velocity": 0}
+    clock = time.perf_counter()
+    m, joints = model.contacts.size, model.joints
+    if m == 0 and joints.size == 0:
+        return State(t, q, v, vd, a, h=h, lam=lam, iterations=iters)
 
-    # 1. smooth step (no contact forces)
-    vd = st.vd.copy()
-    a = (af * st.vd - am * st.a + (1.0 - af) * vd) / (1.0 - am)
-    q = st.q + h * st.v + h * h * (0.5 - be) * st.a + h * h * be * a
-    v = st.v + h * (1.0 - gm) * st.a + h * gm * a
+    # 2. position correction, only if a contact candidate penetrates (joints already hold)
+    g_tilde = model.contacts.gaps(q)
+    cand = np.flatnonzero(g_tilde <= opts.detection_margin * model.length)
+    tol_gap = opts.tol_gap * model.length
+    nu, impulse, gaps = np.zeros(m), np.zeros(m), g_tilde
+    if cand.size and np.min(g_tilde[cand]) < 0.0:
+        U, nu_c, iters["position"] = _position_correction(model, q, cand, S, c, opts)
+        q[model.free] += U
+        nu[cand] = nu_c[: cand.size]
+        gaps = model.contacts.gaps(q)
+    clock = timer.add("contact", clock)
+
+    # 3. velocity jump on the contacts closed at q_{n+1}, and on the joints
+    closed = cand[gaps[cand] <= tol_gap]
+    if closed.size or joints.size:
+        W, Lam, iters["velocity"] = _velocity_jump(model, st, q, v, closed, opts)
+        v[model.free] += W
+        impulse[closed] = Lam[: closed.size]
+    timer.add("contact", clock)
+    return State(
+        t,
+        q,
+        v,
+        vd,
+        a,
+        h=h,
+        gaps=gaps,
+        candidates=cand,
+        nu=nu,
+        impulse=impulse,
+        lam=lam,
+        iterations=iters,
+    )
+
+
+class _Coefficients:
+    """Generalized-α coefficients for one step of size h."""
+
+    def __init__(self, rho_inf: float, h: float):
+        am, af, gm, be = alpha_coefficients(rho_inf)
+        self.am, self.af, self.gamma, self.beta, self.h = am, af, gm, be, h
+        self.bp = (1.0 - am) / (be * h * h * (1.0 - af))  # β′ = ∂v̇/∂q
+        self.gp = gm / (be * h)  # γ′ = ∂v/∂q
+        self.da = (1.0 - af) / (1.0 - am) * self.bp  # ∂a/∂q
+
+
+def _smooth_step(model, st, t, c, opts, timer):
+    """Step 1: Newton on M v̇ + C_t v + f_int(q) + G_bᵀλ = f_ext(t), g_b(q) = 0."""
+    F, h = model.free, c.h
+    vd = st.vd.copy()  # predictor: constant acceleration
+    a = (c.af * st.vd - c.am * st.a + (1.0 - c.af) * vd) / (1.0 - c.am)
+    q = st.q + h * st.v + h * h * (0.5 - c.beta) * st.a + h * h * c.beta * a
+    v = st.v + h * (1.0 - c.gamma) * st.a + h * c.gamma * a
+    lam = st.lam.copy()
     fext = model.external(t)[F]
-    da = (1.0 - af) / (1.0 - am) * bp
-    S = None
+    joints = model.joints
+    nb = joints.size
+    alpha, beta_k = model.damping
+    tol_b = opts.tol_gap * model.length
     inc_tol = opts.tol_increment * max(model.length, 1.0)
     big_step = 0.05 * max(model.length, 1.0)
+    S = None
     clock = time.perf_counter()
     for it in range(opts.max_iterations + 1):
         _, fint, K = model.internal(q)
-        Mvd = model.M @ vd[F]
-        r = Mvd + fint[F] - fext
-        clock = timer.add("assembly", clock)
         fi = fint[F]
+        Mvd = model.M @ vd[F]
+        r = Mvd + fi - fext
+        if alpha or beta_k:
+            Ct = alpha * model.M + beta_k * K
+            r += Ct @ v[F]
+        if nb:
+            gb, Gb = joints.jacobian(q, joints.all)
+            r += Gb.T @ lam
+        clock = timer.add("assembly", clock)
         ref = math.sqrt(max(fext @ fext, fi @ fi, Mvd @ Mvd, 1e-300))
         rnorm = math.sqrt(r @ r)
         if not np.isfinite(rnorm):
             raise _StepFailure("smooth step diverged", rnorm)
-        if rnorm <= opts.tol_residual * ref:
+        if rnorm <= opts.tol_residual * ref and (not nb or np.max(np.abs(gb)) <= tol_b):
             break
         if it == opts.max_iterations:
             raise _StepFailure("smooth step", rnorm / ref)
-        S = bp * model.M + K
-        solve_S = _factorize(S, rnorm / ref)
-        dq = -solve_S(r)
-        if np.max(np.abs(dq)) > big_step:
-            dq *= _line_search(model, q, dq, Mvd - fext, r @ dq, bp)
+        S = c.bp * model.M + K
+        if alpha or beta_k:
+            S = S + c.gp * Ct
+        if nb:
+            Kb = S if joints.linear else S + joints.curvature(q, joints.all, lam)
+            solve = _factorize(_bordered(Kb, Gb), rnorm / ref)
+            x = -solve(np.concatenate([r, gb]))
+            dq, lam = x[: len(F)], lam + x[len(F) :]
+        else:
+            solve = _factorize(S, rnorm / ref)
+            dq = -solve(r)
+            if np.max(np.abs(dq)) > big_step:
+                dq *= _line_search(model, q, dq, Mvd - fext, r @ dq, c.bp)
         q[F] += dq
-        v[F] += gp * dq
-        vd[F] += bp * dq
-        a[F] += da * dq
+        v[F] += c.gp * dq
+        vd[F] += c.bp * dq
+        a[F] += c.da * dq
         clock = timer.add("solve", clock)
-        if np.max(np.abs(dq)) <= inc_tol:
+        if np.max(np.abs(dq)) <= inc_tol and (not nb or np.max(np.abs(gb)) <= tol_b):
             it += 1
             break
-    iters = {"smooth": it, "position": 0, "velocity": 0}
+    # the metric of the position correction reuses S_t and its factors; a bordered
+    # factorization (joints) is no metric, so then S_t is rebuilt on demand
+    S = (S, solve) if S is not None and not nb else None
+    return q, v, vd, a, lam, S, it
 
-    # 2. position correction, only if a candidate penetrates
-    contacts = model.contacts
-    m = contacts.size
-    nu, impulse = np.zeros(m), np.zeros(m)
-    if m == 0:
-        return State(t, q, v, vd, a, h=h, iterations=iters)
-    g_tilde = contacts.gaps(q)
-    margin = opts.detection_margin * model.length
-    tol_gap = opts.tol_gap * model.length
-    cand = np.flatnonzero(g_tilde <= margin)
-    gaps = g_tilde
-    if cand.size and np.min(g_tilde[cand]) < 0.0:
-        if opts.metric == "mass":
-            H, solve_H = model.M, model.solve_M
-        else:
-            if S is None:
-                _, _, K = model.internal(q)
-                S = bp * model.M + K
-                solve_S = _factorize(S, math.nan)
-            H = S / bp
-            solve_H = lambda b: bp * solve_S(b)  # noqa: E731
-        q_tilde = q.copy()
-        _, G0 = contacts.jacobian(q_tilde, cand)
-        p = opts.penalty_scale / np.einsum("ij,ji->i", G0, solve_H(G0.T).reshape(len(F), -1))
-        k = opts.multiplier_scale
 
-        def trial(U):
-            qt = q_tilde.copy()
-            qt[F] += U
-            return contacts.jacobian(qt, cand)
+def _bordered(K, G):
+    """The saddle-point matrix [[K, Gᵀ], [G, 0]] (dense or sparse like K)."""
+    if sp.issparse(K):
+        return sp.bmat([[K, sp.csr_matrix(G.T)], [sp.csr_matrix(G), None]], format="csc")
+    nb = G.shape[0]
+    return np.block([[K, G.T], [G, np.zeros((nb, nb))]])
 
-        def system(U, s, A):
-            if contacts.linear:
-                return solve_H, None
-            qt = q_tilde.copy()
-            qt[F] += U
-            C = contacts.curvature(qt, cand[A], s[A])
-            return _factorize(H - C, math.nan), C
 
-        try:
-            U, nu_c, iters["position"] = solve_position_correction(
-                trial, system, len(F), p, k, tol_gap, 1e-13 * model.length, opts.max_iterations
-            )
-        except RuntimeError as err:
-            raise _StepFailure(str(err), np.nan) from None
-        q[F] += U
-        nu[cand] = k * nu_c
-        gaps = contacts.gaps(q)
-    clock = timer.add("contact", clock)
+def _metric(model, q, S, c, opts):
+    """(H, solve_H) of the position correction: H = S_t/β′ (default) or H = M."""
+    if opts.metric == "mass":
+        return model.M, model.solve_M
+    if S is None:
+        _, _, K = model.internal(q)
+        S = c.bp * model.M + K
+        alpha, beta_k = model.damping
+        if alpha or beta_k:
+            S = S + c.gp * (alpha * model.M + beta_k * K)
+        S = (S, _factorize(S, math.nan))
+    matrix, solve_S = S
+    return matrix / c.bp, lambda b: c.bp * solve_S(b)
 
-    # 3. velocity jump on the contacts closed at q_{n+1}
-    closed = cand[gaps[cand] <= tol_gap]
-    if closed.size:
-        _, G1 = contacts.jacobian(q, closed)
-        _, Gn = contacts.jacobian(st.q, closed)
-        e = contacts.restitution[closed]
-        c = G1 @ v[F] + e * (Gn @ st.v[F])
-        p = opts.penalty_scale / np.einsum("ij,ji->i", G1, model.solve_M(G1.T).reshape(len(F), -1))
-        k = opts.multiplier_scale
-        try:
-            W, Lam, iters["velocity"] = solve_velocity_jump(
-                G1, c, model.solve_M, p, k, opts.max_iterations
-            )
-        except RuntimeError as err:
-            raise _StepFailure(str(err), np.nan) from None
-        v[F] += W
-        impulse[closed] = k * Lam
-    timer.add("contact", clock)
-    return State(
-        t, q, v, vd, a, h=h, gaps=gaps, candidates=cand, nu=nu, impulse=impulse, iterations=iters
-    )
+
+def _position_correction(model, q_tilde, cand, S, c, opts):
+    """Step 2: q = q̃ + U, H U = Σ G_jᵀ [k ν_j − p g_j]_+ over the candidates, with the
+    joints kept as equalities (always active, multipliers of any sign)."""
+    F = model.free
+    H, solve_H = _metric(model, q_tilde, S, c, opts)
+    cons = _Constraints(model, cand)
+    _, G0 = cons.jacobian(q_tilde)
+    p = opts.penalty_scale / np.einsum("ij,ji->i", G0, solve_H(G0.T).reshape(len(F), -1))
+    k = opts.multiplier_scale
+
+    def shifted(U):
+        qt = q_tilde.copy()
+        qt[F] += U
+        return qt
+
+    def system(U, s, A):
+        if cons.linear:
+            return solve_H, None
+        C = cons.curvature(shifted(U), np.where(A, s, 0.0))
+        return _factorize(H - C, math.nan), C
+
+    try:
+        U, nu, its = solve_position_correction(
+            lambda U: cons.jacobian(shifted(U)),
+            system,
+            len(F),
+            p,
+            k,
+            opts.tol_gap * model.length,
+            1e-13 * model.length,
+            opts.max_iterations,
+            bilateral=cons.bilateral,
+        )
+    except RuntimeError as err:
+        raise _StepFailure(str(err), np.nan) from None
+    return U, k * nu, its
+
+
+def _velocity_jump(model, st, q, v, closed, opts):
+    """Step 3: v = ṽ + W, M W = Σ G_jᵀ [k Λ_j − p ġ_j]_+ with
+    ġ_j = G_j(q_{n+1}) v_{n+1} + e_j G_j(q_n) v_n; joints: G_b v_{n+1} = 0."""
+    F = model.free
+    cons = _Constraints(model, closed)
+    _, G1 = cons.jacobian(q)
+    _, Gn = cons.jacobian(st.q)
+    e = np.concatenate([model.contacts.restitution[closed], np.zeros(model.joints.size)])
+    gdot = G1 @ v[F] + e * (Gn @ st.v[F])
+    p = opts.penalty_scale / np.einsum("ij,ji->i", G1, model.solve_M(G1.T).reshape(len(F), -1))
+    k = opts.multiplier_scale
+    try:
+        W, Lam, its = solve_velocity_jump(
+            G1, gdot, model.solve_M, p, k, opts.max_iterations, bilateral=cons.bilateral
+        )
+    except RuntimeError as err:
+        raise _StepFailure(str(err), np.nan) from None
+    return W, k * Lam, its
+
+
+class _Constraints:
+    """The contacts ``select`` followed by every joint, as one set of constraint rows."""
+
+    def __init__(self, model, select):
+        self.contacts, self.joints, self.select = model.contacts, model.joints, select
+        self.bilateral = np.r_[np.zeros(len(select), bool), np.ones(model.joints.size, bool)]
+        self.linear = self.contacts.linear and self.joints.linear
+        self.n = model.n_free
+
+    def jacobian(self, q):
+        g, G = self.contacts.jacobian(q, self.select)
+        if self.joints.size:
+            gb, Gb = self.joints.jacobian(q, self.joints.all)
+            g, G = np.concatenate([g, gb]), np.vstack([G, Gb])
+        return g, G
+
+    def curvature(self, q, weights):
+        m = len(self.select)
+        C = self.contacts.curvature(q, self.select, weights[:m])
+        if self.joints.size:
+            C = C + self.joints.curvature(q, self.joints.all, weights[m:])
+        return C

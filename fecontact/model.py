@@ -12,10 +12,32 @@ import numpy as np
 import scipy.sparse as sp
 
 from .contact import ContactSet
-from .errors import InputError, check_finite
+from .errors import InputError, check_finite, check_positive
 from .linalg import DENSE_LIMIT, Pattern, factorize
 
-__all__ = ["Model"]
+__all__ = ["Model", "NodalLoad"]
+
+
+class NodalLoad:
+    """A load on ``node`` of ``body``: ``value`` is the nodal force vector (N, and N·m on a
+    rotation dof), constant or a function of the time t (s) returning it."""
+
+    def __init__(self, body, node: int, value):
+        self.body, self.node, self.value = body, body._node(node), value
+        if not callable(value):
+            self.value = check_finite("value", value).reshape(body.dofs_per_node)
+        self.dofs = np.zeros(0, int)
+        self.n = 0
+
+    def bind(self, model) -> None:
+        o = model.offset_of(self.body)
+        self.dofs = o + self.body.dofs_per_node * self.node + np.arange(self.body.dofs_per_node)
+        self.n = model.n
+
+    def __call__(self, t: float) -> np.ndarray:
+        f = np.zeros(self.n)
+        f[self.dofs] = self.value(t) if callable(self.value) else self.value
+        return f
 
 
 class Model:
@@ -25,10 +47,15 @@ class Model:
     ----------
     bodies : the deformable (or rigid) bodies; each gets a slice of the global dofs.
     contacts : contact pairs built with :func:`fecontact.Contact`.
-    gravity : acceleration of gravity in m/s², a 2-vector (default 9.81 m/s² along −y).
+    gravity : acceleration of gravity in m/s² (default 9.81 m/s² along −y).
+    joints : bilateral constraints (``fecontact.Pin``).
+    damping : Rayleigh coefficients (α in 1/s, β in s): C = αM + βK_t.
+    loads : time-dependent loads (:class:`NodalLoad`).
     """
 
-    def __init__(self, bodies, contacts=(), gravity=(0.0, -9.81)):
+    def __init__(
+        self, bodies, contacts=(), gravity=(0.0, -9.81), joints=(), damping=(0.0, 0.0), loads=()
+    ):
         self.bodies = list(bodies)
         if not self.bodies:
             raise InputError("bodies must contain at least one body")
@@ -59,6 +86,16 @@ class Model:
         for pair in contacts:
             pair.bind(self)
         self.contacts = ContactSet(contacts, self.free_index, len(self.free))
+        for joint in joints:
+            joint.bind(self)
+        self.joints = ContactSet(joints, self.free_index, len(self.free))
+        alpha, beta = check_finite("damping", damping).reshape(2)
+        check_positive("damping alpha", alpha, allow_zero=True)
+        check_positive("damping beta", beta, allow_zero=True)
+        self.damping = (float(alpha), float(beta))
+        self.loads = list(loads)
+        for load in self.loads:
+            load.bind(self)
         self.length = max(b.characteristic_length for b in self.bodies)
 
     def offset_of(self, body) -> int:
@@ -96,8 +133,10 @@ class Model:
         return W, f, K
 
     def external(self, t: float) -> np.ndarray:
-        """External force (N, N·m) on all dofs at time t: gravity."""
-        return self.f_gravity
+        """External force (N, N·m) on all dofs at time t (s): gravity plus the loads."""
+        if not self.loads:
+            return self.f_gravity
+        return self.f_gravity + sum(load(t) for load in self.loads)
 
     def kinetic_energy(self, v: np.ndarray) -> float:
         return 0.5 * float(v @ (self.M_full @ v))
