@@ -187,8 +187,12 @@ class Beam2D:
 
     # -- kernels -----------------------------------------------------------------------------
     def _init_kernel_data(self):
-        # P1 with the one-point rule: N_a = ½ and N_a' = ±1/ℓ_e at the midpoint, so the
-        # kernel works on element end values, vectorised over elements.
+        # P1 with the one-point rule: N_a = ½ and N_a' = ±1/ℓ_e at the midpoint. The strain
+        # gradients are then combinations of four constant element vectors
+        #   e1 = (−1, 0, 0, 1, 0, 0)/ℓ,  e2 = (0, −1, 0, 0, 1, 0)/ℓ,
+        #   e3 = (0, 0, ½, 0, 0, ½),      e4 = (0, 0, −1, 0, 0, 1)/ℓ:
+        #   ∂Γ = c e1 + s e2 + γ e3,  ∂γ = −s e1 + c e2 − (1 + Γ) e3,  ∂κ = e4,
+        # and so are the internal force and the tangent (with the products e_i ⊗ e_j).
         b = self._stiffness_basis
         self._n0, self._n1 = b.element_dofs
         self._edofs = (3 * b.element_dofs.T[:, :, None] + np.arange(3)).reshape(b.nelems, -1)
@@ -198,6 +202,17 @@ class Beam2D:
         self._phi0 = np.arctan2(chord[:, 1], chord[:, 0])
         m, s = self.material, self.section
         self._C = np.array([m.E * s.area, m.G * s.area * s.shear_factor, m.E * s.inertia])
+        inv = 1.0 / self._w[:, None]
+        e = np.zeros((len(chord), 4, 6))
+        e[:, 0, [0, 3]] = [-1.0, 1.0] * inv
+        e[:, 1, [1, 4]] = [-1.0, 1.0] * inv
+        e[:, 2, [2, 5]] = 0.5
+        e[:, 3, [2, 5]] = [-1.0, 1.0] * inv
+        self._e = e
+        pairs = [(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2), (3, 3)]
+        P = np.stack([np.einsum("ei,ej->eij", e[:, i], e[:, j]) for i, j in pairs], axis=1)
+        P[:, 3:6] += P[:, 3:6].transpose(0, 1, 3, 2)
+        self._P = P  # (E, 7, 6, 6): e1e1, e2e2, e3e3, sym(e1e2), sym(e1e3), sym(e2e3), e4e4
 
     def strains(self, q: np.ndarray) -> tuple[np.ndarray, ...]:
         """Axial Γ, shear γ and curvature κ (1/m) at the element midpoints."""
@@ -225,33 +240,32 @@ class Beam2D:
     def internal(self, q: np.ndarray, tangent: bool = True):
         """Strain energy (J), internal force ∂W/∂q (N, N·m) and element tangents (E, 6, 6)."""
         Gam, gam, kap, c, s = self._kinematics(q)
-        C, w = self._C, self._w
-        E = len(w)
-        N, V, Mb = C[0] * Gam, C[1] * gam, C[2] * kap  # axial force, shear force, moment
-        # b[e, strain, dof] = ∂(Γ, γ, κ)/∂(u_x, u_y, θ) of the element's second node; the
-        # first node has the opposite translation and curvature terms and the same θ terms.
-        b = np.zeros((E, 3, 3))
-        b[:, 0, 0], b[:, 0, 1], b[:, 0, 2] = c / w, s / w, 0.5 * gam
-        b[:, 1, 0], b[:, 1, 1], b[:, 1, 2] = -s / w, c / w, -0.5 * (1.0 + Gam)
-        b[:, 2, 2] = 1.0 / w
-        B = np.concatenate([b * [-1.0, -1.0, 1.0], b], axis=2)
-        B[:, 2, 2] = -1.0 / w
-        S = np.stack([N, V, Mb], axis=1)
+        (EA, GA, EI), w = self._C, self._w
+        N, V, Mb = EA * Gam, GA * gam, EI * kap  # axial force, shear force, bending moment
+        g1 = 1.0 + Gam
         W = 0.5 * float(w @ (N * Gam + V * gam + Mb * kap))
-        f_e = w[:, None] * np.einsum("es,esi->ei", S, B)
+        # f_e = w (N ∂Γ + V ∂γ + M ∂κ)
+        coef = np.stack([N * c - V * s, N * s + V * c, N * gam - V * g1, Mb], axis=1)
+        f_e = np.einsum("ek,eki->ei", w[:, None] * coef, self._e)
         f = np.bincount(self._edofs.ravel(), f_e.ravel(), minlength=self.ndof)
         if not tangent:
             return W, f, None
-        K_e = np.matmul(B.transpose(0, 2, 1) * (w[:, None] * C)[:, None, :], B)
-        # geometric stiffness: resultants times second derivatives of the strains
-        k_ut = 0.5 * np.stack([-N * s - V * c, N * c - V * s], axis=1)  # (E, 2), per ±1
-        k_tt = -0.25 * w * (N * (1.0 + Gam) + V * gam)
-        Kg = K_e.reshape(E, 2, 3, 2, 3)
-        sign = np.array([-1.0, 1.0])
-        ut = sign[None, :, None, None] * k_ut[:, None, :, None]  # (E, a, i, 1) for any b
-        Kg[:, :, :2, :, 2] += ut
-        Kg[:, :, 2, :, :2] += ut.transpose(0, 3, 1, 2)
-        Kg[:, :, 2, :, 2] += k_tt[:, None, None]
+        # K_e = w (EA ∂Γ⊗∂Γ + GA ∂γ⊗∂γ + EI ∂κ⊗∂κ + N ∂²Γ + V ∂²γ); the second derivatives
+        # couple translations and rotations (sym(e1e3), sym(e2e3)) and the rotations (e3e3)
+        cs = c * s
+        K = np.stack(
+            [
+                EA * c * c + GA * s * s,
+                EA * s * s + GA * c * c,
+                EA * gam * gam + GA * g1 * g1 - N * g1 - V * gam,
+                (EA - GA) * cs,
+                EA * c * gam + GA * s * g1 - N * s - V * c,
+                EA * s * gam - GA * c * g1 + N * c - V * s,
+                np.full_like(c, EI),
+            ],
+            axis=1,
+        )
+        K_e = np.einsum("ek,ekij->eij", w[:, None] * K, self._P)
         return W, f, K_e
 
     def mass_matrix(self) -> sp.csr_matrix:
