@@ -93,6 +93,16 @@ def _add_run_options(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--render", action="store_true", help="render snapshots and an animation")
     p.add_argument("--quiet", action="store_true", help="no progress display")
+    p.add_argument(
+        "--checkpoint-every",
+        type=int,
+        default=500,
+        metavar="N",
+        help="save a checkpoint every N steps (0: never)",
+    )
+    p.add_argument(
+        "--resume", action="store_true", help="continue the run in --out from its last checkpoint"
+    )
 
 
 def _prepare(build, args, name: str):
@@ -118,7 +128,15 @@ def _execute(build, args, name: str) -> int:
     sim = _prepare(build, args, name)
     out = Path(args.out) if args.out else Path("out") / sim.name
     try:
-        summary = run(sim, out, progress=not args.quiet)
+        if args.checkpoint_every < 0:
+            raise InputError(f"checkpoint-every must be >= 0, got {args.checkpoint_every}")
+        summary = run(
+            sim,
+            out,
+            progress=not args.quiet,
+            checkpoint_every=args.checkpoint_every,
+            resume=args.resume,
+        )
     except SolverError as err:
         print(f"fecontact: run failed: {err}; results so far are in {out}", file=sys.stderr)
         return 1

@@ -202,10 +202,12 @@ def simulate(
     timer: PhaseTimer | None = None,
     q0=None,
     v0=None,
+    start: State | None = None,
 ) -> Iterator[State]:
     """Yield the state at t = 0 and after every step of size ``dt`` (s) up to ``t_end`` (s).
 
     ``q0`` and ``v0`` are the initial dof vectors (default: rest in the reference state).
+    ``start`` continues from a stored state (a checkpoint) instead: its step is not yielded.
 
     A step whose Newton iterations fail is retried as two half steps, recursively up to
     ``options.max_halvings`` times; then ``SolverError`` reports the time, step and residual.
@@ -214,10 +216,13 @@ def simulate(
     dt = check_positive("dt", dt)
     t_end = check_positive("t_end", t_end)
     timer = PhaseTimer() if timer is None else timer
-    state = initial_state(model, q0, v0)
-    yield state
+    if start is None:
+        state = initial_state(model, q0, v0)
+        yield state
+    else:
+        state = start
     n_steps = max(1, math.ceil(t_end / dt - 1e-9))
-    for n in range(1, n_steps + 1):
+    for n in range(state.step + 1, n_steps + 1):
         t_next = min(n * dt, t_end)
         try:
             state = _advance(model, state, t_next - state.t, opts, timer, 0)

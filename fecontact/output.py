@@ -132,6 +132,30 @@ class PVDWriter:
     def n_frames(self) -> int:
         return len(self.times)
 
+    def resume(self, upto: float) -> None:
+        """Take over the ``.pvd`` of an earlier run, keeping its frames at times <= ``upto``
+        (s) and deleting the files of later ones."""
+        root = ET.parse(self.pvd).getroot()
+        frames: dict[float, list] = {}
+        for ds in root.find("Collection").iter("DataSet"):
+            name, file, index = ds.get("name"), ds.get("file"), int(ds.get("part", 0))
+            self._part_index.setdefault(name, index)
+            if file == f"{self.case_name}_{name}.vtu":
+                self._static[name] = file
+            else:
+                frames.setdefault(float(ds.get("timestep")), []).append((index, name, file))
+        for t in sorted(frames):
+            if t > upto:
+                for _, _, file in frames[t]:
+                    (self.out_dir / file).unlink(missing_ok=True)
+                continue
+            ts = repr(t)
+            moving = [(i, self._entry(ts, i, name, file)) for i, name, file in frames[t]]
+            self.times.append(t)
+            self._moving.append(moving)
+            self._blocks.append(self._block(ts, moving))
+        self._write_pvd()
+
     def _index(self, part: str) -> int:
         _check_name("part name", part)
         return self._part_index.setdefault(part, len(self._part_index))
@@ -227,7 +251,9 @@ class HistoryWriter:
     Booleans are written as 0/1, non-finite values as ``inf``, ``-inf``, ``nan``.
     """
 
-    def __init__(self, path: str | Path, columns: list[str], flush_every: int = 100):
+    def __init__(
+        self, path: str | Path, columns: list[str], flush_every: int = 100, keep_rows=None
+    ):
         self.path = Path(path)
         self.columns = list(columns)
         if len(set(self.columns)) != len(self.columns) or not all(
@@ -236,8 +262,19 @@ class HistoryWriter:
             raise ValueError(f"history columns must be distinct names without ',': {columns!r}")
         self.flush_every = max(1, int(flush_every))
         self._buffer: list[str] = []
+        header = ",".join(self.columns) + "\n"
+        if keep_rows is not None:
+            # resuming: keep the header and the first ``keep_rows`` rows, append after them
+            with open(self.path, encoding="utf-8") as f:
+                lines = f.readlines()
+            if not lines or lines[0] != header or len(lines) < keep_rows + 1:
+                raise ValueError(f"{self.path} does not hold the {keep_rows} rows to resume from")
+            with atomic_write(self.path) as tmp:
+                tmp.write_text("".join(lines[: keep_rows + 1]), encoding="utf-8")
+            self._file = open(self.path, "a", encoding="utf-8", newline="")
+            return
         self._file = open(self.path, "w", encoding="utf-8", newline="")
-        self._file.write(",".join(self.columns) + "\n")
+        self._file.write(header)
         self._file.flush()
 
     def write(self, row) -> None:

@@ -136,13 +136,25 @@ def _static_parts(model):
 class _Recorder:
     """History rows, impact detection and summary statistics over a run."""
 
-    def __init__(self, sim: Simulation, out: Path):
+    STATS = (
+        "impacts",
+        "iter_total",
+        "iter_max",
+        "halvings",
+        "min_gap",
+        "energy_initial",
+        "energy_final",
+        "energy_max",
+        "steps",
+    )
+
+    def __init__(self, sim: Simulation, out: Path, keep_rows=None):
         from .output import HistoryWriter
 
         self.sim = sim
         self.model = sim.model
         self.columns = list(HISTORY_COLUMNS) + list(sim.probes)
-        self.history = HistoryWriter(out / "history.csv", self.columns)
+        self.history = HistoryWriter(out / "history.csv", self.columns, keep_rows=keep_rows)
         self.impacts: list[dict] = []
         self.closed = np.zeros(self.model.contacts.size, dtype=bool)
         self.iter_total = 0
@@ -179,6 +191,14 @@ class _Recorder:
         self.energy_final = total
         self.energy_max = max(self.energy_max, total)
         self.min_gap = min(self.min_gap, min_gap)
+
+    def stats(self) -> dict:
+        return {k: getattr(self, k) for k in self.STATS} | {"closed": self.closed.tolist()}
+
+    def restore(self, stats: dict) -> None:
+        for k in self.STATS:
+            setattr(self, k, stats[k])
+        self.closed = np.array(stats["closed"], dtype=bool)
 
     def summary(self, status: str, wall: float, timer: dict, message: str = "") -> dict:
         sim = self.sim
@@ -232,37 +252,108 @@ def _jsonable(params: dict) -> dict:
     return out
 
 
-def run(sim: Simulation, out_dir, progress: bool = False, frames: bool = True) -> dict:
+CHECKPOINT = "checkpoint.npz"
+
+
+def _fingerprint(sim: Simulation) -> str:
+    """What must match for a checkpoint to continue this simulation."""
+    return json.dumps(
+        [
+            sim.name,
+            _jsonable(sim.parameters),
+            dataclasses.asdict(sim.options),
+            sim.dt,
+            sim.output_interval,
+            sim.model.n,
+        ],
+        sort_keys=True,
+        default=repr,
+    )
+
+
+def _save_checkpoint(path: Path, sim, st: State, rec: _Recorder, next_frame: float) -> None:
+    from .output import atomic_write
+
+    rec.history.flush()
+    arrays = {
+        k: getattr(st, k)
+        for k in ("q", "v", "vd", "a", "gaps", "candidates", "nu", "impulse", "lam")
+    }
+    meta = {
+        "t": st.t,
+        "step": st.step,
+        "h": st.h,
+        "next_frame": next_frame,
+        "fingerprint": _fingerprint(sim),
+        "stats": rec.stats(),
+    }
+    with atomic_write(path) as tmp:
+        with open(tmp, "wb") as f:
+            np.savez(f, meta=json.dumps(meta, default=float), **arrays)
+
+
+def _load_checkpoint(path: Path, sim):
+    if not path.is_file():
+        raise InputError(f"resume: no checkpoint in {path.parent}")
+    with np.load(path) as data:
+        meta = json.loads(str(data["meta"]))
+        arrays = {k: data[k] for k in data.files if k != "meta"}
+    if meta["fingerprint"] != _fingerprint(sim):
+        raise InputError("resume: the checkpoint was written with other parameters or options")
+    st = State(meta["t"], step=meta["step"], h=meta["h"], **arrays)
+    return st, meta
+
+
+def run(
+    sim: Simulation,
+    out_dir,
+    progress: bool = False,
+    frames: bool = True,
+    checkpoint_every: int = 500,
+    resume: bool = False,
+) -> dict:
     """Run ``sim`` and write its results into ``out_dir``; return the summary.
 
     ``progress`` shows a progress bar with the step, time and Newton iterations (on a
-    terminal). On ``SolverError`` or ``KeyboardInterrupt`` the summary records the failure,
-    every frame written so far stays readable, and the exception propagates.
+    terminal). Every ``checkpoint_every`` steps (0: never) the state is saved to
+    ``checkpoint.npz``; ``resume=True`` continues from it, giving the same result as an
+    uninterrupted run. On ``SolverError`` or ``KeyboardInterrupt`` the summary records the
+    failure, every frame written so far stays readable, and the exception propagates.
     """
     from .output import PVDWriter, write_json
 
-    initial_state(sim.model, sim.q0, sim.v0)  # input errors surface before any file exists
     out = Path(out_dir)
+    start, meta = None, None
+    if resume:
+        start, meta = _load_checkpoint(out / CHECKPOINT, sim)
+    else:
+        initial_state(sim.model, sim.q0, sim.v0)  # input errors surface before any file exists
     out.mkdir(parents=True, exist_ok=True)
     pvd = PVDWriter(out, sim.name)
     timer = PhaseTimer()
-    rec = _Recorder(sim, out)
-    bar = _progress_bar(sim) if progress else None
+    rec = _Recorder(sim, out, keep_rows=None if start is None else start.step + 1)
     next_frame = 0.0
+    if start is not None:
+        pvd.resume(start.t)
+        rec.restore(meta["stats"])
+        next_frame = meta["next_frame"]
+    bar = _progress_bar(sim, start) if progress else None
     status, message = "completed", ""
     t_start = time.perf_counter()
     try:
-        if frames:
+        if frames and start is None:
             for part, mesh in _static_parts(sim.model).items():
                 pvd.write_static(part, mesh)
-        for st in simulate(sim.model, sim.dt, sim.t_end, sim.options, timer, sim.q0, sim.v0):
+        steps = simulate(sim.model, sim.dt, sim.t_end, sim.options, timer, sim.q0, sim.v0, start)
+        for st in steps:
             clock = time.perf_counter()
             rec.record(st)
             if frames and (st.t >= next_frame - 1e-9 * sim.dt or st.t >= sim.t_end - 1e-12):
                 pvd.write_frame(st.t, _frame_parts(sim.model, st))
-                next_frame = (
-                    math.floor(st.t / sim.output_interval + 1e-6) + 1
-                ) * sim.output_interval
+                interval = sim.output_interval
+                next_frame = (math.floor(st.t / interval + 1e-6) + 1) * interval
+            if checkpoint_every and st.step and st.step % checkpoint_every == 0:
+                _save_checkpoint(out / CHECKPOINT, sim, st, rec, next_frame)
             timer.add("output", clock)
             if bar is not None and st.step:
                 bar.update(1)
@@ -284,8 +375,11 @@ def run(sim: Simulation, out_dir, progress: bool = False, frames: bool = True) -
     return summary
 
 
-def _progress_bar(sim: Simulation):
+def _progress_bar(sim: Simulation, start: State | None):
     from tqdm import tqdm
 
     total = max(1, math.ceil(sim.t_end / sim.dt - 1e-9))
-    return tqdm(total=total, desc=sim.name, unit="step", disable=None, file=sys.stderr)
+    initial = 0 if start is None else start.step
+    return tqdm(
+        total=total, initial=initial, desc=sim.name, unit="step", disable=None, file=sys.stderr
+    )

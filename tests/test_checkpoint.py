@@ -1,0 +1,65 @@
+"""Checkpoints: an interrupted run resumed from its last checkpoint equals an uninterrupted
+run, row for row and frame for frame."""
+
+import numpy as np
+import pytest
+from conftest import ROOT
+
+import fecontact.simulation as simulation
+from fecontact import load_run
+from fecontact.cli import main
+
+CASE = str(ROOT / "cases" / "flexible_pendulum.py")
+ARGS = ["--quiet", "--t-end", "0.6", "--checkpoint-every", "150", "--set", "restitution=0.5"]
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory):
+    out = tmp_path_factory.mktemp("ref")
+    assert main(["run", CASE, "--out", str(out), *ARGS]) == 0
+    return out
+
+
+def same_run(a, b):
+    assert (a / "history.csv").read_text() == (b / "history.csv").read_text()
+    ra, rb = load_run(a), load_run(b)
+    assert ra.summary["impacts"] == rb.summary["impacts"]
+    assert ra.summary["steps"] == rb.summary["steps"]
+    fa, fb = ra.frames(), rb.frames()
+    assert [t for t, _ in fa] == [t for t, _ in fb]
+    for (_, pa), (_, pb) in zip(fa, fb, strict=True):
+        for name in pa:
+            assert np.array_equal(pa[name].points, pb[name].points)
+
+
+def test_resume_after_ctrl_c_equals_uninterrupted_run(reference, tmp_path, monkeypatch):
+    out = tmp_path / "interrupted"
+    frame_parts = simulation._frame_parts
+
+    def interrupt_late(model, st):
+        if st.t > 0.52:
+            raise KeyboardInterrupt
+        return frame_parts(model, st)
+
+    monkeypatch.setattr(simulation, "_frame_parts", interrupt_late)
+    assert main(["run", CASE, "--out", str(out), *ARGS]) == 130
+    partial = load_run(out)
+    assert partial.summary["status"] == "interrupted"
+    assert 0.5 < partial.frames()[-1][0] <= 0.52  # every frame so far stays readable
+    monkeypatch.setattr(simulation, "_frame_parts", frame_parts)
+    assert main(["run", CASE, "--out", str(out), "--resume", *ARGS]) == 0
+    same_run(reference, out)
+
+
+def test_extend_a_finished_run(reference, tmp_path):
+    out = tmp_path / "short"
+    short = [a if a != "0.6" else "0.45" for a in ARGS]
+    assert main(["run", CASE, "--out", str(out), *short]) == 0
+    assert main(["run", CASE, "--out", str(out), "--resume", *ARGS]) == 0
+    same_run(reference, out)
+
+
+def test_resume_refuses_other_parameters(reference, tmp_path, capsys):
+    assert main(["run", CASE, "--out", str(reference), "--resume", *ARGS, "--set", "E=7e11"]) == 2
+    assert "other parameters" in capsys.readouterr().err
+    assert main(["run", CASE, "--out", str(tmp_path / "none"), "--resume", *ARGS]) == 2
