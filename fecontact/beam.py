@@ -83,13 +83,19 @@ class Section:
         """Solid rectangle ``width`` × ``thickness`` (m), bending about the width axis."""
         b = check_positive("width", width)
         t = check_positive("thickness", thickness)
-        return cls(area=b * t, inertia=b * t**3 / 12.0, shear_factor=5.0 / 6.0)
+        area, inertia = b * t, b * t * t * t / 12.0
+        if not (np.isfinite(inertia) and area > 0 and inertia > 0):
+            raise InputError(f"width and thickness give no usable section: {b!r} x {t!r} m")
+        return cls(area=area, inertia=inertia, shear_factor=5.0 / 6.0)
 
     @classmethod
     def circle(cls, radius: float) -> Section:
         """Solid circle of ``radius`` (m)."""
         r = check_positive("radius", radius)
-        return cls(area=np.pi * r**2, inertia=np.pi * r**4 / 4.0, shear_factor=0.9)
+        area, inertia = np.pi * r * r, np.pi * r * r * r * r / 4.0
+        if not (np.isfinite(inertia) and area > 0 and inertia > 0):
+            raise InputError(f"radius gives no usable section: {r!r} m")
+        return cls(area=area, inertia=inertia, shear_factor=0.9)
 
 
 class Beam2D:
@@ -347,7 +353,11 @@ class Beam2D:
         return [("line", self.segments())]
 
 
-def _check_count(name: str, value) -> int:
-    if isinstance(value, bool) or int(value) != value or int(value) < 1:
-        raise InputError(f"{name} must be an integer >= 1, got {value!r}")
+def _check_count(name: str, value, limit: int = 10**6) -> int:
+    try:
+        ok = not isinstance(value, bool) and int(value) == value and 1 <= int(value) <= limit
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok:
+        raise InputError(f"{name} must be an integer in [1, {limit}], got {value!r}")
     return int(value)

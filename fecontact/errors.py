@@ -37,12 +37,17 @@ def check_finite(name: str, value) -> np.ndarray:
     return arr
 
 
+def _number(name: str, value) -> float:
+    """``value`` as a float; only real numbers are accepted (not strings, not booleans)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.number)):
+        if not (isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "iuf"):
+            raise InputError(f"{name} must be a number, got {value!r}")
+    return float(value)
+
+
 def check_positive(name: str, value, allow_zero: bool = False) -> float:
     """Return ``value`` as a float after checking it is finite and > 0 (or >= 0)."""
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a number, got {value!r}") from None
+    x = _number(name, value)
     if not math.isfinite(x):
         raise InputError(f"{name} must be finite, got {value!r}")
     if x < 0 or (x == 0 and not allow_zero):
@@ -56,10 +61,7 @@ def check_range(name: str, value, low: float, high: float, closed: tuple = (True
 
     ``closed`` says whether each end belongs to the interval.
     """
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a number, got {value!r}") from None
+    x = _number(name, value)
     lo_ok = x >= low if closed[0] else x > low
     hi_ok = x <= high if closed[1] else x < high
     if not (math.isfinite(x) and lo_ok and hi_ok):

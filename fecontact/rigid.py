@@ -278,16 +278,22 @@ class RigidBody2D:
             )
         if nodes is None:
             return np.arange(n)
-        idx = np.array([self._node(i) for i in np.atleast_1d(nodes)], dtype=int)
-        if np.any(idx >= n):
+        idx = np.atleast_1d(np.asarray(nodes))
+        if idx.dtype.kind not in "iu" or np.any(idx < -n) or np.any(idx >= n):
             raise InputError(f"nodes must be vertices of the polygon, in [{-n}, {n - 1}]")
-        return idx
+        return idx.astype(int) % n
 
     def point_kinematics(self, q: np.ndarray, nodes: np.ndarray):
         """Positions x = c + R(φ) r (m, 2) of output points ``nodes``, their local dofs (m, 3),
         ∂x/∂q (m, 2, 3) and the exact ∂²x/∂q² (m, 2, 3, 3) (only the θθ entry, −R r)."""
-        arm = self._points[nodes] @ rotation(self.orientation(q)).T
-        m = len(nodes)
+        return self.frame_point_kinematics(q, self._points[nodes])
+
+    def frame_point_kinematics(self, q: np.ndarray, r):
+        """As ``point_kinematics`` for any points ``r`` (m, 2) given in the body frame (m, from
+        the centre of mass): a joint's pivot, say."""
+        r = np.atleast_2d(check_finite("r", r))
+        arm = r @ rotation(self.orientation(q)).T
+        m = len(r)
         x = self.center(q) + arm
         Jx = np.zeros((m, 2, 3))
         Jx[:, 0, 0] = Jx[:, 1, 1] = 1.0

@@ -1,10 +1,10 @@
 r"""Contact pairs of rigid disks: against obstacles, other disks, polygons and beams.
 
-Every pair here is one contact (``size`` 1) whose gap g(q) (m; > 0 open, < 0 penetrating) is
-the distance between the two shapes, with its exact gradient G = ∂g/∂q and Hessian ∇²g over the
-few dofs it depends on. Notation: c the disk centre and r its radius, d = |·| distances,
-e unit vectors, J = [[0, −1], [1, 0]] the rotation by +90°, and for a point at distance d
-along e the curvature of the distance K = (I − e eᵀ)/d.
+Every pair here is one contact (``size`` 1; a disk against a beam has one per element) whose
+gap g(q) (m; > 0 open, < 0 penetrating) is the distance between the two shapes, with its exact
+gradient G = ∂g/∂q and Hessian ∇²g over the few dofs it depends on. Notation: c the disk
+centre and r its radius, e unit vectors, J = [[0, −1], [1, 0]] the rotation by +90°, and
+K = (I − e eᵀ)/d the curvature of the distance d = |x| at x = d e.
 
 ==========================  ======================================================================
 pair                        gap
@@ -13,8 +13,8 @@ pair                        gap
 ``DiskDiskContact``         |c_b − c_a| − r_a − r_b
 ``DiskPolygonContact``      s(ρ) − r with ρ = R(φ_p)ᵀ(c − c_p) the centre in the polygon's frame
                             and s the signed distance to the convex polygon
-``DiskBeamContact``         distance from c to the closest centreline segment − r − clearance,
-                            signed by the side of the beam the disk started on
+``DiskBeamContact``         per element: distance from c to the centreline segment − r −
+                            clearance, signed by the side of the beam the disk started on
 ==========================  ======================================================================
 
 A polygon's distance s(ρ) is piecewise: n_e·(ρ − v_e) where the closest point lies inside an
@@ -194,34 +194,49 @@ class DiskPolygonContact(_Pair):
 
 
 def point_line_distance(P: np.ndarray, x1: np.ndarray, x2: np.ndarray):
-    """Signed distance f = (d × w)/|d| of P from the line through x1 and x2 (d = x2 − x1,
-    w = P − x1; positive on the left of d), with its gradient (6,) and Hessian (6, 6) with
-    respect to (P, x1, x2)."""
+    """Signed distances f = (d × w)/|d| of points P from the lines through x1 and x2
+    (d = x2 − x1, w = P − x1; positive on the left of d), all (m, 2), with their gradients
+    (m, 6) and Hessians (m, 6, 6) with respect to (P, x1, x2).
+
+    With c = d × w: ∂c/∂d = (w_y, −w_x), ∂c/∂w = J d, ∂²c/∂d∂w = −J, and f = c/|d|.
+    """
     d, w = x2 - x1, P - x1
-    L = float(np.linalg.norm(d))
-    c = d[0] * w[1] - d[1] * w[0]
-    c_d = np.array([w[1], -w[0]])  # ∂c/∂d
-    c_w = np.array([-d[1], d[0]])  # ∂c/∂w
-    f_d = c_d / L - c * d / L**3
-    f_w = c_w / L
-    f_dd = -(np.outer(c_d, d) + np.outer(d, c_d)) / L**3 - c * np.eye(2) / L**3
-    f_dd += 3.0 * c * np.outer(d, d) / L**5
-    f_dw = -_PERP / L - np.outer(d, c_w) / L**3  # ∂²c/∂d∂w = −J
-    Hdw = np.block([[f_dd, f_dw], [f_dw.T, np.zeros((2, 2))]])
-    I, Z = np.eye(2), np.zeros((2, 2))
-    T = np.block([[Z, -I, I], [I, -I, Z]])  # (d, w) as linear maps of (P, x1, x2)
-    return c / L, T.T @ np.concatenate([f_d, f_w]), T.T @ Hdw @ T
+    L = np.linalg.norm(d, axis=1)[:, None, None]
+    c = (d[:, 0] * w[:, 1] - d[:, 1] * w[:, 0])[:, None, None]
+    c_d = np.stack([w[:, 1], -w[:, 0]], axis=1)
+    c_w = d @ _PERP.T
+    dd = d[:, :, None] * d[:, None, :]
+    f_d = c_d / L[:, 0] - c[:, 0] * d / L[:, 0] ** 3
+    f_w = c_w / L[:, 0]
+    f_dd = -(c_d[:, :, None] * d[:, None, :] + d[:, :, None] * c_d[:, None, :]) / L**3
+    f_dd += c * (3.0 * dd / L**5 - np.eye(2) / L**3)
+    f_dw = -_PERP / L - d[:, :, None] * c_w[:, None, :] / L**3
+    H_dw = np.zeros((len(d), 4, 4))
+    H_dw[:, :2, :2] = f_dd
+    H_dw[:, :2, 2:] = f_dw
+    H_dw[:, 2:, :2] = f_dw.transpose(0, 2, 1)
+    T = _LINE_MAP
+    G = np.concatenate([f_d, f_w], axis=1) @ T
+    return c[:, 0, 0] / L[:, 0, 0], G, np.einsum("ai,mab,bj->mij", T, H_dw, T)
+
+
+# (d, w) = T (P, x1, x2): d = x2 − x1, w = P − x1
+_LINE_MAP = np.kron([[0.0, -1.0, 1.0], [1.0, -1.0, 0.0]], np.eye(2))
 
 
 class DiskBeamContact(_Pair):
-    """A rigid ``Disk`` striking the centreline of a ``Beam2D``.
+    """A rigid ``Disk`` striking the centreline of a ``Beam2D``: one contact per element.
 
-    The disk touches the closest centreline segment; the contact point slides along the beam
-    from element to element. Where the closest point is inside a segment, the gap is the
-    signed distance of the centre from the segment's line, with the sign of the side the disk
-    starts on at t = 0, less r and ``clearance`` (m, half the beam thickness, say); where it
-    is a node, it is the distance to that node less r and ``clearance``. The gap depends on the
-    disk's centre and the translations of the segment's two nodes.
+    The gap of element e = (a, b) is the distance from the disk centre c to the segment, less
+    r and ``clearance`` (m, half the beam thickness, say). Where the closest point lies inside
+    the segment it is the distance to the segment's line, signed by the side of the beam the
+    disk starts on at t = 0; at an end it is the distance to that node. A node shared by two
+    elements belongs to the element before it, so a disk over a straight or convex part of
+    the beam has one closed contact there, and a disk resting in a kink (the beam bent around
+    it) one on each side. Where an element's closest point is its first node and that node
+    belongs to the previous element, the gap is +inf (gradient 0): the previous element's
+    gap is never larger. The contact point thus slides from element to element. Each contact
+    depends on the disk's centre and on the translations of the element's two nodes.
     """
 
     def __init__(
@@ -234,54 +249,64 @@ class DiskBeamContact(_Pair):
         super().__init__([disk, beam], restitution)
         self.clearance = check_positive("clearance", clearance, allow_zero=True)
         self.segments = beam.segments()
-        self.side = 1.0
+        self.size = len(self.segments)
+        self._node_dofs = beam.node_translation_dofs(self.segments.ravel()).reshape(-1, 4)
         x = beam.positions(np.zeros(beam.ndof))
-        e, xi, f = self._closest(disk.position, x)
-        if 0.0 < xi < 1.0:
-            self.side = 1.0 if f > 0.0 else -1.0
-            if f == 0.0:
-                raise InputError("the disk centre lies on the beam centreline at t = 0")
-        else:  # beyond an end of the beam: the side of the nearest segment's line
-            self.side = 1.0 if f >= 0.0 else -1.0
+        xi, dist, f = self._project(disk.position, x)
+        e = int(np.argmin(dist))
+        if f[e] == 0.0:
+            raise InputError("the disk centre lies on the beam centreline at t = 0")
+        self.side = 1.0 if f[e] > 0.0 else -1.0
 
-    def _closest(self, P, x):
-        """Closest segment e, parameter ξ ∈ [0, 1] of the closest point, signed distance of P
-        from the segment's line."""
+    def _project(self, P, x):
+        """Parameter ξ ∈ [0, 1] of the closest point of each element, distance from P to the
+        element, and signed distance from the element's line."""
         x1, x2 = x[self.segments[:, 0]], x[self.segments[:, 1]]
-        d = x2 - x1
-        w = P - x1
+        d, w = x2 - x1, P - x1
         xi = np.clip(np.einsum("ei,ei->e", w, d) / np.einsum("ei,ei->e", d, d), 0.0, 1.0)
         dist = np.linalg.norm(w - xi[:, None] * d, axis=1)
-        e = int(np.argmin(dist))
-        f = (d[e, 0] * w[e, 1] - d[e, 1] * w[e, 0]) / np.linalg.norm(d[e])
-        return e, xi[e], f
+        f = (d[:, 0] * w[:, 1] - d[:, 1] * w[:, 0]) / np.linalg.norm(d, axis=1)
+        return xi, dist, f
 
     def evaluate(self, q: np.ndarray):
-        """Gap (1,), global dofs (1, 6): disk (x, y) then the two segment nodes' (u_x, u_y),
-        gradient (1, 6), Hessian (1, 6, 6)."""
+        """Gaps (E,), global dofs (E, 6): disk (x, y) then the element's two nodes' (u_x, u_y),
+        gradients (E, 6), Hessians (E, 6, 6)."""
         disk, beam = self.bodies
         P = disk.center(self._local(q, 0))
         x = beam.positions(self._local(q, 1))
-        e, xi, _ = self._closest(P, x)
-        a, b = self.segments[e]
+        x1, x2 = x[self.segments[:, 0]], x[self.segments[:, 1]]
+        xi, _, _ = self._project(P, x)
         r = disk.shape.radius + self.clearance
-        if 0.0 < xi < 1.0:
-            f, G, H = point_line_distance(P, x[a], x[b])
-            g, G, H = self.side * f - r, self.side * G, self.side * H
-        else:
-            k = 0 if xi == 0.0 else 1
-            u, dist = _unit(P - x[(a, b)[k]], "the disk centre and a beam node")
-            g = dist - r
-            G = np.zeros(6)
-            H = np.zeros((6, 6))
-            K = _distance_curvature(u, dist)
+        E = self.size
+        g, G = np.full(E, np.inf), np.zeros((E, 6))
+        H = np.zeros((E, 6, 6))
+        inner = (xi > 0.0) & (xi < 1.0)
+        if inner.any():
+            Pi = np.broadcast_to(P, (int(inner.sum()), 2))
+            f, Gi, Hi = point_line_distance(Pi, x1[inner], x2[inner])
+            g[inner], G[inner], H[inner] = self.side * f - r, self.side * Gi, self.side * Hi
+        # clipped to a node: its own end node, or the first node of the first element
+        at_end = xi == 1.0
+        at_end_node = (xi == 0.0) & (np.arange(E) == 0)
+        for mask, k in ((at_end, 1), (at_end_node, 0)):
+            if not mask.any():
+                continue
+            rel = P - (x2 if k else x1)[mask]
+            dist = np.linalg.norm(rel, axis=1)
+            if np.any(dist == 0.0):
+                raise InputError("the disk centre and a beam node coincide: normal undefined")
+            u = rel / dist[:, None]
+            K = (np.eye(2) - u[:, :, None] * u[:, None, :]) / dist[:, None, None]
             j = slice(2 + 2 * k, 4 + 2 * k)
-            G[:2], G[j] = u, -u
-            H[:2, :2] = H[j, j] = K
-            H[:2, j] = H[j, :2] = -K
-        beam_dofs = self.offsets[1] + beam.node_translation_dofs([a, b]).ravel()
-        dofs = np.concatenate([self.offsets[0] + np.arange(2), beam_dofs])
-        return np.array([g]), dofs[None, :], G[None, :], H[None, :, :]
+            g[mask] = dist - r
+            G[mask, :2], G[mask, j] = u, -u
+            Hm = np.zeros((len(u), 6, 6))
+            Hm[:, :2, :2] = Hm[:, j, j] = K
+            Hm[:, :2, j] = Hm[:, j, :2] = -K
+            H[mask] = Hm
+        dofs = np.hstack([np.broadcast_to(np.arange(2), (E, 2)), self.offsets[1] + self._node_dofs])
+        dofs[:, :2] += self.offsets[0]
+        return g, dofs, G, H
 
 
 def rigid_pair(body, other, nodes=None, restitution: float = 0.0, clearance: float = 0.0):

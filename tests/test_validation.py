@@ -1,0 +1,299 @@
+"""The cases against their exact solutions (DESIGN §8).
+
+The decoupled nonsmooth generalized-α scheme is second order on smooth motion and first order
+in h across impacts, because an impact is not located inside the step that contains it: the
+impulse acts at the end of that step and Newton's law uses the velocity at its start. Each
+tolerance below is derived from that and from the step used; measured values are quoted.
+"""
+
+import inspect
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from fecontact import InputError, run, simulate
+from fecontact.cli import load_case
+
+CASES = Path(__file__).resolve().parents[1] / "cases"
+G = 9.81
+PENETRATION = 1e-10  # m: the position correction closes gaps to 1e-12 of the model size
+
+
+def case(name):
+    return load_case(CASES / f"{name}.py")
+
+
+def history(sim, dt=None, t_end=None):
+    """Step ``sim`` with ``simulate``; return its probes and what the tests need, as arrays."""
+    model = sim.model
+    rows = {k: [] for k in ["t", "h", "impulse", "active", "energy", "min_gap", *sim.probes]}
+    states = simulate(model, dt or sim.dt, t_end or sim.t_end, sim.options, q0=sim.q0, v0=sim.v0)
+    for st in states:
+        rows["t"].append(st.t)
+        rows["h"].append(st.h)
+        rows["impulse"].append(st.impulse.copy())
+        rows["active"].append((st.nu > 0) | (st.impulse > 0))
+        rows["energy"].append(
+            model.kinetic_energy(st.v) + model.potential_energy(st.q) + model.strain_energy(st.q)
+        )
+        rows["min_gap"].append(np.min(st.gaps, initial=np.inf))
+        for name, probe in sim.probes.items():
+            rows[name].append(probe.fn(model, st))
+    return {k: np.array(v) for k, v in rows.items()}
+
+
+def episode_starts(active):
+    """Indices of the steps where a contact closes after a step with none closed."""
+    on = np.asarray(active).reshape(len(active), -1).any(axis=1)
+    return np.flatnonzero(on & ~np.r_[False, on[:-1]])
+
+
+# -- bouncing ball (h = 1e-4, e = 0.8, h0 = 1 m) --------------------------------------------
+
+H_BALL = 1e-4
+E_BALL = 0.8
+T1 = math.sqrt(2.0 * 1.0 / G)
+T_ZENO = T1 * (1.0 + E_BALL) / (1.0 - E_BALL)
+
+
+def exact_impacts(n):
+    t = [T1]
+    for k in range(1, n):
+        t.append(t[-1] + 2.0 * E_BALL**k * T1)
+    return np.array(t)
+
+
+@pytest.fixture(scope="module")
+def ball():
+    sim = case("bouncing_ball").build(height=1.0, restitution=E_BALL, mass=1.0, radius=0.1)
+    return history(sim, dt=H_BALL, t_end=T_ZENO + 0.3)
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(
+    strict=True,
+    reason="integrator: measured errors of the first five impact times at h = 1e-4 are "
+    "+0.76h, +0.39h, -1.12h, -2.72h, -4.60h (same in units of h at h = 1e-3: first order); "
+    "each rebound uses the velocity at the start of the impact step, losing e g delta of "
+    "speed (delta = time from the step start to the impact) and up to (1 + 2e) h per flight",
+)
+def test_ball_first_five_impact_times_within_three_steps(ball):
+    # An impact is only known to lie inside the step that detects it (error < h), and each
+    # rebound restarts the next flight with an error of at most about h: 3h after four bounces
+    # is what the issue asks of a first-order method at this step.
+    t = ball["t"][episode_starts(ball["active"])][:5]
+    np.testing.assert_array_less(np.abs(t - exact_impacts(5)), 3.0 * H_BALL)
+
+
+@pytest.mark.slow
+def test_ball_apex_heights_within_one_percent(ball):
+    # The rebound speed is e|v_n| with v_n the velocity at the start of the impact step, off
+    # by at most e g h = 8e-4 m/s of 2.7–4.4 m/s; the apex height goes with its square, so
+    # each bounce costs < 0.06 %, and sampling the apex costs g h²/8 ~ 1e-8 m. Four bounces
+    # stay far below 1 % (measured: 0.010 %, 0.066 %, 0.11 %, 0.12 %).
+    starts = episode_starts(ball["active"])
+    gap = ball["gap"]
+    for k in range(1, 5):
+        apex = gap[starts[k - 1] : starts[k]].max()
+        assert apex == pytest.approx(E_BALL ** (2 * k) * 1.0, rel=0.01)
+
+
+@pytest.mark.slow
+def test_ball_never_penetrates(ball):
+    # the gap is enforced at position level at every step (measured min gap: 0.0 m)
+    assert ball["gap"].min() >= -PENETRATION
+    assert ball["min_gap"].min() >= -PENETRATION
+
+
+@pytest.mark.slow
+def test_ball_rests_after_the_accumulation_time(ball):
+    # After t1 (1 + e)/(1 − e) = 4.064 s the discrete bounces have died out (the last one
+    # starts near 4.05 s at this step): the ball sits at gap 0 with zero velocity, and the
+    # plane carries exactly its weight, an impulse m g h per step — no chatter.
+    late = ball["t"] >= T_ZENO + 0.05
+    assert late.sum() > 2000
+    np.testing.assert_allclose(ball["gap"][late], 0.0, atol=1e-12)
+    np.testing.assert_allclose(ball["vy"][late], 0.0, atol=1e-12)
+    impulse = np.array([i.sum() for i in ball["impulse"][late]])
+    np.testing.assert_allclose(impulse, 1.0 * G * ball["h"][late], rtol=1e-9)
+    assert episode_starts(ball["active"])[-1] < np.flatnonzero(late)[0]
+
+
+def test_ball_starting_on_the_plane_stays_there():
+    sim = case("bouncing_ball").build(height=0.0)
+    out = history(sim, dt=1e-3, t_end=0.2)
+    np.testing.assert_allclose(out["gap"], 0.0, atol=1e-12)
+    np.testing.assert_allclose(out["vy"], 0.0, atol=1e-12)
+
+
+# -- elastic bar against a wall (L = 1 m, c = 1 m/s, v0 = 0.1 m/s) -------------------------
+
+
+@pytest.fixture(scope="module")
+def bars():
+    """Runs with 100 and 200 elements: the case's step is half the element transit time
+    Δx/c, and 2.5 L/c shows the release."""
+    return {n: history(case("impacting_bar").build(n_elements=n), t_end=2.5) for n in (100, 200)}
+
+
+def bar_measures(out, velocity=0.1, length=1.0, c=1.0):
+    """Contact duration (end of the last step with a closed contact; contact starts at t = 0),
+    relative errors of the duration and the rebound velocity, and final/initial energy."""
+    on = out["active"].reshape(len(out["t"]), -1).any(axis=1)
+    duration = out["t"][np.flatnonzero(on)[-1]]
+    exact = 2.0 * length / c
+    rebound = out["v_mean"][-1]
+    return {
+        "duration": duration,
+        "duration_error": abs(duration - exact) / exact,
+        "rebound_error": abs(rebound - velocity) / velocity,
+        "energy_ratio": out["energy"][-1] / out["energy"][0],
+    }
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("n", [100, 200])
+def test_bar_contact_duration_rebound_and_energy(bars, n):
+    # Duration: the release is located to one step (Δx/2c = 0.25 % of 2L/c at 100 elements)
+    # and the discrete bar's dispersion spreads the reflected front over a few Δx/c; 2 %
+    # leaves margin (measured 0.25 % at 100, 0.0 % at 200 elements).
+    # Rebound: the momentum left in the bar's vibration after release is of order Δx/L;
+    # 2 % (measured 0.72 %, 0.44 %).
+    # Energy: generalized-α (ρ∞ = 0.5) damps the unresolved high frequencies of the front and
+    # the contact never does work: 0.98 ≤ ratio ≤ 1 (measured 0.9915, 0.9952).
+    out = bars[n]
+    m = bar_measures(out)
+    assert m["duration_error"] <= 0.02
+    assert m["rebound_error"] <= 0.02
+    assert 0.98 <= m["energy_ratio"] <= 1.0
+    assert out["gap"].min() >= -PENETRATION
+    # the wall force of the exact solution is constant, ρ c v0 A = 0.1 N; its mean over the
+    # contact is fixed by the momentum balance to within the rebound error
+    inside = (out["t"] > 0.0) & (out["t"] < 2.0 - 0.05)
+    assert out["contact_force"][inside].mean() == pytest.approx(0.1, rel=0.02)
+
+
+@pytest.mark.slow
+def test_bar_improves_with_the_mesh(bars):
+    coarse, fine = bar_measures(bars[100]), bar_measures(bars[200])
+    assert fine["duration_error"] <= coarse["duration_error"]
+    assert fine["rebound_error"] < coarse["rebound_error"]
+    assert fine["energy_ratio"] > coarse["energy_ratio"]
+
+
+# -- rocking block --------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def block():
+    sim = case("rocking_block").build()
+    return sim, history(sim)
+
+
+def test_rocking_block_never_penetrates_at_either_corner(block):
+    sim, out = block
+    assert out["gap_left"].min() >= -PENETRATION
+    assert out["gap_right"].min() >= -PENETRATION
+    assert out["min_gap"].min() >= -PENETRATION
+
+
+def test_rocking_block_impacts_alternate_then_rest_on_both_corners(block):
+    sim, out = block
+    impulses = np.stack(out["impulse"])
+    left, right = impulses[:, 0] > 0, impulses[:, 1] > 0
+    # rocking: impacts on one corner while the other lifts, several times each
+    assert len(episode_starts(right & ~left)) >= 3 and len(episode_starts(left & ~right)) >= 3
+    assert np.any(left & right)  # a two-corner impact step
+    # frictionless: no horizontal force, the centre of mass stays on its vertical
+    body = sim.model.bodies[0]
+    assert body.position[0] == pytest.approx(0.1 * np.cos(0.1) - 0.2 * np.sin(0.1))
+    # at the end the box rests flat on both corners
+    assert out["gap_left"][-1] == pytest.approx(0.0, abs=1e-12)
+    assert out["gap_right"][-1] == pytest.approx(0.0, abs=1e-12)
+    assert out["angle"][-1] == pytest.approx(0.0, abs=1e-12)
+
+
+def test_rocking_block_energy_drift_is_first_order(block):
+    # While the pivot corner slides, the persistent contact with a gap nonlinear in θ is
+    # enforced by projection, whose energy error is O(h): measured +1.05e-4 J at h = 1e-3 and
+    # +5.3e-5 J at 5e-4, against 0.088 J released by the fall. Impacts (e = 0.5) dissipate.
+    sim, out = block
+    released = out["energy"][0] - out["energy"][-1]
+    assert released > 0.08
+    assert out["energy"].max() - out["energy"][0] <= 0.005 * released
+
+
+def test_rocking_block_centre_moves_vertically_only():
+    sim = case("rocking_block").build()
+    x = []
+    for st in simulate(sim.model, sim.dt, 0.3, sim.options):
+        x.append((st.q[0], st.v[0]))
+    np.testing.assert_allclose(x, 0.0, atol=1e-14)
+
+
+# -- disk on a simply supported beam --------------------------------------------------------
+
+
+@pytest.mark.slow
+def test_disk_on_beam_contact_without_penetration_or_energy_gain():
+    # Free fall from 0.05 m would close the gap at √(2 · 0.05/g) = 0.101 s, but the beam
+    # starts unloaded and sags under its own weight away from the disk (static mid-span sag
+    # 5ρAgL⁴/384EI = 0.57 mm, up to twice that dynamically): at 0.99 m/s that delays the
+    # contact by at most ~1.2 ms (measured 0.1022 s). e = 0 and ρ∞ = 0.5 only dissipate.
+    sim = case("disk_on_beam").build()
+    out = history(sim, t_end=0.3)
+    first = out["t"][episode_starts(out["active"])[0]]
+    assert 0.0 < first - math.sqrt(2 * 0.05 / G) < 1.5e-3
+    assert out["gap"].min() >= -PENETRATION
+    assert out["energy"].max() <= out["energy"][0] + 1e-12
+    assert out["beam_mid_uy"].min() < -1e-4  # the beam deflects under the blow
+
+
+# -- every case runs through the driver -----------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "name",
+    [
+        "bouncing_ball",
+        "rocking_block",
+        "impacting_bar",
+        pytest.param(
+            "disk_on_beam",
+            marks=pytest.mark.xfail(
+                strict=True,
+                raises=AttributeError,
+                reason="simulation._static_parts calls outline() on obstacle None (body-body pair)",
+            ),
+        ),
+    ],
+)
+def test_case_runs_through_the_driver(name, tmp_path):
+    module = case(name)
+    documented = set(module.PARAMETERS)
+    assert documented == set(inspect.signature(module.build).parameters)
+    sim = module.build()
+    summary = run(sim.replace(t_end=20 * sim.dt), tmp_path)
+    assert summary["status"] == "completed" and summary["steps"] == 20
+    text = (tmp_path / "history.csv").read_text().splitlines()
+    assert text[0].split(",")[-len(sim.probes) :] == list(sim.probes)
+
+
+@pytest.mark.parametrize(
+    "name, kwargs",
+    [
+        ("bouncing_ball", {"height": -0.1}),
+        ("bouncing_ball", {"radius": float("nan")}),
+        ("bouncing_ball", {"restitution": 1.5}),
+        ("impacting_bar", {"velocity": 0.0}),
+        ("impacting_bar", {"gap": float("nan")}),
+        ("rocking_block", {"angle": 0.6}),
+        ("disk_on_beam", {"position": 1.0}),
+        ("disk_on_beam", {"drop_height": -1.0}),
+    ],
+)
+def test_cases_reject_bad_parameters(name, kwargs):
+    with pytest.raises(InputError):
+        case(name).build(**kwargs)
