@@ -111,6 +111,14 @@ class Model:
     def n_free(self) -> int:
         return len(self.free)
 
+    def body_vector(self, body, values) -> np.ndarray:
+        """Global dof vector holding ``values`` (the body's own dof vector, e.g. a rigid
+        body's (v_x, v_y, ω)) on ``body`` and zero elsewhere."""
+        x = np.zeros(self.n)
+        o = self.offset_of(body)
+        x[o : o + body.ndof] = check_finite("values", values).reshape(body.ndof)
+        return x
+
     def translation(self, body, vector) -> np.ndarray:
         """Global dof vector with ``vector`` on every translation of ``body`` (a uniform
         initial velocity, say) and zero elsewhere."""

@@ -38,6 +38,7 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 
 __all__ = [
+    "body_mesh",
     "PVDWriter",
     "HistoryWriter",
     "RunResult",
@@ -463,6 +464,37 @@ def load_run(out_dir: str | Path) -> RunResult:
     # a static part is written once as <case>_<part>.vtu, a moving one per frame
     static = [p for p in parts if all(f.get(p) == f"{pvd.stem}_{p}.vtu" for f in files)]
     return RunResult(folder, pvd, history, summary, times, parts, static, files)
+
+
+def body_mesh(points, cells, point_data: dict | None = None, cell_data: dict | None = None):
+    """A ``meshio.Mesh`` of any cells: ``cells`` is a list of (meshio cell type, connectivity).
+
+    Points (n, 2|3) in m and 2D vector point data are padded to 3 components; ``cell_data``
+    maps names to one array per cell block (e.g. ``stress_von_mises`` in Pa).
+    """
+    import meshio
+
+    points = _pad3(np.asarray(points, dtype=float), "points")
+    n = len(points)
+    blocks = []
+    for kind, conn in cells:
+        conn = np.asarray(conn, dtype=np.int64)
+        if conn.size and (conn.min() < 0 or conn.max() >= n):
+            raise ValueError(f"{kind} connectivity refers to nodes outside 0..{n - 1}")
+        blocks.append((kind, conn))
+    data = {}
+    for name, values in (point_data or {}).items():
+        if not _SNAKE.fullmatch(name):
+            raise ValueError(f"point data name {name!r} must be snake_case, e.g. 'contact_force'")
+        values = np.asarray(values, dtype=float)
+        if values.shape[0] != n:
+            raise ValueError(f"point data {name!r} has {values.shape[0]} rows, expected {n}")
+        data[name] = _pad3(values, name) if values.ndim == 2 else values
+    cdata = {
+        name: [np.asarray(v, dtype=float) for v in arrays]
+        for name, arrays in (cell_data or {}).items()
+    }
+    return meshio.Mesh(points, blocks, point_data=data, cell_data=cdata)
 
 
 def line_mesh(points, connectivity, point_data: dict | None = None):

@@ -51,11 +51,11 @@ class Probe:
 _NODE_QUANTITIES = {
     "x": ("m", "position x", lambda b, q, v: b.positions(q)[:, 0]),
     "y": ("m", "position y", lambda b, q, v: b.positions(q)[:, 1]),
-    "ux": ("m", "displacement x", lambda b, q, v: b.nodal(q)[:, 0]),
-    "uy": ("m", "displacement y", lambda b, q, v: b.nodal(q)[:, 1]),
-    "vx": ("m/s", "velocity x", lambda b, q, v: b.nodal(v)[:, 0]),
-    "vy": ("m/s", "velocity y", lambda b, q, v: b.nodal(v)[:, 1]),
-    "rotation": ("rad", "rotation", lambda b, q, v: q.reshape(b.n_nodes, -1)[:, 2]),
+    "ux": ("m", "displacement x", lambda b, q, v: b.point_data(q, v)["displacement"][:, 0]),
+    "uy": ("m", "displacement y", lambda b, q, v: b.point_data(q, v)["displacement"][:, 1]),
+    "vx": ("m/s", "velocity x", lambda b, q, v: b.point_data(q, v)["velocity"][:, 0]),
+    "vy": ("m/s", "velocity y", lambda b, q, v: b.point_data(q, v)["velocity"][:, 1]),
+    "rotation": ("rad", "rotation", lambda b, q, v: b.point_data(q, v)["rotation"]),
 }
 
 
@@ -101,21 +101,35 @@ class Simulation:
 
 
 def _frame_parts(model, state: State):
-    from .output import line_mesh
+    from .output import body_mesh
 
-    f_imp = model.contacts.generalized_force(
-        state.q, np.arange(model.contacts.size), state.impulse, model.n
-    )
+    f_imp = model.contacts.generalized_force(state.q, model.contacts.all, state.impulse, model.n)
     h = state.h if state.h > 0 else math.inf
     parts = {}
     for i, body in enumerate(model.bodies):
         s = model.body_slice(i)
-        data = dict(body.point_data(state.q[s], state.v[s]))
-        data["contact_impulse"] = body.nodal(f_imp[s])
+        q = state.q[s]
+        data = dict(body.point_data(q, state.v[s]))
+        data["contact_impulse"] = _point_impulse(body, f_imp[s])
         data["contact_force"] = data["contact_impulse"] / h
-        cells = body.cells()
-        parts[f"body{i}"] = line_mesh(body.positions(state.q[s]), cells[0][1], data)
+        cell_data = body.cell_data(q) if hasattr(body, "cell_data") else None
+        parts[_part_name(body, i)] = body_mesh(body.positions(q), body.cells(), data, cell_data)
     return parts
+
+
+def _point_impulse(body, f: np.ndarray) -> np.ndarray:
+    """Contact impulse at the output points: nodal for deformable bodies; for a rigid body
+    the resultant (N·s) is drawn at its centre of mass."""
+    center = getattr(body, "center_index", None)
+    if center is None:
+        return body.nodal(f)
+    out = np.zeros((body.n_nodes, 2))
+    out[center] = f[:2]
+    return out
+
+
+def _part_name(body, i: int) -> str:
+    return f"{type(body).__name__.lower()}{i}"
 
 
 def _static_parts(model):
@@ -123,7 +137,9 @@ def _static_parts(model):
 
     parts = {}
     for j, pair in enumerate(model.contacts.pairs):
-        obs = pair.obstacle
+        obs = getattr(pair, "obstacle", None)
+        if obs is None or not hasattr(obs, "outline"):
+            continue  # a contact between bodies: nothing static to draw
         if hasattr(obs, "normal"):
             pts = obs.outline(obs.extent or 2.0 * model.length)
         else:

@@ -260,14 +260,7 @@ def test_disk_on_beam_contact_without_penetration_or_energy_gain():
         "bouncing_ball",
         "rocking_block",
         "impacting_bar",
-        pytest.param(
-            "disk_on_beam",
-            marks=pytest.mark.xfail(
-                strict=True,
-                raises=AttributeError,
-                reason="simulation._static_parts calls outline() on obstacle None (body-body pair)",
-            ),
-        ),
+        "disk_on_beam",
     ],
 )
 def test_case_runs_through_the_driver(name, tmp_path):
