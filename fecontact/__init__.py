@@ -7,6 +7,13 @@ Alart–Curnier multipliers) and writes VTU frames, ``history.csv`` and ``summar
 SI units throughout.
 """
 
+import os
+
+# The dense systems here have tens of unknowns: OpenBLAS threads only add synchronisation
+# (measured 4-9x slower steps on a loaded 2-core machine). Takes effect when fecontact is
+# imported before numpy (the command line, case scripts); an explicit setting wins.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
 __version__ = "0.1.0"
 
 from .beam import Beam2D, Material, Section
