@@ -26,6 +26,10 @@ Energies (d = 3; the plane cases below reduce them):
   ℂ = λ C⁻¹⊗C⁻¹ + 2(μ − λ ln J) 𝕀_{C⁻¹} with (𝕀_{C⁻¹})_IJKL = ½(C⁻¹_IK C⁻¹_JL + C⁻¹_IL C⁻¹_JK).
   Matches the linear material for small strains; W → ∞ as J → 0⁺.
 
+Arrays follow scikit-fem's layout: tensor indices first, points last, E of shape
+(3, 3, *points), S (3, 3, *points), ℂ (3, 3, 3, 3, *points) — with the points innermost,
+every operation runs over long contiguous vectors.
+
 Plane problems work on the in-plane block of E. Plane strain: E₃₃ = E₁₃ = E₂₃ = 0.
 Plane stress: E₃₃ solves S₃₃(E) = 0 (one Newton step for the linear material and St Venant–
 Kirchhoff, where it is linear in E₃₃ and gives λ* = 2λμ/(λ + 2μ); a few for Neo-Hookean), and
@@ -47,7 +51,7 @@ __all__ = ["LinearElastic", "StVenantKirchhoff", "NeoHookean", "PLANES"]
 PLANES = ("strain", "stress")
 
 _I3 = np.eye(3)
-# symmetric fourth-order identity 𝕀_IJKL = ½(δ_IK δ_JL + δ_IL δ_JK)
+# symmetric fourth-order identity 𝕀_IJKL = ½(δ_IK δ_JL + δ_IL δ_JK) and I⊗I
 _SYM4 = 0.5 * (np.einsum("ik,jl->ijkl", _I3, _I3) + np.einsum("il,jk->ijkl", _I3, _I3))
 _OUTER = np.einsum("ij,kl->ijkl", _I3, _I3)
 
@@ -62,7 +66,7 @@ class _Isotropic:
     rho: float
 
     linear = False
-    """True when the body should use small strains (constant stiffness)."""
+    """True when the body uses small strains (constant stiffness)."""
     barrier = False
     """True when W is infinite for det F <= 0 (the body then reports an infinite energy)."""
 
@@ -84,54 +88,46 @@ class _Isotropic:
         return float(np.sqrt((lam + 2.0 * mu) / self.rho))
 
     def response3(self, E: np.ndarray, tangent: bool = True):
-        """W (...,) in J/m³, S (..., 3, 3) in Pa and ℂ (..., 3, 3, 3, 3) in Pa (or broadcastable
-        to it; None unless ``tangent``) at Green–Lagrange strains E (..., 3, 3)."""
+        """W (*points) in J/m³, S (3, 3, *points) in Pa and ℂ (3, 3, 3, 3, *points) in Pa at
+        Green–Lagrange strains E (3, 3, *points). ℂ is None unless ``tangent``; a constant ℂ
+        comes with singleton point axes."""
         raise NotImplementedError
 
     def response(self, E: np.ndarray, plane: str | None = None, tangent: bool = True):
-        """W, S, ℂ at strains E (..., d, d): ``plane`` is None in 3D, "strain" or "stress" in 2D.
-
-        The results have the dimension of E; ℂ may be broadcastable rather than full size.
-        """
+        """W, S, ℂ at strains E (d, d, *points): ``plane`` is None in 3D, "strain" or "stress"
+        in 2D. S and ℂ have the dimension d of E."""
         if plane is None:
             return self.response3(E, tangent)
         E3 = self._embed(E, plane)
-        W, S, CC = self.response3(E3, tangent or plane == "stress")
+        W, S, CC = self.response3(E3, tangent)
         if not tangent:
-            return W, S[..., :2, :2], None
-        CC = np.broadcast_to(CC, S.shape + (3, 3))
-        CC2 = CC[..., :2, :2, :2, :2]
+            return W, S[:2, :2], None
+        CC2 = CC[:2, :2, :2, :2]
         if plane == "stress":
-            CC2 = (
-                CC2
-                - CC[..., :2, :2, 2, 2, None, None]
-                * CC[..., 2, 2, None, None, :2, :2]
-                / (CC[..., 2, 2, 2, 2, None, None, None, None])
-            )
-        return W, S[..., :2, :2], CC2
+            CC2 = CC2 - CC[:2, :2, 2, 2][:, :, None, None] * CC[2, 2, :2, :2] / CC[2, 2, 2, 2]
+        return W, S[:2, :2], CC2
 
     def out_of_plane(self, E: np.ndarray, plane: str):
-        """E₃₃ and S₃₃ (Pa) for in-plane strains E (..., 2, 2): S₃₃ = 0 in plane stress,
+        """E₃₃ and S₃₃ (Pa) for in-plane strains E (2, 2, *points): S₃₃ = 0 in plane stress,
         E₃₃ = 0 in plane strain."""
         E3 = self._embed(E, plane)
-        return E3[..., 2, 2], self.response3(E3, tangent=False)[1][..., 2, 2]
+        return E3[2, 2], self.response3(E3, tangent=False)[1][2, 2]
 
     def _embed(self, E, plane):
-        E3 = np.zeros(E.shape[:-2] + (3, 3))
-        E3[..., :2, :2] = E
+        E3 = np.zeros((3, 3) + E.shape[2:])
+        E3[:2, :2] = E
         if plane == "strain":
             return E3
         # Newton on S₃₃(E₃₃) = 0; S₃₃ increases with E₃₃ (ℂ₃₃₃₃ > 0), so it converges from 0
-        scale = self.E * 1e-13
+        tol = self.E * 1e-13
         for _ in range(50):
             _, S, CC = self.response3(E3, tangent=True)
-            r = S[..., 2, 2]
-            if np.all(np.abs(r) <= scale):
+            r = S[2, 2]
+            if np.all(np.abs(r) <= tol):
                 return E3
-            c33 = 1.0 + 2.0 * E3[..., 2, 2]
-            step = -r / np.broadcast_to(CC, S.shape + (3, 3))[..., 2, 2, 2, 2]
+            step = -r / CC[2, 2, 2, 2]
             # keep C₃₃ = 1 + 2E₃₃ positive (the Neo-Hookean energy is infinite at C₃₃ = 0)
-            E3[..., 2, 2] += np.maximum(step, -0.45 * c33)
+            E3[2, 2] += np.maximum(step, -0.45 * (1.0 + 2.0 * E3[2, 2]))
         return E3
 
 
@@ -169,48 +165,55 @@ class NeoHookean(_Isotropic):
 
     def response3(self, E, tangent=True):
         lam, mu = self.lame
-        C = 2.0 * E + _I3
+        C = 2.0 * E
+        for i in range(3):
+            C[i, i] += 1.0
         detC, Ci = _det_inv3(C)
         with np.errstate(invalid="ignore", divide="ignore"):
             lnJ = 0.5 * np.log(detC)
-        I1 = np.trace(C, axis1=-2, axis2=-1)
-        W = 0.5 * mu * (I1 - 3.0 - 2.0 * lnJ) + 0.5 * lam * lnJ**2
-        S = (lam * lnJ - mu)[..., None, None] * Ci + mu * _I3
+        W = 0.5 * mu * (C[0, 0] + C[1, 1] + C[2, 2] - 3.0 - 2.0 * lnJ) + 0.5 * lam * lnJ**2
+        S = (lam * lnJ - mu) * Ci
+        for i in range(3):
+            S[i, i] += mu
         if not tangent:
             return W, S, None
-        m = (mu - lam * lnJ)[..., None, None, None, None]
-        CC = lam * Ci[..., :, :, None, None] * Ci[..., None, None, :, :]
-        CC += m * Ci[..., :, None, :, None] * Ci[..., None, :, None, :]
-        CC += m * Ci[..., :, None, None, :] * Ci[..., None, :, :, None]
+        P = Ci[:, None, :, None] * Ci[None, :, None, :]  # C⁻¹_IK C⁻¹_JL
+        CC = P + P.swapaxes(2, 3)
+        CC *= mu - lam * lnJ
+        CC += lam * Ci[:, :, None, None] * Ci[None, None]
         return W, S, CC
 
 
 def _quadratic(lame, E, tangent):
     """W = λ/2 (tr E)² + μ E:E, its stress and (constant) tangent."""
     lam, mu = lame
-    trE = np.trace(E, axis1=-2, axis2=-1)
+    trE = E[0, 0] + E[1, 1] + E[2, 2]
     S = 2.0 * mu * E
-    S += lam * trE[..., None, None] * _I3
-    W = 0.5 * lam * trE**2 + mu * np.einsum("...ij,...ij->...", E, E)
-    return W, S, (lam * _OUTER + 2.0 * mu * _SYM4) if tangent else None
+    for i in range(3):
+        S[i, i] += lam * trE
+    W = 0.5 * lam * trE**2 + mu * np.sum(E * E, axis=(0, 1))
+    if not tangent:
+        return W, S, None
+    CC = (lam * _OUTER + 2.0 * mu * _SYM4).reshape((3, 3, 3, 3) + (1,) * (E.ndim - 2))
+    return W, S, CC
 
 
 def _det_inv3(A: np.ndarray):
-    """Determinant (...,) and inverse (..., 3, 3) of 3×3 matrices by cofactors (far faster than
-    ``np.linalg.inv`` for many small matrices)."""
-    a, b, c = A[..., 0, 0], A[..., 0, 1], A[..., 0, 2]
-    d, e, f = A[..., 1, 0], A[..., 1, 1], A[..., 1, 2]
-    g, h, i = A[..., 2, 0], A[..., 2, 1], A[..., 2, 2]
+    """Determinant (*points) and inverse (3, 3, *points) of 3×3 matrices A (3, 3, *points), by
+    cofactors (far faster than ``np.linalg.inv`` for many small matrices)."""
+    a, b, c = A[0]
+    d, e, f = A[1]
+    g, h, i = A[2]
     cof = np.empty(A.shape)
-    cof[..., 0, 0] = e * i - f * h
-    cof[..., 0, 1] = c * h - b * i
-    cof[..., 0, 2] = b * f - c * e
-    cof[..., 1, 0] = f * g - d * i
-    cof[..., 1, 1] = a * i - c * g
-    cof[..., 1, 2] = c * d - a * f
-    cof[..., 2, 0] = d * h - e * g
-    cof[..., 2, 1] = b * g - a * h
-    cof[..., 2, 2] = a * e - b * d
-    det = a * cof[..., 0, 0] + b * cof[..., 1, 0] + c * cof[..., 2, 0]
+    cof[0, 0] = e * i - f * h
+    cof[0, 1] = c * h - b * i
+    cof[0, 2] = b * f - c * e
+    cof[1, 0] = f * g - d * i
+    cof[1, 1] = a * i - c * g
+    cof[1, 2] = c * d - a * f
+    cof[2, 0] = d * h - e * g
+    cof[2, 1] = b * g - a * h
+    cof[2, 2] = a * e - b * d
+    det = a * cof[0, 0] + b * cof[1, 0] + c * cof[2, 0]
     with np.errstate(invalid="ignore", divide="ignore"):
-        return det, cof / det[..., None, None]
+        return det, cof / det

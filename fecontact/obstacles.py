@@ -1,9 +1,12 @@
 r"""Rigid obstacles: signed gap functions of a point and their derivatives.
 
-Each obstacle gives, for points x (shape (m, 2)), the signed gap g(x) in m (positive when
-separated, zero in contact, negative when penetrating), its gradient ∂g/∂x and its Hessian
-∂²g/∂x². ``Point`` is the exception: a rigid point (or small disk) acts against beam segments,
-so its gap is computed in :mod:`fecontact.contact` from the segment geometry.
+Each obstacle gives, for points x (shape (m, d)), the signed gap g(x) in m (positive when
+separated, zero in contact, negative when penetrating), its gradient ∂g/∂x (m, d) and its
+Hessian ∂²g/∂x² (m, d, d), or None where it vanishes. ``Plane`` and ``Circle`` work in the plane
+(d = 2) and in space (d = 3: a plane and a sphere), the dimension taken from the given point or
+centre; ``Sphere`` is the three-dimensional ``Circle``. ``Point`` is the exception: a rigid
+point (or small disk) acts against beam segments, so its gap is computed in
+:mod:`fecontact.contact` from the segment geometry.
 """
 
 from __future__ import annotations
@@ -12,53 +15,69 @@ import numpy as np
 
 from .errors import InputError, check_finite, check_positive
 
-__all__ = ["Plane", "Circle", "Point"]
+__all__ = ["Plane", "Circle", "Sphere", "Point"]
 
 
 class Plane:
-    """Half-plane bounded by the line through ``point`` with outward unit ``normal``.
+    """Half-plane (2D) or half-space (3D) bounded by the line or plane through ``point`` with
+    outward unit ``normal`` (2 or 3 components, as ``point``).
 
     g(x) = n·(x − p): material is allowed on the side the normal points to. ``extent`` (m) is
-    only the length drawn in the output (default: twice the model size).
+    only the size drawn in the output (default: twice the model size).
     """
 
     linear = True
 
     def __init__(self, point, normal, extent: float | None = None):
         self.extent = None if extent is None else check_positive("extent", extent)
-        self.point = check_finite("point", point).reshape(2)
-        n = check_finite("normal", normal).reshape(2)
+        self.point = _vector("point", point)
+        self.dim = len(self.point)
+        n = check_finite("normal", normal).ravel()
+        if n.shape != self.point.shape:
+            raise InputError(f"normal must have {self.dim} components like point, got {n.shape[0]}")
         norm = np.linalg.norm(n)
         if norm == 0.0:
             raise InputError("normal must be a non-zero vector")
         self.normal = n / norm
 
     def gap(self, x: np.ndarray):
-        """Gap (m,), gradient (m, 2) and Hessian (m, 2, 2) at points ``x`` (m, 2)."""
+        """Gap (m,), gradient (m, d) and Hessian (None: zero) at points ``x`` (m, d)."""
+        _check_points(x, self.dim)
         g = (x - self.point) @ self.normal
         G = np.broadcast_to(self.normal, x.shape)
         return g, G, None
 
     def outline(self, size: float) -> np.ndarray:
-        """End points (2, 2) of a piece of the boundary line of length ``size`` (for output)."""
-        t = np.array([-self.normal[1], self.normal[0]])
-        return self.point + 0.5 * size * np.array([-t, t])
+        """A piece of the boundary of side ``size`` (m) for output: the end points (2, 2) of a
+        segment in 2D, a closed square loop (5, 3) in 3D."""
+        if self.dim == 2:
+            t = np.array([-self.normal[1], self.normal[0]])
+            return self.point + 0.5 * size * np.array([-t, t])
+        t1, t2 = _tangents(self.normal)
+        corners = np.array([[-1, -1], [1, -1], [1, 1], [-1, 1], [-1, -1]]) * (0.5 * size)
+        return self.point + corners[:, :1] * t1 + corners[:, 1:] * t2
 
 
 class Circle:
-    """Rigid disk of ``radius`` (m) centred at ``center``; ``inside=True`` makes it a cavity.
+    """Rigid disk (2D) or ball (3D) of ``radius`` (m) centred at ``center`` (2 or 3
+    components); ``inside=True`` makes it a cavity.
 
-    Outside: g = |x − c| − R. Inside (points kept within the circle): g = R − |x − c|.
+    Outside: g = |x − c| − R. Inside (points kept within the circle): g = R − |x − c|. With
+    e = (x − c)/|x − c|: ∂g/∂x = ±e and ∂²g/∂x² = ±(I − e⊗e)/|x − c|.
     """
 
     linear = False
 
     def __init__(self, center, radius: float, inside: bool = False):
-        self.center = check_finite("center", center).reshape(2)
+        self.center = _vector("center", center)
+        self.dim = len(self.center)
         self.radius = check_positive("radius", radius)
+        self.inside = bool(inside)
         self.sign = -1.0 if inside else 1.0
 
     def gap(self, x: np.ndarray):
+        """Gap (m,), gradient (m, d) and Hessian (m, d, d) at points ``x`` (m, d)."""
+        _check_points(x, self.dim)
         d = x - self.center
         r = np.linalg.norm(d, axis=1)
         if np.any(r == 0.0):
@@ -66,12 +85,35 @@ class Circle:
         e = d / r[:, None]
         g = self.sign * (r - self.radius)
         G = self.sign * e
-        H = self.sign * (np.eye(2) - e[:, :, None] * e[:, None, :]) / r[:, None, None]
+        H = self.sign * (np.eye(self.dim) - e[:, :, None] * e[:, None, :]) / r[:, None, None]
         return g, G, H
 
     def outline(self, n: int = 96) -> np.ndarray:
+        """Points on the rim for output, joined in order: the circle (n + 1, 2) in 2D; in 3D
+        the great circles in the xy, xz and yz planes, linked by a quarter of the first."""
         s = np.linspace(0.0, 2.0 * np.pi, n + 1)
-        return self.center + self.radius * np.stack([np.cos(s), np.sin(s)], axis=1)
+        c, z = np.cos(s), np.zeros_like(s)
+        if self.dim == 2:
+            return self.center + self.radius * np.stack([c, np.sin(s)], axis=1)
+        quarter = np.linspace(0.0, 0.5 * np.pi, max(n // 4, 1) + 1)
+        loops = [
+            np.stack([c, np.sin(s), z], axis=1),
+            np.stack([c, z, np.sin(s)], axis=1),
+            np.stack([np.cos(quarter), np.sin(quarter), 0.0 * quarter], axis=1),
+            np.stack([z, c, np.sin(s)], axis=1),
+        ]
+        return self.center + self.radius * np.vstack(loops)
+
+
+class Sphere(Circle):
+    """Rigid ball of ``radius`` (m) centred at ``center`` (3 components); ``inside=True`` makes
+    it a spherical cavity. The three-dimensional :class:`Circle`."""
+
+    def __init__(self, center, radius: float, inside: bool = False):
+        c = check_finite("center", center).ravel()
+        if c.shape != (3,):
+            raise InputError(f"center of a Sphere must have 3 components, got {c.shape[0]}")
+        super().__init__(c, radius, inside)
 
 
 class Point:
@@ -86,3 +128,25 @@ class Point:
     def outline(self, n: int = 48) -> np.ndarray:
         s = np.linspace(0.0, 2.0 * np.pi, n + 1)
         return self.position + max(self.radius, 1e-9) * np.stack([np.cos(s), np.sin(s)], axis=1)
+
+
+def _vector(name: str, value) -> np.ndarray:
+    x = check_finite(name, value).ravel()
+    if x.shape not in ((2,), (3,)):
+        raise InputError(f"{name} must have 2 or 3 components, got {x.shape[0]}")
+    return x
+
+
+def _check_points(x: np.ndarray, dim: int) -> None:
+    if x.ndim != 2 or x.shape[1] != dim:
+        raise InputError(
+            f"points must be an (m, {dim}) array for this {dim}D obstacle, got shape {x.shape}"
+        )
+
+
+def _tangents(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit vectors completing the unit normal n to a right-handed basis (t1, t2, n)."""
+    a = np.eye(3)[int(np.argmin(np.abs(n)))]
+    t1 = np.cross(n, a)
+    t1 /= np.linalg.norm(t1)
+    return t1, np.cross(n, t1)
