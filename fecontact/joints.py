@@ -20,7 +20,7 @@ class Pin:
     """Pin joint: the material point at ``point`` (reference coordinates, m) of ``body`` stays
     on the same material point of ``other``, or, when ``other`` is None, fixed in space.
 
-    The point must be a node of a beam (or an anchor the body can carry). Two constraint
+    On a beam the point must be a node; a rigid body can be pinned anywhere. Two constraint
     equations: g_b = x_a(q) − x_b(q) (m).
     """
 
@@ -31,8 +31,8 @@ class Pin:
         self.body = body
         self.other = other
         self.point = check_finite("point", point).reshape(2)
-        self.key_a = np.array([body.locate(self.point)])
-        self.key_b = None if other is None else np.array([other.locate(self.point)])
+        self.kin_a = _material_point(body, self.point)
+        self.kin_b = None if other is None else _material_point(other, self.point)
         if other is body:
             raise InputError("other: a body cannot be pinned to itself")
         self.linear = body.linear_kinematics and (other is None or other.linear_kinematics)
@@ -42,18 +42,18 @@ class Pin:
         ob = 0 if self.other is None else model.offset_of(self.other)
         self.offsets = (model.offset_of(self.body), ob)
 
-    def _side(self, body, key, offset, q):
-        x, dofs, Jx, Hx = body.point_kinematics(q[offset : offset + body.ndof], key)
+    def _side(self, body, kin, offset, q):
+        x, dofs, Jx, Hx = kin(q[offset : offset + body.ndof])
         return x[0], dofs[0] + offset, Jx[0], None if Hx is None else Hx[0]
 
     def evaluate(self, q: np.ndarray):
         """Constraint values (2,), dofs (2, k), gradient rows (2, k), Hessians (2, k, k)."""
-        xa, da, Ja, Ha = self._side(self.body, self.key_a, self.offsets[0], q)
+        xa, da, Ja, Ha = self._side(self.body, self.kin_a, self.offsets[0], q)
         if self.other is None:
             g, dofs, G = xa - self.point, da, Ja
             H = Ha
         else:
-            xb, db, Jb, Hb = self._side(self.other, self.key_b, self.offsets[1], q)
+            xb, db, Jb, Hb = self._side(self.other, self.kin_b, self.offsets[1], q)
             g = xa - xb
             dofs = np.concatenate([da, db])
             G = np.concatenate([Ja, -Jb], axis=1)
@@ -66,3 +66,12 @@ class Pin:
                 if Hb is not None:
                     H[:, len(da) :, len(da) :] = -Hb
         return g, np.broadcast_to(dofs, (2, len(dofs))), G, H
+
+
+def _material_point(body, point):
+    """Kinematics q ↦ (x, dofs, ∂x/∂q, ∂²x/∂q²) of the body's material point at ``point``."""
+    if hasattr(body, "frame_point_kinematics"):  # rigid body: any point of its frame
+        r = body.to_frame(point)[None, :]
+        return lambda q: body.frame_point_kinematics(q, r)
+    node = np.array([body.locate(point)])
+    return lambda q: body.point_kinematics(q, node)

@@ -288,6 +288,12 @@ class RigidBody2D:
         ∂x/∂q (m, 2, 3) and the exact ∂²x/∂q² (m, 2, 3, 3) (only the θθ entry, −R r)."""
         return self.frame_point_kinematics(q, self._points[nodes])
 
+    def to_frame(self, point) -> np.ndarray:
+        """Body-frame coordinates (m, from the centre of mass) of ``point`` given in the
+        initial configuration."""
+        d = check_finite("point", point).reshape(2) - self.position
+        return d @ rotation(self.angle)
+
     def frame_point_kinematics(self, q: np.ndarray, r):
         """As ``point_kinematics`` for any points ``r`` (m, 2) given in the body frame (m, from
         the centre of mass): a joint's pivot, say."""
