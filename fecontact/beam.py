@@ -32,6 +32,7 @@ from .errors import InputError, check_finite, check_positive, check_range
 __all__ = ["Material", "Section", "Beam2D"]
 
 _MIDPOINT = (np.array([[0.5]]), np.array([1.0]))
+_EYE2 = np.eye(2)[None]
 
 
 @skfem.BilinearForm
@@ -323,7 +324,7 @@ class Beam2D:
         ∂²x/∂q² (None: linear)."""
         dofs = 3 * nodes[:, None] + np.arange(2)
         x = self.X[nodes] + q[dofs]
-        return x, dofs, np.broadcast_to(np.eye(2), (len(nodes), 2, 2)), None
+        return x, dofs, np.repeat(_EYE2, len(nodes), axis=0), None
 
     def node_translation_dofs(self, nodes) -> np.ndarray:
         """(len(nodes), 2) local dof indices of (u_x, u_y) at ``nodes``."""

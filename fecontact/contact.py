@@ -298,6 +298,7 @@ class ContactSet:
         self.owner = np.concatenate(
             [np.full(pair.size, i) for i, pair in enumerate(self.pairs)] or [np.zeros(0, int)]
         )
+        self.local = np.concatenate([np.arange(pair.size) for pair in self.pairs] or [self.owner])
 
     @property
     def all(self) -> np.ndarray:
@@ -321,36 +322,53 @@ class ContactSet:
     def gaps(self, q: np.ndarray) -> np.ndarray:
         if not self.pairs:
             return np.zeros(0)
+        if len(self.pairs) == 1:
+            return self.pairs[0].evaluate(q)[0]
         return np.concatenate([pair.evaluate(q)[0] for pair in self.pairs])
 
     def jacobian(self, q: np.ndarray, select: np.ndarray):
         """Gaps and dense gradient (len(select) × n_free) of the contacts ``select``."""
-        if not self.pairs:
-            return np.zeros(0), np.zeros((0, self.n_free))
-        g, rows, cols, vals = self._gather(q, select)[:4]
-        G = np.zeros((len(select), self.n_free))
-        np.add.at(G, (rows, cols), vals)
-        return g, G
+        return self.linearize(q, select)[:2]
 
     def curvature(self, q: np.ndarray, select: np.ndarray, weights: np.ndarray):
         """Σ_j weights_j ∇²g_j over ``select``, as a dense n_free × n_free array."""
-        C = np.zeros((self.n_free, self.n_free))
-        parts = self.evaluate(q)
-        offset = 0
-        wfull = np.zeros(self.size)
-        wfull[select] = weights
-        for g, dofs, _, H in parts:
-            m = len(g)
-            w = wfull[offset : offset + m]
-            offset += m
-            if H is None or not np.any(w):
-                continue
-            fi = self.free_index[dofs]  # (m, d)
-            r = np.broadcast_to(fi[:, :, None], H.shape)
-            c = np.broadcast_to(fi[:, None, :], H.shape)
-            ok = (r >= 0) & (c >= 0)
-            np.add.at(C, (r[ok], c[ok]), (w[:, None, None] * H)[ok])
-        return C
+        return self.linearize(q, select, weights)[2]
+
+    def linearize(self, q: np.ndarray, select: np.ndarray, weights=None):
+        """Gaps g (len(select),), their dense gradient G (len(select) × n_free) and, when
+        ``weights`` are given, the curvature C = Σ_j weights_j ∇²g_j (n_free × n_free), from
+        one evaluation of the pairs at q."""
+        n = self.n_free
+        G = np.zeros((len(select), n))
+        C = None if weights is None else np.zeros((n, n))
+        if not self.pairs or len(select) == 0:
+            return np.zeros(0), G, C
+        parts = [pair.evaluate(q) for pair in self.pairs]
+        single = len(parts) == 1
+        g_all = parts[0][0] if single else np.concatenate([p[0] for p in parts])
+        owner = None if single else self.owner[select]
+        for i, (_, dofs, Gv, H) in enumerate(parts):
+            if single:
+                rows, loc = np.arange(len(select)), select
+            else:
+                rows = np.flatnonzero(owner == i)
+                if rows.size == 0:
+                    continue
+                loc = self.local[select[rows]]
+            if dofs.shape != Gv.shape:
+                dofs = np.repeat(dofs.reshape(1, -1), len(Gv), axis=0)
+            fi = self.free_index[dofs[loc]]  # (r, k), −1: fixed
+            ok = fi >= 0
+            r = np.repeat(rows, fi.shape[1]).reshape(fi.shape)
+            np.add.at(G, (r[ok], fi[ok]), Gv[loc][ok])
+            if C is not None and H is not None:
+                w = weights[rows]
+                k = fi.shape[1]
+                a = np.repeat(fi, k, axis=1).reshape(-1, k, k)
+                b = np.tile(fi, (1, k)).reshape(-1, k, k)
+                both = (a >= 0) & (b >= 0)
+                np.add.at(C, (a[both], b[both]), (w[:, None, None] * H[loc])[both])
+        return g_all[select], G, C
 
     def generalized_force(self, q: np.ndarray, select: np.ndarray, mult: np.ndarray, n: int):
         """Σ_j G_jᵀ mult_j over ``select`` on all n dofs (for output of nodal forces)."""
@@ -366,19 +384,3 @@ class ContactSet:
             )
             offset += m
         return f
-
-    def _gather(self, q, select):
-        parts = self.evaluate(q)
-        pos = np.full(self.size, -1)
-        pos[select] = np.arange(len(select))
-        rows, cols, vals, offset = [], [], [], 0
-        for g, dofs, G, _ in parts:
-            r = np.broadcast_to(pos[offset : offset + len(g), None], dofs.shape)
-            offset += len(g)
-            fi = self.free_index[dofs]
-            ok = (r >= 0) & (fi >= 0)
-            rows.append(r[ok])
-            cols.append(fi[ok])
-            vals.append(np.broadcast_to(G, dofs.shape)[ok])
-        g = np.concatenate([p[0] for p in parts])
-        return g[select], np.concatenate(rows), np.concatenate(cols), np.concatenate(vals)

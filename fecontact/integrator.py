@@ -366,7 +366,7 @@ def _smooth_step(model, st, t, c, opts, timer):
             Ct = alpha * model.M + beta_k * K
             r += Ct @ v[F]
         if nb:
-            gb, Gb = joints.jacobian(q, joints.all)
+            gb, Gb, Cb = joints.linearize(q, joints.all, None if joints.linear else lam)
             r += Gb.T @ lam
         clock = timer.add("assembly", clock)
         ref = math.sqrt(max(fext @ fext, fi @ fi, Mvd @ Mvd, 1e-300))
@@ -381,7 +381,7 @@ def _smooth_step(model, st, t, c, opts, timer):
         if alpha or beta_k:
             S = S + c.gp * Ct
         if nb:
-            Kb = S if joints.linear else S + joints.curvature(q, joints.all, lam)
+            Kb = S if Cb is None else S + Cb
             solve = _factorize(_bordered(Kb, Gb), rnorm / ref)
             x = -solve(np.concatenate([r, gb]))
             dq, lam = x[: len(F)], lam + x[len(F) :]
@@ -408,8 +408,10 @@ def _bordered(K, G):
     """The saddle-point matrix [[K, Gᵀ], [G, 0]] (dense or sparse like K)."""
     if sp.issparse(K):
         return sp.bmat([[K, sp.csr_matrix(G.T)], [sp.csr_matrix(G), None]], format="csc")
-    nb = G.shape[0]
-    return np.block([[K, G.T], [G, np.zeros((nb, nb))]])
+    n = K.shape[0]
+    A = np.zeros((n + G.shape[0],) * 2)
+    A[:n, :n], A[:n, n:], A[n:, :n] = K, G.T, G
+    return A
 
 
 def _metric(model, q, S, c, opts):
@@ -471,9 +473,15 @@ def _velocity_jump(model, st, q, v, closed, opts):
     F = model.free
     cons = _Constraints(model, closed)
     _, G1 = cons.jacobian(q)
-    _, Gn = cons.jacobian(st.q)
+    if closed.size == 0:
+        # joints only: the M-orthogonal projection onto G_b v = 0, no active set to find
+        Y = model.solve_M(G1.T).reshape(len(F), -1)
+        mu = np.linalg.solve(G1 @ Y, -(G1 @ v[F]))
+        return Y @ mu, np.zeros(0), 1
     e = np.concatenate([model.contacts.restitution[closed], np.zeros(model.joints.size)])
-    gdot = G1 @ v[F] + e * (Gn @ st.v[F])
+    gdot = G1 @ v[F]
+    if np.any(e):
+        gdot += e * (cons.jacobian(st.q)[1] @ st.v[F])
     p = opts.penalty_scale / np.einsum("ij,ji->i", G1, model.solve_M(G1.T).reshape(len(F), -1))
     k = opts.multiplier_scale
     try:
@@ -495,15 +503,19 @@ class _Constraints:
         self.n = model.n_free
 
     def jacobian(self, q):
-        g, G = self.contacts.jacobian(q, self.select)
-        if self.joints.size:
-            gb, Gb = self.joints.jacobian(q, self.joints.all)
-            g, G = np.concatenate([g, gb]), np.vstack([G, Gb])
-        return g, G
+        return self.linearize(q)[:2]
 
     def curvature(self, q, weights):
+        return self.linearize(q, weights)[2]
+
+    def linearize(self, q, weights=None):
+        """(g, G, C) of the contacts then the joints; C = Σ weights_j ∇²g_j if weights."""
         m = len(self.select)
-        C = self.contacts.curvature(q, self.select, weights[:m])
+        wc = None if weights is None else weights[:m]
+        g, G, C = self.contacts.linearize(q, self.select, wc)
         if self.joints.size:
-            C = C + self.joints.curvature(q, self.joints.all, weights[m:])
-        return C
+            wb = None if weights is None else weights[m:]
+            gb, Gb, Cb = self.joints.linearize(q, self.joints.all, wb)
+            g, G = np.concatenate([g, gb]), np.vstack([G, Gb])
+            C = Cb if C is None else (C if Cb is None else C + Cb)
+        return g, G, C

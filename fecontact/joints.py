@@ -65,7 +65,7 @@ class Pin:
                     H[:, : len(da), : len(da)] = Ha
                 if Hb is not None:
                     H[:, len(da) :, len(da) :] = -Hb
-        return g, np.broadcast_to(dofs, (2, len(dofs))), G, H
+        return g, np.vstack([dofs, dofs]), G, H
 
 
 def _material_point(body, point):

@@ -44,7 +44,7 @@ class Plane:
         """Gap (m,), gradient (m, d) and Hessian (None: zero) at points ``x`` (m, d)."""
         _check_points(x, self.dim)
         g = (x - self.point) @ self.normal
-        G = np.broadcast_to(self.normal, x.shape)
+        G = np.repeat(self.normal[None], len(x), axis=0)
         return g, G, None
 
     def outline(self, size: float) -> np.ndarray:

@@ -31,6 +31,9 @@ __all__ = ["Disk", "Polygon", "RigidBody2D", "PointMass"]
 _PERP = np.array([[0.0, -1.0], [1.0, 0.0]])  # rotation by +90°: J a = (−a_y, a_x)
 
 
+_DOFS2, _DOFS3, _EYE2 = np.arange(2)[None], np.arange(3)[None], np.eye(2)[None]
+
+
 def rotation(phi) -> np.ndarray:
     """Rotation matrix R(φ) for an angle in rad (counter-clockwise)."""
     c, s = np.cos(phi), np.sin(phi)
@@ -292,12 +295,12 @@ class RigidBody2D:
         """Body-frame coordinates (m, from the centre of mass) of ``point`` given in the
         initial configuration."""
         d = check_finite("point", point).reshape(2) - self.position
-        return d @ rotation(self.angle)
+        return d @ rotation(self.angle)  # Rᵀ d
 
     def frame_point_kinematics(self, q: np.ndarray, r):
         """As ``point_kinematics`` for any points ``r`` (m, 2) given in the body frame (m, from
         the centre of mass): a joint's pivot, say."""
-        r = np.atleast_2d(check_finite("r", r))
+        r = np.atleast_2d(r)
         arm = r @ rotation(self.orientation(q)).T
         m = len(r)
         x = self.center(q) + arm
@@ -306,7 +309,7 @@ class RigidBody2D:
         Jx[:, :, 2] = arm @ _PERP.T
         Hx = np.zeros((m, 2, 3, 3))
         Hx[:, :, 2, 2] = -arm
-        return x, np.broadcast_to(np.arange(3), (m, 3)), Jx, Hx
+        return x, np.repeat(_DOFS3, m, axis=0), Jx, Hx
 
     def point_data(self, q: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:
         """Output fields at the output points: displacement and velocity (2D vectors, m and
@@ -377,8 +380,8 @@ class PointMass:
     def point_kinematics(self, q: np.ndarray, nodes: np.ndarray):
         """Position (m, 2), local dofs (m, 2), ∂x/∂q = I (m, 2, 2), no curvature (None)."""
         m = len(nodes)
-        x = np.broadcast_to(self.position + q[:2], (m, 2))
-        return x, np.broadcast_to(np.arange(2), (m, 2)), np.broadcast_to(np.eye(2), (m, 2, 2)), None
+        x = np.repeat((self.position + q[:2])[None], m, axis=0)
+        return x, np.repeat(_DOFS2, m, axis=0), np.repeat(_EYE2, m, axis=0), None
 
     def point_data(self, q: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:
         return {"displacement": q[None, :2], "velocity": v[None, :2]}

@@ -508,7 +508,7 @@ class Solid:
         ∂²x/∂q² (None: linear)."""
         dofs = self.dim * nodes[:, None] + np.arange(self.dim)
         x = self.X[nodes] + q[dofs]
-        return x, dofs, np.broadcast_to(np.eye(self.dim), (len(nodes), self.dim, self.dim)), None
+        return x, dofs, np.repeat(np.eye(self.dim)[None], len(nodes), axis=0), None
 
     def boundary_facets(self) -> np.ndarray:
         """Boundary facets as rows of vertex node indices, numbered so that the normal points

@@ -18,8 +18,9 @@ CASE = str(ROOT / "cases" / "flexible_pendulum.py")
 @pytest.fixture(scope="module")
 def short_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("run")
-    status = main(["run", CASE, "--out", str(out), "--t-end", "0.35", "--quiet",
-                   "--output-interval", "0.05"])
+    status = main(
+        ["run", CASE, "--out", str(out), "--t-end", "0.35", "--quiet", "--output-interval", "0.05"]
+    )
     assert status == 0
     return out
 
@@ -33,9 +34,19 @@ def test_run_writes_frames_history_and_summary(short_run):
         assert np.all(np.isfinite(run.history[column]) | (column == "min_gap"))
     assert len(run.history["t"]) == 351
     s = run.summary
-    for key in ("steps", "wall_time_s", "phase_times_s", "newton_iterations_total",
-                "newton_iterations_max", "max_penetration", "energy_initial", "energy_final",
-                "impacts", "parameters", "versions"):
+    for key in (
+        "steps",
+        "wall_time_s",
+        "phase_times_s",
+        "newton_iterations_total",
+        "newton_iterations_max",
+        "max_penetration",
+        "energy_initial",
+        "energy_final",
+        "impacts",
+        "parameters",
+        "versions",
+    ):
         assert key in s
     assert s["steps"] == 350 and s["status"] == "completed"
     assert {"assembly", "solve", "contact", "output"} <= set(s["phase_times_s"])
@@ -114,8 +125,19 @@ def test_run_that_fails_midway_keeps_its_frames(tmp_path, capsys):
     """Too few Newton iterations and no step halving: the run stops after the impact, with
     exit status 1, the time and step in the message, and a readable partial .pvd."""
     out = tmp_path / "fail"
-    status = main(["run", CASE, "--out", str(out), "--quiet", "--set", "max_iterations=3",
-                   "--set", "max_halvings=0"])
+    status = main(
+        [
+            "run",
+            CASE,
+            "--out",
+            str(out),
+            "--quiet",
+            "--set",
+            "max_iterations=3",
+            "--set",
+            "max_halvings=0",
+        ]
+    )
     assert status == 1
     err = capsys.readouterr().err
     assert "t = " in err and "step" in err and "residual" in err
@@ -132,17 +154,25 @@ def test_case_file_runs_as_a_script(tmp_path):
     out = tmp_path / "script"
     proc = subprocess.run(
         [sys.executable, CASE, "--t-end", "0.02", "--quiet", "--out", str(out)],
-        capture_output=True, text=True, timeout=120,
+        capture_output=True,
+        text=True,
+        timeout=120,
     )
     assert proc.returncode == 0, proc.stderr
     assert json.loads((out / "summary.json").read_text())["steps"] == 20
-    bad = subprocess.run([sys.executable, CASE, "--set", "E=-5"], capture_output=True,
-                         text=True, timeout=120)
+    bad = subprocess.run(
+        [sys.executable, CASE, "--set", "E=-5"], capture_output=True, text=True, timeout=120
+    )
     assert bad.returncode == 2 and "Traceback" not in bad.stderr
 
 
 def test_render_a_finished_run(short_run, capsys):
     assert main(["render", str(short_run / "flexible_pendulum.pvd")]) == 0
-    for name in ("snapshot_start.png", "snapshot_impact.png", "snapshot_end.png",
-                 "history.png", "animation.gif"):
+    for name in (
+        "snapshot_start.png",
+        "snapshot_impact.png",
+        "snapshot_end.png",
+        "history.png",
+        "animation.gif",
+    ):
         assert (short_run / name).stat().st_size > 1000
