@@ -42,6 +42,7 @@ from .linalg import factorize
 __all__ = ["IntegratorOptions", "State", "alpha_coefficients", "simulate"]
 
 METRICS = ("stiffness", "mass")
+INTEGRATORS = ("nsga", "moreau", "penalty")
 
 
 def alpha_coefficients(rho_inf: float) -> tuple[float, float, float, float]:
@@ -68,6 +69,13 @@ class IntegratorOptions:
     max_iterations : Newton iterations per step before the step is halved.
     max_halvings : how many times a failing step is halved before the run stops.
     detection_margin : contacts with g(q̃) below this fraction of the model size are candidates.
+    integrator : "nsga" (this module), or the baselines of :mod:`fecontact.baselines` for
+        side-by-side comparisons: "moreau" (Moreau–Jean θ-method, impact law at velocity
+        level only) and "penalty" (penalty contact in the smooth generalized-α step).
+    theta : θ ∈ (0, 1] of Moreau–Jean.
+    penalty_stiffness : N/m of the penalty baseline (None: automatic, ten steps per contact
+        period).
+    penalty_damping : damping ratio ζ ≥ 0 of the penalty baseline (None: from e_N).
     """
 
     rho_inf: float = 0.5
@@ -80,11 +88,25 @@ class IntegratorOptions:
     max_iterations: int = 30
     max_halvings: int = 6
     detection_margin: float = 0.05
+    integrator: str = "nsga"
+    theta: float = 0.5
+    penalty_stiffness: float | None = None
+    penalty_damping: float | None = None
 
     def __post_init__(self):
         alpha_coefficients(self.rho_inf)
         if self.metric not in METRICS:
             raise InputError(f"metric must be one of {', '.join(METRICS)}, got {self.metric!r}")
+        if self.integrator not in INTEGRATORS:
+            known = ", ".join(INTEGRATORS)
+            raise InputError(f"integrator must be one of {known}, got {self.integrator!r}")
+        self.theta = check_range("theta", self.theta, 0.0, 1.0, (False, True))
+        if self.penalty_stiffness is not None:
+            self.penalty_stiffness = check_positive("penalty_stiffness", self.penalty_stiffness)
+        if self.penalty_damping is not None:
+            self.penalty_damping = check_positive(
+                "penalty_damping", self.penalty_damping, allow_zero=True
+            )
         for name in (
             "penalty_scale",
             "multiplier_scale",
@@ -239,9 +261,17 @@ def simulate(
         yield state
 
 
+def _stepper(opts):
+    if opts.integrator == "nsga":
+        return _step
+    from .baselines import STEPPERS  # lazy: the baselines build on this module
+
+    return STEPPERS[opts.integrator]
+
+
 def _advance(model, st, h, opts, timer, depth):
     try:
-        return _step(model, st, h, opts, timer)
+        return _stepper(opts)(model, st, h, opts, timer)
     except _StepFailure:
         if depth >= opts.max_halvings:
             raise

@@ -1,0 +1,497 @@
+r"""Baseline time-stepping schemes for the work–precision benchmarks.
+
+Two classical alternatives to the nonsmooth generalized-α step on the same ``Model``, each
+with the signature and result of :func:`fecontact.integrator._step`
+(``step(model, state, h, options, timer) -> State``), so that one run can switch between them
+(``STEPPERS``). Neither enforces the gap g ≥ 0: both penetrate, by design.
+
+**Moreau–Jean** (Jean 1999; Acary & Brogliato 2008, §10.1), a θ-method whose only contact law
+is Newton's impact law at velocity level:
+
+    M (v_{n+1} − v_n) = h [(1 − θ) f_n + θ f_{n+1}] + Σ_{j∈I} G_jᵀ P_j + G_bᵀ P_b,
+    q_{n+1} = q_n + h [(1 − θ) v_n + θ v_{n+1}],      f = f_ext(t) − f_int(q) − C v,
+    0 ≤ ġ_j⁺ + e_j ġ_j⁻ ⊥ P_j ≥ 0 (j ∈ I),   G_b v_{n+1} = 0 (joints),
+    ġ_j⁺ = G_j(q_{n+1}) v_{n+1},  ġ_j⁻ = G_j(q_n) v_n,  I = {j : g_j(q_n + ½h v_n) ≤ 0}.
+
+Newton on f_int: each iteration linearises the smooth residual with
+Ŵ = M + hθ C_t + h²θ² K_t − hθ Σ P_j ∇²g_j and solves the impact law for the free velocity
+v_free = v^k − Ŵ⁻¹R(v^k) with :func:`fecontact.contact.solve_velocity_jump` (Alart–Curnier,
+semi-smooth Newton); linear bodies converge in one iteration, rigid ones (K_t = 0, constant
+G) need no second assembly. The predictor is v_n: v_n + h v̇_n is exact in free flight but,
+after impacts, extrapolates the ringing θ = ½ leaves in stiff modes and derails Newton.
+θ = ½ is the trapezoidal rule (second order in smooth motion, no numerical dissipation),
+θ = 1 implicit Euler (first order, dissipative). Without dissipation the high-frequency
+ringing that impacts leave in a geometrically exact beam can grow: the flexible pendulum
+with e = 0.5, h = 10⁻³ and θ = ½ blows up at t ≈ 1.46 s, while θ = 0.51 runs (measured).
+A contact closes once its predicted gap is ≤ 0, and the impact ends with a penetration in
+[0, h|ġ⁻|) (O(h)), kept for as long as the contact lasts: nothing pulls the point back to
+g = 0. ``State.vd`` holds M⁻¹ f_{n+1}, so f_n is not assembled again.
+
+**Penalty** contact in the smooth generalized-α step (the Newton of step 1 of
+:mod:`fecontact.integrator` with a contact force, no position correction, no velocity jump):
+
+    M v̇_{n+1} + f_int(q_{n+1}) + C v_{n+1} − f_ext(t_{n+1}) − Σ_j G_jᵀ λ_j = 0,
+    λ_j = [k_j δ_j + c_j min(−ġ_j, δ_j/τ)]_+,  δ_j = −g_j > 0 (λ_j = 0 when g_j ≥ 0),
+
+a spring–dashpot clipped at zero (no adhesion), whose dashpot builds up over the first
+τ = h/2 of a contact: the plain dashpot would jump to c_j|ġ_j| at first touch, a force no
+implicit step can balance (Newton then cycles between open and closed), while this λ_j is
+continuous in q and tends to [k_j δ_j − c_j ġ_j]_+ as h → 0. The exact tangent on the
+contacts with λ_j > 0 is w_j G_jᵀG_j − λ_j ∇²g_j, w_j = k_j + γ′c_j (or k_j + c_j/τ on the
+ramp; ∂ġ/∂q = γ′G, the dashpot's ∂G/∂q v term left out). An update that does not lower the
+residual is halved (up to six times). The impulse of a step is h λ_j(q_{n+1}).
+
+Penalty parameters (options ``penalty_stiffness``, ``penalty_damping``):
+
+- k_j = ``penalty_stiffness`` (N/m) for every contact; if None (default), automatic
+  k_j = m_j (2π/(10 h₁))² with h₁ the first step of the run from t = 0 and m_j the effective
+  mass of the contact (1/(G_j M⁻¹ G_jᵀ), with M⁻¹ restricted by the joints) where it first
+  closes: the contact oscillator m_j, k_j has a period of 10 h₁, so an elastic impact lasts
+  five steps whatever h₁. Each k_j then stays fixed over the run (a halved step does not
+  stiffen the contact; the force stays conservative). With it the penetration shrinks like
+  h₁, but an impact is always resolved by about five steps, so the rebound velocity keeps
+  an error of a few per cent (0.80–0.82 for e = 0.8 on the ball at any h; 0.54 for e = 0.5
+  on the rigid pendulum) that does not shrink with h. With a fixed k_p the rebound
+  converges as h → 0 and the penetration stalls at v⁻√(m_j/k_j).
+  :func:`automatic_penalty_stiffness` gives the value for a chosen step.
+- c_j = 2ζ_j √(k_j m_j) (fixed with k_j); ζ = ``penalty_damping`` (damping ratio, ≥ 0) for
+  every contact, or if None (default) from each contact's restitution e_j through the
+  restitution of the clipped linear spring–dashpot (Schwager & Pöschel 2007; separation
+  where λ returns to 0, not where g does): with s = √(1 − ζ²) and x = atan2(2ζs, 2ζ² − 1),
+  e(ζ) = exp(−ζx/s) ((ζ/s) sin x − cos x) (hyperbolic functions for ζ > 1; e(0) = 1,
+  e(1) = e⁻², e ≈ 1/(4ζ²) for large ζ), inverted numerically. Below e⁻² ≈ 0.135 (e = 0
+  included) ζ stays at 1: an overdamped dashpot is stiffer than the step resolves (with
+  ζ = 16, for e = 10⁻³, and the automatic k_j the point rebounds at 0.66 v⁻), so these
+  contacts rebound at about 0.135 v⁻; set ``penalty_damping`` for another choice.
+
+=============  ===================================================================
+q, v           positions and velocities (dof vectors; the free dofs in the algebra)
+h, θ           step and the θ of Moreau–Jean (option ``theta``, default ½)
+f              smooth force f_ext − f_int − C v (N)
+g_j, G_j       gap of contact j (m) and its gradient ∂g_j/∂q; G_b those of the joints
+ġ⁻, ġ⁺         normal velocity at the start and end of a step (m/s)
+e_j            Newton's coefficient of restitution
+P_j, P_b       impulse of contact j and of the joints over a step (N·s)
+I              Moreau–Jean index set: contacts closed at the predicted q_n + ½h v_n
+Ŵ              Moreau–Jean iteration matrix
+λ_j, k_j, c_j  penalty force (N), stiffness (N/m) and dashpot (N·s/m)
+m_j            effective mass of contact j (kg)
+β′, γ′         ∂v̇/∂q and ∂v/∂q of the generalized-α step
+=============  ===================================================================
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import weakref
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.optimize import brentq
+
+from .contact import solve_velocity_jump
+from .errors import InputError
+from .integrator import (
+    IntegratorOptions,
+    PhaseTimer,
+    State,
+    _bordered,
+    _Coefficients,
+    _Constraints,
+    _factorize,
+    _StepFailure,
+)
+from .linalg import factorize
+
+__all__ = [
+    "OPTIONS",
+    "STEPPERS",
+    "automatic_penalty_stiffness",
+    "damping_ratio",
+    "effective_masses",
+    "moreau_step",
+    "penalty_step",
+]
+
+OPTIONS = {"theta": 0.5, "penalty_stiffness": None, "penalty_damping": None}
+"""Options the baselines read from ``IntegratorOptions`` (with these defaults if absent)."""
+
+
+def _option(opts, name):
+    value = getattr(opts, name, OPTIONS[name])
+    return OPTIONS[name] if value is None and name == "theta" else value
+
+
+def _plus(A, scale, C):
+    """A + scale C for a dense n × n curvature C (None: zero), in the format of A."""
+    if C is None:
+        return A
+    return A + scale * (sp.csr_matrix(C) if sp.issparse(A) else C)
+
+
+# -- Moreau–Jean --------------------------------------------------------------------------------
+
+
+def moreau_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer) -> State:
+    """One Moreau–Jean step from ``st`` over ``h`` (s): θ-method with Newton's impact law
+    at velocity level on the contacts closed at q_n + ½h v_n, joints as G_b v_{n+1} = 0."""
+    theta = float(_option(opts, "theta"))
+    if not 0.0 < theta <= 1.0:
+        raise InputError(f"theta must be in (0, 1], got {theta!r}")
+    F, m = model.free, model.contacts.size
+    clock = time.perf_counter()
+    g_pred = model.contacts.gaps(st.q + 0.5 * h * st.v)
+    index_set = np.flatnonzero(g_pred <= 0.0)
+    rows = _impact_rows(model, st, index_set)
+    timer.add("contact", clock)
+    v, P, f, its = _moreau_newton(model, st, h, theta, rows, opts, timer)
+    q, vfull, vd = st.q.copy(), np.zeros(model.n), np.zeros(model.n)
+    q[F] += h * ((1.0 - theta) * st.v[F] + theta * v)
+    vfull[F] = v
+    vd[F] = model.solve_M(f)
+    impulse = np.zeros(m)
+    impulse[index_set] = P[: index_set.size]
+    clock = time.perf_counter()
+    gaps = model.contacts.gaps(q)
+    near = np.flatnonzero(np.minimum(g_pred, gaps) <= opts.detection_margin * model.length)
+    timer.add("contact", clock)
+    return State(
+        st.t + h,
+        q,
+        vfull,
+        vd,
+        vd.copy(),
+        h=h,
+        gaps=gaps,
+        candidates=near,
+        nu=np.zeros(m),
+        impulse=impulse,
+        lam=-P[index_set.size :] / h,  # as the smooth step's λ: the joint force is −G_bᵀλ
+        iterations={"smooth": its[0], "position": 0, "velocity": its[1]},
+    )
+
+
+def _impact_rows(model, st, index_set):
+    """(rows, e ġ⁻) of the impact law: the contacts ``index_set`` and every joint; None when
+    there are none."""
+    if not index_set.size and not model.joints.size:
+        return None
+    rows = _Constraints(model, index_set)
+    e = np.concatenate([model.contacts.restitution[index_set], np.zeros(model.joints.size)])
+    if np.any(e):
+        e = e * (rows.jacobian(st.q)[1] @ st.v[model.free])
+    return rows, e
+
+
+def _moreau_newton(model, st, h, theta, rows, opts, timer):
+    """Newton on R(v) − G(q(v))ᵀP = 0, R(v) = M(v − v_n) − h[(1 − θ) f_n + θ f(q(v), v)],
+    with the impact law on ``rows``: returns v_{n+1} and P (free dofs), f_{n+1} and the
+    (Newton, impact-law) iteration counts. Without stiffness (K_t = 0: rigid bodies) and with
+    constant G the residual is linear in v and one iteration is exact."""
+    F, M = model.free, model.M
+    ht = h * theta
+    vn = st.v[F]
+    hf_n = (h - ht) * (M @ st.vd[F])  # st.vd = M⁻¹ f_n
+    q0 = st.q[F] + (h - ht) * vn
+    fext = model.external(st.t + h)[F]
+    alpha, beta_k = model.damping
+    damped = bool(alpha or beta_k)
+    nr = len(rows[0].bilateral) if rows else 0
+    v, q = vn.copy(), st.q.copy()  # predictor: v_n
+    P, GP = np.zeros(nr), 0.0
+    inc_tol = opts.tol_increment * max(model.length, 1.0)
+    dq, lcp_its = math.inf, 0
+    clock = time.perf_counter()
+    for it in range(opts.max_iterations + 1):
+        q[F] = q0 + ht * v
+        _, fint, K = model.internal(q)
+        f = fext - fint[F]
+        if damped:
+            Ct = alpha * M + beta_k * K
+            f -= Ct @ v
+        Mdv = M @ (v - vn)
+        R = Mdv - hf_n - ht * f
+        if nr and (it == 0 or not rows[0].linear):
+            G = rows[0].jacobian(q)[1]
+        if nr:
+            GP = G.T @ P
+        r = R - GP
+        clock = timer.add("assembly", clock)
+        ref = max(Mdv @ Mdv, hf_n @ hf_n, h * h * (f @ f), 1e-300)
+        rnorm = math.sqrt(r @ r)
+        if not math.isfinite(rnorm):
+            raise _StepFailure("Moreau–Jean step diverged", rnorm)
+        ref = math.sqrt(max(ref, GP @ GP)) if nr else math.sqrt(ref)
+        if (it or not nr) and (rnorm <= opts.tol_residual * ref or dq <= inc_tol):
+            return v, P, f, (it, lcp_its)
+        if it == opts.max_iterations:
+            raise _StepFailure("Moreau–Jean step", rnorm / ref)
+        What = M + ht * ht * K
+        if damped:
+            What = What + ht * Ct
+        if nr and not rows[0].linear and np.any(P):
+            What = _plus(What, -ht, rows[0].curvature(q, P))
+        solve = _factorize(What, rnorm / ref)
+        v_new = v - solve(R)
+        clock = timer.add("solve", clock)
+        if nr:
+            W, P, n = _impact_law(G, G @ v_new + rows[1], solve, rows[0].bilateral, opts)
+            v_new += W
+            lcp_its += n
+            clock = timer.add("contact", clock)
+        if (not nr or rows[0].linear) and _is_zero(K):
+            if damped:
+                f -= Ct @ (v_new - v)
+            return v_new, P, f, (it + 1, lcp_its)
+        dq = ht * float(np.abs(v_new - v).max(initial=0.0))
+        v = v_new
+    raise AssertionError("unreachable")
+
+
+def _is_zero(K) -> bool:
+    return not (K.data.any() if sp.issparse(K) else K.any())
+
+
+def _impact_law(G, c, solve, bilateral, opts):
+    """Ŵ W = Σ G_jᵀ P_j with 0 ≤ c_j + G_j W ⊥ P_j ≥ 0 (equalities on ``bilateral`` rows),
+    through the Alart–Curnier semi-smooth Newton; returns W, P = kΛ and its iterations."""
+    p = opts.penalty_scale / np.einsum("ij,ji->i", G, solve(G.T).reshape(G.shape[1], -1))
+    k = opts.multiplier_scale
+    try:
+        W, Lam, its = solve_velocity_jump(
+            G, c, solve, p, k, opts.max_iterations, bilateral=bilateral
+        )
+    except RuntimeError as err:
+        raise _StepFailure(str(err), np.nan) from None
+    return W, k * Lam, its
+
+
+# -- penalty contact in the smooth generalized-α step -------------------------------------------
+
+_RUNS = weakref.WeakKeyDictionary()  # model -> _PenaltyLaw of its current run
+
+
+def effective_masses(model, q, select=None) -> np.ndarray:
+    """m_j = 1/(G_j Y_j) (kg) of the contacts ``select`` (default all) at configuration ``q``,
+    with Y = M⁻¹G_jᵀ restricted by the joints ([[M, G_bᵀ], [G_b, 0]] [Y; μ] = [G_jᵀ; 0]): the
+    mass the contact point carries when pushed along its normal. Zero for a contact that
+    moves no free dof."""
+    select = model.contacts.all if select is None else select
+    _, G = model.contacts.jacobian(q, select)
+    if not G.shape[0]:
+        return np.zeros(0)
+    n, joints = G.shape[1], model.joints
+    if joints.size:
+        Gb = joints.jacobian(q, joints.all)[1]
+        rhs = np.vstack([G.T, np.zeros((joints.size, G.shape[0]))])
+        Y = factorize(_bordered(model.M, Gb))(rhs).reshape(n + joints.size, -1)[:n]
+    else:
+        Y = model.solve_M(G.T).reshape(n, -1)
+    inverse = np.einsum("ij,ji->i", G, Y)
+    return np.divide(1.0, inverse, out=np.zeros_like(inverse), where=inverse > 0.0)
+
+
+def automatic_penalty_stiffness(model, h: float, q=None) -> np.ndarray:
+    """k_j = m_j (2π/(10 h))² (N/m) per contact at ``q`` (default: the reference state): a
+    contact period of ten steps of size h."""
+    q = np.zeros(model.n) if q is None else q
+    return effective_masses(model, q) * (2.0 * math.pi / (10.0 * h)) ** 2
+
+
+def _dashpot_restitution(zeta: float) -> float:
+    """Restitution of the clipped linear spring–dashpot with damping ratio ζ ≥ 0."""
+    if zeta == 1.0:
+        return math.exp(-2.0)
+    if zeta < 1.0:
+        s = math.sqrt(1.0 - zeta * zeta)
+        x = math.atan2(2.0 * zeta * s, 2.0 * zeta * zeta - 1.0)
+        return math.exp(-zeta * x / s) * (zeta / s * math.sin(x) - math.cos(x))
+    s = math.sqrt(zeta * zeta - 1.0)
+    x = math.atanh(2.0 * zeta * s / (2.0 * zeta * zeta - 1.0))
+    return math.exp(-zeta * x / s) * (zeta / s * math.sinh(x) - math.cosh(x))
+
+
+def damping_ratio(restitution) -> np.ndarray:
+    """ζ ∈ [0, 1] of the clipped spring–dashpot whose restitution is e (1 for e ≤ e⁻²)."""
+    e = np.asarray(restitution, dtype=float)
+    values = {
+        x: 0.0 if x >= 1.0 else brentq(lambda z, x=x: _dashpot_restitution(z) - x, 0.0, 1.0)
+        for x in np.unique(np.maximum(e, math.exp(-2.0)))
+    }
+    e = np.maximum(e, math.exp(-2.0))
+    return np.array([values[x] for x in e.ravel()]).reshape(e.shape)
+
+
+class _PenaltyLaw:
+    """k_j and c_j of every contact of a run, each fixed where the contact first closes
+    (its effective mass m_j depends on the configuration: a rotating body, a joint)."""
+
+    def __init__(self, model, h1, stiffness, zeta):
+        self.model, self.h1, self.stiffness, self.zeta = model, h1, stiffness, zeta
+        self.k = np.full(model.contacts.size, np.nan)
+        self.c = np.full(model.contacts.size, np.nan)
+
+    def __call__(self, q, A):
+        """(k_j, c_j) of the contacts A at configuration q."""
+        new = A[np.isnan(self.k[A])]
+        if new.size:
+            m_eff = effective_masses(self.model, q, new)
+            k = self.stiffness
+            if k is None:
+                k = m_eff * (2.0 * math.pi / (10.0 * self.h1)) ** 2
+            zeta = self.zeta
+            if zeta is None:
+                zeta = damping_ratio(self.model.contacts.restitution[new])
+            self.k[new] = k
+            self.c[new] = 2.0 * zeta * np.sqrt(k * m_eff)
+        return self.k[A], self.c[A]
+
+
+def _penalty_law(model, st, h, opts):
+    """The penalty law of the run ``st`` belongs to (a new one at t = 0)."""
+    key = tuple(
+        None if x is None else float(x)
+        for x in (_option(opts, "penalty_stiffness"), _option(opts, "penalty_damping"))
+    )
+    law = _RUNS.get(model)
+    if law is None or st.t == 0.0 or (law.stiffness, law.zeta) != key:
+        law = _RUNS[model] = _PenaltyLaw(model, h, *key)
+    return law
+
+
+def _penalty_force(model, q, v, law, gp, tau):
+    """Σ G_jᵀ λ_j on the free dofs, its tangent −∂/∂q (the contact stiffness), λ and the gaps
+    (all contacts). ``gp`` = γ′ = ∂v/∂q along the generalized-α Newton, ``tau`` the time
+    over which the dashpot builds up."""
+    F, contacts = model.free, model.contacts
+    lam = np.zeros(contacts.size)
+    g = contacts.gaps(q)
+    A = np.flatnonzero(g < 0.0)
+    if not A.size:
+        return None, None, lam, g
+    _, G = contacts.jacobian(q, A)
+    kp, cp = law(q, A)
+    delta, gdot = -g[A], G @ v[F]
+    rate = -gdot <= delta / tau  # the dashpot acts on ġ, else on δ/τ
+    lam_A = kp * delta + cp * np.where(rate, -gdot, delta / tau)
+    on = lam_A > 0.0
+    A, G, lam_A = A[on], G[on], lam_A[on]
+    lam[A] = lam_A
+    if not A.size:
+        return None, None, lam, g
+    w = kp[on] + cp[on] * np.where(rate[on], gp, 1.0 / tau)
+    if sp.issparse(model.M):
+        Gs = sp.csr_matrix(G)
+        Kc = (Gs.T @ sp.diags(w) @ Gs).tocsr()
+    else:
+        Kc = G.T @ (w[:, None] * G)
+    if not contacts.linear:
+        Kc = _plus(Kc, -1.0, contacts.curvature(q, A, lam_A))
+    return G.T @ lam_A, Kc, lam, g
+
+
+def penalty_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer) -> State:
+    """One generalized-α step with spring–dashpot contact forces λ_j (no position
+    correction, no velocity jump)."""
+    c = _Coefficients(opts.rho_inf, h)
+    law = _penalty_law(model, st, h, opts)
+    q, v, vd, a, lam, lam_c, gaps, it = _penalty_smooth_step(
+        model, st, st.t + h, c, law, opts, timer
+    )
+    return State(
+        st.t + h,
+        q,
+        v,
+        vd,
+        a,
+        h=h,
+        gaps=gaps,
+        candidates=np.flatnonzero(gaps <= opts.detection_margin * model.length),
+        nu=np.zeros(model.contacts.size),
+        impulse=h * lam_c,
+        lam=lam,
+        iterations={"smooth": it, "position": 0, "velocity": 0},
+    )
+
+
+def _penalty_smooth_step(model, st, t, c, law, opts, timer):
+    """Newton on M v̇ + C_t v + f_int(q) − Σ G_jᵀλ_j + G_bᵀλ_b = f_ext(t), g_b(q) = 0, with
+    (q, v, v̇, a) linked as in the generalized-α step. A contact opening or closing between
+    two iterates can make Newton cycle; an update that does not lower the residual is
+    halved (up to six times) before the next Newton direction."""
+    F, h, M = model.free, c.h, model.M
+    vd = st.vd.copy()  # predictor: constant acceleration
+    a = (c.af * st.vd - c.am * st.a + (1.0 - c.af) * vd) / (1.0 - c.am)
+    q = st.q + h * st.v + h * h * (0.5 - c.beta) * st.a + h * h * c.beta * a
+    v = st.v + h * (1.0 - c.gamma) * st.a + h * c.gamma * a
+    lam = st.lam.copy()
+    fext = model.external(t)[F]
+    joints = model.joints
+    nb = joints.size
+    alpha, beta_k = model.damping
+    tol_b = opts.tol_gap * model.length
+    inc_tol = opts.tol_increment * max(model.length, 1.0)
+    previous, s, dq, dlam = math.inf, 1.0, None, 0.0
+
+    def move(x):
+        q[F] += x
+        v[F] += c.gp * x
+        vd[F] += c.bp * x
+        a[F] += c.da * x
+
+    clock = time.perf_counter()
+    for it in range(opts.max_iterations + 1):
+        _, fint, K = model.internal(q)
+        clock = timer.add("assembly", clock)
+        fc, Kc, lam_c, g = _penalty_force(model, q, v, law, c.gp, 0.5 * h)
+        clock = timer.add("contact", clock)
+        Mvd = M @ vd[F]
+        r = Mvd + fint[F] - fext
+        if fc is not None:
+            r -= fc
+        if alpha or beta_k:
+            Ct = alpha * M + beta_k * K
+            r += Ct @ v[F]
+        if nb:
+            gb, Gb = joints.jacobian(q, joints.all)
+            r += Gb.T @ lam
+        clock = timer.add("assembly", clock)
+        fi = fint[F]
+        ref = math.sqrt(max(fext @ fext, fi @ fi, Mvd @ Mvd, 1e-300))
+        rnorm = math.sqrt(r @ r)
+        if not np.isfinite(rnorm):
+            raise _StepFailure("penalty step diverged", rnorm)
+        if rnorm <= opts.tol_residual * ref and (not nb or np.max(np.abs(gb)) <= tol_b):
+            break
+        if it == opts.max_iterations:
+            raise _StepFailure("penalty step", rnorm / ref)
+        if dq is not None and rnorm >= previous and s > 1.0 / 64.0:
+            s *= 0.5
+            move(-s * dq)
+            lam = lam - s * dlam
+            continue
+        previous, s = rnorm, 1.0
+        S = c.bp * M + K
+        if Kc is not None:
+            S = S + Kc
+        if alpha or beta_k:
+            S = S + c.gp * Ct
+        if nb:
+            Kb = S if joints.linear else _plus(S, 1.0, joints.curvature(q, joints.all, lam))
+            x = -_factorize(_bordered(Kb, Gb), rnorm / ref)(np.concatenate([r, gb]))
+            dq, dlam = x[: len(F)], x[len(F) :]
+            lam = lam + dlam
+        else:
+            dq = -_factorize(S, rnorm / ref)(r)
+        move(dq)
+        clock = timer.add("solve", clock)
+        if np.max(np.abs(dq)) <= inc_tol and (not nb or np.max(np.abs(gb)) <= tol_b):
+            _, _, lam_c, g = _penalty_force(model, q, v, law, c.gp, 0.5 * h)
+            it += 1
+            break
+    return q, v, vd, a, lam, lam_c, g, it
+
+
+STEPPERS = {"moreau": moreau_step, "penalty": penalty_step}
+"""Baseline steppers by the name of the option ``IntegratorOptions.integrator``."""
