@@ -47,19 +47,29 @@ class Model:
     ----------
     bodies : the deformable (or rigid) bodies; each gets a slice of the global dofs.
     contacts : contact pairs built with :func:`fecontact.Contact`.
-    gravity : acceleration of gravity in m/s² (default 9.81 m/s² along −y).
+    gravity : acceleration of gravity in m/s², a vector with one component per space
+        dimension (default: 9.81 m/s² along −y in 2D, along −z in 3D).
     joints : bilateral constraints (``fecontact.Pin``).
     damping : Rayleigh coefficients (α in 1/s, β in s): C = αM + βK_t.
     loads : time-dependent loads (:class:`NodalLoad`).
     """
 
     def __init__(
-        self, bodies, contacts=(), gravity=(0.0, -9.81), joints=(), damping=(0.0, 0.0), loads=()
+        self, bodies, contacts=(), gravity=None, joints=(), damping=(0.0, 0.0), loads=()
     ):
         self.bodies = list(bodies)
         if not self.bodies:
             raise InputError("bodies must contain at least one body")
+        dims = {getattr(b, "dim", 2) for b in self.bodies}
+        if len(dims) > 1:
+            raise InputError("bodies must all be 2D or all 3D")
+        dim = dims.pop()
+        if gravity is None:
+            gravity = np.eye(dim)[-1] * -9.81
         self.gravity = check_finite("gravity", gravity).ravel()
+        if self.gravity.shape != (dim,):
+            raise InputError(f"gravity must have {dim} components for a {dim}D model")
+        self.dim = dim
         sizes = [b.ndof for b in self.bodies]
         self.offsets = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
         self.n = int(self.offsets[-1])
