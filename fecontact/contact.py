@@ -81,6 +81,14 @@ class NodeContact:
         """Place the pair in the global dof vector of ``model``."""
         self.offset = model.offset_of(self.body)
 
+    def rate(self, q: np.ndarray) -> np.ndarray:
+        """∂g/∂t = −∇φ·ḋ (m/s) of a moving obstacle at its current time, per contact."""
+        if not getattr(self.obstacle, "moving", False):
+            return np.zeros(self.size)
+        qb = q[self.offset : self.offset + self.body.ndof]
+        x = self.body.point_kinematics(qb, self.nodes)[0]
+        return -(self.obstacle.gap(x)[1] @ self.obstacle.speed())
+
     def evaluate(self, q: np.ndarray):
         """Gaps (m,), dof indices (m, d), gradient values (m, d), Hessians (m, d, d) or None."""
         qb = q[self.offset : self.offset + self.body.ndof]
@@ -303,6 +311,24 @@ class ContactSet:
     @property
     def all(self) -> np.ndarray:
         return np.arange(self.size)
+
+    @property
+    def moving(self) -> bool:
+        return any(getattr(getattr(p, "obstacle", None), "moving", False) for p in self.pairs)
+
+    def set_time(self, t: float) -> None:
+        """Place the moving obstacles where they are at time t (s)."""
+        for pair in self.pairs:
+            obstacle = getattr(pair, "obstacle", None)
+            if getattr(obstacle, "moving", False):
+                obstacle.time = t
+
+    def rates(self, q: np.ndarray, select: np.ndarray) -> np.ndarray:
+        """∂g_j/∂t of the contacts ``select`` (m/s): nonzero for moving obstacles only."""
+        if not self.moving:
+            return np.zeros(len(select))
+        parts = [p.rate(q) if hasattr(p, "rate") else np.zeros(p.size) for p in self.pairs]
+        return np.concatenate(parts)[select]
 
     def quadratic(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
         """vᵀ ∇²g_j v for every constraint j (the acceleration term of a holonomic one)."""

@@ -178,6 +178,7 @@ def initial_state(model, q0=None, v0=None) -> State:
     fixed = model.free_index < 0
     if np.any(q[fixed] != 0.0) or np.any(v[fixed] != 0.0):
         raise InputError("q0, v0: supported (fixed) dofs must start at zero")
+    model.contacts.set_time(0.0)
     g = model.contacts.gaps(q)
     tol = 1e-12 * model.length
     if np.any(g < -tol):
@@ -325,6 +326,7 @@ def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer
         return State(t, q, v, vd, a, h=h, lam=lam, iterations=iters)
 
     # 2. position correction, only if a contact candidate penetrates (joints already hold)
+    model.contacts.set_time(t)
     g_tilde = model.contacts.gaps(q)
     cand = np.flatnonzero(g_tilde <= opts.detection_margin * model.length)
     tol_gap = opts.tol_gap * model.length
@@ -339,7 +341,7 @@ def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer
     # 3. velocity jump on the contacts closed at q_{n+1}, and on the joints
     closed = cand[gaps[cand] <= tol_gap]
     if closed.size or joints.size:
-        W, Lam, iters["velocity"] = _velocity_jump(model, st, q, v, closed, opts)
+        W, Lam, iters["velocity"] = _velocity_jump(model, st, q, v, closed, opts, t)
         v[model.free] += W
         impulse[closed] = Lam[: closed.size]
     timer.add("contact", clock)
@@ -497,7 +499,7 @@ def _position_correction(model, q_tilde, cand, S, c, opts):
     return U, k * nu, its
 
 
-def _velocity_jump(model, st, q, v, closed, opts):
+def _velocity_jump(model, st, q, v, closed, opts, t):
     """Step 3: v = ṽ + W, M W = Σ G_jᵀ [k Λ_j − p ġ_j]_+ with
     ġ_j = G_j(q_{n+1}) v_{n+1} + e_j G_j(q_n) v_n; joints: G_b v_{n+1} = 0."""
     F = model.free
@@ -510,8 +512,16 @@ def _velocity_jump(model, st, q, v, closed, opts):
         return Y @ mu, np.zeros(0), 1
     e = np.concatenate([model.contacts.restitution[closed], np.zeros(model.joints.size)])
     gdot = G1 @ v[F]
+    contacts = model.contacts
+    if contacts.moving:  # ġ = G v + ∂g/∂t at t_{n+1} and, for the impact law, at t_n
+        gdot[: closed.size] += contacts.rates(q, closed)
     if np.any(e):
-        gdot += e * (cons.jacobian(st.q)[1] @ st.v[F])
+        gdot_n = cons.jacobian(st.q)[1] @ st.v[F]
+        if contacts.moving:
+            contacts.set_time(st.t)
+            gdot_n[: closed.size] += contacts.rates(st.q, closed)
+            contacts.set_time(t)
+        gdot += e * gdot_n
     p = opts.penalty_scale / np.einsum("ij,ji->i", G1, model.solve_M(G1.T).reshape(len(F), -1))
     k = opts.multiplier_scale
     try:

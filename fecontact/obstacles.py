@@ -18,18 +18,57 @@ from .errors import InputError, check_finite, check_positive
 __all__ = ["Plane", "Circle", "Sphere", "Point"]
 
 
-class Plane:
+class _Motion:
+    """A prescribed rigid translation d(t) (m) of an obstacle; ``time`` (s) is set by the
+    integrator before the gaps are evaluated. The velocity ḋ (m/s) is the given function or
+    a central difference of d."""
+
+    motion = None
+    velocity = None
+    time = 0.0
+
+    def _set_motion(self, motion, velocity):
+        if motion is not None and not callable(motion):
+            raise InputError("motion must be a function of time t (s) returning a displacement")
+        if velocity is not None and not callable(velocity):
+            raise InputError("velocity must be a function of time t (s)")
+        self.motion, self.velocity = motion, velocity
+
+    @property
+    def moving(self) -> bool:
+        return self.motion is not None
+
+    def shift(self) -> np.ndarray | float:
+        """Displacement d(t) of the obstacle at its current time (0 when fixed)."""
+        if self.motion is None:
+            return 0.0
+        return check_finite("motion", self.motion(self.time)).reshape(self.dim)
+
+    def speed(self) -> np.ndarray:
+        """Velocity ḋ(t) at the current time, m/s."""
+        if self.motion is None:
+            return np.zeros(self.dim)
+        if self.velocity is not None:
+            return check_finite("velocity", self.velocity(self.time)).reshape(self.dim)
+        dt = 1e-6 * max(1.0, abs(self.time))
+        d = np.asarray(self.motion(self.time + dt)) - np.asarray(self.motion(self.time - dt))
+        return d.reshape(self.dim) / (2.0 * dt)
+
+
+class Plane(_Motion):
     """Half-plane (2D) or half-space (3D) bounded by the line or plane through ``point`` with
     outward unit ``normal`` (2 or 3 components, as ``point``).
 
     g(x) = n·(x − p): material is allowed on the side the normal points to. ``extent`` (m) is
-    only the size drawn in the output (default: twice the model size).
+    only the size drawn in the output (default: twice the model size). ``motion(t)`` (m) moves
+    the plane along a prescribed path (``velocity(t)`` in m/s, optional).
     """
 
     linear = True
 
-    def __init__(self, point, normal, extent: float | None = None):
+    def __init__(self, point, normal, extent: float | None = None, motion=None, velocity=None):
         self.extent = None if extent is None else check_positive("extent", extent)
+        self._set_motion(motion, velocity)
         self.point = _vector("point", point)
         self.dim = len(self.point)
         n = check_finite("normal", normal).ravel()
@@ -43,7 +82,7 @@ class Plane:
     def gap(self, x: np.ndarray):
         """Gap (m,), gradient (m, d) and Hessian (None: zero) at points ``x`` (m, d)."""
         _check_points(x, self.dim)
-        g = (x - self.point) @ self.normal
+        g = (x - self.point - self.shift()) @ self.normal
         G = np.repeat(self.normal[None], len(x), axis=0)
         return g, G, None
 
@@ -52,23 +91,25 @@ class Plane:
         segment in 2D, a closed square loop (5, 3) in 3D."""
         if self.dim == 2:
             t = np.array([-self.normal[1], self.normal[0]])
-            return self.point + 0.5 * size * np.array([-t, t])
+            return self.point + self.shift() + 0.5 * size * np.array([-t, t])
         t1, t2 = _tangents(self.normal)
         corners = np.array([[-1, -1], [1, -1], [1, 1], [-1, 1], [-1, -1]]) * (0.5 * size)
-        return self.point + corners[:, :1] * t1 + corners[:, 1:] * t2
+        return self.point + self.shift() + corners[:, :1] * t1 + corners[:, 1:] * t2
 
 
-class Circle:
+class Circle(_Motion):
     """Rigid disk (2D) or ball (3D) of ``radius`` (m) centred at ``center`` (2 or 3
     components); ``inside=True`` makes it a cavity.
 
     Outside: g = |x − c| − R. Inside (points kept within the circle): g = R − |x − c|. With
-    e = (x − c)/|x − c|: ∂g/∂x = ±e and ∂²g/∂x² = ±(I − e⊗e)/|x − c|.
+    e = (x − c)/|x − c|: ∂g/∂x = ±e and ∂²g/∂x² = ±(I − e⊗e)/|x − c|. ``motion(t)`` (m)
+    translates the centre along a prescribed path (``velocity(t)`` in m/s, optional).
     """
 
     linear = False
 
-    def __init__(self, center, radius: float, inside: bool = False):
+    def __init__(self, center, radius: float, inside: bool = False, motion=None, velocity=None):
+        self._set_motion(motion, velocity)
         self.center = _vector("center", center)
         self.dim = len(self.center)
         self.radius = check_positive("radius", radius)
@@ -78,7 +119,7 @@ class Circle:
     def gap(self, x: np.ndarray):
         """Gap (m,), gradient (m, d) and Hessian (m, d, d) at points ``x`` (m, d)."""
         _check_points(x, self.dim)
-        d = x - self.center
+        d = x - self.center - self.shift()
         r = np.linalg.norm(d, axis=1)
         if np.any(r == 0.0):
             raise InputError("a contact point lies exactly at the circle centre: normal undefined")
@@ -93,8 +134,9 @@ class Circle:
         the great circles in the xy, xz and yz planes, linked by a quarter of the first."""
         s = np.linspace(0.0, 2.0 * np.pi, n + 1)
         c, z = np.cos(s), np.zeros_like(s)
+        center = self.center + self.shift()
         if self.dim == 2:
-            return self.center + self.radius * np.stack([c, np.sin(s)], axis=1)
+            return center + self.radius * np.stack([c, np.sin(s)], axis=1)
         quarter = np.linspace(0.0, 0.5 * np.pi, max(n // 4, 1) + 1)
         loops = [
             np.stack([c, np.sin(s), z], axis=1),
@@ -102,7 +144,7 @@ class Circle:
             np.stack([np.cos(quarter), np.sin(quarter), 0.0 * quarter], axis=1),
             np.stack([z, c, np.sin(s)], axis=1),
         ]
-        return self.center + self.radius * np.vstack(loops)
+        return center + self.radius * np.vstack(loops)
 
 
 class Sphere(Circle):

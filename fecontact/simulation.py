@@ -114,6 +114,7 @@ def _frame_parts(model, state: State):
         data["contact_force"] = data["contact_impulse"] / h
         cell_data = body.cell_data(q) if hasattr(body, "cell_data") else None
         parts[_part_name(body, i)] = body_mesh(body.positions(q), body.cells(), data, cell_data)
+    parts.update(_obstacle_parts(model, moving=True))
     return parts
 
 
@@ -133,6 +134,11 @@ def _part_name(body, i: int) -> str:
 
 
 def _static_parts(model):
+    return _obstacle_parts(model, moving=False)
+
+
+def _obstacle_parts(model, moving: bool):
+    """Outlines of the rigid obstacles that move (drawn every frame) or stay (drawn once)."""
     from .output import line_mesh
 
     parts = {}
@@ -140,6 +146,8 @@ def _static_parts(model):
         obs = getattr(pair, "obstacle", None)
         if obs is None or not hasattr(obs, "outline"):
             continue  # a contact between bodies: nothing static to draw
+        if getattr(obs, "moving", False) != moving:
+            continue
         if hasattr(obs, "normal"):
             pts = obs.outline(obs.extent or 2.0 * model.length)
         else:

@@ -94,3 +94,27 @@ def test_time_dependent_load_moves_the_tip_statically():
     GA = MATERIAL.G * SECTION.area * SECTION.shear_factor
     exact = P * L**3 / (3 * EI) + P * L / GA
     assert -last.q[-2] == pytest.approx(exact, rel=2e-3)
+
+
+def test_moving_plane_pushes_a_resting_beam():
+    """A floor rising at constant speed V under a beam lying on it carries the beam along:
+    no penetration, and the beam's velocity equals V once it rides on the floor."""
+    from fecontact import Contact, Plane
+
+    V = 0.5
+    beam = Beam2D.straight([0, 0], [0.3, 0], 6, MATERIAL, SECTION)
+    floor = Plane([0, -0.01], [0, 1], motion=lambda t: np.array([0.0, V * t]))
+    model = Model([beam], [Contact(beam, floor)])
+    states = list(simulate(model, 1e-3, 0.1))
+    for st in states:
+        assert st.gaps.min() >= -1e-12
+    assert np.allclose(states[-1].v[1::3], V, rtol=1e-6)
+    # the floor reaches the beam at t = 0.01/V = 0.02 s; the beam then rides at y = V t − 0.01
+    assert beam.positions(states[-1].q)[:, 1] == pytest.approx(V * 0.1 - 0.01, abs=1e-9)
+
+
+def test_moving_obstacle_validation():
+    from fecontact import Plane
+
+    with pytest.raises(InputError, match="motion"):
+        Plane([0, 0], [0, 1], motion=3.0)
