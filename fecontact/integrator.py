@@ -83,7 +83,7 @@ class IntegratorOptions:
     penalty_scale: float = 1.0
     multiplier_scale: float = 1.0
     tol_residual: float = 1e-8
-    tol_increment: float = 1e-10
+    tol_increment: float = 1e-8
     tol_gap: float = 1e-12
     max_iterations: int = 30
     max_halvings: int = 6
