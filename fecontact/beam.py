@@ -108,6 +108,7 @@ class Beam2D:
     """
 
     dofs_per_node = 3
+    linear = False  # geometrically exact: the tangent depends on q
 
     def __init__(self, nodes, material: Material, section: Section):
         X = check_finite("nodes", nodes)

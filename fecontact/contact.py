@@ -196,7 +196,11 @@ def Contact(body, obstacle, nodes=None, restitution: float = 0.0, clearance: flo
     disk (``RigidBody2D`` with a ``Disk``) contacts a ``Plane``, a ``Circle``, another disk, a
     rigid polygon or a ``Beam2D`` (``clearance``: extra distance in m, e.g. half the beam
     thickness) through its centre and radius; see :mod:`fecontact.rigid_contact`.
-    ``restitution`` is Newton's e_N in [0, 1].
+    Two deformable bodies: a ``Solid`` against a ``Solid`` is a node-to-surface pair (``nodes``
+    of ``body``, default its boundary nodes, against the boundary of the second; add the
+    reversed pair for the other direction), a ``Beam2D`` against a ``Beam2D`` an end-to-end
+    pair along the bar axis (``nodes`` = (end of body, end of the other), default the closest
+    ends); see :mod:`fecontact.body_contact`. ``restitution`` is Newton's e_N in [0, 1].
     """
     from .rigid_contact import rigid_pair
 
@@ -205,6 +209,10 @@ def Contact(body, obstacle, nodes=None, restitution: float = 0.0, clearance: flo
         return pair
     if clearance:
         raise InputError("clearance applies to a rigid disk against a beam only")
+    if hasattr(obstacle, "ndof"):
+        from .body_contact import body_pair
+
+        return body_pair(body, obstacle, nodes, restitution)
     if isinstance(obstacle, Point):
         if nodes is not None:
             raise InputError("nodes: a Point obstacle acts on beam segments, not on nodes")

@@ -388,14 +388,15 @@ def _smooth_step(model, st, t, c, opts, timer):
     inc_tol = opts.tol_increment * max(model.length, 1.0)
     big_step = 0.05 * max(model.length, 1.0)
     S = None
+    fixed_S = model.linear and not nb
     clock = time.perf_counter()
     for it in range(opts.max_iterations + 1):
-        _, fint, K = model.internal(q)
+        _, fint, K = model.internal(q, tangent=not fixed_S)
         fi = fint[F]
         Mvd = model.M @ vd[F]
         r = Mvd + fi - fext
         if alpha or beta_k:
-            Ct = alpha * model.M + beta_k * K
+            Ct = model.iteration_matrix(c.bp, c.gp)[2] if fixed_S else alpha * model.M + beta_k * K
             r += Ct @ v[F]
         if nb:
             gb, Gb, Cb = joints.linearize(q, joints.all, None if joints.linear else lam)
@@ -409,16 +410,20 @@ def _smooth_step(model, st, t, c, opts, timer):
             break
         if it == opts.max_iterations:
             raise _StepFailure("smooth step", rnorm / ref)
-        S = c.bp * model.M + K
-        if alpha or beta_k:
-            S = S + c.gp * Ct
+        if fixed_S:
+            S, solve, _ = model.iteration_matrix(c.bp, c.gp)
+        else:
+            S = c.bp * model.M + K
+            if alpha or beta_k:
+                S = S + c.gp * Ct
         if nb:
             Kb = S if Cb is None else S + Cb
             solve = _factorize(_bordered(Kb, Gb), rnorm / ref)
             x = -solve(np.concatenate([r, gb]))
             dq, lam = x[: len(F)], lam + x[len(F) :]
         else:
-            solve = _factorize(S, rnorm / ref)
+            if not fixed_S:
+                solve = _factorize(S, rnorm / ref)
             dq = -solve(r)
             if np.max(np.abs(dq)) > big_step:
                 dq *= _line_search(model, q, dq, Mvd - fext, r @ dq, c.bp)
@@ -450,6 +455,8 @@ def _metric(model, q, S, c, opts):
     """(H, solve_H) of the position correction: H = S_t/β′ (default) or H = M."""
     if opts.metric == "mass":
         return model.M, model.solve_M
+    if S is None and model.linear:
+        S = model.iteration_matrix(c.bp, c.gp)[:2]
     if S is None:
         _, _, K = model.internal(q)
         S = c.bp * model.M + K

@@ -54,9 +54,7 @@ class Model:
     loads : time-dependent loads (:class:`NodalLoad`).
     """
 
-    def __init__(
-        self, bodies, contacts=(), gravity=None, joints=(), damping=(0.0, 0.0), loads=()
-    ):
+    def __init__(self, bodies, contacts=(), gravity=None, joints=(), damping=(0.0, 0.0), loads=()):
         self.bodies = list(bodies)
         if not self.bodies:
             raise InputError("bodies must contain at least one body")
@@ -107,6 +105,8 @@ class Model:
         for load in self.loads:
             load.bind(self)
         self.length = max(b.characteristic_length for b in self.bodies)
+        self.linear = all(getattr(b, "linear", False) for b in self.bodies)
+        self._iteration_matrices: dict = {}
 
     def offset_of(self, body) -> int:
         for b, o in zip(self.bodies, self.offsets, strict=False):
@@ -149,6 +149,18 @@ class Model:
                 Kb = pat.assemble(Ke)
                 K = Kb if K is None else K + Kb
         return W, f, K
+
+    def iteration_matrix(self, bp: float, gp: float):
+        """(S, solve, C) with the damping C = αM + βK and S = β′M + γ′C + K, for linear
+        bodies (constant K): assembled and factorized once per step size, then reused."""
+        key = (bp, gp)
+        if key not in self._iteration_matrices:
+            _, _, K = self.internal(np.zeros(self.n))
+            alpha, beta = self.damping
+            C = alpha * self.M + beta * K
+            S = bp * self.M + K + gp * C
+            self._iteration_matrices[key] = (S, factorize(S), C)
+        return self._iteration_matrices[key]
 
     def external(self, t: float) -> np.ndarray:
         """External force (N, N·m) on all dofs at time t (s): gravity plus the loads."""

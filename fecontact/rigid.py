@@ -178,6 +178,7 @@ class RigidBody2D:
     dofs_per_node = 3
     ndof = 3
     linear_kinematics = False
+    linear = True  # no stiffness: the iteration matrix is constant
     element_dofs = np.zeros((0, 3), dtype=int)
     _DOF_NAMES = {"x": 0, "y": 1, "theta": 2}
 
@@ -338,6 +339,7 @@ class PointMass:
     ndof = 2
     n_nodes = 1
     linear_kinematics = True
+    linear = True
     element_dofs = np.zeros((0, 2), dtype=int)
 
     def __init__(self, mass: float, position, size: float = 1.0):

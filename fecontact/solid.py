@@ -515,6 +515,10 @@ class Solid:
         out of the body: 2D segments (a, b) with outward normal (t_y, −t_x), t = x_b − x_a (the
         boundary runs counter-clockwise); 3D triangles or quadrilaterals with outward normal by
         the right-hand rule. P2 nodes inside the facets are not listed."""
+        return self._oriented_boundary()[1]
+
+    def _oriented_boundary(self):
+        """Indices of the boundary facets in the mesh and their outward-numbered vertices."""
         mesh = self.mesh
         bf = mesh.boundary_facets()
         facets = mesh.facets[:, bf].T.copy()
@@ -523,7 +527,50 @@ class Solid:
         inside = P[mesh.t[:, mesh.f2t[0, bf]]].mean(axis=0) - x.mean(axis=1)
         flip = np.einsum("fi,fi->f", _facet_normals(x), inside) > 0.0
         facets[flip] = facets[flip, ::-1]
-        return facets
+        return bf, facets
+
+    def contact_facets(self) -> np.ndarray:
+        """The boundary as flat pieces for node-to-surface contact, numbered like
+        :meth:`boundary_facets` (outward normal): 2D segments (n, 2), 3D triangles (n, 3).
+
+        P2 facets are first split through their edge nodes (and the face node of a
+        hexahedron's face): a segment into 2 segments, a triangle into 4 triangles, a
+        quadrilateral into 4 quadrilaterals. Quadrilaterals (a, b, c, d) are then split along
+        the diagonal a–c into (a, b, c) and (a, c, d).
+        """
+        bf, facets = self._oriented_boundary()
+        if self.element == "P2":
+            facets = self._split_quadratic(bf, facets)
+        if facets.shape[1] == 4:
+            facets = np.concatenate([facets[:, [0, 1, 2]], facets[:, [0, 2, 3]]])
+        return np.ascontiguousarray(facets)
+
+    def _split_quadratic(self, bf, facets):
+        """Sub-facets of P2 boundary facets through their mid-edge and mid-face nodes."""
+        mesh, b = self.mesh, self._basis
+        n = mesh.nvertices
+        if self.dim == 2:
+            m = b.facet_dofs[0, bf]
+            return np.concatenate([np.stack([facets[:, 0], m], 1), np.stack([m, facets[:, 1]], 1)])
+        edges = np.sort(mesh.edges, axis=0)
+        keys = edges[0].astype(np.int64) * n + edges[1]
+        order = np.argsort(keys)
+
+        def mid(i, j):
+            a, c = facets[:, i], facets[:, j]
+            k = np.minimum(a, c).astype(np.int64) * n + np.maximum(a, c)
+            return b.edge_dofs[0, order[np.searchsorted(keys, k, sorter=order)]]
+
+        if facets.shape[1] == 3:
+            a, c, d = facets.T
+            ab, bc, ca = mid(0, 1), mid(1, 2), mid(2, 0)
+            parts = [(a, ab, ca), (ab, c, bc), (ca, bc, d), (ab, bc, ca)]
+        else:
+            a, c, d, e = facets.T
+            ab, bc, cd, da = mid(0, 1), mid(1, 2), mid(2, 3), mid(3, 0)
+            o = b.facet_dofs[0, bf]
+            parts = [(a, ab, o, da), (ab, c, bc, o), (o, bc, d, cd), (da, o, cd, e)]
+        return np.concatenate([np.stack(p, axis=1) for p in parts])
 
     def point_data(self, q: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:
         """Nodal fields for output: ``displacement`` (m) and ``velocity`` (m/s), (n_nodes, d)."""

@@ -1,0 +1,363 @@
+r"""Contact between deformable bodies: node-to-surface for solids, node-to-node for bar ends.
+
+Notation: a slave node at x_s (m) of one body against the boundary of another body (the
+master), whose surface is cut into flat facets — segments (x_1, x_2) in 2D, triangles
+(x_a, x_b, x_c) in 3D — with the outward unit normal n of the master body. Each slave node is
+one contact, with the signed gap along the normal of its facet (m; > 0 open, < 0 inside the
+master body):
+
+=======  ==================================================================================
+2D       g = n·(x_s − x_1),  n = (t_y, −t_x)/|t|,  t = x_2 − x_1  (the boundary runs
+         counter-clockwise, the body on the left of t)
+3D       g = n·(x_s − x_a),  n = N/|N|,  N = (x_b − x_a) × (x_c − x_a)
+=======  ==================================================================================
+
+The gap is the distance to the facet's plane (the line in 2D), extended beyond the facet. Its
+gradient G = ∂g/∂(x_s, facet nodes) and Hessian ∇²g are exact: in 2D those of
+:func:`fecontact.rigid_contact.point_line_distance`; in 3D, with r = x_s − x_a, u = x_b − x_a,
+w = x_c − x_a, s = r·N and ν = |N|, g = s/ν and
+
+    ∇²g = ∇²s/ν − (∇s ∇νᵀ + ∇ν ∇sᵀ)/ν² + s (2 ∇ν ∇νᵀ/ν³ − ∇²ν/ν²),
+
+where ∂N_k/∂u_i = ε_kij w_j, ∂N_k/∂w_j = ε_kij u_i, ∂²N_k/∂u_i∂w_j = ε_kij (ε the
+permutation symbol), ∇ν = (∂N)ᵀ n and ∇²ν = (∂N)ᵀ (I − n nᵀ)/ν (∂N) + n_k ∇²N_k.
+
+Choice of the facet: the one closest to x_s (Euclidean distance to the facet itself, its
+projection clipped to the facet). Where several facets are equally close — the node lies in the
+cone outside a convex vertex or edge of the master, or inside a concave one — the one with the
+largest |g| is taken. Outside a convex corner this is the larger of the plane gaps, a lower
+bound of the distance that is continuous across the cone; inside a convex body the closest
+facet's plane gap is minus the distance to the surface, so g ≤ 0 exactly when the node has
+entered the master body (the position correction then moves it back onto the nearest facet).
+g is continuous and piecewise smooth; G and ∇²g are those of the selected facet.
+
+Candidates: facets within the detection ``margin`` (m) of a slave node, found with
+``scipy.spatial.cKDTree`` among the facets and slave nodes that a bounding box test keeps, so
+the work follows the contact zone. A slave node with no facet within the margin reports
+g = +inf with zero gradient; the integrator only works on contacts with g below its own
+detection margin. The number of contacts (one per slave node) is fixed.
+
+Bar ends (:class:`NodeNodeContact`): node i of body a against node j of body b along a fixed
+unit axis n (from a towards b): g = (x_j − x_i)·n, linear in q.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from .beam import Beam2D
+from .errors import InputError, check_finite, check_positive, check_range
+from .rigid_contact import point_line_distance
+from .solid import Solid
+
+__all__ = [
+    "NodeNodeContact",
+    "NodeSurfaceContact",
+    "body_pair",
+    "closest_facet_distance",
+    "facet_plane_gap",
+    "triangle_plane_distance",
+]
+
+# permutation symbol ε_kij
+_EPS = np.zeros((3, 3, 3))
+_EPS[0, 1, 2] = _EPS[1, 2, 0] = _EPS[2, 0, 1] = 1.0
+_EPS[0, 2, 1] = _EPS[2, 1, 0] = _EPS[1, 0, 2] = -1.0
+# (r, u, w) = T (x_s, x_a, x_b, x_c): r = x_s − x_a, u = x_b − x_a, w = x_c − x_a
+_TRIANGLE_MAP = np.kron(
+    [[1.0, -1.0, 0.0, 0.0], [0.0, -1.0, 1.0, 0.0], [0.0, -1.0, 0.0, 1.0]], np.eye(3)
+)
+
+
+def triangle_plane_distance(x: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray):
+    """Signed distances g = n·(x − a) (m) of points x from the planes of triangles (a, b, c),
+    n = (b − a) × (c − a) normalised (right-hand rule), all (m, 3); with the gradients (m, 12)
+    and Hessians (m, 12, 12) with respect to (x, a, b, c)."""
+    r, u, w = x - a, b - a, c - a
+    N = np.cross(u, w)
+    nu = np.linalg.norm(N, axis=1)
+    n = N / nu[:, None]
+    s = np.einsum("mk,mk->m", r, N)
+    Au = np.einsum("kij,mj->mki", _EPS, w)  # ∂N_k/∂u_i
+    Aw = np.einsum("kij,mi->mkj", _EPS, u)  # ∂N_k/∂w_j
+    m = len(x)
+    J = np.zeros((m, 3, 9))  # ∂N/∂(r, u, w)
+    J[:, :, 3:6], J[:, :, 6:] = Au, Aw
+    s_z = np.concatenate(
+        [N, np.einsum("mk,mki->mi", r, Au), np.einsum("mk,mkj->mj", r, Aw)], axis=1
+    )
+    nu_z = np.einsum("mk,mkz->mz", n, J)
+    s_zz = np.zeros((m, 9, 9))
+    s_zz[:, :3, 3:6], s_zz[:, :3, 6:] = Au, Aw
+    s_zz[:, 3:6, 6:] = np.einsum("kij,mk->mij", _EPS, r)
+    s_zz += s_zz.transpose(0, 2, 1)
+    proj = (np.eye(3) - n[:, :, None] * n[:, None, :]) / nu[:, None, None]
+    nu_zz = np.einsum("mkz,mkl,mly->mzy", J, proj, J)
+    En = np.einsum("kij,mk->mij", _EPS, n)
+    nu_zz[:, 3:6, 6:] += En
+    nu_zz[:, 6:, 3:6] += En.transpose(0, 2, 1)
+    g = s / nu
+    i1, i2, i3 = 1.0 / nu, 1.0 / nu**2, 1.0 / nu**3
+    g_z = s_z * i1[:, None] - (s * i2)[:, None] * nu_z
+    cross = s_z[:, :, None] * nu_z[:, None, :]
+    g_zz = (
+        s_zz * i1[:, None, None]
+        - (cross + cross.transpose(0, 2, 1)) * i2[:, None, None]
+        + s[:, None, None]
+        * (
+            2.0 * i3[:, None, None] * nu_z[:, :, None] * nu_z[:, None, :]
+            - nu_zz * i2[:, None, None]
+        )
+    )
+    T = _TRIANGLE_MAP
+    return g, g_z @ T, np.einsum("ai,mab,bj->mij", T, g_zz, T)
+
+
+def facet_plane_gap(x: np.ndarray, xf: np.ndarray):
+    """Signed gaps (m,) of points x (m, d) from the planes of facets with vertices xf (m, k, d)
+    along their outward normals (see the module docstring), with the gradients (m, d + k d) and
+    Hessians with respect to (x, facet vertices)."""
+    if x.shape[1] == 2:
+        f, G, H = point_line_distance(x, xf[:, 0], xf[:, 1])
+        return -f, -G, -H
+    return triangle_plane_distance(x, xf[:, 0], xf[:, 1], xf[:, 2])
+
+
+def _segment_distance(x, a, b):
+    """Distances (m,) from points x to the segments (a, b), all (m, d)."""
+    d = b - a
+    w = x - a
+    dd = np.einsum("mi,mi->m", d, d)
+    xi = np.clip(np.einsum("mi,mi->m", w, d) / dd, 0.0, 1.0)
+    return np.linalg.norm(w - xi[:, None] * d, axis=1)
+
+
+def closest_facet_distance(x: np.ndarray, xf: np.ndarray):
+    """Distances (m,) from points x (m, d) to the facets xf (m, k, d) themselves (the closest
+    point clipped to the segment or triangle), and the signed plane gaps (m,)."""
+    if x.shape[1] == 2:
+        a, b = xf[:, 0], xf[:, 1]
+        t = b - a
+        w = x - a
+        g = (t[:, 1] * w[:, 0] - t[:, 0] * w[:, 1]) / np.linalg.norm(t, axis=1)
+        return _segment_distance(x, a, b), g
+    a, b, c = xf[:, 0], xf[:, 1], xf[:, 2]
+    u, w, v = b - a, c - a, x - a
+    N = np.cross(u, w)
+    g = np.einsum("mi,mi->m", v, N) / np.linalg.norm(N, axis=1)
+    d00, d01, d11 = (np.einsum("mi,mi->m", p, s) for p, s in ((u, u), (u, w), (w, w)))
+    d20, d21 = np.einsum("mi,mi->m", v, u), np.einsum("mi,mi->m", v, w)
+    den = d00 * d11 - d01 * d01
+    beta = (d11 * d20 - d01 * d21) / den
+    gamma = (d00 * d21 - d01 * d20) / den
+    inside = (beta >= 0.0) & (gamma >= 0.0) & (beta + gamma <= 1.0)
+    dist = np.abs(g)
+    out = ~inside
+    if out.any():
+        xo, ao, bo, co = x[out], a[out], b[out], c[out]
+        dist[out] = np.minimum(
+            np.minimum(_segment_distance(xo, ao, bo), _segment_distance(xo, bo, co)),
+            _segment_distance(xo, co, ao),
+        )
+    return dist, g
+
+
+class NodeSurfaceContact:
+    """Nodes of a :class:`~fecontact.Solid` (the slave ``body``) against the boundary of
+    another solid (the ``master``): node-to-segment in 2D, node-to-facet (triangles) in 3D.
+
+    Parameters
+    ----------
+    body : the slave solid; ``nodes`` are its contact nodes (default: its boundary nodes).
+    master : the solid whose boundary facets (:meth:`Solid.contact_facets`: P2 facets split
+        through their mid nodes, quadrilaterals into two triangles) the nodes must not cross.
+    restitution : Newton's coefficient e_N in [0, 1] of every contact of the pair.
+    margin : detection distance (m) of the spatial search; default 5 % of the larger
+        characteristic length of the two bodies (the integrator's default margin).
+
+    One contact per slave node (``size``); see the module docstring for the gap. Only the
+    slave nodes are kept out of the master: the master's nodes may enter the slave body
+    unless the symmetric pair ``NodeSurfaceContact(master, body)`` is added too.
+    """
+
+    linear = False
+    obstacle = None
+
+    def __init__(self, body, master, nodes=None, restitution: float = 0.0, margin=None):
+        if not isinstance(body, Solid) or not isinstance(master, Solid):
+            raise InputError("node-to-surface contact needs two Solid bodies")
+        if body is master:
+            raise InputError("a body cannot contact itself (self-contact is not supported)")
+        if body.dim != master.dim:
+            raise InputError("both solids must be 2D or both 3D")
+        self.body, self.master = body, master
+        self.bodies = (body, master)
+        self.dim = body.dim
+        self.nodes = body.contact_nodes(nodes)
+        if len(self.nodes) == 0:
+            raise InputError("nodes must name at least one node")
+        self.restitution = check_range("restitution", restitution, 0.0, 1.0)
+        if margin is None:
+            margin = 0.05 * max(body.characteristic_length, master.characteristic_length)
+        self.margin = check_positive("margin", margin)
+        self.facets = master.contact_facets()
+        self._tol = 1e-12 * max(body.characteristic_length, master.characteristic_length)
+        d = self.dim
+        self._slave_dofs = body.node_translation_dofs(self.nodes)
+        self._facet_dofs = master.node_translation_dofs(self.facets.ravel()).reshape(
+            len(self.facets), -1
+        )
+        self.width = d + self._facet_dofs.shape[1]
+        self.offsets = (0, 0)
+        self.selected = np.full(self.size, -1)
+        """Facet chosen for each slave node at the last evaluation (−1: none near)."""
+
+    @property
+    def size(self) -> int:
+        return len(self.nodes)
+
+    def bind(self, model) -> None:
+        """Place the pair in the global dof vector of ``model``."""
+        self.offsets = (model.offset_of(self.body), model.offset_of(self.master))
+
+    def _positions(self, q):
+        (oa, ob), (a, b) = self.offsets, self.bodies
+        xs = a.positions(q[oa : oa + a.ndof])[self.nodes]
+        return xs, b.positions(q[ob : ob + b.ndof])
+
+    def closest_facets(self, xs: np.ndarray, xm: np.ndarray):
+        """(slave indices, facet indices) of the slave nodes (positions xs, m) that have a
+        facet of the master (node positions xm, m) within the margin, and that facet."""
+        r = self.margin
+        lo, hi = xm.min(axis=0) - r, xm.max(axis=0) + r
+        near = np.flatnonzero(np.all((xs >= lo) & (xs <= hi), axis=1))
+        if near.size == 0:
+            return near, near
+        xf = xm[self.facets]
+        centroid = xf.mean(axis=1)
+        reach = float(np.sqrt(np.max(np.sum((xf - centroid[:, None]) ** 2, axis=2))))
+        slo, shi = xs[near].min(axis=0) - r - reach, xs[near].max(axis=0) + r + reach
+        fnear = np.flatnonzero(np.all((centroid >= slo) & (centroid <= shi), axis=1))
+        if fnear.size == 0:
+            return fnear, fnear
+        pairs = cKDTree(xs[near]).sparse_distance_matrix(
+            cKDTree(centroid[fnear]), r + reach, output_type="ndarray"
+        )
+        s, f = near[pairs["i"]], fnear[pairs["j"]]
+        dist, g = closest_facet_distance(xs[s], xf[f])
+        keep = dist <= r
+        s, f, dist, g = s[keep], f[keep], dist[keep], g[keep]
+        if s.size == 0:
+            return s, f
+        dmin = np.full(len(xs), np.inf)
+        np.minimum.at(dmin, s, dist)
+        # the closest facets; among equally close ones the largest |g| (module docstring)
+        score = np.where(dist <= dmin[s] + self._tol, np.abs(g), -1.0)
+        order = np.lexsort((-score, s))
+        s_sorted = s[order]
+        first = order[np.r_[True, s_sorted[1:] != s_sorted[:-1]]]
+        return s[first], f[first]
+
+    def evaluate(self, q: np.ndarray):
+        """Gaps (m,) in m, global dofs (m, k) — the slave node's d translations, then those of
+        the facet's vertices —, gradients (m, k) and Hessians (m, k, k); rows of nodes with no
+        facet within the margin have g = +inf and zero derivatives."""
+        xs, xm = self._positions(q)
+        m, k = self.size, self.width
+        oa, ob = self.offsets
+        g = np.full(m, np.inf)
+        dofs = np.empty((m, k), dtype=int)
+        dofs[:, : self.dim] = oa + self._slave_dofs
+        dofs[:, self.dim :] = ob + self._facet_dofs[0]
+        G = np.zeros((m, k))
+        H = np.zeros((m, k, k))
+        s, f = self.closest_facets(xs, xm)
+        self.selected = np.full(m, -1)
+        self.selected[s] = f
+        if s.size:
+            g[s], G[s], H[s] = facet_plane_gap(xs[s], xm[self.facets[f]])
+            dofs[s, self.dim :] = ob + self._facet_dofs[f]
+        return g, dofs, G, H
+
+
+class NodeNodeContact:
+    """Node i of body a against node j of body b along a fixed unit ``axis`` n pointing from
+    a towards b: g = (x_j − x_i)·n (m), linear in q (G = (−n, n) on the two nodes'
+    translations, no curvature). Two bars end to end on one axis, say.
+
+    For two :class:`~fecontact.Beam2D` bars, ``nodes`` = (i, j) must be end nodes (default:
+    the two closest ends) and the axis defaults to the outward tangent of bar a at node i in
+    the reference configuration.
+    """
+
+    linear = True
+    obstacle = None
+    size = 1
+
+    def __init__(self, a, b, nodes=None, restitution: float = 0.0, axis=None):
+        if a is b:
+            raise InputError("a body cannot contact itself")
+        self.body, self.bodies = a, (a, b)
+        self.restitution = check_range("restitution", restitution, 0.0, 1.0)
+        beams = isinstance(a, Beam2D) and isinstance(b, Beam2D)
+        if nodes is None:
+            if not beams:
+                raise InputError("nodes: give the pair (node of a, node of b)")
+            ends_a, ends_b = [0, a.n_nodes - 1], [0, b.n_nodes - 1]
+            dist = np.linalg.norm(a.X[ends_a][:, None] - b.X[ends_b][None], axis=2)
+            ia, ib = np.unravel_index(int(np.argmin(dist)), dist.shape)
+            nodes = (ends_a[ia], ends_b[ib])
+        pair = np.atleast_1d(nodes).ravel()
+        if pair.size != 2:
+            raise InputError(f"nodes must be a pair (node of a, node of b), got {nodes!r}")
+        self.nodes = (a._node(pair[0]), b._node(pair[1]))
+        if axis is None:
+            if not beams:
+                raise InputError("axis: give the contact direction n (from a towards b)")
+            i = self.nodes[0]
+            if i not in (0, a.n_nodes - 1) or self.nodes[1] not in (0, b.n_nodes - 1):
+                raise InputError("nodes: bar-end contact acts between end nodes of the bars")
+            axis = a.X[i] - a.X[1 if i == 0 else i - 1]
+        n = check_finite("axis", axis).ravel()
+        norm = np.linalg.norm(n)
+        if n.shape != (a.X.shape[1],) or norm == 0.0:
+            raise InputError(f"axis must be a non-zero {a.X.shape[1]}-vector, got {axis!r}")
+        self.axis = n / norm
+        self._dofs = np.concatenate(
+            [
+                a.node_translation_dofs([self.nodes[0]])[0],
+                b.node_translation_dofs([self.nodes[1]])[0],
+            ]
+        )
+        self._G = np.concatenate([-self.axis, self.axis])[None, :]
+        self.offsets = (0, 0)
+
+    def bind(self, model) -> None:
+        """Place the pair in the global dof vector of ``model``."""
+        self.offsets = (model.offset_of(self.bodies[0]), model.offset_of(self.bodies[1]))
+
+    def evaluate(self, q: np.ndarray):
+        """Gap (1,) in m, global dofs (1, 2d), gradient (1, 2d), Hessian None (linear)."""
+        d = len(self.axis)
+        dofs = self._dofs.copy()
+        dofs[:d] += self.offsets[0]
+        dofs[d:] += self.offsets[1]
+        (a, b), (i, j) = self.bodies, self.nodes
+        xa = a.X[i] + q[dofs[:d]]
+        xb = b.X[j] + q[dofs[d:]]
+        return np.array([(xb - xa) @ self.axis]), dofs[None, :], self._G.copy(), None
+
+
+def body_pair(body, other, nodes=None, restitution: float = 0.0):
+    """The contact pair between two deformable bodies: :class:`NodeSurfaceContact` for two
+    solids (``nodes`` of ``body`` against the surface of ``other``), :class:`NodeNodeContact`
+    for two beams (``nodes`` = their end nodes facing each other, default the closest ends)."""
+    if isinstance(body, Solid) and isinstance(other, Solid):
+        return NodeSurfaceContact(body, other, nodes, restitution)
+    if isinstance(body, Beam2D) and isinstance(other, Beam2D):
+        return NodeNodeContact(body, other, nodes, restitution)
+    raise InputError(
+        f"no contact between a {type(body).__name__} and a {type(other).__name__}: "
+        "deformable pairs are Solid–Solid (node to surface) and Beam2D–Beam2D (end to end)"
+    )
