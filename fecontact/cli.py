@@ -20,6 +20,7 @@ import dataclasses
 import importlib.util
 import inspect
 import sys
+import warnings
 from pathlib import Path
 
 from .errors import InputError, SolverError
@@ -127,16 +128,20 @@ def _execute(build, args, name: str) -> int:
 
     sim = _prepare(build, args, name)
     out = Path(args.out) if args.out else Path("out") / sim.name
+    for text in sim.warnings():
+        print(f"fecontact: warning: {text}", file=sys.stderr)
     try:
         if args.checkpoint_every < 0:
             raise InputError(f"checkpoint-every must be >= 0, got {args.checkpoint_every}")
-        summary = run(
-            sim,
-            out,
-            progress=not args.quiet,
-            checkpoint_every=args.checkpoint_every,
-            resume=args.resume,
-        )
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)  # printed above already
+            summary = run(
+                sim,
+                out,
+                progress=not args.quiet,
+                checkpoint_every=args.checkpoint_every,
+                resume=args.resume,
+            )
     except SolverError as err:
         print(f"fecontact: run failed: {err}; results so far are in {out}", file=sys.stderr)
         return 1

@@ -176,3 +176,14 @@ def test_render_a_finished_run(short_run, capsys):
         "animation.gif",
     ):
         assert (short_run / name).stat().st_size > 1000
+
+
+def test_unstable_settings_are_warned_about(tmp_path, capsys):
+    out = tmp_path / "warn"
+    args = ["run", CASE, "--out", str(out), "--quiet", "--t-end", "0.01"]
+    assert main([*args, "--set", "rho_inf=0.9", "--set", "restitution=1"]) == 0
+    assert "warning: rho_inf = 0.9" in capsys.readouterr().err
+    assert main([*args, "--set", "metric=mass"]) == 0
+    assert "warning: metric = mass" in capsys.readouterr().err
+    assert main(args) == 0
+    assert "warning" not in capsys.readouterr().err
