@@ -413,7 +413,7 @@ def _smooth_step(model, st, t, c, opts, timer):
         if fixed_S:
             S, solve, _ = model.iteration_matrix(c.bp, c.gp)
         else:
-            S = c.bp * model.M + K
+            S = model.iteration_sum(c.bp, K)
             if alpha or beta_k:
                 S = S + c.gp * Ct
         if nb:
@@ -452,20 +452,21 @@ def _bordered(K, G):
 
 
 def _metric(model, q, S, c, opts):
-    """(H, solve_H) of the position correction: H = S_t/β′ (default) or H = M."""
+    """(H, solve_H) of the position correction, H = S_t/β′ (default) or H = M; H itself is
+    returned as a function, needed only when the gaps are curved."""
     if opts.metric == "mass":
-        return model.M, model.solve_M
+        return lambda: model.M, model.solve_M
     if S is None and model.linear:
         S = model.iteration_matrix(c.bp, c.gp)[:2]
     if S is None:
         _, _, K = model.internal(q)
-        S = c.bp * model.M + K
+        S = model.iteration_sum(c.bp, K)
         alpha, beta_k = model.damping
         if alpha or beta_k:
             S = S + c.gp * (alpha * model.M + beta_k * K)
         S = (S, _factorize(S, math.nan))
     matrix, solve_S = S
-    return matrix / c.bp, lambda b: c.bp * solve_S(b)
+    return lambda: matrix / c.bp, lambda b: c.bp * solve_S(b)
 
 
 def _position_correction(model, q_tilde, cand, S, c, opts):
@@ -487,7 +488,7 @@ def _position_correction(model, q_tilde, cand, S, c, opts):
         if cons.linear:
             return solve_H, None
         C = cons.curvature(shifted(U), np.where(A, s, 0.0))
-        return _factorize(H - C, math.nan), C
+        return _factorize(H() - C, math.nan), C
 
     try:
         U, nu, its = solve_position_correction(

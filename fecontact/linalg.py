@@ -48,33 +48,49 @@ def factorize(A):
 
 
 class Pattern:
-    """Scatter of element matrices with global dofs ``edofs`` (E, d) into the free×free matrix.
+    """Scatter of element matrices into the free×free matrix, with a structure fixed here.
 
-    ``free_index`` maps every global dof to its row among the free dofs, or −1 if it is fixed.
-    The result is a dense array when there are at most ``DENSE_LIMIT`` free dofs, else CSR with a
-    structure computed once here.
+    ``blocks`` lists the element dof arrays (E, d) of the bodies (global dofs); ``free_index``
+    maps every global dof to its row among the free dofs, or −1 if it is fixed. ``extra`` (a
+    free×free sparse matrix, the mass) joins the structure, so that β′M + K is one sum of data
+    arrays. The matrices are dense when there are at most ``DENSE_LIMIT`` free dofs, else CSR.
     """
 
-    def __init__(self, edofs: np.ndarray, free_index: np.ndarray, n_free: int):
-        r = free_index[edofs][:, :, None]
-        c = free_index[edofs][:, None, :]
-        r, c = np.broadcast_arrays(r, c)
-        self.keep = ((r >= 0) & (c >= 0)).ravel()
-        rows, cols = r.ravel()[self.keep], c.ravel()[self.keep]
+    def __init__(self, blocks, free_index: np.ndarray, n_free: int, extra=None):
         self.n = n_free
         self.dense = n_free <= DENSE_LIMIT
-        flat = rows.astype(np.int64) * n_free + cols
+        flats, self.keep = [], []
+        for edofs in blocks:
+            fi = free_index[edofs]
+            r = np.repeat(fi, fi.shape[1], axis=1).ravel()
+            c = np.tile(fi, (1, fi.shape[1])).ravel()
+            keep = (r >= 0) & (c >= 0)
+            self.keep.append(keep)
+            flats.append(r[keep].astype(np.int64) * n_free + c[keep])
+        extra = sp.coo_matrix(extra) if extra is not None else sp.coo_matrix((n_free, n_free))
+        flats.append(extra.row.astype(np.int64) * n_free + extra.col)
+        allflat = np.concatenate(flats)
         if self.dense:
-            self.pos, self.size = flat, n_free * n_free
-            return
-        keys, self.pos = np.unique(flat, return_inverse=True)
-        self.size = len(keys)
-        self.indices = (keys % n_free).astype(np.int32)
-        self.indptr = np.searchsorted(keys // n_free, np.arange(n_free + 1)).astype(np.int32)
+            pos, self.size = allflat, n_free * n_free
+        else:
+            keys, pos = np.unique(allflat, return_inverse=True)
+            self.size = len(keys)
+            self.indices = (keys % n_free).astype(np.int32)
+            self.indptr = np.searchsorted(keys // n_free, np.arange(n_free + 1)).astype(np.int32)
+        bounds = np.cumsum([0] + [len(f) for f in flats])
+        self.pos = [pos[a:b] for a, b in zip(bounds[:-1], bounds[1:], strict=True)]
+        self.extra = np.bincount(self.pos[-1], extra.data, minlength=self.size)
 
-    def assemble(self, values: np.ndarray):
-        """Sum the element matrices ``values`` (E, d, d) into the pattern."""
-        data = np.bincount(self.pos, values.reshape(-1)[self.keep], minlength=self.size)
+    def assemble(self, values) -> np.ndarray:
+        """Data array of the sum of the element matrices ``values`` (one (E, d, d) per block)."""
+        data = np.zeros(self.size)
+        for v, keep, pos in zip(values, self.keep, self.pos, strict=False):
+            if v.size:
+                data += np.bincount(pos, v.reshape(-1)[keep], minlength=self.size)
+        return data
+
+    def matrix(self, data: np.ndarray):
+        """The matrix of a data array: dense (n, n) or CSR."""
         if self.dense:
             return data.reshape(self.n, self.n)
         return sp.csr_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))

@@ -80,13 +80,11 @@ class Model:
         self.free_index = np.full(self.n, -1)
         self.free_index[self.free] = np.arange(len(self.free))
         self.dense = len(self.free) <= DENSE_LIMIT
-        self._patterns = [
-            Pattern(o + b.element_dofs, self.free_index, len(self.free))
-            for b, o in zip(self.bodies, self.offsets, strict=False)
-        ]
         self.M_full = sp.block_diag([b.mass_matrix() for b in self.bodies], format="csr")
         Mff = self.M_full[self.free][:, self.free]
-        self.M = Mff.toarray() if self.dense else Mff.tocsr()
+        blocks = [o + b.element_dofs for b, o in zip(self.bodies, self.offsets, strict=False)]
+        self.pattern = Pattern(blocks, self.free_index, len(self.free), extra=Mff)
+        self.M = self.pattern.matrix(self.pattern.extra)
         self.solve_M = factorize(self.M)
         self.f_gravity = self.M_full @ np.concatenate(
             [b.translation_field(self.gravity) for b in self.bodies]
@@ -139,16 +137,20 @@ class Model:
 
     def internal(self, q: np.ndarray, tangent: bool = True):
         """Strain energy (J), internal force on all dofs and tangent on the free dofs."""
-        W, f, K = 0.0, np.zeros(self.n), None
-        for i, (b, pat) in enumerate(zip(self.bodies, self._patterns, strict=False)):
+        W, f, Ke = 0.0, np.zeros(self.n), []
+        for i, b in enumerate(self.bodies):
             s = self.body_slice(i)
-            Wb, fb, Ke = b.internal(q[s], tangent)
+            Wb, fb, Keb = b.internal(q[s], tangent)
             W += Wb
             f[s] = fb
-            if tangent:
-                Kb = pat.assemble(Ke)
-                K = Kb if K is None else K + Kb
-        return W, f, K
+            Ke.append(Keb)
+        return W, f, (self.pattern.matrix(self.pattern.assemble(Ke)) if tangent else None)
+
+    def iteration_sum(self, bp: float, K):
+        """β′M + K in the shared structure (no sparse addition: one sum of data arrays)."""
+        if self.dense:
+            return bp * self.M + K
+        return self.pattern.matrix(bp * self.pattern.extra + K.data)
 
     def iteration_matrix(self, bp: float, gp: float):
         """(S, solve, C) with the damping C = αM + βK and S = β′M + γ′C + K, for linear
