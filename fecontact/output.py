@@ -586,22 +586,8 @@ def line_mesh(points, connectivity, point_data: dict | None = None):
     indices; ``point_data`` maps snake_case names to arrays of n values or (n, 2|3) vectors.
     Planar points and vectors are padded with a zero z component, as VTK needs 3.
     """
-    import meshio
-
-    points = _pad3(np.asarray(points, dtype=float), "points")
     cells = np.asarray(connectivity, dtype=np.int64).reshape(-1, 2)
-    n = len(points)
-    if cells.size and (cells.min() < 0 or cells.max() >= n):
-        raise ValueError(f"connectivity refers to nodes outside 0..{n - 1}")
-    data = {}
-    for name, values in (point_data or {}).items():
-        if not _SNAKE.fullmatch(name):
-            raise ValueError(f"point data name {name!r} must be snake_case, e.g. 'contact_force'")
-        values = np.asarray(values, dtype=float)
-        if values.shape[0] != n:
-            raise ValueError(f"point data {name!r} has {values.shape[0]} rows, expected {n}")
-        data[name] = _pad3(values, name) if values.ndim == 2 else values
-    return meshio.Mesh(points, [("line", cells)], point_data=data)
+    return body_mesh(points, [("line", cells)], point_data)
 
 
 def _pad3(a: np.ndarray, name: str) -> np.ndarray:

@@ -24,20 +24,11 @@ import numpy as np
 from . import __version__
 from .errors import InputError, SolverError, check_positive
 from .integrator import IntegratorOptions, PhaseTimer, State, initial_state, simulate
+from .output import STANDARD_COLUMNS
 
 __all__ = ["Probe", "Simulation", "node_probe", "run", "HISTORY_COLUMNS"]
 
-HISTORY_COLUMNS = (
-    "t",
-    "kinetic_energy",
-    "strain_energy",
-    "potential_energy",
-    "total_energy",
-    "min_gap",
-    "n_active",
-    "impulse",
-    "newton_iterations",
-)
+HISTORY_COLUMNS = STANDARD_COLUMNS
 
 
 @dataclass(frozen=True)

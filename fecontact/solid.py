@@ -347,6 +347,13 @@ class Solid:
         """Diagonal of the bounding box of the reference configuration, m."""
         return float(np.linalg.norm(self.X.max(axis=0) - self.X.min(axis=0)))
 
+    @property
+    def min_edge_length(self) -> float:
+        """Shortest edge of the reference mesh's cells (between vertices), m."""
+        mesh = self.mesh
+        edges = mesh.facets if self.dim == 2 else mesh.edges
+        return float(np.min(np.linalg.norm(np.diff(mesh.p[:, edges], axis=1)[:, 0], axis=0)))
+
     # -- kernels -----------------------------------------------------------------------------
     def _displacement_gradient(self, q):
         """H = ∇u as (d, d, Q, E)."""

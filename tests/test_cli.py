@@ -187,3 +187,12 @@ def test_unstable_settings_are_warned_about(tmp_path, capsys):
     assert "warning: metric = mass" in capsys.readouterr().err
     assert main(args) == 0
     assert "warning" not in capsys.readouterr().err
+
+
+def test_import_is_light():
+    """Rendering, plotting, mesh I/O and progress libraries load only when used."""
+    code = "import sys, fecontact; print(sorted(set(sys.modules) & {%s}))" % ", ".join(
+        repr(m) for m in ("pyvista", "vtk", "matplotlib", "meshio", "tqdm", "imageio")
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert proc.returncode == 0 and proc.stdout.strip() == "[]", proc.stdout + proc.stderr
