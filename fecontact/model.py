@@ -25,7 +25,10 @@ class NodalLoad:
     def __init__(self, body, node: int, value):
         self.body, self.node, self.value = body, body._node(node), value
         if not callable(value):
-            self.value = check_finite("value", value).reshape(body.dofs_per_node)
+            v = check_finite("value", value).ravel()
+            if v.shape != (body.dofs_per_node,):
+                raise InputError(f"value must have {body.dofs_per_node} components, got {v.size}")
+            self.value = v
         self.dofs = np.zeros(0, int)
         self.n = 0
 
