@@ -191,8 +191,7 @@ def test_unstable_settings_are_warned_about(tmp_path, capsys):
 
 def test_import_is_light():
     """Rendering, plotting, mesh I/O and progress libraries load only when used."""
-    code = "import sys, fecontact; print(sorted(set(sys.modules) & {%s}))" % ", ".join(
-        repr(m) for m in ("pyvista", "vtk", "matplotlib", "meshio", "tqdm", "imageio")
-    )
+    heavy = {"pyvista", "vtk", "matplotlib", "meshio", "tqdm", "imageio"}
+    code = f"import sys, fecontact; print(sorted(set(sys.modules) & {heavy!r}))"
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert proc.returncode == 0 and proc.stdout.strip() == "[]", proc.stdout + proc.stderr
