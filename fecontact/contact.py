@@ -273,16 +273,16 @@ def solve_position_correction(gaps, system, n, p, k, tol_gap, tol_u, max_iter=30
     raise RuntimeError(f"position correction: active set did not settle in {max_iter} iterations")
 
 
-def solve_velocity_jump(G, c, solve_M, p, k, max_iter=30, bilateral=None):
+def solve_velocity_jump(G, c, solve_M, p, k, max_iter=30, bilateral=None, Y=None):
     """Velocity jump v = ṽ + W: M W = Σ G_jᵀ [k Λ_j − p ġ_j]_+ with ġ = c + G W and
     k Λ_j − [k Λ_j − p ġ_j]_+ = 0 (c_j = G_j ṽ + e_j G_j(q_n) v_n). Linear in W for a given
     active set, so the iteration ends when the set repeats. ``bilateral`` rows (joints) are
-    always active: G_b v = 0. Returns (W, Λ, iterations)."""
+    always active: G_b v = 0. ``Y`` may give M⁻¹Gᵀ. Returns (W, Λ, iterations)."""
     m = len(c)
     Lam = np.zeros(m)
     gd = np.asarray(c, dtype=float)
     Gd = np.asarray(G.todense()) if hasattr(G, "todense") else np.asarray(G)
-    Y_all = solve_M(Gd.T).reshape(-1, m)
+    Y_all = solve_M(Gd.T).reshape(-1, m) if Y is None else Y
     eq = np.zeros(m, bool) if bilateral is None else bilateral
     A_prev = None
     W = np.zeros(Y_all.shape[0])

@@ -476,7 +476,9 @@ def _position_correction(model, q_tilde, cand, S, c, opts):
     H, solve_H = _metric(model, q_tilde, S, c, opts)
     cons = _Constraints(model, cand)
     _, G0 = cons.jacobian(q_tilde)
-    p = opts.penalty_scale / np.einsum("ij,ji->i", G0, solve_H(G0.T).reshape(len(F), -1))
+    constant = model.linear or opts.metric == "mass"
+    Y0 = _columns(model, (opts.metric, c.bp, c.gp), cand, G0, solve_H, cons, constant)
+    p = opts.penalty_scale / np.einsum("ij,ji->i", G0, Y0)
     k = opts.multiplier_scale
 
     def shifted(U):
@@ -485,8 +487,8 @@ def _position_correction(model, q_tilde, cand, S, c, opts):
         return qt
 
     def system(U, s, A):
-        if cons.linear:
-            return solve_H, None
+        if cons.linear:  # constant gradients: H⁻¹G_Aᵀ are columns of Y0
+            return (lambda B: Y0[:, A]), None
         C = cons.curvature(shifted(U), np.where(A, s, 0.0))
         return _factorize(H() - C, math.nan), C
 
@@ -507,6 +509,22 @@ def _position_correction(model, q_tilde, cand, S, c, opts):
     return U, k * nu, its
 
 
+def _columns(model, key, select, G, solve, cons, constant: bool):
+    """H⁻¹ G_jᵀ for the constraints ``select`` (n × m). When H is ``constant`` (the mass, or
+    S_t/β′ of a linear model at a given step) and the gap gradients are too (nodes against
+    planes), the columns are kept per contact: a large model in contact over a small zone
+    then solves only for contacts that are new."""
+    if not (constant and cons.linear and model.joints.size == 0 and model.contacts.linear):
+        return solve(G.T).reshape(G.shape[1], -1)
+    cache = model.column_cache.setdefault(key, {})
+    missing = [i for i, j in enumerate(select) if j not in cache]
+    if missing:
+        Y = solve(G[missing].T).reshape(G.shape[1], -1)
+        for col, i in enumerate(missing):
+            cache[select[i]] = Y[:, col]
+    return np.column_stack([cache[j] for j in select]) if len(select) else G.T.copy()
+
+
 def _velocity_jump(model, st, q, v, closed, opts, t):
     """Step 3: v = ṽ + W, M W = Σ G_jᵀ [k Λ_j − p ġ_j]_+ with
     ġ_j = G_j(q_{n+1}) v_{n+1} + e_j G_j(q_n) v_n; joints: G_b v_{n+1} = 0."""
@@ -524,17 +542,19 @@ def _velocity_jump(model, st, q, v, closed, opts, t):
     if contacts.moving:  # ġ = G v + ∂g/∂t at t_{n+1} and, for the impact law, at t_n
         gdot[: closed.size] += contacts.rates(q, closed)
     if np.any(e):
-        gdot_n = cons.jacobian(st.q)[1] @ st.v[F]
+        Gn = G1 if cons.linear else cons.jacobian(st.q)[1]  # constant gradients: G(q_n) = G
+        gdot_n = Gn @ st.v[F]
         if contacts.moving:
             contacts.set_time(st.t)
             gdot_n[: closed.size] += contacts.rates(st.q, closed)
             contacts.set_time(t)
         gdot += e * gdot_n
-    p = opts.penalty_scale / np.einsum("ij,ji->i", G1, model.solve_M(G1.T).reshape(len(F), -1))
+    Y = _columns(model, ("mass",), closed, G1, model.solve_M, cons, constant=True)
+    p = opts.penalty_scale / np.einsum("ij,ji->i", G1, Y)
     k = opts.multiplier_scale
     try:
         W, Lam, its = solve_velocity_jump(
-            G1, gdot, model.solve_M, p, k, opts.max_iterations, bilateral=cons.bilateral
+            G1, gdot, model.solve_M, p, k, opts.max_iterations, bilateral=cons.bilateral, Y=Y
         )
     except RuntimeError as err:
         raise _StepFailure(str(err), np.nan) from None

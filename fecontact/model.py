@@ -108,6 +108,7 @@ class Model:
         self.length = max(b.characteristic_length for b in self.bodies)
         self.linear = all(getattr(b, "linear", False) for b in self.bodies)
         self._iteration_matrices: dict = {}
+        self.column_cache: dict = {}  # H⁻¹G_jᵀ per metric and contact (linear models)
 
     def offset_of(self, body) -> int:
         for b, o in zip(self.bodies, self.offsets, strict=False):
