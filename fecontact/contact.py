@@ -315,6 +315,7 @@ class ContactSet:
             [np.full(pair.size, i) for i, pair in enumerate(self.pairs)] or [np.zeros(0, int)]
         )
         self.local = np.concatenate([np.arange(pair.size) for pair in self.pairs] or [self.owner])
+        self._scatters: dict = {}
 
     @property
     def all(self) -> np.ndarray:
@@ -391,18 +392,24 @@ class ContactSet:
                 loc = self.local[select[rows]]
             if dofs.shape != Gv.shape:
                 dofs = np.repeat(dofs.reshape(1, -1), len(Gv), axis=0)
-            fi = self.free_index[dofs[loc]]  # (r, k), −1: fixed
-            ok = fi >= 0
-            r = np.repeat(rows, fi.shape[1]).reshape(fi.shape)
-            np.add.at(G, (r[ok], fi[ok]), Gv[loc][ok])
+            sc = self._scatter(i, rows, dofs[loc])
+            _add(G, sc.g_index, Gv[loc].ravel()[sc.g_keep], sc.g_unique)
             if C is not None and H is not None:
                 w = weights[rows]
-                k = fi.shape[1]
-                a = np.repeat(fi, k, axis=1).reshape(-1, k, k)
-                b = np.tile(fi, (1, k)).reshape(-1, k, k)
-                both = (a >= 0) & (b >= 0)
-                np.add.at(C, (a[both], b[both]), (w[:, None, None] * H[loc])[both])
+                _add(C, sc.c_index, (w[:, None, None] * H[loc]).ravel()[sc.c_keep], sc.c_unique)
         return g_all[select], G, C
+
+    def _scatter(self, i: int, rows: np.ndarray, dofs: np.ndarray):
+        """Where the gradient rows and Hessians of pair i land in G and C (cached: the dofs
+        of most pairs never change)."""
+        key = (i, rows.tobytes(), dofs.tobytes())
+        sc = self._scatters.get(key)
+        if sc is None:
+            sc = _Scatter(rows, self.free_index[dofs])
+            if len(self._scatters) > 256:
+                self._scatters.clear()
+            self._scatters[key] = sc
+        return sc
 
     def generalized_force(self, q: np.ndarray, select: np.ndarray, mult: np.ndarray, n: int):
         """Σ_j G_jᵀ mult_j over ``select`` on all n dofs (for output of nodal forces)."""
@@ -418,3 +425,33 @@ class ContactSet:
             )
             offset += m
         return f
+
+
+class _Scatter:
+    """Index arrays that place gradient rows (r, k) and Hessians (r, k, k) of contacts into the
+    dense G (rows × free dofs) and C (free × free); fixed dofs (index −1) are dropped."""
+
+    def __init__(self, rows: np.ndarray, fi: np.ndarray):
+        k = fi.shape[1]
+        r = np.repeat(rows, k)
+        f = fi.ravel()
+        self.g_keep = f >= 0
+        self.g_index = (r[self.g_keep], f[self.g_keep])
+        self.g_unique = _unique_pairs(*self.g_index)
+        a = np.repeat(fi, k, axis=1).ravel()
+        b = np.tile(fi, (1, k)).ravel()
+        self.c_keep = (a >= 0) & (b >= 0)
+        self.c_index = (a[self.c_keep], b[self.c_keep])
+        self.c_unique = _unique_pairs(*self.c_index)
+
+
+def _unique_pairs(i: np.ndarray, j: np.ndarray) -> bool:
+    return len(np.unique(np.stack([i, j]), axis=1).T) == len(i) if len(i) else True
+
+
+def _add(A: np.ndarray, index, values: np.ndarray, unique: bool) -> None:
+    """A[index] += values; a plain fancy assignment when no index repeats (much cheaper)."""
+    if unique:
+        A[index] += values
+    else:
+        np.add.at(A, index, values)
