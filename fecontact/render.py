@@ -59,12 +59,14 @@ def _pyvista():
 
 
 def _first_impact_time(history: dict) -> float | None:
-    """Time (s) of the first step with an active contact, if history has ``n_active``."""
+    """Time (s) of the first step where more contacts are active than before, if history has
+    ``n_active``; contacts that the run starts in (active from the first step) are not
+    impacts."""
     n_active, t = history.get("n_active"), history.get("t")
-    if n_active is None or t is None:
+    if n_active is None or t is None or len(n_active) < 3:
         return None
-    active = np.flatnonzero(n_active > 0)
-    return float(t[active[0]]) if active.size else None
+    new = np.flatnonzero(np.diff(n_active[1:]) > 0) + 2
+    return float(t[new[0]]) if new.size else None
 
 
 def _nearest(times: np.ndarray, t: float) -> int:
