@@ -44,8 +44,9 @@ def build(length=1.0, mass=1.0, restitution=0.5, gravity=9.81):
         "omega": Probe(lambda m, st: float(st.v[2]), "rad/s", "angular velocity"),
     }
     params = {k: v for k, v in locals().items() if k in PARAMETERS}
-    return Simulation(model, dt=1e-3, t_end=3.0, probes=probes, name="rigid_pendulum",
-                      parameters=params)
+    return Simulation(
+        model, dt=1e-3, t_end=3.0, probes=probes, name="rigid_pendulum", parameters=params
+    )
 
 
 if __name__ == "__main__":

@@ -1,0 +1,266 @@
+"""Time per step against the number of dofs, split into phases (issue 6).
+
+Series (each body starts with its lowest point on the plane y = 0 (z = 0 in 3D), moving toward
+it at 1 m/s under gravity, so that every step has a contact to resolve; h = 1e-4 s, e_N = 0):
+
+- ``beam``: a steel Beam2D (1 m, 20 mm × 10 mm) at 45° with 10 … 10⁴ elements, every node a
+  contact candidate, default options (detection margin 5 % of the model size);
+- ``beam, margin 1e-3``: the same with ``detection_margin=1e-3``, so that only the nodes near
+  the contact end are candidates;
+- ``2D solid``: a linear elastic disk (plane strain, P1 triangles, E = 10 MPa, ρ = 1000 kg/m³,
+  R = 0.1 m, ``Solid.disk`` refined 1 … 7 times), boundary nodes against the plane;
+- ``3D solid``: a linear elastic cube (0.1 m, same material, P1 tetrahedra) standing on a
+  corner, its boundary nodes against the plane.
+
+Per size: the dofs, the contact candidates at t = 0, the model's construction time, and the
+time per step of ``fecontact.run`` (no frames, no checkpoints) from ``summary.json``: total
+(``wall_time_s`` / steps) and each ``phase_times_s`` entry (assembly, solve, contact, output) /
+steps, medians of three runs when a run is short. ``factor`` and ``fwd/bwd`` time one
+factorization of the iteration matrix S = β′M + K through ``fecontact.linalg.factorize`` and
+one solve with it. A series stops growing once a size takes more than ``--max-step`` s per
+step.
+
+    python benchmarks/scaling.py [--quick]
+"""
+
+from __future__ import annotations
+
+# isort: off
+import fecontact  # noqa: F401  (before numpy: single-threaded OpenBLAS)
+
+# isort: on
+import math
+import statistics
+import time
+
+import numpy as np
+import skfem
+
+try:
+    from . import _common as common
+except ImportError:
+    import _common as common
+
+from fecontact import (
+    Beam2D,
+    Contact,
+    IntegratorOptions,
+    Material,
+    Model,
+    Plane,
+    Section,
+    Simulation,
+)
+from fecontact.integrator import alpha_coefficients
+from fecontact.linalg import factorize
+from fecontact.materials import LinearElastic
+from fecontact.solid import Solid
+
+H = 1e-4
+COLUMNS = [
+    "series",
+    "size",
+    "dofs",
+    "candidates",
+    "steps",
+    "build_s",
+    "ms_per_step",
+    "assembly_ms",
+    "solve_ms",
+    "contact_ms",
+    "output_ms",
+    "other_ms",
+    "newton_mean",
+    "factor_ms",
+    "fwd_bwd_ms",
+    "repeats",
+    "status",
+]
+HEADERS = {
+    "ms_per_step": "total ms/step",
+    "assembly_ms": "assembly",
+    "solve_ms": "solve",
+    "contact_ms": "contact",
+    "output_ms": "output",
+    "other_ms": "other",
+    "newton_mean": "Newton/step",
+    "factor_ms": "factor S (ms)",
+    "fwd_bwd_ms": "fwd/bwd (ms)",
+    "build_s": "build (s)",
+}
+
+
+def beam(n, margin=0.05):
+    d = np.array([1.0, 1.0]) / math.sqrt(2.0)
+    body = Beam2D.straight(
+        [0.0, 0.0],
+        list(d),
+        n,
+        Material(E=210e9, rho=7850.0, nu=0.3),
+        Section.rectangle(0.02, 0.01),
+    )
+    model = Model([body], [Contact(body, Plane([0.0, 0.0], [0.0, 1.0]))])
+    v0 = model.translation(body, (0.0, -1.0))
+    return model, v0, IntegratorOptions(detection_margin=margin)
+
+
+MATERIAL = LinearElastic(E=1e7, nu=0.3, rho=1000.0)
+
+
+def disk(refinements):
+    body = Solid.disk([0.0, 0.1], 0.1, refinements, MATERIAL)
+    model = Model([body], [Contact(body, Plane([0.0, 0.0], [0.0, 1.0]))])
+    return model, model.translation(body, (0.0, -1.0)), IntegratorOptions()
+
+
+def cube(n):
+    """A 0.1 m cube of n³ × 6 P1 tetrahedra standing on a corner (its diagonal vertical)."""
+    axis = np.linspace(-0.05, 0.05, n + 1)
+    mesh = skfem.MeshTet.init_tensor(axis, axis, axis)
+    d = np.ones(3) / math.sqrt(3.0)  # rotate d onto e_z (Rodrigues)
+    k = np.cross(d, [0.0, 0.0, 1.0])
+    s, c = np.linalg.norm(k), d[2]
+    K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]]) / s
+    R = np.eye(3) + s * K + (1.0 - c) * K @ K
+    p = R @ mesh.p
+    p[2] -= p[2].min()
+    body = Solid(skfem.MeshTet(p, mesh.t), MATERIAL)
+    model = Model([body], [Contact(body, Plane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]))])
+    return model, model.translation(body, (0.0, 0.0, -1.0)), IntegratorOptions()
+
+
+def series(quick: bool):
+    """(name, builder, sizes, steps(size)); the sizes are elements (beams), refinements (2D
+    disk) and divisions per side (3D cube)."""
+    beams = [10, 30, 100, 300, 1000] if quick else [10, 30, 100, 300, 1000, 3000, 10000]
+    return [
+        ("beam", beam, beams, lambda n: 50 if n <= 1000 else 10),
+        ("beam, margin 1e-3", lambda n: beam(n, 1e-3), beams, lambda n: 50 if n <= 1000 else 10),
+        ("2D solid", disk, [1, 2, 3, 4] if quick else [1, 2, 3, 4, 5, 6, 7], lambda r: 20),
+        ("3D solid", cube, [2, 4, 6] if quick else [2, 4, 6, 9, 13, 19, 27], lambda n: 20),
+    ]
+
+
+def factor_times(model, options):
+    """(ms to factorize S = β′M + K at q = 0, ms of one forward/backward solve)."""
+    am, af, _, be = alpha_coefficients(options.rho_inf)
+    bp = (1.0 - am) / (be * H * H * (1.0 - af))
+    _, _, K = model.internal(np.zeros(model.n))
+    S = bp * model.M + K
+    t0 = time.perf_counter()
+    solve = factorize(S)
+    t1 = time.perf_counter()
+    solve(np.ones(model.n_free))
+    t2 = time.perf_counter()
+    return 1e3 * (t1 - t0), 1e3 * (t2 - t1)
+
+
+def measure(name, build, size, steps):
+    t0 = time.perf_counter()
+    model, v0, options = build(size)
+    build_s = time.perf_counter() - t0
+    gaps = model.contacts.gaps(np.zeros(model.n))
+    candidates = int(np.sum(gaps <= options.detection_margin * model.length))
+    sim = Simulation(model, dt=H, t_end=steps * H, options=options, v0=v0, name="scaling")
+    runs = [common.timed_run(sim, repeats=1)]
+    while len(runs) < 3 and runs[-1]["status"] == "completed" and runs[0]["wall"] < 5.0:
+        runs.append(common.timed_run(sim, repeats=1))
+    n = max(runs[0]["steps"], 1)
+
+    def per_step(key):
+        return 1e3 * statistics.median(r["phases"].get(key, 0.0) for r in runs) / n
+
+    total = 1e3 * statistics.median(r["wall"] for r in runs) / n
+    phases = {k: per_step(k) for k in ("assembly", "solve", "contact", "output")}
+    factor_ms, fwd_ms = factor_times(model, options)
+    return {
+        "series": name,
+        "size": size,
+        "dofs": model.n,
+        "candidates": candidates,
+        "steps": n,
+        "build_s": build_s,
+        "ms_per_step": total,
+        **{f"{k}_ms": v for k, v in phases.items()},
+        "other_ms": total - sum(phases.values()),
+        "newton_mean": runs[0]["summary"]["newton_iterations_mean"],
+        "factor_ms": factor_ms,
+        "fwd_bwd_ms": fwd_ms,
+        "repeats": len(runs),
+        "status": runs[0]["status"],
+    }
+
+
+def plot(rows, path):
+    import matplotlib.pyplot as plt
+
+    names = list(dict.fromkeys(r["series"] for r in rows))
+    fig, axes = plt.subplots(1, 1 + len(names), figsize=(3.8 * (1 + len(names)), 3.8))
+    for name in names:
+        sel = [r for r in rows if r["series"] == name]
+        axes[0].loglog([r["dofs"] for r in sel], [r["ms_per_step"] for r in sel], "o-", label=name)
+    ref = np.array([1e2, 1e5])
+    axes[0].loglog(ref, 1e-2 * ref, "k:", lw=0.8, label="∝ dofs")
+    axes[0].set_title("time per step", fontsize=9)
+    for ax, name in zip(axes[1:], names, strict=True):
+        sel = [r for r in rows if r["series"] == name]
+        x = [r["dofs"] for r in sel]
+        for key in ("assembly_ms", "solve_ms", "contact_ms", "output_ms", "factor_ms"):
+            y = [max(r[key], 1e-4) for r in sel]
+            style = "--" if key == "factor_ms" else "o-"
+            label = "one factorization of S" if key == "factor_ms" else key[:-3]
+            ax.loglog(x, y, style, label=label, ms=3)
+        ax.set_title(name, fontsize=9)
+    for ax in axes:
+        ax.set_xlabel("dofs")
+        ax.set_ylabel("ms per step")
+        ax.grid(True, which="both", lw=0.3)
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=85)
+    plt.close(fig)
+
+
+def main(argv=None):
+    p = common.parser(__doc__.splitlines()[0])
+    p.add_argument(
+        "--max-step", type=float, default=30.0, help="stop a series after a size this slow (s)"
+    )
+    args = p.parse_args(argv)
+    out = common.Path(args.out)
+    note = common.machine_note()
+    t0 = time.perf_counter()
+    rows = []
+    for name, build, sizes, steps in series(args.quick):
+        for size in sizes:
+            row = measure(name, build, size, steps(size))
+            rows.append(row)
+            print(
+                f"{name:18s} size {size:6d} dofs {row['dofs']:7d} cand {row['candidates']:5d} "
+                f"{row['ms_per_step']:10.2f} ms/step (assembly {row['assembly_ms']:.2f}, solve "
+                f"{row['solve_ms']:.2f}, contact {row['contact_ms']:.2f}, output "
+                f"{row['output_ms']:.2f}) factor {row['factor_ms']:.1f} ms, build "
+                f"{row['build_s']:.2f} s {row['status']}",
+                flush=True,
+            )
+            if row["ms_per_step"] > 1e3 * args.max_step:
+                print(f"{name}: stopping after size {size} (over {args.max_step} s/step)")
+                break
+    cols = [c for c in COLUMNS if c not in ("steps", "repeats")]
+    md = common.markdown_table(rows, cols, [HEADERS.get(c, c) for c in cols])
+    text = (
+        f"# Time per step against dofs\n\n{note}; {time.perf_counter() - t0:.0f} s.\n\n"
+        f"h = {H:g} s; phases in ms per step from `summary.json` (`phase_times_s` / steps); "
+        "other = total − phases (integrator bookkeeping, initial state); candidates: contacts "
+        "within the detection margin at t = 0.\n\n" + md
+    )
+    suffix = "_quick" if args.quick else ""
+    common.write_csv(out / f"scaling{suffix}.csv", rows, COLUMNS)
+    common.write_markdown(out / f"scaling{suffix}.md", text)
+    plot(rows, out / f"scaling{suffix}.png")
+    print(md)
+    return rows
+
+
+if __name__ == "__main__":
+    main()
