@@ -21,9 +21,11 @@ from .contact import Contact
 from .errors import InputError, SolverError, check_positive, check_range
 from .integrator import IntegratorOptions, State, simulate
 from .joints import Pin
+from .materials import LinearElastic, NeoHookean, StVenantKirchhoff
 from .model import Model, NodalLoad
-from .obstacles import Circle, Plane, Point
+from .obstacles import Circle, Plane, Point, Sphere
 from .simulation import Probe, Simulation, node_probe, run
+from .solid import Solid
 
 __all__ = [
     "Beam2D",
@@ -31,8 +33,10 @@ __all__ = [
     "Contact",
     "InputError",
     "IntegratorOptions",
+    "LinearElastic",
     "Material",
     "Model",
+    "NeoHookean",
     "NodalLoad",
     "Pin",
     "Plane",
@@ -40,8 +44,11 @@ __all__ = [
     "Probe",
     "Section",
     "Simulation",
+    "Solid",
     "SolverError",
+    "Sphere",
     "State",
+    "StVenantKirchhoff",
     "check_positive",
     "check_range",
     "load_run",

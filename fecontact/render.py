@@ -122,14 +122,12 @@ def _scene_size(bounds: np.ndarray) -> float:
 def _fix_camera(plotter, bounds: np.ndarray, pad: float) -> None:
     """Place a fixed camera showing ``bounds`` (m) with margin ``pad`` (m)."""
     lo, hi = bounds[::2] - pad, bounds[1::2] + pad
-    if not _is_planar(bounds):
-        plotter.view_isometric()
-        plotter.reset_camera(bounds=np.column_stack([lo, hi]).ravel())
-        plotter.camera.zoom(0.85)  # room for the scalar bar
-        return
-    # planar: look down -z with y up; keep the top and bottom bands free for text and colours
     width, height = plotter.window_size
     free = 1.0 - _TOP - _BOTTOM
+    if not _is_planar(bounds):
+        _fix_camera_3d(plotter, lo, hi, free, width / height)
+        return
+    # planar: look down -z with y up; keep the top and bottom bands free for text and colours
     dx, dy = hi[0] - lo[0], hi[1] - lo[1]
     visible = max(dy / free, dx * height / (0.95 * width))
     centre = np.array([(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, 0.0])
@@ -140,6 +138,57 @@ def _fix_camera(plotter, bounds: np.ndarray, pad: float) -> None:
     plotter.enable_parallel_projection()
     plotter.camera.parallel_scale = visible / 2
     plotter.camera.clipping_range = (distance / 100, distance * 100)
+
+
+def _fix_camera_3d(plotter, lo, hi, free, aspect):
+    """Perspective camera on the box ``lo``–``hi`` (m), z up, seen from the front right
+    (azimuth −60° from +x) and 20° above: every corner of the box lies inside the band of the
+    window between the time (top) and the scalar bar (bottom), in every frame.
+
+    The camera is placed explicitly: ``reset_camera`` does nothing before the first actor
+    is added, which left 3D scenes outside the clipping range.
+    """
+    centre = 0.5 * (lo + hi)
+    el, az = np.radians(20.0), np.radians(-60.0)
+    direction = np.array([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)])
+    up = np.array([0.0, 0.0, 1.0]) - np.sin(el) * direction
+    up /= np.linalg.norm(up)
+    right = np.cross(up, direction)
+    tan = np.tan(0.5 * np.radians(plotter.camera.view_angle))  # vertical half angle
+    corners = (
+        np.stack(np.meshgrid(*zip(lo, hi, strict=True), indexing="ij"), -1).reshape(-1, 3) - centre
+    )
+    depth = corners @ direction  # toward the camera
+    # a corner at depth z is seen within the band when |c·up| <= free (d − z) tan, and
+    # within the width when |c·right| <= 0.95 aspect (d − z) tan
+    distance = float(
+        np.max(
+            depth
+            + np.maximum(
+                np.abs(corners @ up) / (free * tan), np.abs(corners @ right) / (0.95 * aspect * tan)
+            )
+        )
+    )
+    radius = float(np.max(np.linalg.norm(corners, axis=1))) or 1.0
+    distance = max(distance, 1.5 * radius)
+    visible = 2.0 * distance * tan  # window height at the focal point, m
+    # the middle of the free band lies (_BOTTOM + free/2 − 1/2) of the height above centre
+    focal = centre - (_BOTTOM + free / 2 - 0.5) * visible * up
+    plotter.camera_position = [tuple(focal + distance * direction), tuple(focal), tuple(up)]
+    plotter.camera.clipping_range = (
+        max(distance - 2.0 * radius, 1e-3 * distance),
+        distance + 2.0 * radius,
+    )
+
+
+def _closed_planar_loop(surface) -> bool:
+    """True for a polyline that closes on itself in a plane (a 3D ``Plane`` obstacle)."""
+    p = np.asarray(surface.points)
+    if surface.n_points < 4 or surface.n_cells != surface.n_lines:
+        return False
+    centred = p - p.mean(axis=0)
+    size = np.linalg.norm(np.ptp(p, axis=0))
+    return bool(np.linalg.svd(centred, compute_uv=False)[-1] <= 1e-9 * size * np.sqrt(len(p)))
 
 
 def _surface(pyvista, mesh):
@@ -172,8 +221,12 @@ def _tubes(surface, radius: float):
     return tube
 
 
-def _add_part(pyvista, plotter, mesh, static: bool, radius: float, clim):
-    """Add one part; return ``update(mesh)`` for a moving part, ``None`` for a static one."""
+def _add_part(pyvista, plotter, mesh, static: bool, radius: float, clim, space: bool = False):
+    """Add one part; return ``update(mesh)`` for a moving part, ``None`` for a static one.
+
+    In a 3D scene (``space``) a closed planar outline (a ``Plane``) is also drawn filled and
+    translucent, and surfaces show their element edges.
+    """
     surface, ids = _surface(pyvista, mesh)
     speed = None if static else _speed(mesh)
     style = {"smooth_shading": True}
@@ -189,9 +242,16 @@ def _add_part(pyvista, plotter, mesh, static: bool, radius: float, clim):
             "cmap": "viridis",
             "scalar_bar_args": {"title": _SPEED_TITLE, "fmt": "%.3g", "n_labels": 5},
         }
+    if space and static and _closed_planar_loop(surface):
+        # a rigid plane in 3D: its outline, filled and translucent, shows where contact is
+        loop = np.asarray(surface.points)
+        plane = pyvista.PolyData(loop, faces=np.r_[len(loop), np.arange(len(loop))])
+        plotter.add_mesh(plane, color=_STATIC_COLOR, opacity=0.35)
     if surface.n_lines and not surface.n_cells - surface.n_lines:
         actor = plotter.add_mesh(_tubes(surface, radius), **style)
     elif surface.n_cells:
+        if space and surface.n_cells <= 20000:
+            style |= {"show_edges": True, "edge_color": "#303030", "line_width": 0.5}
         actor = plotter.add_mesh(surface, **style)
     else:
         actor = plotter.add_mesh(surface, render_points_as_spheres=True, point_size=8, **style)
@@ -311,7 +371,9 @@ def render_run(
             for name, mesh in parts.items():
                 if name not in updates:
                     static = name in run.static_parts
-                    updates[name] = _add_part(pyvista, plotter, mesh, static, radius, clim)
+                    updates[name] = _add_part(
+                        pyvista, plotter, mesh, static, radius, clim, not _is_planar(bounds)
+                    )
                 elif updates[name] is not None:
                     updates[name](mesh)
             for name, update in updates.items():

@@ -35,11 +35,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import meshio
 import numpy as np
 import scipy.sparse as sp
 import skfem
-from skfem.io.meshio import HEX_MAPPING, from_meshio
 from skfem.models.poisson import mass as _mass_form
 
 from .errors import InputError, check_finite, check_positive
@@ -54,6 +52,9 @@ _ELEMENTS = {
     "tet": (skfem.ElementTetP1, skfem.ElementTetP2, "tetra", "tetra10"),
     "hex": (skfem.ElementHex1, skfem.ElementHex2, "hexahedron", "hexahedron27"),
 }
+# scikit-fem's hexahedron vertex order to VTK's (``skfem.io.meshio.HEX_MAPPING[:8]``, kept
+# here so that importing the solid does not import meshio)
+_HEX_TO_VTK = [0, 3, 6, 2, 1, 5, 7, 4]
 _REFDOMS = {"RefTri": "tri", "RefQuad": "quad", "RefTet": "tet", "RefHex": "hex"}
 _MIDPOINT = {
     "tri": (np.full((2, 1), 1.0 / 3.0), np.array([0.5])),
@@ -173,6 +174,9 @@ class Solid:
         dimension comes from the cells: tetrahedra or hexahedra make a 3D body, else triangles
         or quadrilaterals a 2D one.
         """
+        import meshio  # lazily: mesh I/O only when a file is read
+        from skfem.io.meshio import from_meshio
+
         path = Path(path)
         known = meshio.extension_to_filetypes
         suffix = path.suffix.lower()
@@ -588,7 +592,7 @@ class Solid:
         (P1) or triangle6, quad9, tetra10, hexahedron27 (P2), over the body's nodes."""
         t = self.mesh.t.T.copy()
         if self.cell == "hex":
-            t = t[:, HEX_MAPPING[:8]]
+            t = t[:, _HEX_TO_VTK]
         elif self.cell in ("tri", "tet"):
             # scikit-fem sorts simplex vertices; VTK wants positive orientation (signed volumes)
             P = self.mesh.p.T
