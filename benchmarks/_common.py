@@ -49,7 +49,9 @@ __all__ = [
     "observed_order",
     "parser",
     "pendulum_exact",
+    "previous_note",
     "read_csv",
+    "tidy_log_axes",
     "timed_run",
     "trace",
     "with_options",
@@ -321,6 +323,24 @@ def write_markdown(path, text: str) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(text.rstrip() + "\n")
     return path
+
+
+def tidy_log_axes(ax) -> None:
+    """Log axes without the crowded minor tick labels matplotlib puts on short decades."""
+    from matplotlib.ticker import NullFormatter
+
+    ax.xaxis.set_minor_formatter(NullFormatter())
+    ax.yaxis.set_minor_formatter(NullFormatter())
+    ax.grid(True, which="both", lw=0.3)
+
+
+def previous_note(csv_path) -> str:
+    """The machine note of the run that wrote ``csv_path`` (from the Markdown file beside it),
+    for tables redone from a CSV."""
+    md = Path(csv_path).with_suffix(".md")
+    lines = md.read_text().splitlines() if md.is_file() else []
+    old = lines[2] if len(lines) > 2 else "an earlier run"
+    return f"Tables redone from {Path(csv_path).name}; the runs: {old.rstrip('.')}"
 
 
 def machine_note() -> str:

@@ -205,6 +205,7 @@ def plot(rows, path):
     nrow = math.ceil(len(cases) / ncol)
     fig, axes = plt.subplots(nrow, ncol, figsize=(4.2 * ncol, 3.4 * nrow), squeeze=False)
     for ax, case in zip(axes.flat, cases, strict=False):
+        anchor = None  # slope lines through the first quantity's smallest-h point
         for quantity in dict.fromkeys(r["quantity"] for r in rows if r["case"] == case):
             sel = [r for r in rows if r["case"] == case and r["quantity"] == quantity]
             h = np.array([r["nominal_h"] for r in sel])
@@ -212,16 +213,20 @@ def plot(rows, path):
             p = common.observed_order(h, e)
             ok = e > 0
             ax.loglog(h[ok], e[ok], "o-", label=f"{quantity} [{sel[0]['unit']}]: {p:.2f}")
+            if anchor is None and ok.any():
+                i = np.argmin(np.where(ok, h, np.inf))
+                anchor = (h[i], e[i])
         hs = [r["nominal_h"] for r in rows if r["case"] == case]
         hh = np.array([min(hs), max(hs)])
         for order, style in ((1, ":"), (2, "--")):
-            ref = e[ok][-1] * (hh / h[ok][-1]) ** order if ok.any() else hh
-            ax.loglog(hh, ref, "k" + style, lw=0.8, label=f"slope {order}")
+            if anchor is not None:
+                ref = anchor[1] * (hh / anchor[0]) ** order
+                ax.loglog(hh, ref, "k" + style, lw=0.8, label=f"slope {order}")
         ax.set_title(case, fontsize=9)
         ax.set_xlabel("h (s)")
         ax.set_ylabel("error")
         ax.legend(fontsize=6.5)
-        ax.grid(True, which="both", lw=0.3)
+        common.tidy_log_axes(ax)
     for ax in list(axes.flat)[len(cases) :]:
         ax.axis("off")
     fig.tight_layout()
@@ -249,15 +254,17 @@ def main(argv=None):
     out = common.Path(args.out)
     note = common.machine_note()
     if args.from_csv:
-        note = f"Tables redone from {common.Path(args.from_csv).name} (an earlier run)"
+        note = common.previous_note(args.from_csv)
     t0 = time.perf_counter()
     rows = read_rows(args.from_csv) if args.from_csv else sweep(args.quick)
     table = orders(rows)
     cols = list(table[0])
     md = common.markdown_table(table, cols)
     detail = common.markdown_table(rows, COLUMNS[:5])
+    if not args.from_csv:
+        note += f"; {time.perf_counter() - t0:.0f} s."
     text = (
-        f"# Convergence against exact solutions\n\n{note}; {time.perf_counter() - t0:.0f} s.\n\n"
+        f"# Convergence against exact solutions\n\n{note}\n\n"
         f"Observed order: least-squares slope of log(error) against log(h).\n\n{md}\n\n"
         f"## Errors\n\n{detail}\n"
     )

@@ -130,14 +130,34 @@ def cube(n):
 
 
 def series(quick: bool):
-    """(name, builder, sizes, steps(size)); the sizes are elements (beams), refinements (2D
-    disk) and divisions per side (3D cube)."""
+    """(name, builder, sizes, steps(size), dofs(size)): the sizes are elements (beams),
+    refinements (2D disk) and divisions per side (3D cube); dofs(size) estimates the model
+    size before it is built."""
     beams = [10, 30, 100, 300, 1000] if quick else [10, 30, 100, 300, 1000, 3000, 10000]
+
+    def beam_steps(n):
+        return 50 if n <= 1000 else 10
+
+    def beam_dofs(n):
+        return 3 * (n + 1)
+
     return [
-        ("beam", beam, beams, lambda n: 50 if n <= 1000 else 10),
-        ("beam, margin 1e-3", lambda n: beam(n, 1e-3), beams, lambda n: 50 if n <= 1000 else 10),
-        ("2D solid", disk, [1, 2, 3, 4] if quick else [1, 2, 3, 4, 5, 6, 7], lambda r: 20),
-        ("3D solid", cube, [2, 4, 6] if quick else [2, 4, 6, 9, 13, 19, 27], lambda n: 20),
+        ("beam", beam, beams, beam_steps, beam_dofs),
+        ("beam, margin 1e-3", lambda n: beam(n, 1e-3), beams, beam_steps, beam_dofs),
+        (
+            "2D solid",
+            disk,
+            [1, 2, 3, 4] if quick else [1, 2, 3, 4, 5, 6, 7],
+            lambda r: 20 if r < 6 else 5,
+            lambda r: 4 * 4**r + 2 ** (r + 2),
+        ),
+        (
+            "3D solid",
+            cube,
+            [2, 4, 6] if quick else [2, 4, 6, 9, 13, 19, 27],
+            lambda n: 20 if n < 13 else 5,
+            lambda n: 3 * (n + 1) ** 3,
+        ),
     ]
 
 
@@ -214,27 +234,69 @@ def plot(rows, path):
     for ax in axes:
         ax.set_xlabel("dofs")
         ax.set_ylabel("ms per step")
-        ax.grid(True, which="both", lw=0.3)
+        common.tidy_log_axes(ax)
         ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=85)
     plt.close(fig)
 
 
+def report(rows, note, path_stem):
+    cols = [c for c in COLUMNS if c not in ("steps", "repeats")]
+    md = common.markdown_table(rows, cols, [HEADERS.get(c, c) for c in cols])
+    text = (
+        f"# Time per step against dofs\n\n{note}\n\n"
+        f"h = {H:g} s; phases in ms per step from `summary.json` (`phase_times_s` / steps); "
+        "other = total − phases (integrator bookkeeping, initial state); candidates: contacts "
+        "within the detection margin at t = 0; a size is skipped when the previous one, scaled "
+        "by dofs², predicts more than `--max-step` s per step.\n\n" + md
+    )
+    common.write_csv(f"{path_stem}.csv", rows, COLUMNS)
+    common.write_markdown(f"{path_stem}.md", text)
+    plot([r for r in rows if r["status"] == "completed"], f"{path_stem}.png")
+    return md
+
+
 def main(argv=None):
     p = common.parser(__doc__.splitlines()[0])
     p.add_argument(
-        "--max-step", type=float, default=30.0, help="stop a series after a size this slow (s)"
+        "--max-step", type=float, default=30.0, help="skip sizes predicted slower (s per step)"
+    )
+    p.add_argument("--series", action="append", help="run only these series (repeatable)")
+    p.add_argument(
+        "--update", action="store_true", help="replace those series' rows in the existing files"
     )
     args = p.parse_args(argv)
     out = common.Path(args.out)
+    stem = out / ("scaling_quick" if args.quick else "scaling")
     note = common.machine_note()
     t0 = time.perf_counter()
+    keep = []
+    if args.update:
+        keep = [r for r in common.read_csv(f"{stem}.csv") if r["series"] not in args.series]
+        note += f"; series {', '.join(args.series)} re-run with `--update`"
     rows = []
-    for name, build, sizes, steps in series(args.quick):
+    for name, build, sizes, steps, dofs in series(args.quick):
+        if args.series and name not in args.series:
+            continue
+        prev = None
         for size in sizes:
+            if prev is not None:
+                guess = prev["ms_per_step"] * (dofs(size) / prev["dofs"]) ** 2 / 1e3
+                if guess > args.max_step:
+                    rows.append(
+                        {
+                            "series": name,
+                            "size": size,
+                            "dofs": dofs(size),
+                            "status": f"skipped (predicted {guess:.0f} s/step)",
+                        }
+                    )
+                    print(f"{name}: size {size} skipped, predicted {guess:.0f} s per step")
+                    break
             row = measure(name, build, size, steps(size))
             rows.append(row)
+            prev = row
             print(
                 f"{name:18s} size {size:6d} dofs {row['dofs']:7d} cand {row['candidates']:5d} "
                 f"{row['ms_per_step']:10.2f} ms/step (assembly {row['assembly_ms']:.2f}, solve "
@@ -243,21 +305,8 @@ def main(argv=None):
                 f"{row['build_s']:.2f} s {row['status']}",
                 flush=True,
             )
-            if row["ms_per_step"] > 1e3 * args.max_step:
-                print(f"{name}: stopping after size {size} (over {args.max_step} s/step)")
-                break
-    cols = [c for c in COLUMNS if c not in ("steps", "repeats")]
-    md = common.markdown_table(rows, cols, [HEADERS.get(c, c) for c in cols])
-    text = (
-        f"# Time per step against dofs\n\n{note}; {time.perf_counter() - t0:.0f} s.\n\n"
-        f"h = {H:g} s; phases in ms per step from `summary.json` (`phase_times_s` / steps); "
-        "other = total − phases (integrator bookkeeping, initial state); candidates: contacts "
-        "within the detection margin at t = 0.\n\n" + md
-    )
-    suffix = "_quick" if args.quick else ""
-    common.write_csv(out / f"scaling{suffix}.csv", rows, COLUMNS)
-    common.write_markdown(out / f"scaling{suffix}.md", text)
-    plot(rows, out / f"scaling{suffix}.png")
+        elapsed = f"; {time.perf_counter() - t0:.0f} s so far."
+        md = report(keep + rows, note + elapsed, stem)  # after every series: nothing lost
     print(md)
     return rows
 

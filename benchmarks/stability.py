@@ -669,11 +669,13 @@ def plot(rows, histories, path):
         rhos = sorted({float(r["run"].split()[0].split("=")[1]) for r in sel})
         cols = sorted({" ".join(r["run"].split()[1:3]) for r in sel})
         grid = np.full((len(rhos), len(cols)), np.nan)
+        label = np.full(grid.shape, "", dtype=object)
         for r in sel:
             i = rhos.index(float(r["run"].split()[0].split("=")[1]))
             j = cols.index(" ".join(r["run"].split()[1:3]))
-            value = r["growth_pct"] if r["status"] == "completed" else 1e3
-            grid[i, j] = value
+            done = r["status"] == "completed"
+            grid[i, j] = r["growth_pct"] if done else 1e3
+            label[i, j] = f"{r['growth_pct']:.2g}" if done else r["status"][:4]
         im = ax.imshow(
             np.log10(np.clip(grid, 1e-3, 1e3)), cmap="viridis", aspect="auto", vmin=-3, vmax=3
         )
@@ -682,11 +684,9 @@ def plot(rows, histories, path):
         ax.set_title(f"energy growth % of peak KE, metric={metric} (1.5 s)", fontsize=9)
         for i in range(len(rhos)):
             for j in range(len(cols)):
-                if np.isfinite(grid[i, j]):
-                    ax.text(
-                        j, i, f"{grid[i, j]:.2g}", ha="center", va="center", fontsize=6, color="w"
-                    )
-        fig.colorbar(im, ax=ax, label="log10 growth % (failed: 3)")
+                color = "k" if grid[i, j] > 10 else "w"
+                ax.text(j, i, label[i, j], ha="center", va="center", fontsize=6, color=color)
+        fig.colorbar(im, ax=ax, label="log10 growth % (fail/diverged: 3)")
     fig.tight_layout()
     fig.savefig(path, dpi=85)
     plt.close(fig)

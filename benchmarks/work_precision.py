@@ -294,7 +294,7 @@ def _median(x):
     return statistics.median(x) if x else math.nan
 
 
-def summary_lines(rows, reach):
+def summary_lines(rows, reach, ratios):
     """Plain sentences with the measured ratios."""
     lines = []
     for case in dict.fromkeys(r["case"] for r in rows):
@@ -302,29 +302,47 @@ def summary_lines(rows, reach):
         if not levels:
             continue
         tight = levels[-1]
-        common_levels = [
-            r for r in levels if np.isfinite(r["moreau (s)"]) and np.isfinite(r["penalty (s)"])
-        ]
-        text = f"- {case}: NSGA reaches {tight['error level']:.3g} in {tight['nsga (s)']:.3g} s; "
+        parts = [f"NSGA reaches {tight['error level']:.3g} in {tight['nsga (s)']:.3g} s"]
         for m in METHODS[1:]:
-            t = tight[f"{m} (s)"]
-            if np.isfinite(t):
-                text += f"{m} needs {t:.3g} s ({t / tight['nsga (s)']:.2g}x); "
-            else:
-                text += f"{m} does not reach it in the sweep; "
-        if common_levels:
-            lvl = common_levels[-1]
-            text += (
-                f"at the tightest level all three reach ({lvl['error level']:.3g}): moreau "
-                f"{lvl['moreau / nsga']:.2g}x, penalty {lvl['penalty / nsga']:.2g}x the NSGA time."
+            reached = [r for r in levels if np.isfinite(r[f"{m} (s)"])]
+            if not reached:
+                parts.append(f"{m} reaches none of the NSGA error levels")
+                continue
+            best = reached[-1]
+            ratio = best[f"{m} / nsga"]
+            own = min(
+                (
+                    r["error"]
+                    for r in rows
+                    if r["case"] == case and r["method"] == m and np.isfinite(r["error"])
+                ),
+                default=math.nan,
             )
+            parts.append(
+                f"the tightest NSGA level {m} reaches is {best['error level']:.3g}, in "
+                f"{ratio:.2g}x the NSGA time (its smallest error in the sweep: {own:.3g})"
+            )
+        for r in ratios:
+            if r["case"] == case:
+                parts.append(
+                    f"same h: {r['method']} takes {r['time / nsga time (same h)']:.2g}x the "
+                    f"NSGA time with {r['error / nsga error (same h)']:.2g}x its error and "
+                    f"penetrates {r['penetration / h (m/s)']:.2g}·h m"
+                )
+        failed = [
+            f"{r['method']} at h = {r['h']:g}"
+            for r in rows
+            if r["case"] == case and r["status"] != "completed"
+        ]
+        if failed:
+            parts.append("failed: " + ", ".join(failed))
         pens = [
             r["max_penetration_m"]
             for r in rows
             if r["case"] == case and r["method"] == "nsga" and r["status"] == "completed"
         ]
-        text += f" NSGA max penetration over the sweep: {max(pens, default=math.nan):.2g} m."
-        lines.append(text)
+        parts.append(f"NSGA max penetration over the sweep: {max(pens, default=math.nan):.2g} m")
+        lines.append(f"- {case}: " + "; ".join(parts) + ".")
     return lines
 
 
@@ -337,20 +355,21 @@ def plot(rows, path):
     for j, case in enumerate(cases):
         ax, axp = axes[0, j], axes[1, j]
         for m in METHODS:
-            sel = [
-                r
-                for r in rows
-                if r["case"] == case and r["method"] == m and np.isfinite(r["error"])
-            ]
-            if not sel:
-                continue
+            runs = [r for r in rows if r["case"] == case and r["method"] == m]
+            sel = [r for r in runs if np.isfinite(r["error"])]
             color, marker = styles[m]
-            t = [r["time_s"] for r in sel]
-            e = [max(r["error"], 1e-16) for r in sel]
-            ax.loglog(t, e, marker + "-", color=color, label=m)
-            h = [r["h"] for r in sel]
-            p = [max(r["max_penetration_m"], 1e-16) for r in sel]
-            axp.loglog(h, p, marker + "-", color=color, label=m)
+            if sel:
+                t = [r["time_s"] for r in sel]
+                e = [max(r["error"], 1e-16) for r in sel]
+                ax.loglog(t, e, marker + "-", color=color, label=m)
+                h = [r["h"] for r in sel]
+                p = [max(r["max_penetration_m"], 1e-16) for r in sel]
+                axp.loglog(h, p, marker + "-", color=color, label=m)
+            failed = [r for r in runs if r["status"] != "completed"]
+            if failed:
+                h = [r["h"] for r in failed]
+                p = [max(r["max_penetration_m"], 1e-16) for r in failed]
+                axp.loglog(h, p, "x", color=color, ms=8, label=f"{m} (failed)")
         unit = next(r["error_unit"] for r in rows if r["case"] == case)
         ax.set_title(case, fontsize=9)
         ax.set_xlabel("time loop (s), median")
@@ -358,7 +377,7 @@ def plot(rows, path):
         axp.set_xlabel("h (s)")
         axp.set_ylabel("max penetration (m); 0 drawn at 1e-16")
         for a in (ax, axp):
-            a.grid(True, which="both", lw=0.3)
+            common.tidy_log_axes(a)
             a.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=90)
@@ -366,13 +385,20 @@ def plot(rows, path):
 
 
 def main(argv=None):
-    args = common.parser(__doc__.splitlines()[0]).parse_args(argv)
+    p = common.parser(__doc__.splitlines()[0])
+    p.add_argument("--from-csv", help="redo the tables and plot from this CSV, without runs")
+    args = p.parse_args(argv)
     out = common.Path(args.out)
     note = common.machine_note()
     t0 = time.perf_counter()
-    cases = [Ball(args.quick), Pendulum(args.quick), Bar(args.quick), Flexible(args.quick)]
     repeats = 1 if args.quick else 3
-    rows = sweep(cases, repeats)
+    if args.from_csv:
+        rows = common.read_csv(args.from_csv)
+        repeats = max(r["repeats"] for r in rows)
+        note = common.previous_note(args.from_csv)
+    else:
+        cases = [Ball(args.quick), Pendulum(args.quick), Bar(args.quick), Flexible(args.quick)]
+        rows = sweep(cases, repeats)
     reach = reach_table(rows)
     ratios = equal_step_ratios(rows)
     cols = [
@@ -391,10 +417,14 @@ def main(argv=None):
     main_md = common.markdown_table(rows, cols)
     reach_md = common.markdown_table(reach, list(reach[0]) if reach else [])
     ratio_md = common.markdown_table(ratios, list(ratios[0]) if ratios else [])
-    lines = "\n".join(summary_lines(rows, reach))
+    lines = "\n".join(summary_lines(rows, reach, ratios))
+    if not args.from_csv:
+        note += (
+            f"; {time.perf_counter() - t0:.0f} s; time = median of {repeats} run(s) of the time "
+            "loop without output."
+        )
     text = (
-        f"# Work–precision\n\n{note}; {time.perf_counter() - t0:.0f} s; time = median of "
-        f"{repeats} run(s) of the time loop without output.\n\n## Measured ratios\n\n{lines}\n\n"
+        f"# Work–precision\n\n{note}\n\n## Measured ratios\n\n{lines}\n\n"
         f"## Time to reach an error level\n\nThe cheapest run of each method whose error is at "
         f"most the level (levels: the NSGA errors of the sweep; – : not reached).\n\n{reach_md}"
         f"\n\n## Same step: baseline / NSGA (medians over h)\n\n{ratio_md}\n\n"

@@ -212,6 +212,8 @@ class NodeSurfaceContact:
         self.offsets = (0, 0)
         self.selected = np.full(self.size, -1)
         """Facet chosen for each slave node at the last evaluation (−1: none near)."""
+        self._last = None  # (the two bodies' dofs, result) of the last evaluation
+        self._last = None  # (positions of both bodies, result) of the last evaluation
 
     @property
     def size(self) -> int:
@@ -220,6 +222,7 @@ class NodeSurfaceContact:
     def bind(self, model) -> None:
         """Place the pair in the global dof vector of ``model``."""
         self.offsets = (model.offset_of(self.body), model.offset_of(self.master))
+        self._last = None
 
     def _positions(self, q):
         (oa, ob), (a, b) = self.offsets, self.bodies
@@ -262,7 +265,26 @@ class NodeSurfaceContact:
     def evaluate(self, q: np.ndarray):
         """Gaps (m,) in m, global dofs (m, k) — the slave node's d translations, then those of
         the facet's vertices —, gradients (m, k) and Hessians (m, k, k); rows of nodes with no
-        facet within the margin have g = +inf and zero derivatives."""
+        facet within the margin have g = +inf and zero derivatives.
+
+        The integrator often evaluates twice at the same q (gaps, then gradients): the last
+        result is kept and returned again (dofs, G and H read-only, g a fresh copy).
+        """
+        (oa, ob), (a, b) = self.offsets, self.bodies
+        key = (q[oa : oa + a.ndof], q[ob : ob + b.ndof])
+        last = self._last
+        if last is not None and all(
+            np.array_equal(k, c) for k, c in zip(key, last[0], strict=True)
+        ):
+            g, dofs, G, H = last[1]
+            return g.copy(), dofs, G, H
+        result = self._evaluate(q)
+        for array in result[1:]:
+            array.flags.writeable = False
+        self._last = ((key[0].copy(), key[1].copy()), result)
+        return result[0].copy(), *result[1:]
+
+    def _evaluate(self, q):
         xs, xm = self._positions(q)
         m, k = self.size, self.width
         oa, ob = self.offsets

@@ -124,7 +124,9 @@ def _frame_parts(model, state: State):
         data = dict(body.point_data(q, state.v[s]))
         data["contact_impulse"] = _point_impulse(body, f_imp[s])
         data["contact_force"] = data["contact_impulse"] / h
-        cell_data = body.cell_data(q) if hasattr(body, "cell_data") else None
+        cell_data = (
+            {k: [v] for k, v in body.cell_data(q).items()} if hasattr(body, "cell_data") else None
+        )
         parts[_part_name(body, i)] = body_mesh(body.positions(q), body.cells(), data, cell_data)
     parts.update(_obstacle_parts(model, moving=True))
     return parts
