@@ -40,6 +40,7 @@ import fecontact  # noqa: F401  (before numpy: single-threaded OpenBLAS)
 
 # isort: on
 import math
+import os
 import time
 from dataclasses import dataclass, field
 
@@ -232,7 +233,7 @@ def ball_zeno_check(e, h0=1.0):
 
 def graze_check(offset, restitution=0.5):
     """Total impulse against the exact one: 0 for offset ≥ 0, else (1 + e) m √(2 g |offset|)."""
-    exact = (1 + restitution) * math.sqrt(2 * common.G * max(-offset, 0.0))
+    exact = (1 + restitution) * math.sqrt(2 * common.G * max(0.0, -offset))
 
     def check(tr, sim):
         imp = float(tr["impulse"].sum())
@@ -675,7 +676,8 @@ def plot(rows, histories, path):
             j = cols.index(" ".join(r["run"].split()[1:3]))
             done = r["status"] == "completed"
             grid[i, j] = r["growth_pct"] if done else 1e3
-            label[i, j] = f"{r['growth_pct']:.2g}" if done else r["status"][:4]
+            short = {"diverged": "div", "failed": "fail", "timeout": "time"}
+            label[i, j] = f"{r['growth_pct']:.2g}" if done else short.get(r["status"], "?")
         im = ax.imshow(
             np.log10(np.clip(grid, 1e-3, 1e3)), cmap="viridis", aspect="auto", vmin=-3, vmax=3
         )
@@ -722,12 +724,18 @@ def main(argv=None):
             else:
                 merged.append(r)
         rows = merged + [r for g, rs in fresh.items() if g not in done for r in rs]
-        note += f"; groups {', '.join(args.group)} re-run with `--update`"
-    elif args.group:
-        suffix += "_" + "_".join(g.replace(" ", "-") for g in args.group)
+        old = (out / f"stability{suffix}.md").read_text().splitlines()
+        note = (old[2] if len(old) > 2 else "").rstrip(".") + (
+            f"; then groups {', '.join(args.group)} re-run with `--update` "
+            f"({time.perf_counter() - t0:.0f} s, load {os.getloadavg()[0]:.2f})."
+        )
+    else:
+        if args.group:
+            suffix += "_" + "_".join(g.replace(" ", "-") for g in args.group)
+        note += f"; {time.perf_counter() - t0:.0f} s in total."
     md = tables(rows)
     text = (
-        f"# Stability matrix\n\n{note}; {time.perf_counter() - t0:.0f} s in total.\n\n"
+        f"# Stability matrix\n\n{note}\n\n"
         "growth %: max (E − E0) over the peak kinetic energy; impact step %: max energy change "
         "over a step where a contact closes, over the kinetic energy before it; Newton: "
         "iterations per step (smooth + position + velocity); ms/step: wall time of "
