@@ -100,6 +100,7 @@ from .integrator import (
     _Coefficients,
     _Constraints,
     _factorize,
+    _predict,
     _StepFailure,
 )
 from .linalg import factorize
@@ -421,10 +422,7 @@ def _penalty_smooth_step(model, st, t, c, law, opts, timer):
     two iterates can make Newton cycle; an update that does not lower the residual is
     halved (up to six times) before the next Newton direction."""
     F, h, M = model.free, c.h, model.M
-    vd = st.vd.copy()  # predictor: constant acceleration
-    a = (c.af * st.vd - c.am * st.a + (1.0 - c.af) * vd) / (1.0 - c.am)
-    q = st.q + h * st.v + h * h * (0.5 - c.beta) * st.a + h * h * c.beta * a
-    v = st.v + h * (1.0 - c.gamma) * st.a + h * c.gamma * a
+    q, v, vd, a = _predict(st, c)
     lam = st.lam.copy()
     fext = model.external(t)[F]
     joints = model.joints

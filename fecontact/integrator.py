@@ -372,13 +372,20 @@ class _Coefficients:
         self.da = (1.0 - af) / (1.0 - am) * self.bp  # ∂a/∂q
 
 
-def _smooth_step(model, st, t, c, opts, timer):
-    """Step 1: Newton on M v̇ + C_t v + f_int(q) + G_bᵀλ = f_ext(t), g_b(q) = 0."""
-    F, h = model.free, c.h
-    vd = st.vd.copy()  # predictor: constant acceleration
+def _predict(st, c):
+    """Generalized-α predictor with a constant acceleration v̇_{n+1} = v̇_n: (q, v, v̇, a)."""
+    h = c.h
+    vd = st.vd.copy()
     a = (c.af * st.vd - c.am * st.a + (1.0 - c.af) * vd) / (1.0 - c.am)
     q = st.q + h * st.v + h * h * (0.5 - c.beta) * st.a + h * h * c.beta * a
     v = st.v + h * (1.0 - c.gamma) * st.a + h * c.gamma * a
+    return q, v, vd, a
+
+
+def _smooth_step(model, st, t, c, opts, timer):
+    """Step 1: Newton on M v̇ + C_t v + f_int(q) + G_bᵀλ = f_ext(t), g_b(q) = 0."""
+    F = model.free
+    q, v, vd, a = _predict(st, c)
     lam = st.lam.copy()
     fext = model.external(t)[F]
     joints = model.joints
