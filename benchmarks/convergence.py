@@ -163,7 +163,7 @@ def sweep(quick: bool):
 
 EXPECTED = {
     "impact times (5)": "1",
-    "apex heights (4), relative": "1",
+    "apex heights (4), relative": "2",
     "angle (max over 2.5 s)": "1",
     "impact times (3)": "1",
     "angle (max over 2 s)": "2",
