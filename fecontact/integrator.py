@@ -332,7 +332,8 @@ def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer
     tol_gap = opts.tol_gap * model.length
     nu, impulse, gaps = np.zeros(m), np.zeros(m), g_tilde
     if cand.size and np.min(g_tilde[cand]) < 0.0:
-        U, nu_c, iters["position"] = _position_correction(model, q, cand, S, c, opts)
+        nu0 = st.nu[cand] / opts.multiplier_scale  # warm start: the previous step's
+        U, nu_c, iters["position"] = _position_correction(model, q, cand, S, c, opts, nu0)
         q[model.free] += U
         nu[cand] = nu_c[: cand.size]
         gaps = model.contacts.gaps(q)
@@ -341,7 +342,7 @@ def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer
     # 3. velocity jump on the contacts closed at q_{n+1}, and on the joints
     closed = cand[gaps[cand] <= tol_gap]
     if closed.size or joints.size:
-        W, Lam, iters["velocity"] = _velocity_jump(model, st, q, v, closed, opts, t)
+        W, Lam, iters["velocity"] = _velocity_jump(model, st, q, v, closed, opts, t, tol_gap)
         v[model.free] += W
         impulse[closed] = Lam[: closed.size]
     timer.add("contact", clock)
@@ -476,9 +477,10 @@ def _metric(model, q, S, c, opts):
     return lambda: matrix / c.bp, lambda b: c.bp * solve_S(b)
 
 
-def _position_correction(model, q_tilde, cand, S, c, opts):
+def _position_correction(model, q_tilde, cand, S, c, opts, nu0=None):
     """Step 2: q = q̃ + U, H U = Σ G_jᵀ [k ν_j − p g_j]_+ over the candidates, with the
-    joints kept as equalities (always active, multipliers of any sign)."""
+    joints kept as equalities (always active, multipliers of any sign); ``nu0`` are the
+    candidates' multipliers of the previous step."""
     F = model.free
     H, solve_H = _metric(model, q_tilde, S, c, opts)
     cons = _Constraints(model, cand)
@@ -510,6 +512,7 @@ def _position_correction(model, q_tilde, cand, S, c, opts):
             1e-13 * model.length,
             opts.max_iterations,
             bilateral=cons.bilateral,
+            nu0=None if nu0 is None else np.r_[nu0, np.zeros(model.joints.size)],
         )
     except RuntimeError as err:
         raise _StepFailure(str(err), np.nan) from None
@@ -532,9 +535,11 @@ def _columns(model, key, select, G, solve, cons, constant: bool):
     return np.column_stack([cache[j] for j in select]) if len(select) else G.T.copy()
 
 
-def _velocity_jump(model, st, q, v, closed, opts, t):
+def _velocity_jump(model, st, q, v, closed, opts, t, tol_gap):
     """Step 3: v = ṽ + W, M W = Σ G_jᵀ [k Λ_j − p ġ_j]_+ with
-    ġ_j = G_j(q_{n+1}) v_{n+1} + e_j G_j(q_n) v_n; joints: G_b v_{n+1} = 0."""
+    ġ_j = G_j(q_{n+1}) v_{n+1} + e_j G_j(q_n) v_n; joints: G_b v_{n+1} = 0. Warm-started
+    from the previous step's impulses; a residual ġ below tol_gap/h closes less than the gap
+    tolerance within the step."""
     F = model.free
     cons = _Constraints(model, closed)
     _, G1 = cons.jacobian(q)
@@ -560,8 +565,18 @@ def _velocity_jump(model, st, q, v, closed, opts, t):
     p = opts.penalty_scale / np.einsum("ij,ji->i", G1, Y)
     k = opts.multiplier_scale
     try:
+        Lam0 = np.r_[st.impulse[closed] / k, np.zeros(model.joints.size)]
         W, Lam, its = solve_velocity_jump(
-            G1, gdot, model.solve_M, p, k, opts.max_iterations, bilateral=cons.bilateral, Y=Y
+            G1,
+            gdot,
+            model.solve_M,
+            p,
+            k,
+            opts.max_iterations,
+            bilateral=cons.bilateral,
+            Y=Y,
+            Lam0=Lam0,
+            tol=tol_gap / (t - st.t),
         )
     except RuntimeError as err:
         raise _StepFailure(str(err), np.nan) from None
