@@ -34,7 +34,7 @@ from fecontact import (
     StVenantKirchhoff,
     run_cli,
 )
-from fecontact.errors import check_positive
+from fecontact.errors import check_count, check_positive, check_range
 
 MATERIALS = {"neo-hookean": NeoHookean, "linear": LinearElastic, "svk": StVenantKirchhoff}
 
@@ -68,15 +68,17 @@ def build(
     rho_inf=0.5,
     t_end=0.006,
 ):
-    check_positive("gap", gap, allow_zero=True)
-    check_positive("velocity", velocity)
-    if two_pass not in (0, 1):
-        raise InputError(f"two_pass must be 0 or 1, got {two_pass!r}")
-    if refinements > 6:
-        raise InputError(f"refinements must be at most 6, got {refinements!r}")
-    if material not in MATERIALS:
+    if not isinstance(material, str) or material not in MATERIALS:
         raise InputError(f"material must be one of {', '.join(MATERIALS)}, got {material!r}")
     mat = MATERIALS[material](E=E, nu=nu, rho=rho)
+    check_positive("radius", radius)
+    check_count("refinements", refinements, 0, 6)
+    check_positive("gap", gap, allow_zero=True)
+    check_positive("velocity", velocity)
+    check_range("restitution", restitution, 0.0, 1.0)
+    check_count("two_pass", two_pass, 0, 1)
+    check_positive("t_end", t_end)
+    options = IntegratorOptions(rho_inf=rho_inf)
     x0 = radius + 0.5 * gap
     left = Solid.disk([-x0, 0.0], radius, refinements, mat)
     right = Solid.disk([x0, 0.0], radius, refinements, mat)
@@ -109,7 +111,7 @@ def build(
         dt=dt,
         t_end=t_end,
         probes=probes,
-        options=IntegratorOptions(rho_inf=rho_inf),
+        options=options,
         output_interval=t_end / 40,
         name="two_disks",
         parameters=params,

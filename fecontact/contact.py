@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import InputError, check_range
+from .errors import InputError, check_positive, check_range
 from .obstacles import Circle, Plane, Point
 
 __all__ = [
@@ -204,6 +204,7 @@ def Contact(body, obstacle, nodes=None, restitution: float = 0.0, clearance: flo
     """
     from .rigid_contact import rigid_pair
 
+    clearance = check_positive("clearance", clearance, allow_zero=True)
     pair = rigid_pair(body, obstacle, nodes, restitution, clearance)
     if pair is not None:
         return pair
