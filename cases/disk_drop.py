@@ -10,7 +10,8 @@ compressible Neo-Hookean solid (``material="linear"`` or ``"svk"`` for the other
 The step is an eighth of the time the dilatational wave takes to cross the shortest element
 edge. While nodes stay in contact the integrator's corrections put energy in and take it out
 again step by step, with a transient excess that is second order in the step: measured on
-this disk, +1.6 % of the impact kinetic energy at this step, +7.5 % at twice it.
+this disk, +1.6 % of the impact kinetic energy at this step, +7.5 % at twice it (the
+mechanism, and the step that bounds it, in ``two_disks``).
 
 Probes: ``y_center`` and ``vy_center`` (height of the centre of mass, m, and its velocity,
 m/s), ``gap`` (lowest point above the plane, m) and ``contact_force`` (Σ k Λ_j / h, N).
