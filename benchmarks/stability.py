@@ -24,7 +24,9 @@ Groups (flexible pendulum = ``cases/flexible_pendulum.py``, founding case, 1.5 s
 6. ``augmentation``: penalty_scale and multiplier_scale over 1e-8 … 1e8, separately and
    together; ``deviation`` is the max difference of the probes from the run with both at 1,
    over the model size;
-7. ``high speed``, ``grazing`` and ``start in contact`` runs.
+7. ``high speed``, ``grazing`` and ``start in contact`` runs;
+8. ``solids``: the disk and ball drops and the two disks on small meshes (a disk at 443 m/s,
+   four times its wave speed, stops: its elements would invert).
 
 Runs stop early ("diverged") once E − E(0) exceeds 100 times the energy scale of the model
 (its weight times its size), and after ``--max-wall`` s ("timeout").
@@ -527,6 +529,23 @@ def specs(quick: bool):
             rest_check(),
         ),
     ]
+    # 8. elastic solids on small meshes (the cases' own steps and end times)
+    for name, kw in [
+        ("disk_drop", {"refinements": 2}),
+        ("disk_drop", {"refinements": 2, "restitution": 1.0}),
+        ("disk_drop", {"refinements": 2, "velocity": 443.0}),
+        ("two_disks", {"refinements": 2}),
+        ("ball_drop", {"refinements": 1}),
+    ]:
+        out.append(
+            Spec(
+                "solids",
+                f"{name} " + " ".join(f"{k}={v:g}" for k, v in kw.items()),
+                lambda name=name, kw=kw: common.case(name).build(**kw),
+                None,
+                None,
+            )
+        )
     return out
 
 

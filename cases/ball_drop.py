@@ -20,7 +20,6 @@ m/s), ``gap`` (lowest point above the plane, m) and ``contact_force`` (Σ k Λ_j
 
 from fecontact import (
     Contact,
-    InputError,
     IntegratorOptions,
     LinearElastic,
     Model,
@@ -30,7 +29,7 @@ from fecontact import (
     Solid,
     run_cli,
 )
-from fecontact.errors import check_positive
+from fecontact.errors import check_count, check_positive, check_range
 
 PARAMETERS = {
     "radius": ("m", "radius of the ball"),
@@ -60,16 +59,18 @@ def build(
     rho_inf=0.5,
     t_end=0.008,
 ):
+    mat = LinearElastic(E=E, nu=nu, rho=rho)
     check_positive("radius", radius)
+    check_count("refinements", refinements, 0, 4)
     check_positive("drop_height", drop_height, allow_zero=True)
     check_positive("velocity", velocity, allow_zero=True)
-    mat = LinearElastic(E=E, nu=nu, rho=rho)
+    check_range("restitution", restitution, 0.0, 1.0)
+    check_positive("gravity", gravity, allow_zero=True)
+    check_positive("t_end", t_end)
+    options = IntegratorOptions(rho_inf=rho_inf)
     z0 = radius + drop_height
-    if isinstance(refinements, bool) or refinements not in range(5):
-        raise InputError(f"refinements must be an integer in 0..4, got {refinements!r}")
     ball = Solid.ball([0.0, 0.0, z0], radius, refinements, mat)
     floor = Plane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], extent=4.0 * radius)
-    check_positive("gravity", gravity, allow_zero=True)
     contact = Contact(ball, floor, restitution=restitution)
     model = Model([ball], [contact], gravity=(0.0, 0.0, -gravity))
     w = ball.mass_matrix() @ ball.translation_field((0.0, 0.0, 1.0))  # z-momentum weights
@@ -92,7 +93,7 @@ def build(
         dt=dt,
         t_end=t_end,
         probes=probes,
-        options=IntegratorOptions(rho_inf=rho_inf),
+        options=options,
         output_interval=t_end / 40,
         name="ball_drop",
         parameters=params,

@@ -8,7 +8,7 @@ acts on the centre: gap = y_c − r. Rotation is free but never excited (no fric
 """
 
 from fecontact import Contact, Model, Plane, Probe, Simulation, run_cli
-from fecontact.errors import check_positive
+from fecontact.errors import check_positive, check_range
 from fecontact.rigid import Disk, RigidBody2D
 
 PARAMETERS = {
@@ -16,12 +16,16 @@ PARAMETERS = {
     "restitution": ("-", "Newton's coefficient of restitution e_N in [0, 1]"),
     "mass": ("kg", "mass of the ball"),
     "radius": ("m", "radius of the ball"),
-    "gravity": ("m/s^2", "acceleration of gravity, along -y"),
+    "gravity": ("m/s^2", "acceleration of gravity (>= 0), along -y"),
 }
 
 
 def build(height=1.0, restitution=0.8, mass=1.0, radius=0.1, gravity=9.81):
     check_positive("height", height, allow_zero=True)
+    check_range("restitution", restitution, 0.0, 1.0)
+    check_positive("mass", mass)
+    check_positive("radius", radius)
+    check_positive("gravity", gravity, allow_zero=True)
     shape = Disk(radius)
     ball = RigidBody2D.uniform(mass, [0.0, radius + height], shape)
     floor = Plane([0.0, 0.0], [0.0, 1.0])

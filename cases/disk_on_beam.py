@@ -21,7 +21,6 @@ import numpy as np
 from fecontact import (
     Beam2D,
     Contact,
-    InputError,
     IntegratorOptions,
     Material,
     Model,
@@ -30,7 +29,7 @@ from fecontact import (
     Simulation,
     run_cli,
 )
-from fecontact.errors import check_positive
+from fecontact.errors import check_count, check_positive, check_range
 from fecontact.rigid import Disk, RigidBody2D
 
 PARAMETERS = {
@@ -63,11 +62,17 @@ def build(
     restitution=0.0,
     rho_inf=0.5,
 ):
-    if not 0.0 < position < 1.0:
-        raise InputError(f"position must be in (0, 1), got {position!r}")
-    check_positive("drop_height", drop_height, allow_zero=True)
+    material = Material(E, rho)
     section = Section.rectangle(width, thickness)
-    beam = Beam2D.straight([0.0, 0.0], [length, 0.0], n_elements, Material(E, rho), section)
+    check_positive("length", length)
+    check_count("n_elements", n_elements)
+    check_positive("disk_mass", disk_mass)
+    check_positive("radius", radius)
+    check_positive("drop_height", drop_height, allow_zero=True)
+    check_range("position", position, 0.0, 1.0, (False, False))
+    check_range("restitution", restitution, 0.0, 1.0)
+    options = IntegratorOptions(rho_inf=rho_inf)
+    beam = Beam2D.straight([0.0, 0.0], [length, 0.0], n_elements, material, section)
     beam.pin(0).pin(-1)
     center = [position * length, 0.5 * thickness + drop_height + radius]
     disk = RigidBody2D.uniform(disk_mass, center, Disk(radius))
@@ -95,7 +100,7 @@ def build(
         dt=2e-4,
         t_end=0.5,
         probes=probes,
-        options=IntegratorOptions(rho_inf=rho_inf),
+        options=options,
         name="disk_on_beam",
         parameters=params,
     )

@@ -14,7 +14,9 @@ from fecontact import (
     Plane,
     Section,
     Simulation,
+    check_count,
     check_positive,
+    check_range,
     node_probe,
     run_cli,
 )
@@ -51,19 +53,22 @@ def build(
     penalty_scale=1.0,
     multiplier_scale=1.0,
 ):
-    check_positive("length", length)
-    check_positive("gravity", gravity, allow_zero=True)
     material = Material(E=E, rho=rho, nu=nu)
     section = Section.rectangle(width, thickness)
+    check_positive("length", length)
+    check_count("n_elements", n_elements)
+    check_positive("tip_mass", tip_mass, allow_zero=True)
+    check_range("restitution", restitution, 0.0, 1.0)
+    check_positive("gravity", gravity, allow_zero=True)
+    options = IntegratorOptions(
+        rho_inf=rho_inf, penalty_scale=penalty_scale, multiplier_scale=multiplier_scale
+    )
     beam = Beam2D.straight([0.0, 0.0], [length, 0.0], n_elements, material, section)
     beam.pin(0).add_mass(-1, tip_mass)
     wall = Plane([0.0, -0.3], [1.0, 0.0], extent=0.08)
     stop = Contact(beam, wall, nodes=[-1], restitution=restitution)
     model = Model([beam], [stop], gravity=(0.0, -gravity))
     probes = {f"tip_{q}": node_probe(model, beam, -1, q) for q in ("x", "y", "vx", "vy")}
-    options = IntegratorOptions(
-        rho_inf=rho_inf, penalty_scale=penalty_scale, multiplier_scale=multiplier_scale
-    )
     params = dict(locals())
     params = {k: params[k] for k in PARAMETERS}
     return Simulation(

@@ -26,7 +26,7 @@ from fecontact import (
     Simulation,
     run_cli,
 )
-from fecontact.errors import check_positive
+from fecontact.errors import check_count, check_positive, check_range
 
 PARAMETERS = {
     "length": ("m", "bar length L"),
@@ -52,11 +52,17 @@ def build(
     restitution=0.0,
     rho_inf=0.5,
 ):
-    check_positive("gap", gap, allow_zero=True)
+    material = Material(E, rho)
+    check_positive("length", length)
+    check_positive("area", area)
     check_positive("velocity", velocity)
+    check_positive("gap", gap, allow_zero=True)
+    check_count("n_elements", n_elements)
+    check_range("restitution", restitution, 0.0, 1.0)
+    options = IntegratorOptions(rho_inf=rho_inf)
     # a square section: bending stiffness plays no part in the axial problem
     section = Section(area=area, inertia=area**2 / 12.0)
-    bar = Beam2D.straight([gap, 0.0], [gap + length, 0.0], n_elements, Material(E, rho), section)
+    bar = Beam2D.straight([gap, 0.0], [gap + length, 0.0], n_elements, material, section)
     wall = Plane([0.0, 0.0], [1.0, 0.0])
     model = Model([bar], [Contact(bar, wall, nodes=[0], restitution=restitution)], (0.0, 0.0))
     ux = np.arange(0, bar.ndof, 3)  # axial dofs, node by node
@@ -83,7 +89,7 @@ def build(
         dt=0.5 * dx / c,
         t_end=gap / velocity + 3.0 * length / c,
         probes=probes,
-        options=IntegratorOptions(rho_inf=rho_inf),
+        options=options,
         name="impacting_bar",
         parameters=params,
         v0=model.translation(bar, (-velocity, 0.0)),

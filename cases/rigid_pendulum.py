@@ -13,7 +13,17 @@ and ``omega`` = dθ/dt (rad/s).
 
 import numpy as np
 
-from fecontact import Contact, Model, Pin, Plane, Probe, Simulation, check_positive, run_cli
+from fecontact import (
+    Contact,
+    Model,
+    Pin,
+    Plane,
+    Probe,
+    Simulation,
+    check_positive,
+    check_range,
+    run_cli,
+)
 from fecontact.rigid import Polygon, RigidBody2D
 
 PARAMETERS = {
@@ -26,6 +36,8 @@ PARAMETERS = {
 
 def build(length=1.0, mass=1.0, restitution=0.5, gravity=9.81):
     L = check_positive("length", length)
+    check_positive("mass", mass)
+    check_range("restitution", restitution, 0.0, 1.0)
     check_positive("gravity", gravity)
     # the bar is a line (I = mL²/12 about its centre); a thin diamond with a vertex at each
     # end gives it a contact point on its axis and an outline to draw

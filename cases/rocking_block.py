@@ -13,7 +13,16 @@ heights of the bottom corners above the plane (m), and ``omega`` (rad/s).
 
 import numpy as np
 
-from fecontact import Contact, InputError, Model, Plane, Probe, Simulation, run_cli
+from fecontact import (
+    Contact,
+    Model,
+    Plane,
+    Probe,
+    Simulation,
+    check_positive,
+    check_range,
+    run_cli,
+)
 from fecontact.rigid import Polygon, RigidBody2D, rotation
 
 PARAMETERS = {
@@ -22,17 +31,19 @@ PARAMETERS = {
     "mass": ("kg", "box mass (uniform density)"),
     "angle": ("rad", "initial tilt, counter-clockwise, in (0, atan(width/height))"),
     "restitution": ("-", "Newton's coefficient of restitution e_N in [0, 1] at the corners"),
-    "gravity": ("m/s^2", "acceleration of gravity, along -y"),
+    "gravity": ("m/s^2", "acceleration of gravity (>= 0), along -y"),
 }
 
 
 def build(width=0.2, height=0.4, mass=1.0, angle=0.1, restitution=0.5, gravity=9.81):
+    check_positive("width", width)
+    check_positive("height", height)
+    check_positive("mass", mass)
+    # atan(width/height): the centre of mass lies over the support, the box falls back
+    check_range("angle", angle, 0.0, np.arctan2(width, height), (False, False))
+    check_range("restitution", restitution, 0.0, 1.0)
+    check_positive("gravity", gravity, allow_zero=True)
     shape = Polygon.box(width, height)
-    if not 0.0 < angle < np.arctan2(width, height):
-        raise InputError(
-            f"angle must be in (0, atan(width/height) = {np.arctan2(width, height):.4g}) rad, "
-            f"got {angle!r}"
-        )
     # the bottom-left corner (vertex 0) on the origin
     center = -rotation(angle) @ shape.vertices[0]
     block = RigidBody2D.uniform(mass, center, shape, angle=angle)

@@ -26,7 +26,7 @@ from fecontact import (
     Simulation,
     run_cli,
 )
-from fecontact.errors import check_positive
+from fecontact.errors import check_count, check_positive, check_range
 
 PARAMETERS = {
     "length": ("m", "length L of each bar"),
@@ -52,12 +52,16 @@ def build(
     restitution=0.0,
     rho_inf=0.5,
 ):
-    check_positive("gap", gap, allow_zero=True)
-    check_positive("velocity", velocity)
+    material = Material(E, rho)
     check_positive("length", length)
+    check_positive("area", area)
+    check_positive("velocity", velocity)
+    check_positive("gap", gap, allow_zero=True)
+    check_count("n_elements", n_elements)
+    check_range("restitution", restitution, 0.0, 1.0)
+    options = IntegratorOptions(rho_inf=rho_inf)
     # a square section: bending stiffness plays no part in the axial problem
     section = Section(area=area, inertia=area**2 / 12.0)
-    material = Material(E, rho)
     striker = Beam2D.straight([-gap - length, 0.0], [-gap, 0.0], n_elements, material, section)
     target = Beam2D.straight([0.0, 0.0], [length, 0.0], n_elements, material, section)
     hit = Contact(striker, target, nodes=(-1, 0), restitution=restitution)
@@ -88,7 +92,7 @@ def build(
         dt=0.5 * dx / c,
         t_end=gap / velocity + 3.0 * length / c,
         probes=probes,
-        options=IntegratorOptions(rho_inf=rho_inf),
+        options=options,
         output_interval=0.05 * length / c,
         name="two_bars",
         parameters=params,

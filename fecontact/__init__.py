@@ -18,7 +18,7 @@ __version__ = "0.1.0"
 
 from .beam import Beam2D, Material, Section
 from .contact import Contact
-from .errors import InputError, SolverError, check_positive, check_range
+from .errors import InputError, SolverError, check_count, check_positive, check_range
 from .integrator import IntegratorOptions, State, simulate
 from .joints import Pin
 from .materials import LinearElastic, NeoHookean, StVenantKirchhoff
@@ -49,6 +49,7 @@ __all__ = [
     "Sphere",
     "State",
     "StVenantKirchhoff",
+    "check_count",
     "check_positive",
     "check_range",
     "load_run",

@@ -27,7 +27,7 @@ import numpy as np
 import scipy.sparse as sp
 import skfem
 
-from .errors import InputError, check_finite, check_positive, check_range
+from .errors import InputError, check_count, check_finite, check_positive, check_range
 
 __all__ = ["Material", "Section", "Beam2D"]
 
@@ -133,7 +133,7 @@ class Beam2D:
     @classmethod
     def straight(cls, start, end, n_elements: int, material: Material, section: Section):
         """Straight beam from ``start`` to ``end`` (m) with ``n_elements`` equal elements."""
-        n = _check_count("n_elements", n_elements)
+        n = check_count("n_elements", n_elements)
         a, b = check_finite("start", start), check_finite("end", end)
         if np.linalg.norm(b - a) == 0.0:
             raise InputError("length must be > 0: start and end coincide")
@@ -147,15 +147,13 @@ class Beam2D:
         counts = np.broadcast_to(np.asarray(n_elements), (len(P) - 1,))
         parts = [P[:1]]
         for k, n in enumerate(counts):
-            s = np.linspace(0.0, 1.0, _check_count("n_elements", n) + 1)[1:, None]
+            s = np.linspace(0.0, 1.0, check_count("n_elements", n) + 1)[1:, None]
             parts.append(P[k] + s * (P[k + 1] - P[k]))
         return cls(np.vstack(parts), material, section)
 
     def _node(self, node: int) -> int:
         n = len(self.X)
-        if not -n <= int(node) < n:
-            raise InputError(f"node must be in [{-n}, {n - 1}], got {node}")
-        return int(node) % n
+        return check_count("node", node, -n, n - 1) % n
 
     def pin(self, node: int) -> Beam2D:
         """Fix the displacement of ``node``; its rotation stays free."""
@@ -353,13 +351,3 @@ class Beam2D:
     def cells(self) -> list[tuple[str, np.ndarray]]:
         """Cells for VTU output: the centreline as ``line`` cells."""
         return [("line", self.segments())]
-
-
-def _check_count(name: str, value, limit: int = 10**6) -> int:
-    try:
-        ok = not isinstance(value, bool) and int(value) == value and 1 <= int(value) <= limit
-    except (TypeError, ValueError, OverflowError):
-        ok = False
-    if not ok:
-        raise InputError(f"{name} must be an integer in [1, {limit}], got {value!r}")
-    return int(value)

@@ -2,6 +2,12 @@
 
 ``InputError`` is raised before any work starts when a user passes data outside its allowed
 range; ``SolverError`` is raised when the time integration cannot proceed.
+
+Every number given in SI units must be finite and at most ``MAX_MAGNITUDE`` = 1e30 in
+magnitude, and a strictly positive one at least ``MIN_MAGNITUDE`` = 1e-30: squares and
+products of a few such values (strain energies, stiffnesses, gap gradients) stay far from
+overflow and underflow, and no quantity of an impact problem is within many decades of
+either bound.
 """
 
 from __future__ import annotations
@@ -10,7 +16,20 @@ import math
 
 import numpy as np
 
-__all__ = ["InputError", "SolverError", "check_positive", "check_range", "check_finite"]
+__all__ = [
+    "InputError",
+    "SolverError",
+    "check_count",
+    "check_finite",
+    "check_positive",
+    "check_vector",
+    "check_range",
+    "MAX_MAGNITUDE",
+    "MIN_MAGNITUDE",
+]
+
+MAX_MAGNITUDE = 1e30
+MIN_MAGNITUDE = 1e-30
 
 
 class InputError(ValueError):
@@ -30,11 +49,27 @@ class SolverError(RuntimeError):
 
 
 def check_finite(name: str, value) -> np.ndarray:
-    """Return ``value`` as a float array, raising ``InputError`` if any entry is NaN or inf."""
-    arr = np.asarray(value, dtype=float)
+    """Return ``value`` as a float array, raising ``InputError`` unless every entry is a
+    finite real number of magnitude at most ``MAX_MAGNITUDE``."""
+    try:
+        if isinstance(value, (str, bytes)):
+            raise TypeError
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be real numbers, got {value!r}") from None
     if not np.all(np.isfinite(arr)):
         raise InputError(f"{name} must be finite, got {value!r}")
+    if arr.size and np.max(np.abs(arr)) > MAX_MAGNITUDE:
+        raise InputError(f"{name} must be at most {MAX_MAGNITUDE:g} in magnitude, got {value!r}")
     return arr
+
+
+def check_vector(name: str, value, size: int) -> np.ndarray:
+    """Return ``value`` as a float vector of ``size`` finite components."""
+    x = check_finite(name, value).ravel()
+    if x.shape != (size,):
+        raise InputError(f"{name} must have {size} components, got {x.size}")
+    return x
 
 
 def _number(name: str, value) -> float:
@@ -46,14 +81,30 @@ def _number(name: str, value) -> float:
 
 
 def check_positive(name: str, value, allow_zero: bool = False) -> float:
-    """Return ``value`` as a float after checking it is finite and > 0 (or >= 0)."""
+    """Return ``value`` as a float after checking it is finite and > 0 (or >= 0), within
+    [MIN_MAGNITUDE, MAX_MAGNITUDE] (or [0, MAX_MAGNITUDE] with ``allow_zero``)."""
     x = _number(name, value)
     if not math.isfinite(x):
         raise InputError(f"{name} must be finite, got {value!r}")
     if x < 0 or (x == 0 and not allow_zero):
         bound = ">= 0" if allow_zero else "> 0"
         raise InputError(f"{name} must be {bound}, got {value!r}")
+    if x > MAX_MAGNITUDE or (x < MIN_MAGNITUDE and not allow_zero):
+        low = 0.0 if allow_zero else MIN_MAGNITUDE
+        raise InputError(f"{name} must be in [{low:g}, {MAX_MAGNITUDE:g}], got {value!r}")
     return x
+
+
+def check_count(name: str, value, low: int = 1, high: int = 10**6) -> int:
+    """Return ``value`` as an int after checking it is an integer in [low, high] (an integral
+    float such as 4.0 is accepted; booleans and strings are not)."""
+    ok = isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(
+        value, (bool, np.bool_)
+    )
+    ok = ok and math.isfinite(value) and int(value) == value and low <= int(value) <= high
+    if not ok:
+        raise InputError(f"{name} must be an integer in [{low}, {high}], got {value!r}")
+    return int(value)
 
 
 def check_range(name: str, value, low: float, high: float, closed: tuple = (True, True)) -> float:

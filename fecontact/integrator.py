@@ -36,7 +36,14 @@ import numpy as np
 import scipy.sparse as sp
 
 from .contact import solve_position_correction, solve_velocity_jump
-from .errors import InputError, SolverError, check_finite, check_positive, check_range
+from .errors import (
+    InputError,
+    SolverError,
+    check_count,
+    check_positive,
+    check_range,
+    check_vector,
+)
 from .linalg import factorize
 
 __all__ = ["IntegratorOptions", "State", "alpha_coefficients", "simulate"]
@@ -66,7 +73,9 @@ class IntegratorOptions:
     tol_residual : relative tolerance of the smooth Newton residual.
     tol_increment : Newton also stops when an update is below this fraction of the model size
         (rotations: of 1 rad), where round-off bounds the residual of very stiff models.
-    tol_gap : gap tolerance relative to the model size.
+    tol_gap : gap (and joint) tolerance relative to the length scale of the model: the larger
+        of its size and the magnitude of its coordinates, since a gap computed from
+        coordinates x carries a round-off of about ε|x| (see :func:`length_scale`).
     max_iterations : Newton iterations per step before the step is halved.
     max_halvings : how many times a failing step is halved before the run stops.
     detection_margin : contacts with g(q̃) below this fraction of the model size are candidates.
@@ -102,14 +111,16 @@ class IntegratorOptions:
 
     def __post_init__(self):
         alpha_coefficients(self.rho_inf)
-        if self.metric not in METRICS:
+        if not isinstance(self.metric, str) or self.metric not in METRICS:
             raise InputError(f"metric must be one of {', '.join(METRICS)}, got {self.metric!r}")
-        if self.impact_velocity not in IMPACT_VELOCITIES:
+        if not isinstance(self.impact_velocity, str) or self.impact_velocity not in (
+            IMPACT_VELOCITIES
+        ):
             known = ", ".join(IMPACT_VELOCITIES)
             raise InputError(
                 f"impact_velocity must be one of {known}, got {self.impact_velocity!r}"
             )
-        if self.integrator not in INTEGRATORS:
+        if not isinstance(self.integrator, str) or self.integrator not in INTEGRATORS:
             known = ", ".join(INTEGRATORS)
             raise InputError(f"integrator must be one of {known}, got {self.integrator!r}")
         self.theta = check_range("theta", self.theta, 0.0, 1.0, (False, True))
@@ -130,11 +141,9 @@ class IntegratorOptions:
         self.detection_margin = check_positive(
             "detection_margin", self.detection_margin, allow_zero=True
         )
-        for name in ("max_iterations", "max_halvings"):
-            value = getattr(self, name)
-            if int(value) != value or value < 0:
-                raise InputError(f"{name} must be an integer >= 0, got {value!r}")
-            setattr(self, name, int(value))
+        self.max_iterations = check_count("max_iterations", self.max_iterations, 0, 10**4)
+        # beyond 50 halvings the step is below the round-off of the time
+        self.max_halvings = check_count("max_halvings", self.max_halvings, 0, 50)
 
 
 @dataclass
@@ -185,14 +194,14 @@ def initial_state(model, q0=None, v0=None) -> State:
     """State at t = 0 from q₀, v₀ (default: rest in the reference configuration), with the
     consistent acceleration M v̇₀ = f_ext − f_int(q₀). Fixed dofs are kept at zero."""
     n = model.n
-    q = np.zeros(n) if q0 is None else check_finite("q0", q0).reshape(n).copy()
-    v = np.zeros(n) if v0 is None else check_finite("v0", v0).reshape(n).copy()
+    q = np.zeros(n) if q0 is None else check_vector("q0", q0, n).copy()
+    v = np.zeros(n) if v0 is None else check_vector("v0", v0, n).copy()
     fixed = model.free_index < 0
     if np.any(q[fixed] != 0.0) or np.any(v[fixed] != 0.0):
         raise InputError("q0, v0: supported (fixed) dofs must start at zero")
     model.contacts.set_time(0.0)
     g = model.contacts.gaps(q)
-    tol = 1e-12 * model.length
+    tol = IntegratorOptions.tol_gap * length_scale(model, q)
     if np.any(g < -tol):
         j = int(np.argmin(g))
         raise InputError(
@@ -227,6 +236,13 @@ def initial_state(model, q0=None, v0=None) -> State:
         impulse=np.zeros(m),
         lam=np.zeros(model.joints.size),
     )
+
+
+def length_scale(model, q) -> float:
+    """The length (m) gap tolerances are relative to: the model size, or the magnitude of the
+    coordinates when larger (a ball dropped from 5000 m reaches the ground with q ≈ −5000 m,
+    and its gap, computed from coordinates, then carries a round-off of ε·5000 m ≈ 1e-12 m)."""
+    return max(model.length, model.coordinate_extent(q))
 
 
 def simulate(
@@ -341,11 +357,14 @@ def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer
     model.contacts.set_time(t)
     g_tilde = model.contacts.gaps(q)
     cand = np.flatnonzero(g_tilde <= opts.detection_margin * model.length)
-    tol_gap = opts.tol_gap * model.length
+    tol_gap = opts.tol_gap * length_scale(model, q)
     nu, impulse, gaps = np.zeros(m), np.zeros(m), g_tilde
     if cand.size and np.min(g_tilde[cand]) < 0.0:
-        U, nu_c, iters["position"] = _position_correction(model, q, cand, S, c, opts)
+        nu0 = st.nu[cand] / opts.multiplier_scale  # warm start: the previous step's
+        U, nu_c, iters["position"] = _position_correction(model, q, cand, S, c, opts, tol_gap, nu0)
         q[model.free] += U
+        if model.inverted(q):
+            raise _StepFailure("the position correction inverts an element (det F <= 0)", np.nan)
         nu[cand] = nu_c[: cand.size]
         gaps = model.contacts.gaps(q)
     clock = timer.add("contact", clock)
@@ -353,7 +372,9 @@ def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer
     # 3. velocity jump on the contacts closed at q_{n+1}, and on the joints
     closed = cand[gaps[cand] <= tol_gap]
     if closed.size or joints.size:
-        W, Lam, iters["velocity"] = _velocity_jump(model, st, q, v, closed, g_tilde, opts, t)
+        W, Lam, iters["velocity"] = _velocity_jump(
+            model, st, q, v, closed, g_tilde, opts, t, tol_gap
+        )
         v[model.free] += W
         impulse[closed] = Lam[: closed.size]
     timer.add("contact", clock)
@@ -403,7 +424,7 @@ def _smooth_step(model, st, t, c, opts, timer):
     joints = model.joints
     nb = joints.size
     alpha, beta_k = model.damping
-    tol_b = opts.tol_gap * model.length
+    tol_b = opts.tol_gap * length_scale(model, q) if nb else 0.0
     inc_tol = opts.tol_increment * max(model.length, 1.0)
     big_step = 0.05 * max(model.length, 1.0)
     S = None
@@ -424,7 +445,8 @@ def _smooth_step(model, st, t, c, opts, timer):
         ref = math.sqrt(max(fext @ fext, fi @ fi, Mvd @ Mvd, 1e-300))
         rnorm = math.sqrt(r @ r)
         if not np.isfinite(rnorm):
-            raise _StepFailure("smooth step diverged", rnorm)
+            why = "" if np.all(np.isfinite(fi)) else ": an element inverts (det F <= 0)"
+            raise _StepFailure("smooth step diverged" + why, rnorm)
         if rnorm <= opts.tol_residual * ref and (not nb or np.max(np.abs(gb)) <= tol_b):
             break
         if it == opts.max_iterations:
@@ -488,9 +510,10 @@ def _metric(model, q, S, c, opts):
     return lambda: matrix / c.bp, lambda b: c.bp * solve_S(b)
 
 
-def _position_correction(model, q_tilde, cand, S, c, opts):
+def _position_correction(model, q_tilde, cand, S, c, opts, tol_gap, nu0=None):
     """Step 2: q = q̃ + U, H U = Σ G_jᵀ [k ν_j − p g_j]_+ over the candidates, with the
-    joints kept as equalities (always active, multipliers of any sign)."""
+    joints kept as equalities (always active, multipliers of any sign); ``nu0`` are the
+    candidates' multipliers of the previous step."""
     F = model.free
     H, solve_H = _metric(model, q_tilde, S, c, opts)
     cons = _Constraints(model, cand)
@@ -518,10 +541,11 @@ def _position_correction(model, q_tilde, cand, S, c, opts):
             len(F),
             p,
             k,
-            opts.tol_gap * model.length,
-            1e-13 * model.length,
+            tol_gap,
+            0.1 * tol_gap,
             opts.max_iterations,
             bilateral=cons.bilateral,
+            nu0=None if nu0 is None else np.r_[nu0, np.zeros(model.joints.size)],
         )
     except RuntimeError as err:
         raise _StepFailure(str(err), np.nan) from None
@@ -544,12 +568,14 @@ def _columns(model, key, select, G, solve, cons, constant: bool):
     return np.column_stack([cache[j] for j in select]) if len(select) else G.T.copy()
 
 
-def _velocity_jump(model, st, q, v, closed, g_tilde, opts, t):
+def _velocity_jump(model, st, q, v, closed, g_tilde, opts, t, tol_gap):
     """Step 3: v = ṽ + W, M W = Σ G_jᵀ [k Λ_j − p ġ_j]_+ with
     ġ_j = G_j(q_{n+1}) v_{n+1} + e_j ġ⁻_j; joints: G_b v_{n+1} = 0.
 
     ġ⁻_j = (1 − τ_j) G_j(q_n) v_n + τ_j G_j(q_{n+1}) ṽ_{n+1}, with τ_j the fraction of the
-    step at which the gap crosses zero (τ_j = 0 with ``impact_velocity="step_start"``)."""
+    step at which the gap crosses zero (τ_j = 0 with ``impact_velocity="step_start"``).
+    Warm-started from the previous step's impulses; a residual ġ below tol_gap/h closes less
+    than the gap tolerance within the step."""
     F = model.free
     cons = _Constraints(model, closed)
     _, G1 = cons.jacobian(q)
@@ -572,7 +598,6 @@ def _velocity_jump(model, st, q, v, closed, g_tilde, opts, t):
             contacts.set_time(t)
         if opts.impact_velocity == "interpolated" and st.gaps.size == contacts.size:
             nc = closed.size
-            tol_gap = opts.tol_gap * model.length
             tau = _crossing_fraction(st.gaps[closed], g_tilde[closed], tol_gap)
             gdot_n[:nc] += tau * (gdot[:nc] - gdot_n[:nc])
         gdot += e * gdot_n
@@ -580,8 +605,18 @@ def _velocity_jump(model, st, q, v, closed, g_tilde, opts, t):
     p = opts.penalty_scale / np.einsum("ij,ji->i", G1, Y)
     k = opts.multiplier_scale
     try:
+        Lam0 = np.r_[st.impulse[closed] / k, np.zeros(model.joints.size)]
         W, Lam, its = solve_velocity_jump(
-            G1, gdot, model.solve_M, p, k, opts.max_iterations, bilateral=cons.bilateral, Y=Y
+            G1,
+            gdot,
+            model.solve_M,
+            p,
+            k,
+            opts.max_iterations,
+            bilateral=cons.bilateral,
+            Y=Y,
+            Lam0=Lam0,
+            tol=tol_gap / (t - st.t),
         )
     except RuntimeError as err:
         raise _StepFailure(str(err), np.nan) from None

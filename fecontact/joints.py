@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import InputError, check_finite
+from .errors import InputError, check_vector
 
 __all__ = ["Pin"]
 
@@ -30,7 +30,7 @@ class Pin:
     def __init__(self, body, point, other=None):
         self.body = body
         self.other = other
-        self.point = check_finite("point", point).reshape(2)
+        self.point = check_vector("point", point, 2)
         self.kin_a = _material_point(body, self.point)
         self.kin_b = None if other is None else _material_point(other, self.point)
         if other is body:

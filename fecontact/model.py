@@ -12,10 +12,12 @@ import numpy as np
 import scipy.sparse as sp
 
 from .contact import ContactSet
-from .errors import InputError, check_finite, check_positive
+from .errors import InputError, check_finite, check_positive, check_vector
 from .linalg import DENSE_LIMIT, Pattern, factorize
 
 __all__ = ["Model", "NodalLoad"]
+
+_ANCHORS = ("point", "center", "position")  # where a rigid obstacle sits (Plane, Circle, Point)
 
 
 class NodalLoad:
@@ -98,7 +100,7 @@ class Model:
         for joint in joints:
             joint.bind(self)
         self.joints = ContactSet(joints, self.free_index, len(self.free))
-        alpha, beta = check_finite("damping", damping).reshape(2)
+        alpha, beta = check_vector("damping", damping, 2)
         check_positive("damping alpha", alpha, allow_zero=True)
         check_positive("damping beta", beta, allow_zero=True)
         self.damping = (float(alpha), float(beta))
@@ -106,9 +108,35 @@ class Model:
         for load in self.loads:
             load.bind(self)
         self.length = max(b.characteristic_length for b in self.bodies)
+        self._reference = [b.positions(np.zeros(b.ndof)) for b in self.bodies]
+        self._reference_extent = max(float(np.max(np.abs(X))) for X in self._reference)
+        anchors = [
+            getattr(getattr(p, "obstacle", None), a, None) for p in contacts for a in _ANCHORS
+        ]
+        self._obstacle_extent = max(
+            (np.max(np.abs(a)) for a in anchors if a is not None), default=0.0
+        )
         self.linear = all(getattr(b, "linear", False) for b in self.bodies)
         self._iteration_matrices: dict = {}
         self.column_cache: dict = {}  # H⁻¹G_jᵀ per metric and contact (linear models)
+
+    def inverted(self, q: np.ndarray) -> bool:
+        """Whether q inverts an element of a body whose material forbids it (Neo-Hookean)."""
+        return any(
+            b.inverted(q[self.body_slice(i)])
+            for i, b in enumerate(self.bodies)
+            if hasattr(b, "inverted")
+        )
+
+    def coordinate_extent(self, q: np.ndarray) -> float:
+        """max|X| + max|x − X| (m) over the bodies' points, reference X and current x at q, or
+        the rigid obstacles' reference points if larger: a gap computed from x = X + u carries
+        a round-off of about ε times it (a ball dropped from 5000 m, on the ground: 1e-12 m)."""
+        u = max(
+            float(np.max(np.abs(b.positions(q[self.body_slice(i)]) - X)))
+            for i, (b, X) in enumerate(zip(self.bodies, self._reference, strict=True))
+        )
+        return max(self._reference_extent + u, self._obstacle_extent)
 
     def offset_of(self, body) -> int:
         for b, o in zip(self.bodies, self.offsets, strict=False):

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import InputError, check_finite, check_positive
+from .errors import InputError, check_finite, check_positive, check_vector
 
 __all__ = ["Plane", "Circle", "Sphere", "Point"]
 
@@ -164,7 +164,7 @@ class Point:
     linear = False
 
     def __init__(self, position, radius: float = 0.0):
-        self.position = check_finite("position", position).reshape(2)
+        self.position = check_vector("position", position, 2)
         self.radius = check_positive("radius", radius, allow_zero=True)
 
     def outline(self, n: int = 48) -> np.ndarray:

@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from .errors import InputError, check_finite, check_positive
+from .errors import InputError, check_count, check_finite, check_positive, check_vector
 
 __all__ = ["Disk", "Polygon", "RigidBody2D", "PointMass"]
 
@@ -186,7 +186,7 @@ class RigidBody2D:
         self.mass = check_positive("mass", mass)
         self.inertia = check_positive("inertia", inertia)
         self.position = _point("position", position)
-        self.angle = float(check_finite("angle", angle))
+        self.angle = float(check_vector("angle", angle, 1)[0])
         if not isinstance(shape, (Disk, Polygon)):
             raise InputError(f"shape must be a Disk or a Polygon, got {type(shape).__name__}")
         self.shape = shape
@@ -228,9 +228,7 @@ class RigidBody2D:
 
     def _node(self, node: int) -> int:
         n = self.n_nodes
-        if not -n <= int(node) < n:
-            raise InputError(f"point must be in [{-n}, {n - 1}], got {node}")
-        return int(node) % n
+        return check_count("point", node, -n, n - 1) % n
 
     def internal(self, q: np.ndarray, tangent: bool = True):
         """No strain energy: (0, zero force, no element tangents)."""
@@ -295,7 +293,7 @@ class RigidBody2D:
     def to_frame(self, point) -> np.ndarray:
         """Body-frame coordinates (m, from the centre of mass) of ``point`` given in the
         initial configuration."""
-        d = check_finite("point", point).reshape(2) - self.position
+        d = check_vector("point", point, 2) - self.position
         return d @ rotation(self.angle)  # Rᵀ d
 
     def frame_point_kinematics(self, q: np.ndarray, r):
@@ -349,8 +347,7 @@ class PointMass:
         self.fixed: set[int] = set()
 
     def _node(self, node: int) -> int:
-        if int(node) not in (0, -1):
-            raise InputError(f"point must be 0 (a point mass has one point), got {node}")
+        check_count("point", node, -1, 0)  # a point mass has one point
         return 0
 
     def internal(self, q: np.ndarray, tangent: bool = True):

@@ -84,7 +84,8 @@ class Simulation:
         self.dt = check_positive("dt", self.dt)
         self.t_end = check_positive("t_end", self.t_end)
         self.output_interval = check_positive("output_interval", self.output_interval)
-        if not self.name.replace("_", "").replace("-", "").isalnum():
+        name = self.name
+        if not isinstance(name, str) or not name.replace("_", "").replace("-", "").isalnum():
             raise InputError(f"name must be letters, digits, '_' or '-', got {self.name!r}")
 
     def warnings(self) -> list[str]:

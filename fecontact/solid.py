@@ -40,7 +40,7 @@ import scipy.sparse as sp
 import skfem
 from skfem.models.poisson import mass as _mass_form
 
-from .errors import InputError, check_finite, check_positive
+from .errors import InputError, check_count, check_finite, check_positive
 from .materials import PLANES
 
 __all__ = ["Solid"]
@@ -54,6 +54,7 @@ _ELEMENTS = {
 }
 # scikit-fem's hexahedron vertex order to VTK's (``skfem.io.meshio.HEX_MAPPING[:8]``, kept
 # here so that importing the solid does not import meshio)
+MAX_CELLS = 2**21  # grid bodies: a mesh of about 1e6 nodes is the most a direct solver takes
 _HEX_TO_VTK = [0, 3, 6, 2, 1, 5, 7, 4]
 _REFDOMS = {"RefTri": "tri", "RefQuad": "quad", "RefTet": "tet", "RefHex": "hex"}
 _MIDPOINT = {
@@ -109,7 +110,7 @@ class Solid:
             )
         if not all(hasattr(material, a) for a in ("response", "rho", "linear")):
             raise InputError(f"material must be a fecontact material, got {material!r}")
-        if element not in ("P1", "P2"):
+        if not isinstance(element, str) or element not in ("P1", "P2"):
             raise InputError(f"element must be 'P1' or 'P2', got {element!r}")
         if element == "P1" and mesh.doflocs.shape[1] != mesh.nvertices:
             raise InputError(
@@ -118,7 +119,7 @@ class Solid:
             )
         self.dim = mesh.dim()
         if self.dim == 2:
-            if plane not in PLANES:
+            if not isinstance(plane, str) or plane not in PLANES:
                 raise InputError(f"plane must be 'strain' or 'stress', got {plane!r}")
             self.plane = plane
             self.thickness = check_positive("thickness", thickness)
@@ -214,19 +215,19 @@ class Solid:
     @classmethod
     def disk(cls, center, radius: float, refinements: int, material, **options) -> Solid:
         """Disk of ``radius`` (m) at ``center`` (2-vector, m), triangles refined
-        ``refinements`` times (4^refinements × 8 elements)."""
+        ``refinements`` times (4^refinements × 8 elements; at most 9: 2^21 elements)."""
         c = _check_point("center", center, 2)
         r = check_positive("radius", radius)
-        m = skfem.MeshTri.init_circle(_check_count("refinements", refinements, 0))
+        m = skfem.MeshTri.init_circle(check_count("refinements", refinements, 0, 9))
         return cls(m.scaled(r).translated(c), material, **options)
 
     @classmethod
     def ball(cls, center, radius: float, refinements: int, material, **options) -> Solid:
         """Ball of ``radius`` (m) at ``center`` (3-vector, m), tetrahedra refined
-        ``refinements`` times (8^refinements × 8 elements)."""
+        ``refinements`` times (8^refinements × 8 elements; at most 6: 2^21 elements)."""
         c = _check_point("center", center, 3)
         r = check_positive("radius", radius)
-        m = skfem.MeshTet.init_ball(_check_count("refinements", refinements, 0))
+        m = skfem.MeshTet.init_ball(check_count("refinements", refinements, 0, 6))
         return cls(m.scaled(r).translated(c), material, **options)
 
     @classmethod
@@ -417,6 +418,12 @@ class Solid:
         f = np.bincount(self.element_dofs.ravel(), fe.ravel(), minlength=self.ndof)
         Ke = self._element_tangent(F, CC, S) if tangent else None
         return float(np.sum(self._w * W)), f, Ke
+
+    def inverted(self, q: np.ndarray) -> bool:
+        """Whether q inverts an element (det F ≤ 0) of a body whose energy forbids it."""
+        if self.linear or not self.material.barrier:
+            return False
+        return self._barrier_hit(self._strain(self._displacement_gradient(q))[0])
 
     def _Ke_shape(self):
         n = self.element_dofs.shape[1]
@@ -635,12 +642,6 @@ def _is_int(value) -> bool:
     return isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
 
 
-def _check_count(name: str, value, minimum: int = 1) -> int:
-    if isinstance(value, bool) or int(value) != value or int(value) < minimum:
-        raise InputError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    return int(value)
-
-
 def _check_point(name: str, value, dim: int) -> np.ndarray:
     x = check_finite(name, value).ravel()
     if x.shape != (dim,):
@@ -652,5 +653,11 @@ def _grid_axes(lower, upper, divisions, dim):
     lo, hi = _check_point("lower", lower, dim), _check_point("upper", upper, dim)
     if np.any(hi <= lo):
         raise InputError(f"upper must exceed lower in every component, got {lower}, {upper}")
-    n = np.broadcast_to(np.asarray(divisions), (dim,))
-    return [np.linspace(lo[i], hi[i], _check_count("divisions", n[i]) + 1) for i in range(dim)]
+    try:
+        per_axis = np.broadcast_to(np.asarray(divisions, dtype=object), (dim,))
+    except ValueError:
+        raise InputError(f"divisions must be one count or {dim}, got {divisions!r}") from None
+    n = [check_count("divisions", k, 1, MAX_CELLS) for k in per_axis]
+    if np.prod(n, dtype=float) > MAX_CELLS:
+        raise InputError(f"divisions must give at most {MAX_CELLS} cells, got {divisions!r}")
+    return [np.linspace(lo[i], hi[i], n[i] + 1) for i in range(dim)]

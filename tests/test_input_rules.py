@@ -9,6 +9,7 @@ from fecontact import (
     Contact,
     InputError,
     IntegratorOptions,
+    LinearElastic,
     Material,
     Model,
     NodalLoad,
@@ -17,8 +18,14 @@ from fecontact import (
     Point,
     Section,
     Simulation,
+    Solid,
 )
 from fecontact.integrator import initial_state
+from fecontact.rigid import Disk, RigidBody2D
+
+
+def elastic():
+    return LinearElastic(E=1e7, nu=0.3, rho=1000.0)
 
 
 def beam():
@@ -51,6 +58,34 @@ def beam():
         (lambda: Circle([0, 0], 1.0, motion="up"), "motion"),
         (lambda: Point([0, np.nan]), "position"),
         (lambda: Contact(beam(), Circle([0, 0], 0.1), nodes=[], restitution=0.5), "nodes"),
+        # magnitudes: squares and products of SI values stay far from overflow/underflow
+        (lambda: Material(E=1e31, rho=1000.0), "E"),
+        (lambda: Section(area=1e-31, inertia=1e-12), "area"),
+        (lambda: Plane([0, 1e31], [0, 1]), "point"),
+        # wrong types and shapes
+        (lambda: Plane("origin", [0, 1]), "point"),
+        (lambda: Point(0.0), "position"),
+        (lambda: Pin(beam(), 0.0), "point"),
+        (lambda: Model([beam()], damping=0.0), "damping"),
+        (lambda: beam().pin("2"), "node"),
+        (lambda: beam().pin(2.5), "node"),
+        (lambda: NodalLoad(beam(), np.nan, [1.0, 0.0, 0.0]), "node"),
+        (lambda: RigidBody2D(1.0, 1.0, [0, 0], angle=[0.1, 0.2], shape=Disk(0.1)), "angle"),
+        (lambda: IntegratorOptions(max_iterations="30"), "max_iterations"),
+        (lambda: IntegratorOptions(max_halvings=100), "max_halvings"),
+        (lambda: IntegratorOptions(metric=["mass"]), "metric"),
+        (lambda: Simulation(Model([beam()]), dt=1e-3, t_end=1.0, name=None), "name"),
+        (
+            lambda: Contact(RigidBody2D.uniform(1.0, [0, 1], Disk(0.1)), beam(), clearance=np.nan),
+            "clearance",
+        ),
+        # mesh sizes a direct solver can take
+        (lambda: Solid.disk([0, 0], 1.0, 10, elastic()), "refinements"),
+        (lambda: Solid.disk([0, 0], 1.0, np.nan, elastic()), "refinements"),
+        (lambda: Solid.ball([0, 0, 0], 1.0, 7, elastic()), "refinements"),
+        (lambda: Solid.rectangle([0, 0], [1, 1], [2, 3, 4], elastic()), "divisions"),
+        (lambda: Solid.rectangle([0, 0], [1, 1], 10**4, elastic()), "divisions"),
+        (lambda: Solid(Solid.disk([0, 0], 1.0, 0, elastic()).mesh, elastic(), ["P1"]), "element"),
     ],
 )
 def test_model_level_input_rules(make, word):
@@ -78,3 +113,8 @@ def test_initial_velocity_on_a_support_is_an_input_error():
     v0[0] = 1.0
     with pytest.raises(InputError, match="v0"):
         initial_state(model, v0=v0)
+
+
+def test_zero_where_allowed_may_be_tiny():
+    """The lower magnitude bound is for strictly positive values: a tiny gap is a gap."""
+    assert Point([0, 0], radius=1e-300).radius == 1e-300
