@@ -89,6 +89,11 @@ class NodeContact:
         x = self.body.point_kinematics(qb, self.nodes)[0]
         return -(self.obstacle.gap(x)[1] @ self.obstacle.speed())
 
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        """Gaps (m,) alone, without their derivatives."""
+        qb = q[self.offset : self.offset + self.body.ndof]
+        return self.obstacle.gap(self.body.point_kinematics(qb, self.nodes)[0])[0]
+
     def evaluate(self, q: np.ndarray):
         """Gaps (m,), dof indices (m, d), gradient values (m, d), Hessians (m, d, d) or None."""
         qb = q[self.offset : self.offset + self.body.ndof]
@@ -316,10 +321,17 @@ class ContactSet:
         )
         self.local = np.concatenate([np.arange(pair.size) for pair in self.pairs] or [self.owner])
         self._scatters: dict = {}
+        self._all = np.arange(self.size)
+        self._all.flags.writeable = False
+        # the gaps alone are cheaper where a pair can skip its derivatives
+        self._gap_functions = [
+            getattr(pair, "gaps", None) or (lambda q, pair=pair: pair.evaluate(q)[0])
+            for pair in self.pairs
+        ]
 
     @property
     def all(self) -> np.ndarray:
-        return np.arange(self.size)
+        return self._all
 
     @property
     def moving(self) -> bool:
@@ -358,8 +370,8 @@ class ContactSet:
         if not self.pairs:
             return np.zeros(0)
         if len(self.pairs) == 1:
-            return self.pairs[0].evaluate(q)[0]
-        return np.concatenate([pair.evaluate(q)[0] for pair in self.pairs])
+            return self._gap_functions[0](q)
+        return np.concatenate([gaps(q) for gaps in self._gap_functions])
 
     def jacobian(self, q: np.ndarray, select: np.ndarray):
         """Gaps and dense gradient (len(select) × n_free) of the contacts ``select``."""
@@ -393,7 +405,8 @@ class ContactSet:
             if dofs.shape != Gv.shape:
                 dofs = np.repeat(dofs.reshape(1, -1), len(Gv), axis=0)
             sc = self._scatter(i, rows, dofs[loc])
-            _add(G, sc.g_index, Gv[loc].ravel()[sc.g_keep], sc.g_unique)
+            # each pair fills rows of its own: an assignment unless a row repeats a dof
+            _add(G, sc.g_index, Gv[loc].ravel()[sc.g_keep], sc.g_unique, assign=True)
             if C is not None and H is not None:
                 w = weights[rows]
                 _add(C, sc.c_index, (w[:, None, None] * H[loc]).ravel()[sc.c_keep], sc.c_unique)
@@ -443,15 +456,21 @@ class _Scatter:
         self.c_keep = (a >= 0) & (b >= 0)
         self.c_index = (a[self.c_keep], b[self.c_keep])
         self.c_unique = _unique_pairs(*self.c_index)
+        # no fixed dof: a view instead of a boolean selection
+        self.g_keep = slice(None) if self.g_keep.all() else self.g_keep
+        self.c_keep = slice(None) if self.c_keep.all() else self.c_keep
 
 
 def _unique_pairs(i: np.ndarray, j: np.ndarray) -> bool:
     return len(np.unique(np.stack([i, j]), axis=1).T) == len(i) if len(i) else True
 
 
-def _add(A: np.ndarray, index, values: np.ndarray, unique: bool) -> None:
-    """A[index] += values; a plain fancy assignment when no index repeats (much cheaper)."""
-    if unique:
+def _add(A: np.ndarray, index, values: np.ndarray, unique: bool, assign=False) -> None:
+    """A[index] += values; a plain fancy assignment when no index repeats (much cheaper), and
+    ``assign`` when those entries of A are known to be zero."""
+    if unique and assign:
+        A[index] = values
+    elif unique:
         A[index] += values
     else:
         np.add.at(A, index, values)

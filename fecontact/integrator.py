@@ -27,6 +27,7 @@ error first order. Steps without a contact candidate skip 2 and 3.
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from collections.abc import Iterator
@@ -42,6 +43,8 @@ from .linalg import factorize
 __all__ = ["IntegratorOptions", "State", "alpha_coefficients", "simulate"]
 
 METRICS = ("stiffness", "mass")
+_EMPTY = np.zeros(0)
+_EMPTY.flags.writeable = False
 INTEGRATORS = ("nsga", "moreau", "penalty")
 
 
@@ -247,8 +250,13 @@ def simulate(
     n_steps = max(1, math.ceil(t_end / dt - 1e-9))
     for n in range(state.step + 1, n_steps + 1):
         t_next = min(n * dt, t_end)
+        h = t_next - state.t
+        # n·dt − (n − 1)·dt differs from dt in its last bits: take the nominal step, so that
+        # what is cached per step size (factorizations of linear models) is built once
+        if abs(h - dt) <= 1e-9 * dt:
+            h = dt
         try:
-            state = _advance(model, state, t_next - state.t, opts, timer, 0)
+            state = _advance(model, state, h, opts, timer, 0)
         except _StepFailure as err:
             raise SolverError(
                 f"Newton did not converge at t = {state.t:.6g} s (step {n}): {err} "
@@ -316,9 +324,9 @@ def _factorize(A, residual):
 
 
 def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer) -> State:
-    c = _Coefficients(opts.rho_inf, h)
+    c = _coefficients(opts.rho_inf, h)
     t = st.t + h
-    q, v, vd, a, lam, S, it = _smooth_step(model, st, t, c, opts, timer)
+    q, v, vd, a, lam, S, it, Gb = _smooth_step(model, st, t, c, opts, timer)
     iters = {"smooth": it, "position": 0, "velocity": 0}
     clock = time.perf_counter()
     m, joints = model.contacts.size, model.joints
@@ -333,16 +341,17 @@ def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer
     nu, impulse, gaps = np.zeros(m), np.zeros(m), g_tilde
     if cand.size and np.min(g_tilde[cand]) < 0.0:
         U, nu_c, iters["position"] = _position_correction(model, q, cand, S, c, opts)
-        q[model.free] += U
+        q[model.free_slice] += U
         nu[cand] = nu_c[: cand.size]
         gaps = model.contacts.gaps(q)
+        Gb = None  # the joints' gradient moved with q
     clock = timer.add("contact", clock)
 
     # 3. velocity jump on the contacts closed at q_{n+1}, and on the joints
-    closed = cand[gaps[cand] <= tol_gap]
+    closed = cand[gaps[cand] <= tol_gap] if cand.size else cand
     if closed.size or joints.size:
-        W, Lam, iters["velocity"] = _velocity_jump(model, st, q, v, closed, opts, t)
-        v[model.free] += W
+        W, Lam, iters["velocity"] = _velocity_jump(model, st, q, v, closed, opts, t, Gb)
+        v[model.free_slice] += W
         impulse[closed] = Lam[: closed.size]
     timer.add("contact", clock)
     return State(
@@ -362,7 +371,7 @@ def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer
 
 
 class _Coefficients:
-    """Generalized-α coefficients for one step of size h."""
+    """Generalized-α coefficients for one step of size h (shared: see ``_coefficients``)."""
 
     def __init__(self, rho_inf: float, h: float):
         am, af, gm, be = alpha_coefficients(rho_inf)
@@ -372,19 +381,29 @@ class _Coefficients:
         self.da = (1.0 - af) / (1.0 - am) * self.bp  # ∂a/∂q
 
 
+@functools.lru_cache(maxsize=64)
+def _coefficients(rho_inf: float, h: float) -> _Coefficients:
+    return _Coefficients(rho_inf, h)
+
+
 def _predict(st, c):
-    """Generalized-α predictor with a constant acceleration v̇_{n+1} = v̇_n: (q, v, v̇, a)."""
+    """Generalized-α predictor with a constant acceleration v̇_{n+1} = v̇_n: (q, v, v̇, a),
+    a = (v̇_n − α_m a_n)/(1 − α_m)."""
     h = c.h
     vd = st.vd.copy()
-    a = (c.af * st.vd - c.am * st.a + (1.0 - c.af) * vd) / (1.0 - c.am)
-    q = st.q + h * st.v + h * h * (0.5 - c.beta) * st.a + h * h * c.beta * a
-    v = st.v + h * (1.0 - c.gamma) * st.a + h * c.gamma * a
+    a = (st.vd - c.am * st.a) / (1.0 - c.am)
+    q = st.q + h * st.v + (h * h * (0.5 - c.beta)) * st.a + (h * h * c.beta) * a
+    v = st.v + (h * (1.0 - c.gamma)) * st.a + (h * c.gamma) * a
     return q, v, vd, a
 
 
 def _smooth_step(model, st, t, c, opts, timer):
-    """Step 1: Newton on M v̇ + C_t v + f_int(q) + G_bᵀλ = f_ext(t), g_b(q) = 0."""
-    F = model.free
+    """Step 1: Newton on M v̇ + C_t v + f_int(q) + G_bᵀλ = f_ext(t), g_b(q) = 0.
+
+    Returns (q, v, v̇, a, λ, S, iterations, G_b): S = (S_t, its solver) for the metric of the
+    position correction (None with joints), G_b the joint gradient at the returned q (None
+    when the last update moved q after it was evaluated)."""
+    F, nF = model.free_slice, model.n_free
     q, v, vd, a = _predict(st, c)
     lam = st.lam.copy()
     fext = model.external(t)[F]
@@ -394,16 +413,18 @@ def _smooth_step(model, st, t, c, opts, timer):
     tol_b = opts.tol_gap * model.length
     inc_tol = opts.tol_increment * max(model.length, 1.0)
     big_step = 0.05 * max(model.length, 1.0)
-    S = None
-    fixed_S = model.linear and not nb
+    S = Gb = None
+    # linear bodies: S_t = β′M + γ′C + K is assembled and factorized once per step size;
+    # joints border it with their (q-dependent) gradient and curvature
+    linear = model.linear
     clock = time.perf_counter()
     for it in range(opts.max_iterations + 1):
-        _, fint, K = model.internal(q, tangent=not fixed_S)
+        _, fint, K = model.internal(q, tangent=not linear)
         fi = fint[F]
         Mvd = model.M @ vd[F]
         r = Mvd + fi - fext
         if alpha or beta_k:
-            Ct = model.iteration_matrix(c.bp, c.gp)[2] if fixed_S else alpha * model.M + beta_k * K
+            Ct = model.iteration_matrix(c.bp, c.gp)[2] if linear else alpha * model.M + beta_k * K
             r += Ct @ v[F]
         if nb:
             gb, Gb, Cb = joints.linearize(q, joints.all, None if joints.linear else lam)
@@ -411,13 +432,13 @@ def _smooth_step(model, st, t, c, opts, timer):
         clock = timer.add("assembly", clock)
         ref = math.sqrt(max(fext @ fext, fi @ fi, Mvd @ Mvd, 1e-300))
         rnorm = math.sqrt(r @ r)
-        if not np.isfinite(rnorm):
+        if not math.isfinite(rnorm):
             raise _StepFailure("smooth step diverged", rnorm)
-        if rnorm <= opts.tol_residual * ref and (not nb or np.max(np.abs(gb)) <= tol_b):
+        if rnorm <= opts.tol_residual * ref and (not nb or np.abs(gb).max() <= tol_b):
             break
         if it == opts.max_iterations:
             raise _StepFailure("smooth step", rnorm / ref)
-        if fixed_S:
+        if linear:
             S, solve, _ = model.iteration_matrix(c.bp, c.gp)
         else:
             S = model.iteration_sum(c.bp, K)
@@ -427,25 +448,26 @@ def _smooth_step(model, st, t, c, opts, timer):
             Kb = S if Cb is None else S + Cb
             solve = _factorize(_bordered(Kb, Gb), rnorm / ref)
             x = -solve(np.concatenate([r, gb]))
-            dq, lam = x[: len(F)], lam + x[len(F) :]
+            dq, lam = x[:nF], lam + x[nF:]
         else:
-            if not fixed_S:
+            if not linear:
                 solve = _factorize(S, rnorm / ref)
             dq = -solve(r)
-            if np.max(np.abs(dq)) > big_step:
+            if np.abs(dq).max() > big_step:
                 dq *= _line_search(model, q, dq, Mvd - fext, r @ dq, c.bp)
         q[F] += dq
         v[F] += c.gp * dq
         vd[F] += c.bp * dq
         a[F] += c.da * dq
         clock = timer.add("solve", clock)
-        if np.max(np.abs(dq)) <= inc_tol and (not nb or np.max(np.abs(gb)) <= tol_b):
+        if np.abs(dq).max() <= inc_tol and (not nb or np.abs(gb).max() <= tol_b):
             it += 1
+            Gb = None
             break
     # the metric of the position correction reuses S_t and its factors; a bordered
     # factorization (joints) is no metric, so then S_t is rebuilt on demand
     S = (S, solve) if S is not None and not nb else None
-    return q, v, vd, a, lam, S, it
+    return q, v, vd, a, lam, S, it, Gb
 
 
 def _bordered(K, G):
@@ -532,17 +554,19 @@ def _columns(model, key, select, G, solve, cons, constant: bool):
     return np.column_stack([cache[j] for j in select]) if len(select) else G.T.copy()
 
 
-def _velocity_jump(model, st, q, v, closed, opts, t):
+def _velocity_jump(model, st, q, v, closed, opts, t, Gb=None):
     """Step 3: v = ṽ + W, M W = Σ G_jᵀ [k Λ_j − p ġ_j]_+ with
-    ġ_j = G_j(q_{n+1}) v_{n+1} + e_j G_j(q_n) v_n; joints: G_b v_{n+1} = 0."""
+    ġ_j = G_j(q_{n+1}) v_{n+1} + e_j G_j(q_n) v_n; joints: G_b v_{n+1} = 0 (``Gb``: their
+    gradient at q, if known)."""
     F = model.free
-    cons = _Constraints(model, closed)
-    _, G1 = cons.jacobian(q)
     if closed.size == 0:
         # joints only: the M-orthogonal projection onto G_b v = 0, no active set to find
+        G1 = model.joints.jacobian(q, model.joints.all)[1] if Gb is None else Gb
         Y = model.solve_M(G1.T).reshape(len(F), -1)
-        mu = np.linalg.solve(G1 @ Y, -(G1 @ v[F]))
-        return Y @ mu, np.zeros(0), 1
+        mu = factorize(G1 @ Y)(-(G1 @ v[F]))
+        return Y @ mu, _EMPTY, 1
+    cons = _Constraints(model, closed)
+    _, G1 = cons.jacobian(q)
     e = np.concatenate([model.contacts.restitution[closed], np.zeros(model.joints.size)])
     gdot = G1 @ v[F]
     contacts = model.contacts
@@ -573,7 +597,8 @@ class _Constraints:
 
     def __init__(self, model, select):
         self.contacts, self.joints, self.select = model.contacts, model.joints, select
-        self.bilateral = np.r_[np.zeros(len(select), bool), np.ones(model.joints.size, bool)]
+        self.bilateral = np.zeros(len(select) + model.joints.size, bool)
+        self.bilateral[len(select) :] = True
         self.linear = self.contacts.linear and self.joints.linear
         self.n = model.n_free
 

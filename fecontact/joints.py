@@ -65,7 +65,7 @@ class Pin:
                     H[:, : len(da), : len(da)] = Ha
                 if Hb is not None:
                     H[:, len(da) :, len(da) :] = -Hb
-        return g, np.vstack([dofs, dofs]), G, H
+        return g, np.repeat(dofs[None], 2, axis=0), G, H
 
 
 def _material_point(body, point):

@@ -80,6 +80,9 @@ class Model:
         self.free = np.flatnonzero(~fixed)
         if len(self.free) == 0:
             raise InputError("supports fix every dof: nothing can move")
+        f = self.free
+        # the free dofs as a slice when they are contiguous: views instead of copies
+        self.free_slice = slice(int(f[0]), int(f[-1]) + 1) if f[-1] - f[0] + 1 == len(f) else f
         self.free_index = np.full(self.n, -1)
         self.free_index[self.free] = np.arange(len(self.free))
         self.dense = len(self.free) <= DENSE_LIMIT

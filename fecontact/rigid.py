@@ -21,6 +21,8 @@ A ``PointMass`` is a body of its own with two translation dofs and one output po
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import scipy.sparse as sp
 
@@ -302,15 +304,16 @@ class RigidBody2D:
         """As ``point_kinematics`` for any points ``r`` (m, 2) given in the body frame (m, from
         the centre of mass): a joint's pivot, say."""
         r = np.atleast_2d(r)
-        arm = r @ rotation(self.orientation(q)).T
+        phi = self.angle + q[2]
+        c, s = math.cos(phi), math.sin(phi)
+        arm = r @ np.array([[c, s], [-s, c]])  # R(φ) r, row-wise
         m = len(r)
-        x = self.center(q) + arm
         Jx = np.zeros((m, 2, 3))
         Jx[:, 0, 0] = Jx[:, 1, 1] = 1.0
-        Jx[:, :, 2] = arm @ _PERP.T
+        Jx[:, 0, 2], Jx[:, 1, 2] = -arm[:, 1], arm[:, 0]  # J R(φ) r
         Hx = np.zeros((m, 2, 3, 3))
         Hx[:, :, 2, 2] = -arm
-        return x, np.repeat(_DOFS3, m, axis=0), Jx, Hx
+        return self.position + q[:2] + arm, np.repeat(_DOFS3, m, axis=0), Jx, Hx
 
     def point_data(self, q: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:
         """Output fields at the output points: displacement and velocity (2D vectors, m and
