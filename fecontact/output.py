@@ -30,6 +30,7 @@ import json
 import math
 import os
 import re
+import time
 import xml.etree.ElementTree as ET
 import zlib
 from contextlib import contextmanager
@@ -198,9 +199,15 @@ class PVDWriter:
 
     Parts are named by the caller (one per body, e.g. ``"beam"``, ``"stop"``); each gets a fixed
     ``part`` index in the order it first appears. Times (s) must increase strictly.
+
+    The ``.pvd`` is rewritten after a frame when ``index_interval`` seconds of wall time have
+    passed since it was last written (0: after every frame), and by :meth:`flush`. Replacing a
+    file costs far more than creating one (ext4 writes the new data out before the rename
+    completes: milliseconds, growing with the index), so a run rewrites it at most about once
+    a second and flushes it when it stops.
     """
 
-    def __init__(self, out_dir: str | Path, case_name: str):
+    def __init__(self, out_dir: str | Path, case_name: str, index_interval: float = 0.0):
         self.out_dir = Path(out_dir)
         self.case_name = _check_name("case name", case_name)
         self.out_dir.mkdir(parents=True, exist_ok=True)
@@ -210,6 +217,9 @@ class PVDWriter:
         self._static: dict[str, str] = {}  # part -> file
         self._moving: list[list[tuple[int, str]]] = []  # per frame: (part index, XML line)
         self._blocks: list[str] = []  # per frame: its .pvd lines, so a rewrite is one join
+        self.index_interval = float(index_interval)
+        self._indexed = 0  # frames listed in the .pvd on disk
+        self._indexed_at = -math.inf  # time.perf_counter() of that write
 
     @property
     def n_frames(self) -> int:
@@ -265,6 +275,12 @@ class PVDWriter:
             "  <Collection>\n" + "".join(self._blocks) + "  </Collection>\n</VTKFile>\n"
         )
         _write_text(self.pvd, text)
+        self._indexed, self._indexed_at = len(self._blocks), time.perf_counter()
+
+    def flush(self) -> None:
+        """Rewrite the ``.pvd`` if it does not list every frame written so far."""
+        if self._indexed < len(self._blocks):
+            self._write_pvd()
 
     def write_static(self, part: str, mesh) -> Path:
         """Write a part that never moves (an obstacle) once; it is listed at every timestep."""
@@ -306,6 +322,8 @@ class PVDWriter:
         self.times.append(t)
         self._moving.append(moving)
         self._blocks.append(self._block(timestep, moving))
+        if time.perf_counter() - self._indexed_at < self.index_interval:
+            return paths
         try:
             self._write_pvd()
         except BaseException:
