@@ -371,7 +371,11 @@ def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer
 
 
 class _Coefficients:
-    """Generalized-α coefficients for one step of size h (shared: see ``_coefficients``)."""
+    """Generalized-α coefficients for one step of size h (shared: see ``_coefficients``).
+
+    ``P`` is the predictor as a map of (q, v, v̇, a)_n to (q, v, v̇, a)_{n+1} with
+    v̇_{n+1} = v̇_n, and ``w`` = (1, γ′, β′, ∂a/∂q) the rates at which a Newton update of q
+    moves the four."""
 
     def __init__(self, rho_inf: float, h: float):
         am, af, gm, be = alpha_coefficients(rho_inf)
@@ -379,6 +383,18 @@ class _Coefficients:
         self.bp = (1.0 - am) / (be * h * h * (1.0 - af))  # β′ = ∂v̇/∂q
         self.gp = gm / (be * h)  # γ′ = ∂v/∂q
         self.da = (1.0 - af) / (1.0 - am) * self.bp  # ∂a/∂q
+        # a_{n+1} = k1 v̇_n + k2 a_n, from (1 − α_m) a_{n+1} + α_m a_n = v̇_n
+        k1, k2 = 1.0 / (1.0 - am), -am / (1.0 - am)
+        hh = h * h
+        self.P = np.array(
+            [
+                [1.0, h, hh * be * k1, hh * (0.5 - be) + hh * be * k2],
+                [0.0, 1.0, h * gm * k1, h * (1.0 - gm) + h * gm * k2],
+                [0.0, 0.0, 1.0, 0.0],
+                [0.0, 0.0, k1, k2],
+            ]
+        )
+        self.w = np.array([1.0, self.gp, self.bp, self.da])
 
 
 @functools.lru_cache(maxsize=64)
@@ -388,13 +404,8 @@ def _coefficients(rho_inf: float, h: float) -> _Coefficients:
 
 def _predict(st, c):
     """Generalized-α predictor with a constant acceleration v̇_{n+1} = v̇_n: (q, v, v̇, a),
-    a = (v̇_n − α_m a_n)/(1 − α_m)."""
-    h = c.h
-    vd = st.vd.copy()
-    a = (st.vd - c.am * st.a) / (1.0 - c.am)
-    q = st.q + h * st.v + (h * h * (0.5 - c.beta)) * st.a + (h * h * c.beta) * a
-    v = st.v + (h * (1.0 - c.gamma)) * st.a + (h * c.gamma) * a
-    return q, v, vd, a
+    rows (views) of one (4, n) array."""
+    return c.P @ np.stack([st.q, st.v, st.vd, st.a])
 
 
 def _smooth_step(model, st, t, c, opts, timer):
@@ -404,9 +415,11 @@ def _smooth_step(model, st, t, c, opts, timer):
     position correction (None with joints), G_b the joint gradient at the returned q (None
     when the last update moved q after it was evaluated)."""
     F, nF = model.free_slice, model.n_free
-    q, v, vd, a = _predict(st, c)
+    X = _predict(st, c)
+    q, v, vd, a = X
     lam = st.lam.copy()
     fext = model.external(t)[F]
+    ff = fext @ fext
     joints = model.joints
     nb = joints.size
     alpha, beta_k = model.damping
@@ -427,10 +440,13 @@ def _smooth_step(model, st, t, c, opts, timer):
             Ct = model.iteration_matrix(c.bp, c.gp)[2] if linear else alpha * model.M + beta_k * K
             r += Ct @ v[F]
         if nb:
-            gb, Gb, Cb = joints.linearize(q, joints.all, None if joints.linear else lam)
+            # the joints' curvature where a solve is sure to follow (the first iteration),
+            # else only once one does
+            first = it == 0 and not joints.linear
+            gb, Gb, Cb = joints.linearize(q, joints.all, lam if first else None)
             r += Gb.T @ lam
         clock = timer.add("assembly", clock)
-        ref = math.sqrt(max(fext @ fext, fi @ fi, Mvd @ Mvd, 1e-300))
+        ref = math.sqrt(max(ff, fi @ fi, Mvd @ Mvd, 1e-300))
         rnorm = math.sqrt(r @ r)
         if not math.isfinite(rnorm):
             raise _StepFailure("smooth step diverged", rnorm)
@@ -445,6 +461,8 @@ def _smooth_step(model, st, t, c, opts, timer):
             if alpha or beta_k:
                 S = S + c.gp * Ct
         if nb:
+            if Cb is None and not joints.linear:
+                Cb = joints.curvature(q, joints.all, lam)
             Kb = S if Cb is None else S + Cb
             solve = _factorize(_bordered(Kb, Gb), rnorm / ref)
             x = -solve(np.concatenate([r, gb]))
@@ -455,10 +473,7 @@ def _smooth_step(model, st, t, c, opts, timer):
             dq = -solve(r)
             if np.abs(dq).max() > big_step:
                 dq *= _line_search(model, q, dq, Mvd - fext, r @ dq, c.bp)
-        q[F] += dq
-        v[F] += c.gp * dq
-        vd[F] += c.bp * dq
-        a[F] += c.da * dq
+        X[:, F] += np.multiply.outer(c.w, dq)  # q, v, v̇, a
         clock = timer.add("solve", clock)
         if np.abs(dq).max() <= inc_tol and (not nb or np.abs(gb).max() <= tol_b):
             it += 1
