@@ -352,7 +352,8 @@ def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer
     if closed.size or joints.size:
         W, Lam, iters["velocity"] = _velocity_jump(model, st, q, v, closed, opts, t, Gb)
         v[model.free_slice] += W
-        impulse[closed] = Lam[: closed.size]
+        if closed.size:
+            impulse[closed] = Lam[: closed.size]
     timer.add("contact", clock)
     return State(
         t,

@@ -76,7 +76,6 @@ class Pin:
 def _material_point(body, point):
     """Kinematics q ↦ (x, dofs, ∂x/∂q, ∂²x/∂q²) of the body's material point at ``point``."""
     if hasattr(body, "frame_point_kinematics"):  # rigid body: any point of its frame
-        r = body.to_frame(point)[None, :]
-        return lambda q: body.frame_point_kinematics(q, r)
+        return body.frame_point_function(body.to_frame(point)[None, :])
     node = np.array([body.locate(point)])
     return lambda q: body.point_kinematics(q, node)

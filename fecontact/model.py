@@ -108,6 +108,7 @@ class Model:
         self.loads = list(loads)
         for load in self.loads:
             load.bind(self)
+        self._slices = [self.body_slice(i) for i in range(len(self.bodies))]
         self.length = max(b.characteristic_length for b in self.bodies)
         self.linear = all(getattr(b, "linear", False) for b in self.bodies)
         self._iteration_matrices: dict = {}
@@ -145,8 +146,10 @@ class Model:
     def internal(self, q: np.ndarray, tangent: bool = True):
         """Strain energy (J), internal force on all dofs and tangent on the free dofs."""
         W, f, Ke = 0.0, np.zeros(self.n), []
-        for i, b in enumerate(self.bodies):
-            s = self.body_slice(i)
+        for b, s in zip(self.bodies, self._slices, strict=True):
+            if not b.element_dofs.size:  # no elements (rigid bodies): no strain energy
+                Ke.append(np.zeros((0,) + b.element_dofs.shape[1:] * 2))
+                continue
             Wb, fb, Keb = b.internal(q[s], tangent)
             W += Wb
             f[s] = fb

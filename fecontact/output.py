@@ -26,6 +26,7 @@ Geometry is written in the current configuration (points = reference + displacem
 from __future__ import annotations
 
 import base64
+import functools
 import json
 import math
 import os
@@ -142,19 +143,8 @@ def _vtu_text(mesh) -> str:
     """The XML of a VTK UnstructuredGrid holding ``mesh`` (a ``meshio.Mesh``): a direct writer,
     ~10x faster than meshio's for the small meshes written at every output frame."""
     points = np.asarray(mesh.points, dtype=float)
-    conn, offsets, types = [], [], []
-    end = 0
-    for block in mesh.cells:
-        c = np.asarray(block.data, dtype=np.int64)
-        if c.size == 0:
-            continue
-        conn.append(c.ravel())
-        k = c.shape[1]
-        offsets.append(end + k * np.arange(1, len(c) + 1))
-        end += k * len(c)
-        types.append(np.full(len(c), _VTK_TYPES[block.type], dtype=np.int64))
-    n_cells = sum(len(t) for t in types)
-    cat = (lambda xs: np.concatenate(xs)) if conn else (lambda xs: np.zeros(0, np.int64))
+    cells = [(b.type, np.asarray(b.data, dtype=np.int64)) for b in mesh.cells]
+    n_cells, cells_xml = _cells_xml(tuple((kind, c.shape, c.tobytes()) for kind, c in cells))
 
     def arrays(data, n):
         out = []
@@ -178,14 +168,36 @@ def _vtu_text(mesh) -> str:
         'byte_order="LittleEndian" header_type="UInt64" compressor="vtkZLibDataCompressor">\n'
         f'<UnstructuredGrid>\n<Piece NumberOfPoints="{len(points)}" NumberOfCells="{n_cells}">\n'
         f"<Points>\n{_data_array('Points', points, 3)}</Points>\n<Cells>\n"
-        + _data_array("connectivity", cat(conn))
-        + _data_array("offsets", cat(offsets))
-        + _data_array("types", cat(types))
+        + cells_xml
         + "</Cells>\n<PointData>\n"
         + arrays(mesh.point_data, len(points))
         + "</PointData>\n<CellData>\n"
         + arrays(cell_data, n_cells)
         + "</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n"
+    )
+
+
+@functools.lru_cache(maxsize=8)
+def _cells_xml(key) -> tuple[int, str]:
+    """(number of cells, the connectivity, offsets and types DataArrays) of the cell blocks
+    ``key`` = ((type, shape, connectivity bytes), ...): the same at every frame of a body."""
+    conn, offsets, types = [], [], []
+    end = 0
+    for kind, shape, data in key:
+        c = np.frombuffer(data, dtype=np.int64).reshape(shape)
+        if c.size == 0:
+            continue
+        conn.append(c.ravel())
+        k = c.shape[1]
+        offsets.append(end + k * np.arange(1, len(c) + 1))
+        end += k * len(c)
+        types.append(np.full(len(c), _VTK_TYPES[kind], dtype=np.int64))
+    n_cells = sum(len(t) for t in types)
+    cat = (lambda xs: np.concatenate(xs)) if conn else (lambda xs: np.zeros(0, np.int64))
+    return n_cells, (
+        _data_array("connectivity", cat(conn))
+        + _data_array("offsets", cat(offsets))
+        + _data_array("types", cat(types))
     )
 
 

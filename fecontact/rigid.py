@@ -304,15 +304,18 @@ class RigidBody2D:
     def frame_point_kinematics(self, q: np.ndarray, r):
         """As ``point_kinematics`` for any points ``r`` (m, 2) given in the body frame (m, from
         the centre of mass): a joint's pivot, say."""
+        return self.frame_point_function(r)(q)
+
+    def frame_point_function(self, r):
+        """The function q ↦ ``frame_point_kinematics(q, r)``, for points evaluated often."""
         r = np.atleast_2d(r)
         key = r.tobytes()
         kin = self._frame_maps.get(key)
         if kin is None:
             if len(self._frame_maps) > 64:
                 self._frame_maps.clear()
-            kin = self._frame_maps[key] = _FrameMap(self.position, r)
-        phi = self.angle + q[2]
-        return kin(q[0], q[1], math.cos(phi), math.sin(phi))
+            kin = self._frame_maps[key] = _FrameMap(self.position, self.angle, r)
+        return kin
 
     def point_data(self, q: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:
         """Output fields at the output points: displacement and velocity (2D vectors, m and
@@ -336,7 +339,8 @@ class _FrameMap:
     five numbers, so each evaluation is a single small matrix product (small systems pay per
     numpy call, not per flop)."""
 
-    def __init__(self, position: np.ndarray, r: np.ndarray):
+    def __init__(self, position: np.ndarray, angle: float, r: np.ndarray):
+        self.angle = angle
         m = len(r)
         self.shapes = ((m, 2), (m, 2, 3), (m, 2, 3, 3))
         self.dofs = np.repeat(_DOFS3, m, axis=0)
@@ -357,8 +361,9 @@ class _FrameMap:
         Hx[:, :, 2, 2] = -arm
         return np.concatenate([x.ravel(), Jx.ravel(), Hx.ravel()])
 
-    def __call__(self, ux, uy, c, s):
-        y = self.B @ np.array([1.0, ux, uy, c, s])
+    def __call__(self, q):
+        phi = self.angle + q[2]
+        y = self.B @ np.array([1.0, q[0], q[1], math.cos(phi), math.sin(phi)])
         a, b, _ = self.ends
         (sx, sj, sh) = self.shapes
         return y[:a].reshape(sx), self.dofs, y[a:b].reshape(sj), y[b:].reshape(sh)
