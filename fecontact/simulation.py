@@ -117,7 +117,11 @@ class Simulation:
 def _frame_parts(model, state: State):
     from .output import body_mesh
 
-    f_imp = model.contacts.generalized_force(state.q, model.contacts.all, state.impulse, model.n)
+    contacts = model.contacts
+    if state.impulse.any():
+        f_imp = contacts.generalized_force(state.q, contacts.all, state.impulse, model.n)
+    else:  # no contact acted in this step: nothing to evaluate
+        f_imp = np.zeros(model.n)
     h = state.h if state.h > 0 else math.inf
     parts = {}
     for i, body in enumerate(model.bodies):
