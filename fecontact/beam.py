@@ -17,6 +17,13 @@ and the tangent its exact (symmetric) Hessian. A rigid motion leaves Γ, γ and 
 Stiffness is integrated with the one-point rule (reduced integration, free of shear locking for
 linear elements); the mass needs the full rule, a one-point mass matrix being singular. In the
 plane the mass matrix is constant: ρA on the translations, ρI on the rotation, plus point masses.
+
+``linear=True`` gives the small-displacement (Timoshenko) beam instead: W = ½ qᵀ K₀ q with K₀ the
+tangent above at q = 0, the second-order expansion of W about the reference configuration. Its
+stiffness is constant, so the iteration matrix is factorized once. It is exact, not an
+approximation, wherever the motion keeps Γ, γ, κ linear in q: a straight bar moving along its
+axis (Γ = u′, γ = κ = 0) whatever the size of the strain. Rotations of the beam as a whole, on
+the other hand, create spurious strain in it.
 """
 
 from __future__ import annotations
@@ -104,13 +111,16 @@ class Beam2D:
 
     Elements join consecutive nodes. Supports (``pin``, ``clamp``) and point masses
     (``add_mass``) are set with chainable methods; node indices may be negative (``-1`` is the
-    last node). Dofs are ordered node by node as (u_x, u_y, θ).
+    last node). Dofs are ordered node by node as (u_x, u_y, θ). ``linear=True``: the
+    small-displacement beam with the constant stiffness K₀ of the reference configuration (see
+    the module docstring for when this is exact).
     """
 
     dofs_per_node = 3
-    linear = False  # geometrically exact: the tangent depends on q
 
-    def __init__(self, nodes, material: Material, section: Section):
+    def __init__(self, nodes, material: Material, section: Section, linear: bool = False):
+        if not isinstance(linear, (bool, np.bool_)):
+            raise InputError(f"linear must be True or False, got {linear!r}")
         X = check_finite("nodes", nodes)
         if X.ndim != 2 or X.shape[1] != 2 or X.shape[0] < 2:
             raise InputError(f"nodes must be an (n >= 2, 2) array, got shape {X.shape}")
@@ -128,20 +138,32 @@ class Beam2D:
         self._stiffness_basis = skfem.Basis(self.mesh, skfem.ElementLineP1(), quadrature=_MIDPOINT)
         self._mass_basis = skfem.Basis(self.mesh, skfem.ElementLineP1(), intorder=2)
         self._init_kernel_data()
+        self.linear = bool(linear)
+        """Constant stiffness K₀: internal(q) = K₀ q, the iteration matrix is factorized once."""
+        self._K = self._Ke = None
+        if self.linear:
+            self._Ke = self._exact_internal(np.zeros(self.ndof), True)[2]
+            rows = np.broadcast_to(self._edofs[:, :, None], self._Ke.shape)
+            cols = np.broadcast_to(self._edofs[:, None, :], self._Ke.shape)
+            self._K = sp.csr_matrix(
+                (self._Ke.ravel(), (rows.ravel(), cols.ravel())), shape=(self.ndof, self.ndof)
+            )
 
     # -- construction -----------------------------------------------------------------------
     @classmethod
-    def straight(cls, start, end, n_elements: int, material: Material, section: Section):
+    def straight(
+        cls, start, end, n_elements: int, material: Material, section: Section, linear=False
+    ):
         """Straight beam from ``start`` to ``end`` (m) with ``n_elements`` equal elements."""
         n = check_count("n_elements", n_elements)
         a, b = check_finite("start", start), check_finite("end", end)
         if np.linalg.norm(b - a) == 0.0:
             raise InputError("length must be > 0: start and end coincide")
         s = np.linspace(0.0, 1.0, n + 1)[:, None]
-        return cls(a + s * (b - a), material, section)
+        return cls(a + s * (b - a), material, section, linear)
 
     @classmethod
-    def polyline(cls, points, n_elements, material: Material, section: Section):
+    def polyline(cls, points, n_elements, material: Material, section: Section, linear=False):
         """Beam along the polyline ``points`` with ``n_elements`` per segment (int or list)."""
         P = check_finite("points", points)
         counts = np.broadcast_to(np.asarray(n_elements), (len(P) - 1,))
@@ -149,7 +171,7 @@ class Beam2D:
         for k, n in enumerate(counts):
             s = np.linspace(0.0, 1.0, check_count("n_elements", n) + 1)[1:, None]
             parts.append(P[k] + s * (P[k + 1] - P[k]))
-        return cls(np.vstack(parts), material, section)
+        return cls(np.vstack(parts), material, section, linear)
 
     def _node(self, node: int) -> int:
         n = len(self.X)
@@ -239,12 +261,26 @@ class Beam2D:
 
     def energy(self, q: np.ndarray) -> float:
         """Strain energy W(q) in J."""
+        if self.linear:
+            return 0.5 * float(q @ (self._K @ q))
         Gam, gam, kap = self.strains(q)
         C = self._C
         return 0.5 * float(self._w @ (C[0] * Gam**2 + C[1] * gam**2 + C[2] * kap**2))
 
     def internal(self, q: np.ndarray, tangent: bool = True):
         """Strain energy (J), internal force ∂W/∂q (N, N·m) and element tangents (E, 6, 6)."""
+        if self.linear:
+            f = self._K @ q
+            return 0.5 * float(q @ f), f, self._Ke if tangent else None
+        return self._exact_internal(q, tangent)
+
+    def stiffness_matrix(self) -> sp.csr_matrix:
+        """Constant stiffness K₀ (ndof × ndof, no supports) of a linear beam."""
+        if not self.linear:
+            raise InputError("stiffness_matrix: the beam is geometrically exact; use internal(q)")
+        return self._K
+
+    def _exact_internal(self, q, tangent):
         Gam, gam, kap, c, s = self._kinematics(q)
         (EA, GA, EI), w = self._C, self._w
         N, V, Mb = EA * Gam, GA * gam, EI * kap  # axial force, shear force, bending moment

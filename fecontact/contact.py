@@ -89,6 +89,11 @@ class NodeContact:
         x = self.body.point_kinematics(qb, self.nodes)[0]
         return -(self.obstacle.gap(x)[1] @ self.obstacle.speed())
 
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        """Gaps (m,) alone, without their derivatives."""
+        qb = q[self.offset : self.offset + self.body.ndof]
+        return self.obstacle.gap(self.body.point_kinematics(qb, self.nodes)[0])[0]
+
     def evaluate(self, q: np.ndarray):
         """Gaps (m,), dof indices (m, d), gradient values (m, d), Hessians (m, d, d) or None."""
         qb = q[self.offset : self.offset + self.body.ndof]
@@ -340,21 +345,34 @@ class ContactSet:
         )
         self.local = np.concatenate([np.arange(pair.size) for pair in self.pairs] or [self.owner])
         self._scatters: dict = {}
+        self._last_scatter: dict = {}  # per pair: read-only (rows, dofs) and their _Scatter
+        self._all = np.arange(self.size)
+        self._all.flags.writeable = False
+        obstacles = [getattr(pair, "obstacle", None) for pair in self.pairs]
+        self._moving = [o for o in obstacles if getattr(o, "moving", False)]
+        # the gaps alone are cheaper where a pair can skip its derivatives
+        self._gap_functions = [
+            getattr(pair, "gaps", None) or (lambda q, pair=pair: pair.evaluate(q)[0])
+            for pair in self.pairs
+        ]
+        # affine gaps (constant gradients, fixed obstacles) of a small model: g(q) = g₀ + G q
+        # with G stored dense, so that a step without candidates costs one product
+        self._affine = None
+        if self.pairs and self.linear and not self.moving and self.size * len(free_index) <= 2**16:
+            self._affine = self._affine_form()
 
     @property
     def all(self) -> np.ndarray:
-        return np.arange(self.size)
+        return self._all
 
     @property
     def moving(self) -> bool:
-        return any(getattr(getattr(p, "obstacle", None), "moving", False) for p in self.pairs)
+        return bool(self._moving)
 
     def set_time(self, t: float) -> None:
         """Place the moving obstacles where they are at time t (s)."""
-        for pair in self.pairs:
-            obstacle = getattr(pair, "obstacle", None)
-            if getattr(obstacle, "moving", False):
-                obstacle.time = t
+        for obstacle in self._moving:
+            obstacle.time = t
 
     def rates(self, q: np.ndarray, select: np.ndarray) -> np.ndarray:
         """∂g_j/∂t of the contacts ``select`` (m/s): nonzero for moving obstacles only."""
@@ -378,12 +396,26 @@ class ContactSet:
         """Gaps (m,), dofs (list per pair), gradient values and Hessians of every contact."""
         return [pair.evaluate(q) for pair in self.pairs]
 
+    def _affine_form(self):
+        """(g₀, G on all dofs, G on the free dofs) of affine gaps g = g₀ + G q."""
+        n = len(self.free_index)
+        parts = self.evaluate(np.zeros(n))
+        G = np.zeros((self.size, n))
+        rows = np.split(self._all, np.cumsum([len(g) for g, _, _, _ in parts])[:-1])
+        for r, (_, dofs, Gv, _) in zip(rows, parts, strict=True):
+            dofs = np.broadcast_to(dofs, Gv.shape) if dofs.shape != Gv.shape else dofs
+            np.add.at(G, (np.repeat(r, Gv.shape[1]), dofs.ravel()), Gv.ravel())
+        g0 = np.concatenate([g for g, _, _, _ in parts])
+        return g0, G, np.ascontiguousarray(G[:, self.free_index >= 0])
+
     def gaps(self, q: np.ndarray) -> np.ndarray:
         if not self.pairs:
             return np.zeros(0)
+        if self._affine is not None:
+            return self._affine[0] + self._affine[1] @ q
         if len(self.pairs) == 1:
-            return self.pairs[0].evaluate(q)[0]
-        return np.concatenate([pair.evaluate(q)[0] for pair in self.pairs])
+            return self._gap_functions[0](q)
+        return np.concatenate([gaps(q) for gaps in self._gap_functions])
 
     def jacobian(self, q: np.ndarray, select: np.ndarray):
         """Gaps and dense gradient (len(select) × n_free) of the contacts ``select``."""
@@ -402,12 +434,18 @@ class ContactSet:
         C = None if weights is None else np.zeros((n, n))
         if not self.pairs or len(select) == 0:
             return np.zeros(0), G, C
+        if self._affine is not None:
+            g0, Gq, Gf = self._affine
+            return g0[select] + Gq[select] @ q, Gf[select], C
         parts = [pair.evaluate(q) for pair in self.pairs]
         single = len(parts) == 1
         g_all = parts[0][0] if single else np.concatenate([p[0] for p in parts])
         owner = None if single else self.owner[select]
+        every = single and select is self._all  # no selection to copy
         for i, (_, dofs, Gv, H) in enumerate(parts):
-            if single:
+            if every:
+                rows = loc = self._all
+            elif single:
                 rows, loc = np.arange(len(select)), select
             else:
                 rows = np.flatnonzero(owner == i)
@@ -416,16 +454,23 @@ class ContactSet:
                 loc = self.local[select[rows]]
             if dofs.shape != Gv.shape:
                 dofs = np.repeat(dofs.reshape(1, -1), len(Gv), axis=0)
-            sc = self._scatter(i, rows, dofs[loc])
-            _add(G, sc.g_index, Gv[loc].ravel()[sc.g_keep], sc.g_unique)
+            sc = self._scatter(i, rows, dofs if every else dofs[loc])
+            Gv, H = (Gv, H) if every or H is None else (Gv[loc], H[loc])
+            # each pair fills rows of its own: an assignment unless a row repeats a dof
+            _add(G, sc.g_index, Gv.ravel()[sc.g_keep], sc.g_unique, assign=True)
             if C is not None and H is not None:
                 w = weights[rows]
-                _add(C, sc.c_index, (w[:, None, None] * H[loc]).ravel()[sc.c_keep], sc.c_unique)
+                # rows on the same dofs (a joint's two equations): summed before the scatter
+                Hw = w @ H.reshape(len(w), -1) if sc.shared else w[:, None, None] * H
+                _add(C, sc.c_index, Hw.ravel()[sc.c_keep], sc.c_unique)
         return g_all[select], G, C
 
     def _scatter(self, i: int, rows: np.ndarray, dofs: np.ndarray):
         """Where the gradient rows and Hessians of pair i land in G and C (cached: the dofs
         of most pairs never change)."""
+        last = self._last_scatter.get(i)
+        if last is not None and last[0] is rows and last[1] is dofs:
+            return last[2]  # the same unchangeable arrays as last time
         key = (i, rows.tobytes(), dofs.tobytes())
         sc = self._scatters.get(key)
         if sc is None:
@@ -433,6 +478,8 @@ class ContactSet:
             if len(self._scatters) > 256:
                 self._scatters.clear()
             self._scatters[key] = sc
+        if not (rows.flags.writeable or dofs.flags.writeable):
+            self._last_scatter[i] = (rows, dofs, sc)
         return sc
 
     def generalized_force(self, q: np.ndarray, select: np.ndarray, mult: np.ndarray, n: int):
@@ -464,18 +511,28 @@ class _Scatter:
         self.g_unique = _unique_pairs(*self.g_index)
         a = np.repeat(fi, k, axis=1).ravel()
         b = np.tile(fi, (1, k)).ravel()
+        # Hessians of rows on the same dofs are summed first: scattered as one row
+        self.shared = len(fi) > 1 and bool(np.all(fi == fi[0]))
+        if self.shared:
+            a, b = np.repeat(fi[0], k), np.tile(fi[0], k)
         self.c_keep = (a >= 0) & (b >= 0)
         self.c_index = (a[self.c_keep], b[self.c_keep])
         self.c_unique = _unique_pairs(*self.c_index)
+        # no fixed dof: a view instead of a boolean selection
+        self.g_keep = slice(None) if self.g_keep.all() else self.g_keep
+        self.c_keep = slice(None) if self.c_keep.all() else self.c_keep
 
 
 def _unique_pairs(i: np.ndarray, j: np.ndarray) -> bool:
     return len(np.unique(np.stack([i, j]), axis=1).T) == len(i) if len(i) else True
 
 
-def _add(A: np.ndarray, index, values: np.ndarray, unique: bool) -> None:
-    """A[index] += values; a plain fancy assignment when no index repeats (much cheaper)."""
-    if unique:
+def _add(A: np.ndarray, index, values: np.ndarray, unique: bool, assign=False) -> None:
+    """A[index] += values; a plain fancy assignment when no index repeats (much cheaper), and
+    ``assign`` when those entries of A are known to be zero."""
+    if unique and assign:
+        A[index] = values
+    elif unique:
         A[index] += values
     else:
         np.add.at(A, index, values)

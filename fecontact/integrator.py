@@ -27,6 +27,7 @@ error first order. Steps without a contact candidate skip 2 and 3.
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from collections.abc import Iterator
@@ -50,6 +51,8 @@ __all__ = ["IntegratorOptions", "State", "alpha_coefficients", "simulate"]
 
 METRICS = ("stiffness", "mass")
 IMPACT_VELOCITIES = ("interpolated", "step_start")
+_EMPTY = np.zeros(0)
+_EMPTY.flags.writeable = False
 INTEGRATORS = ("nsga", "moreau", "penalty")
 
 
@@ -275,8 +278,13 @@ def simulate(
     n_steps = max(1, math.ceil(t_end / dt - 1e-9))
     for n in range(state.step + 1, n_steps + 1):
         t_next = min(n * dt, t_end)
+        h = t_next - state.t
+        # n·dt − (n − 1)·dt differs from dt in its last bits: take the nominal step, so that
+        # what is cached per step size (factorizations of linear models) is built once
+        if abs(h - dt) <= 1e-9 * dt:
+            h = dt
         try:
-            state = _advance(model, state, t_next - state.t, opts, timer, 0)
+            state = _advance(model, state, h, opts, timer, 0)
         except _StepFailure as err:
             raise SolverError(
                 f"Newton did not converge at t = {state.t:.6g} s (step {n}): {err} "
@@ -344,9 +352,9 @@ def _factorize(A, residual):
 
 
 def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer) -> State:
-    c = _Coefficients(opts.rho_inf, h)
+    c = _coefficients(opts.rho_inf, h)
     t = st.t + h
-    q, v, vd, a, lam, S, it = _smooth_step(model, st, t, c, opts, timer)
+    q, v, vd, a, lam, S, it, Gb = _smooth_step(model, st, t, c, opts, timer)
     iters = {"smooth": it, "position": 0, "velocity": 0}
     clock = time.perf_counter()
     m, joints = model.contacts.size, model.joints
@@ -362,21 +370,23 @@ def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer
     if cand.size and np.min(g_tilde[cand]) < 0.0:
         nu0 = st.nu[cand] / opts.multiplier_scale  # warm start: the previous step's
         U, nu_c, iters["position"] = _position_correction(model, q, cand, S, c, opts, tol_gap, nu0)
-        q[model.free] += U
+        q[model.free_slice] += U
         if model.inverted(q):
             raise _StepFailure("the position correction inverts an element (det F <= 0)", np.nan)
         nu[cand] = nu_c[: cand.size]
         gaps = model.contacts.gaps(q)
+        Gb = None  # the joints' gradient moved with q
     clock = timer.add("contact", clock)
 
     # 3. velocity jump on the contacts closed at q_{n+1}, and on the joints
-    closed = cand[gaps[cand] <= tol_gap]
+    closed = cand[gaps[cand] <= tol_gap] if cand.size else cand
     if closed.size or joints.size:
         W, Lam, iters["velocity"] = _velocity_jump(
-            model, st, q, v, closed, g_tilde, opts, t, tol_gap
+            model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb
         )
-        v[model.free] += W
-        impulse[closed] = Lam[: closed.size]
+        v[model.free_slice] += W
+        if closed.size:
+            impulse[closed] = Lam[: closed.size]
     timer.add("contact", clock)
     return State(
         t,
@@ -395,7 +405,11 @@ def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer
 
 
 class _Coefficients:
-    """Generalized-α coefficients for one step of size h."""
+    """Generalized-α coefficients for one step of size h (shared: see ``_coefficients``).
+
+    ``P`` is the predictor as a map of (q, v, v̇, a)_n to (q, v, v̇, a)_{n+1} with
+    v̇_{n+1} = v̇_n, and ``w`` = (1, γ′, β′, ∂a/∂q) the rates at which a Newton update of q
+    moves the four."""
 
     def __init__(self, rho_inf: float, h: float):
         am, af, gm, be = alpha_coefficients(rho_inf)
@@ -403,83 +417,107 @@ class _Coefficients:
         self.bp = (1.0 - am) / (be * h * h * (1.0 - af))  # β′ = ∂v̇/∂q
         self.gp = gm / (be * h)  # γ′ = ∂v/∂q
         self.da = (1.0 - af) / (1.0 - am) * self.bp  # ∂a/∂q
+        # a_{n+1} = k1 v̇_n + k2 a_n, from (1 − α_m) a_{n+1} + α_m a_n = v̇_n
+        k1, k2 = 1.0 / (1.0 - am), -am / (1.0 - am)
+        hh = h * h
+        self.P = np.array(
+            [
+                [1.0, h, hh * be * k1, hh * (0.5 - be) + hh * be * k2],
+                [0.0, 1.0, h * gm * k1, h * (1.0 - gm) + h * gm * k2],
+                [0.0, 0.0, 1.0, 0.0],
+                [0.0, 0.0, k1, k2],
+            ]
+        )
+        self.w = np.array([1.0, self.gp, self.bp, self.da])
+
+
+@functools.lru_cache(maxsize=64)
+def _coefficients(rho_inf: float, h: float) -> _Coefficients:
+    return _Coefficients(rho_inf, h)
 
 
 def _predict(st, c):
-    """Generalized-α predictor with a constant acceleration v̇_{n+1} = v̇_n: (q, v, v̇, a)."""
-    h = c.h
-    vd = st.vd.copy()
-    a = (c.af * st.vd - c.am * st.a + (1.0 - c.af) * vd) / (1.0 - c.am)
-    q = st.q + h * st.v + h * h * (0.5 - c.beta) * st.a + h * h * c.beta * a
-    v = st.v + h * (1.0 - c.gamma) * st.a + h * c.gamma * a
-    return q, v, vd, a
+    """Generalized-α predictor with a constant acceleration v̇_{n+1} = v̇_n: (q, v, v̇, a),
+    rows (views) of one (4, n) array."""
+    return c.P @ np.stack([st.q, st.v, st.vd, st.a])
 
 
 def _smooth_step(model, st, t, c, opts, timer):
-    """Step 1: Newton on M v̇ + C_t v + f_int(q) + G_bᵀλ = f_ext(t), g_b(q) = 0."""
-    F = model.free
-    q, v, vd, a = _predict(st, c)
+    """Step 1: Newton on M v̇ + C_t v + f_int(q) + G_bᵀλ = f_ext(t), g_b(q) = 0.
+
+    Returns (q, v, v̇, a, λ, S, iterations, G_b): S = (S_t, its solver) for the metric of the
+    position correction (None with joints), G_b the joint gradient at the returned q (None
+    when the last update moved q after it was evaluated)."""
+    F, nF = model.free_slice, model.n_free
+    X = _predict(st, c)
+    q, v, vd, a = X
     lam = st.lam.copy()
     fext = model.external(t)[F]
+    ff = fext @ fext
     joints = model.joints
     nb = joints.size
     alpha, beta_k = model.damping
     tol_b = opts.tol_gap * length_scale(model, q) if nb else 0.0
     inc_tol = opts.tol_increment * max(model.length, 1.0)
     big_step = 0.05 * max(model.length, 1.0)
-    S = None
-    fixed_S = model.linear and not nb
+    S = Gb = None
+    # linear bodies: S_t = β′M + γ′C + K is assembled and factorized once per step size;
+    # joints border it with their (q-dependent) gradient and curvature
+    linear = model.linear
     clock = time.perf_counter()
     for it in range(opts.max_iterations + 1):
-        _, fint, K = model.internal(q, tangent=not fixed_S)
+        _, fint, K = model.internal(q, tangent=not linear)
         fi = fint[F]
         Mvd = model.M @ vd[F]
         r = Mvd + fi - fext
         if alpha or beta_k:
-            Ct = model.iteration_matrix(c.bp, c.gp)[2] if fixed_S else alpha * model.M + beta_k * K
+            Ct = model.iteration_matrix(c.bp, c.gp)[2] if linear else alpha * model.M + beta_k * K
             r += Ct @ v[F]
         if nb:
-            gb, Gb, Cb = joints.linearize(q, joints.all, None if joints.linear else lam)
+            # the joints' curvature where a solve is sure to follow (the first iteration),
+            # else only once one does
+            first = it == 0 and not joints.linear
+            gb, Gb, Cb = joints.linearize(q, joints.all, lam if first else None)
             r += Gb.T @ lam
         clock = timer.add("assembly", clock)
-        ref = math.sqrt(max(fext @ fext, fi @ fi, Mvd @ Mvd, 1e-300))
+        ref = math.sqrt(max(ff, fi @ fi, Mvd @ Mvd, 1e-300))
         rnorm = math.sqrt(r @ r)
-        if not np.isfinite(rnorm):
+        if not math.isfinite(rnorm):
             why = "" if np.all(np.isfinite(fi)) else ": an element inverts (det F <= 0)"
             raise _StepFailure("smooth step diverged" + why, rnorm)
-        if rnorm <= opts.tol_residual * ref and (not nb or np.max(np.abs(gb)) <= tol_b):
+        if rnorm <= opts.tol_residual * ref and (not nb or np.abs(gb).max() <= tol_b):
             break
         if it == opts.max_iterations:
             raise _StepFailure("smooth step", rnorm / ref)
-        if fixed_S:
+        if linear:
             S, solve, _ = model.iteration_matrix(c.bp, c.gp)
         else:
             S = model.iteration_sum(c.bp, K)
             if alpha or beta_k:
                 S = S + c.gp * Ct
         if nb:
+            if Cb is None and not joints.linear:
+                Cb = joints.curvature(q, joints.all, lam)
             Kb = S if Cb is None else S + Cb
             solve = _factorize(_bordered(Kb, Gb), rnorm / ref)
             x = -solve(np.concatenate([r, gb]))
-            dq, lam = x[: len(F)], lam + x[len(F) :]
+            dq, lam = x[:nF], lam + x[nF:]
         else:
-            if not fixed_S:
+            if not linear:
                 solve = _factorize(S, rnorm / ref)
             dq = -solve(r)
-            if np.max(np.abs(dq)) > big_step:
+            if np.abs(dq).max() > big_step:
                 dq *= _line_search(model, q, dq, Mvd - fext, r @ dq, c.bp)
-        q[F] += dq
-        v[F] += c.gp * dq
-        vd[F] += c.bp * dq
-        a[F] += c.da * dq
+        X[:, F] += np.multiply.outer(c.w, dq)  # q, v, v̇, a
         clock = timer.add("solve", clock)
-        if np.max(np.abs(dq)) <= inc_tol and (not nb or np.max(np.abs(gb)) <= tol_b):
+        if np.abs(dq).max() <= inc_tol and (not nb or np.abs(gb).max() <= tol_b):
             it += 1
+            Gb = None
             break
     # the metric of the position correction reuses S_t and its factors; a bordered
     # factorization (joints) is no metric, so then S_t is rebuilt on demand
     S = (S, solve) if S is not None and not nb else None
-    return q, v, vd, a, lam, S, it
+    return q, v, vd, a, lam, S, it, Gb
 
 
 def _bordered(K, G):
@@ -568,22 +606,24 @@ def _columns(model, key, select, G, solve, cons, constant: bool):
     return np.column_stack([cache[j] for j in select]) if len(select) else G.T.copy()
 
 
-def _velocity_jump(model, st, q, v, closed, g_tilde, opts, t, tol_gap):
+def _velocity_jump(model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb=None):
     """Step 3: v = ṽ + W, M W = Σ G_jᵀ [k Λ_j − p ġ_j]_+ with
-    ġ_j = G_j(q_{n+1}) v_{n+1} + e_j ġ⁻_j; joints: G_b v_{n+1} = 0.
+    ġ_j = G_j(q_{n+1}) v_{n+1} + e_j ġ⁻_j; joints: G_b v_{n+1} = 0 (``Gb``: their gradient
+    at q, if known).
 
     ġ⁻_j = (1 − τ_j) G_j(q_n) v_n + τ_j G_j(q_{n+1}) ṽ_{n+1}, with τ_j the fraction of the
     step at which the gap crosses zero (τ_j = 0 with ``impact_velocity="step_start"``).
     Warm-started from the previous step's impulses; a residual ġ below tol_gap/h closes less
     than the gap tolerance within the step."""
     F = model.free
-    cons = _Constraints(model, closed)
-    _, G1 = cons.jacobian(q)
     if closed.size == 0:
         # joints only: the M-orthogonal projection onto G_b v = 0, no active set to find
+        G1 = model.joints.jacobian(q, model.joints.all)[1] if Gb is None else Gb
         Y = model.solve_M(G1.T).reshape(len(F), -1)
-        mu = np.linalg.solve(G1 @ Y, -(G1 @ v[F]))
-        return Y @ mu, np.zeros(0), 1
+        mu = factorize(G1 @ Y)(-(G1 @ v[F]))
+        return Y @ mu, _EMPTY, 1
+    cons = _Constraints(model, closed)
+    _, G1 = cons.jacobian(q)
     e = np.concatenate([model.contacts.restitution[closed], np.zeros(model.joints.size)])
     gdot = G1 @ v[F]
     contacts = model.contacts
@@ -636,7 +676,8 @@ class _Constraints:
 
     def __init__(self, model, select):
         self.contacts, self.joints, self.select = model.contacts, model.joints, select
-        self.bilateral = np.r_[np.zeros(len(select), bool), np.ones(model.joints.size, bool)]
+        self.bilateral = np.zeros(len(select) + model.joints.size, bool)
+        self.bilateral[len(select) :] = True
         self.linear = self.contacts.linear and self.joints.linear
         self.n = model.n_free
 

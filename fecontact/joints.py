@@ -37,41 +37,45 @@ class Pin:
             raise InputError("other: a body cannot be pinned to itself")
         self.linear = body.linear_kinematics and (other is None or other.linear_kinematics)
         self.offsets = (0, 0)
+        self._dofs = self._global_dofs()
 
     def bind(self, model) -> None:
         ob = 0 if self.other is None else model.offset_of(self.other)
         self.offsets = (model.offset_of(self.body), ob)
+        self._dofs = self._global_dofs()
 
-    def _side(self, body, kin, offset, q):
-        x, dofs, Jx, Hx = kin(q[offset : offset + body.ndof])
-        return x[0], dofs[0] + offset, Jx[0], None if Hx is None else Hx[0]
+    def _global_dofs(self) -> np.ndarray:
+        """The dofs (2, k) of both rows: a material point keeps its dofs, so built once."""
+        oa, ob = self.offsets
+        dofs = self.kin_a(np.zeros(self.body.ndof))[1][0] + oa
+        if self.other is not None:
+            dofs = np.concatenate([dofs, self.kin_b(np.zeros(self.other.ndof))[1][0] + ob])
+        dofs = np.repeat(dofs[None], 2, axis=0)
+        dofs.flags.writeable = False
+        return dofs
 
     def evaluate(self, q: np.ndarray):
         """Constraint values (2,), dofs (2, k), gradient rows (2, k), Hessians (2, k, k)."""
-        xa, da, Ja, Ha = self._side(self.body, self.kin_a, self.offsets[0], q)
+        oa, ob = self.offsets
+        xa, _, Ja, Ha = self.kin_a(q[oa : oa + self.body.ndof])
         if self.other is None:
-            g, dofs, G = xa - self.point, da, Ja
-            H = Ha
-        else:
-            xb, db, Jb, Hb = self._side(self.other, self.kin_b, self.offsets[1], q)
-            g = xa - xb
-            dofs = np.concatenate([da, db])
-            G = np.concatenate([Ja, -Jb], axis=1)
-            H = None
-            if Ha is not None or Hb is not None:
-                k = len(dofs)
-                H = np.zeros((2, k, k))
-                if Ha is not None:
-                    H[:, : len(da), : len(da)] = Ha
-                if Hb is not None:
-                    H[:, len(da) :, len(da) :] = -Hb
-        return g, np.vstack([dofs, dofs]), G, H
+            return xa[0] - self.point, self._dofs, Ja[0], None if Ha is None else Ha[0]
+        xb, _, Jb, Hb = self.kin_b(q[ob : ob + self.other.ndof])
+        G = np.concatenate([Ja[0], -Jb[0]], axis=1)
+        H = None
+        if Ha is not None or Hb is not None:
+            ka = Ja.shape[2]
+            H = np.zeros((2,) + G.shape[1:] * 2)
+            if Ha is not None:
+                H[:, :ka, :ka] = Ha[0]
+            if Hb is not None:
+                H[:, ka:, ka:] = -Hb[0]
+        return xa[0] - xb[0], self._dofs, G, H
 
 
 def _material_point(body, point):
     """Kinematics q ↦ (x, dofs, ∂x/∂q, ∂²x/∂q²) of the body's material point at ``point``."""
     if hasattr(body, "frame_point_kinematics"):  # rigid body: any point of its frame
-        r = body.to_frame(point)[None, :]
-        return lambda q: body.frame_point_kinematics(q, r)
+        return body.frame_point_function(body.to_frame(point)[None, :])
     node = np.array([body.locate(point)])
     return lambda q: body.point_kinematics(q, node)

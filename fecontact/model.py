@@ -82,6 +82,9 @@ class Model:
         self.free = np.flatnonzero(~fixed)
         if len(self.free) == 0:
             raise InputError("supports fix every dof: nothing can move")
+        f = self.free
+        # the free dofs as a slice when they are contiguous: views instead of copies
+        self.free_slice = slice(int(f[0]), int(f[-1]) + 1) if f[-1] - f[0] + 1 == len(f) else f
         self.free_index = np.full(self.n, -1)
         self.free_index[self.free] = np.arange(len(self.free))
         self.dense = len(self.free) <= DENSE_LIMIT
@@ -107,6 +110,7 @@ class Model:
         self.loads = list(loads)
         for load in self.loads:
             load.bind(self)
+        self._slices = [self.body_slice(i) for i in range(len(self.bodies))]
         self.length = max(b.characteristic_length for b in self.bodies)
         self._reference = [b.positions(np.zeros(b.ndof)) for b in self.bodies]
         self._reference_extent = max(float(np.max(np.abs(X))) for X in self._reference)
@@ -170,8 +174,10 @@ class Model:
     def internal(self, q: np.ndarray, tangent: bool = True):
         """Strain energy (J), internal force on all dofs and tangent on the free dofs."""
         W, f, Ke = 0.0, np.zeros(self.n), []
-        for i, b in enumerate(self.bodies):
-            s = self.body_slice(i)
+        for b, s in zip(self.bodies, self._slices, strict=True):
+            if not b.element_dofs.size:  # no elements (rigid bodies): no strain energy
+                Ke.append(np.zeros((0,) + b.element_dofs.shape[1:] * 2))
+                continue
             Wb, fb, Keb = b.internal(q[s], tangent)
             W += Wb
             f[s] = fb

@@ -82,7 +82,8 @@ class Plane(_Motion):
     def gap(self, x: np.ndarray):
         """Gap (m,), gradient (m, d) and Hessian (None: zero) at points ``x`` (m, d)."""
         _check_points(x, self.dim)
-        g = (x - self.point - self.shift()) @ self.normal
+        p = self.point if self.motion is None else self.point + self.shift()
+        g = (x - p) @ self.normal
         G = np.repeat(self.normal[None], len(x), axis=0)
         return g, G, None
 

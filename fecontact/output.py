@@ -26,10 +26,12 @@ Geometry is written in the current configuration (points = reference + displacem
 from __future__ import annotations
 
 import base64
+import functools
 import json
 import math
 import os
 import re
+import time
 import xml.etree.ElementTree as ET
 import zlib
 from contextlib import contextmanager
@@ -141,19 +143,8 @@ def _vtu_text(mesh) -> str:
     """The XML of a VTK UnstructuredGrid holding ``mesh`` (a ``meshio.Mesh``): a direct writer,
     ~10x faster than meshio's for the small meshes written at every output frame."""
     points = np.asarray(mesh.points, dtype=float)
-    conn, offsets, types = [], [], []
-    end = 0
-    for block in mesh.cells:
-        c = np.asarray(block.data, dtype=np.int64)
-        if c.size == 0:
-            continue
-        conn.append(c.ravel())
-        k = c.shape[1]
-        offsets.append(end + k * np.arange(1, len(c) + 1))
-        end += k * len(c)
-        types.append(np.full(len(c), _VTK_TYPES[block.type], dtype=np.int64))
-    n_cells = sum(len(t) for t in types)
-    cat = (lambda xs: np.concatenate(xs)) if conn else (lambda xs: np.zeros(0, np.int64))
+    cells = [(b.type, np.asarray(b.data, dtype=np.int64)) for b in mesh.cells]
+    n_cells, cells_xml = _cells_xml(tuple((kind, c.shape, c.tobytes()) for kind, c in cells))
 
     def arrays(data, n):
         out = []
@@ -177,14 +168,36 @@ def _vtu_text(mesh) -> str:
         'byte_order="LittleEndian" header_type="UInt64" compressor="vtkZLibDataCompressor">\n'
         f'<UnstructuredGrid>\n<Piece NumberOfPoints="{len(points)}" NumberOfCells="{n_cells}">\n'
         f"<Points>\n{_data_array('Points', points, 3)}</Points>\n<Cells>\n"
-        + _data_array("connectivity", cat(conn))
-        + _data_array("offsets", cat(offsets))
-        + _data_array("types", cat(types))
+        + cells_xml
         + "</Cells>\n<PointData>\n"
         + arrays(mesh.point_data, len(points))
         + "</PointData>\n<CellData>\n"
         + arrays(cell_data, n_cells)
         + "</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n"
+    )
+
+
+@functools.lru_cache(maxsize=8)
+def _cells_xml(key) -> tuple[int, str]:
+    """(number of cells, the connectivity, offsets and types DataArrays) of the cell blocks
+    ``key`` = ((type, shape, connectivity bytes), ...): the same at every frame of a body."""
+    conn, offsets, types = [], [], []
+    end = 0
+    for kind, shape, data in key:
+        c = np.frombuffer(data, dtype=np.int64).reshape(shape)
+        if c.size == 0:
+            continue
+        conn.append(c.ravel())
+        k = c.shape[1]
+        offsets.append(end + k * np.arange(1, len(c) + 1))
+        end += k * len(c)
+        types.append(np.full(len(c), _VTK_TYPES[kind], dtype=np.int64))
+    n_cells = sum(len(t) for t in types)
+    cat = (lambda xs: np.concatenate(xs)) if conn else (lambda xs: np.zeros(0, np.int64))
+    return n_cells, (
+        _data_array("connectivity", cat(conn))
+        + _data_array("offsets", cat(offsets))
+        + _data_array("types", cat(types))
     )
 
 
@@ -198,9 +211,15 @@ class PVDWriter:
 
     Parts are named by the caller (one per body, e.g. ``"beam"``, ``"stop"``); each gets a fixed
     ``part`` index in the order it first appears. Times (s) must increase strictly.
+
+    The ``.pvd`` is rewritten after a frame when ``index_interval`` seconds of wall time have
+    passed since it was last written (0: after every frame), and by :meth:`flush`. Replacing a
+    file costs far more than creating one (ext4 writes the new data out before the rename
+    completes: milliseconds, growing with the index), so a run rewrites it at most about once
+    a second and flushes it when it stops.
     """
 
-    def __init__(self, out_dir: str | Path, case_name: str):
+    def __init__(self, out_dir: str | Path, case_name: str, index_interval: float = 0.0):
         self.out_dir = Path(out_dir)
         self.case_name = _check_name("case name", case_name)
         self.out_dir.mkdir(parents=True, exist_ok=True)
@@ -210,6 +229,9 @@ class PVDWriter:
         self._static: dict[str, str] = {}  # part -> file
         self._moving: list[list[tuple[int, str]]] = []  # per frame: (part index, XML line)
         self._blocks: list[str] = []  # per frame: its .pvd lines, so a rewrite is one join
+        self.index_interval = float(index_interval)
+        self._indexed = 0  # frames listed in the .pvd on disk
+        self._indexed_at = -math.inf  # time.perf_counter() of that write
 
     @property
     def n_frames(self) -> int:
@@ -265,6 +287,12 @@ class PVDWriter:
             "  <Collection>\n" + "".join(self._blocks) + "  </Collection>\n</VTKFile>\n"
         )
         _write_text(self.pvd, text)
+        self._indexed, self._indexed_at = len(self._blocks), time.perf_counter()
+
+    def flush(self) -> None:
+        """Rewrite the ``.pvd`` if it does not list every frame written so far."""
+        if self._indexed < len(self._blocks):
+            self._write_pvd()
 
     def write_static(self, part: str, mesh) -> Path:
         """Write a part that never moves (an obstacle) once; it is listed at every timestep."""
@@ -306,6 +334,8 @@ class PVDWriter:
         self.times.append(t)
         self._moving.append(moving)
         self._blocks.append(self._block(timestep, moving))
+        if time.perf_counter() - self._indexed_at < self.index_interval:
+            return paths
         try:
             self._write_pvd()
         except BaseException:

@@ -21,6 +21,8 @@ A ``PointMass`` is a body of its own with two translation dofs and one output po
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import scipy.sparse as sp
 
@@ -193,6 +195,7 @@ class RigidBody2D:
         self.fixed: set[int] = set()
         self._points = shape.output_points()
         self.center_index = len(shape.vertices)
+        self._frame_maps: dict = {}  # body-frame points -> their _FrameMap
 
     @classmethod
     def uniform(cls, mass: float, position, shape, angle: float = 0.0) -> RigidBody2D:
@@ -299,16 +302,18 @@ class RigidBody2D:
     def frame_point_kinematics(self, q: np.ndarray, r):
         """As ``point_kinematics`` for any points ``r`` (m, 2) given in the body frame (m, from
         the centre of mass): a joint's pivot, say."""
+        return self.frame_point_function(r)(q)
+
+    def frame_point_function(self, r):
+        """The function q ↦ ``frame_point_kinematics(q, r)``, for points evaluated often."""
         r = np.atleast_2d(r)
-        arm = r @ rotation(self.orientation(q)).T
-        m = len(r)
-        x = self.center(q) + arm
-        Jx = np.zeros((m, 2, 3))
-        Jx[:, 0, 0] = Jx[:, 1, 1] = 1.0
-        Jx[:, :, 2] = arm @ _PERP.T
-        Hx = np.zeros((m, 2, 3, 3))
-        Hx[:, :, 2, 2] = -arm
-        return x, np.repeat(_DOFS3, m, axis=0), Jx, Hx
+        key = r.tobytes()
+        kin = self._frame_maps.get(key)
+        if kin is None:
+            if len(self._frame_maps) > 64:
+                self._frame_maps.clear()
+            kin = self._frame_maps[key] = _FrameMap(self.position, self.angle, r)
+        return kin
 
     def point_data(self, q: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:
         """Output fields at the output points: displacement and velocity (2D vectors, m and
@@ -324,6 +329,42 @@ class RigidBody2D:
     def cells(self) -> list[tuple[str, np.ndarray]]:
         """Cells for VTU output: the outline as ``line`` cells."""
         return [("line", self.shape.cells())]
+
+
+class _FrameMap:
+    """Kinematics of body-frame points r (m, 2) as one linear map of (1, u_x, u_y, cos φ, sin φ):
+    x = c₀ + u + R(φ) r, ∂x/∂q = [I | J R(φ) r], ∂²x/∂θ² = −R(φ) r are all linear in these
+    five numbers, so each evaluation is a single small matrix product (small systems pay per
+    numpy call, not per flop)."""
+
+    def __init__(self, position: np.ndarray, angle: float, r: np.ndarray):
+        self.angle = angle
+        m = len(r)
+        self.shapes = ((m, 2), (m, 2, 3), (m, 2, 3, 3))
+        self.dofs = np.repeat(_DOFS3, m, axis=0)
+        self.dofs.flags.writeable = False
+        cols = [self._outputs(position, r, *e) for e in np.eye(5)]
+        self.B = np.column_stack(cols)
+        self.ends = np.cumsum([int(np.prod(s)) for s in self.shapes])
+
+    @staticmethod
+    def _outputs(position, r, one, ux, uy, c, s) -> np.ndarray:
+        arm = np.column_stack([c * r[:, 0] - s * r[:, 1], s * r[:, 0] + c * r[:, 1]])
+        m = len(r)
+        x = one * position + np.array([ux, uy]) + arm
+        Jx = np.zeros((m, 2, 3))
+        Jx[:, 0, 0] = Jx[:, 1, 1] = one
+        Jx[:, 0, 2], Jx[:, 1, 2] = -arm[:, 1], arm[:, 0]  # J R(φ) r
+        Hx = np.zeros((m, 2, 3, 3))
+        Hx[:, :, 2, 2] = -arm
+        return np.concatenate([x.ravel(), Jx.ravel(), Hx.ravel()])
+
+    def __call__(self, q):
+        phi = self.angle + q[2]
+        y = self.B @ np.array([1.0, q[0], q[1], math.cos(phi), math.sin(phi)])
+        a, b, _ = self.ends
+        (sx, sj, sh) = self.shapes
+        return y[:a].reshape(sx), self.dofs, y[a:b].reshape(sj), y[b:].reshape(sh)
 
 
 class PointMass:

@@ -2,8 +2,9 @@
 
 ``run`` steps the integrator and writes, in the output folder, the VTU frames with their
 ``.pvd`` collection, ``history.csv`` (one row per step) and ``summary.json``. Frames are written
-at the output interval only; the ``.pvd`` is rewritten atomically after each frame, so a run
-that stops (an error, Ctrl-C) leaves every frame so far readable.
+at the output interval only; the ``.pvd`` is rewritten atomically at most every
+``PVD_INTERVAL`` seconds of wall time, at checkpoints and when the run stops (an error, Ctrl-C),
+so that it then lists every frame written so far.
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ from .output import STANDARD_COLUMNS
 __all__ = ["Probe", "Simulation", "node_probe", "run", "HISTORY_COLUMNS"]
 
 HISTORY_COLUMNS = STANDARD_COLUMNS
+PVD_INTERVAL = 1.0  # s of wall time between rewrites of the .pvd index during a run
 
 
 @dataclass(frozen=True)
@@ -116,7 +118,11 @@ class Simulation:
 def _frame_parts(model, state: State):
     from .output import body_mesh
 
-    f_imp = model.contacts.generalized_force(state.q, model.contacts.all, state.impulse, model.n)
+    contacts = model.contacts
+    if state.impulse.any():
+        f_imp = contacts.generalized_force(state.q, contacts.all, state.impulse, model.n)
+    else:  # no contact acted in this step: nothing to evaluate
+        f_imp = np.zeros(model.n)
     h = state.h if state.h > 0 else math.inf
     parts = {}
     for i, body in enumerate(model.bodies):
@@ -369,8 +375,10 @@ def run(
         initial_state(sim.model, sim.q0, sim.v0)  # input errors surface before any file exists
         for text in sim.warnings():
             warnings.warn(text, UserWarning, stacklevel=2)
+    if frames:
+        import meshio  # noqa: F401  (the frames' mesh type: imported outside the timed loop)
     out.mkdir(parents=True, exist_ok=True)
-    pvd = PVDWriter(out, sim.name)
+    pvd = PVDWriter(out, sim.name, index_interval=PVD_INTERVAL)
     timer = PhaseTimer()
     rec = _Recorder(sim, out, keep_rows=None if start is None else start.step + 1)
     next_frame = 0.0
@@ -394,6 +402,7 @@ def run(
                 interval = sim.output_interval
                 next_frame = (math.floor(st.t / interval + 1e-6) + 1) * interval
             if checkpoint_every and st.step and st.step % checkpoint_every == 0:
+                pvd.flush()  # a resumed run keeps the frames the index lists
                 _save_checkpoint(out / CHECKPOINT, sim, st, rec, next_frame)
             timer.add("output", clock)
             if bar is not None and st.step:
@@ -407,6 +416,7 @@ def run(
         status, message = "interrupted", "interrupted by the user"
         raise
     finally:
+        timer.add("output", _flush(pvd))
         wall = time.perf_counter() - t_start
         rec.history.close()
         if bar is not None:
@@ -414,6 +424,13 @@ def run(
         summary = rec.summary(status, wall, timer, message)
         write_json(out / "summary.json", summary)
     return summary
+
+
+def _flush(pvd) -> float:
+    """Write the .pvd index if frames are missing from it; return the start time (s)."""
+    clock = time.perf_counter()
+    pvd.flush()
+    return clock
 
 
 def _progress_bar(sim: Simulation, start: State | None):

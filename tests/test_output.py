@@ -124,6 +124,22 @@ def test_interrupted_run_leaves_readable_pvd_with_complete_frames(tmp_path):
     assert leftovers(folder) == []
 
 
+def test_pvd_index_is_rewritten_at_its_interval_and_on_flush(tmp_path):
+    # replacing the .pvd costs milliseconds on ext4: a run rewrites it at most every
+    # index_interval seconds, and flushes it when it stops
+    writer = PVDWriter(tmp_path, "case", index_interval=3600.0)
+    for t in TIMES:
+        writer.write_frame(t, {"beam": beam_at(t)})
+    assert pvd_times(writer.pvd) == TIMES[:1]
+    assert len(list(tmp_path.glob("case_beam_*.vtu"))) == len(TIMES)
+    writer.flush()
+    np.testing.assert_array_equal(pyvista.get_reader(str(writer.pvd)).time_values, TIMES)
+    mtime = writer.pvd.stat().st_mtime_ns
+    writer.flush()  # nothing new: not rewritten
+    assert writer.pvd.stat().st_mtime_ns == mtime
+    assert leftovers(tmp_path) == []
+
+
 def test_failed_write_keeps_previous_pvd_and_no_temporary_file(tmp_path, monkeypatch):
     folder = tmp_path / "run"
     writer = PVDWriter(folder, "case")
