@@ -514,11 +514,9 @@ def _smooth_step(model, st, t, c, opts, timer):
                 dq *= _line_search(model, q, dq, Mvd - fext, r @ dq, c.bp)
         X[:, F] += np.multiply.outer(c.w, dq)  # q, v, v̇, a
         clock = timer.add("solve", clock)
-        if np.abs(dq).max() <= inc_tol and (not nb or np.abs(gb).max() <= tol_b):
-            it += 1
-            Gb = None
-            break
-        if bounded and _converged_by_bound(model, vd, dq, lam, x[nF:], ff, tol_b, opts):
+        if (bounded and _converged_by_bound(model, vd, dq, lam, x[nF:], ff, tol_b, opts)) or (
+            np.abs(dq).max() <= inc_tol and (not nb or np.abs(gb).max() <= tol_b)
+        ):
             it += 1
             Gb = None
             break
@@ -541,8 +539,11 @@ def _converged_by_bound(model, vd, dq, lam, dlam, ff, tol_b, opts) -> bool:
     gap, force = bound
     if gap > 0.5 * tol_b:
         return False
+    limit = 0.5 * opts.tol_residual
+    if force <= limit * math.sqrt(ff):
+        return True
     Mvd = model.M @ vd[model.free_slice]
-    return force <= 0.5 * opts.tol_residual * math.sqrt(max(ff, Mvd @ Mvd))
+    return force <= limit * math.sqrt(Mvd @ Mvd)
 
 
 def _bordered(K, G):
