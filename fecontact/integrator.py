@@ -76,10 +76,10 @@ class IntegratorOptions:
         path of the contact Newton iterations, never the converged result.
     tol_residual : relative tolerance of the smooth Newton residual: it stops when
         ‖r‖ ≤ tol_residual · max(|f_ext|, |f_int|, |M v̇|), or when ‖r‖ is below the round-off
-        of its own evaluation, ε·‖K‖∞·(max|X| + ‖q‖∞) (K the stiffness, X the reference
-        coordinates: f_int comes from coordinates X + u each known to ε(|X| + |u|)).
-        Without that floor a stiff body at rest, whose residual sits at round-off (up to 1e-7 of the
-        weight of a steel strip), took an update every step only to stop on ``tol_increment``.
+        of its own evaluation, √n·ε·‖K‖∞·ℓ (n free dofs, K the tangent stiffness, ℓ the length
+        scale of ``tol_gap``: f_int comes from coordinates each known to ε·ℓ). Without that
+        floor a stiff body at rest, whose residual sits at round-off (4e-8 of the weight of a
+        steel strip), took an update after every step only to stop on ``tol_increment``.
     tol_increment : Newton also stops when an update is below this fraction of the model size
         (rotations: of 1 rad), where round-off bounds the residual of very stiff models.
     tol_gap : gap (and joint) tolerance relative to the length scale of the model: the larger
@@ -497,7 +497,7 @@ def _smooth_step(model, st, t, c, opts, timer):
         limit = opts.tol_residual * ref
         if rnorm > limit:
             if floor is None:
-                floor = _residual_floor(model, q)
+                floor = _residual_floor(model, q, K)
             limit = max(limit, floor)
         if rnorm <= limit and (not nb or np.abs(gb).max() <= tol_b):
             break
@@ -536,20 +536,16 @@ def _smooth_step(model, st, t, c, opts, timer):
     return q, v, vd, a, lam, S, it, Gb
 
 
-def _residual_floor(model, q) -> float:
-    """The round-off floor ε·‖K‖∞·(max|X| + ‖q‖∞) (N) of the smooth-step residual.
-
-    f_int is computed from coordinates x = X + u, each known to about ε(|X| + |u|), and K
-    times such an error is up to ‖K‖∞ times it in each dof: no Newton update can bring ‖r‖
-    below about this (a steel strip at rest: ‖r‖ up to 1e-7 of the load, 0.1 to 0.5
-    of the floor). ‖K‖∞ is that of the reference configuration
-    (:attr:`Model.stiffness_norm`), an estimate of the scale.
-    """
-    k = model.stiffness_norm
+def _residual_floor(model, q, K) -> float:
+    """The round-off floor √n·ε·‖K‖∞·ℓ (N) of the smooth-step residual: f_int is computed from
+    coordinates x = X + u, each known to about ε·ℓ (ℓ: :func:`length_scale`), and K times such
+    an error is up to ‖K‖∞·ε·ℓ per dof, so no Newton update can bring ‖r‖ below it (a stiff
+    beam at rest: 4e-8 of its weight). ``K`` is the tangent at q (None for a linear model, whose
+    constant stiffness is used)."""
+    k = model.stiffness_norm(None if model.linear else K)
     if k == 0.0:
         return 0.0
-    extent = model.reference_extent + float(np.abs(q).max())
-    return np.finfo(float).eps * k * extent
+    return math.sqrt(model.n_free) * np.finfo(float).eps * k * length_scale(model, q)
 
 
 def _converged_by_bound(model, vd, dq, lam, dlam, ff, tol_b, opts) -> bool:

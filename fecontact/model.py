@@ -202,19 +202,14 @@ class Model:
             self._iteration_matrices[key] = (S, factorize(S), C)
         return self._iteration_matrices[key]
 
-    @property
-    def stiffness_norm(self) -> float:
-        """‖K‖∞ (N/m: the largest absolute row sum) of the tangent stiffness on the free dofs
-        in the reference configuration, computed once: the material stiffness, whose scale the
-        tangent keeps in any configuration."""
+    def stiffness_norm(self, K=None) -> float:
+        """‖K‖∞ (N/m: the largest absolute row sum) of a tangent ``K`` on the free dofs, or,
+        without K, of the constant stiffness of a linear model (computed once)."""
+        if K is not None:
+            return _max_row_sum(K)
         if self._stiffness_norm is None:
             self._stiffness_norm = _max_row_sum(self.internal(np.zeros(self.n))[2])
         return self._stiffness_norm
-
-    @property
-    def reference_extent(self) -> float:
-        """max|X| (m) over the reference coordinates of the bodies' points."""
-        return self._reference_extent
 
     def external(self, t: float) -> np.ndarray:
         """External force (N, N·m) on all dofs at time t (s): gravity plus the loads."""
