@@ -74,12 +74,7 @@ class IntegratorOptions:
     metric : position-correction metric, "stiffness" (H = S_t/β′) or "mass" (H = M).
     penalty_scale, multiplier_scale : factors (> 0) on the automatic p and k; they change the
         path of the contact Newton iterations, never the converged result.
-    tol_residual : relative tolerance of the smooth Newton residual: it stops when
-        ‖r‖ ≤ tol_residual · max(|f_ext|, |f_int|, |M v̇|), or when ‖r‖ is below the round-off
-        of its own evaluation, √n·ε·‖K‖∞·ℓ (n free dofs, K the tangent stiffness, ℓ the length
-        scale of ``tol_gap``: f_int comes from coordinates each known to ε·ℓ). Without that
-        floor a stiff body at rest, whose residual sits at round-off (4e-8 of the weight of a
-        steel strip), took an update after every step only to stop on ``tol_increment``.
+    tol_residual : relative tolerance of the smooth Newton residual.
     tol_increment : Newton also stops when an update is below this fraction of the model size
         (rotations: of 1 rad), where round-off bounds the residual of very stiff models.
     tol_gap : gap (and joint) tolerance relative to the length scale of the model: the larger
@@ -467,7 +462,7 @@ def _smooth_step(model, st, t, c, opts, timer):
     tol_b = opts.tol_gap * length_scale(model, q) if nb else 0.0
     inc_tol = opts.tol_increment * max(model.length, 1.0)
     big_step = 0.05 * max(model.length, 1.0)
-    S = Gb = floor = None
+    S = Gb = None
     # linear bodies: S_t = β′M + γ′C + K is assembled and factorized once per step size;
     # joints border it with their (q-dependent) gradient and curvature
     linear = model.linear
@@ -494,12 +489,7 @@ def _smooth_step(model, st, t, c, opts, timer):
         if not math.isfinite(rnorm):
             why = "" if np.all(np.isfinite(fi)) else ": an element inverts (det F <= 0)"
             raise _StepFailure("smooth step diverged" + why, rnorm)
-        limit = opts.tol_residual * ref
-        if rnorm > limit:
-            if floor is None:
-                floor = _residual_floor(model, q, K)
-            limit = max(limit, floor)
-        if rnorm <= limit and (not nb or np.abs(gb).max() <= tol_b):
+        if rnorm <= opts.tol_residual * ref and (not nb or np.abs(gb).max() <= tol_b):
             break
         if it == opts.max_iterations:
             raise _StepFailure("smooth step", rnorm / ref)
@@ -534,18 +524,6 @@ def _smooth_step(model, st, t, c, opts, timer):
     # factorization (joints) is no metric, so then S_t is rebuilt on demand
     S = (S, solve) if S is not None and not nb else None
     return q, v, vd, a, lam, S, it, Gb
-
-
-def _residual_floor(model, q, K) -> float:
-    """The round-off floor √n·ε·‖K‖∞·ℓ (N) of the smooth-step residual: f_int is computed from
-    coordinates x = X + u, each known to about ε·ℓ (ℓ: :func:`length_scale`), and K times such
-    an error is up to ‖K‖∞·ε·ℓ per dof, so no Newton update can bring ‖r‖ below it (a stiff
-    beam at rest: 4e-8 of its weight). ``K`` is the tangent at q (None for a linear model, whose
-    constant stiffness is used)."""
-    k = model.stiffness_norm(None if model.linear else K)
-    if k == 0.0:
-        return 0.0
-    return math.sqrt(model.n_free) * np.finfo(float).eps * k * length_scale(model, q)
 
 
 def _converged_by_bound(model, vd, dq, lam, dlam, ff, tol_b, opts) -> bool:

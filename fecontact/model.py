@@ -122,7 +122,6 @@ class Model:
         )
         self.linear = all(getattr(b, "linear", False) for b in self.bodies)
         self._iteration_matrices: dict = {}
-        self._stiffness_norm: float | None = None
         self.column_cache: dict = {}  # H⁻¹G_jᵀ per metric and contact (linear models)
 
     def inverted(self, q: np.ndarray) -> bool:
@@ -202,15 +201,6 @@ class Model:
             self._iteration_matrices[key] = (S, factorize(S), C)
         return self._iteration_matrices[key]
 
-    def stiffness_norm(self, K=None) -> float:
-        """‖K‖∞ (N/m: the largest absolute row sum) of a tangent ``K`` on the free dofs, or,
-        without K, of the constant stiffness of a linear model (computed once)."""
-        if K is not None:
-            return _max_row_sum(K)
-        if self._stiffness_norm is None:
-            self._stiffness_norm = _max_row_sum(self.internal(np.zeros(self.n))[2])
-        return self._stiffness_norm
-
     def external(self, t: float) -> np.ndarray:
         """External force (N, N·m) on all dofs at time t (s): gravity plus the loads."""
         if not self.loads:
@@ -226,9 +216,3 @@ class Model:
 
     def strain_energy(self, q: np.ndarray) -> float:
         return float(sum(b.energy(q[self.body_slice(i)]) for i, b in enumerate(self.bodies)))
-
-
-def _max_row_sum(K) -> float:
-    if min(K.shape) == 0 or (sp.issparse(K) and K.nnz == 0):
-        return 0.0
-    return float(abs(K).sum(axis=1).max())
