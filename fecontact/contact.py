@@ -462,7 +462,8 @@ class ContactSet:
                 w = weights[rows]
                 # rows on the same dofs (a joint's two equations): summed before the scatter
                 Hw = w @ H.reshape(len(w), -1) if sc.shared else w[:, None, None] * H
-                _add(C, sc.c_index, Hw.ravel()[sc.c_keep], sc.c_unique)
+                # (a single pair writes into a C still zero)
+                _add(C, sc.c_index, Hw.ravel()[sc.c_keep], sc.c_unique, assign=single)
         return g_all[select], G, C
 
     def _scatter(self, i: int, rows: np.ndarray, dofs: np.ndarray):

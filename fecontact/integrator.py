@@ -45,6 +45,7 @@ from .errors import (
     check_range,
     check_vector,
 )
+from .joints import newton_remainder
 from .linalg import factorize
 
 __all__ = ["IntegratorOptions", "State", "alpha_coefficients", "simulate"]
@@ -365,7 +366,8 @@ def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer
     model.contacts.set_time(t)
     g_tilde = model.contacts.gaps(q)
     cand = np.flatnonzero(g_tilde <= opts.detection_margin * model.length)
-    tol_gap = opts.tol_gap * length_scale(model, q)
+    # (only the candidates use the gap tolerance)
+    tol_gap = opts.tol_gap * length_scale(model, q) if cand.size else 0.0
     nu, impulse, gaps = np.zeros(m), np.zeros(m), g_tilde
     if cand.size and np.min(g_tilde[cand]) < 0.0:
         nu0 = st.nu[cand] / opts.multiplier_scale  # warm start: the previous step's
@@ -439,7 +441,7 @@ def _coefficients(rho_inf: float, h: float) -> _Coefficients:
 def _predict(st, c):
     """Generalized-α predictor with a constant acceleration v̇_{n+1} = v̇_n: (q, v, v̇, a),
     rows (views) of one (4, n) array."""
-    return c.P @ np.stack([st.q, st.v, st.vd, st.a])
+    return c.P @ np.array([st.q, st.v, st.vd, st.a])
 
 
 def _smooth_step(model, st, t, c, opts, timer):
@@ -464,6 +466,8 @@ def _smooth_step(model, st, t, c, opts, timer):
     # linear bodies: S_t = β′M + γ′C + K is assembled and factorized once per step size;
     # joints border it with their (q-dependent) gradient and curvature
     linear = model.linear
+    # ... and then the joints' Taylor remainders bound the residual an update leaves
+    bounded = linear and nb and not joints.linear
     clock = time.perf_counter()
     for it in range(opts.max_iterations + 1):
         _, fint, K = model.internal(q, tangent=not linear)
@@ -510,7 +514,9 @@ def _smooth_step(model, st, t, c, opts, timer):
                 dq *= _line_search(model, q, dq, Mvd - fext, r @ dq, c.bp)
         X[:, F] += np.multiply.outer(c.w, dq)  # q, v, v̇, a
         clock = timer.add("solve", clock)
-        if np.abs(dq).max() <= inc_tol and (not nb or np.abs(gb).max() <= tol_b):
+        if (bounded and _converged_by_bound(model, vd, dq, lam, x[nF:], ff, tol_b, opts)) or (
+            np.abs(dq).max() <= inc_tol and (not nb or np.abs(gb).max() <= tol_b)
+        ):
             it += 1
             Gb = None
             break
@@ -518,6 +524,26 @@ def _smooth_step(model, st, t, c, opts, timer):
     # factorization (joints) is no metric, so then S_t is rebuilt on demand
     S = (S, solve) if S is not None and not nb else None
     return q, v, vd, a, lam, S, it, Gb
+
+
+def _converged_by_bound(model, vd, dq, lam, dlam, ff, tol_b, opts) -> bool:
+    """Whether the smooth step has converged after the update (dq, dλ), without evaluating
+    the residual: in a linear model with joints the residual left is the joints' Taylor
+    remainder (:func:`fecontact.joints.newton_remainder`), and when its bound is below half
+    the tolerances the residual test of the next iteration passes, at the same q: that
+    iteration only confirms. The other half covers the round-off of the solve. The reference
+    max(|f_ext|, |M v̇|) is at most that of the test (which includes |f_int|)."""
+    bound = newton_remainder(model.joints, dq, lam, dlam)
+    if bound is None:
+        return False
+    gap, force = bound
+    if gap > 0.5 * tol_b:
+        return False
+    limit = 0.5 * opts.tol_residual
+    if force <= limit * math.sqrt(ff):
+        return True
+    Mvd = model.M @ vd[model.free_slice]
+    return force <= limit * math.sqrt(Mvd @ Mvd)
 
 
 def _bordered(K, G):

@@ -9,11 +9,13 @@ keeps its second order), and as equalities in the position correction and the ve
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .errors import InputError, check_vector
 
-__all__ = ["Pin"]
+__all__ = ["Pin", "newton_remainder"]
 
 
 class Pin:
@@ -38,11 +40,31 @@ class Pin:
         self.linear = body.linear_kinematics and (other is None or other.linear_kinematics)
         self.offsets = (0, 0)
         self._dofs = self._global_dofs()
+        self.arms = None
 
     def bind(self, model) -> None:
         ob = 0 if self.other is None else model.offset_of(self.other)
         self.offsets = (model.offset_of(self.body), ob)
         self._dofs = self._global_dofs()
+        self.arms = self._arms(model.free_index)
+
+    def _arms(self, free_index: np.ndarray):
+        """[(free rotation dof, |r| in m)] of the rigid bodies of the pin, or None when a side
+        is neither rigid nor of linear kinematics (its curvature is then unknown here).
+
+        On a rigid body x = c + R(φ) r, so every derivative of order ≥ 2 of x is along the
+        rotation alone and has length |r|; on a body of linear kinematics (beam and solid nodes,
+        point masses) x is affine in q."""
+        arms = []
+        for body, offset in zip((self.body, self.other), self.offsets, strict=True):
+            if body is None or body.linear_kinematics:
+                continue
+            if not hasattr(body, "frame_point_kinematics"):
+                return None
+            dof = int(free_index[offset + 2])  # θ, the third dof of a rigid body
+            if dof >= 0:
+                arms.append((dof, float(np.linalg.norm(body.to_frame(self.point)))))
+        return arms
 
     def _global_dofs(self) -> np.ndarray:
         """The dofs (2, k) of both rows: a material point keeps its dofs, so built once."""
@@ -79,3 +101,39 @@ def _material_point(body, point):
         return body.frame_point_function(body.to_frame(point)[None, :])
     node = np.array([body.locate(point)])
     return lambda q: body.point_kinematics(q, node)
+
+
+def newton_remainder(joints, dq: np.ndarray, lam: np.ndarray, dlam: np.ndarray):
+    """Bounds on the joint terms of the smooth-step residual after a Newton update.
+
+    A Newton update (dq, dλ) from (q, λ), solved with the exact tangent β′M + γ′C + K +
+    Σ λ_i ∇²g_i and the rows G dq = −g, leaves in a model whose other forces are affine in q
+    (``Model.linear``) only the Taylor remainders of the joints:
+
+        g(q + dq)          = ½ dqᵀ∇²g(ξ) dq,
+        R(q + dq, λ + dλ)  = [G(q + dq) − G(q) − ∇G dq]ᵀ(λ + dλ) + (Σ dλ_i ∇²g_i) dq.
+
+    With the pins' rigid sides (arm |r|, rotation increment dθ) every derivative of order ≥ 2
+    has length |r|, so per pin |g| ≤ ½ Σ|r| dθ² and the force term is at most
+    Σ |r| (½ |λ + dλ| dθ² + |dλ| |dθ|): Newton's quadratic convergence made explicit. Returns
+    (max over pins of the gap bound in m, the force bound in N), or None when a pin's
+    curvature is unknown. ``lam`` is λ + dλ, rows as in ``joints`` (two per pin).
+    """
+    gap = force = 0.0
+    row = 0
+    for pin in joints.pairs:
+        arms = getattr(pin, "arms", None)
+        if arms is None:
+            return None
+        if arms:
+            s1 = s2 = 0.0
+            for dof, arm in arms:
+                d = abs(float(dq[dof]))
+                s1 += arm * d
+                s2 += arm * d * d
+            lx, ly = lam[row : row + 2].tolist()
+            dx, dy = dlam[row : row + 2].tolist()
+            gap = max(gap, 0.5 * s2)
+            force += 0.5 * math.hypot(lx, ly) * s2 + math.hypot(dx, dy) * s1
+        row += pin.size
+    return gap, force

@@ -136,10 +136,9 @@ class Model:
         """max|X| + max|x − X| (m) over the bodies' points, reference X and current x at q, or
         the rigid obstacles' reference points if larger: a gap computed from x = X + u carries
         a round-off of about ε times it (a ball dropped from 5000 m, on the ground: 1e-12 m)."""
-        u = max(
-            float(np.max(np.abs(b.positions(q[self.body_slice(i)]) - X)))
-            for i, (b, X) in enumerate(zip(self.bodies, self._reference, strict=True))
-        )
+        u = 0.0
+        for b, s, X in zip(self.bodies, self._slices, self._reference, strict=True):
+            u = max(u, float(np.abs(b.positions(q[s]) - X).max()))
         return max(self._reference_extent + u, self._obstacle_extent)
 
     def offset_of(self, body) -> int:

@@ -196,6 +196,8 @@ class RigidBody2D:
         self._points = shape.output_points()
         self.center_index = len(shape.vertices)
         self._frame_maps: dict = {}  # body-frame points -> their _FrameMap
+        self._node_maps: dict = {}  # output point indices -> their _FrameMap
+        self._outline = _FrameMap(self.position, self.angle, self._points)
 
     @classmethod
     def uniform(cls, mass: float, position, shape, angle: float = 0.0) -> RigidBody2D:
@@ -262,7 +264,7 @@ class RigidBody2D:
 
     def positions(self, q: np.ndarray) -> np.ndarray:
         """Current output points c + R(φ) r, shape (n, 2), m."""
-        return self.center(q) + self._points @ rotation(self.orientation(q)).T
+        return self._outline.positions(q)
 
     def nodal(self, x: np.ndarray, q: np.ndarray | None = None) -> np.ndarray:
         """Rigid-body field of the dof vector ``x`` = (a_x, a_y, ω) at the output points:
@@ -291,7 +293,13 @@ class RigidBody2D:
     def point_kinematics(self, q: np.ndarray, nodes: np.ndarray):
         """Positions x = c + R(φ) r (m, 2) of output points ``nodes``, their local dofs (m, 3),
         ∂x/∂q (m, 2, 3) and the exact ∂²x/∂q² (m, 2, 3, 3) (only the θθ entry, −R r)."""
-        return self.frame_point_kinematics(q, self._points[nodes])
+        key = nodes.tobytes()  # contacts ask for the same points at every step
+        kin = self._node_maps.get(key)
+        if kin is None:
+            if len(self._node_maps) > 64:
+                self._node_maps.clear()
+            kin = self._node_maps[key] = self.frame_point_function(self._points[nodes])
+        return kin(q)
 
     def to_frame(self, point) -> np.ndarray:
         """Body-frame coordinates (m, from the centre of mass) of ``point`` given in the
@@ -346,6 +354,7 @@ class _FrameMap:
         cols = [self._outputs(position, r, *e) for e in np.eye(5)]
         self.B = np.column_stack(cols)
         self.ends = np.cumsum([int(np.prod(s)) for s in self.shapes])
+        self.Bx = np.ascontiguousarray(self.B[: self.ends[0]])  # the positions' rows
 
     @staticmethod
     def _outputs(position, r, one, ux, uy, c, s) -> np.ndarray:
@@ -359,9 +368,17 @@ class _FrameMap:
         Hx[:, :, 2, 2] = -arm
         return np.concatenate([x.ravel(), Jx.ravel(), Hx.ravel()])
 
+    def _basis(self, q) -> np.ndarray:
+        u0, u1, theta = q.tolist()
+        phi = self.angle + theta
+        return np.array([1.0, u0, u1, math.cos(phi), math.sin(phi)])
+
+    def positions(self, q) -> np.ndarray:
+        """The points' positions x (m, 2) alone, m."""
+        return (self.Bx @ self._basis(q)).reshape(self.shapes[0])
+
     def __call__(self, q):
-        phi = self.angle + q[2]
-        y = self.B @ np.array([1.0, q[0], q[1], math.cos(phi), math.sin(phi)])
+        y = self.B @ self._basis(q)
         a, b, _ = self.ends
         (sx, sj, sh) = self.shapes
         return y[:a].reshape(sx), self.dofs, y[a:b].reshape(sj), y[b:].reshape(sh)
