@@ -212,12 +212,15 @@ def rest_check(t_from=0.0, gap_probe=None):
         chatter = int(np.sum(tr["t"][starts] > max(t_from, tr["t"][1]) + 1e-12))
         it = tr["iterations"][late]
         it = it[1:] if not t_from else it  # the first step closes the contact
-        k = max(len(it) // 10, 1)
-        first, last = it[:k].mean(), it[-k:].mean()
-        ok = gmin >= -1e-10 and vmax < 1e-10 and chatter == 0 and last <= first + 0.05
+        # not growing: the second half's tenths stay at the level the first half reached (a
+        # run started exactly at equilibrium needs one tenth or so to reach round-off noise)
+        tenths = [c.mean() for c in np.array_split(it, 10)] if len(it) >= 10 else [it.mean()]
+        level = max(tenths[: max(len(tenths) // 2, 1)])
+        ok = gmin >= -1e-10 and vmax < 1e-10 and chatter == 0 and max(tenths) <= level + 0.05
         return (
             f"{'PASS' if ok else 'FAIL'}: min gap {gmin:.2e} m, max abs v {vmax:.2e}, "
-            f"impacts after start {chatter}, iterations first/last 10 % {first:.2f}/{last:.2f}"
+            f"impacts after start {chatter}, iterations per tenth of the run "
+            + "/".join(f"{x:.2f}" for x in tenths)
         )
 
     return check
