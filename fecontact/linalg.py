@@ -13,6 +13,8 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from .sparse_solvers import pardiso_factorize, sparse_solver
+
 __all__ = ["DENSE_LIMIT", "Pattern", "factorize"]
 
 DENSE_LIMIT = 120
@@ -30,6 +32,8 @@ def factorize(A):
     Raises ``np.linalg.LinAlgError`` if A is singular.
     """
     if sp.issparse(A):
+        if sparse_solver() == "pardiso":
+            return pardiso_factorize(A)
         try:
             lu = spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A")
         except RuntimeError as err:

@@ -1,0 +1,71 @@
+"""The sparse direct solver behind :func:`fecontact.linalg.factorize`.
+
+``"superlu"`` (default) is SciPy's SuperLU, always available. ``"pardiso"`` is Intel MKL
+PARDISO through the optional ``pypardiso`` package (``pip install "fecontact[pardiso]"``,
+x86-64 only), a multithreaded supernodal LU. Both return the same solutions to round-off;
+the choice only changes speed, which depends on the matrix and the cores (on a 2-core machine,
+a 2D Laplacian of 22500 unknowns: SuperLU factorizes in 0.04 s, PARDISO in 0.11 s).
+
+Select one with :func:`use_sparse_solver` or the environment variable
+``FECONTACT_SPARSE_SOLVER`` (read at import).
+"""
+
+from __future__ import annotations
+
+import os
+import weakref
+
+import numpy as np
+
+from .errors import InputError
+
+__all__ = ["SPARSE_SOLVERS", "sparse_solver", "use_sparse_solver"]
+
+SPARSE_SOLVERS = ("superlu", "pardiso")
+_current = {"name": "superlu"}
+
+
+def use_sparse_solver(name: str) -> None:
+    """Factorize sparse matrices with ``name`` (one of ``SPARSE_SOLVERS``) from now on."""
+    if not isinstance(name, str) or name not in SPARSE_SOLVERS:
+        known = ", ".join(SPARSE_SOLVERS)
+        raise InputError(f"sparse solver must be one of {known}, got {name!r}")
+    if name == "pardiso":
+        try:
+            import pypardiso  # noqa: F401
+        except ImportError:
+            raise InputError(
+                'sparse solver "pardiso" needs the pypardiso package: '
+                'pip install "fecontact[pardiso]"'
+            ) from None
+    _current["name"] = name
+
+
+def sparse_solver() -> str:
+    """The name of the sparse solver in use."""
+    return _current["name"]
+
+
+def pardiso_factorize(A):
+    """``solve(b)`` with A factorized once by PARDISO (real unsymmetric LU, mtype 11)."""
+    import pypardiso
+
+    A = A.tocsr()
+    A.sort_indices()
+    solver = pypardiso.PyPardisoSolver(mtype=11)
+    try:
+        solver.factorize(A)
+    except pypardiso.pardiso_wrapper.PyPardisoError as err:
+        raise np.linalg.LinAlgError(f"PARDISO: {err}") from None
+
+    def solve(b):
+        b = np.asarray(b, dtype=float)
+        return solver.solve(A, b)
+
+    # MKL keeps the factors outside Python's heap: release them with the last reference
+    weakref.finalize(solve, solver.free_memory, True)
+    return solve
+
+
+if os.environ.get("FECONTACT_SPARSE_SOLVER"):
+    use_sparse_solver(os.environ["FECONTACT_SPARSE_SOLVER"])
