@@ -72,6 +72,10 @@ class NodeContact:
         self.restitution = check_range("restitution", restitution, 0.0, 1.0)
         self.linear = obstacle.linear and body.linear_kinematics
         self.offset = 0
+        # positions alone where the body has a cheaper path to them (rigid bodies)
+        self._positions = getattr(
+            body, "point_positions", lambda q, nodes: body.point_kinematics(q, nodes)[0]
+        )
 
     @property
     def size(self) -> int:
@@ -92,7 +96,7 @@ class NodeContact:
     def gaps(self, q: np.ndarray) -> np.ndarray:
         """Gaps (m,) alone, without their derivatives."""
         qb = q[self.offset : self.offset + self.body.ndof]
-        return self.obstacle.gap(self.body.point_kinematics(qb, self.nodes)[0])[0]
+        return self.obstacle.gap(self._positions(qb, self.nodes))[0]
 
     def evaluate(self, q: np.ndarray):
         """Gaps (m,), dof indices (m, d), gradient values (m, d), Hessians (m, d, d) or None."""
