@@ -362,7 +362,8 @@ class _FrameMap:
         self.dofs.flags.writeable = False
         cols = [self._outputs(position, r, *e) for e in np.eye(5)]
         self.B = np.column_stack(cols)
-        self.ends = np.cumsum([int(np.prod(s)) for s in self.shapes])
+        # Python ints: slicing with numpy integers costs more than the product
+        self.ends = tuple(int(e) for e in np.cumsum([int(np.prod(s)) for s in self.shapes]))
         self.Bx = np.ascontiguousarray(self.B[: self.ends[0]])  # the positions' rows
 
     @staticmethod
