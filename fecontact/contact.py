@@ -96,7 +96,7 @@ class NodeContact:
     def gaps(self, q: np.ndarray) -> np.ndarray:
         """Gaps (m,) alone, without their derivatives."""
         qb = q[self.offset : self.offset + self.body.ndof]
-        return self.obstacle.gap(self._positions(qb, self.nodes))[0]
+        return self.obstacle.gap_values(self._positions(qb, self.nodes))
 
     def evaluate(self, q: np.ndarray):
         """Gaps (m,), dof indices (m, d), gradient values (m, d), Hessians (m, d, d) or None."""
