@@ -72,6 +72,10 @@ class NodeContact:
         self.restitution = check_range("restitution", restitution, 0.0, 1.0)
         self.linear = obstacle.linear and body.linear_kinematics
         self.offset = 0
+        # positions alone where the body has a cheaper path to them (rigid bodies)
+        self._positions = getattr(
+            body, "point_positions", lambda q, nodes: body.point_kinematics(q, nodes)[0]
+        )
 
     @property
     def size(self) -> int:
@@ -92,7 +96,7 @@ class NodeContact:
     def gaps(self, q: np.ndarray) -> np.ndarray:
         """Gaps (m,) alone, without their derivatives."""
         qb = q[self.offset : self.offset + self.body.ndof]
-        return self.obstacle.gap(self.body.point_kinematics(qb, self.nodes)[0])[0]
+        return self.obstacle.gap_values(self._positions(qb, self.nodes))
 
     def evaluate(self, q: np.ndarray):
         """Gaps (m,), dof indices (m, d), gradient values (m, d), Hessians (m, d, d) or None."""
@@ -475,7 +479,7 @@ class ContactSet:
         key = (i, rows.tobytes(), dofs.tobytes())
         sc = self._scatters.get(key)
         if sc is None:
-            sc = _Scatter(rows, self.free_index[dofs])
+            sc = _Scatter(rows, self.free_index[dofs], self.n_free)
             if len(self._scatters) > 256:
                 self._scatters.clear()
             self._scatters[key] = sc
@@ -501,15 +505,17 @@ class ContactSet:
 
 class _Scatter:
     """Index arrays that place gradient rows (r, k) and Hessians (r, k, k) of contacts into the
-    dense G (rows × free dofs) and C (free × free); fixed dofs (index −1) are dropped."""
+    dense G (rows × free dofs) and C (free × free), n free dofs; fixed dofs (index −1) are
+    dropped. The indices are flat (row × n + column): a one-dimensional fancy assignment
+    costs half of a two-dimensional one on these small arrays."""
 
-    def __init__(self, rows: np.ndarray, fi: np.ndarray):
+    def __init__(self, rows: np.ndarray, fi: np.ndarray, n: int):
         k = fi.shape[1]
         r = np.repeat(rows, k)
         f = fi.ravel()
         self.g_keep = f >= 0
-        self.g_index = (r[self.g_keep], f[self.g_keep])
-        self.g_unique = _unique_pairs(*self.g_index)
+        self.g_index = r[self.g_keep] * n + f[self.g_keep]
+        self.g_unique = _unique(self.g_index)
         a = np.repeat(fi, k, axis=1).ravel()
         b = np.tile(fi, (1, k)).ravel()
         # Hessians of rows on the same dofs are summed first: scattered as one row
@@ -517,23 +523,24 @@ class _Scatter:
         if self.shared:
             a, b = np.repeat(fi[0], k), np.tile(fi[0], k)
         self.c_keep = (a >= 0) & (b >= 0)
-        self.c_index = (a[self.c_keep], b[self.c_keep])
-        self.c_unique = _unique_pairs(*self.c_index)
+        self.c_index = a[self.c_keep] * n + b[self.c_keep]
+        self.c_unique = _unique(self.c_index)
         # no fixed dof: a view instead of a boolean selection
         self.g_keep = slice(None) if self.g_keep.all() else self.g_keep
         self.c_keep = slice(None) if self.c_keep.all() else self.c_keep
 
 
-def _unique_pairs(i: np.ndarray, j: np.ndarray) -> bool:
-    return len(np.unique(np.stack([i, j]), axis=1).T) == len(i) if len(i) else True
+def _unique(index: np.ndarray) -> bool:
+    return len(np.unique(index)) == len(index)
 
 
 def _add(A: np.ndarray, index, values: np.ndarray, unique: bool, assign=False) -> None:
-    """A[index] += values; a plain fancy assignment when no index repeats (much cheaper), and
-    ``assign`` when those entries of A are known to be zero."""
+    """A.flat[index] += values (A C-contiguous); a plain fancy assignment when no index repeats
+    (much cheaper), and ``assign`` when those entries of A are known to be zero."""
+    flat = A.reshape(-1)  # a view
     if unique and assign:
-        A[index] = values
+        flat[index] = values
     elif unique:
-        A[index] += values
+        flat[index] += values
     else:
-        np.add.at(A, index, values)
+        np.add.at(flat, index, values)

@@ -249,6 +249,26 @@ def length_scale(model, q) -> float:
     return max(model.length, model.coordinate_extent(q))
 
 
+class _JointTolerance:
+    """The joints' tolerance tol_gap × length_scale(model, q) at the predictor q, evaluated
+    only when a test is not already decided by its lower bound tol_gap × model.length
+    (length_scale is at least the model size): most steps then never compute the
+    coordinates' extent, and every test decides as with the exact value."""
+
+    def __init__(self, model, q: np.ndarray, tol_gap: float):
+        self.model, self.q, self.tol_gap = model, q.copy(), tol_gap
+        self.low = tol_gap * model.length
+        self.value = None
+
+    def admits(self, x: float, factor: float = 1.0) -> bool:
+        """Whether x ≤ factor × the tolerance."""
+        if x <= factor * self.low:
+            return True
+        if self.value is None:
+            self.value = self.tol_gap * length_scale(self.model, self.q)
+        return x <= factor * self.value
+
+
 def simulate(
     model,
     dt: float,
@@ -365,7 +385,7 @@ def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer
     # 2. position correction, only if a contact candidate penetrates (joints already hold)
     model.contacts.set_time(t)
     g_tilde = model.contacts.gaps(q)
-    cand = np.flatnonzero(g_tilde <= opts.detection_margin * model.length)
+    cand = (g_tilde <= opts.detection_margin * model.length).nonzero()[0]
     # (only the candidates use the gap tolerance)
     tol_gap = opts.tol_gap * length_scale(model, q) if cand.size else 0.0
     nu, impulse, gaps = np.zeros(m), np.zeros(m), g_tilde
@@ -378,7 +398,6 @@ def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer
         nu[cand] = nu_c[: cand.size]
         gaps = model.contacts.gaps(q)
         Gb = None  # the joints' gradient moved with q
-    clock = timer.add("contact", clock)
 
     # 3. velocity jump on the contacts closed at q_{n+1}, and on the joints
     closed = cand[gaps[cand] <= tol_gap] if cand.size else cand
@@ -459,7 +478,7 @@ def _smooth_step(model, st, t, c, opts, timer):
     joints = model.joints
     nb = joints.size
     alpha, beta_k = model.damping
-    tol_b = opts.tol_gap * length_scale(model, q) if nb else 0.0
+    tol_b = _JointTolerance(model, q, opts.tol_gap) if nb else None
     inc_tol = opts.tol_increment * max(model.length, 1.0)
     big_step = 0.05 * max(model.length, 1.0)
     S = Gb = None
@@ -489,7 +508,7 @@ def _smooth_step(model, st, t, c, opts, timer):
         if not math.isfinite(rnorm):
             why = "" if np.all(np.isfinite(fi)) else ": an element inverts (det F <= 0)"
             raise _StepFailure("smooth step diverged" + why, rnorm)
-        if rnorm <= opts.tol_residual * ref and (not nb or np.abs(gb).max() <= tol_b):
+        if rnorm <= opts.tol_residual * ref and (not nb or tol_b.admits(np.abs(gb).max())):
             break
         if it == opts.max_iterations:
             raise _StepFailure("smooth step", rnorm / ref)
@@ -515,7 +534,7 @@ def _smooth_step(model, st, t, c, opts, timer):
         X[:, F] += np.multiply.outer(c.w, dq)  # q, v, v̇, a
         clock = timer.add("solve", clock)
         if (bounded and _converged_by_bound(model, vd, dq, lam, x[nF:], ff, tol_b, opts)) or (
-            np.abs(dq).max() <= inc_tol and (not nb or np.abs(gb).max() <= tol_b)
+            np.abs(dq).max() <= inc_tol and (not nb or tol_b.admits(np.abs(gb).max()))
         ):
             it += 1
             Gb = None
@@ -532,12 +551,13 @@ def _converged_by_bound(model, vd, dq, lam, dlam, ff, tol_b, opts) -> bool:
     remainder (:func:`fecontact.joints.newton_remainder`), and when its bound is below half
     the tolerances the residual test of the next iteration passes, at the same q: that
     iteration only confirms. The other half covers the round-off of the solve. The reference
-    max(|f_ext|, |M v̇|) is at most that of the test (which includes |f_int|)."""
+    max(|f_ext|, |M v̇|) is at most that of the test (which includes |f_int|). ``tol_b`` is the
+    joints' :class:`_JointTolerance`."""
     bound = newton_remainder(model.joints, dq, lam, dlam)
     if bound is None:
         return False
     gap, force = bound
-    if gap > 0.5 * tol_b:
+    if not tol_b.admits(gap, 0.5):
         return False
     limit = 0.5 * opts.tol_residual
     if force <= limit * math.sqrt(ff):

@@ -121,6 +121,8 @@ class Model:
             (np.max(np.abs(a)) for a in anchors if a is not None), default=0.0
         )
         self.linear = all(getattr(b, "linear", False) for b in self.bodies)
+        # rigid bodies and point masses only: no strain energy, no internal force
+        self._elementless = not any(b.element_dofs.size for b in self.bodies)
         self._iteration_matrices: dict = {}
         self.column_cache: dict = {}  # H⁻¹G_jᵀ per metric and contact (linear models)
 
@@ -172,6 +174,8 @@ class Model:
 
     def internal(self, q: np.ndarray, tangent: bool = True):
         """Strain energy (J), internal force on all dofs and tangent on the free dofs."""
+        if self._elementless and not tangent:
+            return 0.0, np.zeros(self.n), None
         W, f, Ke = 0.0, np.zeros(self.n), []
         for b, s in zip(self.bodies, self._slices, strict=True):
             if not b.element_dofs.size:  # no elements (rigid bodies): no strain energy

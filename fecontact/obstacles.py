@@ -81,11 +81,14 @@ class Plane(_Motion):
 
     def gap(self, x: np.ndarray):
         """Gap (m,), gradient (m, d) and Hessian (None: zero) at points ``x`` (m, d)."""
+        G = np.repeat(self.normal[None], len(x), axis=0)
+        return self.gap_values(x), G, None
+
+    def gap_values(self, x: np.ndarray) -> np.ndarray:
+        """The gap (m,) alone at points ``x`` (m, d)."""
         _check_points(x, self.dim)
         p = self.point if self.motion is None else self.point + self.shift()
-        g = (x - p) @ self.normal
-        G = np.repeat(self.normal[None], len(x), axis=0)
-        return g, G, None
+        return (x - p) @ self.normal
 
     def outline(self, size: float) -> np.ndarray:
         """A piece of the boundary of side ``size`` (m) for output: the end points (2, 2) of a
@@ -129,6 +132,12 @@ class Circle(_Motion):
         G = self.sign * e
         H = self.sign * (np.eye(self.dim) - e[:, :, None] * e[:, None, :]) / r[:, None, None]
         return g, G, H
+
+    def gap_values(self, x: np.ndarray) -> np.ndarray:
+        """The gap (m,) alone at points ``x`` (m, d)."""
+        _check_points(x, self.dim)
+        r = np.linalg.norm(x - self.center - self.shift(), axis=1)
+        return self.sign * (r - self.radius)
 
     def outline(self, n: int = 96) -> np.ndarray:
         """Points on the rim for output, joined in order: the circle (n + 1, 2) in 2D; in 3D

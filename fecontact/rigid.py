@@ -301,6 +301,15 @@ class RigidBody2D:
             kin = self._node_maps[key] = self.frame_point_function(self._points[nodes])
         return kin(q)
 
+    def point_positions(self, q: np.ndarray, nodes: np.ndarray) -> np.ndarray:
+        """Positions x = c + R(φ) r (m, 2) of output points ``nodes`` alone: the first output
+        of ``point_kinematics``, without the derivatives (gaps away from contact need no
+        more)."""
+        kin = self._node_maps.get(nodes.tobytes())
+        if kin is None:
+            return self.point_kinematics(q, nodes)[0]
+        return kin.positions(q)
+
     def to_frame(self, point) -> np.ndarray:
         """Body-frame coordinates (m, from the centre of mass) of ``point`` given in the
         initial configuration."""
@@ -353,7 +362,8 @@ class _FrameMap:
         self.dofs.flags.writeable = False
         cols = [self._outputs(position, r, *e) for e in np.eye(5)]
         self.B = np.column_stack(cols)
-        self.ends = np.cumsum([int(np.prod(s)) for s in self.shapes])
+        # Python ints: slicing with numpy integers costs more than the product
+        self.ends = tuple(int(e) for e in np.cumsum([int(np.prod(s)) for s in self.shapes]))
         self.Bx = np.ascontiguousarray(self.B[: self.ends[0]])  # the positions' rows
 
     @staticmethod

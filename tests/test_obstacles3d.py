@@ -113,3 +113,20 @@ def test_node_contact_of_a_3d_solid_against_finite_differences(obstacle):
             dg = (pair.evaluate(q + e)[0][j] - pair.evaluate(q - e)[0][j]) / (2 * h)
             assert dg == pytest.approx(G[j, k], abs=1e-8)
     assert (H is None) == isinstance(obstacle, Plane)
+
+
+@pytest.mark.parametrize("moving", [False, True])
+@pytest.mark.parametrize("dim", [2, 3])
+def test_gap_values_are_the_gaps_of_gap(dim, moving):
+    """The gaps alone (contacts away from the obstacle need no derivatives) are those of the
+    full evaluation, bit for bit, in 2D and 3D, fixed and moving, outside and inside."""
+    motion = (lambda t: np.full(dim, 0.1 * t)) if moving else None
+    obstacles = [
+        Plane(np.zeros(dim), np.arange(1.0, dim + 1.0), motion=motion),
+        Circle(np.full(dim, 0.2), 0.7, motion=motion),
+        Circle(np.full(dim, 0.2), 0.7, inside=True, motion=motion),
+    ]
+    x = RNG.normal(size=(6, dim))
+    for obstacle in obstacles:
+        obstacle.time = 0.3
+        assert np.array_equal(obstacle.gap_values(x), obstacle.gap(x)[0])
