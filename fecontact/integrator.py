@@ -186,10 +186,10 @@ def initial_state(model, q0=None, v0=None) -> State:
         raise InputError(
             f"initial configuration: contact {j} penetrates by {-g[j]:.3e} m (gap must be >= 0)"
         )
-    _, fint, K = model.internal(q)
+    alpha, beta_k = model.damping
+    _, fint, K = model.internal(q, tangent=bool(alpha or beta_k))
     F = model.free
     f = model.external(0.0)[F] - fint[F]
-    alpha, beta_k = model.damping
     if alpha or beta_k:
         f -= (alpha * model.M + beta_k * K) @ v[F]
     vd = np.zeros(n)
@@ -247,8 +247,13 @@ def simulate(
     n_steps = max(1, math.ceil(t_end / dt - 1e-9))
     for n in range(state.step + 1, n_steps + 1):
         t_next = min(n * dt, t_end)
+        h = t_next - state.t
+        # n·dt − (n − 1)·dt differs from dt in the last bits: a step of exactly dt keeps one
+        # iteration matrix (and its factors) for the whole run of a linear model
+        if abs(h - dt) <= 1e-9 * dt:
+            h = dt
         try:
-            state = _advance(model, state, t_next - state.t, opts, timer, 0)
+            state = _advance(model, state, h, opts, timer, 0)
         except _StepFailure as err:
             raise SolverError(
                 f"Newton did not converge at t = {state.t:.6g} s (step {n}): {err} "
@@ -308,9 +313,9 @@ def _line_search(model, q, dq, b, slope, bp):
     return s
 
 
-def _factorize(A, residual):
+def _factorize(A, residual, symmetric=False):
     try:
-        return factorize(A)
+        return factorize(A, symmetric)
     except np.linalg.LinAlgError:
         raise _StepFailure("singular iteration matrix", residual) from None
 
@@ -430,7 +435,7 @@ def _smooth_step(model, st, t, c, opts, timer):
             dq, lam = x[: len(F)], lam + x[len(F) :]
         else:
             if not fixed_S:
-                solve = _factorize(S, rnorm / ref)
+                solve = _factorize(S, rnorm / ref, symmetric=True)
             dq = -solve(r)
             if np.max(np.abs(dq)) > big_step:
                 dq *= _line_search(model, q, dq, Mvd - fext, r @ dq, c.bp)
@@ -471,7 +476,7 @@ def _metric(model, q, S, c, opts):
         alpha, beta_k = model.damping
         if alpha or beta_k:
             S = S + c.gp * (alpha * model.M + beta_k * K)
-        S = (S, _factorize(S, math.nan))
+        S = (S, _factorize(S, math.nan, symmetric=True))
     matrix, solve_S = S
     return lambda: matrix / c.bp, lambda b: c.bp * solve_S(b)
 
@@ -497,7 +502,7 @@ def _position_correction(model, q_tilde, cand, S, c, opts):
         if cons.linear:  # constant gradients: H⁻¹G_Aᵀ are columns of Y0
             return (lambda B: Y0[:, A]), None
         C = cons.curvature(shifted(U), np.where(A, s, 0.0))
-        return _factorize(H() - C, math.nan), C
+        return _factorize(H() - C, math.nan, symmetric=True), C
 
     try:
         U, nu, its = solve_position_correction(
