@@ -337,10 +337,24 @@ def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer
     tol_gap = opts.tol_gap * model.length
     nu, impulse, gaps = np.zeros(m), np.zeros(m), g_tilde
     if cand.size and np.min(g_tilde[cand]) < 0.0:
-        U, nu_c, iters["position"] = _position_correction(model, q, cand, S, c, opts)
-        q[model.free] += U
-        nu[cand] = nu_c[: cand.size]
-        gaps = model.contacts.gaps(q)
+        # the working set: the penetrating candidates, then any other candidate that the
+        # correction pushes below the plane of its gap; the work follows the contact zone,
+        # not the detection margin (a long body has hundreds of candidates, a few in contact)
+        work = cand[g_tilde[cand] < 0.0]
+        q_tilde = q
+        metric = _metric(model, q_tilde, S, c, opts)
+        while True:
+            U, nu_w, its = _position_correction(model, q_tilde, work, metric, c, opts)
+            iters["position"] += its
+            q = q_tilde.copy()
+            q[model.free] += U
+            gaps = model.contacts.gaps(q)
+            pushed = cand[gaps[cand] < -tol_gap]
+            pushed = pushed[~np.isin(pushed, work)]
+            if pushed.size == 0:
+                break
+            work = np.union1d(work, pushed)
+        nu[work] = nu_w[: work.size]
     clock = timer.add("contact", clock)
 
     # 3. velocity jump on the contacts closed at q_{n+1}, and on the joints
@@ -481,11 +495,12 @@ def _metric(model, q, S, c, opts):
     return lambda: matrix / c.bp, lambda b: c.bp * solve_S(b)
 
 
-def _position_correction(model, q_tilde, cand, S, c, opts):
-    """Step 2: q = q̃ + U, H U = Σ G_jᵀ [k ν_j − p g_j]_+ over the candidates, with the
-    joints kept as equalities (always active, multipliers of any sign)."""
+def _position_correction(model, q_tilde, cand, metric, c, opts):
+    """Step 2: q = q̃ + U, H U = Σ G_jᵀ [k ν_j − p g_j]_+ over the contacts ``cand``, with
+    the joints kept as equalities (always active, multipliers of any sign); ``metric`` is
+    (H, solve_H) from :func:`_metric`."""
     F = model.free
-    H, solve_H = _metric(model, q_tilde, S, c, opts)
+    H, solve_H = metric
     cons = _Constraints(model, cand)
     _, G0 = cons.jacobian(q_tilde)
     constant = model.linear or opts.metric == "mass"

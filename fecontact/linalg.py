@@ -13,6 +13,8 @@ computed once per model, so every assembly is a single ``np.bincount``.
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
@@ -31,6 +33,10 @@ SYMMETRIC_PIVOT = 1e-2
 interchange: never for the positive definite matrices of linear bodies, a safeguard for the
 indefinite tangents of buckling ones."""
 
+SPARSE_FACTORIZATIONS = {"count": 0, "seconds": 0.0}
+"""Sparse factorizations done in this process and their wall time (s): ``fecontact.run``
+reports a run's share in ``summary.json`` (one-time cost of a linear model against its steps)."""
+
 _getrf, _getrs = sla.get_lapack_funcs(("getrf", "getrs"), (np.zeros(1),))
 
 
@@ -45,10 +51,14 @@ def factorize(A, symmetric: bool = False):
         options = {}
         if symmetric:
             options = {"diag_pivot_thresh": SYMMETRIC_PIVOT, "options": {"SymmetricMode": True}}
+        start = time.perf_counter()
         try:
             lu = spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A", **options)
         except RuntimeError as err:
             raise np.linalg.LinAlgError(str(err)) from None
+        finally:
+            SPARSE_FACTORIZATIONS["count"] += 1
+            SPARSE_FACTORIZATIONS["seconds"] += time.perf_counter() - start
         return lambda b: lu.solve(np.asarray(b, dtype=float))
     # LAPACK directly: the scipy wrappers cost more than the factorization of small systems
     lu, piv, info = _getrf(A)
