@@ -125,7 +125,7 @@ def _option(opts, name):
 
 
 def _plus(A, scale, C):
-    """A + scale C for a dense n × n curvature C (None: zero), in the format of A."""
+    """A + scale C for a curvature C (dense or sparse; None: zero), in the format of A."""
     if C is None:
         return A
     return A + scale * (sp.csr_matrix(C) if sp.issparse(A) else C)

@@ -121,3 +121,29 @@ def test_correction_adds_the_candidates_it_pushes_into_the_plane():
         assert np.allclose(st.gaps[:2], 0.0, atol=1e-12)
         assert st.nu[0] > st.nu[1] > 0.0
         assert np.all(st.nu[2:] == 0.0)
+
+
+def test_curvature_of_large_models_is_sparse_over_the_weighted_contacts():
+    """Node-to-segment curvature of two disks (580 free dofs: the sparse path) equals the
+    sum of the weighted gap Hessians, and holds only the dofs of contacts with a weight."""
+    mat = LinearElastic(E=1e7, nu=0.3, rho=1000.0)
+    left = Solid.disk([-0.0499, 0.0], 0.05, 3, mat)
+    right = Solid.disk([0.0499, 0.0], 0.05, 3, mat)
+    model = Model([left, right], [Contact(left, right)], gravity=(0.0, 0.0))
+    assert model.n_free > 120
+    q = np.zeros(model.n)
+    g_all = model.contacts.gaps(q)
+    select = np.flatnonzero(np.isfinite(g_all))
+    assert select.size >= 3
+    weights = np.linspace(1.0, 2.0, select.size)
+    weights[1] = 0.0
+    g, G, C = model.contacts.linearize(q, select, weights)
+    assert sp.issparse(C)
+    _, dofs, _, H = model.contacts.pairs[0].evaluate(q)
+    expected = np.zeros((model.n_free, model.n_free))
+    for w, j in zip(weights, select, strict=True):
+        fi = model.free_index[dofs[j]]
+        expected[np.ix_(fi, fi)] += w * H[j]
+    assert np.allclose(C.toarray(), expected, rtol=1e-13, atol=1e-13 * np.abs(expected).max())
+    touched = np.unique(C.nonzero()[0])
+    assert not np.isin(model.free_index[dofs[select[1], :2]], touched).any()
