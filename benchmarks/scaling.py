@@ -266,10 +266,13 @@ def plot(rows, path):
     fig, axes = plt.subplots(1, 1 + len(names), figsize=(3.8 * (1 + len(names)), 3.8))
     for name in names:
         sel = [r for r in rows if r["series"] == name]
-        axes[0].loglog([r["dofs"] for r in sel], [r["ms_per_step"] for r in sel], "o-", label=name)
+        x = [r["dofs"] for r in sel]
+        (line,) = axes[0].loglog(x, [r["ms_per_step"] for r in sel], "o-", label=name, ms=3)
+        steady = [r["steady_ms"] for r in sel]
+        axes[0].loglog(x, steady, "--", color=line.get_color(), lw=0.8)
     ref = np.array([1e2, 1e5])
     axes[0].loglog(ref, 1e-2 * ref, "k:", lw=0.8, label="∝ dofs")
-    axes[0].set_title("time per step", fontsize=9)
+    axes[0].set_title("time per step (dashed: without factorizations)", fontsize=9)
     for ax, name in zip(axes[1:], names, strict=True):
         sel = [r for r in rows if r["series"] == name]
         x = [r["dofs"] for r in sel]
