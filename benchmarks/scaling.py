@@ -10,15 +10,23 @@ it at 1 m/s under gravity, so that every step has a contact to resolve; h = 1e-4
 - ``2D solid``: a linear elastic disk (plane strain, P1 triangles, E = 10 MPa, ρ = 1000 kg/m³,
   R = 0.1 m, ``Solid.disk`` refined 1 … 7 times), boundary nodes against the plane;
 - ``3D solid``: a linear elastic cube (0.1 m, same material, P1 tetrahedra) standing on a
-  corner, its boundary nodes against the plane.
+  corner, its boundary nodes against the plane;
+- ``3D ball, 100 steps``: ``cases/ball_drop.py`` (R = 0.05 m, same material, P1 tetrahedra,
+  refinements 2, 3, 4) touching the plane at t = 0 at 1 m/s, 100 steps of the case's own step
+  (an eighth of the transit time across the shortest edge), as
+  ``python cases/ball_drop.py --set refinements=N --set drop_height=0 --dt DT --t-end 100DT``;
+  the summary of the largest is kept in ``results/scaling_ball.json``.
 
 Per size: the dofs, the contact candidates at t = 0, the model's construction time, and the
 time per step of ``fecontact.run`` (no frames, no checkpoints) from ``summary.json``: total
-(``wall_time_s`` / steps) and each ``phase_times_s`` entry (assembly, solve, contact, output) /
-steps, medians of three runs when a run is short. ``factor`` and ``fwd/bwd`` time one
-factorization of the iteration matrix S = β′M + K through ``fecontact.linalg.factorize`` and
-one solve with it. A series stops growing once a size takes more than ``--max-step`` s per
-step.
+(``time_per_step_s``: the time loop without output, over the steps), the part of it spent in
+sparse factorizations (``sparse_factorizations``: once per run for the linear solids), the
+steady time per step without them, and each ``phase_times_s`` entry (assembly, solve,
+contact, output) / steps; medians of three runs, each on a freshly built model, when a run is
+short. ``factor`` and ``fwd/bwd`` time one factorization of the iteration matrix
+S = β′M + K through ``fecontact.linalg.factorize`` and one solve with its factors (median of
+five), in the same process; ``steady / solve`` is their ratio. A series stops growing once a
+size takes more than ``--max-step`` s per step.
 
     python benchmarks/scaling.py [--quick]
 """
@@ -29,6 +37,7 @@ from __future__ import annotations
 import fecontact  # noqa: F401  (before numpy: single-threaded OpenBLAS)
 
 # isort: on
+import json
 import math
 import statistics
 import time
@@ -65,6 +74,8 @@ COLUMNS = [
     "steps",
     "build_s",
     "ms_per_step",
+    "factorize_ms",
+    "steady_ms",
     "assembly_ms",
     "solve_ms",
     "contact_ms",
@@ -73,11 +84,15 @@ COLUMNS = [
     "newton_mean",
     "factor_ms",
     "fwd_bwd_ms",
+    "steady_per_solve",
     "repeats",
     "status",
 ]
 HEADERS = {
     "ms_per_step": "total ms/step",
+    "factorize_ms": "of which factorizations",
+    "steady_ms": "steady ms/step",
+    "steady_per_solve": "steady / solve",
     "assembly_ms": "assembly",
     "solve_ms": "solve",
     "contact_ms": "contact",
@@ -129,6 +144,12 @@ def cube(n):
     return model, model.translation(body, (0.0, 0.0, -1.0)), IntegratorOptions()
 
 
+def ball(refinements):
+    """``cases/ball_drop.py`` touching the plane at 1 m/s: (model, v0, options, dt)."""
+    sim = common.case("ball_drop").build(refinements=refinements, drop_height=0.0)
+    return sim.model, sim.v0, sim.options, sim.dt
+
+
 def series(quick: bool):
     """(name, builder, sizes, steps(size), dofs(size)): the sizes are elements (beams),
     refinements (2D disk) and divisions per side (3D cube); dofs(size) estimates the model
@@ -158,41 +179,64 @@ def series(quick: bool):
             lambda n: 20 if n < 13 else 5,
             lambda n: 3 * (n + 1) ** 3,
         ),
+        (
+            "3D ball, 100 steps",
+            ball,
+            [2, 3] if quick else [2, 3, 4],
+            lambda r: 100,
+            lambda r: {2: 387, 3: 2499, 4: 18051}[r],
+        ),
     ]
 
 
-def factor_times(model, options):
-    """(ms to factorize S = β′M + K at q = 0, ms of one forward/backward solve)."""
+def factor_times(model, options, h):
+    """(ms to factorize S = β′M + K at q = 0 as the integrator does, ms of one forward/backward
+    solve with its factors: median of five)."""
     am, af, _, be = alpha_coefficients(options.rho_inf)
-    bp = (1.0 - am) / (be * H * H * (1.0 - af))
+    bp = (1.0 - am) / (be * h * h * (1.0 - af))
     _, _, K = model.internal(np.zeros(model.n))
-    S = bp * model.M + K
+    S = model.iteration_sum(bp, K)
     t0 = time.perf_counter()
-    solve = factorize(S)
+    solve = factorize(S, symmetric=True)
     t1 = time.perf_counter()
-    solve(np.ones(model.n_free))
-    t2 = time.perf_counter()
-    return 1e3 * (t1 - t0), 1e3 * (t2 - t1)
+    b = np.ones(model.n_free)
+    solves = []
+    for _ in range(5):
+        t2 = time.perf_counter()
+        solve(b)
+        solves.append(time.perf_counter() - t2)
+    return 1e3 * (t1 - t0), 1e3 * statistics.median(solves)
 
 
 def measure(name, build, size, steps):
+    def make():
+        made = build(size)
+        model, v0, options = made[:3]
+        h = made[3] if len(made) > 3 else H
+        return Simulation(model, dt=h, t_end=steps * h, options=options, v0=v0, name="scaling")
+
     t0 = time.perf_counter()
-    model, v0, options = build(size)
+    sim = make()
     build_s = time.perf_counter() - t0
+    model, options = sim.model, sim.options
     gaps = model.contacts.gaps(np.zeros(model.n))
     candidates = int(np.sum(gaps <= options.detection_margin * model.length))
-    sim = Simulation(model, dt=H, t_end=steps * H, options=options, v0=v0, name="scaling")
     runs = [common.timed_run(sim, repeats=1)]
     while len(runs) < 3 and runs[-1]["status"] == "completed" and runs[0]["wall"] < 5.0:
-        runs.append(common.timed_run(sim, repeats=1))
+        runs.append(common.timed_run(make(), repeats=1))  # a fresh model: factors anew
     n = max(runs[0]["steps"], 1)
 
     def per_step(key):
         return 1e3 * statistics.median(r["phases"].get(key, 0.0) for r in runs) / n
 
-    total = 1e3 * statistics.median(r["wall"] for r in runs) / n
+    def factorizing(r):
+        return r["summary"]["sparse_factorizations"]["seconds"]
+
+    total = 1e3 * statistics.median(r["compute"] for r in runs) / n
+    factorize_ms = 1e3 * statistics.median(factorizing(r) for r in runs) / n
+    steady = 1e3 * statistics.median(r["compute"] - factorizing(r) for r in runs) / n
     phases = {k: per_step(k) for k in ("assembly", "solve", "contact", "output")}
-    factor_ms, fwd_ms = factor_times(model, options)
+    factor_ms, fwd_ms = factor_times(model, options, sim.dt)
     return {
         "series": name,
         "size": size,
@@ -201,11 +245,15 @@ def measure(name, build, size, steps):
         "steps": n,
         "build_s": build_s,
         "ms_per_step": total,
+        "factorize_ms": factorize_ms,
+        "steady_ms": steady,
         **{f"{k}_ms": v for k, v in phases.items()},
-        "other_ms": total - sum(phases.values()),
+        "other_ms": total + phases["output"] - sum(phases.values()),
         "newton_mean": runs[0]["summary"]["newton_iterations_mean"],
         "factor_ms": factor_ms,
         "fwd_bwd_ms": fwd_ms,
+        "steady_per_solve": steady / fwd_ms,
+        **({"summary": runs[0]["summary"]} if name.startswith("3D ball") else {}),
         "repeats": len(runs),
         "status": runs[0]["status"],
     }
@@ -218,10 +266,13 @@ def plot(rows, path):
     fig, axes = plt.subplots(1, 1 + len(names), figsize=(3.8 * (1 + len(names)), 3.8))
     for name in names:
         sel = [r for r in rows if r["series"] == name]
-        axes[0].loglog([r["dofs"] for r in sel], [r["ms_per_step"] for r in sel], "o-", label=name)
+        x = [r["dofs"] for r in sel]
+        (line,) = axes[0].loglog(x, [r["ms_per_step"] for r in sel], "o-", label=name, ms=3)
+        steady = [r["steady_ms"] for r in sel]
+        axes[0].loglog(x, steady, "--", color=line.get_color(), lw=0.8)
     ref = np.array([1e2, 1e5])
     axes[0].loglog(ref, 1e-2 * ref, "k:", lw=0.8, label="∝ dofs")
-    axes[0].set_title("time per step", fontsize=9)
+    axes[0].set_title("time per step (dashed: without factorizations)", fontsize=9)
     for ax, name in zip(axes[1:], names, strict=True):
         sel = [r for r in rows if r["series"] == name]
         x = [r["dofs"] for r in sel]
@@ -246,12 +297,22 @@ def report(rows, note, path_stem):
     md = common.markdown_table(rows, cols, [HEADERS.get(c, c) for c in cols])
     text = (
         f"# Time per step against dofs\n\n{note}\n\n"
-        f"h = {H:g} s; phases in ms per step from `summary.json` (`phase_times_s` / steps); "
-        "other = total − phases (integrator bookkeeping, initial state); candidates: contacts "
-        "within the detection margin at t = 0; a size is skipped when the previous one, scaled "
-        "by dofs², predicts more than `--max-step` s per step.\n\n" + md
+        f"h = {H:g} s (the ball: its case's step); total = `time_per_step_s` of `summary.json` "
+        "(the time loop without output, over the steps), of which sparse factorizations "
+        "(`sparse_factorizations`); steady = total − factorizations; phases in ms per step "
+        "(`phase_times_s` / steps; the factorizations fall in solve or contact); other = total "
+        "− assembly − solve − contact (integrator bookkeeping, initial state); factor S and "
+        "fwd/bwd: one factorization of S = β′M + K and one solve with it, timed in the same "
+        "process; steady / solve: the ratio of the two; candidates: contacts within the "
+        "detection margin at t = 0; a size is skipped when the previous one, scaled by dofs², "
+        "predicts more than `--max-step` s per step.\n\n" + md
     )
     common.write_csv(f"{path_stem}.csv", rows, COLUMNS)
+    balls = [r for r in rows if "summary" in r]
+    if balls:  # the largest ball's summary.json, as the case writes it
+        common.Path(f"{path_stem}_ball.json").write_text(
+            json.dumps(balls[-1]["summary"], indent=1) + "\n"
+        )
     common.write_markdown(f"{path_stem}.md", text)
     plot([r for r in rows if r["status"] == "completed"], f"{path_stem}.png")
     return md

@@ -1,18 +1,21 @@
-"""Elastic ball dropped on a rigid plane (3D, P1 tetrahedra, linear elastic).
+"""Elastic ball dropped on a rigid plane (3D, P1 or P2 tetrahedra, linear elastic).
 
 A ball of ``radius`` (scikit-fem's ``MeshTet.init_ball`` refined ``refinements`` times,
-boundary nodes on the sphere) starts with its lowest point ``drop_height`` above the plane
-z = 0, falling at ``velocity``, under ``gravity`` (m/s², along −z). Every boundary node is a
-contact node against the plane (``NodeContact``, restitution e_N at the nodes). The material
-is linear elastic (constant stiffness: the iteration matrix is factorized once).
+boundary nodes on the sphere; with ``element`` = "P2" quadratic isoparametric cells whose
+boundary is curved, ``MeshTet2.init_ball``) starts with its lowest point ``drop_height``
+above the plane z = 0, falling at ``velocity``, under ``gravity`` (m/s², along −z). Every
+boundary node is a contact node against the plane (``NodeContact``, restitution e_N at the
+nodes). The material is linear elastic (constant stiffness: the iteration matrix is
+factorized once).
 
 For a slow impact the contact follows Hertz's theory (``benchmarks/hertz.py``): duration
 t_c = 2.87 (m²/(R E*² v))^{1/5} with E* = E/(1 − ν²) against a rigid plane.
 
-The step is an eighth of the dilatational wave's transit time across the shortest element
-edge (see ``disk_drop``: the transient energy excess during contact, +6 % of the impact
-kinetic energy here, is +26 % at twice the step). Sizes: ``refinements`` 2, 3, 4 give 387,
-2499 and 18051 dofs.
+The step is an eighth of the dilatational wave's transit time across the shortest distance
+between nodes (the shortest edge; half of it for P2) (see ``disk_drop``: the transient energy
+excess during contact, +6 % of the impact kinetic energy here, is +26 % at twice the step).
+Sizes: ``refinements`` 2, 3, 4 give 387, 2499 and 18051 dofs with P1; 1, 2, 3 give the same
+with P2.
 
 Probes: ``z_center`` and ``vz_center`` (height of the centre of mass, m, and its velocity,
 m/s), ``gap`` (lowest point above the plane, m) and ``contact_force`` (Σ k Λ_j / h, N).
@@ -29,11 +32,12 @@ from fecontact import (
     Solid,
     run_cli,
 )
-from fecontact.errors import check_count, check_positive, check_range
+from fecontact.errors import InputError, check_count, check_positive, check_range
 
 PARAMETERS = {
     "radius": ("m", "radius of the ball"),
     "refinements": ("-", "uniform refinements of the ball mesh (8 * 8^n tetrahedra), 0..4"),
+    "element": ("-", "P1 (linear tetrahedra) or P2 (quadratic, curved boundary)"),
     "E": ("Pa", "Young's modulus"),
     "nu": ("-", "Poisson's ratio"),
     "rho": ("kg/m^3", "density"),
@@ -49,6 +53,7 @@ PARAMETERS = {
 def build(
     radius=0.05,
     refinements=2,
+    element="P1",
     E=1e7,
     nu=0.3,
     rho=1000.0,
@@ -69,7 +74,9 @@ def build(
     check_positive("t_end", t_end)
     options = IntegratorOptions(rho_inf=rho_inf)
     z0 = radius + drop_height
-    ball = Solid.ball([0.0, 0.0, z0], radius, refinements, mat)
+    if not isinstance(element, str) or element not in ("P1", "P2"):
+        raise InputError(f"element must be 'P1' or 'P2', got {element!r}")
+    ball = Solid.ball([0.0, 0.0, z0], radius, refinements, mat, element=element)
     floor = Plane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], extent=4.0 * radius)
     contact = Contact(ball, floor, restitution=restitution)
     model = Model([ball], [contact], gravity=(0.0, 0.0, -gravity))
@@ -87,7 +94,8 @@ def build(
         ),
     }
     params = {k: v for k, v in locals().items() if k in PARAMETERS}
-    dt = 0.125 * ball.min_edge_length / mat.wave_speed
+    spacing = ball.min_edge_length / (2.0 if element == "P2" else 1.0)
+    dt = 0.125 * spacing / mat.wave_speed
     return Simulation(
         model,
         dt=dt,

@@ -125,7 +125,7 @@ def _option(opts, name):
 
 
 def _plus(A, scale, C):
-    """A + scale C for a dense n × n curvature C (None: zero), in the format of A."""
+    """A + scale C for a curvature C (dense or sparse; None: zero), in the format of A."""
     if C is None:
         return A
     return A + scale * (sp.csr_matrix(C) if sp.issparse(A) else C)
@@ -233,7 +233,7 @@ def _moreau_newton(model, st, h, theta, rows, opts, timer):
             What = What + ht * Ct
         if nr and not rows[0].linear and np.any(P):
             What = _plus(What, -ht, rows[0].curvature(q, P))
-        solve = _factorize(What, rnorm / ref)
+        solve = _factorize(What, rnorm / ref, symmetric=True)
         v_new = v - solve(R)
         clock = timer.add("solve", clock)
         if nr:
@@ -481,7 +481,7 @@ def _penalty_smooth_step(model, st, t, c, law, opts, timer):
             dq, dlam = x[: len(F)], x[len(F) :]
             lam = lam + dlam
         else:
-            dq = -_factorize(S, rnorm / ref)(r)
+            dq = -_factorize(S, rnorm / ref, symmetric=True)(r)
         move(dq)
         clock = timer.add("solve", clock)
         if np.max(np.abs(dq)) <= inc_tol and (not nb or np.max(np.abs(gb)) <= tol_b):

@@ -24,8 +24,10 @@ enforced exactly, so the converged answer does not depend on p or k; they only s
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse as sp
 
 from .errors import InputError, check_positive, check_range
+from .linalg import DENSE_LIMIT
 from .obstacles import Circle, Plane, Point
 
 __all__ = [
@@ -426,21 +428,24 @@ class ContactSet:
         return self.linearize(q, select)[:2]
 
     def curvature(self, q: np.ndarray, select: np.ndarray, weights: np.ndarray):
-        """Σ_j weights_j ∇²g_j over ``select``, as a dense n_free × n_free array."""
+        """Σ_j weights_j ∇²g_j over ``select`` (n_free × n_free; see :meth:`linearize`)."""
         return self.linearize(q, select, weights)[2]
 
     def linearize(self, q: np.ndarray, select: np.ndarray, weights=None):
         """Gaps g (len(select),), their dense gradient G (len(select) × n_free) and, when
         ``weights`` are given, the curvature C = Σ_j weights_j ∇²g_j (n_free × n_free), from
-        one evaluation of the pairs at q."""
+        one evaluation of the pairs at q. C is dense like the model's matrices up to
+        ``DENSE_LIMIT`` free dofs, else sparse (CSR) over the dofs of the contacts with a
+        nonzero weight."""
         n = self.n_free
         G = np.zeros((len(select), n))
-        C = None if weights is None else np.zeros((n, n))
+        dense = n <= DENSE_LIMIT
+        C = None if weights is None else (np.zeros((n, n)) if dense else [])
         if not self.pairs or len(select) == 0:
-            return np.zeros(0), G, C
-        if self._affine is not None:
+            return np.zeros(0), G, _curvature_matrix(C, n)
+        if self._affine is not None:  # affine gaps: no curvature
             g0, Gq, Gf = self._affine
-            return g0[select] + Gq[select] @ q, Gf[select], C
+            return g0[select] + Gq[select] @ q, Gf[select], _curvature_matrix(C, n)
         parts = [pair.evaluate(q) for pair in self.pairs]
         single = len(parts) == 1
         g_all = parts[0][0] if single else np.concatenate([p[0] for p in parts])
@@ -466,9 +471,12 @@ class ContactSet:
                 w = weights[rows]
                 # rows on the same dofs (a joint's two equations): summed before the scatter
                 Hw = w @ H.reshape(len(w), -1) if sc.shared else w[:, None, None] * H
-                # (a single pair writes into a C still zero)
-                _add(C, sc.c_index, Hw.ravel()[sc.c_keep], sc.c_unique, assign=single)
-        return g_all[select], G, C
+                values = Hw.ravel()[sc.c_keep]
+                if dense:  # (a single pair writes into a C still zero)
+                    _add(C, sc.c_index, values, sc.c_unique, assign=single)
+                else:
+                    C.append((values, sc.c_index))
+        return g_all[select], G, _curvature_matrix(C, n)
 
     def _scatter(self, i: int, rows: np.ndarray, dofs: np.ndarray):
         """Where the gradient rows and Hessians of pair i land in G and C (cached: the dofs
@@ -501,6 +509,18 @@ class ContactSet:
             )
             offset += m
         return f
+
+
+def _curvature_matrix(C, n: int):
+    """The curvature as it was gathered: dense, or CSR from (values, (rows, cols)) parts
+    (duplicates summed; zero weights dropped, so only the active contacts' dofs appear)."""
+    if not isinstance(C, list):
+        return C
+    values = np.concatenate([v for v, _ in C] or [np.zeros(0)])
+    flat = np.concatenate([i for _, i in C] or [np.zeros(0, int)])
+    keep = values != 0.0
+    rows, cols = np.divmod(flat[keep], n)
+    return sp.csr_matrix((values[keep], (rows, cols)), shape=(n, n))
 
 
 class _Scatter:

@@ -211,10 +211,10 @@ def initial_state(model, q0=None, v0=None) -> State:
         raise InputError(
             f"initial configuration: contact {j} penetrates by {-g[j]:.3e} m (gap must be >= 0)"
         )
-    _, fint, K = model.internal(q)
+    alpha, beta_k = model.damping
+    _, fint, K = model.internal(q, tangent=bool(alpha or beta_k))
     F = model.free
     f = model.external(0.0)[F] - fint[F]
-    alpha, beta_k = model.damping
     if alpha or beta_k:
         f -= (alpha * model.M + beta_k * K) @ v[F]
     vd = np.zeros(n)
@@ -365,9 +365,9 @@ def _line_search(model, q, dq, b, slope, bp):
     return s
 
 
-def _factorize(A, residual):
+def _factorize(A, residual, symmetric=False):
     try:
-        return factorize(A)
+        return factorize(A, symmetric)
     except np.linalg.LinAlgError:
         raise _StepFailure("singular iteration matrix", residual) from None
 
@@ -390,13 +390,29 @@ def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer
     tol_gap = opts.tol_gap * length_scale(model, q) if cand.size else 0.0
     nu, impulse, gaps = np.zeros(m), np.zeros(m), g_tilde
     if cand.size and np.min(g_tilde[cand]) < 0.0:
-        nu0 = st.nu[cand] / opts.multiplier_scale  # warm start: the previous step's
-        U, nu_c, iters["position"] = _position_correction(model, q, cand, S, c, opts, tol_gap, nu0)
-        q[model.free_slice] += U
+        # the working set: the penetrating candidates and those active in the previous step,
+        # then any other candidate that the correction pushes below the plane of its gap; the
+        # work follows the contact zone, not the detection margin (a long body has hundreds
+        # of candidates, a few in contact)
+        was_active = st.nu[cand] > 0.0 if st.nu.size == m else False
+        work = cand[(g_tilde[cand] < 0.0) | was_active]
+        q_tilde = q
+        metric = _metric(model, q_tilde, S, c, opts)
+        while True:
+            nu0 = st.nu[work] / opts.multiplier_scale  # warm start: the previous step's
+            U, nu_w, its = _position_correction(model, q_tilde, work, metric, c, opts, tol_gap, nu0)
+            iters["position"] += its
+            q = q_tilde.copy()
+            q[model.free_slice] += U
+            gaps = model.contacts.gaps(q)
+            pushed = cand[gaps[cand] < -tol_gap]
+            pushed = pushed[~np.isin(pushed, work)]
+            if pushed.size == 0:
+                break
+            work = np.union1d(work, pushed)
         if model.inverted(q):
             raise _StepFailure("the position correction inverts an element (det F <= 0)", np.nan)
-        nu[cand] = nu_c[: cand.size]
-        gaps = model.contacts.gaps(q)
+        nu[work] = nu_w[: work.size]
         Gb = None  # the joints' gradient moved with q
 
     # 3. velocity jump on the contacts closed at q_{n+1}, and on the joints
@@ -527,7 +543,7 @@ def _smooth_step(model, st, t, c, opts, timer):
             dq, lam = x[:nF], lam + x[nF:]
         else:
             if not linear:
-                solve = _factorize(S, rnorm / ref)
+                solve = _factorize(S, rnorm / ref, symmetric=True)
             dq = -solve(r)
             if np.abs(dq).max() > big_step:
                 dq *= _line_search(model, q, dq, Mvd - fext, r @ dq, c.bp)
@@ -589,17 +605,18 @@ def _metric(model, q, S, c, opts):
         alpha, beta_k = model.damping
         if alpha or beta_k:
             S = S + c.gp * (alpha * model.M + beta_k * K)
-        S = (S, _factorize(S, math.nan))
+        S = (S, _factorize(S, math.nan, symmetric=True))
     matrix, solve_S = S
     return lambda: matrix / c.bp, lambda b: c.bp * solve_S(b)
 
 
-def _position_correction(model, q_tilde, cand, S, c, opts, tol_gap, nu0=None):
-    """Step 2: q = q̃ + U, H U = Σ G_jᵀ [k ν_j − p g_j]_+ over the candidates, with the
-    joints kept as equalities (always active, multipliers of any sign); ``nu0`` are the
-    candidates' multipliers of the previous step."""
+def _position_correction(model, q_tilde, cand, metric, c, opts, tol_gap, nu0=None):
+    """Step 2: q = q̃ + U, H U = Σ G_jᵀ [k ν_j − p g_j]_+ over the contacts ``cand``, with
+    the joints kept as equalities (always active, multipliers of any sign); ``metric`` is
+    (H, solve_H) from :func:`_metric`, ``nu0`` the contacts' multipliers of the previous
+    step."""
     F = model.free
-    H, solve_H = _metric(model, q_tilde, S, c, opts)
+    H, solve_H = metric
     cons = _Constraints(model, cand)
     _, G0 = cons.jacobian(q_tilde)
     constant = model.linear or opts.metric == "mass"
@@ -616,7 +633,7 @@ def _position_correction(model, q_tilde, cand, S, c, opts, tol_gap, nu0=None):
         if cons.linear:  # constant gradients: H⁻¹G_Aᵀ are columns of Y0
             return (lambda B: Y0[:, A]), None
         C = cons.curvature(shifted(U), np.where(A, s, 0.0))
-        return _factorize(H() - C, math.nan), C
+        return _factorize(H() - C, math.nan, symmetric=True), C
 
     try:
         U, nu, its = solve_position_correction(

@@ -93,7 +93,10 @@ class Model:
         blocks = [o + b.element_dofs for b, o in zip(self.bodies, self.offsets, strict=False)]
         self.pattern = Pattern(blocks, self.free_index, len(self.free), extra=Mff)
         self.M = self.pattern.matrix(self.pattern.extra)
-        self.solve_M = factorize(self.M)
+        # factorized in its own pattern: the shared one holds K's couplings (zeros in M,
+        # e.g. between the components of a solid's displacement) and would fill them in
+        self._M_own = Mff if not self.dense else self.M
+        self._solve_M = None
         self.f_gravity = self.M_full @ np.concatenate(
             [b.translation_field(self.gravity) for b in self.bodies]
         )
@@ -142,6 +145,13 @@ class Model:
         for b, s, X in zip(self.bodies, self._slices, self._reference, strict=True):
             u = max(u, float(np.abs(b.positions(q[s]) - X).max()))
         return max(self._reference_extent + u, self._obstacle_extent)
+
+    @property
+    def solve_M(self):
+        """M⁻¹ applied to a vector or to the columns of a matrix (factorized on first use)."""
+        if self._solve_M is None:
+            self._solve_M = factorize(self._M_own, symmetric=True)
+        return self._solve_M
 
     def offset_of(self, body) -> int:
         for b, o in zip(self.bodies, self.offsets, strict=False):
@@ -202,7 +212,7 @@ class Model:
             alpha, beta = self.damping
             C = alpha * self.M + beta * K
             S = bp * self.M + K + gp * C
-            self._iteration_matrices[key] = (S, factorize(S), C)
+            self._iteration_matrices[key] = (S, factorize(S, symmetric=True), C)
         return self._iteration_matrices[key]
 
     def external(self, t: float) -> np.ndarray:

@@ -224,10 +224,14 @@ class Solid:
     @classmethod
     def ball(cls, center, radius: float, refinements: int, material, **options) -> Solid:
         """Ball of ``radius`` (m) at ``center`` (3-vector, m), tetrahedra refined
-        ``refinements`` times (8^refinements × 8 elements; at most 6: 2^21 elements)."""
+        ``refinements`` times (8^refinements × 8 elements; at most 6: 2^21 elements), boundary
+        vertices on the sphere. With ``element="P2"`` the cells are quadratic (isoparametric)
+        with the boundary's edge nodes on the sphere too: the surface is curved, not a
+        polyhedron."""
         c = _check_point("center", center, 3)
         r = check_positive("radius", radius)
-        m = skfem.MeshTet.init_ball(check_count("refinements", refinements, 0, 6))
+        kind = skfem.MeshTet2 if options.get("element") == "P2" else skfem.MeshTet
+        m = kind.init_ball(check_count("refinements", refinements, 0, 6))
         return cls(m.scaled(r).translated(c), material, **options)
 
     @classmethod

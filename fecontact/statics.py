@@ -33,5 +33,5 @@ def solve_static(
                     f"static Newton did not converge at load factor {lam:.3g}",
                     residual=float(np.linalg.norm(r) / scale),
                 )
-            q[F] -= factorize(K)(r)
+            q[F] -= factorize(K, symmetric=True)(r)
     return q

@@ -37,7 +37,9 @@ def test_run_writes_frames_history_and_summary(short_run):
     for key in (
         "steps",
         "wall_time_s",
+        "time_per_step_s",
         "phase_times_s",
+        "sparse_factorizations",
         "newton_iterations_total",
         "newton_iterations_max",
         "max_penetration",
@@ -50,6 +52,9 @@ def test_run_writes_frames_history_and_summary(short_run):
         assert key in s
     assert s["steps"] == 350 and s["status"] == "completed"
     assert {"assembly", "solve", "contact", "output"} <= set(s["phase_times_s"])
+    compute = s["wall_time_s"] - s["phase_times_s"]["output"]
+    assert s["time_per_step_s"] == pytest.approx(compute / s["steps"])
+    assert s["sparse_factorizations"] == {"count": 0, "seconds": 0.0}  # 15 dofs: dense
     assert s["parameters"]["tip_mass"] == 0.14
     assert s["max_penetration"] <= 1e-10
     assert s["impacts"][0]["time"] == pytest.approx(0.319)

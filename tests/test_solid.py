@@ -504,3 +504,16 @@ def test_material_and_mesh_types():
 def test_builder_arguments(builder, args):
     with pytest.raises(InputError):
         builder(*args, MATERIALS["linear"])
+
+
+def test_quadratic_ball_is_curved():
+    """P2 balls are isoparametric: every boundary node lies on the sphere, and the volume
+    error is far below the polyhedral P1 ball's of the same refinement."""
+    center, radius = np.array([0.1, -0.2, 0.3]), 0.05
+    mat = MATERIALS["linear"]
+    p1 = Solid.ball(center, radius, 2, mat)
+    p2 = Solid.ball(center, radius, 2, mat, element="P2")
+    r = np.linalg.norm(p2.X[p2.boundary_nodes()] - center, axis=1)
+    assert np.allclose(r, radius, rtol=1e-14)
+    exact = 4.0 / 3.0 * np.pi * radius**3
+    assert abs(p2.volume / exact - 1.0) < 0.1 * abs(p1.volume / exact - 1.0)
