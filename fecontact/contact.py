@@ -464,7 +464,8 @@ class ContactSet:
             if dofs.shape != Gv.shape:
                 dofs = np.repeat(dofs.reshape(1, -1), len(Gv), axis=0)
             sc = self._scatter(i, rows, dofs if every else dofs[loc])
-            Gv, H = (Gv, H) if every or H is None else (Gv[loc], H[loc])
+            if not every:  # the selected rows (linear kinematics carry no Hessian)
+                Gv, H = Gv[loc], (None if H is None else H[loc])
             # each pair fills rows of its own: an assignment unless a row repeats a dof
             _add(G, sc.g_index, Gv.ravel()[sc.g_keep], sc.g_unique, assign=True)
             if C is not None and H is not None:

@@ -147,3 +147,18 @@ def test_curvature_of_large_models_is_sparse_over_the_weighted_contacts():
     assert np.allclose(C.toarray(), expected, rtol=1e-13, atol=1e-13 * np.abs(expected).max())
     touched = np.unique(C.nonzero()[0])
     assert not np.isin(model.free_index[dofs[select[1], :2]], touched).any()
+
+
+def test_gap_gradients_of_a_selection_are_the_selected_rows():
+    """Nodes of a P1 ball on a tilted plane (258 contacts × 2499 dofs: not the small models'
+    affine form). Gap rows of linear kinematics carry no Hessian; the gradient rows of any
+    selection of contacts must still be the selected rows of the full gradient."""
+    ball = Solid.ball([0.0, 0.0, 0.05], 0.05, 3, LinearElastic(E=1e7, nu=0.3, rho=1000.0))
+    model = Model([ball], [Contact(ball, Plane([0.0, 0.0, 0.01], [0.2, 0.1, 1.0]))])
+    assert model.contacts._affine is None
+    q = np.random.default_rng(3).normal(scale=1e-3, size=model.n)
+    g_all, G_all, _ = model.contacts.linearize(q, model.contacts.all)
+    for select in (np.array([5]), np.array([40, 7, 200]), np.arange(0, model.contacts.size, 3)):
+        g, G, _ = model.contacts.linearize(q, select)
+        assert np.array_equal(g, g_all[select])
+        assert np.array_equal(G, G_all[select])
