@@ -331,11 +331,10 @@ STATIC_COLUMNS = [
     "element", "mesh", "force_N", "a_per_R", "dofs", "spacing_mm", "a_per_spacing",
     "touching", "delta_um", "delta_hertz_um", "delta_error_pct", "finite_size_C", "wall_s",
 ]  # fmt: skip
-STATIC_TABLE_HEADERS = [
+STATIC_HEADERS = [
     "element", "mesh", "F (N)", "a / R", "dofs", "Δx (mm)", "a / Δx", "nodes in contact",
     "δ (µm)", "Hertz δ (µm)", "δ error (%)", "C = (δ_H − δ) E R / F", "wall (s)",
 ]  # fmt: skip
-STATIC_TABLE = (STATIC_COLUMNS, STATIC_TABLE_HEADERS)
 
 
 def static_row(element: str, force: float, per_radius: float, base: int = 3) -> dict:
@@ -516,7 +515,7 @@ def main(argv=None) -> int:
         else:
             rows = [static_row(el, f1 / share, n) for el, n, share in runs]
         title = "The meshed ball's static force–approach law against Hertz"
-        print(report(rows, args.out, stem, STATIC_READING, title, *STATIC_TABLE))
+        print(report(rows, args.out, stem, STATIC_READING, title, STATIC_COLUMNS, STATIC_HEADERS))
     for name, runs, v in (("slow", SLOW, SLOW_V), ("fast", FAST, V)):
         if name not in series:
             continue
