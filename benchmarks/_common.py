@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from fecontact import SolverError, run, simulate
-from fecontact.cli import load_case
+from fecontact.io.cli import load_case
 
 os.environ.setdefault("MPLBACKEND", "Agg")
 
@@ -132,7 +132,7 @@ def timed_run(sim, repeats=3):
     Returns the medians of ``compute`` (``wall_time_s`` − output phase, s), ``wall`` and each
     phase, ``steps``, the summary and the history (from ``history.csv``) of the first run, and
     ``status``/``message`` ("failed" on ``SolverError``: then a single run)."""
-    from fecontact.output import read_history
+    from fecontact.io.output import read_history
 
     walls, computes, phases = [], [], {}
     first = None
@@ -142,7 +142,7 @@ def timed_run(sim, repeats=3):
                 summary = run(sim, tmp, frames=False, checkpoint_every=0)
                 status, message = "completed", ""
             except SolverError as err:
-                summary = fecontact.output.read_json(Path(tmp) / "summary.json")
+                summary = fecontact.io.output.read_json(Path(tmp) / "summary.json")
                 status, message = "failed", str(err)
             if i == 0:
                 first = {

@@ -60,10 +60,10 @@ from fecontact import (
     Section,
     Simulation,
 )
-from fecontact.integrator import alpha_coefficients
+from fecontact.bodies.materials import LinearElastic
+from fecontact.bodies.solid import Solid
 from fecontact.linalg import factorize
-from fecontact.materials import LinearElastic
-from fecontact.solid import Solid
+from fecontact.time import alpha_coefficients
 
 H = 1e-4
 COLUMNS = [

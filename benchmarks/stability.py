@@ -54,7 +54,7 @@ except ImportError:
     import _common as common
 
 from fecontact import Beam2D, Contact, Material, Model, Plane, Probe, Section, Simulation
-from fecontact.rigid import Disk, Polygon, RigidBody2D
+from fecontact.bodies.rigid import Disk, Polygon, RigidBody2D
 
 COLUMNS = [
     "group",

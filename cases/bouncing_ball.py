@@ -8,8 +8,8 @@ acts on the centre: gap = y_c − r. Rotation is free but never excited (no fric
 """
 
 from fecontact import Contact, Model, Plane, Probe, Simulation, run_cli
+from fecontact.bodies.rigid import Disk, RigidBody2D
 from fecontact.errors import check_positive, check_range
-from fecontact.rigid import Disk, RigidBody2D
 
 PARAMETERS = {
     "height": ("m", "initial gap between the ball and the plane (0: resting on it)"),

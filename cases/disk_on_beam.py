@@ -29,8 +29,8 @@ from fecontact import (
     Simulation,
     run_cli,
 )
+from fecontact.bodies.rigid import Disk, RigidBody2D
 from fecontact.errors import check_count, check_positive, check_range
-from fecontact.rigid import Disk, RigidBody2D
 
 PARAMETERS = {
     "length": ("m", "beam span between the pins"),

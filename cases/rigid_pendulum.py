@@ -24,7 +24,7 @@ from fecontact import (
     check_range,
     run_cli,
 )
-from fecontact.rigid import Polygon, RigidBody2D
+from fecontact.bodies.rigid import Polygon, RigidBody2D
 
 PARAMETERS = {
     "length": ("m", "length of the bar"),

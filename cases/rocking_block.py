@@ -23,7 +23,7 @@ from fecontact import (
     check_range,
     run_cli,
 )
-from fecontact.rigid import Polygon, RigidBody2D, rotation
+from fecontact.bodies.rigid import Polygon, RigidBody2D, rotation
 
 PARAMETERS = {
     "width": ("m", "box width"),

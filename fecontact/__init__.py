@@ -16,19 +16,32 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 __version__ = "0.1.0"
 
-from .beam import Beam2D, Material, Section
-from .contact import Contact
+from . import moved
+from .bodies import (
+    Beam2D,
+    Disk,
+    LinearElastic,
+    Material,
+    NeoHookean,
+    PointMass,
+    Polygon,
+    RigidBody2D,
+    Section,
+    Solid,
+    StVenantKirchhoff,
+)
+from .contact import Circle, Contact, Plane, Point, Sphere
 from .errors import InputError, SolverError, check_count, check_positive, check_range
-from .integrator import IntegratorOptions, State, simulate
 from .joints import Pin
-from .materials import LinearElastic, NeoHookean, StVenantKirchhoff
 from .model import Model, NodalLoad
-from .obstacles import Circle, Plane, Point, Sphere
 from .simulation import Probe, Simulation, node_probe, run
-from .solid import Solid
+from .time import IntegratorOptions, State, simulate
+
+moved.install()
 
 __all__ = [
     "Beam2D",
+    "Disk",
     "Circle",
     "Contact",
     "InputError",
@@ -38,10 +51,13 @@ __all__ = [
     "Model",
     "NeoHookean",
     "NodalLoad",
+    "PointMass",
+    "Polygon",
     "Pin",
     "Plane",
     "Point",
     "Probe",
+    "RigidBody2D",
     "Section",
     "Simulation",
     "Solid",
@@ -61,14 +77,14 @@ __all__ = [
 
 
 def load_run(out_dir):
-    """Load a finished run (history arrays, summary, frames): see ``fecontact.output``."""
-    from .output import load_run as _load
+    """Load a finished run (history arrays, summary, frames): see ``fecontact.io.output``."""
+    from .io.output import load_run as _load
 
     return _load(out_dir)
 
 
 def run_cli(build, argv=None):
     """Command line of a case file: ``python cases/NAME.py [--dt ...] [--set ...]``."""
-    from .cli import run_cli as _run_cli
+    from .io.cli import run_cli as _run_cli
 
     _run_cli(build, argv)

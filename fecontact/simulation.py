@@ -24,9 +24,9 @@ import numpy as np
 
 from . import __version__
 from .errors import InputError, SolverError, check_positive
-from .integrator import IntegratorOptions, PhaseTimer, State, initial_state, simulate
+from .io.output import STANDARD_COLUMNS
 from .linalg import SPARSE_FACTORIZATIONS
-from .output import STANDARD_COLUMNS
+from .time import IntegratorOptions, PhaseTimer, State, initial_state, simulate
 
 __all__ = ["Probe", "Simulation", "node_probe", "run", "HISTORY_COLUMNS"]
 
@@ -117,7 +117,7 @@ class Simulation:
 
 
 def _frame_parts(model, state: State):
-    from .output import body_mesh
+    from .io.output import body_mesh
 
     contacts = model.contacts
     if state.impulse.any():
@@ -161,7 +161,7 @@ def _static_parts(model):
 
 def _obstacle_parts(model, moving: bool):
     """Outlines of the rigid obstacles that move (drawn every frame) or stay (drawn once)."""
-    from .output import line_mesh
+    from .io.output import line_mesh
 
     parts = {}
     for j, pair in enumerate(model.contacts.pairs):
@@ -195,7 +195,7 @@ class _Recorder:
     )
 
     def __init__(self, sim: Simulation, out: Path, keep_rows=None):
-        from .output import HistoryWriter
+        from .io.output import HistoryWriter
 
         self.sim = sim
         self.model = sim.model
@@ -325,7 +325,7 @@ def _fingerprint(sim: Simulation) -> str:
 
 
 def _save_checkpoint(path: Path, sim, st: State, rec: _Recorder, next_frame: float) -> None:
-    from .output import atomic_write
+    from .io.output import atomic_write
 
     rec.history.flush()
     arrays = {
@@ -373,7 +373,7 @@ def run(
     uninterrupted run. On ``SolverError`` or ``KeyboardInterrupt`` the summary records the
     failure, every frame written so far stays readable, and the exception propagates.
     """
-    from .output import PVDWriter, write_json
+    from .io.output import PVDWriter, write_json
 
     out = Path(out_dir)
     start, meta = None, None

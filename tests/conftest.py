@@ -15,7 +15,7 @@ def cases_dir() -> Path:
 
 def load_case(name: str):
     """Import a case module from cases/ by name."""
-    from fecontact.cli import load_case as _load
+    from fecontact.io.cli import load_case as _load
 
     return _load(ROOT / "cases" / f"{name}.py")
 

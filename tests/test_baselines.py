@@ -18,16 +18,17 @@ from fecontact import (
     Plane,
     Section,
 )
-from fecontact.baselines import (
-    STEPPERS,
+from fecontact.bodies.rigid import PointMass
+from fecontact.time import STEPPERS, PhaseTimer, initial_state
+from fecontact.time.constraints import StepFailure
+from fecontact.time.moreau import moreau_step
+from fecontact.time.nsga import nsga_step
+from fecontact.time.penalty import (
     automatic_penalty_stiffness,
     damping_ratio,
     effective_masses,
-    moreau_step,
     penalty_step,
 )
-from fecontact.integrator import PhaseTimer, _step, _StepFailure, initial_state
-from fecontact.rigid import PointMass
 
 MATERIAL = Material(E=70e9, rho=2700.0, nu=0.33)
 SECTION = Section.rectangle(0.02, 0.002)
@@ -64,7 +65,7 @@ def series(states, name):
 
 
 def test_registry():
-    assert STEPPERS == {"moreau": moreau_step, "penalty": penalty_step}
+    assert STEPPERS == {"nsga": nsga_step, "moreau": moreau_step, "penalty": penalty_step}
 
 
 # -- Moreau–Jean ---------------------------------------------------------------------------------
@@ -174,7 +175,7 @@ def test_moreau_free_flight_converges_to_nsga_at_order_one_or_two():
     model = case.build().model
     beam = model.bodies[0]
     T = 0.2
-    ref = tip(beam, run(_step, model, 1.25e-4, round(T / 1.25e-4)))[-1]
+    ref = tip(beam, run(nsga_step, model, 1.25e-4, round(T / 1.25e-4)))[-1]
 
     def error(theta, h):
         states = run(moreau_step, model, h, round(T / h), options(theta=theta))
@@ -219,11 +220,11 @@ def test_pin_joint_holds_and_matches_the_pinned_support(stepper):
 
 
 def test_a_failing_newton_raises_step_failure():
-    """Newton failures surface as _StepFailure, which the step-halving machinery catches."""
+    """Newton failures surface as StepFailure, which the step-halving machinery catches."""
     _, model = pendulum()
     st = initial_state(model)
     for stepper in (moreau_step, penalty_step):
-        with pytest.raises(_StepFailure):
+        with pytest.raises(StepFailure):
             stepper(model, st, 1e-3, options(max_iterations=0), PhaseTimer())
 
 

@@ -5,15 +5,15 @@ import pytest
 import skfem
 
 from fecontact import Beam2D, Contact, InputError, Material, Model, Section
-from fecontact.body_contact import (
+from fecontact.bodies.materials import LinearElastic, NeoHookean
+from fecontact.bodies.solid import Solid
+from fecontact.contact.body_pairs import (
     NodeNodeContact,
     NodeSurfaceContact,
     closest_facet_distance,
     facet_plane_gap,
     triangle_plane_distance,
 )
-from fecontact.materials import LinearElastic, NeoHookean
-from fecontact.solid import Solid
 
 MAT = LinearElastic(E=1e6, nu=0.3, rho=1000.0)
 RNG = np.random.default_rng(20240611)

@@ -9,7 +9,7 @@ import pytest
 from conftest import ROOT
 
 from fecontact import load_run
-from fecontact.cli import main, parse_value
+from fecontact.io.cli import main, parse_value
 from fecontact.simulation import HISTORY_COLUMNS
 
 CASE = str(ROOT / "cases" / "flexible_pendulum.py")

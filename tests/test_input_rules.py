@@ -20,8 +20,8 @@ from fecontact import (
     Simulation,
     Solid,
 )
-from fecontact.integrator import initial_state
-from fecontact.rigid import Disk, RigidBody2D
+from fecontact.bodies.rigid import Disk, RigidBody2D
+from fecontact.time import initial_state
 
 
 def elastic():

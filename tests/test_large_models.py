@@ -10,11 +10,13 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-import fecontact.integrator as integrator
 import fecontact.model as model_module
+import fecontact.time.constraints as constraints_module
+import fecontact.time.nsga as nsga_module
 from fecontact import Contact, IntegratorOptions, LinearElastic, Model, Plane, Solid, simulate
+from fecontact.bodies.rigid import Polygon, RigidBody2D, rotation
 from fecontact.linalg import factorize
-from fecontact.rigid import Polygon, RigidBody2D, rotation
+from fecontact.time.generalized_alpha import Coefficients
 
 
 def counted(monkeypatch):
@@ -26,7 +28,8 @@ def counted(monkeypatch):
         return factorize(A, symmetric)
 
     monkeypatch.setattr(model_module, "factorize", wrapper)
-    monkeypatch.setattr(integrator, "factorize", wrapper)
+    monkeypatch.setattr(constraints_module, "factorize", wrapper)
+    monkeypatch.setattr(nsga_module, "factorize", wrapper)
     return calls
 
 
@@ -82,7 +85,7 @@ def test_column_cache_solves_only_for_new_contacts(monkeypatch):
 
 
 def _bp_gp(model, h):
-    c = integrator._Coefficients(integrator.IntegratorOptions().rho_inf, h)
+    c = Coefficients(IntegratorOptions().rho_inf, h)
     return c.bp, c.gp
 
 

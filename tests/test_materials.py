@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from fecontact import InputError
-from fecontact.materials import LinearElastic, NeoHookean, StVenantKirchhoff
+from fecontact.bodies.materials import LinearElastic, NeoHookean, StVenantKirchhoff
 
 MATERIALS = {
     "linear": LinearElastic(E=2.0e9, nu=0.3, rho=1200.0),

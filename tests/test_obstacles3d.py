@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 from fecontact import Contact, InputError, Model
-from fecontact.materials import StVenantKirchhoff
-from fecontact.obstacles import Circle, Plane, Sphere
-from fecontact.solid import Solid
+from fecontact.bodies.materials import StVenantKirchhoff
+from fecontact.bodies.solid import Solid
+from fecontact.contact.obstacles import Circle, Plane, Sphere
 
 RNG = np.random.default_rng(42)
 

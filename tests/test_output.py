@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import pyvista
 
-from fecontact.output import (
+from fecontact.io.output import (
     STANDARD_COLUMNS,
     HistoryWriter,
     PVDWriter,

@@ -7,8 +7,8 @@ import imageio_ffmpeg
 import numpy as np
 import pytest
 
-from fecontact.output import STANDARD_COLUMNS, HistoryWriter, PVDWriter, line_mesh, write_json
-from fecontact.render import WINDOW_SIZE, plot_history, render_run
+from fecontact.io.output import STANDARD_COLUMNS, HistoryWriter, PVDWriter, line_mesh, write_json
+from fecontact.io.render import WINDOW_SIZE, plot_history, render_run
 
 N_FRAMES = 10
 T_END = 0.45

@@ -6,7 +6,7 @@ import pytest
 from conftest import load_case
 
 from fecontact import Beam2D, Contact, Material, Model, Plane, Section, simulate
-from fecontact.rigid import Disk, RigidBody2D
+from fecontact.bodies.rigid import Disk, RigidBody2D
 
 
 def rest(model, dt, t_end, speed):

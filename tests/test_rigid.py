@@ -21,9 +21,9 @@ from fecontact import (
     Section,
     simulate,
 )
+from fecontact.bodies.rigid import Disk, PointMass, Polygon, RigidBody2D, rotation
 from fecontact.contact import NodeContact
-from fecontact.rigid import Disk, PointMass, Polygon, RigidBody2D, rotation
-from fecontact.rigid_contact import (
+from fecontact.contact.rigid_pairs import (
     DiskBeamContact,
     DiskDiskContact,
     DiskObstacleContact,

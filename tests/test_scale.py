@@ -8,8 +8,8 @@ import pytest
 from conftest import load_case
 
 from fecontact import Contact, Model, Plane, SolverError, simulate
-from fecontact.integrator import length_scale
-from fecontact.rigid import Disk, RigidBody2D
+from fecontact.bodies.rigid import Disk, RigidBody2D
+from fecontact.time import length_scale
 
 G = 9.81
 

@@ -12,8 +12,8 @@ from skfem.helpers import dot
 from skfem.models.elasticity import lame_parameters, linear_elasticity
 
 from fecontact import InputError
-from fecontact.materials import LinearElastic, NeoHookean, StVenantKirchhoff
-from fecontact.solid import Solid
+from fecontact.bodies.materials import LinearElastic, NeoHookean, StVenantKirchhoff
+from fecontact.bodies.solid import Solid
 
 MESHES = Path(__file__).resolve().parents[1] / "meshes"
 YOUNG, NU, RHO = 5.0e6, 0.3, 1100.0

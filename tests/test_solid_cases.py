@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from fecontact import InputError, run, simulate
-from fecontact.cli import load_case
+from fecontact.io.cli import load_case
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 NAMES = ["disk_drop", "two_disks", "ball_drop", "two_bars"]
@@ -225,8 +225,8 @@ def test_3d_snapshots_show_the_body_inside_the_frame(tmp_path):
     # nothing may touch the window's sides or bottom; the plane is drawn filled (grey)
     imageio = pytest.importorskip("imageio.v3")
     from fecontact import LinearElastic, Plane, Solid
-    from fecontact.output import PVDWriter, body_mesh, line_mesh
-    from fecontact.render import WINDOW_SIZE, render_run
+    from fecontact.io.output import PVDWriter, body_mesh, line_mesh
+    from fecontact.io.render import WINDOW_SIZE, render_run
 
     ball = Solid.ball([0.0, 0.0, 0.06], 0.05, 2, LinearElastic(E=1e7, nu=0.3, rho=1e3))
     floor = Plane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], extent=0.2)

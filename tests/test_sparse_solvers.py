@@ -6,7 +6,7 @@ import scipy.sparse as sp
 
 from fecontact import InputError
 from fecontact.linalg import factorize
-from fecontact.sparse_solvers import sparse_solver, use_sparse_solver
+from fecontact.linalg.sparse_solvers import sparse_solver, use_sparse_solver
 
 
 def laplacian(n):

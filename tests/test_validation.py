@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from fecontact import InputError, run, simulate
-from fecontact.cli import load_case
+from fecontact.io.cli import load_case
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 G = 9.81

@@ -29,10 +29,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .beam import Beam2D
-from .errors import InputError, check_positive, check_range
+from ..bodies.beam import Beam2D
+from ..bodies.rigid import Disk, Polygon, RigidBody2D, rotation
+from ..errors import InputError, check_positive, check_range
 from .obstacles import Circle, Plane
-from .rigid import Disk, Polygon, RigidBody2D, rotation
 
 __all__ = [
     "DiskObstacleContact",

@@ -44,7 +44,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import check_positive, check_range
+from ..errors import check_positive, check_range
 
 __all__ = ["LinearElastic", "StVenantKirchhoff", "NeoHookean", "PLANES"]
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import InputError, check_finite, check_positive, check_vector
+from ..errors import InputError, check_finite, check_positive, check_vector
 
 __all__ = ["Plane", "Circle", "Sphere", "Point"]
 

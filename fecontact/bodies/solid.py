@@ -40,7 +40,7 @@ import scipy.sparse as sp
 import skfem
 from skfem.models.poisson import mass as _mass_form
 
-from .errors import InputError, check_count, check_finite, check_positive
+from ..errors import InputError, check_count, check_finite, check_positive
 from .materials import PLANES
 
 __all__ = ["Solid"]

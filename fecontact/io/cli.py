@@ -23,7 +23,7 @@ import sys
 import warnings
 from pathlib import Path
 
-from .errors import InputError, SolverError
+from ..errors import InputError, SolverError
 
 __all__ = ["main", "run_cli", "load_case", "parse_value"]
 
@@ -60,7 +60,7 @@ def load_case(path) -> object:
 
 
 def _split_overrides(build, pairs: list[str]):
-    from .integrator import IntegratorOptions
+    from ..time import IntegratorOptions
 
     params = inspect.signature(build).parameters
     option_names = {f.name for f in dataclasses.fields(IntegratorOptions)}
@@ -124,7 +124,7 @@ def _prepare(build, args, name: str):
 
 
 def _execute(build, args, name: str) -> int:
-    from .simulation import run
+    from ..simulation import run
 
     sim = _prepare(build, args, name)
     out = Path(args.out) if args.out else Path("out") / sim.name
@@ -179,7 +179,7 @@ def _info(module) -> int:
     print(f"{'parameter':<{width[0]}}  {'default':<{width[1]}}  {'unit':<{width[2]}}  meaning")
     for r in rows:
         print(f"{r[0]:<{width[0]}}  {r[1]:<{width[1]}}  {r[2]:<{width[2]}}  {r[3]}")
-    from .integrator import IntegratorOptions
+    from ..time import IntegratorOptions
 
     names = [f.name for f in dataclasses.fields(IntegratorOptions)]
     print("integrator options (also --set NAME=VALUE): " + ", ".join(names))

@@ -26,7 +26,7 @@ import math
 import numpy as np
 import scipy.sparse as sp
 
-from .errors import InputError, check_count, check_finite, check_positive, check_vector
+from ..errors import InputError, check_count, check_finite, check_positive, check_vector
 
 __all__ = ["Disk", "Polygon", "RigidBody2D", "PointMass"]
 

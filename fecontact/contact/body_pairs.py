@@ -46,10 +46,10 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .beam import Beam2D
-from .errors import InputError, check_finite, check_positive, check_range
-from .rigid_contact import point_line_distance
-from .solid import Solid
+from ..bodies.beam import Beam2D
+from ..bodies.solid import Solid
+from ..errors import InputError, check_finite, check_positive, check_range
+from .rigid_pairs import point_line_distance
 
 __all__ = [
     "NodeNodeContact",

@@ -17,7 +17,7 @@ import weakref
 
 import numpy as np
 
-from .errors import InputError
+from ..errors import InputError
 
 __all__ = ["SPARSE_SOLVERS", "sparse_solver", "use_sparse_solver"]
 

@@ -27,229 +27,25 @@ error first order. Steps without a contact candidate skip 2 and 3.
 
 from __future__ import annotations
 
-import functools
 import math
 import time
-from collections.abc import Iterator
-from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.sparse as sp
 
-from .contact import solve_position_correction, solve_velocity_jump
-from .errors import (
-    InputError,
-    SolverError,
-    check_count,
-    check_positive,
-    check_range,
-    check_vector,
-)
-from .joints import newton_remainder
-from .linalg import factorize
+from ..contact import solve_position_correction, solve_velocity_jump
+from ..joints import newton_remainder
+from ..linalg import factorize
+from .constraints import Constraints, StepFailure, bordered, factorize_or_fail
+from .generalized_alpha import coefficients, predict
+from .state import IntegratorOptions, PhaseTimer, State, length_scale
 
-__all__ = ["IntegratorOptions", "State", "alpha_coefficients", "simulate"]
+__all__ = ["nsga_step"]
 
-METRICS = ("stiffness", "mass")
-IMPACT_VELOCITIES = ("interpolated", "step_start")
 _EMPTY = np.zeros(0)
 _EMPTY.flags.writeable = False
-INTEGRATORS = ("nsga", "moreau", "penalty")
 
 
-def alpha_coefficients(rho_inf: float) -> tuple[float, float, float, float]:
-    """(α_m, α_f, γ, β) of the generalized-α method for spectral radius ρ∞ ∈ [0, 1]."""
-    r = check_range("rho_inf", rho_inf, 0.0, 1.0)
-    am = (2.0 * r - 1.0) / (r + 1.0)
-    af = r / (r + 1.0)
-    gamma = 0.5 + af - am
-    return am, af, gamma, 0.25 * (gamma + 0.5) ** 2
-
-
-@dataclass
-class IntegratorOptions:
-    """Settings of the nonsmooth generalized-α integrator.
-
-    rho_inf : spectral radius at infinite frequency, in [0, 1] (1: no numerical damping).
-    metric : position-correction metric, "stiffness" (H = S_t/β′) or "mass" (H = M).
-    penalty_scale, multiplier_scale : factors (> 0) on the automatic p and k; they change the
-        path of the contact Newton iterations, never the converged result.
-    tol_residual : relative tolerance of the smooth Newton residual.
-    tol_increment : Newton also stops when an update is below this fraction of the model size
-        (rotations: of 1 rad), where round-off bounds the residual of very stiff models.
-    tol_gap : gap (and joint) tolerance relative to the length scale of the model: the larger
-        of its size and the magnitude of its coordinates, since a gap computed from
-        coordinates x carries a round-off of about ε|x| (see :func:`length_scale`).
-    max_iterations : Newton iterations per step before the step is halved.
-    max_halvings : how many times a failing step is halved before the run stops.
-    detection_margin : contacts with g(q̃) below this fraction of the model size are candidates.
-    impact_velocity : the pre-impact normal velocity ġ⁻ of Newton's law ġ⁺ = −e ġ⁻ on a
-        contact that closes inside a step: "interpolated" (default) takes ġ at the instant the
-        gap crosses zero, found on the chord from g(q_n) to g(q̃_{n+1}); "step_start" takes
-        ġ(q_n, v_n) as in Brüls, Acary & Cardona (2014). The first loses e g̈ δ of rebound
-        speed only at O(h²) (δ: time from the step start to the impact), the second at O(h).
-    integrator : "nsga" (this module), or the baselines of :mod:`fecontact.baselines` for
-        side-by-side comparisons: "moreau" (Moreau–Jean θ-method, impact law at velocity
-        level only) and "penalty" (penalty contact in the smooth generalized-α step).
-    theta : θ ∈ (0, 1] of Moreau–Jean.
-    penalty_stiffness : N/m of the penalty baseline (None: automatic, ten steps per contact
-        period).
-    penalty_damping : damping ratio ζ ≥ 0 of the penalty baseline (None: from e_N).
-    """
-
-    rho_inf: float = 0.5
-    metric: str = "stiffness"
-    penalty_scale: float = 1.0
-    multiplier_scale: float = 1.0
-    tol_residual: float = 1e-8
-    tol_increment: float = 1e-8
-    tol_gap: float = 1e-12
-    max_iterations: int = 30
-    max_halvings: int = 6
-    detection_margin: float = 0.05
-    impact_velocity: str = "interpolated"
-    integrator: str = "nsga"
-    theta: float = 0.5
-    penalty_stiffness: float | None = None
-    penalty_damping: float | None = None
-
-    def __post_init__(self):
-        alpha_coefficients(self.rho_inf)
-        if not isinstance(self.metric, str) or self.metric not in METRICS:
-            raise InputError(f"metric must be one of {', '.join(METRICS)}, got {self.metric!r}")
-        if not isinstance(self.impact_velocity, str) or self.impact_velocity not in (
-            IMPACT_VELOCITIES
-        ):
-            known = ", ".join(IMPACT_VELOCITIES)
-            raise InputError(
-                f"impact_velocity must be one of {known}, got {self.impact_velocity!r}"
-            )
-        if not isinstance(self.integrator, str) or self.integrator not in INTEGRATORS:
-            known = ", ".join(INTEGRATORS)
-            raise InputError(f"integrator must be one of {known}, got {self.integrator!r}")
-        self.theta = check_range("theta", self.theta, 0.0, 1.0, (False, True))
-        if self.penalty_stiffness is not None:
-            self.penalty_stiffness = check_positive("penalty_stiffness", self.penalty_stiffness)
-        if self.penalty_damping is not None:
-            self.penalty_damping = check_positive(
-                "penalty_damping", self.penalty_damping, allow_zero=True
-            )
-        for name in (
-            "penalty_scale",
-            "multiplier_scale",
-            "tol_residual",
-            "tol_increment",
-            "tol_gap",
-        ):
-            setattr(self, name, check_positive(name, getattr(self, name)))
-        self.detection_margin = check_positive(
-            "detection_margin", self.detection_margin, allow_zero=True
-        )
-        self.max_iterations = check_count("max_iterations", self.max_iterations, 0, 10**4)
-        # beyond 50 halvings the step is below the round-off of the time
-        self.max_halvings = check_count("max_halvings", self.max_halvings, 0, 50)
-
-
-@dataclass
-class State:
-    """The solution at one time: full dof vectors and what the step did to get there.
-
-    q (m, rad) and v (m/s, rad/s) are the corrected positions and velocities, vd the smooth
-    acceleration v̇ and a the generalized-α acceleration variable. ``gaps`` holds g_j(q) of
-    every contact (m), ``nu`` k ν_j (kg·m) and ``impulse`` k Λ_j (N·s) of the step.
-    """
-
-    t: float
-    q: np.ndarray
-    v: np.ndarray
-    vd: np.ndarray
-    a: np.ndarray
-    step: int = 0
-    h: float = 0.0
-    gaps: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    candidates: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
-    nu: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    impulse: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    iterations: dict = field(default_factory=lambda: {"smooth": 0, "position": 0, "velocity": 0})
-    lam: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    halvings: int = 0
-
-    @property
-    def newton_iterations(self) -> int:
-        return sum(self.iterations.values())
-
-
-class _StepFailure(Exception):
-    def __init__(self, message: str, residual: float):
-        super().__init__(message)
-        self.residual = residual
-
-
-class PhaseTimer(dict):
-    """Accumulated wall time per phase (s)."""
-
-    def add(self, phase: str, t0: float) -> float:
-        now = time.perf_counter()
-        self[phase] = self.get(phase, 0.0) + now - t0
-        return now
-
-
-def initial_state(model, q0=None, v0=None) -> State:
-    """State at t = 0 from q₀, v₀ (default: rest in the reference configuration), with the
-    consistent acceleration M v̇₀ = f_ext − f_int(q₀). Fixed dofs are kept at zero."""
-    n = model.n
-    q = np.zeros(n) if q0 is None else check_vector("q0", q0, n).copy()
-    v = np.zeros(n) if v0 is None else check_vector("v0", v0, n).copy()
-    fixed = model.free_index < 0
-    if np.any(q[fixed] != 0.0) or np.any(v[fixed] != 0.0):
-        raise InputError("q0, v0: supported (fixed) dofs must start at zero")
-    model.contacts.set_time(0.0)
-    g = model.contacts.gaps(q)
-    tol = IntegratorOptions.tol_gap * length_scale(model, q)
-    if np.any(g < -tol):
-        j = int(np.argmin(g))
-        raise InputError(
-            f"initial configuration: contact {j} penetrates by {-g[j]:.3e} m (gap must be >= 0)"
-        )
-    alpha, beta_k = model.damping
-    _, fint, K = model.internal(q, tangent=bool(alpha or beta_k))
-    F = model.free
-    f = model.external(0.0)[F] - fint[F]
-    if alpha or beta_k:
-        f -= (alpha * model.M + beta_k * K) @ v[F]
-    vd = np.zeros(n)
-    joints = model.joints
-    if joints.size:
-        gb, Gb = joints.jacobian(q, joints.all)
-        if np.max(np.abs(gb)) > tol or np.max(np.abs(Gb @ v[F])) > tol:
-            raise InputError("initial configuration: a joint is violated by q0 or v0")
-        # consistent acceleration: G_b v̇ = −vᵀ ∇²g_b v
-        x = factorize(_bordered(model.M, Gb))(np.r_[f, -joints.quadratic(q, v)])
-        vd[F] = x[: len(F)]
-    else:
-        vd[F] = model.solve_M(f)
-    m = model.contacts.size
-    return State(
-        0.0,
-        q,
-        v,
-        vd,
-        vd.copy(),
-        gaps=g,
-        nu=np.zeros(m),
-        impulse=np.zeros(m),
-        lam=np.zeros(model.joints.size),
-    )
-
-
-def length_scale(model, q) -> float:
-    """The length (m) gap tolerances are relative to: the model size, or the magnitude of the
-    coordinates when larger (a ball dropped from 5000 m reaches the ground with q ≈ −5000 m,
-    and its gap, computed from coordinates, then carries a round-off of ε·5000 m ≈ 1e-12 m)."""
-    return max(model.length, model.coordinate_extent(q))
-
-
-class _JointTolerance:
+class JointTolerance:
     """The joints' tolerance tol_gap × length_scale(model, q) at the predictor q, evaluated
     only when a test is not already decided by its lower bound tol_gap × model.length
     (length_scale is at least the model size): most steps then never compute the
@@ -267,79 +63,6 @@ class _JointTolerance:
         if self.value is None:
             self.value = self.tol_gap * length_scale(self.model, self.q)
         return x <= factor * self.value
-
-
-def simulate(
-    model,
-    dt: float,
-    t_end: float,
-    options: IntegratorOptions | None = None,
-    timer: PhaseTimer | None = None,
-    q0=None,
-    v0=None,
-    start: State | None = None,
-) -> Iterator[State]:
-    """Yield the state at t = 0 and after every step of size ``dt`` (s) up to ``t_end`` (s).
-
-    ``q0`` and ``v0`` are the initial dof vectors (default: rest in the reference state).
-    ``start`` continues from a stored state (a checkpoint) instead: its step is not yielded.
-
-    A step whose Newton iterations fail is retried as two half steps, recursively up to
-    ``options.max_halvings`` times; then ``SolverError`` reports the time, step and residual.
-    """
-    opts = options or IntegratorOptions()
-    dt = check_positive("dt", dt)
-    t_end = check_positive("t_end", t_end)
-    timer = PhaseTimer() if timer is None else timer
-    if start is None:
-        state = initial_state(model, q0, v0)
-        yield state
-    else:
-        state = start
-    n_steps = max(1, math.ceil(t_end / dt - 1e-9))
-    for n in range(state.step + 1, n_steps + 1):
-        t_next = min(n * dt, t_end)
-        h = t_next - state.t
-        # n·dt − (n − 1)·dt differs from dt in its last bits: take the nominal step, so that
-        # what is cached per step size (factorizations of linear models) is built once
-        if abs(h - dt) <= 1e-9 * dt:
-            h = dt
-        try:
-            state = _advance(model, state, h, opts, timer, 0)
-        except _StepFailure as err:
-            raise SolverError(
-                f"Newton did not converge at t = {state.t:.6g} s (step {n}): {err} "
-                f"(residual {err.residual:.3e}) after {opts.max_halvings} step halvings",
-                time=state.t,
-                step=n,
-                residual=err.residual,
-            ) from None
-        state.t = t_next
-        state.step = n
-        yield state
-
-
-def _stepper(opts):
-    if opts.integrator == "nsga":
-        return _step
-    from .baselines import STEPPERS  # lazy: the baselines build on this module
-
-    return STEPPERS[opts.integrator]
-
-
-def _advance(model, st, h, opts, timer, depth):
-    try:
-        return _stepper(opts)(model, st, h, opts, timer)
-    except _StepFailure:
-        if depth >= opts.max_halvings:
-            raise
-    first = _advance(model, st, 0.5 * h, opts, timer, depth + 1)
-    second = _advance(model, first, 0.5 * h, opts, timer, depth + 1)
-    second.impulse = second.impulse + first.impulse
-    second.iterations = {k: first.iterations[k] + second.iterations[k] for k in first.iterations}
-    second.halvings = first.halvings + second.halvings + 1
-    second.h = h
-    return second
 
 
 def _line_search(model, q, dq, b, slope, bp):
@@ -365,15 +88,8 @@ def _line_search(model, q, dq, b, slope, bp):
     return s
 
 
-def _factorize(A, residual, symmetric=False):
-    try:
-        return factorize(A, symmetric)
-    except np.linalg.LinAlgError:
-        raise _StepFailure("singular iteration matrix", residual) from None
-
-
-def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer) -> State:
-    c = _coefficients(opts.rho_inf, h)
+def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer) -> State:
+    c = coefficients(opts.rho_inf, h)
     t = st.t + h
     q, v, vd, a, lam, S, it, Gb = _smooth_step(model, st, t, c, opts, timer)
     iters = {"smooth": it, "position": 0, "velocity": 0}
@@ -411,7 +127,7 @@ def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer
                 break
             work = np.union1d(work, pushed)
         if model.inverted(q):
-            raise _StepFailure("the position correction inverts an element (det F <= 0)", np.nan)
+            raise StepFailure("the position correction inverts an element (det F <= 0)", np.nan)
         nu[work] = nu_w[: work.size]
         Gb = None  # the joints' gradient moved with q
 
@@ -441,44 +157,6 @@ def _step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer
     )
 
 
-class _Coefficients:
-    """Generalized-α coefficients for one step of size h (shared: see ``_coefficients``).
-
-    ``P`` is the predictor as a map of (q, v, v̇, a)_n to (q, v, v̇, a)_{n+1} with
-    v̇_{n+1} = v̇_n, and ``w`` = (1, γ′, β′, ∂a/∂q) the rates at which a Newton update of q
-    moves the four."""
-
-    def __init__(self, rho_inf: float, h: float):
-        am, af, gm, be = alpha_coefficients(rho_inf)
-        self.am, self.af, self.gamma, self.beta, self.h = am, af, gm, be, h
-        self.bp = (1.0 - am) / (be * h * h * (1.0 - af))  # β′ = ∂v̇/∂q
-        self.gp = gm / (be * h)  # γ′ = ∂v/∂q
-        self.da = (1.0 - af) / (1.0 - am) * self.bp  # ∂a/∂q
-        # a_{n+1} = k1 v̇_n + k2 a_n, from (1 − α_m) a_{n+1} + α_m a_n = v̇_n
-        k1, k2 = 1.0 / (1.0 - am), -am / (1.0 - am)
-        hh = h * h
-        self.P = np.array(
-            [
-                [1.0, h, hh * be * k1, hh * (0.5 - be) + hh * be * k2],
-                [0.0, 1.0, h * gm * k1, h * (1.0 - gm) + h * gm * k2],
-                [0.0, 0.0, 1.0, 0.0],
-                [0.0, 0.0, k1, k2],
-            ]
-        )
-        self.w = np.array([1.0, self.gp, self.bp, self.da])
-
-
-@functools.lru_cache(maxsize=64)
-def _coefficients(rho_inf: float, h: float) -> _Coefficients:
-    return _Coefficients(rho_inf, h)
-
-
-def _predict(st, c):
-    """Generalized-α predictor with a constant acceleration v̇_{n+1} = v̇_n: (q, v, v̇, a),
-    rows (views) of one (4, n) array."""
-    return c.P @ np.array([st.q, st.v, st.vd, st.a])
-
-
 def _smooth_step(model, st, t, c, opts, timer):
     """Step 1: Newton on M v̇ + C_t v + f_int(q) + G_bᵀλ = f_ext(t), g_b(q) = 0.
 
@@ -486,7 +164,7 @@ def _smooth_step(model, st, t, c, opts, timer):
     position correction (None with joints), G_b the joint gradient at the returned q (None
     when the last update moved q after it was evaluated)."""
     F, nF = model.free_slice, model.n_free
-    X = _predict(st, c)
+    X = predict(st, c)
     q, v, vd, a = X
     lam = st.lam.copy()
     fext = model.external(t)[F]
@@ -494,7 +172,7 @@ def _smooth_step(model, st, t, c, opts, timer):
     joints = model.joints
     nb = joints.size
     alpha, beta_k = model.damping
-    tol_b = _JointTolerance(model, q, opts.tol_gap) if nb else None
+    tol_b = JointTolerance(model, q, opts.tol_gap) if nb else None
     inc_tol = opts.tol_increment * max(model.length, 1.0)
     big_step = 0.05 * max(model.length, 1.0)
     S = Gb = None
@@ -523,11 +201,11 @@ def _smooth_step(model, st, t, c, opts, timer):
         rnorm = math.sqrt(r @ r)
         if not math.isfinite(rnorm):
             why = "" if np.all(np.isfinite(fi)) else ": an element inverts (det F <= 0)"
-            raise _StepFailure("smooth step diverged" + why, rnorm)
+            raise StepFailure("smooth step diverged" + why, rnorm)
         if rnorm <= opts.tol_residual * ref and (not nb or tol_b.admits(np.abs(gb).max())):
             break
         if it == opts.max_iterations:
-            raise _StepFailure("smooth step", rnorm / ref)
+            raise StepFailure("smooth step", rnorm / ref)
         if linear:
             S, solve, _ = model.iteration_matrix(c.bp, c.gp)
         else:
@@ -538,12 +216,12 @@ def _smooth_step(model, st, t, c, opts, timer):
             if Cb is None and not joints.linear:
                 Cb = joints.curvature(q, joints.all, lam)
             Kb = S if Cb is None else S + Cb
-            solve = _factorize(_bordered(Kb, Gb), rnorm / ref)
+            solve = factorize_or_fail(bordered(Kb, Gb), rnorm / ref)
             x = -solve(np.concatenate([r, gb]))
             dq, lam = x[:nF], lam + x[nF:]
         else:
             if not linear:
-                solve = _factorize(S, rnorm / ref, symmetric=True)
+                solve = factorize_or_fail(S, rnorm / ref, symmetric=True)
             dq = -solve(r)
             if np.abs(dq).max() > big_step:
                 dq *= _line_search(model, q, dq, Mvd - fext, r @ dq, c.bp)
@@ -568,7 +246,7 @@ def _converged_by_bound(model, vd, dq, lam, dlam, ff, tol_b, opts) -> bool:
     the tolerances the residual test of the next iteration passes, at the same q: that
     iteration only confirms. The other half covers the round-off of the solve. The reference
     max(|f_ext|, |M v̇|) is at most that of the test (which includes |f_int|). ``tol_b`` is the
-    joints' :class:`_JointTolerance`."""
+    joints' :class:`JointTolerance`."""
     bound = newton_remainder(model.joints, dq, lam, dlam)
     if bound is None:
         return False
@@ -580,16 +258,6 @@ def _converged_by_bound(model, vd, dq, lam, dlam, ff, tol_b, opts) -> bool:
         return True
     Mvd = model.M @ vd[model.free_slice]
     return force <= limit * math.sqrt(Mvd @ Mvd)
-
-
-def _bordered(K, G):
-    """The saddle-point matrix [[K, Gᵀ], [G, 0]] (dense or sparse like K)."""
-    if sp.issparse(K):
-        return sp.bmat([[K, sp.csr_matrix(G.T)], [sp.csr_matrix(G), None]], format="csc")
-    n = K.shape[0]
-    A = np.zeros((n + G.shape[0],) * 2)
-    A[:n, :n], A[:n, n:], A[n:, :n] = K, G.T, G
-    return A
 
 
 def _metric(model, q, S, c, opts):
@@ -605,7 +273,7 @@ def _metric(model, q, S, c, opts):
         alpha, beta_k = model.damping
         if alpha or beta_k:
             S = S + c.gp * (alpha * model.M + beta_k * K)
-        S = (S, _factorize(S, math.nan, symmetric=True))
+        S = (S, factorize_or_fail(S, math.nan, symmetric=True))
     matrix, solve_S = S
     return lambda: matrix / c.bp, lambda b: c.bp * solve_S(b)
 
@@ -617,7 +285,7 @@ def _position_correction(model, q_tilde, cand, metric, c, opts, tol_gap, nu0=Non
     step."""
     F = model.free
     H, solve_H = metric
-    cons = _Constraints(model, cand)
+    cons = Constraints(model, cand)
     _, G0 = cons.jacobian(q_tilde)
     constant = model.linear or opts.metric == "mass"
     Y0 = _columns(model, (opts.metric, c.bp, c.gp), cand, G0, solve_H, cons, constant)
@@ -633,7 +301,7 @@ def _position_correction(model, q_tilde, cand, metric, c, opts, tol_gap, nu0=Non
         if cons.linear:  # constant gradients: H⁻¹G_Aᵀ are columns of Y0
             return (lambda B: Y0[:, A]), None
         C = cons.curvature(shifted(U), np.where(A, s, 0.0))
-        return _factorize(H() - C, math.nan, symmetric=True), C
+        return factorize_or_fail(H() - C, math.nan, symmetric=True), C
 
     try:
         U, nu, its = solve_position_correction(
@@ -649,7 +317,7 @@ def _position_correction(model, q_tilde, cand, metric, c, opts, tol_gap, nu0=Non
             nu0=None if nu0 is None else np.r_[nu0, np.zeros(model.joints.size)],
         )
     except RuntimeError as err:
-        raise _StepFailure(str(err), np.nan) from None
+        raise StepFailure(str(err), np.nan) from None
     return U, k * nu, its
 
 
@@ -685,7 +353,7 @@ def _velocity_jump(model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb=None):
         Y = model.solve_M(G1.T).reshape(len(F), -1)
         mu = factorize(G1 @ Y)(-(G1 @ v[F]))
         return Y @ mu, _EMPTY, 1
-    cons = _Constraints(model, closed)
+    cons = Constraints(model, closed)
     _, G1 = cons.jacobian(q)
     e = np.concatenate([model.contacts.restitution[closed], np.zeros(model.joints.size)])
     gdot = G1 @ v[F]
@@ -722,7 +390,7 @@ def _velocity_jump(model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb=None):
             tol=tol_gap / (t - st.t),
         )
     except RuntimeError as err:
-        raise _StepFailure(str(err), np.nan) from None
+        raise StepFailure(str(err), np.nan) from None
     return W, k * Lam, its
 
 
@@ -732,32 +400,3 @@ def _crossing_fraction(g_n, g_tilde, tol_gap):
     drop = g_n - g_tilde
     tau = np.divide(g_n, drop, out=np.zeros_like(drop), where=(drop > 0.0) & (g_n > tol_gap))
     return np.clip(tau, 0.0, 1.0)
-
-
-class _Constraints:
-    """The contacts ``select`` followed by every joint, as one set of constraint rows."""
-
-    def __init__(self, model, select):
-        self.contacts, self.joints, self.select = model.contacts, model.joints, select
-        self.bilateral = np.zeros(len(select) + model.joints.size, bool)
-        self.bilateral[len(select) :] = True
-        self.linear = self.contacts.linear and self.joints.linear
-        self.n = model.n_free
-
-    def jacobian(self, q):
-        return self.linearize(q)[:2]
-
-    def curvature(self, q, weights):
-        return self.linearize(q, weights)[2]
-
-    def linearize(self, q, weights=None):
-        """(g, G, C) of the contacts then the joints; C = Σ weights_j ∇²g_j if weights."""
-        m = len(self.select)
-        wc = None if weights is None else weights[:m]
-        g, G, C = self.contacts.linearize(q, self.select, wc)
-        if self.joints.size:
-            wb = None if weights is None else weights[m:]
-            gb, Gb, Cb = self.joints.linearize(q, self.joints.all, wb)
-            g, G = np.concatenate([g, gb]), np.vstack([G, Gb])
-            C = Cb if C is None else (C if Cb is None else C + Cb)
-        return g, G, C

@@ -34,7 +34,7 @@ import numpy as np
 import scipy.sparse as sp
 import skfem
 
-from .errors import InputError, check_count, check_finite, check_positive, check_range
+from ..errors import InputError, check_count, check_finite, check_positive, check_range
 
 __all__ = ["Material", "Section", "Beam2D"]
 

@@ -1,0 +1,28 @@
+"""Contact: rigid obstacles, the gap kinematics of every pair kind (g, G = ∂g/∂q, ∇²g), the
+set of pairs of a model, and the Alart–Curnier laws solved by semi-smooth Newton."""
+
+from .contact_set import ContactSet
+from .dispatch import Contact
+from .laws import (
+    alart_curnier_residual,
+    contact_force_multiplier,
+    solve_position_correction,
+    solve_velocity_jump,
+)
+from .node_pairs import NodeContact, PointSegmentContact
+from .obstacles import Circle, Plane, Point, Sphere
+
+__all__ = [
+    "Circle",
+    "Contact",
+    "ContactSet",
+    "NodeContact",
+    "Plane",
+    "Point",
+    "PointSegmentContact",
+    "Sphere",
+    "alart_curnier_residual",
+    "contact_force_multiplier",
+    "solve_position_correction",
+    "solve_velocity_jump",
+]

@@ -1,0 +1,244 @@
+"""``ContactSet``: every contact pair of a model, numbered globally over the free dofs, with
+gaps, gradients and curvatures gathered into dense or sparse arrays."""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..linalg import DENSE_LIMIT
+
+__all__ = ["ContactSet"]
+
+
+class ContactSet:
+    """All contact pairs of a model, numbered globally and restricted to the free dofs."""
+
+    def __init__(self, pairs, free_index: np.ndarray, n_free: int):
+        self.pairs = list(pairs)
+        self.free_index = free_index
+        self.n_free = n_free
+        self.size = sum(pair.size for pair in self.pairs)
+        self.restitution = np.concatenate(
+            [np.full(pair.size, pair.restitution) for pair in self.pairs] or [np.zeros(0)]
+        )
+        self.linear = all(pair.linear for pair in self.pairs)
+        self.owner = np.concatenate(
+            [np.full(pair.size, i) for i, pair in enumerate(self.pairs)] or [np.zeros(0, int)]
+        )
+        self.local = np.concatenate([np.arange(pair.size) for pair in self.pairs] or [self.owner])
+        self._scatters: dict = {}
+        self._last_scatter: dict = {}  # per pair: read-only (rows, dofs) and their _Scatter
+        self._all = np.arange(self.size)
+        self._all.flags.writeable = False
+        obstacles = [getattr(pair, "obstacle", None) for pair in self.pairs]
+        self._moving = [o for o in obstacles if getattr(o, "moving", False)]
+        # the gaps alone are cheaper where a pair can skip its derivatives
+        self._gap_functions = [
+            getattr(pair, "gaps", None) or (lambda q, pair=pair: pair.evaluate(q)[0])
+            for pair in self.pairs
+        ]
+        # affine gaps (constant gradients, fixed obstacles) of a small model: g(q) = g₀ + G q
+        # with G stored dense, so that a step without candidates costs one product
+        self._affine = None
+        if self.pairs and self.linear and not self.moving and self.size * len(free_index) <= 2**16:
+            self._affine = self._affine_form()
+
+    @property
+    def all(self) -> np.ndarray:
+        return self._all
+
+    @property
+    def moving(self) -> bool:
+        return bool(self._moving)
+
+    def set_time(self, t: float) -> None:
+        """Place the moving obstacles where they are at time t (s)."""
+        for obstacle in self._moving:
+            obstacle.time = t
+
+    def rates(self, q: np.ndarray, select: np.ndarray) -> np.ndarray:
+        """∂g_j/∂t of the contacts ``select`` (m/s): nonzero for moving obstacles only."""
+        if not self.moving:
+            return np.zeros(len(select))
+        parts = [p.rate(q) if hasattr(p, "rate") else np.zeros(p.size) for p in self.pairs]
+        return np.concatenate(parts)[select]
+
+    def quadratic(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """vᵀ ∇²g_j v for every constraint j (the acceleration term of a holonomic one)."""
+        out = []
+        for g, dofs, _, H in self.evaluate(q):
+            if H is None:
+                out.append(np.zeros(len(g)))
+            else:
+                vd = v[np.broadcast_to(dofs, H.shape[:2])]
+                out.append(np.einsum("mi,mij,mj->m", vd, H, vd))
+        return np.concatenate(out) if out else np.zeros(0)
+
+    def evaluate(self, q: np.ndarray):
+        """Gaps (m,), dofs (list per pair), gradient values and Hessians of every contact."""
+        return [pair.evaluate(q) for pair in self.pairs]
+
+    def _affine_form(self):
+        """(g₀, G on all dofs, G on the free dofs) of affine gaps g = g₀ + G q."""
+        n = len(self.free_index)
+        parts = self.evaluate(np.zeros(n))
+        G = np.zeros((self.size, n))
+        rows = np.split(self._all, np.cumsum([len(g) for g, _, _, _ in parts])[:-1])
+        for r, (_, dofs, Gv, _) in zip(rows, parts, strict=True):
+            dofs = np.broadcast_to(dofs, Gv.shape) if dofs.shape != Gv.shape else dofs
+            np.add.at(G, (np.repeat(r, Gv.shape[1]), dofs.ravel()), Gv.ravel())
+        g0 = np.concatenate([g for g, _, _, _ in parts])
+        return g0, G, np.ascontiguousarray(G[:, self.free_index >= 0])
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        if not self.pairs:
+            return np.zeros(0)
+        if self._affine is not None:
+            return self._affine[0] + self._affine[1] @ q
+        if len(self.pairs) == 1:
+            return self._gap_functions[0](q)
+        return np.concatenate([gaps(q) for gaps in self._gap_functions])
+
+    def jacobian(self, q: np.ndarray, select: np.ndarray):
+        """Gaps and dense gradient (len(select) × n_free) of the contacts ``select``."""
+        return self.linearize(q, select)[:2]
+
+    def curvature(self, q: np.ndarray, select: np.ndarray, weights: np.ndarray):
+        """Σ_j weights_j ∇²g_j over ``select`` (n_free × n_free; see :meth:`linearize`)."""
+        return self.linearize(q, select, weights)[2]
+
+    def linearize(self, q: np.ndarray, select: np.ndarray, weights=None):
+        """Gaps g (len(select),), their dense gradient G (len(select) × n_free) and, when
+        ``weights`` are given, the curvature C = Σ_j weights_j ∇²g_j (n_free × n_free), from
+        one evaluation of the pairs at q. C is dense like the model's matrices up to
+        ``DENSE_LIMIT`` free dofs, else sparse (CSR) over the dofs of the contacts with a
+        nonzero weight."""
+        n = self.n_free
+        G = np.zeros((len(select), n))
+        dense = n <= DENSE_LIMIT
+        C = None if weights is None else (np.zeros((n, n)) if dense else [])
+        if not self.pairs or len(select) == 0:
+            return np.zeros(0), G, _curvature_matrix(C, n)
+        if self._affine is not None:  # affine gaps: no curvature
+            g0, Gq, Gf = self._affine
+            return g0[select] + Gq[select] @ q, Gf[select], _curvature_matrix(C, n)
+        parts = [pair.evaluate(q) for pair in self.pairs]
+        single = len(parts) == 1
+        g_all = parts[0][0] if single else np.concatenate([p[0] for p in parts])
+        owner = None if single else self.owner[select]
+        every = single and select is self._all  # no selection to copy
+        for i, (_, dofs, Gv, H) in enumerate(parts):
+            if every:
+                rows = loc = self._all
+            elif single:
+                rows, loc = np.arange(len(select)), select
+            else:
+                rows = np.flatnonzero(owner == i)
+                if rows.size == 0:
+                    continue
+                loc = self.local[select[rows]]
+            if dofs.shape != Gv.shape:
+                dofs = np.repeat(dofs.reshape(1, -1), len(Gv), axis=0)
+            sc = self._scatter(i, rows, dofs if every else dofs[loc])
+            if not every:  # the selected rows (linear kinematics carry no Hessian)
+                Gv, H = Gv[loc], (None if H is None else H[loc])
+            # each pair fills rows of its own: an assignment unless a row repeats a dof
+            _add(G, sc.g_index, Gv.ravel()[sc.g_keep], sc.g_unique, assign=True)
+            if C is not None and H is not None:
+                w = weights[rows]
+                # rows on the same dofs (a joint's two equations): summed before the scatter
+                Hw = w @ H.reshape(len(w), -1) if sc.shared else w[:, None, None] * H
+                values = Hw.ravel()[sc.c_keep]
+                if dense:  # (a single pair writes into a C still zero)
+                    _add(C, sc.c_index, values, sc.c_unique, assign=single)
+                else:
+                    C.append((values, sc.c_index))
+        return g_all[select], G, _curvature_matrix(C, n)
+
+    def _scatter(self, i: int, rows: np.ndarray, dofs: np.ndarray):
+        """Where the gradient rows and Hessians of pair i land in G and C (cached: the dofs
+        of most pairs never change)."""
+        last = self._last_scatter.get(i)
+        if last is not None and last[0] is rows and last[1] is dofs:
+            return last[2]  # the same unchangeable arrays as last time
+        key = (i, rows.tobytes(), dofs.tobytes())
+        sc = self._scatters.get(key)
+        if sc is None:
+            sc = _Scatter(rows, self.free_index[dofs], self.n_free)
+            if len(self._scatters) > 256:
+                self._scatters.clear()
+            self._scatters[key] = sc
+        if not (rows.flags.writeable or dofs.flags.writeable):
+            self._last_scatter[i] = (rows, dofs, sc)
+        return sc
+
+    def generalized_force(self, q: np.ndarray, select: np.ndarray, mult: np.ndarray, n: int):
+        """Σ_j G_jᵀ mult_j over ``select`` on all n dofs (for output of nodal forces)."""
+        parts = self.evaluate(q)
+        f = np.zeros(n)
+        wfull = np.zeros(self.size)
+        wfull[select] = mult
+        offset = 0
+        for g, dofs, G, _ in parts:
+            m = len(g)
+            f += np.bincount(
+                dofs.ravel(), (wfull[offset : offset + m, None] * G).ravel(), minlength=n
+            )
+            offset += m
+        return f
+
+
+def _curvature_matrix(C, n: int):
+    """The curvature as it was gathered: dense, or CSR from (values, (rows, cols)) parts
+    (duplicates summed; zero weights dropped, so only the active contacts' dofs appear)."""
+    if not isinstance(C, list):
+        return C
+    values = np.concatenate([v for v, _ in C] or [np.zeros(0)])
+    flat = np.concatenate([i for _, i in C] or [np.zeros(0, int)])
+    keep = values != 0.0
+    rows, cols = np.divmod(flat[keep], n)
+    return sp.csr_matrix((values[keep], (rows, cols)), shape=(n, n))
+
+
+class _Scatter:
+    """Index arrays that place gradient rows (r, k) and Hessians (r, k, k) of contacts into the
+    dense G (rows × free dofs) and C (free × free), n free dofs; fixed dofs (index −1) are
+    dropped. The indices are flat (row × n + column): a one-dimensional fancy assignment
+    costs half of a two-dimensional one on these small arrays."""
+
+    def __init__(self, rows: np.ndarray, fi: np.ndarray, n: int):
+        k = fi.shape[1]
+        r = np.repeat(rows, k)
+        f = fi.ravel()
+        self.g_keep = f >= 0
+        self.g_index = r[self.g_keep] * n + f[self.g_keep]
+        self.g_unique = _unique(self.g_index)
+        a = np.repeat(fi, k, axis=1).ravel()
+        b = np.tile(fi, (1, k)).ravel()
+        # Hessians of rows on the same dofs are summed first: scattered as one row
+        self.shared = len(fi) > 1 and bool(np.all(fi == fi[0]))
+        if self.shared:
+            a, b = np.repeat(fi[0], k), np.tile(fi[0], k)
+        self.c_keep = (a >= 0) & (b >= 0)
+        self.c_index = a[self.c_keep] * n + b[self.c_keep]
+        self.c_unique = _unique(self.c_index)
+        # no fixed dof: a view instead of a boolean selection
+        self.g_keep = slice(None) if self.g_keep.all() else self.g_keep
+        self.c_keep = slice(None) if self.c_keep.all() else self.c_keep
+
+
+def _unique(index: np.ndarray) -> bool:
+    return len(np.unique(index)) == len(index)
+
+
+def _add(A: np.ndarray, index, values: np.ndarray, unique: bool, assign=False) -> None:
+    """A.flat[index] += values (A C-contiguous); a plain fancy assignment when no index repeats
+    (much cheaper), and ``assign`` when those entries of A are known to be zero."""
+    flat = A.reshape(-1)  # a view
+    if unique and assign:
+        flat[index] = values
+    elif unique:
+        flat[index] += values
+    else:
+        np.add.at(flat, index, values)

@@ -1,0 +1,42 @@
+"""``Contact``: one entry point that builds the pair of a body and an obstacle or a second body."""
+
+from __future__ import annotations
+
+from ..errors import InputError, check_positive
+from .node_pairs import NodeContact, PointSegmentContact
+from .obstacles import Point
+
+__all__ = ["Contact"]
+
+
+def Contact(body, obstacle, nodes=None, restitution: float = 0.0, clearance: float = 0.0):
+    """Contact pair between ``body`` and a rigid ``obstacle`` or a second body.
+
+    ``Plane`` and ``Circle`` act on ``nodes`` of the body (all nodes, or all polygon vertices
+    of a rigid body, by default); a ``Point`` acts on the beam's centreline segments. A rigid
+    disk (``RigidBody2D`` with a ``Disk``) contacts a ``Plane``, a ``Circle``, another disk, a
+    rigid polygon or a ``Beam2D`` (``clearance``: extra distance in m, e.g. half the beam
+    thickness) through its centre and radius; see :mod:`fecontact.contact.rigid_pairs`.
+    Two deformable bodies: a ``Solid`` against a ``Solid`` is a node-to-surface pair (``nodes``
+    of ``body``, default its boundary nodes, against the boundary of the second; add the
+    reversed pair for the other direction), a ``Beam2D`` against a ``Beam2D`` an end-to-end
+    pair along the bar axis (``nodes`` = (end of body, end of the other), default the closest
+    ends); see :mod:`fecontact.contact.body_pairs`. ``restitution`` is Newton's e_N in [0, 1].
+    """
+    from .rigid_pairs import rigid_pair
+
+    clearance = check_positive("clearance", clearance, allow_zero=True)
+    pair = rigid_pair(body, obstacle, nodes, restitution, clearance)
+    if pair is not None:
+        return pair
+    if clearance:
+        raise InputError("clearance applies to a rigid disk against a beam only")
+    if hasattr(obstacle, "ndof"):
+        from .body_pairs import body_pair
+
+        return body_pair(body, obstacle, nodes, restitution)
+    if isinstance(obstacle, Point):
+        if nodes is not None:
+            raise InputError("nodes: a Point obstacle acts on beam segments, not on nodes")
+        return PointSegmentContact(body, obstacle, restitution)
+    return NodeContact(body, obstacle, nodes, restitution)

@@ -1,0 +1,148 @@
+r"""Unilateral contact: gaps, their derivatives, and the Alart–Curnier augmented Lagrangian.
+
+Notation (after Brüls, Acary & Cardona 2014, eqs. 9–10):
+
+=========  ==============================================================================
+g_j(q)     signed gap of contact j in m (> 0 open, 0 closed, < 0 penetrating)
+G_j        ∂g_j/∂q, a row over the dofs
+ν_j        position-level multiplier (kg·m); the contact force of the correction is k ν_j
+Λ_j        velocity-level multiplier; k Λ_j is the contact impulse in N·s
+p, k       augmentation (penalty) and multiplier scaling, both > 0
+[x]_+      max(x, 0)
+=========  ==============================================================================
+
+Position level: with s_j = k ν_j − p g_j the contact force is Σ G_jᵀ [s_j]_+ and the
+complementarity residual k ν_j − [s_j]_+ vanishes exactly when 0 ≤ g_j ⊥ ν_j ≥ 0. Velocity
+level: the same with ġ_j = G_j(q_{n+1}) v_{n+1} + e_j G_j(q_n) v_n (Newton's impact law with
+restitution e_j) in place of g_j and Λ_j in place of ν_j.
+
+Semi-smooth Newton on these residuals is a primal–dual active-set method: the active set
+A = {j : s_j > 0} is re-evaluated after every update, and on A the linearised constraint is
+enforced exactly, so the converged answer does not depend on p or k; they only steer the path.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "alart_curnier_residual",
+    "contact_force_multiplier",
+    "solve_position_correction",
+    "solve_velocity_jump",
+]
+
+
+def contact_force_multiplier(nu, g, p, k):
+    """[k ν − p g]_+ : the contact force (or impulse) multiplier of the augmented Lagrangian."""
+    return np.maximum(k * np.asarray(nu) - p * np.asarray(g), 0.0)
+
+
+def alart_curnier_residual(nu, g, p, k):
+    """k ν − [k ν − p g]_+, zero exactly when 0 ≤ g ⊥ ν ≥ 0 (any p, k > 0)."""
+    return k * np.asarray(nu) - contact_force_multiplier(nu, g, p, k)
+
+
+# -- contact pairs -----------------------------------------------------------------------------
+
+
+# -- semi-smooth Newton on the Alart–Curnier residuals -------------------------------------------
+
+
+def _kkt_multipliers(GA, Y, rhs, k):
+    """Solve k (G_A Y) μ = rhs for the active multipliers (least squares if redundant)."""
+    S = k * (GA @ Y)
+    try:
+        return np.linalg.solve(S, rhs)
+    except np.linalg.LinAlgError:
+        return np.linalg.lstsq(S, rhs, rcond=None)[0]
+
+
+def _settled(nu, g, p, k, eq, tol) -> bool:
+    """The Alart–Curnier residual k ν_j − [k ν_j − p_j g_j]_+, measured as a gap (divided by
+    p_j), is within ``tol`` for every unilateral row, and every equality holds to ``tol``.
+
+    This is the stopping test rather than a repeated active set: a contact whose gap is at
+    round-off level (a body resting on another) may enter and leave the set from one
+    iteration to the next while the answer has converged."""
+    u = ~eq
+    r = alart_curnier_residual(nu[u], g[u], p[u], k) / p[u]
+    return bool(np.all(np.abs(r) <= tol) and np.all(np.abs(g[eq]) <= tol))
+
+
+def solve_position_correction(
+    gaps, system, n, p, k, tol_gap, tol_u, max_iter=30, bilateral=None, nu0=None
+):
+    """Position correction q = q̃ + U: find (U, ν) with H U = Σ G_jᵀ [k ν_j − p g_j(q)]_+ and
+    k ν_j − [k ν_j − p g_j(q)]_+ = 0 for every candidate j.
+
+    ``gaps(U) -> (g, G)`` evaluates the candidate gaps (m,) and their gradient (m × n dense) at
+    q̃ + U. ``system(U, s, A) -> (solve, C)`` gives the solver of the Newton matrix
+    H − C, where C = Σ_A s_j ∇²g_j is the curvature of the gaps (``None`` when they are linear).
+    Each Newton step solves the bordered system [H − C, −k G_Aᵀ; G_A, 0] through its Schur
+    complement. ``bilateral`` marks equality constraints (joints): always active, with
+    multipliers of either sign. ``nu0`` warm-starts the multipliers (those of the previous
+    step): only the first active set depends on it, so a chain of contacts that stays closed
+    (a stack at rest) is found at once instead of one link per iteration. The iteration stops
+    when the Alart–Curnier residual is below ``tol_gap`` (in m) and the update below ``tol_u``
+    or no longer shrinking. Returns (U, ν, iterations); raises ``RuntimeError`` when the
+    iteration does not settle.
+    """
+    U = np.zeros(n)
+    g, G = gaps(U)
+    nu = np.zeros(len(g)) if nu0 is None else np.maximum(np.asarray(nu0, dtype=float), 0.0)
+    eq = np.zeros(len(g), bool) if bilateral is None else bilateral
+    dU, dU_prev = np.inf, np.inf
+    for it in range(max_iter + 1):
+        # the update has converged, or stopped shrinking: round-off of nearly parallel
+        # constraints (a disk in the kink of a beam) once the gaps hold
+        settled = dU <= tol_u or dU > 0.5 * dU_prev
+        if it > 0 and settled and _settled(nu, g, p, k, eq, tol_gap):
+            return U, nu, it
+        A = ((k * nu - p * g) > 0) | eq
+        solve, C = system(U, k * nu - p * g, A)
+        x0 = np.zeros(n) if C is None else solve(-(C @ U))
+        nu = np.zeros(len(g))
+        U_new = x0
+        if A.any():
+            GA = G[A]
+            Y = solve(GA.T).reshape(n, -1)
+            nu[A] = _kkt_multipliers(GA, Y, GA @ (U - x0) - g[A], k)
+            U_new = x0 + k * (Y @ nu[A])
+        dU_prev = dU
+        dU = 0.0 if C is None else float(np.max(np.abs(U_new - U), initial=0.0))
+        U = U_new
+        g, G = gaps(U)
+    raise RuntimeError(f"position correction: active set did not settle in {max_iter} iterations")
+
+
+def solve_velocity_jump(
+    G, c, solve_M, p, k, max_iter=30, bilateral=None, Y=None, Lam0=None, tol=0.0
+):
+    """Velocity jump v = ṽ + W: M W = Σ G_jᵀ [k Λ_j − p ġ_j]_+ with ġ = c + G W and
+    k Λ_j − [k Λ_j − p ġ_j]_+ = 0 (c_j = G_j ṽ + e_j G_j(q_n) v_n). Linear in W for a given
+    active set, so the iteration ends when the set repeats, or when the Alart–Curnier
+    residual (as a velocity, m/s) is below ``tol``. ``bilateral`` rows (joints) are always
+    active: G_b v = 0. ``Y`` may give M⁻¹Gᵀ; ``Lam0`` warm-starts the multipliers (those of
+    the previous step: see :func:`solve_position_correction`). Returns (W, Λ, iterations)."""
+    m = len(c)
+    Lam = np.zeros(m) if Lam0 is None else np.maximum(np.asarray(Lam0, dtype=float), 0.0)
+    gd = np.asarray(c, dtype=float)
+    Gd = np.asarray(G.todense()) if hasattr(G, "todense") else np.asarray(G)
+    Y_all = solve_M(Gd.T).reshape(-1, m) if Y is None else Y
+    eq = np.zeros(m, bool) if bilateral is None else bilateral
+    A_prev = None
+    W = np.zeros(Y_all.shape[0])
+    for it in range(1, max_iter + 1):
+        A = ((k * Lam - p * gd) > 0) | eq
+        if A_prev is not None and (
+            np.array_equal(A, A_prev) or (tol > 0 and _settled(Lam, gd, p, k, eq, tol))
+        ):
+            return W, Lam, it - 1
+        Lam = np.zeros(m)
+        if A.any():
+            Lam[A] = _kkt_multipliers(Gd[A], Y_all[:, A], -c[A], k)
+        W = k * (Y_all @ Lam)
+        gd = c + Gd @ W
+        A_prev = A
+    raise RuntimeError(f"velocity jump: active set did not settle in {max_iter} iterations")

@@ -1,0 +1,156 @@
+"""Points of a body against rigid obstacles: nodes against a ``Plane`` or ``Circle``, and a rigid
+``Point`` against a beam's centreline segments. Notation as in :mod:`fecontact.contact.laws`."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError, check_range
+from .obstacles import Circle, Plane, Point
+
+__all__ = ["NodeContact", "PointSegmentContact"]
+
+
+class NodeContact:
+    """Points of a body (its nodes, or a rigid body's vertices) against a rigid ``Plane`` or
+    ``Circle``; one contact per point.
+
+    ``restitution`` (Newton's coefficient e_N in [0, 1]) applies to every point of the pair.
+    The body maps its dofs to the point positions x(q) (``point_kinematics``); the gap of the
+    obstacle φ(x) then gives G = ∇φ ∂x/∂q and ∇²g = (∂x/∂q)ᵀ ∇²φ (∂x/∂q) + ∇φ·∂²x/∂q².
+    """
+
+    def __init__(self, body, obstacle, nodes=None, restitution: float = 0.0):
+        if not isinstance(obstacle, (Plane, Circle)):
+            raise InputError(f"obstacle must be a Plane or Circle, got {type(obstacle).__name__}")
+        self.body = body
+        self.obstacle = obstacle
+        self.nodes = body.contact_nodes(nodes)
+        if len(self.nodes) == 0:
+            raise InputError("nodes must name at least one node")
+        self.restitution = check_range("restitution", restitution, 0.0, 1.0)
+        self.linear = obstacle.linear and body.linear_kinematics
+        self.offset = 0
+        # positions alone where the body has a cheaper path to them (rigid bodies)
+        self._positions = getattr(
+            body, "point_positions", lambda q, nodes: body.point_kinematics(q, nodes)[0]
+        )
+
+    @property
+    def size(self) -> int:
+        return len(self.nodes)
+
+    def bind(self, model) -> None:
+        """Place the pair in the global dof vector of ``model``."""
+        self.offset = model.offset_of(self.body)
+
+    def rate(self, q: np.ndarray) -> np.ndarray:
+        """∂g/∂t = −∇φ·ḋ (m/s) of a moving obstacle at its current time, per contact."""
+        if not getattr(self.obstacle, "moving", False):
+            return np.zeros(self.size)
+        qb = q[self.offset : self.offset + self.body.ndof]
+        x = self.body.point_kinematics(qb, self.nodes)[0]
+        return -(self.obstacle.gap(x)[1] @ self.obstacle.speed())
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        """Gaps (m,) alone, without their derivatives."""
+        qb = q[self.offset : self.offset + self.body.ndof]
+        return self.obstacle.gap_values(self._positions(qb, self.nodes))
+
+    def evaluate(self, q: np.ndarray):
+        """Gaps (m,), dof indices (m, d), gradient values (m, d), Hessians (m, d, d) or None."""
+        qb = q[self.offset : self.offset + self.body.ndof]
+        x, dofs, Jx, Hx = self.body.point_kinematics(qb, self.nodes)
+        g, Gx, Hphi = self.obstacle.gap(x)
+        G = np.einsum("mi,mik->mk", Gx, Jx)
+        H = None
+        if Hphi is not None:
+            H = np.einsum("mik,mij,mjl->mkl", Jx, Hphi, Jx)
+        if Hx is not None:
+            H = np.einsum("mi,mikl->mkl", Gx, Hx) + (0.0 if H is None else H)
+        return g, dofs + self.offset, G, H
+
+
+class PointSegmentContact:
+    """A rigid ``Point`` (or small disk) against the centreline segments of a beam.
+
+    The contact point slides along the beam: the gap is the distance from the point to the
+    closest segment minus the radius, signed by the side of the beam the point started on.
+    When the closest point is a vertex the gap is the distance to that node.
+    """
+
+    linear = False
+
+    def __init__(self, body, obstacle: Point, restitution: float = 0.0):
+        self.body = body
+        self.obstacle = obstacle
+        self.restitution = check_range("restitution", restitution, 0.0, 1.0)
+        self.segments = body.segments()
+        self.offset = 0
+        self.side = 1.0
+        f0 = self._signed_distance(np.zeros(body.ndof))
+        if f0 == 0.0:
+            raise InputError("the Point lies exactly on the beam centreline at t = 0")
+        self.side = np.sign(f0)
+
+    size = 1
+
+    def bind(self, model) -> None:
+        self.offset = model.offset_of(self.body)
+
+    def _closest(self, x):
+        x1, x2 = x[self.segments[:, 0]], x[self.segments[:, 1]]
+        d = x2 - x1
+        xi = np.clip(np.einsum("ei,ei->e", self.obstacle.position - x1, d) / np.sum(d * d, 1), 0, 1)
+        dist = np.linalg.norm(self.obstacle.position - (x1 + xi[:, None] * d), axis=1)
+        e = int(np.argmin(dist))
+        return e, xi[e], x1[e], d[e]
+
+    def _signed_distance(self, q_local):
+        e, xi, x1, d = self._closest(self.body.positions(q_local))
+        w = self.obstacle.position - x1
+        return (d[0] * w[1] - d[1] * w[0]) / np.linalg.norm(d)
+
+    def evaluate(self, q: np.ndarray):
+        body = self.body
+        q_local = q[self.offset : self.offset + body.ndof]
+        e, xi, x1, d = self._closest(body.positions(q_local))
+        a, b = self.segments[e]
+        tdofs = self.offset + body.node_translation_dofs([a, b]).ravel()
+        P, r = self.obstacle.position, self.obstacle.radius
+        if 0.0 < xi < 1.0:
+            g, G, H = _point_line_gap(P, x1, d, self.side)
+            g -= r
+        else:
+            xv = x1 + xi * d
+            ev = xv - P
+            dist = np.linalg.norm(ev)
+            ev = ev / dist
+            g = dist - r
+            G = np.zeros(4)
+            H = np.zeros((4, 4))
+            k = 0 if xi == 0.0 else 2
+            G[k : k + 2] = ev
+            H[k : k + 2, k : k + 2] = (np.eye(2) - np.outer(ev, ev)) / dist
+        return np.array([g]), tdofs[None, :], G[None, :], H[None, :, :]
+
+
+def _point_line_gap(P, x1, d, side):
+    """Signed distance f = (d × w)/|d| of P from the line x1 + ξ d (w = P − x1), with its
+    gradient and Hessian with respect to the segment end points (x1, x2)."""
+    w = P - x1
+    L = np.linalg.norm(d)
+    c = d[0] * w[1] - d[1] * w[0]
+    rho = np.array([w[1], -w[0]])
+    dperp = np.array([-d[1], d[0]])
+    f_d = rho / L - c * d / L**3
+    f_w = dperp / L
+    R = np.array([[0.0, 1.0], [-1.0, 0.0]])
+    H_dd = -(np.outer(rho, d) + np.outer(d, rho)) / L**3 - c * np.eye(2) / L**3
+    H_dd += 3.0 * c * np.outer(d, d) / L**5
+    H_dw = R / L - np.outer(d, dperp) / L**3
+    Hz = np.block([[H_dd, H_dw], [H_dw.T, np.zeros((2, 2))]])
+    eye = np.eye(2)
+    T = np.block([[-eye, eye], [-eye, np.zeros((2, 2))]])  # (d, w) = T (x1, x2) + (0, P)
+    G = T.T @ np.concatenate([f_d, f_w])
+    return side * c / L, side * G, side * (T.T @ Hz @ T)

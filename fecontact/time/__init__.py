@@ -1,0 +1,17 @@
+"""Time stepping: the nonsmooth generalized-α step and its baselines behind one signature,
+``step(model, state, h, options, timer) -> State``, chosen by name in :mod:`.simulate`."""
+
+from .generalized_alpha import alpha_coefficients
+from .simulate import STEPPERS, simulate
+from .state import IntegratorOptions, PhaseTimer, State, initial_state, length_scale
+
+__all__ = [
+    "STEPPERS",
+    "IntegratorOptions",
+    "PhaseTimer",
+    "State",
+    "alpha_coefficients",
+    "initial_state",
+    "length_scale",
+    "simulate",
+]

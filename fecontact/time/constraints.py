@@ -1,0 +1,70 @@
+"""Constraint rows shared by the steppers: contacts and joints as one set of rows, the bordered
+saddle-point matrix, and a factorization that reports a singular matrix as a failed step."""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..linalg import factorize
+
+__all__ = ["Constraints", "StepFailure", "bordered", "factorize_or_fail", "plus_curvature"]
+
+
+class StepFailure(Exception):
+    def __init__(self, message: str, residual: float):
+        super().__init__(message)
+        self.residual = residual
+
+
+def factorize_or_fail(A, residual, symmetric=False):
+    try:
+        return factorize(A, symmetric)
+    except np.linalg.LinAlgError:
+        raise StepFailure("singular iteration matrix", residual) from None
+
+
+def bordered(K, G):
+    """The saddle-point matrix [[K, Gᵀ], [G, 0]] (dense or sparse like K)."""
+    if sp.issparse(K):
+        return sp.bmat([[K, sp.csr_matrix(G.T)], [sp.csr_matrix(G), None]], format="csc")
+    n = K.shape[0]
+    A = np.zeros((n + G.shape[0],) * 2)
+    A[:n, :n], A[:n, n:], A[n:, :n] = K, G.T, G
+    return A
+
+
+class Constraints:
+    """The contacts ``select`` followed by every joint, as one set of constraint rows."""
+
+    def __init__(self, model, select):
+        self.contacts, self.joints, self.select = model.contacts, model.joints, select
+        self.bilateral = np.zeros(len(select) + model.joints.size, bool)
+        self.bilateral[len(select) :] = True
+        self.linear = self.contacts.linear and self.joints.linear
+        self.n = model.n_free
+
+    def jacobian(self, q):
+        return self.linearize(q)[:2]
+
+    def curvature(self, q, weights):
+        return self.linearize(q, weights)[2]
+
+    def linearize(self, q, weights=None):
+        """(g, G, C) of the contacts then the joints; C = Σ weights_j ∇²g_j if weights."""
+        m = len(self.select)
+        wc = None if weights is None else weights[:m]
+        g, G, C = self.contacts.linearize(q, self.select, wc)
+        if self.joints.size:
+            wb = None if weights is None else weights[m:]
+            gb, Gb, Cb = self.joints.linearize(q, self.joints.all, wb)
+            g, G = np.concatenate([g, gb]), np.vstack([G, Gb])
+            C = Cb if C is None else (C if Cb is None else C + Cb)
+        return g, G, C
+
+
+def plus_curvature(A, scale, C):
+    """A + scale C for a curvature C (dense or sparse; None: zero), in the format of A."""
+    if C is None:
+        return A
+    return A + scale * (sp.csr_matrix(C) if sp.issparse(A) else C)

@@ -1,0 +1,62 @@
+"""Generalized-α coefficients and predictor (Chung & Hulbert 1993, in the form of Arnold & Brüls
+2007), shared by every stepper built on the generalized-α step.
+
+    α_m = (2ρ∞ − 1)/(ρ∞ + 1),  α_f = ρ∞/(ρ∞ + 1),  γ = ½ + α_f − α_m,  β = ¼(γ + ½)².
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from ..errors import check_range
+
+__all__ = ["Coefficients", "alpha_coefficients", "coefficients", "predict"]
+
+
+def alpha_coefficients(rho_inf: float) -> tuple[float, float, float, float]:
+    """(α_m, α_f, γ, β) of the generalized-α method for spectral radius ρ∞ ∈ [0, 1]."""
+    r = check_range("rho_inf", rho_inf, 0.0, 1.0)
+    am = (2.0 * r - 1.0) / (r + 1.0)
+    af = r / (r + 1.0)
+    gamma = 0.5 + af - am
+    return am, af, gamma, 0.25 * (gamma + 0.5) ** 2
+
+
+class Coefficients:
+    """Generalized-α coefficients for one step of size h (shared: see ``coefficients``).
+
+    ``P`` is the predictor as a map of (q, v, v̇, a)_n to (q, v, v̇, a)_{n+1} with
+    v̇_{n+1} = v̇_n, and ``w`` = (1, γ′, β′, ∂a/∂q) the rates at which a Newton update of q
+    moves the four."""
+
+    def __init__(self, rho_inf: float, h: float):
+        am, af, gm, be = alpha_coefficients(rho_inf)
+        self.am, self.af, self.gamma, self.beta, self.h = am, af, gm, be, h
+        self.bp = (1.0 - am) / (be * h * h * (1.0 - af))  # β′ = ∂v̇/∂q
+        self.gp = gm / (be * h)  # γ′ = ∂v/∂q
+        self.da = (1.0 - af) / (1.0 - am) * self.bp  # ∂a/∂q
+        # a_{n+1} = k1 v̇_n + k2 a_n, from (1 − α_m) a_{n+1} + α_m a_n = v̇_n
+        k1, k2 = 1.0 / (1.0 - am), -am / (1.0 - am)
+        hh = h * h
+        self.P = np.array(
+            [
+                [1.0, h, hh * be * k1, hh * (0.5 - be) + hh * be * k2],
+                [0.0, 1.0, h * gm * k1, h * (1.0 - gm) + h * gm * k2],
+                [0.0, 0.0, 1.0, 0.0],
+                [0.0, 0.0, k1, k2],
+            ]
+        )
+        self.w = np.array([1.0, self.gp, self.bp, self.da])
+
+
+@functools.lru_cache(maxsize=64)
+def coefficients(rho_inf: float, h: float) -> Coefficients:
+    return Coefficients(rho_inf, h)
+
+
+def predict(st, c):
+    """Generalized-α predictor with a constant acceleration v̇_{n+1} = v̇_n: (q, v, v̇, a),
+    rows (views) of one (4, n) array."""
+    return c.P @ np.array([st.q, st.v, st.vd, st.a])

@@ -1,0 +1,209 @@
+"""What every stepper shares: the integrator options, the state of a step, the phase timer,
+the initial state with its consistent acceleration, and the failure a step reports."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import (
+    InputError,
+    check_count,
+    check_positive,
+    check_range,
+    check_vector,
+)
+from ..linalg import factorize
+from .constraints import bordered
+from .generalized_alpha import alpha_coefficients
+
+__all__ = ["IntegratorOptions", "PhaseTimer", "State", "initial_state", "length_scale"]
+
+METRICS = ("stiffness", "mass")
+IMPACT_VELOCITIES = ("interpolated", "step_start")
+INTEGRATORS = ("nsga", "moreau", "penalty")
+
+
+@dataclass
+class IntegratorOptions:
+    """Settings of the nonsmooth generalized-α integrator.
+
+    rho_inf : spectral radius at infinite frequency, in [0, 1] (1: no numerical damping).
+    metric : position-correction metric, "stiffness" (H = S_t/β′) or "mass" (H = M).
+    penalty_scale, multiplier_scale : factors (> 0) on the automatic p and k; they change the
+        path of the contact Newton iterations, never the converged result.
+    tol_residual : relative tolerance of the smooth Newton residual.
+    tol_increment : Newton also stops when an update is below this fraction of the model size
+        (rotations: of 1 rad), where round-off bounds the residual of very stiff models.
+    tol_gap : gap (and joint) tolerance relative to the length scale of the model: the larger
+        of its size and the magnitude of its coordinates, since a gap computed from
+        coordinates x carries a round-off of about ε|x| (see :func:`length_scale`).
+    max_iterations : Newton iterations per step before the step is halved.
+    max_halvings : how many times a failing step is halved before the run stops.
+    detection_margin : contacts with g(q̃) below this fraction of the model size are candidates.
+    impact_velocity : the pre-impact normal velocity ġ⁻ of Newton's law ġ⁺ = −e ġ⁻ on a
+        contact that closes inside a step: "interpolated" (default) takes ġ at the instant the
+        gap crosses zero, found on the chord from g(q_n) to g(q̃_{n+1}); "step_start" takes
+        ġ(q_n, v_n) as in Brüls, Acary & Cardona (2014). The first loses e g̈ δ of rebound
+        speed only at O(h²) (δ: time from the step start to the impact), the second at O(h).
+    integrator : "nsga" (this module), or the baselines of :mod:`fecontact.baselines` for
+        side-by-side comparisons: "moreau" (Moreau–Jean θ-method, impact law at velocity
+        level only) and "penalty" (penalty contact in the smooth generalized-α step).
+    theta : θ ∈ (0, 1] of Moreau–Jean.
+    penalty_stiffness : N/m of the penalty baseline (None: automatic, ten steps per contact
+        period).
+    penalty_damping : damping ratio ζ ≥ 0 of the penalty baseline (None: from e_N).
+    """
+
+    rho_inf: float = 0.5
+    metric: str = "stiffness"
+    penalty_scale: float = 1.0
+    multiplier_scale: float = 1.0
+    tol_residual: float = 1e-8
+    tol_increment: float = 1e-8
+    tol_gap: float = 1e-12
+    max_iterations: int = 30
+    max_halvings: int = 6
+    detection_margin: float = 0.05
+    impact_velocity: str = "interpolated"
+    integrator: str = "nsga"
+    theta: float = 0.5
+    penalty_stiffness: float | None = None
+    penalty_damping: float | None = None
+
+    def __post_init__(self):
+        alpha_coefficients(self.rho_inf)
+        if not isinstance(self.metric, str) or self.metric not in METRICS:
+            raise InputError(f"metric must be one of {', '.join(METRICS)}, got {self.metric!r}")
+        if not isinstance(self.impact_velocity, str) or self.impact_velocity not in (
+            IMPACT_VELOCITIES
+        ):
+            known = ", ".join(IMPACT_VELOCITIES)
+            raise InputError(
+                f"impact_velocity must be one of {known}, got {self.impact_velocity!r}"
+            )
+        if not isinstance(self.integrator, str) or self.integrator not in INTEGRATORS:
+            known = ", ".join(INTEGRATORS)
+            raise InputError(f"integrator must be one of {known}, got {self.integrator!r}")
+        self.theta = check_range("theta", self.theta, 0.0, 1.0, (False, True))
+        if self.penalty_stiffness is not None:
+            self.penalty_stiffness = check_positive("penalty_stiffness", self.penalty_stiffness)
+        if self.penalty_damping is not None:
+            self.penalty_damping = check_positive(
+                "penalty_damping", self.penalty_damping, allow_zero=True
+            )
+        for name in (
+            "penalty_scale",
+            "multiplier_scale",
+            "tol_residual",
+            "tol_increment",
+            "tol_gap",
+        ):
+            setattr(self, name, check_positive(name, getattr(self, name)))
+        self.detection_margin = check_positive(
+            "detection_margin", self.detection_margin, allow_zero=True
+        )
+        self.max_iterations = check_count("max_iterations", self.max_iterations, 0, 10**4)
+        # beyond 50 halvings the step is below the round-off of the time
+        self.max_halvings = check_count("max_halvings", self.max_halvings, 0, 50)
+
+
+@dataclass
+class State:
+    """The solution at one time: full dof vectors and what the step did to get there.
+
+    q (m, rad) and v (m/s, rad/s) are the corrected positions and velocities, vd the smooth
+    acceleration v̇ and a the generalized-α acceleration variable. ``gaps`` holds g_j(q) of
+    every contact (m), ``nu`` k ν_j (kg·m) and ``impulse`` k Λ_j (N·s) of the step.
+    """
+
+    t: float
+    q: np.ndarray
+    v: np.ndarray
+    vd: np.ndarray
+    a: np.ndarray
+    step: int = 0
+    h: float = 0.0
+    gaps: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    candidates: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
+    nu: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    impulse: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    iterations: dict = field(default_factory=lambda: {"smooth": 0, "position": 0, "velocity": 0})
+    lam: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    halvings: int = 0
+
+    @property
+    def newton_iterations(self) -> int:
+        return sum(self.iterations.values())
+
+
+class StepFailure(Exception):
+    def __init__(self, message: str, residual: float):
+        super().__init__(message)
+        self.residual = residual
+
+
+class PhaseTimer(dict):
+    """Accumulated wall time per phase (s)."""
+
+    def add(self, phase: str, t0: float) -> float:
+        now = time.perf_counter()
+        self[phase] = self.get(phase, 0.0) + now - t0
+        return now
+
+
+def initial_state(model, q0=None, v0=None) -> State:
+    """State at t = 0 from q₀, v₀ (default: rest in the reference configuration), with the
+    consistent acceleration M v̇₀ = f_ext − f_int(q₀). Fixed dofs are kept at zero."""
+    n = model.n
+    q = np.zeros(n) if q0 is None else check_vector("q0", q0, n).copy()
+    v = np.zeros(n) if v0 is None else check_vector("v0", v0, n).copy()
+    fixed = model.free_index < 0
+    if np.any(q[fixed] != 0.0) or np.any(v[fixed] != 0.0):
+        raise InputError("q0, v0: supported (fixed) dofs must start at zero")
+    model.contacts.set_time(0.0)
+    g = model.contacts.gaps(q)
+    tol = IntegratorOptions.tol_gap * length_scale(model, q)
+    if np.any(g < -tol):
+        j = int(np.argmin(g))
+        raise InputError(
+            f"initial configuration: contact {j} penetrates by {-g[j]:.3e} m (gap must be >= 0)"
+        )
+    alpha, beta_k = model.damping
+    _, fint, K = model.internal(q, tangent=bool(alpha or beta_k))
+    F = model.free
+    f = model.external(0.0)[F] - fint[F]
+    if alpha or beta_k:
+        f -= (alpha * model.M + beta_k * K) @ v[F]
+    vd = np.zeros(n)
+    joints = model.joints
+    if joints.size:
+        gb, Gb = joints.jacobian(q, joints.all)
+        if np.max(np.abs(gb)) > tol or np.max(np.abs(Gb @ v[F])) > tol:
+            raise InputError("initial configuration: a joint is violated by q0 or v0")
+        # consistent acceleration: G_b v̇ = −vᵀ ∇²g_b v
+        x = factorize(bordered(model.M, Gb))(np.r_[f, -joints.quadratic(q, v)])
+        vd[F] = x[: len(F)]
+    else:
+        vd[F] = model.solve_M(f)
+    m = model.contacts.size
+    return State(
+        0.0,
+        q,
+        v,
+        vd,
+        vd.copy(),
+        gaps=g,
+        nu=np.zeros(m),
+        impulse=np.zeros(m),
+        lam=np.zeros(model.joints.size),
+    )
+
+
+def length_scale(model, q) -> float:
+    """The length (m) gap tolerances are relative to: the model size, or the magnitude of the
+    coordinates when larger (a ball dropped from 5000 m reaches the ground with q ≈ −5000 m,
+    and its gap, computed from coordinates, then carries a round-off of ε·5000 m ≈ 1e-12 m)."""
+    return max(model.length, model.coordinate_extent(q))
