@@ -13,12 +13,13 @@ import math
 
 import numpy as np
 
+from .contact.base import PairDefaults
 from .errors import InputError, check_vector
 
 __all__ = ["Pin", "newton_remainder"]
 
 
-class Pin:
+class Pin(PairDefaults):
     """Pin joint: the material point at ``point`` (reference coordinates, m) of ``body`` stays
     on the same material point of ``other``, or, when ``other`` is None, fixed in space.
 
@@ -59,7 +60,7 @@ class Pin:
         for body, offset in zip((self.body, self.other), self.offsets, strict=True):
             if body is None or body.linear_kinematics:
                 continue
-            if not hasattr(body, "frame_point_kinematics"):
+            if not body.rigid_frame:
                 return None
             dof = int(free_index[offset + 2])  # θ, the third dof of a rigid body
             if dof >= 0:
@@ -97,7 +98,7 @@ class Pin:
 
 def _material_point(body, point):
     """Kinematics q ↦ (x, dofs, ∂x/∂q, ∂²x/∂q²) of the body's material point at ``point``."""
-    if hasattr(body, "frame_point_kinematics"):  # rigid body: any point of its frame
+    if body.rigid_frame:  # rigid body: any point of its frame
         return body.frame_point_function(body.to_frame(point)[None, :])
     node = np.array([body.locate(point)])
     return lambda q: body.point_kinematics(q, node)
@@ -122,7 +123,7 @@ def newton_remainder(joints, dq: np.ndarray, lam: np.ndarray, dlam: np.ndarray):
     gap = force = 0.0
     row = 0
     for pin in joints.pairs:
-        arms = getattr(pin, "arms", None)
+        arms = pin.arms
         if arms is None:
             return None
         if arms:

@@ -17,7 +17,6 @@ from .linalg import DENSE_LIMIT, Pattern, factorize
 
 __all__ = ["Model", "NodalLoad"]
 
-_ANCHORS = ("point", "center", "position")  # where a rigid obstacle sits (Plane, Circle, Point)
 
 
 class NodalLoad:
@@ -25,7 +24,7 @@ class NodalLoad:
     rotation dof), constant or a function of the time t (s) returning it."""
 
     def __init__(self, body, node: int, value):
-        self.body, self.node, self.value = body, body._node(node), value
+        self.body, self.node, self.value = body, body.node_index(node), value
         if not callable(value):
             v = check_finite("value", value).ravel()
             if v.shape != (body.dofs_per_node,):
@@ -63,7 +62,7 @@ class Model:
         self.bodies = list(bodies)
         if not self.bodies:
             raise InputError("bodies must contain at least one body")
-        dims = {getattr(b, "dim", 2) for b in self.bodies}
+        dims = {b.dim for b in self.bodies}
         if len(dims) > 1:
             raise InputError("bodies must all be 2D or all 3D")
         dim = dims.pop()
@@ -117,13 +116,9 @@ class Model:
         self.length = max(b.characteristic_length for b in self.bodies)
         self._reference = [b.positions(np.zeros(b.ndof)) for b in self.bodies]
         self._reference_extent = max(float(np.max(np.abs(X))) for X in self._reference)
-        anchors = [
-            getattr(getattr(p, "obstacle", None), a, None) for p in contacts for a in _ANCHORS
-        ]
-        self._obstacle_extent = max(
-            (np.max(np.abs(a)) for a in anchors if a is not None), default=0.0
-        )
-        self.linear = all(getattr(b, "linear", False) for b in self.bodies)
+        anchors = [p.obstacle.anchor for p in contacts if p.obstacle is not None]
+        self._obstacle_extent = max((np.max(np.abs(a)) for a in anchors), default=0.0)
+        self.linear = all(b.linear for b in self.bodies)
         # rigid bodies and point masses only: no strain energy, no internal force
         self._elementless = not any(b.element_dofs.size for b in self.bodies)
         self._iteration_matrices: dict = {}
@@ -134,7 +129,6 @@ class Model:
         return any(
             b.inverted(q[self.body_slice(i)])
             for i, b in enumerate(self.bodies)
-            if hasattr(b, "inverted")
         )
 
     def coordinate_extent(self, q: np.ndarray) -> float:

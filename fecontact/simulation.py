@@ -60,7 +60,7 @@ def node_probe(model, body, node: int, quantity: str) -> Probe:
     if quantity not in _NODE_QUANTITIES:
         raise InputError(f"quantity must be one of {', '.join(_NODE_QUANTITIES)}, got {quantity!r}")
     unit, text, get = _NODE_QUANTITIES[quantity]
-    i = body._node(node)
+    i = body.node_index(node)
     s = model.body_slice(model.bodies.index(body))
     return Probe(lambda m, st: float(get(body, st.q[s], st.v[s])[i]), unit, f"{text} of node {i}")
 
@@ -95,7 +95,7 @@ class Simulation:
         """Settings that the stability study (benchmarks/stability.py) found unsafe here."""
         out = []
         opts, model = self.options, self.model
-        flexible = any(not getattr(b, "linear", False) or b.element_dofs.size for b in model.bodies)
+        flexible = any(not b.linear or b.element_dofs.size for b in model.bodies)
         elastic_impacts = np.any(model.contacts.restitution > 0)
         if opts.integrator == "nsga" and flexible and elastic_impacts and opts.rho_inf > 0.5:
             out.append(
@@ -132,9 +132,7 @@ def _frame_parts(model, state: State):
         data = dict(body.point_data(q, state.v[s]))
         data["contact_impulse"] = _point_impulse(body, f_imp[s])
         data["contact_force"] = data["contact_impulse"] / h
-        cell_data = (
-            {k: [v] for k, v in body.cell_data(q).items()} if hasattr(body, "cell_data") else None
-        )
+        cell_data = {k: [v] for k, v in body.cell_data(q).items()} or None
         parts[_part_name(body, i)] = body_mesh(body.positions(q), body.cells(), data, cell_data)
     parts.update(_obstacle_parts(model, moving=True))
     return parts
@@ -143,7 +141,7 @@ def _frame_parts(model, state: State):
 def _point_impulse(body, f: np.ndarray) -> np.ndarray:
     """Contact impulse at the output points: nodal for deformable bodies; for a rigid body
     the resultant (N·s) is drawn at its centre of mass."""
-    center = getattr(body, "center_index", None)
+    center = body.center_index
     if center is None:
         return body.nodal(f)
     out = np.zeros((body.n_nodes, 2))
@@ -165,15 +163,10 @@ def _obstacle_parts(model, moving: bool):
 
     parts = {}
     for j, pair in enumerate(model.contacts.pairs):
-        obs = getattr(pair, "obstacle", None)
-        if obs is None or not hasattr(obs, "outline"):
+        obs = pair.obstacle
+        if obs is None or obs.moving != moving:
             continue  # a contact between bodies: nothing static to draw
-        if getattr(obs, "moving", False) != moving:
-            continue
-        if hasattr(obs, "normal"):
-            pts = obs.outline(obs.extent or 2.0 * model.length)
-        else:
-            pts = obs.outline()
+        pts = obs.outline(obs.extent or 2.0 * model.length)
         conn = np.stack([np.arange(len(pts) - 1), np.arange(1, len(pts))], axis=1)
         parts[f"obstacle{j}"] = line_mesh(pts, conn, {})
     return parts

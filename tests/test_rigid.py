@@ -151,7 +151,7 @@ def test_point_mass_rejects_bad_input():
     with pytest.raises(InputError, match="size"):
         PointMass(1.0, [0.0, 0.0], size=0.0)
     with pytest.raises(InputError, match="point"):
-        PointMass(1.0, [0.0, 0.0])._node(1)
+        PointMass(1.0, [0.0, 0.0]).node_index(1)
 
 
 def test_shape_properties():

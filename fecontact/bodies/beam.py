@@ -35,6 +35,7 @@ import scipy.sparse as sp
 import skfem
 
 from ..errors import InputError, check_count, check_finite, check_positive, check_range
+from .base import BodyDefaults
 
 __all__ = ["Material", "Section", "Beam2D"]
 
@@ -106,7 +107,7 @@ class Section:
         return cls(area=area, inertia=inertia, shear_factor=0.9)
 
 
-class Beam2D:
+class Beam2D(BodyDefaults):
     """Planar Simo–Reissner beam through ``nodes`` (an (n, 2) array in m, in order).
 
     Elements join consecutive nodes. Supports (``pin``, ``clamp``) and point masses
@@ -173,25 +174,25 @@ class Beam2D:
             parts.append(P[k] + s * (P[k + 1] - P[k]))
         return cls(np.vstack(parts), material, section, linear)
 
-    def _node(self, node: int) -> int:
+    def node_index(self, node: int) -> int:
         n = len(self.X)
         return check_count("node", node, -n, n - 1) % n
 
     def pin(self, node: int) -> Beam2D:
         """Fix the displacement of ``node``; its rotation stays free."""
-        i = self._node(node)
+        i = self.node_index(node)
         self.fixed.update((3 * i, 3 * i + 1))
         return self
 
     def clamp(self, node: int) -> Beam2D:
         """Fix the displacement and the rotation of ``node``."""
-        i = self._node(node)
+        i = self.node_index(node)
         self.fixed.update((3 * i, 3 * i + 1, 3 * i + 2))
         return self
 
     def add_mass(self, node: int, mass: float) -> Beam2D:
         """Attach a point mass (kg) to the translations of ``node``."""
-        self.point_masses[self._node(node)] += check_positive("mass", mass, allow_zero=True)
+        self.point_masses[self.node_index(node)] += check_positive("mass", mass, allow_zero=True)
         return self
 
     # -- sizes -------------------------------------------------------------------------------
@@ -344,7 +345,7 @@ class Beam2D:
         """Validated node indices (all nodes when ``nodes`` is None)."""
         if nodes is None:
             return np.arange(self.n_nodes)
-        return np.array([self._node(i) for i in np.atleast_1d(nodes)], dtype=int)
+        return np.array([self.node_index(i) for i in np.atleast_1d(nodes)], dtype=int)
 
     def locate(self, point) -> int:
         """Index of the node at ``point`` (reference coordinates, m)."""
@@ -363,7 +364,7 @@ class Beam2D:
 
     def node_translation_dofs(self, nodes) -> np.ndarray:
         """(len(nodes), 2) local dof indices of (u_x, u_y) at ``nodes``."""
-        idx = np.array([self._node(i) for i in np.atleast_1d(nodes)], dtype=int)
+        idx = np.array([self.node_index(i) for i in np.atleast_1d(nodes)], dtype=int)
         return 3 * idx[:, None] + np.arange(2)
 
     def segments(self) -> np.ndarray:

@@ -27,6 +27,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import InputError, check_count, check_finite, check_positive, check_vector
+from .base import BodyDefaults
 
 __all__ = ["Disk", "Polygon", "RigidBody2D", "PointMass"]
 
@@ -168,7 +169,7 @@ class Polygon:
         return np.column_stack([np.arange(n), np.roll(np.arange(n), -1)])
 
 
-class RigidBody2D:
+class RigidBody2D(BodyDefaults):
     """Planar rigid body: ``mass`` (kg), ``inertia`` I_G (kg·m²) about the centre of mass,
     initial ``position`` of the centre of mass (m), initial ``angle`` (rad) and a ``shape``
     (``Disk`` or ``Polygon``, in the body frame about the centre of mass).
@@ -180,6 +181,7 @@ class RigidBody2D:
     dofs_per_node = 3
     ndof = 3
     linear_kinematics = False
+    rigid_frame = True
     linear = True  # no stiffness: the iteration matrix is constant
     element_dofs = np.zeros((0, 3), dtype=int)
     _DOF_NAMES = {"x": 0, "y": 1, "theta": 2}
@@ -231,7 +233,7 @@ class RigidBody2D:
         """Size of the shape (diameter of a disk, largest vertex distance of a polygon), m."""
         return self.shape.size
 
-    def _node(self, node: int) -> int:
+    def node_index(self, node: int) -> int:
         n = self.n_nodes
         return check_count("point", node, -n, n - 1) % n
 
@@ -394,7 +396,7 @@ class _FrameMap:
         return y[:a].reshape(sx), self.dofs, y[a:b].reshape(sj), y[b:].reshape(sh)
 
 
-class PointMass:
+class PointMass(BodyDefaults):
     """A point of ``mass`` (kg) at ``position`` (m): two dofs (u_x, u_y), one output point.
 
     ``size`` (m) is the length scale of the scene it belongs to; it sets the gap tolerance and
@@ -414,7 +416,7 @@ class PointMass:
         self.characteristic_length = check_positive("size", size)
         self.fixed: set[int] = set()
 
-    def _node(self, node: int) -> int:
+    def node_index(self, node: int) -> int:
         check_count("point", node, -1, 0)  # a point mass has one point
         return 0
 
@@ -441,7 +443,7 @@ class PointMass:
     def contact_nodes(self, nodes=None) -> np.ndarray:
         if nodes is not None:
             for i in np.atleast_1d(nodes):
-                self._node(i)
+                self.node_index(i)
         return np.zeros(1, dtype=int)
 
     def point_kinematics(self, q: np.ndarray, nodes: np.ndarray):

@@ -41,6 +41,7 @@ import skfem
 from skfem.models.poisson import mass as _mass_form
 
 from ..errors import InputError, check_count, check_finite, check_positive
+from .base import BodyDefaults
 from .materials import PLANES
 
 __all__ = ["Solid"]
@@ -73,7 +74,7 @@ _VTK_P2_NODES = {
 }
 
 
-class Solid:
+class Solid(BodyDefaults):
     """Elastic body on a scikit-fem mesh (``MeshTri``, ``MeshQuad``: 2D; ``MeshTet``,
     ``MeshHex``: 3D).
 
@@ -292,7 +293,7 @@ class Solid:
             )
 
     # -- supports ----------------------------------------------------------------------------
-    def _node(self, node: int) -> int:
+    def node_index(self, node: int) -> int:
         """Validated node index in [0, n_nodes); negative indices count from the end."""
         n = self.n_nodes
         if not _is_int(node) or not -n <= int(node) < n:
@@ -300,7 +301,7 @@ class Solid:
         return int(node) % n
 
     def _nodes(self, nodes) -> np.ndarray:
-        return np.array([self._node(i) for i in np.atleast_1d(nodes).ravel()], dtype=int)
+        return np.array([self.node_index(i) for i in np.atleast_1d(nodes).ravel()], dtype=int)
 
     def fix(self, nodes, components=None) -> Solid:
         """Fix the displacement ``components`` (None: all; else indices 0 = x, 1 = y, 2 = z) of

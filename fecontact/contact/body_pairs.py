@@ -49,6 +49,7 @@ from scipy.spatial import cKDTree
 from ..bodies.beam import Beam2D
 from ..bodies.solid import Solid
 from ..errors import InputError, check_finite, check_positive, check_range
+from .base import PairDefaults
 from .rigid_pairs import point_line_distance
 
 __all__ = [
@@ -163,7 +164,7 @@ def closest_facet_distance(x: np.ndarray, xf: np.ndarray):
     return dist, g
 
 
-class NodeSurfaceContact:
+class NodeSurfaceContact(PairDefaults):
     """Nodes of a :class:`~fecontact.Solid` (the slave ``body``) against the boundary of
     another solid (the ``master``): node-to-segment in 2D, node-to-facet (triangles) in 3D.
 
@@ -182,7 +183,6 @@ class NodeSurfaceContact:
     """
 
     linear = False
-    obstacle = None
 
     def __init__(self, body, master, nodes=None, restitution: float = 0.0, margin=None):
         if not isinstance(body, Solid) or not isinstance(master, Solid):
@@ -303,7 +303,7 @@ class NodeSurfaceContact:
         return g, dofs, G, H
 
 
-class NodeNodeContact:
+class NodeNodeContact(PairDefaults):
     """Node i of body a against node j of body b along a fixed unit ``axis`` n pointing from
     a towards b: g = (x_j − x_i)·n (m), linear in q (G = (−n, n) on the two nodes'
     translations, no curvature). Two bars end to end on one axis, say.
@@ -333,7 +333,7 @@ class NodeNodeContact:
         pair = np.atleast_1d(nodes).ravel()
         if pair.size != 2:
             raise InputError(f"nodes must be a pair (node of a, node of b), got {nodes!r}")
-        self.nodes = (a._node(pair[0]), b._node(pair[1]))
+        self.nodes = (a.node_index(pair[0]), b.node_index(pair[1]))
         if axis is None:
             if not beams:
                 raise InputError("axis: give the contact direction n (from a towards b)")

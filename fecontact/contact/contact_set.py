@@ -31,13 +31,10 @@ class ContactSet:
         self._last_scatter: dict = {}  # per pair: read-only (rows, dofs) and their _Scatter
         self._all = np.arange(self.size)
         self._all.flags.writeable = False
-        obstacles = [getattr(pair, "obstacle", None) for pair in self.pairs]
-        self._moving = [o for o in obstacles if getattr(o, "moving", False)]
+        obstacles = [pair.obstacle for pair in self.pairs if pair.obstacle is not None]
+        self._moving = [o for o in obstacles if o.moving]
         # the gaps alone are cheaper where a pair can skip its derivatives
-        self._gap_functions = [
-            getattr(pair, "gaps", None) or (lambda q, pair=pair: pair.evaluate(q)[0])
-            for pair in self.pairs
-        ]
+        self._gap_functions = [pair.gaps for pair in self.pairs]
         # affine gaps (constant gradients, fixed obstacles) of a small model: g(q) = g₀ + G q
         # with G stored dense, so that a step without candidates costs one product
         self._affine = None
@@ -61,7 +58,7 @@ class ContactSet:
         """∂g_j/∂t of the contacts ``select`` (m/s): nonzero for moving obstacles only."""
         if not self.moving:
             return np.zeros(len(select))
-        parts = [p.rate(q) if hasattr(p, "rate") else np.zeros(p.size) for p in self.pairs]
+        parts = [p.rate(q) for p in self.pairs]
         return np.concatenate(parts)[select]
 
     def quadratic(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from ..bodies.base import Body
 from ..errors import InputError, check_positive
 from .node_pairs import NodeContact, PointSegmentContact
 from .obstacles import Point
@@ -31,7 +32,7 @@ def Contact(body, obstacle, nodes=None, restitution: float = 0.0, clearance: flo
         return pair
     if clearance:
         raise InputError("clearance applies to a rigid disk against a beam only")
-    if hasattr(obstacle, "ndof"):
+    if isinstance(obstacle, Body):
         from .body_pairs import body_pair
 
         return body_pair(body, obstacle, nodes, restitution)

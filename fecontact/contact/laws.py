@@ -24,6 +24,7 @@ enforced exactly, so the converged answer does not depend on p or k; they only s
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse as sp
 
 __all__ = [
     "alart_curnier_residual",
@@ -128,7 +129,7 @@ def solve_velocity_jump(
     m = len(c)
     Lam = np.zeros(m) if Lam0 is None else np.maximum(np.asarray(Lam0, dtype=float), 0.0)
     gd = np.asarray(c, dtype=float)
-    Gd = np.asarray(G.todense()) if hasattr(G, "todense") else np.asarray(G)
+    Gd = G.toarray() if sp.issparse(G) else np.asarray(G)
     Y_all = solve_M(Gd.T).reshape(-1, m) if Y is None else Y
     eq = np.zeros(m, bool) if bilateral is None else bilateral
     A_prev = None

@@ -6,12 +6,13 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError, check_range
+from .base import PairDefaults
 from .obstacles import Circle, Plane, Point
 
 __all__ = ["NodeContact", "PointSegmentContact"]
 
 
-class NodeContact:
+class NodeContact(PairDefaults):
     """Points of a body (its nodes, or a rigid body's vertices) against a rigid ``Plane`` or
     ``Circle``; one contact per point.
 
@@ -32,9 +33,7 @@ class NodeContact:
         self.linear = obstacle.linear and body.linear_kinematics
         self.offset = 0
         # positions alone where the body has a cheaper path to them (rigid bodies)
-        self._positions = getattr(
-            body, "point_positions", lambda q, nodes: body.point_kinematics(q, nodes)[0]
-        )
+        self._positions = body.point_positions
 
     @property
     def size(self) -> int:
@@ -46,7 +45,7 @@ class NodeContact:
 
     def rate(self, q: np.ndarray) -> np.ndarray:
         """∂g/∂t = −∇φ·ḋ (m/s) of a moving obstacle at its current time, per contact."""
-        if not getattr(self.obstacle, "moving", False):
+        if not self.obstacle.moving:
             return np.zeros(self.size)
         qb = q[self.offset : self.offset + self.body.ndof]
         x = self.body.point_kinematics(qb, self.nodes)[0]
@@ -71,7 +70,7 @@ class NodeContact:
         return g, dofs + self.offset, G, H
 
 
-class PointSegmentContact:
+class PointSegmentContact(PairDefaults):
     """A rigid ``Point`` (or small disk) against the centreline segments of a beam.
 
     The contact point slides along the beam: the gap is the distance from the point to the

@@ -26,6 +26,7 @@ class _Motion:
     motion = None
     velocity = None
     time = 0.0
+    extent = None  # size (m) drawn in the output; None: from the scene
 
     def _set_motion(self, motion, velocity):
         if motion is not None and not callable(motion):
@@ -90,6 +91,10 @@ class Plane(_Motion):
         p = self.point if self.motion is None else self.point + self.shift()
         return (x - p) @ self.normal
 
+    @property
+    def anchor(self) -> np.ndarray:
+        return self.point
+
     def outline(self, size: float) -> np.ndarray:
         """A piece of the boundary of side ``size`` (m) for output: the end points (2, 2) of a
         segment in 2D, a closed square loop (5, 3) in 3D."""
@@ -139,9 +144,14 @@ class Circle(_Motion):
         r = np.linalg.norm(x - self.center - self.shift(), axis=1)
         return self.sign * (r - self.radius)
 
-    def outline(self, n: int = 96) -> np.ndarray:
-        """Points on the rim for output, joined in order: the circle (n + 1, 2) in 2D; in 3D
-        the great circles in the xy, xz and yz planes, linked by a quarter of the first."""
+    @property
+    def anchor(self) -> np.ndarray:
+        return self.center
+
+    def outline(self, size: float = 0.0, n: int = 96) -> np.ndarray:
+        """Points on the rim for output (``size`` is not needed), joined in order: the circle
+        (n + 1, 2) in 2D; in 3D the great circles in the xy, xz and yz planes, linked by a
+        quarter of the first."""
         s = np.linspace(0.0, 2.0 * np.pi, n + 1)
         c, z = np.cos(s), np.zeros_like(s)
         center = self.center + self.shift()
@@ -172,12 +182,19 @@ class Point:
     """Rigid point at ``position`` (m), or a small rigid disk of ``radius`` (m), hit by beams."""
 
     linear = False
+    moving = False
+    extent = None
 
     def __init__(self, position, radius: float = 0.0):
         self.position = check_vector("position", position, 2)
         self.radius = check_positive("radius", radius, allow_zero=True)
 
-    def outline(self, n: int = 48) -> np.ndarray:
+    @property
+    def anchor(self) -> np.ndarray:
+        return self.position
+
+    def outline(self, size: float = 0.0, n: int = 48) -> np.ndarray:
+        """Points on the rim for output (``size`` is not needed), joined in order."""
         s = np.linspace(0.0, 2.0 * np.pi, n + 1)
         return self.position + max(self.radius, 1e-9) * np.stack([np.cos(s), np.sin(s)], axis=1)
 

@@ -32,6 +32,7 @@ import numpy as np
 from ..bodies.beam import Beam2D
 from ..bodies.rigid import Disk, Polygon, RigidBody2D, rotation
 from ..errors import InputError, check_positive, check_range
+from .base import PairDefaults
 from .obstacles import Circle, Plane
 
 __all__ = [
@@ -65,12 +66,11 @@ def _unit(x: np.ndarray, what: str) -> tuple[np.ndarray, float]:
     return x / d, d
 
 
-class _Pair:
+class _Pair(PairDefaults):
     """What every pair here shares: one contact, its restitution and its place in q."""
 
     size = 1
     linear = False
-    obstacle = None
 
     def __init__(self, bodies, restitution: float):
         self.bodies = tuple(bodies)

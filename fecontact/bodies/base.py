@@ -1,0 +1,56 @@
+"""What every body provides to the model, the contacts and the output.
+
+A body owns ``ndof`` consecutive dofs of the model. ``Body`` is the protocol the rest of the
+package relies on; ``BodyDefaults`` supplies the answers of a body that lacks a feature (no
+elements that can invert, no cell data, not a rigid frame), so that no caller has to ask
+whether a method exists.
+"""
+
+from __future__ import annotations
+
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+__all__ = ["Body", "BodyDefaults"]
+
+
+@runtime_checkable
+class Body(Protocol):
+    """The interface of a body: dofs, mass, internal force and output geometry."""
+
+    dim: int  # 2 or 3
+    ndof: int
+    linear: bool  # internal force affine in q: the iteration matrix is constant
+    linear_kinematics: bool  # node positions affine in q
+    rigid_frame: bool  # positions x = c + R(φ) r of a rigid frame
+    element_dofs: np.ndarray
+    center_index: int | None  # output point of a rigid body's centre of mass
+
+    def node_index(self, node: int) -> int: ...
+    def positions(self, q: np.ndarray) -> np.ndarray: ...
+    def point_kinematics(self, q: np.ndarray, nodes: np.ndarray): ...
+    def point_positions(self, q: np.ndarray, nodes: np.ndarray) -> np.ndarray: ...
+    def inverted(self, q: np.ndarray) -> bool: ...
+    def cell_data(self, q: np.ndarray) -> dict[str, np.ndarray]: ...
+
+
+class BodyDefaults:
+    """Defaults of the ``Body`` protocol for bodies without the feature."""
+
+    dim = 2
+    linear = False
+    rigid_frame = False
+    center_index = None
+
+    def point_positions(self, q: np.ndarray, nodes: np.ndarray) -> np.ndarray:
+        """Positions (m) of ``nodes``; bodies with a cheaper path than the kinematics override."""
+        return self.point_kinematics(q, nodes)[0]
+
+    def inverted(self, q: np.ndarray) -> bool:
+        """Whether q inverts an element (only materials that forbid it can say yes)."""
+        return False
+
+    def cell_data(self, q: np.ndarray) -> dict[str, np.ndarray]:
+        """Per-cell output (stress, strain); none by default."""
+        return {}
