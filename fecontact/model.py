@@ -18,7 +18,6 @@ from .linalg import DENSE_LIMIT, Pattern, factorize
 __all__ = ["Model", "NodalLoad"]
 
 
-
 class NodalLoad:
     """A load on ``node`` of ``body``: ``value`` is the nodal force vector (N, and N·m on a
     rotation dof), constant or a function of the time t (s) returning it."""
@@ -126,10 +125,7 @@ class Model:
 
     def inverted(self, q: np.ndarray) -> bool:
         """Whether q inverts an element of a body whose material forbids it (Neo-Hookean)."""
-        return any(
-            b.inverted(q[self.body_slice(i)])
-            for i, b in enumerate(self.bodies)
-        )
+        return any(b.inverted(q[self.body_slice(i)]) for i, b in enumerate(self.bodies))
 
     def coordinate_extent(self, q: np.ndarray) -> float:
         """max|X| + max|x − X| (m) over the bodies' points, reference X and current x at q, or

@@ -43,6 +43,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from skfem.helpers import det, inv
 
 from ..errors import check_positive, check_range
 
@@ -168,8 +169,8 @@ class NeoHookean(_Isotropic):
         C = 2.0 * E
         for i in range(3):
             C[i, i] += 1.0
-        detC, Ci = _det_inv3(C)
         with np.errstate(invalid="ignore", divide="ignore"):
+            detC, Ci = det(C), inv(C)
             lnJ = 0.5 * np.log(detC)
         W = 0.5 * mu * (C[0, 0] + C[1, 1] + C[2, 2] - 3.0 - 2.0 * lnJ) + 0.5 * lam * lnJ**2
         S = (lam * lnJ - mu) * Ci
@@ -196,24 +197,3 @@ def _quadratic(lame, E, tangent):
         return W, S, None
     CC = (lam * _OUTER + 2.0 * mu * _SYM4).reshape((3, 3, 3, 3) + (1,) * (E.ndim - 2))
     return W, S, CC
-
-
-def _det_inv3(A: np.ndarray):
-    """Determinant (*points) and inverse (3, 3, *points) of 3×3 matrices A (3, 3, *points), by
-    cofactors (far faster than ``np.linalg.inv`` for many small matrices)."""
-    a, b, c = A[0]
-    d, e, f = A[1]
-    g, h, i = A[2]
-    cof = np.empty(A.shape)
-    cof[0, 0] = e * i - f * h
-    cof[0, 1] = c * h - b * i
-    cof[0, 2] = b * f - c * e
-    cof[1, 0] = f * g - d * i
-    cof[1, 1] = a * i - c * g
-    cof[1, 2] = c * d - a * f
-    cof[2, 0] = d * h - e * g
-    cof[2, 1] = b * g - a * h
-    cof[2, 2] = a * e - b * d
-    det = a * cof[0, 0] + b * cof[1, 0] + c * cof[2, 0]
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return det, cof / det

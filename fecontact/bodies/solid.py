@@ -33,44 +33,34 @@ overlaps a neighbour (inverted), is rejected when the body is built.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import scipy.sparse as sp
 import skfem
+from skfem.helpers import det
 from skfem.models.poisson import mass as _mass_form
 
-from ..errors import InputError, check_count, check_finite, check_positive
+from ..errors import InputError, check_finite, check_positive
+from ..io.vtk_cells import vtk_cells
 from .base import BodyDefaults
 from .materials import PLANES
+from .meshes import (
+    ELEMENTS,
+    ball_mesh,
+    box_mesh,
+    cell_kind,
+    check_cells,
+    disk_mesh,
+    oriented_boundary,
+    read_mesh,
+    rectangle_mesh,
+    split_quadratic,
+)
 
 __all__ = ["Solid"]
 
-# scalar Lagrange elements (P1, P2) of each reference cell, and the cell's meshio names
-_ELEMENTS = {
-    "tri": (skfem.ElementTriP1, skfem.ElementTriP2, "triangle", "triangle6"),
-    "quad": (skfem.ElementQuad1, skfem.ElementQuad2, "quad", "quad9"),
-    "tet": (skfem.ElementTetP1, skfem.ElementTetP2, "tetra", "tetra10"),
-    "hex": (skfem.ElementHex1, skfem.ElementHex2, "hexahedron", "hexahedron27"),
-}
-# scikit-fem's hexahedron vertex order to VTK's (``skfem.io.meshio.HEX_MAPPING[:8]``, kept
-# here so that importing the solid does not import meshio)
-MAX_CELLS = 2**21  # grid bodies: a mesh of about 1e6 nodes is the most a direct solver takes
-_HEX_TO_VTK = [0, 3, 6, 2, 1, 5, 7, 4]
-_REFDOMS = {"RefTri": "tri", "RefQuad": "quad", "RefTet": "tet", "RefHex": "hex"}
 _MIDPOINT = {
     "tri": (np.full((2, 1), 1.0 / 3.0), np.array([0.5])),
     "tet": (np.full((3, 1), 0.25), np.array([1.0 / 6.0])),
-}
-# VTK's higher-order nodes of P2 cells, each the mean of these corners (VTK corner numbering)
-_VTK_P2_NODES = {
-    "tri": [(0, 1), (1, 2), (2, 0)],
-    "quad": [(0, 1), (1, 2), (2, 3), (3, 0), (0, 1, 2, 3)],
-    "tet": [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)],
-    "hex": [(0, 1), (1, 2), (2, 3), (3, 0), (4, 5), (5, 6), (6, 7), (7, 4)]
-    + [(0, 4), (1, 5), (2, 6), (3, 7)]
-    + [(0, 3, 7, 4), (1, 2, 6, 5), (0, 1, 5, 4), (3, 2, 6, 7), (0, 1, 2, 3), (4, 5, 6, 7)]
-    + [tuple(range(8))],
 }
 
 
@@ -92,23 +82,7 @@ class Solid(BodyDefaults):
     """
 
     def __init__(self, mesh, material, element: str = "P1", plane: str = "strain", thickness=1.0):
-        if not isinstance(mesh, skfem.Mesh):
-            raise InputError(f"mesh must be a scikit-fem Mesh, got {type(mesh).__name__}")
-        cell = _REFDOMS.get(mesh.elem.refdom.__name__)
-        if cell is None:
-            raise InputError(
-                f"mesh must have triangles, quadrilaterals, tetrahedra or hexahedra, got "
-                f"{type(mesh).__name__}"
-            )
-        if mesh.t.shape[1] == 0 or mesh.p.shape[1] == 0:
-            raise InputError("mesh is empty: it has no elements")
-        check_finite("mesh coordinates", mesh.p)
-        unused = np.bincount(mesh.t.ravel(), minlength=mesh.nvertices) == 0
-        if np.any(unused):
-            raise InputError(
-                f"mesh: vertex {int(np.argmax(unused))} belongs to no element "
-                "(mesh.remove_unused_nodes() drops such points)"
-            )
+        cell = cell_kind(mesh)
         if not all(hasattr(material, a) for a in ("response", "rho", "linear")):
             raise InputError(f"material must be a fecontact material, got {material!r}")
         if not isinstance(element, str) or element not in ("P1", "P2"):
@@ -137,13 +111,13 @@ class Solid(BodyDefaults):
         self.fixed: set[int] = set()
 
         order = 1 if element == "P1" else 2
-        scalar = _ELEMENTS[cell][order - 1]()
+        scalar = ELEMENTS[cell][order - 1]()
         quadrature = {"quadrature": _MIDPOINT[cell]} if order == 1 and cell in _MIDPOINT else {}
         # a degenerate cell makes scikit-fem divide by zero; _check_cells then reports it
         with np.errstate(divide="ignore", invalid="ignore"):
             self._basis = skfem.Basis(mesh, scalar, intorder=2 * order, **quadrature)
             self._mass_basis = skfem.Basis(mesh, scalar, intorder=2 * order)
-        self._check_cells()
+        check_cells(mesh, self._basis, cell)
         b = self._basis
         self.X = np.ascontiguousarray(b.doflocs.T)
         self._enodes = np.ascontiguousarray(b.element_dofs.T)  # (E, n_loc)
@@ -169,58 +143,16 @@ class Solid(BodyDefaults):
     # -- construction -----------------------------------------------------------------------
     @classmethod
     def from_file(cls, path, material, scale: float = 1.0, offset=None, **options) -> Solid:
-        """Read a mesh file with meshio (any format it knows: .msh, .vtu, .vtk, .xdmf, ...).
-
-        The coordinates are multiplied by ``scale`` and then shifted by ``offset`` (m, d
-        components). ``options`` are those of :class:`Solid` (element, plane, thickness). The
-        dimension comes from the cells: tetrahedra or hexahedra make a 3D body, else triangles
-        or quadrilaterals a 2D one.
-        """
-        import meshio  # lazily: mesh I/O only when a file is read
-        from skfem.io.meshio import from_meshio
-
-        path = Path(path)
-        known = meshio.extension_to_filetypes
-        suffix = path.suffix.lower()
-        if suffix not in known and "".join(path.suffixes[-2:]).lower() not in known:
-            raise InputError(
-                f"unknown mesh file format {suffix or '(no extension)'!r} of {path.name}; "
-                "meshio reads " + ", ".join(sorted(known))
-            )
-        if not path.is_file():
-            raise InputError(f"mesh file not found: {path}")
-        try:
-            # .msh is also an ANSYS extension; meshio would try (and print) that reader first
-            data = meshio.read(path, file_format="gmsh" if suffix == ".msh" else None)
-        except Exception as err:  # meshio raises many types for corrupt files
-            raise InputError(f"cannot read mesh file {path.name}: {err}") from None
-        kinds = [names[k] for names in _ELEMENTS.values() for k in (2, 3)]
-        blocks = [(c.type, c.data) for c in data.cells if c.type in kinds]
-        if not blocks:
-            raise InputError(
-                f"{path.name} has no {', '.join(kinds)} cells "
-                f"(found {', '.join(c.type for c in data.cells) or 'none'})"
-            )
-        # keep the cells only, and the points they use: files often carry others (gmsh
-        # geometry points, boundary lines)
-        used = np.unique(np.concatenate([conn.ravel() for _, conn in blocks]))
-        index = np.full(len(data.points), -1)
-        index[used] = np.arange(len(used))
-        data = meshio.Mesh(data.points[used], [(kind, index[conn]) for kind, conn in blocks])
-        mesh = from_meshio(data)
-        mesh = mesh.scaled(check_positive("scale", scale))
-        if offset is not None:
-            mesh = mesh.translated(_check_point("offset", offset, mesh.dim()))
-        return cls(mesh, material, **options)
+        """Solid on a mesh file read with meshio (:func:`fecontact.bodies.meshes.read_mesh`:
+        coordinates times ``scale`` (> 0), then shifted by ``offset`` (m)); ``options`` are
+        those of :class:`Solid` (element, plane, thickness)."""
+        return cls(read_mesh(path, scale, offset), material, **options)
 
     @classmethod
     def disk(cls, center, radius: float, refinements: int, material, **options) -> Solid:
         """Disk of ``radius`` (m) at ``center`` (2-vector, m), triangles refined
         ``refinements`` times (4^refinements × 8 elements; at most 9: 2^21 elements)."""
-        c = _check_point("center", center, 2)
-        r = check_positive("radius", radius)
-        m = skfem.MeshTri.init_circle(check_count("refinements", refinements, 0, 9))
-        return cls(m.scaled(r).translated(c), material, **options)
+        return cls(disk_mesh(center, radius, refinements), material, **options)
 
     @classmethod
     def ball(cls, center, radius: float, refinements: int, material, **options) -> Solid:
@@ -229,68 +161,20 @@ class Solid(BodyDefaults):
         vertices on the sphere. With ``element="P2"`` the cells are quadratic (isoparametric)
         with the boundary's edge nodes on the sphere too: the surface is curved, not a
         polyhedron."""
-        c = _check_point("center", center, 3)
-        r = check_positive("radius", radius)
-        kind = skfem.MeshTet2 if options.get("element") == "P2" else skfem.MeshTet
-        m = kind.init_ball(check_count("refinements", refinements, 0, 6))
-        return cls(m.scaled(r).translated(c), material, **options)
+        mesh = ball_mesh(center, radius, refinements, options.get("element") == "P2")
+        return cls(mesh, material, **options)
 
     @classmethod
     def rectangle(cls, lower, upper, divisions, material, cell="triangle", **options) -> Solid:
         """Rectangle between corners ``lower`` and ``upper`` (m) with ``divisions`` = n or
         (n_x, n_y) cells per side; ``cell`` "triangle" (two per square) or "quad"."""
-        axes = _grid_axes(lower, upper, divisions, 2)
-        kinds = {"triangle": skfem.MeshTri, "quad": skfem.MeshQuad}
-        if cell not in kinds:
-            raise InputError(f"cell must be 'triangle' or 'quad', got {cell!r}")
-        return cls(kinds[cell].init_tensor(*axes), material, **options)
+        return cls(rectangle_mesh(lower, upper, divisions, cell), material, **options)
 
     @classmethod
     def box(cls, lower, upper, divisions, material, cell="tetra", **options) -> Solid:
         """Box between corners ``lower`` and ``upper`` (m) with ``divisions`` = n or
         (n_x, n_y, n_z) cells per side; ``cell`` "tetra" (six per cube) or "hexahedron"."""
-        axes = _grid_axes(lower, upper, divisions, 3)
-        kinds = {"tetra": skfem.MeshTet, "hexahedron": skfem.MeshHex}
-        if cell not in kinds:
-            raise InputError(f"cell must be 'tetra' or 'hexahedron', got {cell!r}")
-        return cls(kinds[cell].init_tensor(*axes), material, **options)
-
-    def _check_cells(self):
-        """Reject degenerate, folded and inverted cells (see the module docstring)."""
-        mesh, b = self.mesh, self._basis
-        corners = mesh.elem.refdom.p if self.cell in ("quad", "hex") else np.zeros((self.dim, 0))
-        det = b.mapping.detDF(np.hstack([b.X, corners]))
-        scale = np.median(np.abs(det))
-        tol = 1e-10 * scale
-        sign = np.sign(det[:, :1])
-        bad = np.any(det * sign <= tol, axis=1)
-        if np.any(bad):
-            e = int(np.argmax(bad))
-            raise InputError(
-                f"mesh: element {e} (nodes {mesh.t[:, e].tolist()}) is degenerate or folded: "
-                f"the Jacobian determinant of its map vanishes or changes sign inside it (from "
-                f"{det[e].min():.3e} to {det[e].max():.3e}; typical magnitude {scale:.3e})"
-            )
-        # two cells sharing a facet must lie on either side of it; a flipped cell does not
-        f2t = mesh.f2t
-        inner = np.flatnonzero(f2t[1] >= 0)
-        if inner.size == 0:
-            return
-        P = mesh.p.T
-        fx = P[mesh.facets[:, inner].T]  # (F, facet vertex, d)
-        n = _facet_normals(fx)
-        centroid = P[mesh.t].mean(axis=0)
-        x0 = fx.mean(axis=1)
-        s1 = np.einsum("fi,fi->f", centroid[f2t[0, inner]] - x0, n)
-        s2 = np.einsum("fi,fi->f", centroid[f2t[1, inner]] - x0, n)
-        overlap = s1 * s2 >= 0.0
-        if np.any(overlap):
-            counts = np.bincount(f2t[:, inner[overlap]].ravel(), minlength=mesh.t.shape[1])
-            e = int(np.argmax(counts))
-            raise InputError(
-                f"mesh: element {e} (nodes {mesh.t[:, e].tolist()}) is inverted: it overlaps "
-                f"its neighbours across {counts[e]} facet(s)"
-            )
+        return cls(box_mesh(lower, upper, divisions, cell), material, **options)
 
     # -- supports ----------------------------------------------------------------------------
     def node_index(self, node: int) -> int:
@@ -381,7 +265,7 @@ class Solid(BodyDefaults):
         return F, 0.5 * (H + Ht + np.einsum("kiqe,kjqe->ijqe", H, H))
 
     def _barrier_hit(self, F) -> bool:
-        return F is not None and self.material.barrier and np.any(_det(F) <= 0.0)
+        return F is not None and self.material.barrier and np.any(det(F) <= 0.0)
 
     def _element_tangent(self, F, CC, S):
         """K_e (E, n_loc·d, n_loc·d) from A_iJkL = F_iI ℂ_IJKL F_kK + δ_ik S_JL (F = I when
@@ -489,7 +373,7 @@ class Solid(BodyDefaults):
         if self.linear:
             return S
         F3[:d, :d] = F
-        return np.einsum("iIqe,IJqe,jJqe->ijqe", F3, S, F3) / _det(F3)
+        return np.einsum("iIqe,IJqe,jJqe->ijqe", F3, S, F3) / det(F3)
 
     def cell_data(self, q: np.ndarray) -> dict[str, np.ndarray]:
         """Per-cell output: ``stress_von_mises`` (Pa), √(3/2 s:s) with s the deviator of σ,
@@ -538,19 +422,7 @@ class Solid(BodyDefaults):
         out of the body: 2D segments (a, b) with outward normal (t_y, −t_x), t = x_b − x_a (the
         boundary runs counter-clockwise); 3D triangles or quadrilaterals with outward normal by
         the right-hand rule. P2 nodes inside the facets are not listed."""
-        return self._oriented_boundary()[1]
-
-    def _oriented_boundary(self):
-        """Indices of the boundary facets in the mesh and their outward-numbered vertices."""
-        mesh = self.mesh
-        bf = mesh.boundary_facets()
-        facets = mesh.facets[:, bf].T.copy()
-        P = mesh.p.T
-        x = P[facets]
-        inside = P[mesh.t[:, mesh.f2t[0, bf]]].mean(axis=0) - x.mean(axis=1)
-        flip = np.einsum("fi,fi->f", _facet_normals(x), inside) > 0.0
-        facets[flip] = facets[flip, ::-1]
-        return bf, facets
+        return oriented_boundary(self.mesh)[1]
 
     def contact_facets(self) -> np.ndarray:
         """The boundary as flat pieces for node-to-surface contact, numbered like
@@ -561,39 +433,12 @@ class Solid(BodyDefaults):
         quadrilateral into 4 quadrilaterals. Quadrilaterals (a, b, c, d) are then split along
         the diagonal a–c into (a, b, c) and (a, c, d).
         """
-        bf, facets = self._oriented_boundary()
+        bf, facets = oriented_boundary(self.mesh)
         if self.element == "P2":
-            facets = self._split_quadratic(bf, facets)
+            facets = split_quadratic(self.mesh, self._basis, bf, facets)
         if facets.shape[1] == 4:
             facets = np.concatenate([facets[:, [0, 1, 2]], facets[:, [0, 2, 3]]])
         return np.ascontiguousarray(facets)
-
-    def _split_quadratic(self, bf, facets):
-        """Sub-facets of P2 boundary facets through their mid-edge and mid-face nodes."""
-        mesh, b = self.mesh, self._basis
-        n = mesh.nvertices
-        if self.dim == 2:
-            m = b.facet_dofs[0, bf]
-            return np.concatenate([np.stack([facets[:, 0], m], 1), np.stack([m, facets[:, 1]], 1)])
-        edges = np.sort(mesh.edges, axis=0)
-        keys = edges[0].astype(np.int64) * n + edges[1]
-        order = np.argsort(keys)
-
-        def mid(i, j):
-            a, c = facets[:, i], facets[:, j]
-            k = np.minimum(a, c).astype(np.int64) * n + np.maximum(a, c)
-            return b.edge_dofs[0, order[np.searchsorted(keys, k, sorter=order)]]
-
-        if facets.shape[1] == 3:
-            a, c, d = facets.T
-            ab, bc, ca = mid(0, 1), mid(1, 2), mid(2, 0)
-            parts = [(a, ab, ca), (ab, c, bc), (ca, bc, d), (ab, bc, ca)]
-        else:
-            a, c, d, e = facets.T
-            ab, bc, cd, da = mid(0, 1), mid(1, 2), mid(2, 3), mid(3, 0)
-            o = b.facet_dofs[0, bf]
-            parts = [(a, ab, o, da), (ab, c, bc, o), (o, bc, d, cd), (da, o, cd, e)]
-        return np.concatenate([np.stack(p, axis=1) for p in parts])
 
     def point_data(self, q: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:
         """Nodal fields for output: ``displacement`` (m) and ``velocity`` (m/s), (n_nodes, d)."""
@@ -602,67 +447,9 @@ class Solid(BodyDefaults):
     def cells(self) -> list[tuple[str, np.ndarray]]:
         """Cells for VTU output in meshio/VTK numbering: triangle, quad, tetra, hexahedron
         (P1) or triangle6, quad9, tetra10, hexahedron27 (P2), over the body's nodes."""
-        t = self.mesh.t.T.copy()
-        if self.cell == "hex":
-            t = t[:, _HEX_TO_VTK]
-        elif self.cell in ("tri", "tet"):
-            # scikit-fem sorts simplex vertices; VTK wants positive orientation (signed volumes)
-            P = self.mesh.p.T
-            edges = P[t[:, 1:]] - P[t[:, :1]]
-            flip = np.linalg.det(edges) < 0.0
-            t[flip, 1], t[flip, 2] = t[flip, 2], t[flip, 1].copy()
-        names = _ELEMENTS[self.cell]
-        if self.element == "P1":
-            return [(names[2], np.ascontiguousarray(t))]
-        X, en = self.X, self._enodes
-        extra = np.stack([X[t[:, list(c)]].mean(axis=1) for c in _VTK_P2_NODES[self.cell]], 1)
-        dist = np.linalg.norm(extra[:, :, None, :] - X[en][:, None, :, :], axis=-1)
-        pick = np.argmin(dist, axis=2)
-        return [(names[3], np.hstack([t, np.take_along_axis(en, pick, axis=1)]))]
-
-
-def _det(A: np.ndarray) -> np.ndarray:
-    """Determinants of 2×2 or 3×3 matrices A (d, d, *points)."""
-    if len(A) == 2:
-        return A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]
-    return (
-        A[0, 0] * (A[1, 1] * A[2, 2] - A[1, 2] * A[2, 1])
-        - A[0, 1] * (A[1, 0] * A[2, 2] - A[1, 2] * A[2, 0])
-        + A[0, 2] * (A[1, 0] * A[2, 1] - A[1, 1] * A[2, 0])
-    )
-
-
-def _facet_normals(x: np.ndarray) -> np.ndarray:
-    """Normals (F, d) of facets with vertex coordinates x (F, k, d), not normalised: segments
-    (a, b) → (t_y, −t_x); triangles (b − a) × (c − a); quadrilaterals (c − a) × (d − b)."""
-    if x.shape[2] == 2:
-        t = x[:, 1] - x[:, 0]
-        return np.stack([t[:, 1], -t[:, 0]], axis=1)
-    if x.shape[1] == 3:
-        return np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
-    return np.cross(x[:, 2] - x[:, 0], x[:, 3] - x[:, 1])
+        en = None if self.element == "P1" else self._enodes
+        return vtk_cells(self.mesh, self.cell, self.X, en)
 
 
 def _is_int(value) -> bool:
     return isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
-
-
-def _check_point(name: str, value, dim: int) -> np.ndarray:
-    x = check_finite(name, value).ravel()
-    if x.shape != (dim,):
-        raise InputError(f"{name} must have {dim} components, got {x.shape[0]}")
-    return x
-
-
-def _grid_axes(lower, upper, divisions, dim):
-    lo, hi = _check_point("lower", lower, dim), _check_point("upper", upper, dim)
-    if np.any(hi <= lo):
-        raise InputError(f"upper must exceed lower in every component, got {lower}, {upper}")
-    try:
-        per_axis = np.broadcast_to(np.asarray(divisions, dtype=object), (dim,))
-    except ValueError:
-        raise InputError(f"divisions must be one count or {dim}, got {divisions!r}") from None
-    n = [check_count("divisions", k, 1, MAX_CELLS) for k in per_axis]
-    if np.prod(n, dtype=float) > MAX_CELLS:
-        raise InputError(f"divisions must give at most {MAX_CELLS} cells, got {divisions!r}")
-    return [np.linspace(lo[i], hi[i], n[i] + 1) for i in range(dim)]

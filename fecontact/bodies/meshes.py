@@ -1,0 +1,257 @@
+"""Meshes of solid bodies: generators, files read with meshio, the checks a mesh must pass,
+and its oriented boundary.
+
+Cell kinds are scikit-fem's reference domains: triangles and quadrilaterals (2D),
+tetrahedra and hexahedra (3D), with linear or quadratic (P2) geometry.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import skfem
+
+from ..errors import InputError, check_count, check_finite, check_positive
+
+__all__ = [
+    "ELEMENTS",
+    "MAX_CELLS",
+    "ball_mesh",
+    "box_mesh",
+    "cell_kind",
+    "check_cells",
+    "disk_mesh",
+    "facet_normals",
+    "oriented_boundary",
+    "read_mesh",
+    "rectangle_mesh",
+    "split_quadratic",
+]
+
+ELEMENTS = {
+    "tri": (skfem.ElementTriP1, skfem.ElementTriP2, "triangle", "triangle6"),
+    "quad": (skfem.ElementQuad1, skfem.ElementQuad2, "quad", "quad9"),
+    "tet": (skfem.ElementTetP1, skfem.ElementTetP2, "tetra", "tetra10"),
+    "hex": (skfem.ElementHex1, skfem.ElementHex2, "hexahedron", "hexahedron27"),
+}
+"""Scalar Lagrange elements (P1, P2) of each reference cell, and the cell's meshio names."""
+MAX_CELLS = 2**21  # grid bodies: a mesh of about 1e6 nodes is the most a direct solver takes
+_REFDOMS = {"RefTri": "tri", "RefQuad": "quad", "RefTet": "tet", "RefHex": "hex"}
+
+
+def cell_kind(mesh) -> str:
+    """The cell kind ("tri", "quad", "tet", "hex") of a scikit-fem mesh, after the checks every
+    body's mesh must pass: a known cell, not empty, finite coordinates, no loose vertex."""
+    if not isinstance(mesh, skfem.Mesh):
+        raise InputError(f"mesh must be a scikit-fem Mesh, got {type(mesh).__name__}")
+    cell = _REFDOMS.get(mesh.elem.refdom.__name__)
+    if cell is None:
+        raise InputError(
+            f"mesh must have triangles, quadrilaterals, tetrahedra or hexahedra, got "
+            f"{type(mesh).__name__}"
+        )
+    if mesh.t.shape[1] == 0 or mesh.p.shape[1] == 0:
+        raise InputError("mesh is empty: it has no elements")
+    check_finite("mesh coordinates", mesh.p)
+    unused = np.bincount(mesh.t.ravel(), minlength=mesh.nvertices) == 0
+    if np.any(unused):
+        raise InputError(
+            f"mesh: vertex {int(np.argmax(unused))} belongs to no element "
+            "(mesh.remove_unused_nodes() drops such points)"
+        )
+    return cell
+
+
+def read_mesh(path, scale: float = 1.0, offset=None):
+    """A mesh file read with meshio (any format it knows: .msh, .vtu, .vtk, .xdmf, ...), its
+    coordinates multiplied by ``scale`` and then shifted by ``offset`` (m, d components). The
+    dimension comes from the cells: tetrahedra or hexahedra make a 3D mesh, else triangles or
+    quadrilaterals a 2D one; other cells (boundary lines, gmsh geometry points) are dropped."""
+    import meshio  # lazily: mesh I/O only when a file is read
+    from skfem.io.meshio import from_meshio
+
+    path = Path(path)
+    known = meshio.extension_to_filetypes
+    suffix = path.suffix.lower()
+    if suffix not in known and "".join(path.suffixes[-2:]).lower() not in known:
+        raise InputError(
+            f"unknown mesh file format {suffix or '(no extension)'!r} of {path.name}; "
+            "meshio reads " + ", ".join(sorted(known))
+        )
+    if not path.is_file():
+        raise InputError(f"mesh file not found: {path}")
+    try:
+        # .msh is also an ANSYS extension; meshio would try (and print) that reader first
+        data = meshio.read(path, file_format="gmsh" if suffix == ".msh" else None)
+    except Exception as err:  # meshio raises many types for corrupt files
+        raise InputError(f"cannot read mesh file {path.name}: {err}") from None
+    kinds = [names[k] for names in ELEMENTS.values() for k in (2, 3)]
+    blocks = [(c.type, c.data) for c in data.cells if c.type in kinds]
+    if not blocks:
+        raise InputError(
+            f"{path.name} has no {', '.join(kinds)} cells "
+            f"(found {', '.join(c.type for c in data.cells) or 'none'})"
+        )
+    # keep the cells only, and the points they use
+    used = np.unique(np.concatenate([conn.ravel() for _, conn in blocks]))
+    index = np.full(len(data.points), -1)
+    index[used] = np.arange(len(used))
+    data = meshio.Mesh(data.points[used], [(kind, index[conn]) for kind, conn in blocks])
+    mesh = from_meshio(data).scaled(check_positive("scale", scale))
+    if offset is not None:
+        mesh = mesh.translated(check_point("offset", offset, mesh.dim()))
+    return mesh
+
+
+def disk_mesh(center, radius: float, refinements: int):
+    """Disk of ``radius`` (m) at ``center`` (2-vector, m), triangles refined ``refinements``
+    times (4^refinements × 8 elements; at most 9: 2^21 elements)."""
+    c = check_point("center", center, 2)
+    r = check_positive("radius", radius)
+    m = skfem.MeshTri.init_circle(check_count("refinements", refinements, 0, 9))
+    return m.scaled(r).translated(c)
+
+
+def ball_mesh(center, radius: float, refinements: int, quadratic: bool = False):
+    """Ball of ``radius`` (m) at ``center`` (3-vector, m), tetrahedra refined ``refinements``
+    times (8^refinements × 8 elements; at most 6: 2^21 elements), boundary vertices on the
+    sphere; ``quadratic`` cells (isoparametric) put the boundary's edge nodes on it too."""
+    c = check_point("center", center, 3)
+    r = check_positive("radius", radius)
+    kind = skfem.MeshTet2 if quadratic else skfem.MeshTet
+    return kind.init_ball(check_count("refinements", refinements, 0, 6)).scaled(r).translated(c)
+
+
+def rectangle_mesh(lower, upper, divisions, cell: str = "triangle"):
+    """Rectangle between corners ``lower`` and ``upper`` (m) with ``divisions`` = n or
+    (n_x, n_y) cells per side; ``cell`` "triangle" (two per square) or "quad"."""
+    axes = _grid_axes(lower, upper, divisions, 2)
+    kinds = {"triangle": skfem.MeshTri, "quad": skfem.MeshQuad}
+    if cell not in kinds:
+        raise InputError(f"cell must be 'triangle' or 'quad', got {cell!r}")
+    return kinds[cell].init_tensor(*axes)
+
+
+def box_mesh(lower, upper, divisions, cell: str = "tetra"):
+    """Box between corners ``lower`` and ``upper`` (m) with ``divisions`` = n or
+    (n_x, n_y, n_z) cells per side; ``cell`` "tetra" (six per cube) or "hexahedron"."""
+    axes = _grid_axes(lower, upper, divisions, 3)
+    kinds = {"tetra": skfem.MeshTet, "hexahedron": skfem.MeshHex}
+    if cell not in kinds:
+        raise InputError(f"cell must be 'tetra' or 'hexahedron', got {cell!r}")
+    return kinds[cell].init_tensor(*axes)
+
+
+def check_cells(mesh, basis, cell: str) -> None:
+    """Reject degenerate, folded and inverted cells: the Jacobian determinant of each cell's
+    map must keep one sign (at the quadrature points and, for quadrilaterals and hexahedra,
+    the corners), and two cells sharing a facet must lie on either side of it."""
+    dim = mesh.dim()
+    corners = mesh.elem.refdom.p if cell in ("quad", "hex") else np.zeros((dim, 0))
+    det = basis.mapping.detDF(np.hstack([basis.X, corners]))
+    scale = np.median(np.abs(det))
+    tol = 1e-10 * scale
+    sign = np.sign(det[:, :1])
+    bad = np.any(det * sign <= tol, axis=1)
+    if np.any(bad):
+        e = int(np.argmax(bad))
+        raise InputError(
+            f"mesh: element {e} (nodes {mesh.t[:, e].tolist()}) is degenerate or folded: "
+            f"the Jacobian determinant of its map vanishes or changes sign inside it (from "
+            f"{det[e].min():.3e} to {det[e].max():.3e}; typical magnitude {scale:.3e})"
+        )
+    f2t = mesh.f2t
+    inner = np.flatnonzero(f2t[1] >= 0)
+    if inner.size == 0:
+        return
+    P = mesh.p.T
+    fx = P[mesh.facets[:, inner].T]  # (F, facet vertex, d)
+    n = facet_normals(fx)
+    centroid = P[mesh.t].mean(axis=0)
+    x0 = fx.mean(axis=1)
+    s1 = np.einsum("fi,fi->f", centroid[f2t[0, inner]] - x0, n)
+    s2 = np.einsum("fi,fi->f", centroid[f2t[1, inner]] - x0, n)
+    overlap = s1 * s2 >= 0.0
+    if np.any(overlap):
+        counts = np.bincount(f2t[:, inner[overlap]].ravel(), minlength=mesh.t.shape[1])
+        e = int(np.argmax(counts))
+        raise InputError(
+            f"mesh: element {e} (nodes {mesh.t[:, e].tolist()}) is inverted: it overlaps "
+            f"its neighbours across {counts[e]} facet(s)"
+        )
+
+
+def oriented_boundary(mesh):
+    """Indices of the boundary facets in the mesh and their vertices numbered so that the
+    normal (:func:`facet_normals`) points out of the body."""
+    bf = mesh.boundary_facets()
+    facets = mesh.facets[:, bf].T.copy()
+    P = mesh.p.T
+    x = P[facets]
+    inside = P[mesh.t[:, mesh.f2t[0, bf]]].mean(axis=0) - x.mean(axis=1)
+    flip = np.einsum("fi,fi->f", facet_normals(x), inside) > 0.0
+    facets[flip] = facets[flip, ::-1]
+    return bf, facets
+
+
+def split_quadratic(mesh, basis, bf, facets):
+    """Sub-facets of P2 boundary facets ``facets`` (mesh facets ``bf``) through their mid-edge
+    and mid-face nodes: a segment into 2 segments, a triangle into 4 triangles, a
+    quadrilateral into 4 quadrilaterals, numbered like the facet."""
+    n = mesh.nvertices
+    if mesh.dim() == 2:
+        m = basis.facet_dofs[0, bf]
+        return np.concatenate([np.stack([facets[:, 0], m], 1), np.stack([m, facets[:, 1]], 1)])
+    edges = np.sort(mesh.edges, axis=0)
+    keys = edges[0].astype(np.int64) * n + edges[1]
+    order = np.argsort(keys)
+
+    def mid(i, j):
+        a, c = facets[:, i], facets[:, j]
+        k = np.minimum(a, c).astype(np.int64) * n + np.maximum(a, c)
+        return basis.edge_dofs[0, order[np.searchsorted(keys, k, sorter=order)]]
+
+    if facets.shape[1] == 3:
+        a, c, d = facets.T
+        ab, bc, ca = mid(0, 1), mid(1, 2), mid(2, 0)
+        parts = [(a, ab, ca), (ab, c, bc), (ca, bc, d), (ab, bc, ca)]
+    else:
+        a, c, d, e = facets.T
+        ab, bc, cd, da = mid(0, 1), mid(1, 2), mid(2, 3), mid(3, 0)
+        o = basis.facet_dofs[0, bf]
+        parts = [(a, ab, o, da), (ab, c, bc, o), (o, bc, d, cd), (da, o, cd, e)]
+    return np.concatenate([np.stack(p, axis=1) for p in parts])
+
+
+def facet_normals(x: np.ndarray) -> np.ndarray:
+    """Normals (F, d) of facets with vertex coordinates x (F, k, d), not normalised: segments
+    (a, b) → (t_y, −t_x); triangles (b − a) × (c − a); quadrilaterals (c − a) × (d − b)."""
+    if x.shape[2] == 2:
+        t = x[:, 1] - x[:, 0]
+        return np.stack([t[:, 1], -t[:, 0]], axis=1)
+    if x.shape[1] == 3:
+        return np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
+    return np.cross(x[:, 2] - x[:, 0], x[:, 3] - x[:, 1])
+
+
+def check_point(name: str, value, dim: int) -> np.ndarray:
+    """A finite point of ``dim`` components (m)."""
+    x = check_finite(name, value).ravel()
+    if x.shape != (dim,):
+        raise InputError(f"{name} must have {dim} components, got {x.shape[0]}")
+    return x
+
+
+def _grid_axes(lower, upper, divisions, dim):
+    lo, hi = check_point("lower", lower, dim), check_point("upper", upper, dim)
+    if np.any(hi <= lo):
+        raise InputError(f"upper must exceed lower in every component, got {lower}, {upper}")
+    try:
+        per_axis = np.broadcast_to(np.asarray(divisions, dtype=object), (dim,))
+    except ValueError:
+        raise InputError(f"divisions must be one count or {dim}, got {divisions!r}") from None
+    n = [check_count("divisions", k, 1, MAX_CELLS) for k in per_axis]
+    if np.prod(n, dtype=float) > MAX_CELLS:
+        raise InputError(f"divisions must give at most {MAX_CELLS} cells, got {divisions!r}")
+    return [np.linspace(lo[i], hi[i], n[i] + 1) for i in range(dim)]
