@@ -42,6 +42,14 @@ from skfem.models.poisson import mass as _mass_form
 from ..errors import InputError, check_finite, check_positive
 from ..io.vtk_cells import vtk_cells
 from .base import BodyDefaults
+from .elasticity import (
+    Quadrature,
+    cauchy_stress,
+    deformation,
+    displacement_gradient,
+    element_tangent,
+    internal_force,
+)
 from .materials import PLANES
 from .meshes import (
     ELEMENTS,
@@ -118,22 +126,14 @@ class Solid(BodyDefaults):
             self._basis = skfem.Basis(mesh, scalar, intorder=2 * order, **quadrature)
             self._mass_basis = skfem.Basis(mesh, scalar, intorder=2 * order)
         check_cells(mesh, self._basis, cell)
-        b = self._basis
-        self.X = np.ascontiguousarray(b.doflocs.T)
-        self._enodes = np.ascontiguousarray(b.element_dofs.T)  # (E, n_loc)
-        # scikit-fem's layout with the points last and elements innermost: ∇N_a as
-        # (n_loc, d, Q, E) and dV = weight · |det ∂x/∂ξ| · thickness as (Q, E)
-        grads = np.stack([phi[0].grad for phi in b.basis])
-        self._G = np.ascontiguousarray(grads.swapaxes(-1, -2))
-        self._w = np.ascontiguousarray(b.dx.T) * self.thickness
-        d = self.dim
-        self.element_dofs = (d * self._enodes[:, :, None] + np.arange(d)).reshape(
-            len(self._enodes), -1
-        )
+        self.X = np.ascontiguousarray(self._basis.doflocs.T)
+        self._quad = Quadrature.of(self._basis, self.thickness)
+        self.element_dofs = self._quad.dofs
         self._K = self._Ke = None
         if self.linear:
-            _, _, CC = material.response(np.zeros((d, d) + self._w.shape), self.plane)
-            self._Ke = self._element_tangent(None, CC, None)
+            d, dV = self.dim, self._quad.dV
+            _, _, CC = material.response(np.zeros((d, d) + dV.shape), self.plane)
+            self._Ke = element_tangent(self._quad, None, CC, None)
             rows = np.broadcast_to(self.element_dofs[:, :, None], self._Ke.shape)
             cols = np.broadcast_to(self.element_dofs[:, None, :], self._Ke.shape)
             self._K = sp.csr_matrix(
@@ -221,7 +221,7 @@ class Solid(BodyDefaults):
 
     @property
     def n_elements(self) -> int:
-        return len(self._enodes)
+        return len(self._quad.nodes)
 
     @property
     def volume(self) -> float:
@@ -249,44 +249,12 @@ class Solid(BodyDefaults):
         return float(np.min(np.linalg.norm(np.diff(mesh.p[:, edges], axis=1)[:, 0], axis=0)))
 
     # -- kernels -----------------------------------------------------------------------------
-    def _displacement_gradient(self, q):
-        """H = ∇u as (d, d, Q, E)."""
-        Ue = np.asarray(q, dtype=float).reshape(-1, self.dim).T[:, self._enodes.T]
-        return np.einsum("iae,ajqe->ijqe", Ue, self._G)
-
-    def _strain(self, H):
-        """F (None for the linear material) and the strain E of the material."""
-        Ht = H.swapaxes(0, 1)
-        if self.linear:
-            return None, 0.5 * (H + Ht)
-        F = H.copy()
-        for i in range(self.dim):
-            F[i, i] += 1.0
-        return F, 0.5 * (H + Ht + np.einsum("kiqe,kjqe->ijqe", H, H))
+    def _strain(self, q):
+        """F (None for the linear material) and the material's strain at q."""
+        return deformation(displacement_gradient(self._quad, q), self.linear)
 
     def _barrier_hit(self, F) -> bool:
         return F is not None and self.material.barrier and np.any(det(F) <= 0.0)
-
-    def _element_tangent(self, F, CC, S):
-        """K_e (E, n_loc·d, n_loc·d) from A_iJkL = F_iI ℂ_IJKL F_kK + δ_ik S_JL (F = I when
-        None, no S term when None)."""
-        if F is None:
-            A = np.broadcast_to(CC, CC.shape[:4] + self._w.shape)
-        else:
-            FC = np.einsum("iI...,IJKL...->iJKL...", F, CC)
-            A = np.einsum("iJKL...,kK...->iJkL...", FC, F)
-        if S is not None:
-            for i in range(self.dim):
-                A[i, :, i] += S
-        AG = np.einsum("iJkL...,bL...->Jibk...", A, self._G)  # (J, i, b, k, Q, E)
-        # element-major from here: one batched matmul per element, contracting over the
-        # quadrature points and J together, writes K_e contiguous as Pattern reads it
-        n_el, n = self._G.shape[-1], self.element_dofs.shape[1]
-        AG = np.ascontiguousarray(AG.transpose(5, 4, 0, 1, 2, 3)).reshape(n_el, -1, n * self.dim)
-        Gw = np.ascontiguousarray((self._G * self._w).transpose(3, 0, 2, 1)).reshape(
-            n_el, len(self._G), -1
-        )
-        return np.matmul(Gw, AG).reshape(n_el, n, n)
 
     def internal(self, q: np.ndarray, tangent: bool = True):
         """Strain energy W (J), internal force ∂W/∂q (N, (ndof,)) and element tangents
@@ -297,22 +265,20 @@ class Solid(BodyDefaults):
         if self.linear:
             f = self._K @ q
             return 0.5 * float(q @ f), f, self._Ke if tangent else None
-        F, E = self._strain(self._displacement_gradient(q))
+        F, E = self._strain(q)
         if self._barrier_hit(F):
             Ke = np.full(self._Ke_shape(), np.nan) if tangent else None
             return np.inf, np.full(self.ndof, np.nan), Ke
         W, S, CC = self.material.response(E, self.plane, tangent)
-        P = np.einsum("iIqe,IJqe->iJqe", F, S)
-        fe = np.einsum("qe,iJqe,aJqe->eai", self._w, P, self._G)
-        f = np.bincount(self.element_dofs.ravel(), fe.ravel(), minlength=self.ndof)
-        Ke = self._element_tangent(F, CC, S) if tangent else None
-        return float(np.sum(self._w * W)), f, Ke
+        f = internal_force(self._quad, F, S, self.ndof)
+        Ke = element_tangent(self._quad, F, CC, S) if tangent else None
+        return float(np.sum(self._quad.dV * W)), f, Ke
 
     def inverted(self, q: np.ndarray) -> bool:
         """Whether q inverts an element (det F ≤ 0) of a body whose energy forbids it."""
         if self.linear or not self.material.barrier:
             return False
-        return self._barrier_hit(self._strain(self._displacement_gradient(q))[0])
+        return self._barrier_hit(self._strain(q)[0])
 
     def _Ke_shape(self):
         n = self.element_dofs.shape[1]
@@ -322,11 +288,11 @@ class Solid(BodyDefaults):
         """Strain energy W(q) in J (inf for an inverted Neo-Hookean element)."""
         if self.linear:
             return 0.5 * float(q @ (self._K @ q))
-        F, E = self._strain(self._displacement_gradient(q))
+        F, E = self._strain(q)
         if self._barrier_hit(F):
             return np.inf
         W = self.material.response(E, self.plane, tangent=False)[0]
-        return float(np.sum(self._w * W))
+        return float(np.sum(self._quad.dV * W))
 
     def stiffness_matrix(self) -> sp.csr_matrix:
         """Constant stiffness K (N/m, ndof × ndof, no supports) of a linear body."""
@@ -359,21 +325,7 @@ class Solid(BodyDefaults):
         return np.moveaxis(self._cauchy(q), (0, 1), (-2, -1)).swapaxes(0, 1)
 
     def _cauchy(self, q):
-        F, E = self._strain(self._displacement_gradient(q))
-        d = self.dim
-        E3 = np.zeros((3, 3) + E.shape[2:])
-        E3[:d, :d] = E
-        F3 = np.zeros_like(E3)
-        for i in range(3):
-            F3[i, i] = 1.0
-        if d == 2:
-            E3[2, 2] = self.material.out_of_plane(E, self.plane)[0]
-            F3[2, 2] = np.sqrt(1.0 + 2.0 * E3[2, 2])
-        S = self.material.response3(E3, tangent=False)[1]
-        if self.linear:
-            return S
-        F3[:d, :d] = F
-        return np.einsum("iIqe,IJqe,jJqe->ijqe", F3, S, F3) / det(F3)
+        return cauchy_stress(self.material, self.plane, *self._strain(q))
 
     def cell_data(self, q: np.ndarray) -> dict[str, np.ndarray]:
         """Per-cell output: ``stress_von_mises`` (Pa), √(3/2 s:s) with s the deviator of σ,
@@ -384,7 +336,7 @@ class Solid(BodyDefaults):
         for i in range(3):
             s[i, i] += p
         vm = np.sqrt(1.5 * np.sum(s * s, axis=(0, 1)))
-        w = self._w / self._w.sum(axis=0)
+        w = self._quad.dV / self._quad.dV.sum(axis=0)
         return {"stress_von_mises": np.sum(w * vm, axis=0), "pressure": np.sum(w * p, axis=0)}
 
     # -- geometry and output -----------------------------------------------------------------
@@ -447,7 +399,7 @@ class Solid(BodyDefaults):
     def cells(self) -> list[tuple[str, np.ndarray]]:
         """Cells for VTU output in meshio/VTK numbering: triangle, quad, tetra, hexahedron
         (P1) or triangle6, quad9, tetra10, hexahedron27 (P2), over the body's nodes."""
-        en = None if self.element == "P1" else self._enodes
+        en = None if self.element == "P1" else self._quad.nodes
         return vtk_cells(self.mesh, self.cell, self.X, en)
 
 
