@@ -23,12 +23,12 @@ from fecontact import (
 )
 from fecontact.bodies.rigid import Disk, PointMass, Polygon, RigidBody2D, rotation
 from fecontact.contact import NodeContact
+from fecontact.contact.geometry import polygon_distance
 from fecontact.contact.rigid_pairs import (
     DiskBeamContact,
     DiskDiskContact,
     DiskObstacleContact,
     DiskPolygonContact,
-    polygon_distance,
 )
 
 RNG_SEED = 20240611

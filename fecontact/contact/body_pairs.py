@@ -14,7 +14,7 @@ master body):
 
 The gap is the distance to the facet's plane (the line in 2D), extended beyond the facet. Its
 gradient G = ∂g/∂(x_s, facet nodes) and Hessian ∇²g are exact: in 2D those of
-:func:`fecontact.rigid_contact.point_line_distance`; in 3D, with r = x_s − x_a, u = x_b − x_a,
+:func:`fecontact.contact.geometry.point_line_distance`; in 3D, with r = x_s − x_a, u = x_b − x_a,
 w = x_c − x_a, s = r·N and ν = |N|, g = s/ν and
 
     ∇²g = ∇²s/ν − (∇s ∇νᵀ + ∇ν ∇sᵀ)/ν² + s (2 ∇ν ∇νᵀ/ν³ − ∇²ν/ν²),
@@ -50,7 +50,7 @@ from ..bodies.beam import Beam2D
 from ..bodies.solid import Solid
 from ..errors import InputError, check_finite, check_positive, check_range
 from .base import PairDefaults
-from .rigid_pairs import point_line_distance
+from .geometry import point_line_distance, segment_distance
 
 __all__ = [
     "NodeNodeContact",
@@ -125,15 +125,6 @@ def facet_plane_gap(x: np.ndarray, xf: np.ndarray):
     return triangle_plane_distance(x, xf[:, 0], xf[:, 1], xf[:, 2])
 
 
-def _segment_distance(x, a, b):
-    """Distances (m,) from points x to the segments (a, b), all (m, d)."""
-    d = b - a
-    w = x - a
-    dd = np.einsum("mi,mi->m", d, d)
-    xi = np.clip(np.einsum("mi,mi->m", w, d) / dd, 0.0, 1.0)
-    return np.linalg.norm(w - xi[:, None] * d, axis=1)
-
-
 def closest_facet_distance(x: np.ndarray, xf: np.ndarray):
     """Distances (m,) from points x (m, d) to the facets xf (m, k, d) themselves (the closest
     point clipped to the segment or triangle), and the signed plane gaps (m,)."""
@@ -142,7 +133,7 @@ def closest_facet_distance(x: np.ndarray, xf: np.ndarray):
         t = b - a
         w = x - a
         g = (t[:, 1] * w[:, 0] - t[:, 0] * w[:, 1]) / np.linalg.norm(t, axis=1)
-        return _segment_distance(x, a, b), g
+        return segment_distance(x, a, b), g
     a, b, c = xf[:, 0], xf[:, 1], xf[:, 2]
     u, w, v = b - a, c - a, x - a
     N = np.cross(u, w)
@@ -158,8 +149,8 @@ def closest_facet_distance(x: np.ndarray, xf: np.ndarray):
     if out.any():
         xo, ao, bo, co = x[out], a[out], b[out], c[out]
         dist[out] = np.minimum(
-            np.minimum(_segment_distance(xo, ao, bo), _segment_distance(xo, bo, co)),
-            _segment_distance(xo, co, ao),
+            np.minimum(segment_distance(xo, ao, bo), segment_distance(xo, bo, co)),
+            segment_distance(xo, co, ao),
         )
     return dist, g
 

@@ -7,6 +7,7 @@ import numpy as np
 
 from ..errors import InputError, check_range
 from .base import PairDefaults
+from .geometry import closest_on_segments, point_line_distance
 from .obstacles import Circle, Plane, Point
 
 __all__ = ["NodeContact", "PointSegmentContact"]
@@ -99,11 +100,9 @@ class PointSegmentContact(PairDefaults):
 
     def _closest(self, x):
         x1, x2 = x[self.segments[:, 0]], x[self.segments[:, 1]]
-        d = x2 - x1
-        xi = np.clip(np.einsum("ei,ei->e", self.obstacle.position - x1, d) / np.sum(d * d, 1), 0, 1)
-        dist = np.linalg.norm(self.obstacle.position - (x1 + xi[:, None] * d), axis=1)
+        xi, dist = closest_on_segments(self.obstacle.position, x1, x2)
         e = int(np.argmin(dist))
-        return e, xi[e], x1[e], d[e]
+        return e, xi[e], x1[e], x2[e] - x1[e]
 
     def _signed_distance(self, q_local):
         e, xi, x1, d = self._closest(self.body.positions(q_local))
@@ -118,8 +117,9 @@ class PointSegmentContact(PairDefaults):
         tdofs = self.offset + body.node_translation_dofs([a, b]).ravel()
         P, r = self.obstacle.position, self.obstacle.radius
         if 0.0 < xi < 1.0:
-            g, G, H = _point_line_gap(P, x1, d, self.side)
-            g -= r
+            # the point is rigid: derivatives with respect to the segment's ends only
+            f, G, H = point_line_distance(P[None], x1[None], (x1 + d)[None])
+            g, G, H = self.side * f[0] - r, self.side * G[0, 2:], self.side * H[0, 2:, 2:]
         else:
             xv = x1 + xi * d
             ev = xv - P
@@ -132,24 +132,3 @@ class PointSegmentContact(PairDefaults):
             G[k : k + 2] = ev
             H[k : k + 2, k : k + 2] = (np.eye(2) - np.outer(ev, ev)) / dist
         return np.array([g]), tdofs[None, :], G[None, :], H[None, :, :]
-
-
-def _point_line_gap(P, x1, d, side):
-    """Signed distance f = (d × w)/|d| of P from the line x1 + ξ d (w = P − x1), with its
-    gradient and Hessian with respect to the segment end points (x1, x2)."""
-    w = P - x1
-    L = np.linalg.norm(d)
-    c = d[0] * w[1] - d[1] * w[0]
-    rho = np.array([w[1], -w[0]])
-    dperp = np.array([-d[1], d[0]])
-    f_d = rho / L - c * d / L**3
-    f_w = dperp / L
-    R = np.array([[0.0, 1.0], [-1.0, 0.0]])
-    H_dd = -(np.outer(rho, d) + np.outer(d, rho)) / L**3 - c * np.eye(2) / L**3
-    H_dd += 3.0 * c * np.outer(d, d) / L**5
-    H_dw = R / L - np.outer(d, dperp) / L**3
-    Hz = np.block([[H_dd, H_dw], [H_dw.T, np.zeros((2, 2))]])
-    eye = np.eye(2)
-    T = np.block([[-eye, eye], [-eye, np.zeros((2, 2))]])  # (d, w) = T (x1, x2) + (0, P)
-    G = T.T @ np.concatenate([f_d, f_w])
-    return side * c / L, side * G, side * (T.T @ Hz @ T)

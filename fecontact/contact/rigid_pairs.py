@@ -33,6 +33,7 @@ from ..bodies.beam import Beam2D
 from ..bodies.rigid import Disk, Polygon, RigidBody2D, rotation
 from ..errors import InputError, check_positive, check_range
 from .base import PairDefaults
+from .geometry import distance_curvature, point_line_distance, polygon_distance, unit
 from .obstacles import Circle, Plane
 
 __all__ = [
@@ -52,18 +53,6 @@ def _is_disk(body) -> bool:
 
 def _is_polygon(body) -> bool:
     return isinstance(body, RigidBody2D) and isinstance(body.shape, Polygon)
-
-
-def _distance_curvature(e: np.ndarray, d: float) -> np.ndarray:
-    """Hessian (I − e eᵀ)/d of the distance |x| at x = d e."""
-    return (np.eye(2) - np.outer(e, e)) / d
-
-
-def _unit(x: np.ndarray, what: str) -> tuple[np.ndarray, float]:
-    d = float(np.linalg.norm(x))
-    if d == 0.0:
-        raise InputError(f"{what} coincide: contact normal undefined")
-    return x / d, d
 
 
 class _Pair(PairDefaults):
@@ -122,35 +111,13 @@ class DiskDiskContact(_Pair):
     def evaluate(self, q: np.ndarray):
         """Gap (1,), global dofs (1, 4) of both centres, gradient (1, 4), Hessian (1, 4, 4)."""
         a, b = self.bodies
-        e, d = _unit(b.center(self._local(q, 1)) - a.center(self._local(q, 0)), "disk centres")
+        e, d = unit(b.center(self._local(q, 1)) - a.center(self._local(q, 0)), "disk centres")
         g = d - a.shape.radius - b.shape.radius
-        K = _distance_curvature(e, d)
+        K = distance_curvature(e, d)
         G = np.concatenate([-e, e])
         H = np.block([[K, -K], [-K, K]])
         dofs = np.concatenate([self.offsets[0] + np.arange(2), self.offsets[1] + np.arange(2)])
         return np.array([g]), dofs[None, :], G[None, :], H[None, :, :]
-
-
-def polygon_distance(vertices: np.ndarray, normals: np.ndarray, x: np.ndarray):
-    """Signed distance s (m) from point ``x`` to a convex counter-clockwise polygon (negative
-    inside), with its gradient (2,) and Hessian (2, 2) on the piece that contains ``x``.
-
-    ``normals[i]`` is the outward unit normal of the edge from vertex i to vertex i + 1.
-    """
-    edges = np.roll(vertices, -1, axis=0) - vertices
-    rel = x - vertices
-    s_edge = np.einsum("ij,ij->i", normals, rel)
-    if np.all(s_edge < 0.0):  # inside: the nearest edge (largest s) gives the distance
-        i = int(np.argmax(s_edge))
-        return float(s_edge[i]), normals[i], np.zeros((2, 2))
-    t = np.clip(np.einsum("ij,ij->i", rel, edges) / np.einsum("ij,ij->i", edges, edges), 0, 1)
-    dist = np.linalg.norm(rel - t[:, None] * edges, axis=1)
-    i = int(np.argmin(dist))
-    if 0.0 < t[i] < 1.0:
-        return float(s_edge[i]), normals[i], np.zeros((2, 2))
-    k = i if t[i] == 0.0 else (i + 1) % len(vertices)
-    e, d = _unit(x - vertices[k], "the disk centre and a polygon vertex")
-    return d, e, _distance_curvature(e, d)
 
 
 class DiskPolygonContact(_Pair):
@@ -191,37 +158,6 @@ class DiskPolygonContact(_Pair):
         o_d, o_p = self.offsets
         dofs = np.concatenate([o_d + np.arange(2), o_p + np.arange(3)])
         return np.array([s - disk.shape.radius]), dofs[None, :], G[None, :], H[None, :, :]
-
-
-def point_line_distance(P: np.ndarray, x1: np.ndarray, x2: np.ndarray):
-    """Signed distances f = (d × w)/|d| of points P from the lines through x1 and x2
-    (d = x2 − x1, w = P − x1; positive on the left of d), all (m, 2), with their gradients
-    (m, 6) and Hessians (m, 6, 6) with respect to (P, x1, x2).
-
-    With c = d × w: ∂c/∂d = (w_y, −w_x), ∂c/∂w = J d, ∂²c/∂d∂w = −J, and f = c/|d|.
-    """
-    d, w = x2 - x1, P - x1
-    L = np.linalg.norm(d, axis=1)[:, None, None]
-    c = (d[:, 0] * w[:, 1] - d[:, 1] * w[:, 0])[:, None, None]
-    c_d = np.stack([w[:, 1], -w[:, 0]], axis=1)
-    c_w = d @ _PERP.T
-    dd = d[:, :, None] * d[:, None, :]
-    f_d = c_d / L[:, 0] - c[:, 0] * d / L[:, 0] ** 3
-    f_w = c_w / L[:, 0]
-    f_dd = -(c_d[:, :, None] * d[:, None, :] + d[:, :, None] * c_d[:, None, :]) / L**3
-    f_dd += c * (3.0 * dd / L**5 - np.eye(2) / L**3)
-    f_dw = -_PERP / L - d[:, :, None] * c_w[:, None, :] / L**3
-    H_dw = np.zeros((len(d), 4, 4))
-    H_dw[:, :2, :2] = f_dd
-    H_dw[:, :2, 2:] = f_dw
-    H_dw[:, 2:, :2] = f_dw.transpose(0, 2, 1)
-    T = _LINE_MAP
-    G = np.concatenate([f_d, f_w], axis=1) @ T
-    return c[:, 0, 0] / L[:, 0, 0], G, np.einsum("ai,mab,bj->mij", T, H_dw, T)
-
-
-# (d, w) = T (P, x1, x2): d = x2 − x1, w = P − x1
-_LINE_MAP = np.kron([[0.0, -1.0, 1.0], [1.0, -1.0, 0.0]], np.eye(2))
 
 
 class DiskBeamContact(_Pair):

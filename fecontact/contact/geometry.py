@@ -1,0 +1,99 @@
+r"""Distances and projections of the contact kinematics, in one place.
+
+Points against segments and lines (2D and 3D), and against convex polygons. Signed
+distances carry their derivatives where a gap needs them: the gradient and Hessian with
+respect to the coordinates that move.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = [
+    "closest_on_segments",
+    "distance_curvature",
+    "point_line_distance",
+    "polygon_distance",
+    "segment_distance",
+    "unit",
+]
+
+_PERP = np.array([[0.0, -1.0], [1.0, 0.0]])  # rotation by +90°
+# (d, w) = T (P, x1, x2): d = x2 − x1, w = P − x1
+_LINE_MAP = np.kron([[0.0, -1.0, 1.0], [1.0, -1.0, 0.0]], np.eye(2))
+
+
+def unit(x: np.ndarray, what: str) -> tuple[np.ndarray, float]:
+    """x/|x| and |x|; ``what`` names the two points whose difference x is, should they meet."""
+    d = float(np.linalg.norm(x))
+    if d == 0.0:
+        raise InputError(f"{what} coincide: contact normal undefined")
+    return x / d, d
+
+
+def distance_curvature(e: np.ndarray, d: float) -> np.ndarray:
+    """Hessian (I − e eᵀ)/d of the distance |x| at x = d e."""
+    return (np.eye(len(e)) - np.outer(e, e)) / d
+
+
+def closest_on_segments(x: np.ndarray, a: np.ndarray, b: np.ndarray):
+    """Projections of points x on the segments (a, b), all (m, d) or x (d,): the parameter
+    ξ ∈ [0, 1] of the closest point a + ξ(b − a) and the distance (m,) to it."""
+    d = b - a
+    w = x - a
+    xi = np.clip(np.einsum("mi,mi->m", w, d) / np.einsum("mi,mi->m", d, d), 0.0, 1.0)
+    return xi, np.linalg.norm(w - xi[:, None] * d, axis=1)
+
+
+def segment_distance(x: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Distances (m,) from points x to the segments (a, b), all (m, d)."""
+    return closest_on_segments(x, a, b)[1]
+
+
+def point_line_distance(P: np.ndarray, x1: np.ndarray, x2: np.ndarray):
+    """Signed distances f = (d × w)/|d| of points P from the lines through x1 and x2
+    (d = x2 − x1, w = P − x1; positive on the left of d), all (m, 2), with their gradients
+    (m, 6) and Hessians (m, 6, 6) with respect to (P, x1, x2).
+
+    With c = d × w: ∂c/∂d = (w_y, −w_x), ∂c/∂w = J d, ∂²c/∂d∂w = −J, and f = c/|d|.
+    """
+    d, w = x2 - x1, P - x1
+    L = np.linalg.norm(d, axis=1)[:, None, None]
+    c = (d[:, 0] * w[:, 1] - d[:, 1] * w[:, 0])[:, None, None]
+    c_d = np.stack([w[:, 1], -w[:, 0]], axis=1)
+    c_w = d @ _PERP.T
+    dd = d[:, :, None] * d[:, None, :]
+    f_d = c_d / L[:, 0] - c[:, 0] * d / L[:, 0] ** 3
+    f_w = c_w / L[:, 0]
+    f_dd = -(c_d[:, :, None] * d[:, None, :] + d[:, :, None] * c_d[:, None, :]) / L**3
+    f_dd += c * (3.0 * dd / L**5 - np.eye(2) / L**3)
+    f_dw = -_PERP / L - d[:, :, None] * c_w[:, None, :] / L**3
+    H_dw = np.zeros((len(d), 4, 4))
+    H_dw[:, :2, :2] = f_dd
+    H_dw[:, :2, 2:] = f_dw
+    H_dw[:, 2:, :2] = f_dw.transpose(0, 2, 1)
+    T = _LINE_MAP
+    G = np.concatenate([f_d, f_w], axis=1) @ T
+    return c[:, 0, 0] / L[:, 0, 0], G, np.einsum("ai,mab,bj->mij", T, H_dw, T)
+
+
+def polygon_distance(vertices: np.ndarray, normals: np.ndarray, x: np.ndarray):
+    """Signed distance s (m) from point ``x`` to a convex counter-clockwise polygon (negative
+    inside), with its gradient (2,) and Hessian (2, 2) on the piece that contains ``x``.
+
+    ``normals[i]`` is the outward unit normal of the edge from vertex i to vertex i + 1.
+    """
+    rel = x - vertices
+    s_edge = np.einsum("ij,ij->i", normals, rel)
+    if np.all(s_edge < 0.0):  # inside: the nearest edge (largest s) gives the distance
+        i = int(np.argmax(s_edge))
+        return float(s_edge[i]), normals[i], np.zeros((2, 2))
+    t, dist = closest_on_segments(x, vertices, np.roll(vertices, -1, axis=0))
+    i = int(np.argmin(dist))
+    if 0.0 < t[i] < 1.0:
+        return float(s_edge[i]), normals[i], np.zeros((2, 2))
+    k = i if t[i] == 0.0 else (i + 1) % len(vertices)
+    e, d = unit(x - vertices[k], "the disk centre and a polygon vertex")
+    return d, e, distance_curvature(e, d)
