@@ -325,6 +325,7 @@ def _save_checkpoint(path: Path, sim, st: State, rec: _Recorder, next_frame: flo
         k: getattr(st, k)
         for k in ("q", "v", "vd", "a", "gaps", "candidates", "nu", "impulse", "lam")
     }
+    arrays |= {f"memory_{k}": v for k, v in st.memory.items()}
     meta = {
         "t": st.t,
         "step": st.step,
@@ -344,9 +345,10 @@ def _load_checkpoint(path: Path, sim):
     with np.load(path) as data:
         meta = json.loads(str(data["meta"]))
         arrays = {k: data[k] for k in data.files if k != "meta"}
+    memory = {k[len("memory_") :]: arrays.pop(k) for k in list(arrays) if k.startswith("memory_")}
     if meta["fingerprint"] != _fingerprint(sim):
         raise InputError("resume: the checkpoint was written with other parameters or options")
-    st = State(meta["t"], step=meta["step"], h=meta["h"], **arrays)
+    st = State(meta["t"], step=meta["step"], h=meta["h"], memory=memory, **arrays)
     return st, meta
 
 

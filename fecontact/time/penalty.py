@@ -53,7 +53,6 @@ from __future__ import annotations
 
 import math
 import time
-import weakref
 
 import numpy as np
 import scipy.sparse as sp
@@ -64,9 +63,6 @@ from .generalized_alpha import Coefficients, predict
 from .state import IntegratorOptions, PhaseTimer, State
 
 __all__ = ["automatic_penalty_stiffness", "damping_ratio", "effective_masses", "penalty_step"]
-
-_RUNS = weakref.WeakKeyDictionary()  # model -> _PenaltyLaw of its current run
-
 
 def effective_masses(model, q, select=None) -> np.ndarray:
     """m_j = 1/(G_j Y_j) (kg) of the contacts ``select`` (default all) at configuration ``q``,
@@ -123,12 +119,15 @@ def damping_ratio(restitution) -> np.ndarray:
 
 class _PenaltyLaw:
     """k_j and c_j of every contact of a run, each fixed where the contact first closes
-    (its effective mass m_j depends on the configuration: a rotating body, a joint)."""
+    (its effective mass m_j depends on the configuration: a rotating body, a joint). They
+    live in the run's ``memory`` (:class:`State`): ``penalty_k``, ``penalty_c`` (NaN until
+    the contact closes) and ``penalty_h1``, the first step of the run."""
 
-    def __init__(self, model, h1, stiffness, zeta):
-        self.model, self.h1, self.stiffness, self.zeta = model, h1, stiffness, zeta
-        self.k = np.full(model.contacts.size, np.nan)
-        self.c = np.full(model.contacts.size, np.nan)
+    def __init__(self, model, memory, stiffness, zeta):
+        self.model, self.stiffness, self.zeta = model, stiffness, zeta
+        self.memory = memory
+        self.k, self.c = memory["penalty_k"], memory["penalty_c"]
+        self.h1 = float(memory["penalty_h1"])
 
     def __call__(self, q, A):
         """(k_j, c_j) of the contacts A at configuration q."""
@@ -148,13 +147,12 @@ class _PenaltyLaw:
 
 def _penalty_law(model, st, h, opts):
     """The penalty law of the run ``st`` belongs to (a new one at t = 0)."""
-    key = tuple(
-        None if x is None else float(x) for x in (opts.penalty_stiffness, opts.penalty_damping)
-    )
-    law = _RUNS.get(model)
-    if law is None or st.t == 0.0 or (law.stiffness, law.zeta) != key:
-        law = _RUNS[model] = _PenaltyLaw(model, h, *key)
-    return law
+    memory = st.memory
+    if st.t == 0.0 or "penalty_k" not in memory:
+        m = model.contacts.size
+        nan = np.full(m, np.nan)
+        memory = {"penalty_k": nan, "penalty_c": nan.copy(), "penalty_h1": np.array(h)}
+    return _PenaltyLaw(model, memory, opts.penalty_stiffness, opts.penalty_damping)
 
 
 def _penalty_force(model, q, v, law, gp, tau):
@@ -209,6 +207,7 @@ def penalty_step(model, st: State, h: float, opts: IntegratorOptions, timer: Pha
         impulse=h * lam_c,
         lam=lam,
         iterations={"smooth": it, "position": 0, "velocity": 0},
+        memory=law.memory,
     )
 
 

@@ -117,6 +117,8 @@ class State:
     q (m, rad) and v (m/s, rad/s) are the corrected positions and velocities, vd the smooth
     acceleration v̇ and a the generalized-α acceleration variable. ``gaps`` holds g_j(q) of
     every contact (m), ``nu`` k ν_j (kg·m) and ``impulse`` k Λ_j (N·s) of the step.
+    ``memory`` holds arrays a stepper keeps over a run (the penalty law's stiffnesses), so
+    that a checkpoint of the state holds all of the run.
     """
 
     t: float
@@ -133,6 +135,7 @@ class State:
     iterations: dict = field(default_factory=lambda: {"smooth": 0, "position": 0, "velocity": 0})
     lam: np.ndarray = field(default_factory=lambda: np.zeros(0))
     halvings: int = 0
+    memory: dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def newton_iterations(self) -> int:
