@@ -64,6 +64,7 @@ from .state import IntegratorOptions, PhaseTimer, State
 
 __all__ = ["automatic_penalty_stiffness", "damping_ratio", "effective_masses", "penalty_step"]
 
+
 def effective_masses(model, q, select=None) -> np.ndarray:
     """m_j = 1/(G_j Y_j) (kg) of the contacts ``select`` (default all) at configuration ``q``,
     with Y = M⁻¹G_jᵀ restricted by the joints ([[M, G_bᵀ], [G_b, 0]] [Y; μ] = [G_jᵀ; 0]): the
