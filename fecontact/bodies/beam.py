@@ -36,6 +36,7 @@ import skfem
 
 from ..errors import InputError, check_count, check_finite, check_positive, check_range
 from .base import BodyDefaults
+from .beam_kernels import BeamElements, beam_internal, beam_strains
 
 __all__ = ["Material", "Section", "Beam2D"]
 
@@ -138,14 +139,16 @@ class Beam2D(BodyDefaults):
         self.point_masses = np.zeros(len(X))
         self._stiffness_basis = skfem.Basis(self.mesh, skfem.ElementLineP1(), quadrature=_MIDPOINT)
         self._mass_basis = skfem.Basis(self.mesh, skfem.ElementLineP1(), intorder=2)
-        self._init_kernel_data()
+        m, s = material, section
+        rigidities = (m.E * s.area, m.G * s.area * s.shear_factor, m.E * s.inertia)
+        self._el = BeamElements.of(X, self._stiffness_basis.element_dofs, rigidities)
         self.linear = bool(linear)
         """Constant stiffness K₀: internal(q) = K₀ q, the iteration matrix is factorized once."""
         self._K = self._Ke = None
         if self.linear:
-            self._Ke = self._exact_internal(np.zeros(self.ndof), True)[2]
-            rows = np.broadcast_to(self._edofs[:, :, None], self._Ke.shape)
-            cols = np.broadcast_to(self._edofs[:, None, :], self._Ke.shape)
+            self._Ke = beam_internal(self._el, np.zeros(self.ndof), self.ndof, True)[2]
+            rows = np.broadcast_to(self._el.dofs[:, :, None], self._Ke.shape)
+            cols = np.broadcast_to(self._el.dofs[:, None, :], self._Ke.shape)
             self._K = sp.csr_matrix(
                 (self._Ke.ravel(), (rows.ravel(), cols.ravel())), shape=(self.ndof, self.ndof)
             )
@@ -207,109 +210,37 @@ class Beam2D(BodyDefaults):
     @property
     def element_dofs(self) -> np.ndarray:
         """(n_elements, 6) local dof indices of each element."""
-        return self._edofs
+        return self._el.dofs
 
     @property
     def beam_mass(self) -> float:
         """Mass of the beam without point masses, kg."""
         return self.material.rho * self.section.area * self.length
 
-    # -- kernels -----------------------------------------------------------------------------
-    def _init_kernel_data(self):
-        # P1 with the one-point rule: N_a = ½ and N_a' = ±1/ℓ_e at the midpoint. The strain
-        # gradients are then combinations of four constant element vectors
-        #   e1 = (−1, 0, 0, 1, 0, 0)/ℓ,  e2 = (0, −1, 0, 0, 1, 0)/ℓ,
-        #   e3 = (0, 0, ½, 0, 0, ½),      e4 = (0, 0, −1, 0, 0, 1)/ℓ:
-        #   ∂Γ = c e1 + s e2 + γ e3,  ∂γ = −s e1 + c e2 − (1 + Γ) e3,  ∂κ = e4,
-        # and so are the internal force and the tangent (with the products e_i ⊗ e_j).
-        b = self._stiffness_basis
-        self._n0, self._n1 = b.element_dofs
-        self._edofs = (3 * b.element_dofs.T[:, :, None] + np.arange(3)).reshape(b.nelems, -1)
-        chord = self.X[self._n1] - self.X[self._n0]
-        self._chord = chord
-        self._w = np.linalg.norm(chord, axis=1)  # ∫ J dξ over the element: its length
-        self._phi0 = np.arctan2(chord[:, 1], chord[:, 0])
-        m, s = self.material, self.section
-        self._C = np.array([m.E * s.area, m.G * s.area * s.shear_factor, m.E * s.inertia])
-        inv = 1.0 / self._w[:, None]
-        e = np.zeros((len(chord), 4, 6))
-        e[:, 0, [0, 3]] = [-1.0, 1.0] * inv
-        e[:, 1, [1, 4]] = [-1.0, 1.0] * inv
-        e[:, 2, [2, 5]] = 0.5
-        e[:, 3, [2, 5]] = [-1.0, 1.0] * inv
-        self._e = e
-        pairs = [(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2), (3, 3)]
-        P = np.stack([np.einsum("ei,ej->eij", e[:, i], e[:, j]) for i, j in pairs], axis=1)
-        P[:, 3:6] += P[:, 3:6].transpose(0, 1, 3, 2)
-        self._P = P  # (E, 7, 6, 6): e1e1, e2e2, e3e3, sym(e1e2), sym(e1e3), sym(e2e3), e4e4
-
     def strains(self, q: np.ndarray) -> tuple[np.ndarray, ...]:
         """Axial Γ, shear γ and curvature κ (1/m) at the element midpoints."""
-        return self._kinematics(q)[:3]
-
-    def _kinematics(self, q):
-        U = q.reshape(-1, 3)
-        Ua, Ub = U[self._n0], U[self._n1]
-        inv = 1.0 / self._w
-        ax = (self._chord[:, 0] + Ub[:, 0] - Ua[:, 0]) * inv
-        ay = (self._chord[:, 1] + Ub[:, 1] - Ua[:, 1]) * inv
-        phi = self._phi0 + 0.5 * (Ua[:, 2] + Ub[:, 2])
-        c, s = np.cos(phi), np.sin(phi)
-        Gam = ax * c + ay * s - 1.0
-        gam = ay * c - ax * s
-        kap = (Ub[:, 2] - Ua[:, 2]) * inv
-        return Gam, gam, kap, c, s
+        return beam_strains(self._el, q)[:3]
 
     def energy(self, q: np.ndarray) -> float:
         """Strain energy W(q) in J."""
         if self.linear:
             return 0.5 * float(q @ (self._K @ q))
         Gam, gam, kap = self.strains(q)
-        C = self._C
-        return 0.5 * float(self._w @ (C[0] * Gam**2 + C[1] * gam**2 + C[2] * kap**2))
+        C = self._el.C
+        return 0.5 * float(self._el.ell @ (C[0] * Gam**2 + C[1] * gam**2 + C[2] * kap**2))
 
     def internal(self, q: np.ndarray, tangent: bool = True):
         """Strain energy (J), internal force ∂W/∂q (N, N·m) and element tangents (E, 6, 6)."""
         if self.linear:
             f = self._K @ q
             return 0.5 * float(q @ f), f, self._Ke if tangent else None
-        return self._exact_internal(q, tangent)
+        return beam_internal(self._el, q, self.ndof, tangent)
 
     def stiffness_matrix(self) -> sp.csr_matrix:
         """Constant stiffness K₀ (ndof × ndof, no supports) of a linear beam."""
         if not self.linear:
             raise InputError("stiffness_matrix: the beam is geometrically exact; use internal(q)")
         return self._K
-
-    def _exact_internal(self, q, tangent):
-        Gam, gam, kap, c, s = self._kinematics(q)
-        (EA, GA, EI), w = self._C, self._w
-        N, V, Mb = EA * Gam, GA * gam, EI * kap  # axial force, shear force, bending moment
-        g1 = 1.0 + Gam
-        W = 0.5 * float(w @ (N * Gam + V * gam + Mb * kap))
-        # f_e = w (N ∂Γ + V ∂γ + M ∂κ)
-        coef = np.stack([N * c - V * s, N * s + V * c, N * gam - V * g1, Mb], axis=1)
-        f_e = np.einsum("ek,eki->ei", w[:, None] * coef, self._e)
-        f = np.bincount(self._edofs.ravel(), f_e.ravel(), minlength=self.ndof)
-        if not tangent:
-            return W, f, None
-        # K_e = w (EA ∂Γ⊗∂Γ + GA ∂γ⊗∂γ + EI ∂κ⊗∂κ + N ∂²Γ + V ∂²γ); the second derivatives
-        # couple translations and rotations (sym(e1e3), sym(e2e3)) and the rotations (e3e3)
-        cs = c * s
-        K = np.stack(
-            [
-                EA * c * c + GA * s * s,
-                EA * s * s + GA * c * c,
-                EA * gam * gam + GA * g1 * g1 - N * g1 - V * gam,
-                (EA - GA) * cs,
-                EA * c * gam + GA * s * g1 - N * s - V * c,
-                EA * s * gam - GA * c * g1 + N * c - V * s,
-                np.full_like(c, EI),
-            ],
-            axis=1,
-        )
-        K_e = np.einsum("ek,ekij->eij", w[:, None] * K, self._P)
-        return W, f, K_e
 
     def mass_matrix(self) -> sp.csr_matrix:
         """Consistent mass (kg, kg·m²): kron(scalar P1 mass, diag(ρA, ρA, ρI)) + point masses."""
@@ -369,7 +300,7 @@ class Beam2D(BodyDefaults):
 
     def segments(self) -> np.ndarray:
         """(n_elements, 2) node indices of the centreline segments."""
-        return np.stack([self._n0, self._n1], axis=1)
+        return np.stack([self._el.n0, self._el.n1], axis=1)
 
     def nodal(self, x: np.ndarray) -> np.ndarray:
         """Translation part (n, 2) of a nodal dof vector (displacement, velocity, force)."""

@@ -21,6 +21,7 @@ from skfem.helpers import det
 __all__ = [
     "Quadrature",
     "cauchy_stress",
+    "cell_invariants",
     "deformation",
     "displacement_gradient",
     "element_tangent",
@@ -119,3 +120,15 @@ def cauchy_stress(material, plane, F, E: np.ndarray) -> np.ndarray:
         return S
     F3[:d, :d] = F
     return np.einsum("iIqe,IJqe,jJqe->ijqe", F3, S, F3) / det(F3)
+
+
+def cell_invariants(sigma: np.ndarray, dV: np.ndarray) -> dict[str, np.ndarray]:
+    """Cell averages of the von Mises stress √(3/2 s:s), s the deviator of σ, and of the
+    pressure −tr σ/3 (both Pa), from σ (3, 3, Q, E) and the volume weights dV (Q, E)."""
+    p = -(sigma[0, 0] + sigma[1, 1] + sigma[2, 2]) / 3.0
+    s = sigma.copy()
+    for i in range(3):
+        s[i, i] += p
+    vm = np.sqrt(1.5 * np.sum(s * s, axis=(0, 1)))
+    w = dV / dV.sum(axis=0)
+    return {"stress_von_mises": np.sum(w * vm, axis=0), "pressure": np.sum(w * p, axis=0)}

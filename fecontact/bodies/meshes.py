@@ -23,6 +23,7 @@ __all__ = [
     "check_cells",
     "disk_mesh",
     "facet_normals",
+    "min_edge_length",
     "oriented_boundary",
     "read_mesh",
     "rectangle_mesh",
@@ -233,6 +234,12 @@ def facet_normals(x: np.ndarray) -> np.ndarray:
     if x.shape[1] == 3:
         return np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
     return np.cross(x[:, 2] - x[:, 0], x[:, 3] - x[:, 1])
+
+
+def min_edge_length(mesh) -> float:
+    """Shortest edge (m) between the vertices of the mesh's cells."""
+    edges = mesh.facets if mesh.dim() == 2 else mesh.edges
+    return float(np.min(np.linalg.norm(np.diff(mesh.p[:, edges], axis=1)[:, 0], axis=0)))
 
 
 def check_point(name: str, value, dim: int) -> np.ndarray:

@@ -41,10 +41,10 @@ from skfem.models.poisson import mass as _mass_form
 
 from ..errors import InputError, check_finite, check_positive
 from ..io.vtk_cells import vtk_cells
-from .base import BodyDefaults
 from .elasticity import (
     Quadrature,
     cauchy_stress,
+    cell_invariants,
     deformation,
     displacement_gradient,
     element_tangent,
@@ -58,11 +58,13 @@ from .meshes import (
     cell_kind,
     check_cells,
     disk_mesh,
+    min_edge_length,
     oriented_boundary,
     read_mesh,
     rectangle_mesh,
     split_quadratic,
 )
+from .nodal import NodalTranslations
 
 __all__ = ["Solid"]
 
@@ -72,7 +74,7 @@ _MIDPOINT = {
 }
 
 
-class Solid(BodyDefaults):
+class Solid(NodalTranslations):
     """Elastic body on a scikit-fem mesh (``MeshTri``, ``MeshQuad``: 2D; ``MeshTet``,
     ``MeshHex``: 3D).
 
@@ -176,49 +178,6 @@ class Solid(BodyDefaults):
         (n_x, n_y, n_z) cells per side; ``cell`` "tetra" (six per cube) or "hexahedron"."""
         return cls(box_mesh(lower, upper, divisions, cell), material, **options)
 
-    # -- supports ----------------------------------------------------------------------------
-    def node_index(self, node: int) -> int:
-        """Validated node index in [0, n_nodes); negative indices count from the end."""
-        n = self.n_nodes
-        if not _is_int(node) or not -n <= int(node) < n:
-            raise InputError(f"node must be an integer in [{-n}, {n - 1}], got {node!r}")
-        return int(node) % n
-
-    def _nodes(self, nodes) -> np.ndarray:
-        return np.array([self.node_index(i) for i in np.atleast_1d(nodes).ravel()], dtype=int)
-
-    def fix(self, nodes, components=None) -> Solid:
-        """Fix the displacement ``components`` (None: all; else indices 0 = x, 1 = y, 2 = z) of
-        ``nodes`` at zero."""
-        idx = self._nodes(nodes)
-        comps = range(self.dim) if components is None else np.atleast_1d(components)
-        for c in comps:
-            if not _is_int(c) or not 0 <= int(c) < self.dim:
-                raise InputError(f"components must be in 0..{self.dim - 1}, got {c!r}")
-            self.fixed.update((self.dim * idx + int(c)).tolist())
-        return self
-
-    def nodes_where(self, condition) -> np.ndarray:
-        """Nodes whose reference coordinates satisfy ``condition(x)``; x has shape (d, n) as in
-        scikit-fem (``lambda x: x[1] < 1e-9``: the nodes on y = 0)."""
-        mask = np.asarray(condition(self.X.T), dtype=bool)
-        if mask.shape != (self.n_nodes,):
-            raise InputError(f"condition must return {self.n_nodes} booleans, got {mask.shape}")
-        return np.flatnonzero(mask)
-
-    # -- sizes -------------------------------------------------------------------------------
-    @property
-    def dofs_per_node(self) -> int:
-        return self.dim
-
-    @property
-    def n_nodes(self) -> int:
-        return len(self.X)
-
-    @property
-    def ndof(self) -> int:
-        return self.dim * len(self.X)
-
     @property
     def n_elements(self) -> int:
         return len(self._quad.nodes)
@@ -233,20 +192,10 @@ class Solid(BodyDefaults):
         """Total mass in kg."""
         return self.material.rho * self.volume
 
-    linear_kinematics = True
-    """Node positions are linear in the dofs (x = X + u)."""
-
-    @property
-    def characteristic_length(self) -> float:
-        """Diagonal of the bounding box of the reference configuration, m."""
-        return float(np.linalg.norm(self.X.max(axis=0) - self.X.min(axis=0)))
-
     @property
     def min_edge_length(self) -> float:
         """Shortest edge of the reference mesh's cells (between vertices), m."""
-        mesh = self.mesh
-        edges = mesh.facets if self.dim == 2 else mesh.edges
-        return float(np.min(np.linalg.norm(np.diff(mesh.p[:, edges], axis=1)[:, 0], axis=0)))
+        return min_edge_length(self.mesh)
 
     # -- kernels -----------------------------------------------------------------------------
     def _strain(self, q):
@@ -330,24 +279,9 @@ class Solid(BodyDefaults):
     def cell_data(self, q: np.ndarray) -> dict[str, np.ndarray]:
         """Per-cell output: ``stress_von_mises`` (Pa), √(3/2 s:s) with s the deviator of σ,
         and ``pressure`` −tr σ/3 (Pa), both averaged over the cell."""
-        sigma = self._cauchy(q)
-        p = -(sigma[0, 0] + sigma[1, 1] + sigma[2, 2]) / 3.0
-        s = sigma.copy()
-        for i in range(3):
-            s[i, i] += p
-        vm = np.sqrt(1.5 * np.sum(s * s, axis=(0, 1)))
-        w = self._quad.dV / self._quad.dV.sum(axis=0)
-        return {"stress_von_mises": np.sum(w * vm, axis=0), "pressure": np.sum(w * p, axis=0)}
+        return cell_invariants(self._cauchy(q), self._quad.dV)
 
     # -- geometry and output -----------------------------------------------------------------
-    def positions(self, q: np.ndarray) -> np.ndarray:
-        """Current node coordinates X + u (m), shape (n_nodes, d)."""
-        return self.X + np.asarray(q).reshape(-1, self.dim)
-
-    def nodal(self, x: np.ndarray) -> np.ndarray:
-        """A dof vector viewed per node, (n_nodes, d)."""
-        return np.asarray(x).reshape(-1, self.dim)
-
     def boundary_nodes(self) -> np.ndarray:
         """Nodes on the boundary (vertices and, for P2, the boundary edge/face nodes)."""
         return np.unique(self._basis.get_dofs(self.mesh.boundary_facets()).all())
@@ -356,18 +290,7 @@ class Solid(BodyDefaults):
         """Validated node indices (the boundary nodes when ``nodes`` is None)."""
         if nodes is None:
             return self.boundary_nodes()
-        return self._nodes(nodes)
-
-    def node_translation_dofs(self, nodes) -> np.ndarray:
-        """(len(nodes), d) local dof indices of the displacement of ``nodes``."""
-        return self.dim * self._nodes(nodes)[:, None] + np.arange(self.dim)
-
-    def point_kinematics(self, q: np.ndarray, nodes: np.ndarray):
-        """Positions x (m, d) of ``nodes``, their local dofs (m, d), ∂x/∂q (m, d, d) and
-        ∂²x/∂q² (None: linear)."""
-        dofs = self.dim * nodes[:, None] + np.arange(self.dim)
-        x = self.X[nodes] + q[dofs]
-        return x, dofs, np.repeat(np.eye(self.dim)[None], len(nodes), axis=0), None
+        return self.nodes_of(nodes)
 
     def boundary_facets(self) -> np.ndarray:
         """Boundary facets as rows of vertex node indices, numbered so that the normal points
@@ -392,16 +315,8 @@ class Solid(BodyDefaults):
             facets = np.concatenate([facets[:, [0, 1, 2]], facets[:, [0, 2, 3]]])
         return np.ascontiguousarray(facets)
 
-    def point_data(self, q: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:
-        """Nodal fields for output: ``displacement`` (m) and ``velocity`` (m/s), (n_nodes, d)."""
-        return {"displacement": self.nodal(q), "velocity": self.nodal(v)}
-
     def cells(self) -> list[tuple[str, np.ndarray]]:
         """Cells for VTU output in meshio/VTK numbering: triangle, quad, tetra, hexahedron
         (P1) or triangle6, quad9, tetra10, hexahedron27 (P2), over the body's nodes."""
         en = None if self.element == "P1" else self._quad.nodes
         return vtk_cells(self.mesh, self.cell, self.X, en)
-
-
-def _is_int(value) -> bool:
-    return isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
