@@ -1,10 +1,15 @@
 """fecontact: finite element impact dynamics with exact unilateral contact.
 
-Bodies (geometrically exact beams), rigid obstacles and contact pairs make a ``Model``; a
-``Simulation`` adds the time step, end time and probes; ``run`` integrates it with the
-nonsmooth generalized-α method (contact enforced exactly at position and velocity level with
-Alart–Curnier multipliers) and writes VTU frames, ``history.csv`` and ``summary.json``.
-SI units throughout.
+Bodies (geometrically exact beams, 2D and 3D elastic solids, planar rigid bodies), rigid
+obstacles, contact pairs and joints make a ``Model``; a ``Simulation`` adds the time step, end
+time and probes; ``run`` integrates it with the nonsmooth generalized-α method (contact
+enforced exactly at position and velocity level with Alart–Curnier multipliers) and writes VTU
+frames, ``history.csv`` and ``summary.json``. SI units throughout.
+
+The package is laid out by concept: ``bodies`` (beam, solid, rigid, materials, meshes),
+``contact`` (obstacles, pair kinematics, the Alart–Curnier laws), ``time`` (the steppers and
+the time loop), ``linalg`` (the factorization seam) and ``io`` (output, rendering, command
+line). Every public name is importable from ``fecontact`` itself.
 """
 
 import os
