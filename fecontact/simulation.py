@@ -117,7 +117,7 @@ class Simulation:
 
 
 def _frame_parts(model, state: State):
-    from .io.output import body_mesh
+    from .io.vtu import body_mesh
 
     contacts = model.contacts
     if state.impulse.any():
@@ -159,7 +159,7 @@ def _static_parts(model):
 
 def _obstacle_parts(model, moving: bool):
     """Outlines of the rigid obstacles that move (drawn every frame) or stay (drawn once)."""
-    from .io.output import line_mesh
+    from .io.vtu import line_mesh
 
     parts = {}
     for j, pair in enumerate(model.contacts.pairs):
@@ -318,7 +318,7 @@ def _fingerprint(sim: Simulation) -> str:
 
 
 def _save_checkpoint(path: Path, sim, st: State, rec: _Recorder, next_frame: float) -> None:
-    from .io.output import atomic_write
+    from .io.files import atomic_write
 
     rec.history.flush()
     arrays = {

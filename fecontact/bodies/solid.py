@@ -40,7 +40,6 @@ from skfem.helpers import det
 from skfem.models.poisson import mass as _mass_form
 
 from ..errors import InputError, check_finite, check_positive
-from ..io.vtk_cells import vtk_cells
 from .elasticity import (
     Quadrature,
     cauchy_stress,
@@ -65,6 +64,7 @@ from .meshes import (
     split_quadratic,
 )
 from .nodal import NodalTranslations
+from .vtk_cells import vtk_cells
 
 __all__ = ["Solid"]
 

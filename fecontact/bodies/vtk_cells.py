@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..bodies.meshes import ELEMENTS
+from .meshes import ELEMENTS
 
 __all__ = ["vtk_cells"]
 
