@@ -71,7 +71,6 @@ STANDARD_COLUMNS = (
 )
 
 _NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.\-]*")
-_SNAKE = re.compile(r"[a-z][a-z0-9_]*")
 
 
 def _check_name(kind: str, name: str) -> str:
