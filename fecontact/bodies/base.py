@@ -12,6 +12,8 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
+from ..errors import InputError
+
 __all__ = ["Body", "BodyDefaults"]
 
 
@@ -26,13 +28,17 @@ class Body(Protocol):
     rigid_frame: bool  # positions x = c + R(φ) r of a rigid frame
     element_dofs: np.ndarray
     center_index: int | None  # output point of a rigid body's centre of mass
+    components: tuple[str, ...]  # names of a node's dofs, in order: x, y, (z | theta)
+    fixed: set[int]  # supported dofs, held at zero
 
     def node_index(self, node: int) -> int: ...
     def positions(self, q: np.ndarray) -> np.ndarray: ...
     def point_kinematics(self, q: np.ndarray, nodes: np.ndarray): ...
+    def support(self, node: int, components) -> None: ...
     def point_positions(self, q: np.ndarray, nodes: np.ndarray) -> np.ndarray: ...
     def inverted(self, q: np.ndarray) -> bool: ...
     def cell_data(self, q: np.ndarray) -> dict[str, np.ndarray]: ...
+    def nodal(self, x: np.ndarray, q: np.ndarray | None = None) -> np.ndarray: ...
 
 
 class BodyDefaults:
@@ -42,6 +48,20 @@ class BodyDefaults:
     linear = False
     rigid_frame = False
     center_index = None
+
+    def support(self, node: int, components) -> None:
+        """Hold ``components`` (names from ``self.components``, or their indices; all when
+        empty) of ``node`` at zero: the one vocabulary of every body's ``fix``."""
+        names = self.components
+        chosen = range(len(names)) if len(components) == 0 else components
+        for c in chosen:
+            if isinstance(c, str) and c in names:
+                c = names.index(c)
+            if not isinstance(c, (int, np.integer)) or isinstance(c, bool) or not (
+                0 <= int(c) < len(names)
+            ):
+                raise InputError(f"components must be among {', '.join(names)}, got {c!r}")
+            self.fixed.add(len(names) * node + int(c))
 
     def point_positions(self, q: np.ndarray, nodes: np.ndarray) -> np.ndarray:
         """Positions (m) of ``nodes``; bodies with a cheaper path than the kinematics override."""

@@ -119,6 +119,7 @@ class Beam2D(BodyDefaults):
     """
 
     dofs_per_node = 3
+    components = ("x", "y", "theta")
 
     def __init__(self, nodes, material: Material, section: Section, linear: bool = False):
         if not isinstance(linear, (bool, np.bool_)):
@@ -181,17 +182,19 @@ class Beam2D(BodyDefaults):
         n = len(self.X)
         return check_count("node", node, -n, n - 1) % n
 
-    def pin(self, node: int) -> Beam2D:
-        """Fix the displacement of ``node``; its rotation stays free."""
-        i = self.node_index(node)
-        self.fixed.update((3 * i, 3 * i + 1))
+    def fix(self, node: int, *components) -> Beam2D:
+        """Hold ``components`` ("x", "y", "theta", or 0, 1, 2; all when none are given) of
+        ``node`` at zero."""
+        self.support(self.node_index(node), components)
         return self
 
+    def pin(self, node: int) -> Beam2D:
+        """Fix the displacement of ``node``; its rotation stays free: ``fix(node, "x", "y")``."""
+        return self.fix(node, "x", "y")
+
     def clamp(self, node: int) -> Beam2D:
-        """Fix the displacement and the rotation of ``node``."""
-        i = self.node_index(node)
-        self.fixed.update((3 * i, 3 * i + 1, 3 * i + 2))
-        return self
+        """Fix the displacement and the rotation of ``node``: ``fix(node)``."""
+        return self.fix(node)
 
     def add_mass(self, node: int, mass: float) -> Beam2D:
         """Attach a point mass (kg) to the translations of ``node``."""
@@ -302,7 +305,7 @@ class Beam2D(BodyDefaults):
         """(n_elements, 2) node indices of the centreline segments."""
         return np.stack([self._el.n0, self._el.n1], axis=1)
 
-    def nodal(self, x: np.ndarray) -> np.ndarray:
+    def nodal(self, x: np.ndarray, q: np.ndarray | None = None) -> np.ndarray:
         """Translation part (n, 2) of a nodal dof vector (displacement, velocity, force)."""
         return x.reshape(-1, 3)[:, :2]
 

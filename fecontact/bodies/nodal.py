@@ -36,15 +36,19 @@ class NodalTranslations(BodyDefaults):
         """Validated node indices of one node or a sequence of them."""
         return np.array([self.node_index(i) for i in np.atleast_1d(nodes).ravel()], dtype=int)
 
-    def fix(self, nodes, components=None) -> NodalTranslations:
-        """Fix the displacement ``components`` (None: all; else indices 0 = x, 1 = y, 2 = z) of
-        ``nodes`` at zero."""
-        idx = self.nodes_of(nodes)
-        comps = range(self.dim) if components is None else np.atleast_1d(components)
-        for c in comps:
-            if not _is_int(c) or not 0 <= int(c) < self.dim:
-                raise InputError(f"components must be in 0..{self.dim - 1}, got {c!r}")
-            self.fixed.update((self.dim * idx + int(c)).tolist())
+    @property
+    def components(self) -> tuple[str, ...]:
+        return ("x", "y", "z")[: self.dim]
+
+    def fix(self, nodes, *components, **keywords) -> NodalTranslations:
+        """Hold the displacement ``components`` ("x", "y", "z", or 0, 1, 2; all when none are
+        given) of ``nodes`` at zero. ``components=`` as a keyword takes one or a sequence."""
+        if "components" in keywords:
+            components = (*components, *np.atleast_1d(keywords.pop("components")).tolist())
+        if keywords:
+            raise InputError(f"fix: unknown argument {next(iter(keywords))!r}")
+        for i in self.nodes_of(nodes):
+            self.support(int(i), components)
         return self
 
     def nodes_where(self, condition) -> np.ndarray:
@@ -80,7 +84,7 @@ class NodalTranslations(BodyDefaults):
         """Current node coordinates X + u (m), shape (n_nodes, d)."""
         return self.X + np.asarray(q).reshape(-1, self.dim)
 
-    def nodal(self, x: np.ndarray) -> np.ndarray:
+    def nodal(self, x: np.ndarray, q: np.ndarray | None = None) -> np.ndarray:
         """A dof vector viewed per node, (n_nodes, d)."""
         return np.asarray(x).reshape(-1, self.dim)
 

@@ -184,7 +184,7 @@ class RigidBody2D(BodyDefaults):
     rigid_frame = True
     linear = True  # no stiffness: the iteration matrix is constant
     element_dofs = np.zeros((0, 3), dtype=int)
-    _DOF_NAMES = {"x": 0, "y": 1, "theta": 2}
+    components = ("x", "y", "theta")
 
     def __init__(self, mass: float, inertia: float, position, angle: float = 0.0, shape=None):
         self.mass = check_positive("mass", mass)
@@ -214,12 +214,10 @@ class RigidBody2D(BodyDefaults):
             raise InputError(f"shape must be a Disk or a Polygon, got {type(shape).__name__}")
         return cls(mass, shape.moment(mass), position, angle, shape)
 
-    def fix(self, *names: str) -> RigidBody2D:
-        """Hold dofs at their initial value: any of "x", "y", "theta"."""
-        for name in names:
-            if name not in self._DOF_NAMES:
-                raise InputError(f"dof must be one of x, y, theta, got {name!r}")
-            self.fixed.add(self._DOF_NAMES[name])
+    def fix(self, *components) -> RigidBody2D:
+        """Hold ``components`` of the body's frame at their initial value: any of "x", "y",
+        "theta" (or 0, 1, 2; all when none are given)."""
+        self.support(0, components)
         return self
 
     # -- the body protocol -------------------------------------------------------------------
@@ -404,6 +402,7 @@ class PointMass(BodyDefaults):
     """
 
     dofs_per_node = 2
+    components = ("x", "y")
     ndof = 2
     n_nodes = 1
     linear_kinematics = True
@@ -415,6 +414,11 @@ class PointMass(BodyDefaults):
         self.position = _point("position", position)
         self.characteristic_length = check_positive("size", size)
         self.fixed: set[int] = set()
+
+    def fix(self, *components) -> PointMass:
+        """Hold ``components`` ("x", "y", or 0, 1; both when none are given) at zero."""
+        self.support(0, components)
+        return self
 
     def node_index(self, node: int) -> int:
         check_count("point", node, -1, 0)  # a point mass has one point
