@@ -57,8 +57,10 @@ class BodyDefaults:
         for c in chosen:
             if isinstance(c, str) and c in names:
                 c = names.index(c)
-            if not isinstance(c, (int, np.integer)) or isinstance(c, bool) or not (
-                0 <= int(c) < len(names)
+            if (
+                not isinstance(c, (int, np.integer))
+                or isinstance(c, bool)
+                or not (0 <= int(c) < len(names))
             ):
                 raise InputError(f"components must be among {', '.join(names)}, got {c!r}")
             self.fixed.add(len(names) * node + int(c))

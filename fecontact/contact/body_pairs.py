@@ -204,7 +204,7 @@ class NodeSurfaceContact(PairDefaults):
         self.selected = np.full(self.size, -1)
         """Facet chosen for each slave node at the last evaluation (−1: none near)."""
         self._last = None  # (the two bodies' dofs, result) of the last evaluation
-        self._last = None  # (positions of both bodies, result) of the last evaluation
+        self._search = None  # (positions of the last search, its candidate pairs)
 
     @property
     def size(self) -> int:
@@ -213,7 +213,7 @@ class NodeSurfaceContact(PairDefaults):
     def bind(self, model) -> None:
         """Place the pair in the global dof vector of ``model``."""
         self.offsets = (model.offset_of(self.body), model.offset_of(self.master))
-        self._last = None
+        self._last = self._search = None
 
     def _positions(self, q):
         (oa, ob), (a, b) = self.offsets, self.bodies
@@ -221,9 +221,42 @@ class NodeSurfaceContact(PairDefaults):
         return xs, b.positions(q[ob : ob + b.ndof])
 
     def closest_facets(self, xs: np.ndarray, xm: np.ndarray):
-        """(slave indices, facet indices) of the slave nodes (positions xs, m) that have a
-        facet of the master (node positions xm, m) within the margin, and that facet."""
-        r = self.margin
+        """(slave indices, facet indices, plane gaps) of the slave nodes (positions xs, m)
+        that have a facet of the master (node positions xm, m) within the margin, that facet
+        and the node's signed gap from its plane (m)."""
+        s, f = self._candidate_pairs(xs, xm)
+        if s.size == 0:
+            return s, f, np.zeros(0)
+        dist, g = closest_facet_distance(xs[s], xm[self.facets[f]])
+        keep = dist <= self.margin
+        s, f, dist, g = s[keep], f[keep], dist[keep], g[keep]
+        if s.size == 0:
+            return s, f, g
+        dmin = np.full(len(xs), np.inf)
+        np.minimum.at(dmin, s, dist)
+        # the closest facets; among equally close ones the largest |g| (module docstring)
+        score = np.where(dist <= dmin[s] + self._tol, np.abs(g), -1.0)
+        order = np.lexsort((-score, s))
+        s_sorted = s[order]
+        first = order[np.r_[True, s_sorted[1:] != s_sorted[:-1]]]
+        return s[first], f[first], g[first]
+
+    def _candidate_pairs(self, xs: np.ndarray, xm: np.ndarray):
+        """(slave, facet) pairs whose node and facet centroid are within margin + the facet's
+        reach + a slack δ = margin/4, found by a k-d tree search and kept while no node has
+        moved more than δ/2 since: then every pair within the margin is still among them (the
+        Newton iterations of a step move the nodes far less than that)."""
+        cache = self._search
+        if cache is not None:
+            xs0, xm0, pairs = cache
+            moved = max(np.max(np.abs(xs - xs0), initial=0.0), np.max(np.abs(xm - xm0)))
+            if 2.0 * moved <= 0.25 * self.margin:
+                return pairs
+        pairs = self._search_pairs(xs, xm, 1.25 * self.margin)
+        self._search = (xs.copy(), xm.copy(), pairs)
+        return pairs
+
+    def _search_pairs(self, xs: np.ndarray, xm: np.ndarray, r: float):
         lo, hi = xm.min(axis=0) - r, xm.max(axis=0) + r
         near = np.flatnonzero(np.all((xs >= lo) & (xs <= hi), axis=1))
         if near.size == 0:
@@ -238,20 +271,22 @@ class NodeSurfaceContact(PairDefaults):
         pairs = cKDTree(xs[near]).sparse_distance_matrix(
             cKDTree(centroid[fnear]), r + reach, output_type="ndarray"
         )
-        s, f = near[pairs["i"]], fnear[pairs["j"]]
-        dist, g = closest_facet_distance(xs[s], xf[f])
-        keep = dist <= r
-        s, f, dist, g = s[keep], f[keep], dist[keep], g[keep]
-        if s.size == 0:
-            return s, f
-        dmin = np.full(len(xs), np.inf)
-        np.minimum.at(dmin, s, dist)
-        # the closest facets; among equally close ones the largest |g| (module docstring)
-        score = np.where(dist <= dmin[s] + self._tol, np.abs(g), -1.0)
-        order = np.lexsort((-score, s))
-        s_sorted = s[order]
-        first = order[np.r_[True, s_sorted[1:] != s_sorted[:-1]]]
-        return s[first], f[first]
+        return near[pairs["i"]], fnear[pairs["j"]]
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        """The gaps (m,) in m alone, without their derivatives (+inf: no facet near)."""
+        last = self._last
+        if last is not None and self._same_dofs(q, last[0]):
+            return last[1][0].copy()
+        s, _, g_near = self.closest_facets(*self._positions(q))
+        g = np.full(self.size, np.inf)
+        g[s] = g_near
+        return g
+
+    def _same_dofs(self, q, key) -> bool:
+        (oa, ob), (a, b) = self.offsets, self.bodies
+        now = (q[oa : oa + a.ndof], q[ob : ob + b.ndof])
+        return all(np.array_equal(k, c) for k, c in zip(now, key, strict=True))
 
     def evaluate(self, q: np.ndarray):
         """Gaps (m,) in m, global dofs (m, k) — the slave node's d translations, then those of
@@ -285,7 +320,7 @@ class NodeSurfaceContact(PairDefaults):
         dofs[:, self.dim :] = ob + self._facet_dofs[0]
         G = np.zeros((m, k))
         H = np.zeros((m, k, k))
-        s, f = self.closest_facets(xs, xm)
+        s, f, _ = self.closest_facets(xs, xm)
         self.selected = np.full(m, -1)
         self.selected[s] = f
         if s.size:

@@ -31,10 +31,11 @@ import math
 import time
 
 import numpy as np
+import scipy.sparse as sp
 
 from ..contact import solve_position_correction, solve_velocity_jump
 from ..joints import newton_remainder
-from ..linalg import factorize
+from ..linalg import UnitColumns, factorize, low_rank_solver
 from .constraints import Constraints, StepFailure, bordered, factorize_or_fail
 from .generalized_alpha import coefficients, predict
 from .state import IntegratorOptions, PhaseTimer, State, length_scale
@@ -297,10 +298,20 @@ def _position_correction(model, q_tilde, cand, metric, c, opts, tol_gap, nu0=Non
         qt[F] += U
         return qt
 
+    units = []  # H⁻¹e_i, made on the first curved system
+
     def system(U, s, A):
         if cons.linear:  # constant gradients: H⁻¹G_Aᵀ are columns of Y0
             return (lambda B: Y0[:, A]), None
         C = cons.curvature(shifted(U), np.where(A, s, 0.0))
+        if sp.issparse(C) and C.nnz and np.unique(C.indices).size <= len(F) // 4:
+            # the curvature touches the contact zone only: update H's factors on its dofs
+            if not units:
+                units.append(_unit_columns(model, (opts.metric, c.bp, c.gp), solve_H, constant))
+            try:
+                return low_rank_solver(solve_H, C, units[0]), C
+            except np.linalg.LinAlgError:
+                raise StepFailure("singular position-correction matrix", math.nan) from None
         return factorize_or_fail(H() - C, math.nan, symmetric=True), C
 
     try:
@@ -319,6 +330,14 @@ def _position_correction(model, q_tilde, cand, metric, c, opts, tol_gap, nu0=Non
     except RuntimeError as err:
         raise StepFailure(str(err), np.nan) from None
     return U, k * nu, its
+
+
+def _unit_columns(model, key, solve_H, constant: bool) -> UnitColumns:
+    """H⁻¹e_i of the dofs that gap curvatures touch, kept over the run when H is constant
+    (else over one correction)."""
+    if not constant:
+        return UnitColumns(solve_H, model.n_free)
+    return model.column_cache.setdefault(("unit", *key), UnitColumns(solve_H, model.n_free))
 
 
 def _columns(model, key, select, G, solve, cons, constant: bool):
