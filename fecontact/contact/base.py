@@ -16,10 +16,15 @@ class PairDefaults:
     """Defaults of a contact pair: no rigid obstacle, obstacles at rest."""
 
     obstacle = None
+    lazy_hessians = False  # True: evaluate() leaves H out; hessians(q, rows) gives it
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         """The gaps g_j(q) (m) alone; pairs with a cheaper path than ``evaluate`` override."""
         return self.evaluate(q)[0]
+
+    def hessians(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        """∇²g_j (len(rows), k, k) of the contacts ``rows`` (the pair's own numbering)."""
+        return self.evaluate(q)[3][rows]
 
     def rate(self, q: np.ndarray) -> np.ndarray:
         """∂g_j/∂t (m/s) from a moving obstacle; zero for obstacles at rest."""

@@ -71,10 +71,10 @@ _TRIANGLE_MAP = np.kron(
 )
 
 
-def triangle_plane_distance(x: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray):
+def triangle_plane_distance(x, a, b, c, hessian: bool = True):
     """Signed distances g = n·(x − a) (m) of points x from the planes of triangles (a, b, c),
     n = (b − a) × (c − a) normalised (right-hand rule), all (m, 3); with the gradients (m, 12)
-    and Hessians (m, 12, 12) with respect to (x, a, b, c)."""
+    and Hessians (m, 12, 12; None unless ``hessian``) with respect to (x, a, b, c)."""
     r, u, w = x - a, b - a, c - a
     N = np.cross(u, w)
     nu = np.linalg.norm(N, axis=1)
@@ -89,6 +89,10 @@ def triangle_plane_distance(x: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.n
         [N, np.einsum("mk,mki->mi", r, Au), np.einsum("mk,mkj->mj", r, Aw)], axis=1
     )
     nu_z = np.einsum("mk,mkz->mz", n, J)
+    g = s / nu
+    g_z = s_z / nu[:, None] - (s / nu**2)[:, None] * nu_z
+    if not hessian:
+        return g, g_z @ _TRIANGLE_MAP, None
     s_zz = np.zeros((m, 9, 9))
     s_zz[:, :3, 3:6], s_zz[:, :3, 6:] = Au, Aw
     s_zz[:, 3:6, 6:] = np.einsum("kij,mk->mij", _EPS, r)
@@ -98,9 +102,7 @@ def triangle_plane_distance(x: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.n
     En = np.einsum("kij,mk->mij", _EPS, n)
     nu_zz[:, 3:6, 6:] += En
     nu_zz[:, 6:, 3:6] += En.transpose(0, 2, 1)
-    g = s / nu
     i1, i2, i3 = 1.0 / nu, 1.0 / nu**2, 1.0 / nu**3
-    g_z = s_z * i1[:, None] - (s * i2)[:, None] * nu_z
     cross = s_z[:, :, None] * nu_z[:, None, :]
     g_zz = (
         s_zz * i1[:, None, None]
@@ -115,14 +117,14 @@ def triangle_plane_distance(x: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.n
     return g, g_z @ T, np.einsum("ai,mab,bj->mij", T, g_zz, T)
 
 
-def facet_plane_gap(x: np.ndarray, xf: np.ndarray):
+def facet_plane_gap(x: np.ndarray, xf: np.ndarray, hessian: bool = True):
     """Signed gaps (m,) of points x (m, d) from the planes of facets with vertices xf (m, k, d)
     along their outward normals (see the module docstring), with the gradients (m, d + k d) and
-    Hessians with respect to (x, facet vertices)."""
+    Hessians (None unless ``hessian``) with respect to (x, facet vertices)."""
     if x.shape[1] == 2:
-        f, G, H = point_line_distance(x, xf[:, 0], xf[:, 1])
-        return -f, -G, -H
-    return triangle_plane_distance(x, xf[:, 0], xf[:, 1], xf[:, 2])
+        f, G, H = point_line_distance(x, xf[:, 0], xf[:, 1], hessian)
+        return -f, -G, None if H is None else -H
+    return triangle_plane_distance(x, xf[:, 0], xf[:, 1], xf[:, 2], hessian)
 
 
 def closest_facet_distance(x: np.ndarray, xf: np.ndarray):
@@ -174,6 +176,7 @@ class NodeSurfaceContact(PairDefaults):
     """
 
     linear = False
+    lazy_hessians = True
 
     def __init__(self, body, master, nodes=None, restitution: float = 0.0, margin=None):
         if not isinstance(body, Solid) or not isinstance(master, Solid):
@@ -273,16 +276,6 @@ class NodeSurfaceContact(PairDefaults):
         )
         return near[pairs["i"]], fnear[pairs["j"]]
 
-    def gaps(self, q: np.ndarray) -> np.ndarray:
-        """The gaps (m,) in m alone, without their derivatives (+inf: no facet near)."""
-        last = self._last
-        if last is not None and self._same_dofs(q, last[0]):
-            return last[1][0].copy()
-        s, _, g_near = self.closest_facets(*self._positions(q))
-        g = np.full(self.size, np.inf)
-        g[s] = g_near
-        return g
-
     def _same_dofs(self, q, key) -> bool:
         (oa, ob), (a, b) = self.offsets, self.bodies
         now = (q[oa : oa + a.ndof], q[ob : ob + b.ndof])
@@ -290,22 +283,21 @@ class NodeSurfaceContact(PairDefaults):
 
     def evaluate(self, q: np.ndarray):
         """Gaps (m,) in m, global dofs (m, k) — the slave node's d translations, then those of
-        the facet's vertices —, gradients (m, k) and Hessians (m, k, k); rows of nodes with no
-        facet within the margin have g = +inf and zero derivatives.
+        the facet's vertices —, gradients (m, k) and no Hessians (None: :meth:`hessians` gives
+        those of the rows that need them); rows of nodes with no facet within the margin have
+        g = +inf and zero derivatives.
 
         The integrator often evaluates twice at the same q (gaps, then gradients): the last
-        result is kept and returned again (dofs, G and H read-only, g a fresh copy).
+        result is kept and returned again (dofs and G read-only, g a fresh copy).
         """
         (oa, ob), (a, b) = self.offsets, self.bodies
         key = (q[oa : oa + a.ndof], q[ob : ob + b.ndof])
         last = self._last
-        if last is not None and all(
-            np.array_equal(k, c) for k, c in zip(key, last[0], strict=True)
-        ):
+        if last is not None and self._same_dofs(q, last[0]):
             g, dofs, G, H = last[1]
             return g.copy(), dofs, G, H
         result = self._evaluate(q)
-        for array in result[1:]:
+        for array in result[1:3]:
             array.flags.writeable = False
         self._last = ((key[0].copy(), key[1].copy()), result)
         return result[0].copy(), *result[1:]
@@ -319,14 +311,26 @@ class NodeSurfaceContact(PairDefaults):
         dofs[:, : self.dim] = oa + self._slave_dofs
         dofs[:, self.dim :] = ob + self._facet_dofs[0]
         G = np.zeros((m, k))
-        H = np.zeros((m, k, k))
         s, f, _ = self.closest_facets(xs, xm)
         self.selected = np.full(m, -1)
         self.selected[s] = f
         if s.size:
-            g[s], G[s], H[s] = facet_plane_gap(xs[s], xm[self.facets[f]])
+            g[s], G[s], _ = facet_plane_gap(xs[s], xm[self.facets[f]], hessian=False)
             dofs[s, self.dim :] = ob + self._facet_dofs[f]
-        return g, dofs, G, H
+        return g, dofs, G, None
+
+    def hessians(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        """∇²g (len(rows), k, k) of the contacts ``rows`` at q, with the facets the last
+        :meth:`evaluate` at q selected (zero for nodes with no facet near)."""
+        self.evaluate(q)  # the selection at q (kept: no work when it was just evaluated)
+        H = np.zeros((len(rows), self.width, self.width))
+        f = self.selected[rows]
+        near = f >= 0
+        if near.any():
+            xs, xm = self._positions(q)
+            x = xs[np.asarray(rows)[near]]
+            H[near] = facet_plane_gap(x, xm[self.facets[f[near]]])[2]
+        return H
 
 
 class NodeNodeContact(PairDefaults):

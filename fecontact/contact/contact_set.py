@@ -142,7 +142,19 @@ class ContactSet:
                 Gv, H = Gv[loc], (None if H is None else H[loc])
             # each pair fills rows of its own: an assignment unless a row repeats a dof
             _add(G, sc.g_index, Gv.ravel()[sc.g_keep], sc.g_unique, assign=True)
-            if C is not None and H is not None:
+            if C is not None and self.pairs[i].lazy_hessians:
+                # Hessians of the rows with a weight only: the active contacts
+                act = np.flatnonzero(weights[rows])
+                if act.size:
+                    w, Ha = weights[rows[act]], self.pairs[i].hessians(q, loc[act])
+                    sa = self._scatter(i, rows[act], dofs[loc[act]])
+                    Hw = w @ Ha.reshape(len(w), -1) if sa.shared else w[:, None, None] * Ha
+                    values = Hw.ravel()[sa.c_keep]
+                    if dense:
+                        _add(C, sa.c_index, values, sa.c_unique)
+                    else:
+                        C.append((values, sa.c_index))
+            elif C is not None and H is not None:
                 w = weights[rows]
                 # rows on the same dofs (a joint's two equations): summed before the scatter
                 Hw = w @ H.reshape(len(w), -1) if sc.shared else w[:, None, None] * H
@@ -187,15 +199,16 @@ class ContactSet:
 
 
 def _curvature_matrix(C, n: int):
-    """The curvature as it was gathered: dense, or CSR from (values, (rows, cols)) parts
-    (duplicates summed; zero weights dropped, so only the active contacts' dofs appear)."""
+    """The curvature as it was gathered: dense, or sparse (COO, duplicates to be summed) from
+    (values, (rows, cols)) parts (zero weights dropped: only the active contacts' dofs
+    appear)."""
     if not isinstance(C, list):
         return C
     values = np.concatenate([v for v, _ in C] or [np.zeros(0)])
     flat = np.concatenate([i for _, i in C] or [np.zeros(0, int)])
     keep = values != 0.0
     rows, cols = np.divmod(flat[keep], n)
-    return sp.csr_matrix((values[keep], (rows, cols)), shape=(n, n))
+    return sp.coo_matrix((values[keep], (rows, cols)), shape=(n, n))
 
 
 class _Scatter:

@@ -52,10 +52,10 @@ def segment_distance(x: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return closest_on_segments(x, a, b)[1]
 
 
-def point_line_distance(P: np.ndarray, x1: np.ndarray, x2: np.ndarray):
+def point_line_distance(P: np.ndarray, x1: np.ndarray, x2: np.ndarray, hessian: bool = True):
     """Signed distances f = (d × w)/|d| of points P from the lines through x1 and x2
     (d = x2 − x1, w = P − x1; positive on the left of d), all (m, 2), with their gradients
-    (m, 6) and Hessians (m, 6, 6) with respect to (P, x1, x2).
+    (m, 6) and Hessians (m, 6, 6; None unless ``hessian``) with respect to (P, x1, x2).
 
     With c = d × w: ∂c/∂d = (w_y, −w_x), ∂c/∂w = J d, ∂²c/∂d∂w = −J, and f = c/|d|.
     """
@@ -67,6 +67,9 @@ def point_line_distance(P: np.ndarray, x1: np.ndarray, x2: np.ndarray):
     dd = d[:, :, None] * d[:, None, :]
     f_d = c_d / L[:, 0] - c[:, 0] * d / L[:, 0] ** 3
     f_w = c_w / L[:, 0]
+    G = np.concatenate([f_d, f_w], axis=1) @ _LINE_MAP
+    if not hessian:
+        return c[:, 0, 0] / L[:, 0, 0], G, None
     f_dd = -(c_d[:, :, None] * d[:, None, :] + d[:, :, None] * c_d[:, None, :]) / L**3
     f_dd += c * (3.0 * dd / L**5 - np.eye(2) / L**3)
     f_dw = -_PERP / L - d[:, :, None] * c_w[:, None, :] / L**3
@@ -75,7 +78,6 @@ def point_line_distance(P: np.ndarray, x1: np.ndarray, x2: np.ndarray):
     H_dw[:, :2, 2:] = f_dw
     H_dw[:, 2:, :2] = f_dw.transpose(0, 2, 1)
     T = _LINE_MAP
-    G = np.concatenate([f_d, f_w], axis=1) @ T
     return c[:, 0, 0] / L[:, 0, 0], G, np.einsum("ai,mab,bj->mij", T, H_dw, T)
 
 

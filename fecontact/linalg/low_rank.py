@@ -44,11 +44,13 @@ class UnitColumns:
 def low_rank_solver(solve_A, C, unit_columns: UnitColumns):
     """``solve(b)`` with (A − C)⁻¹ by the identity above; C (n × n) sparse or dense. Raises
     ``np.linalg.LinAlgError`` when A − C is singular (I − C_TT Z_T is)."""
-    C = sp.csr_matrix(C)
-    T = np.unique(C.nonzero()[0])
+    C = sp.coo_matrix(C)
+    T, index = np.unique(np.concatenate([C.row, C.col]), return_inverse=True)
     if T.size == 0:
         return solve_A
-    C_TT = C[T][:, T].toarray()
+    t = len(T)
+    C_TT = np.zeros((t, t))
+    np.add.at(C_TT, (index[: C.nnz], index[C.nnz :]), C.data)
     Z = unit_columns(T)
     solve_M = factorize(np.eye(len(T)) - C_TT @ Z[T])
 

@@ -304,7 +304,7 @@ def _position_correction(model, q_tilde, cand, metric, c, opts, tol_gap, nu0=Non
         if cons.linear:  # constant gradients: H⁻¹G_Aᵀ are columns of Y0
             return (lambda B: Y0[:, A]), None
         C = cons.curvature(shifted(U), np.where(A, s, 0.0))
-        if sp.issparse(C) and C.nnz and np.unique(C.indices).size <= len(F) // 4:
+        if sp.issparse(C) and C.nnz and np.unique(C.row).size <= len(F) // 4:
             # the curvature touches the contact zone only: update H's factors on its dofs
             if not units:
                 units.append(_unit_columns(model, (opts.metric, c.bp, c.gp), solve_H, constant))
