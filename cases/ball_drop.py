@@ -21,90 +21,49 @@ Probes: ``z_center`` and ``vz_center`` (height of the centre of mass, m, and its
 m/s), ``gap`` (lowest point above the plane, m) and ``contact_force`` (Σ k Λ_j / h, N).
 """
 
-from fecontact import (
-    Contact,
-    IntegratorOptions,
-    LinearElastic,
-    Model,
-    Plane,
-    Probe,
-    Simulation,
-    Solid,
-    run_cli,
+from fecontact import Model, Param, Simulation, case, run_cli
+from fecontact.bodies import LinearElastic, Solid
+from fecontact.contact import Contact, Plane
+from fecontact.scenes import (
+    SOLID,
+    centre_of_mass_probes,
+    contact_force_probe,
+    lowest_point_probe,
+    wave_step,
 )
-from fecontact.errors import InputError, check_count, check_positive, check_range
-
-PARAMETERS = {
-    "radius": ("m", "radius of the ball"),
-    "refinements": ("-", "uniform refinements of the ball mesh (8 * 8^n tetrahedra), 0..4"),
-    "element": ("-", "P1 (linear tetrahedra) or P2 (quadratic, curved boundary)"),
-    "E": ("Pa", "Young's modulus"),
-    "nu": ("-", "Poisson's ratio"),
-    "rho": ("kg/m^3", "density"),
-    "drop_height": ("m", "initial gap between the ball and the plane (>= 0)"),
-    "velocity": ("m/s", "initial downward speed (>= 0)"),
-    "restitution": ("-", "Newton's coefficient e_N at the contact nodes, in [0, 1]"),
-    "gravity": ("m/s^2", "acceleration of gravity, along -z (0: none, as in Hertz's theory)"),
-    "rho_inf": ("-", "spectral radius at infinite frequency in [0, 1]"),
-    "t_end": ("s", "end time"),
-}
 
 
+@case
 def build(
-    radius=0.05,
-    refinements=2,
-    element="P1",
-    E=1e7,
-    nu=0.3,
-    rho=1000.0,
-    drop_height=0.002,
-    velocity=1.0,
-    restitution=0.0,
-    gravity=9.81,
-    rho_inf=0.5,
-    t_end=0.008,
+    radius=Param.positive(0.05, "m", "radius of the ball"),
+    refinements=Param.count(2, "uniform refinements of the ball mesh (8 * 8^n tetrahedra)", 0, 4),
+    element=Param.choice(
+        "P1", "linear tetrahedra, or quadratic with a curved boundary", ("P1", "P2")
+    ),
+    E=SOLID["E"],
+    nu=SOLID["nu"],
+    rho=SOLID["rho"],
+    drop_height=Param.nonnegative(0.002, "m", "initial gap between the ball and the plane"),
+    velocity=Param.nonnegative(1.0, "m/s", "initial downward speed"),
+    restitution=Param.fraction(0.0, "Newton's coefficient e_N at the contact nodes"),
+    gravity=Param.nonnegative(9.81, "m/s^2", "acceleration of gravity, along -z (0: Hertz)"),
+    t_end=Param.positive(0.008, "s", "end time"),
 ):
-    mat = LinearElastic(E=E, nu=nu, rho=rho)
-    check_positive("radius", radius)
-    check_count("refinements", refinements, 0, 4)
-    check_positive("drop_height", drop_height, allow_zero=True)
-    check_positive("velocity", velocity, allow_zero=True)
-    check_range("restitution", restitution, 0.0, 1.0)
-    check_positive("gravity", gravity, allow_zero=True)
-    check_positive("t_end", t_end)
-    options = IntegratorOptions(rho_inf=rho_inf)
     z0 = radius + drop_height
-    if not isinstance(element, str) or element not in ("P1", "P2"):
-        raise InputError(f"element must be 'P1' or 'P2', got {element!r}")
+    mat = LinearElastic(E=E, nu=nu, rho=rho)
     ball = Solid.ball([0.0, 0.0, z0], radius, refinements, mat, element=element)
     floor = Plane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], extent=4.0 * radius)
-    contact = Contact(ball, floor, restitution=restitution)
-    model = Model([ball], [contact], gravity=(0.0, 0.0, -gravity))
-    w = ball.mass_matrix() @ ball.translation_field((0.0, 0.0, 1.0))  # z-momentum weights
-    probes = {
-        "z_center": Probe(lambda m, st: z0 + w @ st.q / ball.mass, "m", "centre of mass height"),
-        "vz_center": Probe(lambda m, st: w @ st.v / ball.mass, "m/s", "centre of mass velocity"),
-        "gap": Probe(
-            lambda m, st: float(ball.positions(st.q)[:, 2].min()), "m", "lowest point height"
-        ),
-        "contact_force": Probe(
-            lambda m, st: float(st.impulse.sum() / st.h) if st.h > 0 else 0.0,
-            "N",
-            "plane force k Lambda / h (mean over the step)",
-        ),
-    }
-    params = {k: v for k, v in locals().items() if k in PARAMETERS}
+    model = Model([ball], [Contact(ball, floor, restitution=restitution)], (0.0, 0.0, -gravity))
+    probes = centre_of_mass_probes(model, ball, 2, z0)
+    probes |= {"gap": lowest_point_probe(model, ball, 2), "contact_force": contact_force_probe()}
     spacing = ball.min_edge_length / (2.0 if element == "P2" else 1.0)
-    dt = 0.125 * spacing / mat.wave_speed
     return Simulation(
         model,
-        dt=dt,
+        dt=wave_step(ball, 0.125, spacing),
         t_end=t_end,
         probes=probes,
-        options=options,
         output_interval=t_end / 40,
         name="ball_drop",
-        parameters=params,
         v0=model.translation(ball, (0.0, 0.0, -velocity)),
     )
 

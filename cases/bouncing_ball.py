@@ -3,29 +3,23 @@
 The ball is a ``RigidBody2D`` with a ``Disk`` shape (uniform, I = m r²/2) whose lowest point
 starts ``height`` above the plane y = 0, at rest. It falls under gravity and bounces with
 restitution e: impacts at t₁ = √(2h₀/g), t_{k+1} = t_k + 2eᵏt₁, apex heights e^{2k} h₀, and
-after the accumulation time t₁(1 + e)/(1 − e) it rests on the plane (DESIGN §8). The contact
+after the accumulation time t₁(1 + e)/(1 − e) it rests on the plane. The contact
 acts on the centre: gap = y_c − r. Rotation is free but never excited (no friction).
 """
 
-from fecontact import Contact, Model, Plane, Probe, Simulation, run_cli
-from fecontact.bodies.rigid import Disk, RigidBody2D
-from fecontact.errors import check_positive, check_range
-
-PARAMETERS = {
-    "height": ("m", "initial gap between the ball and the plane (0: resting on it)"),
-    "restitution": ("-", "Newton's coefficient of restitution e_N in [0, 1]"),
-    "mass": ("kg", "mass of the ball"),
-    "radius": ("m", "radius of the ball"),
-    "gravity": ("m/s^2", "acceleration of gravity (>= 0), along -y"),
-}
+from fecontact import Model, Param, Probe, Simulation, case, run_cli
+from fecontact.bodies import Disk, RigidBody2D
+from fecontact.contact import Contact, Plane
 
 
-def build(height=1.0, restitution=0.8, mass=1.0, radius=0.1, gravity=9.81):
-    check_positive("height", height, allow_zero=True)
-    check_range("restitution", restitution, 0.0, 1.0)
-    check_positive("mass", mass)
-    check_positive("radius", radius)
-    check_positive("gravity", gravity, allow_zero=True)
+@case
+def build(
+    height=Param.nonnegative(1.0, "m", "initial gap between the ball and the plane"),
+    restitution=Param.fraction(0.8, "Newton's coefficient of restitution e_N"),
+    mass=Param.positive(1.0, "kg", "mass of the ball"),
+    radius=Param.positive(0.1, "m", "radius of the ball"),
+    gravity=Param.nonnegative(9.81, "m/s^2", "acceleration of gravity, along -y"),
+):
     shape = Disk(radius)
     ball = RigidBody2D.uniform(mass, [0.0, radius + height], shape)
     floor = Plane([0.0, 0.0], [0.0, 1.0])
@@ -35,10 +29,7 @@ def build(height=1.0, restitution=0.8, mass=1.0, radius=0.1, gravity=9.81):
         "gap": Probe(lambda m, st: y0 + st.q[1], "m", "gap between the ball and the plane"),
         "vy": Probe(lambda m, st: st.v[1], "m/s", "vertical velocity of the ball"),
     }
-    params = {k: v for k, v in locals().items() if k in PARAMETERS}
-    return Simulation(
-        model, dt=1e-3, t_end=5.0, probes=probes, name="bouncing_ball", parameters=params
-    )
+    return Simulation(model, dt=1e-3, t_end=5.0, probes=probes, name="bouncing_ball")
 
 
 if __name__ == "__main__":

@@ -18,60 +18,27 @@ disk-to-beam gap, m) and ``beam_mid_uy`` (deflection of the beam at mid-span, m)
 
 import numpy as np
 
-from fecontact import (
-    Beam2D,
-    Contact,
-    IntegratorOptions,
-    Material,
-    Model,
-    Probe,
-    Section,
-    Simulation,
-    run_cli,
-)
-from fecontact.bodies.rigid import Disk, RigidBody2D
-from fecontact.errors import check_count, check_positive, check_range
-
-PARAMETERS = {
-    "length": ("m", "beam span between the pins"),
-    "n_elements": ("-", "number of beam elements"),
-    "E": ("Pa", "Young's modulus of the beam"),
-    "rho": ("kg/m^3", "density of the beam"),
-    "width": ("m", "section width"),
-    "thickness": ("m", "section thickness (bending)"),
-    "disk_mass": ("kg", "mass of the disk (uniform)"),
-    "radius": ("m", "radius of the disk"),
-    "drop_height": ("m", "initial gap between the disk and the beam's top face"),
-    "position": ("-", "abscissa of the disk centre as a fraction of the span, in (0, 1)"),
-    "restitution": ("-", "Newton's coefficient of restitution e_N in [0, 1]"),
-    "rho_inf": ("-", "spectral radius at infinite frequency in [0, 1]"),
-}
+from fecontact import Model, Param, Probe, Simulation, case, run_cli
+from fecontact.bodies import Beam2D, Disk, Material, RigidBody2D, Section
+from fecontact.contact import Contact
 
 
+@case
 def build(
-    length=1.0,
-    n_elements=21,
-    E=210e9,
-    rho=7850.0,
-    width=0.05,
-    thickness=0.01,
-    disk_mass=1.0,
-    radius=0.05,
-    drop_height=0.05,
-    position=0.5,
-    restitution=0.0,
-    rho_inf=0.5,
+    length=Param.positive(1.0, "m", "beam span between the pins"),
+    n_elements=Param.count(21, "number of beam elements"),
+    E=Param.positive(210e9, "Pa", "Young's modulus of the beam"),
+    rho=Param.positive(7850.0, "kg/m^3", "density of the beam"),
+    width=Param.positive(0.05, "m", "section width"),
+    thickness=Param.positive(0.01, "m", "section thickness (bending)"),
+    disk_mass=Param.positive(1.0, "kg", "mass of the disk (uniform)"),
+    radius=Param.positive(0.05, "m", "radius of the disk"),
+    drop_height=Param.nonnegative(0.05, "m", "initial gap between the disk and the beam's top"),
+    position=Param(0.5, "-", "disk centre's abscissa as a fraction of the span", 0, 1, (0, 0)),
+    restitution=Param.fraction(0.0, "Newton's coefficient of restitution e_N"),
 ):
     material = Material(E, rho)
     section = Section.rectangle(width, thickness)
-    check_positive("length", length)
-    check_count("n_elements", n_elements)
-    check_positive("disk_mass", disk_mass)
-    check_positive("radius", radius)
-    check_positive("drop_height", drop_height, allow_zero=True)
-    check_range("position", position, 0.0, 1.0, (False, False))
-    check_range("restitution", restitution, 0.0, 1.0)
-    options = IntegratorOptions(rho_inf=rho_inf)
     beam = Beam2D.straight([0.0, 0.0], [length, 0.0], n_elements, material, section)
     beam.pin(0).pin(-1)
     center = [position * length, 0.5 * thickness + drop_height + radius]
@@ -94,16 +61,7 @@ def build(
             "deflection of the beam at mid-span",
         ),
     }
-    params = {k: v for k, v in locals().items() if k in PARAMETERS}
-    return Simulation(
-        model,
-        dt=2e-4,
-        t_end=0.5,
-        probes=probes,
-        options=options,
-        name="disk_on_beam",
-        parameters=params,
-    )
+    return Simulation(model, dt=2e-4, t_end=0.5, probes=probes, name="disk_on_beam")
 
 
 if __name__ == "__main__":

@@ -5,7 +5,7 @@ a bilateral constraint enforced at position and velocity level), released at res
 and swings down under gravity until its free end hits a stop: the plane x = 0 acting on the
 free end. A uniform bar is a physical pendulum with ω₀² = 3g/(2L), so the exact first impact
 is at K(sin 45°)/ω₀ and, after an impact with restitution e, the amplitude obeys
-1 − cos θ_{k+1} = e²(1 − cos θ_k) with impacts 2K(sin(θ_k/2))/ω₀ apart (DESIGN §8).
+1 − cos θ_{k+1} = e²(1 − cos θ_k) with impacts 2K(sin(θ_k/2))/ω₀ apart.
 
 Probes: ``theta`` (rad) measured from the downward vertical, positive on the free side (+x),
 and ``omega`` = dθ/dt (rad/s).
@@ -13,32 +13,19 @@ and ``omega`` = dθ/dt (rad/s).
 
 import numpy as np
 
-from fecontact import (
-    Contact,
-    Model,
-    Pin,
-    Plane,
-    Probe,
-    Simulation,
-    check_positive,
-    check_range,
-    run_cli,
-)
-from fecontact.bodies.rigid import Polygon, RigidBody2D
-
-PARAMETERS = {
-    "length": ("m", "length of the bar"),
-    "mass": ("kg", "mass of the bar"),
-    "restitution": ("-", "Newton's coefficient of restitution e_N in [0, 1]"),
-    "gravity": ("m/s^2", "acceleration of gravity, along -y"),
-}
+from fecontact import Model, Param, Pin, Probe, Simulation, case, run_cli
+from fecontact.bodies import Polygon, RigidBody2D
+from fecontact.contact import Contact, Plane
 
 
-def build(length=1.0, mass=1.0, restitution=0.5, gravity=9.81):
-    L = check_positive("length", length)
-    check_positive("mass", mass)
-    check_range("restitution", restitution, 0.0, 1.0)
-    check_positive("gravity", gravity)
+@case
+def build(
+    length=Param.positive(1.0, "m", "length of the bar"),
+    mass=Param.positive(1.0, "kg", "mass of the bar"),
+    restitution=Param.fraction(0.5, "Newton's coefficient of restitution e_N"),
+    gravity=Param.positive(9.81, "m/s^2", "acceleration of gravity, along -y"),
+):
+    L = length
     # the bar is a line (I = mL²/12 about its centre); a thin diamond with a vertex at each
     # end gives it a contact point on its axis and an outline to draw
     w = 0.02 * L
@@ -47,18 +34,13 @@ def build(length=1.0, mass=1.0, restitution=0.5, gravity=9.81):
     wall = Plane([0.0, -L], [1.0, 0.0], extent=0.2 * L)
     stop = Contact(bar, wall, nodes=[2], restitution=restitution)
     model = Model([bar], [stop], gravity=(0.0, -gravity), joints=[Pin(bar, [0.0, 0.0])])
-
-    def theta(m, st):
-        return float(np.pi / 2 + st.q[2])
-
     probes = {
-        "theta": Probe(theta, "rad", "angle from the downward vertical, + toward +x"),
+        "theta": Probe(
+            lambda m, st: float(np.pi / 2 + st.q[2]), "rad", "angle from the downward vertical"
+        ),
         "omega": Probe(lambda m, st: float(st.v[2]), "rad/s", "angular velocity"),
     }
-    params = {k: v for k, v in locals().items() if k in PARAMETERS}
-    return Simulation(
-        model, dt=1e-3, t_end=3.0, probes=probes, name="rigid_pendulum", parameters=params
-    )
+    return Simulation(model, dt=1e-3, t_end=3.0, probes=probes, name="rigid_pendulum")
 
 
 if __name__ == "__main__":

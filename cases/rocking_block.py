@@ -13,39 +13,36 @@ heights of the bottom corners above the plane (m), and ``omega`` (rad/s).
 
 import numpy as np
 
-from fecontact import (
-    Contact,
-    Model,
-    Plane,
-    Probe,
-    Simulation,
-    check_positive,
-    check_range,
-    run_cli,
-)
-from fecontact.bodies.rigid import Polygon, RigidBody2D, rotation
-
-PARAMETERS = {
-    "width": ("m", "box width"),
-    "height": ("m", "box height"),
-    "mass": ("kg", "box mass (uniform density)"),
-    "angle": ("rad", "initial tilt, counter-clockwise, in (0, atan(width/height))"),
-    "restitution": ("-", "Newton's coefficient of restitution e_N in [0, 1] at the corners"),
-    "gravity": ("m/s^2", "acceleration of gravity (>= 0), along -y"),
-}
+from fecontact import InputError, Model, Param, Probe, Simulation, case, run_cli
+from fecontact.bodies import Polygon, RigidBody2D
+from fecontact.bodies.rigid import rotation
+from fecontact.contact import Contact, Plane
 
 
-def build(width=0.2, height=0.4, mass=1.0, angle=0.1, restitution=0.5, gravity=9.81):
-    check_positive("width", width)
-    check_positive("height", height)
-    check_positive("mass", mass)
-    # atan(width/height): the centre of mass lies over the support, the box falls back
-    check_range("angle", angle, 0.0, np.arctan2(width, height), (False, False))
-    check_range("restitution", restitution, 0.0, 1.0)
-    check_positive("gravity", gravity, allow_zero=True)
+@case
+def build(
+    width=Param.positive(0.2, "m", "box width"),
+    height=Param.positive(0.4, "m", "box height"),
+    mass=Param.positive(1.0, "kg", "box mass (uniform density)"),
+    angle=Param(
+        0.1,
+        "rad",
+        "initial tilt, counter-clockwise, below atan(width/height)",
+        0.0,
+        np.pi / 2,
+        (False, False),
+    ),
+    restitution=Param.fraction(0.5, "Newton's coefficient of restitution e_N at the corners"),
+    gravity=Param.nonnegative(9.81, "m/s^2", "acceleration of gravity, along -y"),
+):
+    # below atan(width/height) the centre of mass lies over the support: the box falls back
+    if angle >= np.arctan2(width, height):
+        raise InputError(
+            f"angle must be in (0, atan(width/height)) = (0, "
+            f"{np.arctan2(width, height):.6g}), got {angle!r}"
+        )
     shape = Polygon.box(width, height)
-    # the bottom-left corner (vertex 0) on the origin
-    center = -rotation(angle) @ shape.vertices[0]
+    center = -rotation(angle) @ shape.vertices[0]  # the bottom-left corner on the origin
     block = RigidBody2D.uniform(mass, center, shape, angle=angle)
     floor = Plane([0.0, 0.0], [0.0, 1.0])
     model = Model([block], [Contact(block, floor, restitution=restitution)], (0.0, -gravity))
@@ -59,10 +56,7 @@ def build(width=0.2, height=0.4, mass=1.0, angle=0.1, restitution=0.5, gravity=9
         "gap_left": Probe(corner_gap(0), "m", "height of the bottom-left corner"),
         "gap_right": Probe(corner_gap(1), "m", "height of the bottom-right corner"),
     }
-    params = {k: v for k, v in locals().items() if k in PARAMETERS}
-    return Simulation(
-        model, dt=1e-3, t_end=1.0, probes=probes, name="rocking_block", parameters=params
-    )
+    return Simulation(model, dt=1e-3, t_end=1.0, probes=probes, name="rocking_block")
 
 
 if __name__ == "__main__":

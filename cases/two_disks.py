@@ -28,64 +28,27 @@ m, inf when no node is within the detection margin) and ``contact_force`` (Σ k 
 
 import numpy as np
 
-from fecontact import (
-    Contact,
-    InputError,
-    IntegratorOptions,
-    LinearElastic,
-    Model,
-    NeoHookean,
-    Probe,
-    Simulation,
-    Solid,
-    StVenantKirchhoff,
-    run_cli,
-)
-from fecontact.errors import check_count, check_positive, check_range
-
-MATERIALS = {"neo-hookean": NeoHookean, "linear": LinearElastic, "svk": StVenantKirchhoff}
-
-PARAMETERS = {
-    "radius": ("m", "radius of each disk"),
-    "refinements": ("-", "uniform refinements of the disk meshes (8 * 4^n triangles)"),
-    "E": ("Pa", "Young's modulus"),
-    "nu": ("-", "Poisson's ratio"),
-    "rho": ("kg/m^3", "density"),
-    "material": ("-", "neo-hookean, linear or svk (St Venant-Kirchhoff)"),
-    "gap": ("m", "initial distance between the disks (>= 0)"),
-    "velocity": ("m/s", "speed of each disk toward the other (> 0)"),
-    "restitution": ("-", "Newton's coefficient e_N at the contact nodes, in [0, 1]"),
-    "two_pass": ("-", "1: also the right disk's nodes against the left disk (0: one pass)"),
-    "rho_inf": ("-", "spectral radius at infinite frequency in [0, 1]"),
-    "t_end": ("s", "end time"),
-}
+from fecontact import Model, Param, Probe, Simulation, case, run_cli
+from fecontact.bodies import Solid
+from fecontact.contact import Contact
+from fecontact.scenes import SOLID, contact_force_probe, solid_material, wave_step
 
 
+@case
 def build(
-    radius=0.05,
-    refinements=3,
-    E=1e7,
-    nu=0.3,
-    rho=1000.0,
-    material="neo-hookean",
-    gap=0.002,
-    velocity=1.0,
-    restitution=0.0,
-    two_pass=1,
-    rho_inf=0.5,
-    t_end=0.006,
+    radius=Param.positive(0.05, "m", "radius of each disk"),
+    refinements=Param.count(3, "uniform refinements of the disk meshes (8 * 4^n triangles)", 0, 6),
+    E=SOLID["E"],
+    nu=SOLID["nu"],
+    rho=SOLID["rho"],
+    material=SOLID["material"],
+    gap=Param.nonnegative(0.002, "m", "initial distance between the disks"),
+    velocity=Param.positive(1.0, "m/s", "speed of each disk toward the other"),
+    restitution=Param.fraction(0.0, "Newton's coefficient e_N at the contact nodes"),
+    two_pass=Param.count(1, "1: also the right disk's nodes against the left disk", 0, 1),
+    t_end=Param.positive(0.006, "s", "end time"),
 ):
-    if not isinstance(material, str) or material not in MATERIALS:
-        raise InputError(f"material must be one of {', '.join(MATERIALS)}, got {material!r}")
-    mat = MATERIALS[material](E=E, nu=nu, rho=rho)
-    check_positive("radius", radius)
-    check_count("refinements", refinements, 0, 6)
-    check_positive("gap", gap, allow_zero=True)
-    check_positive("velocity", velocity)
-    check_range("restitution", restitution, 0.0, 1.0)
-    check_count("two_pass", two_pass, 0, 1)
-    check_positive("t_end", t_end)
-    options = IntegratorOptions(rho_inf=rho_inf)
+    mat = solid_material(material, E, nu, rho)
     x0 = radius + 0.5 * gap
     left = Solid.disk([-x0, 0.0], radius, refinements, mat)
     right = Solid.disk([x0, 0.0], radius, refinements, mat)
@@ -101,27 +64,17 @@ def build(
         ),
         "v_left": Probe(lambda m, st: float(w @ st.v[s0]) / left.mass, "m/s", "left disk vx"),
         "v_right": Probe(lambda m, st: float(w @ st.v[s1]) / right.mass, "m/s", "right disk vx"),
-        "gap": Probe(
-            lambda m, st: float(np.min(m.contacts.gaps(st.q))), "m", "smallest contact gap"
-        ),
-        "contact_force": Probe(
-            lambda m, st: float(st.impulse.sum() / st.h) if st.h > 0 else 0.0,
-            "N",
-            "contact force k Lambda / h (mean over the step)",
-        ),
+        "gap": Probe(lambda m, st: float(np.min(m.contacts.gaps(st.q))), "m", "smallest gap"),
+        "contact_force": contact_force_probe(),
     }
-    params = {k: v for k, v in locals().items() if k in PARAMETERS}
-    dt = left.min_edge_length / mat.wave_speed / 16.0
     v0 = model.translation(left, (velocity, 0.0)) + model.translation(right, (-velocity, 0.0))
     return Simulation(
         model,
-        dt=dt,
+        dt=wave_step(left, 1.0 / 16.0),
         t_end=t_end,
         probes=probes,
-        options=options,
         output_interval=t_end / 40,
         name="two_disks",
-        parameters=params,
         v0=v0,
     )
 

@@ -39,6 +39,7 @@ from .contact import Circle, Contact, Plane, Point, Sphere
 from .errors import InputError, SolverError, check_count, check_positive, check_range
 from .joints import Pin
 from .model import Model, NodalLoad
+from .params import Param, case
 from .simulation import Probe, Simulation, node_probe, run
 from .time import IntegratorOptions, State, simulate
 
@@ -56,6 +57,7 @@ __all__ = [
     "Model",
     "NeoHookean",
     "NodalLoad",
+    "Param",
     "PointMass",
     "Polygon",
     "Pin",
@@ -70,6 +72,7 @@ __all__ = [
     "Sphere",
     "State",
     "StVenantKirchhoff",
+    "case",
     "check_count",
     "check_positive",
     "check_range",

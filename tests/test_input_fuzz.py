@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from conftest import ROOT, load_case
 
-from fecontact import InputError, SolverError, simulate
+from fecontact import InputError, Param, SolverError, simulate
 
 CASES = sorted(p.stem for p in (ROOT / "cases").glob("*.py"))
 DRAWS = 60
@@ -43,12 +43,20 @@ def candidates(default):
     ] + wrong_types
 
 
+def defaults(build) -> dict:
+    """Each parameter's default, whether declared as a ``Param`` or plainly."""
+    return {
+        name: p.default.default if isinstance(p.default, Param) else p.default
+        for name, p in inspect.signature(build).parameters.items()
+    }
+
+
 def draws(build, rng, n):
-    params = inspect.signature(build).parameters
-    names = list(params)
+    values = defaults(build)
+    names = list(values)
     for _ in range(n):
         keys = rng.choice(names, size=rng.integers(1, 4), replace=False)
-        yield {str(k): (c := candidates(params[k].default))[rng.integers(len(c))] for k in keys}
+        yield {str(k): (c := candidates(values[k]))[rng.integers(len(c))] for k in keys}
 
 
 def accepted(value, default) -> bool:
@@ -62,7 +70,7 @@ def accepted(value, default) -> bool:
 @pytest.mark.parametrize("name", CASES)
 def test_case_builders_reject_bad_parameters_cleanly(name):
     case = load_case(name)
-    params = inspect.signature(case.build).parameters
+    params = defaults(case.build)
     rng = np.random.default_rng(sum(map(ord, name)))
     for overrides in draws(case.build, rng, DRAWS):
         try:
@@ -74,7 +82,7 @@ def test_case_builders_reject_bad_parameters_cleanly(name):
             assert named in params, (overrides, message)
             continue
         for key, value in overrides.items():
-            assert accepted(value, params[key].default), (overrides, "accepted")
+            assert accepted(value, params[key]), (overrides, "accepted")
         try:
             for st in simulate(sim.model, sim.dt, 3 * sim.dt, sim.options, q0=sim.q0, v0=sim.v0):
                 assert np.all(np.isfinite(st.q)) and np.all(np.isfinite(st.v)), overrides

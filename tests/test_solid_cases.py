@@ -16,6 +16,7 @@ import pytest
 
 from fecontact import InputError, run, simulate
 from fecontact.io.cli import load_case
+from fecontact.params import declared_parameters
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 NAMES = ["disk_drop", "two_disks", "ball_drop", "two_bars"]
@@ -182,7 +183,9 @@ def test_two_bars_separation_time_follows_the_bar_length():
 @pytest.mark.parametrize("name", NAMES)
 def test_case_runs_through_the_driver(name, tmp_path):
     module = case(name)
-    assert set(module.PARAMETERS) == set(inspect.signature(module.build).parameters)
+    declared = declared_parameters(module.build)  # every parameter declared, with a meaning
+    assert set(declared) == set(inspect.signature(module.build).parameters)
+    assert all(p.text and p.unit for p in declared.values())
     sim = module.build()
     summary = run(sim.replace(t_end=20 * sim.dt, output_interval=4 * sim.dt), tmp_path)
     assert summary["status"] == "completed" and summary["steps"] == 20

@@ -19,11 +19,13 @@ import argparse
 import dataclasses
 import importlib.util
 import inspect
+import os
 import sys
 import warnings
 from pathlib import Path
 
 from ..errors import InputError, SolverError
+from ..params import declared_parameters
 
 __all__ = ["main", "run_cli", "load_case", "parse_value"]
 
@@ -166,19 +168,23 @@ def _execute(build, args, name: str) -> int:
 def _info(module) -> int:
     build = module.build
     doc = inspect.getdoc(module) or ""
-    print(doc.splitlines()[0] if doc else module.__name__)
-    units = getattr(module, "PARAMETERS", {})
+    print(doc.splitlines()[0] if doc else f"case {Path(module.__file__).stem}")
+    declared = declared_parameters(build)
+    units = getattr(module, "PARAMETERS", {})  # cases written before Param
     rows = []
     for name, par in inspect.signature(build).parameters.items():
+        p = declared.get(name)
+        if p is not None:
+            rows.append((name, repr(p.default), p.unit, p.allowed, p.text))
+            continue
         unit, text = units.get(name, ("", ""))
         default = "" if par.default is inspect.Parameter.empty else repr(par.default)
-        rows.append((name, default, unit or "-", text))
-    width = [
-        max(len(r[i]) for r in rows + [("parameter", "default", "unit", "")]) for i in range(3)
-    ]
-    print(f"{'parameter':<{width[0]}}  {'default':<{width[1]}}  {'unit':<{width[2]}}  meaning")
+        rows.append((name, default, unit or "-", "", text))
+    head = ("parameter", "default", "unit", "allowed")
+    width = [max(len(r[i]) for r in [*rows, head]) for i in range(4)]
+    print("  ".join(f"{h:<{w}}" for h, w in zip(head, width, strict=True)) + "  meaning")
     for r in rows:
-        print(f"{r[0]:<{width[0]}}  {r[1]:<{width[1]}}  {r[2]:<{width[2]}}  {r[3]}")
+        print("  ".join(f"{c:<{w}}" for c, w in zip(r[:4], width, strict=True)) + f"  {r[4]}")
     from ..time import IntegratorOptions
 
     names = [f.name for f in dataclasses.fields(IntegratorOptions)]
@@ -220,6 +226,11 @@ def main(argv=None) -> int:
     except InputError as err:
         print(f"fecontact: error: {err}", file=sys.stderr)
         return 2
+    except BrokenPipeError:
+        # the reader of our output closed it (``fecontact info CASE | head``): nothing is
+        # wrong; point stdout at devnull so that the interpreter's final flush is silent
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
 
 
 def run_cli(build, argv=None) -> None:

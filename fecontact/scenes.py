@@ -1,0 +1,118 @@
+"""Pieces that cases share: materials by name, the step of an elastic body from its wave
+speed, and the probes most impacts are read with."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .bodies.beam import Beam2D, Material, Section
+from .bodies.materials import LinearElastic, NeoHookean, StVenantKirchhoff
+from .params import Param
+from .simulation import Probe
+
+__all__ = [
+    "BAR",
+    "MATERIALS",
+    "SOLID",
+    "axial_bar",
+    "axial_velocity_probe",
+    "wave_transit",
+    "centre_of_mass_probes",
+    "contact_force_probe",
+    "lowest_point_probe",
+    "solid_material",
+    "wave_step",
+]
+
+MATERIALS = {"neo-hookean": NeoHookean, "linear": LinearElastic, "svk": StVenantKirchhoff}
+"""Solid materials by the names cases take: compressible Neo-Hookean, linear elastic and
+St Venant–Kirchhoff."""
+
+
+def solid_material(name: str, E: float, nu: float, rho: float):
+    """The material ``name`` (a key of ``MATERIALS``) with Young's modulus E (Pa), Poisson's
+    ratio ν and density ρ (kg/m³)."""
+    return MATERIALS[name](E=E, nu=nu, rho=rho)
+
+
+def wave_step(body, fraction: float, spacing: float | None = None) -> float:
+    """``fraction`` of the time (s) the dilatational wave takes to cross the node ``spacing``
+    (m; default the body's shortest edge)."""
+    spacing = body.min_edge_length if spacing is None else spacing
+    return fraction * spacing / body.material.wave_speed
+
+
+def contact_force_probe(what: str = "contact force") -> Probe:
+    """Σ k Λ_j / h (N): the mean contact force over the step."""
+    return Probe(
+        lambda m, st: float(st.impulse.sum() / st.h) if st.h > 0 else 0.0,
+        "N",
+        f"{what} k Lambda / h (mean over the step)",
+    )
+
+
+def centre_of_mass_probes(model, body, axis: int, start: float = 0.0, name: str = "center"):
+    """Position (from ``start``, m) and velocity (m/s) of the body's centre of mass along the
+    coordinate ``axis``, as probes ``<x|y|z>_<name>`` and ``v<x|y|z>_<name>``."""
+    e = np.eye(body.dim)[axis]
+    w = body.mass_matrix() @ body.translation_field(e)  # momentum weights along the axis
+    s, letter = model.body_slice(model.bodies.index(body)), "xyz"[axis]
+    return {
+        f"{letter}_{name}": Probe(
+            lambda m, st: start + w @ st.q[s] / body.mass, "m", "centre of mass position"
+        ),
+        f"v{letter}_{name}": Probe(
+            lambda m, st: w @ st.v[s] / body.mass, "m/s", "centre of mass velocity"
+        ),
+    }
+
+
+def lowest_point_probe(model, body, axis: int) -> Probe:
+    """The smallest coordinate (m) along ``axis`` of the body's nodes: its height above a
+    floor through the origin."""
+    s = model.body_slice(model.bodies.index(body))
+    return Probe(
+        lambda m, st: float(body.positions(st.q[s])[:, axis].min()), "m", "lowest point height"
+    )
+
+
+def axial_bar(start, end, n_elements: int, E: float, rho: float, area: float, linear=False):
+    """A straight bar from ``start`` to ``end`` (m) for axial waves: a ``Beam2D`` of square
+    section ``area`` (m²; bending plays no part in the axial problem), Young's modulus E (Pa)
+    and density ρ (kg/m³)."""
+    section = Section(area=area, inertia=area**2 / 12.0)
+    return Beam2D.straight(start, end, n_elements, Material(E, rho), section, linear)
+
+
+def axial_velocity_probe(model, bar, text: str, node=None) -> Probe:
+    """The bar's axial momentum over its mass (m/s), or the axial velocity of ``node``."""
+    ux = np.arange(0, bar.ndof, 3) + model.offset_of(bar)  # axial dofs, node by node
+    if node is not None:
+        return Probe(lambda m, st: st.v[ux[node]], "m/s", text)
+    px = (bar.mass_matrix() @ bar.translation_field((1.0, 0.0)))[ux - ux[0]]
+    mass = px.sum()
+    return Probe(lambda m, st: float(px @ st.v[ux]) / mass, "m/s", text)
+
+
+def wave_transit(length: float, n_elements: int, E: float, rho: float, gap: float, v0: float):
+    """(h, t_end) of a bar impact: two steps per element transit time Δx/c (c = √(E/ρ)), and
+    a run through the closing of the ``gap`` at ``v0``, the contact (2L/c) and half as long
+    again of free flight."""
+    c = np.sqrt(E / rho)
+    return 0.5 * (length / n_elements) / c, gap / v0 + 3.0 * length / c
+
+
+BAR = {
+    "E": Param.positive(1.0, "Pa", "Young's modulus"),
+    "rho": Param.positive(1.0, "kg/m^3", "density"),
+    "area": Param.positive(1.0, "m^2", "cross-section area A"),
+}
+"""The wave-propagation bars' material, in units where the wave speed c = √(E/ρ) is 1."""
+
+SOLID = {
+    "E": Param.positive(1e7, "Pa", "Young's modulus"),
+    "nu": Param(0.3, "-", "Poisson's ratio", -1.0, 0.5, (False, False)),
+    "rho": Param.positive(1000.0, "kg/m^3", "density"),
+    "material": Param.choice("neo-hookean", "solid material", MATERIALS),
+}
+"""A soft rubber-like solid: the elastic bodies' material parameters."""
