@@ -183,7 +183,7 @@ def observed_order(h, err) -> float:
     return float(np.polyfit(np.log(h[ok]), np.log(err[ok]), 1)[0])
 
 
-# -- exact solutions (DESIGN §8) ----------------------------------------------------------------
+# -- exact solutions ----------------------------------------------------------------
 
 
 def ball_impact_times(n, h0=1.0, e=0.8, g=G) -> np.ndarray:

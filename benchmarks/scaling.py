@@ -1,4 +1,4 @@
-"""Time per step against the number of dofs, split into phases (issue 6).
+"""Time per step against the number of dofs, split into phases.
 
 Series (each body starts with its lowest point on the plane y = 0 (z = 0 in 3D), moving toward
 it at 1 m/s under gravity, so that every step has a contact to resolve; h = 1e-4 s, e_N = 0):

@@ -1,4 +1,4 @@
-"""Stress tests of numerical stability: a matrix of runs and what each one did (issue 4).
+"""Stress tests of numerical stability: a matrix of runs and what each one did.
 
 Per run: whether it completed (``SolverError`` caught: "failed"; non-finite or runaway energy:
 "diverged"; over the time budget: "timeout"), the time reached, the max penetration (m), the

@@ -1,4 +1,4 @@
-"""Work–precision: run time against error for NSGA and the baselines, side by side (issue 6).
+"""Work–precision: run time against error for NSGA and the baselines, side by side.
 
 For each case the step h is swept and every run is repeated with the three integrators of
 ``IntegratorOptions.integrator`` on the same model, interleaved (h by h, repeat by repeat) so

@@ -15,7 +15,7 @@ line). Every public name is importable from ``fecontact`` itself.
 import os
 
 # The dense systems here have tens of unknowns: OpenBLAS threads only add synchronisation
-# (measured 4-9x slower steps on a loaded 2-core machine). Takes effect when fecontact is
+# (README, Set-up). Takes effect when fecontact is
 # imported before numpy (the command line, case scripts); an explicit setting wins.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 

@@ -116,7 +116,7 @@ def test_self_convergence_of_the_tip_trajectory():
 @pytest.mark.parametrize("restitution", [0.0, 0.5])
 def test_impacts_do_not_create_energy(restitution):
     """Total energy after each impact exceeds the value before it by < 1 % of the kinetic
-    energy at impact (the case's restitutions, DESIGN §7)."""
+    energy at impact (the case's restitutions)."""
     run = trajectory(restitution=restitution)
     steps = impact_steps(run)
     assert len(steps) >= 1

@@ -156,7 +156,7 @@ def test_quadratic_ball_impact_follows_hertz():
 def test_two_bars_exchange_their_velocities_after_two_wave_transits(runs):
     # Exact: the ends stay together for 2L/c = 2 s, then the striker stops and the target
     # leaves at v0 = 0.1 m/s. The release is located to one step (Δx/2c = 0.25 % of 2L/c);
-    # 3 % is the bound (measured 0.25 %). The discrete bars keep ~Δx/L of the
+    # 3 % bounds the contact time (measured 0.25 %). The discrete bars keep ~Δx/L of the
     # momentum in vibration: striker at 0.36 %, target at 99.6 % of v0 (bounds 1 %).
     sim, out = runs["two_bars"]
     (first, last), *rest = episodes(out["active"])

@@ -1,4 +1,4 @@
-"""The cases against their exact solutions (DESIGN §8).
+"""The cases against their exact solutions.
 
 The decoupled nonsmooth generalized-α scheme is second order on smooth motion and first order
 in h across impacts, because an impact is not located inside the step that contains it: the
@@ -342,7 +342,7 @@ OMEGA0 = math.sqrt(3.0 * G / 2.0)  # uniform bar of length 1 m: ω₀² = 3g/(2L
 
 def pendulum_exact(t, e=E_PEND, n_impacts=8):
     """θ(t) from Jacobi's sn: released at θ = π/2; after each impact at the vertical the
-    amplitude follows 1 − cos θ_{k+1} = e²(1 − cos θ_k) (DESIGN §8)."""
+    amplitude follows 1 − cos θ_{k+1} = e²(1 − cos θ_k)."""
     from scipy.special import ellipj, ellipk
 
     k0 = math.sin(math.pi / 4)

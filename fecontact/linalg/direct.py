@@ -6,8 +6,8 @@ ordering. Symmetric matrices (the mass, the iteration matrix β′M + K_t, the m
 are factorized in SuperLU's symmetric mode: a minimum degree ordering of A + Aᵀ applied to
 rows and columns alike, and the diagonal taken as pivot unless it is below
 ``SYMMETRIC_PIVOT`` of its column. With the default threshold of 1, row interchanges destroy
-the symmetric ordering: measured on the iteration matrix of a 3D ball of 18051 dofs, 57 s
-against 7 s with the diagonal pivots. Element matrices are scattered into a sparsity pattern
+the symmetric ordering and the fill grows by an order of magnitude on 3D iteration matrices
+(README, *Speed*). Element matrices are scattered into a sparsity pattern
 computed once per model, so every assembly is a single ``np.bincount``.
 """
 
@@ -25,9 +25,9 @@ from .sparse_solvers import pardiso_factorize, sparse_solver
 __all__ = ["DENSE_LIMIT", "SYMMETRIC_PIVOT", "Pattern", "factorize"]
 
 DENSE_LIMIT = 120
-"""Systems with at most this many unknowns are assembled and factorized dense (measured
-here: LU of a banded beam matrix costs the same dense or with SuperLU at about 130
-unknowns, dense being 20x cheaper at 15 and sparse 5x cheaper at 300)."""
+"""Systems with at most this many unknowns are assembled and factorized dense: below it the
+dense LU of a banded beam matrix costs less than SuperLU's analysis and slicing
+(``benchmarks/speed.py`` measures the crossing)."""
 
 
 SYMMETRIC_PIVOT = 1e-2

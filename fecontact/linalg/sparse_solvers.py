@@ -3,8 +3,7 @@
 ``"superlu"`` (default) is SciPy's SuperLU, always available. ``"pardiso"`` is Intel MKL
 PARDISO through the optional ``pypardiso`` package (``pip install "fecontact[pardiso]"``,
 x86-64 only), a multithreaded supernodal LU. Both return the same solutions to round-off;
-the choice only changes speed, which depends on the matrix and the cores (on a 2-core machine,
-a 2D Laplacian of 22500 unknowns: SuperLU factorizes in 0.04 s, PARDISO in 0.11 s).
+the choice only changes speed, which depends on the matrix and the cores (README, *Speed*).
 
 Select one with :func:`use_sparse_solver` or the environment variable
 ``FECONTACT_SPARSE_SOLVER`` (read at import).
