@@ -5,8 +5,9 @@
     fecontact info CASE.py
     fecontact render OUT_DIR_OR_PVD
 
-A case is a Python file with ``build(**params) -> Simulation`` and, optionally, a
-``PARAMETERS`` dict ``{name: (unit, description)}``. ``--set`` values are read as an int, else
+A case is a Python file with ``build(**params) -> Simulation`` whose parameters are ``Param``
+defaults (:mod:`fecontact.params`; an older ``PARAMETERS`` dict ``{name: (unit, description)}``
+is still read). ``--set`` values are read as an int, else
 a float (``nan`` and ``inf`` parse, then fail validation), else a string; names of
 ``IntegratorOptions`` fields (``rho_inf``, ``metric``, ...) set the integrator unless the case
 takes them itself. Every input error prints one line and exits with status 2; a run that
