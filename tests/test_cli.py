@@ -7,6 +7,7 @@ import sys
 import numpy as np
 import pytest
 from conftest import ROOT
+from scipy.special import ellipk
 
 from fecontact import load_run
 from fecontact.io.cli import main, parse_value
@@ -57,7 +58,12 @@ def test_run_writes_frames_history_and_summary(short_run):
     assert s["sparse_factorizations"] == {"count": 0, "seconds": 0.0}  # 15 dofs: dense
     assert s["parameters"]["tip_mass"] == 0.14
     assert s["max_penetration"] <= 1e-10
-    assert s["impacts"][0]["time"] == pytest.approx(0.319)
+    # the rigid pendulum (J = m_tip L² + m_beam L²/3) hits at K(sin 45°)/ω₀ = 0.318576 s; the
+    # strip's bending delays its tip by less than a step here, and the impact is known to the
+    # step that detects it: within two steps of h = 1e-3
+    L, m_tip, m_beam, g = 0.3, 0.14, 2700.0 * 0.02 * 0.002 * 0.3, 9.81
+    omega0 = np.sqrt(g * (m_tip * L + m_beam * L / 2) / (m_tip * L**2 + m_beam * L**2 / 3))
+    assert abs(s["impacts"][0]["time"] - ellipk(0.5) / omega0) <= 2e-3
     # frames at the output interval, with real times, readable by pyvista
     times = [t for t, _ in run.frames()]
     assert np.allclose(times, np.r_[np.arange(0, 0.35, 0.05), 0.35])
