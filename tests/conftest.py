@@ -15,9 +15,9 @@ def cases_dir() -> Path:
 
 def load_case(name: str):
     """Import a case module from cases/ by name."""
-    from fecontact.io.cli import load_case as _load
+    from fecontact.testing import case
 
-    return _load(ROOT / "cases" / f"{name}.py")
+    return case(name)
 
 
 sys.path.insert(0, str(Path(__file__).parent))

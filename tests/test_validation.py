@@ -11,22 +11,16 @@ the step used; measured values are quoted.
 import dataclasses
 import inspect
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from fecontact import InputError, run, simulate
-from fecontact.io.cli import load_case
 from fecontact.params import declared_parameters
+from fecontact.testing import ball_impact_times, case, episode_starts, pendulum_exact
 
-CASES = Path(__file__).resolve().parents[1] / "cases"
 G = 9.81
 PENETRATION = 1e-10  # m: the position correction closes gaps to 1e-12 of the model size
-
-
-def case(name):
-    return load_case(CASES / f"{name}.py")
 
 
 def history(sim, dt=None, t_end=None):
@@ -48,25 +42,12 @@ def history(sim, dt=None, t_end=None):
     return {k: np.array(v) for k, v in rows.items()}
 
 
-def episode_starts(active):
-    """Indices of the steps where a contact closes after a step with none closed."""
-    on = np.asarray(active).reshape(len(active), -1).any(axis=1)
-    return np.flatnonzero(on & ~np.r_[False, on[:-1]])
-
-
 # -- bouncing ball (h = 1e-4, e = 0.8, h0 = 1 m) --------------------------------------------
 
 H_BALL = 1e-4
 E_BALL = 0.8
 T1 = math.sqrt(2.0 * 1.0 / G)
 T_ZENO = T1 * (1.0 + E_BALL) / (1.0 - E_BALL)
-
-
-def exact_impacts(n):
-    t = [T1]
-    for k in range(1, n):
-        t.append(t[-1] + 2.0 * E_BALL**k * T1)
-    return np.array(t)
 
 
 @pytest.fixture(scope="module")
@@ -93,7 +74,7 @@ def first_impacts(h, n, restitution=E_BALL, height=1.0):
 def test_ball_first_five_impact_times_within_three_steps(ball):
     # measured at h = 1e-4: +0.76h, +1.39h, +1.88h, +2.28h, +2.40h
     t = ball["t"][episode_starts(ball["active"])][:5]
-    np.testing.assert_array_less(np.abs(t - exact_impacts(5)), 3.0 * H_BALL)
+    np.testing.assert_array_less(np.abs(t - ball_impact_times(5, e=E_BALL)), 3.0 * H_BALL)
 
 
 @pytest.mark.parametrize("h", [1e-3, 7e-4, 3e-4])
@@ -337,30 +318,6 @@ def test_cases_reject_bad_parameters(name, kwargs):
 # -- rigid pendulum (uniform bar pinned at the origin, stop at the vertical) -----------------
 
 E_PEND = 0.5
-OMEGA0 = math.sqrt(3.0 * G / 2.0)  # uniform bar of length 1 m: ω₀² = 3g/(2L)
-
-
-def pendulum_exact(t, e=E_PEND, n_impacts=8):
-    """θ(t) from Jacobi's sn: released at θ = π/2; after each impact at the vertical the
-    amplitude follows 1 − cos θ_{k+1} = e²(1 − cos θ_k)."""
-    from scipy.special import ellipj, ellipk
-
-    k0 = math.sin(math.pi / 4)
-    t_imp = [ellipk(k0**2) / OMEGA0]
-    amps, theta = [], math.pi / 2
-    for _ in range(n_impacts):
-        theta = math.acos(1.0 - e**2 * (1.0 - math.cos(theta)))
-        amps.append(theta)
-        t_imp.append(t_imp[-1] + 2.0 * ellipk(math.sin(theta / 2) ** 2) / OMEGA0)
-    out = np.empty_like(t)
-    first = t < t_imp[0]
-    sn = ellipj(ellipk(k0**2) - OMEGA0 * t[first], k0**2)[0]
-    out[first] = 2.0 * np.arcsin(k0 * sn)
-    for j, amp in enumerate(amps):
-        k = math.sin(amp / 2)
-        sel = (t >= t_imp[j]) & (t < t_imp[j + 1])
-        out[sel] = 2.0 * np.arcsin(k * ellipj(OMEGA0 * (t[sel] - t_imp[j]), k * k)[0])
-    return out, np.array(t_imp)
 
 
 def pendulum_run(h, t_end=2.5):
@@ -391,7 +348,7 @@ def test_pendulum_first_three_impacts_within_three_steps(pendulum_runs):
     # the swing up to about h late: 3h covers three impacts at first order
     for h, run_ in pendulum_runs.items():
         t = run_["t"][episode_starts(run_["active"])][:3]
-        _, exact = pendulum_exact(run_["t"])
+        _, exact = pendulum_exact(run_["t"], e=E_PEND)
         assert len(t) == 3
         np.testing.assert_array_less(np.abs(t - exact[:3]), 3.0 * h)
 
@@ -401,7 +358,7 @@ def pendulum_angle_error(h, t_end=2.5):
     states = list(simulate(sim.model, h, t_end, sim.options))
     t = np.array([st.t for st in states])
     theta = np.array([sim.probes["theta"].fn(sim.model, st) for st in states])
-    return np.abs(theta - pendulum_exact(t)[0]).max()
+    return np.abs(theta - pendulum_exact(t, e=E_PEND)[0]).max()
 
 
 @pytest.mark.slow
@@ -440,7 +397,8 @@ def test_rigid_swing_without_stop_is_second_order():
         states = list(simulate(sim.model, h, 0.45, sim.options))
         t = np.array([st.t for st in states])
         theta = np.array([sim.probes["theta"].fn(sim.model, st) for st in states])
-        errors.append(np.abs(theta - pendulum_exact(t)[0]).max())  # before the exact impact
+        # before the exact impact
+        errors.append(np.abs(theta - pendulum_exact(t, e=E_PEND)[0]).max())
     orders = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
     assert np.all(orders >= 1.9), (errors, orders)
 
