@@ -61,6 +61,8 @@ class Model:
         self.bodies = list(bodies)
         if not self.bodies:
             raise InputError("bodies must contain at least one body")
+        if len({id(b) for b in self.bodies}) < len(self.bodies):
+            raise InputError("bodies: the same body is listed twice")
         dims = {b.dim for b in self.bodies}
         if len(dims) > 1:
             raise InputError("bodies must all be 2D or all 3D")

@@ -59,6 +59,9 @@ def node_probe(model, body, node: int, quantity: str) -> Probe:
     rotation (rad, counter-clockwise)."""
     if quantity not in _NODE_QUANTITIES:
         raise InputError(f"quantity must be one of {', '.join(_NODE_QUANTITIES)}, got {quantity!r}")
+    if quantity == "rotation" and "theta" not in body.components:
+        kind = type(body).__name__
+        raise InputError(f"quantity 'rotation': a {kind} node has none; use x, y, ux, uy, vx, vy")
     unit, text, get = _NODE_QUANTITIES[quantity]
     i = body.node_index(node)
     s = model.body_slice(model.bodies.index(body))
@@ -90,10 +93,24 @@ class Simulation:
         name = self.name
         if not isinstance(name, str) or not name.replace("_", "").replace("-", "").isalnum():
             raise InputError(f"name must be letters, digits, '_' or '-', got {self.name!r}")
+        for probe in self.probes:
+            # history.csv columns: no clash with the time column, no separator inside
+            ok = isinstance(probe, str) and probe.replace("_", "").isalnum()
+            if not ok or probe in HISTORY_COLUMNS:
+                raise InputError(
+                    f"probe names must be letters, digits or '_' and differ from the history "
+                    f"columns ({', '.join(HISTORY_COLUMNS)}), got {probe!r}"
+                )
 
     def warnings(self) -> list[str]:
-        """Settings that the stability study (benchmarks/stability.py) found unsafe here."""
+        """Settings that the stability study (benchmarks/stability.py) found unsafe here, and
+        a step that the run cannot take."""
         out = []
+        if self.dt > self.t_end:
+            out.append(
+                f"dt = {self.dt:g} s is longer than the run (t_end = {self.t_end:g} s): "
+                f"it takes one step of {self.t_end:g} s"
+            )
         opts, model = self.options, self.model
         flexible = any(not b.linear or b.element_dofs.size for b in model.bodies)
         elastic_impacts = np.any(model.contacts.restitution > 0)
@@ -380,7 +397,10 @@ def run(
             warnings.warn(text, UserWarning, stacklevel=2)
     if frames:
         import meshio  # noqa: F401  (the frames' mesh type: imported outside the timed loop)
-    out.mkdir(parents=True, exist_ok=True)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as err:  # a file in the way, a folder that cannot be written
+        raise InputError(f"out: cannot create the output folder {out}: {err.strerror}") from None
     pvd = PVDWriter(out, sim.name, index_interval=PVD_INTERVAL)
     timer = PhaseTimer()
     rec = _Recorder(sim, out, keep_rows=None if start is None else start.step + 1)

@@ -57,7 +57,7 @@ class Material:
     ----------
     E : Young's modulus in Pa (> 0).
     rho : density in kg/m³ (> 0).
-    nu : Poisson's ratio, in (−1, 0.5].
+    nu : Poisson's ratio, in (−1, 0.5).
     """
 
     E: float
@@ -67,7 +67,7 @@ class Material:
     def __post_init__(self):
         object.__setattr__(self, "E", check_positive("E", self.E))
         object.__setattr__(self, "rho", check_positive("rho", self.rho))
-        object.__setattr__(self, "nu", check_range("nu", self.nu, -1.0, 0.5, (False, True)))
+        object.__setattr__(self, "nu", check_range("nu", self.nu, -1.0, 0.5, (False, False)))
 
     @property
     def G(self) -> float:

@@ -151,6 +151,13 @@ def _execute(build, args, name: str) -> int:
     except KeyboardInterrupt:
         print(f"fecontact: interrupted; results so far are in {out}", file=sys.stderr)
         return 130
+    if summary.get("step_halvings"):
+        # said even with --quiet: the run did not keep the step it was asked for
+        print(
+            f"fecontact: warning: {summary['step_halvings']} step(s) of dt = {sim.dt:g} s "
+            "were halved to converge (summary.json: step_halvings)",
+            file=sys.stderr,
+        )
     if not args.quiet:
         print(
             f"{sim.name}: {summary['steps']} steps in {summary['wall_time_s']:.2f} s, "

@@ -105,7 +105,7 @@ class IntegratorOptions:
         self.detection_margin = check_positive(
             "detection_margin", self.detection_margin, allow_zero=True
         )
-        self.max_iterations = check_count("max_iterations", self.max_iterations, 0, 10**4)
+        self.max_iterations = check_count("max_iterations", self.max_iterations, 1, 10**4)
         # beyond 50 halvings the step is below the round-off of the time
         self.max_halvings = check_count("max_halvings", self.max_halvings, 0, 50)
 
