@@ -48,6 +48,15 @@ class SolverError(RuntimeError):
         self.residual = residual
 
 
+def _shown(value) -> str:
+    """``value`` as an error message shows it: whole when short, else its shape."""
+    text = repr(value)
+    if len(text) <= 60:
+        return text
+    shape = np.shape(value) if not isinstance(value, (str, bytes)) else (len(value),)
+    return f"an array of shape {shape}"
+
+
 def check_finite(name: str, value) -> np.ndarray:
     """Return ``value`` as a float array, raising ``InputError`` unless every entry is a
     finite real number of magnitude at most ``MAX_MAGNITUDE``."""
@@ -56,11 +65,16 @@ def check_finite(name: str, value) -> np.ndarray:
             raise TypeError
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
-        raise InputError(f"{name} must be real numbers, got {value!r}") from None
-    if not np.all(np.isfinite(arr)):
-        raise InputError(f"{name} must be finite, got {value!r}")
+        raise InputError(f"{name} must be real numbers, got {_shown(value)}") from None
+    bad = ~np.isfinite(arr)
+    if np.any(bad):
+        index = tuple(int(i) for i in np.unravel_index(np.argmax(bad), arr.shape))
+        where = "" if arr.ndim == 0 else f" (entry {index[0] if len(index) == 1 else index})"
+        raise InputError(f"{name} must be finite, got {_shown(value)}{where}")
     if arr.size and np.max(np.abs(arr)) > MAX_MAGNITUDE:
-        raise InputError(f"{name} must be at most {MAX_MAGNITUDE:g} in magnitude, got {value!r}")
+        raise InputError(
+            f"{name} must be at most {MAX_MAGNITUDE:g} in magnitude, got {_shown(value)}"
+        )
     return arr
 
 
@@ -76,7 +90,7 @@ def _number(name: str, value) -> float:
     """``value`` as a float; only real numbers are accepted (not strings, not booleans)."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.number)):
         if not (isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "iuf"):
-            raise InputError(f"{name} must be a number, got {value!r}")
+            raise InputError(f"{name} must be a number, got {_shown(value)}")
     return float(value)
 
 
@@ -85,13 +99,13 @@ def check_positive(name: str, value, allow_zero: bool = False) -> float:
     [MIN_MAGNITUDE, MAX_MAGNITUDE] (or [0, MAX_MAGNITUDE] with ``allow_zero``)."""
     x = _number(name, value)
     if not math.isfinite(x):
-        raise InputError(f"{name} must be finite, got {value!r}")
+        raise InputError(f"{name} must be finite, got {_shown(value)}")
     if x < 0 or (x == 0 and not allow_zero):
         bound = ">= 0" if allow_zero else "> 0"
-        raise InputError(f"{name} must be {bound}, got {value!r}")
+        raise InputError(f"{name} must be {bound}, got {_shown(value)}")
     if x > MAX_MAGNITUDE or (x < MIN_MAGNITUDE and not allow_zero):
         low = 0.0 if allow_zero else MIN_MAGNITUDE
-        raise InputError(f"{name} must be in [{low:g}, {MAX_MAGNITUDE:g}], got {value!r}")
+        raise InputError(f"{name} must be in [{low:g}, {MAX_MAGNITUDE:g}], got {_shown(value)}")
     return x
 
 
@@ -103,7 +117,7 @@ def check_count(name: str, value, low: int = 1, high: int = 10**6) -> int:
     )
     ok = ok and math.isfinite(value) and int(value) == value and low <= int(value) <= high
     if not ok:
-        raise InputError(f"{name} must be an integer in [{low}, {high}], got {value!r}")
+        raise InputError(f"{name} must be an integer in [{low}, {high}], got {_shown(value)}")
     return int(value)
 
 
@@ -117,5 +131,5 @@ def check_range(name: str, value, low: float, high: float, closed: tuple = (True
     hi_ok = x <= high if closed[1] else x < high
     if not (math.isfinite(x) and lo_ok and hi_ok):
         interval = ("[" if closed[0] else "(") + f"{low:g}, {high:g}" + ("]" if closed[1] else ")")
-        raise InputError(f"{name} must be in {interval}, got {value!r}")
+        raise InputError(f"{name} must be in {interval}, got {_shown(value)}")
     return x

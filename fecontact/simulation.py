@@ -10,7 +10,6 @@ so that it then lists every frame written so far.
 from __future__ import annotations
 
 import dataclasses
-import json
 import math
 import platform
 import sys
@@ -25,6 +24,13 @@ import numpy as np
 from . import __version__
 from .errors import InputError, SolverError, check_positive
 from .io.output import STANDARD_COLUMNS
+from .io.run_folder import (
+    CHECKPOINT,
+    clear_earlier_run,
+    jsonable,
+    load_checkpoint,
+    save_checkpoint,
+)
 from .linalg import SPARSE_FACTORIZATIONS
 from .time import IntegratorOptions, PhaseTimer, State, initial_state, simulate
 
@@ -288,7 +294,7 @@ class _Recorder:
             "energy_final": self.energy_final,
             "energy_max": self.energy_max,
             "impacts": self.impacts,
-            "parameters": _jsonable(sim.parameters),
+            "parameters": jsonable(sim.parameters),
             "options": dataclasses.asdict(sim.options),
             "probes": {
                 k: {"unit": p.unit, "description": p.description} for k, p in sim.probes.items()
@@ -304,71 +310,6 @@ class _Recorder:
         }
 
 
-def _jsonable(params: dict) -> dict:
-    out = {}
-    for k, v in params.items():
-        try:
-            json.dumps(v)
-            out[k] = v
-        except TypeError:
-            out[k] = repr(v)
-    return out
-
-
-CHECKPOINT = "checkpoint.npz"
-
-
-def _fingerprint(sim: Simulation) -> str:
-    """What must match for a checkpoint to continue this simulation."""
-    return json.dumps(
-        [
-            sim.name,
-            _jsonable(sim.parameters),
-            dataclasses.asdict(sim.options),
-            sim.dt,
-            sim.output_interval,
-            sim.model.n,
-        ],
-        sort_keys=True,
-        default=repr,
-    )
-
-
-def _save_checkpoint(path: Path, sim, st: State, rec: _Recorder, next_frame: float) -> None:
-    from .io.files import atomic_write
-
-    rec.history.flush()
-    arrays = {
-        k: getattr(st, k)
-        for k in ("q", "v", "vd", "a", "gaps", "candidates", "nu", "impulse", "lam")
-    }
-    arrays |= {f"memory_{k}": v for k, v in st.memory.items()}
-    meta = {
-        "t": st.t,
-        "step": st.step,
-        "h": st.h,
-        "next_frame": next_frame,
-        "fingerprint": _fingerprint(sim),
-        "stats": rec.stats(),
-    }
-    with atomic_write(path) as tmp:
-        with open(tmp, "wb") as f:
-            np.savez(f, meta=json.dumps(meta, default=float), **arrays)
-
-
-def _load_checkpoint(path: Path, sim):
-    if not path.is_file():
-        raise InputError(f"resume: no checkpoint in {path.parent}")
-    with np.load(path) as data:
-        meta = json.loads(str(data["meta"]))
-        arrays = {k: data[k] for k in data.files if k != "meta"}
-    memory = {k[len("memory_") :]: arrays.pop(k) for k in list(arrays) if k.startswith("memory_")}
-    if meta["fingerprint"] != _fingerprint(sim):
-        raise InputError("resume: the checkpoint was written with other parameters or options")
-    st = State(meta["t"], step=meta["step"], h=meta["h"], memory=memory, **arrays)
-    return st, meta
-
-
 def run(
     sim: Simulation,
     out_dir,
@@ -376,6 +317,7 @@ def run(
     frames: bool = True,
     checkpoint_every: int = 500,
     resume: bool = False,
+    overwrite: bool = False,
 ) -> dict:
     """Run ``sim`` and write its results into ``out_dir``; return the summary.
 
@@ -384,17 +326,22 @@ def run(
     ``checkpoint.npz``; ``resume=True`` continues from it, giving the same result as an
     uninterrupted run. On ``SolverError`` or ``KeyboardInterrupt`` the summary records the
     failure, every frame written so far stays readable, and the exception propagates.
+
+    Runs never mix: a new run removes what an earlier run of the same case left in
+    ``out_dir`` (frames, index, history, summary, checkpoint, pictures), and refuses a folder
+    that holds another case's output unless ``overwrite``.
     """
     from .io.output import PVDWriter, write_json
 
     out = Path(out_dir)
     start, meta = None, None
     if resume:
-        start, meta = _load_checkpoint(out / CHECKPOINT, sim)
+        start, meta = load_checkpoint(out / CHECKPOINT, sim)
     else:
         initial_state(sim.model, sim.q0, sim.v0)  # input errors surface before any file exists
         for text in sim.warnings():
             warnings.warn(text, UserWarning, stacklevel=2)
+        clear_earlier_run(out, sim.name, overwrite)
     if frames:
         import meshio  # noqa: F401  (the frames' mesh type: imported outside the timed loop)
     try:
@@ -427,7 +374,7 @@ def run(
                 next_frame = (math.floor(st.t / interval + 1e-6) + 1) * interval
             if checkpoint_every and st.step and st.step % checkpoint_every == 0:
                 pvd.flush()  # a resumed run keeps the frames the index lists
-                _save_checkpoint(out / CHECKPOINT, sim, st, rec, next_frame)
+                save_checkpoint(out / CHECKPOINT, sim, st, rec, next_frame)
             timer.add("output", clock)
             if bar is not None and st.step:
                 bar.update(1)

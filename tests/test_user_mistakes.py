@@ -1,5 +1,6 @@
 """Mistakes a user makes get one clear line naming what is wrong, before anything is written."""
 
+import numpy as np
 import pytest
 from conftest import ROOT
 
@@ -15,6 +16,7 @@ from fecontact import (
     Simulation,
     Solid,
     node_probe,
+    simulate,
 )
 from fecontact.io.cli import main
 
@@ -83,3 +85,70 @@ def test_a_step_longer_than_the_run_is_said(tmp_path, capsys):
     argv = ["run", CASE, "--quiet", "--dt", "1", "--t-end", "0.5", "--out", str(tmp_path)]
     assert main(argv) == 0
     assert "longer than the run" in capsys.readouterr().err
+
+
+def case_file(tmp_path, body):
+    path = tmp_path / "mycase.py"
+    path.write_text(
+        "from fecontact import Beam2D, Material, Model, Section, Simulation\n\n" + body + "\n"
+    )
+    return str(path)
+
+
+@pytest.mark.parametrize(
+    "body, words",
+    [
+        ("def build():\n    raise RuntimeError('boom')", ("mycase", "boom", "--debug")),
+        ("def build():\n    return 42", ("mycase", "Simulation", "int")),
+        ("def build(a):\n    return a", ("mycase", "build() failed")),
+    ],
+)
+def test_a_failing_build_is_one_line(tmp_path, capsys, body, words):
+    one_line_error(capsys, ["run", case_file(tmp_path, body), "--out", str(tmp_path / "o")], *words)
+    assert not (tmp_path / "o").exists()
+
+
+def test_debug_shows_the_users_traceback(tmp_path):
+    path = case_file(tmp_path, "def build():\n    raise RuntimeError('boom')")
+    with pytest.raises(RuntimeError, match="boom"):
+        main(["run", path, "--debug", "--out", str(tmp_path / "o")])
+
+
+@pytest.mark.parametrize("content", [b"", b"garbage", b"PK\x03\x04truncated"])
+def test_a_broken_checkpoint_is_one_line(tmp_path, capsys, content):
+    args = ["run", CASE, "--quiet", "--t-end", "0.01", "--out", str(tmp_path)]
+    assert main(args) == 0
+    (tmp_path / "checkpoint.npz").write_bytes(content)
+    one_line_error(capsys, [*args, "--resume"], "checkpoint")
+
+
+@pytest.mark.parametrize("content", ["", "garbage\n", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"])
+def test_an_unreadable_mesh_is_one_line(tmp_path, content):
+    path = tmp_path / "bad.msh"
+    path.write_text(content)
+    with pytest.raises(InputError, match="bad.msh") as err:
+        Solid.from_file(path, LinearElastic(E=1e6, nu=0.3, rho=1e3))
+    assert "\n" not in str(err.value)
+
+
+def test_nan_in_a_large_array_is_named_without_the_array():
+    body = Solid.rectangle([0, 0], [1, 1], 8, LinearElastic(E=1e6, nu=0.3, rho=1e3))
+    model = Model([body], gravity=(0.0, 0.0))
+    v0 = np.zeros(model.n)
+    v0[5] = np.nan
+    with pytest.raises(InputError) as err:
+        next(simulate(model, 1e-3, 0.01, v0=v0))
+    assert len(str(err.value)) <= 200 and "entry 5" in str(err.value)
+
+
+def test_runs_never_mix(tmp_path, capsys):
+    out = tmp_path / "run"
+    args = ["--quiet", "--t-end", "0.02", "--out", str(out)]
+    assert main(["run", CASE, *args, "--output-interval", "0.001"]) == 0
+    many = len(list(out.glob("*.vtu")))
+    assert main(["run", CASE, *args]) == 0  # the same case again: a clean start
+    assert len(list(out.glob("*.vtu"))) < many
+    other = str(ROOT / "cases" / "bouncing_ball.py")
+    one_line_error(capsys, ["run", other, *args], "flexible_pendulum", "--overwrite")
+    assert main(["run", other, *args, "--overwrite"]) == 0
+    assert [p.stem for p in out.glob("*.pvd")] == ["bouncing_ball"]

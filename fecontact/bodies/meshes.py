@@ -85,8 +85,9 @@ def read_mesh(path, scale: float = 1.0, offset=None):
     try:
         # .msh is also an ANSYS extension; meshio would try (and print) that reader first
         data = meshio.read(path, file_format="gmsh" if suffix == ".msh" else None)
-    except Exception as err:  # meshio raises many types for corrupt files
-        raise InputError(f"cannot read mesh file {path.name}: {err}") from None
+    except (Exception, SystemExit) as err:  # meshio raises many types, even SystemExit
+        why = str(err).splitlines()[0][:100] if str(err) else type(err).__name__
+        raise InputError(f"cannot read mesh file {path.name}: {why}") from None
     kinds = [names[k] for names in ELEMENTS.values() for k in (2, 3)]
     blocks = [(c.type, c.data) for c in data.cells if c.type in kinds]
     if not blocks:

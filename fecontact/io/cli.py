@@ -97,6 +97,7 @@ def _add_run_options(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--render", action="store_true", help="render snapshots and an animation")
     p.add_argument("--quiet", action="store_true", help="no progress display")
+    p.add_argument("--debug", action="store_true", help="show the traceback of a failing build()")
     p.add_argument(
         "--checkpoint-every",
         type=int,
@@ -107,11 +108,26 @@ def _add_run_options(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--resume", action="store_true", help="continue the run in --out from its last checkpoint"
     )
+    p.add_argument(
+        "--overwrite", action="store_true", help="replace another case's output in --out"
+    )
 
 
 def _prepare(build, args, name: str):
     case_kw, option_kw = _split_overrides(build, args.set)
-    sim = build(**case_kw)
+    try:
+        sim = build(**case_kw)
+    except InputError:
+        raise
+    except Exception as err:
+        if getattr(args, "debug", False):
+            raise
+        where = f"{type(err).__name__}: {err}".splitlines()[0][:120]
+        raise InputError(f"case {name}: build() failed: {where} (--debug shows where)") from None
+    from ..simulation import Simulation
+
+    if not isinstance(sim, Simulation):
+        raise InputError(f"case {name}: build() must return a Simulation, got {type(sim).__name__}")
     changes = {}
     if args.dt is not None:
         changes["dt"] = args.dt
@@ -144,6 +160,7 @@ def _execute(build, args, name: str) -> int:
                 progress=not args.quiet,
                 checkpoint_every=args.checkpoint_every,
                 resume=args.resume,
+                overwrite=args.overwrite,
             )
     except SolverError as err:
         print(f"fecontact: run failed: {err}; results so far are in {out}", file=sys.stderr)
