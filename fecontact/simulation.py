@@ -337,6 +337,11 @@ def run(
     start, meta = None, None
     if resume:
         start, meta = load_checkpoint(out / CHECKPOINT, sim)
+        if start.t > sim.t_end * (1.0 + 1e-12):
+            raise InputError(
+                f"resume: the checkpoint is at t = {start.t:g} s, past t_end = {sim.t_end:g} s; "
+                "give a later --t-end"
+            )
     else:
         initial_state(sim.model, sim.q0, sim.v0)  # input errors surface before any file exists
         for text in sim.warnings():

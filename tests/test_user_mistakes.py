@@ -152,3 +152,58 @@ def test_runs_never_mix(tmp_path, capsys):
     one_line_error(capsys, ["run", other, *args], "flexible_pendulum", "--overwrite")
     assert main(["run", other, *args, "--overwrite"]) == 0
     assert [p.stem for p in out.glob("*.pvd")] == ["bouncing_ball"]
+
+
+@pytest.fixture(scope="module")
+def finished(tmp_path_factory):
+    out = tmp_path_factory.mktemp("finished")
+    assert main(["run", CASE, "--quiet", "--t-end", "0.03", "--out", str(out)]) == 0
+    return out
+
+
+def testrender_targets_that_are_not_a_run(finished, tmp_path, capsys):
+    one_line_error(capsys, ["render", str(finished / "history.csv")], "run folder or its .pvd")
+    empty = tmp_path / "empty.pvd"
+    empty.write_text("")
+    one_line_error(capsys, ["render", str(empty)], "render")
+    plain = tmp_path / "plain.pvd"
+    plain.write_text('<VTKFile type="UnstructuredGrid"></VTKFile>')
+    one_line_error(capsys, ["render", str(plain)], "Collection")
+
+
+def test_render_of_a_run_with_a_missing_or_junk_frame(finished, tmp_path, capsys):
+    import shutil
+
+    copy = tmp_path / "copy"
+    shutil.copytree(finished, copy)
+    frames = sorted(copy.glob("flexible_pendulum_beam2d0_*.vtu"))
+    frames[-1].unlink()
+    one_line_error(capsys, ["render", str(copy)], frames[-1].name, "missing")
+    frames[-1].write_text("junk")
+    one_line_error(capsys, ["render", str(copy)], frames[-1].name, "not a VTU")
+
+
+def test_render_takes_the_pvd_it_is_given_among_several(finished, tmp_path):
+    import shutil
+
+    copy = tmp_path / "two"
+    shutil.copytree(finished, copy)
+    shutil.copy(copy / "flexible_pendulum.pvd", copy / "other.pvd")
+    from fecontact.io.cli import render_target
+
+    assert render_target(copy / "other.pvd").name == "other.pvd"
+
+
+def test_resume_to_an_earlier_end_is_refused(tmp_path, capsys):
+    args = ["run", CASE, "--quiet", "--checkpoint-every", "10", "--out", str(tmp_path)]
+    assert main([*args, "--t-end", "0.05"]) == 0
+    history = (tmp_path / "history.csv").read_text()
+    one_line_error(capsys, [*args, "--t-end", "0.02", "--resume"], "past t_end")
+    assert (tmp_path / "history.csv").read_text() == history
+
+
+def test_a_tiny_mass_is_blamed_on_the_mass():
+    from fecontact import Disk, RigidBody2D
+
+    with pytest.raises(InputError, match="^mass"):
+        RigidBody2D.uniform(1e-29, [0.0, 0.0], Disk(0.1))

@@ -26,7 +26,14 @@ import math
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import InputError, check_count, check_finite, check_positive, check_vector
+from ..errors import (
+    MIN_MAGNITUDE,
+    InputError,
+    check_count,
+    check_finite,
+    check_positive,
+    check_vector,
+)
 from .base import BodyDefaults
 
 __all__ = ["Disk", "Polygon", "RigidBody2D", "PointMass"]
@@ -212,7 +219,13 @@ class RigidBody2D(BodyDefaults):
             )
         if not isinstance(shape, (Disk, Polygon)):
             raise InputError(f"shape must be a Disk or a Polygon, got {type(shape).__name__}")
-        return cls(mass, shape.moment(mass), position, angle, shape)
+        inertia = shape.moment(check_positive("mass", mass))
+        if inertia < MIN_MAGNITUDE:
+            raise InputError(
+                f"mass {mass!r} kg is too small for this shape: its inertia {inertia:.3g} kg m^2 "
+                f"is below {MIN_MAGNITUDE:g}"
+            )
+        return cls(mass, inertia, position, angle, shape)
 
     def fix(self, *components) -> RigidBody2D:
         """Hold ``components`` of the body's frame at their initial value: any of "x", "y",

@@ -218,15 +218,36 @@ def _info(module) -> int:
 
 
 def _render(target: str) -> int:
-    path = Path(target)
-    folder = path.parent if path.suffix == ".pvd" else path
-    if not path.exists():
-        raise InputError(f"no such run: {target}")
     from .render import render_run
 
-    for p in render_run(folder):
+    for p in render_run(render_target(Path(target))):
         print(f"wrote {p}")
     return 0
+
+
+def render_target(path: Path) -> Path:
+    """The ``.pvd`` of a finished run given by its folder or its path, checked to list
+    frames that exist and are VTU files."""
+    from .output import load_run
+
+    if not path.exists():
+        raise InputError(f"render: no such run: {path}")
+    if path.is_file() and path.suffix != ".pvd":
+        raise InputError(f"render: give a run folder or its .pvd file, got {path.name}")
+    try:
+        run = load_run(path)
+    except (OSError, ValueError, SyntaxError) as err:  # XML parse errors are SyntaxErrors
+        raise InputError(f"render: {str(err).splitlines()[0][:150]}") from None
+    if len(run.times) == 0:
+        raise InputError(f"render: {run.pvd.name} lists no frames")
+    for files in (run.files[0], run.files[-1]):
+        for name in files.values():
+            vtu = run.pvd.parent / name
+            head = vtu.read_bytes()[:200] if vtu.is_file() else b""
+            if b"<VTKFile" not in head:
+                why = "is missing" if not vtu.is_file() else "is not a VTU file"
+                raise InputError(f"render: {name}, listed in {run.pvd.name}, {why}")
+    return run.pvd
 
 
 def main(argv=None) -> int:
