@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__
+from .contact.laws import LEAST_SQUARES
 from .errors import InputError, SolverError, check_positive
 from .io.output import STANDARD_COLUMNS
 from .io.run_folder import (
@@ -125,6 +126,13 @@ class Simulation:
                 f"rho_inf = {opts.rho_inf:g} with restitution > 0 on a flexible body: the energy "
                 "can grow at impacts (README, Stability and the defaults); rho_inf = 0.5 is the "
                 "stable default"
+            )
+        perfectly_plastic = np.any(model.contacts.restitution == 0)
+        if opts.integrator == "nsga" and flexible and perfectly_plastic and opts.rho_inf > 0.9:
+            out.append(
+                f"rho_inf = {opts.rho_inf:g} with restitution 0 on a flexible body: an energy "
+                "blow-up at the first impact was measured at rho_inf = 1 (README, Stability and "
+                "the defaults)"
             )
         if opts.integrator == "nsga" and flexible and opts.metric == "mass":
             out.append(
@@ -365,6 +373,7 @@ def run(
     status, message = "completed", ""
     t_start = time.perf_counter()
     factors_start = dict(SPARSE_FACTORIZATIONS)
+    least_squares_start = LEAST_SQUARES["count"]
     try:
         if frames and start is None:
             for part, mesh in _static_parts(sim.model).items():
@@ -399,6 +408,8 @@ def run(
             bar.close()
         factors = {k: SPARSE_FACTORIZATIONS[k] - factors_start[k] for k in factors_start}
         summary = rec.summary(status, wall, timer, message, factors)
+        # redundant active constraints whose multipliers came from least squares
+        summary["least_squares_multipliers"] = LEAST_SQUARES["count"] - least_squares_start
         write_json(out / "summary.json", summary)
     return summary
 

@@ -1,5 +1,5 @@
 """Bodies at rest on a plane for 10 s: gap exactly 0, no drift, no chatter, and the work per
-step stays flat (issue: resting contact)."""
+step stays flat."""
 
 import numpy as np
 import pytest
@@ -23,10 +23,15 @@ def rest(model, dt, t_end, speed):
 def flat_work(its):
     """Iterations per step over the last second are no more than over the second one (the
     first holds the settling of round-off from the initial state: 2.74 then 2.90 per step
-    for the strip, then 2.90 every second up to 10 s)."""
+    for the strip, then 2.90 every second up to 10 s).
+
+    Growth (drift, chatter) would add an iteration to most steps; round-off that differs
+    between CPUs and BLAS builds decides a handful of steps either way (2.903 against 2.904
+    per step seen on two machines). Hence one extra iteration in 1 % of the steps is allowed
+    on the mean, and one on the largest count."""
     n = len(its) // 10
     early = its[n : 2 * n]
-    return its[-n:].mean() <= early.mean() + 1e-12 and its[-n:].max() <= early.max()
+    return its[-n:].mean() <= early.mean() + 0.01 and its[-n:].max() <= early.max() + 1
 
 
 def test_ball_resting_on_the_plane_for_ten_seconds():

@@ -207,3 +207,17 @@ def test_a_tiny_mass_is_blamed_on_the_mass():
 
     with pytest.raises(InputError, match="^mass"):
         RigidBody2D.uniform(1e-29, [0.0, 0.0], Disk(0.1))
+
+
+def test_rho_inf_one_with_plastic_impacts_warns(tmp_path, capsys):
+    argv = ["run", CASE, "--quiet", "--t-end", "0.01", "--set", "rho_inf=1", "--out", str(tmp_path)]
+    assert main(argv) == 0
+    assert "restitution 0" in capsys.readouterr().err
+
+
+def test_summary_counts_least_squares_multipliers(tmp_path):
+    import json
+
+    assert main(["run", CASE, "--quiet", "--t-end", "0.01", "--out", str(tmp_path)]) == 0
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["least_squares_multipliers"] == 0  # one contact: never redundant

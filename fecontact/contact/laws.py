@@ -27,6 +27,7 @@ import numpy as np
 import scipy.sparse as sp
 
 __all__ = [
+    "LEAST_SQUARES",
     "alart_curnier_residual",
     "contact_force_multiplier",
     "solve_position_correction",
@@ -50,12 +51,19 @@ def alart_curnier_residual(nu, g, p, k):
 # -- semi-smooth Newton on the Alart–Curnier residuals -------------------------------------------
 
 
+LEAST_SQUARES = {"count": 0}
+"""Active sets whose constraints were redundant (a singular Schur matrix G_A Y): their
+multipliers came from least squares. Counted over the process; runs report their share."""
+
+
 def _kkt_multipliers(GA, Y, rhs, k):
-    """Solve k (G_A Y) μ = rhs for the active multipliers (least squares if redundant)."""
+    """Solve k (G_A Y) μ = rhs for the active multipliers (least squares if redundant, and
+    counted in ``LEAST_SQUARES``)."""
     S = k * (GA @ Y)
     try:
         return np.linalg.solve(S, rhs)
     except np.linalg.LinAlgError:
+        LEAST_SQUARES["count"] += 1
         return np.linalg.lstsq(S, rhs, rcond=None)[0]
 
 
