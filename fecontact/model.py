@@ -106,6 +106,7 @@ class Model:
         for joint in joints:
             joint.bind(self)
         self.joints = ContactSet(joints, self.free_index, len(self.free))
+        self._check_joints_independent()
         alpha, beta = check_vector("damping", damping, 2)
         check_positive("damping alpha", alpha, allow_zero=True)
         check_positive("damping beta", beta, allow_zero=True)
@@ -124,6 +125,20 @@ class Model:
         self._elementless = not any(b.element_dofs.size for b in self.bodies)
         self._iteration_matrices: dict = {}
         self.column_cache: dict = {}  # H⁻¹G_jᵀ per metric and contact (linear models)
+
+    def _check_joints_independent(self) -> None:
+        """Joints must hold what no other joint or support holds: redundant rows make the
+        bordered matrices of every step singular."""
+        if self.joints.size == 0:
+            return
+        G = self.joints.jacobian(np.zeros(self.n), self.joints.all)[1]
+        G = G.toarray() if sp.issparse(G) else np.asarray(G)
+        rank = np.linalg.matrix_rank(G @ G.T) if G.size else 0
+        if rank < self.joints.size:
+            raise InputError(
+                "joints: a Pin holds what another Pin or a support (pin, clamp, fix) already "
+                "holds; remove one of them"
+            )
 
     def inverted(self, q: np.ndarray) -> bool:
         """Whether q inverts an element of a body whose material forbids it (Neo-Hookean)."""

@@ -221,3 +221,25 @@ def test_summary_counts_least_squares_multipliers(tmp_path):
     assert main(["run", CASE, "--quiet", "--t-end", "0.01", "--out", str(tmp_path)]) == 0
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["least_squares_multipliers"] == 0  # one contact: never redundant
+
+
+def test_a_degenerate_quad_is_named():
+    import skfem
+
+    corners = np.array([[0, 1, 1, 0], [0, 0, 0, 0]], float)
+    mesh = skfem.MeshQuad(corners, np.array([[0], [1], [2], [3]]))
+    with pytest.raises(InputError, match="degenerate"):
+        Solid(mesh, LinearElastic(E=1e6, nu=0.3, rho=1e3))
+
+
+def test_redundant_joints_are_refused_before_the_run():
+    from fecontact import Pin
+
+    with pytest.raises(InputError, match="already"):
+        b = beam()
+        Model([b], joints=[Pin(b, [0, 0]), Pin(b, [0, 0])])
+    with pytest.raises(InputError, match="already"):
+        b = beam().clamp(0)
+        Model([b], joints=[Pin(b, [0, 0])])
+    b = beam()
+    Model([b], joints=[Pin(b, [0, 0])])  # one pin alone holds

@@ -125,8 +125,13 @@ class Solid(NodalTranslations):
         quadrature = {"quadrature": _MIDPOINT[cell]} if order == 1 and cell in _MIDPOINT else {}
         # a degenerate cell makes scikit-fem divide by zero; _check_cells then reports it
         with np.errstate(divide="ignore", invalid="ignore"):
-            self._basis = skfem.Basis(mesh, scalar, intorder=2 * order, **quadrature)
-            self._mass_basis = skfem.Basis(mesh, scalar, intorder=2 * order)
+            try:
+                self._basis = skfem.Basis(mesh, scalar, intorder=2 * order, **quadrature)
+                self._mass_basis = skfem.Basis(mesh, scalar, intorder=2 * order)
+            except Exception as err:  # scikit-fem's plain Exception for a degenerate map
+                raise InputError(
+                    f"mesh: an element is degenerate or folded (scikit-fem: {err})"
+                ) from None
         check_cells(mesh, self._basis, cell)
         self.X = np.ascontiguousarray(self._basis.doflocs.T)
         self._quad = Quadrature.of(self._basis, self.thickness)
