@@ -23,6 +23,7 @@ __all__ = [
     "check_cells",
     "disk_mesh",
     "facet_normals",
+    "mesh_bases",
     "min_edge_length",
     "oriented_boundary",
     "read_mesh",
@@ -37,6 +38,11 @@ ELEMENTS = {
     "hex": (skfem.ElementHex1, skfem.ElementHex2, "hexahedron", "hexahedron27"),
 }
 """Scalar Lagrange elements (P1, P2) of each reference cell, and the cell's meshio names."""
+# one point for P1 simplices, whose deformation gradient is constant over the cell
+_MIDPOINT = {
+    "tri": (np.full((2, 1), 1.0 / 3.0), np.array([0.5])),
+    "tet": (np.full((3, 1), 0.25), np.array([1.0 / 6.0])),
+}
 MAX_CELLS = 2**21  # grid bodies: a mesh of about 1e6 nodes is the most a direct solver takes
 _REFDOMS = {"RefTri": "tri", "RefQuad": "quad", "RefTet": "tet", "RefHex": "hex"}
 
@@ -143,6 +149,24 @@ def box_mesh(lower, upper, divisions, cell: str = "tetra"):
     if cell not in kinds:
         raise InputError(f"cell must be 'tetra' or 'hexahedron', got {cell!r}")
     return kinds[cell].init_tensor(*axes)
+
+
+def mesh_bases(mesh, cell: str, element: str):
+    """scikit-fem bases of the scalar Lagrange ``element`` ("P1", "P2") on the mesh: one for
+    the stiffness (one-point rule on P1 simplices) and one for the mass (exact rule)."""
+    order = 1 if element == "P1" else 2
+    scalar = ELEMENTS[cell][order - 1]()
+    quadrature = {"quadrature": _MIDPOINT[cell]} if order == 1 and cell in _MIDPOINT else {}
+    # a degenerate cell makes scikit-fem divide by zero; check_cells then reports it
+    with np.errstate(divide="ignore", invalid="ignore"):
+        try:
+            stiffness = skfem.Basis(mesh, scalar, intorder=2 * order, **quadrature)
+            mass = skfem.Basis(mesh, scalar, intorder=2 * order)
+        except Exception as err:  # scikit-fem's plain Exception for a degenerate map
+            raise InputError(
+                f"mesh: an element is degenerate or folded (scikit-fem: {err})"
+            ) from None
+    return stiffness, mass
 
 
 def check_cells(mesh, basis, cell: str) -> None:

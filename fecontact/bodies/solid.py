@@ -35,7 +35,6 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-import skfem
 from skfem.helpers import det
 from skfem.models.poisson import mass as _mass_form
 
@@ -51,12 +50,12 @@ from .elasticity import (
 )
 from .materials import PLANES
 from .meshes import (
-    ELEMENTS,
     ball_mesh,
     box_mesh,
     cell_kind,
     check_cells,
     disk_mesh,
+    mesh_bases,
     min_edge_length,
     oriented_boundary,
     read_mesh,
@@ -67,11 +66,6 @@ from .nodal import NodalTranslations
 from .vtk_cells import vtk_cells
 
 __all__ = ["Solid"]
-
-_MIDPOINT = {
-    "tri": (np.full((2, 1), 1.0 / 3.0), np.array([0.5])),
-    "tet": (np.full((3, 1), 0.25), np.array([1.0 / 6.0])),
-}
 
 
 class Solid(NodalTranslations):
@@ -120,18 +114,7 @@ class Solid(NodalTranslations):
         """Constant stiffness (linear material): internal(q) = K q; factor once."""
         self.fixed: set[int] = set()
 
-        order = 1 if element == "P1" else 2
-        scalar = ELEMENTS[cell][order - 1]()
-        quadrature = {"quadrature": _MIDPOINT[cell]} if order == 1 and cell in _MIDPOINT else {}
-        # a degenerate cell makes scikit-fem divide by zero; _check_cells then reports it
-        with np.errstate(divide="ignore", invalid="ignore"):
-            try:
-                self._basis = skfem.Basis(mesh, scalar, intorder=2 * order, **quadrature)
-                self._mass_basis = skfem.Basis(mesh, scalar, intorder=2 * order)
-            except Exception as err:  # scikit-fem's plain Exception for a degenerate map
-                raise InputError(
-                    f"mesh: an element is degenerate or folded (scikit-fem: {err})"
-                ) from None
+        self._basis, self._mass_basis = mesh_bases(mesh, cell, element)
         check_cells(mesh, self._basis, cell)
         self.X = np.ascontiguousarray(self._basis.doflocs.T)
         self._quad = Quadrature.of(self._basis, self.thickness)
