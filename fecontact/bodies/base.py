@@ -49,6 +49,11 @@ class BodyDefaults:
     rigid_frame = False
     center_index = None
 
+    @property
+    def ndof(self) -> int:
+        """Dofs of the body: those of a node times the nodes (rigid bodies say their own)."""
+        return self.dofs_per_node * self.n_nodes
+
     def support(self, node: int, components) -> None:
         """Hold ``components`` (names from ``self.components``, or their indices; all when
         empty) of ``node`` at zero: the one vocabulary of every body's ``fix``."""

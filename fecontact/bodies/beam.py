@@ -207,10 +207,6 @@ class Beam2D(BodyDefaults):
         return len(self.X)
 
     @property
-    def ndof(self) -> int:
-        return 3 * len(self.X)
-
-    @property
     def element_dofs(self) -> np.ndarray:
         """(n_elements, 6) local dof indices of each element."""
         return self._el.dofs

@@ -68,10 +68,6 @@ class NodalTranslations(BodyDefaults):
     def n_nodes(self) -> int:
         return len(self.X)
 
-    @property
-    def ndof(self) -> int:
-        return self.dim * len(self.X)
-
     linear_kinematics = True
     """Node positions are linear in the dofs (x = X + u)."""
 
