@@ -391,6 +391,8 @@ def _velocity_jump(model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb=None):
             tau = _crossing_fraction(st.gaps[closed], g_tilde[closed], tol_gap)
             gdot_n[:nc] += tau * (gdot[:nc] - gdot_n[:nc])
         gdot += e * gdot_n
+    if not np.all(np.isfinite(gdot)):  # a NaN would switch every test of the law off
+        raise StepFailure("velocity jump: non-finite normal velocity of a closed contact", np.nan)
     Y = _columns(model, ("mass",), closed, G1, model.solve_M, cons, constant=True)
     p = opts.penalty_scale / np.einsum("ij,ji->i", G1, Y)
     k = opts.multiplier_scale
@@ -415,7 +417,12 @@ def _velocity_jump(model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb=None):
 
 def _crossing_fraction(g_n, g_tilde, tol_gap):
     """τ ∈ [0, 1] where the chord from g_n (start of step) to g̃ (end, predicted) crosses 0;
-    0 for a contact that was already closed (g_n ≤ tol_gap) or is not approaching."""
+    0 for a contact that was already closed (g_n ≤ tol_gap) or is not approaching; 1 for a
+    contact that had no facet within the detection margin at t_n (g_n = +∞) and closed
+    within the step: its approach velocity is the one at the end of the step."""
+    far = ~np.isfinite(g_n)
     drop = g_n - g_tilde
-    tau = np.divide(g_n, drop, out=np.zeros_like(drop), where=(drop > 0.0) & (g_n > tol_gap))
+    approach = (drop > 0.0) & (g_n > tol_gap) & ~far
+    tau = np.divide(g_n, drop, out=np.zeros_like(drop), where=approach)
+    tau[far] = 1.0
     return np.clip(tau, 0.0, 1.0)
