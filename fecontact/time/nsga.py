@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import math
 import time
+from typing import NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
@@ -158,12 +159,27 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
     )
 
 
-def _smooth_step(model, st, t, c, opts, timer):
+class SmoothStep(NamedTuple):
+    """The smooth step's result: positions, velocities, accelerations v̇ and a, joint
+    multipliers λ (N), the iteration matrix with its solver for the correction metric (None
+    with joints), the Newton iterations, and the joints' gradient at q (None when stale)."""
+
+    q: np.ndarray
+    v: np.ndarray
+    vd: np.ndarray
+    a: np.ndarray
+    lam: np.ndarray
+    S: tuple | None
+    iterations: int
+    Gb: np.ndarray | None
+
+
+def _smooth_step(model, st, t, c, opts, timer) -> SmoothStep:
     """Step 1: Newton on M v̇ + C_t v + f_int(q) + G_bᵀλ = f_ext(t), g_b(q) = 0.
 
-    Returns (q, v, v̇, a, λ, S, iterations, G_b): S = (S_t, its solver) for the metric of the
-    position correction (None with joints), G_b the joint gradient at the returned q (None
-    when the last update moved q after it was evaluated)."""
+    Returns a :class:`SmoothStep`: S = (S_t, its solver) for the metric of the position
+    correction (None with joints), G_b the joint gradient at the returned q (None when the
+    last update moved q after it was evaluated)."""
     F, nF = model.free_slice, model.n_free
     X = predict(st, c)
     q, v, vd, a = X
@@ -237,7 +253,7 @@ def _smooth_step(model, st, t, c, opts, timer):
     # the metric of the position correction reuses S_t and its factors; a bordered
     # factorization (joints) is no metric, so then S_t is rebuilt on demand
     S = (S, solve) if S is not None and not nb else None
-    return q, v, vd, a, lam, S, it, Gb
+    return SmoothStep(q, v, vd, a, lam, S, it, Gb)
 
 
 def _converged_by_bound(model, vd, dq, lam, dlam, ff, tol_b, opts) -> bool:

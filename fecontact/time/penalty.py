@@ -53,6 +53,7 @@ from __future__ import annotations
 
 import math
 import time
+from typing import NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
@@ -212,7 +213,21 @@ def penalty_step(model, st: State, h: float, opts: IntegratorOptions, timer: Pha
     )
 
 
-def _penalty_smooth_step(model, st, t, c, law, opts, timer):
+class PenaltyStep(NamedTuple):
+    """Positions, velocities, accelerations v̇ and a, joint multipliers λ_b, contact forces
+    λ_j (N), gaps (m) at the end of the step, and the Newton iterations."""
+
+    q: np.ndarray
+    v: np.ndarray
+    vd: np.ndarray
+    a: np.ndarray
+    lam: np.ndarray
+    lam_c: np.ndarray
+    gaps: np.ndarray
+    iterations: int
+
+
+def _penalty_smooth_step(model, st, t, c, law, opts, timer) -> PenaltyStep:
     """Newton on M v̇ + C_t v + f_int(q) − Σ G_jᵀλ_j + G_bᵀλ_b = f_ext(t), g_b(q) = 0, with
     (q, v, v̇, a) linked as in the generalized-α step. A contact opening or closing between
     two iterates can make Newton cycle; an update that does not lower the residual is
@@ -285,4 +300,4 @@ def _penalty_smooth_step(model, st, t, c, law, opts, timer):
             _, _, lam_c, g = _penalty_force(model, q, v, law, c.gp, 0.5 * h)
             it += 1
             break
-    return q, v, vd, a, lam, lam_c, g, it
+    return PenaltyStep(q, v, vd, a, lam, lam_c, g, it)
