@@ -17,6 +17,8 @@ class PairDefaults:
 
     obstacle = None
     lazy_hessians = False  # True: evaluate() leaves H out; hessians(q, rows) gives it
+    frictional = False  # True: tangents(q) gives the slip rows of Coulomb friction
+    friction = 0.0  # Coulomb's μ of every contact of the pair (set by ``Contact``)
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         """The gaps g_j(q) (m) alone; pairs with a cheaper path than ``evaluate`` override."""
@@ -25,6 +27,12 @@ class PairDefaults:
     def hessians(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
         """∇²g_j (len(rows), k, k) of the contacts ``rows`` (the pair's own numbering)."""
         return self.evaluate(q)[3][rows]
+
+    def tangents(self, q: np.ndarray):
+        """Slip rows of the contacts: dofs (m, k), T ∂x_rel/∂q (m, nt, k) and the unit
+        tangents T (m, nt, d) of the contact planes, x_rel the motion of the body's contact
+        point relative to the other's (``frictional`` pairs only)."""
+        raise NotImplementedError(f"{type(self).__name__} has no friction")
 
     def rate(self, q: np.ndarray) -> np.ndarray:
         """∂g_j/∂t (m/s) from a moving obstacle; zero for obstacles at rest."""

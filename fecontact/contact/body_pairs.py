@@ -50,6 +50,7 @@ from ..bodies.beam import Beam2D
 from ..bodies.solid import Solid
 from ..errors import InputError, check_finite, check_positive, check_range
 from .base import PairDefaults
+from .friction import point_tangents
 from .geometry import point_line_distance, segment_distance
 
 __all__ = [
@@ -318,6 +319,15 @@ class NodeSurfaceContact(PairDefaults):
             g[s], G[s], _ = facet_plane_gap(xs[s], xm[self.facets[f]], hessian=False)
             dofs[s, self.dim :] = ob + self._facet_dofs[f]
         return g, dofs, G, None
+
+    frictional = True
+
+    def tangents(self, q: np.ndarray):
+        """Slip rows of each node against the facet's material point at its projection:
+        the tangents with the gap's weights (1 for the node, −N_i(ξ) for the vertices)."""
+        _, dofs, G, _ = self.evaluate(q)
+        GT = point_tangents(G, self.dim)
+        return dofs, GT, GT[:, :, : self.dim]
 
     def hessians(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
         """∇²g (len(rows), k, k) of the contacts ``rows`` at q, with the facets the last

@@ -23,6 +23,10 @@ class ContactSet:
             [np.full(pair.size, pair.restitution) for pair in self.pairs] or [np.zeros(0)]
         )
         self.linear = all(pair.linear for pair in self.pairs)
+        self.friction = np.concatenate(
+            [np.full(pair.size, pair.friction) for pair in self.pairs] or [np.zeros(0)]
+        )
+        self.frictional = bool(np.any(self.friction > 0.0))
         self.owner = np.concatenate(
             [np.full(pair.size, i) for i, pair in enumerate(self.pairs)] or [np.zeros(0, int)]
         )
@@ -60,6 +64,45 @@ class ContactSet:
             return np.zeros(len(select))
         parts = [p.rate(q) for p in self.pairs]
         return np.concatenate(parts)[select]
+
+    def tangent_jacobian(self, q: np.ndarray, select: np.ndarray):
+        """Slip rows of the contacts ``select``: GT (len(select), nt, n_free), zero for the
+        frictionless pairs, and the unit tangents T (len(select), nt, d) of the contact
+        planes. The slip rate of contact j is GT_j v minus T_j·ḋ of a moving obstacle."""
+        GT = T = None
+        owner = self.owner[select]
+        for i, pair in enumerate(self.pairs):
+            rows = np.flatnonzero(owner == i)
+            if rows.size == 0 or not pair.friction:
+                continue
+            dofs, Gv, Tv = pair.tangents(q)
+            loc = self.local[select[rows]]
+            if GT is None:
+                nt, d = Tv.shape[1:]
+                GT, T = np.zeros((len(select), nt, self.n_free)), np.zeros((len(select), nt, d))
+            fi = self.free_index[np.broadcast_to(dofs, (pair.size, dofs.shape[1]))[loc]]
+            values = np.where(fi[:, None, :] >= 0, Gv[loc], 0.0)
+            r = np.broadcast_to(rows[:, None, None], values.shape)
+            c = np.broadcast_to(np.maximum(fi, 0)[:, None, :], values.shape)
+            np.add.at(GT, (r, np.arange(values.shape[1])[None, :, None], c), values)
+            T[rows] = Tv[loc]
+        return GT, T
+
+    def obstacle_motion(self, select: np.ndarray, velocity: bool):
+        """Velocity ḋ (m/s, ``velocity``) or displacement d (m) of the obstacle of each
+        contact ``select`` at its current time, (len(select), d), zero for bodies and fixed
+        obstacles; None when no obstacle moves. A moving obstacle drags the slip, which counts
+        relative to it."""
+        out, offset = None, 0
+        for pair in self.pairs:
+            o = pair.obstacle
+            if o is not None and o.moving:
+                d = o.speed() if velocity else np.asarray(o.shift(), dtype=float)
+                if out is None:
+                    out = np.zeros((self.size, len(d)))
+                out[offset : offset + pair.size] = d
+            offset += pair.size
+        return None if out is None else out[select]
 
     def quadratic(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
         """vᵀ ∇²g_j v for every constraint j (the acceleration term of a holonomic one)."""

@@ -10,7 +10,14 @@ from .obstacles import Point
 __all__ = ["Contact"]
 
 
-def Contact(body, obstacle, nodes=None, restitution: float = 0.0, clearance: float = 0.0):
+def Contact(
+    body,
+    obstacle,
+    nodes=None,
+    restitution: float = 0.0,
+    clearance: float = 0.0,
+    friction: float = 0.0,
+):
     """Contact pair between ``body`` and a rigid ``obstacle`` or a second body.
 
     ``Plane`` and ``Circle`` act on ``nodes`` of the body (all nodes, or all polygon vertices
@@ -23,7 +30,22 @@ def Contact(body, obstacle, nodes=None, restitution: float = 0.0, clearance: flo
     reversed pair for the other direction), a ``Beam2D`` against a ``Beam2D`` an end-to-end
     pair along the bar axis (``nodes`` = (end of body, end of the other), default the closest
     ends); see :mod:`fecontact.contact.body_pairs`. ``restitution`` is Newton's e_N in [0, 1].
+
+    ``friction`` is Coulomb's coefficient μ ≥ 0 of every contact of the pair (0: frictionless,
+    today's path at no cost): the tangential impulse stays in |Λ_T| ≤ μ Λ_N and opposes the
+    slip of the contact points (:mod:`fecontact.contact.friction`). Every pair but the
+    end-to-end beam pair takes it.
     """
+    friction = check_positive("friction", friction, allow_zero=True)
+    pair = _pair(body, obstacle, nodes, restitution, clearance)
+    if friction:
+        if not pair.frictional:
+            raise InputError(f"friction: not available for a {type(pair).__name__}; use 0")
+        pair.friction = friction
+    return pair
+
+
+def _pair(body, obstacle, nodes, restitution, clearance):
     from .rigid_pairs import rigid_pair
 
     clearance = check_positive("clearance", clearance, allow_zero=True)

@@ -7,7 +7,8 @@ import numpy as np
 
 from ..errors import InputError, check_range
 from .base import PairDefaults
-from .geometry import closest_on_segments, point_line_distance
+from .friction import tangent_basis
+from .geometry import closest_on_segments, point_line_distance, unit
 from .obstacles import Circle, Plane, Point
 
 __all__ = ["NodeContact", "PointSegmentContact"]
@@ -51,6 +52,16 @@ class NodeContact(PairDefaults):
         qb = q[self.offset : self.offset + self.body.ndof]
         x = self.body.point_kinematics(qb, self.nodes)[0]
         return -(self.obstacle.gap(x)[1] @ self.obstacle.speed())
+
+    frictional = True
+
+    def tangents(self, q: np.ndarray):
+        """Slip rows: the tangents of the obstacle at each point applied to ∂x/∂q (a rigid
+        body's rotation included: its vertices roll)."""
+        qb = q[self.offset : self.offset + self.body.ndof]
+        x, dofs, Jx, _ = self.body.point_kinematics(qb, self.nodes)
+        T = tangent_basis(self.obstacle.gap(x)[1])
+        return dofs + self.offset, np.einsum("mti,mik->mtk", T, Jx), T
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         """Gaps (m,) alone, without their derivatives."""
@@ -103,6 +114,23 @@ class PointSegmentContact(PairDefaults):
         xi, dist = closest_on_segments(self.obstacle.position, x1, x2)
         e = int(np.argmin(dist))
         return e, xi[e], x1[e], x2[e] - x1[e]
+
+    frictional = True
+
+    def tangents(self, q: np.ndarray):
+        """Slip row of the fixed point against the beam's material point at the closest
+        parameter ξ: −T((1 − ξ) ẋ_a + ξ ẋ_b), T the tangent of the contact plane."""
+        body = self.body
+        e, xi, x1, d = self._closest(body.positions(q[self.offset : self.offset + body.ndof]))
+        a, b = self.segments[e]
+        dofs = self.offset + body.node_translation_dofs([a, b]).ravel()
+        if 0.0 < xi < 1.0:  # the side's normal of the segment, as in the gap
+            n = self.side * np.array([-d[1], d[0]]) / np.linalg.norm(d)
+        else:
+            n = unit(self.obstacle.position - (x1 + xi * d), "point and beam node")[0]
+        T = tangent_basis(n[None])
+        GT = -np.concatenate([(1.0 - xi) * T, xi * T], axis=2)
+        return dofs[None, :], GT, T
 
     def _signed_distance(self, q_local):
         e, xi, x1, d = self._closest(self.body.positions(q_local))

@@ -33,6 +33,7 @@ from ..bodies.beam import Beam2D
 from ..bodies.rigid import Disk, Polygon, RigidBody2D, rotation
 from ..errors import InputError, check_positive, check_range
 from .base import PairDefaults
+from .friction import tangent_basis
 from .geometry import distance_curvature, point_line_distance, polygon_distance, unit
 from .obstacles import Circle, Plane
 
@@ -97,6 +98,17 @@ class DiskObstacleContact(_Pair):
         dofs = self.offsets[0] + np.arange(2)[None, :]
         return g - disk.shape.radius, dofs, np.array(G), H
 
+    frictional = True
+
+    def tangents(self, q: np.ndarray):
+        """Slip of the disk's lowest point c − r n: t·ċ + r ω over (x, y, θ) (t = (n_y, −n_x),
+        so a disk rolling along +t turns clockwise, ω < 0)."""
+        disk = self.body
+        n = self.obstacle.gap(disk.center(self._local(q, 0))[None, :])[1]
+        T = tangent_basis(n)
+        GT = np.concatenate([T, [[[disk.shape.radius]]]], axis=2)
+        return self.offsets[0] + np.arange(3)[None, :], GT, T
+
 
 class DiskDiskContact(_Pair):
     """Two rigid disks: g = |c_b − c_a| − r_a − r_b."""
@@ -119,6 +131,18 @@ class DiskDiskContact(_Pair):
         dofs = np.concatenate([self.offsets[0] + np.arange(2), self.offsets[1] + np.arange(2)])
         return np.array([g]), dofs[None, :], G[None, :], H[None, :, :]
 
+    frictional = True
+
+    def tangents(self, q: np.ndarray):
+        """Slip of b's contact point against a's: t·(ċ_b − ċ_a) + r_b ω_b + r_a ω_a over
+        (x, y, θ) of a then b; e = (c_b − c_a)/|c_b − c_a| is b's normal."""
+        a, b = self.bodies
+        e, _ = unit(b.center(self._local(q, 1)) - a.center(self._local(q, 0)), "disk centres")
+        t = tangent_basis(e[None])[0, 0]
+        GT = np.r_[-t, a.shape.radius, t, b.shape.radius]
+        dofs = np.r_[self.offsets[0] + np.arange(3), self.offsets[1] + np.arange(3)]
+        return dofs[None, :], GT[None, None, :], t[None, None, :]
+
 
 class DiskPolygonContact(_Pair):
     """A rigid ``Disk`` against a rigid convex ``Polygon`` (its edges and vertices).
@@ -126,8 +150,8 @@ class DiskPolygonContact(_Pair):
     In the polygon's frame the disk centre is ρ = R(φ)ᵀ(c − c_p), φ the polygon's angle, and
     g = s(ρ) − r. With A = ∂ρ/∂(c, c_p, θ_p) = [Rᵀ, −Rᵀ, −Jρ] and s' = ∂s/∂ρ:
     G = s'ᵀA and ∇²g = Aᵀ s'' A + Σ_i s'_i ∇²ρ_i, where the only second derivatives of ρ are
-    ∂²ρ/∂c∂θ = −J Rᵀ, ∂²ρ/∂c_p∂θ = J Rᵀ and ∂²ρ/∂θ² = −ρ. The disk's rotation does not enter
-    (frictionless). ``body`` is whichever of the two was given first.
+    ∂²ρ/∂c∂θ = −J Rᵀ, ∂²ρ/∂c_p∂θ = J Rᵀ and ∂²ρ/∂θ² = −ρ. The disk's rotation enters the
+    slip only (friction). ``body`` is whichever of the two was given first.
     """
 
     def __init__(self, disk: RigidBody2D, polygon: RigidBody2D, restitution: float = 0.0):
@@ -158,6 +182,26 @@ class DiskPolygonContact(_Pair):
         o_d, o_p = self.offsets
         dofs = np.concatenate([o_d + np.arange(2), o_p + np.arange(3)])
         return np.array([s - disk.shape.radius]), dofs[None, :], G[None, :], H[None, :, :]
+
+    frictional = True
+
+    def tangents(self, q: np.ndarray):
+        """Slip of the disk's contact point x_c = c − r n against the polygon's material point
+        there: t·(ċ − ċ_p) + r ω + ω_p n·(x_c − c_p), over (x, y, θ) of the disk then the
+        polygon."""
+        disk, poly = self.bodies
+        qd, qp = self._local(q, 0), self._local(q, 1)
+        R = rotation(poly.orientation(qp))
+        c, cp = disk.center(qd), poly.center(qp)
+        shape = poly.shape
+        ds = polygon_distance(shape.vertices, shape.normals, R.T @ (c - cp))[1]
+        n = R @ ds
+        t = tangent_basis(n[None])[0, 0]
+        r = disk.shape.radius
+        GT = np.r_[t, r, -t, n @ (c - r * n - cp)]
+        o_d, o_p = self.offsets
+        dofs = np.r_[o_d + np.arange(3), o_p + np.arange(3)]
+        return dofs[None, :], GT[None, None, :], t[None, None, :]
 
 
 class DiskBeamContact(_Pair):
@@ -243,6 +287,30 @@ class DiskBeamContact(_Pair):
         dofs = np.hstack([np.broadcast_to(np.arange(2), (E, 2)), self.offsets[1] + self._node_dofs])
         dofs[:, :2] += self.offsets[0]
         return g, dofs, G, H
+
+    frictional = True
+
+    def tangents(self, q: np.ndarray):
+        """Slip of the disk's contact point against the centreline point at the element's
+        closest parameter ξ: t·ċ + r ω − t·((1 − ξ) ẋ_a + ξ ẋ_b), over the disk's (x, y, θ)
+        and the element's two nodes' (u_x, u_y); zero for elements with no contact point."""
+        disk, beam = self.bodies
+        _, _, G, _ = self.evaluate(q)
+        P = disk.center(self._local(q, 0))
+        x = beam.positions(self._local(q, 1))
+        xi = self._project(P, x)[0]
+        n = G[:, :2]
+        T = tangent_basis(n)[:, 0]  # zero where n is
+        w = np.stack([1.0 - xi, xi], axis=1)[:, :, None] * T[:, None, :]
+        r = disk.shape.radius * (np.linalg.norm(n, axis=1) > 0.0)
+        GT = np.concatenate([T, r[:, None], -w.reshape(-1, 4)], axis=1)
+        dofs = np.hstack(
+            [
+                self.offsets[0] + np.broadcast_to(np.arange(3), (self.size, 3)),
+                self.offsets[1] + self._node_dofs,
+            ]
+        )
+        return dofs, GT[:, None, :], T[:, None, :]
 
 
 def rigid_pair(body, other, nodes=None, restitution: float = 0.0, clearance: float = 0.0):

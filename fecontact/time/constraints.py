@@ -8,7 +8,14 @@ import scipy.sparse as sp
 
 from ..linalg import factorize
 
-__all__ = ["Constraints", "StepFailure", "bordered", "factorize_or_fail", "plus_curvature"]
+__all__ = [
+    "Constraints",
+    "StepFailure",
+    "bordered",
+    "constraint_columns",
+    "factorize_or_fail",
+    "plus_curvature",
+]
 
 
 class StepFailure(Exception):
@@ -68,3 +75,19 @@ def plus_curvature(A, scale, C):
     if C is None:
         return A
     return A + scale * (sp.csr_matrix(C) if sp.issparse(A) else C)
+
+
+def constraint_columns(model, key, select, G, solve, cons, constant: bool):
+    """H⁻¹ G_jᵀ for the constraints ``select`` (n × m). When H is ``constant`` (the mass, or
+    S_t/β′ of a linear model at a given step) and the gap gradients are too (nodes against
+    planes), the columns are kept per contact: a large model in contact over a small zone
+    then solves only for contacts that are new."""
+    if not (constant and cons.linear and model.joints.size == 0 and model.contacts.linear):
+        return solve(G.T).reshape(G.shape[1], -1)
+    cache = model.column_cache.setdefault(key, {})
+    missing = [i for i, j in enumerate(select) if j not in cache]
+    if missing:
+        Y = solve(G[missing].T).reshape(G.shape[1], -1)
+        for col, i in enumerate(missing):
+            cache[select[i]] = Y[:, col]
+    return np.column_stack([cache[j] for j in select]) if len(select) else G.T.copy()

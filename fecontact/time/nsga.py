@@ -34,17 +34,22 @@ from typing import NamedTuple
 import numpy as np
 import scipy.sparse as sp
 
-from ..contact import solve_position_correction, solve_velocity_jump
+from ..contact import solve_position_correction
 from ..joints import newton_remainder
-from ..linalg import UnitColumns, factorize, low_rank_solver
-from .constraints import Constraints, StepFailure, bordered, factorize_or_fail
+from ..linalg import UnitColumns, low_rank_solver
+from .constraints import (
+    Constraints,
+    StepFailure,
+    bordered,
+    constraint_columns,
+    factorize_or_fail,
+)
+from .coulomb import frictional_correction, slip_work
 from .generalized_alpha import coefficients, predict
+from .impacts import velocity_jump
 from .state import IntegratorOptions, PhaseTimer, State, length_scale
 
 __all__ = ["nsga_step"]
-
-_EMPTY = np.zeros(0)
-_EMPTY.flags.writeable = False
 
 
 class JointTolerance:
@@ -99,6 +104,8 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
     m, joints = model.contacts.size, model.joints
     if m == 0 and joints.size == 0:
         return State(t, q, v, vd, a, h=h, lam=lam, iterations=iters)
+    friction = model.contacts.frictional
+    memory = _friction_memory(st, m, model.dim) if friction else {}
 
     # 2. position correction, only if a contact candidate penetrates (joints already hold)
     model.contacts.set_time(t)
@@ -117,8 +124,15 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
         q_tilde = q
         metric = _metric(model, q_tilde, S, c, opts)
         while True:
-            nu0 = st.nu[work] / opts.multiplier_scale  # warm start: the previous step's
-            U, nu_w, its = _position_correction(model, q_tilde, work, metric, c, opts, tol_gap, nu0)
+            if friction:
+                U, nu_w, nu_t, _, its = frictional_correction(
+                    model, st, q_tilde, work, metric[1], opts, tol_gap, t
+                )
+            else:
+                nu0 = st.nu[work] / opts.multiplier_scale  # warm start: the previous step's
+                U, nu_w, its = _position_correction(
+                    model, q_tilde, work, metric, c, opts, tol_gap, nu0
+                )
             iters["position"] += its
             q = q_tilde.copy()
             q[model.free_slice] += U
@@ -131,17 +145,24 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
         if model.inverted(q):
             raise StepFailure("the position correction inverts an element (det F <= 0)", np.nan)
         nu[work] = nu_w[: work.size]
+        if friction:
+            memory["friction_nu"][work] = nu_t
         Gb = None  # the joints' gradient moved with q
 
     # 3. velocity jump on the contacts closed at q_{n+1}, and on the joints
     closed = cand[gaps[cand] <= tol_gap] if cand.size else cand
     if closed.size or joints.size:
-        W, Lam, iters["velocity"] = _velocity_jump(
+        W, Lam, iters["velocity"], tangential = velocity_jump(
             model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb
         )
         v[model.free_slice] += W
         if closed.size:
             impulse[closed] = Lam[: closed.size]
+        if tangential is not None:
+            lam_t, status = tangential
+            memory["friction_impulse"][closed] = lam_t
+            memory["friction_status"][closed] = status
+            memory["friction_work"] += slip_work(model, st, q, closed, lam_t, h, t)
     timer.add("contact", clock)
     return State(
         t,
@@ -156,7 +177,21 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
         impulse=impulse,
         lam=lam,
         iterations=iters,
+        memory=memory,
     )
+
+
+def _friction_memory(st: State, m: int, dim: int) -> dict:
+    """The step's frictional record, zero but for the work done so far: positional and
+    impulsive tangential multipliers (m, nt), status (0 open, 1 stick, 2 slip) and the
+    accumulated work of friction (J)."""
+    work = st.memory.get("friction_work", np.zeros(1))
+    return {
+        "friction_nu": np.zeros((m, dim - 1)),
+        "friction_impulse": np.zeros((m, dim - 1)),
+        "friction_status": np.zeros(m),
+        "friction_work": work.copy(),
+    }
 
 
 class SmoothStep(NamedTuple):
@@ -305,7 +340,7 @@ def _position_correction(model, q_tilde, cand, metric, c, opts, tol_gap, nu0=Non
     cons = Constraints(model, cand)
     _, G0 = cons.jacobian(q_tilde)
     constant = model.linear or opts.metric == "mass"
-    Y0 = _columns(model, (opts.metric, c.bp, c.gp), cand, G0, solve_H, cons, constant)
+    Y0 = constraint_columns(model, (opts.metric, c.bp, c.gp), cand, G0, solve_H, cons, constant)
     p = opts.penalty_scale / np.einsum("ij,ji->i", G0, Y0)
     k = opts.multiplier_scale
 
@@ -354,91 +389,3 @@ def _unit_columns(model, key, solve_H, constant: bool) -> UnitColumns:
     if not constant:
         return UnitColumns(solve_H, model.n_free)
     return model.column_cache.setdefault(("unit", *key), UnitColumns(solve_H, model.n_free))
-
-
-def _columns(model, key, select, G, solve, cons, constant: bool):
-    """H⁻¹ G_jᵀ for the constraints ``select`` (n × m). When H is ``constant`` (the mass, or
-    S_t/β′ of a linear model at a given step) and the gap gradients are too (nodes against
-    planes), the columns are kept per contact: a large model in contact over a small zone
-    then solves only for contacts that are new."""
-    if not (constant and cons.linear and model.joints.size == 0 and model.contacts.linear):
-        return solve(G.T).reshape(G.shape[1], -1)
-    cache = model.column_cache.setdefault(key, {})
-    missing = [i for i, j in enumerate(select) if j not in cache]
-    if missing:
-        Y = solve(G[missing].T).reshape(G.shape[1], -1)
-        for col, i in enumerate(missing):
-            cache[select[i]] = Y[:, col]
-    return np.column_stack([cache[j] for j in select]) if len(select) else G.T.copy()
-
-
-def _velocity_jump(model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb=None):
-    """Step 3: v = ṽ + W, M W = Σ G_jᵀ [k Λ_j − p ġ_j]_+ with
-    ġ_j = G_j(q_{n+1}) v_{n+1} + e_j ġ⁻_j; joints: G_b v_{n+1} = 0 (``Gb``: their gradient
-    at q, if known).
-
-    ġ⁻_j = (1 − τ_j) G_j(q_n) v_n + τ_j G_j(q_{n+1}) ṽ_{n+1}, with τ_j the fraction of the
-    step at which the gap crosses zero (τ_j = 0 with ``impact_velocity="step_start"``).
-    Warm-started from the previous step's impulses; a residual ġ below tol_gap/h closes less
-    than the gap tolerance within the step."""
-    F = model.free
-    if closed.size == 0:
-        # joints only: the M-orthogonal projection onto G_b v = 0, no active set to find
-        G1 = model.joints.jacobian(q, model.joints.all)[1] if Gb is None else Gb
-        Y = model.solve_M(G1.T).reshape(len(F), -1)
-        mu = factorize(G1 @ Y)(-(G1 @ v[F]))
-        return Y @ mu, _EMPTY, 1
-    cons = Constraints(model, closed)
-    _, G1 = cons.jacobian(q)
-    e = np.concatenate([model.contacts.restitution[closed], np.zeros(model.joints.size)])
-    gdot = G1 @ v[F]
-    contacts = model.contacts
-    if contacts.moving:  # ġ = G v + ∂g/∂t at t_{n+1} and, for the impact law, at t_n
-        gdot[: closed.size] += contacts.rates(q, closed)
-    if np.any(e):
-        Gn = G1 if cons.linear else cons.jacobian(st.q)[1]  # constant gradients: G(q_n) = G
-        gdot_n = Gn @ st.v[F]
-        if contacts.moving:
-            contacts.set_time(st.t)
-            gdot_n[: closed.size] += contacts.rates(st.q, closed)
-            contacts.set_time(t)
-        if opts.impact_velocity == "interpolated" and st.gaps.size == contacts.size:
-            nc = closed.size
-            tau = _crossing_fraction(st.gaps[closed], g_tilde[closed], tol_gap)
-            gdot_n[:nc] += tau * (gdot[:nc] - gdot_n[:nc])
-        gdot += e * gdot_n
-    if not np.all(np.isfinite(gdot)):  # a NaN would switch every test of the law off
-        raise StepFailure("velocity jump: non-finite normal velocity of a closed contact", np.nan)
-    Y = _columns(model, ("mass",), closed, G1, model.solve_M, cons, constant=True)
-    p = opts.penalty_scale / np.einsum("ij,ji->i", G1, Y)
-    k = opts.multiplier_scale
-    try:
-        Lam0 = np.r_[st.impulse[closed] / k, np.zeros(model.joints.size)]
-        W, Lam, its = solve_velocity_jump(
-            G1,
-            gdot,
-            model.solve_M,
-            p,
-            k,
-            opts.max_iterations,
-            bilateral=cons.bilateral,
-            Y=Y,
-            Lam0=Lam0,
-            tol=tol_gap / (t - st.t),
-        )
-    except RuntimeError as err:
-        raise StepFailure(str(err), np.nan) from None
-    return W, k * Lam, its
-
-
-def _crossing_fraction(g_n, g_tilde, tol_gap):
-    """τ ∈ [0, 1] where the chord from g_n (start of step) to g̃ (end, predicted) crosses 0;
-    0 for a contact that was already closed (g_n ≤ tol_gap) or is not approaching; 1 for a
-    contact that had no facet within the detection margin at t_n (g_n = +∞) and closed
-    within the step: its approach velocity is the one at the end of the step."""
-    far = ~np.isfinite(g_n)
-    drop = g_n - g_tilde
-    approach = (drop > 0.0) & (g_n > tol_gap) & ~far
-    tau = np.divide(g_n, drop, out=np.zeros_like(drop), where=approach)
-    tau[far] = 1.0
-    return np.clip(tau, 0.0, 1.0)

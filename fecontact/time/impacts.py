@@ -1,0 +1,94 @@
+"""The velocity jump of the decoupled step: Newton's impact law on the contacts closed at
+q_{n+1}, the joints' velocity constraints, and Coulomb friction where the contacts have it."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..contact import solve_velocity_jump
+from ..linalg import factorize
+from .constraints import Constraints, StepFailure, constraint_columns
+from .coulomb import frictional_jump
+
+__all__ = ["velocity_jump"]
+
+_EMPTY = np.zeros(0)
+_EMPTY.flags.writeable = False
+
+
+def velocity_jump(model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb=None):
+    """Step 3: v = ṽ + W, M W = Σ G_jᵀ [k Λ_j − p ġ_j]_+ with
+    ġ_j = G_j(q_{n+1}) v_{n+1} + e_j ġ⁻_j; joints: G_b v_{n+1} = 0 (``Gb``: their gradient
+    at q, if known).
+
+    ġ⁻_j = (1 − τ_j) G_j(q_n) v_n + τ_j G_j(q_{n+1}) ṽ_{n+1}, with τ_j the fraction of the
+    step at which the gap crosses zero (τ_j = 0 with ``impact_velocity="step_start"``).
+    Warm-started from the previous step's impulses; a residual ġ below tol_gap/h closes less
+    than the gap tolerance within the step. Returns (W, k Λ, iterations, friction) with
+    friction = (k Λ_T, stick/slip status) of the closed contacts when the model has
+    friction (:func:`fecontact.time.coulomb.frictional_jump`), else None."""
+    F = model.free
+    if closed.size == 0:
+        # joints only: the M-orthogonal projection onto G_b v = 0, no active set to find
+        G1 = model.joints.jacobian(q, model.joints.all)[1] if Gb is None else Gb
+        Y = model.solve_M(G1.T).reshape(len(F), -1)
+        mu = factorize(G1 @ Y)(-(G1 @ v[F]))
+        return Y @ mu, _EMPTY, 1, None
+    cons = Constraints(model, closed)
+    _, G1 = cons.jacobian(q)
+    e = np.concatenate([model.contacts.restitution[closed], np.zeros(model.joints.size)])
+    gdot = G1 @ v[F]
+    contacts = model.contacts
+    if contacts.moving:  # ġ = G v + ∂g/∂t at t_{n+1} and, for the impact law, at t_n
+        gdot[: closed.size] += contacts.rates(q, closed)
+    if np.any(e):
+        Gn = G1 if cons.linear else cons.jacobian(st.q)[1]  # constant gradients: G(q_n) = G
+        gdot_n = Gn @ st.v[F]
+        if contacts.moving:
+            contacts.set_time(st.t)
+            gdot_n[: closed.size] += contacts.rates(st.q, closed)
+            contacts.set_time(t)
+        if opts.impact_velocity == "interpolated" and st.gaps.size == contacts.size:
+            nc = closed.size
+            tau = _crossing_fraction(st.gaps[closed], g_tilde[closed], tol_gap)
+            gdot_n[:nc] += tau * (gdot[:nc] - gdot_n[:nc])
+        gdot += e * gdot_n
+    if not np.all(np.isfinite(gdot)):  # a NaN would switch every test of the law off
+        raise StepFailure("velocity jump: non-finite normal velocity of a closed contact", np.nan)
+    tol = tol_gap / (t - st.t)
+    if contacts.frictional:
+        W, lam_n, lam_t, status, its = frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol)
+        return W, lam_n, its, (lam_t, status)
+    Y = constraint_columns(model, ("mass",), closed, G1, model.solve_M, cons, constant=True)
+    p = opts.penalty_scale / np.einsum("ij,ji->i", G1, Y)
+    k = opts.multiplier_scale
+    try:
+        Lam0 = np.r_[st.impulse[closed] / k, np.zeros(model.joints.size)]
+        W, Lam, its = solve_velocity_jump(
+            G1,
+            gdot,
+            model.solve_M,
+            p,
+            k,
+            opts.max_iterations,
+            bilateral=cons.bilateral,
+            Y=Y,
+            Lam0=Lam0,
+            tol=tol,
+        )
+    except RuntimeError as err:
+        raise StepFailure(str(err), np.nan) from None
+    return W, k * Lam, its, None
+
+
+def _crossing_fraction(g_n, g_tilde, tol_gap):
+    """τ ∈ [0, 1] where the chord from g_n (start of step) to g̃ (end, predicted) crosses 0;
+    0 for a contact that was already closed (g_n ≤ tol_gap) or is not approaching; 1 for a
+    contact that had no facet within the detection margin at t_n (g_n = +∞) and closed
+    within the step: its approach velocity is the one at the end of the step."""
+    far = ~np.isfinite(g_n)
+    drop = g_n - g_tilde
+    approach = (drop > 0.0) & (g_n > tol_gap) & ~far
+    tau = np.divide(g_n, drop, out=np.zeros_like(drop), where=approach)
+    tau[far] = 1.0
+    return np.clip(tau, 0.0, 1.0)
