@@ -2,7 +2,8 @@
 
 An aluminium strip pinned at the origin, lying along +x at t = 0 with a 0.14 kg mass at its
 tip, falls under gravity. Its tip hits a rigid stop, the plane x = 0 through (0, -0.3)
-(normal +x), and the beam rings at its first bending frequency.
+(normal +x), and the beam rings at its first bending frequency. With ``friction`` the tip
+rubs along the stop (Coulomb).
 """
 
 from fecontact import Model, Param, Simulation, case, node_probe, run_cli
@@ -21,6 +22,7 @@ def build(
     thickness=Param.positive(0.002, "m", "section thickness (bending)"),
     tip_mass=Param.nonnegative(0.14, "kg", "point mass on the tip node"),
     restitution=Param.fraction(0.0, "Newton's coefficient of restitution e_N"),
+    friction=Param.nonnegative(0.0, "", "Coulomb's coefficient mu between tip and stop"),
     gravity=Param.nonnegative(9.81, "m/s^2", "acceleration of gravity, along -y"),
 ):
     material = Material(E=E, rho=rho, nu=nu)
@@ -28,7 +30,7 @@ def build(
     beam = Beam2D.straight([0.0, 0.0], [length, 0.0], n_elements, material, section)
     beam.pin(0).add_mass(-1, tip_mass)
     wall = Plane([0.0, -0.3], [1.0, 0.0], extent=0.08)
-    stop = Contact(beam, wall, nodes=[-1], restitution=restitution)
+    stop = Contact(beam, wall, nodes=[-1], restitution=restitution, friction=friction)
     model = Model([beam], [stop], gravity=(0.0, -gravity))
     probes = {f"tip_{q}": node_probe(model, beam, -1, q) for q in ("x", "y", "vx", "vy")}
     return Simulation(model, dt=1e-3, t_end=1.5, probes=probes, name="flexible_pendulum")

@@ -1,11 +1,12 @@
-"""Rocking block: a rigid box released tilted on one corner of a frictionless plane.
+"""Rocking block: a rigid box released tilted on one corner of a plane.
 
-A uniform box (``RigidBody2D`` with ``Polygon.box``) stands on the plane y = 0 on its
-bottom-left corner, tilted counter-clockwise by ``angle`` (less than atan(width/height), so it
-falls back). Without friction the corner slides while the box rotates; the box lands flat on
-both bottom corners at once (a two-corner impact resolved with Newton's law at each corner),
-then rocks on alternate corners with decreasing amplitude (restitution < 1). The contacts act
-on all four vertices; the top ones never come near.
+A uniform box (``RigidBody2D`` with ``Polygon.box``) stands on the plane y = 0 on its bottom-
+left corner, tilted counter-clockwise by ``angle`` (less than atan(width/height), so it falls
+back). Without friction (the default) the corner slides while the box rotates; the box lands
+flat on both bottom corners at once (a two-corner impact resolved with Newton's law at each
+corner), then rocks on alternate corners with decreasing amplitude (restitution < 1). The
+contacts act on all four vertices; the top ones never come near. With ``friction`` μ large
+enough the corners do not slide: the box pivots about them.
 
 Probes: ``angle`` of the box (rad, counter-clockwise), ``gap_left`` and ``gap_right``, the
 heights of the bottom corners above the plane (m), and ``omega`` (rad/s).
@@ -33,6 +34,7 @@ def build(
         (False, False),
     ),
     restitution=Param.fraction(0.5, "Newton's coefficient of restitution e_N at the corners"),
+    friction=Param.nonnegative(0.0, "", "Coulomb's coefficient mu at the corners"),
     gravity=Param.nonnegative(9.81, "m/s^2", "acceleration of gravity, along -y"),
 ):
     # below atan(width/height) the centre of mass lies over the support: the box falls back
@@ -45,7 +47,11 @@ def build(
     center = -rotation(angle) @ shape.vertices[0]  # the bottom-left corner on the origin
     block = RigidBody2D.uniform(mass, center, shape, angle=angle)
     floor = Plane([0.0, 0.0], [0.0, 1.0])
-    model = Model([block], [Contact(block, floor, restitution=restitution)], (0.0, -gravity))
+    model = Model(
+        [block],
+        [Contact(block, floor, restitution=restitution, friction=friction)],
+        (0.0, -gravity),
+    )
 
     def corner_gap(k):
         return lambda m, st: float(block.positions(st.q)[k, 1])

@@ -16,7 +16,6 @@ import numpy as np
 
 from fecontact import Model, Param, Probe, Simulation, case, run_cli
 from fecontact.bodies import Polygon, RigidBody2D
-from fecontact.bodies.rigid import rotation
 from fecontact.contact import Contact, Plane
 
 

@@ -22,9 +22,10 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__
+from .contact.friction import COULOMB
 from .contact.laws import LEAST_SQUARES
 from .errors import InputError, SolverError, check_positive
-from .io.output import STANDARD_COLUMNS
+from .io.output import FRICTION_COLUMNS, STANDARD_COLUMNS
 from .io.run_folder import (
     CHECKPOINT,
     clear_earlier_run,
@@ -103,7 +104,7 @@ class Simulation:
         for probe in self.probes:
             # history.csv columns: no clash with the time column, no separator inside
             ok = isinstance(probe, str) and probe.replace("_", "").isalnum()
-            if not ok or probe in HISTORY_COLUMNS:
+            if not ok or probe in HISTORY_COLUMNS + FRICTION_COLUMNS:
                 raise InputError(
                     f"probe names must be letters, digits or '_' and differ from the history "
                     f"columns ({', '.join(HISTORY_COLUMNS)}), got {probe!r}"
@@ -156,6 +157,9 @@ def _frame_parts(model, state: State):
     else:  # no contact acted in this step: nothing to evaluate
         f_imp = np.zeros(model.n)
     h = state.h if state.h > 0 else math.inf
+    friction = contacts.frictional
+    if friction:
+        f_t, flag = _friction_parts(model, state, model.n)
     parts = {}
     for i, body in enumerate(model.bodies):
         s = model.body_slice(i)
@@ -163,10 +167,34 @@ def _frame_parts(model, state: State):
         data = dict(body.point_data(q, state.v[s]))
         data["contact_impulse"] = _point_impulse(body, f_imp[s])
         data["contact_force"] = data["contact_impulse"] / h
+        if friction:
+            data["tangential_impulse"] = _point_impulse(body, f_t[s])
+            data["tangential_force"] = data["tangential_impulse"] / h
+            data["friction_state"] = np.max(np.abs(_point_impulse(body, flag[s])), axis=1)
         cell_data = {k: [v] for k, v in body.cell_data(q).items()} or None
         parts[_part_name(body, i)] = body_mesh(body.positions(q), body.cells(), data, cell_data)
     parts.update(_obstacle_parts(model, moving=True))
     return parts
+
+
+def friction_totals(st: State) -> list[float]:
+    """Σ_j |k Λ_T,j| of the step (N·s) and the work friction dissipated since t = 0 (J)."""
+    lam_t = st.memory.get("friction_impulse")
+    if lam_t is None:
+        return [0.0, float(st.memory.get("friction_work", [0.0])[0])]
+    return [float(np.linalg.norm(lam_t, axis=1).sum()), float(st.memory["friction_work"][0])]
+
+
+def _friction_parts(model, state: State, n: int):
+    """Generalized tangential impulse Σ_j G_T,jᵀ k Λ_T,j (n,) and per-dof friction state
+    (0 none, 1 stick, 2 slip: the largest among the contacts on the dof)."""
+    lam_t = state.memory.get("friction_impulse")
+    status = state.memory.get("friction_status")
+    if lam_t is None or not np.any(status):
+        return np.zeros(n), np.zeros(n)
+    contacts = model.contacts
+    select = np.flatnonzero(status)
+    return contacts.tangent_force(state.q, select, lam_t[select], status[select], n)
 
 
 def _point_impulse(body, f: np.ndarray) -> np.ndarray:
@@ -223,7 +251,10 @@ class _Recorder:
 
         self.sim = sim
         self.model = sim.model
-        self.columns = list(HISTORY_COLUMNS) + list(sim.probes)
+        self.friction = self.model.contacts.frictional
+        self.friction_work = 0.0
+        extra = FRICTION_COLUMNS if self.friction else ()
+        self.columns = list(HISTORY_COLUMNS) + list(extra) + list(sim.probes)
         self.history = HistoryWriter(out / "history.csv", self.columns, keep_rows=keep_rows)
         self.impacts: list[dict] = []
         self.closed = np.zeros(self.model.contacts.size, dtype=bool)
@@ -249,6 +280,9 @@ class _Recorder:
         self.closed = active
         its = st.newton_iterations
         row = [st.t, ke, se, pe, total, min_gap, int(active.sum()), float(st.impulse.sum()), its]
+        if self.friction:
+            row += friction_totals(st)
+            self.friction_work = row[-1]
         row += [p.fn(m, st) for p in self.sim.probes.values()]
         self.history.write(row)
         if st.step == 0:
@@ -374,6 +408,7 @@ def run(
     t_start = time.perf_counter()
     factors_start = dict(SPARSE_FACTORIZATIONS)
     least_squares_start = LEAST_SQUARES["count"]
+    coulomb_start = dict(COULOMB)
     try:
         if frames and start is None:
             for part, mesh in _static_parts(sim.model).items():
@@ -410,6 +445,9 @@ def run(
         summary = rec.summary(status, wall, timer, message, factors)
         # redundant active constraints whose multipliers came from least squares
         summary["least_squares_multipliers"] = LEAST_SQUARES["count"] - least_squares_start
+        if sim.model.contacts.frictional:  # the frictional solves and their fallbacks
+            summary["friction_solver"] = {k: COULOMB[k] - coulomb_start[k] for k in COULOMB}
+            summary["friction_work"] = rec.friction_work
         write_json(out / "summary.json", summary)
     return summary
 

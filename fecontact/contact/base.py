@@ -34,6 +34,12 @@ class PairDefaults:
         point relative to the other's (``frictional`` pairs only)."""
         raise NotImplementedError(f"{type(self).__name__} has no friction")
 
+    def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
+        """The slip T·(x_rel(q) − x_rel(q_n)) (m, nt) of the contact points over a step,
+        where the linear form G_T(q)(q − q_n) is not exact (points of rotating bodies); None:
+        the linear form is."""
+        return None
+
     def rate(self, q: np.ndarray) -> np.ndarray:
         """∂g_j/∂t (m/s) from a moving obstacle; zero for obstacles at rest."""
         return np.zeros(self.size)

@@ -88,6 +88,43 @@ class ContactSet:
             T[rows] = Tv[loc]
         return GT, T
 
+    def slips(self, q, q_n, select, GT, T):
+        """Slip of the contacts ``select`` over a step from q_n to q (len(select), nt): the
+        linear G_T(q)(q − q_n) (GT, T from :meth:`tangent_jacobian`), exact where the pairs
+        give it (points of rotating bodies)."""
+        slip = GT @ (q - q_n)[self.free_index >= 0]
+        owner = self.owner[select]
+        for i, pair in enumerate(self.pairs):
+            rows = np.flatnonzero(owner == i)
+            if rows.size and pair.friction:
+                loc = self.local[select[rows]]
+                full = np.zeros((pair.size, *T.shape[1:]))
+                full[loc] = T[rows]
+                exact = pair.slips(q, q_n, full)
+                if exact is not None:
+                    slip[rows] = exact[loc]
+        return slip
+
+    def tangent_force(self, q, select, mult, status, n: int):
+        """Σ_j G_T,jᵀ mult_j (n,) over ``select`` on all n dofs (``mult`` (len, nt), the
+        tangential impulses), and per dof the largest ``status`` of the contacts acting on it
+        (1 stick, 2 slip), for the output of nodal friction."""
+        f, flag = np.zeros(n), np.zeros(n)
+        owner = self.owner[select]
+        for i, pair in enumerate(self.pairs):
+            rows = np.flatnonzero(owner == i)
+            if rows.size == 0 or not pair.friction:
+                continue
+            dofs, GT, _ = pair.tangents(q)
+            loc = self.local[select[rows]]
+            dofs = np.broadcast_to(dofs, (pair.size, dofs.shape[1]))[loc]
+            values = np.einsum("mt,mtk->mk", mult[rows], GT[loc])
+            f += np.bincount(dofs.ravel(), values.ravel(), minlength=n)
+            acts = np.abs(GT[loc]).sum(axis=1) > 0.0
+            s = np.broadcast_to(status[rows, None], dofs.shape)
+            np.maximum.at(flag, dofs[acts], s[acts])
+        return f, flag
+
     def obstacle_motion(self, select: np.ndarray, velocity: bool):
         """Velocity ḋ (m/s, ``velocity``) or displacement d (m) of the obstacle of each
         contact ``select`` at its current time, (len(select), d), zero for bodies and fixed

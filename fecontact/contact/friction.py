@@ -34,10 +34,18 @@ __all__ = [
     "tangent_basis",
 ]
 
-COULOMB = {"solves": 0, "iterations": 0, "line_search_cuts": 0, "full_steps_forced": 0}
+COULOMB = {
+    "solves": 0,
+    "iterations": 0,
+    "line_search_cuts": 0,
+    "full_steps_forced": 0,
+    "gauss_seidel_solves": 0,
+}
 """Frictional contact solves of this process: Newton iterations, backtracking cuts of the
-merit |R|², and updates taken in full after the backtracking found no decrease (a kink of the
-nonsmooth residual). Runs report their share in ``summary.json``."""
+merit |R|², updates taken in full after the backtracking found no decrease (a kink of the
+nonsmooth residual), and solves where Newton alone did not converge and a nonsmooth
+Gauss–Seidel over the contacts brought it near the solution first. Runs report their share
+in ``summary.json``."""
 
 
 def tangent_basis(n: np.ndarray) -> np.ndarray:
@@ -99,11 +107,140 @@ def coulomb_projection(sigma: np.ndarray, mu: np.ndarray):
 
 def solve_coulomb(c, D, p, k, mu, nt, x0=None, tol=0.0, max_iter=50):
     """Multipliers x of m frictional contacts (and any equality rows after them) with
+    w = c + k D x and R(x) = k x − Π(k x − p w) = 0 (see :func:`_newton`).
+
+    Semi-smooth Newton first; where it does not converge (the Newton of the disk cone is
+    not globally convergent when D couples contacts strongly), a nonsmooth Gauss–Seidel over
+    the contacts, each solved exactly on its own, comes near the solution and Newton
+    finishes from there. Returns (x, status (m,), iterations); raises ``RuntimeError``
+    when neither converges.
+    """
+    COULOMB["solves"] += 1
+    p = _isotropic(np.asarray(p, dtype=float), len(mu), nt)
+    try:
+        return _newton(c, D, p, k, mu, nt, x0, tol, max_iter)
+    except _NotConverged:
+        COULOMB["gauss_seidel_solves"] += 1
+    x, sweeps = _gauss_seidel(c, D, p, k, np.asarray(mu, dtype=float), nt, x0, tol)
+    try:
+        x, status, its = _newton(c, D, p, k, mu, nt, x, tol, max_iter)
+    except _NotConverged as err:
+        R, status = _settled(c, D, k, np.asarray(mu, dtype=float), nt, x)
+        if R <= tol:  # Gauss–Seidel converged where Newton's polish did not
+            return x, status, sweeps
+        msg = f"frictional contact: {err} (after {sweeps} Gauss-Seidel sweeps)"
+        raise RuntimeError(msg) from None
+    return x, status, its + sweeps
+
+
+class _NotConverged(Exception):
+    pass
+
+
+def _settled(c, D, k, mu, nt, x):
+    """The largest violation (in units of w) of the law at x, measured without p: normal
+    complementarity, the cone, zero slip where it sticks, slip against Λ_T where it
+    slips; and the status of each contact."""
+    m, b = len(mu), 1 + nt
+    w = c + k * (D @ x)
+    xs, ws = x[: m * b].reshape(m, b), w[: m * b].reshape(m, b)
+    xn, xt, wn, wt = xs[:, 0], xs[:, 1:], ws[:, 0], ws[:, 1:]
+    closed = xn > 0.0
+    cone = np.linalg.norm(xt, axis=1)
+    slip = closed & (cone >= mu * xn * (1 - 1e-12)) & (np.linalg.norm(wt, axis=1) > 0)
+    stick = closed & ~slip
+    viol = [np.maximum(-wn, 0.0), np.where(closed, np.abs(wn), 0.0)]
+    viol.append(np.where(stick, np.linalg.norm(wt, axis=1), 0.0))
+    # the slip rate must lie along −Λ_T: no component across Λ_T, none along it
+    u = np.divide(xt, cone[:, None], out=np.zeros_like(xt), where=cone[:, None] > 0)
+    across = wt - np.einsum("md,md->m", wt, u)[:, None] * u
+    viol.append(np.where(slip, np.linalg.norm(across, axis=1), 0.0))
+    viol.append(np.where(slip, np.maximum(np.einsum("md,md->m", wt, u), 0.0), 0.0))
+    if x.size > m * b:
+        viol.append(np.abs(w[m * b :]))
+    status = np.where(stick, 1, np.where(slip, 2, 0))
+    return max(float(np.max(v, initial=0.0)) for v in viol), status
+
+
+def _isotropic(p: np.ndarray, m: int, nt: int) -> np.ndarray:
+    """One p for the tangent rows of each contact, their mean: with different ones the
+    fixed point puts Λ_T against P_T w_T instead of against the slip w_T (no longer the
+    maximum dissipation of Coulomb's disk)."""
+    p = p.copy()
+    tangential = p[: m * (1 + nt)].reshape(m, 1 + nt)[:, 1:]
+    tangential[:] = tangential.mean(axis=1, keepdims=True)
+    return p
+
+
+def _gauss_seidel(c, D, p, k, mu, nt, x0, tol, max_sweeps=2000):
+    """Sweeps over the contacts (then the equality rows as one block), each contact's law
+    solved exactly with the others' multipliers fixed, until the largest change of w is
+    below ``tol`` or ``max_sweeps``. Returns (x, sweeps)."""
+    m, b = len(mu), 1 + nt
+    N = len(c)
+    x = np.zeros(N) if x0 is None else np.asarray(x0, dtype=float).copy()
+    blocks = [np.arange(j * b, (j + 1) * b) for j in range(m)]
+    eq = np.arange(m * b, N)
+    kD = k * D
+    sweep = 0
+    while sweep < max_sweeps:
+        sweep += 1
+        change, stuck = 0.0, False
+        for j, rows in enumerate(blocks):
+            Djj = D[np.ix_(rows, rows)]
+            local = c[rows] + kD[rows] @ x - k * (Djj @ x[rows])
+            xj = _local(local, Djj, p[rows], k, mu[j], nt, x[rows], tol)
+            if xj is None:
+                stuck = True  # kept for this sweep; the others move on
+                continue
+            change = max(change, float(np.max(np.abs(k * (Djj @ (xj - x[rows]))))))
+            x[rows] = xj
+        if eq.size:
+            rhs = c[eq] + kD[eq] @ x - kD[np.ix_(eq, eq)] @ x[eq]
+            xe = np.linalg.lstsq(kD[np.ix_(eq, eq)], -rhs, rcond=None)[0]
+            change = max(change, float(np.max(np.abs(kD[np.ix_(eq, eq)] @ (xe - x[eq])))))
+            x[eq] = xe
+        if change <= tol and not stuck:
+            break
+    return x, sweep
+
+
+def _local(c, D, p, k, mu, nt, x0, tol):
+    """One contact's law with w = c + k D x: exact in 2D (the first of open, stick, slip
+    forward, slip backward whose conditions hold, none of which involves p), Newton in 3D.
+    None when no answer is found."""
+    if nt == 1:
+        if c[0] >= 0.0:
+            return np.zeros(2)
+        try:
+            x = np.linalg.solve(k * D, -c)
+        except np.linalg.LinAlgError:
+            x = None
+        if x is not None and x[0] >= 0.0 and abs(x[1]) <= mu * x[0]:
+            return x
+        for s in (1.0, -1.0):
+            den = k * (D[0, 0] + s * mu * D[0, 1])
+            if den <= 0.0:
+                continue
+            xn = -c[0] / den
+            x = np.array([xn, s * mu * xn])
+            if xn >= 0.0 and s * (c[1] + k * (D[1] @ x)) <= 0.0:
+                return x
+        return None
+    try:
+        return _newton(c, D, p, k, np.array([mu]), nt, x0, 0.1 * tol, 50)[0]
+    except _NotConverged:
+        return None
+
+
+def _newton(c, D, p, k, mu, nt, x0=None, tol=0.0, max_iter=50):
+    """Multipliers x of m frictional contacts (and any equality rows after them) with
     w = c + k D x and R(x) = k x − Π(k x − p w) = 0.
 
     Rows are ordered contact by contact (normal, then its ``nt`` tangents), then any
     bilateral rows (joints: Π = identity, so w = 0 there). ``D`` is the Delassus matrix
-    G H⁻¹ Gᵀ of the rows, ``p`` one augmentation per row (> 0), ``mu`` (m,) the friction
+    G H⁻¹ Gᵀ of the rows, ``p`` one augmentation per row (> 0; the same on the tangent rows
+    of a contact, see :func:`_isotropic`), ``mu`` (m,) the friction
     coefficients. Semi-smooth Newton on R/p, a residual in the units of w: on the rows where
     Π is the identity (closed normal, stick, bilateral) R/p = w, evaluated as such, so that
     the equations w = 0 keep their accuracy for any p (k x − σ would cancel to round-off of
@@ -129,7 +266,6 @@ def solve_coulomb(c, D, p, k, mu, nt, x0=None, tol=0.0, max_iter=50):
         return R, (dPi, ident), status
 
     R, lin, status = residual(x)
-    COULOMB["solves"] += 1
     for it in range(max_iter + 1):
         err = np.max(np.abs(R), initial=0.0)
         if not np.isfinite(err):
@@ -148,9 +284,7 @@ def solve_coulomb(c, D, p, k, mu, nt, x0=None, tol=0.0, max_iter=50):
         except np.linalg.LinAlgError:
             dx = np.linalg.lstsq(J, -R, rcond=None)[0]
         x, R, lin, status = _backtrack(residual, x, dx, R)
-    raise RuntimeError(
-        f"frictional contact: residual {err:.3e} above {tol:.3e} after {max_iter} iterations"
-    )
+    raise _NotConverged(f"residual {err:.3e} above {tol:.3e} after {max_iter} iterations")
 
 
 def _backtrack(residual, x, dx, R):

@@ -63,6 +63,15 @@ class NodeContact(PairDefaults):
         T = tangent_basis(self.obstacle.gap(x)[1])
         return dofs + self.offset, np.einsum("mti,mik->mtk", T, Jx), T
 
+    def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
+        """T·(x(q) − x(q_n)): a rigid body's vertex moves along a chord, not along the
+        tangent of its rotation."""
+        if self.body.linear_kinematics:
+            return None
+        s = slice(self.offset, self.offset + self.body.ndof)
+        dx = self._positions(q[s], self.nodes) - self._positions(q_n[s], self.nodes)
+        return np.einsum("mtd,md->mt", T, dx)
+
     def gaps(self, q: np.ndarray) -> np.ndarray:
         """Gaps (m,) alone, without their derivatives."""
         qb = q[self.offset : self.offset + self.body.ndof]

@@ -53,6 +53,7 @@ __all__ = [
     "HISTORY_FILE",
     "SUMMARY_FILE",
     "STANDARD_COLUMNS",
+    "FRICTION_COLUMNS",
 ]
 
 HISTORY_FILE = "history.csv"
@@ -69,6 +70,9 @@ STANDARD_COLUMNS = (
     "impulse",
     "newton_iterations",
 )
+# ... and, in models with friction, these after them: Σ_j |k Λ_T,j| of the step (N·s) and
+# the work dissipated by friction since t = 0 (J)
+FRICTION_COLUMNS = ("tangential_impulse", "friction_work")
 
 _NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.\-]*")
 

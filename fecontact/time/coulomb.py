@@ -9,7 +9,8 @@ Brüls & Cardona 2020):
 - position level, q = q̃ + U: the slip over the step,
   w_T = T(x_rel(q) − x_rel(q_n)) − T(d_{n+1} − d_n) ≈ G_T(q)(q − q_n) − T Δd, in the cone
   |ν_T| ≤ μ ν_N of the normal correction: a contact that sticks does not creep, one that
-  slips is held back by μ ν_N;
+  slips is held back by μ ν_N. Only contacts closed at t_n have it: the tangential motion
+  of a contact that lands within the step is no slip (its impact is a velocity-level matter);
 - velocity level, v = ṽ + W: the slip rate w_T = G_T v − T ḋ in the cone |Λ_T| ≤ μ Λ_N;
   Newton's law stays normal (no tangential restitution).
 
@@ -26,7 +27,7 @@ import numpy as np
 from ..contact.friction import solve_coulomb
 from .constraints import Constraints, StepFailure
 
-__all__ = ["frictional_jump", "frictional_correction", "slip_work"]
+__all__ = ["frictional_jump", "frictional_correction"]
 
 
 def _rows(G: np.ndarray, GT: np.ndarray) -> np.ndarray:
@@ -70,10 +71,14 @@ def _obstacle_shift(contacts, select, t_n: float, t: float):
 
 def frictional_correction(model, st, q_tilde, work, solve_H, opts, tol_gap, t):
     """Position correction q = q̃ + U over the contacts ``work`` and the joints, with slip
-    rows. Returns (U, k ν_N (len(work),), k ν_T (len(work), nt), status, iterations)."""
+    rows. Returns (U, k ν_N (len(work),), k ν_T (len(work), nt), U_T, iterations) with
+    U_T = H⁻¹ G_Tᵀ k ν_T the part of U that friction moves (its work against the applied
+    and internal forces is the positional share of the friction work)."""
     contacts, F = model.contacts, model.free
     cons = Constraints(model, work)
     m, mu, k = len(work), contacts.friction[work], opts.multiplier_scale
+    if st.gaps.size == contacts.size:  # slip counts from contact on: closed ones at t_n only
+        mu = np.where(st.gaps[work] <= tol_gap, mu, 0.0)
     shift = _obstacle_shift(contacts, work, st.t, t)
     U, x, its, dU = np.zeros(len(F)), None, 0, np.inf
     for _ in range(opts.max_iterations):
@@ -81,7 +86,7 @@ def frictional_correction(model, st, q_tilde, work, solve_H, opts, tol_gap, t):
         q[model.free_slice] += U
         g, G = cons.jacobian(q)
         GT, T = contacts.tangent_jacobian(q, work)
-        slip = GT @ (q - st.q)[F]
+        slip = contacts.slips(q, st.q, work, GT, T)
         if shift is not None:
             slip -= np.einsum("mtd,md->mt", T, shift)
         A = _rows(G, GT)
@@ -99,15 +104,20 @@ def frictional_correction(model, st, q_tilde, work, solve_H, opts, tol_gap, t):
         dU = float(np.max(np.abs(U_new - U), initial=0.0))
         U = U_new
         if dU <= 0.1 * tol_gap:
-            nu_n, nu_t, _ = _split(k * x, m, GT.shape[1])
-            return U, nu_n, nu_t, status, its
+            nt = GT.shape[1]
+            nu_n, nu_t, _ = _split(k * x, m, nt)
+            tangential = np.zeros(len(x), bool)
+            tangential[: m * (1 + nt)] = np.arange(m * (1 + nt)) % (1 + nt) > 0
+            return U, nu_n, nu_t, k * (Y[:, tangential] @ x[tangential]), its
     raise StepFailure(f"frictional position correction: update {dU:.3e} m did not settle", dU)
 
 
 def frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol):
     """Velocity jump v = ṽ + W over the contacts ``closed`` (normal rates ``gdot`` with the
     impact law, then the joints' rows) with slip rows. Returns (W, k Λ_N, k Λ_T
-    (len(closed), nt), status, iterations)."""
+    (len(closed), nt), status, iterations, work): work = −Σ_j k Λ_T,j·(w_T,j(ṽ) + G_T,j W/2)
+    (J) is the kinetic energy the tangential impulses take, exactly: the mean slip rate
+    over the jump times the impulse."""
     contacts, F = model.contacts, model.free
     m, k = len(closed), opts.multiplier_scale
     GT, T = contacts.tangent_jacobian(q, closed)
@@ -136,18 +146,6 @@ def frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol):
     except RuntimeError as err:
         raise StepFailure(f"velocity jump: {err}", np.nan) from None
     lam_n, lam_t, _ = _split(k * x, m, GT.shape[1])
-    return k * (Y @ x), lam_n, lam_t, status, its
-
-
-def slip_work(model, st, q, select, impulse_t, h: float, t: float) -> float:
-    """Work (J, ≥ 0 when friction dissipates) of the mean friction forces k Λ_T/h of the step
-    along the slip of their contact points over it, −Σ_j (k Λ_T,j/h)·w_T,j."""
-    if select.size == 0:
-        return 0.0
-    contacts = model.contacts
-    GT, T = contacts.tangent_jacobian(q, select)
-    slip = GT @ (q - st.q)[model.free]
-    shift = _obstacle_shift(contacts, select, st.t, t)
-    if shift is not None:
-        slip -= np.einsum("mtd,md->mt", T, shift)
-    return -float(np.sum(impulse_t * slip)) / h
+    W = k * (Y @ x)
+    work = -float(np.sum(lam_t * (rate + 0.5 * (GT @ W))))
+    return W, lam_n, lam_t, status, its, work

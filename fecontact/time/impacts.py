@@ -25,8 +25,8 @@ def velocity_jump(model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb=None):
     step at which the gap crosses zero (τ_j = 0 with ``impact_velocity="step_start"``).
     Warm-started from the previous step's impulses; a residual ġ below tol_gap/h closes less
     than the gap tolerance within the step. Returns (W, k Λ, iterations, friction) with
-    friction = (k Λ_T, stick/slip status) of the closed contacts when the model has
-    friction (:func:`fecontact.time.coulomb.frictional_jump`), else None."""
+    friction = (k Λ_T, stick/slip status, work of Λ_T in J) of the closed contacts when the
+    model has friction (:func:`fecontact.time.coulomb.frictional_jump`), else None."""
     F = model.free
     if closed.size == 0:
         # joints only: the M-orthogonal projection onto G_b v = 0, no active set to find
@@ -57,8 +57,10 @@ def velocity_jump(model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb=None):
         raise StepFailure("velocity jump: non-finite normal velocity of a closed contact", np.nan)
     tol = tol_gap / (t - st.t)
     if contacts.frictional:
-        W, lam_n, lam_t, status, its = frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol)
-        return W, lam_n, its, (lam_t, status)
+        W, lam_n, lam_t, status, its, work = frictional_jump(
+            model, st, q, v, closed, G1, gdot, opts, tol
+        )
+        return W, lam_n, its, (lam_t, status, work)
     Y = constraint_columns(model, ("mass",), closed, G1, model.solve_M, cons, constant=True)
     p = opts.penalty_scale / np.einsum("ij,ji->i", G1, Y)
     k = opts.multiplier_scale

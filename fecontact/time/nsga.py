@@ -44,7 +44,7 @@ from .constraints import (
     constraint_columns,
     factorize_or_fail,
 )
-from .coulomb import frictional_correction, slip_work
+from .coulomb import frictional_correction
 from .generalized_alpha import coefficients, predict
 from .impacts import velocity_jump
 from .state import IntegratorOptions, PhaseTimer, State, length_scale
@@ -125,7 +125,7 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
         metric = _metric(model, q_tilde, S, c, opts)
         while True:
             if friction:
-                U, nu_w, nu_t, _, its = frictional_correction(
+                U, nu_w, nu_t, U_t, its = frictional_correction(
                     model, st, q_tilde, work, metric[1], opts, tol_gap, t
                 )
             else:
@@ -147,6 +147,10 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
         nu[work] = nu_w[: work.size]
         if friction:
             memory["friction_nu"][work] = nu_t
+            # the work of the positional friction against the forces at q̃ (exact for the
+            # constant forces of rigid bodies under gravity)
+            f = model.external(t) - model.internal(q_tilde, tangent=False)[1]
+            memory["friction_work"] += f[model.free] @ U_t
         Gb = None  # the joints' gradient moved with q
 
     # 3. velocity jump on the contacts closed at q_{n+1}, and on the joints
@@ -159,10 +163,10 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
         if closed.size:
             impulse[closed] = Lam[: closed.size]
         if tangential is not None:
-            lam_t, status = tangential
+            lam_t, status, work = tangential
             memory["friction_impulse"][closed] = lam_t
             memory["friction_status"][closed] = status
-            memory["friction_work"] += slip_work(model, st, q, closed, lam_t, h, t)
+            memory["friction_work"] += work
     timer.add("contact", clock)
     return State(
         t,
