@@ -22,7 +22,7 @@ def build(
     thickness=Param.positive(0.002, "m", "section thickness (bending)"),
     tip_mass=Param.nonnegative(0.14, "kg", "point mass on the tip node"),
     restitution=Param.fraction(0.0, "Newton's coefficient of restitution e_N"),
-    friction=Param.nonnegative(0.0, "", "Coulomb's coefficient mu between tip and stop"),
+    friction=Param.nonnegative(0.0, "-", "Coulomb's coefficient mu between tip and stop"),
     gravity=Param.nonnegative(9.81, "m/s^2", "acceleration of gravity, along -y"),
 ):
     material = Material(E=E, rho=rho, nu=nu)

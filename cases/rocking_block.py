@@ -34,7 +34,7 @@ def build(
         (False, False),
     ),
     restitution=Param.fraction(0.5, "Newton's coefficient of restitution e_N at the corners"),
-    friction=Param.nonnegative(0.0, "", "Coulomb's coefficient mu at the corners"),
+    friction=Param.nonnegative(0.0, "-", "Coulomb's coefficient mu at the corners"),
     gravity=Param.nonnegative(9.81, "m/s^2", "acceleration of gravity, along -y"),
 ):
     # below atan(width/height) the centre of mass lies over the support: the box falls back

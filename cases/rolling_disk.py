@@ -22,7 +22,7 @@ def build(
     mass=Param.positive(1.0, "kg", "disk mass (uniform)"),
     velocity=Param(2.0, "m/s", "initial speed of the centre along +x"),
     spin=Param(0.0, "rad/s", "initial angular velocity, counter-clockwise (backspin > 0)"),
-    friction=Param.nonnegative(0.3, "", "Coulomb's coefficient mu"),
+    friction=Param.nonnegative(0.3, "-", "Coulomb's coefficient mu"),
     gravity=Param.nonnegative(9.81, "m/s^2", "acceleration of gravity, along -y"),
 ):
     disk = RigidBody2D.uniform(mass, (0.0, radius), Disk(radius))

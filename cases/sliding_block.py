@@ -22,7 +22,7 @@ from fecontact.contact import Contact, Plane
 @case
 def build(
     incline=Param(20.0, "deg", "slope of the plane, descending toward +x", 0.0, 80.0),
-    friction=Param.nonnegative(0.5, "", "Coulomb's coefficient mu at the corners"),
+    friction=Param.nonnegative(0.5, "-", "Coulomb's coefficient mu at the corners"),
     velocity=Param(0.0, "m/s", "initial speed along the slope, positive down the slope"),
     width=Param.positive(0.2, "m", "box width along the slope"),
     height=Param.positive(0.1, "m", "box height"),

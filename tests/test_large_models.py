@@ -12,7 +12,7 @@ import scipy.sparse as sp
 
 import fecontact.model as model_module
 import fecontact.time.constraints as constraints_module
-import fecontact.time.nsga as nsga_module
+import fecontact.time.impacts as impacts_module
 from fecontact import Contact, IntegratorOptions, LinearElastic, Model, Plane, Solid, simulate
 from fecontact.bodies.rigid import Polygon, RigidBody2D, rotation
 from fecontact.linalg import factorize
@@ -29,7 +29,7 @@ def counted(monkeypatch):
 
     monkeypatch.setattr(model_module, "factorize", wrapper)
     monkeypatch.setattr(constraints_module, "factorize", wrapper)
-    monkeypatch.setattr(nsga_module, "factorize", wrapper)
+    monkeypatch.setattr(impacts_module, "factorize", wrapper)
     return calls
 
 

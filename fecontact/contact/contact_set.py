@@ -7,11 +7,12 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..linalg import DENSE_LIMIT
+from .friction_rows import FrictionRows
 
 __all__ = ["ContactSet"]
 
 
-class ContactSet:
+class ContactSet(FrictionRows):
     """All contact pairs of a model, numbered globally and restricted to the free dofs."""
 
     def __init__(self, pairs, free_index: np.ndarray, n_free: int):
@@ -64,82 +65,6 @@ class ContactSet:
             return np.zeros(len(select))
         parts = [p.rate(q) for p in self.pairs]
         return np.concatenate(parts)[select]
-
-    def tangent_jacobian(self, q: np.ndarray, select: np.ndarray):
-        """Slip rows of the contacts ``select``: GT (len(select), nt, n_free), zero for the
-        frictionless pairs, and the unit tangents T (len(select), nt, d) of the contact
-        planes. The slip rate of contact j is GT_j v minus T_j·ḋ of a moving obstacle."""
-        GT = T = None
-        owner = self.owner[select]
-        for i, pair in enumerate(self.pairs):
-            rows = np.flatnonzero(owner == i)
-            if rows.size == 0 or not pair.friction:
-                continue
-            dofs, Gv, Tv = pair.tangents(q)
-            loc = self.local[select[rows]]
-            if GT is None:
-                nt, d = Tv.shape[1:]
-                GT, T = np.zeros((len(select), nt, self.n_free)), np.zeros((len(select), nt, d))
-            fi = self.free_index[np.broadcast_to(dofs, (pair.size, dofs.shape[1]))[loc]]
-            values = np.where(fi[:, None, :] >= 0, Gv[loc], 0.0)
-            r = np.broadcast_to(rows[:, None, None], values.shape)
-            c = np.broadcast_to(np.maximum(fi, 0)[:, None, :], values.shape)
-            np.add.at(GT, (r, np.arange(values.shape[1])[None, :, None], c), values)
-            T[rows] = Tv[loc]
-        return GT, T
-
-    def slips(self, q, q_n, select, GT, T):
-        """Slip of the contacts ``select`` over a step from q_n to q (len(select), nt): the
-        linear G_T(q)(q − q_n) (GT, T from :meth:`tangent_jacobian`), exact where the pairs
-        give it (points of rotating bodies)."""
-        slip = GT @ (q - q_n)[self.free_index >= 0]
-        owner = self.owner[select]
-        for i, pair in enumerate(self.pairs):
-            rows = np.flatnonzero(owner == i)
-            if rows.size and pair.friction:
-                loc = self.local[select[rows]]
-                full = np.zeros((pair.size, *T.shape[1:]))
-                full[loc] = T[rows]
-                exact = pair.slips(q, q_n, full)
-                if exact is not None:
-                    slip[rows] = exact[loc]
-        return slip
-
-    def tangent_force(self, q, select, mult, status, n: int):
-        """Σ_j G_T,jᵀ mult_j (n,) over ``select`` on all n dofs (``mult`` (len, nt), the
-        tangential impulses), and per dof the largest ``status`` of the contacts acting on it
-        (1 stick, 2 slip), for the output of nodal friction."""
-        f, flag = np.zeros(n), np.zeros(n)
-        owner = self.owner[select]
-        for i, pair in enumerate(self.pairs):
-            rows = np.flatnonzero(owner == i)
-            if rows.size == 0 or not pair.friction:
-                continue
-            dofs, GT, _ = pair.tangents(q)
-            loc = self.local[select[rows]]
-            dofs = np.broadcast_to(dofs, (pair.size, dofs.shape[1]))[loc]
-            values = np.einsum("mt,mtk->mk", mult[rows], GT[loc])
-            f += np.bincount(dofs.ravel(), values.ravel(), minlength=n)
-            acts = np.abs(GT[loc]).sum(axis=1) > 0.0
-            s = np.broadcast_to(status[rows, None], dofs.shape)
-            np.maximum.at(flag, dofs[acts], s[acts])
-        return f, flag
-
-    def obstacle_motion(self, select: np.ndarray, velocity: bool):
-        """Velocity ḋ (m/s, ``velocity``) or displacement d (m) of the obstacle of each
-        contact ``select`` at its current time, (len(select), d), zero for bodies and fixed
-        obstacles; None when no obstacle moves. A moving obstacle drags the slip, which counts
-        relative to it."""
-        out, offset = None, 0
-        for pair in self.pairs:
-            o = pair.obstacle
-            if o is not None and o.moving:
-                d = o.speed() if velocity else np.asarray(o.shift(), dtype=float)
-                if out is None:
-                    out = np.zeros((self.size, len(d)))
-                out[offset : offset + pair.size] = d
-            offset += pair.size
-        return None if out is None else out[select]
 
     def quadratic(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
         """vᵀ ∇²g_j v for every constraint j (the acceleration term of a holonomic one)."""
