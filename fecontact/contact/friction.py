@@ -40,12 +40,14 @@ COULOMB = {
     "line_search_cuts": 0,
     "full_steps_forced": 0,
     "gauss_seidel_solves": 0,
+    "least_squares_steps": 0,
 }
 """Frictional contact solves of this process: Newton iterations, backtracking cuts of the
 merit |R|², updates taken in full after the backtracking found no decrease (a kink of the
 nonsmooth residual), and solves where Newton alone did not converge and a nonsmooth
-Gauss–Seidel over the contacts brought it near the solution first. Runs report their share
-in ``summary.json``."""
+Gauss–Seidel over the contacts brought it near the solution first, and Newton steps taken by
+least squares on a singular Jacobian (redundant contacts). Runs report their share in
+``summary.json``."""
 
 
 def tangent_basis(n: np.ndarray) -> np.ndarray:
@@ -282,6 +284,7 @@ def _newton(c, D, p, k, mu, nt, x0=None, tol=0.0, max_iter=50):
         try:
             dx = np.linalg.solve(J, -R)
         except np.linalg.LinAlgError:
+            COULOMB["least_squares_steps"] += 1
             dx = np.linalg.lstsq(J, -R, rcond=None)[0]
         x, R, lin, status = _backtrack(residual, x, dx, R)
     raise _NotConverged(f"residual {err:.3e} above {tol:.3e} after {max_iter} iterations")
