@@ -34,7 +34,7 @@ from .io.run_folder import (
     save_checkpoint,
 )
 from .linalg import SPARSE_FACTORIZATIONS
-from .time import IntegratorOptions, PhaseTimer, State, initial_state, simulate
+from .time import NEWTON, IntegratorOptions, PhaseTimer, State, initial_state, simulate
 
 __all__ = ["Probe", "Simulation", "node_probe", "run", "HISTORY_COLUMNS"]
 
@@ -409,6 +409,7 @@ def run(
     factors_start = dict(SPARSE_FACTORIZATIONS)
     least_squares_start = LEAST_SQUARES["count"]
     coulomb_start = dict(COULOMB)
+    newton_start = dict(NEWTON)
     try:
         if frames and start is None:
             for part, mesh in _static_parts(sim.model).items():
@@ -445,6 +446,8 @@ def run(
         summary = rec.summary(status, wall, timer, message, factors)
         # redundant active constraints whose multipliers came from least squares
         summary["least_squares_multipliers"] = LEAST_SQUARES["count"] - least_squares_start
+        # the globalization of the smooth Newton (fecontact.time.descent)
+        summary["smooth_newton"] = {k: NEWTON[k] - newton_start[k] for k in NEWTON}
         if sim.model.contacts.frictional:  # the frictional solves and their fallbacks
             summary["friction_solver"] = {k: COULOMB[k] - coulomb_start[k] for k in COULOMB}
             summary["friction_work"] = rec.friction_work

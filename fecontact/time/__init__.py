@@ -1,11 +1,13 @@
 """Time stepping: the nonsmooth generalized-α step and its baselines behind one signature,
 ``step(model, state, h, options, timer) -> State``, chosen by name in :mod:`.simulate`."""
 
+from .descent import NEWTON
 from .generalized_alpha import alpha_coefficients
 from .simulate import STEPPERS, simulate
 from .state import IntegratorOptions, PhaseTimer, State, initial_state, length_scale
 
 __all__ = [
+    "NEWTON",
     "STEPPERS",
     "IntegratorOptions",
     "PhaseTimer",

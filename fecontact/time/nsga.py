@@ -45,6 +45,7 @@ from .constraints import (
     factorize_or_fail,
 )
 from .coulomb import frictional_correction
+from .descent import descent_update
 from .generalized_alpha import coefficients, predict
 from .impacts import velocity_jump
 from .state import IntegratorOptions, PhaseTimer, State, length_scale
@@ -70,29 +71,6 @@ class JointTolerance:
         if self.value is None:
             self.value = self.tol_gap * length_scale(self.model, self.q)
         return x <= factor * self.value
-
-
-def _line_search(model, q, dq, b, slope, bp):
-    """Step length along a large Newton update dq of the smooth step.
-
-    The smooth step is stationary for Π(q) = ½β′|q − q_pred|²_M + (M v̇_pred − f_ext)·q + W(q).
-    Far from the solution (right after an impact, the rotations of a slender beam's nodes,
-    whose inertia is tiny, take large Newton updates) a full step can leap to another branch
-    of the periodic dependence on θ; backtracking on Π (Armijo) keeps Newton on the nearest one.
-    """
-    F = model.free
-    W0 = model.strain_energy(q)
-    quad = 0.5 * bp * float(dq @ (model.M @ dq))
-    lin = float(b @ dq)
-    qt = q.copy()
-    s = 1.0
-    for _ in range(16):
-        qt[F] = q[F] + s * dq
-        change = s * lin + s * s * quad + model.strain_energy(qt) - W0
-        if change <= 1e-4 * s * slope:
-            break
-        s *= 0.5
-    return s
 
 
 def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer) -> State:
@@ -230,7 +208,6 @@ def _smooth_step(model, st, t, c, opts, timer) -> SmoothStep:
     alpha, beta_k = model.damping
     tol_b = JointTolerance(model, q, opts.tol_gap) if nb else None
     inc_tol = opts.tol_increment * max(model.length, 1.0)
-    big_step = 0.05 * max(model.length, 1.0)
     S = Gb = None
     # linear bodies: S_t = β′M + γ′C + K is assembled and factorized once per step size;
     # joints border it with their (q-dependent) gradient and curvature
@@ -278,9 +255,11 @@ def _smooth_step(model, st, t, c, opts, timer) -> SmoothStep:
         else:
             if not linear:
                 solve = factorize_or_fail(S, rnorm / ref, symmetric=True)
-            dq = -solve(r)
-            if np.abs(dq).max() > big_step:
-                dq *= _line_search(model, q, dq, Mvd - fext, r @ dq, c.bp)
+            if linear:  # Π is quadratic and S_t positive definite: Newton's step is exact
+                dq = -solve(r)
+            else:
+                shift = c.bp * model.M
+                dq = descent_update(model, q, r, fi, S, K, solve, shift, inc_tol, rnorm / ref)
         X[:, F] += np.multiply.outer(c.w, dq)  # q, v, v̇, a
         clock = timer.add("solve", clock)
         if (bounded and _converged_by_bound(model, vd, dq, lam, x[nF:], ff, tol_b, opts)) or (

@@ -1,0 +1,58 @@
+"""Newton on the founding case: step halvings, iterations and the globalization's work.
+
+The default flexible pendulum (1.5 s) at h ∈ {1e-3, 2e-3} s and e_N ∈ {0, 0.5, 1}. Per run:
+the step halvings; the smooth Newton iterations per step (mean, max); all iterations per step
+(smooth + position + velocity; mean, max); and, from ``fecontact.time.NEWTON``, the line-search
+halvings of an update's length and the directions that had to be mass-shifted because Newton's
+pointed uphill on the incremental potential (``fecontact/time/descent.py``).
+
+    python benchmarks/newton.py            # about 10 s
+"""
+
+from __future__ import annotations
+
+from _common import RESULTS, case, markdown_table, parser, write_csv, write_markdown
+
+from fecontact.time import NEWTON, simulate
+
+COLUMNS = [
+    "h",
+    "e_N",
+    "halvings",
+    "smooth_mean",
+    "smooth_max",
+    "total_mean",
+    "total_max",
+    "line_search_cuts",
+    "shifted_directions",
+]
+
+
+def measure(h: float, e: float) -> dict:
+    sim = case("flexible_pendulum").build(restitution=e)
+    start = dict(NEWTON)
+    smooth, total, halvings = [], [], 0
+    for st in simulate(sim.model, h, sim.t_end, sim.options, q0=sim.q0, v0=sim.v0):
+        if st.step:
+            smooth.append(st.iterations["smooth"])
+            total.append(st.newton_iterations)
+            halvings += st.halvings
+    row = {"h": h, "e_N": e, "halvings": halvings}
+    row |= {"smooth_mean": sum(smooth) / len(smooth), "smooth_max": max(smooth)}
+    row |= {"total_mean": sum(total) / len(total), "total_max": max(total)}
+    row |= {k: NEWTON[k] - start[k] for k in ("line_search_cuts", "shifted_directions")}
+    return row
+
+
+def main() -> None:
+    args = parser(__doc__.splitlines()[0]).parse_args()
+    rows = [measure(h, e) for h in (1e-3, 2e-3) for e in (0.0, 0.5, 1.0)]
+    table = markdown_table(rows, COLUMNS)
+    print(table)
+    out = args.out or RESULTS
+    write_csv(f"{out}/newton.csv", rows, COLUMNS)
+    write_markdown(f"{out}/newton.md", "# Newton on the founding case\n\n" + table)
+
+
+if __name__ == "__main__":
+    main()

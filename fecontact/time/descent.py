@@ -1,0 +1,96 @@
+r"""Globalized Newton updates of the smooth step.
+
+Without joints the smooth step is stationary for the incremental potential
+
+    Π(q) = ½ β′ |q − q̂|²_M + ½ γ′ |q − q̂|²_C + (M v̇̂ + C v̂ − f_ext)·(q − q̂) + W(q),
+
+(hats: the predictor; W the strain energy; C frozen at the iterate when it depends on q), whose
+gradient is the residual r and whose Hessian is S_t = β′M + γ′C + K_t. Newton's direction
+d = −S_t⁻¹ r descends Π only while S_t is positive definite along it. Right after an impact
+the geometric stiffness of a slender beam can make S_t indefinite on the nodes' rotations (the
+rotational inertia is tiny), and d then points uphill: r·d > 0. Every update is therefore
+checked and globalized in units of energy:
+
+1. the direction must descend, r·d < 0, else d is recomputed with the mass-shifted matrix
+   S_t + τ β′M, τ = 1, 10, 100, … (a step of the same equations with a smaller effective
+   time step, tending to steepest descent in the metric M);
+2. its length s = 1, ½, ¼, … is the first with the Armijo decrease
+   Π(q + s d) − Π(q) ≤ 10⁻⁴ s r·d.
+
+Updates below the increment tolerance are taken whole: they end the iteration, and there the
+change of W is a difference of nearly equal sums that has lost its digits (I₁ − 3 of a small
+strain), so no test on Π could decide.
+
+A direction that no shift makes descend, or a line search that finds no decrease, fails the
+step (then halved), never a silent tiny step. Both events are counted in ``NEWTON``, which
+``fecontact.run`` reports in ``summary.json`` (``smooth_newton``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from .constraints import StepFailure, factorize_or_fail
+
+__all__ = ["NEWTON", "descent_update"]
+
+NEWTON = {"iterations": 0, "line_search_cuts": 0, "shifted_directions": 0}
+"""Smooth Newton updates in this process: all of them, the halvings of their length by the
+line search, and the directions recomputed with a mass shift (not descending)."""
+
+ARMIJO = 1e-4
+MAX_CUTS = 30
+MAX_SHIFTS = 12
+
+
+def descent_update(
+    model, q, r, fi, S, K, solve, shift, negligible: float, residual: float
+) -> np.ndarray:
+    """The globalized Newton update of the free dofs at ``q``.
+
+    ``r`` is the residual (the gradient of Π), ``fi`` the internal force in it, ``S`` the
+    iteration matrix and ``K`` the tangent of ``fi`` (both free × free), ``solve`` applies
+    S⁻¹, ``shift`` is the positive definite matrix β′M added to shift S, ``negligible`` the
+    increment tolerance (largest |update| that ends the iteration). ``residual`` is the
+    relative residual, reported if the step fails.
+    """
+    NEWTON["iterations"] += 1
+    dq = -solve(r)
+    if np.abs(dq).max() <= negligible:
+        return dq
+    tau = 0.0
+    for _ in range(MAX_SHIFTS):
+        slope = float(r @ dq)
+        if slope < 0.0:
+            quad = 0.5 * (float(dq @ (S @ dq)) - float(dq @ (K @ dq)))
+            s = _armijo(model, q, dq, float((r - fi) @ dq), quad, slope)
+            if s is not None:
+                return s * dq
+        tau = 1.0 if tau == 0.0 else 10.0 * tau
+        NEWTON["shifted_directions"] += 1
+        dq = -factorize_or_fail(_plus(S, tau * shift), residual, symmetric=True)(r)
+    raise StepFailure("smooth step: no descent direction of the incremental potential", residual)
+
+
+def _plus(S, T):
+    if sp.issparse(S) or not sp.issparse(T):
+        return S + T
+    return S + T.toarray()
+
+
+def _armijo(model, q, dq, lin, quad, slope):
+    """The first s = 2⁻ⁱ with Π(q + s dq) − Π(q) ≤ 10⁻⁴ s·slope, or None.
+
+    ``lin`` = (r − f_int)·dq and ``quad`` = ½ dqᵀ(S − K)dq are the exact linear and quadratic
+    parts of Π along dq; the strain energy W supplies the rest."""
+    W0 = model.strain_energy(q)
+    qt = q.copy()
+    s = 1.0
+    for _ in range(MAX_CUTS):
+        qt[model.free] = q[model.free] + s * dq
+        if s * lin + s * s * quad + (model.strain_energy(qt) - W0) <= ARMIJO * s * slope:
+            return s
+        s *= 0.5
+        NEWTON["line_search_cuts"] += 1
+    return None
