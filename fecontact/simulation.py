@@ -23,7 +23,7 @@ import numpy as np
 
 from . import __version__
 from .contact.friction import COULOMB
-from .contact.laws import LEAST_SQUARES
+from .contact.laws import ALART_CURNIER, LEAST_SQUARES
 from .errors import InputError, SolverError, check_positive
 from .io.output import FRICTION_COLUMNS, STANDARD_COLUMNS
 from .io.run_folder import (
@@ -410,6 +410,7 @@ def run(
     least_squares_start = LEAST_SQUARES["count"]
     coulomb_start = dict(COULOMB)
     newton_start = dict(NEWTON)
+    ALART_CURNIER.update(position=0.0, velocity=0.0)  # largest values of this run
     try:
         if frames and start is None:
             for part, mesh in _static_parts(sim.model).items():
@@ -448,6 +449,8 @@ def run(
         summary["least_squares_multipliers"] = LEAST_SQUARES["count"] - least_squares_start
         # the globalization of the smooth Newton (fecontact.time.descent)
         summary["smooth_newton"] = {k: NEWTON[k] - newton_start[k] for k in NEWTON}
+        # the largest Alart–Curnier residual a converged correction left, over its tolerance
+        summary["final_residuals"] = dict(ALART_CURNIER)
         if sim.model.contacts.frictional:  # the frictional solves and their fallbacks
             summary["friction_solver"] = {k: COULOMB[k] - coulomb_start[k] for k in COULOMB}
             summary["friction_work"] = rec.friction_work
