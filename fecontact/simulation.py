@@ -385,7 +385,8 @@ def run(
                 "give a later --t-end"
             )
     else:
-        initial_state(sim.model, sim.q0, sim.v0)  # input errors surface before any file exists
+        # input errors surface before any file exists
+        initial_state(sim.model, sim.q0, sim.v0, sim.options.tol_gap)
         for text in sim.warnings():
             warnings.warn(text, UserWarning, stacklevel=2)
         clear_earlier_run(out, sim.name, overwrite)

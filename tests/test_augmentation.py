@@ -94,3 +94,15 @@ def test_summary_reports_the_final_contact_residuals(tmp_path):
     # the impact at 0.319 s runs both corrections; each stops within its tolerance
     assert set(final) == {"position", "velocity"}
     assert 0.0 <= final["position"] <= 1.0 and 0.0 <= final["velocity"] <= 1.0
+
+
+def test_a_row_without_positive_effective_mass_fails_the_step():
+    from fecontact.time.constraints import StepFailure, augmentation
+
+    G = np.array([[1.0, 0.0], [0.0, 0.0]])  # the second row touches no dof
+    with pytest.raises(StepFailure, match="row 1 has no positive effective mass"):
+        augmentation(1.0, G, G.T.copy())
+    Y = np.array([[-1.0], [0.0]])  # H⁻¹ indefinite along the row
+    with pytest.raises(StepFailure, match="row 0"):
+        augmentation(1.0, G[:1], Y)
+    assert augmentation(2.0, G[:1], np.array([[0.5], [0.0]])) == pytest.approx([4.0])

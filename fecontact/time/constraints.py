@@ -11,6 +11,7 @@ from ..linalg import factorize
 __all__ = [
     "Constraints",
     "StepFailure",
+    "augmentation",
     "bordered",
     "constraint_columns",
     "factorize_or_fail",
@@ -22,6 +23,22 @@ class StepFailure(Exception):
     def __init__(self, message: str, residual: float):
         super().__init__(message)
         self.residual = residual
+
+
+def augmentation(scale: float, G, Y) -> np.ndarray:
+    """p_j = scale / (G H⁻¹ Gᵀ)_jj for the rows G with Y = H⁻¹Gᵀ: the augmentation of each
+    row in the units of its effective mass. A row along which H is not positive definite (an
+    indefinite tangent, a row of zeros) has no effective mass and would turn the
+    Alart–Curnier tests around: the step fails instead, to be halved."""
+    inverse_mass = np.einsum("ij,ji->i", G, Y)
+    bad = ~(np.isfinite(inverse_mass) & (inverse_mass > 0.0))
+    if bad.any():
+        raise StepFailure(
+            f"constraint row {int(np.argmax(bad))} has no positive effective mass "
+            f"(G H^-1 G^T = {inverse_mass[bad][0]:.3e})",
+            np.nan,
+        )
+    return scale / inverse_mass
 
 
 def factorize_or_fail(A, residual, symmetric=False):

@@ -7,7 +7,7 @@ import numpy as np
 
 from ..contact import solve_velocity_jump
 from ..linalg import factorize
-from .constraints import Constraints, StepFailure, constraint_columns
+from .constraints import Constraints, StepFailure, augmentation, constraint_columns
 from .coulomb import frictional_jump
 
 __all__ = ["velocity_jump"]
@@ -62,7 +62,7 @@ def velocity_jump(model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb=None):
         )
         return W, lam_n, its, (lam_t, status, work)
     Y = constraint_columns(model, ("mass",), closed, G1, model.solve_M, cons, constant=True)
-    p = opts.penalty_scale / np.einsum("ij,ji->i", G1, Y)
+    p = augmentation(opts.penalty_scale, G1, Y)
     k = opts.multiplier_scale
     try:
         Lam0 = np.r_[st.impulse[closed] / k, np.zeros(model.joints.size)]

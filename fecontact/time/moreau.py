@@ -48,7 +48,13 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..contact import solve_velocity_jump
-from .constraints import Constraints, StepFailure, factorize_or_fail, plus_curvature
+from .constraints import (
+    Constraints,
+    StepFailure,
+    augmentation,
+    factorize_or_fail,
+    plus_curvature,
+)
 from .state import IntegratorOptions, PhaseTimer, State
 
 __all__ = ["moreau_step"]
@@ -175,7 +181,7 @@ def _is_zero(K) -> bool:
 def _impact_law(G, c, solve, bilateral, opts):
     """Ŵ W = Σ G_jᵀ P_j with 0 ≤ c_j + G_j W ⊥ P_j ≥ 0 (equalities on ``bilateral`` rows),
     through the Alart–Curnier semi-smooth Newton; returns W, P = kΛ and its iterations."""
-    p = opts.penalty_scale / np.einsum("ij,ji->i", G, solve(G.T).reshape(G.shape[1], -1))
+    p = augmentation(opts.penalty_scale, G, solve(G.T).reshape(G.shape[1], -1))
     k = opts.multiplier_scale
     try:
         W, Lam, its = solve_velocity_jump(

@@ -40,6 +40,7 @@ from ..linalg import UnitColumns, low_rank_solver
 from .constraints import (
     Constraints,
     StepFailure,
+    augmentation,
     bordered,
     constraint_columns,
     factorize_or_fail,
@@ -324,7 +325,7 @@ def _position_correction(model, q_tilde, cand, metric, c, opts, tol_gap, nu0=Non
     _, G0 = cons.jacobian(q_tilde)
     constant = model.linear or opts.metric == "mass"
     Y0 = constraint_columns(model, (opts.metric, c.bp, c.gp), cand, G0, solve_H, cons, constant)
-    p = opts.penalty_scale / np.einsum("ij,ji->i", G0, Y0)
+    p = augmentation(opts.penalty_scale, G0, Y0)
     k = opts.multiplier_scale
 
     def shifted(U):

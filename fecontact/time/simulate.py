@@ -42,7 +42,7 @@ def simulate(
     t_end = check_positive("t_end", t_end)
     timer = PhaseTimer() if timer is None else timer
     if start is None:
-        state = initial_state(model, q0, v0)
+        state = initial_state(model, q0, v0, opts.tol_gap)
         yield state
     else:
         state = start

@@ -157,9 +157,11 @@ class PhaseTimer(dict):
         return now
 
 
-def initial_state(model, q0=None, v0=None) -> State:
+def initial_state(model, q0=None, v0=None, tol_gap: float | None = None) -> State:
     """State at t = 0 from q₀, v₀ (default: rest in the reference configuration), with the
-    consistent acceleration M v̇₀ = f_ext − f_int(q₀). Fixed dofs are kept at zero."""
+    consistent acceleration M v̇₀ = f_ext − f_int(q₀). Fixed dofs are kept at zero. A
+    contact may start closed within ``tol_gap`` (relative, default the options' default) of
+    the model size, the run's own tolerance on gaps."""
     n = model.n
     q = np.zeros(n) if q0 is None else check_vector("q0", q0, n).copy()
     v = np.zeros(n) if v0 is None else check_vector("v0", v0, n).copy()
@@ -168,7 +170,8 @@ def initial_state(model, q0=None, v0=None) -> State:
         raise InputError("q0, v0: supported (fixed) dofs must start at zero")
     model.contacts.set_time(0.0)
     g = model.contacts.gaps(q)
-    tol = IntegratorOptions.tol_gap * length_scale(model, q)
+    tol_gap = IntegratorOptions.tol_gap if tol_gap is None else tol_gap
+    tol = tol_gap * length_scale(model, q)
     if np.any(g < -tol):
         j = int(np.argmin(g))
         raise InputError(
