@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 from ..bodies.base import Body
+from ..bodies.beam import Beam2D
 from ..errors import InputError, check_positive
 from .node_pairs import NodeContact, PointSegmentContact
-from .obstacles import Point
+from .obstacles import Circle, Point
+from .segment_pairs import SegmentCircleContact
 
 __all__ = ["Contact"]
 
@@ -21,10 +23,14 @@ def Contact(
     """Contact pair between ``body`` and a rigid ``obstacle`` or a second body.
 
     ``Plane`` and ``Circle`` act on ``nodes`` of the body (all nodes, or all polygon vertices
-    of a rigid body, by default); a ``Point`` acts on the beam's centreline segments. A rigid
+    of a rigid body, by default); a ``Circle`` seen from outside acts on a ``Beam2D``'s
+    centreline segments unless ``nodes`` are named (a chord cuts into it between its nodes);
+    a ``Point`` acts on the beam's centreline segments. ``clearance`` (m, ≥ 0) keeps the
+    points or segments that far from a rigid obstacle: half the thickness of a beam, whose
+    centreline the gaps measure. A rigid
     disk (``RigidBody2D`` with a ``Disk``) contacts a ``Plane``, a ``Circle``, another disk, a
-    rigid polygon or a ``Beam2D`` (``clearance``: extra distance in m, e.g. half the beam
-    thickness) through its centre and radius; see :mod:`fecontact.contact.rigid_pairs`.
+    rigid polygon or a ``Beam2D`` through its centre and radius; see
+    :mod:`fecontact.contact.rigid_pairs`.
     Two deformable bodies: a ``Solid`` against a ``Solid`` is a node-to-surface pair (``nodes``
     of ``body``, default its boundary nodes, against the boundary of the second; add the
     reversed pair for the other direction), a ``Beam2D`` against a ``Beam2D`` an end-to-end
@@ -52,14 +58,17 @@ def _pair(body, obstacle, nodes, restitution, clearance):
     pair = rigid_pair(body, obstacle, nodes, restitution, clearance)
     if pair is not None:
         return pair
-    if clearance:
-        raise InputError("clearance applies to a rigid disk against a beam only")
     if isinstance(obstacle, Body):
+        if clearance:
+            raise InputError("clearance: not available between two deformable bodies; use 0")
         from .body_pairs import body_pair
 
         return body_pair(body, obstacle, nodes, restitution)
     if isinstance(obstacle, Point):
         if nodes is not None:
             raise InputError("nodes: a Point obstacle acts on beam segments, not on nodes")
-        return PointSegmentContact(body, obstacle, restitution)
-    return NodeContact(body, obstacle, nodes, restitution)
+        return PointSegmentContact(body, obstacle, restitution, clearance)
+    if isinstance(body, Beam2D) and isinstance(obstacle, Circle) and not obstacle.inside:
+        if nodes is None:  # the chords cut into a convex obstacle between the nodes
+            return SegmentCircleContact(body, obstacle, restitution, clearance)
+    return NodeContact(body, obstacle, nodes, restitution, clearance)

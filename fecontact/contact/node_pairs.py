@@ -23,7 +23,7 @@ class NodeContact(PairDefaults):
     obstacle φ(x) then gives G = ∇φ ∂x/∂q and ∇²g = (∂x/∂q)ᵀ ∇²φ (∂x/∂q) + ∇φ·∂²x/∂q².
     """
 
-    def __init__(self, body, obstacle, nodes=None, restitution: float = 0.0):
+    def __init__(self, body, obstacle, nodes=None, restitution: float = 0.0, clearance=0.0):
         if not isinstance(obstacle, (Plane, Circle)):
             raise InputError(f"obstacle must be a Plane or Circle, got {type(obstacle).__name__}")
         self.body = body
@@ -32,6 +32,7 @@ class NodeContact(PairDefaults):
         if len(self.nodes) == 0:
             raise InputError("nodes must name at least one node")
         self.restitution = check_range("restitution", restitution, 0.0, 1.0)
+        self.clearance = clearance  # m kept between the points and the obstacle
         self.linear = obstacle.linear and body.linear_kinematics
         self.offset = 0
         # positions alone where the body has a cheaper path to them (rigid bodies)
@@ -75,7 +76,7 @@ class NodeContact(PairDefaults):
     def gaps(self, q: np.ndarray) -> np.ndarray:
         """Gaps (m,) alone, without their derivatives."""
         qb = q[self.offset : self.offset + self.body.ndof]
-        return self.obstacle.gap_values(self._positions(qb, self.nodes))
+        return self.obstacle.gap_values(self._positions(qb, self.nodes)) - self.clearance
 
     def evaluate(self, q: np.ndarray):
         """Gaps (m,), dof indices (m, d), gradient values (m, d), Hessians (m, d, d) or None."""
@@ -88,7 +89,7 @@ class NodeContact(PairDefaults):
             H = np.einsum("mik,mij,mjl->mkl", Jx, Hphi, Jx)
         if Hx is not None:
             H = np.einsum("mi,mikl->mkl", Gx, Hx) + (0.0 if H is None else H)
-        return g, dofs + self.offset, G, H
+        return g - self.clearance, dofs + self.offset, G, H
 
 
 class PointSegmentContact(PairDefaults):
@@ -101,8 +102,9 @@ class PointSegmentContact(PairDefaults):
 
     linear = False
 
-    def __init__(self, body, obstacle: Point, restitution: float = 0.0):
+    def __init__(self, body, obstacle: Point, restitution: float = 0.0, clearance=0.0):
         self.body = body
+        self.clearance = clearance  # m: half the beam's thickness
         self.obstacle = obstacle
         self.restitution = check_range("restitution", restitution, 0.0, 1.0)
         self.segments = body.segments()
@@ -152,7 +154,7 @@ class PointSegmentContact(PairDefaults):
         e, xi, x1, d = self._closest(body.positions(q_local))
         a, b = self.segments[e]
         tdofs = self.offset + body.node_translation_dofs([a, b]).ravel()
-        P, r = self.obstacle.position, self.obstacle.radius
+        P, r = self.obstacle.position, self.obstacle.radius + self.clearance
         if 0.0 < xi < 1.0:
             # the point is rigid: derivatives with respect to the segment's ends only
             f, G, H = point_line_distance(P[None], x1[None], (x1 + d)[None])

@@ -1,0 +1,101 @@
+"""A beam's centreline segments against a rigid ``Circle``: contact between the nodes.
+
+A strip wrapped on a cylinder touches it at the middle of its chords, not at its nodes: node
+contacts let each segment cut into the cylinder by up to L²/(8R). Here every segment carries
+one contact at its closest point to the centre c,
+
+    x* = a + ξ(b − a),  ξ = clamp((c − a)·(b − a)/|b − a|², 0, 1),  g = |x* − c| − R − t,
+
+t the clearance (half the beam's thickness). Since ξ makes the distance stationary, the
+gradient is that of the point x* with ξ frozen, G = [(1 − ξ)e, ξe] over (a, b) with
+e = (x* − c)/|x* − c|; the Hessian adds the motion of x* along the segment (the exact second
+derivative of the distance to the segment's line, :func:`point_line_distance`). At an end
+(ξ = 0 or 1) the gap is that node's distance. Notation as in :mod:`fecontact.contact.laws`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError, check_range
+from .base import PairDefaults
+from .friction import tangent_basis
+from .geometry import closest_on_segments, point_line_distance
+from .obstacles import Circle
+
+__all__ = ["SegmentCircleContact"]
+
+
+class SegmentCircleContact(PairDefaults):
+    """The segments of a ``Beam2D`` against a rigid ``Circle`` seen from outside; one contact
+    per segment. ``clearance`` (m) keeps the centreline that far from the circle (half the
+    beam's thickness); ``restitution`` is Newton's e_N in [0, 1]."""
+
+    linear = False
+    frictional = True
+
+    def __init__(self, body, obstacle: Circle, restitution: float = 0.0, clearance: float = 0.0):
+        self.body = body
+        self.obstacle = obstacle
+        self.restitution = check_range("restitution", restitution, 0.0, 1.0)
+        self.clearance = clearance
+        self.segments = body.segments()
+        self.offset = 0
+
+    @property
+    def size(self) -> int:
+        return len(self.segments)
+
+    def bind(self, model) -> None:
+        self.offset = model.offset_of(self.body)
+
+    def _closest(self, q: np.ndarray):
+        """Ends a, b (m, 2), parameter ξ (m,), distance (m,) and unit normal e (m, 2) from
+        the centre to the closest point."""
+        x = self.body.positions(q[self.offset : self.offset + self.body.ndof])
+        a, b = x[self.segments[:, 0]], x[self.segments[:, 1]]
+        centre = self.obstacle.center + self.obstacle.shift()
+        xi, dist = closest_on_segments(centre, a, b)
+        if np.any(dist == 0.0):
+            raise InputError("a beam segment passes through the circle's centre: no normal")
+        e = (a + xi[:, None] * (b - a) - centre) / dist[:, None]
+        return a, b, xi, dist, e
+
+    def _dofs(self) -> np.ndarray:
+        nodes = self.segments.ravel()
+        return self.offset + self.body.node_translation_dofs(nodes).reshape(self.size, 4)
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        """Gaps (m,) alone, without their derivatives."""
+        return self._closest(q)[3] - self.obstacle.radius - self.clearance
+
+    def evaluate(self, q: np.ndarray):
+        """Gaps (m,), dof indices (m, 4), gradient values (m, 4), Hessians (m, 4, 4)."""
+        a, b, xi, dist, e = self._closest(q)
+        G = np.concatenate([(1.0 - xi)[:, None] * e, xi[:, None] * e], axis=1)
+        H = np.zeros((self.size, 4, 4))
+        inner = (xi > 0.0) & (xi < 1.0)
+        if inner.any():
+            centre = np.broadcast_to(self.obstacle.center + self.obstacle.shift(), a.shape)
+            f, _, Hf = point_line_distance(centre[inner], a[inner], b[inner])
+            H[inner] = np.sign(f)[:, None, None] * Hf[:, 2:, 2:]
+        for end, k in ((xi == 0.0, 0), (xi == 1.0, 2)):
+            if end.any():
+                ee = e[end]
+                block = (np.eye(2) - ee[:, :, None] * ee[:, None, :]) / dist[end, None, None]
+                H[np.ix_(end.nonzero()[0], range(k, k + 2), range(k, k + 2))] = block
+        g = dist - self.obstacle.radius - self.clearance
+        return g, self._dofs(), G, H
+
+    def rate(self, q: np.ndarray) -> np.ndarray:
+        """∂g/∂t = −e·ċ (m/s) of a moving circle, per segment."""
+        if not self.obstacle.moving:
+            return np.zeros(self.size)
+        return -(self._closest(q)[4] @ self.obstacle.speed())
+
+    def tangents(self, q: np.ndarray):
+        """Slip rows of the material point at ξ: T((1 − ξ)ȧ + ξḃ), T the circle's tangent."""
+        _, _, xi, _, e = self._closest(q)
+        T = tangent_basis(e)
+        GT = np.concatenate([(1.0 - xi)[:, None, None] * T, xi[:, None, None] * T], axis=2)
+        return self._dofs(), GT, T

@@ -1,0 +1,89 @@
+"""Beams against rigid obstacles along their segments, with their thickness as clearance
+(issue: contact a user trusts but that is not there).
+
+Before, a beam against a ``Circle`` checked its nodes only: a strip draped on a cylinder cut
+into it between nodes while ``max_penetration`` reported zero, and ``clearance`` (half the
+thickness) was refused except for a rigid disk against a beam."""
+
+import numpy as np
+import pytest
+
+from fecontact import Beam2D, Circle, Contact, Material, Model, Plane, Point, Section
+from fecontact.contact.segment_pairs import SegmentCircleContact
+from fecontact.testing import gap_derivatives_error
+from fecontact.time import simulate
+
+MATERIAL = Material(E=70e9, rho=2700.0, nu=0.33)
+SECTION = Section.rectangle(0.02, 0.002)
+
+
+def sampled_gap(beam, q, centre, radius):
+    """The smallest distance from the circle of 201 points along every segment, minus R."""
+    x = beam.positions(q[: beam.ndof])
+    s = np.linspace(0.0, 1.0, 201)[:, None, None]
+    points = x[:-1][None] + s * (x[1:] - x[:-1])[None]
+    return float(np.min(np.linalg.norm(points - centre, axis=2)) - radius)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_segment_gap_derivatives_inside_and_at_the_ends(seed):
+    beam = Beam2D.polyline([[0, 0], [0.3, 0.1], [0.5, -0.1]], [2, 2], MATERIAL, SECTION)
+    pair = Contact(beam, Circle([0.2, 0.9], 0.5), clearance=0.001)
+    assert isinstance(pair, SegmentCircleContact) and pair.size == 4
+    q = 0.03 * np.random.default_rng(seed).normal(size=beam.ndof)
+    Model([beam], [pair])
+    g = pair.evaluate(q)[0]
+    centre = np.array([0.2, 0.9])
+    x = beam.positions(q)
+    for j, (a, b) in enumerate(zip(x[:-1], x[1:], strict=True)):
+        xi = np.clip((centre - a) @ (b - a) / ((b - a) @ (b - a)), 0.0, 1.0)
+        assert g[j] == pytest.approx(np.linalg.norm(a + xi * (b - a) - centre) - 0.501, abs=1e-14)
+    # central differences at eps = 1e-7: O(eps²) truncation, O(1e-16/eps) round-off
+    err_g, err_h = gap_derivatives_error(pair, q)
+    assert err_g < 1e-7 and err_h < 1e-6
+
+
+def drape(nodes=None, clearance=0.0, t_end=0.3):
+    """An aluminium strip 1 mm (plus the clearance) above a cylinder of radius 5 cm, pulled down
+    at 50 g: it wraps around the cylinder with its chords across the surface."""
+    beam = Beam2D.straight([-0.2, 0.0], [0.2, 0.0], 8, MATERIAL, SECTION)
+    centre = np.array([0.0, -0.051 - clearance])
+    pair = Contact(beam, Circle(centre, 0.05), nodes=nodes, clearance=clearance)
+    model = Model([beam], [pair], gravity=(0.0, -500.0))
+    worst, worst_reported = np.inf, np.inf
+    for st in simulate(model, 1e-3, t_end):
+        worst = min(worst, sampled_gap(beam, st.q, centre, 0.05 + clearance))
+        worst_reported = min(worst_reported, float(np.min(st.gaps, initial=np.inf)))
+    return worst, worst_reported, st
+
+
+def test_node_contact_lets_the_chords_cut_into_a_cylinder():
+    worst, reported, _ = drape(nodes=range(9))
+    # the chords of 5 cm segments on a 5 cm radius cut in by up to L²/8R = 6 mm; the nodes
+    # alone see nothing
+    assert worst < -1e-4 and reported > -1e-12
+
+
+@pytest.mark.parametrize("clearance", [0.0, 0.001])
+def test_segments_stay_outside_a_cylinder_between_their_nodes(clearance):
+    worst, reported, st = drape(clearance=clearance)
+    # 1e-12 m: the gap tolerance (1e-12 of the model size) with the round-off of sampling
+    assert worst >= -1e-12 and reported >= -1e-12
+    assert st.t == pytest.approx(0.3) and np.any(st.nu > 0)  # wrapped and pressed
+
+
+def test_a_beam_rests_at_half_its_thickness_on_a_plane():
+    beam = Beam2D.straight([0.0, 0.001], [0.4, 0.001], 4, MATERIAL, SECTION)
+    floor = Contact(beam, Plane([0.0, 0.0], [0.0, 1.0]), clearance=0.001)
+    model = Model([beam], [floor], gravity=(0.0, -9.81))
+    *_, last = simulate(model, 1e-3, 0.05)
+    y = beam.positions(last.q)[:, 1]
+    # resting on its lower face: centreline at t/2 = 1 mm, to the gap tolerance
+    assert np.allclose(y, 0.001, atol=1e-12)
+
+
+def test_point_obstacle_keeps_the_clearance():
+    beam = Beam2D.straight([0.0, 0.0], [0.4, 0.0], 4, MATERIAL, SECTION)
+    pair = Contact(beam, Point([0.15, -0.02], radius=0.005), clearance=0.001)
+    Model([beam], [pair])
+    assert pair.evaluate(np.zeros(beam.ndof))[0][0] == pytest.approx(0.02 - 0.006)
