@@ -116,6 +116,9 @@ class Model:
             load.bind(self)
         self._slices = [self.body_slice(i) for i in range(len(self.bodies))]
         self.length = max(b.characteristic_length for b in self.bodies)
+        # the unit of each free dof's updates: the model size for translations, 1 rad else
+        moves = np.concatenate([b.translation_field(np.ones(dim)) for b in self.bodies]) != 0
+        self._update_unit = np.where(moves, self.length, 1.0)[self.free]
         self._reference = [b.positions(np.zeros(b.ndof)) for b in self.bodies]
         self._reference_extent = max(float(np.max(np.abs(X))) for X in self._reference)
         anchors = [p.obstacle.anchor for p in contacts if p.obstacle is not None]
@@ -234,6 +237,11 @@ class Model:
     def potential_energy(self, q: np.ndarray) -> float:
         """Gravitational potential energy (J), zero in the reference configuration."""
         return -float(self.f_gravity @ q)
+
+    def update_size(self, dq: np.ndarray) -> float:
+        """The size of an update dq of the free dofs in consistent units: max |dq_i| / s_i,
+        s_i the model size (m) for a translation and 1 rad for a rotation."""
+        return float(np.max(np.abs(dq) / self._update_unit, initial=0.0))
 
     def strain_energy(self, q: np.ndarray) -> float:
         return float(sum(b.energy(q[self.body_slice(i)]) for i, b in enumerate(self.bodies)))

@@ -44,20 +44,18 @@ MAX_CUTS = 30
 MAX_SHIFTS = 12
 
 
-def descent_update(
-    model, q, r, fi, S, K, solve, shift, negligible: float, residual: float
-) -> np.ndarray:
+def descent_update(model, q, r, fi, S, K, solve, shift, opts, residual: float) -> np.ndarray:
     """The globalized Newton update of the free dofs at ``q``.
 
     ``r`` is the residual (the gradient of Π), ``fi`` the internal force in it, ``S`` the
     iteration matrix and ``K`` the tangent of ``fi`` (both free × free), ``solve`` applies
-    S⁻¹, ``shift`` is the positive definite matrix β′M added to shift S, ``negligible`` the
-    increment tolerance (largest |update| that ends the iteration). ``residual`` is the
+    S⁻¹, ``shift`` is the positive definite matrix β′M added to shift S; ``opts`` give the
+    increment tolerance (an update below it ends the iteration). ``residual`` is the
     relative residual, reported if the step fails.
     """
     NEWTON["iterations"] += 1
     dq = -solve(r)
-    if np.abs(dq).max() <= negligible:
+    if model.update_size(dq) <= opts.tol_increment:
         return dq
     tau = 0.0
     for _ in range(MAX_SHIFTS):

@@ -125,7 +125,6 @@ def _moreau_newton(model, st, h, theta, rows, opts, timer):
     nr = len(rows[0].bilateral) if rows else 0
     v, q = vn.copy(), st.q.copy()  # predictor: v_n
     P, GP = np.zeros(nr), 0.0
-    inc_tol = opts.tol_increment * max(model.length, 1.0)
     dq, lcp_its = math.inf, 0
     clock = time.perf_counter()
     for it in range(opts.max_iterations + 1):
@@ -148,7 +147,7 @@ def _moreau_newton(model, st, h, theta, rows, opts, timer):
         if not math.isfinite(rnorm):
             raise StepFailure("Moreau–Jean step diverged", rnorm)
         ref = math.sqrt(max(ref, GP @ GP)) if nr else math.sqrt(ref)
-        if (it or not nr) and (rnorm <= opts.tol_residual * ref or dq <= inc_tol):
+        if (it or not nr) and (rnorm <= opts.tol_residual * ref or dq <= opts.tol_increment):
             return v, P, f, (it, lcp_its)
         if it == opts.max_iterations:
             raise StepFailure("Moreau–Jean step", rnorm / ref)
@@ -169,7 +168,7 @@ def _moreau_newton(model, st, h, theta, rows, opts, timer):
             if damped:
                 f -= Ct @ (v_new - v)
             return v_new, P, f, (it + 1, lcp_its)
-        dq = ht * float(np.abs(v_new - v).max(initial=0.0))
+        dq = model.update_size(ht * (v_new - v))
         v = v_new
     raise AssertionError("unreachable")
 

@@ -208,7 +208,6 @@ def _smooth_step(model, st, t, c, opts, timer) -> SmoothStep:
     nb = joints.size
     alpha, beta_k = model.damping
     tol_b = JointTolerance(model, q, opts.tol_gap) if nb else None
-    inc_tol = opts.tol_increment * max(model.length, 1.0)
     S = Gb = None
     # linear bodies: S_t = β′M + γ′C + K is assembled and factorized once per step size;
     # joints border it with their (q-dependent) gradient and curvature
@@ -260,11 +259,12 @@ def _smooth_step(model, st, t, c, opts, timer) -> SmoothStep:
                 dq = -solve(r)
             else:
                 shift = c.bp * model.M
-                dq = descent_update(model, q, r, fi, S, K, solve, shift, inc_tol, rnorm / ref)
+                dq = descent_update(model, q, r, fi, S, K, solve, shift, opts, rnorm / ref)
         X[:, F] += np.multiply.outer(c.w, dq)  # q, v, v̇, a
         clock = timer.add("solve", clock)
         if (bounded and _converged_by_bound(model, vd, dq, lam, x[nF:], ff, tol_b, opts)) or (
-            np.abs(dq).max() <= inc_tol and (not nb or tol_b.admits(np.abs(gb).max()))
+            model.update_size(dq) <= opts.tol_increment
+            and (not nb or tol_b.admits(np.abs(gb).max()))
         ):
             it += 1
             Gb = None

@@ -240,7 +240,6 @@ def _penalty_smooth_step(model, st, t, c, law, opts, timer) -> PenaltyStep:
     nb = joints.size
     alpha, beta_k = model.damping
     tol_b = opts.tol_gap * model.length
-    inc_tol = opts.tol_increment * max(model.length, 1.0)
     previous, s, dq, dlam = math.inf, 1.0, None, 0.0
 
     def move(x):
@@ -296,7 +295,7 @@ def _penalty_smooth_step(model, st, t, c, law, opts, timer) -> PenaltyStep:
             dq = -factorize_or_fail(S, rnorm / ref, symmetric=True)(r)
         move(dq)
         clock = timer.add("solve", clock)
-        if np.max(np.abs(dq)) <= inc_tol and (not nb or np.max(np.abs(gb)) <= tol_b):
+        if model.update_size(dq) <= opts.tol_increment and (not nb or np.max(np.abs(gb)) <= tol_b):
             _, _, lam_c, g = _penalty_force(model, q, v, law, c.gp, 0.5 * h)
             it += 1
             break
