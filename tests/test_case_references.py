@@ -52,7 +52,12 @@ def test_case_reproduces_its_reference_history(case, tmp_path):
         # a reordered sum changes the last bits; 1e-9 of the column's scale is far above
         # round-off and far below any change of the physics
         scale = max(np.max(np.abs(b[finite]), initial=0.0), PART_SCALE.get((case, name), 1e-300))
-        np.testing.assert_allclose(a[finite], b[finite], rtol=0, atol=1e-9 * scale, err_msg=name)
+        atol = 1e-9 * scale
+        if name == "newton_iterations":
+            # a step whose last residual lands at the tolerance takes one iteration more or
+            # less on another BLAS or NumPy (seen on NumPy 1.23 / SciPy 1.9: 7 of 751 steps)
+            atol = 1.0
+        np.testing.assert_allclose(a[finite], b[finite], rtol=0, atol=atol, err_msg=name)
 
 
 if __name__ == "__main__":
