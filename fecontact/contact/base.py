@@ -40,6 +40,10 @@ class PairDefaults:
         the linear form is."""
         return None
 
+    def detect_within(self, distance: float) -> None:
+        """The integrator's detection distance (m), for pairs with a spatial search of their
+        own: contacts farther than it are no candidates anyway."""
+
     def rate(self, q: np.ndarray) -> np.ndarray:
         """∂g_j/∂t (m/s) from a moving obstacle; zero for obstacles at rest."""
         return np.zeros(self.size)

@@ -168,8 +168,8 @@ class NodeSurfaceContact(PairDefaults):
     master : the solid whose boundary facets (:meth:`Solid.contact_facets`: P2 facets split
         through their mid nodes, quadrilaterals into two triangles) the nodes must not cross.
     restitution : Newton's coefficient e_N in [0, 1] of every contact of the pair.
-    margin : detection distance (m) of the spatial search; default 5 % of the larger
-        characteristic length of the two bodies (the integrator's default margin).
+    margin : detection distance (m) of the spatial search; default: the integrator's
+        (``detection_margin`` × the model size), set when a run starts.
 
     One contact per slave node (``size``); see the module docstring for the gap. Only the
     slave nodes are kept out of the master: the master's nodes may enter the slave body
@@ -193,6 +193,7 @@ class NodeSurfaceContact(PairDefaults):
         if len(self.nodes) == 0:
             raise InputError("nodes must name at least one node")
         self.restitution = check_range("restitution", restitution, 0.0, 1.0)
+        self._own_margin = margin is not None
         if margin is None:
             margin = 0.05 * max(body.characteristic_length, master.characteristic_length)
         self.margin = check_positive("margin", margin)
@@ -244,6 +245,15 @@ class NodeSurfaceContact(PairDefaults):
         s_sorted = s[order]
         first = order[np.r_[True, s_sorted[1:] != s_sorted[:-1]]]
         return s[first], f[first], g[first]
+
+    def detect_within(self, distance: float) -> None:
+        """Search as far as the integrator's candidates reach (``distance`` m), unless the
+        pair was given a margin of its own: a node closing from beyond the search would
+        report no facet."""
+        if not self._own_margin and distance > 0.0 and distance != self.margin:
+            self.margin = distance
+            self._search = None
+            self._last = None
 
     def _candidate_pairs(self, xs: np.ndarray, xm: np.ndarray):
         """(slave, facet) pairs whose node and facet centroid are within margin + the facet's

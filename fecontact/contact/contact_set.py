@@ -54,6 +54,12 @@ class ContactSet(FrictionRows):
     def moving(self) -> bool:
         return bool(self._moving)
 
+    def detect_within(self, distance: float) -> None:
+        """Give the pairs with a spatial search of their own the integrator's detection
+        distance (m), so that one margin decides what is a candidate."""
+        for pair in self.pairs:
+            pair.detect_within(distance)
+
     def set_time(self, t: float) -> None:
         """Place the moving obstacles where they are at time t (s)."""
         for obstacle in self._moving:

@@ -41,6 +41,7 @@ def simulate(
     dt = check_positive("dt", dt)
     t_end = check_positive("t_end", t_end)
     timer = PhaseTimer() if timer is None else timer
+    model.contacts.detect_within(opts.detection_margin * model.length)
     if start is None:
         state = initial_state(model, q0, v0, opts.tol_gap)
         yield state
