@@ -20,6 +20,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from .iterative import AUTO_DOFS, amg_factorize
 from .sparse_solvers import pardiso_factorize, sparse_solver
 
 __all__ = ["DENSE_LIMIT", "SYMMETRIC_PIVOT", "Pattern", "factorize"]
@@ -46,24 +47,18 @@ def factorize(A, symmetric: bool = False):
     """Return ``solve(b)`` applying A⁻¹ to a vector or to the columns of a matrix.
 
     ``symmetric``: A = Aᵀ (its pattern and values), which lets a sparse A keep the symmetric
-    fill-reducing ordering (module docstring). Raises ``np.linalg.LinAlgError`` if A is
-    singular.
+    fill-reducing ordering (module docstring), or go to AMG-preconditioned CG with the sparse
+    solver ``"amg"`` (``"auto"``: from ``AUTO_DOFS`` unknowns on; :mod:`.iterative`). Raises
+    ``np.linalg.LinAlgError`` if A is singular: here for a factorization, from ``solve`` for
+    CG (when its fallback factorization fails).
     """
     if sp.issparse(A):
-        if sparse_solver() == "pardiso":
+        name = sparse_solver()
+        if symmetric and (name == "amg" or (name == "auto" and A.shape[0] >= AUTO_DOFS)):
+            return amg_factorize(A, lambda: _superlu(A, symmetric=True))
+        if name == "pardiso":
             return pardiso_factorize(A)
-        options = {}
-        if symmetric:
-            options = {"diag_pivot_thresh": SYMMETRIC_PIVOT, "options": {"SymmetricMode": True}}
-        start = time.perf_counter()
-        try:
-            lu = spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A", **options)
-        except RuntimeError as err:
-            raise np.linalg.LinAlgError(str(err)) from None
-        finally:
-            SPARSE_FACTORIZATIONS["count"] += 1
-            SPARSE_FACTORIZATIONS["seconds"] += time.perf_counter() - start
-        return lambda b: lu.solve(np.asarray(b, dtype=float))
+        return _superlu(A, symmetric)
     # LAPACK directly: the scipy wrappers cost more than the factorization of small systems
     lu, piv, info = _getrf(A)
     if info != 0:
@@ -74,6 +69,22 @@ def factorize(A, symmetric: bool = False):
         return x
 
     return solve
+
+
+def _superlu(A, symmetric: bool):
+    """``solve(b)`` with A factorized by SuperLU (counted in ``SPARSE_FACTORIZATIONS``)."""
+    options = {}
+    if symmetric:
+        options = {"diag_pivot_thresh": SYMMETRIC_PIVOT, "options": {"SymmetricMode": True}}
+    start = time.perf_counter()
+    try:
+        lu = spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A", **options)
+    except RuntimeError as err:
+        raise np.linalg.LinAlgError(str(err)) from None
+    finally:
+        SPARSE_FACTORIZATIONS["count"] += 1
+        SPARSE_FACTORIZATIONS["seconds"] += time.perf_counter() - start
+    return lambda b: lu.solve(np.asarray(b, dtype=float))
 
 
 class Pattern:
