@@ -97,9 +97,9 @@ class Model:
         # e.g. between the components of a solid's displacement) and would fill them in
         self._M_own = Mff if not self.dense else self.M
         self._solve_M = None
-        if not self.dense:  # the near-null space of AMG-preconditioned CG (sparse solver "amg")
-            modes = np.vstack([b.rigid_modes() for b in self.bodies])
-            self.rigid_modes = modes[self.free]
+        # rigid motions on the free dofs: the near-null space of AMG (sparse solver "amg")
+        self.rigid_modes = np.vstack([b.rigid_modes() for b in self.bodies])[self.free]
+        if not self.dense:
             set_near_null_space(self.rigid_modes)
         self.f_gravity = self.M_full @ np.concatenate(
             [b.translation_field(self.gravity) for b in self.bodies]

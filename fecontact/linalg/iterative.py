@@ -2,26 +2,33 @@ r"""Conjugate gradients preconditioned by algebraic multigrid (the sparse solver
 
 The iteration matrix S_t = β′M + K_t of elastic bodies, the mass M and the metric S_t/β′ are
 symmetric positive definite. A sparse LU of a 3D one fills in like n^{4/3} and costs like n²
-(53.6 s at 65,856 dofs here, README *Speed*), while one V-cycle of smoothed-aggregation AMG
-(pyamg) costs a few products with A and keeps the CG iterations about constant as n grows.
+(53.6 s at 65,856 dofs here, README *Speed*), while preconditioned CG costs a few products
+with A per iteration and, with smoothed-aggregation AMG (pyamg), about as many iterations
+whatever n.
 
-- Near-null space: the rigid motions of the bodies (:func:`set_near_null_space`, registered
-  by the model), which aggregation then interpolates exactly. Measured on the 24,000-dof cube
-  of ``benchmarks/scaling.py`` at h = 1e-3 and 1e-2 s: 16 and 19 CG iterations, against
-  27 and 52 with a constant per displacement component and 75 and 149 with one constant. At
-  the wave-resolving steps of the cases β′M dominates and all three need 7–13.
+- Preconditioner: the diagonal of A first, AMG once CG needs more than
+  ``DIAGONAL_ITERATIONS`` with it. At the wave-resolving steps of the cases β′M dominates and
+  A is well conditioned: CG with the diagonal converges in 28–78 iterations, each one product
+  with A, while one V-cycle costs 15–17 of them (measured; 5x faster on the 255,552-dof ball
+  of ``benchmarks/iterative_speed.py``). At larger steps K_t dominates and the diagonal needs
+  hundreds to thousands of iterations, AMG 10–30. The choice is made per sparsity pattern.
+- Near-null space of AMG: the rigid motions of the bodies (:func:`set_near_null_space`,
+  registered by the model), which aggregation then interpolates exactly. Measured on the
+  24,000-dof cube of ``benchmarks/scaling.py`` at h = 1e-3 and 1e-2 s: 16 and 19 CG
+  iterations, against 27 and 52 with a constant per displacement component and 75 and 149
+  with one constant.
 - Tolerance: ‖b − A x‖ ≤ ``RTOL`` ‖b‖, two decades below the Newton residual tolerance
   (1e-8 of the force scale), so that an inexact solve changes no stopping test; the true
   residual is checked once at the end (CG's recursive one drifts).
-- Reuse: a hierarchy is kept per sparsity pattern (``CACHE_SIZE`` of them) and serves every
-  matrix with that pattern, across Newton iterations and steps. It is rebuilt from the matrix
-  in hand when a solve needs ``SETUP_ITERATIONS`` more iterations than the hierarchy needed
-  for its own matrix: a setup costs about that many iterations (measured 19–20 at 24,000 and
-  65,856 dofs), so the next solve alone repays it.
-- Breakdown: an indefinite matrix shows as a direction with pᵀAp ≤ 0 (or a preconditioned
-  residual with rᵀz ≤ 0). Then, or without convergence in ``MAX_ITERATIONS``, a hierarchy
-  made for another matrix is rebuilt once; one made for this matrix gives way to the direct
-  factorization, counted in ``ITERATIVE["fallbacks"]`` (beams' tangents after impacts).
+- Reuse: a pattern's hierarchy (``CACHE_SIZE`` patterns are kept) serves every matrix with
+  that pattern, across Newton iterations and steps. It is rebuilt from the matrix in hand when
+  a solve needs ``SETUP_ITERATIONS`` more iterations than it needed when new: a setup costs
+  about that many iterations (measured 19–20 at 24,000 and 65,856 dofs), so the next solve
+  alone repays it.
+- Breakdown: a direction with pᵀAp ≤ 0 (or a nonpositive diagonal) proves A indefinite; then,
+  or when CG does not converge in ``MAX_ITERATIONS`` with a hierarchy made for A, the direct
+  factorization takes over for A, counted in ``ITERATIVE["fallbacks"]`` (beams' tangents after
+  impacts). A hierarchy made for another matrix is first rebuilt for this one.
 """
 
 from __future__ import annotations
@@ -43,14 +50,22 @@ TRUE_RESIDUAL = 10.0
 from it by about ε κ(A), below 1e-11 for the condition numbers κ ≤ 1e5 of S_t here."""
 
 MAX_ITERATIONS = 200
-"""CG iterations before a solve counts as failed: ten times the most a fresh hierarchy needed on
-the solids measured (≤ 20); a system that needs more is cheaper to factorize."""
+"""AMG-CG iterations before a solve counts as failed: about seven times the most a fresh
+hierarchy needed on the solids measured (29); a system that needs more is cheaper to factorize."""
 
 SETUP_ITERATIONS = 20
 """Extra iterations of one solve, over those of a fresh hierarchy, that trigger a rebuild."""
 
+DIAGONAL_ITERATIONS = 200
+"""CG iterations with the diagonal preconditioner after which a pattern moves to AMG for good.
+A V-cycle costs 15–17 products with A (measured at 65,856 and 255,552 dofs) and AMG-CG needs
+9–29 iterations on the solids here, so that below about 200 iterations the diagonal is the
+cheaper preconditioner: it needs 28–78 at the wave-resolving steps of the cases (β′M
+dominates), and 317–612 on the 24,000-dof cube at h = 1e-3 and 1e-2 s."""
+
 CACHE_SIZE = 4
-"""Hierarchies kept (per pattern): the mass, S_t and the contact metric of a model fit."""
+"""Sparsity patterns (and their hierarchies) kept: the mass, S_t and the contact metric of a
+model fit."""
 
 AUTO_DOFS = 5000
 """With the sparse solver ``"auto"``, symmetric systems of at least this many unknowns go to
@@ -58,17 +73,19 @@ AMG-CG and smaller ones to SuperLU (crossing measured by ``benchmarks/iterative_
 
 ITERATIVE = {
     "solves": 0,
+    "diagonal": 0,
     "iterations": 0,
     "setups": 0,
     "fallbacks": 0,
     "setup_seconds": 0.0,
     "seconds": 0.0,
 }
-"""AMG-CG work of this process: solves (one per right-hand side), CG iterations, hierarchy
-setups, fallbacks to the direct factorization, and wall time (s) of the setups and of all of
-it. ``fecontact.run`` reports a run's share in ``summary.json`` (``iterative_solver``)."""
+"""Preconditioned CG work of this process: solves (one per right-hand side), of which
+preconditioned by the diagonal, CG iterations, AMG hierarchy setups, fallbacks to the direct
+factorization, and wall time (s) of the setups and of all of it (setups included).
+``fecontact.run`` reports a run's share in ``summary.json`` (``iterative_solver``)."""
 
-_hierarchies: list = []  # most recently used last
+_patterns: list = []  # most recently used last
 _modes: dict[int, weakref.ref] = {}
 
 
@@ -89,32 +106,33 @@ def _near_null_space(n: int):
     return B if B.shape[1] else None
 
 
-class _Breakdown(Exception):
-    """CG met a direction of non-positive curvature: A (or the preconditioner) is indefinite."""
-
-
-class _Hierarchy:
-    """A smoothed-aggregation hierarchy for one sparsity pattern, from the matrix ``A``."""
+class _Amg:
+    """A smoothed-aggregation hierarchy built from the matrix ``A``, as a preconditioner."""
 
     def __init__(self, A):
         import pyamg
 
         start = time.perf_counter()
-        self.shape, self.nnz = A.shape, A.nnz
-        self.indptr, self.indices = A.indptr, A.indices
         ml = pyamg.smoothed_aggregation_solver(
             A, B=_near_null_space(A.shape[0]), symmetry="hermitian", improve_candidates=None
         )
         self.precondition = ml.aspreconditioner(cycle="V").matvec
-        self.iterations = None  # CG iterations of the first solve with its own matrix
+        self.iterations = None  # CG iterations of its first solve
         ITERATIVE["setups"] += 1
-        elapsed = time.perf_counter() - start
-        ITERATIVE["setup_seconds"] += elapsed
-        ITERATIVE["seconds"] += elapsed
+        ITERATIVE["setup_seconds"] += time.perf_counter() - start
+
+
+class _Pattern:
+    """A sparsity pattern met before, and the AMG hierarchy of its matrices once the diagonal
+    preconditioner did not suffice for one of them."""
+
+    def __init__(self, A):
+        self.shape, self.nnz = A.shape, A.nnz
+        self.indptr, self.indices = A.indptr, A.indices
+        self.amg = None
 
     def serves(self, A) -> bool:
-        """Whether A (a CSR matrix or another hierarchy) has this hierarchy's sparsity
-        pattern: the same arrays, or equal ones."""
+        """Whether A (a CSR matrix) has this pattern: the same arrays, or equal ones."""
         if A.shape != self.shape or A.nnz != self.nnz:
             return False
         if _address(A.indices) == _address(self.indices) and _address(A.indptr) == _address(
@@ -128,33 +146,34 @@ def _address(a: np.ndarray) -> int:
     return a.__array_interface__["data"][0]
 
 
-def _hierarchy(A):
-    """(hierarchy, made for A): a cached one for A's pattern, else a new one."""
-    for h in _hierarchies:
-        if h.serves(A):
-            _hierarchies.remove(h)
-            _hierarchies.append(h)
-            return h, False
-    return _store(_Hierarchy(A)), True
+def _pattern(A) -> _Pattern:
+    """The cached pattern of A (now the most recently used), or a new one."""
+    for entry in _patterns:
+        if entry.serves(A):
+            _patterns.remove(entry)
+            break
+    else:
+        entry = _Pattern(A)
+    _patterns.append(entry)
+    del _patterns[:-CACHE_SIZE]
+    return entry
 
 
-def _store(h):
-    """Keep ``h`` as the hierarchy of its pattern, dropping the least recently used beyond
-    ``CACHE_SIZE``."""
-    _hierarchies[:] = [g for g in _hierarchies if not g.serves(h)]
-    _hierarchies.append(h)
-    del _hierarchies[:-CACHE_SIZE]
-    return h
+_CONVERGED, _INDEFINITE, _STALLED = "converged", "indefinite", "stalled"
 
 
 class AmgSolve:
-    """``solve(b)`` with A⁻¹ by AMG-preconditioned CG, for a symmetric sparse A; ``direct`` is
+    """``solve(b)`` with A⁻¹ by preconditioned CG, for a symmetric sparse A; ``direct`` is
     called (once) for the factorization to fall back on."""
 
     def __init__(self, A, direct):
         self.A = A.tocsr()
+        self.pattern = _pattern(self.A)
         self.direct_factorize, self.direct = direct, None
-        self.hierarchy, self.own = _hierarchy(self.A)
+        self.built = None  # the hierarchy built from this A, if any
+        d = self.A.diagonal()
+        # a positive diagonal is necessary for A to be positive definite
+        self.inverse_diagonal = 1.0 / d if np.all(d > 0.0) else None
 
     def __call__(self, b):
         if sp.issparse(b):
@@ -173,57 +192,84 @@ class AmgSolve:
         if not b.any():
             return np.zeros_like(b)
         start = time.perf_counter()
-        x, its = self._cg(b)
-        if x is None and not self.own:  # a hierarchy of another matrix: make this one's
-            self._rebuild()
-            x, its = self._cg(b)
+        x = self._iterate(b) if self.inverse_diagonal is not None else None
         ITERATIVE["seconds"] += time.perf_counter() - start
         if x is None:
             ITERATIVE["fallbacks"] += 1
             self.direct = self.direct_factorize()
             return self.direct(b)
         ITERATIVE["solves"] += 1
-        h = self.hierarchy
-        if h.iterations is None:
-            h.iterations = its
-        elif its > h.iterations + SETUP_ITERATIONS:
-            self._rebuild()  # for the next solves
         return x
 
-    def _rebuild(self):
-        self.hierarchy, self.own = _store(_Hierarchy(self.A)), True
+    def _iterate(self, b):
+        """CG on A x = b: with the diagonal while it suffices for this pattern, then with its
+        AMG hierarchy; None when A is not positive definite or CG does not converge."""
+        pattern = self.pattern
+        if pattern.amg is None:
+            dinv = self.inverse_diagonal
+            status, x, _ = self._cg(b, lambda r: dinv * r, DIAGONAL_ITERATIONS)
+            if status == _CONVERGED:
+                ITERATIVE["diagonal"] += 1
+                return x
+            if status == _INDEFINITE:
+                return None
+            self._build()  # the diagonal is not enough for matrices of this pattern
+        status, x, its = self._cg(b, pattern.amg.precondition, MAX_ITERATIONS)
+        if status == _STALLED and pattern.amg is not self.built:
+            self._build()  # a hierarchy of another matrix: make this one's
+            status, x, its = self._cg(b, pattern.amg.precondition, MAX_ITERATIONS)
+        if status != _CONVERGED:
+            return None
+        amg = pattern.amg
+        if amg.iterations is None:
+            amg.iterations = its
+        elif its > amg.iterations + SETUP_ITERATIONS:
+            self._build()  # for the next solves
+        return x
 
-    def _cg(self, b):
-        """(x, iterations), or (None, iterations) when CG breaks down or does not converge."""
-        A, precondition, count = self.A, self.hierarchy.precondition, [0]
+    def _build(self):
+        self.pattern.amg = self.built = _Amg(self.A)
+
+    def _cg(self, b, precondition, maxiter: int):
+        """(status, x, iterations) of CG from x = 0 with the preconditioner ``precondition``
+        (r -> z): indefinite when a direction has pᵀAp <= 0, stalled when the preconditioner
+        is not positive definite (rᵀz <= 0) or CG has not converged in ``maxiter``."""
+        A, count = self.A, [0]
+
+        class Indefinite(Exception):
+            pass
+
+        class Stalled(Exception):
+            pass
 
         def matvec(p):
             count[0] += 1
             q = A @ p
             if p @ q <= 0.0:
-                raise _Breakdown
+                raise Indefinite
             return q
 
         def psolve(r):
             z = precondition(r)
             if r @ z <= 0.0:
-                raise _Breakdown
+                raise Stalled
             return z
 
         n = A.shape[0]
         op = spla.LinearOperator((n, n), matvec=matvec, dtype=float)
         M = spla.LinearOperator((n, n), matvec=psolve, dtype=float)
+        status, x = _STALLED, None
         try:
-            x, info = spla.cg(op, b, rtol=RTOL, atol=0.0, maxiter=MAX_ITERATIONS, M=M)
-        except _Breakdown:
-            info = -1
+            x, info = spla.cg(op, b, rtol=RTOL, atol=0.0, maxiter=maxiter, M=M)
+            r = b - A @ x
+            if info == 0 and np.sqrt(r @ r) <= TRUE_RESIDUAL * RTOL * np.sqrt(b @ b):
+                status = _CONVERGED
+        except Indefinite:
+            status = _INDEFINITE
+        except Stalled:
+            pass
         ITERATIVE["iterations"] += count[0]
-        if info != 0:
-            return None, count[0]
-        r = b - A @ x
-        if np.sqrt(r @ r) > TRUE_RESIDUAL * RTOL * np.sqrt(b @ b):
-            return None, count[0]
-        return x, count[0]
+        return status, x, count[0]
 
 
 def amg_factorize(A, direct):
