@@ -1,8 +1,6 @@
 """Preconditioned CG behind the factorize seam (sparse solver "amg"): the direct solutions to
 its tolerance, the fallback on indefinite matrices, hierarchy reuse, and whole runs."""
 
-import math
-
 import numpy as np
 import pytest
 import scipy.sparse as sp
@@ -157,18 +155,22 @@ def test_a_hierarchy_serves_its_pattern_until_a_matrix_needs_a_new_one(amg):
         assert np.linalg.norm(b - A @ x) <= PROMISE * np.linalg.norm(b)
 
 
-def test_auto_switches_to_cg_from_its_size_on():
+def test_auto_solves_large_3d_solids_by_cg_and_the_rest_directly():
     before = sparse_solver()
     use_sparse_solver("auto")
     try:
-        small, large = laplacian(20), laplacian(math.isqrt(AUTO_DOFS - 1) + 1)
+        small, large = box((3, 3, 3)), box((8, 8, 4))  # 192 and 1215 dofs
+        assert small.n < AUTO_DOFS <= large.n
+        banded = laplacian(40)  # 1600 unknowns, 5 a row: a beam-like sparse system
         factors, work = SPARSE_FACTORIZATIONS["count"], counts()
-        factorize(small, symmetric=True)(np.ones(small.shape[0]))
-        assert SPARSE_FACTORIZATIONS["count"] == factors + 1
-        factorize(large, symmetric=True)(np.ones(large.shape[0]))
-        factorize(large)(np.ones(large.shape[0]))  # not symmetric: direct
+        for A in (iteration_matrix(small, 1e-4), banded):
+            factorize(A, symmetric=True)(np.ones(A.shape[0]))
         assert SPARSE_FACTORIZATIONS["count"] == factors + 2
+        S = iteration_matrix(large, 1e-4)
+        factorize(S, symmetric=True)(np.ones(S.shape[0]))
         assert delta(work)["solves"] == 1
+        factorize(S)(np.ones(S.shape[0]))  # not declared symmetric: direct
+        assert SPARSE_FACTORIZATIONS["count"] == factors + 3
     finally:
         use_sparse_solver(before)
 

@@ -6,7 +6,8 @@ x86-64 only), a multithreaded supernodal LU. Both return the same solutions to r
 the choice only changes speed, which depends on the matrix and the cores (README, *Speed*).
 ``"amg"`` solves the symmetric systems by CG preconditioned with algebraic multigrid
 (:mod:`fecontact.linalg.iterative`) to a relative residual of 1e-10, and the others with
-SuperLU; ``"auto"`` does so only from ``iterative.AUTO_DOFS`` unknowns on.
+SuperLU; ``"auto"`` does so only for large 3D solids (``iterative.prefers_cg``: at least
+``AUTO_DOFS`` unknowns and ``AUTO_ROW_ENTRIES`` entries a row), where CG is faster.
 
 Select one with :func:`use_sparse_solver` or the environment variable
 ``FECONTACT_SPARSE_SOLVER`` (read at import).
