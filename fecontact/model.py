@@ -13,7 +13,7 @@ import scipy.sparse as sp
 
 from .contact import ContactSet
 from .errors import InputError, check_finite, check_positive, check_vector
-from .linalg import DENSE_LIMIT, Pattern, factorize
+from .linalg import DENSE_LIMIT, Pattern, factorize, set_near_null_space
 
 __all__ = ["Model", "NodalLoad"]
 
@@ -97,6 +97,10 @@ class Model:
         # e.g. between the components of a solid's displacement) and would fill them in
         self._M_own = Mff if not self.dense else self.M
         self._solve_M = None
+        # rigid motions on the free dofs: the near-null space of AMG (sparse solver "amg")
+        self.rigid_modes = np.vstack([b.rigid_modes() for b in self.bodies])[self.free]
+        if not self.dense:
+            set_near_null_space(self.rigid_modes)
         self.f_gravity = self.M_full @ np.concatenate(
             [b.translation_field(self.gravity) for b in self.bodies]
         )

@@ -33,7 +33,7 @@ from .io.run_folder import (
     load_checkpoint,
     save_checkpoint,
 )
-from .linalg import SPARSE_FACTORIZATIONS
+from .linalg import ITERATIVE, SPARSE_FACTORIZATIONS
 from .time import NEWTON, IntegratorOptions, PhaseTimer, State, initial_state, simulate
 
 __all__ = ["Probe", "Simulation", "node_probe", "run", "HISTORY_COLUMNS"]
@@ -408,6 +408,7 @@ def run(
     status, message = "completed", ""
     t_start = time.perf_counter()
     factors_start = dict(SPARSE_FACTORIZATIONS)
+    iterative_start = dict(ITERATIVE)
     least_squares_start = LEAST_SQUARES["count"]
     coulomb_start = dict(COULOMB)
     newton_start = dict(NEWTON)
@@ -452,6 +453,8 @@ def run(
         summary["smooth_newton"] = {k: NEWTON[k] - newton_start[k] for k in NEWTON}
         # the largest Alart–Curnier residual a converged correction left, over its tolerance
         summary["final_residuals"] = dict(ALART_CURNIER)
+        # AMG-preconditioned CG (sparse solver "amg"): solves, iterations, setups, fallbacks
+        summary["iterative_solver"] = {k: ITERATIVE[k] - iterative_start[k] for k in ITERATIVE}
         if sim.model.contacts.frictional:  # the frictional solves and their fallbacks
             summary["friction_solver"] = {k: COULOMB[k] - coulomb_start[k] for k in COULOMB}
             summary["friction_work"] = rec.friction_work

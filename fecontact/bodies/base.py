@@ -81,3 +81,10 @@ class BodyDefaults:
     def cell_data(self, q: np.ndarray) -> dict[str, np.ndarray]:
         """Per-cell output (stress, strain); none by default."""
         return {}
+
+    def rigid_modes(self) -> np.ndarray:
+        """(ndof, k) rigid motions of the body, the near-null space of its stiffness: the d
+        translations, then the rotations (1 in 2D, 3 in 3D), here zero columns (bodies with a
+        rotation field override)."""
+        T = np.column_stack([self.translation_field(e) for e in np.eye(self.dim)])
+        return np.hstack([T, np.zeros((T.shape[0], 1 if self.dim == 2 else 3))])

@@ -258,6 +258,14 @@ class Beam2D(BodyDefaults):
         f[:, :2] = vector
         return f.ravel()
 
+    def rigid_modes(self) -> np.ndarray:
+        """(ndof, 3) rigid motions: translations along x and y, and the rotation about the node
+        centroid X̄ (u = e_z × (X − X̄) in m/rad, θ = 1)."""
+        Xc = self.X - self.X.mean(axis=0)
+        R = np.column_stack([-Xc[:, 1], Xc[:, 0], np.ones(len(Xc))]).ravel()
+        T = [self.translation_field(e) for e in np.eye(2)]
+        return np.column_stack([*T, R])
+
     # -- geometry and output -----------------------------------------------------------------
     def positions(self, q: np.ndarray) -> np.ndarray:
         """Current node coordinates X + u (m), shape (n, 2)."""

@@ -95,6 +95,18 @@ class NodalTranslations(BodyDefaults):
         x = self.X[nodes] + q[dofs]
         return x, dofs, np.repeat(np.eye(self.dim)[None], len(nodes), axis=0), None
 
+    def rigid_modes(self) -> np.ndarray:
+        """(ndof, k) rigid motions: the d translations, then the rotations ω × (X − X̄) about
+        the node centroid X̄ for ω = e_z (2D) or e_x, e_y, e_z (3D); dimensionless, m/rad."""
+        Xc = self.X - self.X.mean(axis=0)
+        n, d = Xc.shape
+        T = np.tile(np.eye(d), (n, 1))
+        if d == 2:
+            R = np.column_stack([-Xc[:, 1], Xc[:, 0]]).reshape(-1, 1)
+        else:
+            R = np.stack([np.cross(w, Xc).ravel() for w in np.eye(3)], axis=1)
+        return np.hstack([T, R])
+
     def point_data(self, q: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:
         """Nodal fields for output: ``displacement`` (m) and ``velocity`` (m/s), (n_nodes, d)."""
         return {"displacement": self.nodal(q), "velocity": self.nodal(v)}

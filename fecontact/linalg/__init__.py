@@ -1,12 +1,15 @@
 """Linear algebra: one ``factorize(A) -> solve`` seam for every system the steppers solve,
-dense below ``DENSE_LIMIT`` unknowns and sparse (SuperLU, or PARDISO when installed) above."""
+dense below ``DENSE_LIMIT`` unknowns and sparse (SuperLU, or PARDISO when installed) above;
+symmetric sparse systems can go to AMG-preconditioned CG instead (``use_sparse_solver``)."""
 
 from .direct import DENSE_LIMIT, SPARSE_FACTORIZATIONS, SYMMETRIC_PIVOT, Pattern, factorize
+from .iterative import ITERATIVE, set_near_null_space
 from .low_rank import UnitColumns, low_rank_solver
 from .sparse_solvers import SPARSE_SOLVERS, sparse_solver, use_sparse_solver
 
 __all__ = [
     "DENSE_LIMIT",
+    "ITERATIVE",
     "SPARSE_FACTORIZATIONS",
     "SPARSE_SOLVERS",
     "SYMMETRIC_PIVOT",
@@ -14,6 +17,7 @@ __all__ = [
     "UnitColumns",
     "factorize",
     "low_rank_solver",
+    "set_near_null_space",
     "sparse_solver",
     "use_sparse_solver",
 ]

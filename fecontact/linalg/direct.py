@@ -20,6 +20,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from .iterative import amg_factorize, prefers_cg
 from .sparse_solvers import pardiso_factorize, sparse_solver
 
 __all__ = ["DENSE_LIMIT", "SYMMETRIC_PIVOT", "Pattern", "factorize"]
@@ -46,24 +47,18 @@ def factorize(A, symmetric: bool = False):
     """Return ``solve(b)`` applying A⁻¹ to a vector or to the columns of a matrix.
 
     ``symmetric``: A = Aᵀ (its pattern and values), which lets a sparse A keep the symmetric
-    fill-reducing ordering (module docstring). Raises ``np.linalg.LinAlgError`` if A is
-    singular.
+    fill-reducing ordering (module docstring), or go to AMG-preconditioned CG with the sparse
+    solver ``"amg"`` (``"auto"``: for large 3D solids, :func:`.iterative.prefers_cg`). Raises
+    ``np.linalg.LinAlgError`` if A is singular: here for a factorization, from ``solve`` for
+    CG (when its fallback factorization fails).
     """
     if sp.issparse(A):
-        if sparse_solver() == "pardiso":
+        name = sparse_solver()
+        if symmetric and (name == "amg" or (name == "auto" and prefers_cg(A))):
+            return amg_factorize(A, lambda: _superlu(A, symmetric=True))
+        if name == "pardiso":
             return pardiso_factorize(A)
-        options = {}
-        if symmetric:
-            options = {"diag_pivot_thresh": SYMMETRIC_PIVOT, "options": {"SymmetricMode": True}}
-        start = time.perf_counter()
-        try:
-            lu = spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A", **options)
-        except RuntimeError as err:
-            raise np.linalg.LinAlgError(str(err)) from None
-        finally:
-            SPARSE_FACTORIZATIONS["count"] += 1
-            SPARSE_FACTORIZATIONS["seconds"] += time.perf_counter() - start
-        return lambda b: lu.solve(np.asarray(b, dtype=float))
+        return _superlu(A, symmetric)
     # LAPACK directly: the scipy wrappers cost more than the factorization of small systems
     lu, piv, info = _getrf(A)
     if info != 0:
@@ -74,6 +69,22 @@ def factorize(A, symmetric: bool = False):
         return x
 
     return solve
+
+
+def _superlu(A, symmetric: bool):
+    """``solve(b)`` with A factorized by SuperLU (counted in ``SPARSE_FACTORIZATIONS``)."""
+    options = {}
+    if symmetric:
+        options = {"diag_pivot_thresh": SYMMETRIC_PIVOT, "options": {"SymmetricMode": True}}
+    start = time.perf_counter()
+    try:
+        lu = spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A", **options)
+    except RuntimeError as err:
+        raise np.linalg.LinAlgError(str(err)) from None
+    finally:
+        SPARSE_FACTORIZATIONS["count"] += 1
+        SPARSE_FACTORIZATIONS["seconds"] += time.perf_counter() - start
+    return lambda b: lu.solve(np.asarray(b, dtype=float))
 
 
 class Pattern:
@@ -90,12 +101,13 @@ class Pattern:
         self.dense = n_free <= DENSE_LIMIT
         flats, self.keep = [], []
         for edofs in blocks:
-            fi = free_index[edofs]
-            r = np.repeat(fi, fi.shape[1], axis=1).ravel()
-            c = np.tile(fi, (1, fi.shape[1])).ravel()
-            keep = (r >= 0) & (c >= 0)
+            # (row, column) of entry (i, j) of every element matrix as row·n + column, made
+            # in one int64 array: rows and columns apart cost 3x the memory of large 3D meshes
+            fi = free_index[edofs].astype(np.int64)
+            keep = ((fi[:, :, None] >= 0) & (fi[:, None, :] >= 0)).ravel()
             self.keep.append(keep)
-            flats.append(r[keep].astype(np.int64) * n_free + c[keep])
+            flat = (fi[:, :, None] * n_free + fi[:, None, :]).ravel()
+            flats.append(flat if keep.all() else flat[keep])
         extra = sp.coo_matrix(extra) if extra is not None else sp.coo_matrix((n_free, n_free))
         flats.append(extra.row.astype(np.int64) * n_free + extra.col)
         allflat = np.concatenate(flats)

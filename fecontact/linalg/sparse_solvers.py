@@ -1,9 +1,13 @@
-"""The sparse direct solver behind :func:`fecontact.linalg.factorize`.
+"""The sparse solver behind :func:`fecontact.linalg.factorize`.
 
 ``"superlu"`` (default) is SciPy's SuperLU, always available. ``"pardiso"`` is Intel MKL
 PARDISO through the optional ``pypardiso`` package (``pip install "fecontact[pardiso]"``,
 x86-64 only), a multithreaded supernodal LU. Both return the same solutions to round-off;
 the choice only changes speed, which depends on the matrix and the cores (README, *Speed*).
+``"amg"`` solves the symmetric systems by CG preconditioned with algebraic multigrid
+(:mod:`fecontact.linalg.iterative`) to a relative residual of 1e-10, and the others with
+SuperLU; ``"auto"`` does so only for large 3D solids (``iterative.prefers_cg``: at least
+``AUTO_DOFS`` unknowns and ``AUTO_ROW_ENTRIES`` entries a row), where CG is faster.
 
 Select one with :func:`use_sparse_solver` or the environment variable
 ``FECONTACT_SPARSE_SOLVER`` (read at import).
@@ -20,7 +24,7 @@ from ..errors import InputError
 
 __all__ = ["SPARSE_SOLVERS", "sparse_solver", "use_sparse_solver"]
 
-SPARSE_SOLVERS = ("superlu", "pardiso")
+SPARSE_SOLVERS = ("superlu", "pardiso", "amg", "auto")
 _current = {"name": "superlu"}
 
 
@@ -36,6 +40,13 @@ def use_sparse_solver(name: str) -> None:
             raise InputError(
                 'sparse solver "pardiso" needs the pypardiso package: '
                 'pip install "fecontact[pardiso]"'
+            ) from None
+    if name in ("amg", "auto"):
+        try:
+            import pyamg  # noqa: F401
+        except ImportError:
+            raise InputError(
+                f'sparse solver "{name}" needs the pyamg package: pip install pyamg'
             ) from None
     _current["name"] = name
 

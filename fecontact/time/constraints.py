@@ -42,10 +42,22 @@ def augmentation(scale: float, G, Y) -> np.ndarray:
 
 
 def factorize_or_fail(A, residual, symmetric=False):
+    """``factorize(A, symmetric)`` with a singular A reported as a failed step, also when
+    the sparse solver is iterative and finds it out in ``solve`` (its fallback factorization)."""
     try:
-        return factorize(A, symmetric)
+        solve = factorize(A, symmetric)
     except np.linalg.LinAlgError:
         raise StepFailure("singular iteration matrix", residual) from None
+    if not (symmetric and sp.issparse(A)):
+        return solve
+
+    def checked(b):
+        try:
+            return solve(b)
+        except np.linalg.LinAlgError:
+            raise StepFailure("singular iteration matrix", residual) from None
+
+    return checked
 
 
 def bordered(K, G):

@@ -1,0 +1,223 @@
+"""Preconditioned CG behind the factorize seam (sparse solver "amg"): the direct solutions to
+its tolerance, the fallback on indefinite matrices, hierarchy reuse, and whole runs."""
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from fecontact import InputError, Model, simulate
+from fecontact.bodies import Beam2D, LinearElastic, Material, Section, Solid, StVenantKirchhoff
+from fecontact.linalg import ITERATIVE, SPARSE_FACTORIZATIONS, factorize
+from fecontact.linalg.iterative import AUTO_DOFS, RTOL, TRUE_RESIDUAL
+from fecontact.linalg.sparse_solvers import sparse_solver, use_sparse_solver
+from fecontact.testing import case
+from fecontact.time import alpha_coefficients
+from fecontact.time.constraints import StepFailure, factorize_or_fail
+
+# the solver's promise: ‖b − A x‖ ≤ TRUE_RESIDUAL · RTOL · ‖b‖
+PROMISE = TRUE_RESIDUAL * RTOL
+
+
+@pytest.fixture
+def amg():
+    before = sparse_solver()
+    use_sparse_solver("amg")
+    yield
+    use_sparse_solver(before)
+
+
+def counts():
+    return dict(ITERATIVE)
+
+
+def delta(before):
+    return {k: ITERATIVE[k] - before[k] for k in before}
+
+
+def iteration_matrix(model, h, q=None):
+    """S = β′M + K_t at q (m) for the step h (s), ρ∞ = 0.5."""
+    am, af, _, be = alpha_coefficients(0.5)
+    bp = (1.0 - am) / (be * h * h * (1.0 - af))
+    _, _, K = model.internal(np.zeros(model.n) if q is None else q)
+    return model.iteration_sum(bp, K)
+
+
+def box(divisions, material=None):
+    """A 0.1 m × 0.1 m × 0.05 m block of P1 tetrahedra (rubber-like, E = 10 MPa)."""
+    material = material or StVenantKirchhoff(E=1e7, nu=0.3, rho=1000.0)
+    body = Solid.box([0.0, 0.0, 0.0], [0.1, 0.1, 0.05], divisions, material)
+    return Model([body])
+
+
+def condition_number(A) -> float:
+    lmax = spla.eigsh(A, k=1, which="LA", return_eigenvectors=False)[0]
+    lmin = spla.eigsh(A, k=1, sigma=0.0, which="LM", return_eigenvectors=False)[0]
+    return lmax / lmin
+
+
+def check_against_direct(A, b, x):
+    """x solves A x = b as promised, and differs from the direct solution by at most what the
+    residual allows: ‖δx‖/‖x‖ ≤ κ(A) ‖r‖/‖b‖."""
+    kappa = condition_number(A)
+    x_direct = spla.spsolve(A.tocsc(), b)
+    for j in range(b.shape[1]):
+        r = b[:, j] - A @ x[:, j]
+        assert np.linalg.norm(r) <= PROMISE * np.linalg.norm(b[:, j])
+        error = np.linalg.norm(x[:, j] - x_direct[:, j]) / np.linalg.norm(x_direct[:, j])
+        assert error <= kappa * PROMISE
+
+
+@pytest.mark.parametrize(
+    "divisions, h, preconditioner",
+    # at the wave-resolving step β′M dominates: the diagonal suffices; at 10 ms K_t does
+    [((8, 8, 4), 1e-5, "diagonal"), ((9, 9, 5), 1e-2, "setups")],
+)
+def test_cg_solves_3d_elasticity_like_the_direct_factorization(amg, divisions, h, preconditioner):
+    model = box(divisions)
+    rng = np.random.default_rng(0)
+    q = 1e-3 * rng.standard_normal(model.n)  # a deformed state: a nonlinear tangent K_t
+    A = iteration_matrix(model, h, q)
+    b = rng.standard_normal((model.n_free, 3))
+    before = counts()
+    x = factorize(A, symmetric=True)(b)
+    assert x.shape == b.shape
+    check_against_direct(A, b, x)
+    work = delta(before)
+    assert work["solves"] == 3 and work["fallbacks"] == 0 and work[preconditioner] >= 1
+
+
+def test_rigid_modes_are_the_null_space_of_the_stiffness():
+    """The near-null space the models hand to AMG: rigid motions carry no strain energy."""
+    rubber = LinearElastic(E=1e7, nu=0.3, rho=1000.0)
+    solid3 = Solid.box([0, 0, 0], [0.2, 0.1, 0.1], (4, 2, 2), rubber)
+    solid2 = Solid.rectangle([0, 0], [0.2, 0.1], (8, 4), rubber)
+    beam = Beam2D.straight(
+        [0, 0], [1.0, 0.5], 50, Material(E=2e11, rho=7850.0, nu=0.3), Section.rectangle(0.02, 0.01)
+    )
+    for body, k in ((solid3, 6), (solid2, 3), (beam, 3)):
+        model = Model([body])
+        _, _, K = model.internal(np.zeros(model.n))
+        B = model.rigid_modes
+        assert B.shape == (model.n_free, k) and np.linalg.matrix_rank(B) == k
+        # round-off of sums of ~30 terms of size |K||B|: 1e-12 is far above it
+        scale = abs(K).max() * np.abs(B).max()
+        assert np.abs(K @ B).max() <= 1e-12 * scale
+
+
+def laplacian(n):
+    """The 2D five-point Laplacian plus I (n² unknowns): eigenvalues in (1, 9)."""
+    d = sp.diags([-1.0, 2.0, -1.0], [-1, 0, 1], shape=(n, n))
+    return (sp.kron(sp.eye(n), d) + sp.kron(d, sp.eye(n)) + sp.eye(n * n)).tocsr()
+
+
+@pytest.mark.parametrize("shift", [4.0, 6.0])
+def test_an_indefinite_matrix_falls_back_to_the_direct_solve_and_is_counted(amg, shift):
+    # shift 4: eigenvalues on both sides of 0 with a positive diagonal (1); shift 6: a negative
+    # diagonal, caught before CG
+    A = (laplacian(20) - shift * sp.eye(400)).tocsr()
+    b = np.random.default_rng(1).standard_normal(400)
+    before = counts()
+    solve = factorize(A, symmetric=True)
+    x = solve(b)
+    np.testing.assert_allclose(A @ x, b, atol=1e-10 * np.linalg.norm(b))
+    factors = SPARSE_FACTORIZATIONS["count"]
+    np.testing.assert_allclose(solve(2.0 * b), 2.0 * x, rtol=1e-12)
+    assert SPARSE_FACTORIZATIONS["count"] == factors  # the fallback's factors are kept
+    work = delta(before)
+    assert work["fallbacks"] == 1 and work["solves"] == 0
+
+
+def test_a_failing_fallback_is_a_failed_step(amg):
+    # a zero on the diagonal: no CG, and SuperLU meets an exactly zero pivot
+    A = sp.diags(np.r_[np.ones(199), 0.0]).tocsr()
+    solve = factorize_or_fail(A, 1.0, symmetric=True)
+    with pytest.raises(StepFailure, match="singular"):
+        solve(np.ones(200))
+
+
+def test_a_hierarchy_serves_its_pattern_until_a_matrix_needs_a_new_one(amg):
+    model = box((10, 10, 5))
+    S1, S2 = iteration_matrix(model, 1e-2), iteration_matrix(model, 1.2e-2)
+    b = np.random.default_rng(2).standard_normal(model.n_free)
+    before = counts()
+    x1 = factorize(S1, symmetric=True)(b)
+    assert delta(before)["setups"] == 1  # the diagonal is not enough at this step
+    x2 = factorize(S2, symmetric=True)(b)  # the next step size: same pattern, reused
+    assert delta(before)["setups"] == 1
+    # the same pattern scaled over four decades: the hierarchy of S1 serves it badly
+    D = sp.diags(10.0 ** np.random.default_rng(3).uniform(-2, 2, model.n_free))
+    S3 = (D @ S1 @ D).tocsr()
+    x3 = factorize(S3, symmetric=True)(b)
+    work = delta(before)
+    assert work["setups"] == 2 and work["fallbacks"] == 0 and work["solves"] == 3
+    for A, x in ((S1, x1), (S2, x2), (S3, x3)):
+        assert np.linalg.norm(b - A @ x) <= PROMISE * np.linalg.norm(b)
+
+
+def test_auto_solves_large_3d_solids_by_cg_and_the_rest_directly():
+    before = sparse_solver()
+    use_sparse_solver("auto")
+    try:
+        small, large = box((3, 3, 3)), box((8, 8, 4))  # 192 and 1215 dofs
+        assert small.n < AUTO_DOFS <= large.n
+        banded = laplacian(40)  # 1600 unknowns, 5 a row: a beam-like sparse system
+        factors, work = SPARSE_FACTORIZATIONS["count"], counts()
+        for A in (iteration_matrix(small, 1e-4), banded):
+            factorize(A, symmetric=True)(np.ones(A.shape[0]))
+        assert SPARSE_FACTORIZATIONS["count"] == factors + 2
+        S = iteration_matrix(large, 1e-4)
+        factorize(S, symmetric=True)(np.ones(S.shape[0]))
+        assert delta(work)["solves"] == 1
+        factorize(S)(np.ones(S.shape[0]))  # not declared symmetric: direct
+        assert SPARSE_FACTORIZATIONS["count"] == factors + 3
+    finally:
+        use_sparse_solver(before)
+
+
+def test_amg_without_pyamg_says_how_to_install(monkeypatch):
+    import builtins
+
+    real_import = builtins.__import__
+
+    def no_pyamg(name, *args, **kwargs):
+        if name == "pyamg":
+            raise ImportError(name)
+        return real_import(name, *args, **kwargs)
+
+    before = sparse_solver()
+    monkeypatch.setattr(builtins, "__import__", no_pyamg)
+    with pytest.raises(InputError, match="pip install pyamg"):
+        use_sparse_solver("amg")
+    assert sparse_solver() == before
+
+
+def ball(solver):
+    """(q per step, smallest gap per step, sim) of the 3D ball (2499 dofs) touching the plane
+    at 1 m/s, its first 60 steps, built anew (a linear model keeps its solver's factors)."""
+    use_sparse_solver(solver)
+    sim = case("ball_drop").build(refinements=3, drop_height=0.0)
+    sim = sim.replace(t_end=60 * sim.dt)
+    model = sim.model
+    states = list(simulate(model, sim.dt, sim.t_end, sim.options, v0=sim.v0))
+    q = np.array([st.q for st in states])
+    gaps = np.array([model.contacts.gaps(st.q).min() for st in states])
+    return q, gaps, sim
+
+
+def test_ball_drop_runs_the_same_with_cg_and_with_the_direct_solver(amg):
+    before, factors = counts(), SPARSE_FACTORIZATIONS["count"]
+    q_cg, gaps_cg, sim = ball("amg")
+    work = delta(before)
+    assert work["solves"] > 0 and work["fallbacks"] == 0
+    assert SPARSE_FACTORIZATIONS["count"] == factors
+    q_lu, gaps_lu, _ = ball("superlu")
+    # zero penetration both ways (gap tolerance 1e-12 of the model size)
+    size = sim.model.length
+    assert gaps_cg.min() >= -1e-12 * size and gaps_lu.min() >= -1e-12 * size
+    assert gaps_cg.min() <= 1e-6 * size  # and the ball is on the plane
+    # each solve leaves a relative error ≤ κ(S) · PROMISE, and the steps add them up
+    kappa = condition_number(iteration_matrix(sim.model, sim.dt))
+    steps = len(q_cg) - 1
+    bound = steps * kappa * PROMISE * np.abs(q_lu).max()
+    assert np.abs(q_cg - q_lu).max() <= bound
