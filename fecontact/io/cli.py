@@ -2,6 +2,8 @@
 
     fecontact run CASE.py [--out DIR] [--dt H] [--t-end T] [--output-interval S]
                           [--set NAME=VALUE]... [--render] [--quiet]
+    fecontact sweep CASE.py --set NAME=V1,V2,... [--workers N] [--scheduler ADDRESS]
+                            [run options]
     fecontact info CASE.py
     fecontact render OUT_DIR_OR_PVD
 
@@ -190,6 +192,43 @@ def _execute(build, args, name: str) -> int:
     return 0
 
 
+def _sweep(build, args, case: Path) -> int:
+    from .sweep import RUN_OPTIONS, run_sweep, sweep_axes
+
+    if args.resume:
+        raise InputError("--resume: a sweep resumes by itself; run the same sweep again")
+    axes = sweep_axes(args.set)
+    for name, flag in RUN_OPTIONS.items():
+        if getattr(args, name) is not None and name in dict(axes):
+            raise InputError(f"{flag} and --set {name}: give one of them")
+    workers = args.workers if args.workers is not None else os.cpu_count() or 1
+    if workers < 1:
+        raise InputError(f"--workers must be >= 1, got {workers}")
+    options = ["--checkpoint-every", str(args.checkpoint_every)]
+    for name, flag in RUN_OPTIONS.items():
+        if getattr(args, name) is not None:
+            options += [flag, repr(getattr(args, name))]
+    options += [f for f in ("--render", "--overwrite") if getattr(args, f[2:])]
+
+    def check(values: dict[str, str]) -> None:
+        one = argparse.Namespace(**vars(args))
+        one.set = [f"{k}={v}" for k, v in values.items() if k not in RUN_OPTIONS]
+        for name in RUN_OPTIONS:
+            if name in values:
+                setattr(one, name, _number(name, values[name]))
+        _prepare(build, one, case.stem).warnings()
+
+    out = Path(args.out) if args.out else Path("out") / f"{case.stem}-sweep"
+    return run_sweep(case.resolve(), axes, out, options, workers, args.scheduler, args.quiet, check)
+
+
+def _number(name: str, text: str) -> float:
+    try:
+        return float(text)
+    except ValueError:
+        raise InputError(f"--set {name}: expected a number in s, got {text!r}") from None
+
+
 def _info(module) -> int:
     build = module.build
     doc = inspect.getdoc(module) or ""
@@ -257,6 +296,11 @@ def main(argv=None) -> int:
     p_run = sub.add_parser("run", help="run a case")
     p_run.add_argument("case", help="case file (Python, defines build())")
     _add_run_options(p_run)
+    p_sweep = sub.add_parser("sweep", help="run every combination of parameter values on Dask")
+    p_sweep.add_argument("case", help="case file (Python, defines build())")
+    _add_run_options(p_sweep)
+    p_sweep.add_argument("--workers", type=int, default=None, help="local worker processes")
+    p_sweep.add_argument("--scheduler", help="address of a running dask.distributed scheduler")
     p_info = sub.add_parser("info", help="list a case's parameters")
     p_info.add_argument("case")
     p_render = sub.add_parser("render", help="render a finished run")
@@ -268,6 +312,8 @@ def main(argv=None) -> int:
         module = load_case(args.case)
         if args.command == "info":
             return _info(module)
+        if args.command == "sweep":
+            return _sweep(module.build, args, Path(args.case))
         return _execute(module.build, args, Path(args.case).stem)
     except InputError as err:
         print(f"fecontact: error: {err}", file=sys.stderr)

@@ -33,12 +33,16 @@ whatever n.
 
 from __future__ import annotations
 
+import inspect
 import time
 import weakref
 
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+
+# the relative tolerance of scipy's cg: ``tol`` before SciPy 1.12, ``rtol`` since
+_RTOL = "rtol" if "rtol" in inspect.signature(spla.cg).parameters else "tol"
 
 __all__ = [
     "AUTO_DOFS",
@@ -281,7 +285,7 @@ class AmgSolve:
         M = spla.LinearOperator((n, n), matvec=psolve, dtype=float)
         status, x = _STALLED, None
         try:
-            x, info = spla.cg(op, b, rtol=RTOL, atol=0.0, maxiter=maxiter, M=M)
+            x, info = spla.cg(op, b, atol=0.0, maxiter=maxiter, M=M, **{_RTOL: RTOL})
             r = b - A @ x
             if info == 0 and np.sqrt(r @ r) <= TRUE_RESIDUAL * RTOL * np.sqrt(b @ b):
                 status = _CONVERGED
