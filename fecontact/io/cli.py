@@ -19,9 +19,11 @@ fails mid-way exits with status 1 and keeps what it wrote.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import dataclasses
 import importlib.util
 import inspect
+import io
 import os
 import sys
 import warnings
@@ -30,7 +32,7 @@ from pathlib import Path
 from ..errors import InputError, SolverError
 from ..params import declared_parameters
 
-__all__ = ["main", "run_cli", "load_case", "parse_value"]
+__all__ = ["main", "run_cli", "run_one", "load_case", "parse_value"]
 
 
 class _Parser(argparse.ArgumentParser):
@@ -219,7 +221,23 @@ def _sweep(build, args, case: Path) -> int:
         _prepare(build, one, case.stem).warnings()
 
     out = Path(args.out) if args.out else Path("out") / f"{case.stem}-sweep"
-    return run_sweep(case.resolve(), axes, out, options, workers, args.scheduler, args.quiet, check)
+    return run_sweep(
+        case.resolve(), axes, out, options, workers, args.scheduler, args.quiet, check, run_one
+    )
+
+
+def run_one(argv: list[str]) -> dict:
+    """Run one ``fecontact run`` command line in this process (a sweep's task on a worker):
+    its exit status and the last line it wrote to stderr."""
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+        try:
+            status = main(argv)
+        except Exception as exc:  # a run must never take the sweep down with it
+            status = 1
+            print(f"{type(exc).__name__}: {exc}", file=err)
+    lines = [line for line in err.getvalue().splitlines() if line.strip()]
+    return {"exit": status, "message": lines[-1] if lines else ""}
 
 
 def _number(name: str, text: str) -> float:

@@ -22,9 +22,7 @@ what has no completed ``summary.json`` yet.
 
 from __future__ import annotations
 
-import contextlib
 import csv
-import io
 import itertools
 import json
 import math
@@ -76,21 +74,6 @@ def _run_argv(case: Path, values: dict[str, str], out: Path, options: list[str])
         else:
             argv += ["--set", f"{name}={value}"]
     return argv
-
-
-def run_one(argv: list[str]) -> dict:
-    """Run one ``fecontact run`` command line in this process (a Dask task): its exit status
-    and the last line it wrote to stderr."""
-    from .cli import main
-
-    err = io.StringIO()
-    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
-        try:
-            status = main(argv)
-        except Exception as exc:  # a run must never take the sweep down with it
-            status, err = 1, io.StringIO(f"{type(exc).__name__}: {exc}")
-    lines = [line for line in err.getvalue().splitlines() if line.strip()]
-    return {"exit": status, "message": lines[-1] if lines else ""}
 
 
 def _completed(out: Path) -> bool:
@@ -174,11 +157,14 @@ def run_sweep(
     scheduler: str | None = None,
     quiet: bool = False,
     check=None,
+    task=None,
 ) -> int:
     """Run the product of ``axes`` (see the module docstring); return the exit status.
 
     ``options`` are ``fecontact run`` options given to every run; ``check(values)`` validates
-    one combination before anything runs (raises ``InputError``)."""
+    one combination before anything runs (raises ``InputError``); ``task(argv) -> {"exit",
+    "message"}`` runs one ``fecontact run`` command line on a worker
+    (:func:`fecontact.io.cli.run_one`)."""
     swept = [name for name, values in axes if len(values) > 1]
     combos = [dict(zip([n for n, _ in axes], c, strict=True)) for c in _product(axes)]
     if check is not None:
@@ -190,7 +176,7 @@ def run_sweep(
         if not _completed(folder):
             todo.append((i, _run_argv(case, values, folder, options)))
     if todo:
-        results = _execute(todo, workers, scheduler, quiet)
+        results = _execute(task, todo, workers, scheduler, quiet)
     rows = [
         _row({k: v[k] for k in swept}, out / _folder({k: v[k] for k in swept}), results.get(i))
         for i, v in enumerate(combos)
@@ -215,14 +201,14 @@ def _check_each_value(axes, check) -> None:
             check({**first, name: value})
 
 
-def _execute(todo, workers, scheduler, quiet) -> dict:
+def _execute(task, todo, workers, scheduler, quiet) -> dict:
     from dask.distributed import as_completed
     from tqdm import tqdm
 
     client, cluster = _client(scheduler, max(1, min(workers, len(todo))))
     results = {}
     try:
-        futures = {client.submit(run_one, argv, pure=False): i for i, argv in todo}
+        futures = {client.submit(task, argv, pure=False): i for i, argv in todo}
         bar = tqdm(total=len(todo), desc="sweep", unit="run", file=sys.stderr, disable=quiet)
         for future in as_completed(futures):
             try:
