@@ -1,12 +1,13 @@
 """Eight runs one after another against ``fecontact sweep`` on two local workers.
 
-The flexible pendulum (the founding case, 1.5 s) over e_N ∈ {0, 1/3, 2/3, 1} and
-h ∈ {5e-4, 2.5e-4} s: first each run through ``fecontact run`` in this process, one after
-another, then the same eight as one ``fecontact sweep --workers 2`` (a local cluster of two
-worker processes, started and stopped inside the measured time). Reported: both wall times,
-their ratio, and the largest difference between the summary figures of the same run.
+The flexible pendulum (the founding case, 1.5 s) over e_N ∈ {0, 1/3, 2/3, 1} and two step
+sizes: h ∈ {5e-4, 2.5e-4} s (runs of about 2 s) and h ∈ {2e-4, 1e-4} s (about 5 s). First
+each run through ``fecontact run`` in this process, one after another, then the same eight as
+one ``fecontact sweep --workers 2`` (a local cluster of two worker processes, started and
+stopped inside the measured time). Reported: both wall times, their ratio, and the largest
+difference between the summary figures of the same run.
 
-    python benchmarks/sweep_speed.py           # about a minute
+    python benchmarks/sweep_speed.py           # about three minutes
 """
 
 from __future__ import annotations
@@ -23,15 +24,15 @@ from fecontact.io.cli import main
 
 CASE = str(ROOT / "cases" / "flexible_pendulum.py")
 RESTITUTION = ("0", "0.333", "0.667", "1")
-STEPS = ("5e-4", "2.5e-4")
+SERIES = (("5e-4", "2.5e-4"), ("2e-4", "1e-4"))
 FIGURES = ("steps", "energy_final", "max_penetration", "newton_iterations_total", "step_halvings")
 
 
-def serial(out: Path) -> tuple[float, dict]:
+def serial(out: Path, steps) -> tuple[float, dict]:
     start = time.perf_counter()
     figures = {}
     for e in RESTITUTION:
-        for dt in STEPS:
+        for dt in steps:
             folder = out / f"{e}-{dt}"
             args = ["run", CASE, "--set", f"restitution={e}", "--dt", dt, "--quiet"]
             assert main([*args, "--out", str(folder), "--checkpoint-every", "0"]) == 0
@@ -40,10 +41,10 @@ def serial(out: Path) -> tuple[float, dict]:
     return time.perf_counter() - start, figures
 
 
-def swept(out: Path) -> tuple[float, dict]:
+def swept(out: Path, steps) -> tuple[float, dict]:
     start = time.perf_counter()
     args = ["sweep", CASE, "--set", "restitution=" + ",".join(RESTITUTION)]
-    args += ["--set", "dt=" + ",".join(STEPS), "--workers", "2", "--quiet"]
+    args += ["--set", "dt=" + ",".join(steps), "--workers", "2", "--quiet"]
     assert main([*args, "--out", str(out), "--checkpoint-every", "0"]) == 0
     wall = time.perf_counter() - start
     with open(out / "sweep.csv", newline="") as f:
@@ -51,26 +52,31 @@ def swept(out: Path) -> tuple[float, dict]:
     return wall, {(r["restitution"], r["dt"]): r for r in rows}
 
 
-def main_() -> None:
-    args = parser(__doc__.splitlines()[0]).parse_args()
-    with tempfile.TemporaryDirectory() as tmp:
-        t_serial, one = serial(Path(tmp) / "serial")
-        t_sweep, rows = swept(Path(tmp) / "sweep")
+def measure(tmp: Path, steps) -> dict:
+    t_serial, one = serial(tmp / "serial", steps)
+    t_sweep, rows = swept(tmp / "sweep", steps)
     worst = 0.0
     for (e, dt), fig in one.items():
         row = rows[(e, str(float(dt)))]
         for k, v in fig.items():
             worst = max(worst, abs(float(row[k]) - float(v)))
-    result = [
-        {
-            "runs": len(one),
-            "serial_s": t_serial,
-            "sweep_s": t_sweep,
-            "ratio": t_sweep / t_serial,
-            "max_figure_difference": worst,
-        }
-    ]
-    columns = ["runs", "serial_s", "sweep_s", "ratio", "max_figure_difference"]
+    return {
+        "steps (s)": " and ".join(steps),
+        "runs": len(one),
+        "serial_s": t_serial,
+        "sweep_s": t_sweep,
+        "ratio": t_sweep / t_serial,
+        "max_figure_difference": worst,
+    }
+
+
+def main_() -> None:
+    args = parser(__doc__.splitlines()[0]).parse_args()
+    result = []
+    for i, steps in enumerate(SERIES):
+        with tempfile.TemporaryDirectory() as tmp:
+            result.append(measure(Path(tmp) / str(i), steps))
+    columns = ["steps (s)", "runs", "serial_s", "sweep_s", "ratio", "max_figure_difference"]
     table = markdown_table(result, columns)
     print(table)
     out = Path(args.out or RESULTS)
