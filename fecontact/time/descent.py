@@ -15,7 +15,8 @@ checked and globalized in units of energy:
    S_t + τ β′M, τ = 1, 10, 100, … (a step of the same equations with a smaller effective
    time step, tending to steepest descent in the metric M);
 2. its length s = 1, ½, ¼, … is the first with the Armijo decrease
-   Π(q + s d) − Π(q) ≤ 10⁻⁴ s r·d.
+   Π(q + s d) − Π(q) ≤ 10⁻⁴ s r·d. The full step is tested with the strain energy that the
+   next iteration's internal forces bring anyway; only a failed test costs evaluations of W.
 
 Updates below the increment tolerance are taken whole: they end the iteration, and there the
 change of W is a difference of nearly equal sums that has lost its digits (I₁ − 3 of a small
@@ -28,12 +29,14 @@ step (then halved), never a silent tiny step. Both events are counted in ``NEWTO
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 import scipy.sparse as sp
 
 from .constraints import StepFailure, factorize_or_fail
 
-__all__ = ["NEWTON", "descent_update"]
+__all__ = ["NEWTON", "Armijo", "descent_direction"]
 
 NEWTON = {"iterations": 0, "line_search_cuts": 0, "shifted_directions": 0}
 """Smooth Newton updates in this process: all of them, the halvings of their length by the
@@ -44,27 +47,59 @@ MAX_CUTS = 30
 MAX_SHIFTS = 12
 
 
-def descent_update(model, q, r, fi, S, K, solve, shift, opts, residual: float) -> np.ndarray:
-    """The globalized Newton update of the free dofs at ``q``.
+class Armijo(NamedTuple):
+    """Armijo's test of a full update dq from q, decided by the strain energy W₁ at q + dq,
+    which the next iteration's internal forces bring at no cost: Π(q + dq) − Π(q) =
+    lin + quad + W₁ − W₀ ≤ 10⁻⁴ slope. ``lin`` = (r − f_int)·dq and ``quad`` =
+    ½ dqᵀ(S − K)dq are the exact linear and quadratic parts of Π along dq."""
+
+    X: np.ndarray  # the iterate (q, v, v̇, a) the update started from
+    dq: np.ndarray
+    lin: float
+    quad: float
+    slope: float
+    W0: float
+    residual: float  # the relative residual at X, reported if the step fails
+
+    def accepts(self, W1: float) -> bool:
+        return self.lin + self.quad + (W1 - self.W0) <= ARMIJO * self.slope
+
+    def backtrack(self, model) -> float:
+        """The first s = ½, ¼, … that passes the test, from the strain energy at q + s dq."""
+        q = self.X[0]
+        qt = q.copy()
+        s = 1.0
+        for _ in range(MAX_CUTS):
+            s *= 0.5
+            NEWTON["line_search_cuts"] += 1
+            qt[model.free] = q[model.free] + s * self.dq
+            change = s * self.lin + s * s * self.quad + (model.strain_energy(qt) - self.W0)
+            if change <= ARMIJO * s * self.slope:
+                return s
+        raise StepFailure("smooth step: the line search found no decrease", self.residual)
+
+
+def descent_direction(model, r, fi, S, K, solve, shift, tol_increment: float, residual: float):
+    """Newton's direction −S⁻¹r of the free dofs, or the mass-shifted one where it does not
+    descend Π.
 
     ``r`` is the residual (the gradient of Π), ``fi`` the internal force in it, ``S`` the
     iteration matrix and ``K`` the tangent of ``fi`` (both free × free), ``solve`` applies
-    S⁻¹, ``shift`` is the positive definite matrix β′M added to shift S; ``opts`` give the
-    increment tolerance (an update below it ends the iteration). ``residual`` is the
-    relative residual, reported if the step fails.
+    S⁻¹, ``shift`` is the positive definite matrix β′M added to shift S. ``residual`` is the
+    relative residual, reported if the step fails. Returns dq, lin and quad (see
+    :class:`Armijo`) and the slope r·dq < 0; slope None for an update below
+    ``tol_increment`` (:meth:`fecontact.model.Model.update_size`), taken whole.
     """
     NEWTON["iterations"] += 1
     dq = -solve(r)
-    if model.update_size(dq) <= opts.tol_increment:
-        return dq
+    if model.update_size(dq) <= tol_increment:
+        return dq, 0.0, 0.0, None
     tau = 0.0
     for _ in range(MAX_SHIFTS):
         slope = float(r @ dq)
         if slope < 0.0:
             quad = 0.5 * (float(dq @ (S @ dq)) - float(dq @ (K @ dq)))
-            s = _armijo(model, q, dq, float((r - fi) @ dq), quad, slope)
-            if s is not None:
-                return s * dq
+            return dq, float((r - fi) @ dq), quad, slope
         tau = 1.0 if tau == 0.0 else 10.0 * tau
         NEWTON["shifted_directions"] += 1
         dq = -factorize_or_fail(_plus(S, tau * shift), residual, symmetric=True)(r)
@@ -75,20 +110,3 @@ def _plus(S, T):
     if sp.issparse(S) or not sp.issparse(T):
         return S + T
     return S + T.toarray()
-
-
-def _armijo(model, q, dq, lin, quad, slope):
-    """The first s = 2⁻ⁱ with Π(q + s dq) − Π(q) ≤ 10⁻⁴ s·slope, or None.
-
-    ``lin`` = (r − f_int)·dq and ``quad`` = ½ dqᵀ(S − K)dq are the exact linear and quadratic
-    parts of Π along dq; the strain energy W supplies the rest."""
-    W0 = model.strain_energy(q)
-    qt = q.copy()
-    s = 1.0
-    for _ in range(MAX_CUTS):
-        qt[model.free] = q[model.free] + s * dq
-        if s * lin + s * s * quad + (model.strain_energy(qt) - W0) <= ARMIJO * s * slope:
-            return s
-        s *= 0.5
-        NEWTON["line_search_cuts"] += 1
-    return None

@@ -46,7 +46,7 @@ from .constraints import (
     factorize_or_fail,
 )
 from .coulomb import frictional_correction
-from .descent import descent_update
+from .descent import Armijo, descent_direction
 from .generalized_alpha import coefficients, predict
 from .impacts import velocity_jump
 from .state import IntegratorOptions, PhaseTimer, State, length_scale
@@ -215,8 +215,15 @@ def _smooth_step(model, st, t, c, opts, timer) -> SmoothStep:
     # ... and then the joints' Taylor remainders bound the residual an update leaves
     bounded = linear and nb and not joints.linear
     clock = time.perf_counter()
+    armijo = None  # the test of the last full update, decided by the energy at its end
     for it in range(opts.max_iterations + 1):
-        _, fint, K = model.internal(q, tangent=not linear)
+        W, fint, K = model.internal(q, tangent=not linear)
+        if armijo is not None and not armijo.accepts(W):
+            s = armijo.backtrack(model)
+            X[:] = armijo.X
+            X[:, F] += np.multiply.outer(c.w, s * armijo.dq)
+            W, fint, K = model.internal(q, tangent=not linear)
+        armijo = None
         fi = fint[F]
         Mvd = model.M @ vd[F]
         r = Mvd + fi - fext
@@ -258,8 +265,12 @@ def _smooth_step(model, st, t, c, opts, timer) -> SmoothStep:
             if linear:  # Π is quadratic and S_t positive definite: Newton's step is exact
                 dq = -solve(r)
             else:
-                shift = c.bp * model.M
-                dq = descent_update(model, q, r, fi, S, K, solve, shift, opts, rnorm / ref)
+                shift, res = c.bp * model.M, rnorm / ref
+                dq, *test = descent_direction(
+                    model, r, fi, S, K, solve, shift, opts.tol_increment, res
+                )
+                if test[-1] is not None:
+                    armijo = Armijo(X.copy(), dq, *test, W, res)
         X[:, F] += np.multiply.outer(c.w, dq)  # q, v, v̇, a
         clock = timer.add("solve", clock)
         if (bounded and _converged_by_bound(model, vd, dq, lam, x[nF:], ff, tol_b, opts)) or (
