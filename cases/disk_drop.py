@@ -7,6 +7,11 @@ against the plane (``NodeContact``, restitution e_N at the nodes); the disk boun
 its own elasticity, its contact patch spreading over a few nodes. The material is a
 compressible Neo-Hookean solid (``material="linear"`` or ``"svk"`` for the others).
 
+Thrown at an angle (``slide_velocity`` along +x) with Coulomb ``friction`` μ at the
+contact nodes, the disk is slowed along the plane and set spinning: over the impact the
+tangential momentum changes by at most μ times the normal one (exactly that while every
+contact node slips), and the work of friction is in ``history.csv``.
+
 The step is an eighth of the time the dilatational wave takes to cross the shortest element
 edge. While nodes stay in contact the integrator's corrections put energy in and take it out
 again step by step, with a transient excess that is second order in the step: measured on
@@ -14,7 +19,9 @@ this disk, +1.6 % of the impact kinetic energy at this step, +7.5 % at twice it 
 mechanism, and the step that bounds it, in ``two_disks``).
 
 Probes: ``y_center`` and ``vy_center`` (height of the centre of mass, m, and its velocity,
-m/s), ``gap`` (lowest point above the plane, m) and ``contact_force`` (Σ k Λ_j / h, N).
+m/s), ``vx_center`` (its velocity along the plane, m/s), ``omega`` (angular velocity about
+the centre of mass, rad/s, counter-clockwise), ``gap`` (lowest point above the plane, m) and
+``contact_force`` (Σ k Λ_j / h, N).
 """
 
 from fecontact import Model, Param, Simulation, case, run_cli
@@ -26,6 +33,7 @@ from fecontact.scenes import (
     contact_force_probe,
     lowest_point_probe,
     solid_material,
+    spin_probe,
     wave_step,
 )
 
@@ -41,14 +49,18 @@ def build(
     drop_height=Param.nonnegative(0.002, "m", "initial gap between the disk and the plane"),
     velocity=Param.nonnegative(1.0, "m/s", "initial downward speed"),
     restitution=Param.fraction(0.0, "Newton's coefficient e_N at the contact nodes"),
+    slide_velocity=Param(0.0, "m/s", "initial velocity along the plane (+x)", -1e3, 1e3),
+    friction=Param.nonnegative(0.0, "-", "Coulomb's coefficient mu at the contact nodes"),
     t_end=Param.positive(0.008, "s", "end time"),
 ):
     disk = Solid.disk(
         [0.0, radius + drop_height], radius, refinements, solid_material(material, E, nu, rho)
     )
     floor = Plane([0.0, 0.0], [0.0, 1.0])
-    model = Model([disk], [Contact(disk, floor, restitution=restitution)])
+    model = Model([disk], [Contact(disk, floor, restitution=restitution, friction=friction)])
     probes = centre_of_mass_probes(model, disk, 1, radius + drop_height)
+    probes["vx_center"] = centre_of_mass_probes(model, disk, 0)["vx_center"]
+    probes["omega"] = spin_probe(model, disk)
     probes |= {"gap": lowest_point_probe(model, disk, 1), "contact_force": contact_force_probe()}
     return Simulation(
         model,
@@ -57,7 +69,7 @@ def build(
         probes=probes,
         output_interval=t_end / 40,
         name="disk_drop",
-        v0=model.translation(disk, (0.0, -velocity)),
+        v0=model.translation(disk, (slide_velocity, -velocity)),
     )
 
 

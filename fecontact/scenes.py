@@ -67,6 +67,23 @@ def centre_of_mass_probes(model, body, axis: int, start: float = 0.0, name: str 
     }
 
 
+def spin_probe(model, body) -> Probe:
+    """Angular velocity ω = L/I (rad/s, counter-clockwise) of a 2D solid about its centre of
+    mass c: L = Σ_a r_a × (M v)_a and I = Σ_a r_a·(M r)_a, r = x − c, with the consistent
+    mass M (∫ρ N_a N_b = M_ab: exact for the interpolated motion)."""
+    s = model.body_slice(model.bodies.index(body))
+    M = body.mass_matrix()
+
+    def omega(m, st):
+        x = body.positions(st.q[s])
+        r = x - body.nodal(M @ x.ravel()).sum(axis=0) / body.mass
+        p = body.nodal(M @ st.v[s])
+        L = np.sum(r[:, 0] * p[:, 1] - r[:, 1] * p[:, 0])
+        return float(L / np.sum(r * body.nodal(M @ r.ravel())))
+
+    return Probe(omega, "rad/s", "angular velocity about the centre of mass, counter-clockwise")
+
+
 def lowest_point_probe(model, body, axis: int) -> Probe:
     """The smallest coordinate (m) along ``axis`` of the body's nodes: its height above a
     floor through the origin."""
