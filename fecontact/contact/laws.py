@@ -123,10 +123,18 @@ def solve_position_correction(
     dU, dU_prev = np.inf, np.inf
     A = None
     for it in range(max_iter + 1):
-        # the update has converged; or it stalls at the round-off of the solve (H − C of a
-        # stiff body amplifies it past tol_u) while far below the gap tolerance: an update that
-        # stalls or cycles above the gap tolerance has not converged
-        settled = dU <= tol_u or (dU > 0.5 * dU_prev and dU <= tol_gap)
+        # the update has converged: it is below tol_u, or it contracts (ρ = dU/dU_prev < ½)
+        # so fast that the distance left to the solution, at most ρ/(1 − ρ) dU, is (Newton's
+        # quadratic phase: the update that would confirm it costs a solve and changes U by
+        # round-off); or it stalls at the round-off of the solve (H − C of a stiff body
+        # amplifies it past tol_u) while far below the gap tolerance: an update that stalls or
+        # cycles above the gap tolerance has not converged
+        rho = dU / dU_prev if np.isfinite(dU_prev) and dU_prev > 0.0 else 1.0
+        settled = (
+            dU <= tol_u
+            or (rho < 0.5 and rho / (1.0 - rho) * dU <= tol_u)
+            or (dU > 0.5 * dU_prev and dU <= tol_gap)
+        )
         if it > 0 and settled and _settled(nu, g, p, k, eq, tol_gap):
             _record("position", nu, g, p, k, eq, tol_gap)
             return U, nu, it
