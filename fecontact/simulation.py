@@ -258,6 +258,7 @@ class _Recorder:
         self.history = HistoryWriter(out / "history.csv", self.columns, keep_rows=keep_rows)
         self.impacts: list[dict] = []
         self.closed = np.zeros(self.model.contacts.size, dtype=bool)
+        self.impact_frame = False  # the first impact's frame is written
         self.iter_total = 0
         self.iter_max = 0
         self.halvings = 0
@@ -297,12 +298,14 @@ class _Recorder:
         self.min_gap = min(self.min_gap, min_gap)
 
     def stats(self) -> dict:
-        return {k: getattr(self, k) for k in self.STATS} | {"closed": self.closed.tolist()}
+        extra = {"closed": self.closed.tolist(), "impact_frame": self.impact_frame}
+        return {k: getattr(self, k) for k in self.STATS} | extra
 
     def restore(self, stats: dict) -> None:
         for k in self.STATS:
             setattr(self, k, stats[k])
         self.closed = np.array(stats["closed"], dtype=bool)
+        self.impact_frame = bool(stats.get("impact_frame", True))
 
     def summary(
         self, status: str, wall: float, timer: dict, message: str = "", factors=None
@@ -420,8 +423,15 @@ def run(
         steps = simulate(sim.model, sim.dt, sim.t_end, sim.options, timer, sim.q0, sim.v0, start)
         for st in steps:
             clock = time.perf_counter()
+            closed_before = int(rec.closed.sum())
             rec.record(st)
-            if frames and (st.t >= next_frame - 1e-9 * sim.dt or st.t >= sim.t_end - 1e-12):
+            # the first impact gets a frame of its own: the bodies touching, whatever the
+            # output interval (contacts closed from the first step are not an impact)
+            impact = not rec.impact_frame and st.step >= 2 and rec.closed.sum() > closed_before
+            rec.impact_frame = rec.impact_frame or impact
+            if frames and (
+                impact or st.t >= next_frame - 1e-9 * sim.dt or st.t >= sim.t_end - 1e-12
+            ):
                 pvd.write_frame(st.t, _frame_parts(sim.model, st))
                 interval = sim.output_interval
                 next_frame = (math.floor(st.t / interval + 1e-6) + 1) * interval

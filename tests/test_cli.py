@@ -64,9 +64,11 @@ def test_run_writes_frames_history_and_summary(short_run):
     L, m_tip, m_beam, g = 0.3, 0.14, 2700.0 * 0.02 * 0.002 * 0.3, 9.81
     omega0 = np.sqrt(g * (m_tip * L + m_beam * L / 2) / (m_tip * L**2 + m_beam * L**2 / 3))
     assert abs(s["impacts"][0]["time"] - ellipk(0.5) / omega0) <= 2e-3
-    # frames at the output interval, with real times, readable by pyvista
+    # frames at the output interval and at the first impact, with real times, readable by
+    # pyvista
     times = [t for t, _ in run.frames()]
-    assert np.allclose(times, np.r_[np.arange(0, 0.35, 0.05), 0.35])
+    expected = np.sort(np.r_[np.arange(0, 0.35, 0.05), 0.35, s["impacts"][0]["time"]])
+    assert np.allclose(times, expected)
     t, parts = run.frames([-1])[0]
     beam = next(m for name, m in parts.items() if "obstacle" not in name)
     assert beam.point_data["displacement"].shape == (5, 3)
