@@ -25,6 +25,7 @@ from . import __version__
 from .contact.friction import COULOMB
 from .contact.laws import ALART_CURNIER, LEAST_SQUARES
 from .errors import InputError, SolverError, check_positive
+from .io.frames import bodies_box, frame_parts, friction_totals, static_parts
 from .io.output import FRICTION_COLUMNS, STANDARD_COLUMNS
 from .io.run_folder import (
     CHECKPOINT,
@@ -146,89 +147,6 @@ class Simulation:
     def replace(self, **changes) -> Simulation:
         """A copy with some fields changed (validated again)."""
         return dataclasses.replace(self, **changes)
-
-
-def _frame_parts(model, state: State):
-    from .io.vtu import body_mesh
-
-    contacts = model.contacts
-    if state.impulse.any():
-        f_imp = contacts.generalized_force(state.q, contacts.all, state.impulse, model.n)
-    else:  # no contact acted in this step: nothing to evaluate
-        f_imp = np.zeros(model.n)
-    h = state.h if state.h > 0 else math.inf
-    friction = contacts.frictional
-    if friction:
-        f_t, flag = _friction_parts(model, state, model.n)
-    parts = {}
-    for i, body in enumerate(model.bodies):
-        s = model.body_slice(i)
-        q = state.q[s]
-        data = dict(body.point_data(q, state.v[s]))
-        data["contact_impulse"] = _point_impulse(body, f_imp[s])
-        data["contact_force"] = data["contact_impulse"] / h
-        if friction:
-            data["tangential_impulse"] = _point_impulse(body, f_t[s])
-            data["tangential_force"] = data["tangential_impulse"] / h
-            data["friction_state"] = np.max(np.abs(_point_impulse(body, flag[s])), axis=1)
-        cell_data = {k: [v] for k, v in body.cell_data(q).items()} or None
-        parts[_part_name(body, i)] = body_mesh(body.positions(q), body.cells(), data, cell_data)
-    parts.update(_obstacle_parts(model, moving=True))
-    return parts
-
-
-def friction_totals(st: State) -> list[float]:
-    """Σ_j |k Λ_T,j| of the step (N·s) and the work friction dissipated since t = 0 (J)."""
-    lam_t = st.memory.get("friction_impulse")
-    if lam_t is None:
-        return [0.0, float(st.memory.get("friction_work", [0.0])[0])]
-    return [float(np.linalg.norm(lam_t, axis=1).sum()), float(st.memory["friction_work"][0])]
-
-
-def _friction_parts(model, state: State, n: int):
-    """Generalized tangential impulse Σ_j G_T,jᵀ k Λ_T,j (n,) and per-dof friction state
-    (0 none, 1 stick, 2 slip: the largest among the contacts on the dof)."""
-    lam_t = state.memory.get("friction_impulse")
-    status = state.memory.get("friction_status")
-    if lam_t is None or not np.any(status):
-        return np.zeros(n), np.zeros(n)
-    contacts = model.contacts
-    select = np.flatnonzero(status)
-    return contacts.tangent_force(state.q, select, lam_t[select], status[select], n)
-
-
-def _point_impulse(body, f: np.ndarray) -> np.ndarray:
-    """Contact impulse at the output points: nodal for deformable bodies; for a rigid body
-    the resultant (N·s) is drawn at its centre of mass."""
-    center = body.center_index
-    if center is None:
-        return body.nodal(f)
-    out = np.zeros((body.n_nodes, 2))
-    out[center] = f[:2]
-    return out
-
-
-def _part_name(body, i: int) -> str:
-    return f"{type(body).__name__.lower()}{i}"
-
-
-def _static_parts(model):
-    return _obstacle_parts(model, moving=False)
-
-
-def _obstacle_parts(model, moving: bool):
-    """Outlines of the rigid obstacles that move (drawn every frame) or stay (drawn once)."""
-    from .io.vtu import line_mesh
-
-    parts = {}
-    for j, pair in enumerate(model.contacts.pairs):
-        obs = pair.obstacle
-        if obs is None or obs.moving != moving:
-            continue  # a contact between bodies: nothing static to draw
-        pts = obs.outline(obs.extent or 2.0 * model.length)
-        conn = np.stack([np.arange(len(pts) - 1), np.arange(1, len(pts))], axis=1)
-        parts[f"obstacle{j}"] = line_mesh(pts, conn, {})
-    return parts
 
 
 class _Recorder:
@@ -417,8 +335,10 @@ def run(
     newton_start = dict(NEWTON)
     ALART_CURNIER.update(position=0.0, velocity=0.0)  # largest values of this run
     try:
+        box = None  # the bodies' box over the frames, for the obstacles' outlines
         if frames and start is None:
-            for part, mesh in _static_parts(sim.model).items():
+            box = bodies_box(sim.model, np.zeros(sim.model.n) if sim.q0 is None else sim.q0)
+            for part, mesh in static_parts(sim.model, box).items():
                 pvd.write_static(part, mesh)
         steps = simulate(sim.model, sim.dt, sim.t_end, sim.options, timer, sim.q0, sim.v0, start)
         for st in steps:
@@ -432,7 +352,13 @@ def run(
             if frames and (
                 impact or st.t >= next_frame - 1e-9 * sim.dt or st.t >= sim.t_end - 1e-12
             ):
-                pvd.write_frame(st.t, _frame_parts(sim.model, st))
+                pvd.write_frame(st.t, frame_parts(sim.model, st))
+                now = bodies_box(sim.model, st.q)
+                box = (
+                    now
+                    if box is None
+                    else np.stack([np.minimum(box[0], now[0]), np.maximum(box[1], now[1])])
+                )
                 interval = sim.output_interval
                 next_frame = (math.floor(st.t / interval + 1e-6) + 1) * interval
             if checkpoint_every and st.step and st.step % checkpoint_every == 0:
@@ -450,6 +376,9 @@ def run(
         status, message = "interrupted", "interrupted by the user"
         raise
     finally:
+        if frames and box is not None:  # the static outlines under the whole motion
+            for part, mesh in static_parts(sim.model, box).items():
+                pvd.write_static(part, mesh)
         timer.add("output", _flush(pvd))
         wall = time.perf_counter() - t_start
         rec.history.close()

@@ -34,19 +34,19 @@ def same_run(a, b):
 
 def test_resume_after_ctrl_c_equals_uninterrupted_run(reference, tmp_path, monkeypatch):
     out = tmp_path / "interrupted"
-    frame_parts = simulation._frame_parts
+    frame_parts = simulation.frame_parts
 
     def interrupt_late(model, st):
         if st.t > 0.52:
             raise KeyboardInterrupt
         return frame_parts(model, st)
 
-    monkeypatch.setattr(simulation, "_frame_parts", interrupt_late)
+    monkeypatch.setattr(simulation, "frame_parts", interrupt_late)
     assert main(["run", CASE, "--out", str(out), *ARGS]) == 130
     partial = load_run(out)
     assert partial.summary["status"] == "interrupted"
     assert 0.5 < partial.frames()[-1][0] <= 0.52  # every frame so far stays readable
-    monkeypatch.setattr(simulation, "_frame_parts", frame_parts)
+    monkeypatch.setattr(simulation, "frame_parts", frame_parts)
     assert main(["run", CASE, "--out", str(out), "--resume", *ARGS]) == 0
     same_run(reference, out)
 

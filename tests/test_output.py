@@ -285,3 +285,23 @@ def test_load_run_accepts_pvd_path_and_reports_missing_or_ambiguous_pvd(tmp_path
     PVDWriter(folder, "b").write_frame(0.0, {"beam": beam_at(0.0)})
     with pytest.raises(FileNotFoundError, match="2 .pvd files"):
         load_run(folder)
+
+
+def test_a_plane_is_drawn_under_the_whole_motion(tmp_path):
+    """The block slides about 1.5 m down a 30° incline: the plane's outline covers where it
+    went, not 2 model sizes around the plane's point."""
+    from fecontact.io.cli import main
+    from fecontact.io.output import load_run
+    from fecontact.testing import CASES
+
+    out = tmp_path / "slide"
+    args = ["run", str(CASES / "sliding_block.py"), "--quiet", "--out", str(out)]
+    assert main([*args, "--set", "incline=30", "--set", "friction=0.2"]) == 0
+    run = load_run(out)
+    plane = pyvista.read(next(out.glob("*obstacle*.vtu"))).points[:, :2]
+    direction = (plane[1] - plane[0]) / np.linalg.norm(plane[1] - plane[0])
+    reach = np.sort(plane @ direction)
+    for _, parts in run.frames():
+        block = next(m for name, m in parts.items() if "obstacle" not in name).points[:, :2]
+        along = block @ direction
+        assert reach[0] <= along.min() and along.max() <= reach[1]

@@ -95,15 +95,20 @@ class Plane(_Motion):
     def anchor(self) -> np.ndarray:
         return self.point
 
-    def outline(self, size: float) -> np.ndarray:
+    def outline(self, size: float, around=None) -> np.ndarray:
         """A piece of the boundary of side ``size`` (m) for output: the end points (2, 2) of a
-        segment in 2D, a closed square loop (5, 3) in 3D."""
+        segment in 2D, a closed square loop (5, 3) in 3D; centred at the plane's point, or at
+        the foot of ``around`` (a point, m) on the plane."""
+        base = self.point + self.shift()
+        if around is not None:
+            d = np.asarray(around, dtype=float)[: self.dim] - base
+            base = base + d - (d @ self.normal) * self.normal
         if self.dim == 2:
             t = np.array([-self.normal[1], self.normal[0]])
-            return self.point + self.shift() + 0.5 * size * np.array([-t, t])
+            return base + 0.5 * size * np.array([-t, t])
         t1, t2 = _tangents(self.normal)
         corners = np.array([[-1, -1], [1, -1], [1, 1], [-1, 1], [-1, -1]]) * (0.5 * size)
-        return self.point + self.shift() + corners[:, :1] * t1 + corners[:, 1:] * t2
+        return base + corners[:, :1] * t1 + corners[:, 1:] * t2
 
 
 class Circle(_Motion):
@@ -148,7 +153,7 @@ class Circle(_Motion):
     def anchor(self) -> np.ndarray:
         return self.center
 
-    def outline(self, size: float = 0.0, n: int = 96) -> np.ndarray:
+    def outline(self, size: float = 0.0, around=None, n: int = 96) -> np.ndarray:
         """Points on the rim for output (``size`` is not needed), joined in order: the circle
         (n + 1, 2) in 2D; in 3D the great circles in the xy, xz and yz planes, linked by a
         quarter of the first."""
@@ -193,7 +198,7 @@ class Point:
     def anchor(self) -> np.ndarray:
         return self.position
 
-    def outline(self, size: float = 0.0, n: int = 48) -> np.ndarray:
+    def outline(self, size: float = 0.0, around=None, n: int = 48) -> np.ndarray:
         """Points on the rim for output (``size`` is not needed), joined in order."""
         s = np.linspace(0.0, 2.0 * np.pi, n + 1)
         return self.position + max(self.radius, 1e-9) * np.stack([np.cos(s), np.sin(s)], axis=1)
