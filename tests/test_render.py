@@ -145,3 +145,19 @@ def test_render_mp4_at_requested_times_without_history(tmp_path):
         check=True,
     )  # fmt: skip
     assert_picture(iio.imread(last), WINDOW_SIZE[::-1])
+
+
+def test_history_panels_name_what_the_probes_measure():
+    from fecontact.io.render import history_panels
+
+    probes = {
+        "y_center": {"unit": "m", "description": "centre of mass position"},
+        "vy_center": {"unit": "m/s", "description": "centre of mass velocity"},
+        "gap": {"unit": "m", "description": "lowest point height"},
+        "tip_x": {"unit": "m", "description": "tip position"},
+        "omega": {"unit": "rad/s", "description": "angular velocity of the disk"},
+    }
+    panels = dict((tuple(names), label) for label, names in history_panels(list(probes), probes))
+    assert panels[("y_center", "gap", "tip_x")] == "length (m)"  # positions: no displacement
+    assert panels[("vy_center",)] == "centre of mass velocity (m/s)"
+    assert panels[("omega",)] == "angular velocity of the disk (rad/s)"

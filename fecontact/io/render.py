@@ -35,7 +35,7 @@ from .output import (
     read_json,
 )
 
-__all__ = ["render_run", "plot_history", "WINDOW_SIZE", "MAX_ANIMATION_FRAMES"]
+__all__ = ["render_run", "plot_history", "history_panels", "WINDOW_SIZE", "MAX_ANIMATION_FRAMES"]
 
 WINDOW_SIZE = (800, 608)  # pixels; multiples of 16 suit video encoders
 MAX_ANIMATION_FRAMES = 150
@@ -395,7 +395,7 @@ def render_run(
 
 
 _QUANTITY = {
-    "m": "displacement",
+    "m": "length",
     "m/s": "velocity",
     "m/s^2": "acceleration",
     "rad": "rotation",
@@ -409,7 +409,7 @@ _QUANTITY = {
 }
 
 
-def _panels(columns: list[str], probes: dict) -> list[tuple[str, list[str]]]:
+def history_panels(columns: list[str], probes: dict) -> list[tuple[str, list[str]]]:
     """(y label, probe columns) per panel: one panel per unit, else one per probe."""
     groups: dict[object, list[str]] = {}
     for name in columns:
@@ -419,8 +419,13 @@ def _panels(columns: list[str], probes: dict) -> list[tuple[str, list[str]]]:
     for key, names in groups.items():
         if isinstance(key, tuple):
             panels.append((names[0], names))
-        else:
-            panels.append((f"{_QUANTITY.get(key, names[0])} ({key})", names))
+            continue
+        # the probes' own words when they agree (a position is no displacement), else the
+        # quantity of the unit
+        texts = {(probes.get(n) or {}).get("description") for n in names}
+        text = texts.pop() if len(texts) == 1 and None not in texts else None
+        text = text if text and len(text) <= 32 else None  # an axis label, not a sentence
+        panels.append((f"{text or _QUANTITY.get(key, names[0])} ({key})", names))
     return panels
 
 
@@ -439,7 +444,7 @@ def plot_history(out_dir, path=None) -> Path:
     if "t" not in history:
         raise ValueError(f"{folder / HISTORY_FILE} has no column 't'")
     probes = [c for c in history if c not in STANDARD_COLUMNS]
-    panels = _panels(probes, summary.get("probes") or {})
+    panels = history_panels(probes, summary.get("probes") or {})
     energy = "total_energy" in history
     if not panels and not energy:
         raise ValueError(f"{folder / HISTORY_FILE} has no probe or energy columns")
