@@ -140,16 +140,21 @@ def _fix_camera(plotter, bounds: np.ndarray, pad: float) -> None:
     plotter.camera.clipping_range = (distance / 100, distance * 100)
 
 
+ELEVATION = 8.0
+"""Degrees of the 3D camera above the horizontal: low enough that the lowest point of a body,
+where it rests on a floor, lies on its silhouette instead of behind it."""
+
+
 def _fix_camera_3d(plotter, lo, hi, free, aspect):
     """Perspective camera on the box ``lo``–``hi`` (m), z up, seen from the front right
-    (azimuth −60° from +x) and 20° above: every corner of the box lies inside the band of the
+    (azimuth −60° from +x) and ``ELEVATION`` above: every corner of the box lies inside the band of the
     window between the time (top) and the scalar bar (bottom), in every frame.
 
     The camera is placed explicitly: ``reset_camera`` does nothing before the first actor
     is added, which left 3D scenes outside the clipping range.
     """
     centre = 0.5 * (lo + hi)
-    el, az = np.radians(20.0), np.radians(-60.0)
+    el, az = np.radians(ELEVATION), np.radians(-60.0)
     direction = np.array([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)])
     up = np.array([0.0, 0.0, 1.0]) - np.sin(el) * direction
     up /= np.linalg.norm(up)
