@@ -147,8 +147,8 @@ where it rests on a floor, lies on its silhouette instead of behind it."""
 
 def _fix_camera_3d(plotter, lo, hi, free, aspect):
     """Perspective camera on the box ``lo``–``hi`` (m), z up, seen from the front right
-    (azimuth −60° from +x) and ``ELEVATION`` above: every corner of the box lies inside the band of the
-    window between the time (top) and the scalar bar (bottom), in every frame.
+    (azimuth −60° from +x) and ``ELEVATION`` above: every corner of the box lies inside the
+    band of the window between the time (top) and the scalar bar (bottom), in every frame.
 
     The camera is placed explicitly: ``reset_camera`` does nothing before the first actor
     is added, which left 3D scenes outside the clipping range.
