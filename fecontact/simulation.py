@@ -375,8 +375,11 @@ def run(
     except KeyboardInterrupt:
         status, message = "interrupted", "interrupted by the user"
         raise
+    except OSError as err:  # a full disk, a folder that stopped being writable
+        status, message = "failed", f"cannot write the output: {err.strerror or err}"
+        raise
     finally:
-        if frames and box is not None:  # the static outlines under the whole motion
+        if frames and box is not None and status == "completed":  # outlines under the motion
             for part, mesh in static_parts(sim.model, box).items():
                 pvd.write_static(part, mesh)
         timer.add("output", _flush(pvd))
@@ -397,7 +400,12 @@ def run(
         if sim.model.contacts.frictional:  # the frictional solves and their fallbacks
             summary["friction_solver"] = {k: COULOMB[k] - coulomb_start[k] for k in COULOMB}
             summary["friction_work"] = rec.friction_work
-        write_json(out / "summary.json", summary)
+        try:
+            write_json(out / "summary.json", summary)
+        except OSError:
+            if status == "completed":
+                raise
+            # else the run's own failure is the one to report (a full disk refuses both)
     return summary
 
 

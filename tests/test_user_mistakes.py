@@ -243,3 +243,47 @@ def test_redundant_joints_are_refused_before_the_run():
         Model([b], joints=[Pin(b, [0, 0])])
     b = beam()
     Model([b], joints=[Pin(b, [0, 0])])  # one pin alone holds
+
+
+def test_a_full_disk_mid_run_is_one_line_and_keeps_a_readable_index(tmp_path, monkeypatch, capsys):
+    import errno
+
+    import fecontact.io.output as output
+    from fecontact.io.cli import main
+    from fecontact.io.output import load_run
+    from fecontact.testing import CASES
+
+    real, calls = output.write_vtu, {"n": 0}
+
+    def fills_up(path, mesh):
+        calls["n"] += 1
+        if calls["n"] > 4:  # the disk is full from the fifth file on
+            raise OSError(errno.ENOSPC, "No space left on device", str(path))
+        return real(path, mesh)
+
+    monkeypatch.setattr(output, "write_vtu", fills_up)
+    out = tmp_path / "run"
+    args = ["run", str(CASES / "bouncing_ball.py"), "--quiet", "--out", str(out)]
+    assert main([*args, "--t-end", "0.5", "--checkpoint-every", "0"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "No space left on device" in err[0] and len(err[0]) <= 200
+    # the frames written before stay listed and readable; the summary says it failed
+    run = load_run(out)
+    assert 1 <= len(run.times) <= 4
+    assert run.summary["status"] == "failed" and "No space left" in run.summary["message"]
+
+
+def test_an_output_folder_that_cannot_be_made_is_one_line(tmp_path, monkeypatch, capsys):
+    from pathlib import Path
+
+    from fecontact.io.cli import main
+    from fecontact.testing import CASES
+
+    def refuse(self, *args, **kwargs):
+        raise PermissionError(13, "Permission denied", str(self))
+
+    monkeypatch.setattr(Path, "mkdir", refuse)
+    args = ["run", str(CASES / "bouncing_ball.py"), "--quiet", "--out", str(tmp_path / "no")]
+    assert main([*args, "--t-end", "0.01"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "Permission denied" in err[0]

@@ -172,6 +172,14 @@ def _execute(build, args, name: str) -> int:
     except KeyboardInterrupt:
         print(f"fecontact: interrupted; results so far are in {out}", file=sys.stderr)
         return 130
+    except OSError as err:  # a full disk, a folder that cannot be written
+        name = Path(err.filename).name if err.filename else "the output"
+        why = err.strerror or type(err).__name__
+        print(
+            f"fecontact: error: cannot write {name}: {why} (what was written stays in --out)",
+            file=sys.stderr,
+        )
+        return 2
     if summary.get("step_halvings"):
         # said even with --quiet: the run did not keep the step it was asked for
         print(
