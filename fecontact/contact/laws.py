@@ -121,7 +121,7 @@ def solve_position_correction(
     nu = np.zeros(len(g)) if nu0 is None else np.maximum(np.asarray(nu0, dtype=float), 0.0)
     eq = np.zeros(len(g), bool) if bilateral is None else bilateral
     dU, dU_prev = np.inf, np.inf
-    A = None
+    A = last = None
     for it in range(max_iter + 1):
         # the update has converged: it is below tol_u, or it contracts (ρ = dU/dU_prev < ½)
         # so fast that the distance left to the solution, at most ρ/(1 − ρ) dU, is (Newton's
@@ -149,7 +149,14 @@ def solve_position_correction(
         # the gaps' curvature weighted by the current contact forces k ν (the Hessian of the
         # Lagrangian, as in SQP), not by k ν − p g: on the first update that is −p g, which
         # with a large p dwarfs H and makes H − C indefinite; at convergence both agree
-        solve, C = system(U, np.where(eq, k * nu, np.maximum(k * nu, 0.0)), A)
+        w = np.where(eq, k * nu, np.maximum(k * nu, 0.0))
+        if not _close(last, A, w):
+            last = (A.copy(), w, *system(U, w, A))
+        # else the matrix of the last update serves again (a chord step): the active set is
+        # the same and the forces weighting the curvature moved by under a tenth, so the
+        # iteration still contracts fast and converges to the same U (the fixed point does
+        # not depend on C); each new curvature costs its evaluation and a factor update
+        solve, C = last[2], last[3]
         x0 = np.zeros(n) if C is None else solve(-(C @ U))
         nu = np.zeros(len(g))
         U_new = x0
@@ -163,6 +170,14 @@ def solve_position_correction(
         U = U_new
         g, G = gaps(U)
     raise RuntimeError(f"position correction: active set did not settle in {max_iter} iterations")
+
+
+def _close(last, A, w) -> bool:
+    """Whether the system ``last`` = (A, w, solve, C) serves the active set A with curvature
+    weights w."""
+    if last is None or last[3] is None or not np.array_equal(A, last[0]):
+        return False
+    return bool(np.all(np.abs(w - last[1]) <= 0.1 * np.abs(last[1])))
 
 
 def solve_velocity_jump(
