@@ -51,6 +51,7 @@ __all__ = [
     "case",
     "episode_starts",
     "fmt",
+    "map_runs",
     "markdown_table",
     "observed_order",
     "parser",
@@ -114,6 +115,37 @@ def timed_run(sim, repeats=3):
         repeats=len(walls),
     )
     return first
+
+
+def map_runs(fn, items, workers: int = 1, label=str):
+    """[fn(item) for item in items], on a local Dask cluster of ``workers`` processes (one
+    thread each: the runs are independent, like those of ``fecontact sweep``) when
+    ``workers`` > 1; results in the order of ``items``, each printed as ``label(item)`` when
+    it arrives. ``fn`` and the items must pickle (cloudpickle takes this script's functions
+    and closures by value)."""
+    items = list(items)
+    if workers <= 1 or len(items) <= 1:
+        return [fn(item) for item in items]
+    from dask.distributed import Client, LocalCluster, as_completed
+
+    # the workers import this folder's modules (_common) as the script does
+    here = str(Path(__file__).resolve().parent)
+    os.environ["PYTHONPATH"] = os.pathsep.join(
+        [here, *filter(None, [os.environ.get("PYTHONPATH")])]
+    )
+    with (
+        LocalCluster(
+            n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
+        ) as cluster,
+        Client(cluster) as client,
+    ):
+        futures = {client.submit(fn, item, pure=False): i for i, item in enumerate(items)}
+        results = [None] * len(items)
+        for done, future in enumerate(as_completed(futures), 1):
+            i = futures[future]
+            results[i] = future.result()
+            print(f"[{done}/{len(items)}] {label(items[i])}", flush=True)
+    return results
 
 
 # -- tables and files ---------------------------------------------------------------------------

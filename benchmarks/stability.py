@@ -33,6 +33,11 @@ Runs stop early ("diverged") once E − E(0) exceeds 100 times the energy scale 
 
     nohup python benchmarks/stability.py > /tmp/stab.log &     # full matrix, ~30 min
     python benchmarks/stability.py --quick                     # a few minutes
+    python benchmarks/stability.py --workers 2                 # the runs on 2 processes
+
+With ``--workers N`` the runs go to a local Dask cluster of N processes
+(``_common.map_runs``, as ``fecontact sweep`` does); the rows are the same, and
+``ms_per_step`` is then measured on a machine shared by N runs.
 """
 
 from __future__ import annotations
@@ -606,54 +611,68 @@ def deviation(tr, ref, length):
     return max(float(np.abs(tr[k][:n] - ref[k][:n]).max()) for k in keys) / length
 
 
-def execute(spec_list, max_wall):
-    rows, histories, traces = [], {}, {}
-    for i, spec in enumerate(spec_list):
-        t0 = time.perf_counter()
-        try:
-            sim = spec.make()
-        except Exception as err:  # a builder rejecting its input is a result too
-            rows.append(
-                {
-                    "group": spec.group,
-                    "run": spec.run,
-                    "status": "input error",
-                    "message": f"{type(err).__name__}: {err}"[:300],
-                }
-            )
-            print(f"[{i + 1}/{len(spec_list)}] {spec.run}: input error {err}", flush=True)
-            continue
-        scale = abs(sim.model.f_gravity).sum() * sim.model.length
+def run_spec(spec, max_wall, compared: bool):
+    """One run of the matrix: its row, its trace if ``compared`` (a reference or compared to
+    one; else None, as when the builder refused) and its energy history if ``spec.keep``."""
+    try:
+        sim = spec.make()
+    except Exception as err:  # a builder rejecting its input is a result too
+        row = {"group": spec.group, "run": spec.run, "status": "input error"}
+        return row | {"message": f"{type(err).__name__}: {err}"[:300]}, None, None
+    scale = abs(sim.model.f_gravity).sum() * sim.model.length
 
-        def abort(row, E0=[None], scale=scale):  # noqa: B006
-            if E0[0] is None:
-                E0[0] = row["total"]
-            return scale > 0 and row["total"] - E0[0] > 100.0 * scale
+    def abort(row, E0=[None], scale=scale):  # noqa: B006
+        if E0[0] is None:
+            E0[0] = row["total"]
+        return scale > 0 and row["total"] - E0[0] > 100.0 * scale
 
-        tr = common.trace(sim, spec.dt, spec.t_end, max_wall=max_wall, abort=abort)
-        row = measure(spec, sim, tr)
-        if spec.reference is not None and spec.reference in traces:
-            row["deviation"] = deviation(tr, traces[spec.reference], sim.model.length)
-        if spec.group == "augmentation" and spec.reference is None:
-            traces[spec.run] = tr
-        if spec.keep:
-            stride = max(1, len(tr["t"]) // 4000)
-            histories[spec.run] = (
-                tr["t"][::stride],
-                tr["total"][::stride] - tr["total"][0],
-                tr["kinetic"].max(),
-            )
+    start = time.perf_counter()
+    tr = common.trace(sim, spec.dt, spec.t_end, max_wall=max_wall, abort=abort)
+    row = measure(spec, sim, tr)
+    row["_length"], row["_seconds"] = sim.model.length, time.perf_counter() - start
+    history = None
+    if spec.keep:
+        stride = max(1, len(tr["t"]) // 4000)
+        history = (tr["t"][::stride], tr["total"][::stride] - tr["total"][0], tr["kinetic"].max())
+    return row, tr if compared else None, history
+
+
+def execute(spec_list, max_wall, workers=1):
+    """Every spec's row (with ``deviation`` from its reference run) and the energy histories
+    of the runs to plot; the runs go to ``workers`` processes (``common.map_runs``)."""
+    refs = {s.reference for s in spec_list}
+    results = common.map_runs(
+        lambda spec: run_spec(spec, max_wall, spec.run in refs or spec.reference is not None),
+        spec_list,
+        workers,
+        lambda s: s.run,
+    )
+    traces = {s.run: r[1] for s, r in zip(spec_list, results, strict=True) if r[1] is not None}
+    rows, histories = [], {}
+    for i, (spec, (row, tr, history)) in enumerate(zip(spec_list, results, strict=True)):
+        length, seconds = row.pop("_length", None), row.pop("_seconds", 0.0)
+        if tr is not None and spec.reference in traces:
+            row["deviation"] = deviation(tr, traces[spec.reference], length)
+        if history is not None:
+            histories[spec.run] = history
         rows.append(row)
-        print(
-            f"[{i + 1}/{len(spec_list)}] {spec.group}: {spec.run}: {row['status']} "
-            f"t={row['t_reached']:.4g} pen={row['max_penetration']:.2e} "
-            f"growth={row['growth_pct']:.3g}% impact={row['impact_step_pct']:.3g}% "
-            f"newton={row['newton_mean']:.2f}/{row['newton_max']} halv={row['halvings']} "
-            f"dev={row['deviation']:.2e} {time.perf_counter() - t0:.1f}s {row['check']} "
-            f"{row['message'][:120]}",
-            flush=True,
-        )
+        _report(i, len(spec_list), spec, row, seconds)
     return rows, histories
+
+
+def _report(i, n, spec, row, seconds):
+    if row["status"] == "input error":
+        print(f"[{i + 1}/{n}] {spec.run}: input error {row['message']}", flush=True)
+        return
+    print(
+        f"[{i + 1}/{n}] {spec.group}: {spec.run}: {row['status']} "
+        f"t={row['t_reached']:.4g} pen={row['max_penetration']:.2e} "
+        f"growth={row['growth_pct']:.3g}% impact={row['impact_step_pct']:.3g}% "
+        f"newton={row['newton_mean']:.2f}/{row['newton_max']} halv={row['halvings']} "
+        f"dev={row['deviation']:.2e} {seconds:.1f}s {row['check']} "
+        f"{row['message'][:120]}",
+        flush=True,
+    )
 
 
 def tables(rows) -> str:
@@ -721,6 +740,9 @@ def main(argv=None):
     p.add_argument("--max-wall", type=float, default=1800.0, help="time budget per run (s)")
     p.add_argument("--group", action="append", help="run only these groups (repeatable)")
     p.add_argument(
+        "--workers", type=int, default=1, help="local worker processes (Dask) for the runs"
+    )
+    p.add_argument(
         "--update",
         action="store_true",
         help="with --group: replace those groups' rows in the existing CSV and Markdown",
@@ -732,7 +754,7 @@ def main(argv=None):
     spec_list = specs(args.quick)
     if args.group:
         spec_list = [s for s in spec_list if s.group in args.group]
-    rows, histories = execute(spec_list, args.max_wall)
+    rows, histories = execute(spec_list, args.max_wall, args.workers)
     suffix = "_quick" if args.quick else ""
     if args.group and args.update:
         old = common.read_csv(out / f"stability{suffix}.csv")
