@@ -27,7 +27,7 @@ import numpy as np
 from ..contact.friction import solve_coulomb
 from .constraints import Constraints, StepFailure
 
-__all__ = ["frictional_jump", "frictional_correction"]
+__all__ = ["friction_memory", "frictional_jump", "frictional_correction"]
 
 
 def _rows(G: np.ndarray, GT: np.ndarray) -> np.ndarray:
@@ -112,12 +112,26 @@ def frictional_correction(model, st, q_tilde, work, solve_H, opts, tol_gap, t):
     raise StepFailure(f"frictional position correction: update {dU:.3e} m did not settle", dU)
 
 
-def frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol):
+def friction_memory(st, m: int, dim: int) -> dict:
+    """A step's frictional record, zero but for the work done so far: positional and
+    impulsive tangential multipliers (m, nt), status (0 open, 1 stick, 2 slip) and the
+    accumulated work of friction (J)."""
+    work = st.memory.get("friction_work", np.zeros(1))
+    return {
+        "friction_nu": np.zeros((m, dim - 1)),
+        "friction_impulse": np.zeros((m, dim - 1)),
+        "friction_status": np.zeros(m),
+        "friction_work": work.copy(),
+    }
+
+
+def frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol, solve=None):
     """Velocity jump v = ṽ + W over the contacts ``closed`` (normal rates ``gdot`` with the
-    impact law, then the joints' rows) with slip rows. Returns (W, k Λ_N, k Λ_T
-    (len(closed), nt), status, iterations, work): work = −Σ_j k Λ_T,j·(w_T,j(ṽ) + G_T,j W/2)
-    (J) is the kinetic energy the tangential impulses take, exactly: the mean slip rate
-    over the jump times the impulse."""
+    impact law, then the joints' rows) with slip rows, in the metric ``solve`` = H⁻¹
+    (default M⁻¹). Returns (W, k Λ_N, k Λ_T (len(closed), nt), status, iterations, work,
+    k Λ_b of the joints): work = −Σ_j k Λ_T,j·(w_T,j(ṽ) + G_T,j W/2) (J) is the kinetic
+    energy the tangential impulses take, exactly: the mean slip rate over the jump times the
+    impulse."""
     contacts, F = model.contacts, model.free
     m, k = len(closed), opts.multiplier_scale
     GT, T = contacts.tangent_jacobian(q, closed)
@@ -126,7 +140,7 @@ def frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol):
     if speed is not None:
         rate -= np.einsum("mtd,md->mt", T, speed)
     A = _rows(G1, GT)
-    Y = model.solve_M(A.T).reshape(len(F), -1)
+    Y = (model.solve_M if solve is None else solve)(A.T).reshape(len(F), -1)
     D = A @ Y
     w = _stack(gdot[:m], rate, gdot[m:])
     x0 = None
@@ -145,7 +159,7 @@ def frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol):
         )
     except RuntimeError as err:
         raise StepFailure(f"velocity jump: {err}", np.nan) from None
-    lam_n, lam_t, _ = _split(k * x, m, GT.shape[1])
+    lam_n, lam_t, lam_b = _split(k * x, m, GT.shape[1])
     W = k * (Y @ x)
     work = -float(np.sum(lam_t * (rate + 0.5 * (GT @ W))))
-    return W, lam_n, lam_t, status, its, work
+    return W, lam_n, lam_t, status, its, work, lam_b

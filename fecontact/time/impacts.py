@@ -57,7 +57,7 @@ def velocity_jump(model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb=None):
         raise StepFailure("velocity jump: non-finite normal velocity of a closed contact", np.nan)
     tol = tol_gap / (t - st.t)
     if contacts.frictional:
-        W, lam_n, lam_t, status, its, work = frictional_jump(
+        W, lam_n, lam_t, status, its, work, _ = frictional_jump(
             model, st, q, v, closed, G1, gdot, opts, tol
         )
         return W, lam_n, its, (lam_t, status, work)

@@ -55,7 +55,8 @@ from .constraints import (
     factorize_or_fail,
     plus_curvature,
 )
-from .state import IntegratorOptions, PhaseTimer, State
+from .coulomb import friction_memory, frictional_jump
+from .state import IntegratorOptions, PhaseTimer, State, length_scale
 
 __all__ = ["moreau_step"]
 
@@ -67,13 +68,25 @@ def moreau_step(model, st: State, h: float, opts: IntegratorOptions, timer: Phas
     F, m = model.free, model.contacts.size
     clock = time.perf_counter()
     g_pred = model.contacts.gaps(st.q + 0.5 * h * st.v)
-    index_set = np.flatnonzero(g_pred <= 0.0)
+    # closed to the gap tolerance: a corner resting at g = +1e-17 must not leave the set
+    index_set = np.flatnonzero(g_pred <= opts.tol_gap * length_scale(model, st.q))
     rows = _impact_rows(model, st, index_set)
     timer.add("contact", clock)
-    v, P, f, its = _moreau_newton(model, st, h, theta, rows, opts, timer)
+    friction = model.contacts.frictional and index_set.size
+    slip = (index_set, opts.tol_gap * length_scale(model, st.q) / h) if friction else None
+    v, P, f, its, tangential = _moreau_newton(model, st, h, theta, rows, opts, timer, slip)
     q, vfull, vd = st.q.copy(), np.zeros(model.n), np.zeros(model.n)
-    q[F] += h * ((1.0 - theta) * st.v[F] + theta * v)
+    v_theta = (1.0 - theta) * st.v[F] + theta * v
+    q[F] += h * v_theta
     vfull[F] = v
+    memory = friction_memory(st, m, model.dim) if model.contacts.frictional else {}
+    if tangential is not None:
+        P_t, status, GT = tangential
+        memory["friction_impulse"][index_set] = P_t
+        memory["friction_status"][index_set] = status
+        # the tangential impulse against the slip over the step, h G_T v_θ: the work that
+        # the position update q_{n+1} = q_n + h v_θ lets friction do
+        memory["friction_work"] -= float(np.sum(P_t * (GT @ v_theta)))
     vd[F] = model.solve_M(f)
     impulse = np.zeros(m)
     impulse[index_set] = P[: index_set.size]
@@ -94,6 +107,7 @@ def moreau_step(model, st: State, h: float, opts: IntegratorOptions, timer: Phas
         impulse=impulse,
         lam=-P[index_set.size :] / h,  # as the smooth step's λ: the joint force is −G_bᵀλ
         iterations={"smooth": its[0], "position": 0, "velocity": its[1]},
+        memory=memory,
     )
 
 
@@ -109,11 +123,13 @@ def _impact_rows(model, st, index_set):
     return rows, e
 
 
-def _moreau_newton(model, st, h, theta, rows, opts, timer):
-    """Newton on R(v) − G(q(v))ᵀP = 0, R(v) = M(v − v_n) − h[(1 − θ) f_n + θ f(q(v), v)],
-    with the impact law on ``rows``: returns v_{n+1} and P (free dofs), f_{n+1} and the
-    (Newton, impact-law) iteration counts. Without stiffness (K_t = 0: rigid bodies) and with
-    constant G the residual is linear in v and one iteration is exact."""
+def _moreau_newton(model, st, h, theta, rows, opts, timer, slip=None):
+    """Newton on R(v) − G(q(v))ᵀP − G_T(q(v))ᵀP_T = 0, R(v) = M(v − v_n) − h[(1 − θ) f_n +
+    θ f(q(v), v)], with the impact law on ``rows``: returns v_{n+1} and P (free dofs),
+    f_{n+1}, the (Newton, impact-law) iteration counts and, with ``slip`` = (the contacts of
+    ``rows``, the Coulomb tolerance in m/s), (P_T, stick/slip status, G_T) of Coulomb's law
+    on their slip rates G_T v (else None). Without stiffness (K_t = 0: rigid bodies) and
+    with constant G the residual is linear in v and one iteration is exact."""
     F, M = model.free, model.M
     ht = h * theta
     vn = st.v[F]
@@ -125,6 +141,7 @@ def _moreau_newton(model, st, h, theta, rows, opts, timer):
     nr = len(rows[0].bilateral) if rows else 0
     v, q = vn.copy(), st.q.copy()  # predictor: v_n
     P, GP = np.zeros(nr), 0.0
+    tangential, friction_force = None, 0.0
     dq, lcp_its = math.inf, 0
     clock = time.perf_counter()
     for it in range(opts.max_iterations + 1):
@@ -140,7 +157,11 @@ def _moreau_newton(model, st, h, theta, rows, opts, timer):
             G = rows[0].jacobian(q)[1]
         if nr:
             GP = G.T @ P
-        r = R - GP
+            if tangential is not None:
+                GT = model.contacts.tangent_jacobian(q, slip[0])[0]
+                friction_force = np.einsum("mt,mtk->k", tangential[0], GT)
+                tangential = (tangential[0], tangential[1], GT)
+        r = R - GP - friction_force
         clock = timer.add("assembly", clock)
         ref = max(Mdv @ Mdv, hf_n @ hf_n, h * h * (f @ f), 1e-300)
         rnorm = math.sqrt(r @ r)
@@ -148,7 +169,7 @@ def _moreau_newton(model, st, h, theta, rows, opts, timer):
             raise StepFailure("Moreau–Jean step diverged", rnorm)
         ref = math.sqrt(max(ref, GP @ GP)) if nr else math.sqrt(ref)
         if (it or not nr) and (rnorm <= opts.tol_residual * ref or dq <= opts.tol_increment):
-            return v, P, f, (it, lcp_its)
+            return v, P, f, (it, lcp_its), tangential
         if it == opts.max_iterations:
             raise StepFailure("Moreau–Jean step", rnorm / ref)
         What = M + ht * ht * K
@@ -159,18 +180,42 @@ def _moreau_newton(model, st, h, theta, rows, opts, timer):
         solve = factorize_or_fail(What, rnorm / ref, symmetric=True)
         v_new = v - solve(R)
         clock = timer.add("solve", clock)
-        if nr:
+        if nr and slip is not None:
+            W, P, n, tangential = _coulomb_law(model, st, q, v_new, G, rows, solve, opts, slip)
+            v_new += W
+            lcp_its += n
+            clock = timer.add("contact", clock)
+        elif nr:
             W, P, n = _impact_law(G, G @ v_new + rows[1], solve, rows[0].bilateral, opts)
             v_new += W
             lcp_its += n
             clock = timer.add("contact", clock)
-        if (not nr or rows[0].linear) and _is_zero(K):
+        if (not nr or rows[0].linear) and _is_zero(K) and not _turning(model, slip):
             if damped:
                 f -= Ct @ (v_new - v)
-            return v_new, P, f, (it + 1, lcp_its)
+            return v_new, P, f, (it + 1, lcp_its), tangential
         dq = model.update_size(ht * (v_new - v))
         v = v_new
     raise AssertionError("unreachable")
+
+
+def _coulomb_law(model, st, q, v_free, G, rows, solve, opts, slip):
+    """The impact law with Coulomb's cone on the slip rates (``frictional_jump`` in the
+    metric Ŵ): W, P (normal then joint impulses), iterations, (P_T, status, G_T)."""
+    index_set, tol = slip
+    v = np.zeros(model.n)
+    v[model.free] = v_free
+    W, P_n, P_t, status, its, _, P_b = frictional_jump(
+        model, st, q, v, index_set, G, G @ v_free + rows[1], opts, tol, solve
+    )
+    GT = model.contacts.tangent_jacobian(q, index_set)[0]
+    return W, np.concatenate([P_n, P_b]), its, (P_t, status, GT)
+
+
+def _turning(model, slip) -> bool:
+    """Whether the slip rows depend on q (rotating bodies): then the friction force of the
+    residual needs the next iteration's G_T."""
+    return slip is not None and not model.contacts.linear
 
 
 def _is_zero(K) -> bool:

@@ -45,7 +45,7 @@ from .constraints import (
     constraint_columns,
     factorize_or_fail,
 )
-from .coulomb import frictional_correction
+from .coulomb import friction_memory, frictional_correction
 from .descent import Armijo, descent_direction
 from .generalized_alpha import coefficients, predict
 from .impacts import velocity_jump
@@ -84,7 +84,7 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
     if m == 0 and joints.size == 0:
         return State(t, q, v, vd, a, h=h, lam=lam, iterations=iters)
     friction = model.contacts.frictional
-    memory = _friction_memory(st, m, model.dim) if friction else {}
+    memory = friction_memory(st, m, model.dim) if friction else {}
 
     # 2. position correction, only if a contact candidate penetrates (joints already hold)
     model.contacts.set_time(t)
@@ -162,19 +162,6 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
         iterations=iters,
         memory=memory,
     )
-
-
-def _friction_memory(st: State, m: int, dim: int) -> dict:
-    """The step's frictional record, zero but for the work done so far: positional and
-    impulsive tangential multipliers (m, nt), status (0 open, 1 stick, 2 slip) and the
-    accumulated work of friction (J)."""
-    work = st.memory.get("friction_work", np.zeros(1))
-    return {
-        "friction_nu": np.zeros((m, dim - 1)),
-        "friction_impulse": np.zeros((m, dim - 1)),
-        "friction_status": np.zeros(m),
-        "friction_work": work.copy(),
-    }
 
 
 class SmoothStep(NamedTuple):
