@@ -26,7 +26,7 @@ from typing import Any
 
 from .errors import InputError, check_count, check_positive, check_range
 
-__all__ = ["Param", "case", "declared_parameters"]
+__all__ = ["Param", "assignment", "case", "declared_parameters"]
 
 
 @dataclass(frozen=True)
@@ -122,3 +122,13 @@ def case(build):
 
     wrapper.parameters = params
     return wrapper
+
+
+def assignment(item: str, form: str = "NAME=VALUE") -> tuple[str, str]:
+    """(name, value text) of a ``--set`` item; a one-line ``InputError`` naming ``form``
+    when the item has no name or no ``=``."""
+    name, sep, text = item.partition("=")
+    name = name.strip()
+    if not sep or not name:
+        raise InputError(f"--set expects {form}, got {item!r}")
+    return name, text

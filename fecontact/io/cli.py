@@ -30,7 +30,7 @@ import warnings
 from pathlib import Path
 
 from ..errors import InputError, SolverError
-from ..params import declared_parameters
+from ..params import assignment, declared_parameters
 
 __all__ = ["main", "run_cli", "run_one", "load_case", "parse_value"]
 
@@ -73,10 +73,7 @@ def _split_overrides(build, pairs: list[str]):
     option_names = {f.name for f in dataclasses.fields(IntegratorOptions)}
     case_kw, option_kw = {}, {}
     for item in pairs:
-        name, sep, text = item.partition("=")
-        name = name.strip()
-        if not sep or not name:
-            raise InputError(f"--set expects NAME=VALUE, got {item!r}")
+        name, text = assignment(item)
         if name in params:
             case_kw[name] = parse_value(text)
         elif name in option_names:

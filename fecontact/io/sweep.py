@@ -33,6 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..params import assignment
 from .output import FRICTION_COLUMNS, STANDARD_COLUMNS, read_history
 
 __all__ = ["SWEEP_FILE", "run_sweep", "sweep_axes"]
@@ -46,10 +47,7 @@ def sweep_axes(pairs: list[str]) -> list[tuple[str, list[str]]]:
     """``NAME=V1,V2,...`` items as (name, [values as text]), in the given order."""
     axes, seen = [], set()
     for item in pairs:
-        name, sep, text = item.partition("=")
-        name = name.strip()
-        if not sep or not name:
-            raise InputError(f"--set expects NAME=VALUE[,VALUE...], got {item!r}")
+        name, text = assignment(item, "NAME=VALUE[,VALUE...]")
         if name in seen:
             raise InputError(f"--set {name} is given twice; list its values once, comma separated")
         values = [v.strip() for v in text.split(",")]
