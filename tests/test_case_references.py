@@ -30,7 +30,12 @@ RUNS = {
 
 # columns whose reference is zero up to round-off (a conserved total) are compared on the scale
 # of their parts: the two disks' total momentum against one disk's, m v = 7.65 kg·m/s per m
-PART_SCALE = {("two_disks", "momentum"): 7.65}
+PART_SCALE = {
+    ("two_disks", "momentum"): 7.65,
+    # the disk dropped straight down: no motion along the plane (1 m/s), no spin (20 rad/s)
+    ("disk_drop", "vx_center"): 1.0,
+    ("disk_drop", "omega"): 20.0,
+}
 
 
 def run(case: str, out: Path) -> dict:
