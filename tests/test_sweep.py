@@ -3,6 +3,7 @@ would do it, in its own folder, with one row per run in ``sweep.csv``."""
 
 import csv
 import json
+import shutil
 
 import pytest
 
@@ -10,6 +11,7 @@ from fecontact.io.cli import main
 from fecontact.testing import CASES
 
 CASE = str(CASES / "flexible_pendulum.py")
+RIGID = str(CASES / "rigid_pendulum.py")
 # the summary figures of a run that do not depend on the machine's speed
 FIGURES = ("status", "steps", "energy_final", "max_penetration", "newton_iterations_total")
 
@@ -73,10 +75,40 @@ def test_sweep_on_a_running_scheduler(tmp_path):
     assert float(rows[1]["energy_final"]) > float(rows[0]["energy_final"])  # e = 1 keeps more
 
 
+def test_a_deleted_run_is_the_only_one_run_again(tmp_path):
+    out = tmp_path / "sweep"
+    args = ["sweep", RIGID, "--set", "restitution=0,0.5,1", "--t-end", "0.05", "--quiet"]
+    assert main([*args, "--workers", "2", "--out", str(out)]) == 0
+    first = read_rows(out / "sweep.csv")
+    stamps = {p.parent.name: p.stat().st_mtime_ns for p in out.glob("*/summary.json")}
+    assert sorted(stamps) == ["restitution=0", "restitution=0.5", "restitution=1"]
+    shutil.rmtree(out / "restitution=0.5")
+    assert main([*args, "--workers", "2", "--out", str(out)]) == 0
+    again = {p.parent.name: p.stat().st_mtime_ns for p in out.glob("*/summary.json")}
+    assert sorted(again) == sorted(stamps)
+    assert [k for k in stamps if again[k] != stamps[k]] == ["restitution=0.5"]
+    rows = read_rows(out / "sweep.csv")  # the same figures, rebuilt from the summaries
+    for key in ("restitution", "status", "steps", "energy_final", "theta_min", "omega_max"):
+        assert [r[key] for r in rows] == [r[key] for r in first], key
+
+
+def test_the_longest_runs_go_first(tmp_path):
+    # one worker runs one task at a time: the order of the summaries is the order of the runs
+    out = tmp_path / "sweep"
+    args = ["sweep", RIGID, "--set", "dt=2e-3,5e-4,1e-3", "--t-end", "0.05", "--quiet"]
+    assert main([*args, "--workers", "1", "--out", str(out)]) == 0
+    done = sorted(out.glob("*/summary.json"), key=lambda p: p.stat().st_mtime_ns)
+    assert [p.parent.name for p in done] == ["dt=5e-4", "dt=1e-3", "dt=2e-3"]
+    # sweep.csv keeps the order of the product
+    assert [r["dt"] for r in read_rows(out / "sweep.csv")] == ["0.002", "0.0005", "0.001"]
+
+
 @pytest.mark.parametrize(
     "bad, words",
     [
         (["--set", "restitution=0,x"], "restitution"),
+        (["--set", "restitution=0,x,2"], "restitution"),
+        (["--set", "rho_inf=0.5,1.5"], "rho_inf"),
         (["--set", "restitution=0,2"], "restitution"),
         (["--set", "colour=red,blue"], "unknown parameter 'colour'"),
         (["--set", "dt=1e-3,", "--t-end", "0.1"], "empty value"),

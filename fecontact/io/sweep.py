@@ -172,7 +172,7 @@ def run_sweep(
     for i, values in enumerate(combos):
         folder = out / _folder({k: values[k] for k in swept})
         if not _completed(folder):
-            todo.append((i, _run_argv(case, values, folder, options)))
+            todo.append((i, _run_argv(case, values, folder, options), _cost(values)))
     if todo:
         results = _execute(task, todo, workers, scheduler, quiet)
     rows = [
@@ -199,6 +199,14 @@ def _check_each_value(axes, check) -> None:
             check({**first, name: value})
 
 
+def _cost(values: dict[str, str]) -> float:
+    """A run's relative cost, its number of steps t_end/dt where either is swept (1 if not)."""
+    try:
+        return float(values.get("t_end", 1.0)) / float(values.get("dt", 1.0))
+    except (ValueError, ZeroDivisionError):
+        return 1.0
+
+
 def _execute(task, todo, workers, scheduler, quiet) -> dict:
     from dask.distributed import as_completed
     from tqdm import tqdm
@@ -206,7 +214,10 @@ def _execute(task, todo, workers, scheduler, quiet) -> dict:
     client, cluster = _client(scheduler, max(1, min(workers, len(todo))))
     results = {}
     try:
-        futures = {client.submit(task, argv, pure=False): i for i, argv in todo}
+        # the costliest runs first (Dask runs tasks in the order they are submitted), so that
+        # no long run starts last while the other workers idle: longest processing time first
+        ordered = sorted(todo, key=lambda item: -item[2])  # stable: ties in product order
+        futures = {client.submit(task, argv, pure=False): i for i, argv, _ in ordered}
         bar = tqdm(total=len(todo), desc="sweep", unit="run", file=sys.stderr, disable=quiet)
         for future in as_completed(futures):
             try:
