@@ -214,10 +214,12 @@ def _execute(task, todo, workers, scheduler, quiet) -> dict:
     client, cluster = _client(scheduler, max(1, min(workers, len(todo))))
     results = {}
     try:
-        # the costliest runs first (Dask runs tasks in the order they are submitted), so that
-        # no long run starts last while the other workers idle: longest processing time first
+        # the costliest runs first, so that no long run starts last while the other workers
+        # idle (longest processing time first): submitted in that order and with that priority
         ordered = sorted(todo, key=lambda item: -item[2])  # stable: ties in product order
-        futures = {client.submit(task, argv, pure=False): i for i, argv, _ in ordered}
+        futures = {
+            client.submit(task, argv, pure=False, priority=cost): i for i, argv, cost in ordered
+        }
         bar = tqdm(total=len(todo), desc="sweep", unit="run", file=sys.stderr, disable=quiet)
         for future in as_completed(futures):
             try:
