@@ -271,8 +271,8 @@ def measure(setup, v: float = V, dt_factor: float = 1.0, static: bool = True) ->
             continue
         steps += 1
         per_step.append(float(st.impulse.sum()) / st.h)
-        touching.append(int(np.count_nonzero((st.nu > 0) | (st.impulse > 0))))
-        if np.any((st.nu > 0) | (st.impulse > 0)):
+        touching.append(int(np.count_nonzero(st.pressed())))
+        if st.pressed().any():
             t_last, after = st.t, 0
         else:
             after += 1

@@ -43,11 +43,11 @@ def wave_step(body, fraction: float, spacing: float | None = None) -> float:
 
 
 def contact_force_probe(what: str = "contact force") -> Probe:
-    """Σ k Λ_j / h (N): the mean contact force over the step."""
+    """Σ λ_j + k Λ_j / h (N): the mean contact force over the step, smooth and impulsive."""
     return Probe(
-        lambda m, st: float(st.impulse.sum() / st.h) if st.h > 0 else 0.0,
+        lambda m, st: float(st.mean_force().sum()),
         "N",
-        f"{what} k Lambda / h (mean over the step)",
+        f"{what} lambda + k Lambda / h (mean over the step)",
     )
 
 

@@ -193,7 +193,7 @@ class _Recorder:
         near = st.gaps[st.candidates] if st.step > 0 else st.gaps
         near = near[near <= m.length * self.sim.options.detection_margin]
         min_gap = float(near.min()) if near.size else math.inf
-        active = (st.nu > 0) | (st.impulse > 0)
+        active = st.pressed()
         for j in np.flatnonzero(active & ~self.closed):
             self.impacts.append({"time": st.t, "contact": int(j), "impulse": st.impulse[j]})
         self.closed = active

@@ -47,7 +47,8 @@ def trace(sim, dt=None, t_end=None, max_wall=None, abort=None):
     """Step ``sim`` with ``simulate`` and return one row per step (t = 0 included) as arrays.
 
     Keys: ``t``, ``h``, the probes, ``kinetic``, ``total`` (energy, J), ``min_gap`` (m, over
-    every contact), ``active`` (a contact with ν > 0 or Λ > 0), ``impulse`` (Σ kΛ, N·s),
+    every contact), ``active`` (a contact with ν > 0, Λ > 0 or a smooth force λ > 0),
+    ``impulse`` (Σ kΛ, N·s),
     ``iterations`` (smooth + position + velocity), ``halvings``, ``vmax`` (max |v|); and
     ``status`` ("completed", "failed" on ``SolverError``, "timeout" after ``max_wall`` s,
     "diverged" when ``abort(row)`` is true), ``message`` and ``wall`` (s).
@@ -69,7 +70,7 @@ def trace(sim, dt=None, t_end=None, max_wall=None, abort=None):
                 "kinetic": ke,
                 "total": total,
                 "min_gap": float(np.min(st.gaps, initial=np.inf)),
-                "active": bool(np.any(st.nu > 0) or np.any(st.impulse > 0)),
+                "active": bool(st.pressed().any()),
                 "impulse": float(np.sum(st.impulse)),
                 "iterations": st.newton_iterations,
                 "halvings": st.halvings,

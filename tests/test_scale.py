@@ -47,6 +47,6 @@ def test_impact_that_inverts_elements_stops_with_a_clear_message():
     That state is never accepted; the run stops and says why."""
     sim = load_case("disk_drop").build(velocity=443.0)
     disk = sim.model.bodies[0]
-    with pytest.raises(SolverError, match="inverts an element"):
+    with pytest.raises(SolverError, match="(inverts an element|an element inverts)"):
         for st in simulate(sim.model, sim.dt, sim.t_end, sim.options, v0=sim.v0):
             assert np.isfinite(disk.energy(st.q))

@@ -37,7 +37,7 @@ def history(sim, t_end=None):
         rows["kinetic"].append(ke)
         rows["energy"].append(ke + model.potential_energy(st.q) + model.strain_energy(st.q))
         rows["min_gap"].append(np.min(model.contacts.gaps(st.q), initial=np.inf))
-        rows["active"].append(bool(np.any((st.nu > 0) | (st.impulse > 0))))
+        rows["active"].append(bool(st.pressed().any()))
         for name, probe in sim.probes.items():
             rows[name].append(probe.fn(model, st))
     return {k: np.array(v) for k, v in rows.items()}

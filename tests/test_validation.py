@@ -32,7 +32,7 @@ def history(sim, dt=None, t_end=None):
         rows["t"].append(st.t)
         rows["h"].append(st.h)
         rows["impulse"].append(st.impulse.copy())
-        rows["active"].append((st.nu > 0) | (st.impulse > 0))
+        rows["active"].append(st.pressed())
         rows["energy"].append(
             model.kinetic_energy(st.v) + model.potential_energy(st.q) + model.strain_energy(st.q)
         )

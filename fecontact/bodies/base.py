@@ -26,6 +26,7 @@ class Body(Protocol):
     linear: bool  # internal force affine in q: the iteration matrix is constant
     linear_kinematics: bool  # node positions affine in q
     rigid_frame: bool  # positions x = c + R(φ) r of a rigid frame
+    continuum: bool  # an elastic continuum, whose contact zones last over many wave transits
     element_dofs: np.ndarray
     center_index: int | None  # output point of a rigid body's centre of mass
     components: tuple[str, ...]  # names of a node's dofs, in order: x, y, (z | theta)
@@ -47,6 +48,7 @@ class BodyDefaults:
     dim = 2
     linear = False
     rigid_frame = False
+    continuum = False
     center_index = None
 
     @property

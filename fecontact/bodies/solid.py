@@ -85,6 +85,8 @@ class Solid(NodalTranslations):
     Supports (``fix``) are chainable. Node indices may be negative (−1 is the last node).
     """
 
+    continuum = True
+
     def __init__(self, mesh, material, element: str = "P1", plane: str = "strain", thickness=1.0):
         cell = cell_kind(mesh)
         if not all(hasattr(material, a) for a in ("response", "rho", "linear")):

@@ -16,11 +16,12 @@ __all__ = ["bodies_box", "frame_parts", "friction_totals", "grown", "static_part
 
 def frame_parts(model, state: State):
     contacts = model.contacts
-    if state.impulse.any():
-        f_imp = contacts.generalized_force(state.q, contacts.all, state.impulse, model.n)
-    else:  # no contact acted in this step: nothing to evaluate
-        f_imp = np.zeros(model.n)
     h = state.h if state.h > 0 else math.inf
+    f_imp, f_smooth = np.zeros(model.n), np.zeros(model.n)
+    if state.impulse.any():  # (no contact acted in this step: nothing to evaluate)
+        f_imp = contacts.generalized_force(state.q, contacts.all, state.impulse, model.n)
+    if state.force.any():
+        f_smooth = contacts.generalized_force(state.q, contacts.all, state.force, model.n)
     friction = contacts.frictional
     if friction:
         f_t, flag = _friction_parts(model, state, model.n)
@@ -30,7 +31,8 @@ def frame_parts(model, state: State):
         q = state.q[s]
         data = dict(body.point_data(q, state.v[s]))
         data["contact_impulse"] = _point_impulse(body, f_imp[s])
-        data["contact_force"] = data["contact_impulse"] / h
+        # the mean force over the step: the smooth λ plus the impulse over the step
+        data["contact_force"] = data["contact_impulse"] / h + _point_impulse(body, f_smooth[s])
         if friction:
             data["tangential_impulse"] = _point_impulse(body, f_t[s])
             data["tangential_force"] = data["tangential_impulse"] / h

@@ -16,10 +16,13 @@ _EMPTY = np.zeros(0)
 _EMPTY.flags.writeable = False
 
 
-def velocity_jump(model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb=None):
+def velocity_jump(model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb=None, held=None):
     """Step 3: v = ṽ + W, M W = Σ G_jᵀ [k Λ_j − p ġ_j]_+ with
     ġ_j = G_j(q_{n+1}) v_{n+1} + e_j ġ⁻_j; joints: G_b v_{n+1} = 0 (``Gb``: their gradient
-    at q, if known).
+    at q, if known). The ``held`` contacts (a mask over ``closed``: pressed by a smooth
+    force at the end of the step, :mod:`.smooth_contact`) neither open nor close within
+    it: ġ_j = 0, an equality like a joint's, which removes the velocity drift of the
+    index-3 smooth step, with an impulse of either sign.
 
     ġ⁻_j = (1 − τ_j) G_j(q_n) v_n + τ_j G_j(q_{n+1}) ṽ_{n+1}, with τ_j the fraction of the
     step at which the gap crosses zero (τ_j = 0 with ``impact_velocity="step_start"``).
@@ -35,8 +38,12 @@ def velocity_jump(model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb=None):
         mu = factorize(G1 @ Y)(-(G1 @ v[F]))
         return Y @ mu, _EMPTY, 1, None
     cons = Constraints(model, closed)
+    if held is not None:
+        cons.bilateral[: closed.size] = held
     _, G1 = cons.jacobian(q)
     e = np.concatenate([model.contacts.restitution[closed], np.zeros(model.joints.size)])
+    if held is not None:
+        e[: closed.size][held] = 0.0
     gdot = G1 @ v[F]
     contacts = model.contacts
     if contacts.moving:  # ġ = G v + ∂g/∂t at t_{n+1} and, for the impact law, at t_n

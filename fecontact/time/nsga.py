@@ -44,11 +44,13 @@ from .constraints import (
     bordered,
     constraint_columns,
     factorize_or_fail,
+    plus_curvature,
 )
 from .coulomb import friction_memory, frictional_correction
 from .descent import Armijo, descent_direction
 from .generalized_alpha import coefficients, predict
 from .impacts import velocity_jump
+from .smooth_contact import SmoothContacts, persistent_contacts
 from .state import IntegratorOptions, PhaseTimer, State, length_scale
 
 __all__ = ["nsga_step"]
@@ -77,14 +79,18 @@ class JointTolerance:
 def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer) -> State:
     c = coefficients(opts.rho_inf, h)
     t = st.t + h
-    q, v, vd, a, lam, S, it, Gb = _smooth_step(model, st, t, c, opts, timer)
+    m, joints = model.contacts.size, model.joints
+    smooth = opts.smooth_contact == "on" or (opts.smooth_contact == "auto" and model.continuum)
+    P = _persistent(model, st, opts) if smooth and m else None
+    q, v, vd, a, lam, S, it, Gb, force = _smooth_step(model, st, t, c, opts, timer, P)
     iters = {"smooth": it, "position": 0, "velocity": 0}
     clock = time.perf_counter()
-    m, joints = model.contacts.size, model.joints
     if m == 0 and joints.size == 0:
         return State(t, q, v, vd, a, h=h, lam=lam, iterations=iters)
     friction = model.contacts.frictional
     memory = friction_memory(st, m, model.dim) if friction else {}
+    if smooth:
+        memory["contact_force"] = np.zeros(m) if force is None else force
 
     # 2. position correction, only if a contact candidate penetrates (joints already hold)
     model.contacts.set_time(t)
@@ -93,13 +99,16 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
     # (only the candidates use the gap tolerance)
     tol_gap = opts.tol_gap * length_scale(model, q) if cand.size else 0.0
     nu, impulse, gaps = np.zeros(m), np.zeros(m), g_tilde
-    if cand.size and np.min(g_tilde[cand]) < 0.0:
+    short = g_tilde[cand] < 0.0
+    if force is not None:  # the persistent contacts the smooth step closed are not short
+        short &= ~(np.isin(cand, P) & (g_tilde[cand] >= -tol_gap))
+    if short.any():
         # the working set: the penetrating candidates and those active in the previous step,
         # then any other candidate that the correction pushes below the plane of its gap; the
         # work follows the contact zone, not the detection margin (a long body has hundreds
         # of candidates, a few in contact)
         was_active = st.nu[cand] > 0.0 if st.nu.size == m else False
-        work = cand[(g_tilde[cand] < 0.0) | was_active]
+        work = cand[short | was_active]
         q_tilde = q
         metric = _metric(model, q_tilde, S, c, opts)
         while True:
@@ -135,8 +144,9 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
     # 3. velocity jump on the contacts closed at q_{n+1}, and on the joints
     closed = cand[gaps[cand] <= tol_gap] if cand.size else cand
     if closed.size or joints.size:
+        held = None if force is None else force[closed] > 0.0
         W, Lam, iters["velocity"], tangential = velocity_jump(
-            model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb
+            model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb, held
         )
         v[model.free_slice] += W
         if closed.size:
@@ -177,10 +187,24 @@ class SmoothStep(NamedTuple):
     S: tuple | None
     iterations: int
     Gb: np.ndarray | None
+    force: np.ndarray | None  # λ of every contact (N), None without persistent contacts
 
 
-def _smooth_step(model, st, t, c, opts, timer) -> SmoothStep:
-    """Step 1: Newton on M v̇ + C_t v + f_int(q) + G_bᵀλ = f_ext(t), g_b(q) = 0.
+def _persistent(model, st, opts) -> np.ndarray:
+    """The persistent contacts of the step after ``st`` (:mod:`.smooth_contact`), with the
+    gap tolerance evaluated only when a contact was pressed."""
+    P = persistent_contacts(model, st, np.inf)
+    if P.size == 0:
+        return P
+    limit = opts.tol_gap * model.length  # the tolerance's lower bound decides most steps
+    if np.any(st.gaps[P] > limit):
+        limit = opts.tol_gap * length_scale(model, st.q)
+    return P[st.gaps[P] <= limit]
+
+
+def _smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
+    """Step 1: Newton on M v̇ + C_t v + f_int(q) + G_bᵀλ_b − G_Pᵀλ = f_ext(t), g_b(q) = 0,
+    0 ≤ g_P(q) ⊥ λ ≥ 0 on the persistent contacts ``P`` (:mod:`.smooth_contact`).
 
     Returns a :class:`SmoothStep`: S = (S_t, its solver) for the metric of the position
     correction (None with joints), G_b the joint gradient at the returned q (None when the
@@ -194,13 +218,20 @@ def _smooth_step(model, st, t, c, opts, timer) -> SmoothStep:
     joints = model.joints
     nb = joints.size
     alpha, beta_k = model.damping
-    tol_b = JointTolerance(model, q, opts.tol_gap) if nb else None
+    sc = None
+    if P is not None and P.size:
+        model.contacts.set_time(t)
+        force = st.memory.get("contact_force")
+        sc = SmoothContacts(model, P, np.zeros(P.size) if force is None else force[P], c.bp, opts)
+    curved = sc is not None and not model.contacts.linear
+    tol_b = JointTolerance(model, q, opts.tol_gap) if nb or sc else None
     S = Gb = None
+    plain = True  # every solve was with S_t alone (not bordered): S_t's solver is a metric
     # linear bodies: S_t = β′M + γ′C + K is assembled and factorized once per step size;
     # joints border it with their (q-dependent) gradient and curvature
     linear = model.linear
     # ... and then the joints' Taylor remainders bound the residual an update leaves
-    bounded = linear and nb and not joints.linear
+    bounded = linear and nb and not joints.linear and sc is None
     clock = time.perf_counter()
     armijo = None  # the test of the last full update, decided by the energy at its end
     for it in range(opts.max_iterations + 1):
@@ -223,13 +254,20 @@ def _smooth_step(model, st, t, c, opts, timer) -> SmoothStep:
             first = it == 0 and not joints.linear
             gb, Gb, Cb = joints.linearize(q, joints.all, lam if first else None)
             r += Gb.T @ lam
+        if sc is not None:
+            sc.update(q, curved)
+            r -= sc.force_term()
         clock = timer.add("assembly", clock)
         ref = math.sqrt(max(ff, fi @ fi, Mvd @ Mvd, 1e-300))
         rnorm = math.sqrt(r @ r)
         if not math.isfinite(rnorm):
             why = "" if np.all(np.isfinite(fi)) else ": an element inverts (det F <= 0)"
             raise StepFailure("smooth step diverged" + why, rnorm)
-        if rnorm <= opts.tol_residual * ref and (not nb or tol_b.admits(np.abs(gb).max())):
+        if (
+            rnorm <= opts.tol_residual * ref
+            and (not nb or tol_b.admits(np.abs(gb).max()))
+            and (sc is None or sc.satisfied(tol_b.admits))
+        ):
             break
         if it == opts.max_iterations:
             raise StepFailure("smooth step", rnorm / ref)
@@ -239,13 +277,26 @@ def _smooth_step(model, st, t, c, opts, timer) -> SmoothStep:
             S = model.iteration_sum(c.bp, K)
             if alpha or beta_k:
                 S = S + c.gp * Ct
-        if nb:
-            if Cb is None and not joints.linear:
+        touching = sc is not None and sc.active.any()
+        if touching and not nb and sc.C is None:  # straight gaps: S_t's own factors
+            if not linear:
+                solve = factorize_or_fail(S, rnorm / ref, symmetric=True)
+            dq = sc.schur_update(model, r, solve, (c.bp, c.gp) if linear else None)
+        elif nb or touching:
+            if nb and Cb is None and not joints.linear:
                 Cb = joints.curvature(q, joints.all, lam)
-            Kb = S if Cb is None else S + Cb
-            solve = factorize_or_fail(bordered(Kb, Gb), rnorm / ref)
-            x = -solve(np.concatenate([r, gb]))
-            dq, lam = x[:nF], lam + x[nF:]
+            Kb = plus_curvature(S, 1.0, Cb if nb else None)
+            g_rows, G_rows = (gb, Gb) if nb else (np.zeros(0), np.zeros((0, nF)))
+            if touching:
+                gA, GA, _ = sc.rows()
+                Kb = plus_curvature(Kb, 1.0, sc.C)
+                g_rows, G_rows = np.concatenate([g_rows, gA]), np.vstack([G_rows, GA])
+            solve = factorize_or_fail(bordered(Kb, G_rows), rnorm / ref)
+            plain = False
+            x = -solve(np.concatenate([r, g_rows]))
+            dq, lam = x[:nF], lam + x[nF : nF + nb]
+            if touching:
+                sc.take(x[nF + nb :])
         else:
             if not linear:
                 solve = factorize_or_fail(S, rnorm / ref, symmetric=True)
@@ -263,14 +314,16 @@ def _smooth_step(model, st, t, c, opts, timer) -> SmoothStep:
         if (bounded and _converged_by_bound(model, vd, dq, lam, x[nF:], ff, tol_b, opts)) or (
             model.update_size(dq) <= opts.tol_increment
             and (not nb or tol_b.admits(np.abs(gb).max()))
+            and (sc is None or sc.settled(q, tol_b.admits))
         ):
             it += 1
             Gb = None
             break
     # the metric of the position correction reuses S_t and its factors; a bordered
     # factorization (joints) is no metric, so then S_t is rebuilt on demand
-    S = (S, solve) if S is not None and not nb else None
-    return SmoothStep(q, v, vd, a, lam, S, it, Gb)
+    S = (S, solve) if S is not None and plain and not nb else None
+    force = None if sc is None else sc.forces(model.contacts.size)
+    return SmoothStep(q, v, vd, a, lam, S, it, Gb, force)
 
 
 def _converged_by_bound(model, vd, dq, lam, dlam, ff, tol_b, opts) -> bool:

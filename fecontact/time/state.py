@@ -24,6 +24,7 @@ __all__ = ["IntegratorOptions", "PhaseTimer", "State", "initial_state", "length_
 METRICS = ("stiffness", "mass")
 IMPACT_VELOCITIES = ("interpolated", "step_start")
 INTEGRATORS = ("nsga", "moreau", "penalty")
+SWITCH = ("auto", "on", "off")
 
 
 @dataclass
@@ -55,6 +56,12 @@ class IntegratorOptions:
     penalty_stiffness : N/m of the penalty baseline (None: automatic, ten steps per contact
         period).
     penalty_damping : damping ratio ζ ≥ 0 of the penalty baseline (None: from e_N).
+    smooth_contact : NSGA only. "on": contacts that stay closed carry a contact force λ in
+        the smooth step (:mod:`fecontact.time.smooth_contact`); "off": the fully decoupled
+        scheme, where only the position correction and the velocity jump act on contacts;
+        "auto" (default): on for models with an elastic continuum (``Solid``), whose
+        lasting contacts it lets take steps of Δx/c and more, off for beams and rigid
+        bodies, which it does not change measurably (see the README).
     """
 
     rho_inf: float = 0.5
@@ -72,6 +79,7 @@ class IntegratorOptions:
     theta: float = 0.5
     penalty_stiffness: float | None = None
     penalty_damping: float | None = None
+    smooth_contact: str = "auto"
 
     def __post_init__(self):
         alpha_coefficients(self.rho_inf)
@@ -87,6 +95,9 @@ class IntegratorOptions:
         if not isinstance(self.integrator, str) or self.integrator not in INTEGRATORS:
             known = ", ".join(INTEGRATORS)
             raise InputError(f"integrator must be one of {known}, got {self.integrator!r}")
+        if not isinstance(self.smooth_contact, str) or self.smooth_contact not in SWITCH:
+            known = ", ".join(SWITCH)
+            raise InputError(f"smooth_contact must be one of {known}, got {self.smooth_contact!r}")
         self.theta = check_range("theta", self.theta, 0.0, 1.0, (False, True))
         if self.penalty_stiffness is not None:
             self.penalty_stiffness = check_positive("penalty_stiffness", self.penalty_stiffness)
@@ -140,6 +151,25 @@ class State:
     @property
     def newton_iterations(self) -> int:
         return sum(self.iterations.values())
+
+    @property
+    def force(self) -> np.ndarray:
+        """The smooth contact force λ_j of every contact at the end of the step (N; zero
+        without the smooth contact of :mod:`fecontact.time.smooth_contact`)."""
+        return self.memory.get("contact_force", np.zeros(self.impulse.size))
+
+    def pressed(self) -> np.ndarray:
+        """Per contact: whether any force acted in the step (ν > 0, Λ > 0 or λ > 0)."""
+        out = self.force > 0.0
+        if self.nu.size == out.size:
+            out |= self.nu > 0.0
+        if self.impulse.size == out.size:
+            out |= self.impulse > 0.0
+        return out
+
+    def mean_force(self) -> np.ndarray:
+        """The mean contact force of every contact over the step, λ + k Λ/h (N)."""
+        return self.force + (self.impulse / self.h if self.h > 0 else 0.0)
 
 
 class StepFailure(Exception):

@@ -1,0 +1,171 @@
+r"""Contact forces in the smooth step: persistent contacts as unilateral constraints of the
+generalized-α Newton.
+
+In the fully decoupled scheme the smooth step carries no contact force, and a contact that
+stays closed is held only by the position correction U and the velocity jump W, which never
+enter v̇ or a. Elastic bodies in lasting contact then integrate their contact zone with the
+wrong accelerations, and the step must stay below about Δx/c. Here the contacts that are
+*persistent*, closed at t_n and pressed in the step that ended there,
+
+    P = {j : g_j(q_n) ≤ tol_gap and (λ_j,n > 0 or ν_j,n > 0 or Λ_j,n > 0)},
+
+carry a smooth contact force λ_j ≥ 0 (N) in the equations of motion at t_{n+1},
+
+    M v̇_{n+1} + C ṽ_{n+1} + f_int(q̃_{n+1}) − f_ext(t_{n+1}) − Σ_{j∈P} G_jᵀ λ_j = 0,
+    k λ_j − [k λ_j − p_j g_j(q̃_{n+1})]_+ = 0   (j ∈ P),
+
+the position-level Alart–Curnier law, 0 ≤ g_j ⊥ λ_j ≥ 0, solved together with the dynamics
+by semi-smooth Newton (a primal–dual active set, A = {j ∈ P : k λ_j − p_j g_j > 0}): on A
+the linearised gap G_j Δq = −g_j is a row of the bordered iteration matrix, off A λ_j = 0.
+This is the index-3 treatment of the joints, given to the contacts that stay closed, with a
+multiplier warm-started from the previous step (after Chen, Acary, Virlez & Brüls 2013 and
+Brüls, Acary & Cardona 2014, who carry λ in the smooth part; here at position level so that
+the smooth step itself leaves g ≥ 0 on P).
+
+Contacts that close within the step (impacts) stay out of P: an index-3 force that stops a
+body within one step is an impulse divided by h², which would pollute v̇ and a for many
+steps. They are left to the position correction and the velocity jump with Newton's impact
+law, exactly as in the decoupled scheme, which then also keep the velocities of P
+consistent (ġ_j ≥ 0) and fix whatever the smooth step leaves. A contact leaves P when its
+force vanishes: the complementarity lets it separate with λ_j = 0.
+
+p_j = β′ / Σ_i G_ji² / M_ii (N/m: the stiffness of the step's inertia along the contact,
+with the diagonal of M) and k only steer the active-set iteration; the converged forces do
+not depend on them. Frictional contacts keep the decoupled scheme.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..contact.laws import LEAST_SQUARES
+
+__all__ = ["SmoothContacts", "persistent_contacts"]
+
+
+def persistent_contacts(model, st, tol_gap: float) -> np.ndarray:
+    """The contacts P of the step after ``st``: frictionless, closed at q_n (g ≤ tol_gap, m)
+    and pressed by any of the last step's forces."""
+    contacts = model.contacts
+    m = contacts.size
+    if m == 0 or st.gaps.size != m or contacts.frictional:
+        return np.zeros(0, int)
+    pressed = st.nu > 0.0 if st.nu.size == m else np.zeros(m, bool)
+    if st.impulse.size == m:
+        pressed |= st.impulse > 0.0
+    force = st.memory.get("contact_force")
+    if force is not None:
+        pressed |= force > 0.0
+    return np.flatnonzero(pressed & (st.gaps <= tol_gap))
+
+
+class SmoothContacts:
+    """The persistent contacts ``P`` of one smooth step, their forces λ (N) and active set.
+
+    ``update(q)`` evaluates the gaps and gradients at q, decides the active set from the
+    current forces and drops the forces off it; ``force_term`` is then Σ_{j∈A} G_jᵀ λ_j
+    (to subtract from the residual), ``rows`` the active rows to border the iteration
+    matrix with, and ``satisfied(tol)`` the complementarity test of convergence."""
+
+    def __init__(self, model, P: np.ndarray, force0: np.ndarray, bp: float, opts):
+        self.contacts, self.P = model.contacts, P
+        self.lam = np.maximum(force0, 0.0)
+        self.k = opts.multiplier_scale
+        M = model.M
+        diag = np.diag(M) if isinstance(M, np.ndarray) else M.diagonal()
+        self.inverse_mass_diag = 1.0 / diag
+        self.p_scale = opts.penalty_scale * bp
+        self.g = self.G = self.p = None
+        self.active = np.zeros(P.size, bool)
+        self.solved = None  # the active set of the last update that enforced its gaps
+
+    @property
+    def size(self) -> int:
+        return self.P.size
+
+    def update(self, q: np.ndarray, curvature: bool) -> None:
+        """Gaps, gradients (and, with ``curvature``, the curvature −Σ_A λ_j ∇²g_j of the
+        force term) at q; the active set from the forces carried in."""
+        # the forces carried in weigh the curvature; one that leaves A below lags one update
+        weights = -self.lam if curvature else None
+        self.g, self.G, self.C = self.contacts.linearize(q, self.P, weights)
+        if self.p is None:
+            inverse = np.einsum("ij,j->i", self.G * self.G, self.inverse_mass_diag)
+            self.p = self.p_scale / np.maximum(inverse, 1e-300)
+        self.active = self.k * self.lam - self.p * self.g > 0.0
+        self.lam[~self.active] = 0.0
+
+    def force_term(self) -> np.ndarray:
+        return self.G.T @ self.lam
+
+    def rows(self):
+        """(g_A, G_A, multipliers −λ_A): the active contacts as rows of the bordered system,
+        whose multiplier convention is + G_bᵀ μ in the residual."""
+        A = self.active
+        return self.g[A], self.G[A], -self.lam[A]
+
+    def take(self, dmu: np.ndarray) -> None:
+        """Apply the bordered solve's update of the rows' multipliers (μ = −λ)."""
+        self.lam[self.active] -= dmu
+        self.solved = self.active.copy()
+
+    def schur_update(self, model, r, solve, key=None) -> np.ndarray:
+        """The Newton update of the bordered system [[S, −G_Aᵀ], [G_A, 0]] (dq, Δλ_A) from
+        S's own ``solve`` and the Schur complement G_A S⁻¹G_Aᵀ of the active rows, for gaps
+        without curvature: S dq − G_Aᵀ Δλ = −r, G_A dq = −g_A. With a ``key`` (S is
+        constant at this step size) the columns S⁻¹G_jᵀ of constant gradients are kept per
+        contact, so a linear body in lasting contact factorizes S once per run."""
+        A = self.active
+        GA, gA = self.G[A], self.g[A]
+        Y = self._columns(model, GA, solve, key)
+        x = solve(r)
+        dlam = _multipliers(GA @ Y, GA @ x - gA)
+        self.lam[A] += dlam
+        self.solved = A.copy()
+        return -x + Y @ dlam
+
+    def _columns(self, model, GA, solve, key):
+        if key is None or not self.contacts.linear:
+            return solve(GA.T).reshape(GA.shape[1], -1)
+        cache = model.column_cache.setdefault(("smooth", *key), {})
+        select = self.P[self.active]
+        missing = [i for i, j in enumerate(select) if j not in cache]
+        if missing:
+            Y = solve(GA[missing].T).reshape(GA.shape[1], -1)
+            for col, i in enumerate(missing):
+                cache[select[i]] = Y[:, col]
+        return np.column_stack([cache[j] for j in select])
+
+    def satisfied(self, admits) -> bool:
+        """Complementarity within the gap tolerance (``admits(x)``: x ≤ tolerance, m): the
+        active gaps closed, the inactive ones not penetrating. Active gaps count as closed
+        only after an update has enforced them (then to round-off where they are linear, as
+        in the position correction), not because the predictor lands within tolerance."""
+        A = self.active
+        if A.any() and not np.array_equal(A, self.solved):
+            return False
+        worst = max(np.abs(self.g[A]).max(initial=0.0), (-self.g[~A]).max(initial=0.0))
+        return admits(worst)
+
+    def settled(self, q: np.ndarray, admits) -> bool:
+        """Whether the active set at q is the one just solved with and complementarity holds
+        there (the test of an update below the increment tolerance)."""
+        before = self.active.copy()
+        self.update(q, False)
+        return bool(np.array_equal(before, self.active)) and self.satisfied(admits)
+
+    def forces(self, m: int) -> np.ndarray:
+        """λ of every contact (N), zero outside P."""
+        out = np.zeros(m)
+        out[self.P] = self.lam
+        return out
+
+
+def _multipliers(S: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """Solve the Schur system S Δλ = rhs; redundant contact rows (a singular S) take least
+    squares, counted in ``LEAST_SQUARES`` like those of the corrections."""
+    try:
+        return np.linalg.solve(S, rhs)
+    except np.linalg.LinAlgError:
+        LEAST_SQUARES["count"] += 1
+        return np.linalg.lstsq(S, rhs, rcond=None)[0]
