@@ -81,7 +81,7 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
     t = st.t + h
     m, joints = model.contacts.size, model.joints
     smooth = opts.smooth_contact == "on" or (opts.smooth_contact == "auto" and model.continuum)
-    P = _persistent(model, st, opts) if smooth and m else None
+    P = persistent_contacts(model, st, opts.detection_margin * model.length) if smooth else None
     q, v, vd, a, lam, S, it, Gb, force = _smooth_step(model, st, t, c, opts, timer, P)
     iters = {"smooth": it, "position": 0, "velocity": 0}
     clock = time.perf_counter()
@@ -188,18 +188,6 @@ class SmoothStep(NamedTuple):
     iterations: int
     Gb: np.ndarray | None
     force: np.ndarray | None  # λ of every contact (N), None without persistent contacts
-
-
-def _persistent(model, st, opts) -> np.ndarray:
-    """The persistent contacts of the step after ``st`` (:mod:`.smooth_contact`), with the
-    gap tolerance evaluated only when a contact was pressed."""
-    P = persistent_contacts(model, st, np.inf)
-    if P.size == 0:
-        return P
-    limit = opts.tol_gap * model.length  # the tolerance's lower bound decides most steps
-    if np.any(st.gaps[P] > limit):
-        limit = opts.tol_gap * length_scale(model, st.q)
-    return P[st.gaps[P] <= limit]
 
 
 def _smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
