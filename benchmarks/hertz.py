@@ -249,16 +249,26 @@ def graded_case(spacing: float, element: str = "P1", v: float = V, base: int = 3
     return model, IntegratorOptions(rho_inf=0.5), model.translation(ball, (0.0, 0.0, -v))
 
 
+def node_spacing(ball) -> float:
+    """The shortest distance between nodes (m): the shortest edge, half of it for P2."""
+    return ball.min_edge_length / (2.0 if ball.element == "P2" else 1.0)
+
+
+def base_step(ball) -> float:
+    """The largest power of two (s) below 0.15 of the dilatational transit time across
+    ``node_spacing``: every step of a run then has the same h to the last bit."""
+    return 2.0 ** math.floor(math.log2(0.15 * node_spacing(ball) / ball.material.wave_speed))
+
+
 def measure(setup, v: float = V, dt_factor: float = 1.0, static: bool = True) -> dict:
     """One impact at ``v`` of the ball of ``setup`` = (model, options, v0): duration, peak
     force, approach and rebound with Hertz's values, and (``static``) the same mesh's static
     approach under Hertz's peak force."""
     model, options, v0 = setup
     ball = model.bodies[0]
-    element = ball.element
     ref = hertz(ball.mass, v)
-    spacing = ball.min_edge_length / (2.0 if element == "P2" else 1.0)
-    dt = 2.0 ** math.floor(math.log2(0.15 * spacing / ball.material.wave_speed)) * dt_factor
+    spacing = node_spacing(ball)
+    dt = base_step(ball) * dt_factor
     options.detection_margin = 0.01
     w = ball.mass_matrix() @ ball.translation_field((0.0, 0.0, 1.0))  # z-momentum weights
     momentum, approach, per_step, touching = [], [], [], []
@@ -296,6 +306,7 @@ def measure(setup, v: float = V, dt_factor: float = 1.0, static: bool = True) ->
         "a_per_spacing": math.sqrt(RADIUS * ref["delta"]) / spacing,
         "touching_max": max(touching),
         "dt_us": 1e6 * dt,
+        "dt_per_transit": dt * ball.material.wave_speed / spacing,
         "steps": steps,
         "t_c_ms": 1e3 * t_last,
         "t_c_hertz_ms": 1e3 * ref["t_c"],
@@ -416,7 +427,11 @@ the continuum's impact at t_c −1.2 %, F_max +1.5 %, δ_max −1.0 % from Hertz
   the step exceeds the transit time of the contact zone's elements the jumps take too little
   momentum per step and the patch yields. Contact between solids needs h ≲ 0.3 Δx/c where they
   touch; the solid cases step at Δx/8c to Δx/16c."""
-READINGS = {"fast": READING, "slow": SLOW_READING}
+STEPS_READING = """\
+Reading (measured when this file was written). Deviations are from the same mesh's finest
+step with the smooth contact force (``smooth_contact="on"``, the default for solids).
+"""
+READINGS = {"fast": READING, "slow": SLOW_READING, "steps": STEPS_READING}
 TITLE = "Elastic ball on a rigid plane against Hertz"
 STATIC_READING = """\
 Reading (measured when this file was written).
@@ -459,6 +474,40 @@ FAST = [
     ("graded", "P1", 2.5, 1.0), ("graded", "P1", 5, 1.0), ("graded", "P1", 10, 1.0),
 ]  # fmt: skip
 SLOW_V = 0.01  # m/s: a_max/R = 0.032, where Hertz's half-space is the ball's limit
+# the step sweep at 0.01 m/s: (element, graded spacing / a_max, h factors (0: t_c/50),
+# scheme); each mesh's first row is its finest step with the smooth contact force
+STEP_SWEEP = [
+    ("P1", 1, (1.0, 4.0, 16.0, 64.0, 128.0, 0.0), "on"),
+    ("P1", 1, (4.0, 16.0, 64.0), "off"),
+    ("P2", 0.5, (4.0, 16.0, 64.0, 128.0, 0.0), "on"),
+]
+STEP_COLUMNS = [
+    "element", "refinements", "scheme", "dofs", "dt_us", "dt_per_transit", "steps", "t_c_ms",
+    "t_c_dev_pct", "F_max_N", "F_dev_pct", "delta_mm", "delta_dev_pct", "t_c_error_pct",
+    "F_max_error_pct", "delta_error_pct", "rebound", "wall_s",
+]  # fmt: skip
+STEP_HEADERS = [
+    "element", "mesh", "smooth contact", "dofs", "h (µs)", "h / (Δx/c)", "steps", "t_c (ms)",
+    "t_c vs finest (%)", "F_max (N)", "F_max vs finest (%)", "δ_max (mm)",
+    "δ_max vs finest (%)", "t_c vs Hertz (%)", "F_max vs Hertz (%)", "δ_max vs Hertz (%)",
+    "v_out / v", "wall (s)",
+]  # fmt: skip
+
+
+def step_sweep(quick: bool) -> list[dict]:
+    """The 0.01 m/s impact of graded P1 and P2 balls from a fine step to t_c/50, with and
+    without the smooth contact force; deviations from each mesh's finest smooth run."""
+    rows, finest = [], {}
+    for element, size, factors, scheme in STEP_SWEEP:
+        for factor in factors[:2] if quick else factors:
+            row = impact_row("graded", element, size, factor, SLOW_V, scheme)
+            ref = finest.setdefault((element, size), row)
+            for key, name in (("t_c_ms", "t_c"), ("F_max_N", "F"), ("delta_mm", "delta")):
+                row[f"{name}_dev_pct"] = 100.0 * (row[key] / ref[key] - 1.0)
+            rows.append(row)
+    return rows
+
+
 SLOW = [("graded", "P1", n, 1.0) for n in (1, 2)] + [("graded", "P2", n, 1.0) for n in (0.5, 1)]
 SLOW += [("graded", "P2", 1, 2.0)] + [("graded", "P1", 2, f) for f in (2.0, 4.0, 8.0, 16.0)]
 # static law: (element, a / Δx, Hertz's F_max at 1 m/s over this): the loads 8x apart (a
@@ -468,18 +517,25 @@ STATIC = [("P2", 4.0, 8.0**k) for k in range(4)] + [("P1", 8.0, 8.0**k) for k in
 STATIC += [(el, n, (1.0 / SLOW_V) ** 1.2) for el in ("P2", "P1") for n in (1.0, 2.0, 4.0, 8.0)]
 
 
-def impact_row(kind: str, element: str, size: float, factor: float, v: float) -> dict:
+def impact_row(
+    kind: str, element: str, size: float, factor: float, v: float, scheme: str = "auto"
+) -> dict:
     """One row of an impact series (``measure`` with the mesh's label). Graded P2 balls start
     from ``init_ball(2)``: their quadratic cells hold the bulk's share (C, ``hertz_static.md``)
-    as the finer P1 base does."""
+    as the finer P1 base does. ``scheme`` is the ``smooth_contact`` option; a ``factor`` of
+    0 means the step t_c/50 (Hertz's t_c)."""
     if kind == "uniform":
         setup, label = uniform_case(element, int(size), v), f"uniform {int(size)}"
     else:
         base = 2 if element == "P2" else 3
         setup = graded_case(contact_radius(v) / size, element, v, base)
         label = f"base {base}, graded to a_max/{size:g}"
+    setup[1].smooth_contact = scheme
+    step = {1.0: "", 0.5: " (h/2)", 0.0: " (t_c/50)"}.get(factor, f" ({factor:g}h)")
+    if factor == 0.0:
+        factor = hertz(setup[0].bodies[0].mass, v)["t_c"] / 50.0 / base_step(setup[0].bodies[0])
     row = measure(setup, v, factor, static=factor == 1.0)
-    step = {1.0: "", 0.5: " (h/2)"}.get(factor, f" ({factor:g}h)")
+    row["scheme"] = scheme
     row["element"], row["refinements"] = element, label + step
     print(
         f"{element} {row['refinements']} v {v}: t_c {row['t_c_error_pct']:+.2f} %, F_max "
@@ -497,7 +553,8 @@ def main(argv=None) -> int:
         "--series",
         default="static,slow,fast",
         help="comma-separated: static (the meshes' static law), slow (impacts at 0.01 m/s), "
-        "fast (impacts at 1 m/s); each writes its own table",
+        "fast (impacts at 1 m/s), steps (the step sweep at 0.01 m/s, not in the default); "
+        "each writes its own table",
     )
     p.add_argument(
         "--from-csv",
@@ -526,6 +583,14 @@ def main(argv=None) -> int:
         else:
             rows = [impact_row(*run, v) for run in runs]
         print(report(rows, args.out, stem, READINGS[name]))
+    if "steps" in series:
+        stem = "hertz_steps" + ("_quick" if args.quick else "")
+        if args.from_csv:
+            rows = read_csv(f"{args.out}/{stem}.csv")
+        else:
+            rows = step_sweep(args.quick)
+        title = "Hertz impact at 0.01 m/s: the step, with and without the smooth contact force"
+        print(report(rows, args.out, stem, STEPS_READING, title, STEP_COLUMNS, STEP_HEADERS))
     return 0
 
 
