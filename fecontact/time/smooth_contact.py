@@ -46,14 +46,18 @@ from ..contact.laws import LEAST_SQUARES
 
 __all__ = ["SmoothContacts", "persistent_contacts"]
 
+_NONE = np.zeros(0, int)
+_NONE.flags.writeable = False
+
 
 def persistent_contacts(model, st, near: float) -> np.ndarray:
     """The contacts P of the step after ``st``: frictionless, pressed by any of the last
     step's forces, and with a gap g(q_n) ≤ ``near`` (m)."""
     contacts = model.contacts
     m = contacts.size
-    if m == 0 or st.gaps.size != m or contacts.frictional:
-        return np.zeros(0, int)
+    # a contact pressed in the last step was one of its candidates: in flight, nothing to do
+    if m == 0 or st.gaps.size != m or contacts.frictional or st.candidates.size == 0:
+        return _NONE
     pressed = st.nu > 0.0 if st.nu.size == m else np.zeros(m, bool)
     if st.impulse.size == m:
         pressed |= st.impulse > 0.0

@@ -1,0 +1,82 @@
+"""Cost of contact-free steps against an earlier revision, side by side.
+
+Bodies in flight, with contacts defined but none near: the dropped 3D ball (refinements 3,
+2499 dofs, linear), two disks 5 cm apart (580 dofs, Neo-Hookean) and the founding pendulum
+before its first impact. Each run is timed in a fresh process (best of 3 inside it), once with
+this checkout and once with ``--baseline REV`` checked out into a temporary git worktree,
+alternating, ``--rounds`` times; the table gives the fastest of each (the cost without the
+machine's noise) and their ratio (this / baseline).
+
+    python benchmarks/free_flight_cost.py --baseline c018344      # about a minute
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+from _common import RESULTS, ROOT, markdown_table, parser, write_markdown
+
+# (case, build parameters, t_end (s), step (s)): no contact within the run
+RUNS = [
+    ("ball_drop", {"drop_height": 10.0, "refinements": 3}, 0.3, 5e-5),
+    ("two_disks", {"gap": 0.05}, 0.005, 2e-5),
+    ("flexible_pendulum", {}, 0.25, 2.5e-4),
+]
+
+TIMER = """
+import json, sys, time
+from fecontact.testing import case
+from fecontact.time import simulate
+name, kw, t_end, dt = sys.argv[1], json.loads(sys.argv[2]), float(sys.argv[3]), float(sys.argv[4])
+sim = case(name).build(**kw)
+best = float("inf")
+for _ in range(3):
+    start = time.perf_counter()
+    for st in simulate(sim.model, dt, t_end, sim.options, q0=sim.q0, v0=sim.v0):
+        assert not (st.impulse.any() or st.nu.any()), "a contact closed"
+    best = min(best, time.perf_counter() - start)
+print(best)
+"""
+
+
+def timed(tree: Path, run) -> float:
+    name, kw, t_end, dt = run
+    env = dict(os.environ, PYTHONPATH=str(tree))
+    args = [sys.executable, "-c", TIMER, name, json.dumps(kw), str(t_end), str(dt)]
+    out = subprocess.run(args, env=env, cwd=tree, capture_output=True, text=True, check=True)
+    return float(out.stdout.split()[-1])
+
+
+def main() -> None:
+    p = parser(__doc__.splitlines()[0])
+    p.add_argument("--baseline", required=True, help="git revision to compare with")
+    p.add_argument("--rounds", type=int, default=3)
+    args = p.parse_args()
+    with tempfile.TemporaryDirectory(prefix="fecontact_baseline_") as tmp:
+        base = Path(tmp) / "tree"
+        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "-q", "--detach", str(base),
+                        args.baseline], check=True)  # fmt: skip
+        try:
+            rows = []
+            for run in RUNS:
+                now, then = [], []
+                for _ in range(args.rounds):
+                    then.append(timed(base, run))
+                    now.append(timed(ROOT, run))
+                a, b = min(now), min(then)
+                rows.append({"case": run[0], "this_s": a, "baseline_s": b, "ratio": a / b})
+        finally:
+            subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(base)])
+    table = markdown_table(rows, ["case", "this_s", "baseline_s", "ratio"])
+    print(table)
+    title = f"# Contact-free steps against {args.baseline}\n\n"
+    write_markdown(f"{args.out or RESULTS}/free_flight_cost.md", title + table)
+
+
+if __name__ == "__main__":
+    main()
