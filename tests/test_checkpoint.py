@@ -71,12 +71,24 @@ def test_every_integrator_resumes_identically(integrator, tmp_path):
     resume time: the penalty law's stiffness there, fixed from the corner's effective mass
     where the contact first closed (at t = 0; it changes with the angle), travels in the
     checkpoint instead of being derived again from the angle at the resume time."""
-    case = str(ROOT / "cases" / "rocking_block.py")
-    args = ["--quiet", "--t-end", "0.1", "--checkpoint-every", "25"]
-    args += ["--set", f"integrator={integrator}"]
+    args = ["--checkpoint-every", "25", "--set", f"integrator={integrator}"]
+    resumes_identically("rocking_block", args, "0.1", "0.05", tmp_path)
+
+
+def test_smooth_contact_forces_resume_identically(tmp_path):
+    """The smooth contact forces λ are the warm start and the persistent set of the next
+    step: they travel in the checkpoint (two disks in contact at the resume time)."""
+    args = ["--checkpoint-every", "10", "--set", "refinements=1"]
+    resumes_identically("two_disks", args, "0.004", "0.003", tmp_path)
+
+
+def resumes_identically(name, args, end, half, tmp_path):
+    """Run case ``name`` to ``end`` (s) in one go, and to ``half`` then resumed to ``end``:
+    the same history, impacts and frames."""
+    case = str(ROOT / "cases" / f"{name}.py")
     whole, resumed = tmp_path / "whole", tmp_path / "resumed"
-    assert main(["run", case, "--out", str(whole), *args]) == 0
-    short = [a if a != "0.1" else "0.05" for a in args]
-    assert main(["run", case, "--out", str(resumed), *short]) == 0
-    assert main(["run", case, "--out", str(resumed), "--resume", *args]) == 0
+    assert main(["run", case, "--out", str(whole), "--quiet", "--t-end", end, *args]) == 0
+    assert main(["run", case, "--out", str(resumed), "--quiet", "--t-end", half, *args]) == 0
+    resume = ["--resume", "--quiet", "--t-end", end, *args]
+    assert main(["run", case, "--out", str(resumed), *resume]) == 0
     same_run(whole, resumed)

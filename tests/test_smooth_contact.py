@@ -8,11 +8,9 @@ from pathlib import Path
 import meshio
 import numpy as np
 import pytest
-from conftest import ROOT
 
 from fecontact import Contact, InputError, IntegratorOptions, Model, Plane, Simulation, run
 from fecontact.bodies import LinearElastic, Solid
-from fecontact.io.cli import main
 from fecontact.scenes import wave_step
 from fecontact.testing import case, trace
 from fecontact.time import simulate
@@ -104,18 +102,3 @@ def test_frames_show_the_smooth_force(tmp_path: Path):
 def test_the_option_names_its_values():
     with pytest.raises(InputError, match="smooth_contact must be one of auto, on, off"):
         IntegratorOptions(smooth_contact="yes")
-
-
-def test_resume_with_smooth_forces_equals_the_whole_run(tmp_path):
-    """The forces λ are the warm start and the persistent set of the next step: they travel
-    in the checkpoint."""
-    from test_checkpoint import same_run
-
-    name = str(ROOT / "cases" / "two_disks.py")
-    args = ["--quiet", "--set", "refinements=1", "--t-end", "0.004", "--checkpoint-every", "10"]
-    whole, resumed = tmp_path / "whole", tmp_path / "resumed"
-    assert main(["run", name, "--out", str(whole), *args]) == 0
-    short = [a if a != "0.004" else "0.003" for a in args]
-    assert main(["run", name, "--out", str(resumed), *short]) == 0
-    assert main(["run", name, "--out", str(resumed), "--resume", *args]) == 0
-    same_run(whole, resumed)
