@@ -105,7 +105,7 @@ def test_two_disks_conserve_momentum_through_the_collision(runs):
 def test_two_disks_rebound_and_energy_through_the_impact(runs):
     # e = 0 at the contact nodes and ρ∞ = 0.5 take energy out; across the impact (from the
     # step before contact to the step after separation) the energy may not grow by more than
-    # 1 % of the kinetic energy at impact (measured: −0.17 % at the case's Δx/c with the
+    # 1 % of the kinetic energy at impact (measured: −0.36 % at the case's Δx/c with the
     # smooth contact force). The disks separate with most of their speed: the elastic
     # rebound (measured 0.960 of v0).
     sim, out = runs["two_disks"]
@@ -117,7 +117,7 @@ def test_two_disks_rebound_and_energy_through_the_impact(runs):
 
 def test_two_disks_energy_stays_within_one_percent_during_contact(runs):
     """The transient energy excess during persistent contact (see ``cases/two_disks.py``):
-    +0.14 % at the case's Δx/c with the smooth contact force; the decoupled scheme's is
+    +0.002 % at the case's Δx/c with the smooth contact force; the decoupled scheme's is
     second order in the Courant number h c/Δx and needed Δx/16c for +0.27 %."""
     sim, out = runs["two_disks"]
     assert energy_growth(out)[0][1] <= 0.01
@@ -127,7 +127,7 @@ def test_two_disks_energy_stays_within_one_percent_during_contact(runs):
 def test_dropped_bodies_bounce_without_energy_gain(runs, name):
     # e = 0 at the nodes, yet the bodies leave the plane through their elasticity; across
     # the impact the energy does not grow by more than 1 % of the impact kinetic energy
-    # (measured: −0.33 % for the disk at Δx/c, −0.09 % for the ball at Δx/2c)
+    # (measured: −0.43 % for the disk, −0.04 % for the ball, both at Δx/c)
     sim, out = runs[name]
     growth = energy_growth(out)
     assert len(growth) >= 1 and all(g[0] <= 0.01 for g in growth)
@@ -138,9 +138,9 @@ def test_dropped_bodies_bounce_without_energy_gain(runs, name):
 def test_quadratic_ball_impact_follows_hertz():
     """A curved P2 ball (387 dofs) touching the plane at 1 m/s without gravity: no
     penetration, contact duration within 10 % of Hertz's quasi-static 2.87 (m²/(R E*² v))^⅕
-    (measured +1.2 % at the case's Δx/2c; benchmarks/hertz.py has the convergence study),
+    (measured +0.35 % at the case's Δx/c; benchmarks/hertz.py has the convergence study),
     rebound ≤ the impact speed and above 95 % of it (elastic ball, e_N = 0 only at the nodes;
-    measured 0.9989)."""
+    measured 0.9987)."""
     sim = case("ball_drop").build(
         refinements=1, element="P2", drop_height=0.0, gravity=0.0, t_end=0.009
     )

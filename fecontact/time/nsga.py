@@ -50,7 +50,7 @@ from .coulomb import friction_memory, frictional_correction
 from .descent import Armijo, descent_direction
 from .generalized_alpha import coefficients, predict
 from .impacts import velocity_jump
-from .smooth_contact import SmoothContacts, persistent_contacts
+from .smooth_contact import SmoothContacts, persistent_contacts, restarted_acceleration
 from .state import IntegratorOptions, PhaseTimer, State, length_scale
 
 __all__ = ["nsga_step"]
@@ -145,12 +145,18 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
     closed = cand[gaps[cand] <= tol_gap] if cand.size else cand
     if closed.size or joints.size:
         held = None if force is None else force[closed] > 0.0
+        v_smooth = v.copy() if smooth and not friction else None
         W, Lam, iters["velocity"], tangential = velocity_jump(
             model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb, held
         )
         v[model.free_slice] += W
         if closed.size:
             impulse[closed] = Lam[: closed.size]
+        if v_smooth is not None and _impact(nu, impulse[closed], held):
+            # restart the acceleration variable from the post-impact state
+            restart = restarted_acceleration(model, q, v, v_smooth, t, closed, tol_gap / h)
+            if restart is not None:
+                vd[model.free_slice] = a[model.free_slice] = restart
         if tangential is not None:
             lam_t, status, work = tangential
             memory["friction_impulse"][closed] = lam_t
@@ -188,6 +194,15 @@ class SmoothStep(NamedTuple):
     iterations: int
     Gb: np.ndarray | None
     force: np.ndarray | None  # λ of every contact (N), None without persistent contacts
+
+
+def _impact(nu, impulse, held) -> bool:
+    """Whether the step stopped a contact that was not held by a smooth force: a position
+    correction, or an impulse on a contact outside the held ones (``held``: mask or None)."""
+    if np.any(nu > 0.0):
+        return True
+    new = impulse > 0.0
+    return bool(np.any(new if held is None else new & ~held))
 
 
 def _smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:

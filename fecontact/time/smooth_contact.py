@@ -43,8 +43,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..contact.laws import LEAST_SQUARES
+from .constraints import Constraints, StepFailure, constraint_columns
 
-__all__ = ["SmoothContacts", "persistent_contacts"]
+__all__ = ["SmoothContacts", "persistent_contacts", "restarted_acceleration"]
 
 _NONE = np.zeros(0, int)
 _NONE.flags.writeable = False
@@ -177,3 +178,54 @@ def _multipliers(S: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     except np.linalg.LinAlgError:
         LEAST_SQUARES["count"] += 1
         return np.linalg.lstsq(S, rhs, rcond=None)[0]
+
+
+def restarted_acceleration(model, q, v, v_smooth, t, closed, tol_rate: float):
+    """The acceleration v̇ (free dofs) consistent with the state after an impact step, from
+    which the generalized-α acceleration variable restarts (a = v̇, as at t = 0):
+
+        M v̇ = f_ext(t) − f_int(q) − C ṽ + Σ G_jᵀ μ_j,
+        0 ≤ G_j v̇ + vᵀ∇²g_j v ⊥ μ_j ≥ 0 on the closed contacts that do not separate
+        (ġ_j ≤ ``tol_rate``).
+
+    After an impact U and W have moved the state, but v̇ and a still carry the free flight's
+    acceleration and the strain that U put in acts on nothing; the index-3 force of the next
+    step then makes up for both within one step and puts energy in (two disks at 4 Δx/c:
+    +1.4 % of the impact kinetic energy, the disks leaving 2.05 % too fast; with the restart
+    +0.54 % and 1.24 %). The damping C is taken at the smooth step's velocity ṽ
+    (``v_smooth``): the jump W is an impulse the mesh does not resolve, and the dashpot
+    force on its velocity discontinuity, carried through a whole step by the predictor,
+    launched a damped block resting on a plane at 8 times its impact speed. The Signorini
+    problem at the acceleration level is solved on the Schur complement G M⁻¹Gᵀ by a
+    primal–dual active set that starts with every row pressed. Moving obstacles (gaps that
+    change with t) and joints keep a as it is: None."""
+    contacts = model.contacts
+    if contacts.moving or model.joints.size:
+        return None
+    F = model.free
+    alpha, beta_k = model.damping
+    _, fint, K = model.internal(q, tangent=bool(beta_k))
+    f = model.external(t)[F] - fint[F]
+    if alpha or beta_k:
+        f -= (alpha * model.M + beta_k * K) @ v_smooth[F]
+    x = model.solve_M(f)
+    _, G = contacts.linearize(q, closed)[:2]
+    rows = closed[G @ v[F] <= tol_rate]
+    if rows.size == 0:
+        return x
+    cons = Constraints(model, rows)
+    G = G[np.isin(closed, rows)]
+    Y = constraint_columns(model, ("mass",), rows, G, model.solve_M, cons, constant=True)
+    S, b = G @ Y, -contacts.quadratic(q, v)[rows] - G @ x  # G v̇ + vᵀ∇²g v = S μ − b
+    active = np.ones(rows.size, bool)
+    mu = np.zeros(rows.size)
+    scale = np.abs(b).max() + 1e-300
+    for _ in range(rows.size + 1):
+        mu[:] = 0.0
+        mu[active] = _multipliers(S[np.ix_(active, active)], b[active])
+        leave = active & (mu < 0.0)
+        enter = ~active & (S @ mu - b < -1e-12 * scale)
+        if not (leave.any() or enter.any()):
+            return x + Y @ mu
+        active = (active & ~leave) | enter
+    raise StepFailure("restarted acceleration: the active set did not settle", np.nan)
