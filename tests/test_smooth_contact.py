@@ -102,3 +102,32 @@ def test_frames_show_the_smooth_force(tmp_path: Path):
 def test_the_option_names_its_values():
     with pytest.raises(InputError, match="smooth_contact must be one of auto, on, off"):
         IntegratorOptions(smooth_contact="yes")
+
+
+def test_acceleration_restarts_after_an_impact():
+    """Two disks (2 refinements) at 2 Δx/c against Δx/4c: the acceleration variable restarts
+    from the state after each impact step, so the index-3 force of the next step does not
+    have to make up for the free flight's acceleration (without the restart: energy excess
+    1.4 % of the impact kinetic energy and exit speed +1.7 %; with it 0.37 % and +0.65 %)."""
+    runs = {}
+    for fraction in (0.25, 2.0):
+        sim = case("two_disks").build(refinements=2)
+        runs[fraction] = trace(sim.replace(dt=fraction * wave_step(sim.model.bodies[0], 1.0)))
+    coarse, fine = runs[2.0], runs[0.25]
+    assert coarse["status"] == "completed"
+    excess = (coarse["total"].max() - coarse["total"][0]) / coarse["kinetic"][0]
+    assert excess < 0.01
+    assert coarse["v_right"][-1] == pytest.approx(fine["v_right"][-1], rel=0.01)
+
+
+def test_a_damped_block_dropped_on_a_plane_does_not_leap():
+    """Stiffness-proportional damping: the dashpots on the velocity jump's discontinuity are
+    not carried into the restarted acceleration (they launched the block at 8 times its
+    impact speed); it rebounds elastically, slower than it hit, and settles."""
+    sim = resting_block()
+    states = list(simulate(sim.model, sim.dt, 0.05, sim.options, v0=None))
+    body = sim.model.bodies[0]
+    w = body.mass_matrix() @ body.translation_field((0.0, 1.0))
+    vy = np.array([w @ st.v / body.mass for st in states])
+    impact = -vy[1]  # the first step falls g h and is stopped
+    assert impact > 0 and vy.max() < impact
