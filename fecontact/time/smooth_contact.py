@@ -33,6 +33,11 @@ body) must not drop it from P, or the node would fall back through the next smoo
 be stopped by a correction again, every other step (measured on a ball pressed on a plane
 at 4.8 Δx/c: a ring of nodes alternating, its contact 7 % too soft).
 
+In the velocity jump a contact held by λ_j > 0 at the end of the smooth step keeps ġ_j = 0
+as an equality (an impulse of either sign): it removes the O(h) velocity drift of the index-3
+step. After a step that stopped a contact, the acceleration variable restarts from the
+post-impact state (:func:`restarted_acceleration`).
+
 p_j = β′ / Σ_i G_ji² / M_ii (N/m: the stiffness of the step's inertia along the contact,
 with the diagonal of M) and k only steer the active-set iteration; the converged forces do
 not depend on them. Frictional contacts keep the decoupled scheme.
