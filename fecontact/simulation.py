@@ -35,7 +35,15 @@ from .io.run_folder import (
     save_checkpoint,
 )
 from .linalg import ITERATIVE, SPARSE_FACTORIZATIONS
-from .time import NEWTON, IntegratorOptions, PhaseTimer, State, initial_state, simulate
+from .time import (
+    NEWTON,
+    IntegratorOptions,
+    PhaseTimer,
+    State,
+    initial_state,
+    simulate,
+    uses_smooth_contact,
+)
 
 __all__ = ["Probe", "Simulation", "node_probe", "run", "HISTORY_COLUMNS"]
 
@@ -259,6 +267,9 @@ class _Recorder:
             "impacts": self.impacts,
             "parameters": jsonable(sim.parameters),
             "options": dataclasses.asdict(sim.options),
+            # what smooth_contact="auto" chose for this model (NSGA only)
+            "smooth_contact_force": sim.options.integrator == "nsga"
+            and uses_smooth_contact(self.model, sim.options),
             "probes": {
                 k: {"unit": p.unit, "description": p.description} for k, p in sim.probes.items()
             },

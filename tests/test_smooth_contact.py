@@ -91,7 +91,8 @@ def test_two_disks_at_the_wave_transit_time():
 
 def test_frames_show_the_smooth_force(tmp_path: Path):
     sim = resting_block()
-    run(sim, tmp_path, checkpoint_every=0)
+    summary = run(sim, tmp_path, checkpoint_every=0)
+    assert summary["smooth_contact_force"] is True  # what "auto" chose for a solid
     last = sorted(tmp_path.glob("block_*.vtu"))[-1]
     force = meshio.read(last).point_data["contact_force"]
     weight = sim.model.bodies[0].mass * 9.81

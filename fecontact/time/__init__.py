@@ -4,9 +4,11 @@
 from .descent import NEWTON
 from .generalized_alpha import alpha_coefficients
 from .simulate import STEPPERS, simulate
+from .smooth_contact import uses_smooth_contact
 from .state import IntegratorOptions, PhaseTimer, State, initial_state, length_scale
 
 __all__ = [
+    "uses_smooth_contact",
     "NEWTON",
     "STEPPERS",
     "IntegratorOptions",

@@ -50,7 +50,12 @@ from .coulomb import friction_memory, frictional_correction
 from .descent import Armijo, descent_direction
 from .generalized_alpha import coefficients, predict
 from .impacts import velocity_jump
-from .smooth_contact import SmoothContacts, persistent_contacts, restarted_acceleration
+from .smooth_contact import (
+    SmoothContacts,
+    persistent_contacts,
+    restarted_acceleration,
+    uses_smooth_contact,
+)
 from .state import IntegratorOptions, PhaseTimer, State, length_scale
 
 __all__ = ["nsga_step"]
@@ -80,7 +85,7 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
     c = coefficients(opts.rho_inf, h)
     t = st.t + h
     m, joints = model.contacts.size, model.joints
-    smooth = opts.smooth_contact == "on" or (opts.smooth_contact == "auto" and model.continuum)
+    smooth = uses_smooth_contact(model, opts)
     P = persistent_contacts(model, st, opts.detection_margin * model.length) if smooth else None
     q, v, vd, a, lam, S, it, Gb, force = _smooth_step(model, st, t, c, opts, timer, P)
     iters = {"smooth": it, "position": 0, "velocity": 0}

@@ -50,10 +50,21 @@ import numpy as np
 from ..contact.laws import LEAST_SQUARES
 from .constraints import Constraints, StepFailure, constraint_columns
 
-__all__ = ["SmoothContacts", "persistent_contacts", "restarted_acceleration"]
+__all__ = [
+    "SmoothContacts",
+    "persistent_contacts",
+    "restarted_acceleration",
+    "uses_smooth_contact",
+]
 
 _NONE = np.zeros(0, int)
 _NONE.flags.writeable = False
+
+
+def uses_smooth_contact(model, opts) -> bool:
+    """Whether the NSGA step gives persistent contacts a smooth force: ``smooth_contact``
+    "on", or "auto" on a model with an elastic continuum (a ``Solid``)."""
+    return opts.smooth_contact == "on" or (opts.smooth_contact == "auto" and model.continuum)
 
 
 def persistent_contacts(model, st, near: float) -> np.ndarray:
