@@ -296,7 +296,7 @@ def _smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
             Kb = plus_curvature(S, 1.0, Cb if nb else None)
             g_rows, G_rows = (gb, Gb) if nb else (np.zeros(0), np.zeros((0, nF)))
             if touching:
-                gA, GA, _ = sc.rows()
+                gA, GA = sc.rows()
                 Kb = plus_curvature(Kb, 1.0, sc.C)
                 g_rows, G_rows = np.concatenate([g_rows, gA]), np.vstack([G_rows, GA])
             solve = factorize_or_fail(bordered(Kb, G_rows), rnorm / ref)

@@ -104,10 +104,6 @@ class SmoothContacts:
         self.active = np.zeros(P.size, bool)
         self.solved = None  # the active set of the last update that enforced its gaps
 
-    @property
-    def size(self) -> int:
-        return self.P.size
-
     def update(self, q: np.ndarray, curvature: bool) -> None:
         """Gaps, gradients (and, with ``curvature``, the curvature −Σ_A λ_j ∇²g_j of the
         force term) at q; the active set from the forces carried in."""
@@ -124,10 +120,10 @@ class SmoothContacts:
         return self.G.T @ self.lam
 
     def rows(self):
-        """(g_A, G_A, multipliers −λ_A): the active contacts as rows of the bordered system,
-        whose multiplier convention is + G_bᵀ μ in the residual."""
+        """(g_A, G_A): the active contacts as rows of the bordered system, whose multipliers
+        μ = −λ_A enter the residual as + G_Aᵀ μ."""
         A = self.active
-        return self.g[A], self.G[A], -self.lam[A]
+        return self.g[A], self.G[A]
 
     def take(self, dmu: np.ndarray) -> None:
         """Apply the bordered solve's update of the rows' multipliers (μ = −λ)."""
