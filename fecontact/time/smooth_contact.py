@@ -112,7 +112,11 @@ class SmoothContacts:
         self.g, self.G, self.C = self.contacts.linearize(q, self.P, weights)
         if self.p is None:
             inverse = np.einsum("ij,j->i", self.G * self.G, self.inverse_mass_diag)
-            self.p = self.p_scale / np.maximum(inverse, 1e-300)
+            # a row without a gradient (no facet within reach: g = +inf) is never active;
+            # any positive p steers it
+            self.p = np.divide(
+                self.p_scale, inverse, out=np.full_like(inverse, self.p_scale), where=inverse > 0
+            )
         self.active = self.k * self.lam - self.p * self.g > 0.0
         self.lam[~self.active] = 0.0
 
