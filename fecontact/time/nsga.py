@@ -286,10 +286,14 @@ def _smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
             if alpha or beta_k:
                 S = S + c.gp * Ct
         touching = sc is not None and sc.active.any()
-        if touching and not nb and sc.C is None:  # straight gaps: S_t's own factors
+        if touching and not nb:  # S_t's own factors, and the contact zone's curvature
             if not linear:
                 solve = factorize_or_fail(S, rnorm / ref, symmetric=True)
-            dq = sc.schur_update(model, r, solve, (c.bp, c.gp) if linear else None)
+            if sc.C is None:  # straight gaps: S_t⁻¹G_jᵀ kept per contact on a linear body
+                dq = sc.schur_update(model, r, solve, (c.bp, c.gp) if linear else None)
+            else:
+                units = _unit_columns(model, ("smooth", c.bp, c.gp), solve, linear)
+                dq = sc.schur_update(model, r, _with_curvature(solve, sc.C, units, rnorm / ref))
         elif nb or touching:
             if nb and Cb is None and not joints.linear:
                 Cb = joints.curvature(q, joints.all, lam)
@@ -332,6 +336,15 @@ def _smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
     S = (S, solve) if S is not None and plain and not nb else None
     force = None if sc is None else sc.forces(model.contacts.size)
     return SmoothStep(q, v, vd, a, lam, S, it, Gb, force)
+
+
+def _with_curvature(solve, C, units, residual):
+    """(S + C)⁻¹ from S's ``solve`` and the columns S⁻¹e_i (``units``) of the few dofs the
+    curvature C of the contact forces touches (:func:`fecontact.linalg.low_rank_solver`)."""
+    try:
+        return low_rank_solver(solve, -C, units)
+    except np.linalg.LinAlgError:
+        raise StepFailure("singular smooth-step matrix in contact", residual) from None
 
 
 def _converged_by_bound(model, vd, dq, lam, dlam, ff, tol_b, opts) -> bool:
