@@ -131,7 +131,8 @@ class Model:
         self.linear = all(b.linear for b in self.bodies)
         # rigid bodies and point masses only: no strain energy, no internal force
         self._elementless = not any(b.element_dofs.size for b in self.bodies)
-        self._iteration_matrices: dict = {}
+        # (S_t, its solver, C) of a linear model per (β′, γ′): one factorization per step size
+        self.iteration_cache: dict = {}
         self.column_cache: dict = {}  # H⁻¹G_jᵀ per metric and contact (linear models)
 
     def _check_joints_independent(self) -> None:
@@ -222,13 +223,13 @@ class Model:
         """(S, solve, C) with the damping C = αM + βK and S = β′M + γ′C + K, for linear
         bodies (constant K): assembled and factorized once per step size, then reused."""
         key = (bp, gp)
-        if key not in self._iteration_matrices:
+        if key not in self.iteration_cache:
             _, _, K = self.internal(np.zeros(self.n))
             alpha, beta = self.damping
             C = alpha * self.M + beta * K
             S = bp * self.M + K + gp * C
-            self._iteration_matrices[key] = (S, factorize(S, symmetric=True), C)
-        return self._iteration_matrices[key]
+            self.iteration_cache[key] = (S, factorize(S, symmetric=True), C)
+        return self.iteration_cache[key]
 
     def external(self, t: float) -> np.ndarray:
         """External force (N, N·m) on all dofs at time t (s): gravity plus the loads."""

@@ -180,14 +180,14 @@ def test_gradients_are_translation_invariant(name, make):
 
 def brute_force_gaps(pair, q):
     """Gaps by the facet rule of the module docstring over every facet (no search)."""
-    xs, xm = pair._positions(q)
+    xs, xm = pair.positions(q)
     F = len(pair.facets)
     out = np.full(len(xs), np.inf)
     for i, x in enumerate(xs):
         dist, g = closest_facet_distance(np.repeat(x[None], F, 0), xm[pair.facets])
         if dist.min() > pair.margin:
             continue
-        ties = dist <= dist.min() + pair._tol
+        ties = dist <= dist.min() + pair.tie_tolerance
         out[i] = g[ties][np.argmax(np.abs(g[ties]))]
     return out
 

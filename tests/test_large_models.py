@@ -55,7 +55,7 @@ def test_linear_solid_in_contact_factorizes_once_per_run(monkeypatch):
     # the mass (initial acceleration, velocity jumps) and S, each once and symmetric
     assert calls == [(model.n_free, True)] * 2
     assert len(assembled) == 1
-    assert len(model._iteration_matrices) == 1
+    assert len(model.iteration_cache) == 1
 
 
 def test_column_cache_solves_only_for_new_contacts(monkeypatch):
@@ -73,7 +73,7 @@ def test_column_cache_solves_only_for_new_contacts(monkeypatch):
         columns.append(1 if b.ndim == 1 else b.shape[1])
         return solve_S(b)
 
-    model._iteration_matrices[next(iter(model._iteration_matrices))] = (S, solve, C)
+    model.iteration_cache[next(iter(model.iteration_cache))] = (S, solve, C)
     states = list(simulate(model, 1e-5, 40e-5, v0=v0))
     seen = set()
     for st in states:
@@ -161,7 +161,7 @@ def test_gap_gradients_of_a_selection_are_the_selected_rows():
     selection of contacts must still be the selected rows of the full gradient."""
     ball = Solid.ball([0.0, 0.0, 0.05], 0.05, 3, LinearElastic(E=1e7, nu=0.3, rho=1000.0))
     model = Model([ball], [Contact(ball, Plane([0.0, 0.0, 0.01], [0.2, 0.1, 1.0]))])
-    assert model.contacts._affine is None
+    assert not model.contacts.affine
     q = np.random.default_rng(3).normal(scale=1e-3, size=model.n)
     g_all, G_all, _ = model.contacts.linearize(q, model.contacts.all)
     for select in (np.array([5]), np.array([40, 7, 200]), np.arange(0, model.contacts.size, 3)):

@@ -209,7 +209,7 @@ def test_linear_body_assembles_its_stiffness_once():
 def test_stiffness_and_mass_equal_scikit_fem_vector_forms(cell, plane, element, order):
     """The node-major dof order equals ElementVector's: the matrices must match skfem's."""
     body = small_solid(MATERIALS["linear"], cell, plane, element, divisions=2)
-    scalar = type(body._basis.elem)
+    scalar = type(body.basis.elem)
     vb = skfem.Basis(body.mesh, skfem.ElementVector(scalar()), intorder=2 * order)
     K = linear_elasticity(*lame_parameters(YOUNG, NU)).assemble(vb) * body.thickness
     M = skfem.BilinearForm(lambda u, v, w: RHO * dot(u, v)).assemble(vb) * body.thickness

@@ -173,6 +173,12 @@ class Solid(NodalTranslations):
         return len(self._quad.nodes)
 
     @property
+    def basis(self):
+        """The scalar scikit-fem basis of each displacement component (P1 or P2 on the mesh,
+        dofs in the order of the nodes ``X``)."""
+        return self._basis
+
+    @property
     def volume(self) -> float:
         """Reference volume in m³ (2D: area × thickness)."""
         return float(self._mass_basis.dx.sum() * self.thickness)

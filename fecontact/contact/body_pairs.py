@@ -198,7 +198,8 @@ class NodeSurfaceContact(PairDefaults):
             margin = 0.05 * max(body.characteristic_length, master.characteristic_length)
         self.margin = check_positive("margin", margin)
         self.facets = master.contact_facets()
-        self._tol = 1e-12 * max(body.characteristic_length, master.characteristic_length)
+        # distances to the closest facets within this (m) are ties, decided by the gap
+        self.tie_tolerance = 1e-12 * max(body.characteristic_length, master.characteristic_length)
         d = self.dim
         self._slave_dofs = body.node_translation_dofs(self.nodes)
         self._facet_dofs = master.node_translation_dofs(self.facets.ravel()).reshape(
@@ -220,7 +221,8 @@ class NodeSurfaceContact(PairDefaults):
         self.offsets = (model.offset_of(self.body), model.offset_of(self.master))
         self._last = self._search = None
 
-    def _positions(self, q):
+    def positions(self, q):
+        """The slave nodes' positions and every master node's position at q (m)."""
         (oa, ob), (a, b) = self.offsets, self.bodies
         xs = a.positions(q[oa : oa + a.ndof])[self.nodes]
         return xs, b.positions(q[ob : ob + b.ndof])
@@ -240,7 +242,7 @@ class NodeSurfaceContact(PairDefaults):
         dmin = np.full(len(xs), np.inf)
         np.minimum.at(dmin, s, dist)
         # the closest facets; among equally close ones the largest |g| (module docstring)
-        score = np.where(dist <= dmin[s] + self._tol, np.abs(g), -1.0)
+        score = np.where(dist <= dmin[s] + self.tie_tolerance, np.abs(g), -1.0)
         order = np.lexsort((-score, s))
         s_sorted = s[order]
         first = order[np.r_[True, s_sorted[1:] != s_sorted[:-1]]]
@@ -314,7 +316,7 @@ class NodeSurfaceContact(PairDefaults):
         return result[0].copy(), *result[1:]
 
     def _evaluate(self, q):
-        xs, xm = self._positions(q)
+        xs, xm = self.positions(q)
         m, k = self.size, self.width
         oa, ob = self.offsets
         g = np.full(m, np.inf)
@@ -347,7 +349,7 @@ class NodeSurfaceContact(PairDefaults):
         f = self.selected[rows]
         near = f >= 0
         if near.any():
-            xs, xm = self._positions(q)
+            xs, xm = self.positions(q)
             x = xs[np.asarray(rows)[near]]
             H[near] = facet_plane_gap(x, xm[self.facets[f[near]]])[2]
         return H

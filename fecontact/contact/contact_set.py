@@ -54,6 +54,12 @@ class ContactSet(FrictionRows):
     def moving(self) -> bool:
         return bool(self._moving)
 
+    @property
+    def affine(self) -> bool:
+        """Whether every gap is affine in q (nodes against fixed planes): constant gradients,
+        no curvature."""
+        return self._affine is not None
+
     def detect_within(self, distance: float) -> None:
         """Give the pairs with a spatial search of their own the integrator's detection
         distance (m), so that one margin decides what is a candidate."""
