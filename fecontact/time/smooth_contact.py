@@ -141,25 +141,15 @@ class SmoothContacts:
         constant at this step size) the columns S⁻¹G_jᵀ of constant gradients are kept per
         contact, so a linear body in lasting contact factorizes S once per run."""
         A = self.active
-        GA, gA = self.G[A], self.g[A]
-        Y = self._columns(model, GA, solve, key)
+        GA, gA, rows = self.G[A], self.g[A], self.P[A]
+        cons = Constraints(model, rows)  # (no joints here: the bordered path has them)
+        constant = key is not None
+        Y = constraint_columns(model, ("smooth", *(key or ())), rows, GA, solve, cons, constant)
         x = solve(r)
         dlam = _multipliers(GA @ Y, GA @ x - gA)
         self.lam[A] += dlam
         self.solved = A.copy()
         return -x + Y @ dlam
-
-    def _columns(self, model, GA, solve, key):
-        if key is None or not self.contacts.linear:
-            return solve(GA.T).reshape(GA.shape[1], -1)
-        cache = model.column_cache.setdefault(("smooth", *key), {})
-        select = self.P[self.active]
-        missing = [i for i, j in enumerate(select) if j not in cache]
-        if missing:
-            Y = solve(GA[missing].T).reshape(GA.shape[1], -1)
-            for col, i in enumerate(missing):
-                cache[select[i]] = Y[:, col]
-        return np.column_stack([cache[j] for j in select])
 
     def satisfied(self, admits) -> bool:
         """Complementarity within the gap tolerance (``admits(x)``: x ≤ tolerance, m): the
