@@ -31,6 +31,7 @@ __all__ = [
     "LEAST_SQUARES",
     "alart_curnier_residual",
     "contact_force_multiplier",
+    "kkt_multipliers",
     "solve_position_correction",
     "solve_velocity_jump",
 ]
@@ -57,7 +58,7 @@ LEAST_SQUARES = {"count": 0}
 multipliers came from least squares. Counted over the process; runs report their share."""
 
 
-def _kkt_multipliers(GA, Y, rhs, k):
+def kkt_multipliers(GA, Y, rhs, k):
     """Solve k (G_A Y) μ = rhs for the active multipliers (least squares if redundant, and
     counted in ``LEAST_SQUARES``)."""
     S = k * (GA @ Y)
@@ -163,7 +164,7 @@ def solve_position_correction(
         if A.any():
             GA = G[A]
             Y = solve(GA.T).reshape(n, -1)
-            nu[A] = _kkt_multipliers(GA, Y, GA @ (U - x0) - g[A], k)
+            nu[A] = kkt_multipliers(GA, Y, GA @ (U - x0) - g[A], k)
             U_new = x0 + k * (Y @ nu[A])
         dU_prev = dU
         dU = 0.0 if C is None else float(np.max(np.abs(U_new - U), initial=0.0))
@@ -206,7 +207,7 @@ def solve_velocity_jump(
             return W, Lam, it - 1
         Lam = np.zeros(m)
         if A.any():
-            Lam[A] = _kkt_multipliers(Gd[A], Y_all[:, A], -c[A], k)
+            Lam[A] = kkt_multipliers(Gd[A], Y_all[:, A], -c[A], k)
         W = k * (Y_all @ Lam)
         gd = c + Gd @ W
         A_prev = A

@@ -47,8 +47,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..contact.laws import LEAST_SQUARES
-from .constraints import Constraints, StepFailure, constraint_columns
+from ..contact.laws import kkt_multipliers, solve_velocity_jump
+from .constraints import Constraints, StepFailure, augmentation, constraint_columns
 
 __all__ = [
     "SmoothContacts",
@@ -146,7 +146,7 @@ class SmoothContacts:
         constant = key is not None
         Y = constraint_columns(model, ("smooth", *(key or ())), rows, GA, solve, cons, constant)
         x = solve(r)
-        dlam = _multipliers(GA @ Y, GA @ x - gA)
+        dlam = kkt_multipliers(GA, Y, GA @ x - gA, 1.0)
         self.lam[A] += dlam
         self.solved = A.copy()
         return -x + Y @ dlam
@@ -176,16 +176,6 @@ class SmoothContacts:
         return out
 
 
-def _multipliers(S: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-    """Solve the Schur system S Δλ = rhs; redundant contact rows (a singular S) take least
-    squares, counted in ``LEAST_SQUARES`` like those of the corrections."""
-    try:
-        return np.linalg.solve(S, rhs)
-    except np.linalg.LinAlgError:
-        LEAST_SQUARES["count"] += 1
-        return np.linalg.lstsq(S, rhs, rcond=None)[0]
-
-
 def restarted_acceleration(model, q, v, v_smooth, t, closed, tol_rate: float):
     """The acceleration v̇ (free dofs) consistent with the state after an impact step, from
     which the generalized-α acceleration variable restarts (a = v̇, as at t = 0):
@@ -202,8 +192,8 @@ def restarted_acceleration(model, q, v, v_smooth, t, closed, tol_rate: float):
     (``v_smooth``): the jump W is an impulse the mesh does not resolve, and the dashpot
     force on its velocity discontinuity, carried through a whole step by the predictor,
     launched a damped block resting on a plane at 8 times its impact speed. The Signorini
-    problem at the acceleration level is solved on the Schur complement G M⁻¹Gᵀ by a
-    primal–dual active set that starts with every row pressed. Moving obstacles (gaps that
+    problem at the acceleration level is the velocity jump's, solved by the same primal–dual
+    active set (:func:`fecontact.contact.solve_velocity_jump`). Moving obstacles (gaps that
     change with t) and joints keep a as it is: None."""
     contacts = model.contacts
     if contacts.moving or model.joints.size:
@@ -222,16 +212,12 @@ def restarted_acceleration(model, q, v, v_smooth, t, closed, tol_rate: float):
     cons = Constraints(model, rows)
     G = G[np.isin(closed, rows)]
     Y = constraint_columns(model, ("mass",), rows, G, model.solve_M, cons, constant=True)
-    S, b = G @ Y, -contacts.quadratic(q, v)[rows] - G @ x  # G v̇ + vᵀ∇²g v = S μ − b
-    active = np.ones(rows.size, bool)
-    mu = np.zeros(rows.size)
-    scale = np.abs(b).max() + 1e-300
-    for _ in range(rows.size + 1):
-        mu[:] = 0.0
-        mu[active] = _multipliers(S[np.ix_(active, active)], b[active])
-        leave = active & (mu < 0.0)
-        enter = ~active & (S @ mu - b < -1e-12 * scale)
-        if not (leave.any() or enter.any()):
-            return x + Y @ mu
-        active = (active & ~leave) | enter
-    raise StepFailure("restarted acceleration: the active set did not settle", np.nan)
+    # the velocity jump's problem, one level up: 0 ≤ G (x + M⁻¹Gᵀμ) + vᵀ∇²g v ⊥ μ ≥ 0
+    rates = G @ x + contacts.quadratic(q, v)[rows]
+    try:
+        dvd, _, _ = solve_velocity_jump(
+            G, rates, model.solve_M, augmentation(1.0, G, Y), 1.0, rows.size + 2, Y=Y
+        )
+    except RuntimeError:
+        raise StepFailure("restarted acceleration: the active set did not settle", np.nan) from None
+    return x + dvd
