@@ -27,6 +27,7 @@ from fecontact import Model, Param, Simulation, case, run_cli
 from fecontact.bodies import LinearElastic, Solid
 from fecontact.contact import Contact, Plane
 from fecontact.scenes import (
+    DROP,
     SOLID,
     centre_of_mass_probes,
     contact_force_probe,
@@ -45,11 +46,11 @@ def build(
     E=SOLID["E"],
     nu=SOLID["nu"],
     rho=SOLID["rho"],
-    drop_height=Param.nonnegative(0.002, "m", "initial gap between the ball and the plane"),
-    velocity=Param.nonnegative(1.0, "m/s", "initial downward speed"),
-    restitution=Param.fraction(0.0, "Newton's coefficient e_N at the contact nodes"),
+    drop_height=DROP["drop_height"],
+    velocity=DROP["velocity"],
+    restitution=DROP["restitution"],
     gravity=Param.nonnegative(9.81, "m/s^2", "acceleration of gravity, along -z (0: Hertz)"),
-    t_end=Param.positive(0.008, "s", "end time"),
+    t_end=DROP["t_end"],
 ):
     z0 = radius + drop_height
     mat = LinearElastic(E=E, nu=nu, rho=rho)

@@ -30,6 +30,8 @@ from fecontact import Model, Param, Simulation, case, run_cli
 from fecontact.bodies import Solid
 from fecontact.contact import Contact, Plane
 from fecontact.scenes import (
+    DISK,
+    DROP,
     SOLID,
     centre_of_mass_probes,
     contact_force_probe,
@@ -40,21 +42,12 @@ from fecontact.scenes import (
 )
 
 
-@case
+@case(DISK, SOLID, DROP)
 def build(
-    radius=Param.positive(0.05, "m", "radius of the disk"),
-    refinements=Param.count(3, "uniform refinements of the disk mesh (8 * 4^n triangles)", 0, 6),
-    E=SOLID["E"],
-    nu=SOLID["nu"],
-    rho=SOLID["rho"],
-    material=SOLID["material"],
-    drop_height=Param.nonnegative(0.002, "m", "initial gap between the disk and the plane"),
-    velocity=Param.nonnegative(1.0, "m/s", "initial downward speed"),
-    restitution=Param.fraction(0.0, "Newton's coefficient e_N at the contact nodes"),
+    radius, refinements, E, nu, rho, material, drop_height, velocity, restitution, t_end,
     slide_velocity=Param(0.0, "m/s", "initial velocity along the plane (+x)", -1e3, 1e3),
     friction=Param.nonnegative(0.0, "-", "Coulomb's coefficient mu at the contact nodes"),
-    t_end=Param.positive(0.008, "s", "end time"),
-):
+):  # fmt: skip
     disk = Solid.disk(
         [0.0, radius + drop_height], radius, refinements, solid_material(material, E, nu, rho)
     )

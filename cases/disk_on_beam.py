@@ -21,22 +21,18 @@ import numpy as np
 from fecontact import Model, Param, Probe, Simulation, case, run_cli
 from fecontact.bodies import Beam2D, Disk, Material, RigidBody2D, Section
 from fecontact.contact import Contact
+from fecontact.scenes import STRIP
 
 
-@case
+@case(STRIP)  # a steel strip: span, elements, E, rho, width, thickness
 def build(
-    length=Param.positive(1.0, "m", "beam span between the pins"),
-    n_elements=Param.count(21, "number of beam elements"),
-    E=Param.positive(210e9, "Pa", "Young's modulus of the beam"),
-    rho=Param.positive(7850.0, "kg/m^3", "density of the beam"),
-    width=Param.positive(0.05, "m", "section width"),
-    thickness=Param.positive(0.01, "m", "section thickness (bending)"),
+    length=1.0, n_elements=21, E=210e9, rho=7850.0, width=0.05, thickness=0.01,
     disk_mass=Param.positive(1.0, "kg", "mass of the disk (uniform)"),
     radius=Param.positive(0.05, "m", "radius of the disk"),
     drop_height=Param.nonnegative(0.05, "m", "initial gap between the disk and the beam's top"),
     position=Param(0.5, "-", "disk centre's abscissa as a fraction of the span", 0, 1, (0, 0)),
     restitution=Param.fraction(0.0, "Newton's coefficient of restitution e_N"),
-):
+):  # fmt: skip
     material = Material(E, rho)
     section = Section.rectangle(width, thickness)
     beam = Beam2D.straight([0.0, 0.0], [length, 0.0], n_elements, material, section)

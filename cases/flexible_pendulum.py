@@ -9,22 +9,17 @@ rubs along the stop (Coulomb).
 from fecontact import Model, Param, Simulation, case, node_probe, run_cli
 from fecontact.bodies import Beam2D, Material, Section
 from fecontact.contact import Contact, Plane
+from fecontact.scenes import STRIP
 
 
-@case
+@case(STRIP)  # length, n_elements, E, rho, nu, width, thickness: an aluminium strip
 def build(
-    length=Param.positive(0.3, "m", "beam length"),
-    n_elements=Param.count(4, "number of beam elements"),
-    E=Param.positive(70e9, "Pa", "Young's modulus"),
-    rho=Param.positive(2700.0, "kg/m^3", "density"),
-    nu=Param(0.33, "-", "Poisson's ratio", -1.0, 0.5, (False, False)),
-    width=Param.positive(0.02, "m", "section width"),
-    thickness=Param.positive(0.002, "m", "section thickness (bending)"),
+    length, n_elements, E, rho, nu, width, thickness,
     tip_mass=Param.nonnegative(0.14, "kg", "point mass on the tip node"),
     restitution=Param.fraction(0.0, "Newton's coefficient of restitution e_N"),
     friction=Param.nonnegative(0.0, "-", "Coulomb's coefficient mu between tip and stop"),
     gravity=Param.nonnegative(9.81, "m/s^2", "acceleration of gravity, along -y"),
-):
+):  # fmt: skip
     material = Material(E=E, rho=rho, nu=nu)
     section = Section.rectangle(width, thickness)
     beam = Beam2D.straight([0.0, 0.0], [length, 0.0], n_elements, material, section)

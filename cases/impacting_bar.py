@@ -23,20 +23,11 @@ from fecontact.contact import Contact, Plane
 from fecontact.scenes import BAR, axial_bar, axial_velocity_probe, contact_force_probe, wave_transit
 
 
-@case
+@case(BAR)
 def build(
-    length=Param.positive(1.0, "m", "bar length L"),
-    E=BAR["E"],
-    rho=BAR["rho"],
-    area=BAR["area"],
-    velocity=Param.positive(0.1, "m/s", "initial speed v0 toward the wall"),
-    gap=Param.nonnegative(0.0, "m", "initial distance between the bar's end and the wall"),
-    n_elements=Param.count(100, "number of elements along the bar"),
-    restitution=Param.fraction(0.0, "Newton's coefficient e_N at the wall (exact: 0)"),
-    kinematics=Param.choice(
-        "linear", "beam kinematics (linear is exact along the axis)", ("linear", "exact")
-    ),
-):
+    length, E, rho, area, velocity, gap, n_elements, restitution,
+    kinematics=Param.choice("linear", "beam kinematics", ("linear", "exact")),
+):  # fmt: skip
     linear = kinematics == "linear"
     bar = axial_bar([gap, 0.0], [gap + length, 0.0], n_elements, E, rho, area, linear)
     wall = Plane([0.0, 0.0], [1.0, 0.0])
@@ -48,15 +39,9 @@ def build(
         "v_contact_end": axial_velocity_probe(model, bar, "velocity of the contact end", 0),
         "v_free_end": axial_velocity_probe(model, bar, "velocity of the free end", -1),
     }
-    dt, t_end = wave_transit(length, n_elements, E, rho, gap, velocity)
-    return Simulation(
-        model,
-        dt=dt,
-        t_end=t_end,
-        probes=probes,
-        name="impacting_bar",
-        v0=model.translation(bar, (-velocity, 0.0)),
-    )
+    v0 = model.translation(bar, (-velocity, 0.0))
+    times = wave_transit(length, n_elements, E, rho, gap, velocity)
+    return Simulation(model, probes=probes, name="impacting_bar", v0=v0, **times)
 
 
 if __name__ == "__main__":

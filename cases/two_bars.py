@@ -13,22 +13,13 @@ Probes: ``gap`` between the ends (m), ``contact_force`` k Λ/h (N, mean over the
 ``v_striker`` and ``v_target`` (m/s, momentum / mass of each bar).
 """
 
-from fecontact import Model, Param, Probe, Simulation, case, run_cli
+from fecontact import Model, Probe, Simulation, case, run_cli
 from fecontact.contact import Contact
 from fecontact.scenes import BAR, axial_bar, axial_velocity_probe, contact_force_probe, wave_transit
 
 
-@case
-def build(
-    length=Param.positive(1.0, "m", "length L of each bar"),
-    E=BAR["E"],
-    rho=BAR["rho"],
-    area=BAR["area"],
-    velocity=Param.positive(0.1, "m/s", "initial speed v0 of the striker toward the target"),
-    gap=Param.nonnegative(0.0, "m", "initial distance between the two ends"),
-    n_elements=Param.count(100, "number of elements of each bar"),
-    restitution=Param.fraction(0.0, "Newton's coefficient e_N between the ends (exact: 0)"),
-):
+@case(BAR)
+def build(length, E, rho, area, velocity, gap, n_elements, restitution):
     striker = axial_bar([-gap - length, 0.0], [-gap, 0.0], n_elements, E, rho, area)
     target = axial_bar([0.0, 0.0], [length, 0.0], n_elements, E, rho, area)
     hit = Contact(striker, target, nodes=(-1, 0), restitution=restitution)
@@ -39,16 +30,9 @@ def build(
         "v_striker": axial_velocity_probe(model, striker, "striker velocity"),
         "v_target": axial_velocity_probe(model, target, "target velocity"),
     }
-    dt, t_end = wave_transit(length, n_elements, E, rho, gap, velocity)
-    return Simulation(
-        model,
-        dt=dt,
-        t_end=t_end,
-        probes=probes,
-        output_interval=0.05 * length / (E / rho) ** 0.5,
-        name="two_bars",
-        v0=model.translation(striker, (velocity, 0.0)),
-    )
+    v0 = model.translation(striker, (velocity, 0.0))
+    times = wave_transit(length, n_elements, E, rho, gap, velocity)
+    return Simulation(model, probes=probes, name="two_bars", v0=v0, **times)
 
 
 if __name__ == "__main__":

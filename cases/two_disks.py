@@ -32,23 +32,16 @@ import numpy as np
 from fecontact import Model, Param, Probe, Simulation, case, run_cli
 from fecontact.bodies import Solid
 from fecontact.contact import Contact
-from fecontact.scenes import SOLID, contact_force_probe, solid_material, wave_step
+from fecontact.scenes import DISK, DROP, SOLID, contact_force_probe, solid_material, wave_step
 
 
-@case
+@case(DISK, SOLID, DROP)
 def build(
-    radius=Param.positive(0.05, "m", "radius of each disk"),
-    refinements=Param.count(3, "uniform refinements of the disk meshes (8 * 4^n triangles)", 0, 6),
-    E=SOLID["E"],
-    nu=SOLID["nu"],
-    rho=SOLID["rho"],
-    material=SOLID["material"],
+    radius, refinements, E, nu, rho, material, restitution, t_end=0.006,
     gap=Param.nonnegative(0.002, "m", "initial distance between the disks"),
     velocity=Param.positive(1.0, "m/s", "speed of each disk toward the other"),
-    restitution=Param.fraction(0.0, "Newton's coefficient e_N at the contact nodes"),
     two_pass=Param.count(1, "1: also the right disk's nodes against the left disk", 0, 1),
-    t_end=Param.positive(0.006, "s", "end time"),
-):
+):  # fmt: skip
     mat = solid_material(material, E, nu, rho)
     x0 = radius + 0.5 * gap
     left = Solid.disk([-x0, 0.0], radius, refinements, mat)

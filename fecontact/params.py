@@ -14,6 +14,15 @@ A case declares its parameters as the defaults of ``build`` and wraps it with :f
 declaration (one ``InputError`` naming the parameter and its range, before any work), and
 records every value used in the ``Simulation`` (``summary.json``). ``fecontact info`` and
 ``--set`` read the same declarations.
+
+Parameters that several cases share (a material, a mesh, an impact) are declared once in a
+group, a dict of name to ``Param``, and a case names the groups it draws on::
+
+    @case(SOLID)
+    def build(E, nu, rho, material, radius=Param.positive(0.05, "m", "disk radius")): ...
+
+A parameter of a group is listed without a default, or with a plain value that replaces the
+group's default (same unit, meaning and range).
 """
 
 from __future__ import annotations
@@ -21,7 +30,7 @@ from __future__ import annotations
 import functools
 import inspect
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 from .errors import InputError, check_count, check_positive, check_range
@@ -96,16 +105,28 @@ class Param:
 
 
 def declared_parameters(build) -> dict[str, Param]:
-    """The ``Param`` declarations of a build function, in signature order."""
-    signature = inspect.signature(build)
+    """The ``Param`` declarations of a build function (or of its signature), in signature
+    order."""
+    signature = build if isinstance(build, inspect.Signature) else inspect.signature(build)
     return {n: p.default for n, p in signature.parameters.items() if isinstance(p.default, Param)}
 
 
-def case(build):
+def case(build=None, /, *groups: dict[str, Param]):
     """Wrap a case's ``build`` whose defaults are ``Param``: values checked against their
-    declarations, defaults filled in, and every value used recorded in the Simulation."""
-    params = declared_parameters(build)
-    names = set(inspect.signature(build).parameters)
+    declarations, defaults filled in, and every value used recorded in the Simulation.
+
+    ``@case`` alone, or ``@case(GROUP, ...)`` with groups of shared declarations (see the
+    module docstring)."""
+    if build is None or isinstance(build, dict):
+        shared = (build, *groups) if build is not None else groups
+        return lambda f: _wrap(f, shared)
+    return _wrap(build, groups)
+
+
+def _wrap(build, groups):
+    signature = _declared_signature(build, groups)
+    params = declared_parameters(signature)
+    names = set(signature.parameters)
 
     @functools.wraps(build)
     def wrapper(**values):
@@ -120,8 +141,28 @@ def case(build):
             raise InputError(f"build() must return a Simulation, got {type(sim).__name__}")
         return sim.replace(parameters={**used, **sim.parameters})
 
+    wrapper.__signature__ = signature  # what ``fecontact info``, ``--set`` and tests read
     wrapper.parameters = params
     return wrapper
+
+
+def _declared_signature(build, groups) -> inspect.Signature:
+    """``build``'s signature with every default a ``Param``: its own, or a group's (whose
+    default a plain value in the signature replaces)."""
+    shared = {n: p for g in groups for n, p in g.items()}
+    parameters = []
+    for name, par in inspect.signature(build).parameters.items():
+        default = par.default
+        if not isinstance(default, Param):
+            group = shared.get(name)
+            if group is None:  # undeclared: passed on unchecked, as before Param
+                parameters.append(par.replace(kind=inspect.Parameter.KEYWORD_ONLY))
+                continue
+            empty = default is inspect.Parameter.empty
+            default = group if empty else replace(group, default=type(group.default)(default))
+        kind = inspect.Parameter.KEYWORD_ONLY
+        parameters.append(par.replace(default=default, kind=kind))
+    return inspect.Signature(parameters)
 
 
 def assignment(item: str, form: str = "NAME=VALUE") -> tuple[str, str]:

@@ -12,8 +12,11 @@ from .simulation import Probe
 
 __all__ = [
     "BAR",
+    "DISK",
+    "DROP",
     "MATERIALS",
     "SOLID",
+    "STRIP",
     "axial_bar",
     "axial_velocity_probe",
     "wave_transit",
@@ -111,20 +114,33 @@ def axial_velocity_probe(model, bar, text: str, node=None) -> Probe:
     return Probe(lambda m, st: float(px @ st.v[ux]) / mass, "m/s", text)
 
 
-def wave_transit(length: float, n_elements: int, E: float, rho: float, gap: float, v0: float):
-    """(h, t_end) of a bar impact: two steps per element transit time Δx/c (c = √(E/ρ)), and
-    a run through the closing of the ``gap`` at ``v0``, the contact (2L/c) and half as long
-    again of free flight."""
+def wave_transit(
+    length: float, n_elements: int, E: float, rho: float, gap: float, v0: float
+) -> dict[str, float]:
+    """The ``Simulation`` times of a bar impact (c = √(E/ρ)): the step ``dt``, half the
+    element transit time Δx/c; the end ``t_end``, through the closing of the ``gap`` at
+    ``v0``, the contact (2L/c) and half as long again of free flight; and a frame every
+    twentieth of the bar's transit time L/c (``output_interval``)."""
     c = np.sqrt(E / rho)
-    return 0.5 * (length / n_elements) / c, gap / v0 + 3.0 * length / c
+    return {
+        "dt": 0.5 * (length / n_elements) / c,
+        "t_end": gap / v0 + 3.0 * length / c,
+        "output_interval": 0.05 * length / c,
+    }
 
 
 BAR = {
+    "length": Param.positive(1.0, "m", "length L of each bar"),
     "E": Param.positive(1.0, "Pa", "Young's modulus"),
     "rho": Param.positive(1.0, "kg/m^3", "density"),
     "area": Param.positive(1.0, "m^2", "cross-section area A"),
+    "velocity": Param.positive(0.1, "m/s", "initial speed v0 of the striking bar"),
+    "gap": Param.nonnegative(0.0, "m", "initial distance between the ends that meet"),
+    "n_elements": Param.count(100, "number of elements of each bar"),
+    "restitution": Param.fraction(0.0, "Newton's coefficient e_N where the ends meet (exact: 0)"),
 }
-"""The wave-propagation bars' material, in units where the wave speed c = √(E/ρ) is 1."""
+"""The wave-propagation bars (parameter group of ``case``): geometry, material in units where
+the wave speed c = √(E/ρ) is 1, and the impact."""
 
 SOLID = {
     "E": Param.positive(1e7, "Pa", "Young's modulus"),
@@ -132,4 +148,30 @@ SOLID = {
     "rho": Param.positive(1000.0, "kg/m^3", "density"),
     "material": Param.choice("neo-hookean", "solid material", MATERIALS),
 }
-"""A soft rubber-like solid: the elastic bodies' material parameters."""
+"""A soft rubber-like solid: the elastic bodies' material (parameter group of ``case``)."""
+
+STRIP = {
+    "length": Param.positive(0.3, "m", "beam length"),
+    "n_elements": Param.count(4, "number of beam elements"),
+    "E": Param.positive(70e9, "Pa", "Young's modulus"),
+    "rho": Param.positive(2700.0, "kg/m^3", "density"),
+    "nu": Param(0.33, "-", "Poisson's ratio", -1.0, 0.5, (False, False)),
+    "width": Param.positive(0.02, "m", "section width"),
+    "thickness": Param.positive(0.002, "m", "section thickness (bending)"),
+}
+"""A straight metal strip (``Beam2D`` of rectangular section; parameter group of ``case``):
+aluminium by default."""
+
+DISK = {
+    "radius": Param.positive(0.05, "m", "radius of the disk (of each disk)"),
+    "refinements": Param.count(3, "uniform refinements of the disk mesh (8 * 4^n triangles)", 0, 6),
+}
+"""A 2D elastic disk's mesh: ``Solid.disk`` (parameter group of ``case``)."""
+
+DROP = {
+    "drop_height": Param.nonnegative(0.002, "m", "initial gap between the body and the plane"),
+    "velocity": Param.nonnegative(1.0, "m/s", "initial downward speed"),
+    "restitution": Param.fraction(0.0, "Newton's coefficient e_N at the contact nodes"),
+    "t_end": Param.positive(0.008, "s", "end time"),
+}
+"""An elastic body thrown onto a rigid plane (parameter group of ``case``)."""
