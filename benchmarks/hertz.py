@@ -59,10 +59,8 @@ from __future__ import annotations
 import math
 import sys
 import time
-from dataclasses import replace
 
 import numpy as np
-import skfem
 from _common import (
     case,
     machine_note,
@@ -75,8 +73,17 @@ from _common import (
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from fecontact import Contact, IntegratorOptions, LinearElastic, Model, Plane, Solid, simulate
-from fecontact.linalg import factorize
+from fecontact import (
+    Contact,
+    IntegratorOptions,
+    LinearElastic,
+    Model,
+    Plane,
+    Solid,
+    simulate,
+    statics,
+)
+from fecontact.bodies.meshes import graded_ball_mesh
 
 RADIUS, E, NU, RHO, V = 0.05, 1e7, 0.3, 1000.0, 1.0
 E_STAR = E / (1.0 - NU**2)
@@ -137,97 +144,21 @@ def static_contact(ball, force: float) -> tuple[float, int]:
     """(approach of the centre of mass (m), nodes in contact) of ``ball`` (linear, lowest
     point on the plane z = 0) in equilibrium under a uniform body force of total ``force``
     (N) along −z, the inertia of a rigidly decelerating ball, and the plane's nodal
-    reactions: the discrete Signorini problem of the impact's contact nodes, solved exactly.
-
-    The lowest node is held on the plane (it carries a compressive reaction, checked); the
-    other boundary nodes near the pole are unknown reactions r ≥ 0 with gaps g ≥ 0, r g = 0,
-    on the Schur complement S = G K⁻¹ Gᵀ (principal pivoting: S is symmetric positive
-    definite). The five remaining rigid motions carry no load and are held by a mass term
-    ε M, ε = 1e-6 E/(ρ R²): a body force ε m δ, below 1e-6 F here."""
-    K, M = ball.stiffness_matrix(), ball.mass_matrix()
-    m, z = ball.mass, ball.X[:, 2]
-    ez = ball.translation_field((0.0, 0.0, 1.0))
-    f = -(force / m) * (M @ ez)
-    pole = int(np.argmin(z))
-    fixed = 3 * pole + 2
-    free = np.flatnonzero(np.arange(ball.ndof) != fixed)
-    A = (K + 1e-6 * E / (RHO * RADIUS**2) * M).tocsr()
-    solve = factorize(A[free][:, free], symmetric=True)
-    u0 = np.zeros(ball.ndof)
-    u0[fixed] = -z[pole]
-    u0[free] = solve(f[free] - A[free, fixed].toarray().ravel() * u0[fixed])
-    boundary = ball.boundary_nodes()
-    near = boundary[(z[boundary] < 3.0 * hertz_approach(force)) & (boundary != pole)]
-    cols = np.zeros((free.size, near.size))
-    cols[np.searchsorted(free, 3 * near + 2), np.arange(near.size)] = 1.0
-    Z = np.zeros((ball.ndof, near.size))
-    Z[free] = solve(cols)
-    S, g0 = Z[3 * near + 2], z[near] + u0[3 * near + 2]
-    active = np.zeros(near.size, bool)
-    for _ in range(near.size + 1):
-        r = np.zeros(near.size)
-        r[active] = np.linalg.solve(S[np.ix_(active, active)], -g0[active])
-        g = g0 + S[:, active] @ r[active]
-        if np.any(r < 0.0):
-            active &= r > 0.0
-        elif np.any(g < -1e-12 * RADIUS):
-            active |= g < -1e-12 * RADIUS
-        else:
-            break
-    else:
-        raise RuntimeError("static contact: the active set did not settle")
-    u = u0 + Z[:, active] @ r[active]
-    if np.min(ball.X[boundary, 2] + u[3 * boundary + 2]) < -1e-12 * RADIUS:
-        raise RuntimeError("static contact: a node beyond the candidates penetrates")
-    if (A @ u - f)[fixed] <= 0.0:
-        raise RuntimeError("static contact: the lowest node pulls on the plane")
-    return -float((M @ ez) @ u) / m, 1 + int(active.sum())
+    reactions (``fecontact.statics.static_contact``: the discrete Signorini problem of the
+    nodes within three Hertz approaches of the plane, solved exactly)."""
+    M, ez = ball.mass_matrix(), ball.translation_field((0.0, 0.0, 1.0))
+    load = -(force / ball.mass) * (M @ ez)
+    floor = Plane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+    u, touching = statics.static_contact(ball, load, floor, 3.0 * hertz_approach(force))
+    return -float((M @ ez) @ u) / ball.mass, touching.size
 
 
 def graded_mesh(spacing: float, base: int = 3, grading: float = GRADING, element="P1"):
-    """A ball of radius R centred at (0, 0, R), graded toward its pole (0, 0, 0): scikit-fem's
-    ``init_ball(base)`` (base 3: 6.25 mm edges), tetrahedra bisected (conforming adaptive
-    bisection) until the longest edge of each is below ``spacing`` + ``grading`` × its
-    centroid's distance from the pole; each round's new boundary vertices are projected
-    radially onto the sphere as ``init_ball`` places its own. P2: quadratic cells with the
-    boundary's edge nodes on the sphere too (``MeshTet2``)."""
-    centre = np.array([[0.0], [0.0], [RADIUS]])
-    mesh = skfem.MeshTet.init_ball(base).scaled(RADIUS).translated(centre[:, 0])
-    while True:
-        p = mesh.p[:, mesh.t]
-        longest = np.max([np.linalg.norm(p[:, i] - p[:, j], axis=0) for i, j in _EDGES], axis=0)
-        distance = np.linalg.norm(p.mean(axis=1), axis=0)
-        marked = np.flatnonzero(longest > spacing + grading * distance)
-        if marked.size == 0:
-            break
-        mesh = mesh.refined(marked)
-        before = np.sign(_volumes(mesh))
-        mesh = skfem.MeshTet(_on_sphere(mesh.p, mesh.boundary_nodes(), centre), mesh.t)
-        # the projection moves a vertex by about Δx²/(8R): no cell may turn inside out
-        if np.any(np.sign(_volumes(mesh)) != before):
-            raise RuntimeError("projecting the boundary onto the sphere inverted a cell")
-    if element == "P1":
-        return mesh
-    quadratic = skfem.MeshTet2.from_mesh(mesh)
-    nodes = quadratic.dofs.get_facet_dofs(quadratic.boundary_facets()).flatten()
-    return replace(quadratic, doflocs=_on_sphere(quadratic.doflocs, nodes, centre))
-
-
-_EDGES = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)]
-
-
-def _on_sphere(points: np.ndarray, nodes: np.ndarray, centre: np.ndarray) -> np.ndarray:
-    """``points`` (3, n) with ``nodes`` moved radially onto the sphere of radius R at ``centre``."""
-    x = points.copy()
-    d = x[:, nodes] - centre
-    x[:, nodes] = centre + RADIUS * d / np.linalg.norm(d, axis=0)
-    return x
-
-
-def _volumes(mesh) -> np.ndarray:
-    """Signed volumes of the tetrahedra (m³; the sign is the vertex order's orientation)."""
-    a, b, c = (mesh.p[:, mesh.t[i]] - mesh.p[:, mesh.t[0]] for i in (1, 2, 3))
-    return np.einsum("ij,ij->j", np.cross(a, b, axis=0), c) / 6.0
+    """The ball of radius R centred at (0, 0, R), graded toward its pole (0, 0, 0)
+    (``graded_ball_mesh``; P2: quadratic cells, curved boundary)."""
+    centre = [0.0, 0.0, RADIUS]
+    quadratic = element == "P2"
+    return graded_ball_mesh(centre, RADIUS, spacing, [0.0] * 3, grading, base, quadratic)
 
 
 def uniform_case(element: str, refinements: int, v: float = V):

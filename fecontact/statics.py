@@ -1,13 +1,15 @@
-"""Static equilibrium by Newton's method with load stepping: f_int(q) = λ f, λ: 0 → 1."""
+"""Static equilibrium: Newton's method with load stepping (f_int(q) = λ f, λ: 0 → 1), and a
+linear solid pressed on a plane (the discrete Signorini problem, solved exactly)."""
 
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse as sp
 
-from .errors import SolverError
+from .errors import InputError, SolverError
 from .linalg import factorize
 
-__all__ = ["solve_static"]
+__all__ = ["solve_static", "static_contact"]
 
 
 def solve_static(
@@ -35,3 +37,67 @@ def solve_static(
                 )
             q[F] -= factorize(K, symmetric=True)(r)
     return q
+
+
+def static_contact(solid, load: np.ndarray, plane, within: float, hold: float = 1e-6):
+    """Equilibrium of a linear elastic ``solid`` pressed on a rigid ``plane`` by the nodal
+    ``load`` (N, the solid's dof vector), frictionless: the discrete Signorini problem solved
+    exactly. Returns (displacements u (m), indices of the nodes in contact).
+
+    The node nearest the plane is held on it (it must carry a compressive reaction, checked);
+    the other boundary nodes closer to the plane than ``within`` (m) are unknown reactions
+    r ≥ 0 with gaps g ≥ 0, r g = 0 (the gap g = n·(x − p) along the plane's normal n), on the
+    Schur complement S = G A⁻¹ Gᵀ, solved by principal pivoting (S is symmetric positive
+    definite). The rigid motions that the contact leaves free carry no load and are held by
+    a mass term: A = K + ε M, ε = ``hold`` · E/(ρ L²), L half the solid's largest extent, a
+    body force ``hold`` times what the stiffness E L would take at the same displacement.
+    Raises ``SolverError`` if the active set does not settle or a node beyond ``within``
+    penetrates, and ``InputError`` for a solid whose stiffness is not constant."""
+    if not solid.linear:
+        raise InputError("static_contact: the solid's material must be linear elastic")
+    X, n = solid.X, plane.normal
+    length = 0.5 * float(np.max(np.ptp(X, axis=0)))
+    M = solid.mass_matrix()
+    A = solid.stiffness_matrix() + hold * solid.material.E / (solid.material.rho * length**2) * M
+    solve = factorize(A.tocsc(), symmetric=True)
+    gap0 = (X - plane.point) @ n
+    boundary = solid.boundary_nodes()
+    pole = int(boundary[np.argmin(gap0[boundary])])
+    nodes = np.concatenate([[pole], boundary[(gap0[boundary] < within) & (boundary != pole)]])
+    G = sp.csr_matrix(
+        (np.tile(n, nodes.size), (np.repeat(np.arange(nodes.size), solid.dim), _dofs(nodes, n))),
+        shape=(nodes.size, solid.ndof),
+    )
+    u0 = solve(load)
+    Z = solve(G.T.toarray())
+    S, g0 = G @ Z, gap0[nodes] + G @ u0
+    r = _signorini(S, g0, 1e-12 * length)
+    if r[0] <= 0.0:
+        raise SolverError("static contact: the node nearest the plane pulls on it", residual=r[0])
+    u = u0 + Z @ r
+    beyond = np.setdiff1d(boundary, nodes)
+    if np.min(gap0[beyond] + u.reshape(-1, solid.dim)[beyond] @ n, initial=0.0) < -1e-12 * length:
+        raise SolverError(f"static contact: a node beyond within = {within:g} m penetrates")
+    return u, nodes[r > 0.0]
+
+
+def _dofs(nodes: np.ndarray, n: np.ndarray) -> np.ndarray:
+    return (n.size * nodes[:, None] + np.arange(n.size)).ravel()
+
+
+def _signorini(S: np.ndarray, g0: np.ndarray, tol: float) -> np.ndarray:
+    """Reactions r ≥ 0 with g = g0 + S r ≥ −tol, r g = 0, the first one always active."""
+    active = np.zeros(g0.size, bool)
+    active[0] = True
+    for _ in range(g0.size + 1):
+        r = np.zeros(g0.size)
+        r[active] = np.linalg.solve(S[np.ix_(active, active)], -g0[active])
+        # active gaps are zero by construction: only the inactive ones are tested
+        closing = ~active & (g0 + S[:, active] @ r[active] < -tol)
+        if np.any(r[1:] < 0.0):
+            active[1:] &= r[1:] > 0.0
+        elif np.any(closing):
+            active |= closing
+        else:
+            return r
+    raise SolverError("static contact: the active set did not settle")

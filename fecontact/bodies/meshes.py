@@ -7,6 +7,7 @@ tetrahedra and hexahedra (3D), with linear or quadratic (P2) geometry.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -23,6 +24,7 @@ __all__ = [
     "check_cells",
     "disk_mesh",
     "facet_normals",
+    "graded_ball_mesh",
     "mesh_bases",
     "min_edge_length",
     "oriented_boundary",
@@ -129,6 +131,60 @@ def ball_mesh(center, radius: float, refinements: int, quadratic: bool = False):
     r = check_positive("radius", radius)
     kind = skfem.MeshTet2 if quadratic else skfem.MeshTet
     return kind.init_ball(check_count("refinements", refinements, 0, 6)).scaled(r).translated(c)
+
+
+def graded_ball_mesh(
+    center, radius: float, spacing: float, toward, grading: float = 0.5, base: int = 3,
+    quadratic: bool = False,
+):  # fmt: skip
+    """Ball of ``radius`` (m) at ``center`` (3-vector, m) whose tetrahedra grow from ``spacing``
+    (m) at the point ``toward`` (3-vector, m; where the contact will be) by ``grading`` times
+    the distance from it: scikit-fem's ``init_ball(base)``, each tetrahedron bisected
+    (conforming adaptive bisection) until its longest edge is below spacing + grading × its
+    centroid's distance from ``toward``; each round's new boundary vertices are moved radially
+    onto the sphere, as ``init_ball`` places its own. ``quadratic`` cells (isoparametric) put
+    the boundary's edge nodes on the sphere too. Raises ``InputError`` if a projection onto
+    the sphere would invert a cell (spacing too coarse for the curvature)."""
+    c = check_point("center", center, 3)
+    r, h = check_positive("radius", radius), check_positive("spacing", spacing)
+    target = check_point("toward", toward, 3)
+    grading = check_positive("grading", grading, allow_zero=True)
+    mesh = skfem.MeshTet.init_ball(check_count("base", base, 0, 6)).scaled(r).translated(c)
+    while True:
+        p = mesh.p[:, mesh.t]
+        edges = [np.linalg.norm(p[:, i] - p[:, j], axis=0) for i, j in _TET_EDGES]
+        distance = np.linalg.norm(p.mean(axis=1) - target[:, None], axis=0)
+        marked = np.flatnonzero(np.max(edges, axis=0) > h + grading * distance)
+        if marked.size == 0:
+            break
+        mesh = mesh.refined(marked)
+        before = np.sign(_volumes(mesh.p, mesh.t))
+        mesh = skfem.MeshTet(_on_sphere(mesh.p, mesh.boundary_nodes(), c, r), mesh.t)
+        # the projection moves a vertex by about Δx²/(8R): no cell may turn inside out
+        if np.any(np.sign(_volumes(mesh.p, mesh.t)) != before):
+            raise InputError(f"spacing = {h:g} m: projecting the boundary inverted a cell")
+    if not quadratic:
+        return mesh
+    curved = skfem.MeshTet2.from_mesh(mesh)
+    nodes = curved.dofs.get_facet_dofs(curved.boundary_facets()).flatten()
+    return replace(curved, doflocs=_on_sphere(curved.doflocs, nodes, c, r))
+
+
+_TET_EDGES = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)]
+
+
+def _on_sphere(points: np.ndarray, nodes: np.ndarray, center, radius: float) -> np.ndarray:
+    """``points`` (3, n) with ``nodes`` moved radially onto the sphere (``center``, ``radius``)."""
+    x = points.copy()
+    d = x[:, nodes] - center[:, None]
+    x[:, nodes] = center[:, None] + radius * d / np.linalg.norm(d, axis=0)
+    return x
+
+
+def _volumes(p: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Signed volumes of the tetrahedra (m³; the sign is the vertex order's orientation)."""
+    a, b, c = (p[:, t[i]] - p[:, t[0]] for i in (1, 2, 3))
+    return np.einsum("ij,ij->j", np.cross(a, b, axis=0), c) / 6.0
 
 
 def rectangle_mesh(lower, upper, divisions, cell: str = "triangle"):
