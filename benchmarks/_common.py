@@ -62,6 +62,7 @@ __all__ = [
     "timed_run",
     "trace",
     "with_options",
+    "publish",
     "write_csv",
     "write_markdown",
 ]
@@ -151,12 +152,15 @@ def map_runs(fn, items, workers: int = 1, label=str):
 # -- tables and files ---------------------------------------------------------------------------
 
 
-def parser(description: str) -> argparse.ArgumentParser:
+def parser(description: str, from_csv: bool = False) -> argparse.ArgumentParser:
+    """--quick and --out; with ``from_csv``, --from-csv to redo tables from an earlier run."""
     p = argparse.ArgumentParser(description=description)
     p.add_argument(
         "--quick", action="store_true", help="reduced sweep (a couple of minutes) to check it"
     )
     p.add_argument("--out", default=str(RESULTS), help="output folder (default: %(default)s)")
+    if from_csv:
+        p.add_argument("--from-csv", help="redo the tables and plot from this CSV, without runs")
     return p
 
 
@@ -227,6 +231,15 @@ def write_markdown(path, text: str) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(text.rstrip() + "\n")
     return path
+
+
+def publish(stem, rows, columns, text: str, plot=None) -> None:
+    """A benchmark's results: ``stem``.csv (``rows`` at full precision), ``stem``.md (``text``)
+    and, given ``plot(rows, path)``, ``stem``.png."""
+    write_csv(f"{stem}.csv", rows, columns)
+    write_markdown(f"{stem}.md", text)
+    if plot is not None:
+        plot(rows, Path(f"{stem}.png"))
 
 
 def tidy_log_axes(ax) -> None:

@@ -248,9 +248,7 @@ def read_rows(path):
 
 
 def main(argv=None):
-    p = common.parser(__doc__.splitlines()[0])
-    p.add_argument("--from-csv", help="redo the tables and plot from this CSV, without runs")
-    args = p.parse_args(argv)
+    args = common.parser(__doc__.splitlines()[0], from_csv=True).parse_args(argv)
     out = common.Path(args.out)
     note = common.machine_note()
     if args.from_csv:
@@ -268,10 +266,9 @@ def main(argv=None):
         f"Observed order: least-squares slope of log(error) against log(h).\n\n{md}\n\n"
         f"## Errors\n\n{detail}\n"
     )
-    suffix = "_quick" if args.quick else ""
-    common.write_csv(out / f"convergence{suffix}.csv", rows, COLUMNS)
-    common.write_markdown(out / f"convergence{suffix}.md", text)
-    plot(rows, out / f"convergence{suffix}.png")
+    common.publish(
+        out / ("convergence_quick" if args.quick else "convergence"), rows, COLUMNS, text, plot
+    )
     print(md)
     return rows, table
 

@@ -385,9 +385,7 @@ def plot(rows, path):
 
 
 def main(argv=None):
-    p = common.parser(__doc__.splitlines()[0])
-    p.add_argument("--from-csv", help="redo the tables and plot from this CSV, without runs")
-    args = p.parse_args(argv)
+    args = common.parser(__doc__.splitlines()[0], from_csv=True).parse_args(argv)
     out = common.Path(args.out)
     note = common.machine_note()
     t0 = time.perf_counter()
@@ -430,10 +428,13 @@ def main(argv=None):
         f"\n\n## Same step: baseline / NSGA (medians over h)\n\n{ratio_md}\n\n"
         f"## All runs\n\n{main_md}\n"
     )
-    suffix = "_quick" if args.quick else ""
-    common.write_csv(out / f"work_precision{suffix}.csv", rows, COLUMNS)
-    common.write_markdown(out / f"work_precision{suffix}.md", text)
-    plot(rows, out / f"work_precision{suffix}.png")
+    common.publish(
+        out / ("work_precision_quick" if args.quick else "work_precision"),
+        rows,
+        COLUMNS,
+        text,
+        plot,
+    )
     print(main_md + "\n\n" + reach_md + "\n\n" + ratio_md + "\n\n" + lines)
     return rows
 

@@ -7,16 +7,14 @@ penetration bound is that of the other validation cases: the position correction
 gaps to 1e-12 of the model size, and the tests allow 1e-10 of the body size.
 """
 
-import inspect
 import math
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from fecontact import InputError, run, simulate
+from fecontact import InputError, simulate
 from fecontact.io.cli import load_case
-from fecontact.params import declared_parameters
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 NAMES = ["disk_drop", "two_disks", "ball_drop", "two_bars"]
@@ -177,23 +175,6 @@ def test_two_bars_separation_time_follows_the_bar_length():
     out = history(sim)
     (first, last), *_ = episodes(out["active"])
     assert out["t"][last] == pytest.approx(1.0, rel=0.03)
-
-
-# -- every case through the driver ---------------------------------------------------------
-
-
-@pytest.mark.parametrize("name", NAMES)
-def test_case_runs_through_the_driver(name, tmp_path):
-    module = case(name)
-    declared = declared_parameters(module.build)  # every parameter declared, with a meaning
-    assert set(declared) == set(inspect.signature(module.build).parameters)
-    assert all(p.text and p.unit for p in declared.values())
-    sim = module.build()
-    summary = run(sim.replace(t_end=20 * sim.dt, output_interval=4 * sim.dt), tmp_path)
-    assert summary["status"] == "completed" and summary["steps"] == 20
-    header = (tmp_path / "history.csv").read_text().splitlines()[0].split(",")
-    assert header[-len(sim.probes) :] == list(sim.probes)
-    assert len(list(tmp_path.glob("*.vtu"))) >= 5
 
 
 @pytest.mark.parametrize(
