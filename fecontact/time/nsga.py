@@ -21,8 +21,10 @@ One step from t_n to t_{n+1} = t_n + h:
 3. velocity jump v_{n+1} = ṽ_{n+1} + W with M W = Σ G_jᵀ [k Λ_j − p ġ_j]_+ and
    ġ_j = G_j(q_{n+1}) v_{n+1} + e_j G_j(q_n) v_n (eq. 10).
 
-U and W never enter a or v̇, so the smooth part keeps its second order; impacts make the global
-error first order. Steps without a contact candidate skip 2 and 3.
+W never enters a or v̇; after the correction of a step in which a contact closed, v̇ and a take
+the step's response to the strain of U (:mod:`.position_jump`, Δv̇ = −β′S_t⁻¹[f_int(q̃ + U) −
+f_int(q̃)]) in the decoupled scheme.
+Impacts make the global error first order. Steps without a contact candidate skip 2 and 3.
 """
 
 from __future__ import annotations
@@ -50,6 +52,7 @@ from .coulomb import friction_memory, frictional_correction
 from .descent import Armijo, descent_direction
 from .generalized_alpha import coefficients, predict
 from .impacts import velocity_jump
+from .position_jump import acceleration_jump
 from .smooth_contact import (
     SmoothContacts,
     persistent_contacts,
@@ -105,6 +108,7 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
     tol_gap = opts.tol_gap * length_scale(model, q) if cand.size else 0.0
     nu, impulse, gaps = np.zeros(m), np.zeros(m), g_tilde
     short = g_tilde[cand] < 0.0
+    corrected = None  # (q̃, the metric's solve) after a correction of the decoupled scheme
     if force is not None:  # the persistent contacts the smooth step closed are not short
         short &= ~(np.isin(cand, P) & (g_tilde[cand] >= -tol_gap))
     if short.any():
@@ -115,7 +119,7 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
         was_active = st.nu[cand] > 0.0 if st.nu.size == m else False
         work = cand[short | was_active]
         q_tilde = q
-        metric = _metric(model, q_tilde, S, c, opts)
+        metric = _metric(model, q_tilde, S, c, opts.metric)
         while True:
             if friction:
                 U, nu_w, nu_t, U_t, its = frictional_correction(
@@ -145,6 +149,7 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
             f = model.external(t) - model.internal(q_tilde, tangent=False)[1]
             memory["friction_work"] += f[model.free] @ U_t
         Gb = None  # the joints' gradient moved with q
+        corrected = None if smooth else (q_tilde, metric[1])
 
     # 3. velocity jump on the contacts closed at q_{n+1}, and on the joints
     closed = cand[gaps[cand] <= tol_gap] if cand.size else cand
@@ -167,6 +172,15 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
             memory["friction_impulse"][closed] = lam_t
             memory["friction_status"][closed] = status
             memory["friction_work"] += work
+    # v̇ and a follow the correction (:mod:`.position_jump`) in a step where a contact closed
+    impact = st.gaps.size == m and np.any(st.gaps[closed] > tol_gap)
+    if corrected is not None and impact:
+        solve_H = corrected[1] if opts.metric == "stiffness" else None
+        if solve_H is None:
+            solve_H = _metric(model, corrected[0], S, c, "stiffness")[1]
+        dvd = acceleration_jump(model, q, corrected[0], v, closed, solve_H, tol_gap / h)
+        vd[model.free_slice] += dvd
+        a[model.free_slice] += (1.0 - c.af) / (1.0 - c.am) * dvd
     timer.add("contact", clock)
     return State(
         t,
@@ -368,10 +382,10 @@ def _converged_by_bound(model, vd, dq, lam, dlam, ff, tol_b, opts) -> bool:
     return force <= limit * math.sqrt(Mvd @ Mvd)
 
 
-def _metric(model, q, S, c, opts):
-    """(H, solve_H) of the position correction, H = S_t/β′ (default) or H = M; H itself is
-    returned as a function, needed only when the gaps are curved."""
-    if opts.metric == "mass":
+def _metric(model, q, S, c, kind):
+    """(H, solve_H) of the position correction, H = S_t/β′ (``kind`` "stiffness") or H = M
+    ("mass"); H itself is returned as a function, needed only when the gaps are curved."""
+    if kind == "mass":
         return lambda: model.M, model.solve_M
     if S is None and model.linear:
         S = model.iteration_matrix(c.bp, c.gp)[:2]
