@@ -125,8 +125,10 @@ class Spec:
 # -- models ------------------------------------------------------------------------------------
 
 
-def pendulum(**kw):
-    return common.case("flexible_pendulum").build(**kw)
+def pendulum(rho_inf=None, **kw):
+    """The founding case with case parameters ``kw``, and ρ∞ as an integrator option."""
+    sim = common.case("flexible_pendulum").build(**kw)
+    return sim if rho_inf is None else common.with_options(sim, rho_inf=rho_inf)
 
 
 def with_opts(sim, **opts):
