@@ -133,9 +133,10 @@ class Simulation:
         elastic_impacts = np.any(model.contacts.restitution > 0)
         if opts.integrator == "nsga" and flexible and elastic_impacts and opts.rho_inf > 0.5:
             out.append(
-                f"rho_inf = {opts.rho_inf:g} with restitution > 0 on a flexible body: the energy "
-                "can grow at impacts (README, Stability and the defaults); rho_inf = 0.5 is the "
-                "stable default"
+                f"rho_inf = {opts.rho_inf:g} with restitution > 0 on a flexible body: the "
+                "vibration an impact leaves can make the generalized-alpha step blow up "
+                "(measured at rho_inf >= 0.8; README, Stability and the defaults); rho_inf = 0.5 "
+                "is the stable default"
             )
         perfectly_plastic = np.any(model.contacts.restitution == 0)
         if opts.integrator == "nsga" and flexible and perfectly_plastic and opts.rho_inf > 0.9:
