@@ -52,6 +52,7 @@ the same h to the last bit. The "h/2" and "2h", "4h" rows change it. The detecti
     python benchmarks/hertz.py --series static    # one of them (static, slow, fast)
     python benchmarks/hertz.py --quick            # the first rows of each
     python benchmarks/hertz.py --from-csv         # rewrite the tables from the CSV files
+    python benchmarks/hertz.py --workers 2        # the rows on a local Dask cluster
 """
 
 from __future__ import annotations
@@ -59,11 +60,13 @@ from __future__ import annotations
 import math
 import sys
 import time
+from functools import partial
 
 import numpy as np
 from _common import (
     case,
     machine_note,
+    map_runs,
     markdown_table,
     parser,
     read_csv,
@@ -433,17 +436,21 @@ STEP_HEADERS = [
 ]  # fmt: skip
 
 
-def step_sweep(quick: bool) -> list[dict]:
+def step_sweep(quick: bool, each=map_runs) -> list[dict]:
     """The 0.01 m/s impact of graded P1 and P2 balls from a fine step to t_c/50, with and
-    without the smooth contact force; deviations from each mesh's finest smooth run."""
-    rows, finest = [], {}
-    for element, size, factors, scheme in STEP_SWEEP:
-        for factor in factors[:2] if quick else factors:
-            row = impact_row("graded", element, size, factor, SLOW_V, scheme)
-            ref = finest.setdefault((element, size), row)
-            for key, name in (("t_c_ms", "t_c"), ("F_max_N", "F"), ("delta_mm", "delta")):
-                row[f"{name}_dev_pct"] = 100.0 * (row[key] / ref[key] - 1.0)
-            rows.append(row)
+    without the smooth contact force; deviations from each mesh's finest smooth run.
+    ``each(fn, items)`` runs the rows (one after another, or ``map_runs`` on workers)."""
+    runs = [
+        (element, size, factor, scheme)
+        for element, size, factors, scheme in STEP_SWEEP
+        for factor in (factors[:2] if quick else factors)
+    ]
+    rows = each(lambda r: impact_row("graded", r[0], r[1], r[2], SLOW_V, r[3]), runs)
+    finest = {}
+    for (element, size, _, _), row in zip(runs, rows, strict=True):
+        ref = finest.setdefault((element, size), row)
+        for key, name in (("t_c_ms", "t_c"), ("F_max_N", "F"), ("delta_mm", "delta")):
+            row[f"{name}_dev_pct"] = 100.0 * (row[key] / ref[key] - 1.0)
     return rows
 
 
@@ -500,7 +507,15 @@ def main(argv=None) -> int:
         action="store_true",
         help="rewrite the Markdown tables from the CSV files of an earlier run, running nothing",
     )
+    p.add_argument(
+        "--workers",
+        type=int,
+        default=1,
+        help="run the rows on a local Dask cluster of this many processes (the wall-time "
+        "column is then measured on a machine the rows share)",
+    )
     args = p.parse_args(argv)
+    each = partial(map_runs, workers=args.workers)
     series = args.series.split(",")
     if "static" in series:
         f1 = hertz(SPHERE_MASS)["F_max"]
@@ -509,7 +524,7 @@ def main(argv=None) -> int:
         if args.from_csv:
             rows = read_csv(f"{args.out}/{stem}.csv")
         else:
-            rows = [static_row(el, f1 / share, n) for el, n, share in runs]
+            rows = each(lambda run: static_row(run[0], f1 / run[2], run[1]), runs)
         title = "The meshed ball's static force–approach law against Hertz"
         print(report(rows, args.out, stem, STATIC_READING, title, STATIC_COLUMNS, STATIC_HEADERS))
     for name, runs, v in (("slow", SLOW, SLOW_V), ("fast", FAST, V)):
@@ -520,14 +535,14 @@ def main(argv=None) -> int:
         if args.from_csv:
             rows = read_csv(f"{args.out}/{stem}.csv")
         else:
-            rows = [impact_row(*run, v) for run in runs]
+            rows = each(lambda run, v=v: impact_row(*run, v), runs)
         print(report(rows, args.out, stem, READINGS[name]))
     if "steps" in series:
         stem = "hertz_steps" + ("_quick" if args.quick else "")
         if args.from_csv:
             rows = read_csv(f"{args.out}/{stem}.csv")
         else:
-            rows = step_sweep(args.quick)
+            rows = step_sweep(args.quick, each)
         title = "Hertz impact at 0.01 m/s: the step, with and without the smooth contact force"
         print(report(rows, args.out, stem, STEPS_READING, title, STEP_COLUMNS, STEP_HEADERS))
     return 0
