@@ -175,10 +175,10 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
     # v̇ and a follow the correction (:mod:`.position_jump`) in a step where a contact closed
     impact = st.gaps.size == m and np.any(st.gaps[closed] > tol_gap)
     if corrected is not None and impact:
-        solve_H = corrected[1] if opts.metric == "stiffness" else None
-        if solve_H is None:
-            solve_H = _metric(model, corrected[0], S, c, "stiffness")[1]
-        dvd = acceleration_jump(model, q, corrected[0], v, closed, solve_H, tol_gap / h)
+        q_tilde, solve_H = corrected
+        if opts.metric != "stiffness":  # the update is always in the step's own S_t
+            solve_H = _metric(model, q_tilde, S, c, "stiffness")[1]
+        dvd = acceleration_jump(model, q, q_tilde, v, closed, solve_H, tol_gap / h)
         vd[model.free_slice] += dvd
         a[model.free_slice] += (1.0 - c.af) / (1.0 - c.am) * dvd
     timer.add("contact", clock)
