@@ -41,13 +41,14 @@ body.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 from skfem.helpers import det, inv
 
 from ..errors import check_positive, check_range
 
-__all__ = ["LinearElastic", "StVenantKirchhoff", "NeoHookean", "PLANES"]
+__all__ = ["LinearElastic", "StVenantKirchhoff", "NeoHookean", "PLANES", "SolidMaterial"]
 
 PLANES = ("strain", "stress")
 
@@ -55,6 +56,17 @@ _I3 = np.eye(3)
 # symmetric fourth-order identity 𝕀_IJKL = ½(δ_IK δ_JL + δ_IL δ_JK) and I⊗I
 _SYM4 = 0.5 * (np.einsum("ik,jl->ijkl", _I3, _I3) + np.einsum("il,jk->ijkl", _I3, _I3))
 _OUTER = np.einsum("ij,kl->ijkl", _I3, _I3)
+
+
+@runtime_checkable
+class SolidMaterial(Protocol):
+    """What a ``Solid`` asks of its material: density, whether the stiffness is constant, and
+    the stress response S(E) (with its tangent) in the total Lagrangian form."""
+
+    rho: float
+    linear: bool
+
+    def response(self, E: np.ndarray, plane: str | None = None, tangent: bool = True): ...
 
 
 @dataclass(frozen=True)

@@ -48,7 +48,7 @@ from .elasticity import (
     element_tangent,
     internal_force,
 )
-from .materials import PLANES
+from .materials import PLANES, SolidMaterial
 from .meshes import (
     ball_mesh,
     box_mesh,
@@ -89,7 +89,7 @@ class Solid(NodalTranslations):
 
     def __init__(self, mesh, material, element: str = "P1", plane: str = "strain", thickness=1.0):
         cell = cell_kind(mesh)
-        if not all(hasattr(material, a) for a in ("response", "rho", "linear")):
+        if not isinstance(material, SolidMaterial):
             raise InputError(f"material must be a fecontact material, got {material!r}")
         if not isinstance(element, str) or element not in ("P1", "P2"):
             raise InputError(f"element must be 'P1' or 'P2', got {element!r}")
