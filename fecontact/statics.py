@@ -50,7 +50,8 @@ def static_contact(solid, load: np.ndarray, plane, within: float, hold: float = 
     Schur complement S = G A⁻¹ Gᵀ, solved by principal pivoting (S is symmetric positive
     definite). The rigid motions that the contact leaves free carry no load and are held by
     a mass term: A = K + ε M, ε = ``hold`` · E/(ρ L²), L half the solid's largest extent, a
-    body force ``hold`` times what the stiffness E L would take at the same displacement.
+    body force ``hold`` times what the stiffness E L would take at the same displacement
+    (a ball of 0.05 m pressed by 1 N: 8e-5 of the load, taken from the reactions).
     Raises ``SolverError`` if the active set does not settle or a node beyond ``within``
     penetrates, and ``InputError`` for a solid whose stiffness is not constant."""
     if not solid.linear:
