@@ -159,9 +159,9 @@ def _declared_signature(build, groups) -> inspect.Signature:
                 parameters.append(par.replace(kind=inspect.Parameter.KEYWORD_ONLY))
                 continue
             empty = default is inspect.Parameter.empty
-            default = group if empty else replace(group, default=type(group.default)(default))
-        kind = inspect.Parameter.KEYWORD_ONLY
-        parameters.append(par.replace(default=default, kind=kind))
+            # a replaced default must itself be allowed (checked once, when the case loads)
+            default = group if empty else replace(group, default=group.check(name, default))
+        parameters.append(par.replace(default=default, kind=inspect.Parameter.KEYWORD_ONLY))
     return inspect.Signature(parameters)
 
 

@@ -51,3 +51,11 @@ def test_a_plain_default_outside_any_group_passes_unchecked():
 
     assert plain(n_elements=3).model.bodies[0].n_nodes == 4
     assert "n_elements" not in plain().parameters
+
+
+def test_a_replaced_default_outside_the_group_s_range_is_refused_when_the_case_loads():
+    with pytest.raises(InputError, match="n_elements"):
+
+        @case(GROUP)
+        def wrong(length, n_elements=0):
+            return beam_case(length, n_elements)
