@@ -29,6 +29,8 @@ import numpy as np
 __all__ = [
     "COULOMB",
     "coulomb_projection",
+    "coulomb_residual",
+    "coulomb_violation",
     "point_tangents",
     "solve_coulomb",
     "tangent_basis",
@@ -119,6 +121,12 @@ def solve_coulomb(c, D, p, k, mu, nt, x0=None, tol=0.0, max_iter=50):
     """
     COULOMB["solves"] += 1
     p = _isotropic(np.asarray(p, dtype=float), len(mu), nt)
+    if len(mu) == 1 and len(c) == 1 + nt:  # one contact: its law solved exactly
+        x = _local(c, D, p, k, float(mu[0]), nt, x0, tol)
+        if x is not None:
+            R, status = _settled(c, D, k, np.asarray(mu, dtype=float), nt, x)
+            if R <= tol:
+                return x, status, 1
     try:
         return _newton(c, D, p, k, mu, nt, x0, tol, max_iter)
     except _NotConverged:
@@ -140,11 +148,29 @@ class _NotConverged(Exception):
 
 
 def _settled(c, D, k, mu, nt, x):
-    """The largest violation (in units of w) of the law at x, measured without p: normal
-    complementarity, the cone, zero slip where it sticks, slip against Λ_T where it
-    slips; and the status of each contact."""
+    """:func:`coulomb_violation` at w = c + k D x."""
+    return coulomb_violation(c + k * (D @ x), x, mu, nt)
+
+
+def coulomb_residual(w, x, p, k, mu, nt) -> float:
+    """max |R_i/p_i| (units of w) of the Alart–Curnier residual R = k x − Π(k x − p w) of m
+    frictional contacts (no equality rows): zero exactly where the law holds, for any p.
+    Unlike :func:`coulomb_violation` it weighs a force by what it does: a vanishing force
+    with a slip counts as open, not as a stick that creeps."""
+    mu = np.asarray(mu, dtype=float)
+    p = _isotropic(np.asarray(p, dtype=float), len(mu), nt)
+    sigma = k * x - p * w
+    Pi = coulomb_projection(sigma.reshape(len(mu), 1 + nt), mu)[0].ravel()
+    return float(np.max(np.abs((k * x - Pi) / p), initial=0.0))
+
+
+def coulomb_violation(w, x, mu, nt):
+    """The largest violation (in units of w) of the law by the rows w and multipliers x
+    (any positive scale of the force), measured without p: normal complementarity, the
+    cone, zero slip where it sticks, slip against Λ_T where it slips; and the status of
+    each contact (0 open, 1 stick, 2 slip)."""
+    mu = np.asarray(mu, dtype=float)
     m, b = len(mu), 1 + nt
-    w = c + k * (D @ x)
     xs, ws = x[: m * b].reshape(m, b), w[: m * b].reshape(m, b)
     xn, xt, wn, wt = xs[:, 0], xs[:, 1:], ws[:, 0], ws[:, 1:]
     closed = xn > 0.0
@@ -208,31 +234,67 @@ def _gauss_seidel(c, D, p, k, mu, nt, x0, tol, max_sweeps=2000):
 
 
 def _local(c, D, p, k, mu, nt, x0, tol):
-    """One contact's law with w = c + k D x: exact in 2D (the first of open, stick, slip
-    forward, slip backward whose conditions hold, none of which involves p), Newton in 3D.
-    None when no answer is found."""
+    """One contact's law with w = c + k D x, exact: the first of open, stick and slip whose
+    conditions hold (none of which involves p); in 3D the slip direction is the root of a
+    function of one angle (:func:`_slip_direction`), Newton only where none is found. None
+    when no answer is found."""
+    if c[0] >= 0.0:
+        return np.zeros(1 + nt)
+    kD = k * D
+    try:
+        x = np.linalg.solve(kD, -c)
+    except np.linalg.LinAlgError:
+        x = None
+    if x is not None and x[0] >= 0.0 and np.linalg.norm(x[1:]) <= mu * x[0]:
+        return x
     if nt == 1:
-        if c[0] >= 0.0:
-            return np.zeros(2)
-        try:
-            x = np.linalg.solve(k * D, -c)
-        except np.linalg.LinAlgError:
-            x = None
-        if x is not None and x[0] >= 0.0 and abs(x[1]) <= mu * x[0]:
-            return x
         for s in (1.0, -1.0):
-            den = k * (D[0, 0] + s * mu * D[0, 1])
+            den = kD[0, 0] + s * mu * kD[0, 1]
             if den <= 0.0:
                 continue
             xn = -c[0] / den
             x = np.array([xn, s * mu * xn])
-            if xn >= 0.0 and s * (c[1] + k * (D[1] @ x)) <= 0.0:
+            if xn >= 0.0 and s * (c[1] + kD[1] @ x) <= 0.0:
                 return x
         return None
+    x = _slip_direction(c, kD, mu)
+    if x is not None:
+        return x
     try:
         return _newton(c, D, p, k, np.array([mu]), nt, x0, 0.1 * tol, 50)[0]
     except _NotConverged:
         return None
+
+
+def _slip_direction(c, D, mu, samples=72):
+    """Slip of one 3D contact with w = c + D x and c_N < 0: x = x_N (1, −μu) with
+    u = (cos θ, sin θ) the direction of the slip, w_N = 0, and the slip w_T = s u, s ≥ 0.
+    With b(θ) = D_TN − μ D_TT u and d(θ) = D_NN − μ D_NT·u, w_N = 0 gives x_N = −c_N/d, and
+    the slip is along u where
+
+        F(θ) = d (u × c_T) − c_N (u × b) = 0   (d w_T × u, free of the poles of x_N),
+
+    bracketed on ``samples`` angles and solved by Brent's method; the first root with
+    d > 0 (x_N ≥ 0) and d s ≥ 0 is the answer (None if none)."""
+    from scipy.optimize import brentq  # lazily: scipy.optimize takes 0.1 s to import
+
+    def parts(theta):
+        u = np.array([np.cos(theta), np.sin(theta)])  # (2, n)
+        d = D[0, 0] - mu * (D[0, 1:] @ u)
+        b = D[1:, :1] - mu * (D[1:, 1:] @ u)
+        cross = d * (u[0] * c[2] - u[1] * c[1]) - c[0] * (u[0] * b[1] - u[1] * b[0])
+        along = d * (u.T @ c[1:]) - c[0] * np.sum(u * b, axis=0)
+        return cross, along, d, u
+
+    theta = np.linspace(0.0, 2.0 * np.pi, samples + 1)
+    f = parts(theta)[0]
+    for i in np.flatnonzero(np.sign(f[:-1]) != np.sign(f[1:])):
+        root = brentq(lambda a: parts(np.array([a]))[0][0], theta[i], theta[i + 1], xtol=1e-15)
+        _, along, d, u = parts(np.array([root]))
+        if d[0] > 0.0 and along[0] >= 0.0:
+            xn = -c[0] / d[0]
+            return np.concatenate([[xn], -mu * xn * u[:, 0]])
+    return None
 
 
 def _newton(c, D, p, k, mu, nt, x0=None, tol=0.0, max_iter=50):

@@ -24,7 +24,8 @@ def frame_parts(model, state: State):
         f_smooth = contacts.generalized_force(state.q, contacts.all, state.force, model.n)
     friction = contacts.frictional
     if friction:
-        f_t, flag = _friction_parts(model, state, model.n)
+        f_t, flag = _friction_parts(model, state, "friction_impulse")
+        f_ts = _friction_parts(model, state, "friction_force")[0]
     parts = {}
     for i, body in enumerate(model.bodies):
         s = model.body_slice(i)
@@ -35,7 +36,8 @@ def frame_parts(model, state: State):
         data["contact_force"] = data["contact_impulse"] / h + _point_impulse(body, f_smooth[s])
         if friction:
             data["tangential_impulse"] = _point_impulse(body, f_t[s])
-            data["tangential_force"] = data["tangential_impulse"] / h
+            smooth_t = _point_impulse(body, f_ts[s])
+            data["tangential_force"] = data["tangential_impulse"] / h + smooth_t
             data["friction_state"] = np.max(np.abs(_point_impulse(body, flag[s])), axis=1)
         cell_data = {k: [v] for k, v in body.cell_data(q).items()} or None
         parts[_part_name(body, i)] = body_mesh(body.positions(q), body.cells(), data, cell_data)
@@ -52,10 +54,12 @@ def friction_totals(st: State) -> list[float]:
     return [float(np.linalg.norm(lam_t, axis=1).sum()), float(st.memory["friction_work"][0])]
 
 
-def _friction_parts(model, state: State, n: int):
-    """Generalized tangential impulse Σ_j G_T,jᵀ k Λ_T,j (n,) and per-dof friction state
-    (0 none, 1 stick, 2 slip: the largest among the contacts on the dof)."""
-    lam_t = state.memory.get("friction_impulse")
+def _friction_parts(model, state: State, key: str):
+    """Generalized tangential impulse Σ_j G_T,jᵀ k Λ_T,j (n,) (``key`` "friction_impulse"),
+    or smooth force Σ_j G_T,jᵀ λ_T,j ("friction_force"), and per-dof friction state (0 none,
+    1 stick, 2 slip: the largest among the contacts on the dof)."""
+    n = model.n
+    lam_t = state.memory.get(key)
     status = state.memory.get("friction_status")
     if lam_t is None or not np.any(status):
         return np.zeros(n), np.zeros(n)

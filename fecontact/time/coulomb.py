@@ -24,10 +24,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..contact.friction import solve_coulomb
-from .constraints import Constraints, StepFailure
+from ..contact.friction import coulomb_residual, solve_coulomb
+from .constraints import Constraints, StepFailure, constraint_columns
 
-__all__ = ["friction_memory", "frictional_jump", "frictional_correction"]
+__all__ = ["SmoothFriction", "friction_memory", "frictional_jump", "frictional_correction"]
 
 
 def _rows(G: np.ndarray, GT: np.ndarray) -> np.ndarray:
@@ -69,11 +69,16 @@ def _obstacle_shift(contacts, select, t_n: float, t: float):
     return d1 - d0
 
 
-def frictional_correction(model, st, q_tilde, work, solve_H, opts, tol_gap, t):
+def frictional_correction(model, st, q_tilde, work, solve_H, opts, tol_gap, t, preload=None):
     """Position correction q = q̃ + U over the contacts ``work`` and the joints, with slip
     rows. Returns (U, k ν_N (len(work),), k ν_T (len(work), nt), U_T, iterations) with
     U_T = H⁻¹ G_Tᵀ k ν_T the part of U that friction moves (its work against the applied
-    and internal forces is the positional share of the friction work)."""
+    and internal forces is the positional share of the friction work).
+
+    ``preload`` (len(work), 1 + nt): positional multipliers the contacts already carry, the
+    smooth forces as (λ_N, λ_T)/β′ (in the metric H = S_t/β′, H⁻¹Gᵀλ/β′ = S_t⁻¹Gᵀλ). The
+    law then holds for the total kν + preload, as in :func:`frictional_jump`: a contact
+    held in the smooth step keeps its grip while the correction of another moves the body."""
     contacts, F = model.contacts, model.free
     cons = Constraints(model, work)
     m, mu, k = len(work), contacts.friction[work], opts.multiplier_scale
@@ -81,6 +86,7 @@ def frictional_correction(model, st, q_tilde, work, solve_H, opts, tol_gap, t):
         mu = np.where(st.gaps[work] <= tol_gap, mu, 0.0)
     shift = _obstacle_shift(contacts, work, st.t, t)
     U, x, its, dU = np.zeros(len(F)), None, 0, np.inf
+    pre = None
     for _ in range(opts.max_iterations):
         q = q_tilde.copy()
         q[model.free_slice] += U
@@ -93,22 +99,28 @@ def frictional_correction(model, st, q_tilde, work, solve_H, opts, tol_gap, t):
         Y = solve_H(A.T).reshape(len(F), -1)
         D = A @ Y
         c = _stack(g[:m], slip, g[m:]) - A @ U
+        if pre is None:
+            pre = np.zeros(len(c))
+            if preload is not None:
+                pre[: preload.size] = preload.ravel()
+            x = None if not pre.any() else pre / k
         try:
             x, status, n = solve_coulomb(
-                c, D, _augmentation(D, opts.penalty_scale), k, mu, GT.shape[1], x, tol_gap
+                c - D @ pre, D, _augmentation(D, opts.penalty_scale), k, mu, GT.shape[1], x, tol_gap
             )
         except RuntimeError as err:
             raise StepFailure(f"position correction: {err}", np.nan) from None
         its += n
-        U_new = k * (Y @ x)
+        own = k * x - pre
+        U_new = Y @ own
         dU = float(np.max(np.abs(U_new - U), initial=0.0))
         U = U_new
         if dU <= 0.1 * tol_gap:
             nt = GT.shape[1]
-            nu_n, nu_t, _ = _split(k * x, m, nt)
+            nu_n, nu_t, _ = _split(own, m, nt)
             tangential = np.zeros(len(x), bool)
             tangential[: m * (1 + nt)] = np.arange(m * (1 + nt)) % (1 + nt) > 0
-            return U, nu_n, nu_t, k * (Y[:, tangential] @ x[tangential]), its
+            return U, nu_n, nu_t, Y[:, tangential] @ own[tangential], its
     raise StepFailure(f"frictional position correction: update {dU:.3e} m did not settle", dU)
 
 
@@ -125,16 +137,22 @@ def friction_memory(st, m: int, dim: int) -> dict:
     }
 
 
-def frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol, solve=None):
+def frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol, solve=None, preload=None):
     """Velocity jump v = ṽ + W over the contacts ``closed`` (normal rates ``gdot`` with the
     impact law, then the joints' rows) with slip rows, in the metric ``solve`` = H⁻¹
     (default M⁻¹). Returns (W, k Λ_N, k Λ_T (len(closed), nt), status, iterations, work,
     k Λ_b of the joints): work = −Σ_j k Λ_T,j·(w_T,j(ṽ) + G_T,j W/2) (J) is the kinetic
     energy the tangential impulses take, exactly: the mean slip rate over the jump times the
-    impulse."""
+    impulse.
+
+    ``preload`` (len(closed), 1 + nt): impulses (N·s) the contacts already carry over the
+    step, h(λ_N, λ_T) of the smooth forces. The law then holds for the step's total impulse
+    kΛ + preload: Λ_N may be negative where it only lowers the smooth force's impulse, and
+    the cone bounds the total tangential impulse by μ times the total normal one."""
     contacts, F = model.contacts, model.free
     m, k = len(closed), opts.multiplier_scale
     GT, T = contacts.tangent_jacobian(q, closed)
+    nt = GT.shape[1]
     rate = GT @ v[F]
     speed = contacts.obstacle_motion(closed, velocity=True)
     if speed is not None:
@@ -143,23 +161,140 @@ def frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol, solve=None):
     Y = (model.solve_M if solve is None else solve)(A.T).reshape(len(F), -1)
     D = A @ Y
     w = _stack(gdot[:m], rate, gdot[m:])
+    pre = np.zeros(len(w))
+    if preload is not None:
+        pre[: m * (1 + nt)] = preload.ravel()
     x0 = None
     if st.impulse.size == contacts.size and "friction_impulse" in st.memory:
-        x0 = _stack(st.impulse[closed], st.memory["friction_impulse"][closed], gdot[m:] * 0) / k
+        x0 = _stack(st.impulse[closed], st.memory["friction_impulse"][closed], gdot[m:] * 0)
+        x0 = (x0 + pre) / k
     try:
         x, status, its = solve_coulomb(
-            w,
+            w - D @ pre,
             D,
             _augmentation(D, opts.penalty_scale),
             k,
             contacts.friction[closed],
-            GT.shape[1],
+            nt,
             x0,
             tol,
         )
     except RuntimeError as err:
         raise StepFailure(f"velocity jump: {err}", np.nan) from None
-    lam_n, lam_t, lam_b = _split(k * x, m, GT.shape[1])
-    W = k * (Y @ x)
+    own = k * x - pre
+    lam_n, lam_t, lam_b = _split(own, m, nt)
+    W = Y @ own
     work = -float(np.sum(lam_t * (rate + 0.5 * (GT @ W))))
     return W, lam_n, lam_t, status, its, work, lam_b
+
+
+class SmoothFriction:
+    r"""The persistent frictional contacts ``P`` of one smooth step (:mod:`.smooth_contact`):
+    normal forces λ_N ≥ 0 and tangential forces λ_T (N) at t_{n+1}, in the equations of
+    motion as − Σ_{j∈P} (G_jᵀ λ_N,j + G_T,jᵀ λ_T,j), under Coulomb's law at position level
+    over the step,
+
+        0 ≤ g_j(q̃_{n+1}) ⊥ λ_N,j ≥ 0,   |λ_T,j| ≤ μ_j λ_N,j,
+        w_T,j = T_j(x_rel(q̃_{n+1}) − x_rel(q_n)) − T_j Δd = 0 where |λ_T,j| < μ_j λ_N,j,
+        λ_T,j = −μ_j λ_N,j w_T,j/|w_T,j| where it slips:
+
+    a contact that sticks does not creep over the step, one that slips is held back by
+    μ λ_N. Each Newton update solves this law on the rows linearised at the iterate, with
+    the Delassus matrix D = A S_t⁻¹Aᵀ of the rows A = (G_j, G_T,j) and the dynamics'
+    own update dq = S_t⁻¹(−r + Aᵀ Δλ): the semi-smooth Newton of
+    :func:`fecontact.contact.friction.solve_coulomb` on that small problem, warm-started
+    from the current forces. The converged step satisfies the law and the equations of
+    motion at q̃_{n+1}; p and k only steer the inner solve. The curvature of the gaps is
+    left out of the iteration matrix: curved obstacles converge linearly, to the same
+    answer."""
+
+    def __init__(self, model, st, P: np.ndarray, t: float, opts):
+        self.contacts, self.P, self.q_n = model.contacts, P, st.q
+        # the inner solve's tolerance (m) and the gap of a contact with no facet in reach
+        self.tolerance = opts.tol_gap * model.length
+        far = opts.detection_margin * model.length
+        self.mu, self.nt = self.contacts.friction[P], model.dim - 1
+        self.k, self.scale, self.far = opts.multiplier_scale, opts.penalty_scale, far
+        force = st.memory.get("contact_force")
+        force_t = st.memory.get("friction_force")
+        self.lam = np.zeros((P.size, 1 + self.nt))
+        if force is not None:
+            self.lam[:, 0] = np.maximum(force[P], 0.0)
+        if force_t is not None:  # (a tangential force only where a normal one presses)
+            self.lam[:, 1:] = np.where(self.lam[:, :1] > 0.0, force_t[P], 0.0)
+        self.shift = _obstacle_shift(self.contacts, P, st.t, t)
+        self.C = None  # (the curvature of the gaps is not in the iteration matrix)
+        self.solved = False
+
+    def update(self, q: np.ndarray, curvature: bool = False) -> None:
+        """Gaps, slips over the step and their rows at q. A contact with no facet within
+        reach (g = +∞, no gradient) counts as open at the detection margin ``far``."""
+        g, G = self.contacts.linearize(q, self.P)[:2]
+        g = np.where(np.isfinite(g), g, self.far)
+        GT, T = self.contacts.tangent_jacobian(q, self.P)
+        slip = self.contacts.slips(q, self.q_n, self.P, GT, T)
+        if self.shift is not None:
+            slip -= np.einsum("mtd,md->mt", T, self.shift)
+        self.A, self.w, self.slip = _rows(G, GT), _stack(g, slip, np.zeros(0)), slip
+
+    @property
+    def active(self) -> np.ndarray:
+        """The contacts pressed or penetrating: while one is, the update solves the law."""
+        return (self.lam[:, 0] > 0.0) | (self.w[:: 1 + self.nt] < 0.0)
+
+    def force_term(self) -> np.ndarray:
+        return self.A.T @ self.lam.ravel()
+
+    def schur_update(self, model, r, solve, key=None) -> np.ndarray:
+        """The update dq = S⁻¹(−r + AᵀΔλ) with λ + Δλ the solution of the law on the rows
+        linearised at q (``key``: S is constant at this step size, and so are the rows of
+        straight gaps: S⁻¹Aᵀ columns are kept per contact and row)."""
+        x = solve(r)
+        Y = self._columns(model, solve, key)
+        D = self.A @ Y
+        lam = self.lam.ravel()
+        c = self.w - self.A @ x - D @ lam
+        tol = 0.1 * self.tolerance
+        self.p = _augmentation(D, self.scale)
+        try:
+            z, _, _ = solve_coulomb(c, D, self.p, self.k, self.mu, self.nt, lam / self.k, tol)
+        except RuntimeError as err:
+            raise StepFailure(f"smooth step, friction: {err}", np.nan) from None
+        new = self.k * z
+        self.lam = new.reshape(self.lam.shape)
+        self.solved = True
+        return -x + Y @ (new - lam)
+
+    def _columns(self, model, solve, key):
+        if key is None:
+            return solve(self.A.T).reshape(self.A.shape[1], -1)
+        b, cons = 1 + self.nt, Constraints(model, self.P)
+        Y = np.empty((self.A.shape[1], self.A.shape[0]))
+        for i in range(b):  # the normal rows, then each tangent's
+            Y[:, i::b] = constraint_columns(
+                model, ("smooth", i, *key), self.P, self.A[i::b], solve, cons, True
+            )
+        return Y
+
+    def satisfied(self, admits) -> bool:
+        """Coulomb's law at q within the gap tolerance (``admits(x)``: x ≤ tolerance, m):
+        its Alart–Curnier residual, in metres, once an update has solved it (before any,
+        the forces are zero and no contact may penetrate)."""
+        if not self.solved:
+            return not self.active.any()
+        lam = self.lam.ravel()
+        return admits(coulomb_residual(self.w, lam / self.k, self.p, self.k, self.mu, self.nt))
+
+    def settled(self, q: np.ndarray, admits) -> bool:
+        self.update(q)
+        return self.satisfied(admits)
+
+    def forces(self, m: int):
+        """(λ_N (m,), λ_T (m, nt)) of every contact (N), zero outside P."""
+        out = np.zeros((m, 1 + self.nt))
+        out[self.P] = self.lam
+        return out[:, 0], out[:, 1:]
+
+    def work(self) -> float:
+        """The energy the tangential forces dissipated over the step's slip (J)."""
+        return -float(np.sum(self.lam[:, 1:] * self.slip))

@@ -16,7 +16,9 @@ _EMPTY = np.zeros(0)
 _EMPTY.flags.writeable = False
 
 
-def velocity_jump(model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb=None, held=None):
+def velocity_jump(
+    model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb=None, held=None, preload=None
+):
     """Step 3: v = ṽ + W, M W = Σ G_jᵀ [k Λ_j − p ġ_j]_+ with
     ġ_j = G_j(q_{n+1}) v_{n+1} + e_j ġ⁻_j; joints: G_b v_{n+1} = 0 (``Gb``: their gradient
     at q, if known). The ``held`` contacts (a mask over ``closed``: pressed by a smooth
@@ -29,7 +31,9 @@ def velocity_jump(model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb=None, h
     Warm-started from the previous step's impulses; a residual ġ below tol_gap/h closes less
     than the gap tolerance within the step. Returns (W, k Λ, iterations, friction) with
     friction = (k Λ_T, stick/slip status, work of Λ_T in J) of the closed contacts when the
-    model has friction (:func:`fecontact.time.coulomb.frictional_jump`), else None."""
+    model has friction (:func:`fecontact.time.coulomb.frictional_jump`, whose cone holds
+    the step's total impulse: ``preload`` (len(closed), 1 + nt), the impulse h(λ_N, λ_T)
+    of the smooth forces), else None."""
     F = model.free
     if closed.size == 0:
         # joints only: the M-orthogonal projection onto G_b v = 0, no active set to find
@@ -65,7 +69,7 @@ def velocity_jump(model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb=None, h
     tol = tol_gap / (t - st.t)
     if contacts.frictional:
         W, lam_n, lam_t, status, its, work, _ = frictional_jump(
-            model, st, q, v, closed, G1, gdot, opts, tol
+            model, st, q, v, closed, G1, gdot, opts, tol, preload=preload
         )
         return W, lam_n, its, (lam_t, status, work)
     Y = constraint_columns(model, ("mass",), closed, G1, model.solve_M, cons, constant=True)

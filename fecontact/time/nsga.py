@@ -48,7 +48,7 @@ from .constraints import (
     factorize_or_fail,
     plus_curvature,
 )
-from .coulomb import friction_memory, frictional_correction
+from .coulomb import SmoothFriction, friction_memory, frictional_correction
 from .descent import Armijo, descent_direction
 from .generalized_alpha import coefficients, predict
 from .impacts import velocity_jump
@@ -90,7 +90,9 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
     m, joints = model.contacts.size, model.joints
     smooth = uses_smooth_contact(model, opts)
     P = persistent_contacts(model, st, opts.detection_margin * model.length) if smooth else None
-    q, v, vd, a, lam, S, it, Gb, force = _smooth_step(model, st, t, c, opts, timer, P)
+    q, v, vd, a, lam, S, it, Gb, force, smooth_t, work_t = _smooth_step(
+        model, st, t, c, opts, timer, P
+    )
     iters = {"smooth": it, "position": 0, "velocity": 0}
     clock = time.perf_counter()
     if m == 0 and joints.size == 0:
@@ -99,6 +101,9 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
     memory = friction_memory(st, m, model.dim) if friction else {}
     if smooth:
         memory["contact_force"] = np.zeros(m) if force is None else force
+        if friction:
+            memory["friction_force"] = np.zeros((m, model.dim - 1)) if force is None else smooth_t
+            memory["friction_work"] += work_t
 
     # 2. position correction, only if a contact candidate penetrates (joints already hold)
     model.contacts.set_time(t)
@@ -117,13 +122,18 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
         # work follows the contact zone, not the detection margin (a long body has hundreds
         # of candidates, a few in contact)
         was_active = st.nu[cand] > 0.0 if st.nu.size == m else False
+        if smooth_t is not None:  # contacts gripped by the smooth step keep their grip
+            was_active = was_active | (force[cand] > 0.0)
         work = cand[short | was_active]
         q_tilde = q
         metric = _metric(model, q_tilde, S, c, opts.metric)
         while True:
             if friction:
+                pre = None
+                if smooth_t is not None:  # the smooth forces as positional multipliers
+                    pre = np.column_stack([force, smooth_t])[work] / c.bp
                 U, nu_w, nu_t, U_t, its = frictional_correction(
-                    model, st, q_tilde, work, metric[1], opts, tol_gap, t
+                    model, st, q_tilde, work, metric[1], opts, tol_gap, t, pre
                 )
             else:
                 nu0 = st.nu[work] / opts.multiplier_scale  # warm start: the previous step's
@@ -156,8 +166,10 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
     if closed.size or joints.size:
         held = None if force is None else force[closed] > 0.0
         v_smooth = v.copy() if smooth and not friction else None
+        # the smooth forces' impulse over the step, within the cone of the step's total
+        preload = None if smooth_t is None else h * np.column_stack([force, smooth_t])[closed]
         W, Lam, iters["velocity"], tangential = velocity_jump(
-            model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb, held
+            model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb, held, preload
         )
         v[model.free_slice] += W
         if closed.size:
@@ -213,6 +225,8 @@ class SmoothStep(NamedTuple):
     iterations: int
     Gb: np.ndarray | None
     force: np.ndarray | None  # λ of every contact (N), None without persistent contacts
+    friction_force: np.ndarray | None  # λ_T (m, nt) (N), None without persistent friction
+    friction_work: float  # the energy λ_T dissipated over the step's slip (J)
 
 
 def _impact(nu, impulse, held) -> bool:
@@ -244,7 +258,11 @@ def _smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
     if P is not None and P.size:
         model.contacts.set_time(t)
         force = st.memory.get("contact_force")
-        sc = SmoothContacts(model, P, np.zeros(P.size) if force is None else force[P], c.bp, opts)
+        if model.contacts.frictional:
+            sc = SmoothFriction(model, st, P, t, opts)
+        else:
+            force0 = np.zeros(P.size) if force is None else force[P]
+            sc = SmoothContacts(model, P, force0, c.bp, opts)
     curved = sc is not None and not model.contacts.linear
     tol_b = JointTolerance(model, q, opts.tol_gap) if nb or sc else None
     S = Gb = None
@@ -348,8 +366,11 @@ def _smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
     # the metric of the position correction reuses S_t and its factors; a bordered
     # factorization (joints) is no metric, so then S_t is rebuilt on demand
     S = (S, solve) if S is not None and plain and not nb else None
+    if isinstance(sc, SmoothFriction):
+        force, force_t = sc.forces(model.contacts.size)
+        return SmoothStep(q, v, vd, a, lam, S, it, Gb, force, force_t, sc.work())
     force = None if sc is None else sc.forces(model.contacts.size)
-    return SmoothStep(q, v, vd, a, lam, S, it, Gb, force)
+    return SmoothStep(q, v, vd, a, lam, S, it, Gb, force, None, 0.0)
 
 
 def _with_curvature(solve, C, units, residual):

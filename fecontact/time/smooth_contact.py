@@ -68,12 +68,14 @@ def uses_smooth_contact(model, opts) -> bool:
 
 
 def persistent_contacts(model, st, near: float) -> np.ndarray:
-    """The contacts P of the step after ``st``: frictionless, pressed by any of the last
-    step's forces, and with a gap g(q_n) ≤ ``near`` (m)."""
+    """The contacts P of the step after ``st``: pressed by any of the last step's forces,
+    and with a gap g(q_n) ≤ ``near`` (m). A model with friction and joints has none."""
     contacts = model.contacts
     m = contacts.size
     # a contact pressed in the last step was one of its candidates: in flight, nothing to do
-    if m == 0 or st.gaps.size != m or contacts.frictional or st.candidates.size == 0:
+    if m == 0 or st.gaps.size != m or st.candidates.size == 0:
+        return _NONE
+    if contacts.frictional and model.joints.size:  # (friction: the bordered path has none)
         return _NONE
     pressed = st.nu > 0.0 if st.nu.size == m else np.zeros(m, bool)
     if st.impulse.size == m:
