@@ -20,6 +20,7 @@ RUNS = {
     "bouncing_ball": ["--t-end", "0.6", "--set", "restitution=0.5"],
     "disk_drop": ["--set", "refinements=2", "--t-end", "0.004"],
     "disk_on_beam": ["--t-end", "0.15"],
+    "elastic_block": ["--t-end", "0.03", "--set", "incline=30", "--set", "velocity=0.5"],
     "flexible_pendulum": ["--t-end", "0.4", "--set", "restitution=0.5"],
     "impacting_bar": ["--set", "n_elements=20"],
     "rigid_pendulum": ["--t-end", "0.6"],

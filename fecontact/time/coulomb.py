@@ -27,7 +27,13 @@ import numpy as np
 from ..contact.friction import coulomb_residual, solve_coulomb
 from .constraints import Constraints, StepFailure, constraint_columns
 
-__all__ = ["SmoothFriction", "friction_memory", "frictional_jump", "frictional_correction"]
+__all__ = [
+    "SmoothFriction",
+    "friction_memory",
+    "frictional_correction",
+    "frictional_jump",
+    "frictional_restart",
+]
 
 
 def _rows(G: np.ndarray, GT: np.ndarray) -> np.ndarray:
@@ -186,6 +192,39 @@ def frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol, solve=None, pr
     W = Y @ own
     work = -float(np.sum(lam_t * (rate + 0.5 * (GT @ W))))
     return W, lam_n, lam_t, status, its, work, lam_b
+
+
+def frictional_restart(model, q, v, x, rows, G, rates, tol_rate: float) -> np.ndarray:
+    r"""The contacts' share M⁻¹(Σ G_jᵀμ_N,j + G_T,jᵀμ_T,j) of the acceleration that restarts
+    the generalized-α variable after an impact (:func:`.smooth_contact.restarted_acceleration`,
+    whose free acceleration is ``x`` and whose normal acceleration rates are ``rates`` on
+    the closed, non-separating ``rows`` with gradients ``G``), under Coulomb's law at the
+    acceleration level: a contact that slips (|w_T| = |G_T v| above ``tol_rate``, m/s) is
+    pulled back along its slip direction u, μ_T = −μ μ_N u (its normal column G − μ u·G_T);
+    one that sticks keeps a zero tangential acceleration inside the cone, |μ_T| ≤ μ μ_N, or
+    slides off against it. The law is met to 1e-12 of the largest free rate: a restart
+    needs no more than the step's own accuracy."""
+    contacts, nt = model.contacts, model.dim - 1
+    GT, _ = contacts.tangent_jacobian(q, rows)
+    slip = GT @ v[model.free]
+    speed = np.linalg.norm(slip, axis=1)
+    sliding = speed > tol_rate
+    u = np.divide(slip, speed[:, None], out=np.zeros_like(slip), where=sliding[:, None])
+    mu = contacts.friction[rows]
+    pulled = G - mu[:, None] * np.einsum("mt,mtn->mn", u, GT)
+    GT_stuck = GT * ~sliding[:, None, None]
+    A, B = _rows(G, GT_stuck), _rows(pulled, GT_stuck)
+    Y = model.solve_M(B.T).reshape(len(model.free), -1)
+    D = A @ Y
+    c = _stack(rates, GT_stuck @ x, np.zeros(0))
+    tol = 1e-12 * np.max(np.abs(c), initial=0.0)
+    try:
+        z, _, _ = solve_coulomb(
+            c, D, _augmentation(D, 1.0), 1.0, np.where(sliding, 0.0, mu), nt, None, tol
+        )
+    except RuntimeError as err:
+        raise StepFailure(f"restarted acceleration: {err}", np.nan) from None
+    return Y @ z
 
 
 class SmoothFriction:

@@ -165,7 +165,7 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
     closed = cand[gaps[cand] <= tol_gap] if cand.size else cand
     if closed.size or joints.size:
         held = None if force is None else force[closed] > 0.0
-        v_smooth = v.copy() if smooth and not friction else None
+        v_smooth = v.copy() if smooth else None
         # the smooth forces' impulse over the step, within the cone of the step's total
         preload = None if smooth_t is None else h * np.column_stack([force, smooth_t])[closed]
         W, Lam, iters["velocity"], tangential = velocity_jump(

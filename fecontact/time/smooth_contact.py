@@ -40,7 +40,8 @@ post-impact state (:func:`restarted_acceleration`).
 
 p_j = β′ / Σ_i G_ji² / M_ii (N/m: the stiffness of the step's inertia along the contact,
 with the diagonal of M) and k only steer the active-set iteration; the converged forces do
-not depend on them. Frictional contacts keep the decoupled scheme.
+not depend on them. Frictional contacts carry a tangential force too
+(:class:`fecontact.time.coulomb.SmoothFriction`).
 """
 
 from __future__ import annotations
@@ -49,6 +50,7 @@ import numpy as np
 
 from ..contact.laws import kkt_multipliers, solve_velocity_jump
 from .constraints import Constraints, StepFailure, augmentation, constraint_columns
+from .coulomb import frictional_restart
 
 __all__ = [
     "SmoothContacts",
@@ -195,8 +197,9 @@ def restarted_acceleration(model, q, v, v_smooth, t, closed, tol_rate: float):
     force on its velocity discontinuity, carried through a whole step by the predictor,
     launched a damped block resting on a plane at 8 times its impact speed. The Signorini
     problem at the acceleration level is the velocity jump's, solved by the same primal–dual
-    active set (:func:`fecontact.contact.solve_velocity_jump`). Moving obstacles (gaps that
-    change with t) and joints keep a as it is: None."""
+    active set (:func:`fecontact.contact.solve_velocity_jump`); with friction, Coulomb's
+    law at the acceleration level (:func:`fecontact.time.coulomb.frictional_restart`).
+    Moving obstacles (gaps that change with t) and joints keep a as it is: None."""
     contacts = model.contacts
     if contacts.moving or model.joints.size:
         return None
@@ -216,6 +219,8 @@ def restarted_acceleration(model, q, v, v_smooth, t, closed, tol_rate: float):
     Y = constraint_columns(model, ("mass",), rows, G, model.solve_M, cons, constant=True)
     # the velocity jump's problem, one level up: 0 ≤ G (x + M⁻¹Gᵀμ) + vᵀ∇²g v ⊥ μ ≥ 0
     rates = G @ x + contacts.quadratic(q, v)[rows]
+    if contacts.frictional:
+        return x + frictional_restart(model, q, v, x, rows, G, rates, tol_rate)
     try:
         dvd, _, _ = solve_velocity_jump(
             G, rates, model.solve_M, augmentation(1.0, G, Y), 1.0, rows.size + 2, Y=Y
