@@ -64,6 +64,52 @@ def test_three_dimensional_cone():
     np.testing.assert_allclose(results[0], results[2], rtol=0, atol=1e-11)
 
 
+def _check_law(c, D, x, mu, tol):
+    """One 3D contact's law at w = c + D x, to ``tol`` in units of w."""
+    w = c + D @ x
+    xn, xt, wn, wt = x[0], x[1:], w[0], w[1:]
+    assert xn >= 0.0 and wn >= -tol and (xn == 0.0 or abs(wn) <= tol)
+    cone = np.linalg.norm(xt)
+    assert cone <= mu * xn * (1 + 1e-12) + 1e-300
+    if xn > 0.0 and cone < mu * xn * (1 - 1e-9):
+        np.testing.assert_allclose(wt, 0.0, atol=tol)  # stuck: no slip
+    elif xn > 0.0:  # slipping: the slip along −Λ_T
+        s = np.linalg.norm(wt)
+        np.testing.assert_allclose(wt, -s * xt / cone, atol=tol)
+
+
+def test_one_3d_contact_is_solved_exactly():
+    """A lone 3D contact whose semi-smooth Newton oscillated between open and slip past its
+    stick solution (a node of a block on a 20° incline, μ = 5, at 4 Δx/c): the exact local
+    solve finds it, with no Gauss–Seidel; and 600 random ones (open, stick and slip, μ up to
+    3) meet the law to round-off."""
+    from fecontact.contact.friction import COULOMB
+
+    c = np.array([-6.5029077401371710e-07, 3.4205845085322717e-06, 2.1876015328093736e-07])
+    D = np.array(
+        [
+            [8.5321647776232568e-06, 2.9550472914999995e-06, 4.0408369427910996e-07],
+            [2.9550472914999999e-06, 7.6723784785050134e-06, 1.0325330976454126e-06],
+            [4.0408369427910991e-07, 1.0325330976454128e-06, 8.7834500337327091e-06],
+        ]
+    )
+    before = COULOMB["gauss_seidel_solves"]
+    x, status, _ = _law(c, D, 1.0 / np.diag(D), [5.0], 2)
+    assert COULOMB["gauss_seidel_solves"] == before and status[0] == 1
+    np.testing.assert_allclose(x, np.linalg.solve(D, -c), rtol=1e-12)
+    rng = np.random.default_rng(7)
+    seen = set()
+    for _ in range(600):
+        B = rng.normal(size=(3, 3))
+        D = B @ B.T + 0.1 * np.eye(3)
+        c, mu = rng.normal(size=3), rng.uniform(0.0, 3.0)
+        x, status, _ = _law(c, D, 1.0 / np.diag(D), [mu], 2)
+        seen.add(int(status[0]))
+        # the law's rows are O(1) here: 1e-12 is round-off of the solve and the root
+        _check_law(c, D, x, mu, 1e-12)
+    assert seen == {0, 1, 2}
+
+
 def test_tangents_complete_the_normal():
     n = np.array([[0.0, 1.0], [0.6, 0.8]])
     T = tangent_basis(n)
