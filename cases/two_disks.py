@@ -22,6 +22,10 @@ jumps alone) the nodes move into the other disk in every smooth step and are pro
 the disks compress too far, and the excess is second order in the Courant number h c/Δx:
 +0.27 % at Δx/16c, +7.1 % at Δx/4c, +137 % at Δx/c.
 
+With an ``offset`` between the centres the impact is oblique, and with ``friction`` μ the
+pressed nodes carry a smooth tangential force as well (Coulomb's law between the bodies): the
+disks leave spinning the same way, and the total momentum still stays zero.
+
 Probes: ``momentum`` (total x-momentum, kg·m/s per m of thickness), ``v_left`` and
 ``v_right`` (x-velocities of the centres of mass, m/s), ``gap`` (smallest node-to-segment gap,
 m, inf when no node is within the detection margin) and ``contact_force`` (Σ k Λ_j / h, N).
@@ -41,14 +45,16 @@ def build(
     gap=Param.nonnegative(0.002, "m", "initial distance between the disks"),
     velocity=Param.positive(1.0, "m/s", "speed of each disk toward the other"),
     two_pass=Param.count(1, "1: also the right disk's nodes against the left disk", 0, 1),
+    offset=Param(0.0, "m", "the right disk's centre above the left one's (oblique impact)"),
+    friction=Param.nonnegative(0.0, "-", "Coulomb's coefficient mu between the disks"),
 ):  # fmt: skip
     mat = solid_material(material, E, nu, rho)
     x0 = radius + 0.5 * gap
-    left = Solid.disk([-x0, 0.0], radius, refinements, mat)
-    right = Solid.disk([x0, 0.0], radius, refinements, mat)
-    pairs = [Contact(left, right, restitution=restitution)]
+    left = Solid.disk([-x0, -0.5 * offset], radius, refinements, mat)
+    right = Solid.disk([x0, 0.5 * offset], radius, refinements, mat)
+    pairs = [Contact(left, right, restitution=restitution, friction=friction)]
     if two_pass:
-        pairs.append(Contact(right, left, restitution=restitution))
+        pairs.append(Contact(right, left, restitution=restitution, friction=friction))
     model = Model([left, right], pairs, gravity=(0.0, 0.0))
     w = left.mass_matrix() @ left.translation_field((1.0, 0.0))  # x-momentum weights
     s0, s1 = model.body_slice(0), model.body_slice(1)

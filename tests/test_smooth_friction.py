@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from fecontact.io.frames import frame_parts
+from fecontact.scenes import centre_of_mass_probes, spin_probe
 from fecontact.testing import G, case, trace
 from fecontact.time import simulate
 
@@ -89,3 +90,32 @@ def test_smooth_friction_does_not_depend_on_p_and_k():
             # the laws are met to the gap tolerance (1e-12 of the size) at every step: the
             # answers agree far below the 1e-8 the rigid cases are held to
             np.testing.assert_allclose(run[probe], ref[probe], rtol=0, atol=1e-8 * scale)
+
+
+def test_an_oblique_frictional_impact_between_two_disks():
+    """Node-to-segment pairs with friction (``two_disks``, centres 4 cm apart across the
+    line of approach, μ = 0.3) at the case's step Δx/c: the pair forces are equal and
+    opposite, so both momentum components stay zero; the impact is point-symmetric, so both
+    disks leave spinning the same way at the same rate; friction and e_N = 0 only take
+    energy out."""
+    sim = case("two_disks").build(refinements=2, offset=0.04, friction=0.3, t_end=0.01)
+    model = sim.model
+    left, right = model.bodies
+    probes = {}
+    for name, body in (("L", left), ("R", right)):
+        for axis in (0, 1):
+            probes |= centre_of_mass_probes(model, body, axis, name=name)
+        probes[f"omega_{name}"] = spin_probe(model, body)
+    run = trace(sim.replace(probes=probes))
+    assert run["status"] == "completed" and run["halvings"].sum() == 0
+    # momentum sums of two 1 kg/m bodies at 1 m/s: round-off is ~1e-16
+    for axis in "xy":
+        assert np.max(np.abs(run[f"v{axis}_L"] + run[f"v{axis}_R"])) <= 1e-12
+    assert abs(run["vy_L"][-1]) > 0.1  # deflected
+    assert run["omega_L"][-1] > 1.0  # friction spins the disks counter-clockwise ...
+    # ... equally: the two meshes are one rotated by 180° (1e-9: the Newton tolerances)
+    assert run["omega_R"][-1] == pytest.approx(run["omega_L"][-1], rel=1e-9)
+    ke0 = run["kinetic"][0]
+    assert np.max(run["total"] - run["total"][0]) <= 1e-3 * ke0
+    assert run["total"][-1] < run["total"][0] - 0.01 * ke0
+    assert np.min(run["min_gap"]) >= -1e-12
