@@ -75,10 +75,14 @@ def test_every_integrator_resumes_identically(integrator, tmp_path):
     resumes_identically("rocking_block", args, "0.1", "0.05", tmp_path)
 
 
-def test_smooth_contact_forces_resume_identically(tmp_path):
-    """The smooth contact forces λ are the warm start and the persistent set of the next
-    step: they travel in the checkpoint (two disks in contact at the resume time)."""
+@pytest.mark.parametrize("friction", [0.0, 0.3])
+def test_smooth_contact_forces_resume_identically(friction, tmp_path):
+    """The smooth contact forces λ (and, with friction, λ_T) are the warm start and the
+    persistent set of the next step: they travel in the checkpoint (two disks in contact at
+    the resume time, obliquely with friction)."""
     args = ["--checkpoint-every", "10", "--set", "refinements=1"]
+    if friction:
+        args += ["--set", "offset=0.03", "--set", f"friction={friction}"]
     resumes_identically("two_disks", args, "0.004", "0.003", tmp_path)
 
 
