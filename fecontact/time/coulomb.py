@@ -1,10 +1,10 @@
-r"""Coulomb friction in both corrections of the decoupled step.
+r"""Coulomb friction at every level of the NSGA step.
 
-The smooth step carries no contact force, so its predictor moves a contact point along the
-contact plane by the O(h²) pull of the tangential load, as it moves it into the obstacle. Both
-corrections therefore carry the slip rows of :mod:`fecontact.contact.friction` beside the
-normal ones (after Alart & Curnier 1991, in the decoupled form of Galvez, Cavalieri, Cosimo,
-Brüls & Cardona 2020):
+In the decoupled step the smooth step carries no contact force, so its predictor moves a
+contact point along the contact plane by the O(h²) pull of the tangential load, as it moves
+it into the obstacle. Both corrections therefore carry the slip rows of
+:mod:`fecontact.contact.friction` beside the normal ones (after Alart & Curnier 1991, in the
+decoupled form of Galvez, Cavalieri, Cosimo, Brüls & Cardona 2020):
 
 - position level, q = q̃ + U: the slip over the step,
   w_T = T(x_rel(q) − x_rel(q_n)) − T(d_{n+1} − d_n) ≈ G_T(q)(q − q_n) − T Δd, in the cone
@@ -14,10 +14,16 @@ Brüls & Cardona 2020):
 - velocity level, v = ṽ + W: the slip rate w_T = G_T v − T ḋ in the cone |Λ_T| ≤ μ Λ_N;
   Newton's law stays normal (no tangential restitution).
 
+Where the smooth step carries the normal force of persistent contacts
+(:mod:`.smooth_contact`), it carries their tangential force too, under the same law at
+position level (:class:`SmoothFriction`); the corrections then hold the step's total in the
+cone, the smooth forces' share preloaded, and the acceleration restart after an impact
+solves the law at the acceleration level (:func:`frictional_restart`).
+
 Each level solves :func:`fecontact.contact.friction.solve_coulomb` on the Delassus matrix
-A H⁻¹ Aᵀ of its rows A (H the correction metric, M for the jump). The position level
-relinearizes the gaps at q̃ + U until U settles: circles and rotating bodies curve them.
-Joints stay equalities (rows after the contacts).
+A H⁻¹ Aᵀ of its rows A (H the correction metric, M for the jump, S_t in the smooth step). The
+position level relinearizes the gaps at q̃ + U until U settles: circles and rotating bodies
+curve them. Joints stay equalities (rows after the contacts).
 """
 
 from __future__ import annotations
