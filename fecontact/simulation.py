@@ -36,6 +36,7 @@ from .io.run_folder import (
 )
 from .linalg import ITERATIVE, SPARSE_FACTORIZATIONS
 from .time import (
+    FOLLOW_UPS,
     NEWTON,
     IntegratorOptions,
     PhaseTimer,
@@ -345,6 +346,7 @@ def run(
     least_squares_start = LEAST_SQUARES["count"]
     coulomb_start = dict(COULOMB)
     newton_start = dict(NEWTON)
+    follow_start = dict(FOLLOW_UPS)
     ALART_CURNIER.update(position=0.0, velocity=0.0)  # largest values of this run
     try:
         box = None  # the bodies' box over the frames, for the obstacles' outlines
@@ -405,6 +407,8 @@ def run(
         summary["least_squares_multipliers"] = LEAST_SQUARES["count"] - least_squares_start
         # the globalization of the smooth Newton (fecontact.time.descent)
         summary["smooth_newton"] = {k: NEWTON[k] - newton_start[k] for k in NEWTON}
+        # the velocity's follow-ups of an impact's correction (fecontact.time.position_jump)
+        summary["velocity_follow_ups"] = {k: FOLLOW_UPS[k] - follow_start[k] for k in FOLLOW_UPS}
         # the largest Alart–Curnier residual a converged correction left, over its tolerance
         summary["final_residuals"] = dict(ALART_CURNIER)
         # AMG-preconditioned CG (sparse solver "amg"): solves, iterations, setups, fallbacks

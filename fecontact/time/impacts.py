@@ -17,7 +17,19 @@ _EMPTY.flags.writeable = False
 
 
 def velocity_jump(
-    model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb=None, held=None, preload=None
+    model,
+    st,
+    q,
+    v,
+    closed,
+    g_tilde,
+    opts,
+    t,
+    tol_gap,
+    Gb=None,
+    held=None,
+    preload=None,
+    approach=None,
 ):
     """Step 3: v = ṽ + W, M W = Σ G_jᵀ [k Λ_j − p ġ_j]_+ with
     ġ_j = G_j(q_{n+1}) v_{n+1} + e_j ġ⁻_j; joints: G_b v_{n+1} = 0 (``Gb``: their gradient
@@ -62,7 +74,10 @@ def velocity_jump(
         if opts.impact_velocity == "interpolated" and st.gaps.size == contacts.size:
             nc = closed.size
             tau = _crossing_fraction(st.gaps[closed], g_tilde[closed], tol_gap)
-            gdot_n[:nc] += tau * (gdot[:nc] - gdot_n[:nc])
+            g1 = gdot if approach is None else G1 @ approach[F]
+            if approach is not None and contacts.moving:
+                g1[: closed.size] += contacts.rates(q, closed)
+            gdot_n[:nc] += tau * (g1[:nc] - gdot_n[:nc])
         gdot += e * gdot_n
     if not np.all(np.isfinite(gdot)):  # a NaN would switch every test of the law off
         raise StepFailure("velocity jump: non-finite normal velocity of a closed contact", np.nan)

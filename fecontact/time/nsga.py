@@ -23,7 +23,7 @@ One step from t_n to t_{n+1} = t_n + h:
 
 W never enters a or v̇; after the correction of a step in which a contact closed, v̇ and a take
 the step's response to the strain of U (:mod:`.position_jump`, Δv̇ = −β′S_t⁻¹[f_int(q̃ + U) −
-f_int(q̃)]) in the decoupled scheme.
+f_int(q̃)]) in the decoupled scheme, and v its share hγΔa before Newton's law is applied again.
 Impacts make the global error first order. Steps without a contact candidate skip 2 and 3.
 """
 
@@ -52,7 +52,7 @@ from .coulomb import SmoothFriction, friction_memory, frictional_correction
 from .descent import Armijo, descent_direction
 from .generalized_alpha import coefficients, predict
 from .impacts import velocity_jump
-from .position_jump import acceleration_jump
+from .position_jump import acceleration_jump, velocity_follows
 from .smooth_contact import (
     SmoothContacts,
     persistent_contacts,
@@ -165,7 +165,7 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
     closed = cand[gaps[cand] <= tol_gap] if cand.size else cand
     if closed.size or joints.size:
         held = None if force is None else force[closed] > 0.0
-        v_smooth = v.copy() if smooth else None
+        v_tilde = v.copy()  # ṽ, the smooth step's velocity
         # the smooth forces' impulse over the step, within the cone of the step's total
         preload = None if smooth_t is None else h * np.column_stack([force, smooth_t])[closed]
         W, Lam, iters["velocity"], tangential = velocity_jump(
@@ -174,9 +174,9 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
         v[model.free_slice] += W
         if closed.size:
             impulse[closed] = Lam[: closed.size]
-        if v_smooth is not None and _impact(nu, impulse[closed], held):
+        if smooth and _impact(nu, impulse[closed], held):
             # restart the acceleration variable from the post-impact state
-            restart = restarted_acceleration(model, q, v, v_smooth, t, closed, tol_gap / h)
+            restart = restarted_acceleration(model, q, v, v_tilde, t, closed, tol_gap / h)
             if restart is not None:
                 vd[model.free_slice] = a[model.free_slice] = restart
         if tangential is not None:
@@ -190,9 +190,26 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
         q_tilde, solve_H = corrected
         if opts.metric != "stiffness":  # the update is always in the step's own S_t
             solve_H = _metric(model, q_tilde, S, c, "stiffness")[1]
-        dvd = acceleration_jump(model, q, q_tilde, v, closed, solve_H, tol_gap / h)
+        dvd, hold = acceleration_jump(model, q, q_tilde, v, closed, solve_H, tol_gap / h)
         vd[model.free_slice] += dvd
         a[model.free_slice] += (1.0 - c.af) / (1.0 - c.am) * dvd
+        if not friction:
+            v, impulse[closed], its = velocity_follows(
+                model,
+                st,
+                q,
+                v,
+                v_tilde,
+                dvd,
+                hold,
+                impulse[closed],
+                c,
+                opts,
+                t,
+                tol_gap,
+                (closed, g_tilde, Gb, held),
+            )
+            iters["velocity"] += its
     timer.add("contact", clock)
     return State(
         t,
