@@ -104,6 +104,8 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
         if friction:
             memory["friction_force"] = np.zeros((m, model.dim - 1)) if force is None else smooth_t
             memory["friction_work"] += work_t
+    # (λ_N, λ_T) of the smooth step (N): the corrections hold the step's total in the cone
+    grip = None if smooth_t is None else np.column_stack([force, smooth_t])
 
     # 2. position correction, only if a contact candidate penetrates (joints already hold)
     model.contacts.set_time(t)
@@ -122,16 +124,14 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
         # work follows the contact zone, not the detection margin (a long body has hundreds
         # of candidates, a few in contact)
         was_active = st.nu[cand] > 0.0 if st.nu.size == m else False
-        if smooth_t is not None:  # contacts gripped by the smooth step keep their grip
+        if grip is not None:  # contacts gripped by the smooth step keep their grip
             was_active = was_active | (force[cand] > 0.0)
         work = cand[short | was_active]
         q_tilde = q
         metric = _metric(model, q_tilde, S, c, opts.metric)
         while True:
             if friction:
-                pre = None
-                if smooth_t is not None:  # the smooth forces as positional multipliers
-                    pre = np.column_stack([force, smooth_t])[work] / c.bp
+                pre = None if grip is None else grip[work] / c.bp  # as positional multipliers
                 U, nu_w, nu_t, U_t, its = frictional_correction(
                     model, st, q_tilde, work, metric[1], opts, tol_gap, t, pre
                 )
@@ -166,8 +166,7 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
     if closed.size or joints.size:
         held = None if force is None else force[closed] > 0.0
         v_tilde = v.copy()  # ṽ, the smooth step's velocity
-        # the smooth forces' impulse over the step, within the cone of the step's total
-        preload = None if smooth_t is None else h * np.column_stack([force, smooth_t])[closed]
+        preload = None if grip is None else h * grip[closed]  # the smooth forces' impulse
         W, Lam, iters["velocity"], tangential = velocity_jump(
             model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb, held, preload
         )
