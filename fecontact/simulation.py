@@ -38,6 +38,7 @@ from .linalg import ITERATIVE, SPARSE_FACTORIZATIONS
 from .time import (
     FOLLOW_UPS,
     NEWTON,
+    RELEASES,
     IntegratorOptions,
     PhaseTimer,
     State,
@@ -347,6 +348,7 @@ def run(
     coulomb_start = dict(COULOMB)
     newton_start = dict(NEWTON)
     follow_start = dict(FOLLOW_UPS)
+    release_start = RELEASES["steps"]
     ALART_CURNIER.update(position=0.0, velocity=0.0)  # largest values of this run
     try:
         box = None  # the bodies' box over the frames, for the obstacles' outlines
@@ -409,6 +411,8 @@ def run(
         summary["smooth_newton"] = {k: NEWTON[k] - newton_start[k] for k in NEWTON}
         # the velocity's follow-ups of an impact's correction (fecontact.time.position_jump)
         summary["velocity_follow_ups"] = {k: FOLLOW_UPS[k] - follow_start[k] for k in FOLLOW_UPS}
+        # smooth steps taken again without the force of a contact they released
+        summary["contact_releases"] = RELEASES["steps"] - release_start
         # the largest Alart–Curnier residual a converged correction left, over its tolerance
         summary["final_residuals"] = dict(ALART_CURNIER)
         # AMG-preconditioned CG (sparse solver "amg"): solves, iterations, setups, fallbacks

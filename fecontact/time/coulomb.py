@@ -209,7 +209,8 @@ def frictional_restart(model, q, v, x, rows, G, rates, tol_rate: float) -> np.nd
     pulled back along its slip direction u, μ_T = −μ μ_N u (its normal column G − μ u·G_T);
     one that sticks keeps a zero tangential acceleration inside the cone, |μ_T| ≤ μ μ_N, or
     slides off against it. The law is met to 1e-12 of the largest free rate: a restart
-    needs no more than the step's own accuracy."""
+    needs no more than the step's own accuracy. Returns (that share, the forces (μ_N, μ_T)
+    (N) of the rows, (rows, 1 + nt))."""
     contacts, nt = model.contacts, model.dim - 1
     GT, _ = contacts.tangent_jacobian(q, rows)
     slip = GT @ v[model.free]
@@ -230,7 +231,9 @@ def frictional_restart(model, q, v, x, rows, G, rates, tol_rate: float) -> np.nd
         )
     except RuntimeError as err:
         raise StepFailure(f"restarted acceleration: {err}", np.nan) from None
-    return Y @ z
+    forces = z.reshape(-1, 1 + nt).copy()
+    forces[sliding, 1:] = -(mu * forces[:, 0])[sliding, None] * u[sliding]
+    return Y @ z, forces
 
 
 class SmoothFriction:

@@ -55,33 +55,16 @@ from .impacts import velocity_jump
 from .position_jump import acceleration_jump, velocity_follows
 from .smooth_contact import (
     SmoothContacts,
+    force_shares,
     persistent_contacts,
+    released,
     restarted_acceleration,
     uses_smooth_contact,
+    without_released,
 )
-from .state import IntegratorOptions, PhaseTimer, State, length_scale
+from .state import IntegratorOptions, JointTolerance, PhaseTimer, State, length_scale
 
 __all__ = ["nsga_step"]
-
-
-class JointTolerance:
-    """The joints' tolerance tol_gap × length_scale(model, q) at the predictor q, evaluated
-    only when a test is not already decided by its lower bound tol_gap × model.length
-    (length_scale is at least the model size): most steps then never compute the
-    coordinates' extent, and every test decides as with the exact value."""
-
-    def __init__(self, model, q: np.ndarray, tol_gap: float):
-        self.model, self.q, self.tol_gap = model, q.copy(), tol_gap
-        self.low = tol_gap * model.length
-        self.value = None
-
-    def admits(self, x: float, factor: float = 1.0) -> bool:
-        """Whether x ≤ factor × the tolerance."""
-        if x <= factor * self.low:
-            return True
-        if self.value is None:
-            self.value = self.tol_gap * length_scale(self.model, self.q)
-        return x <= factor * self.value
 
 
 def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer) -> State:
@@ -90,9 +73,13 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
     m, joints = model.contacts.size, model.joints
     smooth = uses_smooth_contact(model, opts)
     P = persistent_contacts(model, st, opts.detection_margin * model.length) if smooth else None
-    q, v, vd, a, lam, S, it, Gb, force, smooth_t, work_t = _smooth_step(
-        model, st, t, c, opts, timer, P
-    )
+    st_s = st  # the state the smooth step starts from
+    step = _smooth_step(model, st, t, c, opts, timer, P)
+    if smooth and (rows := released(st, P, step.force, opts.tol_residual)).size:
+        st_s, first = without_released(model, st, rows), step.iterations
+        step = _smooth_step(model, st_s, t, c, opts, timer, P)
+        step = step._replace(iterations=step.iterations + first)
+    q, v, vd, a, lam, S, it, Gb, force, smooth_t, work_t = step
     iters = {"smooth": it, "position": 0, "velocity": 0}
     clock = time.perf_counter()
     if m == 0 and joints.size == 0:
@@ -104,6 +91,7 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
         if friction:
             memory["friction_force"] = np.zeros((m, model.dim - 1)) if force is None else smooth_t
             memory["friction_work"] += work_t
+        memory |= force_shares(model, st_s, c, force, smooth_t)
     # (λ_N, λ_T) of the smooth step (N): the corrections hold the step's total in the cone
     grip = None if smooth_t is None else np.column_stack([force, smooth_t])
 
@@ -177,7 +165,8 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
             # restart the acceleration variable from the post-impact state
             restart = restarted_acceleration(model, q, v, v_tilde, t, closed, tol_gap / h)
             if restart is not None:
-                vd[model.free_slice] = a[model.free_slice] = restart
+                vd[model.free_slice] = a[model.free_slice] = restart[0]
+                memory |= force_shares(model, st_s, c, force, smooth_t, restart[1])
         if tangential is not None:
             lam_t, status, work = tangential
             memory["friction_impulse"][closed] = lam_t

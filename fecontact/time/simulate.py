@@ -10,7 +10,8 @@ from .constraints import StepFailure
 from .moreau import moreau_step
 from .nsga import nsga_step
 from .penalty import penalty_step
-from .state import IntegratorOptions, PhaseTimer, State, initial_state
+from .smooth_contact import resting_start, uses_smooth_contact
+from .state import IntegratorOptions, PhaseTimer, State, initial_state, length_scale
 
 __all__ = ["STEPPERS", "simulate"]
 
@@ -44,6 +45,9 @@ def simulate(
     model.contacts.detect_within(opts.detection_margin * model.length)
     if start is None:
         state = initial_state(model, q0, v0, opts.tol_gap)
+        if opts.integrator == "nsga" and uses_smooth_contact(model, opts):
+            tol = opts.tol_gap * length_scale(model, state.q)
+            state = resting_start(model, state, tol, tol / dt)
         yield state
     else:
         state = start

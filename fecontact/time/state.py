@@ -19,7 +19,14 @@ from ..linalg import factorize
 from .constraints import bordered
 from .generalized_alpha import alpha_coefficients
 
-__all__ = ["IntegratorOptions", "PhaseTimer", "State", "initial_state", "length_scale"]
+__all__ = [
+    "IntegratorOptions",
+    "JointTolerance",
+    "PhaseTimer",
+    "State",
+    "initial_state",
+    "length_scale",
+]
 
 METRICS = ("stiffness", "mass")
 IMPACT_VELOCITIES = ("interpolated", "step_start")
@@ -243,3 +250,23 @@ def length_scale(model, q) -> float:
     coordinates when larger (a ball dropped from 5000 m reaches the ground with q ≈ −5000 m,
     and its gap, computed from coordinates, then carries a round-off of ε·5000 m ≈ 1e-12 m)."""
     return max(model.length, model.coordinate_extent(q))
+
+
+class JointTolerance:
+    """The joints' tolerance tol_gap × length_scale(model, q) at the predictor q, evaluated
+    only when a test is not already decided by its lower bound tol_gap × model.length
+    (length_scale is at least the model size): most steps then never compute the
+    coordinates' extent, and every test decides as with the exact value."""
+
+    def __init__(self, model, q: np.ndarray, tol_gap: float):
+        self.model, self.q, self.tol_gap = model, q.copy(), tol_gap
+        self.low = tol_gap * model.length
+        self.value = None
+
+    def admits(self, x: float, factor: float = 1.0) -> bool:
+        """Whether x ≤ factor × the tolerance."""
+        if x <= factor * self.low:
+            return True
+        if self.value is None:
+            self.value = self.tol_gap * length_scale(self.model, self.q)
+        return x <= factor * self.value
