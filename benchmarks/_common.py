@@ -58,6 +58,7 @@ __all__ = [
     "pendulum_exact",
     "previous_note",
     "read_csv",
+    "report",
     "tidy_log_axes",
     "timed_run",
     "trace",
@@ -190,6 +191,15 @@ def markdown_table(rows, columns, headers=None) -> str:
     for r in rows:
         lines.append("| " + " | ".join(fmt(r.get(c, "")) for c in columns) + " |")
     return "\n".join(lines)
+
+
+def report(title: str, *sections) -> str:
+    """A Markdown report: ``title``, then each (caption, rows) as a paragraph and a table of
+    the rows' columns."""
+    text = [f"# {title}"]
+    for caption, rows in sections:
+        text += ["", caption, "", markdown_table(rows, list(rows[0]))]
+    return "\n".join(text)
 
 
 def write_csv(path, rows, columns) -> Path:

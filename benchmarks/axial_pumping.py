@@ -26,7 +26,7 @@ from contextlib import contextmanager
 
 import numpy as np
 import scipy.linalg
-from _common import map_runs, markdown_table, parser, write_markdown
+from _common import map_runs, parser, report, write_markdown
 
 from fecontact.bodies import beam as beam_module
 from fecontact.testing import case, trace
@@ -101,17 +101,22 @@ def free_flight(rho_inf: float, start: float, steps: int, h: float = 1e-3):
     return rows, ke, euler
 
 
+def runaway():
+    """An ``abort`` for ``trace``: the total energy above half the peak kinetic energy so far
+    (1 mJ at least)."""
+    peak = [1e-3]
+
+    def abort(row) -> bool:
+        peak[0] = max(peak[0], row["kinetic"])
+        return row["total"] > 0.5 * peak[0]
+
+    return abort
+
+
 def growth_run(rho_inf, t_end, h=1e-3, axial=1.0, rotary=1.0, **params):
     """Run to ``t_end``, stopped once the energy passes half the peak kinetic energy; returns
     (status, end time (s), growth: max total energy − initial, % of the peak kinetic energy)."""
-    sim = build(rho_inf, axial, rotary, **params)
-    peak = [0.0]
-
-    def abort(row):
-        peak[0] = max(peak[0], row["kinetic"])
-        return row["total"] > 0.5 * max(peak[0], 1e-3)
-
-    r = trace(sim, dt=h, t_end=t_end, abort=abort)
+    r = trace(build(rho_inf, axial, rotary, **params), dt=h, t_end=t_end, abort=runaway())
     E = r["total"]
     growth = float(100 * (E.max() - E[0]) / r["kinetic"].max())
     return r["status"], float(r["t"][-1]), growth
@@ -225,46 +230,41 @@ def main():
         for axial, rotary in ((1.0, 1.0), (0.01, 1.0), (1.0, 100.0))
     ]
     runs = map_runs(long_item, items, args.workers, label=str)
-    text = [
-        "# Flexible pendulum, e_N = 1, h = 1e-3: where the energy grows",
-        "",
-        f"Free flight from t = {args.start} s at ρ∞ = {args.rho_inf} (stop removed), kinetic "
-        f"energy at the start {ke:.3f} J, Euler load of the strip {euler:.1f} N. N per element "
-        "(N), pivot to tip:",
-        "",
-        markdown_table(rows, list(rows[0])),
-        "",
-        f"{t_end:g} s runs with the stop (growth: max total energy − initial, % of the peak "
-        "kinetic energy; 'diverged': above half the peak kinetic energy):",
-        "",
-        markdown_table(runs, list(runs[0])),
-    ]
     steps = (
         (5e-4, 8e-4, 1e-3, 1.2e-3)
         if args.quick
         else (4e-4, 6e-4, 8e-4, 9e-4, 1e-3, 1.1e-3, 1.2e-3, 1.5e-3, 2e-3)
     )
     rhos = (0.5, 0.8) if args.quick else (0.5, 0.7, 0.8, 0.9)
-    modes = hanging_modes(1e-3, (0.5, 0.8, 0.9))
-    grid_rows, pert_rows = robustness(2.0 if args.quick else 5.0, steps, rhos, args.workers)
-    text += [
-        "",
-        "The strip's modes about the hanging configuration (tangent stiffness, no gravity) and "
-        "the generalized-α step's phase θ per step and amplification |λ| at h = 1e-3:",
-        "",
-        markdown_table(modes, list(modes[0])),
-        "",
-        f"{2.0 if args.quick else 5.0:g} s runs over steps h (s) and ρ∞ (growth as above; "
-        "'diverged at' when the energy passed half the peak kinetic energy):",
-        "",
-        markdown_table(grid_rows, list(grid_rows[0])),
-        "",
-        f"{2.0 if args.quick else 5.0:g} s runs at h = 1e-3 with the strip changed by about 1 %:",
-        "",
-        markdown_table(pert_rows, list(pert_rows[0])),
-    ]
+    t_grid = 2.0 if args.quick else 5.0
+    grid_rows, pert_rows = robustness(t_grid, steps, rhos, args.workers)
+    text = report(
+        "Flexible pendulum, e_N = 1, h = 1e-3: where the energy grows",
+        (
+            f"Free flight from t = {args.start} s at ρ∞ = {args.rho_inf} (stop removed), "
+            f"kinetic energy at the start {ke:.3f} J, Euler load of the strip {euler:.1f} N. "
+            "N per element (N), pivot to tip:",
+            rows,
+        ),
+        (
+            f"{t_end:g} s runs with the stop (growth: max total energy − initial, % of the "
+            "peak kinetic energy; 'diverged': above half the peak kinetic energy):",
+            runs,
+        ),
+        (
+            "The strip's modes about the hanging configuration (tangent stiffness, no gravity) "
+            "and the generalized-α step's phase θ per step and amplification |λ| at h = 1e-3:",
+            hanging_modes(1e-3, (0.5, 0.8, 0.9)),
+        ),
+        (
+            f"{t_grid:g} s runs over steps h (s) and ρ∞ (growth as above; 'diverged at' when "
+            "the energy passed half the peak kinetic energy):",
+            grid_rows,
+        ),
+        (f"{t_grid:g} s runs at h = 1e-3 with the strip changed by about 1 %:", pert_rows),
+    )
     name = "axial_pumping_quick.md" if args.quick else "axial_pumping.md"
-    print(write_markdown(f"{args.out}/{name}", "\n".join(text)))
+    print(write_markdown(f"{args.out}/{name}", text))
 
 
 if __name__ == "__main__":

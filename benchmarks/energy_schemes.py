@@ -31,8 +31,8 @@ import dataclasses
 
 import numpy as np
 import scipy.sparse as sp
-from _common import map_runs, markdown_table, parser, trace, write_markdown
-from axial_pumping import PERTURBED
+from _common import map_runs, parser, report, trace, write_markdown
+from axial_pumping import PERTURBED, runaway
 
 import fecontact.time.nsga as nsga
 from fecontact.bodies.beam_kernels import beam_strains
@@ -150,14 +150,8 @@ def run(item):
     original = nsga._smooth_step
     if SCHEMES[scheme] is not None:
         nsga._smooth_step = SCHEMES[scheme]
-    peak = [1e-3]
-
-    def abort(row):
-        peak[0] = max(peak[0], row["kinetic"])
-        return row["total"] > 0.5 * peak[0]
-
     try:
-        r = trace(pendulum(rho_inf, **params), dt=h, t_end=t_end, abort=abort)
+        r = trace(pendulum(rho_inf, **params), dt=h, t_end=t_end, abort=runaway())
     finally:
         nsga._smooth_step = original
     return {k: r[k] for k in ("t", "total", "kinetic", "tip_x", "tip_y", "status")}
@@ -205,24 +199,18 @@ def main():
     items += [("reference", "generalized-α", 0.8, {}, 1.5, 1.25e-4)]
     done = map_runs(run, items, args.workers, label=lambda x: " ".join(map(str, x[:5])))
     flight, strip_rows, loss_rows = rows(items, done)
-    text = [
-        "# Energy-controlling smooth steps on the flexible pendulum (e_N = 1, h = 1e-3 s)",
-        "",
-        "Free flight to 0.3 s (before the first impact):",
-        "",
-        markdown_table(flight, list(flight[0])),
-        "",
-        f"ρ∞ = 0.8, {t_long:g} s, the strip changed by about 1 % ('diverged': the energy "
-        "passed half the peak kinetic energy):",
-        "",
-        markdown_table(strip_rows, list(strip_rows[0])),
-        "",
-        "ρ∞ = 0.8, nominal strip, 1.5 s (three impacts):",
-        "",
-        markdown_table(loss_rows, list(loss_rows[0])),
-    ]
+    text = report(
+        "Energy-controlling smooth steps on the flexible pendulum (e_N = 1, h = 1e-3 s)",
+        ("Free flight to 0.3 s (before the first impact):", flight),
+        (
+            f"ρ∞ = 0.8, {t_long:g} s, the strip changed by about 1 % ('diverged': the energy "
+            "passed half the peak kinetic energy):",
+            strip_rows,
+        ),
+        ("ρ∞ = 0.8, nominal strip, 1.5 s (three impacts):", loss_rows),
+    )
     name = "energy_schemes_quick.md" if args.quick else "energy_schemes.md"
-    print(write_markdown(f"{args.out}/{name}", "\n".join(text)))
+    print(write_markdown(f"{args.out}/{name}", text))
 
 
 if __name__ == "__main__":
