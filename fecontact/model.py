@@ -74,6 +74,7 @@ class Model:
             raise InputError(f"gravity must have {dim} components for a {dim}D model")
         self.dim = dim
         self.continuum = any(b.continuum for b in self.bodies)
+        self.slender = any(b.slender for b in self.bodies)
         sizes = [b.ndof for b in self.bodies]
         self.offsets = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
         self.n = int(self.offsets[-1])

@@ -27,6 +27,7 @@ class Body(Protocol):
     linear_kinematics: bool  # node positions affine in q
     rigid_frame: bool  # positions x = c + R(φ) r of a rigid frame
     continuum: bool  # an elastic continuum, whose contact zones last over many wave transits
+    slender: bool  # a beam: rotations and stretching far above any step it takes (hω ≫ 1)
     element_dofs: np.ndarray
     center_index: int | None  # output point of a rigid body's centre of mass
     components: tuple[str, ...]  # names of a node's dofs, in order: x, y, (z | theta)
@@ -49,6 +50,7 @@ class BodyDefaults:
     linear = False
     rigid_frame = False
     continuum = False
+    slender = False
     center_index = None
 
     @property

@@ -120,6 +120,7 @@ class Beam2D(BodyDefaults):
 
     dofs_per_node = 3
     components = ("x", "y", "theta")
+    slender = True
 
     def __init__(self, nodes, material: Material, section: Section, linear: bool = False):
         if not isinstance(linear, (bool, np.bool_)):

@@ -56,6 +56,7 @@ from .position_jump import acceleration_jump, velocity_follows
 from .smooth_contact import (
     SmoothContacts,
     force_shares,
+    held_shares,
     persistent_contacts,
     released,
     restarted_acceleration,
@@ -72,6 +73,7 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
     t = st.t + h
     m, joints = model.contacts.size, model.joints
     smooth = uses_smooth_contact(model, opts)
+    restarts = smooth and not model.slender  # (beams: see smooth_contact, the restart)
     P = persistent_contacts(model, st, opts.detection_margin * model.length) if smooth else None
     st_s = st  # the state the smooth step starts from
     step = _smooth_step(model, st, t, c, opts, timer, P)
@@ -147,7 +149,7 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
             f = model.external(t) - model.internal(q_tilde, tangent=False)[1]
             memory["friction_work"] += f[model.free] @ U_t
         Gb = None  # the joints' gradient moved with q
-        corrected = None if smooth else (q_tilde, metric[1])
+        corrected = None if restarts else (q_tilde, metric[1])
 
     # 3. velocity jump on the contacts closed at q_{n+1}, and on the joints
     closed = cand[gaps[cand] <= tol_gap] if cand.size else cand
@@ -161,7 +163,7 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
         v[model.free_slice] += W
         if closed.size:
             impulse[closed] = Lam[: closed.size]
-        if smooth and _impact(nu, impulse[closed], held):
+        if restarts and _impact(nu, impulse[closed], held):
             # restart the acceleration variable from the post-impact state
             restart = restarted_acceleration(model, q, v, v_tilde, t, closed, tol_gap / h)
             if restart is not None:
@@ -181,6 +183,8 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
         dvd, hold = acceleration_jump(model, q, q_tilde, v, closed, solve_H, tol_gap / h)
         vd[model.free_slice] += dvd
         a[model.free_slice] += (1.0 - c.af) / (1.0 - c.am) * dvd
+        if smooth:
+            memory |= held_shares(memory, closed, hold, c)
         if not friction:
             v, impulse[closed], its = velocity_follows(
                 model,
