@@ -23,7 +23,8 @@ One step from t_n to t_{n+1} = t_n + h:
 
 W never enters a or v̇; after the correction of a step in which a contact closed, v̇ and a take
 the step's response to the strain of U (:mod:`.position_jump`, Δv̇ = −β′S_t⁻¹[f_int(q̃ + U) −
-f_int(q̃)]) in the decoupled scheme, and v its share hγΔa before Newton's law is applied again.
+f_int(q̃)]) in the decoupled scheme and on beams, and v its share hγΔa before Newton's law is
+applied again; solids with smooth contact restart them (:mod:`.smooth_contact`).
 Impacts make the global error first order. Steps without a contact candidate skip 2 and 3.
 """
 
