@@ -101,6 +101,15 @@ def test_frames_show_the_smooth_force(tmp_path: Path):
     assert np.abs(force[:, 0]).sum() <= 1e-9 * weight
 
 
+def test_released_contacts_are_counted(tmp_path: Path):
+    """Two disks part at the end of their contact: the steps taken again without the force
+    of a contact they let go are counted in ``summary.json``."""
+    sim = case("two_disks").build(refinements=1)
+    summary = run(sim, tmp_path, checkpoint_every=0)
+    assert summary["status"] == "completed"
+    assert summary["contact_releases"] > 0
+
+
 def test_the_option_names_its_values():
     with pytest.raises(InputError, match="smooth_contact must be one of auto, on, off"):
         IntegratorOptions(smooth_contact="yes")
