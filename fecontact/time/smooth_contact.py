@@ -228,13 +228,10 @@ def resting_start(model, st, tol_gap: float, tol_rate: float):
     left to the impact law."""
     F = model.free
     touching = np.flatnonzero(st.gaps <= tol_gap)
-    if touching.size == 0:
+    if touching.size == 0 or model.contacts.moving:  # (moving obstacles: no restart)
         return st
     _, G = model.contacts.linearize(st.q, touching)[:2]
-    rate = G @ st.v[F]
-    if model.contacts.moving:
-        return st
-    resting = touching[np.abs(rate) <= tol_rate]
+    resting = touching[np.abs(G @ st.v[F]) <= tol_rate]
     start = restarted_acceleration(model, st.q, st.v, st.v, st.t, resting, tol_rate)
     if start is None or start[1][0].size == 0:
         return st
