@@ -24,6 +24,7 @@ import numpy as np
 from . import __version__
 from .contact.friction import COULOMB
 from .contact.laws import ALART_CURNIER, LEAST_SQUARES
+from .energy import EnergyBalance
 from .errors import InputError, SolverError, check_positive
 from .io.frames import bodies_box, frame_parts, friction_totals, static_parts
 from .io.output import FRICTION_COLUMNS, STANDARD_COLUMNS
@@ -137,8 +138,8 @@ class Simulation:
             out.append(
                 f"rho_inf = {opts.rho_inf:g} with restitution > 0 on a flexible body: the "
                 "vibration an impact leaves can make the generalized-alpha step blow up "
-                "(measured at rho_inf >= 0.8; README, Stability and the defaults); rho_inf = 0.5 "
-                "is the stable default"
+                "(measured from rho_inf = 0.7 on, at some steps; README, Stability and the "
+                "defaults); rho_inf = 0.5 is the stable default"
             )
         perfectly_plastic = np.any(model.contacts.restitution == 0)
         if opts.integrator == "nsga" and flexible and perfectly_plastic and opts.rho_inf > 0.9:
@@ -195,12 +196,14 @@ class _Recorder:
         self.energy_initial = math.nan
         self.energy_final = math.nan
         self.energy_max = -math.inf
+        self.balance = EnergyBalance(self.model)
         self.steps = 0
 
     def record(self, st: State) -> None:
         m = self.model
         ke, se, pe = m.kinetic_energy(st.v), m.strain_energy(st.q), m.potential_energy(st.q)
         total = ke + se + pe
+        self.balance.add(st.t, st.q, ke, se, pe)
         near = st.gaps[st.candidates] if st.step > 0 else st.gaps
         near = near[near <= m.length * self.sim.options.detection_margin]
         min_gap = float(near.min()) if near.size else math.inf
@@ -228,6 +231,7 @@ class _Recorder:
 
     def stats(self) -> dict:
         extra = {"closed": self.closed.tolist(), "impact_frame": self.impact_frame}
+        extra["energy_balance"] = self.balance.state()
         return {k: getattr(self, k) for k in self.STATS} | extra
 
     def restore(self, stats: dict) -> None:
@@ -235,6 +239,7 @@ class _Recorder:
             setattr(self, k, stats[k])
         self.closed = np.array(stats["closed"], dtype=bool)
         self.impact_frame = bool(stats.get("impact_frame", True))
+        self.balance.restore(stats.get("energy_balance", {}))
 
     def summary(
         self, status: str, wall: float, timer: dict, message: str = "", factors=None
@@ -267,6 +272,7 @@ class _Recorder:
             "energy_initial": self.energy_initial,
             "energy_final": self.energy_final,
             "energy_max": self.energy_max,
+            "energy_balance": self.balance.summary(),
             "impacts": self.impacts,
             "parameters": jsonable(sim.parameters),
             "options": dataclasses.asdict(sim.options),
@@ -338,6 +344,7 @@ def run(
     if start is not None:
         pvd.resume(start.t)
         rec.restore(meta["stats"])
+        rec.balance.start(start.t, start.q)
         next_frame = meta["next_frame"]
     bar = _progress_bar(sim, start) if progress else None
     status, message = "completed", ""
@@ -361,6 +368,13 @@ def run(
             clock = time.perf_counter()
             closed_before = int(rec.closed.sum())
             rec.record(st)
+            if rec.balance.runaway():
+                raise SolverError(
+                    f"energy blow-up at t = {st.t:.6g} s (step {st.step}): "
+                    + rec.balance.describe(),
+                    time=st.t,
+                    step=st.step,
+                )
             # the first impact gets a frame of its own: the bodies touching, whatever the
             # output interval (contacts closed from the first step are not an impact)
             impact = not rec.impact_frame and st.step >= 2 and rec.closed.sum() > closed_before
@@ -387,6 +401,9 @@ def run(
                     bar.set_postfix(t=f"{st.t:.4f}", it=st.newton_iterations, refresh=False)
     except SolverError as err:
         status, message = "failed", str(err)
+        if rec.balance.unstable() and not message.startswith("energy blow-up"):
+            message += f"; before it, {rec.balance.describe()}"
+            raise SolverError(message, err.time, err.step, err.residual) from None
         raise
     except KeyboardInterrupt:
         status, message = "interrupted", "interrupted by the user"
@@ -417,6 +434,8 @@ def run(
         summary["final_residuals"] = dict(ALART_CURNIER)
         # AMG-preconditioned CG (sparse solver "amg"): solves, iterations, setups, fallbacks
         summary["iterative_solver"] = {k: ITERATIVE[k] - iterative_start[k] for k in ITERATIVE}
+        # a run that ends with more energy than its budget is said so, not only counted
+        summary["warnings"] = [rec.balance.describe()] if rec.balance.unstable() else []
         if sim.model.contacts.frictional:  # the frictional solves and their fallbacks
             summary["friction_solver"] = {k: COULOMB[k] - coulomb_start[k] for k in COULOMB}
             summary["friction_work"] = rec.friction_work
@@ -426,6 +445,8 @@ def run(
             if status == "completed":
                 raise
             # else the run's own failure is the one to report (a full disk refuses both)
+    for text in summary["warnings"]:
+        warnings.warn(text, UserWarning, stacklevel=2)
     return summary
 
 

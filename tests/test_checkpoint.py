@@ -25,6 +25,7 @@ def same_run(a, b):
     ra, rb = load_run(a), load_run(b)
     assert ra.summary["impacts"] == rb.summary["impacts"]
     assert ra.summary["steps"] == rb.summary["steps"]
+    assert ra.summary["energy_balance"] == rb.summary["energy_balance"]
     fa, fb = ra.frames(), rb.frames()
     assert [t for t, _ in fa] == [t for t, _ in fb]
     for (_, pa), (_, pb) in zip(fa, fb, strict=True):

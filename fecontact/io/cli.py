@@ -184,6 +184,8 @@ def _execute(build, args, name: str) -> int:
             "were halved to converge (summary.json: step_halvings)",
             file=sys.stderr,
         )
+    for text in summary.get("warnings", []):  # said even with --quiet, as the halvings
+        print(f"fecontact: warning: {text}", file=sys.stderr)
     if not args.quiet:
         print(
             f"{sim.name}: {summary['steps']} steps in {summary['wall_time_s']:.2f} s, "
