@@ -214,6 +214,32 @@ class Model:
             Ke.append(Keb)
         return W, f, (self.pattern.matrix(self.pattern.assemble(Ke)) if tangent else None)
 
+    def element_strains(self, q: np.ndarray) -> np.ndarray:
+        """The strains of every element of the bodies with elements, stacked (Σ E, 3)."""
+        parts = [b.element_strains(q[s]) for b, s in self._strained()]
+        return np.concatenate(parts) if parts else np.zeros((0, 3))
+
+    def algorithmic_force(self, q0, q1, chi: float, d):
+        """Force of the step q0 → q1 whose work is the strain energy's change plus χ's
+        dissipation, on all dofs, and its tangent ∂/∂q1 on the free dofs (not symmetric);
+        ``d`` (Σ E, 3) as :meth:`element_strains`, or None. Bodies without elements add
+        nothing."""
+        f, Ke, start = np.zeros(self.n), [], 0
+        for b, s in zip(self.bodies, self._slices, strict=True):
+            if not b.element_dofs.size:
+                Ke.append(np.zeros((0,) + b.element_dofs.shape[1:] * 2))
+                continue
+            stop = start + len(b.element_dofs)
+            db = 0.0 if d is None else d[start:stop]
+            f[s], Keb = b.algorithmic_force(q0[s], q1[s], chi, db)
+            Ke.append(Keb)
+            start = stop
+        return f, self.pattern.matrix(self.pattern.assemble(Ke))
+
+    def _strained(self):
+        pairs = zip(self.bodies, self._slices, strict=True)
+        return [(b, s) for b, s in pairs if b.element_dofs.size]
+
     def iteration_sum(self, bp: float, K):
         """β′M + K in the shared structure (no sparse addition: one sum of data arrays)."""
         if self.dense:

@@ -51,6 +51,7 @@ class BodyDefaults:
     rigid_frame = False
     continuum = False
     slender = False
+    energy_consistent = False  # has algorithmic_force (the energy-decaying smooth step)
     center_index = None
 
     @property

@@ -36,6 +36,7 @@ import skfem
 
 from ..errors import InputError, check_count, check_finite, check_positive, check_range
 from .base import BodyDefaults
+from .beam_energy import beam_energy_force, element_strains
 from .beam_kernels import BeamElements, beam_internal, beam_strains
 
 __all__ = ["Material", "Section", "Beam2D"]
@@ -235,6 +236,21 @@ class Beam2D(BodyDefaults):
             f = self._K @ q
             return 0.5 * float(q @ f), f, self._Ke if tangent else None
         return beam_internal(self._el, q, self.ndof, tangent)
+
+    @property
+    def energy_consistent(self) -> bool:
+        """Whether :meth:`algorithmic_force` holds: the geometrically exact beam."""
+        return not self.linear
+
+    def algorithmic_force(self, q0, q1, chi: float = 0.0, d=0.0, tangent: bool = True):
+        """The force (N, N·m) of the step q0 → q1 whose work is the strain energy's change,
+        plus the dissipative stress χC(Δε − d), and its element tangents ∂/∂q1 (E, 6, 6)
+        (:mod:`.beam_energy`); ``d`` (E, 3): the strain increment the stress subtracts."""
+        return beam_energy_force(self._el, q0, q1, chi, d, self.ndof, tangent)
+
+    def element_strains(self, q: np.ndarray) -> np.ndarray:
+        """(Γ, γ, κ) of every element, (E, 3)."""
+        return element_strains(self._el, q)
 
     def stiffness_matrix(self) -> sp.csr_matrix:
         """Constant stiffness K₀ (ndof × ndof, no supports) of a linear beam."""

@@ -69,15 +69,18 @@ from .state import IntegratorOptions, JointTolerance, PhaseTimer, State, length_
 __all__ = ["nsga_step"]
 
 
-def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer) -> State:
-    c = coefficients(opts.rho_inf, h)
+def nsga_step(
+    model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer, smooth_step=None
+) -> State:
+    # another step 1 (:mod:`.energy_step`) corrects in the metric of the trapezoidal rule
+    c = coefficients(1.0 if smooth_step else opts.rho_inf, h)
     t = st.t + h
     m, joints = model.contacts.size, model.joints
     smooth = uses_smooth_contact(model, opts)
     restarts = smooth and not model.slender  # (beams: see smooth_contact, the restart)
     P = persistent_contacts(model, st, opts.detection_margin * model.length) if smooth else None
     st_s = st  # the state the smooth step starts from
-    step = _smooth_step(model, st, t, c, opts, timer, P)
+    step = (smooth_step or _smooth_step)(model, st, t, c, opts, timer, P)
     if smooth and (rows := released(st, P, step.force, opts.tol_residual)).size:
         st_s, first = without_released(model, st, rows), step.iterations
         step = _smooth_step(model, st_s, t, c, opts, timer, P)
@@ -89,6 +92,8 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
         return State(t, q, v, vd, a, h=h, lam=lam, iterations=iters)
     friction = model.contacts.frictional
     memory = friction_memory(st, m, model.dim) if friction else {}
+    if smooth_step:  # q̃, before the correction: the energy-decaying step's Δε
+        memory["smooth_q"] = q
     if smooth:
         memory["contact_force"] = np.zeros(m) if force is None else force
         if friction:
@@ -182,8 +187,9 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
         if opts.metric != "stiffness":  # the update is always in the step's own S_t
             solve_H = _metric(model, q_tilde, S, c, "stiffness")[1]
         dvd, hold = acceleration_jump(model, q, q_tilde, v, closed, solve_H, tol_gap / h)
-        vd[model.free_slice] += dvd
-        a[model.free_slice] += (1.0 - c.af) / (1.0 - c.am) * dvd
+        if not smooth_step:  # (the energy-decaying step's v̇ stays its smooth Δv/h)
+            vd[model.free_slice] += dvd
+            a[model.free_slice] += (1.0 - c.af) / (1.0 - c.am) * dvd
         if smooth:
             memory |= held_shares(memory, closed, hold, c)
         if not friction:

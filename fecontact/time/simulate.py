@@ -7,6 +7,7 @@ from collections.abc import Iterator
 
 from ..errors import SolverError, check_positive
 from .constraints import StepFailure
+from .energy_step import check_energy_scheme, energy_nsga_step
 from .moreau import moreau_step
 from .nsga import nsga_step
 from .penalty import penalty_step
@@ -42,6 +43,8 @@ def simulate(
     dt = check_positive("dt", dt)
     t_end = check_positive("t_end", t_end)
     timer = PhaseTimer() if timer is None else timer
+    if opts.scheme == "energy-decaying":
+        check_energy_scheme(model, opts)
     model.contacts.detect_within(opts.detection_margin * model.length)
     if start is None:
         state = initial_state(model, q0, v0, opts.tol_gap)
@@ -76,6 +79,8 @@ def simulate(
 
 def _advance(model, st, h, opts, timer, depth):
     try:
+        if opts.scheme == "energy-decaying":
+            return energy_nsga_step(model, st, h, opts, timer)
         return STEPPERS[opts.integrator](model, st, h, opts, timer)
     except StepFailure:
         if depth >= opts.max_halvings:

@@ -32,6 +32,7 @@ METRICS = ("stiffness", "mass")
 IMPACT_VELOCITIES = ("interpolated", "step_start")
 INTEGRATORS = ("nsga", "moreau", "penalty")
 SWITCH = ("auto", "on", "off")
+SCHEMES = ("generalized-alpha", "energy-decaying")
 
 
 @dataclass
@@ -69,6 +70,9 @@ class IntegratorOptions:
         "auto" (default): on for models with an elastic continuum (``Solid``), whose
         lasting contacts it lets take steps of Δx/c and more, off for beams and rigid
         bodies, which it does not change measurably (see the README).
+    scheme : NSGA only. The smooth step: "generalized-alpha" (default) or "energy-decaying"
+        (:mod:`fecontact.time.energy_step`: planar geometrically exact beams, whose energy it
+        cannot let grow; ``rho_inf`` ∈ [1/3, 1] sets its dissipation, 1 conserves energy).
     """
 
     rho_inf: float = 0.5
@@ -87,6 +91,7 @@ class IntegratorOptions:
     penalty_stiffness: float | None = None
     penalty_damping: float | None = None
     smooth_contact: str = "auto"
+    scheme: str = "generalized-alpha"
 
     def __post_init__(self):
         alpha_coefficients(self.rho_inf)
@@ -105,6 +110,8 @@ class IntegratorOptions:
         if not isinstance(self.smooth_contact, str) or self.smooth_contact not in SWITCH:
             known = ", ".join(SWITCH)
             raise InputError(f"smooth_contact must be one of {known}, got {self.smooth_contact!r}")
+        if not isinstance(self.scheme, str) or self.scheme not in SCHEMES:
+            raise InputError(f"scheme must be one of {', '.join(SCHEMES)}, got {self.scheme!r}")
         self.theta = check_range("theta", self.theta, 0.0, 1.0, (False, True))
         if self.penalty_stiffness is not None:
             self.penalty_stiffness = check_positive("penalty_stiffness", self.penalty_stiffness)
