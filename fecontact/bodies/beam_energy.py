@@ -37,15 +37,17 @@ def _local(el: BeamElements, q: np.ndarray) -> np.ndarray:
 
 
 def _axis(el: BeamElements, U: np.ndarray):
-    """Stretch vector a (E, 2), angle φ (rad) and curvature κ (1/m) of each element."""
+    """Stretch vector a (..., E, 2), angle φ (rad) and curvature κ (1/m) of each element of
+    the element dofs U (..., E, 6)."""
     inv = 1.0 / el.ell
-    a = (el.chord + U[:, 3:5] - U[:, 0:2]) * inv[:, None]
-    return a, el.phi0 + 0.5 * (U[:, 2] + U[:, 5]), (U[:, 5] - U[:, 2]) * inv
+    a = (el.chord + U[..., 3:5] - U[..., 0:2]) * inv[:, None]
+    return a, el.phi0 + 0.5 * (U[..., 2] + U[..., 5]), (U[..., 5] - U[..., 2]) * inv
 
 
 def _strains(a, phi, kappa) -> np.ndarray:
     c, s = np.cos(phi), np.sin(phi)
-    return np.stack([a[:, 0] * c + a[:, 1] * s - 1.0, a[:, 1] * c - a[:, 0] * s, kappa], axis=1)
+    gam = a[..., 0] * c + a[..., 1] * s - 1.0
+    return np.stack([gam, a[..., 1] * c - a[..., 0] * s, kappa], axis=-1)
 
 
 def element_strains(el: BeamElements, q: np.ndarray) -> np.ndarray:
@@ -54,30 +56,31 @@ def element_strains(el: BeamElements, q: np.ndarray) -> np.ndarray:
 
 
 def _force(el: BeamElements, U0, U1, chi: float, d) -> np.ndarray:
+    """Element forces (..., E, 6) of the element dofs U1 (..., E, 6) from U0 (E, 6)."""
     a0, p0, k0 = _axis(el, U0)
     a1, p1, k1 = _axis(el, U1)
     e0, e1 = _strains(a0, p0, k0), _strains(a1, p1, k1)
-    N, V, M = (el.C * (0.5 * (e0 + e1) + chi * (e1 - e0 - d))).T
+    S = el.C * (0.5 * (e0 + e1) + chi * (e1 - e0 - d))
+    N, V, M = S[..., 0], S[..., 1], S[..., 2]
     am, pm = 0.5 * (a0 + a1), 0.5 * (p0 + p1)
     sigma = np.sinc((p1 - p0) / (2.0 * np.pi))  # numpy's sinc is sin(πx)/(πx)
     cb, sb = 0.5 * (np.cos(p0) + np.cos(p1)), 0.5 * (np.sin(p0) + np.sin(p1))
-    an = am[:, 1] * np.cos(pm) - am[:, 0] * np.sin(pm)  # ā·n(φ̄)
-    at = am[:, 0] * np.cos(pm) + am[:, 1] * np.sin(pm)  # ā·t(φ̄)
-    coef = np.stack([N * cb - V * sb, N * sb + V * cb, sigma * (N * an - V * at), M], axis=1)
-    return np.einsum("ek,eki->ei", el.ell[:, None] * coef, el.e)
+    an = am[..., 1] * np.cos(pm) - am[..., 0] * np.sin(pm)  # ā·n(φ̄)
+    at = am[..., 0] * np.cos(pm) + am[..., 1] * np.sin(pm)  # ā·t(φ̄)
+    coef = np.stack([N * cb - V * sb, N * sb + V * cb, sigma * (N * an - V * at), M], axis=-1)
+    return np.einsum("...ek,eki->...ei", el.ell[:, None] * coef, el.e)
 
 
 def beam_energy_force(el: BeamElements, q0, q1, chi: float, d, ndof: int, tangent=True):
     """The algorithmic force f(q₀, q₁) (N, N·m; module docstring) on the beam's ``ndof`` dofs
     and its element tangents ∂f_e/∂q₁ (E, 6, 6), not symmetric; ``d`` (E, 3) or 0."""
     U0, U1 = _local(el, q0), _local(el, q1)
-    f_e = _force(el, U0, U1, chi, d)
-    f = np.bincount(el.dofs.ravel(), f_e.ravel(), minlength=ndof)
     if not tangent:
-        return f, None
-    K = np.empty((len(U1), 6, 6))
-    for k in range(6):
-        Uc = U1.astype(complex)
-        Uc[:, k] += 1j * STEP
-        K[:, :, k] = _force(el, U0, Uc, chi, d).imag / STEP
-    return f, K
+        f_e = _force(el, U0, U1, chi, d)
+        return np.bincount(el.dofs.ravel(), f_e.ravel(), minlength=ndof), None
+    # one evaluation for the force (real part of slot 0) and the six complex steps
+    Uc = np.repeat(U1[None].astype(complex), 7, axis=0)
+    Uc[1:] += 1j * STEP * np.eye(6)[:, None, :]
+    f_c = _force(el, U0, Uc, chi, d)
+    f = np.bincount(el.dofs.ravel(), f_c[0].real.ravel(), minlength=ndof)
+    return f, np.moveaxis(f_c[1:].imag / STEP, 0, -1)
