@@ -59,17 +59,18 @@ class EnergyBalance:
 
     def start(self, t: float, q: np.ndarray) -> None:
         """Measure the loads' work from the state (t, q) on (a run's start, a resumed run)."""
-        self._q, self._f = q.copy(), self._loads(t)
+        self._f = self._loads(t)
+        self._q = None if self._f is None else q.copy()
 
     def add(self, t: float, q: np.ndarray, kinetic: float, strain: float, gravity: float):
         """Account for the state at time t (s) with its energies (J)."""
         total = kinetic + strain + gravity
-        if self._q is None:
+        if math.isnan(self.initial):
             self.start(t, q)
-        f = self._loads(t)
-        if f is not None:
+        if self._f is not None:  # (models without loads keep no copy of q)
+            f = self._loads(t)
             self.work += 0.5 * float((self._f + f) @ (q - self._q))
-        self._q, self._f = q.copy(), f
+            self._q, self._f = q.copy(), f
         if math.isnan(self.initial):
             self.initial = total
         self.now = total - self.initial - self.work
