@@ -205,3 +205,9 @@ def test_no_blow_up_warning_for_the_energy_decaying_step():
     assert any("energy-decaying" in w for w in alpha.warnings())
     energy = sim.replace(options=dataclasses.replace(sim.options, rho_inf=0.8, **ENERGY))
     assert not any("blow up" in w for w in energy.warnings())
+
+
+def test_rho_inf_one_is_warned_of():
+    sim = case("flexible_pendulum").build()
+    energy = sim.replace(options=dataclasses.replace(sim.options, rho_inf=1.0, **ENERGY))
+    assert any("massless rotations" in w for w in energy.warnings())
