@@ -6,8 +6,10 @@ import dataclasses
 
 import numpy as np
 import pytest
+from test_checkpoint import resumes_identically
+from test_resting import flat_work
 
-from fecontact import Model
+from fecontact import Contact, Model, Plane
 from fecontact.bodies import Beam2D, Material, Section
 from fecontact.bodies.beam_energy import beam_energy_force, element_strains
 from fecontact.bodies.beam_kernels import beam_internal
@@ -190,8 +192,6 @@ def test_solids_and_linear_beams_are_refused():
 
 def test_a_resumed_run_is_the_same(tmp_path):
     """q_{n−1} travels in the checkpoint: a resumed run equals the run in one go."""
-    from test_checkpoint import resumes_identically
-
     args = ["--checkpoint-every", "100", "--set", "scheme=energy-decaying"]
     args += ["--set", "restitution=1", "--set", "rho_inf=0.8"]
     resumes_identically("flexible_pendulum", args, "0.45", "0.35", tmp_path)
@@ -211,3 +211,16 @@ def test_rho_inf_one_is_warned_of():
     sim = case("flexible_pendulum").build()
     energy = sim.replace(options=dataclasses.replace(sim.options, rho_inf=1.0, **ENERGY))
     assert any("massless rotations" in w for w in energy.warnings())
+
+
+def test_a_beam_rests_on_a_plane():
+    """A 20-element strip lying flat on a plane under gravity, every node in contact, 3 s:
+    gaps at zero, no velocity, work per step flat (as generalized-α, tests/test_resting.py;
+    measured: gaps ≥ −4e-21 m, speeds ≤ 7e-13 m/s, 3 iterations every step)."""
+    beam = Beam2D.straight([0, 0], [0.4, 0], 20, MATERIAL, SECTION)
+    model = Model([beam], [Contact(beam, Plane([0, 0], [0, 1]))])
+    states = list(simulate(model, 1e-3, 3.0, IntegratorOptions(**ENERGY)))[1:]
+    gaps = np.array([st.gaps for st in states])
+    assert gaps.min() >= -1e-10 and np.abs(gaps).max() <= 1e-10
+    assert max(np.abs(st.v).max() for st in states) < 1e-10
+    assert flat_work(np.array([st.newton_iterations for st in states]))
