@@ -15,6 +15,11 @@ correction and the velocity jump unchanged), prototyped here on the dense 15-dof
   step ends with more energy than it started with, it is solved again with the constraint
   E(q_{n+1}, v_{n+1}) = E_n and a multiplier μ on dE/dq_{n+1} = γ′Mv + f_int − f_ext.
 
+Neither is kept. The step that is, ``scheme="energy-decaying"``, makes the midpoint rule
+dissipative by second differences of the strains and of the velocities instead, so that a
+modified energy provably decays (``fecontact/time/energy_step.py``; measured against
+generalized-α in ``energy_decaying.py``).
+
 Runs (``--quick``: 1 s and the nominal strip only):
 
 1. free flight before the first impact (0.3 s), ρ∞ = 1 and 0.8: energy drift;
