@@ -65,14 +65,13 @@ class EnergyBalance:
     def add(self, t: float, q: np.ndarray, kinetic: float, strain: float, gravity: float):
         """Account for the state at time t (s) with its energies (J)."""
         total = kinetic + strain + gravity
-        if math.isnan(self.initial):
+        if math.isnan(self.initial):  # the run's first state
             self.start(t, q)
-        if self._f is not None:  # (models without loads keep no copy of q)
+            self.initial = total
+        elif self._f is not None:  # (models without loads keep no copy of q)
             f = self._loads(t)
             self.work += 0.5 * float((self._f + f) @ (q - self._q))
             self._q, self._f = q.copy(), f
-        if math.isnan(self.initial):
-            self.initial = total
         self.now = total - self.initial - self.work
         self.gain = max(self.gain, self.now)
         self.budget = max(self.budget, self.initial + self.work - gravity)
