@@ -8,6 +8,7 @@ import scipy.sparse as sp
 
 from ..linalg import DENSE_LIMIT
 from .friction_rows import FrictionRows
+from .mortar import merge_interfaces
 
 __all__ = ["ContactSet"]
 
@@ -16,7 +17,7 @@ class ContactSet(FrictionRows):
     """All contact pairs of a model, numbered globally and restricted to the free dofs."""
 
     def __init__(self, pairs, free_index: np.ndarray, n_free: int):
-        self.pairs = list(pairs)
+        self.pairs = merge_interfaces(pairs)
         self.free_index = free_index
         self.n_free = n_free
         self.size = sum(pair.size for pair in self.pairs)

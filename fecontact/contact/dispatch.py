@@ -4,7 +4,10 @@ from __future__ import annotations
 
 from ..bodies.base import Body
 from ..bodies.beam import Beam2D
+from ..bodies.solid import Solid
 from ..errors import InputError, check_positive
+from .body_pairs import NodeSurfaceContact
+from .mortar import MortarContact
 from .node_pairs import NodeContact, PointSegmentContact
 from .obstacles import Circle, Point
 from .segment_pairs import SegmentCircleContact
@@ -19,6 +22,7 @@ def Contact(
     restitution: float = 0.0,
     clearance: float = 0.0,
     friction: float = 0.0,
+    method: str | None = None,
 ):
     """Contact pair between ``body`` and a rigid ``obstacle`` or a second body.
 
@@ -41,14 +45,34 @@ def Contact(
     today's path at no cost): the tangential impulse stays in |Λ_T| ≤ μ Λ_N and opposes the
     slip of the contact points (:mod:`fecontact.contact.friction`). Every pair but the
     end-to-end beam pair takes it.
+
+    ``method`` chooses the discretization of a contact between two 2D solids:
+    ``"node-to-surface"`` (the default) or ``"mortar"`` (dual mortar, weighted gaps integrated
+    over the first body's boundary, :mod:`fecontact.contact.mortar`; ``nodes`` must be None,
+    and the pair declared both ways is one interface). Other pairs take None only.
     """
     friction = check_positive("friction", friction, allow_zero=True)
-    pair = _pair(body, obstacle, nodes, restitution, clearance)
+    if method == "mortar":
+        pair = _mortar(body, obstacle, nodes, restitution, clearance)
+    elif method in (None, "node-to-surface"):
+        pair = _pair(body, obstacle, nodes, restitution, clearance)
+        if method is not None and not isinstance(pair, NodeSurfaceContact):
+            raise InputError("method: 'node-to-surface' applies between two solids; use None")
+    else:
+        raise InputError(f"method must be 'node-to-surface' or 'mortar', got {method!r}")
     if friction:
         if not pair.frictional:
             raise InputError(f"friction: not available for a {type(pair).__name__}; use 0")
         pair.friction = friction
     return pair
+
+
+def _mortar(body, obstacle, nodes, restitution, clearance):
+    if not (isinstance(body, Solid) and isinstance(obstacle, Solid)):
+        raise InputError("method: 'mortar' applies between two solids")
+    if nodes is not None or clearance:
+        raise InputError("nodes, clearance: a mortar contact takes the whole boundaries")
+    return MortarContact(body, obstacle, restitution)
 
 
 def _pair(body, obstacle, nodes, restitution, clearance):
