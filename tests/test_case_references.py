@@ -36,6 +36,9 @@ PART_SCALE = {
     # the disk dropped straight down: no motion along the plane (1 m/s), no spin (20 rad/s)
     ("disk_drop", "vx_center"): 1.0,
     ("disk_drop", "omega"): 20.0,
+    # the disks' sideways speeds, against their impact speed (1 m/s)
+    ("two_disks", "vy_left"): 1.0,
+    ("two_disks", "vy_right"): 1.0,
 }
 
 
