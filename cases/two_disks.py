@@ -70,9 +70,7 @@ def build(
         "v_left": Probe(lambda m, st: float(w @ st.v[s0]) / left.mass, "m/s", "left disk vx"),
         "v_right": Probe(lambda m, st: float(w @ st.v[s1]) / right.mass, "m/s", "right disk vx"),
         "vy_left": Probe(lambda m, st: float(wy @ st.v[s0]) / left.mass, "m/s", "left disk vy"),
-        "vy_right": Probe(
-            lambda m, st: float(wy @ st.v[s1]) / right.mass, "m/s", "right disk vy"
-        ),
+        "vy_right": Probe(lambda m, st: float(wy @ st.v[s1]) / right.mass, "m/s", "right disk vy"),
         "gap": Probe(lambda m, st: float(np.min(m.contacts.gaps(st.q))), "m", "smallest gap"),
         "contact_force": contact_force_probe(),
     }

@@ -30,13 +30,16 @@ faces (the basis transformation of Popp, Wohlmuth, Gee & Wall 2012, needed becau
 shape functions of a P2 face integrate to zero) are not implemented: P2 bodies are taken with
 their boundary split into linear segments, like node-to-surface contact.
 
-Contact rows are the slave boundary nodes; a node takes part only when each of its slave
-segments is covered by the projection of the master either fully or not at all, and at least
-one fully (a partial coverage happens at the edge of the search, far from contact; there the
-dual function's negative lobe would make g̃_j negative although the surfaces are apart). Other
-rows report g = +inf with a zero gradient. The search keeps the (slave, master) segment pairs
-whose midpoints are within the detection margin plus both segment lengths, refreshed when a
-node has moved by more than an eighth of the margin.
+Contact rows are the slave boundary nodes. The master covers a part of a node's segments
+(where the slave normals meet master segments facing them); a node takes part when the
+covered part carries at least half of the dual weight of its covered segments,
+∫_covered Φ_j ds ≥ ½ Σ_e |e|/2: where only the far end of a segment is covered, at the edge
+of the zone the master faces, the negative lobe of Φ_j would turn g̃_j negative although the
+surfaces are apart. Other rows report g = +inf with a zero gradient. A master segment whose
+mean gap over its overlap is deeper than the margin behind the slave segment is a far part
+of the master that happens to face it, not a contact partner, and is left out. The search
+keeps the (slave, master) segment pairs whose midpoints are within the detection margin plus
+both segment lengths, refreshed when a node has moved by more than an eighth of the margin.
 
 Friction: the slip row of node j is the weighted relative motion t_j·∫ Φ_j (ẋ − ẏ) ds / L_j
 along the slave node's tangent t_j, with the projections frozen over the step.
@@ -54,7 +57,7 @@ from .mortar_segments import segment_pair_integrals
 
 __all__ = ["MortarContact", "merge_interfaces"]
 
-_FULL = 1e-9  # coverage within this of 0 or 1 counts as none or full (projection round-off)
+_FULL = 1e-9  # a segment covered by less than this fraction counts as not covered (round-off)
 
 
 def _neighbours(facets: np.ndarray):
@@ -211,7 +214,8 @@ class MortarContact(PairDefaults):
         return pairs
 
     def _local(self, q: np.ndarray):
-        """The segment pairs (e, f), their local coordinates z (P, 12) and global dofs."""
+        """The slave segments e of the segment pairs, their local coordinates z (P, 12) and
+        global dofs (P, 12), and the slave nodes' positions."""
         xs, xm = self.positions(q)
         e, f = self._pairs(xs, xm)
         z = np.concatenate([xs[self.local_nodes[e]], xm[self.master_facets[f]]], axis=1)
@@ -220,35 +224,39 @@ class MortarContact(PairDefaults):
             [oa + self._dofs_s[self.local_nodes[e]], ob + self._dofs_m[self.master_facets[f]]],
             axis=1,
         )
-        return e, f, z.reshape(len(e), 12), dofs.reshape(len(e), 12)
+        return e, z.reshape(len(e), 12), dofs.reshape(len(e), 12), xs
 
     def _integrate(self, e, z, hessian):
-        return segment_pair_integrals(z, self.has_prev[e], self.has_next[e], hessian)
+        return segment_pair_integrals(
+            z, self.has_prev[e], self.has_next[e], hessian, depth=self.margin
+        )
 
-    def _valid(self, e, coverage) -> np.ndarray:
-        """The rows (m,) whose segments are each covered fully or not at all, one fully."""
-        c = np.bincount(e, coverage, len(self.facets))
-        full, none = c >= 1.0 - _FULL, c <= _FULL
-        bad = np.zeros(self.size, bool)
-        good = np.zeros(self.size, bool)
-        for end in (0, 1):
-            bad[self.seg_rows[~(full | none), end]] = True
-            good[self.seg_rows[full, end]] = True
-        return good & ~bad
+    def _valid(self, e, coverage, quad, xs) -> np.ndarray:
+        """The rows (m,) whose covered support weighs at least half of the support of their
+        segments that the master covers at all: W_j = ∫_covered Φ_j ds ≥ ½ Σ_e |e|/2."""
+        xi, _, wJ = quad
+        ra, rb = self.seg_rows[e, 0], self.seg_rows[e, 1]
+        W = np.bincount(ra, ((0.5 - 1.5 * xi) * wJ).sum(1), self.size)
+        W += np.bincount(rb, ((0.5 + 1.5 * xi) * wJ).sum(1), self.size)
+        covered = np.bincount(e, coverage, len(self.facets)) > _FULL
+        fs = self.facets[covered]
+        half = 0.5 * np.linalg.norm(xs[fs[:, 1]] - xs[fs[:, 0]], axis=1)
+        support = np.bincount(self.seg_rows[covered].ravel(), np.repeat(half, 2), self.size)
+        return (W > 0.0) & (W >= 0.5 * support)
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         """The weighted gaps g_j (m) alone (+inf for the rows that take no part)."""
         last = self._last
         if last is not None and self._same(q, last[0]):
             return last[1][0].copy()
-        e, _, z, _ = self._local(q)
-        ga, gb, coverage, _ = self._integrate(e, z, None)
-        return self._gap_values(e, ga.v, gb.v, coverage)
+        e, z, _, xs = self._local(q)
+        ga, gb, coverage, quad = self._integrate(e, z, None)
+        return self._gap_values(e, ga.v, gb.v, coverage, quad, xs)
 
-    def _gap_values(self, e, va, vb, coverage):
+    def _gap_values(self, e, va, vb, coverage, quad, xs):
         ra, rb = self.seg_rows[e, 0], self.seg_rows[e, 1]
         g = np.bincount(ra, va, self.size) + np.bincount(rb, vb, self.size)
-        return np.where(self._valid(e, coverage), g / self.length, np.inf)
+        return np.where(self._valid(e, coverage, quad, xs), g / self.length, np.inf)
 
     def _same(self, q, key) -> bool:
         (oa, ob), (a, b) = self.offsets, self.bodies
@@ -262,9 +270,9 @@ class MortarContact(PairDefaults):
         if last is not None and self._same(q, last[0]):
             g, dofs, G = last[1][:3]
             return g.copy(), dofs, G, None
-        e, f, z, dofs = self._local(q)
+        e, z, dofs, xs = self._local(q)
         ga, gb, coverage, quad = self._integrate(e, z, False)
-        g = self._gap_values(e, ga.v, gb.v, coverage)
+        g = self._gap_values(e, ga.v, gb.v, coverage, quad, xs)
         ra, rb = self.seg_rows[e, 0], self.seg_rows[e, 1]
         own = self.offsets[0] + self._dofs_s[self.nodes]
         layout = _Layout(ra, rb, dofs, own)

@@ -120,17 +120,19 @@ def _project_master_node(xa, xb, na, nb, y):
     return x
 
 
-def segment_pair_integrals(z, has_prev, has_next, hessian=None):
+def segment_pair_integrals(z, has_prev, has_next, hessian=None, depth=np.inf):
     """Weighted-gap contributions of P (slave segment, master segment) pairs.
 
     ``z`` (P, 12): the coordinates (m) of (x_p, x_a, x_b, x_c, y_1, y_2); ``has_prev``,
     ``has_next`` (P,) whether x_p and x_c exist. ``hessian``: None for values only, False
-    for gradients, True for gradients and Hessians over z.
+    for gradients, True for gradients and Hessians over z. ``depth`` (m): a master segment
+    whose mean gap over the overlap is below −depth lies behind the slave segment, not in
+    contact with it (a far part of the master whose segment happens to face it): dropped.
 
     Returns (ga, gb, coverage, quad): the Jets of g̃_a, g̃_b (m²), the fraction of the slave
     segment the master segment covers (P,; 0 where the segments do not face each other,
-    ``FACING``, or miss each other), and the quadrature of the overlap as values — ξ and η (P, G) and the weights
-    w J (P, G) in m — for the slip rows of friction.
+    ``FACING``, or miss each other), and the quadrature of the overlap as values — ξ and η
+    (P, G) and the weights w J (P, G) in m — for the slip rows of friction.
     """
     xp, xa, xb, xc, y1, y2 = _points(z, hessian, has_prev, has_next)
     nab = _segment_normal(xa, xb)
@@ -169,6 +171,10 @@ def segment_pair_integrals(z, has_prev, has_next, hessian=None):
     wJ = J * span.repeat(G) * (0.5 * weight)
     wJ = wJ.where(keep, 0.0)
     gap = gap.where(keep, 0.0)
+    behind = (gap.v * wJ.v).reshape(P, G).sum(1) < -depth * wJ.v.reshape(P, G).sum(1)
+    if behind.any():
+        coverage = np.where(behind, 0.0, coverage)
+        wJ = wJ.where(~np.repeat(behind, G), 0.0)
     ga = _sum_gauss((0.5 - 1.5 * xi) * gap * wJ, P, G)
     gb = _sum_gauss((0.5 + 1.5 * xi) * gap * wJ, P, G)
     quad = (xi.v.reshape(P, G), eta.v.reshape(P, G), wJ.v.reshape(P, G))

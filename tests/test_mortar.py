@@ -1,0 +1,227 @@
+"""Dual mortar contact between 2D solids: the patch test, exact derivatives, one interface for
+a pair declared both ways, and the head-on disks without sideways motion or penetration."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+from conftest import load_case
+from matplotlib.path import Path as PolygonPath
+
+from fecontact import Model, simulate
+from fecontact.bodies import Solid
+from fecontact.contact import Contact
+from fecontact.contact.geometry import segment_distance
+from fecontact.contact.mortar import MortarContact
+from fecontact.errors import InputError
+from fecontact.scenes import solid_material
+from fecontact.statics import solve_static_contact
+from fecontact.testing import gap_derivatives_error
+
+TWO_DISKS = load_case("two_disks")
+E_LOW, E_UP, NU = 1e7, 3e7, 0.3
+
+
+def pressed_blocks(n_lower, n_upper, p, method="mortar", small=True):
+    """Two blocks [0, 1] × [0, 0.5] and [0, 1] × [0.5, 1] (m), non-matching meshes, the upper
+    (slave) one three times stiffer, pressed by a uniform pressure p (Pa) on its top; the
+    lower one rests on rollers at y = 0, both on rollers at x = 0. Returns (the blocks, the
+    pair, q, λ, the exact linear displacements of each block)."""
+    lower = Solid.rectangle(
+        [0, 0], [1, 0.5], (n_lower, 3), solid_material("linear", E_LOW, NU, 1e3)
+    )
+    upper = Solid.rectangle(
+        [0, 0.5], [1, 1.0], (n_upper, 3), solid_material("linear", E_UP, NU, 1e3)
+    )
+    lower.fix(lower.nodes_where(lambda x: x[1] < 1e-9), "y")
+    for b in (lower, upper):
+        b.fix(b.nodes_where(lambda x: x[0] < 1e-9), "x")
+    if method == "mortar":
+        pair = Contact(upper, lower, method="mortar")
+    else:  # the face's nodes but its corners (at a corner the closest facet is a tie)
+        face = upper.nodes_where(
+            lambda x: (abs(x[1] - 0.5) < 1e-9) & (x[0] > 1e-9) & (x[0] < 1 - 1e-9)
+        )
+        pair = Contact(upper, lower, nodes=face)
+    model = Model([lower, upper], [pair], gravity=(0.0, 0.0))
+    load = np.zeros(model.n)
+    top = upper.nodes_where(lambda x: x[1] > 1 - 1e-9)
+    top = top[np.argsort(upper.X[top, 0])]
+    o = model.offset_of(upper)
+    for a, b in zip(top[:-1], top[1:], strict=True):  # consistent nodal forces
+        load[o + 2 * np.array([a, b]) + 1] -= 0.5 * p * (upper.X[b, 0] - upper.X[a, 0])
+    q, lam = solve_static_contact(model, load, small=small)
+    # plane strain, σ_yy = −p, σ_xx = 0 in both blocks
+    exx, eyy = (lambda E: NU * (1 + NU) * p / E), (lambda E: -(1 - NU**2) * p / E)
+    XL, XU = lower.X, upper.X
+    u_low = np.stack([exx(E_LOW) * XL[:, 0], eyy(E_LOW) * XL[:, 1]], axis=1)
+    u_up = np.stack([exx(E_UP) * XU[:, 0], eyy(E_LOW) * 0.5 + eyy(E_UP) * (XU[:, 1] - 0.5)], axis=1)
+    parts = (q[model.body_slice(0)], q[model.body_slice(1)])
+    return pair, parts, lam, (u_low.ravel(), u_up.ravel())
+
+
+@pytest.mark.parametrize("meshes", [(7, 4), (4, 7), (5, 5), (13, 6)])
+def test_patch_test_pressure_uniform_and_displacements_exact(meshes):
+    p = 1e5
+    pair, parts, lam, exact = pressed_blocks(*meshes, p)
+    scale = max(np.max(np.abs(u)) for u in exact)
+    for u, ue in zip(parts, exact, strict=True):
+        assert np.max(np.abs(u - ue)) <= 1e-8 * scale
+    nodes, z = pair.nodal_pressure(lam)
+    active = lam > 0
+    assert active.sum() == meshes[1] + 1  # every node of the face, the corners included
+    assert np.max(np.abs(z[active] / p - 1.0)) <= 1e-8
+
+
+def test_patch_test_node_to_surface_is_not_exact():
+    """The same blocks with node-to-surface contact: its nodal forces are not a uniform
+    pressure on non-matching meshes (the table of docs/explanation/mortar.md)."""
+    _, parts, _, exact = pressed_blocks(7, 4, 1e5, method="node-to-surface")
+    scale = max(np.max(np.abs(u)) for u in exact)
+    assert max(np.max(np.abs(u - ue)) for u, ue in zip(parts, exact, strict=True)) > 1e-2 * scale
+
+
+def test_patch_test_large_displacement_error_is_first_order_in_the_strain():
+    """Gaps evaluated where the bodies are: the linear solution is off by the rotation and
+    stretch of the surfaces, an error proportional to the strain (1e-3 at p = 1e5 Pa)."""
+    errors = []
+    for p in (1e4, 1e5):
+        _, parts, _, exact = pressed_blocks(7, 4, p, small=False)
+        scale = max(np.max(np.abs(u)) for u in exact)
+        errors.append(
+            max(np.max(np.abs(u - ue)) for u, ue in zip(parts, exact, strict=True)) / scale
+        )
+    assert 8.0 < errors[1] / errors[0] < 12.0
+
+
+def disks(gap=0.002, offset=0.003, refinements=2):
+    mat = solid_material("linear", 1e7, 0.3, 1e3)
+    a = Solid.disk([-0.1 - gap / 2, 0.0], 0.1, refinements, mat)
+    b = Solid.disk([0.1 + gap / 2, offset], 0.1, refinements, mat)
+    return a, b
+
+
+def test_weighted_gap_derivatives_are_exact():
+    a, b = disks()
+    pair = Contact(a, b, method="mortar")
+    model = Model([a, b], [pair], gravity=(0.0, 0.0))
+    pair.detect_within(0.02)
+    q = np.random.default_rng(1).normal(0.0, 1e-3, model.n)
+    g = pair.evaluate(q)[0]
+    assert np.isfinite(g).sum() >= 3
+    err_g, err_h = gap_derivatives_error(pair, q, 1e-7)
+    # central differences with step 1e-7 m: truncation ~1e-14 relative, round-off ~1e-9
+    assert err_g < 1e-8 and err_h < 1e-6
+
+
+def test_a_pair_declared_both_ways_is_one_interface():
+    a, b = disks()
+    model = Model([a, b], [Contact(a, b, method="mortar"), Contact(b, a, method="mortar")])
+    assert len(model.contacts.pairs) == 1
+    assert isinstance(model.contacts.pairs[0], MortarContact)
+    with pytest.raises(InputError, match="both ways"):
+        Model(
+            [a, b],
+            [Contact(a, b, method="mortar"), Contact(b, a, method="mortar", restitution=0.5)],
+        )
+
+
+def test_method_option_errors():
+    a, b = disks()
+    with pytest.raises(InputError, match="method must be"):
+        Contact(a, b, method="segment")
+    with pytest.raises(InputError, match="nodes"):
+        Contact(a, b, method="mortar", nodes=[0, 1])
+    box = Solid.box([0, 0, 0], [1, 1, 1], 1, solid_material("linear", 1e7, 0.3, 1e3))
+    ball = Solid.box([2, 0, 0], [3, 1, 1], 1, solid_material("linear", 1e7, 0.3, 1e3))
+    with pytest.raises(InputError, match="2D"):
+        Contact(box, ball, method="mortar")
+
+
+def penetration(xa, fa, xb, fb) -> float:
+    """Deepest node of boundary a inside the closed boundary b (m), from a point-in-polygon
+    test and the distance to b's segments: independent of the contact's own gaps."""
+    nxt = dict(zip(fb[:, 0], fb[:, 1], strict=True))
+    loop = [fb[0, 0]]
+    while len(loop) < len(fb):
+        loop.append(nxt[loop[-1]])
+    nodes = np.unique(fa)
+    inside = nodes[PolygonPath(xb[loop]).contains_points(xa[nodes], radius=0.0)]
+    deepest = 0.0
+    for x in xa[inside]:
+        x = np.repeat(x[None], len(fb), axis=0)
+        deepest = max(deepest, float(np.min(segment_distance(x, xb[fb[:, 0]], xb[fb[:, 1]]))))
+    return deepest
+
+
+def test_penetration_check_sees_overlap():
+    a, b = disks(gap=-0.004, offset=0.0)
+    fa, fb = a.boundary_facets(), b.boundary_facets()
+    assert penetration(a.X, fa, b.X, fb) > 1e-3
+
+
+def run_disks(method="mortar", refinements=2, t_end=0.006, options=None, **params):
+    sim = TWO_DISKS.build(method=method, refinements=refinements, t_end=t_end, **params)
+    model = sim.model
+    A, B = model.bodies
+    fa, fb = A.boundary_facets(), B.boundary_facets()
+    wy = A.mass_matrix() @ A.translation_field((0.0, 1.0))
+    rows = []
+    for st in simulate(model, sim.dt, sim.t_end, options or sim.options, v0=sim.v0):
+        xa, xb = A.positions(st.q[model.body_slice(0)]), B.positions(st.q[model.body_slice(1)])
+        depth = max(penetration(xa, fa, xb, fb), penetration(xb, fb, xa, fa))
+        vy = [float(wy @ st.v[model.body_slice(i)]) / A.mass for i in (0, 1)]
+        rows.append((depth, *vy))
+    edge = A.min_edge_length
+    return np.array(rows), edge, sim, st
+
+
+@pytest.mark.parametrize("refinements", [2, 3])
+def test_two_disks_head_on_no_sideways_speed_no_penetration(refinements):
+    rows, edge, sim, last = run_disks(refinements=refinements)
+    v_impact = 1.0
+    assert np.max(np.abs(rows[:, 1:])) <= 0.01 * v_impact
+    assert np.max(rows[:, 0]) <= 0.01 * edge
+    # the disks have separated: their x-velocities have turned
+    model = sim.model
+    w = model.bodies[0].mass_matrix() @ model.bodies[0].translation_field((1.0, 0.0))
+    assert float(w @ last.v[model.body_slice(0)]) < 0.0
+
+
+def trajectory(options):
+    sim = TWO_DISKS.build(method="mortar", refinements=2, t_end=0.005)
+    return np.array([st.q for st in simulate(sim.model, sim.dt, sim.t_end, options, v0=sim.v0)])
+
+
+@pytest.mark.parametrize(
+    "change", [{"penalty_scale": 1e-3}, {"penalty_scale": 1e3}, {"multiplier_scale": 1e-2},
+               {"multiplier_scale": 1e2}]
+)  # fmt: skip
+def test_mortar_trajectory_independent_of_p_and_k(change):
+    sim = TWO_DISKS.build(method="mortar", refinements=2, t_end=0.005)
+    base = trajectory(sim.options)
+    other = trajectory(dataclasses.replace(sim.options, **change))
+    assert np.max(np.abs(other - base)) <= 1e-8 * 0.05  # of the radius
+
+
+def test_mortar_friction_oblique_impact_keeps_momentum():
+    sim = TWO_DISKS.build(method="mortar", refinements=2, t_end=0.006, offset=0.02, friction=0.3)
+    model = sim.model
+    A = model.bodies[0]
+    states = list(simulate(model, sim.dt, sim.t_end, sim.options, v0=sim.v0))
+    st = states[-1]
+    for axis in ((1.0, 0.0), (0.0, 1.0)):
+        w = A.mass_matrix() @ A.translation_field(axis)
+        total = float(w @ st.v[model.body_slice(0)] + w @ st.v[model.body_slice(1)])
+        assert abs(total) <= 1e-9 * A.mass  # equal and opposite forces, ρ A v = 7.65 kg m/s
+    assert np.any([np.any(s.impulse > 0) or np.any(s.force > 0) for s in states])
+
+
+def test_nodal_pressure_units_and_shape():
+    a, b = disks()
+    pair = MortarContact(a, b)
+    nodes, z = pair.nodal_pressure(np.ones(pair.size))
+    assert np.array_equal(nodes, np.unique(a.contact_facets()))
+    np.testing.assert_allclose(z * pair.length * a.thickness, 1.0)
+    with pytest.raises(InputError, match="entries"):
+        pair.nodal_pressure(np.ones(3))
