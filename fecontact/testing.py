@@ -30,6 +30,7 @@ __all__ = [
     "gap_derivatives_error",
     "observed_order",
     "pendulum_exact",
+    "pressed_blocks",
     "trace",
 ]
 
@@ -193,3 +194,51 @@ def gap_derivatives_error(pair, q: np.ndarray, eps: float = 1e-7) -> tuple[float
             h = Hs[j][:, at].sum(axis=1)
             err_h = max(err_h, float(np.max(np.abs(dG - h))) / max(1.0, np.abs(h).max()))
     return err_g, err_h
+
+
+def pressed_blocks(n_lower: int, n_upper: int, p: float, method="mortar", small=True):
+    """The contact patch test: two blocks [0, 1] × [0, 0.5] and [0, 1] × [0.5, 1] (m) with
+    ``n_lower`` and ``n_upper`` cells along x (non-matching meshes), the upper (slave) one
+    three times stiffer, pressed by a uniform pressure p (Pa) on its top; the lower one
+    rests on rollers at y = 0, both on rollers at x = 0; ``method`` of the contact, ``small``
+    displacements or not (:func:`fecontact.statics.solve_static_contact`). Returns (the
+    pair, the displacements of each block, the contact forces λ (N), the exact linear
+    displacements of each block)."""
+    from .bodies import Solid
+    from .contact import Contact
+    from .model import Model
+    from .scenes import solid_material
+    from .statics import solve_static_contact
+
+    E_LOW, E_UP, NU = 1e7, 3e7, 0.3
+    lower = Solid.rectangle(
+        [0, 0], [1, 0.5], (n_lower, 3), solid_material("linear", E_LOW, NU, 1e3)
+    )
+    upper = Solid.rectangle(
+        [0, 0.5], [1, 1.0], (n_upper, 3), solid_material("linear", E_UP, NU, 1e3)
+    )
+    lower.fix(lower.nodes_where(lambda x: x[1] < 1e-9), "y")
+    for b in (lower, upper):
+        b.fix(b.nodes_where(lambda x: x[0] < 1e-9), "x")
+    if method == "mortar":
+        pair = Contact(upper, lower, method="mortar")
+    else:  # the face's nodes but its corners (at a corner the closest facet is a tie)
+        face = upper.nodes_where(
+            lambda x: (abs(x[1] - 0.5) < 1e-9) & (x[0] > 1e-9) & (x[0] < 1 - 1e-9)
+        )
+        pair = Contact(upper, lower, nodes=face)
+    model = Model([lower, upper], [pair], gravity=(0.0, 0.0))
+    load = np.zeros(model.n)
+    top = upper.nodes_where(lambda x: x[1] > 1 - 1e-9)
+    top = top[np.argsort(upper.X[top, 0])]
+    o = model.offset_of(upper)
+    for a, b in zip(top[:-1], top[1:], strict=True):  # consistent nodal forces
+        load[o + 2 * np.array([a, b]) + 1] -= 0.5 * p * (upper.X[b, 0] - upper.X[a, 0])
+    q, lam = solve_static_contact(model, load, small=small)
+    # plane strain, σ_yy = −p, σ_xx = 0 in both blocks
+    exx, eyy = (lambda E: NU * (1 + NU) * p / E), (lambda E: -(1 - NU**2) * p / E)
+    XL, XU = lower.X, upper.X
+    u_low = np.stack([exx(E_LOW) * XL[:, 0], eyy(E_LOW) * XL[:, 1]], axis=1)
+    u_up = np.stack([exx(E_UP) * XU[:, 0], eyy(E_LOW) * 0.5 + eyy(E_UP) * (XU[:, 1] - 0.5)], axis=1)
+    parts = (q[model.body_slice(0)], q[model.body_slice(1)])
+    return pair, parts, lam, (u_low.ravel(), u_up.ravel())

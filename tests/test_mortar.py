@@ -15,49 +15,9 @@ from fecontact.contact.geometry import segment_distance
 from fecontact.contact.mortar import MortarContact
 from fecontact.errors import InputError
 from fecontact.scenes import solid_material
-from fecontact.statics import solve_static_contact
-from fecontact.testing import gap_derivatives_error
+from fecontact.testing import gap_derivatives_error, pressed_blocks
 
 TWO_DISKS = load_case("two_disks")
-E_LOW, E_UP, NU = 1e7, 3e7, 0.3
-
-
-def pressed_blocks(n_lower, n_upper, p, method="mortar", small=True):
-    """Two blocks [0, 1] × [0, 0.5] and [0, 1] × [0.5, 1] (m), non-matching meshes, the upper
-    (slave) one three times stiffer, pressed by a uniform pressure p (Pa) on its top; the
-    lower one rests on rollers at y = 0, both on rollers at x = 0. Returns (the blocks, the
-    pair, q, λ, the exact linear displacements of each block)."""
-    lower = Solid.rectangle(
-        [0, 0], [1, 0.5], (n_lower, 3), solid_material("linear", E_LOW, NU, 1e3)
-    )
-    upper = Solid.rectangle(
-        [0, 0.5], [1, 1.0], (n_upper, 3), solid_material("linear", E_UP, NU, 1e3)
-    )
-    lower.fix(lower.nodes_where(lambda x: x[1] < 1e-9), "y")
-    for b in (lower, upper):
-        b.fix(b.nodes_where(lambda x: x[0] < 1e-9), "x")
-    if method == "mortar":
-        pair = Contact(upper, lower, method="mortar")
-    else:  # the face's nodes but its corners (at a corner the closest facet is a tie)
-        face = upper.nodes_where(
-            lambda x: (abs(x[1] - 0.5) < 1e-9) & (x[0] > 1e-9) & (x[0] < 1 - 1e-9)
-        )
-        pair = Contact(upper, lower, nodes=face)
-    model = Model([lower, upper], [pair], gravity=(0.0, 0.0))
-    load = np.zeros(model.n)
-    top = upper.nodes_where(lambda x: x[1] > 1 - 1e-9)
-    top = top[np.argsort(upper.X[top, 0])]
-    o = model.offset_of(upper)
-    for a, b in zip(top[:-1], top[1:], strict=True):  # consistent nodal forces
-        load[o + 2 * np.array([a, b]) + 1] -= 0.5 * p * (upper.X[b, 0] - upper.X[a, 0])
-    q, lam = solve_static_contact(model, load, small=small)
-    # plane strain, σ_yy = −p, σ_xx = 0 in both blocks
-    exx, eyy = (lambda E: NU * (1 + NU) * p / E), (lambda E: -(1 - NU**2) * p / E)
-    XL, XU = lower.X, upper.X
-    u_low = np.stack([exx(E_LOW) * XL[:, 0], eyy(E_LOW) * XL[:, 1]], axis=1)
-    u_up = np.stack([exx(E_UP) * XU[:, 0], eyy(E_LOW) * 0.5 + eyy(E_UP) * (XU[:, 1] - 0.5)], axis=1)
-    parts = (q[model.body_slice(0)], q[model.body_slice(1)])
-    return pair, parts, lam, (u_low.ravel(), u_up.ravel())
 
 
 @pytest.mark.parametrize("meshes", [(7, 4), (4, 7), (5, 5), (13, 6)])

@@ -250,8 +250,8 @@ class MortarContact(PairDefaults):
         if last is not None and self._same(q, last[0]):
             return last[1][0].copy()
         e, z, _, xs = self._local(q)
-        ga, gb, coverage, quad = self._integrate(e, z, None)
-        return self._gap_values(e, ga.v, gb.v, coverage, quad, xs)
+        va, vb, coverage, quad = self._integrate(e, z, None)
+        return self._gap_values(e, va.v, vb.v, coverage, quad, xs)
 
     def _gap_values(self, e, va, vb, coverage, quad, xs):
         ra, rb = self.seg_rows[e, 0], self.seg_rows[e, 1]
@@ -273,7 +273,9 @@ class MortarContact(PairDefaults):
         e, z, dofs, xs = self._local(q)
         ga, gb, coverage, quad = self._integrate(e, z, False)
         g = self._gap_values(e, ga.v, gb.v, coverage, quad, xs)
+        # the Hessians of the pairs that count only (the search also finds pairs that miss)
         ra, rb = self.seg_rows[e, 0], self.seg_rows[e, 1]
+        counts = (coverage > 0.0) & (np.isfinite(g[ra]) | np.isfinite(g[rb]))
         own = self.offsets[0] + self._dofs_s[self.nodes]
         layout = _Layout(ra, rb, dofs, own)
         scale = np.where(np.isfinite(g), 1.0 / self.length, 0.0)
@@ -281,20 +283,20 @@ class MortarContact(PairDefaults):
         G.flags.writeable = False
         (oa, ob), (a, b) = self.offsets, self.bodies
         key = (q[oa : oa + a.ndof].copy(), q[ob : ob + b.ndof].copy())
-        self._last = (key, (g, layout.dofs, G, e, z, layout, scale, quad))
+        self._last = (key, (g, layout.dofs, G, e, z, layout, scale, quad, counts))
         return g.copy(), layout.dofs, G, None
 
     def hessians(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
         """∇²g_j (len(rows), k, k) of the contacts ``rows`` at q, in the layout of
         :meth:`evaluate` at q."""
         self.evaluate(q)
-        _, dofs, _, e, z, layout, scale, _ = self._last[1]
+        _, dofs, _, e, z, layout, scale, _, counts = self._last[1]
         rows = np.asarray(rows)
         H = np.zeros((len(rows), dofs.shape[1], dofs.shape[1]))
         where = np.full(self.size, -1)
         where[rows] = np.arange(len(rows))
         ra, rb = self.seg_rows[e, 0], self.seg_rows[e, 1]
-        use = np.flatnonzero((where[ra] >= 0) | (where[rb] >= 0))
+        use = np.flatnonzero(counts & ((where[ra] >= 0) | (where[rb] >= 0)))
         if use.size == 0:
             return H
         ga, gb, _, _ = self._integrate(e[use], z[use], True)
@@ -314,7 +316,7 @@ class MortarContact(PairDefaults):
         """Slip rows (m, 1, k) of the weighted relative motion along each slave node's
         tangent t_j = (n_y, −n_x), in the layout of :meth:`evaluate`, and the tangents."""
         self.evaluate(q)
-        _, dofs, _, e, _, layout, scale, (xi, eta, wJ) = self._last[1]
+        _, dofs, _, e, _, layout, scale, (xi, eta, wJ), _ = self._last[1]
         t = self.normals(q) @ np.array([[0.0, -1.0], [1.0, 0.0]])
         ra, rb = self.seg_rows[e, 0], self.seg_rows[e, 1]
         Na, Nb = 0.5 * (1.0 - xi), 0.5 * (1.0 + xi)
