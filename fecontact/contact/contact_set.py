@@ -8,7 +8,7 @@ import scipy.sparse as sp
 
 from ..linalg import DENSE_LIMIT
 from .friction_rows import FrictionRows
-from .mortar import merge_interfaces
+from .mortar_interface import merge_interfaces
 
 __all__ = ["ContactSet"]
 
