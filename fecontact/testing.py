@@ -31,6 +31,7 @@ __all__ = [
     "observed_order",
     "pendulum_exact",
     "pressed_blocks",
+    "pressed_boxes",
     "trace",
 ]
 
@@ -240,5 +241,47 @@ def pressed_blocks(n_lower: int, n_upper: int, p: float, method="mortar", small=
     XL, XU = lower.X, upper.X
     u_low = np.stack([exx(E_LOW) * XL[:, 0], eyy(E_LOW) * XL[:, 1]], axis=1)
     u_up = np.stack([exx(E_UP) * XU[:, 0], eyy(E_LOW) * 0.5 + eyy(E_UP) * (XU[:, 1] - 0.5)], axis=1)
+    parts = (q[model.body_slice(0)], q[model.body_slice(1)])
+    return pair, parts, lam, (u_low.ravel(), u_up.ravel())
+
+
+def pressed_boxes(n_lower: int, n_upper: int, p: float, method="mortar", small=True):
+    """The 3D contact patch test: boxes [0, 1]² × [0, 0.5] and [0, 1]² × [0.5, 1] (m) of
+    tetrahedra, ``n_lower`` and ``n_upper`` cells along x and y (non-matching meshes), the
+    upper (slave) one three times stiffer, pressed by a uniform pressure p (Pa) on its top;
+    the lower one rests on rollers at z = 0, both on rollers at x = 0 and y = 0. Returns (the
+    pair, the displacements of each box, the contact forces λ (N), the exact linear
+    displacements of each box)."""
+    from .bodies import Solid
+    from .contact import Contact
+    from .model import Model
+    from .scenes import solid_material
+    from .statics import solve_static_contact
+
+    E_LOW, E_UP, NU = 1e7, 3e7, 0.3
+    lower = Solid.box([0, 0, 0], [1, 1, 0.5], (n_lower, n_lower, 2),
+                      solid_material("linear", E_LOW, NU, 1e3))  # fmt: skip
+    upper = Solid.box([0, 0, 0.5], [1, 1, 1.0], (n_upper, n_upper, 2),
+                      solid_material("linear", E_UP, NU, 1e3))  # fmt: skip
+    lower.fix(lower.nodes_where(lambda x: x[2] < 1e-9), "z")
+    for b in (lower, upper):
+        b.fix(b.nodes_where(lambda x: x[0] < 1e-9), "x")
+        b.fix(b.nodes_where(lambda x: x[1] < 1e-9), "y")
+    pair = Contact(upper, lower, method="mortar")
+    model = Model([lower, upper], [pair], gravity=(0.0, 0.0, 0.0))
+    load = np.zeros(model.n)
+    o = model.offset_of(upper)
+    X = upper.X
+    for tri in upper.boundary_facets():
+        if np.all(X[tri, 2] > 1 - 1e-9):  # the top face: p A / 3 on each vertex
+            area = 0.5 * np.linalg.norm(np.cross(X[tri[1]] - X[tri[0]], X[tri[2]] - X[tri[0]]))
+            load[o + 3 * tri + 2] -= p * area / 3.0
+    q, lam = solve_static_contact(model, load, small=small)
+    # σ_zz = −p, the other stresses zero
+    XL, XU = lower.X, upper.X
+    u_low = np.stack([NU * p / E_LOW * XL[:, 0], NU * p / E_LOW * XL[:, 1],
+                      -p / E_LOW * XL[:, 2]], axis=1)  # fmt: skip
+    u_up = np.stack([NU * p / E_UP * XU[:, 0], NU * p / E_UP * XU[:, 1],
+                     -p / E_LOW * 0.5 - p / E_UP * (XU[:, 2] - 0.5)], axis=1)  # fmt: skip
     parts = (q[model.body_slice(0)], q[model.body_slice(1)])
     return pair, parts, lam, (u_low.ravel(), u_up.ravel())

@@ -8,6 +8,7 @@ from ..bodies.solid import Solid
 from ..errors import InputError, check_positive
 from .body_pairs import NodeSurfaceContact
 from .mortar import MortarContact
+from .mortar3d import MortarContact3D
 from .node_pairs import NodeContact, PointSegmentContact
 from .obstacles import Circle, Point
 from .segment_pairs import SegmentCircleContact
@@ -46,10 +47,11 @@ def Contact(
     slip of the contact points (:mod:`fecontact.contact.friction`). Every pair but the
     end-to-end beam pair takes it.
 
-    ``method`` chooses the discretization of a contact between two 2D solids:
+    ``method`` chooses the discretization of a contact between two solids:
     ``"node-to-surface"`` (the default) or ``"mortar"`` (dual mortar, weighted gaps integrated
-    over the first body's boundary, :mod:`fecontact.contact.mortar`; ``nodes`` must be None,
-    and the pair declared both ways is one interface). Other pairs take None only.
+    over the first body's boundary: :mod:`fecontact.contact.mortar` in 2D,
+    :mod:`fecontact.contact.mortar3d` in 3D; ``nodes`` must be None, and the pair declared
+    both ways is one interface). Other pairs take None only.
     """
     friction = check_positive("friction", friction, allow_zero=True)
     if method == "mortar":
@@ -72,6 +74,8 @@ def _mortar(body, obstacle, nodes, restitution, clearance):
         raise InputError("method: 'mortar' applies between two solids")
     if nodes is not None or clearance:
         raise InputError("nodes, clearance: a mortar contact takes the whole boundaries")
+    if body.dim == 3:
+        return MortarContact3D(body, obstacle, restitution)
     return MortarContact(body, obstacle, restitution)
 
 

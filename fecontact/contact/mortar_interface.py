@@ -75,6 +75,10 @@ class MortarInterface(PairDefaults):
     linear = False
     lazy_hessians = True
     frictional = True
+    partial = True
+    """Whether a node whose elements the master covers in part may take part (2D: the moving
+    ends of the overlaps are differentiated; 3D: the clipped cells are not, and only nodes
+    whose elements are covered fully or not at all keep exact gradients)."""
 
     def __init__(self, body, master, restitution: float = 0.0, margin=None):
         if not isinstance(body, Solid) or not isinstance(master, Solid):
@@ -129,10 +133,10 @@ class MortarInterface(PairDefaults):
     def _global_dofs(self, slave_nodes: np.ndarray, master_nodes: np.ndarray) -> np.ndarray:
         """Global dofs (P, W) of the entries' local slave and master nodes."""
         oa, ob = self.offsets
-        P = len(slave_nodes)
+        P, d = len(slave_nodes), self.dim
         return np.concatenate(
-            [(oa + self._dofs_s[slave_nodes]).reshape(P, -1),
-             (ob + self._dofs_m[master_nodes]).reshape(P, -1)], axis=1
+            [(oa + self._dofs_s[slave_nodes]).reshape(P, d * slave_nodes.shape[1]),
+             (ob + self._dofs_m[master_nodes]).reshape(P, d * master_nodes.shape[1])], axis=1
         )  # fmt: skip
 
     def _valid(self, e, coverage, dual, xs) -> np.ndarray:
@@ -142,10 +146,15 @@ class MortarInterface(PairDefaults):
         W = np.zeros(self.size)
         for k in range(ends):
             W += np.bincount(self.element_rows[e, k], dual[:, k], self.size)
-        covered = np.bincount(e, coverage, len(self.facets)) > _COVERED
+        fraction = np.bincount(e, coverage, len(self.facets))
+        covered = fraction > _COVERED
         share = np.repeat(element_measures(xs, self.facets[covered]) / ends, ends)
         support = np.bincount(self.element_rows[covered].ravel(), share, self.size)
-        return (W > 0.0) & (W >= 0.5 * support)
+        valid = (W > 0.0) & (W >= 0.5 * support)
+        if not self.partial:
+            part = covered & (fraction < 1.0 - 1e-9)
+            valid[self.element_rows[part].ravel()] = False
+        return valid
 
     def _same(self, q, key) -> bool:
         (oa, ob), (a, b) = self.offsets, self.bodies

@@ -1,0 +1,119 @@
+r"""Mortar contact between two 3D solids: dual mortar on the slave's boundary triangles.
+
+The form is that of :mod:`fecontact.contact.mortar` (dual Lagrange multipliers, one per slave
+boundary node, weighted gaps g̃_j = ∫ Φ_j g_N dA as the constraints, rows g_j = g̃_j / L_j with
+L_j the reference area the node carries, exact gradients and Hessians), over triangles: the
+boundary of P1 tetrahedra, or of P2 tetrahedra split through their edge nodes into four flat
+triangles (as for node-to-surface contact; the basis transformation of Popp, Wohlmuth, Gee &
+Wall 2012 for curved quadratic faces is not implemented). The integral is evaluated at the
+Gauss points of each slave triangle against the master triangle its normal meets
+(:mod:`fecontact.contact.mortar_facets`, element-based integration): exact for the patch
+test, where the master is flat; on a faceted curved master an integration error where the
+master's edges cross a slave triangle. The gap is measured along the slave triangle's own
+normal (no averaged normals: the kinematics stay local to one triangle pair per point).
+
+The nodal pressure is z_j = λ_j / L_j (Pa), λ_j the normal force of row j (N).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..errors import InputError
+from .mortar_facets import clipped_points, facet_point_integrals, meet_triangles
+from .mortar_interface import MortarInterface
+
+__all__ = ["MortarContact3D"]
+
+
+class MortarContact3D(MortarInterface):
+    """Dual mortar contact of the boundary of a 3D :class:`~fecontact.Solid` (the slave
+    ``body``) with the boundary of another (the ``master``); see the module docstring. One
+    contact per slave boundary node; ``restitution`` is Newton's e_N in [0, 1]; ``margin``
+    (m) the search distance (default: the integrator's detection distance)."""
+
+    partial = False
+
+    def __init__(self, body, master, restitution: float = 0.0, margin=None):
+        super().__init__(body, master, restitution, margin)
+        if self.dim != 3:
+            raise InputError("MortarContact3D is 3D; 2D solids take MortarContact")
+
+    def _pairs(self, xs: np.ndarray, xm: np.ndarray):
+        """(slave triangle, master triangle) pairs whose centroids are within the margin
+        plus both triangles' reach, kept while no node has moved an eighth of the margin."""
+        cache = self._search
+        if cache is not None:
+            xs0, xm0, pairs = cache
+            moved = max(np.max(np.abs(xs - xs0)), np.max(np.abs(xm - xm0)))
+            if moved <= 0.125 * self.margin:
+                return pairs
+        ts, tm = xs[self.facets], xm[self.master_facets]
+        cs, cm = ts.mean(axis=1), tm.mean(axis=1)
+        rs = np.max(np.linalg.norm(ts - cs[:, None], axis=2))
+        rm = np.max(np.linalg.norm(tm - cm[:, None], axis=2))
+        r = 1.25 * self.margin + rs + rm
+        found = cKDTree(cs).sparse_distance_matrix(cKDTree(cm), r, output_type="ndarray")
+        pairs = (found["i"].astype(int), found["j"].astype(int))
+        self._search = (xs.copy(), xm.copy(), pairs)
+        return pairs
+
+    def _local(self, q: np.ndarray):
+        """Entries: the Gauss points of the overlaps of the slave triangles with the master
+        triangles projected onto them along the slave normal (module docstring). Returns the
+        slave triangles e, z (P, 25) = (18 coordinates, λ (3), w, μ (3)), the dofs (P, 18)
+        and the slave nodes' positions."""
+        xs, xm = self.positions(q)
+        e, f = self._pairs(xs, xm)
+        ts, tm = xs[self.facets[e]], xm[self.master_facets[f]]
+        u, v = ts[:, 1] - ts[:, 0], ts[:, 2] - ts[:, 0]
+        N = np.cross(u, v)
+        n = N / np.linalg.norm(N, axis=1)[:, None]
+        Nm = np.cross(tm[:, 1] - tm[:, 0], tm[:, 2] - tm[:, 0])
+        r = tm - ts[:, None, 0]  # (P, 3 master vertices, 3)
+        depth = np.einsum("pkd,pd->pk", r, n).mean(axis=1)
+        facing = np.einsum("pd,pd->p", n, Nm) < -0.5 * np.linalg.norm(Nm, axis=1)
+        near = np.flatnonzero(facing & (depth >= -self.margin))
+        e, f, ts, tm, u, v, n, r = (
+            e[near],
+            f[near],
+            ts[near],
+            tm[near],
+            u[near],
+            v[near],
+            n[near],
+            r[near],
+        )
+        # the master vertices' (λ₂, λ₃) in the slave triangle (orthogonal projection)
+        uu, uv, vv = (np.einsum("pd,pd->p", a, b) for a, b in ((u, u), (u, v), (v, v)))
+        ru, rv = np.einsum("pkd,pd->pk", r, u), np.einsum("pkd,pd->pk", r, v)
+        det = (uu * vv - uv * uv)[:, None]
+        plane = np.stack([(vv[:, None] * ru - uv[:, None] * rv) / det,
+                          (uu[:, None] * rv - uv[:, None] * ru) / det], axis=2)  # fmt: skip
+        pair, lam, w = clipped_points(plane)
+        x = np.einsum("pk,pkd->pd", lam, ts[pair])
+        _, mu, _ = meet_triangles(x, n[pair], tm[pair], np.inf)
+        ee, ff = e[pair], f[pair]
+        z = np.concatenate(
+            [ts[pair].reshape(-1, 9), tm[pair].reshape(-1, 9), lam, w[:, None], mu], axis=1
+        )
+        return ee, z, self._global_dofs(self.facets[ee], self.master_facets[ff]), xs
+
+    def _integrate(self, e, z, hessian):
+        """Jets of the ends' weighted gaps, coverage (the points' weights), covered dual
+        weights (P, 3) and the quadrature (λ, μ, w A) of the entries."""
+        lam, w, mu = z[:, 18:21], z[:, 21], z[:, 22:25]
+        jets = facet_point_integrals(z, lam, w, hessian)
+        ts = z[:, :9].reshape(-1, 3, 3)
+        area = 0.5 * np.linalg.norm(np.cross(ts[:, 1] - ts[:, 0], ts[:, 2] - ts[:, 0]), axis=1)
+        wA = w * area
+        dual = (4.0 * lam - 1.0) * wA[:, None]
+        return jets, w, dual, (lam, mu, wA)
+
+    def _slip_weights(self, quad, k: int) -> np.ndarray:
+        """Weights (P, 6) of the local nodes' motion in end k's slip: Φ_k w A λ_i on the
+        slave triangle's nodes, −Φ_k w A μ_i on the master triangle's."""
+        lam, mu, wA = quad
+        phi = (4.0 * lam[:, k] - 1.0) * wA
+        return np.concatenate([phi[:, None] * lam, -phi[:, None] * mu], axis=1)
