@@ -1,5 +1,6 @@
-"""Dual mortar contact between 2D solids: the patch test, exact derivatives, one interface for
-a pair declared both ways, and the head-on disks without sideways motion or penetration."""
+"""Dual mortar contact between solids: the patch tests (2D and 3D), exact derivatives, one
+interface for a pair declared both ways, and the head-on disks without sideways motion or
+penetration."""
 
 import dataclasses
 
@@ -13,9 +14,10 @@ from fecontact.bodies import Solid
 from fecontact.contact import Contact
 from fecontact.contact.geometry import segment_distance
 from fecontact.contact.mortar import MortarContact
+from fecontact.contact.mortar3d import MortarContact3D
 from fecontact.errors import InputError
 from fecontact.scenes import solid_material
-from fecontact.testing import gap_derivatives_error, pressed_blocks
+from fecontact.testing import gap_derivatives_error, pressed_blocks, pressed_boxes
 
 TWO_DISKS = load_case("two_disks")
 
@@ -92,10 +94,10 @@ def test_method_option_errors():
         Contact(a, b, method="segment")
     with pytest.raises(InputError, match="nodes"):
         Contact(a, b, method="mortar", nodes=[0, 1])
-    box = Solid.box([0, 0, 0], [1, 1, 1], 1, solid_material("linear", 1e7, 0.3, 1e3))
-    ball = Solid.box([2, 0, 0], [3, 1, 1], 1, solid_material("linear", 1e7, 0.3, 1e3))
-    with pytest.raises(InputError, match="2D"):
-        Contact(box, ball, method="mortar")
+    plane = Solid.rectangle([0, 0], [1, 1], 1, solid_material("linear", 1e7, 0.3, 1e3))
+    box = Solid.box([2, 0, 0], [3, 1, 1], 1, solid_material("linear", 1e7, 0.3, 1e3))
+    with pytest.raises(InputError, match="both solids"):
+        Contact(plane, box, method="mortar")
 
 
 def penetration(xa, fa, xb, fb) -> float:
@@ -185,3 +187,38 @@ def test_nodal_pressure_units_and_shape():
     np.testing.assert_allclose(z * pair.length * a.thickness, 1.0)
     with pytest.raises(InputError, match="entries"):
         pair.nodal_pressure(np.ones(3))
+
+
+@pytest.mark.parametrize("meshes", [(4, 3), (3, 4), (3, 3), (5, 2)])
+def test_patch_test_3d_pressure_uniform_and_displacements_exact(meshes):
+    p = 1e5
+    pair, parts, lam, exact = pressed_boxes(*meshes, p)
+    scale = max(np.max(np.abs(u)) for u in exact)
+    for u, ue in zip(parts, exact, strict=True):
+        assert np.max(np.abs(u - ue)) <= 1e-8 * scale
+    _, z = pair.nodal_pressure(lam)
+    active = lam > 0
+    assert active.sum() == (meshes[1] + 1) ** 2  # every node of the face
+    assert np.max(np.abs(z[active] / p - 1.0)) <= 1e-8
+
+
+def balls(refinements=2):
+    mat = solid_material("linear", 1e7, 0.3, 1e3)
+    a = Solid.ball([0.0, 0.0, -0.101], 0.1, refinements, mat)
+    b = Solid.ball([0.003, 0.002, 0.1], 0.1, refinements, mat)
+    return a, b
+
+
+def test_weighted_gap_gradients_are_exact_3d():
+    """3D: the gradients of the nodes that take part are exact (central differences); the
+    Hessians are those of fixed integration points (mortar3d's docstring), not tested."""
+    a, b = balls()
+    pair = Contact(a, b, method="mortar")
+    assert isinstance(pair, MortarContact3D)
+    model = Model([a, b], [pair], gravity=(0.0, 0.0, 0.0))
+    pair.detect_within(0.03)
+    q = np.random.default_rng(1).normal(0.0, 1e-4, model.n)
+    g = pair.evaluate(q)[0]
+    assert np.isfinite(g).sum() >= 1
+    err_g, _ = gap_derivatives_error(pair, q, 1e-7)
+    assert err_g < 1e-8

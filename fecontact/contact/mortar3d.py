@@ -2,15 +2,30 @@ r"""Mortar contact between two 3D solids: dual mortar on the slave's boundary tr
 
 The form is that of :mod:`fecontact.contact.mortar` (dual Lagrange multipliers, one per slave
 boundary node, weighted gaps g̃_j = ∫ Φ_j g_N dA as the constraints, rows g_j = g̃_j / L_j with
-L_j the reference area the node carries, exact gradients and Hessians), over triangles: the
+L_j the reference area the node carries, exact gradients), over triangles: the
 boundary of P1 tetrahedra, or of P2 tetrahedra split through their edge nodes into four flat
 triangles (as for node-to-surface contact; the basis transformation of Popp, Wohlmuth, Gee &
-Wall 2012 for curved quadratic faces is not implemented). The integral is evaluated at the
-Gauss points of each slave triangle against the master triangle its normal meets
-(:mod:`fecontact.contact.mortar_facets`, element-based integration): exact for the patch
-test, where the master is flat; on a faceted curved master an integration error where the
-master's edges cross a slave triangle. The gap is measured along the slave triangle's own
-normal (no averaged normals: the kinematics stay local to one triangle pair per point).
+Wall 2012 for curved quadratic faces is not implemented). The integral is evaluated over the
+overlap of each slave triangle with the master triangles (segment-based integration: each
+master triangle is projected onto the slave triangle's plane along its normal, the overlap
+clipped, cut into a fan of cells and integrated with a degree-2 rule,
+:func:`~fecontact.contact.mortar_facets.clipped_points`): the cells follow the master's
+edges, so the mortar integrals are exact where the integrand is polynomial on each cell —
+the patch test holds to round-off. The gap is measured along the slave triangle's own normal
+(no averaged normals: the kinematics stay local to one triangle pair per point).
+
+Partners: master triangles facing the slave triangle (normals at more than 120°) whose
+vertices lie on average at most twice the detection margin ahead of it and at most the margin
+behind it. Only nodes whose triangles are each covered fully or not at all take part: the
+cells of the clipped overlaps are integrated at fixed points, so a node whose support the
+master covers in part would miss the motion of the coverage's edge in its gradient.
+
+Linearisation: the gradient is exact — the cells' boundaries move with q, but the integrand
+Φ_j g_N is continuous across the master's edges, so the moving interior boundaries cancel,
+and a fully covered node has no other. The Hessian is that of the fixed integration points:
+it leaves out the jumps of ∂g_N/∂q across the master's edges as the cells move (the clip
+vertex terms of Popp, Gitterle, Gee & Wall 2010), so Newton's method converges faster than
+linearly but not quadratically once those terms matter.
 
 The nodal pressure is z_j = λ_j / L_j (Pa), λ_j the normal force of row j (N).
 """
@@ -41,8 +56,9 @@ class MortarContact3D(MortarInterface):
             raise InputError("MortarContact3D is 3D; 2D solids take MortarContact")
 
     def _pairs(self, xs: np.ndarray, xm: np.ndarray):
-        """(slave triangle, master triangle) pairs whose centroids are within the margin
-        plus both triangles' reach, kept while no node has moved an eighth of the margin."""
+        """(slave triangle, master triangle) pairs whose centroids are within 1.25 × the
+        margin plus both triangles' reach, kept while no node has moved an eighth of the
+        margin."""
         cache = self._search
         if cache is not None:
             xs0, xm0, pairs = cache
@@ -51,11 +67,14 @@ class MortarContact3D(MortarInterface):
                 return pairs
         ts, tm = xs[self.facets], xm[self.master_facets]
         cs, cm = ts.mean(axis=1), tm.mean(axis=1)
-        rs = np.max(np.linalg.norm(ts - cs[:, None], axis=2))
-        rm = np.max(np.linalg.norm(tm - cm[:, None], axis=2))
-        r = 1.25 * self.margin + rs + rm
+        rs = np.max(np.linalg.norm(ts - cs[:, None], axis=2), axis=1)
+        rm = np.max(np.linalg.norm(tm - cm[:, None], axis=2), axis=1)
+        r = 1.25 * self.margin + rs.max() + rm.max()
         found = cKDTree(cs).sparse_distance_matrix(cKDTree(cm), r, output_type="ndarray")
-        pairs = (found["i"].astype(int), found["j"].astype(int))
+        i, j = found["i"].astype(int), found["j"].astype(int)
+        # each pair within the margin plus its own triangles' reach (graded meshes)
+        keep = found["v"] <= 1.25 * self.margin + rs[i] + rm[j]
+        pairs = (i[keep], j[keep])
         self._search = (xs.copy(), xm.copy(), pairs)
         return pairs
 
@@ -74,7 +93,7 @@ class MortarContact3D(MortarInterface):
         r = tm - ts[:, None, 0]  # (P, 3 master vertices, 3)
         depth = np.einsum("pkd,pd->pk", r, n).mean(axis=1)
         facing = np.einsum("pd,pd->p", n, Nm) < -0.5 * np.linalg.norm(Nm, axis=1)
-        near = np.flatnonzero(facing & (depth >= -self.margin))
+        near = np.flatnonzero(facing & (depth >= -self.margin) & (depth <= 2.0 * self.margin))
         e, f, ts, tm, u, v, n, r = (
             e[near],
             f[near],

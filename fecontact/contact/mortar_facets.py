@@ -1,25 +1,23 @@
-r"""Mortar integrals over slave triangles, 3D: element-based integration at Gauss points.
+r"""Mortar integrals over slave triangles, 3D: the overlaps with the master triangles.
 
-A slave triangle (x_a, x_b, x_c) with area coordinates λ carries, at each Gauss point
-x = Σ λ_i x_i of a fixed rule, the gap along its unit normal n = N/|N|, N = (x_b − x_a) ×
-(x_c − x_a), to the plane of the master triangle (y_1, y_2, y_3) that the normal line meets:
+A slave triangle (x_a, x_b, x_c) with area coordinates λ carries, at the integration points
+x = Σ λ_i x_i of its overlap with a master triangle (y_1, y_2, y_3), the gap along its unit
+normal n = N/|N|, N = (x_b − x_a) × (x_c − x_a), to the master triangle's plane:
 
     g_N = −(x − y_1)·M / (n·M),   M = (y_2 − y_1) × (y_3 − y_1)   (m; > 0 open),
 
 so that x + g_N n lies on the master triangle. The weighted gap contributions of the
-triangle's nodes (m³) are g̃_i = Σ_gp w Φ_i(λ) g_N A with the dual functions of the linear
-triangle, Φ_i = 4λ_i − 1 (∫ Φ_i N_j dA = δ_ij A/3), A = |N|/2, and the rule's weights w
-(Σ w = 1).
+triangle's nodes (m³) are g̃_i = Σ w Φ_i(λ) g_N A with the dual functions of the linear
+triangle, Φ_i = 4λ_i − 1 (∫ Φ_i N_j dA = δ_ij A/3), A = |N|/2, and weights w (the fraction of
+the slave triangle each point stands for).
 
-Element-based integration (compared with the segment-based clipping of Popp, Gitterle, Gee &
-Wall 2010 by Farah, Popp & Wall, Comput. Mech. 2015): each Gauss point takes the master
-triangle its normal line meets. Where the master is flat across its triangles the integrand
-is a polynomial on the slave triangle and the rule (degree 5) integrates it exactly — the
-patch test holds to round-off; where the master kinks (a faceted sphere) the integrand kinks
-within a slave triangle, an integration error of the order of the kink times the area.
-Gradients and Hessians over the 18 coordinates z = (x_a, x_b, x_c, y_1, y_2, y_3) are exact
-for the master triangle selected (Jet arithmetic); a Gauss point crossing a master edge
-switches triangles, a kink of g̃ that Newton's method crosses like an active-set change.
+The overlap (:func:`clipped_points`) is the master triangle projected onto the slave
+triangle's plane along n, in the slave's area coordinates, clipped to the slave triangle
+(Sutherland–Hodgman), cut into a fan of cells with a 3-point rule of degree 2 each: the
+segment-based integration of Popp, Gitterle, Gee & Wall (IJNME 2010) with the slave
+element's own normal as the projection direction. Gradients and Hessians over the 18
+coordinates z = (x_a, x_b, x_c, y_1, y_2, y_3) are those at the fixed points (Jet
+arithmetic); see :mod:`fecontact.contact.mortar3d` for what that leaves out.
 """
 
 from __future__ import annotations
@@ -28,19 +26,7 @@ import numpy as np
 
 from .dual_numbers import Jet
 
-__all__ = ["RULE", "clipped_points", "facet_point_integrals", "meet_triangles"]
-
-_A1, _B1 = 0.059715871789770, 0.470142064105115
-_A2, _B2 = 0.797426985353087, 0.101286507323456
-_W1, _W2 = 0.132394152788506, 0.125939180544827
-RULE = (
-    np.array(
-        [[1 / 3, 1 / 3, 1 / 3], [_A1, _B1, _B1], [_B1, _A1, _B1], [_B1, _B1, _A1],
-         [_A2, _B2, _B2], [_B2, _A2, _B2], [_B2, _B2, _A2]]
-    ),
-    np.array([0.225, _W1, _W1, _W1, _W2, _W2, _W2]),
-)  # fmt: skip
-"""Area coordinates (7, 3) and weights (7,) of the degree-5 rule on a triangle (Dunavant)."""
+__all__ = ["clipped_points", "facet_point_integrals", "meet_triangles"]
 
 
 def _cross(u, w):
