@@ -1,12 +1,14 @@
 """Two identical elastic balls colliding head-on (3D, linear elastic, no gravity).
 
 Two balls of ``radius`` on the x axis, ``gap`` apart, move toward each other at ``velocity``
-each. Their meshes are graded toward the point of first contact (``graded_ball_mesh``: cells
-of ``spacing`` there, growing by ``grading`` times the distance from it; ``element`` P1 or
-P2, quadratic cells with a curved boundary). The right ball's mesh is the left one's turned
-half a turn about the z axis (its nodes meet the left ball's node on node), then by
-``rotate`` degrees about the x axis (the impact axis), so that no node meets a node. With
-``against="plane"`` the right ball is replaced by the rigid plane of symmetry x = 0.
+each. Their meshes are graded toward the point of first contact (``graded_ball_mesh``: scikit-fem's
+ball refined ``base`` times, then cells of ``spacing`` at that point, growing by ``grading``
+times the distance from it; with ``graded=0`` the ball refined ``base`` times, uniform;
+``element`` P1 or P2, quadratic cells with a curved boundary). The right ball's mesh is the
+left one's turned half a turn about the z axis (its nodes meet the left ball's node on
+node), then by ``rotate`` degrees about the x axis (the impact axis), so that no node meets
+a node. With ``against="plane"`` the right ball is replaced by the rigid plane of symmetry
+x = 0.
 
 The contact is one dual mortar interface (``method="mortar"``: weighted gaps over the left
 ball's boundary triangles, :mod:`fecontact.contact.mortar3d`), or node-to-surface both ways
@@ -27,7 +29,7 @@ import numpy as np
 
 from fecontact import Model, Param, Simulation, case, run_cli
 from fecontact.bodies import LinearElastic, Solid
-from fecontact.bodies.meshes import graded_ball_mesh
+from fecontact.bodies.meshes import ball_mesh, graded_ball_mesh
 from fecontact.contact import Contact, Plane
 from fecontact.scenes import SOLID, centre_of_mass_probes, contact_force_probe, wave_step
 
@@ -44,6 +46,8 @@ def build(
     radius=Param.positive(0.05, "m", "radius of each ball"),
     spacing=Param.positive(0.004, "m", "cell size at the point of first contact"),
     grading=Param.nonnegative(0.5, "-", "growth of the cell size with the distance from it"),
+    base=Param.count(3, "refinements of the ball mesh (before the grading)", 1, 4),
+    graded=Param.count(1, "1: graded toward the contact; 0: init_ball refined base times", 0, 1),
     element=Param.choice("P1", "linear or quadratic tetrahedra", ("P1", "P2")),
     E=SOLID["E"],
     nu=SOLID["nu"],
@@ -61,8 +65,11 @@ def build(
     mat = LinearElastic(E=E, nu=nu, rho=rho)
     x0 = radius + 0.5 * gap
     toward = [-0.5 * gap, 0.0, 0.0]
-    mesh = graded_ball_mesh([-x0, 0.0, 0.0], radius, spacing, toward, grading,
-                            quadratic=element == "P2")  # fmt: skip
+    if graded:
+        mesh = graded_ball_mesh([-x0, 0.0, 0.0], radius, spacing, toward, grading, base,
+                                quadratic=element == "P2")  # fmt: skip
+    else:
+        mesh = ball_mesh([-x0, 0.0, 0.0], radius, base, quadratic=element == "P2")
     left = Solid(mesh, mat, element=element)
     if against == "plane":  # the plane of symmetry: each ball's rigid partner
         plane = Plane([0.0, 0.0, 0.0], [-1.0, 0.0, 0.0], extent=4.0 * radius)

@@ -222,3 +222,35 @@ def test_weighted_gap_gradients_are_exact_3d():
     assert np.isfinite(g).sum() >= 1
     err_g, _ = gap_derivatives_error(pair, q, 1e-7)
     assert err_g < 1e-8
+
+
+TWO_BALLS = load_case("two_balls")
+T_C = 6.2e-3  # Hertz's contact duration of each ball (as on the rigid plane at 1 m/s), s
+
+
+def ball_impact(**params):
+    """The left ball's largest lateral centre-of-mass speed and its exit speed (m/s), at
+    h = t_c/50, impact speed 1 m/s."""
+    sim = TWO_BALLS.build(graded=0, t_end=1.3 * T_C, **params)
+    model = sim.model
+    A = model.bodies[0]
+    w = [A.mass_matrix() @ A.translation_field(np.eye(3)[k]) for k in range(3)]
+    lateral = 0.0
+    for st in simulate(model, T_C / 50, sim.t_end, sim.options, v0=sim.v0):
+        v = [float(w[k] @ st.v[model.body_slice(0)]) / A.mass for k in range(3)]
+        lateral = max(lateral, float(np.hypot(v[1], v[2])))
+    return lateral, -v[0]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "mesh", [dict(base=2, rotate=0.0), dict(base=2, rotate=30.0),
+             dict(base=1, element="P2", rotate=30.0)]
+)  # fmt: skip
+def test_two_balls_head_on_like_the_plane_of_symmetry(mesh):
+    """Pole to pole, node on node or turned: each ball moves as against the rigid plane of
+    symmetry (node-to-surface both ways: 24-34 % lateral, restitution 0.79-0.91)."""
+    lateral, exit_speed = ball_impact(method="mortar", **mesh)
+    _, plane_exit = ball_impact(against="plane", **mesh)
+    assert lateral <= 0.01 * 1.0
+    assert abs(exit_speed / plane_exit - 1.0) <= 0.02
