@@ -1,14 +1,14 @@
 """Two identical elastic balls colliding head-on (3D, linear elastic, no gravity).
 
-Two balls of ``radius`` on the x axis, ``gap`` apart, move toward each other at ``velocity``
-each. Their meshes are graded toward the point of first contact (``graded_ball_mesh``: scikit-fem's
-ball refined ``base`` times, then cells of ``spacing`` at that point, growing by ``grading``
-times the distance from it; with ``graded=0`` the ball refined ``base`` times, uniform;
-``element`` P1 or P2, quadratic cells with a curved boundary). The right ball's mesh is the
-left one's turned half a turn about the z axis (its nodes meet the left ball's node on
-node), then by ``rotate`` degrees about the x axis (the impact axis), so that no node meets
-a node. With ``against="plane"`` the right ball is replaced by the rigid plane of symmetry
-x = 0.
+Two balls of ``radius`` on the x axis, ``gap`` × ``radius`` apart, move toward each other at
+``velocity`` each. Their meshes are graded toward the point of first contact (``graded_ball_mesh``:
+scikit-fem's ball refined ``base`` times, then cells of ``spacing`` × ``radius`` at that
+point, growing by ``grading`` times the distance from it); with ``graded=0`` the ball refined
+``base`` times, uniform. ``element``: P1, or P2 (quadratic cells with a curved boundary).
+The right ball's mesh is the left one's turned half a turn about the z axis (its nodes meet
+the left ball's node on node), then by ``rotate`` degrees about the x axis (the impact
+axis), so that no node meets a node. With ``against="plane"`` the right ball is replaced by
+the rigid plane of symmetry x = 0.
 
 The contact is one dual mortar interface (``method="mortar"``: weighted gaps over the left
 ball's boundary triangles, :mod:`fecontact.contact.mortar3d`), or node-to-surface both ways
@@ -44,16 +44,16 @@ def _turned(mesh, angle_x: float):
 @case
 def build(
     radius=Param.positive(0.05, "m", "radius of each ball"),
-    spacing=Param.positive(0.004, "m", "cell size at the point of first contact"),
+    spacing=Param.positive(0.08, "-", "cell size at the point of first contact / radius"),
     grading=Param.nonnegative(0.5, "-", "growth of the cell size with the distance from it"),
-    base=Param.count(3, "refinements of the ball mesh (before the grading)", 1, 4),
+    base=Param.count(2, "refinements of the ball mesh (before the grading)", 1, 4),
     graded=Param.count(1, "1: graded toward the contact; 0: init_ball refined base times", 0, 1),
     element=Param.choice("P1", "linear or quadratic tetrahedra", ("P1", "P2")),
     E=SOLID["E"],
     nu=SOLID["nu"],
     rho=SOLID["rho"],
     velocity=Param.positive(1.0, "m/s", "speed of each ball toward the other"),
-    gap=Param.nonnegative(0.0002, "m", "initial distance between the balls"),
+    gap=Param.nonnegative(0.004, "-", "initial distance between the balls / radius"),
     rotate=Param(30.0, "deg", "the right ball's mesh turned about the impact axis"),
     method=Param.choice("mortar", "contact discretization", ("mortar", "node-to-surface")),
     against=Param.choice(
@@ -63,10 +63,10 @@ def build(
     t_end=Param.positive(0.008, "s", "end time (the contact lasts about 6.2 ms)"),
 ):  # fmt: skip
     mat = LinearElastic(E=E, nu=nu, rho=rho)
-    x0 = radius + 0.5 * gap
-    toward = [-0.5 * gap, 0.0, 0.0]
+    x0 = radius * (1.0 + 0.5 * gap)
+    toward = [-0.5 * gap * radius, 0.0, 0.0]
     if graded:
-        mesh = graded_ball_mesh([-x0, 0.0, 0.0], radius, spacing, toward, grading, base,
+        mesh = graded_ball_mesh([-x0, 0.0, 0.0], radius, spacing * radius, toward, grading, base,
                                 quadratic=element == "P2")  # fmt: skip
     else:
         mesh = ball_mesh([-x0, 0.0, 0.0], radius, base, quadratic=element == "P2")
