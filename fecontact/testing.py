@@ -249,9 +249,10 @@ def pressed_boxes(n_lower: int, n_upper: int, p: float, method="mortar", small=T
     """The 3D contact patch test: boxes [0, 1]² × [0, 0.5] and [0, 1]² × [0.5, 1] (m) of
     tetrahedra, ``n_lower`` and ``n_upper`` cells along x and y (non-matching meshes), the
     upper (slave) one three times stiffer, pressed by a uniform pressure p (Pa) on its top;
-    the lower one rests on rollers at z = 0, both on rollers at x = 0 and y = 0. Returns (the
-    pair, the displacements of each box, the contact forces λ (N), the exact linear
-    displacements of each box)."""
+    the lower one rests on rollers at z = 0, both on rollers at x = 0 and y = 0; ``method``
+    of the contact (node-to-surface: the face's nodes off its edges). Returns (the pair, the
+    displacements of each box, the contact forces λ (N), the exact linear displacements of
+    each box)."""
     from .bodies import Solid
     from .contact import Contact
     from .model import Model
@@ -267,7 +268,17 @@ def pressed_boxes(n_lower: int, n_upper: int, p: float, method="mortar", small=T
     for b in (lower, upper):
         b.fix(b.nodes_where(lambda x: x[0] < 1e-9), "x")
         b.fix(b.nodes_where(lambda x: x[1] < 1e-9), "y")
-    pair = Contact(upper, lower, method="mortar")
+    if method == "mortar":
+        pair = Contact(upper, lower, method="mortar")
+    else:  # the face's nodes off its edges (on an edge the closest facet is a tie)
+        inner = upper.nodes_where(
+            lambda x: (
+                (abs(x[2] - 0.5) < 1e-9)
+                & (np.min(np.abs(x[:2] - 0.5), axis=0) < 0.5 - 1e-9)
+                & (np.max(np.abs(x[:2] - 0.5), axis=0) < 0.5 - 1e-9)
+            )
+        )
+        pair = Contact(upper, lower, nodes=inner)
     model = Model([lower, upper], [pair], gravity=(0.0, 0.0, 0.0))
     load = np.zeros(model.n)
     o = model.offset_of(upper)
