@@ -254,3 +254,35 @@ def test_two_balls_head_on_like_the_plane_of_symmetry(mesh):
     _, plane_exit = ball_impact(against="plane", **mesh)
     assert lateral <= 0.01 * 1.0
     assert abs(exit_speed / plane_exit - 1.0) <= 0.02
+
+
+def ball_trajectory(options=None, **params):
+    sim = TWO_BALLS.build(graded=0, base=2, t_end=0.3 * T_C, **params)
+    states = simulate(sim.model, T_C / 50, sim.t_end, options or sim.options, v0=sim.v0)
+    return sim, np.array([st.q for st in states])
+
+
+@pytest.mark.parametrize("change", [{"penalty_scale": 1e3}, {"multiplier_scale": 1e-2}])
+def test_mortar_3d_trajectory_independent_of_p_and_k(change):
+    sim, base = ball_trajectory()
+    _, other = ball_trajectory(dataclasses.replace(sim.options, **change))
+    assert np.max(np.abs(other - base)) <= 1e-8 * 0.05  # of the radius
+
+
+def test_mortar_3d_friction_keeps_momentum():
+    """An oblique impact (the right ball's mesh shifted sideways) with Coulomb friction: equal
+    and opposite forces, the total momentum stays zero."""
+    sim = TWO_BALLS.build(graded=0, base=2, t_end=0.5 * T_C)
+    model = sim.model
+    left, right = model.bodies
+    for pair in model.contacts.pairs:
+        pair.friction = 0.3
+    model = Model([left, right], model.contacts.pairs, gravity=(0.0, 0.0, 0.0))
+    v0 = sim.v0 + model.translation(right, (0.0, 0.3, 0.0))
+    states = list(simulate(model, T_C / 50, sim.t_end, sim.options, v0=v0))
+    st = states[-1]
+    for k in range(3):
+        w = left.mass_matrix() @ left.translation_field(np.eye(3)[k])
+        total = float(w @ st.v[model.body_slice(0)] + w @ st.v[model.body_slice(1)])
+        assert abs(total) <= 1e-9 * left.mass  # left.mass × 1 m/s each way
+    assert any(np.any(s.force > 0) or np.any(s.impulse > 0) for s in states)

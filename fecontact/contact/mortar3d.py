@@ -36,7 +36,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..errors import InputError
-from .mortar_facets import clipped_points, facet_point_integrals, meet_triangles
+from .mortar_facets import clipped_points, facet_pair_integrals, meet_triangles
 from .mortar_interface import MortarInterface
 
 __all__ = ["MortarContact3D"]
@@ -113,26 +113,33 @@ class MortarContact3D(MortarInterface):
         pair, lam, w = clipped_points(plane)
         x = np.einsum("pk,pkd->pd", lam, ts[pair])
         _, mu, _ = meet_triangles(x, n[pair], tm[pair], np.inf)
-        ee, ff = e[pair], f[pair]
+        # the points' moments per pair, Σ w Φ_i λ_k and Σ w Φ_i μ_k: the integrands are
+        # linear in λ at fixed vertices (mortar_facets.facet_pair_integrals)
+        phi = w[:, None] * (4.0 * lam - 1.0)
+        moments = np.zeros((len(e), 2, 3, 3))
+        np.add.at(moments, pair, np.stack([phi[:, :, None] * lam[:, None, :],
+                                           phi[:, :, None] * mu[:, None, :]], axis=1))  # fmt: skip
+        weight = np.bincount(pair, w, len(e))
+        keep = np.flatnonzero(weight > 0.0)
         z = np.concatenate(
-            [ts[pair].reshape(-1, 9), tm[pair].reshape(-1, 9), lam, w[:, None], mu], axis=1
-        )
+            [ts[keep].reshape(-1, 9), tm[keep].reshape(-1, 9), moments[keep].reshape(-1, 18),
+             weight[keep, None]], axis=1
+        )  # fmt: skip
+        ee, ff = e[keep], f[keep]
         return ee, z, self._global_dofs(self.facets[ee], self.master_facets[ff]), xs
 
     def _integrate(self, e, z, hessian):
-        """Jets of the ends' weighted gaps, coverage (the points' weights), covered dual
-        weights (P, 3) and the quadrature (λ, μ, w A) of the entries."""
-        lam, w, mu = z[:, 18:21], z[:, 21], z[:, 22:25]
-        jets = facet_point_integrals(z, lam, w, hessian)
+        """Jets of the ends' weighted gaps, coverage (the fraction of the slave triangle the
+        pair covers), covered dual weights (P, 3) and the moments and areas of the pairs."""
+        jets = facet_pair_integrals(z, hessian)
         ts = z[:, :9].reshape(-1, 3, 3)
         area = 0.5 * np.linalg.norm(np.cross(ts[:, 1] - ts[:, 0], ts[:, 2] - ts[:, 0]), axis=1)
-        wA = w * area
-        dual = (4.0 * lam - 1.0) * wA[:, None]
-        return jets, w, dual, (lam, mu, wA)
+        moments = z[:, 18:36].reshape(-1, 2, 3, 3)
+        dual = moments[:, 0].sum(axis=2) * area[:, None]  # Σ w Φ_i A (Σ_k λ_k = 1)
+        return jets, z[:, 36], dual, (moments, area)
 
     def _slip_weights(self, quad, k: int) -> np.ndarray:
-        """Weights (P, 6) of the local nodes' motion in end k's slip: Φ_k w A λ_i on the
-        slave triangle's nodes, −Φ_k w A μ_i on the master triangle's."""
-        lam, mu, wA = quad
-        phi = (4.0 * lam[:, k] - 1.0) * wA
-        return np.concatenate([phi[:, None] * lam, -phi[:, None] * mu], axis=1)
+        """Weights (P, 6) of the local nodes' motion in end k's slip: Σ w Φ_k λ_i A on the
+        slave triangle's nodes, −Σ w Φ_k μ_i A on the master triangle's."""
+        moments, area = quad
+        return np.concatenate([moments[:, 0, k], -moments[:, 1, k]], axis=1) * area[:, None]

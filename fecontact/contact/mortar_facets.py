@@ -26,7 +26,7 @@ import numpy as np
 
 from .dual_numbers import Jet
 
-__all__ = ["clipped_points", "facet_point_integrals", "meet_triangles"]
+__all__ = ["clipped_points", "facet_pair_integrals", "meet_triangles"]
 
 
 def _cross(u, w):
@@ -41,24 +41,27 @@ def _sub(u, w):
     return tuple(a - b for a, b in zip(u, w, strict=True))
 
 
-def facet_point_integrals(z: np.ndarray, lam: np.ndarray, w: np.ndarray, hessian=None):
-    """Jets (one per slave node a, b, c) of the weighted-gap contributions w Φ_i g_N A (m³)
-    of P Gauss points: ``z`` (P, 18) the slave triangle's and the met master triangle's
-    vertices, ``lam`` (P, 3) the points' area coordinates, ``w`` (P,) their weights.
-    ``hessian``: None for values only, False for gradients, True for Hessians too."""
+def facet_pair_integrals(z: np.ndarray, hessian=None):
+    """Jets (one per slave node a, b, c) of the weighted-gap contributions (m³) of P (slave
+    triangle, master triangle) pairs: ``z`` (P, ≥ 27) holds the 18 vertex coordinates, then
+    the moments m_ik = Σ w Φ_i λ_k (3 × 3) of the pair's integration points (fixed).
+
+    With r_k = (x_k − y_1)·M the master plane's offset of slave vertex k, s = N·N and
+    d = N·M, the gap at a point is g_N = −Σ_k λ_k r_k |N| / d and A = |N|/2, so that
+    Σ w Φ_i g_N A = −½ (s/d) Σ_k m_ik r_k: one differentiated evaluation per pair instead of
+    one per point. ``hessian``: None for values only, False for gradients, True for Hessians
+    too."""
     if hessian is None:
         c = [Jet(z[:, i], np.zeros((len(z), 0)), None) for i in range(18)]
     else:
         c = Jet.variables(z[:, :18], hessian)
     xa, xb, xc, y1, y2, y3 = (tuple(c[3 * i : 3 * i + 3]) for i in range(6))
-    x = tuple(xa[k] * lam[:, 0] + xb[k] * lam[:, 1] + xc[k] * lam[:, 2] for k in range(3))
     N = _cross(_sub(xb, xa), _sub(xc, xa))
-    twice_area = _dot(N, N).sqrt()
     M = _cross(_sub(y2, y1), _sub(y3, y1))
-    # g = −(x − y1)·M |N| / (N·M): the unit normal's norm folded in
-    gap = -_dot(_sub(x, y1), M) * twice_area / _dot(N, M)
-    weight = gap * twice_area * (0.5 * w)
-    return [weight * (4.0 * lam[:, i] - 1.0) for i in range(3)]
+    ratio = _dot(N, N) / _dot(N, M) * -0.5
+    r = [_dot(_sub(x, y1), M) for x in (xa, xb, xc)]
+    m = z[:, 18:27].reshape(-1, 3, 3)
+    return [ratio * (r[0] * m[:, i, 0] + r[1] * m[:, i, 1] + r[2] * m[:, i, 2]) for i in range(3)]
 
 
 def meet_triangles(x, n, tri, depth: float):
