@@ -110,6 +110,11 @@ class MortarContact3D(MortarInterface):
         det = (uu * vv - uv * uv)[:, None]
         plane = np.stack([(vv[:, None] * ru - uv[:, None] * rv) / det,
                           (uu[:, None] * rv - uv[:, None] * ru) / det], axis=2)  # fmt: skip
+        # the projected master triangles whose bounding box misses the slave triangle
+        # (λ₂, λ₃ ≥ 0, λ₂ + λ₃ ≤ 1) do not overlap it: left out before the clipping
+        total = plane.sum(axis=2)
+        meets = (plane.max(axis=1) >= 0.0).all(axis=1) & (total.min(axis=1) <= 1.0)
+        e, f, ts, tm, n, plane = e[meets], f[meets], ts[meets], tm[meets], n[meets], plane[meets]
         pair, lam, w = clipped_points(plane)
         x = np.einsum("pk,pkd->pd", lam, ts[pair])
         _, mu, _ = meet_triangles(x, n[pair], tm[pair], np.inf)
