@@ -20,7 +20,7 @@ from pathlib import Path
 
 from _common import RESULTS, ROOT, markdown_table, parser, write_markdown
 
-from fecontact.io.cli import main
+from fecontact.cli.commands import main
 
 CASE = str(ROOT / "cases" / "flexible_pendulum.py")
 RESTITUTION = ("0", "0.333", "0.667", "1")

@@ -8,8 +8,9 @@ frames, ``history.csv`` and ``summary.json``. SI units throughout.
 
 The package is laid out by concept: ``bodies`` (beam, solid, rigid, materials, meshes),
 ``contact`` (obstacles, pair kinematics, the Alart–Curnier laws), ``time`` (the steppers and
-the time loop), ``linalg`` (the factorization seam) and ``io`` (output, rendering, command
-line). Every public name is importable from ``fecontact`` itself.
+the time loop), ``linalg`` (the factorization seam), ``io`` (output and rendering) and, above
+the driver, ``cli`` (the command line and sweeps). Every public name is importable from
+``fecontact`` itself.
 """
 
 import os
@@ -93,6 +94,6 @@ def load_run(out_dir):
 
 def run_cli(build, argv=None):
     """Command line of a case file: ``python cases/NAME.py [--dt ...] [--set ...]``."""
-    from .io.cli import run_cli as _run_cli
+    from .cli.run import run_cli as _run_cli
 
     _run_cli(build, argv)

@@ -88,7 +88,7 @@ def test_strip_on_a_cylinder_does_not_depend_on_k(strip_reference, k):
 def test_summary_reports_the_final_contact_residuals(tmp_path):
     import json
 
-    from fecontact.io.cli import main
+    from fecontact.cli.commands import main
     from fecontact.testing import CASES
 
     out = tmp_path / "run"

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fecontact.io.cli import main
+from fecontact.cli.commands import main
 from fecontact.io.output import read_history
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -7,7 +7,7 @@ from conftest import ROOT
 
 import fecontact.simulation as simulation
 from fecontact import load_run
-from fecontact.io.cli import main
+from fecontact.cli.commands import main
 
 CASE = str(ROOT / "cases" / "flexible_pendulum.py")
 ARGS = ["--quiet", "--t-end", "0.6", "--checkpoint-every", "150", "--set", "restitution=0.5"]

@@ -10,7 +10,7 @@ from conftest import ROOT
 from scipy.special import ellipk
 
 from fecontact import load_run
-from fecontact.io.cli import main, parse_value
+from fecontact.cli import main, parse_value
 from fecontact.simulation import HISTORY_COLUMNS
 
 CASE = str(ROOT / "cases" / "flexible_pendulum.py")

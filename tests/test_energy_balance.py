@@ -10,7 +10,7 @@ from conftest import ROOT
 
 from fecontact import Model, NodalLoad, load_run
 from fecontact.bodies import Beam2D, Material, Section
-from fecontact.io.cli import main
+from fecontact.cli.commands import main
 from fecontact.simulation import Simulation, run
 
 CASE = str(ROOT / "cases" / "flexible_pendulum.py")

@@ -18,7 +18,7 @@ from fecontact import (
     node_probe,
     simulate,
 )
-from fecontact.io.cli import main
+from fecontact.cli.commands import main
 
 CASE = str(ROOT / "cases" / "flexible_pendulum.py")
 
@@ -193,7 +193,7 @@ def test_render_takes_the_pvd_it_is_given_among_several(finished, tmp_path):
     copy = tmp_path / "two"
     shutil.copytree(finished, copy)
     shutil.copy(copy / "flexible_pendulum.pvd", copy / "other.pvd")
-    from fecontact.io.cli import render_target
+    from fecontact.cli.commands import render_target
 
     assert render_target(copy / "other.pvd").name == "other.pvd"
 
@@ -253,7 +253,7 @@ def test_a_full_disk_mid_run_is_one_line_and_keeps_a_readable_index(tmp_path, mo
     import errno
 
     import fecontact.io.output as output
-    from fecontact.io.cli import main
+    from fecontact.cli.commands import main
     from fecontact.io.output import load_run
     from fecontact.testing import CASES
 
@@ -280,7 +280,7 @@ def test_a_full_disk_mid_run_is_one_line_and_keeps_a_readable_index(tmp_path, mo
 def test_an_output_folder_that_cannot_be_made_is_one_line(tmp_path, monkeypatch, capsys):
     from pathlib import Path
 
-    from fecontact.io.cli import main
+    from fecontact.cli.commands import main
     from fecontact.testing import CASES
 
     def refuse(self, *args, **kwargs):

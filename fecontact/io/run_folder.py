@@ -32,12 +32,14 @@ CHECKPOINT = "checkpoint.npz"
 
 
 def fingerprint(sim) -> str:
-    """What must match for a checkpoint to continue this simulation."""
+    """What must match for a checkpoint to continue this simulation: everything but the end
+    time, which a resumed run may extend (also when the case takes it as a parameter)."""
+    parameters = {k: v for k, v in sim.parameters.items() if k != "t_end"}
     return json.dumps(
         [
             sim.name,
             __version__,
-            jsonable(sim.parameters),
+            jsonable(parameters),
             dataclasses.asdict(sim.options),
             sim.dt,
             sim.output_interval,
