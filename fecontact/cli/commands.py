@@ -31,6 +31,7 @@ from pathlib import Path
 
 from .. import __version__
 from ..errors import InputError
+from ..extras import need
 from ..params import declared_parameters
 from .cases import bundled_cases, find_case, load_case
 from .run import RUN_OPTIONS, Parser, add_run_options, execute, prepare
@@ -41,6 +42,7 @@ __all__ = ["main", "render_target", "run_one"]
 def _sweep(build, args, case: Path) -> int:
     from .sweep import run_sweep, sweep_axes
 
+    need("distributed", "sweep")
     if args.resume:
         raise InputError("--resume: a sweep resumes by itself; run the same sweep again")
     axes = sweep_axes(args.set)
@@ -139,6 +141,7 @@ def _cases() -> int:
 
 
 def _render(target: str) -> int:
+    need("pyvista", "render")
     from ..io.render import render_run
 
     for p in render_run(render_target(Path(target))):

@@ -11,6 +11,7 @@ import warnings
 from pathlib import Path
 
 from ..errors import InputError, SolverError
+from ..extras import need
 from ..params import assignment
 
 __all__ = ["Parser", "add_run_options", "execute", "parse_value", "prepare", "run_cli"]
@@ -173,6 +174,9 @@ def execute(build, args, name: str) -> int:
     """Run case ``name`` (its ``build``) as ``args`` say; return the exit status."""
     if args.checkpoint_every < 0:
         raise InputError(f"checkpoint-every must be >= 0, got {args.checkpoint_every}")
+    if args.render:  # before the run, not after it
+        need("pyvista", "render")
+        need("matplotlib", "render")
     sim = prepare(build, args, name)
     out = Path(args.out) if args.out else Path("out") / sim.name
     for text in sim.warnings():

@@ -36,6 +36,8 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
+from ..errors import InputError
+from ..extras import need
 from .files import atomic_write, write_text
 from .vtu import body_mesh, line_mesh, write_vtu
 
@@ -396,10 +398,22 @@ class RunResult:
     static_parts: list[str]
     files: list[dict[str, str]] = field(repr=False)
 
+    def to_dataframe(self):
+        """``history.csv`` as a pandas ``DataFrame`` indexed by the time ``t`` (s): one row per
+        step, the standard columns and the probes; ``attrs["units"]`` maps each probe to its
+        unit (from ``summary.json``). Needs pandas: ``pip install "fecontact[pandas]"``."""
+        pd = need("pandas", "pandas")
+        if "t" not in self.history:
+            raise InputError(f"{self.out_dir} has no history.csv to tabulate")
+        columns = {k: v for k, v in self.history.items() if k != "t"}
+        frame = pd.DataFrame(columns, index=pd.Index(self.history["t"], name="t"))
+        probes = self.summary.get("probes", {})
+        frame.attrs["units"] = {k: p.get("unit", "") for k, p in probes.items()}
+        return frame
+
     def reader(self):
         """``pyvista.get_reader`` on the ``.pvd`` (time-aware, all parts as blocks)."""
-        import pyvista
-
+        pyvista = need("pyvista", "render")
         return pyvista.get_reader(str(self.pvd))
 
     def frames(self, indices=None) -> list[tuple[float, dict]]:
@@ -407,8 +421,7 @@ class RunResult:
 
         A static part's file is read once and the same object is shared by all frames.
         """
-        import pyvista
-
+        pyvista = need("pyvista", "render")
         static: dict[str, object] = {}
 
         def read(part: str, file: str):

@@ -25,6 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..extras import need
 from .output import (
     HISTORY_FILE,
     STANDARD_COLUMNS,
@@ -52,8 +53,7 @@ def _pyvista():
     """Import pyvista for off-screen use, choosing an EGL window when there is no display."""
     if not os.environ.get("DISPLAY"):
         os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
-    import pyvista
-
+    pyvista = need("pyvista", "render")
     pyvista.OFF_SCREEN = True
     return pyvista
 
@@ -311,8 +311,7 @@ def _movie(path: Path, fps: float):
                 duration=round(1000 / fps), loop=0,
             )  # fmt: skip
         else:
-            import imageio.v2 as imageio
-
+            imageio = need("imageio.v2", "mp4")
             writer = imageio.get_writer(
                 tmp, format="FFMPEG", fps=fps, quality=7, macro_block_size=16
             )
