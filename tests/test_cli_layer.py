@@ -27,8 +27,8 @@ def test_python_dash_m_reaches_the_same_command(tmp_path):
 
 
 def test_the_console_script_entry_point_is_main():
-
-    scripts = pytest.importorskip("tomllib").loads((ROOT / "pyproject.toml").read_text())["project"]["scripts"]
+    project = pytest.importorskip("tomllib").loads((ROOT / "pyproject.toml").read_text())
+    scripts = project["project"]["scripts"]
     module, _, name = scripts["fecontact"].partition(":")
     __import__(module)
     assert getattr(sys.modules[module], name) is main
