@@ -9,10 +9,6 @@ stability measures need, one row per step.
 
 from __future__ import annotations
 
-# isort: off
-import fecontact  # before numpy: it sets single-threaded OpenBLAS (see fecontact/__init__.py)
-
-# isort: on
 import argparse
 import csv
 import dataclasses
@@ -24,7 +20,9 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
+from threadpoolctl import threadpool_limits
 
+import fecontact
 from fecontact import SolverError, run
 from fecontact.testing import (
     G,
@@ -36,6 +34,7 @@ from fecontact.testing import (
     pendulum_exact,
     trace,
 )
+from fecontact.threads import USER_SETTINGS
 
 os.environ.setdefault("MPLBACKEND", "Agg")
 
@@ -67,6 +66,11 @@ __all__ = [
     "write_csv",
     "write_markdown",
 ]
+
+# the benchmarks step small models outside ``run`` too (``trace``): one BLAS thread, as a run
+# has, unless the environment sets a thread count
+if not any(os.environ.get(name) for name in USER_SETTINGS):
+    threadpool_limits(limits=1, user_api="blas")
 
 
 def with_options(sim, **options):

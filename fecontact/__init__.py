@@ -13,13 +13,6 @@ the driver, ``cli`` (the command line and sweeps). Every public name is importab
 ``fecontact`` itself.
 """
 
-import os
-
-# The dense systems here have tens of unknowns: OpenBLAS threads only add synchronisation
-# (README, Set-up). Takes effect when fecontact is
-# imported before numpy (the command line, case scripts); an explicit setting wins.
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-
 __version__ = "0.1.0"
 
 from . import moved

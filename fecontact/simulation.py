@@ -12,7 +12,6 @@ from __future__ import annotations
 import dataclasses
 import math
 import platform
-import sys
 import time
 import warnings
 from collections.abc import Callable
@@ -28,6 +27,7 @@ from .energy import EnergyBalance
 from .errors import InputError, SolverError, check_positive
 from .io.frames import bodies_box, frame_parts, friction_totals, static_parts
 from .io.output import FRICTION_COLUMNS, STANDARD_COLUMNS
+from .io.progress import RunProgress
 from .io.run_folder import (
     CHECKPOINT,
     clear_earlier_run,
@@ -35,7 +35,9 @@ from .io.run_folder import (
     load_checkpoint,
     save_checkpoint,
 )
+from .io.run_lock import hold_folder
 from .linalg import ITERATIVE, SPARSE_FACTORIZATIONS
+from .threads import blas_threads
 from .time import (
     FOLLOW_UPS,
     NEWTON,
@@ -93,7 +95,9 @@ class Simulation:
     """What to run: the model, the step ``dt`` (s), the end time ``t_end`` (s), probes,
     integrator options, the output interval (s of simulated time), the case's name and
     parameters (recorded in ``summary.json``) and the initial dof vectors ``q0``, ``v0``
-    (default: rest in the reference configuration)."""
+    (default: rest in the reference configuration). ``origin`` identifies the case file it
+    was built from (``file``, ``sha256``; the command line sets it): recorded in
+    ``summary.json`` as ``case_file``, and a checkpoint continues only the same one."""
 
     model: object
     dt: float
@@ -105,6 +109,7 @@ class Simulation:
     parameters: dict = field(default_factory=dict)
     q0: np.ndarray | None = None
     v0: np.ndarray | None = None
+    origin: dict = field(default_factory=dict)
 
     def __post_init__(self):
         self.dt = check_positive("dt", self.dt)
@@ -284,6 +289,7 @@ class _Recorder:
             "energy_balance": self.balance.summary(),
             "impacts": self.impacts,
             "parameters": jsonable(sim.parameters),
+            "case_file": sim.origin,
             "options": dataclasses.asdict(sim.options),
             # what smooth_contact="auto" chose for this model (NSGA only)
             "smooth_contact_force": sim.options.integrator == "nsga"
@@ -319,13 +325,19 @@ def run(
     uninterrupted run. On ``SolverError`` or ``KeyboardInterrupt`` the summary records the
     failure, every frame written so far stays readable, and the exception propagates.
 
-    Runs never mix: a new run removes what an earlier run of the same case left in
-    ``out_dir`` (frames, index, history, summary, checkpoint, pictures), and refuses a folder
-    that holds another case's output unless ``overwrite``.
+    Runs never mix: the run holds ``out_dir`` (a lock file) and another process's run there
+    is refused; a new run removes what an earlier run of the same case left in ``out_dir``
+    (frames, index, history, summary, checkpoint, pictures), and refuses a folder that holds
+    another case's output unless ``overwrite``. BLAS threads are limited to one while it runs
+    (:mod:`fecontact.threads`).
     """
+    with blas_threads(), hold_folder(out_dir, sim.name):
+        return _run(sim, Path(out_dir), progress, frames, checkpoint_every, resume, overwrite)
+
+
+def _run(sim, out, progress, frames, checkpoint_every, resume, overwrite) -> dict:
     from .io.output import PVDWriter, write_json
 
-    out = Path(out_dir)
     start, meta = None, None
     if resume:
         start, meta = load_checkpoint(out / CHECKPOINT, sim)
@@ -338,7 +350,7 @@ def run(
         # input errors surface before any file exists
         initial_state(sim.model, sim.q0, sim.v0, sim.options.tol_gap)
         for text in sim.warnings():
-            warnings.warn(text, UserWarning, stacklevel=2)
+            warnings.warn(text, UserWarning, stacklevel=3)
         clear_earlier_run(out, sim.name, overwrite)
     if frames:
         import meshio  # noqa: F401  (the frames' mesh type: imported outside the timed loop)
@@ -405,9 +417,7 @@ def run(
                 save_checkpoint(out / CHECKPOINT, sim, st, rec, next_frame)
             timer.add("output", clock)
             if bar is not None and st.step:
-                bar.update(1)
-                if st.step % 25 == 0:
-                    bar.set_postfix(t=f"{st.t:.4f}", it=st.newton_iterations, refresh=False)
+                bar.advance(st)
     except SolverError as err:
         status, message = "failed", str(err)
         if rec.balance.unstable() and not message.startswith("energy blow-up"):
@@ -428,7 +438,7 @@ def run(
         wall = time.perf_counter() - t_start
         rec.history.close()
         if bar is not None:
-            bar.close()
+            bar.close(status)
         factors = {k: SPARSE_FACTORIZATIONS[k] - factors_start[k] for k in factors_start}
         summary = rec.summary(status, wall, timer, message, factors)
         # redundant active constraints whose multipliers came from least squares
@@ -455,7 +465,7 @@ def run(
                 raise
             # else the run's own failure is the one to report (a full disk refuses both)
     for text in summary["warnings"]:
-        warnings.warn(text, UserWarning, stacklevel=2)
+        warnings.warn(text, UserWarning, stacklevel=3)
     return summary
 
 
@@ -467,10 +477,5 @@ def _flush(pvd) -> float:
 
 
 def _progress_bar(sim: Simulation, start: State | None):
-    from tqdm import tqdm
-
-    total = max(1, math.ceil(sim.t_end / sim.dt - 1e-9))
-    initial = 0 if start is None else start.step
-    return tqdm(
-        total=total, initial=initial, desc=sim.name, unit="step", disable=None, file=sys.stderr
-    )
+    t0, step0 = (0.0, 0) if start is None else (start.t, start.step)
+    return RunProgress(sim.name, sim.t_end, sim.dt, t0, step0)

@@ -73,7 +73,11 @@ def load_case(path) -> object:
     return module
 
 
-def case_origin(module) -> dict:
-    """What identifies the case a run was built from: its file's path and SHA-256."""
-    path = Path(inspect.getfile(module)).resolve()
-    return {"file": str(path), "sha256": hashlib.sha256(path.read_bytes()).hexdigest()}
+def case_origin(build) -> dict:
+    """What identifies the case a run was built from: the path and SHA-256 of the file that
+    defines ``build`` (empty for a ``build`` defined outside a file)."""
+    try:
+        path = Path(inspect.getfile(inspect.unwrap(build))).resolve()
+        return {"file": str(path), "sha256": hashlib.sha256(path.read_bytes()).hexdigest()}
+    except (TypeError, OSError):
+        return {}

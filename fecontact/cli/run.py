@@ -12,7 +12,9 @@ from pathlib import Path
 
 from ..errors import InputError, SolverError
 from ..extras import need
+from ..io.run_lock import hold_folder
 from ..params import assignment
+from .cases import case_origin
 
 __all__ = ["Parser", "add_run_options", "execute", "parse_value", "prepare", "run_cli"]
 
@@ -59,7 +61,7 @@ def split_overrides(build, args) -> tuple[dict, dict]:
 
 
 def add_run_options(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--out", help="output folder (default: out/<case>)")
+    p.add_argument("--out", help="output folder (default: out/<case file name>)")
     p.add_argument("--dt", type=float, help="time step h in s")
     p.add_argument("--t-end", type=float, help="end time in s")
     p.add_argument("--output-interval", type=float, help="simulated time between frames, s")
@@ -118,6 +120,9 @@ def prepare(build, args, name: str):
         changes["options"] = dataclasses.replace(sim.options, **option_kw)
     if sim.name == "simulation":
         changes["name"] = name
+    origin = case_origin(build)
+    if origin:
+        changes["origin"] = origin
     return sim.replace(**changes) if changes else sim
 
 
@@ -177,11 +182,12 @@ def execute(build, args, name: str) -> int:
     if args.render:  # before the run, not after it
         need("pyvista", "render")
         need("matplotlib", "render")
-    sim = prepare(build, args, name)
-    out = Path(args.out) if args.out else Path("out") / sim.name
-    for text in sim.warnings():
-        print(f"fecontact: warning: {text}", file=sys.stderr)
-    summary = _run(sim, out, args)
+    out = Path(args.out) if args.out else Path("out") / name
+    with hold_folder(out, name):  # before build(): two runs into one folder never mix
+        sim = prepare(build, args, name)
+        for text in sim.warnings():
+            print(f"fecontact: warning: {text}", file=sys.stderr)
+        summary = _run(sim, out, args)
     if isinstance(summary, int):
         return summary
     _report(sim, summary, out, args.quiet)

@@ -25,9 +25,12 @@ from __future__ import annotations
 import csv
 import itertools
 import json
+import logging
 import math
+import os
 import re
 import sys
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -155,11 +158,28 @@ def _client(scheduler: str | None, workers: int):
             raise InputError(f"--scheduler: cannot reach {scheduler}: {err}") from None
     # each task is one whole run: the workers' statistical profiler (a stack sample every
     # 10 ms, for a dashboard the sweep does not start) only costs the runs 3-4 % of their time
-    with dask.config.set({"distributed.worker.profile.enabled": False}):
+    with dask.config.set({"distributed.worker.profile.enabled": False}), _quiet_workers():
         cluster = LocalCluster(
             n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
         )
     return Client(cluster), cluster
+
+
+@contextmanager
+def _quiet_workers():
+    """Worker processes started inside log only distributed's errors: a run's failure is in
+    sweep.csv and on stderr already, and a stop (Ctrl-C) cancels runs, which they would log
+    as warnings. The workers read the setting from the environment when they start."""
+    name = "DASK_LOGGING__DISTRIBUTED"
+    before = os.environ.get(name)
+    os.environ[name] = "error"
+    try:
+        yield
+    finally:
+        if before is None:
+            del os.environ[name]
+        else:
+            os.environ[name] = before
 
 
 def run_sweep(
@@ -270,6 +290,10 @@ def _execute(task, todo, workers, scheduler, quiet, results: dict) -> None:
                 results[futures[future]] = {"exit": 1, "message": f"{type(exc).__name__}: {exc}"}
             bar.update(1)
         bar.close()
+    except KeyboardInterrupt:
+        # the nanny warns of the workers it stops mid-run: the stop is said in one line
+        logging.getLogger("distributed").setLevel(logging.ERROR)
+        raise
     finally:
         client.close()
         if cluster is not None:

@@ -32,12 +32,14 @@ CHECKPOINT = "checkpoint.npz"
 
 
 def fingerprint(sim) -> str:
-    """What must match for a checkpoint to continue this simulation: everything but the end
-    time, which a resumed run may extend (also when the case takes it as a parameter)."""
+    """What must match for a checkpoint to continue this simulation: the case file it was built
+    from (its SHA-256) and everything but the end time, which a resumed run may extend (also
+    when the case takes it as a parameter)."""
     parameters = {k: v for k, v in sim.parameters.items() if k != "t_end"}
     return json.dumps(
         [
             sim.name,
+            sim.origin.get("sha256"),
             __version__,
             jsonable(parameters),
             dataclasses.asdict(sim.options),
@@ -84,9 +86,59 @@ def load_checkpoint(path: Path, sim):
         raise InputError(f"resume: {path.name} is not a readable checkpoint ({why})") from None
     memory = {k[len("memory_") :]: arrays.pop(k) for k in list(arrays) if k.startswith("memory_")}
     if meta["fingerprint"] != fingerprint(sim):
-        raise InputError("resume: the checkpoint was written with other parameters or options")
+        raise InputError(f"resume: {_what_differs(meta['fingerprint'], sim)}")
+    _check_history(path.parent / "history.csv", meta["step"])
+    _check_frames(path.parent / f"{sim.name}.pvd", meta["t"])
     st = State(meta["t"], step=meta["step"], h=meta["h"], memory=memory, **arrays)
     return st, meta
+
+
+def _what_differs(stored: str, sim) -> str:
+    """Why a checkpoint does not continue ``sim``: another case file, or other settings."""
+    try:
+        name, sha = json.loads(stored)[:2]
+    except (ValueError, TypeError):
+        name, sha = None, None
+    if name != sim.name or (sha and sim.origin.get("sha256") and sha != sim.origin["sha256"]):
+        return (
+            f"the checkpoint was written by another case file (case {name}); start the run "
+            "again without --resume, or choose another --out"
+        )
+    return "the checkpoint was written with other parameters or options"
+
+
+def _check_history(path: Path, step: int) -> None:
+    """The history a checkpoint at ``step`` continues holds its rows (t = 0 to that step)."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            rows = sum(1 for _ in f) - 1  # less the header
+    except OSError:
+        rows = -1
+    if rows < step + 1:
+        held = "is missing" if rows < 0 else f"holds {rows} rows"
+        raise InputError(
+            f"resume: {path.name} {held}; the checkpoint at step {step} needs {step + 1}; "
+            "start the run again without --resume"
+        )
+
+
+def _check_frames(pvd: Path, t: float) -> None:
+    """Every frame the ``.pvd`` lists up to the checkpoint's time ``t`` (s) exists."""
+    if not pvd.is_file():
+        return  # a run without frames
+    from .output import load_run
+
+    try:
+        run = load_run(pvd)
+    except (OSError, ValueError, SyntaxError) as err:  # XML parse errors are SyntaxErrors
+        raise InputError(f"resume: {pvd.name} is unreadable ({str(err)[:80]})") from None
+    for when, files in zip(run.times, run.files, strict=True):
+        missing = [f for f in files.values() if not (pvd.parent / f).is_file()]
+        if when <= t and missing:
+            raise InputError(
+                f"resume: {missing[0]}, listed in {pvd.name}, is missing; start the run again "
+                "without --resume"
+            )
 
 
 RUN_FILES = ("history.csv", "summary.json", CHECKPOINT, "history.png", "animation.gif")
