@@ -164,7 +164,7 @@ aluminium by default."""
 
 DISK = {
     "radius": Param.positive(0.05, "m", "radius of the disk (of each disk)"),
-    "refinements": Param.count(3, "uniform refinements of the disk mesh (8 * 4^n triangles)", 0, 6),
+    "refinements": Param.count(3, "uniform refinements of the disk mesh (4 * 4^n triangles)", 0, 6),
 }
 """A 2D elastic disk's mesh: ``Solid.disk`` (parameter group of ``case``)."""
 

@@ -517,3 +517,14 @@ def test_quadratic_ball_is_curved():
     assert np.allclose(r, radius, rtol=1e-14)
     exact = 4.0 / 3.0 * np.pi * radius**3
     assert abs(p2.volume / exact - 1.0) < 0.1 * abs(p1.volume / exact - 1.0)
+
+
+def test_a_disk_has_the_triangles_its_docstring_says():
+    """4 · 4^n triangles after n refinements (the docstring and the case parameter say so)."""
+    from fecontact.scenes import DISK
+
+    mat = LinearElastic(E=1e6, nu=0.3, rho=1e3)
+    for n in range(4):
+        assert Solid.disk([0.0, 0.0], 1.0, n, mat).mesh.t.shape[1] == 4 * 4**n
+    assert "4 · 4^refinements triangles" in Solid.disk.__doc__
+    assert "(4 * 4^n triangles)" in DISK["refinements"].text

@@ -143,7 +143,7 @@ class Solid(NodalTranslations):
     @classmethod
     def disk(cls, center, radius: float, refinements: int, material, **options) -> Solid:
         """Disk of ``radius`` (m) at ``center`` (2-vector, m), triangles refined
-        ``refinements`` times (4^refinements × 8 elements; at most 9: 2^21 elements)."""
+        ``refinements`` times (4 · 4^refinements triangles; at most 9: 2^20 triangles)."""
         return cls(disk_mesh(center, radius, refinements), material, **options)
 
     @classmethod
