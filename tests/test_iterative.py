@@ -196,7 +196,7 @@ def test_amg_without_pyamg_says_how_to_install(monkeypatch):
 
     before = sparse_solver()
     monkeypatch.setattr(builtins, "__import__", no_pyamg)
-    with pytest.raises(InputError, match="pip install pyamg"):
+    with pytest.raises(InputError, match=r'pip install "fecontact\[amg\]"'):
         use_sparse_solver("amg")
     assert sparse_solver() == before
 
