@@ -1,9 +1,9 @@
 """Sphinx configuration of the fecontact documentation site.
 
 Build: ``sphinx-build -W -b html docs docs/_build/html`` (``pip install -e ".[docs]"``).
-Every Markdown page under docs/ is picked up by the glob toctrees of the section indexes; the
+Every Markdown page under docs/ (and one folder down) is picked up by glob toctrees; the
 benchmark pages are generated from ``benchmarks/results/*.md`` at each build; the gallery runs
-``docs/examples/*.py`` and the notebooks under ``docs/notebooks/`` are executed at build time.
+``docs/examples/plot_*.py`` and every notebook (``*.ipynb``) is executed at build time.
 """
 
 from __future__ import annotations

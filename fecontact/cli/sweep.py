@@ -159,8 +159,14 @@ def _client(scheduler: str | None, workers: int):
     # each task is one whole run: the workers' statistical profiler (a stack sample every
     # 10 ms, for a dashboard the sweep does not start) only costs the runs 3-4 % of their time
     with dask.config.set({"distributed.worker.profile.enabled": False}), _quiet_workers():
+        # no dashboard; the scheduler's HTTP endpoint on a free local port, not on 8787, where
+        # another cluster would make it warn
         cluster = LocalCluster(
-            n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
+            n_workers=workers,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address="127.0.0.1:0",
+            scheduler_kwargs={"dashboard": False},
         )
     return Client(cluster), cluster
 
