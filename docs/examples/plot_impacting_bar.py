@@ -4,7 +4,8 @@ An elastic bar striking a wall
 
 The classical wave-propagation impact: an elastic bar moving at v₀ hits a rigid wall; the
 contact lasts exactly 2L/c, the time a compression wave takes to run to the free end and
-back, and the bar leaves at −v₀. Time is shown in units of L/c.
+back, and the bar leaves with its velocity reversed. Time is shown in units of L/c from
+the first contact.
 """
 
 import tempfile
