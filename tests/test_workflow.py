@@ -120,3 +120,14 @@ def test_a_sweep_with_a_relative_out_on_a_scheduler(tmp_path, monkeypatch):
     rows = (tmp_path / "here" / "sweep" / "sweep.csv").read_text().splitlines()
     assert len(rows) == 3 and all(",completed," in row for row in rows[1:])
     assert not (tmp_path / "workers" / "sweep").exists()
+
+
+def test_a_sweep_in_a_log_says_each_run_done(tmp_path, capsys):
+    pytest.importorskip("distributed")
+    argv = ["sweep", "bouncing_ball", "--set", "restitution=0,1", "--t-end", "0.05"]
+    assert main([*argv, "--workers", "1", "--out", str(tmp_path)]) == 0
+    captured = capsys.readouterr()
+    assert "\r" not in captured.err
+    lines = [x for x in captured.err.splitlines() if x.startswith("sweep: ")]
+    assert lines == ["sweep: 1 of 2 runs done, 0 failed", "sweep: 2 of 2 runs done, 0 failed"]
+    assert "2 runs (2 run now, 0 failed)" in captured.out

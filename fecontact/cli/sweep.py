@@ -37,6 +37,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..io.output import FRICTION_COLUMNS, STANDARD_COLUMNS, read_history
+from ..io.progress import in_notebook, is_terminal
 from ..params import assignment
 from .run import RUN_OPTIONS
 
@@ -278,7 +279,6 @@ def _cost(values: dict[str, str]) -> float:
 def _execute(task, todo, workers, scheduler, quiet, results: dict) -> None:
     """Run ``todo`` on Dask; each result goes into ``results`` as it arrives."""
     from dask.distributed import as_completed
-    from tqdm.auto import tqdm
 
     client, cluster = _client(scheduler, max(1, min(workers, len(todo))))
     try:
@@ -288,14 +288,14 @@ def _execute(task, todo, workers, scheduler, quiet, results: dict) -> None:
         futures = {
             client.submit(task, argv, pure=False, priority=cost): i for i, argv, cost in ordered
         }
-        bar = tqdm(total=len(todo), desc="sweep", unit="run", file=sys.stderr, disable=quiet)
+        report = _SweepProgress(len(todo), quiet)
         for future in as_completed(futures):
             try:
                 results[futures[future]] = future.result()
             except Exception as exc:  # a worker lost mid-run
                 results[futures[future]] = {"exit": 1, "message": f"{type(exc).__name__}: {exc}"}
-            bar.update(1)
-        bar.close()
+            report.done(results[futures[future]]["exit"])
+        report.close()
     except KeyboardInterrupt:
         # the nanny warns of the workers it stops mid-run: the stop is said in one line
         logging.getLogger("distributed").setLevel(logging.ERROR)
@@ -304,3 +304,31 @@ def _execute(task, todo, workers, scheduler, quiet, results: dict) -> None:
         client.close()
         if cluster is not None:
             cluster.close()
+
+
+class _SweepProgress:
+    """Runs done: a bar on a terminal or in a notebook, else a line per run (a log)."""
+
+    def __init__(self, total: int, quiet: bool):
+        self.total, self.count, self.failed, self.quiet = total, 0, 0, quiet
+        self.bar = None
+        if not quiet and (in_notebook() or is_terminal(sys.stderr)):
+            from tqdm.auto import tqdm
+
+            self.bar = tqdm(total=total, desc="sweep", unit="run", file=sys.stderr)
+
+    def done(self, status: int) -> None:
+        self.count += 1
+        self.failed += status != 0
+        if self.bar is not None:
+            self.bar.update(1)
+        elif not self.quiet:
+            print(
+                f"sweep: {self.count} of {self.total} runs done, {self.failed} failed",
+                file=sys.stderr,
+                flush=True,
+            )
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()

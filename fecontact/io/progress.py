@@ -11,7 +11,7 @@ import math
 import sys
 import time
 
-__all__ = ["RunProgress", "in_notebook"]
+__all__ = ["RunProgress", "in_notebook", "is_terminal"]
 
 
 def in_notebook() -> bool:
@@ -33,7 +33,7 @@ class RunProgress:
         self.name, self.t_end, self.stream = name, t_end, stream or sys.stderr
         self.t, self.step, self.clock = t0, step0, time.perf_counter()
         self.bar = None
-        if in_notebook() or _is_terminal(self.stream):
+        if in_notebook() or is_terminal(self.stream):
             from tqdm.auto import tqdm
 
             total = max(1, math.ceil(t_end / dt - 1e-9))
@@ -70,7 +70,8 @@ class RunProgress:
         print(f"{self.name}: {text}", file=self.stream, flush=True)
 
 
-def _is_terminal(stream) -> bool:
+def is_terminal(stream) -> bool:
+    """Whether ``stream`` is a terminal (a bar shows), not a file or a pipe (a log)."""
     try:
         return stream.isatty()
     except (AttributeError, ValueError):  # no isatty, or a closed stream
