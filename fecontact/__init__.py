@@ -19,8 +19,6 @@ import os
 # imported before numpy (the command line, case scripts); an explicit setting wins.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-__version__ = "0.1.0"
-
 from . import moved
 from .bodies import (
     Beam2D,
@@ -42,6 +40,7 @@ from .model import Model, NodalLoad
 from .params import Param, case
 from .simulation import Probe, Simulation, node_probe, run
 from .time import IntegratorOptions, State, simulate
+from .version import __version__ as __version__
 
 moved.install()
 

@@ -21,7 +21,6 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__
 from .contact.friction import COULOMB
 from .contact.laws import ALART_CURNIER, LEAST_SQUARES
 from .energy import EnergyBalance
@@ -47,6 +46,7 @@ from .time import (
     simulate,
     uses_smooth_contact,
 )
+from .version import __version__
 
 __all__ = ["Probe", "Simulation", "node_probe", "run", "HISTORY_COLUMNS"]
 

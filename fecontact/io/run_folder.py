@@ -9,9 +9,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import __version__
 from ..errors import InputError
 from ..time import State
+from ..version import __version__
 from .files import atomic_write
 
 __all__ = ["CHECKPOINT", "clear_earlier_run", "jsonable", "load_checkpoint", "save_checkpoint"]
