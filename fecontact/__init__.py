@@ -19,7 +19,6 @@ import os
 # imported before numpy (the command line, case scripts); an explicit setting wins.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-from . import moved
 from .bodies import (
     Beam2D,
     Disk,
@@ -41,8 +40,6 @@ from .params import Param, case
 from .simulation import Probe, Simulation, node_probe, run
 from .time import IntegratorOptions, State, simulate
 from .version import __version__ as __version__
-
-moved.install()
 
 __all__ = [
     "Beam2D",

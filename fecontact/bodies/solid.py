@@ -12,9 +12,9 @@ P = F S (the linear material: P = σ), and the element tangent is its exact Hess
 
     K_aibk = ∫ ∂_J N_a A_iJkL ∂_L N_b dV,   A_iJkL = F_iI ℂ_IJKL F_kK + δ_ik S_JL.
 
-The material (:mod:`fecontact.materials`) gives W, S = ∂W/∂E and ℂ = ∂S/∂E. In 2D, integrals
-over the area are multiplied by ``thickness`` (m): energies in J, forces in N, for plane strain
-as well as for plane stress.
+The material (:mod:`fecontact.bodies.materials`) gives W, S = ∂W/∂E and ℂ = ∂S/∂E. In 2D,
+integrals over the area are multiplied by ``thickness`` (m): energies in J, forces in N, for
+plane strain as well as for plane stress.
 
 Every call works on arrays of all elements and quadrature points at once, from the basis data
 scikit-fem computes once (gradients ∇N_a, weights dV); the kinematics are computed once per
@@ -75,7 +75,7 @@ class Solid(NodalTranslations):
     Parameters
     ----------
     mesh : the reference configuration, coordinates in m.
-    material : :class:`~fecontact.materials.LinearElastic`, ``StVenantKirchhoff`` or
+    material : :class:`~fecontact.bodies.materials.LinearElastic`, ``StVenantKirchhoff`` or
         ``NeoHookean``.
     element : "P1" (linear/bilinear/trilinear) or "P2" (quadratic) Lagrange elements.
     plane : 2D only: "strain" (E₃₃ = 0) or "stress" (S₃₃ = 0).

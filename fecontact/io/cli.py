@@ -8,9 +8,8 @@
     fecontact render OUT_DIR_OR_PVD
 
 A case is a Python file with ``build(**params) -> Simulation`` whose parameters are ``Param``
-defaults (:mod:`fecontact.params`; an older ``PARAMETERS`` dict ``{name: (unit, description)}``
-is still read). ``--set`` values are read as an int, else
-a float (``nan`` and ``inf`` parse, then fail validation), else a string; names of
+defaults (:mod:`fecontact.params`). ``--set`` values are read as an int, else a float
+(``nan`` and ``inf`` parse, then fail validation), else a string; names of
 ``IntegratorOptions`` fields (``rho_inf``, ``metric``, ...) set the integrator unless the case
 takes them itself. Every input error prints one line and exits with status 2; a run that
 fails mid-way exits with status 1 and keeps what it wrote.
@@ -259,16 +258,14 @@ def _info(module) -> int:
     doc = inspect.getdoc(module) or ""
     print(doc.splitlines()[0] if doc else f"case {Path(module.__file__).stem}")
     declared = declared_parameters(build)
-    units = getattr(module, "PARAMETERS", {})  # cases written before Param
     rows = []
     for name, par in inspect.signature(build).parameters.items():
         p = declared.get(name)
         if p is not None:
             rows.append((name, repr(p.default), p.unit, p.allowed, p.text))
             continue
-        unit, text = units.get(name, ("", ""))
         default = "" if par.default is inspect.Parameter.empty else repr(par.default)
-        rows.append((name, default, unit or "-", "", text))
+        rows.append((name, default, "-", "", ""))
     head = ("parameter", "default", "unit", "allowed")
     width = [max(len(r[i]) for r in [*rows, head]) for i in range(4)]
     print("  ".join(f"{h:<{w}}" for h, w in zip(head, width, strict=True)) + "  meaning")
