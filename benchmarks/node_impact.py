@@ -38,7 +38,11 @@ SPEED = 0.52  # m/s, the disk's speed at the impact (for --phases)
 
 def build(position: float, lift: float = 0.0, n_elements: int = 20):
     beam = Beam2D.straight(
-        [0.0, 0.0], [1.0, 0.0], n_elements, Material(210e9, 7850.0), Section.rectangle(0.05, 0.01)
+        [0.0, 0.0],
+        [1.0, 0.0],
+        n_elements,
+        Material(210e9, rho=7850.0),
+        Section.rectangle(0.05, 0.01),
     )
     beam.clamp(0)
     disk = RigidBody2D.uniform(1.0, [position, 0.005 + 0.01 + 0.05 + lift], Disk(0.05))

@@ -111,7 +111,7 @@ def beam(n, margin=0.05):
         [0.0, 0.0],
         list(d),
         n,
-        Material(E=210e9, rho=7850.0, nu=0.3),
+        Material(E=210e9, nu=0.3, rho=7850.0),
         Section.rectangle(0.02, 0.01),
     )
     model = Model([body], [Contact(body, Plane([0.0, 0.0], [0.0, 1.0]))])

@@ -151,7 +151,7 @@ def beam_on_plane(n=20, height=0.0, restitution=0.0, length=1.0):
     node a contact."""
     section = Section.rectangle(0.02, 0.005)
     beam = Beam2D.straight(
-        [0.0, height], [length, height], n, Material(E=210e9, rho=7850.0, nu=0.3), section
+        [0.0, height], [length, height], n, Material(E=210e9, nu=0.3, rho=7850.0), section
     )
     floor = Plane([0.0, 0.0], [0.0, 1.0])
     model = Model([beam], [Contact(beam, floor, restitution=restitution)], (0.0, -common.G))

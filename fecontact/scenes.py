@@ -101,7 +101,7 @@ def axial_bar(start, end, n_elements: int, E: float, rho: float, area: float, li
     section ``area`` (m²; bending plays no part in the axial problem), Young's modulus E (Pa)
     and density ρ (kg/m³)."""
     section = Section(area=area, inertia=area**2 / 12.0)
-    return Beam2D.straight(start, end, n_elements, Material(E, rho), section, linear)
+    return Beam2D.straight(start, end, n_elements, Material(E, rho=rho), section, linear)
 
 
 def axial_velocity_probe(model, bar, text: str, node=None) -> Probe:
@@ -154,8 +154,8 @@ STRIP = {
     "length": Param.positive(0.3, "m", "beam length"),
     "n_elements": Param.count(4, "number of beam elements"),
     "E": Param.positive(70e9, "Pa", "Young's modulus"),
-    "rho": Param.positive(2700.0, "kg/m^3", "density"),
     "nu": Param(0.33, "-", "Poisson's ratio", -1.0, 0.5, (False, False)),
+    "rho": Param.positive(2700.0, "kg/m^3", "density"),
     "width": Param.positive(0.02, "m", "section width"),
     "thickness": Param.positive(0.002, "m", "section thickness (bending)"),
 }

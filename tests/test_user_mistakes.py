@@ -52,7 +52,7 @@ def test_info_into_a_closed_pipe_is_quiet():
 
 def test_poisson_ratio_of_a_beam_is_below_a_half():
     with pytest.raises(InputError, match=r"nu must be in \(-1, 0.5\)"):
-        Material(E=1e9, rho=1e3, nu=0.5)
+        Material(E=1e9, nu=0.5, rho=1e3)
 
 
 def test_max_iterations_at_least_one():
