@@ -1,5 +1,5 @@
 """Pieces that cases share: materials by name, the step of an elastic body from its wave
-speed, and the probes most impacts are read with."""
+speed, the simulation of an elastic impact, and the probes most impacts are read with."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import numpy as np
 from .bodies.beam import Beam2D, Material, Section
 from .bodies.materials import LinearElastic, NeoHookean, StVenantKirchhoff
 from .params import Param
-from .simulation import Probe
+from .simulation import Probe, Simulation
 
 __all__ = [
     "BAR",
@@ -24,6 +24,7 @@ __all__ = [
     "contact_force_probe",
     "lowest_point_probe",
     "solid_material",
+    "wave_simulation",
     "wave_step",
 ]
 
@@ -43,6 +44,24 @@ def wave_step(body, fraction: float, spacing: float | None = None) -> float:
     (m; default the body's shortest edge)."""
     spacing = body.min_edge_length if spacing is None else spacing
     return fraction * spacing / body.material.wave_speed
+
+
+def wave_simulation(
+    model, body, name: str, t_end: float, probes: dict, v0, spacing: float | None = None
+) -> Simulation:
+    """The ``Simulation`` of an elastic body's impact: ``name``, end time ``t_end`` (s), the
+    initial velocity ``v0`` (one value a dof of the model, m/s) and ``probes``; the step is the
+    time the dilatational wave of ``body`` takes to cross one node ``spacing`` (``wave_step``:
+    by default the body's shortest edge), and a frame is written every ``t_end`` / 40."""
+    return Simulation(
+        model,
+        dt=wave_step(body, 1.0, spacing),
+        t_end=t_end,
+        probes=probes,
+        output_interval=t_end / 40,
+        name=name,
+        v0=v0,
+    )
 
 
 def contact_force_probe(what: str = "contact force") -> Probe:
