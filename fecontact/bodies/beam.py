@@ -222,6 +222,11 @@ class Beam2D(BodyDefaults):
         """Mass of the beam without point masses, kg."""
         return self.material.rho * self.section.area * self.length
 
+    @property
+    def mass(self) -> float:
+        """Mass of the beam with its point masses, kg."""
+        return self.beam_mass + float(self.point_masses.sum())
+
     def strains(self, q: np.ndarray) -> tuple[np.ndarray, ...]:
         """Axial Γ, shear γ and curvature κ (1/m) at the element midpoints."""
         return beam_strains(self._el, q)[:3]
