@@ -1,6 +1,6 @@
 """Off-screen pictures of a finished run: snapshots, an animation and ``history.png``.
 
-Rendering reads only the output folder (see :mod:`fecontact.output`), so it works on runs
+Rendering reads only the output folder (see :mod:`fecontact.io.output`), so it works on runs
 written earlier or by another process. It needs no display: without ``DISPLAY`` VTK is told to
 open an EGL window (Mesa llvmpipe is enough).
 
