@@ -19,8 +19,9 @@ half-written file and the ``.pvd`` only ever lists complete frames, even when th
 interrupted. ``history.csv`` is appended in blocks of rows; a line cut by a killed process is
 dropped when the file is read back.
 
-Geometry is written in the current configuration (points = reference + displacement); the
-``displacement`` point data must not be used to warp again. Vectors have 3 components.
+Bodies are written in the reference configuration with a ``displacement`` point field (m), as
+finite element tools expect: ParaView's *Warp By Vector* on ``displacement`` (or
+:func:`deformed`) shows the deformed shape. Vectors have 3 components.
 """
 
 from __future__ import annotations
@@ -41,6 +42,7 @@ from .vtu import body_mesh, line_mesh, write_vtu
 
 __all__ = [
     "body_mesh",
+    "deformed",
     "PVDWriter",
     "HistoryWriter",
     "RunResult",
@@ -423,6 +425,24 @@ class RunResult:
             (float(self.times[i]), {p: read(p, f) for p, f in self.files[i].items()})
             for i in indices
         ]
+
+    def multiblock(self, index: int = -1):
+        """Frame ``index`` as a ``pyvista.MultiBlock`` whose blocks carry the part names, in
+        ``part`` order (``pyvista.get_reader`` on a ``.pvd`` numbers them ``Block-00``, ...)."""
+        import pyvista
+
+        parts = self.frames([index])[0][1]
+        return pyvista.MultiBlock({p: parts[p] for p in self.parts if p in parts})
+
+
+def deformed(mesh):
+    """A copy of a frame's dataset (a ``pyvista`` mesh) in its deformed configuration: the
+    points plus the ``displacement`` point data (a part without it, an obstacle, as it is)."""
+    if "displacement" not in mesh.point_data:
+        return mesh
+    out = mesh.copy()
+    out.points = np.asarray(mesh.points) + np.asarray(mesh.point_data["displacement"])
+    return out
 
 
 def _find_pvd(out_dir: Path) -> Path:

@@ -30,6 +30,7 @@ from .output import (
     STANDARD_COLUMNS,
     SUMMARY_FILE,
     atomic_write,
+    deformed,
     load_run,
     read_history,
     read_json,
@@ -352,7 +353,7 @@ def render_run(
         movie = set(np.unique(np.linspace(0, n - 1, min(n, max_frames)).round().astype(int)))
     indices = sorted(movie | set(shots.values()))
     # bounds and colours over the frames drawn: what is not drawn needs no room
-    frames = run.frames(indices)
+    frames = [(t, {k: deformed(m) for k, m in parts.items()}) for t, parts in run.frames(indices)]
     bounds, vmax = _scene(frames, run.static_parts)
     clim = (0.0, vmax if vmax > 0 else 1.0)
     radius = 0.01 * _scene_size(bounds)

@@ -1,0 +1,125 @@
+"""Frames as ParaView and PyVista users expect them: the reference mesh with displacement and
+velocity fields, the Cauchy stress tensor of solids, the contact pressure on their surface."""
+
+import numpy as np
+import pytest
+import pyvista
+from conftest import ROOT
+
+from fecontact import LinearElastic, Solid
+from fecontact.io.cli import main
+from fecontact.io.output import deformed, load_run
+
+
+def run_case(tmp_path, case, *settings):
+    out = tmp_path / case
+    args = ["run", str(ROOT / "cases" / f"{case}.py"), "--quiet", "--out", str(out)]
+    assert main([*args, *(a for s in settings for a in ("--set", s))]) == 0
+    return load_run(out)
+
+
+def von_mises(s: np.ndarray) -> np.ndarray:
+    """From the components (xx, yy, zz, xy[, yz, xz]) of a symmetric stress."""
+    xx, yy, zz, xy = s[:, 0], s[:, 1], s[:, 2], s[:, 3]
+    yz, xz = (s[:, 4], s[:, 5]) if s.shape[1] == 6 else (0.0, 0.0)
+    normal = (xx - yy) ** 2 + (yy - zz) ** 2 + (zz - xx) ** 2
+    return np.sqrt(0.5 * normal + 3.0 * (xy**2 + yz**2 + xz**2))
+
+
+def tributary_areas(mesh) -> np.ndarray:
+    """Each point's share (m²) of the surface triangles of ``mesh``, found by VTK."""
+    surface = mesh.extract_surface(pass_pointid=True, algorithm="dataset_surface").triangulate()
+    ids = np.asarray(surface.point_data["vtkOriginalPointIds"])
+    tri = surface.faces.reshape(-1, 4)[:, 1:]
+    x = np.asarray(surface.points)[tri]
+    area = 0.5 * np.linalg.norm(np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]), axis=1)
+    return np.bincount(ids[tri].ravel(), np.repeat(area / 3.0, 3), minlength=mesh.n_points)
+
+
+@pytest.fixture(scope="module")
+def ball_run(tmp_path_factory):
+    return run_case(tmp_path_factory.mktemp("frames"), "ball_drop", "refinements=1")
+
+
+def test_points_are_the_reference_and_displacement_gives_the_deformed_shape(ball_run):
+    frames = ball_run.frames()
+    first = frames[0][1]["solid0"]
+    np.testing.assert_array_equal(first.point_data["displacement"], 0.0)
+    history = ball_run.history
+    for t, parts in frames:
+        ball = parts["solid0"]
+        np.testing.assert_array_equal(ball.points, first.points)
+        assert ball.point_data["velocity"].shape == (ball.n_points, 3)
+        # the lowest point of the deformed ball is the case's "gap" probe at that time
+        row = int(np.argmin(np.abs(history["t"] - t)))
+        assert history["t"][row] == pytest.approx(t, abs=1e-15)
+        lowest = np.min(deformed(ball).points[:, 2])
+        assert lowest == pytest.approx(history["gap"][row], abs=1e-14)
+
+
+def test_the_stress_tensor_gives_the_von_mises_scalar(ball_run):
+    loaded = [parts["solid0"] for _, parts in ball_run.frames() if parts["solid0"]]
+    ball = max(loaded, key=lambda m: np.max(m.cell_data["stress_von_mises"]))
+    stress = np.asarray(ball.cell_data["stress"])
+    assert stress.shape == (ball.n_cells, 6) and np.max(np.abs(stress)) > 1e3
+    # one quadrature point per P1 tetrahedron: the scalar is von Mises of the tensor, and
+    # -tr/3 the pressure, to round-off of stresses of this size
+    scale = np.max(np.abs(stress))
+    np.testing.assert_allclose(
+        von_mises(stress), ball.cell_data["stress_von_mises"], atol=1e-12 * scale
+    )
+    np.testing.assert_allclose(
+        -stress[:, :3].mean(axis=1), ball.cell_data["pressure"], atol=1e-12 * scale
+    )
+
+
+def test_cauchy_stress_is_symmetric_and_2d_has_four_components():
+    rng = np.random.default_rng(3)
+    mat = LinearElastic(E=1e6, nu=0.3, rho=1e3)
+    for body in (Solid.rectangle([0, 0], [1, 1], 3, mat, cell="quad"),
+                 Solid.box([0, 0, 0], [1, 1, 1], 2, mat, cell="hexahedron")):  # fmt: skip
+        q = 1e-3 * rng.standard_normal(body.ndof)
+        sigma = body.stress(q)
+        np.testing.assert_allclose(
+            sigma, np.swapaxes(sigma, -1, -2), atol=1e-12 * np.abs(sigma).max()
+        )
+        data = body.cell_data(q)
+        assert data["stress"].shape == (body.n_elements, 4 if body.dim == 2 else 6)
+        # several quadrature points: von Mises averaged point by point bounds that of the mean
+        assert np.all(von_mises(data["stress"]) <= data["stress_von_mises"] * (1 + 1e-12))
+
+
+def test_contact_pressure_integrates_to_the_contact_force(ball_run):
+    history = ball_run.history
+    hits = 0
+    for t, parts in ball_run.frames():
+        ball = parts["solid0"]
+        force = np.asarray(ball.point_data["contact_force"])
+        pressure = np.asarray(ball.point_data["contact_pressure"])
+        total = np.linalg.norm(force.sum(axis=0))
+        area = tributary_areas(ball)
+        assert np.all(pressure[area == 0.0] == 0.0)
+        # the same lumped weights, found by VTK from the written cells: Σ p_a A_a = |Σ f_a| (every
+        # node pushed along +z by the plane)
+        assert np.sum(pressure * area) == pytest.approx(total, rel=1e-8, abs=1e-12)
+        row = int(np.argmin(np.abs(history["t"] - t)))
+        assert total == pytest.approx(history["contact_force"][row], rel=1e-8, abs=1e-12)
+        hits += total > 0.0
+    assert hits >= 3  # frames in contact were checked
+
+
+def test_a_2d_solid_carries_four_stress_components_and_its_pressure(tmp_path):
+    run = run_case(tmp_path, "disk_drop", "refinements=1")
+    disk = run.frames([-1])[0][1]["solid0"]
+    assert disk.cell_data["stress"].shape == (disk.n_cells, 4)
+    np.testing.assert_allclose(
+        von_mises(np.asarray(disk.cell_data["stress"])),
+        disk.cell_data["stress_von_mises"],
+        atol=1e-12 * np.abs(disk.cell_data["stress"]).max(),
+    )
+    assert "contact_pressure" in disk.point_data
+
+
+def test_the_pvd_parts_are_named_as_blocks(ball_run):
+    blocks = ball_run.multiblock(-1)
+    assert isinstance(blocks, pyvista.MultiBlock) and blocks.keys() == ["obstacle0", "solid0"]
