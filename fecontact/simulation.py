@@ -310,6 +310,7 @@ def run(
     checkpoint_every: int = 500,
     resume: bool = False,
     overwrite: bool = False,
+    frame_format: str = "vtu",
 ) -> dict:
     """Run ``sim`` and write its results into ``out_dir``; return the summary.
 
@@ -322,8 +323,14 @@ def run(
     Runs never mix: a new run removes what an earlier run of the same case left in
     ``out_dir`` (frames, index, history, summary, checkpoint, pictures), and refuses a folder
     that holds another case's output unless ``overwrite``.
+
+    ``frame_format`` "vtu" writes a ``.vtu`` per part and frame indexed by a ``.pvd``;
+    "vtkhdf" one transient ``.vtkhdf`` per part (:mod:`fecontact.io.vtkhdf`, needs h5py).
     """
-    from .io.output import PVDWriter, write_json
+    from .io.output import frame_writer, write_json
+
+    if frame_format not in ("vtu", "vtkhdf"):
+        raise InputError(f"format must be 'vtu' or 'vtkhdf', got {frame_format!r}")
 
     out = Path(out_dir)
     start, meta = None, None
@@ -346,7 +353,7 @@ def run(
         out.mkdir(parents=True, exist_ok=True)
     except OSError as err:  # a file in the way, a folder that cannot be written
         raise InputError(f"out: cannot create the output folder {out}: {err.strerror}") from None
-    pvd = PVDWriter(out, sim.name, index_interval=PVD_INTERVAL)
+    pvd = frame_writer(frame_format, out, sim.name, index_interval=PVD_INTERVAL)
     timer = PhaseTimer()
     rec = _Recorder(sim, out, keep_rows=None if start is None else start.step + 1)
     next_frame = 0.0
@@ -460,9 +467,9 @@ def run(
 
 
 def _flush(pvd) -> float:
-    """Write the .pvd index if frames are missing from it; return the start time (s)."""
+    """Close the frames: the .pvd index lists them all; return the start time (s)."""
     clock = time.perf_counter()
-    pvd.flush()
+    pvd.close()
     return clock
 
 

@@ -11,9 +11,10 @@ from fecontact.io.cli import main
 from fecontact.io.output import deformed, load_run
 
 
-def run_case(tmp_path, case, *settings):
+def run_case(tmp_path, case, *settings, fmt="vtu"):
     out = tmp_path / case
     args = ["run", str(ROOT / "cases" / f"{case}.py"), "--quiet", "--out", str(out)]
+    args += ["--format", fmt]
     assert main([*args, *(a for s in settings for a in ("--set", s))]) == 0
     return load_run(out)
 
@@ -36,9 +37,10 @@ def tributary_areas(mesh) -> np.ndarray:
     return np.bincount(ids[tri].ravel(), np.repeat(area / 3.0, 3), minlength=mesh.n_points)
 
 
-@pytest.fixture(scope="module")
-def ball_run(tmp_path_factory):
-    return run_case(tmp_path_factory.mktemp("frames"), "ball_drop", "refinements=1")
+@pytest.fixture(scope="module", params=["vtu", "vtkhdf"])
+def ball_run(tmp_path_factory, request):
+    out = tmp_path_factory.mktemp(request.param)
+    return run_case(out, "ball_drop", "refinements=1", fmt=request.param)
 
 
 def test_points_are_the_reference_and_displacement_gives_the_deformed_shape(ball_run):
@@ -123,3 +125,98 @@ def test_a_2d_solid_carries_four_stress_components_and_its_pressure(tmp_path):
 def test_the_pvd_parts_are_named_as_blocks(ball_run):
     blocks = ball_run.multiblock(-1)
     assert isinstance(blocks, pyvista.MultiBlock) and blocks.keys() == ["obstacle0", "solid0"]
+
+
+def test_vtkhdf_frames_hold_the_same_data_as_vtu(tmp_path):
+    runs = [run_case(tmp_path / f, "ball_drop", "refinements=1", fmt=f) for f in ("vtu", "vtkhdf")]
+    assert sorted(p.name for p in (tmp_path / "vtkhdf" / "ball_drop").iterdir()) == [
+        "ball_drop.frames.json",
+        "ball_drop_obstacle0.vtkhdf",
+        "ball_drop_solid0.vtkhdf",
+        "history.csv",
+        "summary.json",
+    ]
+    vtu, hdf = (r.frames() for r in runs)
+    assert [t for t, _ in vtu] == [t for t, _ in hdf] and len(vtu) > 30
+    for (_, a), (_, b) in zip(vtu, hdf, strict=True):
+        for name, mesh in a.items():
+            other = b[name]
+            np.testing.assert_array_equal(other.points, mesh.points)
+            np.testing.assert_array_equal(other.cell_connectivity, mesh.cell_connectivity)
+            np.testing.assert_array_equal(other.celltypes, mesh.celltypes)
+            for data, data_b in (
+                (mesh.point_data, other.point_data),
+                (mesh.cell_data, other.cell_data),
+            ):
+                assert sorted(data.keys()) == sorted(data_b.keys())
+                for key in data:
+                    np.testing.assert_array_equal(data_b[key], data[key])
+
+
+def test_vtkhdf_geometry_is_written_once_unless_it_moves(tmp_path):
+    """Steps point to the one copy of the geometry; a part whose points move gets a new copy
+    from then on (a moving obstacle's outline), and a resumed series cuts both back."""
+    import h5py
+
+    from fecontact.io.vtkhdf import VTKHDFSeries, read_step
+    from fecontact.io.vtu import body_mesh
+
+    tri = [("triangle", np.array([[0, 1, 2], [1, 3, 2]]))]
+    square = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])
+
+    def mesh(t, shift=0.0):
+        u = np.full((4, 2), t)
+        return body_mesh(square + shift, tri, {"displacement": u}, {"s": [np.array([t, 2 * t])]})
+
+    series = VTKHDFSeries(tmp_path, "case")
+    for t, shift in [(0.0, 0.0), (0.1, 0.0), (0.2, 0.5), (0.3, 0.5)]:
+        series.write_frame(t, {"plate": mesh(t, shift)})
+    series.close()
+    path = tmp_path / "case_plate.vtkhdf"
+    with h5py.File(path) as f:
+        root = f["VTKHDF"]
+        assert root["Points"].shape == (8, 3) and list(root["NumberOfPoints"]) == [4, 4]
+        assert list(root["Steps/PartOffsets"]) == [0, 0, 1, 1]
+        assert list(root["Steps/PointOffsets"]) == [0, 0, 4, 4]
+        assert root["PointData/displacement"].shape == (16, 3)
+    for step, (t, shift) in enumerate([(0.0, 0.0), (0.1, 0.0), (0.2, 0.5), (0.3, 0.5)]):
+        m = read_step(path, step)
+        np.testing.assert_array_equal(m.points[:, :2], square + shift)
+        np.testing.assert_array_equal(m.point_data["displacement"][:, 0], t)
+        np.testing.assert_array_equal(m.cell_data["s"], [t, 2 * t])
+    again = VTKHDFSeries(tmp_path, "case")
+    again.resume(0.15)
+    assert again.times == [0.0, 0.1]
+    again.write_frame(0.2, {"plate": mesh(0.25, 0.7)})
+    again.close()
+    with h5py.File(path) as f:
+        assert f["VTKHDF/Points"].shape == (8, 3) and f["VTKHDF/Steps"].attrs["NSteps"] == 3
+        assert list(f["VTKHDF/Steps/PartOffsets"]) == [0, 0, 1]
+        assert f["VTKHDF/PointData/displacement"].shape == (12, 3)
+    np.testing.assert_array_equal(read_step(path, 2).points[:, :2], square + 0.7)
+    np.testing.assert_array_equal(read_step(path, 2).point_data["displacement"][:, 0], 0.25)
+    np.testing.assert_array_equal(read_step(path, 1).point_data["displacement"][:, 0], 0.1)
+
+
+def test_render_draws_the_deformed_bodies(ball_run, monkeypatch):
+    """``render`` warps each frame by its displacement: the ball it draws at the last frame
+    is the deformed one, not the reference mesh the file holds."""
+    import fecontact.io.render as render
+
+    drawn = []
+    real = render._add_part
+
+    def spy(pyvista, plotter, mesh, static, *args, **kwargs):
+        drawn.append((static, np.asarray(mesh.points).copy()))
+        return real(pyvista, plotter, mesh, static, *args, **kwargs)
+
+    monkeypatch.setattr(render, "_add_part", spy)
+    frames = ball_run.frames()
+    i = int(np.argmax([np.abs(p["solid0"].point_data["displacement"]).max() for _, p in frames]))
+    t, parts = frames[i]
+    ball = parts["solid0"]
+    assert np.max(np.abs(ball.point_data["displacement"])) > 1e-3  # a fall of 2 mm and more
+    written = render.render_run(ball_run.out_dir, [t], animation=False)
+    assert [p.suffix for p in written] == [".png", ".png"] and all(p.is_file() for p in written)
+    moving = [points for static, points in drawn if not static]
+    np.testing.assert_array_equal(moving[0], deformed(ball).points)

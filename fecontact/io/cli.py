@@ -112,6 +112,12 @@ def _add_run_options(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--overwrite", action="store_true", help="replace another case's output in --out"
     )
+    p.add_argument(
+        "--format",
+        choices=("vtu", "vtkhdf"),
+        default="vtu",
+        help="frames: a .vtu per part and frame (.pvd index), or a transient .vtkhdf per part",
+    )
 
 
 def _prepare(build, args, name: str):
@@ -162,6 +168,7 @@ def _execute(build, args, name: str) -> int:
                 checkpoint_every=args.checkpoint_every,
                 resume=args.resume,
                 overwrite=args.overwrite,
+                frame_format=args.format,
             )
     except SolverError as err:
         print(f"fecontact: run failed: {err}; results so far are in {out}", file=sys.stderr)
@@ -308,8 +315,8 @@ def render_target(path: Path) -> Path:
         for name in files.values():
             vtu = run.pvd.parent / name
             head = vtu.read_bytes()[:200] if vtu.is_file() else b""
-            if b"<VTKFile" not in head:
-                why = "is missing" if not vtu.is_file() else "is not a VTU file"
+            if b"<VTKFile" not in head and not head.startswith(b"\x89HDF"):
+                why = "is missing" if not vtu.is_file() else "is not a VTU or VTKHDF file"
                 raise InputError(f"render: {name}, listed in {run.pvd.name}, {why}")
     return run.pvd
 

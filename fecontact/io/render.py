@@ -369,7 +369,7 @@ def render_run(
         stack.callback(plotter.close)
         add_to_movie = stack.enter_context(_movie(movie_path, fps)) if animation else None
         plotter.set_background("white")
-        plotter.add_text(run.pvd.stem, position="upper_right", font_size=10, color="black")
+        plotter.add_text(run.case, position="upper_right", font_size=10, color="black")
         clock = plotter.add_text("", position="upper_left", font_size=12, color="black")
         _fix_camera(plotter, bounds, pad=2 * radius)
         updates = {}
