@@ -310,7 +310,7 @@ def run(
     checkpoint_every: int = 500,
     resume: bool = False,
     overwrite: bool = False,
-    frame_format: str = "vtu",
+    frame_format: str = "auto",
 ) -> dict:
     """Run ``sim`` and write its results into ``out_dir``; return the summary.
 
@@ -325,12 +325,15 @@ def run(
     that holds another case's output unless ``overwrite``.
 
     ``frame_format`` "vtu" writes a ``.vtu`` per part and frame indexed by a ``.pvd``;
-    "vtkhdf" one transient ``.vtkhdf`` per part (:mod:`fecontact.io.vtkhdf`, needs h5py).
+    "vtkhdf" one transient ``.vtkhdf`` per part (:mod:`fecontact.io.vtkhdf`, needs h5py);
+    "auto" VTKHDF for 3D models where it writes faster (:func:`fecontact.io.output.
+    frame_format`), else VTU. A resumed run keeps the format of the run it continues.
     """
+    from .io.output import frame_format as choose_format
     from .io.output import frame_writer, write_json
 
-    if frame_format not in ("vtu", "vtkhdf"):
-        raise InputError(f"format must be 'vtu' or 'vtkhdf', got {frame_format!r}")
+    if frame_format not in ("auto", "vtu", "vtkhdf"):
+        raise InputError(f"format must be 'auto', 'vtu' or 'vtkhdf', got {frame_format!r}")
 
     out = Path(out_dir)
     start, meta = None, None
@@ -353,7 +356,10 @@ def run(
         out.mkdir(parents=True, exist_ok=True)
     except OSError as err:  # a file in the way, a folder that cannot be written
         raise InputError(f"out: cannot create the output folder {out}: {err.strerror}") from None
-    pvd = frame_writer(frame_format, out, sim.name, index_interval=PVD_INTERVAL)
+    earlier = [out / f"{sim.name}{ext}" for ext in (".pvd", ".frames.json")] if resume else []
+    index = next((path for path in earlier if path.is_file()), None)
+    fmt = choose_format(frame_format, sim.model, index)
+    pvd = frame_writer(fmt, out, sim.name, index_interval=PVD_INTERVAL)
     timer = PhaseTimer()
     rec = _Recorder(sim, out, keep_rows=None if start is None else start.step + 1)
     next_frame = 0.0

@@ -220,3 +220,20 @@ def test_render_draws_the_deformed_bodies(ball_run, monkeypatch):
     assert [p.suffix for p in written] == [".png", ".png"] and all(p.is_file() for p in written)
     moving = [points for static, points in drawn if not static]
     np.testing.assert_array_equal(moving[0], deformed(ball).points)
+
+
+def test_auto_format_is_vtkhdf_for_large_3d_models_only(tmp_path):
+    from types import SimpleNamespace
+
+    from fecontact.io.output import AUTO_VTKHDF_DOFS, frame_format
+
+    big3d = SimpleNamespace(dim=3, n=AUTO_VTKHDF_DOFS)
+    assert frame_format("auto", big3d) == "vtkhdf"
+    assert frame_format("auto", SimpleNamespace(dim=3, n=AUTO_VTKHDF_DOFS - 1)) == "vtu"
+    assert frame_format("auto", SimpleNamespace(dim=2, n=10**6)) == "vtu"
+    assert frame_format("vtu", big3d) == "vtu"
+    # a resumed run keeps the format of the frames it continues
+    assert frame_format("vtkhdf", big3d, tmp_path / "case.pvd") == "vtu"
+    assert frame_format("vtu", big3d, tmp_path / "case.frames.json") == "vtkhdf"
+    with pytest.raises(ValueError, match="format must be"):
+        frame_format("xdmf", big3d)

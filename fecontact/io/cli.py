@@ -114,9 +114,10 @@ def _add_run_options(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument(
         "--format",
-        choices=("vtu", "vtkhdf"),
-        default="vtu",
-        help="frames: a .vtu per part and frame (.pvd index), or a transient .vtkhdf per part",
+        choices=("auto", "vtu", "vtkhdf"),
+        default="auto",
+        help="frames: a .vtu per part and frame (.pvd index), a transient .vtkhdf per part, "
+        "or auto: vtkhdf for 3D models of 2000 dofs or more (default)",
     )
 
 

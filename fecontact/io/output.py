@@ -41,6 +41,7 @@ from .vtu import body_mesh, line_mesh
 __all__ = [
     "body_mesh",
     "deformed",
+    "frame_format",
     "frame_writer",
     "PVDWriter",
     "HistoryWriter",
@@ -283,6 +284,34 @@ def deformed(mesh):
     out = mesh.copy()
     out.points = np.asarray(mesh.points) + np.asarray(mesh.point_data["displacement"])
     return out
+
+
+AUTO_VTKHDF_DOFS = 2000
+"""3D models of at least this many dofs write VTKHDF frames by default (``"auto"``): on the
+dropped ball VTKHDF writes a frame about 2x faster than VTU at 2 499 dofs and 9x at 18 051,
+and is slower (7 against 1 to 4 ms a frame) at 387 (benchmarks/results/frames.md)."""
+
+
+def frame_format(requested: str, model, index: Path | None = None) -> str:
+    """The format a run writes its frames in: ``requested`` ("vtu", "vtkhdf" or "auto"), or
+    for "auto" VTKHDF on 3D models of ``AUTO_VTKHDF_DOFS`` dofs or more when h5py is
+    installed, else VTU. A run that continues another (``index``: the frame index it left, a
+    ``.pvd`` or ``.frames.json``) keeps that run's format."""
+    if requested not in ("auto", "vtu", "vtkhdf"):
+        raise ValueError(f"format must be 'auto', 'vtu' or 'vtkhdf', got {requested!r}")
+    if index is not None and index.suffix == ".pvd":
+        return "vtu"
+    if index is not None:
+        return "vtkhdf"
+    if requested != "auto":
+        return requested
+    if model.dim != 3 or model.n < AUTO_VTKHDF_DOFS:
+        return "vtu"
+    try:
+        import h5py  # noqa: F401
+    except ImportError:
+        return "vtu"
+    return "vtkhdf"
 
 
 def frame_writer(fmt: str, out_dir, case_name: str, index_interval: float = 0.0):
