@@ -284,6 +284,32 @@ def _add_part(pyvista, plotter, mesh, static: bool, radius: float, clim, space: 
     return update
 
 
+def _chosen_frames(run, snapshot_times, max_frames: int) -> tuple[dict[str, int], set[int]]:
+    """The frames of the snapshots ({file stem: frame}) and of the animation (at most
+    ``max_frames``, evenly subsampled; none for 0)."""
+    n = len(run.times)
+    if n == 0:
+        raise ValueError(f"{run.pvd} lists no frames")
+    shots = _snapshots(run, snapshot_times)
+    movie = set()
+    if max_frames:
+        movie = set(np.unique(np.linspace(0, n - 1, min(n, max_frames)).round().astype(int)))
+    return shots, movie
+
+
+def _show(updates: dict, parts: dict, add) -> None:
+    """Draw a frame's ``parts``: a part seen first is added (``add(name, mesh)`` returns its
+    update, None for a static part), the others updated, and those missing hidden."""
+    for name, mesh in parts.items():
+        if name not in updates:
+            updates[name] = add(name, mesh)
+        elif updates[name] is not None:
+            updates[name](mesh)
+    for name, update in updates.items():
+        if update is not None and name not in parts:
+            update(None)
+
+
 def _write_png(path: Path, image: np.ndarray) -> Path:
     from PIL import Image
 
@@ -344,13 +370,7 @@ def render_run(
     if fmt not in ("gif", "mp4"):
         raise ValueError(f"animation format must be 'gif' or 'mp4', got {fmt!r}")
     run = load_run(out_dir)
-    n = len(run.times)
-    if n == 0:
-        raise ValueError(f"{run.pvd} lists no frames")
-    shots = _snapshots(run, snapshot_times)
-    movie = set()
-    if animation:
-        movie = set(np.unique(np.linspace(0, n - 1, min(n, max_frames)).round().astype(int)))
+    shots, movie = _chosen_frames(run, snapshot_times, max_frames if animation else 0)
     indices = sorted(movie | set(shots.values()))
     # bounds and colours over the frames drawn: what is not drawn needs no room
     frames = [(t, {k: deformed(m) for k, m in parts.items()}) for t, parts in run.frames(indices)]
@@ -373,18 +393,14 @@ def render_run(
         clock = plotter.add_text("", position="upper_left", font_size=12, color="black")
         _fix_camera(plotter, bounds, pad=2 * radius)
         updates = {}
+
+        def add(name, mesh):
+            static = name in run.static_parts
+            space = not _is_planar(bounds)
+            return _add_part(pyvista, plotter, mesh, static, radius, clim, space)
+
         for i, (t, parts) in zip(indices, frames, strict=True):
-            for name, mesh in parts.items():
-                if name not in updates:
-                    static = name in run.static_parts
-                    updates[name] = _add_part(
-                        pyvista, plotter, mesh, static, radius, clim, not _is_planar(bounds)
-                    )
-                elif updates[name] is not None:
-                    updates[name](mesh)
-            for name, update in updates.items():
-                if update is not None and name not in parts:
-                    update(None)
+            _show(updates, parts, add)
             clock.SetText(2, f"t = {t:.4f} s")
             # render() is a no-op before the first screenshot, which then renders itself
             plotter.render()
@@ -445,15 +461,7 @@ def plot_history(out_dir, path=None) -> Path:
 
     folder = Path(out_dir)
     folder = folder.parent if folder.suffix == ".pvd" else folder
-    history = read_history(folder / HISTORY_FILE)
-    summary = read_json(folder / SUMMARY_FILE) if (folder / SUMMARY_FILE).is_file() else {}
-    if "t" not in history:
-        raise ValueError(f"{folder / HISTORY_FILE} has no column 't'")
-    probes = [c for c in history if c not in STANDARD_COLUMNS]
-    panels = history_panels(probes, summary.get("probes") or {})
-    energy = "total_energy" in history
-    if not panels and not energy:
-        raise ValueError(f"{folder / HISTORY_FILE} has no probe or energy columns")
+    history, summary, panels, energy = _history_panels(folder)
     heights = [2.0] * len(panels) + [1.2] * energy
     # Figure without pyplot: the Agg canvas, and no global backend state touched
     fig = Figure(figsize=(7.0, sum(heights) + 0.8), dpi=150, layout="constrained")
@@ -467,16 +475,36 @@ def plot_history(out_dir, path=None) -> Path:
     if energy:
         axes[-1].plot(t, history["total_energy"], lw=1.0, color="black")
         axes[-1].set_ylabel("total energy (J)")
-    for impact in summary.get("impacts") or []:
-        for ax in axes:
-            ax.axvline(float(impact["time"]), color="0.6", lw=0.6, ls="--", zorder=0)
+    _mark_impacts(axes, summary.get("impacts") or [], t)
+    indices = sorted([*folder.glob("*.pvd"), *folder.glob("*.frames.json")])
+    title = indices[0].name.split(".")[0] if len(indices) == 1 else folder.name
+    axes[0].set_title(title, fontsize="medium")
+    path = Path(path) if path is not None else folder / "history.png"
+    fig.savefig(path)
+    return path
+
+
+def _history_panels(folder: Path):
+    """The history and summary of a run folder, the probe panels and whether the total energy
+    is there to plot."""
+    history = read_history(folder / HISTORY_FILE)
+    summary = read_json(folder / SUMMARY_FILE) if (folder / SUMMARY_FILE).is_file() else {}
+    if "t" not in history:
+        raise ValueError(f"{folder / HISTORY_FILE} has no column 't'")
+    probes = [c for c in history if c not in STANDARD_COLUMNS]
+    panels = history_panels(probes, summary.get("probes") or {})
+    energy = "total_energy" in history
+    if not panels and not energy:
+        raise ValueError(f"{folder / HISTORY_FILE} has no probe or energy columns")
+    return history, summary, panels, energy
+
+
+def _mark_impacts(axes, impacts, t: np.ndarray) -> None:
+    """Dashed lines at the impact times, a grid, the time axis over the run."""
     for ax in axes:
+        for impact in impacts:
+            ax.axvline(float(impact["time"]), color="0.6", lw=0.6, ls="--", zorder=0)
         ax.grid(True, lw=0.3, alpha=0.5)
     if t.size:
         axes[-1].set_xlim(t[0], t[-1])
     axes[-1].set_xlabel("time (s)")
-    cases = sorted(folder.glob("*.pvd"))
-    axes[0].set_title(cases[0].stem if len(cases) == 1 else folder.name, fontsize="medium")
-    path = Path(path) if path is not None else folder / "history.png"
-    fig.savefig(path)
-    return path
