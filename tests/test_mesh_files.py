@@ -146,3 +146,24 @@ def test_a_3d_boundary_group_fixes_its_nodes(tmp_path):
     body = Solid.from_file(tmp_path / "cube.msh", MAT).fix("base")
     base = body.nodes_where(lambda x: x[2] < 1e-9)
     assert len(base) == 9 and body.fixed == {int(i) * 3 + k for i in base for k in range(3)}
+
+
+def test_a_p2_boundary_group_holds_its_edge_nodes(tmp_path):
+    """A gmsh 2.2 file of triangle6 cells whose bottom is a physical group of line3 cells."""
+    m = skfem.MeshTri2.from_mesh(skfem.MeshTri.init_tensor(np.linspace(0, 1, 4), [0.0, 0.5, 1.0]))
+    bf = m.boundary_facets()
+    bottom = bf[m.doflocs[1, m.facets[:, bf]].max(axis=0) < 1e-9]
+    line3 = np.column_stack([m.facets[:, bottom].T, m.nvertices + bottom])  # edge node last
+    triangle6 = skfem.io.meshio.to_meshio(m).cells[0].data
+    tags = [np.full(len(triangle6), 1), np.full(len(line3), 2)]
+    mesh = meshio.Mesh(
+        m.doflocs.T,
+        [("triangle6", triangle6), ("line3", line3)],
+        cell_data={"gmsh:physical": tags, "gmsh:geometrical": tags},
+        field_data={"body": np.array([1, 2]), "bottom": np.array([2, 1])},
+    )
+    mesh.write(tmp_path / "p2.msh", file_format="gmsh22")
+    body = Solid.from_file(tmp_path / "p2.msh", MAT, element="P2")
+    nodes = body.nodes_of("bottom")
+    np.testing.assert_array_equal(nodes, body.nodes_where(lambda x: x[1] < 1e-9))
+    assert len(nodes) == 7  # 4 vertices and 3 edge nodes
