@@ -332,10 +332,10 @@ def run(
     from .io.output import frame_format as choose_format
     from .io.output import frame_writer, write_json
 
-    if frame_format not in ("auto", "vtu", "vtkhdf"):
-        raise InputError(f"format must be 'auto', 'vtu' or 'vtkhdf', got {frame_format!r}")
-
     out = Path(out_dir)
+    earlier = [out / f"{sim.name}{ext}" for ext in (".pvd", ".frames.json")] if resume else []
+    index = next((path for path in earlier if path.is_file()), None)
+    fmt = choose_format(frame_format, sim.model, index) if frames else "vtu"
     start, meta = None, None
     if resume:
         start, meta = load_checkpoint(out / CHECKPOINT, sim)
@@ -356,9 +356,6 @@ def run(
         out.mkdir(parents=True, exist_ok=True)
     except OSError as err:  # a file in the way, a folder that cannot be written
         raise InputError(f"out: cannot create the output folder {out}: {err.strerror}") from None
-    earlier = [out / f"{sim.name}{ext}" for ext in (".pvd", ".frames.json")] if resume else []
-    index = next((path for path in earlier if path.is_file()), None)
-    fmt = choose_format(frame_format, sim.model, index)
     pvd = frame_writer(fmt, out, sim.name, index_interval=PVD_INTERVAL)
     timer = PhaseTimer()
     rec = _Recorder(sim, out, keep_rows=None if start is None else start.step + 1)

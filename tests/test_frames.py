@@ -235,5 +235,19 @@ def test_auto_format_is_vtkhdf_for_large_3d_models_only(tmp_path):
     # a resumed run keeps the format of the frames it continues
     assert frame_format("vtkhdf", big3d, tmp_path / "case.pvd") == "vtu"
     assert frame_format("vtu", big3d, tmp_path / "case.frames.json") == "vtkhdf"
-    with pytest.raises(ValueError, match="format must be"):
+    with pytest.raises(ValueError, match="format must be"):  # an InputError
         frame_format("xdmf", big3d)
+
+
+def test_without_h5py_auto_writes_vtu_and_vtkhdf_names_the_extra(monkeypatch, tmp_path, capsys):
+    from types import SimpleNamespace
+
+    import fecontact.io.output as output
+
+    monkeypatch.setattr(output, "_has_h5py", lambda: False)
+    assert output.frame_format("auto", SimpleNamespace(dim=3, n=10**5)) == "vtu"
+    args = ["run", str(ROOT / "cases" / "disk_drop.py"), "--quiet", "--format", "vtkhdf"]
+    assert main([*args, "--out", str(tmp_path / "run")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "fecontact[vtkhdf]" in err
+    assert not (tmp_path / "run").exists()  # refused before any file

@@ -33,6 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import InputError
 from .files import atomic_write, write_text
 from .pvd import PVDWriter, read_pvd
 from .vtkhdf import INDEX_SUFFIX, VTKHDFSeries, read_index, read_step, step_times
@@ -298,20 +299,23 @@ def frame_format(requested: str, model, index: Path | None = None) -> str:
     installed, else VTU. A run that continues another (``index``: the frame index it left, a
     ``.pvd`` or ``.frames.json``) keeps that run's format."""
     if requested not in ("auto", "vtu", "vtkhdf"):
-        raise ValueError(f"format must be 'auto', 'vtu' or 'vtkhdf', got {requested!r}")
-    if index is not None and index.suffix == ".pvd":
-        return "vtu"
+        raise InputError(f"format must be 'auto', 'vtu' or 'vtkhdf', got {requested!r}")
     if index is not None:
-        return "vtkhdf"
-    if requested != "auto":
-        return requested
-    if model.dim != 3 or model.n < AUTO_VTKHDF_DOFS:
-        return "vtu"
-    try:
-        import h5py  # noqa: F401
-    except ImportError:
-        return "vtu"
-    return "vtkhdf"
+        chosen = "vtu" if index.suffix == ".pvd" else "vtkhdf"
+    elif requested == "auto":
+        large = model.dim == 3 and model.n >= AUTO_VTKHDF_DOFS
+        chosen = "vtkhdf" if large and _has_h5py() else "vtu"
+    else:
+        chosen = requested
+    if chosen == "vtkhdf" and not _has_h5py():
+        raise InputError("format vtkhdf needs h5py: pip install 'fecontact[vtkhdf]'")
+    return chosen
+
+
+def _has_h5py() -> bool:
+    import importlib.util
+
+    return importlib.util.find_spec("h5py") is not None
 
 
 def frame_writer(fmt: str, out_dir, case_name: str, index_interval: float = 0.0):
