@@ -251,3 +251,12 @@ def test_without_h5py_auto_writes_vtu_and_vtkhdf_names_the_extra(monkeypatch, tm
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "fecontact[vtkhdf]" in err
     assert not (tmp_path / "run").exists()  # refused before any file
+
+
+def test_a_sweep_passes_the_format_to_its_runs(tmp_path):
+    case = str(ROOT / "cases" / "rigid_pendulum.py")
+    args = ["sweep", case, "--set", "dt=1e-3,2e-3", "--t-end", "0.05", "--workers", "1"]
+    assert main([*args, "--quiet", "--format", "vtkhdf", "--out", str(tmp_path)]) == 0
+    indices = sorted(tmp_path.glob("**/*.frames.json"))
+    assert len(indices) == 2 and not list(tmp_path.glob("**/*.pvd"))
+    assert all(len(load_run(i.parent).times) > 1 for i in indices)

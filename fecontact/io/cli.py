@@ -226,6 +226,7 @@ def _sweep(build, args, case: Path) -> int:
         if getattr(args, name) is not None:
             options += [flag, repr(getattr(args, name))]
     options += [f for f in ("--render", "--overwrite") if getattr(args, f[2:])]
+    options += ["--format", args.format]
 
     def check(values: dict[str, str]) -> None:
         one = argparse.Namespace(**vars(args))
