@@ -1,12 +1,16 @@
-"""Run output: ``.vtu`` frames with a ``.pvd`` index, ``history.csv``, ``summary.json``.
+"""Run output: frames (``.vtu`` with a ``.pvd`` index, or transient ``.vtkhdf``),
+``history.csv``, ``summary.json``.
 
-Layout of an output folder written by a run of case ``<case>``::
+Layout of an output folder written by a run of case ``<case>`` with VTU frames::
 
     <case>.pvd                     time index (VTK Collection XML), rewritten after every frame
     <case>_<part>_<index>.vtu      one file per moving part and frame (index: 00000, 00001, ...)
     <case>_<part>.vtu              a static part (obstacle), written once
     history.csv                    one row per time step, every cell numeric
     summary.json                   strict JSON (non-finite floats as "inf", "-inf", "nan")
+
+With VTKHDF frames (:mod:`fecontact.io.vtkhdf`) ``<case>.frames.json`` lists the parts and
+each part is one ``<case>_<part>.vtkhdf`` holding every frame.
 
 Every ``DataSet`` entry of the ``.pvd`` carries ``timestep`` (s), ``part`` (a fixed index per
 part), ``name`` (the part name: ParaView uses it as block name) and ``file`` (relative path).
