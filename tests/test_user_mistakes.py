@@ -252,7 +252,7 @@ def test_redundant_joints_are_refused_before_the_run():
 def test_a_full_disk_mid_run_is_one_line_and_keeps_a_readable_index(tmp_path, monkeypatch, capsys):
     import errno
 
-    import fecontact.io.output as output
+    import fecontact.io.pvd as output  # the .pvd writer writes the frames
     from fecontact.io.cli import main
     from fecontact.io.output import load_run
     from fecontact.testing import CASES

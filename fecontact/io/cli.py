@@ -111,6 +111,13 @@ def _add_run_options(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--overwrite", action="store_true", help="replace another case's output in --out"
     )
+    p.add_argument(
+        "--format",
+        choices=("auto", "vtu", "vtkhdf"),
+        default="auto",
+        help="frames: a .vtu per part and frame (.pvd index), a transient .vtkhdf per part, "
+        "or auto: vtkhdf for 3D models of 2000 dofs or more (default)",
+    )
 
 
 def _prepare(build, args, name: str):
@@ -161,6 +168,7 @@ def _execute(build, args, name: str) -> int:
                 checkpoint_every=args.checkpoint_every,
                 resume=args.resume,
                 overwrite=args.overwrite,
+                frame_format=args.format,
             )
     except SolverError as err:
         print(f"fecontact: run failed: {err}; results so far are in {out}", file=sys.stderr)
@@ -217,6 +225,7 @@ def _sweep(build, args, case: Path) -> int:
         if getattr(args, name) is not None:
             options += [flag, repr(getattr(args, name))]
     options += [f for f in ("--render", "--overwrite") if getattr(args, f[2:])]
+    options += ["--format", args.format]
 
     def check(values: dict[str, str]) -> None:
         one = argparse.Namespace(**vars(args))
@@ -305,8 +314,8 @@ def render_target(path: Path) -> Path:
         for name in files.values():
             vtu = run.pvd.parent / name
             head = vtu.read_bytes()[:200] if vtu.is_file() else b""
-            if b"<VTKFile" not in head:
-                why = "is missing" if not vtu.is_file() else "is not a VTU file"
+            if b"<VTKFile" not in head and not head.startswith(b"\x89HDF"):
+                why = "is missing" if not vtu.is_file() else "is not a VTU or VTKHDF file"
                 raise InputError(f"render: {name}, listed in {run.pvd.name}, {why}")
     return run.pvd
 
