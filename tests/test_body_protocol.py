@@ -99,7 +99,8 @@ def test_beam_mass_counts_its_point_masses():
 
 
 # Members that contact pairs, joints and statics use on the body kinds they are made for
-# (a beam's centreline segments, a solid's boundary facets, a rigid body's frame).
+# (a beam's centreline segments, a solid's boundary facets, a rigid body's frame), and that the
+# frames use on continua (the boundary area each node carries, for the contact pressure).
 KIND_MEMBERS = {
     Beam2D: {"X", "segments", "node_translation_dofs", "locate"},
     Solid: {
@@ -110,6 +111,7 @@ KIND_MEMBERS = {
         "node_translation_dofs",
         "boundary_nodes",
         "stiffness_matrix",
+        "tributary_areas",
     },
     RigidBody2D: {"shape", "position", "center", "orientation", "to_frame", "frame_point_function"},
     PointMass: {"position"},
