@@ -13,9 +13,6 @@ the driver, ``cli`` (the command line and sweeps). Every public name is importab
 ``fecontact`` itself.
 """
 
-__version__ = "0.1.0"
-
-from . import moved
 from .bodies import (
     Beam2D,
     Disk,
@@ -36,8 +33,7 @@ from .model import Model, NodalLoad
 from .params import Param, case
 from .simulation import Probe, Simulation, node_probe, run
 from .time import IntegratorOptions, State, simulate
-
-moved.install()
+from .version import __version__ as __version__
 
 __all__ = [
     "Beam2D",

@@ -20,7 +20,6 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__
 from .contact.friction import COULOMB
 from .contact.laws import ALART_CURNIER, LEAST_SQUARES
 from .energy import EnergyBalance
@@ -49,6 +48,7 @@ from .time import (
     simulate,
     uses_smooth_contact,
 )
+from .version import __version__
 
 __all__ = ["Probe", "Simulation", "node_probe", "run", "HISTORY_COLUMNS"]
 
@@ -316,6 +316,7 @@ def run(
     checkpoint_every: int = 500,
     resume: bool = False,
     overwrite: bool = False,
+    frame_format: str = "auto",
 ) -> dict:
     """Run ``sim`` and write its results into ``out_dir``; return the summary.
 
@@ -330,14 +331,24 @@ def run(
     (frames, index, history, summary, checkpoint, pictures), and refuses a folder that holds
     another case's output unless ``overwrite``. BLAS threads are limited to one while it runs
     (:mod:`fecontact.threads`).
+
+    ``frame_format`` "vtu" writes a ``.vtu`` per part and frame indexed by a ``.pvd``;
+    "vtkhdf" one transient ``.vtkhdf`` per part (:mod:`fecontact.io.vtkhdf`, needs h5py);
+    "auto" VTKHDF for 3D models where it writes faster (:func:`fecontact.io.output.
+    frame_format`), else VTU. A resumed run keeps the format of the run it continues.
     """
     with blas_threads(), hold_folder(out_dir, sim.name):
-        return _run(sim, Path(out_dir), progress, frames, checkpoint_every, resume, overwrite)
+        options = (progress, frames, checkpoint_every, resume, overwrite, frame_format)
+        return _run(sim, Path(out_dir), *options)
 
 
-def _run(sim, out, progress, frames, checkpoint_every, resume, overwrite) -> dict:
-    from .io.output import PVDWriter, write_json
+def _run(sim, out, progress, frames, checkpoint_every, resume, overwrite, frame_format) -> dict:
+    from .io.output import frame_format as choose_format
+    from .io.output import frame_writer, write_json
 
+    earlier = [out / f"{sim.name}{ext}" for ext in (".pvd", ".frames.json")] if resume else []
+    index = next((path for path in earlier if path.is_file()), None)
+    fmt = choose_format(frame_format, sim.model, index) if frames else "vtu"
     start, meta = None, None
     if resume:
         start, meta = load_checkpoint(out / CHECKPOINT, sim)
@@ -358,7 +369,7 @@ def _run(sim, out, progress, frames, checkpoint_every, resume, overwrite) -> dic
         out.mkdir(parents=True, exist_ok=True)
     except OSError as err:  # a file in the way, a folder that cannot be written
         raise InputError(f"out: cannot create the output folder {out}: {err.strerror}") from None
-    pvd = PVDWriter(out, sim.name, index_interval=PVD_INTERVAL)
+    pvd = frame_writer(fmt, out, sim.name, index_interval=PVD_INTERVAL)
     timer = PhaseTimer()
     rec = _Recorder(sim, out, keep_rows=None if start is None else start.step + 1)
     next_frame = 0.0
@@ -470,9 +481,9 @@ def _run(sim, out, progress, frames, checkpoint_every, resume, overwrite) -> dic
 
 
 def _flush(pvd) -> float:
-    """Write the .pvd index if frames are missing from it; return the start time (s)."""
+    """Close the frames: the .pvd index lists them all; return the start time (s)."""
     clock = time.perf_counter()
-    pvd.flush()
+    pvd.close()
     return clock
 
 

@@ -9,7 +9,7 @@ import pytest
 from conftest import ROOT
 
 EXTRAS = ["pyvista", "vtk", "vtkmodules", "matplotlib", "PIL", "imageio", "imageio_ffmpeg"]
-EXTRAS += ["dask", "distributed", "pyamg", "pypardiso", "pandas"]
+EXTRAS += ["dask", "distributed", "pyamg", "pypardiso", "pandas", "h5py"]
 
 BLOCKER = f"""
 import importlib.abc, sys
@@ -106,6 +106,6 @@ def test_the_test_extra_installs_every_extra_the_tests_use():
     core = " ".join(project["dependencies"])
     assert "pyvista" not in core and "dask" not in core and "pyamg" not in core
     test = extras["test"][0]
-    for name in ("mp4", "sweep", "amg", "pandas"):
+    for name in ("mp4", "sweep", "amg", "pandas", "vtkhdf"):
         assert name in test
     assert "fecontact[render]" in extras["mp4"]

@@ -29,10 +29,10 @@ import os
 import sys
 from pathlib import Path
 
-from .. import __version__
 from ..errors import InputError
 from ..extras import need
 from ..params import declared_parameters
+from ..version import __version__
 from .cases import bundled_cases, find_case, load_case
 from .run import RUN_OPTIONS, Parser, add_run_options, execute, prepare
 
@@ -60,6 +60,7 @@ def _sweep(build, args, case: Path) -> int:
         for item in (flag, repr(getattr(args, name)))
     ]
     options += [f for f in ("--render", "--overwrite") if getattr(args, f[2:])]
+    options += ["--format", args.format]
 
     def check(values: dict[str, str]) -> None:
         one = argparse.Namespace(**vars(args))
@@ -151,7 +152,7 @@ def _render(target: str) -> int:
 
 def render_target(path: Path) -> Path:
     """The ``.pvd`` of a finished run given by its folder or its path, checked to list
-    frames that exist and are VTU files."""
+    frames that exist and are VTU or VTKHDF files."""
     from ..io.output import load_run
 
     if not path.exists():
@@ -164,14 +165,21 @@ def render_target(path: Path) -> Path:
         raise InputError(f"render: {str(err).splitlines()[0][:150]}") from None
     if len(run.times) == 0:
         raise InputError(f"render: {run.pvd.name} lists no frames")
-    for files in run.files:
-        for name in files.values():
-            vtu = run.pvd.parent / name
-            head = vtu.read_bytes()[:200] if vtu.is_file() else b""
-            if b"<VTKFile" not in head:
-                why = "is missing" if not vtu.is_file() else "is not a VTU file"
-                raise InputError(f"render: {name}, listed in {run.pvd.name}, {why}")
+    listed = dict.fromkeys(name for files in run.files for name in files.values())
+    for name in listed:  # every frame file, once (a VTKHDF file holds every frame)
+        _check_frame_file(run.pvd.parent / name, run.pvd.name)
     return run.pvd
+
+
+def _check_frame_file(path: Path, index: str) -> None:
+    """A frame file listed in ``index`` exists and is VTU (XML) or VTKHDF (HDF5)."""
+    try:
+        with open(path, "rb") as f:
+            head = f.read(200)
+    except OSError:
+        raise InputError(f"render: {path.name}, listed in {index}, is missing") from None
+    if b"<VTKFile" not in head and not head.startswith(b"\x89HDF"):
+        raise InputError(f"render: {path.name}, listed in {index}, is not a VTU or VTKHDF file")
 
 
 def _parser() -> Parser:

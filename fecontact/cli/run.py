@@ -88,6 +88,13 @@ def add_run_options(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--overwrite", action="store_true", help="replace another case's output in --out"
     )
+    p.add_argument(
+        "--format",
+        choices=("auto", "vtu", "vtkhdf"),
+        default="auto",
+        help="frames: a .vtu per part and frame (.pvd index), a transient .vtkhdf per part, "
+        "or auto: vtkhdf for 3D models of 2000 dofs or more (default)",
+    )
 
 
 def _build(build, case_kw: dict, name: str, debug: bool):
@@ -140,6 +147,7 @@ def _run(sim, out: Path, args) -> dict | int:
                 checkpoint_every=args.checkpoint_every,
                 resume=args.resume,
                 overwrite=args.overwrite,
+                frame_format=args.format,
             )
     except SolverError as err:
         print(f"fecontact: run failed: {err}; results so far are in {out}", file=sys.stderr)

@@ -9,9 +9,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import __version__
 from ..errors import InputError
 from ..time import State
+from ..version import __version__
 from .files import atomic_write
 
 __all__ = ["CHECKPOINT", "clear_earlier_run", "jsonable", "load_checkpoint", "save_checkpoint"]
@@ -88,7 +88,7 @@ def load_checkpoint(path: Path, sim):
     if meta["fingerprint"] != fingerprint(sim):
         raise InputError(f"resume: {_what_differs(meta['fingerprint'], sim)}")
     _check_history(path.parent / "history.csv", meta["step"])
-    _check_frames(path.parent / f"{sim.name}.pvd", meta["t"])
+    _check_frames(path.parent, sim.name, meta["t"])
     st = State(meta["t"], step=meta["step"], h=meta["h"], memory=memory, **arrays)
     return st, meta
 
@@ -122,9 +122,12 @@ def _check_history(path: Path, step: int) -> None:
         )
 
 
-def _check_frames(pvd: Path, t: float) -> None:
-    """Every frame the ``.pvd`` lists up to the checkpoint's time ``t`` (s) exists."""
-    if not pvd.is_file():
+def _check_frames(out: Path, name: str, t: float) -> None:
+    """Every frame the run's index (``.pvd``, or ``.frames.json`` of VTKHDF frames) lists up
+    to the checkpoint's time ``t`` (s) exists."""
+    indexes = [out / f"{name}{ext}" for ext in (".pvd", ".frames.json")]
+    pvd = next((path for path in indexes if path.is_file()), None)
+    if pvd is None:
         return  # a run without frames
     from .output import load_run
 
@@ -150,6 +153,7 @@ def clear_earlier_run(out: Path, name: str, overwrite: bool) -> None:
     if not out.is_dir():
         return
     cases = {p.stem for p in out.glob("*.pvd")}
+    cases |= {p.name[: -len(".frames.json")] for p in out.glob("*.frames.json")}
     others = sorted(cases - {name})
     if others and not overwrite:
         raise InputError(
@@ -159,6 +163,7 @@ def clear_earlier_run(out: Path, name: str, overwrite: bool) -> None:
     stale = [out / f for f in RUN_FILES] + list(out.glob("snapshot_*.png"))
     for case in cases | {name}:
         stale += [out / f"{case}.pvd", *out.glob(f"{case}_*.vtu")]
+        stale += [out / f"{case}.frames.json", *out.glob(f"{case}_*.vtkhdf")]
     for path in stale:
         try:
             path.unlink(missing_ok=True)
