@@ -13,7 +13,8 @@ Moreau–Jean's free velocity) and the metric H (M, or Moreau–Jean's iteration
 
 Joints are equalities in both phases. Λ_i is the percussion of the impact: the compression
 impulse that stops the approach ġ⁻ (the same pre-impact rate as Newton's law), found by the
-compression problem with ġ⁻ in place of the normal rates G ṽ, and at most Λ_c. The rest of
+compression problem with ġ⁻ in place of the normal rates G ṽ (and the joints at rest),
+and at most Λ_c. The rest of
 Λ_c is the impulse of the finite forces over the step (gravity pressing a body that rests):
 it is not restituted, or a resting body would be thrown up by e_N g h every step. Without
 forces over the step Λ_i = Λ_c. For one frictionless contact the two phases give
@@ -49,6 +50,7 @@ def poisson_jump(model, st, q, v, closed, G1, rates, e, approach, opts, tol, **k
     struck = e[:nc] > 0.0
     pre = rates.copy()
     pre[:nc] = np.where(struck, approach, rates[:nc])  # ġ⁻ in place of G ṽ
+    pre[nc:] = 0.0  # (the joints' drift G_b ṽ of the index-3 smooth step is no approach)
     if model.contacts.frictional:
         out = _frictional(model, st, q, v, closed, G1, rates, pre, e, opts, tol, solve, kw)
     else:
