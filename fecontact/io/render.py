@@ -27,6 +27,7 @@ import numpy as np
 
 from .output import (
     HISTORY_FILE,
+    LEDGER_COLUMNS,
     STANDARD_COLUMNS,
     SUMMARY_FILE,
     atomic_write,
@@ -448,7 +449,7 @@ def plot_history(out_dir, path=None) -> Path:
     summary = read_json(folder / SUMMARY_FILE) if (folder / SUMMARY_FILE).is_file() else {}
     if "t" not in history:
         raise ValueError(f"{folder / HISTORY_FILE} has no column 't'")
-    probes = [c for c in history if c not in STANDARD_COLUMNS]
+    probes = [c for c in history if c not in STANDARD_COLUMNS and c not in LEDGER_COLUMNS]
     panels = history_panels(probes, summary.get("probes") or {})
     energy = "total_energy" in history
     if not panels and not energy:

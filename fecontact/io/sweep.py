@@ -34,7 +34,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..params import assignment
-from .output import FRICTION_COLUMNS, STANDARD_COLUMNS, read_history
+from .output import FRICTION_COLUMNS, LEDGER_COLUMNS, STANDARD_COLUMNS, read_history
 
 __all__ = ["SWEEP_FILE", "run_sweep", "sweep_axes"]
 
@@ -103,7 +103,7 @@ def _row(swept: dict[str, str], out: Path, result: dict | None) -> dict:
     except (OSError, ValueError):
         history = {}
     for name, col in history.items():
-        if name in STANDARD_COLUMNS or name in FRICTION_COLUMNS or col.size == 0:
+        if name in STANDARD_COLUMNS or name in FRICTION_COLUMNS + LEDGER_COLUMNS or col.size == 0:
             continue
         finite = col[np.isfinite(col)]
         if finite.size:
