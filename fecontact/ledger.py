@@ -44,15 +44,18 @@ ROUND_OFF = 1e-9
 TERMS = ("load_work", "damping", "friction", "impact", "numerical")
 
 
-def smooth_record(model, v_tilde, q_tilde=None, friction_work: float = 0.0) -> np.ndarray:
-    """What a stepper with a contact phase leaves for the ledger after its smooth step: the
-    kinetic energy of ṽ, the potential (strain + gravity) energy of q̃ (NaN when no
-    correction moved q: then it is that of the step's end) and the work the smooth step's
-    friction forces dissipated (J)."""
+def smooth_record(model, contact_phase, v_tilde, q_tilde=None, friction_work=0.0) -> dict:
+    """What a stepper leaves in its state's memory for the ledger after its smooth step, when
+    a ``contact_phase`` (correction or jump) may follow: under "ledger", the kinetic energy
+    of ṽ, the potential (strain + gravity) energy of q̃ (NaN when no correction moved q:
+    then it is that of the step's end) and the work the smooth step's friction forces
+    dissipated (J). Without a contact phase, nothing."""
+    if not contact_phase:
+        return {}
     V = math.nan
     if q_tilde is not None:
         V = model.strain_energy(q_tilde) + model.potential_energy(q_tilde)
-    return np.array([model.kinetic_energy(v_tilde), V, friction_work])
+    return {"ledger": np.array([model.kinetic_energy(v_tilde), V, friction_work])}
 
 
 class EnergyLedger:

@@ -225,7 +225,7 @@ def nsga_step(
         impulse=impulse,
         lam=lam,
         iterations=iters,
-        memory=memory | {"ledger": smooth_record(model, *ledger, work_t)},  # ṽ, q̃: the ledger's
+        memory=memory | smooth_record(model, cand.size + joints.size, *ledger, work_t),
     )
 
 
