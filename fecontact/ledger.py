@@ -117,7 +117,7 @@ class EnergyLedger:
             self.terms[k] += x
         self.energy = E
         self.scale = max(self.scale, kinetic + strain)
-        gains.setdefault("time step", -numerical)
+        gains.setdefault("smooth step" if self.integrator == "nsga" else "time step", -numerical)
         self._track(st, E, gains, friction)
         self.last = st
 
