@@ -17,7 +17,7 @@ mechanical energy T + V_gravity.
 
 import numpy as np
 
-from fecontact import Model, Param, Pin, Probe, Simulation, case, run_cli
+from fecontact import InputError, Model, Param, Pin, Probe, Simulation, case, run_cli
 from fecontact.bodies import Polygon, RigidBody2D
 from fecontact.contact import Contact, Plane
 
@@ -27,8 +27,8 @@ def build(
     length=Param.positive(1.0, "m", "length of each bar"),
     mass=Param.positive(1.0, "kg", "mass of each bar"),
     height=Param.positive(1.5, "m", "height of the ground pin above the floor"),
-    angle1=Param(10.0, "deg", "initial angle of the pinned bar, from +x"),
-    angle2=Param(-135.0, "deg", "initial angle of the striking bar, from +x"),
+    angle1=Param(10.0, "deg", "initial angle of the pinned bar, from +x", -360.0, 360.0),
+    angle2=Param(-135.0, "deg", "initial angle of the striking bar, from +x", -360.0, 360.0),
     restitution=Param.fraction(1.0, "coefficient of restitution e_N"),
     friction=Param.nonnegative(0.5, "-", "Coulomb's coefficient mu at the floor"),
     gravity=Param.positive(9.81, "m/s^2", "acceleration of gravity, along -y"),
@@ -41,6 +41,12 @@ def build(
     d1 = np.array([np.cos(angle1), np.sin(angle1)])
     d2 = np.array([np.cos(angle2), np.sin(angle2)])
     J = O + L * d1
+    tip = J + L * d2
+    if tip[1] <= 0.0:
+        raise InputError(
+            f"height: the free end starts at y = {tip[1]:.4g} m, on or below the floor; "
+            f"give a height above {height - tip[1]:.4g} m for these angles and length"
+        )
     upper = RigidBody2D(m, m * L**2 / 12.0, O + 0.5 * L * d1, angle=angle1, shape=diamond)
     lower = RigidBody2D(m, m * L**2 / 12.0, J + 0.5 * L * d2, angle=angle2, shape=diamond)
     floor = Plane([0.0, 0.0], [0.0, 1.0])
@@ -54,13 +60,13 @@ def build(
 
     o = model.offset_of(lower)
 
-    def tip(st):  # the centre c₀ + u and the axis at φ₀ + θ of the striking bar
+    def end(st):  # the centre c₀ + u and the axis at φ₀ + θ of the striking bar
         phi = angle2 + st.q[o + 2]
         return lower.position + st.q[o : o + 2] + 0.5 * L * np.array([np.cos(phi), np.sin(phi)])
 
     probes = {
-        "tip_x": Probe(lambda m_, st: float(tip(st)[0]), "m", "striking end, x"),
-        "tip_y": Probe(lambda m_, st: float(tip(st)[1]), "m", "striking end, y"),
+        "tip_x": Probe(lambda m_, st: float(end(st)[0]), "m", "striking end, x"),
+        "tip_y": Probe(lambda m_, st: float(end(st)[1]), "m", "striking end, y"),
         "energy": Probe(
             lambda m_, st: float(m_.kinetic_energy(st.v) + m_.potential_energy(st.q)),
             "J",
