@@ -213,3 +213,31 @@ def test_decompression_solver_holds_the_law():
 def test_impact_law_is_checked():
     with pytest.raises(InputError, match="impact_law"):
         IntegratorOptions(impact_law="stronge")
+
+
+def test_decompression_solver_in_3d():
+    """Random coupled 3D contacts (disk cones) with floors, and a joint row: the bound, the
+    complementarity, the cone, no slip inside it and slip against the impulse on its edge,
+    and the joint's rate zero."""
+    rng = np.random.default_rng(7)
+    for _ in range(10):
+        B = rng.normal(size=(7, 7))
+        D = B @ B.T / 7 + 0.3 * np.eye(7)
+        c = rng.normal(size=7)
+        mu = rng.uniform(0.1, 1.0, 2)
+        floor = rng.uniform(0.0, 1.0, 2)
+        x, status, _ = solve_decompression(c, D, mu, 2, floor, 1e-12)
+        w = c + D @ x
+        assert abs(w[6]) <= 1e-12
+        for j in range(2):
+            xn, xt = x[3 * j], x[3 * j + 1 : 3 * j + 3]
+            wn, wt = w[3 * j], w[3 * j + 1 : 3 * j + 3]
+            # the projection iteration stops at an update of w ≤ 1e-13: margins of 1e-10
+            assert xn >= floor[j] - 1e-12 and wn >= -1e-10
+            assert xn - floor[j] <= 1e-10 or abs(wn) <= 1e-10
+            assert np.linalg.norm(xt) <= mu[j] * xn + 1e-12
+            if np.linalg.norm(xt) < mu[j] * xn * (1 - 1e-9):
+                assert np.linalg.norm(wt) <= 1e-10
+            else:  # on the edge: the impulse opposes the slip
+                assert np.linalg.norm(np.cross(np.r_[xt, 0], np.r_[wt, 0])) <= 1e-9
+                assert xt @ wt <= 1e-10
