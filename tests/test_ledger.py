@@ -121,7 +121,7 @@ def test_kane_chain_newton_warns_and_poisson_does_not_create(tmp_path):
         ),
     ],
 )
-def test_the_gains_measured_beyond_the_cases_warn(name, args, phase, tmp_path):
+def test_the_gains_measured_beyond_the_cases_warn(name, args, phase, tmp_path, capsys):
     build = case(name).build
     if "4x" in args:
         args = [*args[:-1], str(4 * build(n_elements=20).dt)]
@@ -132,5 +132,6 @@ def test_the_gains_measured_beyond_the_cases_warn(name, args, phase, tmp_path):
     summary = load_run(out).summary
     warning = [w for w in summary["warnings"] if w.startswith("energy: the run created")]
     assert warning and f"in the {phase}" in warning[0]
+    assert f"fecontact: warning: {warning[0]}" in capsys.readouterr().err  # under --quiet
     ledger = summary["energy_ledger"]
     assert ledger["created"] > 1e-2 * ledger["scale"]

@@ -85,12 +85,10 @@ def velocity_jump(
         raise StepFailure("velocity jump: non-finite normal velocity of a closed contact", np.nan)
     tol = tol_gap / (t - st.t)
     if opts.impact_law == "poisson" and np.any(e):
-        bilateral = None if contacts.frictional else cons.bilateral
-        W, Lam, its, friction = poisson_jump(
+        return poisson_jump(
             model, st, q, v, closed, G1, gdot, e, gdot_n[: closed.size], opts, tol,
-            bilateral=bilateral, preload=preload,
+            bilateral=cons.bilateral, preload=preload,
         )  # fmt: skip
-        return W, Lam, its, friction
     gdot += e * gdot_n
     if contacts.frictional:
         W, lam_n, lam_t, status, its, work, _ = frictional_jump(

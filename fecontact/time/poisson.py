@@ -40,7 +40,8 @@ def poisson_jump(model, st, q, v, closed, G1, rates, e, approach, opts, tol, **k
     G1: rows (contacts, then joints) at q; ``rates`` their rates at ṽ = ``v`` (m/s) with no
     restitution term; ``e`` the coefficients per row (0 on joints and held contacts);
     ``approach`` ġ⁻ of the contacts. Keywords: ``solve`` the metric's H⁻¹ (default M⁻¹),
-    ``bilateral`` the equality rows (frictionless only: held contacts and joints),
+    ``bilateral`` the equality rows (held contacts and joints; with friction the contacts
+    keep their law and the smooth forces' ``preload`` holds them),
     ``preload`` as in :func:`fecontact.time.coulomb.frictional_jump`. Returns (W, k Λ of
     every row (N·s), iterations, friction) with friction = (Λ_T (len(closed), nt), status,
     work of Λ_T (J)) or None without friction, as :func:`fecontact.time.impacts.velocity_jump`.
