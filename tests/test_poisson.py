@@ -213,6 +213,8 @@ def test_decompression_solver_holds_the_law():
 def test_impact_law_is_checked():
     with pytest.raises(InputError, match="impact_law"):
         IntegratorOptions(impact_law="stronge")
+    with pytest.raises(InputError, match="^impact_law = 'poisson' needs integrator"):
+        IntegratorOptions(impact_law="poisson", integrator="penalty")
 
 
 def test_decompression_solver_in_3d():

@@ -121,6 +121,11 @@ class IntegratorOptions:
         if not isinstance(self.impact_law, str) or self.impact_law not in IMPACT_LAWS:
             known = ", ".join(IMPACT_LAWS)
             raise InputError(f"impact_law must be one of {known}, got {self.impact_law!r}")
+        if self.impact_law != "newton" and self.integrator == "penalty":
+            raise InputError(
+                f"impact_law = {self.impact_law!r} needs integrator nsga or moreau: the penalty "
+                "baseline has no impact law (its dashpot sets the restitution)"
+            )
         self.theta = check_range("theta", self.theta, 0.0, 1.0, (False, True))
         if self.penalty_stiffness is not None:
             self.penalty_stiffness = check_positive("penalty_stiffness", self.penalty_stiffness)
