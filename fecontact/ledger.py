@@ -264,8 +264,10 @@ class EnergyLedger:
         return out
 
     def state(self) -> dict:
+        """What a checkpoint keeps: the totals and where the creations were."""
         out = {k: getattr(self, k) for k in self.FIELDS}
-        return out | {f"term_{k}": v for k, v in self.terms.items()}
+        places = {k: getattr(self, k) for k in ("worst", "where", "friction_where")}
+        return out | {f"term_{k}": v for k, v in self.terms.items()} | places
 
     def restore(self, values: dict) -> None:
         for k in self.FIELDS:
@@ -273,6 +275,9 @@ class EnergyLedger:
                 setattr(self, k, float(values[k]))
         for k in self.terms:
             self.terms[k] = float(values.get(f"term_{k}", self.terms[k]))
+        for k in ("worst", "where", "friction_where"):
+            if values.get(k) is not None:
+                setattr(self, k, tuple(values[k]))
 
 
 def _gripping(st) -> list[int]:

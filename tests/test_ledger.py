@@ -135,3 +135,15 @@ def test_the_gains_measured_beyond_the_cases_warn(name, args, phase, tmp_path, c
     assert f"fecontact: warning: {warning[0]}" in capsys.readouterr().err  # under --quiet
     ledger = summary["energy_ledger"]
     assert ledger["created"] > 1e-2 * ledger["scale"]
+
+
+def test_a_resumed_run_keeps_its_ledger(tmp_path):
+    """Kane's chain (Newton) stopped after its strike and resumed: the same ledger and the
+    same warnings as the run straight through, the strike's time included."""
+    sim = case("kane_chain").build().replace(t_end=0.5)
+    whole = run(sim, tmp_path / "a", frames=False, checkpoint_every=0)
+    run(sim.replace(t_end=0.45), tmp_path / "b", checkpoint_every=100)
+    resumed = run(sim, tmp_path / "b", checkpoint_every=100, resume=True)
+    for k, v in whole["energy_ledger"].items():
+        assert resumed["energy_ledger"][k] == pytest.approx(v, rel=1e-12, abs=1e-15), k
+    assert resumed["warnings"] == whole["warnings"] and "t = 0.408 s" in whole["warnings"][0]
