@@ -76,8 +76,8 @@ class EnergyLedger:
         self.peak = -math.inf  # the running maximum of D
         self.positive_friction = 0.0
         self.vCv = 0.0
-        weight = float(np.abs(model.f_gravity).sum()) * model.length
-        self.slack = weight  # (becomes ROUND_OFF × the largest energy scale in ``_limit``)
+        # the weight times the model's size (J): an energy scale for a body that rests
+        self.slack = float(np.abs(model.f_gravity).sum()) * model.length
         self.worst = None  # (fall of D, t, step, phase) since the last running maximum
         self.where = None  # ... of the largest creation
         self.friction_where = None  # (work, t, step, contacts) of friction's largest gain
@@ -85,7 +85,7 @@ class EnergyLedger:
 
     # -- the state of a step -----------------------------------------------------------------
 
-    def start(self, st, load_work: float = 0.0) -> None:
+    def start(self, st) -> None:
         """Take ``st`` as the previous state (a run's start, or a resumed run's)."""
         self.last = st
         kinetic, strain, gravity = self._energies(st)
