@@ -1,7 +1,9 @@
 """Shared pieces of the benchmark scripts: case loading, runs, exact solutions, tables.
 
-Every benchmark is a plain script (``python benchmarks/NAME.py [--quick]``) that prints a
-Markdown table and writes CSV, Markdown and PNG files into ``benchmarks/results/``. Timing
+Every benchmark is a plain script (``python benchmarks/NAME.py [--quick] [--out DIR]``) that
+prints a Markdown table and writes CSV, Markdown and PNG files into ``benchmarks/results/``
+(or ``--out``). ``--quick`` runs a tiny problem in seconds and writes ``*_quick`` files: the
+test suite runs every script so (``tests/test_benchmarks.py``), so that none of them rots. Timing
 lives here and never in the tests: ``timed_run`` runs the driver without frames and takes the
 median of repeated runs; ``trace`` steps ``fecontact.simulate`` and keeps what the error and
 stability measures need, one row per step.
@@ -157,7 +159,9 @@ def parser(description: str, from_csv: bool = False) -> argparse.ArgumentParser:
     """--quick and --out; with ``from_csv``, --from-csv to redo tables from an earlier run."""
     p = argparse.ArgumentParser(description=description)
     p.add_argument(
-        "--quick", action="store_true", help="reduced sweep (a couple of minutes) to check it"
+        "--quick",
+        action="store_true",
+        help="a tiny problem (seconds) that checks the script runs: not a measurement",
     )
     p.add_argument("--out", default=str(RESULTS), help="output folder (default: %(default)s)")
     if from_csv:

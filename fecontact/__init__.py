@@ -19,9 +19,6 @@ import os
 # imported before numpy (the command line, case scripts); an explicit setting wins.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-__version__ = "0.1.0"
-
-from . import moved
 from .bodies import (
     Beam2D,
     Disk,
@@ -42,8 +39,7 @@ from .model import Model, NodalLoad
 from .params import Param, case
 from .simulation import Probe, Simulation, node_probe, run
 from .time import IntegratorOptions, State, simulate
-
-moved.install()
+from .version import __version__ as __version__
 
 __all__ = [
     "Beam2D",

@@ -21,7 +21,6 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__
 from .contact.friction import COULOMB
 from .contact.laws import ALART_CURNIER, LEAST_SQUARES
 from .energy import EnergyBalance
@@ -48,6 +47,7 @@ from .time import (
     simulate,
     uses_smooth_contact,
 )
+from .version import __version__
 
 __all__ = ["Probe", "Simulation", "node_probe", "run", "HISTORY_COLUMNS"]
 
@@ -319,6 +319,7 @@ def run(
     checkpoint_every: int = 500,
     resume: bool = False,
     overwrite: bool = False,
+    frame_format: str = "auto",
 ) -> dict:
     """Run ``sim`` and write its results into ``out_dir``; return the summary.
 
@@ -331,10 +332,19 @@ def run(
     Runs never mix: a new run removes what an earlier run of the same case left in
     ``out_dir`` (frames, index, history, summary, checkpoint, pictures), and refuses a folder
     that holds another case's output unless ``overwrite``.
+
+    ``frame_format`` "vtu" writes a ``.vtu`` per part and frame indexed by a ``.pvd``;
+    "vtkhdf" one transient ``.vtkhdf`` per part (:mod:`fecontact.io.vtkhdf`, needs h5py);
+    "auto" VTKHDF for 3D models where it writes faster (:func:`fecontact.io.output.
+    frame_format`), else VTU. A resumed run keeps the format of the run it continues.
     """
-    from .io.output import PVDWriter, write_json
+    from .io.output import frame_format as choose_format
+    from .io.output import frame_writer, write_json
 
     out = Path(out_dir)
+    earlier = [out / f"{sim.name}{ext}" for ext in (".pvd", ".frames.json")] if resume else []
+    index = next((path for path in earlier if path.is_file()), None)
+    fmt = choose_format(frame_format, sim.model, index) if frames else "vtu"
     start, meta = None, None
     if resume:
         start, meta = load_checkpoint(out / CHECKPOINT, sim)
@@ -355,7 +365,7 @@ def run(
         out.mkdir(parents=True, exist_ok=True)
     except OSError as err:  # a file in the way, a folder that cannot be written
         raise InputError(f"out: cannot create the output folder {out}: {err.strerror}") from None
-    pvd = PVDWriter(out, sim.name, index_interval=PVD_INTERVAL)
+    pvd = frame_writer(fmt, out, sim.name, index_interval=PVD_INTERVAL)
     timer = PhaseTimer()
     rec = _Recorder(sim, out, keep_rows=None if start is None else start.step + 1)
     next_frame = 0.0
@@ -471,9 +481,9 @@ def run(
 
 
 def _flush(pvd) -> float:
-    """Write the .pvd index if frames are missing from it; return the start time (s)."""
+    """Close the frames: the .pvd index lists them all; return the start time (s)."""
     clock = time.perf_counter()
-    pvd.flush()
+    pvd.close()
     return clock
 
 

@@ -14,7 +14,7 @@ from fecontact.io.cli import main
 from fecontact.simulation import Simulation, run
 
 CASE = str(ROOT / "cases" / "flexible_pendulum.py")
-MATERIAL = Material(E=70e9, rho=2700.0, nu=0.33)
+MATERIAL = Material(E=70e9, nu=0.33, rho=2700.0)
 SECTION = Section.rectangle(0.02, 0.002)
 
 

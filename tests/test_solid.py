@@ -442,7 +442,7 @@ def test_degenerate_element_is_named():
 
 def test_vertex_outside_every_element():
     p = np.array([[0.0, 1.0, 5.0, 0.0], [0.0, 0.0, 5.0, 1.0]])
-    with pytest.raises(InputError, match="vertex 2 belongs to no element"):
+    with pytest.raises(InputError, match="belong to no element, the first is vertex 2"):
         Solid(skfem.MeshTri(p, np.array([[0, 1, 3]]).T), MATERIALS["linear"])
 
 

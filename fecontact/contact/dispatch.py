@@ -1,13 +1,10 @@
-"""``Contact``: one entry point that builds the pair of a body and an obstacle or a second body."""
+"""``Contact``: one entry point that builds the pair of a body and an obstacle or a second body,
+with the factory registered for their kinds (:mod:`fecontact.contact.registry`)."""
 
 from __future__ import annotations
 
-from ..bodies.base import Body
-from ..bodies.beam import Beam2D
 from ..errors import InputError, check_positive
-from .node_pairs import NodeContact, PointSegmentContact
-from .obstacles import Circle, Point
-from .segment_pairs import SegmentCircleContact
+from .registry import pair_factory
 
 __all__ = ["Contact"]
 
@@ -41,34 +38,15 @@ def Contact(
     today's path at no cost): the tangential impulse stays in |Λ_T| ≤ μ Λ_N and opposes the
     slip of the contact points (:mod:`fecontact.contact.friction`). Every pair but the
     end-to-end beam pair takes it.
+
+    The pair comes from the factory registered for the classes of ``body`` and ``obstacle``
+    (:func:`fecontact.contact.registry.register_pair`): a new body type registers its own.
     """
     friction = check_positive("friction", friction, allow_zero=True)
-    pair = _pair(body, obstacle, nodes, restitution, clearance)
+    clearance = check_positive("clearance", clearance, allow_zero=True)
+    pair = pair_factory(body, obstacle)(body, obstacle, nodes, restitution, clearance)
     if friction:
         if not pair.frictional:
             raise InputError(f"friction: not available for a {type(pair).__name__}; use 0")
         pair.friction = friction
     return pair
-
-
-def _pair(body, obstacle, nodes, restitution, clearance):
-    from .rigid_pairs import rigid_pair
-
-    clearance = check_positive("clearance", clearance, allow_zero=True)
-    pair = rigid_pair(body, obstacle, nodes, restitution, clearance)
-    if pair is not None:
-        return pair
-    if isinstance(obstacle, Body):
-        if clearance:
-            raise InputError("clearance: not available between two deformable bodies; use 0")
-        from .body_pairs import body_pair
-
-        return body_pair(body, obstacle, nodes, restitution)
-    if isinstance(obstacle, Point):
-        if nodes is not None:
-            raise InputError("nodes: a Point obstacle acts on beam segments, not on nodes")
-        return PointSegmentContact(body, obstacle, restitution, clearance)
-    if isinstance(body, Beam2D) and isinstance(obstacle, Circle) and not obstacle.inside:
-        if nodes is None:  # the chords cut into a convex obstacle between the nodes
-            return SegmentCircleContact(body, obstacle, restitution, clearance)
-    return NodeContact(body, obstacle, nodes, restitution, clearance)

@@ -8,9 +8,8 @@
     fecontact render OUT_DIR_OR_PVD
 
 A case is a Python file with ``build(**params) -> Simulation`` whose parameters are ``Param``
-defaults (:mod:`fecontact.params`; an older ``PARAMETERS`` dict ``{name: (unit, description)}``
-is still read). ``--set`` values are read as an int, else
-a float (``nan`` and ``inf`` parse, then fail validation), else a string; names of
+defaults (:mod:`fecontact.params`). ``--set`` values are read as an int, else a float
+(``nan`` and ``inf`` parse, then fail validation), else a string; names of
 ``IntegratorOptions`` fields (``rho_inf``, ``metric``, ...) set the integrator unless the case
 takes them itself. Every input error prints one line and exits with status 2; a run that
 fails mid-way exits with status 1 and keeps what it wrote.
@@ -112,6 +111,13 @@ def _add_run_options(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--overwrite", action="store_true", help="replace another case's output in --out"
     )
+    p.add_argument(
+        "--format",
+        choices=("auto", "vtu", "vtkhdf"),
+        default="auto",
+        help="frames: a .vtu per part and frame (.pvd index), a transient .vtkhdf per part, "
+        "or auto: vtkhdf for 3D models of 2000 dofs or more (default)",
+    )
 
 
 def _prepare(build, args, name: str):
@@ -162,6 +168,7 @@ def _execute(build, args, name: str) -> int:
                 checkpoint_every=args.checkpoint_every,
                 resume=args.resume,
                 overwrite=args.overwrite,
+                frame_format=args.format,
             )
     except SolverError as err:
         print(f"fecontact: run failed: {err}; results so far are in {out}", file=sys.stderr)
@@ -218,6 +225,7 @@ def _sweep(build, args, case: Path) -> int:
         if getattr(args, name) is not None:
             options += [flag, repr(getattr(args, name))]
     options += [f for f in ("--render", "--overwrite") if getattr(args, f[2:])]
+    options += ["--format", args.format]
 
     def check(values: dict[str, str]) -> None:
         one = argparse.Namespace(**vars(args))
@@ -259,16 +267,14 @@ def _info(module) -> int:
     doc = inspect.getdoc(module) or ""
     print(doc.splitlines()[0] if doc else f"case {Path(module.__file__).stem}")
     declared = declared_parameters(build)
-    units = getattr(module, "PARAMETERS", {})  # cases written before Param
     rows = []
     for name, par in inspect.signature(build).parameters.items():
         p = declared.get(name)
         if p is not None:
             rows.append((name, repr(p.default), p.unit, p.allowed, p.text))
             continue
-        unit, text = units.get(name, ("", ""))
         default = "" if par.default is inspect.Parameter.empty else repr(par.default)
-        rows.append((name, default, unit or "-", "", text))
+        rows.append((name, default, "-", "", ""))
     head = ("parameter", "default", "unit", "allowed")
     width = [max(len(r[i]) for r in [*rows, head]) for i in range(4)]
     print("  ".join(f"{h:<{w}}" for h, w in zip(head, width, strict=True)) + "  meaning")
@@ -308,8 +314,8 @@ def render_target(path: Path) -> Path:
         for name in files.values():
             vtu = run.pvd.parent / name
             head = vtu.read_bytes()[:200] if vtu.is_file() else b""
-            if b"<VTKFile" not in head:
-                why = "is missing" if not vtu.is_file() else "is not a VTU file"
+            if b"<VTKFile" not in head and not head.startswith(b"\x89HDF"):
+                why = "is missing" if not vtu.is_file() else "is not a VTU or VTKHDF file"
                 raise InputError(f"render: {name}, listed in {run.pvd.name}, {why}")
     return run.pvd
 

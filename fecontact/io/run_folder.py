@@ -9,9 +9,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import __version__
 from ..errors import InputError
 from ..time import State
+from ..version import __version__
 from .files import atomic_write
 
 __all__ = ["CHECKPOINT", "clear_earlier_run", "jsonable", "load_checkpoint", "save_checkpoint"]
@@ -96,6 +96,7 @@ def clear_earlier_run(out: Path, name: str, overwrite: bool) -> None:
     if not out.is_dir():
         return
     cases = {p.stem for p in out.glob("*.pvd")}
+    cases |= {p.name[: -len(".frames.json")] for p in out.glob("*.frames.json")}
     others = sorted(cases - {name})
     if others and not overwrite:
         raise InputError(
@@ -105,6 +106,7 @@ def clear_earlier_run(out: Path, name: str, overwrite: bool) -> None:
     stale = [out / f for f in RUN_FILES] + list(out.glob("snapshot_*.png"))
     for case in cases | {name}:
         stale += [out / f"{case}.pvd", *out.glob(f"{case}_*.vtu")]
+        stale += [out / f"{case}.frames.json", *out.glob(f"{case}_*.vtkhdf")]
     for path in stale:
         try:
             path.unlink(missing_ok=True)

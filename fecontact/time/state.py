@@ -58,7 +58,7 @@ class IntegratorOptions:
         gap crosses zero, found on the chord from g(q_n) to g(q̃_{n+1}); "step_start" takes
         ġ(q_n, v_n) as in Brüls, Acary & Cardona (2014). The first loses e g̈ δ of rebound
         speed only at O(h²) (δ: time from the step start to the impact), the second at O(h).
-    integrator : "nsga" (this module), or the baselines of :mod:`fecontact.baselines` for
+    integrator : "nsga" (this module), or the baselines of :mod:`fecontact.time` for
         side-by-side comparisons: "moreau" (Moreau–Jean θ-method, impact law at velocity
         level only) and "penalty" (penalty contact in the smooth generalized-α step).
     theta : θ ∈ (0, 1] of Moreau–Jean.
