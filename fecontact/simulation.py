@@ -25,7 +25,7 @@ from .contact.laws import ALART_CURNIER, LEAST_SQUARES
 from .energy import EnergyBalance
 from .errors import InputError, SolverError, check_positive
 from .io.frames import bodies_box, frame_parts, friction_totals, static_parts
-from .io.output import FRICTION_COLUMNS, STANDARD_COLUMNS
+from .io.output import FRICTION_COLUMNS, LEDGER_COLUMNS, STANDARD_COLUMNS
 from .io.progress import RunProgress
 from .io.run_folder import (
     CHECKPOINT,
@@ -35,6 +35,7 @@ from .io.run_folder import (
     save_checkpoint,
 )
 from .io.run_lock import hold_folder
+from .ledger import EnergyLedger
 from .linalg import ITERATIVE, SPARSE_FACTORIZATIONS
 from .threads import blas_threads
 from .time import (
@@ -121,7 +122,7 @@ class Simulation:
         for probe in self.probes:
             # history.csv columns: no clash with the time column, no separator inside
             ok = isinstance(probe, str) and probe.replace("_", "").isalnum()
-            if not ok or probe in HISTORY_COLUMNS + FRICTION_COLUMNS:
+            if not ok or probe in HISTORY_COLUMNS + FRICTION_COLUMNS + LEDGER_COLUMNS:
                 raise InputError(
                     f"probe names must be letters, digits or '_' and differ from the history "
                     f"columns ({', '.join(HISTORY_COLUMNS)}), got {probe!r}"
@@ -198,7 +199,7 @@ class _Recorder:
         self.friction = self.model.contacts.frictional
         self.friction_work = 0.0
         extra = FRICTION_COLUMNS if self.friction else ()
-        self.columns = list(HISTORY_COLUMNS) + list(extra) + list(sim.probes)
+        self.columns = [*HISTORY_COLUMNS, *extra, *LEDGER_COLUMNS, *sim.probes]
         self.history = HistoryWriter(out / "history.csv", self.columns, keep_rows=keep_rows)
         self.impacts: list[dict] = []
         self.closed = np.zeros(self.model.contacts.size, dtype=bool)
@@ -211,6 +212,8 @@ class _Recorder:
         self.energy_final = math.nan
         self.energy_max = -math.inf
         self.balance = EnergyBalance(self.model)
+        self.ledger = EnergyLedger(self.model, sim.options)
+        self.energies = (math.nan, math.nan, math.nan)  # T, V_strain, V_gravity of the last
         self.steps = 0
 
     def record(self, st: State) -> None:
@@ -218,6 +221,8 @@ class _Recorder:
         ke, se, pe = m.kinetic_energy(st.v), m.strain_energy(st.q), m.potential_energy(st.q)
         total = ke + se + pe
         self.balance.add(st.t, st.q, ke, se, pe)
+        self.ledger.add(st, ke, se, pe, self.balance.work)
+        self.energies = (ke, se, pe)
         near = st.gaps[st.candidates] if st.step > 0 else st.gaps
         near = near[near <= m.length * self.sim.options.detection_margin]
         min_gap = float(near.min()) if near.size else math.inf
@@ -230,6 +235,7 @@ class _Recorder:
         if self.friction:
             row += friction_totals(st)
             self.friction_work = row[-1]
+        row += self.ledger.row()
         row += [p.fn(m, st) for p in self.sim.probes.values()]
         self.history.write(row)
         if st.step == 0:
@@ -246,6 +252,7 @@ class _Recorder:
     def stats(self) -> dict:
         extra = {"closed": self.closed.tolist(), "impact_frame": self.impact_frame}
         extra["energy_balance"] = self.balance.state()
+        extra["energy_ledger"] = self.ledger.state()
         return {k: getattr(self, k) for k in self.STATS} | extra
 
     def restore(self, stats: dict) -> None:
@@ -254,6 +261,7 @@ class _Recorder:
         self.closed = np.array(stats["closed"], dtype=bool)
         self.impact_frame = bool(stats.get("impact_frame", True))
         self.balance.restore(stats.get("energy_balance", {}))
+        self.ledger.restore(stats.get("energy_ledger", {}))
 
     def summary(
         self, status: str, wall: float, timer: dict, message: str = "", factors=None
@@ -287,6 +295,7 @@ class _Recorder:
             "energy_final": self.energy_final,
             "energy_max": self.energy_max,
             "energy_balance": self.balance.summary(),
+            "energy_ledger": self.ledger.summary(*self.energies),
             "impacts": self.impacts,
             "parameters": jsonable(sim.parameters),
             "case_file": sim.origin,
@@ -377,6 +386,7 @@ def _run(sim, out, progress, frames, checkpoint_every, resume, overwrite, frame_
         pvd.resume(start.t)
         rec.restore(meta["stats"])
         rec.balance.start(start.t, start.q)
+        rec.ledger.start(start)
         next_frame = meta["next_frame"]
     bar = _progress_bar(sim, start) if progress else None
     status, message = "completed", ""
@@ -466,6 +476,7 @@ def _run(sim, out, progress, frames, checkpoint_every, resume, overwrite, frame_
         summary["iterative_solver"] = {k: ITERATIVE[k] - iterative_start[k] for k in ITERATIVE}
         # a run that ends with more energy than its budget is said so, not only counted
         summary["warnings"] = [rec.balance.describe()] if rec.balance.unstable() else []
+        summary["warnings"] += rec.ledger.warnings()
         if sim.model.contacts.frictional:  # the frictional solves and their fallbacks
             summary["friction_solver"] = {k: COULOMB[k] - coulomb_start[k] for k in COULOMB}
             summary["friction_work"] = rec.friction_work

@@ -7,7 +7,14 @@ from pathlib import Path
 
 import numpy as np
 
-from .output import HISTORY_FILE, STANDARD_COLUMNS, SUMMARY_FILE, read_history, read_json
+from .output import (
+    HISTORY_FILE,
+    LEDGER_COLUMNS,
+    STANDARD_COLUMNS,
+    SUMMARY_FILE,
+    read_history,
+    read_json,
+)
 
 __all__ = ["history_panels", "plot_history"]
 
@@ -87,7 +94,7 @@ def _history_panels(folder: Path):
     summary = read_json(folder / SUMMARY_FILE) if (folder / SUMMARY_FILE).is_file() else {}
     if "t" not in history:
         raise ValueError(f"{folder / HISTORY_FILE} has no column 't'")
-    probes = [c for c in history if c not in STANDARD_COLUMNS]
+    probes = [c for c in history if c not in STANDARD_COLUMNS and c not in LEDGER_COLUMNS]
     panels = history_panels(probes, summary.get("probes") or {})
     energy = "total_energy" in history
     if not panels and not energy:

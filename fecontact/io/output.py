@@ -62,6 +62,7 @@ __all__ = [
     "SUMMARY_FILE",
     "STANDARD_COLUMNS",
     "FRICTION_COLUMNS",
+    "LEDGER_COLUMNS",
 ]
 
 HISTORY_FILE = "history.csv"
@@ -81,6 +82,14 @@ STANDARD_COLUMNS = (
 # ... and, in models with friction, these after them: Σ_j |k Λ_T,j| of the step (N·s) and
 # the work dissipated by friction since t = 0 (J)
 FRICTION_COLUMNS = ("tangential_impulse", "friction_work")
+# ... then the energy ledger's terms since t = 0 (J, :mod:`fecontact.ledger`)
+LEDGER_COLUMNS = (
+    "load_work",
+    "damping_dissipation",
+    "friction_dissipation",
+    "impact_dissipation",
+    "numerical_dissipation",
+)
 
 
 def _cell(x, _repr=float.__repr__) -> str:
