@@ -33,10 +33,10 @@ m, inf when no node is within the detection margin) and ``contact_force`` (Σ k 
 
 import numpy as np
 
-from fecontact import Model, Param, Probe, Simulation, case, run_cli
+from fecontact import Model, Param, Probe, case, run_cli
 from fecontact.bodies import Solid
 from fecontact.contact import Contact
-from fecontact.scenes import DISK, DROP, SOLID, contact_force_probe, solid_material, wave_step
+from fecontact.scenes import DISK, DROP, SOLID, contact_force_probe, solid_material, wave_simulation
 
 
 @case(DISK, SOLID, DROP)
@@ -75,15 +75,7 @@ def build(
         "contact_force": contact_force_probe(),
     }
     v0 = model.translation(left, (velocity, 0.0)) + model.translation(right, (-velocity, 0.0))
-    return Simulation(
-        model,
-        dt=wave_step(left, 1.0),
-        t_end=t_end,
-        probes=probes,
-        output_interval=t_end / 40,
-        name="two_disks",
-        v0=v0,
-    )
+    return wave_simulation(model, left, "two_disks", t_end, probes, v0)
 
 
 if __name__ == "__main__":

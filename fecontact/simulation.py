@@ -12,7 +12,6 @@ from __future__ import annotations
 import dataclasses
 import math
 import platform
-import sys
 import time
 import warnings
 from collections.abc import Callable
@@ -21,13 +20,13 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__
 from .contact.friction import COULOMB
 from .contact.laws import ALART_CURNIER, LEAST_SQUARES
 from .energy import EnergyBalance
 from .errors import InputError, SolverError, check_positive
 from .io.frames import bodies_box, frame_parts, friction_totals, static_parts
-from .io.output import FRICTION_COLUMNS, STANDARD_COLUMNS
+from .io.output import FRICTION_COLUMNS, LEDGER_COLUMNS, STANDARD_COLUMNS
+from .io.progress import RunProgress
 from .io.run_folder import (
     CHECKPOINT,
     clear_earlier_run,
@@ -35,7 +34,10 @@ from .io.run_folder import (
     load_checkpoint,
     save_checkpoint,
 )
+from .io.run_lock import hold_folder
+from .ledger import EnergyLedger
 from .linalg import ITERATIVE, SPARSE_FACTORIZATIONS
+from .threads import blas_threads
 from .time import (
     FOLLOW_UPS,
     NEWTON,
@@ -47,6 +49,7 @@ from .time import (
     simulate,
     uses_smooth_contact,
 )
+from .version import __version__
 
 __all__ = ["Probe", "Simulation", "node_probe", "run", "HISTORY_COLUMNS"]
 
@@ -93,7 +96,9 @@ class Simulation:
     """What to run: the model, the step ``dt`` (s), the end time ``t_end`` (s), probes,
     integrator options, the output interval (s of simulated time), the case's name and
     parameters (recorded in ``summary.json``) and the initial dof vectors ``q0``, ``v0``
-    (default: rest in the reference configuration)."""
+    (default: rest in the reference configuration). ``origin`` identifies the case file it
+    was built from (``file``, ``sha256``; the command line sets it): recorded in
+    ``summary.json`` as ``case_file``, and a checkpoint continues only the same one."""
 
     model: object
     dt: float
@@ -105,6 +110,7 @@ class Simulation:
     parameters: dict = field(default_factory=dict)
     q0: np.ndarray | None = None
     v0: np.ndarray | None = None
+    origin: dict = field(default_factory=dict)
 
     def __post_init__(self):
         self.dt = check_positive("dt", self.dt)
@@ -116,7 +122,7 @@ class Simulation:
         for probe in self.probes:
             # history.csv columns: no clash with the time column, no separator inside
             ok = isinstance(probe, str) and probe.replace("_", "").isalnum()
-            if not ok or probe in HISTORY_COLUMNS + FRICTION_COLUMNS:
+            if not ok or probe in HISTORY_COLUMNS + FRICTION_COLUMNS + LEDGER_COLUMNS:
                 raise InputError(
                     f"probe names must be letters, digits or '_' and differ from the history "
                     f"columns ({', '.join(HISTORY_COLUMNS)}), got {probe!r}"
@@ -193,7 +199,7 @@ class _Recorder:
         self.friction = self.model.contacts.frictional
         self.friction_work = 0.0
         extra = FRICTION_COLUMNS if self.friction else ()
-        self.columns = list(HISTORY_COLUMNS) + list(extra) + list(sim.probes)
+        self.columns = [*HISTORY_COLUMNS, *extra, *LEDGER_COLUMNS, *sim.probes]
         self.history = HistoryWriter(out / "history.csv", self.columns, keep_rows=keep_rows)
         self.impacts: list[dict] = []
         self.closed = np.zeros(self.model.contacts.size, dtype=bool)
@@ -206,6 +212,8 @@ class _Recorder:
         self.energy_final = math.nan
         self.energy_max = -math.inf
         self.balance = EnergyBalance(self.model)
+        self.ledger = EnergyLedger(self.model, sim.options)
+        self.energies = (math.nan, math.nan, math.nan)  # T, V_strain, V_gravity of the last
         self.steps = 0
 
     def record(self, st: State) -> None:
@@ -213,6 +221,8 @@ class _Recorder:
         ke, se, pe = m.kinetic_energy(st.v), m.strain_energy(st.q), m.potential_energy(st.q)
         total = ke + se + pe
         self.balance.add(st.t, st.q, ke, se, pe)
+        self.ledger.add(st, ke, se, pe, self.balance.work)
+        self.energies = (ke, se, pe)
         near = st.gaps[st.candidates] if st.step > 0 else st.gaps
         near = near[near <= m.length * self.sim.options.detection_margin]
         min_gap = float(near.min()) if near.size else math.inf
@@ -225,6 +235,7 @@ class _Recorder:
         if self.friction:
             row += friction_totals(st)
             self.friction_work = row[-1]
+        row += self.ledger.row()
         row += [p.fn(m, st) for p in self.sim.probes.values()]
         self.history.write(row)
         if st.step == 0:
@@ -241,6 +252,7 @@ class _Recorder:
     def stats(self) -> dict:
         extra = {"closed": self.closed.tolist(), "impact_frame": self.impact_frame}
         extra["energy_balance"] = self.balance.state()
+        extra["energy_ledger"] = self.ledger.state()
         return {k: getattr(self, k) for k in self.STATS} | extra
 
     def restore(self, stats: dict) -> None:
@@ -249,6 +261,7 @@ class _Recorder:
         self.closed = np.array(stats["closed"], dtype=bool)
         self.impact_frame = bool(stats.get("impact_frame", True))
         self.balance.restore(stats.get("energy_balance", {}))
+        self.ledger.restore(stats.get("energy_ledger", {}))
 
     def summary(
         self, status: str, wall: float, timer: dict, message: str = "", factors=None
@@ -282,8 +295,10 @@ class _Recorder:
             "energy_final": self.energy_final,
             "energy_max": self.energy_max,
             "energy_balance": self.balance.summary(),
+            "energy_ledger": self.ledger.summary(*self.energies),
             "impacts": self.impacts,
             "parameters": jsonable(sim.parameters),
+            "case_file": sim.origin,
             "options": dataclasses.asdict(sim.options),
             # what smooth_contact="auto" chose for this model (NSGA only)
             "smooth_contact_force": sim.options.integrator == "nsga"
@@ -310,6 +325,7 @@ def run(
     checkpoint_every: int = 500,
     resume: bool = False,
     overwrite: bool = False,
+    frame_format: str = "auto",
 ) -> dict:
     """Run ``sim`` and write its results into ``out_dir``; return the summary.
 
@@ -319,13 +335,29 @@ def run(
     uninterrupted run. On ``SolverError`` or ``KeyboardInterrupt`` the summary records the
     failure, every frame written so far stays readable, and the exception propagates.
 
-    Runs never mix: a new run removes what an earlier run of the same case left in
-    ``out_dir`` (frames, index, history, summary, checkpoint, pictures), and refuses a folder
-    that holds another case's output unless ``overwrite``.
-    """
-    from .io.output import PVDWriter, write_json
+    Runs never mix: the run holds ``out_dir`` (a lock file) and another process's run there
+    is refused; a new run removes what an earlier run of the same case left in ``out_dir``
+    (frames, index, history, summary, checkpoint, pictures), and refuses a folder that holds
+    another case's output unless ``overwrite``. BLAS threads are limited to one while it runs
+    (:mod:`fecontact.threads`).
 
-    out = Path(out_dir)
+    ``frame_format`` "vtu" writes a ``.vtu`` per part and frame indexed by a ``.pvd``;
+    "vtkhdf" one transient ``.vtkhdf`` per part (:mod:`fecontact.io.vtkhdf`, needs h5py);
+    "auto" VTKHDF for 3D models where it writes faster (:func:`fecontact.io.output.
+    frame_format`), else VTU. A resumed run keeps the format of the run it continues.
+    """
+    with blas_threads(), hold_folder(out_dir, sim.name):
+        options = (progress, frames, checkpoint_every, resume, overwrite, frame_format)
+        return _run(sim, Path(out_dir), *options)
+
+
+def _run(sim, out, progress, frames, checkpoint_every, resume, overwrite, frame_format) -> dict:
+    from .io.output import frame_format as choose_format
+    from .io.output import frame_writer, write_json
+
+    earlier = [out / f"{sim.name}{ext}" for ext in (".pvd", ".frames.json")] if resume else []
+    index = next((path for path in earlier if path.is_file()), None)
+    fmt = choose_format(frame_format, sim.model, index) if frames else "vtu"
     start, meta = None, None
     if resume:
         start, meta = load_checkpoint(out / CHECKPOINT, sim)
@@ -338,7 +370,7 @@ def run(
         # input errors surface before any file exists
         initial_state(sim.model, sim.q0, sim.v0, sim.options.tol_gap)
         for text in sim.warnings():
-            warnings.warn(text, UserWarning, stacklevel=2)
+            warnings.warn(text, UserWarning, stacklevel=3)
         clear_earlier_run(out, sim.name, overwrite)
     if frames:
         import meshio  # noqa: F401  (the frames' mesh type: imported outside the timed loop)
@@ -346,7 +378,7 @@ def run(
         out.mkdir(parents=True, exist_ok=True)
     except OSError as err:  # a file in the way, a folder that cannot be written
         raise InputError(f"out: cannot create the output folder {out}: {err.strerror}") from None
-    pvd = PVDWriter(out, sim.name, index_interval=PVD_INTERVAL)
+    pvd = frame_writer(fmt, out, sim.name, index_interval=PVD_INTERVAL)
     timer = PhaseTimer()
     rec = _Recorder(sim, out, keep_rows=None if start is None else start.step + 1)
     next_frame = 0.0
@@ -354,6 +386,7 @@ def run(
         pvd.resume(start.t)
         rec.restore(meta["stats"])
         rec.balance.start(start.t, start.q)
+        rec.ledger.start(start)
         next_frame = meta["next_frame"]
     bar = _progress_bar(sim, start) if progress else None
     status, message = "completed", ""
@@ -405,9 +438,7 @@ def run(
                 save_checkpoint(out / CHECKPOINT, sim, st, rec, next_frame)
             timer.add("output", clock)
             if bar is not None and st.step:
-                bar.update(1)
-                if st.step % 25 == 0:
-                    bar.set_postfix(t=f"{st.t:.4f}", it=st.newton_iterations, refresh=False)
+                bar.advance(st)
     except SolverError as err:
         status, message = "failed", str(err)
         if rec.balance.unstable() and not message.startswith("energy blow-up"):
@@ -428,7 +459,7 @@ def run(
         wall = time.perf_counter() - t_start
         rec.history.close()
         if bar is not None:
-            bar.close()
+            bar.close(status)
         factors = {k: SPARSE_FACTORIZATIONS[k] - factors_start[k] for k in factors_start}
         summary = rec.summary(status, wall, timer, message, factors)
         # redundant active constraints whose multipliers came from least squares
@@ -445,6 +476,7 @@ def run(
         summary["iterative_solver"] = {k: ITERATIVE[k] - iterative_start[k] for k in ITERATIVE}
         # a run that ends with more energy than its budget is said so, not only counted
         summary["warnings"] = [rec.balance.describe()] if rec.balance.unstable() else []
+        summary["warnings"] += rec.ledger.warnings()
         if sim.model.contacts.frictional:  # the frictional solves and their fallbacks
             summary["friction_solver"] = {k: COULOMB[k] - coulomb_start[k] for k in COULOMB}
             summary["friction_work"] = rec.friction_work
@@ -455,22 +487,17 @@ def run(
                 raise
             # else the run's own failure is the one to report (a full disk refuses both)
     for text in summary["warnings"]:
-        warnings.warn(text, UserWarning, stacklevel=2)
+        warnings.warn(text, UserWarning, stacklevel=3)
     return summary
 
 
 def _flush(pvd) -> float:
-    """Write the .pvd index if frames are missing from it; return the start time (s)."""
+    """Close the frames: the .pvd index lists them all; return the start time (s)."""
     clock = time.perf_counter()
-    pvd.flush()
+    pvd.close()
     return clock
 
 
 def _progress_bar(sim: Simulation, start: State | None):
-    from tqdm import tqdm
-
-    total = max(1, math.ceil(sim.t_end / sim.dt - 1e-9))
-    initial = 0 if start is None else start.step
-    return tqdm(
-        total=total, initial=initial, desc=sim.name, unit="step", disable=None, file=sys.stderr
-    )
+    t0, step0 = (0.0, 0) if start is None else (start.t, start.step)
+    return RunProgress(sim.name, sim.t_end, sim.dt, t0, step0)

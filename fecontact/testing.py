@@ -13,12 +13,11 @@ from __future__ import annotations
 import math
 import time
 from functools import cache
-from pathlib import Path
 
 import numpy as np
 
+from .cli.cases import bundled_cases, cases_folder, load_case
 from .errors import SolverError
-from .io.cli import load_case
 from .time import simulate
 
 __all__ = [
@@ -36,13 +35,17 @@ __all__ = [
 ]
 
 G = 9.81
-CASES = Path(__file__).resolve().parents[1] / "cases"
+CASES = cases_folder()  # the bundled case files
 
 
 @cache
 def case(name: str):
-    """The case module ``cases/NAME.py`` of a source checkout."""
-    return load_case(CASES / f"{name}.py")
+    """The module of the bundled case ``NAME`` (``cases/NAME.py`` of a source checkout, the
+    package data ``fecontact.cases`` of an installed wheel)."""
+    known = bundled_cases()
+    if name not in known:
+        raise ValueError(f"no bundled case {name!r}; bundled: {', '.join(known)}")
+    return load_case(known[name])
 
 
 def trace(sim, dt=None, t_end=None, max_wall=None, abort=None):

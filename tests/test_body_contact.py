@@ -264,7 +264,7 @@ def test_only_nodes_within_the_margin_get_a_finite_gap():
 
 def test_global_dofs_follow_the_model_layout():
     slave, master = bodies_2d()
-    beam = Beam2D.straight([0.0, -1.0], [1.0, -1.0], 3, Material(1e9, 1e3), Section(1e-4, 1e-9))
+    beam = Beam2D.straight([0.0, -1.0], [1.0, -1.0], 3, Material(1e9, rho=1e3), Section(1e-4, 1e-9))
     pair = Contact(slave, master)
     model = Model([beam, master, slave], [pair])
     g, dofs, G, H = pair.evaluate(np.zeros(model.n))
@@ -313,7 +313,7 @@ def test_pair_rejects_bad_input():
         Contact(slave, master, restitution=1.5)
     with pytest.raises(InputError):
         Contact(slave, master, nodes=[10**6])
-    bar = Beam2D.straight([0.0, 0.0], [1.0, 0.0], 2, Material(1e9, 1e3), Section(1e-4, 1e-9))
+    bar = Beam2D.straight([0.0, 0.0], [1.0, 0.0], 2, Material(1e9, rho=1e3), Section(1e-4, 1e-9))
     with pytest.raises(InputError, match="no contact between"):
         Contact(slave, bar)
 
@@ -330,7 +330,7 @@ def test_nonlinear_solids_use_the_same_pairs():
 
 
 def bars(gap=0.0):
-    mat, sec = Material(1.0, 1.0), Section(1.0, 1.0 / 12.0)
+    mat, sec = Material(1.0, rho=1.0), Section(1.0, 1.0 / 12.0)
     a = Beam2D.straight([-1.0 - gap, 0.0], [-gap, 0.0], 4, mat, sec)
     b = Beam2D.straight([0.0, 0.0], [1.0, 0.0], 4, mat, sec)
     return a, b

@@ -38,7 +38,7 @@ FD_TOLERANCE = 1e-6
 
 def steel_beam(n=5, length=1.0):
     section = Section.rectangle(0.05, 0.01)
-    return Beam2D.straight([0.0, 0.0], [length, 0.0], n, Material(210e9, 7850.0), section)
+    return Beam2D.straight([0.0, 0.0], [length, 0.0], n, Material(210e9, rho=7850.0), section)
 
 
 def disk(position, radius=0.1, angle=0.0, mass=2.0):

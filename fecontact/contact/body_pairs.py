@@ -52,6 +52,7 @@ from ..errors import InputError, check_finite, check_positive, check_range
 from .base import PairDefaults
 from .friction import point_tangents
 from .geometry import point_line_distance, segment_distance
+from .registry import pair_factory, register_pair
 
 __all__ = [
     "NodeNodeContact",
@@ -427,11 +428,21 @@ def body_pair(body, other, nodes=None, restitution: float = 0.0):
     """The contact pair between two deformable bodies: :class:`NodeSurfaceContact` for two
     solids (``nodes`` of ``body`` against the surface of ``other``), :class:`NodeNodeContact`
     for two beams (``nodes`` = their end nodes facing each other, default the closest ends)."""
-    if isinstance(body, Solid) and isinstance(other, Solid):
-        return NodeSurfaceContact(body, other, nodes, restitution)
-    if isinstance(body, Beam2D) and isinstance(other, Beam2D):
-        return NodeNodeContact(body, other, nodes, restitution)
-    raise InputError(
-        f"no contact between a {type(body).__name__} and a {type(other).__name__}: "
-        "deformable pairs are Solid–Solid (node to surface) and Beam2D–Beam2D (end to end)"
-    )
+    return pair_factory(body, other)(body, other, nodes, restitution, 0.0)
+
+
+def _no_clearance(clearance) -> None:
+    if clearance:
+        raise InputError("clearance: not available between two deformable bodies; use 0")
+
+
+@register_pair(Solid, Solid)
+def _solid_solid(body, other, nodes, restitution, clearance):
+    _no_clearance(clearance)
+    return NodeSurfaceContact(body, other, nodes, restitution)
+
+
+@register_pair(Beam2D, Beam2D)
+def _bar_ends(body, other, nodes, restitution, clearance):
+    _no_clearance(clearance)
+    return NodeNodeContact(body, other, nodes, restitution)

@@ -1,17 +1,13 @@
-"""``Contact``: one entry point that builds the pair of a body and an obstacle or a second body."""
+"""``Contact``: one entry point that builds the pair of a body and an obstacle or a second body,
+with the factory registered for their kinds (:mod:`fecontact.contact.registry`)."""
 
 from __future__ import annotations
 
-from ..bodies.base import Body
-from ..bodies.beam import Beam2D
 from ..bodies.solid import Solid
 from ..errors import InputError, check_positive
-from .body_pairs import NodeSurfaceContact
 from .mortar import MortarContact
 from .mortar3d import MortarContact3D
-from .node_pairs import NodeContact, PointSegmentContact
-from .obstacles import Circle, Point
-from .segment_pairs import SegmentCircleContact
+from .registry import pair_factory
 
 __all__ = ["Contact"]
 
@@ -52,14 +48,19 @@ def Contact(
     over the first body's boundary: :mod:`fecontact.contact.mortar` in 2D,
     :mod:`fecontact.contact.mortar3d` in 3D; ``nodes`` must be None, and the pair declared
     both ways is one interface). Other pairs take None only.
+
+    The pair comes from the factory registered for the classes of ``body`` and ``obstacle``
+    (:func:`fecontact.contact.registry.register_pair`): a new body type registers its own.
     """
     friction = check_positive("friction", friction, allow_zero=True)
+    clearance = check_positive("clearance", clearance, allow_zero=True)
+    solids = isinstance(body, Solid) and isinstance(obstacle, Solid)
     if method == "mortar":
-        pair = _mortar(body, obstacle, nodes, restitution, clearance)
+        pair = _mortar(body, obstacle, nodes, restitution, clearance, solids)
     elif method in (None, "node-to-surface"):
-        pair = _pair(body, obstacle, nodes, restitution, clearance)
-        if method is not None and not isinstance(pair, NodeSurfaceContact):
+        if method is not None and not solids:
             raise InputError("method: 'node-to-surface' applies between two solids; use None")
+        pair = pair_factory(body, obstacle)(body, obstacle, nodes, restitution, clearance)
     else:
         raise InputError(f"method must be 'node-to-surface' or 'mortar', got {method!r}")
     if friction:
@@ -69,34 +70,11 @@ def Contact(
     return pair
 
 
-def _mortar(body, obstacle, nodes, restitution, clearance):
-    if not (isinstance(body, Solid) and isinstance(obstacle, Solid)):
+def _mortar(body, obstacle, nodes, restitution, clearance, solids: bool):
+    if not solids:
         raise InputError("method: 'mortar' applies between two solids")
     if nodes is not None or clearance:
         raise InputError("nodes, clearance: a mortar contact takes the whole boundaries")
     if body.dim == 3:
         return MortarContact3D(body, obstacle, restitution)
     return MortarContact(body, obstacle, restitution)
-
-
-def _pair(body, obstacle, nodes, restitution, clearance):
-    from .rigid_pairs import rigid_pair
-
-    clearance = check_positive("clearance", clearance, allow_zero=True)
-    pair = rigid_pair(body, obstacle, nodes, restitution, clearance)
-    if pair is not None:
-        return pair
-    if isinstance(obstacle, Body):
-        if clearance:
-            raise InputError("clearance: not available between two deformable bodies; use 0")
-        from .body_pairs import body_pair
-
-        return body_pair(body, obstacle, nodes, restitution)
-    if isinstance(obstacle, Point):
-        if nodes is not None:
-            raise InputError("nodes: a Point obstacle acts on beam segments, not on nodes")
-        return PointSegmentContact(body, obstacle, restitution, clearance)
-    if isinstance(body, Beam2D) and isinstance(obstacle, Circle) and not obstacle.inside:
-        if nodes is None:  # the chords cut into a convex obstacle between the nodes
-            return SegmentCircleContact(body, obstacle, restitution, clearance)
-    return NodeContact(body, obstacle, nodes, restitution, clearance)

@@ -5,11 +5,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..bodies.beam import Beam2D
 from ..errors import InputError, check_range
 from .base import PairDefaults
 from .friction import tangent_basis
 from .geometry import closest_on_segments, point_line_distance, unit
 from .obstacles import Circle, Plane, Point
+from .registry import register_pair
 
 __all__ = ["NodeContact", "PointSegmentContact"]
 
@@ -171,3 +173,17 @@ class PointSegmentContact(PairDefaults):
             G[k : k + 2] = ev
             H[k : k + 2, k : k + 2] = (np.eye(2) - np.outer(ev, ev)) / dist
         return np.array([g]), tdofs[None, :], G[None, :], H[None, :, :]
+
+
+@register_pair(object, Plane)
+@register_pair(object, Circle)
+def _nodes_on_obstacle(body, obstacle, nodes, restitution, clearance):
+    """Any body's nodes (default: those ``contact_nodes`` gives) against a Plane or Circle."""
+    return NodeContact(body, obstacle, nodes, restitution, clearance)
+
+
+@register_pair(Beam2D, Point)
+def _point_on_beam(beam, point, nodes, restitution, clearance):
+    if nodes is not None:
+        raise InputError("nodes: a Point obstacle acts on beam segments, not on nodes")
+    return PointSegmentContact(beam, point, restitution, clearance)

@@ -35,7 +35,9 @@ from ..errors import InputError, check_positive, check_range
 from .base import PairDefaults
 from .friction import tangent_basis
 from .geometry import distance_curvature, point_line_distance, polygon_distance, unit
+from .node_pairs import NodeContact
 from .obstacles import Circle, Plane
+from .registry import pair_factory, register_pair
 
 __all__ = [
     "DiskObstacleContact",
@@ -321,28 +323,47 @@ def rigid_pair(body, other, nodes=None, restitution: float = 0.0, clearance: flo
     contact point of a disk being found from the geometry.
     """
     if not (_is_disk(body) or _is_disk(other)):
-        if _is_polygon(body) and _is_polygon(other):
-            raise InputError("polygon against polygon contact is not supported")
-        if isinstance(other, RigidBody2D):
-            raise InputError(
-                f"no contact between {type(body).__name__} and a rigid body with a "
-                f"{type(other.shape).__name__} shape"
-            )
         return None
+    return pair_factory(body, other)(body, other, nodes, restitution, clearance)
+
+
+def _disk_first(body, other, nodes, clearance, beam: bool = False):
+    """(disk, the other side) after the checks every disk pair makes."""
     if nodes is not None:
         raise InputError("nodes: a disk's contact point follows from the geometry; pass None")
-    disk, rest = (body, other) if _is_disk(body) else (other, body)
-    if clearance and not isinstance(rest, Beam2D):
+    if clearance and not beam:
         raise InputError("clearance applies to a disk against a beam only")
-    if isinstance(rest, (Plane, Circle)):
-        return DiskObstacleContact(disk, rest, restitution)
+    return (body, other) if _is_disk(body) else (other, body)
+
+
+@register_pair(RigidBody2D, Plane)
+@register_pair(RigidBody2D, Circle)
+def _rigid_obstacle(body, obstacle, nodes, restitution, clearance):
+    """A disk through its centre and radius; a polygon through its vertices."""
+    if not _is_disk(body):
+        return NodeContact(body, obstacle, nodes, restitution, clearance)
+    disk, obstacle = _disk_first(body, obstacle, nodes, clearance)
+    return DiskObstacleContact(disk, obstacle, restitution)
+
+
+@register_pair(RigidBody2D, RigidBody2D)
+def _rigid_rigid(body, other, nodes, restitution, clearance):
+    if not (_is_disk(body) or _is_disk(other)):
+        raise InputError("polygon against polygon contact is not supported")
+    disk, rest = _disk_first(body, other, nodes, clearance)
     if _is_disk(rest):
         return DiskDiskContact(body, other, restitution)
-    if _is_polygon(rest):
-        pair = DiskPolygonContact(disk, rest, restitution)
-    elif isinstance(rest, Beam2D):
-        pair = DiskBeamContact(disk, rest, restitution, clearance)
-    else:
-        raise InputError(f"no contact between a rigid disk and a {type(rest).__name__}")
+    pair = DiskPolygonContact(disk, rest, restitution)
+    pair.body = body
+    return pair
+
+
+@register_pair(RigidBody2D, Beam2D)
+@register_pair(Beam2D, RigidBody2D)
+def _disk_beam(body, other, nodes, restitution, clearance):
+    if not (_is_disk(body) or _is_disk(other)):
+        raise InputError("no contact between a Beam2D and a rigid polygon: only a Disk")
+    disk, beam = _disk_first(body, other, nodes, clearance, beam=True)
+    pair = DiskBeamContact(disk, beam, restitution, clearance)
     pair.body = body
     return pair

@@ -46,7 +46,7 @@ def use_sparse_solver(name: str) -> None:
             import pyamg  # noqa: F401
         except ImportError:
             raise InputError(
-                f'sparse solver "{name}" needs the pyamg package: pip install pyamg'
+                f'sparse solver "{name}" needs the pyamg package: pip install "fecontact[amg]"'
             ) from None
     _current["name"] = name
 

@@ -9,6 +9,7 @@ from ..contact import solve_velocity_jump
 from ..linalg import factorize
 from .constraints import Constraints, StepFailure, augmentation, constraint_columns
 from .coulomb import frictional_jump
+from .poisson import poisson_jump
 
 __all__ = ["velocity_jump"]
 
@@ -78,10 +79,17 @@ def velocity_jump(
             if approach is not None and contacts.moving:
                 g1[: closed.size] += contacts.rates(q, closed)
             gdot_n[:nc] += tau * (g1[:nc] - gdot_n[:nc])
-        gdot += e * gdot_n
+    else:
+        gdot_n = np.zeros_like(gdot)
     if not np.all(np.isfinite(gdot)):  # a NaN would switch every test of the law off
         raise StepFailure("velocity jump: non-finite normal velocity of a closed contact", np.nan)
     tol = tol_gap / (t - st.t)
+    if opts.impact_law == "poisson" and np.any(e):
+        return poisson_jump(
+            model, st, q, v, closed, G1, gdot, e, gdot_n[: closed.size], opts, tol,
+            bilateral=cons.bilateral, preload=preload,
+        )  # fmt: skip
+    gdot += e * gdot_n
     if contacts.frictional:
         W, lam_n, lam_t, status, its, work, _ = frictional_jump(
             model, st, q, v, closed, G1, gdot, opts, tol, preload=preload

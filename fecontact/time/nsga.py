@@ -39,6 +39,7 @@ import scipy.sparse as sp
 
 from ..contact import solve_position_correction
 from ..joints import newton_remainder
+from ..ledger import smooth_record
 from ..linalg import UnitColumns, low_rank_solver
 from .constraints import (
     Constraints,
@@ -90,6 +91,7 @@ def nsga_step(
     clock = time.perf_counter()
     if m == 0 and joints.size == 0:
         return State(t, q, v, vd, a, h=h, lam=lam, iterations=iters)
+    ledger = [v.copy(), None]  # the smooth step's ṽ and, after a correction, q̃
     friction = model.contacts.frictional
     memory = friction_memory(st, m, model.dim) if friction else {}
     if smooth_step:  # q̃, before the correction: the energy-decaying step's Δε
@@ -123,7 +125,7 @@ def nsga_step(
         if grip is not None:  # contacts gripped by the smooth step keep their grip
             was_active = was_active | (force[cand] > 0.0)
         work = cand[short | was_active]
-        q_tilde = q
+        q_tilde = ledger[1] = q
         metric = _metric(model, q_tilde, S, c, opts.metric)
         while True:
             if friction:
@@ -223,7 +225,7 @@ def nsga_step(
         impulse=impulse,
         lam=lam,
         iterations=iters,
-        memory=memory,
+        memory=memory | smooth_record(model, cand.size + joints.size, *ledger, work_t),
     )
 
 

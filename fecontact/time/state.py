@@ -33,6 +33,7 @@ IMPACT_VELOCITIES = ("interpolated", "step_start")
 INTEGRATORS = ("nsga", "moreau", "penalty")
 SWITCH = ("auto", "on", "off")
 SCHEMES = ("generalized-alpha", "energy-decaying")
+IMPACT_LAWS = ("newton", "poisson")
 
 
 @dataclass
@@ -57,7 +58,7 @@ class IntegratorOptions:
         gap crosses zero, found on the chord from g(q_n) to g(q̃_{n+1}); "step_start" takes
         ġ(q_n, v_n) as in Brüls, Acary & Cardona (2014). The first loses e g̈ δ of rebound
         speed only at O(h²) (δ: time from the step start to the impact), the second at O(h).
-    integrator : "nsga" (this module), or the baselines of :mod:`fecontact.baselines` for
+    integrator : "nsga" (this module), or the baselines of :mod:`fecontact.time` for
         side-by-side comparisons: "moreau" (Moreau–Jean θ-method, impact law at velocity
         level only) and "penalty" (penalty contact in the smooth generalized-α step).
     theta : θ ∈ (0, 1] of Moreau–Jean.
@@ -73,6 +74,10 @@ class IntegratorOptions:
     scheme : NSGA only. The smooth step: "generalized-alpha" (default) or "energy-decaying"
         (:mod:`fecontact.time.energy_step`: planar geometrically exact beams, whose energy it
         cannot let grow; ``rho_inf`` ∈ [1/3, 1] sets its dissipation, 1 conserves energy).
+    impact_law : nsga and moreau. "newton" (default): ġ⁺ ≥ −e_N ġ⁻, kinematic restitution;
+        "poisson": a compression impulse, then a decompression impulse at least e_N times
+        it, each under Coulomb's law (:mod:`fecontact.time.poisson`), which cannot make a
+        single frictional contact gain energy where Newton's law can.
     """
 
     rho_inf: float = 0.5
@@ -92,6 +97,7 @@ class IntegratorOptions:
     penalty_damping: float | None = None
     smooth_contact: str = "auto"
     scheme: str = "generalized-alpha"
+    impact_law: str = "newton"
 
     def __post_init__(self):
         alpha_coefficients(self.rho_inf)
@@ -112,6 +118,14 @@ class IntegratorOptions:
             raise InputError(f"smooth_contact must be one of {known}, got {self.smooth_contact!r}")
         if not isinstance(self.scheme, str) or self.scheme not in SCHEMES:
             raise InputError(f"scheme must be one of {', '.join(SCHEMES)}, got {self.scheme!r}")
+        if not isinstance(self.impact_law, str) or self.impact_law not in IMPACT_LAWS:
+            known = ", ".join(IMPACT_LAWS)
+            raise InputError(f"impact_law must be one of {known}, got {self.impact_law!r}")
+        if self.impact_law != "newton" and self.integrator == "penalty":
+            raise InputError(
+                f"impact_law = {self.impact_law!r} needs integrator nsga or moreau: the penalty "
+                "baseline has no impact law (its dashpot sets the restitution)"
+            )
         self.theta = check_range("theta", self.theta, 0.0, 1.0, (False, True))
         if self.penalty_stiffness is not None:
             self.penalty_stiffness = check_positive("penalty_stiffness", self.penalty_stiffness)
