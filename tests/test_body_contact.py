@@ -178,14 +178,32 @@ def test_gradients_are_translation_invariant(name, make):
     assert np.all(G[~rows] == 0.0) and np.all(pair.hessians(q, np.flatnonzero(~rows)) == 0.0)
 
 
+def winding_number(x, xf):
+    """Winding number of the closed surface of facets xf (F, k, d) around the point x, summed
+    over every facet: the angles subtended by the segments (2D), the solid angles of the
+    triangles by Van Oosterom & Strackee (IEEE Trans. Biomed. Eng., 1983) (3D)."""
+    r = xf - x
+    if x.size == 2:
+        a, b = r[:, 0], r[:, 1]
+        cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+        return np.sum(np.arctan2(cross, np.sum(a * b, axis=1))) / (2 * np.pi)
+    a, b, c = r[:, 0], r[:, 1], r[:, 2]
+    la, lb, lc = (np.linalg.norm(v, axis=1) for v in (a, b, c))
+    num = np.einsum("ij,ij->i", a, np.cross(b, c))
+    dot = lambda u, v: np.sum(u * v, axis=1)  # noqa: E731
+    den = la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la
+    return np.sum(2 * np.arctan2(num, den)) / (4 * np.pi)
+
+
 def brute_force_gaps(pair, q):
-    """Gaps by the facet rule of the module docstring over every facet (no search)."""
+    """Gaps by the facet rule of the module docstring over every facet (no search): nodes
+    within the margin of a facet, or inside the master by their winding number."""
     xs, xm = pair.positions(q)
     F = len(pair.facets)
     out = np.full(len(xs), np.inf)
     for i, x in enumerate(xs):
         dist, g = closest_facet_distance(np.repeat(x[None], F, 0), xm[pair.facets])
-        if dist.min() > pair.margin:
+        if dist.min() > pair.margin and winding_number(x, xm[pair.facets]) < 0.5:
             continue
         ties = dist <= dist.min() + pair.tie_tolerance
         out[i] = g[ties][np.argmax(np.abs(g[ties]))]

@@ -52,6 +52,7 @@ from ..errors import InputError, check_finite, check_positive, check_range
 from .base import PairDefaults
 from .friction import point_tangents
 from .geometry import point_line_distance, segment_distance
+from .inside import Surface
 
 __all__ = [
     "NodeNodeContact",
@@ -178,6 +179,7 @@ class NodeSurfaceContact(PairDefaults):
 
     linear = False
     lazy_hessians = True
+    inside_test = True
 
     def __init__(self, body, master, nodes=None, restitution: float = 0.0, margin=None):
         if not isinstance(body, Solid) or not isinstance(master, Solid):
@@ -198,6 +200,7 @@ class NodeSurfaceContact(PairDefaults):
             margin = 0.05 * max(body.characteristic_length, master.characteristic_length)
         self.margin = check_positive("margin", margin)
         self.facets = master.contact_facets()
+        self.surface = Surface(self.facets)
         # distances to the closest facets within this (m) are ties, decided by the gap
         self.tie_tolerance = 1e-12 * max(body.characteristic_length, master.characteristic_length)
         d = self.dim
@@ -229,8 +232,43 @@ class NodeSurfaceContact(PairDefaults):
 
     def closest_facets(self, xs: np.ndarray, xm: np.ndarray):
         """(slave indices, facet indices, plane gaps) of the slave nodes (positions xs, m)
-        that have a facet of the master (node positions xm, m) within the margin, that facet
-        and the node's signed gap from its plane (m)."""
+        that have a facet of the master (node positions xm, m) within the margin, or that lie
+        inside the master however deep: the closest facet and the node's signed gap from its
+        plane (m)."""
+        s, f, g = self._closest_near(xs, xm)
+        lost = np.ones(len(xs), dtype=bool)
+        lost[s] = False
+        lost = np.flatnonzero(lost)
+        if lost.size == 0:
+            return s, f, g
+        depth, fl = self.surface.signed_distance(xm, xs[lost])
+        inside = depth < 0.0
+        if not inside.any():
+            return s, f, g
+        si, fi = lost[inside], fl[inside]
+        gi = closest_facet_distance(xs[si], xm[self.facets[fi]])[1]
+        return np.r_[s, si], np.r_[f, fi], np.r_[g, gi]
+
+    def penetration(self, q: np.ndarray) -> float:
+        """How deep (m, ≥ 0) the deepest slave node lies inside the master's discretized
+        boundary, from the inside/outside test (not from the constraint gaps)."""
+        xs, xm = self.positions(q)
+        return float(np.max(self.surface.depths(xm, xs), initial=0.0))
+
+    def relative_depth(self, q: np.ndarray) -> float:
+        """The deepest slave node's depth inside the master over the size of the master's
+        facet closest to it (the facet's longest edge): how far a node went past the facet a
+        projection can still find as the one it crossed."""
+        xs, xm = self.positions(q)
+        s, f = self.surface.signed_distance(xm, xs)
+        inside = s < 0.0
+        if not inside.any():
+            return 0.0
+        xf = xm[self.facets[f[inside]]]
+        size = np.max(np.linalg.norm(xf - np.roll(xf, 1, axis=1), axis=2), axis=1)
+        return float(np.max(-s[inside] / size))
+
+    def _closest_near(self, xs: np.ndarray, xm: np.ndarray):
         s, f = self._candidate_pairs(xs, xm)
         if s.size == 0:
             return s, f, np.zeros(0)

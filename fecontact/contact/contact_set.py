@@ -31,6 +31,8 @@ class ContactSet(FrictionRows):
         self.owner = np.concatenate(
             [np.full(pair.size, i) for i, pair in enumerate(self.pairs)] or [np.zeros(0, int)]
         )
+        # pairs measured by an inside/outside test; the others by their own gaps
+        self._inside = [i for i, pair in enumerate(self.pairs) if pair.inside_test]
         self.local = np.concatenate([np.arange(pair.size) for pair in self.pairs] or [self.owner])
         self._scatters: dict = {}
         self._last_scatter: dict = {}  # per pair: read-only (rows, dofs) and their _Scatter
@@ -65,6 +67,26 @@ class ContactSet(FrictionRows):
         distance (m), so that one margin decides what is a candidate."""
         for pair in self.pairs:
             pair.detect_within(distance)
+
+    def penetration(self, q: np.ndarray, gaps: np.ndarray | None = None) -> float:
+        """How deep (m, ≥ 0) any point lies where a contact forbids it at q: the nodes of a
+        solid inside another solid's discretized boundary by the inside/outside test
+        (:mod:`fecontact.contact.inside`), whatever their constraint gap says; −min g for the
+        other pairs, whose gap is the signed distance (``gaps``: g(q) of every contact, when
+        known)."""
+        if not self.pairs:
+            return 0.0
+        g = self.gaps(q) if gaps is None or gaps.size != self.size else gaps
+        own = np.isin(self.owner, self._inside)
+        depth = float(max(0.0, -np.min(g[~own], initial=np.inf)))
+        for i in self._inside:
+            depth = max(depth, self.pairs[i].penetration(q))
+        return depth
+
+    def relative_depth(self, q: np.ndarray) -> float:
+        """The largest depth of a solid's node inside another solid at q over the size of the
+        facet closest to it (0 without solid–solid pairs)."""
+        return max((self.pairs[i].relative_depth(q) for i in self._inside), default=0.0)
 
     def set_time(self, t: float) -> None:
         """Place the moving obstacles where they are at time t (s)."""
