@@ -60,7 +60,7 @@ def test_disks_thrown_at_each_other_do_not_interpenetrate(velocity, courant):
     # the bound of a node-to-surface contact is round-off; 1 % of the edge is the bound a
     # discretization may leave (mortar), far above round-off and far below a lost node
     assert worst <= 0.01
-    if courant == 1:
-        # at the wave step the scheme's own energy error stays within 3 % (measured: +0.2 %,
-        # +0.9 %, +0.01 % at 5, 10, 30 m/s); larger steps: docs/explanation/contact_search.md
-        assert max(energy) <= 1.03 * energy[0]
+    # no energy is created: the steps that would close by more than 5 % of a facet are
+    # halved (measured: at most +0.01 %, at 30 m/s and Dx/c; the loss is the scheme's
+    # damping and e_N = 0 at the contact nodes)
+    assert max(energy) <= 1.03 * energy[0]
