@@ -64,3 +64,22 @@ def test_disks_thrown_at_each_other_do_not_interpenetrate(velocity, courant):
     # halved (measured: at most +0.01 %, at 30 m/s and Dx/c; the loss is the scheme's
     # damping and e_N = 0 at the contact nodes)
     assert max(energy) <= 1.03 * energy[0]
+
+
+def test_the_search_reaches_as_far_as_the_bodies_can_close_in_a_step():
+    # two disks 3.5 cm apart closing at 2 x 100 m/s: within a step of 0.1 ms they close by
+    # 2 cm, beyond the search margin of the model (5 % of its size, 1 cm); looking ahead,
+    # the nearest nodes see the facets they are heading for
+    sim = case("two_disks").build(velocity=100.0, refinements=1, gap=0.035)
+    model, pair = sim.model, sim.model.contacts.pairs[0]
+    q = np.zeros(model.n)
+    model.contacts.detect_within(0.01)
+    g = pair.gaps(q)
+    assert np.all(np.isinf(g)) and pair.margin == 0.01
+    model.contacts.look_ahead(q, sim.v0, 1e-4)
+    assert pair.margin == 0.04  # 2 x the 2 cm of closing, in powers of two of 1 cm
+    g = pair.gaps(q)
+    # (the plane gap outside the facing vertex: a lower bound of the 3.5 cm distance)
+    assert 0.03 < np.min(g) <= 0.035
+    model.contacts.look_ahead(q, 0.0 * sim.v0, 1e-4)
+    assert pair.margin == 0.01

@@ -57,6 +57,10 @@ class PairDefaults:
         """The integrator's detection distance (m), for pairs with a spatial search of their
         own: contacts farther than it are no candidates anyway."""
 
+    def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
+        """Widen a spatial search of the pair's own to how far its bodies can close in the
+        coming step h (s) from positions q and velocities v (pairs with one only)."""
+
     def rate(self, q: np.ndarray) -> np.ndarray:
         """∂g_j/∂t (m/s) from a moving obstacle; zero for obstacles at rest."""
         return np.zeros(self.size)

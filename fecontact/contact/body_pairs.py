@@ -33,9 +33,12 @@ g is continuous and piecewise smooth; G and ∇²g are those of the selected fac
 
 Candidates: facets within the detection ``margin`` (m) of a slave node, found with
 ``scipy.spatial.cKDTree`` among the facets and slave nodes that a bounding box test keeps, so
-the work follows the contact zone. A slave node with no facet within the margin reports
-g = +inf with zero gradient; the integrator only works on contacts with g below its own
-detection margin. The number of contacts (one per slave node) is fixed.
+the work follows the contact zone. Before every step the margin is widened to twice the
+distance the two bodies can close in it (:meth:`NodeSurfaceContact.look_ahead`). A slave node
+already inside the master, however deep, gets its closest facet from the inside/outside test
+of :mod:`fecontact.contact.inside`. Any other slave node with no facet within the margin
+reports g = +inf with zero gradient; the integrator only works on contacts with g below its
+own detection margin. The number of contacts (one per slave node) is fixed.
 
 Bar ends (:class:`NodeNodeContact`): node i of body a against node j of body b along a fixed
 unit axis n (from a towards b): g = (x_j − x_i)·n, linear in q.
@@ -198,7 +201,7 @@ class NodeSurfaceContact(PairDefaults):
         self._own_margin = margin is not None
         if margin is None:
             margin = 0.05 * max(body.characteristic_length, master.characteristic_length)
-        self.margin = check_positive("margin", margin)
+        self.margin = self.base_margin = check_positive("margin", margin)
         self.facets = master.contact_facets()
         self.surface = Surface(self.facets)
         # distances to the closest facets within this (m) are ties, decided by the gap
@@ -290,8 +293,24 @@ class NodeSurfaceContact(PairDefaults):
         """Search as far as the integrator's candidates reach (``distance`` m), unless the
         pair was given a margin of its own: a node closing from beyond the search would
         report no facet."""
-        if not self._own_margin and distance > 0.0 and distance != self.margin:
-            self.margin = distance
+        if not self._own_margin and distance > 0.0 and distance != self.base_margin:
+            self.base_margin = distance
+            self._set_margin(distance)
+
+    def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
+        """Search at least twice as far as the two bodies can close in a step h (s) from
+        positions q and velocities v: h (max |v_slave| + max |v_master|), in powers of two
+        of the base margin so that the cached search is kept from step to step."""
+        (oa, ob), d = self.offsets, self.dim
+        vs = v[oa + self._slave_dofs].reshape(-1, d)
+        vm = v[ob + self._facet_dofs].reshape(-1, d)
+        closing = h * (np.max(np.linalg.norm(vs, axis=1)) + np.max(np.linalg.norm(vm, axis=1)))
+        ratio = 2.0 * closing / self.base_margin
+        self._set_margin(self.base_margin * (2.0 ** np.ceil(np.log2(ratio)) if ratio > 1 else 1))
+
+    def _set_margin(self, margin: float) -> None:
+        if margin != self.margin:
+            self.margin = margin
             self._search = None
             self._last = None
 

@@ -83,6 +83,12 @@ class ContactSet(FrictionRows):
             depth = max(depth, self.pairs[i].penetration(q))
         return depth
 
+    def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
+        """Before a step h (s) from (q, v): the solid pairs' searches reach as far as their
+        bodies can close in it."""
+        for i in self._inside:
+            self.pairs[i].look_ahead(q, v, h)
+
     def relative_depth(self, q: np.ndarray) -> float:
         """The largest depth of a solid's node inside another solid at q over the size of the
         facet closest to it (0 without solid–solid pairs)."""

@@ -84,6 +84,7 @@ def simulate(
 
 
 def _advance(model, st, h, opts, timer, depth):
+    model.contacts.look_ahead(st.q, st.v, h)
     try:
         if opts.scheme == "energy-decaying":
             return hold_penetration(model, energy_nsga_step(model, st, h, opts, timer), opts)
