@@ -7,6 +7,7 @@ import skfem
 from fecontact import Beam2D, Contact, InputError, Material, Model, Section
 from fecontact.bodies.materials import LinearElastic, NeoHookean
 from fecontact.bodies.solid import Solid
+from fecontact.contact.beam_sides import PointBeamContact
 from fecontact.contact.body_pairs import (
     NodeNodeContact,
     NodeSurfaceContact,
@@ -332,8 +333,13 @@ def test_pair_rejects_bad_input():
     with pytest.raises(InputError):
         Contact(slave, master, nodes=[10**6])
     bar = Beam2D.straight([0.0, 0.0], [1.0, 0.0], 2, Material(1e9, 1e3), Section(1e-4, 1e-9))
-    with pytest.raises(InputError, match="no contact between"):
-        Contact(slave, bar)
+    # a solid against a beam is the beam's two-sided surface; given the other way round, or
+    # in 3D, it is refused
+    assert isinstance(Contact(slave, bar, clearance=0.01), PointBeamContact)
+    with pytest.raises(InputError, match="Contact\\(solid, beam"):
+        Contact(bar, slave)
+    with pytest.raises(InputError, match="2D bodies only"):
+        Contact(ball, bar)
 
 
 def test_nonlinear_solids_use_the_same_pairs():

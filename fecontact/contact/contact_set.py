@@ -85,9 +85,10 @@ class ContactSet(FrictionRows):
 
     def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
         """Before a step h (s) from (q, v): the solid pairs' searches reach as far as their
-        bodies can close in it."""
-        for i in self._inside:
-            self.pairs[i].look_ahead(q, v, h)
+        bodies can close in it, and the beam pairs keep where the points start (their sides
+        follow the motion over the step)."""
+        for pair in self.pairs:
+            pair.look_ahead(q, v, h)
 
     def relative_depth(self, q: np.ndarray) -> float:
         """The largest depth of a solid's node inside another solid at q over the size of the
