@@ -17,6 +17,7 @@ class PairDefaults:
 
     obstacle = None
     inside_test = False  # True: penetration(q) tests the nodes against a body's boundary
+    looks_ahead = False  # True: look_ahead(q, v, h) is called before every step
     lazy_hessians = False  # True: evaluate() leaves H out; hessians(q, rows) gives it
     frictional = False  # True: tangents(q) gives the slip rows of Coulomb friction
     friction = 0.0  # Coulomb's μ of every contact of the pair (set by ``Contact``)
@@ -32,7 +33,7 @@ class PairDefaults:
         g = self.gaps(q)
         return float(max(0.0, -np.min(g, initial=np.inf)))
 
-    def relative_depth(self, q: np.ndarray) -> float:
+    def relative_depth(self, q: np.ndarray, rows: np.ndarray) -> float:
         """Depth of the deepest point inside another body over that body's local facet size
         (0 for pairs whose gap is a signed distance: a projection on them is never lost)."""
         return 0.0

@@ -74,6 +74,7 @@ class PointBeamContact(PairDefaults):
     distance to the end node − c at an end (module docstring for the side s)."""
 
     linear = False
+    looks_ahead = True
 
     def __init__(self, body, beam, nodes=None, restitution: float = 0.0, clearance=0.0):
         if not isinstance(beam, Beam2D):

@@ -183,6 +183,7 @@ class NodeSurfaceContact(PairDefaults):
     linear = False
     lazy_hessians = True
     inside_test = True
+    looks_ahead = True
 
     def __init__(self, body, master, nodes=None, restitution: float = 0.0, margin=None):
         if not isinstance(body, Solid) or not isinstance(master, Solid):
@@ -258,18 +259,11 @@ class NodeSurfaceContact(PairDefaults):
         xs, xm = self.positions(q)
         return float(np.max(self.surface.depths(xm, xs), initial=0.0))
 
-    def relative_depth(self, q: np.ndarray) -> float:
-        """The deepest slave node's depth inside the master over the size of the master's
-        facet closest to it (the facet's longest edge): how far a node went past the facet a
-        projection can still find as the one it crossed."""
+    def relative_depth(self, q: np.ndarray, rows: np.ndarray) -> float:
+        """The deepest of the slave nodes ``rows`` (a mask) inside the master, over the size of
+        the master's facet closest to it (:meth:`.inside.Surface.relative_depth`)."""
         xs, xm = self.positions(q)
-        s, f = self.surface.signed_distance(xm, xs)
-        inside = s < 0.0
-        if not inside.any():
-            return 0.0
-        xf = xm[self.facets[f[inside]]]
-        size = np.max(np.linalg.norm(xf - np.roll(xf, 1, axis=1), axis=2), axis=1)
-        return float(np.max(-s[inside] / size))
+        return self.surface.relative_depth(xm, xs[rows]) if rows.any() else 0.0
 
     def _closest_near(self, xs: np.ndarray, xm: np.ndarray):
         s, f = self._candidate_pairs(xs, xm)

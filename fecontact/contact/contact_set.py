@@ -33,6 +33,8 @@ class ContactSet(FrictionRows):
         )
         # pairs measured by an inside/outside test; the others by their own gaps
         self._inside = [i for i, pair in enumerate(self.pairs) if pair.inside_test]
+        self._signed = ~np.isin(self.owner, self._inside)  # contacts whose gap is a distance
+        self._looking = [pair for pair in self.pairs if pair.looks_ahead]
         self.local = np.concatenate([np.arange(pair.size) for pair in self.pairs] or [self.owner])
         self._scatters: dict = {}
         self._last_scatter: dict = {}  # per pair: read-only (rows, dofs) and their _Scatter
@@ -77,8 +79,7 @@ class ContactSet(FrictionRows):
         if not self.pairs:
             return 0.0
         g = self.gaps(q) if gaps is None or gaps.size != self.size else gaps
-        own = np.isin(self.owner, self._inside)
-        depth = float(max(0.0, -np.min(g[~own], initial=np.inf)))
+        depth = float(max(0.0, -np.min(g[self._signed], initial=np.inf)))
         for i in self._inside:
             depth = max(depth, self.pairs[i].penetration(q))
         return depth
@@ -87,13 +88,18 @@ class ContactSet(FrictionRows):
         """Before a step h (s) from (q, v): the solid pairs' searches reach as far as their
         bodies can close in it, and the beam pairs keep where the points start (their sides
         follow the motion over the step)."""
-        for pair in self.pairs:
+        for pair in self._looking:
             pair.look_ahead(q, v, h)
 
-    def relative_depth(self, q: np.ndarray) -> float:
-        """The largest depth of a solid's node inside another solid at q over the size of the
-        facet closest to it (0 without solid–solid pairs)."""
-        return max((self.pairs[i].relative_depth(q) for i in self._inside), default=0.0)
+    def relative_depth(self, q: np.ndarray, gaps: np.ndarray) -> float:
+        """The largest depth at q of a solid's node inside another solid over the size of the
+        facet closest to it, among the nodes whose gap (``gaps``, every contact's at q) is
+        negative (0 without solid–solid pairs)."""
+        depth = 0.0
+        for i in self._inside:
+            rows = np.flatnonzero(self.owner == i)
+            depth = max(depth, self.pairs[i].relative_depth(q, gaps[rows] < 0.0))
+        return depth
 
     def set_time(self, t: float) -> None:
         """Place the moving obstacles where they are at time t (s)."""

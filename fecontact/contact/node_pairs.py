@@ -128,16 +128,18 @@ class PointSegmentContact(PairDefaults):
             self.obstacle.position, x[self.segments[:, 0]], x[self.segments[:, 1]]
         )
 
+    looks_ahead = True
+
     def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
         """Keep the point's line coordinates at the start of the coming step (the sides)."""
         self._start = self._lines(q)
 
-    def _side(self, q: np.ndarray, e: int):
-        """The side of element e the point is on, and whether it went through the element
-        in this step (:func:`.beam_sides.swept`)."""
-        t, f = self._lines(q)
+    def _side(self, e: int, x1: np.ndarray, d: np.ndarray):
+        """The side of element e (first node x1, direction d) the point is on, and whether it
+        went through the element in this step (:func:`.beam_sides.swept`)."""
+        t, f = line_coordinates(self.obstacle.position, x1, x1 + d)
         start = None if self._start is None else (self._start[0][e], self._start[1][e])
-        side, crossed = swept(start, t[e], f[e])
+        side, crossed = swept(start, t, f)
         return float(side), bool(crossed)
 
     def _closest(self, x):
@@ -155,7 +157,7 @@ class PointSegmentContact(PairDefaults):
         e, xi, x1, d = self._closest(body.positions(q[self.offset : self.offset + body.ndof]))
         a, b = self.segments[e]
         dofs = self.offset + body.node_translation_dofs([a, b]).ravel()
-        side, crossed = self._side(q, e)
+        side, crossed = self._side(e, x1, d)
         if 0.0 < xi < 1.0 or crossed:  # the side's normal of the segment, as in the gap
             n = side * np.array([-d[1], d[0]]) / np.linalg.norm(d)
         else:
@@ -176,7 +178,7 @@ class PointSegmentContact(PairDefaults):
         a, b = self.segments[e]
         tdofs = self.offset + body.node_translation_dofs([a, b]).ravel()
         P, r = self.obstacle.position, self.obstacle.radius + self.clearance
-        side, crossed = self._side(q, e)
+        side, crossed = self._side(e, x1, d)
         if 0.0 < xi < 1.0 or crossed:
             # the point is rigid: derivatives with respect to the segment's ends only
             f, G, H = point_line_distance(P[None], x1[None], (x1 + d)[None])

@@ -260,6 +260,8 @@ class DiskBeamContact(_Pair):
         super().bind(model)
         self._start = None
 
+    looks_ahead = True
+
     def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
         """Keep the centre's line coordinates at the start of the coming step (the sides)."""
         disk, beam = self.bodies

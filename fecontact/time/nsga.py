@@ -107,7 +107,7 @@ def nsga_step(
     # 2. position correction, only if a contact candidate penetrates (joints already hold)
     model.contacts.set_time(t)
     g_tilde = model.contacts.gaps(q)
-    check_predictor(model, q)
+    check_predictor(model, q, g_tilde)
     cand = (g_tilde <= opts.detection_margin * model.length).nonzero()[0]
     # (only the candidates use the gap tolerance)
     tol_gap = opts.tol_gap * length_scale(model, q) if cand.size else 0.0

@@ -13,10 +13,12 @@ candidate — and the step is failed so that the time loop halves it. Velocity-l
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 
 from .constraints import StepFailure
-from .state import IntegratorOptions, State, length_scale
+from .state import IntegratorOptions, PhaseTimer, State, length_scale
 
 __all__ = ["DEEPEST", "PenetrationFailure", "ROUND_OFF", "check_predictor", "hold_penetration"]
 
@@ -38,13 +40,15 @@ class PenetrationFailure(StepFailure):
     """A step ended with a point deeper inside another body than the constraints allow."""
 
 
-def hold_penetration(model, st: State, opts: IntegratorOptions) -> State:
+def hold_penetration(model, st: State, opts: IntegratorOptions, timer: PhaseTimer) -> State:
     """Record the deepest penetration at the end of step ``st`` (``st.penetration``, m) and
     fail the step (``PenetrationFailure``) when a position-level stepper left it beyond the
-    round-off the constraints allow."""
+    round-off the constraints allow. Its time counts in the ``contact`` phase."""
     if model.contacts.size == 0:
         return st
+    clock = time.perf_counter()
     st.penetration = depth = model.contacts.penetration(st.q, st.gaps)
+    timer.add("contact", clock)
     if opts.integrator != "nsga" or depth == 0.0:
         return st
     allowed = ROUND_OFF * opts.tol_gap * length_scale(model, st.q)
@@ -56,10 +60,11 @@ def hold_penetration(model, st: State, opts: IntegratorOptions) -> State:
     return st
 
 
-def check_predictor(model, q) -> None:
+def check_predictor(model, q, gaps) -> None:
     """Fail the step (``PenetrationFailure``) when a node of a solid lies deeper inside another
-    solid at the predictor q than ``DEEPEST`` of the facet closest to it."""
-    if model.contacts.size and (ratio := model.contacts.relative_depth(q)) > DEEPEST:
+    solid at the predictor q (its contacts' ``gaps``) than ``DEEPEST`` of the facet closest
+    to it; only the nodes with a negative gap are tested."""
+    if model.contacts.size and (ratio := model.contacts.relative_depth(q, gaps)) > DEEPEST:
         raise PenetrationFailure(
             f"a node enters another body {ratio:.2f} facet lengths deep in one step", np.nan
         )

@@ -69,7 +69,7 @@ def simulate(
             what = (
                 "penetration not held"
                 if isinstance(err, PenetrationFailure)
-                else ("Newton did not converge")
+                else "Newton did not converge"
             )
             raise SolverError(
                 f"{what} at t = {state.t:.6g} s (step {n}): {err} "
@@ -86,9 +86,8 @@ def simulate(
 def _advance(model, st, h, opts, timer, depth):
     model.contacts.look_ahead(st.q, st.v, h)
     try:
-        if opts.scheme == "energy-decaying":
-            return hold_penetration(model, energy_nsga_step(model, st, h, opts, timer), opts)
-        return hold_penetration(model, STEPPERS[opts.integrator](model, st, h, opts, timer), opts)
+        step = energy_nsga_step if opts.scheme == "energy-decaying" else STEPPERS[opts.integrator]
+        return hold_penetration(model, step(model, st, h, opts, timer), opts, timer)
     except StepFailure as err:
         if depth >= opts.max_halvings:
             raise
