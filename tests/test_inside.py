@@ -66,3 +66,19 @@ def test_points_beyond_the_box_are_outside_without_a_search():
     x = body.positions(np.zeros(body.ndof))
     s, f = Surface(body.contact_facets()).signed_distance(x, np.array([[5.0, 0.0]]), pad=0.1)
     assert s[0] == np.inf and f[0] == -1
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_inside_points_alone_get_the_same_distances(dim):
+    body = (Solid.disk if dim == 2 else Solid.ball)(np.zeros(dim), 1.0, 2, MAT)
+    x = body.positions(np.zeros(body.ndof))
+    surface = Surface(body.contact_facets())
+    p = RNG.uniform(-1.2, 1.2, (500, dim))
+    s, f = surface.signed_distance(x, p)
+    s_in, f_in = surface.signed_distance(x, p, outside=False)
+    inside = s < 0.0
+    np.testing.assert_array_equal(s_in[inside], s[inside])
+    np.testing.assert_array_equal(f_in[inside], f[inside])
+    if dim == 2:  # (3D finds the sign from the closest facet: it keeps both)
+        assert np.all(np.isinf(s_in[~inside]))
+    np.testing.assert_array_equal(surface.depths(x, p), np.maximum(0.0, -s))

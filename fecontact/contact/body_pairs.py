@@ -245,7 +245,7 @@ class NodeSurfaceContact(PairDefaults):
         lost = np.flatnonzero(lost)
         if lost.size == 0:
             return s, f, g
-        depth, fl = self.surface.signed_distance(xm, xs[lost])
+        depth, fl = self.surface.signed_distance(xm, xs[lost], outside=False)
         inside = depth < 0.0
         if not inside.any():
             return s, f, g

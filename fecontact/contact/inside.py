@@ -109,22 +109,26 @@ class Surface:
             self._edge_of = self._edge_of.reshape(-1, 3)
             self._n_edges = len(edges)
 
-    def signed_distance(self, x: np.ndarray, points: np.ndarray, pad: float = 0.0):
+    def signed_distance(self, x: np.ndarray, points: np.ndarray, pad=0.0, outside=True):
         """Signed distances (p,) in m of ``points`` (p, d) to the surface with node positions
         ``x`` (n, d), negative inside, and the closest facet of each (p,). Points farther
-        than ``pad`` (m) outside the surface's bounding box: s = +inf, facet −1."""
+        than ``pad`` (m) outside the surface's bounding box, and with ``outside`` False every
+        point outside (in 2D, where the sign comes first and costs no search): s = +inf,
+        facet −1."""
         s = np.full(len(points), np.inf)
         facet = np.full(len(points), -1)
         xf = x[self.facets]
         lo, hi = xf.min(axis=(0, 1)) - pad, xf.max(axis=(0, 1)) + pad
         near = np.flatnonzero(np.all((points >= lo) & (points <= hi), axis=1))
+        if self.dim == 2 and near.size:
+            inside = winding_numbers(points[near], xf[:, 0], xf[:, 1]) > 0.5
+            if not outside:
+                near, inside = near[inside], inside[inside]
         if near.size == 0:
             return s, facet
         p = points[near]
         dist, f = self._closest_facets(xf, p)
-        if self.dim == 2:
-            inside = winding_numbers(p, xf[:, 0], xf[:, 1]) > 0.5
-        else:
+        if self.dim == 3:
             inside = self._pseudo_normal_sign(xf, p, f) < 0.0
         s[near] = np.where(inside, -dist, dist)
         facet[near] = f
@@ -132,13 +136,13 @@ class Surface:
 
     def depths(self, x: np.ndarray, points: np.ndarray) -> np.ndarray:
         """How deep (m, ≥ 0) each of ``points`` lies inside the surface (0 outside)."""
-        return np.maximum(0.0, -self.signed_distance(x, points)[0])
+        return np.maximum(0.0, -self.signed_distance(x, points, outside=False)[0])
 
     def relative_depth(self, x: np.ndarray, points: np.ndarray) -> float:
         """The largest depth of ``points`` inside the surface over the size (longest edge) of
         the facet closest to each: how far a point went past the facet that a projection can
         still find as the one it crossed (0 when none is inside)."""
-        s, f = self.signed_distance(x, points)
+        s, f = self.signed_distance(x, points, outside=False)
         inside = s < 0.0
         if not inside.any():
             return 0.0
