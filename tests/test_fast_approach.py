@@ -83,3 +83,22 @@ def test_the_search_reaches_as_far_as_the_bodies_can_close_in_a_step():
     assert 0.03 < np.min(g) <= 0.035
     model.contacts.look_ahead(q, 0.0 * sim.v0, 1e-4)
     assert pair.margin == 0.01
+
+
+def test_the_summary_counts_the_retaken_steps_and_reports_the_measured_penetration(tmp_path):
+    import json
+    from pathlib import Path
+
+    from fecontact.io.cli import main
+
+    path = Path(__file__).resolve().parents[1] / "cases" / "two_disks.py"
+    args = ["run", str(path), "--quiet", "--out", str(tmp_path), "--checkpoint-every", "0"]
+    args += ["--set", "velocity=10", "--set", "refinements=2", "--set", "gap=0.0005"]
+    sim = case("two_disks").build(refinements=2)
+    assert main([*args, "--dt", str(wave_step(sim.model.bodies[0], 8)), "--t-end", "0.004"]) == 0
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["status"] == "completed"
+    assert summary["penetration_retakes"] > 0
+    assert summary["step_halvings"] >= summary["penetration_retakes"]
+    # round-off of the position correction: tol_gap (1e-12) x the model size (0.2 m)
+    assert 0.0 <= summary["max_penetration"] <= 1e-12
