@@ -293,13 +293,11 @@ class NodeSurfaceContact(PairDefaults):
 
     def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
         """Search at least twice as far as the two bodies can close in a step h (s) from
-        positions q and velocities v: h (max |v_slave| + max |v_master|), in powers of two
-        of the base margin so that the cached search is kept from step to step."""
-        (oa, ob), d = self.offsets, self.dim
-        vs = v[oa + self._slave_dofs].reshape(-1, d)
-        vm = v[ob + self._facet_dofs].reshape(-1, d)
-        closing = h * (np.max(np.linalg.norm(vs, axis=1)) + np.max(np.linalg.norm(vm, axis=1)))
-        ratio = 2.0 * closing / self.base_margin
+        velocities v: h √d (max |v_a| + max |v_b|) over the velocity components of every node,
+        in powers of two of the base margin so that the cached search is kept."""
+        (oa, ob), (a, b) = self.offsets, self.bodies
+        speed = np.max(np.abs(v[oa : oa + a.ndof])) + np.max(np.abs(v[ob : ob + b.ndof]))
+        ratio = 2.0 * h * np.sqrt(self.dim) * speed / self.base_margin
         self._set_margin(self.base_margin * (2.0 ** np.ceil(np.log2(ratio)) if ratio > 1 else 1))
 
     def _set_margin(self, margin: float) -> None:

@@ -34,6 +34,8 @@ class ContactSet(FrictionRows):
         # pairs measured by an inside/outside test; the others by their own gaps
         self._inside = [i for i, pair in enumerate(self.pairs) if pair.inside_test]
         self._signed = ~np.isin(self.owner, self._inside)  # contacts whose gap is a distance
+        self._all_signed = bool(self._signed.all())
+        self._inside_rows = [np.flatnonzero(self.owner == i) for i in self._inside]
         self._looking = [pair for pair in self.pairs if pair.looks_ahead]
         self.local = np.concatenate([np.arange(pair.size) for pair in self.pairs] or [self.owner])
         self._scatters: dict = {}
@@ -79,7 +81,8 @@ class ContactSet(FrictionRows):
         if not self.pairs:
             return 0.0
         g = self.gaps(q) if gaps is None or gaps.size != self.size else gaps
-        depth = float(max(0.0, -np.min(g[self._signed], initial=np.inf)))
+        signed = g if self._all_signed else g[self._signed]
+        depth = max(0.0, -float(signed.min())) if signed.size else 0.0
         for i in self._inside:
             depth = max(depth, self.pairs[i].penetration(q))
         return depth
@@ -96,8 +99,7 @@ class ContactSet(FrictionRows):
         facet closest to it, among the nodes whose gap (``gaps``, every contact's at q) is
         negative (0 without solid–solid pairs)."""
         depth = 0.0
-        for i in self._inside:
-            rows = np.flatnonzero(self.owner == i)
+        for i, rows in zip(self._inside, self._inside_rows, strict=True):
             depth = max(depth, self.pairs[i].relative_depth(q, gaps[rows] < 0.0))
         return depth
 

@@ -112,15 +112,18 @@ class Surface:
     def signed_distance(self, x: np.ndarray, points: np.ndarray, pad=0.0, outside=True):
         """Signed distances (p,) in m of ``points`` (p, d) to the surface with node positions
         ``x`` (n, d), negative inside, and the closest facet of each (p,). Points farther
-        than ``pad`` (m) outside the surface's bounding box, and with ``outside`` False every
+        than ``pad`` (m) outside the bounding box of the nodes x, and with ``outside`` False every
         point outside (in 2D, where the sign comes first and costs no search): s = +inf,
         facet −1."""
         s = np.full(len(points), np.inf)
         facet = np.full(len(points), -1)
-        xf = x[self.facets]
-        lo, hi = xf.min(axis=(0, 1)) - pad, xf.max(axis=(0, 1)) + pad
+        # the box of every node (of a solid, the box of its boundary), before any gather
+        lo, hi = x.min(axis=0) - pad, x.max(axis=0) + pad
         near = np.flatnonzero(np.all((points >= lo) & (points <= hi), axis=1))
-        if self.dim == 2 and near.size:
+        if near.size == 0:
+            return s, facet
+        xf = x[self.facets]
+        if self.dim == 2:
             inside = winding_numbers(points[near], xf[:, 0], xf[:, 1]) > 0.5
             if not outside:
                 near, inside = near[inside], inside[inside]
