@@ -33,7 +33,7 @@ class PairDefaults:
         g = self.gaps(q)
         return float(max(0.0, -np.min(g, initial=np.inf)))
 
-    def relative_depth(self, q: np.ndarray, rows: np.ndarray) -> float:
+    def relative_depth(self, q: np.ndarray, g: np.ndarray) -> float:
         """Depth of the deepest point inside another body over that body's local facet size
         (0 for pairs whose gap is a signed distance: a projection on them is never lost)."""
         return 0.0

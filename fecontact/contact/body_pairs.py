@@ -259,11 +259,17 @@ class NodeSurfaceContact(PairDefaults):
         xs, xm = self.positions(q)
         return float(np.max(self.surface.depths(xm, xs), initial=0.0))
 
-    def relative_depth(self, q: np.ndarray, rows: np.ndarray) -> float:
-        """The deepest of the slave nodes ``rows`` (a mask) inside the master, over the size of
-        the master's facet closest to it (:meth:`.inside.Surface.relative_depth`)."""
-        xs, xm = self.positions(q)
-        return self.surface.relative_depth(xm, xs[rows]) if rows.any() else 0.0
+    def relative_depth(self, q: np.ndarray, g: np.ndarray) -> float:
+        """The largest −g of the slave nodes with a negative gap g (the pair's gaps at q) over
+        the size (longest edge) of the facet each is held by: how far a node went past the
+        facet that a projection still finds as the one it crossed."""
+        rows = np.flatnonzero(g < 0.0)
+        if rows.size == 0:
+            return 0.0
+        self.evaluate(q)  # the facets selected at q (kept from the gaps' evaluation)
+        xf = self.positions(q)[1][self.facets[self.selected[rows]]]
+        size = np.max(np.linalg.norm(xf - np.roll(xf, 1, axis=1), axis=2), axis=1)
+        return float(np.max(-g[rows] / size))
 
     def _closest_near(self, xs: np.ndarray, xm: np.ndarray):
         s, f = self._candidate_pairs(xs, xm)

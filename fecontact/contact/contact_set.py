@@ -95,12 +95,12 @@ class ContactSet(FrictionRows):
             pair.look_ahead(q, v, h)
 
     def relative_depth(self, q: np.ndarray, gaps: np.ndarray) -> float:
-        """The largest depth at q of a solid's node inside another solid over the size of the
-        facet closest to it, among the nodes whose gap (``gaps``, every contact's at q) is
-        negative (0 without solid–solid pairs)."""
+        """The largest −g at q of a solid's node inside another solid over the size of the
+        facet that holds it (``gaps``: every contact's g at q; 0 without solid–solid
+        pairs)."""
         depth = 0.0
         for i, rows in zip(self._inside, self._inside_rows, strict=True):
-            depth = max(depth, self.pairs[i].relative_depth(q, gaps[rows] < 0.0))
+            depth = max(depth, self.pairs[i].relative_depth(q, gaps[rows]))
         return depth
 
     def set_time(self, t: float) -> None:

@@ -141,18 +141,6 @@ class Surface:
         """How deep (m, ≥ 0) each of ``points`` lies inside the surface (0 outside)."""
         return np.maximum(0.0, -self.signed_distance(x, points, outside=False)[0])
 
-    def relative_depth(self, x: np.ndarray, points: np.ndarray) -> float:
-        """The largest depth of ``points`` inside the surface over the size (longest edge) of
-        the facet closest to each: how far a point went past the facet that a projection can
-        still find as the one it crossed (0 when none is inside)."""
-        s, f = self.signed_distance(x, points, outside=False)
-        inside = s < 0.0
-        if not inside.any():
-            return 0.0
-        xf = x[self.facets[f[inside]]]
-        size = np.max(np.linalg.norm(xf - np.roll(xf, 1, axis=1), axis=2), axis=1)
-        return float(np.max(-s[inside] / size))
-
     def _facet_distances(self, points, xf):
         if self.dim == 2:
             return closest_on_segments(points, xf[:, 0], xf[:, 1])[1]

@@ -23,12 +23,13 @@ from .state import IntegratorOptions, PhaseTimer, State, length_scale
 __all__ = ["DEEPEST", "PenetrationFailure", "ROUND_OFF", "check_predictor", "hold_penetration"]
 
 DEEPEST = 0.05
-"""Deepest a node may enter another solid in the predictor of a step, over the size of the
-facet closest to it. Deeper, the closest facet may no longer be the one it crossed (the
-correction would push the node out on the far side), and the correction, which moves the
-nodes and not the bodies' momentum, stores strain energy growing with the depth squared: two
-rubber disks at 5 m/s and 4 Δx/c gain 15 % of their energy at a depth of 0.2 facets, 2.6 % at
-0.1 and none at 0.05 (docs/explanation/contact_search.md). The step is halved instead."""
+"""Deepest a node may enter another solid in the predictor of a step (−g, the gap from the
+plane of the closest facet, which the correction undoes), over the size of that facet.
+Deeper, the closest facet may no longer be the one it crossed (the correction would push the
+node out on the far side), and the correction, which moves the nodes and not the bodies'
+momentum, stores strain energy growing with the depth squared: two rubber disks at 5 m/s and
+4 Δx/c gain 15 % of their energy with the bound at 1/4 facet, 2.6 % at 1/10 and none at 1/20
+(docs/explanation/contact_search.md). The step is halved instead."""
 
 ROUND_OFF = 4.0
 """Allowed depth in units of the gap tolerance tol_gap × length scale: the correction's own
@@ -62,8 +63,8 @@ def hold_penetration(model, st: State, opts: IntegratorOptions, timer: PhaseTime
 
 def check_predictor(model, q, gaps) -> None:
     """Fail the step (``PenetrationFailure``) when a node of a solid lies deeper inside another
-    solid at the predictor q (its contacts' ``gaps``) than ``DEEPEST`` of the facet closest
-    to it; only the nodes with a negative gap are tested."""
+    solid at the predictor q (−g, ``gaps`` every contact's g at q) than ``DEEPEST`` of the
+    facet closest to it."""
     if model.contacts.size and (ratio := model.contacts.relative_depth(q, gaps)) > DEEPEST:
         raise PenetrationFailure(
             f"a node enters another body {ratio:.2f} facet lengths deep in one step", np.nan
