@@ -24,7 +24,8 @@ Broad phase: points outside the surface's bounding box (grown by ``pad``) are ou
 get s = +inf; the others ask a k-d tree over the facet centroids for their k nearest
 centroids, k doubled until the k-th lies farther than the best exact distance found plus the
 largest centroid-to-vertex distance ρ: no facet beyond can be closer. The tree is built on
-the current positions at every call, so it follows the bodies as they move.
+the current positions at every call, so it follows the bodies as they move; when points ×
+facets are few (≤ 4096) every facet is tried instead, cheaper than building a tree.
 """
 
 from __future__ import annotations
@@ -38,6 +39,7 @@ __all__ = ["Surface", "winding_numbers"]
 
 _FIRST_K = 8  # centroids asked first: a point near a surface has its closest facet among them
 _CHUNK = 2**22  # point × segment pairs of the 2D winding number evaluated at once
+_BRUTE_FORCE = 4096  # point × facet pairs below which every facet is tried (no tree to build)
 
 
 def winding_numbers(points: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -117,9 +119,11 @@ class Surface:
         facet −1."""
         s = np.full(len(points), np.inf)
         facet = np.full(len(points), -1)
-        # the box of every node (of a solid, the box of its boundary), before any gather
-        lo, hi = x.min(axis=0) - pad, x.max(axis=0) + pad
-        near = np.flatnonzero(np.all((points >= lo) & (points <= hi), axis=1))
+        # the box of every node (of a solid, the box of its boundary), before any gather;
+        # per component: a reduction along the long axis of an (n, d) array is the fast one
+        lo = np.array([x[:, k].min() for k in range(self.dim)]) - pad
+        hi = np.array([x[:, k].max() for k in range(self.dim)]) + pad
+        near = np.flatnonzero(((points >= lo) & (points <= hi)).all(axis=1))
         if near.size == 0:
             return s, facet
         xf = x[self.facets]
@@ -148,11 +152,16 @@ class Surface:
 
     def _closest_facets(self, xf, p):
         """Distance to, and index of, the closest facet of each point (exact: see the module
-        docstring for the stopping test of the k-d tree search)."""
+        docstring for the stopping test of the k-d tree search; few pairs are all tried)."""
+        n = len(xf)
+        if len(p) * n <= _BRUTE_FORCE:
+            d = self._facet_distances(np.repeat(p, n, axis=0), np.tile(xf, (len(p), 1, 1)))
+            d = d.reshape(len(p), n)
+            which = np.argmin(d, axis=1)
+            return d[np.arange(len(p)), which], which
         centroid = xf.mean(axis=1)
         reach = float(np.sqrt(np.max(np.sum((xf - centroid[:, None]) ** 2, axis=2))))
         tree = cKDTree(centroid)
-        n = len(centroid)
         best, which = np.full(len(p), np.inf), np.full(len(p), -1)
         pending = np.arange(len(p))
         k = min(_FIRST_K, n)
