@@ -235,11 +235,12 @@ class NodeSurfaceContact(PairDefaults):
         return xs, b.positions(q[ob : ob + b.ndof])
 
     def closest_facets(self, xs: np.ndarray, xm: np.ndarray):
-        """(slave indices, facet indices, plane gaps) of the slave nodes (positions xs, m)
-        that have a facet of the master (node positions xm, m) within the margin, or that lie
-        inside the master however deep: the closest facet and the node's signed gap from its
-        plane (m)."""
+        """(slave indices, facet indices, plane gaps in m) of the slave nodes (positions xs)
+        with a facet of the master (node positions xm) within the margin, or inside it however
+        deep: the closest facet and the node's signed gap from its plane."""
         s, f, g = self._closest_near(xs, xm)
+        if self._search[3]:  # no slave node near the master's box: none inside it
+            return s, f, g
         lost = np.ones(len(xs), dtype=bool)
         lost[s] = False
         lost = np.flatnonzero(lost)
@@ -254,15 +255,17 @@ class NodeSurfaceContact(PairDefaults):
         return np.r_[s, si], np.r_[f, fi], np.r_[g, gi]
 
     def penetration(self, q: np.ndarray) -> float:
-        """How deep (m, ≥ 0) the deepest slave node lies inside the master's discretized
-        boundary, from the inside/outside test (not from the constraint gaps)."""
+        """Depth (m, ≥ 0) of the deepest slave node inside the master by the inside/outside
+        test; 0 when the search at q found every node beyond the margin of the master's box."""
+        last = self._last
+        if last is not None and self._search[3] and self._same_dofs(q, last[0]):
+            return 0.0
         xs, xm = self.positions(q)
         return float(np.max(self.surface.depths(xm, xs), initial=0.0))
 
     def relative_depth(self, q: np.ndarray, g: np.ndarray) -> float:
         """The largest −g of the slave nodes with a negative gap g (the pair's gaps at q) over
-        the size (longest edge) of the facet each is held by: how far a node went past the
-        facet that a projection still finds as the one it crossed."""
+        the size (longest edge) of the facet that holds each."""
         rows = np.flatnonzero(g < 0.0)
         if rows.size == 0:
             return 0.0
@@ -319,30 +322,31 @@ class NodeSurfaceContact(PairDefaults):
         Newton iterations of a step move the nodes far less than that)."""
         cache = self._search
         if cache is not None:
-            xs0, xm0, pairs = cache
+            xs0, xm0, pairs, _ = cache
             moved = max(np.max(np.abs(xs - xs0), initial=0.0), np.max(np.abs(xm - xm0)))
             if 2.0 * moved <= 0.25 * self.margin:
                 return pairs
-        pairs = self._search_pairs(xs, xm, 1.25 * self.margin)
-        self._search = (xs.copy(), xm.copy(), pairs)
-        return pairs
+        *pairs, apart = self._search_pairs(xs, xm, 1.25 * self.margin)
+        # (apart: no slave node was within the margin of the master's box, and none is in it)
+        self._search = (xs.copy(), xm.copy(), tuple(pairs), apart)
+        return self._search[2]
 
     def _search_pairs(self, xs: np.ndarray, xm: np.ndarray, r: float):
         lo, hi = xm.min(axis=0) - r, xm.max(axis=0) + r
         near = np.flatnonzero(np.all((xs >= lo) & (xs <= hi), axis=1))
         if near.size == 0:
-            return near, near
+            return near, near, True
         xf = xm[self.facets]
         centroid = xf.mean(axis=1)
         reach = float(np.sqrt(np.max(np.sum((xf - centroid[:, None]) ** 2, axis=2))))
         slo, shi = xs[near].min(axis=0) - r - reach, xs[near].max(axis=0) + r + reach
         fnear = np.flatnonzero(np.all((centroid >= slo) & (centroid <= shi), axis=1))
         if fnear.size == 0:
-            return fnear, fnear
+            return fnear, fnear, False
         pairs = cKDTree(xs[near]).sparse_distance_matrix(
             cKDTree(centroid[fnear]), r + reach, output_type="ndarray"
         )
-        return near[pairs["i"]], fnear[pairs["j"]]
+        return near[pairs["i"]], fnear[pairs["j"]], False
 
     def _same_dofs(self, q, key) -> bool:
         (oa, ob), (a, b) = self.offsets, self.bodies

@@ -56,6 +56,13 @@ def winding_numbers(points: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndar
     return out
 
 
+def _box(x: np.ndarray):
+    """Lower and upper corners of the box of points x (n, d), per component: a reduction
+    along the long axis of an (n, d) array costs a fraction of one across it."""
+    d = range(x.shape[1])
+    return np.array([x[:, k].min() for k in d]), np.array([x[:, k].max() for k in d])
+
+
 def _triangle_closest(x, a, b, c):
     """Distances (m,) from points x to triangles (a, b, c) (all (m, 3)), with the closest
     feature: kind (0 face, 1 edge, 2 vertex), the local edge (0: ab, 1: bc, 2: ca) or corner
@@ -119,10 +126,12 @@ class Surface:
         facet −1."""
         s = np.full(len(points), np.inf)
         facet = np.full(len(points), -1)
-        # the box of every node (of a solid, the box of its boundary), before any gather;
-        # per component: a reduction along the long axis of an (n, d) array is the fast one
-        lo = np.array([x[:, k].min() for k in range(self.dim)]) - pad
-        hi = np.array([x[:, k].max() for k in range(self.dim)]) + pad
+        # the box of every node (of a solid, the box of its boundary), before any gather
+        lo, hi = _box(x)
+        lo, hi = lo - pad, hi + pad
+        p_lo, p_hi = _box(points)
+        if np.any(p_hi < lo) or np.any(p_lo > hi):  # the boxes are apart: every point out
+            return s, facet
         near = np.flatnonzero(((points >= lo) & (points <= hi)).all(axis=1))
         if near.size == 0:
             return s, facet
