@@ -31,14 +31,15 @@ facet's plane gap is minus the distance to the surface, so g ≤ 0 exactly when 
 entered the master body (the position correction then moves it back onto the nearest facet).
 g is continuous and piecewise smooth; G and ∇²g are those of the selected facet.
 
-Candidates: facets within the detection ``margin`` (m) of a slave node, found with
-``scipy.spatial.cKDTree`` among the facets and slave nodes that a bounding box test keeps, so
-the work follows the contact zone. Before every step the margin is widened to twice the
-distance the two bodies can close in it (:meth:`NodeSurfaceContact.look_ahead`). A slave node
-already inside the master, however deep, gets its closest facet from the inside/outside test
-of :mod:`fecontact.contact.inside`. Any other slave node with no facet within the margin
-reports g = +inf with zero gradient; the integrator only works on contacts with g below its
-own detection margin. The number of contacts (one per slave node) is fixed.
+Candidates: facets within the detection ``margin`` (m) of a slave node, from the broad phase
+of :mod:`fecontact.contact.facet_search` (a k-d tree over the facet centroids and the slave
+nodes in the master's box, kept while the nodes move little), so the work follows the contact
+zone. Before every step the margin is widened to twice the distance the two bodies can close
+in it (:meth:`NodeSurfaceContact.look_ahead`). A slave node already inside the master,
+however deep, gets its closest facet from the inside/outside test of
+:mod:`fecontact.contact.inside`. Any other slave node with no facet within the margin reports
+g = +inf with zero gradient; the integrator only works on contacts with g below its own
+detection margin. The number of contacts (one per slave node) is fixed.
 
 Bar ends (:class:`NodeNodeContact`): node i of body a against node j of body b along a fixed
 unit axis n (from a towards b): g = (x_j − x_i)·n, linear in q.
@@ -47,15 +48,14 @@ unit axis n (from a towards b): g = (x_j − x_i)·n, linear in q.
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from ..bodies.beam import Beam2D
 from ..bodies.solid import Solid
 from ..errors import InputError, check_finite, check_positive, check_range
 from .base import PairDefaults
+from .facet_search import FacetSearch
 from .friction import point_tangents
 from .geometry import point_line_distance, segment_distance
-from .inside import Surface
 
 __all__ = [
     "NodeNodeContact",
@@ -204,7 +204,8 @@ class NodeSurfaceContact(PairDefaults):
             margin = 0.05 * max(body.characteristic_length, master.characteristic_length)
         self.margin = self.base_margin = check_positive("margin", margin)
         self.facets = master.contact_facets()
-        self.surface = Surface(self.facets)
+        self.search = FacetSearch(self.facets)
+        self.surface = self.search.surface
         # distances to the closest facets within this (m) are ties, decided by the gap
         self.tie_tolerance = 1e-12 * max(body.characteristic_length, master.characteristic_length)
         d = self.dim
@@ -217,7 +218,6 @@ class NodeSurfaceContact(PairDefaults):
         self.selected = np.full(self.size, -1)
         """Facet chosen for each slave node at the last evaluation (−1: none near)."""
         self._last = None  # (the two bodies' dofs, result) of the last evaluation
-        self._search = None  # (positions of the last search, its candidate pairs)
 
     @property
     def size(self) -> int:
@@ -226,7 +226,8 @@ class NodeSurfaceContact(PairDefaults):
     def bind(self, model) -> None:
         """Place the pair in the global dof vector of ``model``."""
         self.offsets = (model.offset_of(self.body), model.offset_of(self.master))
-        self._last = self._search = None
+        self._last = None
+        self.search.reset()
 
     def positions(self, q):
         """The slave nodes' positions and every master node's position at q (m)."""
@@ -239,9 +240,7 @@ class NodeSurfaceContact(PairDefaults):
         with a facet of the master (node positions xm) within the margin, or inside it however
         deep: the closest facet and the node's signed gap from its plane."""
         s, f, g = self._closest_near(xs, xm)
-        if self._search[3]:  # no slave node near the master's box: none inside it
-            return s, f, g
-        lost = np.ones(len(xs), dtype=bool)
+        lost = self.search.watched(xs, xm, self.margin).copy()  # (the others are outside)
         lost[s] = False
         lost = np.flatnonzero(lost)
         if lost.size == 0:
@@ -256,12 +255,10 @@ class NodeSurfaceContact(PairDefaults):
 
     def penetration(self, q: np.ndarray) -> float:
         """Depth (m, ≥ 0) of the deepest slave node inside the master by the inside/outside
-        test; 0 when the search at q found every node beyond the margin of the master's box."""
-        last = self._last
-        if last is not None and self._search[3] and self._same_dofs(q, last[0]):
-            return 0.0
+        test, over the nodes the search cannot rule out (:mod:`.facet_search`)."""
         xs, xm = self.positions(q)
-        return float(np.max(self.surface.depths(xm, xs), initial=0.0))
+        watched = self.search.watched(xs, xm, self.margin)  # (the others are outside)
+        return float(np.max(self.surface.depths(xm, xs[watched]), initial=0.0))
 
     def relative_depth(self, q: np.ndarray, g: np.ndarray) -> float:
         """The largest −g of the slave nodes with a negative gap g (the pair's gaps at q) over
@@ -275,7 +272,7 @@ class NodeSurfaceContact(PairDefaults):
         return float(np.max(-g[rows] / size))
 
     def _closest_near(self, xs: np.ndarray, xm: np.ndarray):
-        s, f = self._candidate_pairs(xs, xm)
+        s, f = self.search.pairs(xs, xm, self.margin)
         if s.size == 0:
             return s, f, np.zeros(0)
         dist, g = closest_facet_distance(xs[s], xm[self.facets[f]])
@@ -312,41 +309,8 @@ class NodeSurfaceContact(PairDefaults):
     def _set_margin(self, margin: float) -> None:
         if margin != self.margin:
             self.margin = margin
-            self._search = None
+            self.search.reset()
             self._last = None
-
-    def _candidate_pairs(self, xs: np.ndarray, xm: np.ndarray):
-        """(slave, facet) pairs whose node and facet centroid are within margin + the facet's
-        reach + a slack δ = margin/4, found by a k-d tree search and kept while no node has
-        moved more than δ/2 since: then every pair within the margin is still among them (the
-        Newton iterations of a step move the nodes far less than that)."""
-        cache = self._search
-        if cache is not None:
-            xs0, xm0, pairs, _ = cache
-            moved = max(np.max(np.abs(xs - xs0), initial=0.0), np.max(np.abs(xm - xm0)))
-            if 2.0 * moved <= 0.25 * self.margin:
-                return pairs
-        *pairs, apart = self._search_pairs(xs, xm, 1.25 * self.margin)
-        # (apart: no slave node was within the margin of the master's box, and none is in it)
-        self._search = (xs.copy(), xm.copy(), tuple(pairs), apart)
-        return self._search[2]
-
-    def _search_pairs(self, xs: np.ndarray, xm: np.ndarray, r: float):
-        lo, hi = xm.min(axis=0) - r, xm.max(axis=0) + r
-        near = np.flatnonzero(np.all((xs >= lo) & (xs <= hi), axis=1))
-        if near.size == 0:
-            return near, near, True
-        xf = xm[self.facets]
-        centroid = xf.mean(axis=1)
-        reach = float(np.sqrt(np.max(np.sum((xf - centroid[:, None]) ** 2, axis=2))))
-        slo, shi = xs[near].min(axis=0) - r - reach, xs[near].max(axis=0) + r + reach
-        fnear = np.flatnonzero(np.all((centroid >= slo) & (centroid <= shi), axis=1))
-        if fnear.size == 0:
-            return fnear, fnear, False
-        pairs = cKDTree(xs[near]).sparse_distance_matrix(
-            cKDTree(centroid[fnear]), r + reach, output_type="ndarray"
-        )
-        return near[pairs["i"]], fnear[pairs["j"]], False
 
     def _same_dofs(self, q, key) -> bool:
         (oa, ob), (a, b) = self.offsets, self.bodies

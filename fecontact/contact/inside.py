@@ -126,6 +126,8 @@ class Surface:
         facet −1."""
         s = np.full(len(points), np.inf)
         facet = np.full(len(points), -1)
+        if len(points) == 0:
+            return s, facet
         # the box of every node (of a solid, the box of its boundary), before any gather
         lo, hi = _box(x)
         lo, hi = lo - pad, hi + pad
