@@ -256,6 +256,9 @@ class NodeSurfaceContact(PairDefaults):
     def penetration(self, q: np.ndarray) -> float:
         """Depth (m, ≥ 0) of the deepest slave node inside the master by the inside/outside
         test, over the nodes the search cannot rule out (:mod:`.facet_search`)."""
+        last = self._last  # an evaluation at q has run the search at q: none watched, none in
+        if last is not None and not self.search.last_watched.any() and self._same_dofs(q, last[0]):
+            return 0.0
         xs, xm = self.positions(q)
         watched = self.search.watched(xs, xm, self.margin)  # (the others are outside)
         return float(np.max(self.surface.depths(xm, xs[watched]), initial=0.0))

@@ -44,6 +44,11 @@ class FacetSearch:
         """Mask of the slave nodes that may be inside the master at positions xs, xm."""
         return self._search(xs, xm, margin)[4]
 
+    @property
+    def last_watched(self) -> np.ndarray:
+        """The watched nodes of the last search (all, before any)."""
+        return np.ones(1, dtype=bool) if self._cache is None else self._cache[4]
+
     def _search(self, xs, xm, margin):
         cache = self._cache
         if cache is not None and cache[2] == margin:
