@@ -7,11 +7,12 @@ a k-d tree, among the nodes in the master's box grown by r and the facets near t
 It is kept while no node of either body has moved more than δ/2 = m/8 since; then every
 facet within m of a node is still among its pairs.
 
-Which nodes may be inside the master ("watched"): those with a pair, and those without one
-that the inside/outside test (:mod:`fecontact.contact.inside`) finds inside at the search. A
-node without a pair is farther than r from every facet; while the search is kept it moves,
-relative to the master, by less than 2 δ/2 = m/4 < r, so it cannot cross the surface: the
-nodes outside then stay outside, and no test needs to look at them again.
+Which nodes may be inside the master ("watched"): those within 0.3 m of a facet at the
+search, and the others that the inside/outside test (:mod:`fecontact.contact.inside`) finds
+inside then. While the search is kept every node of either body, and so every point of a
+facet, moves by less than m/8: a node relative to the surface by less than m/4 < 0.3 m. A node
+outside and farther than 0.3 m from every facet (a node without a pair is farther than r)
+cannot cross the surface meanwhile: it stays outside, and no test needs to look at it again.
 """
 
 from __future__ import annotations
@@ -19,9 +20,13 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .inside import Surface
+from .inside import Surface, facet_distances
 
-__all__ = ["FacetSearch"]
+__all__ = ["NEAR", "FacetSearch"]
+
+NEAR = 0.3
+"""Nodes within this fraction of the margin of a facet are watched: while the search is kept
+the two bodies move relative to each other by less than 1/4 of the margin."""
 
 
 class FacetSearch:
@@ -56,9 +61,13 @@ class FacetSearch:
             if 2.0 * moved <= 0.25 * margin:
                 return cache
         s, f = self._search_pairs(xs, xm, 1.25 * margin)
-        watch = np.zeros(len(xs), dtype=bool)
-        watch[s] = True
-        rest = np.flatnonzero(~watch)
+        # nodes within NEAR × margin of a facet are watched; the others, if outside, cannot
+        # reach the surface before the search is refreshed (module docstring)
+        near = np.zeros(len(xs), dtype=bool)
+        if s.size:
+            near[s[facet_distances(xs[s], xm[self.facets[f]]) <= NEAR * margin]] = True
+        watch = near.copy()
+        rest = np.flatnonzero(~near)
         if rest.size:
             depth = self.surface.signed_distance(xm, xs[rest], outside=False)[0]
             watch[rest[depth < 0.0]] = True

@@ -35,7 +35,7 @@ from scipy.spatial import cKDTree
 
 from .geometry import closest_on_segments
 
-__all__ = ["Surface", "winding_numbers"]
+__all__ = ["Surface", "facet_distances", "winding_numbers"]
 
 _FIRST_K = 8  # centroids asked first: a point near a surface has its closest facet among them
 _CHUNK = 2**22  # point × segment pairs of the 2D winding number evaluated at once
@@ -101,6 +101,14 @@ def _triangle_closest(x, a, b, c):
     return dist, kind, local, closest
 
 
+def facet_distances(points: np.ndarray, xf: np.ndarray) -> np.ndarray:
+    """Distances (m,) from points (m, d) to facets xf (m, k, d): segments in 2D, triangles in
+    3D, the closest point clipped to the facet."""
+    if points.shape[1] == 2:
+        return closest_on_segments(points, xf[:, 0], xf[:, 1])[1]
+    return _triangle_closest(points, xf[:, 0], xf[:, 1], xf[:, 2])[0]
+
+
 class Surface:
     """A body's closed, oriented boundary of flat ``facets`` (n, 2) segments or (n, 3)
     triangles of node indices, numbered with the outward normal (as
@@ -157,9 +165,7 @@ class Surface:
         return np.maximum(0.0, -self.signed_distance(x, points, outside=False)[0])
 
     def _facet_distances(self, points, xf):
-        if self.dim == 2:
-            return closest_on_segments(points, xf[:, 0], xf[:, 1])[1]
-        return _triangle_closest(points, xf[:, 0], xf[:, 1], xf[:, 2])[0]
+        return facet_distances(points, xf)
 
     def _closest_facets(self, xf, p):
         """Distance to, and index of, the closest facet of each point (exact: see the module
