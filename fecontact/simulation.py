@@ -184,6 +184,8 @@ class _Recorder:
         "iter_total",
         "iter_max",
         "halvings",
+        "retakes",
+        "max_penetration",
         "min_gap",
         "energy_initial",
         "energy_final",
@@ -207,6 +209,8 @@ class _Recorder:
         self.iter_total = 0
         self.iter_max = 0
         self.halvings = 0
+        self.retakes = 0
+        self.max_penetration = 0.0  # m, from the inside/outside test at every step's end
         self.min_gap = math.inf
         self.energy_initial = math.nan
         self.energy_final = math.nan
@@ -245,6 +249,8 @@ class _Recorder:
             self.iter_total += its
             self.iter_max = max(self.iter_max, its)
             self.halvings += st.halvings
+            self.retakes += st.retakes
+            self.max_penetration = max(self.max_penetration, st.penetration)
         self.energy_final = total
         self.energy_max = max(self.energy_max, total)
         self.min_gap = min(self.min_gap, min_gap)
@@ -257,7 +263,7 @@ class _Recorder:
 
     def restore(self, stats: dict) -> None:
         for k in self.STATS:
-            setattr(self, k, stats[k])
+            setattr(self, k, stats.get(k, getattr(self, k)))
         self.closed = np.array(stats["closed"], dtype=bool)
         self.impact_frame = bool(stats.get("impact_frame", True))
         self.balance.restore(stats.get("energy_balance", {}))
@@ -289,7 +295,8 @@ class _Recorder:
             "newton_iterations_max": self.iter_max,
             "newton_iterations_mean": self.iter_total / max(self.steps, 1),
             "step_halvings": self.halvings,
-            "max_penetration": max(0.0, -self.min_gap),
+            "penetration_retakes": self.retakes,
+            "max_penetration": max(self.max_penetration, -self.min_gap),
             "min_gap": self.min_gap,
             "energy_initial": self.energy_initial,
             "energy_final": self.energy_final,

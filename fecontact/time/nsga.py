@@ -54,6 +54,7 @@ from .coulomb import SmoothFriction, friction_memory, frictional_correction
 from .descent import Armijo, descent_direction
 from .generalized_alpha import coefficients, predict
 from .impacts import velocity_jump
+from .penetration import check_predictor
 from .position_jump import acceleration_jump, velocity_follows
 from .smooth_contact import (
     SmoothContacts,
@@ -108,6 +109,7 @@ def nsga_step(
     # 2. position correction, only if a contact candidate penetrates (joints already hold)
     model.contacts.set_time(t)
     g_tilde = model.contacts.gaps(q)
+    check_predictor(model, q, g_tilde)
     cand = (g_tilde <= opts.detection_margin * model.length).nonzero()[0]
     # (only the candidates use the gap tolerance)
     tol_gap = opts.tol_gap * length_scale(model, q) if cand.size else 0.0

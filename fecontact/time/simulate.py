@@ -11,6 +11,7 @@ from .energy_step import check_energy_scheme, energy_nsga_step
 from .moreau import moreau_step
 from .nsga import nsga_step
 from .penalty import penalty_step
+from .penetration import PenetrationFailure, hold_penetration
 from .smooth_contact import resting_start, uses_smooth_contact
 from .state import IntegratorOptions, PhaseTimer, State, initial_state, length_scale
 
@@ -65,8 +66,13 @@ def simulate(
         try:
             state = _advance(model, state, h, opts, timer, 0)
         except StepFailure as err:
+            what = (
+                "penetration not held"
+                if isinstance(err, PenetrationFailure)
+                else "Newton did not converge"
+            )
             raise SolverError(
-                f"Newton did not converge at t = {state.t:.6g} s (step {n}): {err} "
+                f"{what} at t = {state.t:.6g} s (step {n}): {err} "
                 f"(residual {err.residual:.3e}) after {opts.max_halvings} step halvings",
                 time=state.t,
                 step=n,
@@ -78,13 +84,14 @@ def simulate(
 
 
 def _advance(model, st, h, opts, timer, depth):
+    model.contacts.look_ahead(st.q, st.v, h)
     try:
-        if opts.scheme == "energy-decaying":
-            return energy_nsga_step(model, st, h, opts, timer)
-        return STEPPERS[opts.integrator](model, st, h, opts, timer)
-    except StepFailure:
+        step = energy_nsga_step if opts.scheme == "energy-decaying" else STEPPERS[opts.integrator]
+        return hold_penetration(model, step(model, st, h, opts, timer), opts, timer)
+    except StepFailure as err:
         if depth >= opts.max_halvings:
             raise
+        retake = isinstance(err, PenetrationFailure)
     first = _advance(model, st, 0.5 * h, opts, timer, depth + 1)
     second = _advance(model, first, 0.5 * h, opts, timer, depth + 1)
     second.impulse = second.impulse + first.impulse
@@ -94,5 +101,7 @@ def _advance(model, st, h, opts, timer, depth):
         )
     second.iterations = {k: first.iterations[k] + second.iterations[k] for k in first.iterations}
     second.halvings = first.halvings + second.halvings + 1
+    second.retakes = first.retakes + second.retakes + retake
+    second.penetration = max(first.penetration, second.penetration)
     second.h = h
     return second

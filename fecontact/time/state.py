@@ -174,6 +174,8 @@ class State:
     iterations: dict = field(default_factory=lambda: {"smooth": 0, "position": 0, "velocity": 0})
     lam: np.ndarray = field(default_factory=lambda: np.zeros(0))
     halvings: int = 0
+    retakes: int = 0  # of the halvings: steps retaken for a penetration
+    penetration: float = 0.0  # m: the deepest contact point on the wrong side at the end
     memory: dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
