@@ -22,8 +22,6 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__
-from .contact.friction import COULOMB
-from .contact.laws import ALART_CURNIER, LEAST_SQUARES
 from .energy import EnergyBalance
 from .errors import InputError, SolverError, check_positive
 from .io.frames import bodies_box, frame_parts, friction_totals, static_parts
@@ -35,14 +33,11 @@ from .io.run_folder import (
     load_checkpoint,
     save_checkpoint,
 )
-from .linalg import ITERATIVE, SPARSE_FACTORIZATIONS
 from .time import (
-    FOLLOW_UPS,
-    NEWTON,
-    RELEASES,
     IntegratorOptions,
     PhaseTimer,
     State,
+    StepStats,
     initial_state,
     simulate,
     uses_smooth_contact,
@@ -250,13 +245,12 @@ class _Recorder:
         self.impact_frame = bool(stats.get("impact_frame", True))
         self.balance.restore(stats.get("energy_balance", {}))
 
-    def summary(
-        self, status: str, wall: float, timer: dict, message: str = "", factors=None
-    ) -> dict:
+    def summary(self, status: str, wall: float, timer: dict, message: str, counts: dict) -> dict:
         """The run's ``summary.json``: ``time_per_step_s`` is the wall time of the time loop
-        without frame and history output, over the steps; ``sparse_factorizations`` counts
-        the sparse LU factorizations of the run and their time (included in the phases), the
-        one-time cost of a linear model."""
+        without frame and history output, over the steps; ``counts`` are the run's
+        statistics (:meth:`fecontact.time.StepStats.summary`), among them
+        ``sparse_factorizations``, the sparse LU factorizations of the run and their time
+        (included in the phases), the one-time cost of a linear model."""
         sim = self.sim
         import scipy
         import skfem
@@ -271,7 +265,7 @@ class _Recorder:
             "wall_time_s": wall,
             "time_per_step_s": (wall - timer.get("output", 0.0)) / max(self.steps, 1),
             "phase_times_s": dict(timer),
-            "sparse_factorizations": factors or {"count": 0, "seconds": 0.0},
+            "sparse_factorizations": counts.pop("sparse_factorizations"),
             "newton_iterations_total": self.iter_total,
             "newton_iterations_max": self.iter_max,
             "newton_iterations_mean": self.iter_total / max(self.steps, 1),
@@ -358,21 +352,16 @@ def run(
     bar = _progress_bar(sim, start) if progress else None
     status, message = "completed", ""
     t_start = time.perf_counter()
-    factors_start = dict(SPARSE_FACTORIZATIONS)
-    iterative_start = dict(ITERATIVE)
-    least_squares_start = LEAST_SQUARES["count"]
-    coulomb_start = dict(COULOMB)
-    newton_start = dict(NEWTON)
-    follow_start = dict(FOLLOW_UPS)
-    release_start = RELEASES["steps"]
-    ALART_CURNIER.update(position=0.0, velocity=0.0)  # largest values of this run
+    stats = StepStats()  # the counts of this run, which its steps fill
     try:
         box = None  # the bodies' box over the frames, for the obstacles' outlines
         if frames and start is None:
             box = bodies_box(sim.model, np.zeros(sim.model.n) if sim.q0 is None else sim.q0)
             for part, mesh in static_parts(sim.model, box).items():
                 pvd.write_static(part, mesh)
-        steps = simulate(sim.model, sim.dt, sim.t_end, sim.options, timer, sim.q0, sim.v0, start)
+        steps = simulate(
+            sim.model, sim.dt, sim.t_end, sim.options, timer, sim.q0, sim.v0, start, stats
+        )
         for st in steps:
             clock = time.perf_counter()
             closed_before = int(rec.closed.sum())
@@ -429,24 +418,14 @@ def run(
         rec.history.close()
         if bar is not None:
             bar.close()
-        factors = {k: SPARSE_FACTORIZATIONS[k] - factors_start[k] for k in factors_start}
-        summary = rec.summary(status, wall, timer, message, factors)
-        # redundant active constraints whose multipliers came from least squares
-        summary["least_squares_multipliers"] = LEAST_SQUARES["count"] - least_squares_start
-        # the globalization of the smooth Newton (fecontact.time.descent)
-        summary["smooth_newton"] = {k: NEWTON[k] - newton_start[k] for k in NEWTON}
-        # the velocity's follow-ups of an impact's correction (fecontact.time.position_jump)
-        summary["velocity_follow_ups"] = {k: FOLLOW_UPS[k] - follow_start[k] for k in FOLLOW_UPS}
-        # smooth steps taken again without the force of a contact they released
-        summary["contact_releases"] = RELEASES["steps"] - release_start
-        # the largest Alart–Curnier residual a converged correction left, over its tolerance
-        summary["final_residuals"] = dict(ALART_CURNIER)
-        # AMG-preconditioned CG (sparse solver "amg"): solves, iterations, setups, fallbacks
-        summary["iterative_solver"] = {k: ITERATIVE[k] - iterative_start[k] for k in ITERATIVE}
+        frictional = sim.model.contacts.frictional
+        counts = stats.summary(frictional)
+        friction_solver = counts.pop("friction_solver", None)
+        summary = rec.summary(status, wall, timer, message, counts) | counts
         # a run that ends with more energy than its budget is said so, not only counted
         summary["warnings"] = [rec.balance.describe()] if rec.balance.unstable() else []
-        if sim.model.contacts.frictional:  # the frictional solves and their fallbacks
-            summary["friction_solver"] = {k: COULOMB[k] - coulomb_start[k] for k in COULOMB}
+        if frictional:
+            summary["friction_solver"] = friction_solver
             summary["friction_work"] = rec.friction_work
         try:
             write_json(out / "summary.json", summary)

@@ -21,7 +21,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .iterative import amg_factorize, prefers_cg
-from .sparse_solvers import pardiso_factorize, sparse_solver
+from .solver import LinearSolver
+from .sparse_solvers import pardiso_factorize
 
 __all__ = ["DENSE_LIMIT", "SYMMETRIC_PIVOT", "Pattern", "factorize"]
 
@@ -36,15 +37,15 @@ SYMMETRIC_PIVOT = 1e-2
 interchange: never for the positive definite matrices of linear bodies, a safeguard for the
 indefinite tangents of buckling ones."""
 
-SPARSE_FACTORIZATIONS = {"count": 0, "seconds": 0.0}
-"""Sparse factorizations done in this process and their wall time (s): ``fecontact.run``
-reports a run's share in ``summary.json`` (one-time cost of a linear model against its steps)."""
-
 _getrf, _getrs = sla.get_lapack_funcs(("getrf", "getrs"), (np.zeros(1),))
 
 
-def factorize(A, symmetric: bool = False):
+def factorize(A, symmetric: bool = False, solver: LinearSolver | None = None):
     """Return ``solve(b)`` applying A⁻¹ to a vector or to the columns of a matrix.
+
+    ``solver``: the run's :class:`LinearSolver` (the sparse solver, AMG's near-null space and
+    hierarchies, and where the work is counted); default a new one with the process default
+    sparse solver.
 
     ``symmetric``: A = Aᵀ (its pattern and values), which lets a sparse A keep the symmetric
     fill-reducing ordering (module docstring), or go to AMG-preconditioned CG with the sparse
@@ -53,12 +54,13 @@ def factorize(A, symmetric: bool = False):
     CG (when its fallback factorization fails).
     """
     if sp.issparse(A):
-        name = sparse_solver()
+        solver = LinearSolver() if solver is None else solver
+        name = solver.name
         if symmetric and (name == "amg" or (name == "auto" and prefers_cg(A))):
-            return amg_factorize(A, lambda: _superlu(A, symmetric=True))
+            return amg_factorize(A, lambda: _superlu(A, True, solver), solver)
         if name == "pardiso":
             return pardiso_factorize(A)
-        return _superlu(A, symmetric)
+        return _superlu(A, symmetric, solver)
     # LAPACK directly: the scipy wrappers cost more than the factorization of small systems
     lu, piv, info = _getrf(A)
     if info != 0:
@@ -71,8 +73,8 @@ def factorize(A, symmetric: bool = False):
     return solve
 
 
-def _superlu(A, symmetric: bool):
-    """``solve(b)`` with A factorized by SuperLU (counted in ``SPARSE_FACTORIZATIONS``)."""
+def _superlu(A, symmetric: bool, solver: LinearSolver):
+    """``solve(b)`` with A factorized by SuperLU (counted in ``solver.factorizations``)."""
     options = {}
     if symmetric:
         options = {"diag_pivot_thresh": SYMMETRIC_PIVOT, "options": {"SymmetricMode": True}}
@@ -82,8 +84,8 @@ def _superlu(A, symmetric: bool):
     except RuntimeError as err:
         raise np.linalg.LinAlgError(str(err)) from None
     finally:
-        SPARSE_FACTORIZATIONS["count"] += 1
-        SPARSE_FACTORIZATIONS["seconds"] += time.perf_counter() - start
+        solver.factorizations.count += 1
+        solver.factorizations.seconds += time.perf_counter() - start
     return lambda b: lu.solve(np.asarray(b, dtype=float))
 
 

@@ -41,8 +41,8 @@ import time
 
 from ..errors import InputError
 from .constraints import StepFailure, factorize_or_fail
-from .descent import NEWTON
 from .nsga import SmoothStep, nsga_step
+from .settings import run_settings
 from .smooth_contact import uses_smooth_contact
 
 __all__ = ["check_energy_scheme", "energy_nsga_step"]
@@ -74,6 +74,7 @@ def check_energy_scheme(model, opts) -> None:
 
 def energy_nsga_step(model, st, h: float, opts, timer):
     """The NSGA step with the energy-decaying step 1; the state remembers its Δε."""
+    opts = run_settings(opts)
     state = nsga_step(model, st, h, opts, timer, energy_smooth_step)
     q_tilde = state.memory.pop("smooth_q", state.q)
     # the smooth step's own Δε: a correction's strain is no part of the stored energy
@@ -125,8 +126,8 @@ def energy_smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
             break
         if it == opts.max_iterations:
             raise StepFailure("energy-decaying smooth step", rnorm / ref)
-        NEWTON["iterations"] += 1
-        dq = -factorize_or_fail(model.iteration_sum(w / h, K), rnorm / ref)(r)
+        opts.stats.newton.iterations += 1
+        dq = -factorize_or_fail(model.iteration_sum(w / h, K), rnorm / ref, False, model.solver)(r)
         q[F] += dq
         clock = timer.add("solve", clock)
         if model.update_size(dq) <= opts.tol_increment:  # round-off bounds the residual

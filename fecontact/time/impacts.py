@@ -51,7 +51,7 @@ def velocity_jump(
         # joints only: the M-orthogonal projection onto G_b v = 0, no active set to find
         G1 = model.joints.jacobian(q, model.joints.all)[1] if Gb is None else Gb
         Y = model.solve_M(G1.T).reshape(len(F), -1)
-        mu = factorize(G1 @ Y)(-(G1 @ v[F]))
+        mu = factorize(G1 @ Y, solver=model.solver)(-(G1 @ v[F]))
         return Y @ mu, _EMPTY, 1, None
     cons = Constraints(model, closed)
     if held is not None:
@@ -103,6 +103,7 @@ def velocity_jump(
             Y=Y,
             Lam0=Lam0,
             tol=tol,
+            stats=opts.stats.contact,
         )
     except RuntimeError as err:
         raise StepFailure(str(err), np.nan) from None

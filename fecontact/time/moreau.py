@@ -56,6 +56,7 @@ from .constraints import (
     plus_curvature,
 )
 from .coulomb import friction_memory, frictional_jump
+from .settings import run_settings
 from .state import IntegratorOptions, PhaseTimer, State, length_scale
 
 __all__ = ["moreau_step"]
@@ -64,6 +65,7 @@ __all__ = ["moreau_step"]
 def moreau_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer) -> State:
     """One Moreau–Jean step from ``st`` over ``h`` (s): θ-method with Newton's impact law
     at velocity level on the contacts closed at q_n + ½h v_n, joints as G_b v_{n+1} = 0."""
+    opts = run_settings(opts)
     theta = float(opts.theta)  # in (0, 1], checked by IntegratorOptions
     F, m = model.free, model.contacts.size
     clock = time.perf_counter()
@@ -184,7 +186,7 @@ def _moreau_newton(model, st, h, theta, rows, opts, timer, slip=None):
             What = What + ht * Ct
         if nr and not rows[0].linear and np.any(P):
             What = plus_curvature(What, -ht, rows[0].curvature(q, P))
-        solve = factorize_or_fail(What, rnorm / ref, symmetric=True)
+        solve = factorize_or_fail(What, rnorm / ref, True, model.solver)
         v_new = v - solve(R)
         clock = timer.add("solve", clock)
         if nr and slip is not None:
@@ -236,7 +238,7 @@ def _impact_law(G, c, solve, bilateral, opts):
     k = opts.multiplier_scale
     try:
         W, Lam, its = solve_velocity_jump(
-            G, c, solve, p, k, opts.max_iterations, bilateral=bilateral
+            G, c, solve, p, k, opts.max_iterations, bilateral=bilateral, stats=opts.stats.contact
         )
     except RuntimeError as err:
         raise StepFailure(str(err), np.nan) from None

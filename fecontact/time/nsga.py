@@ -35,25 +35,22 @@ import time
 from typing import NamedTuple
 
 import numpy as np
-import scipy.sparse as sp
 
-from ..contact import solve_position_correction
 from ..joints import newton_remainder
-from ..linalg import UnitColumns, low_rank_solver
+from ..linalg import low_rank_solver
 from .constraints import (
-    Constraints,
     StepFailure,
-    augmentation,
     bordered,
-    constraint_columns,
     factorize_or_fail,
     plus_curvature,
 )
+from .correction import correction_metric, position_correction, unit_columns
 from .coulomb import SmoothFriction, friction_memory, frictional_correction
 from .descent import Armijo, descent_direction
 from .generalized_alpha import coefficients, predict
 from .impacts import velocity_jump
 from .position_jump import acceleration_jump, velocity_follows
+from .settings import run_settings
 from .smooth_contact import (
     SmoothContacts,
     force_shares,
@@ -72,6 +69,7 @@ __all__ = ["nsga_step"]
 def nsga_step(
     model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer, smooth_step=None
 ) -> State:
+    opts = run_settings(opts)
     # another step 1 (:mod:`.energy_step`) corrects in the metric of the trapezoidal rule
     c = coefficients(1.0 if smooth_step else opts.rho_inf, h)
     t = st.t + h
@@ -83,6 +81,7 @@ def nsga_step(
     step = (smooth_step or _smooth_step)(model, st, t, c, opts, timer, P)
     if smooth and (rows := released(st, P, step.force, opts.tol_residual)).size:
         st_s, first = without_released(model, st, rows), step.iterations
+        opts.stats.releases += 1
         step = _smooth_step(model, st_s, t, c, opts, timer, P)
         step = step._replace(iterations=step.iterations + first)
     q, v, vd, a, lam, S, it, Gb, force, smooth_t, work_t = step
@@ -124,7 +123,7 @@ def nsga_step(
             was_active = was_active | (force[cand] > 0.0)
         work = cand[short | was_active]
         q_tilde = q
-        metric = _metric(model, q_tilde, S, c, opts.metric)
+        metric = correction_metric(model, q_tilde, S, c, opts.metric)
         while True:
             if friction:
                 pre = None if grip is None else grip[work] / c.bp  # as positional multipliers
@@ -133,7 +132,7 @@ def nsga_step(
                 )
             else:
                 nu0 = st.nu[work] / opts.multiplier_scale  # warm start: the previous step's
-                U, nu_w, its = _position_correction(
+                U, nu_w, its = position_correction(
                     model, q_tilde, work, metric, c, opts, tol_gap, nu0
                 )
             iters["position"] += its
@@ -171,7 +170,9 @@ def nsga_step(
             impulse[closed] = Lam[: closed.size]
         if restarts and _impact(nu, impulse[closed], held):
             # restart the acceleration variable from the post-impact state
-            restart = restarted_acceleration(model, q, v, v_tilde, t, closed, tol_gap / h)
+            restart = restarted_acceleration(
+                model, q, v, v_tilde, t, closed, tol_gap / h, opts.stats.contact
+            )
             if restart is not None:
                 vd[model.free_slice] = a[model.free_slice] = restart[0]
                 memory |= force_shares(model, st_s, c, force, smooth_t, restart[1])
@@ -185,8 +186,10 @@ def nsga_step(
     if corrected is not None and impact:
         q_tilde, solve_H = corrected
         if opts.metric != "stiffness":  # the update is always in the step's own S_t
-            solve_H = _metric(model, q_tilde, S, c, "stiffness")[1]
-        dvd, hold = acceleration_jump(model, q, q_tilde, v, closed, solve_H, tol_gap / h)
+            solve_H = correction_metric(model, q_tilde, S, c, "stiffness")[1]
+        dvd, hold = acceleration_jump(
+            model, q, q_tilde, v, closed, solve_H, tol_gap / h, stats=opts.stats.contact
+        )
         if not smooth_step:  # (the energy-decaying step's v̇ stays its smooth Δv/h)
             vd[model.free_slice] += dvd
             a[model.free_slice] += (1.0 - c.af) / (1.0 - c.am) * dvd
@@ -261,6 +264,7 @@ def _smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
     Returns a :class:`SmoothStep`: S = (S_t, its solver) for the metric of the position
     correction (None with joints), G_b the joint gradient at the returned q (None when the
     last update moved q after it was evaluated)."""
+    opts = run_settings(opts)
     F, nF = model.free_slice, model.n_free
     X = predict(st, c)
     q, v, vd, a = X
@@ -293,7 +297,7 @@ def _smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
     for it in range(opts.max_iterations + 1):
         W, fint, K = model.internal(q, tangent=not linear)
         if armijo is not None and not armijo.accepts(W):
-            s = armijo.backtrack(model)
+            s = armijo.backtrack(model, opts.stats.newton)
             X[:] = armijo.X
             X[:, F] += np.multiply.outer(c.w, s * armijo.dq)
             W, fint, K = model.internal(q, tangent=not linear)
@@ -336,11 +340,11 @@ def _smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
         touching = sc is not None and sc.active.any()
         if touching and not nb:  # S_t's own factors, and the contact zone's curvature
             if not linear:
-                solve = factorize_or_fail(S, rnorm / ref, symmetric=True)
+                solve = factorize_or_fail(S, rnorm / ref, True, model.solver)
             if sc.C is None:  # straight gaps: S_t⁻¹G_jᵀ kept per contact on a linear body
                 dq = sc.schur_update(model, r, solve, (c.bp, c.gp) if linear else None)
             else:
-                units = _unit_columns(model, ("smooth", c.bp, c.gp), solve, linear)
+                units = unit_columns(model, ("smooth", c.bp, c.gp), solve, linear)
                 dq = sc.schur_update(model, r, _with_curvature(solve, sc.C, units, rnorm / ref))
         elif nb or touching:
             if nb and Cb is None and not joints.linear:
@@ -351,7 +355,7 @@ def _smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
                 gA, GA = sc.rows()
                 Kb = plus_curvature(Kb, 1.0, sc.C)
                 g_rows, G_rows = np.concatenate([g_rows, gA]), np.vstack([G_rows, GA])
-            solve = factorize_or_fail(bordered(Kb, G_rows), rnorm / ref)
+            solve = factorize_or_fail(bordered(Kb, G_rows), rnorm / ref, False, model.solver)
             plain = False
             x = -solve(np.concatenate([r, g_rows]))
             dq, lam = x[:nF], lam + x[nF : nF + nb]
@@ -359,14 +363,13 @@ def _smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
                 sc.take(x[nF + nb :])
         else:
             if not linear:
-                solve = factorize_or_fail(S, rnorm / ref, symmetric=True)
+                solve = factorize_or_fail(S, rnorm / ref, True, model.solver)
             if linear:  # Π is quadratic and S_t positive definite: Newton's step is exact
                 dq = -solve(r)
             else:
                 shift, res = c.bp * model.M, rnorm / ref
-                dq, *test = descent_direction(
-                    model, r, fi, S, K, solve, shift, opts.tol_increment, res
-                )
+                newton = (opts.tol_increment, res, opts.stats.newton, model.solver)
+                dq, *test = descent_direction(model, r, fi, S, K, solve, shift, *newton)
                 if test[-1] is not None:
                     armijo = Armijo(X.copy(), dq, *test, W, res)
         X[:, F] += np.multiply.outer(c.w, dq)  # q, v, v̇, a
@@ -417,82 +420,3 @@ def _converged_by_bound(model, vd, dq, lam, dlam, ff, tol_b, opts) -> bool:
         return True
     Mvd = model.M @ vd[model.free_slice]
     return force <= limit * math.sqrt(Mvd @ Mvd)
-
-
-def _metric(model, q, S, c, kind):
-    """(H, solve_H) of the position correction, H = S_t/β′ (``kind`` "stiffness") or H = M
-    ("mass"); H itself is returned as a function, needed only when the gaps are curved."""
-    if kind == "mass":
-        return lambda: model.M, model.solve_M
-    if S is None and model.linear:
-        S = model.iteration_matrix(c.bp, c.gp)[:2]
-    if S is None:
-        _, _, K = model.internal(q)
-        S = model.iteration_sum(c.bp, K)
-        alpha, beta_k = model.damping
-        if alpha or beta_k:
-            S = S + c.gp * (alpha * model.M + beta_k * K)
-        S = (S, factorize_or_fail(S, math.nan, symmetric=True))
-    matrix, solve_S = S
-    return lambda: matrix / c.bp, lambda b: c.bp * solve_S(b)
-
-
-def _position_correction(model, q_tilde, cand, metric, c, opts, tol_gap, nu0=None):
-    """Step 2: q = q̃ + U, H U = Σ G_jᵀ [k ν_j − p g_j]_+ over the contacts ``cand``, with
-    the joints kept as equalities (always active, multipliers of any sign); ``metric`` is
-    (H, solve_H) from :func:`_metric`, ``nu0`` the contacts' multipliers of the previous
-    step."""
-    F = model.free
-    H, solve_H = metric
-    cons = Constraints(model, cand)
-    _, G0 = cons.jacobian(q_tilde)
-    constant = model.linear or opts.metric == "mass"
-    Y0 = constraint_columns(model, (opts.metric, c.bp, c.gp), cand, G0, solve_H, cons, constant)
-    p = augmentation(opts.penalty_scale, G0, Y0)
-    k = opts.multiplier_scale
-
-    def shifted(U):
-        qt = q_tilde.copy()
-        qt[F] += U
-        return qt
-
-    units = []  # H⁻¹e_i, made on the first curved system
-
-    def system(U, s, A):
-        if cons.linear:  # constant gradients: H⁻¹G_Aᵀ are columns of Y0
-            return (lambda B: Y0[:, A]), None
-        C = cons.curvature(shifted(U), np.where(A, s, 0.0))
-        if sp.issparse(C) and C.nnz and np.unique(C.row).size <= len(F) // 4:
-            # the curvature touches the contact zone only: update H's factors on its dofs
-            if not units:
-                units.append(_unit_columns(model, (opts.metric, c.bp, c.gp), solve_H, constant))
-            try:
-                return low_rank_solver(solve_H, C, units[0]), C
-            except np.linalg.LinAlgError:
-                raise StepFailure("singular position-correction matrix", math.nan) from None
-        return factorize_or_fail(H() - C, math.nan, symmetric=True), C
-
-    try:
-        U, nu, its = solve_position_correction(
-            lambda U: cons.jacobian(shifted(U)),
-            system,
-            len(F),
-            p,
-            k,
-            tol_gap,
-            0.1 * tol_gap,
-            opts.max_iterations,
-            bilateral=cons.bilateral,
-            nu0=None if nu0 is None else np.r_[nu0, np.zeros(model.joints.size)],
-        )
-    except RuntimeError as err:
-        raise StepFailure(str(err), np.nan) from None
-    return U, k * nu, its
-
-
-def _unit_columns(model, key, solve_H, constant: bool) -> UnitColumns:
-    """H⁻¹e_i of the dofs that gap curvatures touch, kept over the run when H is constant
-    (else over one correction)."""
-    if not constant:
-        return UnitColumns(solve_H, model.n_free)
-    return model.column_cache.setdefault(("unit", *key), UnitColumns(solve_H, model.n_free))

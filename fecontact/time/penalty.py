@@ -79,7 +79,8 @@ def effective_masses(model, q, select=None) -> np.ndarray:
     if joints.size:
         Gb = joints.jacobian(q, joints.all)[1]
         rhs = np.vstack([G.T, np.zeros((joints.size, G.shape[0]))])
-        Y = factorize(bordered(model.M, Gb))(rhs).reshape(n + joints.size, -1)[:n]
+        Y = factorize(bordered(model.M, Gb), solver=model.solver)(rhs)
+        Y = Y.reshape(n + joints.size, -1)[:n]
     else:
         Y = model.solve_M(G.T).reshape(n, -1)
     inverse = np.einsum("ij,ji->i", G, Y)
@@ -288,11 +289,12 @@ def _penalty_smooth_step(model, st, t, c, law, opts, timer) -> PenaltyStep:
         if nb:
             Cb = None if joints.linear else joints.curvature(q, joints.all, lam)
             Kb = plus_curvature(S, 1.0, Cb)
-            x = -factorize_or_fail(bordered(Kb, Gb), rnorm / ref)(np.concatenate([r, gb]))
+            solve = factorize_or_fail(bordered(Kb, Gb), rnorm / ref, False, model.solver)
+            x = -solve(np.concatenate([r, gb]))
             dq, dlam = x[: len(F)], x[len(F) :]
             lam = lam + dlam
         else:
-            dq = -factorize_or_fail(S, rnorm / ref, symmetric=True)(r)
+            dq = -factorize_or_fail(S, rnorm / ref, True, model.solver)(r)
         move(dq)
         clock = timer.add("solve", clock)
         if model.update_size(dq) <= opts.tol_increment and (not nb or np.max(np.abs(gb)) <= tol_b):

@@ -11,8 +11,10 @@ from .energy_step import check_energy_scheme, energy_nsga_step
 from .moreau import moreau_step
 from .nsga import nsga_step
 from .penalty import penalty_step
+from .settings import run_settings
 from .smooth_contact import resting_start, uses_smooth_contact
 from .state import IntegratorOptions, PhaseTimer, State, initial_state, length_scale
+from .stats import StepStats
 
 __all__ = ["STEPPERS", "simulate"]
 
@@ -30,6 +32,7 @@ def simulate(
     q0=None,
     v0=None,
     start: State | None = None,
+    stats: StepStats | None = None,
 ) -> Iterator[State]:
     """Yield the state at t = 0 and after every step of size ``dt`` (s) up to ``t_end`` (s).
 
@@ -38,19 +41,24 @@ def simulate(
 
     A step whose Newton iterations fail is retried as two half steps, recursively up to
     ``options.max_halvings`` times; then ``SolverError`` reports the time, step and residual.
+
+    The run's counts (fallbacks, Newton globalization, solver work) go to ``stats`` (default:
+    new :class:`StepStats`); the model factorizes with a solver of the run's own from the
+    first step on.
     """
-    opts = options or IntegratorOptions()
+    opts = run_settings(options or IntegratorOptions(), stats)
     dt = check_positive("dt", dt)
     t_end = check_positive("t_end", t_end)
     timer = PhaseTimer() if timer is None else timer
     if opts.scheme == "energy-decaying":
         check_energy_scheme(model, opts)
     model.contacts.detect_within(opts.detection_margin * model.length)
+    model.use_solver(opts.stats.solver(model))
     if start is None:
         state = initial_state(model, q0, v0, opts.tol_gap)
         if opts.integrator == "nsga" and uses_smooth_contact(model, opts):
             tol = opts.tol_gap * length_scale(model, state.q)
-            state = resting_start(model, state, tol, tol / dt)
+            state = resting_start(model, state, tol, tol / dt, opts.stats.contact)
         yield state
     else:
         state = start

@@ -80,7 +80,6 @@ from .constraints import Constraints, StepFailure, augmentation, constraint_colu
 from .coulomb import frictional_restart
 
 __all__ = [
-    "RELEASES",
     "SmoothContacts",
     "force_shares",
     "held_shares",
@@ -91,10 +90,6 @@ __all__ = [
     "uses_smooth_contact",
     "without_released",
 ]
-
-RELEASES = {"steps": 0}
-"""Smooth steps of this process taken again because they released a contact
-(:func:`without_released`); runs report theirs in ``summary.json``."""
 
 _NONE = np.zeros(0, int)
 _NONE.flags.writeable = False
@@ -136,7 +131,7 @@ class SmoothContacts:
     def __init__(self, model, P: np.ndarray, force0: np.ndarray, bp: float, opts):
         self.contacts, self.P = model.contacts, P
         self.lam = np.maximum(force0, 0.0)
-        self.k = opts.multiplier_scale
+        self.k, self.stats = opts.multiplier_scale, opts.stats.contact
         M = model.M
         diag = np.diag(M) if isinstance(M, np.ndarray) else M.diagonal()
         self.inverse_mass_diag = 1.0 / diag
@@ -187,7 +182,7 @@ class SmoothContacts:
         constant = key is not None
         Y = constraint_columns(model, ("smooth", *(key or ())), rows, GA, solve, cons, constant)
         x = solve(r)
-        dlam = kkt_multipliers(GA, Y, GA @ x - gA, 1.0)
+        dlam = kkt_multipliers(GA, Y, GA @ x - gA, 1.0, self.stats)
         self.lam[A] += dlam
         self.solved = A.copy()
         return -x + Y @ dlam
@@ -217,7 +212,7 @@ class SmoothContacts:
         return out
 
 
-def resting_start(model, st, tol_gap: float, tol_rate: float):
+def resting_start(model, st, tol_gap: float, tol_rate: float, stats=None):
     """The initial state ``st`` with its resting contacts pressed: those that touch (gap ≤
     ``tol_gap``, m) and neither approach nor leave (|ġ| ≤ ``tol_rate``, m/s) carry the
     contact forces of the consistent acceleration (:func:`restarted_acceleration`), in v̇₀ =
@@ -225,14 +220,14 @@ def resting_start(model, st, tol_gap: float, tol_rate: float):
     then starts supported, instead of falling into it in the first step and being stopped
     by a correction, which put energy in the strain of an unresolved mesh (a block on a
     plane at 8 Δx/c: 6e-5 J, ten times the energy of its ringing). Approaching contacts are
-    left to the impact law."""
+    left to the impact law. ``stats``: the run's :class:`fecontact.contact.stats.ContactStats`."""
     F = model.free
     touching = np.flatnonzero(st.gaps <= tol_gap)
     if touching.size == 0 or model.contacts.moving:  # (moving obstacles: no restart)
         return st
     _, G = model.contacts.linearize(st.q, touching)[:2]
     resting = touching[np.abs(G @ st.v[F]) <= tol_rate]
-    start = restarted_acceleration(model, st.q, st.v, st.v, st.t, resting, tol_rate)
+    start = restarted_acceleration(model, st.q, st.v, st.v, st.t, resting, tol_rate, stats)
     if start is None or start[1][0].size == 0:
         return st
     acc, (rows, forces) = start
@@ -282,7 +277,6 @@ def without_released(model, st, rows: np.ndarray):
         if key in memory:
             memory[key] = memory[key].copy()
             memory[key][rows] = 0.0
-    RELEASES["steps"] += 1
     return dataclasses.replace(st, vd=vd, a=a, memory=memory)
 
 
@@ -316,7 +310,7 @@ def held_shares(memory, closed: np.ndarray, hold: np.ndarray, c) -> dict:
     return {"force_in_vd": in_vd, "force_in_a": in_a}
 
 
-def restarted_acceleration(model, q, v, v_smooth, t, closed, tol_rate: float):
+def restarted_acceleration(model, q, v, v_smooth, t, closed, tol_rate: float, stats=None):
     """The acceleration v̇ (free dofs) consistent with the state after an impact step, from
     which the generalized-α acceleration variable restarts (a = v̇, as at t = 0):
 
@@ -336,7 +330,8 @@ def restarted_acceleration(model, q, v, v_smooth, t, closed, tol_rate: float):
     active set (:func:`fecontact.contact.solve_velocity_jump`); with friction, Coulomb's
     law at the acceleration level (:func:`fecontact.time.coulomb.frictional_restart`).
     Moving obstacles (gaps that change with t) and joints keep a as it is: None. Else
-    (v̇, (rows, their forces (normal, tangential) (N), (rows, dim)))."""
+    (v̇, (rows, their forces (normal, tangential) (N), (rows, dim))). ``stats``: the run's
+    :class:`fecontact.contact.stats.ContactStats`."""
     contacts = model.contacts
     if contacts.moving or model.joints.size:
         return None
@@ -358,11 +353,11 @@ def restarted_acceleration(model, q, v, v_smooth, t, closed, tol_rate: float):
     # the velocity jump's problem, one level up: 0 ≤ G (x + M⁻¹Gᵀμ) + vᵀ∇²g v ⊥ μ ≥ 0
     rates = G @ x + contacts.quadratic(q, v)[rows]
     if contacts.frictional:
-        dvd, forces = frictional_restart(model, q, v, x, rows, G, rates, tol_rate)
+        dvd, forces = frictional_restart(model, q, v, x, rows, G, rates, tol_rate, stats)
         return x + dvd, (rows, forces)
     try:
         dvd, forces[:, 0], _ = solve_velocity_jump(
-            G, rates, model.solve_M, augmentation(1.0, G, Y), 1.0, rows.size + 2, Y=Y
+            G, rates, model.solve_M, augmentation(1.0, G, Y), 1.0, rows.size + 2, Y=Y, stats=stats
         )
     except RuntimeError:
         raise StepFailure("restarted acceleration: the active set did not settle", np.nan) from None

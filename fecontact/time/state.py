@@ -234,7 +234,7 @@ def initial_state(model, q0=None, v0=None, tol_gap: float | None = None) -> Stat
         if np.max(np.abs(gb)) > tol or np.max(np.abs(Gb @ v[F])) > tol:
             raise InputError("initial configuration: a joint is violated by q0 or v0")
         # consistent acceleration: G_b v̇ = −vᵀ ∇²g_b v
-        x = factorize(bordered(model.M, Gb))(np.r_[f, -joints.quadratic(q, v)])
+        x = factorize(bordered(model.M, Gb), solver=model.solver)(np.r_[f, -joints.quadratic(q, v)])
         vd[F] = x[: len(F)]
     else:
         vd[F] = model.solve_M(f)
