@@ -11,7 +11,7 @@ import numpy as np
 
 from .. import __version__
 from ..errors import InputError
-from ..time import State
+from ..time import State, record_arrays, records_from_arrays
 from .files import atomic_write
 
 __all__ = ["CHECKPOINT", "clear_earlier_run", "jsonable", "load_checkpoint", "save_checkpoint"]
@@ -55,7 +55,7 @@ def save_checkpoint(path: Path, sim, st: State, rec, next_frame: float) -> None:
         k: getattr(st, k)
         for k in ("q", "v", "vd", "a", "gaps", "candidates", "nu", "impulse", "lam")
     }
-    arrays |= {f"memory_{k}": v for k, v in st.memory.items()}
+    arrays |= {f"memory_{k}": v for k, v in record_arrays(st).items()}
     meta = {
         "t": st.t,
         "step": st.step,
@@ -81,9 +81,10 @@ def load_checkpoint(path: Path, sim):
         why = f"{type(err).__name__}: {err}".splitlines()[0][:80]
         raise InputError(f"resume: {path.name} is not a readable checkpoint ({why})") from None
     memory = {k[len("memory_") :]: arrays.pop(k) for k in list(arrays) if k.startswith("memory_")}
+    records = records_from_arrays(memory)
     if meta["fingerprint"] != fingerprint(sim):
         raise InputError("resume: the checkpoint was written with other parameters or options")
-    st = State(meta["t"], step=meta["step"], h=meta["h"], memory=memory, **arrays)
+    st = State(meta["t"], step=meta["step"], h=meta["h"], **records, **arrays)
     return st, meta
 
 

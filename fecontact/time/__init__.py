@@ -2,6 +2,13 @@
 ``step(model, state, h, options, timer) -> State``, chosen by name in :mod:`.simulate`."""
 
 from .generalized_alpha import alpha_coefficients
+from .records import (
+    FrictionRecord,
+    PenaltyRecord,
+    SmoothForces,
+    record_arrays,
+    records_from_arrays,
+)
 from .settings import RunSettings, run_settings
 from .simulate import STEPPERS, simulate
 from .smooth_contact import uses_smooth_contact
@@ -10,15 +17,20 @@ from .stats import StepStats
 
 __all__ = [
     "uses_smooth_contact",
+    "FrictionRecord",
+    "PenaltyRecord",
     "STEPPERS",
     "IntegratorOptions",
     "PhaseTimer",
     "RunSettings",
+    "SmoothForces",
     "State",
     "StepStats",
     "alpha_coefficients",
     "initial_state",
     "length_scale",
+    "record_arrays",
+    "records_from_arrays",
     "run_settings",
     "simulate",
 ]

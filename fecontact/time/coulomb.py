@@ -35,7 +35,6 @@ from .constraints import Constraints, StepFailure, constraint_columns
 
 __all__ = [
     "SmoothFriction",
-    "friction_memory",
     "frictional_correction",
     "frictional_jump",
     "frictional_restart",
@@ -144,19 +143,6 @@ def frictional_correction(model, st, q_tilde, work, solve_H, opts, tol_gap, t, p
     raise StepFailure(f"frictional position correction: update {dU:.3e} m did not settle", dU)
 
 
-def friction_memory(st, m: int, dim: int) -> dict:
-    """A step's frictional record, zero but for the work done so far: positional and
-    impulsive tangential multipliers (m, nt), status (0 open, 1 stick, 2 slip) and the
-    accumulated work of friction (J)."""
-    work = st.memory.get("friction_work", np.zeros(1))
-    return {
-        "friction_nu": np.zeros((m, dim - 1)),
-        "friction_impulse": np.zeros((m, dim - 1)),
-        "friction_status": np.zeros(m),
-        "friction_work": work.copy(),
-    }
-
-
 def frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol, solve=None, preload=None):
     """Velocity jump v = ṽ + W over the contacts ``closed`` (normal rates ``gdot`` with the
     impact law, then the joints' rows) with slip rows, in the metric ``solve`` = H⁻¹
@@ -185,8 +171,8 @@ def frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol, solve=None, pr
     if preload is not None:
         pre[: m * (1 + nt)] = preload.ravel()
     x0 = None
-    if st.impulse.size == contacts.size and "friction_impulse" in st.memory:
-        x0 = _stack(st.impulse[closed], st.memory["friction_impulse"][closed], gdot[m:] * 0)
+    if st.impulse.size == contacts.size and st.friction is not None:
+        x0 = _stack(st.impulse[closed], st.friction.impulse[closed], gdot[m:] * 0)
         x0 = (x0 + pre) / k
     try:
         x, status, its = solve_coulomb(
@@ -282,8 +268,8 @@ class SmoothFriction:
         self.mu, self.nt = self.contacts.friction[P], model.dim - 1
         self.k, self.scale, self.far = opts.multiplier_scale, opts.penalty_scale, far
         self.stats = opts.stats.contact.coulomb
-        force = st.memory.get("contact_force")
-        force_t = st.memory.get("friction_force")
+        force = None if st.smooth is None else st.smooth.normal
+        force_t = None if st.smooth is None else st.smooth.tangential
         self.lam = np.zeros((P.size, 1 + self.nt))
         if force is not None:
             self.lam[:, 0] = np.maximum(force[P], 0.0)

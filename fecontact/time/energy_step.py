@@ -30,8 +30,8 @@ half a step as in the decoupled scheme (:mod:`.position_jump`, γ = ½): without
 impact of the founding pendulum put 1.7 % of its kinetic energy into the strip at
 h = 8e-4 s. The step keeps no acceleration variable: v̇ = Δṽ/h of the
 smooth step (not the impact's jump) is reported and carries Δv_n to the next step; Δε_n of
-the smooth step (not the correction's strain) travels in the state's memory. Newton uses
-the exact tangent of f̄ (complex step per element), not symmetric.
+the smooth step (not the correction's strain) travels in the state (``strain_increment``).
+Newton uses the exact tangent of f̄ (complex step per element), not symmetric.
 """
 
 from __future__ import annotations
@@ -41,7 +41,7 @@ import time
 
 from ..errors import InputError
 from .constraints import StepFailure, factorize_or_fail
-from .nsga import SmoothStep, nsga_step
+from .nsga import SmoothStep, decoupled_step
 from .settings import run_settings
 from .smooth_contact import uses_smooth_contact
 
@@ -75,10 +75,9 @@ def check_energy_scheme(model, opts) -> None:
 def energy_nsga_step(model, st, h: float, opts, timer):
     """The NSGA step with the energy-decaying step 1; the state remembers its Δε."""
     opts = run_settings(opts)
-    state = nsga_step(model, st, h, opts, timer, energy_smooth_step)
-    q_tilde = state.memory.pop("smooth_q", state.q)
+    state, q_tilde = decoupled_step(model, st, h, opts, timer, energy_smooth_step)
     # the smooth step's own Δε: a correction's strain is no part of the stored energy
-    state.memory["strain_increment"] = model.element_strains(q_tilde) - model.element_strains(st.q)
+    state.strain_increment = model.element_strains(q_tilde) - model.element_strains(st.q)
     return state
 
 
@@ -90,7 +89,7 @@ def dissipation(rho_inf: float) -> float:
 def _previous_increments(model, st, h: float):
     """r Δε_n (the smooth step's, without the correction) and r Δv_n = h v̇_n; at the start,
     from the strain rate of (q_0, v_0) and the initial acceleration."""
-    de = st.memory.get("strain_increment")
+    de = st.strain_increment
     if de is None or not st.h:
         return model.element_strains(st.q) - model.element_strains(st.q - h * st.v), h * st.vd
     return (h / st.h) * de, h * st.vd

@@ -55,7 +55,8 @@ from .constraints import (
     factorize_or_fail,
     plus_curvature,
 )
-from .coulomb import friction_memory, frictional_jump
+from .coulomb import frictional_jump
+from .records import FrictionRecord
 from .settings import run_settings
 from .state import IntegratorOptions, PhaseTimer, State, length_scale
 
@@ -88,14 +89,16 @@ def moreau_step(model, st: State, h: float, opts: IntegratorOptions, timer: Phas
     v_theta = (1.0 - theta) * st.v[F] + theta * v
     q[F] += h * v_theta
     vfull[F] = v
-    memory = friction_memory(st, m, model.dim) if model.contacts.frictional else {}
+    record = None
+    if model.contacts.frictional:
+        record = FrictionRecord.start(st.friction, m, model.dim)
     if tangential is not None:
         P_t, status, GT = tangential
-        memory["friction_impulse"][index_set] = P_t
-        memory["friction_status"][index_set] = status
+        record.impulse[index_set] = P_t
+        record.status[index_set] = status
         # the tangential impulse against the slip over the step, h G_T v_θ: the work that
         # the position update q_{n+1} = q_n + h v_θ lets friction do
-        memory["friction_work"] -= float(np.sum(P_t * (GT @ v_theta)))
+        record.work -= float(np.sum(P_t * (GT @ v_theta)))
     vd[F] = model.solve_M(f)
     impulse = np.zeros(m)
     impulse[index_set] = P[: index_set.size]
@@ -116,7 +119,7 @@ def moreau_step(model, st: State, h: float, opts: IntegratorOptions, timer: Phas
         impulse=impulse,
         lam=-P[index_set.size :] / h,  # as the smooth step's λ: the joint force is −G_bᵀλ
         iterations={"smooth": its[0], "position": 0, "velocity": its[1]},
-        memory=memory,
+        friction=record,
     )
 
 

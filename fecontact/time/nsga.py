@@ -45,11 +45,12 @@ from .constraints import (
     plus_curvature,
 )
 from .correction import correction_metric, position_correction, unit_columns
-from .coulomb import SmoothFriction, friction_memory, frictional_correction
+from .coulomb import SmoothFriction, frictional_correction
 from .descent import Armijo, descent_direction
 from .generalized_alpha import coefficients, predict
 from .impacts import velocity_jump
 from .position_jump import acceleration_jump, velocity_follows
+from .records import FrictionRecord, SmoothForces
 from .settings import run_settings
 from .smooth_contact import (
     SmoothContacts,
@@ -63,12 +64,20 @@ from .smooth_contact import (
 )
 from .state import IntegratorOptions, JointTolerance, PhaseTimer, State, length_scale
 
-__all__ = ["nsga_step"]
+__all__ = ["decoupled_step", "nsga_step"]
 
 
-def nsga_step(
+def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer) -> State:
+    """One step of the nonsmooth generalized-α method from ``st`` over ``h`` (s): the smooth
+    step, the position correction and the velocity jump (module docstring)."""
+    return decoupled_step(model, st, h, opts, timer)[0]
+
+
+def decoupled_step(
     model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer, smooth_step=None
-) -> State:
+) -> tuple[State, np.ndarray]:
+    """The NSGA step with step 1 made by ``smooth_step`` (default: generalized-α), and the
+    positions q̃ it reached before the correction."""
     opts = run_settings(opts)
     # another step 1 (:mod:`.energy_step`) corrects in the metric of the trapezoidal rule
     c = coefficients(1.0 if smooth_step else opts.rho_inf, h)
@@ -88,17 +97,17 @@ def nsga_step(
     iters = {"smooth": it, "position": 0, "velocity": 0}
     clock = time.perf_counter()
     if m == 0 and joints.size == 0:
-        return State(t, q, v, vd, a, h=h, lam=lam, iterations=iters)
+        return State(t, q, v, vd, a, h=h, lam=lam, iterations=iters), q
     friction = model.contacts.frictional
-    memory = friction_memory(st, m, model.dim) if friction else {}
-    if smooth_step:  # q̃, before the correction: the energy-decaying step's Δε
-        memory["smooth_q"] = q
+    record = FrictionRecord.start(st.friction, m, model.dim) if friction else None
+    forces = None  # the smooth forces' record
     if smooth:
-        memory["contact_force"] = np.zeros(m) if force is None else force
+        normal, tangential = np.zeros(m) if force is None else force, None
         if friction:
-            memory["friction_force"] = np.zeros((m, model.dim - 1)) if force is None else smooth_t
-            memory["friction_work"] += work_t
-        memory |= force_shares(model, st_s, c, force, smooth_t)
+            tangential = np.zeros((m, model.dim - 1)) if force is None else smooth_t
+            record.work += work_t
+        forces = SmoothForces(normal, tangential, *force_shares(model, st_s, c, force, smooth_t))
+    q_smooth = q
     # (λ_N, λ_T) of the smooth step (N): the corrections hold the step's total in the cone
     grip = None if smooth_t is None else np.column_stack([force, smooth_t])
 
@@ -148,11 +157,11 @@ def nsga_step(
             raise StepFailure("the position correction inverts an element (det F <= 0)", np.nan)
         nu[work] = nu_w[: work.size]
         if friction:
-            memory["friction_nu"][work] = nu_t
+            record.nu[work] = nu_t
             # the work of the positional friction against the forces at q̃ (exact for the
             # constant forces of rigid bodies under gravity)
             f = model.external(t) - model.internal(q_tilde, tangent=False)[1]
-            memory["friction_work"] += f[model.free] @ U_t
+            record.work += f[model.free] @ U_t
         Gb = None  # the joints' gradient moved with q
         corrected = None if restarts else (q_tilde, metric[1])
 
@@ -175,12 +184,13 @@ def nsga_step(
             )
             if restart is not None:
                 vd[model.free_slice] = a[model.free_slice] = restart[0]
-                memory |= force_shares(model, st_s, c, force, smooth_t, restart[1])
+                shares = force_shares(model, st_s, c, force, smooth_t, restart[1])
+                forces.in_vd, forces.in_a = shares
         if tangential is not None:
             lam_t, status, work = tangential
-            memory["friction_impulse"][closed] = lam_t
-            memory["friction_status"][closed] = status
-            memory["friction_work"] += work
+            record.impulse[closed] = lam_t
+            record.status[closed] = status
+            record.work += work
     # v̇ and a follow the correction (:mod:`.position_jump`) in a step where a contact closed
     impact = st.gaps.size == m and np.any(st.gaps[closed] > tol_gap)
     if corrected is not None and impact:
@@ -194,7 +204,7 @@ def nsga_step(
             vd[model.free_slice] += dvd
             a[model.free_slice] += (1.0 - c.af) / (1.0 - c.am) * dvd
         if smooth:
-            memory |= held_shares(memory, closed, hold, c)
+            forces.in_vd, forces.in_a = held_shares(forces, closed, hold, c)
         if not friction:
             v, impulse[closed], its = velocity_follows(
                 model,
@@ -226,8 +236,9 @@ def nsga_step(
         impulse=impulse,
         lam=lam,
         iterations=iters,
-        memory=memory,
-    )
+        smooth=forces,
+        friction=record,
+    ), q_smooth
 
 
 class SmoothStep(NamedTuple):
@@ -277,7 +288,7 @@ def _smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
     sc = None
     if P is not None and P.size:
         model.contacts.set_time(t)
-        force = st.memory.get("contact_force")
+        force = None if st.smooth is None else st.smooth.normal
         if model.contacts.frictional:
             sc = SmoothFriction(model, st, P, t, opts)
         else:

@@ -61,6 +61,7 @@ import scipy.sparse as sp
 from ..linalg import factorize
 from .constraints import StepFailure, bordered, factorize_or_fail, plus_curvature
 from .generalized_alpha import Coefficients, predict
+from .records import PenaltyRecord
 from .state import IntegratorOptions, PhaseTimer, State
 
 __all__ = ["automatic_penalty_stiffness", "damping_ratio", "effective_masses", "penalty_step"]
@@ -123,14 +124,14 @@ def damping_ratio(restitution) -> np.ndarray:
 class _PenaltyLaw:
     """k_j and c_j of every contact of a run, each fixed where the contact first closes
     (its effective mass m_j depends on the configuration: a rotating body, a joint). They
-    live in the run's ``memory`` (:class:`State`): ``penalty_k``, ``penalty_c`` (NaN until
-    the contact closes) and ``penalty_h1``, the first step of the run."""
+    live in the run's :class:`fecontact.time.records.PenaltyRecord` (the state's
+    ``penalty``): k_j, c_j (NaN until the contact closes) and h₁, the first step of the run."""
 
-    def __init__(self, model, memory, stiffness, zeta):
+    def __init__(self, model, record: PenaltyRecord, stiffness, zeta):
         self.model, self.stiffness, self.zeta = model, stiffness, zeta
-        self.memory = memory
-        self.k, self.c = memory["penalty_k"], memory["penalty_c"]
-        self.h1 = float(memory["penalty_h1"])
+        self.record = record
+        self.k, self.c = record.k, record.c
+        self.h1 = float(record.h1)
 
     def __call__(self, q, A):
         """(k_j, c_j) of the contacts A at configuration q."""
@@ -150,12 +151,11 @@ class _PenaltyLaw:
 
 def _penalty_law(model, st, h, opts):
     """The penalty law of the run ``st`` belongs to (a new one at t = 0)."""
-    memory = st.memory
-    if st.t == 0.0 or "penalty_k" not in memory:
-        m = model.contacts.size
-        nan = np.full(m, np.nan)
-        memory = {"penalty_k": nan, "penalty_c": nan.copy(), "penalty_h1": np.array(h)}
-    return _PenaltyLaw(model, memory, opts.penalty_stiffness, opts.penalty_damping)
+    record = st.penalty
+    if st.t == 0.0 or record is None:
+        nan = np.full(model.contacts.size, np.nan)
+        record = PenaltyRecord(nan, nan.copy(), float(h))
+    return _PenaltyLaw(model, record, opts.penalty_stiffness, opts.penalty_damping)
 
 
 def _penalty_force(model, q, v, law, gp, tau):
@@ -210,7 +210,7 @@ def penalty_step(model, st: State, h: float, opts: IntegratorOptions, timer: Pha
         impulse=h * lam_c,
         lam=lam,
         iterations={"smooth": it, "position": 0, "velocity": 0},
-        memory=law.memory,
+        penalty=law.record,
     )
 
 

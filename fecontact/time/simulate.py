@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Iterator
 
@@ -96,10 +97,9 @@ def _advance(model, st, h, opts, timer, depth):
     first = _advance(model, st, 0.5 * h, opts, timer, depth + 1)
     second = _advance(model, first, 0.5 * h, opts, timer, depth + 1)
     second.impulse = second.impulse + first.impulse
-    if "friction_impulse" in second.memory:  # the step's tangential impulse, as the normal
-        second.memory["friction_impulse"] = (
-            first.memory["friction_impulse"] + second.memory["friction_impulse"]
-        )
+    if second.friction is not None:  # the step's tangential impulse, as the normal
+        impulse = first.friction.impulse + second.friction.impulse
+        second.friction = dataclasses.replace(second.friction, impulse=impulse)
     second.iterations = {k: first.iterations[k] + second.iterations[k] for k in first.iterations}
     second.halvings = first.halvings + second.halvings + 1
     second.h = h

@@ -78,6 +78,7 @@ import numpy as np
 from ..contact.laws import kkt_multipliers, solve_velocity_jump
 from .constraints import Constraints, StepFailure, augmentation, constraint_columns
 from .coulomb import frictional_restart
+from .records import SmoothForces
 
 __all__ = [
     "SmoothContacts",
@@ -114,9 +115,8 @@ def persistent_contacts(model, st, near: float) -> np.ndarray:
     pressed = st.nu > 0.0 if st.nu.size == m else np.zeros(m, bool)
     if st.impulse.size == m:
         pressed |= st.impulse > 0.0
-    force = st.memory.get("contact_force")
-    if force is not None:
-        pressed |= force > 0.0
+    if st.smooth is not None:
+        pressed |= st.smooth.normal > 0.0
     return np.flatnonzero(pressed & (st.gaps <= near))
 
 
@@ -233,11 +233,10 @@ def resting_start(model, st, tol_gap: float, tol_rate: float, stats=None):
     acc, (rows, forces) = start
     vd = st.vd.copy()
     vd[F] = acc
-    memory = force_shares(model, st, None, None, None, (rows, forces))
-    memory["contact_force"] = memory["force_in_vd"][:, 0].copy()
-    if model.contacts.frictional:
-        memory["friction_force"] = memory["force_in_vd"][:, 1:].copy()
-    return dataclasses.replace(st, vd=vd, a=vd.copy(), candidates=touching, memory=memory)
+    in_vd, in_a = force_shares(model, st, None, None, None, (rows, forces))
+    tangential = in_vd[:, 1:].copy() if model.contacts.frictional else None
+    smooth = SmoothForces(in_vd[:, 0].copy(), tangential, in_vd, in_a)
+    return dataclasses.replace(st, vd=vd, a=vd.copy(), candidates=touching, smooth=smooth)
 
 
 def released(st, P: np.ndarray, force, rtol: float) -> np.ndarray:
@@ -245,24 +244,17 @@ def released(st, P: np.ndarray, force, rtol: float) -> np.ndarray:
     ``force`` (N, every contact) let go: down to ``rtol`` (the smooth Newton's relative
     tolerance) of the force at t_n, zero within the solve (a contact and its mirror image
     in a symmetric model end one at 0 N, the other at 1e-16 of their force)."""
-    before = st.memory.get("contact_force")
-    if before is None or force is None or P.size == 0:
+    if st.smooth is None or force is None or P.size == 0:
         return _NONE
+    before = st.smooth.normal
     return P[(before[P] > 0.0) & (force[P] <= rtol * before[P])]
-
-
-def _forces(memory, key, m: int, dim: int) -> np.ndarray:
-    """The (normal, tangential) forces (m, dim) (N) under ``key`` in ``memory``, or zeros."""
-    x = memory.get(key)
-    return np.zeros((m, dim)) if x is None else x
 
 
 def without_released(model, st, rows: np.ndarray):
     """``st`` with the smooth forces of the contacts ``rows`` taken out of v̇_n and a_n, and
     out of the forces that warm-start the step (see the module docstring)."""
-    m, dim, F = model.contacts.size, model.dim, model.free_slice
-    in_vd = _forces(st.memory, "force_in_vd", m, dim)[rows]
-    in_a = _forces(st.memory, "force_in_a", m, dim)[rows]
+    F = model.free_slice
+    in_vd, in_a = st.smooth.in_vd[rows], st.smooth.in_a[rows]
     _, G = model.contacts.linearize(st.q, rows)[:2]
     f = G.T @ np.column_stack([in_vd[:, 0], in_a[:, 0]])
     if model.contacts.frictional:
@@ -272,15 +264,10 @@ def without_released(model, st, rows: np.ndarray):
     vd, a = st.vd.copy(), st.a.copy()
     vd[F] -= x[:, 0]
     a[F] -= x[:, 1]
-    memory = dict(st.memory)
-    for key in ("contact_force", "friction_force", "force_in_vd", "force_in_a"):
-        if key in memory:
-            memory[key] = memory[key].copy()
-            memory[key][rows] = 0.0
-    return dataclasses.replace(st, vd=vd, a=a, memory=memory)
+    return dataclasses.replace(st, vd=vd, a=a, smooth=st.smooth.without(rows))
 
 
-def force_shares(model, st, c, force, force_t, restart=None) -> dict:
+def force_shares(model, st, c, force, force_t, restart=None) -> tuple[np.ndarray, np.ndarray]:
     """The contacts' forces (m, dim) (N) carried in v̇_{n+1} and in a_{n+1}: the smooth
     step's (λ_N, λ_T), and the share of a by the recursion of a; after a ``restart`` =
     (rows, forces (rows, dim)), the restart's forces in both (v̇ = a)."""
@@ -294,20 +281,25 @@ def force_shares(model, st, c, force, force_t, restart=None) -> dict:
         rows, forces = restart
         lam = np.zeros((m, dim))
         lam[rows] = forces
-        return {"force_in_vd": lam, "force_in_a": lam.copy()}
-    in_vd, in_a = (_forces(st.memory, k, m, dim) for k in ("force_in_vd", "force_in_a"))
+        return lam, lam.copy()
+    if st.smooth is None:
+        in_vd = in_a = np.zeros((m, dim))
+    else:
+        in_vd, in_a = st.smooth.in_vd, st.smooth.in_a
     share = ((1.0 - c.af) * lam + c.af * in_vd - c.am * in_a) / (1.0 - c.am)
-    return {"force_in_vd": lam, "force_in_a": share}
+    return lam, share
 
 
-def held_shares(memory, closed: np.ndarray, hold: np.ndarray, c) -> dict:
+def held_shares(
+    forces: SmoothForces, closed: np.ndarray, hold: np.ndarray, c
+) -> tuple[np.ndarray, np.ndarray]:
     """The contacts' shares of v̇ and a after the update of v̇ and a through S_t
     (:func:`fecontact.time.position_jump.acceleration_jump`), whose ``closed`` contacts held
     it with the normal forces ``hold`` (N): Δv̇ carries them, Δa (1 − α_f)/(1 − α_m) of them."""
-    in_vd, in_a = memory["force_in_vd"].copy(), memory["force_in_a"].copy()
+    in_vd, in_a = forces.in_vd.copy(), forces.in_a.copy()
     in_vd[closed, 0] += hold
     in_a[closed, 0] += (1.0 - c.af) / (1.0 - c.am) * hold
-    return {"force_in_vd": in_vd, "force_in_a": in_a}
+    return in_vd, in_a
 
 
 def restarted_acceleration(model, q, v, v_smooth, t, closed, tol_rate: float, stats=None):

@@ -1,5 +1,5 @@
 """What every stepper shares: the integrator options, the state of a step, the phase timer,
-the initial state with its consistent acceleration, and the failure a step reports."""
+and the initial state with its consistent acceleration."""
 
 from __future__ import annotations
 
@@ -18,6 +18,7 @@ from ..errors import (
 from ..linalg import factorize
 from .constraints import bordered
 from .generalized_alpha import alpha_coefficients
+from .records import FrictionRecord, PenaltyRecord, SmoothForces
 
 __all__ = [
     "IntegratorOptions",
@@ -142,8 +143,10 @@ class State:
     q (m, rad) and v (m/s, rad/s) are the corrected positions and velocities, vd the smooth
     acceleration v̇ and a the generalized-α acceleration variable. ``gaps`` holds g_j(q) of
     every contact (m), ``nu`` k ν_j (kg·m) and ``impulse`` k Λ_j (N·s) of the step.
-    ``memory`` holds arrays a stepper keeps over a run (the penalty law's stiffnesses), so
-    that a checkpoint of the state holds all of the run.
+    The records a step hands the next (:mod:`fecontact.time.records`), None where the run
+    has none: ``smooth`` the smooth contact forces, ``friction`` the frictional multipliers,
+    status and work, ``penalty`` the penalty law, and ``strain_increment`` the energy-decaying
+    step's Δε of the elements (Σ E, 3); a checkpoint of the state holds all of the run.
     """
 
     t: float
@@ -160,7 +163,10 @@ class State:
     iterations: dict = field(default_factory=lambda: {"smooth": 0, "position": 0, "velocity": 0})
     lam: np.ndarray = field(default_factory=lambda: np.zeros(0))
     halvings: int = 0
-    memory: dict[str, np.ndarray] = field(default_factory=dict)
+    smooth: SmoothForces | None = None
+    friction: FrictionRecord | None = None
+    penalty: PenaltyRecord | None = None
+    strain_increment: np.ndarray | None = None
 
     @property
     def newton_iterations(self) -> int:
@@ -170,7 +176,7 @@ class State:
     def force(self) -> np.ndarray:
         """The smooth contact force λ_j of every contact at the end of the step (N; zero
         without the smooth contact of :mod:`fecontact.time.smooth_contact`)."""
-        return self.memory.get("contact_force", np.zeros(self.impulse.size))
+        return np.zeros(self.impulse.size) if self.smooth is None else self.smooth.normal
 
     def pressed(self) -> np.ndarray:
         """Per contact: whether any force acted in the step (ν > 0, Λ > 0 or λ > 0)."""
@@ -184,12 +190,6 @@ class State:
     def mean_force(self) -> np.ndarray:
         """The mean contact force of every contact over the step, λ + k Λ/h (N)."""
         return self.force + (self.impulse / self.h if self.h > 0 else 0.0)
-
-
-class StepFailure(Exception):
-    def __init__(self, message: str, residual: float):
-        super().__init__(message)
-        self.residual = residual
 
 
 class PhaseTimer(dict):
