@@ -9,11 +9,11 @@ from .records import (
     record_arrays,
     records_from_arrays,
 )
-from .settings import RunSettings, run_settings
+from .settings import RunSettings, run_settings, uses_smooth_contact
 from .simulate import STEPPERS, simulate
-from .smooth_contact import uses_smooth_contact
 from .state import IntegratorOptions, PhaseTimer, State, initial_state, length_scale
 from .stats import StepStats
+from .stepper import Stepper, make_stepper
 
 __all__ = [
     "uses_smooth_contact",
@@ -26,9 +26,11 @@ __all__ = [
     "SmoothForces",
     "State",
     "StepStats",
+    "Stepper",
     "alpha_coefficients",
     "initial_state",
     "length_scale",
+    "make_stepper",
     "record_arrays",
     "records_from_arrays",
     "run_settings",

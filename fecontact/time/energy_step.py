@@ -42,8 +42,7 @@ import time
 from ..errors import InputError
 from .constraints import StepFailure, factorize_or_fail
 from .nsga import SmoothStep, decoupled_step
-from .settings import run_settings
-from .smooth_contact import uses_smooth_contact
+from .settings import run_settings, uses_smooth_contact
 
 __all__ = ["check_energy_scheme", "energy_nsga_step"]
 
@@ -74,7 +73,7 @@ def check_energy_scheme(model, opts) -> None:
 
 def energy_nsga_step(model, st, h: float, opts, timer):
     """The NSGA step with the energy-decaying step 1; the state remembers its Δε."""
-    opts = run_settings(opts)
+    opts = run_settings(model, opts)
     state, q_tilde = decoupled_step(model, st, h, opts, timer, energy_smooth_step)
     # the smooth step's own Δε: a correction's strain is no part of the stored energy
     state.strain_increment = model.element_strains(q_tilde) - model.element_strains(st.q)

@@ -66,7 +66,7 @@ __all__ = ["moreau_step"]
 def moreau_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer) -> State:
     """One Moreau–Jean step from ``st`` over ``h`` (s): θ-method with Newton's impact law
     at velocity level on the contacts closed at q_n + ½h v_n, joints as G_b v_{n+1} = 0."""
-    opts = run_settings(opts)
+    opts = run_settings(model, opts)
     theta = float(opts.theta)  # in (0, 1], checked by IntegratorOptions
     F, m = model.free, model.contacts.size
     clock = time.perf_counter()

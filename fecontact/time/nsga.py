@@ -59,7 +59,6 @@ from .smooth_contact import (
     persistent_contacts,
     released,
     restarted_acceleration,
-    uses_smooth_contact,
     without_released,
 )
 from .state import IntegratorOptions, JointTolerance, PhaseTimer, State, length_scale
@@ -78,13 +77,12 @@ def decoupled_step(
 ) -> tuple[State, np.ndarray]:
     """The NSGA step with step 1 made by ``smooth_step`` (default: generalized-α), and the
     positions q̃ it reached before the correction."""
-    opts = run_settings(opts)
+    opts = run_settings(model, opts)
     # another step 1 (:mod:`.energy_step`) corrects in the metric of the trapezoidal rule
     c = coefficients(1.0 if smooth_step else opts.rho_inf, h)
     t = st.t + h
     m, joints = model.contacts.size, model.joints
-    smooth = uses_smooth_contact(model, opts)
-    restarts = smooth and not model.slender  # (beams: see smooth_contact, the restart)
+    smooth, restarts, friction = opts.smooth, opts.restarts, opts.friction
     P = persistent_contacts(model, st, opts.detection_margin * model.length) if smooth else None
     st_s = st  # the state the smooth step starts from
     step = (smooth_step or _smooth_step)(model, st, t, c, opts, timer, P)
@@ -98,7 +96,6 @@ def decoupled_step(
     clock = time.perf_counter()
     if m == 0 and joints.size == 0:
         return State(t, q, v, vd, a, h=h, lam=lam, iterations=iters), q
-    friction = model.contacts.frictional
     record = FrictionRecord.start(st.friction, m, model.dim) if friction else None
     forces = None  # the smooth forces' record
     if smooth:
@@ -275,7 +272,7 @@ def _smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
     Returns a :class:`SmoothStep`: S = (S_t, its solver) for the metric of the position
     correction (None with joints), G_b the joint gradient at the returned q (None when the
     last update moved q after it was evaluated)."""
-    opts = run_settings(opts)
+    opts = run_settings(model, opts)
     F, nF = model.free_slice, model.n_free
     X = predict(st, c)
     q, v, vd, a = X
@@ -289,7 +286,7 @@ def _smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
     if P is not None and P.size:
         model.contacts.set_time(t)
         force = None if st.smooth is None else st.smooth.normal
-        if model.contacts.frictional:
+        if opts.friction:
             sc = SmoothFriction(model, st, P, t, opts)
         else:
             force0 = np.zeros(P.size) if force is None else force[P]

@@ -1,27 +1,18 @@
-"""The time loop: steps of the chosen stepper, halved when they fail, as a generator of states."""
+"""The time loop: steps of the run's stepper, halved when they fail, as a generator of states."""
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from collections.abc import Iterator
 
 from ..errors import SolverError, check_positive
 from .constraints import StepFailure
-from .energy_step import check_energy_scheme, energy_nsga_step
-from .moreau import moreau_step
-from .nsga import nsga_step
-from .penalty import penalty_step
-from .settings import run_settings
-from .smooth_contact import resting_start, uses_smooth_contact
+from .smooth_contact import resting_start
 from .state import IntegratorOptions, PhaseTimer, State, initial_state, length_scale
 from .stats import StepStats
+from .stepper import STEPPERS, make_stepper
 
 __all__ = ["STEPPERS", "simulate"]
-
-STEPPERS = {"nsga": nsga_step, "moreau": moreau_step, "penalty": penalty_step}
-"""Every stepper, ``step(model, state, h, options, timer) -> State``, by the name of the
-``integrator`` option."""
 
 
 def simulate(
@@ -44,20 +35,18 @@ def simulate(
     ``options.max_halvings`` times; then ``SolverError`` reports the time, step and residual.
 
     The run's counts (fallbacks, Newton globalization, solver work) go to ``stats`` (default:
-    new :class:`StepStats`); the model factorizes with a solver of the run's own from the
-    first step on.
+    new :class:`StepStats`); the stepper is made once (:func:`make_stepper`), and with it a
+    linear solver of the run's own for the model.
     """
-    opts = run_settings(options or IntegratorOptions(), stats)
     dt = check_positive("dt", dt)
     t_end = check_positive("t_end", t_end)
     timer = PhaseTimer() if timer is None else timer
-    if opts.scheme == "energy-decaying":
-        check_energy_scheme(model, opts)
+    stepper = make_stepper(model, options or IntegratorOptions(), stats)
+    opts = stepper.settings
     model.contacts.detect_within(opts.detection_margin * model.length)
-    model.use_solver(opts.stats.solver(model))
     if start is None:
         state = initial_state(model, q0, v0, opts.tol_gap)
-        if opts.integrator == "nsga" and uses_smooth_contact(model, opts):
+        if opts.integrator == "nsga" and opts.smooth:
             tol = opts.tol_gap * length_scale(model, state.q)
             state = resting_start(model, state, tol, tol / dt, opts.stats.contact)
         yield state
@@ -72,7 +61,7 @@ def simulate(
         if abs(h - dt) <= 1e-9 * dt:
             h = dt
         try:
-            state = _advance(model, state, h, opts, timer, 0)
+            state = stepper.step(state, h, timer)
         except StepFailure as err:
             raise SolverError(
                 f"Newton did not converge at t = {state.t:.6g} s (step {n}): {err} "
@@ -84,23 +73,3 @@ def simulate(
         state.t = t_next
         state.step = n
         yield state
-
-
-def _advance(model, st, h, opts, timer, depth):
-    try:
-        if opts.scheme == "energy-decaying":
-            return energy_nsga_step(model, st, h, opts, timer)
-        return STEPPERS[opts.integrator](model, st, h, opts, timer)
-    except StepFailure:
-        if depth >= opts.max_halvings:
-            raise
-    first = _advance(model, st, 0.5 * h, opts, timer, depth + 1)
-    second = _advance(model, first, 0.5 * h, opts, timer, depth + 1)
-    second.impulse = second.impulse + first.impulse
-    if second.friction is not None:  # the step's tangential impulse, as the normal
-        impulse = first.friction.impulse + second.friction.impulse
-        second.friction = dataclasses.replace(second.friction, impulse=impulse)
-    second.iterations = {k: first.iterations[k] + second.iterations[k] for k in first.iterations}
-    second.halvings = first.halvings + second.halvings + 1
-    second.h = h
-    return second

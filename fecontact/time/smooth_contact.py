@@ -88,18 +88,11 @@ __all__ = [
     "released",
     "restarted_acceleration",
     "resting_start",
-    "uses_smooth_contact",
     "without_released",
 ]
 
 _NONE = np.zeros(0, int)
 _NONE.flags.writeable = False
-
-
-def uses_smooth_contact(model, opts) -> bool:
-    """Whether the NSGA step gives persistent contacts a smooth force: ``smooth_contact``
-    "on", or "auto" on a model with an elastic continuum (a ``Solid``)."""
-    return opts.smooth_contact == "on" or (opts.smooth_contact == "auto" and model.continuum)
 
 
 def persistent_contacts(model, st, near: float) -> np.ndarray:
