@@ -31,8 +31,8 @@ from _common import map_runs, parser, report, write_markdown
 from fecontact.bodies import beam as beam_module
 from fecontact.testing import case, trace
 from fecontact.time import simulate
+from fecontact.time.alpha_step import alpha_smooth_step
 from fecontact.time.generalized_alpha import coefficients
-from fecontact.time.nsga import _smooth_step
 from fecontact.time.state import PhaseTimer, State
 
 
@@ -82,7 +82,7 @@ def free_flight(rho_inf: float, start: float, steps: int, h: float = 1e-3):
     e0, ke = energy(model, st), model.kinetic_energy(st.v)
     rows = []
     for _ in range(steps):
-        step = _smooth_step(model, st, st.t + h, c, sim.options, PhaseTimer())
+        step = alpha_smooth_step(model, st, st.t + h, c, sim.options, PhaseTimer())
         q, v, vd, a, lam, it = step.q, step.v, step.vd, step.a, step.lam, step.iterations
         st = State(st.t + h, q, v, vd, a, h=h, lam=lam)
         N = EA * beam.strains(q)[0]
