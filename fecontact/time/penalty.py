@@ -228,6 +228,40 @@ class PenaltyStep(NamedTuple):
     iterations: int
 
 
+def _halves(dq, rnorm: float, previous: float, s: float) -> bool:
+    """Whether the last update ``dq`` (None: none yet) is halved: it did not lower the
+    residual, and it was halved fewer than six times."""
+    return dq is not None and rnorm >= previous and s > 1.0 / 64.0
+
+
+def _joints_hold(gb, tol: float) -> bool:
+    """Whether the joints' gaps ``gb`` (None: no joints) are within ``tol`` (m)."""
+    return gb is None or np.max(np.abs(gb)) <= tol
+
+
+def _penalty_matrix(c, M, K, Kc, Ct):
+    """S = β′M + K_t + K_c (the contact stiffness, None without) + γ′C_t (None: undamped)."""
+    S = c.bp * M + K
+    if Kc is not None:
+        S = S + Kc
+    if Ct is not None:
+        S = S + c.gp * Ct
+    return S
+
+
+def _penalty_update(model, S, r, joint_rows, q, lam, residual: float):
+    """Newton's update (dq, Δλ_b): with S alone, or bordered by the joints' rows
+    ``joint_rows`` = (g_b, G_b) at q (None, None without joints) and their curvature."""
+    gb, Gb = joint_rows
+    if gb is None:
+        return -factorize_or_fail(S, residual, True, model.solver)(r), 0.0
+    joints, n = model.joints, model.n_free
+    Cb = None if joints.linear else joints.curvature(q, joints.all, lam)
+    Kb = plus_curvature(S, 1.0, Cb)
+    x = -factorize_or_fail(bordered(Kb, Gb), residual, False, model.solver)(np.concatenate([r, gb]))
+    return x[:n], x[n:]
+
+
 def _penalty_smooth_step(model, st, t, c, law, opts, timer) -> PenaltyStep:
     """Newton on M v̇ + C_t v + f_int(q) − Σ G_jᵀλ_j + G_bᵀλ_b = f_ext(t), g_b(q) = 0, with
     (q, v, v̇, a) linked as in the generalized-α step. A contact opening or closing between
@@ -259,9 +293,10 @@ def _penalty_smooth_step(model, st, t, c, law, opts, timer) -> PenaltyStep:
         r = Mvd + fint[F] - fext
         if fc is not None:
             r -= fc
-        if alpha or beta_k:
-            Ct = alpha * M + beta_k * K
+        Ct = alpha * M + beta_k * K if alpha or beta_k else None
+        if Ct is not None:
             r += Ct @ v[F]
+        gb = Gb = None
         if nb:
             gb, Gb = joints.jacobian(q, joints.all)
             r += Gb.T @ lam
@@ -271,33 +306,22 @@ def _penalty_smooth_step(model, st, t, c, law, opts, timer) -> PenaltyStep:
         rnorm = math.sqrt(r @ r)
         if not np.isfinite(rnorm):
             raise StepFailure("penalty step diverged", rnorm)
-        if rnorm <= opts.tol_residual * ref and (not nb or np.max(np.abs(gb)) <= tol_b):
+        if rnorm <= opts.tol_residual * ref and _joints_hold(gb, tol_b):
             break
         if it == opts.max_iterations:
             raise StepFailure("penalty step", rnorm / ref)
-        if dq is not None and rnorm >= previous and s > 1.0 / 64.0:
+        if _halves(dq, rnorm, previous, s):
             s *= 0.5
             move(-s * dq)
             lam = lam - s * dlam
             continue
         previous, s = rnorm, 1.0
-        S = c.bp * M + K
-        if Kc is not None:
-            S = S + Kc
-        if alpha or beta_k:
-            S = S + c.gp * Ct
-        if nb:
-            Cb = None if joints.linear else joints.curvature(q, joints.all, lam)
-            Kb = plus_curvature(S, 1.0, Cb)
-            solve = factorize_or_fail(bordered(Kb, Gb), rnorm / ref, False, model.solver)
-            x = -solve(np.concatenate([r, gb]))
-            dq, dlam = x[: len(F)], x[len(F) :]
-            lam = lam + dlam
-        else:
-            dq = -factorize_or_fail(S, rnorm / ref, True, model.solver)(r)
+        S = _penalty_matrix(c, M, K, Kc, Ct)
+        dq, dlam = _penalty_update(model, S, r, (gb, Gb), q, lam, rnorm / ref)
+        lam = lam + dlam
         move(dq)
         clock = timer.add("solve", clock)
-        if model.update_size(dq) <= opts.tol_increment and (not nb or np.max(np.abs(gb)) <= tol_b):
+        if model.update_size(dq) <= opts.tol_increment and _joints_hold(gb, tol_b):
             _, _, lam_c, g = _penalty_force(model, q, v, law, c.gp, 0.5 * h)
             it += 1
             break
