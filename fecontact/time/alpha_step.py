@@ -17,7 +17,7 @@ from .correction import unit_columns
 from .coulomb import SmoothFriction
 from .descent import Armijo, descent_direction
 from .generalized_alpha import predict
-from .settings import run_settings
+from .settings import RunSettings, run_settings
 from .smooth_contact import SmoothContacts
 from .state import JointTolerance
 
@@ -49,7 +49,8 @@ def alpha_smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
     Returns a :class:`SmoothStep`: S = (S_t, its solver) for the metric of the position
     correction (None with joints), G_b the joint gradient at the returned q (None when the
     last update moved q after it was evaluated)."""
-    opts = run_settings(model, opts)
+    if not isinstance(opts, RunSettings):
+        opts = run_settings(model, opts)
     newton = _AlphaNewton(model, st, t, c, opts, timer, P)
     for it in range(opts.max_iterations + 1):
         if newton.residual(it):
@@ -62,9 +63,7 @@ def alpha_smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
 
 
 def _smooth_contacts(model, st, t, c, opts, P):
-    """The persistent contacts ``P`` as a force term of the smooth step (None: none)."""
-    if P is None or not P.size:
-        return None
+    """The persistent contacts ``P`` (not empty) as a force term of the smooth step."""
     model.contacts.set_time(t)
     if opts.friction:
         return SmoothFriction(model, st, P, t, opts)
@@ -81,15 +80,18 @@ class _AlphaNewton:
     def __init__(self, model, st, t, c, opts, timer, P):
         self.model, self.c, self.opts, self.timer = model, c, opts, timer
         self.F, self.nF = model.free_slice, model.n_free
-        self.X = predict(st, c)
+        self.X = X = predict(st, c)
+        self.q, self.v, self.vd, self.a = X  # views: the rows follow every update of X
         self.lam = st.lam.copy()
         self.fext = model.external(t)[self.F]
         self.ff = self.fext @ self.fext
         self.joints, self.nb = model.joints, model.joints.size
         self.alpha, self.beta_k = model.damping
-        self.sc = sc = _smooth_contacts(model, st, t, c, opts, P)
+        self.sc = sc = (
+            None if P is None or not P.size else _smooth_contacts(model, st, t, c, opts, P)
+        )
         self.curved = sc is not None and not model.contacts.linear
-        self.tol_b = JointTolerance(model, self.X[0], opts.tol_gap) if self.nb or sc else None
+        self.tol_b = JointTolerance(model, self.q, opts.tol_gap) if self.nb or sc else None
         self.S = self.Gb = self.solve = self.armijo = self.x = None
         self.gb = self.Cb = self.Ct = None  # the joints' rows and curvature, the damping
         self.plain = True  # every solve was with S_t alone (not bordered): S_t's solver is a metric
@@ -104,7 +106,7 @@ class _AlphaNewton:
         """The residual r at the iterate, after the Armijo test of the last full update
         (decided by the energy at its end); whether the iterate has converged."""
         model, c, F, joints = self.model, self.c, self.F, self.joints
-        q, v, vd = self.X[0], self.X[1], self.X[2]
+        q, v, vd = self.q, self.v, self.vd
         W, fint, K = model.internal(q, tangent=not self.linear)
         armijo, self.armijo = self.armijo, None
         if armijo is not None and not armijo.accepts(W):
@@ -150,8 +152,14 @@ class _AlphaNewton:
 
     def update(self) -> bool:
         """One Newton update of the iterate; whether it has converged with it."""
-        sc = self.sc
-        S = self._matrix()
+        sc, model, c = self.sc, self.model, self.c
+        if self.linear:  # S_t = β′M + γ′C + K_t, factorized once per step size
+            self.S, self.solve, _ = model.iteration_matrix(c.bp, c.gp)
+        else:
+            self.S = model.iteration_sum(c.bp, self.K)
+            if self.Ct is not None:
+                self.S = self.S + c.gp * self.Ct
+        S = self.S
         touching = sc is not None and sc.active.any()
         if touching and not self.nb:  # S_t's own factors, and the contact zone's curvature
             dq = self._contact_update(S)
@@ -159,20 +167,9 @@ class _AlphaNewton:
             dq = self._bordered_update(S, touching)
         else:
             dq = self._plain_update(S)
-        self.X[:, self.F] += np.multiply.outer(self.c.w, dq)  # q, v, v̇, a
+        self.X[:, self.F] += np.multiply.outer(c.w, dq)  # q, v, v̇, a
         self.clock = self.timer.add("solve", self.clock)
         return self._settled(dq)
-
-    def _matrix(self):
-        """S_t = β′M + γ′C + K_t (with its solver, factorized once, for a linear model)."""
-        model, c = self.model, self.c
-        if self.linear:
-            self.S, self.solve, _ = model.iteration_matrix(c.bp, c.gp)
-        else:
-            self.S = model.iteration_sum(c.bp, self.K)
-            if self.alpha or self.beta_k:
-                self.S = self.S + c.gp * self.Ct
-        return self.S
 
     def _contact_update(self, S):
         """The update with the persistent contacts' rows through S_t's own factors."""
@@ -189,7 +186,7 @@ class _AlphaNewton:
         persistent contacts."""
         model, nb, nF, joints, sc = self.model, self.nb, self.nF, self.joints, self.sc
         if nb and self.Cb is None and not joints.linear:
-            self.Cb = joints.curvature(self.X[0], joints.all, self.lam)
+            self.Cb = joints.curvature(self.q, joints.all, self.lam)
         Kb = plus_curvature(S, 1.0, self.Cb if nb else None)
         g_rows, G_rows = (self.gb, self.Gb) if nb else (np.zeros(0), np.zeros((0, nF)))
         if touching:
@@ -223,7 +220,7 @@ class _AlphaNewton:
         """Whether the update ``dq`` ended the iteration: by the joints' remainder bound, or
         below the increment tolerance with the constraints holding."""
         model, opts, tol_b, nF = self.model, self.opts, self.tol_b, self.nF
-        vd, lam = self.X[2], self.lam
+        vd, lam = self.vd, self.lam
         if self.bounded and _converged_by_bound(
             model, vd, dq, lam, self.x[nF:], self.ff, tol_b, opts
         ):
@@ -231,13 +228,13 @@ class _AlphaNewton:
         return (
             model.update_size(dq) <= opts.tol_increment
             and (not self.nb or tol_b.admits(np.abs(self.gb).max()))
-            and (self.sc is None or self.sc.settled(self.X[0], tol_b.admits))
+            and (self.sc is None or self.sc.settled(self.q, tol_b.admits))
         )
 
     def result(self, it: int, stale: bool) -> SmoothStep:
         """The step's result after ``it`` iterations; ``stale``: the last update moved q
         after the joints' gradient was evaluated."""
-        q, v, vd, a = self.X
+        q, v, vd, a = self.q, self.v, self.vd, self.a
         Gb = None if stale else self.Gb
         # the metric of the position correction reuses S_t and its factors; a bordered
         # factorization (joints) is no metric, so then S_t is rebuilt on demand

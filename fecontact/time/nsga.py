@@ -45,7 +45,7 @@ from .generalized_alpha import coefficients
 from .impacts import velocity_jump
 from .position_jump import acceleration_jump, velocity_follows
 from .records import FrictionRecord, SmoothForces
-from .settings import run_settings
+from .settings import RunSettings, run_settings
 from .smooth_contact import (
     force_shares,
     held_shares,
@@ -62,7 +62,11 @@ __all__ = ["SmoothStep", "alpha_smooth_step", "decoupled_step", "nsga_step"]
 def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer) -> State:
     """One step of the nonsmooth generalized-α method from ``st`` over ``h`` (s): the smooth
     step, the position correction and the velocity jump (module docstring)."""
-    return decoupled_step(model, st, h, opts, timer)[0]
+    if not isinstance(opts, RunSettings):
+        opts = run_settings(model, opts)
+    step = _Phases(model, st, h, opts, timer, None)
+    step.smooth()
+    return step.finish(time.perf_counter())
 
 
 def decoupled_step(
@@ -72,14 +76,7 @@ def decoupled_step(
     positions q̃ it reached before the correction."""
     step = _Phases(model, st, h, run_settings(model, opts), timer, smooth_step)
     q_smooth = step.smooth()
-    clock = time.perf_counter()
-    if step.m == 0 and model.joints.size == 0:
-        return step.state(), q_smooth
-    step.correct()  # 2., only if a contact candidate penetrates (joints already hold)
-    step.jump()  # 3.
-    step.follow()
-    timer.add("contact", clock)
-    return step.state(), q_smooth
+    return step.finish(time.perf_counter()), q_smooth
 
 
 class _Phases:
@@ -257,8 +254,9 @@ class _Phases:
         """v̇ and a follow the correction (:mod:`.position_jump`) in a step where a contact
         closed, and without friction v follows them."""
         st, closed = self.st, self.closed
-        impact = st.gaps.size == self.m and np.any(st.gaps[closed] > self.tol_gap)
-        if self.corrected is None or not impact:
+        if self.corrected is None:  # (tested first: it decides most steps at no cost)
+            return
+        if not (st.gaps.size == self.m and np.any(st.gaps[closed] > self.tol_gap)):
             return
         model, c, opts, F = self.model, self.c, self.opts, self.model.free_slice
         q_tilde, solve_H = self.corrected
@@ -298,35 +296,24 @@ class _Phases:
             )
             self.iters["velocity"] += its
 
+    def finish(self, clock: float) -> State:
+        """Steps 2 and 3 after the smooth step (``clock``: when the contact phase started),
+        and the state they end in."""
+        if self.m == 0 and self.model.joints.size == 0:
+            return self.state()
+        self.correct()  # 2., only if a contact candidate penetrates (joints already hold)
+        self.jump()  # 3.
+        self.follow()
+        self.timer.add("contact", clock)
+        return self.state()
+
     def state(self) -> State:
         """The state at the end of the step."""
-        if self.nu is None:  # (no contacts, no joints: the smooth step alone)
-            return State(
-                self.t,
-                self.q,
-                self.v,
-                self.vd,
-                self.a,
-                h=self.h,
-                lam=self.lam,
-                iterations=self.iters,
-            )
-        return State(
-            self.t,
-            self.q,
-            self.v,
-            self.vd,
-            self.a,
-            h=self.h,
-            gaps=self.gaps,
-            candidates=self.cand,
-            nu=self.nu,
-            impulse=self.impulse,
-            lam=self.lam,
-            iterations=self.iters,
-            smooth=self.forces,
-            friction=self.record,
-        )
+        at = {"h": self.h, "lam": self.lam, "iterations": self.iters}
+        if self.nu is not None:  # (else no contacts, no joints: the smooth step alone)
+            at |= {"gaps": self.gaps, "candidates": self.cand, "nu": self.nu}
+            at |= {"impulse": self.impulse, "smooth": self.forces, "friction": self.record}
+        return State(self.t, self.q, self.v, self.vd, self.a, **at)
 
 
 def _impact(nu, impulse, held) -> bool:
