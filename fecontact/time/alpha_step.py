@@ -77,6 +77,13 @@ class _AlphaNewton:
     predictor, the joints' multipliers λ_b and the persistent contacts' term ``sc``;
     ``residual`` evaluates and tests the iterate, ``update`` moves it."""
 
+    # the attributes (slots: every access of the step's hot loop is cheaper)
+    __slots__ = (
+        "Cb Ct F Gb K S W X a alpha armijo beta_k bounded c clock curved fext ff fi gb "
+        "joints lam linear model nF nb opts plain q r ref rnorm sc solve timer tol_b v vd "
+        "x"
+    ).split()
+
     def __init__(self, model, st, t, c, opts, timer, P):
         self.model, self.c, self.opts, self.timer = model, c, opts, timer
         self.F, self.nF = model.free_slice, model.n_free

@@ -84,6 +84,13 @@ class _Phases:
     correction, the velocity jump, and the accelerations' follow-up of the correction; the
     attributes are what the phases hand each other."""
 
+    # the attributes (slots: every access of the step's hot loop is cheaper)
+    __slots__ = (
+        "Gb P a c cand closed corrected force forces g_tilde gaps grip h held impulse "
+        "iters lam m model nu opts q record smooth_step st st_s step t timer tol_gap v "
+        "v_tilde vd"
+    ).split()
+
     def __init__(self, model, st: State, h: float, opts, timer: PhaseTimer, smooth_step):
         self.model, self.st, self.h, self.opts, self.timer = model, st, h, opts, timer
         self.smooth_step = smooth_step
