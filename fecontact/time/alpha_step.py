@@ -80,8 +80,8 @@ class _AlphaNewton:
     # the attributes (slots: every access of the step's hot loop is cheaper)
     __slots__ = (
         "Cb Ct F Gb K S W X a alpha armijo beta_k bounded c clock curved fext ff fi gb "
-        "joints lam linear model nF nb opts plain q r ref rnorm sc solve timer tol_b v vd "
-        "x"
+        "joints lam linear model nF nb opts plain q r ref rnorm sc solve timer tol_b "
+        "unconstrained v vd x"
     ).split()
 
     def __init__(self, model, st, t, c, opts, timer, P):
@@ -107,6 +107,7 @@ class _AlphaNewton:
         self.linear = model.linear
         # ... and then the joints' Taylor remainders bound the residual an update leaves
         self.bounded = self.linear and self.nb and not self.joints.linear and sc is None
+        self.unconstrained = not self.nb and sc is None
         self.clock = time.perf_counter()
 
     def residual(self, it: int) -> bool:
@@ -176,6 +177,8 @@ class _AlphaNewton:
             dq = self._plain_update(S)
         self.X[:, self.F] += np.multiply.outer(c.w, dq)  # q, v, v̇, a
         self.clock = self.timer.add("solve", self.clock)
+        if self.unconstrained:  # (decided once: no joints, no persistent contacts)
+            return model.update_size(dq) <= self.opts.tol_increment
         return self._settled(dq)
 
     def _contact_update(self, S):

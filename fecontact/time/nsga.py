@@ -99,6 +99,7 @@ class _Phases:
         self.t = st.t + h
         self.m = model.contacts.size
         self.record = self.forces = None  # the step's friction and smooth forces' records
+        self.grip = None  # (λ_N, λ_T) of the smooth step with friction
         self.nu = self.impulse = self.gaps = self.cand = None
         self.corrected = None  # (q̃, the metric's solve) after a correction (decoupled scheme)
 
@@ -120,7 +121,7 @@ class _Phases:
         self.q, self.v, self.vd, self.a, self.lam = step.q, step.v, step.vd, step.a, step.lam
         self.Gb, self.force = step.Gb, step.force
         self.iters = {"smooth": step.iterations, "position": 0, "velocity": 0}
-        if self.m or model.joints.size:
+        if (opts.friction or opts.smooth) and (self.m or model.joints.size):
             self._records()
         return step.q
 
@@ -137,7 +138,6 @@ class _Phases:
             shares = force_shares(model, self.st_s, self.c, force, step.friction_force)
             self.forces = SmoothForces(normal, tangential, *shares)
         # (λ_N, λ_T) of the smooth step (N): the corrections hold the step's total in the cone
-        self.grip = None
         if step.friction_force is not None:
             self.grip = np.column_stack([force, step.friction_force])
 
