@@ -1,7 +1,9 @@
 """Shared pieces of the benchmark scripts: case loading, runs, exact solutions, tables.
 
-Every benchmark is a plain script (``python benchmarks/NAME.py [--quick]``) that prints a
-Markdown table and writes CSV, Markdown and PNG files into ``benchmarks/results/``. Timing
+Every benchmark is a plain script (``python benchmarks/NAME.py [--quick] [--out DIR]``) that
+prints a Markdown table and writes CSV, Markdown and PNG files into ``benchmarks/results/``
+(or ``--out``). ``--quick`` runs a tiny problem in seconds and writes ``*_quick`` files: the
+test suite runs every script so (``tests/test_benchmarks.py``), so that none of them rots. Timing
 lives here and never in the tests: ``timed_run`` runs the driver without frames and takes the
 median of repeated runs; ``trace`` steps ``fecontact.simulate`` and keeps what the error and
 stability measures need, one row per step.
@@ -9,10 +11,6 @@ stability measures need, one row per step.
 
 from __future__ import annotations
 
-# isort: off
-import fecontact  # before numpy: it sets single-threaded OpenBLAS (see fecontact/__init__.py)
-
-# isort: on
 import argparse
 import csv
 import dataclasses
@@ -24,7 +22,9 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
+from threadpoolctl import threadpool_limits
 
+import fecontact
 from fecontact import SolverError, run
 from fecontact.testing import (
     G,
@@ -36,6 +36,7 @@ from fecontact.testing import (
     pendulum_exact,
     trace,
 )
+from fecontact.threads import USER_SETTINGS
 
 os.environ.setdefault("MPLBACKEND", "Agg")
 
@@ -67,6 +68,11 @@ __all__ = [
     "write_csv",
     "write_markdown",
 ]
+
+# the benchmarks step small models outside ``run`` too (``trace``): one BLAS thread, as a run
+# has, unless the environment sets a thread count
+if not any(os.environ.get(name) for name in USER_SETTINGS):
+    threadpool_limits(limits=1, user_api="blas")
 
 
 def with_options(sim, **options):
@@ -157,7 +163,9 @@ def parser(description: str, from_csv: bool = False) -> argparse.ArgumentParser:
     """--quick and --out; with ``from_csv``, --from-csv to redo tables from an earlier run."""
     p = argparse.ArgumentParser(description=description)
     p.add_argument(
-        "--quick", action="store_true", help="reduced sweep (a couple of minutes) to check it"
+        "--quick",
+        action="store_true",
+        help="a tiny problem (seconds) that checks the script runs: not a measurement",
     )
     p.add_argument("--out", default=str(RESULTS), help="output folder (default: %(default)s)")
     if from_csv:

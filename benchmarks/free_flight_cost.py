@@ -8,6 +8,7 @@ alternating, ``--rounds`` times; the table gives the fastest of each (the cost w
 machine's noise) and their ratio (this / baseline).
 
     python benchmarks/free_flight_cost.py --baseline c018344      # about a minute
+    python benchmarks/free_flight_cost.py --quick    # this checkout against itself, tiny runs
 """
 
 from __future__ import annotations
@@ -26,6 +27,11 @@ RUNS = [
     ("ball_drop", {"drop_height": 10.0, "refinements": 3}, 0.3, 5e-5),
     ("two_disks", {"gap": 0.05}, 0.005, 2e-5),
     ("flexible_pendulum", {}, 0.25, 2.5e-4),
+]
+QUICK_RUNS = [
+    ("ball_drop", {"drop_height": 10.0, "refinements": 0}, 1e-3, 5e-5),
+    ("two_disks", {"gap": 0.05, "refinements": 1}, 2e-4, 2e-5),
+    ("flexible_pendulum", {}, 5e-3, 2.5e-4),
 ]
 
 TIMER = """
@@ -52,30 +58,43 @@ def timed(tree: Path, run) -> float:
     return float(out.stdout.split()[-1])
 
 
+def compare(base: Path, runs, rounds: int) -> list[dict]:
+    """The fastest time of each run with this checkout and with the tree ``base``,
+    alternating ``rounds`` times."""
+    rows = []
+    for run in runs:
+        now, then = [], []
+        for _ in range(rounds):
+            then.append(timed(base, run))
+            now.append(timed(ROOT, run))
+        a, b = min(now), min(then)
+        rows.append({"case": run[0], "this_s": a, "baseline_s": b, "ratio": a / b})
+    return rows
+
+
 def main() -> None:
     p = parser(__doc__.splitlines()[0])
-    p.add_argument("--baseline", required=True, help="git revision to compare with")
+    p.add_argument("--baseline", help="git revision to compare with (not with --quick)")
     p.add_argument("--rounds", type=int, default=3)
     args = p.parse_args()
-    with tempfile.TemporaryDirectory(prefix="fecontact_baseline_") as tmp:
-        base = Path(tmp) / "tree"
-        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "-q", "--detach", str(base),
-                        args.baseline], check=True)  # fmt: skip
-        try:
-            rows = []
-            for run in RUNS:
-                now, then = [], []
-                for _ in range(args.rounds):
-                    then.append(timed(base, run))
-                    now.append(timed(ROOT, run))
-                a, b = min(now), min(then)
-                rows.append({"case": run[0], "this_s": a, "baseline_s": b, "ratio": a / b})
-        finally:
-            subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(base)])
+    if args.quick:
+        args.baseline, rows = "this checkout (--quick)", compare(ROOT, QUICK_RUNS, 1)
+    elif args.baseline is None:
+        p.error("--baseline REV is required (or --quick)")
+    else:
+        with tempfile.TemporaryDirectory(prefix="fecontact_baseline_") as tmp:
+            base = Path(tmp) / "tree"
+            subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "-q", "--detach",
+                            str(base), args.baseline], check=True)  # fmt: skip
+            try:
+                rows = compare(base, RUNS, args.rounds)
+            finally:
+                subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(base)])
     table = markdown_table(rows, ["case", "this_s", "baseline_s", "ratio"])
     print(table)
     title = f"# Contact-free steps against {args.baseline}\n\n"
-    write_markdown(f"{args.out or RESULTS}/free_flight_cost.md", title + table)
+    stem = "free_flight_cost_quick" if args.quick else "free_flight_cost"
+    write_markdown(f"{args.out or RESULTS}/{stem}.md", title + table)
 
 
 if __name__ == "__main__":

@@ -44,7 +44,7 @@ def error(tr, ref, probes):
 
 def main() -> None:
     args = parser(__doc__.splitlines()[0]).parse_args()
-    steps = STEPS[:3] if args.quick else STEPS
+    steps = STEPS[:2] if args.quick else STEPS
     rows = []
     for name, (_, _, probes) in CASES.items():
         ref, _ = run(name, "nsga", steps[-1] / 8)

@@ -111,7 +111,7 @@ def beam(n, margin=0.05):
         [0.0, 0.0],
         list(d),
         n,
-        Material(E=210e9, rho=7850.0, nu=0.3),
+        Material(E=210e9, nu=0.3, rho=7850.0),
         Section.rectangle(0.02, 0.01),
     )
     model = Model([body], [Contact(body, Plane([0.0, 0.0], [0.0, 1.0]))])
@@ -154,7 +154,8 @@ def series(quick: bool):
     """(name, builder, sizes, steps(size), dofs(size)): the sizes are elements (beams),
     refinements (2D disk) and divisions per side (3D cube); dofs(size) estimates the model
     size before it is built."""
-    beams = [10, 30, 100, 300, 1000] if quick else [10, 30, 100, 300, 1000, 3000, 10000]
+    beams = [10, 30] if quick else [10, 30, 100, 300, 1000, 3000, 10000]
+    ball_steps = 10 if quick else 100
 
     def beam_steps(n):
         return 50 if n <= 1000 else 10
@@ -168,22 +169,22 @@ def series(quick: bool):
         (
             "2D solid",
             disk,
-            [1, 2, 3, 4] if quick else [1, 2, 3, 4, 5, 6, 7],
+            [1] if quick else [1, 2, 3, 4, 5, 6, 7],
             lambda r: 20 if r < 6 else 5,
             lambda r: 4 * 4**r + 2 ** (r + 2),
         ),
         (
             "3D solid",
             cube,
-            [2, 4, 6] if quick else [2, 4, 6, 9, 13, 19, 27],
+            [2] if quick else [2, 4, 6, 9, 13, 19, 27],
             lambda n: 20 if n < 13 else 5,
             lambda n: 3 * (n + 1) ** 3,
         ),
         (
             "3D ball, 100 steps",
             ball,
-            [2, 3] if quick else [2, 3, 4],
-            lambda r: 100,
+            [2] if quick else [2, 3, 4],
+            lambda r: ball_steps,
             lambda r: {2: 387, 3: 2499, 4: 18051}[r],
         ),
     ]

@@ -23,6 +23,7 @@ scheme at the case's former step Δx/16c); those two runs are then timed again s
 alternating, three times each, and the median walls compared.
 
     python benchmarks/smooth_contact.py            # about 1 minute
+    python benchmarks/smooth_contact.py --quick    # refinements 1, two steps: seconds
 """
 
 from __future__ import annotations
@@ -64,13 +65,17 @@ COLUMNS = [
 ]
 
 
-def sim_at(scheme: str, fraction: float):
-    sim = with_options(case("two_disks").build(), smooth_contact=scheme)
+QUICK = {"refinements": 1, "t_end": 0.003}
+"""The case's parameters in --quick."""
+
+
+def sim_at(scheme: str, fraction: float, params=None):
+    sim = with_options(case("two_disks").build(**(params or {})), smooth_contact=scheme)
     return sim.replace(dt=fraction * wave_step(sim.model.bodies[0], 1.0))
 
 
-def measure(scheme: str, fraction: float) -> dict:
-    sim = sim_at(scheme, fraction)
+def measure(scheme: str, fraction: float, params=None) -> dict:
+    sim = sim_at(scheme, fraction, params)
     r = trace(sim)
     e0, k0 = r["total"][0], r["kinetic"][0]
     on = np.flatnonzero(r["active"])
@@ -98,7 +103,7 @@ def accurate(row) -> bool:
     )
 
 
-def time_to_solution(rows) -> list[dict]:
+def time_to_solution(rows, params=None) -> list[dict]:
     """The cheapest accurate run of each scheme, timed again side by side."""
     chosen = {}
     for scheme in ("off", "on"):
@@ -109,7 +114,7 @@ def time_to_solution(rows) -> list[dict]:
     for _ in range(3):
         for scheme, row in chosen.items():
             start = time.perf_counter()
-            trace(sim_at(scheme, row["h_per_transit"]))
+            trace(sim_at(scheme, row["h_per_transit"], params))
             walls[scheme].append(time.perf_counter() - start)
     out = []
     for scheme, row in chosen.items():
@@ -123,16 +128,19 @@ def time_to_solution(rows) -> list[dict]:
 
 def main() -> None:
     args = parser(__doc__.splitlines()[0]).parse_args()
-    rows = [measure(s, f) for f in STEPS for s in ("off", "on")]
+    params = QUICK if args.quick else None
+    steps = (1, 4) if args.quick else STEPS
+    rows = [measure(s, f, params) for f in steps for s in ("off", "on")]
     finest = min((r for r in rows if r["scheme"] == "on"), key=lambda r: r["h_per_transit"])
     for row in rows:
         row["exit_error_pct"] = 100 * (row["exit_speed"] / finest["exit_speed"] - 1.0)
     table = markdown_table(rows, COLUMNS)
-    speed = time_to_solution(rows)
+    speed = time_to_solution(rows, params)
     speed_table = markdown_table(speed, ["scheme", "h_per_transit", "wall_s", "speedup"])
     print(table + "\n\n" + speed_table)
     out = args.out or RESULTS
-    write_csv(f"{out}/smooth_contact.csv", rows, COLUMNS)
+    stem = "smooth_contact_quick" if args.quick else "smooth_contact"
+    write_csv(f"{out}/{stem}.csv", rows, COLUMNS)
     text = (
         "# Smooth contact force against the decoupled scheme: two elastic disks\n\n"
         + table
@@ -140,7 +148,7 @@ def main() -> None:
         "0.1 %: the cheapest run of each scheme, timed again side by side, median of 3):\n\n"
         + speed_table
     )
-    write_markdown(f"{out}/smooth_contact.md", text)
+    write_markdown(f"{out}/{stem}.md", text)
 
 
 if __name__ == "__main__":

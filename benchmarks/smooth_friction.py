@@ -18,6 +18,7 @@
    which holds while every pressed node slips down the slope.
 
     python benchmarks/smooth_friction.py            # about 1 minute
+    python benchmarks/smooth_friction.py --quick    # coarse meshes, short runs: seconds
 """
 
 from __future__ import annotations
@@ -51,8 +52,13 @@ COLUMNS = [
 ]
 
 
+DISK = {"refinements": 2}
+"""The disk's mesh (and, with --quick, a shorter run); BLOCK likewise for the block."""
+BLOCK = {}
+
+
 def throw(mu: float, scheme: str, fraction: float):
-    sim = case("disk_drop").build(refinements=2, slide_velocity=2.0, friction=mu)
+    sim = case("disk_drop").build(slide_velocity=2.0, friction=mu, **DISK)
     sim = with_options(sim, smooth_contact=scheme)
     return sim.replace(dt=fraction * wave_step(sim.model.bodies[0], 1.0))
 
@@ -99,7 +105,7 @@ def time_to_solution(rows, mu) -> list[dict]:
 
 
 def held_creep(scheme: str) -> dict:
-    sim = case("elastic_block").build(incline=20.0, friction=0.5, damping=1e-4)
+    sim = case("elastic_block").build(incline=20.0, friction=0.5, damping=1e-4, **BLOCK)
     sim = with_options(sim, smooth_contact=scheme)
     block, s = sim.model.bodies[0], sim.model.body_slice(0)
     bottom = sim.model.contacts.pairs[0].nodes
@@ -113,7 +119,7 @@ def held_creep(scheme: str) -> dict:
 
 def sliding_departure(scheme: str) -> dict:
     mu, a, v0 = 0.2, np.radians(30.0), 0.5
-    sim = case("elastic_block").build(incline=30.0, friction=mu, velocity=v0)
+    sim = case("elastic_block").build(incline=30.0, friction=mu, velocity=v0, **BLOCK)
     r = trace(with_options(sim, smooth_contact=scheme))
     exact = v0 + G * (np.sin(a) - mu * np.cos(a)) * r["t"]
     departure = float(np.abs(r["v"] + mu * r["vn"] - exact).max())
@@ -123,8 +129,13 @@ def sliding_departure(scheme: str) -> dict:
 
 def main() -> None:
     args = parser(__doc__.splitlines()[0]).parse_args()
-    rows = [measure(mu, s, f) for mu in (0.1, 1.0) for s in STEPS for f in STEPS[s]]
-    for mu in (0.1, 1.0):
+    steps, mus = STEPS, (0.1, 1.0)
+    if args.quick:
+        DISK.update(refinements=1, t_end=0.003)
+        BLOCK.update(divisions=2, t_end=0.01)
+        steps, mus = {"on": (1, 4), "off": (1,)}, (0.1,)
+    rows = [measure(mu, s, f) for mu in mus for s in steps for f in steps[s]]
+    for mu in mus:
         finest = min(
             (r for r in rows if r["friction"] == mu and r["scheme"] == "on"),
             key=lambda r: r["h_per_transit"],
@@ -133,7 +144,7 @@ def main() -> None:
             for p in PROBES:
                 row[f"{p.split('_')[0]}_error_pct"] = 100 * (row[p] / finest[p] - 1.0)
     table = markdown_table(rows, COLUMNS)
-    speed = [r for mu in (0.1, 1.0) for r in time_to_solution(rows, mu)]
+    speed = [r for mu in mus for r in time_to_solution(rows, mu)]
     speed_table = markdown_table(speed, ["friction", "scheme", *COLUMNS[2:3], "wall_s", "speedup"])
     block = [f(s) for f in (held_creep, sliding_departure) for s in ("on", "off")]
     block_table = markdown_table(block, ["run", "scheme", "measure", "wall_s"])
@@ -149,7 +160,8 @@ def main() -> None:
         + block_table
     )
     print(text)
-    publish(f"{args.out or RESULTS}/smooth_friction", rows, COLUMNS, text)
+    stem = "smooth_friction_quick" if args.quick else "smooth_friction"
+    publish(f"{args.out or RESULTS}/{stem}", rows, COLUMNS, text)
 
 
 if __name__ == "__main__":

@@ -41,7 +41,10 @@ CASES = ("flexible_pendulum", "bouncing_ball", "two_disks")
 WORKER = """
 import hashlib, json, sys, time
 from pathlib import Path
-from fecontact.io.cli import load_case
+try:
+    from fecontact.cli.cases import load_case
+except ImportError:  # (a baseline from before the command line had its own layer)
+    from fecontact.io.cli import load_case
 from fecontact.time import simulate
 path, t_end, inner = Path(sys.argv[1]), float(sys.argv[2]), int(sys.argv[3])
 best, digest = float("inf"), None

@@ -8,6 +8,7 @@ stopped inside the measured time). Reported: both wall times, their ratio, and t
 difference between the summary figures of the same run.
 
     python benchmarks/sweep_speed.py           # about three minutes
+    python benchmarks/sweep_speed.py --quick   # two runs of 0.05 s: the cluster's start-up
 """
 
 from __future__ import annotations
@@ -20,12 +21,16 @@ from pathlib import Path
 
 from _common import RESULTS, ROOT, markdown_table, parser, write_markdown
 
-from fecontact.io.cli import main
+from fecontact.cli.commands import main
 
 CASE = str(ROOT / "cases" / "flexible_pendulum.py")
 RESTITUTION = ("0", "0.333", "0.667", "1")
 SERIES = (("5e-4", "2.5e-4"), ("2e-4", "1e-4"))
 FIGURES = ("steps", "energy_final", "max_penetration", "newton_iterations_total", "step_halvings")
+
+
+EXTRA: list[str] = []
+"""Options of every run (--quick: a short end time)."""
 
 
 def serial(out: Path, steps) -> tuple[float, dict]:
@@ -34,7 +39,7 @@ def serial(out: Path, steps) -> tuple[float, dict]:
     for e in RESTITUTION:
         for dt in steps:
             folder = out / f"{e}-{dt}"
-            args = ["run", CASE, "--set", f"restitution={e}", "--dt", dt, "--quiet"]
+            args = ["run", CASE, "--set", f"restitution={e}", "--dt", dt, "--quiet", *EXTRA]
             assert main([*args, "--out", str(folder), "--checkpoint-every", "0"]) == 0
             summary = json.loads((folder / "summary.json").read_text())
             figures[(e, dt)] = {k: summary[k] for k in FIGURES}
@@ -44,7 +49,7 @@ def serial(out: Path, steps) -> tuple[float, dict]:
 def swept(out: Path, steps) -> tuple[float, dict]:
     start = time.perf_counter()
     args = ["sweep", CASE, "--set", "restitution=" + ",".join(RESTITUTION)]
-    args += ["--set", "dt=" + ",".join(steps), "--workers", "2", "--quiet"]
+    args += ["--set", "dt=" + ",".join(steps), "--workers", "2", "--quiet", *EXTRA]
     assert main([*args, "--out", str(out), "--checkpoint-every", "0"]) == 0
     wall = time.perf_counter() - start
     with open(out / "sweep.csv", newline="") as f:
@@ -72,8 +77,13 @@ def measure(tmp: Path, steps) -> dict:
 
 def main_() -> None:
     args = parser(__doc__.splitlines()[0]).parse_args()
+    series = SERIES
+    if args.quick:
+        global RESTITUTION
+        RESTITUTION, series = ("0", "1"), (("1e-3",),)
+        EXTRA.extend(["--t-end", "0.05"])
     result = []
-    for i, steps in enumerate(SERIES):
+    for i, steps in enumerate(series):
         with tempfile.TemporaryDirectory() as tmp:
             result.append(measure(Path(tmp) / str(i), steps))
     columns = ["steps (s)", "runs", "serial_s", "sweep_s", "ratio", "max_figure_difference"]
@@ -81,7 +91,7 @@ def main_() -> None:
     print(table)
     out = Path(args.out or RESULTS)
     head = "# fecontact sweep against serial runs\n\n2 workers (local cluster), 2 cores.\n\n"
-    write_markdown(out / "sweep.md", head + table)
+    write_markdown(out / ("sweep_quick.md" if args.quick else "sweep.md"), head + table)
 
 
 if __name__ == "__main__":

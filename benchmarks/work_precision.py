@@ -69,9 +69,12 @@ class Case:
 
     name = ""
     unit = ""
+    t_end = math.inf
 
     def __init__(self, quick: bool):
         self.quick = quick
+        if quick:  # through the first impacts only
+            self.t_end = min(self.t_end, 1.0)
 
 
 class Ball(Case):
@@ -80,7 +83,7 @@ class Ball(Case):
 
     def steps(self):
         if self.quick:
-            return [2e-3, 1e-3, 5e-4]
+            return [2e-3, 1e-3]
         return [4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4, 1.25e-4, 6.25e-5]
 
     def build(self, h):
@@ -103,7 +106,7 @@ class Pendulum(Case):
 
     def steps(self):
         if self.quick:
-            return [2e-3, 1e-3, 5e-4]
+            return [2e-3, 1e-3]
         return [4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4, 1.25e-4]
 
     def build(self, h):
@@ -126,7 +129,7 @@ class Bar(Case):
     t_end = 2.5
 
     def steps(self):
-        ns = [25, 50, 100] if self.quick else [25, 50, 100, 200, 400]
+        ns = [25, 50] if self.quick else [25, 50, 100, 200, 400]
         return [0.5 / n for n in ns]  # h = Δx/2c with L = c = 1
 
     def build(self, h):
@@ -147,8 +150,8 @@ class Flexible(Case):
 
     def __init__(self, quick):
         super().__init__(quick)
-        self.t_end = 0.6 if quick else 1.5
-        self.h_ref = 1e-3 / (16 if quick else 64)
+        self.t_end = 0.35 if quick else 1.5
+        self.h_ref = 1e-3 / (4 if quick else 64)
         self.ref = None
 
     def steps(self):

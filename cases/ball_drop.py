@@ -23,7 +23,7 @@ Probes: ``z_center`` and ``vz_center`` (height of the centre of mass, m, and its
 m/s), ``gap`` (lowest point above the plane, m) and ``contact_force`` (Σ k Λ_j / h, N).
 """
 
-from fecontact import Model, Param, Simulation, case, run_cli
+from fecontact import Model, Param, case, run_cli
 from fecontact.bodies import LinearElastic, Solid
 from fecontact.contact import Contact, Plane
 from fecontact.scenes import (
@@ -32,7 +32,7 @@ from fecontact.scenes import (
     centre_of_mass_probes,
     contact_force_probe,
     lowest_point_probe,
-    wave_step,
+    wave_simulation,
 )
 
 
@@ -60,15 +60,8 @@ def build(
     probes = centre_of_mass_probes(model, ball, 2, z0)
     probes |= {"gap": lowest_point_probe(model, ball, 2), "contact_force": contact_force_probe()}
     spacing = ball.min_edge_length / (2.0 if element == "P2" else 1.0)
-    return Simulation(
-        model,
-        dt=wave_step(ball, 1.0, spacing),
-        t_end=t_end,
-        probes=probes,
-        output_interval=t_end / 40,
-        name="ball_drop",
-        v0=model.translation(ball, (0.0, 0.0, -velocity)),
-    )
+    v0 = model.translation(ball, (0.0, 0.0, -velocity))
+    return wave_simulation(model, ball, "ball_drop", t_end, probes, v0, spacing)
 
 
 if __name__ == "__main__":

@@ -28,7 +28,7 @@ the centre of mass, rad/s, counter-clockwise), ``gap`` (lowest point above the p
 ``contact_force`` (Σ k Λ_j / h, N).
 """
 
-from fecontact import Model, Param, Simulation, case, run_cli
+from fecontact import Model, Param, case, run_cli
 from fecontact.bodies import Solid
 from fecontact.contact import Contact, Plane
 from fecontact.scenes import (
@@ -40,7 +40,7 @@ from fecontact.scenes import (
     lowest_point_probe,
     solid_material,
     spin_probe,
-    wave_step,
+    wave_simulation,
 )
 
 
@@ -59,15 +59,8 @@ def build(
     probes["vx_center"] = centre_of_mass_probes(model, disk, 0)["vx_center"]
     probes["omega"] = spin_probe(model, disk)
     probes |= {"gap": lowest_point_probe(model, disk, 1), "contact_force": contact_force_probe()}
-    return Simulation(
-        model,
-        dt=wave_step(disk, 1.0),
-        t_end=t_end,
-        probes=probes,
-        output_interval=t_end / 40,
-        name="disk_drop",
-        v0=model.translation(disk, (slide_velocity, -velocity)),
-    )
+    v0 = model.translation(disk, (slide_velocity, -velocity))
+    return wave_simulation(model, disk, "disk_drop", t_end, probes, v0)
 
 
 if __name__ == "__main__":

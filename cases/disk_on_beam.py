@@ -33,7 +33,7 @@ def build(
     position=Param(0.5, "-", "disk centre's abscissa as a fraction of the span", 0, 1, (0, 0)),
     restitution=Param.fraction(0.0, "Newton's coefficient of restitution e_N"),
 ):  # fmt: skip
-    material = Material(E, rho)
+    material = Material(E, rho=rho)
     section = Section.rectangle(width, thickness)
     beam = Beam2D.straight([0.0, 0.0], [length, 0.0], n_elements, material, section)
     beam.pin(0).pin(-1)

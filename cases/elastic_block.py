@@ -23,7 +23,7 @@ node has moved along the plane since t = 0, m) and ``contact_force`` (N).
 
 import numpy as np
 
-from fecontact import Model, Param, Probe, Simulation, case, run_cli
+from fecontact import Model, Param, Probe, case, run_cli
 from fecontact.bodies import Solid
 from fecontact.contact import Contact, Plane
 from fecontact.scenes import (
@@ -31,7 +31,7 @@ from fecontact.scenes import (
     centre_of_mass_probes,
     contact_force_probe,
     solid_material,
-    wave_step,
+    wave_simulation,
 )
 
 
@@ -58,15 +58,8 @@ def build(
     g = (gravity * np.sin(alpha), 0.0, -gravity * np.cos(alpha))
     model = Model([block], [contact], g, damping=(0.0, damping))
     probes = _probes(model, block, bottom)
-    return Simulation(
-        model,
-        dt=wave_step(block, 1.0),
-        t_end=t_end,
-        probes=probes,
-        output_interval=t_end / 40,
-        name="elastic_block",
-        v0=model.translation(block, (velocity, 0.0, 0.0)),
-    )
+    v0 = model.translation(block, (velocity, 0.0, 0.0))
+    return wave_simulation(model, block, "elastic_block", t_end, probes, v0)
 
 
 def _probes(model, block, bottom):

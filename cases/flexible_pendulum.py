@@ -12,15 +12,15 @@ from fecontact.contact import Contact, Plane
 from fecontact.scenes import STRIP
 
 
-@case(STRIP)  # length, n_elements, E, rho, nu, width, thickness: an aluminium strip
+@case(STRIP)  # length, n_elements, E, nu, rho, width, thickness: an aluminium strip
 def build(
-    length, n_elements, E, rho, nu, width, thickness,
+    length, n_elements, E, nu, rho, width, thickness,
     tip_mass=Param.nonnegative(0.14, "kg", "point mass on the tip node"),
     restitution=Param.fraction(0.0, "Newton's coefficient of restitution e_N"),
     friction=Param.nonnegative(0.0, "-", "Coulomb's coefficient mu between tip and stop"),
     gravity=Param.nonnegative(9.81, "m/s^2", "acceleration of gravity, along -y"),
 ):  # fmt: skip
-    material = Material(E=E, rho=rho, nu=nu)
+    material = Material(E, nu=nu, rho=rho)
     section = Section.rectangle(width, thickness)
     beam = Beam2D.straight([0.0, 0.0], [length, 0.0], n_elements, material, section)
     beam.pin(0).add_mass(-1, tip_mass)

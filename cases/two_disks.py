@@ -33,10 +33,10 @@ m, inf when no node is within the detection margin) and ``contact_force`` (Σ k 
 
 import numpy as np
 
-from fecontact import Model, Param, Probe, Simulation, case, run_cli
+from fecontact import Model, Param, Probe, case, run_cli
 from fecontact.bodies import Solid
 from fecontact.contact import Contact
-from fecontact.scenes import DISK, DROP, SOLID, contact_force_probe, solid_material, wave_step
+from fecontact.scenes import DISK, DROP, SOLID, contact_force_probe, solid_material, wave_simulation
 
 
 @case(DISK, SOLID, DROP)
@@ -47,16 +47,21 @@ def build(
     two_pass=Param.count(1, "1: also the right disk's nodes against the left disk", 0, 1),
     offset=Param(0.0, "m", "the right disk's centre above the left one's (oblique impact)"),
     friction=Param.nonnegative(0.0, "-", "Coulomb's coefficient mu between the disks"),
+    method=Param.choice(
+        "node-to-surface", "contact discretization", ("node-to-surface", "mortar")
+    ),
 ):  # fmt: skip
     mat = solid_material(material, E, nu, rho)
     x0 = radius + 0.5 * gap
     left = Solid.disk([-x0, -0.5 * offset], radius, refinements, mat)
     right = Solid.disk([x0, 0.5 * offset], radius, refinements, mat)
-    pairs = [Contact(left, right, restitution=restitution, friction=friction)]
-    if two_pass:
-        pairs.append(Contact(right, left, restitution=restitution, friction=friction))
+    options = dict(restitution=restitution, friction=friction, method=method)
+    pairs = [Contact(left, right, **options)]
+    if two_pass:  # (a mortar interface declared both ways is one interface)
+        pairs.append(Contact(right, left, **options))
     model = Model([left, right], pairs, gravity=(0.0, 0.0))
     w = left.mass_matrix() @ left.translation_field((1.0, 0.0))  # x-momentum weights
+    wy = left.mass_matrix() @ left.translation_field((0.0, 1.0))
     s0, s1 = model.body_slice(0), model.body_slice(1)
     probes = {
         "momentum": Probe(
@@ -64,19 +69,13 @@ def build(
         ),
         "v_left": Probe(lambda m, st: float(w @ st.v[s0]) / left.mass, "m/s", "left disk vx"),
         "v_right": Probe(lambda m, st: float(w @ st.v[s1]) / right.mass, "m/s", "right disk vx"),
+        "vy_left": Probe(lambda m, st: float(wy @ st.v[s0]) / left.mass, "m/s", "left disk vy"),
+        "vy_right": Probe(lambda m, st: float(wy @ st.v[s1]) / right.mass, "m/s", "right disk vy"),
         "gap": Probe(lambda m, st: float(np.min(m.contacts.gaps(st.q))), "m", "smallest gap"),
         "contact_force": contact_force_probe(),
     }
     v0 = model.translation(left, (velocity, 0.0)) + model.translation(right, (-velocity, 0.0))
-    return Simulation(
-        model,
-        dt=wave_step(left, 1.0),
-        t_end=t_end,
-        probes=probes,
-        output_interval=t_end / 40,
-        name="two_disks",
-        v0=v0,
-    )
+    return wave_simulation(model, left, "two_disks", t_end, probes, v0)
 
 
 if __name__ == "__main__":

@@ -8,20 +8,11 @@ frames, ``history.csv`` and ``summary.json``. SI units throughout.
 
 The package is laid out by concept: ``bodies`` (beam, solid, rigid, materials, meshes),
 ``contact`` (obstacles, pair kinematics, the Alart–Curnier laws), ``time`` (the steppers and
-the time loop), ``linalg`` (the factorization seam) and ``io`` (output, rendering, command
-line). Every public name is importable from ``fecontact`` itself.
+the time loop), ``linalg`` (the factorization seam), ``io`` (output and rendering) and, above
+the driver, ``cli`` (the command line and sweeps). Every public name is importable from
+``fecontact`` itself.
 """
 
-import os
-
-# The dense systems here have tens of unknowns: OpenBLAS threads only add synchronisation
-# (README, Set-up). Takes effect when fecontact is
-# imported before numpy (the command line, case scripts); an explicit setting wins.
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-
-__version__ = "0.1.0"
-
-from . import moved
 from .bodies import (
     Beam2D,
     Disk,
@@ -42,8 +33,7 @@ from .model import Model, NodalLoad
 from .params import Param, case
 from .simulation import Probe, Simulation, node_probe, run
 from .time import IntegratorOptions, State, simulate
-
-moved.install()
+from .version import __version__ as __version__
 
 __all__ = [
     "Beam2D",
@@ -93,6 +83,6 @@ def load_run(out_dir):
 
 def run_cli(build, argv=None):
     """Command line of a case file: ``python cases/NAME.py [--dt ...] [--set ...]``."""
-    from .io.cli import run_cli as _run_cli
+    from .cli.run import run_cli as _run_cli
 
     _run_cli(build, argv)

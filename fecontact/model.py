@@ -58,23 +58,39 @@ class Model:
     """
 
     def __init__(self, bodies, contacts=(), gravity=None, joints=(), damping=(0.0, 0.0), loads=()):
-        self.bodies = list(bodies)
-        if not self.bodies:
-            raise InputError("bodies must contain at least one body")
-        if len({id(b) for b in self.bodies}) < len(self.bodies):
-            raise InputError("bodies: the same body is listed twice")
-        dims = {b.dim for b in self.bodies}
-        if len(dims) > 1:
-            raise InputError("bodies must all be 2D or all 3D")
-        dim = dims.pop()
-        if gravity is None:
-            gravity = np.eye(dim)[-1] * -9.81
-        self.gravity = check_finite("gravity", gravity).ravel()
-        if self.gravity.shape != (dim,):
-            raise InputError(f"gravity must have {dim} components for a {dim}D model")
-        self.dim = dim
+        self.bodies = _distinct_bodies(bodies)
+        self.dim = dim = _common_dimension(self.bodies)
+        self.gravity = _gravity(gravity, dim)
         self.continuum = any(b.continuum for b in self.bodies)
         self.slender = any(b.slender for b in self.bodies)
+        self._place_dofs()
+        self._assemble_mass()
+        self.f_gravity = self.M_full @ np.concatenate(
+            [b.translation_field(self.gravity) for b in self.bodies]
+        )
+        for pair in contacts:
+            pair.bind(self)
+        self.contacts = ContactSet(contacts, self.free_index, len(self.free))
+        for joint in joints:
+            joint.bind(self)
+        self.joints = ContactSet(joints, self.free_index, len(self.free))
+        self._check_joints_independent()
+        self.damping = _rayleigh(damping)
+        self.loads = list(loads)
+        for load in self.loads:
+            load.bind(self)
+        self._slices = [self.body_slice(i) for i in range(len(self.bodies))]
+        self._measure_sizes(contacts)
+        self.linear = all(b.linear for b in self.bodies)
+        # rigid bodies and point masses only: no strain energy, no internal force
+        self._elementless = not any(b.element_dofs.size for b in self.bodies)
+        # (S_t, its solver, C) of a linear model per (β′, γ′): one factorization per step size
+        self.iteration_cache: dict = {}
+        self.column_cache: dict = {}  # H⁻¹G_jᵀ per metric and contact (linear models)
+
+    def _place_dofs(self) -> None:
+        """The bodies' slices of the global vector (``offsets``, ``n``) and its free dofs,
+        those no support holds (``free``, ``free_slice``, ``free_index``)."""
         sizes = [b.ndof for b in self.bodies]
         self.offsets = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
         self.n = int(self.offsets[-1])
@@ -90,6 +106,10 @@ class Model:
         self.free_index = np.full(self.n, -1)
         self.free_index[self.free] = np.arange(len(self.free))
         self.dense = len(self.free) <= DENSE_LIMIT
+
+    def _assemble_mass(self) -> None:
+        """The constant mass matrix, the sparsity pattern of the iteration matrices over the
+        free dofs, and the rigid motions."""
         self.M_full = sp.block_diag([b.mass_matrix() for b in self.bodies], format="csr")
         Mff = self.M_full[self.free][:, self.free]
         blocks = [o + b.element_dofs for b, o in zip(self.bodies, self.offsets, strict=False)]
@@ -103,38 +123,19 @@ class Model:
         self.rigid_modes = np.vstack([b.rigid_modes() for b in self.bodies])[self.free]
         # the factorizations of M and S_t below; a run gives the model its own (use_solver)
         self.solver = LinearSolver(modes=self.rigid_modes)
-        self.f_gravity = self.M_full @ np.concatenate(
-            [b.translation_field(self.gravity) for b in self.bodies]
-        )
-        for pair in contacts:
-            pair.bind(self)
-        self.contacts = ContactSet(contacts, self.free_index, len(self.free))
-        for joint in joints:
-            joint.bind(self)
-        self.joints = ContactSet(joints, self.free_index, len(self.free))
-        self._check_joints_independent()
-        alpha, beta = check_vector("damping", damping, 2)
-        check_positive("damping alpha", alpha, allow_zero=True)
-        check_positive("damping beta", beta, allow_zero=True)
-        self.damping = (float(alpha), float(beta))
-        self.loads = list(loads)
-        for load in self.loads:
-            load.bind(self)
-        self._slices = [self.body_slice(i) for i in range(len(self.bodies))]
+
+    def _measure_sizes(self, contacts) -> None:
+        """The model size ``length`` (m), the unit of each free dof's updates, and the extent
+        of the coordinates that gaps are computed from."""
         self.length = max(b.characteristic_length for b in self.bodies)
         # the unit of each free dof's updates: the model size for translations, 1 rad else
-        moves = np.concatenate([b.translation_field(np.ones(dim)) for b in self.bodies]) != 0
+        ones = np.ones(self.dim)
+        moves = np.concatenate([b.translation_field(ones) for b in self.bodies]) != 0
         self._update_unit = np.where(moves, self.length, 1.0)[self.free]
         self._reference = [b.positions(np.zeros(b.ndof)) for b in self.bodies]
         self._reference_extent = max(float(np.max(np.abs(X))) for X in self._reference)
         anchors = [p.obstacle.anchor for p in contacts if p.obstacle is not None]
         self._obstacle_extent = max((np.max(np.abs(a)) for a in anchors), default=0.0)
-        self.linear = all(b.linear for b in self.bodies)
-        # rigid bodies and point masses only: no strain energy, no internal force
-        self._elementless = not any(b.element_dofs.size for b in self.bodies)
-        # (S_t, its solver, C) of a linear model per (β′, γ′): one factorization per step size
-        self.iteration_cache: dict = {}
-        self.column_cache: dict = {}  # H⁻¹G_jᵀ per metric and contact (linear models)
 
     def _check_joints_independent(self) -> None:
         """Joints must hold what no other joint or support holds: redundant rows make the
@@ -283,3 +284,38 @@ class Model:
 
     def strain_energy(self, q: np.ndarray) -> float:
         return float(sum(b.energy(q[self.body_slice(i)]) for i, b in enumerate(self.bodies)))
+
+
+def _distinct_bodies(bodies) -> list:
+    bodies = list(bodies)
+    if not bodies:
+        raise InputError("bodies must contain at least one body")
+    if len({id(b) for b in bodies}) < len(bodies):
+        raise InputError("bodies: the same body is listed twice")
+    return bodies
+
+
+def _common_dimension(bodies) -> int:
+    dims = {b.dim for b in bodies}
+    if len(dims) > 1:
+        raise InputError("bodies must all be 2D or all 3D")
+    return dims.pop()
+
+
+def _gravity(gravity, dim: int) -> np.ndarray:
+    """The acceleration of gravity (m/s², ``dim`` components): 9.81 along the last axis
+    downwards unless given."""
+    if gravity is None:
+        gravity = np.eye(dim)[-1] * -9.81
+    g = check_finite("gravity", gravity).ravel()
+    if g.shape != (dim,):
+        raise InputError(f"gravity must have {dim} components for a {dim}D model")
+    return g
+
+
+def _rayleigh(damping) -> tuple[float, float]:
+    """Rayleigh coefficients (α in 1/s, β in s), both ≥ 0."""
+    alpha, beta = check_vector("damping", damping, 2)
+    check_positive("damping alpha", alpha, allow_zero=True)
+    check_positive("damping beta", beta, allow_zero=True)
+    return float(alpha), float(beta)

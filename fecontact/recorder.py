@@ -1,5 +1,5 @@
-"""What a run records every step: the history rows, the impacts, the energy balance and the
-statistics of ``summary.json``."""
+"""What a run records every step: the history rows, the impacts, the energy balance and
+ledger, and the statistics of ``summary.json``."""
 
 from __future__ import annotations
 
@@ -10,12 +10,13 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__
 from .energy import EnergyBalance
 from .io.frames import friction_totals
-from .io.output import FRICTION_COLUMNS, STANDARD_COLUMNS
+from .io.output import FRICTION_COLUMNS, LEDGER_COLUMNS, STANDARD_COLUMNS
 from .io.run_folder import jsonable
+from .ledger import EnergyLedger
 from .time import State, uses_smooth_contact
+from .version import __version__
 
 __all__ = ["Recorder"]
 
@@ -28,6 +29,8 @@ class Recorder:
         "iter_total",
         "iter_max",
         "halvings",
+        "retakes",
+        "max_penetration",
         "min_gap",
         "energy_initial",
         "energy_final",
@@ -43,7 +46,7 @@ class Recorder:
         self.friction = self.model.contacts.frictional
         self.friction_work = 0.0
         extra = FRICTION_COLUMNS if self.friction else ()
-        self.columns = list(STANDARD_COLUMNS) + list(extra) + list(sim.probes)
+        self.columns = [*STANDARD_COLUMNS, *extra, *LEDGER_COLUMNS, *sim.probes]
         self.history = HistoryWriter(out / "history.csv", self.columns, keep_rows=keep_rows)
         self.impacts: list[dict] = []
         self.closed = np.zeros(self.model.contacts.size, dtype=bool)
@@ -51,11 +54,15 @@ class Recorder:
         self.iter_total = 0
         self.iter_max = 0
         self.halvings = 0
+        self.retakes = 0
+        self.max_penetration = 0.0  # m, from the inside/outside test at every step's end
         self.min_gap = math.inf
         self.energy_initial = math.nan
         self.energy_final = math.nan
         self.energy_max = -math.inf
         self.balance = EnergyBalance(self.model)
+        self.ledger = EnergyLedger(self.model, sim.options)
+        self.energies = (math.nan, math.nan, math.nan)  # T, V_strain, V_gravity of the last
         self.steps = 0
 
     def record(self, st: State) -> None:
@@ -63,6 +70,8 @@ class Recorder:
         ke, se, pe = m.kinetic_energy(st.v), m.strain_energy(st.q), m.potential_energy(st.q)
         total = ke + se + pe
         self.balance.add(st.t, st.q, ke, se, pe)
+        self.ledger.add(st, ke, se, pe, self.balance.work)
+        self.energies = (ke, se, pe)
         near = st.gaps[st.candidates] if st.step > 0 else st.gaps
         near = near[near <= m.length * self.sim.options.detection_margin]
         min_gap = float(near.min()) if near.size else math.inf
@@ -75,6 +84,7 @@ class Recorder:
         if self.friction:
             row += friction_totals(st)
             self.friction_work = row[-1]
+        row += self.ledger.row()
         row += [p.fn(m, st) for p in self.sim.probes.values()]
         self.history.write(row)
         if st.step == 0:
@@ -84,6 +94,8 @@ class Recorder:
             self.iter_total += its
             self.iter_max = max(self.iter_max, its)
             self.halvings += st.halvings
+            self.retakes += st.retakes
+            self.max_penetration = max(self.max_penetration, st.penetration)
         self.energy_final = total
         self.energy_max = max(self.energy_max, total)
         self.min_gap = min(self.min_gap, min_gap)
@@ -91,14 +103,16 @@ class Recorder:
     def stats(self) -> dict:
         extra = {"closed": self.closed.tolist(), "impact_frame": self.impact_frame}
         extra["energy_balance"] = self.balance.state()
+        extra["energy_ledger"] = self.ledger.state()
         return {k: getattr(self, k) for k in self.STATS} | extra
 
     def restore(self, stats: dict) -> None:
         for k in self.STATS:
-            setattr(self, k, stats[k])
+            setattr(self, k, stats.get(k, getattr(self, k)))
         self.closed = np.array(stats["closed"], dtype=bool)
         self.impact_frame = bool(stats.get("impact_frame", True))
         self.balance.restore(stats.get("energy_balance", {}))
+        self.ledger.restore(stats.get("energy_ledger", {}))
 
     def summary(self, status: str, wall: float, timer: dict, message: str, counts: dict) -> dict:
         """The run's ``summary.json``: ``time_per_step_s`` is the wall time of the time loop
@@ -125,14 +139,17 @@ class Recorder:
             "newton_iterations_max": self.iter_max,
             "newton_iterations_mean": self.iter_total / max(self.steps, 1),
             "step_halvings": self.halvings,
-            "max_penetration": max(0.0, -self.min_gap),
+            "penetration_retakes": self.retakes,
+            "max_penetration": max(self.max_penetration, -self.min_gap),
             "min_gap": self.min_gap,
             "energy_initial": self.energy_initial,
             "energy_final": self.energy_final,
             "energy_max": self.energy_max,
             "energy_balance": self.balance.summary(),
+            "energy_ledger": self.ledger.summary(*self.energies),
             "impacts": self.impacts,
             "parameters": jsonable(sim.parameters),
+            "case_file": sim.origin,
             "options": dataclasses.asdict(sim.options),
             # what smooth_contact="auto" chose for this model (NSGA only)
             "smooth_contact_force": sim.options.integrator == "nsga"

@@ -1,5 +1,5 @@
 """Pieces that cases share: materials by name, the step of an elastic body from its wave
-speed, and the probes most impacts are read with."""
+speed, the simulation of an elastic impact, and the probes most impacts are read with."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import numpy as np
 from .bodies.beam import Beam2D, Material, Section
 from .bodies.materials import LinearElastic, NeoHookean, StVenantKirchhoff
 from .params import Param
-from .simulation import Probe
+from .simulation import Probe, Simulation
 
 __all__ = [
     "BAR",
@@ -24,6 +24,7 @@ __all__ = [
     "contact_force_probe",
     "lowest_point_probe",
     "solid_material",
+    "wave_simulation",
     "wave_step",
 ]
 
@@ -43,6 +44,24 @@ def wave_step(body, fraction: float, spacing: float | None = None) -> float:
     (m; default the body's shortest edge)."""
     spacing = body.min_edge_length if spacing is None else spacing
     return fraction * spacing / body.material.wave_speed
+
+
+def wave_simulation(
+    model, body, name: str, t_end: float, probes: dict, v0, spacing: float | None = None
+) -> Simulation:
+    """The ``Simulation`` of an elastic body's impact: ``name``, end time ``t_end`` (s), the
+    initial velocity ``v0`` (one value a dof of the model, m/s) and ``probes``; the step is the
+    time the dilatational wave of ``body`` takes to cross one node ``spacing`` (``wave_step``:
+    by default the body's shortest edge), and a frame is written every ``t_end`` / 40."""
+    return Simulation(
+        model,
+        dt=wave_step(body, 1.0, spacing),
+        t_end=t_end,
+        probes=probes,
+        output_interval=t_end / 40,
+        name=name,
+        v0=v0,
+    )
 
 
 def contact_force_probe(what: str = "contact force") -> Probe:
@@ -101,7 +120,7 @@ def axial_bar(start, end, n_elements: int, E: float, rho: float, area: float, li
     section ``area`` (m²; bending plays no part in the axial problem), Young's modulus E (Pa)
     and density ρ (kg/m³)."""
     section = Section(area=area, inertia=area**2 / 12.0)
-    return Beam2D.straight(start, end, n_elements, Material(E, rho), section, linear)
+    return Beam2D.straight(start, end, n_elements, Material(E, rho=rho), section, linear)
 
 
 def axial_velocity_probe(model, bar, text: str, node=None) -> Probe:
@@ -154,8 +173,8 @@ STRIP = {
     "length": Param.positive(0.3, "m", "beam length"),
     "n_elements": Param.count(4, "number of beam elements"),
     "E": Param.positive(70e9, "Pa", "Young's modulus"),
-    "rho": Param.positive(2700.0, "kg/m^3", "density"),
     "nu": Param(0.33, "-", "Poisson's ratio", -1.0, 0.5, (False, False)),
+    "rho": Param.positive(2700.0, "kg/m^3", "density"),
     "width": Param.positive(0.02, "m", "section width"),
     "thickness": Param.positive(0.002, "m", "section thickness (bending)"),
 }
@@ -164,7 +183,7 @@ aluminium by default."""
 
 DISK = {
     "radius": Param.positive(0.05, "m", "radius of the disk (of each disk)"),
-    "refinements": Param.count(3, "uniform refinements of the disk mesh (8 * 4^n triangles)", 0, 6),
+    "refinements": Param.count(3, "uniform refinements of the disk mesh (4 * 4^n triangles)", 0, 6),
 }
 """A 2D elastic disk's mesh: ``Solid.disk`` (parameter group of ``case``)."""
 

@@ -11,10 +11,8 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import sys
 import time
 import warnings
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -22,14 +20,18 @@ import numpy as np
 
 from .errors import InputError, SolverError, check_positive
 from .io.frames import bodies_box, frame_parts, static_parts
-from .io.output import FRICTION_COLUMNS, STANDARD_COLUMNS
+from .io.output import FRICTION_COLUMNS, LEDGER_COLUMNS, STANDARD_COLUMNS
+from .io.progress import RunProgress
 from .io.run_folder import (
     CHECKPOINT,
     clear_earlier_run,
     load_checkpoint,
     save_checkpoint,
 )
+from .io.run_lock import hold_folder
+from .probes import Probe, node_probe
 from .recorder import Recorder
+from .threads import blas_threads
 from .time import (
     IntegratorOptions,
     PhaseTimer,
@@ -45,46 +47,14 @@ HISTORY_COLUMNS = STANDARD_COLUMNS
 PVD_INTERVAL = 1.0  # s of wall time between rewrites of the .pvd index during a run
 
 
-@dataclass(frozen=True)
-class Probe:
-    """A scalar recorded every step: ``fn(model, state)`` in ``unit``."""
-
-    fn: Callable
-    unit: str
-    description: str = ""
-
-
-_NODE_QUANTITIES = {
-    "x": ("m", "position x", lambda b, q, v: b.positions(q)[:, 0]),
-    "y": ("m", "position y", lambda b, q, v: b.positions(q)[:, 1]),
-    "ux": ("m", "displacement x", lambda b, q, v: b.point_data(q, v)["displacement"][:, 0]),
-    "uy": ("m", "displacement y", lambda b, q, v: b.point_data(q, v)["displacement"][:, 1]),
-    "vx": ("m/s", "velocity x", lambda b, q, v: b.point_data(q, v)["velocity"][:, 0]),
-    "vy": ("m/s", "velocity y", lambda b, q, v: b.point_data(q, v)["velocity"][:, 1]),
-    "rotation": ("rad", "rotation", lambda b, q, v: b.point_data(q, v)["rotation"]),
-}
-
-
-def node_probe(model, body, node: int, quantity: str) -> Probe:
-    """Probe of one node of ``body``: ``quantity`` in x, y (m), ux, uy (m), vx, vy (m/s),
-    rotation (rad, counter-clockwise)."""
-    if quantity not in _NODE_QUANTITIES:
-        raise InputError(f"quantity must be one of {', '.join(_NODE_QUANTITIES)}, got {quantity!r}")
-    if quantity == "rotation" and "theta" not in body.components:
-        kind = type(body).__name__
-        raise InputError(f"quantity 'rotation': a {kind} node has none; use x, y, ux, uy, vx, vy")
-    unit, text, get = _NODE_QUANTITIES[quantity]
-    i = body.node_index(node)
-    s = model.body_slice(model.bodies.index(body))
-    return Probe(lambda m, st: float(get(body, st.q[s], st.v[s])[i]), unit, f"{text} of node {i}")
-
-
 @dataclass
 class Simulation:
     """What to run: the model, the step ``dt`` (s), the end time ``t_end`` (s), probes,
     integrator options, the output interval (s of simulated time), the case's name and
     parameters (recorded in ``summary.json``) and the initial dof vectors ``q0``, ``v0``
-    (default: rest in the reference configuration)."""
+    (default: rest in the reference configuration). ``origin`` identifies the case file it
+    was built from (``file``, ``sha256``; the command line sets it): recorded in
+    ``summary.json`` as ``case_file``, and a checkpoint continues only the same one."""
 
     model: object
     dt: float
@@ -96,6 +66,7 @@ class Simulation:
     parameters: dict = field(default_factory=dict)
     q0: np.ndarray | None = None
     v0: np.ndarray | None = None
+    origin: dict = field(default_factory=dict)
 
     def __post_init__(self):
         self.dt = check_positive("dt", self.dt)
@@ -107,7 +78,7 @@ class Simulation:
         for probe in self.probes:
             # history.csv columns: no clash with the time column, no separator inside
             ok = isinstance(probe, str) and probe.replace("_", "").isalnum()
-            if not ok or probe in HISTORY_COLUMNS + FRICTION_COLUMNS:
+            if not ok or probe in HISTORY_COLUMNS + FRICTION_COLUMNS + LEDGER_COLUMNS:
                 raise InputError(
                     f"probe names must be letters, digits or '_' and differ from the history "
                     f"columns ({', '.join(HISTORY_COLUMNS)}), got {probe!r}"
@@ -174,6 +145,7 @@ def run(
     checkpoint_every: int = 500,
     resume: bool = False,
     overwrite: bool = False,
+    frame_format: str = "auto",
 ) -> dict:
     """Run ``sim`` and write its results into ``out_dir``; return the summary.
 
@@ -183,20 +155,30 @@ def run(
     uninterrupted run. On ``SolverError`` or ``KeyboardInterrupt`` the summary records the
     failure, every frame written so far stays readable, and the exception propagates.
 
-    Runs never mix: a new run removes what an earlier run of the same case left in
-    ``out_dir`` (frames, index, history, summary, checkpoint, pictures), and refuses a folder
-    that holds another case's output unless ``overwrite``.
-    """
-    from .io.output import PVDWriter
+    Runs never mix: the run holds ``out_dir`` (a lock file) and another process's run there
+    is refused; a new run removes what an earlier run of the same case left in ``out_dir``
+    (frames, index, history, summary, checkpoint, pictures), and refuses a folder that holds
+    another case's output unless ``overwrite``. BLAS threads are limited to one while it runs
+    (:mod:`fecontact.threads`).
 
-    out = Path(out_dir)
+    ``frame_format`` "vtu" writes a ``.vtu`` per part and frame indexed by a ``.pvd``;
+    "vtkhdf" one transient ``.vtkhdf`` per part (:mod:`fecontact.io.vtkhdf`, needs h5py);
+    "auto" VTKHDF for 3D models where it writes faster (:func:`fecontact.io.output.
+    frame_format`), else VTU. A resumed run keeps the format of the run it continues.
+    """
+    with blas_threads(), hold_folder(out_dir, sim.name):
+        options = (progress, frames, checkpoint_every, resume, overwrite, frame_format)
+        return _run(sim, Path(out_dir), *options)
+
+
+def _run(sim, out, progress, frames, checkpoint_every, resume, overwrite, frame_format) -> dict:
+    from .io.output import frame_writer
+
+    fmt = _frame_format(sim, out, frames, frame_format, resume)
     start, meta = _starting_point(sim, out, resume, overwrite)
     _import_frame_types(frames)
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as err:  # a file in the way, a folder that cannot be written
-        raise InputError(f"out: cannot create the output folder {out}: {err.strerror}") from None
-    pvd = PVDWriter(out, sim.name, index_interval=PVD_INTERVAL)
+    _make_folder(out)
+    pvd = frame_writer(fmt, out, sim.name, index_interval=PVD_INTERVAL)
     timer = PhaseTimer()
     rec = Recorder(sim, out, keep_rows=None if start is None else start.step + 1)
     output = _Frames(sim, pvd, frames)
@@ -235,12 +217,22 @@ def run(
         timer.add("output", _flush(pvd))
         wall = time.perf_counter() - t_start
         rec.history.close()
-        _show(bar, None)
+        _show(bar, None, status)
         summary = _summary(sim, rec, stats, status, message, wall, timer)
         _write_summary(out, summary, status)
     for text in summary["warnings"]:
-        warnings.warn(text, UserWarning, stacklevel=2)
+        warnings.warn(text, UserWarning, stacklevel=3)
     return summary
+
+
+def _frame_format(sim: Simulation, out: Path, frames: bool, frame_format: str, resume: bool):
+    """The run's frame format, chosen before any work: that of the run it resumes, else
+    ``frame_format`` for the model (:func:`fecontact.io.output.frame_format`)."""
+    from .io.output import frame_format as choose_format
+
+    earlier = [out / f"{sim.name}{ext}" for ext in (".pvd", ".frames.json")] if resume else []
+    index = next((path for path in earlier if path.is_file()), None)
+    return choose_format(frame_format, sim.model, index) if frames else "vtu"
 
 
 def _resume(start: State, meta: dict, pvd, rec: Recorder, output: _Frames) -> None:
@@ -248,6 +240,7 @@ def _resume(start: State, meta: dict, pvd, rec: Recorder, output: _Frames) -> No
     pvd.resume(start.t)
     rec.restore(meta["stats"])
     rec.balance.start(start.t, start.q)
+    rec.ledger.start(start)
     output.next_frame = meta["next_frame"]
 
 
@@ -264,7 +257,7 @@ def _starting_point(sim: Simulation, out: Path, resume: bool, overwrite: bool):
         return start, meta
     initial_state(sim.model, sim.q0, sim.v0, sim.options.tol_gap)
     for text in sim.warnings():
-        warnings.warn(text, UserWarning, stacklevel=3)
+        warnings.warn(text, UserWarning, stacklevel=4)
     clear_earlier_run(out, sim.name, overwrite)
     return None, None
 
@@ -335,19 +328,25 @@ class _Frames:
                 self.pvd.write_static(part, mesh)
 
 
+def _make_folder(out: Path) -> None:
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as err:  # a file in the way, a folder that cannot be written
+        raise InputError(f"out: cannot create the output folder {out}: {err.strerror}") from None
+
+
+def _show(bar: RunProgress | None, st: State | None, status: str = "") -> None:
+    """Advance the progress bar ``bar`` (None: none) past ``st``; close it with the run's
+    ``status`` (``st`` None)."""
+    if bar is not None and st is None:
+        bar.close(status)
+    elif bar is not None and st.step:
+        bar.advance(st)
+
+
 def _import_frame_types(frames: bool) -> None:
     if frames:
         import meshio  # noqa: F401  (the frames' mesh type: imported outside the timed loop)
-
-
-def _show(bar, st: State | None) -> None:
-    """Advance the progress bar ``bar`` (None: none) past ``st``; close it (``st`` None)."""
-    if bar is not None and st is None:
-        bar.close()
-    elif bar is not None and st.step:
-        bar.update(1)
-        if st.step % 25 == 0:
-            bar.set_postfix(t=f"{st.t:.4f}", it=st.newton_iterations, refresh=False)
 
 
 def _summary(sim, rec, stats, status, message, wall, timer) -> dict:
@@ -358,6 +357,7 @@ def _summary(sim, rec, stats, status, message, wall, timer) -> dict:
     summary = rec.summary(status, wall, timer, message, counts) | counts
     # a run that ends with more energy than its budget is said so, not only counted
     summary["warnings"] = [rec.balance.describe()] if rec.balance.unstable() else []
+    summary["warnings"] += rec.ledger.warnings()
     if frictional:
         summary["friction_solver"] = friction_solver
         summary["friction_work"] = rec.friction_work
@@ -376,17 +376,12 @@ def _write_summary(out: Path, summary: dict, status: str) -> None:
 
 
 def _flush(pvd) -> float:
-    """Write the .pvd index if frames are missing from it; return the start time (s)."""
+    """Close the frames: the .pvd index lists them all; return the start time (s)."""
     clock = time.perf_counter()
-    pvd.flush()
+    pvd.close()
     return clock
 
 
-def _progress_bar(sim: Simulation, start: State | None):
-    from tqdm import tqdm
-
-    total = max(1, math.ceil(sim.t_end / sim.dt - 1e-9))
-    initial = 0 if start is None else start.step
-    return tqdm(
-        total=total, initial=initial, desc=sim.name, unit="step", disable=None, file=sys.stderr
-    )
+def _progress_bar(sim: Simulation, start: State | None) -> RunProgress:
+    t0, step0 = (0.0, 0) if start is None else (start.t, start.step)
+    return RunProgress(sim.name, sim.t_end, sim.dt, t0, step0)

@@ -9,7 +9,7 @@ import scipy.sparse as sp
 from .errors import InputError, SolverError
 from .linalg import factorize
 
-__all__ = ["solve_static", "static_contact"]
+__all__ = ["solve_static", "solve_static_contact", "static_contact"]
 
 
 def solve_static(
@@ -37,6 +37,61 @@ def solve_static(
                 )
             q[F] -= factorize(K, symmetric=True)(r)
     return q
+
+
+def solve_static_contact(
+    model, load: np.ndarray, small: bool = False, tol: float = 1e-12, max_iterations: int = 40
+):
+    """Equilibrium of the bodies of ``model`` under the nodal ``load`` (N) with the model's
+    frictionless contacts, f_int(q) = load + Σ_j G_jᵀ λ_j, 0 ≤ g_j ⊥ λ_j ≥ 0, in one load step.
+
+    Newton's method on the bordered system [K − Σ λ_j ∇²g_j, G_Aᵀ; G_A, 0] with a primal–dual
+    active set A = {j : λ_j − c g_j ≥ −c tol L} (c = the largest diagonal entry of K) re-evaluated
+    after every update. Returns (q (all dofs, m), λ (N, one per contact)); stops when the
+    update is below ``tol`` × the model size, the active set repeats and λ ≥ 0, g ≥ −tol L;
+    raises ``SolverError`` otherwise. For static patch tests of contact discretizations.
+    ``small``: small displacements, the gaps linearised at the reference configuration,
+    g(q) = g(0) + G(0) q (with a linear material, the problem of the classical patch test);
+    else they are evaluated where the bodies are.
+    """
+    F, contacts = model.free, model.contacts
+    q, lam = np.zeros(model.n), np.zeros(contacts.size)
+    L, A_prev = model.length, None
+    g0, G0 = contacts.linearize(q, contacts.all)[:2]
+    if small:
+        finite = np.isfinite(g0)
+        g0, G0 = np.where(finite, g0, np.inf), np.where(finite[:, None], G0, 0.0)
+
+    def gaps(q):
+        return g0 + G0 @ q[F] if small else contacts.gaps(q)
+
+    def linearize(q, rows, weights):
+        if small:
+            return gaps(q)[rows], G0[rows], np.zeros((len(F), len(F)))
+        return contacts.linearize(q, rows, weights)
+
+    for _ in range(max_iterations):
+        _, f, K = model.internal(q)
+        K = K.toarray() if sp.issparse(K) else np.asarray(K)
+        c = float(np.max(np.abs(np.diag(K))))
+        g_all = gaps(q)
+        # closed gaps (within tol L) start active: the bodies may touch without force
+        s_j = lam - c * np.where(np.isfinite(g_all), g_all, 0.0)
+        A = np.isfinite(g_all) & (s_j >= -c * tol * L)
+        rows = np.flatnonzero(A)
+        g, G, C = linearize(q, rows, lam[rows])
+        Kt = K - (C.toarray() if sp.issparse(C) else C)
+        m, n = len(rows), len(F)
+        M = np.block([[Kt, -G.T], [G, np.zeros((m, m))]])
+        sol = np.linalg.solve(M, np.concatenate([load[F] - f[F] + 0.0, -g]))
+        du, lam = sol[:n], np.zeros(contacts.size)
+        lam[rows] = sol[n:]
+        q[F] += du
+        done = np.max(np.abs(du), initial=0.0) <= tol * L and np.array_equal(A, A_prev)
+        if done and np.all(lam >= 0.0) and np.min(gaps(q), initial=0.0) >= -tol * L:
+            return q, lam
+        A_prev = A
+    raise SolverError("static contact: Newton or the active set did not settle")
 
 
 def static_contact(solid, load: np.ndarray, plane, within: float, hold: float = 1e-6):

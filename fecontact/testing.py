@@ -13,12 +13,11 @@ from __future__ import annotations
 import math
 import time
 from functools import cache
-from pathlib import Path
 
 import numpy as np
 
+from .cli.cases import bundled_cases, cases_folder, load_case
 from .errors import SolverError
-from .io.cli import load_case
 from .time import simulate
 
 __all__ = [
@@ -30,17 +29,23 @@ __all__ = [
     "gap_derivatives_error",
     "observed_order",
     "pendulum_exact",
+    "pressed_blocks",
+    "pressed_boxes",
     "trace",
 ]
 
 G = 9.81
-CASES = Path(__file__).resolve().parents[1] / "cases"
+CASES = cases_folder()  # the bundled case files
 
 
 @cache
 def case(name: str):
-    """The case module ``cases/NAME.py`` of a source checkout."""
-    return load_case(CASES / f"{name}.py")
+    """The module of the bundled case ``NAME`` (``cases/NAME.py`` of a source checkout, the
+    package data ``fecontact.cases`` of an installed wheel)."""
+    known = bundled_cases()
+    if name not in known:
+        raise ValueError(f"no bundled case {name!r}; bundled: {', '.join(known)}")
+    return load_case(known[name])
 
 
 def trace(sim, dt=None, t_end=None, max_wall=None, abort=None):
@@ -193,3 +198,104 @@ def gap_derivatives_error(pair, q: np.ndarray, eps: float = 1e-7) -> tuple[float
             h = Hs[j][:, at].sum(axis=1)
             err_h = max(err_h, float(np.max(np.abs(dG - h))) / max(1.0, np.abs(h).max()))
     return err_g, err_h
+
+
+def pressed_blocks(n_lower: int, n_upper: int, p: float, method="mortar", small=True):
+    """The contact patch test: two blocks [0, 1] × [0, 0.5] and [0, 1] × [0.5, 1] (m) with
+    ``n_lower`` and ``n_upper`` cells along x (non-matching meshes), the upper (slave) one
+    three times stiffer, pressed by a uniform pressure p (Pa) on its top; the lower one
+    rests on rollers at y = 0, both on rollers at x = 0; ``method`` of the contact, ``small``
+    displacements or not (:func:`fecontact.statics.solve_static_contact`). Returns (the
+    pair, the displacements of each block, the contact forces λ (N), the exact linear
+    displacements of each block)."""
+    from .bodies import Solid
+    from .contact import Contact
+    from .model import Model
+    from .scenes import solid_material
+    from .statics import solve_static_contact
+
+    E_LOW, E_UP, NU = 1e7, 3e7, 0.3
+    lower = Solid.rectangle(
+        [0, 0], [1, 0.5], (n_lower, 3), solid_material("linear", E_LOW, NU, 1e3)
+    )
+    upper = Solid.rectangle(
+        [0, 0.5], [1, 1.0], (n_upper, 3), solid_material("linear", E_UP, NU, 1e3)
+    )
+    lower.fix(lower.nodes_where(lambda x: x[1] < 1e-9), "y")
+    for b in (lower, upper):
+        b.fix(b.nodes_where(lambda x: x[0] < 1e-9), "x")
+    if method == "mortar":
+        pair = Contact(upper, lower, method="mortar")
+    else:  # the face's nodes but its corners (at a corner the closest facet is a tie)
+        face = upper.nodes_where(
+            lambda x: (abs(x[1] - 0.5) < 1e-9) & (x[0] > 1e-9) & (x[0] < 1 - 1e-9)
+        )
+        pair = Contact(upper, lower, nodes=face)
+    model = Model([lower, upper], [pair], gravity=(0.0, 0.0))
+    load = np.zeros(model.n)
+    top = upper.nodes_where(lambda x: x[1] > 1 - 1e-9)
+    top = top[np.argsort(upper.X[top, 0])]
+    o = model.offset_of(upper)
+    for a, b in zip(top[:-1], top[1:], strict=True):  # consistent nodal forces
+        load[o + 2 * np.array([a, b]) + 1] -= 0.5 * p * (upper.X[b, 0] - upper.X[a, 0])
+    q, lam = solve_static_contact(model, load, small=small)
+    # plane strain, σ_yy = −p, σ_xx = 0 in both blocks
+    exx, eyy = (lambda E: NU * (1 + NU) * p / E), (lambda E: -(1 - NU**2) * p / E)
+    XL, XU = lower.X, upper.X
+    u_low = np.stack([exx(E_LOW) * XL[:, 0], eyy(E_LOW) * XL[:, 1]], axis=1)
+    u_up = np.stack([exx(E_UP) * XU[:, 0], eyy(E_LOW) * 0.5 + eyy(E_UP) * (XU[:, 1] - 0.5)], axis=1)
+    parts = (q[model.body_slice(0)], q[model.body_slice(1)])
+    return pair, parts, lam, (u_low.ravel(), u_up.ravel())
+
+
+def pressed_boxes(n_lower: int, n_upper: int, p: float, method="mortar", small=True):
+    """The 3D contact patch test: boxes [0, 1]² × [0, 0.5] and [0, 1]² × [0.5, 1] (m) of
+    tetrahedra, ``n_lower`` and ``n_upper`` cells along x and y (non-matching meshes), the
+    upper (slave) one three times stiffer, pressed by a uniform pressure p (Pa) on its top;
+    the lower one rests on rollers at z = 0, both on rollers at x = 0 and y = 0; ``method``
+    of the contact (node-to-surface: the face's nodes off its edges). Returns (the pair, the
+    displacements of each box, the contact forces λ (N), the exact linear displacements of
+    each box)."""
+    from .bodies import Solid
+    from .contact import Contact
+    from .model import Model
+    from .scenes import solid_material
+    from .statics import solve_static_contact
+
+    E_LOW, E_UP, NU = 1e7, 3e7, 0.3
+    lower = Solid.box([0, 0, 0], [1, 1, 0.5], (n_lower, n_lower, 2),
+                      solid_material("linear", E_LOW, NU, 1e3))  # fmt: skip
+    upper = Solid.box([0, 0, 0.5], [1, 1, 1.0], (n_upper, n_upper, 2),
+                      solid_material("linear", E_UP, NU, 1e3))  # fmt: skip
+    lower.fix(lower.nodes_where(lambda x: x[2] < 1e-9), "z")
+    for b in (lower, upper):
+        b.fix(b.nodes_where(lambda x: x[0] < 1e-9), "x")
+        b.fix(b.nodes_where(lambda x: x[1] < 1e-9), "y")
+    if method == "mortar":
+        pair = Contact(upper, lower, method="mortar")
+    else:  # the face's nodes off its edges (on an edge the closest facet is a tie)
+        inner = upper.nodes_where(
+            lambda x: (
+                (abs(x[2] - 0.5) < 1e-9)
+                & (np.min(np.abs(x[:2] - 0.5), axis=0) < 0.5 - 1e-9)
+                & (np.max(np.abs(x[:2] - 0.5), axis=0) < 0.5 - 1e-9)
+            )
+        )
+        pair = Contact(upper, lower, nodes=inner)
+    model = Model([lower, upper], [pair], gravity=(0.0, 0.0, 0.0))
+    load = np.zeros(model.n)
+    o = model.offset_of(upper)
+    X = upper.X
+    for tri in upper.boundary_facets():
+        if np.all(X[tri, 2] > 1 - 1e-9):  # the top face: p A / 3 on each vertex
+            area = 0.5 * np.linalg.norm(np.cross(X[tri[1]] - X[tri[0]], X[tri[2]] - X[tri[0]]))
+            load[o + 3 * tri + 2] -= p * area / 3.0
+    q, lam = solve_static_contact(model, load, small=small)
+    # σ_zz = −p, the other stresses zero
+    XL, XU = lower.X, upper.X
+    u_low = np.stack([NU * p / E_LOW * XL[:, 0], NU * p / E_LOW * XL[:, 1],
+                      -p / E_LOW * XL[:, 2]], axis=1)  # fmt: skip
+    u_up = np.stack([NU * p / E_UP * XU[:, 0], NU * p / E_UP * XU[:, 1],
+                     -p / E_LOW * 0.5 - p / E_UP * (XU[:, 2] - 0.5)], axis=1)  # fmt: skip
+    parts = (q[model.body_slice(0)], q[model.body_slice(1)])
+    return pair, parts, lam, (u_low.ravel(), u_up.ravel())

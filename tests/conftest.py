@@ -7,6 +7,15 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 os.environ.setdefault("MPLBACKEND", "Agg")
 
+# the tests step small models outside ``run`` too (``simulate``, ``trace``): one BLAS thread
+# for them all, as inside a run, unless the environment says otherwise
+from fecontact.threads import USER_SETTINGS  # noqa: E402
+
+if not any(os.environ.get(name) for name in USER_SETTINGS):
+    from threadpoolctl import threadpool_limits
+
+    threadpool_limits(limits=1, user_api="blas")
+
 
 @pytest.fixture(scope="session")
 def cases_dir() -> Path:

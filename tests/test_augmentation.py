@@ -30,7 +30,7 @@ def strip_on_cylinder() -> Simulation:
     """A free aluminium strip 1 mm above a cylinder of radius 5 cm, pulled down at 50 g: it
     wraps around the cylinder and whips, with contacts sliding along the curved surface."""
     section = Section.rectangle(0.02, 0.002)
-    beam = Beam2D.straight([-0.2, 0.0], [0.2, 0.0], 8, Material(70e9, 2700.0, 0.33), section)
+    beam = Beam2D.straight([-0.2, 0.0], [0.2, 0.0], 8, Material(70e9, nu=0.33, rho=2700.0), section)
     cylinder = Circle([0.0, -0.051], 0.05)
     model = Model([beam], [Contact(beam, cylinder)], gravity=(0.0, -500.0))
     probes = {f"tip_{c}": node_probe(model, beam, -1, c) for c in ("x", "y")}
@@ -88,7 +88,7 @@ def test_strip_on_a_cylinder_does_not_depend_on_k(strip_reference, k):
 def test_summary_reports_the_final_contact_residuals(tmp_path):
     import json
 
-    from fecontact.io.cli import main
+    from fecontact.cli.commands import main
     from fecontact.testing import CASES
 
     out = tmp_path / "run"

@@ -30,7 +30,7 @@ from fecontact.time.penalty import (
     penalty_step,
 )
 
-MATERIAL = Material(E=70e9, rho=2700.0, nu=0.33)
+MATERIAL = Material(E=70e9, nu=0.33, rho=2700.0)
 SECTION = Section.rectangle(0.02, 0.002)
 
 

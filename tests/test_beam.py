@@ -1,12 +1,14 @@
 """Beam2D: exact tangent, rigid-motion invariance, and the rolled-up cantilever."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
-from fecontact import Beam2D, InputError, Material, Model, Section
+from fecontact import Beam2D, InputError, LinearElastic, Material, Model, Section
 from fecontact.statics import solve_static
 
-MATERIAL = Material(E=70e9, rho=2700.0, nu=0.33)
+MATERIAL = Material(E=70e9, nu=0.33, rho=2700.0)
 SECTION = Section.rectangle(0.02, 0.002)
 
 
@@ -88,7 +90,7 @@ def test_cantilever_under_end_moment_rolls_into_a_circle(n_elements):
     element: constant curvature, equal chords)."""
     L = 1.0
     beam = Beam2D.straight(
-        [0, 0], [L, 0], n_elements, Material(1e7, 1.0, 0.3), Section.rectangle(0.1, 0.01)
+        [0, 0], [L, 0], n_elements, Material(1e7, nu=0.3, rho=1.0), Section.rectangle(0.1, 0.01)
     ).clamp(0)
     model = Model([beam], gravity=(0, 0))
     EI = beam.material.E * beam.section.inertia
@@ -117,7 +119,7 @@ def test_mass_matrix_carries_beam_and_point_masses():
     [
         (lambda: Material(E=-1.0, rho=1.0), "E"),
         (lambda: Material(E=1.0, rho=0.0), "rho"),
-        (lambda: Material(E=1.0, rho=1.0, nu=0.7), "nu"),
+        (lambda: Material(E=1.0, nu=0.7, rho=1.0), "nu"),
         (lambda: Material(E=float("nan"), rho=1.0), "E"),
         (lambda: Section.rectangle(-0.02, 0.002), "width"),
         (lambda: Section(area=1e-4, inertia=0.0), "inertia"),
@@ -132,3 +134,14 @@ def test_mass_matrix_carries_beam_and_point_masses():
 def test_bad_input_is_rejected_with_the_parameter_named(make, word):
     with pytest.raises(InputError, match=word):
         make()
+
+
+def test_material_arguments_come_in_the_solids_order_and_only_E_by_position():
+    """(E, nu, rho) as for ``LinearElastic``; a call by position in the order of earlier
+    versions, Material(E, rho, nu), is an error rather than a density read as ν."""
+    assert Material(70e9, nu=0.33, rho=2700.0) == Material(E=70e9, rho=2700.0, nu=0.33)
+    for cls in (Material, LinearElastic):
+        assert [f.name for f in dataclasses.fields(cls)] == ["E", "nu", "rho"]
+    for args in [(70e9, 2700.0), (70e9, 2700.0, 0.33), (70e9, 0.33, 2700.0)]:
+        with pytest.raises(TypeError, match="positional"):
+            Material(*args)

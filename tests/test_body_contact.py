@@ -7,6 +7,7 @@ import skfem
 from fecontact import Beam2D, Contact, InputError, Material, Model, Section
 from fecontact.bodies.materials import LinearElastic, NeoHookean
 from fecontact.bodies.solid import Solid
+from fecontact.contact.beam_sides import PointBeamContact
 from fecontact.contact.body_pairs import (
     NodeNodeContact,
     NodeSurfaceContact,
@@ -178,14 +179,32 @@ def test_gradients_are_translation_invariant(name, make):
     assert np.all(G[~rows] == 0.0) and np.all(pair.hessians(q, np.flatnonzero(~rows)) == 0.0)
 
 
+def winding_number(x, xf):
+    """Winding number of the closed surface of facets xf (F, k, d) around the point x, summed
+    over every facet: the angles subtended by the segments (2D), the solid angles of the
+    triangles by Van Oosterom & Strackee (IEEE Trans. Biomed. Eng., 1983) (3D)."""
+    r = xf - x
+    if x.size == 2:
+        a, b = r[:, 0], r[:, 1]
+        cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+        return np.sum(np.arctan2(cross, np.sum(a * b, axis=1))) / (2 * np.pi)
+    a, b, c = r[:, 0], r[:, 1], r[:, 2]
+    la, lb, lc = (np.linalg.norm(v, axis=1) for v in (a, b, c))
+    num = np.einsum("ij,ij->i", a, np.cross(b, c))
+    dot = lambda u, v: np.sum(u * v, axis=1)  # noqa: E731
+    den = la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la
+    return np.sum(2 * np.arctan2(num, den)) / (4 * np.pi)
+
+
 def brute_force_gaps(pair, q):
-    """Gaps by the facet rule of the module docstring over every facet (no search)."""
+    """Gaps by the facet rule of the module docstring over every facet (no search): nodes
+    within the margin of a facet, or inside the master by their winding number."""
     xs, xm = pair.positions(q)
     F = len(pair.facets)
     out = np.full(len(xs), np.inf)
     for i, x in enumerate(xs):
         dist, g = closest_facet_distance(np.repeat(x[None], F, 0), xm[pair.facets])
-        if dist.min() > pair.margin:
+        if dist.min() > pair.margin and winding_number(x, xm[pair.facets]) < 0.5:
             continue
         ties = dist <= dist.min() + pair.tie_tolerance
         out[i] = g[ties][np.argmax(np.abs(g[ties]))]
@@ -264,7 +283,7 @@ def test_only_nodes_within_the_margin_get_a_finite_gap():
 
 def test_global_dofs_follow_the_model_layout():
     slave, master = bodies_2d()
-    beam = Beam2D.straight([0.0, -1.0], [1.0, -1.0], 3, Material(1e9, 1e3), Section(1e-4, 1e-9))
+    beam = Beam2D.straight([0.0, -1.0], [1.0, -1.0], 3, Material(1e9, rho=1e3), Section(1e-4, 1e-9))
     pair = Contact(slave, master)
     model = Model([beam, master, slave], [pair])
     g, dofs, G, H = pair.evaluate(np.zeros(model.n))
@@ -313,9 +332,14 @@ def test_pair_rejects_bad_input():
         Contact(slave, master, restitution=1.5)
     with pytest.raises(InputError):
         Contact(slave, master, nodes=[10**6])
-    bar = Beam2D.straight([0.0, 0.0], [1.0, 0.0], 2, Material(1e9, 1e3), Section(1e-4, 1e-9))
-    with pytest.raises(InputError, match="no contact between"):
-        Contact(slave, bar)
+    bar = Beam2D.straight([0.0, 0.0], [1.0, 0.0], 2, Material(1e9, rho=1e3), Section(1e-4, 1e-9))
+    # a solid against a beam is the beam's two-sided surface; given the other way round, or
+    # in 3D, it is refused
+    assert isinstance(Contact(slave, bar, clearance=0.01), PointBeamContact)
+    with pytest.raises(InputError, match="Contact\\(solid, beam"):
+        Contact(bar, slave)
+    with pytest.raises(InputError, match="2D bodies only"):
+        Contact(ball, bar)
 
 
 def test_nonlinear_solids_use_the_same_pairs():
@@ -330,7 +354,7 @@ def test_nonlinear_solids_use_the_same_pairs():
 
 
 def bars(gap=0.0):
-    mat, sec = Material(1.0, 1.0), Section(1.0, 1.0 / 12.0)
+    mat, sec = Material(1.0, rho=1.0), Section(1.0, 1.0 / 12.0)
     a = Beam2D.straight([-1.0 - gap, 0.0], [-gap, 0.0], 4, mat, sec)
     b = Beam2D.straight([0.0, 0.0], [1.0, 0.0], 4, mat, sec)
     return a, b

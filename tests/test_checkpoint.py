@@ -7,7 +7,7 @@ from conftest import ROOT
 
 import fecontact.simulation as simulation
 from fecontact import load_run
-from fecontact.io.cli import main
+from fecontact.cli.commands import main
 
 CASE = str(ROOT / "cases" / "flexible_pendulum.py")
 ARGS = ["--quiet", "--t-end", "0.6", "--checkpoint-every", "150", "--set", "restitution=0.5"]
@@ -31,6 +31,8 @@ def same_run(a, b):
     for (_, pa), (_, pb) in zip(fa, fb, strict=True):
         for name in pa:
             assert np.array_equal(pa[name].points, pb[name].points)
+            for field in pb[name].point_data:  # (the points are the reference configuration)
+                assert np.array_equal(pa[name].point_data[field], pb[name].point_data[field])
 
 
 def test_resume_after_ctrl_c_equals_uninterrupted_run(reference, tmp_path, monkeypatch):
@@ -106,3 +108,26 @@ def resumes_identically(name, args, end, half, tmp_path):
     resume = ["--resume", "--quiet", "--t-end", end, *args]
     assert main(["run", case, "--out", str(resumed), *resume]) == 0
     same_run(whole, resumed)
+
+
+def test_resume_vtkhdf_frames_after_ctrl_c(tmp_path, monkeypatch):
+    """Transient VTKHDF files are cut back to the checkpoint and continued: the same frames as
+    an uninterrupted run, and as its VTU frames."""
+    vtkhdf = [*ARGS, "--format", "vtkhdf"]
+    assert main(["run", CASE, "--out", str(tmp_path / "whole"), *vtkhdf]) == 0
+    assert main(["run", CASE, "--out", str(tmp_path / "vtu"), *ARGS]) == 0
+    out = tmp_path / "interrupted"
+    frame_parts = simulation.frame_parts
+
+    def interrupt_late(model, st):
+        if st.t > 0.52:
+            raise KeyboardInterrupt
+        return frame_parts(model, st)
+
+    monkeypatch.setattr(simulation, "frame_parts", interrupt_late)
+    assert main(["run", CASE, "--out", str(out), *vtkhdf]) == 130
+    assert 0.5 < load_run(out).frames([-1])[0][0] <= 0.52
+    monkeypatch.setattr(simulation, "frame_parts", frame_parts)
+    assert main(["run", CASE, "--out", str(out), "--resume", *vtkhdf]) == 0
+    same_run(tmp_path / "whole", out)
+    same_run(tmp_path / "vtu", out)

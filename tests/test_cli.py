@@ -10,7 +10,7 @@ from conftest import ROOT
 from scipy.special import ellipk
 
 from fecontact import load_run
-from fecontact.io.cli import main, parse_value
+from fecontact.cli import main, parse_value
 from fecontact.simulation import HISTORY_COLUMNS
 
 CASE = str(ROOT / "cases" / "flexible_pendulum.py")
@@ -72,7 +72,11 @@ def test_run_writes_frames_history_and_summary(short_run):
     t, parts = run.frames([-1])[0]
     beam = next(m for name, m in parts.items() if "obstacle" not in name)
     assert beam.point_data["displacement"].shape == (5, 3)
-    assert np.allclose(beam.points[-1, :2], [run.history["tip_x"][-1], run.history["tip_y"][-1]])
+    # points: the reference configuration; plus the displacement: the deformed shape
+    assert np.allclose(beam.points[:, 0], np.linspace(0.0, 0.3, 5))
+    assert np.all(beam.points[:, 1] == 0)
+    tip = (beam.points + beam.point_data["displacement"])[-1, :2]
+    assert np.allclose(tip, [run.history["tip_x"][-1], run.history["tip_y"][-1]])
     assert beam.n_cells == 4
 
 

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fecontact.io.cli import main
+from fecontact.cli.commands import main
 from fecontact.testing import CASES
 
 SEED_RUNS = 80

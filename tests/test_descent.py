@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from fecontact.io.cli import main
+from fecontact.cli.commands import main
 from fecontact.testing import CASES, case
 from fecontact.time import simulate
 from fecontact.time.descent import Armijo, descent_direction

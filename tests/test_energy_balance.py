@@ -10,11 +10,11 @@ from conftest import ROOT
 
 from fecontact import Model, NodalLoad, load_run
 from fecontact.bodies import Beam2D, Material, Section
-from fecontact.io.cli import main
+from fecontact.cli.commands import main
 from fecontact.simulation import Simulation, run
 
 CASE = str(ROOT / "cases" / "flexible_pendulum.py")
-MATERIAL = Material(E=70e9, rho=2700.0, nu=0.33)
+MATERIAL = Material(E=70e9, nu=0.33, rho=2700.0)
 SECTION = Section.rectangle(0.02, 0.002)
 
 

@@ -269,7 +269,7 @@ def test_no_friction_is_todays_path():
 def test_friction_is_checked():
     with pytest.raises(InputError, match="friction must be >= 0"):
         case("rolling_disk").build(friction=-0.1)
-    mat, sec = Material(E=1e9, rho=1e3, nu=0.3), Section.rectangle(0.01, 0.01)
+    mat, sec = Material(E=1e9, nu=0.3, rho=1e3), Section.rectangle(0.01, 0.01)
     a = Beam2D.straight([0.0, 0.0], [1.0, 0.0], 2, mat, sec)
     b = Beam2D.straight([1.1, 0.0], [2.0, 0.0], 2, mat, sec)
     with pytest.raises(InputError, match="friction: not available"):

@@ -29,7 +29,9 @@ def elastic():
 
 
 def beam():
-    return Beam2D.straight([0, 0], [1, 0], 4, Material(1e9, 1000.0), Section.rectangle(0.1, 0.01))
+    return Beam2D.straight(
+        [0, 0], [1, 0], 4, Material(1e9, rho=1000.0), Section.rectangle(0.1, 0.01)
+    )
 
 
 @pytest.mark.parametrize(

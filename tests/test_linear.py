@@ -34,7 +34,7 @@ def test_iteration_matrix_is_factorized_once_over_a_long_linear_run():
     assert sorted(key[0] for key in model.column_cache) == ["mass", "smooth", "stiffness"]
 
 
-MATERIAL = Material(E=70e9, rho=2700.0, nu=0.33)
+MATERIAL = Material(E=70e9, nu=0.33, rho=2700.0)
 SECTION = Section.rectangle(0.02, 0.002)
 
 

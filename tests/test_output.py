@@ -290,7 +290,7 @@ def test_load_run_accepts_pvd_path_and_reports_missing_or_ambiguous_pvd(tmp_path
 def test_a_plane_is_drawn_under_the_whole_motion(tmp_path):
     """The block slides about 1.5 m down a 30° incline: the plane's outline covers where it
     went, not 2 model sizes around the plane's point."""
-    from fecontact.io.cli import main
+    from fecontact.cli.commands import main
     from fecontact.io.output import load_run
     from fecontact.testing import CASES
 

@@ -15,7 +15,9 @@ GROUP = {
 
 def beam_case(length, n_elements):
     section = Section.rectangle(0.02, 0.002)
-    beam = Beam2D.straight([0.0, 0.0], [length, 0.0], n_elements, Material(70e9, 2700.0), section)
+    beam = Beam2D.straight(
+        [0.0, 0.0], [length, 0.0], n_elements, Material(70e9, rho=2700.0), section
+    )
     return Simulation(Model([beam], []), dt=1e-3, t_end=1e-3)
 
 

@@ -59,7 +59,7 @@ def test_bending_ringing_after_impact(default_run):
     K φ = ω² M φ in the vertical configuration, 55.5 Hz; a continuous pinned-pinned strip
     without the tip mass's rotary part would give 51.3 Hz), to the resolution 1/T of the
     spectrum."""
-    beam = Beam2D.straight([0, 0], [0, -L], 4, Material(E=70e9, rho=2700.0, nu=0.33), SECTION)
+    beam = Beam2D.straight([0, 0], [0, -L], 4, Material(E=70e9, nu=0.33, rho=2700.0), SECTION)
     beam.pin(0).add_mass(-1, 0.14).fix(-1, "x")
     model = Model([beam], gravity=(0.0, 0.0))
     K, M = model.internal(np.zeros(model.n))[2], model.M

@@ -1,4 +1,4 @@
-"""The README's case example builds, checks its parameters and steps."""
+"""The README's commands and case example, and the case-writing guide's snippets, run."""
 
 import re
 
@@ -42,7 +42,7 @@ def test_readme_snippets_run():
         Solid,
     )
 
-    text = (ROOT / "README.md").read_text()
+    text = (ROOT / "docs" / "howto" / "write_a_case.md").read_text()
     code = re.search(r"Things a case often needs.*?```python\n(.*?)```", text, re.S).group(1)
     mat = LinearElastic(E=1e6, nu=0.3, rho=1e3)
     ball = Solid.disk([0.0, 0.2], 0.05, 1, mat)
@@ -57,7 +57,47 @@ def test_readme_snippets_run():
     cwd = os.getcwd()
     os.chdir(ROOT)
     try:
-        exec(compile(code, "README.md", "exec"), namespace)
+        exec(compile(code, "write_a_case.md", "exec"), namespace)
     finally:
         os.chdir(cwd)
     assert namespace["sim"].v0 is not None and namespace["plate"].thickness == 0.005
+
+
+def readme_commands() -> list[str]:
+    text = (ROOT / "README.md").read_text()
+    setup = re.search(r"## Set-up(.*?)\n## ", text, re.S).group(1)
+    return re.findall(r"```\n(.*?)\n```", setup, re.S)
+
+
+def test_readme_set_up_is_two_commands_that_install_what_they_use():
+    """The first installs the render extra its --render needs; the second the test extra,
+    whose dependencies are every extra the tests import."""
+    first, second = readme_commands()
+    assert first == 'pip install -e ".[render]" && fecontact run flexible_pendulum --render'
+    assert second == 'pip install -e ".[test]" && pytest'
+    ci = (ROOT / ".ci" / "run").read_text()
+    assert 'pip install -e ".[test]"' in ci
+
+
+@pytest.mark.slow
+def test_readme_first_command_runs_from_any_folder(tmp_path, monkeypatch):
+    """``fecontact run flexible_pendulum --render`` as written, shortened to 0.05 s."""
+    pytest.importorskip("pyvista")
+    from fecontact.cli import main
+
+    command = readme_commands()[0].split(" && ")[1].split()
+    assert command[0] == "fecontact"
+    monkeypatch.chdir(tmp_path)
+    assert main([*command[1:], "--t-end", "0.05", "--quiet"]) == 0
+    out = tmp_path / "out" / "flexible_pendulum"
+    assert (out / "summary.json").is_file() and (out / "animation.gif").is_file()
+
+
+def test_readme_is_a_front_page():
+    """At most 250 lines; every page it links to exists."""
+    text = (ROOT / "README.md").read_text()
+    assert len(text.splitlines()) <= 250
+    links = re.findall(r"\]\(((?:docs)/[^)]+)\)", text)
+    assert len(links) >= 10
+    for link in links:
+        assert (ROOT / link).is_file(), link

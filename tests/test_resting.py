@@ -46,7 +46,7 @@ def test_ball_resting_on_the_plane_for_ten_seconds():
 def test_beam_lying_on_the_plane_for_ten_seconds():
     """A 20-element strip lying flat on a plane under gravity: every node in contact."""
     beam = Beam2D.straight(
-        [0, 0], [0.4, 0], 20, Material(70e9, 2700, 0.33), Section.rectangle(0.02, 0.002)
+        [0, 0], [0.4, 0], 20, Material(70e9, nu=0.33, rho=2700), Section.rectangle(0.02, 0.002)
     )
     model = Model([beam], [Contact(beam, Plane([0, 0], [0, 1]))])
     gaps, speeds, its = rest(model, 1e-3, 10.0, lambda st: np.abs(st.v).max())

@@ -13,7 +13,7 @@ from fecontact.contact.segment_pairs import SegmentCircleContact
 from fecontact.testing import gap_derivatives_error
 from fecontact.time import simulate
 
-MATERIAL = Material(E=70e9, rho=2700.0, nu=0.33)
+MATERIAL = Material(E=70e9, nu=0.33, rho=2700.0)
 SECTION = Section.rectangle(0.02, 0.002)
 
 

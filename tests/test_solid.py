@@ -442,7 +442,7 @@ def test_degenerate_element_is_named():
 
 def test_vertex_outside_every_element():
     p = np.array([[0.0, 1.0, 5.0, 0.0], [0.0, 0.0, 5.0, 1.0]])
-    with pytest.raises(InputError, match="vertex 2 belongs to no element"):
+    with pytest.raises(InputError, match="belong to no element, the first is vertex 2"):
         Solid(skfem.MeshTri(p, np.array([[0, 1, 3]]).T), MATERIALS["linear"])
 
 
@@ -517,3 +517,14 @@ def test_quadratic_ball_is_curved():
     assert np.allclose(r, radius, rtol=1e-14)
     exact = 4.0 / 3.0 * np.pi * radius**3
     assert abs(p2.volume / exact - 1.0) < 0.1 * abs(p1.volume / exact - 1.0)
+
+
+def test_a_disk_has_the_triangles_its_docstring_says():
+    """4 · 4^n triangles after n refinements (the docstring and the case parameter say so)."""
+    from fecontact.scenes import DISK
+
+    mat = LinearElastic(E=1e6, nu=0.3, rho=1e3)
+    for n in range(4):
+        assert Solid.disk([0.0, 0.0], 1.0, n, mat).mesh.t.shape[1] == 4 * 4**n
+    assert "4 · 4^refinements triangles" in Solid.disk.__doc__
+    assert "(4 * 4^n triangles)" in DISK["refinements"].text

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from fecontact import InputError, simulate
-from fecontact.io.cli import load_case
+from fecontact.cli import load_case
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 NAMES = ["disk_drop", "two_disks", "ball_drop", "two_bars"]

@@ -9,7 +9,7 @@ from fecontact.bodies.rigid import Disk, PointMass, RigidBody2D
 
 def beam():
     return Beam2D.straight(
-        [0, 0], [1, 0], 2, Material(E=1e9, rho=1e3, nu=0.3), Section.circle(0.01)
+        [0, 0], [1, 0], 2, Material(E=1e9, nu=0.3, rho=1e3), Section.circle(0.01)
     )
 
 

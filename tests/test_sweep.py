@@ -7,7 +7,7 @@ import shutil
 
 import pytest
 
-from fecontact.io.cli import main
+from fecontact.cli.commands import main
 from fecontact.testing import CASES
 
 CASE = str(CASES / "flexible_pendulum.py")

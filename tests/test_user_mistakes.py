@@ -18,7 +18,7 @@ from fecontact import (
     node_probe,
     simulate,
 )
-from fecontact.io.cli import main
+from fecontact.cli.commands import main
 
 CASE = str(ROOT / "cases" / "flexible_pendulum.py")
 
@@ -52,7 +52,7 @@ def test_info_into_a_closed_pipe_is_quiet():
 
 def test_poisson_ratio_of_a_beam_is_below_a_half():
     with pytest.raises(InputError, match=r"nu must be in \(-1, 0.5\)"):
-        Material(E=1e9, rho=1e3, nu=0.5)
+        Material(E=1e9, nu=0.5, rho=1e3)
 
 
 def test_max_iterations_at_least_one():
@@ -193,7 +193,7 @@ def test_render_takes_the_pvd_it_is_given_among_several(finished, tmp_path):
     copy = tmp_path / "two"
     shutil.copytree(finished, copy)
     shutil.copy(copy / "flexible_pendulum.pvd", copy / "other.pvd")
-    from fecontact.io.cli import render_target
+    from fecontact.cli.commands import render_target
 
     assert render_target(copy / "other.pvd").name == "other.pvd"
 
@@ -252,8 +252,8 @@ def test_redundant_joints_are_refused_before_the_run():
 def test_a_full_disk_mid_run_is_one_line_and_keeps_a_readable_index(tmp_path, monkeypatch, capsys):
     import errno
 
-    import fecontact.io.output as output
-    from fecontact.io.cli import main
+    import fecontact.io.pvd as output  # the .pvd writer writes the frames
+    from fecontact.cli.commands import main
     from fecontact.io.output import load_run
     from fecontact.testing import CASES
 
@@ -280,7 +280,7 @@ def test_a_full_disk_mid_run_is_one_line_and_keeps_a_readable_index(tmp_path, mo
 def test_an_output_folder_that_cannot_be_made_is_one_line(tmp_path, monkeypatch, capsys):
     from pathlib import Path
 
-    from fecontact.io.cli import main
+    from fecontact.cli.commands import main
     from fecontact.testing import CASES
 
     def refuse(self, *args, **kwargs):
@@ -291,3 +291,90 @@ def test_an_output_folder_that_cannot_be_made_is_one_line(tmp_path, monkeypatch,
     assert main([*args, "--t-end", "0.01"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "Permission denied" in err[0]
+
+
+def test_a_case_file_not_named_py_is_one_line(tmp_path, capsys):
+    text = tmp_path / "pendulum.txt"
+    text.write_text((ROOT / "cases" / "flexible_pendulum.py").read_text())
+    one_line_error(capsys, ["run", str(text), "--quiet", "--out", str(tmp_path)], ".py")
+    one_line_error(capsys, ["info", str(text)], ".py")
+
+
+def test_resume_with_a_history_shorter_than_the_checkpoint(tmp_path, capsys):
+    args = ["run", CASE, "--quiet", "--checkpoint-every", "10", "--out", str(tmp_path)]
+    assert main([*args, "--t-end", "0.025"]) == 0
+    history = tmp_path / "history.csv"
+    history.write_text("".join(history.read_text().splitlines(keepends=True)[:6]))
+    one_line_error(capsys, [*args, "--t-end", "0.05", "--resume"], "history.csv", "holds 5 rows")
+
+
+def test_resume_with_a_frame_deleted_is_refused(tmp_path, capsys):
+    args = ["run", CASE, "--quiet", "--checkpoint-every", "20", "--out", str(tmp_path)]
+    assert main([*args, "--t-end", "0.025", "--output-interval", "0.005"]) == 0
+    frames = sorted(tmp_path.glob("flexible_pendulum_beam2d0_*.vtu"))
+    frames[1].unlink()
+    resume = [*args, "--t-end", "0.05", "--output-interval", "0.005", "--resume"]
+    one_line_error(capsys, resume, frames[1].name, "missing")
+
+
+def test_render_of_a_run_missing_a_middle_frame(tmp_path, capsys):
+    args = ["run", CASE, "--quiet", "--t-end", "0.03", "--output-interval", "0.005"]
+    assert main([*args, "--out", str(tmp_path)]) == 0
+    frames = sorted(tmp_path.glob("flexible_pendulum_beam2d0_*.vtu"))
+    frames[len(frames) // 2].unlink()
+    one_line_error(capsys, ["render", str(tmp_path)], frames[len(frames) // 2].name, "missing")
+
+
+def test_resume_refuses_another_case_files_checkpoint(tmp_path, capsys):
+    """Two files that build a case of the same name and parameters, one with the stop moved:
+    the second does not continue the first one's checkpoint."""
+    source = (ROOT / "cases" / "flexible_pendulum.py").read_text()
+    first, moved = tmp_path / "first.py", tmp_path / "moved.py"
+    first.write_text(source)
+    assert "Plane([0.0, -0.3]" in source
+    moved.write_text(source.replace("Plane([0.0, -0.3]", "Plane([0.0, -0.29]"))
+    out = str(tmp_path / "out")
+    args = ["--quiet", "--checkpoint-every", "10", "--out", out]
+    assert main(["run", str(first), *args, "--t-end", "0.02"]) == 0
+    one_line_error(
+        capsys, ["run", str(moved), *args, "--t-end", "0.04", "--resume"], "another case file"
+    )
+    assert main(["run", str(first), *args, "--t-end", "0.04", "--resume"]) == 0
+    import json
+
+    record = json.loads((tmp_path / "out" / "summary.json").read_text())["case_file"]
+    assert record["file"] == str(first.resolve()) and len(record["sha256"]) == 64
+
+
+def test_sweep_quiet_still_names_the_failed_runs(tmp_path, capsys):
+    pytest.importorskip("distributed")
+    argv = ["sweep", "bouncing_ball", "--set", "max_iterations=1,30", "--t-end", "0.6"]
+    assert main([*argv, "--quiet", "--workers", "1", "--out", str(tmp_path)]) == 1
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    (line,) = [x for x in captured.err.splitlines() if x.startswith("fecontact:")]
+    assert "max_iterations=1" in line and "failed" in line and "converge" in line
+
+
+@pytest.mark.slow
+def test_ctrl_c_during_a_sweep_is_one_line(tmp_path):
+    """SIGINT to the command while its runs go on: one line, status 130, completed runs kept
+    and sweep.csv written (the same sweep again continues)."""
+    pytest.importorskip("distributed")
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    argv = [sys.executable, "-m", "fecontact", "sweep", "bouncing_ball", "--quiet"]
+    argv += ["--set", "restitution=0,0.5", "--t-end", "30", "--workers", "1", "--out", "s"]
+    proc = subprocess.Popen(argv, cwd=tmp_path, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    while not list(tmp_path.glob("s/*/history.csv")) and time.monotonic() < deadline:
+        time.sleep(0.2)  # until a run is under way
+    proc.send_signal(signal.SIGINT)
+    err = proc.communicate(timeout=120)[1]
+    lines = [x for x in err.splitlines() if x.strip()]
+    assert proc.returncode == 130, err
+    assert len(lines) == 1 and "interrupted" in lines[0] and "Traceback" not in err, err
+    assert (tmp_path / "s" / "sweep.csv").is_file()

@@ -287,7 +287,7 @@ def test_a_disk_striking_a_cantilever_node_with_e0_only_dissipates(position, h):
     # (h = 4e-4) and 0.44, 2.3, 0 % (2e-4) of the impact's kinetic energy. Now the velocity
     # follows the accelerations' response to that strain: the largest energy after the
     # impact is 8-13 % below the one before it. The bound is round-off on 0.5 J.
-    steel, section = Material(210e9, 7850.0), Section.rectangle(0.05, 0.01)
+    steel, section = Material(210e9, rho=7850.0), Section.rectangle(0.05, 0.01)
     beam = Beam2D.straight([0, 0], [1, 0], 20, steel, section)
     beam.clamp(0)
     disk = RigidBody2D.uniform(1.0, [position, 0.005 + 0.01 + 0.05], Disk(0.05))

@@ -14,33 +14,65 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["Body", "BodyDefaults"]
+__all__ = ["Body", "BodyDefaults", "EnergyConsistentBody"]
 
 
 @runtime_checkable
 class Body(Protocol):
-    """The interface of a body: dofs, mass, internal force and output geometry."""
+    """The interface of a body: every member the model, the contacts, the steppers, the
+    output and the scenes use on a body of any kind (a test checks each body class against
+    it). Members a contact pair uses only on the kinds it is registered for (a beam's
+    ``segments``, a solid's ``contact_facets``, a rigid body's ``center``) are not part of it.
+    """
 
+    # -- sizes and traits, fixed when the body is built
     dim: int  # 2 or 3
     ndof: int
+    dofs_per_node: int
+    n_nodes: int  # nodes (output points of a rigid body)
+    mass: float  # kg, point masses included
+    characteristic_length: float  # m: the size of the body (beam length, box diagonal, ...)
     linear: bool  # internal force affine in q: the iteration matrix is constant
     linear_kinematics: bool  # node positions affine in q
     rigid_frame: bool  # positions x = c + R(φ) r of a rigid frame
     continuum: bool  # an elastic continuum, whose contact zones last over many wave transits
     slender: bool  # a beam: rotations and stretching far above any step it takes (hω ≫ 1)
+    energy_consistent: bool  # an ``EnergyConsistentBody`` (the energy-decaying smooth step)
     element_dofs: np.ndarray
     center_index: int | None  # output point of a rigid body's centre of mass
     components: tuple[str, ...]  # names of a node's dofs, in order: x, y, (z | theta)
     fixed: set[int]  # supported dofs, held at zero
 
+    # -- mechanics
+    def internal(self, q: np.ndarray, tangent: bool = True): ...
+    def energy(self, q: np.ndarray) -> float: ...
+    def mass_matrix(self): ...
+    def translation_field(self, vector) -> np.ndarray: ...
+    def rigid_modes(self) -> np.ndarray: ...
+    def inverted(self, q: np.ndarray) -> bool: ...
+
+    # -- nodes, supports and contact points
     def node_index(self, node: int) -> int: ...
+    def support(self, node: int, components) -> None: ...
+    def contact_nodes(self, nodes=None) -> np.ndarray: ...
     def positions(self, q: np.ndarray) -> np.ndarray: ...
     def point_kinematics(self, q: np.ndarray, nodes: np.ndarray): ...
-    def support(self, node: int, components) -> None: ...
     def point_positions(self, q: np.ndarray, nodes: np.ndarray) -> np.ndarray: ...
-    def inverted(self, q: np.ndarray) -> bool: ...
-    def cell_data(self, q: np.ndarray) -> dict[str, np.ndarray]: ...
     def nodal(self, x: np.ndarray, q: np.ndarray | None = None) -> np.ndarray: ...
+
+    # -- output
+    def point_data(self, q: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]: ...
+    def cell_data(self, q: np.ndarray) -> dict[str, np.ndarray]: ...
+    def cells(self) -> list[tuple[str, np.ndarray]]: ...
+
+
+@runtime_checkable
+class EnergyConsistentBody(Body, Protocol):
+    """A body whose ``energy_consistent`` is True: the energy-decaying step asks it for the
+    force whose work over a step is the change of its strain energy."""
+
+    def element_strains(self, q: np.ndarray) -> np.ndarray: ...
+    def algorithmic_force(self, q0, q1, chi: float = 0.0, d=0.0, tangent: bool = True): ...
 
 
 class BodyDefaults:

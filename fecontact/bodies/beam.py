@@ -28,7 +28,7 @@ the other hand, create spurious strain in it.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import KW_ONLY, dataclass
 
 import numpy as np
 import scipy.sparse as sp
@@ -52,23 +52,27 @@ def _mass_form(u, v, _):
 
 @dataclass(frozen=True)
 class Material:
-    """Isotropic linear elastic material.
+    """Isotropic linear elastic material of a beam: ``Material(E, nu=..., rho=...)``.
+
+    The arguments come in the order (E, nu, rho) of the solids' materials; those after E are
+    keyword-only, so a call by position is an error rather than a density taken for ν.
 
     Parameters
     ----------
     E : Young's modulus in Pa (> 0).
+    nu : Poisson's ratio, in (−1, 0.5); default 0.3.
     rho : density in kg/m³ (> 0).
-    nu : Poisson's ratio, in (−1, 0.5).
     """
 
     E: float
-    rho: float
+    _: KW_ONLY
     nu: float = 0.3
+    rho: float
 
     def __post_init__(self):
         object.__setattr__(self, "E", check_positive("E", self.E))
-        object.__setattr__(self, "rho", check_positive("rho", self.rho))
         object.__setattr__(self, "nu", check_range("nu", self.nu, -1.0, 0.5, (False, False)))
+        object.__setattr__(self, "rho", check_positive("rho", self.rho))
 
     @property
     def G(self) -> float:
@@ -217,6 +221,11 @@ class Beam2D(BodyDefaults):
     def beam_mass(self) -> float:
         """Mass of the beam without point masses, kg."""
         return self.material.rho * self.section.area * self.length
+
+    @property
+    def mass(self) -> float:
+        """Mass of the beam with its point masses, kg."""
+        return self.beam_mass + float(self.point_masses.sum())
 
     def strains(self, q: np.ndarray) -> tuple[np.ndarray, ...]:
         """Axial Γ, shear γ and curvature κ (1/m) at the element midpoints."""

@@ -1,5 +1,5 @@
-"""Meshes of solid bodies: generators, files read with meshio, the checks a mesh must pass,
-and its oriented boundary.
+"""Meshes of solid bodies: generators, the checks a mesh must pass, and its oriented
+boundary (files are read in :mod:`fecontact.bodies.mesh_files`).
 
 Cell kinds are scikit-fem's reference domains: triangles and quadrilaterals (2D),
 tetrahedra and hexahedra (3D), with linear or quadratic (P2) geometry.
@@ -8,7 +8,6 @@ tetrahedra and hexahedra (3D), with linear or quadratic (P2) geometry.
 from __future__ import annotations
 
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import skfem
@@ -28,7 +27,7 @@ __all__ = [
     "mesh_bases",
     "min_edge_length",
     "oriented_boundary",
-    "read_mesh",
+    "coincident_nodes",
     "rectangle_mesh",
     "split_quadratic",
 ]
@@ -51,7 +50,8 @@ _REFDOMS = {"RefTri": "tri", "RefQuad": "quad", "RefTet": "tet", "RefHex": "hex"
 
 def cell_kind(mesh) -> str:
     """The cell kind ("tri", "quad", "tet", "hex") of a scikit-fem mesh, after the checks every
-    body's mesh must pass: a known cell, not empty, finite coordinates, no loose vertex."""
+    body's mesh must pass: a known cell, not empty, finite coordinates, every node in a cell,
+    no coincident vertices left unmerged."""
     if not isinstance(mesh, skfem.Mesh):
         raise InputError(f"mesh must be a scikit-fem Mesh, got {type(mesh).__name__}")
     cell = _REFDOMS.get(mesh.elem.refdom.__name__)
@@ -63,55 +63,68 @@ def cell_kind(mesh) -> str:
     if mesh.t.shape[1] == 0 or mesh.p.shape[1] == 0:
         raise InputError("mesh is empty: it has no elements")
     check_finite("mesh coordinates", mesh.p)
-    unused = np.bincount(mesh.t.ravel(), minlength=mesh.nvertices) == 0
-    if np.any(unused):
-        raise InputError(
-            f"mesh: vertex {int(np.argmax(unused))} belongs to no element "
-            "(mesh.remove_unused_nodes() drops such points)"
-        )
+    _check_loose_nodes(mesh, cell)
+    _check_coincident(mesh)
     return cell
 
 
-def read_mesh(path, scale: float = 1.0, offset=None):
-    """A mesh file read with meshio (any format it knows: .msh, .vtu, .vtk, .xdmf, ...), its
-    coordinates multiplied by ``scale`` and then shifted by ``offset`` (m, d components). The
-    dimension comes from the cells: tetrahedra or hexahedra make a 3D mesh, else triangles or
-    quadrilaterals a 2D one; other cells (boundary lines, gmsh geometry points) are dropped."""
-    import meshio  # lazily: mesh I/O only when a file is read
-    from skfem.io.meshio import from_meshio
+def _check_loose_nodes(mesh, cell: str) -> None:
+    # a linear mesh's nodes are its vertices; a quadratic one's vertices come first (scikit-fem)
+    linear = mesh.elem is ELEMENTS[cell][0]
+    n = mesh.doflocs.shape[1] if linear else mesh.nvertices
+    unused = np.bincount(mesh.t.ravel(), minlength=n) == 0
+    if np.any(unused):
+        i = int(np.argmax(unused))
+        raise InputError(
+            f"mesh: {int(unused.sum())} node(s) belong to no element, the first is vertex {i} "
+            f"at {_point(mesh.p[:, i])} (mesh.remove_unused_nodes() drops such points)"
+        )
 
-    path = Path(path)
-    known = meshio.extension_to_filetypes
-    suffix = path.suffix.lower()
-    if suffix not in known and "".join(path.suffixes[-2:]).lower() not in known:
+
+def _check_coincident(mesh) -> None:
+    # unmerged copies of a node leave the cells on either side unjoined, and so each copy on
+    # the boundary: checking the boundary vertices finds every one
+    nodes = mesh.boundary_nodes()
+    _, pairs = coincident_nodes(mesh.p[:, nodes].T)
+    if len(pairs):
+        # two vertices of one cell that coincide make a degenerate cell: check_cells names it
+        pairs = pairs[~_share_a_cell(mesh.t, nodes[pairs])]
+    if len(pairs):
+        copies = np.unique(pairs)
         raise InputError(
-            f"unknown mesh file format {suffix or '(no extension)'!r} of {path.name}; "
-            "meshio reads " + ", ".join(sorted(known))
+            f"mesh: {len(copies)} nodes coincide with another node that no element joins them "
+            f"to, the first at {_point(mesh.p[:, nodes[copies[0]]])}: parts of the body are not "
+            "connected there; merge them with fecontact.bodies.mesh_files.merge_nodes(mesh) "
+            "or Solid.from_file(..., merge_nodes=True)"
         )
-    if not path.is_file():
-        raise InputError(f"mesh file not found: {path}")
-    try:
-        # .msh is also an ANSYS extension; meshio would try (and print) that reader first
-        data = meshio.read(path, file_format="gmsh" if suffix == ".msh" else None)
-    except (Exception, SystemExit) as err:  # meshio raises many types, even SystemExit
-        why = str(err).splitlines()[0][:100] if str(err) else type(err).__name__
-        raise InputError(f"cannot read mesh file {path.name}: {why}") from None
-    kinds = [names[k] for names in ELEMENTS.values() for k in (2, 3)]
-    blocks = [(c.type, c.data) for c in data.cells if c.type in kinds]
-    if not blocks:
-        raise InputError(
-            f"{path.name} has no {', '.join(kinds)} cells "
-            f"(found {', '.join(c.type for c in data.cells) or 'none'})"
-        )
-    # keep the cells only, and the points they use
-    used = np.unique(np.concatenate([conn.ravel() for _, conn in blocks]))
-    index = np.full(len(data.points), -1)
-    index[used] = np.arange(len(used))
-    data = meshio.Mesh(data.points[used], [(kind, index[conn]) for kind, conn in blocks])
-    mesh = from_meshio(data).scaled(check_positive("scale", scale))
-    if offset is not None:
-        mesh = mesh.translated(check_point("offset", offset, mesh.dim()))
-    return mesh
+
+
+def _share_a_cell(t: np.ndarray, pairs: np.ndarray) -> np.ndarray:
+    """Whether the two vertices of each pair (p, 2) belong to one cell of ``t`` (k, E)."""
+    import scipy.sparse as sp
+
+    cells = np.broadcast_to(np.arange(t.shape[1]), t.shape).ravel()
+    incidence = sp.csr_matrix((np.ones(t.size), (t.ravel(), cells)), (t.max() + 1, t.shape[1]))
+    return (
+        np.asarray(incidence[pairs[:, 0]].multiply(incidence[pairs[:, 1]]).sum(axis=1)).ravel() > 0
+    )
+
+
+def coincident_nodes(points: np.ndarray, tol: float | None = None):
+    """The tolerance (m) and the pairs (p, 2) of ``points`` (n, d) closer than it: ``tol``, by
+    default 1e-8 of the diagonal of the points' bounding box (exact copies, and copies written
+    with round-off)."""
+    from scipy.spatial import cKDTree
+
+    points = np.asarray(points, dtype=float)
+    if tol is None:
+        tol = 1e-8 * float(np.linalg.norm(np.ptp(points, axis=0)))
+    pairs = cKDTree(points).query_pairs(tol, output_type="ndarray")
+    return tol, pairs.reshape(-1, 2)
+
+
+def _point(x) -> str:
+    return "(" + ", ".join(f"{float(c):.6g}" for c in x) + ")"
 
 
 def disk_mesh(center, radius: float, refinements: int):

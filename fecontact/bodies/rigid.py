@@ -11,10 +11,11 @@ J = [[0, −1], [1, 0]] being the rotation by +90°; every other second derivati
 The mass matrix diag(m, m, I_G) about the centre of mass is constant in planar motion and there
 is no internal energy, so the body has no elements.
 
-Contact geometry comes from a ``shape``: a ``Disk`` (contact through its centre and radius, see
-:mod:`fecontact.rigid_contact`) or a convex ``Polygon`` whose vertices are the contact points.
-Output points are the vertices, then the centre of mass, then (for a disk) points on its rim;
-they are drawn as the closed outline (plus a radius of the disk, so that its rotation shows).
+Contact geometry comes from a ``shape``: a ``Disk`` (contact through its centre and radius,
+see :mod:`fecontact.contact.rigid_pairs`) or a convex ``Polygon`` whose vertices are the contact
+points. Output points are the vertices, then the centre of mass, then (for a disk) points on
+its rim; they are drawn as the closed outline (plus a radius of the disk, so that its rotation
+shows).
 
 A ``PointMass`` is a body of its own with two translation dofs and one output point.
 """

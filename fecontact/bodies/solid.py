@@ -12,9 +12,9 @@ P = F S (the linear material: P = σ), and the element tangent is its exact Hess
 
     K_aibk = ∫ ∂_J N_a A_iJkL ∂_L N_b dV,   A_iJkL = F_iI ℂ_IJKL F_kK + δ_ik S_JL.
 
-The material (:mod:`fecontact.materials`) gives W, S = ∂W/∂E and ℂ = ∂S/∂E. In 2D, integrals
-over the area are multiplied by ``thickness`` (m): energies in J, forces in N, for plane strain
-as well as for plane stress.
+The material (:mod:`fecontact.bodies.materials`) gives W, S = ∂W/∂E and ℂ = ∂S/∂E. In 2D,
+integrals over the area are multiplied by ``thickness`` (m): energies in J, forces in N, for
+plane strain as well as for plane stress.
 
 Every call works on arrays of all elements and quadrature points at once, from the basis data
 scikit-fem computes once (gradients ∇N_a, weights dV); the kinematics are computed once per
@@ -41,14 +41,13 @@ from skfem.models.poisson import mass as _mass_form
 from ..errors import InputError, check_finite, check_positive
 from .elasticity import (
     Quadrature,
-    cauchy_stress,
-    cell_invariants,
     deformation,
     displacement_gradient,
     element_tangent,
     internal_force,
 )
 from .materials import PLANES, SolidMaterial
+from .mesh_files import group_nodes, read_mesh
 from .meshes import (
     ball_mesh,
     box_mesh,
@@ -58,24 +57,23 @@ from .meshes import (
     mesh_bases,
     min_edge_length,
     oriented_boundary,
-    read_mesh,
     rectangle_mesh,
     split_quadratic,
 )
 from .nodal import NodalTranslations
-from .vtk_cells import vtk_cells
+from .solid_output import SolidOutput
 
 __all__ = ["Solid"]
 
 
-class Solid(NodalTranslations):
+class Solid(SolidOutput, NodalTranslations):
     """Elastic body on a scikit-fem mesh (``MeshTri``, ``MeshQuad``: 2D; ``MeshTet``,
     ``MeshHex``: 3D).
 
     Parameters
     ----------
     mesh : the reference configuration, coordinates in m.
-    material : :class:`~fecontact.materials.LinearElastic`, ``StVenantKirchhoff`` or
+    material : :class:`~fecontact.bodies.materials.LinearElastic`, ``StVenantKirchhoff`` or
         ``NeoHookean``.
     element : "P1" (linear/bilinear/trilinear) or "P2" (quadratic) Lagrange elements.
     plane : 2D only: "strain" (E₃₃ = 0) or "stress" (S₃₃ = 0).
@@ -134,16 +132,17 @@ class Solid(NodalTranslations):
 
     # -- construction -----------------------------------------------------------------------
     @classmethod
-    def from_file(cls, path, material, scale: float = 1.0, offset=None, **options) -> Solid:
-        """Solid on a mesh file read with meshio (:func:`fecontact.bodies.meshes.read_mesh`:
-        coordinates times ``scale`` (> 0), then shifted by ``offset`` (m)); ``options`` are
-        those of :class:`Solid` (element, plane, thickness)."""
-        return cls(read_mesh(path, scale, offset), material, **options)
+    def from_file(cls, path, material, scale=1.0, offset=None, merge_nodes=False, **options):
+        """Solid on a mesh file read with meshio (:func:`fecontact.bodies.mesh_files.read_mesh`:
+        coordinates times ``scale`` (> 0), then shifted by ``offset`` (m); ``merge_nodes``
+        merges coincident points first); ``options`` are those of :class:`Solid` (element,
+        plane, thickness). The file's named groups (gmsh physical groups) name nodes."""
+        return cls(read_mesh(path, scale, offset, merge_nodes), material, **options)
 
     @classmethod
     def disk(cls, center, radius: float, refinements: int, material, **options) -> Solid:
         """Disk of ``radius`` (m) at ``center`` (2-vector, m), triangles refined
-        ``refinements`` times (4^refinements × 8 elements; at most 9: 2^21 elements)."""
+        ``refinements`` times (4 · 4^refinements triangles; at most 9: 2^20 triangles)."""
         return cls(disk_mesh(center, radius, refinements), material, **options)
 
     @classmethod
@@ -260,27 +259,17 @@ class Solid(NodalTranslations):
             )
         return np.tile(v, self.n_nodes)
 
-    # -- stress ------------------------------------------------------------------------------
-    def stress(self, q: np.ndarray) -> np.ndarray:
-        """Cauchy stress σ (Pa, tension positive) at the quadrature points, (E, Q, 3, 3).
-
-        In 2D, σ₃₃ is the out-of-plane stress (zero in plane stress). The linear material gives
-        σ = S (small strains).
-        """
-        return np.moveaxis(self._cauchy(q), (0, 1), (-2, -1)).swapaxes(0, 1)
-
-    def _cauchy(self, q):
-        return cauchy_stress(self.material, self.plane, *self._strain(q))
-
-    def cell_data(self, q: np.ndarray) -> dict[str, np.ndarray]:
-        """Per-cell output: ``stress_von_mises`` (Pa), √(3/2 s:s) with s the deviator of σ,
-        and ``pressure`` −tr σ/3 (Pa), both averaged over the cell."""
-        return cell_invariants(self._cauchy(q), self._quad.dV)
-
     # -- geometry and output -----------------------------------------------------------------
     def boundary_nodes(self) -> np.ndarray:
         """Nodes on the boundary (vertices and, for P2, the boundary edge/face nodes)."""
         return np.unique(self._basis.get_dofs(self.mesh.boundary_facets()).all())
+
+    def nodes_of(self, nodes) -> np.ndarray:
+        """Validated node indices of one node, a sequence of them, or the name of a group of
+        the mesh (:func:`~fecontact.bodies.mesh_files.group_nodes`: a gmsh physical group)."""
+        if isinstance(nodes, str):
+            return group_nodes(self.mesh, self._basis, nodes)
+        return super().nodes_of(nodes)
 
     def contact_nodes(self, nodes=None) -> np.ndarray:
         """Validated node indices (the boundary nodes when ``nodes`` is None)."""
@@ -310,9 +299,3 @@ class Solid(NodalTranslations):
         if facets.shape[1] == 4:
             facets = np.concatenate([facets[:, [0, 1, 2]], facets[:, [0, 2, 3]]])
         return np.ascontiguousarray(facets)
-
-    def cells(self) -> list[tuple[str, np.ndarray]]:
-        """Cells for VTU output in meshio/VTK numbering: triangle, quad, tetra, hexahedron
-        (P1) or triangle6, quad9, tetra10, hexahedron27 (P2), over the body's nodes."""
-        en = None if self.element == "P1" else self._quad.nodes
-        return vtk_cells(self.mesh, self.cell, self.X, en)

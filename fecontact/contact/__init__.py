@@ -1,6 +1,8 @@
 """Contact: rigid obstacles, the gap kinematics of every pair kind (g, G = ∂g/∂q, ∇²g), the
 set of pairs of a model, and the Alart–Curnier laws solved by semi-smooth Newton."""
 
+# the modules of pairs register theirs with ``register_pair`` on import: ``Contact`` finds them
+from . import beam_sides, body_pairs, rigid_pairs, segment_pairs  # noqa: F401
 from .contact_set import ContactSet
 from .dispatch import Contact
 from .laws import (
@@ -11,6 +13,7 @@ from .laws import (
 )
 from .node_pairs import NodeContact, PointSegmentContact
 from .obstacles import Circle, Plane, Point, Sphere
+from .registry import register_pair
 from .stats import ContactStats, CoulombStats
 
 __all__ = [
@@ -25,6 +28,7 @@ __all__ = [
     "PointSegmentContact",
     "Sphere",
     "alart_curnier_residual",
+    "register_pair",
     "contact_force_multiplier",
     "solve_position_correction",
     "solve_velocity_jump",

@@ -16,6 +16,8 @@ class PairDefaults:
     """Defaults of a contact pair: no rigid obstacle, obstacles at rest."""
 
     obstacle = None
+    inside_test = False  # True: penetration(q) tests the nodes against a body's boundary
+    looks_ahead = False  # True: look_ahead(q, v, h) is called before every step
     lazy_hessians = False  # True: evaluate() leaves H out; hessians(q, rows) gives it
     frictional = False  # True: tangents(q) gives the slip rows of Coulomb friction
     friction = 0.0  # Coulomb's μ of every contact of the pair (set by ``Contact``)
@@ -23,6 +25,18 @@ class PairDefaults:
     def gaps(self, q: np.ndarray) -> np.ndarray:
         """The gaps g_j(q) (m) alone; pairs with a cheaper path than ``evaluate`` override."""
         return self.evaluate(q)[0]
+
+    def penetration(self, q: np.ndarray) -> float:
+        """How deep (m, ≥ 0) the deepest point of the pair lies on the wrong side: −min g
+        where the gap is the signed distance itself (obstacles, bar ends); pairs with an
+        ``inside_test`` measure it against the other body's boundary instead."""
+        g = self.gaps(q)
+        return float(max(0.0, -np.min(g, initial=np.inf)))
+
+    def relative_depth(self, q: np.ndarray, g: np.ndarray) -> float:
+        """Depth of the deepest point inside another body over that body's local facet size
+        (0 for pairs whose gap is a signed distance: a projection on them is never lost)."""
+        return 0.0
 
     def hessians(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
         """∇²g_j (len(rows), k, k) of the contacts ``rows`` (the pair's own numbering)."""
@@ -43,6 +57,10 @@ class PairDefaults:
     def detect_within(self, distance: float) -> None:
         """The integrator's detection distance (m), for pairs with a spatial search of their
         own: contacts farther than it are no candidates anyway."""
+
+    def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
+        """Widen a spatial search of the pair's own to how far its bodies can close in the
+        coming step h (s) from positions q and velocities v (pairs with one only)."""
 
     def rate(self, q: np.ndarray) -> np.ndarray:
         """∂g_j/∂t (m/s) from a moving obstacle; zero for obstacles at rest."""

@@ -31,9 +31,13 @@ facet's plane gap is minus the distance to the surface, so g ≤ 0 exactly when 
 entered the master body (the position correction then moves it back onto the nearest facet).
 g is continuous and piecewise smooth; G and ∇²g are those of the selected facet.
 
-Candidates: facets within the detection ``margin`` (m) of a slave node, found with
-``scipy.spatial.cKDTree`` among the facets and slave nodes that a bounding box test keeps, so
-the work follows the contact zone. A slave node with no facet within the margin reports
+Candidates: facets within the detection ``margin`` (m) of a slave node, from the broad phase
+of :mod:`fecontact.contact.facet_search` (a k-d tree over the facet centroids and the slave
+nodes in the master's box, kept while the nodes move little), so the work follows the contact
+zone. Before every step the margin is widened to twice the distance the two bodies can close
+in it (:meth:`NodeSurfaceContact.look_ahead`). A slave node already inside the master,
+however deep, gets its closest facet from the inside/outside test of
+:mod:`fecontact.contact.inside`. Any other slave node with no facet within the margin reports
 g = +inf with zero gradient; the integrator only works on contacts with g below its own
 detection margin. The number of contacts (one per slave node) is fixed.
 
@@ -44,14 +48,16 @@ unit axis n (from a towards b): g = (x_j − x_i)·n, linear in q.
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from ..bodies.beam import Beam2D
 from ..bodies.solid import Solid
 from ..errors import InputError, check_finite, check_positive, check_range
 from .base import PairDefaults
+from .beam_sides import PointBeamContact
+from .facet_search import FacetSearch
 from .friction import point_tangents
 from .geometry import point_line_distance, segment_distance
+from .registry import pair_factory, register_pair
 
 __all__ = [
     "NodeNodeContact",
@@ -178,6 +184,8 @@ class NodeSurfaceContact(PairDefaults):
 
     linear = False
     lazy_hessians = True
+    inside_test = True
+    looks_ahead = True
 
     def __init__(self, body, master, nodes=None, restitution: float = 0.0, margin=None):
         if not isinstance(body, Solid) or not isinstance(master, Solid):
@@ -196,8 +204,10 @@ class NodeSurfaceContact(PairDefaults):
         self._own_margin = margin is not None
         if margin is None:
             margin = 0.05 * max(body.characteristic_length, master.characteristic_length)
-        self.margin = check_positive("margin", margin)
+        self.margin = self.base_margin = check_positive("margin", margin)
         self.facets = master.contact_facets()
+        self.search = FacetSearch(self.facets)
+        self.surface = self.search.surface
         # distances to the closest facets within this (m) are ties, decided by the gap
         self.tie_tolerance = 1e-12 * max(body.characteristic_length, master.characteristic_length)
         d = self.dim
@@ -210,7 +220,6 @@ class NodeSurfaceContact(PairDefaults):
         self.selected = np.full(self.size, -1)
         """Facet chosen for each slave node at the last evaluation (−1: none near)."""
         self._last = None  # (the two bodies' dofs, result) of the last evaluation
-        self._search = None  # (positions of the last search, its candidate pairs)
 
     @property
     def size(self) -> int:
@@ -219,7 +228,8 @@ class NodeSurfaceContact(PairDefaults):
     def bind(self, model) -> None:
         """Place the pair in the global dof vector of ``model``."""
         self.offsets = (model.offset_of(self.body), model.offset_of(self.master))
-        self._last = self._search = None
+        self._last = None
+        self.search.reset()
 
     def positions(self, q):
         """The slave nodes' positions and every master node's position at q (m)."""
@@ -228,10 +238,46 @@ class NodeSurfaceContact(PairDefaults):
         return xs, b.positions(q[ob : ob + b.ndof])
 
     def closest_facets(self, xs: np.ndarray, xm: np.ndarray):
-        """(slave indices, facet indices, plane gaps) of the slave nodes (positions xs, m)
-        that have a facet of the master (node positions xm, m) within the margin, that facet
-        and the node's signed gap from its plane (m)."""
-        s, f = self._candidate_pairs(xs, xm)
+        """(slave indices, facet indices, plane gaps in m) of the slave nodes (positions xs)
+        with a facet of the master (node positions xm) within the margin, or inside it however
+        deep: the closest facet and the node's signed gap from its plane."""
+        s, f, g = self._closest_near(xs, xm)
+        lost = self.search.watched(xs, xm, self.margin).copy()  # (the others are outside)
+        lost[s] = False
+        lost = np.flatnonzero(lost)
+        if lost.size == 0:
+            return s, f, g
+        depth, fl = self.surface.signed_distance(xm, xs[lost], outside=False)
+        inside = depth < 0.0
+        if not inside.any():
+            return s, f, g
+        si, fi = lost[inside], fl[inside]
+        gi = closest_facet_distance(xs[si], xm[self.facets[fi]])[1]
+        return np.r_[s, si], np.r_[f, fi], np.r_[g, gi]
+
+    def penetration(self, q: np.ndarray) -> float:
+        """Depth (m, ≥ 0) of the deepest slave node inside the master by the inside/outside
+        test, over the nodes the search cannot rule out (:mod:`.facet_search`)."""
+        last = self._last  # an evaluation at q has run the search at q: none watched, none in
+        if last is not None and not self.search.last_watched.any() and self._same_dofs(q, last[0]):
+            return 0.0
+        xs, xm = self.positions(q)
+        watched = self.search.watched(xs, xm, self.margin)  # (the others are outside)
+        return float(np.max(self.surface.depths(xm, xs[watched]), initial=0.0))
+
+    def relative_depth(self, q: np.ndarray, g: np.ndarray) -> float:
+        """The largest −g of the slave nodes with a negative gap g (the pair's gaps at q) over
+        the size (longest edge) of the facet that holds each."""
+        rows = np.flatnonzero(g < 0.0)
+        if rows.size == 0:
+            return 0.0
+        self.evaluate(q)  # the facets selected at q (kept from the gaps' evaluation)
+        xf = self.positions(q)[1][self.facets[self.selected[rows]]]
+        size = np.max(np.linalg.norm(xf - np.roll(xf, 1, axis=1), axis=2), axis=1)
+        return float(np.max(-g[rows] / size))
+
+    def _closest_near(self, xs: np.ndarray, xm: np.ndarray):
+        s, f = self.search.pairs(xs, xm, self.margin)
         if s.size == 0:
             return s, f, np.zeros(0)
         dist, g = closest_facet_distance(xs[s], xm[self.facets[f]])
@@ -252,42 +298,24 @@ class NodeSurfaceContact(PairDefaults):
         """Search as far as the integrator's candidates reach (``distance`` m), unless the
         pair was given a margin of its own: a node closing from beyond the search would
         report no facet."""
-        if not self._own_margin and distance > 0.0 and distance != self.margin:
-            self.margin = distance
-            self._search = None
+        if not self._own_margin and distance > 0.0 and distance != self.base_margin:
+            self.base_margin = distance
+            self._set_margin(distance)
+
+    def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
+        """Search at least twice as far as the two bodies can close in a step h (s) from
+        velocities v: h √d (max |v_a| + max |v_b|) over the velocity components of every node,
+        in powers of two of the base margin so that the cached search is kept."""
+        (oa, ob), (a, b) = self.offsets, self.bodies
+        speed = np.max(np.abs(v[oa : oa + a.ndof])) + np.max(np.abs(v[ob : ob + b.ndof]))
+        ratio = 2.0 * h * np.sqrt(self.dim) * speed / self.base_margin
+        self._set_margin(self.base_margin * (2.0 ** np.ceil(np.log2(ratio)) if ratio > 1 else 1))
+
+    def _set_margin(self, margin: float) -> None:
+        if margin != self.margin:
+            self.margin = margin
+            self.search.reset()
             self._last = None
-
-    def _candidate_pairs(self, xs: np.ndarray, xm: np.ndarray):
-        """(slave, facet) pairs whose node and facet centroid are within margin + the facet's
-        reach + a slack δ = margin/4, found by a k-d tree search and kept while no node has
-        moved more than δ/2 since: then every pair within the margin is still among them (the
-        Newton iterations of a step move the nodes far less than that)."""
-        cache = self._search
-        if cache is not None:
-            xs0, xm0, pairs = cache
-            moved = max(np.max(np.abs(xs - xs0), initial=0.0), np.max(np.abs(xm - xm0)))
-            if 2.0 * moved <= 0.25 * self.margin:
-                return pairs
-        pairs = self._search_pairs(xs, xm, 1.25 * self.margin)
-        self._search = (xs.copy(), xm.copy(), pairs)
-        return pairs
-
-    def _search_pairs(self, xs: np.ndarray, xm: np.ndarray, r: float):
-        lo, hi = xm.min(axis=0) - r, xm.max(axis=0) + r
-        near = np.flatnonzero(np.all((xs >= lo) & (xs <= hi), axis=1))
-        if near.size == 0:
-            return near, near
-        xf = xm[self.facets]
-        centroid = xf.mean(axis=1)
-        reach = float(np.sqrt(np.max(np.sum((xf - centroid[:, None]) ** 2, axis=2))))
-        slo, shi = xs[near].min(axis=0) - r - reach, xs[near].max(axis=0) + r + reach
-        fnear = np.flatnonzero(np.all((centroid >= slo) & (centroid <= shi), axis=1))
-        if fnear.size == 0:
-            return fnear, fnear
-        pairs = cKDTree(xs[near]).sparse_distance_matrix(
-            cKDTree(centroid[fnear]), r + reach, output_type="ndarray"
-        )
-        return near[pairs["i"]], fnear[pairs["j"]]
 
     def _same_dofs(self, q, key) -> bool:
         (oa, ob), (a, b) = self.offsets, self.bodies
@@ -427,11 +455,24 @@ def body_pair(body, other, nodes=None, restitution: float = 0.0):
     """The contact pair between two deformable bodies: :class:`NodeSurfaceContact` for two
     solids (``nodes`` of ``body`` against the surface of ``other``), :class:`NodeNodeContact`
     for two beams (``nodes`` = their end nodes facing each other, default the closest ends)."""
-    if isinstance(body, Solid) and isinstance(other, Solid):
-        return NodeSurfaceContact(body, other, nodes, restitution)
-    if isinstance(body, Beam2D) and isinstance(other, Beam2D):
-        return NodeNodeContact(body, other, nodes, restitution)
-    raise InputError(
-        f"no contact between a {type(body).__name__} and a {type(other).__name__}: "
-        "deformable pairs are Solid–Solid (node to surface) and Beam2D–Beam2D (end to end)"
-    )
+    return pair_factory(body, other)(body, other, nodes, restitution, 0.0)
+
+
+def _no_clearance(clearance) -> None:
+    if clearance:
+        raise InputError("clearance: not available between two deformable bodies; use 0")
+
+
+@register_pair(Solid, Solid)
+def _solid_solid(body, other, nodes, restitution, clearance):
+    _no_clearance(clearance)
+    return NodeSurfaceContact(body, other, nodes, restitution)
+
+
+@register_pair(Beam2D, Beam2D)
+def _bar_ends(body, other, nodes, restitution, clearance):
+    """Two strips (``clearance`` > 0, the sum of their half thicknesses): the nodes of ``body``
+    against the two-sided surface of ``other``; two bars (0): their facing ends."""
+    if clearance:
+        return PointBeamContact(body, other, nodes, restitution, clearance)
+    return NodeNodeContact(body, other, nodes, restitution)

@@ -8,6 +8,7 @@ import scipy.sparse as sp
 
 from ..linalg import DENSE_LIMIT
 from .friction_rows import FrictionRows
+from .mortar_interface import merge_interfaces
 
 __all__ = ["ContactSet"]
 
@@ -16,22 +17,23 @@ class ContactSet(FrictionRows):
     """All contact pairs of a model, numbered globally and restricted to the free dofs."""
 
     def __init__(self, pairs, free_index: np.ndarray, n_free: int):
-        self.pairs = list(pairs)
+        self.pairs = merge_interfaces(pairs)
         self.free_index = free_index
         self.n_free = n_free
         self.size = sum(pair.size for pair in self.pairs)
-        self.restitution = np.concatenate(
-            [np.full(pair.size, pair.restitution) for pair in self.pairs] or [np.zeros(0)]
-        )
+        self.restitution = _per_contact(self.pairs, [pair.restitution for pair in self.pairs])
         self.linear = all(pair.linear for pair in self.pairs)
-        self.friction = np.concatenate(
-            [np.full(pair.size, pair.friction) for pair in self.pairs] or [np.zeros(0)]
-        )
+        self.friction = _per_contact(self.pairs, [pair.friction for pair in self.pairs])
         self.frictional = bool(np.any(self.friction > 0.0))
-        self.owner = np.concatenate(
-            [np.full(pair.size, i) for i, pair in enumerate(self.pairs)] or [np.zeros(0, int)]
-        )
-        self.local = np.concatenate([np.arange(pair.size) for pair in self.pairs] or [self.owner])
+        self.owner = _per_contact(self.pairs, range(len(self.pairs)), int)  # pair of a contact
+        # each contact's number within its pair
+        self.local = _per_contact(self.pairs, [np.arange(pair.size) for pair in self.pairs], int)
+        # pairs measured by an inside/outside test; the others by their own gaps
+        self._inside = [i for i, pair in enumerate(self.pairs) if pair.inside_test]
+        self._signed = ~np.isin(self.owner, self._inside)  # contacts whose gap is a distance
+        self._all_signed = bool(self._signed.all())
+        self._inside_rows = [np.flatnonzero(self.owner == i) for i in self._inside]
+        self._looking = [pair for pair in self.pairs if pair.looks_ahead]
         self._scatters: dict = {}
         self._last_scatter: dict = {}  # per pair: read-only (rows, dofs) and their _Scatter
         self._all = np.arange(self.size)
@@ -40,11 +42,13 @@ class ContactSet(FrictionRows):
         self._moving = [o for o in obstacles if o.moving]
         # the gaps alone are cheaper where a pair can skip its derivatives
         self._gap_functions = [pair.gaps for pair in self.pairs]
-        # affine gaps (constant gradients, fixed obstacles) of a small model: g(q) = g₀ + G q
-        # with G stored dense, so that a step without candidates costs one product
-        self._affine = None
-        if self.pairs and self.linear and not self.moving and self.size * len(free_index) <= 2**16:
-            self._affine = self._affine_form()
+        self._affine = self._affine_form() if self._affine_and_small() else None
+
+    def _affine_and_small(self) -> bool:
+        """Affine gaps (constant gradients, fixed obstacles) of a small model: g(q) = g₀ + G q
+        is then kept with G dense, so that a step without candidates costs one product."""
+        affine = bool(self.pairs) and self.linear and not self.moving
+        return affine and self.size * len(self.free_index) <= 2**16
 
     @property
     def all(self) -> np.ndarray:
@@ -65,6 +69,37 @@ class ContactSet(FrictionRows):
         distance (m), so that one margin decides what is a candidate."""
         for pair in self.pairs:
             pair.detect_within(distance)
+
+    def penetration(self, q: np.ndarray, gaps: np.ndarray | None = None) -> float:
+        """How deep (m, ≥ 0) any point lies where a contact forbids it at q: the nodes of a
+        solid inside another solid's discretized boundary by the inside/outside test
+        (:mod:`fecontact.contact.inside`), whatever their constraint gap says; −min g for the
+        other pairs, whose gap is the signed distance (``gaps``: g(q) of every contact, when
+        known)."""
+        if not self.pairs:
+            return 0.0
+        g = self.gaps(q) if gaps is None or gaps.size != self.size else gaps
+        signed = g if self._all_signed else g[self._signed]
+        depth = max(0.0, -float(signed.min())) if signed.size else 0.0
+        for i in self._inside:
+            depth = max(depth, self.pairs[i].penetration(q))
+        return depth
+
+    def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
+        """Before a step h (s) from (q, v): the solid pairs' searches reach as far as their
+        bodies can close in it, and the beam pairs keep where the points start (their sides
+        follow the motion over the step)."""
+        for pair in self._looking:
+            pair.look_ahead(q, v, h)
+
+    def relative_depth(self, q: np.ndarray, gaps: np.ndarray) -> float:
+        """The largest −g at q of a solid's node inside another solid over the size of the
+        facet that holds it (``gaps``: every contact's g at q; 0 without solid–solid
+        pairs)."""
+        depth = 0.0
+        for i, rows in zip(self._inside, self._inside_rows, strict=True):
+            depth = max(depth, self.pairs[i].relative_depth(q, gaps[rows]))
+        return depth
 
     def set_time(self, t: float) -> None:
         """Place the moving obstacles where they are at time t (s)."""
@@ -130,8 +165,7 @@ class ContactSet(FrictionRows):
         nonzero weight."""
         n = self.n_free
         G = np.zeros((len(select), n))
-        dense = n <= DENSE_LIMIT
-        C = None if weights is None else (np.zeros((n, n)) if dense else [])
+        C = _empty_curvature(weights, n)
         if not self.pairs or len(select) == 0:
             return np.zeros(0), G, _curvature_matrix(C, n)
         if self._affine is not None:  # affine gaps: no curvature
@@ -139,19 +173,14 @@ class ContactSet(FrictionRows):
             return g0[select] + Gq[select] @ q, Gf[select], _curvature_matrix(C, n)
         parts = [pair.evaluate(q) for pair in self.pairs]
         single = len(parts) == 1
-        g_all = parts[0][0] if single else np.concatenate([p[0] for p in parts])
+        g_all = _gaps_of(parts)
         owner = None if single else self.owner[select]
         every = single and select is self._all  # no selection to copy
         for i, (_, dofs, Gv, H) in enumerate(parts):
-            if every:
-                rows = loc = self._all
-            elif single:
-                rows, loc = np.arange(len(select)), select
-            else:
-                rows = np.flatnonzero(owner == i)
-                if rows.size == 0:
-                    continue
-                loc = self.local[select[rows]]
+            picked = self._picked(i, select, owner)
+            if picked is None:
+                continue
+            rows, loc = picked
             if dofs.shape != Gv.shape:
                 dofs = np.repeat(dofs.reshape(1, -1), len(Gv), axis=0)
             sc = self._scatter(i, rows, dofs if every else dofs[loc])
@@ -159,28 +188,38 @@ class ContactSet(FrictionRows):
                 Gv, H = Gv[loc], (None if H is None else H[loc])
             # each pair fills rows of its own: an assignment unless a row repeats a dof
             _add(G, sc.g_index, Gv.ravel()[sc.g_keep], sc.g_unique, assign=True)
-            if C is not None and self.pairs[i].lazy_hessians:
-                # Hessians of the rows with a weight only: the active contacts
-                act = np.flatnonzero(weights[rows])
-                if act.size:
-                    w, Ha = weights[rows[act]], self.pairs[i].hessians(q, loc[act])
-                    sa = self._scatter(i, rows[act], dofs[loc[act]])
-                    Hw = w @ Ha.reshape(len(w), -1) if sa.shared else w[:, None, None] * Ha
-                    values = Hw.ravel()[sa.c_keep]
-                    if dense:
-                        _add(C, sa.c_index, values, sa.c_unique)
-                    else:
-                        C.append((values, sa.c_index))
-            elif C is not None and H is not None:
-                w = weights[rows]
-                # rows on the same dofs (a joint's two equations): summed before the scatter
-                Hw = w @ H.reshape(len(w), -1) if sc.shared else w[:, None, None] * H
-                values = Hw.ravel()[sc.c_keep]
-                if dense:  # (a single pair writes into a C still zero)
-                    _add(C, sc.c_index, values, sc.c_unique, assign=single)
-                else:
-                    C.append((values, sc.c_index))
+            if C is not None:
+                self._add_curvature(C, i, q, (rows, loc, dofs, sc), H, weights, single)
         return g_all[select], G, _curvature_matrix(C, n)
+
+    def _picked(self, i: int, select: np.ndarray, owner):
+        """The rows of ``select`` that are contacts of pair i and their numbers within the
+        pair, or None when it has none there (``owner``: the pair of each selected contact;
+        None for a single pair)."""
+        if owner is None:
+            if select is self._all:
+                return self._all, self._all
+            return np.arange(len(select)), select
+        rows = np.flatnonzero(owner == i)
+        if rows.size == 0:
+            return None
+        return rows, self.local[select[rows]]
+
+    def _add_curvature(self, C, i, q, placed, H, weights, single: bool) -> None:
+        """C += Σ_r weights_r ∇²g_r over the selected rows of pair i; ``placed`` = (rows in
+        the selection, their numbers within the pair, the pair's dofs, their scatter). A
+        pair with ``lazy_hessians`` is asked for those of the rows with a weight only (the
+        active contacts)."""
+        rows, loc, dofs, sc = placed
+        if self.pairs[i].lazy_hessians:
+            act = np.flatnonzero(weights[rows])
+            if act.size:
+                w, Ha = weights[rows[act]], self.pairs[i].hessians(q, loc[act])
+                sa = self._scatter(i, rows[act], dofs[loc[act]])
+                _add_weighted(C, sa, w, Ha, assign=False)
+        elif H is not None:
+            # (a single pair writes into a C still zero)
+            _add_weighted(C, sc, weights[rows], H, assign=single)
 
     def _scatter(self, i: int, rows: np.ndarray, dofs: np.ndarray):
         """Where the gradient rows and Hessians of pair i land in G and C (cached: the dofs
@@ -213,6 +252,38 @@ class ContactSet(FrictionRows):
             )
             offset += m
         return f
+
+
+def _per_contact(pairs, values, dtype=float) -> np.ndarray:
+    """Each pair's value repeated over its contacts."""
+    parts = [np.full(pair.size, v) for pair, v in zip(pairs, values, strict=True)]
+    return np.concatenate(parts or [np.zeros(0, dtype)])
+
+
+def _gaps_of(parts) -> np.ndarray:
+    """The gaps of every contact from the pairs' evaluations (the one pair's own array when
+    there is one)."""
+    return parts[0][0] if len(parts) == 1 else np.concatenate([p[0] for p in parts])
+
+
+def _empty_curvature(weights, n: int):
+    """None without ``weights``; else a zero C, dense up to ``DENSE_LIMIT`` free dofs, or
+    the list its sparse parts are gathered in."""
+    if weights is None:
+        return None
+    return np.zeros((n, n)) if n <= DENSE_LIMIT else []
+
+
+def _add_weighted(C, sc, w: np.ndarray, H: np.ndarray, assign: bool) -> None:
+    """C += Σ_r w_r ∇²g_r placed by the scatter ``sc``: into a dense C, or as a part of a
+    sparse one (a list of (values, flat indices))."""
+    # rows on the same dofs (a joint's two equations): summed before the scatter
+    Hw = w @ H.reshape(len(w), -1) if sc.shared else w[:, None, None] * H
+    values = Hw.ravel()[sc.c_keep]
+    if isinstance(C, list):
+        C.append((values, sc.c_index))
+    else:
+        _add(C, sc.c_index, values, sc.c_unique, assign=assign)
 
 
 def _curvature_matrix(C, n: int):

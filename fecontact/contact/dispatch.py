@@ -1,13 +1,13 @@
-"""``Contact``: one entry point that builds the pair of a body and an obstacle or a second body."""
+"""``Contact``: one entry point that builds the pair of a body and an obstacle or a second body,
+with the factory registered for their kinds (:mod:`fecontact.contact.registry`)."""
 
 from __future__ import annotations
 
-from ..bodies.base import Body
-from ..bodies.beam import Beam2D
+from ..bodies.solid import Solid
 from ..errors import InputError, check_positive
-from .node_pairs import NodeContact, PointSegmentContact
-from .obstacles import Circle, Point
-from .segment_pairs import SegmentCircleContact
+from .mortar import MortarContact
+from .mortar3d import MortarContact3D
+from .registry import pair_factory
 
 __all__ = ["Contact"]
 
@@ -19,6 +19,7 @@ def Contact(
     restitution: float = 0.0,
     clearance: float = 0.0,
     friction: float = 0.0,
+    method: str | None = None,
 ):
     """Contact pair between ``body`` and a rigid ``obstacle`` or a second body.
 
@@ -35,15 +36,37 @@ def Contact(
     of ``body``, default its boundary nodes, against the boundary of the second; add the
     reversed pair for the other direction), a ``Beam2D`` against a ``Beam2D`` an end-to-end
     pair along the bar axis (``nodes`` = (end of body, end of the other), default the closest
-    ends); see :mod:`fecontact.contact.body_pairs`. ``restitution`` is Newton's e_N in [0, 1].
+    ends); see :mod:`fecontact.contact.body_pairs`. A ``Solid``'s boundary nodes (or ``nodes``)
+    against a ``Beam2D``, and a ``Beam2D``'s nodes against another with a ``clearance`` > 0 (two
+    strips: the sum of their half thicknesses), meet the beam's two-sided surface, its
+    centreline offset by ± ``clearance`` (:mod:`fecontact.contact.beam_sides`; add the reversed
+    pair for two strips). ``restitution`` is Newton's e_N in [0, 1].
 
     ``friction`` is Coulomb's coefficient μ ≥ 0 of every contact of the pair (0: frictionless,
     today's path at no cost): the tangential impulse stays in |Λ_T| ≤ μ Λ_N and opposes the
     slip of the contact points (:mod:`fecontact.contact.friction`). Every pair but the
     end-to-end beam pair takes it.
+
+    ``method`` chooses the discretization of a contact between two solids:
+    ``"node-to-surface"`` (the default) or ``"mortar"`` (dual mortar, weighted gaps integrated
+    over the first body's boundary: :mod:`fecontact.contact.mortar` in 2D,
+    :mod:`fecontact.contact.mortar3d` in 3D; ``nodes`` must be None, and the pair declared
+    both ways is one interface). Other pairs take None only.
+
+    The pair comes from the factory registered for the classes of ``body`` and ``obstacle``
+    (:func:`fecontact.contact.registry.register_pair`): a new body type registers its own.
     """
     friction = check_positive("friction", friction, allow_zero=True)
-    pair = _pair(body, obstacle, nodes, restitution, clearance)
+    clearance = check_positive("clearance", clearance, allow_zero=True)
+    solids = isinstance(body, Solid) and isinstance(obstacle, Solid)
+    if method == "mortar":
+        pair = _mortar(body, obstacle, nodes, restitution, clearance, solids)
+    elif method in (None, "node-to-surface"):
+        if method is not None and not solids:
+            raise InputError("method: 'node-to-surface' applies between two solids; use None")
+        pair = pair_factory(body, obstacle)(body, obstacle, nodes, restitution, clearance)
+    else:
+        raise InputError(f"method must be 'node-to-surface' or 'mortar', got {method!r}")
     if friction:
         if not pair.frictional:
             raise InputError(f"friction: not available for a {type(pair).__name__}; use 0")
@@ -51,24 +74,11 @@ def Contact(
     return pair
 
 
-def _pair(body, obstacle, nodes, restitution, clearance):
-    from .rigid_pairs import rigid_pair
-
-    clearance = check_positive("clearance", clearance, allow_zero=True)
-    pair = rigid_pair(body, obstacle, nodes, restitution, clearance)
-    if pair is not None:
-        return pair
-    if isinstance(obstacle, Body):
-        if clearance:
-            raise InputError("clearance: not available between two deformable bodies; use 0")
-        from .body_pairs import body_pair
-
-        return body_pair(body, obstacle, nodes, restitution)
-    if isinstance(obstacle, Point):
-        if nodes is not None:
-            raise InputError("nodes: a Point obstacle acts on beam segments, not on nodes")
-        return PointSegmentContact(body, obstacle, restitution, clearance)
-    if isinstance(body, Beam2D) and isinstance(obstacle, Circle) and not obstacle.inside:
-        if nodes is None:  # the chords cut into a convex obstacle between the nodes
-            return SegmentCircleContact(body, obstacle, restitution, clearance)
-    return NodeContact(body, obstacle, nodes, restitution, clearance)
+def _mortar(body, obstacle, nodes, restitution, clearance, solids: bool):
+    if not solids:
+        raise InputError("method: 'mortar' applies between two solids")
+    if nodes is not None or clearance:
+        raise InputError("nodes, clearance: a mortar contact takes the whole boundaries")
+    if body.dim == 3:
+        return MortarContact3D(body, obstacle, restitution)
+    return MortarContact(body, obstacle, restitution)

@@ -114,29 +114,11 @@ def solve_position_correction(
     dU, dU_prev = np.inf, np.inf
     A = last = None
     for it in range(max_iter + 1):
-        # the update has converged: it is below tol_u, or it contracts (ρ = dU/dU_prev < ½)
-        # so fast that the distance left to the solution, at most ρ/(1 − ρ) dU, is (Newton's
-        # quadratic phase: the update that would confirm it costs a solve and changes U by
-        # round-off); or it stalls at the round-off of the solve (H − C of a stiff body
-        # amplifies it past tol_u) while far below the gap tolerance: an update that stalls or
-        # cycles above the gap tolerance has not converged
-        rho = dU / dU_prev if np.isfinite(dU_prev) and dU_prev > 0.0 else 1.0
-        settled = (
-            dU <= tol_u
-            or (rho < 0.5 and rho / (1.0 - rho) * dU <= tol_u)
-            or (dU > 0.5 * dU_prev and dU <= tol_gap)
-        )
+        settled = _update_settled(dU, dU_prev, tol_u, tol_gap)
         if it > 0 and settled and _settled(nu, g, p, k, eq, tol_gap):
             _record(stats, "position", nu, g, p, k, eq, tol_gap)
             return U, nu, it
-        if A is None:
-            A = ((k * nu - p * g) > 0) | eq
-        else:
-            # a contact leaves the set when its force turns negative, and enters it when it
-            # penetrates: k ν − p g > 0 would also drop a pressed contact whose linearised
-            # gap came out slightly open (the curvature's second-order error), and with a
-            # large p the set then cycles between pressed and open
-            A = np.where(A, nu > 0, g < 0) | eq
+        A = _next_active_set(A, nu, g, p, k, eq)
         # the gaps' curvature weighted by the current contact forces k ν (the Hessian of the
         # Lagrangian, as in SQP), not by k ν − p g: on the first update that is −p g, which
         # with a large p dwarfs H and makes H − C indefinite; at convergence both agree
@@ -161,6 +143,32 @@ def solve_position_correction(
         U = U_new
         g, G = gaps(U)
     raise RuntimeError(f"position correction: active set did not settle in {max_iter} iterations")
+
+
+def _update_settled(dU: float, dU_prev: float, tol_u: float, tol_gap: float) -> bool:
+    """Whether the position update has converged: it is below tol_u, or it contracts
+    (ρ = dU/dU_prev < ½) so fast that the distance left to the solution, at most
+    ρ/(1 − ρ) dU, is (Newton's quadratic phase: the update that would confirm it costs a solve
+    and changes U by round-off); or it stalls at the round-off of the solve (H − C of a stiff
+    body amplifies it past tol_u) while far below the gap tolerance: an update that stalls or
+    cycles above the gap tolerance has not converged."""
+    rho = dU / dU_prev if np.isfinite(dU_prev) and dU_prev > 0.0 else 1.0
+    return (
+        dU <= tol_u
+        or (rho < 0.5 and rho / (1.0 - rho) * dU <= tol_u)
+        or (dU > 0.5 * dU_prev and dU <= tol_gap)
+    )
+
+
+def _next_active_set(A, nu, g, p, k, eq) -> np.ndarray:
+    """The contacts of the next Newton update (joints ``eq`` always among them). The first
+    set is where k ν − p g > 0. After that a contact leaves the set when its force turns
+    negative, and enters it when it penetrates: k ν − p g > 0 would also drop a pressed
+    contact whose linearised gap came out slightly open (the curvature's second-order
+    error), and with a large p the set then cycles between pressed and open."""
+    if A is None:
+        return ((k * nu - p * g) > 0) | eq
+    return np.where(A, nu > 0, g < 0) | eq
 
 
 def _close(last, A, w) -> bool:

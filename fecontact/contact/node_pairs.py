@@ -5,11 +5,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..bodies.beam import Beam2D
 from ..errors import InputError, check_range
 from .base import PairDefaults
+from .beam_sides import line_coordinates, swept
 from .friction import tangent_basis
 from .geometry import closest_on_segments, point_line_distance, unit
 from .obstacles import Circle, Plane, Point
+from .registry import register_pair
 
 __all__ = ["NodeContact", "PointSegmentContact"]
 
@@ -96,8 +99,9 @@ class PointSegmentContact(PairDefaults):
     """A rigid ``Point`` (or small disk) against the centreline segments of a beam.
 
     The contact point slides along the beam: the gap is the distance from the point to the
-    closest segment minus the radius, signed by the side of the beam the point started on.
-    When the closest point is a vertex the gap is the distance to that node.
+    closest segment minus the radius, signed by the side of that segment the point is on,
+    decided from the motion over the step (:mod:`.beam_sides`). When the closest point is a
+    vertex the gap is the distance to that node.
     """
 
     linear = False
@@ -109,16 +113,36 @@ class PointSegmentContact(PairDefaults):
         self.restitution = check_range("restitution", restitution, 0.0, 1.0)
         self.segments = body.segments()
         self.offset = 0
-        self.side = 1.0
+        self._start = None  # line coordinates (t₀, f₀) of the point at the step's start
         f0 = self._signed_distance(np.zeros(body.ndof))
         if f0 == 0.0:
             raise InputError("the Point lies exactly on the beam centreline at t = 0")
-        self.side = np.sign(f0)
 
     size = 1
 
     def bind(self, model) -> None:
         self.offset = model.offset_of(self.body)
+        self._start = None
+
+    def _lines(self, q: np.ndarray):
+        x = self.body.positions(q[self.offset : self.offset + self.body.ndof])
+        return line_coordinates(
+            self.obstacle.position, x[self.segments[:, 0]], x[self.segments[:, 1]]
+        )
+
+    looks_ahead = True
+
+    def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
+        """Keep the point's line coordinates at the start of the coming step (the sides)."""
+        self._start = self._lines(q)
+
+    def _side(self, e: int, x1: np.ndarray, d: np.ndarray):
+        """The side of element e (first node x1, direction d) the point is on, and whether it
+        went through the element in this step (:func:`.beam_sides.swept`)."""
+        t, f = line_coordinates(self.obstacle.position, x1, x1 + d)
+        start = None if self._start is None else (self._start[0][e], self._start[1][e])
+        side, crossed = swept(start, t, f)
+        return float(side), bool(crossed)
 
     def _closest(self, x):
         x1, x2 = x[self.segments[:, 0]], x[self.segments[:, 1]]
@@ -135,8 +159,9 @@ class PointSegmentContact(PairDefaults):
         e, xi, x1, d = self._closest(body.positions(q[self.offset : self.offset + body.ndof]))
         a, b = self.segments[e]
         dofs = self.offset + body.node_translation_dofs([a, b]).ravel()
-        if 0.0 < xi < 1.0:  # the side's normal of the segment, as in the gap
-            n = self.side * np.array([-d[1], d[0]]) / np.linalg.norm(d)
+        side, crossed = self._side(e, x1, d)
+        if 0.0 < xi < 1.0 or crossed:  # the side's normal of the segment, as in the gap
+            n = side * np.array([-d[1], d[0]]) / np.linalg.norm(d)
         else:
             n = unit(self.obstacle.position - (x1 + xi * d), "point and beam node")[0]
         T = tangent_basis(n[None])
@@ -155,10 +180,11 @@ class PointSegmentContact(PairDefaults):
         a, b = self.segments[e]
         tdofs = self.offset + body.node_translation_dofs([a, b]).ravel()
         P, r = self.obstacle.position, self.obstacle.radius + self.clearance
-        if 0.0 < xi < 1.0:
+        side, crossed = self._side(e, x1, d)
+        if 0.0 < xi < 1.0 or crossed:
             # the point is rigid: derivatives with respect to the segment's ends only
             f, G, H = point_line_distance(P[None], x1[None], (x1 + d)[None])
-            g, G, H = self.side * f[0] - r, self.side * G[0, 2:], self.side * H[0, 2:, 2:]
+            g, G, H = side * f[0] - r, side * G[0, 2:], side * H[0, 2:, 2:]
         else:
             xv = x1 + xi * d
             ev = xv - P
@@ -171,3 +197,17 @@ class PointSegmentContact(PairDefaults):
             G[k : k + 2] = ev
             H[k : k + 2, k : k + 2] = (np.eye(2) - np.outer(ev, ev)) / dist
         return np.array([g]), tdofs[None, :], G[None, :], H[None, :, :]
+
+
+@register_pair(object, Plane)
+@register_pair(object, Circle)
+def _nodes_on_obstacle(body, obstacle, nodes, restitution, clearance):
+    """Any body's nodes (default: those ``contact_nodes`` gives) against a Plane or Circle."""
+    return NodeContact(body, obstacle, nodes, restitution, clearance)
+
+
+@register_pair(Beam2D, Point)
+def _point_on_beam(beam, point, nodes, restitution, clearance):
+    if nodes is not None:
+        raise InputError("nodes: a Point obstacle acts on beam segments, not on nodes")
+    return PointSegmentContact(beam, point, restitution, clearance)

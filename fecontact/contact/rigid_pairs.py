@@ -14,7 +14,8 @@ pair                        gap
 ``DiskPolygonContact``      s(ρ) − r with ρ = R(φ_p)ᵀ(c − c_p) the centre in the polygon's frame
                             and s the signed distance to the convex polygon
 ``DiskBeamContact``         per element: distance from c to the centreline segment − r −
-                            clearance, signed by the side of the beam the disk started on
+                            clearance, signed by the side of the element the disk is on,
+                            decided from its motion over the step (:mod:`.beam_sides`)
 ==========================  ======================================================================
 
 A polygon's distance s(ρ) is piecewise: n_e·(ρ − v_e) where the closest point lies inside an
@@ -33,9 +34,12 @@ from ..bodies.beam import Beam2D
 from ..bodies.rigid import Disk, Polygon, RigidBody2D, rotation
 from ..errors import InputError, check_positive, check_range
 from .base import PairDefaults
+from .beam_sides import line_coordinates, swept
 from .friction import tangent_basis
 from .geometry import distance_curvature, point_line_distance, polygon_distance, unit
+from .node_pairs import NodeContact
 from .obstacles import Circle, Plane
+from .registry import pair_factory, register_pair
 
 __all__ = [
     "DiskObstacleContact",
@@ -209,8 +213,10 @@ class DiskBeamContact(_Pair):
 
     The gap of element e = (a, b) is the distance from the disk centre c to the segment, less
     r and ``clearance`` (m, half the beam thickness, say). Where the closest point lies inside
-    the segment it is the distance to the segment's line, signed by the side of the beam the
-    disk starts on at t = 0; at an end it is the distance to that node. A node shared by two
+    the segment it is the distance to the segment's line, signed by the side of the element
+    the disk is on, decided over each step from its motion (:mod:`.beam_sides`: the side it
+    came from if its centre's path crossed the element, else where it is); at an end it is
+    the distance to that node. A node shared by two
     elements belongs to the element before it, so a disk over a straight or convex part of
     the beam has one closed contact there, and a disk resting in a kink (the beam bent around
     it) one on each side. Where an element's closest point is its first node and that node
@@ -236,17 +242,35 @@ class DiskBeamContact(_Pair):
         e = int(np.argmin(dist))
         if f[e] == 0.0:
             raise InputError("the disk centre lies on the beam centreline at t = 0")
-        self.side = 1.0 if f[e] > 0.0 else -1.0
+        self._start = None  # line coordinates (t₀, f₀) of the centre at the step's start
 
     def _project(self, P, x):
         """Parameter ξ ∈ [0, 1] of the closest point of each element, distance from P to the
         element, and signed distance from the element's line."""
+        return self._coordinates(P, x)[1:]
+
+    def _coordinates(self, P, x):
+        """Unclamped line parameter t, clamped ξ, distance and signed distance f of the
+        centre P against every element."""
         x1, x2 = x[self.segments[:, 0]], x[self.segments[:, 1]]
-        d, w = x2 - x1, P - x1
-        xi = np.clip(np.einsum("ei,ei->e", w, d) / np.einsum("ei,ei->e", d, d), 0.0, 1.0)
-        dist = np.linalg.norm(w - xi[:, None] * d, axis=1)
-        f = (d[:, 0] * w[:, 1] - d[:, 1] * w[:, 0]) / np.linalg.norm(d, axis=1)
-        return xi, dist, f
+        t, f = line_coordinates(P, x1, x2)
+        xi = np.clip(t, 0.0, 1.0)
+        dist = np.linalg.norm(P - x1 - xi[:, None] * (x2 - x1), axis=1)
+        return t, xi, dist, f
+
+    def bind(self, model) -> None:
+        super().bind(model)
+        self._start = None
+
+    looks_ahead = True
+
+    def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
+        """Keep the centre's line coordinates at the start of the coming step (the sides)."""
+        disk, beam = self.bodies
+        t, _, _, f = self._coordinates(
+            disk.center(self._local(q, 0)), beam.positions(self._local(q, 1))
+        )
+        self._start = (t, f)
 
     def evaluate(self, q: np.ndarray):
         """Gaps (E,), global dofs (E, 6): disk (x, y) then the element's two nodes' (u_x, u_y),
@@ -255,19 +279,25 @@ class DiskBeamContact(_Pair):
         P = disk.center(self._local(q, 0))
         x = beam.positions(self._local(q, 1))
         x1, x2 = x[self.segments[:, 0]], x[self.segments[:, 1]]
-        xi, _, _ = self._project(P, x)
+        t, xi, _, f_now = self._coordinates(P, x)
+        side, crossed = swept(self._start, t, f_now)
         r = disk.shape.radius + self.clearance
         E = self.size
         g, G = np.full(E, np.inf), np.zeros((E, 6))
         H = np.zeros((E, 6, 6))
-        inner = (xi > 0.0) & (xi < 1.0)
-        if inner.any():
-            Pi = np.broadcast_to(P, (int(inner.sum()), 2))
-            f, Gi, Hi = point_line_distance(Pi, x1[inner], x2[inner])
-            g[inner], G[inner], H[inner] = self.side * f - r, self.side * Gi, self.side * Hi
         # clipped to a node: its own end node, or the first node of the first element
         at_end = xi == 1.0
         at_end_node = (xi == 0.0) & (np.arange(E) == 0)
+        # the line holds a centre that went through the element, even at an end node (at a
+        # node shared with the previous element both hold it: the beam may kink there)
+        inner = ((xi > 0.0) & (xi < 1.0)) | crossed
+        at_end &= ~inner
+        at_end_node &= ~inner
+        if inner.any():
+            Pi = np.broadcast_to(P, (int(inner.sum()), 2))
+            f, Gi, Hi = point_line_distance(Pi, x1[inner], x2[inner])
+            s = side[inner]
+            g[inner], G[inner], H[inner] = s * f - r, s[:, None] * Gi, s[:, None, None] * Hi
         for mask, k in ((at_end, 1), (at_end_node, 0)):
             if not mask.any():
                 continue
@@ -321,28 +351,47 @@ def rigid_pair(body, other, nodes=None, restitution: float = 0.0, clearance: flo
     contact point of a disk being found from the geometry.
     """
     if not (_is_disk(body) or _is_disk(other)):
-        if _is_polygon(body) and _is_polygon(other):
-            raise InputError("polygon against polygon contact is not supported")
-        if isinstance(other, RigidBody2D):
-            raise InputError(
-                f"no contact between {type(body).__name__} and a rigid body with a "
-                f"{type(other.shape).__name__} shape"
-            )
         return None
+    return pair_factory(body, other)(body, other, nodes, restitution, clearance)
+
+
+def _disk_first(body, other, nodes, clearance, beam: bool = False):
+    """(disk, the other side) after the checks every disk pair makes."""
     if nodes is not None:
         raise InputError("nodes: a disk's contact point follows from the geometry; pass None")
-    disk, rest = (body, other) if _is_disk(body) else (other, body)
-    if clearance and not isinstance(rest, Beam2D):
+    if clearance and not beam:
         raise InputError("clearance applies to a disk against a beam only")
-    if isinstance(rest, (Plane, Circle)):
-        return DiskObstacleContact(disk, rest, restitution)
+    return (body, other) if _is_disk(body) else (other, body)
+
+
+@register_pair(RigidBody2D, Plane)
+@register_pair(RigidBody2D, Circle)
+def _rigid_obstacle(body, obstacle, nodes, restitution, clearance):
+    """A disk through its centre and radius; a polygon through its vertices."""
+    if not _is_disk(body):
+        return NodeContact(body, obstacle, nodes, restitution, clearance)
+    disk, obstacle = _disk_first(body, obstacle, nodes, clearance)
+    return DiskObstacleContact(disk, obstacle, restitution)
+
+
+@register_pair(RigidBody2D, RigidBody2D)
+def _rigid_rigid(body, other, nodes, restitution, clearance):
+    if not (_is_disk(body) or _is_disk(other)):
+        raise InputError("polygon against polygon contact is not supported")
+    disk, rest = _disk_first(body, other, nodes, clearance)
     if _is_disk(rest):
         return DiskDiskContact(body, other, restitution)
-    if _is_polygon(rest):
-        pair = DiskPolygonContact(disk, rest, restitution)
-    elif isinstance(rest, Beam2D):
-        pair = DiskBeamContact(disk, rest, restitution, clearance)
-    else:
-        raise InputError(f"no contact between a rigid disk and a {type(rest).__name__}")
+    pair = DiskPolygonContact(disk, rest, restitution)
+    pair.body = body
+    return pair
+
+
+@register_pair(RigidBody2D, Beam2D)
+@register_pair(Beam2D, RigidBody2D)
+def _disk_beam(body, other, nodes, restitution, clearance):
+    if not (_is_disk(body) or _is_disk(other)):
+        raise InputError("no contact between a Beam2D and a rigid polygon: only a Disk")
+    disk, beam = _disk_first(body, other, nodes, clearance, beam=True)
+    pair = DiskBeamContact(disk, beam, restitution, clearance)
     pair.body = body
     return pair

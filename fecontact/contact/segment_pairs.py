@@ -17,11 +17,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..bodies.beam import Beam2D
 from ..errors import InputError, check_range
 from .base import PairDefaults
 from .friction import tangent_basis
 from .geometry import closest_on_segments, point_line_distance
+from .node_pairs import NodeContact
 from .obstacles import Circle
+from .registry import register_pair
 
 __all__ = ["SegmentCircleContact"]
 
@@ -99,3 +102,12 @@ class SegmentCircleContact(PairDefaults):
         T = tangent_basis(e)
         GT = np.concatenate([(1.0 - xi)[:, None, None] * T, xi[:, None, None] * T], axis=2)
         return self._dofs(), GT, T
+
+
+@register_pair(Beam2D, Circle)
+def _beam_on_circle(beam, circle, nodes, restitution, clearance):
+    """The chords cut into a convex obstacle between the nodes: a beam's segments against a
+    Circle seen from outside, unless ``nodes`` are named; nodes against a cavity."""
+    if circle.inside or nodes is not None:
+        return NodeContact(beam, circle, nodes, restitution, clearance)
+    return SegmentCircleContact(beam, circle, restitution, clearance)

@@ -1,6 +1,7 @@
-"""What a run writes at its frames: every body's mesh with its point data (displacement,
-velocity, contact and friction impulses and forces), and the outlines of the rigid obstacles,
-drawn under the bodies' motion."""
+"""What a run writes at its frames: every body's mesh in its reference configuration with its
+point data (displacement, velocity, contact and friction impulses and forces, the contact
+pressure of solids) and cell data (stress), and the outlines of the rigid obstacles, drawn
+under the bodies' motion. The deformed shape is the points plus ``displacement``."""
 
 from __future__ import annotations
 
@@ -11,7 +12,14 @@ import numpy as np
 from ..time import State
 from .vtu import body_mesh, line_mesh
 
-__all__ = ["bodies_box", "frame_parts", "friction_totals", "grown", "static_parts"]
+__all__ = [
+    "bodies_box",
+    "contact_pressure",
+    "frame_parts",
+    "friction_totals",
+    "grown",
+    "static_parts",
+]
 
 
 def frame_parts(model, state: State):
@@ -41,11 +49,24 @@ def frame_parts(model, state: State):
             smooth_t = _point_impulse(body, f_ts[s])
             data["tangential_force"] = data["tangential_impulse"] / h + smooth_t
             data["friction_state"] = np.max(np.abs(_point_impulse(body, flag[s])), axis=1)
+        if body.continuum:
+            data["contact_pressure"] = contact_pressure(data["contact_force"], body)
         cell_data = {k: [v] for k, v in body.cell_data(q).items()} or None
-        parts[_part_name(body, i)] = body_mesh(body.positions(q), body.cells(), data, cell_data)
+        reference = body.positions(np.zeros_like(q))
+        parts[_part_name(body, i)] = body_mesh(reference, body.cells(), data, cell_data)
     if model.contacts.moving:
         parts.update(_obstacle_parts(model, True, bodies_box(model, state.q)))
     return parts
+
+
+def contact_pressure(force: np.ndarray, body) -> np.ndarray:
+    """Lumped contact pressure (Pa) at the nodes of a solid: the magnitude of each node's
+    contact force (N, (n, d)) over the boundary area it carries (m², the body's
+    ``tributary_areas``); zero off the boundary. Σ_a p_a A_a is then the sum of the nodal
+    force magnitudes: the contact force when the nodes push one way."""
+    area = body.tributary_areas()
+    magnitude = np.linalg.norm(force, axis=1)
+    return np.divide(magnitude, area, out=np.zeros_like(magnitude), where=area > 0.0)
 
 
 def friction_totals(st: State) -> list[float]:

@@ -1,12 +1,16 @@
-"""Run output: ``.vtu`` frames with a ``.pvd`` index, ``history.csv``, ``summary.json``.
+"""Run output: frames (``.vtu`` with a ``.pvd`` index, or transient ``.vtkhdf``),
+``history.csv``, ``summary.json``.
 
-Layout of an output folder written by a run of case ``<case>``::
+Layout of an output folder written by a run of case ``<case>`` with VTU frames::
 
     <case>.pvd                     time index (VTK Collection XML), rewritten after every frame
     <case>_<part>_<index>.vtu      one file per moving part and frame (index: 00000, 00001, ...)
     <case>_<part>.vtu              a static part (obstacle), written once
     history.csv                    one row per time step, every cell numeric
     summary.json                   strict JSON (non-finite floats as "inf", "-inf", "nan")
+
+With VTKHDF frames (:mod:`fecontact.io.vtkhdf`) ``<case>.frames.json`` lists the parts and
+each part is one ``<case>_<part>.vtkhdf`` holding every frame.
 
 Every ``DataSet`` entry of the ``.pvd`` carries ``timestep`` (s), ``part`` (a fixed index per
 part), ``name`` (the part name: ParaView uses it as block name) and ``file`` (relative path).
@@ -19,28 +23,32 @@ half-written file and the ``.pvd`` only ever lists complete frames, even when th
 interrupted. ``history.csv`` is appended in blocks of rows; a line cut by a killed process is
 dropped when the file is read back.
 
-Geometry is written in the current configuration (points = reference + displacement); the
-``displacement`` point data must not be used to warp again. Vectors have 3 components.
+Bodies are written in the reference configuration with a ``displacement`` point field (m), as
+finite element tools expect: ParaView's *Warp By Vector* on ``displacement`` (or
+:func:`deformed`) shows the deformed shape. Vectors have 3 components.
 """
 
 from __future__ import annotations
 
 import json
 import math
-import re
-import time
-import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
-from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
+from ..errors import InputError
+from ..extras import need
 from .files import atomic_write, write_text
-from .vtu import body_mesh, line_mesh, write_vtu
+from .pvd import PVDWriter, read_pvd
+from .vtkhdf import INDEX_SUFFIX, VTKHDFSeries, read_index, read_step, step_times
+from .vtu import body_mesh, line_mesh
 
 __all__ = [
     "body_mesh",
+    "deformed",
+    "frame_format",
+    "frame_writer",
     "PVDWriter",
     "HistoryWriter",
     "RunResult",
@@ -54,6 +62,7 @@ __all__ = [
     "SUMMARY_FILE",
     "STANDARD_COLUMNS",
     "FRICTION_COLUMNS",
+    "LEDGER_COLUMNS",
 ]
 
 HISTORY_FILE = "history.csv"
@@ -73,156 +82,14 @@ STANDARD_COLUMNS = (
 # ... and, in models with friction, these after them: Σ_j |k Λ_T,j| of the step (N·s) and
 # the work dissipated by friction since t = 0 (J)
 FRICTION_COLUMNS = ("tangential_impulse", "friction_work")
-
-_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.\-]*")
-
-
-def _check_name(kind: str, name: str) -> str:
-    if not isinstance(name, str) or not _NAME.fullmatch(name):
-        raise ValueError(
-            f"{kind} {name!r} must be a non-empty file-name-safe string "
-            "(letters, digits, '_', '-', '.')"
-        )
-    return name
-
-
-class PVDWriter:
-    """Write a time series of meshes as ``.vtu`` files indexed by ``<case>.pvd``.
-
-    Parts are named by the caller (one per body, e.g. ``"beam"``, ``"stop"``); each gets a fixed
-    ``part`` index in the order it first appears. Times (s) must increase strictly.
-
-    The ``.pvd`` is rewritten after a frame when ``index_interval`` seconds of wall time have
-    passed since it was last written (0: after every frame), and by :meth:`flush`. Replacing a
-    file costs far more than creating one (ext4 writes the new data out before the rename
-    completes: milliseconds, growing with the index), so a run rewrites it at most about once
-    a second and flushes it when it stops.
-    """
-
-    def __init__(self, out_dir: str | Path, case_name: str, index_interval: float = 0.0):
-        self.out_dir = Path(out_dir)
-        self.case_name = _check_name("case name", case_name)
-        self.out_dir.mkdir(parents=True, exist_ok=True)
-        self.pvd = self.out_dir / f"{case_name}.pvd"
-        self.times: list[float] = []
-        self._part_index: dict[str, int] = {}
-        self._static: dict[str, str] = {}  # part -> file
-        self._moving: list[list[tuple[int, str]]] = []  # per frame: (part index, XML line)
-        self._blocks: list[str] = []  # per frame: its .pvd lines, so a rewrite is one join
-        self.index_interval = float(index_interval)
-        self._indexed = 0  # frames listed in the .pvd on disk
-        self._indexed_at = -math.inf  # time.perf_counter() of that write
-
-    @property
-    def n_frames(self) -> int:
-        return len(self.times)
-
-    def resume(self, upto: float) -> None:
-        """Take over the ``.pvd`` of an earlier run, keeping its frames at times <= ``upto``
-        (s) and deleting the files of later ones."""
-        root = ET.parse(self.pvd).getroot()
-        frames: dict[float, list] = {}
-        for ds in root.find("Collection").iter("DataSet"):
-            name, file, index = ds.get("name"), ds.get("file"), int(ds.get("part", 0))
-            self._part_index.setdefault(name, index)
-            if file == f"{self.case_name}_{name}.vtu":
-                self._static[name] = file
-            else:
-                frames.setdefault(float(ds.get("timestep")), []).append((index, name, file))
-        for t in sorted(frames):
-            if t > upto:
-                for _, _, file in frames[t]:
-                    (self.out_dir / file).unlink(missing_ok=True)
-                continue
-            ts = repr(t)
-            moving = [(i, self._entry(ts, i, name, file)) for i, name, file in frames[t]]
-            self.times.append(t)
-            self._moving.append(moving)
-            self._blocks.append(self._block(ts, moving))
-        self._write_pvd()
-
-    def _index(self, part: str) -> int:
-        _check_name("part name", part)
-        return self._part_index.setdefault(part, len(self._part_index))
-
-    @staticmethod
-    def _entry(timestep: str, index: int, name: str, file: str) -> str:
-        return (
-            f'    <DataSet timestep="{timestep}" group="" part="{index}" '
-            f"name={quoteattr(name)} file={quoteattr(file)}/>\n"
-        )
-
-    def _block(self, timestep: str, moving: list[tuple[int, str]]) -> str:
-        """The ``.pvd`` lines of one frame: its moving parts and every static part."""
-        static = [
-            (self._part_index[part], self._entry(timestep, self._part_index[part], part, file))
-            for part, file in self._static.items()
-        ]
-        return "".join(line for _, line in sorted(moving + static))
-
-    def _write_pvd(self) -> None:
-        text = (
-            '<?xml version="1.0"?>\n'
-            '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">\n'
-            "  <Collection>\n" + "".join(self._blocks) + "  </Collection>\n</VTKFile>\n"
-        )
-        write_text(self.pvd, text)
-        self._indexed, self._indexed_at = len(self._blocks), time.perf_counter()
-
-    def flush(self) -> None:
-        """Rewrite the ``.pvd`` if it does not list every frame written so far."""
-        if self._indexed < len(self._blocks):
-            self._write_pvd()
-
-    def write_static(self, part: str, mesh) -> Path:
-        """Write a part that never moves (an obstacle) once; it is listed at every timestep."""
-        if part in self._part_index and part not in self._static:
-            raise ValueError(f"part {part!r} was already written as a moving part")
-        self._index(part)
-        path = self.out_dir / f"{self.case_name}_{part}.vtu"
-        write_vtu(path, mesh)
-        self._static[part] = path.name
-        if self.times:
-            self._blocks = [
-                self._block(repr(t), moving)
-                for t, moving in zip(self.times, self._moving, strict=True)
-            ]
-            self._write_pvd()
-        return path
-
-    def write_frame(self, t: float, parts: dict) -> list[Path]:
-        """Write one frame at time ``t`` (s): a ``.vtu`` per part, then the updated ``.pvd``.
-
-        ``parts`` maps part names to ``meshio.Mesh`` objects (see :func:`line_mesh`).
-        """
-        t = float(t)
-        if not math.isfinite(t) or (self.times and t <= self.times[-1]):
-            last = self.times[-1] if self.times else None
-            raise ValueError(f"frame time must be finite and increase, got {t!r} after {last!r}")
-        clash = self._static.keys() & parts.keys()
-        if clash:
-            raise ValueError(f"parts {sorted(clash)} were written as static parts")
-        frame = len(self.times)
-        timestep = repr(t)
-        paths, moving = [], []
-        for part, mesh in parts.items():
-            index = self._index(part)
-            path = self.out_dir / f"{self.case_name}_{part}_{frame:05d}.vtu"
-            write_vtu(path, mesh)
-            paths.append(path)
-            moving.append((index, self._entry(timestep, index, part, path.name)))
-        self.times.append(t)
-        self._moving.append(moving)
-        self._blocks.append(self._block(timestep, moving))
-        if time.perf_counter() - self._indexed_at < self.index_interval:
-            return paths
-        try:
-            self._write_pvd()
-        except BaseException:
-            # keep the in-memory index equal to what the .pvd on disk lists
-            del self.times[-1], self._moving[-1], self._blocks[-1]
-            raise
-        return paths
+# ... then the energy ledger's terms since t = 0 (J, :mod:`fecontact.ledger`)
+LEDGER_COLUMNS = (
+    "load_work",
+    "damping_dissipation",
+    "friction_dissipation",
+    "impact_dissipation",
+    "numerical_dissipation",
+)
 
 
 def _cell(x, _repr=float.__repr__) -> str:
@@ -362,29 +229,13 @@ def read_history(path: str | Path) -> dict[str, np.ndarray]:
     return {c: data[:, j].copy() for j, c in enumerate(columns)}
 
 
-def _read_pvd(pvd: Path) -> tuple[np.ndarray, list[dict[str, str]], list[str]]:
-    """Times (s), per time ``{part: file}``, part names in ``part`` order."""
-    root = ET.parse(pvd).getroot()
-    collection = root.find("Collection")
-    if root.get("type") != "Collection" or collection is None:
-        raise ValueError(f"{pvd} is not a VTK Collection (.pvd) file")
-    by_time: dict[float, dict[str, str]] = {}
-    order: dict[str, int] = {}
-    for ds in collection.iter("DataSet"):
-        index = int(ds.get("part", 0))
-        name = ds.get("name") or f"part{index}"
-        order.setdefault(name, index)
-        by_time.setdefault(float(ds.get("timestep", 0)), {})[name] = ds.get("file")
-    times = np.array(sorted(by_time))
-    return times, [by_time[t] for t in times], sorted(order, key=order.get)
-
-
 @dataclass
 class RunResult:
     """A finished (or interrupted) run read back from its output folder.
 
     ``history`` holds every ``history.csv`` column as a float array, ``summary`` the contents of
-    ``summary.json`` (empty if the run did not finish), ``times`` the frame times (s).
+    ``summary.json`` (empty if the run did not finish), ``times`` the frame times (s),
+    ``pvd`` the frames' index: the ``.pvd``, or the ``.frames.json`` of VTKHDF frames.
     """
 
     out_dir: Path
@@ -396,10 +247,27 @@ class RunResult:
     static_parts: list[str]
     files: list[dict[str, str]] = field(repr=False)
 
+    def to_dataframe(self):
+        """``history.csv`` as a pandas ``DataFrame`` indexed by the time ``t`` (s): one row per
+        step, the standard columns and the probes; ``attrs["units"]`` maps each probe to its
+        unit (from ``summary.json``). Needs pandas: ``pip install "fecontact[pandas]"``."""
+        pd = need("pandas", "pandas")
+        if "t" not in self.history:
+            raise InputError(f"{self.out_dir} has no history.csv to tabulate")
+        columns = {k: v for k, v in self.history.items() if k != "t"}
+        frame = pd.DataFrame(columns, index=pd.Index(self.history["t"], name="t"))
+        probes = self.summary.get("probes", {})
+        frame.attrs["units"] = {k: p.get("unit", "") for k, p in probes.items()}
+        return frame
+
+    @property
+    def case(self) -> str:
+        """The case's name (case names hold no dots)."""
+        return self.pvd.name.split(".")[0]
+
     def reader(self):
         """``pyvista.get_reader`` on the ``.pvd`` (time-aware, all parts as blocks)."""
-        import pyvista
-
+        pyvista = need("pyvista", "render")
         return pyvista.get_reader(str(self.pvd))
 
     def frames(self, indices=None) -> list[tuple[float, dict]]:
@@ -407,52 +275,125 @@ class RunResult:
 
         A static part's file is read once and the same object is shared by all frames.
         """
-        import pyvista
-
+        pyvista = need("pyvista", "render")
         static: dict[str, object] = {}
 
-        def read(part: str, file: str):
+        def read(part: str, file: str, i: int):
+            path = self.out_dir / file
             if part not in self.static_parts:
-                return pyvista.read(str(self.out_dir / file))
+                return read_step(path, i) if path.suffix == ".vtkhdf" else pyvista.read(path)
             if part not in static:
-                static[part] = pyvista.read(str(self.out_dir / file))
+                static[part] = read_step(path) if path.suffix == ".vtkhdf" else pyvista.read(path)
             return static[part]
 
         indices = range(len(self.times)) if indices is None else indices
+        indices = [range(len(self.times))[i] for i in indices]  # negative indices too
         return [
-            (float(self.times[i]), {p: read(p, f) for p, f in self.files[i].items()})
+            (float(self.times[i]), {p: read(p, f, i) for p, f in self.files[i].items()})
             for i in indices
         ]
 
+    def multiblock(self, index: int = -1):
+        """Frame ``index`` as a ``pyvista.MultiBlock`` whose blocks carry the part names, in
+        ``part`` order (``pyvista.get_reader`` on a ``.pvd`` numbers them ``Block-00``, ...)."""
+        pyvista = need("pyvista", "render")
 
-def _find_pvd(out_dir: Path) -> Path:
-    if out_dir.suffix == ".pvd" and out_dir.is_file():
+        parts = self.frames([index])[0][1]
+        return pyvista.MultiBlock({p: parts[p] for p in self.parts if p in parts})
+
+
+def deformed(mesh):
+    """A copy of a frame's dataset (a ``pyvista`` mesh) in its deformed configuration: the
+    points plus the ``displacement`` point data (a part without it, an obstacle, as it is)."""
+    if "displacement" not in mesh.point_data:
+        return mesh
+    out = mesh.copy()
+    out.points = np.asarray(mesh.points) + np.asarray(mesh.point_data["displacement"])
+    return out
+
+
+AUTO_VTKHDF_DOFS = 2000
+"""3D models of at least this many dofs write VTKHDF frames by default (``"auto"``): on the
+dropped ball VTKHDF writes a frame about 2x faster than VTU at 2 499 dofs and 9x at 18 051,
+and is slower (7 against 1 to 4 ms a frame) at 387 (benchmarks/results/frames.md)."""
+
+
+def frame_format(requested: str, model, index: Path | None = None) -> str:
+    """The format a run writes its frames in: ``requested`` ("vtu", "vtkhdf" or "auto"), or
+    for "auto" VTKHDF on 3D models of ``AUTO_VTKHDF_DOFS`` dofs or more when h5py is
+    installed, else VTU. A run that continues another (``index``: the frame index it left, a
+    ``.pvd`` or ``.frames.json``) keeps that run's format."""
+    if requested not in ("auto", "vtu", "vtkhdf"):
+        raise InputError(f"format must be 'auto', 'vtu' or 'vtkhdf', got {requested!r}")
+    if index is not None:
+        chosen = "vtu" if index.suffix == ".pvd" else "vtkhdf"
+    elif requested == "auto":
+        large = model.dim == 3 and model.n >= AUTO_VTKHDF_DOFS
+        chosen = "vtkhdf" if large and _has_h5py() else "vtu"
+    else:
+        chosen = requested
+    if chosen == "vtkhdf" and not _has_h5py():
+        raise InputError("format vtkhdf needs h5py: pip install 'fecontact[vtkhdf]'")
+    return chosen
+
+
+def _has_h5py() -> bool:
+    import importlib.util
+
+    return importlib.util.find_spec("h5py") is not None
+
+
+def frame_writer(fmt: str, out_dir, case_name: str, index_interval: float = 0.0):
+    """The writer of a run's frames: ``"vtu"`` (a ``.vtu`` per part and frame, indexed by a
+    ``.pvd``) or ``"vtkhdf"`` (a transient ``.vtkhdf`` per part, :mod:`fecontact.io.vtkhdf`)."""
+    if fmt == "vtu":
+        return PVDWriter(out_dir, case_name, index_interval)
+    if fmt == "vtkhdf":
+        return VTKHDFSeries(out_dir, case_name, index_interval)
+    raise ValueError(f"format must be 'vtu' or 'vtkhdf', got {fmt!r}")
+
+
+def _find_index(out_dir: Path) -> Path:
+    """The ``.pvd`` or ``.frames.json`` of a run folder (or that file itself)."""
+    if out_dir.is_file() and (out_dir.suffix == ".pvd" or out_dir.name.endswith(INDEX_SUFFIX)):
         return out_dir
     if not out_dir.is_dir():
         raise FileNotFoundError(f"no run output folder {str(out_dir)!r}")
-    found = sorted(out_dir.glob("*.pvd"))
+    found = sorted([*out_dir.glob("*.pvd"), *out_dir.glob(f"*{INDEX_SUFFIX}")])
     if not found:
         raise FileNotFoundError(f"no .pvd file in {str(out_dir)!r}: not a run output folder")
     if len(found) > 1:
         names = ", ".join(p.name for p in found)
         raise FileNotFoundError(
-            f"{len(found)} .pvd files in {str(out_dir)!r} ({names}): pass the .pvd path"
+            f"{len(found)} .pvd files (frame indices) in {str(out_dir)!r} ({names}): pass the "
+            "path of one"
         )
     return found[0]
 
 
+def _read_series(index: Path):
+    """Times, parts, static parts and per time ``{part: file}`` of a VTKHDF run."""
+    parts, static = read_index(index)
+    moving = [p for p in parts if p not in static]
+    times = step_times(index.parent / parts[moving[0]]) if moving else np.zeros(0)
+    return times, list(parts), static, [dict(parts) for _ in times]
+
+
 def load_run(out_dir: str | Path) -> RunResult:
-    """Read a run back from its output folder (or from the path of its ``.pvd``).
+    """Read a run back from its output folder (or from the path of its ``.pvd``, or of its
+    ``.frames.json`` for VTKHDF frames).
 
     ``history.csv`` and ``summary.json`` are optional (an interrupted run may lack the summary);
     ``"inf"``, ``"-inf"`` and ``"nan"`` strings in the summary become floats again.
     """
-    pvd = _find_pvd(Path(out_dir))
-    folder = pvd.parent
+    index = _find_index(Path(out_dir))
+    folder = index.parent
     history_path, summary_path = folder / HISTORY_FILE, folder / SUMMARY_FILE
     history = read_history(history_path) if history_path.is_file() else {}
     summary = read_json(summary_path) if summary_path.is_file() else {}
-    times, files, parts = _read_pvd(pvd)
+    if index.suffix != ".pvd":
+        return RunResult(folder, index, history, summary, *_read_series(index))
+    times, files, parts = read_pvd(index)
     # a static part is written once as <case>_<part>.vtu, a moving one per frame
-    static = [p for p in parts if all(f.get(p) == f"{pvd.stem}_{p}.vtu" for f in files)]
-    return RunResult(folder, pvd, history, summary, times, parts, static, files)
+    static = [p for p in parts if all(f.get(p) == f"{index.stem}_{p}.vtu" for f in files)]
+    return RunResult(folder, index, history, summary, times, parts, static, files)

@@ -1,6 +1,6 @@
 """Off-screen pictures of a finished run: snapshots, an animation and ``history.png``.
 
-Rendering reads only the output folder (see :mod:`fecontact.output`), so it works on runs
+Rendering reads only the output folder (see :mod:`fecontact.io.output`), so it works on runs
 written earlier or by another process. It needs no display: without ``DISPLAY`` VTK is told to
 open an EGL window (Mesa llvmpipe is enough).
 
@@ -25,15 +25,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .output import (
-    HISTORY_FILE,
-    STANDARD_COLUMNS,
-    SUMMARY_FILE,
-    atomic_write,
-    load_run,
-    read_history,
-    read_json,
-)
+from ..extras import need
+from .history_plot import history_panels, plot_history
+from .output import atomic_write, deformed, load_run
 
 __all__ = ["render_run", "plot_history", "history_panels", "WINDOW_SIZE", "MAX_ANIMATION_FRAMES"]
 
@@ -52,8 +46,7 @@ def _pyvista():
     """Import pyvista for off-screen use, choosing an EGL window when there is no display."""
     if not os.environ.get("DISPLAY"):
         os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
-    import pyvista
-
+    pyvista = need("pyvista", "render")
     pyvista.OFF_SCREEN = True
     return pyvista
 
@@ -283,6 +276,32 @@ def _add_part(pyvista, plotter, mesh, static: bool, radius: float, clim, space: 
     return update
 
 
+def _chosen_frames(run, snapshot_times, max_frames: int) -> tuple[dict[str, int], set[int]]:
+    """The frames of the snapshots ({file stem: frame}) and of the animation (at most
+    ``max_frames``, evenly subsampled; none for 0)."""
+    n = len(run.times)
+    if n == 0:
+        raise ValueError(f"{run.pvd} lists no frames")
+    shots = _snapshots(run, snapshot_times)
+    movie = set()
+    if max_frames:
+        movie = set(np.unique(np.linspace(0, n - 1, min(n, max_frames)).round().astype(int)))
+    return shots, movie
+
+
+def _show(updates: dict, parts: dict, add) -> None:
+    """Draw a frame's ``parts``: a part seen first is added (``add(name, mesh)`` returns its
+    update, None for a static part), the others updated, and those missing hidden."""
+    for name, mesh in parts.items():
+        if name not in updates:
+            updates[name] = add(name, mesh)
+        elif updates[name] is not None:
+            updates[name](mesh)
+    for name, update in updates.items():
+        if update is not None and name not in parts:
+            update(None)
+
+
 def _write_png(path: Path, image: np.ndarray) -> Path:
     from PIL import Image
 
@@ -311,8 +330,7 @@ def _movie(path: Path, fps: float):
                 duration=round(1000 / fps), loop=0,
             )  # fmt: skip
         else:
-            import imageio.v2 as imageio
-
+            imageio = need("imageio.v2", "mp4")
             writer = imageio.get_writer(
                 tmp, format="FFMPEG", fps=fps, quality=7, macro_block_size=16
             )
@@ -343,16 +361,10 @@ def render_run(
     if fmt not in ("gif", "mp4"):
         raise ValueError(f"animation format must be 'gif' or 'mp4', got {fmt!r}")
     run = load_run(out_dir)
-    n = len(run.times)
-    if n == 0:
-        raise ValueError(f"{run.pvd} lists no frames")
-    shots = _snapshots(run, snapshot_times)
-    movie = set()
-    if animation:
-        movie = set(np.unique(np.linspace(0, n - 1, min(n, max_frames)).round().astype(int)))
+    shots, movie = _chosen_frames(run, snapshot_times, max_frames if animation else 0)
     indices = sorted(movie | set(shots.values()))
     # bounds and colours over the frames drawn: what is not drawn needs no room
-    frames = run.frames(indices)
+    frames = [(t, {k: deformed(m) for k, m in parts.items()}) for t, parts in run.frames(indices)]
     bounds, vmax = _scene(frames, run.static_parts)
     clim = (0.0, vmax if vmax > 0 else 1.0)
     radius = 0.01 * _scene_size(bounds)
@@ -368,22 +380,18 @@ def render_run(
         stack.callback(plotter.close)
         add_to_movie = stack.enter_context(_movie(movie_path, fps)) if animation else None
         plotter.set_background("white")
-        plotter.add_text(run.pvd.stem, position="upper_right", font_size=10, color="black")
+        plotter.add_text(run.case, position="upper_right", font_size=10, color="black")
         clock = plotter.add_text("", position="upper_left", font_size=12, color="black")
         _fix_camera(plotter, bounds, pad=2 * radius)
         updates = {}
+
+        def add(name, mesh):
+            static = name in run.static_parts
+            space = not _is_planar(bounds)
+            return _add_part(pyvista, plotter, mesh, static, radius, clim, space)
+
         for i, (t, parts) in zip(indices, frames, strict=True):
-            for name, mesh in parts.items():
-                if name not in updates:
-                    static = name in run.static_parts
-                    updates[name] = _add_part(
-                        pyvista, plotter, mesh, static, radius, clim, not _is_planar(bounds)
-                    )
-                elif updates[name] is not None:
-                    updates[name](mesh)
-            for name, update in updates.items():
-                if update is not None and name not in parts:
-                    update(None)
+            _show(updates, parts, add)
             clock.SetText(2, f"t = {t:.4f} s")
             # render() is a no-op before the first screenshot, which then renders itself
             plotter.render()
@@ -397,85 +405,3 @@ def render_run(
     if "t" in run.history:
         written.append(plot_history(run.out_dir))
     return written
-
-
-_QUANTITY = {
-    "m": "length",
-    "m/s": "velocity",
-    "m/s^2": "acceleration",
-    "rad": "rotation",
-    "rad/s": "angular velocity",
-    "N": "force",
-    "N m": "moment",
-    "N·m": "moment",
-    "N s": "impulse",
-    "N·s": "impulse",
-    "J": "energy",
-}
-
-
-def history_panels(columns: list[str], probes: dict) -> list[tuple[str, list[str]]]:
-    """(y label, probe columns) per panel: one panel per unit, else one per probe."""
-    groups: dict[object, list[str]] = {}
-    for name in columns:
-        unit = (probes.get(name) or {}).get("unit")
-        groups.setdefault(unit if unit else ("probe", name), []).append(name)
-    panels = []
-    for key, names in groups.items():
-        if isinstance(key, tuple):
-            panels.append((names[0], names))
-            continue
-        # the probes' own words when they agree (a position is no displacement), else the
-        # quantity of the unit
-        texts = {(probes.get(n) or {}).get("description") for n in names}
-        text = texts.pop() if len(texts) == 1 and None not in texts else None
-        text = text if text and len(text) <= 32 else None  # an axis label, not a sentence
-        panels.append((f"{text or _QUANTITY.get(key, names[0])} ({key})", names))
-    return panels
-
-
-def plot_history(out_dir, path=None) -> Path:
-    """Plot the probes of ``history.csv`` against time (s), grouped by unit, and total energy.
-
-    Impacts listed in ``summary.json`` are marked by thin vertical lines. Writes
-    ``history.png`` in the run folder unless ``path`` is given; returns the path.
-    """
-    from matplotlib.figure import Figure
-
-    folder = Path(out_dir)
-    folder = folder.parent if folder.suffix == ".pvd" else folder
-    history = read_history(folder / HISTORY_FILE)
-    summary = read_json(folder / SUMMARY_FILE) if (folder / SUMMARY_FILE).is_file() else {}
-    if "t" not in history:
-        raise ValueError(f"{folder / HISTORY_FILE} has no column 't'")
-    probes = [c for c in history if c not in STANDARD_COLUMNS]
-    panels = history_panels(probes, summary.get("probes") or {})
-    energy = "total_energy" in history
-    if not panels and not energy:
-        raise ValueError(f"{folder / HISTORY_FILE} has no probe or energy columns")
-    heights = [2.0] * len(panels) + [1.2] * energy
-    # Figure without pyplot: the Agg canvas, and no global backend state touched
-    fig = Figure(figsize=(7.0, sum(heights) + 0.8), dpi=150, layout="constrained")
-    axes = fig.subplots(len(heights), 1, sharex=True, squeeze=False, height_ratios=heights)[:, 0]
-    t = history["t"]
-    for ax, (label, names) in zip(axes, panels, strict=False):
-        for name in names:
-            ax.plot(t, history[name], lw=1.0, label=name)
-        ax.set_ylabel(label)
-        ax.legend(loc="best", fontsize="small", frameon=False)
-    if energy:
-        axes[-1].plot(t, history["total_energy"], lw=1.0, color="black")
-        axes[-1].set_ylabel("total energy (J)")
-    for impact in summary.get("impacts") or []:
-        for ax in axes:
-            ax.axvline(float(impact["time"]), color="0.6", lw=0.6, ls="--", zorder=0)
-    for ax in axes:
-        ax.grid(True, lw=0.3, alpha=0.5)
-    if t.size:
-        axes[-1].set_xlim(t[0], t[-1])
-    axes[-1].set_xlabel("time (s)")
-    cases = sorted(folder.glob("*.pvd"))
-    axes[0].set_title(cases[0].stem if len(cases) == 1 else folder.name, fontsize="medium")
-    path = Path(path) if path is not None else folder / "history.png"
-    fig.savefig(path)
-    return path

@@ -9,9 +9,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import __version__
 from ..errors import InputError
 from ..time import State, record_arrays, records_from_arrays
+from ..version import __version__
 from .files import atomic_write
 
 __all__ = ["CHECKPOINT", "clear_earlier_run", "jsonable", "load_checkpoint", "save_checkpoint"]
@@ -32,12 +32,16 @@ CHECKPOINT = "checkpoint.npz"
 
 
 def fingerprint(sim) -> str:
-    """What must match for a checkpoint to continue this simulation."""
+    """What must match for a checkpoint to continue this simulation: the case file it was built
+    from (its SHA-256) and everything but the end time, which a resumed run may extend (also
+    when the case takes it as a parameter)."""
+    parameters = {k: v for k, v in sim.parameters.items() if k != "t_end"}
     return json.dumps(
         [
             sim.name,
+            sim.origin.get("sha256"),
             __version__,
-            jsonable(sim.parameters),
+            jsonable(parameters),
             dataclasses.asdict(sim.options),
             sim.dt,
             sim.output_interval,
@@ -83,9 +87,62 @@ def load_checkpoint(path: Path, sim):
     memory = {k[len("memory_") :]: arrays.pop(k) for k in list(arrays) if k.startswith("memory_")}
     records = records_from_arrays(memory)
     if meta["fingerprint"] != fingerprint(sim):
-        raise InputError("resume: the checkpoint was written with other parameters or options")
+        raise InputError(f"resume: {_what_differs(meta['fingerprint'], sim)}")
+    _check_history(path.parent / "history.csv", meta["step"])
+    _check_frames(path.parent, sim.name, meta["t"])
     st = State(meta["t"], step=meta["step"], h=meta["h"], **records, **arrays)
     return st, meta
+
+
+def _what_differs(stored: str, sim) -> str:
+    """Why a checkpoint does not continue ``sim``: another case file, or other settings."""
+    try:
+        name, sha = json.loads(stored)[:2]
+    except (ValueError, TypeError):
+        name, sha = None, None
+    if name != sim.name or (sha and sim.origin.get("sha256") and sha != sim.origin["sha256"]):
+        return (
+            f"the checkpoint was written by another case file (case {name}); start the run "
+            "again without --resume, or choose another --out"
+        )
+    return "the checkpoint was written with other parameters or options"
+
+
+def _check_history(path: Path, step: int) -> None:
+    """The history a checkpoint at ``step`` continues holds its rows (t = 0 to that step)."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            rows = sum(1 for _ in f) - 1  # less the header
+    except OSError:
+        rows = -1
+    if rows < step + 1:
+        held = "is missing" if rows < 0 else f"holds {rows} rows"
+        raise InputError(
+            f"resume: {path.name} {held}; the checkpoint at step {step} needs {step + 1}; "
+            "start the run again without --resume"
+        )
+
+
+def _check_frames(out: Path, name: str, t: float) -> None:
+    """Every frame the run's index (``.pvd``, or ``.frames.json`` of VTKHDF frames) lists up
+    to the checkpoint's time ``t`` (s) exists."""
+    indexes = [out / f"{name}{ext}" for ext in (".pvd", ".frames.json")]
+    pvd = next((path for path in indexes if path.is_file()), None)
+    if pvd is None:
+        return  # a run without frames
+    from .output import load_run
+
+    try:
+        run = load_run(pvd)
+    except (OSError, ValueError, SyntaxError) as err:  # XML parse errors are SyntaxErrors
+        raise InputError(f"resume: {pvd.name} is unreadable ({str(err)[:80]})") from None
+    for when, files in zip(run.times, run.files, strict=True):
+        missing = [f for f in files.values() if not (pvd.parent / f).is_file()]
+        if when <= t and missing:
+            raise InputError(
+                f"resume: {missing[0]}, listed in {pvd.name}, is missing; start the run again "
+                "without --resume"
+            )
 
 
 RUN_FILES = ("history.csv", "summary.json", CHECKPOINT, "history.png", "animation.gif")
@@ -97,6 +154,7 @@ def clear_earlier_run(out: Path, name: str, overwrite: bool) -> None:
     if not out.is_dir():
         return
     cases = {p.stem for p in out.glob("*.pvd")}
+    cases |= {p.name[: -len(".frames.json")] for p in out.glob("*.frames.json")}
     others = sorted(cases - {name})
     if others and not overwrite:
         raise InputError(
@@ -106,6 +164,7 @@ def clear_earlier_run(out: Path, name: str, overwrite: bool) -> None:
     stale = [out / f for f in RUN_FILES] + list(out.glob("snapshot_*.png"))
     for case in cases | {name}:
         stale += [out / f"{case}.pvd", *out.glob(f"{case}_*.vtu")]
+        stale += [out / f"{case}.frames.json", *out.glob(f"{case}_*.vtkhdf")]
     for path in stale:
         try:
             path.unlink(missing_ok=True)

@@ -15,12 +15,12 @@ import numpy as np
 
 from .files import atomic_write
 
-__all__ = ["body_mesh", "line_mesh", "write_vtu"]
+__all__ = ["VTK_TYPES", "body_mesh", "line_mesh", "write_vtu"]
 
 _SNAKE = re.compile(r"[a-z][a-z0-9_]*")
 
 
-_VTK_TYPES = {
+VTK_TYPES = {
     "vertex": 1,
     "line": 3,
     "triangle": 5,
@@ -103,7 +103,7 @@ def _cells_xml(key) -> tuple[int, str]:
         k = c.shape[1]
         offsets.append(end + k * np.arange(1, len(c) + 1))
         end += k * len(c)
-        types.append(np.full(len(c), _VTK_TYPES[kind], dtype=np.int64))
+        types.append(np.full(len(c), VTK_TYPES[kind], dtype=np.int64))
     n_cells = sum(len(t) for t in types)
     cat = (lambda xs: np.concatenate(xs)) if conn else (lambda xs: np.zeros(0, np.int64))
     return n_cells, (

@@ -54,7 +54,7 @@ def check_sparse_solver(name: str) -> str:
             import pyamg  # noqa: F401
         except ImportError:
             raise InputError(
-                f'sparse solver "{name}" needs the pyamg package: pip install pyamg'
+                f'sparse solver "{name}" needs the pyamg package: pip install "fecontact[amg]"'
             ) from None
     return name
 

@@ -9,6 +9,7 @@ from ..contact import solve_velocity_jump
 from ..linalg import factorize
 from .constraints import Constraints, StepFailure, augmentation, constraint_columns
 from .coulomb import frictional_jump
+from .poisson import poisson_jump
 
 __all__ = ["velocity_jump"]
 
@@ -66,10 +67,18 @@ def velocity_jump(
         gdot[: closed.size] += contacts.rates(q, closed)
     if np.any(e):
         rows = (cons, G1, closed, g_tilde, gdot)
-        gdot += e * _approach_rates(model, st, q, t, rows, opts, tol_gap, approach)
+        gdot_n = _approach_rates(model, st, q, t, rows, opts, tol_gap, approach)
+    else:
+        gdot_n = np.zeros_like(gdot)
     if not np.all(np.isfinite(gdot)):  # a NaN would switch every test of the law off
         raise StepFailure("velocity jump: non-finite normal velocity of a closed contact", np.nan)
     tol = tol_gap / (t - st.t)
+    if opts.impact_law == "poisson" and np.any(e):
+        return poisson_jump(
+            model, st, q, v, closed, G1, gdot, e, gdot_n[: closed.size], opts, tol,
+            bilateral=cons.bilateral, preload=preload,
+        )  # fmt: skip
+    gdot += e * gdot_n
     if contacts.frictional:
         W, lam_n, lam_t, status, its, work, _ = frictional_jump(
             model, st, q, v, closed, G1, gdot, opts, tol, preload=preload

@@ -56,6 +56,7 @@ from .constraints import (
     plus_curvature,
 )
 from .coulomb import frictional_jump
+from .poisson import poisson_jump
 from .records import FrictionRecord
 from .settings import run_settings
 from .state import IntegratorOptions, PhaseTimer, State, length_scale
@@ -124,15 +125,14 @@ def moreau_step(model, st: State, h: float, opts: IntegratorOptions, timer: Phas
 
 
 def _impact_rows(model, st, index_set):
-    """(rows, e ġ⁻) of the impact law: the contacts ``index_set`` and every joint; None when
-    there are none."""
+    """(rows, e ġ⁻, e, ġ⁻) of the impact law: the contacts ``index_set`` and every joint;
+    None when there are none."""
     if not index_set.size and not model.joints.size:
         return None
     rows = Constraints(model, index_set)
     e = np.concatenate([model.contacts.restitution[index_set], np.zeros(model.joints.size)])
-    if np.any(e):
-        e = e * (rows.jacobian(st.q)[1] @ st.v[model.free])
-    return rows, e
+    approach = rows.jacobian(st.q)[1] @ st.v[model.free] if np.any(e) else np.zeros(e.size)
+    return rows, e * approach, e, approach
 
 
 def _moreau_newton(model, st, h, theta, rows, opts, timer, slip=None):
@@ -180,7 +180,7 @@ def _moreau_newton(model, st, h, theta, rows, opts, timer, slip=None):
         v_new = v - solve(R)
         clock = timer.add("solve", clock)
         if nr:
-            W, P, n, tangential = _contact_law(model, st, q, v_new, G, rows, solve, opts, slip)
+            W, P, n, tangential = _contact_law(model, st, q, v_new, G, rows, solve, opts, slip, h)
             v_new += W
             lcp_its += n
             clock = timer.add("contact", clock)
@@ -245,9 +245,12 @@ def _iteration_matrix(model, K, Ct, ht, rows, q, P):
     return What
 
 
-def _contact_law(model, st, q, v_free, G, rows, solve, opts, slip):
+def _contact_law(model, st, q, v_free, G, rows, solve, opts, slip, h):
     """The impact law at the velocity ``v_free`` (free dofs) in the metric Ŵ: W, P (normal
-    then joint impulses), iterations, and with ``slip`` Coulomb's (P_T, status, G_T)."""
+    then joint impulses), iterations, and with ``slip`` Coulomb's (P_T, status, G_T).
+    Poisson's law where the options ask for it and a row restitutes (e > 0)."""
+    if opts.impact_law == "poisson" and np.any(rows[2]):
+        return _poisson_law(model, st, q, v_free, G, rows, solve, opts, h)
     if slip is not None:
         return _coulomb_law(model, st, q, v_free, G, rows, solve, opts, slip)
     W, P, n = _impact_law(G, G @ v_free + rows[1], solve, rows[0].bilateral, opts)
@@ -265,6 +268,23 @@ def _coulomb_law(model, st, q, v_free, G, rows, solve, opts, slip):
     )
     GT = model.contacts.tangent_jacobian(q, index_set)[0]
     return W, np.concatenate([P_n, P_b]), its, (P_t, status, GT)
+
+
+def _poisson_law(model, st, q, v_free, G, rows, solve, opts, h):
+    """Poisson's law (:func:`fecontact.time.poisson.poisson_jump`) in the metric Ŵ, with the
+    result of :func:`_coulomb_law` (P_T, status, G_T = None without friction)."""
+    v = np.zeros(model.n)
+    v[model.free] = v_free
+    index_set = rows[0].select
+    tol = opts.tol_gap * length_scale(model, st.q) / h  # (m/s), as Coulomb's law's
+    W, P, its, friction = poisson_jump(
+        model, st, q, v, index_set, G, G @ v_free, rows[2], rows[3][: index_set.size], opts,
+        tol, solve=solve, bilateral=rows[0].bilateral,
+    )  # fmt: skip
+    if friction is None:
+        return W, P, its, None
+    GT = model.contacts.tangent_jacobian(q, index_set)[0]
+    return W, P, its, (friction[0], friction[1], GT)
 
 
 def _turning(model, slip) -> bool:

@@ -34,6 +34,7 @@ import time
 
 import numpy as np
 
+from ..ledger import smooth_record
 from .alpha_step import SmoothStep, alpha_smooth_step
 from .configuration import plus
 from .constraints import (
@@ -43,6 +44,7 @@ from .correction import correction_metric, position_correction
 from .coulomb import frictional_correction
 from .generalized_alpha import coefficients
 from .impacts import velocity_jump
+from .penetration import check_predictor
 from .position_jump import acceleration_jump, velocity_follows
 from .records import FrictionRecord, SmoothForces
 from .settings import RunSettings, run_settings
@@ -87,8 +89,8 @@ class _Phases:
     # the attributes (slots: every access of the step's hot loop is cheaper)
     __slots__ = (
         "Gb P a c cand closed corrected force forces g_tilde gaps grip h held impulse "
-        "iters lam m model nu opts q record smooth_step st st_s step t timer tol_gap v "
-        "v_tilde vd"
+        "iters lam m model nu opts q q_tilde record smooth_step st st_s step t timer tol_gap "
+        "v v_tilde vd"
     ).split()
 
     def __init__(self, model, st: State, h: float, opts, timer: PhaseTimer, smooth_step):
@@ -102,6 +104,7 @@ class _Phases:
         self.grip = None  # (λ_N, λ_T) of the smooth step with friction
         self.nu = self.impulse = self.gaps = self.cand = None
         self.corrected = None  # (q̃, the metric's solve) after a correction (decoupled scheme)
+        self.q_tilde = None  # q̃ after a correction moved q (for the energy ledger)
 
     def smooth(self) -> np.ndarray:
         """Step 1 (taken again without the contacts it releases) and the records of its
@@ -149,6 +152,7 @@ class _Phases:
         model, st, opts, m, q = self.model, self.st, self.opts, self.m, self.q
         model.contacts.set_time(self.t)
         self.g_tilde = g_tilde = model.contacts.gaps(q)
+        check_predictor(model, q, g_tilde)
         cand = (g_tilde <= opts.detection_margin * model.length).nonzero()[0]
         # (only the candidates use the gap tolerance)
         self.tol_gap = opts.tol_gap * length_scale(model, q) if cand.size else 0.0
@@ -162,7 +166,7 @@ class _Phases:
         if self.grip is not None:  # contacts gripped by the smooth step keep their grip
             was_active = was_active | (self.force[cand] > 0.0)
         work = cand[short | was_active]
-        q_tilde = q
+        q_tilde = self.q_tilde = q
         metric = correction_metric(model, q_tilde, self.step.S, self.c, opts.metric)
         while True:
             U, nu_w, friction = self._corrected(q_tilde, work, metric)
@@ -209,7 +213,6 @@ class _Phases:
             return
         force, grip = self.force, self.grip
         self.held = held = None if force is None else force[closed] > 0.0
-        self.v_tilde = self.v.copy()  # ṽ, the smooth step's velocity
         preload = None if grip is None else self.h * grip[closed]  # the smooth forces' impulse
         W, Lam, self.iters["velocity"], tangential = velocity_jump(
             model,
@@ -308,6 +311,7 @@ class _Phases:
         and the state they end in."""
         if self.m == 0 and self.model.joints.size == 0:
             return self.state()
+        self.v_tilde = self.v.copy()  # ṽ, the smooth step's velocity
         self.correct()  # 2., only if a contact candidate penetrates (joints already hold)
         self.jump()  # 3.
         self.follow()
@@ -320,6 +324,9 @@ class _Phases:
         if self.nu is not None:  # (else no contacts, no joints: the smooth step alone)
             at |= {"gaps": self.gaps, "candidates": self.cand, "nu": self.nu}
             at |= {"impulse": self.impulse, "smooth": self.forces, "friction": self.record}
+            phase = self.cand.size + self.model.joints.size  # a correction or a jump may follow
+            work = self.step.friction_work
+            at["ledger"] = smooth_record(self.model, phase, self.v_tilde, self.q_tilde, work)
         return State(self.t, self.q, self.v, self.vd, self.a, **at)
 
 

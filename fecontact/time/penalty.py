@@ -4,7 +4,7 @@ It has the signature ``step(model, state, h, options, timer) -> State`` of every
 penetrates, by design.
 
 **Penalty** contact in the smooth generalized-α step (the Newton of step 1 of
-:mod:`fecontact.integrator` with a contact force, no position correction, no velocity jump):
+:mod:`fecontact.time.nsga` with a contact force, no position correction, no velocity jump):
 
     M v̇_{n+1} + f_int(q_{n+1}) + C v_{n+1} − f_ext(t_{n+1}) − Σ_j G_jᵀ λ_j = 0,
     λ_j = [k_j δ_j + c_j min(−ġ_j, δ_j/τ)]_+,  δ_j = −g_j > 0 (λ_j = 0 when g_j ≥ 0),

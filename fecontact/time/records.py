@@ -88,19 +88,21 @@ _FIELDS = {
 }
 _RECORDS = {"smooth": SmoothForces, "friction": FrictionRecord, "penalty": PenaltyRecord}
 _SCALARS = {"friction_work", "penalty_h1"}
+_ARRAYS = ("strain_increment", "ledger")  # the state's fields that are arrays of their own
 
 
 def record_arrays(st) -> dict[str, np.ndarray]:
     """The arrays of the records of the state ``st`` (its fields ``smooth``, ``friction``,
-    ``penalty`` and ``strain_increment``), by the names a checkpoint stores."""
+    ``penalty``, ``strain_increment`` and ``ledger``), by the names a checkpoint stores."""
     out = {}
     for name, (owner, field) in _FIELDS.items():
         record = getattr(st, owner)
         value = None if record is None else getattr(record, field)
         if value is not None:
             out[name] = np.atleast_1d(np.asarray(value, dtype=float))
-    if st.strain_increment is not None:
-        out["strain_increment"] = st.strain_increment
+    for name in _ARRAYS:
+        if (value := getattr(st, name)) is not None:
+            out[name] = value
     return out
 
 
@@ -117,6 +119,7 @@ def records_from_arrays(arrays: dict[str, np.ndarray]) -> dict:
         if values[owner]:
             fields = [f.name for f in dataclasses.fields(cls)]
             out[owner] = cls(**{f: values[owner].get(f) for f in fields})
-    if "strain_increment" in arrays:
-        out["strain_increment"] = arrays["strain_increment"]
+    for name in _ARRAYS:
+        if name in arrays:
+            out[name] = arrays[name]
     return out

@@ -7,6 +7,7 @@ from collections.abc import Iterator
 
 from ..errors import SolverError, check_positive
 from .constraints import StepFailure
+from .penetration import PenetrationFailure
 from .smooth_contact import resting_start
 from .state import IntegratorOptions, PhaseTimer, State, initial_state, length_scale
 from .stats import StepStats
@@ -63,8 +64,13 @@ def simulate(
         try:
             state = stepper.step(state, h, timer)
         except StepFailure as err:
+            what = (
+                "penetration not held"
+                if isinstance(err, PenetrationFailure)
+                else "Newton did not converge"
+            )
             raise SolverError(
-                f"Newton did not converge at t = {state.t:.6g} s (step {n}): {err} "
+                f"{what} at t = {state.t:.6g} s (step {n}): {err} "
                 f"(residual {err.residual:.3e}) after {opts.max_halvings} step halvings",
                 time=state.t,
                 step=n,

@@ -34,6 +34,18 @@ IMPACT_VELOCITIES = ("interpolated", "step_start")
 INTEGRATORS = ("nsga", "moreau", "penalty")
 SWITCH = ("auto", "on", "off")
 SCHEMES = ("generalized-alpha", "energy-decaying")
+IMPACT_LAWS = ("newton", "poisson")
+
+
+# the options that name one of a few choices, in the order they are checked
+_CHOICES = {
+    "metric": METRICS,
+    "impact_velocity": IMPACT_VELOCITIES,
+    "integrator": INTEGRATORS,
+    "smooth_contact": SWITCH,
+    "scheme": SCHEMES,
+    "impact_law": IMPACT_LAWS,
+}
 
 
 @dataclass
@@ -58,7 +70,7 @@ class IntegratorOptions:
         gap crosses zero, found on the chord from g(q_n) to g(q̃_{n+1}); "step_start" takes
         ġ(q_n, v_n) as in Brüls, Acary & Cardona (2014). The first loses e g̈ δ of rebound
         speed only at O(h²) (δ: time from the step start to the impact), the second at O(h).
-    integrator : "nsga" (this module), or the baselines of :mod:`fecontact.baselines` for
+    integrator : "nsga" (this module), or the baselines of :mod:`fecontact.time` for
         side-by-side comparisons: "moreau" (Moreau–Jean θ-method, impact law at velocity
         level only) and "penalty" (penalty contact in the smooth generalized-α step).
     theta : θ ∈ (0, 1] of Moreau–Jean.
@@ -74,6 +86,10 @@ class IntegratorOptions:
     scheme : NSGA only. The smooth step: "generalized-alpha" (default) or "energy-decaying"
         (:mod:`fecontact.time.energy_step`: planar geometrically exact beams, whose energy it
         cannot let grow; ``rho_inf`` ∈ [1/3, 1] sets its dissipation, 1 conserves energy).
+    impact_law : nsga and moreau. "newton" (default): ġ⁺ ≥ −e_N ġ⁻, kinematic restitution;
+        "poisson": a compression impulse, then a decompression impulse at least e_N times
+        it, each under Coulomb's law (:mod:`fecontact.time.poisson`), which cannot make a
+        single frictional contact gain energy where Newton's law can.
     """
 
     rho_inf: float = 0.5
@@ -93,26 +109,19 @@ class IntegratorOptions:
     penalty_damping: float | None = None
     smooth_contact: str = "auto"
     scheme: str = "generalized-alpha"
+    impact_law: str = "newton"
 
     def __post_init__(self):
         alpha_coefficients(self.rho_inf)
-        if not isinstance(self.metric, str) or self.metric not in METRICS:
-            raise InputError(f"metric must be one of {', '.join(METRICS)}, got {self.metric!r}")
-        if not isinstance(self.impact_velocity, str) or self.impact_velocity not in (
-            IMPACT_VELOCITIES
-        ):
-            known = ", ".join(IMPACT_VELOCITIES)
+        for name, allowed in _CHOICES.items():
+            value = getattr(self, name)
+            if not isinstance(value, str) or value not in allowed:
+                raise InputError(f"{name} must be one of {', '.join(allowed)}, got {value!r}")
+        if self.impact_law != "newton" and self.integrator == "penalty":
             raise InputError(
-                f"impact_velocity must be one of {known}, got {self.impact_velocity!r}"
+                f"impact_law = {self.impact_law!r} needs integrator nsga or moreau: the penalty "
+                "baseline has no impact law (its dashpot sets the restitution)"
             )
-        if not isinstance(self.integrator, str) or self.integrator not in INTEGRATORS:
-            known = ", ".join(INTEGRATORS)
-            raise InputError(f"integrator must be one of {known}, got {self.integrator!r}")
-        if not isinstance(self.smooth_contact, str) or self.smooth_contact not in SWITCH:
-            known = ", ".join(SWITCH)
-            raise InputError(f"smooth_contact must be one of {known}, got {self.smooth_contact!r}")
-        if not isinstance(self.scheme, str) or self.scheme not in SCHEMES:
-            raise InputError(f"scheme must be one of {', '.join(SCHEMES)}, got {self.scheme!r}")
         self.theta = check_range("theta", self.theta, 0.0, 1.0, (False, True))
         if self.penalty_stiffness is not None:
             self.penalty_stiffness = check_positive("penalty_stiffness", self.penalty_stiffness)
@@ -146,7 +155,9 @@ class State:
     The records a step hands the next (:mod:`fecontact.time.records`), None where the run
     has none: ``smooth`` the smooth contact forces, ``friction`` the frictional multipliers,
     status and work, ``penalty`` the penalty law, and ``strain_increment`` the energy-decaying
-    step's Δε of the elements (Σ E, 3); a checkpoint of the state holds all of the run.
+    step's Δε of the elements (Σ E, 3), and ``ledger`` what the energy ledger needs of the
+    smooth step (:func:`fecontact.ledger.smooth_record`); a checkpoint of the state holds
+    all of the run.
     """
 
     t: float
@@ -163,10 +174,14 @@ class State:
     iterations: dict = field(default_factory=lambda: {"smooth": 0, "position": 0, "velocity": 0})
     lam: np.ndarray = field(default_factory=lambda: np.zeros(0))
     halvings: int = 0
+    retakes: int = 0  # of the halvings: steps retaken for a penetration
+    penetration: float = 0.0  # m: the deepest contact point on the wrong side at the end
     smooth: SmoothForces | None = None
     friction: FrictionRecord | None = None
     penalty: PenaltyRecord | None = None
     strain_increment: np.ndarray | None = None
+    # the energy ledger's record of the smooth step (fecontact.ledger.smooth_record), or None
+    ledger: np.ndarray | None = None
 
     @property
     def newton_iterations(self) -> int:

@@ -10,6 +10,7 @@ from .energy_step import check_energy_scheme, energy_nsga_step
 from .moreau import moreau_step
 from .nsga import nsga_step
 from .penalty import penalty_step
+from .penetration import PenetrationFailure, hold_penetration
 from .settings import RunSettings, run_settings
 from .state import IntegratorOptions, PhaseTimer, State
 from .stats import StepStats
@@ -23,8 +24,9 @@ STEPPERS = {"nsga": nsga_step, "moreau": moreau_step, "penalty": penalty_step}
 
 class Stepper:
     """The step of one run: ``step(state, h, timer)`` takes ``state`` over ``h`` (s) with the
-    step function ``kind`` chosen for the run, halving a step that fails. ``settings`` are
-    the run's :class:`RunSettings` (its options, the traits decided once, its statistics)."""
+    step function ``kind`` chosen for the run, halving a step that fails, penetration
+    included (:func:`hold_penetration`). ``settings`` are the run's :class:`RunSettings` (its
+    options, the traits decided once, its statistics)."""
 
     def __init__(self, model, settings: RunSettings, kind: Callable):
         self.model, self.settings, self.kind = model, settings, kind
@@ -35,25 +37,36 @@ class Stepper:
 
     def step(self, st: State, h: float, timer: PhaseTimer, depth: int = 0) -> State:
         """The state after ``h`` (s) from ``st``: one step, or, where it fails, two of h/2,
-        recursively down to ``max_halvings`` levels (then the failure propagates)."""
+        recursively down to ``max_halvings`` levels (then the failure propagates). A step
+        retaken because it left a point too deep inside a body counts in ``retakes``."""
+        model = self.model
+        model.contacts.look_ahead(st.q, st.v, h)
         try:
-            return self.kind(self.model, st, h, self.settings, timer)
-        except StepFailure:
+            return hold_penetration(
+                model, self.kind(model, st, h, self.settings, timer), self.settings, timer
+            )
+        except StepFailure as err:
             if depth >= self.settings.max_halvings:
                 raise
+            retake = isinstance(err, PenetrationFailure)
         first = self.step(st, 0.5 * h, timer, depth + 1)
         second = self.step(first, 0.5 * h, timer, depth + 1)
-        return _joined(first, second, h)
+        second = _joined(first, second, h)
+        second.retakes += retake
+        return second
 
 
 def _joined(first: State, second: State, h: float) -> State:
     """``second`` as the end of one step of ``h`` (s) made of ``first`` and ``second``: the
-    step's impulses, normal and tangential, and iterations are the sums of theirs."""
+    step's impulses, normal and tangential, iterations, halvings and retakes are the sums of
+    theirs, its penetration the deeper."""
     second.impulse = second.impulse + first.impulse
     if second.friction is not None:  # the step's tangential impulse, as the normal
         second.friction.impulse = first.friction.impulse + second.friction.impulse
     second.iterations = {k: first.iterations[k] + second.iterations[k] for k in first.iterations}
     second.halvings = first.halvings + second.halvings + 1
+    second.retakes = first.retakes + second.retakes
+    second.penetration = max(first.penetration, second.penetration)
     second.h = h
     return second
 

@@ -1,0 +1,182 @@
+"""Mortar against node-to-surface contact: the patch test and the head-on disks.
+
+1. Patch test: two blocks [0, 1] × [0, 0.5] and [0, 1] × [0.5, 1] m (E = 1e7 and 3e7 Pa,
+   ν = 0.3, plane strain, non-matching meshes of n_lower and n_upper cells along x), the
+   upper one pressed by p = 1e5 Pa, solved statically with small displacements
+   (``fecontact.statics.solve_static_contact``). Per method: the largest displacement error
+   against the linear solution (relative to the largest displacement) and the spread of the
+   contact pressure, max |z_j/p − 1| over the contact nodes (node-to-surface: nodal force over
+   the node's tributary length; its corner nodes are left out, where the closest facet is a
+   tie between the face and the side of the lower block).
+2. ``cases/two_disks.py`` head-on, both methods side by side in one process (two passes for
+   node-to-surface, one interface for mortar), at each refinement: the largest sideways
+   centre-of-mass speed |v_y| over the impact speed, the final energy over the initial one,
+   the exit speed, steps, the wall time per step (ms, median of the repeats) and the share of
+   the time loop spent in the contact phase and in the smooth step's assembly (which carries
+   the smooth contact force, and with it the mortar integrals of persistent contacts).
+
+3. ``cases/two_balls.py`` (3D, graded P1 balls): the mortar interface with the right mesh
+   turned by 30° about the impact axis (no node meets a node) and unturned (node on node),
+   node-to-surface both ways, and the same ball against the rigid plane of symmetry, at the
+   case's step Δx/c and at h = t_c/50 (Hertz's contact duration). Per run: the largest
+   lateral centre-of-mass speed of the left ball over its approach speed, its exit speed (the
+   normal restitution) against the plane's, the contact duration t_c (from the first to the
+   end of the last step with a contact force) and the peak of the per-step contact force
+   Σ λ_j + k Λ_j / h, both against Hertz's (a ball on a rigid plane at the impact speed of
+   each ball), and the wall time.
+
+    python benchmarks/mortar.py            # refinements 2–5, the default balls (an hour)
+    python benchmarks/mortar.py --quick    # refinements 2–3, coarse balls (minutes)
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from _common import case, parser, publish, report, timed_run
+
+from fecontact.testing import pressed_blocks
+
+PATCH_MESHES = ((7, 4), (4, 7), (5, 5), (13, 6))
+
+
+def patch_rows():
+    rows = []
+    for n_low, n_up in PATCH_MESHES:
+        for method in ("mortar", "node-to-surface"):
+            p = 1e5
+            pair, parts, lam, exact = pressed_blocks(n_low, n_up, p, method=method)
+            scale = max(np.max(np.abs(u)) for u in exact)
+            err = max(np.max(np.abs(u - ue)) for u, ue in zip(parts, exact, strict=True))
+            active = lam > 0
+            if method == "mortar":
+                z = pair.nodal_pressure(lam)[1]
+            else:
+                x = pair.body.X[pair.nodes, 0]
+                order = np.argsort(x)
+                trib = np.zeros(len(x))
+                trib[order[:-1]] += 0.5 * np.diff(x[order])
+                trib[order[1:]] += 0.5 * np.diff(x[order])
+                # the face's corners carry half a cell more (they are not slave nodes)
+                trib[order[0]] += 0.5 * (x[order[0]] - 0.0)
+                trib[order[-1]] += 0.5 * (1.0 - x[order[-1]])
+                z = lam / trib
+            rows.append(
+                {
+                    "cells lower/upper": f"{n_low}/{n_up}",
+                    "method": method,
+                    "active nodes": int(active.sum()),
+                    "displacement error": err / scale,
+                    "pressure spread": float(np.max(np.abs(z[active] / p - 1.0))),
+                }
+            )
+    return rows
+
+
+def disk_rows(refinements, repeats):
+    rows = []
+    for ref in refinements:
+        for method in ("node-to-surface", "mortar"):
+            sim = case("two_disks").build(refinements=ref, method=method)
+            r = timed_run(sim, repeats=repeats)
+            h, s = r["history"], r["summary"]
+            v0 = 1.0
+            ph = r["phases"]
+            rows.append(
+                {
+                    "refinements": ref,
+                    "method": method,
+                    "status": r["status"],
+                    "sideways |vy|/v0": float(
+                        max(np.max(np.abs(h["vy_left"])), np.max(np.abs(h["vy_right"]))) / v0
+                    ),
+                    "E_end/E_0": s["energy_final"] / s["energy_initial"],
+                    "exit speed (m/s)": float(h["v_right"][-1]),
+                    "steps": r["steps"],
+                    "ms per step": 1e3 * r["wall"] / r["steps"],
+                    "contact share": ph.get("contact", 0.0) / r["wall"],
+                    "assembly share": ph.get("assembly", 0.0) / r["wall"],
+                }
+            )
+            print(rows[-1], flush=True)
+    return rows
+
+
+RADIUS, E_STAR, RHO = 0.05, 1e7 / (1.0 - 0.3**2), 1000.0
+
+
+def hertz(v: float = 1.0) -> dict:
+    """Hertz's duration (s) and peak force (N) of the ball on a rigid plane at ``v`` (m/s)."""
+    mass = RHO * 4.0 / 3.0 * np.pi * RADIUS**3
+    delta = (15.0 * mass * v**2 / (16.0 * E_STAR * np.sqrt(RADIUS))) ** 0.4
+    return {
+        "t_c": 2.87 * (mass**2 / (RADIUS * E_STAR**2 * v)) ** 0.2,
+        "F_max": 4.0 / 3.0 * E_STAR * np.sqrt(RADIUS) * delta**1.5,
+    }
+
+
+def ball_rows(quick: bool):
+    mesh = {"spacing": 0.16} if quick else {}
+    ref = hertz()
+    runs = [("mortar", "ball", 30.0), ("mortar", "ball", 0.0), ("node-to-surface", "ball", 30.0),
+            ("-", "plane", 0.0)]  # fmt: skip
+    rows, plane_exit = [], {}
+    for step in ("dx/c", "t_c/50"):
+        for method, against, rotate in runs:
+            options = {"method": method} if method != "-" else {}
+            sim = case("two_balls").build(against=against, rotate=rotate, **options, **mesh)
+            if step == "t_c/50":
+                sim = sim.replace(dt=ref["t_c"] / 50)
+            r = timed_run(sim, repeats=1)
+            h = r["history"]
+            force = np.asarray(h["contact_force"])
+            on = np.flatnonzero(force > 0.0)
+            dt = sim.dt
+            t_c = (on[-1] - on[0] + 1) * dt if on.size else np.nan
+            lateral = np.hypot(h["vy_left"], h["vz_left"]).max()
+            exit_speed = -float(h["vx_left"][-1])
+            if against == "plane":
+                plane_exit[step] = exit_speed
+            rows.append(
+                {
+                    "step": step,
+                    "partner": against if against == "plane" else f"ball, {method}",
+                    "turned (deg)": rotate,
+                    "status": r["status"],
+                    "dofs": sim.model.n,
+                    "lateral / v": float(lateral),
+                    "exit speed / v": exit_speed,
+                    "t_c error (%)": 100.0 * (t_c / ref["t_c"] - 1.0),
+                    "F_max error (%)": 100.0 * (force.max() / ref["F_max"] - 1.0),
+                    "steps": r["steps"],
+                    "wall (s)": r["wall"],
+                }
+            )
+            print(rows[-1], flush=True)
+    for row in rows:
+        row["restitution vs plane (%)"] = 100.0 * (
+            row["exit speed / v"] / plane_exit[row["step"]] - 1.0
+        )
+    return rows
+
+
+def main():
+    args = parser(__doc__.splitlines()[0]).parse_args()
+    refinements, repeats = ((2, 3), 1) if args.quick else ((2, 3, 4, 5), 3)
+    patch = patch_rows()
+    disks = disk_rows(refinements, repeats)
+    balls = ball_rows(args.quick)
+    text = report(
+        "Mortar and node-to-surface contact" + (" (quick)" if args.quick else ""),
+        ("Patch test, small displacements, p = 1e5 Pa (relative errors).", patch),
+        ("Two elastic disks head-on (cases/two_disks.py), 1 m/s each, side by side.", disks),
+        ("Two elastic balls head-on (cases/two_balls.py), 1 m/s each.", balls),
+    )
+    print(text)
+    stem = Path(args.out) / ("mortar_quick" if args.quick else "mortar")
+    publish(stem, disks, list(disks[0]), text)
+
+
+if __name__ == "__main__":
+    main()

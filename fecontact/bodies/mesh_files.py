@@ -1,0 +1,244 @@
+"""Mesh files read with meshio, with their named groups, and nodes that must be merged.
+
+A file's cells of the body's dimension make the mesh; its gmsh physical groups (``gmsh:physical``
+cell data named by ``field_data``, as gmsh and meshio write them) and meshio cell sets become the
+mesh's named ``subdomains`` (groups of cells) and ``boundaries`` (groups of boundary facets), the
+scikit-fem names a :class:`~fecontact.bodies.Solid` then looks up: ``body.nodes_of("top")``,
+``body.fix("bottom")``, ``Contact(body, plane, nodes="top")``.
+
+Coincident nodes that no cell joins are two surfaces, not one: the mesh checks refuse them, and
+:func:`merge_nodes` (or ``read_mesh(..., merge_nodes=True)``) merges them.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import skfem
+
+from ..errors import InputError, check_positive
+from .meshes import ELEMENTS, check_point, coincident_nodes
+
+__all__ = ["group_nodes", "merge_nodes", "read_mesh"]
+
+_VOLUME = {names[k]: cell for cell, names in ELEMENTS.items() for k in (2, 3)}
+_DIM = {"tri": 2, "quad": 2, "tet": 3, "hex": 3}
+# the facet cells meshio names for each kind of cell: boundary groups are made of these
+_FACETS = {
+    "tri": ("line", "line3"),
+    "quad": ("line", "line3"),
+    "tet": ("triangle", "triangle6"),
+    "hex": ("quad", "quad9"),
+}
+
+
+def read_mesh(path, scale: float = 1.0, offset=None, merge_nodes: bool = False):
+    """A mesh file read with meshio (any format it knows: .msh, .vtu, .vtk, .xdmf, ...), its
+    coordinates multiplied by ``scale`` and then shifted by ``offset`` (m, d components). The
+    dimension comes from the cells: tetrahedra or hexahedra make a 3D mesh, else triangles or
+    quadrilaterals a 2D one; other cells (gmsh geometry points, edges) are dropped, and so are
+    the points no cell uses. Named groups become ``mesh.boundaries`` and ``mesh.subdomains``.
+
+    ``merge_nodes`` merges coincident points (closer than 1e-8 of the diagonal of their bounding
+    box) first: a mesh made of parts meshed apart, whose shared faces were not merged.
+    """
+    import meshio  # lazily: mesh I/O only when a file is read
+
+    data = _read(Path(path))
+    blocks = [(c.type, _integer_cells(c.data, c.type)) for c in data.cells]
+    kind, volume = _volume_blocks(blocks, Path(path).name)
+    cell = _VOLUME[kind]
+    points, index = _used_points(data.points, volume, merge_nodes)
+    groups = _groups(data, blocks, cell)
+    renumbered = meshio.Mesh(points, [(kind, index[conn]) for kind, conn in volume])
+    mesh = _from_meshio(renumbered, cell).scaled(check_positive("scale", scale))
+    if offset is not None:
+        mesh = mesh.translated(check_point("offset", offset, mesh.dim()))
+    return _named(mesh, groups, index, blocks, kind)
+
+
+def _volume_blocks(blocks, name: str):
+    """The kind of the body's cells (the highest dimension found) and the blocks of them."""
+    volume = [(kind, conn) for kind, conn in blocks if kind in _VOLUME]
+    if not volume:
+        raise InputError(
+            f"{name} has no {', '.join(_VOLUME)} cells "
+            f"(found {', '.join(kind for kind, _ in blocks) or 'none'})"
+        )
+    kind = max((kind for kind, _ in volume), key=lambda k: _DIM[_VOLUME[k]])
+    mixed = {k for k, _ in volume if k != kind and _DIM[_VOLUME[k]] == _DIM[_VOLUME[kind]]}
+    if mixed:
+        raise InputError(f"{name} mixes {kind} cells with {', '.join(sorted(mixed))}")
+    return kind, [(k, conn) for k, conn in volume if k == kind]
+
+
+def merge_nodes(mesh, tol: float | None = None):
+    """The linear (P1) scikit-fem ``mesh`` with its coincident vertices merged: vertices closer
+    than ``tol`` (m; default 1e-8 of the
+    diagonal of the bounding box) become one, the first of them.
+    Quadratic meshes are merged when their file is read: ``read_mesh(..., merge_nodes=True)``."""
+    if mesh.doflocs.shape[1] != mesh.nvertices or not isinstance(mesh, skfem.Mesh):
+        raise InputError("merge_nodes takes a linear scikit-fem mesh; merge quadratic ones with "
+                         "read_mesh(..., merge_nodes=True)")  # fmt: skip
+    first = _merged(mesh.p.T, tol)
+    used = np.unique(first[mesh.t])
+    index = np.full(mesh.p.shape[1], -1)
+    index[used] = np.arange(len(used))
+    return type(mesh)(mesh.p[:, used], index[first[mesh.t]])
+
+
+def group_nodes(mesh, basis, name: str) -> np.ndarray:
+    """The nodes (dofs of the scalar ``basis``) of the group ``name`` of the mesh: those on its
+    facets for a boundary (``mesh.boundaries``), those of its cells for a subdomain
+    (``mesh.subdomains``)."""
+    boundaries, subdomains = mesh.boundaries or {}, mesh.subdomains or {}
+    if name in boundaries:
+        return np.unique(basis.get_dofs(boundaries[name]).all())
+    if name in subdomains:
+        return np.unique(basis.element_dofs[:, subdomains[name]])
+    names = sorted(boundaries) + sorted(subdomains)
+    raise InputError(
+        f"nodes: the mesh has no group named {name!r} (its groups: "
+        f"{', '.join(map(repr, names)) or 'none'})"
+    )
+
+
+def _read(path: Path):
+    import meshio
+
+    known = meshio.extension_to_filetypes
+    suffix = path.suffix.lower()
+    if suffix not in known and "".join(path.suffixes[-2:]).lower() not in known:
+        raise InputError(
+            f"unknown mesh file format {suffix or '(no extension)'!r} of {path.name}; "
+            "meshio reads " + ", ".join(sorted(known))
+        )
+    if not path.is_file():
+        raise InputError(f"mesh file not found: {path}")
+    try:
+        # .msh is also an ANSYS extension; meshio would try (and print) that reader first
+        return meshio.read(path, file_format="gmsh" if suffix == ".msh" else None)
+    except (Exception, SystemExit) as err:  # meshio raises many types, even SystemExit
+        why = str(err).splitlines()[0][:100] if str(err) else type(err).__name__
+        raise InputError(f"cannot read mesh file {path.name}: {why}") from None
+
+
+def _integer_cells(conn, kind: str) -> np.ndarray:
+    """Connectivity as int64, whatever integer type the file held. meshio reads a VTU's UInt64
+    connectivity (what it writes for pygmsh meshes) as float64: whole numbers below 2⁵³ are
+    exact in it, so they convert back exactly."""
+    conn = np.asarray(conn)
+    if conn.dtype.kind in "iu":
+        if conn.size and (conn.min() < 0 or conn.max() > np.iinfo(np.int64).max):
+            raise InputError(f"{kind} connectivity holds node numbers out of range")
+        return conn.astype(np.int64)
+    whole = np.isfinite(conn) & (conn == np.round(conn)) & (conn >= 0) & (conn < 2.0**53)
+    if conn.dtype.kind != "f" or not whole.all():
+        raise InputError(f"{kind} connectivity must hold node numbers, got {conn.dtype} values")
+    return conn.astype(np.int64)
+
+
+def _used_points(points, volume, merge: bool):
+    """The points the cells use, and each file point's index among them (−1: unused); with
+    ``merge``, coincident points first map to the first of them."""
+    first = _merged(points, None) if merge else None
+    conn = np.concatenate([c.ravel() for _, c in volume])
+    if conn.max() >= len(points):
+        raise InputError(f"cells refer to point {int(conn.max())}; the file has {len(points)}")
+    used = np.unique(conn if first is None else first[conn])
+    index = np.full(len(points), -1)
+    index[used] = np.arange(len(used))
+    if first is not None:
+        index = index[first]
+    return np.asarray(points[used], dtype=float), index
+
+
+def _merged(points, tol) -> np.ndarray:
+    """For each point, the first point within ``tol`` of it, transitively (itself if none)."""
+    import scipy.sparse as sp
+
+    points = np.asarray(points, dtype=float)
+    _, pairs = coincident_nodes(points, tol)
+    n = len(points)
+    graph = sp.coo_matrix((np.ones(len(pairs)), pairs.T), shape=(n, n))
+    _, label = sp.csgraph.connected_components(graph, directed=False)
+    first = np.full(label.max() + 1, n)
+    np.minimum.at(first, label, np.arange(n))
+    return first[label]
+
+
+def _from_meshio(data, cell: str):
+    from skfem.io.meshio import from_meshio
+
+    try:
+        return from_meshio(data)
+    except (ValueError, IndexError) as err:  # cells over fewer than their points, say
+        raise InputError(f"cannot build a {cell} mesh from the file's cells: {err}") from None
+
+
+def _groups(data, blocks, cell: str) -> dict[str, dict[str, list]]:
+    """Named groups of the file's cells: {"boundaries"|"subdomains": {name: [(block, rows)]}},
+    from gmsh physical tags (named by ``field_data``) and meshio cell sets."""
+    tagged = _physical_groups(data, len(blocks))
+    for name, rows in (data.cell_sets or {}).items():
+        if not name.startswith("gmsh:") and name not in tagged:
+            tagged[name] = [(b, np.asarray(r, int)) for b, r in _present(rows)]
+    volume = {k for k, c in _VOLUME.items() if c == cell}
+    groups = {"boundaries": {}, "subdomains": {}}
+    for name, members in tagged.items():
+        kinds = {blocks[b][0] for b, rows in members if len(rows)}
+        if kinds and kinds <= set(_FACETS[cell]):
+            groups["boundaries"][name] = members
+        elif kinds and kinds <= volume:
+            groups["subdomains"][name] = members
+    return groups
+
+
+def _present(rows):
+    return [(b, r) for b, r in enumerate(rows) if r is not None]
+
+
+def _physical_groups(data, n_blocks: int) -> dict[str, list]:
+    """{name: [(block, rows)]} of the gmsh physical tags (unnamed: "physical<tag>")."""
+    names = {int(v[0]): k for k, v in (data.field_data or {}).items() if len(v) >= 1}
+    tagged: dict[str, list] = {}
+    for b, tags in enumerate(data.cell_data.get("gmsh:physical", [None] * n_blocks)):
+        for tag in np.unique(tags) if tags is not None else ():
+            name = names.get(int(tag), f"physical{int(tag)}")
+            tagged.setdefault(name, []).append((b, np.flatnonzero(tags == tag)))
+    return tagged
+
+
+def _named(mesh, groups, index, blocks, volume_kind: str):
+    """``mesh`` with the file's groups as scikit-fem boundaries (facet indices) and subdomains
+    (cell indices: the cells of ``volume_kind`` numbered in file order, as meshio joins them)."""
+    if not groups["boundaries"] and not groups["subdomains"]:
+        return mesh
+    start = np.cumsum([0] + [len(c) if k == volume_kind else 0 for k, c in blocks])
+    subdomains = {
+        name: np.concatenate([start[b] + rows for b, rows in members])
+        for name, members in groups["subdomains"].items()
+    }
+    corners = mesh.facets.shape[0]
+    boundaries = {}
+    for name, members in groups["boundaries"].items():
+        conn = index[np.concatenate([blocks[b][1][rows, :corners] for b, rows in members])]
+        if np.any(conn < 0):
+            raise InputError(f"boundary {name!r} has points that no cell of the body uses")
+        boundaries[name] = _facet_indices(mesh.facets, conn, name)
+    return mesh.with_boundaries(boundaries).with_subdomains(subdomains)
+
+
+def _facet_indices(facets: np.ndarray, conn: np.ndarray, name: str) -> np.ndarray:
+    """Indices among the mesh's ``facets`` (k, F) of the facet cells ``conn`` (m, k), whatever
+    their vertex order."""
+    both = np.concatenate([np.sort(facets.T, axis=1), np.sort(conn, axis=1)])
+    _, ids = np.unique(both, axis=0, return_inverse=True)
+    ids = ids.ravel()
+    of_id = np.full(ids.max() + 1, -1)
+    of_id[ids[: facets.shape[1]]] = np.arange(facets.shape[1])
+    found = of_id[ids[facets.shape[1] :]]
+    if np.any(found < 0):
+        raise InputError(f"boundary {name!r} has facets that are not faces of the cells")
+    return np.unique(found)

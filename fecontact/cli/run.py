@@ -1,0 +1,222 @@
+"""``fecontact run``: one case from its file to its output folder, and the same command line
+for a case file run as a script (``python cases/NAME.py [run options]``)."""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import inspect
+import sys
+import warnings
+from pathlib import Path
+
+from ..errors import InputError, SolverError
+from ..extras import need
+from ..io.run_lock import hold_folder
+from ..params import assignment
+from .cases import case_origin
+
+__all__ = ["Parser", "add_run_options", "execute", "parse_value", "prepare", "run_cli"]
+
+# the run options that may also be a case parameter or be swept: name -> flag
+RUN_OPTIONS = {"dt": "--dt", "t_end": "--t-end", "output_interval": "--output-interval"}
+
+
+class Parser(argparse.ArgumentParser):
+    """An argument parser whose mistakes are ``InputError`` (one line, exit status 2)."""
+
+    def error(self, message):
+        raise InputError(message)
+
+
+def parse_value(text: str):
+    """``--set`` value: int, else float, else the string itself."""
+    for kind in (int, float):
+        try:
+            return kind(text)
+        except ValueError:
+            pass
+    return text
+
+
+def split_overrides(build, args) -> tuple[dict, dict]:
+    """``--set`` items as (case parameters, integrator options)."""
+    from ..time import IntegratorOptions
+
+    params = inspect.signature(build).parameters
+    option_names = {f.name for f in dataclasses.fields(IntegratorOptions)}
+    case_kw, option_kw = {}, {}
+    for item in args.set:
+        name, text = assignment(item)
+        if name in params:
+            case_kw[name] = parse_value(text)
+        elif name in option_names:
+            option_kw[name] = parse_value(text)
+        else:
+            known = ", ".join(list(params) + sorted(option_names - set(params)))
+            raise InputError(f"--set: unknown parameter {name!r}; known: {known}")
+        if getattr(args, name, None) is not None and name in RUN_OPTIONS:
+            raise InputError(f"{RUN_OPTIONS[name]} and --set {name}: give one of them")
+    return case_kw, option_kw
+
+
+def add_run_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--out", help="output folder (default: out/<case file name>)")
+    p.add_argument("--dt", type=float, help="time step h in s")
+    p.add_argument("--t-end", type=float, help="end time in s")
+    p.add_argument("--output-interval", type=float, help="simulated time between frames, s")
+    p.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="override a case parameter or an integrator option",
+    )
+    p.add_argument("--render", action="store_true", help="render snapshots and an animation")
+    p.add_argument("--quiet", action="store_true", help="no progress display")
+    p.add_argument("--debug", action="store_true", help="show the traceback of a failing build()")
+    p.add_argument(
+        "--checkpoint-every",
+        type=int,
+        default=500,
+        metavar="N",
+        help="save a checkpoint every N steps (0: never)",
+    )
+    p.add_argument(
+        "--resume", action="store_true", help="continue the run in --out from its last checkpoint"
+    )
+    p.add_argument(
+        "--overwrite", action="store_true", help="replace another case's output in --out"
+    )
+    p.add_argument(
+        "--format",
+        choices=("auto", "vtu", "vtkhdf"),
+        default="auto",
+        help="frames: a .vtu per part and frame (.pvd index), a transient .vtkhdf per part, "
+        "or auto: vtkhdf for 3D models of 2000 dofs or more (default)",
+    )
+
+
+def _build(build, case_kw: dict, name: str, debug: bool):
+    try:
+        sim = build(**case_kw)
+    except InputError:
+        raise
+    except Exception as err:
+        if debug:
+            raise
+        where = f"{type(err).__name__}: {err}".splitlines()[0][:120]
+        raise InputError(f"case {name}: build() failed: {where} (--debug shows where)") from None
+    from ..simulation import Simulation
+
+    if not isinstance(sim, Simulation):
+        raise InputError(f"case {name}: build() must return a Simulation, got {type(sim).__name__}")
+    return sim
+
+
+def prepare(build, args, name: str):
+    """The ``Simulation`` of ``build`` with the command line's parameters and run options."""
+    case_kw, option_kw = split_overrides(build, args)
+    sim = _build(build, case_kw, name, getattr(args, "debug", False))
+    changes = {k: getattr(args, k) for k in RUN_OPTIONS if getattr(args, k, None) is not None}
+    if changes.keys() & sim.parameters.keys():  # the records say what ran
+        changes["parameters"] = sim.parameters | {
+            k: v for k, v in changes.items() if k in sim.parameters
+        }
+    if option_kw:
+        changes["options"] = dataclasses.replace(sim.options, **option_kw)
+    if sim.name == "simulation":
+        changes["name"] = name
+    origin = case_origin(build)
+    if origin:
+        changes["origin"] = origin
+    return sim.replace(**changes) if changes else sim
+
+
+def _run(sim, out: Path, args) -> dict | int:
+    """``fecontact.run`` with the command line's options; an exit status if it stopped."""
+    from ..simulation import run
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)  # printed by the caller already
+            return run(
+                sim,
+                out,
+                progress=not args.quiet,
+                checkpoint_every=args.checkpoint_every,
+                resume=args.resume,
+                overwrite=args.overwrite,
+                frame_format=args.format,
+            )
+    except SolverError as err:
+        print(f"fecontact: run failed: {err}; results so far are in {out}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print(f"fecontact: interrupted; results so far are in {out}", file=sys.stderr)
+        return 130
+    except OSError as err:  # a full disk, a folder that cannot be written
+        what = Path(err.filename).name if err.filename else "the output"
+        why = err.strerror or type(err).__name__
+        print(
+            f"fecontact: error: cannot write {what}: {why} (what was written stays in --out)",
+            file=sys.stderr,
+        )
+        return 2
+
+
+def _report(sim, summary: dict, out: Path, quiet: bool) -> None:
+    if summary.get("step_halvings"):
+        # said even with --quiet: the run did not keep the step it was asked for
+        print(
+            f"fecontact: warning: {summary['step_halvings']} step(s) of dt = {sim.dt:g} s "
+            "were halved to converge (summary.json: step_halvings)",
+            file=sys.stderr,
+        )
+    for text in summary.get("warnings", []):  # said even with --quiet, as the halvings
+        print(f"fecontact: warning: {text}", file=sys.stderr)
+    if not quiet:
+        print(
+            f"{sim.name}: {summary['steps']} steps in {summary['wall_time_s']:.2f} s, "
+            f"{len(summary['impacts'])} impacts, max penetration "
+            f"{summary['max_penetration']:.2e} m -> {out}"
+        )
+
+
+def execute(build, args, name: str) -> int:
+    """Run case ``name`` (its ``build``) as ``args`` say; return the exit status."""
+    if args.checkpoint_every < 0:
+        raise InputError(f"checkpoint-every must be >= 0, got {args.checkpoint_every}")
+    if args.render:  # before the run, not after it
+        need("pyvista", "render")
+        need("matplotlib", "render")
+    out = Path(args.out) if args.out else Path("out") / name
+    with hold_folder(out, name):  # before build(): two runs into one folder never mix
+        sim = prepare(build, args, name)
+        for text in sim.warnings():
+            print(f"fecontact: warning: {text}", file=sys.stderr)
+        summary = _run(sim, out, args)
+    if isinstance(summary, int):
+        return summary
+    _report(sim, summary, out, args.quiet)
+    if args.render:
+        from ..io.render import render_run
+
+        for path in render_run(out):
+            if not args.quiet:
+                print(f"  wrote {path}")
+    return 0
+
+
+def run_cli(build, argv=None) -> None:
+    """Run a case from its own file: ``python cases/NAME.py [run options]``."""
+    name = Path(sys.modules[build.__module__].__file__ or "case").stem
+    parser = Parser(prog=f"python {name}.py")
+    add_run_options(parser)
+    try:
+        args = parser.parse_args(argv)
+        status = execute(build, args, name)
+    except InputError as err:
+        print(f"fecontact: error: {err}", file=sys.stderr)
+        status = 2
+    sys.exit(status)

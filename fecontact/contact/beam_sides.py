@@ -1,0 +1,169 @@
+r"""Two-sided beams: the side of a beam's centreline a point is on, decided from its motion.
+
+A beam's surface is its centreline offset by ± the ``clearance`` c (half the section height,
+plus the half thickness of a strip whose nodes are the points). Against element e = (x₁, x₂)
+a point x has the line coordinates
+
+    t = (x − x₁)·d / |d|²,   f = d × (x − x₁) / |d|   (d = x₂ − x₁; f > 0 on the left),
+
+and, where its closest point lies inside the element (0 < t < 1), the gap g = s f − c with
+the side s = ±1; at an end the gap is the distance to the end node less c (a round cap, the
+same from either side), unless the point went through the element in this step.
+
+The side is not frozen when the run starts: it is decided over every step from the point's
+motion relative to the element, from (t₀, f₀) at the start of the step (positions that the
+constraints held) to (t, f) now. The straight path between them crosses the centreline when
+f₀ f < 0 and the crossing t* = t₀ + (t − t₀) f₀/(f₀ − f) lies in [0, 1]: the point went
+through the element, and keeps the side s = sign f₀ it came from (its gap is then negative
+and the correction puts it back). Otherwise s = sign f: a point that went around the free end
+of a cantilever is below it, and its gap is its distance. Before any step (no start known)
+s = sign f.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..bodies.beam import Beam2D
+from ..bodies.solid import Solid
+from ..errors import InputError, check_positive, check_range
+from .base import PairDefaults
+from .geometry import point_line_distance
+from .registry import register_pair
+
+__all__ = ["PointBeamContact", "line_coordinates", "swept", "swept_sides"]
+
+
+def line_coordinates(x: np.ndarray, x1: np.ndarray, x2: np.ndarray):
+    """Unclamped parameters t and signed distances f (m, left of x₁ → x₂ positive) of points
+    x from the lines of the elements (x₁, x₂), broadcasting over leading axes (…, 2)."""
+    d, w = x2 - x1, x - x1
+    dd = np.sum(d * d, axis=-1)
+    t = np.sum(w * d, axis=-1) / dd
+    f = (d[..., 0] * w[..., 1] - d[..., 1] * w[..., 0]) / np.sqrt(dd)
+    return t, f
+
+
+def swept_sides(start, t: np.ndarray, f: np.ndarray) -> np.ndarray:
+    """Sides s = ±1 (same shape as f) of points against elements, from their line coordinates
+    ``start`` = (t₀, f₀) at the start of the step (None: not known) and (t, f) now (see the
+    module docstring)."""
+    return swept(start, t, f)[0]
+
+
+def swept(start, t: np.ndarray, f: np.ndarray):
+    """Sides s = ±1 and whether the path crossed the element (both shaped as f): see
+    :func:`swept_sides`. A point that crossed an element is held by the element's line even
+    where its closest point is now an end node: it went through the beam there, not around
+    it."""
+    now = np.where(f < 0.0, -1.0, 1.0)
+    if start is None:
+        return now, np.zeros(np.shape(f), dtype=bool)
+    t0, f0 = start
+    crossing = f0 * f < 0.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t_star = t0 + (t - t0) * f0 / (f0 - f)
+    crossed = crossing & (t_star >= 0.0) & (t_star <= 1.0)
+    came_from = np.where(f0 < 0.0, -1.0, 1.0)
+    at_line = f == 0.0  # on the line now: the side it was on
+    return np.where(crossed | at_line, came_from, now), crossed
+
+
+class PointBeamContact(PairDefaults):
+    """Nodes of a body (a ``Solid``'s boundary nodes, a ``Beam2D``'s nodes) against the
+    two-sided surface of a ``Beam2D``: its centreline offset by ± ``clearance`` c (m). One
+    contact per node, against its closest element: g = s f − c inside the element, the
+    distance to the end node − c at an end (module docstring for the side s)."""
+
+    linear = False
+    looks_ahead = True
+
+    def __init__(self, body, beam, nodes=None, restitution: float = 0.0, clearance=0.0):
+        if not isinstance(beam, Beam2D):
+            raise InputError(f"the second body must be a Beam2D, got {type(beam).__name__}")
+        if body is beam:
+            raise InputError("a body cannot contact itself (self-contact is not supported)")
+        if body.dim != 2:
+            raise InputError("a beam's surface takes 2D bodies only")
+        self.body, self.beam, self.bodies = body, beam, (body, beam)
+        self.nodes = body.contact_nodes(nodes)
+        if len(self.nodes) == 0:
+            raise InputError("nodes must name at least one node")
+        self.restitution = check_range("restitution", restitution, 0.0, 1.0)
+        self.clearance = check_positive("clearance", clearance, allow_zero=True)
+        self.segments = beam.segments()
+        self._point_dofs = body.node_translation_dofs(self.nodes)
+        self._segment_dofs = beam.node_translation_dofs(self.segments.ravel()).reshape(-1, 4)
+        self.offsets = (0, 0)
+        self._start = None  # (t₀, f₀) of every (node, element) at the start of the step
+
+    @property
+    def size(self) -> int:
+        return len(self.nodes)
+
+    def bind(self, model) -> None:
+        """Place the pair in the global dof vector of ``model``."""
+        self.offsets = (model.offset_of(self.body), model.offset_of(self.beam))
+        self._start = None
+
+    def _coordinates(self, q: np.ndarray):
+        (oa, ob), (a, b) = self.offsets, self.bodies
+        x = a.positions(q[oa : oa + a.ndof])[self.nodes]
+        xb = b.positions(q[ob : ob + b.ndof])
+        x1, x2 = xb[self.segments[:, 0]], xb[self.segments[:, 1]]
+        t, f = line_coordinates(x[:, None, :], x1[None], x2[None])
+        return x, x1, x2, t, f
+
+    def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
+        """Keep the line coordinates at the start of the coming step, for the sides."""
+        self._start = self._coordinates(q)[3:]
+
+    def evaluate(self, q: np.ndarray):
+        """Gaps (m,) in m, global dofs (m, 6) — the node's (x, y), then the element's two
+        nodes' —, gradients (m, 6) and Hessians (m, 6, 6)."""
+        x, x1, x2, t, f = self._coordinates(q)
+        m, rows = self.size, np.arange(self.size)
+        xi = np.clip(t, 0.0, 1.0)
+        d = x2 - x1
+        dist = np.linalg.norm(x[:, None, :] - x1[None] - xi[..., None] * d[None], axis=2)
+        e = np.argmin(dist, axis=1)
+        side, crossed = swept(self._start, t, f)
+        side, xe = side[rows, e], xi[rows, e]
+        g, G, H = np.empty(m), np.zeros((m, 6)), np.zeros((m, 6, 6))
+        inner = ((xe > 0.0) & (xe < 1.0)) | crossed[rows, e]
+        if inner.any():
+            fi, Gi, Hi = point_line_distance(x[inner], x1[e[inner]], x2[e[inner]])
+            s = side[inner]
+            g[inner], G[inner], H[inner] = s * fi, s[:, None] * Gi, s[:, None, None] * Hi
+        end = ~inner
+        if end.any():
+            k = np.where(xe[end] == 0.0, 0, 1)
+            node = np.where(k[:, None] == 0, x1[e[end]], x2[e[end]])
+            rel = x[end] - node
+            r = np.linalg.norm(rel, axis=1)
+            if np.any(r == 0.0):
+                raise InputError("a node lies on a beam's end node: contact normal undefined")
+            u = rel / r[:, None]
+            K = (np.eye(2) - u[:, :, None] * u[:, None, :]) / r[:, None, None]
+            g[end] = r
+            i, ax = np.flatnonzero(end), np.arange(2)
+            c = 2 + 2 * k[:, None] + ax  # the end node's columns
+            G[i, :2], G[i[:, None], c] = u, -u
+            H[i, :2, :2] = K
+            H[i[:, None, None], c[:, :, None], c[:, None, :]] = K
+            H[i[:, None, None], ax[None, :, None], c[:, None, :]] = -K
+            H[i[:, None, None], c[:, :, None], ax[None, None, :]] = -K
+        (oa, ob) = self.offsets
+        dofs = np.hstack([oa + self._point_dofs, ob + self._segment_dofs[e]])
+        return g - self.clearance, dofs, G, H
+
+
+@register_pair(object, Beam2D)
+def _points_on_beam(body, beam, nodes, restitution, clearance):
+    """A solid's boundary nodes (or ``nodes``) against the beam's two-sided surface."""
+    return PointBeamContact(body, beam, nodes, restitution, clearance)
+
+
+@register_pair(Beam2D, Solid)
+def _beam_on_solid(beam, solid, nodes, restitution, clearance):
+    raise InputError("a beam against a solid: give it as Contact(solid, beam, clearance=c)")

@@ -1,0 +1,92 @@
+"""The broad phase of node-to-surface contact: which facets of a master body are near each
+slave node, and which slave nodes may lie inside the master, kept while the bodies move little.
+
+A search at positions (x_s, x_m) with margin m finds the (node, facet) pairs whose node and
+facet centroid are within r + ρ (r = 1.25 m, ρ the largest centroid-to-vertex distance) with
+a k-d tree, among the nodes in the master's box grown by r and the facets near those nodes.
+It is kept while no node of either body has moved more than δ/2 = m/8 since; then every
+facet within m of a node is still among its pairs.
+
+Which nodes may be inside the master ("watched"): those within 0.3 m of a facet at the
+search, and the others that the inside/outside test (:mod:`fecontact.contact.inside`) finds
+inside then. While the search is kept every node of either body, and so every point of a
+facet, moves by less than m/8: a node relative to the surface by less than m/4 < 0.3 m. A node
+outside and farther than 0.3 m from every facet (a node without a pair is farther than r)
+cannot cross the surface meanwhile: it stays outside, and no test needs to look at it again.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from .inside import Surface, facet_distances
+
+__all__ = ["NEAR", "FacetSearch"]
+
+NEAR = 0.3
+"""Nodes within this fraction of the margin of a facet are watched: while the search is kept
+the two bodies move relative to each other by less than 1/4 of the margin."""
+
+
+class FacetSearch:
+    """Candidate (slave node, facet) pairs of a master's ``facets`` (n, k) and the slave
+    nodes that may be inside it (module docstring)."""
+
+    def __init__(self, facets: np.ndarray):
+        self.facets = facets
+        self.surface = Surface(facets)
+        self._cache = None  # (x_s, x_m, margin, (slave, facet) pairs, watched nodes)
+
+    def reset(self) -> None:
+        self._cache = None
+
+    def pairs(self, xs: np.ndarray, xm: np.ndarray, margin: float):
+        """(slave indices, facet indices) of the candidate pairs at positions xs, xm (m)."""
+        return self._search(xs, xm, margin)[3]
+
+    def watched(self, xs: np.ndarray, xm: np.ndarray, margin: float) -> np.ndarray:
+        """Mask of the slave nodes that may be inside the master at positions xs, xm."""
+        return self._search(xs, xm, margin)[4]
+
+    @property
+    def last_watched(self) -> np.ndarray:
+        """The watched nodes of the last search (all, before any)."""
+        return np.ones(1, dtype=bool) if self._cache is None else self._cache[4]
+
+    def _search(self, xs, xm, margin):
+        cache = self._cache
+        if cache is not None and cache[2] == margin:
+            moved = max(np.max(np.abs(xs - cache[0]), initial=0.0), np.max(np.abs(xm - cache[1])))
+            if 2.0 * moved <= 0.25 * margin:
+                return cache
+        s, f = self._search_pairs(xs, xm, 1.25 * margin)
+        # nodes within NEAR × margin of a facet are watched; the others, if outside, cannot
+        # reach the surface before the search is refreshed (module docstring)
+        near = np.zeros(len(xs), dtype=bool)
+        if s.size:
+            near[s[facet_distances(xs[s], xm[self.facets[f]]) <= NEAR * margin]] = True
+        watch = near.copy()
+        rest = np.flatnonzero(~near)
+        if rest.size:
+            depth = self.surface.signed_distance(xm, xs[rest], outside=False)[0]
+            watch[rest[depth < 0.0]] = True
+        self._cache = (xs.copy(), xm.copy(), margin, (s, f), watch)
+        return self._cache
+
+    def _search_pairs(self, xs: np.ndarray, xm: np.ndarray, r: float):
+        lo, hi = xm.min(axis=0) - r, xm.max(axis=0) + r
+        near = np.flatnonzero(np.all((xs >= lo) & (xs <= hi), axis=1))
+        if near.size == 0:
+            return near, near
+        xf = xm[self.facets]
+        centroid = xf.mean(axis=1)
+        reach = float(np.sqrt(np.max(np.sum((xf - centroid[:, None]) ** 2, axis=2))))
+        slo, shi = xs[near].min(axis=0) - r - reach, xs[near].max(axis=0) + r + reach
+        fnear = np.flatnonzero(np.all((centroid >= slo) & (centroid <= shi), axis=1))
+        if fnear.size == 0:
+            return fnear, fnear
+        pairs = cKDTree(xs[near]).sparse_distance_matrix(
+            cKDTree(centroid[fnear]), r + reach, output_type="ndarray"
+        )
+        return near[pairs["i"]], fnear[pairs["j"]]

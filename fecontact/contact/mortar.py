@@ -1,0 +1,154 @@
+r"""Mortar (segment-to-segment) contact between two deformable solids, 2D.
+
+The form chosen: dual mortar with weighted gaps (Wohlmuth 2000; Popp, Gee & Wall, IJNME 2009).
+The slave body's boundary (the first body) carries one multiplier per node, interpolated by
+dual shape functions Φ_j, biorthogonal to the nodal shape functions N_j; the constraint of node
+j is its weighted gap
+
+    g̃_j = ∫ Φ_j g_N ds ≥ 0  (m²),
+
+integrated over the slave boundary segments, where g_N is the gap along the interpolated,
+averaged slave normal to the master boundary (:mod:`fecontact.contact.mortar_segments`). The
+rows handed to the Alart–Curnier laws are g_j = g̃_j / L_j (m), L_j the reference length the
+node carries (half of each adjacent slave segment): a positive scaling, so 0 ≤ g_j ⊥ ν_j ≥ 0
+is the same complementarity, and gaps, tolerances and the scale p_j keep their units. Biorthog-
+onality keeps every multiplier a nodal unknown with its own complementarity — the contact set,
+the NSGA position and velocity levels, the smooth contact force and friction take the rows as
+they take a node's gap — and the discrete pressure field λ_h = Σ_j z_j Φ_j has nodal values
+
+    z_j = λ_j / (L_j t)  (Pa),
+
+λ_j the normal force of row j (N) and t the thickness of the 2D body (m).
+
+Linearisation: the rows' gradients G_j = ∂g_j/∂q and curvatures ∇²g_j are exact, from a
+second-order forward differentiation of the integral (:mod:`fecontact.contact.dual_numbers`):
+through the averaged normals, the projections, the moving bounds of the overlaps and the
+segment Jacobian. This is the consistent linearisation of Popp, Gee & Wall (2009) obtained
+without deriving its terms by hand, so the position correction keeps Newton's quadratic rate.
+The 3D form (Popp, Gitterle, Gee & Wall 2010: clipping of projected polygons) and quadratic
+faces (the basis transformation of Popp, Wohlmuth, Gee & Wall 2012, needed because the corner
+shape functions of a P2 face integrate to zero) are not implemented: P2 bodies are taken with
+their boundary split into linear segments, like node-to-surface contact.
+
+Contact rows are the slave boundary nodes. The master covers a part of a node's segments
+(where the slave normals meet master segments facing them); a node takes part when the
+covered part carries at least half of the dual weight of its covered segments,
+∫_covered Φ_j ds ≥ ½ Σ_e |e|/2: where only the far end of a segment is covered, at the edge
+of the zone the master faces, the negative lobe of Φ_j would turn g̃_j negative although the
+surfaces are apart. Other rows report g = +inf with a zero gradient. A master segment whose
+mean gap over its overlap is deeper than the margin behind the slave segment is a far part
+of the master that happens to face it, not a contact partner, and is left out. The search
+keeps the (slave, master) segment pairs whose midpoints are within the detection margin plus
+both segment lengths, refreshed when a node has moved by more than an eighth of the margin.
+
+Friction: the slip row of node j is the weighted relative motion t_j·∫ Φ_j (ẋ − ẏ) ds / L_j
+along the slave node's tangent t_j, with the projections frozen over the step.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..errors import InputError
+from .mortar_interface import MortarInterface
+from .mortar_segments import segment_pair_integrals
+
+__all__ = ["MortarContact"]
+
+
+def _neighbours(facets: np.ndarray):
+    """For each segment (a, b) of an oriented boundary, the node before a and after b along
+    the boundary (−1: none)."""
+    n = facets.max() + 1
+    ending, starting = np.full(n, -1), np.full(n, -1)
+    ending[facets[:, 1]] = np.arange(len(facets))
+    starting[facets[:, 0]] = np.arange(len(facets))
+    e_prev, e_next = ending[facets[:, 0]], starting[facets[:, 1]]
+    prev = np.where(e_prev >= 0, facets[np.maximum(e_prev, 0), 0], -1)
+    nxt = np.where(e_next >= 0, facets[np.maximum(e_next, 0), 1], -1)
+    return prev, nxt
+
+
+def _tangent_of(X: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Unit tangents (X_b − X_a)/|X_b − X_a| (zero where a or b is −1)."""
+    t = X[b] - X[a]
+    norm = np.linalg.norm(t, axis=1)
+    ok = (a >= 0) & (b >= 0) & (norm > 0.0)
+    return np.where(ok[:, None], t / np.where(ok, norm, 1.0)[:, None], 0.0)
+
+
+class MortarContact(MortarInterface):
+    """Dual mortar contact of the boundary of a 2D :class:`~fecontact.Solid` (the slave
+    ``body``) with the boundary of another (the ``master``); see the module docstring.
+
+    One contact per slave boundary node (``size``), with the weighted gap g_j (m);
+    ``restitution`` is Newton's e_N in [0, 1]; ``margin`` (m) the search distance (default:
+    the integrator's detection distance). Both directions are covered by one interface:
+    the master's nodes cannot enter the slave either, to the discretization's accuracy.
+    """
+
+    def __init__(self, body, master, restitution: float = 0.0, margin=None):
+        super().__init__(body, master, restitution, margin)
+        if self.dim != 2:
+            raise InputError("MortarContact is 2D; 3D solids take MortarContact3D")
+        prev, nxt = _neighbours(self.facets)
+        # a corner sharper than 60° (the faces of a block) splits the normal field: there each
+        # segment keeps its own normal, so that a face's gap is measured along its normal
+        X, f = body.X, self.facets
+        t = _tangent_of(X, f[:, 0], f[:, 1])
+        smooth_prev = np.einsum("ij,ij->i", t, _tangent_of(X, prev, f[:, 0])) > 0.5
+        smooth_next = np.einsum("ij,ij->i", t, _tangent_of(X, f[:, 1], nxt)) > 0.5
+        self.has_prev, self.has_next = (prev >= 0) & smooth_prev, (nxt >= 0) & smooth_next
+        self.local_nodes = np.stack(
+            [np.where(self.has_prev, prev, f[:, 0]), *f.T,
+             np.where(self.has_next, nxt, f[:, 1])], axis=1
+        )  # fmt: skip
+
+    def _pairs(self, xs: np.ndarray, xm: np.ndarray):
+        """(slave segment, master segment) pairs near each other (module docstring)."""
+        cache = self._search
+        if cache is not None:
+            xs0, xm0, pairs = cache
+            moved = max(np.max(np.abs(xs - xs0)), np.max(np.abs(xm - xm0)))
+            if moved <= 0.125 * self.margin:
+                return pairs
+        fs, fm = self.facets, self.master_facets
+        cs, cm = 0.5 * (xs[fs[:, 0]] + xs[fs[:, 1]]), 0.5 * (xm[fm[:, 0]] + xm[fm[:, 1]])
+        ls = np.max(np.linalg.norm(xs[fs[:, 1]] - xs[fs[:, 0]], axis=1))
+        lm = np.max(np.linalg.norm(xm[fm[:, 1]] - xm[fm[:, 0]], axis=1))
+        r = 1.25 * self.margin + ls + lm
+        found = cKDTree(cs).sparse_distance_matrix(cKDTree(cm), r, output_type="ndarray")
+        pairs = (found["i"].astype(int), found["j"].astype(int))
+        self._search = (xs.copy(), xm.copy(), pairs)
+        return pairs
+
+    def _local(self, q: np.ndarray):
+        """The slave segments e of the segment pairs, their local coordinates z (P, 12) and
+        global dofs (P, 12), and the slave nodes' positions."""
+        xs, xm = self.positions(q)
+        e, f = self._pairs(xs, xm)
+        sn, mn = self.local_nodes[e], self.master_facets[f]
+        z = np.concatenate([xs[sn], xm[mn]], axis=1).reshape(len(e), 12)
+        return e, z, self._global_dofs(sn, mn), xs
+
+    def _integrate(self, e, z, hessian):
+        """Jets of the ends' weighted gaps, coverage, covered dual weights (P, 2) and the
+        quadrature (ξ, η, w J) of the pairs."""
+        ga, gb, coverage, quad = segment_pair_integrals(
+            z, self.has_prev[e], self.has_next[e], hessian, depth=self.margin
+        )
+        xi, _, wJ = quad
+        dual = np.stack([((0.5 - 1.5 * xi) * wJ).sum(1), ((0.5 + 1.5 * xi) * wJ).sum(1)], 1)
+        return [ga, gb], coverage, dual, quad
+
+    def _slip_weights(self, quad, k: int) -> np.ndarray:
+        """Weights (P, 6) of the local nodes' motion in end k's slip: ∫ Φ_k N_i over the
+        slave's ends, −∫ Φ_k N_i over the master's (the projections frozen)."""
+        xi, eta, wJ = quad
+        w = (0.5 - 1.5 * xi if k == 0 else 0.5 + 1.5 * xi) * wJ
+        zero = np.zeros(len(xi))
+        return np.stack(
+            [zero, (w * 0.5 * (1.0 - xi)).sum(1), (w * 0.5 * (1.0 + xi)).sum(1), zero,
+             -(w * (1.0 - eta)).sum(1), -(w * eta).sum(1)], axis=1
+        )  # fmt: skip

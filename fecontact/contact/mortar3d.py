@@ -1,0 +1,150 @@
+r"""Mortar contact between two 3D solids: dual mortar on the slave's boundary triangles.
+
+The form is that of :mod:`fecontact.contact.mortar` (dual Lagrange multipliers, one per slave
+boundary node, weighted gaps g̃_j = ∫ Φ_j g_N dA as the constraints, rows g_j = g̃_j / L_j with
+L_j the reference area the node carries, exact gradients), over triangles: the
+boundary of P1 tetrahedra, or of P2 tetrahedra split through their edge nodes into four flat
+triangles (as for node-to-surface contact; the basis transformation of Popp, Wohlmuth, Gee &
+Wall 2012 for curved quadratic faces is not implemented). The integral is evaluated over the
+overlap of each slave triangle with the master triangles (segment-based integration: each
+master triangle is projected onto the slave triangle's plane along its normal, the overlap
+clipped, cut into a fan of cells and integrated with a degree-2 rule,
+:func:`~fecontact.contact.mortar_facets.clipped_points`): the cells follow the master's
+edges, so the mortar integrals are exact where the integrand is polynomial on each cell —
+the patch test holds to round-off. The gap is measured along the slave triangle's own normal
+(no averaged normals: the kinematics stay local to one triangle pair per point).
+
+Partners: master triangles facing the slave triangle (normals at more than 120°) whose
+vertices lie on average at most twice the detection margin ahead of it and at most the margin
+behind it. Only nodes whose triangles are each covered fully or not at all take part: the
+cells of the clipped overlaps are integrated at fixed points, so a node whose support the
+master covers in part would miss the motion of the coverage's edge in its gradient.
+
+Linearisation: the gradient is exact — the cells' boundaries move with q, but the integrand
+Φ_j g_N is continuous across the master's edges, so the moving interior boundaries cancel,
+and a fully covered node has no other. The Hessian is that of the fixed integration points:
+it leaves out the jumps of ∂g_N/∂q across the master's edges as the cells move (the clip
+vertex terms of Popp, Gitterle, Gee & Wall 2010), so Newton's method converges faster than
+linearly but not quadratically once those terms matter.
+
+The nodal pressure is z_j = λ_j / L_j (Pa), λ_j the normal force of row j (N).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..errors import InputError
+from .mortar_facets import clipped_points, facet_pair_integrals, meet_triangles
+from .mortar_interface import MortarInterface
+
+__all__ = ["MortarContact3D"]
+
+
+class MortarContact3D(MortarInterface):
+    """Dual mortar contact of the boundary of a 3D :class:`~fecontact.Solid` (the slave
+    ``body``) with the boundary of another (the ``master``); see the module docstring. One
+    contact per slave boundary node; ``restitution`` is Newton's e_N in [0, 1]; ``margin``
+    (m) the search distance (default: the integrator's detection distance)."""
+
+    partial = False
+
+    def __init__(self, body, master, restitution: float = 0.0, margin=None):
+        super().__init__(body, master, restitution, margin)
+        if self.dim != 3:
+            raise InputError("MortarContact3D is 3D; 2D solids take MortarContact")
+
+    def _pairs(self, xs: np.ndarray, xm: np.ndarray):
+        """(slave triangle, master triangle) pairs whose centroids are within 1.25 × the
+        margin plus both triangles' reach, kept while no node has moved an eighth of the
+        margin."""
+        cache = self._search
+        if cache is not None:
+            xs0, xm0, pairs = cache
+            moved = max(np.max(np.abs(xs - xs0)), np.max(np.abs(xm - xm0)))
+            if moved <= 0.125 * self.margin:
+                return pairs
+        ts, tm = xs[self.facets], xm[self.master_facets]
+        cs, cm = ts.mean(axis=1), tm.mean(axis=1)
+        rs = np.max(np.linalg.norm(ts - cs[:, None], axis=2), axis=1)
+        rm = np.max(np.linalg.norm(tm - cm[:, None], axis=2), axis=1)
+        r = 1.25 * self.margin + rs.max() + rm.max()
+        found = cKDTree(cs).sparse_distance_matrix(cKDTree(cm), r, output_type="ndarray")
+        i, j = found["i"].astype(int), found["j"].astype(int)
+        # each pair within the margin plus its own triangles' reach (graded meshes)
+        keep = found["v"] <= 1.25 * self.margin + rs[i] + rm[j]
+        pairs = (i[keep], j[keep])
+        self._search = (xs.copy(), xm.copy(), pairs)
+        return pairs
+
+    def _local(self, q: np.ndarray):
+        """Entries: the Gauss points of the overlaps of the slave triangles with the master
+        triangles projected onto them along the slave normal (module docstring). Returns the
+        slave triangles e, z (P, 25) = (18 coordinates, λ (3), w, μ (3)), the dofs (P, 18)
+        and the slave nodes' positions."""
+        xs, xm = self.positions(q)
+        e, f = self._pairs(xs, xm)
+        ts, tm = xs[self.facets[e]], xm[self.master_facets[f]]
+        u, v = ts[:, 1] - ts[:, 0], ts[:, 2] - ts[:, 0]
+        N = np.cross(u, v)
+        n = N / np.linalg.norm(N, axis=1)[:, None]
+        Nm = np.cross(tm[:, 1] - tm[:, 0], tm[:, 2] - tm[:, 0])
+        r = tm - ts[:, None, 0]  # (P, 3 master vertices, 3)
+        depth = np.einsum("pkd,pd->pk", r, n).mean(axis=1)
+        facing = np.einsum("pd,pd->p", n, Nm) < -0.5 * np.linalg.norm(Nm, axis=1)
+        near = np.flatnonzero(facing & (depth >= -self.margin) & (depth <= 2.0 * self.margin))
+        e, f, ts, tm, u, v, n, r = (
+            e[near],
+            f[near],
+            ts[near],
+            tm[near],
+            u[near],
+            v[near],
+            n[near],
+            r[near],
+        )
+        # the master vertices' (λ₂, λ₃) in the slave triangle (orthogonal projection)
+        uu, uv, vv = (np.einsum("pd,pd->p", a, b) for a, b in ((u, u), (u, v), (v, v)))
+        ru, rv = np.einsum("pkd,pd->pk", r, u), np.einsum("pkd,pd->pk", r, v)
+        det = (uu * vv - uv * uv)[:, None]
+        plane = np.stack([(vv[:, None] * ru - uv[:, None] * rv) / det,
+                          (uu[:, None] * rv - uv[:, None] * ru) / det], axis=2)  # fmt: skip
+        # the projected master triangles whose bounding box misses the slave triangle
+        # (λ₂, λ₃ ≥ 0, λ₂ + λ₃ ≤ 1) do not overlap it: left out before the clipping
+        total = plane.sum(axis=2)
+        meets = (plane.max(axis=1) >= 0.0).all(axis=1) & (total.min(axis=1) <= 1.0)
+        e, f, ts, tm, n, plane = e[meets], f[meets], ts[meets], tm[meets], n[meets], plane[meets]
+        pair, lam, w = clipped_points(plane)
+        x = np.einsum("pk,pkd->pd", lam, ts[pair])
+        _, mu, _ = meet_triangles(x, n[pair], tm[pair], np.inf)
+        # the points' moments per pair, Σ w Φ_i λ_k and Σ w Φ_i μ_k: the integrands are
+        # linear in λ at fixed vertices (mortar_facets.facet_pair_integrals)
+        phi = w[:, None] * (4.0 * lam - 1.0)
+        moments = np.zeros((len(e), 2, 3, 3))
+        np.add.at(moments, pair, np.stack([phi[:, :, None] * lam[:, None, :],
+                                           phi[:, :, None] * mu[:, None, :]], axis=1))  # fmt: skip
+        weight = np.bincount(pair, w, len(e))
+        keep = np.flatnonzero(weight > 0.0)
+        z = np.concatenate(
+            [ts[keep].reshape(-1, 9), tm[keep].reshape(-1, 9), moments[keep].reshape(-1, 18),
+             weight[keep, None]], axis=1
+        )  # fmt: skip
+        ee, ff = e[keep], f[keep]
+        return ee, z, self._global_dofs(self.facets[ee], self.master_facets[ff]), xs
+
+    def _integrate(self, e, z, hessian):
+        """Jets of the ends' weighted gaps, coverage (the fraction of the slave triangle the
+        pair covers), covered dual weights (P, 3) and the moments and areas of the pairs."""
+        jets = facet_pair_integrals(z, hessian)
+        ts = z[:, :9].reshape(-1, 3, 3)
+        area = 0.5 * np.linalg.norm(np.cross(ts[:, 1] - ts[:, 0], ts[:, 2] - ts[:, 0]), axis=1)
+        moments = z[:, 18:36].reshape(-1, 2, 3, 3)
+        dual = moments[:, 0].sum(axis=2) * area[:, None]  # Σ w Φ_i A (Σ_k λ_k = 1)
+        return jets, z[:, 36], dual, (moments, area)
+
+    def _slip_weights(self, quad, k: int) -> np.ndarray:
+        """Weights (P, 6) of the local nodes' motion in end k's slip: Σ w Φ_k λ_i A on the
+        slave triangle's nodes, −Σ w Φ_k μ_i A on the master triangle's."""
+        moments, area = quad
+        return np.concatenate([moments[:, 0, k], -moments[:, 1, k]], axis=1) * area[:, None]

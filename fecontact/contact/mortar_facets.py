@@ -1,0 +1,139 @@
+r"""Mortar integrals over slave triangles, 3D: the overlaps with the master triangles.
+
+A slave triangle (x_a, x_b, x_c) with area coordinates λ carries, at the integration points
+x = Σ λ_i x_i of its overlap with a master triangle (y_1, y_2, y_3), the gap along its unit
+normal n = N/|N|, N = (x_b − x_a) × (x_c − x_a), to the master triangle's plane:
+
+    g_N = −(x − y_1)·M / (n·M),   M = (y_2 − y_1) × (y_3 − y_1)   (m; > 0 open),
+
+so that x + g_N n lies on the master triangle. The weighted gap contributions of the
+triangle's nodes (m³) are g̃_i = Σ w Φ_i(λ) g_N A with the dual functions of the linear
+triangle, Φ_i = 4λ_i − 1 (∫ Φ_i N_j dA = δ_ij A/3), A = |N|/2, and weights w (the fraction of
+the slave triangle each point stands for).
+
+The overlap (:func:`clipped_points`) is the master triangle projected onto the slave
+triangle's plane along n, in the slave's area coordinates, clipped to the slave triangle
+(Sutherland–Hodgman), cut into a fan of cells with a 3-point rule of degree 2 each: the
+segment-based integration of Popp, Gitterle, Gee & Wall (IJNME 2010) with the slave
+element's own normal as the projection direction. Gradients and Hessians over the 18
+coordinates z = (x_a, x_b, x_c, y_1, y_2, y_3) are those at the fixed points (Jet
+arithmetic); see :mod:`fecontact.contact.mortar3d` for what that leaves out.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .dual_numbers import Jet
+
+__all__ = ["clipped_points", "facet_pair_integrals", "meet_triangles"]
+
+
+def _cross(u, w):
+    return (u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0])
+
+
+def _dot(u, w):
+    return u[0] * w[0] + u[1] * w[1] + u[2] * w[2]
+
+
+def _sub(u, w):
+    return tuple(a - b for a, b in zip(u, w, strict=True))
+
+
+def facet_pair_integrals(z: np.ndarray, hessian=None):
+    """Jets (one per slave node a, b, c) of the weighted-gap contributions (m³) of P (slave
+    triangle, master triangle) pairs: ``z`` (P, ≥ 27) holds the 18 vertex coordinates, then
+    the moments m_ik = Σ w Φ_i λ_k (3 × 3) of the pair's integration points (fixed).
+
+    With r_k = (x_k − y_1)·M the master plane's offset of slave vertex k, s = N·N and
+    d = N·M, the gap at a point is g_N = −Σ_k λ_k r_k |N| / d and A = |N|/2, so that
+    Σ w Φ_i g_N A = −½ (s/d) Σ_k m_ik r_k: one differentiated evaluation per pair instead of
+    one per point. ``hessian``: None for values only, False for gradients, True for Hessians
+    too."""
+    if hessian is None:
+        c = [Jet(z[:, i], np.zeros((len(z), 0)), None) for i in range(18)]
+    else:
+        c = Jet.variables(z[:, :18], hessian)
+    xa, xb, xc, y1, y2, y3 = (tuple(c[3 * i : 3 * i + 3]) for i in range(6))
+    N = _cross(_sub(xb, xa), _sub(xc, xa))
+    M = _cross(_sub(y2, y1), _sub(y3, y1))
+    ratio = _dot(N, N) / _dot(N, M) * -0.5
+    r = [_dot(_sub(x, y1), M) for x in (xa, xb, xc)]
+    m = z[:, 18:27].reshape(-1, 3, 3)
+    return [ratio * (r[0] * m[:, i, 0] + r[1] * m[:, i, 1] + r[2] * m[:, i, 2]) for i in range(3)]
+
+
+def meet_triangles(x, n, tri, depth: float):
+    """For points x (P, 3) with unit normals n (P, 3) against candidate triangles tri
+    (P, 3, 3): the signed distance t (P,) along n to each triangle's plane, the area
+    coordinates μ (P, 3) of the point met, and whether the line meets the triangle, facing it
+    (normals at more than 120°) and not deeper than ``depth`` (m) behind."""
+    e1, e2 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
+    M = np.cross(e1, e2)
+    r = x - tri[:, 0]
+    nM = np.einsum("pi,pi->p", n, M)
+    Mn = np.linalg.norm(M, axis=1)
+    facing = nM < -0.5 * Mn
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = -np.einsum("pi,pi->p", r, M) / nM
+        p = r + t[:, None] * n
+        mu2 = np.einsum("pi,pi->p", np.cross(p, e2), M) / Mn**2
+        mu3 = np.einsum("pi,pi->p", np.cross(e1, p), M) / Mn**2
+    mu = np.stack([1.0 - mu2 - mu3, mu2, mu3], axis=1)
+    tol = 1e-12
+    meets = facing & np.all(mu >= -tol, axis=1) & (t >= -depth) & np.isfinite(t)
+    return t, mu, meets
+
+
+_CELL = (np.array([[2 / 3, 1 / 6, 1 / 6], [1 / 6, 2 / 3, 1 / 6], [1 / 6, 1 / 6, 2 / 3]]),
+         np.full(3, 1 / 3))  # fmt: skip
+# the reference triangle λ₂ ≥ 0, λ₃ ≥ 0, 1 − λ₂ − λ₃ ≥ 0 as half-planes a·p + b ≥ 0
+_HALF_PLANES = ((np.array([1.0, 0.0]), 0.0), (np.array([0.0, 1.0]), 0.0),
+                (np.array([-1.0, -1.0]), 1.0))  # fmt: skip
+
+
+def _clip(V: np.ndarray, n: np.ndarray, a: np.ndarray, b: float):
+    """Sutherland–Hodgman: the polygons V (P, K, 2) with n (P,) vertices cut by a·p + b ≥ 0."""
+    P, K, _ = V.shape
+    idx = np.arange(K)
+    valid = idx[None, :] < n[:, None]
+    nxt = (idx[None, :] + 1) % np.maximum(n[:, None], 1)
+    W = V[np.arange(P)[:, None], nxt]
+    hv, hw = V @ a + b, W @ a + b
+    inside_v, inside_w = hv >= 0.0, hw >= 0.0
+    cross = valid & (inside_v != inside_w)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.where(cross, hv / (hv - hw), 0.0)
+    point = V + s[..., None] * (W - V)
+    cand = np.stack([V, point], axis=2).reshape(P, 2 * K, 2)
+    keep = np.stack([valid & inside_v, cross], axis=2).reshape(P, 2 * K)
+    order = np.argsort(~keep, axis=1, kind="stable")
+    return np.take_along_axis(cand, order[..., None], axis=1), keep.sum(axis=1)
+
+
+def clipped_points(mu_plane: np.ndarray):
+    """Gauss points of the overlap of P slave triangles with the master triangles projected
+    onto them, given as (λ₂, λ₃) coordinates of the slave triangle (P, 3, 2): the overlap is
+    clipped (Sutherland–Hodgman), cut into a fan of triangles, each with a 3-point rule of
+    degree 2. Returns the pair of each point, its area coordinates λ (·, 3) and its weight w
+    (the fraction of the slave triangle's area it stands for)."""
+    V, n = mu_plane.astype(float), np.full(len(mu_plane), 3)
+    for a, b in _HALF_PLANES:
+        V, n = _clip(V, n, a, b)
+    pairs, lam, w = [], [], []
+    cell, cell_w = _CELL
+    for i in range(1, V.shape[1] - 1):
+        has = np.flatnonzero(n > i + 1)
+        if has.size == 0:
+            break
+        v0, v1, v2 = V[has, 0], V[has, i], V[has, i + 1]
+        area = 0.5 * np.abs((v1 - v0)[:, 0] * (v2 - v0)[:, 1] - (v1 - v0)[:, 1] * (v2 - v0)[:, 0])
+        tri = np.stack([v0, v1, v2], axis=1)  # (H, 3, 2)
+        p = np.einsum("gk,hkd->hgd", cell, tri).reshape(-1, 2)
+        pairs.append(np.repeat(has, len(cell_w)))
+        lam.append(np.stack([1.0 - p[:, 0] - p[:, 1], p[:, 0], p[:, 1]], axis=1))
+        w.append((area[:, None] * cell_w[None, :] / 0.5).ravel())
+    if not pairs:
+        return np.zeros(0, int), np.zeros((0, 3)), np.zeros(0)
+    return np.concatenate(pairs), np.concatenate(lam), np.concatenate(w)

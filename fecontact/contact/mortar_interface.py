@@ -1,0 +1,288 @@
+r"""What the 2D and 3D dual mortar pairs share: rows, their assembly, the nodes that take part.
+
+A mortar pair integrates, over entries (a slave element against a master element in 2D, a
+slave Gauss point with the master triangle it meets in 3D), the contributions of each slave
+element's ends k to their weighted gaps g̃_j = ∫ Φ_j g_N dA, as
+:class:`~fecontact.contact.dual_numbers.Jet` values with exact gradients and Hessians over the
+entry's local coordinates. This module gathers them into the pair's rows g_j = g̃_j / L_j (m),
+L_j = Σ_e |e|/n_e the reference measure (length in 2D, area in 3D) node j carries (n_e the
+element's nodes; ∫_e Φ_j dA = |e|/n_e for the dual functions of linear elements), pads the rows
+to one width, and decides which nodes take part: those whose covered support carries at least
+half of the dual weight of their covered elements, W_j = ∫_covered Φ_j dA ≥ ½ Σ_e |e|/n_e
+(where only the far end of an element is covered, the negative lobe of Φ_j would turn g̃_j
+negative although the surfaces are apart). The others report g = +inf and a zero gradient.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..bodies.solid import Solid
+from ..errors import InputError, check_positive, check_range
+from .base import PairDefaults
+from .friction import tangent_basis
+
+__all__ = ["MortarInterface", "element_measures", "merge_interfaces"]
+
+_COVERED = 1e-9  # an element covered by less than this fraction counts as not covered
+
+
+def element_measures(x: np.ndarray, facets: np.ndarray) -> np.ndarray:
+    """Lengths (2D segments) or areas (3D triangles) of the facets, m or m²."""
+    if facets.shape[1] == 2:
+        return np.linalg.norm(x[facets[:, 1]] - x[facets[:, 0]], axis=1)
+    u, w = x[facets[:, 1]] - x[facets[:, 0]], x[facets[:, 2]] - x[facets[:, 0]]
+    return 0.5 * np.linalg.norm(np.cross(u, w), axis=1)
+
+
+class _Layout:
+    """Where the entries land in the padded rows (m, k): ``dofs`` (m, k) and, for each end of
+    the entries' slave elements, the columns (P, W) of the entries' W local dofs."""
+
+    def __init__(self, ends, dofs: np.ndarray, own: np.ndarray):
+        m, d = own.shape
+        P, W = dofs.shape
+        rows = np.concatenate([np.repeat(r, W) for r in ends])
+        cols = np.tile(dofs.ravel(), len(ends))
+        N = int(max(dofs.max(initial=0), own.max())) + 1
+        uniq, inv = np.unique(rows * N + cols, return_inverse=True)
+        ur, ud = np.divmod(uniq, N)
+        pos = np.arange(len(uniq)) - np.searchsorted(ur, ur)
+        k = max(int(np.bincount(ur, minlength=m).max(initial=0)), d)
+        self.dofs = np.repeat(own[:, :1], k, axis=1)
+        self.dofs[:, :d] = own
+        self.dofs[ur, pos] = ud
+        self.cols = pos[inv].reshape(len(ends), P, W)
+        self.dofs.flags.writeable = False
+
+    def rows(self, ends, values) -> np.ndarray:
+        """Σ of the entries' row vectors (one (P, ..., W) array per end) into (m, ..., k)."""
+        out = np.zeros((self.dofs.shape[0], *values[0].shape[1:-1], self.dofs.shape[1]))
+        for r, c, v in zip(ends, self.cols, values, strict=True):
+            if v.ndim == 2:
+                np.add.at(out, (r[:, None], c), v)
+            else:  # (P, nt, W): the slip rows
+                t = np.arange(v.shape[1])[None, :, None]
+                np.add.at(out, (r[:, None, None], t, c[:, None, :]), v)
+        return out
+
+
+class MortarInterface(PairDefaults):
+    """The rows of a dual mortar interface between the boundary of a :class:`~fecontact.Solid`
+    (the slave ``body``) and the boundary of another (the ``master``); subclasses give the
+    entries and their integrals (2D: :class:`~fecontact.contact.mortar.MortarContact`)."""
+
+    linear = False
+    lazy_hessians = True
+    frictional = True
+    partial = True
+    """Whether a node whose elements the master covers in part may take part (2D: the moving
+    ends of the overlaps are differentiated; 3D: the clipped cells are not, and only nodes
+    whose elements are covered fully or not at all keep exact gradients)."""
+
+    def __init__(self, body, master, restitution: float = 0.0, margin=None):
+        if not isinstance(body, Solid) or not isinstance(master, Solid):
+            raise InputError("mortar contact needs two Solid bodies")
+        if body is master:
+            raise InputError("a body cannot contact itself (self-contact is not supported)")
+        if body.dim != master.dim:
+            raise InputError("both solids must be 2D or both 3D")
+        self.body, self.master = body, master
+        self.bodies = (body, master)
+        self.dim = body.dim
+        self.restitution = check_range("restitution", restitution, 0.0, 1.0)
+        self._own_margin = margin is not None
+        if margin is None:
+            margin = 0.05 * max(body.characteristic_length, master.characteristic_length)
+        self.margin = check_positive("margin", margin)
+        self.facets = body.contact_facets()
+        self.master_facets = master.contact_facets()
+        self.nodes, rows = np.unique(self.facets, return_inverse=True)
+        self.element_rows = rows.reshape(self.facets.shape)  # the rows of each element's ends
+        ends = self.facets.shape[1]
+        share = np.repeat(element_measures(body.X, self.facets) / ends, ends)
+        self.length = np.bincount(self.element_rows.ravel(), share, len(self.nodes))
+        """Reference measure L_j (m in 2D, m² in 3D) each slave node carries: its rows are
+        g̃_j / L_j."""
+        self.area = self.length * (body.thickness if self.dim == 2 else 1.0)
+        self._dofs_s = body.node_translation_dofs(np.arange(body.n_nodes))
+        self._dofs_m = master.node_translation_dofs(np.arange(master.n_nodes))
+        self.offsets = (0, 0)
+        self._last = self._search = None
+
+    @property
+    def size(self) -> int:
+        return len(self.nodes)
+
+    def bind(self, model) -> None:
+        """Place the pair in the global dof vector of ``model``."""
+        self.offsets = (model.offset_of(self.body), model.offset_of(self.master))
+        self._last = self._search = None
+
+    def detect_within(self, distance: float) -> None:
+        """Search as far as the integrator's candidates reach (``distance`` m)."""
+        if not self._own_margin and distance > 0.0 and distance != self.margin:
+            self.margin = distance
+            self._last = self._search = None
+
+    def positions(self, q: np.ndarray):
+        """Every node's position (m) of the slave and of the master at q."""
+        (oa, ob), (a, b) = self.offsets, self.bodies
+        return a.positions(q[oa : oa + a.ndof]), b.positions(q[ob : ob + b.ndof])
+
+    def _global_dofs(self, slave_nodes: np.ndarray, master_nodes: np.ndarray) -> np.ndarray:
+        """Global dofs (P, W) of the entries' local slave and master nodes."""
+        oa, ob = self.offsets
+        P, d = len(slave_nodes), self.dim
+        return np.concatenate(
+            [(oa + self._dofs_s[slave_nodes]).reshape(P, d * slave_nodes.shape[1]),
+             (ob + self._dofs_m[master_nodes]).reshape(P, d * master_nodes.shape[1])], axis=1
+        )  # fmt: skip
+
+    def _valid(self, e, coverage, dual, xs) -> np.ndarray:
+        """The rows (m,) that take part (module docstring); ``dual`` (P, ends) the covered
+        dual weight of each entry's ends."""
+        ends = self.facets.shape[1]
+        W = np.zeros(self.size)
+        for k in range(ends):
+            W += np.bincount(self.element_rows[e, k], dual[:, k], self.size)
+        fraction = np.bincount(e, coverage, len(self.facets))
+        covered = fraction > _COVERED
+        share = np.repeat(element_measures(xs, self.facets[covered]) / ends, ends)
+        support = np.bincount(self.element_rows[covered].ravel(), share, self.size)
+        valid = (W > 0.0) & (W >= 0.5 * support)
+        if not self.partial:
+            part = covered & (fraction < 1.0 - 1e-9)
+            valid[self.element_rows[part].ravel()] = False
+        return valid
+
+    def _same(self, q, key) -> bool:
+        (oa, ob), (a, b) = self.offsets, self.bodies
+        now = (q[oa : oa + a.ndof], q[ob : ob + b.ndof])
+        return all(np.array_equal(k, c) for k, c in zip(now, key, strict=True))
+
+    def _gap_values(self, e, jets, coverage, dual, xs):
+        g = np.zeros(self.size)
+        for k, jet in enumerate(jets):
+            g += np.bincount(self.element_rows[e, k], jet.v, self.size)
+        return np.where(self._valid(e, coverage, dual, xs), g / self.length, np.inf)
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        """The weighted gaps g_j (m) alone (+inf for the rows that take no part)."""
+        last = self._last
+        if last is not None and self._same(q, last[0]):
+            return last[1]["g"].copy()
+        e, z, _, xs = self._local(q)
+        jets, coverage, dual, _ = self._integrate(e, z, None)
+        return self._gap_values(e, jets, coverage, dual, xs)
+
+    def evaluate(self, q: np.ndarray):
+        """Weighted gaps (m,) in m, dofs (m, k), gradients (m, k) and no Hessians (None:
+        :meth:`hessians` gives them); rows that take no part have g = +inf and G = 0."""
+        last = self._last
+        if last is not None and self._same(q, last[0]):
+            r = last[1]
+            return r["g"].copy(), r["layout"].dofs, r["G"], None
+        e, z, dofs, xs = self._local(q)
+        jets, coverage, dual, quad = self._integrate(e, z, False)
+        g = self._gap_values(e, jets, coverage, dual, xs)
+        ends = [self.element_rows[e, k] for k in range(len(jets))]
+        valid = np.isfinite(g)
+        # the Hessians of the entries that count only (the search also finds some that miss)
+        counts = (coverage > 0.0) & np.any([valid[r] for r in ends], axis=0)
+        layout = _Layout(ends, dofs, self.offsets[0] + self._dofs_s[self.nodes])
+        scale = np.where(valid, 1.0 / self.length, 0.0)
+        G = layout.rows(ends, [j.g * scale[r, None] for r, j in zip(ends, jets, strict=True)])
+        G.flags.writeable = False
+        (oa, ob), (a, b) = self.offsets, self.bodies
+        key = (q[oa : oa + a.ndof].copy(), q[ob : ob + b.ndof].copy())
+        self._last = (key, dict(g=g, G=G, e=e, z=z, layout=layout, scale=scale, quad=quad,
+                                counts=counts))  # fmt: skip
+        return g.copy(), layout.dofs, G, None
+
+    def hessians(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        """∇²g_j (len(rows), k, k) of the contacts ``rows`` at q, in the layout of
+        :meth:`evaluate` at q."""
+        self.evaluate(q)
+        r = self._last[1]
+        e, layout, scale = r["e"], r["layout"], r["scale"]
+        k = layout.dofs.shape[1]
+        H = np.zeros((len(rows), k, k))
+        where = np.full(self.size, -1)
+        where[np.asarray(rows)] = np.arange(len(rows))
+        ends = [self.element_rows[e, j] for j in range(self.facets.shape[1])]
+        use = np.flatnonzero(r["counts"] & np.any([where[x] >= 0 for x in ends], axis=0))
+        if use.size == 0:
+            return H
+        jets = self._integrate(e[use], r["z"][use], True)[0]
+        for end, cols, jet in zip(ends, layout.cols, jets, strict=True):
+            rr = end[use]
+            sel = where[rr] >= 0
+            c = cols[use][sel]
+            values = jet.h[sel] * scale[rr[sel], None, None]
+            np.add.at(H, (where[rr[sel]][:, None, None], c[:, :, None], c[:, None, :]), values)
+        return H
+
+    def normals(self, q: np.ndarray) -> np.ndarray:
+        """Averaged unit outward normals (m, d) of the slave nodes at q (the mean of the
+        adjacent elements' unit normals)."""
+        x = self.positions(q)[0]
+        f = self.facets
+        if self.dim == 2:
+            t = x[f[:, 1]] - x[f[:, 0]]
+            nu = np.stack([t[:, 1], -t[:, 0]], axis=1)
+        else:
+            nu = np.cross(x[f[:, 1]] - x[f[:, 0]], x[f[:, 2]] - x[f[:, 0]])
+        nu /= np.linalg.norm(nu, axis=1)[:, None]
+        n = np.zeros((self.size, self.dim))
+        for k in range(f.shape[1]):
+            np.add.at(n, self.element_rows[:, k], nu)
+        norm = np.linalg.norm(n, axis=1)
+        return n / np.where(norm > 0.0, norm, 1.0)[:, None]
+
+    def tangents(self, q: np.ndarray):
+        """Slip rows (m, nt, k) of the weighted relative motion of each slave node,
+        T_j·∫ Φ_j (ẋ − ẏ) dA / L_j with the projections frozen, in the layout of
+        :meth:`evaluate`, and the unit tangents T_j (m, nt, d) of the slave nodes' planes."""
+        self.evaluate(q)
+        r = self._last[1]
+        e, scale = r["e"], r["scale"]
+        T = tangent_basis(self.normals(q))
+        ends = [self.element_rows[e, k] for k in range(self.facets.shape[1])]
+        values = []
+        for k, end in enumerate(ends):
+            w = self._slip_weights(r["quad"], k) * scale[end, None]  # (P, local nodes)
+            v = w[:, None, :, None] * T[end][:, :, None, :]  # (P, nt, nodes, d)
+            values.append(v.reshape(len(e), T.shape[1], -1))
+        return r["layout"].dofs, r["layout"].rows(ends, values), T
+
+    def nodal_pressure(self, forces: np.ndarray):
+        """The slave nodes (indices in the slave body) and their contact pressure z_j (Pa)
+        from the normal forces λ_j (N) of the pair's rows: z_j = λ_j / (L_j t), t the
+        thickness of a 2D body (1 in 3D)."""
+        forces = np.asarray(forces, dtype=float)
+        if forces.shape != (self.size,):
+            raise InputError(f"forces must have {self.size} entries, got {forces.shape}")
+        return self.nodes, forces / self.area
+
+
+def merge_interfaces(pairs):
+    """The pairs with each mortar interface once: a mortar pair declared both ways, (a, b)
+    and (b, a), is one interface (the first declared); their restitution and friction must
+    agree."""
+    seen: dict = {}
+    out = []
+    for pair in pairs:
+        if isinstance(pair, MortarInterface):
+            key = frozenset((id(pair.body), id(pair.master)))
+            first = seen.get(key)
+            if first is not None:
+                if (first.restitution, first.friction) != (pair.restitution, pair.friction):
+                    raise InputError(
+                        "a mortar interface declared both ways needs the same restitution "
+                        "and friction in both declarations"
+                    )
+                continue
+            seen[key] = pair
+        out.append(pair)
+    return out

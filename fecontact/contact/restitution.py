@@ -1,0 +1,134 @@
+r"""The decompression phase of Poisson's impact law: Coulomb's law with a floor on the
+normal impulse.
+
+After the compression impulse Λ_c of an impact (Newton's law with e = 0), Poisson's law in
+inequality form (Glocker, Multibody Syst. Dyn., 2013, Part II) asks for a decompression
+impulse Λ_d at least e_N Λ_c:
+
+    Λ_N,d ≥ b = e_N Λ_N,c,   ġ⁺ ≥ 0,   (Λ_N,d − b) ġ⁺ = 0,
+    |Λ_T,d| ≤ μ Λ_N,d,   Λ_T,d = −μ Λ_N,d w_T/|w_T| where the contact slips (w_T ≠ 0),
+
+with ġ⁺ and w_T the normal and slip rates after both phases. With w = c + D x (D the
+Delassus matrix of the rows, x the decompression impulses) this is the Coulomb problem of
+:mod:`fecontact.contact.friction` with the normal bound 0 moved to b; at b = 0 it is that
+problem. Equality rows (joints) after the contacts are condensed out exactly (their
+impulses follow from the contacts'), and the contacts are solved by a nonsmooth
+Gauss–Seidel over contacts, each solved exactly on its own in 2D (the first of the
+separating, then pressed, stick or slip cases whose conditions hold) and by a projection
+iteration in 3D. A single contact (with any joints) is solved in one sweep.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["solve_decompression"]
+
+
+def solve_decompression(c, D, mu, nt: int, floor, tol: float, max_sweeps: int = 2000):
+    """Impulses x of m contacts (blocks of 1 + ``nt`` rows, normal first) and of the equality
+    rows after them, with w = c + D x, under Coulomb's law with Λ_N ≥ ``floor`` (m,) and
+    w = 0 on the equality rows. ``tol`` bounds the change of w (units of c) of the last sweep.
+    Returns (x, status (m,): 0 no impulse, 1 stick, 2 slip, sweeps); raises
+    ``RuntimeError`` when the sweeps do not settle."""
+    mu = np.asarray(mu, dtype=float)
+    floor = np.asarray(floor, dtype=float)
+    m, b = len(mu), 1 + nt
+    nc = m * b
+    c, D = np.asarray(c, dtype=float), np.asarray(D, dtype=float)
+    # condensation: x_e = −E⁺(c_e + D_ec x_c) keeps w_e = 0 for any contact impulses
+    E = D[nc:, nc:]
+    Einv = np.linalg.pinv(E) if E.size else E
+    Dc = D[:nc, :nc] - D[:nc, nc:] @ Einv @ D[nc:, :nc]
+    cc = c[:nc] - D[:nc, nc:] @ Einv @ c[nc:]
+    x = np.zeros(nc)
+    blocks = [slice(j * b, (j + 1) * b) for j in range(m)]
+    status = np.zeros(m, int)
+    for sweep in range(1, max_sweeps + 1):
+        change = 0.0
+        for j, rows in enumerate(blocks):
+            Djj = Dc[rows, rows]
+            local = cc[rows] + Dc[rows] @ x - Djj @ x[rows]
+            xj, status[j] = _local(local, Djj, mu[j], floor[j], tol)
+            change = max(change, float(np.max(np.abs(Djj @ (xj - x[rows])), initial=0.0)))
+            x[rows] = xj
+        if change <= tol or m == 1:
+            xe = -Einv @ (c[nc:] + D[nc:, :nc] @ x)
+            return np.concatenate([x, xe]), status, sweep
+    raise RuntimeError(f"decompression: Gauss-Seidel changed w by {change:.3e} > {tol:.3e}")
+
+
+def _local(c, D, mu, floor, tol):
+    """One contact: x with x_N ≥ floor ⊥ w_N ≥ 0 and Coulomb's cone, w = c + D x."""
+    nt = len(c) - 1
+    if nt == 0 or mu == 0.0:
+        x = np.zeros(len(c))
+        x[0] = floor if c[0] + D[0, 0] * floor >= 0.0 else -c[0] / D[0, 0]
+        return x, _status(x, c + D @ x, mu, tol)
+    if nt == 1:
+        for x, pressed in _candidates_2d(c, D, mu, floor):
+            w = c + D @ x
+            if _admissible(x, w, mu, floor, pressed, tol):
+                return x, _status(x, w, mu, tol)
+        raise RuntimeError("decompression: no case of the 2D contact law holds")
+    x = _projected(c, D, mu, floor, tol)
+    return x, _status(x, c + D @ x, mu, tol)
+
+
+def _status(x, w, mu, tol) -> int:
+    """0 no impulse, 1 stick (no slip rate), 2 slip."""
+    if x[0] <= 0.0:
+        return 0
+    return 2 if len(x) > 1 and np.linalg.norm(w[1:]) > tol else 1
+
+
+def _candidates_2d(c, D, mu, floor):
+    """(x, pressed) of the cases of a 2D contact in order: at the floor (sticking, slipping
+    either way), then pressed beyond it, w_N = 0 (sticking, slipping either way)."""
+    xt = -(c[1] + D[1, 0] * floor) / D[1, 1]
+    yield np.array([floor, xt]), False
+    for s in (1.0, -1.0):  # s: the sign of the slip rate, the impulse opposes it
+        yield np.array([floor, -s * mu * floor]), False
+    try:
+        yield np.linalg.solve(D, -c), True
+    except np.linalg.LinAlgError:
+        pass
+    for s in (1.0, -1.0):
+        den = D[0, 0] - s * mu * D[0, 1]
+        if den > 0.0:
+            xn = -c[0] / den
+            yield np.array([xn, -s * mu * xn]), True
+
+
+def _admissible(x, w, mu, floor, pressed, tol) -> bool:
+    """Whether (x, w) of a 2D contact satisfies the law, to ``tol`` in w: the bound, the
+    normal complementarity, and a tangential impulse inside the cone with no slip or on its
+    edge against the slip."""
+    xn, xt, wn, wt = x[0], x[1], w[0], w[1]
+    slack = 1e-12 * max(abs(xn), abs(floor))
+    if xn < floor - slack or abs(xt) > mu * xn + slack or wn < -tol:
+        return False
+    if pressed and abs(wn) > tol:
+        return False
+    inside = abs(xt) < mu * xn - slack
+    if inside:
+        return abs(wt) <= tol
+    return wt * xt <= tol * abs(xt)
+
+
+def _projected(c, D, mu, floor, tol, max_iter=100000):
+    """3D contact: the fixed point x = Π(x − ρ w) of the projection on {x_N ≥ floor,
+    |x_T| ≤ μ x_N}, ρ = 1/λ_max(D), which is the law (Alart–Curnier with p/k = ρ)."""
+    rho = 1.0 / np.linalg.eigvalsh(0.5 * (D + D.T))[-1]
+    x = np.zeros(len(c))
+    x[0] = floor
+    for _ in range(max_iter):
+        y = x - rho * (c + D @ x)
+        y[0] = max(y[0], floor)
+        r = np.linalg.norm(y[1:])
+        if r > mu * y[0]:
+            y[1:] *= mu * y[0] / r
+        if np.max(np.abs(D @ (y - x))) <= 0.1 * tol:
+            return y
+        x = y
+    raise RuntimeError("decompression: 3D contact law did not settle")

@@ -1,0 +1,296 @@
+r"""The energy ledger of a run: where the energy went, step by step.
+
+With E = T + V_strain + V_gravity (J) of the bodies, every step closes
+
+    E(t) − E(0) = W_loads − D_damping − D_friction − D_impact − D_numerical,
+
+- W_loads: the work of the external loads other than gravity (trapezoidal in q, exact for
+  constant loads; gravity is in V_gravity);
+- D_damping: ½ h (vᵀC v at both ends of the step), C = αM + βK(q) (Rayleigh);
+- D_friction: the energy the tangential forces and impulses take, as each stepper measures
+  it (impulse × mean slip rate of the jump, force × slip of the step);
+- D_impact: the rest of what the contact phase of a step changes. NSGA: the energy change
+  of the position correction and of the velocity jump (with the acceleration follow-ups)
+  that friction does not explain; Moreau–Jean: −P·G v_mid of the normal impulses;
+  penalty: −½(λ_n + λ_{n+1})·Δg, the work of the contact forces (springs and dashpots);
+- D_numerical: the term that closes the identity, the time integrator's own dissipation (for
+  NSGA: that of the smooth step, ρ∞ < 1).
+
+D(t) = E(0) + W_loads(t) − E(t) is everything lost; it may only grow, up to the discrete
+energy's own oscillation (and, for the penalty baseline, less the energy ½ k δ² its
+contact springs hold for the rebound). ``created`` is its largest fall below its running
+maximum, ``scale``
+the largest T + V_strain of the run: a creation above 1e-3 of the scale is a warning naming
+the time, step and phase of the step that made the most of it. Friction that does positive
+work beyond 1e-6 of the scale is one too, naming the contacts. Moving obstacles do work that
+lands in D_impact: their runs report the ledger but no creation warning.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["EnergyLedger", "smooth_record"]
+
+# a creation above this fraction of the scale is a warning (the issue's measured gains are
+# 0.3 % and more); friction's positive work above FRICTION of it
+CREATED = 1e-3
+FRICTION = 1e-6
+# ... and above the round-off of the energies summed (a body at rest has a scale of zero):
+# this fraction of the largest of the scale, |E(0)| and the weight times the model's size
+ROUND_OFF = 1e-9
+TERMS = ("load_work", "damping", "friction", "impact", "numerical")
+
+
+def smooth_record(
+    model, contact_phase, v_tilde, q_tilde=None, friction_work=0.0
+) -> np.ndarray | None:
+    """What a stepper leaves in its state (``State.ledger``) for the ledger after its smooth
+    step, when a ``contact_phase`` (correction or jump) may follow: the kinetic energy of
+    ṽ, the potential (strain + gravity) energy of q̃ (NaN when no correction moved q: then
+    it is that of the step's end) and the work the smooth step's friction forces dissipated
+    (J). Without a contact phase, None."""
+    if not contact_phase:
+        return None
+    V = math.nan
+    if q_tilde is not None:
+        V = model.strain_energy(q_tilde) + model.potential_energy(q_tilde)
+    return np.array([model.kinetic_energy(v_tilde), V, friction_work])
+
+
+class EnergyLedger:
+    """The ledger of one run (J): cumulative terms, ``created`` and ``scale``."""
+
+    FIELDS = ("initial", "created", "scale", "peak", "positive_friction", "energy", "vCv")
+
+    def __init__(self, model, options):
+        self.model = model
+        self.integrator = options.integrator
+        self.checked = not model.contacts.moving
+        self.damped = any(model.damping)
+        self.terms = dict.fromkeys(TERMS, 0.0)
+        self.initial = math.nan
+        self.energy = math.nan  # E of the last state
+        self.created = 0.0
+        self.scale = 0.0
+        self.peak = -math.inf  # the running maximum of D
+        self.positive_friction = 0.0
+        self.vCv = 0.0
+        # the weight times the model's size (J): an energy scale for a body that rests
+        self.slack = float(np.abs(model.f_gravity).sum()) * model.length
+        self.worst = None  # (fall of D, t, step, phase) since the last running maximum
+        self.where = None  # ... of the largest creation
+        self.friction_where = None  # (work, t, step, contacts) of friction's largest gain
+        self.last = None  # the previous state
+
+    # -- the state of a step -----------------------------------------------------------------
+
+    def start(self, st) -> None:
+        """Take ``st`` as the previous state (a run's start, or a resumed run's)."""
+        self.last = st
+        kinetic, strain, gravity = self._energies(st)
+        self.energy = kinetic + strain + gravity
+        if math.isnan(self.initial):
+            self.initial = self.energy
+            self.peak = 0.0
+        if self.damped:
+            self.vCv = self._vCv(st)
+
+    def add(self, st, kinetic: float, strain: float, gravity: float, load_work: float) -> None:
+        """Account for the step that ended in ``st`` with its energies (J) and the loads'
+        work since t = 0 (J)."""
+        if self.last is None:
+            self.start(st)
+            self.scale = max(self.scale, kinetic + strain)
+            return
+        E = kinetic + strain + gravity
+        dE, W = E - self.energy, load_work - self.terms["load_work"]
+        damping = 0.0
+        if self.damped:
+            vCv = self._vCv(st)
+            damping = 0.5 * st.h * (self.vCv + vCv)
+            self.vCv = vCv
+        friction = self._friction(st)
+        impact, gains = self._impact(st, kinetic, E, W, damping, friction)
+        numerical = W - dE - damping - friction - impact
+        for k, x in zip(TERMS, (W, damping, friction, impact, numerical), strict=True):
+            self.terms[k] += x
+        self.energy = E
+        self.scale = max(self.scale, kinetic + strain)
+        gains.setdefault("smooth step" if self.integrator == "nsga" else "time step", -numerical)
+        self._track(st, E, gains, friction)
+        self.last = st
+
+    def _energies(self, st):
+        m = self.model
+        return m.kinetic_energy(st.v), m.strain_energy(st.q), m.potential_energy(st.q)
+
+    def _springs(self, st) -> float:
+        """½ k δ² of the penalty baseline's contact springs (J), 0 for the other steppers."""
+        k = None if st.penalty is None else st.penalty.k
+        if self.integrator != "penalty" or k is None or st.gaps.size != k.size:
+            return 0.0
+        delta = np.maximum(-st.gaps, 0.0)
+        return float(0.5 * np.sum(np.nan_to_num(k) * delta**2))
+
+    def _vCv(self, st) -> float:
+        m, F = self.model, self.model.free
+        alpha, beta = m.damping
+        v = st.v[F]
+        out = alpha * float(v @ (m.M @ v))
+        if beta:
+            K = m.internal(st.q, tangent=True)[2]
+            out += beta * float(v @ (K @ v))
+        return out
+
+    def _friction(self, st) -> float:
+        now, before = st.friction, self.last.friction
+        if now is None:
+            return 0.0
+        return float(now.work) - (0.0 if before is None else float(before.work))
+
+    def _impact(self, st, kinetic, E, W, damping, friction):
+        """D_impact of the step ending in ``st`` (J) and the energy gains of its phases."""
+        record = st.ledger
+        if record is not None:  # NSGA: the smooth step's end (ṽ, q̃)
+            T_tilde, V_tilde, smooth_friction = (float(x) for x in record)
+            V = E - kinetic
+            if math.isnan(V_tilde):
+                V_tilde = V
+            correction, jump = V - V_tilde, kinetic - T_tilde
+            smooth = T_tilde + V_tilde - self.energy - W + damping + smooth_friction
+            gains = {
+                "smooth step": smooth,
+                "position correction": correction,
+                "velocity jump": jump,
+                "friction": -friction,
+            }
+            return -(correction + jump) - (friction - smooth_friction), gains
+        if self.integrator == "moreau" and np.any(st.impulse):
+            impact = self._impulse_work(st)
+        elif self.integrator == "penalty" and (np.any(st.impulse) or np.any(self.last.impulse)):
+            impact = self._spring_work(st)
+        else:
+            impact = 0.0
+        return impact, {"impact": -impact, "friction": -friction}
+
+    def _impulse_work(self, st) -> float:
+        """−Σ P_j G_j(q_{n+1}) v_mid of Moreau–Jean's normal impulses (J)."""
+        j = np.flatnonzero(st.impulse)
+        G = self.model.contacts.linearize(st.q, j)[1]
+        v_mid = 0.5 * (st.v + self.last.v)[self.model.free]
+        rate = G @ v_mid
+        if self.model.contacts.moving:
+            rate = rate + self.model.contacts.rates(st.q, j)
+        return -float(st.impulse[j] @ rate)
+
+    def _spring_work(self, st) -> float:
+        """−½(λ_n + λ_{n+1})·Δg (J): what the penalty forces took from the bodies."""
+        lam = st.impulse / st.h
+        lam0 = self.last.impulse / self.last.h if self.last.h > 0 else np.zeros_like(lam)
+        if lam0.size != lam.size or self.last.gaps.size != st.gaps.size:
+            return 0.0
+        g0, g1 = self.last.gaps, st.gaps
+        both = np.isfinite(g0) & np.isfinite(g1)
+        return -0.5 * float(np.sum(((lam0 + lam) * (g1 - g0))[both]))
+
+    # -- creation ----------------------------------------------------------------------------
+
+    def _track(self, st, E, gains, friction) -> None:
+        D = self.initial + self.terms["load_work"] - E - self._springs(st)
+        fall = self.peak - D
+        if D >= self.peak:
+            self.peak, self.worst = D, None
+        elif fall > 0.0:
+            step_fall = max(gains.values())
+            if self.worst is None or step_fall > self.worst[0]:
+                phase = max(gains, key=gains.get)
+                self.worst = (step_fall, st.t, st.step, phase)
+            if fall > self.created:
+                self.created, self.where = fall, self.worst
+        if friction < 0.0:
+            self.positive_friction -= friction
+            if self.friction_where is None or -friction > self.friction_where[0]:
+                self.friction_where = (-friction, st.t, st.step, _gripping(st))
+
+    @property
+    def dissipation(self) -> float:
+        """D(t) = E(0) + W_loads − E(t) (J)."""
+        return self.initial + self.terms["load_work"] - self.energy
+
+    def row(self) -> list[float]:
+        """The history columns ``fecontact.io.output.LEDGER_COLUMNS`` of the last state (J,
+        since t = 0)."""
+        return [self.terms[k] for k in TERMS]
+
+    def summary(self, kinetic: float, strain: float, gravity: float) -> dict:
+        """``summary.json``'s ``energy_ledger``: the energies of the last state and the
+        terms since t = 0 (J)."""
+        t = self.terms
+        return {
+            "kinetic": kinetic,
+            "strain": strain,
+            "gravity": gravity,
+            "load_work": t["load_work"],
+            "damping_dissipation": t["damping"],
+            "friction_dissipation": t["friction"],
+            "impact_dissipation": t["impact"],
+            "numerical_dissipation": t["numerical"],
+            "created": self.created,
+            "scale": self.scale,
+        }
+
+    def _limit(self, fraction: float) -> float:
+        return fraction * self.scale + ROUND_OFF * max(self.scale, abs(self.initial), self.slack)
+
+    def warnings(self) -> list[str]:
+        """The run's energy warnings (each begins with "energy")."""
+        out = []
+        if self.checked and self.created > self._limit(CREATED) and self.where is not None:
+            _, t, step, phase = self.where
+            out.append(
+                f"energy: the run created {self.created:.3g} J ({self.created / self.scale:.2%}"
+                f" of its largest kinetic plus strain energy, {self.scale:.3g} J); the step "
+                f"that made most of it: t = {t:.6g} s, step {step}, in the {phase}"
+            )
+        if self.positive_friction > self._limit(FRICTION):
+            work, t, step, contacts = self.friction_where
+            out.append(
+                f"energy: friction did {self.positive_friction:.3g} J of positive work, "
+                f"most ({work:.3g} J) at t = {t:.6g} s, step {step}, at contact(s) "
+                f"{', '.join(map(str, contacts))}"
+            )
+        return out
+
+    def state(self) -> dict:
+        """What a checkpoint keeps: the totals and where the creations were."""
+        out = {k: getattr(self, k) for k in self.FIELDS}
+        places = {k: getattr(self, k) for k in ("worst", "where", "friction_where")}
+        return out | {f"term_{k}": v for k, v in self.terms.items()} | places
+
+    def restore(self, values: dict) -> None:
+        for k in self.FIELDS:
+            if k in values:
+                setattr(self, k, float(values[k]))
+        for k in self.terms:
+            self.terms[k] = float(values.get(f"term_{k}", self.terms[k]))
+        for k in ("worst", "where", "friction_where"):
+            if values.get(k) is not None:
+                setattr(self, k, tuple(values[k]))
+
+
+def _gripping(st) -> list[int]:
+    """The contacts that carried a tangential force or impulse in the step ``st``."""
+    grip = np.zeros(st.impulse.size, bool)
+    friction, smooth = st.friction, st.smooth
+    arrays = (
+        None if friction is None else friction.impulse,
+        None if friction is None else friction.nu,
+        None if smooth is None else smooth.tangential,
+    )
+    for x in arrays:
+        if x is not None and x.shape[0] == grip.size:
+            grip |= np.any(x != 0.0, axis=1)
+    return np.flatnonzero(grip).tolist()

@@ -1,0 +1,149 @@
+r"""Poisson's impact law at the velocity level: a compression impulse, then a decompression
+impulse at least e_N times the compression's, each under Coulomb's law.
+
+Glocker (Multibody Syst. Dyn., 2013, Part II) writes Poisson's law as two inequality
+problems. On the closed contacts of a step, with the free velocity ṽ (the smooth step's, or
+Moreau–Jean's free velocity) and the metric H (M, or Moreau–Jean's iteration matrix):
+
+1. compression, v_c = ṽ + H⁻¹(Gᵀ Λ_c + G_Tᵀ Λ_T,c): Newton's law with e = 0,
+   0 ≤ G v_c ⊥ Λ_c ≥ 0, with Coulomb's law on the slip rate G_T v_c;
+2. decompression, v⁺ = v_c + H⁻¹(Gᵀ Λ_d + G_Tᵀ Λ_T,d): Λ_d ≥ e_N Λ_i ⊥ G v⁺ ≥ 0 with
+   Coulomb's law on G_T v⁺ and the cone |Λ_T,d| ≤ μ Λ_d
+   (:func:`fecontact.contact.restitution.solve_decompression`).
+
+Joints are equalities in both phases. Λ_i is the percussion of the impact: the compression
+impulse that stops the approach ġ⁻ (the same pre-impact rate as Newton's law), found by the
+compression problem with ġ⁻ in place of the normal rates G ṽ (and the joints at rest),
+and at most Λ_c. The rest of
+Λ_c is the impulse of the finite forces over the step (gravity pressing a body that rests):
+it is not restituted, or a resting body would be thrown up by e_N g h every step. Without
+forces over the step Λ_i = Λ_c. For one frictionless contact the two phases give
+ġ⁺ = −e_N ġ⁻, Newton's answer, and at e_N = 0 they are Newton's law.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..contact import solve_velocity_jump
+from ..contact.restitution import solve_decompression
+from .constraints import StepFailure, augmentation
+from .coulomb import frictional_jump
+
+__all__ = ["poisson_jump"]
+
+
+def poisson_jump(model, st, q, v, closed, G1, rates, e, approach, opts, tol, **kw):
+    """The velocity jump W under Poisson's law on the contacts ``closed`` and the joints.
+
+    G1: rows (contacts, then joints) at q; ``rates`` their rates at ṽ = ``v`` (m/s) with no
+    restitution term; ``e`` the coefficients per row (0 on joints and held contacts);
+    ``approach`` ġ⁻ of the contacts. Keywords: ``solve`` the metric's H⁻¹ (default M⁻¹),
+    ``bilateral`` the equality rows (held contacts and joints; with friction the contacts
+    keep their law and the smooth forces' ``preload`` holds them),
+    ``preload`` as in :func:`fecontact.time.coulomb.frictional_jump`. Returns (W, k Λ of
+    every row (N·s), iterations, friction) with friction = (Λ_T (len(closed), nt), status,
+    work of Λ_T (J)) or None without friction, as :func:`fecontact.time.impacts.velocity_jump`.
+    """
+    solve = kw.get("solve") or model.solve_M
+    nc = closed.size
+    struck = e[:nc] > 0.0
+    pre = rates.copy()
+    pre[:nc] = np.where(struck, approach, rates[:nc])  # ġ⁻ in place of G ṽ
+    pre[nc:] = 0.0  # (the joints' drift G_b ṽ of the index-3 smooth step is no approach)
+    if model.contacts.frictional:
+        out = _frictional(model, st, q, v, closed, G1, rates, pre, e, opts, tol, solve, kw)
+    else:
+        out = _frictionless(model, G1, rates, pre, e, opts, tol, solve, kw.get("bilateral"))
+    return out
+
+
+def _frictionless(model, G1, rates, pre, e, opts, tol, solve, bilateral):
+    G = _dense(G1)
+    Y = solve(G.T).reshape(G.shape[1], -1)
+    D = G @ Y
+    eq = np.zeros(len(rates), bool) if bilateral is None else bilateral
+    lam_c, its_c = _compression(G, rates, solve, Y, eq, opts, tol)
+    lam_i, its_i = _compression(G, pre, solve, Y, eq, opts, tol)
+    unilateral = np.flatnonzero(~eq)
+    order = np.concatenate([unilateral, np.flatnonzero(eq)])
+    c = (rates + D @ lam_c)[order]
+    floor = (e * np.clip(lam_i, 0.0, lam_c))[unilateral]
+    x, its_d = _decompression(c, D[np.ix_(order, order)], np.zeros(unilateral.size), 0, floor, tol)
+    lam = lam_c.copy()
+    lam[order] += x
+    return Y @ lam, lam, its_c + its_i + its_d, None
+
+
+def _compression(G, rates, solve, Y, eq, opts, tol):
+    p = augmentation(opts.penalty_scale, G, Y)
+    k = opts.multiplier_scale
+    try:
+        _, Lam, its = solve_velocity_jump(
+            G,
+            rates,
+            solve,
+            p,
+            k,
+            opts.max_iterations,
+            bilateral=eq,
+            Y=Y,
+            tol=tol,
+            stats=opts.stats.contact,
+        )
+    except RuntimeError as err:
+        raise StepFailure(str(err), np.nan) from None
+    return k * Lam, its
+
+
+def _frictional(model, st, q, v, closed, G1, rates, pre, e, opts, tol, solve, kw):
+    nc = closed.size
+    preload = kw.get("preload")
+    W_c, n_c, t_c, status, its, work, b_c = frictional_jump(
+        model, st, q, v, closed, G1, rates, opts, tol, solve, preload
+    )
+    n_i = frictional_jump(model, st, q, v, closed, G1, pre, opts, tol, solve, preload)[1]
+    F = model.free
+    GT, T = model.contacts.tangent_jacobian(q, closed)
+    nt = GT.shape[1]
+    slip = GT @ v[F]
+    speed = model.contacts.obstacle_motion(closed, velocity=True)
+    if speed is not None:
+        slip -= np.einsum("mtd,md->mt", T, speed)
+    G = _dense(G1)
+    blocks = np.concatenate([G[:nc, None], GT], axis=1)  # (normal, tangents) per contact
+    A = np.concatenate([blocks.reshape(-1, G.shape[1]), G[nc:]])
+    Y = solve(A.T).reshape(len(F), -1)
+    D = A @ Y
+    x_c = np.concatenate([np.column_stack([n_c, t_c]).ravel(), b_c])
+    w0 = np.concatenate([np.column_stack([rates[:nc], slip]).ravel(), rates[nc:]])
+    c = w0 + D @ x_c
+    floor = e[:nc] * np.clip(n_i, 0.0, n_c)
+    x_d, its_d = _decompression(c, D, model.contacts.friction[closed], nt, floor, tol)
+    blocks = x_d[: nc * (1 + nt)].reshape(nc, 1 + nt)
+    rows = np.arange(nc * (1 + nt)) % (1 + nt) > 0
+    # the kinetic energy the decompression's tangential impulses take: impulse × mean slip
+    work_d = -float(x_d[: rows.size][rows] @ (c[: rows.size] + 0.5 * (D @ x_d)[: rows.size])[rows])
+    lam = np.concatenate([n_c + blocks[:, 0], b_c + x_d[nc * (1 + nt) :]])
+    restituted = np.any(x_d[: nc * (1 + nt)].reshape(nc, -1) != 0.0, axis=1)
+    status = np.where(restituted, _slip_status(c + D @ x_d, nc, nt, tol), status)
+    W = W_c + Y @ x_d
+    return W, lam, its + its_d, (t_c + blocks[:, 1:], status, work + work_d)
+
+
+def _slip_status(w, nc, nt, tol) -> np.ndarray:
+    slip = np.linalg.norm(w[: nc * (1 + nt)].reshape(nc, 1 + nt)[:, 1:], axis=1)
+    return np.where(slip > tol, 2, 1)
+
+
+def _decompression(c, D, mu, nt, floor, tol):
+    try:
+        x, _, sweeps = solve_decompression(c, D, mu, nt, floor, tol)
+    except RuntimeError as err:
+        raise StepFailure(f"velocity jump: {err}", np.nan) from None
+    return x, sweeps
+
+
+def _dense(G):
+    return G.toarray() if sp.issparse(G) else np.asarray(G)

@@ -1,0 +1,84 @@
+"""The inside/outside test: signed distances of points to a solid's discretized boundary."""
+
+import numpy as np
+import pytest
+
+from fecontact.bodies import Solid
+from fecontact.bodies.materials import LinearElastic
+from fecontact.contact.inside import Surface, winding_numbers
+
+MAT = LinearElastic(1e7, 0.3, 1000.0)
+RNG = np.random.default_rng(7)
+
+
+def test_the_box_distance_is_exact_inside_and_outside():
+    # an axis-aligned box: the distance to its surface is known in closed form everywhere
+    lo, hi = np.zeros(3), np.array([1.0, 2.0, 3.0])
+    body = Solid.box(lo, hi, (3, 4, 5), MAT)
+    x = body.positions(np.zeros(body.ndof))
+    p = RNG.uniform(-0.5, [1.5, 2.5, 3.5], (4000, 3))  # within the pad of 1 m around the box
+    s, _ = Surface(body.contact_facets()).signed_distance(x, p, pad=1.0)
+    inside = np.all((p > lo) & (p < hi), axis=1)
+    outside_gap = np.linalg.norm(np.maximum(0.0, np.maximum(lo - p, p - hi)), axis=1)
+    inside_depth = np.min(np.minimum(p - lo, hi - p), axis=1)
+    exact = np.where(inside, -inside_depth, outside_gap)
+    np.testing.assert_allclose(s, exact, atol=1e-13)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_points_far_inside_a_round_body_get_their_depth(dim):
+    # deep points of a polygonal disk or ball: the sign everywhere, and the depth against the
+    # distance to the inscribed and circumscribed spheres (the facets lie between them)
+    c = np.array([0.1, 0.2, -0.3][:dim])
+    body = (Solid.disk if dim == 2 else Solid.ball)(c, 0.05, 3 if dim == 2 else 2, MAT)
+    x = body.positions(np.zeros(body.ndof))
+    surface = Surface(body.contact_facets())
+    p = c + RNG.uniform(-0.07, 0.07, (3000, dim))
+    s, f = surface.signed_distance(x, p, pad=0.03)
+    r = np.linalg.norm(p - c, axis=1)
+    xf = x[surface.facets]
+    # the inscribed radius: the smallest distance from the centre to a facet
+    r_in = -surface.signed_distance(x, c[None])[0][0]
+    assert 0.04 < r_in < 0.05
+    assert np.all(s[r < r_in] < 0.0) and np.all(s[r > 0.05] > 0.0)
+    deep = r < r_in
+    assert np.all(-s[deep] >= r_in - r[deep] - 1e-12)
+    assert np.all(-s[deep] <= 0.05 - r[deep] + 1e-12)
+    # the closest facet is closest: no facet is nearer than |s| (all facets, brute force)
+    for i in RNG.choice(len(p), 40, replace=False):
+        d = surface._facet_distances(np.repeat(p[i][None], len(xf), 0), xf)
+        assert abs(s[i]) == pytest.approx(d.min(), abs=1e-15)
+        assert f[i] in np.flatnonzero(d <= d.min() + 1e-15)
+
+
+def test_the_winding_number_counts_loops_and_holes():
+    # a counter-clockwise square with a clockwise square hole
+    outer = np.array([[0, 0], [4, 0], [4, 4], [0, 4]], float)
+    hole = np.array([[1, 1], [1, 3], [3, 3], [3, 1]], float)
+    a = np.vstack([outer, hole])
+    b = np.vstack([np.roll(outer, -1, 0), np.roll(hole, -1, 0)])
+    w = winding_numbers(np.array([[0.5, 0.5], [2.0, 2.0], [5.0, 2.0]]), a, b)
+    np.testing.assert_allclose(w, [1.0, 0.0, 0.0], atol=1e-12)
+
+
+def test_points_beyond_the_box_are_outside_without_a_search():
+    body = Solid.disk([0.0, 0.0], 1.0, 1, MAT)
+    x = body.positions(np.zeros(body.ndof))
+    s, f = Surface(body.contact_facets()).signed_distance(x, np.array([[5.0, 0.0]]), pad=0.1)
+    assert s[0] == np.inf and f[0] == -1
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_inside_points_alone_get_the_same_distances(dim):
+    body = (Solid.disk if dim == 2 else Solid.ball)(np.zeros(dim), 1.0, 2, MAT)
+    x = body.positions(np.zeros(body.ndof))
+    surface = Surface(body.contact_facets())
+    p = RNG.uniform(-1.2, 1.2, (500, dim))
+    s, f = surface.signed_distance(x, p)
+    s_in, f_in = surface.signed_distance(x, p, outside=False)
+    inside = s < 0.0
+    np.testing.assert_array_equal(s_in[inside], s[inside])
+    np.testing.assert_array_equal(f_in[inside], f[inside])
+    if dim == 2:  # (3D finds the sign from the closest facet: it keeps both)
+        assert np.all(np.isinf(s_in[~inside]))
+    np.testing.assert_array_equal(surface.depths(x, p), np.maximum(0.0, -s))

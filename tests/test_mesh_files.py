@@ -1,0 +1,169 @@
+"""Mesh files and the checks a mesh passes before any work: unmerged coincident nodes, nodes in
+no element, connectivity of any integer type, gmsh physical groups as named node sets."""
+
+import meshio
+import numpy as np
+import pytest
+import skfem
+
+from fecontact import InputError, LinearElastic, Model, Solid
+from fecontact.bodies.mesh_files import merge_nodes, read_mesh
+from fecontact.contact import Contact, Plane
+from fecontact.time import simulate
+
+MAT = LinearElastic(E=1e6, nu=0.3, rho=1e3)
+
+
+def two_unmerged_squares():
+    """Two unit squares meshed apart side by side: the edge x = 1 holds 5 pairs of copies."""
+    a = skfem.MeshTri.init_tensor(np.linspace(0, 1, 5), np.linspace(0, 1, 5))
+    p = np.hstack([a.p, a.p + [[1.0], [0.0]]])
+    return skfem.MeshTri(p, np.hstack([a.t, a.t + a.p.shape[1]]))
+
+
+def test_unmerged_coincident_nodes_are_refused_with_count_and_place():
+    with pytest.raises(InputError, match=r"10 nodes coincide .* first at \(1, 0\)") as err:
+        Solid(two_unmerged_squares(), MAT)
+    assert "merge_nodes" in str(err.value) and "\n" not in str(err.value)
+
+
+def test_merged_squares_are_one_connected_body():
+    mesh = merge_nodes(two_unmerged_squares())
+    body = Solid(mesh, MAT)
+    one = Solid.rectangle([0, 0], [2, 1], (8, 4), MAT)
+    assert body.n_nodes == one.n_nodes == 45
+    # one outline of 24 segments (no inner boundary along x = 1) and the same area
+    assert len(body.boundary_facets()) == 24 and body.volume == pytest.approx(2.0, rel=1e-14)
+
+
+def test_merge_nodes_when_a_file_is_read(tmp_path):
+    mesh = two_unmerged_squares()
+    path = tmp_path / "two.vtu"
+    meshio.write(path, meshio.Mesh(mesh.p.T, [("triangle", mesh.t.T)]))
+    with pytest.raises(InputError, match="10 nodes coincide"):
+        Solid.from_file(path, MAT)
+    assert Solid.from_file(path, MAT, merge_nodes=True).n_nodes == 45
+
+
+def test_a_node_in_no_element_is_named_not_taken_for_a_curved_cell():
+    # the loose point is the last one: scikit-fem then counts one vertex fewer than points
+    p = np.array([[0.0, 1.0, 0.0, 5.0], [0.0, 0.0, 1.0, 5.0]])
+    with pytest.raises(InputError, match=r"1 node\(s\) belong to no element.*at \(5, 5\)"):
+        Solid(skfem.MeshTri(p, np.array([[0, 1, 2]]).T), MAT)
+
+
+INTEGER_TYPES = [np.int8, np.uint8, np.int16, np.uint16, np.int32, np.uint32, np.int64, np.uint64]
+
+
+@pytest.mark.parametrize("dtype", INTEGER_TYPES, ids=lambda t: t.__name__)
+def test_connectivity_of_every_integer_type_loads(tmp_path, dtype):
+    # meshio writes pygmsh meshes with UInt64 connectivity and reads it back as float64; one
+    # cube of 6 tetrahedra: meshio writes the offsets (up to 24) in the connectivity's type
+    mesh = skfem.MeshTet.init_tensor(*[np.linspace(0, 1, 2)] * 3)
+    path = tmp_path / "box.vtu"
+    meshio.write(path, meshio.Mesh(mesh.p.T, [("tetra", mesh.t.T.astype(dtype))]))
+    again = read_mesh(path)
+    np.testing.assert_array_equal(again.p, mesh.p)
+    cells = {tuple(c) for c in np.sort(mesh.t, axis=0).T}  # (scikit-fem may reorder vertices)
+    assert {tuple(c) for c in np.sort(again.t, axis=0).T} == cells
+
+
+def write_msh41(path, points, groups):
+    """A gmsh ASCII 4.1 file as gmsh writes it: one entity per physical group, ``groups`` =
+    [(name, dim, cells (m, k), gmsh element type)], the first the body's cells."""
+    dim = groups[0][1]
+    counts = [sum(g[1] == d for g in groups) for d in range(4)]
+    box = " ".join(map(str, [*points.min(axis=0), *points.max(axis=0)]))
+    n, total = len(points), sum(len(g[2]) for g in groups)
+    lines = ["$MeshFormat", "4.1 0 8", "$EndMeshFormat", "$PhysicalNames", str(len(groups))]
+    lines += [f'{d} {i + 1} "{name}"' for i, (name, d, _, _) in enumerate(groups)]
+    lines += ["$EndPhysicalNames", "$Entities", " ".join(map(str, counts))]
+    ids = [i for d in range(4) for i, g in enumerate(groups) if g[1] == d]
+    lines += [f"{i + 1} {box} 1 {i + 1} 0" for i in ids]
+    lines += ["$EndEntities", "$Nodes", f"1 {n} 1 {n}", f"{dim} 1 0 {n}"]
+    lines += [str(i + 1) for i in range(n)] + [" ".join(map(repr, map(float, x))) for x in points]
+    lines += ["$EndNodes", "$Elements", f"{len(groups)} {total} 1 {total}"]
+    k = 1
+    for i, (_, d, cells, kind) in enumerate(groups):
+        lines.append(f"{d} {i + 1} {kind} {len(cells)}")
+        lines += [" ".join(map(str, [k + j, *(c + 1)])) for j, c in enumerate(cells)]
+        k += len(cells)
+    path.write_text("\n".join([*lines, "$EndElements", ""]))
+
+
+def sides(mesh, axis, value):
+    bf = mesh.boundary_facets()
+    mid = mesh.p[:, mesh.facets[:, bf]].mean(axis=1)
+    return mesh.facets[:, bf[np.abs(mid[axis] - value) < 1e-9]].T
+
+
+@pytest.fixture
+def block_msh(tmp_path):
+    """A 0.2 x 0.1 m block whose bottom, top and cells are gmsh physical groups."""
+    m = skfem.MeshTri.init_tensor(np.linspace(0, 0.2, 9), np.linspace(0.01, 0.11, 5))
+    points = np.column_stack([m.p.T, np.zeros(m.p.shape[1])])
+    groups = [("block", 2, m.t.T, 2), ("bottom", 1, sides(m, 1, 0.01), 1)]
+    groups.append(("top", 1, sides(m, 1, 0.11), 1))
+    write_msh41(tmp_path / "block.msh", points, groups)
+    return tmp_path / "block.msh"
+
+
+def test_physical_groups_are_named_boundaries_and_subdomains(block_msh):
+    mesh = read_mesh(block_msh)
+    assert sorted(mesh.boundaries) == ["bottom", "top"] and list(mesh.subdomains) == ["block"]
+    body = Solid(mesh, MAT)
+    np.testing.assert_array_equal(body.nodes_of("bottom"), body.nodes_where(lambda x: x[1] < 0.011))
+    np.testing.assert_array_equal(body.nodes_of("top"), body.nodes_where(lambda x: x[1] > 0.109))
+    np.testing.assert_array_equal(body.nodes_of("block"), np.arange(body.n_nodes))
+    with pytest.raises(InputError, match=r"no group named 'side' \(its groups: 'bottom', 'top'"):
+        body.fix("side")
+
+
+def test_a_contact_surface_chosen_by_group_name(block_msh):
+    """The block falls on a plane touching with its bottom group alone: the same run, to the
+    bit, as with the same nodes chosen by their coordinates."""
+
+    def run(nodes):
+        body = Solid.from_file(block_msh, MAT)
+        floor = Plane([0.0, 0.0], [0.0, 1.0])
+        model = Model([body], [Contact(body, floor, nodes=nodes(body))], gravity=(0.0, -9.81))
+        v0 = model.translation(body, (0.0, -1.0))
+        return [s.q.copy() for s in simulate(model, 2e-3, 0.03, v0=v0)], model
+
+    by_name, model = run(lambda b: "bottom")
+    by_place, _ = run(lambda b: b.nodes_where(lambda x: x[1] < 0.011))
+    np.testing.assert_array_equal(np.array(by_name), np.array(by_place))
+    assert len(model.contacts.pairs[0].nodes) == 9
+    # it hit the floor and came back up: the contact acted
+    lowest = [np.min(model.bodies[0].positions(q)[:, 1]) for q in by_name]
+    assert min(lowest) > -1e-9 and lowest[-1] > min(lowest)
+
+
+def test_a_3d_boundary_group_fixes_its_nodes(tmp_path):
+    m = skfem.MeshTet.init_tensor(*[np.linspace(0, 1, 3)] * 3)
+    groups = [("cube", 3, m.t.T, 4), ("base", 2, sides(m, 2, 0.0), 2)]
+    write_msh41(tmp_path / "cube.msh", m.p.T, groups)
+    body = Solid.from_file(tmp_path / "cube.msh", MAT).fix("base")
+    base = body.nodes_where(lambda x: x[2] < 1e-9)
+    assert len(base) == 9 and body.fixed == {int(i) * 3 + k for i in base for k in range(3)}
+
+
+def test_a_p2_boundary_group_holds_its_edge_nodes(tmp_path):
+    """A gmsh 2.2 file of triangle6 cells whose bottom is a physical group of line3 cells."""
+    m = skfem.MeshTri2.from_mesh(skfem.MeshTri.init_tensor(np.linspace(0, 1, 4), [0.0, 0.5, 1.0]))
+    bf = m.boundary_facets()
+    bottom = bf[m.doflocs[1, m.facets[:, bf]].max(axis=0) < 1e-9]
+    line3 = np.column_stack([m.facets[:, bottom].T, m.nvertices + bottom])  # edge node last
+    triangle6 = skfem.io.meshio.to_meshio(m).cells[0].data
+    tags = [np.full(len(triangle6), 1), np.full(len(line3), 2)]
+    mesh = meshio.Mesh(
+        m.doflocs.T,
+        [("triangle6", triangle6), ("line3", line3)],
+        cell_data={"gmsh:physical": tags, "gmsh:geometrical": tags},
+        field_data={"body": np.array([1, 2]), "bottom": np.array([2, 1])},
+    )
+    mesh.write(tmp_path / "p2.msh", file_format="gmsh22")
+    body = Solid.from_file(tmp_path / "p2.msh", MAT, element="P2")
+    nodes = body.nodes_of("bottom")
+    np.testing.assert_array_equal(nodes, body.nodes_where(lambda x: x[1] < 1e-9))
+    assert len(nodes) == 7  # 4 vertices and 3 edge nodes

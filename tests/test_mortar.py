@@ -1,0 +1,309 @@
+"""Dual mortar contact between solids: the patch tests (2D and 3D), exact derivatives, one
+interface for a pair declared both ways, and the head-on disks without sideways motion or
+penetration."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+from conftest import load_case
+from matplotlib.path import Path as PolygonPath
+
+from fecontact import Model, simulate
+from fecontact.bodies import Solid
+from fecontact.contact import Contact
+from fecontact.contact.geometry import segment_distance
+from fecontact.contact.mortar import MortarContact
+from fecontact.contact.mortar3d import MortarContact3D
+from fecontact.errors import InputError
+from fecontact.scenes import solid_material
+from fecontact.testing import gap_derivatives_error, pressed_blocks, pressed_boxes
+
+TWO_DISKS = load_case("two_disks")
+
+
+@pytest.mark.parametrize("meshes", [(7, 4), (4, 7), (5, 5), (13, 6)])
+def test_patch_test_pressure_uniform_and_displacements_exact(meshes):
+    p = 1e5
+    pair, parts, lam, exact = pressed_blocks(*meshes, p)
+    scale = max(np.max(np.abs(u)) for u in exact)
+    for u, ue in zip(parts, exact, strict=True):
+        assert np.max(np.abs(u - ue)) <= 1e-8 * scale
+    nodes, z = pair.nodal_pressure(lam)
+    active = lam > 0
+    assert active.sum() == meshes[1] + 1  # every node of the face, the corners included
+    assert np.max(np.abs(z[active] / p - 1.0)) <= 1e-8
+
+
+def test_patch_test_node_to_surface_is_not_exact():
+    """The same blocks with node-to-surface contact: its nodal forces are not a uniform
+    pressure on non-matching meshes (the table of docs/explanation/mortar.md)."""
+    _, parts, _, exact = pressed_blocks(7, 4, 1e5, method="node-to-surface")
+    scale = max(np.max(np.abs(u)) for u in exact)
+    assert max(np.max(np.abs(u - ue)) for u, ue in zip(parts, exact, strict=True)) > 1e-2 * scale
+
+
+def test_patch_test_large_displacement_error_is_first_order_in_the_strain():
+    """Gaps evaluated where the bodies are: the linear solution is off by the rotation and
+    stretch of the surfaces, an error proportional to the strain (1e-3 at p = 1e5 Pa)."""
+    errors = []
+    for p in (1e4, 1e5):
+        _, parts, _, exact = pressed_blocks(7, 4, p, small=False)
+        scale = max(np.max(np.abs(u)) for u in exact)
+        errors.append(
+            max(np.max(np.abs(u - ue)) for u, ue in zip(parts, exact, strict=True)) / scale
+        )
+    assert 8.0 < errors[1] / errors[0] < 12.0
+
+
+def disks(gap=0.002, offset=0.003, refinements=2):
+    mat = solid_material("linear", 1e7, 0.3, 1e3)
+    a = Solid.disk([-0.1 - gap / 2, 0.0], 0.1, refinements, mat)
+    b = Solid.disk([0.1 + gap / 2, offset], 0.1, refinements, mat)
+    return a, b
+
+
+def test_weighted_gap_derivatives_are_exact():
+    a, b = disks()
+    pair = Contact(a, b, method="mortar")
+    model = Model([a, b], [pair], gravity=(0.0, 0.0))
+    pair.detect_within(0.02)
+    q = np.random.default_rng(1).normal(0.0, 1e-3, model.n)
+    g = pair.evaluate(q)[0]
+    assert np.isfinite(g).sum() >= 3
+    err_g, err_h = gap_derivatives_error(pair, q, 1e-7)
+    # central differences with step 1e-7 m: truncation ~1e-14 relative, round-off ~1e-9
+    assert err_g < 1e-8 and err_h < 1e-6
+
+
+def test_a_pair_declared_both_ways_is_one_interface():
+    a, b = disks()
+    model = Model([a, b], [Contact(a, b, method="mortar"), Contact(b, a, method="mortar")])
+    assert len(model.contacts.pairs) == 1
+    assert isinstance(model.contacts.pairs[0], MortarContact)
+    with pytest.raises(InputError, match="both ways"):
+        Model(
+            [a, b],
+            [Contact(a, b, method="mortar"), Contact(b, a, method="mortar", restitution=0.5)],
+        )
+
+
+def test_method_option_errors():
+    a, b = disks()
+    with pytest.raises(InputError, match="method must be"):
+        Contact(a, b, method="segment")
+    with pytest.raises(InputError, match="nodes"):
+        Contact(a, b, method="mortar", nodes=[0, 1])
+    plane = Solid.rectangle([0, 0], [1, 1], 1, solid_material("linear", 1e7, 0.3, 1e3))
+    box = Solid.box([2, 0, 0], [3, 1, 1], 1, solid_material("linear", 1e7, 0.3, 1e3))
+    with pytest.raises(InputError, match="both solids"):
+        Contact(plane, box, method="mortar")
+
+
+def penetration(xa, fa, xb, fb) -> float:
+    """Deepest node of boundary a inside the closed boundary b (m), from a point-in-polygon
+    test and the distance to b's segments: independent of the contact's own gaps."""
+    nxt = dict(zip(fb[:, 0], fb[:, 1], strict=True))
+    loop = [fb[0, 0]]
+    while len(loop) < len(fb):
+        loop.append(nxt[loop[-1]])
+    nodes = np.unique(fa)
+    inside = nodes[PolygonPath(xb[loop]).contains_points(xa[nodes], radius=0.0)]
+    deepest = 0.0
+    for x in xa[inside]:
+        x = np.repeat(x[None], len(fb), axis=0)
+        deepest = max(deepest, float(np.min(segment_distance(x, xb[fb[:, 0]], xb[fb[:, 1]]))))
+    return deepest
+
+
+def test_penetration_check_sees_overlap():
+    a, b = disks(gap=-0.004, offset=0.0)
+    fa, fb = a.boundary_facets(), b.boundary_facets()
+    assert penetration(a.X, fa, b.X, fb) > 1e-3
+
+
+def run_disks(method="mortar", refinements=2, t_end=0.006, options=None, **params):
+    sim = TWO_DISKS.build(method=method, refinements=refinements, t_end=t_end, **params)
+    model = sim.model
+    A, B = model.bodies
+    fa, fb = A.boundary_facets(), B.boundary_facets()
+    wy = A.mass_matrix() @ A.translation_field((0.0, 1.0))
+    rows = []
+    for st in simulate(model, sim.dt, sim.t_end, options or sim.options, v0=sim.v0):
+        xa, xb = A.positions(st.q[model.body_slice(0)]), B.positions(st.q[model.body_slice(1)])
+        depth = max(penetration(xa, fa, xb, fb), penetration(xb, fb, xa, fa))
+        vy = [float(wy @ st.v[model.body_slice(i)]) / A.mass for i in (0, 1)]
+        rows.append((depth, *vy))
+    edge = A.min_edge_length
+    return np.array(rows), edge, sim, st
+
+
+@pytest.mark.parametrize("refinements", [2, 3])
+def test_two_disks_head_on_no_sideways_speed_no_penetration(refinements):
+    rows, edge, sim, last = run_disks(refinements=refinements)
+    v_impact = 1.0
+    assert np.max(np.abs(rows[:, 1:])) <= 0.01 * v_impact
+    assert np.max(rows[:, 0]) <= 0.01 * edge
+    # the disks have separated: their x-velocities have turned
+    model = sim.model
+    w = model.bodies[0].mass_matrix() @ model.bodies[0].translation_field((1.0, 0.0))
+    assert float(w @ last.v[model.body_slice(0)]) < 0.0
+
+
+def trajectory(options):
+    sim = TWO_DISKS.build(method="mortar", refinements=2, t_end=0.005)
+    return np.array([st.q for st in simulate(sim.model, sim.dt, sim.t_end, options, v0=sim.v0)])
+
+
+@pytest.mark.parametrize(
+    "change", [{"penalty_scale": 1e-3}, {"penalty_scale": 1e3}, {"multiplier_scale": 1e-2},
+               {"multiplier_scale": 1e2}]
+)  # fmt: skip
+def test_mortar_trajectory_independent_of_p_and_k(change):
+    sim = TWO_DISKS.build(method="mortar", refinements=2, t_end=0.005)
+    base = trajectory(sim.options)
+    other = trajectory(dataclasses.replace(sim.options, **change))
+    assert np.max(np.abs(other - base)) <= 1e-8 * 0.05  # of the radius
+
+
+def test_mortar_friction_oblique_impact_keeps_momentum():
+    sim = TWO_DISKS.build(method="mortar", refinements=2, t_end=0.006, offset=0.02, friction=0.3)
+    model = sim.model
+    A = model.bodies[0]
+    states = list(simulate(model, sim.dt, sim.t_end, sim.options, v0=sim.v0))
+    st = states[-1]
+    for axis in ((1.0, 0.0), (0.0, 1.0)):
+        w = A.mass_matrix() @ A.translation_field(axis)
+        total = float(w @ st.v[model.body_slice(0)] + w @ st.v[model.body_slice(1)])
+        assert abs(total) <= 1e-9 * A.mass  # equal and opposite forces, ρ A v = 7.65 kg m/s
+    assert np.any([np.any(s.impulse > 0) or np.any(s.force > 0) for s in states])
+
+
+def test_nodal_pressure_units_and_shape():
+    a, b = disks()
+    pair = MortarContact(a, b)
+    nodes, z = pair.nodal_pressure(np.ones(pair.size))
+    assert np.array_equal(nodes, np.unique(a.contact_facets()))
+    np.testing.assert_allclose(z * pair.length * a.thickness, 1.0)
+    with pytest.raises(InputError, match="entries"):
+        pair.nodal_pressure(np.ones(3))
+
+
+@pytest.mark.parametrize("meshes", [(4, 3), (3, 4), (3, 3), (5, 2)])
+def test_patch_test_3d_pressure_uniform_and_displacements_exact(meshes):
+    p = 1e5
+    pair, parts, lam, exact = pressed_boxes(*meshes, p)
+    scale = max(np.max(np.abs(u)) for u in exact)
+    for u, ue in zip(parts, exact, strict=True):
+        assert np.max(np.abs(u - ue)) <= 1e-8 * scale
+    _, z = pair.nodal_pressure(lam)
+    active = lam > 0
+    assert active.sum() == (meshes[1] + 1) ** 2  # every node of the face
+    assert np.max(np.abs(z[active] / p - 1.0)) <= 1e-8
+
+
+def balls(refinements=2):
+    mat = solid_material("linear", 1e7, 0.3, 1e3)
+    a = Solid.ball([0.0, 0.0, -0.101], 0.1, refinements, mat)
+    b = Solid.ball([0.003, 0.002, 0.1], 0.1, refinements, mat)
+    return a, b
+
+
+def test_weighted_gap_gradients_are_exact_3d():
+    """3D: the gradients of the nodes that take part are exact (central differences); the
+    Hessians are those of fixed integration points (mortar3d's docstring), not tested."""
+    a, b = balls()
+    pair = Contact(a, b, method="mortar")
+    assert isinstance(pair, MortarContact3D)
+    model = Model([a, b], [pair], gravity=(0.0, 0.0, 0.0))
+    pair.detect_within(0.03)
+    q = np.random.default_rng(1).normal(0.0, 1e-4, model.n)
+    g = pair.evaluate(q)[0]
+    assert np.isfinite(g).sum() >= 1
+    err_g, _ = gap_derivatives_error(pair, q, 1e-7)
+    assert err_g < 1e-8
+
+
+TWO_BALLS = load_case("two_balls")
+T_C = 6.2e-3  # Hertz's contact duration of each ball (as on the rigid plane at 1 m/s), s
+
+
+def convex_penetration(x, nodes, y, facets) -> float:
+    """Deepest of the points x[nodes] inside the convex body bounded by the triangles
+    ``facets`` of y (outward by the right-hand rule), m: behind every facet's plane, by the
+    distance to the nearest. Independent of the contact's own gaps."""
+    a, b, c = (y[facets[:, i]] for i in range(3))
+    n = np.cross(b - a, c - a)
+    n /= np.linalg.norm(n, axis=1)[:, None]
+    s = np.einsum("fd,pfd->pf", n, x[nodes][:, None, :] - a[None])
+    inside = np.all(s <= 0.0, axis=1)
+    return float(np.max(-np.max(s[inside], axis=1), initial=0.0))
+
+
+def ball_impact(**params):
+    """The left ball's largest lateral centre-of-mass speed, its exit speed (m/s), at
+    h = t_c/50, impact speed 1 m/s, and the deepest node of either ball inside the other
+    (m, the balls taken as convex; 0 against the plane)."""
+    sim = TWO_BALLS.build(graded=0, t_end=1.3 * T_C, **params)
+    model = sim.model
+    A, B = model.bodies[0], model.bodies[-1]
+    fa, fb = A.contact_facets(), B.contact_facets()
+    w = [A.mass_matrix() @ A.translation_field(np.eye(3)[k]) for k in range(3)]
+    lateral = deepest = 0.0
+    for st in simulate(model, T_C / 50, sim.t_end, sim.options, v0=sim.v0):
+        v = [float(w[k] @ st.v[model.body_slice(0)]) / A.mass for k in range(3)]
+        lateral = max(lateral, float(np.hypot(v[1], v[2])))
+        if B is not A:
+            xa, xb = A.positions(st.q[model.body_slice(0)]), B.positions(st.q[model.body_slice(1)])
+            deepest = max(deepest, convex_penetration(xa, np.unique(fa), xb, fb),
+                          convex_penetration(xb, np.unique(fb), xa, fa))  # fmt: skip
+    return lateral, -v[0], deepest, A.min_edge_length
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "mesh", [dict(base=2, rotate=0.0), dict(base=2, rotate=30.0),
+             dict(base=1, element="P2", rotate=30.0)]
+)  # fmt: skip
+def test_two_balls_head_on_like_the_plane_of_symmetry(mesh):
+    """Pole to pole, node on node or turned: each ball moves as against the rigid plane of
+    symmetry (node-to-surface both ways: 24-34 % lateral, restitution 0.79-0.91), and no node
+    enters the other ball (measured 0 at every step)."""
+    lateral, exit_speed, deepest, edge = ball_impact(method="mortar", **mesh)
+    _, plane_exit, _, _ = ball_impact(against="plane", **mesh)
+    assert lateral <= 0.01 * 1.0
+    assert abs(exit_speed / plane_exit - 1.0) <= 0.02
+    assert deepest <= 0.01 * edge  # no node inside the other ball beyond 1 % of an edge
+
+
+def ball_trajectory(options=None, **params):
+    sim = TWO_BALLS.build(graded=0, base=2, t_end=0.3 * T_C, **params)
+    states = simulate(sim.model, T_C / 50, sim.t_end, options or sim.options, v0=sim.v0)
+    return sim, np.array([st.q for st in states])
+
+
+@pytest.mark.parametrize("change", [{"penalty_scale": 1e3}, {"multiplier_scale": 1e-2}])
+def test_mortar_3d_trajectory_independent_of_p_and_k(change):
+    sim, base = ball_trajectory()
+    _, other = ball_trajectory(dataclasses.replace(sim.options, **change))
+    assert np.max(np.abs(other - base)) <= 1e-8 * 0.05  # of the radius
+
+
+def test_mortar_3d_friction_keeps_momentum():
+    """An oblique impact (the right ball also moving sideways) with Coulomb friction: equal
+    and opposite forces, the total momentum stays what it was."""
+    sim = TWO_BALLS.build(graded=0, base=2, t_end=0.5 * T_C)
+    model = sim.model
+    left, right = model.bodies
+    for pair in model.contacts.pairs:
+        pair.friction = 0.3
+    model = Model([left, right], model.contacts.pairs, gravity=(0.0, 0.0, 0.0))
+    v0 = sim.v0 + model.translation(right, (0.0, 0.3, 0.0))
+    states = list(simulate(model, T_C / 50, sim.t_end, sim.options, v0=v0))
+    for k in range(3):
+        w = left.mass_matrix() @ left.translation_field(np.eye(3)[k])
+        total = [float(w @ s.v[model.body_slice(0)] + w @ s.v[model.body_slice(1)]) for s in states]
+        assert np.max(np.abs(np.array(total) - total[0])) <= 1e-9 * left.mass  # of m × 1 m/s
+    assert any(np.any(s.force > 0) or np.any(s.impulse > 0) for s in states)
+    wy = left.mass_matrix() @ left.translation_field((0.0, 1.0, 0.0))
+    assert float(wy @ states[-1].v[model.body_slice(0)]) / left.mass > 1e-3  # dragged along

@@ -1,0 +1,245 @@
+r"""Poisson's impact law: single impacts on a rough floor against closed-form outcomes, the
+cases where it must give Newton's answer, the decompression solver, and Kane's chain.
+
+Closed forms. A rigid body (mass m, inertia I about its centre) strikes the floor y = 0 at
+a point r = (r_x, r_y) from its centre, with centre velocity (u, −V) and spin ω (no
+gravity). With impulses (P_T, P_N) at the point, along +x and +y,
+
+    Δv = (P_T, P_N)/m,   Δω = (r_x P_N − r_y P_T)/I,
+
+the normal rate ġ = v_y + ω r_x and the slip s = v_x − ω r_y change by D (P_N, P_T) with
+
+    D_NN = 1/m + r_x²/I,   D_TT = 1/m + r_y²/I,   D_NT = −r_x r_y/I.
+
+The two-phase law as implemented: compression from (ġ₀ = −V, s₀) with Newton's law at
+e = 0 and Coulomb's law on the slip at its end; decompression with P_N,d ≥ e P_N,c, again
+with Coulomb's law on the slip at its end.
+
+*Disk* (radius R, I = mR²/2, r = (0, −R)): D_NT = 0, D_NN = 1/m, D_TT = 3/m, so the
+compression takes P_N,c = mV and the slip falls by 3/m per unit tangential impulse, which
+is at most μ mV: it slips through (P_T,c = −μ mV) if s₀ > 3μV, else it stops (P_T,c =
+−m s₀/3). The decompression takes P_N,d = e mV (nothing presses the slip back) and
+P_T,d = −min(s_c, 3μ e V) m/3. In all: P_N = (1 + e) mV and P_T = −m min(s₀, 3μ(1+e)V)/3,
+i.e. slip that continues (s₀ > 3μ(1 + e)V), stops in restitution, or stops in compression
+(s₀ ≤ 3μV). Routh's continuous slip (Stronge, Impact Mechanics, ch. 5) gives the same:
+with D_NT = 0 the slip falls linearly in the normal impulse and stays zero once it stops.
+
+*Bar* (length L, I = mL²/12, striking with its end r = −(L/2)(cos θ, sin θ), θ = 45°,
+falling without spin, u = 0.5 m/s, V = 1 m/s, μ = 0.5, e = 0.5): D_NN = D_TT = 2.5/m,
+D_NT = −1.5/m. Compression: the sticking impulse P = −D⁻¹(ġ₀, s₀) lies inside the cone,
+so the contact ends the compression stuck. Decompression from ġ = s = 0 with P_N ≥ f =
+e P_N,c: sticking would need |P_T| = (|D_NT|/D_TT) f = 0.6 f > μ f, so it slips; slip
+forward (P_T = −μ f) would leave the slip rate at (D_NT − μ D_TT) f < 0, against the
+assumption, while slip backward (P_T = +μ f) leaves (D_NT + μ D_TT) f < 0: the slip
+reverses, at the floor P_N,d = f (ġ⁺ = (D_NN + μ D_NT) f > 0). Routh's continuous slip
+differs: the forward slip stops at P₁ = s₀/(μ D_TT − D_NT) within the compression, reverses
+(μ < |D_NT|/D_TT: no stick), the compression ends at ġ = 0, and the decompression adds
+e times the compression's normal impulse with the slip still backward; it ends with a
+different velocity and both lose energy. The test uses the configuration at which the
+law acts (the position correction turns the bar by about 1e-5 rad).
+"""
+
+import numpy as np
+import pytest
+
+from fecontact import InputError, Model
+from fecontact.bodies import Disk, Polygon, RigidBody2D
+from fecontact.contact import Contact, Plane
+from fecontact.contact.restitution import solve_decompression
+from fecontact.testing import case, trace
+from fecontact.time import IntegratorOptions, simulate
+
+MU, E = 0.3, 0.5
+R, MASS = 0.1, 1.0
+
+
+def _disk(u, V, spin, law, integrator="nsga", e=E, mu=MU):
+    disk = RigidBody2D.uniform(MASS, (0.0, R + 1e-4), Disk(R))
+    floor = Contact(disk, Plane([0.0, 0.0], [0.0, 1.0]), restitution=e, friction=mu)
+    model = Model([disk], [floor], (0.0, 0.0))
+    opts = IntegratorOptions(impact_law=law, integrator=integrator)
+    states = list(simulate(model, 1e-3, 3e-3, opts, v0=disk.velocity(u, -V, spin)))
+    return model, states
+
+
+def _disk_exact(u, V, spin):
+    s0 = u + spin * R
+    P_N = (1 + E) * MASS * V
+    P_T = -MASS * min(s0, 3 * MU * (1 + E) * V) / 3  # (s0 > 0 in the cases below)
+    return np.array([u + P_T / MASS, -V + P_N / MASS, spin + 2 * P_T / (MASS * R)])
+
+
+@pytest.mark.parametrize("integrator", ["nsga", "moreau"])
+@pytest.mark.parametrize(
+    "spin, regime",
+    [(10.0, "continues"), (0.0, "stops in restitution"), (-5.0, "stops in compression")],
+)
+def test_disk_strikes_a_rough_floor(integrator, spin, regime):
+    """u = V = 1 m/s: s₀ = 1 + 0.1 ω against 3μV = 0.9 and 3μ(1 + e)V = 1.35 m/s."""
+    u, V = 1.0, 1.0
+    s0 = u + spin * R
+    assert {
+        "continues": s0 > 3 * MU * (1 + E) * V,
+        "stops in restitution": 3 * MU * V < s0 <= 3 * MU * (1 + E) * V,
+        "stops in compression": s0 <= 3 * MU * V,
+    }[regime]
+    model, states = _disk(u, V, spin, "poisson", integrator)
+    v = states[-1].v
+    exact = _disk_exact(u, V, spin)
+    # one impulse solved in closed form per case of the law: round-off of a few operations
+    np.testing.assert_allclose(v, exact, rtol=1e-12, atol=1e-12 * np.abs(exact).max())
+    assert model.kinetic_energy(v) <= model.kinetic_energy(states[0].v)
+
+
+def _bar(u, V, law, mu=0.5, e=0.5, theta=np.pi / 4, L=1.0):
+    w = 0.02 * L
+    diamond = Polygon([[-L / 2, 0.0], [0.0, -w / 2], [L / 2, 0.0], [0.0, w / 2]])
+    c = 0.5 * L * np.array([np.cos(theta), np.sin(theta)]) + [0.0, 1e-4]
+    bar = RigidBody2D(MASS, MASS * L**2 / 12, c, angle=theta, shape=diamond)
+    end = Contact(bar, Plane([0.0, 0.0], [0.0, 1.0]), nodes=[0], restitution=e, friction=mu)
+    model = Model([bar], [end], (0.0, 0.0))
+    opts = IntegratorOptions(impact_law=law)
+    states = list(simulate(model, 1e-3, 1e-3, opts, v0=bar.velocity(u, -V, 0.0)))
+    return model, states, bar
+
+
+def _delassus(phi, L=1.0):
+    I = MASS * L**2 / 12
+    rx, ry = -0.5 * L * np.cos(phi), -0.5 * L * np.sin(phi)
+    D = np.array([[1 / MASS + rx**2 / I, -rx * ry / I], [-rx * ry / I, 1 / MASS + ry**2 / I]])
+    return D, rx, ry, I
+
+
+def _velocities(u, V, P_N, P_T, rx, ry, I):
+    return np.array([u + P_T / MASS, -V + P_N / MASS, (rx * P_N - ry * P_T) / I])
+
+
+def test_bar_strikes_with_its_end_and_the_slip_reverses():
+    u, V, mu, e = 0.5, 1.0, 0.5, 0.5
+    model, states, bar = _bar(u, V, "poisson", mu, e)
+    D, rx, ry, I = _delassus(bar.angle + states[-1].q[2])
+    assert mu < abs(D[0, 1]) / D[1, 1]  # sticking is outside the cone: the slip reverses
+    # compression: stuck at its end, inside the cone
+    Pc = np.linalg.solve(D, [V, -u])
+    assert Pc[0] > 0 and abs(Pc[1]) < mu * Pc[0]
+    # decompression at the floor, slipping backward
+    f = e * Pc[0]
+    assert (D[1, 0] + mu * D[1, 1]) * f < 0 and (D[0, 0] + mu * D[0, 1]) * f > 0
+    P_N, P_T = Pc[0] + f, Pc[1] + mu * f
+    exact = _velocities(u, V, P_N, P_T, rx, ry, I)
+    v = states[-1].v
+    np.testing.assert_allclose(v, exact, rtol=1e-12, atol=1e-12 * np.abs(exact).max())
+    slip = v[0] - v[2] * ry
+    assert u > 0 and slip < 0  # the slip reversed
+    T0, T1 = model.kinetic_energy(states[0].v), model.kinetic_energy(v)
+    assert T1 <= T0
+    # Routh's continuous slip: forward slip stops at P1, backward after; kinetic e
+    P1 = u / (mu * D[1, 1] - D[1, 0])
+    g1 = -V + (D[0, 0] - mu * D[0, 1]) * P1
+    assert g1 < 0  # the slip stops within the compression
+    P_c = P1 - g1 / (D[0, 0] + mu * D[0, 1])
+    P_N_r = (1 + e) * P_c
+    routh = _velocities(u, V, P_N_r, -mu * P1 + mu * (P_N_r - P1), rx, ry, I)
+    # they differ: (0.629, -0.378, -2.095) against (0.671, -0.345, -2.057)
+    assert np.max(np.abs(routh - exact)) > 0.03
+    assert model.kinetic_energy(routh) <= T0
+
+
+@pytest.mark.parametrize("mu, e", [(0.0, 0.7), (0.5, 0.0), (0.3, 0.0)])
+def test_newton_and_poisson_agree_where_they_must(mu, e):
+    """A frictionless single contact (ġ⁺ = −e ġ⁻ either way) and e = 0 (the compression
+    alone is Newton's law): the same velocities to round-off, on the bar (coupled rows)."""
+    out = {}
+    for law in ("newton", "poisson"):
+        out[law] = _bar(0.5, 1.0, law, mu, e)[1][-1].v
+    scale = np.abs(out["newton"]).max()
+    np.testing.assert_allclose(out["poisson"], out["newton"], rtol=0, atol=1e-14 * scale)
+
+
+def test_newton_and_poisson_agree_on_a_frictionless_chain_bounce():
+    """Kane's chain without friction: one contact, joints; the runs agree to round-off."""
+    sim = case("kane_chain").build(friction=0.0, restitution=0.8)
+    runs = [
+        trace(sim.replace(options=IntegratorOptions(impact_law=law)), t_end=0.6)
+        for law in ("newton", "poisson")
+    ]  # noqa: E501
+    assert runs[0]["status"] == runs[1]["status"] == "completed"
+    assert runs[0]["impulse"].max() > 0.0
+    np.testing.assert_allclose(runs[1]["total"], runs[0]["total"], rtol=0, atol=1e-10)
+
+
+def test_kane_chain_newton_gains_and_poisson_does_not():
+    """e_N = 1, μ = 0.5: Newton's law ends 1.13 J above the start (friction's work −1.14 J),
+    Poisson's below it, its energy falling below its running maximum by ≤ 1e-6 of the
+    peak kinetic energy."""
+    sim = case("kane_chain").build()
+    out = {}
+    for law in ("newton", "poisson"):
+        out[law] = trace(sim.replace(options=IntegratorOptions(impact_law=law)))
+        assert out[law]["status"] == "completed"
+    gain = out["newton"]["total"][-1] - out["newton"]["total"][0]
+    assert 1.0 < gain < 1.3
+    D = out["poisson"]["total"][0] - out["poisson"]["total"]
+    created = np.max(np.maximum.accumulate(D) - D)
+    assert D[-1] > 0.0
+    assert created <= 1e-6 * out["poisson"]["kinetic"].max()
+
+
+def test_decompression_solver_holds_the_law():
+    """Random coupled 2D contacts with floors: bound, complementarity, cone, slip against
+    the impulse; a zero floor on a separating contact gives no impulse."""
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        B = rng.normal(size=(6, 6))
+        D = B @ B.T / 6 + 0.2 * np.eye(6)
+        c = rng.normal(size=6)
+        mu = rng.uniform(0.0, 1.0, 3)
+        floor = rng.uniform(0.0, 1.0, 3) * (rng.uniform(size=3) > 0.3)
+        x, status, _ = solve_decompression(c, D, mu, 1, floor, 1e-13)
+        w = (c + D @ x).reshape(3, 2)
+        xs = x.reshape(3, 2)
+        for j in range(3):
+            xn, xt, wn, wt = xs[j, 0], xs[j, 1], w[j, 0], w[j, 1]
+            # Gauss–Seidel stops at a change of w ≤ 1e-13: ten times that as margin
+            assert xn >= floor[j] - 1e-12 and wn >= -1e-12
+            assert xn - floor[j] <= 1e-12 or abs(wn) <= 1e-12
+            assert abs(xt) <= mu[j] * xn + 1e-12
+            if abs(xt) < mu[j] * xn - 1e-12:
+                assert abs(wt) <= 1e-12
+            else:
+                assert wt * xt <= 1e-12
+
+
+def test_impact_law_is_checked():
+    with pytest.raises(InputError, match="impact_law"):
+        IntegratorOptions(impact_law="stronge")
+    with pytest.raises(InputError, match="^impact_law = 'poisson' needs integrator"):
+        IntegratorOptions(impact_law="poisson", integrator="penalty")
+
+
+def test_decompression_solver_in_3d():
+    """Random coupled 3D contacts (disk cones) with floors, and a joint row: the bound, the
+    complementarity, the cone, no slip inside it and slip against the impulse on its edge,
+    and the joint's rate zero."""
+    rng = np.random.default_rng(7)
+    for _ in range(10):
+        B = rng.normal(size=(7, 7))
+        D = B @ B.T / 7 + 0.3 * np.eye(7)
+        c = rng.normal(size=7)
+        mu = rng.uniform(0.1, 1.0, 2)
+        floor = rng.uniform(0.0, 1.0, 2)
+        x, status, _ = solve_decompression(c, D, mu, 2, floor, 1e-12)
+        w = c + D @ x
+        assert abs(w[6]) <= 1e-12
+        for j in range(2):
+            xn, xt = x[3 * j], x[3 * j + 1 : 3 * j + 3]
+            wn, wt = w[3 * j], w[3 * j + 1 : 3 * j + 3]
+            # the projection iteration stops at an update of w ≤ 1e-13: margins of 1e-10
+            assert xn >= floor[j] - 1e-12 and wn >= -1e-10
+            assert xn - floor[j] <= 1e-10 or abs(wn) <= 1e-10
+            assert np.linalg.norm(xt) <= mu[j] * xn + 1e-12
+            if np.linalg.norm(xt) < mu[j] * xn * (1 - 1e-9):
+                assert np.linalg.norm(wt) <= 1e-10
+            else:  # on the edge: the impulse opposes the slip
+                assert np.linalg.norm(np.cross(np.r_[xt, 0], np.r_[wt, 0])) <= 1e-9
+                assert xt @ wt <= 1e-10
