@@ -15,7 +15,7 @@ Cases: the founding flexible pendulum (1.5 s, 1500 steps), the bouncing ball (5 
 steps of a point mass) and two elastic disks colliding (580 dofs, smooth contact), each
 with its defaults.
 
-    python benchmarks/stepper_speed.py [--quick] [--repeats N] [--baseline REV]
+    python benchmarks/stepper_speed.py [--quick] [--repeats N] [--baseline REV] [--out DIR]
 """
 
 from __future__ import annotations
@@ -134,6 +134,7 @@ def main(argv=None) -> int:
     parser.add_argument("--quick", action="store_true", help="short runs, 3 repeats")
     parser.add_argument("--repeats", type=int, default=None, help="processes of each (default 7)")
     parser.add_argument("--baseline", default="21d058e", help="git revision to compare with")
+    parser.add_argument("--out", default=str(RESULTS), help="output folder (default: %(default)s)")
     args = parser.parse_args(argv)
     repeats = args.repeats or (3 if args.quick else 7)
     with tempfile.TemporaryDirectory(prefix="fecontact_baseline_") as tmp:
@@ -141,10 +142,11 @@ def main(argv=None) -> int:
         rows = measure(trees, repeats, args.quick, 1 if args.quick else 3)
     text = table(rows, repeats, args.baseline)
     print(text)
-    if not args.quick:
-        RESULTS.mkdir(parents=True, exist_ok=True)
-        (RESULTS / "stepper_speed.md").write_text(f"# Stepper speed\n\n{text}")
-        print(f"wrote {RESULTS / 'stepper_speed.md'}")
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    path = out / ("stepper_speed_quick.md" if args.quick else "stepper_speed.md")
+    path.write_text(f"# Stepper speed\n\n{text}")
+    print(f"wrote {path}")
     return 0 if all(r["same_history"] for r in rows) else 1
 
 
