@@ -36,6 +36,7 @@ from .io.run_folder import (
     save_checkpoint,
 )
 from .linalg import ITERATIVE, SPARSE_FACTORIZATIONS
+from .linalg.sparse_solvers import finish_run, start_run
 from .time import (
     FOLLOW_UPS,
     NEWTON,
@@ -358,6 +359,8 @@ def run(
     bar = _progress_bar(sim, start) if progress else None
     status, message = "completed", ""
     t_start = time.perf_counter()
+    done = 0 if start is None else start.step
+    solver = start_run(math.ceil(sim.t_end / sim.dt - 1e-9) - done, sim.model.linear)
     factors_start = dict(SPARSE_FACTORIZATIONS)
     iterative_start = dict(ITERATIVE)
     least_squares_start = LEAST_SQUARES["count"]
@@ -377,6 +380,7 @@ def run(
             clock = time.perf_counter()
             closed_before = int(rec.closed.sum())
             rec.record(st)
+            solver.note_step()
             if rec.balance.runaway():
                 raise SolverError(
                     f"energy blow-up at t = {st.t:.6g} s (step {st.step}): "
@@ -443,6 +447,8 @@ def run(
         summary["final_residuals"] = dict(ALART_CURNIER)
         # AMG-preconditioned CG (sparse solver "amg"): solves, iterations, setups, fallbacks
         summary["iterative_solver"] = {k: ITERATIVE[k] - iterative_start[k] for k in ITERATIVE}
+        # the sparse solver: the direct path, the choices of "auto", factor and peak memory
+        summary["sparse_solver"] = finish_run(solver)
         # a run that ends with more energy than its budget is said so, not only counted
         summary["warnings"] = [rec.balance.describe()] if rec.balance.unstable() else []
         if sim.model.contacts.frictional:  # the frictional solves and their fallbacks

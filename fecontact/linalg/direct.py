@@ -2,12 +2,13 @@
 
 Small systems (a few hundred unknowns) are faster dense: LAPACK's LU costs microseconds where
 sparse slicing and ``splu`` cost a millisecond. Larger ones use SuperLU with a fill-reducing
-ordering. Symmetric matrices (the mass, the iteration matrix β′M + K_t, the metric H − C)
-are factorized in SuperLU's symmetric mode: a minimum degree ordering of A + Aᵀ applied to
-rows and columns alike, and the diagonal taken as pivot unless it is below
-``SYMMETRIC_PIVOT`` of its column. With the default threshold of 1, row interchanges destroy
-the symmetric ordering and the fill grows by an order of magnitude on 3D iteration matrices
-(README, *Speed*). Element matrices are scattered into a sparsity pattern
+ordering, or the sparse Cholesky factorization (:mod:`.cholesky`) for symmetric positive
+definite ones when it is installed. Without it, symmetric matrices (the mass, the iteration
+matrix β′M + K_t, the metric H − C) are factorized in SuperLU's symmetric mode: a minimum
+degree ordering of A + Aᵀ applied to rows and columns alike, and the diagonal taken as pivot
+unless it is below ``SYMMETRIC_PIVOT`` of its column. With the default threshold of 1, row
+interchanges destroy the symmetric ordering and the fill grows by an order of magnitude on 3D
+iteration matrices (README, *Speed*). Element matrices are scattered into a sparsity pattern
 computed once per model, so every assembly is a single ``np.bincount``.
 """
 
@@ -20,8 +21,9 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from .iterative import amg_factorize, prefers_cg
-from .sparse_solvers import pardiso_factorize, sparse_solver
+from .cholesky import cholesky_available, cholesky_factorize
+from .iterative import amg_factorize
+from .sparse_solvers import pardiso_factorize, run_choice, sparse_solver
 
 __all__ = ["DENSE_LIMIT", "SYMMETRIC_PIVOT", "Pattern", "factorize"]
 
@@ -46,19 +48,29 @@ _getrf, _getrs = sla.get_lapack_funcs(("getrf", "getrs"), (np.zeros(1),))
 def factorize(A, symmetric: bool = False):
     """Return ``solve(b)`` applying A⁻¹ to a vector or to the columns of a matrix.
 
-    ``symmetric``: A = Aᵀ (its pattern and values), which lets a sparse A keep the symmetric
-    fill-reducing ordering (module docstring), or go to AMG-preconditioned CG with the sparse
-    solver ``"amg"`` (``"auto"``: for large 3D solids, :func:`.iterative.prefers_cg`). Raises
-    ``np.linalg.LinAlgError`` if A is singular: here for a factorization, from ``solve`` for
-    CG (when its fallback factorization fails).
+    ``symmetric``: A = Aᵀ (its pattern and values). A symmetric sparse A goes to the sparse
+    Cholesky factorization when it is installed (:mod:`.cholesky`; SuperLU's symmetric mode
+    otherwise, and for an A that is not positive definite), or to AMG-preconditioned CG with
+    the sparse solver ``"amg"``, or to either with ``"auto"`` as the run's measured costs choose
+    (:mod:`.choice`). Raises ``np.linalg.LinAlgError`` if A is singular: here for a
+    factorization, from ``solve`` for CG (when its fallback factorization fails).
     """
     if sp.issparse(A):
-        name = sparse_solver()
-        if symmetric and (name == "amg" or (name == "auto" and prefers_cg(A))):
-            return amg_factorize(A, lambda: _superlu(A, symmetric=True))
+        name, choice = sparse_solver(), run_choice()
+        if symmetric and name in ("amg", "auto"):
+
+            def direct():
+                return _symmetric_direct(A, choice)
+
+            if name == "amg":
+                return amg_factorize(A, direct)
+            if choice is not None:  # outside a run there are no costs to weigh: direct
+                return choice.auto(A, direct, lambda: amg_factorize(A, direct))
+        if symmetric and name != "superlu":
+            return _symmetric_direct(A, choice)
         if name == "pardiso":
             return pardiso_factorize(A)
-        return _superlu(A, symmetric)
+        return _superlu(A, symmetric, choice)
     # LAPACK directly: the scipy wrappers cost more than the factorization of small systems
     lu, piv, info = _getrf(A)
     if info != 0:
@@ -71,7 +83,31 @@ def factorize(A, symmetric: bool = False):
     return solve
 
 
-def _superlu(A, symmetric: bool):
+def _symmetric_direct(A, choice):
+    """``solve(b)`` of the symmetric sparse A by the sparse Cholesky factorization when it is
+    installed and A is positive definite, else by SuperLU's symmetric mode."""
+    if cholesky_available():
+        start = time.perf_counter()
+        factor = cholesky_factorize(A)
+        seconds = time.perf_counter() - start
+        _count(seconds)
+        if choice is not None:
+            choice.count_factorization(
+                "cholesky" if factor else "cholesky (not positive definite)",
+                seconds,
+                factor.memory_mb if factor else 0.0,
+            )
+        if factor is not None:
+            return factor
+    return _superlu(A, True, choice)
+
+
+def _count(seconds: float) -> None:
+    SPARSE_FACTORIZATIONS["count"] += 1
+    SPARSE_FACTORIZATIONS["seconds"] += seconds
+
+
+def _superlu(A, symmetric: bool, choice=None):
     """``solve(b)`` with A factorized by SuperLU (counted in ``SPARSE_FACTORIZATIONS``)."""
     options = {}
     if symmetric:
@@ -82,8 +118,10 @@ def _superlu(A, symmetric: bool):
     except RuntimeError as err:
         raise np.linalg.LinAlgError(str(err)) from None
     finally:
-        SPARSE_FACTORIZATIONS["count"] += 1
-        SPARSE_FACTORIZATIONS["seconds"] += time.perf_counter() - start
+        seconds = time.perf_counter() - start
+        _count(seconds)
+        if choice is not None:
+            choice.count_factorization("superlu", seconds)
     return lambda b: lu.solve(np.asarray(b, dtype=float))
 
 

@@ -1,13 +1,15 @@
 """The sparse solver behind :func:`fecontact.linalg.factorize`.
 
-``"superlu"`` (default) is SciPy's SuperLU, always available. ``"pardiso"`` is Intel MKL
-PARDISO through the optional ``pypardiso`` package (``pip install "fecontact[pardiso]"``,
-x86-64 only), a multithreaded supernodal LU. Both return the same solutions to round-off;
-the choice only changes speed, which depends on the matrix and the cores (README, *Speed*).
-``"amg"`` solves the symmetric systems by CG preconditioned with algebraic multigrid
-(:mod:`fecontact.linalg.iterative`) to a relative residual of 1e-10, and the others with
-SuperLU; ``"auto"`` does so only for large 3D solids (``iterative.prefers_cg``: at least
-``AUTO_DOFS`` unknowns and ``AUTO_ROW_ENTRIES`` entries a row), where CG is faster.
+``"direct"`` (default) factorizes the symmetric sparse systems (S_t, M, the metric) by sparse
+Cholesky when the optional ``pypardiso`` package is installed (:mod:`.cholesky`;
+``pip install "fecontact[pardiso]"``, x86-64), and everything else by SciPy's SuperLU, always
+available. ``"superlu"`` uses SuperLU for all of them. ``"pardiso"`` is Intel MKL PARDISO for
+all: Cholesky for the symmetric systems, its multithreaded supernodal LU for the others. The
+direct solvers return the same solutions to round-off; the choice only changes speed
+(``docs/validation/large_solids.md``). ``"amg"`` solves the symmetric systems by CG
+preconditioned with algebraic multigrid (:mod:`fecontact.linalg.iterative`) to a relative
+residual of 1e-10; ``"auto"`` solves each by CG or by the direct path, whichever the run's
+measured costs say is cheaper (:mod:`fecontact.linalg.choice`).
 
 Select one with :func:`use_sparse_solver` or the environment variable
 ``FECONTACT_SPARSE_SOLVER`` (read at import).
@@ -21,11 +23,21 @@ import weakref
 import numpy as np
 
 from ..errors import InputError
+from .choice import RunPlan, SolverChoice
+from .cholesky import cholesky_available
 
-__all__ = ["SPARSE_SOLVERS", "sparse_solver", "use_sparse_solver"]
+__all__ = [
+    "SPARSE_SOLVERS",
+    "finish_run",
+    "run_choice",
+    "sparse_solver",
+    "start_run",
+    "use_sparse_solver",
+]
 
-SPARSE_SOLVERS = ("superlu", "pardiso", "amg", "auto")
-_current = {"name": "superlu"}
+SPARSE_SOLVERS = ("direct", "superlu", "pardiso", "amg", "auto")
+# the solver, and the record of the run in progress (``start_run``)
+_current = {"name": "direct", "run": None}
 
 
 def use_sparse_solver(name: str) -> None:
@@ -54,6 +66,27 @@ def use_sparse_solver(name: str) -> None:
 def sparse_solver() -> str:
     """The name of the sparse solver in use."""
     return _current["name"]
+
+
+def start_run(steps: int, linear: bool) -> SolverChoice:
+    """Begin the record of a run of ``steps`` time steps of a ``linear`` model (or not) with
+    the sparse solver in use: its factorizations and, with ``"auto"``, its choices."""
+    backend = "cholesky" if cholesky_available() and _current["name"] != "superlu" else "superlu"
+    choice = SolverChoice(_current["name"], RunPlan(max(int(steps), 1), linear), backend)
+    _current["run"] = choice
+    return choice
+
+
+def run_choice() -> SolverChoice | None:
+    """The record of the run in progress, or None outside ``fecontact.run``."""
+    return _current["run"]
+
+
+def finish_run(choice: SolverChoice) -> dict:
+    """End the run recorded in ``choice``; return its ``sparse_solver`` summary entry."""
+    if _current["run"] is choice:
+        _current["run"] = None
+    return choice.record()
 
 
 def pardiso_factorize(A):

@@ -1,0 +1,95 @@
+"""The sparse Cholesky path and the run's sparse solver record: the same answers as SuperLU to
+round-off, SuperLU for what is not positive definite, and the cost model of "auto"."""
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from fecontact import run
+from fecontact.linalg import direct as direct_module
+from fecontact.linalg import factorize
+from fecontact.linalg.choice import RunPlan, SolverChoice
+from fecontact.linalg.sparse_solvers import sparse_solver, use_sparse_solver
+from fecontact.testing import case
+
+
+@pytest.fixture
+def restore():
+    before = sparse_solver()
+    yield
+    use_sparse_solver(before)
+
+
+def spd(n=30):
+    """The 2D five-point Laplacian plus I (n² unknowns, symmetric positive definite)."""
+    d = sp.diags([-1.0, 2.0, -1.0], [-1, 0, 1], shape=(n, n))
+    return (sp.kron(sp.eye(n), d) + sp.kron(d, sp.eye(n)) + sp.eye(n * n)).tocsr()
+
+
+def test_cholesky_gives_superlu_s_solutions(restore):
+    pytest.importorskip("pypardiso")
+    A = spd()
+    b = np.random.default_rng(2).standard_normal((900, 2))
+    use_sparse_solver("superlu")
+    x_lu = factorize(A, symmetric=True)(b)
+    use_sparse_solver("direct")
+    x_chol = factorize(A, symmetric=True)(b)
+    # both backward stable: κ(A) ≈ 5e2, so the solutions agree to ~1e-13 relative
+    np.testing.assert_allclose(x_chol, x_lu, rtol=1e-11, atol=1e-13)
+
+
+def test_indefinite_symmetric_matrices_go_to_superlu(restore):
+    """A symmetric indefinite matrix (a buckling tangent) is refused by the Cholesky path and
+    solved by SuperLU's symmetric mode, with or without the binding."""
+    A = (spd() - 3.0 * sp.eye(900)).tocsr()  # eigenvalues 1 − 3 … 9 − 3: indefinite
+    b = np.random.default_rng(3).standard_normal(900)
+    x = factorize(A, symmetric=True)(b)
+    assert np.linalg.norm(A @ x - b) <= 1e-10 * np.linalg.norm(b)
+
+
+def test_without_the_binding_direct_is_superlu(restore, monkeypatch):
+    A = spd()
+    b = np.random.default_rng(4).standard_normal(900)
+    monkeypatch.setattr(direct_module, "cholesky_available", lambda: False)
+    x = factorize(A, symmetric=True)(b)
+    use_sparse_solver("superlu")
+    np.testing.assert_array_equal(x, factorize(A, symmetric=True)(b))  # the same code path
+
+
+def role_costs(linear, t_f, t_s, t_cg, steps=100):
+    choice = SolverChoice("auto", RunPlan(steps, linear), "cholesky")
+    role = choice.role(spd(4))
+    role.t_f, role.t_s, role.t_cg = t_f, t_s, t_cg
+    return choice.costs(role, factorized=False)[:2]
+
+
+def test_auto_weighs_factorizations_against_solves():
+    # 100 steps, 3 solves a step (the guess before the first step): a linear model pays one
+    # factorization, a nonlinear one 3 a step (Newton iterations)
+    assert role_costs(True, 1.0, 0.01, 0.1) == pytest.approx((1.0 + 3.0, 30.0))
+    assert role_costs(False, 1.0, 0.01, 0.1) == pytest.approx((300.0 + 3.0, 30.0))
+    # few steps make the one factorization of a linear model dearer than its CG solves
+    assert role_costs(True, 10.0, 0.01, 0.1, steps=10) == pytest.approx((10.3, 3.0))
+
+
+def test_the_run_records_its_solver_and_auto_agrees_with_direct(tmp_path, restore):
+    """The 3D ball (387 dofs) touching the plane, 8 steps, with each sparse solver: the summary
+    says which path solved and why, and "auto" gives the direct answer to CG's tolerance."""
+    finals = {}
+    for name in ("direct", "auto"):
+        use_sparse_solver(name)
+        # a new model each time: a linear model keeps its factorized iteration matrix
+        sim = case("ball_drop").build(refinements=2, drop_height=0.0)
+        sim = sim.replace(t_end=8 * sim.dt)
+        s = run(sim.replace(name=name), tmp_path / name, frames=False, checkpoint_every=0)
+        record = s["sparse_solver"]
+        assert record["name"] == name and record["reason"]
+        assert record["peak_memory_mb"] > 0.0
+        history = np.genfromtxt(tmp_path / name / "history.csv", delimiter=",", skip_header=1)
+        finals[name] = history[-1]
+        assert s["status"] == "completed"
+    assert s["sparse_solver"]["decisions"]  # "auto" said what it chose, first CG
+    assert s["sparse_solver"]["decisions"][0]["path"] == "cg"
+    # CG solves to 1e-10 relative residual: κ(S) ≤ 1e4 here leaves 1e-5 relative in each
+    # solve at worst, far below the history's rounding of contact quantities
+    np.testing.assert_allclose(finals["auto"], finals["direct"], rtol=1e-5, atol=1e-9)
