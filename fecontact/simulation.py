@@ -380,7 +380,8 @@ def run(
             clock = time.perf_counter()
             closed_before = int(rec.closed.sum())
             rec.record(st)
-            solver.note_step()
+            if st.step:  # the initial state is no step
+                solver.note_step()
             if rec.balance.runaway():
                 raise SolverError(
                     f"energy blow-up at t = {st.t:.6g} s (step {st.step}): "

@@ -204,10 +204,14 @@ class _AutoSolve:
         self.choice, self.role, self.A = choice, role, A
         self.direct_factorize, self.iterative = direct, iterative
         self.solve, self.path, self.step = None, None, -1
+        self.reweighed = False  # chosen again once the role's first CG solve was timed
 
     def __call__(self, b):
-        if self.path != "direct" and self.step != self.choice.steps_done:
-            self.step = self.choice.steps_done  # at most once a step on the CG path
+        # on the CG path: choose at the first solve, right after the role's first CG solve
+        # (its cost now measured), then at most once a step
+        probed = self.role.cg_solves == 1 and not self.reweighed
+        if self.path != "direct" and (self.step != self.choice.steps_done or probed):
+            self.step, self.reweighed = self.choice.steps_done, self.reweighed or probed
             self._choose()
         role = self.role
         role.solves += 1
