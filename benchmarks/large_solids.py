@@ -11,16 +11,18 @@ process (``fecontact.run`` without frames), so that its peak memory is its own.
 
 Paths: ``superlu`` (SciPy's SuperLU for every system: the default before the sparse Cholesky
 path), ``direct`` (the default: sparse Cholesky, MKL PARDISO, for the symmetric systems),
-``amg`` (AMG-preconditioned CG) and ``auto`` (the cost-based choice; its last decision is in
-the "auto chose" column). Per row: ms per step (``time_per_step_s``), Newton iterations per
-step, factorizations and their time, CG solves, the factor's memory (PARDISO's report) and the
-process's peak (``ru_maxrss``), the largest penetration and the final energy (the paths agree
-on them to the solver tolerance). Per group: the fastest path, ``auto`` over it, and the
-default's speed-up over SuperLU. Below the table: the default's growth exponent from the
-smallest to the largest ball, per material and step.
+``amg`` (AMG-preconditioned CG) and ``auto`` (the cost-based choice; the paths it ended on are
+in the "auto chose" column). Per row: ms per step (``time_per_step_s``, wall) and CPU ms per
+step (the run's CPU time over its steps: what the comparisons use), Newton iterations per
+step, factorizations and their time, CG solves, the factor's memory (PARDISO's report) and
+the process's peak (``ru_maxrss``), the largest penetration and the final energy (the paths
+agree on them to the solver tolerance). Per group: each path's CPU time over the fastest
+one's. Below the table: the default's growth exponent from the smallest to the largest ball,
+per material and step.
 
 One thread for every library (OPENBLAS_NUM_THREADS=1, MKL sequential), on a machine shared by
-other jobs: ratios within a group are measured back to back, absolute times are noisy.
+other jobs: the rows of a group run back to back, and CPU time counts a run's own work where
+wall time adds the other jobs' (wall ms/step of one row varied 2.5x between two runs).
 
     python benchmarks/large_solids.py [--quick] [--sizes 10,18,27,43] [--cap 10]
 """
@@ -36,6 +38,7 @@ import json
 import math
 import os
 import platform
+import resource
 import subprocess
 import sys
 import tempfile
@@ -64,6 +67,7 @@ COLUMNS = [
     "solver",
     "steps",
     "ms_per_step",
+    "cpu_ms_per_step",
     "auto_path",
     "newton_mean",
     "factorizations",
@@ -78,6 +82,7 @@ COLUMNS = [
 ]
 HEADERS = {
     "ms_per_step": "ms/step",
+    "cpu_ms_per_step": "CPU ms/step",
     "auto_path": "auto chose",
     "newton_mean": "Newton/step",
     "factor_s": "factorizing (s)",
@@ -116,8 +121,10 @@ def one(material: str, size: int, per_tc: int, solver: str, cap: int) -> dict:
     steps = min(per_tc, cap) if cap else per_tc
     options = IntegratorOptions(rho_inf=0.5)
     sim = Simulation(model, dt=h, t_end=steps * h, v0=v0, name="large", options=options)
+    cpu = _cpu_seconds()
     with tempfile.TemporaryDirectory() as out:
         s = run(sim, out, frames=False, checkpoint_every=0)
+    cpu = _cpu_seconds() - cpu
     record = s["sparse_solver"]
     paths = {r["path"] for r in record.get("roles", []) if r["path"]}
     return {
@@ -127,6 +134,7 @@ def one(material: str, size: int, per_tc: int, solver: str, cap: int) -> dict:
         "solver": solver,
         "steps": s["steps"],
         "ms_per_step": 1e3 * s["time_per_step_s"],
+        "cpu_ms_per_step": 1e3 * cpu / max(s["steps"], 1),
         "auto_path": "+".join(sorted(paths)) if solver == "auto" else "",
         "newton_mean": s["newton_iterations_mean"],
         "factorizations": sum(f["count"] for f in record["factorizations"].values()),
@@ -138,6 +146,13 @@ def one(material: str, size: int, per_tc: int, solver: str, cap: int) -> dict:
         "energy_final": s["energy_final"],
         "status": s["status"],
     }
+
+
+def _cpu_seconds() -> float:
+    """CPU time (s) of this process: on a shared machine it counts a single-threaded run's
+    own work, which wall time mixes with the other jobs' (the libraries run on one thread)."""
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
 
 
 def in_process(material, size, per_tc, solver, cap, timeout):
@@ -160,12 +175,13 @@ def in_process(material, size, per_tc, solver, cap, timeout):
 
 def compare(group: list[dict]) -> None:
     """Each row's time over the fastest path's of its group (``auto`` not a path of its own)."""
-    times = [r["ms_per_step"] for r in group if "ms_per_step" in r and r["solver"] != "auto"]
+    key = "cpu_ms_per_step"
+    times = [r[key] for r in group if key in r and r["solver"] != "auto"]
     if not times:
         return
     for r in group:
-        if "ms_per_step" in r:
-            r["vs_fastest"] = r["ms_per_step"] / min(times)
+        if key in r:
+            r["vs_fastest"] = r[key] / min(times)
 
 
 def growth(rows: list[dict], solver: str = "direct") -> list[str]:
@@ -175,19 +191,19 @@ def growth(rows: list[dict], solver: str = "direct") -> list[str]:
     for material in MATERIALS:
         for step in sorted({r["step"] for r in rows}):
             pts = [
-                (r["dofs"], r["ms_per_step"])
+                (r["dofs"], r["cpu_ms_per_step"])
                 for r in rows
                 if r["material"] == material
                 and r["step"] == step
                 and r["solver"] == solver
-                and "ms_per_step" in r
+                and "cpu_ms_per_step" in r
             ]
             if len(pts) >= 2:
                 (n0, t0), (n1, t1) = min(pts), max(pts)
                 p = math.log(t1 / t0) / math.log(n1 / n0)
                 lines.append(
                     f"- {material}, {step}: {solver} from {n0:,} to {n1:,} dofs, "
-                    f"ms/step × {t1 / t0:.3g} for n × {n1 / n0:.3g}: exponent {p:.2f}"
+                    f"CPU ms/step × {t1 / t0:.3g} for n × {n1 / n0:.3g}: exponent {p:.2f}"
                 )
     return lines
 

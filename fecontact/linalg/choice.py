@@ -32,13 +32,20 @@ import numpy as np
 
 __all__ = ["FACTOR_MODEL", "RunPlan", "SolverChoice"]
 
-SOLVES_GUESS = 3.0
-"""Solves a step with a role's matrix, before the first step is over (measured 2–4 on the
-ball impacts of ``benchmarks/large_solids.py``)."""
+SOLVES_GUESS = 2.0
+"""Solves a step with a role's matrix, before the first step is over (measured 1.5–2.2 on
+the linear ball impacts of ``benchmarks/large_solids.py``)."""
 
 NEWTON_GUESS = 3.0
 """Factorizations a step of a nonlinear model before the first step is over (Newton
 iterations: 2–4 measured on the Neo-Hookean ball)."""
+
+CG_FLOOR = 100.0
+"""The fewest products with A a CG solve costs, in the units of ``FACTOR_MODEL``: the first
+solve of a pattern goes to CG (and measures it) only if CG at this cost would beat the direct
+path. Measured: 28–78 iterations with the diagonal at wave-resolving steps, each a product
+and four vector operations (about 1.5 products), 9–29 with AMG, each a V-cycle of 15–17
+products."""
 
 FACTOR_MODEL = {
     "cholesky": ((520.0, 1.0), (39.0, 0.4)),
@@ -229,7 +236,16 @@ class _AutoSolve:
     def _choose(self) -> None:
         role, choice = self.role, self.choice
         if role.t_cg is None:
-            path, reason = "cg", "first solve of this matrix pattern: CG measures its cost"
+            # CG's cost is unknown: measure it on this solve, unless even its cheapest
+            # solve, CG_FLOOR products with A, would lose to the direct path estimated
+            role.t_cg = CG_FLOOR * role.product
+            direct, cg, how = choice.costs(role, factorized=False)
+            role.t_cg = None
+            path = "cg" if cg < direct else "direct"
+            reason = (
+                f"first solve of this pattern, CG at its cheapest {cg:.3g} s against direct "
+                f"{direct:.3g} s: {how}; " + ("CG measures its cost" if path == "cg" else "")
+            ).rstrip("; ")
         else:
             factorized = role.t_f is not None and choice.plan.linear
             direct, cg, how = choice.costs(role, factorized and self.path == "direct")
