@@ -25,6 +25,7 @@ other jobs: the rows of a group run back to back, and CPU time counts a run's ow
 wall time adds the other jobs' (wall ms/step of one row varied 2.5x between two runs).
 
     python benchmarks/large_solids.py [--quick] [--sizes 10,18,27,43] [--cap 10]
+        [--materials linear,Neo-Hookean] [--steps 20,50] [--name large_solids]
 """
 
 from __future__ import annotations
@@ -213,10 +214,11 @@ def plan(args) -> list[tuple]:
     if args.quick:
         return [(m, 6, 20, s, 4) for m in MATERIALS for s in SOLVERS]
     sizes = [int(s) for s in args.sizes.split(",")]
+    materials = [m for m in MATERIALS if m in args.materials.split(",")]
     runs = []
     for size in sizes:
-        for material in MATERIALS:
-            for per_tc in (20, 50):
+        for material in materials:
+            for per_tc in [int(k) for k in args.steps.split(",")]:
                 nonlinear = material != "linear"
                 cap = args.cap if nonlinear and size >= 27 else 0
                 for solver in SOLVERS:
@@ -233,6 +235,8 @@ def main():
     parser.add_argument("--one", help=argparse.SUPPRESS)  # one run, in a child process
     parser.add_argument("--sizes", default="10,18,27,43", help="ball divisions n (n³ × 6 tets)")
     parser.add_argument("--cap", type=int, default=10, help="steps of nonlinear runs from n = 27")
+    parser.add_argument("--materials", default=",".join(MATERIALS), help="comma-separated")
+    parser.add_argument("--steps", default="20,50", help="steps per t_c, comma-separated")
     parser.add_argument("--timeout", type=float, default=3600.0, help="s per run")
     parser.add_argument("--name", default=None, help="results stem (default large_solids)")
     args = parser.parse_args()
