@@ -26,6 +26,7 @@ wall time adds the other jobs' (wall ms/step of one row varied 2.5x between two 
 
     python benchmarks/large_solids.py [--quick] [--sizes 10,18,27,43] [--cap 10]
         [--materials linear,Neo-Hookean] [--steps 20,50] [--name large_solids]
+    python benchmarks/large_solids.py --factorizations [--sizes 10,18,27]  # the bindings
 """
 
 from __future__ import annotations
@@ -230,6 +231,78 @@ def plan(args) -> list[tuple]:
     return runs
 
 
+def factorization(size: int, backend: str) -> dict:
+    """Factorization and one solve of the linear ball's S_t at h = t_c/20 by ``backend``, in
+    this process: seconds, the relative residual, and the peak memory over the model's."""
+    model, _, t_c = ball(size, "linear")
+    h = t_c / 20
+    _, _, K = model.internal(np.zeros(model.n))
+    S = model.iteration_sum(1.5 / (0.4444 * h * h), K)  # β′ of ρ∞ = 0.5: β = 0.444, α_f = 1/3
+    b = np.random.default_rng(0).standard_normal(S.shape[0])
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    start = time.perf_counter()
+    solve = BACKENDS[backend](S)
+    factor_s = time.perf_counter() - start
+    start = time.perf_counter()
+    x = solve(b)
+    solve_s = time.perf_counter() - start
+    return {
+        "dofs": S.shape[0],
+        "backend": backend,
+        "factor_s": factor_s,
+        "solve_s": solve_s,
+        "residual": float(np.linalg.norm(S @ x - b) / np.linalg.norm(b)),
+        "memory_mb": (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before) / 1024.0,
+    }
+
+
+def _superlu(S):
+    import scipy.sparse.linalg as spla
+
+    options = {"SymmetricMode": True}
+    lu = spla.splu(S.tocsc(), "MMD_AT_PLUS_A", diag_pivot_thresh=1e-2, options=options)
+    return lu.solve
+
+
+def _pardiso(S):
+    from fecontact.linalg.cholesky import cholesky_factorize
+
+    return cholesky_factorize(S)
+
+
+def _cholespy(S):
+    from cholespy import CholeskySolverD, MatrixType
+
+    A = S.tocsr()
+    indptr, indices = A.indptr.astype(np.int32), A.indices.astype(np.int32)
+    factor = CholeskySolverD(A.shape[0], indptr, indices, A.data, MatrixType.CSR)
+
+    def solve(b):
+        x = np.empty_like(b)
+        factor.solve(b, x)
+        return x
+
+    return solve
+
+
+BACKENDS = {"superlu": _superlu, "pardiso": _pardiso, "cholespy": _cholespy}
+
+
+def factorizations(sizes) -> str:
+    """Every backend at every size, each in a fresh process: a Markdown table."""
+    rows = []
+    for size in sizes:
+        for backend in BACKENDS:
+            cmd = [sys.executable, __file__, "--factor", json.dumps([size, backend])]
+            proc = subprocess.run(cmd, capture_output=True, text=True, cwd=common.ROOT)
+            if proc.returncode:
+                rows.append({"backend": backend, "status": proc.stderr.strip()[-80:]})
+            else:
+                rows.append(json.loads(proc.stdout.strip().splitlines()[-1]))
+    columns = ["dofs", "backend", "factor_s", "solve_s", "residual", "memory_mb", "status"]
+    return common.markdown_table(rows, columns)
+
+
 def main():
     parser = common.parser(__doc__)
     parser.add_argument("--one", help=argparse.SUPPRESS)  # one run, in a child process
@@ -239,9 +312,19 @@ def main():
     parser.add_argument("--steps", default="20,50", help="steps per t_c, comma-separated")
     parser.add_argument("--timeout", type=float, default=3600.0, help="s per run")
     parser.add_argument("--name", default=None, help="results stem (default large_solids)")
+    parser.add_argument("--factor", help=argparse.SUPPRESS)  # one factorization, a child
+    parser.add_argument(
+        "--factorizations", action="store_true", help="time each Cholesky binding installed"
+    )
     args = parser.parse_args()
     if args.one:
         print(json.dumps(one(*json.loads(args.one))))
+        return
+    if args.factor:
+        print(json.dumps(factorization(*json.loads(args.factor))))
+        return
+    if args.factorizations:
+        print(factorizations([int(s) for s in args.sizes.split(",")][:3]))
         return
     clock = time.perf_counter()
     rows, group = [], []
