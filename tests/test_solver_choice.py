@@ -9,6 +9,7 @@ from fecontact import run
 from fecontact.linalg import direct as direct_module
 from fecontact.linalg import factorize
 from fecontact.linalg.choice import RunPlan, SolverChoice
+from fecontact.linalg.cholesky import CholeskyFactor
 from fecontact.linalg.sparse_solvers import sparse_solver, use_sparse_solver
 from fecontact.testing import case
 
@@ -20,7 +21,7 @@ def restore():
     use_sparse_solver(before)
 
 
-def spd(n=30):
+def spd(n=50):
     """The 2D five-point Laplacian plus I (n² unknowns, symmetric positive definite)."""
     d = sp.diags([-1.0, 2.0, -1.0], [-1, 0, 1], shape=(n, n))
     return (sp.kron(sp.eye(n), d) + sp.kron(d, sp.eye(n)) + sp.eye(n * n)).tocsr()
@@ -28,28 +29,31 @@ def spd(n=30):
 
 def test_cholesky_gives_superlu_s_solutions(restore):
     pytest.importorskip("pypardiso")
-    A = spd()
-    b = np.random.default_rng(2).standard_normal((900, 2))
+    A = spd()  # 2500 unknowns: above cholesky.MIN_UNKNOWNS
+    b = np.random.default_rng(2).standard_normal((2500, 2))
     use_sparse_solver("superlu")
     x_lu = factorize(A, symmetric=True)(b)
     use_sparse_solver("direct")
-    x_chol = factorize(A, symmetric=True)(b)
-    # both backward stable: κ(A) ≈ 5e2, so the solutions agree to ~1e-13 relative
+    solve = factorize(A, symmetric=True)
+    assert isinstance(solve, CholeskyFactor)
+    x_chol = solve(b)
+    # both backward stable and κ(A) < 9 (eigenvalues in (1, 9)): the solutions agree to a few
+    # units of round-off; 1e-11 leaves a wide margin
     np.testing.assert_allclose(x_chol, x_lu, rtol=1e-11, atol=1e-13)
 
 
 def test_indefinite_symmetric_matrices_go_to_superlu(restore):
     """A symmetric indefinite matrix (a buckling tangent) is refused by the Cholesky path and
     solved by SuperLU's symmetric mode, with or without the binding."""
-    A = (spd() - 3.0 * sp.eye(900)).tocsr()  # eigenvalues 1 − 3 … 9 − 3: indefinite
-    b = np.random.default_rng(3).standard_normal(900)
+    A = (spd() - 3.0 * sp.eye(2500)).tocsr()  # eigenvalues 1 − 3 … 9 − 3: indefinite
+    b = np.random.default_rng(3).standard_normal(2500)
     x = factorize(A, symmetric=True)(b)
     assert np.linalg.norm(A @ x - b) <= 1e-10 * np.linalg.norm(b)
 
 
 def test_without_the_binding_direct_is_superlu(restore, monkeypatch):
     A = spd()
-    b = np.random.default_rng(4).standard_normal(900)
+    b = np.random.default_rng(4).standard_normal(2500)
     monkeypatch.setattr(direct_module, "cholesky_available", lambda: False)
     x = factorize(A, symmetric=True)(b)
     use_sparse_solver("superlu")

@@ -21,7 +21,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from .cholesky import cholesky_available, cholesky_factorize
+from .cholesky import MIN_UNKNOWNS, cholesky_available, cholesky_factorize
 from .iterative import amg_factorize
 from .sparse_solvers import pardiso_factorize, run_choice, sparse_solver
 
@@ -85,8 +85,9 @@ def factorize(A, symmetric: bool = False):
 
 def _symmetric_direct(A, choice):
     """``solve(b)`` of the symmetric sparse A by the sparse Cholesky factorization when it is
-    installed and A is positive definite, else by SuperLU's symmetric mode."""
-    if cholesky_available():
+    installed, A has at least ``cholesky.MIN_UNKNOWNS`` rows and is positive definite, else
+    by SuperLU's symmetric mode."""
+    if A.shape[0] >= MIN_UNKNOWNS and cholesky_available():
         start = time.perf_counter()
         factor = cholesky_factorize(A)
         seconds = time.perf_counter() - start
