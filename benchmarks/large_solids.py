@@ -303,7 +303,7 @@ def factorizations(sizes) -> str:
     return common.markdown_table(rows, columns)
 
 
-def main():
+def arguments():
     parser = common.parser(__doc__)
     parser.add_argument("--one", help=argparse.SUPPRESS)  # one run, in a child process
     parser.add_argument("--sizes", default="10,18,27,43", help="ball divisions n (n³ × 6 tets)")
@@ -316,7 +316,39 @@ def main():
     parser.add_argument(
         "--factorizations", action="store_true", help="time each Cholesky binding installed"
     )
-    args = parser.parse_args()
+    parser.add_argument("--from-csv", help="tabulate these CSVs (comma-separated), no runs")
+    return parser.parse_args()
+
+
+def sweep(args) -> list[dict]:
+    """Every run of the plan, printed a group (size, material, step) at a time."""
+    rows, group = [], []
+    for material, size, per_tc, solver, cap in plan(args):
+        row = in_process(material, size, per_tc, solver, cap, args.timeout)
+        row.setdefault("dofs", 3 * (size + 1) ** 3)
+        key = (row["dofs"], row["material"], row["step"])
+        if group and (group[0]["dofs"], group[0]["material"], group[0]["step"]) != key:
+            compare(group)
+            print(common.markdown_table(group, COLUMNS, TITLES), flush=True)
+            group = []
+        group.append(row)
+        rows.append(row)
+    compare(group)
+    print(common.markdown_table(group, COLUMNS, TITLES), flush=True)
+    return rows
+
+
+def from_csv(paths: str) -> list[dict]:
+    """The rows of earlier sweeps, cells left empty dropped."""
+    rows = []
+    for path in paths.split(","):
+        for r in common.read_csv(path):
+            rows.append({k: v for k, v in r.items() if v != ""})
+    return rows
+
+
+def main():
+    args = arguments()
     if args.one:
         print(json.dumps(one(*json.loads(args.one))))
         return
@@ -327,28 +359,14 @@ def main():
         print(factorizations([int(s) for s in args.sizes.split(",")][:3]))
         return
     clock = time.perf_counter()
-    rows, group = [], []
-    for material, size, per_tc, solver, cap in plan(args):
-        row = in_process(material, size, per_tc, solver, cap, args.timeout)
-        row.setdefault("dofs", 3 * (size + 1) ** 3)
-        if group and (group[0]["dofs"], group[0]["material"], group[0]["step"]) != (
-            row["dofs"],
-            row["material"],
-            row["step"],
-        ):
-            compare(group)
-            print(common.markdown_table(group, COLUMNS, TITLES), flush=True)
-            group = []
-        group.append(row)
-        rows.append(row)
-    compare(group)
-    print(common.markdown_table(group, COLUMNS, TITLES), flush=True)
+    rows = from_csv(args.from_csv) if args.from_csv else sweep(args)
     name = args.name or ("large_solids_quick" if args.quick else "large_solids")
     common.write_csv(common.RESULTS / f"{name}.csv", rows, COLUMNS)
     note = (
         f"{platform.machine()}, 2 cores shared with other jobs, Python "
-        f"{platform.python_version()}; `large_solids.py{' --quick' if args.quick else ''}`; "
-        f"{time.perf_counter() - clock:.0f} s in all."
+        f"{platform.python_version()}; `large_solids.py{' --quick' if args.quick else ''}`"
+        + ("" if args.from_csv else f"; {time.perf_counter() - clock:.0f} s in all")
+        + "."
     )
     text = common.markdown_table(rows, COLUMNS, TITLES)
     exponents = "\n".join(growth(rows) + growth(rows, "superlu"))
