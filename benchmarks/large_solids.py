@@ -217,12 +217,14 @@ def plan(args) -> list[tuple]:
     sizes = [int(s) for s in args.sizes.split(",")]
     materials = [m for m in MATERIALS if m in args.materials.split(",")]
     runs = []
-    for size in sizes:
+    for per_tc in [int(k) for k in args.steps.split(",")]:
         for material in materials:
-            for per_tc in [int(k) for k in args.steps.split(",")]:
+            for size in sizes:
                 nonlinear = material != "linear"
                 cap = args.cap if nonlinear and size >= 27 else 0
                 for solver in SOLVERS:
+                    if solver not in args.solvers.split(","):
+                        continue
                     if solver == "superlu" and size >= 43:
                         continue  # its factor would need ~11 GB (n^(4/3) from 1.9 GB at 66k)
                     if solver == "superlu" and nonlinear and size >= 27:
@@ -310,6 +312,7 @@ def arguments():
     parser.add_argument("--cap", type=int, default=10, help="steps of nonlinear runs from n = 27")
     parser.add_argument("--materials", default=",".join(MATERIALS), help="comma-separated")
     parser.add_argument("--steps", default="20,50", help="steps per t_c, comma-separated")
+    parser.add_argument("--solvers", default=",".join(SOLVERS), help="comma-separated")
     parser.add_argument("--timeout", type=float, default=3600.0, help="s per run")
     parser.add_argument("--name", default=None, help="results stem (default large_solids)")
     parser.add_argument("--factor", help=argparse.SUPPRESS)  # one factorization, a child
@@ -320,8 +323,9 @@ def arguments():
     return parser.parse_args()
 
 
-def sweep(args) -> list[dict]:
-    """Every run of the plan, printed a group (size, material, step) at a time."""
+def sweep(args, name: str) -> list[dict]:
+    """Every run of the plan, printed a group (size, material, step) at a time; the CSV is
+    rewritten after each run (a long sweep cut short keeps what it measured)."""
     rows, group = [], []
     for material, size, per_tc, solver, cap in plan(args):
         row = in_process(material, size, per_tc, solver, cap, args.timeout)
@@ -333,6 +337,7 @@ def sweep(args) -> list[dict]:
             group = []
         group.append(row)
         rows.append(row)
+        common.write_csv(common.RESULTS / f"{name}.csv", rows, COLUMNS)
     compare(group)
     print(common.markdown_table(group, COLUMNS, TITLES), flush=True)
     return rows
@@ -359,8 +364,8 @@ def main():
         print(factorizations([int(s) for s in args.sizes.split(",")][:3]))
         return
     clock = time.perf_counter()
-    rows = from_csv(args.from_csv) if args.from_csv else sweep(args)
     name = args.name or ("large_solids_quick" if args.quick else "large_solids")
+    rows = from_csv(args.from_csv) if args.from_csv else sweep(args, name)
     common.write_csv(common.RESULTS / f"{name}.csv", rows, COLUMNS)
     note = (
         f"{platform.machine()}, 2 cores shared with other jobs, Python "
