@@ -344,11 +344,16 @@ def sweep(args, name: str) -> list[dict]:
 
 
 def from_csv(paths: str) -> list[dict]:
-    """The rows of earlier sweeps, cells left empty dropped."""
+    """The rows of earlier sweeps (cells left empty dropped), each compared with its group."""
     rows = []
     for path in paths.split(","):
         for r in common.read_csv(path):
             rows.append({k: v for k, v in r.items() if v != ""})
+    groups = {}
+    for r in rows:
+        groups.setdefault((r.get("dofs"), r["material"], r["step"]), []).append(r)
+    for group in groups.values():
+        compare(group)
     return rows
 
 
