@@ -78,9 +78,10 @@ def test_auto_weighs_factorizations_against_solves():
 
 
 def test_auto_measures_cg_only_where_it_could_win():
-    """The first solve of a pattern goes to CG (to time it) only if CG at its cheapest would
-    beat the direct path estimated: not for the one factorization of a small linear model,
-    yes for a large nonlinear one refactorized at every Newton iteration."""
+    """The first solve of a pattern is CG with the diagonal, stopped where it would cost more
+    than the direct path estimated: at once for the one factorization of a small linear model
+    (then factorized), not for a large nonlinear one refactorized at every Newton iteration
+    (CG converges within its allowance: the CG path, measured)."""
     calls = []
 
     def path(name):

@@ -15,22 +15,33 @@ with N the solves and F the factorizations still to come: N = (steps left) × (s
 F = 1 for a linear model before its one factorization and 0 after, F = (steps left) ×
 (factorizations a step) for a nonlinear one (one a Newton iteration). Solves and
 factorizations per step are measured as the run goes (``SOLVES_GUESS`` and ``NEWTON_GUESS``
-before its first step); t_cg is the measured time of a CG solve (the first solve of every role
-is one); t_f and t_s are measured once the role has been factorized, and until then estimated
-from the measured time of one product with A by ``FACTOR_MODEL`` (``docs/validation/
-large_solids.md``). The choice is made again at every new matrix of a role, and once a step for
-a linear model on CG; each change of path is recorded with its reason.
+before its first step is over). t_f and t_s are measured once the role has been factorized,
+and until then estimated from the measured time of one product with A by ``FACTOR_MODEL``
+(``docs/validation/large_solids.md``). t_cg is measured on CG's solves; the first solve of a
+role is CG with the diagonal preconditioner, stopped once it has cost what a CG solve may cost
+for the paths to tie (so that a role the direct path serves better loses little to it): if it
+converges, its time is t_cg; if not, AMG-CG is estimated at ``AMG_PRODUCTS`` products with A
+until measured. The choice is made again at every new matrix of a role, and once a step on the
+CG path; each change of path is recorded with its reason.
 """
 
 from __future__ import annotations
 
+import inspect
 import resource
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from .iterative import DIAGONAL_ITERATIONS, RTOL, TRUE_RESIDUAL
 
 __all__ = ["FACTOR_MODEL", "RunPlan", "SolverChoice"]
+
+# the relative tolerance of scipy's cg: ``tol`` before SciPy 1.12, ``rtol`` since
+_RTOL = "rtol" if "rtol" in inspect.signature(spla.cg).parameters else "tol"
 
 SOLVES_GUESS = 2.0
 """Solves a step with a role's matrix, before the first step is over (measured 1.5–2.2 on
@@ -40,12 +51,15 @@ NEWTON_GUESS = 3.0
 """Factorizations a step of a nonlinear model before the first step is over (Newton
 iterations: 2–4 measured on the Neo-Hookean ball)."""
 
-CG_FLOOR = 100.0
-"""The fewest products with A a CG solve costs, in the units of ``FACTOR_MODEL``: the first
-solve of a pattern goes to CG (and measures it) only if CG at this cost would beat the direct
-path. Measured: 28–78 iterations with the diagonal at wave-resolving steps, each a product
-and four vector operations (about 1.5 products), 9–29 with AMG, each a V-cycle of 15–17
-products."""
+PRODUCTS_PER_ITERATION = 1.5
+"""Cost of a CG iteration with the diagonal preconditioner, in products with A (the product,
+the scaling and three vector updates)."""
+
+AMG_PRODUCTS = 300.0
+"""Cost of an AMG-preconditioned CG solve in products with A, until one is measured: 9–29
+iterations of a V-cycle of 15–17 products each (measured on the solids here; 375–900 on the
+balls of ``benchmarks/large_solids.py`` at t_c/20, setups included), taken at its low end so
+that a run whose direct path is dear enough tries AMG and measures it."""
 
 FACTOR_MODEL = {
     "cholesky": ((520.0, 1.0), (39.0, 0.4)),
@@ -140,7 +154,7 @@ class SolverChoice:
         how = (
             f"{left} steps left x {per_step:.3g} solves, {factorizations:.3g} factorizations: "
             f"factorization {t_f:.3g} s + solve {t_s:.3g} s ({source}) against CG {role.t_cg:.3g}"
-            f" s (measured)"
+            f" s ({'measured' if role.cg_solves else 'estimated'})"
         )
         return direct, cg, how
 
@@ -214,6 +228,10 @@ class _AutoSolve:
         self.reweighed = False  # chosen again once the role's first CG solve was timed
 
     def __call__(self, b):
+        if self.path is None and self.role.t_cg is None:
+            x = self._probe(b)
+            if x is not None:
+                return x
         # on the CG path: choose at the first solve, right after the role's first CG solve
         # (its cost now measured), then at most once a step
         probed = self.role.cg_solves == 1 and not self.reweighed
@@ -233,24 +251,34 @@ class _AutoSolve:
             role.average("t_cg", seconds, role.cg_solves)
         return x
 
+    def _probe(self, b):
+        """The first solve of a role: CG with the diagonal, stopped once it has cost what a
+        solve may cost for CG to tie with the direct path (at most ``DIAGONAL_ITERATIONS``).
+        Its answer if it converged (CG's cost then measured); else None, and AMG-CG's cost
+        estimated (``AMG_PRODUCTS``)."""
+        role, choice = self.role, self.choice
+        role.t_cg = 1.0  # a unit: the CG cost below is then the number of solves left
+        direct, solves, how = choice.costs(role, factorized=False)
+        role.t_cg = AMG_PRODUCTS * role.product
+        tie = direct / solves  # s a CG solve may cost
+        iterations = int(min(tie / (PRODUCTS_PER_ITERATION * role.product), DIAGONAL_ITERATIONS))
+        start = time.perf_counter()
+        x = _diagonal_cg(self.A, b, iterations)
+        seconds = time.perf_counter() - start
+        if x is None:
+            return None
+        role.t_cg, role.cg_solves, role.solves = seconds, 1, 1
+        self.path, self.solve, self.step = "cg", self.iterative(), choice.steps_done
+        reason = f"CG with the diagonal solved in {seconds:.3g} s, below the tie {tie:.3g} s"
+        choice.decide(role, "cg", f"{reason} of the direct path ({how})")
+        return x
+
     def _choose(self) -> None:
         role, choice = self.role, self.choice
-        if role.t_cg is None:
-            # CG's cost is unknown: measure it on this solve, unless even its cheapest
-            # solve, CG_FLOOR products with A, would lose to the direct path estimated
-            role.t_cg = CG_FLOOR * role.product
-            direct, cg, how = choice.costs(role, factorized=False)
-            role.t_cg = None
-            path = "cg" if cg < direct else "direct"
-            reason = (
-                f"first solve of this pattern, CG at its cheapest {cg:.3g} s against direct "
-                f"{direct:.3g} s: {how}; " + ("CG measures its cost" if path == "cg" else "")
-            ).rstrip("; ")
-        else:
-            factorized = role.t_f is not None and choice.plan.linear
-            direct, cg, how = choice.costs(role, factorized and self.path == "direct")
-            path = "direct" if direct <= cg else "cg"
-            reason = f"expected direct {direct:.3g} s, CG {cg:.3g} s: {how}"
+        factorized = role.t_f is not None and choice.plan.linear
+        direct, cg, how = choice.costs(role, factorized and self.path == "direct")
+        path = "direct" if direct <= cg else "cg"
+        reason = f"expected direct {direct:.3g} s, CG {cg:.3g} s: {how}"
         choice.decide(role, path, reason)
         if path == self.path:
             return
@@ -261,3 +289,19 @@ class _AutoSolve:
         start = time.perf_counter()
         self.solve = self.direct_factorize()
         role.t_f = time.perf_counter() - start
+
+
+def _diagonal_cg(A, b, iterations: int):
+    """x with ‖b − A x‖ ≤ TRUE_RESIDUAL · RTOL ‖b‖ by at most ``iterations`` of CG with the
+    diagonal preconditioner, or None (not converged, a matrix block of right-hand sides, a
+    nonpositive diagonal)."""
+    d = A.diagonal()
+    if iterations < 1 or sp.issparse(b) or np.ndim(b) != 1 or not np.all(d > 0.0):
+        return None
+    b = np.asarray(b, dtype=float)
+    if not b.any():
+        return np.zeros_like(b)
+    M = spla.LinearOperator(A.shape, matvec=lambda r: r / d, dtype=float)
+    x, info = spla.cg(A, b, atol=0.0, maxiter=iterations, M=M, **{_RTOL: RTOL})
+    converged = np.linalg.norm(b - A @ x) <= TRUE_RESIDUAL * RTOL * np.linalg.norm(b)
+    return x if info == 0 and converged else None
