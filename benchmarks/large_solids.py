@@ -5,7 +5,7 @@ no gravity, touching the plane z = 0 at t = 0, ρ∞ = 0.5), on the ball of
 ``iterative_speed.py`` (the cube [−1, 1]³ in n³ × 6 P1 tetrahedra mapped radially onto the
 ball: n = 10, 18, 27, 43 give 3,993, 20,577, 65,856 and 255,552 dofs), linear elastic and
 Neo-Hookean, at h = t_c/20 and t_c/50 (t_c Hertz's contact duration of the finite element
-mass, 1.39 ms), over one contact duration (20 and 50 steps; fewer where a row says so: a
+mass, 9.7 ms), over one contact duration (20 and 50 steps; fewer where a row says so: a
 nonlinear step costs about the same at every step of the impact). Every run is a fresh
 process (``fecontact.run`` without frames), so that its peak memory is its own.
 
@@ -81,6 +81,7 @@ COLUMNS = [
     "energy_final",
     "vs_fastest",
     "status",
+    "sweep",
 ]
 HEADERS = {
     "ms_per_step": "ms/step",
