@@ -199,7 +199,7 @@ class SolverChoice:
 
     def _reason(self) -> str:
         if self.name != "auto":
-            return f'sparse solver "{self.name}" chosen by the user'
+            return f'the sparse solver "{self.name}" (use_sparse_solver): no choice to make'
         if not self.decisions:
             return "no symmetric sparse system was solved"
         last = self.decisions[-1]
