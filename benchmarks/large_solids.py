@@ -379,6 +379,11 @@ def main():
         + ("" if args.from_csv else f"; {time.perf_counter() - clock:.0f} s in all")
         + "."
     )
+    if args.from_csv:
+        note += (
+            " Rows merged from several sweeps of the plan (column `sweep`): a row's paths were"
+            " run back to back within a sweep; '/ fastest' compares CPU times across sweeps."
+        )
     text = common.markdown_table(rows, COLUMNS, TITLES)
     exponents = "\n".join(growth(rows) + growth(rows, "superlu"))
     body = f"# Large 3D solids\n\n{note}\n\n{__doc__.split(chr(10) + chr(10))[1]}\n\n{text}\n"
