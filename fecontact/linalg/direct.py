@@ -93,10 +93,11 @@ def _symmetric_direct(A, choice):
         seconds = time.perf_counter() - start
         _count(seconds)
         if choice is not None:
+            refused = factor is None  # not positive definite: SuperLU factorizes it below
             choice.count_factorization(
-                "cholesky" if factor else "cholesky (not positive definite)",
+                "cholesky (not positive definite)" if refused else "cholesky",
                 seconds,
-                factor.memory_mb if factor else 0.0,
+                0.0 if refused else factor.memory_mb,
             )
         if factor is not None:
             return factor
