@@ -20,9 +20,9 @@ and until then estimated from the measured time of one product with A by ``FACTO
 (``docs/validation/large_solids.md``). t_cg is measured on CG's solves; the first solve of a
 role is CG with the diagonal preconditioner, stopped once it has cost what a CG solve may cost
 for the paths to tie (so that a role the direct path serves better loses little to it): if it
-converges, its time is t_cg; if not, AMG-CG is estimated at ``AMG_PRODUCTS`` products with A
-until measured. The choice is made again at every new matrix of a role, and once a step on the
-CG path; each change of path is recorded with its reason.
+converges, its time is t_cg; if not, AMG-CG is estimated by ``AMG_MODEL`` until measured.
+The choice is made again at every new matrix of a role, and once a step on the CG path; each
+change of path is recorded with its reason.
 """
 
 from __future__ import annotations
@@ -55,11 +55,12 @@ PRODUCTS_PER_ITERATION = 1.5
 """Cost of a CG iteration with the diagonal preconditioner, in products with A (the product,
 the scaling and three vector updates)."""
 
-AMG_PRODUCTS = 300.0
-"""Cost of an AMG-preconditioned CG solve in products with A, until one is measured: 9–29
-iterations of a V-cycle of 15–17 products each (measured on the solids here; 375–900 on the
-balls of ``benchmarks/large_solids.py`` at t_c/20, setups included), taken at its low end so
-that a run whose direct path is dear enough tries AMG and measures it."""
+AMG_MODEL = (450.0, 0.3)
+"""(K, q): an AMG-preconditioned CG solve costs K (n/10⁴)^q products with A, its hierarchy's
+setups included, until one is measured: fitted to the ``amg`` rows of the linear balls of
+``benchmarks/large_solids.py`` at t_c/20 (351, 465 and 805 products a solve at 3,993, 20,577
+and 65,856 dofs, beyond the direct path's work of a step). At 255,552 dofs a trial solve at
+the former flat 300 cost the run 30 % over the direct path."""
 
 FACTOR_MODEL = {
     "cholesky": ((520.0, 1.0), (39.0, 0.4)),
@@ -255,11 +256,11 @@ class _AutoSolve:
         """The first solve of a role: CG with the diagonal, stopped once it has cost what a
         solve may cost for CG to tie with the direct path (at most ``DIAGONAL_ITERATIONS``).
         Its answer if it converged (CG's cost then measured); else None, and AMG-CG's cost
-        estimated (``AMG_PRODUCTS``)."""
+        estimated (``AMG_MODEL``)."""
         role, choice = self.role, self.choice
         role.t_cg = 1.0  # a unit: the CG cost below is then the number of solves left
         direct, solves, how = choice.costs(role, factorized=False)
-        role.t_cg = AMG_PRODUCTS * role.product
+        role.t_cg = AMG_MODEL[0] * (role.n / 1e4) ** AMG_MODEL[1] * role.product
         tie = direct / solves  # s a CG solve may cost
         iterations = int(min(tie / (PRODUCTS_PER_ITERATION * role.product), DIAGONAL_ITERATIONS))
         start = time.perf_counter()
