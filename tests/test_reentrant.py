@@ -19,8 +19,16 @@ RUNS = {
     "two_disks": ({"refinements": 2}, 0.004),
 }
 
-# what differs between two runs of the same thing: the wall clock
-TIMINGS = ("wall_time_s", "time_per_step_s", "phase_times_s", "seconds", "setup_seconds")
+# what differs between two runs of the same thing: the wall clock, and the peak resident
+# memory, which is the process's (getrusage), shared by the threads
+TIMINGS = (
+    "wall_time_s",
+    "time_per_step_s",
+    "phase_times_s",
+    "seconds",
+    "setup_seconds",
+    "peak_memory_mb",
+)
 
 
 def _without_timings(x):

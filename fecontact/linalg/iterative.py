@@ -44,10 +44,7 @@ import scipy.sparse.linalg as spla
 _RTOL = "rtol" if "rtol" in inspect.signature(spla.cg).parameters else "tol"
 
 __all__ = [
-    "AUTO_DOFS",
-    "AUTO_ROW_ENTRIES",
     "amg_factorize",
-    "prefers_cg",
 ]
 
 RTOL = 1e-10
@@ -74,23 +71,6 @@ dominates), and 317–612 on the 24,000-dof cube at h = 1e-3 and 1e-2 s."""
 CACHE_SIZE = 4
 """Sparsity patterns (and their hierarchies) kept: the mass, S_t and the contact metric of a
 model fit."""
-
-AUTO_DOFS = 1000
-"""With the sparse solver ``"auto"``, symmetric systems of at least this many unknowns and
-``AUTO_ROW_ENTRIES`` entries per row go to CG, the others to SuperLU: on the 3D solids of
-``benchmarks/iterative_speed.py`` CG is faster from the smallest size measured (1,029 dofs)."""
-
-AUTO_ROW_ENTRIES = 20
-"""Mean entries per row from which ``"auto"`` uses CG: 3D solids have 40 and more (P1
-tetrahedra), 2D solids about 14 and beams 9. A beam's banded S_t factorizes in linear time
-while CG on it needs hundreds of iterations or falls back (measured: 10,000 elements, 4.6x
-slower than SuperLU with "amg"); 2D solids are left to SuperLU, not measured here."""
-
-
-def prefers_cg(A) -> bool:
-    """Whether the sparse solver ``"auto"`` solves the symmetric sparse A by CG."""
-    n = A.shape[0]
-    return n >= AUTO_DOFS and A.nnz >= AUTO_ROW_ENTRIES * n
 
 
 class _Amg:

@@ -42,7 +42,10 @@ def simulate(
     dt = check_positive("dt", dt)
     t_end = check_positive("t_end", t_end)
     timer = PhaseTimer() if timer is None else timer
-    stepper = make_stepper(model, options or IntegratorOptions(), stats)
+    n_steps = max(1, math.ceil(t_end / dt - 1e-9))
+    steps = n_steps - (0 if start is None else start.step)  # (for the cost of "auto")
+    stepper = make_stepper(model, options or IntegratorOptions(), stats, steps)
+    choice = model.solver.choice
     opts = stepper.settings
     model.contacts.detect_within(opts.detection_margin * model.length)
     if start is None:
@@ -53,7 +56,6 @@ def simulate(
         yield state
     else:
         state = start
-    n_steps = max(1, math.ceil(t_end / dt - 1e-9))
     for n in range(state.step + 1, n_steps + 1):
         t_next = min(n * dt, t_end)
         h = t_next - state.t
@@ -78,4 +80,6 @@ def simulate(
             ) from None
         state.t = t_next
         state.step = n
+        if choice is not None:  # the rates per step that "auto" weighs count this one
+            choice.note_step()
         yield state

@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 
 from ..contact.stats import ContactStats
 from ..linalg import Factorizations, IterativeStats, LinearSolver
+from ..linalg.choice import RunPlan, SolverChoice
 
 __all__ = ["FollowUps", "NewtonStats", "StepStats"]
 
@@ -43,11 +44,16 @@ class StepStats:
     contact: ContactStats = field(default_factory=ContactStats)
     factorizations: Factorizations = field(default_factory=Factorizations)
     iterative: IterativeStats = field(default_factory=IterativeStats)
+    # the sparse solver's record: its backend, factorizations and memory, the choices of "auto"
+    sparse: SolverChoice | None = None
 
-    def solver(self, model) -> LinearSolver:
+    def solver(self, model, plan: RunPlan | None = None) -> LinearSolver:
         """A linear solver for ``model`` (the process default sparse solver, the model's rigid
-        modes as AMG's near-null space) that counts its work here."""
-        return LinearSolver(None, model.rigid_modes, self.factorizations, self.iterative)
+        modes as AMG's near-null space) that counts its work here; with the run's ``plan``,
+        its record (``sparse``) is kept for the summary."""
+        out = LinearSolver(None, model.rigid_modes, self.factorizations, self.iterative, plan)
+        self.sparse = out.choice if out.choice is not None else self.sparse
+        return out
 
     def summary(self, frictional: bool) -> dict:
         """The entries of ``summary.json`` these counts make (``friction_solver`` only for a
@@ -67,6 +73,8 @@ class StepStats:
             # AMG-preconditioned CG (sparse solver "amg"): solves, iterations, setups, fallbacks
             "iterative_solver": asdict(self.iterative),
         }
+        if self.sparse is not None:  # the sparse solver: the direct path, the choices of "auto"
+            out["sparse_solver"] = self.sparse.record()
         if frictional:  # the frictional solves and their fallbacks
             out["friction_solver"] = asdict(self.contact.coulomb)
         return out

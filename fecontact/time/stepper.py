@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from ..linalg.choice import RunPlan
 from .constraints import StepFailure
 from .energy_step import check_energy_scheme, energy_nsga_step
 from .moreau import moreau_step
@@ -71,16 +72,20 @@ def _joined(first: State, second: State, h: float) -> State:
     return second
 
 
-def make_stepper(model, options: IntegratorOptions, stats: StepStats | None = None) -> Stepper:
+def make_stepper(
+    model, options: IntegratorOptions, stats: StepStats | None = None, steps: int | None = None
+) -> Stepper:
     """The stepper of a run of ``model`` with ``options``, counting into ``stats`` (default:
     new :class:`StepStats`): the step function of the integrator and scheme, the options'
     "auto" values and the model's traits resolved (:func:`run_settings`), and a linear solver
-    of the run's own for the model (the process default sparse solver, read now). Raises
-    ``InputError`` where the energy-decaying step does not apply."""
+    of the run's own for the model (the process default sparse solver, read now), whose
+    ``"auto"`` weighs the costs of the ``steps`` time steps the run will take (None: it
+    factorizes). Raises ``InputError`` where the energy-decaying step does not apply."""
     settings = run_settings(model, options, stats)
     kind = STEPPERS[settings.integrator]
     if settings.scheme == "energy-decaying":
         check_energy_scheme(model, settings)
         kind = energy_nsga_step
-    model.use_solver(settings.stats.solver(model))
+    plan = None if steps is None else RunPlan(max(int(steps), 1), model.linear)
+    model.use_solver(settings.stats.solver(model, plan))
     return Stepper(model, settings, kind)
