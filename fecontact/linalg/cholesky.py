@@ -36,9 +36,9 @@ the shipped cases (at most 606 dofs) keep their results to the bit with or witho
 def cholesky_available() -> bool:
     """Whether the sparse Cholesky backend (pypardiso, and the MKL library it loads) is
     installed; asked once per process."""
-    if importlib.util.find_spec("pypardiso") is None:
-        return False
-    try:
+    try:  # (an import hook may refuse the package in find_spec already)
+        if importlib.util.find_spec("pypardiso") is None:
+            return False
         import pypardiso  # noqa: F401  (loads MKL: fails without it)
     except (ImportError, OSError, AttributeError):
         return False
