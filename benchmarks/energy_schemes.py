@@ -109,7 +109,7 @@ def gemm_step(model, st, t, c, opts, timer, P=None):
     return nsga.SmoothStep(q, v, vd, a, st.lam, None, it, None, None, None, 0.0)
 
 
-def bounded_step(model, st, t, c, opts, timer, P=None, _step=nsga._smooth_step):
+def bounded_step(model, st, t, c, opts, timer, P=None, _step=nsga.alpha_smooth_step):
     """The generalized-α smooth step, solved again on E(q, v) = E_n when it gained energy."""
     s = _step(model, st, t, c, opts, timer, P)
     E0 = _energy(model, st.q, st.v)
@@ -152,13 +152,13 @@ def run(item):
     """(kind, scheme, ρ∞, strip changes, t_end, h) → the trace, with the scheme's smooth
     step (put back afterwards: the worker processes run the items one after another)."""
     _, scheme, rho_inf, params, t_end, h = item
-    original = nsga._smooth_step
+    original = nsga.alpha_smooth_step
     if SCHEMES[scheme] is not None:
-        nsga._smooth_step = SCHEMES[scheme]
+        nsga.alpha_smooth_step = SCHEMES[scheme]
     try:
         r = trace(pendulum(rho_inf, **params), dt=h, t_end=t_end, abort=runaway())
     finally:
-        nsga._smooth_step = original
+        nsga.alpha_smooth_step = original
     return {k: r[k] for k in ("t", "total", "kinetic", "tip_x", "tip_y", "status")}
 
 

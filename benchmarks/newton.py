@@ -2,9 +2,10 @@
 
 The default flexible pendulum (1.5 s) at h ∈ {1e-3, 2e-3} s and e_N ∈ {0, 0.5, 1}. Per run:
 the step halvings; the smooth Newton iterations per step (mean, max); all iterations per step
-(smooth + position + velocity; mean, max); and, from ``fecontact.time.NEWTON``, the line-search
-halvings of an update's length and the directions that had to be mass-shifted because Newton's
-pointed uphill on the incremental potential (``fecontact/time/descent.py``).
+(smooth + position + velocity; mean, max); and, from the run's ``StepStats``
+(``fecontact.time``), the line-search halvings of an update's length and the directions that
+had to be mass-shifted because Newton's pointed uphill on the incremental potential
+(``fecontact/time/descent.py``).
 
     python benchmarks/newton.py            # about 10 s
     python benchmarks/newton.py --quick    # h = 1e-3, e_N = 0.5, through the first impact
@@ -14,7 +15,7 @@ from __future__ import annotations
 
 from _common import RESULTS, case, markdown_table, parser, write_csv, write_markdown
 
-from fecontact.time import NEWTON, simulate
+from fecontact.time import StepStats, simulate
 
 COLUMNS = [
     "h",
@@ -31,10 +32,10 @@ COLUMNS = [
 
 def measure(h: float, e: float, t_end: float | None = None) -> dict:
     sim = case("flexible_pendulum").build(restitution=e)
-    start = dict(NEWTON)
+    stats = StepStats()
     smooth, total, halvings = [], [], 0
     t_end = sim.t_end if t_end is None else t_end
-    for st in simulate(sim.model, h, t_end, sim.options, q0=sim.q0, v0=sim.v0):
+    for st in simulate(sim.model, h, t_end, sim.options, q0=sim.q0, v0=sim.v0, stats=stats):
         if st.step:
             smooth.append(st.iterations["smooth"])
             total.append(st.newton_iterations)
@@ -42,7 +43,9 @@ def measure(h: float, e: float, t_end: float | None = None) -> dict:
     row = {"h": h, "e_N": e, "halvings": halvings}
     row |= {"smooth_mean": sum(smooth) / len(smooth), "smooth_max": max(smooth)}
     row |= {"total_mean": sum(total) / len(total), "total_max": max(total)}
-    row |= {k: NEWTON[k] - start[k] for k in ("line_search_cuts", "shifted_directions")}
+    newton = stats.newton
+    row |= {"line_search_cuts": newton.line_search_cuts}
+    row |= {"shifted_directions": newton.shifted_directions}
     return row
 
 

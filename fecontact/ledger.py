@@ -44,18 +44,20 @@ ROUND_OFF = 1e-9
 TERMS = ("load_work", "damping", "friction", "impact", "numerical")
 
 
-def smooth_record(model, contact_phase, v_tilde, q_tilde=None, friction_work=0.0) -> dict:
-    """What a stepper leaves in its state's memory for the ledger after its smooth step, when
-    a ``contact_phase`` (correction or jump) may follow: under "ledger", the kinetic energy
-    of ṽ, the potential (strain + gravity) energy of q̃ (NaN when no correction moved q:
-    then it is that of the step's end) and the work the smooth step's friction forces
-    dissipated (J). Without a contact phase, nothing."""
+def smooth_record(
+    model, contact_phase, v_tilde, q_tilde=None, friction_work=0.0
+) -> np.ndarray | None:
+    """What a stepper leaves in its state (``State.ledger``) for the ledger after its smooth
+    step, when a ``contact_phase`` (correction or jump) may follow: the kinetic energy of
+    ṽ, the potential (strain + gravity) energy of q̃ (NaN when no correction moved q: then
+    it is that of the step's end) and the work the smooth step's friction forces dissipated
+    (J). Without a contact phase, None."""
     if not contact_phase:
-        return {}
+        return None
     V = math.nan
     if q_tilde is not None:
         V = model.strain_energy(q_tilde) + model.potential_energy(q_tilde)
-    return {"ledger": np.array([model.kinetic_energy(v_tilde), V, friction_work])}
+    return np.array([model.kinetic_energy(v_tilde), V, friction_work])
 
 
 class EnergyLedger:
@@ -127,7 +129,7 @@ class EnergyLedger:
 
     def _springs(self, st) -> float:
         """½ k δ² of the penalty baseline's contact springs (J), 0 for the other steppers."""
-        k = st.memory.get("penalty_k")
+        k = None if st.penalty is None else st.penalty.k
         if self.integrator != "penalty" or k is None or st.gaps.size != k.size:
             return 0.0
         delta = np.maximum(-st.gaps, 0.0)
@@ -144,15 +146,14 @@ class EnergyLedger:
         return out
 
     def _friction(self, st) -> float:
-        now = st.memory.get("friction_work")
-        before = self.last.memory.get("friction_work")
+        now, before = st.friction, self.last.friction
         if now is None:
             return 0.0
-        return float(now[0]) - (0.0 if before is None else float(before[0]))
+        return float(now.work) - (0.0 if before is None else float(before.work))
 
     def _impact(self, st, kinetic, E, W, damping, friction):
         """D_impact of the step ending in ``st`` (J) and the energy gains of its phases."""
-        record = st.memory.get("ledger")
+        record = st.ledger
         if record is not None:  # NSGA: the smooth step's end (ṽ, q̃)
             T_tilde, V_tilde, smooth_friction = (float(x) for x in record)
             V = E - kinetic
@@ -283,8 +284,13 @@ class EnergyLedger:
 def _gripping(st) -> list[int]:
     """The contacts that carried a tangential force or impulse in the step ``st``."""
     grip = np.zeros(st.impulse.size, bool)
-    for key in ("friction_impulse", "friction_nu", "friction_force"):
-        x = st.memory.get(key)
+    friction, smooth = st.friction, st.smooth
+    arrays = (
+        None if friction is None else friction.impulse,
+        None if friction is None else friction.nu,
+        None if smooth is None else smooth.tangential,
+    )
+    for x in arrays:
         if x is not None and x.shape[0] == grip.size:
             grip |= np.any(x != 0.0, axis=1)
     return np.flatnonzero(grip).tolist()

@@ -13,7 +13,7 @@ import scipy.sparse as sp
 
 from .contact import ContactSet
 from .errors import InputError, check_finite, check_positive, check_vector
-from .linalg import DENSE_LIMIT, Pattern, factorize, set_near_null_space
+from .linalg import DENSE_LIMIT, LinearSolver, Pattern, factorize
 
 __all__ = ["Model", "NodalLoad"]
 
@@ -121,8 +121,8 @@ class Model:
         self._solve_M = None
         # rigid motions on the free dofs: the near-null space of AMG (sparse solver "amg")
         self.rigid_modes = np.vstack([b.rigid_modes() for b in self.bodies])[self.free]
-        if not self.dense:
-            set_near_null_space(self.rigid_modes)
+        # the factorizations of M and S_t below; a run gives the model its own (use_solver)
+        self.solver = LinearSolver(modes=self.rigid_modes)
 
     def _measure_sizes(self, contacts) -> None:
         """The model size ``length`` (m), the unit of each free dof's updates, and the extent
@@ -168,8 +168,13 @@ class Model:
     def solve_M(self):
         """M⁻¹ applied to a vector or to the columns of a matrix (factorized on first use)."""
         if self._solve_M is None:
-            self._solve_M = factorize(self._M_own, symmetric=True)
+            self._solve_M = factorize(self._M_own, symmetric=True, solver=self.solver)
         return self._solve_M
+
+    def use_solver(self, solver: LinearSolver) -> None:
+        """Factorize the model's matrices with ``solver`` (a run's, which counts their work)
+        from now on; factorizations already made are kept."""
+        self.solver = solver
 
     def offset_of(self, body) -> int:
         for b, o in zip(self.bodies, self.offsets, strict=False):
@@ -256,7 +261,7 @@ class Model:
             alpha, beta = self.damping
             C = alpha * self.M + beta * K
             S = bp * self.M + K + gp * C
-            self.iteration_cache[key] = (S, factorize(S, symmetric=True), C)
+            self.iteration_cache[key] = (S, factorize(S, symmetric=True, solver=self.solver), C)
         return self.iteration_cache[key]
 
     def external(self, t: float) -> np.ndarray:

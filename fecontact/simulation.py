@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import platform
 import time
 import warnings
 from dataclasses import dataclass, field
@@ -19,37 +18,28 @@ from pathlib import Path
 
 import numpy as np
 
-from .contact.friction import COULOMB
-from .contact.laws import ALART_CURNIER, LEAST_SQUARES
-from .energy import EnergyBalance
 from .errors import InputError, SolverError, check_positive
-from .io.frames import bodies_box, frame_parts, friction_totals, static_parts
+from .io.frames import bodies_box, frame_parts, static_parts
 from .io.output import FRICTION_COLUMNS, LEDGER_COLUMNS, STANDARD_COLUMNS
 from .io.progress import RunProgress
 from .io.run_folder import (
     CHECKPOINT,
     clear_earlier_run,
-    jsonable,
     load_checkpoint,
     save_checkpoint,
 )
 from .io.run_lock import hold_folder
-from .ledger import EnergyLedger
-from .linalg import ITERATIVE, SPARSE_FACTORIZATIONS
 from .probes import Probe, node_probe
+from .recorder import Recorder
 from .threads import blas_threads
 from .time import (
-    FOLLOW_UPS,
-    NEWTON,
-    RELEASES,
     IntegratorOptions,
     PhaseTimer,
     State,
+    StepStats,
     initial_state,
     simulate,
-    uses_smooth_contact,
 )
-from .version import __version__
 
 __all__ = ["Probe", "Simulation", "node_probe", "run", "HISTORY_COLUMNS"]
 
@@ -103,38 +93,8 @@ class Simulation:
                 f"dt = {self.dt:g} s is longer than the run (t_end = {self.t_end:g} s): "
                 f"it takes one step of {self.t_end:g} s"
             )
-        opts, model = self.options, self.model
-        flexible = any(not b.linear or b.element_dofs.size for b in model.bodies)
-        elastic_impacts = np.any(model.contacts.restitution > 0)
-        alpha = opts.integrator == "nsga" and opts.scheme == "generalized-alpha"
-        if alpha and flexible and elastic_impacts and opts.rho_inf > 0.5:
-            out.append(
-                f"rho_inf = {opts.rho_inf:g} with restitution > 0 on a flexible body: the "
-                "vibration an impact leaves can make the generalized-alpha step blow up "
-                "(measured from rho_inf = 0.7 on, at some steps; README, Stability and the "
-                "defaults); rho_inf = 0.5 is the stable default, and beams can take "
-                "scheme = 'energy-decaying', which cannot blow up"
-            )
-        perfectly_plastic = np.any(model.contacts.restitution == 0)
-        if opts.scheme == "energy-decaying" and flexible and opts.rho_inf > 0.95:
-            out.append(
-                f"rho_inf = {opts.rho_inf:g} with scheme = 'energy-decaying': the step barely "
-                "damps the beam's nearly massless rotations, whose ringing makes Newton halve "
-                "steps (14-33 halvings in 1.5 s of the founding pendulum at rho_inf = 1; none "
-                "at 0.8)"
-            )
-        if alpha and flexible and perfectly_plastic and opts.rho_inf > 0.9:
-            out.append(
-                f"rho_inf = {opts.rho_inf:g} with restitution 0 on a flexible body: an energy "
-                "blow-up at the first impact was measured at rho_inf = 1 (README, Stability and "
-                "the defaults)"
-            )
-        if opts.integrator == "nsga" and flexible and opts.metric == "mass":
-            out.append(
-                "metric = mass on a flexible body: each position correction injects strain "
-                "energy (README, Stability and the defaults); the default metric = stiffness "
-                "spreads the correction over the structure"
-            )
+        if any(not b.linear or b.element_dofs.size for b in self.model.bodies):
+            out += _flexible_warnings(self.options, self.model.contacts.restitution)
         return out
 
     def replace(self, **changes) -> Simulation:
@@ -142,152 +102,39 @@ class Simulation:
         return dataclasses.replace(self, **changes)
 
 
-class _Recorder:
-    """History rows, impact detection and summary statistics over a run."""
-
-    STATS = (
-        "impacts",
-        "iter_total",
-        "iter_max",
-        "halvings",
-        "retakes",
-        "max_penetration",
-        "min_gap",
-        "energy_initial",
-        "energy_final",
-        "energy_max",
-        "steps",
-    )
-
-    def __init__(self, sim: Simulation, out: Path, keep_rows=None):
-        from .io.output import HistoryWriter
-
-        self.sim = sim
-        self.model = sim.model
-        self.friction = self.model.contacts.frictional
-        self.friction_work = 0.0
-        extra = FRICTION_COLUMNS if self.friction else ()
-        self.columns = [*HISTORY_COLUMNS, *extra, *LEDGER_COLUMNS, *sim.probes]
-        self.history = HistoryWriter(out / "history.csv", self.columns, keep_rows=keep_rows)
-        self.impacts: list[dict] = []
-        self.closed = np.zeros(self.model.contacts.size, dtype=bool)
-        self.impact_frame = False  # the first impact's frame is written
-        self.iter_total = 0
-        self.iter_max = 0
-        self.halvings = 0
-        self.retakes = 0
-        self.max_penetration = 0.0  # m, from the inside/outside test at every step's end
-        self.min_gap = math.inf
-        self.energy_initial = math.nan
-        self.energy_final = math.nan
-        self.energy_max = -math.inf
-        self.balance = EnergyBalance(self.model)
-        self.ledger = EnergyLedger(self.model, sim.options)
-        self.energies = (math.nan, math.nan, math.nan)  # T, V_strain, V_gravity of the last
-        self.steps = 0
-
-    def record(self, st: State) -> None:
-        m = self.model
-        ke, se, pe = m.kinetic_energy(st.v), m.strain_energy(st.q), m.potential_energy(st.q)
-        total = ke + se + pe
-        self.balance.add(st.t, st.q, ke, se, pe)
-        self.ledger.add(st, ke, se, pe, self.balance.work)
-        self.energies = (ke, se, pe)
-        near = st.gaps[st.candidates] if st.step > 0 else st.gaps
-        near = near[near <= m.length * self.sim.options.detection_margin]
-        min_gap = float(near.min()) if near.size else math.inf
-        active = st.pressed()
-        for j in np.flatnonzero(active & ~self.closed):
-            self.impacts.append({"time": st.t, "contact": int(j), "impulse": st.impulse[j]})
-        self.closed = active
-        its = st.newton_iterations
-        row = [st.t, ke, se, pe, total, min_gap, int(active.sum()), float(st.impulse.sum()), its]
-        if self.friction:
-            row += friction_totals(st)
-            self.friction_work = row[-1]
-        row += self.ledger.row()
-        row += [p.fn(m, st) for p in self.sim.probes.values()]
-        self.history.write(row)
-        if st.step == 0:
-            self.energy_initial = total
-        else:
-            self.steps += 1
-            self.iter_total += its
-            self.iter_max = max(self.iter_max, its)
-            self.halvings += st.halvings
-            self.retakes += st.retakes
-            self.max_penetration = max(self.max_penetration, st.penetration)
-        self.energy_final = total
-        self.energy_max = max(self.energy_max, total)
-        self.min_gap = min(self.min_gap, min_gap)
-
-    def stats(self) -> dict:
-        extra = {"closed": self.closed.tolist(), "impact_frame": self.impact_frame}
-        extra["energy_balance"] = self.balance.state()
-        extra["energy_ledger"] = self.ledger.state()
-        return {k: getattr(self, k) for k in self.STATS} | extra
-
-    def restore(self, stats: dict) -> None:
-        for k in self.STATS:
-            setattr(self, k, stats.get(k, getattr(self, k)))
-        self.closed = np.array(stats["closed"], dtype=bool)
-        self.impact_frame = bool(stats.get("impact_frame", True))
-        self.balance.restore(stats.get("energy_balance", {}))
-        self.ledger.restore(stats.get("energy_ledger", {}))
-
-    def summary(
-        self, status: str, wall: float, timer: dict, message: str = "", factors=None
-    ) -> dict:
-        """The run's ``summary.json``: ``time_per_step_s`` is the wall time of the time loop
-        without frame and history output, over the steps; ``sparse_factorizations`` counts
-        the sparse LU factorizations of the run and their time (included in the phases), the
-        one-time cost of a linear model."""
-        sim = self.sim
-        import scipy
-        import skfem
-
-        return {
-            "case": sim.name,
-            "status": status,
-            "message": message,
-            "steps": self.steps,
-            "dt": sim.dt,
-            "t_end": sim.t_end,
-            "wall_time_s": wall,
-            "time_per_step_s": (wall - timer.get("output", 0.0)) / max(self.steps, 1),
-            "phase_times_s": dict(timer),
-            "sparse_factorizations": factors or {"count": 0, "seconds": 0.0},
-            "newton_iterations_total": self.iter_total,
-            "newton_iterations_max": self.iter_max,
-            "newton_iterations_mean": self.iter_total / max(self.steps, 1),
-            "step_halvings": self.halvings,
-            "penetration_retakes": self.retakes,
-            "max_penetration": max(self.max_penetration, -self.min_gap),
-            "min_gap": self.min_gap,
-            "energy_initial": self.energy_initial,
-            "energy_final": self.energy_final,
-            "energy_max": self.energy_max,
-            "energy_balance": self.balance.summary(),
-            "energy_ledger": self.ledger.summary(*self.energies),
-            "impacts": self.impacts,
-            "parameters": jsonable(sim.parameters),
-            "case_file": sim.origin,
-            "options": dataclasses.asdict(sim.options),
-            # what smooth_contact="auto" chose for this model (NSGA only)
-            "smooth_contact_force": sim.options.integrator == "nsga"
-            and uses_smooth_contact(self.model, sim.options),
-            "probes": {
-                k: {"unit": p.unit, "description": p.description} for k, p in sim.probes.items()
-            },
-            "n_dofs": self.model.n,
-            "versions": {
-                "fecontact": __version__,
-                "python": platform.python_version(),
-                "numpy": np.__version__,
-                "scipy": scipy.__version__,
-                "scikit-fem": getattr(skfem, "__version__", "unknown"),
-            },
-        }
+def _flexible_warnings(opts: IntegratorOptions, restitution: np.ndarray) -> list[str]:
+    """The settings found unsafe on a flexible body (beams, solids), with the contacts'
+    coefficients of ``restitution``."""
+    out = []
+    alpha = opts.integrator == "nsga" and opts.scheme == "generalized-alpha"
+    if alpha and np.any(restitution > 0) and opts.rho_inf > 0.5:
+        out.append(
+            f"rho_inf = {opts.rho_inf:g} with restitution > 0 on a flexible body: the "
+            "vibration an impact leaves can make the generalized-alpha step blow up "
+            "(measured from rho_inf = 0.7 on, at some steps; README, Stability and the "
+            "defaults); rho_inf = 0.5 is the stable default, and beams can take "
+            "scheme = 'energy-decaying', which cannot blow up"
+        )
+    if opts.scheme == "energy-decaying" and opts.rho_inf > 0.95:
+        out.append(
+            f"rho_inf = {opts.rho_inf:g} with scheme = 'energy-decaying': the step barely "
+            "damps the beam's nearly massless rotations, whose ringing makes Newton halve "
+            "steps (14-33 halvings in 1.5 s of the founding pendulum at rho_inf = 1; none "
+            "at 0.8)"
+        )
+    if alpha and np.any(restitution == 0) and opts.rho_inf > 0.9:
+        out.append(
+            f"rho_inf = {opts.rho_inf:g} with restitution 0 on a flexible body: an energy "
+            "blow-up at the first impact was measured at rho_inf = 1 (README, Stability and "
+            "the defaults)"
+        )
+    if opts.integrator == "nsga" and opts.metric == "mass":
+        out.append(
+            "metric = mass on a flexible body: each position correction injects strain "
+            "energy (README, Stability and the defaults); the default metric = stiffness "
+            "spreads the correction over the structure"
+        )
+    return out
 
 
 def run(
@@ -325,93 +172,34 @@ def run(
 
 
 def _run(sim, out, progress, frames, checkpoint_every, resume, overwrite, frame_format) -> dict:
-    from .io.output import frame_format as choose_format
-    from .io.output import frame_writer, write_json
+    from .io.output import frame_writer
 
-    earlier = [out / f"{sim.name}{ext}" for ext in (".pvd", ".frames.json")] if resume else []
-    index = next((path for path in earlier if path.is_file()), None)
-    fmt = choose_format(frame_format, sim.model, index) if frames else "vtu"
-    start, meta = None, None
-    if resume:
-        start, meta = load_checkpoint(out / CHECKPOINT, sim)
-        if start.t > sim.t_end * (1.0 + 1e-12):
-            raise InputError(
-                f"resume: the checkpoint is at t = {start.t:g} s, past t_end = {sim.t_end:g} s; "
-                "give a later --t-end"
-            )
-    else:
-        # input errors surface before any file exists
-        initial_state(sim.model, sim.q0, sim.v0, sim.options.tol_gap)
-        for text in sim.warnings():
-            warnings.warn(text, UserWarning, stacklevel=3)
-        clear_earlier_run(out, sim.name, overwrite)
-    if frames:
-        import meshio  # noqa: F401  (the frames' mesh type: imported outside the timed loop)
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as err:  # a file in the way, a folder that cannot be written
-        raise InputError(f"out: cannot create the output folder {out}: {err.strerror}") from None
+    fmt = _frame_format(sim, out, frames, frame_format, resume)
+    start, meta = _starting_point(sim, out, resume, overwrite)
+    _import_frame_types(frames)
+    _make_folder(out)
     pvd = frame_writer(fmt, out, sim.name, index_interval=PVD_INTERVAL)
     timer = PhaseTimer()
-    rec = _Recorder(sim, out, keep_rows=None if start is None else start.step + 1)
-    next_frame = 0.0
+    rec = Recorder(sim, out, keep_rows=None if start is None else start.step + 1)
+    output = _Frames(sim, pvd, frames)
     if start is not None:
-        pvd.resume(start.t)
-        rec.restore(meta["stats"])
-        rec.balance.start(start.t, start.q)
-        rec.ledger.start(start)
-        next_frame = meta["next_frame"]
+        _resume(start, meta, pvd, rec, output)
     bar = _progress_bar(sim, start) if progress else None
+    stats = StepStats()  # the counts of this run, which its steps fill
     status, message = "completed", ""
     t_start = time.perf_counter()
-    factors_start = dict(SPARSE_FACTORIZATIONS)
-    iterative_start = dict(ITERATIVE)
-    least_squares_start = LEAST_SQUARES["count"]
-    coulomb_start = dict(COULOMB)
-    newton_start = dict(NEWTON)
-    follow_start = dict(FOLLOW_UPS)
-    release_start = RELEASES["steps"]
-    ALART_CURNIER.update(position=0.0, velocity=0.0)  # largest values of this run
     try:
-        box = None  # the bodies' box over the frames, for the obstacles' outlines
-        if frames and start is None:
-            box = bodies_box(sim.model, np.zeros(sim.model.n) if sim.q0 is None else sim.q0)
-            for part, mesh in static_parts(sim.model, box).items():
-                pvd.write_static(part, mesh)
-        steps = simulate(sim.model, sim.dt, sim.t_end, sim.options, timer, sim.q0, sim.v0, start)
+        if start is None:
+            output.begin()
+        steps = simulate(
+            sim.model, sim.dt, sim.t_end, sim.options, timer, sim.q0, sim.v0, start, stats
+        )
         for st in steps:
             clock = time.perf_counter()
-            closed_before = int(rec.closed.sum())
-            rec.record(st)
-            if rec.balance.runaway():
-                raise SolverError(
-                    f"energy blow-up at t = {st.t:.6g} s (step {st.step}): "
-                    + rec.balance.describe(),
-                    time=st.t,
-                    step=st.step,
-                )
-            # the first impact gets a frame of its own: the bodies touching, whatever the
-            # output interval (contacts closed from the first step are not an impact)
-            impact = not rec.impact_frame and st.step >= 2 and rec.closed.sum() > closed_before
-            rec.impact_frame = rec.impact_frame or impact
-            if frames and (
-                impact or st.t >= next_frame - 1e-9 * sim.dt or st.t >= sim.t_end - 1e-12
-            ):
-                pvd.write_frame(st.t, frame_parts(sim.model, st))
-                now = bodies_box(sim.model, st.q)
-                box = (
-                    now
-                    if box is None
-                    else np.stack([np.minimum(box[0], now[0]), np.maximum(box[1], now[1])])
-                )
-                interval = sim.output_interval
-                next_frame = (math.floor(st.t / interval + 1e-6) + 1) * interval
-            if checkpoint_every and st.step and st.step % checkpoint_every == 0:
-                pvd.flush()  # a resumed run keeps the frames the index lists
-                save_checkpoint(out / CHECKPOINT, sim, st, rec, next_frame)
+            _record(rec, output, st)
+            _checkpoint(out, rec, output, st, checkpoint_every)
             timer.add("output", clock)
-            if bar is not None and st.step:
-                bar.advance(st)
+            _show(bar, st)
     except SolverError as err:
         status, message = "failed", str(err)
         if rec.balance.unstable() and not message.startswith("energy blow-up"):
@@ -425,43 +213,166 @@ def _run(sim, out, progress, frames, checkpoint_every, resume, overwrite, frame_
         status, message = "failed", f"cannot write the output: {err.strerror or err}"
         raise
     finally:
-        if frames and box is not None and status == "completed":  # outlines under the motion
-            for part, mesh in static_parts(sim.model, box).items():
-                pvd.write_static(part, mesh)
+        output.end(status == "completed")
         timer.add("output", _flush(pvd))
         wall = time.perf_counter() - t_start
         rec.history.close()
-        if bar is not None:
-            bar.close(status)
-        factors = {k: SPARSE_FACTORIZATIONS[k] - factors_start[k] for k in factors_start}
-        summary = rec.summary(status, wall, timer, message, factors)
-        # redundant active constraints whose multipliers came from least squares
-        summary["least_squares_multipliers"] = LEAST_SQUARES["count"] - least_squares_start
-        # the globalization of the smooth Newton (fecontact.time.descent)
-        summary["smooth_newton"] = {k: NEWTON[k] - newton_start[k] for k in NEWTON}
-        # the velocity's follow-ups of an impact's correction (fecontact.time.position_jump)
-        summary["velocity_follow_ups"] = {k: FOLLOW_UPS[k] - follow_start[k] for k in FOLLOW_UPS}
-        # smooth steps taken again without the force of a contact they released
-        summary["contact_releases"] = RELEASES["steps"] - release_start
-        # the largest Alart–Curnier residual a converged correction left, over its tolerance
-        summary["final_residuals"] = dict(ALART_CURNIER)
-        # AMG-preconditioned CG (sparse solver "amg"): solves, iterations, setups, fallbacks
-        summary["iterative_solver"] = {k: ITERATIVE[k] - iterative_start[k] for k in ITERATIVE}
-        # a run that ends with more energy than its budget is said so, not only counted
-        summary["warnings"] = [rec.balance.describe()] if rec.balance.unstable() else []
-        summary["warnings"] += rec.ledger.warnings()
-        if sim.model.contacts.frictional:  # the frictional solves and their fallbacks
-            summary["friction_solver"] = {k: COULOMB[k] - coulomb_start[k] for k in COULOMB}
-            summary["friction_work"] = rec.friction_work
-        try:
-            write_json(out / "summary.json", summary)
-        except OSError:
-            if status == "completed":
-                raise
-            # else the run's own failure is the one to report (a full disk refuses both)
+        _show(bar, None, status)
+        summary = _summary(sim, rec, stats, status, message, wall, timer)
+        _write_summary(out, summary, status)
     for text in summary["warnings"]:
         warnings.warn(text, UserWarning, stacklevel=3)
     return summary
+
+
+def _frame_format(sim: Simulation, out: Path, frames: bool, frame_format: str, resume: bool):
+    """The run's frame format, chosen before any work: that of the run it resumes, else
+    ``frame_format`` for the model (:func:`fecontact.io.output.frame_format`)."""
+    from .io.output import frame_format as choose_format
+
+    earlier = [out / f"{sim.name}{ext}" for ext in (".pvd", ".frames.json")] if resume else []
+    index = next((path for path in earlier if path.is_file()), None)
+    return choose_format(frame_format, sim.model, index) if frames else "vtu"
+
+
+def _resume(start: State, meta: dict, pvd, rec: Recorder, output: _Frames) -> None:
+    """Take up the frames, history and statistics of the checkpoint ``meta`` at ``start``."""
+    pvd.resume(start.t)
+    rec.restore(meta["stats"])
+    rec.balance.start(start.t, start.q)
+    rec.ledger.start(start)
+    output.next_frame = meta["next_frame"]
+
+
+def _starting_point(sim: Simulation, out: Path, resume: bool, overwrite: bool):
+    """(state, checkpoint metadata) to resume from, or (None, None) for a new run, whose
+    input errors and warnings surface here, before any file exists."""
+    if resume:
+        start, meta = load_checkpoint(out / CHECKPOINT, sim)
+        if start.t > sim.t_end * (1.0 + 1e-12):
+            raise InputError(
+                f"resume: the checkpoint is at t = {start.t:g} s, past t_end = {sim.t_end:g} s; "
+                "give a later --t-end"
+            )
+        return start, meta
+    initial_state(sim.model, sim.q0, sim.v0, sim.options.tol_gap)
+    for text in sim.warnings():
+        warnings.warn(text, UserWarning, stacklevel=4)
+    clear_earlier_run(out, sim.name, overwrite)
+    return None, None
+
+
+def _checkpoint(out: Path, rec: Recorder, output: _Frames, st: State, every: int) -> None:
+    """Save the checkpoint after every ``every`` steps (0: never)."""
+    if every and st.step and st.step % every == 0:
+        output.pvd.flush()  # a resumed run keeps the frames the index lists
+        save_checkpoint(out / CHECKPOINT, output.sim, st, rec, output.next_frame)
+
+
+def _record(rec: Recorder, output: _Frames, st: State) -> None:
+    """Record the state ``st`` and write its frame if it is due; an energy blow-up stops
+    the run."""
+    closed_before = int(rec.closed.sum())
+    rec.record(st)
+    if rec.balance.runaway():
+        raise SolverError(
+            f"energy blow-up at t = {st.t:.6g} s (step {st.step}): " + rec.balance.describe(),
+            time=st.t,
+            step=st.step,
+        )
+    # the first impact gets a frame of its own: the bodies touching, whatever the output
+    # interval (contacts closed from the first step are not an impact)
+    impact = not rec.impact_frame and st.step >= 2 and rec.closed.sum() > closed_before
+    rec.impact_frame = rec.impact_frame or impact
+    output.write(st, impact)
+
+
+class _Frames:
+    """The run's VTU frames: at the output interval, at the end and at the first impact, and
+    the box the bodies swept, under which the obstacles' outlines are drawn."""
+
+    def __init__(self, sim: Simulation, pvd, enabled: bool):
+        self.sim, self.pvd, self.enabled = sim, pvd, enabled
+        self.next_frame = 0.0  # time (s) of the next frame at the output interval
+        self.box = None  # the bodies' box over the frames, for the obstacles' outlines
+
+    def begin(self) -> None:
+        """The obstacles' outlines around the bodies at the start of a new run."""
+        if not self.enabled:
+            return
+        model = self.sim.model
+        self.box = bodies_box(model, np.zeros(model.n) if self.sim.q0 is None else self.sim.q0)
+        for part, mesh in static_parts(model, self.box).items():
+            self.pvd.write_static(part, mesh)
+
+    def write(self, st: State, impact: bool) -> None:
+        sim = self.sim
+        due = st.t >= self.next_frame - 1e-9 * sim.dt or st.t >= sim.t_end - 1e-12
+        if not (self.enabled and (impact or due)):
+            return
+        self.pvd.write_frame(st.t, frame_parts(sim.model, st))
+        now = bodies_box(sim.model, st.q)
+        box = self.box
+        self.box = (
+            now
+            if box is None
+            else np.stack([np.minimum(box[0], now[0]), np.maximum(box[1], now[1])])
+        )
+        interval = sim.output_interval
+        self.next_frame = (math.floor(st.t / interval + 1e-6) + 1) * interval
+
+    def end(self, completed: bool) -> None:
+        """The outlines under the whole motion, after a completed run."""
+        if self.enabled and self.box is not None and completed:
+            for part, mesh in static_parts(self.sim.model, self.box).items():
+                self.pvd.write_static(part, mesh)
+
+
+def _make_folder(out: Path) -> None:
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as err:  # a file in the way, a folder that cannot be written
+        raise InputError(f"out: cannot create the output folder {out}: {err.strerror}") from None
+
+
+def _show(bar: RunProgress | None, st: State | None, status: str = "") -> None:
+    """Advance the progress bar ``bar`` (None: none) past ``st``; close it with the run's
+    ``status`` (``st`` None)."""
+    if bar is not None and st is None:
+        bar.close(status)
+    elif bar is not None and st.step:
+        bar.advance(st)
+
+
+def _import_frame_types(frames: bool) -> None:
+    if frames:
+        import meshio  # noqa: F401  (the frames' mesh type: imported outside the timed loop)
+
+
+def _summary(sim, rec, stats, status, message, wall, timer) -> dict:
+    """The run's ``summary.json``: the recorder's, the run's statistics and the warnings."""
+    frictional = sim.model.contacts.frictional
+    counts = stats.summary(frictional)
+    friction_solver = counts.pop("friction_solver", None)
+    summary = rec.summary(status, wall, timer, message, counts) | counts
+    # a run that ends with more energy than its budget is said so, not only counted
+    summary["warnings"] = [rec.balance.describe()] if rec.balance.unstable() else []
+    summary["warnings"] += rec.ledger.warnings()
+    if frictional:
+        summary["friction_solver"] = friction_solver
+        summary["friction_work"] = rec.friction_work
+    return summary
+
+
+def _write_summary(out: Path, summary: dict, status: str) -> None:
+    from .io.output import write_json
+
+    try:
+        write_json(out / "summary.json", summary)
+    except OSError:
+        if status == "completed":
+            raise
+        # else the run's own failure is the one to report (a full disk refuses both)
 
 
 def _flush(pvd) -> float:
@@ -471,6 +382,6 @@ def _flush(pvd) -> float:
     return clock
 
 
-def _progress_bar(sim: Simulation, start: State | None):
+def _progress_bar(sim: Simulation, start: State | None) -> RunProgress:
     t0, step0 = (0.0, 0) if start is None else (start.t, start.step)
     return RunProgress(sim.name, sim.t_end, sim.dt, t0, step0)

@@ -89,6 +89,15 @@ def test_smooth_contact_forces_resume_identically(friction, tmp_path):
     resumes_identically("two_disks", args, "0.004", "0.003", tmp_path)
 
 
+def test_energy_decaying_step_resumes_identically(tmp_path):
+    """The energy-decaying step carries the smooth step's strain increment Δε_n of every
+    element into the next step: it travels in the checkpoint (the pendulum resumed after its
+    first impact)."""
+    args = ["--checkpoint-every", "50", "--set", "restitution=0.5"]
+    args += ["--set", "scheme=energy-decaying", "--set", "rho_inf=0.8"]
+    resumes_identically("flexible_pendulum", args, "0.3", "0.2", tmp_path)
+
+
 def resumes_identically(name, args, end, half, tmp_path):
     """Run case ``name`` to ``end`` (s) in one go, and to ``half`` then resumed to ``end``:
     the same history, impacts and frames."""

@@ -9,8 +9,9 @@ import pytest
 
 from fecontact.cli.commands import main
 from fecontact.testing import CASES, case
-from fecontact.time import NEWTON, simulate
+from fecontact.time import simulate
 from fecontact.time.descent import Armijo, descent_direction
+from fecontact.time.stats import NewtonStats
 
 
 class Pendulum:
@@ -46,22 +47,24 @@ def test_an_uphill_newton_direction_is_shifted_until_it_descends():
 
     r, fi, S, K = parts(q)
     assert S[0, 0] < 0 and r @ np.linalg.solve(S, -r) > 0  # plain Newton goes uphill
-    start = dict(NEWTON)
+    stats = NewtonStats()
     for _ in range(40):
         r, fi, S, K = parts(q)
         if abs(r[0]) < 1e-12:
             break
         solve = lambda b, S=S: b / S[0, 0]  # noqa: E731
-        dq, *test = descent_direction(model, r, fi, S, K, solve, np.array([[bp]]), 1e-14, 1.0)
+        dq, *test = descent_direction(
+            model, r, fi, S, K, solve, np.array([[bp]]), 1e-14, 1.0, stats
+        )
         if test[-1] is not None:  # the smooth step's deferred Armijo test
             armijo = Armijo(q[None].copy(), dq, *test, model.strain_energy(q), 1.0)
             if not armijo.accepts(model.strain_energy(q + dq)):
-                dq = armijo.backtrack(model) * dq
+                dq = armijo.backtrack(model, stats) * dq
         # every update descends (to the round-off of Π once Newton has converged)
         assert potential(q + dq) <= potential(q) + 1e-13 * potential(q)
         q = q + dq
     assert abs(r[0]) < 1e-12
-    assert NEWTON["shifted_directions"] > start["shifted_directions"]
+    assert stats.shifted_directions > 0 and stats.iterations > 0
     # the stationary point reached is a minimum of Π (S > 0): plain Newton, which goes to
     # any stationary point, would climb to the maximum near θ = π
     assert bp + k * math.cos(q[0]) > 0

@@ -83,7 +83,7 @@ def test_one_3d_contact_is_solved_exactly():
     stick solution (a node of a block on a 20° incline, μ = 5, at 4 Δx/c): the exact local
     solve finds it, with no Gauss–Seidel; and 600 random ones (open, stick and slip, μ up to
     3) meet the law to round-off."""
-    from fecontact.contact.friction import COULOMB
+    from fecontact.contact.stats import CoulombStats
 
     c = np.array([-6.5029077401371710e-07, 3.4205845085322717e-06, 2.1876015328093736e-07])
     D = np.array(
@@ -93,9 +93,11 @@ def test_one_3d_contact_is_solved_exactly():
             [4.0408369427910991e-07, 1.0325330976454128e-06, 8.7834500337327091e-06],
         ]
     )
-    before = COULOMB["gauss_seidel_solves"]
-    x, status, _ = _law(c, D, 1.0 / np.diag(D), [5.0], 2)
-    assert COULOMB["gauss_seidel_solves"] == before and status[0] == 1
+    stats = CoulombStats()
+    x, status, _ = solve_coulomb(
+        c, D, 1.0 / np.diag(D), 1.0, np.array([5.0]), 2, tol=1e-13, stats=stats
+    )
+    assert stats.solves == 1 and stats.gauss_seidel_solves == 0 and status[0] == 1
     np.testing.assert_allclose(x, np.linalg.solve(D, -c), rtol=1e-12)
     rng = np.random.default_rng(7)
     seen = set()

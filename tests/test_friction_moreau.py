@@ -18,7 +18,7 @@ def slide(incline, friction, velocity=0.0, t_end=1.0):
     model, rows = sim.model, []
     for st in simulate(model, sim.dt, t_end, options, q0=sim.q0, v0=sim.v0):
         energy = model.kinetic_energy(st.v) + model.potential_energy(st.q)
-        work = float(st.memory["friction_work"][0]) if st.step else 0.0
+        work = float(st.friction.work) if st.step else 0.0
         rows.append(
             (st.t, sim.probes["s"].fn(model, st), sim.probes["v"].fn(model, st), energy, work)
         )

@@ -1,6 +1,8 @@
 """Preconditioned CG behind the factorize seam (sparse solver "amg"): the direct solutions to
 its tolerance, the fallback on indefinite matrices, hierarchy reuse, and whole runs."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 import scipy.sparse as sp
@@ -8,11 +10,11 @@ import scipy.sparse.linalg as spla
 
 from fecontact import InputError, Model, simulate
 from fecontact.bodies import Beam2D, LinearElastic, Material, Section, Solid, StVenantKirchhoff
-from fecontact.linalg import ITERATIVE, SPARSE_FACTORIZATIONS, factorize
-from fecontact.linalg.iterative import AUTO_DOFS, RTOL, TRUE_RESIDUAL
+from fecontact.linalg import LinearSolver, factorize
+from fecontact.linalg.iterative import RTOL, TRUE_RESIDUAL
 from fecontact.linalg.sparse_solvers import sparse_solver, use_sparse_solver
 from fecontact.testing import case
-from fecontact.time import alpha_coefficients
+from fecontact.time import StepStats, alpha_coefficients
 from fecontact.time.constraints import StepFailure, factorize_or_fail
 
 # the solver's promise: ‖b − A x‖ ≤ TRUE_RESIDUAL · RTOL · ‖b‖
@@ -21,18 +23,17 @@ PROMISE = TRUE_RESIDUAL * RTOL
 
 @pytest.fixture
 def amg():
+    """A linear solver by AMG-CG that counts its own work, with "amg" the process default
+    meanwhile."""
     before = sparse_solver()
     use_sparse_solver("amg")
-    yield
+    yield LinearSolver("amg")
     use_sparse_solver(before)
 
 
-def counts():
-    return dict(ITERATIVE)
-
-
-def delta(before):
-    return {k: ITERATIVE[k] - before[k] for k in before}
+def work(solver) -> dict:
+    """The CG work ``solver`` has counted."""
+    return dataclasses.asdict(solver.iterative)
 
 
 def iteration_matrix(model, h, q=None):
@@ -79,12 +80,11 @@ def test_cg_solves_3d_elasticity_like_the_direct_factorization(amg, divisions, h
     q = 1e-3 * rng.standard_normal(model.n)  # a deformed state: a nonlinear tangent K_t
     A = iteration_matrix(model, h, q)
     b = rng.standard_normal((model.n_free, 3))
-    before = counts()
-    x = factorize(A, symmetric=True)(b)
+    x = factorize(A, symmetric=True, solver=amg)(b)
     assert x.shape == b.shape
     check_against_direct(A, b, x)
-    work = delta(before)
-    assert work["solves"] == 3 and work["fallbacks"] == 0 and work[preconditioner] >= 1
+    done = work(amg)
+    assert done["solves"] == 3 and done["fallbacks"] == 0 and done[preconditioner] >= 1
 
 
 def test_rigid_modes_are_the_null_space_of_the_stiffness():
@@ -117,21 +117,20 @@ def test_an_indefinite_matrix_falls_back_to_the_direct_solve_and_is_counted(amg,
     # diagonal, caught before CG
     A = (laplacian(20) - shift * sp.eye(400)).tocsr()
     b = np.random.default_rng(1).standard_normal(400)
-    before = counts()
-    solve = factorize(A, symmetric=True)
+    solve = factorize(A, symmetric=True, solver=amg)
     x = solve(b)
     np.testing.assert_allclose(A @ x, b, atol=1e-10 * np.linalg.norm(b))
-    factors = SPARSE_FACTORIZATIONS["count"]
+    assert amg.factorizations.count == 1  # the fallback's
     np.testing.assert_allclose(solve(2.0 * b), 2.0 * x, rtol=1e-12)
-    assert SPARSE_FACTORIZATIONS["count"] == factors  # the fallback's factors are kept
-    work = delta(before)
-    assert work["fallbacks"] == 1 and work["solves"] == 0
+    assert amg.factorizations.count == 1  # the fallback's factors are kept
+    done = work(amg)
+    assert done["fallbacks"] == 1 and done["solves"] == 0
 
 
 def test_a_failing_fallback_is_a_failed_step(amg):
     # a zero on the diagonal: no CG, and SuperLU meets an exactly zero pivot
     A = sp.diags(np.r_[np.ones(199), 0.0]).tocsr()
-    solve = factorize_or_fail(A, 1.0, symmetric=True)
+    solve = factorize_or_fail(A, 1.0, symmetric=True, solver=amg)
     with pytest.raises(StepFailure, match="singular"):
         solve(np.ones(200))
 
@@ -140,48 +139,40 @@ def test_a_hierarchy_serves_its_pattern_until_a_matrix_needs_a_new_one(amg):
     model = box((10, 10, 5))
     S1, S2 = iteration_matrix(model, 1e-2), iteration_matrix(model, 1.2e-2)
     b = np.random.default_rng(2).standard_normal(model.n_free)
-    before = counts()
-    x1 = factorize(S1, symmetric=True)(b)
-    assert delta(before)["setups"] == 1  # the diagonal is not enough at this step
-    x2 = factorize(S2, symmetric=True)(b)  # the next step size: same pattern, reused
-    assert delta(before)["setups"] == 1
+    x1 = factorize(S1, symmetric=True, solver=amg)(b)
+    assert work(amg)["setups"] == 1  # the diagonal is not enough at this step
+    x2 = factorize(S2, symmetric=True, solver=amg)(b)  # the next step size: same pattern, reused
+    assert work(amg)["setups"] == 1
     # the same pattern scaled over four decades: the hierarchy of S1 serves it badly
     D = sp.diags(10.0 ** np.random.default_rng(3).uniform(-2, 2, model.n_free))
     S3 = (D @ S1 @ D).tocsr()
-    x3 = factorize(S3, symmetric=True)(b)
-    work = delta(before)
-    assert work["setups"] == 2  # rebuilt for S3
+    x3 = factorize(S3, symmetric=True, solver=amg)(b)
+    done = work(amg)
+    assert done["setups"] == 2  # rebuilt for S3
     # with pyamg 5.4 the new hierarchy solves S3; with pyamg 5.1 (on SciPy 1.9) CG still needs
     # more than MAX_ITERATIONS on it and the direct solve takes over: counted either way
-    assert work["solves"] + work["fallbacks"] == 3 and work["fallbacks"] <= 1
+    assert done["solves"] + done["fallbacks"] == 3 and done["fallbacks"] <= 1
     for A, x in ((S1, x1), (S2, x2)):
         assert np.linalg.norm(b - A @ x) <= PROMISE * np.linalg.norm(b)
     # S3 by CG meets the promise; by the direct fallback, a backward-stable solve: its
     # residual is bounded by round-off times |S3| |x| (κ(S3) is 1e8 times κ(S1))
     bound = PROMISE * np.linalg.norm(b)
-    if work["fallbacks"]:
+    if done["fallbacks"]:
         bound = max(bound, 1e4 * np.finfo(float).eps * spla.norm(S3) * np.linalg.norm(x3))
     assert np.linalg.norm(b - S3 @ x3) <= bound
 
 
-def test_auto_solves_large_3d_solids_by_cg_and_the_rest_directly():
-    before = sparse_solver()
-    use_sparse_solver("auto")
-    try:
-        small, large = box((3, 3, 3)), box((8, 8, 4))  # 192 and 1215 dofs
-        assert small.n < AUTO_DOFS <= large.n
-        banded = laplacian(40)  # 1600 unknowns, 5 a row: a beam-like sparse system
-        factors, work = SPARSE_FACTORIZATIONS["count"], counts()
-        for A in (iteration_matrix(small, 1e-4), banded):
-            factorize(A, symmetric=True)(np.ones(A.shape[0]))
-        assert SPARSE_FACTORIZATIONS["count"] == factors + 2
-        S = iteration_matrix(large, 1e-4)
-        factorize(S, symmetric=True)(np.ones(S.shape[0]))
-        assert delta(work)["solves"] == 1
-        factorize(S)(np.ones(S.shape[0]))  # not declared symmetric: direct
-        assert SPARSE_FACTORIZATIONS["count"] == factors + 3
-    finally:
-        use_sparse_solver(before)
+def test_auto_outside_a_run_factorizes_directly():
+    """Without a run there is no plan to weigh the costs with: "auto" takes the direct path
+    (the choice within a run: tests/test_solver_choice.py)."""
+    solver = LinearSolver("auto")
+    S = iteration_matrix(box((8, 8, 4)), 1e-4)  # 1215 dofs
+    b = np.ones(S.shape[0])
+    x = factorize(S, symmetric=True, solver=solver)(b)
+    assert solver.factorizations.count == 1
+    assert work(solver)["solves"] == 0
+    # a direct solve: residual at round-off (κ(S) ≤ 1e4 here, 1e-10 leaves a margin)
+    assert np.linalg.norm(S @ x - b) <= 1e-10 * np.linalg.norm(b)
 
 
 def test_amg_without_pyamg_says_how_to_install(monkeypatch):
@@ -202,25 +193,25 @@ def test_amg_without_pyamg_says_how_to_install(monkeypatch):
 
 
 def ball(solver):
-    """(q per step, smallest gap per step, sim) of the 3D ball (2499 dofs) touching the plane
-    at 1 m/s, its first 60 steps, built anew (a linear model keeps its solver's factors)."""
+    """(q per step, smallest gap per step, sim, the run's statistics) of the 3D ball (2499
+    dofs) touching the plane at 1 m/s, its first 60 steps, built anew (a linear model keeps
+    its solver's factors), with ``solver`` the process default when the run starts."""
     use_sparse_solver(solver)
     sim = case("ball_drop").build(refinements=3, drop_height=0.0)
     sim = sim.replace(t_end=60 * sim.dt)
-    model = sim.model
-    states = list(simulate(model, sim.dt, sim.t_end, sim.options, v0=sim.v0))
+    model, stats = sim.model, StepStats()
+    states = list(simulate(model, sim.dt, sim.t_end, sim.options, v0=sim.v0, stats=stats))
     q = np.array([st.q for st in states])
     gaps = np.array([model.contacts.gaps(st.q).min() for st in states])
-    return q, gaps, sim
+    return q, gaps, sim, stats
 
 
 def test_ball_drop_runs_the_same_with_cg_and_with_the_direct_solver(amg):
-    before, factors = counts(), SPARSE_FACTORIZATIONS["count"]
-    q_cg, gaps_cg, sim = ball("amg")
-    work = delta(before)
-    assert work["solves"] > 0 and work["fallbacks"] == 0
-    assert SPARSE_FACTORIZATIONS["count"] == factors
-    q_lu, gaps_lu, _ = ball("superlu")
+    q_cg, gaps_cg, sim, stats = ball("amg")
+    assert stats.iterative.solves > 0 and stats.iterative.fallbacks == 0
+    assert stats.factorizations.count == 0
+    q_lu, gaps_lu, _, stats = ball("superlu")
+    assert stats.iterative.solves == 0 and stats.factorizations.count > 0
     # zero penetration both ways (gap tolerance 1e-12 of the model size)
     size = sim.model.length
     assert gaps_cg.min() >= -1e-12 * size and gaps_lu.min() >= -1e-12 * size

@@ -23,9 +23,9 @@ def counted(monkeypatch):
     """Count the calls of ``factorize`` from the model and the integrator."""
     calls = []
 
-    def wrapper(A, symmetric=False):
+    def wrapper(A, symmetric=False, solver=None):
         calls.append((A.shape[0], symmetric))
-        return factorize(A, symmetric)
+        return factorize(A, symmetric, solver)
 
     monkeypatch.setattr(model_module, "factorize", wrapper)
     monkeypatch.setattr(constraints_module, "factorize", wrapper)

@@ -43,13 +43,13 @@ def test_a_block_on_a_gentle_incline_holds_without_creeping(mu):
     assert np.all(last.gaps >= -1e-12)
     # the smooth forces carry the block: Σλ_T = m g sin α along the slope, Σλ_N = m g cos α
     mass, a = sim.model.bodies[0].mass, np.radians(20.0)
-    along = last.memory["friction_force"][:, 0].sum()
+    along = last.smooth.tangential[:, 0].sum()
     assert along == pytest.approx(-mass * G * np.sin(a), rel=1e-3)
     assert last.force.sum() == pytest.approx(mass * G * np.cos(a), rel=1e-3)
     # ... and the frames draw them: tangential_force (N) is the mean over the step, the
     # smooth force plus the jump's impulse over h (here ~1e-9 of it, the index-3 drift)
     data = next(iter(frame_parts(sim.model, last).values())).point_data
-    mean = along + last.memory["friction_impulse"][:, 0].sum() / last.h
+    mean = along + last.friction.impulse[:, 0].sum() / last.h
     assert data["tangential_force"][:, 0].sum() == pytest.approx(mean, rel=1e-12)
 
 

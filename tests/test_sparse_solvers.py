@@ -1,4 +1,5 @@
-"""The sparse solver seam: SuperLU by default, PARDISO when the optional package is there."""
+"""The sparse solver seam: direct by default (sparse Cholesky for symmetric systems when the
+optional package is there, SuperLU otherwise), PARDISO for all when asked."""
 
 import numpy as np
 import pytest
@@ -22,8 +23,8 @@ def restore():
     use_sparse_solver(before)
 
 
-def test_superlu_is_the_default_and_solves():
-    assert sparse_solver() == "superlu"
+def test_direct_is_the_default_and_solves():
+    assert sparse_solver() == "direct"
     A = laplacian(20)
     b = np.random.default_rng(0).standard_normal((400, 3))
     np.testing.assert_allclose(A @ factorize(A)(b), b, atol=1e-12)
@@ -31,7 +32,7 @@ def test_superlu_is_the_default_and_solves():
 
 @pytest.mark.parametrize("name", ["umfpack", "", None, 3])
 def test_unknown_solver_is_an_input_error(name, restore):
-    with pytest.raises(InputError, match="sparse solver must be one of superlu, pardiso"):
+    with pytest.raises(InputError, match="sparse solver must be one of direct, superlu, pardiso"):
         use_sparse_solver(name)
 
 
@@ -48,7 +49,7 @@ def test_pardiso_without_its_package_says_how_to_install(restore, monkeypatch):
     monkeypatch.setattr(builtins, "__import__", no_pardiso)
     with pytest.raises(InputError, match=r"fecontact\[pardiso\]"):
         use_sparse_solver("pardiso")
-    assert sparse_solver() == "superlu"
+    assert sparse_solver() == "direct"
 
 
 def test_pardiso_gives_superlu_s_solutions(restore):

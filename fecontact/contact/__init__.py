@@ -14,11 +14,14 @@ from .laws import (
 from .node_pairs import NodeContact, PointSegmentContact
 from .obstacles import Circle, Plane, Point, Sphere
 from .registry import register_pair
+from .stats import ContactStats, CoulombStats
 
 __all__ = [
     "Circle",
     "Contact",
     "ContactSet",
+    "ContactStats",
+    "CoulombStats",
     "NodeContact",
     "Plane",
     "Point",

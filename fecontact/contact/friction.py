@@ -26,8 +26,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from .stats import CoulombStats
+
 __all__ = [
-    "COULOMB",
     "coulomb_projection",
     "coulomb_residual",
     "coulomb_violation",
@@ -35,21 +36,6 @@ __all__ = [
     "solve_coulomb",
     "tangent_basis",
 ]
-
-COULOMB = {
-    "solves": 0,
-    "iterations": 0,
-    "line_search_cuts": 0,
-    "full_steps_forced": 0,
-    "gauss_seidel_solves": 0,
-    "least_squares_steps": 0,
-}
-"""Frictional contact solves of this process: Newton iterations, backtracking cuts of the
-merit |R|², updates taken in full after the backtracking found no decrease (a kink of the
-nonsmooth residual), and solves where Newton alone did not converge and a nonsmooth
-Gauss–Seidel over the contacts brought it near the solution first, and Newton steps taken by
-least squares on a singular Jacobian (redundant contacts). Runs report their share in
-``summary.json``."""
 
 
 def tangent_basis(n: np.ndarray) -> np.ndarray:
@@ -109,31 +95,33 @@ def coulomb_projection(sigma: np.ndarray, mu: np.ndarray):
     return Pi, dPi, status
 
 
-def solve_coulomb(c, D, p, k, mu, nt, x0=None, tol=0.0, max_iter=50):
+def solve_coulomb(c, D, p, k, mu, nt, x0=None, tol=0.0, max_iter=50, stats=None):
     """Multipliers x of m frictional contacts (and any equality rows after them) with
     w = c + k D x and R(x) = k x − Π(k x − p w) = 0 (see :func:`_newton`).
 
     Semi-smooth Newton first; where it does not converge (the Newton of the disk cone is
     not globally convergent when D couples contacts strongly), a nonsmooth Gauss–Seidel over
     the contacts, each solved exactly on its own, comes near the solution and Newton
-    finishes from there. Returns (x, status (m,), iterations); raises ``RuntimeError``
-    when neither converges.
+    finishes from there. ``stats`` (:class:`fecontact.contact.stats.CoulombStats`, or None)
+    receives the counts of the work. Returns (x, status (m,), iterations); raises
+    ``RuntimeError`` when neither converges.
     """
-    COULOMB["solves"] += 1
+    stats = CoulombStats() if stats is None else stats
+    stats.solves += 1
     p = _isotropic(np.asarray(p, dtype=float), len(mu), nt)
     if len(mu) == 1 and len(c) == 1 + nt:  # one contact: its law solved exactly
-        x = _local(c, D, p, k, float(mu[0]), nt, x0, tol)
+        x = _local(c, D, p, k, float(mu[0]), nt, x0, tol, stats)
         if x is not None:
             R, status = _settled(c, D, k, np.asarray(mu, dtype=float), nt, x)
             if R <= tol:
                 return x, status, 1
     try:
-        return _newton(c, D, p, k, mu, nt, x0, tol, max_iter)
+        return _newton(c, D, p, k, mu, nt, x0, tol, max_iter, stats)
     except _NotConverged:
-        COULOMB["gauss_seidel_solves"] += 1
-    x, sweeps = _gauss_seidel(c, D, p, k, np.asarray(mu, dtype=float), nt, x0, tol)
+        stats.gauss_seidel_solves += 1
+    x, sweeps = _gauss_seidel(c, D, p, k, np.asarray(mu, dtype=float), nt, x0, tol, stats)
     try:
-        x, status, its = _newton(c, D, p, k, mu, nt, x, tol, max_iter)
+        x, status, its = _newton(c, D, p, k, mu, nt, x, tol, max_iter, stats)
     except _NotConverged as err:
         R, status = _settled(c, D, k, np.asarray(mu, dtype=float), nt, x)
         if R <= tol:  # Gauss–Seidel converged where Newton's polish did not
@@ -200,7 +188,7 @@ def _isotropic(p: np.ndarray, m: int, nt: int) -> np.ndarray:
     return p
 
 
-def _gauss_seidel(c, D, p, k, mu, nt, x0, tol, max_sweeps=2000):
+def _gauss_seidel(c, D, p, k, mu, nt, x0, tol, stats, max_sweeps=2000):
     """Sweeps over the contacts (then the equality rows as one block), each contact's law
     solved exactly with the others' multipliers fixed, until the largest change of w is
     below ``tol`` or ``max_sweeps``. Returns (x, sweeps)."""
@@ -217,7 +205,7 @@ def _gauss_seidel(c, D, p, k, mu, nt, x0, tol, max_sweeps=2000):
         for j, rows in enumerate(blocks):
             Djj = D[np.ix_(rows, rows)]
             local = c[rows] + kD[rows] @ x - k * (Djj @ x[rows])
-            xj = _local(local, Djj, p[rows], k, mu[j], nt, x[rows], tol)
+            xj = _local(local, Djj, p[rows], k, mu[j], nt, x[rows], tol, stats)
             if xj is None:
                 stuck = True  # kept for this sweep; the others move on
                 continue
@@ -233,7 +221,7 @@ def _gauss_seidel(c, D, p, k, mu, nt, x0, tol, max_sweeps=2000):
     return x, sweep
 
 
-def _local(c, D, p, k, mu, nt, x0, tol):
+def _local(c, D, p, k, mu, nt, x0, tol, stats):
     """One contact's law with w = c + k D x, exact: the first of open, stick and slip whose
     conditions hold (none of which involves p); in 3D the slip direction is the root of a
     function of one angle (:func:`_slip_direction`), Newton only where none is found. None
@@ -261,7 +249,7 @@ def _local(c, D, p, k, mu, nt, x0, tol):
     if x is not None:
         return x
     try:
-        return _newton(c, D, p, k, np.array([mu]), nt, x0, 0.1 * tol, 50)[0]
+        return _newton(c, D, p, k, np.array([mu]), nt, x0, 0.1 * tol, 50, stats)[0]
     except _NotConverged:
         return None
 
@@ -297,7 +285,7 @@ def _slip_direction(c, D, mu, samples=72):
     return None
 
 
-def _newton(c, D, p, k, mu, nt, x0=None, tol=0.0, max_iter=50):
+def _newton(c, D, p, k, mu, nt, x0, tol, max_iter, stats):
     """Multipliers x of m frictional contacts (and any equality rows after them) with
     w = c + k D x and R(x) = k x − Π(k x − p w) = 0.
 
@@ -335,7 +323,7 @@ def _newton(c, D, p, k, mu, nt, x0=None, tol=0.0, max_iter=50):
         if not np.isfinite(err):
             raise RuntimeError("frictional contact: non-finite residual")
         if err <= tol:
-            COULOMB["iterations"] += it
+            stats.iterations += it
             return x, status, it
         if it == max_iter:
             break
@@ -346,13 +334,13 @@ def _newton(c, D, p, k, mu, nt, x0=None, tol=0.0, max_iter=50):
         try:
             dx = np.linalg.solve(J, -R)
         except np.linalg.LinAlgError:
-            COULOMB["least_squares_steps"] += 1
+            stats.least_squares_steps += 1
             dx = np.linalg.lstsq(J, -R, rcond=None)[0]
-        x, R, lin, status = _backtrack(residual, x, dx, R)
+        x, R, lin, status = _backtrack(residual, x, dx, R, stats)
     raise _NotConverged(f"residual {err:.3e} above {tol:.3e} after {max_iter} iterations")
 
 
-def _backtrack(residual, x, dx, R):
+def _backtrack(residual, x, dx, R, stats):
     """x + s dx with the largest s = 2⁻ⁱ that decreases |R|² (Armijo); the full step when
     none of 20 does (the merit of a nonsmooth residual can rise across a kink), counted."""
     f0 = R @ R
@@ -363,8 +351,8 @@ def _backtrack(residual, x, dx, R):
         if Rs @ Rs <= (1.0 - 1e-4 * s) * f0:
             return xs, Rs, lin, status
         s *= 0.5
-        COULOMB["line_search_cuts"] += 1
-    COULOMB["full_steps_forced"] += 1
+        stats.line_search_cuts += 1
+    stats.full_steps_forced += 1
     xs = x + dx
     return (xs, *residual(xs))
 

@@ -26,9 +26,9 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from .stats import ContactStats
+
 __all__ = [
-    "ALART_CURNIER",
-    "LEAST_SQUARES",
     "alart_curnier_residual",
     "contact_force_multiplier",
     "kkt_multipliers",
@@ -53,26 +53,16 @@ def alart_curnier_residual(nu, g, p, k):
 # -- semi-smooth Newton on the Alart–Curnier residuals -------------------------------------------
 
 
-LEAST_SQUARES = {"count": 0}
-"""Active sets whose constraints were redundant (a singular Schur matrix G_A Y): their
-multipliers came from least squares. Counted over the process; runs report their share."""
-
-
-def kkt_multipliers(GA, Y, rhs, k):
+def kkt_multipliers(GA, Y, rhs, k, stats: ContactStats | None = None):
     """Solve k (G_A Y) μ = rhs for the active multipliers (least squares if redundant, and
-    counted in ``LEAST_SQUARES``)."""
+    counted in ``stats.least_squares``)."""
     S = k * (GA @ Y)
     try:
         return np.linalg.solve(S, rhs)
     except np.linalg.LinAlgError:
-        LEAST_SQUARES["count"] += 1
+        if stats is not None:
+            stats.least_squares += 1
         return np.linalg.lstsq(S, rhs, rcond=None)[0]
-
-
-ALART_CURNIER = {"position": 0.0, "velocity": 0.0}
-"""The largest Alart–Curnier residual left by a converged correction at each level, relative
-to its tolerance (≤ 1), since ``fecontact.run`` last reset it; it reports it in
-``summary.json`` (``final_residuals``)."""
 
 
 def _residual(nu, g, p, k, eq) -> float:
@@ -83,10 +73,9 @@ def _residual(nu, g, p, k, eq) -> float:
     return float(max(np.max(r, initial=0.0), np.max(np.abs(g[eq]), initial=0.0)))
 
 
-def _record(level: str, nu, g, p, k, eq, tol) -> None:
-    if tol > 0:
-        ratio = _residual(nu, g, p, k, eq) / tol
-        ALART_CURNIER[level] = max(ALART_CURNIER[level], ratio)
+def _record(stats, level: str, nu, g, p, k, eq, tol) -> None:
+    if tol > 0 and stats is not None:
+        stats.final_residuals.record(level, _residual(nu, g, p, k, eq) / tol)
 
 
 def _settled(nu, g, p, k, eq, tol) -> bool:
@@ -100,7 +89,7 @@ def _settled(nu, g, p, k, eq, tol) -> bool:
 
 
 def solve_position_correction(
-    gaps, system, n, p, k, tol_gap, tol_u, max_iter=30, bilateral=None, nu0=None
+    gaps, system, n, p, k, tol_gap, tol_u, max_iter=30, bilateral=None, nu0=None, stats=None
 ):
     """Position correction q = q̃ + U: find (U, ν) with H U = Σ G_jᵀ [k ν_j − p g_j(q)]_+ and
     k ν_j − [k ν_j − p g_j(q)]_+ = 0 for every candidate j.
@@ -114,8 +103,9 @@ def solve_position_correction(
     step): only the first active set depends on it, so a chain of contacts that stays closed
     (a stack at rest) is found at once instead of one link per iteration. The iteration stops
     when the Alart–Curnier residual is below ``tol_gap`` (in m) and the update below ``tol_u``
-    or no longer shrinking. Returns (U, ν, iterations); raises ``RuntimeError`` when the
-    iteration does not settle.
+    or no longer shrinking. ``stats`` (:class:`fecontact.contact.stats.ContactStats`, or
+    None) receives the least-squares multipliers and the final residual. Returns
+    (U, ν, iterations); raises ``RuntimeError`` when the iteration does not settle.
     """
     U = np.zeros(n)
     g, G = gaps(U)
@@ -126,7 +116,7 @@ def solve_position_correction(
     for it in range(max_iter + 1):
         settled = _update_settled(dU, dU_prev, tol_u, tol_gap)
         if it > 0 and settled and _settled(nu, g, p, k, eq, tol_gap):
-            _record("position", nu, g, p, k, eq, tol_gap)
+            _record(stats, "position", nu, g, p, k, eq, tol_gap)
             return U, nu, it
         A = _next_active_set(A, nu, g, p, k, eq)
         # the gaps' curvature weighted by the current contact forces k ν (the Hessian of the
@@ -146,7 +136,7 @@ def solve_position_correction(
         if A.any():
             GA = G[A]
             Y = solve(GA.T).reshape(n, -1)
-            nu[A] = kkt_multipliers(GA, Y, GA @ (U - x0) - g[A], k)
+            nu[A] = kkt_multipliers(GA, Y, GA @ (U - x0) - g[A], k, stats)
             U_new = x0 + k * (Y @ nu[A])
         dU_prev = dU
         dU = 0.0 if C is None else float(np.max(np.abs(U_new - U), initial=0.0))
@@ -190,14 +180,15 @@ def _close(last, A, w) -> bool:
 
 
 def solve_velocity_jump(
-    G, c, solve_M, p, k, max_iter=30, bilateral=None, Y=None, Lam0=None, tol=0.0
+    G, c, solve_M, p, k, max_iter=30, bilateral=None, Y=None, Lam0=None, tol=0.0, stats=None
 ):
     """Velocity jump v = ṽ + W: M W = Σ G_jᵀ [k Λ_j − p ġ_j]_+ with ġ = c + G W and
     k Λ_j − [k Λ_j − p ġ_j]_+ = 0 (c_j = G_j ṽ + e_j G_j(q_n) v_n). Linear in W for a given
     active set, so the iteration ends when the set repeats, or when the Alart–Curnier
     residual (as a velocity, m/s) is below ``tol``. ``bilateral`` rows (joints) are always
     active: G_b v = 0. ``Y`` may give M⁻¹Gᵀ; ``Lam0`` warm-starts the multipliers (those of
-    the previous step: see :func:`solve_position_correction`). Returns (W, Λ, iterations)."""
+    the previous step: see :func:`solve_position_correction`); ``stats`` as there. Returns
+    (W, Λ, iterations)."""
     m = len(c)
     Lam = np.zeros(m) if Lam0 is None else np.maximum(np.asarray(Lam0, dtype=float), 0.0)
     gd = np.asarray(c, dtype=float)
@@ -211,11 +202,11 @@ def solve_velocity_jump(
         if A_prev is not None and (
             np.array_equal(A, A_prev) or (tol > 0 and _settled(Lam, gd, p, k, eq, tol))
         ):
-            _record("velocity", Lam, gd, p, k, eq, tol)
+            _record(stats, "velocity", Lam, gd, p, k, eq, tol)
             return W, Lam, it - 1
         Lam = np.zeros(m)
         if A.any():
-            Lam[A] = kkt_multipliers(Gd[A], Y_all[:, A], -c[A], k)
+            Lam[A] = kkt_multipliers(Gd[A], Y_all[:, A], -c[A], k, stats)
         W = k * (Y_all @ Lam)
         gd = c + Gd @ W
         A_prev = A

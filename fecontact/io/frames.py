@@ -32,8 +32,10 @@ def frame_parts(model, state: State):
         f_smooth = contacts.generalized_force(state.q, contacts.all, state.force, model.n)
     friction = contacts.frictional
     if friction:
-        f_t, flag = _friction_parts(model, state, "friction_impulse")
-        f_ts = _friction_parts(model, state, "friction_force")[0]
+        impulse = None if state.friction is None else state.friction.impulse
+        force = None if state.smooth is None else state.smooth.tangential
+        f_t, flag = _friction_parts(model, state, impulse)
+        f_ts = _friction_parts(model, state, force)[0]
     parts = {}
     for i, body in enumerate(model.bodies):
         s = model.body_slice(i)
@@ -69,19 +71,17 @@ def contact_pressure(force: np.ndarray, body) -> np.ndarray:
 
 def friction_totals(st: State) -> list[float]:
     """Σ_j |k Λ_T,j| of the step (N·s) and the work friction dissipated since t = 0 (J)."""
-    lam_t = st.memory.get("friction_impulse")
-    if lam_t is None:
-        return [0.0, float(st.memory.get("friction_work", [0.0])[0])]
-    return [float(np.linalg.norm(lam_t, axis=1).sum()), float(st.memory["friction_work"][0])]
+    if st.friction is None:
+        return [0.0, 0.0]
+    return [float(np.linalg.norm(st.friction.impulse, axis=1).sum()), float(st.friction.work)]
 
 
-def _friction_parts(model, state: State, key: str):
-    """Generalized tangential impulse Σ_j G_T,jᵀ k Λ_T,j (n,) (``key`` "friction_impulse"),
-    or smooth force Σ_j G_T,jᵀ λ_T,j ("friction_force"), and per-dof friction state (0 none,
-    1 stick, 2 slip: the largest among the contacts on the dof)."""
+def _friction_parts(model, state: State, lam_t):
+    """Generalized tangential impulse Σ_j G_T,jᵀ k Λ_T,j (n,) (``lam_t`` the step's k Λ_T),
+    or smooth force Σ_j G_T,jᵀ λ_T,j (``lam_t`` the smooth λ_T), and per-dof friction state
+    (0 none, 1 stick, 2 slip: the largest among the contacts on the dof)."""
     n = model.n
-    lam_t = state.memory.get(key)
-    status = state.memory.get("friction_status")
+    status = None if state.friction is None else state.friction.status
     if lam_t is None or not np.any(status):
         return np.zeros(n), np.zeros(n)
     contacts = model.contacts

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..time import State
+from ..time import State, record_arrays, records_from_arrays
 from ..version import __version__
 from .files import atomic_write
 
@@ -59,7 +59,7 @@ def save_checkpoint(path: Path, sim, st: State, rec, next_frame: float) -> None:
         k: getattr(st, k)
         for k in ("q", "v", "vd", "a", "gaps", "candidates", "nu", "impulse", "lam")
     }
-    arrays |= {f"memory_{k}": v for k, v in st.memory.items()}
+    arrays |= {f"memory_{k}": v for k, v in record_arrays(st).items()}
     meta = {
         "t": st.t,
         "step": st.step,
@@ -85,11 +85,12 @@ def load_checkpoint(path: Path, sim):
         why = f"{type(err).__name__}: {err}".splitlines()[0][:80]
         raise InputError(f"resume: {path.name} is not a readable checkpoint ({why})") from None
     memory = {k[len("memory_") :]: arrays.pop(k) for k in list(arrays) if k.startswith("memory_")}
+    records = records_from_arrays(memory)
     if meta["fingerprint"] != fingerprint(sim):
         raise InputError(f"resume: {_what_differs(meta['fingerprint'], sim)}")
     _check_history(path.parent / "history.csv", meta["step"])
     _check_frames(path.parent, sim.name, meta["t"])
-    st = State(meta["t"], step=meta["step"], h=meta["h"], memory=memory, **arrays)
+    st = State(meta["t"], step=meta["step"], h=meta["h"], **records, **arrays)
     return st, meta
 
 

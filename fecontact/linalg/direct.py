@@ -2,12 +2,13 @@
 
 Small systems (a few hundred unknowns) are faster dense: LAPACK's LU costs microseconds where
 sparse slicing and ``splu`` cost a millisecond. Larger ones use SuperLU with a fill-reducing
-ordering. Symmetric matrices (the mass, the iteration matrix β′M + K_t, the metric H − C)
-are factorized in SuperLU's symmetric mode: a minimum degree ordering of A + Aᵀ applied to
-rows and columns alike, and the diagonal taken as pivot unless it is below
-``SYMMETRIC_PIVOT`` of its column. With the default threshold of 1, row interchanges destroy
-the symmetric ordering and the fill grows by an order of magnitude on 3D iteration matrices
-(README, *Speed*). Element matrices are scattered into a sparsity pattern
+ordering, or the sparse Cholesky factorization (:mod:`.cholesky`) for symmetric positive
+definite ones when it is installed. Without it, symmetric matrices (the mass, the iteration
+matrix β′M + K_t, the metric H − C) are factorized in SuperLU's symmetric mode: a minimum
+degree ordering of A + Aᵀ applied to rows and columns alike, and the diagonal taken as pivot
+unless it is below ``SYMMETRIC_PIVOT`` of its column. With the default threshold of 1, row
+interchanges destroy the symmetric ordering and the fill grows by an order of magnitude on 3D
+iteration matrices (README, *Speed*). Element matrices are scattered into a sparsity pattern
 computed once per model, so every assembly is a single ``np.bincount``.
 """
 
@@ -20,8 +21,10 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from .iterative import amg_factorize, prefers_cg
-from .sparse_solvers import pardiso_factorize, sparse_solver
+from .cholesky import MIN_UNKNOWNS, cholesky_available, cholesky_factorize
+from .iterative import amg_factorize
+from .solver import LinearSolver
+from .sparse_solvers import pardiso_factorize
 
 __all__ = ["DENSE_LIMIT", "SYMMETRIC_PIVOT", "Pattern", "factorize"]
 
@@ -36,29 +39,41 @@ SYMMETRIC_PIVOT = 1e-2
 interchange: never for the positive definite matrices of linear bodies, a safeguard for the
 indefinite tangents of buckling ones."""
 
-SPARSE_FACTORIZATIONS = {"count": 0, "seconds": 0.0}
-"""Sparse factorizations done in this process and their wall time (s): ``fecontact.run``
-reports a run's share in ``summary.json`` (one-time cost of a linear model against its steps)."""
-
 _getrf, _getrs = sla.get_lapack_funcs(("getrf", "getrs"), (np.zeros(1),))
 
 
-def factorize(A, symmetric: bool = False):
+def factorize(A, symmetric: bool = False, solver: LinearSolver | None = None):
     """Return ``solve(b)`` applying A⁻¹ to a vector or to the columns of a matrix.
 
-    ``symmetric``: A = Aᵀ (its pattern and values), which lets a sparse A keep the symmetric
-    fill-reducing ordering (module docstring), or go to AMG-preconditioned CG with the sparse
-    solver ``"amg"`` (``"auto"``: for large 3D solids, :func:`.iterative.prefers_cg`). Raises
+    ``solver``: the run's :class:`LinearSolver` (the sparse solver, AMG's near-null space and
+    hierarchies, the choices of ``"auto"``, and where the work is counted); default a new one
+    with the process default sparse solver.
+
+    ``symmetric``: A = Aᵀ (its pattern and values). A symmetric sparse A goes to the sparse
+    Cholesky factorization when it is installed (:mod:`.cholesky`; SuperLU's symmetric mode
+    otherwise, and for an A that is not positive definite), or to AMG-preconditioned CG with
+    the sparse solver ``"amg"``, or to either with ``"auto"`` as the run's measured costs choose
+    (:mod:`.choice`; a solver without a run's plan takes the direct path). Raises
     ``np.linalg.LinAlgError`` if A is singular: here for a factorization, from ``solve`` for
     CG (when its fallback factorization fails).
     """
     if sp.issparse(A):
-        name = sparse_solver()
-        if symmetric and (name == "amg" or (name == "auto" and prefers_cg(A))):
-            return amg_factorize(A, lambda: _superlu(A, symmetric=True))
+        solver = LinearSolver() if solver is None else solver
+        name, choice = solver.name, solver.choice
+        if symmetric and name in ("amg", "auto"):
+
+            def direct():
+                return _symmetric_direct(A, solver)
+
+            if name == "amg":
+                return amg_factorize(A, direct, solver)
+            if choice is not None:  # without a run's plan there are no costs to weigh: direct
+                return choice.auto(A, direct, lambda: amg_factorize(A, direct, solver))
+        if symmetric and name != "superlu":
+            return _symmetric_direct(A, solver)
         if name == "pardiso":
             return pardiso_factorize(A)
-        return _superlu(A, symmetric)
+        return _superlu(A, symmetric, solver)
     # LAPACK directly: the scipy wrappers cost more than the factorization of small systems
     lu, piv, info = _getrf(A)
     if info != 0:
@@ -71,8 +86,27 @@ def factorize(A, symmetric: bool = False):
     return solve
 
 
-def _superlu(A, symmetric: bool):
-    """``solve(b)`` with A factorized by SuperLU (counted in ``SPARSE_FACTORIZATIONS``)."""
+def _symmetric_direct(A, solver: LinearSolver):
+    """``solve(b)`` of the symmetric sparse A by the sparse Cholesky factorization when it is
+    installed, A has at least ``cholesky.MIN_UNKNOWNS`` rows and is positive definite, else
+    by SuperLU's symmetric mode."""
+    if A.shape[0] >= MIN_UNKNOWNS and cholesky_available():
+        start = time.perf_counter()
+        factor = cholesky_factorize(A)
+        seconds = time.perf_counter() - start
+        refused = factor is None  # not positive definite: SuperLU factorizes it below
+        solver.count_factorization(
+            "cholesky (not positive definite)" if refused else "cholesky",
+            seconds,
+            0.0 if refused else factor.memory_mb,
+        )
+        if factor is not None:
+            return factor
+    return _superlu(A, True, solver)
+
+
+def _superlu(A, symmetric: bool, solver: LinearSolver):
+    """``solve(b)`` with A factorized by SuperLU (counted by ``solver``)."""
     options = {}
     if symmetric:
         options = {"diag_pivot_thresh": SYMMETRIC_PIVOT, "options": {"SymmetricMode": True}}
@@ -82,8 +116,7 @@ def _superlu(A, symmetric: bool):
     except RuntimeError as err:
         raise np.linalg.LinAlgError(str(err)) from None
     finally:
-        SPARSE_FACTORIZATIONS["count"] += 1
-        SPARSE_FACTORIZATIONS["seconds"] += time.perf_counter() - start
+        solver.count_factorization("superlu", time.perf_counter() - start)
     return lambda b: lu.solve(np.asarray(b, dtype=float))
 
 

@@ -12,8 +12,8 @@ whatever n.
   with A, while one V-cycle costs 15–17 of them (measured; 5x faster on the 255,552-dof ball
   of ``benchmarks/iterative_speed.py``). At larger steps K_t dominates and the diagonal needs
   hundreds to thousands of iterations, AMG 10–30. The choice is made per sparsity pattern.
-- Near-null space of AMG: the rigid motions of the bodies (:func:`set_near_null_space`,
-  registered by the model), which aggregation then interpolates exactly. Measured on the
+- Near-null space of AMG: the rigid motions of the bodies (``LinearSolver.modes``, given by
+  the model), which aggregation then interpolates exactly. Measured on the
   24,000-dof cube of ``benchmarks/scaling.py`` at h = 1e-3 and 1e-2 s: 16 and 19 CG
   iterations, against 27 and 52 with a constant per displacement component and 75 and 149
   with one constant.
@@ -27,15 +27,14 @@ whatever n.
   alone repays it.
 - Breakdown: a direction with pᵀAp ≤ 0 (or a nonpositive diagonal) proves A indefinite; then,
   or when CG does not converge in ``MAX_ITERATIONS`` with a hierarchy made for A, the direct
-  factorization takes over for A, counted in ``ITERATIVE["fallbacks"]`` (beams' tangents after
-  impacts). A hierarchy made for another matrix is first rebuilt for this one.
+  factorization takes over for A, counted in the run's ``IterativeStats.fallbacks`` (beams'
+  tangents after impacts). A hierarchy made for another matrix is first rebuilt for this one.
 """
 
 from __future__ import annotations
 
 import inspect
 import time
-import weakref
 
 import numpy as np
 import scipy.sparse as sp
@@ -45,12 +44,7 @@ import scipy.sparse.linalg as spla
 _RTOL = "rtol" if "rtol" in inspect.signature(spla.cg).parameters else "tol"
 
 __all__ = [
-    "AUTO_DOFS",
-    "AUTO_ROW_ENTRIES",
-    "ITERATIVE",
     "amg_factorize",
-    "prefers_cg",
-    "set_near_null_space",
 ]
 
 RTOL = 1e-10
@@ -78,73 +72,21 @@ CACHE_SIZE = 4
 """Sparsity patterns (and their hierarchies) kept: the mass, S_t and the contact metric of a
 model fit."""
 
-AUTO_DOFS = 1000
-"""With the sparse solver ``"auto"``, symmetric systems of at least this many unknowns and
-``AUTO_ROW_ENTRIES`` entries per row go to CG, the others to SuperLU: on the 3D solids of
-``benchmarks/iterative_speed.py`` CG is faster from the smallest size measured (1,029 dofs)."""
-
-AUTO_ROW_ENTRIES = 20
-"""Mean entries per row from which ``"auto"`` uses CG: 3D solids have 40 and more (P1
-tetrahedra), 2D solids about 14 and beams 9. A beam's banded S_t factorizes in linear time
-while CG on it needs hundreds of iterations or falls back (measured: 10,000 elements, 4.6x
-slower than SuperLU with "amg"); 2D solids are left to SuperLU, not measured here."""
-
-
-def prefers_cg(A) -> bool:
-    """Whether the sparse solver ``"auto"`` solves the symmetric sparse A by CG."""
-    n = A.shape[0]
-    return n >= AUTO_DOFS and A.nnz >= AUTO_ROW_ENTRIES * n
-
-
-ITERATIVE = {
-    "solves": 0,
-    "diagonal": 0,
-    "iterations": 0,
-    "setups": 0,
-    "fallbacks": 0,
-    "setup_seconds": 0.0,
-    "seconds": 0.0,
-}
-"""Preconditioned CG work of this process: solves (one per right-hand side), of which
-preconditioned by the diagonal, CG iterations, AMG hierarchy setups, fallbacks to the direct
-factorization, and wall time (s) of the setups and of all of it (setups included).
-``fecontact.run`` reports a run's share in ``summary.json`` (``iterative_solver``)."""
-
-_patterns: list = []  # most recently used last
-_modes: dict[int, weakref.ref] = {}
-
-
-def set_near_null_space(modes: np.ndarray) -> None:
-    """Use ``modes`` (n × k, the rigid motions of a model on its n free dofs) as the near-null
-    space of the symmetric n × n systems solved from now on, for as long as the caller keeps
-    the array (the model does). The most recent registration of a size wins: the modes only
-    speed CG up, they never change its answer."""
-    _modes[modes.shape[0]] = weakref.ref(modes)
-
-
-def _near_null_space(n: int):
-    """The registered modes of size n without their zero columns, or None (pyamg's constant)."""
-    modes = _modes.get(n, lambda: None)()
-    if modes is None:
-        return None
-    B = np.ascontiguousarray(modes[:, np.abs(modes).max(axis=0) > 0], dtype=float)
-    return B if B.shape[1] else None
-
 
 class _Amg:
     """A smoothed-aggregation hierarchy built from the matrix ``A``, as a preconditioner."""
 
-    def __init__(self, A):
+    def __init__(self, A, solver):
         import pyamg
 
         start = time.perf_counter()
         ml = pyamg.smoothed_aggregation_solver(
-            A, B=_near_null_space(A.shape[0]), symmetry="hermitian", improve_candidates=None
+            A, B=solver.near_null_space(A.shape[0]), symmetry="hermitian", improve_candidates=None
         )
         self.precondition = ml.aspreconditioner(cycle="V").matvec
         self.iterations = None  # CG iterations of its first solve
-        ITERATIVE["setups"] += 1
-        ITERATIVE["setup_seconds"] += time.perf_counter() - start
+        solver.iterative.setups += 1
+        solver.iterative.setup_seconds += time.perf_counter() - start
 
 
 class _Pattern:
@@ -171,16 +113,16 @@ def _address(a: np.ndarray) -> int:
     return a.__array_interface__["data"][0]
 
 
-def _pattern(A) -> _Pattern:
-    """The cached pattern of A (now the most recently used), or a new one."""
-    for entry in _patterns:
+def _pattern(patterns: list, A) -> _Pattern:
+    """The pattern of A among ``patterns`` (now the most recently used), or a new one."""
+    for entry in patterns:
         if entry.serves(A):
-            _patterns.remove(entry)
+            patterns.remove(entry)
             break
     else:
         entry = _Pattern(A)
-    _patterns.append(entry)
-    del _patterns[:-CACHE_SIZE]
+    patterns.append(entry)
+    del patterns[:-CACHE_SIZE]
     return entry
 
 
@@ -189,11 +131,13 @@ _CONVERGED, _INDEFINITE, _STALLED = "converged", "indefinite", "stalled"
 
 class AmgSolve:
     """``solve(b)`` with A⁻¹ by preconditioned CG, for a symmetric sparse A; ``direct`` is
-    called (once) for the factorization to fall back on."""
+    called (once) for the factorization to fall back on; ``solver`` is the run's
+    :class:`fecontact.linalg.LinearSolver` (hierarchies, near-null space, counts)."""
 
-    def __init__(self, A, direct):
+    def __init__(self, A, direct, solver):
         self.A = A.tocsr()
-        self.pattern = _pattern(self.A)
+        self.solver, self.stats = solver, solver.iterative
+        self.pattern = _pattern(solver.patterns, self.A)
         self.direct_factorize, self.direct = direct, None
         self.built = None  # the hierarchy built from this A, if any
         d = self.A.diagonal()
@@ -218,12 +162,12 @@ class AmgSolve:
             return np.zeros_like(b)
         start = time.perf_counter()
         x = self._iterate(b) if self.inverse_diagonal is not None else None
-        ITERATIVE["seconds"] += time.perf_counter() - start
+        self.stats.seconds += time.perf_counter() - start
         if x is None:
-            ITERATIVE["fallbacks"] += 1
+            self.stats.fallbacks += 1
             self.direct = self.direct_factorize()
             return self.direct(b)
-        ITERATIVE["solves"] += 1
+        self.stats.solves += 1
         return x
 
     def _iterate(self, b):
@@ -234,7 +178,7 @@ class AmgSolve:
             dinv = self.inverse_diagonal
             status, x, _ = self._cg(b, lambda r: dinv * r, DIAGONAL_ITERATIONS)
             if status == _CONVERGED:
-                ITERATIVE["diagonal"] += 1
+                self.stats.diagonal += 1
                 return x
             if status == _INDEFINITE:
                 return None
@@ -253,7 +197,7 @@ class AmgSolve:
         return x
 
     def _build(self):
-        self.pattern.amg = self.built = _Amg(self.A)
+        self.pattern.amg = self.built = _Amg(self.A, self.solver)
 
     def _cg(self, b, precondition, maxiter: int):
         """(status, x, iterations) of CG from x = 0 with the preconditioner ``precondition``
@@ -293,11 +237,12 @@ class AmgSolve:
             status = _INDEFINITE
         except Stalled:
             pass
-        ITERATIVE["iterations"] += count[0]
+        self.stats.iterations += count[0]
         return status, x, count[0]
 
 
-def amg_factorize(A, direct):
+def amg_factorize(A, direct, solver):
     """``solve(b)`` for a symmetric sparse A (vector or matrix b); ``direct()`` returns the
-    direct ``solve`` used when A turns out indefinite or CG does not converge."""
-    return AmgSolve(A, direct)
+    direct ``solve`` used when A turns out indefinite or CG does not converge; ``solver`` is
+    the run's :class:`fecontact.linalg.LinearSolver`."""
+    return AmgSolve(A, direct, solver)

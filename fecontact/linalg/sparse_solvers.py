@@ -1,16 +1,19 @@
 """The sparse solver behind :func:`fecontact.linalg.factorize`.
 
-``"superlu"`` (default) is SciPy's SuperLU, always available. ``"pardiso"`` is Intel MKL
-PARDISO through the optional ``pypardiso`` package (``pip install "fecontact[pardiso]"``,
-x86-64 only), a multithreaded supernodal LU. Both return the same solutions to round-off;
-the choice only changes speed, which depends on the matrix and the cores (README, *Speed*).
-``"amg"`` solves the symmetric systems by CG preconditioned with algebraic multigrid
-(:mod:`fecontact.linalg.iterative`) to a relative residual of 1e-10, and the others with
-SuperLU; ``"auto"`` does so only for large 3D solids (``iterative.prefers_cg``: at least
-``AUTO_DOFS`` unknowns and ``AUTO_ROW_ENTRIES`` entries a row), where CG is faster.
+``"direct"`` (default) factorizes the symmetric sparse systems (S_t, M, the metric) by sparse
+Cholesky when the optional ``pypardiso`` package is installed (:mod:`.cholesky`;
+``pip install "fecontact[pardiso]"``, x86-64), and everything else by SciPy's SuperLU, always
+available. ``"superlu"`` uses SuperLU for all of them. ``"pardiso"`` is Intel MKL PARDISO for
+all: Cholesky for the symmetric systems, its multithreaded supernodal LU for the others. The
+direct solvers return the same solutions to round-off; the choice only changes speed
+(``docs/validation/large_solids.md``). ``"amg"`` solves the symmetric systems by CG
+preconditioned with algebraic multigrid (:mod:`fecontact.linalg.iterative`) to a relative
+residual of 1e-10; ``"auto"`` solves each by CG or by the direct path, whichever the run's
+measured costs say is cheaper (:mod:`fecontact.linalg.choice`).
 
-Select one with :func:`use_sparse_solver` or the environment variable
-``FECONTACT_SPARSE_SOLVER`` (read at import).
+Select the process default with :func:`use_sparse_solver` or the environment variable
+``FECONTACT_SPARSE_SOLVER`` (read at import); a run reads it once, when it starts, into its
+own :class:`fecontact.linalg.LinearSolver`.
 """
 
 from __future__ import annotations
@@ -22,14 +25,21 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["SPARSE_SOLVERS", "sparse_solver", "use_sparse_solver"]
+__all__ = ["SPARSE_SOLVERS", "check_sparse_solver", "sparse_solver", "use_sparse_solver"]
 
-SPARSE_SOLVERS = ("superlu", "pardiso", "amg", "auto")
-_current = {"name": "superlu"}
+SPARSE_SOLVERS = ("direct", "superlu", "pardiso", "amg", "auto")
+_default = {"name": "direct"}  # the process default: runs read it when they start
 
 
 def use_sparse_solver(name: str) -> None:
-    """Factorize sparse matrices with ``name`` (one of ``SPARSE_SOLVERS``) from now on."""
+    """Factorize sparse matrices with ``name`` (one of ``SPARSE_SOLVERS``) in the runs and
+    solvers made from now on."""
+    _default["name"] = check_sparse_solver(name)
+
+
+def check_sparse_solver(name: str) -> str:
+    """``name`` if it is one of ``SPARSE_SOLVERS`` and its package is installed, else an
+    ``InputError`` that says how to install it."""
     if not isinstance(name, str) or name not in SPARSE_SOLVERS:
         known = ", ".join(SPARSE_SOLVERS)
         raise InputError(f"sparse solver must be one of {known}, got {name!r}")
@@ -48,12 +58,12 @@ def use_sparse_solver(name: str) -> None:
             raise InputError(
                 f'sparse solver "{name}" needs the pyamg package: pip install "fecontact[amg]"'
             ) from None
-    _current["name"] = name
+    return name
 
 
 def sparse_solver() -> str:
-    """The name of the sparse solver in use."""
-    return _current["name"]
+    """The name of the process default sparse solver."""
+    return _default["name"]
 
 
 def pardiso_factorize(A):

@@ -1,24 +1,38 @@
 """Time stepping: the nonsmooth generalized-α step and its baselines behind one signature,
 ``step(model, state, h, options, timer) -> State``, chosen by name in :mod:`.simulate`."""
 
-from .descent import NEWTON
 from .generalized_alpha import alpha_coefficients
-from .position_jump import FOLLOW_UPS
+from .records import (
+    FrictionRecord,
+    PenaltyRecord,
+    SmoothForces,
+    record_arrays,
+    records_from_arrays,
+)
+from .settings import RunSettings, run_settings, uses_smooth_contact
 from .simulate import STEPPERS, simulate
-from .smooth_contact import RELEASES, uses_smooth_contact
 from .state import IntegratorOptions, PhaseTimer, State, initial_state, length_scale
+from .stats import StepStats
+from .stepper import Stepper, make_stepper
 
 __all__ = [
     "uses_smooth_contact",
-    "FOLLOW_UPS",
-    "NEWTON",
-    "RELEASES",
+    "FrictionRecord",
+    "PenaltyRecord",
     "STEPPERS",
     "IntegratorOptions",
     "PhaseTimer",
+    "RunSettings",
+    "SmoothForces",
     "State",
+    "StepStats",
+    "Stepper",
     "alpha_coefficients",
     "initial_state",
     "length_scale",
+    "make_stepper",
+    "record_arrays",
+    "records_from_arrays",
+    "run_settings",
     "simulate",
 ]

@@ -41,11 +41,12 @@ def augmentation(scale: float, G, Y) -> np.ndarray:
     return scale / inverse_mass
 
 
-def factorize_or_fail(A, residual, symmetric=False):
-    """``factorize(A, symmetric)`` with a singular A reported as a failed step, also when
-    the sparse solver is iterative and finds it out in ``solve`` (its fallback factorization)."""
+def factorize_or_fail(A, residual, symmetric=False, solver=None):
+    """``factorize(A, symmetric, solver)`` with a singular A reported as a failed step, also
+    when the sparse solver is iterative and finds it out in ``solve`` (its fallback
+    factorization)."""
     try:
-        solve = factorize(A, symmetric)
+        solve = factorize(A, symmetric, solver)
     except np.linalg.LinAlgError:
         raise StepFailure("singular iteration matrix", residual) from None
     if not (symmetric and sp.issparse(A)):

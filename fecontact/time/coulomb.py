@@ -35,7 +35,6 @@ from .constraints import Constraints, StepFailure, constraint_columns
 
 __all__ = [
     "SmoothFriction",
-    "friction_memory",
     "frictional_correction",
     "frictional_jump",
     "frictional_restart",
@@ -118,7 +117,15 @@ def frictional_correction(model, st, q_tilde, work, solve_H, opts, tol_gap, t, p
             x = None if not pre.any() else pre / k
         try:
             x, status, n = solve_coulomb(
-                c - D @ pre, D, _augmentation(D, opts.penalty_scale), k, mu, GT.shape[1], x, tol_gap
+                c - D @ pre,
+                D,
+                _augmentation(D, opts.penalty_scale),
+                k,
+                mu,
+                GT.shape[1],
+                x,
+                tol_gap,
+                stats=opts.stats.contact.coulomb,
             )
         except RuntimeError as err:
             raise StepFailure(f"position correction: {err}", np.nan) from None
@@ -134,19 +141,6 @@ def frictional_correction(model, st, q_tilde, work, solve_H, opts, tol_gap, t, p
             tangential[: m * (1 + nt)] = np.arange(m * (1 + nt)) % (1 + nt) > 0
             return U, nu_n, nu_t, Y[:, tangential] @ own[tangential], its
     raise StepFailure(f"frictional position correction: update {dU:.3e} m did not settle", dU)
-
-
-def friction_memory(st, m: int, dim: int) -> dict:
-    """A step's frictional record, zero but for the work done so far: positional and
-    impulsive tangential multipliers (m, nt), status (0 open, 1 stick, 2 slip) and the
-    accumulated work of friction (J)."""
-    work = st.memory.get("friction_work", np.zeros(1))
-    return {
-        "friction_nu": np.zeros((m, dim - 1)),
-        "friction_impulse": np.zeros((m, dim - 1)),
-        "friction_status": np.zeros(m),
-        "friction_work": work.copy(),
-    }
 
 
 def frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol, solve=None, preload=None):
@@ -177,8 +171,8 @@ def frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol, solve=None, pr
     if preload is not None:
         pre[: m * (1 + nt)] = preload.ravel()
     x0 = None
-    if st.impulse.size == contacts.size and "friction_impulse" in st.memory:
-        x0 = _stack(st.impulse[closed], st.memory["friction_impulse"][closed], gdot[m:] * 0)
+    if st.impulse.size == contacts.size and st.friction is not None:
+        x0 = _stack(st.impulse[closed], st.friction.impulse[closed], gdot[m:] * 0)
         x0 = (x0 + pre) / k
     try:
         x, status, its = solve_coulomb(
@@ -190,6 +184,7 @@ def frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol, solve=None, pr
             nt,
             x0,
             tol,
+            stats=opts.stats.contact.coulomb,
         )
     except RuntimeError as err:
         raise StepFailure(f"velocity jump: {err}", np.nan) from None
@@ -200,7 +195,7 @@ def frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol, solve=None, pr
     return W, lam_n, lam_t, status, its, work, lam_b
 
 
-def frictional_restart(model, q, v, x, rows, G, rates, tol_rate: float) -> np.ndarray:
+def frictional_restart(model, q, v, x, rows, G, rates, tol_rate: float, stats=None):
     r"""The contacts' share M⁻¹(Σ G_jᵀμ_N,j + G_T,jᵀμ_T,j) of the acceleration that restarts
     the generalized-α variable after an impact (:func:`.smooth_contact.restarted_acceleration`,
     whose free acceleration is ``x`` and whose normal acceleration rates are ``rates`` on
@@ -210,7 +205,8 @@ def frictional_restart(model, q, v, x, rows, G, rates, tol_rate: float) -> np.nd
     one that sticks keeps a zero tangential acceleration inside the cone, |μ_T| ≤ μ μ_N, or
     slides off against it. The law is met to 1e-12 of the largest free rate: a restart
     needs no more than the step's own accuracy. Returns (that share, the forces (μ_N, μ_T)
-    (N) of the rows, (rows, 1 + nt))."""
+    (N) of the rows, (rows, 1 + nt)); ``stats``: the run's
+    :class:`fecontact.contact.stats.ContactStats`."""
     contacts, nt = model.contacts, model.dim - 1
     GT, _ = contacts.tangent_jacobian(q, rows)
     slip = GT @ v[model.free]
@@ -227,7 +223,15 @@ def frictional_restart(model, q, v, x, rows, G, rates, tol_rate: float) -> np.nd
     tol = 1e-12 * np.max(np.abs(c), initial=0.0)
     try:
         z, _, _ = solve_coulomb(
-            c, D, _augmentation(D, 1.0), 1.0, np.where(sliding, 0.0, mu), nt, None, tol
+            c,
+            D,
+            _augmentation(D, 1.0),
+            1.0,
+            np.where(sliding, 0.0, mu),
+            nt,
+            None,
+            tol,
+            stats=None if stats is None else stats.coulomb,
         )
     except RuntimeError as err:
         raise StepFailure(f"restarted acceleration: {err}", np.nan) from None
@@ -263,8 +267,9 @@ class SmoothFriction:
         far = opts.detection_margin * model.length
         self.mu, self.nt = self.contacts.friction[P], model.dim - 1
         self.k, self.scale, self.far = opts.multiplier_scale, opts.penalty_scale, far
-        force = st.memory.get("contact_force")
-        force_t = st.memory.get("friction_force")
+        self.stats = opts.stats.contact.coulomb
+        force = None if st.smooth is None else st.smooth.normal
+        force_t = None if st.smooth is None else st.smooth.tangential
         self.lam = np.zeros((P.size, 1 + self.nt))
         if force is not None:
             self.lam[:, 0] = np.maximum(force[P], 0.0)
@@ -305,7 +310,9 @@ class SmoothFriction:
         tol = 0.1 * self.tolerance
         self.p = _augmentation(D, self.scale)
         try:
-            z, _, _ = solve_coulomb(c, D, self.p, self.k, self.mu, self.nt, lam / self.k, tol)
+            z, _, _ = solve_coulomb(
+                c, D, self.p, self.k, self.mu, self.nt, lam / self.k, tol, stats=self.stats
+            )
         except RuntimeError as err:
             raise StepFailure(f"smooth step, friction: {err}", np.nan) from None
         new = self.k * z

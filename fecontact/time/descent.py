@@ -23,8 +23,9 @@ change of W is a difference of nearly equal sums that has lost its digits (I₁ 
 strain), so no test on Π could decide.
 
 A direction that no shift makes descend, or a line search that finds no decrease, fails the
-step (then halved), never a silent tiny step. Both events are counted in ``NEWTON``, which
-``fecontact.run`` reports in ``summary.json`` (``smooth_newton``).
+step (then halved), never a silent tiny step. Both events are counted in the run's
+:class:`fecontact.time.stats.NewtonStats`, which ``fecontact.run`` reports in ``summary.json``
+(``smooth_newton``).
 """
 
 from __future__ import annotations
@@ -35,12 +36,9 @@ import numpy as np
 import scipy.sparse as sp
 
 from .constraints import StepFailure, factorize_or_fail
+from .stats import NewtonStats
 
-__all__ = ["NEWTON", "Armijo", "descent_direction"]
-
-NEWTON = {"iterations": 0, "line_search_cuts": 0, "shifted_directions": 0}
-"""Smooth Newton updates in this process: all of them, the halvings of their length by the
-line search, and the directions recomputed with a mass shift (not descending)."""
+__all__ = ["Armijo", "descent_direction"]
 
 ARMIJO = 1e-4
 MAX_CUTS = 30
@@ -64,14 +62,16 @@ class Armijo(NamedTuple):
     def accepts(self, W1: float) -> bool:
         return self.lin + self.quad + (W1 - self.W0) <= ARMIJO * self.slope
 
-    def backtrack(self, model) -> float:
-        """The first s = ½, ¼, … that passes the test, from the strain energy at q + s dq."""
+    def backtrack(self, model, stats: NewtonStats | None = None) -> float:
+        """The first s = ½, ¼, … that passes the test, from the strain energy at q + s dq
+        (each halving counted in ``stats``)."""
+        stats = NewtonStats() if stats is None else stats
         q = self.X[0]
         qt = q.copy()
         s = 1.0
         for _ in range(MAX_CUTS):
             s *= 0.5
-            NEWTON["line_search_cuts"] += 1
+            stats.line_search_cuts += 1
             qt[model.free] = q[model.free] + s * self.dq
             change = s * self.lin + s * s * self.quad + (model.strain_energy(qt) - self.W0)
             if change <= ARMIJO * s * self.slope:
@@ -79,7 +79,19 @@ class Armijo(NamedTuple):
         raise StepFailure("smooth step: the line search found no decrease", self.residual)
 
 
-def descent_direction(model, r, fi, S, K, solve, shift, tol_increment: float, residual: float):
+def descent_direction(
+    model,
+    r,
+    fi,
+    S,
+    K,
+    solve,
+    shift,
+    tol_increment: float,
+    residual: float,
+    stats=None,
+    solver=None,
+):
     """Newton's direction −S⁻¹r of the free dofs, or the mass-shifted one where it does not
     descend Π.
 
@@ -88,9 +100,12 @@ def descent_direction(model, r, fi, S, K, solve, shift, tol_increment: float, re
     S⁻¹, ``shift`` is the positive definite matrix β′M added to shift S. ``residual`` is the
     relative residual, reported if the step fails. Returns dq, lin and quad (see
     :class:`Armijo`) and the slope r·dq < 0; slope None for an update below
-    ``tol_increment`` (:meth:`fecontact.model.Model.update_size`), taken whole.
+    ``tol_increment`` (:meth:`fecontact.model.Model.update_size`), taken whole. The update and
+    its shifts are counted in ``stats`` (:class:`fecontact.time.stats.NewtonStats`); ``solver``
+    (:class:`fecontact.linalg.LinearSolver`) factorizes the shifted matrices.
     """
-    NEWTON["iterations"] += 1
+    stats = NewtonStats() if stats is None else stats
+    stats.iterations += 1
     dq = -solve(r)
     if model.update_size(dq) <= tol_increment:
         return dq, 0.0, 0.0, None
@@ -101,8 +116,8 @@ def descent_direction(model, r, fi, S, K, solve, shift, tol_increment: float, re
             quad = 0.5 * (float(dq @ (S @ dq)) - float(dq @ (K @ dq)))
             return dq, float((r - fi) @ dq), quad, slope
         tau = 1.0 if tau == 0.0 else 10.0 * tau
-        NEWTON["shifted_directions"] += 1
-        dq = -factorize_or_fail(_plus(S, tau * shift), residual, symmetric=True)(r)
+        stats.shifted_directions += 1
+        dq = -factorize_or_fail(_plus(S, tau * shift), residual, True, solver)(r)
     raise StepFailure("smooth step: no descent direction of the incremental potential", residual)
 
 

@@ -30,8 +30,8 @@ half a step as in the decoupled scheme (:mod:`.position_jump`, γ = ½): without
 impact of the founding pendulum put 1.7 % of its kinetic energy into the strip at
 h = 8e-4 s. The step keeps no acceleration variable: v̇ = Δṽ/h of the
 smooth step (not the impact's jump) is reported and carries Δv_n to the next step; Δε_n of
-the smooth step (not the correction's strain) travels in the state's memory. Newton uses
-the exact tangent of f̄ (complex step per element), not symmetric.
+the smooth step (not the correction's strain) travels in the state (``strain_increment``).
+Newton uses the exact tangent of f̄ (complex step per element), not symmetric.
 """
 
 from __future__ import annotations
@@ -41,9 +41,8 @@ import time
 
 from ..errors import InputError
 from .constraints import StepFailure, factorize_or_fail
-from .descent import NEWTON
-from .nsga import SmoothStep, nsga_step
-from .smooth_contact import uses_smooth_contact
+from .nsga import SmoothStep, decoupled_step
+from .settings import run_settings, uses_smooth_contact
 
 __all__ = ["check_energy_scheme", "energy_nsga_step"]
 
@@ -74,10 +73,10 @@ def check_energy_scheme(model, opts) -> None:
 
 def energy_nsga_step(model, st, h: float, opts, timer):
     """The NSGA step with the energy-decaying step 1; the state remembers its Δε."""
-    state = nsga_step(model, st, h, opts, timer, energy_smooth_step)
-    q_tilde = state.memory.pop("smooth_q", state.q)
+    opts = run_settings(model, opts)
+    state, q_tilde = decoupled_step(model, st, h, opts, timer, energy_smooth_step)
     # the smooth step's own Δε: a correction's strain is no part of the stored energy
-    state.memory["strain_increment"] = model.element_strains(q_tilde) - model.element_strains(st.q)
+    state.strain_increment = model.element_strains(q_tilde) - model.element_strains(st.q)
     return state
 
 
@@ -89,7 +88,7 @@ def dissipation(rho_inf: float) -> float:
 def _previous_increments(model, st, h: float):
     """r Δε_n (the smooth step's, without the correction) and r Δv_n = h v̇_n; at the start,
     from the strain rate of (q_0, v_0) and the initial acceleration."""
-    de = st.memory.get("strain_increment")
+    de = st.strain_increment
     if de is None or not st.h:
         return model.element_strains(st.q) - model.element_strains(st.q - h * st.v), h * st.vd
     return (h / st.h) * de, h * st.vd
@@ -125,8 +124,8 @@ def energy_smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
             break
         if it == opts.max_iterations:
             raise StepFailure("energy-decaying smooth step", rnorm / ref)
-        NEWTON["iterations"] += 1
-        dq = -factorize_or_fail(model.iteration_sum(w / h, K), rnorm / ref)(r)
+        opts.stats.newton.iterations += 1
+        dq = -factorize_or_fail(model.iteration_sum(w / h, K), rnorm / ref, False, model.solver)(r)
         q[F] += dq
         clock = timer.add("solve", clock)
         if model.update_size(dq) <= opts.tol_increment:  # round-off bounds the residual

@@ -52,7 +52,7 @@ def velocity_jump(
         # joints only: the M-orthogonal projection onto G_b v = 0, no active set to find
         G1 = model.joints.jacobian(q, model.joints.all)[1] if Gb is None else Gb
         Y = model.solve_M(G1.T).reshape(len(F), -1)
-        mu = factorize(G1 @ Y)(-(G1 @ v[F]))
+        mu = factorize(G1 @ Y, solver=model.solver)(-(G1 @ v[F]))
         return Y @ mu, _EMPTY, 1, None
     cons = Constraints(model, closed)
     if held is not None:
@@ -66,19 +66,8 @@ def velocity_jump(
     if contacts.moving:  # ġ = G v + ∂g/∂t at t_{n+1} and, for the impact law, at t_n
         gdot[: closed.size] += contacts.rates(q, closed)
     if np.any(e):
-        Gn = G1 if cons.linear else cons.jacobian(st.q)[1]  # constant gradients: G(q_n) = G
-        gdot_n = Gn @ st.v[F]
-        if contacts.moving:
-            contacts.set_time(st.t)
-            gdot_n[: closed.size] += contacts.rates(st.q, closed)
-            contacts.set_time(t)
-        if opts.impact_velocity == "interpolated" and st.gaps.size == contacts.size:
-            nc = closed.size
-            tau = _crossing_fraction(st.gaps[closed], g_tilde[closed], tol_gap)
-            g1 = gdot if approach is None else G1 @ approach[F]
-            if approach is not None and contacts.moving:
-                g1[: closed.size] += contacts.rates(q, closed)
-            gdot_n[:nc] += tau * (g1[:nc] - gdot_n[:nc])
+        rows = (cons, G1, closed, g_tilde, gdot)
+        gdot_n = _approach_rates(model, st, q, t, rows, opts, tol_gap, approach)
     else:
         gdot_n = np.zeros_like(gdot)
     if not np.all(np.isfinite(gdot)):  # a NaN would switch every test of the law off
@@ -111,10 +100,34 @@ def velocity_jump(
             Y=Y,
             Lam0=Lam0,
             tol=tol,
+            stats=opts.stats.contact,
         )
     except RuntimeError as err:
         raise StepFailure(str(err), np.nan) from None
     return W, k * Lam, its, None
+
+
+def _approach_rates(model, st, q, t, rows, opts, tol_gap, approach) -> np.ndarray:
+    """ġ⁻ of the rows (cons, G1, closed, g_tilde, gdot) of the jump (module docstring of
+    :func:`velocity_jump`): from the start of the step, interpolated to the instant the gap
+    crosses zero with ``impact_velocity="interpolated"`` (toward G(q_{n+1}) ``approach``,
+    default the velocity ``gdot`` at the end of the step)."""
+    cons, G1, closed, g_tilde, gdot = rows
+    F, contacts = model.free, model.contacts
+    Gn = G1 if cons.linear else cons.jacobian(st.q)[1]  # constant gradients: G(q_n) = G
+    gdot_n = Gn @ st.v[F]
+    if contacts.moving:
+        contacts.set_time(st.t)
+        gdot_n[: closed.size] += contacts.rates(st.q, closed)
+        contacts.set_time(t)
+    if opts.impact_velocity == "interpolated" and st.gaps.size == contacts.size:
+        nc = closed.size
+        tau = _crossing_fraction(st.gaps[closed], g_tilde[closed], tol_gap)
+        g1 = gdot if approach is None else G1 @ approach[F]
+        if approach is not None and contacts.moving:
+            g1[: closed.size] += contacts.rates(q, closed)
+        gdot_n[:nc] += tau * (g1[:nc] - gdot_n[:nc])
+    return gdot_n
 
 
 def _crossing_fraction(g_n, g_tilde, tol_gap):

@@ -55,8 +55,10 @@ from .constraints import (
     factorize_or_fail,
     plus_curvature,
 )
-from .coulomb import friction_memory, frictional_jump
+from .coulomb import frictional_jump
 from .poisson import poisson_jump
+from .records import FrictionRecord
+from .settings import run_settings
 from .state import IntegratorOptions, PhaseTimer, State, length_scale
 
 __all__ = ["moreau_step"]
@@ -65,6 +67,7 @@ __all__ = ["moreau_step"]
 def moreau_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer) -> State:
     """One Moreau–Jean step from ``st`` over ``h`` (s): θ-method with Newton's impact law
     at velocity level on the contacts closed at q_n + ½h v_n, joints as G_b v_{n+1} = 0."""
+    opts = run_settings(model, opts)
     theta = float(opts.theta)  # in (0, 1], checked by IntegratorOptions
     F, m = model.free, model.contacts.size
     clock = time.perf_counter()
@@ -87,14 +90,16 @@ def moreau_step(model, st: State, h: float, opts: IntegratorOptions, timer: Phas
     v_theta = (1.0 - theta) * st.v[F] + theta * v
     q[F] += h * v_theta
     vfull[F] = v
-    memory = friction_memory(st, m, model.dim) if model.contacts.frictional else {}
+    record = None
+    if model.contacts.frictional:
+        record = FrictionRecord.start(st.friction, m, model.dim)
     if tangential is not None:
         P_t, status, GT = tangential
-        memory["friction_impulse"][index_set] = P_t
-        memory["friction_status"][index_set] = status
+        record.impulse[index_set] = P_t
+        record.status[index_set] = status
         # the tangential impulse against the slip over the step, h G_T v_θ: the work that
         # the position update q_{n+1} = q_n + h v_θ lets friction do
-        memory["friction_work"] -= float(np.sum(P_t * (GT @ v_theta)))
+        record.work -= float(np.sum(P_t * (GT @ v_theta)))
     vd[F] = model.solve_M(f)
     impulse = np.zeros(m)
     impulse[index_set] = P[: index_set.size]
@@ -115,7 +120,7 @@ def moreau_step(model, st: State, h: float, opts: IntegratorOptions, timer: Phas
         impulse=impulse,
         lam=-P[index_set.size :] / h,  # as the smooth step's λ: the joint force is −G_bᵀλ
         iterations={"smooth": its[0], "position": 0, "velocity": its[1]},
-        memory=memory,
+        friction=record,
     )
 
 
@@ -155,60 +160,101 @@ def _moreau_newton(model, st, h, theta, rows, opts, timer, slip=None):
         q[F] = q0 + ht * v
         _, fint, K = model.internal(q)
         f = fext - fint[F]
-        if damped:
-            Ct = alpha * M + beta_k * K
-            f -= Ct @ v
+        Ct = alpha * M + beta_k * K if damped else None
+        f = _minus_damping(f, Ct, v)
         Mdv = M @ (v - vn)
         R = Mdv - hf_n - ht * f
-        if nr and (it == 0 or not rows[0].linear):
+        if nr and (it == 0 or not rows[0].linear):  # (constant gradients: evaluated once)
             G = rows[0].jacobian(q)[1]
         if nr:
-            GP = G.T @ P
-            if tangential is not None:
-                GT = model.contacts.tangent_jacobian(q, slip[0])[0]
-                friction_force = np.einsum("mt,mtk->k", tangential[0], GT)
-                tangential = (tangential[0], tangential[1], GT)
+            GP, friction_force, tangential = _constraint_forces(model, q, G, P, tangential, slip)
         r = R - GP - friction_force
         clock = timer.add("assembly", clock)
-        ref = max(Mdv @ Mdv, hf_n @ hf_n, h * h * (f @ f), 1e-300)
-        rnorm = math.sqrt(r @ r)
-        if not math.isfinite(rnorm):
-            raise StepFailure("Moreau–Jean step diverged", rnorm)
-        ref = math.sqrt(max(ref, GP @ GP)) if nr else math.sqrt(ref)
-        if (it or not nr) and (rnorm <= opts.tol_residual * ref or dq <= opts.tol_increment):
+        rnorm, ref = _norms(r, (Mdv, hf_n, h, f), GP if nr else None)
+        if _converged(it, nr, rnorm, ref, dq, opts):
             return v, P, f, (it, lcp_its), tangential
         if it == opts.max_iterations:
             raise StepFailure("Moreau–Jean step", rnorm / ref)
-        What = M + ht * ht * K
-        if damped:
-            What = What + ht * Ct
-        if nr and not rows[0].linear and np.any(P):
-            What = plus_curvature(What, -ht, rows[0].curvature(q, P))
-        solve = factorize_or_fail(What, rnorm / ref, symmetric=True)
+        What = _iteration_matrix(model, K, Ct, ht, rows, q, P)
+        solve = factorize_or_fail(What, rnorm / ref, True, model.solver)
         v_new = v - solve(R)
         clock = timer.add("solve", clock)
-        if nr and opts.impact_law == "poisson" and np.any(rows[2]):
-            W, P, n, tangential = _poisson_law(model, st, q, v_new, G, rows, solve, opts, h)
+        if nr:
+            W, P, n, tangential = _contact_law(model, st, q, v_new, G, rows, solve, opts, slip, h)
             v_new += W
             lcp_its += n
             clock = timer.add("contact", clock)
-        elif nr and slip is not None:
-            W, P, n, tangential = _coulomb_law(model, st, q, v_new, G, rows, solve, opts, slip)
-            v_new += W
-            lcp_its += n
-            clock = timer.add("contact", clock)
-        elif nr:
-            W, P, n = _impact_law(G, G @ v_new + rows[1], solve, rows[0].bilateral, opts)
-            v_new += W
-            lcp_its += n
-            clock = timer.add("contact", clock)
-        if (not nr or rows[0].linear) and _is_zero(K) and not _turning(model, slip):
-            if damped:
-                f -= Ct @ (v_new - v)
+        if _exact(model, rows, K, slip):
+            f = _minus_damping(f, Ct, v_new - v)
             return v_new, P, f, (it + 1, lcp_its), tangential
         dq = model.update_size(ht * (v_new - v))
         v = v_new
     raise AssertionError("unreachable")
+
+
+def _minus_damping(f, Ct, v):
+    """f − C_t v (``Ct`` None: no damping, f itself)."""
+    if Ct is None:
+        return f
+    f -= Ct @ v
+    return f
+
+
+def _norms(r, parts, GP):
+    """|r| and its reference: the largest of |M(v − v_n)|, |h(1 − θ)f_n|, |h f| (``parts``
+    = (M(v − v_n), h(1 − θ)f_n, h, f)) and |GᵀP| (``GP``, None without constraint rows)."""
+    Mdv, hf_n, h, f = parts
+    ref = max(Mdv @ Mdv, hf_n @ hf_n, h * h * (f @ f), 1e-300)
+    rnorm = math.sqrt(r @ r)
+    if not math.isfinite(rnorm):
+        raise StepFailure("Moreau–Jean step diverged", rnorm)
+    return rnorm, math.sqrt(ref if GP is None else max(ref, GP @ GP))
+
+
+def _converged(it: int, nr: int, rnorm: float, ref: float, dq: float, opts) -> bool:
+    """The residual or the last update below tolerance; with constraint rows (``nr``), not
+    before the impact law has been solved once."""
+    return bool(it or not nr) and (rnorm <= opts.tol_residual * ref or dq <= opts.tol_increment)
+
+
+def _exact(model, rows, K, slip) -> bool:
+    """Whether one iteration is exact: no stiffness (K_t = 0: rigid bodies), constant
+    constraint gradients and no turning slip rows (the residual is linear in v)."""
+    return (rows is None or rows[0].linear) and _is_zero(K) and not _turning(model, slip)
+
+
+def _constraint_forces(model, q, G, P, tangential, slip):
+    """(GᵀP, Σ G_Tᵀ P_T, tangential) at q: the impulses' generalized forces, with the slip
+    rows' G_T of the last law's (P_T, status) taken at q (None without friction)."""
+    GP, friction_force = G.T @ P, 0.0
+    if tangential is not None:
+        GT = model.contacts.tangent_jacobian(q, slip[0])[0]
+        friction_force = np.einsum("mt,mtk->k", tangential[0], GT)
+        tangential = (tangential[0], tangential[1], GT)
+    return GP, friction_force, tangential
+
+
+def _iteration_matrix(model, K, Ct, ht, rows, q, P):
+    """Ŵ = M + hθ C_t + (hθ)² K_t (``Ct`` None: no damping), with the curvature of the
+    constraint rows under their impulses P where the gradients depend on q."""
+    What = model.M + ht * ht * K
+    if Ct is not None:
+        What = What + ht * Ct
+    if rows and not rows[0].linear and np.any(P):
+        What = plus_curvature(What, -ht, rows[0].curvature(q, P))
+    return What
+
+
+def _contact_law(model, st, q, v_free, G, rows, solve, opts, slip, h):
+    """The impact law at the velocity ``v_free`` (free dofs) in the metric Ŵ: W, P (normal
+    then joint impulses), iterations, and with ``slip`` Coulomb's (P_T, status, G_T).
+    Poisson's law where the options ask for it and a row restitutes (e > 0)."""
+    if opts.impact_law == "poisson" and np.any(rows[2]):
+        return _poisson_law(model, st, q, v_free, G, rows, solve, opts, h)
+    if slip is not None:
+        return _coulomb_law(model, st, q, v_free, G, rows, solve, opts, slip)
+    W, P, n = _impact_law(G, G @ v_free + rows[1], solve, rows[0].bilateral, opts)
+    return W, P, n, None
 
 
 def _coulomb_law(model, st, q, v_free, G, rows, solve, opts, slip):
@@ -258,7 +304,7 @@ def _impact_law(G, c, solve, bilateral, opts):
     k = opts.multiplier_scale
     try:
         W, Lam, its = solve_velocity_jump(
-            G, c, solve, p, k, opts.max_iterations, bilateral=bilateral
+            G, c, solve, p, k, opts.max_iterations, bilateral=bilateral, stats=opts.stats.contact
         )
     except RuntimeError as err:
         raise StepFailure(str(err), np.nan) from None

@@ -30,223 +30,304 @@ Impacts make the global error first order. Steps without a contact candidate ski
 
 from __future__ import annotations
 
-import math
 import time
-from typing import NamedTuple
 
 import numpy as np
-import scipy.sparse as sp
 
-from ..contact import solve_position_correction
-from ..joints import newton_remainder
 from ..ledger import smooth_record
-from ..linalg import UnitColumns, low_rank_solver
+from .alpha_step import SmoothStep, alpha_smooth_step
+from .configuration import plus
 from .constraints import (
-    Constraints,
     StepFailure,
-    augmentation,
-    bordered,
-    constraint_columns,
-    factorize_or_fail,
-    plus_curvature,
 )
-from .coulomb import SmoothFriction, friction_memory, frictional_correction
-from .descent import Armijo, descent_direction
-from .generalized_alpha import coefficients, predict
+from .correction import correction_metric, position_correction
+from .coulomb import frictional_correction
+from .generalized_alpha import coefficients
 from .impacts import velocity_jump
 from .penetration import check_predictor
 from .position_jump import acceleration_jump, velocity_follows
+from .records import FrictionRecord, SmoothForces
+from .settings import RunSettings, run_settings
 from .smooth_contact import (
-    SmoothContacts,
     force_shares,
     held_shares,
     persistent_contacts,
     released,
     restarted_acceleration,
-    uses_smooth_contact,
     without_released,
 )
-from .state import IntegratorOptions, JointTolerance, PhaseTimer, State, length_scale
+from .state import IntegratorOptions, PhaseTimer, State, length_scale
 
-__all__ = ["nsga_step"]
+__all__ = ["SmoothStep", "alpha_smooth_step", "decoupled_step", "nsga_step"]
 
 
-def nsga_step(
+def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer) -> State:
+    """One step of the nonsmooth generalized-α method from ``st`` over ``h`` (s): the smooth
+    step, the position correction and the velocity jump (module docstring)."""
+    if not isinstance(opts, RunSettings):
+        opts = run_settings(model, opts)
+    step = _Phases(model, st, h, opts, timer, None)
+    step.smooth()
+    return step.finish(time.perf_counter())
+
+
+def decoupled_step(
     model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer, smooth_step=None
-) -> State:
-    # another step 1 (:mod:`.energy_step`) corrects in the metric of the trapezoidal rule
-    c = coefficients(1.0 if smooth_step else opts.rho_inf, h)
-    t = st.t + h
-    m, joints = model.contacts.size, model.joints
-    smooth = uses_smooth_contact(model, opts)
-    restarts = smooth and not model.slender  # (beams: see smooth_contact, the restart)
-    P = persistent_contacts(model, st, opts.detection_margin * model.length) if smooth else None
-    st_s = st  # the state the smooth step starts from
-    step = (smooth_step or _smooth_step)(model, st, t, c, opts, timer, P)
-    if smooth and (rows := released(st, P, step.force, opts.tol_residual)).size:
-        st_s, first = without_released(model, st, rows), step.iterations
-        step = _smooth_step(model, st_s, t, c, opts, timer, P)
-        step = step._replace(iterations=step.iterations + first)
-    q, v, vd, a, lam, S, it, Gb, force, smooth_t, work_t = step
-    iters = {"smooth": it, "position": 0, "velocity": 0}
-    clock = time.perf_counter()
-    if m == 0 and joints.size == 0:
-        return State(t, q, v, vd, a, h=h, lam=lam, iterations=iters)
-    ledger = [v.copy(), None]  # the smooth step's ṽ and, after a correction, q̃
-    friction = model.contacts.frictional
-    memory = friction_memory(st, m, model.dim) if friction else {}
-    if smooth_step:  # q̃, before the correction: the energy-decaying step's Δε
-        memory["smooth_q"] = q
-    if smooth:
-        memory["contact_force"] = np.zeros(m) if force is None else force
-        if friction:
-            memory["friction_force"] = np.zeros((m, model.dim - 1)) if force is None else smooth_t
-            memory["friction_work"] += work_t
-        memory |= force_shares(model, st_s, c, force, smooth_t)
-    # (λ_N, λ_T) of the smooth step (N): the corrections hold the step's total in the cone
-    grip = None if smooth_t is None else np.column_stack([force, smooth_t])
+) -> tuple[State, np.ndarray]:
+    """The NSGA step with step 1 made by ``smooth_step`` (default: generalized-α), and the
+    positions q̃ it reached before the correction."""
+    step = _Phases(model, st, h, run_settings(model, opts), timer, smooth_step)
+    q_smooth = step.smooth()
+    return step.finish(time.perf_counter()), q_smooth
 
-    # 2. position correction, only if a contact candidate penetrates (joints already hold)
-    model.contacts.set_time(t)
-    g_tilde = model.contacts.gaps(q)
-    check_predictor(model, q, g_tilde)
-    cand = (g_tilde <= opts.detection_margin * model.length).nonzero()[0]
-    # (only the candidates use the gap tolerance)
-    tol_gap = opts.tol_gap * length_scale(model, q) if cand.size else 0.0
-    nu, impulse, gaps = np.zeros(m), np.zeros(m), g_tilde
-    short = g_tilde[cand] < 0.0
-    corrected = None  # (q̃, the metric's solve) after a correction of the decoupled scheme
-    if force is not None:  # the persistent contacts the smooth step closed are not short
-        short &= ~(np.isin(cand, P) & (g_tilde[cand] >= -tol_gap))
-    if short.any():
-        # the working set: the penetrating candidates and those active in the previous step,
-        # then any other candidate that the correction pushes below the plane of its gap; the
-        # work follows the contact zone, not the detection margin (a long body has hundreds
-        # of candidates, a few in contact)
+
+class _Phases:
+    """One NSGA step from ``st`` over ``h`` (s) as it is made: the smooth step, the position
+    correction, the velocity jump, and the accelerations' follow-up of the correction; the
+    attributes are what the phases hand each other."""
+
+    # the attributes (slots: every access of the step's hot loop is cheaper)
+    __slots__ = (
+        "Gb P a c cand closed corrected force forces g_tilde gaps grip h held impulse "
+        "iters lam m model nu opts q q_tilde record smooth_step st st_s step t timer tol_gap "
+        "v v_tilde vd"
+    ).split()
+
+    def __init__(self, model, st: State, h: float, opts, timer: PhaseTimer, smooth_step):
+        self.model, self.st, self.h, self.opts, self.timer = model, st, h, opts, timer
+        self.smooth_step = smooth_step
+        # another step 1 (:mod:`.energy_step`) corrects in the metric of the trapezoidal rule
+        self.c = coefficients(1.0 if smooth_step else opts.rho_inf, h)
+        self.t = st.t + h
+        self.m = model.contacts.size
+        self.record = self.forces = None  # the step's friction and smooth forces' records
+        self.grip = None  # (λ_N, λ_T) of the smooth step with friction
+        self.nu = self.impulse = self.gaps = self.cand = None
+        self.corrected = None  # (q̃, the metric's solve) after a correction (decoupled scheme)
+        self.q_tilde = None  # q̃ after a correction moved q (for the energy ledger)
+
+    def smooth(self) -> np.ndarray:
+        """Step 1 (taken again without the contacts it releases) and the records of its
+        forces; returns q̃."""
+        model, st, opts, c, t = self.model, self.st, self.opts, self.c, self.t
+        P = None
+        if opts.smooth:
+            P = persistent_contacts(model, st, opts.detection_margin * model.length)
+        self.st_s = st  # the state the smooth step starts from
+        step = (self.smooth_step or alpha_smooth_step)(model, st, t, c, opts, self.timer, P)
+        if opts.smooth and (rows := released(st, P, step.force, opts.tol_residual)).size:
+            self.st_s, first = without_released(model, st, rows), step.iterations
+            opts.stats.releases += 1
+            step = alpha_smooth_step(model, self.st_s, t, c, opts, self.timer, P)
+            step = step._replace(iterations=step.iterations + first)
+        self.P, self.step = P, step
+        self.q, self.v, self.vd, self.a, self.lam = step.q, step.v, step.vd, step.a, step.lam
+        self.Gb, self.force = step.Gb, step.force
+        self.iters = {"smooth": step.iterations, "position": 0, "velocity": 0}
+        if (opts.friction or opts.smooth) and (self.m or model.joints.size):
+            self._records()
+        return step.q
+
+    def _records(self) -> None:
+        model, m, step = self.model, self.m, self.step
+        force = step.force
+        if self.opts.friction:
+            self.record = FrictionRecord.start(self.st.friction, m, model.dim)
+        if self.opts.smooth:
+            normal, tangential = np.zeros(m) if force is None else force, None
+            if self.opts.friction:
+                tangential = np.zeros((m, model.dim - 1)) if force is None else step.friction_force
+                self.record.work += step.friction_work
+            shares = force_shares(model, self.st_s, self.c, force, step.friction_force)
+            self.forces = SmoothForces(normal, tangential, *shares)
+        # (λ_N, λ_T) of the smooth step (N): the corrections hold the step's total in the cone
+        if step.friction_force is not None:
+            self.grip = np.column_stack([force, step.friction_force])
+
+    def correct(self) -> None:
+        """Step 2 on the working set: the penetrating candidates and those active in the
+        previous step, then any other candidate that the correction pushes below the plane
+        of its gap; the work follows the contact zone, not the detection margin (a long body
+        has hundreds of candidates, a few in contact)."""
+        model, st, opts, m, q = self.model, self.st, self.opts, self.m, self.q
+        model.contacts.set_time(self.t)
+        self.g_tilde = g_tilde = model.contacts.gaps(q)
+        check_predictor(model, q, g_tilde)
+        cand = (g_tilde <= opts.detection_margin * model.length).nonzero()[0]
+        # (only the candidates use the gap tolerance)
+        self.tol_gap = opts.tol_gap * length_scale(model, q) if cand.size else 0.0
+        self.nu, self.impulse, self.gaps, self.cand = np.zeros(m), np.zeros(m), g_tilde, cand
+        short = g_tilde[cand] < 0.0
+        if self.force is not None:  # the persistent contacts the smooth step closed are not short
+            short &= ~(np.isin(cand, self.P) & (g_tilde[cand] >= -self.tol_gap))
+        if not short.any():
+            return
         was_active = st.nu[cand] > 0.0 if st.nu.size == m else False
-        if grip is not None:  # contacts gripped by the smooth step keep their grip
-            was_active = was_active | (force[cand] > 0.0)
+        if self.grip is not None:  # contacts gripped by the smooth step keep their grip
+            was_active = was_active | (self.force[cand] > 0.0)
         work = cand[short | was_active]
-        q_tilde = ledger[1] = q
-        metric = _metric(model, q_tilde, S, c, opts.metric)
+        q_tilde = self.q_tilde = q
+        metric = correction_metric(model, q_tilde, self.step.S, self.c, opts.metric)
         while True:
-            if friction:
-                pre = None if grip is None else grip[work] / c.bp  # as positional multipliers
-                U, nu_w, nu_t, U_t, its = frictional_correction(
-                    model, st, q_tilde, work, metric[1], opts, tol_gap, t, pre
-                )
-            else:
-                nu0 = st.nu[work] / opts.multiplier_scale  # warm start: the previous step's
-                U, nu_w, its = _position_correction(
-                    model, q_tilde, work, metric, c, opts, tol_gap, nu0
-                )
-            iters["position"] += its
-            q = q_tilde.copy()
-            q[model.free_slice] += U
-            gaps = model.contacts.gaps(q)
-            pushed = cand[gaps[cand] < -tol_gap]
+            U, nu_w, friction = self._corrected(q_tilde, work, metric)
+            self.q = q = plus(model, q_tilde, U)
+            self.gaps = model.contacts.gaps(q)
+            pushed = cand[self.gaps[cand] < -self.tol_gap]
             pushed = pushed[~np.isin(pushed, work)]
             if pushed.size == 0:
                 break
             work = np.union1d(work, pushed)
         if model.inverted(q):
             raise StepFailure("the position correction inverts an element (det F <= 0)", np.nan)
-        nu[work] = nu_w[: work.size]
-        if friction:
-            memory["friction_nu"][work] = nu_t
+        self.nu[work] = nu_w[: work.size]
+        if friction is not None:
+            nu_t, U_t = friction
+            self.record.nu[work] = nu_t
             # the work of the positional friction against the forces at q̃ (exact for the
             # constant forces of rigid bodies under gravity)
-            f = model.external(t) - model.internal(q_tilde, tangent=False)[1]
-            memory["friction_work"] += f[model.free] @ U_t
-        Gb = None  # the joints' gradient moved with q
-        corrected = None if restarts else (q_tilde, metric[1])
+            f = model.external(self.t) - model.internal(q_tilde, tangent=False)[1]
+            self.record.work += f[model.free] @ U_t
+        self.Gb = None  # the joints' gradient moved with q
+        self.corrected = None if opts.restarts else (q_tilde, metric[1])
 
-    # 3. velocity jump on the contacts closed at q_{n+1}, and on the joints
-    closed = cand[gaps[cand] <= tol_gap] if cand.size else cand
-    if closed.size or joints.size:
-        held = None if force is None else force[closed] > 0.0
-        v_tilde = v.copy()  # ṽ, the smooth step's velocity
-        preload = None if grip is None else h * grip[closed]  # the smooth forces' impulse
-        W, Lam, iters["velocity"], tangential = velocity_jump(
-            model, st, q, v, closed, g_tilde, opts, t, tol_gap, Gb, held, preload
+    def _corrected(self, q_tilde, work, metric):
+        """(U, k ν_N, (k ν_T, U_T) with friction else None) of the correction on ``work``."""
+        model, st, opts, c = self.model, self.st, self.opts, self.c
+        if opts.friction:
+            pre = None if self.grip is None else self.grip[work] / c.bp  # positional multipliers
+            U, nu_w, nu_t, U_t, its = frictional_correction(
+                model, st, q_tilde, work, metric[1], opts, self.tol_gap, self.t, pre
+            )
+            self.iters["position"] += its
+            return U, nu_w, (nu_t, U_t)
+        nu0 = st.nu[work] / opts.multiplier_scale  # warm start: the previous step's
+        U, nu_w, its = position_correction(model, q_tilde, work, metric, c, opts, self.tol_gap, nu0)
+        self.iters["position"] += its
+        return U, nu_w, None
+
+    def jump(self) -> None:
+        """Step 3 on the contacts closed at q_{n+1} and on the joints."""
+        model, cand, tol_gap = self.model, self.cand, self.tol_gap
+        self.closed = closed = cand[self.gaps[cand] <= tol_gap] if cand.size else cand
+        if not (closed.size or model.joints.size):
+            return
+        force, grip = self.force, self.grip
+        self.held = held = None if force is None else force[closed] > 0.0
+        preload = None if grip is None else self.h * grip[closed]  # the smooth forces' impulse
+        W, Lam, self.iters["velocity"], tangential = velocity_jump(
+            model,
+            self.st,
+            self.q,
+            self.v,
+            closed,
+            self.g_tilde,
+            self.opts,
+            self.t,
+            tol_gap,
+            self.Gb,
+            held,
+            preload,
         )
-        v[model.free_slice] += W
+        self.v[model.free_slice] += W
         if closed.size:
-            impulse[closed] = Lam[: closed.size]
-        if restarts and _impact(nu, impulse[closed], held):
-            # restart the acceleration variable from the post-impact state
-            restart = restarted_acceleration(model, q, v, v_tilde, t, closed, tol_gap / h)
-            if restart is not None:
-                vd[model.free_slice] = a[model.free_slice] = restart[0]
-                memory |= force_shares(model, st_s, c, force, smooth_t, restart[1])
+            self.impulse[closed] = Lam[: closed.size]
+        if self.opts.restarts and _impact(self.nu, self.impulse[closed], held):
+            self._restart()
         if tangential is not None:
             lam_t, status, work = tangential
-            memory["friction_impulse"][closed] = lam_t
-            memory["friction_status"][closed] = status
-            memory["friction_work"] += work
-    # v̇ and a follow the correction (:mod:`.position_jump`) in a step where a contact closed
-    impact = st.gaps.size == m and np.any(st.gaps[closed] > tol_gap)
-    if corrected is not None and impact:
-        q_tilde, solve_H = corrected
+            self.record.impulse[closed] = lam_t
+            self.record.status[closed] = status
+            self.record.work += work
+
+    def _restart(self) -> None:
+        """Restart the acceleration variable from the post-impact state."""
+        model, closed = self.model, self.closed
+        restart = restarted_acceleration(
+            model,
+            self.q,
+            self.v,
+            self.v_tilde,
+            self.t,
+            closed,
+            self.tol_gap / self.h,
+            self.opts.stats.contact,
+        )
+        if restart is not None:
+            self.vd[model.free_slice] = self.a[model.free_slice] = restart[0]
+            step = self.step
+            shares = force_shares(
+                model, self.st_s, self.c, step.force, step.friction_force, restart[1]
+            )
+            self.forces.in_vd, self.forces.in_a = shares
+
+    def follow(self) -> None:
+        """v̇ and a follow the correction (:mod:`.position_jump`) in a step where a contact
+        closed, and without friction v follows them."""
+        st, closed = self.st, self.closed
+        if self.corrected is None:  # (tested first: it decides most steps at no cost)
+            return
+        if not (st.gaps.size == self.m and np.any(st.gaps[closed] > self.tol_gap)):
+            return
+        model, c, opts, F = self.model, self.c, self.opts, self.model.free_slice
+        q_tilde, solve_H = self.corrected
         if opts.metric != "stiffness":  # the update is always in the step's own S_t
-            solve_H = _metric(model, q_tilde, S, c, "stiffness")[1]
-        dvd, hold = acceleration_jump(model, q, q_tilde, v, closed, solve_H, tol_gap / h)
-        if not smooth_step:  # (the energy-decaying step's v̇ stays its smooth Δv/h)
-            vd[model.free_slice] += dvd
-            a[model.free_slice] += (1.0 - c.af) / (1.0 - c.am) * dvd
-        if smooth:
-            memory |= held_shares(memory, closed, hold, c)
-        if not friction:
-            v, impulse[closed], its = velocity_follows(
+            solve_H = correction_metric(model, q_tilde, self.step.S, c, "stiffness")[1]
+        dvd, hold = acceleration_jump(
+            model,
+            self.q,
+            q_tilde,
+            self.v,
+            closed,
+            solve_H,
+            self.tol_gap / self.h,
+            stats=opts.stats.contact,
+        )
+        if not self.smooth_step:  # (the energy-decaying step's v̇ stays its smooth Δv/h)
+            self.vd[F] += dvd
+            self.a[F] += (1.0 - c.af) / (1.0 - c.am) * dvd
+        if opts.smooth:
+            self.forces.in_vd, self.forces.in_a = held_shares(self.forces, closed, hold, c)
+        if not opts.friction:
+            rows = (closed, self.g_tilde, self.Gb, self.held)
+            self.v, self.impulse[closed], its = velocity_follows(
                 model,
                 st,
-                q,
-                v,
-                v_tilde,
+                self.q,
+                self.v,
+                self.v_tilde,
                 dvd,
                 hold,
-                impulse[closed],
+                self.impulse[closed],
                 c,
                 opts,
-                t,
-                tol_gap,
-                (closed, g_tilde, Gb, held),
+                self.t,
+                self.tol_gap,
+                rows,
             )
-            iters["velocity"] += its
-    timer.add("contact", clock)
-    return State(
-        t,
-        q,
-        v,
-        vd,
-        a,
-        h=h,
-        gaps=gaps,
-        candidates=cand,
-        nu=nu,
-        impulse=impulse,
-        lam=lam,
-        iterations=iters,
-        memory=memory | smooth_record(model, cand.size + joints.size, *ledger, work_t),
-    )
+            self.iters["velocity"] += its
 
+    def finish(self, clock: float) -> State:
+        """Steps 2 and 3 after the smooth step (``clock``: when the contact phase started),
+        and the state they end in."""
+        if self.m == 0 and self.model.joints.size == 0:
+            return self.state()
+        self.v_tilde = self.v.copy()  # ṽ, the smooth step's velocity
+        self.correct()  # 2., only if a contact candidate penetrates (joints already hold)
+        self.jump()  # 3.
+        self.follow()
+        self.timer.add("contact", clock)
+        return self.state()
 
-class SmoothStep(NamedTuple):
-    """The smooth step's result: positions, velocities, accelerations v̇ and a, joint
-    multipliers λ (N), the iteration matrix with its solver for the correction metric (None
-    with joints), the Newton iterations, and the joints' gradient at q (None when stale)."""
-
-    q: np.ndarray
-    v: np.ndarray
-    vd: np.ndarray
-    a: np.ndarray
-    lam: np.ndarray
-    S: tuple | None
-    iterations: int
-    Gb: np.ndarray | None
-    force: np.ndarray | None  # λ of every contact (N), None without persistent contacts
-    friction_force: np.ndarray | None  # λ_T (m, nt) (N), None without persistent friction
-    friction_work: float  # the energy λ_T dissipated over the step's slip (J)
+    def state(self) -> State:
+        """The state at the end of the step."""
+        at = {"h": self.h, "lam": self.lam, "iterations": self.iters}
+        if self.nu is not None:  # (else no contacts, no joints: the smooth step alone)
+            at |= {"gaps": self.gaps, "candidates": self.cand, "nu": self.nu}
+            at |= {"impulse": self.impulse, "smooth": self.forces, "friction": self.record}
+            phase = self.cand.size + self.model.joints.size  # a correction or a jump may follow
+            work = self.step.friction_work
+            at["ledger"] = smooth_record(self.model, phase, self.v_tilde, self.q_tilde, work)
+        return State(self.t, self.q, self.v, self.vd, self.a, **at)
 
 
 def _impact(nu, impulse, held) -> bool:
@@ -256,247 +337,3 @@ def _impact(nu, impulse, held) -> bool:
         return True
     new = impulse > 0.0
     return bool(np.any(new if held is None else new & ~held))
-
-
-def _smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
-    """Step 1: Newton on M v̇ + C_t v + f_int(q) + G_bᵀλ_b − G_Pᵀλ = f_ext(t), g_b(q) = 0,
-    0 ≤ g_P(q) ⊥ λ ≥ 0 on the persistent contacts ``P`` (:mod:`.smooth_contact`).
-
-    Returns a :class:`SmoothStep`: S = (S_t, its solver) for the metric of the position
-    correction (None with joints), G_b the joint gradient at the returned q (None when the
-    last update moved q after it was evaluated)."""
-    F, nF = model.free_slice, model.n_free
-    X = predict(st, c)
-    q, v, vd, a = X
-    lam = st.lam.copy()
-    fext = model.external(t)[F]
-    ff = fext @ fext
-    joints = model.joints
-    nb = joints.size
-    alpha, beta_k = model.damping
-    sc = None
-    if P is not None and P.size:
-        model.contacts.set_time(t)
-        force = st.memory.get("contact_force")
-        if model.contacts.frictional:
-            sc = SmoothFriction(model, st, P, t, opts)
-        else:
-            force0 = np.zeros(P.size) if force is None else force[P]
-            sc = SmoothContacts(model, P, force0, c.bp, opts)
-    curved = sc is not None and not model.contacts.linear
-    tol_b = JointTolerance(model, q, opts.tol_gap) if nb or sc else None
-    S = Gb = None
-    plain = True  # every solve was with S_t alone (not bordered): S_t's solver is a metric
-    # linear bodies: S_t = β′M + γ′C + K is assembled and factorized once per step size;
-    # joints border it with their (q-dependent) gradient and curvature
-    linear = model.linear
-    # ... and then the joints' Taylor remainders bound the residual an update leaves
-    bounded = linear and nb and not joints.linear and sc is None
-    clock = time.perf_counter()
-    armijo = None  # the test of the last full update, decided by the energy at its end
-    for it in range(opts.max_iterations + 1):
-        W, fint, K = model.internal(q, tangent=not linear)
-        if armijo is not None and not armijo.accepts(W):
-            s = armijo.backtrack(model)
-            X[:] = armijo.X
-            X[:, F] += np.multiply.outer(c.w, s * armijo.dq)
-            W, fint, K = model.internal(q, tangent=not linear)
-        armijo = None
-        fi = fint[F]
-        Mvd = model.M @ vd[F]
-        r = Mvd + fi - fext
-        if alpha or beta_k:
-            Ct = model.iteration_matrix(c.bp, c.gp)[2] if linear else alpha * model.M + beta_k * K
-            r += Ct @ v[F]
-        if nb:
-            # the joints' curvature where a solve is sure to follow (the first iteration),
-            # else only once one does
-            first = it == 0 and not joints.linear
-            gb, Gb, Cb = joints.linearize(q, joints.all, lam if first else None)
-            r += Gb.T @ lam
-        if sc is not None:
-            sc.update(q, curved)
-            r -= sc.force_term()
-        clock = timer.add("assembly", clock)
-        ref = math.sqrt(max(ff, fi @ fi, Mvd @ Mvd, 1e-300))
-        rnorm = math.sqrt(r @ r)
-        if not math.isfinite(rnorm):
-            why = "" if np.all(np.isfinite(fi)) else ": an element inverts (det F <= 0)"
-            raise StepFailure("smooth step diverged" + why, rnorm)
-        if (
-            rnorm <= opts.tol_residual * ref
-            and (not nb or tol_b.admits(np.abs(gb).max()))
-            and (sc is None or sc.satisfied(tol_b.admits))
-        ):
-            break
-        if it == opts.max_iterations:
-            raise StepFailure("smooth step", rnorm / ref)
-        if linear:
-            S, solve, _ = model.iteration_matrix(c.bp, c.gp)
-        else:
-            S = model.iteration_sum(c.bp, K)
-            if alpha or beta_k:
-                S = S + c.gp * Ct
-        touching = sc is not None and sc.active.any()
-        if touching and not nb:  # S_t's own factors, and the contact zone's curvature
-            if not linear:
-                solve = factorize_or_fail(S, rnorm / ref, symmetric=True)
-            if sc.C is None:  # straight gaps: S_t⁻¹G_jᵀ kept per contact on a linear body
-                dq = sc.schur_update(model, r, solve, (c.bp, c.gp) if linear else None)
-            else:
-                units = _unit_columns(model, ("smooth", c.bp, c.gp), solve, linear)
-                dq = sc.schur_update(model, r, _with_curvature(solve, sc.C, units, rnorm / ref))
-        elif nb or touching:
-            if nb and Cb is None and not joints.linear:
-                Cb = joints.curvature(q, joints.all, lam)
-            Kb = plus_curvature(S, 1.0, Cb if nb else None)
-            g_rows, G_rows = (gb, Gb) if nb else (np.zeros(0), np.zeros((0, nF)))
-            if touching:
-                gA, GA = sc.rows()
-                Kb = plus_curvature(Kb, 1.0, sc.C)
-                g_rows, G_rows = np.concatenate([g_rows, gA]), np.vstack([G_rows, GA])
-            solve = factorize_or_fail(bordered(Kb, G_rows), rnorm / ref)
-            plain = False
-            x = -solve(np.concatenate([r, g_rows]))
-            dq, lam = x[:nF], lam + x[nF : nF + nb]
-            if touching:
-                sc.take(x[nF + nb :])
-        else:
-            if not linear:
-                solve = factorize_or_fail(S, rnorm / ref, symmetric=True)
-            if linear:  # Π is quadratic and S_t positive definite: Newton's step is exact
-                dq = -solve(r)
-            else:
-                shift, res = c.bp * model.M, rnorm / ref
-                dq, *test = descent_direction(
-                    model, r, fi, S, K, solve, shift, opts.tol_increment, res
-                )
-                if test[-1] is not None:
-                    armijo = Armijo(X.copy(), dq, *test, W, res)
-        X[:, F] += np.multiply.outer(c.w, dq)  # q, v, v̇, a
-        clock = timer.add("solve", clock)
-        if (bounded and _converged_by_bound(model, vd, dq, lam, x[nF:], ff, tol_b, opts)) or (
-            model.update_size(dq) <= opts.tol_increment
-            and (not nb or tol_b.admits(np.abs(gb).max()))
-            and (sc is None or sc.settled(q, tol_b.admits))
-        ):
-            it += 1
-            Gb = None
-            break
-    # the metric of the position correction reuses S_t and its factors; a bordered
-    # factorization (joints) is no metric, so then S_t is rebuilt on demand
-    S = (S, solve) if S is not None and plain and not nb else None
-    if isinstance(sc, SmoothFriction):
-        force, force_t = sc.forces(model.contacts.size)
-        return SmoothStep(q, v, vd, a, lam, S, it, Gb, force, force_t, sc.work())
-    force = None if sc is None else sc.forces(model.contacts.size)
-    return SmoothStep(q, v, vd, a, lam, S, it, Gb, force, None, 0.0)
-
-
-def _with_curvature(solve, C, units, residual):
-    """(S + C)⁻¹ from S's ``solve`` and the columns S⁻¹e_i (``units``) of the few dofs the
-    curvature C of the contact forces touches (:func:`fecontact.linalg.low_rank_solver`)."""
-    try:
-        return low_rank_solver(solve, -C, units)
-    except np.linalg.LinAlgError:
-        raise StepFailure("singular smooth-step matrix in contact", residual) from None
-
-
-def _converged_by_bound(model, vd, dq, lam, dlam, ff, tol_b, opts) -> bool:
-    """Whether the smooth step has converged after the update (dq, dλ), without evaluating
-    the residual: in a linear model with joints the residual left is the joints' Taylor
-    remainder (:func:`fecontact.joints.newton_remainder`), and when its bound is below half
-    the tolerances the residual test of the next iteration passes, at the same q: that
-    iteration only confirms. The other half covers the round-off of the solve. The reference
-    max(|f_ext|, |M v̇|) is at most that of the test (which includes |f_int|). ``tol_b`` is the
-    joints' :class:`JointTolerance`."""
-    bound = newton_remainder(model.joints, dq, lam, dlam)
-    if bound is None:
-        return False
-    gap, force = bound
-    if not tol_b.admits(gap, 0.5):
-        return False
-    limit = 0.5 * opts.tol_residual
-    if force <= limit * math.sqrt(ff):
-        return True
-    Mvd = model.M @ vd[model.free_slice]
-    return force <= limit * math.sqrt(Mvd @ Mvd)
-
-
-def _metric(model, q, S, c, kind):
-    """(H, solve_H) of the position correction, H = S_t/β′ (``kind`` "stiffness") or H = M
-    ("mass"); H itself is returned as a function, needed only when the gaps are curved."""
-    if kind == "mass":
-        return lambda: model.M, model.solve_M
-    if S is None and model.linear:
-        S = model.iteration_matrix(c.bp, c.gp)[:2]
-    if S is None:
-        _, _, K = model.internal(q)
-        S = model.iteration_sum(c.bp, K)
-        alpha, beta_k = model.damping
-        if alpha or beta_k:
-            S = S + c.gp * (alpha * model.M + beta_k * K)
-        S = (S, factorize_or_fail(S, math.nan, symmetric=True))
-    matrix, solve_S = S
-    return lambda: matrix / c.bp, lambda b: c.bp * solve_S(b)
-
-
-def _position_correction(model, q_tilde, cand, metric, c, opts, tol_gap, nu0=None):
-    """Step 2: q = q̃ + U, H U = Σ G_jᵀ [k ν_j − p g_j]_+ over the contacts ``cand``, with
-    the joints kept as equalities (always active, multipliers of any sign); ``metric`` is
-    (H, solve_H) from :func:`_metric`, ``nu0`` the contacts' multipliers of the previous
-    step."""
-    F = model.free
-    H, solve_H = metric
-    cons = Constraints(model, cand)
-    _, G0 = cons.jacobian(q_tilde)
-    constant = model.linear or opts.metric == "mass"
-    Y0 = constraint_columns(model, (opts.metric, c.bp, c.gp), cand, G0, solve_H, cons, constant)
-    p = augmentation(opts.penalty_scale, G0, Y0)
-    k = opts.multiplier_scale
-
-    def shifted(U):
-        qt = q_tilde.copy()
-        qt[F] += U
-        return qt
-
-    units = []  # H⁻¹e_i, made on the first curved system
-
-    def system(U, s, A):
-        if cons.linear:  # constant gradients: H⁻¹G_Aᵀ are columns of Y0
-            return (lambda B: Y0[:, A]), None
-        C = cons.curvature(shifted(U), np.where(A, s, 0.0))
-        if sp.issparse(C) and C.nnz and np.unique(C.row).size <= len(F) // 4:
-            # the curvature touches the contact zone only: update H's factors on its dofs
-            if not units:
-                units.append(_unit_columns(model, (opts.metric, c.bp, c.gp), solve_H, constant))
-            try:
-                return low_rank_solver(solve_H, C, units[0]), C
-            except np.linalg.LinAlgError:
-                raise StepFailure("singular position-correction matrix", math.nan) from None
-        return factorize_or_fail(H() - C, math.nan, symmetric=True), C
-
-    try:
-        U, nu, its = solve_position_correction(
-            lambda U: cons.jacobian(shifted(U)),
-            system,
-            len(F),
-            p,
-            k,
-            tol_gap,
-            0.1 * tol_gap,
-            opts.max_iterations,
-            bilateral=cons.bilateral,
-            nu0=None if nu0 is None else np.r_[nu0, np.zeros(model.joints.size)],
-        )
-    except RuntimeError as err:
-        raise StepFailure(str(err), np.nan) from None
-    return U, k * nu, its
-
-
-def _unit_columns(model, key, solve_H, constant: bool) -> UnitColumns:
-    """H⁻¹e_i of the dofs that gap curvatures touch, kept over the run when H is constant
-    (else over one correction)."""
-    if not constant:
-        return UnitColumns(solve_H, model.n_free)
-    return model.column_cache.setdefault(("unit", *key), UnitColumns(solve_H, model.n_free))

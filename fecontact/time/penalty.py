@@ -61,6 +61,7 @@ import scipy.sparse as sp
 from ..linalg import factorize
 from .constraints import StepFailure, bordered, factorize_or_fail, plus_curvature
 from .generalized_alpha import Coefficients, predict
+from .records import PenaltyRecord
 from .state import IntegratorOptions, PhaseTimer, State
 
 __all__ = ["automatic_penalty_stiffness", "damping_ratio", "effective_masses", "penalty_step"]
@@ -79,7 +80,8 @@ def effective_masses(model, q, select=None) -> np.ndarray:
     if joints.size:
         Gb = joints.jacobian(q, joints.all)[1]
         rhs = np.vstack([G.T, np.zeros((joints.size, G.shape[0]))])
-        Y = factorize(bordered(model.M, Gb))(rhs).reshape(n + joints.size, -1)[:n]
+        Y = factorize(bordered(model.M, Gb), solver=model.solver)(rhs)
+        Y = Y.reshape(n + joints.size, -1)[:n]
     else:
         Y = model.solve_M(G.T).reshape(n, -1)
     inverse = np.einsum("ij,ji->i", G, Y)
@@ -122,14 +124,14 @@ def damping_ratio(restitution) -> np.ndarray:
 class _PenaltyLaw:
     """k_j and c_j of every contact of a run, each fixed where the contact first closes
     (its effective mass m_j depends on the configuration: a rotating body, a joint). They
-    live in the run's ``memory`` (:class:`State`): ``penalty_k``, ``penalty_c`` (NaN until
-    the contact closes) and ``penalty_h1``, the first step of the run."""
+    live in the run's :class:`fecontact.time.records.PenaltyRecord` (the state's
+    ``penalty``): k_j, c_j (NaN until the contact closes) and h₁, the first step of the run."""
 
-    def __init__(self, model, memory, stiffness, zeta):
+    def __init__(self, model, record: PenaltyRecord, stiffness, zeta):
         self.model, self.stiffness, self.zeta = model, stiffness, zeta
-        self.memory = memory
-        self.k, self.c = memory["penalty_k"], memory["penalty_c"]
-        self.h1 = float(memory["penalty_h1"])
+        self.record = record
+        self.k, self.c = record.k, record.c
+        self.h1 = float(record.h1)
 
     def __call__(self, q, A):
         """(k_j, c_j) of the contacts A at configuration q."""
@@ -149,12 +151,11 @@ class _PenaltyLaw:
 
 def _penalty_law(model, st, h, opts):
     """The penalty law of the run ``st`` belongs to (a new one at t = 0)."""
-    memory = st.memory
-    if st.t == 0.0 or "penalty_k" not in memory:
-        m = model.contacts.size
-        nan = np.full(m, np.nan)
-        memory = {"penalty_k": nan, "penalty_c": nan.copy(), "penalty_h1": np.array(h)}
-    return _PenaltyLaw(model, memory, opts.penalty_stiffness, opts.penalty_damping)
+    record = st.penalty
+    if st.t == 0.0 or record is None:
+        nan = np.full(model.contacts.size, np.nan)
+        record = PenaltyRecord(nan, nan.copy(), float(h))
+    return _PenaltyLaw(model, record, opts.penalty_stiffness, opts.penalty_damping)
 
 
 def _penalty_force(model, q, v, law, gp, tau):
@@ -209,7 +210,7 @@ def penalty_step(model, st: State, h: float, opts: IntegratorOptions, timer: Pha
         impulse=h * lam_c,
         lam=lam,
         iterations={"smooth": it, "position": 0, "velocity": 0},
-        memory=law.memory,
+        penalty=law.record,
     )
 
 
@@ -225,6 +226,40 @@ class PenaltyStep(NamedTuple):
     lam_c: np.ndarray
     gaps: np.ndarray
     iterations: int
+
+
+def _halves(dq, rnorm: float, previous: float, s: float) -> bool:
+    """Whether the last update ``dq`` (None: none yet) is halved: it did not lower the
+    residual, and it was halved fewer than six times."""
+    return dq is not None and rnorm >= previous and s > 1.0 / 64.0
+
+
+def _joints_hold(gb, tol: float) -> bool:
+    """Whether the joints' gaps ``gb`` (None: no joints) are within ``tol`` (m)."""
+    return gb is None or np.max(np.abs(gb)) <= tol
+
+
+def _penalty_matrix(c, M, K, Kc, Ct):
+    """S = β′M + K_t + K_c (the contact stiffness, None without) + γ′C_t (None: undamped)."""
+    S = c.bp * M + K
+    if Kc is not None:
+        S = S + Kc
+    if Ct is not None:
+        S = S + c.gp * Ct
+    return S
+
+
+def _penalty_update(model, S, r, joint_rows, q, lam, residual: float):
+    """Newton's update (dq, Δλ_b): with S alone, or bordered by the joints' rows
+    ``joint_rows`` = (g_b, G_b) at q (None, None without joints) and their curvature."""
+    gb, Gb = joint_rows
+    if gb is None:
+        return -factorize_or_fail(S, residual, True, model.solver)(r), 0.0
+    joints, n = model.joints, model.n_free
+    Cb = None if joints.linear else joints.curvature(q, joints.all, lam)
+    Kb = plus_curvature(S, 1.0, Cb)
+    x = -factorize_or_fail(bordered(Kb, Gb), residual, False, model.solver)(np.concatenate([r, gb]))
+    return x[:n], x[n:]
 
 
 def _penalty_smooth_step(model, st, t, c, law, opts, timer) -> PenaltyStep:
@@ -258,9 +293,10 @@ def _penalty_smooth_step(model, st, t, c, law, opts, timer) -> PenaltyStep:
         r = Mvd + fint[F] - fext
         if fc is not None:
             r -= fc
-        if alpha or beta_k:
-            Ct = alpha * M + beta_k * K
+        Ct = alpha * M + beta_k * K if alpha or beta_k else None
+        if Ct is not None:
             r += Ct @ v[F]
+        gb = Gb = None
         if nb:
             gb, Gb = joints.jacobian(q, joints.all)
             r += Gb.T @ lam
@@ -270,32 +306,22 @@ def _penalty_smooth_step(model, st, t, c, law, opts, timer) -> PenaltyStep:
         rnorm = math.sqrt(r @ r)
         if not np.isfinite(rnorm):
             raise StepFailure("penalty step diverged", rnorm)
-        if rnorm <= opts.tol_residual * ref and (not nb or np.max(np.abs(gb)) <= tol_b):
+        if rnorm <= opts.tol_residual * ref and _joints_hold(gb, tol_b):
             break
         if it == opts.max_iterations:
             raise StepFailure("penalty step", rnorm / ref)
-        if dq is not None and rnorm >= previous and s > 1.0 / 64.0:
+        if _halves(dq, rnorm, previous, s):
             s *= 0.5
             move(-s * dq)
             lam = lam - s * dlam
             continue
         previous, s = rnorm, 1.0
-        S = c.bp * M + K
-        if Kc is not None:
-            S = S + Kc
-        if alpha or beta_k:
-            S = S + c.gp * Ct
-        if nb:
-            Cb = None if joints.linear else joints.curvature(q, joints.all, lam)
-            Kb = plus_curvature(S, 1.0, Cb)
-            x = -factorize_or_fail(bordered(Kb, Gb), rnorm / ref)(np.concatenate([r, gb]))
-            dq, dlam = x[: len(F)], x[len(F) :]
-            lam = lam + dlam
-        else:
-            dq = -factorize_or_fail(S, rnorm / ref, symmetric=True)(r)
+        S = _penalty_matrix(c, M, K, Kc, Ct)
+        dq, dlam = _penalty_update(model, S, r, (gb, Gb), q, lam, rnorm / ref)
+        lam = lam + dlam
         move(dq)
         clock = timer.add("solve", clock)
-        if model.update_size(dq) <= opts.tol_increment and (not nb or np.max(np.abs(gb)) <= tol_b):
+        if model.update_size(dq) <= opts.tol_increment and _joints_hold(gb, tol_b):
             _, _, lam_c, g = _penalty_force(model, q, v, law, c.gp, 0.5 * h)
             it += 1
             break

@@ -81,7 +81,16 @@ def _compression(G, rates, solve, Y, eq, opts, tol):
     k = opts.multiplier_scale
     try:
         _, Lam, its = solve_velocity_jump(
-            G, rates, solve, p, k, opts.max_iterations, bilateral=eq, Y=Y, tol=tol
+            G,
+            rates,
+            solve,
+            p,
+            k,
+            opts.max_iterations,
+            bilateral=eq,
+            Y=Y,
+            tol=tol,
+            stats=opts.stats.contact,
         )
     except RuntimeError as err:
         raise StepFailure(str(err), np.nan) from None

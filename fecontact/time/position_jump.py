@@ -64,22 +64,18 @@ from ..contact import solve_velocity_jump
 from .constraints import Constraints, StepFailure, augmentation
 from .impacts import velocity_jump
 
-__all__ = ["FOLLOW_UPS", "acceleration_jump", "velocity_follows"]
-
-FOLLOW_UPS = {"steps": 0, "shortened": 0}
-"""Velocity follow-ups of this process (:func:`velocity_follows`), and those taken short of
-the full hγΔa (s < 1) because the rest would have raised the kinetic energy; runs report
-their share in ``summary.json``."""
+__all__ = ["acceleration_jump", "velocity_follows"]
 
 
 def acceleration_jump(
-    model, q, q_tilde, v, closed, solve_H, tol_rate: float, df=None
+    model, q, q_tilde, v, closed, solve_H, tol_rate: float, df=None, stats=None
 ) -> tuple[np.ndarray, np.ndarray]:
     """Δv̇ on the free dofs after the correction q̃ → q (see the module docstring), and the
     forces (N) of the ``closed`` contacts that hold it (zero for the others).
     ``solve_H`` solves with H = S_t/β′ (the stiffness metric of the position correction),
     ``closed`` are the contacts closed at q, ``tol_rate`` (m/s) the rate below which a
-    closed contact does not separate."""
+    closed contact does not separate; ``stats``: the run's
+    :class:`fecontact.contact.stats.ContactStats`."""
     F = model.free
     if df is None:
         df = model.internal(q, tangent=False)[1][F] - model.internal(q_tilde, tangent=False)[1][F]
@@ -108,6 +104,7 @@ def acceleration_jump(
             rows.size + 2,
             bilateral=cons.bilateral,
             Y=Y,
+            stats=stats,
         )
     except RuntimeError:
         raise StepFailure("acceleration jump: the active set did not settle", np.nan) from None
@@ -123,7 +120,8 @@ def velocity_follows(model, st, q, v0, v_tilde, dvd, hold, Lam0, c, opts, t, tol
     the strain of the correction acts against the motion, the kinetic energy falls along
     s; the largest such fall in s ∈ [0, 1] is taken (on a fixed active set the velocity is
     affine in s and its kinetic energy quadratic), else s = 0 or 1, the lower. Returns
-    (v, impulses of the closed contacts (N·s), iterations)."""
+    (v, impulses of the closed contacts (N·s), iterations); the follow-up is counted in the
+    run's statistics (``opts.stats.follow_ups``)."""
     closed, g_tilde, Gb, held = rows
     h_a = c.h * c.gamma * (1.0 - c.af) / (1.0 - c.am)
     v1 = v_tilde.copy()
@@ -140,6 +138,6 @@ def velocity_follows(model, st, q, v0, v_tilde, dvd, hold, Lam0, c, opts, t, tol
         s = min(max(-b / a, 0.0), 1.0)
     else:
         s = 1.0 if b + 0.5 * a < 0.0 else 0.0
-    FOLLOW_UPS["steps"] += 1
-    FOLLOW_UPS["shortened"] += s < 1.0
+    opts.stats.follow_ups.steps += 1
+    opts.stats.follow_ups.shortened += s < 1.0
     return v0 + s * d, Lam0 + s * (Lam1 - Lam0), its

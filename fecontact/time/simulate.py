@@ -1,4 +1,4 @@
-"""The time loop: steps of the chosen stepper, halved when they fail, as a generator of states."""
+"""The time loop: steps of the run's stepper, halved when they fail, as a generator of states."""
 
 from __future__ import annotations
 
@@ -7,19 +7,13 @@ from collections.abc import Iterator
 
 from ..errors import SolverError, check_positive
 from .constraints import StepFailure
-from .energy_step import check_energy_scheme, energy_nsga_step
-from .moreau import moreau_step
-from .nsga import nsga_step
-from .penalty import penalty_step
-from .penetration import PenetrationFailure, hold_penetration
-from .smooth_contact import resting_start, uses_smooth_contact
+from .penetration import PenetrationFailure
+from .smooth_contact import resting_start
 from .state import IntegratorOptions, PhaseTimer, State, initial_state, length_scale
+from .stats import StepStats
+from .stepper import STEPPERS, make_stepper
 
 __all__ = ["STEPPERS", "simulate"]
-
-STEPPERS = {"nsga": nsga_step, "moreau": moreau_step, "penalty": penalty_step}
-"""Every stepper, ``step(model, state, h, options, timer) -> State``, by the name of the
-``integrator`` option."""
 
 
 def simulate(
@@ -31,6 +25,7 @@ def simulate(
     q0=None,
     v0=None,
     start: State | None = None,
+    stats: StepStats | None = None,
 ) -> Iterator[State]:
     """Yield the state at t = 0 and after every step of size ``dt`` (s) up to ``t_end`` (s).
 
@@ -39,23 +34,28 @@ def simulate(
 
     A step whose Newton iterations fail is retried as two half steps, recursively up to
     ``options.max_halvings`` times; then ``SolverError`` reports the time, step and residual.
+
+    The run's counts (fallbacks, Newton globalization, solver work) go to ``stats`` (default:
+    new :class:`StepStats`); the stepper is made once (:func:`make_stepper`), and with it a
+    linear solver of the run's own for the model.
     """
-    opts = options or IntegratorOptions()
     dt = check_positive("dt", dt)
     t_end = check_positive("t_end", t_end)
     timer = PhaseTimer() if timer is None else timer
-    if opts.scheme == "energy-decaying":
-        check_energy_scheme(model, opts)
+    n_steps = max(1, math.ceil(t_end / dt - 1e-9))
+    steps = n_steps - (0 if start is None else start.step)  # (for the cost of "auto")
+    stepper = make_stepper(model, options or IntegratorOptions(), stats, steps)
+    choice = model.solver.choice
+    opts = stepper.settings
     model.contacts.detect_within(opts.detection_margin * model.length)
     if start is None:
         state = initial_state(model, q0, v0, opts.tol_gap)
-        if opts.integrator == "nsga" and uses_smooth_contact(model, opts):
+        if opts.integrator == "nsga" and opts.smooth:
             tol = opts.tol_gap * length_scale(model, state.q)
-            state = resting_start(model, state, tol, tol / dt)
+            state = resting_start(model, state, tol, tol / dt, opts.stats.contact)
         yield state
     else:
         state = start
-    n_steps = max(1, math.ceil(t_end / dt - 1e-9))
     for n in range(state.step + 1, n_steps + 1):
         t_next = min(n * dt, t_end)
         h = t_next - state.t
@@ -64,7 +64,7 @@ def simulate(
         if abs(h - dt) <= 1e-9 * dt:
             h = dt
         try:
-            state = _advance(model, state, h, opts, timer, 0)
+            state = stepper.step(state, h, timer)
         except StepFailure as err:
             what = (
                 "penetration not held"
@@ -80,28 +80,6 @@ def simulate(
             ) from None
         state.t = t_next
         state.step = n
+        if choice is not None:  # the rates per step that "auto" weighs count this one
+            choice.note_step()
         yield state
-
-
-def _advance(model, st, h, opts, timer, depth):
-    model.contacts.look_ahead(st.q, st.v, h)
-    try:
-        step = energy_nsga_step if opts.scheme == "energy-decaying" else STEPPERS[opts.integrator]
-        return hold_penetration(model, step(model, st, h, opts, timer), opts, timer)
-    except StepFailure as err:
-        if depth >= opts.max_halvings:
-            raise
-        retake = isinstance(err, PenetrationFailure)
-    first = _advance(model, st, 0.5 * h, opts, timer, depth + 1)
-    second = _advance(model, first, 0.5 * h, opts, timer, depth + 1)
-    second.impulse = second.impulse + first.impulse
-    if "friction_impulse" in second.memory:  # the step's tangential impulse, as the normal
-        second.memory["friction_impulse"] = (
-            first.memory["friction_impulse"] + second.memory["friction_impulse"]
-        )
-    second.iterations = {k: first.iterations[k] + second.iterations[k] for k in first.iterations}
-    second.halvings = first.halvings + second.halvings + 1
-    second.retakes = first.retakes + second.retakes + retake
-    second.penetration = max(first.penetration, second.penetration)
-    second.h = h
-    return second

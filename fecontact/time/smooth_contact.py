@@ -78,9 +78,9 @@ import numpy as np
 from ..contact.laws import kkt_multipliers, solve_velocity_jump
 from .constraints import Constraints, StepFailure, augmentation, constraint_columns
 from .coulomb import frictional_restart
+from .records import SmoothForces
 
 __all__ = [
-    "RELEASES",
     "SmoothContacts",
     "force_shares",
     "held_shares",
@@ -88,22 +88,11 @@ __all__ = [
     "released",
     "restarted_acceleration",
     "resting_start",
-    "uses_smooth_contact",
     "without_released",
 ]
 
-RELEASES = {"steps": 0}
-"""Smooth steps of this process taken again because they released a contact
-(:func:`without_released`); runs report theirs in ``summary.json``."""
-
 _NONE = np.zeros(0, int)
 _NONE.flags.writeable = False
-
-
-def uses_smooth_contact(model, opts) -> bool:
-    """Whether the NSGA step gives persistent contacts a smooth force: ``smooth_contact``
-    "on", or "auto" on a model with an elastic continuum (a ``Solid``)."""
-    return opts.smooth_contact == "on" or (opts.smooth_contact == "auto" and model.continuum)
 
 
 def persistent_contacts(model, st, near: float) -> np.ndarray:
@@ -119,9 +108,8 @@ def persistent_contacts(model, st, near: float) -> np.ndarray:
     pressed = st.nu > 0.0 if st.nu.size == m else np.zeros(m, bool)
     if st.impulse.size == m:
         pressed |= st.impulse > 0.0
-    force = st.memory.get("contact_force")
-    if force is not None:
-        pressed |= force > 0.0
+    if st.smooth is not None:
+        pressed |= st.smooth.normal > 0.0
     return np.flatnonzero(pressed & (st.gaps <= near))
 
 
@@ -136,7 +124,7 @@ class SmoothContacts:
     def __init__(self, model, P: np.ndarray, force0: np.ndarray, bp: float, opts):
         self.contacts, self.P = model.contacts, P
         self.lam = np.maximum(force0, 0.0)
-        self.k = opts.multiplier_scale
+        self.k, self.stats = opts.multiplier_scale, opts.stats.contact
         M = model.M
         diag = np.diag(M) if isinstance(M, np.ndarray) else M.diagonal()
         self.inverse_mass_diag = 1.0 / diag
@@ -187,7 +175,7 @@ class SmoothContacts:
         constant = key is not None
         Y = constraint_columns(model, ("smooth", *(key or ())), rows, GA, solve, cons, constant)
         x = solve(r)
-        dlam = kkt_multipliers(GA, Y, GA @ x - gA, 1.0)
+        dlam = kkt_multipliers(GA, Y, GA @ x - gA, 1.0, self.stats)
         self.lam[A] += dlam
         self.solved = A.copy()
         return -x + Y @ dlam
@@ -217,7 +205,7 @@ class SmoothContacts:
         return out
 
 
-def resting_start(model, st, tol_gap: float, tol_rate: float):
+def resting_start(model, st, tol_gap: float, tol_rate: float, stats=None):
     """The initial state ``st`` with its resting contacts pressed: those that touch (gap ≤
     ``tol_gap``, m) and neither approach nor leave (|ġ| ≤ ``tol_rate``, m/s) carry the
     contact forces of the consistent acceleration (:func:`restarted_acceleration`), in v̇₀ =
@@ -225,24 +213,23 @@ def resting_start(model, st, tol_gap: float, tol_rate: float):
     then starts supported, instead of falling into it in the first step and being stopped
     by a correction, which put energy in the strain of an unresolved mesh (a block on a
     plane at 8 Δx/c: 6e-5 J, ten times the energy of its ringing). Approaching contacts are
-    left to the impact law."""
+    left to the impact law. ``stats``: the run's :class:`fecontact.contact.stats.ContactStats`."""
     F = model.free
     touching = np.flatnonzero(st.gaps <= tol_gap)
     if touching.size == 0 or model.contacts.moving:  # (moving obstacles: no restart)
         return st
     _, G = model.contacts.linearize(st.q, touching)[:2]
     resting = touching[np.abs(G @ st.v[F]) <= tol_rate]
-    start = restarted_acceleration(model, st.q, st.v, st.v, st.t, resting, tol_rate)
+    start = restarted_acceleration(model, st.q, st.v, st.v, st.t, resting, tol_rate, stats)
     if start is None or start[1][0].size == 0:
         return st
     acc, (rows, forces) = start
     vd = st.vd.copy()
     vd[F] = acc
-    memory = force_shares(model, st, None, None, None, (rows, forces))
-    memory["contact_force"] = memory["force_in_vd"][:, 0].copy()
-    if model.contacts.frictional:
-        memory["friction_force"] = memory["force_in_vd"][:, 1:].copy()
-    return dataclasses.replace(st, vd=vd, a=vd.copy(), candidates=touching, memory=memory)
+    in_vd, in_a = force_shares(model, st, None, None, None, (rows, forces))
+    tangential = in_vd[:, 1:].copy() if model.contacts.frictional else None
+    smooth = SmoothForces(in_vd[:, 0].copy(), tangential, in_vd, in_a)
+    return dataclasses.replace(st, vd=vd, a=vd.copy(), candidates=touching, smooth=smooth)
 
 
 def released(st, P: np.ndarray, force, rtol: float) -> np.ndarray:
@@ -250,24 +237,17 @@ def released(st, P: np.ndarray, force, rtol: float) -> np.ndarray:
     ``force`` (N, every contact) let go: down to ``rtol`` (the smooth Newton's relative
     tolerance) of the force at t_n, zero within the solve (a contact and its mirror image
     in a symmetric model end one at 0 N, the other at 1e-16 of their force)."""
-    before = st.memory.get("contact_force")
-    if before is None or force is None or P.size == 0:
+    if st.smooth is None or force is None or P.size == 0:
         return _NONE
+    before = st.smooth.normal
     return P[(before[P] > 0.0) & (force[P] <= rtol * before[P])]
-
-
-def _forces(memory, key, m: int, dim: int) -> np.ndarray:
-    """The (normal, tangential) forces (m, dim) (N) under ``key`` in ``memory``, or zeros."""
-    x = memory.get(key)
-    return np.zeros((m, dim)) if x is None else x
 
 
 def without_released(model, st, rows: np.ndarray):
     """``st`` with the smooth forces of the contacts ``rows`` taken out of v̇_n and a_n, and
     out of the forces that warm-start the step (see the module docstring)."""
-    m, dim, F = model.contacts.size, model.dim, model.free_slice
-    in_vd = _forces(st.memory, "force_in_vd", m, dim)[rows]
-    in_a = _forces(st.memory, "force_in_a", m, dim)[rows]
+    F = model.free_slice
+    in_vd, in_a = st.smooth.in_vd[rows], st.smooth.in_a[rows]
     _, G = model.contacts.linearize(st.q, rows)[:2]
     f = G.T @ np.column_stack([in_vd[:, 0], in_a[:, 0]])
     if model.contacts.frictional:
@@ -277,16 +257,10 @@ def without_released(model, st, rows: np.ndarray):
     vd, a = st.vd.copy(), st.a.copy()
     vd[F] -= x[:, 0]
     a[F] -= x[:, 1]
-    memory = dict(st.memory)
-    for key in ("contact_force", "friction_force", "force_in_vd", "force_in_a"):
-        if key in memory:
-            memory[key] = memory[key].copy()
-            memory[key][rows] = 0.0
-    RELEASES["steps"] += 1
-    return dataclasses.replace(st, vd=vd, a=a, memory=memory)
+    return dataclasses.replace(st, vd=vd, a=a, smooth=st.smooth.without(rows))
 
 
-def force_shares(model, st, c, force, force_t, restart=None) -> dict:
+def force_shares(model, st, c, force, force_t, restart=None) -> tuple[np.ndarray, np.ndarray]:
     """The contacts' forces (m, dim) (N) carried in v̇_{n+1} and in a_{n+1}: the smooth
     step's (λ_N, λ_T), and the share of a by the recursion of a; after a ``restart`` =
     (rows, forces (rows, dim)), the restart's forces in both (v̇ = a)."""
@@ -300,23 +274,28 @@ def force_shares(model, st, c, force, force_t, restart=None) -> dict:
         rows, forces = restart
         lam = np.zeros((m, dim))
         lam[rows] = forces
-        return {"force_in_vd": lam, "force_in_a": lam.copy()}
-    in_vd, in_a = (_forces(st.memory, k, m, dim) for k in ("force_in_vd", "force_in_a"))
+        return lam, lam.copy()
+    if st.smooth is None:
+        in_vd = in_a = np.zeros((m, dim))
+    else:
+        in_vd, in_a = st.smooth.in_vd, st.smooth.in_a
     share = ((1.0 - c.af) * lam + c.af * in_vd - c.am * in_a) / (1.0 - c.am)
-    return {"force_in_vd": lam, "force_in_a": share}
+    return lam, share
 
 
-def held_shares(memory, closed: np.ndarray, hold: np.ndarray, c) -> dict:
+def held_shares(
+    forces: SmoothForces, closed: np.ndarray, hold: np.ndarray, c
+) -> tuple[np.ndarray, np.ndarray]:
     """The contacts' shares of v̇ and a after the update of v̇ and a through S_t
     (:func:`fecontact.time.position_jump.acceleration_jump`), whose ``closed`` contacts held
     it with the normal forces ``hold`` (N): Δv̇ carries them, Δa (1 − α_f)/(1 − α_m) of them."""
-    in_vd, in_a = memory["force_in_vd"].copy(), memory["force_in_a"].copy()
+    in_vd, in_a = forces.in_vd.copy(), forces.in_a.copy()
     in_vd[closed, 0] += hold
     in_a[closed, 0] += (1.0 - c.af) / (1.0 - c.am) * hold
-    return {"force_in_vd": in_vd, "force_in_a": in_a}
+    return in_vd, in_a
 
 
-def restarted_acceleration(model, q, v, v_smooth, t, closed, tol_rate: float):
+def restarted_acceleration(model, q, v, v_smooth, t, closed, tol_rate: float, stats=None):
     """The acceleration v̇ (free dofs) consistent with the state after an impact step, from
     which the generalized-α acceleration variable restarts (a = v̇, as at t = 0):
 
@@ -336,7 +315,8 @@ def restarted_acceleration(model, q, v, v_smooth, t, closed, tol_rate: float):
     active set (:func:`fecontact.contact.solve_velocity_jump`); with friction, Coulomb's
     law at the acceleration level (:func:`fecontact.time.coulomb.frictional_restart`).
     Moving obstacles (gaps that change with t) and joints keep a as it is: None. Else
-    (v̇, (rows, their forces (normal, tangential) (N), (rows, dim)))."""
+    (v̇, (rows, their forces (normal, tangential) (N), (rows, dim))). ``stats``: the run's
+    :class:`fecontact.contact.stats.ContactStats`."""
     contacts = model.contacts
     if contacts.moving or model.joints.size:
         return None
@@ -358,11 +338,11 @@ def restarted_acceleration(model, q, v, v_smooth, t, closed, tol_rate: float):
     # the velocity jump's problem, one level up: 0 ≤ G (x + M⁻¹Gᵀμ) + vᵀ∇²g v ⊥ μ ≥ 0
     rates = G @ x + contacts.quadratic(q, v)[rows]
     if contacts.frictional:
-        dvd, forces = frictional_restart(model, q, v, x, rows, G, rates, tol_rate)
+        dvd, forces = frictional_restart(model, q, v, x, rows, G, rates, tol_rate, stats)
         return x + dvd, (rows, forces)
     try:
         dvd, forces[:, 0], _ = solve_velocity_jump(
-            G, rates, model.solve_M, augmentation(1.0, G, Y), 1.0, rows.size + 2, Y=Y
+            G, rates, model.solve_M, augmentation(1.0, G, Y), 1.0, rows.size + 2, Y=Y, stats=stats
         )
     except RuntimeError:
         raise StepFailure("restarted acceleration: the active set did not settle", np.nan) from None

@@ -1,5 +1,5 @@
 """What every stepper shares: the integrator options, the state of a step, the phase timer,
-the initial state with its consistent acceleration, and the failure a step reports."""
+and the initial state with its consistent acceleration."""
 
 from __future__ import annotations
 
@@ -18,6 +18,7 @@ from ..errors import (
 from ..linalg import factorize
 from .constraints import bordered
 from .generalized_alpha import alpha_coefficients
+from .records import FrictionRecord, PenaltyRecord, SmoothForces
 
 __all__ = [
     "IntegratorOptions",
@@ -34,6 +35,17 @@ INTEGRATORS = ("nsga", "moreau", "penalty")
 SWITCH = ("auto", "on", "off")
 SCHEMES = ("generalized-alpha", "energy-decaying")
 IMPACT_LAWS = ("newton", "poisson")
+
+
+# the options that name one of a few choices, in the order they are checked
+_CHOICES = {
+    "metric": METRICS,
+    "impact_velocity": IMPACT_VELOCITIES,
+    "integrator": INTEGRATORS,
+    "smooth_contact": SWITCH,
+    "scheme": SCHEMES,
+    "impact_law": IMPACT_LAWS,
+}
 
 
 @dataclass
@@ -101,26 +113,10 @@ class IntegratorOptions:
 
     def __post_init__(self):
         alpha_coefficients(self.rho_inf)
-        if not isinstance(self.metric, str) or self.metric not in METRICS:
-            raise InputError(f"metric must be one of {', '.join(METRICS)}, got {self.metric!r}")
-        if not isinstance(self.impact_velocity, str) or self.impact_velocity not in (
-            IMPACT_VELOCITIES
-        ):
-            known = ", ".join(IMPACT_VELOCITIES)
-            raise InputError(
-                f"impact_velocity must be one of {known}, got {self.impact_velocity!r}"
-            )
-        if not isinstance(self.integrator, str) or self.integrator not in INTEGRATORS:
-            known = ", ".join(INTEGRATORS)
-            raise InputError(f"integrator must be one of {known}, got {self.integrator!r}")
-        if not isinstance(self.smooth_contact, str) or self.smooth_contact not in SWITCH:
-            known = ", ".join(SWITCH)
-            raise InputError(f"smooth_contact must be one of {known}, got {self.smooth_contact!r}")
-        if not isinstance(self.scheme, str) or self.scheme not in SCHEMES:
-            raise InputError(f"scheme must be one of {', '.join(SCHEMES)}, got {self.scheme!r}")
-        if not isinstance(self.impact_law, str) or self.impact_law not in IMPACT_LAWS:
-            known = ", ".join(IMPACT_LAWS)
-            raise InputError(f"impact_law must be one of {known}, got {self.impact_law!r}")
+        for name, allowed in _CHOICES.items():
+            value = getattr(self, name)
+            if not isinstance(value, str) or value not in allowed:
+                raise InputError(f"{name} must be one of {', '.join(allowed)}, got {value!r}")
         if self.impact_law != "newton" and self.integrator == "penalty":
             raise InputError(
                 f"impact_law = {self.impact_law!r} needs integrator nsga or moreau: the penalty "
@@ -156,8 +152,12 @@ class State:
     q (m, rad) and v (m/s, rad/s) are the corrected positions and velocities, vd the smooth
     acceleration v̇ and a the generalized-α acceleration variable. ``gaps`` holds g_j(q) of
     every contact (m), ``nu`` k ν_j (kg·m) and ``impulse`` k Λ_j (N·s) of the step.
-    ``memory`` holds arrays a stepper keeps over a run (the penalty law's stiffnesses), so
-    that a checkpoint of the state holds all of the run.
+    The records a step hands the next (:mod:`fecontact.time.records`), None where the run
+    has none: ``smooth`` the smooth contact forces, ``friction`` the frictional multipliers,
+    status and work, ``penalty`` the penalty law, and ``strain_increment`` the energy-decaying
+    step's Δε of the elements (Σ E, 3), and ``ledger`` what the energy ledger needs of the
+    smooth step (:func:`fecontact.ledger.smooth_record`); a checkpoint of the state holds
+    all of the run.
     """
 
     t: float
@@ -176,7 +176,12 @@ class State:
     halvings: int = 0
     retakes: int = 0  # of the halvings: steps retaken for a penetration
     penetration: float = 0.0  # m: the deepest contact point on the wrong side at the end
-    memory: dict[str, np.ndarray] = field(default_factory=dict)
+    smooth: SmoothForces | None = None
+    friction: FrictionRecord | None = None
+    penalty: PenaltyRecord | None = None
+    strain_increment: np.ndarray | None = None
+    # the energy ledger's record of the smooth step (fecontact.ledger.smooth_record), or None
+    ledger: np.ndarray | None = None
 
     @property
     def newton_iterations(self) -> int:
@@ -186,7 +191,7 @@ class State:
     def force(self) -> np.ndarray:
         """The smooth contact force λ_j of every contact at the end of the step (N; zero
         without the smooth contact of :mod:`fecontact.time.smooth_contact`)."""
-        return self.memory.get("contact_force", np.zeros(self.impulse.size))
+        return np.zeros(self.impulse.size) if self.smooth is None else self.smooth.normal
 
     def pressed(self) -> np.ndarray:
         """Per contact: whether any force acted in the step (ν > 0, Λ > 0 or λ > 0)."""
@@ -200,12 +205,6 @@ class State:
     def mean_force(self) -> np.ndarray:
         """The mean contact force of every contact over the step, λ + k Λ/h (N)."""
         return self.force + (self.impulse / self.h if self.h > 0 else 0.0)
-
-
-class StepFailure(Exception):
-    def __init__(self, message: str, residual: float):
-        super().__init__(message)
-        self.residual = residual
 
 
 class PhaseTimer(dict):
@@ -250,7 +249,7 @@ def initial_state(model, q0=None, v0=None, tol_gap: float | None = None) -> Stat
         if np.max(np.abs(gb)) > tol or np.max(np.abs(Gb @ v[F])) > tol:
             raise InputError("initial configuration: a joint is violated by q0 or v0")
         # consistent acceleration: G_b v̇ = −vᵀ ∇²g_b v
-        x = factorize(bordered(model.M, Gb))(np.r_[f, -joints.quadratic(q, v)])
+        x = factorize(bordered(model.M, Gb), solver=model.solver)(np.r_[f, -joints.quadratic(q, v)])
         vd[F] = x[: len(F)]
     else:
         vd[F] = model.solve_M(f)

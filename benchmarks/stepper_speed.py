@@ -1,0 +1,154 @@
+"""Time per step of the stepper against an earlier version of the package, side by side.
+
+The earlier version (``--baseline``, a git revision of this repository; default 21d058e, the
+stepper before it was configured once per run) is exported into a temporary folder. Each
+case then runs in fresh interpreters, alternately on the baseline and on this checkout, so
+that a change of load on the machine hits both. A process steps the case with
+``fecontact.simulate`` (no output), a model built anew for each run, and reports the CPU
+time per step (``time.process_time``, which the other processes of a loaded machine disturb
+far less than the wall clock), the least of its runs. Per case: the median and the minimum
+over the processes of each version, the ratio of the medians (this checkout over the
+baseline), and whether the positions and velocities of every step are bit-identical in all
+runs of both (a refactor must not change a result).
+
+Cases: the founding flexible pendulum (1.5 s, 1500 steps), the bouncing ball (5 s, 5000
+steps of a point mass) and two elastic disks colliding (580 dofs, smooth contact), each
+with its defaults.
+
+    python benchmarks/stepper_speed.py [--quick] [--repeats N] [--baseline REV] [--out DIR]
+"""
+
+from __future__ import annotations
+
+import argparse
+import io
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tarfile
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+RESULTS = ROOT / "benchmarks" / "results"
+CASES = ("flexible_pendulum", "bouncing_ball", "two_disks")
+
+# runs in a fresh interpreter: the CPU time per step of the time loop (``simulate``, a
+# model built anew for each run, so that every run makes its own factorizations), the least
+# of ``inner`` runs, and a digest of the positions of every step
+WORKER = """
+import hashlib, json, sys, time
+from pathlib import Path
+try:
+    from fecontact.cli.cases import load_case
+except ImportError:  # (a baseline from before the command line had its own layer)
+    from fecontact.io.cli import load_case
+from fecontact.time import simulate
+path, t_end, inner = Path(sys.argv[1]), float(sys.argv[2]), int(sys.argv[3])
+best, digest = float("inf"), None
+for _ in range(inner):
+    sim = load_case(path).build()
+    t_end = t_end if t_end > 0 else sim.t_end
+    start = time.process_time()
+    states = list(simulate(sim.model, sim.dt, t_end, sim.options, q0=sim.q0, v0=sim.v0))
+    best = min(best, (time.process_time() - start) / (len(states) - 1))
+    h = hashlib.sha256()
+    for st in states:
+        h.update(st.q.tobytes())
+        h.update(st.v.tobytes())
+    digest = h.hexdigest()
+print(json.dumps({"per_step": best, "steps": len(states) - 1, "history": digest}))
+"""
+
+
+def export(revision: str, folder: Path) -> Path:
+    """The package at ``revision`` of this repository, written into ``folder``."""
+    tar = subprocess.run(
+        ["git", "-C", str(ROOT), "archive", "--format=tar", revision],
+        check=True,
+        capture_output=True,
+    ).stdout
+    with tarfile.open(fileobj=io.BytesIO(tar)) as archive:
+        archive.extractall(folder, filter="data")
+    return folder
+
+
+def one_run(tree: Path, case: str, t_end: float | None, inner: int) -> dict:
+    """Runs of ``case`` with the package of ``tree``, in a fresh interpreter."""
+    env = dict(os.environ, PYTHONPATH=str(tree), OPENBLAS_NUM_THREADS="1")
+    path = str(tree / "cases" / f"{case}.py")
+    args = [sys.executable, "-c", WORKER, path, repr(t_end or 0.0), str(inner)]
+    out = subprocess.run(args, check=True, capture_output=True, text=True, env=env, cwd=tree)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def measure(trees: dict, repeats: int, quick: bool, inner: int) -> list[dict]:
+    rows = []
+    for case in CASES:
+        t_end = {"flexible_pendulum": 0.3, "bouncing_ball": 1.0, "two_disks": 0.002}[case]
+        t_end = t_end if quick else None
+        runs = {name: [] for name in trees}
+        for _ in range(repeats):  # alternate: a change of load hits both
+            for name, tree in trees.items():
+                runs[name].append(one_run(tree, case, t_end, inner))
+        per = {n: [r["per_step"] for r in runs[n]] for n in runs}
+        med = {n: statistics.median(per[n]) for n in per}
+        rows.append(
+            {
+                "case": case,
+                "steps": runs["new"][0]["steps"],
+                "baseline_median_us": 1e6 * med["baseline"],
+                "new_median_us": 1e6 * med["new"],
+                "baseline_min_us": 1e6 * min(per["baseline"]),
+                "new_min_us": 1e6 * min(per["new"]),
+                "ratio": med["new"] / med["baseline"],
+                "same_history": len({r["history"] for n in runs for r in runs[n]}) == 1,
+            }
+        )
+    return rows
+
+
+def table(rows: list[dict], repeats: int, baseline: str) -> str:
+    lines = [
+        f"CPU time per step of the time loop, this checkout against {baseline}: median (and "
+        f"minimum) over {repeats} processes of each, alternated, of the least of the runs in "
+        "each process. Same history: the positions and velocities of every step are "
+        "bit-identical in every run of both.",
+        "",
+        "| case | steps | baseline (µs) | this checkout (µs) | ratio | same history |",
+        "| --- | ---: | ---: | ---: | ---: | --- |",
+    ]
+    for r in rows:
+        lines.append(
+            f"| {r['case']} | {r['steps']} | {r['baseline_median_us']:.1f} "
+            f"({r['baseline_min_us']:.1f}) | {r['new_median_us']:.1f} ({r['new_min_us']:.1f}) "
+            f"| {r['ratio']:.3f} | {'yes' if r['same_history'] else 'NO'} |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="short runs, 3 repeats")
+    parser.add_argument("--repeats", type=int, default=None, help="processes of each (default 7)")
+    parser.add_argument("--baseline", default="21d058e", help="git revision to compare with")
+    parser.add_argument("--out", default=str(RESULTS), help="output folder (default: %(default)s)")
+    args = parser.parse_args(argv)
+    repeats = args.repeats or (3 if args.quick else 7)
+    with tempfile.TemporaryDirectory(prefix="fecontact_baseline_") as tmp:
+        trees = {"baseline": export(args.baseline, Path(tmp)), "new": ROOT}
+        rows = measure(trees, repeats, args.quick, 1 if args.quick else 3)
+    text = table(rows, repeats, args.baseline)
+    print(text)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    path = out / ("stepper_speed_quick.md" if args.quick else "stepper_speed.md")
+    path.write_text(f"# Stepper speed\n\n{text}")
+    print(f"wrote {path}")
+    return 0 if all(r["same_history"] for r in rows) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,51 @@
+"""Counts of the contact solvers' work over one run, filled by the solvers that are given
+them (the run owns them, so that runs never mix their counts)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+__all__ = ["ContactStats", "CoulombStats", "FinalResiduals"]
+
+
+@dataclass
+class CoulombStats:
+    """Frictional contact solves (:func:`fecontact.contact.friction.solve_coulomb`): Newton
+    iterations, backtracking cuts of the merit |R|², updates taken in full after the
+    backtracking found no decrease (a kink of the nonsmooth residual), solves where Newton
+    alone did not converge and a nonsmooth Gauss–Seidel over the contacts brought it near the
+    solution first, and Newton steps taken by least squares on a singular Jacobian
+    (redundant contacts)."""
+
+    solves: int = 0
+    iterations: int = 0
+    line_search_cuts: int = 0
+    full_steps_forced: int = 0
+    gauss_seidel_solves: int = 0
+    least_squares_steps: int = 0
+
+
+@dataclass
+class FinalResiduals:
+    """The largest Alart–Curnier residual a converged correction left at each level,
+    relative to its tolerance (≤ 1)."""
+
+    position: float = 0.0
+    velocity: float = 0.0
+
+    def record(self, level: str, ratio: float) -> None:
+        if level == "position":
+            self.position = max(self.position, ratio)
+        else:
+            self.velocity = max(self.velocity, ratio)
+
+
+@dataclass
+class ContactStats:
+    """The contact solvers' counts: active sets whose constraints were redundant (a
+    singular Schur matrix G_A Y, multipliers by least squares), the final residuals, and the
+    frictional solves."""
+
+    least_squares: int = 0
+    final_residuals: FinalResiduals = field(default_factory=FinalResiduals)
+    coulomb: CoulombStats = field(default_factory=CoulombStats)

@@ -1,0 +1,308 @@
+"""The sparse solver of a run: its record, and the cost-based choice of ``"auto"``.
+
+A :class:`SolverChoice` lives for one run (``fecontact.run`` makes it). Every sparse
+factorization of the run is counted in it (backend, time, the factor's memory), and it reports
+them in ``summary.json`` (``sparse_solver``) with the process's peak memory.
+
+With the sparse solver ``"auto"``, each symmetric sparse matrix (S_t, M, the metric: one
+*role* per sparsity pattern) goes to the direct path (sparse Cholesky when installed, else
+SuperLU) or to AMG-preconditioned CG, whichever is expected to finish the rest of the run
+sooner:
+
+    direct = F t_f + N t_s,        CG = N t_cg,
+
+with N the solves and F the factorizations still to come: N = (steps left) × (solves a step),
+F = 1 for a linear model before its one factorization and 0 after, F = (steps left) ×
+(factorizations a step) for a nonlinear one (one a Newton iteration). Solves and
+factorizations per step are measured as the run goes (``SOLVES_GUESS`` and ``NEWTON_GUESS``
+before its first step is over). t_f and t_s are measured once the role has been factorized,
+and until then estimated from the measured time of one product with A by ``FACTOR_MODEL``
+(``docs/validation/large_solids.md``). t_cg is measured on CG's solves; the first solve of a
+role is CG with the diagonal preconditioner, stopped once it has cost what a CG solve may cost
+for the paths to tie (so that a role the direct path serves better loses little to it): if it
+converges, its time is t_cg; if not, AMG-CG is estimated by ``AMG_MODEL`` until measured.
+The choice is made again at every new matrix of a role, and once a step on the CG path; each
+change of path is recorded with its reason.
+"""
+
+from __future__ import annotations
+
+import inspect
+import resource
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from .iterative import DIAGONAL_ITERATIONS, RTOL, TRUE_RESIDUAL
+
+__all__ = ["FACTOR_MODEL", "RunPlan", "SolverChoice"]
+
+# the relative tolerance of scipy's cg: ``tol`` before SciPy 1.12, ``rtol`` since
+_RTOL = "rtol" if "rtol" in inspect.signature(spla.cg).parameters else "tol"
+
+SOLVES_GUESS = 2.0
+"""Solves a step with a role's matrix, before the first step is over (measured 1.5–2.2 on
+the linear ball impacts of ``benchmarks/large_solids.py``)."""
+
+NEWTON_GUESS = 3.0
+"""Factorizations a step of a nonlinear model before the first step is over (Newton
+iterations: 2–4 measured on the Neo-Hookean ball)."""
+
+PRODUCTS_PER_ITERATION = 1.5
+"""Cost of a CG iteration with the diagonal preconditioner, in products with A (the product,
+the scaling and three vector updates)."""
+
+AMG_MODEL = (450.0, 0.3)
+"""(K, q): an AMG-preconditioned CG solve costs K (n/10⁴)^q products with A, its hierarchy's
+setups included, until one is measured: fitted to the ``amg`` rows of the linear balls of
+``benchmarks/large_solids.py`` at t_c/20 (351, 465 and 805 products a solve at 3,993, 20,577
+and 65,856 dofs, beyond the direct path's work of a step). At 255,552 dofs a trial solve at
+the former flat 300 cost the run 30 % over the direct path."""
+
+FACTOR_MODEL = {
+    "cholesky": ((520.0, 1.0), (39.0, 0.4)),
+    "superlu": ((1790.0, 1.4), (56.0, 0.7)),
+}
+"""Per backend, ((K_f, q_f), (K_s, q_s)): a factorization costs K_f (n/10⁴)^q_f and a solve
+K_s (n/10⁴)^q_s products with A (n unknowns), fitted to the iteration matrices of the 3D ball at
+20,577 and 65,856 dofs (PARDISO's Cholesky and SuperLU's symmetric mode, one thread). Only the
+first decision of a role uses it; measured times replace it."""
+
+
+@dataclass
+class RunPlan:
+    """What a run will ask of its solver: ``steps`` time steps; a ``linear`` model factorizes
+    its iteration matrix once, a nonlinear one at every Newton iteration."""
+
+    steps: int
+    linear: bool
+
+
+@dataclass
+class _Role:
+    """The measured costs (s) of the matrices of one sparsity pattern."""
+
+    n: int
+    product: float  # one product with A
+    requests: int = 0  # matrices of this pattern to solve with
+    solves: int = 0
+    path: str | None = None
+    t_f: float | None = None  # direct factorization, measured
+    t_s: float | None = None  # direct solve, measured
+    t_cg: float | None = None  # CG solve, measured (setups included)
+    cg_solves: int = 0
+    direct_solves: int = 0
+
+    def average(self, name: str, seconds: float, count: int) -> None:
+        old = getattr(self, name)
+        setattr(self, name, seconds if old is None else old + (seconds - old) / count)
+
+
+@dataclass
+class SolverChoice:
+    """The sparse solver ``name`` of one run, the plan of the run, and what it did."""
+
+    name: str
+    plan: RunPlan
+    backend: str  # the direct path of symmetric systems: "cholesky" or "superlu"
+    steps_done: int = 0
+    decisions: list = field(default_factory=list)
+    factorizations: dict = field(default_factory=dict)
+    factor_memory_mb: float = 0.0
+    _roles: dict = field(default_factory=dict)
+
+    def note_step(self) -> None:
+        """A time step is done (the measured rates per step count it)."""
+        self.steps_done += 1
+
+    def count_factorization(self, backend: str, seconds: float, memory_mb: float = 0.0):
+        """Count a sparse factorization by ``backend`` that took ``seconds`` and whose factor
+        holds ``memory_mb`` (0 when the backend does not say)."""
+        entry = self.factorizations.setdefault(backend, {"count": 0, "seconds": 0.0})
+        entry["count"] += 1
+        entry["seconds"] += seconds
+        self.factor_memory_mb = max(self.factor_memory_mb, memory_mb)
+
+    def auto(self, A, direct, iterative):
+        """``solve(b)`` for the symmetric sparse A, by ``direct()`` or ``iterative()`` (each
+        returns a solve) as the costs measured so far choose."""
+        role = self.role(A)
+        role.requests += 1
+        return _AutoSolve(self, role, A, direct, iterative)
+
+    def role(self, A) -> _Role:
+        """The measured costs of the matrices with the sparsity pattern of A (one per role)."""
+        key = (A.shape[0], A.nnz, A.indices.__array_interface__["data"][0])
+        if key not in self._roles:
+            self._roles[key] = _Role(A.shape[0], _product_time(A))
+        return self._roles[key]
+
+    def costs(self, role: _Role, factorized: bool) -> tuple[float, float, str]:
+        """(direct, CG) seconds expected for the rest of the run, and how they were had."""
+        left = max(self.plan.steps - self.steps_done, 1)
+        done = self.steps_done
+        per_step = role.solves / done if done else SOLVES_GUESS
+        t_f, t_s, source = self._direct_times(role)
+        if self.plan.linear:
+            factorizations = 0.0 if factorized else 1.0
+        else:
+            factorizations = left * (role.requests / done if done else NEWTON_GUESS)
+        direct = factorizations * t_f + left * per_step * t_s
+        cg = left * per_step * role.t_cg
+        how = (
+            f"{left} steps left x {per_step:.3g} solves, {factorizations:.3g} factorizations: "
+            f"factorization {t_f:.3g} s + solve {t_s:.3g} s ({source}) against CG {role.t_cg:.3g}"
+            f" s ({'measured' if role.cg_solves else 'estimated'})"
+        )
+        return direct, cg, how
+
+    def _direct_times(self, role: _Role) -> tuple[float, float, str]:
+        if role.t_f is not None:
+            t_s = role.t_s if role.t_s is not None else role.t_f * 0.02
+            return role.t_f, t_s, "measured"
+        (kf, qf), (ks, qs) = FACTOR_MODEL[self.backend]
+        scale = role.n / 1e4
+        return kf * scale**qf * role.product, ks * scale**qs * role.product, "estimated"
+
+    def decide(self, role: _Role, path: str, reason: str) -> None:
+        if path != role.path:
+            self.decisions.append(
+                {"n": role.n, "step": self.steps_done, "path": path, "reason": reason}
+            )
+        role.path = path
+
+    def record(self) -> dict:
+        """The run's ``sparse_solver`` entry of ``summary.json``."""
+        peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # kB on Linux
+        out = {
+            "name": self.name,
+            "direct": self.backend,
+            "factorizations": self.factorizations,
+            "factor_memory_mb": self.factor_memory_mb,
+            "peak_memory_mb": peak,
+        }
+        if self.name == "auto":
+            roles = [
+                {
+                    "n": r.n,
+                    "path": r.path,
+                    "cg_solves": r.cg_solves,
+                    "direct_solves": r.direct_solves,
+                }
+                for r in self._roles.values()
+            ]
+            out |= {"roles": roles, "decisions": self.decisions}
+        out["reason"] = self._reason()
+        return out
+
+    def _reason(self) -> str:
+        if self.name != "auto":
+            return f'the sparse solver "{self.name}" (use_sparse_solver): no choice to make'
+        if not self.decisions:
+            return "no symmetric sparse system was solved"
+        last = self.decisions[-1]
+        return f"{last['path']} for the last choice (n = {last['n']}): {last['reason']}"
+
+
+def _product_time(A) -> float:
+    """Wall time (s) of one product A x: the unit of the cost model, measured on the best of
+    three (the first touches the memory)."""
+    x = np.ones(A.shape[0])
+    best = np.inf
+    for _ in range(3):
+        start = time.perf_counter()
+        A @ x
+        best = min(best, time.perf_counter() - start)
+    return best
+
+
+class _AutoSolve:
+    """``solve(b)`` of one matrix of a role, by the path its role's costs choose."""
+
+    def __init__(self, choice: SolverChoice, role: _Role, A, direct, iterative):
+        self.choice, self.role, self.A = choice, role, A
+        self.direct_factorize, self.iterative = direct, iterative
+        self.solve, self.path, self.step = None, None, -1
+        self.reweighed = False  # chosen again once the role's first CG solve was timed
+
+    def __call__(self, b):
+        if self.path is None and self.role.t_cg is None:
+            x = self._probe(b)
+            if x is not None:
+                return x
+        # on the CG path: choose at the first solve, right after the role's first CG solve
+        # (its cost now measured), then at most once a step
+        probed = self.role.cg_solves == 1 and not self.reweighed
+        if self.path != "direct" and (self.step != self.choice.steps_done or probed):
+            self.step, self.reweighed = self.choice.steps_done, self.reweighed or probed
+            self._choose()
+        role = self.role
+        role.solves += 1
+        start = time.perf_counter()
+        x = self.solve(b)
+        seconds = time.perf_counter() - start
+        if self.path == "direct":
+            role.direct_solves += 1
+            role.average("t_s", seconds, role.direct_solves)
+        else:
+            role.cg_solves += 1
+            role.average("t_cg", seconds, role.cg_solves)
+        return x
+
+    def _probe(self, b):
+        """The first solve of a role: CG with the diagonal, stopped once it has cost what a
+        solve may cost for CG to tie with the direct path (at most ``DIAGONAL_ITERATIONS``).
+        Its answer if it converged (CG's cost then measured); else None, and AMG-CG's cost
+        estimated (``AMG_MODEL``)."""
+        role, choice = self.role, self.choice
+        role.t_cg = 1.0  # a unit: the CG cost below is then the number of solves left
+        direct, solves, how = choice.costs(role, factorized=False)
+        role.t_cg = AMG_MODEL[0] * (role.n / 1e4) ** AMG_MODEL[1] * role.product
+        tie = direct / solves  # s a CG solve may cost
+        iterations = int(min(tie / (PRODUCTS_PER_ITERATION * role.product), DIAGONAL_ITERATIONS))
+        start = time.perf_counter()
+        x = _diagonal_cg(self.A, b, iterations)
+        seconds = time.perf_counter() - start
+        if x is None:
+            return None
+        role.t_cg, role.cg_solves, role.solves = seconds, 1, 1
+        self.path, self.solve, self.step = "cg", self.iterative(), choice.steps_done
+        reason = f"CG with the diagonal solved in {seconds:.3g} s, below the tie {tie:.3g} s"
+        choice.decide(role, "cg", f"{reason} of the direct path ({how})")
+        return x
+
+    def _choose(self) -> None:
+        role, choice = self.role, self.choice
+        factorized = role.t_f is not None and choice.plan.linear
+        direct, cg, how = choice.costs(role, factorized and self.path == "direct")
+        path = "direct" if direct <= cg else "cg"
+        reason = f"expected direct {direct:.3g} s, CG {cg:.3g} s: {how}"
+        choice.decide(role, path, reason)
+        if path == self.path:
+            return
+        self.path = path
+        if path == "cg":
+            self.solve = self.iterative()
+            return
+        start = time.perf_counter()
+        self.solve = self.direct_factorize()
+        role.t_f = time.perf_counter() - start
+
+
+def _diagonal_cg(A, b, iterations: int):
+    """x with ‖b − A x‖ ≤ TRUE_RESIDUAL · RTOL ‖b‖ by at most ``iterations`` of CG with the
+    diagonal preconditioner, or None (not converged, a matrix block of right-hand sides, a
+    nonpositive diagonal)."""
+    d = A.diagonal()
+    if iterations < 1 or sp.issparse(b) or np.ndim(b) != 1 or not np.all(d > 0.0):
+        return None
+    b = np.asarray(b, dtype=float)
+    if not b.any():
+        return np.zeros_like(b)
+    M = spla.LinearOperator(A.shape, matvec=lambda r: r / d, dtype=float)
+    x, info = spla.cg(A, b, atol=0.0, maxiter=iterations, M=M, **{_RTOL: RTOL})
+    converged = np.linalg.norm(b - A @ x) <= TRUE_RESIDUAL * RTOL * np.linalg.norm(b)
+    return x if info == 0 and converged else None

@@ -1,0 +1,168 @@
+"""What a run records every step: the history rows, the impacts, the energy balance and
+ledger, and the statistics of ``summary.json``."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import platform
+from pathlib import Path
+
+import numpy as np
+
+from .energy import EnergyBalance
+from .io.frames import friction_totals
+from .io.output import FRICTION_COLUMNS, LEDGER_COLUMNS, STANDARD_COLUMNS
+from .io.run_folder import jsonable
+from .ledger import EnergyLedger
+from .time import State, uses_smooth_contact
+from .version import __version__
+
+__all__ = ["Recorder"]
+
+
+class Recorder:
+    """History rows, impact detection and summary statistics over a run."""
+
+    STATS = (
+        "impacts",
+        "iter_total",
+        "iter_max",
+        "halvings",
+        "retakes",
+        "max_penetration",
+        "min_gap",
+        "energy_initial",
+        "energy_final",
+        "energy_max",
+        "steps",
+    )
+
+    def __init__(self, sim, out: Path, keep_rows=None):
+        from .io.output import HistoryWriter
+
+        self.sim = sim
+        self.model = sim.model
+        self.friction = self.model.contacts.frictional
+        self.friction_work = 0.0
+        extra = FRICTION_COLUMNS if self.friction else ()
+        self.columns = [*STANDARD_COLUMNS, *extra, *LEDGER_COLUMNS, *sim.probes]
+        self.history = HistoryWriter(out / "history.csv", self.columns, keep_rows=keep_rows)
+        self.impacts: list[dict] = []
+        self.closed = np.zeros(self.model.contacts.size, dtype=bool)
+        self.impact_frame = False  # the first impact's frame is written
+        self.iter_total = 0
+        self.iter_max = 0
+        self.halvings = 0
+        self.retakes = 0
+        self.max_penetration = 0.0  # m, from the inside/outside test at every step's end
+        self.min_gap = math.inf
+        self.energy_initial = math.nan
+        self.energy_final = math.nan
+        self.energy_max = -math.inf
+        self.balance = EnergyBalance(self.model)
+        self.ledger = EnergyLedger(self.model, sim.options)
+        self.energies = (math.nan, math.nan, math.nan)  # T, V_strain, V_gravity of the last
+        self.steps = 0
+
+    def record(self, st: State) -> None:
+        m = self.model
+        ke, se, pe = m.kinetic_energy(st.v), m.strain_energy(st.q), m.potential_energy(st.q)
+        total = ke + se + pe
+        self.balance.add(st.t, st.q, ke, se, pe)
+        self.ledger.add(st, ke, se, pe, self.balance.work)
+        self.energies = (ke, se, pe)
+        near = st.gaps[st.candidates] if st.step > 0 else st.gaps
+        near = near[near <= m.length * self.sim.options.detection_margin]
+        min_gap = float(near.min()) if near.size else math.inf
+        active = st.pressed()
+        for j in np.flatnonzero(active & ~self.closed):
+            self.impacts.append({"time": st.t, "contact": int(j), "impulse": st.impulse[j]})
+        self.closed = active
+        its = st.newton_iterations
+        row = [st.t, ke, se, pe, total, min_gap, int(active.sum()), float(st.impulse.sum()), its]
+        if self.friction:
+            row += friction_totals(st)
+            self.friction_work = row[-1]
+        row += self.ledger.row()
+        row += [p.fn(m, st) for p in self.sim.probes.values()]
+        self.history.write(row)
+        if st.step == 0:
+            self.energy_initial = total
+        else:
+            self.steps += 1
+            self.iter_total += its
+            self.iter_max = max(self.iter_max, its)
+            self.halvings += st.halvings
+            self.retakes += st.retakes
+            self.max_penetration = max(self.max_penetration, st.penetration)
+        self.energy_final = total
+        self.energy_max = max(self.energy_max, total)
+        self.min_gap = min(self.min_gap, min_gap)
+
+    def stats(self) -> dict:
+        extra = {"closed": self.closed.tolist(), "impact_frame": self.impact_frame}
+        extra["energy_balance"] = self.balance.state()
+        extra["energy_ledger"] = self.ledger.state()
+        return {k: getattr(self, k) for k in self.STATS} | extra
+
+    def restore(self, stats: dict) -> None:
+        for k in self.STATS:
+            setattr(self, k, stats.get(k, getattr(self, k)))
+        self.closed = np.array(stats["closed"], dtype=bool)
+        self.impact_frame = bool(stats.get("impact_frame", True))
+        self.balance.restore(stats.get("energy_balance", {}))
+        self.ledger.restore(stats.get("energy_ledger", {}))
+
+    def summary(self, status: str, wall: float, timer: dict, message: str, counts: dict) -> dict:
+        """The run's ``summary.json``: ``time_per_step_s`` is the wall time of the time loop
+        without frame and history output, over the steps; ``counts`` are the run's
+        statistics (:meth:`fecontact.time.StepStats.summary`), among them
+        ``sparse_factorizations``, the sparse LU factorizations of the run and their time
+        (included in the phases), the one-time cost of a linear model."""
+        sim = self.sim
+        import scipy
+        import skfem
+
+        return {
+            "case": sim.name,
+            "status": status,
+            "message": message,
+            "steps": self.steps,
+            "dt": sim.dt,
+            "t_end": sim.t_end,
+            "wall_time_s": wall,
+            "time_per_step_s": (wall - timer.get("output", 0.0)) / max(self.steps, 1),
+            "phase_times_s": dict(timer),
+            "sparse_factorizations": counts.pop("sparse_factorizations"),
+            "newton_iterations_total": self.iter_total,
+            "newton_iterations_max": self.iter_max,
+            "newton_iterations_mean": self.iter_total / max(self.steps, 1),
+            "step_halvings": self.halvings,
+            "penetration_retakes": self.retakes,
+            "max_penetration": max(self.max_penetration, -self.min_gap),
+            "min_gap": self.min_gap,
+            "energy_initial": self.energy_initial,
+            "energy_final": self.energy_final,
+            "energy_max": self.energy_max,
+            "energy_balance": self.balance.summary(),
+            "energy_ledger": self.ledger.summary(*self.energies),
+            "impacts": self.impacts,
+            "parameters": jsonable(sim.parameters),
+            "case_file": sim.origin,
+            "options": dataclasses.asdict(sim.options),
+            # what smooth_contact="auto" chose for this model (NSGA only)
+            "smooth_contact_force": sim.options.integrator == "nsga"
+            and uses_smooth_contact(self.model, sim.options),
+            "probes": {
+                k: {"unit": p.unit, "description": p.description} for k, p in sim.probes.items()
+            },
+            "n_dofs": self.model.n,
+            "versions": {
+                "fecontact": __version__,
+                "python": platform.python_version(),
+                "numpy": np.__version__,
+                "scipy": scipy.__version__,
+                "scikit-fem": getattr(skfem, "__version__", "unknown"),
+            },
+        }

@@ -1,0 +1,51 @@
+"""The settings of one run: the integrator options, what the run decided once about its
+model, and the statistics its steps fill."""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+
+from .state import IntegratorOptions
+from .stats import StepStats
+
+__all__ = ["RunSettings", "run_settings", "uses_smooth_contact"]
+
+
+@dataclass
+class RunSettings(IntegratorOptions):
+    """The :class:`IntegratorOptions` of one run, the traits of its model the steps act on,
+    decided once (``smooth``: persistent contacts carry a smooth force, the ``"auto"`` of
+    ``smooth_contact`` resolved; ``restarts``: and the acceleration variable restarts after
+    an impact, which beams do not take; ``friction``: the contacts have friction), and its
+    statistics ``stats``, which the phases of its steps fill."""
+
+    smooth: bool = False
+    restarts: bool = False
+    friction: bool = False
+    stats: StepStats = field(default_factory=StepStats, repr=False, compare=False)
+
+    def __post_init__(self):
+        pass  # the values are those of options already checked, taken as they are
+
+
+def uses_smooth_contact(model, opts) -> bool:
+    """Whether the NSGA step gives persistent contacts a smooth force: ``smooth_contact``
+    "on", or "auto" on a model with an elastic continuum (a ``Solid``)."""
+    return opts.smooth_contact == "on" or (opts.smooth_contact == "auto" and model.continuum)
+
+
+def run_settings(model, opts: IntegratorOptions, stats: StepStats | None = None) -> RunSettings:
+    """``opts`` as the settings of a run of ``model`` that counts into ``stats`` (default:
+    new counts); settings already made are returned as they are."""
+    if isinstance(opts, RunSettings):
+        return opts
+    values = {f.name: getattr(opts, f.name) for f in dataclasses.fields(IntegratorOptions)}
+    smooth = uses_smooth_contact(model, opts)  # (read by the NSGA step only)
+    return RunSettings(
+        **values,
+        smooth=smooth,
+        restarts=smooth and not model.slender,  # (beams: see smooth_contact, the restart)
+        friction=model.contacts.frictional,
+        stats=StepStats() if stats is None else stats,
+    )

@@ -1,0 +1,80 @@
+"""The statistics of one run: every count of fallbacks, globalizations and solver work that
+``summary.json`` reports, in one object the time loop owns and hands to what counts."""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+
+from ..contact.stats import ContactStats
+from ..linalg import Factorizations, IterativeStats, LinearSolver
+from ..linalg.choice import RunPlan, SolverChoice
+
+__all__ = ["FollowUps", "NewtonStats", "StepStats"]
+
+
+@dataclass
+class NewtonStats:
+    """Smooth Newton updates (:mod:`fecontact.time.descent`): all of them, the halvings of
+    their length by the line search, and the directions recomputed with a mass shift (not
+    descending)."""
+
+    iterations: int = 0
+    line_search_cuts: int = 0
+    shifted_directions: int = 0
+
+
+@dataclass
+class FollowUps:
+    """Velocity follow-ups of an impact's correction
+    (:func:`fecontact.time.position_jump.velocity_follows`), and those taken short of the
+    full hγΔa because the rest would have raised the kinetic energy."""
+
+    steps: int = 0
+    shortened: int = 0
+
+
+@dataclass
+class StepStats:
+    """Counts of one run (each starts at zero)."""
+
+    newton: NewtonStats = field(default_factory=NewtonStats)
+    follow_ups: FollowUps = field(default_factory=FollowUps)
+    releases: int = 0  # smooth steps taken again without the force of a contact they released
+    contact: ContactStats = field(default_factory=ContactStats)
+    factorizations: Factorizations = field(default_factory=Factorizations)
+    iterative: IterativeStats = field(default_factory=IterativeStats)
+    # the sparse solver's record: its backend, factorizations and memory, the choices of "auto"
+    sparse: SolverChoice | None = None
+
+    def solver(self, model, plan: RunPlan | None = None) -> LinearSolver:
+        """A linear solver for ``model`` (the process default sparse solver, the model's rigid
+        modes as AMG's near-null space) that counts its work here; with the run's ``plan``,
+        its record (``sparse``) is kept for the summary."""
+        out = LinearSolver(None, model.rigid_modes, self.factorizations, self.iterative, plan)
+        self.sparse = out.choice if out.choice is not None else self.sparse
+        return out
+
+    def summary(self, frictional: bool) -> dict:
+        """The entries of ``summary.json`` these counts make (``friction_solver`` only for a
+        ``frictional`` model)."""
+        asdict = dataclasses.asdict
+        out = {
+            "sparse_factorizations": asdict(self.factorizations),
+            # redundant active constraints whose multipliers came from least squares
+            "least_squares_multipliers": self.contact.least_squares,
+            # the globalization of the smooth Newton (fecontact.time.descent)
+            "smooth_newton": asdict(self.newton),
+            # the velocity's follow-ups of an impact's correction (fecontact.time.position_jump)
+            "velocity_follow_ups": asdict(self.follow_ups),
+            "contact_releases": self.releases,
+            # the largest Alart–Curnier residual a converged correction left, over its tolerance
+            "final_residuals": asdict(self.contact.final_residuals),
+            # AMG-preconditioned CG (sparse solver "amg"): solves, iterations, setups, fallbacks
+            "iterative_solver": asdict(self.iterative),
+        }
+        if self.sparse is not None:  # the sparse solver: the direct path, the choices of "auto"
+            out["sparse_solver"] = self.sparse.record()
+        if frictional:  # the frictional solves and their fallbacks
+            out["friction_solver"] = asdict(self.contact.coulomb)
+        return out

@@ -1,0 +1,122 @@
+"""The sparse Cholesky path and the run's sparse solver record: the same answers as SuperLU to
+round-off, SuperLU for what is not positive definite, and the cost model of "auto"."""
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from fecontact import run
+from fecontact.linalg import direct as direct_module
+from fecontact.linalg import factorize
+from fecontact.linalg.choice import RunPlan, SolverChoice
+from fecontact.linalg.cholesky import CholeskyFactor
+from fecontact.linalg.sparse_solvers import sparse_solver, use_sparse_solver
+from fecontact.testing import case
+
+
+@pytest.fixture
+def restore():
+    before = sparse_solver()
+    yield
+    use_sparse_solver(before)
+
+
+def spd(n=50):
+    """The 2D five-point Laplacian plus I (n² unknowns, symmetric positive definite)."""
+    d = sp.diags([-1.0, 2.0, -1.0], [-1, 0, 1], shape=(n, n))
+    return (sp.kron(sp.eye(n), d) + sp.kron(d, sp.eye(n)) + sp.eye(n * n)).tocsr()
+
+
+def test_cholesky_gives_superlu_s_solutions(restore):
+    pytest.importorskip("pypardiso")
+    A = spd()  # 2500 unknowns: above cholesky.MIN_UNKNOWNS
+    b = np.random.default_rng(2).standard_normal((2500, 2))
+    use_sparse_solver("superlu")
+    x_lu = factorize(A, symmetric=True)(b)
+    use_sparse_solver("direct")
+    solve = factorize(A, symmetric=True)
+    assert isinstance(solve, CholeskyFactor)
+    x_chol = solve(b)
+    # both backward stable and κ(A) < 9 (eigenvalues in (1, 9)): the solutions agree to a few
+    # units of round-off; 1e-11 leaves a wide margin
+    np.testing.assert_allclose(x_chol, x_lu, rtol=1e-11, atol=1e-13)
+
+
+def test_indefinite_symmetric_matrices_go_to_superlu(restore):
+    """A symmetric indefinite matrix (a buckling tangent) is refused by the Cholesky path and
+    solved by SuperLU's symmetric mode, with or without the binding."""
+    A = (spd() - 2.5 * sp.eye(2500)).tocsr()  # eigenvalues −1.49 … 6.49, none below 3e-3
+    b = np.random.default_rng(3).standard_normal(2500)
+    x = factorize(A, symmetric=True)(b)
+    # backward stable: residual ~ ε ‖A‖ ‖x‖ ≤ 1e-16 · 6.5 · 330 ‖b‖, 1e-10 ‖b‖ leaves a margin
+    assert np.linalg.norm(A @ x - b) <= 1e-10 * np.linalg.norm(b)
+
+
+def test_without_the_binding_direct_is_superlu(restore, monkeypatch):
+    A = spd()
+    b = np.random.default_rng(4).standard_normal(2500)
+    monkeypatch.setattr(direct_module, "cholesky_available", lambda: False)
+    x = factorize(A, symmetric=True)(b)
+    use_sparse_solver("superlu")
+    np.testing.assert_array_equal(x, factorize(A, symmetric=True)(b))  # the same code path
+
+
+def role_costs(linear, t_f, t_s, t_cg, steps=100):
+    choice = SolverChoice("auto", RunPlan(steps, linear), "cholesky")
+    role = choice.role(spd(4))
+    role.t_f, role.t_s, role.t_cg = t_f, t_s, t_cg
+    return choice.costs(role, factorized=False)[:2]
+
+
+def test_auto_weighs_factorizations_against_solves():
+    # 100 steps, 2 solves a step (the guess before the first step): a linear model pays one
+    # factorization, a nonlinear one 3 a step (Newton iterations)
+    assert role_costs(True, 1.0, 0.01, 0.1) == pytest.approx((1.0 + 2.0, 20.0))
+    assert role_costs(False, 1.0, 0.01, 0.1) == pytest.approx((300.0 + 2.0, 20.0))
+    # few steps make the one factorization of a linear model dearer than its CG solves
+    assert role_costs(True, 10.0, 0.01, 0.1, steps=10) == pytest.approx((10.2, 2.0))
+
+
+def test_auto_measures_cg_only_where_it_could_win():
+    """The first solve of a pattern is CG with the diagonal, stopped where it would cost more
+    than the direct path estimated: at once for the one factorization of a small linear model
+    (then factorized), not for a large nonlinear one refactorized at every Newton iteration
+    (CG converges within its allowance: the CG path, measured)."""
+    calls = []
+
+    def path(name):
+        def make():
+            calls.append(name)
+            return lambda b: b
+
+        return make
+
+    for linear, n, expected in ((True, 4, "direct"), (False, 300, "cg")):
+        choice = SolverChoice("auto", RunPlan(100, linear), "cholesky")
+        A = spd(n)
+        choice.role(A).product = 1e-3  # s: the unit of the estimates, fixed for the test
+        choice.auto(A, path("direct"), path("cg"))(np.ones(A.shape[0]))
+        assert calls[-1] == expected
+        assert choice.decisions[0]["path"] == expected
+
+
+def test_the_run_records_its_solver_and_auto_agrees_with_direct(tmp_path, restore):
+    """The 3D ball (387 dofs) touching the plane, 8 steps, with each sparse solver: the summary
+    says which path solved and why, and "auto" gives the direct answer to CG's tolerance."""
+    finals = {}
+    for name in ("direct", "auto"):
+        use_sparse_solver(name)
+        # a new model each time: a linear model keeps its factorized iteration matrix
+        sim = case("ball_drop").build(refinements=2, drop_height=0.0)
+        sim = sim.replace(t_end=8 * sim.dt)
+        s = run(sim.replace(name=name), tmp_path / name, frames=False, checkpoint_every=0)
+        record = s["sparse_solver"]
+        assert record["name"] == name and record["reason"]
+        assert record["peak_memory_mb"] > 0.0
+        history = np.genfromtxt(tmp_path / name / "history.csv", delimiter=",", skip_header=1)
+        finals[name] = history[-1]
+        assert s["status"] == "completed"
+    assert s["sparse_solver"]["decisions"][0]["reason"]  # "auto" said what it chose and why
+    # CG solves to 1e-10 relative residual: κ(S) ≤ 1e4 here leaves 1e-5 relative in each
+    # solve at worst, far below the history's rounding of contact quantities
+    np.testing.assert_allclose(finals["auto"], finals["direct"], rtol=1e-5, atol=1e-9)
