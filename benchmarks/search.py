@@ -17,6 +17,7 @@ tables give the fastest of each (the cost without the machine's noise) and their
 
     python benchmarks/search.py --baseline 21d058e            # a few minutes
     python benchmarks/search.py --baseline 21d058e --quick    # shorter runs, one round
+    python benchmarks/search.py --quick                       # this checkout against itself
 """
 
 from __future__ import annotations
@@ -120,15 +121,19 @@ def extract(revision: str, folder: Path) -> Path:
 
 def main() -> None:
     p = parser(__doc__.splitlines()[0])
-    p.add_argument("--baseline", required=True, help="git revision to compare with")
+    p.add_argument("--baseline", help="git revision to compare with (--quick: this checkout)")
     p.add_argument("--rounds", type=int, default=3)
     args = p.parse_args()
+    if args.baseline is None and not args.quick:
+        p.error("--baseline REV is required (or --quick)")
     rounds, repeats = (1, 1) if args.quick else (args.rounds, 3)
     runs = [(*r[:3], r[3] / 5, *r[4:]) for r in RUNS] if args.quick else RUNS
     runs += [FAST[7]] if args.quick else FAST  # (10 m/s, 8 Δx/c)
     rows = {"free": [], "contact": [], "fast": []}
     with tempfile.TemporaryDirectory(prefix="fecontact_baseline_") as tmp:
-        base = extract(args.baseline, Path(tmp))
+        # --quick without a revision checks that the script runs: this checkout against itself
+        base = ROOT if args.baseline is None else extract(args.baseline, Path(tmp))
+        args.baseline = args.baseline or "this checkout"
         for run in runs:
             now, then = [], []
             for _ in range(rounds):
