@@ -7,7 +7,7 @@ total energy E = T + V_strain + V_gravity (J) can rise only by the work W of the
 integration. The budget B = E_0 + W − V_gravity = T + V_strain − G is the kinetic plus strain
 energy the motion may hold. G > B means that the motion holds more than twice that: the
 integration went unstable (the generalized-α step on a stiff nonlinear structure at large
-ρ∞, README, *Stability and the defaults*). Moving obstacles do work the balance does not
+ρ∞, docs/explanation/stability.md). Moving obstacles do work the balance does not
 see: for them no gain is reported.
 """
 
@@ -92,8 +92,8 @@ class EnergyBalance:
         return (
             f"the total energy rose {self.gain:.3g} J above what the initial state and the "
             f"loads supply ({self.budget:.3g} J of kinetic and strain energy): the time "
-            "integration is unstable for this model and step (README, Stability and the "
-            "defaults: a smaller rho_inf or dt)"
+            "integration is unstable for this model and step (docs: explanation/"
+            "stability; a smaller rho_inf or dt)"
         )
 
     def state(self) -> dict:

@@ -111,8 +111,8 @@ def _flexible_warnings(opts: IntegratorOptions, restitution: np.ndarray) -> list
         out.append(
             f"rho_inf = {opts.rho_inf:g} with restitution > 0 on a flexible body: the "
             "vibration an impact leaves can make the generalized-alpha step blow up "
-            "(measured from rho_inf = 0.7 on, at some steps; README, Stability and the "
-            "defaults); rho_inf = 0.5 is the stable default, and beams can take "
+            "(measured from rho_inf = 0.7 on, at some steps; docs: explanation/"
+            "stability); rho_inf = 0.5 is the stable default, and beams can take "
             "scheme = 'energy-decaying', which cannot blow up"
         )
     if opts.scheme == "energy-decaying" and opts.rho_inf > 0.95:
@@ -125,13 +125,13 @@ def _flexible_warnings(opts: IntegratorOptions, restitution: np.ndarray) -> list
     if alpha and np.any(restitution == 0) and opts.rho_inf > 0.9:
         out.append(
             f"rho_inf = {opts.rho_inf:g} with restitution 0 on a flexible body: an energy "
-            "blow-up at the first impact was measured at rho_inf = 1 (README, Stability and "
-            "the defaults)"
+            "blow-up at the first impact was measured at rho_inf = 1 (docs: explanation/"
+            "stability)"
         )
     if opts.integrator == "nsga" and opts.metric == "mass":
         out.append(
             "metric = mass on a flexible body: each position correction injects strain "
-            "energy (README, Stability and the defaults); the default metric = stiffness "
+            "energy (docs: explanation/stability); the default metric = stiffness "
             "spreads the correction over the structure"
         )
     return out

@@ -8,8 +8,8 @@ matrix β′M + K_t, the metric H − C) are factorized in SuperLU's symmetric m
 degree ordering of A + Aᵀ applied to rows and columns alike, and the diagonal taken as pivot
 unless it is below ``SYMMETRIC_PIVOT`` of its column. With the default threshold of 1, row
 interchanges destroy the symmetric ordering and the fill grows by an order of magnitude on 3D
-iteration matrices (README, *Speed*). Element matrices are scattered into a sparsity pattern
-computed once per model, so every assembly is a single ``np.bincount``.
+iteration matrices (docs/explanation/speed.md). Element matrices are scattered into a
+sparsity pattern computed once per model, so every assembly is a single ``np.bincount``.
 """
 
 from __future__ import annotations

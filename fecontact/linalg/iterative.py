@@ -2,8 +2,8 @@ r"""Conjugate gradients preconditioned by algebraic multigrid (the sparse solver
 
 The iteration matrix S_t = β′M + K_t of elastic bodies, the mass M and the metric S_t/β′ are
 symmetric positive definite. A sparse LU of a 3D one fills in like n^{4/3} and costs like n²
-(53.6 s at 65,856 dofs here, README *Speed*), while preconditioned CG costs a few products
-with A per iteration and, with smoothed-aggregation AMG (pyamg), about as many iterations
+(53.6 s at 65,856 dofs here, docs/explanation/speed.md), while preconditioned CG costs a few
+products with A per iteration and, with smoothed-aggregation AMG (pyamg), about as many iterations
 whatever n.
 
 - Preconditioner: the diagonal of A first, AMG once CG needs more than

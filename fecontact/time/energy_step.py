@@ -1,6 +1,6 @@
 r"""The energy-decaying smooth step (``scheme="energy-decaying"``): step 1 of the NSGA for
 geometrically exact beams, where generalized-α can pump energy into the stiff modes an impact
-leaves ringing (README, *Stability and the defaults*).
+leaves ringing (docs/explanation/stability.md).
 
 A midpoint step with the discrete gradient of the strain energy, made dissipative by second
 differences of the strains and of the velocities (in the spirit of Armero & Romero's

@@ -82,7 +82,7 @@ class IntegratorOptions:
         scheme, where only the position correction and the velocity jump act on contacts;
         "auto" (default): on for models with an elastic continuum (``Solid``), whose
         lasting contacts it lets take steps of Δx/c and more, off for beams and rigid
-        bodies, which it does not change measurably (see the README).
+        bodies, which it does not change measurably (docs/explanation/stability.md).
     scheme : NSGA only. The smooth step: "generalized-alpha" (default) or "energy-decaying"
         (:mod:`fecontact.time.energy_step`: planar geometrically exact beams, whose energy it
         cannot let grow; ``rho_inf`` ∈ [1/3, 1] sets its dissipation, 1 conserves energy).
