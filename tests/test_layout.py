@@ -1,5 +1,6 @@
 """The package's shape: no import cycle between its modules, no private name used across a
-module boundary, interfaces declared instead of probed, and rooms of a size one can read."""
+module boundary, interfaces declared instead of probed, rooms of a size one can read, and
+functions whose branches one can follow."""
 
 import ast
 from pathlib import Path
@@ -98,3 +99,12 @@ def test_the_founding_case_reads_on_one_screen():
     cases share lives in ``fecontact.scenes``, not copied into each case file."""
     case = PACKAGE.parent / "cases" / "flexible_pendulum.py"
     assert case.read_text().count("\n") <= 60
+
+
+@pytest.mark.parametrize("path", MODULES, ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_functions_of_a_followable_complexity(path):
+    """No function or method above cyclomatic complexity 15 (radon's count)."""
+    from radon.complexity import cc_visit
+
+    blocks = [b for b in cc_visit(path.read_text()) if b.complexity > 15]
+    assert not blocks, [(b.name, b.complexity) for b in blocks]

@@ -28,12 +28,7 @@ class ContactSet(FrictionRows):
         self.owner = _per_contact(self.pairs, range(len(self.pairs)), int)  # pair of a contact
         # each contact's number within its pair
         self.local = _per_contact(self.pairs, [np.arange(pair.size) for pair in self.pairs], int)
-        # pairs measured by an inside/outside test; the others by their own gaps
-        self._inside = [i for i, pair in enumerate(self.pairs) if pair.inside_test]
-        self._signed = ~np.isin(self.owner, self._inside)  # contacts whose gap is a distance
-        self._all_signed = bool(self._signed.all())
-        self._inside_rows = [np.flatnonzero(self.owner == i) for i in self._inside]
-        self._looking = [pair for pair in self.pairs if pair.looks_ahead]
+        self._measured_by_inside_test()
         self._scatters: dict = {}
         self._last_scatter: dict = {}  # per pair: read-only (rows, dofs) and their _Scatter
         self._all = np.arange(self.size)
@@ -43,6 +38,15 @@ class ContactSet(FrictionRows):
         # the gaps alone are cheaper where a pair can skip its derivatives
         self._gap_functions = [pair.gaps for pair in self.pairs]
         self._affine = self._affine_form() if self._affine_and_small() else None
+
+    def _measured_by_inside_test(self) -> None:
+        """The pairs whose penetration an inside/outside test measures (the others by their
+        own gaps), and those that look ahead before every step."""
+        self._inside = [i for i, pair in enumerate(self.pairs) if pair.inside_test]
+        self._signed = ~np.isin(self.owner, self._inside)  # contacts whose gap is a distance
+        self._all_signed = bool(self._signed.all())
+        self._inside_rows = [np.flatnonzero(self.owner == i) for i in self._inside]
+        self._looking = [pair for pair in self.pairs if pair.looks_ahead]
 
     def _affine_and_small(self) -> bool:
         """Affine gaps (constant gradients, fixed obstacles) of a small model: g(q) = g₀ + G q
