@@ -90,7 +90,7 @@ def gemm_step(model, st, t, c, opts, timer, P=None):
     beam = model.bodies[0]
 
     def f_alg(q1):
-        return discrete_gradient_force(beam._el, st.q, q1, af, model.n)[F]
+        return discrete_gradient_force(beam.elements, st.q, q1, af, model.n)[F]
 
     rest = af * (M @ st.vd[F]) - fe
     for it in range(opts.max_iterations + 1):  # noqa: B007 (the count is returned)

@@ -28,26 +28,7 @@ def private_uses(path):
                 yield node.lineno, name
 
 
-# Prototypes of smooth steps that replace the NSGA's own: they reach into the stepper until
-# it takes a smooth scheme as a parameter. strict: the mark must go once they no longer do.
-NEEDS_A_SCHEME_INTERFACE = {"energy_schemes"}
-
-
-@pytest.mark.parametrize(
-    "script",
-    [
-        pytest.param(
-            p,
-            marks=pytest.mark.xfail(
-                p.stem in NEEDS_A_SCHEME_INTERFACE,
-                reason="replaces the NSGA's private smooth step",
-                strict=True,
-            ),
-        )
-        for p in SCRIPTS
-    ],
-    ids=lambda p: p.stem,
-)
+@pytest.mark.parametrize("script", SCRIPTS, ids=lambda p: p.stem)
 def test_benchmark_uses_only_public_names(script):
     assert list(private_uses(script)) == []
 

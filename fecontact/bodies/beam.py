@@ -213,6 +213,12 @@ class Beam2D(BodyDefaults):
         return len(self.X)
 
     @property
+    def elements(self) -> BeamElements:
+        """The elements' kernel data (reference geometry, rigidities C, lengths ℓ, dofs) that
+        the strain and force kernels of :mod:`fecontact.bodies.beam_kernels` take."""
+        return self._el
+
+    @property
     def element_dofs(self) -> np.ndarray:
         """(n_elements, 6) local dof indices of each element."""
         return self._el.dofs
