@@ -9,7 +9,21 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["PairDefaults"]
+from ..bodies.solid import Solid
+from ..errors import InputError
+
+__all__ = ["PairDefaults", "check_solid_pair"]
+
+
+def check_solid_pair(body, master, kind: str) -> None:
+    """An ``InputError`` unless ``body`` and ``master`` are two distinct solids of one
+    dimension (``kind`` names the contact in the message)."""
+    if not isinstance(body, Solid) or not isinstance(master, Solid):
+        raise InputError(f"{kind} contact needs two Solid bodies")
+    if body is master:
+        raise InputError("a body cannot contact itself (self-contact is not supported)")
+    if body.dim != master.dim:
+        raise InputError("both solids must be 2D or both 3D")
 
 
 class PairDefaults:

@@ -52,7 +52,7 @@ import numpy as np
 from ..bodies.beam import Beam2D
 from ..bodies.solid import Solid
 from ..errors import InputError, check_finite, check_positive, check_range
-from .base import PairDefaults
+from .base import PairDefaults, check_solid_pair
 from .beam_sides import PointBeamContact
 from .facet_search import FacetSearch
 from .friction import point_tangents
@@ -188,12 +188,7 @@ class NodeSurfaceContact(PairDefaults):
     looks_ahead = True
 
     def __init__(self, body, master, nodes=None, restitution: float = 0.0, margin=None):
-        if not isinstance(body, Solid) or not isinstance(master, Solid):
-            raise InputError("node-to-surface contact needs two Solid bodies")
-        if body is master:
-            raise InputError("a body cannot contact itself (self-contact is not supported)")
-        if body.dim != master.dim:
-            raise InputError("both solids must be 2D or both 3D")
+        check_solid_pair(body, master, "node-to-surface")
         self.body, self.master = body, master
         self.bodies = (body, master)
         self.dim = body.dim

@@ -107,12 +107,8 @@ class MortarContact(MortarInterface):
 
     def _pairs(self, xs: np.ndarray, xm: np.ndarray):
         """(slave segment, master segment) pairs near each other (module docstring)."""
-        cache = self._search
-        if cache is not None:
-            xs0, xm0, pairs = cache
-            moved = max(np.max(np.abs(xs - xs0)), np.max(np.abs(xm - xm0)))
-            if moved <= 0.125 * self.margin:
-                return pairs
+        if (pairs := self._kept_pairs(xs, xm)) is not None:
+            return pairs
         fs, fm = self.facets, self.master_facets
         cs, cm = 0.5 * (xs[fs[:, 0]] + xs[fs[:, 1]]), 0.5 * (xm[fm[:, 0]] + xm[fm[:, 1]])
         ls = np.max(np.linalg.norm(xs[fs[:, 1]] - xs[fs[:, 0]], axis=1))

@@ -59,12 +59,8 @@ class MortarContact3D(MortarInterface):
         """(slave triangle, master triangle) pairs whose centroids are within 1.25 × the
         margin plus both triangles' reach, kept while no node has moved an eighth of the
         margin."""
-        cache = self._search
-        if cache is not None:
-            xs0, xm0, pairs = cache
-            moved = max(np.max(np.abs(xs - xs0)), np.max(np.abs(xm - xm0)))
-            if moved <= 0.125 * self.margin:
-                return pairs
+        if (pairs := self._kept_pairs(xs, xm)) is not None:
+            return pairs
         ts, tm = xs[self.facets], xm[self.master_facets]
         cs, cm = ts.mean(axis=1), tm.mean(axis=1)
         rs = np.max(np.linalg.norm(ts - cs[:, None], axis=2), axis=1)

@@ -17,9 +17,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..bodies.solid import Solid
 from ..errors import InputError, check_positive, check_range
-from .base import PairDefaults
+from .base import PairDefaults, check_solid_pair
 from .friction import tangent_basis
 
 __all__ = ["MortarInterface", "element_measures", "merge_interfaces"]
@@ -81,12 +80,7 @@ class MortarInterface(PairDefaults):
     whose elements are covered fully or not at all keep exact gradients)."""
 
     def __init__(self, body, master, restitution: float = 0.0, margin=None):
-        if not isinstance(body, Solid) or not isinstance(master, Solid):
-            raise InputError("mortar contact needs two Solid bodies")
-        if body is master:
-            raise InputError("a body cannot contact itself (self-contact is not supported)")
-        if body.dim != master.dim:
-            raise InputError("both solids must be 2D or both 3D")
+        check_solid_pair(body, master, "mortar")
         self.body, self.master = body, master
         self.bodies = (body, master)
         self.dim = body.dim
@@ -124,6 +118,15 @@ class MortarInterface(PairDefaults):
         if not self._own_margin and distance > 0.0 and distance != self.margin:
             self.margin = distance
             self._last = self._search = None
+
+    def _kept_pairs(self, xs: np.ndarray, xm: np.ndarray):
+        """The element pairs of the last search while no node has moved an eighth of the
+        margin since (None: search again)."""
+        if self._search is None:
+            return None
+        xs0, xm0, pairs = self._search
+        moved = max(np.max(np.abs(xs - xs0)), np.max(np.abs(xm - xm0)))
+        return pairs if moved <= 0.125 * self.margin else None
 
     def positions(self, q: np.ndarray):
         """Every node's position (m) of the slave and of the master at q."""
