@@ -35,16 +35,23 @@ def same_run(a, b):
                 assert np.array_equal(pa[name].point_data[field], pb[name].point_data[field])
 
 
-def test_resume_after_ctrl_c_equals_uninterrupted_run(reference, tmp_path, monkeypatch):
-    out = tmp_path / "interrupted"
+def interrupt_frames_after(monkeypatch, t_stop: float):
+    """Ctrl-C from the frame writer once the run passes ``t_stop`` (s); returns the writer, to
+    put back before resuming."""
     frame_parts = simulation.frame_parts
 
     def interrupt_late(model, st):
-        if st.t > 0.52:
+        if st.t > t_stop:
             raise KeyboardInterrupt
         return frame_parts(model, st)
 
     monkeypatch.setattr(simulation, "frame_parts", interrupt_late)
+    return frame_parts
+
+
+def test_resume_after_ctrl_c_equals_uninterrupted_run(reference, tmp_path, monkeypatch):
+    out = tmp_path / "interrupted"
+    frame_parts = interrupt_frames_after(monkeypatch, 0.52)
     assert main(["run", CASE, "--out", str(out), *ARGS]) == 130
     partial = load_run(out)
     assert partial.summary["status"] == "interrupted"
@@ -117,14 +124,7 @@ def test_resume_vtkhdf_frames_after_ctrl_c(tmp_path, monkeypatch):
     assert main(["run", CASE, "--out", str(tmp_path / "whole"), *vtkhdf]) == 0
     assert main(["run", CASE, "--out", str(tmp_path / "vtu"), *ARGS]) == 0
     out = tmp_path / "interrupted"
-    frame_parts = simulation.frame_parts
-
-    def interrupt_late(model, st):
-        if st.t > 0.52:
-            raise KeyboardInterrupt
-        return frame_parts(model, st)
-
-    monkeypatch.setattr(simulation, "frame_parts", interrupt_late)
+    frame_parts = interrupt_frames_after(monkeypatch, 0.52)
     assert main(["run", CASE, "--out", str(out), *vtkhdf]) == 130
     assert 0.5 < load_run(out).frames([-1])[0][0] <= 0.52
     monkeypatch.setattr(simulation, "frame_parts", frame_parts)
