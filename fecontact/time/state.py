@@ -90,6 +90,10 @@ class IntegratorOptions:
         "poisson": a compression impulse, then a decompression impulse at least e_N times
         it, each under Coulomb's law (:mod:`fecontact.time.poisson`), which cannot make a
         single frictional contact gain energy where Newton's law can.
+    localize : NSGA only. True (or 1, "on"): a step in which a gap open at its start closes
+        is split at the instant it closes, where the impact law acts
+        (:mod:`fecontact.time.localize`); False (0, "off"): the impact acts at the end of
+        the step; "auto" (default): on for models of rigid bodies only (decided per run).
     """
 
     rho_inf: float = 0.5
@@ -110,9 +114,11 @@ class IntegratorOptions:
     smooth_contact: str = "auto"
     scheme: str = "generalized-alpha"
     impact_law: str = "newton"
+    localize: bool | str = "auto"
 
     def __post_init__(self):
         alpha_coefficients(self.rho_inf)
+        self.localize = _switch("localize", self.localize)
         for name, allowed in _CHOICES.items():
             value = getattr(self, name)
             if not isinstance(value, str) or value not in allowed:
@@ -143,6 +149,15 @@ class IntegratorOptions:
         self.max_iterations = check_count("max_iterations", self.max_iterations, 1, 10**4)
         # beyond 50 halvings the step is below the round-off of the time
         self.max_halvings = check_count("max_halvings", self.max_halvings, 0, 50)
+
+
+def _switch(name: str, value) -> bool | str:
+    """An on/off option that may also be "auto": True, False or "auto"."""
+    if isinstance(value, str) and value in SWITCH:
+        return {"on": True, "off": False}.get(value, "auto")
+    if isinstance(value, bool | int | np.integer) and value in (0, 1):
+        return bool(value)
+    raise InputError(f"{name} must be true, false (1, 0, on, off) or auto, got {value!r}")
 
 
 @dataclass
