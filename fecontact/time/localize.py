@@ -67,20 +67,18 @@ LAST = 1e-9
 
 def localizes(model, opts: RunSettings) -> bool:
     """Whether the run of ``model`` with ``opts`` locates impacts inside its steps: the
-    option ``localize`` (``"auto"``: a model of rigid bodies and point masses) for the NSGA
-    generalized-α step on a model with contacts. Raises ``InputError`` for ``localize=True``
-    where it does not apply."""
+    option ``localize`` (``"auto"``: a model of rigid bodies and point masses with
+    frictionless contacts on fixed obstacles) for the NSGA
+    generalized-α step (the options check it) on a model with contacts. Raises
+    ``InputError`` for ``localize=True`` with moving obstacles."""
     value = opts.localize
     applies = opts.integrator == "nsga" and opts.scheme == "generalized-alpha"
-    if value is True and not applies:
-        raise InputError(
-            "localize = true needs integrator 'nsga' with scheme 'generalized-alpha', got "
-            f"integrator {opts.integrator!r}, scheme {opts.scheme!r}"
-        )
     if value is True and model.contacts.moving:
         raise InputError("localize = true: moving obstacles are not supported (set localize=0)")
     if value == "auto":
-        value = False  # (measured per model class before it becomes a default)
+        # (measured: docs/validation/localization.md; friction is not yet validated with it)
+        rigid = not (model.continuum or model.slender)
+        value = rigid and not (model.contacts.frictional or model.contacts.moving)
     return bool(value and applies and model.contacts.size)
 
 
@@ -89,12 +87,11 @@ def localized_step(model, st: State, h: float, opts: RunSettings, timer: PhaseTi
     start close (module docstring); a step without a closing is the NSGA step itself."""
     stats = opts.stats.localization
     parts: list[State] = []
-    cur, left, kept = st, h, None
+    cur, left, kept = st, h, []  # kept: the caches' entries of the full step
     try:
         while True:
             phases = smooth_phases(model, cur, left, opts, timer)
-            kept = _cache_keys(model) if kept is None else kept  # the full step's
-            split = _split(model, cur, phases, left, h, len(parts), opts, timer)
+            split = _split(model, cur, phases, left, h, len(parts), opts, timer, kept)
             if split is None:
                 parts.append(phases.finish(time.perf_counter()))
                 break
@@ -106,7 +103,7 @@ def localized_step(model, st: State, h: float, opts: RunSettings, timer: PhaseTi
                 break
             model.contacts.look_ahead(cur.q, cur.v, left)
     finally:
-        if len(parts) > 1 or left < h:
+        if kept:
             stats.factorizations += _drop_caches(model, kept)
     out = parts[0]
     for part in parts[1:]:
@@ -115,12 +112,15 @@ def localized_step(model, st: State, h: float, opts: RunSettings, timer: PhaseTi
     return out
 
 
-def _split(model, st, phases, left, h, done, opts, timer):
+def _split(model, st, phases, left, h, done, opts, timer, kept: list):
     """(δ, the NSGA phases of a step of δ whose smooth step ends where the earliest gap that
-    crosses in the trial ``phases`` closes), or None to finish the trial as it is."""
+    crosses in the trial ``phases`` closes), or None to finish the trial as it is; the first
+    split of a step notes in ``kept`` the caches' entries its trial made."""
     crossing = _crossing(model, st, phases, left, opts)
     if crossing is None:
         return None
+    if not kept:
+        kept.extend(_cache_keys(model))
     tol, rows, tau, rate, g0 = crossing
     stats = opts.stats.localization
     reason = None
@@ -153,6 +153,10 @@ def _crossing(model, st, phases, left, opts):
     contacts = model.contacts
     contacts.set_time(phases.t)
     g1 = phases.g_tilde = contacts.gaps(phases.q)
+    # tol_gap × the model size bounds the tolerance from below (length_scale): most steps
+    # are decided without the coordinates' extent
+    if not g1.size or g1.min() >= -opts.tol_gap * model.length:
+        return None
     tol = opts.tol_gap * length_scale(model, phases.q)
     if not np.any(g1 < -tol):
         return None
@@ -248,11 +252,9 @@ def _cache_keys(model) -> tuple[set, set]:
     return set(model.iteration_cache), set(model.column_cache)
 
 
-def _drop_caches(model, kept: tuple[set, set] | None) -> int:
+def _drop_caches(model, kept: list[set]) -> int:
     """Drop the caches' entries made since ``kept`` (the split steps' sizes, used once);
     return how many factorizations they held."""
-    if kept is None:
-        return 0
     added = [k for k in model.iteration_cache if k not in kept[0]]
     for key in added:
         del model.iteration_cache[key]

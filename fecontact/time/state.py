@@ -93,7 +93,8 @@ class IntegratorOptions:
     localize : NSGA only. True (or 1, "on"): a step in which a gap open at its start closes
         is split at the instant it closes, where the impact law acts
         (:mod:`fecontact.time.localize`); False (0, "off"): the impact acts at the end of
-        the step; "auto" (default): on for models of rigid bodies only (decided per run).
+        the step; "auto" (default): on for models of rigid bodies and point masses with
+        frictionless contacts on fixed obstacles (decided per run).
     """
 
     rho_inf: float = 0.5
@@ -119,6 +120,11 @@ class IntegratorOptions:
     def __post_init__(self):
         alpha_coefficients(self.rho_inf)
         self.localize = _switch("localize", self.localize)
+        if self.localize is True and (self.integrator, self.scheme) != ("nsga", SCHEMES[0]):
+            raise InputError(
+                f"localize = true needs integrator 'nsga' with scheme {SCHEMES[0]!r}, got "
+                f"integrator {self.integrator!r}, scheme {self.scheme!r}"
+            )
         for name, allowed in _CHOICES.items():
             value = getattr(self, name)
             if not isinstance(value, str) or value not in allowed:
