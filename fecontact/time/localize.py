@@ -173,10 +173,11 @@ def _crossing(model, st, phases, left, opts):
     return tol, rows, tau, slope / left, g0[rows]
 
 
-def hermite_root(g0, s0, g1, s1, samples: int = 32, bisections: int = 52):
+def hermite_root(g0, s0, g1, s1, samples: int = 32, iterations: int = 30):
     """(s, p'(s)) at the first root s ∈ (0, 1] of the cubic Hermite p with p(0) = g0 > 0,
     p'(0) = s0, p(1) = g1 < 0, p'(1) = s1 (arrays, one per contact): the first sign change
-    on ``samples`` intervals, then bisection to round-off."""
+    on ``samples`` intervals, then Newton kept inside it (bisection where it leaves), to
+    round-off."""
 
     def p(s):
         s2, s3 = s * s, s * s * s
@@ -185,20 +186,29 @@ def hermite_root(g0, s0, g1, s1, samples: int = 32, bisections: int = 52):
             + (s3 - s2) * s1
         )  # fmt: skip
 
+    def dp(s):
+        return (
+            (6 * s * s - 6 * s) * (g0 - g1) + (3 * s * s - 4 * s + 1) * s0
+            + (3 * s * s - 2 * s) * s1
+        )  # fmt: skip
+
     grid = np.linspace(0.0, 1.0, samples + 1)
     values = p(grid[:, None])  # (samples + 1, contacts)
     first = np.argmax(values <= 0.0, axis=0)  # p(1) = g1 < 0: a sign change exists
     a, b = grid[first - 1], grid[first]
-    for _ in range(bisections):
-        mid = 0.5 * (a + b)
-        below = p(mid) <= 0.0
-        a, b = np.where(below, a, mid), np.where(below, mid, b)
-    s = b
-    slope = (
-        (6 * s * s - 6 * s) * g0 + (3 * s * s - 4 * s + 1) * s0 + (6 * s - 6 * s * s) * g1
-        + (3 * s * s - 2 * s) * s1
-    )  # fmt: skip
-    return s, slope
+    pa, pb = values[first - 1, np.arange(first.size)], values[first, np.arange(first.size)]
+    s = a - pa * (b - a) / (pb - pa)  # the chord's root, then Newton
+    # round-off of p: a few ulps of its largest term
+    small = 8.0 * np.finfo(float).eps * np.max(np.abs([g0, g1, s0, s1]), axis=0)
+    for _ in range(iterations):
+        ps = p(s)
+        if np.all(np.abs(ps) <= small):
+            break
+        below = ps <= 0.0
+        a, b = np.where(below, a, s), np.where(below, s, b)
+        newton = s - ps / dp(s)
+        s = np.where((newton > a) & (newton < b), newton, 0.5 * (a + b))
+    return s, dp(s)
 
 
 def _refine(model, st, phases, left, j, guess, tol, opts, timer):
