@@ -85,12 +85,29 @@ def localizes(model, opts: RunSettings) -> bool:
 def localized_step(model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
     """The NSGA step from ``st`` over ``h`` (s), split at the instants the gaps open at its
     start close (module docstring); a step without a closing is the NSGA step itself."""
+    phases = smooth_phases(model, st, h, opts, timer)
+    if not _penetrates(model, phases, opts):  # (most steps: nothing more to do)
+        return phases.finish(time.perf_counter())
+    return _split_step(model, st, h, opts, timer, phases)
+
+
+def _penetrates(model, phases, opts) -> bool:
+    """Whether a gap at the end of the smooth ``phases`` is below −tol_gap × the model size
+    (a lower bound of the gap tolerance, :func:`length_scale`); sets the phases' gaps."""
+    model.contacts.set_time(phases.t)
+    g1 = phases.g_tilde = model.contacts.gaps(phases.q)
+    return bool(g1.size) and g1.min() < -opts.tol_gap * model.length
+
+
+def _split_step(model, st, h, opts, timer, phases) -> State:
+    """:func:`localized_step` from its first smooth step ``phases``, which penetrates."""
     stats = opts.stats.localization
     parts: list[State] = []
     cur, left, kept = st, h, []  # kept: the caches' entries of the full step
     try:
         while True:
-            phases = smooth_phases(model, cur, left, opts, timer)
+            if parts:
+                phases = smooth_phases(model, cur, left, opts, timer)
             split = _split(model, cur, phases, left, h, len(parts), opts, timer, kept)
             if split is None:
                 parts.append(phases.finish(time.perf_counter()))
@@ -148,19 +165,16 @@ def _crossing(model, st, phases, left, opts):
     """(tol, rows, τ, ġ(τ), g_0) of the contacts open at the start of the trial ``phases`` whose
     gap at its end is below −tol (rows: those with a gap known at both ends, τ their Hermite
     crossing as a fraction of ``left``, ġ(τ) their closing speed there in m/s, g_0 their gaps
-    at the start), or None where
-    no gap crosses; sets the trial's gaps at q̃."""
+    at the start), or None where no gap crosses; sets the trial's gaps at q̃."""
     contacts = model.contacts
-    contacts.set_time(phases.t)
-    g1 = phases.g_tilde = contacts.gaps(phases.q)
-    # tol_gap × the model size bounds the tolerance from below (length_scale): most steps
-    # are decided without the coordinates' extent
-    if not g1.size or g1.min() >= -opts.tol_gap * model.length:
+    if phases.g_tilde is None and not _penetrates(model, phases, opts):
+        return None
+    g1 = phases.g_tilde
+    g0 = st.gaps if st.gaps.size == contacts.size else contacts.gaps(st.q)
+    low = opts.tol_gap * model.length  # a lower bound of tol: decides most steps at no cost
+    if not np.any((g1 < -low) & (g0 > low)):
         return None
     tol = opts.tol_gap * length_scale(model, phases.q)
-    if not np.any(g1 < -tol):
-        return None
-    g0 = st.gaps if st.gaps.size == contacts.size else contacts.gaps(st.q)
     closing = (g1 < -tol) & (g0 > tol)
     if not closing.any():
         return None
