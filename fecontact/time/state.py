@@ -90,6 +90,11 @@ class IntegratorOptions:
         "poisson": a compression impulse, then a decompression impulse at least e_N times
         it, each under Coulomb's law (:mod:`fecontact.time.poisson`), which cannot make a
         single frictional contact gain energy where Newton's law can.
+    localize : NSGA only. True (or 1, "on"): a step in which a gap open at its start closes
+        is split at the instant it closes, where the impact law acts
+        (:mod:`fecontact.time.localize`); False (0, "off"): the impact acts at the end of
+        the step; "auto" (default): on for models of rigid bodies and point masses with
+        frictionless contacts on fixed obstacles (decided per run).
     """
 
     rho_inf: float = 0.5
@@ -110,9 +115,16 @@ class IntegratorOptions:
     smooth_contact: str = "auto"
     scheme: str = "generalized-alpha"
     impact_law: str = "newton"
+    localize: bool | str = "auto"
 
     def __post_init__(self):
         alpha_coefficients(self.rho_inf)
+        self.localize = _switch("localize", self.localize)
+        if self.localize is True and (self.integrator, self.scheme) != ("nsga", SCHEMES[0]):
+            raise InputError(
+                f"localize = true needs integrator 'nsga' with scheme {SCHEMES[0]!r}, got "
+                f"integrator {self.integrator!r}, scheme {self.scheme!r}"
+            )
         for name, allowed in _CHOICES.items():
             value = getattr(self, name)
             if not isinstance(value, str) or value not in allowed:
@@ -143,6 +155,15 @@ class IntegratorOptions:
         self.max_iterations = check_count("max_iterations", self.max_iterations, 1, 10**4)
         # beyond 50 halvings the step is below the round-off of the time
         self.max_halvings = check_count("max_halvings", self.max_halvings, 0, 50)
+
+
+def _switch(name: str, value) -> bool | str:
+    """An on/off option that may also be "auto": True, False or "auto"."""
+    if isinstance(value, str) and value in SWITCH:
+        return {"on": True, "off": False}.get(value, "auto")
+    if isinstance(value, bool | int | np.integer) and value in (0, 1):
+        return bool(value)
+    raise InputError(f"{name} must be true, false (1, 0, on, off) or auto, got {value!r}")
 
 
 @dataclass
