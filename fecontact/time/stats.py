@@ -10,7 +10,7 @@ from ..contact.stats import ContactStats
 from ..linalg import Factorizations, IterativeStats, LinearSolver
 from ..linalg.choice import RunPlan, SolverChoice
 
-__all__ = ["FollowUps", "NewtonStats", "StepStats"]
+__all__ = ["FollowUps", "NewtonStats", "StepControl", "StepStats"]
 
 
 @dataclass
@@ -35,11 +35,27 @@ class FollowUps:
 
 
 @dataclass
+class StepControl:
+    """What rtol's control did in a run: steps rejected for their error estimate, steps
+    rejected because they failed (Newton or penetration; retaken a rung lower), and steps
+    accepted with an estimate above the tolerance because they were on the lowest rung."""
+
+    rejected_error: int = 0
+    rejected_failure: int = 0
+    over_tolerance: int = 0
+
+    @property
+    def rejected(self) -> int:
+        return self.rejected_error + self.rejected_failure
+
+
+@dataclass
 class StepStats:
     """Counts of one run (each starts at zero)."""
 
     newton: NewtonStats = field(default_factory=NewtonStats)
     follow_ups: FollowUps = field(default_factory=FollowUps)
+    control: StepControl = field(default_factory=StepControl)  # rtol's rejections
     releases: int = 0  # smooth steps taken again without the force of a contact they released
     contact: ContactStats = field(default_factory=ContactStats)
     factorizations: Factorizations = field(default_factory=Factorizations)
@@ -68,6 +84,9 @@ class StepStats:
             # the velocity's follow-ups of an impact's correction (fecontact.time.position_jump)
             "velocity_follow_ups": asdict(self.follow_ups),
             "contact_releases": self.releases,
+            # rtol's control (fecontact.time.adaptive): steps taken again smaller
+            "steps_rejected": self.control.rejected,
+            "step_control": asdict(self.control),
             # the largest Alart–Curnier residual a converged correction left, over its tolerance
             "final_residuals": asdict(self.contact.final_residuals),
             # AMG-preconditioned CG (sparse solver "amg"): solves, iterations, setups, fallbacks
