@@ -21,6 +21,8 @@ from fecontact.time import IntegratorOptions, StepStats, simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 LOCALIZED = importlib.util.find_spec("fecontact.time.localize") is not None
+# impact localization, where the package has it (an option of its own)
+LOCALIZE = {"localize": True} if LOCALIZED else {}
 
 
 def cantilever(steps_per_period: float, rtol=None, periods: float = 2.0):
@@ -203,7 +205,7 @@ def test_bouncing_ball_to_1e_8_with_rtol():
     case = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(case)
     sim = case.build(height=1.0, mass=1.0, restitution=0.8)
-    opts = IntegratorOptions(rtol=1e-9)
+    opts = IntegratorOptions(rtol=1e-9, **LOCALIZE)
     rows = [
         (st.t, st.q[1])
         for st in simulate(sim.model, 1e-3, 3.0, opts, q0=sim.q0, v0=sim.v0)
