@@ -106,6 +106,8 @@ class _Ladder:
 
 def _next_level(level: int, err: float, accepted: bool) -> int:
     """The rung after a step of rung ``level`` with error estimate ``err``."""
+    if not math.isfinite(err):  # (a step that produced no number: as far down as allowed)
+        return level + SHRINK
     factor = SAFETY * err ** (-1.0 / 3.0) if err > 0.0 else 2.0
     change = math.floor(math.log2(factor))  # rungs up (negative: down)
     if not accepted:
@@ -148,11 +150,12 @@ def _interval(stepper, state: State, H: float, ladder: _Ladder, timer, control):
                 raise err
             ladder.level = level + 1
             continue
-        if err is not None and err > 1.0 and level < ladder.depth:
+        over = err is not None and not err <= 1.0  # (NaN included)
+        if over and level < ladder.depth:
             control.rejected_error += 1
             ladder.level = min(ladder.depth, _next_level(level, err, False))
             continue
-        control.over_tolerance += err is not None and err > 1.0
+        control.over_tolerance += over
         # after an impact the rung stays: the control starts again from the next smooth step
         ladder.level = level if err is None else min(ladder.depth, _next_level(level, err, True))
         pos += 1 << (ladder.depth - level)
