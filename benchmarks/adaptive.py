@@ -37,6 +37,7 @@ from _common import (
     G,
     ball_exact_gap,
     case,
+    machine_note,
     markdown_table,
     parser,
     pendulum_exact,
@@ -196,6 +197,29 @@ for _ in range(3):
 print(best)
 """
 
+# what rtol=None adds is in the recorder (the dt cell, the smallest and largest step): its
+# time per state, the fastest of 300 batches of 100 states (short batches: some run unhindered
+# by other jobs on the machine)
+RECORDER = """
+import tempfile, time, pathlib
+from fecontact.recorder import Recorder
+from fecontact.testing import case
+from fecontact.time import simulate
+sim = case("bouncing_ball").build().replace(t_end=0.05, dt=1e-4)
+states = list(simulate(sim.model, sim.dt, sim.t_end, sim.options))
+best = float("inf")
+with tempfile.TemporaryDirectory() as tmp:
+    rec = Recorder(sim, pathlib.Path(tmp))
+    rec.record(states[0])
+    for _ in range(300):
+        start = time.perf_counter()
+        for st in states[1:101]:
+            rec.record(st)
+        best = min(best, (time.perf_counter() - start) / 100)
+    rec.history.close()
+print(best)
+"""
+
 # (case, parameters, t_end, dt): flight before the first impact
 COST_RUNS = [
     ("bouncing_ball", {}, 0.4, 1e-4),
@@ -205,9 +229,12 @@ COST_RUNS = [
 
 
 def _timed(tree: Path, run) -> float:
-    name, kw, t_end, dt = run
     env = dict(os.environ, PYTHONPATH=str(tree), OPENBLAS_NUM_THREADS="1")
-    args = [sys.executable, "-c", TIMER, name, json.dumps(kw), str(t_end), str(dt)]
+    if run is None:
+        args = [sys.executable, "-c", RECORDER]
+    else:
+        name, kw, t_end, dt = run
+        args = [sys.executable, "-c", TIMER, name, json.dumps(kw), str(t_end), str(dt)]
     done = subprocess.run(args, env=env, cwd=tree, capture_output=True, text=True, check=True)
     return float(done.stdout.split()[-1])
 
@@ -216,6 +243,7 @@ def cost(baseline: str | None, rounds: int, quick: bool) -> list[dict]:
     """Wall time per step of ``run`` with rtol=None here and in ``baseline`` (fastest of
     ``rounds``, alternating); ``quick``: this checkout against itself, tiny runs."""
     runs = [(n, kw, t / 10, dt) for n, kw, t, dt in COST_RUNS] if quick else COST_RUNS
+    runs = [*runs, None]  # None: the recorder alone
     with tempfile.TemporaryDirectory(prefix="fecontact_base_") as tmp:
         base = ROOT
         if baseline:
@@ -230,7 +258,8 @@ def cost(baseline: str | None, rounds: int, quick: bool) -> list[dict]:
                 then.append(_timed(base, run))
                 now.append(_timed(ROOT, run))
             a, b = min(now), min(then)
-            out.append({"case": run[0], "steps": round(run[2] / run[3]), "this_us": 1e6 * a,
+            name, steps = ("recorder, per state", 100) if run is None else (run[0], run[2] / run[3])
+            out.append({"case": name, "steps": round(steps), "this_us": 1e6 * a,
                         "baseline_us": 1e6 * b, "ratio": a / b})  # fmt: skip
     return out
 
@@ -238,7 +267,7 @@ def cost(baseline: str | None, rounds: int, quick: bool) -> list[dict]:
 def main() -> None:
     p = parser(__doc__.splitlines()[0])
     p.add_argument("--baseline", help="git revision for the cost of rtol=None (default: none)")
-    p.add_argument("--rounds", type=int, default=5)
+    p.add_argument("--rounds", type=int, default=7)
     args = p.parse_args()
     sections = [
         ("Thrown ball, no floor (exact parabola), dt = 1e-3 s", free_flight(args.quick)),
@@ -250,7 +279,7 @@ def main() -> None:
         rows = cost(None if args.quick else args.baseline, 1 if args.quick else args.rounds,
                     args.quick)  # fmt: skip
         sections.append((f"Cost per step, rtol=None, against {args.baseline or 'itself'}", rows))
-    text = [f"# Steps chosen by a tolerance{' (quick)' if args.quick else ''}"]
+    text = [f"# Steps chosen by a tolerance{' (quick)' if args.quick else ''}", "", machine_note()]
     for caption, rows in sections:
         text += ["", caption, "", markdown_table(rows, list(rows[0]))]
         print(text[-3], "\n", text[-1], flush=True)
