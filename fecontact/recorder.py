@@ -36,6 +36,8 @@ class Recorder:
         "energy_final",
         "energy_max",
         "steps",
+        "dt_min",
+        "dt_max",
     )
 
     def __init__(self, sim, out: Path, keep_rows=None):
@@ -64,8 +66,11 @@ class Recorder:
         self.ledger = EnergyLedger(self.model, sim.options)
         self.energies = (math.nan, math.nan, math.nan)  # T, V_strain, V_gravity of the last
         self.steps = 0
+        self.dt_min, self.dt_max = math.inf, 0.0  # s: the smallest and largest step taken
 
     def record(self, st: State) -> None:
+        """Account for the state ``st``; write its history row unless it is a step between
+        two rows (``st.substep``, with rtol)."""
         m = self.model
         ke, se, pe = m.kinetic_energy(st.v), m.strain_energy(st.q), m.potential_energy(st.q)
         total = ke + se + pe
@@ -81,12 +86,14 @@ class Recorder:
         self.closed = active
         its = st.newton_iterations
         row = [st.t, ke, se, pe, total, min_gap, int(active.sum()), float(st.impulse.sum()), its]
+        row.append(st.h)
         if self.friction:
             row += friction_totals(st)
             self.friction_work = row[-1]
-        row += self.ledger.row()
-        row += [p.fn(m, st) for p in self.sim.probes.values()]
-        self.history.write(row)
+        if not st.substep:
+            row += self.ledger.row()
+            row += [p.fn(m, st) for p in self.sim.probes.values()]
+            self.history.write(row)
         if st.step == 0:
             self.energy_initial = total
         else:
@@ -96,6 +103,7 @@ class Recorder:
             self.halvings += st.halvings
             self.retakes += st.retakes
             self.max_penetration = max(self.max_penetration, st.penetration)
+            self.dt_min, self.dt_max = min(self.dt_min, st.h), max(self.dt_max, st.h)
         self.energy_final = total
         self.energy_max = max(self.energy_max, total)
         self.min_gap = min(self.min_gap, min_gap)
@@ -130,6 +138,9 @@ class Recorder:
             "message": message,
             "steps": self.steps,
             "dt": sim.dt,
+            # the steps taken: dt but for the last one, or, with rtol, those the control chose
+            "dt_min": self.dt_min if self.steps else None,
+            "dt_max": self.dt_max if self.steps else None,
             "t_end": sim.t_end,
             "wall_time_s": wall,
             "time_per_step_s": (wall - timer.get("output", 0.0)) / max(self.steps, 1),

@@ -95,6 +95,10 @@ class IntegratorOptions:
         (:mod:`fecontact.time.localize`); False (0, "off"): the impact acts at the end of
         the step; "auto" (default): on for models of rigid bodies and point masses with
         frictionless contacts on fixed obstacles (decided per run).
+    rtol : None (default): fixed steps of the run's dt. A number in (0, 1): steps chosen by
+        this relative tolerance on the local error of the smooth step, with an absolute
+        tolerance of rtol times the model size, from dt (the first and largest) down to
+        dt/1024 (:mod:`fecontact.time.adaptive`); nsga and penalty, generalized-alpha only.
     """
 
     rho_inf: float = 0.5
@@ -116,6 +120,7 @@ class IntegratorOptions:
     scheme: str = "generalized-alpha"
     impact_law: str = "newton"
     localize: bool | str = "auto"
+    rtol: float | None = None
 
     def __post_init__(self):
         alpha_coefficients(self.rho_inf)
@@ -155,6 +160,14 @@ class IntegratorOptions:
         self.max_iterations = check_count("max_iterations", self.max_iterations, 1, 10**4)
         # beyond 50 halvings the step is below the round-off of the time
         self.max_halvings = check_count("max_halvings", self.max_halvings, 0, 50)
+        if self.rtol is not None:
+            self.rtol = check_range("rtol", self.rtol, 0.0, 1.0, (False, False))
+            if self.integrator not in ("nsga", "penalty") or self.scheme != SCHEMES[0]:
+                raise InputError(
+                    "rtol needs the generalized-alpha step (integrator nsga or penalty, "
+                    f"scheme generalized-alpha), got integrator {self.integrator!r}, "
+                    f"scheme {self.scheme!r}"
+                )
 
 
 def _switch(name: str, value) -> bool | str:
@@ -203,6 +216,10 @@ class State:
     strain_increment: np.ndarray | None = None
     # the energy ledger's record of the smooth step (fecontact.ledger.smooth_record), or None
     ledger: np.ndarray | None = None
+    # with rtol (fecontact.time.adaptive): a step between two history rows, and the step (s)
+    # the control takes next (0: the run's dt)
+    substep: bool = False
+    h_next: float = 0.0
 
     @property
     def newton_iterations(self) -> int:

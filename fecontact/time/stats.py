@@ -10,7 +10,7 @@ from ..contact.stats import ContactStats
 from ..linalg import Factorizations, IterativeStats, LinearSolver
 from ..linalg.choice import RunPlan, SolverChoice
 
-__all__ = ["FollowUps", "Localization", "NewtonStats", "StepStats"]
+__all__ = ["FollowUps", "Localization", "NewtonStats", "StepControl", "StepStats"]
 
 
 @dataclass
@@ -55,11 +55,27 @@ class Localization:
 
 
 @dataclass
+class StepControl:
+    """What rtol's control did in a run: steps rejected for their error estimate, steps
+    rejected because they failed (Newton or penetration; retaken a rung lower), and steps
+    accepted with an estimate above the tolerance because they were on the lowest rung."""
+
+    rejected_error: int = 0
+    rejected_failure: int = 0
+    over_tolerance: int = 0
+
+    @property
+    def rejected(self) -> int:
+        return self.rejected_error + self.rejected_failure
+
+
+@dataclass
 class StepStats:
     """Counts of one run (each starts at zero)."""
 
     newton: NewtonStats = field(default_factory=NewtonStats)
     follow_ups: FollowUps = field(default_factory=FollowUps)
+    control: StepControl = field(default_factory=StepControl)  # rtol's rejections
     releases: int = 0  # smooth steps taken again without the force of a contact they released
     localization: Localization = field(default_factory=Localization)
     contact: ContactStats = field(default_factory=ContactStats)
@@ -96,6 +112,9 @@ class StepStats:
                 "smooth_steps": self.localization.smooth_steps,
                 "factorizations": self.localization.factorizations,
             },
+            # rtol's control (fecontact.time.adaptive): steps taken again smaller
+            "steps_rejected": self.control.rejected,
+            "step_control": asdict(self.control),
             # the largest Alart–Curnier residual a converged correction left, over its tolerance
             "final_residuals": asdict(self.contact.final_residuals),
             # AMG-preconditioned CG (sparse solver "amg"): solves, iterations, setups, fallbacks
