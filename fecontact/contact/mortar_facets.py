@@ -51,10 +51,7 @@ def facet_pair_integrals(z: np.ndarray, hessian=None):
     Σ w Φ_i g_N A = −½ (s/d) Σ_k m_ik r_k: one differentiated evaluation per pair instead of
     one per point. ``hessian``: None for values only, False for gradients, True for Hessians
     too."""
-    if hessian is None:
-        c = [Jet(z[:, i], np.zeros((len(z), 0)), None) for i in range(18)]
-    else:
-        c = Jet.variables(z[:, :18], hessian)
+    c = Jet.variables(z[:, :18], hessian)
     xa, xb, xc, y1, y2, y3 = (tuple(c[3 * i : 3 * i + 3]) for i in range(6))
     N = _cross(_sub(xb, xa), _sub(xc, xa))
     M = _cross(_sub(y2, y1), _sub(y3, y1))

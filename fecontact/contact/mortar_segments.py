@@ -80,10 +80,7 @@ def _segment_normal(u, w):
 def _points(z: np.ndarray, hessian, has_prev, has_next):
     """Jet points (x_p, x_a, x_b, x_c, y_1, y_2) of the local coordinates z (P, 12); a missing
     neighbour is the reflection of the segment's other end (the segment's own normal)."""
-    if hessian is None:  # values only
-        c = [Jet(z[:, i], np.zeros((len(z), 0)), None) for i in range(12)]
-    else:
-        c = Jet.variables(z, hessian)
+    c = Jet.variables(z, hessian)
     xp, xa, xb, xc, y1, y2 = ((c[2 * i], c[2 * i + 1]) for i in range(6))
     ghost_p = _sub(_scale(2.0, xa), xb)
     ghost_c = _sub(_scale(2.0, xb), xa)
@@ -184,5 +181,5 @@ def segment_pair_integrals(z, has_prev, has_next, hessian=None, depth=np.inf):
 def _sum_gauss(f: Jet, P: int, G: int) -> Jet:
     """Σ over the G Gauss points of each of the P pairs."""
     h = None if f.h is None else f.h.reshape(P, G, *f.h.shape[1:]).sum(axis=1)
-    g = f.g.reshape(P, G, f.g.shape[1]).sum(axis=1)
+    g = None if f.g is None else f.g.reshape(P, G, f.g.shape[1]).sum(axis=1)
     return Jet(f.v.reshape(P, G).sum(axis=1), g, h)
