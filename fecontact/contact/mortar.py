@@ -52,7 +52,7 @@ from scipy.spatial import cKDTree
 
 from ..errors import InputError
 from .mortar_interface import MortarInterface
-from .mortar_segments import segment_pair_integrals
+from .mortar_segments import covered_pairs, segment_pair_integrals
 
 __all__ = ["MortarContact"]
 
@@ -126,6 +126,10 @@ class MortarContact(MortarInterface):
         e, f = self._pairs(xs, xm)
         sn, mn = self.local_nodes[e], self.master_facets[f]
         z = np.concatenate([xs[sn], xm[mn]], axis=1).reshape(len(e), 12)
+        # the candidates whose segments do not overlap contribute nothing: left out before
+        # the differentiated integrals, a value-only test
+        keep = np.flatnonzero(covered_pairs(z, self.has_prev[e], self.has_next[e]))
+        e, sn, mn, z = e[keep], sn[keep], mn[keep], z[keep]
         return e, z, self._global_dofs(sn, mn), xs
 
     def _integrate(self, e, z, hessian):

@@ -102,7 +102,7 @@ class MortarInterface(PairDefaults):
         self._dofs_s = body.node_translation_dofs(np.arange(body.n_nodes))
         self._dofs_m = master.node_translation_dofs(np.arange(master.n_nodes))
         self.offsets = (0, 0)
-        self._last = self._search = None
+        self._last = self._last_gaps = self._search = None
 
     @property
     def size(self) -> int:
@@ -111,13 +111,13 @@ class MortarInterface(PairDefaults):
     def bind(self, model) -> None:
         """Place the pair in the global dof vector of ``model``."""
         self.offsets = (model.offset_of(self.body), model.offset_of(self.master))
-        self._last = self._search = None
+        self._last = self._last_gaps = self._search = None
 
     def detect_within(self, distance: float) -> None:
         """Search as far as the integrator's candidates reach (``distance`` m)."""
         if not self._own_margin and distance > 0.0 and distance != self.margin:
             self.margin = distance
-            self._last = self._search = None
+            self._last = self._last_gaps = self._search = None
 
     def _kept_pairs(self, xs: np.ndarray, xm: np.ndarray):
         """The element pairs of the last search while no node has moved an eighth of the
@@ -159,10 +159,12 @@ class MortarInterface(PairDefaults):
             valid[self.element_rows[part].ravel()] = False
         return valid
 
-    def _same(self, q, key) -> bool:
+    def _key(self, q):
         (oa, ob), (a, b) = self.offsets, self.bodies
-        now = (q[oa : oa + a.ndof], q[ob : ob + b.ndof])
-        return all(np.array_equal(k, c) for k, c in zip(now, key, strict=True))
+        return (q[oa : oa + a.ndof], q[ob : ob + b.ndof])
+
+    def _same(self, q, key) -> bool:
+        return all(np.array_equal(k, c) for k, c in zip(self._key(q), key, strict=True))
 
     def _gap_values(self, e, jets, coverage, dual, xs):
         g = np.zeros(self.size)
@@ -171,13 +173,16 @@ class MortarInterface(PairDefaults):
         return np.where(self._valid(e, coverage, dual, xs), g / self.length, np.inf)
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
-        """The weighted gaps g_j (m) alone (+inf for the rows that take no part)."""
-        last = self._last
-        if last is not None and self._same(q, last[0]):
-            return last[1]["g"].copy()
+        """The weighted gaps g_j (m) alone (+inf for the rows that take no part); the last
+        evaluation's when q has not changed since."""
+        for cached in (self._last, self._last_gaps):
+            if cached is not None and self._same(q, cached[0]):
+                return cached[1]["g"].copy()
         e, z, _, xs = self._local(q)
         jets, coverage, dual, _ = self._integrate(e, z, None)
-        return self._gap_values(e, jets, coverage, dual, xs)
+        g = self._gap_values(e, jets, coverage, dual, xs)
+        self._last_gaps = (tuple(k.copy() for k in self._key(q)), {"g": g})
+        return g.copy()
 
     def evaluate(self, q: np.ndarray):
         """Weighted gaps (m,) in m, dofs (m, k), gradients (m, k) and no Hessians (None:
@@ -197,8 +202,7 @@ class MortarInterface(PairDefaults):
         scale = np.where(valid, 1.0 / self.length, 0.0)
         G = layout.rows(ends, [j.g * scale[r, None] for r, j in zip(ends, jets, strict=True)])
         G.flags.writeable = False
-        (oa, ob), (a, b) = self.offsets, self.bodies
-        key = (q[oa : oa + a.ndof].copy(), q[ob : ob + b.ndof].copy())
+        key = tuple(k.copy() for k in self._key(q))
         self._last = (key, dict(g=g, G=G, e=e, z=z, layout=layout, scale=scale, quad=quad,
                                 counts=counts))  # fmt: skip
         return g.copy(), layout.dofs, G, None

@@ -23,9 +23,8 @@ Everything is written once in :class:`~fecontact.contact.dual_numbers.Jet` arith
 the 12 local coordinates z = (x_p, x_a, x_b, x_c, y_1, y_2): the gradients and Hessians of
 g̃ — through the normals, the projections, the moving overlap bounds and the Jacobian — are
 exact. The projection ξ of a master node solves a quadratic: it is found in floating point by
-Newton's method, then two more Newton steps in Jet arithmetic starting from the converged
-value give its exact first and second derivatives (the Newton map has zero derivative with
-respect to ξ at the root).
+Newton's method, then one step of Chebyshev's method in Jet arithmetic from the converged
+value gives its exact first and second derivatives (those of the implicit function).
 """
 
 from __future__ import annotations
@@ -34,7 +33,7 @@ import numpy as np
 
 from .dual_numbers import Jet
 
-__all__ = ["GAUSS_POINTS", "segment_pair_integrals"]
+__all__ = ["GAUSS_POINTS", "covered_pairs", "segment_pair_integrals"]
 
 GAUSS_POINTS = 5
 """Gauss points per overlap: exact for the linear patch (a quadratic integrand); on curved
@@ -89,17 +88,16 @@ def _points(z: np.ndarray, hessian, has_prev, has_next):
     return xp, xa, xb, xc, y1, y2
 
 
-def _projection_coefficients(xa, xb, na, nb, y):
-    """c0 + c1 ξ + c2 ξ² = (x(ξ) − y) × n(ξ)."""
-    xm, xd = _scale(0.5, _add(xa, xb)), _scale(0.5, _sub(xb, xa))
-    nm, nd = _scale(0.5, _add(na, nb)), _scale(0.5, _sub(nb, na))
+def _project_master_node(xm, xd, nm, nd, y, order):
+    """ξ (Jet) of the master node y projected onto the slave segment along n(ξ): the root
+    of p(ξ) = c0 + c1 ξ + c2 ξ² = (x(ξ) − y) × n(ξ), x(ξ) = x_m + ξ x_d, n(ξ) = n_m + ξ n_d.
+
+    The root ξ₀ is found in floating point; the derivatives of ξ over z come from one step
+    of Chebyshev's method from the constant ξ₀, ξ₀ − u − c2 u²/p′ with u = p/p′, whose
+    first and second derivatives at a root are those of the implicit function (``order``
+    0: values, 1: gradients, 2: Hessians too)."""
     r = _sub(xm, y)
-    return _cross(r, nm), _cross(r, nd) + _cross(xd, nm), _cross(xd, nd)
-
-
-def _project_master_node(xa, xb, na, nb, y):
-    """ξ (Jet) of the master node y projected onto the slave segment along n(ξ)."""
-    c0, c1, c2 = _projection_coefficients(xa, xb, na, nb, y)
+    c0, c1, c2 = _cross(r, nm), _cross(r, nd) + _cross(xd, nm), _cross(xd, nd)
     with np.errstate(divide="ignore", invalid="ignore"):
         xi = -c0.v / c1.v
         for _ in range(30):
@@ -108,13 +106,46 @@ def _project_master_node(xa, xb, na, nb, y):
             if np.all(~np.isfinite(step) | (np.abs(step) <= 1e-15 * (1.0 + np.abs(xi)))):
                 break
     xi = np.where(np.isfinite(xi), xi, np.inf)
-    safe = np.where(np.isfinite(xi), xi, 0.0)
-    x = c0.constant_like(safe)
+    x0 = np.where(np.isfinite(xi), xi, 0.0)
+    if order == 0:
+        return c0.constant_like(xi)
     with np.errstate(divide="ignore", invalid="ignore"):
-        for _ in range(2):  # exact first, then second derivatives (module docstring)
-            x = x - (c0 + x * (c1 + x * c2)) / (c1 + x * c2 * 2.0)
-    x.v = np.where(np.isfinite(xi), x.v, np.inf)
+        p = c0 + c1 * x0 + c2 * (x0 * x0)
+        inv = (c1 + c2 * (2.0 * x0)).reciprocal()
+        u = p * inv
+        x = -u if order == 1 else -u - c2 * (u * u) * inv
+    x.v = xi  # the root itself: the same value whatever the derivatives carried
     return x
+
+
+def _overlap(xm, xd, nm, nd, y1, y2, nab, hessian):
+    """The overlap [lo, hi] (Jets, finite) of the master segment's projection with
+    [−1, 1], its span hi − lo (0 where not covered), and the covered fraction (P,)."""
+    order = 0 if hessian is None else (2 if hessian else 1)
+    s1 = _project_master_node(xm, xd, nm, nd, y1, order)
+    s2 = _project_master_node(xm, xd, nm, nd, y2, order)
+    lo = s1.where(s1.v <= s2.v, s2)
+    hi = s1.where(s1.v > s2.v, s2)
+    lo = lo.where(lo.v > -1.0, -1.0)
+    hi = hi.where(hi.v < 1.0, 1.0)
+    facing = _dot(nab, _segment_normal(y1, y2)).v < -FACING
+    with np.errstate(invalid="ignore"):
+        coverage = np.where(facing & np.isfinite(s1.v + s2.v), np.maximum(hi.v - lo.v, 0.0), 0.0)
+    coverage = 0.5 * np.nan_to_num(coverage)
+    span = (hi - lo).where(np.isfinite(hi.v - lo.v) & (coverage > 0.0), 0.0)
+    return lo.where(np.isfinite(lo.v), 0.0), span, coverage
+
+
+def covered_pairs(z, has_prev, has_next) -> np.ndarray:
+    """Whether the master segment covers part of the slave segment, for P pairs ``z``
+    (P, 12) (values only): the pairs left out contribute nothing to the integrals."""
+    xp, xa, xb, xc, y1, y2 = _points(z, None, has_prev, has_next)
+    nab = _segment_normal(xa, xb)
+    na = _unit(_add(_segment_normal(xp, xa), nab))
+    nb = _unit(_add(nab, _segment_normal(xb, xc)))
+    xm, xd = _scale(0.5, _add(xa, xb)), _scale(0.5, _sub(xb, xa))
+    nm, nd = _scale(0.5, _add(na, nb)), _scale(0.5, _sub(nb, na))
+    return _overlap(xm, xd, nm, nd, y1, y2, nab, None)[2] > 0.0
 
 
 def segment_pair_integrals(z, has_prev, has_next, hessian=None, depth=np.inf):
@@ -130,52 +161,51 @@ def segment_pair_integrals(z, has_prev, has_next, hessian=None, depth=np.inf):
     segment the master segment covers (P,; 0 where the segments do not face each other,
     ``FACING``, or miss each other), and the quadrature of the overlap as values — ξ and η
     (P, G) and the weights w J (P, G) in m — for the slip rows of friction.
+
+    At a point ξ, x(ξ) + s n(ξ) lies on the master line y_1 + η d, d = y_2 − y_1, for
+    s = (y_1 − x) × d / (n × d); with x(ξ) = x_m + ξ x_d and n(ξ) = n_m + ξ n_d that is
+    s = (A − ξ B)/(C + ξ D), A = (y_1 − x_m) × d, B = x_d × d, C = n_m × d, D = n_d × d, and
+    g_N = s |n(ξ)|: the per-point work is a few operations on per-pair coefficients.
     """
     xp, xa, xb, xc, y1, y2 = _points(z, hessian, has_prev, has_next)
     nab = _segment_normal(xa, xb)
     na = _unit(_add(_segment_normal(xp, xa), nab))
     nb = _unit(_add(nab, _segment_normal(xb, xc)))
-    s1, s2 = _project_master_node(xa, xb, na, nb, y1), _project_master_node(xa, xb, na, nb, y2)
-    lo = s1.where(s1.v <= s2.v, s2)
-    hi = s1.where(s1.v > s2.v, s2)
-    lo = lo.where(lo.v > -1.0, -1.0)
-    hi = hi.where(hi.v < 1.0, 1.0)
-    facing = _dot(nab, _segment_normal(y1, y2)).v < -FACING
-    coverage = np.where(facing & np.isfinite(s1.v + s2.v), np.maximum(hi.v - lo.v, 0.0), 0.0)
-    coverage = 0.5 * np.nan_to_num(coverage)
-    G = GAUSS_POINTS
-    P = len(z)
+    xm, xd = _scale(0.5, _add(xa, xb)), _scale(0.5, _sub(xb, xa))
+    nm, nd = _scale(0.5, _add(na, nb)), _scale(0.5, _sub(nb, na))
+    lo, span, coverage = _overlap(xm, xd, nm, nd, y1, y2, nab, hessian)
+    d = _sub(y2, y1)
+    coef = (_cross(_sub(y1, xm), d), _cross(xd, d), _cross(nm, d), _cross(nd, d),
+            _dot(nm, nm), _dot(nm, nd), _dot(nd, nd), _dot(xd, xd).sqrt() * span)  # fmt: skip
+    G, P = GAUSS_POINTS, len(z)
     keep = np.repeat(coverage > 0.0, G)
-    span = (hi - lo).where(np.isfinite(hi.v - lo.v) & (coverage > 0.0), 0.0)
-    lo = lo.where(np.isfinite(lo.v), 0.0)
-    theta, weight = np.tile(_THETA, P), np.tile(_WEIGHT, P)
-    xi = lo.repeat(G) + span.repeat(G) * (0.5 * (1.0 + theta))
-    xa_r = (xa[0].repeat(G), xa[1].repeat(G))
-    xb_r = (xb[0].repeat(G), xb[1].repeat(G))
-    na_r = (na[0].repeat(G), na[1].repeat(G))
-    nb_r = (nb[0].repeat(G), nb[1].repeat(G))
-    y1_r = (y1[0].repeat(G), y1[1].repeat(G))
-    y2_r = (y2[0].repeat(G), y2[1].repeat(G))
-    Na, Nb = (1.0 - xi) * 0.5, (1.0 + xi) * 0.5
-    x = _add(_scale(Na, xa_r), _scale(Nb, xb_r))
-    n = _add(_scale(Na, na_r), _scale(Nb, nb_r))
-    d = _sub(y2_r, y1_r)
-    den = _cross(d, n)
-    den = den.where(keep, 1.0)
-    eta = _cross(_sub(x, y1_r), n) / den
-    gap = _dot(_sub(_add(y1_r, _scale(eta, d)), x), n) / _dot(n, n).sqrt()
-    J = _dot(_sub(xb_r, xa_r), _sub(xb_r, xa_r)).sqrt() * 0.5
-    wJ = J * span.repeat(G) * (0.5 * weight)
-    wJ = wJ.where(keep, 0.0)
+    A, B, C, D, E, F, H, Jspan = (c.repeat(G) for c in coef)
+    xi = lo.repeat(G) + span.repeat(G) * np.tile(0.5 * (1.0 + _THETA), P)
+    nn = E + xi * (F * 2.0 + xi * H)
+    gap = (A - xi * B) / (C + xi * D).where(keep, 1.0) * nn.sqrt()
+    wJ = (Jspan * np.tile(0.5 * _WEIGHT, P)).where(keep, 0.0)
     gap = gap.where(keep, 0.0)
     behind = (gap.v * wJ.v).reshape(P, G).sum(1) < -depth * wJ.v.reshape(P, G).sum(1)
     if behind.any():
         coverage = np.where(behind, 0.0, coverage)
         wJ = wJ.where(~np.repeat(behind, G), 0.0)
-    ga = _sum_gauss((0.5 - 1.5 * xi) * gap * wJ, P, G)
-    gb = _sum_gauss((0.5 + 1.5 * xi) * gap * wJ, P, G)
-    quad = (xi.v.reshape(P, G), eta.v.reshape(P, G), wJ.v.reshape(P, G))
+    gw = gap * wJ
+    s0, s1 = _sum_gauss(gw, P, G), _sum_gauss(xi * gw, P, G)
+    ga, gb = s0 * 0.5 - s1 * 1.5, s0 * 0.5 + s1 * 1.5
+    quad = (xi.v.reshape(P, G), _master_parameter(xi.v, xm, xd, nm, nd, y1, d, G).reshape(P, G),
+            wJ.v.reshape(P, G))  # fmt: skip
     return ga, gb, coverage, quad
+
+
+def _master_parameter(xi, xm, xd, nm, nd, y1, d, G):
+    """η (values) of the master point met from x(ξ) along n(ξ) at the points ξ (P G,)."""
+    rep = [np.repeat(c[k].v, G) for c in (xm, xd, nm, nd, y1, d) for k in range(2)]
+    xmx, xmy, xdx, xdy, nmx, nmy, ndx, ndy, y1x, y1y, dx, dy = rep
+    x = (xmx + xi * xdx - y1x, xmy + xi * xdy - y1y)
+    n = (nmx + xi * ndx, nmy + xi * ndy)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        eta = (x[0] * n[1] - x[1] * n[0]) / (dx * n[1] - dy * n[0])
+    return np.where(np.isfinite(eta), eta, 0.0)
 
 
 def _sum_gauss(f: Jet, P: int, G: int) -> Jet:
