@@ -51,8 +51,9 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..errors import InputError
+from .mortar_duals import FOREIGN, covered_ends
 from .mortar_interface import MortarInterface
-from .mortar_segments import covered_pairs, segment_pair_integrals
+from .mortar_segments import segment_pair_integrals
 
 __all__ = ["MortarContact"]
 
@@ -120,33 +121,46 @@ class MortarContact(MortarInterface):
         return pairs
 
     def _local(self, q: np.ndarray):
-        """The slave segments e of the segment pairs, their local coordinates z (P, 12) and
-        global dofs (P, 12), and the slave nodes' positions."""
+        """The slave segments e of the segment pairs that overlap, their local coordinates z
+        (P, 14 or 18: the 12 of the pair, the master nodes that bound the slave segment's
+        covered part when another pair's nodes do, then how each end is found) and global
+        dofs (P, 12 or 16), and the slave nodes' positions."""
         xs, xm = self.positions(q)
         e, f = self._pairs(xs, xm)
         sn, mn = self.local_nodes[e], self.master_facets[f]
         z = np.concatenate([xs[sn], xm[mn]], axis=1).reshape(len(e), 12)
-        # the candidates whose segments do not overlap contribute nothing: left out before
-        # the differentiated integrals, a value-only test
-        keep = np.flatnonzero(covered_pairs(z, self.has_prev[e], self.has_next[e]))
+        # the candidates that do not overlap contribute nothing: left out before the
+        # differentiated integrals, by a value-only pass that also gives the overlaps' ends
+        prior = segment_pair_integrals(z, self.has_prev[e], self.has_next[e], None, self.margin)
+        keep = prior[2] > 0.0
         e, sn, mn, z = e[keep], sn[keep], mn[keep], z[keep]
+        lo, hi, lo_node, hi_node = (x[keep] for x in prior[4])
+        kinds = covered_ends(e, lo, hi, lo_node, hi_node, len(self.facets))
+        kind_lo, kind_hi, src_lo, src_hi = kinds
+        if np.any(kind_lo == FOREIGN) or np.any(kind_hi == FOREIGN):
+            bound = np.stack([mn[src_lo, np.maximum(lo_node[src_lo], 0)],
+                              mn[src_hi, np.maximum(hi_node[src_hi], 0)]], axis=1)  # fmt: skip
+            z = np.concatenate([z, xm[bound].reshape(len(e), 4)], axis=1)
+            mn = np.concatenate([mn, bound], axis=1)
+        z = np.concatenate([z, kind_lo[:, None], kind_hi[:, None]], axis=1)
         return e, z, self._global_dofs(sn, mn), xs
 
     def _integrate(self, e, z, hessian):
-        """Jets of the ends' weighted gaps, coverage, covered dual weights (P, 2) and the
-        quadrature (ξ, η, w J) of the pairs."""
-        ga, gb, coverage, quad = segment_pair_integrals(
-            z, self.has_prev[e], self.has_next[e], hessian, depth=self.margin
+        """Jets of the ends' weighted gaps, coverage, covered weights ∫ N_k ds (P, 2) and
+        the quadrature (ξ, η, w J, A) of the pairs."""
+        ends = (z[:, -2].astype(int), z[:, -1].astype(int))
+        ga, gb, coverage, quad, _ = segment_pair_integrals(
+            z[:, :-2], self.has_prev[e], self.has_next[e], hessian, self.margin, ends
         )
-        xi, _, wJ = quad
-        dual = np.stack([((0.5 - 1.5 * xi) * wJ).sum(1), ((0.5 + 1.5 * xi) * wJ).sum(1)], 1)
-        return [ga, gb], coverage, dual, quad
+        xi, _, wJ, _ = quad
+        covered = np.stack([((0.5 - 0.5 * xi) * wJ).sum(1), ((0.5 + 0.5 * xi) * wJ).sum(1)], 1)
+        return [ga, gb], coverage, covered, quad
 
     def _slip_weights(self, quad, k: int) -> np.ndarray:
         """Weights (P, 6) of the local nodes' motion in end k's slip: ∫ Φ_k N_i over the
         slave's ends, −∫ Φ_k N_i over the master's (the projections frozen)."""
-        xi, eta, wJ = quad
-        w = (0.5 - 1.5 * xi if k == 0 else 0.5 + 1.5 * xi) * wJ
+        xi, eta, wJ, A = quad
+        w = (A[:, k, :1] * 0.5 * (1.0 - xi) + A[:, k, 1:] * 0.5 * (1.0 + xi)) * wJ
         zero = np.zeros(len(xi))
         return np.stack(
             [zero, (w * 0.5 * (1.0 - xi)).sum(1), (w * 0.5 * (1.0 + xi)).sum(1), zero,

@@ -259,6 +259,8 @@ class MortarInterface(PairDefaults):
         values = []
         for k, end in enumerate(ends):
             w = self._slip_weights(r["quad"], k) * scale[end, None]  # (P, local nodes)
+            # nodes that only bound the covered part (2D) carry no slip weight
+            w = np.pad(w, ((0, 0), (0, r["layout"].cols.shape[2] // self.dim - w.shape[1])))
             v = w[:, None, :, None] * T[end][:, :, None, :]  # (P, nt, nodes, d)
             values.append(v.reshape(len(e), T.shape[1], -1))
         return r["layout"].dofs, r["layout"].rows(ends, values), T

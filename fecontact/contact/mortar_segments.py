@@ -32,8 +32,9 @@ from __future__ import annotations
 import numpy as np
 
 from .dual_numbers import Jet
+from .mortar_duals import FOREIGN, OWN, STANDARD, dual_coefficients
 
-__all__ = ["GAUSS_POINTS", "covered_pairs", "segment_pair_integrals"]
+__all__ = ["GAUSS_POINTS", "segment_pair_integrals"]
 
 GAUSS_POINTS = 5
 """Gauss points per overlap: exact for the linear patch (a quadratic integrand); on curved
@@ -77,15 +78,17 @@ def _segment_normal(u, w):
 
 
 def _points(z: np.ndarray, hessian, has_prev, has_next):
-    """Jet points (x_p, x_a, x_b, x_c, y_1, y_2) of the local coordinates z (P, 12); a missing
-    neighbour is the reflection of the segment's other end (the segment's own normal)."""
+    """Jet points (x_p, x_a, x_b, x_c, y_1, y_2, then the master nodes that bound the slave
+    segment's covered part when z has 16 columns) of the local coordinates z (P, 12 or 16);
+    a missing neighbour is the reflection of the segment's other end (the segment's own
+    normal)."""
     c = Jet.variables(z, hessian)
-    xp, xa, xb, xc, y1, y2 = ((c[2 * i], c[2 * i + 1]) for i in range(6))
+    xp, xa, xb, xc, *ys = ((c[2 * i], c[2 * i + 1]) for i in range(z.shape[1] // 2))
     ghost_p = _sub(_scale(2.0, xa), xb)
     ghost_c = _sub(_scale(2.0, xb), xa)
     xp = (xp[0].where(has_prev, ghost_p[0]), xp[1].where(has_prev, ghost_p[1]))
     xc = (xc[0].where(has_next, ghost_c[0]), xc[1].where(has_next, ghost_c[1]))
-    return xp, xa, xb, xc, y1, y2
+    return xp, xa, xb, xc, *ys
 
 
 def _project_master_node(xm, xd, nm, nd, y, order):
@@ -118,14 +121,16 @@ def _project_master_node(xm, xd, nm, nd, y, order):
     return x
 
 
-def _overlap(xm, xd, nm, nd, y1, y2, nab, hessian):
+def _overlap(xm, xd, nm, nd, y1, y2, nab, order):
     """The overlap [lo, hi] (Jets, finite) of the master segment's projection with
-    [−1, 1], its span hi − lo (0 where not covered), and the covered fraction (P,)."""
-    order = 0 if hessian is None else (2 if hessian else 1)
+    [−1, 1], its span hi − lo (0 where not covered), the covered fraction (P,), and the
+    master node (0: y_1, 1: y_2; −1: clamped at ∓1) whose projection each end is."""
     s1 = _project_master_node(xm, xd, nm, nd, y1, order)
     s2 = _project_master_node(xm, xd, nm, nd, y2, order)
-    lo = s1.where(s1.v <= s2.v, s2)
-    hi = s1.where(s1.v > s2.v, s2)
+    first = s1.v <= s2.v
+    lo, hi = s1.where(first, s2), s2.where(first, s1)
+    nodes = (np.where(lo.v > -1.0, np.where(first, 0, 1), -1),
+             np.where(hi.v < 1.0, np.where(first, 1, 0), -1))  # fmt: skip
     lo = lo.where(lo.v > -1.0, -1.0)
     hi = hi.where(hi.v < 1.0, 1.0)
     facing = _dot(nab, _segment_normal(y1, y2)).v < -FACING
@@ -133,22 +138,22 @@ def _overlap(xm, xd, nm, nd, y1, y2, nab, hessian):
         coverage = np.where(facing & np.isfinite(s1.v + s2.v), np.maximum(hi.v - lo.v, 0.0), 0.0)
     coverage = 0.5 * np.nan_to_num(coverage)
     span = (hi - lo).where(np.isfinite(hi.v - lo.v) & (coverage > 0.0), 0.0)
-    return lo.where(np.isfinite(lo.v), 0.0), span, coverage
+    return lo.where(np.isfinite(lo.v), 0.0), hi, span, coverage, nodes
 
 
-def covered_pairs(z, has_prev, has_next) -> np.ndarray:
-    """Whether the master segment covers part of the slave segment, for P pairs ``z``
-    (P, 12) (values only): the pairs left out contribute nothing to the integrals."""
-    xp, xa, xb, xc, y1, y2 = _points(z, None, has_prev, has_next)
-    nab = _segment_normal(xa, xb)
-    na = _unit(_add(_segment_normal(xp, xa), nab))
-    nb = _unit(_add(nab, _segment_normal(xb, xc)))
-    xm, xd = _scale(0.5, _add(xa, xb)), _scale(0.5, _sub(xb, xa))
-    nm, nd = _scale(0.5, _add(na, nb)), _scale(0.5, _sub(nb, na))
-    return _overlap(xm, xd, nm, nd, y1, y2, nab, None)[2] > 0.0
+def _covered_end(kind, own, foreign, clamp: float, frame, order):
+    """An end of the slave segment's covered part (Jet): ∓1, the entry's own overlap end,
+    or the projection of the master node ``foreign`` (``mortar_duals.covered_ends``)."""
+    end = own.where(kind == OWN, clamp)
+    if np.any(kind == FOREIGN):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            x = _project_master_node(*frame, foreign, order)
+        inside = (x.v > -1.0) & (x.v < 1.0)
+        end = end.where(kind != FOREIGN, x.where(inside, clamp))
+    return end
 
 
-def segment_pair_integrals(z, has_prev, has_next, hessian=None, depth=np.inf):
+def segment_pair_integrals(z, has_prev, has_next, hessian=None, depth=np.inf, ends=None):
     """Weighted-gap contributions of P (slave segment, master segment) pairs.
 
     ``z`` (P, 12): the coordinates (m) of (x_p, x_a, x_b, x_c, y_1, y_2); ``has_prev``,
@@ -156,24 +161,31 @@ def segment_pair_integrals(z, has_prev, has_next, hessian=None, depth=np.inf):
     for gradients, True for gradients and Hessians over z. ``depth`` (m): a master segment
     whose mean gap over the overlap is below −depth lies behind the slave segment, not in
     contact with it (a far part of the master whose segment happens to face it): dropped.
+    ``ends``: None for the dual functions of the whole segment, or (kind_lo, kind_hi) (P,)
+    from :func:`~fecontact.contact.mortar_duals.covered_ends`: the dual functions are then
+    those of the segment's covered part (:mod:`~fecontact.contact.mortar_duals`), whose
+    foreign ends are the master nodes in z[:, 12:14] and z[:, 14:16] (z then (P, 16)).
 
-    Returns (ga, gb, coverage, quad): the Jets of g̃_a, g̃_b (m²), the fraction of the slave
-    segment the master segment covers (P,; 0 where the segments do not face each other,
-    ``FACING``, or miss each other), and the quadrature of the overlap as values — ξ and η
-    (P, G) and the weights w J (P, G) in m — for the slip rows of friction.
+    Returns (ga, gb, coverage, quad, ends): the Jets of g̃_a, g̃_b (m²), the fraction of
+    the slave segment the master segment covers (P,; 0 where the segments do not face each
+    other, ``FACING``, or miss each other), the quadrature of the overlap as values — ξ and
+    η (P, G), the weights w J (P, G) in m and the dual coefficients A (P, 2, 2) — for the
+    slip rows of friction, and (lo, hi, lo_node, hi_node): the overlap's ends (P,) and the
+    master node each is the projection of (0: y_1, 1: y_2, −1: the segment's end).
 
     At a point ξ, x(ξ) + s n(ξ) lies on the master line y_1 + η d, d = y_2 − y_1, for
     s = (y_1 − x) × d / (n × d); with x(ξ) = x_m + ξ x_d and n(ξ) = n_m + ξ n_d that is
     s = (A − ξ B)/(C + ξ D), A = (y_1 − x_m) × d, B = x_d × d, C = n_m × d, D = n_d × d, and
     g_N = s |n(ξ)|: the per-point work is a few operations on per-pair coefficients.
     """
-    xp, xa, xb, xc, y1, y2 = _points(z, hessian, has_prev, has_next)
+    xp, xa, xb, xc, y1, y2, *bound = _points(z, hessian, has_prev, has_next)
     nab = _segment_normal(xa, xb)
     na = _unit(_add(_segment_normal(xp, xa), nab))
     nb = _unit(_add(nab, _segment_normal(xb, xc)))
     xm, xd = _scale(0.5, _add(xa, xb)), _scale(0.5, _sub(xb, xa))
     nm, nd = _scale(0.5, _add(na, nb)), _scale(0.5, _sub(nb, na))
-    lo, span, coverage = _overlap(xm, xd, nm, nd, y1, y2, nab, hessian)
+    order = 0 if hessian is None else (2 if hessian else 1)
+    lo, hi, span, coverage, nodes = _overlap(xm, xd, nm, nd, y1, y2, nab, order)
     d = _sub(y2, y1)
     coef = (_cross(_sub(y1, xm), d), _cross(xd, d), _cross(nm, d), _cross(nd, d),
             _dot(nm, nm), _dot(nm, nd), _dot(nd, nd), _dot(xd, xd).sqrt() * span)  # fmt: skip
@@ -191,10 +203,20 @@ def segment_pair_integrals(z, has_prev, has_next, hessian=None, depth=np.inf):
         wJ = wJ.where(~np.repeat(behind, G), 0.0)
     gw = gap * wJ
     s0, s1 = _sum_gauss(gw, P, G), _sum_gauss(xi * gw, P, G)
-    ga, gb = s0 * 0.5 - s1 * 1.5, s0 * 0.5 + s1 * 1.5
-    quad = (xi.v.reshape(P, G), _master_parameter(xi.v, xm, xd, nm, nd, y1, d, G).reshape(P, G),
-            wJ.v.reshape(P, G))  # fmt: skip
-    return ga, gb, coverage, quad
+    m1, m2 = (s0 - s1) * 0.5, (s0 + s1) * 0.5  # ∫ N_k g_N ds
+    if ends is None or not (np.any(ends[0]) or np.any(ends[1])):
+        ga, gb, duals = m1 * 2.0 - m2, m2 * 2.0 - m1, np.broadcast_to(STANDARD, (P, 2, 2))
+    else:
+        frame = (xm, xd, nm, nd)
+        foreign = (bound[0], bound[1]) if bound else (None, None)
+        a = _covered_end(ends[0], lo, foreign[0], -1.0, frame, order)
+        b = _covered_end(ends[1], hi, foreign[1], 1.0, frame, order)
+        A11, A12, A21, A22 = dual_coefficients(a, b)
+        ga, gb = A11 * m1 + A12 * m2, A21 * m1 + A22 * m2
+        duals = np.stack([A11.v, A12.v, A21.v, A22.v], axis=1).reshape(P, 2, 2)
+    eta = _master_parameter(xi.v, xm, xd, nm, nd, y1, d, G)
+    quad = (xi.v.reshape(P, G), eta.reshape(P, G), wJ.v.reshape(P, G), duals)
+    return ga, gb, coverage, quad, (lo.v, hi.v, *nodes)
 
 
 def _master_parameter(xi, xm, xd, nm, nd, y1, d, G):
