@@ -20,26 +20,35 @@ they take a node's gap — and the discrete pressure field λ_h = Σ_j z_j Φ_j 
 
 λ_j the normal force of row j (N) and t the thickness of the 2D body (m).
 
+Partly covered segments: where the master covers only a part [a, b] of a slave segment (the
+edge of the contact zone; on a coarse boundary, a vertex meeting a vertex) the dual functions
+are those biorthogonal on [a, b] (Popp, Seitz, Gee & Wall, CMAME 2013;
+:mod:`fecontact.contact.mortar_duals`): a gap field linear on the segment then weighs in with
+its own nodal value and a positive weight. The dual functions of the whole segment would weigh
+the covered part alone with their lobes of both signs: on two octagons meeting vertex to
+vertex, the vertex read a gap of +4 mm while 4 mm deep inside the other disk.
+
 Linearisation: the rows' gradients G_j = ∂g_j/∂q and curvatures ∇²g_j are exact, from a
 second-order forward differentiation of the integral (:mod:`fecontact.contact.dual_numbers`):
-through the averaged normals, the projections, the moving bounds of the overlaps and the
-segment Jacobian. This is the consistent linearisation of Popp, Gee & Wall (2009) obtained
-without deriving its terms by hand, so the position correction keeps Newton's quadratic rate.
-The 3D form (Popp, Gitterle, Gee & Wall 2010: clipping of projected polygons) and quadratic
-faces (the basis transformation of Popp, Wohlmuth, Gee & Wall 2012, needed because the corner
-shape functions of a P2 face integrate to zero) are not implemented: P2 bodies are taken with
-their boundary split into linear segments, like node-to-surface contact.
+through the averaged normals, the projections, the moving bounds of the overlaps, the dual
+functions of partly covered segments and the segment Jacobian. This is the consistent
+linearisation of Popp, Gee & Wall (2009) obtained without deriving its terms by hand, so the
+position correction keeps Newton's quadratic rate. Quadratic faces (the basis transformation
+of Popp, Wohlmuth, Gee & Wall 2012, needed because the corner shape functions of a P2 face
+integrate to zero) are not implemented: P2 bodies are taken with their boundary split into
+linear segments, like node-to-surface contact.
 
 Contact rows are the slave boundary nodes. The master covers a part of a node's segments
 (where the slave normals meet master segments facing them); a node takes part when the
-covered part carries at least half of the dual weight of its covered segments,
-∫_covered Φ_j ds ≥ ½ Σ_e |e|/2: where only the far end of a segment is covered, at the edge
-of the zone the master faces, the negative lobe of Φ_j would turn g̃_j negative although the
-surfaces are apart. Other rows report g = +inf with a zero gradient. A master segment whose
-mean gap over its overlap is deeper than the margin behind the slave segment is a far part
-of the master that happens to face it, not a contact partner, and is left out. The search
-keeps the (slave, master) segment pairs whose midpoints are within the detection margin plus
-both segment lengths, refreshed when a node has moved by more than an eighth of the margin.
+covered part carries at least half of the shape-function weight of its covered segments,
+Σ_e ∫_covered N_j ds ≥ ½ Σ_e |e|/2: a node whose segments are covered only at their far
+ends would read a gap extrapolated from there. Other rows report g = +inf with a zero
+gradient. A master segment whose mean gap over its overlap is deeper than the margin behind
+the slave segment is a far part of the master that happens to face it, not a contact
+partner, and is left out. The search keeps the (slave, master) segment pairs whose midpoints
+are within the detection margin plus both segment lengths, refreshed when a node has moved
+by more than an eighth of the margin; a value-only pass drops the pairs that do not overlap
+before the differentiated one.
 
 Friction: the slip row of node j is the weighted relative motion t_j·∫ Φ_j (ẋ − ẏ) ds / L_j
 along the slave node's tangent t_j, with the projections frozen over the step.

@@ -1,16 +1,18 @@
 r"""What the 2D and 3D dual mortar pairs share: rows, their assembly, the nodes that take part.
 
-A mortar pair integrates, over entries (a slave element against a master element in 2D, a
-slave Gauss point with the master triangle it meets in 3D), the contributions of each slave
-element's ends k to their weighted gaps g̃_j = ∫ Φ_j g_N dA, as
+A mortar pair integrates, over entries (a slave element against a master element), the
+contributions of each slave element's ends k to their weighted gaps g̃_j = ∫ Φ_j g_N dA, as
 :class:`~fecontact.contact.dual_numbers.Jet` values with exact gradients and Hessians over the
 entry's local coordinates. This module gathers them into the pair's rows g_j = g̃_j / L_j (m),
 L_j = Σ_e |e|/n_e the reference measure (length in 2D, area in 3D) node j carries (n_e the
 element's nodes; ∫_e Φ_j dA = |e|/n_e for the dual functions of linear elements), pads the rows
 to one width, and decides which nodes take part: those whose covered support carries at least
-half of the dual weight of their covered elements, W_j = ∫_covered Φ_j dA ≥ ½ Σ_e |e|/n_e
-(where only the far end of an element is covered, the negative lobe of Φ_j would turn g̃_j
-negative although the surfaces are apart). The others report g = +inf and a zero gradient.
+half of the weight of their covered elements, W_j ≥ ½ Σ_e |e|/n_e, W_j the covered weight the
+subclass reports (2D: of the shape functions N_j, whose dual functions are those of the
+covered part; 3D: of the dual functions Φ_j, where only the far end of an element is covered
+their negative lobe would turn g̃_j negative although the surfaces are apart). The others
+report g = +inf and a zero gradient. The gaps of the last q are kept: the time loop asks for
+them again at the same q (the correction, the probes, the summary).
 """
 
 from __future__ import annotations
