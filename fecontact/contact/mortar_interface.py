@@ -104,7 +104,7 @@ class MortarInterface(PairDefaults):
         self._dofs_s = body.node_translation_dofs(np.arange(body.n_nodes))
         self._dofs_m = master.node_translation_dofs(np.arange(master.n_nodes))
         self.offsets = (0, 0)
-        self._last = self._last_gaps = self._search = None
+        self._last = self._last_gaps = self._search = self._layout_of = None
 
     @property
     def size(self) -> int:
@@ -113,7 +113,7 @@ class MortarInterface(PairDefaults):
     def bind(self, model) -> None:
         """Place the pair in the global dof vector of ``model``."""
         self.offsets = (model.offset_of(self.body), model.offset_of(self.master))
-        self._last = self._last_gaps = self._search = None
+        self._last = self._last_gaps = self._search = self._layout_of = None
 
     def detect_within(self, distance: float) -> None:
         """Search as far as the integrator's candidates reach (``distance`` m)."""
@@ -200,7 +200,7 @@ class MortarInterface(PairDefaults):
         valid = np.isfinite(g)
         # the Hessians of the entries that count only (the search also finds some that miss)
         counts = (coverage > 0.0) & np.any([valid[r] for r in ends], axis=0)
-        layout = _Layout(ends, dofs, self.offsets[0] + self._dofs_s[self.nodes])
+        layout = self._layout(ends, dofs)
         scale = np.where(valid, 1.0 / self.length, 0.0)
         G = layout.rows(ends, [j.g * scale[r, None] for r, j in zip(ends, jets, strict=True)])
         G.flags.writeable = False
@@ -208,6 +208,16 @@ class MortarInterface(PairDefaults):
         self._last = (key, dict(g=g, G=G, e=e, z=z, layout=layout, scale=scale, quad=quad,
                                 counts=counts))  # fmt: skip
         return g.copy(), layout.dofs, G, None
+
+    def _layout(self, ends, dofs: np.ndarray) -> _Layout:
+        """The layout of these entries: the last one while the entries are the same (the
+        iterates of a Newton solve mostly keep them)."""
+        key = np.concatenate([np.stack(ends, axis=1), dofs], axis=1)
+        if self._layout_of is not None and np.array_equal(self._layout_of[0], key):
+            return self._layout_of[1]
+        layout = _Layout(ends, dofs, self.offsets[0] + self._dofs_s[self.nodes])
+        self._layout_of = (key, layout)
+        return layout
 
     def hessians(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
         """∇²g_j (len(rows), k, k) of the contacts ``rows`` at q, in the layout of
