@@ -119,7 +119,9 @@ class Jet:
             return self * (1.0 / np.asarray(other, dtype=float))
         if self.g is None:
             return Jet(self.v / other.v, None, None)
-        return self * other.reciprocal()
+        out = self * other.reciprocal()
+        out.v = self.v / other.v  # the value as the values-only mode has it, to the last bit
+        return out
 
     def __rtruediv__(self, other) -> Jet:
         return self.reciprocal() * other

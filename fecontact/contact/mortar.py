@@ -60,7 +60,8 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..errors import InputError
-from .mortar_duals import FOREIGN, covered_ends
+from .dual_numbers import Jet
+from .mortar_duals import CLAMPED, FOREIGN, covered_ends, dual_coefficients
 from .mortar_interface import MortarInterface
 from .mortar_segments import segment_pair_integrals
 
@@ -129,11 +130,10 @@ class MortarContact(MortarInterface):
         self._search = (xs.copy(), xm.copy(), pairs)
         return pairs
 
-    def _local(self, q: np.ndarray):
-        """The slave segments e of the segment pairs that overlap, their local coordinates z
-        (P, 14 or 18: the 12 of the pair, the master nodes that bound the slave segment's
-        covered part when another pair's nodes do, then how each end is found) and global
-        dofs (P, 12 or 16), and the slave nodes' positions."""
+    def _overlapping(self, q: np.ndarray):
+        """The slave nodes' positions, and the candidate segment pairs that overlap: their
+        slave segments e, local slave and master nodes, local coordinates z (P, 12) and the
+        results of the value-only pass that selected them (``segment_pair_integrals``)."""
         xs, xm = self.positions(q)
         e, f = self._pairs(xs, xm)
         sn, mn = self.local_nodes[e], self.master_facets[f]
@@ -142,8 +142,18 @@ class MortarContact(MortarInterface):
         # differentiated integrals, by a value-only pass that also gives the overlaps' ends
         prior = segment_pair_integrals(z, self.has_prev[e], self.has_next[e], None, self.margin)
         keep = prior[2] > 0.0
-        e, sn, mn, z = e[keep], sn[keep], mn[keep], z[keep]
-        lo, hi, lo_node, hi_node = (x[keep] for x in prior[4])
+        ga, gb, coverage, (xi, eta, wJ, _), ends = prior
+        prior = (ga.take(keep), gb.take(keep), coverage[keep], (xi[keep], wJ[keep]),
+                 tuple(x[keep] for x in ends))  # fmt: skip
+        return xs, xm, e[keep], sn[keep], mn[keep], z[keep], prior
+
+    def _local(self, q: np.ndarray):
+        """The slave segments e of the segment pairs that overlap, their local coordinates z
+        (P, 14 or 18: the 12 of the pair, the master nodes that bound the slave segment's
+        covered part when another pair's nodes do, then how each end is found) and global
+        dofs (P, 12 or 16), and the slave nodes' positions."""
+        xs, xm, e, sn, mn, z, prior = self._overlapping(q)
+        lo, hi, lo_node, hi_node = prior[4][:4]
         kinds = covered_ends(e, lo, hi, lo_node, hi_node, len(self.facets))
         kind_lo, kind_hi, src_lo, src_hi = kinds
         if np.any(kind_lo == FOREIGN) or np.any(kind_hi == FOREIGN):
@@ -153,6 +163,24 @@ class MortarContact(MortarInterface):
             mn = np.concatenate([mn, bound], axis=1)
         z = np.concatenate([z, kind_lo[:, None], kind_hi[:, None]], axis=1)
         return e, z, self._global_dofs(sn, mn), xs
+
+    def _values(self, q: np.ndarray):
+        """The entries' values for :meth:`gaps`, from the value-only pass that selects them:
+        the dual functions of each segment's covered part applied to its ∫ N_k g_N ds (the
+        ends of the covered part are the overlaps' own ends; the same values as
+        :meth:`_integrate` gives)."""
+        xs, _, e, _, _, _, (ga, gb, coverage, (xi, wJ), ends) = self._overlapping(q)
+        lo, hi, lo_node, hi_node, m1, m2 = ends
+        kind_lo, kind_hi, src_lo, src_hi = covered_ends(e, lo, hi, lo_node, hi_node,
+                                                        len(self.facets))  # fmt: skip
+        if np.any(kind_lo) or np.any(kind_hi):
+            a = Jet(np.where(kind_lo == CLAMPED, -1.0, lo[src_lo]), None, None)
+            b = Jet(np.where(kind_hi == CLAMPED, 1.0, hi[src_hi]), None, None)
+            A11, A12, A21, A22 = dual_coefficients(a, b)
+            m1, m2 = Jet(m1, None, None), Jet(m2, None, None)
+            ga, gb = A11 * m1 + A12 * m2, A21 * m1 + A22 * m2
+        covered = np.stack([((0.5 - 0.5 * xi) * wJ).sum(1), ((0.5 + 0.5 * xi) * wJ).sum(1)], 1)
+        return e, [ga, gb], coverage, covered, xs
 
     def _integrate(self, e, z, hessian):
         """Jets of the ends' weighted gaps, coverage, covered weights ∫ N_k ds (P, 2) and

@@ -180,11 +180,16 @@ class MortarInterface(PairDefaults):
         for cached in (self._last, self._last_gaps):
             if cached is not None and self._same(q, cached[0]):
                 return cached[1]["g"].copy()
-        e, z, _, xs = self._local(q)
-        jets, coverage, dual, _ = self._integrate(e, z, None)
-        g = self._gap_values(e, jets, coverage, dual, xs)
+        g = self._gap_values(*self._values(q))
         self._last_gaps = (tuple(k.copy() for k in self._key(q)), {"g": g})
         return g.copy()
+
+    def _values(self, q: np.ndarray):
+        """The entries e, the value Jets of their ends' weighted gaps, their coverage and
+        covered weights, and the slave nodes' positions, at q."""
+        e, z, _, xs = self._local(q)
+        jets, coverage, dual, _ = self._integrate(e, z, None)
+        return e, jets, coverage, dual, xs
 
     def evaluate(self, q: np.ndarray):
         """Weighted gaps (m,) in m, dofs (m, k), gradients (m, k) and no Hessians (None:

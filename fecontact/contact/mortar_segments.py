@@ -22,9 +22,9 @@ need no linearisation (Popp, Gee & Wall 2009).
 Everything is written once in :class:`~fecontact.contact.dual_numbers.Jet` arithmetic over
 the 12 local coordinates z = (x_p, x_a, x_b, x_c, y_1, y_2): the gradients and Hessians of
 g̃ — through the normals, the projections, the moving overlap bounds and the Jacobian — are
-exact. The projection ξ of a master node solves a quadratic: it is found in floating point by
-Newton's method, then one step of Chebyshev's method in Jet arithmetic from the converged
-value gives its exact first and second derivatives (those of the implicit function).
+exact. The projection ξ of a master node solves a quadratic: its root nearest the segment is
+found in closed form, then one step of Chebyshev's method in Jet arithmetic from it gives
+its exact first and second derivatives (those of the implicit function).
 """
 
 from __future__ import annotations
@@ -95,19 +95,17 @@ def _project_master_node(xm, xd, nm, nd, y, order):
     """ξ (Jet) of the master node y projected onto the slave segment along n(ξ): the root
     of p(ξ) = c0 + c1 ξ + c2 ξ² = (x(ξ) − y) × n(ξ), x(ξ) = x_m + ξ x_d, n(ξ) = n_m + ξ n_d.
 
-    The root ξ₀ is found in floating point; the derivatives of ξ over z come from one step
+    The root ξ₀ is found in closed form; the derivatives of ξ over z come from one step
     of Chebyshev's method from the constant ξ₀, ξ₀ − u − c2 u²/p′ with u = p/p′, whose
     first and second derivatives at a root are those of the implicit function (``order``
     0: values, 1: gradients, 2: Hessians too)."""
     r = _sub(xm, y)
     c0, c1, c2 = _cross(r, nm), _cross(r, nd) + _cross(xd, nm), _cross(xd, nd)
     with np.errstate(divide="ignore", invalid="ignore"):
-        xi = -c0.v / c1.v
-        for _ in range(30):
-            step = (c0.v + xi * (c1.v + xi * c2.v)) / (c1.v + 2.0 * xi * c2.v)
-            xi = xi - step
-            if np.all(~np.isfinite(step) | (np.abs(step) <= 1e-15 * (1.0 + np.abs(xi)))):
-                break
+        # the root that tends to the linear one, −c0/c1, as c2 → 0, in the form without
+        # cancellation; no real root: the node does not project (inf)
+        b, disc = c1.v, c1.v * c1.v - 4.0 * c0.v * c2.v
+        xi = -2.0 * c0.v / (b + np.where(b < 0.0, -1.0, 1.0) * np.sqrt(disc))
     xi = np.where(np.isfinite(xi), xi, np.inf)
     x0 = np.where(np.isfinite(xi), xi, 0.0)
     if order == 0:
@@ -170,8 +168,9 @@ def segment_pair_integrals(z, has_prev, has_next, hessian=None, depth=np.inf, en
     the slave segment the master segment covers (P,; 0 where the segments do not face each
     other, ``FACING``, or miss each other), the quadrature of the overlap as values — ξ and
     η (P, G), the weights w J (P, G) in m and the dual coefficients A (P, 2, 2) — for the
-    slip rows of friction, and (lo, hi, lo_node, hi_node): the overlap's ends (P,) and the
-    master node each is the projection of (0: y_1, 1: y_2, −1: the segment's end).
+    slip rows of friction, and (lo, hi, lo_node, hi_node, m1, m2): the overlap's ends (P,),
+    the master node each is the projection of (0: y_1, 1: y_2, −1: the segment's end), and
+    the values of ∫ N_1 g_N ds and ∫ N_2 g_N ds over the overlap (m²).
 
     At a point ξ, x(ξ) + s n(ξ) lies on the master line y_1 + η d, d = y_2 − y_1, for
     s = (y_1 − x) × d / (n × d); with x(ξ) = x_m + ξ x_d and n(ξ) = n_m + ξ n_d that is
@@ -216,7 +215,7 @@ def segment_pair_integrals(z, has_prev, has_next, hessian=None, depth=np.inf, en
         duals = np.stack([A11.v, A12.v, A21.v, A22.v], axis=1).reshape(P, 2, 2)
     eta = _master_parameter(xi.v, xm, xd, nm, nd, y1, d, G)
     quad = (xi.v.reshape(P, G), eta.reshape(P, G), wJ.v.reshape(P, G), duals)
-    return ga, gb, coverage, quad, (lo.v, hi.v, *nodes)
+    return ga, gb, coverage, quad, (lo.v, hi.v, *nodes, m1.v, m2.v)
 
 
 def _master_parameter(xi, xm, xd, nm, nd, y1, d, G):
