@@ -17,13 +17,15 @@ The weighted gaps of the two slave nodes (m²) are g̃_k = ∫ Φ_k(ξ) g_N(ξ) 
 overlap, with the dual (biorthogonal) shape functions of a linear segment, Φ_a = ½ − 3ξ/2,
 Φ_b = ½ + 3ξ/2 (∫ Φ_k N_l J dξ = δ_kl ∫ N_l J dξ; Wohlmuth 2000), and J = |x_b − x_a|/2. On
 a straight segment J is constant, so the dual functions do not depend on the geometry and
-need no linearisation (Popp, Gee & Wall 2009).
+need no linearisation (Popp, Gee & Wall 2009). On a segment the master covers in part they
+are those of the covered part (:mod:`~fecontact.contact.mortar_duals`), which move with it.
 
 Everything is written once in :class:`~fecontact.contact.dual_numbers.Jet` arithmetic over
-the 12 local coordinates z = (x_p, x_a, x_b, x_c, y_1, y_2): the gradients and Hessians of
-g̃ — through the normals, the projections, the moving overlap bounds and the Jacobian — are
-exact. The projection ξ of a master node solves a quadratic: its root nearest the segment is
-found in closed form, then one step of Chebyshev's method in Jet arithmetic from it gives
+the 12 local coordinates z = (x_p, x_a, x_b, x_c, y_1, y_2) (16 with the master nodes that
+bound the covered part): the gradients and Hessians of g̃ — through the normals, the
+projections, the moving overlap bounds, the dual functions and the Jacobian — are exact.
+The projection ξ of a master node solves a quadratic: its root nearest the segment is found
+in closed form, then one step of Chebyshev's method in Jet arithmetic from it gives
 its exact first and second derivatives (those of the implicit function).
 """
 
