@@ -41,6 +41,13 @@ however deep, gets its closest facet from the inside/outside test of
 g = +inf with zero gradient; the integrator only works on contacts with g below its own
 detection margin. The number of contacts (one per slave node) is fixed.
 
+Penetration (:meth:`NodeSurfaceContact.penetration`, every step): a node whose closest facet
+holds it outside across the facet's face (its projection strictly inside the facet) is
+outside the master — the face's normal is the angle-weighted pseudo-normal there
+(:func:`fecontact.contact.inside.outside_by_face`) —, and that facet is the one selected
+when any lies within the margin; only the other nodes the search watches take the full
+inside/outside test.
+
 Bar ends (:class:`NodeNodeContact`): node i of body a against node j of body b along a fixed
 unit axis n (from a towards b): g = (x_j − x_i)·n, linear in q.
 """
@@ -57,6 +64,7 @@ from .beam_sides import PointBeamContact
 from .facet_search import FacetSearch
 from .friction import point_tangents
 from .geometry import point_line_distance, segment_distance
+from .inside import outside_by_face
 from .registry import pair_factory, register_pair
 
 __all__ = [
@@ -257,7 +265,13 @@ class NodeSurfaceContact(PairDefaults):
         if last is not None and not self.search.last_watched.any() and self._same_dofs(q, last[0]):
             return 0.0
         xs, xm = self.positions(q)
-        watched = self.search.watched(xs, xm, self.margin)  # (the others are outside)
+        watched = np.flatnonzero(self.search.watched(xs, xm, self.margin))  # (others: out)
+        if watched.size:  # a node whose closest facet (the one selected) holds it outside
+            self.evaluate(q)  # is out: that facet is the closest of all (module docstring)
+            f = self.selected[watched]
+            near = f >= 0
+            out = outside_by_face(xs[watched[near]], xm[self.facets[f[near]]])
+            watched = np.r_[watched[~near], watched[near][~out]]
         return float(np.max(self.surface.depths(xm, xs[watched]), initial=0.0))
 
     def relative_depth(self, q: np.ndarray, g: np.ndarray) -> float:
