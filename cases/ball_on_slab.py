@@ -16,7 +16,8 @@ the ball's nodes (the smaller body's; its shortest edge, half of it for P2).
 
 Probes: ``z_center`` and ``vz_center`` (height of the ball's centre of mass above its start, m,
 and its velocity, m/s), ``contact_force`` (N), ``gap`` (smallest contact gap, m) and
-``penetration`` (deepest node of either body inside the other, m, from the inside test).
+``penetration`` (the deepest boundary node of either body inside the other's discretized
+boundary, m, by the inside/outside test of :mod:`fecontact.contact.inside` alone).
 """
 
 import numpy as np
@@ -24,6 +25,7 @@ import numpy as np
 from fecontact import Model, Param, Probe, case, run_cli
 from fecontact.bodies import LinearElastic, Solid
 from fecontact.contact import Contact
+from fecontact.contact.inside import Surface
 from fecontact.scenes import (
     DROP,
     SOLID,
@@ -67,13 +69,27 @@ def build(
     probes |= {
         "contact_force": contact_force_probe(),
         "gap": Probe(lambda m, st: float(np.min(m.contacts.gaps(st.q))), "m", "smallest gap"),
-        "penetration": Probe(
-            lambda m, st: m.contacts.penetration(st.q), "m", "deepest node inside the other"
-        ),
+        "penetration": _penetration_probe(model, ball, slab),
     }
     spacing = ball.min_edge_length / (2.0 if element == "P2" else 1.0)
     v0 = model.translation(ball, (0.0, 0.0, -velocity))
     return wave_simulation(model, ball, "ball_on_slab", t_end, probes, v0, spacing)
+
+
+def _penetration_probe(model, ball, slab):
+    """The deepest boundary node of either body inside the other's discretized boundary (m),
+    by the inside/outside test alone (not the contact's gaps)."""
+    surfaces = [Surface(body.contact_facets()) for body in (ball, slab)]
+    nodes = [np.unique(body.contact_facets()) for body in (ball, slab)]
+
+    def depth(m, st):
+        x = [body.positions(st.q[m.body_slice(i)]) for i, body in enumerate((ball, slab))]
+        return max(
+            float(np.max(surfaces[1 - i].depths(x[1 - i], x[i][nodes[i]]), initial=0.0))
+            for i in (0, 1)
+        )
+
+    return Probe(depth, "m", "deepest boundary node inside the other body")
 
 
 if __name__ == "__main__":
