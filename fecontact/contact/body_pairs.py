@@ -41,12 +41,12 @@ however deep, gets its closest facet from the inside/outside test of
 g = +inf with zero gradient; the integrator only works on contacts with g below its own
 detection margin. The number of contacts (one per slave node) is fixed.
 
-Penetration (:meth:`NodeSurfaceContact.penetration`, every step): a node whose closest facet
-holds it outside across the facet's face (its projection strictly inside the facet) is
-outside the master — the face's normal is the angle-weighted pseudo-normal there
-(:func:`fecontact.contact.inside.outside_by_face`) —, and that facet is the one selected
-when any lies within the margin; only the other nodes the search watches take the full
-inside/outside test.
+Penetration (:meth:`NodeSurfaceContact.penetration`, every step): a node whose closest point
+on the master lies strictly inside a facet is as deep inside the master as it lies behind
+that facet's plane — the face's normal is the angle-weighted pseudo-normal there
+(:func:`fecontact.contact.inside.face_depths`) —, and that facet is the one selected when any
+lies within the margin; only the other nodes the search watches (closest to an edge or a
+vertex, or with no facet near) take the full inside/outside test.
 
 Bar ends (:class:`NodeNodeContact`): node i of body a against node j of body b along a fixed
 unit axis n (from a towards b): g = (x_j − x_i)·n, linear in q.
@@ -64,7 +64,7 @@ from .beam_sides import PointBeamContact
 from .facet_search import FacetSearch
 from .friction import point_tangents
 from .geometry import point_line_distance, segment_distance
-from .inside import outside_by_face
+from .inside import face_depths
 from .registry import pair_factory, register_pair
 
 __all__ = [
@@ -266,13 +266,15 @@ class NodeSurfaceContact(PairDefaults):
             return 0.0
         xs, xm = self.positions(q)
         watched = np.flatnonzero(self.search.watched(xs, xm, self.margin))  # (others: out)
-        if watched.size:  # a node whose closest facet (the one selected) holds it outside
-            self.evaluate(q)  # is out: that facet is the closest of all (module docstring)
-            f = self.selected[watched]
-            near = f >= 0
-            out = outside_by_face(xs[watched[near]], xm[self.facets[f[near]]])
-            watched = np.r_[watched[~near], watched[near][~out]]
-        return float(np.max(self.surface.depths(xm, xs[watched]), initial=0.0))
+        if watched.size == 0:
+            return 0.0
+        self.evaluate(q)  # the selected facets at q: the closest of all (module docstring)
+        f = self.selected[watched]
+        near = f >= 0
+        face, depth = face_depths(xs[watched[near]], xm[self.facets[f[near]]])
+        rest = np.r_[watched[~near], watched[near][~face]]
+        deepest = float(np.max(depth[face], initial=0.0))
+        return max(deepest, float(np.max(self.surface.depths(xm, xs[rest]), initial=0.0)))
 
     def relative_depth(self, q: np.ndarray, g: np.ndarray) -> float:
         """The largest −g of the slave nodes with a negative gap g (the pair's gaps at q) over
