@@ -4,8 +4,9 @@
 a 0.2 × 0.2 × 0.04 m slab clamped at its base, both linear elastic (E = 10 MPa, ν = 0.3,
 ρ = 1000 kg/m³), e_N = 0, at the ball's step Δx/c, over 12 ms (the contact lasts about
 6.5 ms). Per run: the status (and the failure's message), the dofs, steps, step halvings,
-steps retaken for penetration, the deepest penetration the run measured (its constraint
-gaps), the deepest boundary node of either body inside the other at any step (the case's
+steps retaken for penetration, the deepest penetration the run measured (``max_penetration``:
+with mortar, its watch of every boundary node), the deepest boundary node of either body
+inside the other at any step (the case's
 ``penetration`` probe, an inside/outside test alone) over the shortest edge, the energy the
 ledger finds created (its largest fall of the dissipation below its running maximum) over
 the scale (the largest kinetic plus strain energy), the landing and leaving speeds of the
