@@ -359,6 +359,7 @@ def _summary(sim, rec, stats, status, message, wall, timer) -> dict:
     # a run that ends with more energy than its budget is said so, not only counted
     summary["warnings"] = [rec.balance.describe()] if rec.balance.unstable() else []
     summary["warnings"] += rec.ledger.warnings()
+    summary["warnings"] += rec.penetration_warnings()
     if frictional:
         summary["friction_solver"] = friction_solver
         summary["friction_work"] = rec.friction_work

@@ -143,4 +143,9 @@ def test_the_mortar_watch_measures_every_node_both_ways(dim):
             for i, other in enumerate((b, a))
         )
         assert full > 0.05
-        assert watch.depth(q) == full
+        depth, relative = watch.depth(q)
+        assert depth == full
+        # over the shortest boundary edge of the body entered: at most the depth over the
+        # shortest edge of both bodies, at least over the longer one's
+        shortest = min(watch.edges)
+        assert full / max(watch.edges) <= relative <= full / shortest

@@ -18,6 +18,7 @@ from fecontact.contact.mortar3d import MortarContact3D
 from fecontact.errors import InputError
 from fecontact.scenes import solid_material
 from fecontact.testing import gap_derivatives_error, pressed_blocks, pressed_boxes
+from fecontact.time import State
 
 TWO_DISKS = load_case("two_disks")
 
@@ -184,6 +185,30 @@ def test_mortar_friction_oblique_impact_keeps_momentum():
         total = float(w @ st.v[model.body_slice(0)] + w @ st.v[model.body_slice(1)])
         assert abs(total) <= 1e-9 * A.mass  # equal and opposite forces, ρ A v = 7.65 kg m/s
     assert np.any([np.any(s.impulse > 0) or np.any(s.force > 0) for s in states])
+
+
+def test_a_mortar_node_deeper_than_the_bound_is_a_warning(tmp_path):
+    # the watch's depth of a step past the bound (a node a twentieth of an edge inside the
+    # other disk, which the weighted gaps do not hold) becomes a warning naming its time and
+    # step, and the summary carries the deepest relative depth; within the bound, no warning
+    from fecontact.contact.watch import BOUND
+    from fecontact.recorder import Recorder
+
+    sim = TWO_DISKS.build(method="mortar", refinements=2, t_end=0.006)
+    rec = Recorder(sim, tmp_path)
+    n = sim.model.n
+    for step, depth in enumerate((0.0, 0.5 * BOUND, 5 * BOUND, 2 * BOUND)):
+        st = State(1e-4 * step, np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n), step=step)
+        m = sim.model.contacts.size
+        st.gaps, st.nu, st.impulse = np.full(m, np.inf), np.zeros(m), np.zeros(m)
+        st.mortar_depth = depth
+        rec.record(st)
+        if step == 1:
+            assert rec.penetration_warnings() == []
+    (text,) = rec.penetration_warnings()
+    assert text.startswith("penetration: a node of a mortar interface ends 5 %")
+    assert "t = 0.0002 s (step 2)" in text
+    rec.history.close()
 
 
 def test_nodal_pressure_units_and_shape():

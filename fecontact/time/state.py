@@ -210,6 +210,9 @@ class State:
     halvings: int = 0
     retakes: int = 0  # of the halvings: steps retaken for a penetration
     penetration: float = 0.0  # m: the deepest contact point on the wrong side at the end
+    # the deepest node of a mortar interface inside the other solid, over that solid's
+    # shortest boundary edge (fecontact.contact.watch)
+    mortar_depth: float = 0.0
     smooth: SmoothForces | None = None
     friction: FrictionRecord | None = None
     penalty: PenaltyRecord | None = None
