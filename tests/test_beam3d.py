@@ -170,7 +170,7 @@ def test_in_plane_static_tip_deflection_is_beam2d():
     load2, load3 = np.zeros(m2.n), np.zeros(m3.n)
     load2[-2], load3[-5] = -20.0, -20.0  # a tip force along −y: large deflection
     q2 = solve_static(m2, load2, steps=5)
-    q3, _ = solve_static_rotations(m3, load3, steps=5)
+    q3 = solve_static_rotations(m3, load3, steps=5).q
     tip2, tip3 = b2.positions(q2)[-1], b3.positions(q3)[-1]
     assert tip2[1] < -0.05  # far from linear
     np.testing.assert_allclose(tip3[:2], tip2, rtol=0, atol=1e-10)
@@ -278,3 +278,44 @@ def test_output_gives_the_section_frames():
 def test_bad_input_is_named(build, match):
     with pytest.raises(InputError, match=match):
         build()
+
+
+# -- statics: classical benchmarks ----------------------------------------------------------
+def roll_up(n, fraction):
+    """Simo's roll-up: L = 1 m, EI = 10³ N·m², EA = 10⁷ N, under fraction × 2πEI/L."""
+    material = Material(1e7, nu=0.0, rho=1.0)
+    section = Section(area=1.0, inertia=1e-4, inertia_2=1e-4, torsion=2e-4)
+    beam = Beam3D.straight([0, 0, 0], [1.0, 0, 0], n, material, section).clamp(0)
+    model = Model([beam])
+    load = np.zeros(model.n)
+    load[-1] = fraction * 2.0 * np.pi * material.E * section.inertia
+    sol = solve_static_rotations(model, load, steps=10)
+    assert sol.cuts == 0
+    return beam.positions(sol.q)[-1]
+
+
+def test_roll_up_closes_the_circle():
+    # equal chords turning by 2π in all close the polygon: the tip is back at the root
+    for n in (10, 20):
+        assert np.linalg.norm(roll_up(n, 1.0)) < 1e-6
+
+
+def test_roll_up_half_circle_converges_at_order_two():
+    errors = [np.linalg.norm(roll_up(n, 0.5) - [0.0, 2.0 / np.pi, 0.0]) for n in (10, 20)]
+    # the chord of an arc of angle φ is shorter by φ²/24: the error falls 4× per halving
+    assert errors[0] / errors[1] == pytest.approx(4.0, rel=0.01)
+    assert errors[1] < 1e-3
+
+
+def test_bathe_bolourchi_bend_tip_within_one_percent_of_simo_vu_quoc():
+    material = Material(1e7, nu=0.0, rho=1.0)
+    section = Section(area=1.0, inertia=1 / 12, inertia_2=1 / 12, torsion=1 / 6, shear_factor=1)
+    t = np.linspace(0.0, np.pi / 4, 9)
+    nodes = np.column_stack([100 * np.sin(t), 100 * (1 - np.cos(t)), np.zeros_like(t)])
+    beam = Beam3D(nodes, material, section).clamp(0)
+    model = Model([beam])
+    load = np.zeros(model.n)
+    load[-4] = 600.0
+    sol = solve_static_rotations(model, load, steps=10)
+    tip = beam.positions(sol.q)[-1]
+    np.testing.assert_allclose(tip, [47.23, 15.79, 53.37], rtol=0.01)
