@@ -30,7 +30,13 @@ from ..rotations import exp as rotation_exp
 from .base import BodyDefaults
 from .beam import Material, Section
 from .beam3d_inertia import consistent_mass, gyroscopic, lumped_inertias
-from .beam3d_kernels import Beam3DElements, beam3d_internal, beam3d_strains, reference_triads
+from .beam3d_kernels import (
+    Beam3DElements,
+    beam3d_energy,
+    beam3d_internal,
+    beam3d_strains,
+    reference_triads,
+)
 
 __all__ = ["Beam3D"]
 
@@ -176,7 +182,7 @@ class Beam3D(BodyDefaults):
 
     def energy(self, q: np.ndarray) -> float:
         """Strain energy W(q) in J."""
-        return beam3d_internal(self._el, self.X, q, self.ndof, False)[0]
+        return beam3d_energy(self._el, self.X, q)
 
     def internal(self, q: np.ndarray, tangent: bool = True):
         """Strain energy (J), internal force (N; N·m in the nodes' frames R) and the element

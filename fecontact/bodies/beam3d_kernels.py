@@ -38,7 +38,13 @@ import numpy as np
 from ..rotations import exp as rotation_exp
 from ..rotations import hat
 
-__all__ = ["Beam3DElements", "beam3d_internal", "beam3d_strains", "reference_triads"]
+__all__ = [
+    "Beam3DElements",
+    "beam3d_energy",
+    "beam3d_internal",
+    "beam3d_strains",
+    "reference_triads",
+]
 
 _E1 = np.array([1.0, 0.0, 0.0])
 # θ² below which the closed forms lose digits: their series (error below θ⁸ ~ 1e-24)
@@ -95,49 +101,45 @@ def reference_triads(X: np.ndarray, orientation) -> np.ndarray:
 
 
 # -- SO(3) functions analytic in their argument (real or complex) ---------------------------
-def _series_or(t2, series, closed):
-    """series(t2) where Re θ² < _SMALL2, closed(θ) elsewhere, θ = √θ²."""
+def _coefficients(t2):
+    """(4, …): sin θ/θ, (1 − cos θ)/θ², (θ − sin θ)/θ³, 1/θ² − (1 + cos θ)/(2θ sin θ) of θ²,
+    by their series where Re θ² < _SMALL2."""
     small = np.real(t2) < _SMALL2
-    safe = np.sqrt(np.where(small, 1.0, t2))
-    return np.where(small, series(t2), closed(safe))
-
-
-def _coefficients(v):
-    """sin θ/θ, (1 − cos θ)/θ², (θ − sin θ)/θ³ and 1/θ² − (1 + cos θ)/(2θ sin θ) of v."""
-    t2 = np.sum(v * v, axis=-1)
-    a = _series_or(t2, lambda x: 1 - x / 6 * (1 - x / 20 * (1 - x / 42)), lambda t: np.sin(t) / t)
-    b = _series_or(
-        t2, lambda x: 0.5 - x / 24 * (1 - x / 30 * (1 - x / 56)), lambda t: (1 - np.cos(t)) / t**2
+    safe = np.where(small, 1.0, t2)
+    t = np.sqrt(safe)
+    s, c = np.sin(t), np.cos(t)
+    closed = np.stack(
+        [s / t, (1 - c) / safe, (t - s) / (safe * t), 1 / safe - (1 + c) / (2 * t * s)]
     )
-    c = _series_or(
-        t2,
-        lambda x: 1 / 6 - x / 120 * (1 - x / 42 * (1 - x / 72)),
-        lambda t: (t - np.sin(t)) / t**3,
+    x = t2
+    series = np.stack(
+        [
+            1 - x / 6 * (1 - x / 20 * (1 - x / 42)),
+            0.5 - x / 24 * (1 - x / 30 * (1 - x / 56)),
+            1 / 6 - x / 120 * (1 - x / 42 * (1 - x / 72)),
+            1 / 12 + x / 720 + x * x / 30240 + x**3 / 1209600,
+        ]
     )
-    d = _series_or(
-        t2,
-        lambda x: 1 / 12 + x / 720 + x * x / 30240 + x**3 / 1209600,
-        lambda t: 1 / t**2 - (1 + np.cos(t)) / (2 * t * np.sin(t)),
+    return np.where(small, series, closed)
+
+
+def _rotation_functions(rho):
+    """exp(ρ̃), T(ρ)⁻¹, exp(½ρ̃) and T(½ρ) (each …, 3, 3), from one skew matrix and its square."""
+    t2 = np.sum(rho * rho, axis=-1)
+    (a1, b1, _, d1), (a2, b2, c2, _) = np.moveaxis(_coefficients(np.stack([t2, 0.25 * t2])), 1, 0)
+    P = hat_any(rho)
+    P2 = P @ P
+    I3 = np.eye(3)
+
+    def combine(x, y):
+        return I3 + np.asarray(x)[..., None, None] * P + y[..., None, None] * P2
+
+    return (
+        combine(a1, b1),
+        combine(0.5, d1),
+        combine(0.5 * a2, 0.25 * b2),
+        combine(-0.5 * b2, 0.25 * c2),
     )
-    return a, b, c, d
-
-
-def _exp(v):
-    a, b, _, _ = _coefficients(v)
-    P = hat_any(v)
-    return np.eye(3) + a[..., None, None] * P + b[..., None, None] * (P @ P)
-
-
-def _tangent(v):
-    _, b, c, _ = _coefficients(v)
-    P = hat_any(v)
-    return np.eye(3) - b[..., None, None] * P + c[..., None, None] * (P @ P)
-
-
-def _tangent_inverse(v):
-    d = _coefficients(v)[3]
-    P = hat_any(v)
-    return np.eye(3) + 0.5 * P + d[..., None, None] * (P @ P)
 
 
 def _log(R):
@@ -164,76 +166,96 @@ def hat_any(w):
 
 
 def _mv(A, x):
-    return np.einsum("...ij,...j->...i", A, x)
+    return (A @ x[..., None])[..., 0]
 
 
 def _mtv(A, x):
-    return np.einsum("...ji,...j->...i", A, x)
+    return (x[..., None, :] @ A)[..., 0, :]
 
 
 # -- strains and forces ---------------------------------------------------------------------
 def _kinematics(el, R0, R1, x0, x1):
-    """ρ, exp(½ρ̃), R_m, γ̂, Γ and K of the elements (any leading axes)."""
+    """ρ, R_m, γ̂, Γ, K, Λ₀ and ℓ of the elements (any axes between the element's and the
+    vectors')."""
     ell = el.ell.reshape(el.ell.shape + (1,) * (x0.ndim - 2))[..., None]
     L0 = el.L0.reshape(el.L0.shape[:1] + (1,) * (x0.ndim - 2) + (3, 3))
     rho = _log(np.swapaxes(R0, -1, -2) @ R1)
-    Rh = _exp(0.5 * rho)
-    Rm = R0 @ Rh
-    gh = _mtv(Rm, (x1 - x0) / ell)
-    Gam = _mtv(L0, gh) - _E1
-    Kap = _mtv(L0, rho) / ell
-    return rho, Rh, Rm, gh, Gam, Kap, L0, ell
+    gh_L0 = (x1 - x0) / ell  # x′, turned below
+    return rho, gh_L0, L0, ell
 
 
 def _force(el, R0, R1, x0, x1):
     """Element forces (…, 12) on (x₀, θ₀, x₁, θ₁) and the strain energies (…) (docstring)."""
-    rho, Rh, Rm, gh, Gam, Kap, L0, ell = _kinematics(el, R0, R1, x0, x1)
+    rho, xp, L0, ell = _kinematics(el, R0, R1, x0, x1)
+    exp_rho, Tinv_rho, Rh, T_half = _rotation_functions(rho)
+    Rm = R0 @ Rh
+    gh = _mtv(Rm, xp)
+    Gam, Kap = _mtv(L0, gh) - _E1, _mtv(L0, rho) / ell
     N, M = el.C[:3] * Gam, el.C[3:] * Kap
     n, m = _mv(L0, N), _mv(L0, M)
     p = ell * np.cross(n, gh)
-    t = _mtv(_tangent_inverse(rho), m + 0.5 * _mtv(_tangent(0.5 * rho), p))
+    t = _mtv(Tinv_rho, m + 0.5 * _mtv(T_half, p))
     fx = _mv(Rm, n)
-    f = np.concatenate([-fx, _mv(Rh, p) - _mv(_exp(rho), t), fx, t], axis=-1)
+    f = np.concatenate([-fx, _mv(Rh, p) - _mv(exp_rho, t), fx, t], axis=-1)
     W = 0.5 * ell[..., 0] * (np.sum(N * Gam, axis=-1) + np.sum(M * Kap, axis=-1))
     return f, W
 
 
-def _nodal(el, q):
+def _nodal(el, X, q):
     Q = q.reshape(-1, 6)
     R = rotation_exp(Q[:, 3:])
-    return R[el.n0], R[el.n1], Q[el.n0, :3], Q[el.n1, :3]
+    x = X + Q[:, :3]
+    return R[el.n0], R[el.n1], x[el.n0], x[el.n1]
 
 
 def beam3d_strains(el: Beam3DElements, X: np.ndarray, q: np.ndarray):
     """Γ (E, 3) and K (E, 3, 1/m) in the section frames at the element midpoints."""
-    R0, R1, u0, u1 = _nodal(el, q)
-    _, _, _, _, Gam, Kap, _, _ = _kinematics(el, R0, R1, X[el.n0] + u0, X[el.n1] + u1)
-    return Gam, Kap
+    R0, R1, x0, x1 = _nodal(el, X, q)
+    rho, xp, L0, ell = _kinematics(el, R0, R1, x0, x1)
+    Rm = R0 @ _rotation_functions(rho)[2]
+    return _mtv(L0, _mtv(Rm, xp)) - _E1, _mtv(L0, rho) / ell
 
 
-def _complex_step_tangent(el, R0, R1, x0, x1):
-    """∂f(q ⊕ Δ)/∂Δ (E, 12, 12): column k from the force at q ⊕ ihe_k."""
-    E = len(el.ell)
-    R = np.stack([R0, R1], axis=1).astype(complex)  # (E, 2, 3, 3)
-    x = np.stack([x0, x1], axis=1).astype(complex)  # (E, 2, 3)
-    Rk = np.broadcast_to(R[:, None], (E, 12, 2, 3, 3)).copy()
-    xk = np.broadcast_to(x[:, None], (E, 12, 2, 3)).copy()
+def _perturbations():
+    """(13, 2, 3) translations and (13, 2, 3, 3) rotations i h ẽ_c of the complex step: none,
+    then one per element dof (x₀, θ₀, x₁, θ₁). R exp(ih ẽ) = R (I + ih ẽ) + O(h²), the O(h²)
+    far below round-off."""
+    dx = np.zeros((13, 2, 3), dtype=complex)
+    dR = np.zeros((13, 2, 3, 3), dtype=complex)
+    dR[:] = np.eye(3)
     for k in range(12):
         a, c = divmod(k, 6)
         if c < 3:
-            xk[:, k, a, c] += 1j * _STEP
-        else:  # R exp(ih ẽ_c) = R (I + ih ẽ_c) + O(h²), the O(h²) below round-off
-            Rk[:, k, a] += 1j * _STEP * (R[:, a] @ hat(np.eye(3)[c - 3]))
-    f, _ = _force(el, Rk[:, :, 0], Rk[:, :, 1], xk[:, :, 0], xk[:, :, 1])
-    return np.swapaxes(f.imag / _STEP, 1, 2)
+            dx[k + 1, a, c] = 1j * _STEP
+        else:
+            dR[k + 1, a] += 1j * _STEP * hat(np.eye(3)[c - 3])
+    return dx, dR
+
+
+_DX, _DR = _perturbations()
 
 
 def beam3d_internal(el: Beam3DElements, X: np.ndarray, q: np.ndarray, ndof: int, tangent: bool):
     """Strain energy W (J), internal force (N, N·m; moments in the nodes' frames R) and the
-    element tangents ∂f(q ⊕ Δ)/∂Δ (E, 12, 12) with respect to the right increments."""
-    R0, R1, u0, u1 = _nodal(el, q)
-    x0, x1 = X[el.n0] + u0, X[el.n1] + u1
-    f_e, W_e = _force(el, R0, R1, x0, x1)
+    element tangents ∂f(q ⊕ Δ)/∂Δ (E, 12, 12) with respect to the right increments.
+
+    With the tangent, one complex evaluation at the 13 points q and q ⊕ ihe_k gives all: the
+    real parts are f and W (to O(h²), nothing), the imaginary parts over h the columns."""
+    R0, R1, x0, x1 = _nodal(el, X, q)
+    if tangent:
+        R = np.stack([R0, R1], axis=1)[:, None] @ _DR  # (E, 13, 2, 3, 3)
+        x = np.stack([x0, x1], axis=1)[:, None] + _DX
+        fk, Wk = _force(el, R[:, :, 0], R[:, :, 1], x[:, :, 0], x[:, :, 1])
+        f_e, W_e = fk[:, 0].real, Wk[:, 0].real
+        K_e = np.swapaxes(fk[:, 1:].imag, 1, 2) / _STEP
+    else:
+        f_e, W_e = _force(el, R0, R1, x0, x1)
+        K_e = None
     f = np.bincount(el.dofs.ravel(), f_e.ravel(), minlength=ndof)
-    K_e = _complex_step_tangent(el, R0, R1, x0, x1) if tangent else None
     return float(W_e.sum()), f, K_e
+
+
+def beam3d_energy(el: Beam3DElements, X: np.ndarray, q: np.ndarray) -> float:
+    """Strain energy W (J)."""
+    Gam, Kap = beam3d_strains(el, X, q)
+    return 0.5 * float(el.ell @ (Gam**2 @ el.C[:3] + Kap**2 @ el.C[3:]))
