@@ -149,12 +149,15 @@ def _log(R):
         axis=-1,
     )
     c1 = 0.5 * (np.trace(R, axis1=-2, axis2=-1) + 1.0)  # 1 + cos θ
-    x2 = np.sum(a * a, axis=-1) / (c1 * c1)  # tan²(θ/2)
-    # atan(x)/x by its series where x² is small
-    small = np.real(x2) < _SMALL2
-    safe = np.sqrt(np.where(small, 1.0, x2))
-    ratio = np.where(small, 1 - x2 / 3 + x2 * x2 / 5 - x2**3 / 7, np.arctan(safe) / safe)
-    return (2.0 * ratio / c1)[..., None] * a
+    # an element turned by π over its length (a Newton iterate far from any motion) gives
+    # NaN here, which the caller's convergence checks report
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x2 = np.sum(a * a, axis=-1) / (c1 * c1)  # tan²(θ/2)
+        # atan(x)/x by its series where x² is small
+        small = np.real(x2) < _SMALL2
+        safe = np.sqrt(np.where(small, 1.0, x2))
+        ratio = np.where(small, 1 - x2 / 3 + x2 * x2 / 5 - x2**3 / 7, np.arctan(safe) / safe)
+        return (2.0 * ratio / c1)[..., None] * a
 
 
 def hat_any(w):
