@@ -3,6 +3,7 @@ respect to the right rotation increments, Beam2D as its planar case, inertia, co
 
 import numpy as np
 import pytest
+import scipy.linalg
 
 from fecontact import (
     Beam2D,
@@ -319,3 +320,40 @@ def test_bathe_bolourchi_bend_tip_within_one_percent_of_simo_vu_quoc():
     sol = solve_static_rotations(model, load, steps=10)
     tip = beam.positions(sol.q)[-1]
     np.testing.assert_allclose(tip, [47.23, 15.79, 53.37], rtol=0.01)
+
+
+# -- small vibrations: stiffness and mass together ------------------------------------------
+def test_cantilever_frequencies_in_bending_about_both_axes_and_in_torsion():
+    section = Section.rectangle(0.02, 0.004)
+    L, n = 0.5, 40
+    beam = Beam3D.straight([0, 0, 0], [L, 0, 0], n, ALU, section).clamp(0)
+    F = Model([beam]).free
+    _, _, Ke = beam.internal(np.zeros(beam.ndof))
+    K = np.zeros((beam.ndof, beam.ndof))
+    for dofs, k in zip(beam.element_dofs, Ke, strict=True):
+        K[np.ix_(dofs, dofs)] += k
+    M = beam.mass_matrix().toarray()
+    lam, V = scipy.linalg.eigh(K[np.ix_(F, F)], M[np.ix_(F, F)])
+    omega = np.sqrt(lam)
+    modes = np.zeros((beam.ndof, len(F)))
+    modes[F] = V
+
+    def share(component):  # the part of each mode's kinetic energy in one dof kind
+        d = slice(component, None, 6)
+        return np.einsum("im,ij,jm->m", modes[d], M[d, d], modes[d])
+
+    rhoA = ALU.rho * section.area
+    first = 1.8751040687**2 / L**2  # Euler–Bernoulli cantilever: ω = β₁² √(EI/ρA)
+    in_plane = omega[np.argmax(share(1) > 0.5)]
+    out_of_plane = omega[np.argmax(share(2) > 0.5)]
+    torsion = omega[np.argmax(share(3) > 0.5)]
+    # in-plane (thickness 4 mm): shear and rotary inertia (t/L)² ~ 1e-4, the mesh (h/L)² ~ 1e-4
+    assert in_plane == pytest.approx(first * np.sqrt(ALU.E * section.inertia / rhoA), rel=3e-4)
+    # about axis 2 (width 20 mm): Timoshenko's correction ~ (width/L)² ~ 2e-3
+    assert out_of_plane == pytest.approx(
+        first * np.sqrt(ALU.E * section.inertia_2 / rhoA), rel=3e-3
+    )
+    # torsion (no warping): ω = (π/2L) √(GJ/ρI_p), I_p = I₂ + I₃
+    Ip = section.inertia + section.inertia_2
+    expected = np.pi / (2 * L) * np.sqrt(ALU.G * section.torsion / (ALU.rho * Ip))
+    assert torsion == pytest.approx(expected, rel=1e-3)
