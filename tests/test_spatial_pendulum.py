@@ -45,7 +45,8 @@ def test_out_of_the_plane_it_keeps_its_vertical_angular_momentum_until_the_stop(
 @pytest.mark.xfail(strict=False, reason="needs the Lie-group smooth step")
 def test_out_of_the_plane_it_runs_through_its_impacts():
     sim = load_case("spatial_pendulum").build(out_of_plane_velocity=0.5)
-    run = trace(sim, t_end=0.6)  # the tip strikes the stop at about 0.31 s
+    # the tip strikes the stop at about 0.31 s; a run that drags (step halvings) is cut short
+    run = trace(sim, t_end=0.45, max_wall=30.0)
     assert run["status"] == "completed", run["message"]
     assert run["impulse"].max() > 0.0
     assert run["min_gap"].min() >= -1e-9
