@@ -103,16 +103,22 @@ def reference_triads(X: np.ndarray, orientation) -> np.ndarray:
 # -- SO(3) functions analytic in their argument (real or complex) ---------------------------
 def _coefficients(t2):
     """(4, …): sin θ/θ, (1 − cos θ)/θ², (θ − sin θ)/θ³, 1/θ² − (1 + cos θ)/(2θ sin θ) of θ²,
-    by their series where Re θ² < _SMALL2."""
+    by their series where Re θ² < _SMALL2 (only the branch some entry needs is evaluated)."""
     small = np.real(t2) < _SMALL2
+    if small.all():
+        return _series(t2)
     safe = np.where(small, 1.0, t2)
     t = np.sqrt(safe)
     s, c = np.sin(t), np.cos(t)
     closed = np.stack(
         [s / t, (1 - c) / safe, (t - s) / (safe * t), 1 / safe - (1 + c) / (2 * t * s)]
     )
-    x = t2
-    series = np.stack(
+    return np.where(small, _series(t2), closed) if small.any() else closed
+
+
+def _series(x):
+    """The series of the four coefficients in x = θ² (error below x⁴/10⁵)."""
+    return np.stack(
         [
             1 - x / 6 * (1 - x / 20 * (1 - x / 42)),
             0.5 - x / 24 * (1 - x / 30 * (1 - x / 56)),
@@ -120,7 +126,6 @@ def _coefficients(t2):
             1 / 12 + x / 720 + x * x / 30240 + x**3 / 1209600,
         ]
     )
-    return np.where(small, series, closed)
 
 
 def _rotation_functions(rho):
