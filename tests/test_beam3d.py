@@ -258,6 +258,13 @@ def test_output_gives_the_section_frames():
     assert beam.cells()[0][0] == "line"
 
 
+def test_the_additive_static_solve_refuses_rotations_in_space():
+    beam = Beam3D.straight([0, 0, 0], [1, 0, 0], 2, ALU, Section.circle(0.01)).clamp(0)
+    model = Model([beam])
+    with pytest.raises(InputError, match="solve_static_rotations"):
+        solve_static(model, np.ones(model.n))
+
+
 @pytest.mark.parametrize(
     "build, match",
     [
