@@ -48,7 +48,9 @@ class Beam3D(BodyDefaults):
 
     ``orientation``: a vector fixing each section's axis 2 (its part normal to the element);
     default e_z × tangent, so that a beam in the x–y plane has axis 2 in the plane and axis 3
-    along z (the section's ``inertia`` bends it in the plane, as Beam2D). Supports (``pin``,
+    along z (the section's ``inertia`` bends it in the plane, as Beam2D). ``rotary_inertia``:
+    the section's rotary inertia per length about its axes 1, 2, 3 (kg·m), default
+    ρ(I₂ + I₃, I₂, I₃). Supports (``pin``,
     ``clamp``, ``fix``) and point masses (``add_mass``) are chainable; node indices may be
     negative. Dofs node by node: (u_x, u_y, u_z, ψ_x, ψ_y, ψ_z).
     """
@@ -59,7 +61,9 @@ class Beam3D(BodyDefaults):
     slender = True
     linear_kinematics = True
 
-    def __init__(self, nodes, material: Material, section: Section, orientation=None):
+    def __init__(
+        self, nodes, material: Material, section: Section, orientation=None, rotary_inertia=None
+    ):
         X = check_finite("nodes", nodes)
         if X.ndim != 2 or X.shape[1] != 3 or X.shape[0] < 2:
             raise InputError(f"nodes must be an (n >= 2, 3) array, got shape {X.shape}")
@@ -84,9 +88,20 @@ class Beam3D(BodyDefaults):
         GA = m.G * s.area * s.shear_factor
         C = (m.E * s.area, GA, GA, m.G * s.torsion, m.E * s.inertia_2, m.E * s.inertia)
         self._el = Beam3DElements.of(X, triads, C)
-        # ρ Λ₀ diag(I₂ + I₃, I₂, I₃) Λ₀ᵀ per element: the rotary inertia per length in frame R
-        J = np.diag([s.inertia_2 + s.inertia, s.inertia_2, s.inertia])
-        self._J = m.rho * np.einsum("eij,jk,elk->eil", triads, J, triads)
+        # Λ₀ diag(J₁, J₂, J₃) Λ₀ᵀ per element: the rotary inertia per length in frame R
+        J = np.diag(self._section_inertia(rotary_inertia))
+        self._J = np.einsum("eij,jk,elk->eil", triads, J, triads)
+
+    def _section_inertia(self, given) -> np.ndarray:
+        """Rotary inertia per length (kg·m) about the section axes: ``given`` (3 values ≥ 0),
+        or ρ(I₂ + I₃, I₂, I₃) of the section."""
+        s, rho = self.section, self.material.rho
+        if given is None:
+            return rho * np.array([s.inertia_2 + s.inertia, s.inertia_2, s.inertia])
+        J = check_finite("rotary_inertia", given)
+        if J.shape != (3,) or np.any(J < 0):
+            raise InputError(f"rotary_inertia must be 3 values >= 0 (kg·m), got {given!r}")
+        return J
 
     @classmethod
     def straight(cls, start, end, n_elements: int, material, section, orientation=None):
