@@ -195,6 +195,14 @@ def test_mass_matrix_carries_mass_and_rotary_inertia():
     assert spin @ (straight.mass_matrix() @ spin) == pytest.approx(expected, rel=1e-14)
 
 
+def test_a_given_rotary_inertia_replaces_the_sections():
+    beam = Beam3D.straight([0, 0, 0], [2.0, 0, 0], 4, ALU, Section.circle(0.01),
+                           rotary_inertia=(20.0, 10.0, 10.0))  # fmt: skip
+    spin = np.zeros((beam.n_nodes, 6))
+    spin[:, 3] = 1.0  # about the axis: J₁ L
+    assert spin.ravel() @ (beam.mass_matrix() @ spin.ravel()) == pytest.approx(40.0, rel=1e-14)
+
+
 def test_gyroscopic_force_and_its_tangent():
     beam = bent_beam().add_mass(-1, 0.1, inertia=np.diag([1e-5, 2e-5, 4e-5]))
     v = random_state(beam, 5, 10.0)
@@ -281,6 +289,12 @@ def test_the_additive_static_solve_refuses_rotations_in_space():
             "inertia",
         ),
         (lambda: Section(1.0, 1.0, inertia_2=-1.0), "inertia_2"),
+        (
+            lambda: Beam3D(
+                [[0, 0, 0], [1, 0, 0]], ALU, Section.circle(0.01), rotary_inertia=(1.0, -1.0, 1.0)
+            ),
+            "rotary_inertia",
+        ),
     ],
 )
 def test_bad_input_is_named(build, match):

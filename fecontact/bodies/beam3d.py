@@ -104,8 +104,11 @@ class Beam3D(BodyDefaults):
         return J
 
     @classmethod
-    def straight(cls, start, end, n_elements: int, material, section, orientation=None):
-        """Straight beam from ``start`` to ``end`` (m) with ``n_elements`` equal elements."""
+    def straight(
+        cls, start, end, n_elements: int, material, section, orientation=None, rotary_inertia=None
+    ):
+        """Straight beam from ``start`` to ``end`` (m) with ``n_elements`` equal elements
+        (``rotary_inertia`` as the constructor's)."""
         n = check_count("n_elements", n_elements)
         a, b = check_finite("start", start), check_finite("end", end)
         if a.shape != (3,) or b.shape != (3,):
@@ -113,7 +116,7 @@ class Beam3D(BodyDefaults):
         if np.linalg.norm(b - a) == 0.0:
             raise InputError("length must be > 0: start and end coincide")
         s = np.linspace(0.0, 1.0, n + 1)[:, None]
-        return cls(a + s * (b - a), material, section, orientation)
+        return cls(a + s * (b - a), material, section, orientation, rotary_inertia)
 
     @classmethod
     def arc(cls, radius, angle, n_elements, material, section, orientation=None):
