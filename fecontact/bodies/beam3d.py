@@ -10,14 +10,15 @@ convention of :mod:`fecontact.rotations`; moments on the rotation dofs are in th
 Linear two-node elements with the one-point rule for the stiffness (free of shear locking, as
 :class:`~fecontact.bodies.beam.Beam2D`), with Crisfield & Jelenić's objective interpolation of
 the rotations (:mod:`.beam3d_kernels`). The mass matrix is constant and consistent, as Beam2D's:
-ρA on the translations and ρ Λ₀ diag(I₂ + I₃, I₂, I₃) Λ₀ᵀ on the rotations, plus point masses
-and inertias. A beam in the x–y plane (section axis 3 along z) moving in that plane has
-Beam2D's strains, energy, in-plane mass blocks and internal force.
+ρA on the translations and Λ₀ diag(J₁, J₂, J₃) Λ₀ᵀ per length on the rotations (by default
+ρ(I₂ + I₃, I₂, I₃)), plus point masses and inertias. A beam in the x–y plane (section axis 3
+along z) moving in that plane has Beam2D's strains, energy, in-plane mass blocks and internal
+force.
 
 The velocity-dependent inertial force of the rotations, the gyroscopic Ω × JΩ, is taken with
-the nodes' lumped inertias J (the rows of the rotational mass summed): the rotary inertia of a
-slender beam is a small part of its kinetic energy, and the consistent couplings of Ω between
-nodes vanish as the element's relative rotation does.
+the nodes' lumped inertias J (the rows of the rotational mass summed), which the consistent
+mass matches for a uniform spin; the two differ by the differences of Ω between neighbouring
+nodes, and the rotary inertia of a slender beam is a small part of its kinetic energy.
 """
 
 from __future__ import annotations
