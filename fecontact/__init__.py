@@ -15,6 +15,7 @@ the driver, ``cli`` (the command line and sweeps). Every public name is importab
 
 from .bodies import (
     Beam2D,
+    Beam3D,
     Disk,
     LinearElastic,
     Material,
@@ -37,6 +38,7 @@ from .version import __version__ as __version__
 
 __all__ = [
     "Beam2D",
+    "Beam3D",
     "Disk",
     "Circle",
     "Contact",

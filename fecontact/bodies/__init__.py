@@ -1,13 +1,15 @@
-"""Bodies: the planar geometrically exact beam, elastic solids on scikit-fem meshes with their
-materials, and planar rigid bodies. Each owns a slice of the model's dofs."""
+"""Bodies: the planar and spatial geometrically exact beams, elastic solids on scikit-fem
+meshes with their materials, and planar rigid bodies. Each owns a slice of the model's dofs."""
 
 from .beam import Beam2D, Material, Section
+from .beam3d import Beam3D
 from .materials import LinearElastic, NeoHookean, StVenantKirchhoff
 from .rigid import Disk, PointMass, Polygon, RigidBody2D
 from .solid import Solid
 
 __all__ = [
     "Beam2D",
+    "Beam3D",
     "Disk",
     "LinearElastic",
     "Material",

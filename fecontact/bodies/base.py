@@ -85,6 +85,7 @@ class BodyDefaults:
     slender = False
     energy_consistent = False  # has algorithmic_force (the energy-decaying smooth step)
     center_index = None
+    rotation_triples = np.zeros((0, 3), dtype=int)  # local dofs of rotation vectors (none)
 
     @property
     def ndof(self) -> int:
