@@ -58,7 +58,7 @@ class SmoothNewton:
 
     __slots__ = (
         "S armijo clock dq elastic joints load model name opts plain plan previous r ref rnorm "
-        "rowed s solve step terms timer x"
+        "rowed s small solve step terms timer x"
     ).split()
 
     def __init__(self, plan: NewtonPlan, model, st, t, c, opts, timer, P=None):
@@ -71,7 +71,7 @@ class SmoothNewton:
         self.rowed = [term for term in self.terms if term.rows]
         self.joints = next((term for term in self.rowed if isinstance(term, Joints)), None)
         self.load = next((term for term in self.terms if isinstance(term, ExternalLoad)), None)
-        self.S = self.solve = self.armijo = self.x = self.dq = None
+        self.S = self.solve = self.armijo = self.x = self.dq = self.small = None
         self.plain = True  # every solve was with S_t alone: S_t's solver is a metric
         self.previous, self.s = math.inf, 1.0
         self.clock = time.perf_counter()
@@ -131,6 +131,7 @@ class SmoothNewton:
     def update(self) -> bool:
         """One Newton update of the iterate; whether it has converged with it."""
         step = self.step
+        self.small = None  # (whether dq is below the increment tolerance, where known)
         self._matrix()
         touching = [term for term in self.rowed if term.touching()]
         if len(touching) == 1 and touching[0].schur:
@@ -143,6 +144,8 @@ class SmoothNewton:
         self.clock = self.timer.add("solve", self.clock)
         self.dq = dq
         if not self.rowed:
+            if self.small is not None:
+                return self.small
             return self.model.update_size(dq) <= self.opts.tol_increment
         return self._settled(dq)
 
@@ -198,12 +201,16 @@ class SmoothNewton:
             return -solve(r)
         elastic, opts, res = self.elastic, self.opts, self.rnorm / self.ref
         newton = (opts.tol_increment, res, opts.stats.newton, model.solver)
-        shift = self.step.c.bp * model.M
+        shift, shifts = self.step.c.bp * model.M, opts.stats.newton.shifted_directions
         dq, *test = descent_direction(
             model, r, elastic.fi, self.S, elastic.K, solve, shift, *newton
         )
-        if test[-1] is not None:
-            self.armijo = Armijo(self.step.X.copy(), dq, *test, elastic.W, res)
+        if test[-1] is None:  # below the increment tolerance: taken whole
+            self.small = True
+            return dq
+        self.armijo = Armijo(self.step.X.copy(), dq, *test, elastic.W, res)
+        # Newton's own direction, measured by the descent test: above the tolerance
+        self.small = False if opts.stats.newton.shifted_directions == shifts else None
         return dq
 
     def _settled(self, dq) -> bool:
