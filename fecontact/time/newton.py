@@ -57,20 +57,31 @@ class SmoothNewton:
     the persistent contacts). ``run()`` iterates; then ``step`` holds the iterate."""
 
     __slots__ = (
-        "S armijo clock dq elastic joints load model name opts plain plan previous r ref rnorm "
-        "rowed s small solve step terms timer x"
+        "S armijo checked clock dq elastic joints load model name opts plain plan previous r "
+        "ref rnorm rowed s small solve step terms timer x"
     ).split()
 
-    def __init__(self, plan: NewtonPlan, model, st, t, c, opts, timer, P=None):
+    def __init__(self, plan: NewtonPlan, model, st, t, c, opts, timer, P=None, X=None):
         self.model, self.opts, self.timer, self.name = model, opts, timer, plan.name
         self.plan = plan
-        self.step = step = StepContext(model, c, t, st, opts, P, predict(st, c))
-        terms = (term.begin(step) for term in plan.terms)
-        self.terms = [term for term in terms if term is not None]
-        self.elastic = self.terms[0]
-        self.rowed = [term for term in self.terms if term.rows]
-        self.joints = next((term for term in self.rowed if isinstance(term, Joints)), None)
-        self.load = next((term for term in self.terms if isinstance(term, ExternalLoad)), None)
+        X = predict(st, c) if X is None else X
+        self.step = step = StepContext(model, c, t, st, opts, P, X)
+        self.terms, self.rowed, self.checked = terms, rowed, checked = [], [], []
+        self.joints = self.load = None
+        for term in plan.terms:  # (one pass: this runs every step)
+            term = term.begin(step)
+            if term is None:
+                continue
+            terms.append(term)
+            if term.rows:
+                rowed.append(term)
+            if type(term).converged is not ForceTerm.converged:
+                checked.append(term)
+            if isinstance(term, Joints):
+                self.joints = term
+            elif isinstance(term, ExternalLoad):
+                self.load = term
+        self.elastic = terms[0]
         self.S = self.solve = self.armijo = self.x = self.dq = self.small = None
         self.plain = True  # every solve was with S_t alone: S_t's solver is a metric
         self.previous, self.s = math.inf, 1.0
@@ -94,27 +105,53 @@ class SmoothNewton:
     def residual(self, it: int) -> bool:
         """The residual r at the iterate, after the Armijo test of the last full update
         (decided by the strain energy at its end); whether the iterate has converged."""
-        step, timer, terms = self.step, self.timer, self.terms
-        self._elastic(it)
-        self.clock = timer.add("assembly", self.clock)
-        for term in terms[1:]:
-            term.evaluate(step, it)
-            self.clock = timer.add(term.phase, self.clock)
+        step, terms = self.step, self.terms
+        self.evaluate(it)
         Mvd = self.model.M @ step.vd[self.model.free_slice]
-        r = Mvd
+        self.r = r = self.forces(Mvd)
+        ref = max(Mvd @ Mvd, 1e-300)
         for term in terms:
-            r = term.residual(r)
-        self.r = r
-        self.ref = math.sqrt(max(Mvd @ Mvd, 1e-300, *(term.reference() for term in terms)))
+            x = term.reference()
+            if x > ref:
+                ref = x
+        self.ref = math.sqrt(ref)
         self.rnorm = rnorm = math.sqrt(r @ r)
-        self.clock = timer.add("assembly", self.clock)
+        self.clock = self.timer.add("assembly", self.clock)
         if not math.isfinite(rnorm):
             fi = self.elastic.fi
             why = "" if np.all(np.isfinite(fi)) else ": an element inverts (det F <= 0)"
             raise StepFailure(self.name + " diverged" + why, rnorm)
-        return rnorm <= self.opts.tol_residual * self.ref and all(
-            term.converged(step) for term in terms
-        )
+        if rnorm > self.opts.tol_residual * self.ref:
+            return False
+        for term in self.checked:
+            if not term.converged(step):
+                return False
+        return True
+
+    def evaluate(self, it: int) -> None:
+        """Every term at the iterate (the elastic one first), each timed in its phase."""
+        step, timer = self.step, self.timer
+        self._elastic(it)
+        for term in self.terms[1:]:
+            if term.phase == "assembly":
+                term.evaluate(step, it)
+                continue
+            self.clock = timer.add("assembly", self.clock)
+            term.evaluate(step, it)
+            self.clock = timer.add(term.phase, self.clock)
+
+    def forces(self, r: np.ndarray) -> np.ndarray:
+        """r + Σ_k f_k, the terms' forces added in their order."""
+        for term in self.terms:
+            r = term.residual(r)
+        return r
+
+    def tangent(self):
+        """Σ_k of the terms' tangents, opened by the elastic term with the inertia."""
+        S = None
+        for term in self.terms:
+            S = term.tangent(S)
+        return S
 
     def _elastic(self, it: int) -> None:
         """The elastic term at the iterate, the last update cut back first where its
@@ -133,13 +170,13 @@ class SmoothNewton:
         step = self.step
         self.small = None  # (whether dq is below the increment tolerance, where known)
         self._matrix()
-        touching = [term for term in self.rowed if term.touching()]
-        if len(touching) == 1 and touching[0].schur:
-            dq = self._schur_update(touching[0])
-        elif touching:
-            dq = self._bordered_update(touching)
-        else:
+        touching = [term for term in self.rowed if term.touching()] if self.rowed else None
+        if not touching:
             dq = self._plain_update()
+        elif len(touching) == 1 and touching[0].schur:
+            dq = self._schur_update(touching[0])
+        else:
+            dq = self._bordered_update(touching)
         step.X[:, self.model.free_slice] += np.multiply.outer(step.c.w, dq)  # q, v, v̇, a
         self.clock = self.timer.add("solve", self.clock)
         self.dq = dq
@@ -155,10 +192,7 @@ class SmoothNewton:
             c = self.step.c
             self.S, self.solve, _ = self.model.iteration_matrix(c.bp, c.gp)
             return
-        S = None
-        for term in self.terms:
-            S = term.tangent(S)
-        self.S = S
+        self.S = self.tangent()
 
     def _factors(self):
         """S_t's solver (factorized here unless reused)."""

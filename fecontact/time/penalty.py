@@ -238,7 +238,7 @@ def penalty_plan(model, smooth: bool, friction: bool, extra=()) -> NewtonPlan:
     S_t assembled at every iteration (the contact stiffness changes), an update that does not
     lower the residual halved. (``smooth``, ``friction``: unused, penalty forces have no
     friction.)"""
-    elastic = Elastic(model, tangent=True)
+    elastic = Elastic(model, tangent=True, fused=False)
     terms: list[ForceTerm] = [elastic, ExternalLoad(model), PenaltyContact(model)]
     if any(model.damping):
         terms.append(Damping(model, elastic, constant=False))

@@ -10,7 +10,7 @@ from ..linalg.choice import RunPlan
 from .alpha_step import alpha_plan
 from .constraints import StepFailure
 from .energy_step import check_energy_scheme, energy_nsga_step
-from .moreau import moreau_step
+from .moreau import moreau_plan, moreau_step
 from .nsga import nsga_step
 from .penalty import penalty_plan, penalty_step
 from .penetration import PenetrationFailure, hold_penetration
@@ -18,16 +18,20 @@ from .settings import RunSettings, run_settings
 from .state import IntegratorOptions, PhaseTimer, State
 from .stats import StepStats
 
-__all__ = ["PLANS", "STEPPERS", "Stepper", "make_stepper"]
+__all__ = ["PLANS", "STEPPERS", "TAKES_TERMS", "Stepper", "make_stepper"]
 
 STEPPERS = {"nsga": nsga_step, "moreau": moreau_step, "penalty": penalty_step}
 """Every stepper, ``step(model, state, h, options, timer) -> State``, by the name of the
 ``integrator`` option."""
 
-PLANS = {"nsga": alpha_plan, "penalty": penalty_plan}
-"""The smooth Newton loop of each stepper that has one, by the name of the ``integrator``
-option: ``plan(model, smooth, friction, extra_terms) -> NewtonPlan`` lists its force terms
+PLANS = {"nsga": alpha_plan, "moreau": moreau_plan, "penalty": penalty_plan}
+"""The Newton loop of each stepper, by the name of the ``integrator`` option:
+``plan(model, smooth, friction, extra_terms) -> NewtonPlan`` lists its force terms
 (:mod:`fecontact.time.terms`) and configures the loop (:mod:`fecontact.time.newton`)."""
+
+TAKES_TERMS = ("nsga", "penalty")
+"""The steppers whose loop takes extra force terms: those of the generalized-α step, whose
+iteration matrix is S_t = β′M + Σ (∂f/∂q + γ′ ∂f/∂v)."""
 
 
 class Stepper:
@@ -96,7 +100,7 @@ def make_stepper(
     factorizes). Raises ``InputError`` where the energy-decaying step does not apply, or
     where ``terms`` are given to a stepper without a smooth Newton loop."""
     plan = PLANS.get(options.integrator)
-    if terms and (plan is None or options.scheme != "generalized-alpha"):
+    if terms and (options.integrator not in TAKES_TERMS or options.scheme != "generalized-alpha"):
         raise InputError(
             "terms: force terms enter the generalized-alpha Newton loop of the nsga and "
             f"penalty integrators, not integrator={options.integrator!r} with "

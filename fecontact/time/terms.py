@@ -123,12 +123,13 @@ class ForceTerm:
 
 class Elastic(ForceTerm):
     """The internal forces f_int(q) of the bodies and their tangent K_t; it opens the
-    iteration matrix with the inertia, β′M + K_t in one sparse pattern. ``tangent``: K_t is
-    assembled (False where a linear model's S_t is reused). The loop's energy descent reads
+    iteration matrix with the inertia, β′M + K_t (``fused``: summed in the model's sparse
+    pattern, else as two matrices). ``tangent``: K_t is assembled (False where a linear
+    model's S_t is reused). The loop's energy descent reads
     the strain energy ``W``."""
 
-    def __init__(self, model, tangent: bool):
-        self.model, self.F, self.assemble = model, model.free_slice, tangent
+    def __init__(self, model, tangent: bool, fused: bool = True):
+        self.model, self.F, self.assemble, self.fused = model, model.free_slice, tangent, fused
         self.W = self.fint = self.fi = self.K = None
         self.bp = 0.0
 
@@ -147,7 +148,9 @@ class Elastic(ForceTerm):
         return self.fi @ self.fi
 
     def tangent(self, S):
-        return self.model.iteration_sum(self.bp, self.K)
+        if self.fused:
+            return self.model.iteration_sum(self.bp, self.K)
+        return self.bp * self.model.M + self.K
 
 
 class ExternalLoad(ForceTerm):
