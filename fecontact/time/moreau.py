@@ -289,17 +289,6 @@ def _constraint_forces(model, q, G, P, tangential, slip):
     return GP, friction_force, tangential
 
 
-def _iteration_matrix(model, K, Ct, ht, rows, q, P):
-    """Ŵ = M + hθ C_t + (hθ)² K_t (``Ct`` None: no damping), with the curvature of the
-    constraint rows under their impulses P where the gradients depend on q."""
-    What = model.M + ht * ht * K
-    if Ct is not None:
-        What = What + ht * Ct
-    if rows and not rows[0].linear and np.any(P):
-        What = plus_curvature(What, -ht, rows[0].curvature(q, P))
-    return What
-
-
 def _contact_law(model, st, q, v_free, G, rows, solve, opts, slip, h):
     """The impact law at the velocity ``v_free`` (free dofs) in the metric Ŵ: W, P (normal
     then joint impulses), iterations, and with ``slip`` Coulomb's (P_T, status, G_T).

@@ -36,19 +36,56 @@ from .terms import ExternalLoad, ForceTerm, Joints, StepContext
 __all__ = ["NewtonPlan", "SmoothNewton"]
 
 
-class NewtonPlan(NamedTuple):
+class Roles(NamedTuple):
+    """What the loop asks of each of a step's terms, sorted once: all ``terms`` (the elastic
+    one first), those evaluated after the elastic one (``evaluated``), those that set the
+    residual's scale (``scaled``), those with rows (``rowed``) and with a convergence test of
+    their own (``checked``), and the ``joints`` and ``load`` terms (None: absent)."""
+
+    terms: list
+    evaluated: list
+    scaled: list
+    rowed: list
+    checked: list
+    joints: Joints | None
+    load: ExternalLoad | None
+
+
+def roles(terms) -> Roles:
+    """The :class:`Roles` of ``terms`` (a method a term does not override is not called)."""
+    terms = list(terms)
+
+    def overrides(term, name):
+        return getattr(type(term), name) is not getattr(ForceTerm, name)
+
+    return Roles(
+        terms,
+        [term for term in terms[1:] if overrides(term, "evaluate")],
+        [term for term in terms if overrides(term, "reference")],
+        [term for term in terms if term.rows],
+        [term for term in terms if overrides(term, "converged")],
+        next((term for term in terms if isinstance(term, Joints)), None),
+        next((term for term in terms if isinstance(term, ExternalLoad)), None),
+    )
+
+
+class NewtonPlan:
     """The smooth Newton loop of a run, decided once: its ``terms`` (the elastic one first),
     ``reuse``: S_t and its factors come from the linear model's cache, ``descent``: plain
     updates of a nonlinear model are globalized in energy (:mod:`.descent`), ``halving``:
     an update that does not lower the residual is halved (up to six times), ``bound``: the
-    joints' remainder bound may end the iteration, and the ``name`` failures carry."""
+    joints' remainder bound may end the iteration, and the ``name`` failures carry.
+    ``roles``: the terms' :class:`Roles`, when every term acts in every step as itself (no
+    ``per_step`` term), else None (sorted per step)."""
 
-    terms: tuple[ForceTerm, ...]
-    reuse: bool
-    descent: bool
-    halving: bool
-    bound: bool
-    name: str
+    __slots__ = ("terms", "reuse", "descent", "halving", "bound", "name", "roles")
+
+    def __init__(self, terms, reuse: bool, descent: bool, halving: bool, bound: bool, name: str):
+        self.terms: tuple[ForceTerm, ...] = tuple(terms)
+        self.reuse, self.descent, self.halving, self.bound = reuse, descent, halving, bound
+        self.name = name
+        fixed = not any(term.per_step for term in self.terms)
+        self.roles = roles(self.terms) if fixed else None
 
 
 class SmoothNewton:
@@ -57,8 +94,8 @@ class SmoothNewton:
     the persistent contacts). ``run()`` iterates; then ``step`` holds the iterate."""
 
     __slots__ = (
-        "S armijo checked clock dq elastic joints load model name opts plain plan previous r "
-        "ref rnorm rowed s small solve step terms timer x"
+        "S armijo checked clock dq elastic evaluated joints load model name opts plain plan "
+        "previous r ref rnorm rowed s scaled small solve step terms timer x"
     ).split()
 
     def __init__(self, plan: NewtonPlan, model, st, t, c, opts, timer, P=None, X=None):
@@ -66,22 +103,16 @@ class SmoothNewton:
         self.plan = plan
         X = predict(st, c) if X is None else X
         self.step = step = StepContext(model, c, t, st, opts, P, X)
-        self.terms, self.rowed, self.checked = terms, rowed, checked = [], [], []
-        self.joints = self.load = None
-        for term in plan.terms:  # (one pass: this runs every step)
-            term = term.begin(step)
-            if term is None:
-                continue
-            terms.append(term)
-            if term.rows:
-                rowed.append(term)
-            if type(term).converged is not ForceTerm.converged:
-                checked.append(term)
-            if isinstance(term, Joints):
-                self.joints = term
-            elif isinstance(term, ExternalLoad):
-                self.load = term
-        self.elastic = terms[0]
+        if plan.roles is None:
+            begun = (term.begin(step) for term in plan.terms)
+            sorted_ = roles(term for term in begun if term is not None)
+        else:
+            for term in plan.terms:
+                term.begin(step)
+            sorted_ = plan.roles
+        self.terms, self.evaluated, self.scaled, self.rowed, self.checked = sorted_[:5]
+        self.joints, self.load = sorted_.joints, sorted_.load
+        self.elastic = self.terms[0]
         self.S = self.solve = self.armijo = self.x = self.dq = self.small = None
         self.plain = True  # every solve was with S_t alone: S_t's solver is a metric
         self.previous, self.s = math.inf, 1.0
@@ -105,12 +136,15 @@ class SmoothNewton:
     def residual(self, it: int) -> bool:
         """The residual r at the iterate, after the Armijo test of the last full update
         (decided by the strain energy at its end); whether the iterate has converged."""
-        step, terms = self.step, self.terms
+        step = self.step
         self.evaluate(it)
         Mvd = self.model.M @ step.vd[self.model.free_slice]
-        self.r = r = self.forces(Mvd)
+        r = Mvd
+        for term in self.terms:
+            r = term.residual(r)
+        self.r = r
         ref = max(Mvd @ Mvd, 1e-300)
-        for term in terms:
+        for term in self.scaled:
             x = term.reference()
             if x > ref:
                 ref = x
@@ -130,9 +164,11 @@ class SmoothNewton:
 
     def evaluate(self, it: int) -> None:
         """Every term at the iterate (the elastic one first), each timed in its phase."""
-        step, timer = self.step, self.timer
-        self._elastic(it)
-        for term in self.terms[1:]:
+        step, timer, elastic = self.step, self.timer, self.elastic
+        elastic.evaluate(step, it)
+        if self.armijo is not None:
+            self._armijo(it)
+        for term in self.evaluated:
             if term.phase == "assembly":
                 term.evaluate(step, it)
                 continue
@@ -153,13 +189,13 @@ class SmoothNewton:
             S = term.tangent(S)
         return S
 
-    def _elastic(self, it: int) -> None:
-        """The elastic term at the iterate, the last update cut back first where its
-        Armijo test fails."""
+    def _armijo(self, it: int) -> None:
+        """The Armijo test of the last full update, by the strain energy the elastic term
+        found at its end; where it fails, the update is cut back and the term evaluated
+        again."""
         step, elastic = self.step, self.elastic
-        elastic.evaluate(step, it)
         armijo, self.armijo = self.armijo, None
-        if armijo is not None and not armijo.accepts(elastic.W):
+        if not armijo.accepts(elastic.W):
             s = armijo.backtrack(self.model, self.opts.stats.newton)
             step.X[:] = armijo.X
             step.X[:, self.model.free_slice] += np.multiply.outer(step.c.w, s * armijo.dq)

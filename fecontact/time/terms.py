@@ -69,9 +69,11 @@ class ForceTerm:
     that is not there. ``phase`` names the timer phase its evaluation is charged to.
     ``own_tangent``: it adds a tangent of its own (then S_t is assembled at every iteration,
     not reused from a linear model's factorization). ``rows``: it can border S_t with
-    constraint rows."""
+    constraint rows. ``per_step``: its ``begin`` may return another object or None (else
+    it returns the term itself, and the loop sorts its roles once per run)."""
 
     phase = "assembly"
+    per_step = False
     own_tangent = False
     rows = False
     schur = False
@@ -154,15 +156,23 @@ class Elastic(ForceTerm):
 
 
 class ExternalLoad(ForceTerm):
-    """The applied loads f_ext(t) (gravity, point loads), constant over the step."""
+    """The applied loads f_ext(t) (gravity, point loads), constant over the step; a model
+    without time-dependent loads has them constant over the run, taken once."""
 
     def __init__(self, model):
         self.model, self.F = model, model.free_slice
+        self.steady = not model.loads
         self.fext, self.ff = None, 0.0
+        if self.steady:
+            self._take(0.0)
+
+    def _take(self, t: float) -> None:
+        self.fext = self.model.external(t)[self.F]
+        self.ff = self.fext @ self.fext
 
     def begin(self, step):
-        self.fext = self.model.external(step.t)[self.F]
-        self.ff = self.fext @ self.fext
+        if not self.steady:
+            self._take(step.t)
         return self
 
     def residual(self, r):
@@ -289,6 +299,7 @@ class SmoothContact(ForceTerm):
     step without persistent contacts."""
 
     rows = True
+    per_step = True
 
     def __init__(self, model, friction: bool):
         self.model, self.friction = model, friction
