@@ -206,7 +206,9 @@ class MoreauNewton(SmoothNewton):
         X[0, F] = self.q0 + self.ht * self.v
         X[1, F] = self.v
         self.evaluate(it)
-        self.f = f = 0.0 - self.forces(np.full(self.v.size, -0.0))  # f_ext − f_int − C v
+        # f = f_ext − f_int − C v = −Σ_k f_k: the sum starts from −0 (−0 + x = x exactly)
+        # and 0 − s negates it exactly, zeros included, as the direct sum would round
+        self.f = f = 0.0 - self.forces(np.full(self.v.size, -0.0))
         Mdv = model.M @ (self.v - self.vn)
         self.R = R = Mdv - self.hf_n - self.ht * f
         nr = self.P.size
