@@ -14,9 +14,11 @@ from .simulate import STEPPERS, simulate
 from .state import IntegratorOptions, PhaseTimer, State, initial_state, length_scale
 from .stats import StepStats
 from .stepper import Stepper, make_stepper
+from .terms import ForceTerm, StepContext
 
 __all__ = [
     "uses_smooth_contact",
+    "ForceTerm",
     "FrictionRecord",
     "PenaltyRecord",
     "STEPPERS",
@@ -25,6 +27,7 @@ __all__ = [
     "RunSettings",
     "SmoothForces",
     "State",
+    "StepContext",
     "StepStats",
     "Stepper",
     "alpha_coefficients",

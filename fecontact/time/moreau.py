@@ -43,6 +43,7 @@ from __future__ import annotations
 
 import math
 import time
+from typing import NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
@@ -56,18 +57,20 @@ from .constraints import (
     plus_curvature,
 )
 from .coulomb import frictional_jump
+from .newton import NewtonPlan, SmoothNewton
 from .poisson import poisson_jump
 from .records import FrictionRecord
 from .settings import run_settings
 from .state import IntegratorOptions, PhaseTimer, State, length_scale
+from .terms import Damping, Elastic, ExternalLoad
 
-__all__ = ["moreau_step"]
+__all__ = ["MoreauNewton", "moreau_plan", "moreau_step"]
 
 
 def moreau_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer) -> State:
     """One Moreau–Jean step from ``st`` over ``h`` (s): θ-method with Newton's impact law
     at velocity level on the contacts closed at q_n + ½h v_n, joints as G_b v_{n+1} = 0."""
-    opts = run_settings(model, opts)
+    opts = run_settings(model, opts, plan=moreau_plan)
     theta = float(opts.theta)  # in (0, 1], checked by IntegratorOptions
     F, m = model.free, model.contacts.size
     clock = time.perf_counter()
@@ -85,7 +88,10 @@ def moreau_step(model, st: State, h: float, opts: IntegratorOptions, timer: Phas
     timer.add("contact", clock)
     friction = model.contacts.frictional and index_set.size
     slip = (index_set, opts.tol_gap * length_scale(model, st.q) / h) if friction else None
-    v, P, f, its, tangential = _moreau_newton(model, st, h, theta, rows, opts, timer, slip)
+    newton = MoreauNewton(opts.plan, model, st, h, theta, rows, opts, timer, slip)
+    it, _ = newton.run()
+    v, P, f, tangential = newton.v, newton.P, newton.f, newton.tangential
+    its = (it, newton.lcp)
     q, vfull, vd = st.q.copy(), np.zeros(model.n), np.zeros(model.n)
     v_theta = (1.0 - theta) * st.v[F] + theta * v
     q[F] += h * v_theta
@@ -135,61 +141,112 @@ def _impact_rows(model, st, index_set):
     return rows, e * approach, e, approach
 
 
-def _moreau_newton(model, st, h, theta, rows, opts, timer, slip=None):
+class MoreauRates(NamedTuple):
+    """The rates of the Moreau–Jean Newton in its unknown v_{n+1}: q = q_n + h(1 − θ)v_n +
+    hθ v, so ∂q/∂v = hθ (``ht``), and the damping's ∂f/∂v enters Ŵ with ``gp`` = hθ."""
+
+    h: float
+    ht: float
+    gp: float
+    bp: float
+
+
+class MoreauElastic(Elastic):
+    """The elastic term of the Moreau–Jean Newton: it opens Ŵ = M + (hθ)² K_t."""
+
+    def begin(self, step):
+        self.ht2 = step.c.ht * step.c.ht
+        return self
+
+    def tangent(self, S):
+        return self.model.M + self.ht2 * self.K
+
+
+def moreau_plan(model, smooth: bool = False, friction: bool = False, extra=()) -> NewtonPlan:
+    """The Moreau–Jean Newton's force terms for a run of ``model``: elastic, load and
+    Rayleigh damping where the model has it (the contacts and joints are its impact law's
+    rows, not terms)."""
+    elastic = MoreauElastic(model, tangent=True)
+    terms = [elastic, ExternalLoad(model)]
+    if any(model.damping):
+        terms.append(Damping(model, elastic, constant=False))
+    return NewtonPlan((*terms, *extra), False, False, False, False, "Moreau–Jean step")
+
+
+class MoreauNewton(SmoothNewton):
     """Newton on R(v) − G(q(v))ᵀP − G_T(q(v))ᵀP_T = 0, R(v) = M(v − v_n) − h[(1 − θ) f_n +
-    θ f(q(v), v)], with the impact law on ``rows``: returns v_{n+1} and P (free dofs),
-    f_{n+1}, the (Newton, impact-law) iteration counts and, with ``slip`` = (the contacts of
-    ``rows``, the Coulomb tolerance in m/s), (P_T, stick/slip status, G_T) of Coulomb's law
-    on their slip rates G_T v (else None). Without stiffness (K_t = 0: rigid bodies) and
-    with constant G the residual is linear in v and one iteration is exact."""
-    F, M = model.free, model.M
-    ht = h * theta
-    vn = st.v[F]
-    hf_n = (h - ht) * (M @ st.vd[F])  # st.vd = M⁻¹ f_n
-    q0 = st.q[F] + (h - ht) * vn
-    fext = model.external(st.t + h)[F]
-    alpha, beta_k = model.damping
-    damped = bool(alpha or beta_k)
-    nr = len(rows[0].bilateral) if rows else 0
-    v, q = vn.copy(), st.q.copy()  # predictor: v_n
-    P, GP = np.zeros(nr), 0.0
-    tangential, friction_force = None, 0.0
-    dq, lcp_its = math.inf, 0
-    clock = time.perf_counter()
-    for it in range(opts.max_iterations + 1):
-        q[F] = q0 + ht * v
-        _, fint, K = model.internal(q)
-        f = fext - fint[F]
-        Ct = alpha * M + beta_k * K if damped else None
-        f = _minus_damping(f, Ct, v)
-        Mdv = M @ (v - vn)
-        R = Mdv - hf_n - ht * f
+    θ f(q(v), v)], f = f_ext − Σ_k f_k over the plan's force terms, with the impact law on
+    ``rows``: the shared loop (:class:`~fecontact.time.newton.SmoothNewton`) with its own
+    unknown (v_{n+1}, predictor v_n), residual, update and test. With ``slip`` = (the
+    contacts of ``rows``, the Coulomb tolerance in m/s), Coulomb's law on their slip rates
+    G_T v. Without stiffness (K_t = 0: rigid bodies) and with constant G the residual is
+    linear in v and one iteration is exact."""
+
+    __slots__ = "G GP P R damping f ff_t h hf_n ht lcp q0 rows size slip tangential v vn".split()
+
+    def __init__(self, plan, model, st, h, theta, rows, opts, timer, slip=None):
+        F, ht = model.free, h * theta
+        self.h, self.ht, self.rows, self.slip = h, ht, rows, slip
+        self.vn = st.v[F]
+        self.hf_n = (h - ht) * (model.M @ st.vd[F])  # st.vd = M⁻¹ f_n
+        self.q0 = st.q[F] + (h - ht) * self.vn
+        X = np.zeros((4, model.n))
+        X[0], X[1] = st.q, st.v  # predictor: v_n
+        c = MoreauRates(h, ht, ht, 1.0 / (ht * ht))
+        super().__init__(plan, model, st, st.t + h, c, opts, timer, None, X)
+        nr = len(rows[0].bilateral) if rows else 0
+        self.v, self.P, self.GP, self.G = self.vn.copy(), np.zeros(nr), 0.0, None
+        self.tangential, self.ff_t, self.size, self.lcp = None, 0.0, math.inf, 0
+        self.damping = next((term for term in self.terms if isinstance(term, Damping)), None)
+
+    def residual(self, it: int) -> bool:
+        """r at v (q = q_n + h(1 − θ)v_n + hθ v); whether it has converged: the residual or
+        the last update below tolerance, with rows not before the law was solved once."""
+        model, F, X, rows = self.model, self.model.free, self.step.X, self.rows
+        X[0, F] = self.q0 + self.ht * self.v
+        X[1, F] = self.v
+        self.evaluate(it)
+        # f = f_ext − f_int − C v = −Σ_k f_k: the sum starts from −0 (−0 + x = x exactly)
+        # and 0 − s negates it exactly, zeros included, as the direct sum would round
+        self.f = f = 0.0 - self.forces(np.full(self.v.size, -0.0))
+        Mdv = model.M @ (self.v - self.vn)
+        self.R = R = Mdv - self.hf_n - self.ht * f
+        nr = self.P.size
         if nr and (it == 0 or not rows[0].linear):  # (constant gradients: evaluated once)
-            G = rows[0].jacobian(q)[1]
+            self.G = rows[0].jacobian(X[0])[1]
         if nr:
-            GP, friction_force, tangential = _constraint_forces(model, q, G, P, tangential, slip)
-        r = R - GP - friction_force
-        clock = timer.add("assembly", clock)
-        rnorm, ref = _norms(r, (Mdv, hf_n, h, f), GP if nr else None)
-        if _converged(it, nr, rnorm, ref, dq, opts):
-            return v, P, f, (it, lcp_its), tangential
-        if it == opts.max_iterations:
-            raise StepFailure("Moreau–Jean step", rnorm / ref)
-        What = _iteration_matrix(model, K, Ct, ht, rows, q, P)
-        solve = factorize_or_fail(What, rnorm / ref, True, model.solver)
-        v_new = v - solve(R)
-        clock = timer.add("solve", clock)
-        if nr:
-            W, P, n, tangential = _contact_law(model, st, q, v_new, G, rows, solve, opts, slip, h)
+            self.GP, self.ff_t, self.tangential = _constraint_forces(
+                model, X[0], self.G, self.P, self.tangential, self.slip
+            )
+        r = R - self.GP - self.ff_t
+        self.clock = self.timer.add("assembly", self.clock)
+        self.rnorm, self.ref = _norms(r, (Mdv, self.hf_n, self.h, f), self.GP if nr else None)
+        return _converged(it, nr, self.rnorm, self.ref, self.size, self.opts)
+
+    def update(self) -> bool:
+        """v ← v − Ŵ⁻¹R, then the impact law from there; whether one iteration was exact."""
+        model, rows, q = self.model, self.rows, self.step.X[0]
+        What = self.tangent()
+        if rows and not rows[0].linear and np.any(self.P):
+            What = plus_curvature(What, -self.ht, rows[0].curvature(q, self.P))
+        solve = factorize_or_fail(What, self.rnorm / self.ref, True, model.solver)
+        v_new = self.v - solve(self.R)
+        self.clock = self.timer.add("solve", self.clock)
+        if self.P.size:
+            law = _contact_law(model, self.step.st, q, v_new, self.G, rows, solve, self.opts,
+                               self.slip, self.h)  # fmt: skip
+            W, self.P, n, self.tangential = law
             v_new += W
-            lcp_its += n
-            clock = timer.add("contact", clock)
-        if _exact(model, rows, K, slip):
-            f = _minus_damping(f, Ct, v_new - v)
-            return v_new, P, f, (it + 1, lcp_its), tangential
-        dq = model.update_size(ht * (v_new - v))
-        v = v_new
-    raise AssertionError("unreachable")
+            self.lcp += n
+            self.clock = self.timer.add("contact", self.clock)
+        if _exact(model, rows, self.elastic.K, self.slip):
+            if self.damping is not None:  # (f at v_{n+1})
+                self.f = _minus_damping(self.f, self.damping.Ct, v_new - self.v)
+            self.v = v_new
+            return True
+        self.size = model.update_size(self.ht * (v_new - self.v))
+        self.v = v_new
+        return False
 
 
 def _minus_damping(f, Ct, v):
@@ -232,17 +289,6 @@ def _constraint_forces(model, q, G, P, tangential, slip):
         friction_force = np.einsum("mt,mtk->k", tangential[0], GT)
         tangential = (tangential[0], tangential[1], GT)
     return GP, friction_force, tangential
-
-
-def _iteration_matrix(model, K, Ct, ht, rows, q, P):
-    """Ŵ = M + hθ C_t + (hθ)² K_t (``Ct`` None: no damping), with the curvature of the
-    constraint rows under their impulses P where the gradients depend on q."""
-    What = model.M + ht * ht * K
-    if Ct is not None:
-        What = What + ht * Ct
-    if rows and not rows[0].linear and np.any(P):
-        What = plus_curvature(What, -ht, rows[0].curvature(q, P))
-    return What
 
 
 def _contact_law(model, st, q, v_free, G, rows, solve, opts, slip, h):

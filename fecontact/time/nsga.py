@@ -35,7 +35,7 @@ import time
 import numpy as np
 
 from ..ledger import smooth_record
-from .alpha_step import SmoothStep, alpha_smooth_step
+from .alpha_step import SmoothStep, alpha_plan, alpha_smooth_step
 from .configuration import plus
 from .constraints import (
     StepFailure,
@@ -65,7 +65,7 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
     """One step of the nonsmooth generalized-α method from ``st`` over ``h`` (s): the smooth
     step, the position correction and the velocity jump (module docstring)."""
     if not isinstance(opts, RunSettings):
-        opts = run_settings(model, opts)
+        opts = run_settings(model, opts, plan=alpha_plan)
     return smooth_phases(model, st, h, opts, timer).finish(time.perf_counter())
 
 
@@ -83,7 +83,8 @@ def decoupled_step(
 ) -> tuple[State, np.ndarray]:
     """The NSGA step with step 1 made by ``smooth_step`` (default: generalized-α), and the
     positions q̃ it reached before the correction."""
-    step = _Phases(model, st, h, run_settings(model, opts), timer, smooth_step)
+    opts = run_settings(model, opts, plan=alpha_plan)
+    step = _Phases(model, st, h, opts, timer, smooth_step)
     q_smooth = step.smooth()
     return step.finish(time.perf_counter()), q_smooth
 

@@ -52,19 +52,27 @@ m_j            effective mass of contact j (kg)
 from __future__ import annotations
 
 import math
-import time
-from typing import NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
 
 from ..linalg import factorize
-from .constraints import StepFailure, bordered, factorize_or_fail, plus_curvature
-from .generalized_alpha import Coefficients, predict
+from .constraints import bordered, plus_curvature
+from .generalized_alpha import Coefficients
+from .newton import NewtonPlan, SmoothNewton
 from .records import PenaltyRecord
+from .settings import run_settings
 from .state import IntegratorOptions, PhaseTimer, State
+from .terms import Damping, Elastic, ExternalLoad, ForceTerm, Joints
 
-__all__ = ["automatic_penalty_stiffness", "damping_ratio", "effective_masses", "penalty_step"]
+__all__ = [
+    "PenaltyContact",
+    "automatic_penalty_stiffness",
+    "damping_ratio",
+    "effective_masses",
+    "penalty_plan",
+    "penalty_step",
+]
 
 
 def effective_masses(model, q, select=None) -> np.ndarray:
@@ -189,14 +197,71 @@ def _penalty_force(model, q, v, law, gp, tau):
     return G.T @ lam_A, Kc, lam, g
 
 
+class PenaltyContact(ForceTerm):
+    """The spring–dashpot forces λ_j of every contact as a force term of the smooth Newton
+    loop: force −Σ G_jᵀλ_j, tangent the contact stiffness (w_j G_jᵀG_j − λ_j ∇²g_j on the
+    contacts with λ_j > 0, the dashpot's rate γ′ in w_j). Per step it carries the run's
+    :class:`_PenaltyLaw` and the last evaluation: ``lam`` (N) and the gaps ``g`` (m) of every
+    contact."""
+
+    phase = "contact"
+    own_tangent = True
+
+    def __init__(self, model):
+        self.model = model
+        self.law = self.fc = self.Kc = self.lam = self.g = None
+        self.gp = self.tau = 0.0
+
+    def begin(self, step):
+        c = step.c
+        self.law = _penalty_law(self.model, step.st, c.h, step.opts)
+        self.gp, self.tau = c.gp, 0.5 * c.h
+        return self
+
+    def evaluate(self, step, it):
+        self.fc, self.Kc, self.lam, self.g = _penalty_force(
+            self.model, step.q, step.v, self.law, self.gp, self.tau
+        )
+
+    def residual(self, r):
+        if self.fc is not None:
+            r -= self.fc
+        return r
+
+    def tangent(self, S):
+        return S if self.Kc is None else S + self.Kc
+
+
+def penalty_plan(model, smooth: bool, friction: bool, extra=()) -> NewtonPlan:
+    """The penalty step's Newton loop for a run of ``model``: the force terms elastic, load,
+    penalty contact, Rayleigh damping and joints where the model has them, then ``extra``;
+    S_t assembled at every iteration (the contact stiffness changes), an update that does not
+    lower the residual halved. (``smooth``, ``friction``: unused, penalty forces have no
+    friction.)"""
+    elastic = Elastic(model, tangent=True, fused=False)
+    terms: list[ForceTerm] = [elastic, ExternalLoad(model), PenaltyContact(model)]
+    if any(model.damping):
+        terms.append(Damping(model, elastic, constant=False))
+    if model.joints.size:
+        terms.append(Joints(model, scaled=False, linearize_first=False))
+    return NewtonPlan((*terms, *extra), False, False, True, False, "penalty step")
+
+
 def penalty_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer) -> State:
     """One generalized-α step with spring–dashpot contact forces λ_j (no position
-    correction, no velocity jump)."""
+    correction, no velocity jump): the smooth Newton loop over :func:`penalty_plan`'s terms.
+    A contact opening or closing between two iterates can make Newton cycle; an update that
+    does not lower the residual is halved (up to six times) before the next Newton
+    direction."""
+    opts = run_settings(model, opts, plan=penalty_plan)
     c = Coefficients(opts.rho_inf, h)
-    law = _penalty_law(model, st, h, opts)
-    q, v, vd, a, lam, lam_c, gaps, it = _penalty_smooth_step(
-        model, st, st.t + h, c, law, opts, timer
-    )
+    newton = SmoothNewton(opts.plan, model, st, st.t + h, c, opts, timer)
+    it, stale = newton.run()
+    contact = next(term for term in newton.terms if isinstance(term, PenaltyContact))
+    if stale:  # the forces and gaps at the final q
+        contact.evaluate(newton.step, it)
+    q, v, vd, a = newton.step.X
+    gaps = contact.g
     return State(
         st.t + h,
         q,
@@ -207,122 +272,8 @@ def penalty_step(model, st: State, h: float, opts: IntegratorOptions, timer: Pha
         gaps=gaps,
         candidates=np.flatnonzero(gaps <= opts.detection_margin * model.length),
         nu=np.zeros(model.contacts.size),
-        impulse=h * lam_c,
-        lam=lam,
+        impulse=h * contact.lam,
+        lam=newton.lam(),
         iterations={"smooth": it, "position": 0, "velocity": 0},
-        penalty=law.record,
+        penalty=contact.law.record,
     )
-
-
-class PenaltyStep(NamedTuple):
-    """Positions, velocities, accelerations v̇ and a, joint multipliers λ_b, contact forces
-    λ_j (N), gaps (m) at the end of the step, and the Newton iterations."""
-
-    q: np.ndarray
-    v: np.ndarray
-    vd: np.ndarray
-    a: np.ndarray
-    lam: np.ndarray
-    lam_c: np.ndarray
-    gaps: np.ndarray
-    iterations: int
-
-
-def _halves(dq, rnorm: float, previous: float, s: float) -> bool:
-    """Whether the last update ``dq`` (None: none yet) is halved: it did not lower the
-    residual, and it was halved fewer than six times."""
-    return dq is not None and rnorm >= previous and s > 1.0 / 64.0
-
-
-def _joints_hold(gb, tol: float) -> bool:
-    """Whether the joints' gaps ``gb`` (None: no joints) are within ``tol`` (m)."""
-    return gb is None or np.max(np.abs(gb)) <= tol
-
-
-def _penalty_matrix(c, M, K, Kc, Ct):
-    """S = β′M + K_t + K_c (the contact stiffness, None without) + γ′C_t (None: undamped)."""
-    S = c.bp * M + K
-    if Kc is not None:
-        S = S + Kc
-    if Ct is not None:
-        S = S + c.gp * Ct
-    return S
-
-
-def _penalty_update(model, S, r, joint_rows, q, lam, residual: float):
-    """Newton's update (dq, Δλ_b): with S alone, or bordered by the joints' rows
-    ``joint_rows`` = (g_b, G_b) at q (None, None without joints) and their curvature."""
-    gb, Gb = joint_rows
-    if gb is None:
-        return -factorize_or_fail(S, residual, True, model.solver)(r), 0.0
-    joints, n = model.joints, model.n_free
-    Cb = None if joints.linear else joints.curvature(q, joints.all, lam)
-    Kb = plus_curvature(S, 1.0, Cb)
-    x = -factorize_or_fail(bordered(Kb, Gb), residual, False, model.solver)(np.concatenate([r, gb]))
-    return x[:n], x[n:]
-
-
-def _penalty_smooth_step(model, st, t, c, law, opts, timer) -> PenaltyStep:
-    """Newton on M v̇ + C_t v + f_int(q) − Σ G_jᵀλ_j + G_bᵀλ_b = f_ext(t), g_b(q) = 0, with
-    (q, v, v̇, a) linked as in the generalized-α step. A contact opening or closing between
-    two iterates can make Newton cycle; an update that does not lower the residual is
-    halved (up to six times) before the next Newton direction."""
-    F, h, M = model.free, c.h, model.M
-    q, v, vd, a = predict(st, c)
-    lam = st.lam.copy()
-    fext = model.external(t)[F]
-    joints = model.joints
-    nb = joints.size
-    alpha, beta_k = model.damping
-    tol_b = opts.tol_gap * model.length
-    previous, s, dq, dlam = math.inf, 1.0, None, 0.0
-
-    def move(x):
-        q[F] += x
-        v[F] += c.gp * x
-        vd[F] += c.bp * x
-        a[F] += c.da * x
-
-    clock = time.perf_counter()
-    for it in range(opts.max_iterations + 1):
-        _, fint, K = model.internal(q)
-        clock = timer.add("assembly", clock)
-        fc, Kc, lam_c, g = _penalty_force(model, q, v, law, c.gp, 0.5 * h)
-        clock = timer.add("contact", clock)
-        Mvd = M @ vd[F]
-        r = Mvd + fint[F] - fext
-        if fc is not None:
-            r -= fc
-        Ct = alpha * M + beta_k * K if alpha or beta_k else None
-        if Ct is not None:
-            r += Ct @ v[F]
-        gb = Gb = None
-        if nb:
-            gb, Gb = joints.jacobian(q, joints.all)
-            r += Gb.T @ lam
-        clock = timer.add("assembly", clock)
-        fi = fint[F]
-        ref = math.sqrt(max(fext @ fext, fi @ fi, Mvd @ Mvd, 1e-300))
-        rnorm = math.sqrt(r @ r)
-        if not np.isfinite(rnorm):
-            raise StepFailure("penalty step diverged", rnorm)
-        if rnorm <= opts.tol_residual * ref and _joints_hold(gb, tol_b):
-            break
-        if it == opts.max_iterations:
-            raise StepFailure("penalty step", rnorm / ref)
-        if _halves(dq, rnorm, previous, s):
-            s *= 0.5
-            move(-s * dq)
-            lam = lam - s * dlam
-            continue
-        previous, s = rnorm, 1.0
-        S = _penalty_matrix(c, M, K, Kc, Ct)
-        dq, dlam = _penalty_update(model, S, r, (gb, Gb), q, lam, rnorm / ref)
-        lam = lam + dlam
-        move(dq)
-        clock = timer.add("solve", clock)
-        if model.update_size(dq) <= opts.tol_increment and _joints_hold(gb, tol_b):
-            _, _, lam_c, g = _penalty_force(model, q, v, law, c.gp, 0.5 * h)
-            it += 1
-            break
-    return PenaltyStep(q, v, vd, a, lam, lam_c, g, it)

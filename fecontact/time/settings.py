@@ -6,6 +6,7 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass, field
 
+from .newton import NewtonPlan
 from .state import IntegratorOptions
 from .stats import StepStats
 
@@ -17,13 +18,16 @@ class RunSettings(IntegratorOptions):
     """The :class:`IntegratorOptions` of one run, the traits of its model the steps act on,
     decided once (``smooth``: persistent contacts carry a smooth force, the ``"auto"`` of
     ``smooth_contact`` resolved; ``restarts``: and the acceleration variable restarts after
-    an impact, which beams do not take; ``friction``: the contacts have friction), and its
-    statistics ``stats``, which the phases of its steps fill."""
+    an impact, which beams do not take; ``friction``: the contacts have friction), its
+    statistics ``stats``, which the phases of its steps fill, and ``plan``, the smooth
+    Newton loop's force terms and configuration (:class:`~fecontact.time.newton.NewtonPlan`;
+    None for a stepper without one)."""
 
     smooth: bool = False
     restarts: bool = False
     friction: bool = False
     stats: StepStats = field(default_factory=StepStats, repr=False, compare=False)
+    plan: NewtonPlan | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self):
         pass  # the values are those of options already checked, taken as they are
@@ -35,17 +39,24 @@ def uses_smooth_contact(model, opts) -> bool:
     return opts.smooth_contact == "on" or (opts.smooth_contact == "auto" and model.continuum)
 
 
-def run_settings(model, opts: IntegratorOptions, stats: StepStats | None = None) -> RunSettings:
+def run_settings(
+    model, opts: IntegratorOptions, stats: StepStats | None = None, terms=(), plan=None
+) -> RunSettings:
     """``opts`` as the settings of a run of ``model`` that counts into ``stats`` (default:
-    new counts); settings already made are returned as they are."""
+    new counts), with the smooth Newton loop ``plan(model, smooth, friction, terms)`` makes
+    (None: the stepper has none), the force ``terms`` added to the model's own
+    (:class:`~fecontact.time.terms.ForceTerm`); settings already made are returned as they
+    are."""
     if isinstance(opts, RunSettings):
         return opts
     values = {f.name: getattr(opts, f.name) for f in dataclasses.fields(IntegratorOptions)}
     smooth = uses_smooth_contact(model, opts)  # (read by the NSGA step only)
+    friction = model.contacts.frictional
     return RunSettings(
         **values,
         smooth=smooth,
         restarts=smooth and not model.slender,  # (beams: see smooth_contact, the restart)
-        friction=model.contacts.frictional,
+        friction=friction,
         stats=StepStats() if stats is None else stats,
+        plan=None if plan is None else plan(model, smooth, friction, terms),
     )

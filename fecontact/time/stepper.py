@@ -5,23 +5,34 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from ..errors import InputError
 from ..linalg.choice import RunPlan
+from .alpha_step import alpha_plan
 from .constraints import StepFailure
 from .energy_step import check_energy_scheme, energy_nsga_step
 from .localize import joined, localized_step, localizes
-from .moreau import moreau_step
+from .moreau import moreau_plan, moreau_step
 from .nsga import nsga_step
-from .penalty import penalty_step
+from .penalty import penalty_plan, penalty_step
 from .penetration import PenetrationFailure, hold_penetration
 from .settings import RunSettings, run_settings
 from .state import IntegratorOptions, PhaseTimer, State
 from .stats import StepStats
 
-__all__ = ["STEPPERS", "Stepper", "make_stepper"]
+__all__ = ["PLANS", "STEPPERS", "TAKES_TERMS", "Stepper", "make_stepper"]
 
 STEPPERS = {"nsga": nsga_step, "moreau": moreau_step, "penalty": penalty_step}
 """Every stepper, ``step(model, state, h, options, timer) -> State``, by the name of the
 ``integrator`` option."""
+
+PLANS = {"nsga": alpha_plan, "moreau": moreau_plan, "penalty": penalty_plan}
+"""The Newton loop of each stepper, by the name of the ``integrator`` option:
+``plan(model, smooth, friction, extra_terms) -> NewtonPlan`` lists its force terms
+(:mod:`fecontact.time.terms`) and configures the loop (:mod:`fecontact.time.newton`)."""
+
+TAKES_TERMS = ("nsga", "penalty")
+"""The steppers whose loop takes extra force terms: those of the generalized-α step, whose
+iteration matrix is S_t = β′M + Σ (∂f/∂q + γ′ ∂f/∂v)."""
 
 
 class Stepper:
@@ -60,15 +71,29 @@ class Stepper:
 
 
 def make_stepper(
-    model, options: IntegratorOptions, stats: StepStats | None = None, steps: int | None = None
+    model,
+    options: IntegratorOptions,
+    stats: StepStats | None = None,
+    steps: int | None = None,
+    terms=(),
 ) -> Stepper:
     """The stepper of a run of ``model`` with ``options``, counting into ``stats`` (default:
     new :class:`StepStats`): the step function of the integrator and scheme, the options'
-    "auto" values and the model's traits resolved (:func:`run_settings`), and a linear solver
-    of the run's own for the model (the process default sparse solver, read now), whose
-    ``"auto"`` weighs the costs of the ``steps`` time steps the run will take (None: it
-    factorizes). Raises ``InputError`` where the energy-decaying step does not apply."""
-    settings = run_settings(model, options, stats)
+    "auto" values and the model's traits resolved (:func:`run_settings`), the force terms of
+    its smooth Newton loop (:data:`PLANS`) with ``terms`` added
+    (:class:`fecontact.time.terms.ForceTerm`, for the steppers with such a loop), and a linear
+    solver of the run's own for the model (the process default sparse solver, read now),
+    whose ``"auto"`` weighs the costs of the ``steps`` time steps the run will take (None: it
+    factorizes). Raises ``InputError`` where the energy-decaying step does not apply, or
+    where ``terms`` are given to a stepper without a smooth Newton loop."""
+    plan = PLANS.get(options.integrator)
+    if terms and (options.integrator not in TAKES_TERMS or options.scheme != "generalized-alpha"):
+        raise InputError(
+            "terms: force terms enter the generalized-alpha Newton loop of the nsga and "
+            f"penalty integrators, not integrator={options.integrator!r} with "
+            f"scheme={options.scheme!r}"
+        )
+    settings = run_settings(model, options, stats, terms, plan)
     kind = STEPPERS[settings.integrator]
     if settings.scheme == "energy-decaying":
         check_energy_scheme(model, settings)

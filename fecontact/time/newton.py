@@ -1,0 +1,320 @@
+r"""The Newton loop of the smooth generalized-α step, shared by every stepper that solves one.
+
+It solves r(X) = M v̇ + Σ_k f_k(q, v, t) = 0 over the force terms f_k of a run
+(:mod:`.terms`), with the rows of the terms that have multipliers (joints, persistent
+contacts) as constraints, for the iterate X = (q, v, v̇, a) of one step: Newton moves q by dq
+and (v, v̇, a) by (γ′, β′, ∂a/∂q) dq. Each update solves
+
+    S_t dq = −r,   S_t = β′M + Σ_k (∂f_k/∂q + γ′ ∂f_k/∂v),
+
+with S_t alone, with S_t's own factors and the Schur complement of one term's rows, or
+bordered by every touching term's rows. What changes between steppers is a
+:class:`NewtonPlan`, decided once per run: the terms, whether a linear model's S_t and its
+factors are reused (no term brings a tangent of its own), and the globalization: the energy
+descent of :mod:`.descent` (the NSGA's smooth step), or the halving of an update that does
+not lower the residual (the penalty scheme).
+
+The loop converges when |r| ≤ tol_residual · max(|f_ext|, |f_int|, |M v̇|) and every term's
+own test holds at the iterate, or when an update is below the increment tolerance and every
+constrained term's test holds after it (or, in a linear model with nonlinear joints, by the
+joints' remainder bound).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from typing import NamedTuple
+
+import numpy as np
+
+from .constraints import StepFailure, bordered, factorize_or_fail, plus_curvature
+from .descent import Armijo, descent_direction
+from .generalized_alpha import predict
+from .terms import ExternalLoad, ForceTerm, Joints, StepContext
+
+__all__ = ["NewtonPlan", "SmoothNewton"]
+
+
+class Roles(NamedTuple):
+    """What the loop asks of each of a step's terms, sorted once: all ``terms`` (the elastic
+    one first), those evaluated after the elastic one (``evaluated``), those that set the
+    residual's scale (``scaled``), those with rows (``rowed``) and with a convergence test of
+    their own (``checked``), and the ``joints`` and ``load`` terms (None: absent)."""
+
+    terms: list
+    evaluated: list
+    scaled: list
+    rowed: list
+    checked: list
+    joints: Joints | None
+    load: ExternalLoad | None
+
+
+def roles(terms) -> Roles:
+    """The :class:`Roles` of ``terms`` (a method a term does not override is not called)."""
+    terms = list(terms)
+
+    def overrides(term, name):
+        return getattr(type(term), name) is not getattr(ForceTerm, name)
+
+    return Roles(
+        terms,
+        [term for term in terms[1:] if overrides(term, "evaluate")],
+        [term for term in terms if overrides(term, "reference")],
+        [term for term in terms if term.rows],
+        [term for term in terms if overrides(term, "converged")],
+        next((term for term in terms if isinstance(term, Joints)), None),
+        next((term for term in terms if isinstance(term, ExternalLoad)), None),
+    )
+
+
+class NewtonPlan:
+    """The smooth Newton loop of a run, decided once: its ``terms`` (the elastic one first),
+    ``reuse``: S_t and its factors come from the linear model's cache, ``descent``: plain
+    updates of a nonlinear model are globalized in energy (:mod:`.descent`), ``halving``:
+    an update that does not lower the residual is halved (up to six times), ``bound``: the
+    joints' remainder bound may end the iteration, and the ``name`` failures carry.
+    ``roles``: the terms' :class:`Roles`, when every term acts in every step as itself (no
+    ``per_step`` term), else None (sorted per step)."""
+
+    __slots__ = ("terms", "reuse", "descent", "halving", "bound", "name", "roles")
+
+    def __init__(self, terms, reuse: bool, descent: bool, halving: bool, bound: bool, name: str):
+        self.terms: tuple[ForceTerm, ...] = tuple(terms)
+        self.reuse, self.descent, self.halving, self.bound = reuse, descent, halving, bound
+        self.name = name
+        fixed = not any(term.per_step for term in self.terms)
+        self.roles = roles(self.terms) if fixed else None
+
+
+class SmoothNewton:
+    """Newton's iteration of one step from the predictor of ``st`` with the coefficients
+    ``c`` to the time ``t`` (s), over the terms of ``plan`` as they act in the step (``P``:
+    the persistent contacts). ``run()`` iterates; then ``step`` holds the iterate."""
+
+    __slots__ = (
+        "S armijo checked clock dq elastic evaluated joints load model name opts plain plan "
+        "previous r ref rnorm rowed s scaled small solve step terms timer x"
+    ).split()
+
+    def __init__(self, plan: NewtonPlan, model, st, t, c, opts, timer, P=None, X=None):
+        self.model, self.opts, self.timer, self.name = model, opts, timer, plan.name
+        self.plan = plan
+        X = predict(st, c) if X is None else X
+        self.step = step = StepContext(model, c, t, st, opts, P, X)
+        if plan.roles is None:
+            begun = (term.begin(step) for term in plan.terms)
+            sorted_ = roles(term for term in begun if term is not None)
+        else:
+            for term in plan.terms:
+                term.begin(step)
+            sorted_ = plan.roles
+        self.terms, self.evaluated, self.scaled, self.rowed, self.checked = sorted_[:5]
+        self.joints, self.load = sorted_.joints, sorted_.load
+        self.elastic = self.terms[0]
+        self.S = self.solve = self.armijo = self.x = self.dq = self.small = None
+        self.plain = True  # every solve was with S_t alone: S_t's solver is a metric
+        self.previous, self.s = math.inf, 1.0
+        self.clock = time.perf_counter()
+
+    def run(self) -> tuple[int, bool]:
+        """Iterate to convergence: (the iterations, whether the last update moved q after
+        the terms were evaluated). Raises StepFailure where it does not converge."""
+        top = self.opts.max_iterations
+        for it in range(top + 1):
+            if self.residual(it):
+                return it, False
+            if it == top:
+                raise StepFailure(self.name, self.rnorm / self.ref)
+            if self.plan.halving and self._halves():
+                continue
+            if self.update():
+                return it + 1, True
+        raise AssertionError("unreachable")
+
+    def residual(self, it: int) -> bool:
+        """The residual r at the iterate, after the Armijo test of the last full update
+        (decided by the strain energy at its end); whether the iterate has converged."""
+        step = self.step
+        self.evaluate(it)
+        Mvd = self.model.M @ step.vd[self.model.free_slice]
+        r = Mvd
+        for term in self.terms:
+            r = term.residual(r)
+        self.r = r
+        ref = max(Mvd @ Mvd, 1e-300)
+        for term in self.scaled:
+            x = term.reference()
+            if x > ref:
+                ref = x
+        self.ref = math.sqrt(ref)
+        self.rnorm = rnorm = math.sqrt(r @ r)
+        self.clock = self.timer.add("assembly", self.clock)
+        if not math.isfinite(rnorm):
+            fi = self.elastic.fi
+            why = "" if np.all(np.isfinite(fi)) else ": an element inverts (det F <= 0)"
+            raise StepFailure(self.name + " diverged" + why, rnorm)
+        if rnorm > self.opts.tol_residual * self.ref:
+            return False
+        for term in self.checked:
+            if not term.converged(step):
+                return False
+        return True
+
+    def evaluate(self, it: int) -> None:
+        """Every term at the iterate (the elastic one first), each timed in its phase."""
+        step, timer, elastic = self.step, self.timer, self.elastic
+        elastic.evaluate(step, it)
+        if self.armijo is not None:
+            self._armijo(it)
+        for term in self.evaluated:
+            if term.phase == "assembly":
+                term.evaluate(step, it)
+                continue
+            self.clock = timer.add("assembly", self.clock)
+            term.evaluate(step, it)
+            self.clock = timer.add(term.phase, self.clock)
+
+    def forces(self, r: np.ndarray) -> np.ndarray:
+        """r + Σ_k f_k, the terms' forces added in their order."""
+        for term in self.terms:
+            r = term.residual(r)
+        return r
+
+    def tangent(self):
+        """Σ_k of the terms' tangents, opened by the elastic term with the inertia."""
+        S = None
+        for term in self.terms:
+            S = term.tangent(S)
+        return S
+
+    def _armijo(self, it: int) -> None:
+        """The Armijo test of the last full update, by the strain energy the elastic term
+        found at its end; where it fails, the update is cut back and the term evaluated
+        again."""
+        step, elastic = self.step, self.elastic
+        armijo, self.armijo = self.armijo, None
+        if not armijo.accepts(elastic.W):
+            s = armijo.backtrack(self.model, self.opts.stats.newton)
+            step.X[:] = armijo.X
+            step.X[:, self.model.free_slice] += np.multiply.outer(step.c.w, s * armijo.dq)
+            elastic.evaluate(step, it)
+
+    def update(self) -> bool:
+        """One Newton update of the iterate; whether it has converged with it."""
+        step = self.step
+        self.small = None  # (whether dq is below the increment tolerance, where known)
+        self._matrix()
+        touching = [term for term in self.rowed if term.touching()] if self.rowed else None
+        if not touching:
+            dq = self._plain_update()
+        elif len(touching) == 1 and touching[0].schur:
+            dq = self._schur_update(touching[0])
+        else:
+            dq = self._bordered_update(touching)
+        step.X[:, self.model.free_slice] += np.multiply.outer(step.c.w, dq)  # q, v, v̇, a
+        self.clock = self.timer.add("solve", self.clock)
+        self.dq = dq
+        if not self.rowed:
+            if self.small is not None:
+                return self.small
+            return self.model.update_size(dq) <= self.opts.tol_increment
+        return self._settled(dq)
+
+    def _matrix(self) -> None:
+        """S_t: the linear model's, with its factors, or the sum of the terms' tangents."""
+        if self.plan.reuse:
+            c = self.step.c
+            self.S, self.solve, _ = self.model.iteration_matrix(c.bp, c.gp)
+            return
+        self.S = self.tangent()
+
+    def _factors(self):
+        """S_t's solver (factorized here unless reused)."""
+        if not self.plan.reuse:
+            self.solve = factorize_or_fail(self.S, self.rnorm / self.ref, True, self.model.solver)
+        return self.solve
+
+    def _schur_update(self, term):
+        """The update with one term's rows through S_t's own factors."""
+        solve = self._factors()
+        return term.schur_update(self.step, self.r, solve, self.plan.reuse, self.rnorm / self.ref)
+
+    def _bordered_update(self, touching):
+        """The update of the saddle-point system bordered by the rows of ``touching``."""
+        model, nF = self.model, self.model.n_free
+        K, gs, Gs = self.S, [], []
+        for term in touching:
+            g, G, C = term.border(self.step)
+            K = plus_curvature(K, 1.0, C)
+            gs.append(g)
+            Gs.append(G)
+        g_rows = gs[0] if len(gs) == 1 else np.concatenate(gs)
+        G_rows = Gs[0] if len(Gs) == 1 else np.vstack(Gs)
+        res = self.rnorm / self.ref
+        self.solve = factorize_or_fail(bordered(K, G_rows), res, False, model.solver)
+        self.plain = False
+        self.x = x = -self.solve(np.concatenate([self.r, g_rows]))
+        start = nF
+        for term, g in zip(touching, gs, strict=True):
+            term.take(x[start : start + g.size])
+            start += g.size
+        return x[:nF]
+
+    def _plain_update(self):
+        """Newton's update with S_t alone, globalized in energy where the model is
+        nonlinear and the plan asks for it."""
+        model, r, plan = self.model, self.r, self.plan
+        solve = self._factors()
+        if plan.reuse or not plan.descent:  # (linear: Π is quadratic, S_t positive definite)
+            return -solve(r)
+        elastic, opts, res = self.elastic, self.opts, self.rnorm / self.ref
+        newton = (opts.tol_increment, res, opts.stats.newton, model.solver)
+        shift, shifts = self.step.c.bp * model.M, opts.stats.newton.shifted_directions
+        dq, *test = descent_direction(
+            model, r, elastic.fi, self.S, elastic.K, solve, shift, *newton
+        )
+        if test[-1] is None:  # below the increment tolerance: taken whole
+            self.small = True
+            return dq
+        self.armijo = Armijo(self.step.X.copy(), dq, *test, elastic.W, res)
+        # Newton's own direction, measured by the descent test: above the tolerance
+        self.small = False if opts.stats.newton.shifted_directions == shifts else None
+        return dq
+
+    def _settled(self, dq) -> bool:
+        """Whether the update ``dq`` ended the iteration: by the joints' remainder bound, or
+        below the increment tolerance with every constrained term's test holding."""
+        step, joints = self.step, self.joints
+        if self.plan.bound and len(self.rowed) == 1 and joints is not None:
+            ff = 0.0 if self.load is None else self.load.ff
+            if joints.bound(step, dq, self.x[self.model.n_free :], ff):
+                return True
+        return self.model.update_size(dq) <= self.opts.tol_increment and all(
+            term.settled(step) for term in self.rowed
+        )
+
+    def _halves(self) -> bool:
+        """Halve the last update where it did not lower the residual (up to six times);
+        whether it did."""
+        if self.dq is not None and self.rnorm >= self.previous and self.s > 1.0 / 64.0:
+            self.s *= 0.5
+            step = self.step
+            step.X[:, self.model.free_slice] += np.multiply.outer(step.c.w, -self.s * self.dq)
+            for term in self.rowed:
+                term.retreat(self.s)
+            return True
+        self.previous, self.s = self.rnorm, 1.0
+        return False
+
+    def lam(self) -> np.ndarray:
+        """The joints' multipliers λ_b (N)."""
+        return self.step.st.lam.copy() if self.joints is None else self.joints.lam
+
+    def metric(self):
+        """(S_t, its solver) where every solve was with S_t alone and there are no joints:
+        the metric of the position correction; else None (rebuilt on demand)."""
+        if self.S is not None and self.plain and self.joints is None:
+            return self.S, self.solve
+        return None
