@@ -95,21 +95,25 @@ def test_loads_damping_friction_and_a_moving_floor(integrator, tmp_path):
 
 
 def test_kane_chain_newton_warns_and_poisson_does_not_create(tmp_path):
-    """Newton's law, e_N = 1, μ = 0.5: the run creates 1.13 J, made by friction, which the
-    warnings name with its contact. Poisson's law: created ≤ 1e-6 of the scale."""
+    """Newton's law, e_N = 1, μ = 0.5: the run creates 1.13 J in the strike's velocity jump,
+    which the warning names; friction takes 0.028 J there (the slip stops on the cone's
+    edge, then the end sticks: tests/test_poisson.py derives it), so no friction warning:
+    the gain is the kinematic restitution's. Poisson's law: created ≤ 1e-6 of the scale,
+    and friction takes energy at every step."""
     sim = case("kane_chain").build()
     summary = run(sim, tmp_path / "n", frames=False)
     ledger = summary["energy_ledger"]
-    assert 1.0 < ledger["created"] < 1.3 and ledger["friction_dissipation"] < -1.0
-    created, friction = summary["warnings"]
-    assert created.startswith("energy") and "in the friction" in created
+    assert 1.0 < ledger["created"] < 1.3 and 0.02 < ledger["friction_dissipation"] < 0.04
+    (created,) = summary["warnings"]
+    assert created.startswith("energy") and "in the velocity jump" in created
     assert "t = 0.408 s" in created
-    assert friction.startswith("energy: friction did") and "contact(s) 0" in friction
     options = IntegratorOptions(impact_law="poisson")
     summary = run(sim.replace(options=options), tmp_path / "p", frames=False)
     ledger = summary["energy_ledger"]
     assert ledger["created"] <= 1e-6 * ledger["scale"]
-    assert not [w for w in summary["warnings"] if w.startswith("energy: the run created")]
+    assert not [w for w in summary["warnings"] if w.startswith("energy")]
+    friction = read_history(tmp_path / "p" / "history.csv")["friction_dissipation"]
+    assert np.all(np.diff(friction) >= 0.0) and friction[-1] > 0.02
 
 
 @pytest.mark.parametrize(
