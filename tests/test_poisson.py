@@ -89,6 +89,11 @@ def test_disk_strikes_a_rough_floor(integrator, spin, regime):
     # one impulse solved in closed form per case of the law: round-off of a few operations
     np.testing.assert_allclose(v, exact, rtol=1e-12, atol=1e-12 * np.abs(exact).max())
     assert model.kinetic_energy(v) <= model.kinetic_energy(states[0].v)
+    # friction's share, Routh's: with D_NT = 0 the slip falls linearly in P_T in each phase,
+    # so it takes the slip's kinetic energy, (s₀² − s⁺²)/(2 D_TT) = m (s₀² − s⁺²)/6
+    s1 = v[0] + v[2] * R
+    friction = MASS * (s0**2 - s1**2) / 6
+    np.testing.assert_allclose(states[-1].friction.work, friction, rtol=1e-12)
 
 
 def _bar(u, V, law, mu=0.5, e=0.5, theta=np.pi / 4, L=1.0):
@@ -143,6 +148,19 @@ def test_bar_strikes_with_its_end_and_the_slip_reverses():
     # they differ: (0.629, -0.378, -2.095) against (0.671, -0.345, -2.057)
     assert np.max(np.abs(routh - exact)) > 0.03
     assert model.kinetic_energy(routh) <= T0
+    # friction's share. Compression: its end (stuck, P_T,c along the pre-impact slip) is
+    # out of Routh's reach (sticking needs 0.6 > μ of the cone), so the tangential impulse
+    # is read as acting after the normal one, on the slip it drives back: ½ D_TT P_T,c².
+    # Decompression: from stuck, one direction of impulse: −½ P_T,d s⁺ (s⁺ < 0 < P_T,d).
+    s_plus = (D[1, 0] + mu * D[1, 1]) * f
+    assert abs(slip - s_plus) <= 1e-12 * abs(s_plus)
+    friction = 0.5 * D[1, 1] * Pc[1] ** 2 - 0.5 * mu * f * s_plus
+    np.testing.assert_allclose(states[-1].friction.work, friction, rtol=1e-10)
+    assert friction > 0.0
+    # Routh's process dissipates by friction ½μP₁u forward, then μ(P_N − P₁)|s⁺|/2 backward
+    routh_slip = routh[0] - routh[2] * ry
+    routh_friction = 0.5 * mu * P1 * u + 0.5 * mu * (P_N_r - P1) * abs(routh_slip)
+    assert routh_friction > 0.0  # (0.035 J against the two-phase law's 0.0079 J)
 
 
 @pytest.mark.parametrize("mu, e", [(0.0, 0.7), (0.5, 0.0), (0.3, 0.0)])
@@ -166,6 +184,26 @@ def test_newton_and_poisson_agree_on_a_frictionless_chain_bounce():
     assert runs[0]["status"] == runs[1]["status"] == "completed"
     assert runs[0]["impulse"].max() > 0.0
     np.testing.assert_allclose(runs[1]["total"], runs[0]["total"], rtol=0, atol=1e-10)
+
+
+@pytest.mark.parametrize("e", [0.0, 0.5, 1.0])
+def test_kane_chain_friction_dissipates_as_in_routh(e):
+    """Kane's strike: the slip (0.497 m/s) stops on the cone's edge within the compression
+    and the end then sticks (|D̂_TN|/D̂_TT = 0.453 < μ = 0.5, D̂ the chain's Delassus matrix
+    at the end with the pins condensed), through the decompression too. Routh's process
+    then ends where the one-step law does, and friction takes ½ μ P₁ |s⁻| with
+    P₁ = |s⁻|/(μ D̂_TT − σ D̂_TN), the same under both laws at every e_N: 0.028 J."""
+    sim = case("kane_chain").build(restitution=e)
+    work = {}
+    for law in ("newton", "poisson"):
+        opts = IntegratorOptions(impact_law=law)
+        states = list(simulate(sim.model, sim.dt, 0.42, opts, q0=sim.q0, v0=sim.v0))
+        w = np.array([0.0 if st.friction is None else st.friction.work for st in states])
+        assert np.all(np.diff(w) >= 0.0)  # friction takes energy at every step
+        work[law] = w[-1]
+    # the compressions are one solve, the decompressions stick: round-off apart
+    assert work["poisson"] == pytest.approx(work["newton"], rel=1e-12)
+    assert 0.0280 < work["newton"] < 0.0286
 
 
 def test_kane_chain_newton_gains_and_poisson_does_not():
