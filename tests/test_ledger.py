@@ -155,3 +155,28 @@ def test_a_resumed_run_keeps_its_ledger(tmp_path):
     for k, v in whole["energy_ledger"].items():
         assert resumed["energy_ledger"][k] == pytest.approx(v, rel=1e-12, abs=1e-15), k
     assert resumed["warnings"] == whole["warnings"] and "t = 0.408 s" in whole["warnings"][0]
+
+
+def test_history_png_has_the_ledger_panel(tmp_path):
+    """The ledger's layers stack to the energy supplied at every step (the identity, drawn),
+    and history.png gains a 2 in panel for them below the total energy."""
+    import imageio.v3 as iio
+
+    from fecontact.io.history_plot import ledger_layers, plot_history
+
+    out = tmp_path / "ball"
+    args = ["run", str(ROOT / "cases" / "bouncing_ball.py"), "--quiet", "--out", str(out)]
+    assert main([*args, "--checkpoint-every", "0", "--t-end", "0.6"]) == 0
+    done = load_run(out)
+    layers, supply = ledger_layers(done.history)
+    assert [k for k, _ in layers][:3] == ["kinetic", "strain", "gravity − its least"]
+    assert min(float(np.min(y)) for k, y in layers[:3]) >= 0.0
+    stacked = sum(y for _, y in layers)
+    # the identity closes to round-off (test above); the stack adds seven layers of ~1 J
+    assert np.max(np.abs(stacked - supply)) <= 1e-9 * np.max(supply)
+    image = iio.imread(plot_history(out))
+    n_units = len({p.get("unit") for p in done.summary["probes"].values()})
+    # 150 dpi: 2 in per probe unit, 1.2 in total energy, 2 in ledger, 0.8 in margins
+    assert image.shape[0] == round((2.0 * n_units + 1.2 + 2.0 + 0.8) * 150)
+    history = {k: v for k, v in done.history.items() if k not in LEDGER_COLUMNS}
+    assert ledger_layers(history) is None
