@@ -121,13 +121,13 @@ def picture(path) -> None:
         h = read_history(f"{tmp}/history.csv")
     layers, supply = ledger_layers(h)
     layers = [(k, y) for k, y in layers if k not in ("damping", "friction")]  # zero here
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, ax = plt.subplots(figsize=(8.5, 4))
     ax.stackplot(h["t"], *(y for _, y in layers), labels=[k for k, _ in layers])
     ax.plot(h["t"], supply, "k--", lw=1, label="supplied: E(0) − least gravity energy")
     ax.set_xlabel("t (s)")
     ax.set_ylabel("J")
     ax.set_title("flexible pendulum, e_N = 0.5: where the gravity energy went")
-    ax.legend(loc="lower left", fontsize=8)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
 
