@@ -281,3 +281,38 @@ def test_decompression_solver_in_3d():
             else:  # on the edge: the impulse opposes the slip
                 assert np.linalg.norm(np.cross(np.r_[xt, 0], np.r_[wt, 0])) <= 1e-9
                 assert xt @ wt <= 1e-10
+
+
+@pytest.mark.parametrize("nt", [1, 2])
+def test_friction_in_a_phase_never_does_positive_work(nt):
+    """Random coupled contacts (and a joint row) under Coulomb's law at the end of a phase
+    (the decompression solver's outcomes, floors and all): the energy the tangential
+    impulses take is ≥ 0 whichever reading applies, and it is Routh's where the slip does
+    not couple to the normal motion (one contact, D_NT = 0, the slip kept or stopped)."""
+    from fecontact.contact.restitution import friction_dissipation
+
+    rng = np.random.default_rng(11 + nt)
+    b = 1 + nt
+    for _ in range(200):
+        m = int(rng.integers(1, 4))
+        n = m * b + 1
+        B = rng.normal(size=(n, n))
+        D = B @ B.T / n + 0.2 * np.eye(n)
+        c = rng.normal(size=n)
+        mu = rng.uniform(0.05, 1.0, m)
+        floor = rng.uniform(0.0, 1.0, m) * (rng.uniform(size=m) > 0.3)
+        x, _, _ = solve_decompression(c, D, mu, nt, floor, 1e-13)
+        w = c + D @ x
+        # Coulomb's law holds to the solver's 1e-13 in w: that, times the impulses, is the
+        # round-off a reading that vanishes can show
+        slack = 1e-11 * (1 + np.abs(x).max())
+        assert friction_dissipation(x, c, w, D, mu, nt, 1e-12) >= -slack
+    # one 2D contact, D_NT = 0: the slip's kinetic energy (s0² − s⁺²)/(2 D_TT)
+    D = np.diag([2.0, 3.0])
+    for s0, floor in ((1.0, 0.1), (1.0, 2.0), (-0.5, 1.0)):
+        c = np.array([0.0, s0])
+        x, _, _ = solve_decompression(c, D, [0.3], 1, [floor], 1e-14)
+        s1 = (c + D @ x)[1]
+        expected = (s0**2 - s1**2) / (2 * D[1, 1])
+        got = friction_dissipation(x, c, c + D @ x, D, [0.3], 1, 1e-12)
+        assert got == pytest.approx(expected, rel=1e-12)
