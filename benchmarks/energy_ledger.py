@@ -1,5 +1,6 @@
-"""The energy ledger on the founding case and on the runs where energy was seen to rise, and
-Newton's against Poisson's impact law where they differ.
+"""The energy ledger on the founding case and on the runs where energy was seen to rise, the
+default cases that warn against the step size, and Newton's against Poisson's impact law
+where they differ.
 
 Each run goes through ``fecontact.run``; the tables give its ``energy_ledger`` (J) and the
 warnings it raised (the phase named).
@@ -64,6 +65,26 @@ def gains(quick: bool) -> list[dict]:
     return rows
 
 
+def steps(quick: bool) -> list[dict]:
+    """The default cases whose runs warn, at their step h, h/2 and h/4 (and with smooth
+    contact on): how fast the energy they create falls with the step."""
+    items = [("rocking_block", {}, "off"), ("rocking_block", {}, "on")]
+    if not quick:
+        items += [
+            ("impacting_bar", {"n_elements": 20}, "auto"),
+            ("two_bars", {"n_elements": 20}, "auto"),
+            ("two_bars", {"n_elements": 20}, "on"),
+            ("ball_drop", {}, "auto"),
+        ]
+    rows = []
+    for name, kw, smooth in items:
+        sim = with_options(case(name).build(**kw), smooth_contact=smooth)
+        for f in (1, 2, 4):
+            label = f"{name} {kw or ''} smooth_contact={smooth}, h = {sim.dt / f:.3g}"
+            rows.append(ledger(label, sim.replace(dt=sim.dt / f)))
+    return rows
+
+
 def laws(quick: bool) -> list[dict]:
     rows = []
     items = [
@@ -87,31 +108,26 @@ def laws(quick: bool) -> list[dict]:
 
 
 def picture(path) -> None:
-    """The founding case's ledger over time (e_N = 0.5, ρ∞ = 0.5): where the energy went."""
+    """The founding case's ledger over time (e_N = 0.5, ρ∞ = 0.5): where the energy went,
+    the layers of history.png's ledger panel."""
     import matplotlib.pyplot as plt
 
+    from fecontact.io.history_plot import ledger_layers
     from fecontact.io.output import read_history
 
     sim = case("flexible_pendulum").build(restitution=0.5)
     with tempfile.TemporaryDirectory() as tmp:
         run(sim, tmp, frames=False, checkpoint_every=0)
         h = read_history(f"{tmp}/history.csv")
-    t = h["t"]
-    E0 = h["total_energy"][0]
-    fig, ax = plt.subplots(figsize=(7, 4))
-    ax.stackplot(
-        t,
-        h["kinetic_energy"],
-        h["strain_energy"],
-        h["impact_dissipation"],
-        h["numerical_dissipation"],
-        labels=["kinetic", "strain", "impact dissipation", "numerical dissipation"],
-    )
-    ax.plot(t, E0 - h["potential_energy"], "k--", lw=1, label="E(0) − gravity energy")
+    layers, supply = ledger_layers(h)
+    layers = [(k, y) for k, y in layers if k not in ("damping", "friction")]  # zero here
+    fig, ax = plt.subplots(figsize=(8.5, 4))
+    ax.stackplot(h["t"], *(y for _, y in layers), labels=[k for k, _ in layers])
+    ax.plot(h["t"], supply, "k--", lw=1, label="supplied: E(0) − least gravity energy")
     ax.set_xlabel("t (s)")
     ax.set_ylabel("J")
     ax.set_title("flexible pendulum, e_N = 0.5: where the gravity energy went")
-    ax.legend(loc="upper left", fontsize=8)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
 
@@ -121,6 +137,7 @@ def main() -> None:
     sections = [
         ("The founding case (flexible pendulum against a stop)", founding(args.quick)),
         ("Runs where energy was seen to rise", gains(args.quick)),
+        ("Default cases that warn, against the step", steps(args.quick)),
         ("Newton's and Poisson's impact laws", laws(args.quick)),
     ]
     text = ["# The energy ledger"]

@@ -7,9 +7,10 @@ joints). Released at rest with the first bar at ``angle1`` and the second at ``a
 bar strikes the floor y = 0, with restitution e_N and Coulomb friction μ: the configuration
 with which Kane & Levinson (1985) showed that Newton's kinematic restitution with friction
 can raise the energy (Glocker, Multibody Syst. Dyn., 2013, Parts I and II). At the strike
-the normal and tangential motions of the contact point couple and the slip reverses:
-with Newton's law and e_N = 1, μ = 0.5 the run ends 1.13 J above its start, friction
-having done positive work; with ``--set impact_law=poisson`` the impact loses energy.
+the normal and tangential motions of the contact point couple: the end's slip stops and the
+end sticks while the normal impulse pushes it back. With Newton's law and e_N = 1, μ = 0.5
+the run ends 1.13 J above its start, made by the kinematic restitution (friction takes
+0.028 J); with ``--set impact_law=poisson`` the impact loses energy.
 
 Probes: ``tip_x``, ``tip_y`` (m) of the striking end, and ``energy`` (J), the total
 mechanical energy T + V_gravity.

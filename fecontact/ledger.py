@@ -8,7 +8,9 @@ With E = T + V_strain + V_gravity (J) of the bodies, every step closes
   constant loads; gravity is in V_gravity);
 - D_damping: ½ h (vᵀC v at both ends of the step), C = αM + βK(q) (Rayleigh);
 - D_friction: the energy the tangential forces and impulses take, as each stepper measures
-  it (impulse × mean slip rate of the jump, force × slip of the step);
+  it (force × slip of the step; for the impulses of a jump, the work along a process in
+  which friction opposes the slip, :func:`fecontact.contact.restitution.friction_dissipation`;
+  Moreau–Jean: impulse × the step's slip);
 - D_impact: the rest of what the contact phase of a step changes. NSGA: the energy change
   of the position correction and of the velocity jump (with the acceleration follow-ups)
   that friction does not explain; Moreau–Jean: −P·G v_mid of the normal impulses;
@@ -19,10 +21,10 @@ With E = T + V_strain + V_gravity (J) of the bodies, every step closes
 D(t) = E(0) + W_loads(t) − E(t) is everything lost; it may only grow, up to the discrete
 energy's own oscillation (and, for the penalty baseline, less the energy ½ k δ² its
 contact springs hold for the rebound). ``created`` is its largest fall below its running
-maximum, ``scale``
-the largest T + V_strain of the run: a creation above 1e-3 of the scale is a warning naming
-the time, step and phase of the step that made the most of it. Friction that does positive
-work beyond 1e-6 of the scale is one too, naming the contacts. Moving obstacles do work that
+maximum, ``scale`` the largest T + V_strain of the run: a creation above 1e-3 of the scale
+is a warning naming the time, step and phase of the step whose own fall of D was the
+largest (the phase: that step's with the largest gain). Friction that does positive work
+beyond 1e-6 of the scale is one too, naming the contacts. Moving obstacles do work that
 lands in D_impact: their runs report the ledger but no creation warning.
 """
 
@@ -63,7 +65,7 @@ def smooth_record(
 class EnergyLedger:
     """The ledger of one run (J): cumulative terms, ``created`` and ``scale``."""
 
-    FIELDS = ("initial", "created", "scale", "peak", "positive_friction", "energy", "vCv")
+    FIELDS = ("initial", "created", "scale", "peak", "lost", "positive_friction", "energy", "vCv")
 
     def __init__(self, model, options):
         self.model = model
@@ -76,6 +78,7 @@ class EnergyLedger:
         self.created = 0.0
         self.scale = 0.0
         self.peak = -math.inf  # the running maximum of D
+        self.lost = math.nan  # D of the last state
         self.positive_friction = 0.0
         self.vCv = 0.0
         # the weight times the model's size (J): an energy scale for a body that rests
@@ -95,6 +98,8 @@ class EnergyLedger:
         if math.isnan(self.initial):
             self.initial = self.energy
             self.peak = 0.0
+        if math.isnan(self.lost):
+            self.lost = self.initial + self.terms["load_work"] - self.energy
         if self.damped:
             self.vCv = self._vCv(st)
 
@@ -201,10 +206,12 @@ class EnergyLedger:
     def _track(self, st, E, gains, friction) -> None:
         D = self.initial + self.terms["load_work"] - E - self._springs(st)
         fall = self.peak - D
+        # the step's own fall of D names it: a step whose correction gains what its jump
+        # loses made nothing; the phase named is the one of the step that gained the most
+        step_fall, self.lost = self.lost - D, D
         if D >= self.peak:
             self.peak, self.worst = D, None
         elif fall > 0.0:
-            step_fall = max(gains.values())
             if self.worst is None or step_fall > self.worst[0]:
                 phase = max(gains, key=gains.get)
                 self.worst = (step_fall, st.t, st.step, phase)

@@ -95,21 +95,25 @@ def test_loads_damping_friction_and_a_moving_floor(integrator, tmp_path):
 
 
 def test_kane_chain_newton_warns_and_poisson_does_not_create(tmp_path):
-    """Newton's law, e_N = 1, μ = 0.5: the run creates 1.13 J, made by friction, which the
-    warnings name with its contact. Poisson's law: created ≤ 1e-6 of the scale."""
+    """Newton's law, e_N = 1, μ = 0.5: the run creates 1.13 J in the strike's velocity jump,
+    which the warning names; friction takes 0.028 J there (the slip stops on the cone's
+    edge, then the end sticks: tests/test_poisson.py derives it), so no friction warning:
+    the gain is the kinematic restitution's. Poisson's law: created ≤ 1e-6 of the scale,
+    and friction takes energy at every step."""
     sim = case("kane_chain").build()
     summary = run(sim, tmp_path / "n", frames=False)
     ledger = summary["energy_ledger"]
-    assert 1.0 < ledger["created"] < 1.3 and ledger["friction_dissipation"] < -1.0
-    created, friction = summary["warnings"]
-    assert created.startswith("energy") and "in the friction" in created
+    assert 1.0 < ledger["created"] < 1.3 and 0.02 < ledger["friction_dissipation"] < 0.04
+    (created,) = summary["warnings"]
+    assert created.startswith("energy") and "in the velocity jump" in created
     assert "t = 0.408 s" in created
-    assert friction.startswith("energy: friction did") and "contact(s) 0" in friction
     options = IntegratorOptions(impact_law="poisson")
     summary = run(sim.replace(options=options), tmp_path / "p", frames=False)
     ledger = summary["energy_ledger"]
     assert ledger["created"] <= 1e-6 * ledger["scale"]
-    assert not [w for w in summary["warnings"] if w.startswith("energy: the run created")]
+    assert not [w for w in summary["warnings"] if w.startswith("energy")]
+    friction = read_history(tmp_path / "p" / "history.csv")["friction_dissipation"]
+    assert np.all(np.diff(friction) >= 0.0) and friction[-1] > 0.02
 
 
 @pytest.mark.parametrize(
@@ -151,3 +155,57 @@ def test_a_resumed_run_keeps_its_ledger(tmp_path):
     for k, v in whole["energy_ledger"].items():
         assert resumed["energy_ledger"][k] == pytest.approx(v, rel=1e-12, abs=1e-15), k
     assert resumed["warnings"] == whole["warnings"] and "t = 0.408 s" in whole["warnings"][0]
+
+
+def test_history_png_has_the_ledger_panel(tmp_path):
+    """The ledger's layers stack to the energy supplied at every step (the identity, drawn),
+    and history.png gains a 2 in panel for them below the total energy."""
+    import imageio.v3 as iio
+
+    from fecontact.io.history_plot import ledger_layers, plot_history
+
+    out = tmp_path / "ball"
+    args = ["run", str(ROOT / "cases" / "bouncing_ball.py"), "--quiet", "--out", str(out)]
+    assert main([*args, "--checkpoint-every", "0", "--t-end", "0.6"]) == 0
+    done = load_run(out)
+    layers, supply = ledger_layers(done.history)
+    assert [k for k, _ in layers][:3] == ["kinetic", "strain", "gravity − its least"]
+    assert min(float(np.min(y)) for k, y in layers[:3]) >= 0.0
+    stacked = sum(y for _, y in layers)
+    # the identity closes to round-off (test above); the stack adds seven layers of ~1 J
+    assert np.max(np.abs(stacked - supply)) <= 1e-9 * np.max(supply)
+    image = iio.imread(plot_history(out))
+    n_units = len({p.get("unit") for p in done.summary["probes"].values()})
+    # 150 dpi: 2 in per probe unit, 1.2 in total energy, 2 in ledger, 0.8 in margins
+    assert image.shape[0] == round((2.0 * n_units + 1.2 + 2.0 + 0.8) * 150)
+    history = {k: v for k, v in done.history.items() if k not in LEDGER_COLUMNS}
+    assert ledger_layers(history) is None
+
+
+@pytest.mark.parametrize(
+    "name, kw, order",
+    [
+        # the block pivoting on its corner: each correction lifts it by O(h²) more than the
+        # jump takes back, over O(1/h) steps: created/scale 1.19e-3, 5.97e-4, 2.98e-4
+        ("rocking_block", {}, 1.0),
+        # the bar held at the wall: the energy of the persistent contact oscillates by
+        # 2.9 %, 1.1 %, 0.32 % of the scale (order 1.4 and 1.8)
+        ("impacting_bar", {"n_elements": 20}, 1.4),
+    ],
+)
+@pytest.mark.filterwarnings("ignore:energy")
+def test_the_creation_of_default_cases_is_the_scheme_and_falls_with_the_step(
+    name, kw, order, tmp_path
+):
+    """The default cases that warn gain energy in persistent contact, a property of the
+    decoupled step that falls with h: halving the step divides `created` by at least 2^order
+    (the observed orders less 0.05: the order of a difference of two runs is not exact)."""
+    sim = case(name).build(**kw)
+    created = []
+    for f in (1, 2, 4):
+        summary = run(sim.replace(dt=sim.dt / f), tmp_path / str(f), frames=False)
+        ledger = summary["energy_ledger"]
+        created.append(ledger["created"] / ledger["scale"])
+    assert created[0] > 1e-3  # it warns at the default step
+    ratios = np.array(created[:2]) / np.array(created[1:])
+    assert np.all(np.log2(ratios) >= order - 0.05), ratios

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["solve_decompression"]
+__all__ = ["friction_dissipation", "solve_decompression"]
 
 
 def solve_decompression(c, D, mu, nt: int, floor, tol: float, max_sweeps: int = 2000):
@@ -56,6 +56,81 @@ def solve_decompression(c, D, mu, nt: int, floor, tol: float, max_sweeps: int = 
             xe = -Einv @ (c[nc:] + D[nc:, :nc] @ x)
             return np.concatenate([x, xe]), status, sweep
     raise RuntimeError(f"decompression: Gauss-Seidel changed w by {change:.3e} > {tol:.3e}")
+
+
+def friction_dissipation(x, w0, w, D, mu, nt: int, tol: float) -> float:
+    r"""The energy (J) the tangential impulses of one phase of an impact take, ≥ 0.
+
+    ``x``: the phase's impulses, ``w0``/``w``: the rates before/after it (w = w0 + D x), in
+    the layout of :func:`solve_decompression` (``len(mu)`` contacts of 1 + ``nt`` rows,
+    normal first, then the equality rows); ``D`` their Delassus matrix; ``tol`` the slip
+    rate (units of w) below which a contact sticks. A one-step law
+    gives the phase's ends, not its process, and the work of friction, ∫ P_T·w_T, depends
+    on the path between them. This reads the phase as a process in which friction opposes
+    the slip at every instant (as Coulomb's law asks), the first that the ends admit:
+
+    1. *slip, then stick* (one 2D contact that ends the phase stuck, Routh's process,
+       Stronge, *Impact Mechanics*, 2000, ch. 5): the impulse runs along the cone's edge,
+       P_T = −μ σ P_N (σ the sign of the slip w_T0), until the slip stops at
+       P₁ = |w_T0| / (μ D̂_TT − σ D̂_TN), then the contact sticks inside the cone up to the
+       phase's end. Friction takes ½ μ P₁ |w_T0|; sticking takes nothing;
+    2. *one direction of impulse* (every contact's P_T opposes its slip at both ends):
+       the impulse grows along itself, the slip runs linearly, and friction takes
+       −P_T·(w_T0 + w_T)/2;
+    3. otherwise (the slip reverses, or the stuck end is out of Routh's reach) *the normal
+       impulses first*, then the tangential ones, which take −P_T·w_T + ½ P_Tᵀ D̂_TT P_T: over
+       that part the slip runs from w_T − D̂_TT P_T to w_T, both ends opposing P_T where
+       Coulomb's law holds at the end of the phase.
+
+    D̂ is D with the equality rows (joints) condensed out: they hold throughout. Where the
+    slip's normal coupling D̂_TN is zero (a disk on a floor) readings 1 and 2 both give
+    Routh's answer. Reading the whole phase as one direction of impulse instead makes a
+    tangential impulse along the pre-impact slip (the reaction of a contact that sticks
+    while the normal impulse drives its slip back) do positive work."""
+    mu = np.asarray(mu, float)
+    m = mu.size
+    nc = m * (1 + nt)
+    if nt == 0 or m == 0:
+        return 0.0
+    x, w0, w = (np.asarray(a, float) for a in (x, w0, w))
+    t = np.flatnonzero(np.arange(nc) % (1 + nt) > 0)
+    Dh = _condensed(np.asarray(D, float), nc)
+    P, s0, s1 = (a[t].reshape(m, nt) for a in (x, w0, w))
+    n = x[: nc : 1 + nt]
+    if m == 1 and nt == 1:
+        work = _slip_then_stick(n[0], P[0, 0], s0[0, 0], s1[0, 0], mu[0], Dh, tol)
+        if work is not None:
+            return work
+    slack = tol * np.linalg.norm(P, axis=1)  # a stuck end's slip is zero to tol
+    if np.all(np.sum(P * s0, axis=1) <= slack) and np.all(np.sum(P * s1, axis=1) <= slack):
+        return float(-0.5 * np.sum(P * (s0 + s1)))
+    P = P.ravel()
+    return float(-P @ s1.ravel() + 0.5 * P @ (Dh[np.ix_(t, t)] @ P))
+
+
+def _condensed(D, nc):
+    """D of the contact rows with the equality rows after them condensed out."""
+    if D.shape[0] == nc:
+        return D
+    E = np.linalg.pinv(D[nc:, nc:])
+    return D[:nc, :nc] - D[:nc, nc:] @ E @ D[nc:, :nc]
+
+
+def _slip_then_stick(P_N, P_T, s0, s1, mu, Dh, tol):
+    """Reading 1 of :func:`friction_dissipation` for one 2D contact, or None where the
+    phase's ends do not admit it: a slip that does not stop on the cone's edge within the
+    phase's normal impulse, or a stick that would need more than the cone."""
+    if abs(s0) <= tol or abs(s1) > tol or P_N <= 0.0:
+        return None
+    sigma = np.sign(s0)
+    rate = mu * Dh[1, 1] - sigma * Dh[1, 0]  # how fast the edge's impulse stops the slip
+    if rate <= 0.0:
+        return None
+    P1 = abs(s0) / rate
+    rest = P_N - P1
+    if rest < 0.0 or abs(P_T + mu * sigma * P1) > mu * rest * (1 + 1e-12) + 1e-15 * P_N:
+        return None
+    return 0.5 * mu * P1 * abs(s0)
 
 
 def _local(c, D, mu, floor, tol):

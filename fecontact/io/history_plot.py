@@ -1,5 +1,5 @@
 """``history.png``: the probes of a run's ``history.csv`` against time, one panel per unit,
-the total energy, and the impacts marked."""
+the total energy, the energy ledger (where the energy went), and the impacts marked."""
 
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ from .output import (
     read_json,
 )
 
-__all__ = ["history_panels", "plot_history"]
+__all__ = ["history_panels", "ledger_layers", "plot_history"]
 
 
 _QUANTITY = {
@@ -54,8 +54,40 @@ def history_panels(columns: list[str], probes: dict) -> list[tuple[str, list[str
     return panels
 
 
+# the ledger panel's layers, bottom up: (label, history column(s)); dissipations after the
+# energies, each cumulative since t = 0 (fecontact.ledger)
+_LAYERS = (
+    ("kinetic", ("kinetic_energy",)),
+    ("strain", ("strain_energy",)),
+    ("gravity − its least", ("potential_energy",)),
+    ("damping", ("damping_dissipation",)),
+    ("friction", ("friction_dissipation",)),
+    ("impact", ("impact_dissipation",)),
+    ("numerical", ("numerical_dissipation",)),
+)
+
+
+def ledger_layers(history: dict) -> tuple[list[tuple[str, np.ndarray]], np.ndarray] | None:
+    """The energy ledger of a history as layers (label, J against time) that stack to the
+    energy supplied, E(0) + W_loads(t) less the least gravity energy of the run (returned
+    second): the energies the bodies hold, then what damping, friction, impacts and the
+    time integrator took since t = 0. The gravity energy is counted from its least value
+    so that every energy layer is ≥ 0. None when the history has no ledger columns."""
+    if any(k not in history for k in LEDGER_COLUMNS):
+        return None
+    gravity = history["potential_energy"]
+    low = float(np.min(gravity)) if gravity.size else 0.0
+    layers = []
+    for label, (column,) in _LAYERS:
+        y = history[column] - low if column == "potential_energy" else history[column]
+        layers.append((label, np.asarray(y, dtype=float)))
+    supply = history["total_energy"][:1] + history["load_work"] - low
+    return layers, supply
+
+
 def plot_history(out_dir, path=None) -> Path:
-    """Plot the probes of ``history.csv`` against time (s), grouped by unit, and total energy.
+    """Plot the probes of ``history.csv`` against time (s), grouped by unit, the total energy
+    and, where the history has them, the ledger's layers (:func:`ledger_layers`) stacked.
 
     Impacts listed in ``summary.json`` are marked by thin vertical lines. Writes
     ``history.png`` in the run folder unless ``path`` is given; returns the path.
@@ -65,7 +97,8 @@ def plot_history(out_dir, path=None) -> Path:
     folder = Path(out_dir)
     folder = folder.parent if folder.suffix == ".pvd" else folder
     history, summary, panels, energy = _history_panels(folder)
-    heights = [2.0] * len(panels) + [1.2] * energy
+    ledger = ledger_layers(history) if energy else None
+    heights = [2.0] * len(panels) + [1.2] * energy + [2.0] * (ledger is not None)
     # Figure without pyplot: the Agg canvas, and no global backend state touched
     fig = Figure(figsize=(7.0, sum(heights) + 0.8), dpi=150, layout="constrained")
     axes = fig.subplots(len(heights), 1, sharex=True, squeeze=False, height_ratios=heights)[:, 0]
@@ -76,8 +109,10 @@ def plot_history(out_dir, path=None) -> Path:
         ax.set_ylabel(label)
         ax.legend(loc="best", fontsize="small", frameon=False)
     if energy:
-        axes[-1].plot(t, history["total_energy"], lw=1.0, color="black")
-        axes[-1].set_ylabel("total energy (J)")
+        axes[len(panels)].plot(t, history["total_energy"], lw=1.0, color="black")
+        axes[len(panels)].set_ylabel("total energy (J)")
+    if ledger is not None:
+        _plot_ledger(axes[-1], t, *ledger)
     _mark_impacts(axes, summary.get("impacts") or [], t)
     indices = sorted([*folder.glob("*.pvd"), *folder.glob("*.frames.json")])
     title = indices[0].name.split(".")[0] if len(indices) == 1 else folder.name
@@ -85,6 +120,14 @@ def plot_history(out_dir, path=None) -> Path:
     path = Path(path) if path is not None else folder / "history.png"
     fig.savefig(path)
     return path
+
+
+def _plot_ledger(ax, t, layers, supply) -> None:
+    """The ledger's layers stacked, and the energy supplied as a dashed line on top."""
+    ax.stackplot(t, *(y for _, y in layers), labels=[k for k, _ in layers], alpha=0.8, lw=0)
+    ax.plot(t, supply, color="black", lw=0.8, ls="--", label="supplied")
+    ax.set_ylabel("where the energy went (J)")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="x-small", frameon=False)
 
 
 def _history_panels(folder: Path):

@@ -31,6 +31,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..contact.friction import coulomb_residual, solve_coulomb
+from ..contact.restitution import friction_dissipation
 from .constraints import Constraints, StepFailure, constraint_columns
 
 __all__ = [
@@ -147,9 +148,9 @@ def frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol, solve=None, pr
     """Velocity jump v = ṽ + W over the contacts ``closed`` (normal rates ``gdot`` with the
     impact law, then the joints' rows) with slip rows, in the metric ``solve`` = H⁻¹
     (default M⁻¹). Returns (W, k Λ_N, k Λ_T (len(closed), nt), status, iterations, work,
-    k Λ_b of the joints): work = −Σ_j k Λ_T,j·(w_T,j(ṽ) + G_T,j W/2) (J) is the kinetic
-    energy the tangential impulses take, exactly: the mean slip rate over the jump times the
-    impulse.
+    k Λ_b of the joints): work (J) is the kinetic energy the tangential impulses take, read
+    as acting after the normal ones (:func:`fecontact.contact.restitution.friction_dissipation`,
+    ≥ 0 where Coulomb's law holds for the jump's own impulse).
 
     ``preload`` (len(closed), 1 + nt): impulses (N·s) the contacts already carry over the
     step, h(λ_N, λ_T) of the smooth forces. The law then holds for the step's total impulse
@@ -191,7 +192,7 @@ def frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol, solve=None, pr
     own = k * x - pre
     lam_n, lam_t, lam_b = _split(own, m, nt)
     W = Y @ own
-    work = -float(np.sum(lam_t * (rate + 0.5 * (GT @ W))))
+    work = friction_dissipation(own, w, w + D @ own, D, contacts.friction[closed], nt, tol)
     return W, lam_n, lam_t, status, its, work, lam_b
 
 

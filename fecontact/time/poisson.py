@@ -27,7 +27,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..contact import solve_velocity_jump
-from ..contact.restitution import solve_decompression
+from ..contact.restitution import friction_dissipation, solve_decompression
 from .constraints import StepFailure, augmentation
 from .coulomb import frictional_jump
 
@@ -120,11 +120,10 @@ def _frictional(model, st, q, v, closed, G1, rates, pre, e, opts, tol, solve, kw
     w0 = np.concatenate([np.column_stack([rates[:nc], slip]).ravel(), rates[nc:]])
     c = w0 + D @ x_c
     floor = e[:nc] * np.clip(n_i, 0.0, n_c)
-    x_d, its_d = _decompression(c, D, model.contacts.friction[closed], nt, floor, tol)
+    mu = model.contacts.friction[closed]
+    x_d, its_d = _decompression(c, D, mu, nt, floor, tol)
     blocks = x_d[: nc * (1 + nt)].reshape(nc, 1 + nt)
-    rows = np.arange(nc * (1 + nt)) % (1 + nt) > 0
-    # the kinetic energy the decompression's tangential impulses take: impulse × mean slip
-    work_d = -float(x_d[: rows.size][rows] @ (c[: rows.size] + 0.5 * (D @ x_d)[: rows.size])[rows])
+    work_d = friction_dissipation(x_d, c, c + D @ x_d, D, mu, nt, tol)  # the decompression's
     lam = np.concatenate([n_c + blocks[:, 0], b_c + x_d[nc * (1 + nt) :]])
     restituted = np.any(x_d[: nc * (1 + nt)].reshape(nc, -1) != 0.0, axis=1)
     status = np.where(restituted, _slip_status(c + D @ x_d, nc, nt, tol), status)
