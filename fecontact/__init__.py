@@ -14,7 +14,11 @@ the driver, ``cli`` (the command line and sweeps). Every public name is importab
 """
 
 from .bodies import (
+    Ball,
     Beam2D,
+    Box,
+    Capsule,
+    Cylinder,
     Disk,
     LinearElastic,
     Material,
@@ -22,6 +26,7 @@ from .bodies import (
     PointMass,
     Polygon,
     RigidBody2D,
+    RigidBody3D,
     Section,
     Solid,
     StVenantKirchhoff,
@@ -36,6 +41,11 @@ from .time import IntegratorOptions, State, simulate
 from .version import __version__ as __version__
 
 __all__ = [
+    "Ball",
+    "Box",
+    "Capsule",
+    "Cylinder",
+    "RigidBody3D",
     "Beam2D",
     "Disk",
     "Circle",

@@ -13,6 +13,7 @@ from conftest import load_case
 import fecontact
 from fecontact import (
     Beam2D,
+    Box,
     Contact,
     Disk,
     IntegratorOptions,
@@ -23,6 +24,7 @@ from fecontact import (
     PointMass,
     Polygon,
     RigidBody2D,
+    RigidBody3D,
     Section,
     Simulation,
     Solid,
@@ -43,6 +45,7 @@ def bodies():
         RigidBody2D.uniform(1.0, [0, 0], Disk(0.1)),
         RigidBody2D.uniform(1.0, [0, 0], Polygon.box(0.2, 0.1)),
         PointMass(1.0, [0.0, 0.0]),
+        RigidBody3D.uniform(1.0, [0, 0, 0], Box(0.2, 0.1, 0.3)),
     ]
 
 
@@ -78,7 +81,7 @@ def test_every_body_provides_the_protocol_with_its_signatures(body):
     assert (
         isinstance(body.ndof, int)
         and body.ndof == body.dofs_per_node * body.n_nodes
-        or (body.rigid_frame and body.ndof == 3)
+        or (body.rigid_frame and body.ndof == body.dofs_per_node)
     )
     assert body.mass > 0.0 and body.characteristic_length > 0.0
     assert body.mass_matrix().shape == (body.ndof, body.ndof)
@@ -115,6 +118,7 @@ KIND_MEMBERS = {
     },
     RigidBody2D: {"shape", "position", "center", "orientation", "to_frame", "frame_point_function"},
     PointMass: {"position"},
+    RigidBody3D: {"shape", "position", "center", "rotation", "to_frame", "frame_point_function"},
 }
 
 

@@ -1,12 +1,19 @@
 """Bodies: the planar geometrically exact beam, elastic solids on scikit-fem meshes with their
-materials, and planar rigid bodies. Each owns a slice of the model's dofs."""
+materials, planar rigid bodies and rigid bodies in space. Each owns a slice of the model's dofs."""
 
 from .beam import Beam2D, Material, Section
 from .materials import LinearElastic, NeoHookean, StVenantKirchhoff
 from .rigid import Disk, PointMass, Polygon, RigidBody2D
+from .rigid3d import RigidBody3D
+from .shapes3d import Ball, Box, Capsule, Cylinder
 from .solid import Solid
 
 __all__ = [
+    "Ball",
+    "Box",
+    "Capsule",
+    "Cylinder",
+    "RigidBody3D",
     "Beam2D",
     "Disk",
     "LinearElastic",

@@ -17,6 +17,7 @@ from .correction import unit_columns
 from .coulomb import SmoothFriction
 from .descent import Armijo, descent_direction
 from .generalized_alpha import predict
+from .lie import LieStep, on_group, predict_increment
 from .settings import RunSettings, run_settings
 from .smooth_contact import SmoothContacts
 from .state import JointTolerance
@@ -80,15 +81,23 @@ class _AlphaNewton:
     # the attributes (slots: every access of the step's hot loop is cheaper)
     __slots__ = (
         "Cb Ct F Gb K S W X a alpha armijo beta_k bounded c clock curved fext ff fi gb "
-        "joints lam linear model nF nb opts plain q r ref rnorm sc solve timer tol_b "
+        "joints lam lie linear model nF nb opts plain q r ref rnorm sc solve timer tol_b "
         "unconstrained v vd x"
     ).split()
 
     def __init__(self, model, st, t, c, opts, timer, P):
         self.model, self.c, self.opts, self.timer = model, c, opts, timer
         self.F, self.nF = model.free_slice, model.n_free
-        self.X = X = predict(st, c)
-        self.q, self.v, self.vd, self.a = X  # views: the rows follow every update of X
+        # on a Lie group (rotation vectors, gyroscopic forces; decided once per model) the
+        # first row of X is the increment D and q = q_n ⊕ D is evaluated from it (:mod:`.lie`)
+        self.lie = LieStep(model, st.q, c) if on_group(model) else None
+        if self.lie is None:
+            self.X = X = predict(st, c)
+            self.q, self.v, self.vd, self.a = X  # views: the rows follow every update of X
+        else:
+            self.X = X = predict_increment(st, c)
+            _, self.v, self.vd, self.a = X
+            self.q = self.lie.configuration(X[0])
         self.lam = st.lam.copy()
         self.fext = model.external(t)[self.F]
         self.ff = self.fext @ self.fext
@@ -104,7 +113,7 @@ class _AlphaNewton:
         self.plain = True  # every solve was with S_t alone (not bordered): S_t's solver is a metric
         # linear bodies: S_t = β′M + γ′C + K is assembled and factorized once per step size;
         # joints border it with their (q-dependent) gradient and curvature
-        self.linear = model.linear
+        self.linear = model.linear and self.lie is None
         # ... and then the joints' Taylor remainders bound the residual an update leaves
         self.bounded = self.linear and self.nb and not self.joints.linear and sc is None
         self.unconstrained = not self.nb and sc is None
@@ -125,8 +134,7 @@ class _AlphaNewton:
         fi = fint[F]
         Mvd = model.M @ vd[F]
         r = Mvd + fi - self.fext
-        if self.alpha or self.beta_k:
-            r += self._damping(K) @ v[F]
+        r += self._velocity_forces(K, v)  # (0.0 without damping and rotating bodies)
         if self.nb:
             # the joints' curvature where a solve is sure to follow (the first iteration),
             # else only once one does
@@ -149,6 +157,15 @@ class _AlphaNewton:
             and (self.sc is None or self.sc.satisfied(self.tol_b.admits))
         )
 
+    def _velocity_forces(self, K, v):
+        """The damping force C_t v and the inertial forces of rotating bodies (:mod:`.lie`)."""
+        f = 0.0
+        if self.alpha or self.beta_k:
+            f = self._damping(K) @ v[self.F]
+        if self.lie is not None:
+            f = f + self.lie.inertial(self.q, v)
+        return f
+
     def _damping(self, K):
         """C_t = αM + βK_t (kept for the iteration matrix)."""
         model, c = self.model, self.c
@@ -167,15 +184,20 @@ class _AlphaNewton:
             self.S = model.iteration_sum(c.bp, self.K)
             if self.Ct is not None:
                 self.S = self.S + c.gp * self.Ct
+        if self.lie is not None:
+            self.S = self.lie.iteration_matrix(self.S, self.K)
         S = self.S
         touching = sc is not None and sc.active.any()
-        if touching and not self.nb:  # S_t's own factors, and the contact zone's curvature
+        # S_t's own factors, and the contact zone's curvature (S_t symmetric: not on a group)
+        if touching and not self.nb and self.lie is None:
             dq = self._contact_update(S)
         elif self.nb or touching:
             dq = self._bordered_update(S, touching)
         else:
             dq = self._plain_update(S)
         self.X[:, self.F] += np.multiply.outer(c.w, dq)  # q, v, v̇, a
+        if self.lie is not None:  # (D, v, v̇, a): the positions q_n ⊕ D
+            self.q = self.lie.configuration(self.X[0])
         self.clock = self.timer.add("solve", self.clock)
         if self.unconstrained:  # (decided once: no joints, no persistent contacts)
             return model.update_size(dq) <= self.opts.tol_increment
@@ -197,14 +219,18 @@ class _AlphaNewton:
         model, nb, nF, joints, sc = self.model, self.nb, self.nF, self.joints, self.sc
         if nb and self.Cb is None and not joints.linear:
             self.Cb = joints.curvature(self.q, joints.all, self.lam)
-        Kb = plus_curvature(S, 1.0, self.Cb if nb else None)
+        Cb = self.Cb if nb else None
+        if self.lie is not None:  # the forces' curvature moves with D through T(D)
+            Cb = self.lie.right(Cb)
+        Kb = plus_curvature(S, 1.0, Cb)
         g_rows, G_rows = (self.gb, self.Gb) if nb else (np.zeros(0), np.zeros((0, nF)))
         if touching:
             gA, GA = sc.rows()
             Kb = plus_curvature(Kb, 1.0, sc.C)
             g_rows, G_rows = np.concatenate([g_rows, gA]), np.vstack([G_rows, GA])
         residual = self.rnorm / self.ref
-        self.solve = factorize_or_fail(bordered(Kb, G_rows), residual, False, model.solver)
+        A = bordered(Kb, G_rows) if self.lie is None else self.lie.bordered(Kb, G_rows)
+        self.solve = factorize_or_fail(A, residual, False, model.solver)
         self.plain = False
         self.x = x = -self.solve(np.concatenate([self.r, g_rows]))
         dq, self.lam = x[:nF], self.lam + x[nF : nF + nb]
@@ -215,6 +241,9 @@ class _AlphaNewton:
     def _plain_update(self, S):
         """Newton's update with S_t alone, globalized where the model is nonlinear."""
         model, r = self.model, self.r
+        if self.lie is not None:  # S_t is not symmetric (gyroscopic, T(D)): plain Newton
+            self.plain = False
+            return -factorize_or_fail(S, self.rnorm / self.ref, False, model.solver)(r)
         if not self.linear:
             self.solve = factorize_or_fail(S, self.rnorm / self.ref, True, model.solver)
         if self.linear:  # Π is quadratic and S_t positive definite: Newton's step is exact

@@ -1,0 +1,126 @@
+r"""The smooth step on a Lie group: models with rotation vectors or gyroscopic forces.
+
+The generalized-α step of Brüls & Cardona (J. Comput. Nonlinear Dyn. 2010) and Arnold, Brüls &
+Cardona (Multibody Syst. Dyn. 2015). The velocities v, v̇ and a of a rotation are body-frame
+vectors (Ω and its rates) and add; the positions do not: with the increment
+
+    D = h Δq_n = h v_n + h²(½ − β) a_n + h²β a_{n+1},     q_{n+1} = q_n ⊕ D,
+
+(⊕ the right composition exp(ψ̃) exp(D̃) on each rotation triple, addition elsewhere). The
+Newton iteration keeps D additive, like q in the planar step, and evaluates q = q_n ⊕ D. A
+position-dependent term f(q) moves with D through the right tangent, ∂f/∂D = (∂f/∂Θ) T(D) with
+∂/∂Θ the body-frame derivative, so its stiffness and the constraint rows are multiplied on the
+right by the block-diagonal T(D) (identity off the triples). The gyroscopic force Ω × JΩ joins
+the residual, its tangent ∂/∂Ω with the rate γ′ at which v moves with D:
+
+    S_t = β′M + γ′(C + C_Ω) + K_t T(D).
+
+Contact rows of persistent smooth contacts keep T = I in the matrix (their residual is exact;
+T(D) = I + O(|D|) only slows Newton by a factor O(|D|) where they act).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..rotations import tangent
+from .configuration import plus
+
+__all__ = ["LieStep", "inertial_forces", "on_group", "predict_increment"]
+
+
+def on_group(model) -> bool:
+    """Whether the model's smooth step runs on the Lie group (decided once per model)."""
+    return bool(model.rotations.size or model.inertial_bodies)
+
+
+def predict_increment(st, c) -> np.ndarray:
+    """The generalized-α predictor of (D, v, v̇, a) (rows of one (4, n) array), D = q_{n+1} ⊖
+    q_n the increment of the positions."""
+    return c.P @ np.array([np.zeros_like(st.q), st.v, st.vd, st.a])
+
+
+def inertial_forces(model, q: np.ndarray, v: np.ndarray, tangent: bool = True):
+    """The bodies' velocity-dependent inertial forces (gyroscopic Ω × JΩ, N·m) on the free
+    dofs and, with ``tangent``, their tangent ∂f/∂v (free dofs; dense or CSR like the model's
+    matrices)."""
+    f = np.zeros(model.n)
+    n_free = model.n_free
+    C = None
+    if tangent:
+        C = np.zeros((n_free, n_free)) if model.dense else sp.lil_matrix((n_free, n_free))
+    for body, s in model.inertial_bodies:
+        fb, Cb = body.inertial(q[s], v[s])
+        f[s] += fb
+        if tangent:
+            idx = model.free_index[np.arange(s.start, s.stop)]
+            keep = idx >= 0
+            C[np.ix_(idx[keep], idx[keep])] += np.asarray(Cb)[np.ix_(keep, keep)]
+    if C is not None and not model.dense:
+        C = C.tocsr()
+    return f[model.free_slice], C
+
+
+class LieStep:
+    """The Lie-group parts of one smooth step from the positions ``q_n`` with coefficients
+    ``c``: the configuration q_n ⊕ D, the gyroscopic force and the right tangent T(D)."""
+
+    def __init__(self, model, q_n: np.ndarray, c):
+        self.model, self.q_n, self.c = model, q_n, c
+        self.T = None  # (k, 3, 3) right tangents at the current D
+        self.C_v = None  # the gyroscopic tangent ∂f/∂v on the free dofs
+
+    def configuration(self, D: np.ndarray) -> np.ndarray:
+        """q = q_n ⊕ D (all dofs); also evaluates T(D) for the matrices of the iteration."""
+        model = self.model
+        R = model.rotations
+        if R.size:
+            self.T = tangent(D[model.free[R]])
+        return plus(model, self.q_n, D[model.free_slice])
+
+    def inertial(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """The velocity-dependent inertial force on the free dofs (N, N·m); keeps its tangent
+        ∂f/∂v for the iteration matrix."""
+        f, self.C_v = inertial_forces(self.model, q, v)
+        return f
+
+    def right(self, A):
+        """A T(D): the columns of the rotation triples of ``A`` (free dofs) times T(D)."""
+        R = self.model.rotations
+        if A is None or not R.size:
+            return A
+        if sp.issparse(A):
+            return (A @ self._block()).tocsr()
+        out = np.array(A, dtype=float, copy=True)
+        out[:, R] = np.einsum("nki,kij->nkj", np.asarray(A)[:, R], self.T)
+        return out
+
+    def _block(self) -> sp.csr_matrix:
+        """The block-diagonal T(D) on the free dofs (identity off the triples)."""
+        n, R = self.model.n_free, self.model.rotations
+        off = np.setdiff1d(np.arange(n), R.ravel())
+        rows = np.concatenate([off, np.repeat(R, 3, axis=1).ravel()])
+        cols = np.concatenate([off, np.tile(R, (1, 3)).ravel()])
+        vals = np.concatenate([np.ones(off.size), self.T.ravel()])
+        return sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+
+    def iteration_matrix(self, S, K):
+        """S_t of the group: ``S`` = β′M + γ′C + K from the additive step, with K T(D) in
+        place of K and the gyroscopic tangent γ′C_Ω added."""
+        if self.model.rotations.size and K is not None:
+            S = S + (self.right(K) - K)
+        if self.C_v is not None:
+            S = S + self.c.gp * self.C_v
+        return S
+
+    def bordered(self, Kb, G):
+        """[[K_b, Gᵀ], [G T(D), 0]]: the forces Gᵀλ act in the body frame, the constraint
+        rows move with D through T(D)."""
+        GT = self.right(G)
+        if sp.issparse(Kb):
+            return sp.bmat([[Kb, sp.csr_matrix(G.T)], [sp.csr_matrix(GT), None]], format="csc")
+        n = Kb.shape[0]
+        A = np.zeros((n + G.shape[0],) * 2)
+        A[:n, :n], A[:n, n:], A[n:, :n] = Kb, G.T, GT
+        return A
