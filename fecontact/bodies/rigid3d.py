@@ -198,6 +198,10 @@ class RigidBody3D(BodyDefaults):
     def point_positions(self, q: np.ndarray, nodes: np.ndarray) -> np.ndarray:
         return self.center(q) + self._points[nodes] @ self.rotation(q).T
 
+    def point_positions_frame(self, q: np.ndarray, r: np.ndarray) -> np.ndarray:
+        """Positions c + R r (m, 3) of body-frame points ``r`` (m, 3) alone."""
+        return self.center(q) + r @ self.rotation(q).T
+
     def frame_point_kinematics(self, q: np.ndarray, r):
         """As ``point_kinematics`` for body-frame points ``r`` (m, 3) (m, from the centre)."""
         r = np.atleast_2d(r)

@@ -1,0 +1,76 @@
+"""Rigid bodies in space touching a plane: a ball rolling out of a slide (exact), a box at rest
+on its face, and the tumbling box coming to rest."""
+
+import numpy as np
+import pytest
+from conftest import load_case
+
+from fecontact import Ball, Box, Contact, IntegratorOptions, Model, Plane, RigidBody3D
+from fecontact.time.simulate import simulate
+
+R_BALL, V0, MU, G = 0.1, 2.0, 0.3, 9.81
+
+
+def rolling(options=None, h=1e-3, t_end=0.3):
+    ball = RigidBody3D.uniform(1.0, [0.0, 0.0, R_BALL], Ball(R_BALL))
+    floor = Plane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+    model = Model([ball], [Contact(ball, floor, friction=MU)], gravity=(0.0, 0.0, -G))
+    states = list(simulate(model, h, t_end, options, v0=np.r_[V0, 0.0, 0.0, 0.0, 0.0, 0.0]))
+    t = np.array([s.t for s in states])
+    v = np.array([s.v[0] for s in states])
+    # the spatial angular velocity about y: ω = R Ω
+    w = np.array([(ball.rotation(s.q) @ s.v[3:])[1] for s in states])
+    z = np.array([ball.center(s.q)[2] for s in states])
+    return t, v, w, z
+
+
+def test_a_ball_launched_sliding_ends_rolling_at_five_sevenths_at_the_exact_time():
+    """Sliding: v = v₀ − μgt, ω = 5μgt/(2r); rolling from t* = 2v₀/(7μg) at 5v₀/7. The steps
+    land on the exact lines to round-off (constant forces: the scheme is exact), the slip
+    stops in the step holding t*, and the ball never leaves or enters the plane."""
+    t, v, w, z = rolling()
+    t_star = 2 * V0 / (7 * MU * G)
+    exact = np.where(t < t_star, V0 - MU * G * t, 5 * V0 / 7)
+    assert np.abs(v - exact).max() < 1e-12
+    assert v[-1] == pytest.approx(5 * V0 / 7, rel=1e-13)
+    slip = v - R_BALL * w
+    rolls = t[np.flatnonzero(np.abs(slip) < 1e-10)[0]]
+    assert t_star <= rolls < t_star + 1e-3
+    assert np.abs(z - R_BALL).max() < 1e-12
+
+
+def test_the_rolling_ball_is_independent_of_p_and_k():
+    """The multipliers' scalings change the iterations, not the answer (1e-12 m/s)."""
+    _, v, _, _ = rolling(t_end=0.25)
+    for p, k in ((10.0, 1.0), (0.1, 1.0), (1.0, 10.0), (1.0, 0.1)):
+        opts = IntegratorOptions(penalty_scale=p, multiplier_scale=k)
+        _, vpk, _, _ = rolling(opts, t_end=0.25)
+        assert np.abs(vpk - v).max() < 1e-12, (p, k)
+
+
+def test_a_box_set_down_on_its_face_rests_on_its_four_corners_without_chatter():
+    box = RigidBody3D.uniform(1.0, [0.0, 0.0, 0.05], Box(0.2, 0.15, 0.1))
+    floor = Plane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+    model = Model([box], [Contact(box, floor, friction=0.5)], gravity=(0.0, 0.0, -G))
+    states = list(simulate(model, 1e-3, 0.2))
+    assert max(np.abs(s.q).max() for s in states) < 1e-12
+    assert max(np.abs(s.v).max() for s in states) < 1e-12
+    # the bottom four corners carry the weight (2.45 N each, impulses h m g / 4), the top none
+    last = states[-1]
+    assert np.count_nonzero(last.impulse > 0) + np.count_nonzero(last.nu > 0) >= 4
+
+
+@pytest.mark.slow
+def test_the_tumbling_box_comes_to_rest_on_a_face_without_penetrating_or_gaining_energy(tmp_path):
+    import fecontact
+
+    sim = load_case("tumbling_box").build()
+    summary = fecontact.run(sim, tmp_path, checkpoint_every=0, frames=False)
+    history = fecontact.load_run(tmp_path).history
+    assert summary["status"] == "completed"
+    assert np.min(history["min_gap"]) >= -1e-9
+    ledger = summary["energy_ledger"]
+    assert ledger["created"] <= 1e-3 * ledger["scale"]
+    assert history["upright"][-1] == pytest.approx(1.0, abs=1e-9)
+    assert history["z"][-1] == pytest.approx(0.05, abs=1e-9)  # on its largest face
+    assert history["speed"][-1] < 1e-6 and history["omega"][-1] < 1e-6
