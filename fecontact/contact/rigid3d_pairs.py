@@ -14,8 +14,8 @@ vertices on a ``Plane``     :class:`fecontact.contact.NodeContact` through the b
 ==========================  =================================================================
 
 Friction acts at the contact points, the balls' points nearest the partner: its slip rows
-carry the rotation (a ball rolls), and the slip over a step is the chord of that material
-point (exact for a rigid body).
+carry the rotation (a ball rolls), and the slip over a step is those rows applied to the
+step's increment (Δu, log(R_nᵀR)), zero when the ball rolls.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ import numpy as np
 from ..bodies.rigid3d import RigidBody3D
 from ..bodies.shapes3d import Ball
 from ..errors import InputError, check_range
-from ..rotations import exp, hat
+from ..rotations import exp, hat, log
 from .base import PairDefaults
 from .friction import tangent_basis
 from .node_pairs import NodeContact
@@ -41,6 +41,11 @@ def _arm_rows(R: np.ndarray, a: np.ndarray) -> np.ndarray:
     J[:, :, :3] = np.eye(3)
     J[:, :, 3:] = -R @ hat(a)
     return J
+
+
+def _increment(q: np.ndarray, q_n: np.ndarray) -> np.ndarray:
+    """(Δu, log(R_nᵀR)) of a rigid body from q_n to q: the body-frame increment of a step."""
+    return np.concatenate([q[:3] - q_n[:3], log(exp(q_n[3:]).T @ exp(q[3:]))])
 
 
 class BallsPlaneContact(PairDefaults):
@@ -96,13 +101,11 @@ class BallsPlaneContact(PairDefaults):
         return self.dofs + self.offset, np.einsum("mti,mik->mtk", T, _arm_rows(R, a)), T
 
     def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
-        """T·(x(q) − x(q_n)) of the material contact points of q."""
-        _, a = self._arms(q)
-        b = self.body
-        dx = b.point_positions_frame(self._local(q), a) - b.point_positions_frame(
-            q_n[self.offset : self.offset + 6], a
-        )
-        return np.einsum("mtd,md->mt", T, dx)
+        """The slip rows at q applied to the step's increment (Δu, log(R_nᵀR)): zero for a
+        ball rolling over the step, as its slip velocity (a material point would trace a
+        cycloid, O(Δθ³) off)."""
+        _, G, _ = self.tangents(q)
+        return G @ _increment(self._local(q), q_n[self.offset : self.offset + 6])
 
 
 class BallBallContact(PairDefaults):
@@ -160,14 +163,16 @@ class BallBallContact(PairDefaults):
         return self._dofs(), np.einsum("mti,ik->mtk", T, rows), T
 
     def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
-        (_, aa), (_, ab), _ = self._arms(q)
-        (a, b), (oa, ob) = self.bodies, self.offsets
-
-        def rel(x):
-            xa = a.point_positions_frame(x[oa : oa + 6], aa[None])
-            return b.point_positions_frame(x[ob : ob + 6], ab[None]) - xa
-
-        return np.einsum("mtd,md->mt", T, rel(q) - rel(q_n))
+        """The slip rows at q applied to both bodies' increments (as ``BallsPlaneContact``)."""
+        _, G, _ = self.tangents(q)
+        (oa, ob) = self.offsets
+        d = np.concatenate(
+            [
+                _increment(q[oa : oa + 6], q_n[oa : oa + 6]),
+                _increment(q[ob : ob + 6], q_n[ob : ob + 6]),
+            ]
+        )
+        return G @ d
 
 
 @register_pair(RigidBody3D, Plane)
