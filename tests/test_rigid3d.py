@@ -99,3 +99,20 @@ def test_free_body_converges_at_second_order():
         err.append(np.abs(states[-1].v[3:] - omega(2.0)).max())
     slopes = np.log2(np.array(err[:-1]) / np.array(err[1:]))
     assert np.all((slopes > 1.9) & (slopes < 2.1)), (err, slopes)
+
+
+@pytest.mark.parametrize(
+    "options, name",
+    [
+        ({"integrator": "moreau"}, "integrator"),
+        ({"integrator": "penalty"}, "integrator"),
+        ({"scheme": "energy-decaying"}, "scheme"),
+    ],
+)
+def test_other_integrators_refuse_rotations_in_space_by_name(options, name):
+    from fecontact import IntegratorOptions
+
+    body = RigidBody3D.uniform(1.0, [0.0, 0.0, 0.0], Box(1.0, 1.0, 1.0))
+    model = Model([body], gravity=(0.0, 0.0, 0.0))
+    with pytest.raises(InputError, match=name):
+        next(simulate(model, 1e-3, 0.01, IntegratorOptions(**options)))

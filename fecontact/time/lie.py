@@ -24,15 +24,33 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from ..errors import InputError
 from ..rotations import tangent
 from .configuration import plus
 
-__all__ = ["LieStep", "inertial_forces", "on_group", "predict_increment"]
+__all__ = ["LieStep", "check_group", "inertial_forces", "on_group", "predict_increment"]
 
 
 def on_group(model) -> bool:
     """Whether the model's smooth step runs on the Lie group (decided once per model)."""
     return bool(model.rotations.size or model.inertial_bodies)
+
+
+def check_group(model, settings) -> None:
+    """Rotations in space run on the NSGA integrator with the generalized-α smooth step: an
+    ``InputError`` naming the option otherwise (before any step)."""
+    if not on_group(model):
+        return
+    if settings.integrator != "nsga":
+        raise InputError(
+            f"integrator = {settings.integrator!r}: rotations in space (RigidBody3D, gyroscopic "
+            "forces) run on integrator 'nsga' only"
+        )
+    if settings.scheme != "generalized-alpha":
+        raise InputError(
+            f"scheme = {settings.scheme!r}: rotations in space (RigidBody3D, gyroscopic forces) "
+            "run on scheme 'generalized-alpha' only"
+        )
 
 
 def predict_increment(st, c) -> np.ndarray:

@@ -8,6 +8,7 @@ from collections.abc import Callable
 from ..linalg.choice import RunPlan
 from .constraints import StepFailure
 from .energy_step import check_energy_scheme, energy_nsga_step
+from .lie import check_group
 from .moreau import moreau_step
 from .nsga import nsga_step
 from .penalty import penalty_step
@@ -82,6 +83,7 @@ def make_stepper(
     ``"auto"`` weighs the costs of the ``steps`` time steps the run will take (None: it
     factorizes). Raises ``InputError`` where the energy-decaying step does not apply."""
     settings = run_settings(model, options, stats)
+    check_group(model, settings)  # rotations in space: NSGA with generalized-α only
     kind = STEPPERS[settings.integrator]
     if settings.scheme == "energy-decaying":
         check_energy_scheme(model, settings)
