@@ -118,7 +118,15 @@ KIND_MEMBERS = {
     },
     RigidBody2D: {"shape", "position", "center", "orientation", "to_frame", "frame_point_function"},
     PointMass: {"position"},
-    RigidBody3D: {"shape", "position", "center", "rotation", "to_frame", "frame_point_function"},
+    RigidBody3D: {
+        "shape",
+        "position",
+        "center",
+        "rotation",
+        "to_frame",
+        "frame_point_kinematics",
+        "point_positions_frame",
+    },
 }
 
 
@@ -142,6 +150,8 @@ def short_runs():
         case("rocking_block").build().replace(t_end=0.2),
         case("elastic_block").build(divisions=2, t_end=0.01, velocity=0.5),
         Simulation(drop, dt=1e-3, t_end=0.1, name="point_drop"),
+        case("heavy_top").build(dt=1e-3, t_end=0.05),
+        case("tumbling_box").build(t_end=0.25),
     ]
 
 
@@ -158,7 +168,7 @@ def test_the_package_uses_no_body_member_the_protocol_does_not_declare(tmp_path,
     monkeypatch.setattr(BodyDefaults, "__getattribute__", recording, raising=False)
     for i, sim in enumerate(short_runs()):
         fecontact.run(sim, tmp_path / str(i), checkpoint_every=0)
-    assert set(seen) == {Beam2D, Solid, RigidBody2D, PointMass}
+    assert set(seen) == {Beam2D, Solid, RigidBody2D, PointMass, RigidBody3D}
     declared = protocol_members(Body) | protocol_members(EnergyConsistentBody)
     for cls, names in seen.items():
         names = {n for n in names if not (n.startswith("__") and n.endswith("__"))}

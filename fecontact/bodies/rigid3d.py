@@ -215,11 +215,6 @@ class RigidBody3D(BodyDefaults):
         H[:, :, 3:, 3:] = hat(r)[:, None] @ hat(R)[None]  # hat(R) rows: (Rᵀe_i)~
         return x, np.repeat(_DOFS6, m, axis=0), J, H
 
-    def frame_point_function(self, r):
-        """q ↦ ``frame_point_kinematics(q, r)``."""
-        r = np.atleast_2d(np.asarray(r, float))
-        return lambda q: self.frame_point_kinematics(q, r)
-
     def point_data(self, q: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:
         """Displacement and velocity of the output points (m, m/s), the body's rotation
         vector ψ (rad) and body-frame angular velocity Ω (rad/s) at every point."""
