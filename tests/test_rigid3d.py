@@ -116,3 +116,14 @@ def test_other_integrators_refuse_rotations_in_space_by_name(options, name):
     model = Model([body], gravity=(0.0, 0.0, 0.0))
     with pytest.raises(InputError, match=name):
         next(simulate(model, 1e-3, 0.01, IntegratorOptions(**options)))
+
+
+def test_single_vector_paths_of_the_rotations_agree_with_the_vectorised_ones():
+    from fecontact.rotations import compose, tangent
+
+    rng = np.random.default_rng(7)
+    for scale in (1e-9, 1e-5, 0.3, 3.0):
+        psi, delta = rng.normal(size=(2, 3)) * scale
+        assert np.allclose(exp(psi), exp(psi[None])[0], rtol=0, atol=1e-15)
+        assert np.allclose(tangent(psi), tangent(psi[None])[0], rtol=0, atol=1e-15)
+        assert np.allclose(compose(psi, delta), compose(psi[None], delta[None])[0], atol=1e-15)

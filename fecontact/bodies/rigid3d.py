@@ -141,8 +141,9 @@ class RigidBody3D(BodyDefaults):
         rotation block is Ω̃J − (JΩ)~."""
         W = v[3:]
         JW = self.J @ W
+        (a, b, c), (x, y, z) = W.tolist(), JW.tolist()
         f = np.zeros(6)
-        f[3:] = np.cross(W, JW)
+        f[3:] = (b * z - c * y, c * x - a * z, a * y - b * x)  # Ω × JΩ
         C = np.zeros((6, 6))
         C[3:, 3:] = hat(W) @ self.J - hat(JW)
         return f, C

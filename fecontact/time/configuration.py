@@ -21,5 +21,8 @@ def plus(model, q: np.ndarray, dq: np.ndarray) -> np.ndarray:
     R = model.rotations
     if R.size:  # (decided by the model once: planar models never come here)
         F = model.free[R]
-        out[F] = compose(q[F], dq[R])
+        if len(R) == 1:  # one body: the single-vector path of ``compose``
+            out[F[0]] = compose(q[F[0]], dq[R[0]])
+        else:
+            out[F] = compose(q[F], dq[R])
     return out

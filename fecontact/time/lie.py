@@ -93,7 +93,9 @@ class LieStep:
         """q = q_n ⊕ D (all dofs); also evaluates T(D) for the matrices of the iteration."""
         model = self.model
         R = model.rotations
-        if R.size:
+        if len(R) == 1:  # one body: the single-vector path of ``tangent``
+            self.T = tangent(D[model.free[R[0]]])[None]
+        elif R.size:
             self.T = tangent(D[model.free[R]])
         return plus(model, self.q_n, D[model.free_slice])
 
