@@ -77,8 +77,10 @@ class _Joint(PairDefaults):
             raise InputError("other: a body cannot be joined to itself")
         self.body, self.other = body, other
         self.point = _vector3("point", point)
-        self.r_a = body.to_frame(self.point)
-        self.r_b = None if other is None else other.to_frame(self.point)
+        self.r_a = body.to_frame(self.point)[None]
+        self.r_b = None if other is None else other.to_frame(self.point)[None]
+        # the pivots' skew matrices, kept: every Newton iteration evaluates the joint
+        self.hats = (hat(self.r_a), None if other is None else hat(self.r_b))
         self.pairs = [(np.asarray(a, float), np.asarray(b, float)) for a, b in pairs]
         self.size = 3 + len(self.pairs)
         self.offsets = (0, 0)
@@ -101,13 +103,13 @@ class _Joint(PairDefaults):
         g = np.zeros(self.size)
         G = np.zeros((self.size, self.k))
         H = np.zeros((self.size, self.k, self.k))
-        xa, _, Ja, Ha = self.body.frame_point_kinematics(qa, self.r_a)
+        xa, _, Ja, Ha = self.body.frame_point_kinematics(qa, self.r_a, self.hats[0])
         g[:3], G[:3, :6], H[:3, :6, :6] = xa[0], Ja[0], Ha[0]
         Ra, Rb = exp(qa[3:]), np.eye(3)
         if qb is None:
             g[:3] -= self.point
         else:
-            xb, _, Jb, Hb = self.other.frame_point_kinematics(qb, self.r_b)
+            xb, _, Jb, Hb = self.other.frame_point_kinematics(qb, self.r_b, self.hats[1])
             g[:3] -= xb[0]
             G[:3, 6:], H[:3, 6:, 6:] = -Jb[0], -Hb[0]
             Rb = exp(qb[3:])

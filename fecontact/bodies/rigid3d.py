@@ -203,17 +203,20 @@ class RigidBody3D(BodyDefaults):
         """Positions c + R r (m, 3) of body-frame points ``r`` (m, 3) alone."""
         return self.center(q) + r @ self.rotation(q).T
 
-    def frame_point_kinematics(self, q: np.ndarray, r):
-        """As ``point_kinematics`` for body-frame points ``r`` (m, 3) (m, from the centre)."""
+    def frame_point_kinematics(self, q: np.ndarray, r, r_hat=None):
+        """As ``point_kinematics`` for body-frame points ``r`` (m, 3) (m, from the centre);
+        ``r_hat``: their skew matrices r̃ (m, 3, 3) when the caller keeps them (fixed points
+        evaluated at every iteration: a joint's pivot)."""
         r = np.atleast_2d(r)
+        r_hat = hat(r) if r_hat is None else r_hat
         R = self.rotation(q)
         m = len(r)
         x = self.center(q) + r @ R.T
         J = np.zeros((m, 3, 6))
-        J[:, :, :3] = np.eye(3)
-        J[:, :, 3:] = -R @ hat(r)
+        J[:, 0, 0] = J[:, 1, 1] = J[:, 2, 2] = 1.0
+        J[:, :, 3:] = -R @ r_hat
         H = np.zeros((m, 3, 6, 6))
-        H[:, :, 3:, 3:] = hat(r)[:, None] @ hat(R)[None]  # hat(R) rows: (Rᵀe_i)~
+        H[:, :, 3:, 3:] = r_hat[:, None] @ hat(R)[None]  # hat(R) rows: (Rᵀe_i)~
         return x, np.repeat(_DOFS6, m, axis=0), J, H
 
     def point_data(self, q: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:

@@ -72,9 +72,13 @@ def inertial_forces(model, q: np.ndarray, v: np.ndarray, tangent: bool = True):
         fb, Cb = body.inertial(q[s], v[s])
         f[s] += fb
         if tangent:
-            idx = model.free_index[np.arange(s.start, s.stop)]
-            keep = idx >= 0
-            C[np.ix_(idx[keep], idx[keep])] += np.asarray(Cb)[np.ix_(keep, keep)]
+            idx = model.free_index[s]
+            i0 = int(idx[0])
+            if i0 >= 0 and np.array_equal(idx, np.arange(i0, i0 + len(idx))):  # all free
+                C[i0 : i0 + len(idx), i0 : i0 + len(idx)] += Cb
+            else:
+                keep = idx >= 0
+                C[np.ix_(idx[keep], idx[keep])] += np.asarray(Cb)[np.ix_(keep, keep)]
     if C is not None and not model.dense:
         C = C.tocsr()
     return f[model.free_slice], C
