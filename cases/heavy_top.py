@@ -41,9 +41,11 @@ def build(
     radius=Param.positive(0.05, "m", "radius of the disk"),
     thickness=Param.positive(0.01, "m", "thickness of the disk"),
     arm=Param.positive(0.05, "m", "distance from the fixed point to the centre of mass"),
-    tilt=Param.positive(0.5, "rad", "initial angle of the axis from the vertical"),
-    spin=Param(100.0, "rad/s", "initial spin about the axis (psi dot)"),
-    precession=Param(0.0, "rad/s", "initial precession rate about the vertical (phi dot)"),
+    tilt=Param(0.5, "rad", "initial angle of the axis from the vertical", 0.0, 3.0, (False, True)),
+    spin=Param(100.0, "rad/s", "initial spin about the axis (psi dot)", -1e4, 1e4),
+    precession=Param(
+        0.0, "rad/s", "initial precession rate about the vertical (phi dot)", -1e4, 1e4
+    ),
     gravity=Param.nonnegative(9.81, "m/s^2", "acceleration of gravity, along -z"),
     t_end=Param.positive(5.0, "s", "end time"),
     dt=Param.positive(1e-4, "s", "time step (1e-6 on the angular momenta over 5 s)"),
