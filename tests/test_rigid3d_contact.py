@@ -95,3 +95,11 @@ def test_the_tumbling_box_comes_to_rest_on_a_face_without_penetrating_or_gaining
     assert history["upright"][-1] == pytest.approx(1.0, abs=1e-9)
     assert history["z"][-1] == pytest.approx(0.05, abs=1e-9)  # on its largest face
     assert history["speed"][-1] < 1e-6 and history["omega"][-1] < 1e-6
+
+
+def test_the_tumbling_box_resumes_identically(tmp_path):
+    """Resumed at 0.25 s, after its first impacts, with friction and rotations in the
+    checkpoint: the same history and frames as the run in one go."""
+    from test_checkpoint import resumes_identically
+
+    resumes_identically("tumbling_box", ["--checkpoint-every", "50"], "0.35", "0.25", tmp_path)
