@@ -34,6 +34,7 @@ from .bodies import (
 from .contact import Circle, Contact, Plane, Point, Sphere
 from .errors import InputError, SolverError, check_count, check_positive, check_range
 from .joints import Pin
+from .joints3d import BallJoint, FixedJoint, HingeJoint, UniversalJoint
 from .model import Model, NodalLoad
 from .params import Param, case
 from .simulation import Probe, Simulation, node_probe, run
@@ -41,6 +42,10 @@ from .time import IntegratorOptions, State, simulate
 from .version import __version__ as __version__
 
 __all__ = [
+    "BallJoint",
+    "FixedJoint",
+    "HingeJoint",
+    "UniversalJoint",
     "Ball",
     "Box",
     "Capsule",
