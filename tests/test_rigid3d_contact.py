@@ -103,3 +103,36 @@ def test_the_tumbling_box_resumes_identically(tmp_path):
     from test_checkpoint import resumes_identically
 
     resumes_identically("tumbling_box", ["--checkpoint-every", "50"], "0.35", "0.25", tmp_path)
+
+
+def dropped_ball(on_box: bool, x0: float = 0.0, vx: float = 0.0, t_end: float = 0.5):
+    """A ball (r = 0.1 m) dropped from 0.3 m onto the top face z = 0 of a fixed box, or onto
+    the plane z = 0, with e = 0.5 and μ = 0.2."""
+    ball = RigidBody3D.uniform(1.0, [x0, 0.0, 0.3], Ball(0.1))
+    if on_box:
+        box = RigidBody3D.uniform(5.0, [0.0, 0.0, -0.1], Box(0.6, 0.4, 0.2)).fix()
+        bodies, partner = [ball, box], box
+    else:
+        bodies, partner = [ball], Plane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+    contact = Contact(ball, partner, restitution=0.5, friction=0.2)
+    model = Model(bodies, [contact], gravity=(0.0, 0.0, -G))
+    v0 = np.zeros(model.n)
+    v0[0], v0[5] = vx, 3.0  # sliding, and spinning about the vertical
+    return list(simulate(model, 1e-3, t_end, v0=v0))
+
+
+def test_a_ball_on_a_box_face_bounces_and_slides_as_on_a_plane():
+    """Ball against a fixed box's top face and against the plane of that face: the same
+    bounces and friction (1e-12) while the ball stays over the face."""
+    on_box, on_plane = dropped_ball(True, vx=0.3), dropped_ball(False, vx=0.3)
+    for a, b in zip(on_box, on_plane, strict=True):
+        assert np.abs(a.q[:6] - b.q).max() < 1e-12 and np.abs(a.v[:6] - b.v).max() < 1e-12
+    assert max(np.abs(s.q[:2]).max() for s in on_box) < 0.3  # over the face throughout
+
+
+def test_a_ball_dropped_on_a_box_edge_rolls_off_it_without_penetrating():
+    """Dropped just beside the box's edge x = 0.3 m, the ball hits the edge and is pushed
+    away (+x), its gap to the box never below −1e-9 m."""
+    states = dropped_ball(True, x0=0.33, t_end=0.6)
+    assert min(np.min(s.gaps) for s in states[1:]) > -1e-9
+    assert states[-1].v[0] > 0.1  # pushed off the edge, outward

@@ -9,6 +9,8 @@ pair                        gap
 ``BallsPlaneContact``       n·(c + R r_k − p) − ρ per ball k of the shape (a ``Ball``, the
                             two caps of a ``Capsule``): the ball's centre less its radius
 ``BallBallContact``         |c_b − c_a| − ρ_a − ρ_b of two ``Ball`` bodies
+``BallBoxContact``          |ρ − p| − ρ_a: the ball's centre ρ in the box frame and its
+                            closest point p of the box
 vertices on a ``Plane``     :class:`fecontact.contact.NodeContact` through the body's
                             ``point_kinematics`` (a ``Box``'s corners, a ``Cylinder``'s rims)
 ==========================  =================================================================
@@ -23,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..bodies.rigid3d import RigidBody3D
-from ..bodies.shapes3d import Ball
+from ..bodies.shapes3d import Ball, Box
 from ..errors import InputError, check_range
 from ..rotations import exp, hat, log
 from .base import PairDefaults
@@ -32,7 +34,7 @@ from .node_pairs import NodeContact
 from .obstacles import Plane
 from .registry import register_pair
 
-__all__ = ["BallBallContact", "BallsPlaneContact"]
+__all__ = ["BallBallContact", "BallBoxContact", "BallsPlaneContact"]
 
 
 def _arm_rows(R: np.ndarray, a: np.ndarray) -> np.ndarray:
@@ -175,6 +177,71 @@ class BallBallContact(PairDefaults):
         return G @ d
 
 
+class BallBoxContact(PairDefaults):
+    """A ``Ball`` body against a ``Box`` body: g = |ρ − p| − ρ_a with ρ = R_bᵀ(c_a − c_b) the
+    ball's centre in the box frame and p its closest point of the box (ρ clamped to the half
+    sides); inside the box, g = −(depth below the nearest face) − ρ_a. The normal n = R_b
+    (ρ − p)/|ρ − p| (the nearest face's, inside) points from the box to the ball; the gradient
+    is exact, the curvature left out (Newton's rate, not its answer)."""
+
+    frictional = True
+    size = 1
+    linear = False
+
+    def __init__(self, ball: RigidBody3D, box: RigidBody3D, restitution=0.0, clearance=0.0):
+        self.bodies = (ball, box)
+        self.body = ball
+        self.restitution = check_range("restitution", restitution, 0.0, 1.0)
+        self.radius = ball.shape.radius + clearance
+        self.half = 0.5 * box.shape.sides
+        self.offsets = (0, 0)
+
+    bind = BallBallContact.bind
+    _dofs = BallBallContact._dofs
+
+    def _geometry(self, q):
+        """(q_a, q_b, R_b, ρ, p, n_b in the box frame, signed distance of the centre)."""
+        (a, b), (oa, ob) = self.bodies, self.offsets
+        qa, qb = q[oa : oa + 6], q[ob : ob + 6]
+        Rb = exp(qb[3:])
+        rho = Rb.T @ (a.center(qa) - b.center(qb))
+        p = np.clip(rho, -self.half, self.half)
+        d = rho - p
+        dist = float(np.linalg.norm(d))
+        if dist > 0.0:
+            return qa, qb, Rb, rho, p, d / dist, dist
+        depth = self.half - np.abs(rho)  # inside: leave by the nearest face
+        k = int(np.argmin(depth))
+        n = np.zeros(3)
+        n[k] = 1.0 if rho[k] >= 0.0 else -1.0
+        p = rho.copy()
+        p[k] = n[k] * self.half[k]
+        return qa, qb, Rb, rho, p, n, -float(depth[k])
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        return np.array([self._geometry(q)[-1] - self.radius])
+
+    def evaluate(self, q: np.ndarray):
+        """Gap (1,), dofs (1, 12), gradient (1, 12), no curvature."""
+        _, _, Rb, rho, _, nb, dist = self._geometry(q)
+        n = Rb @ nb
+        G = np.zeros((1, 12))
+        G[0, :3], G[0, 6:9], G[0, 9:12] = n, -n, np.cross(nb, rho)
+        return np.array([dist - self.radius]), self._dofs(), G, None
+
+    def tangents(self, q: np.ndarray):
+        """Slip rows of the ball's contact point against the box's."""
+        qa, _, Rb, _, p, nb, _ = self._geometry(q)
+        n = Rb @ nb
+        Ra = exp(qa[3:])
+        T = tangent_basis(n[None])
+        arm_a = Ra.T @ (-self.bodies[0].shape.radius * n)
+        rows = np.concatenate([_arm_rows(Ra, arm_a[None])[0], -_arm_rows(Rb, p[None])[0]], axis=1)
+        return self._dofs(), np.einsum("mti,ik->mtk", T, rows), T
+
+    slips = BallBallContact.slips
+
+
 @register_pair(RigidBody3D, Plane)
 def _rigid3d_plane(body, plane, nodes, restitution, clearance):
     """Balls (``Ball``, ``Capsule``) by their centres and radius, vertices as points."""
@@ -187,6 +254,12 @@ def _rigid3d_plane(body, plane, nodes, restitution, clearance):
 
 @register_pair(RigidBody3D, RigidBody3D)
 def _rigid3d_rigid3d(body, other, nodes, restitution, clearance):
-    if not (isinstance(body.shape, Ball) and isinstance(other.shape, Ball)):
-        raise InputError("two RigidBody3D contact only as two Ball shapes")
-    return BallBallContact(body, other, restitution, clearance)
+    """Ball–ball and ball–box (the ball first) pairs."""
+    if isinstance(body.shape, Ball) and isinstance(other.shape, Ball):
+        return BallBallContact(body, other, restitution, clearance)
+    if isinstance(body.shape, Ball) and isinstance(other.shape, Box):
+        return BallBoxContact(body, other, restitution, clearance)
+    raise InputError(
+        "two RigidBody3D contact as two Ball shapes or a Ball (first) and a Box, got a "
+        f"{type(body.shape).__name__} and a {type(other.shape).__name__}"
+    )
