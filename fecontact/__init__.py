@@ -34,7 +34,7 @@ from .bodies import (
 from .contact import Circle, Contact, Plane, Point, Sphere
 from .errors import InputError, SolverError, check_count, check_positive, check_range
 from .joints import Pin
-from .joints3d import BallJoint, FixedJoint, HingeJoint, UniversalJoint
+from .joints3d import BallJoint, FixedJoint, HingeJoint, PrismaticJoint, UniversalJoint
 from .model import Model, NodalLoad
 from .params import Param, case
 from .simulation import Probe, Simulation, node_probe, run
@@ -45,6 +45,7 @@ __all__ = [
     "BallJoint",
     "FixedJoint",
     "HingeJoint",
+    "PrismaticJoint",
     "UniversalJoint",
     "Ball",
     "Box",

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from fecontact import Box, InputError, Model, Pin, Polygon, RigidBody2D, RigidBody3D
-from fecontact.joints3d import BallJoint, FixedJoint, HingeJoint, UniversalJoint
+from fecontact.joints3d import BallJoint, FixedJoint, HingeJoint, PrismaticJoint, UniversalJoint
 from fecontact.rotations import compose
 from fecontact.time.simulate import simulate
 
@@ -32,8 +32,10 @@ def moved(q, d):
         lambda a, b: UniversalJoint(a, [0.1, 0.0, 0.0], [1, 0, 0], [0, 1, 0], b),
         lambda a, b: FixedJoint(a, [0.1, 0.0, 0.0], b),
         lambda a, b: HingeJoint(a, [0.1, 0.0, 0.0], [0.0, 0.0, 1.0]),
+        lambda a, b: PrismaticJoint(a, [0.1, 0.0, 0.0], [1.0, 2.0, 0.5], b),
+        lambda a, b: PrismaticJoint(a, [0.1, 0.0, 0.0], [1.0, 2.0, 0.5]),
     ],
-    ids=["ball", "hinge", "universal", "fixed", "hinge-to-ground"],
+    ids=["ball", "hinge", "universal", "fixed", "hinge-to-ground", "prismatic", "slider"],
 )
 def test_joint_rows_are_the_derivatives_along_the_group(make):
     """G is ∂g along body-frame rotations, H the derivative of Gᵀλ: central differences of
@@ -80,3 +82,17 @@ def test_a_hinged_bar_in_its_plane_swings_as_the_planar_rigid_pendulum():
     th3 = [st.q[5] for st in s3]
     assert np.max(np.abs(np.array(th2) - th3)) < 1e-12
     assert np.max(np.abs([st.q[[2, 3, 4]] for st in s3])) < 1e-12  # it stays in its plane
+
+
+def test_a_slider_on_an_incline_accelerates_at_g_sin_alpha_and_keeps_its_spin_locked():
+    """A box on a prismatic joint along a 30° incline, spun about every axis at the start
+    (the joint must hold the rotation: v0 must satisfy it, so no spin), slides with
+    s = ½ g sin α t² (constant force: the step is exact to round-off)."""
+    axis = np.array([np.cos(np.pi / 6), 0.0, -np.sin(np.pi / 6)])
+    box = RigidBody3D.uniform(2.0, [0.0, 0.0, 0.0], Box(0.2, 0.1, 0.1))
+    slider = PrismaticJoint(box, [0.05, 0.02, 0.0], axis)
+    model = Model([box], gravity=(0.0, 0.0, -9.81), joints=[slider])
+    for st in simulate(model, 1e-3, 0.5):
+        s = 0.5 * 9.81 * np.sin(np.pi / 6) * st.t**2
+        assert np.allclose(st.q[:3], s * axis, rtol=0, atol=1e-12)
+        assert np.abs(st.q[3:]).max() < 1e-12
