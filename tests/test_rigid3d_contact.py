@@ -136,3 +136,21 @@ def test_a_ball_dropped_on_a_box_edge_rolls_off_it_without_penetrating():
     states = dropped_ball(True, x0=0.33, t_end=0.6)
     assert min(np.min(s.gaps) for s in states[1:]) > -1e-9
     assert states[-1].v[0] > 0.1  # pushed off the edge, outward
+
+
+def test_a_capsule_lying_on_its_caps_rolls_at_constant_speed():
+    """A capsule along x on the plane, rolling along y without slip (v = ω × r): its two caps
+    keep it rolling at 1 m/s (gravity is balanced at both caps; no friction is needed)."""
+    from fecontact import Capsule
+
+    r = 0.05
+    cap = RigidBody3D.uniform(1.0, [0.0, 0.0, r], Capsule(r, 0.3))
+    floor = Contact(cap, Plane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]), friction=0.4)
+    model = Model([cap], [floor], gravity=(0.0, 0.0, -G))
+    q0 = np.r_[0.0, 0.0, 0.0, 0.0, np.pi / 2, 0.0]  # body z along world x
+    # rolling along +y: the world angular velocity −(1/r) e_x, in the body frame Rᵀω
+    omega = cap.rotation(q0).T @ np.array([-1.0 / r, 0.0, 0.0])
+    states = list(simulate(model, 1e-3, 0.3, q0=q0, v0=np.r_[0.0, 1.0, 0.0, omega]))
+    v = np.array([s.v[:3] for s in states])
+    assert np.abs(v - [0.0, 1.0, 0.0]).max() < 1e-9
+    assert min(np.min(s.gaps) for s in states) > -1e-9
