@@ -107,13 +107,15 @@ def test_free_body_converges_at_second_order():
         ({"integrator": "moreau"}, "integrator"),
         ({"integrator": "penalty"}, "integrator"),
         ({"scheme": "energy-decaying"}, "scheme"),
+        ({"smooth_contact": "on"}, "smooth_contact"),
     ],
 )
 def test_other_integrators_refuse_rotations_in_space_by_name(options, name):
-    from fecontact import IntegratorOptions
+    from fecontact import Contact, IntegratorOptions, Plane
 
-    body = RigidBody3D.uniform(1.0, [0.0, 0.0, 0.0], Box(1.0, 1.0, 1.0))
-    model = Model([body], gravity=(0.0, 0.0, 0.0))
+    body = RigidBody3D.uniform(1.0, [0.0, 0.0, 0.6], Box(1.0, 1.0, 1.0))
+    floor = Contact(body, Plane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]), friction=0.3)
+    model = Model([body], [floor], gravity=(0.0, 0.0, 0.0))
     with pytest.raises(InputError, match=name):
         next(simulate(model, 1e-3, 0.01, IntegratorOptions(**options)))
 

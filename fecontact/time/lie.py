@@ -37,8 +37,9 @@ def on_group(model) -> bool:
 
 
 def check_group(model, settings) -> None:
-    """Rotations in space run on the NSGA integrator with the generalized-α smooth step: an
-    ``InputError`` naming the option otherwise (before any step)."""
+    """Rotations in space run on the NSGA integrator with the generalized-α smooth step, and
+    with friction on the decoupled contact phase: an ``InputError`` naming the option otherwise
+    (before any step)."""
     if not on_group(model):
         return
     if settings.integrator != "nsga":
@@ -50,6 +51,11 @@ def check_group(model, settings) -> None:
         raise InputError(
             f"scheme = {settings.scheme!r}: rotations in space (RigidBody3D, gyroscopic forces) "
             "run on scheme 'generalized-alpha' only"
+        )
+    if settings.smooth and settings.friction:  # (its friction term has no bordered rows)
+        raise InputError(
+            "smooth_contact: rotations in space with friction run with smooth_contact 'off' "
+            "(the default without a Solid); frictionless contact may use 'on'"
         )
 
 
