@@ -48,7 +48,7 @@ def build(
     ),
     gravity=Param.nonnegative(9.81, "m/s^2", "acceleration of gravity, along -z"),
     t_end=Param.positive(5.0, "s", "end time"),
-    dt=Param.positive(1e-4, "s", "time step (1e-6 on the angular momenta over 5 s)"),
+    dt=Param.positive(5e-5, "s", "time step (L_vertical to 1e-6 over 5 s)"),
 ):
     # upright in the pose q = 0: the axis along +z, O at the origin
     top = RigidBody3D.uniform(mass, [0.0, 0.0, arm], Cylinder(radius, thickness))
