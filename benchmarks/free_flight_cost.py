@@ -2,12 +2,14 @@
 
 Bodies in flight, with contacts defined but none near: the dropped 3D ball (refinements 3,
 2499 dofs, linear), two disks 5 cm apart (580 dofs, Neo-Hookean) and the founding pendulum
-before its first impact. Each run is timed in a fresh process (best of 3 inside it), once with
-this checkout and once with ``--baseline REV`` checked out into a temporary git worktree,
-alternating, ``--rounds`` times; the table gives the fastest of each (the cost without the
-machine's noise) and their ratio (this / baseline).
+before its first impact. Each run is timed in a fresh process (best of 3 inside it), with
+this checkout, with each ``--baseline REV`` checked out into a temporary git worktree, and
+with this checkout again (the noise of the same code against itself), alternating, ``--rounds``
+times; the table gives the fastest of each (the cost without the machine's noise) and the
+ratios this / baseline, and this / this again.
 
     python benchmarks/free_flight_cost.py --baseline c018344      # about a minute
+    python benchmarks/free_flight_cost.py --baseline 21d058e --baseline 76a9bc8 --rounds 7
     python benchmarks/free_flight_cost.py --quick    # this checkout against itself, tiny runs
 """
 
@@ -58,41 +60,55 @@ def timed(tree: Path, run) -> float:
     return float(out.stdout.split()[-1])
 
 
-def compare(base: Path, runs, rounds: int) -> list[dict]:
-    """The fastest time of each run with this checkout and with the tree ``base``,
-    alternating ``rounds`` times."""
+def compare(bases: dict, runs, rounds: int) -> list[dict]:
+    """The fastest time of each run with this checkout (twice: its noise) and with each tree
+    of ``bases`` (name: path), alternating ``rounds`` times."""
     rows = []
+    trees = {"this": ROOT, **bases, "this again": ROOT}
     for run in runs:
-        now, then = [], []
+        times = {name: [] for name in trees}
         for _ in range(rounds):
-            then.append(timed(base, run))
-            now.append(timed(ROOT, run))
-        a, b = min(now), min(then)
-        rows.append({"case": run[0], "this_s": a, "baseline_s": b, "ratio": a / b})
+            for name, tree in trees.items():
+                times[name].append(timed(tree, run))
+        best = {name: min(t) for name, t in times.items()}
+        row = {"case": run[0], "this_s": best["this"]}
+        for name in bases:
+            row[f"{name}_s"] = best[name]
+            row[f"this / {name}"] = best["this"] / best[name]
+        row["this / this again"] = best["this"] / best["this again"]
+        rows.append(row)
     return rows
 
 
 def main() -> None:
     p = parser(__doc__.splitlines()[0])
-    p.add_argument("--baseline", help="git revision to compare with (not with --quick)")
+    p.add_argument(
+        "--baseline",
+        action="append",
+        help="git revision to compare with (repeatable; not with --quick)",
+    )
     p.add_argument("--rounds", type=int, default=3)
     args = p.parse_args()
     if args.quick:
-        args.baseline, rows = "this checkout (--quick)", compare(ROOT, QUICK_RUNS, 1)
-    elif args.baseline is None:
+        args.baseline, rows = ["this checkout (--quick)"], compare({}, QUICK_RUNS, 1)
+    elif not args.baseline:
         p.error("--baseline REV is required (or --quick)")
     else:
         with tempfile.TemporaryDirectory(prefix="fecontact_baseline_") as tmp:
-            base = Path(tmp) / "tree"
-            subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "-q", "--detach",
-                            str(base), args.baseline], check=True)  # fmt: skip
+            bases = {rev: Path(tmp) / rev for rev in args.baseline}
+            for rev, tree in bases.items():
+                subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "-q", "--detach",
+                                str(tree), rev], check=True)  # fmt: skip
             try:
-                rows = compare(base, RUNS, args.rounds)
+                rows = compare(bases, RUNS, args.rounds)
             finally:
-                subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(base)])
-    table = markdown_table(rows, ["case", "this_s", "baseline_s", "ratio"])
+                for tree in bases.values():
+                    subprocess.run(
+                        ["git", "-C", str(ROOT), "worktree", "remove", "--force", str(tree)]
+                    )
+    table = markdown_table(rows, list(rows[0]))
     print(table)
-    title = f"# Contact-free steps against {args.baseline}\n\n"
+    title = f"# Contact-free steps against {', '.join(args.baseline)}\n\n"
     stem = "free_flight_cost_quick" if args.quick else "free_flight_cost"
     write_markdown(f"{args.out or RESULTS}/{stem}.md", title + table)
 

@@ -13,7 +13,8 @@ runs of both (a refactor must not change a result).
 
 Cases: the founding flexible pendulum (1.5 s, 1500 steps), the bouncing ball (5 s, 5000
 steps of a point mass) and two elastic disks colliding (580 dofs, smooth contact), each
-with its defaults.
+with its defaults, impacts at the end of their step (``localize=False``, the baseline's
+only way; ``benchmarks/localization.py`` measures the cost of localization).
 
     python benchmarks/stepper_speed.py [--quick] [--repeats N] [--baseline REV] [--out DIR]
 """
@@ -39,7 +40,7 @@ CASES = ("flexible_pendulum", "bouncing_ball", "two_disks")
 # model built anew for each run, so that every run makes its own factorizations), the least
 # of ``inner`` runs, and a digest of the positions of every step
 WORKER = """
-import hashlib, json, sys, time
+import dataclasses, hashlib, json, sys, time
 from pathlib import Path
 try:
     from fecontact.cli.cases import load_case
@@ -51,8 +52,12 @@ best, digest = float("inf"), None
 for _ in range(inner):
     sim = load_case(path).build()
     t_end = t_end if t_end > 0 else sim.t_end
+    opts = sim.options
+    # impacts at the end of their step, as in a baseline from before impact localization
+    if "localize" in {f.name for f in dataclasses.fields(opts)}:
+        opts = dataclasses.replace(opts, localize=False)
     start = time.process_time()
-    states = list(simulate(sim.model, sim.dt, t_end, sim.options, q0=sim.q0, v0=sim.v0))
+    states = list(simulate(sim.model, sim.dt, t_end, opts, q0=sim.q0, v0=sim.v0))
     best = min(best, (time.process_time() - start) / (len(states) - 1))
     h = hashlib.sha256()
     for st in states:

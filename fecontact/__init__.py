@@ -16,6 +16,7 @@ the driver, ``cli`` (the command line and sweeps). Every public name is importab
 from .bodies import (
     Ball,
     Beam2D,
+    Beam3D,
     Box,
     Capsule,
     Cylinder,
@@ -53,6 +54,7 @@ __all__ = [
     "Cylinder",
     "RigidBody3D",
     "Beam2D",
+    "Beam3D",
     "Disk",
     "Circle",
     "Contact",

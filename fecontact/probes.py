@@ -22,19 +22,23 @@ class Probe:
 _NODE_QUANTITIES = {
     "x": ("m", "position x", lambda b, q, v: b.positions(q)[:, 0]),
     "y": ("m", "position y", lambda b, q, v: b.positions(q)[:, 1]),
+    "z": ("m", "position z", lambda b, q, v: b.positions(q)[:, 2]),
     "ux": ("m", "displacement x", lambda b, q, v: b.point_data(q, v)["displacement"][:, 0]),
     "uy": ("m", "displacement y", lambda b, q, v: b.point_data(q, v)["displacement"][:, 1]),
     "vx": ("m/s", "velocity x", lambda b, q, v: b.point_data(q, v)["velocity"][:, 0]),
     "vy": ("m/s", "velocity y", lambda b, q, v: b.point_data(q, v)["velocity"][:, 1]),
+    "vz": ("m/s", "velocity z", lambda b, q, v: b.point_data(q, v)["velocity"][:, 2]),
     "rotation": ("rad", "rotation", lambda b, q, v: b.point_data(q, v)["rotation"]),
 }
 
 
 def node_probe(model, body, node: int, quantity: str) -> Probe:
-    """Probe of one node of ``body``: ``quantity`` in x, y (m), ux, uy (m), vx, vy (m/s),
-    rotation (rad, counter-clockwise)."""
+    """Probe of one node of ``body``: ``quantity`` in x, y, z (m), ux, uy (m), vx, vy, vz
+    (m/s), rotation (rad, counter-clockwise); z and vz of a body in space."""
     if quantity not in _NODE_QUANTITIES:
         raise InputError(f"quantity must be one of {', '.join(_NODE_QUANTITIES)}, got {quantity!r}")
+    if quantity in ("z", "vz") and body.dim != 3:
+        raise InputError(f"quantity {quantity!r}: a {type(body).__name__} moves in the plane")
     if quantity == "rotation" and "theta" not in body.components:
         kind = type(body).__name__
         raise InputError(f"quantity 'rotation': a {kind} node has none; use x, y, ux, uy, vx, vy")

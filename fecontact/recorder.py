@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .contact.watch import BOUND
 from .energy import EnergyBalance
 from .io.frames import friction_totals
 from .io.output import FRICTION_COLUMNS, LEDGER_COLUMNS, STANDARD_COLUMNS
@@ -31,11 +32,15 @@ class Recorder:
         "halvings",
         "retakes",
         "max_penetration",
+        "mortar_depth",
+        "mortar_deepest",
         "min_gap",
         "energy_initial",
         "energy_final",
         "energy_max",
         "steps",
+        "dt_min",
+        "dt_max",
     )
 
     def __init__(self, sim, out: Path, keep_rows=None):
@@ -56,6 +61,8 @@ class Recorder:
         self.halvings = 0
         self.retakes = 0
         self.max_penetration = 0.0  # m, from the inside/outside test at every step's end
+        # the deepest mortar node over its edge, and (t, step, depth in m) where it was
+        self.mortar_depth, self.mortar_deepest = 0.0, None
         self.min_gap = math.inf
         self.energy_initial = math.nan
         self.energy_final = math.nan
@@ -64,8 +71,11 @@ class Recorder:
         self.ledger = EnergyLedger(self.model, sim.options)
         self.energies = (math.nan, math.nan, math.nan)  # T, V_strain, V_gravity of the last
         self.steps = 0
+        self.dt_min, self.dt_max = math.inf, 0.0  # s: the smallest and largest step taken
 
     def record(self, st: State) -> None:
+        """Account for the state ``st``; write its history row unless it is a step between
+        two rows (``st.substep``, with rtol)."""
         m = self.model
         ke, se, pe = m.kinetic_energy(st.v), m.strain_energy(st.q), m.potential_energy(st.q)
         total = ke + se + pe
@@ -81,12 +91,14 @@ class Recorder:
         self.closed = active
         its = st.newton_iterations
         row = [st.t, ke, se, pe, total, min_gap, int(active.sum()), float(st.impulse.sum()), its]
+        row.append(st.h)
         if self.friction:
             row += friction_totals(st)
             self.friction_work = row[-1]
-        row += self.ledger.row()
-        row += [p.fn(m, st) for p in self.sim.probes.values()]
-        self.history.write(row)
+        if not st.substep:
+            row += self.ledger.row()
+            row += [p.fn(m, st) for p in self.sim.probes.values()]
+            self.history.write(row)
         if st.step == 0:
             self.energy_initial = total
         else:
@@ -96,9 +108,25 @@ class Recorder:
             self.halvings += st.halvings
             self.retakes += st.retakes
             self.max_penetration = max(self.max_penetration, st.penetration)
+            if st.mortar_depth > self.mortar_depth:
+                self.mortar_depth, self.mortar_deepest = st.mortar_depth, (st.t, st.step)
+            self.dt_min, self.dt_max = min(self.dt_min, st.h), max(self.dt_max, st.h)
         self.energy_final = total
         self.energy_max = max(self.energy_max, total)
         self.min_gap = min(self.min_gap, min_gap)
+
+    def penetration_warnings(self) -> list[str]:
+        """A warning when a node of a mortar interface went deeper into the other solid than
+        the discretization's own amount (:data:`fecontact.contact.watch.BOUND`)."""
+        if self.mortar_depth <= BOUND:
+            return []
+        t, step = self.mortar_deepest
+        return [
+            f"penetration: a node of a mortar interface ends {100 * self.mortar_depth:.2g} % "
+            f"of the shortest boundary edge inside the other solid at t = {t:.6g} s (step "
+            f"{step}), beyond the {100 * BOUND:.0f} % the weighted gaps allow; refine the "
+            "mesh or the step"
+        ]
 
     def stats(self) -> dict:
         extra = {"closed": self.closed.tolist(), "impact_frame": self.impact_frame}
@@ -130,6 +158,9 @@ class Recorder:
             "message": message,
             "steps": self.steps,
             "dt": sim.dt,
+            # the steps taken: dt but for the last one, or, with rtol, those the control chose
+            "dt_min": self.dt_min if self.steps else None,
+            "dt_max": self.dt_max if self.steps else None,
             "t_end": sim.t_end,
             "wall_time_s": wall,
             "time_per_step_s": (wall - timer.get("output", 0.0)) / max(self.steps, 1),
@@ -141,6 +172,9 @@ class Recorder:
             "step_halvings": self.halvings,
             "penetration_retakes": self.retakes,
             "max_penetration": max(self.max_penetration, -self.min_gap),
+            # the deepest node of a mortar interface inside the other solid, over that solid's
+            # shortest boundary edge (0 without mortar interfaces)
+            "mortar_depth": self.mortar_depth,
             "min_gap": self.min_gap,
             "energy_initial": self.energy_initial,
             "energy_final": self.energy_final,

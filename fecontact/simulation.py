@@ -1,7 +1,8 @@
 """A simulation (model, step, end time, probes) and the driver that runs it to disk.
 
 ``run`` steps the integrator and writes, in the output folder, the VTU frames with their
-``.pvd`` collection, ``history.csv`` (one row per step) and ``summary.json``. Frames are written
+``.pvd`` collection, ``history.csv`` (one row per step dt: with rtol, the steps the control
+chooses land on the rows' times) and ``summary.json``. Frames are written
 at the output interval only; the ``.pvd`` is rewritten atomically at most every
 ``PVD_INTERVAL`` seconds of wall time, at checkpoints and when the run stops (an error, Ctrl-C),
 so that it then lists every frame written so far.
@@ -264,7 +265,7 @@ def _starting_point(sim: Simulation, out: Path, resume: bool, overwrite: bool):
 
 def _checkpoint(out: Path, rec: Recorder, output: _Frames, st: State, every: int) -> None:
     """Save the checkpoint after every ``every`` steps (0: never)."""
-    if every and st.step and st.step % every == 0:
+    if every and st.step and not st.substep and st.step % every == 0:
         output.pvd.flush()  # a resumed run keeps the frames the index lists
         save_checkpoint(out / CHECKPOINT, output.sim, st, rec, output.next_frame)
 
@@ -358,6 +359,7 @@ def _summary(sim, rec, stats, status, message, wall, timer) -> dict:
     # a run that ends with more energy than its budget is said so, not only counted
     summary["warnings"] = [rec.balance.describe()] if rec.balance.unstable() else []
     summary["warnings"] += rec.ledger.warnings()
+    summary["warnings"] += rec.penetration_warnings()
     if frictional:
         summary["friction_solver"] = friction_solver
         summary["friction_work"] = rec.friction_work

@@ -21,6 +21,11 @@ def solve_static(
     relative residual ``tol``; contacts and gravity are ignored. Raises ``SolverError`` if an
     increment does not converge.
     """
+    if any(len(b.rotation_triples) for b in model.bodies):
+        raise InputError(
+            "model: its rotations in space do not add; use "
+            "fecontact.statics_rotations.solve_static_rotations"
+        )
     F = model.free
     q = np.zeros(model.n)
     scale = max(np.linalg.norm(load[F]), 1e-300)

@@ -13,6 +13,7 @@ from conftest import load_case
 import fecontact
 from fecontact import (
     Beam2D,
+    Beam3D,
     Box,
     Contact,
     Disk,
@@ -38,6 +39,7 @@ def bodies():
     return [
         Beam2D.straight([0, 0], [1, 0], 3, steel, Section.circle(0.01)),
         Beam2D.straight([0, 0], [1, 0], 3, steel, Section.circle(0.01), linear=True),
+        Beam3D.straight([0, 0, 0], [1, 0, 0], 3, steel, Section.circle(0.01)),
         Solid.disk([0, 0], 0.1, 0, mat),
         Solid.rectangle([0, 0], [1, 1], (2, 2), mat, cell="quad"),
         Solid.box([0, 0, 0], [1, 1, 1], (1, 1, 1), mat),

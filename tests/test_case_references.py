@@ -56,9 +56,10 @@ def test_case_reproduces_its_reference_history(case, tmp_path):
     new = run(case, tmp_path)
     ref = read_history(REFERENCE / f"{case}.csv")
     # the references keep their columns; the energy ledger's, added after them, are checked
-    # on every case by tests/test_ledger.py (its identity to round-off)
+    # on every case by tests/test_ledger.py (its identity to round-off), the step's (dt) by
+    # tests/test_adaptive.py
     assert [c for c in new if c in ref] == list(ref)
-    assert set(new) - set(ref) <= set(LEDGER_COLUMNS)
+    assert set(new) - set(ref) <= {*LEDGER_COLUMNS, "dt"}
     for name in ref:
         a, b = new[name], ref[name]
         assert a.shape == b.shape, name

@@ -5,7 +5,9 @@ import pytest
 
 from fecontact.bodies import Solid
 from fecontact.bodies.materials import LinearElastic
-from fecontact.contact.inside import Surface, winding_numbers
+from fecontact.contact import Contact
+from fecontact.contact.inside import Surface, face_depths, winding_numbers
+from fecontact.model import Model
 
 MAT = LinearElastic(1e7, 0.3, 1000.0)
 RNG = np.random.default_rng(7)
@@ -82,3 +84,68 @@ def test_inside_points_alone_get_the_same_distances(dim):
     if dim == 2:  # (3D finds the sign from the closest facet: it keeps both)
         assert np.all(np.isinf(s_in[~inside]))
     np.testing.assert_array_equal(surface.depths(x, p), np.maximum(0.0, -s))
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_a_point_whose_closest_point_is_on_a_face_gets_the_full_tests_depth(dim):
+    # points around and inside a round body: where the closest facet (the full test's) has
+    # the closest point inside its face, the depth behind its plane is the full test's; near
+    # the surface, where the pair asks, this settles most of the points
+    body = (Solid.disk if dim == 2 else Solid.ball)(np.zeros(dim), 1.0, 2, MAT)
+    x = body.positions(np.zeros(body.ndof))
+    surface = Surface(body.contact_facets())
+    p = RNG.uniform(-1.2, 1.2, (2000, dim))
+    s, f = surface.signed_distance(x, p, pad=1.0)
+    face, depth = face_depths(p, x[surface.facets[f]])
+    np.testing.assert_allclose(depth[face], np.maximum(0.0, -s[face]), rtol=1e-12, atol=1e-15)
+    near = np.abs(s) < 0.02
+    assert face[near].sum() >= 0.5 * near.sum()
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_the_pairs_penetration_is_the_full_inside_test(dim):
+    # two round bodies pushed into each other, their nodes jittered: the node-to-surface
+    # pair's depth (the closest facet's face first, the full test for the rest) equals the
+    # full test over every slave node
+    make = Solid.disk if dim == 2 else Solid.ball
+    a = make(np.zeros(dim), 1.0, 3 if dim == 2 else 2, MAT)
+    b = make(np.r_[1.9, np.zeros(dim - 1)], 1.0, 3 if dim == 2 else 2, MAT)
+    model = Model([a, b], [Contact(a, b, method="node-to-surface")])
+    pair = model.contacts.pairs[0]
+    pair.detect_within(0.2)
+    for seed in range(5):
+        q = np.random.default_rng(seed).normal(0.0, 0.01, model.n)
+        xs, xm = pair.positions(q)
+        full = float(np.max(pair.surface.depths(xm, xs), initial=0.0))
+        pair.evaluate(q)
+        assert full > 0.05
+        # (the depth behind a face's plane and the distance to its closest point differ in
+        # their last bits)
+        assert pair.penetration(q) == pytest.approx(full, rel=1e-12)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_the_mortar_watch_measures_every_node_both_ways(dim):
+    # two round bodies of a mortar interface pushed into each other, jittered: the watch's
+    # depth is the full inside/outside test of every boundary node of each body against the
+    # other (the weighted gaps alone do not see a node)
+    make = Solid.disk if dim == 2 else Solid.ball
+    a = make(np.zeros(dim), 1.0, 3 if dim == 2 else 2, MAT)
+    b = make(np.r_[1.7, np.zeros(dim - 1)], 0.8, 3 if dim == 2 else 2, MAT)
+    model = Model([a, b], [Contact(a, b, method="mortar")])
+    (watch,) = model.contacts.watches
+    watch.pair.detect_within(0.2)
+    for seed in range(5):
+        q = np.random.default_rng(seed).normal(0.0, 0.01, model.n)
+        x = [body.positions(q[model.body_slice(i)]) for i, body in enumerate((a, b))]
+        full = max(
+            float(np.max(Surface(other.contact_facets()).depths(x[1 - i], x[i]), initial=0.0))
+            for i, other in enumerate((b, a))
+        )
+        assert full > 0.05
+        depth, relative = watch.depth(q)
+        assert depth == full
+        # over the shortest boundary edge of the body entered: at most the depth over the
+        # shortest edge of both bodies, at least over the longer one's
+        shortest = min(watch.edges)
+        assert full / max(watch.edges) <= relative <= full / shortest

@@ -18,6 +18,7 @@ from fecontact.contact.mortar3d import MortarContact3D
 from fecontact.errors import InputError
 from fecontact.scenes import solid_material
 from fecontact.testing import gap_derivatives_error, pressed_blocks, pressed_boxes
+from fecontact.time import State
 
 TWO_DISKS = load_case("two_disks")
 
@@ -138,14 +139,21 @@ def run_disks(method="mortar", refinements=2, t_end=0.006, options=None, **param
     return np.array(rows), edge, sim, st
 
 
-@pytest.mark.parametrize("refinements", [2, 3])
+@pytest.mark.parametrize("refinements", [1, 2, 3, pytest.param(4, marks=pytest.mark.slow)])
 def test_two_disks_head_on_no_sideways_speed_no_penetration(refinements):
+    """From the octagon (refinements 1: two vertices meet, each segment covered in part by
+    the other disk) to 128 boundary nodes."""
     rows, edge, sim, last = run_disks(refinements=refinements)
     v_impact = 1.0
     assert np.max(np.abs(rows[:, 1:])) <= 0.01 * v_impact
     assert np.max(rows[:, 0]) <= 0.01 * edge
-    # the disks have separated: their x-velocities have turned
     model = sim.model
+    # no energy made: e_N = 0 at the contact nodes removes some, the integrator's position
+    # corrections may add 0.1 % (measured at refinements 3); 1 % bounds both with a margin
+    energy = [model.kinetic_energy(v) + model.strain_energy(q)
+              for q, v in ((np.zeros(model.n), sim.v0), (last.q, last.v))]  # fmt: skip
+    assert energy[1] <= 1.01 * energy[0]
+    # the disks have separated: their x-velocities have turned
     w = model.bodies[0].mass_matrix() @ model.bodies[0].translation_field((1.0, 0.0))
     assert float(w @ last.v[model.body_slice(0)]) < 0.0
 
@@ -177,6 +185,30 @@ def test_mortar_friction_oblique_impact_keeps_momentum():
         total = float(w @ st.v[model.body_slice(0)] + w @ st.v[model.body_slice(1)])
         assert abs(total) <= 1e-9 * A.mass  # equal and opposite forces, ρ A v = 7.65 kg m/s
     assert np.any([np.any(s.impulse > 0) or np.any(s.force > 0) for s in states])
+
+
+def test_a_mortar_node_deeper_than_the_bound_is_a_warning(tmp_path):
+    # the watch's depth of a step past the bound (a node a twentieth of an edge inside the
+    # other disk, which the weighted gaps do not hold) becomes a warning naming its time and
+    # step, and the summary carries the deepest relative depth; within the bound, no warning
+    from fecontact.contact.watch import BOUND
+    from fecontact.recorder import Recorder
+
+    sim = TWO_DISKS.build(method="mortar", refinements=2, t_end=0.006)
+    rec = Recorder(sim, tmp_path)
+    n = sim.model.n
+    for step, depth in enumerate((0.0, 0.5 * BOUND, 5 * BOUND, 2 * BOUND)):
+        st = State(1e-4 * step, np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n), step=step)
+        m = sim.model.contacts.size
+        st.gaps, st.nu, st.impulse = np.full(m, np.inf), np.zeros(m), np.zeros(m)
+        st.mortar_depth = depth
+        rec.record(st)
+        if step == 1:
+            assert rec.penetration_warnings() == []
+    (text,) = rec.penetration_warnings()
+    assert text.startswith("penetration: a node of a mortar interface ends 5 %")
+    assert "t = 0.0002 s (step 2)" in text
+    rec.history.close()
 
 
 def test_nodal_pressure_units_and_shape():
@@ -274,6 +306,20 @@ def test_two_balls_head_on_like_the_plane_of_symmetry(mesh):
     assert lateral <= 0.01 * 1.0
     assert abs(exit_speed / plane_exit - 1.0) <= 0.02
     assert deepest <= 0.01 * edge  # no node inside the other ball beyond 1 % of an edge
+
+
+@pytest.mark.xfail(strict=True, reason="3D mortar on the coarsest balls: no node takes part")
+def test_coarsest_balls_do_not_pass_through_each_other():
+    """Balls of 25 boundary nodes (``base=1``, not graded), turned 30°: every slave triangle
+    near the pole is covered in part only, and the nodes of partly covered triangles take no
+    part in 3D (their gradients would leave out the motion of the covered region), so the
+    balls pass through each other (exit velocity −1 m/s, measured). A known failure."""
+    sim = TWO_BALLS.build(graded=0, base=1, rotate=30.0, t_end=1.3 * T_C)
+    model = sim.model
+    A = model.bodies[0]
+    w = A.mass_matrix() @ A.translation_field((1.0, 0.0, 0.0))
+    last = list(simulate(model, sim.dt, sim.t_end, sim.options, v0=sim.v0))[-1]
+    assert float(w @ last.v[model.body_slice(0)]) / A.mass < 0.0  # the left ball rebounds
 
 
 def ball_trajectory(options=None, **params):

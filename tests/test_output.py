@@ -194,17 +194,18 @@ def test_pvd_writer_rejects_bad_times_and_names(tmp_path):
 def test_history_round_trip_with_inf_nan_and_bools(tmp_path):
     columns = [*STANDARD_COLUMNS, "tip_x"]
     rows = [
-        [0.0, 1.5, 0.0, -2.0, -0.5, math.inf, False, 0.0, 0, 0.3],
-        [1e-3, 1.25, 0.1, -2.1, -0.75, 1e-9, True, 0.012, 3, np.float64(0.1)],
-        [2e-3, np.nan, 0.2, -2.2, -np.inf, -math.inf, np.bool_(True), 0.0, np.int64(2), 1 / 3],
-    ]
+        [0.0, 1.5, 0.0, -2.0, -0.5, math.inf, False, 0.0, 0, 0.0, 0.3],
+        [1e-3, 1.25, 0.1, -2.1, -0.75, 1e-9, True, 0.012, 3, 1e-3, np.float64(0.1)],
+        [2e-3, np.nan, 0.2, -2.2, -np.inf, -math.inf, np.bool_(True), 0.0, np.int64(2), 1e-3,
+         1 / 3],
+    ]  # fmt: skip
     with HistoryWriter(tmp_path / "history.csv", columns, flush_every=2) as history:
         history.write(dict(zip(columns, rows[0], strict=True)))
         history.write(rows[1])
         history.write(rows[2])
     text = (tmp_path / "history.csv").read_text()
     assert text.splitlines()[0] == ",".join(columns)
-    assert text.splitlines()[1] == "0.0,1.5,0.0,-2.0,-0.5,inf,0,0.0,0,0.3"
+    assert text.splitlines()[1] == "0.0,1.5,0.0,-2.0,-0.5,inf,0,0.0,0,0.0,0.3"
     assert "True" not in text and "np." not in text
 
     PVDWriter(tmp_path, "case").write_frame(0.0, {"beam": beam_at(0.0)})

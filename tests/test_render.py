@@ -47,7 +47,7 @@ def write_run(folder, probes=PROBES):
             energy = 0.1 - 0.01 * t
             history.write(
                 [t, 0.05, 0.0, energy - 0.05, energy, 0.0 if in_contact else np.inf,
-                 in_contact, 0.01 * in_contact, 2,
+                 in_contact, 0.01 * in_contact, 2, T_END / 90,
                  LENGTH * c, LENGTH * d, 0.8 * d, -0.8 * c][: len(STANDARD_COLUMNS) + len(probes)]
             )  # fmt: skip
     impacts = [{"time": T_IMPACT, "contact": "stop", "impulse": 0.01}]

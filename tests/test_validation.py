@@ -99,7 +99,8 @@ def test_ball_rebound_speed_follows_the_chosen_impact_velocity(law):
     # at most g h / (8 v) of a step, which costs e g h · g h / (8 v) of rebound speed: O(h²).
     h = 1e-3
     sim = case("bouncing_ball").build(height=1.0, restitution=E_BALL)
-    opts = dataclasses.replace(sim.options, impact_velocity=law)
+    # (the impact at the end of its step: a localized impact has no chord to miss)
+    opts = dataclasses.replace(sim.options, impact_velocity=law, localize=False)
     prev = None
     for st in simulate(sim.model, h, 1.0, opts, q0=sim.q0, v0=sim.v0):
         if st.impulse.sum() > 0.0:

@@ -1,7 +1,9 @@
-"""Bodies: the planar geometrically exact beam, elastic solids on scikit-fem meshes with their
-materials, planar rigid bodies and rigid bodies in space. Each owns a slice of the model's dofs."""
+"""Bodies: the planar and spatial geometrically exact beams, elastic solids on scikit-fem
+meshes with their materials, planar rigid bodies and rigid bodies in space. Each owns a slice
+of the model's dofs."""
 
 from .beam import Beam2D, Material, Section
+from .beam3d import Beam3D
 from .materials import LinearElastic, NeoHookean, StVenantKirchhoff
 from .rigid import Disk, PointMass, Polygon, RigidBody2D
 from .rigid3d import RigidBody3D
@@ -15,6 +17,7 @@ __all__ = [
     "Cylinder",
     "RigidBody3D",
     "Beam2D",
+    "Beam3D",
     "Disk",
     "LinearElastic",
     "Material",

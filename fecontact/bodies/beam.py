@@ -39,7 +39,7 @@ from .base import BodyDefaults
 from .beam_energy import beam_energy_force, element_strains
 from .beam_kernels import BeamElements, beam_internal, beam_strains
 
-__all__ = ["Material", "Section", "Beam2D"]
+__all__ = ["Material", "Section", "Beam2D", "rectangle_torsion"]
 
 _MIDPOINT = (np.array([[0.5]]), np.array([1.0]))
 _EYE2 = np.eye(2)[None]
@@ -82,35 +82,62 @@ class Material:
 
 @dataclass(frozen=True)
 class Section:
-    """Beam cross-section: area A in m², second moment I in m⁴, shear correction factor."""
+    """Beam cross-section: area A in m², second moment I in m⁴ (bending in the beam's plane;
+    about axis 3 of a ``Beam3D`` section), shear correction factor; for ``Beam3D`` also the
+    second moment ``inertia_2`` about axis 2 (m⁴, default ``inertia``) and the torsion
+    constant ``torsion`` J (m⁴, default the polar moment ``inertia`` + ``inertia_2``, exact for
+    a circle)."""
 
     area: float
     inertia: float
     shear_factor: float = 5.0 / 6.0
+    inertia_2: float | None = None
+    torsion: float | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "area", check_positive("area", self.area))
         object.__setattr__(self, "inertia", check_positive("inertia", self.inertia))
         object.__setattr__(self, "shear_factor", check_positive("shear_factor", self.shear_factor))
+        i2 = self.inertia if self.inertia_2 is None else self.inertia_2
+        object.__setattr__(self, "inertia_2", check_positive("inertia_2", i2))
+        j = self.inertia + self.inertia_2 if self.torsion is None else self.torsion
+        object.__setattr__(self, "torsion", check_positive("torsion", j))
 
     @classmethod
     def rectangle(cls, width: float, thickness: float) -> Section:
-        """Solid rectangle ``width`` × ``thickness`` (m), bending about the width axis."""
+        """Solid rectangle ``width`` × ``thickness`` (m), bending about the width axis; in
+        space the thickness lies along axis 2 and the width along axis 3."""
         b = check_positive("width", width)
         t = check_positive("thickness", thickness)
         area, inertia = b * t, b * t * t * t / 12.0
         if not (np.isfinite(inertia) and area > 0 and inertia > 0):
             raise InputError(f"width and thickness give no usable section: {b!r} x {t!r} m")
-        return cls(area=area, inertia=inertia, shear_factor=5.0 / 6.0)
+        return cls(
+            area=area,
+            inertia=inertia,
+            shear_factor=5.0 / 6.0,
+            inertia_2=t * b**3 / 12.0,
+            torsion=rectangle_torsion(b, t),
+        )
 
     @classmethod
     def circle(cls, radius: float) -> Section:
-        """Solid circle of ``radius`` (m)."""
+        """Solid circle of ``radius`` (m): I₂ = I₃ = πr⁴/4, J = πr⁴/2."""
         r = check_positive("radius", radius)
         area, inertia = np.pi * r * r, np.pi * r * r * r * r / 4.0
         if not (np.isfinite(inertia) and area > 0 and inertia > 0):
             raise InputError(f"radius gives no usable section: {r!r} m")
         return cls(area=area, inertia=inertia, shear_factor=0.9)
+
+
+def rectangle_torsion(width: float, thickness: float) -> float:
+    """Saint-Venant torsion constant J (m⁴) of a solid rectangle, by its series (Timoshenko &
+    Goodier, Theory of Elasticity, 1951): with a ≥ b the long and short sides,
+    J = a b³/3 [1 − (192/π⁵)(b/a) Σ_{n odd} tanh(nπa/2b)/n⁵]; 50 terms leave < 1e-12."""
+    a, b = max(width, thickness), min(width, thickness)
+    n = np.arange(1, 100, 2)
+    series = np.sum(np.tanh(n * np.pi * a / (2.0 * b)) / n**5)
+    return float(a * b**3 / 3.0 * (1.0 - 192.0 / np.pi**5 * (b / a) * series))
 
 
 class Beam2D(BodyDefaults):

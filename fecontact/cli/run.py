@@ -57,6 +57,10 @@ def split_overrides(build, args) -> tuple[dict, dict]:
             raise InputError(f"--set: unknown parameter {name!r}; known: {known}")
         if getattr(args, name, None) is not None and name in RUN_OPTIONS:
             raise InputError(f"{RUN_OPTIONS[name]} and --set {name}: give one of them")
+    if getattr(args, "rtol", None) is not None:
+        if "rtol" in option_kw:
+            raise InputError("--rtol and --set rtol: give one of them")
+        option_kw["rtol"] = args.rtol
     return case_kw, option_kw
 
 
@@ -65,6 +69,11 @@ def add_run_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--dt", type=float, help="time step h in s")
     p.add_argument("--t-end", type=float, help="end time in s")
     p.add_argument("--output-interval", type=float, help="simulated time between frames, s")
+    p.add_argument(
+        "--rtol",
+        type=float,
+        help="steps chosen by this tolerance on the local error, from dt (the largest) down",
+    )
     p.add_argument(
         "--set",
         action="append",

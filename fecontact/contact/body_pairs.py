@@ -41,6 +41,13 @@ however deep, gets its closest facet from the inside/outside test of
 g = +inf with zero gradient; the integrator only works on contacts with g below its own
 detection margin. The number of contacts (one per slave node) is fixed.
 
+Penetration (:meth:`NodeSurfaceContact.penetration`, every step): a node whose closest point
+on the master lies strictly inside a facet is as deep inside the master as it lies behind
+that facet's plane — the face's normal is the angle-weighted pseudo-normal there
+(:func:`fecontact.contact.inside.face_depths`) —, and that facet is the one selected when any
+lies within the margin; only the other nodes the search watches (closest to an edge or a
+vertex, or with no facet near) take the full inside/outside test.
+
 Bar ends (:class:`NodeNodeContact`): node i of body a against node j of body b along a fixed
 unit axis n (from a towards b): g = (x_j − x_i)·n, linear in q.
 """
@@ -57,6 +64,7 @@ from .beam_sides import PointBeamContact
 from .facet_search import FacetSearch
 from .friction import point_tangents
 from .geometry import point_line_distance, segment_distance
+from .inside import face_depths
 from .registry import pair_factory, register_pair
 
 __all__ = [
@@ -257,8 +265,16 @@ class NodeSurfaceContact(PairDefaults):
         if last is not None and not self.search.last_watched.any() and self._same_dofs(q, last[0]):
             return 0.0
         xs, xm = self.positions(q)
-        watched = self.search.watched(xs, xm, self.margin)  # (the others are outside)
-        return float(np.max(self.surface.depths(xm, xs[watched]), initial=0.0))
+        watched = np.flatnonzero(self.search.watched(xs, xm, self.margin))  # (others: out)
+        if watched.size == 0:
+            return 0.0
+        self.evaluate(q)  # the selected facets at q: the closest of all (module docstring)
+        f = self.selected[watched]
+        near = f >= 0
+        face, depth = face_depths(xs[watched[near]], xm[self.facets[f[near]]])
+        rest = np.r_[watched[~near], watched[near][~face]]
+        deepest = float(np.max(depth[face], initial=0.0))
+        return max(deepest, float(np.max(self.surface.depths(xm, xs[rest]), initial=0.0)))
 
     def relative_depth(self, q: np.ndarray, g: np.ndarray) -> float:
         """The largest −g of the slave nodes with a negative gap g (the pair's gaps at q) over

@@ -9,6 +9,7 @@ import scipy.sparse as sp
 from ..linalg import DENSE_LIMIT
 from .friction_rows import FrictionRows
 from .mortar_interface import merge_interfaces
+from .watch import solid_watches
 
 __all__ = ["ContactSet"]
 
@@ -47,6 +48,7 @@ class ContactSet(FrictionRows):
         self._all_signed = bool(self._signed.all())
         self._inside_rows = [np.flatnonzero(self.owner == i) for i in self._inside]
         self._looking = [pair for pair in self.pairs if pair.looks_ahead]
+        self.watches = solid_watches(self.pairs)  # the mortar interfaces' nodes
 
     def _affine_and_small(self) -> bool:
         """Affine gaps (constant gradients, fixed obstacles) of a small model: g(q) = g₀ + G q

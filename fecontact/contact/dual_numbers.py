@@ -8,7 +8,8 @@ arithmetic propagates them by the chain rule,
 
 exactly (to round-off), so that a geometric quantity written once as a formula — a mortar
 weighted gap with its projections and normals — comes with its exact derivatives. Without
-Hessians (``hessian=False``) it costs about n times the plain evaluation.
+Hessians (``hessian=False``) it costs about n times the plain evaluation; values alone
+(``hessian=None``) carry no derivatives and cost one array operation per operation.
 """
 
 from __future__ import annotations
@@ -19,7 +20,8 @@ __all__ = ["Jet"]
 
 
 class Jet:
-    """Values v (B,), gradients g (B, n) and Hessians h (B, n, n) or None (first order)."""
+    """Values v (B,), gradients g (B, n) or None (values only) and Hessians h (B, n, n) or
+    None (first order, or values only)."""
 
     __slots__ = ("g", "h", "v")
 
@@ -27,9 +29,12 @@ class Jet:
         self.v, self.g, self.h = v, g, h
 
     @classmethod
-    def variables(cls, z: np.ndarray, hessian: bool = True) -> list[Jet]:
-        """The n columns of z (B, n) as independent variables."""
+    def variables(cls, z: np.ndarray, hessian: bool | None = True) -> list[Jet]:
+        """The n columns of z (B, n) as independent variables (``hessian`` None: values
+        only, False: gradients, True: gradients and Hessians)."""
         B, n = z.shape
+        if hessian is None:
+            return [cls(z[:, i], None, None) for i in range(n)]
         eye = np.eye(n)
         h = np.zeros((B, n, n)) if hessian else None
         return [cls(z[:, i], np.broadcast_to(eye[i], (B, n)), h) for i in range(n)]
@@ -37,6 +42,8 @@ class Jet:
     def constant_like(self, c) -> Jet:
         """A value c (scalar or (B,)) with zero derivatives, on the same batch."""
         v = np.broadcast_to(np.asarray(c, dtype=float), self.v.shape).copy()
+        if self.g is None:
+            return Jet(v, None, None)
         return Jet(v, np.zeros_like(self.g), None if self.h is None else np.zeros_like(self.h))
 
     def _lift(self, other) -> Jet:
@@ -45,16 +52,25 @@ class Jet:
     def __add__(self, other) -> Jet:
         if not isinstance(other, Jet):
             return Jet(self.v + other, self.g, self.h)
+        if self.g is None:
+            return Jet(self.v + other.v, None, None)
         h = None if self.h is None else self.h + other.h
         return Jet(self.v + other.v, self.g + other.g, h)
 
     __radd__ = __add__
 
     def __neg__(self) -> Jet:
+        if self.g is None:
+            return Jet(-self.v, None, None)
         return Jet(-self.v, -self.g, None if self.h is None else -self.h)
 
     def __sub__(self, other) -> Jet:
-        return self + (-other)
+        if not isinstance(other, Jet):
+            return Jet(self.v - other, self.g, self.h)
+        if self.g is None:
+            return Jet(self.v - other.v, None, None)
+        h = None if self.h is None else self.h - other.h
+        return Jet(self.v - other.v, self.g - other.g, h)
 
     def __rsub__(self, other) -> Jet:
         return (-self) + other
@@ -62,57 +78,78 @@ class Jet:
     def __mul__(self, other) -> Jet:
         if not isinstance(other, Jet):
             c = np.asarray(other, dtype=float)
+            if self.g is None:
+                return Jet(self.v * c, None, None)
             cg = c[..., None] if c.ndim else c
             h = None if self.h is None else self.h * (cg[..., None] if c.ndim else c)
             return Jet(self.v * c, self.g * cg, h)
         a, b = self, other
-        g = a.g * b.v[:, None] + b.g * a.v[:, None]
+        if a.g is None:
+            return Jet(a.v * b.v, None, None)
+        av, bv = a.v[:, None], b.v[:, None]
+        g = a.g * bv + b.g * av
         h = None
         if a.h is not None:
-            ab = a.g[:, :, None] * b.g[:, None, :]
-            h = a.h * b.v[:, None, None] + b.h * a.v[:, None, None] + ab + ab.transpose(0, 2, 1)
+            h = a.g[:, :, None] * b.g[:, None, :]
+            h += h.transpose(0, 2, 1)
+            h += a.h * bv[:, :, None]
+            h += b.h * av[:, :, None]
         return Jet(a.v * b.v, g, h)
 
     __rmul__ = __mul__
 
     def _unary(self, f, df, d2f) -> Jet:
+        if self.g is None:
+            return Jet(f, None, None)
         g = self.g * df[:, None]
         h = None
         if self.h is not None:
-            h = self.h * df[:, None, None] + d2f[:, None, None] * (
-                self.g[:, :, None] * self.g[:, None, :]
-            )
+            h = self.g[:, :, None] * (self.g * d2f[:, None])[:, None, :]
+            h += self.h * df[:, None, None]
         return Jet(f, g, h)
 
     def reciprocal(self) -> Jet:
         r = 1.0 / self.v
+        if self.g is None:
+            return Jet(r, None, None)
         return self._unary(r, -(r**2), 2.0 * r**3)
 
     def __truediv__(self, other) -> Jet:
         if not isinstance(other, Jet):
             return self * (1.0 / np.asarray(other, dtype=float))
-        return self * other.reciprocal()
+        if self.g is None:
+            return Jet(self.v / other.v, None, None)
+        out = self * other.reciprocal()
+        out.v = self.v / other.v  # the value as the values-only mode has it, to the last bit
+        return out
 
     def __rtruediv__(self, other) -> Jet:
         return self.reciprocal() * other
 
     def sqrt(self) -> Jet:
         s = np.sqrt(self.v)
+        if self.g is None:
+            return Jet(s, None, None)
         return self._unary(s, 0.5 / s, -0.25 / (s * self.v))
 
     def where(self, mask: np.ndarray, other) -> Jet:
         """This jet where ``mask`` (B,), ``other`` elsewhere."""
         o = self._lift(other)
+        v = np.where(mask, self.v, o.v)
+        if self.g is None:
+            return Jet(v, None, None)
         g = np.where(mask[:, None], self.g, o.g)
         h = None if self.h is None else np.where(mask[:, None, None], self.h, o.h)
-        return Jet(np.where(mask, self.v, o.v), g, h)
+        return Jet(v, g, h)
 
     def take(self, index) -> Jet:
         """The batch entries ``index``."""
-        return Jet(self.v[index], self.g[index], None if self.h is None else self.h[index])
+        g = None if self.g is None else self.g[index]
+        return Jet(self.v[index], g, None if self.h is None else self.h[index])
 
     def repeat(self, r: int) -> Jet:
         """Each batch entry r times in a row (B r,)."""
         rep = np.repeat
+        g = None if self.g is None else rep(self.g, r, axis=0)
         h = None if self.h is None else rep(self.h, r, axis=0)
-        return Jet(rep(self.v, r), rep(self.g, r, axis=0), h)
+        return Jet(rep(self.v, r), g, h)

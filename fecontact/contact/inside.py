@@ -35,7 +35,7 @@ from scipy.spatial import cKDTree
 
 from .geometry import closest_on_segments
 
-__all__ = ["Surface", "facet_distances", "winding_numbers"]
+__all__ = ["Surface", "facet_distances", "face_depths", "winding_numbers"]
 
 _FIRST_K = 8  # centroids asked first: a point near a surface has its closest facet among them
 _CHUNK = 2**22  # point × segment pairs of the 2D winding number evaluated at once
@@ -107,6 +107,30 @@ def facet_distances(points: np.ndarray, xf: np.ndarray) -> np.ndarray:
     if points.shape[1] == 2:
         return closest_on_segments(points, xf[:, 0], xf[:, 1])[1]
     return _triangle_closest(points, xf[:, 0], xf[:, 1], xf[:, 2])[0]
+
+
+def face_depths(points: np.ndarray, xf: np.ndarray):
+    """Whether each of ``points`` (m, d) projects strictly inside its facet xf (m, k, d), and
+    then how deep (m, ≥ 0) it lies behind the facet's plane (the outward normal of
+    :class:`Surface`). When that facet is the surface's closest to the point, its closest
+    feature is the face, whose pseudo-normal is the face normal: the depth is the point's
+    depth inside the closed surface, with no test of the rest."""
+    a, b = xf[:, 0], xf[:, 1]
+    u, v = b - a, points - a
+    if points.shape[1] == 2:
+        xi = np.einsum("mi,mi->m", v, u) / np.einsum("mi,mi->m", u, u)
+        # the body lies on the left of a counter-clockwise segment: inside is u × v > 0
+        behind = (u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]) / np.linalg.norm(u, axis=1)
+        return (xi > 0.0) & (xi < 1.0), np.maximum(behind, 0.0)
+    w = xf[:, 2] - a
+    d00, d01, d11 = (np.einsum("mi,mi->m", p, s) for p, s in ((u, u), (u, w), (w, w)))
+    d20, d21 = np.einsum("mi,mi->m", v, u), np.einsum("mi,mi->m", v, w)
+    den = d00 * d11 - d01 * d01
+    beta, gamma = (d11 * d20 - d01 * d21) / den, (d00 * d21 - d01 * d20) / den
+    face = (beta > 0.0) & (gamma > 0.0) & (beta + gamma < 1.0)
+    N = np.cross(u, w)
+    behind = -np.einsum("mi,mi->m", v, N) / np.linalg.norm(N, axis=1)
+    return face, np.maximum(behind, 0.0)
 
 
 class Surface:

@@ -20,26 +20,35 @@ they take a node's gap — and the discrete pressure field λ_h = Σ_j z_j Φ_j 
 
 λ_j the normal force of row j (N) and t the thickness of the 2D body (m).
 
+Partly covered segments: where the master covers only a part [a, b] of a slave segment (the
+edge of the contact zone; on a coarse boundary, a vertex meeting a vertex) the dual functions
+are those biorthogonal on [a, b] (Popp, Seitz, Gee & Wall, CMAME 2013;
+:mod:`fecontact.contact.mortar_duals`): a gap field linear on the segment then weighs in with
+its own nodal value and a positive weight. The dual functions of the whole segment would weigh
+the covered part alone with their lobes of both signs: on two octagons meeting vertex to
+vertex, the vertex read a gap of +4 mm while 4 mm deep inside the other disk.
+
 Linearisation: the rows' gradients G_j = ∂g_j/∂q and curvatures ∇²g_j are exact, from a
 second-order forward differentiation of the integral (:mod:`fecontact.contact.dual_numbers`):
-through the averaged normals, the projections, the moving bounds of the overlaps and the
-segment Jacobian. This is the consistent linearisation of Popp, Gee & Wall (2009) obtained
-without deriving its terms by hand, so the position correction keeps Newton's quadratic rate.
-The 3D form (Popp, Gitterle, Gee & Wall 2010: clipping of projected polygons) and quadratic
-faces (the basis transformation of Popp, Wohlmuth, Gee & Wall 2012, needed because the corner
-shape functions of a P2 face integrate to zero) are not implemented: P2 bodies are taken with
-their boundary split into linear segments, like node-to-surface contact.
+through the averaged normals, the projections, the moving bounds of the overlaps, the dual
+functions of partly covered segments and the segment Jacobian. This is the consistent
+linearisation of Popp, Gee & Wall (2009) obtained without deriving its terms by hand, so the
+position correction keeps Newton's quadratic rate. Quadratic faces (the basis transformation
+of Popp, Wohlmuth, Gee & Wall 2012, needed because the corner shape functions of a P2 face
+integrate to zero) are not implemented: P2 bodies are taken with their boundary split into
+linear segments, like node-to-surface contact.
 
 Contact rows are the slave boundary nodes. The master covers a part of a node's segments
 (where the slave normals meet master segments facing them); a node takes part when the
-covered part carries at least half of the dual weight of its covered segments,
-∫_covered Φ_j ds ≥ ½ Σ_e |e|/2: where only the far end of a segment is covered, at the edge
-of the zone the master faces, the negative lobe of Φ_j would turn g̃_j negative although the
-surfaces are apart. Other rows report g = +inf with a zero gradient. A master segment whose
-mean gap over its overlap is deeper than the margin behind the slave segment is a far part
-of the master that happens to face it, not a contact partner, and is left out. The search
-keeps the (slave, master) segment pairs whose midpoints are within the detection margin plus
-both segment lengths, refreshed when a node has moved by more than an eighth of the margin.
+covered part carries at least half of the shape-function weight of its covered segments,
+Σ_e ∫_covered N_j ds ≥ ½ Σ_e |e|/2: a node whose segments are covered only at their far
+ends would read a gap extrapolated from there. Other rows report g = +inf with a zero
+gradient. A master segment whose mean gap over its overlap is deeper than the margin behind
+the slave segment is a far part of the master that happens to face it, not a contact
+partner, and is left out. The search keeps the (slave, master) segment pairs whose midpoints
+are within the detection margin plus both segment lengths, refreshed when a node has moved
+by more than an eighth of the margin; a value-only pass drops the pairs that do not overlap
+before the differentiated one.
 
 Friction: the slip row of node j is the weighted relative motion t_j·∫ Φ_j (ẋ − ẏ) ds / L_j
 along the slave node's tangent t_j, with the projections frozen over the step.
@@ -51,6 +60,8 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..errors import InputError
+from .dual_numbers import Jet
+from .mortar_duals import CLAMPED, FOREIGN, covered_ends, dual_coefficients
 from .mortar_interface import MortarInterface
 from .mortar_segments import segment_pair_integrals
 
@@ -119,30 +130,74 @@ class MortarContact(MortarInterface):
         self._search = (xs.copy(), xm.copy(), pairs)
         return pairs
 
-    def _local(self, q: np.ndarray):
-        """The slave segments e of the segment pairs, their local coordinates z (P, 12) and
-        global dofs (P, 12), and the slave nodes' positions."""
+    def _overlapping(self, q: np.ndarray):
+        """The slave nodes' positions, and the candidate segment pairs that overlap: their
+        slave segments e, local slave and master nodes, local coordinates z (P, 12) and the
+        results of the value-only pass that selected them (``segment_pair_integrals``)."""
         xs, xm = self.positions(q)
         e, f = self._pairs(xs, xm)
         sn, mn = self.local_nodes[e], self.master_facets[f]
         z = np.concatenate([xs[sn], xm[mn]], axis=1).reshape(len(e), 12)
+        # the candidates that do not overlap contribute nothing: left out before the
+        # differentiated integrals, by a value-only pass that also gives the overlaps' ends
+        prior = segment_pair_integrals(z, self.has_prev[e], self.has_next[e], None, self.margin)
+        keep = prior[2] > 0.0
+        ga, gb, coverage, (xi, eta, wJ, _), ends = prior
+        prior = (ga.take(keep), gb.take(keep), coverage[keep], (xi[keep], wJ[keep]),
+                 tuple(x[keep] for x in ends))  # fmt: skip
+        return xs, xm, e[keep], sn[keep], mn[keep], z[keep], prior
+
+    def _local(self, q: np.ndarray):
+        """The slave segments e of the segment pairs that overlap, their local coordinates z
+        (P, 14 or 18: the 12 of the pair, the master nodes that bound the slave segment's
+        covered part when another pair's nodes do, then how each end is found) and global
+        dofs (P, 12 or 16), and the slave nodes' positions."""
+        xs, xm, e, sn, mn, z, prior = self._overlapping(q)
+        lo, hi, lo_node, hi_node = prior[4][:4]
+        kinds = covered_ends(e, lo, hi, lo_node, hi_node, len(self.facets))
+        kind_lo, kind_hi, src_lo, src_hi = kinds
+        if np.any(kind_lo == FOREIGN) or np.any(kind_hi == FOREIGN):
+            bound = np.stack([mn[src_lo, np.maximum(lo_node[src_lo], 0)],
+                              mn[src_hi, np.maximum(hi_node[src_hi], 0)]], axis=1)  # fmt: skip
+            z = np.concatenate([z, xm[bound].reshape(len(e), 4)], axis=1)
+            mn = np.concatenate([mn, bound], axis=1)
+        z = np.concatenate([z, kind_lo[:, None], kind_hi[:, None]], axis=1)
         return e, z, self._global_dofs(sn, mn), xs
 
+    def _values(self, q: np.ndarray):
+        """The entries' values for :meth:`gaps`, from the value-only pass that selects them:
+        the dual functions of each segment's covered part applied to its ∫ N_k g_N ds (the
+        ends of the covered part are the overlaps' own ends; the same values as
+        :meth:`_integrate` gives)."""
+        xs, _, e, _, _, _, (ga, gb, coverage, (xi, wJ), ends) = self._overlapping(q)
+        lo, hi, lo_node, hi_node, m1, m2 = ends
+        kind_lo, kind_hi, src_lo, src_hi = covered_ends(e, lo, hi, lo_node, hi_node,
+                                                        len(self.facets))  # fmt: skip
+        if np.any(kind_lo) or np.any(kind_hi):
+            a = Jet(np.where(kind_lo == CLAMPED, -1.0, lo[src_lo]), None, None)
+            b = Jet(np.where(kind_hi == CLAMPED, 1.0, hi[src_hi]), None, None)
+            A11, A12, A21, A22 = dual_coefficients(a, b)
+            m1, m2 = Jet(m1, None, None), Jet(m2, None, None)
+            ga, gb = A11 * m1 + A12 * m2, A21 * m1 + A22 * m2
+        covered = np.stack([((0.5 - 0.5 * xi) * wJ).sum(1), ((0.5 + 0.5 * xi) * wJ).sum(1)], 1)
+        return e, [ga, gb], coverage, covered, xs
+
     def _integrate(self, e, z, hessian):
-        """Jets of the ends' weighted gaps, coverage, covered dual weights (P, 2) and the
-        quadrature (ξ, η, w J) of the pairs."""
-        ga, gb, coverage, quad = segment_pair_integrals(
-            z, self.has_prev[e], self.has_next[e], hessian, depth=self.margin
+        """Jets of the ends' weighted gaps, coverage, covered weights ∫ N_k ds (P, 2) and
+        the quadrature (ξ, η, w J, A) of the pairs."""
+        ends = (z[:, -2].astype(int), z[:, -1].astype(int))
+        ga, gb, coverage, quad, _ = segment_pair_integrals(
+            z[:, :-2], self.has_prev[e], self.has_next[e], hessian, self.margin, ends
         )
-        xi, _, wJ = quad
-        dual = np.stack([((0.5 - 1.5 * xi) * wJ).sum(1), ((0.5 + 1.5 * xi) * wJ).sum(1)], 1)
-        return [ga, gb], coverage, dual, quad
+        xi, _, wJ, _ = quad
+        covered = np.stack([((0.5 - 0.5 * xi) * wJ).sum(1), ((0.5 + 0.5 * xi) * wJ).sum(1)], 1)
+        return [ga, gb], coverage, covered, quad
 
     def _slip_weights(self, quad, k: int) -> np.ndarray:
         """Weights (P, 6) of the local nodes' motion in end k's slip: ∫ Φ_k N_i over the
         slave's ends, −∫ Φ_k N_i over the master's (the projections frozen)."""
-        xi, eta, wJ = quad
-        w = (0.5 - 1.5 * xi if k == 0 else 0.5 + 1.5 * xi) * wJ
+        xi, eta, wJ, A = quad
+        w = (A[:, k, :1] * 0.5 * (1.0 - xi) + A[:, k, 1:] * 0.5 * (1.0 + xi)) * wJ
         zero = np.zeros(len(xi))
         return np.stack(
             [zero, (w * 0.5 * (1.0 - xi)).sum(1), (w * 0.5 * (1.0 + xi)).sum(1), zero,

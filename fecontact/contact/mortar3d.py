@@ -117,9 +117,10 @@ class MortarContact3D(MortarInterface):
         # the points' moments per pair, Σ w Φ_i λ_k and Σ w Φ_i μ_k: the integrands are
         # linear in λ at fixed vertices (mortar_facets.facet_pair_integrals)
         phi = w[:, None] * (4.0 * lam - 1.0)
-        moments = np.zeros((len(e), 2, 3, 3))
-        np.add.at(moments, pair, np.stack([phi[:, :, None] * lam[:, None, :],
-                                           phi[:, :, None] * mu[:, None, :]], axis=1))  # fmt: skip
+        values = np.stack([phi[:, :, None] * lam[:, None, :], phi[:, :, None] * mu[:, None, :]],
+                          axis=1).reshape(-1, 18)  # fmt: skip
+        flat = (pair[:, None] * 18 + np.arange(18)).ravel()
+        moments = np.bincount(flat, values.ravel(), 18 * len(e)).reshape(-1, 2, 3, 3)
         weight = np.bincount(pair, w, len(e))
         keep = np.flatnonzero(weight > 0.0)
         z = np.concatenate(

@@ -16,8 +16,9 @@ triangle's plane along n, in the slave's area coordinates, clipped to the slave 
 (Sutherland–Hodgman), cut into a fan of cells with a 3-point rule of degree 2 each: the
 segment-based integration of Popp, Gitterle, Gee & Wall (IJNME 2010) with the slave
 element's own normal as the projection direction. Gradients and Hessians over the 18
-coordinates z = (x_a, x_b, x_c, y_1, y_2, y_3) are those at the fixed points (Jet
-arithmetic); see :mod:`fecontact.contact.mortar3d` for what that leaves out.
+coordinates z = (x_a, x_b, x_c, y_1, y_2, y_3) are those at the fixed points, in closed
+form (:func:`facet_pair_integrals`); see :mod:`fecontact.contact.mortar3d` for what that
+leaves out.
 """
 
 from __future__ import annotations
@@ -29,39 +30,103 @@ from .dual_numbers import Jet
 __all__ = ["clipped_points", "facet_pair_integrals", "meet_triangles"]
 
 
-def _cross(u, w):
-    return (u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0])
+def _cross_tensor() -> np.ndarray:
+    """T (3, 9, 9): the cross product N = (x_b − x_a) × (x_c − x_a) of a triangle's
+    vertices X = (x_a, x_b, x_c) (9,) as N_c = ½ Xᵀ T_c X (a homogeneous quadratic form,
+    so that ∂N_c/∂X = T_c X and ∂²N_c/∂X² = T_c)."""
+    eps = np.zeros((3, 3, 3))
+    eps[0, 1, 2] = eps[1, 2, 0] = eps[2, 0, 1] = 1.0
+    eps[0, 2, 1] = eps[2, 1, 0] = eps[1, 0, 2] = -1.0
+    eye, zero = np.eye(3), np.zeros((3, 3))
+    e1, e2 = np.hstack([-eye, eye, zero]), np.hstack([-eye, zero, eye])
+    B = np.einsum("cjk,ja,kb->cab", eps, e1, e2)
+    return (B + B.transpose(0, 2, 1)).reshape(3, 81)
 
 
-def _dot(u, w):
-    return u[0] * w[0] + u[1] * w[1] + u[2] * w[2]
+_T = _cross_tensor()
+_Y1 = np.hstack([np.eye(3), np.zeros((3, 6))])  # ∂y_1/∂Y
 
 
-def _sub(u, w):
-    return tuple(a - b for a, b in zip(u, w, strict=True))
+def _quadratic(c: np.ndarray, P: int, *lead) -> np.ndarray:
+    """Σ_c c_c T_c: (P, *lead, 9, 9) from the weights c (P, *lead, 3)."""
+    return (c @ _T).reshape(P, *lead, 9, 9)
 
 
 def facet_pair_integrals(z: np.ndarray, hessian=None):
     """Jets (one per slave node a, b, c) of the weighted-gap contributions (m³) of P (slave
-    triangle, master triangle) pairs: ``z`` (P, ≥ 27) holds the 18 vertex coordinates, then
-    the moments m_ik = Σ w Φ_i λ_k (3 × 3) of the pair's integration points (fixed).
+    triangle, master triangle) pairs: ``z`` (P, ≥ 27) holds the 18 vertex coordinates
+    X = (x_a, x_b, x_c), Y = (y_1, y_2, y_3), then the moments m_ik = Σ w Φ_i λ_k (3 × 3) of
+    the pair's integration points (fixed).
 
     With r_k = (x_k − y_1)·M the master plane's offset of slave vertex k, s = N·N and
     d = N·M, the gap at a point is g_N = −Σ_k λ_k r_k |N| / d and A = |N|/2, so that
-    Σ w Φ_i g_N A = −½ (s/d) Σ_k m_ik r_k: one differentiated evaluation per pair instead of
-    one per point. ``hessian``: None for values only, False for gradients, True for Hessians
-    too."""
-    if hessian is None:
-        c = [Jet(z[:, i], np.zeros((len(z), 0)), None) for i in range(18)]
-    else:
-        c = Jet.variables(z[:, :18], hessian)
-    xa, xb, xc, y1, y2, y3 = (tuple(c[3 * i : 3 * i + 3]) for i in range(6))
-    N = _cross(_sub(xb, xa), _sub(xc, xa))
-    M = _cross(_sub(y2, y1), _sub(y3, y1))
-    ratio = _dot(N, N) / _dot(N, M) * -0.5
-    r = [_dot(_sub(x, y1), M) for x in (xa, xb, xc)]
+    Σ w Φ_i g_N A = f R_i with f = −½ s/d and R_i = Σ_k m_ik r_k = w_i·M, w_i = Σ_k m_ik
+    (x_k − y_1): one evaluation per pair instead of one per point. N and M are quadratic
+    forms of X and Y (``_cross_tensor``), so the gradients and Hessians over z follow in
+    closed form by the product and quotient rules. ``hessian``: None for values only, False
+    for gradients, True for Hessians too."""
+    P, X, Y = len(z), z[:, :9], z[:, 9:18]
     m = z[:, 18:27].reshape(-1, 3, 3)
-    return [ratio * (r[0] * m[:, i, 0] + r[1] * m[:, i, 1] + r[2] * m[:, i, 2]) for i in range(3)]
+    JN, JM = (
+        (X @ _T.reshape(3, 9, 9)).transpose(1, 0, 2),
+        (Y @ _T.reshape(3, 9, 9)).transpose(1, 0, 2),
+    )
+    N, M = 0.5 * np.einsum("pca,pa->pc", JN, X), 0.5 * np.einsum("pca,pa->pc", JM, Y)
+    w = np.einsum("pik,pkd->pid", m, X.reshape(-1, 3, 3) - Y[:, None, :3])
+    s, d = np.einsum("pc,pc->p", N, N), np.einsum("pc,pc->p", N, M)
+    R = np.einsum("pid,pd->pi", w, M)
+    f = -0.5 * s / d
+    values = f[:, None] * R
+    if hessian is None:
+        return [Jet(values[:, i], None, None) for i in range(3)]
+    ds = np.concatenate([2.0 * np.einsum("pca,pc->pa", JN, N), np.zeros((P, 9))], axis=1)
+    dd = np.concatenate([np.einsum("pca,pc->pa", JN, M), np.einsum("pca,pc->pa", JM, N)], 1)
+    mu = m.sum(axis=2)
+    dR = np.concatenate([(m[:, :, :, None] * M[:, None, None, :]).reshape(P, 3, 9),
+                         np.einsum("pca,pic->pia", JM, w) - mu[:, :, None] * (M @ _Y1)[:, None]],
+                        axis=2)  # fmt: skip
+    df = -0.5 * (ds / d[:, None] - (s / d**2)[:, None] * dd)
+    grads = df[:, None, :] * R[:, :, None] + f[:, None, None] * dR
+    if not hessian:
+        return [Jet(values[:, i], grads[:, i], None) for i in range(3)]
+    hf = _ratio_hessian(JN, JM, N, M, s, d, ds, dd)
+    hR = _offset_hessians(m, JM, w, mu)
+    out = []
+    for i in range(3):
+        fr = df[:, :, None] * dR[:, i, None, :]
+        h = hf * R[:, i, None, None] + fr + fr.transpose(0, 2, 1) + f[:, None, None] * hR[:, i]
+        out.append(Jet(values[:, i], grads[:, i], h))
+    return out
+
+
+def _ratio_hessian(JN, JM, N, M, s, d, ds, dd) -> np.ndarray:
+    """∇²f (P, 18, 18) of f = −½ s/d, s = N·N, d = N·M."""
+    P = len(N)
+    hs, hd = np.zeros((P, 18, 18)), np.zeros((P, 18, 18))
+    hs[:, :9, :9] = 2.0 * (JN.transpose(0, 2, 1) @ JN + _quadratic(N, P))
+    hd[:, :9, :9] = _quadratic(M, P)
+    hd[:, 9:, 9:] = _quadratic(N, P)
+    hd[:, :9, 9:] = JN.transpose(0, 2, 1) @ JM
+    hd[:, 9:, :9] = hd[:, :9, 9:].transpose(0, 2, 1)
+    inv = (1.0 / d)[:, None, None]
+    sd = ds[:, :, None] * dd[:, None, :]
+    dd2 = dd[:, :, None] * dd[:, None, :]
+    s_ = s[:, None, None]
+    return -0.5 * (hs * inv - (sd + sd.transpose(0, 2, 1)) * inv**2 - hd * s_ * inv**2
+                   + 2.0 * dd2 * s_ * inv**3)  # fmt: skip
+
+
+def _offset_hessians(m, JM, w, mu) -> np.ndarray:
+    """∇²R_i (P, 3, 18, 18) of R_i = Σ_k m_ik (x_k − y_1)·M."""
+    P = len(m)
+    hR = np.zeros((P, 3, 18, 18))
+    cross = (m[:, :, :, None, None] * JM[:, None, None]).reshape(P, 3, 9, 9)
+    hR[:, :, :9, 9:] = cross
+    hR[:, :, 9:, :9] = cross.transpose(0, 1, 3, 2)
+    y1JM = _Y1.T @ JM  # (P, 9, 9): the rows of y_1
+    sym = (y1JM + y1JM.transpose(0, 2, 1))[:, None]
+    hR[:, :, 9:, 9:] = _quadratic(w, P, 3) - mu[:, :, None, None] * sym
+    return hR
 
 
 def meet_triangles(x, n, tri, depth: float):

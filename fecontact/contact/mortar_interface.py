@@ -1,16 +1,18 @@
 r"""What the 2D and 3D dual mortar pairs share: rows, their assembly, the nodes that take part.
 
-A mortar pair integrates, over entries (a slave element against a master element in 2D, a
-slave Gauss point with the master triangle it meets in 3D), the contributions of each slave
-element's ends k to their weighted gaps g̃_j = ∫ Φ_j g_N dA, as
+A mortar pair integrates, over entries (a slave element against a master element), the
+contributions of each slave element's ends k to their weighted gaps g̃_j = ∫ Φ_j g_N dA, as
 :class:`~fecontact.contact.dual_numbers.Jet` values with exact gradients and Hessians over the
 entry's local coordinates. This module gathers them into the pair's rows g_j = g̃_j / L_j (m),
 L_j = Σ_e |e|/n_e the reference measure (length in 2D, area in 3D) node j carries (n_e the
 element's nodes; ∫_e Φ_j dA = |e|/n_e for the dual functions of linear elements), pads the rows
 to one width, and decides which nodes take part: those whose covered support carries at least
-half of the dual weight of their covered elements, W_j = ∫_covered Φ_j dA ≥ ½ Σ_e |e|/n_e
-(where only the far end of an element is covered, the negative lobe of Φ_j would turn g̃_j
-negative although the surfaces are apart). The others report g = +inf and a zero gradient.
+half of the weight of their covered elements, W_j ≥ ½ Σ_e |e|/n_e, W_j the covered weight the
+subclass reports (2D: of the shape functions N_j, whose dual functions are those of the
+covered part; 3D: of the dual functions Φ_j, where only the far end of an element is covered
+their negative lobe would turn g̃_j negative although the surfaces are apart). The others
+report g = +inf and a zero gradient. The gaps of the last q are kept: the time loop asks for
+them again at the same q (the correction, the probes, the summary).
 """
 
 from __future__ import annotations
@@ -102,7 +104,7 @@ class MortarInterface(PairDefaults):
         self._dofs_s = body.node_translation_dofs(np.arange(body.n_nodes))
         self._dofs_m = master.node_translation_dofs(np.arange(master.n_nodes))
         self.offsets = (0, 0)
-        self._last = self._search = None
+        self._last = self._last_gaps = self._search = self._layout_of = None
 
     @property
     def size(self) -> int:
@@ -111,13 +113,13 @@ class MortarInterface(PairDefaults):
     def bind(self, model) -> None:
         """Place the pair in the global dof vector of ``model``."""
         self.offsets = (model.offset_of(self.body), model.offset_of(self.master))
-        self._last = self._search = None
+        self._last = self._last_gaps = self._search = self._layout_of = None
 
     def detect_within(self, distance: float) -> None:
         """Search as far as the integrator's candidates reach (``distance`` m)."""
         if not self._own_margin and distance > 0.0 and distance != self.margin:
             self.margin = distance
-            self._last = self._search = None
+            self._last = self._last_gaps = self._search = None
 
     def _kept_pairs(self, xs: np.ndarray, xm: np.ndarray):
         """The element pairs of the last search while no node has moved an eighth of the
@@ -159,10 +161,12 @@ class MortarInterface(PairDefaults):
             valid[self.element_rows[part].ravel()] = False
         return valid
 
-    def _same(self, q, key) -> bool:
+    def _key(self, q):
         (oa, ob), (a, b) = self.offsets, self.bodies
-        now = (q[oa : oa + a.ndof], q[ob : ob + b.ndof])
-        return all(np.array_equal(k, c) for k, c in zip(now, key, strict=True))
+        return (q[oa : oa + a.ndof], q[ob : ob + b.ndof])
+
+    def _same(self, q, key) -> bool:
+        return all(np.array_equal(k, c) for k, c in zip(self._key(q), key, strict=True))
 
     def _gap_values(self, e, jets, coverage, dual, xs):
         g = np.zeros(self.size)
@@ -171,13 +175,21 @@ class MortarInterface(PairDefaults):
         return np.where(self._valid(e, coverage, dual, xs), g / self.length, np.inf)
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
-        """The weighted gaps g_j (m) alone (+inf for the rows that take no part)."""
-        last = self._last
-        if last is not None and self._same(q, last[0]):
-            return last[1]["g"].copy()
+        """The weighted gaps g_j (m) alone (+inf for the rows that take no part); the last
+        evaluation's when q has not changed since."""
+        for cached in (self._last, self._last_gaps):
+            if cached is not None and self._same(q, cached[0]):
+                return cached[1]["g"].copy()
+        g = self._gap_values(*self._values(q))
+        self._last_gaps = (tuple(k.copy() for k in self._key(q)), {"g": g})
+        return g.copy()
+
+    def _values(self, q: np.ndarray):
+        """The entries e, the value Jets of their ends' weighted gaps, their coverage and
+        covered weights, and the slave nodes' positions, at q."""
         e, z, _, xs = self._local(q)
         jets, coverage, dual, _ = self._integrate(e, z, None)
-        return self._gap_values(e, jets, coverage, dual, xs)
+        return e, jets, coverage, dual, xs
 
     def evaluate(self, q: np.ndarray):
         """Weighted gaps (m,) in m, dofs (m, k), gradients (m, k) and no Hessians (None:
@@ -193,15 +205,24 @@ class MortarInterface(PairDefaults):
         valid = np.isfinite(g)
         # the Hessians of the entries that count only (the search also finds some that miss)
         counts = (coverage > 0.0) & np.any([valid[r] for r in ends], axis=0)
-        layout = _Layout(ends, dofs, self.offsets[0] + self._dofs_s[self.nodes])
+        layout = self._layout(ends, dofs)
         scale = np.where(valid, 1.0 / self.length, 0.0)
         G = layout.rows(ends, [j.g * scale[r, None] for r, j in zip(ends, jets, strict=True)])
         G.flags.writeable = False
-        (oa, ob), (a, b) = self.offsets, self.bodies
-        key = (q[oa : oa + a.ndof].copy(), q[ob : ob + b.ndof].copy())
+        key = tuple(k.copy() for k in self._key(q))
         self._last = (key, dict(g=g, G=G, e=e, z=z, layout=layout, scale=scale, quad=quad,
                                 counts=counts))  # fmt: skip
         return g.copy(), layout.dofs, G, None
+
+    def _layout(self, ends, dofs: np.ndarray) -> _Layout:
+        """The layout of these entries: the last one while the entries are the same (the
+        iterates of a Newton solve mostly keep them)."""
+        key = np.concatenate([np.stack(ends, axis=1), dofs], axis=1)
+        if self._layout_of is not None and np.array_equal(self._layout_of[0], key):
+            return self._layout_of[1]
+        layout = _Layout(ends, dofs, self.offsets[0] + self._dofs_s[self.nodes])
+        self._layout_of = (key, layout)
+        return layout
 
     def hessians(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
         """∇²g_j (len(rows), k, k) of the contacts ``rows`` at q, in the layout of
@@ -255,6 +276,8 @@ class MortarInterface(PairDefaults):
         values = []
         for k, end in enumerate(ends):
             w = self._slip_weights(r["quad"], k) * scale[end, None]  # (P, local nodes)
+            # nodes that only bound the covered part (2D) carry no slip weight
+            w = np.pad(w, ((0, 0), (0, r["layout"].cols.shape[2] // self.dim - w.shape[1])))
             v = w[:, None, :, None] * T[end][:, :, None, :]  # (P, nt, nodes, d)
             values.append(v.reshape(len(e), T.shape[1], -1))
         return r["layout"].dofs, r["layout"].rows(ends, values), T

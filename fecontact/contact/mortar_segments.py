@@ -17,15 +17,16 @@ The weighted gaps of the two slave nodes (m²) are g̃_k = ∫ Φ_k(ξ) g_N(ξ) 
 overlap, with the dual (biorthogonal) shape functions of a linear segment, Φ_a = ½ − 3ξ/2,
 Φ_b = ½ + 3ξ/2 (∫ Φ_k N_l J dξ = δ_kl ∫ N_l J dξ; Wohlmuth 2000), and J = |x_b − x_a|/2. On
 a straight segment J is constant, so the dual functions do not depend on the geometry and
-need no linearisation (Popp, Gee & Wall 2009).
+need no linearisation (Popp, Gee & Wall 2009). On a segment the master covers in part they
+are those of the covered part (:mod:`~fecontact.contact.mortar_duals`), which move with it.
 
 Everything is written once in :class:`~fecontact.contact.dual_numbers.Jet` arithmetic over
-the 12 local coordinates z = (x_p, x_a, x_b, x_c, y_1, y_2): the gradients and Hessians of
-g̃ — through the normals, the projections, the moving overlap bounds and the Jacobian — are
-exact. The projection ξ of a master node solves a quadratic: it is found in floating point by
-Newton's method, then two more Newton steps in Jet arithmetic starting from the converged
-value give its exact first and second derivatives (the Newton map has zero derivative with
-respect to ξ at the root).
+the 12 local coordinates z = (x_p, x_a, x_b, x_c, y_1, y_2) (16 with the master nodes that
+bound the covered part): the gradients and Hessians of g̃ — through the normals, the
+projections, the moving overlap bounds, the dual functions and the Jacobian — are exact.
+The projection ξ of a master node solves a quadratic: its root nearest the segment is found
+in closed form, then one step of Chebyshev's method in Jet arithmetic from it gives
+its exact first and second derivatives (those of the implicit function).
 """
 
 from __future__ import annotations
@@ -33,6 +34,7 @@ from __future__ import annotations
 import numpy as np
 
 from .dual_numbers import Jet
+from .mortar_duals import FOREIGN, OWN, STANDARD, dual_coefficients
 
 __all__ = ["GAUSS_POINTS", "segment_pair_integrals"]
 
@@ -78,49 +80,80 @@ def _segment_normal(u, w):
 
 
 def _points(z: np.ndarray, hessian, has_prev, has_next):
-    """Jet points (x_p, x_a, x_b, x_c, y_1, y_2) of the local coordinates z (P, 12); a missing
-    neighbour is the reflection of the segment's other end (the segment's own normal)."""
-    if hessian is None:  # values only
-        c = [Jet(z[:, i], np.zeros((len(z), 0)), None) for i in range(12)]
-    else:
-        c = Jet.variables(z, hessian)
-    xp, xa, xb, xc, y1, y2 = ((c[2 * i], c[2 * i + 1]) for i in range(6))
+    """Jet points (x_p, x_a, x_b, x_c, y_1, y_2, then the master nodes that bound the slave
+    segment's covered part when z has 16 columns) of the local coordinates z (P, 12 or 16);
+    a missing neighbour is the reflection of the segment's other end (the segment's own
+    normal)."""
+    c = Jet.variables(z, hessian)
+    xp, xa, xb, xc, *ys = ((c[2 * i], c[2 * i + 1]) for i in range(z.shape[1] // 2))
     ghost_p = _sub(_scale(2.0, xa), xb)
     ghost_c = _sub(_scale(2.0, xb), xa)
     xp = (xp[0].where(has_prev, ghost_p[0]), xp[1].where(has_prev, ghost_p[1]))
     xc = (xc[0].where(has_next, ghost_c[0]), xc[1].where(has_next, ghost_c[1]))
-    return xp, xa, xb, xc, y1, y2
+    return xp, xa, xb, xc, *ys
 
 
-def _projection_coefficients(xa, xb, na, nb, y):
-    """c0 + c1 ξ + c2 ξ² = (x(ξ) − y) × n(ξ)."""
-    xm, xd = _scale(0.5, _add(xa, xb)), _scale(0.5, _sub(xb, xa))
-    nm, nd = _scale(0.5, _add(na, nb)), _scale(0.5, _sub(nb, na))
+def _project_master_node(xm, xd, nm, nd, y, order):
+    """ξ (Jet) of the master node y projected onto the slave segment along n(ξ): the root
+    of p(ξ) = c0 + c1 ξ + c2 ξ² = (x(ξ) − y) × n(ξ), x(ξ) = x_m + ξ x_d, n(ξ) = n_m + ξ n_d.
+
+    The root ξ₀ is found in closed form; the derivatives of ξ over z come from one step
+    of Chebyshev's method from the constant ξ₀, ξ₀ − u − c2 u²/p′ with u = p/p′, whose
+    first and second derivatives at a root are those of the implicit function (``order``
+    0: values, 1: gradients, 2: Hessians too)."""
     r = _sub(xm, y)
-    return _cross(r, nm), _cross(r, nd) + _cross(xd, nm), _cross(xd, nd)
-
-
-def _project_master_node(xa, xb, na, nb, y):
-    """ξ (Jet) of the master node y projected onto the slave segment along n(ξ)."""
-    c0, c1, c2 = _projection_coefficients(xa, xb, na, nb, y)
+    c0, c1, c2 = _cross(r, nm), _cross(r, nd) + _cross(xd, nm), _cross(xd, nd)
     with np.errstate(divide="ignore", invalid="ignore"):
-        xi = -c0.v / c1.v
-        for _ in range(30):
-            step = (c0.v + xi * (c1.v + xi * c2.v)) / (c1.v + 2.0 * xi * c2.v)
-            xi = xi - step
-            if np.all(~np.isfinite(step) | (np.abs(step) <= 1e-15 * (1.0 + np.abs(xi)))):
-                break
+        # the root that tends to the linear one, −c0/c1, as c2 → 0, in the form without
+        # cancellation; no real root: the node does not project (inf)
+        b, disc = c1.v, c1.v * c1.v - 4.0 * c0.v * c2.v
+        xi = -2.0 * c0.v / (b + np.where(b < 0.0, -1.0, 1.0) * np.sqrt(disc))
     xi = np.where(np.isfinite(xi), xi, np.inf)
-    safe = np.where(np.isfinite(xi), xi, 0.0)
-    x = c0.constant_like(safe)
+    x0 = np.where(np.isfinite(xi), xi, 0.0)
+    if order == 0:
+        return c0.constant_like(xi)
     with np.errstate(divide="ignore", invalid="ignore"):
-        for _ in range(2):  # exact first, then second derivatives (module docstring)
-            x = x - (c0 + x * (c1 + x * c2)) / (c1 + x * c2 * 2.0)
-    x.v = np.where(np.isfinite(xi), x.v, np.inf)
+        p = c0 + c1 * x0 + c2 * (x0 * x0)
+        inv = (c1 + c2 * (2.0 * x0)).reciprocal()
+        u = p * inv
+        x = -u if order == 1 else -u - c2 * (u * u) * inv
+    x.v = xi  # the root itself: the same value whatever the derivatives carried
     return x
 
 
-def segment_pair_integrals(z, has_prev, has_next, hessian=None, depth=np.inf):
+def _overlap(xm, xd, nm, nd, y1, y2, nab, order):
+    """The overlap [lo, hi] (Jets, finite) of the master segment's projection with
+    [−1, 1], its span hi − lo (0 where not covered), the covered fraction (P,), and the
+    master node (0: y_1, 1: y_2; −1: clamped at ∓1) whose projection each end is."""
+    s1 = _project_master_node(xm, xd, nm, nd, y1, order)
+    s2 = _project_master_node(xm, xd, nm, nd, y2, order)
+    first = s1.v <= s2.v
+    lo, hi = s1.where(first, s2), s2.where(first, s1)
+    nodes = (np.where(lo.v > -1.0, np.where(first, 0, 1), -1),
+             np.where(hi.v < 1.0, np.where(first, 1, 0), -1))  # fmt: skip
+    lo = lo.where(lo.v > -1.0, -1.0)
+    hi = hi.where(hi.v < 1.0, 1.0)
+    facing = _dot(nab, _segment_normal(y1, y2)).v < -FACING
+    with np.errstate(invalid="ignore"):
+        coverage = np.where(facing & np.isfinite(s1.v + s2.v), np.maximum(hi.v - lo.v, 0.0), 0.0)
+    coverage = 0.5 * np.nan_to_num(coverage)
+    span = (hi - lo).where(np.isfinite(hi.v - lo.v) & (coverage > 0.0), 0.0)
+    return lo.where(np.isfinite(lo.v), 0.0), hi, span, coverage, nodes
+
+
+def _covered_end(kind, own, foreign, clamp: float, frame, order):
+    """An end of the slave segment's covered part (Jet): ∓1, the entry's own overlap end,
+    or the projection of the master node ``foreign`` (``mortar_duals.covered_ends``)."""
+    end = own.where(kind == OWN, clamp)
+    if np.any(kind == FOREIGN):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            x = _project_master_node(*frame, foreign, order)
+        inside = (x.v > -1.0) & (x.v < 1.0)
+        end = end.where(kind != FOREIGN, x.where(inside, clamp))
+    return end
+
+
+def segment_pair_integrals(z, has_prev, has_next, hessian=None, depth=np.inf, ends=None):
     """Weighted-gap contributions of P (slave segment, master segment) pairs.
 
     ``z`` (P, 12): the coordinates (m) of (x_p, x_a, x_b, x_c, y_1, y_2); ``has_prev``,
@@ -128,61 +161,78 @@ def segment_pair_integrals(z, has_prev, has_next, hessian=None, depth=np.inf):
     for gradients, True for gradients and Hessians over z. ``depth`` (m): a master segment
     whose mean gap over the overlap is below −depth lies behind the slave segment, not in
     contact with it (a far part of the master whose segment happens to face it): dropped.
+    ``ends``: None for the dual functions of the whole segment, or (kind_lo, kind_hi) (P,)
+    from :func:`~fecontact.contact.mortar_duals.covered_ends`: the dual functions are then
+    those of the segment's covered part (:mod:`~fecontact.contact.mortar_duals`), whose
+    foreign ends are the master nodes in z[:, 12:14] and z[:, 14:16] (z then (P, 16)).
 
-    Returns (ga, gb, coverage, quad): the Jets of g̃_a, g̃_b (m²), the fraction of the slave
-    segment the master segment covers (P,; 0 where the segments do not face each other,
-    ``FACING``, or miss each other), and the quadrature of the overlap as values — ξ and η
-    (P, G) and the weights w J (P, G) in m — for the slip rows of friction.
+    Returns (ga, gb, coverage, quad, ends): the Jets of g̃_a, g̃_b (m²), the fraction of
+    the slave segment the master segment covers (P,; 0 where the segments do not face each
+    other, ``FACING``, or miss each other), the quadrature of the overlap as values — ξ and
+    η (P, G), the weights w J (P, G) in m and the dual coefficients A (P, 2, 2) — for the
+    slip rows of friction, and (lo, hi, lo_node, hi_node, m1, m2): the overlap's ends (P,),
+    the master node each is the projection of (0: y_1, 1: y_2, −1: the segment's end), and
+    the values of ∫ N_1 g_N ds and ∫ N_2 g_N ds over the overlap (m²).
+
+    At a point ξ, x(ξ) + s n(ξ) lies on the master line y_1 + η d, d = y_2 − y_1, for
+    s = (y_1 − x) × d / (n × d); with x(ξ) = x_m + ξ x_d and n(ξ) = n_m + ξ n_d that is
+    s = (A − ξ B)/(C + ξ D), A = (y_1 − x_m) × d, B = x_d × d, C = n_m × d, D = n_d × d, and
+    g_N = s |n(ξ)|: the per-point work is a few operations on per-pair coefficients.
     """
-    xp, xa, xb, xc, y1, y2 = _points(z, hessian, has_prev, has_next)
+    xp, xa, xb, xc, y1, y2, *bound = _points(z, hessian, has_prev, has_next)
     nab = _segment_normal(xa, xb)
     na = _unit(_add(_segment_normal(xp, xa), nab))
     nb = _unit(_add(nab, _segment_normal(xb, xc)))
-    s1, s2 = _project_master_node(xa, xb, na, nb, y1), _project_master_node(xa, xb, na, nb, y2)
-    lo = s1.where(s1.v <= s2.v, s2)
-    hi = s1.where(s1.v > s2.v, s2)
-    lo = lo.where(lo.v > -1.0, -1.0)
-    hi = hi.where(hi.v < 1.0, 1.0)
-    facing = _dot(nab, _segment_normal(y1, y2)).v < -FACING
-    coverage = np.where(facing & np.isfinite(s1.v + s2.v), np.maximum(hi.v - lo.v, 0.0), 0.0)
-    coverage = 0.5 * np.nan_to_num(coverage)
-    G = GAUSS_POINTS
-    P = len(z)
+    xm, xd = _scale(0.5, _add(xa, xb)), _scale(0.5, _sub(xb, xa))
+    nm, nd = _scale(0.5, _add(na, nb)), _scale(0.5, _sub(nb, na))
+    order = 0 if hessian is None else (2 if hessian else 1)
+    lo, hi, span, coverage, nodes = _overlap(xm, xd, nm, nd, y1, y2, nab, order)
+    d = _sub(y2, y1)
+    coef = (_cross(_sub(y1, xm), d), _cross(xd, d), _cross(nm, d), _cross(nd, d),
+            _dot(nm, nm), _dot(nm, nd), _dot(nd, nd), _dot(xd, xd).sqrt() * span)  # fmt: skip
+    G, P = GAUSS_POINTS, len(z)
     keep = np.repeat(coverage > 0.0, G)
-    span = (hi - lo).where(np.isfinite(hi.v - lo.v) & (coverage > 0.0), 0.0)
-    lo = lo.where(np.isfinite(lo.v), 0.0)
-    theta, weight = np.tile(_THETA, P), np.tile(_WEIGHT, P)
-    xi = lo.repeat(G) + span.repeat(G) * (0.5 * (1.0 + theta))
-    xa_r = (xa[0].repeat(G), xa[1].repeat(G))
-    xb_r = (xb[0].repeat(G), xb[1].repeat(G))
-    na_r = (na[0].repeat(G), na[1].repeat(G))
-    nb_r = (nb[0].repeat(G), nb[1].repeat(G))
-    y1_r = (y1[0].repeat(G), y1[1].repeat(G))
-    y2_r = (y2[0].repeat(G), y2[1].repeat(G))
-    Na, Nb = (1.0 - xi) * 0.5, (1.0 + xi) * 0.5
-    x = _add(_scale(Na, xa_r), _scale(Nb, xb_r))
-    n = _add(_scale(Na, na_r), _scale(Nb, nb_r))
-    d = _sub(y2_r, y1_r)
-    den = _cross(d, n)
-    den = den.where(keep, 1.0)
-    eta = _cross(_sub(x, y1_r), n) / den
-    gap = _dot(_sub(_add(y1_r, _scale(eta, d)), x), n) / _dot(n, n).sqrt()
-    J = _dot(_sub(xb_r, xa_r), _sub(xb_r, xa_r)).sqrt() * 0.5
-    wJ = J * span.repeat(G) * (0.5 * weight)
-    wJ = wJ.where(keep, 0.0)
+    A, B, C, D, E, F, H, Jspan = (c.repeat(G) for c in coef)
+    xi = lo.repeat(G) + span.repeat(G) * np.tile(0.5 * (1.0 + _THETA), P)
+    nn = E + xi * (F * 2.0 + xi * H)
+    gap = (A - xi * B) / (C + xi * D).where(keep, 1.0) * nn.sqrt()
+    wJ = (Jspan * np.tile(0.5 * _WEIGHT, P)).where(keep, 0.0)
     gap = gap.where(keep, 0.0)
     behind = (gap.v * wJ.v).reshape(P, G).sum(1) < -depth * wJ.v.reshape(P, G).sum(1)
     if behind.any():
         coverage = np.where(behind, 0.0, coverage)
         wJ = wJ.where(~np.repeat(behind, G), 0.0)
-    ga = _sum_gauss((0.5 - 1.5 * xi) * gap * wJ, P, G)
-    gb = _sum_gauss((0.5 + 1.5 * xi) * gap * wJ, P, G)
-    quad = (xi.v.reshape(P, G), eta.v.reshape(P, G), wJ.v.reshape(P, G))
-    return ga, gb, coverage, quad
+    gw = gap * wJ
+    s0, s1 = _sum_gauss(gw, P, G), _sum_gauss(xi * gw, P, G)
+    m1, m2 = (s0 - s1) * 0.5, (s0 + s1) * 0.5  # ∫ N_k g_N ds
+    if ends is None or not (np.any(ends[0]) or np.any(ends[1])):
+        ga, gb, duals = m1 * 2.0 - m2, m2 * 2.0 - m1, np.broadcast_to(STANDARD, (P, 2, 2))
+    else:
+        frame = (xm, xd, nm, nd)
+        foreign = (bound[0], bound[1]) if bound else (None, None)
+        a = _covered_end(ends[0], lo, foreign[0], -1.0, frame, order)
+        b = _covered_end(ends[1], hi, foreign[1], 1.0, frame, order)
+        A11, A12, A21, A22 = dual_coefficients(a, b)
+        ga, gb = A11 * m1 + A12 * m2, A21 * m1 + A22 * m2
+        duals = np.stack([A11.v, A12.v, A21.v, A22.v], axis=1).reshape(P, 2, 2)
+    eta = _master_parameter(xi.v, xm, xd, nm, nd, y1, d, G)
+    quad = (xi.v.reshape(P, G), eta.reshape(P, G), wJ.v.reshape(P, G), duals)
+    return ga, gb, coverage, quad, (lo.v, hi.v, *nodes, m1.v, m2.v)
+
+
+def _master_parameter(xi, xm, xd, nm, nd, y1, d, G):
+    """η (values) of the master point met from x(ξ) along n(ξ) at the points ξ (P G,)."""
+    rep = [np.repeat(c[k].v, G) for c in (xm, xd, nm, nd, y1, d) for k in range(2)]
+    xmx, xmy, xdx, xdy, nmx, nmy, ndx, ndy, y1x, y1y, dx, dy = rep
+    x = (xmx + xi * xdx - y1x, xmy + xi * xdy - y1y)
+    n = (nmx + xi * ndx, nmy + xi * ndy)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        eta = (x[0] * n[1] - x[1] * n[0]) / (dx * n[1] - dy * n[0])
+    return np.where(np.isfinite(eta), eta, 0.0)
 
 
 def _sum_gauss(f: Jet, P: int, G: int) -> Jet:
     """Σ over the G Gauss points of each of the P pairs."""
     h = None if f.h is None else f.h.reshape(P, G, *f.h.shape[1:]).sum(axis=1)
-    g = f.g.reshape(P, G, f.g.shape[1]).sum(axis=1)
+    g = None if f.g is None else f.g.reshape(P, G, f.g.shape[1]).sum(axis=1)
     return Jet(f.v.reshape(P, G).sum(axis=1), g, h)

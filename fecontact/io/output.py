@@ -78,6 +78,7 @@ STANDARD_COLUMNS = (
     "n_active",
     "impulse",
     "newton_iterations",
+    "dt",
 )
 # ... and, in models with friction, these after them: Σ_j |k Λ_T,j| of the step (N·s) and
 # the work dissipated by friction since t = 0 (J)

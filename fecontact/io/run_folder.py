@@ -64,6 +64,7 @@ def save_checkpoint(path: Path, sim, st: State, rec, next_frame: float) -> None:
         "t": st.t,
         "step": st.step,
         "h": st.h,
+        "h_next": st.h_next,  # the step rtol's control takes next
         "next_frame": next_frame,
         "fingerprint": fingerprint(sim),
         "stats": rec.stats(),
@@ -91,6 +92,7 @@ def load_checkpoint(path: Path, sim):
     _check_history(path.parent / "history.csv", meta["step"])
     _check_frames(path.parent, sim.name, meta["t"])
     st = State(meta["t"], step=meta["step"], h=meta["h"], **records, **arrays)
+    st.h_next = meta.get("h_next", 0.0)
     return st, meta
 
 

@@ -68,26 +68,36 @@ def predict_increment(st, c) -> np.ndarray:
 def inertial_forces(model, q: np.ndarray, v: np.ndarray, tangent: bool = True):
     """The bodies' velocity-dependent inertial forces (gyroscopic Ω × JΩ, N·m) on the free
     dofs and, with ``tangent``, their tangent ∂f/∂v (free dofs; dense or CSR like the model's
-    matrices)."""
+    matrices; a body gives its own dense or sparse)."""
     f = np.zeros(model.n)
     n_free = model.n_free
-    C = None
-    if tangent:
-        C = np.zeros((n_free, n_free)) if model.dense else sp.lil_matrix((n_free, n_free))
+    dense = np.zeros((n_free, n_free)) if tangent and model.dense else None
+    rows, cols, vals = [], [], []
     for body, s in model.inertial_bodies:
         fb, Cb = body.inertial(q[s], v[s])
         f[s] += fb
-        if tangent:
-            idx = model.free_index[s]
-            i0 = int(idx[0])
-            if i0 >= 0 and np.array_equal(idx, np.arange(i0, i0 + len(idx))):  # all free
-                C[i0 : i0 + len(idx), i0 : i0 + len(idx)] += Cb
-            else:
-                keep = idx >= 0
-                C[np.ix_(idx[keep], idx[keep])] += np.asarray(Cb)[np.ix_(keep, keep)]
-    if C is not None and not model.dense:
-        C = C.tocsr()
-    return f[model.free_slice], C
+        if not tangent:
+            continue
+        idx = model.free_index[s]
+        i0, n = int(idx[0]), len(idx)
+        if dense is not None and not sp.issparse(Cb) and i0 >= 0 and idx[-1] == i0 + n - 1:
+            dense[i0 : i0 + n, i0 : i0 + n] += Cb  # a body with every dof free (contiguous)
+            continue
+        Cb = sp.coo_matrix(Cb)
+        r, c = idx[Cb.row], idx[Cb.col]
+        keep = (r >= 0) & (c >= 0)
+        rows.append(r[keep]), cols.append(c[keep]), vals.append(Cb.data[keep])
+    if not tangent:
+        return f[model.free_slice], None
+    C = None
+    if rows:
+        C = sp.csr_matrix(
+            (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+            shape=(n_free, n_free),
+        )
+    if dense is not None:
+        return f[model.free_slice], dense if C is None else dense + C.toarray()
+    return f[model.free_slice], C if C is not None else sp.csr_matrix((n_free, n_free))
 
 
 class LieStep:

@@ -58,7 +58,7 @@ from .smooth_contact import (
 )
 from .state import IntegratorOptions, PhaseTimer, State, length_scale
 
-__all__ = ["SmoothStep", "alpha_smooth_step", "decoupled_step", "nsga_step"]
+__all__ = ["SmoothStep", "alpha_smooth_step", "decoupled_step", "nsga_step", "smooth_phases"]
 
 
 def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer) -> State:
@@ -66,9 +66,16 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
     step, the position correction and the velocity jump (module docstring)."""
     if not isinstance(opts, RunSettings):
         opts = run_settings(model, opts)
+    return smooth_phases(model, st, h, opts, timer).finish(time.perf_counter())
+
+
+def smooth_phases(model, st: State, h: float, opts: RunSettings, timer: PhaseTimer):
+    """The NSGA step from ``st`` over ``h`` (s) after its smooth step: its ``q`` and ``v``
+    are q̃ and ṽ; ``g_tilde`` may be set to the gaps at q̃ (else the correction computes
+    them), and ``finish(clock)`` makes the rest of the step and returns its end state."""
     step = _Phases(model, st, h, opts, timer, None)
     step.smooth()
-    return step.finish(time.perf_counter())
+    return step
 
 
 def decoupled_step(
@@ -105,6 +112,7 @@ class _Phases:
         self.nu = self.impulse = self.gaps = self.cand = None
         self.corrected = None  # (q̃, the metric's solve) after a correction (decoupled scheme)
         self.q_tilde = None  # q̃ after a correction moved q (for the energy ledger)
+        self.g_tilde = None  # the gaps at q̃, when known before the correction
 
     def smooth(self) -> np.ndarray:
         """Step 1 (taken again without the contacts it releases) and the records of its
@@ -151,7 +159,9 @@ class _Phases:
         has hundreds of candidates, a few in contact)."""
         model, st, opts, m, q = self.model, self.st, self.opts, self.m, self.q
         model.contacts.set_time(self.t)
-        self.g_tilde = g_tilde = model.contacts.gaps(q)
+        if self.g_tilde is None:
+            self.g_tilde = model.contacts.gaps(q)
+        g_tilde = self.g_tilde
         check_predictor(model, q, g_tilde)
         cand = (g_tilde <= opts.detection_margin * model.length).nonzero()[0]
         # (only the candidates use the gap tolerance)

@@ -9,6 +9,10 @@ correction ends with every candidate's gap ≥ −tol_gap × the length scale. A
 one that no constraint saw — it crossed a facet that was not its closest, or it was not a
 candidate — and the step is failed so that the time loop halves it. Velocity-level steppers
 (Moreau–Jean) and the penalty law allow penetration by design: their depth is measured only.
+
+A mortar interface holds its weighted gaps to round-off (they count with the gaps above); the
+depth of its nodes, every boundary node of either solid against the other's boundary
+(:mod:`fecontact.contact.watch`), is measured and reported in ``State.penetration``.
 """
 
 from __future__ import annotations
@@ -17,6 +21,7 @@ import time
 
 import numpy as np
 
+from ..contact.watch import watched_depth
 from .constraints import StepFailure
 from .state import IntegratorOptions, PhaseTimer, State, length_scale
 
@@ -48,7 +53,10 @@ def hold_penetration(model, st: State, opts: IntegratorOptions, timer: PhaseTime
     if model.contacts.size == 0:
         return st
     clock = time.perf_counter()
-    st.penetration = depth = model.contacts.penetration(st.q, st.gaps)
+    depth = model.contacts.penetration(st.q, st.gaps)
+    # the mortar interfaces' nodes: measured and reported, not held (contact.watch)
+    watched, st.mortar_depth = watched_depth(model.contacts.watches, st.q)
+    st.penetration = max(depth, watched)
     timer.add("contact", clock)
     if opts.integrator != "nsga" or depth == 0.0:
         return st

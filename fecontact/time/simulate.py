@@ -5,9 +5,9 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 
-from ..errors import SolverError, check_positive
+from ..errors import check_positive
+from .adaptive import adaptive_steps, failure_error, ladder_depth
 from .constraints import StepFailure
-from .penetration import PenetrationFailure
 from .smooth_contact import resting_start
 from .state import IntegratorOptions, PhaseTimer, State, initial_state, length_scale
 from .stats import StepStats
@@ -56,6 +56,9 @@ def simulate(
         yield state
     else:
         state = start
+    if opts.rtol is not None:
+        yield from _controlled(stepper, state, n_steps, dt, t_end, timer)
+        return
     for n in range(state.step + 1, n_steps + 1):
         t_next = min(n * dt, t_end)
         h = t_next - state.t
@@ -66,20 +69,25 @@ def simulate(
         try:
             state = stepper.step(state, h, timer)
         except StepFailure as err:
-            what = (
-                "penetration not held"
-                if isinstance(err, PenetrationFailure)
-                else "Newton did not converge"
-            )
-            raise SolverError(
-                f"{what} at t = {state.t:.6g} s (step {n}): {err} "
-                f"(residual {err.residual:.3e}) after {opts.max_halvings} step halvings",
-                time=state.t,
-                step=n,
-                residual=err.residual,
-            ) from None
+            tried = f"{opts.max_halvings} step halvings"
+            raise failure_error(err, state.t, n, tried) from None
         state.t = t_next
         state.step = n
         if choice is not None:  # the rates per step that "auto" weighs count this one
             choice.note_step()
         yield state
+
+
+def _controlled(stepper, state, n_steps, dt, t_end, timer) -> Iterator[State]:
+    """The steps of a run with ``rtol`` (:func:`adaptive_steps`), a failure as the run's
+    error."""
+    choice = stepper.model.solver.choice
+    steps = adaptive_steps(stepper, state, n_steps, dt, t_end, timer, stepper.stats.control)
+    try:
+        for state in steps:
+            if choice is not None:
+                choice.note_step()
+            yield state
+    except StepFailure as err:
+        tried = f"rejections down to the step {dt / 2 ** ladder_depth(stepper.settings):.3g} s"
+        raise failure_error(err, state.t, state.step + 1, tried) from None

@@ -91,6 +91,15 @@ class IntegratorOptions:
         "poisson": a compression impulse, then a decompression impulse at least e_N times
         it, each under Coulomb's law (:mod:`fecontact.time.poisson`), which cannot make a
         single frictional contact gain energy where Newton's law can.
+    localize : NSGA only. True (or 1, "on"): a step in which a gap open at its start closes
+        is split at the instant it closes, where the impact law acts
+        (:mod:`fecontact.time.localize`); False (0, "off"): the impact acts at the end of
+        the step; "auto" (default): on for models of rigid bodies and point masses with
+        frictionless contacts on fixed obstacles (decided per run).
+    rtol : None (default): fixed steps of the run's dt. A number in (0, 1): steps chosen by
+        this relative tolerance on the local error of the smooth step, with an absolute
+        tolerance of rtol times the model size, from dt (the first and largest) down to
+        dt/1024 (:mod:`fecontact.time.adaptive`); nsga and penalty, generalized-alpha only.
     """
 
     rho_inf: float = 0.5
@@ -111,9 +120,17 @@ class IntegratorOptions:
     smooth_contact: str = "auto"
     scheme: str = "generalized-alpha"
     impact_law: str = "newton"
+    localize: bool | str = "auto"
+    rtol: float | None = None
 
     def __post_init__(self):
         alpha_coefficients(self.rho_inf)
+        self.localize = _switch("localize", self.localize)
+        if self.localize is True and (self.integrator, self.scheme) != ("nsga", SCHEMES[0]):
+            raise InputError(
+                f"localize = true needs integrator 'nsga' with scheme {SCHEMES[0]!r}, got "
+                f"integrator {self.integrator!r}, scheme {self.scheme!r}"
+            )
         for name, allowed in _CHOICES.items():
             value = getattr(self, name)
             if not isinstance(value, str) or value not in allowed:
@@ -144,6 +161,23 @@ class IntegratorOptions:
         self.max_iterations = check_count("max_iterations", self.max_iterations, 1, 10**4)
         # beyond 50 halvings the step is below the round-off of the time
         self.max_halvings = check_count("max_halvings", self.max_halvings, 0, 50)
+        if self.rtol is not None:
+            self.rtol = check_range("rtol", self.rtol, 0.0, 1.0, (False, False))
+            if self.integrator not in ("nsga", "penalty") or self.scheme != SCHEMES[0]:
+                raise InputError(
+                    "rtol needs the generalized-alpha step (integrator nsga or penalty, "
+                    f"scheme generalized-alpha), got integrator {self.integrator!r}, "
+                    f"scheme {self.scheme!r}"
+                )
+
+
+def _switch(name: str, value) -> bool | str:
+    """An on/off option that may also be "auto": True, False or "auto"."""
+    if isinstance(value, str) and value in SWITCH:
+        return {"on": True, "off": False}.get(value, "auto")
+    if isinstance(value, bool | int | np.integer) and value in (0, 1):
+        return bool(value)
+    raise InputError(f"{name} must be true, false (1, 0, on, off) or auto, got {value!r}")
 
 
 @dataclass
@@ -177,12 +211,19 @@ class State:
     halvings: int = 0
     retakes: int = 0  # of the halvings: steps retaken for a penetration
     penetration: float = 0.0  # m: the deepest contact point on the wrong side at the end
+    # the deepest node of a mortar interface inside the other solid, over that solid's
+    # shortest boundary edge (fecontact.contact.watch)
+    mortar_depth: float = 0.0
     smooth: SmoothForces | None = None
     friction: FrictionRecord | None = None
     penalty: PenaltyRecord | None = None
     strain_increment: np.ndarray | None = None
     # the energy ledger's record of the smooth step (fecontact.ledger.smooth_record), or None
     ledger: np.ndarray | None = None
+    # with rtol (fecontact.time.adaptive): a step between two history rows, and the step (s)
+    # the control takes next (0: the run's dt)
+    substep: bool = False
+    h_next: float = 0.0
 
     @property
     def newton_iterations(self) -> int:

@@ -10,7 +10,7 @@ from ..contact.stats import ContactStats
 from ..linalg import Factorizations, IterativeStats, LinearSolver
 from ..linalg.choice import RunPlan, SolverChoice
 
-__all__ = ["FollowUps", "NewtonStats", "StepStats"]
+__all__ = ["FollowUps", "Localization", "NewtonStats", "StepControl", "StepStats"]
 
 
 @dataclass
@@ -35,12 +35,49 @@ class FollowUps:
 
 
 @dataclass
+class Localization:
+    """Impacts located inside their step (:mod:`fecontact.time.localize`): the impacts
+    applied at their own instant, the extra smooth steps that found those instants, the
+    factorizations made for the split steps' sizes (linear models; not kept), and the steps
+    left to the end-of-step impact, by reason: ``accumulation`` (the step already split
+    ``max_impacts`` times, or too little of it left), ``persistent`` (a contact was already
+    pressed at the step's start), ``grazing`` (the gap closes with ġ ≈ 0), ``unrefined``
+    (no instant found to the gap tolerance)."""
+
+    impacts: int = 0
+    smooth_steps: int = 0
+    factorizations: int = 0
+    fallbacks: dict = field(
+        default_factory=lambda: dict.fromkeys(
+            ("accumulation", "persistent", "grazing", "unrefined"), 0
+        )
+    )
+
+
+@dataclass
+class StepControl:
+    """What rtol's control did in a run: steps rejected for their error estimate, steps
+    rejected because they failed (Newton or penetration; retaken a rung lower), and steps
+    accepted with an estimate above the tolerance because they were on the lowest rung."""
+
+    rejected_error: int = 0
+    rejected_failure: int = 0
+    over_tolerance: int = 0
+
+    @property
+    def rejected(self) -> int:
+        return self.rejected_error + self.rejected_failure
+
+
+@dataclass
 class StepStats:
     """Counts of one run (each starts at zero)."""
 
     newton: NewtonStats = field(default_factory=NewtonStats)
     follow_ups: FollowUps = field(default_factory=FollowUps)
+    control: StepControl = field(default_factory=StepControl)  # rtol's rejections
     releases: int = 0  # smooth steps taken again without the force of a contact they released
+    localization: Localization = field(default_factory=Localization)
     contact: ContactStats = field(default_factory=ContactStats)
     factorizations: Factorizations = field(default_factory=Factorizations)
     iterative: IterativeStats = field(default_factory=IterativeStats)
@@ -68,6 +105,16 @@ class StepStats:
             # the velocity's follow-ups of an impact's correction (fecontact.time.position_jump)
             "velocity_follow_ups": asdict(self.follow_ups),
             "contact_releases": self.releases,
+            # impacts at their own instant inside a step, and the steps left to the step's end
+            "localized_impacts": self.localization.impacts,
+            "localization_fallbacks": dict(self.localization.fallbacks),
+            "localization_cost": {
+                "smooth_steps": self.localization.smooth_steps,
+                "factorizations": self.localization.factorizations,
+            },
+            # rtol's control (fecontact.time.adaptive): steps taken again smaller
+            "steps_rejected": self.control.rejected,
+            "step_control": asdict(self.control),
             # the largest Alart–Curnier residual a converged correction left, over its tolerance
             "final_residuals": asdict(self.contact.final_residuals),
             # AMG-preconditioned CG (sparse solver "amg"): solves, iterations, setups, fallbacks

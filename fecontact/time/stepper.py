@@ -9,6 +9,7 @@ from ..linalg.choice import RunPlan
 from .constraints import StepFailure
 from .energy_step import check_energy_scheme, energy_nsga_step
 from .lie import check_group
+from .localize import joined, localized_step, localizes
 from .moreau import moreau_step
 from .nsga import nsga_step
 from .penalty import penalty_step
@@ -53,24 +54,10 @@ class Stepper:
             retake = isinstance(err, PenetrationFailure)
         first = self.step(st, 0.5 * h, timer, depth + 1)
         second = self.step(first, 0.5 * h, timer, depth + 1)
-        second = _joined(first, second, h)
+        second = joined(first, second, h)
+        second.halvings += 1
         second.retakes += retake
         return second
-
-
-def _joined(first: State, second: State, h: float) -> State:
-    """``second`` as the end of one step of ``h`` (s) made of ``first`` and ``second``: the
-    step's impulses, normal and tangential, iterations, halvings and retakes are the sums of
-    theirs, its penetration the deeper."""
-    second.impulse = second.impulse + first.impulse
-    if second.friction is not None:  # the step's tangential impulse, as the normal
-        second.friction.impulse = first.friction.impulse + second.friction.impulse
-    second.iterations = {k: first.iterations[k] + second.iterations[k] for k in first.iterations}
-    second.halvings = first.halvings + second.halvings + 1
-    second.retakes = first.retakes + second.retakes
-    second.penetration = max(first.penetration, second.penetration)
-    second.h = h
-    return second
 
 
 def make_stepper(
@@ -88,6 +75,8 @@ def make_stepper(
     if settings.scheme == "energy-decaying":
         check_energy_scheme(model, settings)
         kind = energy_nsga_step
+    if localizes(model, settings):  # (decided once: every step of the run splits or none)
+        kind = localized_step
     plan = None if steps is None else RunPlan(max(int(steps), 1), model.linear)
     model.use_solver(settings.stats.solver(model, plan))
     return Stepper(model, settings, kind)

@@ -1,0 +1,287 @@
+r"""Impacts at their own instant: a step in which a gap open at its start closes is split at
+the instant t* it closes.
+
+The NSGA step applies an impact at the end of the step in which the gap closed, which makes
+the global error first order in h. Here, after the step's smooth step (the trial, from
+(q_n, v_n) to (q̃, ṽ)), every contact open at t_n (g > tol) whose gap at q̃ is below −tol
+is a crossing. Its instant is first read from the cubic Hermite interpolant of g on
+s = (t − t_n)/h ∈ [0, 1] with the end values g_0, g_1 and slopes h ġ_0, h ġ_1, ġ = G v:
+
+    g(s) = (2s³ − 3s² + 1) g_0 + (s³ − 2s² + s) h ġ_0 + (−2s³ + 3s²) g_1 + (s³ − s²) h ġ_1,
+
+then refined by smooth steps from t_n to δ (regula falsi, Illinois variant, on the gap at
+the end of each) until |g(t_n + δ)| ≤ tol. The last of them is the smooth step of a step of
+δ: its corrections apply the impact law with the gap closed (Newton's or Poisson's, the
+NSGA's own phases), and the rest of the step starts from there, where a later closing may
+be located in turn. Of several crossings the earliest is taken, with those that close
+within ``TOGETHER`` of the step after it (the correction closes them with it).
+
+The step is left to the end-of-step treatment, counted by reason in the run's statistics:
+``accumulation`` (``MAX_IMPACTS`` impacts already located in the step, or less than
+``MIN_REST`` of it left), ``persistent`` (a contact pressed at the start of the step is
+still closed at its end: a lasting contact that other points join), ``grazing`` (the gap
+closes slower than ``GRAZING`` gap tolerances per step) and ``unrefined`` (no instant found
+to the tolerance within ``MAX_REFINE`` smooth steps, or a gap unknown at the step's start).
+Positions stay held at every sub-step, so no penetration follows from a split.
+
+Linear models factorize their iteration matrix once per step size: the split steps' sizes
+are used once, so their factorizations (and the correction's columns) are dropped after the
+step, counted in ``localization_cost``; the full step's are kept.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from ..errors import InputError
+from .nsga import smooth_phases
+from .settings import RunSettings
+from .state import PhaseTimer, State, length_scale
+
+__all__ = ["GRAZING", "MAX_IMPACTS", "MIN_REST", "TOGETHER", "joined", "localized_step"]
+
+MAX_IMPACTS = 4
+"""Impacts located in one step, at most (K): more is an accumulation (Zeno)."""
+
+MIN_REST = 1e-3
+"""Fraction of the step below which what is left of it after an impact takes a closing at
+its end (an accumulation: the rebound is shorter than this)."""
+
+TOGETHER = 1e-4
+"""Fraction of the step within which later closings are taken with the earliest: the
+correction closes them at its instant (a flat face landing flat closes all its corners at
+once, up to round-off)."""
+
+GRAZING = 1e3
+"""A closing speed −ġ(t*) below this many gap tolerances per step is grazing."""
+
+MAX_REFINE = 12
+"""Smooth steps that refine an instant, at most (the Hermite guess is exact for a constant
+acceleration and the regula falsi converges superlinearly: 1 to 3 are measured)."""
+
+LAST = 1e-9
+"""Fraction of the step: an impact that closes this near its end ends the step."""
+
+
+def localizes(model, opts: RunSettings) -> bool:
+    """Whether the run of ``model`` with ``opts`` locates impacts inside its steps: the
+    option ``localize`` (``"auto"``: a model of rigid bodies and point masses with
+    frictionless contacts on fixed obstacles) for the NSGA
+    generalized-α step (the options check it) on a model with contacts. Raises
+    ``InputError`` for ``localize=True`` with moving obstacles."""
+    value = opts.localize
+    applies = opts.integrator == "nsga" and opts.scheme == "generalized-alpha"
+    if value is True and model.contacts.moving:
+        raise InputError("localize = true: moving obstacles are not supported (set localize=0)")
+    if value == "auto":
+        # (measured: docs/validation/localization.md; friction is not yet validated with it)
+        rigid = not (model.continuum or model.slender)
+        value = rigid and not (model.contacts.frictional or model.contacts.moving)
+    return bool(value and applies and model.contacts.size)
+
+
+def localized_step(model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
+    """The NSGA step from ``st`` over ``h`` (s), split at the instants the gaps open at its
+    start close (module docstring); a step without a closing is the NSGA step itself."""
+    phases = smooth_phases(model, st, h, opts, timer)
+    if not _penetrates(model, phases, opts):  # (most steps: nothing more to do)
+        return phases.finish(time.perf_counter())
+    return _split_step(model, st, h, opts, timer, phases)
+
+
+def _penetrates(model, phases, opts) -> bool:
+    """Whether a gap at the end of the smooth ``phases`` is below −tol_gap × the model size
+    (a lower bound of the gap tolerance, :func:`length_scale`); sets the phases' gaps."""
+    model.contacts.set_time(phases.t)
+    g1 = phases.g_tilde = model.contacts.gaps(phases.q)
+    return bool(g1.size) and g1.min() < -opts.tol_gap * model.length
+
+
+def _split_step(model, st, h, opts, timer, phases) -> State:
+    """:func:`localized_step` from its first smooth step ``phases``, which penetrates."""
+    stats = opts.stats.localization
+    parts: list[State] = []
+    cur, left, kept = st, h, []  # kept: the caches' entries of the full step
+    try:
+        while True:
+            if parts:
+                phases = smooth_phases(model, cur, left, opts, timer)
+            split = _split(model, cur, phases, left, h, len(parts), opts, timer, kept)
+            if split is None:
+                parts.append(phases.finish(time.perf_counter()))
+                break
+            delta, phases = split
+            parts.append(phases.finish(time.perf_counter()))
+            stats.impacts += 1
+            cur, left = parts[-1], left - delta
+            if left <= LAST * h:
+                break
+            model.contacts.look_ahead(cur.q, cur.v, left)
+    finally:
+        if kept:
+            stats.factorizations += _drop_caches(model, kept)
+    out = parts[0]
+    for part in parts[1:]:
+        out = joined(out, part, h)
+    out.h = h
+    return out
+
+
+def _split(model, st, phases, left, h, done, opts, timer, kept: list):
+    """(δ, the NSGA phases of a step of δ whose smooth step ends where the earliest gap that
+    crosses in the trial ``phases`` closes), or None to finish the trial as it is; the first
+    split of a step notes in ``kept`` the caches' entries its trial made."""
+    crossing = _crossing(model, st, phases, left, opts)
+    if crossing is None:
+        return None
+    if not kept:
+        kept.extend(_cache_keys(model))
+    tol, rows, tau, rate, g0 = crossing
+    stats = opts.stats.localization
+    reason = None
+    if done >= MAX_IMPACTS or (done and left < MIN_REST * h):
+        reason = "accumulation"
+    elif np.any(st.pressed() & (phases.g_tilde <= tol)):
+        reason = "persistent"
+    elif rows.size == 0:
+        reason = "unrefined"
+    else:
+        together = np.flatnonzero(tau <= tau.min() + TOGETHER * h / left)
+        k = together[np.argmax(tau[together])]  # the last of those taken together
+        if -rate[k] * left <= GRAZING * tol:
+            reason = "grazing"
+    if reason is None:
+        found = _refine(model, st, phases, left, rows[k], (tau[k], g0[k]), tol, opts, timer)
+        if found is not None:
+            return found
+        reason = "unrefined"
+    stats.fallbacks[reason] += 1
+    return None
+
+
+def _crossing(model, st, phases, left, opts):
+    """(tol, rows, τ, ġ(τ), g_0) of the contacts open at the start of the trial ``phases`` whose
+    gap at its end is below −tol (rows: those with a gap known at both ends, τ their Hermite
+    crossing as a fraction of ``left``, ġ(τ) their closing speed there in m/s, g_0 their gaps
+    at the start), or None where no gap crosses; sets the trial's gaps at q̃."""
+    contacts = model.contacts
+    if phases.g_tilde is None and not _penetrates(model, phases, opts):
+        return None
+    g1 = phases.g_tilde
+    g0 = st.gaps if st.gaps.size == contacts.size else contacts.gaps(st.q)
+    low = opts.tol_gap * model.length  # a lower bound of tol: decides most steps at no cost
+    if not np.any((g1 < -low) & (g0 > low)):
+        return None
+    tol = opts.tol_gap * length_scale(model, phases.q)
+    closing = (g1 < -tol) & (g0 > tol)
+    if not closing.any():
+        return None
+    rows = (closing & np.isfinite(g0)).nonzero()[0]
+    F = model.free
+    _, G0 = contacts.jacobian(st.q, rows)
+    _, G1 = contacts.jacobian(phases.q, rows)
+    s0, s1 = left * (G0 @ st.v[F]), left * (G1 @ phases.v[F])  # slopes in s
+    tau, slope = hermite_root(g0[rows], s0, g1[rows], s1)
+    return tol, rows, tau, slope / left, g0[rows]
+
+
+def hermite_root(g0, s0, g1, s1, samples: int = 32, iterations: int = 30):
+    """(s, p'(s)) at the first root s ∈ (0, 1] of the cubic Hermite p with p(0) = g0 > 0,
+    p'(0) = s0, p(1) = g1 < 0, p'(1) = s1 (arrays, one per contact): the first sign change
+    on ``samples`` intervals, then Newton kept inside it (bisection where it leaves), to
+    round-off."""
+
+    def p(s):
+        s2, s3 = s * s, s * s * s
+        return (
+            (2 * s3 - 3 * s2 + 1) * g0 + (s3 - 2 * s2 + s) * s0 + (3 * s2 - 2 * s3) * g1
+            + (s3 - s2) * s1
+        )  # fmt: skip
+
+    def dp(s):
+        return (
+            (6 * s * s - 6 * s) * (g0 - g1) + (3 * s * s - 4 * s + 1) * s0
+            + (3 * s * s - 2 * s) * s1
+        )  # fmt: skip
+
+    grid = np.linspace(0.0, 1.0, samples + 1)
+    values = p(grid[:, None])  # (samples + 1, contacts)
+    first = np.argmax(values <= 0.0, axis=0)  # p(1) = g1 < 0: a sign change exists
+    a, b = grid[first - 1], grid[first]
+    pa, pb = values[first - 1, np.arange(first.size)], values[first, np.arange(first.size)]
+    s = a - pa * (b - a) / (pb - pa)  # the chord's root, then Newton
+    # round-off of p: a few ulps of its largest term
+    small = 8.0 * np.finfo(float).eps * np.max(np.abs([g0, g1, s0, s1]), axis=0)
+    for _ in range(iterations):
+        ps = p(s)
+        if np.all(np.abs(ps) <= small):
+            break
+        below = ps <= 0.0
+        a, b = np.where(below, a, s), np.where(below, s, b)
+        newton = s - ps / dp(s)
+        s = np.where((newton > a) & (newton < b), newton, 0.5 * (a + b))
+    return s, dp(s)
+
+
+def _refine(model, st, phases, left, j, guess, tol, opts, timer):
+    """(δ, the phases of the smooth step of δ from ``st`` that ends with |g_j| ≤ ``tol``):
+    regula falsi (Illinois) on δ ∈ (0, left) from the Hermite ``guess`` (τ, g_j at the
+    start), δ = τ·left first; None when ``MAX_REFINE`` smooth steps do not find it."""
+    stats = opts.stats.localization
+    tau, g0 = guess
+    a, ga = 0.0, float(g0)
+    b, gb = left, float(phases.g_tilde[j])
+    delta, side = tau * left, 0
+    for _ in range(MAX_REFINE):
+        trial = smooth_phases(model, st, delta, opts, timer)
+        stats.smooth_steps += 1
+        model.contacts.set_time(trial.t)
+        trial.g_tilde = model.contacts.gaps(trial.q)
+        g = float(trial.g_tilde[j])
+        if abs(g) <= tol:
+            return delta, trial
+        if not np.isfinite(g):
+            return None
+        if g > 0.0:
+            a, ga, gb = delta, g, (0.5 * gb if side > 0 else gb)
+            side = 1
+        else:
+            b, gb, ga = delta, g, (0.5 * ga if side < 0 else ga)
+            side = -1
+        delta = (a * gb - b * ga) / (gb - ga)
+        if not a < delta < b:
+            delta = 0.5 * (a + b)
+    return None
+
+
+def joined(first: State, second: State, h: float) -> State:
+    """``second`` as the end of one step of ``h`` (s) made of ``first`` and ``second``: the
+    step's impulses, normal and tangential, iterations, halvings and retakes are the sums of
+    theirs, its penetration the deeper."""
+    second.impulse = second.impulse + first.impulse
+    if second.friction is not None:  # the step's tangential impulse, as the normal
+        second.friction.impulse = first.friction.impulse + second.friction.impulse
+    second.iterations = {k: first.iterations[k] + second.iterations[k] for k in first.iterations}
+    second.halvings = first.halvings + second.halvings
+    second.retakes = first.retakes + second.retakes
+    second.penetration = max(first.penetration, second.penetration)
+    second.h = h
+    return second
+
+
+def _cache_keys(model) -> tuple[set, set]:
+    """The step sizes' entries of a linear model's caches (factorizations, columns)."""
+    return set(model.iteration_cache), set(model.column_cache)
+
+
+def _drop_caches(model, kept: list[set]) -> int:
+    """Drop the caches' entries made since ``kept`` (the split steps' sizes, used once);
+    return how many factorizations they held."""
+    added = [k for k in model.iteration_cache if k not in kept[0]]
+    for key in added:
+        del model.iteration_cache[key]
+    for key in [k for k in model.column_cache if k not in kept[1]]:
+        del model.column_cache[key]
+    return len(added)

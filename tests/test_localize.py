@@ -1,0 +1,171 @@
+"""Impacts located inside their step (fecontact/time/localize.py): exact answers at isolated
+impacts, today's treatment under accumulation, zero penetration, p and k independence."""
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from fecontact import InputError, run
+from fecontact.cli.commands import main
+from fecontact.io.output import read_json
+from fecontact.testing import G, ball_exact_gap, ball_impact_times, case, pendulum_exact, trace
+from fecontact.time import IntegratorOptions, StepStats, simulate
+from fecontact.time.localize import hermite_root, localizes
+
+E_BALL = 0.8
+
+
+def ball_run(t_end, localize=True, h=1e-3, **options):
+    sim = case("bouncing_ball").build(height=1.0, restitution=E_BALL)
+    stats = StepStats()
+    opts = IntegratorOptions(localize=localize, **options)
+    states = list(simulate(sim.model, h, t_end, opts, q0=sim.q0, v0=sim.v0, stats=stats))
+    t = np.array([st.t for st in states])
+    gap = np.array([st.q[1] for st in states]) + 1.0  # the lowest point starts 1 m up
+    v = np.array([st.v[1] for st in states])
+    min_gap = min(float(st.gaps.min()) for st in states)
+    return t, gap, v, min_gap, stats
+
+
+@pytest.fixture(scope="module")
+def ball():
+    return ball_run(3.0)
+
+
+def test_ball_follows_the_exact_parabolas(ball):
+    # between impacts the generalized-α step is exact for a constant force, and each impact
+    # is applied at its instant to the gap tolerance (1e-12 m): only round-off remains
+    t, gap, _, min_gap, stats = ball
+    assert np.max(np.abs(gap - ball_exact_gap(t, e=E_BALL))) <= 1e-9
+    assert min_gap >= -1e-12  # zero penetration
+    assert stats.localization.impacts == 6  # t_1 ... t_6 < 3 s
+    assert stats.localization.fallbacks == dict.fromkeys(stats.localization.fallbacks, 0)
+
+
+def test_ball_impact_times_and_apex_heights(ball):
+    # after impact k the flight is v_k - g s from t_k: each row after the impact gives back
+    # t_k = t + (v - v_k)/g with v_k = e^k g t_1, and the apex g + v²/2g = e^{2k} h_0
+    t, gap, v, _, _ = ball
+    t_k = ball_impact_times(7, e=E_BALL)
+    v1 = G * t_k[0]
+    for k in range(1, 6):
+        rows = (t > t_k[k - 1] + 1e-3) & (t < t_k[k] - 1e-3)
+        v_k = E_BALL**k * v1
+        np.testing.assert_allclose(t[rows] + (v[rows] - v_k) / G, t_k[k - 1], atol=1e-10)
+        apex = gap[rows] + v[rows] ** 2 / (2 * G)
+        np.testing.assert_allclose(apex, E_BALL ** (2 * k), atol=1e-10)
+
+
+def test_pendulum_within_its_smooth_step_error():
+    # the uniform bar of 1.5 m swings as a point mass on a 1 m rod; the generalized-α step
+    # itself is second order: 8.4e-6 rad before the first impact at h = 1e-3, the bound
+    sim = case("rigid_pendulum").build(length=1.5, mass=1.0, restitution=0.5)
+    r = trace(sim, dt=1e-3, t_end=3.0)
+    exact, t_imp = pendulum_exact(r["t"], e=0.5, length=1.5)
+    assert np.sum(t_imp < 3.0) == 3
+    assert np.max(np.abs(r["theta"] - exact)) <= 1e-5
+    assert r["min_gap"].min() >= -1e-12
+
+
+def test_the_error_is_second_order_through_impacts():
+    # halving h divides the max angle error by 4 (2.0 measured), where the end-of-step
+    # impact divides it by 2
+    sim = case("rigid_pendulum").build(length=1.5, restitution=0.5)
+    err = []
+    for h in (2e-3, 1e-3):
+        r = trace(sim, dt=h, t_end=1.5)
+        err.append(np.max(np.abs(r["theta"] - pendulum_exact(r["t"], 0.5, 1.5)[0])))
+    assert math.log2(err[0] / err[1]) > 1.8
+
+
+def test_ball_comes_to_rest_through_the_accumulation():
+    # e = 0.8: infinitely many impacts before t_1 (1 + e)/(1 − e) = 4.07 s; each step takes
+    # at most MAX_IMPACTS of them, the rest at its end, and the ball ends resting
+    t, gap, v, min_gap, stats = ball_run(6.0)
+    assert t.size == 6001
+    loc = stats.localization
+    assert loc.impacts + loc.smooth_steps <= 6000  # the extra steps: within twice the count
+    assert loc.impacts > 20 and sum(loc.fallbacks.values()) >= 1
+    assert min_gap >= -1e-12 and gap[-1] >= -1e-12 and abs(v[-1]) <= 1e-9
+
+
+def test_steps_without_an_impact_are_unchanged():
+    # before the first impact (t_1 = 0.4515 s) the localizing step is the NSGA step itself
+    on, off = ball_run(0.45, True), ball_run(0.45, False)
+    np.testing.assert_array_equal(on[1], off[1])
+    np.testing.assert_array_equal(on[2], off[2])
+
+
+@pytest.mark.parametrize("p, k", [(1e-4, 1.0), (1e4, 1.0), (1.0, 1e-4), (1.0, 1e4)])
+def test_results_do_not_depend_on_p_and_k(ball, p, k):
+    t, gap, v, _, _ = ball_run(3.0, penalty_scale=p, multiplier_scale=k)
+    # the gap tolerance (1e-12 m) bounds where each instant lands; its effect on the
+    # velocity after five bounces stays below 1e-9 m/s
+    np.testing.assert_allclose(gap, ball[1], rtol=0, atol=1e-10)
+    np.testing.assert_allclose(v, ball[2], rtol=0, atol=1e-9)
+
+
+def test_poisson_law_localizes_too():
+    # frictionless single contact: Poisson's law gives Newton's rebound, at the same instant
+    t, gap, _, min_gap, stats = ball_run(1.5, impact_law="poisson")
+    assert stats.localization.impacts == 2
+    assert np.max(np.abs(gap - ball_exact_gap(t, e=E_BALL))) <= 1e-9 and min_gap >= -1e-12
+
+
+def test_solid_impact_step_adds_no_energy():
+    # the disk's first contact step, wherever the closing falls in it: the excess over the
+    # initial energy in % of the kinetic energy at impact (0.44 % and 1.39 % at the end of
+    # the step, measured at fractions 0 and 0.75 of a step)
+    for frac in (0.0, 0.75):
+        sim = case("disk_drop").build(refinements=2, drop_height=0.002 + frac * 1.0774e-4)
+        sim = sim.replace(options=dataclasses.replace(sim.options, localize=True))
+        r = trace(sim, t_end=0.004)
+        first = np.flatnonzero(r["active"])[0]
+        excess = 100 * (r["total"].max() - r["total"][0]) / r["kinetic"][first - 1]
+        assert r["status"] == "completed" and excess <= 0.1, frac
+        assert r["min_gap"].min() >= -1e-12
+
+
+def test_hermite_root_of_a_parabola():
+    # g(s) = 1 − 2s²: the Hermite cubic of a quadratic is the quadratic, root 1/√2
+    s, slope = hermite_root(np.array([1.0]), np.array([0.0]), np.array([-1.0]), np.array([-4.0]))
+    assert s[0] == pytest.approx(1 / math.sqrt(2), abs=1e-15)
+    assert slope[0] == pytest.approx(-4 / math.sqrt(2), abs=1e-12)
+
+
+def test_option_values_and_errors():
+    assert IntegratorOptions(localize=0).localize is False
+    assert IntegratorOptions(localize="on").localize is True
+    with pytest.raises(InputError, match="localize must be"):
+        IntegratorOptions(localize="sometimes")
+    with pytest.raises(InputError, match="localize = true needs integrator 'nsga'"):
+        IntegratorOptions(localize=True, integrator="moreau")
+    from fecontact.time import run_settings
+
+    def resolved(name, **options):
+        model = case(name).build().model
+        return localizes(model, run_settings(model, IntegratorOptions(**options)))
+
+    # "auto": rigid and frictionless; not beams, solids, friction or the baselines
+    assert resolved("bouncing_ball") and resolved("rigid_pendulum")
+    assert not resolved("flexible_pendulum") and not resolved("disk_drop")
+    assert not resolved("sliding_block") and not resolved("bouncing_ball", integrator="moreau")
+    assert resolved("flexible_pendulum", localize=True)
+
+
+def test_counts_in_the_summary_and_the_command_line_switch(tmp_path):
+    sim = case("bouncing_ball").build(restitution=0.5)
+    summary = run(sim.replace(t_end=1.0), tmp_path / "on", frames=False)
+    assert summary["localized_impacts"] == 2
+    assert set(summary["localization_fallbacks"]) == {
+        "accumulation",
+        "persistent",
+        "grazing",
+        "unrefined",
+    }
+    args = ["run", "--quiet", "--out", str(tmp_path / "off"), "--t-end", "1", "--checkpoint-every"]
+    path = str(case("bouncing_ball").__file__)
+    assert main([*args, "0", path, "--set", "localize=0"]) == 0
+    assert read_json(tmp_path / "off" / "summary.json")["localized_impacts"] == 0

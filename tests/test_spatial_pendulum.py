@@ -1,0 +1,53 @@
+"""The founding case in space (cases/spatial_pendulum.py): in its plane it is the founding
+case; out of it, it keeps the angular momentum about the vertical until it hits the stop."""
+
+import numpy as np
+import pytest
+from conftest import load_case
+
+from fecontact import rotations, simulate
+from fecontact.testing import trace
+
+
+def test_in_the_plane_it_is_the_founding_case():
+    # through the first impact (t = 0.319 s) and the rebound
+    flat = trace(load_case("flexible_pendulum").build(), t_end=0.4)
+    space = trace(load_case("spatial_pendulum").build(), t_end=0.4)
+    assert space["status"] == flat["status"] == "completed"
+    assert space["impulse"].max() > 0.0
+    for q in ("tip_x", "tip_y"):
+        np.testing.assert_allclose(space[q], flat[q], rtol=0, atol=1e-6)
+    assert np.abs(space["tip_z"]).max() == 0.0
+
+
+def vertical_angular_momentum(beam, M, q, v):
+    """Σ_ab M_ab x_a × v_b + Σ R_a (J Ω)_a along y, about the pin (kg·m²/s)."""
+    p = (M @ v).reshape(-1, 6)
+    L = np.cross(beam.positions(q), p[:, :3]).sum(axis=0)
+    R = rotations.exp(q.reshape(-1, 6)[:, 3:])
+    return (L + np.einsum("nij,nj->ni", R, p[:, 3:]).sum(axis=0))[1]
+
+
+def test_out_of_the_plane_it_keeps_its_vertical_angular_momentum_until_the_stop():
+    sim = load_case("spatial_pendulum").build(out_of_plane_velocity=0.5)
+    model, beam = sim.model, sim.model.bodies[0]
+    L, q = [], None
+    for st in simulate(model, sim.dt, 0.25, sim.options, q0=sim.q0, v0=sim.v0):
+        L.append(vertical_angular_momentum(beam, model.M_full, st.q, st.v))
+        q = st.q
+    L = np.array(L)
+    # gravity along −y and the pin exert no moment about y; the step keeps L_y to O(h²)
+    # (6e-5 measured at h = 1 ms)
+    assert np.abs(L - L[0]).max() < 2e-4 * abs(L[0])
+    assert beam.positions(q)[-1, 2] > 0.05  # the tip left the plane
+
+
+@pytest.mark.xfail(strict=False, reason="needs the Lie-group smooth step")
+def test_out_of_the_plane_it_runs_through_its_impacts():
+    sim = load_case("spatial_pendulum").build(out_of_plane_velocity=0.5)
+    # the tip strikes the stop at about 0.31 s; a run that drags (step halvings) is cut short
+    run = trace(sim, t_end=0.45, max_wall=30.0)
+    assert run["status"] == "completed", run["message"]
+    assert run["impulse"].max() > 0.0
+    assert run["min_gap"].min() >= -1e-9
+    assert run["tip_z"].max() > 0.05
