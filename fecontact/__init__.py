@@ -14,8 +14,12 @@ the driver, ``cli`` (the command line and sweeps). Every public name is importab
 """
 
 from .bodies import (
+    Ball,
     Beam2D,
     Beam3D,
+    Box,
+    Capsule,
+    Cylinder,
     Disk,
     LinearElastic,
     Material,
@@ -23,6 +27,7 @@ from .bodies import (
     PointMass,
     Polygon,
     RigidBody2D,
+    RigidBody3D,
     Section,
     Solid,
     StVenantKirchhoff,
@@ -30,6 +35,7 @@ from .bodies import (
 from .contact import Circle, Contact, Plane, Point, Sphere
 from .errors import InputError, SolverError, check_count, check_positive, check_range
 from .joints import Pin
+from .joints3d import BallJoint, FixedJoint, HingeJoint, PrismaticJoint, UniversalJoint
 from .model import Model, NodalLoad
 from .params import Param, case
 from .simulation import Probe, Simulation, node_probe, run
@@ -37,6 +43,16 @@ from .time import IntegratorOptions, State, simulate
 from .version import __version__ as __version__
 
 __all__ = [
+    "BallJoint",
+    "FixedJoint",
+    "HingeJoint",
+    "PrismaticJoint",
+    "UniversalJoint",
+    "Ball",
+    "Box",
+    "Capsule",
+    "Cylinder",
+    "RigidBody3D",
     "Beam2D",
     "Beam3D",
     "Disk",

@@ -64,6 +64,7 @@ class Model:
         self.continuum = any(b.continuum for b in self.bodies)
         self.slender = any(b.slender for b in self.bodies)
         self._place_dofs()
+        self.rotations, self.inertial_bodies = _rotation_dofs(self)
         self._assemble_mass()
         self.f_gravity = self.M_full @ np.concatenate(
             [b.translation_field(self.gravity) for b in self.bodies]
@@ -284,6 +285,25 @@ class Model:
 
     def strain_energy(self, q: np.ndarray) -> float:
         return float(sum(b.energy(q[self.body_slice(i)]) for i, b in enumerate(self.bodies)))
+
+
+def _rotation_dofs(model):
+    """Decided once per model: the rotation vectors' dofs in free numbering ((k, 3), updated
+    by composition in SO(3)) and the bodies with a velocity-dependent inertial force, as
+    (body, its global slice)."""
+    triples, inertial = [], []
+    for i, (b, o) in enumerate(zip(model.bodies, model.offsets, strict=False)):
+        t = model.free_index[o + np.asarray(b.rotation_triples, int).reshape(-1, 3)]
+        if np.any((t < 0).any(axis=1) & (t >= 0).any(axis=1)):
+            raise InputError(
+                "supports: a rotation vector is held in some of its components only; "
+                "hold all three (fix the rotation) or none"
+            )
+        triples.append(t[(t >= 0).all(axis=1)])
+        zero = np.zeros(b.ndof)
+        if b.inertial(zero, zero) is not None:
+            inertial.append((b, model.body_slice(i)))
+    return np.concatenate(triples).astype(int), inertial
 
 
 def _distinct_bodies(bodies) -> list:

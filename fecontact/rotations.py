@@ -16,6 +16,8 @@ round-off over any number of steps; the result is brought back to θ ≤ π.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 __all__ = ["compose", "exp", "hat", "log", "tangent", "tangent_inverse", "vee"]
@@ -53,9 +55,36 @@ def _coefficients(theta: np.ndarray):
     return a, b, c
 
 
+def _scalars(psi: np.ndarray):
+    """θ², sin θ/θ, (1 − cos θ)/θ², (θ − sin θ)/θ³ of one rotation vector, by math (a single
+    vector is the common case of a rigid body: numpy's per-call cost would dominate)."""
+    x, y, z = psi.tolist()
+    t2 = x * x + y * y + z * z
+    if t2 < _SMALL * _SMALL:
+        return t2, 1.0 - t2 / 6.0, 0.5 - t2 / 24.0, 1.0 / 6.0 - t2 / 120.0
+    t = math.sqrt(t2)
+    s, c = math.sin(t), math.cos(t)
+    return t2, s / t, (1.0 - c) / t2, (t - s) / (t2 * t)
+
+
+def _single(psi: np.ndarray, k1: float, k2: float, k0: float) -> np.ndarray:
+    """k0 I + k1 ψ̃ + k2 ψψᵀ of one vector."""
+    x, y, z = psi.tolist()
+    return np.array(
+        [
+            [k0 + k2 * x * x, k2 * x * y - k1 * z, k2 * x * z + k1 * y],
+            [k2 * y * x + k1 * z, k0 + k2 * y * y, k2 * y * z - k1 * x],
+            [k2 * z * x - k1 * y, k2 * z * y + k1 * x, k0 + k2 * z * z],
+        ]
+    )
+
+
 def exp(psi: np.ndarray) -> np.ndarray:
     """R = exp(ψ̃) (…, 3, 3) of the rotation vectors ``psi`` (…, 3) (Rodrigues)."""
     psi = np.asarray(psi, dtype=float)
+    if psi.shape == (3,):  # ψ̃² = ψψᵀ − θ²I
+        t2, a, b, _ = _scalars(psi)
+        return _single(psi, a, b, 1.0 - b * t2)
     a, b, _ = _coefficients(np.linalg.norm(psi, axis=-1))
     P = hat(psi)
     return np.eye(3) + a[..., None, None] * P + b[..., None, None] * (P @ P)
@@ -64,6 +93,9 @@ def exp(psi: np.ndarray) -> np.ndarray:
 def tangent(psi: np.ndarray) -> np.ndarray:
     """The right tangent T(ψ) (…, 3, 3) (module docstring)."""
     psi = np.asarray(psi, dtype=float)
+    if psi.shape == (3,):
+        t2, _, b, c = _scalars(psi)
+        return _single(psi, -b, c, 1.0 - c * t2)
     _, b, c = _coefficients(np.linalg.norm(psi, axis=-1))
     P = hat(psi)
     return np.eye(3) - b[..., None, None] * P + c[..., None, None] * (P @ P)
@@ -132,8 +164,33 @@ def log(R: np.ndarray) -> np.ndarray:
 
 def compose(psi: np.ndarray, delta: np.ndarray) -> np.ndarray:
     """ψ ⊕ Δ: the rotation vectors (…, 3) of exp(ψ̃) exp(Δ̃), with θ ≤ π."""
+    if np.shape(psi) == (3,) and np.shape(delta) == (3,):
+        return _compose_single(np.asarray(psi, float), np.asarray(delta, float))
     p, d = _quaternion(np.asarray(psi, float)), _quaternion(np.asarray(delta, float))
     w = p[..., 0] * d[..., 0] - np.sum(p[..., 1:] * d[..., 1:], axis=-1)
     u = p[..., :1] * d[..., 1:] + d[..., :1] * p[..., 1:] + np.cross(p[..., 1:], d[..., 1:])
     q = np.concatenate([w[..., None], u], axis=-1)
     return _vector(q / np.linalg.norm(q, axis=-1, keepdims=True))
+
+
+def _half(v: np.ndarray):
+    """(cos(θ/2), sin(θ/2)/θ) of one rotation vector (series near θ = 0)."""
+    x, y, z = v.tolist()
+    t = math.sqrt(x * x + y * y + z * z)
+    if t < _SMALL:
+        return math.cos(0.5 * t), 0.5 - t * t / 48.0
+    return math.cos(0.5 * t), math.sin(0.5 * t) / t
+
+
+def _compose_single(psi: np.ndarray, delta: np.ndarray) -> np.ndarray:
+    """``compose`` of one pair of vectors, by math: the quaternion product and back."""
+    (pw, ps), (dw, ds) = _half(psi), _half(delta)
+    p, d = (ps * psi).tolist(), (ds * delta).tolist()
+    w = pw * dw - (p[0] * d[0] + p[1] * d[1] + p[2] * d[2])
+    u = [
+        pw * d[0] + dw * p[0] + p[1] * d[2] - p[2] * d[1],
+        pw * d[1] + dw * p[1] + p[2] * d[0] - p[0] * d[2],
+        pw * d[2] + dw * p[2] + p[0] * d[1] - p[1] * d[0],
+    ]
+    n = math.sqrt(w * w + u[0] ** 2 + u[1] ** 2 + u[2] ** 2)
+    return _vector(np.array([w / n, u[0] / n, u[1] / n, u[2] / n]))

@@ -14,6 +14,7 @@ import fecontact
 from fecontact import (
     Beam2D,
     Beam3D,
+    Box,
     Contact,
     Disk,
     IntegratorOptions,
@@ -24,6 +25,7 @@ from fecontact import (
     PointMass,
     Polygon,
     RigidBody2D,
+    RigidBody3D,
     Section,
     Simulation,
     Solid,
@@ -45,6 +47,7 @@ def bodies():
         RigidBody2D.uniform(1.0, [0, 0], Disk(0.1)),
         RigidBody2D.uniform(1.0, [0, 0], Polygon.box(0.2, 0.1)),
         PointMass(1.0, [0.0, 0.0]),
+        RigidBody3D.uniform(1.0, [0, 0, 0], Box(0.2, 0.1, 0.3)),
     ]
 
 
@@ -80,7 +83,7 @@ def test_every_body_provides_the_protocol_with_its_signatures(body):
     assert (
         isinstance(body.ndof, int)
         and body.ndof == body.dofs_per_node * body.n_nodes
-        or (body.rigid_frame and body.ndof == 3)
+        or (body.rigid_frame and body.ndof == body.dofs_per_node)
     )
     assert body.mass > 0.0 and body.characteristic_length > 0.0
     assert body.mass_matrix().shape == (body.ndof, body.ndof)
@@ -117,6 +120,15 @@ KIND_MEMBERS = {
     },
     RigidBody2D: {"shape", "position", "center", "orientation", "to_frame", "frame_point_function"},
     PointMass: {"position"},
+    RigidBody3D: {
+        "shape",
+        "position",
+        "center",
+        "rotation",
+        "to_frame",
+        "frame_point_kinematics",
+        "point_positions_frame",
+    },
 }
 
 
@@ -140,6 +152,8 @@ def short_runs():
         case("rocking_block").build().replace(t_end=0.2),
         case("elastic_block").build(divisions=2, t_end=0.01, velocity=0.5),
         Simulation(drop, dt=1e-3, t_end=0.1, name="point_drop"),
+        case("heavy_top").build(dt=1e-3, t_end=0.05),
+        case("tumbling_box").build(t_end=0.25),
     ]
 
 
@@ -156,7 +170,7 @@ def test_the_package_uses_no_body_member_the_protocol_does_not_declare(tmp_path,
     monkeypatch.setattr(BodyDefaults, "__getattribute__", recording, raising=False)
     for i, sim in enumerate(short_runs()):
         fecontact.run(sim, tmp_path / str(i), checkpoint_every=0)
-    assert set(seen) == {Beam2D, Solid, RigidBody2D, PointMass}
+    assert set(seen) == {Beam2D, Solid, RigidBody2D, PointMass, RigidBody3D}
     declared = protocol_members(Body) | protocol_members(EnergyConsistentBody)
     for cls, names in seen.items():
         names = {n for n in names if not (n.startswith("__") and n.endswith("__"))}

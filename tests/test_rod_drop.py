@@ -51,7 +51,12 @@ def test_without_spin_the_drop_is_the_planar_one():
     assert space["min_gap"].min() >= -1e-9
 
 
-@pytest.mark.xfail(strict=False, reason="needs the Lie-group smooth step")
+@pytest.mark.xfail(
+    strict=True,
+    reason="on the Lie-group step the spinning rod completes, but its vertical angular momentum "
+    "drifts 4.9e-4 relative over 0.25 s (bound 1e-4): the nodes' gyroscopic term is lumped "
+    "while their rotary mass is consistent",
+)
 def test_with_spin_the_vertical_angular_momentum_holds_through_the_impacts():
     sim = load_case("rod_drop").build(yaw_rate=20.0)
     model, rod = sim.model, sim.model.bodies[0]

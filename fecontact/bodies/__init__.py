@@ -1,13 +1,21 @@
 """Bodies: the planar and spatial geometrically exact beams, elastic solids on scikit-fem
-meshes with their materials, and planar rigid bodies. Each owns a slice of the model's dofs."""
+meshes with their materials, planar rigid bodies and rigid bodies in space. Each owns a slice
+of the model's dofs."""
 
 from .beam import Beam2D, Material, Section
 from .beam3d import Beam3D
 from .materials import LinearElastic, NeoHookean, StVenantKirchhoff
 from .rigid import Disk, PointMass, Polygon, RigidBody2D
+from .rigid3d import RigidBody3D
+from .shapes3d import Ball, Box, Capsule, Cylinder
 from .solid import Solid
 
 __all__ = [
+    "Ball",
+    "Box",
+    "Capsule",
+    "Cylinder",
+    "RigidBody3D",
     "Beam2D",
     "Beam3D",
     "Disk",

@@ -42,6 +42,7 @@ class Body(Protocol):
     center_index: int | None  # output point of a rigid body's centre of mass
     components: tuple[str, ...]  # names of a node's dofs, in order: x, y, (z | theta)
     fixed: set[int]  # supported dofs, held at zero
+    rotation_triples: np.ndarray  # (k, 3) local dofs of rotation vectors ψ (SO(3)), often none
 
     # -- mechanics
     def internal(self, q: np.ndarray, tangent: bool = True): ...
@@ -50,6 +51,7 @@ class Body(Protocol):
     def translation_field(self, vector) -> np.ndarray: ...
     def rigid_modes(self) -> np.ndarray: ...
     def inverted(self, q: np.ndarray) -> bool: ...
+    def inertial(self, q: np.ndarray, v: np.ndarray): ...
 
     # -- nodes, supports and contact points
     def node_index(self, node: int) -> int: ...
@@ -85,7 +87,14 @@ class BodyDefaults:
     slender = False
     energy_consistent = False  # has algorithmic_force (the energy-decaying smooth step)
     center_index = None
-    rotation_triples = np.zeros((0, 3), dtype=int)  # local dofs of rotation vectors (none)
+    # no rotation vectors: every dof adds (planar rotations, displacements)
+    rotation_triples = np.zeros((0, 3), dtype=int)
+
+    def inertial(self, q: np.ndarray, v: np.ndarray):
+        """The velocity-dependent inertial force f(q, v) (the gyroscopic Ω × JΩ of rotating
+        frames, in the body frame) and its tangent ∂f/∂v, as (f, C_v) on the body's dofs; None:
+        the body has no such term (its inertial force is M v̇ alone)."""
+        return None
 
     @property
     def ndof(self) -> int:

@@ -10,12 +10,14 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .lie import on_group
 from .newton import NewtonPlan, SmoothNewton
 from .terms import (
     Damping,
     Elastic,
     ExternalLoad,
     ForceTerm,
+    Gyroscopic,
     Joints,
     PersistentContacts,
     SmoothContact,
@@ -49,7 +51,11 @@ def alpha_plan(model, smooth: bool, friction: bool, extra=()) -> NewtonPlan:
     (:class:`~fecontact.time.terms.ForceTerm`). A linear model reuses S_t and its factors
     unless a term brings a tangent of its own."""
     extra = tuple(extra)
-    reuse = model.linear and not any(term.own_tangent for term in extra)
+    # rotations in space (:mod:`.lie`): q = q_n ⊕ D, S_t through T(D), gyroscopic forces
+    group = on_group(model)
+    if model.inertial_bodies:
+        extra = (Gyroscopic(model), *extra)
+    reuse = model.linear and not group and not any(term.own_tangent for term in extra)
     joints = model.joints
     elastic = Elastic(model, tangent=not reuse)
     terms: list[ForceTerm] = [elastic, ExternalLoad(model)]
@@ -60,8 +66,9 @@ def alpha_plan(model, smooth: bool, friction: bool, extra=()) -> NewtonPlan:
     if smooth:
         terms.append(SmoothContact(model, friction))
     bound = bool(reuse and joints.size and not joints.linear)
-    descent = not model.linear
-    return NewtonPlan((*terms, *extra), reuse, descent, False, bound, "smooth step")
+    # (on a group S_t is not symmetric: plain Newton, no descent in energy)
+    descent = not model.linear and not group
+    return NewtonPlan((*terms, *extra), reuse, descent, False, bound, "smooth step", group)
 
 
 def alpha_smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
@@ -77,7 +84,7 @@ def alpha_smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
     it, stale = newton.run()
     step, joints = newton.step, newton.joints
     Gb = None if stale or joints is None else joints.Gb
-    q, v, vd, a = step.X
+    q, (_, v, vd, a) = step.q, step.X  # (on a group the first row of X is the increment D)
     force, force_t, work = _contact_forces(newton.rowed, model.contacts.size)
     return SmoothStep(q, v, vd, a, newton.lam(), newton.metric(), it, Gb, force, force_t, work)
 

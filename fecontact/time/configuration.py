@@ -6,13 +6,23 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..rotations import compose
+
 __all__ = ["plus"]
 
 
 def plus(model, q: np.ndarray, dq: np.ndarray) -> np.ndarray:
     """q ⊕ Δq: the positions ``q`` (all dofs) moved by the update ``dq`` of the free dofs,
-    as a new array. The bodies here have displacements and planar rotations, whose updates
-    add: q + Δq on the free dofs."""
+    as a new array. Displacements and planar rotations add, q + Δq; the rotation vectors ψ of
+    the model's ``rotations`` (free-dof triples) compose on the right, exp(ψ̃) exp(Δ̃), with Δ
+    the body-frame rotation of the update."""
     out = q.copy()
     out[model.free_slice] += dq
+    R = model.rotations
+    if R.size:  # (decided by the model once: planar models never come here)
+        F = model.free[R]
+        if len(R) == 1:  # one body: the single-vector path of ``compose``
+            out[F[0]] = compose(q[F[0]], dq[R[0]])
+        else:
+            out[F] = compose(q[F], dq[R])
     return out

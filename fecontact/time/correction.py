@@ -10,6 +10,7 @@ import scipy.sparse as sp
 
 from ..contact import solve_position_correction
 from ..linalg import UnitColumns, low_rank_solver
+from .configuration import plus
 from .constraints import (
     Constraints,
     StepFailure,
@@ -54,9 +55,7 @@ def position_correction(model, q_tilde, cand, metric, c, opts, tol_gap, nu0=None
     k = opts.multiplier_scale
 
     def shifted(U):
-        qt = q_tilde.copy()
-        qt[F] += U
-        return qt
+        return plus(model, q_tilde, U)
 
     units = []  # H⁻¹e_i, made on the first curved system
 

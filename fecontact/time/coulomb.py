@@ -32,6 +32,7 @@ import numpy as np
 
 from ..contact.friction import coulomb_residual, solve_coulomb
 from ..contact.restitution import friction_dissipation
+from .configuration import plus
 from .constraints import Constraints, StepFailure, constraint_columns
 
 __all__ = [
@@ -100,8 +101,7 @@ def frictional_correction(model, st, q_tilde, work, solve_H, opts, tol_gap, t, p
     U, x, its, dU = np.zeros(len(F)), None, 0, np.inf
     pre = None
     for _ in range(opts.max_iterations):
-        q = q_tilde.copy()
-        q[model.free_slice] += U
+        q = plus(model, q_tilde, U)
         g, G = cons.jacobian(q)
         GT, T = contacts.tangent_jacobian(q, work)
         slip = contacts.slips(q, st.q, work, GT, T)

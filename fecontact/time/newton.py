@@ -31,6 +31,7 @@ import numpy as np
 from .constraints import StepFailure, bordered, factorize_or_fail, plus_curvature
 from .descent import Armijo, descent_direction
 from .generalized_alpha import predict
+from .lie import LieStep, predict_increment
 from .terms import ExternalLoad, ForceTerm, Joints, StepContext
 
 __all__ = ["NewtonPlan", "SmoothNewton"]
@@ -75,15 +76,26 @@ class NewtonPlan:
     updates of a nonlinear model are globalized in energy (:mod:`.descent`), ``halving``:
     an update that does not lower the residual is halved (up to six times), ``bound``: the
     joints' remainder bound may end the iteration, and the ``name`` failures carry.
+    ``group``: the positions live on a Lie group (rotation vectors in space, :mod:`.lie`):
+    the iterate's first row is the increment D and q = q_n ⊕ D.
     ``roles``: the terms' :class:`Roles`, when every term acts in every step as itself (no
     ``per_step`` term), else None (sorted per step)."""
 
-    __slots__ = ("terms", "reuse", "descent", "halving", "bound", "name", "roles")
+    __slots__ = ("terms", "reuse", "descent", "halving", "bound", "name", "group", "roles")
 
-    def __init__(self, terms, reuse: bool, descent: bool, halving: bool, bound: bool, name: str):
+    def __init__(
+        self,
+        terms,
+        reuse: bool,
+        descent: bool,
+        halving: bool,
+        bound: bool,
+        name: str,
+        group: bool = False,
+    ):
         self.terms: tuple[ForceTerm, ...] = tuple(terms)
         self.reuse, self.descent, self.halving, self.bound = reuse, descent, halving, bound
-        self.name = name
+        self.name, self.group = name, group
         fixed = not any(term.per_step for term in self.terms)
         self.roles = roles(self.terms) if fixed else None
 
@@ -94,15 +106,20 @@ class SmoothNewton:
     the persistent contacts). ``run()`` iterates; then ``step`` holds the iterate."""
 
     __slots__ = (
-        "S armijo checked clock dq elastic evaluated joints load model name opts plain plan "
+        "S armijo checked clock dq elastic evaluated joints lie load model name opts plain plan "
         "previous r ref rnorm rowed s scaled small solve step terms timer x"
     ).split()
 
     def __init__(self, plan: NewtonPlan, model, st, t, c, opts, timer, P=None, X=None):
         self.model, self.opts, self.timer, self.name = model, opts, timer, plan.name
         self.plan = plan
-        X = predict(st, c) if X is None else X
+        # on a Lie group the first row of X is the increment D, and q = q_n ⊕ D (:mod:`.lie`)
+        self.lie = LieStep(model, st.q) if plan.group else None
+        if X is None:
+            X = predict_increment(st, c) if plan.group else predict(st, c)
         self.step = step = StepContext(model, c, t, st, opts, P, X)
+        if plan.group:
+            step.q = self.lie.configuration(X[0])
         if plan.roles is None:
             begun = (term.begin(step) for term in plan.terms)
             sorted_ = roles(term for term in begun if term is not None)
@@ -209,11 +226,13 @@ class SmoothNewton:
         touching = [term for term in self.rowed if term.touching()] if self.rowed else None
         if not touching:
             dq = self._plain_update()
-        elif len(touching) == 1 and touching[0].schur:
+        elif len(touching) == 1 and touching[0].schur and self.lie is None:
             dq = self._schur_update(touching[0])
         else:
             dq = self._bordered_update(touching)
         step.X[:, self.model.free_slice] += np.multiply.outer(step.c.w, dq)  # q, v, v̇, a
+        if self.lie is not None:  # (D, v, v̇, a): the positions q_n ⊕ D
+            step.q = self.lie.configuration(step.X[0])
         self.clock = self.timer.add("solve", self.clock)
         self.dq = dq
         if not self.rowed:
@@ -229,11 +248,16 @@ class SmoothNewton:
             self.S, self.solve, _ = self.model.iteration_matrix(c.bp, c.gp)
             return
         self.S = self.tangent()
+        if self.lie is not None:  # the stiffness moves with D through T(D)
+            self.S = self.lie.iteration_matrix(self.S, self.elastic.K)
 
     def _factors(self):
         """S_t's solver (factorized here unless reused)."""
-        if not self.plan.reuse:
-            self.solve = factorize_or_fail(self.S, self.rnorm / self.ref, True, self.model.solver)
+        if not self.plan.reuse:  # (on a group S_t is not symmetric: gyroscopic, T(D))
+            symmetric = self.lie is None
+            self.solve = factorize_or_fail(
+                self.S, self.rnorm / self.ref, symmetric, self.model.solver
+            )
         return self.solve
 
     def _schur_update(self, term):
@@ -247,13 +271,16 @@ class SmoothNewton:
         K, gs, Gs = self.S, [], []
         for term in touching:
             g, G, C = term.border(self.step)
+            if self.lie is not None:  # the forces' curvature moves with D through T(D)
+                C = self.lie.right(C)
             K = plus_curvature(K, 1.0, C)
             gs.append(g)
             Gs.append(G)
         g_rows = gs[0] if len(gs) == 1 else np.concatenate(gs)
         G_rows = Gs[0] if len(Gs) == 1 else np.vstack(Gs)
         res = self.rnorm / self.ref
-        self.solve = factorize_or_fail(bordered(K, G_rows), res, False, model.solver)
+        A = bordered(K, G_rows) if self.lie is None else self.lie.bordered(K, G_rows)
+        self.solve = factorize_or_fail(A, res, False, model.solver)
         self.plain = False
         self.x = x = -self.solve(np.concatenate([self.r, g_rows]))
         start = nF

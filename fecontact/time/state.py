@@ -18,6 +18,7 @@ from ..errors import (
 from ..linalg import factorize
 from .constraints import bordered
 from .generalized_alpha import alpha_coefficients
+from .lie import inertial_forces
 from .records import FrictionRecord, PenaltyRecord, SmoothForces
 
 __all__ = [
@@ -259,9 +260,10 @@ class PhaseTimer(dict):
 
 def initial_state(model, q0=None, v0=None, tol_gap: float | None = None) -> State:
     """State at t = 0 from q₀, v₀ (default: rest in the reference configuration), with the
-    consistent acceleration M v̇₀ = f_ext − f_int(q₀). Fixed dofs are kept at zero. A
-    contact may start closed within ``tol_gap`` (relative, default the options' default) of
-    the model size, the run's own tolerance on gaps."""
+    consistent acceleration M v̇₀ = f_ext − f_int(q₀) − C v₀ − f_inertial(q₀, v₀) (damping and
+    gyroscopic forces where the model has them). Fixed dofs are kept at zero. A contact may
+    start closed within ``tol_gap`` (relative, default the options' default) of the model
+    size, the run's own tolerance on gaps."""
     n = model.n
     q = np.zeros(n) if q0 is None else check_vector("q0", q0, n).copy()
     v = np.zeros(n) if v0 is None else check_vector("v0", v0, n).copy()
@@ -283,6 +285,8 @@ def initial_state(model, q0=None, v0=None, tol_gap: float | None = None) -> Stat
     f = model.external(0.0)[F] - fint[F]
     if alpha or beta_k:
         f -= (alpha * model.M + beta_k * K) @ v[F]
+    if model.inertial_bodies:  # the gyroscopic forces of rotating bodies
+        f -= inertial_forces(model, q, v, tangent=False)[0]
     vd = np.zeros(n)
     joints = model.joints
     if joints.size:

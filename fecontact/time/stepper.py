@@ -10,6 +10,7 @@ from ..linalg.choice import RunPlan
 from .alpha_step import alpha_plan
 from .constraints import StepFailure
 from .energy_step import check_energy_scheme, energy_nsga_step
+from .lie import check_group
 from .localize import joined, localized_step, localizes
 from .moreau import moreau_plan, moreau_step
 from .nsga import nsga_step
@@ -94,6 +95,7 @@ def make_stepper(
             f"scheme={options.scheme!r}"
         )
     settings = run_settings(model, options, stats, terms, plan)
+    check_group(model, settings)  # rotations in space: NSGA with generalized-α only
     kind = STEPPERS[settings.integrator]
     if settings.scheme == "energy-decaying":
         check_energy_scheme(model, settings)

@@ -28,6 +28,7 @@ from ..linalg import low_rank_solver
 from .constraints import StepFailure
 from .correction import unit_columns
 from .coulomb import SmoothFriction
+from .lie import inertial_forces
 from .smooth_contact import SmoothContacts
 from .state import JointTolerance
 
@@ -36,6 +37,7 @@ __all__ = [
     "Elastic",
     "ExternalLoad",
     "ForceTerm",
+    "Gyroscopic",
     "Joints",
     "PersistentContacts",
     "SmoothContact",
@@ -180,6 +182,29 @@ class ExternalLoad(ForceTerm):
 
     def reference(self):
         return self.ff
+
+
+class Gyroscopic(ForceTerm):
+    """The velocity-dependent inertial forces of rotating bodies, Ω × JΩ in their body frames
+    (:mod:`.lie`); their tangent ∂f/∂v enters S_t with γ′."""
+
+    own_tangent = True
+
+    def __init__(self, model):
+        self.model, self.f, self.C_v, self.gp = model, None, None, 0.0
+
+    def begin(self, step):
+        self.gp = step.c.gp
+        return self
+
+    def evaluate(self, step, it):
+        self.f, self.C_v = inertial_forces(self.model, step.q, step.v)
+
+    def residual(self, r):
+        return r + self.f
+
+    def tangent(self, S):
+        return S + self.gp * self.C_v
 
 
 class Damping(ForceTerm):

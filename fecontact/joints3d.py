@@ -1,0 +1,222 @@
+r"""Joints in space between rigid bodies, or between a rigid body and the ground.
+
+Each joint is a set of bilateral position constraints g_b(q) = 0 with the interface of a
+contact pair, enforced like the planar ``Pin`` (a multiplier in the smooth step, equalities in
+the position correction and the velocity jump). Two kinds of rows make them all:
+
+* a point: x_a(r_a) − x_b(r_b) = 0 (3 rows, m): the body-frame point r_a of body a stays on the
+  point r_b of body b (or on a point fixed in space);
+* a right angle: (R_a d_a)·(R_b d_b) = 0 (1 row): two body-fixed unit directions stay
+  perpendicular (the ground's directions are fixed);
+* a line: (R_b e)·(x_a(r_a) − x_b(r_b)) = 0 (1 row per direction e ⊥ the axis, m): body a's
+  point stays on a line fixed in body b (or in space).
+
+==================  ===========================================  ====  ======================
+joint               rows                                         rows  free motion
+==================  ===========================================  ====  ======================
+``BallJoint``       the point                                    3     3 rotations
+``HingeJoint``      the point, the axis ⊥ two directions of b     5     rotation about the axis
+``UniversalJoint``  the point, one direction of a ⊥ one of b      4     2 rotations
+``PrismaticJoint``  a line (2 rows), three right angles           5     sliding along the axis
+``FixedJoint``      the point, three right angles                6     none
+==================  ===========================================  ====  ======================
+
+Gradients are taken along body-frame rotations δΘ (R ⊕ δΘ = R exp(δΘ̃)): ∂(R d)/∂Θ = −R d̃.
+The curvature given with them is the derivative of the force Gᵀλ along the group, which Newton
+needs: for a right angle with w = R_aᵀR_b d_b, the blocks d̃_a w̃ (a, a), −d̃_a R_aᵀR_b d̃_b (a, b)
+and their mirror images; for a point, that of :class:`fecontact.bodies.rigid3d.RigidBody3D`.
+Its quadratic form vᵀHv is the acceleration term of the constraint, g̈ − Gv̇.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .bodies.rigid3d import RigidBody3D
+from .contact.base import PairDefaults
+from .errors import InputError, check_finite
+from .rotations import exp, hat
+
+__all__ = ["BallJoint", "FixedJoint", "HingeJoint", "PrismaticJoint", "UniversalJoint"]
+
+
+def _vector3(name: str, value) -> np.ndarray:
+    x = check_finite(name, value).ravel()
+    if x.shape != (3,):
+        raise InputError(f"{name} must be a 3-vector, got shape {x.shape}")
+    return x
+
+
+def _unit(name: str, value) -> np.ndarray:
+    x = _vector3(name, value)
+    n = np.linalg.norm(x)
+    if n == 0.0:
+        raise InputError(f"{name} must be a non-zero vector")
+    return x / n
+
+
+def _perpendiculars(axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit vectors completing ``axis`` to a right-handed orthonormal frame."""
+    e = np.eye(3)[int(np.argmin(np.abs(axis)))]
+    p1 = np.cross(axis, e)
+    p1 /= np.linalg.norm(p1)
+    return p1, np.cross(axis, p1)
+
+
+class _Joint(PairDefaults):
+    """The rows of a joint between ``body`` and ``other`` (None: the ground) at ``point``
+    (m, in the pose q = 0 of both bodies), with the right angles ``pairs`` of (direction of
+    a, direction of b) given in the pose q = 0 (both body frames are then the world frame)."""
+
+    restitution = 0.0
+    linear = False
+    arms = None  # no remainder bound of the planar pins (:func:`fecontact.joints.newton_remainder`)
+
+    def __init__(self, body, point, other=None, pairs=(), lines=None):
+        for name, b in (("body", body), ("other", other)):
+            if b is not None and not isinstance(b, RigidBody3D):
+                raise InputError(f"{name} must be a RigidBody3D, got {type(b).__name__}")
+        if other is body:
+            raise InputError("other: a body cannot be joined to itself")
+        self.body, self.other = body, other
+        self.point = _vector3("point", point)
+        self.r_a = body.to_frame(self.point)[None]
+        self.r_b = None if other is None else other.to_frame(self.point)[None]
+        # the pivots' skew matrices, kept: every Newton iteration evaluates the joint
+        self.hats = (hat(self.r_a), None if other is None else hat(self.r_b))
+        self.pairs = [(np.asarray(a, float), np.asarray(b, float)) for a, b in pairs]
+        # the point rows, or the two rows of a line along which the point slides
+        self.lines = lines
+        self.size = (3 if lines is None else len(lines)) + len(self.pairs)
+        self.offsets = (0, 0)
+        self.k = 6 if other is None else 12
+
+    def bind(self, model) -> None:
+        ob = 0 if self.other is None else model.offset_of(self.other)
+        self.offsets = (model.offset_of(self.body), ob)
+
+    def _frames(self, q: np.ndarray):
+        oa, ob = self.offsets
+        qa = q[oa : oa + 6]
+        qb = None if self.other is None else q[ob : ob + 6]
+        return qa, qb
+
+    def evaluate(self, q: np.ndarray):
+        """Constraint values (size,), dofs (size, k), gradient rows (size, k), curvature
+        (size, k, k) (module docstring)."""
+        qa, qb = self._frames(q)
+        g = np.zeros(self.size)
+        G = np.zeros((self.size, self.k))
+        H = np.zeros((self.size, self.k, self.k))
+        Ra, Rb = exp(qa[3:]), (np.eye(3) if qb is None else exp(qb[3:]))
+        if self.lines is None:
+            self._point_rows(qa, qb, g, G, H)
+        else:
+            for i, e in enumerate(self.lines):
+                g[i], G[i], H[i] = self._line_row(qa, qb, Ra, Rb, e)
+        first = 3 if self.lines is None else len(self.lines)
+        for i, (da, db) in enumerate(self.pairs, start=first):
+            g[i], G[i], H[i] = self._right_angle(Ra, Rb, da, db, qb is not None)
+        oa, ob = self.offsets
+        dofs = oa + np.arange(6)
+        if qb is not None:
+            dofs = np.concatenate([dofs, ob + np.arange(6)])
+        return g, np.repeat(dofs[None], self.size, axis=0), G, H
+
+    def _point_rows(self, qa, qb, g, G, H) -> None:
+        """x_a(r_a) − x_b(r_b) (or − the point), into the first three rows."""
+        xa, _, Ja, Ha = self.body.frame_point_kinematics(qa, self.r_a, self.hats[0])
+        g[:3], G[:3, :6], H[:3, :6, :6] = xa[0], Ja[0], Ha[0]
+        if qb is None:
+            g[:3] -= self.point
+            return
+        xb, _, Jb, Hb = self.other.frame_point_kinematics(qb, self.r_b, self.hats[1])
+        g[:3] -= xb[0]
+        G[:3, 6:], H[:3, 6:, 6:] = -Jb[0], -Hb[0]
+
+    def _line_row(self, qa, qb, Ra, Rb, e):
+        """(R_b e)·(x_a(r_a) − x_b(r_b)): body a's point off the line of b (or of the ground)
+        along e, its gradient and curvature (the frame F = b, the point P = a)."""
+        k, ra, Ea = self.k, self.r_a[0], self.hats[0][0]
+        xa = self.body.center(qa) + Ra @ ra
+        w = Rb @ e
+        G, H = np.zeros(k), np.zeros((k, k))
+        G[:3], G[3:6] = w, np.cross(ra, Ra.T @ w)
+        H[3:6, 3:6] = Ea @ hat(Ra.T @ w)
+        if qb is None:
+            return float(w @ (xa - self.point)), G, H
+        cb = self.other.center(qb)
+        E, rel = hat(e), Rb.T @ (xa - cb)
+        G[6:9], G[9:12] = -w, np.cross(e, rel)
+        H[6:9, 9:12], H[:3, 9:12] = Rb @ E, -Rb @ E
+        H[9:12, 6:9], H[9:12, :3], H[9:12, 9:12] = -E @ Rb.T, E @ Rb.T, E @ hat(rel)
+        H[9:12, 3:6] = -E @ Rb.T @ Ra @ Ea
+        H[3:6, 9:12] = -Ea @ Ra.T @ Rb @ E
+        xb = cb + Rb @ self.r_b[0]
+        return float(w @ (xa - xb)), G, H
+
+    def _right_angle(self, Ra, Rb, da, db, two: bool):
+        """(R_a d_a)·(R_b d_b), its gradient and curvature over the joint's dofs."""
+        k = self.k
+        ea, eb = Ra @ da, Rb @ db
+        G, H = np.zeros(k), np.zeros((k, k))
+        G[3:6] = -eb @ Ra @ hat(da)
+        Da = hat(da)
+        H[3:6, 3:6] = Da @ hat(Ra.T @ eb)
+        if two:
+            Db = hat(db)
+            G[9:12] = -ea @ Rb @ Db
+            H[9:12, 9:12] = Db @ hat(Rb.T @ ea)
+            H[3:6, 9:12] = -Da @ Ra.T @ Rb @ Db
+            H[9:12, 3:6] = -Db @ Rb.T @ Ra @ Da
+        return float(ea @ eb), G, H
+
+
+class BallJoint(_Joint):
+    """Spherical joint: the material point at ``point`` (m, pose q = 0) of ``body`` stays on
+    the same material point of ``other``, or fixed in space when ``other`` is None. 3 rows."""
+
+    def __init__(self, body, point, other=None):
+        super().__init__(body, point, other)
+
+
+class HingeJoint(_Joint):
+    """Revolute joint: a ball joint at ``point`` whose bodies turn relative to each other only
+    about ``axis`` (a direction fixed in both, given in the pose q = 0). 5 rows."""
+
+    def __init__(self, body, point, axis, other=None):
+        n = _unit("axis", axis)
+        p1, p2 = _perpendiculars(n)
+        super().__init__(body, point, other, [(n, p1), (n, p2)])
+
+
+class UniversalJoint(_Joint):
+    """Universal (Cardan) joint: a ball joint at ``point`` keeping the direction ``axis_a``
+    of ``body`` perpendicular to the direction ``axis_b`` of ``other`` (both in the pose
+    q = 0, where they must be perpendicular). 4 rows."""
+
+    def __init__(self, body, point, axis_a, axis_b, other=None):
+        a, b = _unit("axis_a", axis_a), _unit("axis_b", axis_b)
+        if abs(a @ b) > 1e-12:
+            raise InputError("axis_a and axis_b must be perpendicular")
+        super().__init__(body, point, other, [(a, b)])
+
+
+class PrismaticJoint(_Joint):
+    """Prismatic (slider) joint: ``body`` keeps its orientation relative to ``other`` (or to
+    the ground) and its material point at ``point`` slides along the line through it along
+    ``axis`` fixed in ``other`` (both given in the pose q = 0). 5 rows."""
+
+    def __init__(self, body, point, axis, other=None):
+        p1, p2 = _perpendiculars(_unit("axis", axis))
+        e = np.eye(3)
+        super().__init__(body, point, other, [(e[0], e[1]), (e[0], e[2]), (e[1], e[2])], [p1, p2])
+
+
+class FixedJoint(_Joint):
+    """Fixed joint: ``body`` moves with ``other`` (or is held in space) as one rigid body,
+    the point ``point`` (m, pose q = 0) and the relative orientation held. 6 rows."""
+
+    def __init__(self, body, point, other=None):
+        e = np.eye(3)
+        super().__init__(body, point, other, [(e[0], e[1]), (e[0], e[2]), (e[1], e[2])])
