@@ -13,16 +13,12 @@ import numpy as np
 from fecontact import Model, Param, Simulation, case, node_probe, run_cli
 from fecontact.bodies import Beam3D, Material, Section
 from fecontact.contact import Contact, Plane
-from fecontact.scenes import STRIP
+from fecontact.scenes import PENDULUM_STOP, STRIP
 
 
-@case(STRIP)  # length, n_elements, E, nu, rho, width, thickness: an aluminium strip
+@case(STRIP, PENDULUM_STOP)  # an aluminium strip; its tip mass, stop and gravity
 def build(
-    length, n_elements, E, nu, rho, width, thickness,
-    tip_mass=Param.nonnegative(0.14, "kg", "point mass on the tip node"),
-    restitution=Param.fraction(0.0, "Newton's coefficient of restitution e_N"),
-    friction=Param.nonnegative(0.0, "-", "Coulomb's coefficient mu between tip and stop"),
-    gravity=Param.nonnegative(9.81, "m/s^2", "acceleration of gravity, along -y"),
+    length, n_elements, E, nu, rho, width, thickness, tip_mass, restitution, friction, gravity,
     out_of_plane_velocity=Param(0.0, "m/s", "initial tip speed along z (rigid turn)"),
 ):  # fmt: skip
     material = Material(E, nu=nu, rho=rho)

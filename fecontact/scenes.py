@@ -16,6 +16,7 @@ __all__ = [
     "DROP",
     "MATERIALS",
     "SOLID",
+    "PENDULUM_STOP",
     "STRIP",
     "axial_bar",
     "axial_velocity_probe",
@@ -180,6 +181,14 @@ STRIP = {
 }
 """A straight metal strip (``Beam2D`` of rectangular section; parameter group of ``case``):
 aluminium by default."""
+
+PENDULUM_STOP = {
+    "tip_mass": Param.nonnegative(0.14, "kg", "point mass on the tip node"),
+    "restitution": Param.fraction(0.0, "Newton's coefficient of restitution e_N"),
+    "friction": Param.nonnegative(0.0, "-", "Coulomb's coefficient mu between tip and stop"),
+    "gravity": Param.nonnegative(9.81, "m/s^2", "acceleration of gravity, along -y"),
+}
+"""The founding case's tip mass, stop and gravity (parameter group of ``case``)."""
 
 DISK = {
     "radius": Param.positive(0.05, "m", "radius of the disk (of each disk)"),

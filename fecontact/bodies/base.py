@@ -12,9 +12,9 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, check_count
 
-__all__ = ["Body", "BodyDefaults", "EnergyConsistentBody"]
+__all__ = ["Body", "BodyDefaults", "EnergyConsistentBody", "RigidDefaults"]
 
 
 @runtime_checkable
@@ -135,3 +135,26 @@ class BodyDefaults:
         rotation field override)."""
         T = np.column_stack([self.translation_field(e) for e in np.eye(self.dim)])
         return np.hstack([T, np.zeros((T.shape[0], 1 if self.dim == 2 else 3))])
+
+
+class RigidDefaults(BodyDefaults):
+    """Defaults of a rigid body with a ``shape``: no strain energy, and its output points
+    (the shape's points and the centre of mass) as its nodes."""
+
+    @property
+    def characteristic_length(self) -> float:
+        """Size of the shape (m): a disk's or ball's diameter, a polygon's or box's largest
+        vertex distance."""
+        return self.shape.size
+
+    def node_index(self, node: int) -> int:
+        n = self.n_nodes
+        return check_count("point", node, -n, n - 1) % n
+
+    def internal(self, q: np.ndarray, tangent: bool = True):
+        """No strain energy: (0, zero force, no element tangents)."""
+        n = self.ndof
+        return 0.0, np.zeros(n), (np.zeros((0, n, n)) if tangent else None)
+
+    def energy(self, q: np.ndarray) -> float:
+        return 0.0

@@ -35,7 +35,7 @@ from ..errors import (
     check_positive,
     check_vector,
 )
-from .base import BodyDefaults
+from .base import BodyDefaults, RigidDefaults
 
 __all__ = ["Disk", "Polygon", "RigidBody2D", "PointMass"]
 
@@ -177,7 +177,7 @@ class Polygon:
         return np.column_stack([np.arange(n), np.roll(np.arange(n), -1)])
 
 
-class RigidBody2D(BodyDefaults):
+class RigidBody2D(RigidDefaults):
     """Planar rigid body: ``mass`` (kg), ``inertia`` I_G (kg·m²) about the centre of mass,
     initial ``position`` of the centre of mass (m), initial ``angle`` (rad) and a ``shape``
     (``Disk`` or ``Polygon``, in the body frame about the centre of mass).
@@ -239,22 +239,6 @@ class RigidBody2D(BodyDefaults):
     def n_nodes(self) -> int:
         """Number of output points."""
         return len(self._points)
-
-    @property
-    def characteristic_length(self) -> float:
-        """Size of the shape (diameter of a disk, largest vertex distance of a polygon), m."""
-        return self.shape.size
-
-    def node_index(self, node: int) -> int:
-        n = self.n_nodes
-        return check_count("point", node, -n, n - 1) % n
-
-    def internal(self, q: np.ndarray, tangent: bool = True):
-        """No strain energy: (0, zero force, no element tangents)."""
-        return 0.0, np.zeros(3), (np.zeros((0, 3, 3)) if tangent else None)
-
-    def energy(self, q: np.ndarray) -> float:
-        return 0.0
 
     def mass_matrix(self) -> sp.csr_matrix:
         """diag(m, m, I_G) in kg, kg, kg·m²."""

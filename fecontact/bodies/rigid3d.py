@@ -18,9 +18,9 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import InputError, check_count, check_finite, check_positive
+from ..errors import InputError, check_finite, check_positive
 from ..rotations import exp, hat
-from .base import BodyDefaults
+from .base import RigidDefaults
 from .shapes3d import Ball, Box, Capsule, Cylinder
 
 __all__ = ["RigidBody3D"]
@@ -53,7 +53,7 @@ def _inertia_tensor(inertia) -> np.ndarray:
     return 0.5 * (J + J.T)
 
 
-class RigidBody3D(BodyDefaults):
+class RigidBody3D(RigidDefaults):
     """Rigid body in space: ``mass`` (kg), ``inertia`` J about the centre of mass in the body
     frame (kg·m²: three principal moments along the body axes or a full tensor), initial
     ``position`` of the centre of mass (m) and a ``shape`` (``Ball``, ``Box``, ``Cylinder``,
@@ -114,21 +114,6 @@ class RigidBody3D(BodyDefaults):
         return self
 
     # -- the body protocol -------------------------------------------------------------------
-    @property
-    def characteristic_length(self) -> float:
-        return self.shape.size
-
-    def node_index(self, node: int) -> int:
-        n = self.n_nodes
-        return check_count("point", node, -n, n - 1) % n
-
-    def internal(self, q: np.ndarray, tangent: bool = True):
-        """No strain energy: (0, zero force, no element tangents)."""
-        return 0.0, np.zeros(6), (np.zeros((0, 6, 6)) if tangent else None)
-
-    def energy(self, q: np.ndarray) -> float:
-        return 0.0
-
     def mass_matrix(self) -> sp.csr_matrix:
         """diag(m I, J) (kg, kg·m²)."""
         M = np.zeros((6, 6))
