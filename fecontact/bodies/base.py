@@ -158,3 +158,20 @@ class RigidDefaults(BodyDefaults):
 
     def energy(self, q: np.ndarray) -> float:
         return 0.0
+
+    round_contact = "its shape"
+
+    def contact_nodes(self, nodes=None) -> np.ndarray:
+        """Validated indices of the shape's vertices that touch (all by default)."""
+        n = len(self.shape.vertices)
+        if n == 0:
+            raise InputError(
+                f"a {type(self.shape).__name__} has no vertices: contact it through "
+                f"Contact(body, partner), which uses {self.round_contact}"
+            )
+        if nodes is None:
+            return np.arange(n)
+        idx = np.atleast_1d(np.asarray(nodes))
+        if idx.dtype.kind not in "iu" or np.any(idx < -n) or np.any(idx >= n):
+            raise InputError(f"nodes must be vertices of the shape, in [{-n}, {n - 1}]")
+        return idx.astype(int) % n

@@ -186,6 +186,8 @@ class RigidBody2D(RigidDefaults):
     counter-clockwise) from the initial pose. ``fix("x", "y", "theta")`` holds some of them.
     """
 
+    round_contact = "its centre and radius"  # how a shape without vertices touches
+
     dofs_per_node = 3
     ndof = 3
     linear_kinematics = False
@@ -272,21 +274,6 @@ class RigidBody2D(RigidDefaults):
         q = np.zeros(3) if q is None else q
         arm = self._points @ rotation(self.orientation(q)).T
         return x[:2] + x[2] * (arm @ _PERP.T)
-
-    def contact_nodes(self, nodes=None) -> np.ndarray:
-        """Validated indices of contact points: the polygon's vertices (all by default)."""
-        n = len(self.shape.vertices)
-        if n == 0:
-            raise InputError(
-                "a Disk has no vertices: contact it through Contact(body, obstacle), which "
-                "uses its centre and radius"
-            )
-        if nodes is None:
-            return np.arange(n)
-        idx = np.atleast_1d(np.asarray(nodes))
-        if idx.dtype.kind not in "iu" or np.any(idx < -n) or np.any(idx >= n):
-            raise InputError(f"nodes must be vertices of the polygon, in [{-n}, {n - 1}]")
-        return idx.astype(int) % n
 
     def point_kinematics(self, q: np.ndarray, nodes: np.ndarray):
         """Positions x = c + R(φ) r (m, 2) of output points ``nodes``, their local dofs (m, 3),

@@ -64,6 +64,8 @@ class RigidBody3D(RigidDefaults):
     rotation is held whole or not at all (``fix("rx", "ry", "rz")``).
     """
 
+    round_contact = "its balls"  # how a shape without vertices touches
+
     dim = 3
     dofs_per_node = 6
     ndof = 6
@@ -160,21 +162,6 @@ class RigidBody3D(RigidDefaults):
         (for a velocity, the points' velocities in m/s)."""
         R = self.rotation(np.zeros(6) if q is None else q)
         return x[:3] + np.cross(x[3:6], self._points) @ R.T
-
-    def contact_nodes(self, nodes=None) -> np.ndarray:
-        """Validated indices of the shape's vertices that touch (all by default)."""
-        n = len(self.shape.vertices)
-        if n == 0:
-            raise InputError(
-                f"a {type(self.shape).__name__} has no vertices: contact it through "
-                "Contact(body, partner), which uses its balls"
-            )
-        if nodes is None:
-            return np.arange(n)
-        idx = np.atleast_1d(np.asarray(nodes))
-        if idx.dtype.kind not in "iu" or np.any(idx < -n) or np.any(idx >= n):
-            raise InputError(f"nodes must be vertices of the shape, in [{-n}, {n - 1}]")
-        return idx.astype(int) % n
 
     def point_kinematics(self, q: np.ndarray, nodes: np.ndarray):
         """Positions (m, 3), local dofs (m, 6), ∂x/∂(u, Θ) (m, 3, 6) and the curvature
