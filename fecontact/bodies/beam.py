@@ -35,9 +35,9 @@ import scipy.sparse as sp
 import skfem
 
 from ..errors import InputError, check_count, check_finite, check_positive, check_range
-from .base import BodyDefaults
 from .beam_energy import beam_energy_force, element_strains
 from .beam_kernels import BeamElements, beam_internal, beam_strains
+from .centreline import Centreline
 
 __all__ = ["Material", "Section", "Beam2D", "rectangle_torsion"]
 
@@ -140,7 +140,7 @@ def rectangle_torsion(width: float, thickness: float) -> float:
     return float(a * b**3 / 3.0 * (1.0 - 192.0 / np.pi**5 * (b / a) * series))
 
 
-class Beam2D(BodyDefaults):
+class Beam2D(Centreline):
     """Planar Simo–Reissner beam through ``nodes`` (an (n, 2) array in m, in order).
 
     Elements join consecutive nodes. Supports (``pin``, ``clamp``) and point masses
@@ -211,23 +211,9 @@ class Beam2D(BodyDefaults):
             parts.append(P[k] + s * (P[k + 1] - P[k]))
         return cls(np.vstack(parts), material, section, linear)
 
-    def node_index(self, node: int) -> int:
-        n = len(self.X)
-        return check_count("node", node, -n, n - 1) % n
-
-    def fix(self, node: int, *components) -> Beam2D:
-        """Hold ``components`` ("x", "y", "theta", or 0, 1, 2; all when none are given) of
-        ``node`` at zero."""
-        self.support(self.node_index(node), components)
-        return self
-
     def pin(self, node: int) -> Beam2D:
         """Fix the displacement of ``node``; its rotation stays free: ``fix(node, "x", "y")``."""
         return self.fix(node, "x", "y")
-
-    def clamp(self, node: int) -> Beam2D:
-        """Fix the displacement and the rotation of ``node``: ``fix(node)``."""
-        return self.fix(node)
 
     def add_mass(self, node: int, mass: float) -> Beam2D:
         """Attach a point mass (kg) to the translations of ``node``."""
@@ -235,10 +221,6 @@ class Beam2D(BodyDefaults):
         return self
 
     # -- sizes -------------------------------------------------------------------------------
-    @property
-    def n_nodes(self) -> int:
-        return len(self.X)
-
     @property
     def elements(self) -> BeamElements:
         """The elements' kernel data (reference geometry, rigidities C, lengths ℓ, dofs) that
@@ -249,16 +231,6 @@ class Beam2D(BodyDefaults):
     def element_dofs(self) -> np.ndarray:
         """(n_elements, 6) local dof indices of each element."""
         return self._el.dofs
-
-    @property
-    def beam_mass(self) -> float:
-        """Mass of the beam without point masses, kg."""
-        return self.material.rho * self.section.area * self.length
-
-    @property
-    def mass(self) -> float:
-        """Mass of the beam with its point masses, kg."""
-        return self.beam_mass + float(self.point_masses.sum())
 
     def strains(self, q: np.ndarray) -> tuple[np.ndarray, ...]:
         """Axial Γ, shear γ and curvature κ (1/m) at the element midpoints."""
@@ -333,17 +305,6 @@ class Beam2D(BodyDefaults):
     linear_kinematics = True
     """Node positions are linear in the dofs (x = X + u)."""
 
-    @property
-    def characteristic_length(self) -> float:
-        """Length of the centreline, m."""
-        return self.length
-
-    def contact_nodes(self, nodes=None) -> np.ndarray:
-        """Validated node indices (all nodes when ``nodes`` is None)."""
-        if nodes is None:
-            return np.arange(self.n_nodes)
-        return np.array([self.node_index(i) for i in np.atleast_1d(nodes)], dtype=int)
-
     def locate(self, point) -> int:
         """Index of the node at ``point`` (reference coordinates, m)."""
         d = np.linalg.norm(self.X - np.asarray(point, dtype=float), axis=1)
@@ -364,10 +325,6 @@ class Beam2D(BodyDefaults):
         idx = np.array([self.node_index(i) for i in np.atleast_1d(nodes)], dtype=int)
         return 3 * idx[:, None] + np.arange(2)
 
-    def segments(self) -> np.ndarray:
-        """(n_elements, 2) node indices of the centreline segments."""
-        return np.stack([self._el.n0, self._el.n1], axis=1)
-
     def nodal(self, x: np.ndarray, q: np.ndarray | None = None) -> np.ndarray:
         """Translation part (n, 2) of a nodal dof vector (displacement, velocity, force)."""
         return x.reshape(-1, 3)[:, :2]
@@ -381,7 +338,3 @@ class Beam2D(BodyDefaults):
             "rotation": Q[:, 2],
             "angular_velocity": V[:, 2],
         }
-
-    def cells(self) -> list[tuple[str, np.ndarray]]:
-        """Cells for VTU output: the centreline as ``line`` cells."""
-        return [("line", self.segments())]

@@ -28,7 +28,6 @@ import scipy.sparse as sp
 
 from ..errors import InputError, check_count, check_finite, check_positive
 from ..rotations import exp as rotation_exp
-from .base import BodyDefaults
 from .beam import Material, Section
 from .beam3d_inertia import consistent_mass, gyroscopic, lumped_inertias
 from .beam3d_kernels import (
@@ -38,13 +37,14 @@ from .beam3d_kernels import (
     beam3d_strains,
     reference_triads,
 )
+from .centreline import Centreline
 
 __all__ = ["Beam3D"]
 
 _EYE3 = np.eye(3)[None]
 
 
-class Beam3D(BodyDefaults):
+class Beam3D(Centreline):
     """Spatial Simo–Reissner beam through ``nodes`` (an (n, 3) array in m, in order).
 
     ``orientation``: a vector fixing each section's axis 2 (its part normal to the element);
@@ -130,23 +130,9 @@ class Beam3D(BodyDefaults):
         return cls(nodes, material, section, orientation)
 
     # -- supports and masses ---------------------------------------------------------------
-    def node_index(self, node: int) -> int:
-        n = len(self.X)
-        return check_count("node", node, -n, n - 1) % n
-
-    def fix(self, node: int, *components) -> Beam3D:
-        """Hold ``components`` (x, y, z, rx, ry, rz or 0–5; all when none are given) of
-        ``node`` at zero; rx, ry, rz are the rotation increments in the node's frame R."""
-        self.support(self.node_index(node), components)
-        return self
-
     def pin(self, node: int) -> Beam3D:
         """Spherical support: fix the displacement of ``node``, its rotation free."""
         return self.fix(node, "x", "y", "z")
-
-    def clamp(self, node: int) -> Beam3D:
-        """Fix the displacement and the rotation of ``node``."""
-        return self.fix(node)
 
     def add_mass(self, node: int, mass: float, inertia=0.0) -> Beam3D:
         """Attach a point mass (kg) to the translations of ``node`` and a rotary ``inertia``
@@ -162,10 +148,6 @@ class Beam3D(BodyDefaults):
 
     # -- sizes ------------------------------------------------------------------------------
     @property
-    def n_nodes(self) -> int:
-        return len(self.X)
-
-    @property
     def elements(self) -> Beam3DElements:
         """The elements' kernel data (:mod:`fecontact.bodies.beam3d_kernels`)."""
         return self._el
@@ -179,19 +161,6 @@ class Beam3D(BodyDefaults):
     def rotation_triples(self) -> np.ndarray:
         """(n, 3) local indices of the nodes' rotation dofs ψ: composed on the right."""
         return 6 * np.arange(self.n_nodes)[:, None] + np.arange(3, 6)
-
-    @property
-    def beam_mass(self) -> float:
-        """Mass of the beam without point masses, kg."""
-        return self.material.rho * self.section.area * self.length
-
-    @property
-    def mass(self) -> float:
-        return self.beam_mass + float(self.point_masses.sum())
-
-    @property
-    def characteristic_length(self) -> float:
-        return self.length
 
     # -- mechanics --------------------------------------------------------------------------
     def strains(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -247,12 +216,6 @@ class Beam3D(BodyDefaults):
         """Current node coordinates X + u (m), shape (n, 3)."""
         return self.X + q.reshape(-1, 6)[:, :3]
 
-    def contact_nodes(self, nodes=None) -> np.ndarray:
-        """Validated node indices (all nodes when ``nodes`` is None)."""
-        if nodes is None:
-            return np.arange(self.n_nodes)
-        return np.array([self.node_index(i) for i in np.atleast_1d(nodes)], dtype=int)
-
     def point_kinematics(self, q: np.ndarray, nodes: np.ndarray):
         """Positions x (m, 3) of ``nodes``, their local dofs (m, 3), ∂x/∂q (m, 3, 3) and
         ∂²x/∂q² (None: linear)."""
@@ -262,10 +225,6 @@ class Beam3D(BodyDefaults):
     def node_translation_dofs(self, nodes) -> np.ndarray:
         """(len(nodes), 3) local dof indices of (u_x, u_y, u_z) at ``nodes``."""
         return 6 * self.contact_nodes(nodes)[:, None] + np.arange(3)
-
-    def segments(self) -> np.ndarray:
-        """(n_elements, 2) node indices of the centreline segments."""
-        return np.stack([self._el.n0, self._el.n1], axis=1)
 
     def nodal(self, x: np.ndarray, q: np.ndarray | None = None) -> np.ndarray:
         """Translation part (n, 3) of a nodal dof vector (displacement, velocity, force)."""
@@ -290,7 +249,3 @@ class Beam3D(BodyDefaults):
             "axis_2": F[:, :, 1],
             "axis_3": F[:, :, 2],
         }
-
-    def cells(self) -> list[tuple[str, np.ndarray]]:
-        """Cells for VTU output: the centreline as ``line`` cells."""
-        return [("line", self.segments())]
