@@ -37,7 +37,7 @@ import skfem
 from ..errors import InputError, check_count, check_finite, check_positive, check_range
 from .beam_energy import beam_energy_force, element_strains
 from .beam_kernels import BeamElements, beam_internal, beam_strains
-from .centreline import Centreline
+from .centreline import Centreline, centreline_nodes
 
 __all__ = ["Material", "Section", "Beam2D", "rectangle_torsion"]
 
@@ -157,13 +157,7 @@ class Beam2D(Centreline):
     def __init__(self, nodes, material: Material, section: Section, linear: bool = False):
         if not isinstance(linear, (bool, np.bool_)):
             raise InputError(f"linear must be True or False, got {linear!r}")
-        X = check_finite("nodes", nodes)
-        if X.ndim != 2 or X.shape[1] != 2 or X.shape[0] < 2:
-            raise InputError(f"nodes must be an (n >= 2, 2) array, got shape {X.shape}")
-        seg = np.linalg.norm(np.diff(X, axis=0), axis=1)
-        if np.any(seg <= 1e-12 * seg.sum()):
-            k = int(np.argmin(seg))
-            raise InputError(f"nodes: element {k} has zero length (nodes {k} and {k + 1})")
+        X, seg = centreline_nodes(nodes, 2)
         self.X = X
         self.material = material
         self.section = section

@@ -37,7 +37,7 @@ from .beam3d_kernels import (
     beam3d_strains,
     reference_triads,
 )
-from .centreline import Centreline
+from .centreline import Centreline, centreline_nodes
 
 __all__ = ["Beam3D"]
 
@@ -65,13 +65,7 @@ class Beam3D(Centreline):
     def __init__(
         self, nodes, material: Material, section: Section, orientation=None, rotary_inertia=None
     ):
-        X = check_finite("nodes", nodes)
-        if X.ndim != 2 or X.shape[1] != 3 or X.shape[0] < 2:
-            raise InputError(f"nodes must be an (n >= 2, 3) array, got shape {X.shape}")
-        seg = np.linalg.norm(np.diff(X, axis=0), axis=1)
-        if np.any(seg <= 1e-12 * seg.sum()):
-            k = int(np.argmin(seg))
-            raise InputError(f"nodes: element {k} has zero length (nodes {k} and {k + 1})")
+        X, seg = centreline_nodes(nodes, 3)
         if orientation is not None:
             orientation = check_finite("orientation", orientation)
             if orientation.shape != (3,) or not np.linalg.norm(orientation) > 0:

@@ -6,10 +6,23 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import check_count
+from ..errors import InputError, check_count, check_finite
 from .base import BodyDefaults
 
-__all__ = ["Centreline"]
+__all__ = ["Centreline", "centreline_nodes"]
+
+
+def centreline_nodes(nodes, dim: int) -> tuple[np.ndarray, np.ndarray]:
+    """The nodes (n ≥ 2, ``dim``) of a centreline, checked finite and distinct in sequence,
+    and its element lengths (m)."""
+    X = check_finite("nodes", nodes)
+    if X.ndim != 2 or X.shape[1] != dim or X.shape[0] < 2:
+        raise InputError(f"nodes must be an (n >= 2, {dim}) array, got shape {X.shape}")
+    seg = np.linalg.norm(np.diff(X, axis=0), axis=1)
+    if np.any(seg <= 1e-12 * seg.sum()):
+        k = int(np.argmin(seg))
+        raise InputError(f"nodes: element {k} has zero length (nodes {k} and {k + 1})")
+    return X, seg
 
 
 class Centreline(BodyDefaults):
