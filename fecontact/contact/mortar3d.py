@@ -36,6 +36,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..errors import InputError
+from .mortar_cover import covered_duals
 from .mortar_facets import clipped_points, facet_pair_integrals, meet_triangles
 from .mortar_interface import MortarInterface
 
@@ -47,8 +48,6 @@ class MortarContact3D(MortarInterface):
     ``body``) with the boundary of another (the ``master``); see the module docstring. One
     contact per slave boundary node; ``restitution`` is Newton's e_N in [0, 1]; ``margin``
     (m) the search distance (default: the integrator's detection distance)."""
-
-    partial = False
 
     def __init__(self, body, master, restitution: float = 0.0, margin=None):
         super().__init__(body, master, restitution, margin)
@@ -111,12 +110,25 @@ class MortarContact3D(MortarInterface):
         total = plane.sum(axis=2)
         meets = (plane.max(axis=1) >= 0.0).all(axis=1) & (total.min(axis=1) <= 1.0)
         e, f, ts, tm, n, plane = e[meets], f[meets], ts[meets], tm[meets], n[meets], plane[meets]
+        u, v = u[meets], v[meets]
         pair, lam, w = clipped_points(plane)
+        # the dual functions of partly covered triangles, those of the covered part
+        # (mortar_cover), with their derivatives through the overlaps' vertices
+        weight = np.bincount(pair, w, len(e))
+        part, A, extra, drop = covered_duals(e, ts, tm, u, v, plane, weight, len(self.facets))
+        w = np.where(drop[pair], 0.0, w)
         x = np.einsum("pk,pkd->pd", lam, ts[pair])
         _, mu, _ = meet_triangles(x, n[pair], tm[pair], np.inf)
         # the points' moments per pair, Σ w Φ_i λ_k and Σ w Φ_i μ_k: the integrands are
         # linear in λ at fixed vertices (mortar_facets.facet_pair_integrals)
         phi = w[:, None] * (4.0 * lam - 1.0)
+        if part.any():
+            which = np.full(len(e), -1)
+            which[part] = np.arange(part.sum())
+            at = np.flatnonzero(part[pair])
+            phi[at] = w[at, None] * np.einsum("pjk,pk->pj", A[which[pair[at]]], lam[at])
+        gradient = np.zeros((len(e), 54))
+        gradient[part] = extra.reshape(-1, 54)
         values = np.stack([phi[:, :, None] * lam[:, None, :], phi[:, :, None] * mu[:, None, :]],
                           axis=1).reshape(-1, 18)  # fmt: skip
         flat = (pair[:, None] * 18 + np.arange(18)).ravel()
@@ -125,7 +137,7 @@ class MortarContact3D(MortarInterface):
         keep = np.flatnonzero(weight > 0.0)
         z = np.concatenate(
             [ts[keep].reshape(-1, 9), tm[keep].reshape(-1, 9), moments[keep].reshape(-1, 18),
-             weight[keep, None]], axis=1
+             weight[keep, None], gradient[keep]], axis=1
         )  # fmt: skip
         ee, ff = e[keep], f[keep]
         return ee, z, self._global_dofs(self.facets[ee], self.master_facets[ff]), xs
@@ -134,6 +146,10 @@ class MortarContact3D(MortarInterface):
         """Jets of the ends' weighted gaps, coverage (the fraction of the slave triangle the
         pair covers), covered dual weights (P, 3) and the moments and areas of the pairs."""
         jets = facet_pair_integrals(z, hessian)
+        if hessian is not None:  # the derivatives through the covered-part dual functions
+            extra = z[:, 37:91].reshape(-1, 3, 18)
+            for k, jet in enumerate(jets):
+                jet.g = jet.g + extra[:, k]
         ts = z[:, :9].reshape(-1, 3, 3)
         area = 0.5 * np.linalg.norm(np.cross(ts[:, 1] - ts[:, 0], ts[:, 2] - ts[:, 0]), axis=1)
         moments = z[:, 18:36].reshape(-1, 2, 3, 3)

@@ -27,7 +27,7 @@ import numpy as np
 
 from .dual_numbers import Jet
 
-__all__ = ["clipped_points", "facet_pair_integrals", "meet_triangles"]
+__all__ = ["clipped_moments", "clipped_points", "facet_pair_integrals", "meet_triangles"]
 
 
 def _cross_tensor() -> np.ndarray:
@@ -158,8 +158,9 @@ _HALF_PLANES = ((np.array([1.0, 0.0]), 0.0), (np.array([0.0, 1.0]), 0.0),
                 (np.array([-1.0, -1.0]), 1.0))  # fmt: skip
 
 
-def _clip(V: np.ndarray, n: np.ndarray, a: np.ndarray, b: float):
-    """Sutherland–Hodgman: the polygons V (P, K, 2) with n (P,) vertices cut by a·p + b ≥ 0."""
+def _clip(V: np.ndarray, n: np.ndarray, a: np.ndarray, b: float, dV=None):
+    """Sutherland–Hodgman: the polygons V (P, K, 2) with n (P,) vertices cut by a·p + b ≥ 0.
+    ``dV`` (P, K, 2, m): the vertices' derivatives, carried through the cut (None: not)."""
     P, K, _ = V.shape
     idx = np.arange(K)
     valid = idx[None, :] < n[:, None]
@@ -174,7 +175,18 @@ def _clip(V: np.ndarray, n: np.ndarray, a: np.ndarray, b: float):
     cand = np.stack([V, point], axis=2).reshape(P, 2 * K, 2)
     keep = np.stack([valid & inside_v, cross], axis=2).reshape(P, 2 * K)
     order = np.argsort(~keep, axis=1, kind="stable")
-    return np.take_along_axis(cand, order[..., None], axis=1), keep.sum(axis=1)
+    out = np.take_along_axis(cand, order[..., None], axis=1), keep.sum(axis=1)
+    if dV is None:
+        return out
+    # the cut point V + s (W − V), s = h_V / (h_V − h_W): its derivative by the chain rule
+    dW = dV[np.arange(P)[:, None], nxt]
+    dhv, dhw = np.einsum("pkdm,d->pkm", dV, a), np.einsum("pkdm,d->pkm", dW, a)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ds = np.where(cross[..., None], (dhv * (-hw)[..., None] + hv[..., None] * dhw)
+                      / ((hv - hw) ** 2)[..., None], 0.0)  # fmt: skip
+    dpoint = dV + s[..., None, None] * (dW - dV) + (W - V)[..., None] * ds[:, :, None, :]
+    dcand = np.stack([dV, dpoint], axis=2).reshape(P, 2 * K, 2, -1)
+    return (*out, np.take_along_axis(dcand, order[..., None, None], axis=1))
 
 
 def clipped_points(mu_plane: np.ndarray):
@@ -202,3 +214,41 @@ def clipped_points(mu_plane: np.ndarray):
     if not pairs:
         return np.zeros(0, int), np.zeros((0, 3)), np.zeros(0)
     return np.concatenate(pairs), np.concatenate(lam), np.concatenate(w)
+
+
+def clipped_moments(mu_plane: np.ndarray, d_plane: np.ndarray):
+    """Second moments Q_ik = ∫ λ_i λ_k dA / A (P, 3, 3) of the overlaps of
+    :func:`clipped_points` (the same clipping, as fractions of the slave triangle's area A)
+    and their derivatives (P, 3, 3, m) through the overlaps' vertices, given those of the
+    projected master vertices ``d_plane`` (P, 3, 2, m). Each fan cell T contributes
+    |T|/12 (Σ_a λ^a λ^aᵀ + s sᵀ), s = Σ_a λ^a (exact for the quadratic λ_i λ_k)."""
+    V, n, dV = mu_plane.astype(float), np.full(len(mu_plane), 3), d_plane
+    for a, b in _HALF_PLANES:
+        V, n, dV = _clip(V, n, a, b, dV)
+    P, m = len(V), d_plane.shape[-1]
+    Q, dQ = np.zeros((P, 3, 3)), np.zeros((P, 3, 3, m))
+    # λ = (1 − p₂ − p₃, p₂, p₃) and its derivative, per vertex
+    lam = np.concatenate([1.0 - V.sum(axis=2, keepdims=True), V], axis=2)
+    dlam = np.concatenate([-dV.sum(axis=2, keepdims=True), dV], axis=2)
+    for i in range(1, V.shape[1] - 1):
+        has = np.flatnonzero(n > i + 1)
+        if has.size == 0:
+            break
+        corners = (0, i, i + 1)
+        L, dL = lam[has][:, corners], dlam[has][:, corners]  # (H, 3 vertices, 3), (…, m)
+        e1, e2 = V[has, i] - V[has, 0], V[has, i + 1] - V[has, 0]
+        de1, de2 = dV[has, i] - dV[has, 0], dV[has, i + 1] - dV[has, 0]
+        c = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
+        dc = (de1[:, 0] * e2[:, 1, None] + e1[:, 0, None] * de2[:, 1]
+              - de1[:, 1] * e2[:, 0, None] - e1[:, 1, None] * de2[:, 0])  # fmt: skip
+        # the cell's fraction |c|/2 / (1/2), over 12
+        scale, dscale = np.abs(c) / 12.0, np.sign(c)[:, None] * dc / 12.0
+        s, ds = L.sum(axis=1), dL.sum(axis=1)
+        S = np.einsum("hai,hak->hik", L, L) + s[:, :, None] * s[:, None, :]
+        dS = np.einsum("haim,hak->hikm", dL, L)
+        dS = dS + dS.transpose(0, 2, 1, 3)
+        dss = ds[:, :, None, :] * s[:, None, :, None]
+        dS += dss + dss.transpose(0, 2, 1, 3)
+        Q[has] += scale[:, None, None] * S
+        dQ[has] += scale[:, None, None, None] * dS + S[..., None] * dscale[:, None, None, :]
+    return Q, dQ
