@@ -16,16 +16,21 @@ the patch test holds to round-off. The gap is measured along the slave triangle'
 
 Partners: master triangles facing the slave triangle (normals at more than 120°) whose
 vertices lie on average at most twice the detection margin ahead of it and at most the margin
-behind it. Only nodes whose triangles are each covered fully or not at all take part: the
-cells of the clipped overlaps are integrated at fixed points, so a node whose support the
-master covers in part would miss the motion of the coverage's edge in its gradient.
+behind it. A slave triangle the master covers in part (the edge of the contact zone, or
+every triangle at the pole of a coarse ball) takes the dual functions biorthogonal on its
+covered polygon (:mod:`fecontact.contact.mortar_cover`, Popp, Seitz, Gee & Wall 2013); one
+covered by less than ``mortar_cover.SMALLEST`` of its area counts as not covered.
 
-Linearisation: the gradient is exact — the cells' boundaries move with q, but the integrand
-Φ_j g_N is continuous across the master's edges, so the moving interior boundaries cancel,
-and a fully covered node has no other. The Hessian is that of the fixed integration points:
-it leaves out the jumps of ∂g_N/∂q across the master's edges as the cells move (the clip
-vertex terms of Popp, Gitterle, Gee & Wall 2010), so Newton's method converges faster than
-linearly but not quadratically once those terms matter.
+Linearisation: the gradient is exact. On a fully covered triangle the cells' boundaries move
+with q, but the integrand Φ_j g_N is continuous across the master's edges, so the moving
+interior boundaries cancel, and the triangle's own edges do not move in its area
+coordinates. On a partly covered triangle the covered polygon's edges move, and with them
+its dual functions: the gradient adds their derivatives through the clipped vertices
+(:func:`~fecontact.contact.mortar_facets.clipped_moments`). The Hessian is that of the fixed
+integration points and fixed dual functions: it leaves out the jumps of ∂g_N/∂q across the
+master's edges as the cells move (the clip vertex terms of Popp, Gitterle, Gee & Wall 2010)
+and the second derivatives through the covered polygon, so Newton's method converges faster
+than linearly but not quadratically once those terms matter.
 
 The nodal pressure is z_j = λ_j / L_j (Pa), λ_j the normal force of row j (N).
 """
@@ -36,9 +41,9 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..errors import InputError
-from .mortar_cover import covered_duals
+from .mortar_cover import covered_duals, triangles_taking_part
 from .mortar_facets import clipped_points, facet_pair_integrals, meet_triangles
-from .mortar_interface import MortarInterface
+from .mortar_interface import MortarInterface, element_measures
 
 __all__ = ["MortarContact3D"]
 
@@ -115,7 +120,10 @@ class MortarContact3D(MortarInterface):
         # the dual functions of partly covered triangles, those of the covered part
         # (mortar_cover), with their derivatives through the overlaps' vertices
         weight = np.bincount(pair, w, len(e))
-        part, A, extra, drop = covered_duals(e, ts, tm, u, v, plane, weight, len(self.facets))
+        area = element_measures(xs, self.facets)
+        covered = self._covered(pair, w, lam, len(e)) * area[e, None]
+        needed = triangles_taking_part(self.element_rows, e, weight, covered, area)
+        part, A, extra, drop = covered_duals(e, ts, tm, u, v, plane, weight, needed)
         w = np.where(drop[pair], 0.0, w)
         x = np.einsum("pk,pkd->pd", lam, ts[pair])
         _, mu, _ = meet_triangles(x, n[pair], tm[pair], np.inf)
@@ -135,12 +143,18 @@ class MortarContact3D(MortarInterface):
         moments = np.bincount(flat, values.ravel(), 18 * len(e)).reshape(-1, 2, 3, 3)
         weight = np.bincount(pair, w, len(e))
         keep = np.flatnonzero(weight > 0.0)
+        covered = self._covered(pair, w, lam, len(e))
         z = np.concatenate(
             [ts[keep].reshape(-1, 9), tm[keep].reshape(-1, 9), moments[keep].reshape(-1, 18),
-             weight[keep, None], gradient[keep]], axis=1
+             weight[keep, None], gradient[keep], covered[keep]], axis=1
         )  # fmt: skip
         ee, ff = e[keep], f[keep]
         return ee, z, self._global_dofs(self.facets[ee], self.master_facets[ff]), xs
+
+    @staticmethod
+    def _covered(pair, w, lam, P: int) -> np.ndarray:
+        """Σ w λ_k (P, 3): the pairs' ∫_C N_k dA as fractions of the slave triangle's area."""
+        return np.stack([np.bincount(pair, w * lam[:, k], P) for k in range(3)], axis=1)
 
     def _integrate(self, e, z, hessian):
         """Jets of the ends' weighted gaps, coverage (the fraction of the slave triangle the
@@ -153,7 +167,8 @@ class MortarContact3D(MortarInterface):
         ts = z[:, :9].reshape(-1, 3, 3)
         area = 0.5 * np.linalg.norm(np.cross(ts[:, 1] - ts[:, 0], ts[:, 2] - ts[:, 0]), axis=1)
         moments = z[:, 18:36].reshape(-1, 2, 3, 3)
-        dual = moments[:, 0].sum(axis=2) * area[:, None]  # Σ w Φ_i A (Σ_k λ_k = 1)
+        # ∫_C N_i dA, equal summed over a triangle's pairs to ∫_C Φ_i dA (biorthogonality)
+        dual = z[:, 91:94] * area[:, None]
         return jets, z[:, 36], dual, (moments, area)
 
     def _slip_weights(self, quad, k: int) -> np.ndarray:

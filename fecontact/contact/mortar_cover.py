@@ -34,7 +34,7 @@ import numpy as np
 
 from .mortar_facets import clipped_moments
 
-__all__ = ["SMALLEST", "covered_duals"]
+__all__ = ["SMALLEST", "covered_duals", "triangles_taking_part"]
 
 SMALLEST = 1e-6
 """A slave triangle covered by less than this fraction of its area counts as not covered:
@@ -75,16 +75,33 @@ def _pair_terms(ts, tm):
     return f, r
 
 
-def covered_duals(e, ts, tm, u, v, plane, weight, n_facets: int):
+def triangles_taking_part(rows, e, weight, covered, area) -> np.ndarray:
+    """The slave triangles (bool per triangle) with a node that may take part: its covered
+    weight Σ_e ∫_C λ_j dA (``covered`` (P, 3), m², of the pairs of triangles ``e``) at least
+    0.45 of the area its covered triangles give it (the interface's rule asks ½; the margin
+    keeps every node that passes it). ``rows`` (triangles, 3): the nodes' rows; ``weight``
+    (P,) the overlaps' fractions; ``area`` (triangles,) m². The dual functions of the covered
+    part are built on these triangles only: on the others no row takes part."""
+    size = int(rows.max(initial=-1)) + 1
+    W = sum(np.bincount(rows[e, k], covered[:, k], size) for k in range(3))
+    fraction = np.bincount(e, weight, len(rows))
+    on = fraction > _FULL
+    support = np.bincount(rows[on].ravel(), np.repeat(area[on] / 3.0, 3), size)
+    node = (W > 0.0) & (W >= 0.45 * support)
+    return node[rows].any(axis=1)
+
+
+def covered_duals(e, ts, tm, u, v, plane, weight, needed):
     """The pairs (slave triangles ``e``, their vertices ``ts``, the master's ``tm``, ``u``,
     ``v`` the slave edges, ``plane`` the projected master vertices, ``weight`` the overlaps'
     fractions of the slave triangle) on partly covered triangles: returns ``part`` (P,) bool,
     their dual coefficients A (Pp, 3, 3), the extra gradients (Pp, 3, 18) of the ends'
     weighted gaps through A and the overlaps (module docstring), and ``drop`` (P,) bool, the
-    pairs of triangles covered by less than :data:`SMALLEST`."""
-    fraction = np.bincount(e, weight, n_facets)
+    pairs of triangles covered by less than :data:`SMALLEST`. ``needed`` (bool per triangle):
+    the triangles whose dual functions count (:func:`triangles_taking_part`)."""
+    fraction = np.bincount(e, weight, len(needed))
     drop = (fraction < SMALLEST)[e]
-    part = ((fraction >= SMALLEST) & (fraction < 1.0 - _FULL))[e] & (weight > 0.0)
+    part = ((fraction >= SMALLEST) & (fraction < 1.0 - _FULL) & needed)[e] & (weight > 0.0)
     if not part.any():
         return part, np.zeros((0, 3, 3)), np.zeros((0, 3, 18)), drop
     ep, tsp, tmp = e[part], ts[part], tm[part]

@@ -174,13 +174,16 @@ def _clip(V: np.ndarray, n: np.ndarray, a: np.ndarray, b: float, dV=None):
     point = V + s[..., None] * (W - V)
     cand = np.stack([V, point], axis=2).reshape(P, 2 * K, 2)
     keep = np.stack([valid & inside_v, cross], axis=2).reshape(P, 2 * K)
-    order = np.argsort(~keep, axis=1, kind="stable")
-    out = np.take_along_axis(cand, order[..., None], axis=1), keep.sum(axis=1)
+    count = keep.sum(axis=1)
+    # the kept vertices first, in their order; the slots no polygon fills are cut off
+    order = np.argsort(~keep, axis=1, kind="stable")[:, : max(int(count.max(initial=0)), 1)]
+    out = np.take_along_axis(cand, order[..., None], axis=1), count
     if dV is None:
         return out
     # the cut point V + s (W − V), s = h_V / (h_V − h_W): its derivative by the chain rule
     dW = dV[np.arange(P)[:, None], nxt]
-    dhv, dhw = np.einsum("pkdm,d->pkm", dV, a), np.einsum("pkdm,d->pkm", dW, a)
+    dhv = dV[:, :, 0] * a[0] + dV[:, :, 1] * a[1]
+    dhw = dW[:, :, 0] * a[0] + dW[:, :, 1] * a[1]
     with np.errstate(divide="ignore", invalid="ignore"):
         ds = np.where(cross[..., None], (dhv * (-hw)[..., None] + hv[..., None] * dhw)
                       / ((hv - hw) ** 2)[..., None], 0.0)  # fmt: skip
