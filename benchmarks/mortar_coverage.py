@@ -67,8 +67,10 @@ def main():
     p = parser(__doc__.splitlines()[0])
     p.add_argument("--baseline", required=True, help="source tree of the version to compare")
     p.add_argument("--repeats", type=int, default=3)
+    p.add_argument("--runs", type=int, nargs="*", help="indices of the runs (default: all)")
     args = p.parse_args()
     runs = RUNS[-1:] if args.quick else RUNS
+    runs = [runs[i] for i in args.runs] if args.runs else runs
     trees = (("baseline", Path(args.baseline).resolve()), ("this", ROOT))
     rows = []
     for mesh, params, step in runs:

@@ -78,11 +78,13 @@ class MortarContact3D(MortarInterface):
         self._search = (xs.copy(), xm.copy(), pairs)
         return pairs
 
-    def _local(self, q: np.ndarray):
+    def _local(self, q: np.ndarray, derivatives: bool = True):
         """Entries: the Gauss points of the overlaps of the slave triangles with the master
         triangles projected onto them along the slave normal (module docstring). Returns the
-        slave triangles e, z (P, 25) = (18 coordinates, λ (3), w, μ (3)), the dofs (P, 18)
-        and the slave nodes' positions."""
+        slave triangles e, z (P, 94) = (18 coordinates, the moments Σ w Φ_i λ_k and
+        Σ w Φ_i μ_k (18), the covered fraction, the gradients (3 × 18) through the dual
+        functions of a partly covered triangle — zeros without ``derivatives`` — and
+        Σ w λ_k (3)), the dofs (P, 18) and the slave nodes' positions."""
         xs, xm = self.positions(q)
         e, f = self._pairs(xs, xm)
         ts, tm = xs[self.facets[e]], xm[self.master_facets[f]]
@@ -123,7 +125,7 @@ class MortarContact3D(MortarInterface):
         area = element_measures(xs, self.facets)
         covered = self._covered(pair, w, lam, len(e)) * area[e, None]
         needed = triangles_taking_part(self.element_rows, e, weight, covered, area)
-        part, A, extra, drop = covered_duals(e, ts, tm, u, v, plane, weight, needed)
+        part, A, extra, drop = covered_duals(e, ts, tm, u, v, plane, weight, needed, derivatives)
         w = np.where(drop[pair], 0.0, w)
         x = np.einsum("pk,pkd->pd", lam, ts[pair])
         _, mu, _ = meet_triangles(x, n[pair], tm[pair], np.inf)
@@ -151,10 +153,17 @@ class MortarContact3D(MortarInterface):
         ee, ff = e[keep], f[keep]
         return ee, z, self._global_dofs(self.facets[ee], self.master_facets[ff]), xs
 
+    def _values(self, q: np.ndarray):
+        """The entries' values for :meth:`gaps` (no derivatives)."""
+        e, z, _, xs = self._local(q, derivatives=False)
+        jets, coverage, dual, _ = self._integrate(e, z, None)
+        return e, jets, coverage, dual, xs
+
     @staticmethod
     def _covered(pair, w, lam, P: int) -> np.ndarray:
         """Σ w λ_k (P, 3): the pairs' ∫_C N_k dA as fractions of the slave triangle's area."""
-        return np.stack([np.bincount(pair, w * lam[:, k], P) for k in range(3)], axis=1)
+        flat = (3 * pair[:, None] + np.arange(3)).ravel()
+        return np.bincount(flat, (w[:, None] * lam).ravel(), 3 * P).reshape(P, 3)
 
     def _integrate(self, e, z, hessian):
         """Jets of the ends' weighted gaps, coverage (the fraction of the slave triangle the

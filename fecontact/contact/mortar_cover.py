@@ -91,27 +91,32 @@ def triangles_taking_part(rows, e, weight, covered, area) -> np.ndarray:
     return node[rows].any(axis=1)
 
 
-def covered_duals(e, ts, tm, u, v, plane, weight, needed):
+def covered_duals(e, ts, tm, u, v, plane, weight, needed, derivatives: bool = True):
     """The pairs (slave triangles ``e``, their vertices ``ts``, the master's ``tm``, ``u``,
     ``v`` the slave edges, ``plane`` the projected master vertices, ``weight`` the overlaps'
     fractions of the slave triangle) on partly covered triangles: returns ``part`` (P,) bool,
     their dual coefficients A (Pp, 3, 3), the extra gradients (Pp, 3, 18) of the ends'
     weighted gaps through A and the overlaps (module docstring), and ``drop`` (P,) bool, the
     pairs of triangles covered by less than :data:`SMALLEST`. ``needed`` (bool per triangle):
-    the triangles whose dual functions count (:func:`triangles_taking_part`)."""
+    the triangles whose dual functions count (:func:`triangles_taking_part`); without
+    ``derivatives`` the extra gradients are zeros (for the gaps' values alone)."""
     fraction = np.bincount(e, weight, len(needed))
     drop = (fraction < SMALLEST)[e]
     part = ((fraction >= SMALLEST) & (fraction < 1.0 - _FULL) & needed)[e] & (weight > 0.0)
     if not part.any():
         return part, np.zeros((0, 3, 3)), np.zeros((0, 3, 18)), drop
     ep, tsp, tmp = e[part], ts[part], tm[part]
-    d_plane = plane_gradients(u[part], v[part], tmp - tsp[:, None, 0], plane[part])
+    d_plane = None
+    if derivatives:
+        d_plane = plane_gradients(u[part], v[part], tmp - tsp[:, None, 0], plane[part])
     Q, dQ = clipped_moments(plane[part], d_plane)
     tri, local = np.unique(ep, return_inverse=True)
     Qe = np.zeros((len(tri), 3, 3))
     np.add.at(Qe, local, Q)
     inv = np.linalg.inv(Qe)
     A = Qe.sum(axis=2)[:, :, None] * inv  # D Q⁻¹
+    if not derivatives:
+        return part, A[local], np.zeros((len(ep), 3, 18)), drop
     f, r = _pair_terms(tsp, tmp)
     S = np.zeros((len(tri), 3))
     np.add.at(S, local, f[:, None] * np.einsum("pik,pk->pi", Q, r))

@@ -219,39 +219,42 @@ def clipped_points(mu_plane: np.ndarray):
     return np.concatenate(pairs), np.concatenate(lam), np.concatenate(w)
 
 
-def clipped_moments(mu_plane: np.ndarray, d_plane: np.ndarray):
+def clipped_moments(mu_plane: np.ndarray, d_plane=None):
     """Second moments Q_ik = ∫ λ_i λ_k dA / A (P, 3, 3) of the overlaps of
     :func:`clipped_points` (the same clipping, as fractions of the slave triangle's area A)
     and their derivatives (P, 3, 3, m) through the overlaps' vertices, given those of the
-    projected master vertices ``d_plane`` (P, 3, 2, m). Each fan cell T contributes
-    |T|/12 (Σ_a λ^a λ^aᵀ + s sᵀ), s = Σ_a λ^a (exact for the quadratic λ_i λ_k)."""
+    projected master vertices ``d_plane`` (P, 3, 2, m; None: no derivatives). Each fan cell T
+    contributes |T|/12 (Σ_a λ^a λ^aᵀ + s sᵀ), s = Σ_a λ^a (exact for the quadratic λ_i λ_k);
+    the cells of all polygons at once (empty slots have no area)."""
     V, n, dV = mu_plane.astype(float), np.full(len(mu_plane), 3), d_plane
     for a, b in _HALF_PLANES:
-        V, n, dV = _clip(V, n, a, b, dV)
-    P, m = len(V), d_plane.shape[-1]
-    Q, dQ = np.zeros((P, 3, 3)), np.zeros((P, 3, 3, m))
-    # λ = (1 − p₂ − p₃, p₂, p₃) and its derivative, per vertex
+        V, n, dV = _clip(V, n, a, b, dV) if dV is not None else (*_clip(V, n, a, b), None)
+    P, K = V.shape[:2]
+    if K < 3:
+        Q = np.zeros((P, 3, 3))
+        return Q, None if dV is None else np.zeros((P, 3, 3, dV.shape[-1]))
+    # λ = (1 − p₂ − p₃, p₂, p₃) of the fan's vertices: the apex 0 and the edges (i, i + 1)
     lam = np.concatenate([1.0 - V.sum(axis=2, keepdims=True), V], axis=2)
+    L0, L1, L2 = lam[:, :1], lam[:, 1:-1], lam[:, 2:]  # (P, 1 or K − 2, 3)
+    e1, e2 = V[:, 1:-1] - V[:, :1], V[:, 2:] - V[:, :1]
+    c = e1[..., 0] * e2[..., 1] - e1[..., 1] * e2[..., 0]
+    filled = np.arange(1, K - 1)[None, :] < (n[:, None] - 1)
+    scale = np.where(filled, np.abs(c), 0.0) / 12.0  # the cell's fraction |c|/2 / ½, over 12
+    s = L0 + L1 + L2
+    S = sum(x[..., :, None] * x[..., None, :] for x in (L0, L1, L2, s))  # (P, K − 2, 3, 3)
+    Q = np.einsum("pc,pcik->pik", scale, S)
+    if dV is None:
+        return Q, None
     dlam = np.concatenate([-dV.sum(axis=2, keepdims=True), dV], axis=2)
-    for i in range(1, V.shape[1] - 1):
-        has = np.flatnonzero(n > i + 1)
-        if has.size == 0:
-            break
-        corners = (0, i, i + 1)
-        L, dL = lam[has][:, corners], dlam[has][:, corners]  # (H, 3 vertices, 3), (…, m)
-        e1, e2 = V[has, i] - V[has, 0], V[has, i + 1] - V[has, 0]
-        de1, de2 = dV[has, i] - dV[has, 0], dV[has, i + 1] - dV[has, 0]
-        c = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
-        dc = (de1[:, 0] * e2[:, 1, None] + e1[:, 0, None] * de2[:, 1]
-              - de1[:, 1] * e2[:, 0, None] - e1[:, 1, None] * de2[:, 0])  # fmt: skip
-        # the cell's fraction |c|/2 / (1/2), over 12
-        scale, dscale = np.abs(c) / 12.0, np.sign(c)[:, None] * dc / 12.0
-        s, ds = L.sum(axis=1), dL.sum(axis=1)
-        S = np.einsum("hai,hak->hik", L, L) + s[:, :, None] * s[:, None, :]
-        dS = np.einsum("haim,hak->hikm", dL, L)
-        dS = dS + dS.transpose(0, 2, 1, 3)
-        dss = ds[:, :, None, :] * s[:, None, :, None]
-        dS += dss + dss.transpose(0, 2, 1, 3)
-        Q[has] += scale[:, None, None] * S
-        dQ[has] += scale[:, None, None, None] * dS + S[..., None] * dscale[:, None, None, :]
+    d0, d1, d2 = dlam[:, :1], dlam[:, 1:-1], dlam[:, 2:]
+    de1, de2 = dV[:, 1:-1] - dV[:, :1], dV[:, 2:] - dV[:, :1]
+    dc = (de1[..., 0, :] * e2[..., 1, None] + e1[..., 0, None] * de2[..., 1, :]
+          - de1[..., 1, :] * e2[..., 0, None] - e1[..., 1, None] * de2[..., 0, :])  # fmt: skip
+    dscale = np.where(filled, np.sign(c), 0.0)[..., None] * dc / 12.0
+    ds = d0 + d1 + d2
+    dS = sum(
+        np.einsum("pcim,pck->pcikm", dx, x) for x, dx in ((L0, d0), (L1, d1), (L2, d2), (s, ds))
+    )
+    dS = dS + dS.transpose(0, 1, 3, 2, 4)
+    dQ = np.einsum("pc,pcikm->pikm", scale, dS) + np.einsum("pcik,pcm->pikm", S, dscale)
     return Q, dQ
