@@ -9,7 +9,7 @@ time per step (ms, of the time loop alone; the mean of the repeats), and the rat
 tree's CPU time to the baseline's.
 
     python benchmarks/mortar_coverage.py --baseline /tmp/base          # 3 repeats
-    python benchmarks/mortar_coverage.py --baseline /tmp/base --quick  # the coarsest balls
+    python benchmarks/mortar_coverage.py --quick  # the coarsest balls, this tree alone
 """
 
 from __future__ import annotations
@@ -65,13 +65,15 @@ def child(tree: Path, params: dict, step: str) -> dict:
 
 def main():
     p = parser(__doc__.splitlines()[0])
-    p.add_argument("--baseline", required=True, help="source tree of the version to compare")
+    p.add_argument("--baseline", help="source tree of the version to compare (default: none)")
     p.add_argument("--repeats", type=int, default=3)
     p.add_argument("--runs", type=int, nargs="*", help="indices of the runs (default: all)")
     args = p.parse_args()
     runs = RUNS[-1:] if args.quick else RUNS
     runs = [runs[i] for i in args.runs] if args.runs else runs
-    trees = (("baseline", Path(args.baseline).resolve()), ("this", ROOT))
+    trees = (("this", ROOT),)
+    if args.baseline:
+        trees = (("baseline", Path(args.baseline).resolve()), *trees)
     rows = []
     for mesh, params, step in runs:
         cpu = {name: [] for name, _ in trees}
@@ -80,7 +82,7 @@ def main():
             for name, tree in trees:  # alternated: both versions under the same load
                 result[name] = child(tree, params, step)
                 cpu[name].append(result[name]["cpu"])
-        base = sum(cpu["baseline"]) / len(cpu["baseline"])
+        base = sum(cpu[trees[0][0]]) / args.repeats
         for name, _ in trees:
             r = result[name]
             mean = sum(cpu[name]) / len(cpu[name])
