@@ -235,26 +235,30 @@ def clipped_moments(mu_plane: np.ndarray, d_plane=None):
         return Q, None if dV is None else np.zeros((P, 3, 3, dV.shape[-1]))
     # λ = (1 − p₂ − p₃, p₂, p₃) of the fan's vertices: the apex 0 and the edges (i, i + 1)
     lam = np.concatenate([1.0 - V.sum(axis=2, keepdims=True), V], axis=2)
-    L0, L1, L2 = lam[:, :1], lam[:, 1:-1], lam[:, 2:]  # (P, 1 or K − 2, 3)
+    L1, L2 = lam[:, 1:-1], lam[:, 2:]  # (P, K − 2, 3)
+    L0 = np.broadcast_to(lam[:, :1], L1.shape)
     e1, e2 = V[:, 1:-1] - V[:, :1], V[:, 2:] - V[:, :1]
     c = e1[..., 0] * e2[..., 1] - e1[..., 1] * e2[..., 0]
     filled = np.arange(1, K - 1)[None, :] < (n[:, None] - 1)
     scale = np.where(filled, np.abs(c), 0.0) / 12.0  # the cell's fraction |c|/2 / ½, over 12
-    s = L0 + L1 + L2
-    S = sum(x[..., :, None] * x[..., None, :] for x in (L0, L1, L2, s))  # (P, K − 2, 3, 3)
+    X = np.stack([L0, L1, L2, L0 + L1 + L2], axis=2)  # (P, cells, 4, 3): the corners and s
+    S = np.einsum("pcai,pcak->pcik", X, X)
     Q = np.einsum("pc,pcik->pik", scale, S)
     if dV is None:
         return Q, None
+    m = dV.shape[-1]
     dlam = np.concatenate([-dV.sum(axis=2, keepdims=True), dV], axis=2)
-    d0, d1, d2 = dlam[:, :1], dlam[:, 1:-1], dlam[:, 2:]
+    d1 = dlam[:, 1:-1]
+    dX = np.stack([np.broadcast_to(dlam[:, :1], d1.shape), d1, dlam[:, 2:]], axis=2)
+    dX = np.concatenate([dX, dX.sum(axis=2, keepdims=True)], axis=2)  # (P, cells, 4, 3, m)
     de1, de2 = dV[:, 1:-1] - dV[:, :1], dV[:, 2:] - dV[:, :1]
     dc = (de1[..., 0, :] * e2[..., 1, None] + e1[..., 0, None] * de2[..., 1, :]
           - de1[..., 1, :] * e2[..., 0, None] - e1[..., 1, None] * de2[..., 0, :])  # fmt: skip
     dscale = np.where(filled, np.sign(c), 0.0)[..., None] * dc / 12.0
-    ds = d0 + d1 + d2
-    dS = sum(
-        np.einsum("pcim,pck->pcikm", dx, x) for x, dx in ((L0, d0), (L1, d1), (L2, d2), (s, ds))
-    )
-    dS = dS + dS.transpose(0, 1, 3, 2, 4)
-    dQ = np.einsum("pc,pcikm->pikm", scale, dS) + np.einsum("pcik,pcm->pikm", S, dscale)
+    # Σ_cells scale Σ_a (dX_a X_aᵀ + X_a dX_aᵀ) as one batched product over (cell, a)
+    Xs = (X * scale[:, :, None, None]).reshape(P, -1, 3)
+    half = (dX.reshape(P, -1, 3 * m).transpose(0, 2, 1) @ Xs).reshape(P, 3, m, 3)
+    half = half.transpose(0, 1, 3, 2)
+    dQ = half + half.transpose(0, 2, 1, 3)
+    dQ += (S.reshape(P, K - 2, 9).transpose(0, 2, 1) @ dscale).reshape(P, 3, 3, m)
     return Q, dQ
