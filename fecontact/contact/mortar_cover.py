@@ -47,6 +47,7 @@ _FULL = 1e-9  # a triangle covered to within this fraction of its area is covere
 _E = np.eye(18).reshape(18, 6, 3)
 _DU, _DV = _E[:, 1] - _E[:, 0], _E[:, 2] - _E[:, 0]
 _DR = _E[:, 3:] - _E[:, :1]  # (18, 3 master vertices, 3): y_k − x_a
+_PLANE = np.eye(6).reshape(3, 2, 6)  # the projected master coordinates as the variables
 
 
 def plane_gradients(u, v, r, plane) -> np.ndarray:
@@ -106,10 +107,10 @@ def covered_duals(e, ts, tm, u, v, plane, weight, needed, derivatives: bool = Tr
     if not part.any():
         return part, np.zeros((0, 3, 3)), np.zeros((0, 3, 18)), drop
     ep, tsp, tmp = e[part], ts[part], tm[part]
-    d_plane = None
-    if derivatives:
-        d_plane = plane_gradients(u[part], v[part], tmp - tsp[:, None, 0], plane[part])
-    Q, dQ = clipped_moments(plane[part], d_plane)
+    # the overlaps depend on z through the 6 projected master coordinates alone: their
+    # moments are differentiated in those, then chained with ∂(λ₂, λ₃)/∂z
+    own = np.broadcast_to(_PLANE, (len(ep), 3, 2, 6)) if derivatives else None
+    Q, dQ = clipped_moments(plane[part], own)
     tri, local = np.unique(ep, return_inverse=True)
     Qe = np.zeros((len(tri), 3, 3))
     np.add.at(Qe, local, Q)
@@ -117,6 +118,9 @@ def covered_duals(e, ts, tm, u, v, plane, weight, needed, derivatives: bool = Tr
     A = Qe.sum(axis=2)[:, :, None] * inv  # D Q⁻¹
     if not derivatives:
         return part, A[local], np.zeros((len(ep), 3, 18)), drop
+    d_plane = plane_gradients(u[part], v[part], tmp - tsp[:, None, 0], plane[part])
+    dQ = dQ.reshape(-1, 9, 6) @ d_plane.reshape(-1, 6, 18)
+    dQ = dQ.reshape(-1, 3, 3, 18)
     f, r = _pair_terms(tsp, tmp)
     S = np.zeros((len(tri), 3))
     np.add.at(S, local, f[:, None] * np.einsum("pik,pk->pi", Q, r))
