@@ -241,9 +241,17 @@ def balls(refinements=2):
     return a, b
 
 
+def partly_covered(pair) -> int:
+    """The entries of the last evaluation on slave triangles covered in part (those with
+    derivatives through the covered part's dual functions)."""
+    return int(np.count_nonzero(np.any(pair._last[1]["z"][:, 37:91] != 0.0, axis=1)))
+
+
 def test_weighted_gap_gradients_are_exact_3d():
-    """3D: the gradients of the nodes that take part are exact (central differences); the
-    Hessians are those of fixed integration points (mortar3d's docstring), not tested."""
+    """3D: the gradients of the nodes that take part are exact (central differences), those
+    of partly covered triangles included (without the derivatives through their dual
+    functions and overlaps: 43 % off, measured); the Hessians are those of fixed
+    integration points (mortar3d's docstring), not tested."""
     a, b = balls()
     pair = Contact(a, b, method="mortar")
     assert isinstance(pair, MortarContact3D)
@@ -252,6 +260,20 @@ def test_weighted_gap_gradients_are_exact_3d():
     q = np.random.default_rng(1).normal(0.0, 1e-4, model.n)
     g = pair.evaluate(q)[0]
     assert np.isfinite(g).sum() >= 1
+    assert partly_covered(pair) >= 1
+    err_g, _ = gap_derivatives_error(pair, q, 1e-7)
+    assert err_g < 1e-8
+
+
+def test_weighted_gap_gradients_are_exact_on_the_coarsest_balls():
+    """The poles of the coarsest balls, overlapping by 0.6 mm: every triangle at the slave
+    pole is covered in part (34 %), the pole's row takes part, its gradient is exact."""
+    sim = TWO_BALLS.build(graded=0, base=1, rotate=30.0)
+    pair = sim.model.contacts.pairs[0]
+    q = 4e-4 * sim.v0 + np.random.default_rng(2).normal(0.0, 1e-5, sim.model.n)
+    g = pair.evaluate(q)[0]
+    assert np.isfinite(g).sum() >= 1
+    assert partly_covered(pair) >= 1
     err_g, _ = gap_derivatives_error(pair, q, 1e-7)
     assert err_g < 1e-8
 
@@ -308,18 +330,47 @@ def test_two_balls_head_on_like_the_plane_of_symmetry(mesh):
     assert deepest <= 0.01 * edge  # no node inside the other ball beyond 1 % of an edge
 
 
-@pytest.mark.xfail(strict=True, reason="3D mortar on the coarsest balls: no node takes part")
-def test_coarsest_balls_do_not_pass_through_each_other():
-    """Balls of 25 boundary nodes (``base=1``, not graded), turned 30°: every slave triangle
-    near the pole is covered in part only, and the nodes of partly covered triangles take no
-    part in 3D (their gradients would leave out the motion of the covered region), so the
-    balls pass through each other (exit velocity −1 m/s, measured). A known failure."""
+def coarsest_balls():
+    """Balls of 18 boundary nodes (``base=1``, not graded), turned 30°, at the case's step:
+    the left ball's centre-of-mass velocities (m/s), the energies (J), the deepest node of
+    either ball inside the other (m) and the shortest edge (m)."""
     sim = TWO_BALLS.build(graded=0, base=1, rotate=30.0, t_end=1.3 * T_C)
     model = sim.model
-    A = model.bodies[0]
-    w = A.mass_matrix() @ A.translation_field((1.0, 0.0, 0.0))
-    last = list(simulate(model, sim.dt, sim.t_end, sim.options, v0=sim.v0))[-1]
-    assert float(w @ last.v[model.body_slice(0)]) / A.mass < 0.0  # the left ball rebounds
+    A, B = model.bodies
+    fa, fb = A.contact_facets(), B.contact_facets()
+    w = [A.mass_matrix() @ A.translation_field(np.eye(3)[k]) for k in range(3)]
+    velocity, energy, deepest = [], [], 0.0
+    for st in simulate(model, sim.dt, sim.t_end, sim.options, v0=sim.v0):
+        velocity.append([float(wk @ st.v[model.body_slice(0)]) / A.mass for wk in w])
+        energy.append(model.kinetic_energy(st.v) + model.strain_energy(st.q))
+        xa, xb = A.positions(st.q[model.body_slice(0)]), B.positions(st.q[model.body_slice(1)])
+        deepest = max(deepest, convex_penetration(xa, np.unique(fa), xb, fb),
+                      convex_penetration(xb, np.unique(fb), xa, fa))  # fmt: skip
+    return np.array(velocity), np.array(energy), deepest, A.min_edge_length
+
+
+def test_coarsest_balls_rebound():
+    """Every slave triangle at the pole is covered in part only: its nodes take part with the
+    dual functions of the covered part (exact gradients through the clipped overlaps). The
+    balls rebound (0.949 m/s measured, 0.982 against the rigid plane) and keep on the axis
+    (lateral 0.14 % measured)."""
+    velocity, energy, _, _ = coarsest_balls()
+    assert velocity[-1, 0] < -0.9  # the left ball rebounds (it came in at +1 m/s)
+    assert np.max(np.hypot(velocity[:, 1], velocity[:, 2])) <= 0.01 * 1.0
+    # no energy made over the impact: measured E_end/E_0 = 1.005 (the rigid plane's 0.982,
+    # ρ∞ = 0.5); 1 % as for the disks, for the position corrections
+    assert energy[-1] <= 1.01 * energy[0]
+
+
+@pytest.mark.xfail(strict=True, reason="coarsest balls: the poles overlap by 2.9 % of an edge")
+def test_coarsest_balls_no_node_deeper_than_one_percent_of_an_edge():
+    """A known failure of the discretization: each pole is the apex of four triangles tilted
+    30°, turned against the other's, and the gap along a slave triangle's normal is convex
+    (kinked along the master's edges) on the covered part; its dual-weighted reading at the
+    pole exceeds the pointwise distance by 0.6-0.7 mm, so the poles overlap by 0.73 mm (2.9 % of
+    the 25 mm edges, measured) where the weighted gap is zero."""
+    _, _, deepest, edge = coarsest_balls()
+    assert deepest <= 0.01 * edge
 
 
 def ball_trajectory(options=None, **params):

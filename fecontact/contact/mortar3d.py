@@ -16,16 +16,21 @@ the patch test holds to round-off. The gap is measured along the slave triangle'
 
 Partners: master triangles facing the slave triangle (normals at more than 120°) whose
 vertices lie on average at most twice the detection margin ahead of it and at most the margin
-behind it. Only nodes whose triangles are each covered fully or not at all take part: the
-cells of the clipped overlaps are integrated at fixed points, so a node whose support the
-master covers in part would miss the motion of the coverage's edge in its gradient.
+behind it. A slave triangle the master covers in part (the edge of the contact zone, or
+every triangle at the pole of a coarse ball) takes the dual functions biorthogonal on its
+covered polygon (:mod:`fecontact.contact.mortar_cover`, Popp, Seitz, Gee & Wall 2013); one
+covered by less than ``mortar_cover.SMALLEST`` of its area counts as not covered.
 
-Linearisation: the gradient is exact — the cells' boundaries move with q, but the integrand
-Φ_j g_N is continuous across the master's edges, so the moving interior boundaries cancel,
-and a fully covered node has no other. The Hessian is that of the fixed integration points:
-it leaves out the jumps of ∂g_N/∂q across the master's edges as the cells move (the clip
-vertex terms of Popp, Gitterle, Gee & Wall 2010), so Newton's method converges faster than
-linearly but not quadratically once those terms matter.
+Linearisation: the gradient is exact. On a fully covered triangle the cells' boundaries move
+with q, but the integrand Φ_j g_N is continuous across the master's edges, so the moving
+interior boundaries cancel, and the triangle's own edges do not move in its area
+coordinates. On a partly covered triangle the covered polygon's edges move, and with them
+its dual functions: the gradient adds their derivatives through the clipped vertices
+(:func:`~fecontact.contact.mortar_facets.clipped_moments`). The Hessian is that of the fixed
+integration points and fixed dual functions: it leaves out the jumps of ∂g_N/∂q across the
+master's edges as the cells move (the clip vertex terms of Popp, Gitterle, Gee & Wall 2010)
+and the second derivatives through the covered polygon, so Newton's method converges faster
+than linearly but not quadratically once those terms matter.
 
 The nodal pressure is z_j = λ_j / L_j (Pa), λ_j the normal force of row j (N).
 """
@@ -36,8 +41,9 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..errors import InputError
+from .mortar_cover import covered_duals, triangles_taking_part
 from .mortar_facets import clipped_points, facet_pair_integrals, meet_triangles
-from .mortar_interface import MortarInterface
+from .mortar_interface import MortarInterface, element_measures
 
 __all__ = ["MortarContact3D"]
 
@@ -47,8 +53,6 @@ class MortarContact3D(MortarInterface):
     ``body``) with the boundary of another (the ``master``); see the module docstring. One
     contact per slave boundary node; ``restitution`` is Newton's e_N in [0, 1]; ``margin``
     (m) the search distance (default: the integrator's detection distance)."""
-
-    partial = False
 
     def __init__(self, body, master, restitution: float = 0.0, margin=None):
         super().__init__(body, master, restitution, margin)
@@ -74,11 +78,13 @@ class MortarContact3D(MortarInterface):
         self._search = (xs.copy(), xm.copy(), pairs)
         return pairs
 
-    def _local(self, q: np.ndarray):
+    def _local(self, q: np.ndarray, derivatives: bool = True):
         """Entries: the Gauss points of the overlaps of the slave triangles with the master
         triangles projected onto them along the slave normal (module docstring). Returns the
-        slave triangles e, z (P, 25) = (18 coordinates, λ (3), w, μ (3)), the dofs (P, 18)
-        and the slave nodes' positions."""
+        slave triangles e, z (P, 94) = (18 coordinates, the moments Σ w Φ_i λ_k and
+        Σ w Φ_i μ_k (18), the covered fraction, the gradients (3 × 18) through the dual
+        functions of a partly covered triangle — zeros without ``derivatives`` — and
+        Σ w λ_k (3)), the dofs (P, 18) and the slave nodes' positions."""
         xs, xm = self.positions(q)
         e, f = self._pairs(xs, xm)
         ts, tm = xs[self.facets[e]], xm[self.master_facets[f]]
@@ -111,33 +117,67 @@ class MortarContact3D(MortarInterface):
         total = plane.sum(axis=2)
         meets = (plane.max(axis=1) >= 0.0).all(axis=1) & (total.min(axis=1) <= 1.0)
         e, f, ts, tm, n, plane = e[meets], f[meets], ts[meets], tm[meets], n[meets], plane[meets]
+        u, v = u[meets], v[meets]
         pair, lam, w = clipped_points(plane)
+        # the dual functions of partly covered triangles, those of the covered part
+        # (mortar_cover), with their derivatives through the overlaps' vertices
+        weight = np.bincount(pair, w, len(e))
+        area = element_measures(xs, self.facets)
+        covered = self._covered(pair, w, lam, len(e)) * area[e, None]
+        needed = triangles_taking_part(self.element_rows, e, weight, covered, area)
+        part, A, extra, drop = covered_duals(e, ts, tm, u, v, plane, weight, needed, derivatives)
+        w = np.where(drop[pair], 0.0, w)
         x = np.einsum("pk,pkd->pd", lam, ts[pair])
         _, mu, _ = meet_triangles(x, n[pair], tm[pair], np.inf)
         # the points' moments per pair, Σ w Φ_i λ_k and Σ w Φ_i μ_k: the integrands are
         # linear in λ at fixed vertices (mortar_facets.facet_pair_integrals)
         phi = w[:, None] * (4.0 * lam - 1.0)
+        if part.any():
+            which = np.full(len(e), -1)
+            which[part] = np.arange(part.sum())
+            at = np.flatnonzero(part[pair])
+            phi[at] = w[at, None] * np.einsum("pjk,pk->pj", A[which[pair[at]]], lam[at])
+        gradient = np.zeros((len(e), 54))
+        gradient[part] = extra.reshape(-1, 54)
         values = np.stack([phi[:, :, None] * lam[:, None, :], phi[:, :, None] * mu[:, None, :]],
                           axis=1).reshape(-1, 18)  # fmt: skip
         flat = (pair[:, None] * 18 + np.arange(18)).ravel()
         moments = np.bincount(flat, values.ravel(), 18 * len(e)).reshape(-1, 2, 3, 3)
         weight = np.bincount(pair, w, len(e))
         keep = np.flatnonzero(weight > 0.0)
+        covered = self._covered(pair, w, lam, len(e))
         z = np.concatenate(
             [ts[keep].reshape(-1, 9), tm[keep].reshape(-1, 9), moments[keep].reshape(-1, 18),
-             weight[keep, None]], axis=1
+             weight[keep, None], gradient[keep], covered[keep]], axis=1
         )  # fmt: skip
         ee, ff = e[keep], f[keep]
         return ee, z, self._global_dofs(self.facets[ee], self.master_facets[ff]), xs
+
+    def _values(self, q: np.ndarray):
+        """The entries' values for :meth:`gaps` (no derivatives)."""
+        e, z, _, xs = self._local(q, derivatives=False)
+        jets, coverage, dual, _ = self._integrate(e, z, None)
+        return e, jets, coverage, dual, xs
+
+    @staticmethod
+    def _covered(pair, w, lam, P: int) -> np.ndarray:
+        """Σ w λ_k (P, 3): the pairs' ∫_C N_k dA as fractions of the slave triangle's area."""
+        flat = (3 * pair[:, None] + np.arange(3)).ravel()
+        return np.bincount(flat, (w[:, None] * lam).ravel(), 3 * P).reshape(P, 3)
 
     def _integrate(self, e, z, hessian):
         """Jets of the ends' weighted gaps, coverage (the fraction of the slave triangle the
         pair covers), covered dual weights (P, 3) and the moments and areas of the pairs."""
         jets = facet_pair_integrals(z, hessian)
+        if hessian is not None:  # the derivatives through the covered-part dual functions
+            extra = z[:, 37:91].reshape(-1, 3, 18)
+            for k, jet in enumerate(jets):
+                jet.g = jet.g + extra[:, k]
         ts = z[:, :9].reshape(-1, 3, 3)
         area = 0.5 * np.linalg.norm(np.cross(ts[:, 1] - ts[:, 0], ts[:, 2] - ts[:, 0]), axis=1)
         moments = z[:, 18:36].reshape(-1, 2, 3, 3)
-        dual = moments[:, 0].sum(axis=2) * area[:, None]  # Σ w Φ_i A (Σ_k λ_k = 1)
+        # ∫_C N_i dA, equal summed over a triangle's pairs to ∫_C Φ_i dA (biorthogonality)
+        dual = z[:, 91:94] * area[:, None]
         return jets, z[:, 36], dual, (moments, area)
 
     def _slip_weights(self, quad, k: int) -> np.ndarray:

@@ -27,7 +27,7 @@ import numpy as np
 
 from .dual_numbers import Jet
 
-__all__ = ["clipped_points", "facet_pair_integrals", "meet_triangles"]
+__all__ = ["clipped_moments", "clipped_points", "facet_pair_integrals", "meet_triangles"]
 
 
 def _cross_tensor() -> np.ndarray:
@@ -158,8 +158,9 @@ _HALF_PLANES = ((np.array([1.0, 0.0]), 0.0), (np.array([0.0, 1.0]), 0.0),
                 (np.array([-1.0, -1.0]), 1.0))  # fmt: skip
 
 
-def _clip(V: np.ndarray, n: np.ndarray, a: np.ndarray, b: float):
-    """Sutherland–Hodgman: the polygons V (P, K, 2) with n (P,) vertices cut by a·p + b ≥ 0."""
+def _clip(V: np.ndarray, n: np.ndarray, a: np.ndarray, b: float, dV=None):
+    """Sutherland–Hodgman: the polygons V (P, K, 2) with n (P,) vertices cut by a·p + b ≥ 0.
+    ``dV`` (P, K, 2, m): the vertices' derivatives, carried through the cut (None: not)."""
     P, K, _ = V.shape
     idx = np.arange(K)
     valid = idx[None, :] < n[:, None]
@@ -173,8 +174,22 @@ def _clip(V: np.ndarray, n: np.ndarray, a: np.ndarray, b: float):
     point = V + s[..., None] * (W - V)
     cand = np.stack([V, point], axis=2).reshape(P, 2 * K, 2)
     keep = np.stack([valid & inside_v, cross], axis=2).reshape(P, 2 * K)
-    order = np.argsort(~keep, axis=1, kind="stable")
-    return np.take_along_axis(cand, order[..., None], axis=1), keep.sum(axis=1)
+    count = keep.sum(axis=1)
+    # the kept vertices first, in their order; the slots no polygon fills are cut off
+    order = np.argsort(~keep, axis=1, kind="stable")[:, : max(int(count.max(initial=0)), 1)]
+    out = np.take_along_axis(cand, order[..., None], axis=1), count
+    if dV is None:
+        return out
+    # the cut point V + s (W − V), s = h_V / (h_V − h_W): its derivative by the chain rule
+    dW = dV[np.arange(P)[:, None], nxt]
+    dhv = dV[:, :, 0] * a[0] + dV[:, :, 1] * a[1]
+    dhw = dW[:, :, 0] * a[0] + dW[:, :, 1] * a[1]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ds = np.where(cross[..., None], (dhv * (-hw)[..., None] + hv[..., None] * dhw)
+                      / ((hv - hw) ** 2)[..., None], 0.0)  # fmt: skip
+    dpoint = dV + s[..., None, None] * (dW - dV) + (W - V)[..., None] * ds[:, :, None, :]
+    dcand = np.stack([dV, dpoint], axis=2).reshape(P, 2 * K, 2, -1)
+    return (*out, np.take_along_axis(dcand, order[..., None, None], axis=1))
 
 
 def clipped_points(mu_plane: np.ndarray):
@@ -202,3 +217,48 @@ def clipped_points(mu_plane: np.ndarray):
     if not pairs:
         return np.zeros(0, int), np.zeros((0, 3)), np.zeros(0)
     return np.concatenate(pairs), np.concatenate(lam), np.concatenate(w)
+
+
+def clipped_moments(mu_plane: np.ndarray, d_plane=None):
+    """Second moments Q_ik = ∫ λ_i λ_k dA / A (P, 3, 3) of the overlaps of
+    :func:`clipped_points` (the same clipping, as fractions of the slave triangle's area A)
+    and their derivatives (P, 3, 3, m) through the overlaps' vertices, given those of the
+    projected master vertices ``d_plane`` (P, 3, 2, m; None: no derivatives). Each fan cell T
+    contributes |T|/12 (Σ_a λ^a λ^aᵀ + s sᵀ), s = Σ_a λ^a (exact for the quadratic λ_i λ_k);
+    the cells of all polygons at once (empty slots have no area)."""
+    V, n, dV = mu_plane.astype(float), np.full(len(mu_plane), 3), d_plane
+    for a, b in _HALF_PLANES:
+        V, n, dV = _clip(V, n, a, b, dV) if dV is not None else (*_clip(V, n, a, b), None)
+    P, K = V.shape[:2]
+    if K < 3:
+        Q = np.zeros((P, 3, 3))
+        return Q, None if dV is None else np.zeros((P, 3, 3, dV.shape[-1]))
+    # λ = (1 − p₂ − p₃, p₂, p₃) of the fan's vertices: the apex 0 and the edges (i, i + 1)
+    lam = np.concatenate([1.0 - V.sum(axis=2, keepdims=True), V], axis=2)
+    L1, L2 = lam[:, 1:-1], lam[:, 2:]  # (P, K − 2, 3)
+    L0 = np.broadcast_to(lam[:, :1], L1.shape)
+    e1, e2 = V[:, 1:-1] - V[:, :1], V[:, 2:] - V[:, :1]
+    c = e1[..., 0] * e2[..., 1] - e1[..., 1] * e2[..., 0]
+    filled = np.arange(1, K - 1)[None, :] < (n[:, None] - 1)
+    scale = np.where(filled, np.abs(c), 0.0) / 12.0  # the cell's fraction |c|/2 / ½, over 12
+    X = np.stack([L0, L1, L2, L0 + L1 + L2], axis=2)  # (P, cells, 4, 3): the corners and s
+    S = np.einsum("pcai,pcak->pcik", X, X)
+    Q = np.einsum("pc,pcik->pik", scale, S)
+    if dV is None:
+        return Q, None
+    m = dV.shape[-1]
+    dlam = np.concatenate([-dV.sum(axis=2, keepdims=True), dV], axis=2)
+    d1 = dlam[:, 1:-1]
+    dX = np.stack([np.broadcast_to(dlam[:, :1], d1.shape), d1, dlam[:, 2:]], axis=2)
+    dX = np.concatenate([dX, dX.sum(axis=2, keepdims=True)], axis=2)  # (P, cells, 4, 3, m)
+    de1, de2 = dV[:, 1:-1] - dV[:, :1], dV[:, 2:] - dV[:, :1]
+    dc = (de1[..., 0, :] * e2[..., 1, None] + e1[..., 0, None] * de2[..., 1, :]
+          - de1[..., 1, :] * e2[..., 0, None] - e1[..., 1, None] * de2[..., 0, :])  # fmt: skip
+    dscale = np.where(filled, np.sign(c), 0.0)[..., None] * dc / 12.0
+    # Σ_cells scale Σ_a (dX_a X_aᵀ + X_a dX_aᵀ) as one batched product over (cell, a)
+    Xs = (X * scale[:, :, None, None]).reshape(P, -1, 3)
+    half = (dX.reshape(P, -1, 3 * m).transpose(0, 2, 1) @ Xs).reshape(P, 3, m, 3)
+    half = half.transpose(0, 1, 3, 2)
+    dQ = half + half.transpose(0, 2, 1, 3)
+    dQ += (S.reshape(P, K - 2, 9).transpose(0, 2, 1) @ dscale).reshape(P, 3, 3, m)
+    return Q, dQ

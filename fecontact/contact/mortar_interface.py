@@ -8,9 +8,9 @@ L_j = Σ_e |e|/n_e the reference measure (length in 2D, area in 3D) node j carri
 element's nodes; ∫_e Φ_j dA = |e|/n_e for the dual functions of linear elements), pads the rows
 to one width, and decides which nodes take part: those whose covered support carries at least
 half of the weight of their covered elements, W_j ≥ ½ Σ_e |e|/n_e, W_j the covered weight the
-subclass reports (2D: of the shape functions N_j, whose dual functions are those of the
-covered part; 3D: of the dual functions Φ_j, where only the far end of an element is covered
-their negative lobe would turn g̃_j negative although the surfaces are apart). The others
+subclass reports (2D: of the shape functions N_j; 3D: of the dual functions Φ_j, equal to
+that of N_j since the dual functions of a partly covered element are those of its covered
+part, ∫_C Φ_j dA = ∫_C N_j dA). The others
 report g = +inf and a zero gradient. The gaps of the last q are kept: the time loop asks for
 them again at the same q (the correction, the probes, the summary).
 """
@@ -77,9 +77,9 @@ class MortarInterface(PairDefaults):
     lazy_hessians = True
     frictional = True
     partial = True
-    """Whether a node whose elements the master covers in part may take part (2D: the moving
-    ends of the overlaps are differentiated; 3D: the clipped cells are not, and only nodes
-    whose elements are covered fully or not at all keep exact gradients)."""
+    """Whether a node whose elements the master covers in part may take part (2D and 3D: the
+    dual functions of the covered part and the moving bounds of the overlaps are
+    differentiated, so their gradients are exact)."""
 
     def __init__(self, body, master, restitution: float = 0.0, margin=None):
         check_solid_pair(body, master, "mortar")
