@@ -21,7 +21,7 @@ t_c (the end of the last step with a node touching), F_max (the peak of Δp/Δt 
 t_c/20) and δ_max (the largest approach), beside Hertz's values.
 
     python benchmarks/getfem_ball.py [--quick] [--sizes 10,18,27] [--repeats 2]
-        [--solver direct]
+        [--solver direct,superlu] [--no-getfem]
 """
 
 from __future__ import annotations
@@ -215,12 +215,12 @@ def per_step(row: dict) -> dict:
 
 
 def compare(rows: list[dict]) -> None:
-    """Each fecontact run's loop time over the GetFEM run beside it (the next one, or the one
-    before when it is the last)."""
+    """Each fecontact run's loop time over the GetFEM run nearest after it (before it when
+    there is none after)."""
     for i, r in enumerate(rows):
         if not r["code"].startswith("fecontact"):
             continue
-        near = [g for g in rows[i + 1 : i + 2] + rows[max(i - 1, 0) : i] if "GetFEM" in g["code"]]
+        near = [g for g in rows[i + 1 :] + rows[:i][::-1] if "GetFEM" in g["code"]]
         if near and "loop_s" in near[0] and "loop_s" in r:
             r["vs_getfem"] = r["loop_s"] / near[0]["loop_s"]
             r["vs_getfem_cpu"] = r["loop_cpu_s"] / near[0]["loop_cpu_s"]
@@ -232,9 +232,10 @@ def size_runs(n: int, args, with_getfem: bool, folder: Path) -> list[dict]:
     meshio.write(path, ball_mesh(n), file_format="gmsh22", binary=False)
     rows = []
     for _ in range(args.repeats):
-        mine = per_step(fecontact_run(path, args.solver))
-        rows.append(mine)
-        print(json.dumps(mine), flush=True)
+        for solver in args.solver.split(","):
+            mine = per_step(fecontact_run(path, solver))
+            rows.append(mine)
+            print(json.dumps(mine), flush=True)
         if with_getfem:
             theirs = per_step(getfem_run(path, mine["h"], args.timeout))
             rows.append(theirs)
@@ -257,7 +258,8 @@ def arguments():
     parser = common.parser(__doc__)
     parser.add_argument("--sizes", default="10,18,27", help="ball divisions n (n³ × 6 tets)")
     parser.add_argument("--repeats", type=int, default=2, help="alternating runs a size")
-    parser.add_argument("--solver", default="direct", help="fecontact's sparse solver")
+    parser.add_argument("--solver", default="direct", help="fecontact's sparse solvers, a,b")
+    parser.add_argument("--no-getfem", action="store_true", help="fecontact's runs only")
     parser.add_argument("--timeout", type=float, default=3600.0, help="s per GetFEM run")
     parser.add_argument("--name", default=None, help="results stem (default getfem_ball)")
     return parser.parse_args()
@@ -268,8 +270,8 @@ def main():
     sizes = [6] if args.quick else [int(s) for s in args.sizes.split(",")]
     repeats = 1 if args.quick else args.repeats
     args.repeats = repeats
-    with_getfem = getfem_available()
-    if not with_getfem:
+    with_getfem = not args.no_getfem and getfem_available()
+    if not with_getfem and not args.no_getfem:
         print(f"GetFEM not importable by {SYSTEM_PYTHON}: fecontact only", flush=True)
     clock = time.perf_counter()
     rows = []
