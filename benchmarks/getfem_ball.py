@@ -21,7 +21,7 @@ t_c (the end of the last step with a node touching), F_max (the peak of Δp/Δt 
 t_c/20) and δ_max (the largest approach), beside Hertz's values.
 
     python benchmarks/getfem_ball.py [--quick] [--sizes 10,18,27] [--repeats 2]
-        [--solver direct,superlu] [--no-getfem]
+        [--solver direct,superlu] [--no-getfem] [--steps 25]
 """
 
 from __future__ import annotations
@@ -130,7 +130,7 @@ def cpu_seconds() -> float:
     return usage.ru_utime + usage.ru_stime
 
 
-def fecontact_run(path: Path, solver: str) -> dict:
+def fecontact_run(path: Path, solver: str, steps: int = STEPS) -> dict:
     """The impact by fecontact on the mesh file, in this process."""
     use_sparse_solver(solver)
     wall, cpu = time.perf_counter(), cpu_seconds()
@@ -147,7 +147,7 @@ def fecontact_run(path: Path, solver: str) -> dict:
     momentum, approach, touching, newton = [], [], [], 0
     wall, cpu = time.perf_counter(), cpu_seconds()
     options = IntegratorOptions(rho_inf=0.5)
-    for st in simulate(model, h, STEPS * h, options, v0=-SPEED * ez):
+    for st in simulate(model, h, steps * h, options, v0=-SPEED * ez):
         momentum.append(float(w @ st.v))
         approach.append(-float(w @ st.q) / mass)
         if st.step > 0:
@@ -178,9 +178,9 @@ def getfem_available() -> bool:
     return proc.returncode == 0
 
 
-def getfem_run(path: Path, h: float, timeout: float) -> dict:
+def getfem_run(path: Path, h: float, timeout: float, steps: int = STEPS) -> dict:
     """The impact by GetFEM on the mesh file, in a subprocess of the system Python."""
-    params = {**RUBBER, "h": h, "steps": STEPS, "speed": SPEED, "tol": NEWTON_TOL}
+    params = {**RUBBER, "h": h, "steps": steps, "speed": SPEED, "tol": NEWTON_TOL}
     params["lsolver"] = "mumps"
     params_path = path.with_suffix(".json")
     params_path.write_text(json.dumps(params))
@@ -233,11 +233,11 @@ def size_runs(n: int, args, with_getfem: bool, folder: Path) -> list[dict]:
     rows = []
     for _ in range(args.repeats):
         for solver in args.solver.split(","):
-            mine = per_step(fecontact_run(path, solver))
+            mine = per_step(fecontact_run(path, solver, args.steps))
             rows.append(mine)
             print(json.dumps(mine), flush=True)
         if with_getfem:
-            theirs = per_step(getfem_run(path, mine["h"], args.timeout))
+            theirs = per_step(getfem_run(path, mine["h"], args.timeout, args.steps))
             rows.append(theirs)
             print(json.dumps(theirs), flush=True)
     compare(rows)
@@ -259,6 +259,7 @@ def arguments():
     parser.add_argument("--sizes", default="10,18,27", help="ball divisions n (n³ × 6 tets)")
     parser.add_argument("--repeats", type=int, default=2, help="alternating runs a size")
     parser.add_argument("--solver", default="direct", help="fecontact's sparse solvers, a,b")
+    parser.add_argument("--steps", type=int, default=STEPS, help="steps of each run")
     parser.add_argument("--no-getfem", action="store_true", help="fecontact's runs only")
     parser.add_argument("--timeout", type=float, default=3600.0, help="s per GetFEM run")
     parser.add_argument("--name", default=None, help="results stem (default getfem_ball)")
