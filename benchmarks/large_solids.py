@@ -292,7 +292,7 @@ def _cholespy(S):
 
 def _pardiso_ordered(S, ordering: int):
     """PARDISO's Cholesky with the fill-reducing ``ordering`` (iparm(2): 0 minimum degree, 2
-    METIS nested dissection, MKL's default), reporting the factor's entries and the
+    METIS nested dissection, 3 its parallel version), reporting the factor's entries and the
     factorization's floating-point operations (iparm(18), iparm(19)): the machine-independent
     cost whose growth with n the time per step inherits."""
     import pypardiso
@@ -322,6 +322,7 @@ BACKENDS = {
     "cholespy": _cholespy,
     "pardiso_metis": lambda S: _pardiso_ordered(S, 2),
     "pardiso_mmd": lambda S: _pardiso_ordered(S, 0),
+    "pardiso_pmetis": lambda S: _pardiso_ordered(S, 3),
 }
 
 
