@@ -349,7 +349,10 @@ def factor_growth(rows: list[dict]) -> list[str]:
     its largest matrix."""
     lines = []
     for backend in dict.fromkeys(r["backend"] for r in rows):
-        pts = sorted((r["dofs"], r) for r in rows if r["backend"] == backend and "dofs" in r)
+        pts = sorted(
+            ((r["dofs"], r) for r in rows if r["backend"] == backend and "dofs" in r),
+            key=lambda p: p[0],
+        )
         if len(pts) < 2:
             continue
         (n0, r0), (n1, r1) = pts[0], pts[-1]
