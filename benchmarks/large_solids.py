@@ -48,6 +48,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+import scipy.sparse as sp
 import skfem
 
 try:
@@ -257,7 +258,7 @@ def factorization(size: int, backend: str) -> dict:
         "solve_s": solve_s,
         "residual": float(np.linalg.norm(S @ x - b) / np.linalg.norm(b)),
         "memory_mb": (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before) / 1024.0,
-    }
+    } | getattr(solve, "info", {})
 
 
 def _superlu(S):
@@ -289,22 +290,78 @@ def _cholespy(S):
     return solve
 
 
-BACKENDS = {"superlu": _superlu, "pardiso": _pardiso, "cholespy": _cholespy}
+def _pardiso_ordered(S, ordering: int):
+    """PARDISO's Cholesky with the fill-reducing ``ordering`` (iparm(2): 0 minimum degree, 2
+    METIS nested dissection, 3 its parallel version), reporting the factor's entries and the
+    factorization's floating-point operations (iparm(18), iparm(19)): the machine-independent
+    cost whose growth with n the time per step inherits."""
+    import pypardiso
+
+    upper = sp.triu(S, format="csr")
+    upper.sort_indices()
+    solver = pypardiso.PyPardisoSolver(mtype=2)
+    solver.set_iparm(1, 1)  # the iparm given here, not MKL's defaults (those leave (19) off)
+    solver.set_iparm(2, ordering)
+    solver.set_iparm(18, -1)  # report the factor's entries
+    solver.set_iparm(19, -1)  # and the factorization's Mflop
+    solver.factorize(upper)
+
+    def solve(b):
+        return solver.solve(upper, b)
+
+    solve.info = {
+        "factor_nnz": int(solver.get_iparm(18)),
+        "gflop": int(solver.get_iparm(19)) / 1e3,
+    }
+    return solve
 
 
-def factorizations(sizes) -> str:
-    """Every backend at every size, each in a fresh process: a Markdown table."""
+BACKENDS = {
+    "superlu": _superlu,
+    "pardiso": _pardiso,
+    "cholespy": _cholespy,
+    "pardiso_metis": lambda S: _pardiso_ordered(S, 2),
+    "pardiso_mmd": lambda S: _pardiso_ordered(S, 0),
+    "pardiso_pmetis": lambda S: _pardiso_ordered(S, 3),
+}
+
+
+def factorizations(sizes, backends=tuple(BACKENDS)) -> str:
+    """Every backend at every size, each in a fresh process: a Markdown table, and the
+    exponent of the factorization's time and operations against n from the smallest size to
+    the largest of each backend."""
     rows = []
     for size in sizes:
-        for backend in BACKENDS:
+        for backend in backends:
             cmd = [sys.executable, __file__, "--factor", json.dumps([size, backend])]
             proc = subprocess.run(cmd, capture_output=True, text=True, cwd=common.ROOT)
             if proc.returncode:
                 rows.append({"backend": backend, "status": proc.stderr.strip()[-80:]})
             else:
                 rows.append(json.loads(proc.stdout.strip().splitlines()[-1]))
-    columns = ["dofs", "backend", "factor_s", "solve_s", "residual", "memory_mb", "status"]
-    return common.markdown_table(rows, columns)
+    columns = ["dofs", "backend", "factor_s", "solve_s", "residual", "memory_mb"]
+    columns += ["factor_nnz", "gflop", "status"]
+    return common.markdown_table(rows, columns) + "\n\n" + "\n".join(factor_growth(rows))
+
+
+def factor_growth(rows: list[dict]) -> list[str]:
+    """Per backend, the exponent p of (factorization time, Gflop) ∝ n^p from its smallest to
+    its largest matrix."""
+    lines = []
+    for backend in dict.fromkeys(r["backend"] for r in rows):
+        pts = sorted(
+            ((r["dofs"], r) for r in rows if r["backend"] == backend and "dofs" in r),
+            key=lambda p: p[0],
+        )
+        if len(pts) < 2:
+            continue
+        (n0, r0), (n1, r1) = pts[0], pts[-1]
+        ratios = {k: r1[k] / r0[k] for k in ("factor_s", "gflop") if r0.get(k) and r1.get(k)}
+        fits = [
+            f"{k} × {x:.3g} (n^{math.log(x) / math.log(n1 / n0):.2f})" for k, x in ratios.items()
+        ]
+        lines.append(f"- {backend}, {n0:,} → {n1:,} dofs: " + ", ".join(fits))
+    return lines
 
 
 def arguments():
@@ -321,6 +378,7 @@ def arguments():
     parser.add_argument(
         "--factorizations", action="store_true", help="time each Cholesky binding installed"
     )
+    parser.add_argument("--backends", help="comma-separated, with --factorizations")
     parser.add_argument("--from-csv", help="tabulate these CSVs (comma-separated), no runs")
     return parser.parse_args()
 
@@ -368,7 +426,8 @@ def main():
         print(json.dumps(factorization(*json.loads(args.factor))))
         return
     if args.factorizations:
-        print(factorizations([int(s) for s in args.sizes.split(",")][:3]))
+        backends = args.backends.split(",") if args.backends else tuple(BACKENDS)
+        print(factorizations([int(s) for s in args.sizes.split(",")], backends))
         return
     clock = time.perf_counter()
     name = args.name or ("large_solids_quick" if args.quick else "large_solids")
