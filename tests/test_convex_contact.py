@@ -7,6 +7,7 @@ import sys
 
 import numpy as np
 import pytest
+from conftest import load_case
 
 from fecontact import (
     Ball,
@@ -209,3 +210,19 @@ def test_nodes_of_two_rigid_bodies_are_refused():
     b = RigidBody3D.uniform(1.0, [0.0, 0.0, 2.0], Box(1.0, 1.0, 1.0))
     with pytest.raises(InputError, match="nodes"):
         Contact(a, b, nodes=[0])
+
+
+@needs_coal
+def test_the_box_stack_rests_and_its_knocked_top_box_falls_off():
+    """cases/box_stack.py: unknocked, the three boxes rest (speeds below 1e-9 m/s over 0.1 s,
+    gaps above −1e-9 m); knocked at 1 m/s, the top box slides off the middle one and falls
+    past its top face (z below 0.1 m by 0.3 s) while no gap closes below −1e-9 m."""
+    sim = load_case("box_stack").build(knock=0.0, t_end=0.1)
+    states = list(simulate(sim.model, sim.dt, sim.t_end, sim.options, q0=sim.q0, v0=sim.v0))
+    assert max(np.abs(s.v).max() for s in states) < 1e-9
+    assert min(s.gaps.min() for s in states[1:]) > -1e-9
+    sim = load_case("box_stack").build(knock=1.0, t_end=0.3)
+    states = list(simulate(sim.model, sim.dt, sim.t_end, sim.options, q0=sim.q0, v0=sim.v0))
+    top = sim.model.bodies[2]
+    assert top.center(states[-1].q[12:18])[2] < 0.1
+    assert min(s.gaps.min() for s in states[1:]) > -1e-9
