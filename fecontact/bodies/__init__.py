@@ -7,13 +7,14 @@ from .beam3d import Beam3D
 from .materials import LinearElastic, NeoHookean, StVenantKirchhoff
 from .rigid import Disk, PointMass, Polygon, RigidBody2D
 from .rigid3d import RigidBody3D
-from .shapes3d import Ball, Box, Capsule, Cylinder
+from .shapes3d import Ball, Box, Capsule, ConvexMesh, Cylinder
 from .solid import Solid
 
 __all__ = [
     "Ball",
     "Box",
     "Capsule",
+    "ConvexMesh",
     "Cylinder",
     "RigidBody3D",
     "Beam2D",

@@ -21,11 +21,11 @@ import scipy.sparse as sp
 from ..errors import InputError, check_finite, check_positive
 from ..rotations import exp, hat
 from .base import RigidDefaults
-from .shapes3d import Ball, Box, Capsule, Cylinder
+from .shapes3d import Ball, Box, Capsule, ConvexMesh, Cylinder
 
 __all__ = ["RigidBody3D"]
 
-_SHAPES = (Ball, Box, Capsule, Cylinder)
+_SHAPES = (Ball, Box, Capsule, Cylinder, ConvexMesh)
 _DOFS6 = np.arange(6)[None]
 
 

@@ -13,7 +13,12 @@ shape           J / m (diagonal)                                     contact
 ``Box``         (b² + c²)/12, (a² + c²)/12, (a² + b²)/12             its 8 corners
 ``Cylinder``    (3r² + L²)/12, (3r² + L²)/12, r²/2                   points on its two rims
 ``Capsule``     cylinder + two hemispheres (exact, parallel axes)    balls at its two ends
+``ConvexMesh``  the hull's tetrahedra from its centroid (exact)      its hull's vertices
 ==============  ===================================================  ========================
+
+A ``ConvexMesh`` is the convex hull of given points (scipy's Qhull), moved so that its centre
+of mass is the body origin; its inertia tensor is full (the hull's principal axes need not be
+the body axes).
 """
 
 from __future__ import annotations
@@ -24,7 +29,7 @@ import numpy as np
 
 from ..errors import InputError, check_positive
 
-__all__ = ["Ball", "Box", "Capsule", "Cylinder"]
+__all__ = ["Ball", "Box", "Capsule", "ConvexMesh", "Cylinder"]
 
 
 def _ring(radius: float, z: float, n: int) -> np.ndarray:
@@ -199,3 +204,63 @@ class Capsule:
         bottom = [_ring(r * math.sin(a), -h - r * math.cos(a), n) for a in polar]
         top = [_ring(r * math.sin(a), h + r * math.cos(a), n) for a in polar[::-1]]
         return _tube(bottom + top)
+
+
+def _solid_moments(P: np.ndarray, tris: np.ndarray):
+    """Volume V, centroid c and second moment ∫ x xᵀ dV of the solid bounded by the outward
+    triangles ``tris`` of ``P``: the sum over the tetrahedra (o, a, b, c) from the origin o,
+    each contributing V_t/20 (Σ x_i x_iᵀ + s sᵀ), s the sum of its four vertices (exact)."""
+    a, b, c = P[tris[:, 0]], P[tris[:, 1]], P[tris[:, 2]]
+    vol = np.einsum("ti,ti->t", a, np.cross(b, c)) / 6.0
+    s = a + b + c
+    second = np.einsum("ti,tj->tij", a, a) + np.einsum("ti,tj->tij", b, b)
+    second += np.einsum("ti,tj->tij", c, c) + np.einsum("ti,tj->tij", s, s)
+    V = vol.sum()
+    return V, (vol[:, None] * s).sum(0) / (4.0 * V), np.einsum("t,tij->ij", vol, second) / 20.0
+
+
+class ConvexMesh:
+    """The convex hull of ``points`` (n, 3) in m; the body origin is the hull's centre of
+    mass, ``offset`` (m) where that centre lies in the coordinates of ``points``."""
+
+    def __init__(self, points):
+        from scipy.spatial import ConvexHull, QhullError
+
+        P = np.asarray(points, dtype=float)
+        if P.ndim != 2 or P.shape[1] != 3 or len(P) < 4 or not np.all(np.isfinite(P)):
+            raise InputError(f"points must be a finite (n, 3) array with n >= 4, got {P.shape}")
+        try:
+            hull = ConvexHull(P)
+        except QhullError as err:
+            raise InputError("points span no volume (coplanar or repeated)") from err
+        keep = hull.vertices
+        index = np.full(len(P), -1)
+        index[keep] = np.arange(len(keep))
+        tris = index[hull.simplices]
+        V = P[keep]
+        # orient each triangle outward (Qhull's order is arbitrary)
+        a, b, c = V[tris[:, 0]], V[tris[:, 1]], V[tris[:, 2]]
+        flip = np.einsum("ti,ti->t", np.cross(b - a, c - a), hull.equations[:, :3]) < 0.0
+        tris[flip] = tris[flip][:, ::-1]
+        vol, self.offset, _ = _solid_moments(V - V.mean(0), tris)
+        self.offset = self.offset + V.mean(0)
+        self.vertices = V - self.offset
+        self._tris = tris
+        self._volume, _, self._second = _solid_moments(self.vertices, tris)
+        self.balls = (np.zeros((0, 3)), 0.0)
+
+    @property
+    def volume(self) -> float:
+        return float(self._volume)
+
+    @property
+    def size(self) -> float:
+        return float(np.linalg.norm(np.ptp(self.vertices, axis=0)))
+
+    def inertia(self, mass: float) -> np.ndarray:
+        """J = ρ (tr(S) I − S), S = ∫ x xᵀ dV about the centre of mass, ρ = mass / volume."""
+        S = self._second * (mass / self._volume)
+        return np.trace(S) * np.eye(3) - S
+
+    def surface(self):
+        return self.vertices.copy(), self._tris.copy()

@@ -13,6 +13,8 @@ pair                        gap
                             closest point p of the box
 vertices on a ``Plane``     :class:`fecontact.contact.NodeContact` through the body's
                             ``point_kinematics`` (a ``Box``'s corners, a ``Cylinder``'s rims)
+any other two shapes        :class:`fecontact.contact.convex_pairs.ConvexContact`: GJK/EPA,
+                            the face-clipping manifold of polyhedra (frictionless)
 ==========================  =================================================================
 
 Friction acts at the contact points, the balls' points nearest the partner: its slip rows
@@ -29,6 +31,7 @@ from ..bodies.shapes3d import Ball, Box
 from ..errors import InputError, check_range
 from ..rotations import exp, hat, log
 from .base import PairDefaults
+from .convex_pairs import ConvexContact
 from .friction import tangent_basis
 from .node_pairs import NodeContact
 from .obstacles import Plane
@@ -254,12 +257,12 @@ def _rigid3d_plane(body, plane, nodes, restitution, clearance):
 
 @register_pair(RigidBody3D, RigidBody3D)
 def _rigid3d_rigid3d(body, other, nodes, restitution, clearance):
-    """Ball–ball and ball–box (the ball first) pairs."""
+    """Ball–ball and ball–box (the ball first) pairs in closed form, any other two shapes by
+    GJK/EPA (:class:`fecontact.contact.convex_pairs.ConvexContact`, the ``collision`` extra)."""
+    if nodes is not None:
+        raise InputError("nodes: two RigidBody3D contact over their whole shapes; give no nodes")
     if isinstance(body.shape, Ball) and isinstance(other.shape, Ball):
         return BallBallContact(body, other, restitution, clearance)
     if isinstance(body.shape, Ball) and isinstance(other.shape, Box):
         return BallBoxContact(body, other, restitution, clearance)
-    raise InputError(
-        "two RigidBody3D contact as two Ball shapes or a Ball (first) and a Box, got a "
-        f"{type(body.shape).__name__} and a {type(other.shape).__name__}"
-    )
+    return ConvexContact(body, other, restitution, clearance)

@@ -1,0 +1,276 @@
+r"""Contact of two convex rigid bodies in space by GJK/EPA and a face-clipping manifold.
+
+The signed distance d of two shapes (their distance apart, minus the penetration depth when
+they overlap) and its normal n, pointing from body a to body b, come from the GJK/EPA queries
+of ``coal`` (the ``collision`` extra). One witness point per pair rocks a box lying on a face
+from corner to corner, so polyhedra (``Box``, ``Cylinder`` as its rim prism, ``ConvexMesh``)
+touch through a manifold instead, as physics engines build it: the face of either body most
+aligned with n is the reference face, the other body's face most opposed to it the incident
+face; the incident face clipped by the reference face's side planes (Sutherland–Hodgman) gives
+the contact points x_b, each with its projection x_a on the reference plane. Where neither
+face is within ``FACE_COS`` of n (an edge on an edge, a corner on an edge) and for round
+shapes (``Ball``, ``Capsule``), the pair holds the single witness pair of GJK/EPA.
+
+Every contact point pair (r_a, r_b), body-frame points of a and b, has the gap
+g = n·(x_b − x_a) and the gradient row, in the (u, Θ) of both bodies (Θ body-frame),
+
+    G = [−n, −r_a × (R_aᵀ n), n, r_b × (R_bᵀ n)]
+
+(δx = δu − R r̃ δΘ of :mod:`fecontact.bodies.rigid3d`); the curvature is left out (Newton's
+rate, not its answer). A pair holds a fixed number of slots (the two largest faces' vertex
+counts); slots the manifold leaves empty carry a gap of the bodies' size and a zero row, so
+they stay open.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+import numpy as np
+
+from ..bodies.rigid3d import RigidBody3D
+from ..bodies.shapes3d import Ball, Capsule
+from ..errors import InputError, check_range
+from ..rotations import exp
+from .base import PairDefaults
+
+__all__ = ["ConvexContact", "hull_faces"]
+
+FACE_COS = 0.95  # a face within ~18° of the normal is a reference face
+_PLANE_DIGITS = 9  # Qhull's triangles of one face share their plane to round-off
+
+
+def _coal():
+    try:
+        return importlib.import_module("coal")
+    except ImportError as err:
+        raise InputError(
+            "convex-convex contact of RigidBody3D needs the 'collision' extra: "
+            "pip install fecontact[collision] (coal)"
+        ) from err
+
+
+def hull_faces(vertices: np.ndarray):
+    """The faces of the convex hull of ``vertices`` (n, 3): a list of vertex rows ordered
+    counter-clockwise about the outward normal, the unit normals (F, 3) and offsets (F,) of
+    their planes n·x = h."""
+    from scipy.spatial import ConvexHull
+
+    hull = ConvexHull(vertices)
+    planes, group = np.unique(np.round(hull.equations, _PLANE_DIGITS), axis=0, return_inverse=True)
+    faces, normals, offsets = [], [], []
+    for f in range(len(planes)):
+        ids = np.unique(hull.simplices[group.ravel() == f])
+        n = hull.equations[group.ravel() == f][0, :3]
+        P = vertices[ids]
+        c = P.mean(0)
+        e1 = P[0] - c
+        e1 /= np.linalg.norm(e1)
+        e2 = np.cross(n, e1)
+        angle = np.arctan2((P - c) @ e2, (P - c) @ e1)
+        faces.append(ids[np.argsort(angle)])
+        normals.append(n)
+        offsets.append(float(n @ P[0]))
+    return faces, np.array(normals), np.array(offsets)
+
+
+def _inward(poly: np.ndarray, n: np.ndarray) -> np.ndarray:
+    """Unit inward side normals (m, 3) of the polygon ``poly`` (m, 3), counter-clockwise about
+    ``n``."""
+    m = np.cross(n, np.roll(poly, -1, axis=0) - poly)
+    return m / np.linalg.norm(m, axis=1)[:, None]
+
+
+def _inside(x: np.ndarray, poly: np.ndarray, n: np.ndarray, tol: float) -> np.ndarray:
+    """Whether the points ``x`` (k, 3) lie over the polygon ``poly`` (about its normal n)."""
+    return np.all(np.einsum("ej,kej->ke", _inward(poly, n), x[:, None] - poly[None]) >= -tol, 1)
+
+
+def _crossings(ref, inc, nr, tol):
+    """Crossings of the reference face's edges with the incident face's edges seen along nr:
+    labels (i, j) of the edges and the points on both faces (every pair of edges at once)."""
+    inc_p = inc - np.outer((inc - ref[0]) @ nr, nr)
+    d1 = (np.roll(ref, -1, axis=0) - ref)[:, None]  # (m, 1, 3)
+    d2 = (np.roll(inc_p, -1, axis=0) - inc_p)[None]  # (1, k, 3)
+    r = inc_p[None] - ref[:, None]  # (m, k, 3)
+
+    def along(a, b):  # (a × b)·nr, the signed area in the reference plane
+        return np.einsum("...i,i->...", np.cross(a, b), nr)
+
+    den = along(d1, d2)
+    # parallel edges: their overlap ends at vertices, counted there
+    ok = np.abs(den) > tol * np.linalg.norm(d1, axis=2) * np.linalg.norm(d2, axis=2)
+    den = np.where(ok, den, 1.0)
+    t, s = along(r, d2) / den, along(r, d1) / den
+    i, j = np.nonzero(ok & (t >= 0.0) & (t <= 1.0) & (s >= 0.0) & (s <= 1.0))
+    on_ref = ref[i] + t[i, j, None] * d1[i, 0]
+    on_inc = inc[j] + s[i, j, None] * (np.roll(inc, -1, axis=0)[j] - inc[j])
+    return list(zip(i.tolist(), j.tolist(), strict=True)), on_ref, on_inc
+
+
+def face_manifold(ref, inc, nr, n_inc, tol):
+    """The contact polygon of a reference face ``ref`` (m, 3, counter-clockwise about its
+    outward normal ``nr``) and an incident face ``inc`` (k, 3, about ``n_inc``): the incident
+    vertices over the reference face, the reference vertices under the incident face and the
+    crossings of their edges. Returns, for each point, its label ("inc", vertex), ("ref",
+    vertex) or ("cross", ref edge, incident edge), its point on the reference face and its
+    point on the incident face (world, m); points within ``tol`` of an earlier one are left
+    out (coincident corners would give equal rows)."""
+    labels, x_ref, x_inc = [], [], []
+    keep = np.flatnonzero(_inside(inc, ref, nr, tol))
+    labels += [("inc", int(k)) for k in keep]
+    x_inc.append(inc[keep])
+    x_ref.append(inc[keep] - np.outer((inc[keep] - ref[0]) @ nr, nr))
+    keep = np.flatnonzero(_inside(ref, inc, -nr, tol))
+    t = (inc[0] - ref[keep]) @ n_inc / (nr @ n_inc)  # along nr up to the incident plane
+    labels += [("ref", int(k)) for k in keep]
+    x_ref.append(ref[keep])
+    x_inc.append(ref[keep] + np.outer(t, nr))
+    cross, on_ref, on_inc = _crossings(ref, inc, nr, tol)
+    labels += [("cross", *c) for c in cross]
+    x_ref, x_inc = np.vstack([*x_ref, on_ref]), np.vstack([*x_inc, on_inc])
+    unique = [
+        i for i in range(len(labels)) if np.all(np.linalg.norm(x_ref[:i] - x_ref[i], axis=1) > tol)
+    ]
+    return [labels[i] for i in unique], x_ref[unique], x_inc[unique]
+
+
+class _Hull:
+    """A body's shape for the queries: the coal geometry and, for a polyhedron, its faces."""
+
+    def __init__(self, body: RigidBody3D):
+        coal = _coal()
+        shape = body.shape
+        self.faces = None
+        if isinstance(shape, Ball):
+            self.geometry = coal.Sphere(shape.radius)
+        elif isinstance(shape, Capsule):
+            self.geometry = coal.Capsule(shape.radius, shape.length)
+        else:
+            V = np.asarray(shape.vertices, dtype=float)
+            points = coal.StdVec_Vec3s()
+            for p in V:
+                points.append(p)
+            self.geometry = coal.Convex.convexHull(points, False, "")
+            self.vertices = V
+            self.faces, self.normals, self.offsets = hull_faces(V)
+
+    def face(self, k: int) -> np.ndarray:
+        return self.vertices[self.faces[k]]
+
+
+class ConvexContact(PairDefaults):
+    """Two convex ``RigidBody3D`` (any shapes) by GJK/EPA, polyhedra through a face-clipping
+    manifold; frictionless."""
+
+    linear = False
+
+    def __init__(self, a: RigidBody3D, b: RigidBody3D, restitution=0.0, clearance=0.0):
+        if a is b:
+            raise InputError("a body cannot contact itself")
+        self.bodies = (a, b)
+        self.body = a
+        self.restitution = check_range("restitution", restitution, 0.0, 1.0)
+        self.clearance = float(clearance)
+        self.hulls = (_Hull(a), _Hull(b))
+        polyhedra = all(h.faces is not None for h in self.hulls)
+        # one slot per vertex of either body, then a pool for edge crossings (at most the
+        # two faces' vertex counts) or for the single witness pair
+        self.pool = sum(len(h.vertices) for h in self.hulls) if polyhedra else 0
+        widest = sum(max(len(f) for f in h.faces) for h in self.hulls) if polyhedra else 1
+        self.size = int(self.pool + widest)
+        self.tol = 1e-9 * (a.shape.size + b.shape.size)  # coincident points, m
+        self.far = a.shape.size + b.shape.size  # an empty slot's gap, m
+        coal = _coal()
+        self._request = coal.DistanceRequest()
+        # GJK/EPA to 1e-10 m: the default 1e-6 reports touching below a micrometre
+        self._request.gjk_tolerance = 1e-10
+        self._request.epa_tolerance = 1e-10
+        self._transform = coal.Transform3s
+        self._result = coal.DistanceResult
+        self._distance = coal.distance
+        self.offsets = (0, 0)
+
+    def bind(self, model) -> None:
+        self.offsets = tuple(model.offset_of(b) for b in self.bodies)
+
+    def _poses(self, q):
+        return [
+            (exp(q[o + 3 : o + 6]), b.center(q[o : o + 6]))
+            for b, o in zip(self.bodies, self.offsets, strict=True)
+        ]
+
+    def query(self, q: np.ndarray):
+        """Signed distance d (m), unit normal n from a to b and the witness points (world)."""
+        (Ra, ca), (Rb, cb) = self._poses(q)
+        res = self._result()
+        d = self._distance(
+            self.hulls[0].geometry,
+            self._transform(Ra, ca),
+            self.hulls[1].geometry,
+            self._transform(Rb, cb),
+            self._request,
+            res,
+        )
+        n = np.array(res.normal, dtype=float)
+        return (
+            float(d),
+            n / np.linalg.norm(n),
+            np.array(res.getNearestPoint1()),
+            np.array(res.getNearestPoint2()),
+        )
+
+    def manifold(self, q: np.ndarray):
+        """Slots (k,), world points x_a (k, 3) on a and x_b (k, 3) on b, normal n from a to b."""
+        d, n, pa, pb = self.query(q)
+        (Ra, ca), (Rb, cb) = self._poses(q)
+        ha, hb = self.hulls
+        if ha.faces is None or hb.faces is None:
+            return np.zeros(1, int), pa[None], pb[None], n
+        fa = int(np.argmax(ha.normals @ (Ra.T @ n)))
+        fb = int(np.argmax(hb.normals @ (Rb.T @ -n)))
+        cos_a, cos_b = ha.normals[fa] @ (Ra.T @ n), hb.normals[fb] @ (Rb.T @ -n)
+        if max(cos_a, cos_b) < FACE_COS:
+            return np.array([self.pool]), pa[None], pb[None], n
+        face_a, na = ha.face(fa) @ Ra.T + ca, Ra @ ha.normals[fa]
+        face_b, nb = hb.face(fb) @ Rb.T + cb, Rb @ hb.normals[fb]
+        flip = cos_a < cos_b - 1e-9  # b's face is the reference (ties go to a: no flip-flop)
+        ref, inc, nr, ni = (face_b, face_a, nb, na) if flip else (face_a, face_b, na, nb)
+        labels, x_ref, x_inc = face_manifold(ref, inc, nr, ni, self.tol)
+        owner = {"ref": ("b" if flip else "a"), "inc": ("a" if flip else "b")}
+        face_ids = {"a": ha.faces[fa], "b": hb.faces[fb]}
+        first = {"a": 0, "b": len(ha.vertices)}
+        slots, rank = [], self.pool
+        for lab in labels:
+            if lab[0] == "cross":
+                slots.append(rank)
+                rank += 1
+            else:
+                body = owner[lab[0]]
+                slots.append(first[body] + int(face_ids[body][lab[1]]))
+        if flip:
+            return np.array(slots, int), x_inc, x_ref, -nr
+        return np.array(slots, int), x_ref, x_inc, nr
+
+    def _dofs(self):
+        oa, ob = self.offsets
+        row = np.concatenate([oa + np.arange(6), ob + np.arange(6)])
+        return np.repeat(row[None], self.size, axis=0)
+
+    def evaluate(self, q: np.ndarray):
+        """Gaps (size,), dofs (size, 12), gradients (size, 12), no curvature."""
+        k, xa, xb, n = self.manifold(q)
+        (Ra, ca), (Rb, cb) = self._poses(q)
+        keep = k < self.size  # more crossings than the pool holds: impossible for convex faces
+        k, xa, xb = k[keep], xa[keep], xb[keep]
+        g = np.full(self.size, self.far)
+        G = np.zeros((self.size, 12))
+        g[k] = (xb - xa) @ n - self.clearance
+        ra, rb = (xa - ca) @ Ra, (xb - cb) @ Rb  # body-frame arms Rᵀ(x − c)
+        G[k, :3], G[k, 6:9] = -n, n
+        G[k, 3:6] = -np.cross(ra, Ra.T @ n)
+        G[k, 9:12] = np.cross(rb, Rb.T @ n)
+        return g, self._dofs(), G, None
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        return self.evaluate(q)[0]
