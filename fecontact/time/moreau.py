@@ -139,7 +139,7 @@ def _friction_work(model, newton, closed, v, tol: float) -> float:
     the step it is not the impulse times that slip, which counts the reaction of a contact
     that sticks, along the slip before the step, as positive work. ``tol``: the slip rate
     (m/s) below which a contact sticks, as Coulomb's law's."""
-    P_t, _, GT = newton.tangential
+    P_t, status, GT = newton.tangential
     nc, nt = closed.size, GT.shape[1]
     G = newton.G.toarray() if sp.issparse(newton.G) else np.asarray(newton.G)
     A = np.concatenate([np.concatenate([G[:nc, None], GT], axis=1).reshape(-1, G.shape[1]),
@@ -151,6 +151,11 @@ def _friction_work(model, newton, closed, v, tol: float) -> float:
         T = model.contacts.tangent_jacobian(newton.step.X[0], closed)[1]
         drag = np.einsum("mtd,md->mt", T, speed)
     w0, w = (_block_rates(G, GT, u, drag) for u in (newton.vn, v))
+    # a contact the law holds stuck ends the step stuck: the slip it keeps is the law's
+    # solver tolerance, which may lie a little above the stick threshold ``tol``
+    stuck = np.flatnonzero(status == 1)
+    for k in range(nt):
+        w[stuck * (1 + nt) + 1 + k] = 0.0
     P = newton.P
     x = np.concatenate([np.column_stack([P[:nc], P_t]).ravel(), P[nc:]])
     return friction_dissipation(x, w0, w, D, model.contacts.friction[closed], nt, tol)
