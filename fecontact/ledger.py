@@ -8,12 +8,13 @@ With E = T + V_strain + V_gravity (J) of the bodies, every step closes
   constant loads; gravity is in V_gravity);
 - D_damping: ½ h (vᵀC v at both ends of the step), C = αM + βK(q) (Rayleigh);
 - D_friction: the energy the tangential forces and impulses take, as each stepper measures
-  it (force × slip of the step; for the impulses of a jump, the work along a process in
-  which friction opposes the slip, :func:`fecontact.contact.restitution.friction_dissipation`;
-  Moreau–Jean: impulse × the step's slip);
+  it (force × slip of the step; for the impulses of a jump or of a Moreau–Jean step, the
+  work along a process in which friction opposes the slip,
+  :func:`fecontact.contact.restitution.friction_dissipation`);
 - D_impact: the rest of what the contact phase of a step changes. NSGA: the energy change
   of the position correction and of the velocity jump (with the acceleration follow-ups)
-  that friction does not explain; Moreau–Jean: −P·G v_mid of the normal impulses;
+  that friction does not explain; Moreau–Jean: −P·G v_mid of the normal and tangential
+  impulses that friction does not explain;
   penalty: −½(λ_n + λ_{n+1})·Δg, the work of the contact forces (springs and dashpots);
 - D_numerical: the term that closes the identity, the time integrator's own dissipation (for
   NSGA: that of the smooth step, ρ∞ < 1).
@@ -174,7 +175,7 @@ class EnergyLedger:
             }
             return -(correction + jump) - (friction - smooth_friction), gains
         if self.integrator == "moreau" and np.any(st.impulse):
-            impact = self._impulse_work(st)
+            impact = self._impulse_work(st) + self._slip_work(st) - friction
         elif self.integrator == "penalty" and (np.any(st.impulse) or np.any(self.last.impulse)):
             impact = self._spring_work(st)
         else:
@@ -190,6 +191,23 @@ class EnergyLedger:
         if self.model.contacts.moving:
             rate = rate + self.model.contacts.rates(st.q, j)
         return -float(st.impulse[j] @ rate)
+
+    def _slip_work(self, st) -> float:
+        """−Σ P_T,j·G_T,j(q_{n+1}) v_mid (J), Moreau–Jean's tangential impulses times the
+        mean slip of the step: what they take from the bodies; the part friction's reading
+        does not explain is the impact's (0 where the impulse opposes the slip throughout)."""
+        record = st.friction
+        if record is None or not np.any(record.impulse):
+            return 0.0
+        j = np.flatnonzero(np.any(record.impulse != 0.0, axis=1))
+        contacts = self.model.contacts
+        GT, T = contacts.tangent_jacobian(st.q, j)
+        v_mid = 0.5 * (st.v + self.last.v)[self.model.free]
+        slip = GT @ v_mid
+        speed = contacts.obstacle_motion(j, velocity=True)
+        if speed is not None:
+            slip = slip - np.einsum("mtd,md->mt", T, speed)
+        return -float(np.sum(record.impulse[j] * slip))
 
     def _spring_work(self, st) -> float:
         """−½(λ_n + λ_{n+1})·Δg (J): what the penalty forces took from the bodies."""

@@ -49,6 +49,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..contact import solve_velocity_jump
+from ..contact.restitution import friction_dissipation
 from .constraints import (
     Constraints,
     StepFailure,
@@ -103,9 +104,7 @@ def moreau_step(model, st: State, h: float, opts: IntegratorOptions, timer: Phas
         P_t, status, GT = tangential
         record.impulse[index_set] = P_t
         record.status[index_set] = status
-        # the tangential impulse against the slip over the step, h G_T v_θ: the work that
-        # the position update q_{n+1} = q_n + h v_θ lets friction do
-        record.work -= float(np.sum(P_t * (GT @ v_theta)))
+        record.work += _friction_work(model, newton, index_set, v, slip[1])
     vd[F] = model.solve_M(f)
     impulse = np.zeros(m)
     impulse[index_set] = P[: index_set.size]
@@ -128,6 +127,46 @@ def moreau_step(model, st: State, h: float, opts: IntegratorOptions, timer: Phas
         iterations={"smooth": its[0], "position": 0, "velocity": its[1]},
         friction=record,
     )
+
+
+def _friction_work(model, newton, closed, v, tol: float) -> float:
+    """The energy (J) the step's tangential impulses P_T take, read against the slip rates
+    at the step's start and end, G_T v_n and G_T v_{n+1} (relative to moving obstacles,
+    G_T at q_{n+1}), through :func:`fecontact.contact.restitution.friction_dissipation` in
+    the metric Ŵ of the last iteration: a process in which friction opposes the slip. Where
+    P_T opposes the slip at both ends it is −P_T·G_T (v_n + v_{n+1})/2, the impulse times
+    the slip the update q_{n+1} = q_n + h v_θ makes at θ = ½; where the slip stops within
+    the step it is not the impulse times that slip, which counts the reaction of a contact
+    that sticks, along the slip before the step, as positive work. ``tol``: the slip rate
+    (m/s) below which a contact sticks, as Coulomb's law's."""
+    P_t, status, GT = newton.tangential
+    nc, nt = closed.size, GT.shape[1]
+    G = newton.G.toarray() if sp.issparse(newton.G) else np.asarray(newton.G)
+    A = np.concatenate([np.concatenate([G[:nc, None], GT], axis=1).reshape(-1, G.shape[1]),
+                        G[nc:]])  # fmt: skip
+    D = A @ newton.solve(A.T).reshape(G.shape[1], -1)
+    speed = model.contacts.obstacle_motion(closed, velocity=True)
+    drag = 0.0  # the obstacle's tangential velocity (m/s), (nc, nt)
+    if speed is not None:
+        T = model.contacts.tangent_jacobian(newton.step.X[0], closed)[1]
+        drag = np.einsum("mtd,md->mt", T, speed)
+    w0, w = (_block_rates(G, GT, u, drag) for u in (newton.vn, v))
+    # a contact the law holds stuck ends the step stuck: the slip it keeps is the law's
+    # solver tolerance, which may lie a little above the stick threshold ``tol``
+    stuck = np.flatnonzero(status == 1)
+    for k in range(nt):
+        w[stuck * (1 + nt) + 1 + k] = 0.0
+    P = newton.P
+    x = np.concatenate([np.column_stack([P[:nc], P_t]).ravel(), P[nc:]])
+    return friction_dissipation(x, w0, w, D, model.contacts.friction[closed], nt, tol)
+
+
+def _block_rates(G, GT, u, drag):
+    """The rates of ``u`` in the layout of ``friction_dissipation``: per contact, its normal
+    then tangential rates (less the obstacle's ``drag``), then the joints'."""
+    nc = GT.shape[0]
+    g = G @ u
+    return np.concatenate([np.column_stack([g[:nc], GT @ u - drag]).ravel(), g[nc:]])
 
 
 def _impact_rows(model, st, index_set):
@@ -182,7 +221,9 @@ class MoreauNewton(SmoothNewton):
     G_T v. Without stiffness (K_t = 0: rigid bodies) and with constant G the residual is
     linear in v and one iteration is exact."""
 
-    __slots__ = "G GP P R damping f ff_t h hf_n ht lcp q0 rows size slip tangential v vn".split()
+    __slots__ = (
+        "G GP P R damping f ff_t h hf_n ht lcp q0 rows size slip solve tangential v vn".split()
+    )
 
     def __init__(self, plan, model, st, h, theta, rows, opts, timer, slip=None):
         F, ht = model.free, h * theta
@@ -197,6 +238,7 @@ class MoreauNewton(SmoothNewton):
         nr = len(rows[0].bilateral) if rows else 0
         self.v, self.P, self.GP, self.G = self.vn.copy(), np.zeros(nr), 0.0, None
         self.tangential, self.ff_t, self.size, self.lcp = None, 0.0, math.inf, 0
+        self.solve = None  # Ŵ⁻¹ of the last update
         self.damping = next((term for term in self.terms if isinstance(term, Damping)), None)
 
     def residual(self, it: int) -> bool:
@@ -229,7 +271,7 @@ class MoreauNewton(SmoothNewton):
         What = self.tangent()
         if rows and not rows[0].linear and np.any(self.P):
             What = plus_curvature(What, -self.ht, rows[0].curvature(q, self.P))
-        solve = factorize_or_fail(What, self.rnorm / self.ref, True, model.solver)
+        self.solve = solve = factorize_or_fail(What, self.rnorm / self.ref, True, model.solver)
         v_new = self.v - solve(self.R)
         self.clock = self.timer.add("solve", self.clock)
         if self.P.size:
