@@ -15,18 +15,9 @@ smallest gap of all contacts.
 
 import numpy as np
 
-from fecontact import (
-    Box,
-    Contact,
-    Model,
-    Param,
-    Plane,
-    Probe,
-    RigidBody3D,
-    Simulation,
-    case,
-    run_cli,
-)
+from fecontact import Model, Param, Probe, Simulation, case, run_cli
+from fecontact.bodies import Box, RigidBody3D
+from fecontact.contact import Contact, Plane
 
 
 @case
