@@ -25,6 +25,7 @@ of :func:`solve_coulomb`, not its answer.
 from __future__ import annotations
 
 import numpy as np
+from scipy.linalg.lapack import dgetrf, dgetrs
 
 from .stats import CoulombStats
 
@@ -327,17 +328,38 @@ def _newton(c, D, p, k, mu, nt, x0, tol, max_iter, stats):
             return x, status, it
         if it == max_iter:
             break
-        dPi, ident = lin
-        J = -(dPi @ dsigma)
-        J[np.diag_indices(N)] += k
-        J = np.where(ident[:, None], kD, J / p[:, None])
-        try:
-            dx = np.linalg.solve(J, -R)
-        except np.linalg.LinAlgError:
-            stats.least_squares_steps += 1
-            dx = np.linalg.lstsq(J, -R, rcond=None)[0]
+        dx = _newton_direction(kD, dsigma, *lin, p, k, R, stats)
         x, R, lin, status = _backtrack(residual, x, dx, R, stats)
     raise _NotConverged(f"residual {err:.3e} above {tol:.3e} after {max_iter} iterations")
+
+
+def _jacobian(kD, dsigma, dPi, ident, p, k):
+    """∂(R/p)/∂x: kD on the rows evaluated as w, (k I − ∂Π ∂σ/∂x)/p on the others."""
+    J = -(dPi @ dsigma)
+    J[np.diag_indices(len(J))] += k
+    return np.where(ident[:, None], kD, J / p[:, None])
+
+
+def _newton_direction(kD, dsigma, dPi, ident, p, k, R, stats, rcond=1e-10):
+    """The semi-smooth Newton update dx of R/p.
+
+    More closed rows than the bodies' degrees of freedom (a cylinder on the rim points of
+    its base, a box face with many points) make D = A H⁻¹ Aᵀ singular, and with it the
+    Newton matrix on sticking contacts. An LU then returns a step whose components in the
+    null space of D are round-off amplified by the inverse of a pivot near zero: they do not
+    move the bodies (H⁻¹Aᵀ x ignores them), but they move σ = k x − p w and with it each
+    contact's status, and the backtracking stalls. Where the LU's pivots show the matrix
+    singular (the smallest below ``rcond`` of the largest), the step is the minimum-norm
+    solution of the truncated singular value decomposition: Newton's step on the range,
+    none along the multipliers the contacts cannot tell apart. The residual stays the exact
+    one, so the answer is exact. Counted in ``stats.minimum_norm_steps``."""
+    J = _jacobian(kD, dsigma, dPi, ident, p, k)
+    lu, piv, _ = dgetrf(J)  # (LAPACK's getrf and getrs: np.linalg.solve's own path)
+    pivots = np.abs(np.diagonal(lu))
+    if pivots.min(initial=np.inf) > rcond * pivots.max(initial=0.0):
+        return dgetrs(lu, piv, -R)[0]
+    stats.minimum_norm_steps += 1
+    return np.linalg.lstsq(J, -R, rcond=rcond)[0]
 
 
 def _backtrack(residual, x, dx, R, stats):
