@@ -108,6 +108,9 @@ class _Joint(PairDefaults):
         g = np.zeros(self.size)
         G = np.zeros((self.size, self.k))
         H = np.zeros((self.size, self.k, self.k))
+        if self.lines is None and not self.pairs:  # a ball joint: its point rows alone
+            self._point_rows(qa, qb, g, G, H)
+            return g, self._dofs(qb), G, H
         Ra, Rb = exp(qa[3:]), (np.eye(3) if qb is None else exp(qb[3:]))
         if self.lines is None:
             self._point_rows(qa, qb, g, G, H)
@@ -117,11 +120,14 @@ class _Joint(PairDefaults):
         first = 3 if self.lines is None else len(self.lines)
         for i, (da, db) in enumerate(self.pairs, start=first):
             g[i], G[i], H[i] = self._right_angle(Ra, Rb, da, db, qb is not None)
+        return g, self._dofs(qb), G, H
+
+    def _dofs(self, qb) -> np.ndarray:
         oa, ob = self.offsets
         dofs = oa + np.arange(6)
         if qb is not None:
             dofs = np.concatenate([dofs, ob + np.arange(6)])
-        return g, np.repeat(dofs[None], self.size, axis=0), G, H
+        return np.repeat(dofs[None], self.size, axis=0)
 
     def _point_rows(self, qa, qb, g, G, H) -> None:
         """x_a(r_a) − x_b(r_b) (or − the point), into the first three rows."""

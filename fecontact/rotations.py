@@ -29,6 +29,9 @@ _SMALL = 1e-4
 def hat(w: np.ndarray) -> np.ndarray:
     """The skew matrices w̃ (…, 3, 3) of the vectors ``w`` (…, 3): w̃ a = w × a."""
     w = np.asarray(w, dtype=float)
+    if w.shape == (3,):  # one vector (a rigid body): numpy's per-call cost would dominate
+        x, y, z = w.tolist()
+        return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
     W = np.zeros(w.shape + (3,))
     W[..., 0, 1], W[..., 0, 2], W[..., 1, 2] = -w[..., 2], w[..., 1], -w[..., 0]
     W[..., 1, 0], W[..., 2, 0], W[..., 2, 1] = w[..., 2], -w[..., 1], w[..., 0]
@@ -193,4 +196,16 @@ def _compose_single(psi: np.ndarray, delta: np.ndarray) -> np.ndarray:
         pw * d[2] + dw * p[2] + p[0] * d[1] - p[1] * d[0],
     ]
     n = math.sqrt(w * w + u[0] ** 2 + u[1] ** 2 + u[2] ** 2)
-    return _vector(np.array([w / n, u[0] / n, u[1] / n, u[2] / n]))
+    return _vector_single(w / n, [u[0] / n, u[1] / n, u[2] / n])
+
+
+def _vector_single(w: float, u: list) -> np.ndarray:
+    """``_vector`` of one unit quaternion (w, u), by math."""
+    if w < 0.0:
+        w, u = -w, [-u[0], -u[1], -u[2]]
+    s = math.sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
+    if s < _SMALL:
+        scale = 2.0 / w * (1.0 - s**2 / (3.0 * w**2))
+    else:
+        scale = 2.0 * math.atan2(s, w) / s
+    return np.array([scale * u[0], scale * u[1], scale * u[2]])

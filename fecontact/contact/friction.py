@@ -25,6 +25,7 @@ of :func:`solve_coulomb`, not its answer.
 from __future__ import annotations
 
 import numpy as np
+from scipy.linalg.lapack import dgetrf, dgetrs
 
 from .stats import CoulombStats
 
@@ -327,33 +328,64 @@ def _newton(c, D, p, k, mu, nt, x0, tol, max_iter, stats):
             return x, status, it
         if it == max_iter:
             break
-        dPi, ident = lin
-        J = -(dPi @ dsigma)
-        J[np.diag_indices(N)] += k
-        J = np.where(ident[:, None], kD, J / p[:, None])
-        try:
-            dx = np.linalg.solve(J, -R)
-        except np.linalg.LinAlgError:
-            stats.least_squares_steps += 1
-            dx = np.linalg.lstsq(J, -R, rcond=None)[0]
-        x, R, lin, status = _backtrack(residual, x, dx, R, stats)
+        directions = _newton_direction(kD, dsigma, *lin, p, k, R, stats)
+        x, R, lin, status = _backtrack(residual, x, directions, R, stats)
     raise _NotConverged(f"residual {err:.3e} above {tol:.3e} after {max_iter} iterations")
 
 
-def _backtrack(residual, x, dx, R, stats):
-    """x + s dx with the largest s = 2⁻ⁱ that decreases |R|² (Armijo); the full step when
-    none of 20 does (the merit of a nonsmooth residual can rise across a kink), counted."""
+def _jacobian(kD, dsigma, dPi, ident, p, k):
+    """∂(R/p)/∂x: kD on the rows evaluated as w, (k I − ∂Π ∂σ/∂x)/p on the others."""
+    J = -(dPi @ dsigma)
+    J[np.diag_indices(len(J))] += k
+    return np.where(ident[:, None], kD, J / p[:, None])
+
+
+def _newton_direction(kD, dsigma, dPi, ident, p, k, R, stats, rcond=1e-10):
+    """The semi-smooth Newton update dx of R/p.
+
+    More closed rows than the bodies' degrees of freedom (a cylinder on the rim points of
+    its base, a box face with many points) make D = A H⁻¹ Aᵀ singular, and with it the
+    Newton matrix on sticking contacts. An LU then returns a step whose components in the
+    null space of D are round-off amplified by the inverse of a pivot near zero: they do not
+    move the bodies (H⁻¹Aᵀ x ignores them), but they move σ = k x − p w and with it each
+    contact's status, and the backtracking stalls. Where the LU's pivots show the matrix
+    singular (the smallest below ``rcond`` of the largest), the step is the minimum-norm
+    solution of the truncated singular value decomposition: Newton's step on the range,
+    none along the multipliers the contacts cannot tell apart. The residual stays the exact
+    one, so the answer is exact. Counted in ``stats.minimum_norm_steps``.
+
+    Returns the directions to try in turn: on a singular matrix the minimum-norm one, then
+    the LU's where its pivots are nonzero. Where the rows are inconsistent for the current
+    statuses (R outside the range of J) the minimum-norm step stops at a nonzero minimum of
+    |R|²; the LU's long step crosses into other statuses (a tumbling box's velocity jumps
+    needed it)."""
+    J = _jacobian(kD, dsigma, dPi, ident, p, k)
+    lu, piv, _ = dgetrf(J)  # (LAPACK's getrf and getrs: np.linalg.solve's own path)
+    pivots = np.abs(np.diagonal(lu))
+    if pivots.min(initial=np.inf) > rcond * pivots.max(initial=0.0):
+        return (dgetrs(lu, piv, -R)[0],)
+    stats.minimum_norm_steps += 1
+    lu_step = dgetrs(lu, piv, -R)[0] if np.all(pivots > 0.0) else None
+    return np.linalg.lstsq(J, -R, rcond=rcond)[0], lu_step
+
+
+def _backtrack(residual, x, directions, R, stats):
+    """x + s dx with the largest s = 2⁻ⁱ that decreases |R|² (Armijo), over the
+    ``directions`` in turn (None: none); the full step of the last when none of 20 does
+    along any (the merit of a nonsmooth residual can rise across a kink), counted."""
     f0 = R @ R
-    s = 1.0
-    for _ in range(20):
-        xs = x + s * dx
-        Rs, lin, status = residual(xs)
-        if Rs @ Rs <= (1.0 - 1e-4 * s) * f0:
-            return xs, Rs, lin, status
-        s *= 0.5
-        stats.line_search_cuts += 1
+    directions = [d for d in directions if d is not None]
+    for dx in directions:
+        s = 1.0
+        for _ in range(20):
+            xs = x + s * dx
+            Rs, lin, status = residual(xs)
+            if Rs @ Rs <= (1.0 - 1e-4 * s) * f0:
+                return xs, Rs, lin, status
+            s *= 0.5
+            stats.line_search_cuts += 1
     stats.full_steps_forced += 1
-    xs = x + dx
+    xs = x + directions[-1]
     return (xs, *residual(xs))
 
 

@@ -14,15 +14,15 @@ class CoulombStats:
     iterations, backtracking cuts of the merit |R|², updates taken in full after the
     backtracking found no decrease (a kink of the nonsmooth residual), solves where Newton
     alone did not converge and a nonsmooth Gauss–Seidel over the contacts brought it near the
-    solution first, and Newton steps taken by least squares on a singular Jacobian
-    (redundant contacts)."""
+    solution first, and Newton steps taken as the minimum-norm solution on a singular
+    Jacobian (more closed rows than degrees of freedom: redundant contacts)."""
 
     solves: int = 0
     iterations: int = 0
     line_search_cuts: int = 0
     full_steps_forced: int = 0
     gauss_seidel_solves: int = 0
-    least_squares_steps: int = 0
+    minimum_norm_steps: int = 0
 
 
 @dataclass
