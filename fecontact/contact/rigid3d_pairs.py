@@ -37,7 +37,7 @@ from .node_pairs import NodeContact
 from .obstacles import Plane
 from .registry import register_pair
 
-__all__ = ["BallBallContact", "BallBoxContact", "BallsPlaneContact"]
+__all__ = ["BallBallContact", "BallBoxContact", "BallsPlaneContact", "RigidPair"]
 
 
 def _arm_rows(R: np.ndarray, a: np.ndarray) -> np.ndarray:
@@ -113,18 +113,18 @@ class BallsPlaneContact(PairDefaults):
         return G @ _increment(self._local(q), q_n[self.offset : self.offset + 6])
 
 
-class BallBallContact(PairDefaults):
-    """Two rigid bodies with ``Ball`` shapes: g = |c_b − c_a| − ρ_a − ρ_b (one contact)."""
+class RigidPair(PairDefaults):
+    """One frictional contact between two rigid bodies in space ``a`` and ``b`` (the first
+    carries the contact's output), with Newton's ``restitution``; its rows touch the twelve
+    dofs of the two bodies."""
 
     frictional = True
     size = 1
     linear = False
 
-    def __init__(self, a: RigidBody3D, b: RigidBody3D, restitution=0.0, clearance=0.0):
-        self.bodies = (a, b)
-        self.body = a
+    def __init__(self, a: RigidBody3D, b: RigidBody3D, restitution=0.0):
+        self.bodies, self.body = (a, b), a
         self.restitution = check_range("restitution", restitution, 0.0, 1.0)
-        self.radii = a.shape.radius + b.shape.radius + clearance
         self.offsets = (0, 0)
 
     def bind(self, model) -> None:
@@ -133,6 +133,14 @@ class BallBallContact(PairDefaults):
     def _dofs(self):
         oa, ob = self.offsets
         return np.concatenate([oa + np.arange(6), ob + np.arange(6)])[None]
+
+
+class BallBallContact(RigidPair):
+    """Two rigid bodies with ``Ball`` shapes: g = |c_b − c_a| − ρ_a − ρ_b (one contact)."""
+
+    def __init__(self, a: RigidBody3D, b: RigidBody3D, restitution=0.0, clearance=0.0):
+        super().__init__(a, b, restitution)
+        self.radii = a.shape.radius + b.shape.radius + clearance
 
     def _geometry(self, q):
         (a, b), (oa, ob) = self.bodies, self.offsets
@@ -180,27 +188,17 @@ class BallBallContact(PairDefaults):
         return G @ d
 
 
-class BallBoxContact(PairDefaults):
+class BallBoxContact(RigidPair):
     """A ``Ball`` body against a ``Box`` body: g = |ρ − p| − ρ_a with ρ = R_bᵀ(c_a − c_b) the
     ball's centre in the box frame and p its closest point of the box (ρ clamped to the half
     sides); inside the box, g = −(depth below the nearest face) − ρ_a. The normal n = R_b
     (ρ − p)/|ρ − p| (the nearest face's, inside) points from the box to the ball; the gradient
     is exact, the curvature left out (Newton's rate, not its answer)."""
 
-    frictional = True
-    size = 1
-    linear = False
-
     def __init__(self, ball: RigidBody3D, box: RigidBody3D, restitution=0.0, clearance=0.0):
-        self.bodies = (ball, box)
-        self.body = ball
-        self.restitution = check_range("restitution", restitution, 0.0, 1.0)
+        super().__init__(ball, box, restitution)
         self.radius = ball.shape.radius + clearance
         self.half = 0.5 * box.shape.sides
-        self.offsets = (0, 0)
-
-    bind = BallBallContact.bind
-    _dofs = BallBallContact._dofs
 
     def _geometry(self, q):
         """(q_a, q_b, R_b, ρ, p, n_b in the box frame, signed distance of the centre)."""
