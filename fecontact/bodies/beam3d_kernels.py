@@ -50,6 +50,10 @@ _E1 = np.array([1.0, 0.0, 0.0])
 # θ² below which the closed forms lose digits: their series (error below θ⁸ ~ 1e-24)
 _SMALL2 = 1e-6
 _STEP = 1e-30  # complex step: far below round-off of any first-order term
+# x below which the slopes of the coefficients are taken from their series (module text)
+_SLOPE_SERIES = 0.25
+_I3 = np.eye(3)
+_DIAG = np.arange(3)
 
 
 @dataclass(frozen=True)
@@ -243,24 +247,142 @@ def _perturbations():
 _DX, _DR = _perturbations()
 
 
+# -- the force and its analytic tangent in real arithmetic -----------------------------------
+def _slopes(x1, x2, co):
+    """d′(θ²) of T⁻¹'s coefficient and b′, c′ of T's at θ²/4 (derivatives with respect to
+    their argument x: d′ = ((1 + a)/(4b) − 1)/x², b′ = (a/2 − b)/x, c′ = (b − 3c)/(2x)), by
+    their series where x < _SLOPE_SERIES (error below 1e-11 relative), whose closed forms
+    cancel there."""
+    (a1, b1, _, _), (a2, b2, c2, _) = co[:, 0], co[:, 1]
+    if np.all(x1 < _SLOPE_SERIES):
+        return _slope_series(x1, x2)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        closed = ((1 + a1) / (4 * b1) - 1) / x1**2, (0.5 * a2 - b2) / x2, (b2 - 3 * c2) / (2 * x2)
+    series = _slope_series(x1, x2)
+    return tuple(np.where(x1 < _SLOPE_SERIES, s, c) for s, c in zip(series, closed, strict=True))
+
+
+def _slope_series(x1, x2):
+    d = 1 / 720 + x1 * (
+        1 / 15120 + x1 * (1 / 403200 + x1 * (1 / 11975040 + x1 * 691 / 261534873600))
+    )
+    b = -1 / 24 + x2 * (1 / 360 - x2 * (1 / 13440 - x2 * (1 / 907200 - x2 / 95800320)))
+    c = -1 / 120 + x2 * (1 / 2520 - x2 * (1 / 120960 - x2 * (1 / 9979200 - x2 / 1245404160)))
+    return d, b, c
+
+
+def _matrix_slope(P, phi, v, alpha, beta, alpha1, beta1):
+    """∂(M v)/∂φ (E, 3, 3) of M = I + α φ̃ + β φ̃², α and β functions of x = |φ|² with slopes
+    α′, β′; P = φ̃:  −α ṽ + β (φ vᵀ + (φ·v) I − 2 v φᵀ) + 2 (α′ φ×v + β′ φ×(φ×v)) φᵀ."""
+    w1 = _mv(P, v)
+    w2 = _mv(P, w1)
+    G = beta[:, None, None] * (
+        phi[:, :, None] * v[:, None, :] - 2 * v[:, :, None] * phi[:, None, :]
+    )
+    G -= np.reshape(alpha, (-1, 1, 1)) * hat(v)  # α, α′: per element, or one number
+    G += (2 * (np.reshape(alpha1, (-1, 1)) * w1 + beta1[:, None] * w2))[:, :, None] * phi[
+        :, None, :
+    ]
+    G[:, _DIAG, _DIAG] += (beta * np.sum(phi * v, axis=1))[:, None]
+    return G
+
+
+class _Forces:
+    """The element force f (E, 12) and energy W (E) at the nodes' R₀, R₁, x₀, x₁, and the
+    intermediate quantities of the module docstring that the tangent reuses."""
+
+    def __init__(self, el, R0, R1, x0, x1):
+        ell = el.ell[:, None]
+        self.A = np.swapaxes(R0, 1, 2) @ R1  # exp(ρ̃)
+        self.rho = rho = _log(self.A)
+        self.t2 = t2 = np.sum(rho * rho, axis=1)
+        self.co = co = _coefficients(np.stack([t2, 0.25 * t2]))
+        (_, _, _, d1), (a2, b2, c2, _) = co[:, 0], co[:, 1]
+        self.P = P = hat(rho)
+        P2 = P @ P
+        self.H = _I3 + (0.5 * a2)[:, None, None] * P + (0.25 * b2)[:, None, None] * P2
+        self.Ti = _I3 + 0.5 * P + d1[:, None, None] * P2  # T(ρ)⁻¹
+        self.Th = _I3 - (0.5 * b2)[:, None, None] * P + (0.25 * c2)[:, None, None] * P2
+        self.Rm = R0 @ self.H
+        self.gh = gh = _mtv(self.Rm, (x1 - x0) / ell)
+        L0 = el.L0
+        Gam, Kap = _mtv(L0, gh) - _E1, _mtv(L0, rho) / ell
+        N, M = el.C[:3] * Gam, el.C[3:] * Kap
+        self.n, m = _mv(L0, N), _mv(L0, M)
+        self.Nh, self.Gh = hat(self.n), hat(gh)
+        self.p = p = ell * _mv(self.Nh, gh)
+        self.u = m + 0.5 * _mtv(self.Th, p)
+        self.t = t = _mtv(self.Ti, self.u)
+        fx = _mv(self.Rm, self.n)
+        self.f = np.concatenate([-fx, _mv(self.H, p) - _mv(self.A, t), fx, t], axis=1)
+        self.W = 0.5 * el.ell * (np.sum(N * Gam, axis=1) + np.sum(M * Kap, axis=1))
+
+
+def _tangent(el, s: _Forces) -> np.ndarray:
+    r"""∂f(q ⊕ Δ)/∂Δ (E, 12, 12), Δ = (δx₀, δθ₀, δx₁, δθ₁), by the chain rule through the
+    force's intermediates, each a (E, 3, 12) derivative D·:
+
+        Dφ = (0, −exp(−ρ̃), 0, I),  Dρ = T(ρ)⁻¹ Dφ,  Dψ_m = (0, exp(−½ρ̃), 0, 0) + ½ T(½ρ) Dρ,
+        Dγ̂ = γ̂~ Dψ_m + R_mᵀ (−I, 0, I, 0)/ℓ,  Dn̂ = Λ₀C_ΓΛ₀ᵀ Dγ̂,  Dm̂ = Λ₀C_KΛ₀ᵀ Dρ/ℓ,
+        Dp = ℓ (n̂~ Dγ̂ − γ̂~ Dn̂),  Du = Dm̂ + ½ (T(½ρ)ᵀ Dp + ½ ∂(T(φ)ᵀp)/∂φ Dρ),
+        Dt = T(ρ)⁻ᵀ Du + ∂(T(ρ)⁻ᵀu)/∂ρ Dρ,
+
+    (δφ the right variation of exp(ρ̃) = R₀ᵀR₁, ψ_m that of R_m, u = m̂ + ½T(½ρ)ᵀp), and, with
+    ∂(exp(φ̃)v)/∂φ = −exp(φ̃) ṽ T(φ),
+
+        Df_x₁ = R_m (Dn̂ − n̂~ Dψ_m) = −Df_x₀,  Df_θ₁ = Dt,
+        Df_θ₀ = exp(½ρ̃) (Dp − ½ p̃ T(½ρ) Dρ) − exp(ρ̃) (Dt − t̃ Dφ).
+
+    The derivatives of T's matrices are :func:`_matrix_slope` with the coefficients' slopes."""
+    E, ell = len(el.ell), el.ell[:, None, None]
+    At, Ht = np.swapaxes(s.A, 1, 2), np.swapaxes(s.H, 1, 2)
+    Dphi = np.zeros((E, 3, 12))
+    Dphi[:, :, 3:6] = -At
+    Dphi[:, :, 9:] = _I3
+    Drho = s.Ti @ Dphi
+    Dpsi = 0.5 * (s.Th @ Drho)
+    Dpsi[:, :, 3:6] += Ht
+    Dg = s.Gh @ Dpsi
+    B = np.swapaxes(s.Rm, 1, 2) / ell
+    Dg[:, :, :3] -= B
+    Dg[:, :, 6:9] += B
+    L0 = el.L0
+    L0t = np.swapaxes(L0, 1, 2)
+    Dn = (L0 * el.C[:3]) @ (L0t @ Dg)
+    Dm = (L0 * el.C[3:]) @ (L0t @ Drho) / ell
+    Dp = ell * (s.Nh @ Dg - s.Gh @ Dn)
+    (a2, b2, c2, _) = s.co[:, 1]
+    d1p, b2p, c2p = _slopes(s.t2, 0.25 * s.t2, s.co)
+    phi = 0.5 * s.rho
+    Gp = _matrix_slope(0.5 * s.P, phi, s.p, b2, c2, b2p, c2p)
+    Du = Dm + 0.5 * (np.swapaxes(s.Th, 1, 2) @ Dp + 0.5 * (Gp @ Drho))
+    Gu = _matrix_slope(s.P, s.rho, s.u, -0.5, s.co[3, 0], 0.0, d1p)
+    Dt = np.swapaxes(s.Ti, 1, 2) @ Du + Gu @ Drho
+    Dfx = s.Rm @ (Dn - s.Nh @ Dpsi)
+    Df0 = s.H @ (Dp - 0.5 * (hat(s.p) @ (s.Th @ Drho))) - s.A @ (Dt - hat(s.t) @ Dphi)
+    return np.concatenate([-Dfx, Df0, Dfx, Dt], axis=1)
+
+
+def complex_step_internal(el: Beam3DElements, X: np.ndarray, q: np.ndarray):
+    """Element forces (E, 12), energies (E) and tangents ∂f(q ⊕ Δ)/∂Δ (E, 12, 12) by one
+    complex evaluation at the 13 points q and q ⊕ ihe_k: the real parts are f and W (to
+    O(h²), nothing), the imaginary parts over h the columns. Exact to round-off and slow (its
+    cost is that of numpy calls on complex arrays): the reference the analytic tangent of
+    :func:`beam3d_internal` is checked against."""
+    R0, R1, x0, x1 = _nodal(el, X, q)
+    R = np.stack([R0, R1], axis=1)[:, None] @ _DR  # (E, 13, 2, 3, 3)
+    x = np.stack([x0, x1], axis=1)[:, None] + _DX
+    fk, Wk = _force(el, R[:, :, 0], R[:, :, 1], x[:, :, 0], x[:, :, 1])
+    return fk[:, 0].real, Wk[:, 0].real, np.swapaxes(fk[:, 1:].imag, 1, 2) / _STEP
+
+
 def beam3d_internal(el: Beam3DElements, X: np.ndarray, q: np.ndarray, ndof: int, tangent: bool):
     """Strain energy W (J), internal force (N, N·m; moments in the nodes' frames R) and the
-    element tangents ∂f(q ⊕ Δ)/∂Δ (E, 12, 12) with respect to the right increments.
-
-    With the tangent, one complex evaluation at the 13 points q and q ⊕ ihe_k gives all: the
-    real parts are f and W (to O(h²), nothing), the imaginary parts over h the columns."""
-    R0, R1, x0, x1 = _nodal(el, X, q)
-    if tangent:
-        R = np.stack([R0, R1], axis=1)[:, None] @ _DR  # (E, 13, 2, 3, 3)
-        x = np.stack([x0, x1], axis=1)[:, None] + _DX
-        fk, Wk = _force(el, R[:, :, 0], R[:, :, 1], x[:, :, 0], x[:, :, 1])
-        f_e, W_e = fk[:, 0].real, Wk[:, 0].real
-        K_e = np.swapaxes(fk[:, 1:].imag, 1, 2) / _STEP
-    else:
-        f_e, W_e = _force(el, R0, R1, x0, x1)
-        K_e = None
-    f = np.bincount(el.dofs.ravel(), f_e.ravel(), minlength=ndof)
-    return float(W_e.sum()), f, K_e
+    element tangents ∂f(q ⊕ Δ)/∂Δ (E, 12, 12) with respect to the right increments, in real
+    arithmetic (:func:`_tangent`)."""
+    s = _Forces(el, *_nodal(el, X, q))
+    f = np.bincount(el.dofs.ravel(), s.f.ravel(), minlength=ndof)
+    return float(s.W.sum()), f, _tangent(el, s) if tangent else None
 
 
 def beam3d_energy(el: Beam3DElements, X: np.ndarray, q: np.ndarray) -> float:
