@@ -18,7 +18,7 @@ from fecontact import (
     rotations,
 )
 from fecontact.bodies.beam import rectangle_torsion
-from fecontact.bodies.beam3d_kernels import complex_step_internal
+from fecontact.bodies.beam3d_complex_step import complex_step_internal
 from fecontact.statics import solve_static
 from fecontact.statics_rotations import plus, solve_static_rotations
 

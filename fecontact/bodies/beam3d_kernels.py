@@ -31,12 +31,11 @@ per element dof gives each column exactly, to round-off, with no step to choose.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
-
-from ..rotations import exp as rotation_exp
-from ..rotations import hat
+import scipy.special
 
 __all__ = [
     "Beam3DElements",
@@ -47,11 +46,6 @@ __all__ = [
 ]
 
 _E1 = np.array([1.0, 0.0, 0.0])
-# θ² below which the closed forms lose digits: their series (error below θ⁸ ~ 1e-24)
-_SMALL2 = 1e-6
-_STEP = 1e-30  # complex step: far below round-off of any first-order term
-# x below which the slopes of the coefficients are taken from their series (module text)
-_SLOPE_SERIES = 0.25
 _I3 = np.eye(3)
 _DIAG = np.arange(3)
 
@@ -104,77 +98,98 @@ def reference_triads(X: np.ndarray, orientation) -> np.ndarray:
     return np.stack([e1, e2, np.cross(e1, e2)], axis=2)
 
 
-# -- SO(3) functions analytic in their argument (real or complex) ---------------------------
-def _coefficients(t2):
-    """(4, …): sin θ/θ, (1 − cos θ)/θ², (θ − sin θ)/θ³, 1/θ² − (1 + cos θ)/(2θ sin θ) of θ²,
-    by their series where Re θ² < _SMALL2 (only the branch some entry needs is evaluated)."""
-    small = np.real(t2) < _SMALL2
-    if small.all():
-        return _series(t2)
-    safe = np.where(small, 1.0, t2)
-    t = np.sqrt(safe)
-    s, c = np.sin(t), np.cos(t)
+# -- SO(3) in few array operations -----------------------------------------------------------
+def _skew_basis() -> np.ndarray:
+    """(3, 9): w @ it is w̃ (w̃ a = w × a) flattened row by row."""
+    B = np.zeros((3, 3, 3))
+    for i, j, k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
+        B[k, i, j], B[k, j, i] = -1.0, 1.0  # w̃_ij = −ε_ijk w_k
+    return B.reshape(3, 9)
+
+
+def _vee_trace() -> np.ndarray:
+    """(9, 4): a flattened 3×3 matrix @ it is its axial vector (skew part) and half its trace."""
+    V = np.zeros((9, 4))
+    for k, (i, j) in enumerate(((2, 1), (0, 2), (1, 0))):
+        V[3 * i + j, k], V[3 * j + i, k] = 0.5, -0.5
+    V[[0, 4, 8], 3] = 0.5
+    return V
+
+
+def _series_table() -> np.ndarray:
+    """(2, N, 5): Taylor coefficients in x of d(x), d′(x), 0, 0, 0 (row 0) and of a, b, c, b′, c′
+    (row 1), with a = sin θ/θ, b = (1 − cos θ)/θ², c = (θ − sin θ)/θ³,
+    d = 1/θ² − (1 + cos θ)/(2θ sin θ) = −Σₙ (−1)ⁿ B₂ₙ x^(n−1)/(2n)!, x = θ²."""
+    k = np.arange(_N_TERMS + 1)
+    fact = np.array([math.factorial(int(n)) for n in range(2 * _N_TERMS + 6)], dtype=float)
+    sign = (-1.0) ** k
+    a, b, c = sign / fact[2 * k + 1], sign / fact[2 * k + 2], sign / fact[2 * k + 3]
+    B = scipy.special.bernoulli(2 * _N_TERMS + 2)
+    d = -((-1.0) ** (k + 1)) * B[2 * k + 2] / fact[2 * k + 2]
+
+    def slope(s):
+        return k[1:] * s[1:]
+
+    T = np.zeros((2, _N_TERMS, 5))
+    T[0, :, 0], T[0, :, 1] = d[:-1], slope(d)
+    for col, s in enumerate((a[:-1], b[:-1], c[:-1], slope(b), slope(c))):
+        T[1, :, col] = s
+    return T
+
+
+_N_TERMS = 12  # at θ² < _SERIES_MAX the first neglected term is below 1e-20 of each function
+_SERIES_MAX = 1.0
+_SKEW, _VEE, _SERIES = _skew_basis(), _vee_trace(), _series_table()
+_POWERS = np.arange(_N_TERMS)
+_ARGUMENTS = np.array([[1.0], [0.25]])
+_TINY = 1e-300
+
+
+def _hat(w: np.ndarray) -> np.ndarray:
+    return (w @ _SKEW).reshape(w.shape[:-1] + (3, 3))
+
+
+def _exp(psi: np.ndarray) -> np.ndarray:
+    """exp(ψ̃) (n, 3, 3) = I + sin θ/θ ψ̃ + ½ (sin(θ/2)/(θ/2))² ψ̃², free of cancellation; θ
+    is offset by _TINY, which leaves it unchanged unless it is 0 and then makes the ratios 1."""
+    t = np.sqrt(np.einsum("ij,ij->i", psi, psi)) + _TINY
+    h = 0.5 * t
+    P = _hat(psi)
+    a, b = np.sin(t) / t, 0.5 * (np.sin(h) / h) ** 2
+    return _I3 + a[:, None, None] * P + b[:, None, None] * (P @ P)
+
+
+def _log(A: np.ndarray) -> np.ndarray:
+    """Rotation vector of A (θ < π): θ = 2 atan(sin θ/(1 + cos θ)) along the axial vector."""
+    v = A.reshape(-1, 9) @ _VEE
+    a, c1 = v[:, :3], v[:, 3] + 0.5  # sin θ · axis, 1 + cos θ
+    # tan(θ/2) (offset as in _exp: atan(s)/s is 1 at 0); NaN for an element turned by π
+    s = np.sqrt(np.einsum("ij,ij->i", a, a)) / c1 + _TINY
+    return (2.0 * np.arctan(s) / (s * c1))[:, None] * a
+
+
+def _coefficients(t2: np.ndarray) -> np.ndarray:
+    """(2, E, 5): d, d′ of x = θ² (row 0) and a, b, c, b′, c′ of x = θ²/4 (row 1), by their
+    series where θ² < _SERIES_MAX, else by the closed forms d′ = ((1 + a)/(4b) − 1)/x²,
+    b′ = (a/2 − b)/x, c′ = (b − 3c)/(2x) (of θ², resp. θ²/4)."""
+    S = ((_ARGUMENTS * t2)[..., None] ** _POWERS) @ _SERIES  # x = θ², θ²/4
+    if t2.max() < _SERIES_MAX:
+        return S
+    small = t2 < _SERIES_MAX
+    x1 = np.where(small, 1.0, t2)
+    t = np.sqrt(x1)
+    x2, h = 0.25 * x1, 0.5 * t
+    s1, c1, s2, c2 = np.sin(t), np.cos(t), np.sin(h), np.cos(h)
+    a1, b1 = s1 / t, (1 - c1) / x1
+    a2, b2, cc2 = s2 / h, (1 - c2) / x2, (h - s2) / (x2 * h)
+    d = 1 / x1 - (1 + c1) / (2 * t * s1)
     closed = np.stack(
-        [s / t, (1 - c) / safe, (t - s) / (safe * t), 1 / safe - (1 + c) / (2 * t * s)]
-    )
-    return np.where(small, _series(t2), closed) if small.any() else closed
-
-
-def _series(x):
-    """The series of the four coefficients in x = θ² (error below x⁴/10⁵)."""
-    return np.stack(
         [
-            1 - x / 6 * (1 - x / 20 * (1 - x / 42)),
-            0.5 - x / 24 * (1 - x / 30 * (1 - x / 56)),
-            1 / 6 - x / 120 * (1 - x / 42 * (1 - x / 72)),
-            1 / 12 + x / 720 + x * x / 30240 + x**3 / 1209600,
+            np.stack([d, ((1 + a1) / (4 * b1) - 1) / x1**2, d, d, d], axis=-1),
+            np.stack([a2, b2, cc2, (0.5 * a2 - b2) / x2, (b2 - 3 * cc2) / (2 * x2)], axis=-1),
         ]
     )
-
-
-def _rotation_functions(rho):
-    """exp(ρ̃), T(ρ)⁻¹, exp(½ρ̃) and T(½ρ) (each …, 3, 3), from one skew matrix and its square."""
-    t2 = np.sum(rho * rho, axis=-1)
-    (a1, b1, _, d1), (a2, b2, c2, _) = np.moveaxis(_coefficients(np.stack([t2, 0.25 * t2])), 1, 0)
-    P = hat_any(rho)
-    P2 = P @ P
-    I3 = np.eye(3)
-
-    def combine(x, y):
-        return I3 + np.asarray(x)[..., None, None] * P + y[..., None, None] * P2
-
-    return (
-        combine(a1, b1),
-        combine(0.5, d1),
-        combine(0.5 * a2, 0.25 * b2),
-        combine(-0.5 * b2, 0.25 * c2),
-    )
-
-
-def _log(R):
-    """Rotation vector of R (θ < π), through θ = 2 atan(s/(1 + c)), s = sin θ, c = cos θ."""
-    a = 0.5 * np.stack(
-        [R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0], R[..., 1, 0] - R[..., 0, 1]],
-        axis=-1,
-    )
-    c1 = 0.5 * (np.trace(R, axis1=-2, axis2=-1) + 1.0)  # 1 + cos θ
-    # an element turned by π over its length (a Newton iterate far from any motion) gives
-    # NaN here, which the caller's convergence checks report
-    with np.errstate(divide="ignore", invalid="ignore"):
-        x2 = np.sum(a * a, axis=-1) / (c1 * c1)  # tan²(θ/2)
-        # atan(x)/x by its series where x² is small
-        small = np.real(x2) < _SMALL2
-        safe = np.sqrt(np.where(small, 1.0, x2))
-        ratio = np.where(small, 1 - x2 / 3 + x2 * x2 / 5 - x2**3 / 7, np.arctan(safe) / safe)
-        return (2.0 * ratio / c1)[..., None] * a
-
-
-def hat_any(w):
-    """Skew matrices of real or complex vectors w (…, 3)."""
-    W = np.zeros(w.shape + (3,), dtype=w.dtype)
-    W[..., 0, 1], W[..., 0, 2], W[..., 1, 2] = -w[..., 2], w[..., 1], -w[..., 0]
-    W[..., 1, 0], W[..., 2, 0], W[..., 2, 1] = w[..., 2], -w[..., 1], w[..., 0]
-    return W
+    return np.where(small[:, None], S, closed)
 
 
 def _mv(A, x):
@@ -185,137 +200,62 @@ def _mtv(A, x):
     return (x[..., None, :] @ A)[..., 0, :]
 
 
-# -- strains and forces ---------------------------------------------------------------------
-def _kinematics(el, R0, R1, x0, x1):
-    """ρ, R_m, γ̂, Γ, K, Λ₀ and ℓ of the elements (any axes between the element's and the
-    vectors')."""
-    ell = el.ell.reshape(el.ell.shape + (1,) * (x0.ndim - 2))[..., None]
-    L0 = el.L0.reshape(el.L0.shape[:1] + (1,) * (x0.ndim - 2) + (3, 3))
-    rho = _log(np.swapaxes(R0, -1, -2) @ R1)
-    gh_L0 = (x1 - x0) / ell  # x′, turned below
-    return rho, gh_L0, L0, ell
-
-
-def _force(el, R0, R1, x0, x1):
-    """Element forces (…, 12) on (x₀, θ₀, x₁, θ₁) and the strain energies (…) (docstring)."""
-    rho, xp, L0, ell = _kinematics(el, R0, R1, x0, x1)
-    exp_rho, Tinv_rho, Rh, T_half = _rotation_functions(rho)
-    Rm = R0 @ Rh
-    gh = _mtv(Rm, xp)
-    Gam, Kap = _mtv(L0, gh) - _E1, _mtv(L0, rho) / ell
-    N, M = el.C[:3] * Gam, el.C[3:] * Kap
-    n, m = _mv(L0, N), _mv(L0, M)
-    p = ell * np.cross(n, gh)
-    t = _mtv(Tinv_rho, m + 0.5 * _mtv(T_half, p))
-    fx = _mv(Rm, n)
-    f = np.concatenate([-fx, _mv(Rh, p) - _mv(exp_rho, t), fx, t], axis=-1)
-    W = 0.5 * ell[..., 0] * (np.sum(N * Gam, axis=-1) + np.sum(M * Kap, axis=-1))
-    return f, W
-
-
+# -- strains, force and tangent ---------------------------------------------------------------
 def _nodal(el, X, q):
     Q = q.reshape(-1, 6)
-    R = rotation_exp(Q[:, 3:])
+    R = _exp(Q[:, 3:])
     x = X + Q[:, :3]
     return R[el.n0], R[el.n1], x[el.n0], x[el.n1]
 
 
-def beam3d_strains(el: Beam3DElements, X: np.ndarray, q: np.ndarray):
-    """Γ (E, 3) and K (E, 3, 1/m) in the section frames at the element midpoints."""
-    R0, R1, x0, x1 = _nodal(el, X, q)
-    rho, xp, L0, ell = _kinematics(el, R0, R1, x0, x1)
-    Rm = R0 @ _rotation_functions(rho)[2]
-    return _mtv(L0, _mtv(Rm, xp)) - _E1, _mtv(L0, rho) / ell
-
-
-def _perturbations():
-    """(13, 2, 3) translations and (13, 2, 3, 3) rotations i h ẽ_c of the complex step: none,
-    then one per element dof (x₀, θ₀, x₁, θ₁). R exp(ih ẽ) = R (I + ih ẽ) + O(h²), the O(h²)
-    far below round-off."""
-    dx = np.zeros((13, 2, 3), dtype=complex)
-    dR = np.zeros((13, 2, 3, 3), dtype=complex)
-    dR[:] = np.eye(3)
-    for k in range(12):
-        a, c = divmod(k, 6)
-        if c < 3:
-            dx[k + 1, a, c] = 1j * _STEP
-        else:
-            dR[k + 1, a] += 1j * _STEP * hat(np.eye(3)[c - 3])
-    return dx, dR
-
-
-_DX, _DR = _perturbations()
-
-
-# -- the force and its analytic tangent in real arithmetic -----------------------------------
-def _slopes(x1, x2, co):
-    """d′(θ²) of T⁻¹'s coefficient and b′, c′ of T's at θ²/4 (derivatives with respect to
-    their argument x: d′ = ((1 + a)/(4b) − 1)/x², b′ = (a/2 − b)/x, c′ = (b − 3c)/(2x)), by
-    their series where x < _SLOPE_SERIES (error below 1e-11 relative), whose closed forms
-    cancel there."""
-    (a1, b1, _, _), (a2, b2, c2, _) = co[:, 0], co[:, 1]
-    if np.all(x1 < _SLOPE_SERIES):
-        return _slope_series(x1, x2)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        closed = ((1 + a1) / (4 * b1) - 1) / x1**2, (0.5 * a2 - b2) / x2, (b2 - 3 * c2) / (2 * x2)
-    series = _slope_series(x1, x2)
-    return tuple(np.where(x1 < _SLOPE_SERIES, s, c) for s, c in zip(series, closed, strict=True))
-
-
-def _slope_series(x1, x2):
-    d = 1 / 720 + x1 * (
-        1 / 15120 + x1 * (1 / 403200 + x1 * (1 / 11975040 + x1 * 691 / 261534873600))
-    )
-    b = -1 / 24 + x2 * (1 / 360 - x2 * (1 / 13440 - x2 * (1 / 907200 - x2 / 95800320)))
-    c = -1 / 120 + x2 * (1 / 2520 - x2 * (1 / 120960 - x2 * (1 / 9979200 - x2 / 1245404160)))
-    return d, b, c
-
-
-def _matrix_slope(P, phi, v, alpha, beta, alpha1, beta1):
-    """∂(M v)/∂φ (E, 3, 3) of M = I + α φ̃ + β φ̃², α and β functions of x = |φ|² with slopes
-    α′, β′; P = φ̃:  −α ṽ + β (φ vᵀ + (φ·v) I − 2 v φᵀ) + 2 (α′ φ×v + β′ φ×(φ×v)) φᵀ."""
-    w1 = _mv(P, v)
-    w2 = _mv(P, w1)
-    G = beta[:, None, None] * (
-        phi[:, :, None] * v[:, None, :] - 2 * v[:, :, None] * phi[:, None, :]
-    )
-    G -= np.reshape(alpha, (-1, 1, 1)) * hat(v)  # α, α′: per element, or one number
-    G += (2 * (np.reshape(alpha1, (-1, 1)) * w1 + beta1[:, None] * w2))[:, :, None] * phi[
-        :, None, :
-    ]
-    G[:, _DIAG, _DIAG] += (beta * np.sum(phi * v, axis=1))[:, None]
-    return G
-
-
-class _Forces:
-    """The element force f (E, 12) and energy W (E) at the nodes' R₀, R₁, x₀, x₁, and the
-    intermediate quantities of the module docstring that the tangent reuses."""
+class _Strains:
+    """ρ = log(R₀ᵀR₁), the rotation functions of the element, R_m, γ̂ and the strains Γ, K."""
 
     def __init__(self, el, R0, R1, x0, x1):
-        ell = el.ell[:, None]
         self.A = np.swapaxes(R0, 1, 2) @ R1  # exp(ρ̃)
         self.rho = rho = _log(self.A)
-        self.t2 = t2 = np.sum(rho * rho, axis=1)
-        self.co = co = _coefficients(np.stack([t2, 0.25 * t2]))
-        (_, _, _, d1), (a2, b2, c2, _) = co[:, 0], co[:, 1]
-        self.P = P = hat(rho)
+        self.t2 = np.einsum("ij,ij->i", rho, rho)
+        self.co = co = _coefficients(self.t2)
+        d1, (a2, b2, c2) = co[0, :, 0], co[1, :, :3].T
+        self.P = P = _hat(rho)
         P2 = P @ P
         self.H = _I3 + (0.5 * a2)[:, None, None] * P + (0.25 * b2)[:, None, None] * P2
         self.Ti = _I3 + 0.5 * P + d1[:, None, None] * P2  # T(ρ)⁻¹
         self.Th = _I3 - (0.5 * b2)[:, None, None] * P + (0.25 * c2)[:, None, None] * P2
         self.Rm = R0 @ self.H
-        self.gh = gh = _mtv(self.Rm, (x1 - x0) / ell)
-        L0 = el.L0
-        Gam, Kap = _mtv(L0, gh) - _E1, _mtv(L0, rho) / ell
-        N, M = el.C[:3] * Gam, el.C[3:] * Kap
-        self.n, m = _mv(L0, N), _mv(L0, M)
-        self.Nh, self.Gh = hat(self.n), hat(gh)
+        self.gh = _mtv(self.Rm, x1 - x0) / el.ell[:, None]
+        self.Gam = _mtv(el.L0, self.gh) - _E1
+        self.Kap = _mtv(el.L0, rho) / el.ell[:, None]
+
+
+class _Forces(_Strains):
+    """The element force f (E, 12) and energy W (E), and the quantities the tangent reuses."""
+
+    def __init__(self, el, R0, R1, x0, x1):
+        super().__init__(el, R0, R1, x0, x1)
+        ell, gh = el.ell[:, None], self.gh
+        N, M = el.C[:3] * self.Gam, el.C[3:] * self.Kap
+        self.n, m = _mv(el.L0, N), _mv(el.L0, M)
+        self.Nh, self.Gh = _hat(self.n), _hat(gh)
         self.p = p = ell * _mv(self.Nh, gh)
         self.u = m + 0.5 * _mtv(self.Th, p)
         self.t = t = _mtv(self.Ti, self.u)
         fx = _mv(self.Rm, self.n)
         self.f = np.concatenate([-fx, _mv(self.H, p) - _mv(self.A, t), fx, t], axis=1)
-        self.W = 0.5 * el.ell * (np.sum(N * Gam, axis=1) + np.sum(M * Kap, axis=1))
+        self.W = 0.5 * el.ell * ((N * self.Gam).sum(axis=1) + (M * self.Kap).sum(axis=1))
+
+
+def _matrix_slope(P, phi, v, alpha, beta, alpha1, beta1):
+    """∂(M v)/∂φ (E, 3, 3) of M = I + α φ̃ + β φ̃², α and β functions of x = |φ|² with slopes
+    α′, β′ (per element, or one number); P = φ̃:
+
+        −α ṽ + β (φ vᵀ + (φ·v) I − 2 v φᵀ) + 2 (α′ φ×v + β′ φ×(φ×v)) φᵀ."""
+    w1 = _mv(P, v)
+    w = 2 * (np.reshape(alpha1, (-1, 1)) * w1 + beta1[:, None] * _mv(P, w1)) - 2 * beta[:, None] * v
+    G = w[:, :, None] * phi[:, None, :] + beta[:, None, None] * phi[:, :, None] * v[:, None, :]
+    G -= np.reshape(alpha, (-1, 1, 1)) * _hat(v)
+    G[:, _DIAG, _DIAG] += (beta * np.einsum("ij,ij->i", phi, v))[:, None]
+    return G
 
 
 def _tangent(el, s: _Forces) -> np.ndarray:
@@ -351,38 +291,29 @@ def _tangent(el, s: _Forces) -> np.ndarray:
     Dn = (L0 * el.C[:3]) @ (L0t @ Dg)
     Dm = (L0 * el.C[3:]) @ (L0t @ Drho) / ell
     Dp = ell * (s.Nh @ Dg - s.Gh @ Dn)
-    (a2, b2, c2, _) = s.co[:, 1]
-    d1p, b2p, c2p = _slopes(s.t2, 0.25 * s.t2, s.co)
+    (d1, d1p), (b2, c2, b2p, c2p) = s.co[0, :, :2].T, s.co[1, :, 1:].T
     phi = 0.5 * s.rho
     Gp = _matrix_slope(0.5 * s.P, phi, s.p, b2, c2, b2p, c2p)
     Du = Dm + 0.5 * (np.swapaxes(s.Th, 1, 2) @ Dp + 0.5 * (Gp @ Drho))
-    Gu = _matrix_slope(s.P, s.rho, s.u, -0.5, s.co[3, 0], 0.0, d1p)
+    Gu = _matrix_slope(s.P, s.rho, s.u, -0.5, d1, 0.0, d1p)
     Dt = np.swapaxes(s.Ti, 1, 2) @ Du + Gu @ Drho
     Dfx = s.Rm @ (Dn - s.Nh @ Dpsi)
-    Df0 = s.H @ (Dp - 0.5 * (hat(s.p) @ (s.Th @ Drho))) - s.A @ (Dt - hat(s.t) @ Dphi)
+    Df0 = s.H @ (Dp - 0.5 * (_hat(s.p) @ (s.Th @ Drho))) - s.A @ (Dt - _hat(s.t) @ Dphi)
     return np.concatenate([-Dfx, Df0, Dfx, Dt], axis=1)
-
-
-def complex_step_internal(el: Beam3DElements, X: np.ndarray, q: np.ndarray):
-    """Element forces (E, 12), energies (E) and tangents ∂f(q ⊕ Δ)/∂Δ (E, 12, 12) by one
-    complex evaluation at the 13 points q and q ⊕ ihe_k: the real parts are f and W (to
-    O(h²), nothing), the imaginary parts over h the columns. Exact to round-off and slow (its
-    cost is that of numpy calls on complex arrays): the reference the analytic tangent of
-    :func:`beam3d_internal` is checked against."""
-    R0, R1, x0, x1 = _nodal(el, X, q)
-    R = np.stack([R0, R1], axis=1)[:, None] @ _DR  # (E, 13, 2, 3, 3)
-    x = np.stack([x0, x1], axis=1)[:, None] + _DX
-    fk, Wk = _force(el, R[:, :, 0], R[:, :, 1], x[:, :, 0], x[:, :, 1])
-    return fk[:, 0].real, Wk[:, 0].real, np.swapaxes(fk[:, 1:].imag, 1, 2) / _STEP
 
 
 def beam3d_internal(el: Beam3DElements, X: np.ndarray, q: np.ndarray, ndof: int, tangent: bool):
     """Strain energy W (J), internal force (N, N·m; moments in the nodes' frames R) and the
-    element tangents ∂f(q ⊕ Δ)/∂Δ (E, 12, 12) with respect to the right increments, in real
-    arithmetic (:func:`_tangent`)."""
+    element tangents ∂f(q ⊕ Δ)/∂Δ (E, 12, 12) with respect to the right increments."""
     s = _Forces(el, *_nodal(el, X, q))
     f = np.bincount(el.dofs.ravel(), s.f.ravel(), minlength=ndof)
     return float(s.W.sum()), f, _tangent(el, s) if tangent else None
+
+
+def beam3d_strains(el: Beam3DElements, X: np.ndarray, q: np.ndarray):
+    """Γ (E, 3) and K (E, 3, 1/m) in the section frames at the element midpoints."""
+    s = _Strains(el, *_nodal(el, X, q))
+    return s.Gam, s.Kap
 
 
 def beam3d_energy(el: Beam3DElements, X: np.ndarray, q: np.ndarray) -> float:
