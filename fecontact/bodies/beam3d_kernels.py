@@ -208,6 +208,25 @@ def _nodal(el, X, q):
     return R[el.n0], R[el.n1], x[el.n0], x[el.n1]
 
 
+def _maps():
+    """Fixed linear maps from the coefficients (E, 10) = (d, d′, 0, 0, 0, a, b, c, b′, c′)
+    (:func:`_coefficients`, rows flattened) to the (ρ̃, ρ̃²) weights of exp(½ρ̃), T(ρ)⁻¹ and
+    T(½ρ) (``_MATRICES``, (10, 6) and an offset) and to (α, β, α′, β′) of T(½ρ)ᵀ and of T(ρ)⁻ᵀ
+    as functions of ρ for :func:`_matrix_slopes` (``_SLOPES``, (10, 8) and an offset)."""
+    M, m0 = np.zeros((10, 6)), np.zeros(6)
+    M[5, 0], M[6, 1] = 0.5, 0.25  # exp(½ρ̃) = I + ½a ρ̃ + ¼b ρ̃²  (a, b of θ²/4)
+    m0[2], M[0, 3] = 0.5, 1.0  # T(ρ)⁻¹ = I + ½ρ̃ + d ρ̃²
+    M[6, 4], M[7, 5] = -0.5, 0.25  # T(½ρ) = I − ½b ρ̃ + ¼c ρ̃²
+    S, s0 = np.zeros((10, 8)), np.zeros(8)
+    # T(½ρ)ᵀ = I + (b/2) ρ̃ + (c/4) ρ̃², slopes in |ρ|² = 4x: b′/8, c′/16
+    S[6, 0], S[7, 1], S[8, 2], S[9, 3] = 0.5, 0.25, 0.125, 1 / 16
+    s0[4], S[0, 5], S[1, 7] = -0.5, 1.0, 1.0  # T(ρ)⁻ᵀ = I − ½ρ̃ + d ρ̃²
+    return (M, m0), (S, s0)
+
+
+(_MATRICES, _MATRICES0), (_SLOPES, _SLOPES0) = _maps()
+
+
 class _Strains:
     """ρ = log(R₀ᵀR₁), the rotation functions of the element, R_m, γ̂ and the strains Γ, K."""
 
@@ -215,13 +234,11 @@ class _Strains:
         self.A = np.swapaxes(R0, 1, 2) @ R1  # exp(ρ̃)
         self.rho = rho = _log(self.A)
         self.t2 = np.einsum("ij,ij->i", rho, rho)
-        self.co = co = _coefficients(self.t2)
-        d1, (a2, b2, c2) = co[0, :, 0], co[1, :, :3].T
+        self.co = np.swapaxes(_coefficients(self.t2), 0, 1).reshape(-1, 10)
+        w = (self.co @ _MATRICES + _MATRICES0).reshape(-1, 3, 2, 1, 1)
         self.P = P = _hat(rho)
-        P2 = P @ P
-        self.H = _I3 + (0.5 * a2)[:, None, None] * P + (0.25 * b2)[:, None, None] * P2
-        self.Ti = _I3 + 0.5 * P + d1[:, None, None] * P2  # T(ρ)⁻¹
-        self.Th = _I3 - (0.5 * b2)[:, None, None] * P + (0.25 * c2)[:, None, None] * P2
+        Ps = P[:, None]
+        self.H, self.Ti, self.Th = np.moveaxis(_I3 + w[:, :, 0] * Ps + w[:, :, 1] * (Ps @ Ps), 1, 0)
         self.Rm = R0 @ self.H
         self.gh = _mtv(self.Rm, x1 - x0) / el.ell[:, None]
         self.Gam = _mtv(el.L0, self.gh) - _E1
@@ -245,17 +262,17 @@ class _Forces(_Strains):
         self.W = 0.5 * el.ell * ((N * self.Gam).sum(axis=1) + (M * self.Kap).sum(axis=1))
 
 
-def _matrix_slope(P, phi, v, alpha, beta, alpha1, beta1):
-    """∂(M v)/∂φ (E, 3, 3) of M = I + α φ̃ + β φ̃², α and β functions of x = |φ|² with slopes
-    α′, β′ (per element, or one number); P = φ̃:
+def _matrix_slopes(P, rho, v, c):
+    """∂(M_k v_k)/∂ρ (2, E, 3, 3) of M_k = I + α_k ρ̃ + β_k ρ̃², α_k and β_k functions of
+    x = |ρ|² with slopes α′_k, β′_k, the columns of c (E, 2, 4); P = ρ̃, v (2, E, 3):
 
-        −α ṽ + β (φ vᵀ + (φ·v) I − 2 v φᵀ) + 2 (α′ φ×v + β′ φ×(φ×v)) φᵀ."""
-    w1 = _mv(P, v)
-    w = 2 * (np.reshape(alpha1, (-1, 1)) * w1 + beta1[:, None] * _mv(P, w1)) - 2 * beta[:, None] * v
-    G = w[:, :, None] * phi[:, None, :] + beta[:, None, None] * phi[:, :, None] * v[:, None, :]
-    G -= np.reshape(alpha, (-1, 1, 1)) * _hat(v)
-    G[:, _DIAG, _DIAG] += (beta * np.einsum("ij,ij->i", phi, v))[:, None]
-    return G
+        −α ṽ + β (ρ vᵀ + (ρ·v) I − 2 v ρᵀ) + 2 (α′ ρ×v + β′ ρ×(ρ×v)) ρᵀ."""
+    alpha, beta, alpha1, beta1 = np.moveaxis(c, 2, 0)[..., None].swapaxes(1, 2)
+    w1 = (P @ v[..., None])[..., 0]
+    w = 2 * (alpha1 * w1 + beta1 * (P @ w1[..., None])[..., 0] - beta * v)
+    G = w[..., None] * rho[:, None, :] + beta[..., None] * rho[:, :, None] * v[..., None, :]
+    G += (beta[..., 0] * np.einsum("ij,kij->ki", rho, v))[..., None, None] * _I3
+    return G - alpha[..., None] * _hat(v)
 
 
 def _tangent(el, s: _Forces) -> np.ndarray:
@@ -273,13 +290,16 @@ def _tangent(el, s: _Forces) -> np.ndarray:
         Df_x₁ = R_m (Dn̂ − n̂~ Dψ_m) = −Df_x₀,  Df_θ₁ = Dt,
         Df_θ₀ = exp(½ρ̃) (Dp − ½ p̃ T(½ρ) Dρ) − exp(ρ̃) (Dt − t̃ Dφ).
 
-    The derivatives of T's matrices are :func:`_matrix_slope` with the coefficients' slopes."""
+    The derivatives of T's matrices are :func:`_matrix_slopes` with the coefficients' slopes;
+    T(ρ)⁻¹ exp(−ρ̃) = T(ρ)⁻ᵀ (as exp(ρ̃) T(ρ) = T(ρ)ᵀ) gives Dρ without a product."""
     E, ell = len(el.ell), el.ell[:, None, None]
     At, Ht = np.swapaxes(s.A, 1, 2), np.swapaxes(s.H, 1, 2)
     Dphi = np.zeros((E, 3, 12))
     Dphi[:, :, 3:6] = -At
     Dphi[:, :, 9:] = _I3
-    Drho = s.Ti @ Dphi
+    Drho = np.zeros((E, 3, 12))
+    Drho[:, :, 3:6] = -np.swapaxes(s.Ti, 1, 2)
+    Drho[:, :, 9:] = s.Ti
     Dpsi = 0.5 * (s.Th @ Drho)
     Dpsi[:, :, 3:6] += Ht
     Dg = s.Gh @ Dpsi
@@ -291,12 +311,10 @@ def _tangent(el, s: _Forces) -> np.ndarray:
     Dn = (L0 * el.C[:3]) @ (L0t @ Dg)
     Dm = (L0 * el.C[3:]) @ (L0t @ Drho) / ell
     Dp = ell * (s.Nh @ Dg - s.Gh @ Dn)
-    (d1, d1p), (b2, c2, b2p, c2p) = s.co[0, :, :2].T, s.co[1, :, 1:].T
-    phi = 0.5 * s.rho
-    Gp = _matrix_slope(0.5 * s.P, phi, s.p, b2, c2, b2p, c2p)
-    Du = Dm + 0.5 * (np.swapaxes(s.Th, 1, 2) @ Dp + 0.5 * (Gp @ Drho))
-    Gu = _matrix_slope(s.P, s.rho, s.u, -0.5, d1, 0.0, d1p)
-    Dt = np.swapaxes(s.Ti, 1, 2) @ Du + Gu @ Drho
+    c = (s.co @ _SLOPES + _SLOPES0).reshape(-1, 2, 4)
+    Gp, Gu = _matrix_slopes(s.P, s.rho, np.stack([s.p, s.u]), c) @ Drho
+    Du = Dm + 0.5 * (np.swapaxes(s.Th, 1, 2) @ Dp + Gp)
+    Dt = np.swapaxes(s.Ti, 1, 2) @ Du + Gu
     Dfx = s.Rm @ (Dn - s.Nh @ Dpsi)
     Df0 = s.H @ (Dp - 0.5 * (_hat(s.p) @ (s.Th @ Drho))) - s.A @ (Dt - _hat(s.t) @ Dphi)
     return np.concatenate([-Dfx, Df0, Dfx, Dt], axis=1)
