@@ -19,6 +19,7 @@ from fecontact import (
 )
 from fecontact.bodies.beam import rectangle_torsion
 from fecontact.bodies.beam3d_complex_step import complex_step_internal
+from fecontact.bodies.beam3d_kernels import rotation_matrices
 from fecontact.statics import solve_static
 from fecontact.statics_rotations import plus, solve_static_rotations
 
@@ -143,6 +144,13 @@ def test_analytic_tangent_is_the_complex_step_one(size):
     f_ref = np.bincount(el.dofs.ravel(), f_cs.ravel(), minlength=beam.ndof)
     np.testing.assert_allclose(f, f_ref, rtol=0, atol=1e-12 * np.abs(f_ref).max())
     assert W == pytest.approx(W_cs.sum(), rel=1e-12, abs=1e-300)
+
+
+def test_the_kernels_rotation_matrices_are_the_exponential():
+    # angles from 0 through 1e-12 (series regime of rotations.exp) to 2.5 rad
+    psi = np.random.default_rng(1).normal(size=(60, 3)) * np.logspace(-12, 0.4, 60)[:, None]
+    psi[0] = 0.0
+    np.testing.assert_allclose(rotation_matrices(psi), rotations.exp(psi), rtol=0, atol=1e-15)
 
 
 # -- the plane ------------------------------------------------------------------------------

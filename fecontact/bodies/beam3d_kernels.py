@@ -43,6 +43,7 @@ __all__ = [
     "beam3d_internal",
     "beam3d_strains",
     "reference_triads",
+    "rotation_matrices",
 ]
 
 _E1 = np.array([1.0, 0.0, 0.0])
@@ -149,9 +150,11 @@ def _hat(w: np.ndarray) -> np.ndarray:
     return (w @ _SKEW).reshape(w.shape[:-1] + (3, 3))
 
 
-def _exp(psi: np.ndarray) -> np.ndarray:
-    """exp(ψ̃) (n, 3, 3) = I + sin θ/θ ψ̃ + ½ (sin(θ/2)/(θ/2))² ψ̃², free of cancellation; θ
-    is offset by _TINY, which leaves it unchanged unless it is 0 and then makes the ratios 1."""
+def rotation_matrices(psi: np.ndarray) -> np.ndarray:
+    """R = exp(ψ̃) (n, 3, 3) of the rotation vectors ψ (n, 3; rad), as
+    :func:`fecontact.rotations.exp` to round-off, in fewer array operations:
+    I + sin θ/θ ψ̃ + ½ (sin(θ/2)/(θ/2))² ψ̃², free of cancellation at small θ (θ is offset by
+    1e-300, which changes it only at 0, where it makes both ratios 1)."""
     t = np.sqrt(np.einsum("ij,ij->i", psi, psi)) + _TINY
     h = 0.5 * t
     P = _hat(psi)
@@ -163,7 +166,7 @@ def _log(A: np.ndarray) -> np.ndarray:
     """Rotation vector of A (θ < π): θ = 2 atan(sin θ/(1 + cos θ)) along the axial vector."""
     v = A.reshape(-1, 9) @ _VEE
     a, c1 = v[:, :3], v[:, 3] + 0.5  # sin θ · axis, 1 + cos θ
-    # tan(θ/2) (offset as in _exp: atan(s)/s is 1 at 0); NaN for an element turned by π
+    # tan(θ/2) (offset as in rotation_matrices: atan(s)/s is 1 at 0); NaN for an element turned by π
     s = np.sqrt(np.einsum("ij,ij->i", a, a)) / c1 + _TINY
     return (2.0 * np.arctan(s) / (s * c1))[:, None] * a
 
@@ -203,7 +206,7 @@ def _mtv(A, x):
 # -- strains, force and tangent ---------------------------------------------------------------
 def _nodal(el, X, q):
     Q = q.reshape(-1, 6)
-    R = _exp(Q[:, 3:])
+    R = rotation_matrices(Q[:, 3:])
     x = X + Q[:, :3]
     return R[el.n0], R[el.n1], x[el.n0], x[el.n1]
 
@@ -231,14 +234,16 @@ class _Strains:
     """ρ = log(R₀ᵀR₁), the rotation functions of the element, R_m, γ̂ and the strains Γ, K."""
 
     def __init__(self, el, R0, R1, x0, x1):
-        self.A = np.swapaxes(R0, 1, 2) @ R1  # exp(ρ̃)
+        self.A = R0.mT @ R1  # exp(ρ̃)
         self.rho = rho = _log(self.A)
         self.t2 = np.einsum("ij,ij->i", rho, rho)
-        self.co = np.swapaxes(_coefficients(self.t2), 0, 1).reshape(-1, 10)
+        self.co = _coefficients(self.t2).transpose(1, 0, 2).reshape(-1, 10)
         w = (self.co @ _MATRICES + _MATRICES0).reshape(-1, 3, 2, 1, 1)
         self.P = P = _hat(rho)
         Ps = P[:, None]
-        self.H, self.Ti, self.Th = np.moveaxis(_I3 + w[:, :, 0] * Ps + w[:, :, 1] * (Ps @ Ps), 1, 0)
+        self.H, self.Ti, self.Th = (_I3 + w[:, :, 0] * Ps + w[:, :, 1] * (Ps @ Ps)).transpose(
+            1, 0, 2, 3
+        )
         self.Rm = R0 @ self.H
         self.gh = _mtv(self.Rm, x1 - x0) / el.ell[:, None]
         self.Gam = _mtv(el.L0, self.gh) - _E1
@@ -267,7 +272,7 @@ def _matrix_slopes(P, rho, v, c):
     x = |ρ|² with slopes α′_k, β′_k, the columns of c (E, 2, 4); P = ρ̃, v (2, E, 3):
 
         −α ṽ + β (ρ vᵀ + (ρ·v) I − 2 v ρᵀ) + 2 (α′ ρ×v + β′ ρ×(ρ×v)) ρᵀ."""
-    alpha, beta, alpha1, beta1 = np.moveaxis(c, 2, 0)[..., None].swapaxes(1, 2)
+    alpha, beta, alpha1, beta1 = c.transpose(2, 1, 0)[..., None]
     w1 = (P @ v[..., None])[..., 0]
     w = 2 * (alpha1 * w1 + beta1 * (P @ w1[..., None])[..., 0] - beta * v)
     G = w[..., None] * rho[:, None, :] + beta[..., None] * rho[:, :, None] * v[..., None, :]
@@ -293,28 +298,28 @@ def _tangent(el, s: _Forces) -> np.ndarray:
     The derivatives of T's matrices are :func:`_matrix_slopes` with the coefficients' slopes;
     T(ρ)⁻¹ exp(−ρ̃) = T(ρ)⁻ᵀ (as exp(ρ̃) T(ρ) = T(ρ)ᵀ) gives Dρ without a product."""
     E, ell = len(el.ell), el.ell[:, None, None]
-    At, Ht = np.swapaxes(s.A, 1, 2), np.swapaxes(s.H, 1, 2)
+    At, Ht = s.A.mT, s.H.mT
     Dphi = np.zeros((E, 3, 12))
     Dphi[:, :, 3:6] = -At
     Dphi[:, :, 9:] = _I3
     Drho = np.zeros((E, 3, 12))
-    Drho[:, :, 3:6] = -np.swapaxes(s.Ti, 1, 2)
+    Drho[:, :, 3:6] = -s.Ti.mT
     Drho[:, :, 9:] = s.Ti
     Dpsi = 0.5 * (s.Th @ Drho)
     Dpsi[:, :, 3:6] += Ht
     Dg = s.Gh @ Dpsi
-    B = np.swapaxes(s.Rm, 1, 2) / ell
+    B = s.Rm.mT / ell
     Dg[:, :, :3] -= B
     Dg[:, :, 6:9] += B
     L0 = el.L0
-    L0t = np.swapaxes(L0, 1, 2)
+    L0t = L0.mT
     Dn = (L0 * el.C[:3]) @ (L0t @ Dg)
     Dm = (L0 * el.C[3:]) @ (L0t @ Drho) / ell
     Dp = ell * (s.Nh @ Dg - s.Gh @ Dn)
     c = (s.co @ _SLOPES + _SLOPES0).reshape(-1, 2, 4)
     Gp, Gu = _matrix_slopes(s.P, s.rho, np.stack([s.p, s.u]), c) @ Drho
-    Du = Dm + 0.5 * (np.swapaxes(s.Th, 1, 2) @ Dp + Gp)
-    Dt = np.swapaxes(s.Ti, 1, 2) @ Du + Gu
+    Du = Dm + 0.5 * (s.Th.mT @ Dp + Gp)
+    Dt = s.Ti.mT @ Du + Gu
     Dfx = s.Rm @ (Dn - s.Nh @ Dpsi)
     Df0 = s.H @ (Dp - 0.5 * (_hat(s.p) @ (s.Th @ Drho))) - s.A @ (Dt - _hat(s.t) @ Dphi)
     return np.concatenate([-Dfx, Df0, Dfx, Dt], axis=1)
