@@ -46,7 +46,7 @@ __all__ = [
     "rotation_matrices",
 ]
 
-_E1 = np.array([1.0, 0.0, 0.0])
+_E1_COLUMN = np.array([[1.0, 0.0], [0.0, 0.0], [0.0, 0.0]])  # (E₁, 0): Γ = L0ᵀR_mᵀx′ − E₁
 _I3 = np.eye(3)
 _DIAG = np.arange(3)
 
@@ -54,8 +54,9 @@ _DIAG = np.arange(3)
 @dataclass(frozen=True)
 class Beam3DElements:
     """Per-element data, computed once: end nodes ``n0``, ``n1``, ``dofs`` (E, 12), length
-    ``ell`` (m), reference triads ``L0`` (E, 3, 3; columns E₁, axis 2, axis 3) and the
-    rigidities ``C`` (6,) = (EA, GA₂, GA₃, GJ, EI₂, EI₃)."""
+    ``ell`` (m), reference triads ``L0`` (E, 3, 3; columns E₁, axis 2, axis 3), the
+    rigidities ``C`` (6,) = (EA, GA₂, GA₃, GJ, EI₂, EI₃) and, in the frame R, the section
+    stiffnesses ``CG`` = Λ₀C_ΓΛ₀ᵀ (N) and ``CK`` = Λ₀C_KΛ₀ᵀ/ℓ (N·m), (E, 3, 3) each."""
 
     n0: np.ndarray
     n1: np.ndarray
@@ -63,19 +64,25 @@ class Beam3DElements:
     ell: np.ndarray
     L0: np.ndarray
     C: np.ndarray
+    CG: np.ndarray
+    CK: np.ndarray
 
     @classmethod
     def of(cls, X: np.ndarray, triads: np.ndarray, rigidities) -> Beam3DElements:
         n0 = np.arange(len(X) - 1)
         n1 = n0 + 1
         pairs = np.stack([n0, n1], axis=1)
+        C = np.asarray(rigidities, dtype=float)
+        ell = np.linalg.norm(X[n1] - X[n0], axis=1)
         return cls(
             n0=n0,
             n1=n1,
             dofs=(6 * pairs[:, :, None] + np.arange(6)).reshape(len(n0), 12),
-            ell=np.linalg.norm(X[n1] - X[n0], axis=1),
+            ell=ell,
             L0=triads,
-            C=np.asarray(rigidities, dtype=float),
+            C=C,
+            CG=(triads * C[:3]) @ triads.mT,
+            CK=(triads * C[3:]) @ triads.mT / ell[:, None, None],
         )
 
 
@@ -195,14 +202,6 @@ def _coefficients(t2: np.ndarray) -> np.ndarray:
     return np.where(small[:, None], S, closed)
 
 
-def _mv(A, x):
-    return (A @ x[..., None])[..., 0]
-
-
-def _mtv(A, x):
-    return (x[..., None, :] @ A)[..., 0, :]
-
-
 # -- strains, force and tangent ---------------------------------------------------------------
 def _nodal(el, X, q):
     Q = q.reshape(-1, 6)
@@ -231,23 +230,25 @@ def _maps():
 
 
 class _Strains:
-    """ρ = log(R₀ᵀR₁), the rotation functions of the element, R_m, γ̂ and the strains Γ, K."""
+    """ρ = log(R₀ᵀR₁), the rotation functions of the element, R_m, γ̂ and the strains
+    (Γ, K) as the columns of ``S`` (E, 3, 2). Vectors are kept as columns (E, 3, 1)."""
 
     def __init__(self, el, R0, R1, x0, x1):
         self.A = R0.mT @ R1  # exp(ρ̃)
-        self.rho = rho = _log(self.A)
+        rho = _log(self.A)
         self.t2 = np.einsum("ij,ij->i", rho, rho)
         self.co = _coefficients(self.t2).transpose(1, 0, 2).reshape(-1, 10)
         w = (self.co @ _MATRICES + _MATRICES0).reshape(-1, 3, 2, 1, 1)
         self.P = P = _hat(rho)
         Ps = P[:, None]
-        self.H, self.Ti, self.Th = (_I3 + w[:, :, 0] * Ps + w[:, :, 1] * (Ps @ Ps)).transpose(
-            1, 0, 2, 3
-        )
+        M = (_I3 + w[:, :, 0] * Ps + w[:, :, 1] * (Ps @ Ps)).transpose(1, 0, 2, 3)
+        self.H, self.Ti, self.Th = M  # exp(½ρ̃), T(ρ)⁻¹, T(½ρ)
         self.Rm = R0 @ self.H
-        self.gh = _mtv(self.Rm, x1 - x0) / el.ell[:, None]
-        self.Gam = _mtv(el.L0, self.gh) - _E1
-        self.Kap = _mtv(el.L0, rho) / el.ell[:, None]
+        self.rho = rho[..., None]
+        # L0ᵀ (R_mᵀ x′, ρ/ℓ) − (E₁, 0): the strains Γ and K as two columns
+        V = np.concatenate([self.Rm.mT @ (x1 - x0)[..., None], self.rho], axis=2)
+        self.S = el.L0.mT @ V / el.ell[:, None, None] - _E1_COLUMN
+        self.gh = V[:, :, :1] / el.ell[:, None, None]
 
 
 class _Forces(_Strains):
@@ -255,16 +256,22 @@ class _Forces(_Strains):
 
     def __init__(self, el, R0, R1, x0, x1):
         super().__init__(el, R0, R1, x0, x1)
-        ell, gh = el.ell[:, None], self.gh
-        N, M = el.C[:3] * self.Gam, el.C[3:] * self.Kap
-        self.n, m = _mv(el.L0, N), _mv(el.L0, M)
-        self.Nh, self.Gh = _hat(self.n), _hat(gh)
-        self.p = p = ell * _mv(self.Nh, gh)
-        self.u = m + 0.5 * _mtv(self.Th, p)
-        self.t = t = _mtv(self.Ti, self.u)
-        fx = _mv(self.Rm, self.n)
-        self.f = np.concatenate([-fx, _mv(self.H, p) - _mv(self.A, t), fx, t], axis=1)
-        self.W = 0.5 * el.ell * ((N * self.Gam).sum(axis=1) + (M * self.Kap).sum(axis=1))
+        ell = el.ell[:, None, None]
+        NM = self.S * _rigidity_columns(el.C)
+        nm = el.L0 @ NM  # n̂, m̂
+        self.n, m = nm[:, :, :1], nm[:, :, 1:]
+        self.Nh, self.Gh = _hat(self.n[..., 0]), _hat(self.gh[..., 0])
+        self.p = p = ell * (self.Nh @ self.gh)
+        self.u = m + 0.5 * (self.Th.mT @ p)
+        self.t = t = self.Ti.mT @ self.u
+        fx = self.Rm @ self.n
+        self.f = np.concatenate([-fx, self.H @ p - self.A @ t, fx, t], axis=1)
+        self.W = 0.5 * el.ell * (NM * self.S).sum(axis=(1, 2))
+
+
+def _rigidity_columns(C):
+    """The rigidities as the columns (C_Γ, C_K) (3, 2)."""
+    return C.reshape(2, 3).T
 
 
 def _matrix_slopes(P, rho, v, c):
@@ -311,17 +318,17 @@ def _tangent(el, s: _Forces) -> np.ndarray:
     B = s.Rm.mT / ell
     Dg[:, :, :3] -= B
     Dg[:, :, 6:9] += B
-    L0 = el.L0
-    L0t = L0.mT
-    Dn = (L0 * el.C[:3]) @ (L0t @ Dg)
-    Dm = (L0 * el.C[3:]) @ (L0t @ Drho) / ell
+    Dn = el.CG @ Dg
+    Dm = el.CK @ Drho
     Dp = ell * (s.Nh @ Dg - s.Gh @ Dn)
     c = (s.co @ _SLOPES + _SLOPES0).reshape(-1, 2, 4)
-    Gp, Gu = _matrix_slopes(s.P, s.rho, np.stack([s.p, s.u]), c) @ Drho
+    v = np.stack([s.p[..., 0], s.u[..., 0]])
+    Gp, Gu = _matrix_slopes(s.P, s.rho[..., 0], v, c) @ Drho
     Du = Dm + 0.5 * (s.Th.mT @ Dp + Gp)
     Dt = s.Ti.mT @ Du + Gu
     Dfx = s.Rm @ (Dn - s.Nh @ Dpsi)
-    Df0 = s.H @ (Dp - 0.5 * (_hat(s.p) @ (s.Th @ Drho))) - s.A @ (Dt - _hat(s.t) @ Dphi)
+    pt = _hat(np.concatenate([s.p, s.t], axis=2).transpose(0, 2, 1))  # p̃, t̃
+    Df0 = s.H @ (Dp - 0.5 * (pt[:, 0] @ (s.Th @ Drho))) - s.A @ (Dt - pt[:, 1] @ Dphi)
     return np.concatenate([-Dfx, Df0, Dfx, Dt], axis=1)
 
 
@@ -335,11 +342,11 @@ def beam3d_internal(el: Beam3DElements, X: np.ndarray, q: np.ndarray, ndof: int,
 
 def beam3d_strains(el: Beam3DElements, X: np.ndarray, q: np.ndarray):
     """Γ (E, 3) and K (E, 3, 1/m) in the section frames at the element midpoints."""
-    s = _Strains(el, *_nodal(el, X, q))
-    return s.Gam, s.Kap
+    S = _Strains(el, *_nodal(el, X, q)).S
+    return S[:, :, 0], S[:, :, 1]
 
 
 def beam3d_energy(el: Beam3DElements, X: np.ndarray, q: np.ndarray) -> float:
     """Strain energy W (J)."""
-    Gam, Kap = beam3d_strains(el, X, q)
-    return 0.5 * float(el.ell @ (Gam**2 @ el.C[:3] + Kap**2 @ el.C[3:]))
+    S = _Strains(el, *_nodal(el, X, q)).S
+    return 0.5 * float(el.ell @ (S * S * _rigidity_columns(el.C)).sum(axis=(1, 2)))
