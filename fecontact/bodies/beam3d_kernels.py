@@ -204,10 +204,12 @@ def _coefficients(t2: np.ndarray) -> np.ndarray:
 
 # -- strains, force and tangent ---------------------------------------------------------------
 def _nodal(el, X, q):
+    """R and x of the elements' first and second nodes: the polyline's nodes e and e + 1
+    (``Beam3DElements.of``), so views rather than gathers."""
     Q = q.reshape(-1, 6)
     R = rotation_matrices(Q[:, 3:])
     x = X + Q[:, :3]
-    return R[el.n0], R[el.n1], x[el.n0], x[el.n1]
+    return R[:-1], R[1:], x[:-1], x[1:]
 
 
 def _maps():
@@ -312,7 +314,8 @@ def _tangent(el, s: _Forces) -> np.ndarray:
     Drho = np.zeros((E, 3, 12))
     Drho[:, :, 3:6] = -s.Ti.mT
     Drho[:, :, 9:] = s.Ti
-    Dpsi = 0.5 * (s.Th @ Drho)
+    ThDrho = s.Th @ Drho
+    Dpsi = 0.5 * ThDrho
     Dpsi[:, :, 3:6] += Ht
     Dg = s.Gh @ Dpsi
     B = s.Rm.mT / ell
@@ -322,13 +325,13 @@ def _tangent(el, s: _Forces) -> np.ndarray:
     Dm = el.CK @ Drho
     Dp = ell * (s.Nh @ Dg - s.Gh @ Dn)
     c = (s.co @ _SLOPES + _SLOPES0).reshape(-1, 2, 4)
-    v = np.stack([s.p[..., 0], s.u[..., 0]])
+    v = np.concatenate([s.p, s.u], axis=2).transpose(2, 0, 1)  # (p, u) stacked first
     Gp, Gu = _matrix_slopes(s.P, s.rho[..., 0], v, c) @ Drho
     Du = Dm + 0.5 * (s.Th.mT @ Dp + Gp)
     Dt = s.Ti.mT @ Du + Gu
     Dfx = s.Rm @ (Dn - s.Nh @ Dpsi)
     pt = _hat(np.concatenate([s.p, s.t], axis=2).transpose(0, 2, 1))  # p̃, t̃
-    Df0 = s.H @ (Dp - 0.5 * (pt[:, 0] @ (s.Th @ Drho))) - s.A @ (Dt - pt[:, 1] @ Dphi)
+    Df0 = s.H @ (Dp - 0.5 * (pt[:, 0] @ ThDrho)) - s.A @ (Dt - pt[:, 1] @ Dphi)
     return np.concatenate([-Dfx, Df0, Dfx, Dt], axis=1)
 
 
