@@ -23,10 +23,13 @@ t = T(ρ)⁻ᵀ(m̂ + ½T(½ρ)ᵀp), the element force is
 
     f_x₀ = −R_m n̂,  f_x₁ = R_m n̂,  f_θ₀ = exp(½ρ̃) p − exp(ρ̃) t,  f_θ₁ = t.
 
-Its tangent ∂f(q ⊕ Δ)/∂Δ is the complex-step derivative of this force (Squire & Trapp, SIAM
-Rev. 1998): every function below is analytic in its arguments (the rotation coefficients are
-series or closed forms of θ², the logarithm goes through tan(θ/2)), so one complex evaluation
-per element dof gives each column exactly, to round-off, with no step to choose.
+Its tangent ∂f(q ⊕ Δ)/∂Δ is the chain rule through these intermediates in real arithmetic
+(:func:`_tangent`), with the derivatives of T(½ρ)ᵀ and T(ρ)⁻ᵀ as matrix functions of ρ; it
+equals the complex-step derivative of the same force (:mod:`.beam3d_complex_step`) to
+round-off. With a handful of elements a kernel's time is that of its numpy calls, not of its
+arithmetic, so the code keeps their number small: vectors as columns, the three rotation
+matrices of an element from one product, the rotation coefficients and their slopes from one
+product with a table of Taylor coefficients.
 """
 
 from __future__ import annotations
