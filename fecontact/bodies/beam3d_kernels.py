@@ -281,15 +281,15 @@ def _rigidity_columns(C):
 
 def _matrix_slopes(P, rho, v, c):
     """∂(M_k v_k)/∂ρ (2, E, 3, 3) of M_k = I + α_k ρ̃ + β_k ρ̃², α_k and β_k functions of
-    x = |ρ|² with slopes α′_k, β′_k, the columns of c (E, 2, 4); P = ρ̃, v (2, E, 3):
+    x = |ρ|² with slopes α′_k, β′_k, the columns of c (E, 2, 4); P = ρ̃, ρ (E, 3, 1) and v
+    (2, E, 3, 1) columns:
 
         −α ṽ + β (ρ vᵀ + (ρ·v) I − 2 v ρᵀ) + 2 (α′ ρ×v + β′ ρ×(ρ×v)) ρᵀ."""
-    alpha, beta, alpha1, beta1 = c.transpose(2, 1, 0)[..., None]
-    w1 = (P @ v[..., None])[..., 0]
-    w = 2 * (alpha1 * w1 + beta1 * (P @ w1[..., None])[..., 0] - beta * v)
-    G = w[..., None] * rho[:, None, :] + beta[..., None] * rho[:, :, None] * v[..., None, :]
-    G += (beta[..., 0] * np.einsum("ij,kij->ki", rho, v))[..., None, None] * _I3
-    return G - alpha[..., None] * _hat(v)
+    alpha, beta, alpha1, beta1 = c.transpose(2, 1, 0)[..., None, None]
+    w1 = P @ v
+    w = 2 * (alpha1 * w1 + beta1 * (P @ w1) - beta * v)
+    G = w @ rho.mT + beta * (rho @ v.mT + (rho.mT @ v) * _I3)
+    return G - alpha * _hat(v[..., 0])
 
 
 def _tangent(el, s: _Forces) -> np.ndarray:
@@ -328,8 +328,8 @@ def _tangent(el, s: _Forces) -> np.ndarray:
     Dm = el.CK @ Drho
     Dp = ell * (s.Nh @ Dg - s.Gh @ Dn)
     c = (s.co @ _SLOPES + _SLOPES0).reshape(-1, 2, 4)
-    v = np.concatenate([s.p, s.u], axis=2).transpose(2, 0, 1)  # (p, u) stacked first
-    Gp, Gu = _matrix_slopes(s.P, s.rho[..., 0], v, c) @ Drho
+    v = np.concatenate([s.p, s.u], axis=2).transpose(2, 0, 1)[..., None]  # (p, u) stacked first
+    Gp, Gu = _matrix_slopes(s.P, s.rho, v, c) @ Drho
     Du = Dm + 0.5 * (s.Th.mT @ Dp + Gp)
     Dt = s.Ti.mT @ Du + Gu
     Dfx = s.Rm @ (Dn - s.Nh @ Dpsi)
