@@ -18,6 +18,8 @@ from fecontact import (
     rotations,
 )
 from fecontact.bodies.beam import rectangle_torsion
+from fecontact.bodies.beam3d_complex_step import complex_step_internal
+from fecontact.bodies.beam3d_kernels import rotation_matrices
 from fecontact.statics import solve_static
 from fecontact.statics_rotations import plus, solve_static_rotations
 
@@ -126,6 +128,32 @@ def test_tangent_is_the_derivative_of_the_force_along_right_increments():
         ]
     )  # fmt: skip
     np.testing.assert_allclose(K, fd, rtol=0, atol=1e-7 * np.abs(K).max())
+
+
+@pytest.mark.parametrize("size", [0.0, 1e-4, 0.05, 0.3, 1.0])
+def test_analytic_tangent_is_the_complex_step_one(size):
+    # states from straight to elements turned by about a radian, through the series and the
+    # closed forms of the rotation coefficients and of their slopes
+    beam = bent_beam()
+    el = beam.elements
+    q = random_state(beam, 3, size)
+    f_cs, W_cs, K_cs = complex_step_internal(el, beam.X, q)
+    W, f, K = beam.internal(q)
+    # both exact to round-off: 1e-10 leaves room for the conditioning of log and T⁻¹ at θ ~ 1
+    np.testing.assert_allclose(K, K_cs, rtol=0, atol=1e-10 * np.abs(K_cs).max())
+    f_ref = np.bincount(el.dofs.ravel(), f_cs.ravel(), minlength=beam.ndof)
+    # at rest both forces are round-off: strains of ~1e-16 times the rigidities
+    round_off = 1e-15 * el.C.max()
+    np.testing.assert_allclose(f, f_ref, rtol=0, atol=1e-12 * np.abs(f_ref).max() + round_off)
+    assert W == pytest.approx(W_cs.sum(), rel=1e-12, abs=1e-20)
+
+
+def test_the_kernels_rotation_matrices_are_the_exponential():
+    # angles from 0 through 1e-12 (series regime of rotations.exp) to 2.5 rad
+    psi = np.random.default_rng(1).normal(size=(60, 3)) * np.logspace(-12, 0.4, 60)[:, None]
+    psi[0] = 0.0
+    # two formulas for entries ≤ 1, each with round-off of a few ulps at θ ~ 1
+    np.testing.assert_allclose(rotation_matrices(psi), rotations.exp(psi), rtol=0, atol=5e-15)
 
 
 # -- the plane ------------------------------------------------------------------------------

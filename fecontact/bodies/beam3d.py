@@ -27,7 +27,6 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import InputError, check_count, check_finite, check_positive
-from ..rotations import exp as rotation_exp
 from .beam import Material, Section
 from .beam3d_inertia import consistent_mass, gyroscopic, lumped_inertias
 from .beam3d_kernels import (
@@ -36,6 +35,7 @@ from .beam3d_kernels import (
     beam3d_internal,
     beam3d_strains,
     reference_triads,
+    rotation_matrices,
 )
 from .centreline import Centreline, centreline_nodes
 
@@ -228,7 +228,7 @@ class Beam3D(Centreline):
         """(n, 3, 3) section frames R Λ₀ of the nodes (columns: tangent, axis 2, axis 3),
         Λ₀ that of the element starting at the node (the last element's at the last node)."""
         L0 = np.concatenate([self._el.L0, self._el.L0[-1:]])
-        return rotation_exp(q.reshape(-1, 6)[:, 3:]) @ L0
+        return rotation_matrices(q.reshape(-1, 6)[:, 3:]) @ L0
 
     def point_data(self, q: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:
         """Nodal output: displacement, velocity (m, m/s), rotation vector ψ (rad), angular

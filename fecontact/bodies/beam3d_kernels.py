@@ -23,20 +23,22 @@ t = T(ρ)⁻ᵀ(m̂ + ½T(½ρ)ᵀp), the element force is
 
     f_x₀ = −R_m n̂,  f_x₁ = R_m n̂,  f_θ₀ = exp(½ρ̃) p − exp(ρ̃) t,  f_θ₁ = t.
 
-Its tangent ∂f(q ⊕ Δ)/∂Δ is the complex-step derivative of this force (Squire & Trapp, SIAM
-Rev. 1998): every function below is analytic in its arguments (the rotation coefficients are
-series or closed forms of θ², the logarithm goes through tan(θ/2)), so one complex evaluation
-per element dof gives each column exactly, to round-off, with no step to choose.
+Its tangent ∂f(q ⊕ Δ)/∂Δ is the chain rule through these intermediates in real arithmetic
+(:func:`_tangent`), with the derivatives of T(½ρ)ᵀ and T(ρ)⁻ᵀ as matrix functions of ρ; it
+equals the complex-step derivative of the same force (:mod:`.beam3d_complex_step`) to
+round-off. With a handful of elements a kernel's time is that of its numpy calls, not of its
+arithmetic, so the code keeps their number small: vectors as columns, the three rotation
+matrices of an element from one product, the rotation coefficients and their slopes from one
+product with a table of Taylor coefficients.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
-
-from ..rotations import exp as rotation_exp
-from ..rotations import hat
+import scipy.special
 
 __all__ = [
     "Beam3DElements",
@@ -44,19 +46,20 @@ __all__ = [
     "beam3d_internal",
     "beam3d_strains",
     "reference_triads",
+    "rotation_matrices",
 ]
 
-_E1 = np.array([1.0, 0.0, 0.0])
-# θ² below which the closed forms lose digits: their series (error below θ⁸ ~ 1e-24)
-_SMALL2 = 1e-6
-_STEP = 1e-30  # complex step: far below round-off of any first-order term
+_E1_COLUMN = np.array([[1.0, 0.0], [0.0, 0.0], [0.0, 0.0]])  # (E₁, 0): Γ = L0ᵀR_mᵀx′ − E₁
+_I3 = np.eye(3)
+_DIAG = np.arange(3)
 
 
 @dataclass(frozen=True)
 class Beam3DElements:
     """Per-element data, computed once: end nodes ``n0``, ``n1``, ``dofs`` (E, 12), length
-    ``ell`` (m), reference triads ``L0`` (E, 3, 3; columns E₁, axis 2, axis 3) and the
-    rigidities ``C`` (6,) = (EA, GA₂, GA₃, GJ, EI₂, EI₃)."""
+    ``ell`` (m), reference triads ``L0`` (E, 3, 3; columns E₁, axis 2, axis 3), the
+    rigidities ``C`` (6,) = (EA, GA₂, GA₃, GJ, EI₂, EI₃) and, in the frame R, the section
+    stiffnesses ``CG`` = Λ₀C_ΓΛ₀ᵀ (N) and ``CK`` = Λ₀C_KΛ₀ᵀ/ℓ (N·m), (E, 3, 3) each."""
 
     n0: np.ndarray
     n1: np.ndarray
@@ -64,19 +67,25 @@ class Beam3DElements:
     ell: np.ndarray
     L0: np.ndarray
     C: np.ndarray
+    CG: np.ndarray
+    CK: np.ndarray
 
     @classmethod
     def of(cls, X: np.ndarray, triads: np.ndarray, rigidities) -> Beam3DElements:
         n0 = np.arange(len(X) - 1)
         n1 = n0 + 1
         pairs = np.stack([n0, n1], axis=1)
+        C = np.asarray(rigidities, dtype=float)
+        ell = np.linalg.norm(X[n1] - X[n0], axis=1)
         return cls(
             n0=n0,
             n1=n1,
             dofs=(6 * pairs[:, :, None] + np.arange(6)).reshape(len(n0), 12),
-            ell=np.linalg.norm(X[n1] - X[n0], axis=1),
+            ell=ell,
             L0=triads,
-            C=np.asarray(rigidities, dtype=float),
+            C=C,
+            CG=(triads * C[:3]) @ triads.mT,
+            CK=(triads * C[3:]) @ triads.mT / ell[:, None, None],
         )
 
 
@@ -100,170 +109,250 @@ def reference_triads(X: np.ndarray, orientation) -> np.ndarray:
     return np.stack([e1, e2, np.cross(e1, e2)], axis=2)
 
 
-# -- SO(3) functions analytic in their argument (real or complex) ---------------------------
-def _coefficients(t2):
-    """(4, …): sin θ/θ, (1 − cos θ)/θ², (θ − sin θ)/θ³, 1/θ² − (1 + cos θ)/(2θ sin θ) of θ²,
-    by their series where Re θ² < _SMALL2 (only the branch some entry needs is evaluated)."""
-    small = np.real(t2) < _SMALL2
-    if small.all():
-        return _series(t2)
-    safe = np.where(small, 1.0, t2)
-    t = np.sqrt(safe)
-    s, c = np.sin(t), np.cos(t)
+# -- SO(3) in few array operations -----------------------------------------------------------
+def _skew_basis() -> np.ndarray:
+    """(3, 9): w @ it is w̃ (w̃ a = w × a) flattened row by row."""
+    B = np.zeros((3, 3, 3))
+    for i, j, k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
+        B[k, i, j], B[k, j, i] = -1.0, 1.0  # w̃_ij = −ε_ijk w_k
+    return B.reshape(3, 9)
+
+
+def _vee_trace() -> np.ndarray:
+    """(9, 4): a flattened 3×3 matrix @ it is its axial vector (skew part) and half its trace."""
+    V = np.zeros((9, 4))
+    for k, (i, j) in enumerate(((2, 1), (0, 2), (1, 0))):
+        V[3 * i + j, k], V[3 * j + i, k] = 0.5, -0.5
+    V[[0, 4, 8], 3] = 0.5
+    return V
+
+
+def _series_table() -> np.ndarray:
+    """(2, N, 5): Taylor coefficients in x of d(x), d′(x), 0, 0, 0 (row 0) and of a, b, c, b′, c′
+    (row 1), with a = sin θ/θ, b = (1 − cos θ)/θ², c = (θ − sin θ)/θ³,
+    d = 1/θ² − (1 + cos θ)/(2θ sin θ) = −Σₙ (−1)ⁿ B₂ₙ x^(n−1)/(2n)!, x = θ²."""
+    k = np.arange(_N_TERMS + 1)
+    fact = np.array([math.factorial(int(n)) for n in range(2 * _N_TERMS + 6)], dtype=float)
+    sign = (-1.0) ** k
+    a, b, c = sign / fact[2 * k + 1], sign / fact[2 * k + 2], sign / fact[2 * k + 3]
+    B = scipy.special.bernoulli(2 * _N_TERMS + 2)
+    d = -((-1.0) ** (k + 1)) * B[2 * k + 2] / fact[2 * k + 2]
+
+    def slope(s):
+        return k[1:] * s[1:]
+
+    T = np.zeros((2, _N_TERMS, 5))
+    T[0, :, 0], T[0, :, 1] = d[:-1], slope(d)
+    for col, s in enumerate((a[:-1], b[:-1], c[:-1], slope(b), slope(c))):
+        T[1, :, col] = s
+    return T
+
+
+_N_TERMS = 12  # at θ² < _SERIES_MAX the first neglected term is below 1e-20 of each function
+_SERIES_MAX = 1.0
+_SKEW, _VEE, _SERIES = _skew_basis(), _vee_trace(), _series_table()
+_POWERS = np.arange(_N_TERMS)
+_ARGUMENTS = np.array([[1.0], [0.25]])
+_TINY = 1e-300
+
+
+def _hat(w: np.ndarray) -> np.ndarray:
+    return (w @ _SKEW).reshape(w.shape[:-1] + (3, 3))
+
+
+def rotation_matrices(psi: np.ndarray) -> np.ndarray:
+    """R = exp(ψ̃) (n, 3, 3) of the rotation vectors ψ (n, 3; rad), as
+    :func:`fecontact.rotations.exp` to round-off, in fewer array operations:
+    I + sin θ/θ ψ̃ + ½ (sin(θ/2)/(θ/2))² ψ̃², free of cancellation at small θ (θ is offset by
+    1e-300, which changes it only at 0, where it makes both ratios 1)."""
+    t = np.sqrt(np.einsum("ij,ij->i", psi, psi)) + _TINY
+    h = 0.5 * t
+    P = _hat(psi)
+    a, b = np.sin(t) / t, 0.5 * (np.sin(h) / h) ** 2
+    return _I3 + a[:, None, None] * P + b[:, None, None] * (P @ P)
+
+
+def _log(A: np.ndarray) -> np.ndarray:
+    """Rotation vector of A (θ < π): θ = 2 atan(sin θ/(1 + cos θ)) along the axial vector."""
+    v = A.reshape(-1, 9) @ _VEE
+    a, c1 = v[:, :3], v[:, 3] + 0.5  # sin θ · axis, 1 + cos θ
+    # tan(θ/2) (offset as in rotation_matrices: atan(s)/s is 1 at 0); NaN for an element turned by π
+    s = np.sqrt(np.einsum("ij,ij->i", a, a)) / c1 + _TINY
+    return (2.0 * np.arctan(s) / (s * c1))[:, None] * a
+
+
+def _coefficients(t2: np.ndarray) -> np.ndarray:
+    """(2, E, 5): d, d′ of x = θ² (row 0) and a, b, c, b′, c′ of x = θ²/4 (row 1), by their
+    series where θ² < _SERIES_MAX, else by the closed forms d′ = ((1 + a)/(4b) − 1)/x²,
+    b′ = (a/2 − b)/x, c′ = (b − 3c)/(2x) (of θ², resp. θ²/4)."""
+    S = ((_ARGUMENTS * t2)[..., None] ** _POWERS) @ _SERIES  # x = θ², θ²/4
+    if t2.max() < _SERIES_MAX:
+        return S
+    small = t2 < _SERIES_MAX
+    x1 = np.where(small, 1.0, t2)
+    t = np.sqrt(x1)
+    x2, h = 0.25 * x1, 0.5 * t
+    s1, c1, s2, c2 = np.sin(t), np.cos(t), np.sin(h), np.cos(h)
+    a1, b1 = s1 / t, (1 - c1) / x1
+    a2, b2, cc2 = s2 / h, (1 - c2) / x2, (h - s2) / (x2 * h)
+    d = 1 / x1 - (1 + c1) / (2 * t * s1)
     closed = np.stack(
-        [s / t, (1 - c) / safe, (t - s) / (safe * t), 1 / safe - (1 + c) / (2 * t * s)]
-    )
-    return np.where(small, _series(t2), closed) if small.any() else closed
-
-
-def _series(x):
-    """The series of the four coefficients in x = θ² (error below x⁴/10⁵)."""
-    return np.stack(
         [
-            1 - x / 6 * (1 - x / 20 * (1 - x / 42)),
-            0.5 - x / 24 * (1 - x / 30 * (1 - x / 56)),
-            1 / 6 - x / 120 * (1 - x / 42 * (1 - x / 72)),
-            1 / 12 + x / 720 + x * x / 30240 + x**3 / 1209600,
+            np.stack([d, ((1 + a1) / (4 * b1) - 1) / x1**2, d, d, d], axis=-1),
+            np.stack([a2, b2, cc2, (0.5 * a2 - b2) / x2, (b2 - 3 * cc2) / (2 * x2)], axis=-1),
         ]
     )
+    return np.where(small[:, None], S, closed)
 
 
-def _rotation_functions(rho):
-    """exp(ρ̃), T(ρ)⁻¹, exp(½ρ̃) and T(½ρ) (each …, 3, 3), from one skew matrix and its square."""
-    t2 = np.sum(rho * rho, axis=-1)
-    (a1, b1, _, d1), (a2, b2, c2, _) = np.moveaxis(_coefficients(np.stack([t2, 0.25 * t2])), 1, 0)
-    P = hat_any(rho)
-    P2 = P @ P
-    I3 = np.eye(3)
-
-    def combine(x, y):
-        return I3 + np.asarray(x)[..., None, None] * P + y[..., None, None] * P2
-
-    return (
-        combine(a1, b1),
-        combine(0.5, d1),
-        combine(0.5 * a2, 0.25 * b2),
-        combine(-0.5 * b2, 0.25 * c2),
-    )
-
-
-def _log(R):
-    """Rotation vector of R (θ < π), through θ = 2 atan(s/(1 + c)), s = sin θ, c = cos θ."""
-    a = 0.5 * np.stack(
-        [R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0], R[..., 1, 0] - R[..., 0, 1]],
-        axis=-1,
-    )
-    c1 = 0.5 * (np.trace(R, axis1=-2, axis2=-1) + 1.0)  # 1 + cos θ
-    # an element turned by π over its length (a Newton iterate far from any motion) gives
-    # NaN here, which the caller's convergence checks report
-    with np.errstate(divide="ignore", invalid="ignore"):
-        x2 = np.sum(a * a, axis=-1) / (c1 * c1)  # tan²(θ/2)
-        # atan(x)/x by its series where x² is small
-        small = np.real(x2) < _SMALL2
-        safe = np.sqrt(np.where(small, 1.0, x2))
-        ratio = np.where(small, 1 - x2 / 3 + x2 * x2 / 5 - x2**3 / 7, np.arctan(safe) / safe)
-        return (2.0 * ratio / c1)[..., None] * a
-
-
-def hat_any(w):
-    """Skew matrices of real or complex vectors w (…, 3)."""
-    W = np.zeros(w.shape + (3,), dtype=w.dtype)
-    W[..., 0, 1], W[..., 0, 2], W[..., 1, 2] = -w[..., 2], w[..., 1], -w[..., 0]
-    W[..., 1, 0], W[..., 2, 0], W[..., 2, 1] = w[..., 2], -w[..., 1], w[..., 0]
-    return W
-
-
-def _mv(A, x):
-    return (A @ x[..., None])[..., 0]
-
-
-def _mtv(A, x):
-    return (x[..., None, :] @ A)[..., 0, :]
-
-
-# -- strains and forces ---------------------------------------------------------------------
-def _kinematics(el, R0, R1, x0, x1):
-    """ρ, R_m, γ̂, Γ, K, Λ₀ and ℓ of the elements (any axes between the element's and the
-    vectors')."""
-    ell = el.ell.reshape(el.ell.shape + (1,) * (x0.ndim - 2))[..., None]
-    L0 = el.L0.reshape(el.L0.shape[:1] + (1,) * (x0.ndim - 2) + (3, 3))
-    rho = _log(np.swapaxes(R0, -1, -2) @ R1)
-    gh_L0 = (x1 - x0) / ell  # x′, turned below
-    return rho, gh_L0, L0, ell
-
-
-def _force(el, R0, R1, x0, x1):
-    """Element forces (…, 12) on (x₀, θ₀, x₁, θ₁) and the strain energies (…) (docstring)."""
-    rho, xp, L0, ell = _kinematics(el, R0, R1, x0, x1)
-    exp_rho, Tinv_rho, Rh, T_half = _rotation_functions(rho)
-    Rm = R0 @ Rh
-    gh = _mtv(Rm, xp)
-    Gam, Kap = _mtv(L0, gh) - _E1, _mtv(L0, rho) / ell
-    N, M = el.C[:3] * Gam, el.C[3:] * Kap
-    n, m = _mv(L0, N), _mv(L0, M)
-    p = ell * np.cross(n, gh)
-    t = _mtv(Tinv_rho, m + 0.5 * _mtv(T_half, p))
-    fx = _mv(Rm, n)
-    f = np.concatenate([-fx, _mv(Rh, p) - _mv(exp_rho, t), fx, t], axis=-1)
-    W = 0.5 * ell[..., 0] * (np.sum(N * Gam, axis=-1) + np.sum(M * Kap, axis=-1))
-    return f, W
-
-
+# -- strains, force and tangent ---------------------------------------------------------------
 def _nodal(el, X, q):
+    """R and x of the elements' first and second nodes: the polyline's nodes e and e + 1
+    (``Beam3DElements.of``), so views rather than gathers."""
     Q = q.reshape(-1, 6)
-    R = rotation_exp(Q[:, 3:])
+    R = rotation_matrices(Q[:, 3:])
     x = X + Q[:, :3]
-    return R[el.n0], R[el.n1], x[el.n0], x[el.n1]
+    return R[:-1], R[1:], x[:-1], x[1:]
 
 
-def beam3d_strains(el: Beam3DElements, X: np.ndarray, q: np.ndarray):
-    """Γ (E, 3) and K (E, 3, 1/m) in the section frames at the element midpoints."""
-    R0, R1, x0, x1 = _nodal(el, X, q)
-    rho, xp, L0, ell = _kinematics(el, R0, R1, x0, x1)
-    Rm = R0 @ _rotation_functions(rho)[2]
-    return _mtv(L0, _mtv(Rm, xp)) - _E1, _mtv(L0, rho) / ell
+def _maps():
+    """Fixed linear maps from the coefficients (E, 10) = (d, d′, 0, 0, 0, a, b, c, b′, c′)
+    (:func:`_coefficients`, rows flattened) to the (ρ̃, ρ̃²) weights of exp(½ρ̃), T(ρ)⁻¹ and
+    T(½ρ) (``_MATRICES``, (10, 6) and an offset) and to (α, β, α′, β′) of T(½ρ)ᵀ and of T(ρ)⁻ᵀ
+    as functions of ρ for :func:`_matrix_slopes` (``_SLOPES``, (10, 8) and an offset)."""
+    M, m0 = np.zeros((10, 6)), np.zeros(6)
+    M[5, 0], M[6, 1] = 0.5, 0.25  # exp(½ρ̃) = I + ½a ρ̃ + ¼b ρ̃²  (a, b of θ²/4)
+    m0[2], M[0, 3] = 0.5, 1.0  # T(ρ)⁻¹ = I + ½ρ̃ + d ρ̃²
+    M[6, 4], M[7, 5] = -0.5, 0.25  # T(½ρ) = I − ½b ρ̃ + ¼c ρ̃²
+    S, s0 = np.zeros((10, 8)), np.zeros(8)
+    # T(½ρ)ᵀ = I + (b/2) ρ̃ + (c/4) ρ̃², slopes in |ρ|² = 4x: b′/8, c′/16
+    S[6, 0], S[7, 1], S[8, 2], S[9, 3] = 0.5, 0.25, 0.125, 1 / 16
+    s0[4], S[0, 5], S[1, 7] = -0.5, 1.0, 1.0  # T(ρ)⁻ᵀ = I − ½ρ̃ + d ρ̃²
+    return (M, m0), (S, s0)
 
 
-def _perturbations():
-    """(13, 2, 3) translations and (13, 2, 3, 3) rotations i h ẽ_c of the complex step: none,
-    then one per element dof (x₀, θ₀, x₁, θ₁). R exp(ih ẽ) = R (I + ih ẽ) + O(h²), the O(h²)
-    far below round-off."""
-    dx = np.zeros((13, 2, 3), dtype=complex)
-    dR = np.zeros((13, 2, 3, 3), dtype=complex)
-    dR[:] = np.eye(3)
-    for k in range(12):
-        a, c = divmod(k, 6)
-        if c < 3:
-            dx[k + 1, a, c] = 1j * _STEP
-        else:
-            dR[k + 1, a] += 1j * _STEP * hat(np.eye(3)[c - 3])
-    return dx, dR
+(_MATRICES, _MATRICES0), (_SLOPES, _SLOPES0) = _maps()
 
 
-_DX, _DR = _perturbations()
+class _Strains:
+    """ρ = log(R₀ᵀR₁), the rotation functions of the element, R_m, γ̂ and the strains
+    (Γ, K) as the columns of ``S`` (E, 3, 2). Vectors are kept as columns (E, 3, 1)."""
+
+    def __init__(self, el, R0, R1, x0, x1):
+        self.A = R0.mT @ R1  # exp(ρ̃)
+        rho = _log(self.A)
+        self.t2 = np.einsum("ij,ij->i", rho, rho)
+        self.co = _coefficients(self.t2).transpose(1, 0, 2).reshape(-1, 10)
+        w = (self.co @ _MATRICES + _MATRICES0).reshape(-1, 3, 2, 1, 1)
+        self.P = P = _hat(rho)
+        Ps = P[:, None]
+        M = (_I3 + w[:, :, 0] * Ps + w[:, :, 1] * (Ps @ Ps)).transpose(1, 0, 2, 3)
+        self.H, self.Ti, self.Th = M  # exp(½ρ̃), T(ρ)⁻¹, T(½ρ)
+        self.Rm = R0 @ self.H
+        self.rho = rho[..., None]
+        # L0ᵀ (R_mᵀ x′, ρ/ℓ) − (E₁, 0): the strains Γ and K as two columns
+        V = np.concatenate([self.Rm.mT @ (x1 - x0)[..., None], self.rho], axis=2)
+        self.S = el.L0.mT @ V / el.ell[:, None, None] - _E1_COLUMN
+        self.gh = V[:, :, :1] / el.ell[:, None, None]
+
+
+class _Forces(_Strains):
+    """The element force f (E, 12) and energy W (E), and the quantities the tangent reuses."""
+
+    def __init__(self, el, R0, R1, x0, x1):
+        super().__init__(el, R0, R1, x0, x1)
+        ell = el.ell[:, None, None]
+        NM = self.S * _rigidity_columns(el.C)
+        nm = el.L0 @ NM  # n̂, m̂
+        self.n, m = nm[:, :, :1], nm[:, :, 1:]
+        self.Nh, self.Gh = _hat(self.n[..., 0]), _hat(self.gh[..., 0])
+        self.p = p = ell * (self.Nh @ self.gh)
+        self.u = m + 0.5 * (self.Th.mT @ p)
+        self.t = t = self.Ti.mT @ self.u
+        fx = self.Rm @ self.n
+        self.f = np.concatenate([-fx, self.H @ p - self.A @ t, fx, t], axis=1)
+        self.W = 0.5 * el.ell * (NM * self.S).sum(axis=(1, 2))
+
+
+def _rigidity_columns(C):
+    """The rigidities as the columns (C_Γ, C_K) (3, 2)."""
+    return C.reshape(2, 3).T
+
+
+def _matrix_slopes(P, rho, v, c):
+    """∂(M_k v_k)/∂ρ (2, E, 3, 3) of M_k = I + α_k ρ̃ + β_k ρ̃², α_k and β_k functions of
+    x = |ρ|² with slopes α′_k, β′_k, the columns of c (E, 2, 4); P = ρ̃, ρ (E, 3, 1) and v
+    (2, E, 3, 1) columns:
+
+        −α ṽ + β (ρ vᵀ + (ρ·v) I − 2 v ρᵀ) + 2 (α′ ρ×v + β′ ρ×(ρ×v)) ρᵀ."""
+    alpha, beta, alpha1, beta1 = c.transpose(2, 1, 0)[..., None, None]
+    w1 = P @ v
+    w = 2 * (alpha1 * w1 + beta1 * (P @ w1) - beta * v)
+    G = w @ rho.mT + beta * (rho @ v.mT + (rho.mT @ v) * _I3)
+    return G - alpha * _hat(v[..., 0])
+
+
+def _tangent(el, s: _Forces) -> np.ndarray:
+    r"""∂f(q ⊕ Δ)/∂Δ (E, 12, 12), Δ = (δx₀, δθ₀, δx₁, δθ₁), by the chain rule through the
+    force's intermediates, each a (E, 3, 12) derivative D·:
+
+        Dφ = (0, −exp(−ρ̃), 0, I),  Dρ = T(ρ)⁻¹ Dφ,  Dψ_m = (0, exp(−½ρ̃), 0, 0) + ½ T(½ρ) Dρ,
+        Dγ̂ = γ̂~ Dψ_m + R_mᵀ (−I, 0, I, 0)/ℓ,  Dn̂ = Λ₀C_ΓΛ₀ᵀ Dγ̂,  Dm̂ = Λ₀C_KΛ₀ᵀ Dρ/ℓ,
+        Dp = ℓ (n̂~ Dγ̂ − γ̂~ Dn̂),  Du = Dm̂ + ½ (T(½ρ)ᵀ Dp + ½ ∂(T(φ)ᵀp)/∂φ Dρ),
+        Dt = T(ρ)⁻ᵀ Du + ∂(T(ρ)⁻ᵀu)/∂ρ Dρ,
+
+    (δφ the right variation of exp(ρ̃) = R₀ᵀR₁, ψ_m that of R_m, u = m̂ + ½T(½ρ)ᵀp), and, with
+    ∂(exp(φ̃)v)/∂φ = −exp(φ̃) ṽ T(φ),
+
+        Df_x₁ = R_m (Dn̂ − n̂~ Dψ_m) = −Df_x₀,  Df_θ₁ = Dt,
+        Df_θ₀ = exp(½ρ̃) (Dp − ½ p̃ T(½ρ) Dρ) − exp(ρ̃) (Dt − t̃ Dφ).
+
+    The derivatives of T's matrices are :func:`_matrix_slopes` with the coefficients' slopes;
+    T(ρ)⁻¹ exp(−ρ̃) = T(ρ)⁻ᵀ (as exp(ρ̃) T(ρ) = T(ρ)ᵀ) gives Dρ without a product."""
+    E, ell = len(el.ell), el.ell[:, None, None]
+    At, Ht = s.A.mT, s.H.mT
+    Dphi = np.zeros((E, 3, 12))
+    Dphi[:, :, 3:6] = -At
+    Dphi[:, :, 9:] = _I3
+    Drho = np.zeros((E, 3, 12))
+    Drho[:, :, 3:6] = -s.Ti.mT
+    Drho[:, :, 9:] = s.Ti
+    ThDrho = s.Th @ Drho
+    Dpsi = 0.5 * ThDrho
+    Dpsi[:, :, 3:6] += Ht
+    Dg = s.Gh @ Dpsi
+    B = s.Rm.mT / ell
+    Dg[:, :, :3] -= B
+    Dg[:, :, 6:9] += B
+    Dn = el.CG @ Dg
+    Dm = el.CK @ Drho
+    Dp = ell * (s.Nh @ Dg - s.Gh @ Dn)
+    c = (s.co @ _SLOPES + _SLOPES0).reshape(-1, 2, 4)
+    v = np.concatenate([s.p, s.u], axis=2).transpose(2, 0, 1)[..., None]  # (p, u) stacked first
+    Gp, Gu = _matrix_slopes(s.P, s.rho, v, c) @ Drho
+    Du = Dm + 0.5 * (s.Th.mT @ Dp + Gp)
+    Dt = s.Ti.mT @ Du + Gu
+    Dfx = s.Rm @ (Dn - s.Nh @ Dpsi)
+    pt = _hat(np.concatenate([s.p, s.t], axis=2).transpose(0, 2, 1))  # p̃, t̃
+    Df0 = s.H @ (Dp - 0.5 * (pt[:, 0] @ ThDrho)) - s.A @ (Dt - pt[:, 1] @ Dphi)
+    return np.concatenate([-Dfx, Df0, Dfx, Dt], axis=1)
 
 
 def beam3d_internal(el: Beam3DElements, X: np.ndarray, q: np.ndarray, ndof: int, tangent: bool):
     """Strain energy W (J), internal force (N, N·m; moments in the nodes' frames R) and the
-    element tangents ∂f(q ⊕ Δ)/∂Δ (E, 12, 12) with respect to the right increments.
+    element tangents ∂f(q ⊕ Δ)/∂Δ (E, 12, 12) with respect to the right increments."""
+    s = _Forces(el, *_nodal(el, X, q))
+    f = np.bincount(el.dofs.ravel(), s.f.ravel(), minlength=ndof)
+    return float(s.W.sum()), f, _tangent(el, s) if tangent else None
 
-    With the tangent, one complex evaluation at the 13 points q and q ⊕ ihe_k gives all: the
-    real parts are f and W (to O(h²), nothing), the imaginary parts over h the columns."""
-    R0, R1, x0, x1 = _nodal(el, X, q)
-    if tangent:
-        R = np.stack([R0, R1], axis=1)[:, None] @ _DR  # (E, 13, 2, 3, 3)
-        x = np.stack([x0, x1], axis=1)[:, None] + _DX
-        fk, Wk = _force(el, R[:, :, 0], R[:, :, 1], x[:, :, 0], x[:, :, 1])
-        f_e, W_e = fk[:, 0].real, Wk[:, 0].real
-        K_e = np.swapaxes(fk[:, 1:].imag, 1, 2) / _STEP
-    else:
-        f_e, W_e = _force(el, R0, R1, x0, x1)
-        K_e = None
-    f = np.bincount(el.dofs.ravel(), f_e.ravel(), minlength=ndof)
-    return float(W_e.sum()), f, K_e
+
+def beam3d_strains(el: Beam3DElements, X: np.ndarray, q: np.ndarray):
+    """Γ (E, 3) and K (E, 3, 1/m) in the section frames at the element midpoints."""
+    S = _Strains(el, *_nodal(el, X, q)).S
+    return S[:, :, 0], S[:, :, 1]
 
 
 def beam3d_energy(el: Beam3DElements, X: np.ndarray, q: np.ndarray) -> float:
     """Strain energy W (J)."""
-    Gam, Kap = beam3d_strains(el, X, q)
-    return 0.5 * float(el.ell @ (Gam**2 @ el.C[:3] + Kap**2 @ el.C[3:]))
+    S = _Strains(el, *_nodal(el, X, q)).S
+    return 0.5 * float(el.ell @ (S * S * _rigidity_columns(el.C)).sum(axis=(1, 2)))
