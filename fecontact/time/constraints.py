@@ -61,13 +61,15 @@ def factorize_or_fail(A, residual, symmetric=False, solver=None):
     return checked
 
 
-def bordered(K, G):
-    """The saddle-point matrix [[K, Gᵀ], [G, 0]] (dense or sparse like K)."""
+def bordered(K, G, lower=None):
+    """The saddle-point matrix [[K, Gᵀ], [G, 0]] (dense or sparse like K); ``lower``: the
+    rows' linearization where it is not G (on a Lie group, G T(D))."""
+    lower = G if lower is None else lower
     if sp.issparse(K):
-        return sp.bmat([[K, sp.csr_matrix(G.T)], [sp.csr_matrix(G), None]], format="csc")
+        return sp.bmat([[K, sp.csr_matrix(G.T)], [sp.csr_matrix(lower), None]], format="csc")
     n = K.shape[0]
     A = np.zeros((n + G.shape[0],) * 2)
-    A[:n, :n], A[:n, n:], A[n:, :n] = K, G.T, G
+    A[:n, :n], A[:n, n:], A[n:, :n] = K, G.T, lower
     return A
 
 

@@ -27,6 +27,7 @@ import scipy.sparse as sp
 from ..errors import InputError
 from ..rotations import tangent
 from .configuration import plus
+from .constraints import bordered
 
 __all__ = ["LieStep", "check_group", "inertial_forces", "on_group", "predict_increment"]
 
@@ -148,10 +149,4 @@ class LieStep:
     def bordered(self, Kb, G):
         """[[K_b, Gᵀ], [G T(D), 0]]: the forces Gᵀλ act in the body frame, the constraint
         rows move with D through T(D)."""
-        GT = self.right(G)
-        if sp.issparse(Kb):
-            return sp.bmat([[Kb, sp.csr_matrix(G.T)], [sp.csr_matrix(GT), None]], format="csc")
-        n = Kb.shape[0]
-        A = np.zeros((n + G.shape[0],) * 2)
-        A[:n, :n], A[:n, n:], A[n:, :n] = Kb, G.T, GT
-        return A
+        return bordered(Kb, G, self.right(G))
