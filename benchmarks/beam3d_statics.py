@@ -22,20 +22,9 @@ from _common import RESULTS, markdown_table, parser, write_csv, write_markdown
 
 from fecontact import Beam3D, Material, Model, Section
 from fecontact.statics_rotations import solve_static_rotations
+from fecontact.testing import roll_up
 
 REFERENCE_TIP = np.array([47.23, 15.79, 53.37])
-
-
-def roll_up(n: int, fraction: float, steps: int):
-    """Tip position (m) and Newton iterations of the roll-up under fraction × 2πEI/L."""
-    material = Material(1e7, nu=0.0, rho=1.0)
-    section = Section(area=1.0, inertia=1e-4, inertia_2=1e-4, torsion=2e-4)
-    beam = Beam3D.straight([0, 0, 0], [1.0, 0, 0], n, material, section).clamp(0)
-    model = Model([beam])
-    load = np.zeros(model.n)
-    load[-1] = fraction * 2.0 * np.pi * material.E * section.inertia
-    sol = solve_static_rotations(model, load, steps=steps)
-    return beam.positions(sol.q)[-1], sol
 
 
 def bend(n: int, steps: int = 10):

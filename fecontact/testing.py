@@ -27,6 +27,7 @@ __all__ = [
     "case",
     "episode_starts",
     "gap_derivatives_error",
+    "roll_up",
     "observed_order",
     "pendulum_exact",
     "pressed_blocks",
@@ -299,3 +300,21 @@ def pressed_boxes(n_lower: int, n_upper: int, p: float, method="mortar", small=T
                      -p / E_LOW * 0.5 - p / E_UP * (XU[:, 2] - 0.5)], axis=1)  # fmt: skip
     parts = (q[model.body_slice(0)], q[model.body_slice(1)])
     return pair, parts, lam, (u_low.ravel(), u_up.ravel())
+
+
+def roll_up(n: int, fraction: float, steps: int = 10):
+    """Simo's roll-up: a cantilever (``Beam3D``, L = 1 m, EI = 10³ N·m², EA = 10⁷ N, n
+    elements) under the end moment fraction × 2πEI/L, solved statically in ``steps`` load
+    increments: (the tip's position in m, the static solution)."""
+    from .bodies import Beam3D, Material, Section
+    from .model import Model
+    from .statics_rotations import solve_static_rotations
+
+    material = Material(1e7, nu=0.0, rho=1.0)
+    section = Section(area=1.0, inertia=1e-4, inertia_2=1e-4, torsion=2e-4)
+    beam = Beam3D.straight([0, 0, 0], [1.0, 0, 0], n, material, section).clamp(0)
+    model = Model([beam])
+    load = np.zeros(model.n)
+    load[-1] = fraction * 2.0 * np.pi * material.E * section.inertia
+    sol = solve_static_rotations(model, load, steps=steps)
+    return beam.positions(sol.q)[-1], sol

@@ -16,6 +16,7 @@ from fecontact import (
     Section,
     Sphere,
     rotations,
+    testing,
 )
 from fecontact.bodies.beam import rectangle_torsion
 from fecontact.bodies.beam3d_complex_step import complex_step_internal
@@ -332,16 +333,10 @@ def test_bad_input_is_named(build, match):
 
 # -- statics: classical benchmarks ----------------------------------------------------------
 def roll_up(n, fraction):
-    """Simo's roll-up: L = 1 m, EI = 10³ N·m², EA = 10⁷ N, under fraction × 2πEI/L."""
-    material = Material(1e7, nu=0.0, rho=1.0)
-    section = Section(area=1.0, inertia=1e-4, inertia_2=1e-4, torsion=2e-4)
-    beam = Beam3D.straight([0, 0, 0], [1.0, 0, 0], n, material, section).clamp(0)
-    model = Model([beam])
-    load = np.zeros(model.n)
-    load[-1] = fraction * 2.0 * np.pi * material.E * section.inertia
-    sol = solve_static_rotations(model, load, steps=10)
+    """Simo's roll-up (:func:`fecontact.testing.roll_up`), solved without a halved increment."""
+    tip, sol = testing.roll_up(n, fraction)
     assert sol.cuts == 0
-    return beam.positions(sol.q)[-1]
+    return tip
 
 
 def test_roll_up_closes_the_circle():
