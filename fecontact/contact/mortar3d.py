@@ -132,7 +132,9 @@ class MortarContact3D(MortarInterface):
         weight = np.bincount(pair, w, len(e))
         area = element_measures(xs, self.facets)
         covered = self._covered(pair, w, lam, len(e)) * area[e, None]
-        needed = triangles_taking_part(self.element_rows, e, weight, covered, area)
+        needed = triangles_taking_part(
+            self.element_rows, e, weight, covered, area, self.taking_part
+        )
         part, A, extra, drop = covered_duals(e, ts, tm, u, v, plane, weight, needed, derivatives)
         w = np.where(drop[pair], 0.0, w)
         x = np.einsum("pk,pkd->pd", lam, ts[pair])
