@@ -15,6 +15,7 @@ from fecontact.contact import Contact
 from fecontact.contact.geometry import segment_distance
 from fecontact.contact.mortar import MortarContact
 from fecontact.contact.mortar3d import MortarContact3D
+from fecontact.contact.mortar_facets import meet_triangles
 from fecontact.errors import InputError
 from fecontact.scenes import solid_material
 from fecontact.testing import gap_derivatives_error, pressed_blocks, pressed_boxes
@@ -360,6 +361,21 @@ def test_coarsest_balls_rebound():
     # no energy made over the impact: measured E_end/E_0 = 1.005 (the rigid plane's 0.982,
     # ρ∞ = 0.5); 1 % as for the disks, for the position corrections
     assert energy[-1] <= 1.01 * energy[0]
+
+
+@pytest.mark.parametrize("angle", [85.0, 95.0, 120.0, 150.0, 180.0])
+def test_triangles_facing_at_any_angle_beyond_a_right_angle_meet(angle):
+    """The facing test has no blind spot: a point 1 cm from a triangle along its own normal
+    meets it whenever that normal makes more than 90° with the triangle's (the projection is
+    defined), 120° exactly included (the coarsest poles node on node); at 85° the triangle
+    does not face it."""
+    tri = np.array([[[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [0.0, 1.0, 0.0]]])  # normal +z
+    t = np.radians(angle)
+    n = np.array([[0.0, np.sin(t), np.cos(t)]])
+    distance, _, meets = meet_triangles(-0.01 * n, n, tri, np.inf)
+    assert meets[0] == (angle > 90.0)
+    if meets[0]:
+        assert distance[0] == pytest.approx(0.01, rel=1e-12)
 
 
 def test_coarsest_balls_node_on_node_meet():
