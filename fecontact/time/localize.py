@@ -24,6 +24,16 @@ closes slower than ``GRAZING`` gap tolerances per step) and ``unrefined`` (no in
 to the tolerance within ``MAX_REFINE`` smooth steps, or a gap unknown at the step's start).
 Positions stay held at every sub-step, so no penetration follows from a split.
 
+On a flexible body (a beam or a solid) a closing starts a contact phase of its own dynamics:
+the body's elastic spring-back lifts the point off and it strikes again, several times within
+a few steps (a chattering contact). A step of h holds such a contact pressed for as long as
+the smooth step still drives it in, which it does for several steps after the converged
+release. So a step of a flexible model in which a contact closes, or that starts with a
+contact pressed within ``CHATTER_WINDOW`` steps of the latest closing, is taken as
+``CHATTER`` sub-steps, each localized as above: the releases and re-strikes fall at the
+sub-steps' resolution and every re-strike is located. A contact pressed for longer is a
+lasting one, left to the step. Such steps are counted (``subdivided_steps``).
+
 Linear models factorize their iteration matrix once per step size: the split steps' sizes
 are used once, so their factorizations (and the correction's columns) are dropped after the
 step, counted in ``localization_cost``; the full step's are kept.
@@ -40,7 +50,17 @@ from .nsga import smooth_phases
 from .settings import RunSettings
 from .state import PhaseTimer, State, length_scale
 
-__all__ = ["GRAZING", "MAX_IMPACTS", "MIN_REST", "TOGETHER", "joined", "localized_step"]
+__all__ = [
+    "CHATTER",
+    "CHATTER_WINDOW",
+    "GRAZING",
+    "MAX_IMPACTS",
+    "MIN_REST",
+    "TOGETHER",
+    "Localizer",
+    "joined",
+    "localized_step",
+]
 
 MAX_IMPACTS = 4
 """Impacts located in one step, at most (K): more is an accumulation (Zeno)."""
@@ -63,6 +83,13 @@ acceleration and the regula falsi converges superlinearly: 1 to 3 are measured).
 
 LAST = 1e-9
 """Fraction of the step: an impact that closes this near its end ends the step."""
+
+CHATTER = 8
+"""Sub-steps of a step of a flexible model in which a contact chatters (module docstring)."""
+
+CHATTER_WINDOW = 16
+"""Steps after the latest closing within which a pressed contact of a flexible model is
+taken as chattering; longer, it is a lasting contact."""
 
 
 def localizes(model, opts: RunSettings) -> bool:
@@ -89,6 +116,42 @@ def localized_step(model, st: State, h: float, opts: RunSettings, timer: PhaseTi
     if not _penetrates(model, phases, opts):  # (most steps: nothing more to do)
         return phases.finish(time.perf_counter())
     return _split_step(model, st, h, opts, timer, phases)
+
+
+class Localizer:
+    """The localized step of one run of ``model`` (its step function): :func:`localized_step`,
+    in ``CHATTER`` sub-steps while a contact of a flexible model chatters (module docstring).
+    It remembers the instant of the run's latest closing (s)."""
+
+    def __init__(self, model):
+        self.substeps = CHATTER if (model.continuum or model.slender) else 1
+        self.closed = -np.inf
+
+    def __call__(self, model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
+        if self.substeps == 1:
+            return localized_step(model, st, h, opts, timer)
+        pressed = st.pressed().any()
+        if pressed and st.t - self.closed <= CHATTER_WINDOW * h:
+            return self._subdivided(model, st, h, opts, timer)
+        out = localized_step(model, st, h, opts, timer)
+        if pressed or not out.pressed().any():
+            return out
+        self.closed = st.t  # a closing: the step again, in sub-steps
+        return self._subdivided(model, st, h, opts, timer)
+
+    def _subdivided(self, model, st, h, opts, timer) -> State:
+        """The step from ``st`` over ``h`` as ``substeps`` localized steps, joined; a closing
+        in one of them moves the latest closing there."""
+        opts.stats.localization.subdivided += 1
+        k = h / self.substeps
+        out = cur = st
+        for i in range(self.substeps):
+            nxt = localized_step(model, cur, k, opts, timer)
+            if nxt.pressed().any() and not cur.pressed().any():
+                self.closed = cur.t
+            out = nxt if i == 0 else joined(out, nxt, h)
+            cur = nxt
+        return out
 
 
 def _penetrates(model, phases, opts) -> bool:

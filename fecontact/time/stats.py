@@ -42,11 +42,13 @@ class Localization:
     left to the end-of-step impact, by reason: ``accumulation`` (the step already split
     ``max_impacts`` times, or too little of it left), ``persistent`` (a contact was already
     pressed at the step's start), ``grazing`` (the gap closes with ġ ≈ 0), ``unrefined``
-    (no instant found to the gap tolerance)."""
+    (no instant found to the gap tolerance); ``subdivided`` counts the steps of a flexible
+    model taken in sub-steps while a contact chattered."""
 
     impacts: int = 0
     smooth_steps: int = 0
     factorizations: int = 0
+    subdivided: int = 0
     fallbacks: dict = field(
         default_factory=lambda: dict.fromkeys(
             ("accumulation", "persistent", "grazing", "unrefined"), 0
@@ -111,6 +113,7 @@ class StepStats:
             "localization_cost": {
                 "smooth_steps": self.localization.smooth_steps,
                 "factorizations": self.localization.factorizations,
+                "subdivided_steps": self.localization.subdivided,
             },
             # rtol's control (fecontact.time.adaptive): steps taken again smaller
             "steps_rejected": self.control.rejected,
