@@ -127,7 +127,8 @@ def localized_step(model, st: State, h: float, opts: RunSettings, timer: PhaseTi
 def localized_stepper(model):
     """The step function of a run of ``model`` that localizes its impacts: a
     :class:`Localizer` where a body is flexible, else :func:`localized_step` itself."""
-    return Localizer(model) if (model.continuum or model.slender) else localized_step
+    flexible = model.continuum or model.slender
+    return Localizer(model) if flexible and CHATTER > 1 else localized_step
 
 
 class Localizer:
