@@ -134,35 +134,49 @@ def localized_stepper(model):
 class Localizer:
     """The localized step of one run of a flexible ``model`` (its step function):
     :func:`localized_step`, in ``CHATTER`` sub-steps while a contact chatters (module
-    docstring).
-    It remembers the instant of the run's latest closing (s)."""
+    docstring). It remembers the instant of the run's latest closing (s) and whether a
+    contact carried a force in its last (sub-)step (a joined step's state sums its
+    sub-steps' impulses)."""
 
     def __init__(self, model):
         self.substeps = CHATTER
         self.closed = -np.inf
+        self.pressed = None
 
     def __call__(self, model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
         pressed = st.pressed().any()
         if pressed and st.t - self.closed <= CHATTER_WINDOW * h:
             return self._subdivided(model, st, h, opts, timer)
         out = localized_step(model, st, h, opts, timer)
-        if pressed or not out.pressed().any():
+        ends = out.pressed().any()
+        if not ends and (pressed if self.pressed is None else self.pressed):
+            opts.stats.localization.last_release = st.t  # (a release at the step's start)
+        if pressed or not ends:
+            self.pressed = ends
             return out
         self.closed = st.t  # a closing: the step again, in sub-steps
         return self._subdivided(model, st, h, opts, timer)
 
     def _subdivided(self, model, st, h, opts, timer) -> State:
         """The step from ``st`` over ``h`` as ``substeps`` localized steps, joined; a closing
-        in one of them moves the latest closing there."""
+        in one of them moves the latest closing there, a release the run's last one."""
         opts.stats.localization.subdivided += 1
         k = h / self.substeps
-        out = cur = st
-        for i in range(self.substeps):
-            nxt = localized_step(model, cur, k, opts, timer)
-            if nxt.pressed().any() and not cur.pressed().any():
-                self.closed = cur.t
-            out = nxt if i == 0 else joined(out, nxt, h)
-            cur = nxt
+        before = st.pressed().any() if self.pressed is None else self.pressed
+        parts, cur = [], st
+        for _ in range(self.substeps):
+            cur = localized_step(model, cur, k, opts, timer)
+            after = cur.pressed().any()
+            if after and not before:
+                self.closed = parts[-1].t if parts else st.t
+            elif before and not after:
+                opts.stats.localization.last_release = parts[-1].t if parts else st.t
+            parts.append(cur)
+            before = after
+        self.pressed = before
+        out = parts[0]
+        for part in parts[1:]:  # (after the sub-steps: each starts from its own state)
+            out = joined(out, part, h)
         return out
 
 
@@ -190,6 +204,8 @@ def _split_step(model, st, h, opts, timer, phases) -> State:
             delta, phases = split
             parts.append(phases.finish(time.perf_counter()))
             stats.impacts += 1
+            if stats.first_closing is None:
+                stats.first_closing = parts[-1].t
             cur, left = parts[-1], left - delta
             if left <= LAST * h:
                 break
