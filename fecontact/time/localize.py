@@ -29,7 +29,8 @@ the body's elastic spring-back lifts the point off and it strikes again, several
 a few steps (a chattering contact). A step of h holds such a contact pressed for as long as
 the smooth step still drives it in, which it does for several steps after the converged
 release. So a step of a flexible model in which a contact closes, or that starts with a
-contact pressed within ``CHATTER_WINDOW`` steps of the latest closing, is taken as
+contact pressed within ``CHATTER_WINDOW`` steps of the latest closing, or one whose mean
+force falls to zero within ``RELEASE`` steps along the line of its last two, is taken as
 ``CHATTER`` sub-steps, each localized as above: the releases and re-strikes fall at the
 sub-steps' resolution and every re-strike is located. A contact pressed for longer is a
 lasting one, left to the step. Such steps are counted (``subdivided_steps``).
@@ -92,6 +93,10 @@ CHATTER_WINDOW = 16
 """Steps after the latest closing within which a pressed contact of a flexible model is
 taken as chattering; longer, it is a lasting contact."""
 
+RELEASE = 2.0
+"""Steps within which a contact whose mean force falls reaches zero along the line of its
+last two steps' forces: the step is taken in sub-steps (the release falls inside it)."""
+
 
 def localizes(model, opts: RunSettings) -> bool:
     """Whether the run of ``model`` with ``opts`` locates impacts inside its steps: the
@@ -142,10 +147,11 @@ class Localizer:
         self.substeps = CHATTER
         self.closed = -np.inf
         self.pressed = None
+        self.force = np.zeros(model.contacts.size)  # N: the mean forces of the last step
 
     def __call__(self, model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
-        pressed = st.pressed().any()
-        if pressed and st.t - self.closed <= CHATTER_WINDOW * h:
+        pressed, releasing = st.pressed().any(), self._releasing(st)
+        if pressed and (releasing or st.t - self.closed <= CHATTER_WINDOW * h):
             return self._subdivided(model, st, h, opts, timer)
         out = localized_step(model, st, h, opts, timer)
         ends = out.pressed().any()
@@ -156,6 +162,15 @@ class Localizer:
             return out
         self.closed = st.t  # a closing: the step again, in sub-steps
         return self._subdivided(model, st, h, opts, timer)
+
+    def _releasing(self, st: State) -> bool:
+        """Whether a contact's mean force, falling from the step before ``st``'s to
+        ``st``'s, reaches zero within ``RELEASE`` steps along that line (its release); notes
+        the forces of ``st``."""
+        force = st.mean_force() if st.impulse.size == self.force.size else self.force * 0
+        before, self.force = self.force, force
+        falling = (force > 0.0) & (force < before)
+        return bool(np.any(falling & (force <= RELEASE * (before - force))))
 
     def _subdivided(self, model, st, h, opts, timer) -> State:
         """The step from ``st`` over ``h`` as ``substeps`` localized steps, joined; a closing
