@@ -1,6 +1,6 @@
 """Chattering contacts of flexible bodies: steps of h against a fine run, localization off,
-on with every step whole, and on with a chattering contact's steps in sub-steps (the
-default of ``localize=1`` on beams and solids).
+on with every step whole, and on with a chattering contact's steps in sub-steps (what
+``localize=1`` does on beams and solids).
 
 Tables:
 
@@ -14,7 +14,10 @@ Tables:
    frequency of the tip's x velocity, 0.4–0.86 s, at h and h/8);
 3. the impacting bar (L = 1, c = 1, v₀ = 0.1, 100 elements, the closing 0.37 of a step
    into a step): the largest distance of the mean velocity (momentum over mass) from an
-   h/16 run and the rebound velocity's error (exact: v₀), at h, h/2, h/4 (h = Δx/2c).
+   h/16 run and the rebound velocity's error (exact: v₀), at h, h/2, h/4 (h = Δx/2c);
+4. Hertz's ball (``hertz.py``'s P1 balls of refinements 1 and 2 and its P2 ball of
+   refinement 1, at 1 m/s): the contact duration from the located closing and the last
+   release at t_c/20 and t_c/50 against the finest step's, and from whole steps.
 
     python benchmarks/chattering.py            # about 10 minutes on a loaded 2-core machine
     python benchmarks/chattering.py --quick    # a minute: shorter runs, fewer steps
@@ -199,13 +202,64 @@ def bar(quick):
     return out
 
 
+def hertz_span(quick):
+    """Hertz's ball (``hertz.py``, 1 m/s) closing 0.37 of a step into its third step: the
+    contact duration from the located closing and the last release (``summary.json``'s
+    ``localized_contact_span_s``) at t_c/20, t_c/50 and the finest step, against the finest
+    step's; and from whole steps (the end of the last step with a contact force, less the
+    exact closing instant)."""
+    import hertz
+
+    balls = (("P1", 1),) if quick else (("P1", 1), ("P1", 2), ("P2", 1))
+    out = []
+    for element, refinements in balls:
+        spans = {}
+        for steps in ("finest", 20, 50):
+            for loc in (False, True):
+                model, options, v0 = hertz.uniform_case(element, refinements)
+                ball = model.bodies[0]
+                t_c = hertz.hertz(ball.mass)["t_c"]
+                h = hertz.base_step(ball) if steps == "finest" else t_c / steps
+                q0 = model.translation(ball, (0.0, 0.0, 2.37 * h * hertz.V))
+                options.detection_margin, options.localize = 0.01, loc
+                stats, last, after = StepStats(), 0.0, 0
+                for st in simulate(model, h, 3 * t_c, options, q0=q0, v0=v0, stats=stats):
+                    if st.step and st.pressed().any():
+                        last, after = st.t, 0
+                    elif last and (after := after + 1) * h > 0.1 * t_c:
+                        break
+                span = stats.localization
+                spans[steps, loc] = (
+                    span.last_release - span.first_closing if loc else last - 2.37 * h
+                )
+            if steps == "finest":
+                continue
+            out.append(
+                {
+                    "ball": f"{element}, refinements {refinements}",
+                    "h": f"t_c/{steps}",
+                    "t_c, finest step (ms)": 1e3 * spans["finest", True],
+                    "localized (ms)": 1e3 * spans[steps, True],
+                    "error (%)": 100 * (spans[steps, True] / spans["finest", True] - 1),
+                    "whole steps (ms)": 1e3 * spans[steps, False],
+                    "whole steps' error (%)": 100
+                    * (spans[steps, False] / spans["finest", False] - 1),
+                }
+            )
+    return out
+
+
 def main(argv=None):
     args = common.parser(__doc__.splitlines()[0]).parse_args(argv)
     out = common.Path(args.out)
     sections = [
         ("Founding case: tip distance from a fine run.", founding(args.quick)),
         ("Founding case: the free swing's smooth steps.", swing(args.quick)),
-        ("Impacting bar: the mean velocity against the exact one.", bar(args.quick)),
+        ("Impacting bar: the mean velocity against a fine run.", bar(args.quick)),
+        (
+            "Hertz's ball: contact duration, closing to release.",
+            hertz_span(args.quick),
+        ),
     ]
     text = common.report("Chattering contacts", *sections)
     stem = out / ("chattering_quick" if args.quick else "chattering")
