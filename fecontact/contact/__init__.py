@@ -2,7 +2,14 @@
 set of pairs of a model, and the Alart–Curnier laws solved by semi-smooth Newton."""
 
 # the modules of pairs register theirs with ``register_pair`` on import: ``Contact`` finds them
-from . import beam_sides, body_pairs, rigid3d_pairs, rigid_pairs, segment_pairs  # noqa: F401
+from . import (  # noqa: F401
+    beam3d_pairs,
+    beam_sides,
+    body_pairs,
+    rigid3d_pairs,
+    rigid_pairs,
+    segment_pairs,
+)
 from .contact_set import ContactSet
 from .dispatch import Contact
 from .laws import (
