@@ -10,6 +10,7 @@ from . import (  # noqa: F401
     rigid3d_pairs,
     rigid_pairs,
     segment_pairs,
+    solid_rigid3d,
 )
 from .contact_set import ContactSet
 from .dispatch import Contact
