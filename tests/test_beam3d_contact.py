@@ -3,14 +3,21 @@ balls and capsules, and other tubes (fecontact.contact.beam3d_pairs, .segment3d)
 
 import numpy as np
 import pytest
+from scipy.optimize import minimize_scalar
 
 from fecontact import Model, Solid, simulate
 from fecontact.bodies import Beam3D, Material, RigidBody3D, Section
 from fecontact.bodies.materials import LinearElastic
 from fecontact.bodies.meshes import box_mesh
-from fecontact.bodies.shapes3d import Ball, Box, Capsule
+from fecontact.bodies.shapes3d import Ball, Box, Capsule, Cylinder
 from fecontact.contact import Contact, NodeContact, Sphere
-from fecontact.contact.beam3d_pairs import TubeBeamContact, TubeRigidContact, TubeSphereContact
+from fecontact.contact.beam3d_box import box_signed_distance, closest_to_box
+from fecontact.contact.beam3d_pairs import (
+    TubeBeamContact,
+    TubeBoxContact,
+    TubeRigidContact,
+    TubeSphereContact,
+)
 from fecontact.contact.beam3d_solid import TubeSolidContact
 from fecontact.contact.geometry import segment_distance
 from fecontact.contact.segment3d import tube_distance
@@ -125,8 +132,8 @@ def test_the_registry_chooses_the_tube_pairs():
     assert isinstance(Contact(ball, bar), TubeRigidContact)
     with pytest.raises(InputError, match="clearance"):
         Contact(bar, other)
-    with pytest.raises(InputError, match="Ball or a Capsule"):
-        Contact(bar, RigidBody3D.uniform(1.0, [0.5, 0, -1], Box(1, 1, 1)))
+    with pytest.raises(InputError, match="a Ball, a Capsule or a Box"):
+        Contact(bar, RigidBody3D.uniform(1.0, [0.5, 0, -1], Cylinder(0.1, 1.0)))
 
 
 # -- impacts with exact answers --------------------------------------------------------------
@@ -270,3 +277,73 @@ def test_a_rod_dropped_on_an_elastic_block_stays_out_and_keeps_the_momentum():
     m = bar.mass
     assert (rod_p + block_p) / m == pytest.approx(-1.0, abs=1e-9)
     assert block_p / m < -0.5 and rod_p > 0.0  # the rod has struck and left
+
+
+# -- against a box --------------------------------------------------------------------------
+def test_the_closest_point_of_a_segment_to_a_box_is_the_least_signed_distance():
+    """Against a bounded scalar minimization of the (convex) signed distance along 300
+    random segments, some through the box, some parallel to an axis: never above it by more
+    than round-off (5.6e-17 measured)."""
+    rng = np.random.default_rng(0)
+    half = np.array([0.3, 0.2, 0.1])
+    A, B = rng.normal(scale=0.4, size=(2, 300, 3))
+    B[:40, 1:] = A[:40, 1:]  # along x
+    B[40:60] = A[40:60] + [0.0, 0.0, 0.5]  # along z
+    xi, s, rho, nb = closest_to_box(A, B, half)
+    assert (s < 0).sum() > 50  # some cross the box
+    through = closest_to_box(np.array([[-1.0, 0.0, 0.0]]), np.array([[1.0, 0.0, 0.0]]), half)
+    assert through[1][0] == pytest.approx(-0.1)  # through the centre: the thinnest half side
+    np.testing.assert_allclose(box_signed_distance(rho, half)[0], s, atol=1e-15)
+    for i in range(len(A)):
+
+        def along(t, i=i):
+            return box_signed_distance((A[i] + t * (B[i] - A[i]))[None], half)[0][0]
+
+        best = minimize_scalar(along, bounds=(0, 1), method="bounded", options={"xatol": 1e-13})
+        assert s[i] <= min(best.fun, along(0.0), along(1.0)) + 1e-15
+
+
+def test_box_rows_are_the_derivatives_of_the_gaps():
+    """G against central differences (step 1e-6) along every dof of a rod over a turned box,
+    its segments closest to a face, an edge or a corner. (Through the box the deepest point of
+    a segment lies where two faces are equally deep, a kink of the gap: the row there is one
+    of its subgradients; converged states, g ≥ 0, never sit there.)"""
+    bar = rod([-0.3, 0.05, 0.12], [0.3, -0.1, 0.05], 6)
+    box = RigidBody3D.uniform(1.0, [0.0, 0.0, -0.02], Box(0.3, 0.2, 0.1))
+    pair = Contact(bar, box, clearance=R_TUBE)
+    assert isinstance(pair, TubeBoxContact)
+    model = Model([bar, box], [pair], gravity=(0.0, 0.0, 0.0))
+    q = 1e-3 * np.random.default_rng(4).normal(size=model.n)
+    q[-3:] = [0.1, -0.2, 0.3]
+    g, dofs, G, _ = pair.evaluate(q)
+    assert (g > 0).all() and g.min() < 0.01
+    for j in np.unique(dofs):
+        d = np.zeros(model.n)
+        d[j] = 1e-6
+        gp, gm = pair.gaps(moved(model, q, d)), pair.gaps(moved(model, q, -d))
+        col = (dofs == j).astype(float)
+        np.testing.assert_allclose((gp - gm) / 2e-6, np.sum(G * col, axis=1), atol=1e-8)
+
+
+@pytest.mark.parametrize("fixed", [True, False])
+def test_a_rod_thrown_across_a_box_edge_rebounds_with_the_rigid_momentum_exchange(fixed):
+    """A one-element rod thrown horizontally at 1 m/s onto a vertical edge of a box (mass 2m,
+    held or free), across it at its middle, e = ½: the edge cuts the segment between its
+    nodes, the impulse points from the edge through the box's centre (no torque): v_rod = +½
+    (held) or 0 and v_box = −½ m/s along the throw (free), to round-off."""
+    m = STEEL.rho * np.pi * R_TUBE**2 * 0.3
+    bisector = np.array([1.0, 1.0, 0.0]) / np.sqrt(2.0)
+    across = np.array([1.0, -1.0, 0.0]) / np.sqrt(2.0)
+    centre = (0.1 * np.sqrt(2.0) + R_TUBE + 0.001) * bisector
+    bar = rod(centre - 0.15 * across, centre + 0.15 * across, 1)
+    box = RigidBody3D.uniform(2 * m, [0.0, 0.0, 0.0], Box(0.2, 0.2, 0.2))
+    if fixed:
+        box.fix()
+    pair = Contact(bar, box, clearance=R_TUBE, restitution=0.5)
+    model = Model([bar, box], [pair], gravity=(0.0, 0.0, 0.0))
+    gmin, st, _ = run(model, 1e-5, 0.004, model.translation(bar, -bisector))
+    assert gmin >= -1e-9
+    p = (model.M_full @ st.v)[: bar.ndof].reshape(-1, 6)[:, :3].sum(axis=0) / m
+    np.testing.assert_allclose(p, 0.5 * bisector if fixed else 0.0, atol=1e-12)
+    box_v = np.zeros(6) if fixed else np.r_[-0.5 * bisector, 0.0, 0.0, 0.0]
+    np.testing.assert_allclose(st.v[-6:], box_v, atol=1e-12)

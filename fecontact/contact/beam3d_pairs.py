@@ -11,6 +11,8 @@ partner                     core, gap
 ``Sphere`` (outside)        its centre c: g = |x₁ − c| − R − r
 ``RigidBody3D`` ``Ball``    its centre: g = |x₁ − c| − ρ − r
 ``RigidBody3D`` ``Capsule`` the segment between its caps' centres: g = |x₁ − x₂| − ρ − r
+``RigidBody3D`` ``Box``     the box itself: g = s(x₁) − r, s the signed distance from the box
+                            (:mod:`.beam3d_box`; gradient only)
 ``Beam3D``                  the other beam's segment closest to this one: g = |x₁ − x₂| − r,
                             r the sum of the two tubes' radii
 ==========================  ====================================================================
@@ -35,16 +37,18 @@ import numpy as np
 
 from ..bodies.beam3d import Beam3D
 from ..bodies.rigid3d import RigidBody3D
-from ..bodies.shapes3d import Ball, Capsule
+from ..bodies.shapes3d import Ball, Box, Capsule
 from ..errors import InputError, check_range
+from ..rotations import exp
 from .base import PairDefaults
+from .beam3d_box import closest_to_box
 from .friction import tangent_basis
 from .node_pairs import NodeContact
 from .obstacles import Circle
 from .registry import register_pair
 from .segment3d import closest_parameters, tube_distance
 
-__all__ = ["TubeBeamContact", "TubeRigidContact", "TubeSphereContact"]
+__all__ = ["TubeBeamContact", "TubeBoxContact", "TubeRigidContact", "TubeSphereContact"]
 
 
 class TubeContact(PairDefaults):
@@ -203,10 +207,10 @@ class TubeRigidContact(TubeContact):
     its caps' centres)."""
 
     def __init__(self, body: Beam3D, rigid: RigidBody3D, restitution=0.0, clearance=0.0):
-        if not isinstance(rigid.shape, (Ball, Capsule)):
+        if not isinstance(rigid.shape, (Ball, Capsule, Box)):
             raise InputError(
-                f"a Beam3D's segments meet a RigidBody3D with a Ball or a Capsule shape, "
-                f"got a {type(rigid.shape).__name__}"
+                f"a Beam3D's segments meet a RigidBody3D with a Ball, a Capsule or a Box "
+                f"shape, got a {type(rigid.shape).__name__}"
             )
         centres, rho = rigid.shape.balls
         super().__init__(body, restitution, rho + clearance)
@@ -241,6 +245,40 @@ class TubeRigidContact(TubeContact):
         return np.concatenate([dofs, rigid], axis=1), np.concatenate([G[:, :6], G_rigid], 1), Hout
 
 
+class TubeBoxContact(TubeRigidContact):
+    """The segments of a ``Beam3D`` of tube radius ``clearance`` against a ``RigidBody3D``
+    ``Box``: the segment's point of least signed distance from the box
+    (:func:`.beam3d_box.closest_to_box`). The distance is stationary in ξ there (or ξ sits at
+    an end), so the gradient is that of the point x(ξ*) held on the segment: ((1 − ξ*) n,
+    ξ* n) on the ends, n = R n_b the box's outward normal at its closest point (the nearest
+    face's inside), and −n, n_b × ρ on the box's (u, Θ) (ρ = x(ξ*) in the box frame,
+    δρ = ρ × δΘ). The curvature is left out (Newton's rate, not its answer), as for the rigid
+    ball against a box."""
+
+    def _box_geometry(self, q: np.ndarray):
+        o = self.rigid_offset
+        qr = q[o : o + 6]
+        R = exp(qr[3:])
+        P = self._ends(q) - self.rigid.center(qr)
+        return (R, *closest_to_box(P[:, 0] @ R, P[:, 1] @ R, 0.5 * self.rigid.shape.sides))
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        return self._box_geometry(q)[2] - self.radius
+
+    def evaluate(self, q: np.ndarray):
+        """Gaps (m,), dofs (m, 12), gradients (m, 12), no curvature."""
+        R, xi, s, rho, nb = self._box_geometry(q)
+        n = nb @ R.T
+        G = np.concatenate(
+            [(1.0 - xi)[:, None] * n, xi[:, None] * n, -n, np.cross(nb, rho)], axis=1
+        )
+        rigid = np.broadcast_to(self.rigid_offset + np.arange(6), (self.size, 6))
+        return s - self.radius, np.concatenate([self._beam_dofs(), rigid], axis=1), G, None
+
+    def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
+        """Nothing to keep: a box has an inside, so the side is never in doubt."""
+
+
 @register_pair(Beam3D, Circle)
 def _beam3d_sphere(beam, sphere, nodes, restitution, clearance):
     """The segments against a Sphere seen from outside; named ``nodes`` or a cavity: nodes."""
@@ -259,9 +297,11 @@ def _beam3d_beam3d(beam, other, nodes, restitution, clearance):
 
 @register_pair(Beam3D, RigidBody3D)
 def _beam3d_rigid(beam, rigid, nodes, restitution, clearance):
-    """The segments against a rigid Ball or Capsule."""
+    """The segments against a rigid Ball, Capsule or Box."""
     if nodes is not None:
         raise InputError("nodes: a Beam3D meets a RigidBody3D through its segments")
+    if isinstance(rigid.shape, Box):
+        return TubeBoxContact(beam, rigid, restitution, clearance)
     return TubeRigidContact(beam, rigid, restitution, clearance)
 
 
