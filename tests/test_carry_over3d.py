@@ -23,6 +23,7 @@ RUNS = {
     "spatial_pendulum": "0.02",
     "rod_drop": "0.02",
     "box_stack": "0.05",
+    "rod_on_post": "0.1",
 }
 
 
