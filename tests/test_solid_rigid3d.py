@@ -58,6 +58,8 @@ def test_other_shapes_are_refused_by_name():
     capsule = RigidBody3D.uniform(1.0, [0.0, 0.0, -0.1], Capsule(0.05, 0.2))
     with pytest.raises(InputError, match="Ball or a Box"):
         Contact(ball, capsule)
+    box = RigidBody3D.uniform(1.0, [0.0, 0.0, -0.1], Box(0.2, 0.2, 0.1))
+    assert isinstance(Contact(box, ball), NodeBoxContact)  # named either way round
 
 
 def ball_drop(floor: str):

@@ -138,3 +138,9 @@ def _solid_rigid3d(solid, rigid, nodes, restitution, clearance):
         f"a Solid's nodes meet a RigidBody3D with a Ball or a Box shape, "
         f"got a {type(rigid.shape).__name__}"
     )
+
+
+@register_pair(RigidBody3D, Solid)
+def _rigid3d_solid(rigid, solid, nodes, restitution, clearance):
+    """The same pair named the other way round (``nodes`` of the solid)."""
+    return _solid_rigid3d(solid, rigid, nodes, restitution, clearance)
