@@ -3,6 +3,7 @@ set of pairs of a model, and the Alart–Curnier laws solved by semi-smooth Newt
 
 # the modules of pairs register theirs with ``register_pair`` on import: ``Contact`` finds them
 from . import (  # noqa: F401
+    beam3d_edges,
     beam3d_pairs,
     beam3d_solid,
     beam_sides,
