@@ -13,6 +13,7 @@ from . import (  # noqa: F401
     segment_pairs,
     solid_rigid3d,
 )
+from .beam3d_edges import SolidEdges
 from .contact_set import ContactSet
 from .dispatch import Contact
 from .laws import (
@@ -36,6 +37,7 @@ __all__ = [
     "Plane",
     "Point",
     "PointSegmentContact",
+    "SolidEdges",
     "Sphere",
     "alart_curnier_residual",
     "register_pair",

@@ -6,8 +6,9 @@ Node-to-surface (:class:`~fecontact.contact.body_pairs.NodeSurfaceContact`) with
 nodes as slaves: each node's gap is its signed distance from the plane of its closest boundary
 triangle less r, g = n·(x_s − x_a) − r, with that pair's exact gradient, curvature, search and
 inside/outside test. A segment's distance to a plane is linear along it, so against a face its
-nodes are exact; a convex edge of the solid lying across a segment can cut into the tube
-between the nodes (the segment-against-edge contact is not built: refine the beam there).
+nodes are exact; a convex edge of the solid lying across a segment cuts into the tube between
+the nodes, which the segments' pair against the solid's convex edges holds
+(:class:`~fecontact.contact.beam3d_edges.SolidEdges`).
 """
 
 from __future__ import annotations
