@@ -486,3 +486,17 @@ def test_a_rod_falling_across_a_block_edge_is_held_by_the_edge():
     assert pz == pytest.approx(-1.0, abs=1e-12)
     assert v[0] > 0.3  # pushed off along the edge's normal, out and up
     assert run_over(False)[1] > 1e-3
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="a rod dropped along a held rod (near-parallel tubes in line contact) stops at "
+    "2 ms: the position correction's active set cycles, as each segment's one contact point "
+    "jumps between the ends and the middle of its overlaps (a line contact is what it needs)",
+)
+def test_a_rod_dropped_along_a_held_rod_comes_to_rest_on_it():
+    a = rod([-0.12, 0.0, 2 * R_TUBE + 0.001], [0.18, 0.0, 2 * R_TUBE + 0.001], 4)
+    b = rod([-0.2, 0.0, 0.0], [0.2, 0.0, 0.0], 4).clamp(0).clamp(-1)
+    model = Model([a, b], [Contact(a, b, clearance=2 * R_TUBE)])
+    gmin, _, _ = run(model, 1e-4, 0.1, model.translation(a, (0.0, 0.0, -0.5)))
+    assert gmin >= -1e-9

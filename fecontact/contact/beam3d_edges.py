@@ -27,7 +27,7 @@ from ..bodies.solid import Solid
 from ..errors import InputError
 from .beam3d_pairs import TubeContact
 from .registry import register_pair
-from .segment3d import closest_parameters, tube_distance
+from .segment3d import closest_segments, tube_distance
 
 __all__ = ["SolidEdges", "TubeEdgeContact"]
 
@@ -81,6 +81,7 @@ class TubeEdgeContact(TubeContact):
         self.solid = edges.solid
         self.bodies = (body, edges.solid)
         self.solid_offset = 0
+        self.tie = 1e-12 * max(body.characteristic_length, edges.solid.characteristic_length)
 
     def bind(self, model) -> None:
         super().bind(model)
@@ -93,12 +94,7 @@ class TubeEdgeContact(TubeContact):
     def _core(self, q, P):
         """Per segment, the closest convex edge's end points (m, 2, 3) and its index."""
         x = self._solid_x(q)[self.partner.edges]
-        m, n = len(P), len(x)
-        Pa, Qa = np.repeat(P, n, axis=0), np.tile(x, (m, 1, 1))
-        xi, eta = closest_parameters(Pa, Qa)
-        x1 = Pa[:, 0] + xi[:, None] * (Pa[:, 1] - Pa[:, 0])
-        x2 = Qa[:, 0] + eta[:, None] * (Qa[:, 1] - Qa[:, 0])
-        which = np.argmin(np.linalg.norm(x1 - x2, axis=1).reshape(m, n), axis=1)
+        which = closest_segments(P, x, self.tie)
         return x[which], which, which
 
     def _partner_rows(self, dofs, G, H, which):

@@ -46,7 +46,7 @@ from .friction import tangent_basis
 from .node_pairs import NodeContact
 from .obstacles import Circle
 from .registry import register_pair
-from .segment3d import closest_parameters, tube_distance
+from .segment3d import closest_segments, tube_distance
 
 __all__ = ["TubeBeamContact", "TubeBoxContact", "TubeRigidContact", "TubeSphereContact"]
 
@@ -167,6 +167,8 @@ class TubeBeamContact(TubeContact):
         self.bodies = (body, other)
         self.other_segments = other.segments()
         self.other_offset = 0
+        # closest distances this near (m) are ties: round-off of the two beams' sizes
+        self.tie = 1e-12 * max(body.characteristic_length, other.characteristic_length)
 
     def bind(self, model) -> None:
         super().bind(model)
@@ -176,12 +178,7 @@ class TubeBeamContact(TubeContact):
         """Per segment of the beam, the other beam's closest segment (m, 2, 3) and its index."""
         o = self.other_offset
         x = self.other.positions(q[o : o + self.other.ndof])[self.other_segments]
-        m, n = len(P), len(x)
-        Pa, Qa = np.repeat(P, n, axis=0), np.tile(x, (m, 1, 1))
-        xi, eta = closest_parameters(Pa, Qa)
-        x1 = Pa[:, 0] + xi[:, None] * (Pa[:, 1] - Pa[:, 0])
-        x2 = Qa[:, 0] + eta[:, None] * (Qa[:, 1] - Qa[:, 0])
-        which = np.argmin(np.linalg.norm(x1 - x2, axis=1).reshape(m, n), axis=1)
+        which = closest_segments(P, x, self.tie)
         return x[which], which, which
 
     def _partner_rows(self, dofs, G, H, which):

@@ -26,7 +26,7 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["closest_parameters", "tube_distance"]
+__all__ = ["closest_parameters", "closest_segments", "tube_distance"]
 
 _EYE = np.eye(3)
 PARALLEL = 1e-12
@@ -62,6 +62,27 @@ def closest_parameters(P: np.ndarray, Q: np.ndarray) -> tuple[np.ndarray, np.nda
     xi[low] = np.clip(-C[low] / A[low], 0.0, 1.0)
     xi[high] = np.clip((B[high] - C[high]) / A[high], 0.0, 1.0)
     return xi, eta
+
+
+def closest_segments(P: np.ndarray, X: np.ndarray, tie: float) -> np.ndarray:
+    """For each segment P (m, 2, 3), the index of the closest of the segments X (n, 2, 3).
+    Distances within ``tie`` (m) of the least are ties (a segment lying along two collinear
+    ones), decided by the longest overlap of the projection on P's line, so that round-off
+    does not move the contact from one to the other between two evaluations."""
+    m, n = len(P), len(X)
+    Pa, Qa = np.repeat(P, n, axis=0), np.tile(X, (m, 1, 1))
+    xi, eta = closest_parameters(Pa, Qa)
+    x1 = Pa[:, 0] + xi[:, None] * (Pa[:, 1] - Pa[:, 0])
+    x2 = Qa[:, 0] + eta[:, None] * (Qa[:, 1] - Qa[:, 0])
+    dist = np.linalg.norm(x1 - x2, axis=1).reshape(m, n)
+    d1 = Pa[:, 1] - Pa[:, 0]
+    A = np.einsum("mi,mi->m", d1, d1)
+    tc = np.einsum("mi,mi->m", Qa[:, 0] - Pa[:, 0], d1) / A
+    td = np.einsum("mi,mi->m", Qa[:, 1] - Pa[:, 0], d1) / A
+    lo, hi = np.clip(np.minimum(tc, td), 0.0, 1.0), np.clip(np.maximum(tc, td), 0.0, 1.0)
+    overlap = (hi - lo).reshape(m, n)
+    tied = dist <= dist.min(axis=1)[:, None] + tie
+    return np.argmax(np.where(tied, overlap, -1.0), axis=1)
 
 
 def _weights(xi: np.ndarray, eta: np.ndarray, k: int) -> np.ndarray:
