@@ -20,6 +20,17 @@ g = n·(x_b − x_a) and the gradient row, in the (u, Θ) of both bodies (Θ bod
 rate, not its answer). A pair holds a fixed number of slots (the two largest faces' vertex
 counts); slots the manifold leaves empty carry a gap of the bodies' size and a zero row, so
 they stay open.
+
+Coulomb friction acts at the same points, in the tangent basis T(n) of the analytic pairs
+(:func:`fecontact.contact.friction.tangent_basis`): the slip rows are T applied to the
+relative velocity of b's material point r_b against a's r_a,
+
+    G_T = T [−I, R_a r̃_a, I, −R_b r̃_b],
+
+and the slip over a step is T applied to the chord of those two material points from q_n to
+q, (c_b + R_b r_b − c_a − R_a r_a)(q) − (…)(q_n), as for the vertices of a body on a plane
+(:class:`fecontact.contact.NodeContact`): exact for a translating body, a rotating one's
+points follow their chords.
 """
 
 from __future__ import annotations
@@ -31,8 +42,9 @@ import numpy as np
 from ..bodies.rigid3d import RigidBody3D
 from ..bodies.shapes3d import Ball, Capsule
 from ..errors import InputError, check_range
-from ..rotations import exp
+from ..rotations import exp, hat
 from .base import PairDefaults
+from .friction import tangent_basis
 
 __all__ = ["ConvexContact", "hull_faces"]
 
@@ -161,9 +173,10 @@ class _Hull:
 
 class ConvexContact(PairDefaults):
     """Two convex ``RigidBody3D`` (any shapes) by GJK/EPA, polyhedra through a face-clipping
-    manifold; frictionless."""
+    manifold, with Coulomb friction at the manifold's points."""
 
     linear = False
+    frictional = True
 
     def __init__(self, a: RigidBody3D, b: RigidBody3D, restitution=0.0, clearance=0.0):
         if a is b:
@@ -190,6 +203,7 @@ class ConvexContact(PairDefaults):
         self._result = coal.DistanceResult
         self._distance = coal.distance
         self.offsets = (0, 0)
+        self._last = (None, None)  # (q of the two bodies, its contact points)
 
     def bind(self, model) -> None:
         self.offsets = tuple(model.offset_of(b) for b in self.bodies)
@@ -252,6 +266,25 @@ class ConvexContact(PairDefaults):
             return np.array(slots, int), x_inc, x_ref, -nr
         return np.array(slots, int), x_ref, x_inc, nr
 
+    def _points(self, q: np.ndarray):
+        """Slots k, world points x_a, x_b, the normal n and the poses at q, the manifold kept
+        for the last q (the gaps, slip rows and slips of one iterate share one query)."""
+        oa, ob = self.offsets
+        key = np.concatenate([q[oa : oa + 6], q[ob : ob + 6]])
+        if self._last[0] is not None and np.array_equal(self._last[0], key):
+            return self._last[1]
+        k, xa, xb, n = self.manifold(q)
+        keep = k < self.size  # more crossings than the pool holds: impossible for convex faces
+        points = (k[keep], xa[keep], xb[keep], n, self._poses(q))
+        self._last = (key, points)
+        return points
+
+    def _arms(self, q: np.ndarray):
+        """Slots k, the body-frame arms r_a, r_b (k, 3) of the contact points, n and poses."""
+        k, xa, xb, n, poses = self._points(q)
+        (Ra, ca), (Rb, cb) = poses
+        return k, (xa - ca) @ Ra, (xb - cb) @ Rb, n, poses
+
     def _dofs(self):
         oa, ob = self.offsets
         row = np.concatenate([oa + np.arange(6), ob + np.arange(6)])
@@ -259,14 +292,11 @@ class ConvexContact(PairDefaults):
 
     def evaluate(self, q: np.ndarray):
         """Gaps (size,), dofs (size, 12), gradients (size, 12), no curvature."""
-        k, xa, xb, n = self.manifold(q)
-        (Ra, ca), (Rb, cb) = self._poses(q)
-        keep = k < self.size  # more crossings than the pool holds: impossible for convex faces
-        k, xa, xb = k[keep], xa[keep], xb[keep]
+        k, xa, xb, n, ((Ra, _), (Rb, _)) = self._points(q)
+        k, ra, rb = self._arms(q)[:3]  # body-frame arms Rᵀ(x − c)
         g = np.full(self.size, self.far)
         G = np.zeros((self.size, 12))
         g[k] = (xb - xa) @ n - self.clearance
-        ra, rb = (xa - ca) @ Ra, (xb - cb) @ Rb  # body-frame arms Rᵀ(x − c)
         G[k, :3], G[k, 6:9] = -n, n
         G[k, 3:6] = -np.cross(ra, Ra.T @ n)
         G[k, 9:12] = np.cross(rb, Rb.T @ n)
@@ -274,3 +304,24 @@ class ConvexContact(PairDefaults):
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         return self.evaluate(q)[0]
+
+    def tangents(self, q: np.ndarray):
+        """Slip rows (size, 2, 12) of b's contact points against a's, T (size, 2, 3): every
+        slot in the basis of the pair's normal, zero rows in the empty slots."""
+        k, ra, rb, n, ((Ra, _), (Rb, _)) = self._arms(q)
+        T = np.repeat(tangent_basis(n[None]), self.size, axis=0)
+        rows = np.zeros((self.size, 3, 12))
+        rows[k, :, :3], rows[k, :, 6:9] = -np.eye(3), np.eye(3)
+        rows[k, :, 3:6] = Ra @ hat(ra)  # −∂x_a/∂Θ_a = R_a r̃_a
+        rows[k, :, 9:12] = -Rb @ hat(rb)
+        return self._dofs(), np.einsum("mti,mik->mtk", T, rows), T
+
+    def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
+        """T·(x_rel(q) − x_rel(q_n)) (size, 2) of the material points r_a, r_b found at q
+        (zero in the empty slots)."""
+        k, ra, rb, _, ((Ra, ca), (Rb, cb)) = self._arms(q)
+        (Ran, can), (Rbn, cbn) = self._poses(q_n)
+        chord = (cb - cbn) - (ca - can) + rb @ (Rb - Rbn).T - ra @ (Ra - Ran).T
+        out = np.zeros(T.shape[:2])
+        out[k] = np.einsum("mtd,md->mt", T[k], chord)
+        return out
