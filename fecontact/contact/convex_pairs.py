@@ -8,8 +8,11 @@ touch through a manifold instead, as physics engines build it: the face of eithe
 aligned with n is the reference face, the other body's face most opposed to it the incident
 face; the incident face clipped by the reference face's side planes (Sutherland–Hodgman) gives
 the contact points x_b, each with its projection x_a on the reference plane. Where neither
-face is within ``FACE_COS`` of n (an edge on an edge, a corner on an edge) and for round
-shapes (``Ball``, ``Capsule``), the pair holds the single witness pair of GJK/EPA.
+face is within ``FACE_COS`` of n (an edge on an edge, a corner on an edge) and for a ``Ball``,
+the pair holds the single witness pair of GJK/EPA. A ``Capsule`` on a polyhedron touches
+along a segment where it lies on a face: its axis clipped by the face's side planes gives the
+two ends of the contact (a cap, or the edge it overhangs); otherwise its caps' witnesses and,
+where it lies below the line between them (an edge under the segment), its own.
 
 Every contact point pair (r_a, r_b), body-frame points of a and b, has the gap
 g = n·(x_b − x_a) and the gradient row, in the (u, Θ) of both bodies (Θ body-frame),
