@@ -16,7 +16,10 @@ the residual, its tangent ∂/∂Ω with the rate γ′ at which v moves with D:
     S_t = β′M + γ′(C + C_Ω) + K_t T(D).
 
 Contact rows of persistent smooth contacts keep T = I in the matrix (their residual is exact;
-T(D) = I + O(|D|) only slows Newton by a factor O(|D|) where they act).
+T(D) = I + O(|D|) only slows Newton by a factor O(|D|) where they act). With friction they
+are not bordered rows but a Coulomb law solved on their Delassus matrix A S_t⁻¹Aᵀ
+(:class:`fecontact.time.coulomb.SmoothFriction`), through S_t's own (unsymmetric) factors,
+the rows A unchanged: a ball's slip over the step is its slip rows applied to D itself.
 """
 
 from __future__ import annotations
@@ -38,9 +41,8 @@ def on_group(model) -> bool:
 
 
 def check_group(model, settings) -> None:
-    """Rotations in space run on the NSGA integrator with the generalized-α smooth step, and
-    with friction on the decoupled contact phase: an ``InputError`` naming the option otherwise
-    (before any step)."""
+    """Rotations in space run on the NSGA integrator with the generalized-α smooth step: an
+    ``InputError`` naming the option otherwise (before any step)."""
     if not on_group(model):
         return
     if settings.integrator != "nsga":
@@ -52,11 +54,6 @@ def check_group(model, settings) -> None:
         raise InputError(
             f"scheme = {settings.scheme!r}: rotations in space (RigidBody3D, gyroscopic forces) "
             "run on scheme 'generalized-alpha' only"
-        )
-    if settings.smooth and settings.friction:  # (its friction term has no bordered rows)
-        raise InputError(
-            "smooth_contact: rotations in space with friction run with smooth_contact 'off' "
-            "(the default without a Solid); frictionless contact may use 'on'"
         )
 
 

@@ -226,7 +226,11 @@ class SmoothNewton:
         touching = [term for term in self.rowed if term.touching()] if self.rowed else None
         if not touching:
             dq = self._plain_update()
-        elif len(touching) == 1 and touching[0].schur and self.lie is None:
+        elif (
+            len(touching) == 1
+            and touching[0].schur
+            and (self.lie is None or touching[0].schur_only)
+        ):
             dq = self._schur_update(touching[0])
         else:
             dq = self._bordered_update(touching)

@@ -79,6 +79,7 @@ class ForceTerm:
     own_tangent = False
     rows = False
     schur = False
+    schur_only = False  # its rows cannot border S_t (a law solved on its Delassus matrix)
 
     def begin(self, step: StepContext) -> ForceTerm | None:
         """The term as it acts in the step ``step`` (None: absent in it)."""
@@ -355,6 +356,7 @@ class PersistentContacts(ForceTerm):
 
     def __init__(self, sc, curved: bool):
         self.sc, self.curved = sc, curved
+        self.schur_only = isinstance(sc, SmoothFriction)
 
     def evaluate(self, step, it):
         self.sc.update(step.q, self.curved)
