@@ -26,8 +26,9 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import InputError, check_count, check_finite, check_positive
+from ..linalg import DENSE_LIMIT
 from .beam import Material, Section
-from .beam3d_inertia import GyroscopicPattern, consistent_mass, gyroscopic, lumped_inertias
+from .beam3d_inertia import Gyroscopic, consistent_mass, lumped_inertias
 from .beam3d_kernels import (
     Beam3DElements,
     beam3d_energy,
@@ -85,7 +86,8 @@ class Beam3D(Centreline):
         # Λ₀ diag(J₁, J₂, J₃) Λ₀ᵀ per element: the rotary inertia per length in frame R
         J = np.diag(self._section_inertia(rotary_inertia))
         self._J = np.einsum("eij,jk,elk->eil", triads, J, triads)
-        self._gyroscopic = GyroscopicPattern(self._el, len(X))
+        self._gyroscopic = Gyroscopic(self._el, len(X), dense=6 * len(X) <= DENSE_LIMIT)
+        self._rotary = None  # the rotary mass on its entries, made when first asked
 
     def _section_inertia(self, given) -> np.ndarray:
         """Rotary inertia per length (kg·m) about the section axes: ``given`` (3 values ≥ 0),
@@ -138,6 +140,7 @@ class Beam3D(Centreline):
         if J.shape != (3, 3) or np.any(np.linalg.eigvalsh(0.5 * (J + J.T)) < 0):
             raise InputError("inertia must be >= 0, or a symmetric positive (3, 3) tensor")
         self.point_inertias[i] += J
+        self._rotary = None
         return self
 
     # -- sizes ------------------------------------------------------------------------------
@@ -186,8 +189,9 @@ class Beam3D(Centreline):
         """Gyroscopic force Ω_a × (M Ω)_a on the rotation dofs (N·m, frame R; zero on
         translations), M the consistent rotational mass, and its tangent ∂f/∂v (sparse,
         ndof × ndof)."""
-        el, J, points = self._el, self._J, self.point_inertias
-        return gyroscopic(el, J, points, np.asarray(v, float), self._gyroscopic)
+        if self._rotary is None:
+            self._rotary = self._gyroscopic.mass(self._el, self._J, self.point_inertias)
+        return self._gyroscopic(self._rotary, np.asarray(v, float))
 
     def translation_field(self, vector) -> np.ndarray:
         """Nodal dof vector with ``vector`` on every translation and 0 on the rotations."""

@@ -22,7 +22,7 @@ import scipy.sparse as sp
 from ..rotations import hat
 from .beam3d_kernels import Beam3DElements
 
-__all__ = ["GyroscopicPattern", "consistent_mass", "gyroscopic", "lumped_inertias"]
+__all__ = ["Gyroscopic", "consistent_mass", "lumped_inertias"]
 
 _P1_MASS = np.array([[2.0, 1.0], [1.0, 2.0]]) / 6.0  # ∫ N_a N_b ds / ℓ of linear elements
 
@@ -55,57 +55,73 @@ def lumped_inertias(el: Beam3DElements, J, point_inertias) -> np.ndarray:
     return out
 
 
-class GyroscopicPattern:
-    """The sparsity of the gyroscopic tangent of a beam of ``n`` nodes (the 3 × 3 blocks of
-    its rotational mass: node blocks and the elements' ``n0``–``n1`` blocks), fixed once: the
-    CSR structure and, for each computed entry, its slot in the CSR data (entries on the same
-    slot add)."""
+class Gyroscopic:
+    """The gyroscopic force of the consistent rotary mass of a beam's elements ``el`` over
+    ``n`` nodes (module docstring), with its sparsity decided once: the 3 × 3 blocks of the
+    rotational mass M (node blocks and the elements' blocks) as entries of the rotation dofs
+    (3n × 3n, sorted by row then column). ``dense``: the tangent is returned as a dense
+    (6n, 6n) array (a small beam, whose model is dense), else as CSR."""
 
-    def __init__(self, el: Beam3DElements, n: int):
-        triples = 6 * np.arange(n)[:, None] + np.arange(3, 6)
+    def __init__(self, el: Beam3DElements, n: int, dense: bool):
         ends = np.stack([el.n0, el.n1], axis=1)  # (E, 2)
-        # element blocks (E, 2, 2, 3, 3): rows of node ends[:, a], columns of node ends[:, b]
-        er = triples[ends][:, :, None, :, None]
-        ec = triples[ends][:, None, :, None, :]
-        shape = (len(el.ell), 2, 2, 3, 3)
-        # node blocks (n, 3, 3)
-        nr = np.broadcast_to(triples[:, :, None], (n, 3, 3))
-        nc = np.broadcast_to(triples[:, None, :], (n, 3, 3))
-        rows = np.concatenate([np.broadcast_to(er, shape).ravel(), nr.ravel()])
-        cols = np.concatenate([np.broadcast_to(ec, shape).ravel(), nc.ravel()])
-        self.size = 6 * n
-        keys, self.slot = np.unique(rows * self.size + cols, return_inverse=True)
-        self.indices = (keys % self.size).astype(np.int32)
-        counts = np.bincount(keys // self.size, minlength=self.size)
-        self.indptr = np.concatenate([[0], np.cumsum(counts)]).astype(np.int32)
-        self.nnz = keys.size
+        pairs = np.concatenate([ends, ends[:, ::-1], np.stack([np.arange(n)] * 2, axis=1)])
+        self.m, self.n, self.dense = 3 * n, n, dense
+        self.keys = np.unique(self._keys(pairs[:, 0], pairs[:, 1]))
+        rows, self.cols = np.divmod(self.keys, self.m)
+        self.rows = rows
+        a, i = np.divmod(rows, 3)
+        b, j = np.divmod(self.cols, 3)
+        # the entries (3a + k, col), k = 0, 1, 2, of each entry's node: Ω̃_a M mixes them
+        self.mix = np.searchsorted(self.keys, (3 * a)[:, None] * self.m + self.cols[:, None]
+                                   + self.m * np.arange(3))  # fmt: skip
+        self.w = (9 * a + 3 * i)[:, None] + np.arange(3)  # row i of Ω̃_a in the flat (n, 3, 3)
+        self.diagonal = np.flatnonzero(a == b)
+        self.pi_hat = (9 * a + 3 * i + j)[self.diagonal]
+        row, col = 6 * a + 3 + i, 6 * b + 3 + j  # in the beam's dofs (6n)
+        self.flat = row * (6 * n) + col
+        self.indices, self.indptr = col, np.searchsorted(row, np.arange(6 * n + 1))
 
-    def matrix(self, element_blocks: np.ndarray, node_blocks: np.ndarray) -> sp.csr_matrix:
-        """The CSR matrix of the blocks (E, 2, 2, 3, 3) and (n, 3, 3), summed where they meet."""
-        vals = np.concatenate([element_blocks.ravel(), node_blocks.ravel()])
-        data = np.bincount(self.slot, weights=vals, minlength=self.nnz)
-        return sp.csr_matrix((data, self.indices, self.indptr), shape=(self.size, self.size))
+    def _keys(self, na, nb) -> np.ndarray:
+        """The keys row·3n + column of the 3 × 3 blocks (k, 3, 3) of the node pairs."""
+        r = 3 * np.asarray(na)[:, None, None] + np.arange(3)[:, None]
+        c = 3 * np.asarray(nb)[:, None, None] + np.arange(3)[None, :]
+        return (r * self.m + c).ravel()
+
+    def mass(self, el: Beam3DElements, J, point_inertias) -> np.ndarray:
+        """The values of M on the entries (kg·m²): ℓ P1_ab J_e of the elements, plus the
+        point inertias (n, 3, 3) on the node blocks."""
+        lJ = el.ell[:, None, None] * J
+        nodes, values = (el.n0, el.n1), np.zeros(self.keys.size)
+        for (a, b), w in np.ndenumerate(_P1_MASS):
+            slots = np.searchsorted(self.keys, self._keys(nodes[a], nodes[b]))
+            np.add.at(values, slots, (w * lJ).ravel())
+        every = np.arange(self.n)
+        np.add.at(
+            values, np.searchsorted(self.keys, self._keys(every, every)), point_inertias.ravel()
+        )
+        return values
+
+    def __call__(self, M: np.ndarray, v: np.ndarray):
+        """(f (6n,), ∂f/∂v) at the velocity ``v`` (6n,) with the values ``M`` of the rotary
+        mass on the entries (:meth:`mass`)."""
+        Om = v.reshape(-1, 6)[:, 3:]
+        w = Om.ravel()
+        pi = np.bincount(self.rows, weights=M * w[self.cols], minlength=self.m).reshape(-1, 3)
+        f = np.zeros((self.n, 6))
+        f[:, 3:] = _cross(Om, pi)
+        # Ω̃_a M on every entry, − π̃_a on the node blocks
+        values = np.einsum("ek,ek->e", hat(Om).ravel()[self.w], M[self.mix])
+        values[self.diagonal] -= hat(pi).ravel()[self.pi_hat]
+        ndof = 6 * self.n
+        if self.dense:
+            C = np.zeros(ndof * ndof)
+            C[self.flat] = values
+            return f.ravel(), C.reshape(ndof, ndof)
+        return f.ravel(), sp.csr_matrix((values, self.indices, self.indptr), shape=(ndof, ndof))
 
 
-def gyroscopic(el: Beam3DElements, J, point_inertias, v: np.ndarray, pattern: GyroscopicPattern):
-    """Force f_a = Ω_a × (M Ω)_a (N·m) on the nodes' rotation dofs of the velocity ``v``, zero
-    elsewhere, M the consistent rotational mass of the elements' rotary inertias J (E, 3, 3;
-    kg·m) and the point inertias (n, 3, 3), and its tangent ∂f/∂v (sparse; module
-    docstring)."""
-    Om = v.reshape(-1, 6)[:, 3:]
-    ends = (el.n0, el.n1)
-    # element blocks of M: ℓ P1_ab J_e; their action (E, 2, 3): ℓ Σ_b P1_ab J_e Ω_b
-    JO = np.stack([np.einsum("eij,ej->ei", J, Om[k]) for k in ends], axis=1)
-    MO = el.ell[:, None, None] * np.einsum("ab,ebi->eai", _P1_MASS, JO)
-    pi = np.einsum("nij,nj->ni", point_inertias, Om)
-    for a, k in enumerate(ends):
-        np.add.at(pi, k, MO[:, a])
-    f = np.zeros((len(Om), 6))
-    f[:, 3:] = np.cross(Om, pi)
-    # tangent: Ω̃_a M_ab on every block, − π̃_a on the node blocks
-    W = hat(Om)
-    lJ = el.ell[:, None, None] * J
-    Wa = np.stack([W[k] for k in ends], axis=1)  # (E, 2, 3, 3): Ω̃ of the row's node
-    element = _P1_MASS[None, :, :, None, None] * (Wa @ lJ[:, None])[:, :, None]
-    node = W @ point_inertias - hat(pi)
-    return f.ravel(), pattern.matrix(element, node)
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise a × b of (n, 3) arrays (numpy's cross costs more at these sizes)."""
+    a0, a1, a2 = a.T
+    b0, b1, b2 = b.T
+    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=1)

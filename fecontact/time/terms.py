@@ -28,7 +28,7 @@ from ..linalg import low_rank_solver
 from .constraints import StepFailure
 from .correction import unit_columns
 from .coulomb import SmoothFriction
-from .lie import inertial_forces
+from .lie import InertialForces
 from .smooth_contact import SmoothContacts
 from .state import JointTolerance
 
@@ -192,13 +192,14 @@ class Gyroscopic(ForceTerm):
 
     def __init__(self, model):
         self.model, self.f, self.C_v, self.gp = model, None, None, 0.0
+        self.forces = InertialForces(model)  # each body's scatter, decided once
 
     def begin(self, step):
         self.gp = step.c.gp
         return self
 
     def evaluate(self, step, it):
-        self.f, self.C_v = inertial_forces(self.model, step.q, step.v)
+        self.f, self.C_v = self.forces(step.q, step.v)
 
     def residual(self, r):
         return r + self.f
