@@ -71,14 +71,10 @@ def _coefficients(psi: np.ndarray):
     half = 0.5 * np.sqrt(t2) + _OFFSET
     sh = np.sin(half) / half
     a, b = sh * np.cos(half), 0.5 * sh * sh
-    if t2.max(initial=0.0) < _C_SMALL:
-        c = np.polynomial.polynomial.polyval(t2, _C_SERIES)
-    else:
-        c = np.where(
-            t2 < _C_SMALL,
-            np.polynomial.polynomial.polyval(t2, _C_SERIES),
-            (1.0 - a) / np.maximum(t2, _C_SMALL),
-        )
+    k4, k3, k2, k1, k0 = _C_SERIES[::-1].tolist()
+    c = (((k4 * t2 + k3) * t2 + k2) * t2 + k1) * t2 + k0
+    if t2.max(initial=0.0) >= _C_SMALL:
+        c = np.where(t2 < _C_SMALL, c, (1.0 - a) / np.maximum(t2, _C_SMALL))
     return t2, a, b, c
 
 

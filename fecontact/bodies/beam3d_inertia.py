@@ -19,7 +19,6 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from ..rotations import hat
 from .beam3d_kernels import Beam3DElements
 
 __all__ = ["Gyroscopic", "consistent_mass", "lumped_inertias"]
@@ -55,6 +54,17 @@ def lumped_inertias(el: Beam3DElements, J, point_inertias) -> np.ndarray:
     return out
 
 
+def _levi_civita() -> np.ndarray:
+    """ε_ijk (3, 3, 3): (a × b)_i = ε_ijk a_j b_k, so that ã_ik = ε_ijk a_j."""
+    E = np.zeros((3, 3, 3))
+    for i, j, k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
+        E[i, j, k], E[i, k, j] = 1.0, -1.0
+    return E
+
+
+_EPS = _levi_civita()
+
+
 class Gyroscopic:
     """The gyroscopic force of the consistent rotary mass of a beam's elements ``el`` over
     ``n`` nodes (module docstring), with its sparsity decided once: the 3 × 3 blocks of the
@@ -71,12 +81,16 @@ class Gyroscopic:
         self.rows = rows
         a, i = np.divmod(rows, 3)
         b, j = np.divmod(self.cols, 3)
-        # the entries (3a + k, col), k = 0, 1, 2, of each entry's node: Ω̃_a M mixes them
+        # the entries (3a + k, col), k = 0, 1, 2, of each entry's node: Ω̃_a M mixes them,
+        # (Ω̃_a)_ik = ε_ilk Ω_l
         self.mix = np.searchsorted(self.keys, (3 * a)[:, None] * self.m + self.cols[:, None]
                                    + self.m * np.arange(3))  # fmt: skip
-        self.w = (9 * a + 3 * i)[:, None] + np.arange(3)  # row i of Ω̃_a in the flat (n, 3, 3)
-        self.diagonal = np.flatnonzero(a == b)
-        self.pi_hat = (9 * a + 3 * i + j)[self.diagonal]
+        self.node, self.eps = a, _EPS[i].transpose(0, 2, 1)  # (e, k, l)
+        # − π̃_a on the node blocks: −(π̃_a)_ij = −ε_ilj π_l, one l per entry off the diagonal
+        diagonal = np.flatnonzero((a == b) & (i != j))
+        l_ = 3 - i[diagonal] - j[diagonal]
+        self.diagonal, self.pi_at = diagonal, 3 * a[diagonal] + l_
+        self.pi_sign = -_EPS[i[diagonal], l_, j[diagonal]]
         row, col = 6 * a + 3 + i, 6 * b + 3 + j  # in the beam's dofs (6n)
         self.flat = row * (6 * n) + col
         self.indices, self.indptr = col, np.searchsorted(row, np.arange(6 * n + 1))
@@ -96,9 +110,8 @@ class Gyroscopic:
             slots = np.searchsorted(self.keys, self._keys(nodes[a], nodes[b]))
             np.add.at(values, slots, (w * lJ).ravel())
         every = np.arange(self.n)
-        np.add.at(
-            values, np.searchsorted(self.keys, self._keys(every, every)), point_inertias.ravel()
-        )
+        slots = np.searchsorted(self.keys, self._keys(every, every))
+        np.add.at(values, slots, point_inertias.ravel())
         return values
 
     def __call__(self, M: np.ndarray, v: np.ndarray):
@@ -106,22 +119,15 @@ class Gyroscopic:
         mass on the entries (:meth:`mass`)."""
         Om = v.reshape(-1, 6)[:, 3:]
         w = Om.ravel()
-        pi = np.bincount(self.rows, weights=M * w[self.cols], minlength=self.m).reshape(-1, 3)
+        pi = np.bincount(self.rows, weights=M * w[self.cols], minlength=self.m)
         f = np.zeros((self.n, 6))
-        f[:, 3:] = _cross(Om, pi)
+        f[:, 3:] = np.einsum("ijk,nj,nk->ni", _EPS, Om, pi.reshape(-1, 3))
         # Ω̃_a M on every entry, − π̃_a on the node blocks
-        values = np.einsum("ek,ek->e", hat(Om).ravel()[self.w], M[self.mix])
-        values[self.diagonal] -= hat(pi).ravel()[self.pi_hat]
+        values = np.einsum("ekl,el,ek->e", self.eps, Om[self.node], M[self.mix])
+        values[self.diagonal] += self.pi_sign * pi[self.pi_at]
         ndof = 6 * self.n
         if self.dense:
             C = np.zeros(ndof * ndof)
             C[self.flat] = values
             return f.ravel(), C.reshape(ndof, ndof)
         return f.ravel(), sp.csr_matrix((values, self.indices, self.indptr), shape=(ndof, ndof))
-
-
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Row-wise a × b of (n, 3) arrays (numpy's cross costs more at these sizes)."""
-    a0, a1, a2 = a.T
-    b0, b1, b2 = b.T
-    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=1)

@@ -65,7 +65,9 @@ def alpha_plan(model, smooth: bool, friction: bool, extra=()) -> NewtonPlan:
         terms.append(Joints(model, scaled=True, linearize_first=True))
     if smooth:
         terms.append(SmoothContact(model, friction))
-    bound = bool(reuse and joints.size and not joints.linear)
+    # the joints' remainder bound where every other force is affine in q (on a group: but
+    # for the gyroscopic forces, whose remainder the loop adds)
+    bound = bool((reuse or (group and model.linear)) and joints.size and not joints.linear)
     # (on a group S_t is not symmetric: plain Newton, no descent in energy)
     descent = not model.linear and not group
     return NewtonPlan((*terms, *extra), reuse, descent, False, bound, "smooth step", group)

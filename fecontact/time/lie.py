@@ -37,6 +37,8 @@ __all__ = [
     "predict_increment",
 ]
 
+_EYE3 = np.eye(3)
+
 
 def on_group(model) -> bool:
     """Whether the model's smooth step runs on the Lie group (decided once per model)."""
@@ -95,8 +97,12 @@ class InertialForces:
             if whole:
                 place = slice(int(glob[0]), int(glob[0]) + local.size)
                 self.parts.append((body, s, None, place))
-            else:  # (the index grids of the dense scatter, made once)
-                self.parts.append((body, s, np.ix_(local, local), (glob, np.ix_(glob, glob))))
+            else:  # (the flat indices of the dense scatter, made once)
+                n_b, n_f = idx.size, model.n_free
+                flat = ((local * n_b)[:, None] + local).ravel()
+                self.parts.append(
+                    (body, s, (local, flat), (glob, ((glob * n_f)[:, None] + glob).ravel()))
+                )
 
     def __call__(self, q: np.ndarray, v: np.ndarray, tangent: bool = True):
         """(f on the free dofs, ∂f/∂v on the free dofs or None without ``tangent``)."""
@@ -116,8 +122,8 @@ class InertialForces:
             Cb = Cb.toarray() if sp.issparse(Cb) else np.asarray(Cb)
             if local is None:
                 C[place, place] += Cb
-            else:
-                C[place[1]] += Cb[local]
+            else:  # (bodies share no dof: each entry of C is set by one body)
+                C.put(place[1], Cb.take(local[1]))
         f = f[model.free_slice]
         if not tangent or dense:
             return f, C
@@ -133,7 +139,7 @@ class InertialForces:
         if local is None:
             return Cb.row + place.start, Cb.col + place.start, Cb.data
         idx = np.full(Cb.shape[0], -1)
-        idx[local[0].ravel()] = place[0]
+        idx[local[0]] = place[0]
         r, c = idx[Cb.row], idx[Cb.col]
         keep = (r >= 0) & (c >= 0)
         return r[keep], c[keep], Cb.data[keep]
@@ -199,9 +205,14 @@ class LieStep:
 
     def iteration_matrix(self, S, K):
         """S_t of the group: ``S`` = β′M + γ′(C + C_Ω) + K of the terms, with K T(D) in
-        place of K (the stiffness moves with D through the right tangent)."""
-        if self.model.rotations.size and K is not None:
-            S = S + (self.right(K) - K)
+        place of K (the stiffness moves with D through the right tangent); a dense ``S`` (a
+        sum made for this iteration) is changed in place, on the triples' columns only."""
+        R = self.model.rotations
+        if not R.size or K is None:
+            return S
+        if sp.issparse(S):
+            return S + (self.right(K) - K)
+        S[:, R] += np.einsum("nki,kij->nkj", np.asarray(K)[:, R], self.T - _EYE3)
         return S
 
     def bordered(self, Kb, G):

@@ -207,6 +207,14 @@ class Gyroscopic(ForceTerm):
     def tangent(self, S):
         return S + self.gp * self.C_v
 
+    def remainder(self, step, dq: np.ndarray) -> float:
+        """|f(v + γ′dq) − f(v) − γ′C_v dq| (N, N·m) after a Newton update dq of the free
+        dofs: f(γ′dq) itself, as the forces Ω × JΩ are quadratic forms of v."""
+        dv = np.zeros(self.model.n)
+        dv[self.model.free_slice] = self.gp * dq
+        r = self.forces(step.q, dv, tangent=False)[0]
+        return math.sqrt(r @ r)
+
 
 class Damping(ForceTerm):
     """Rayleigh damping C_t v, C_t = αM + βK_t (K_t of ``elastic``); its tangent γ′C_t (the
@@ -250,8 +258,8 @@ class Joints(ForceTerm):
     """The joints g_b(q) = 0 with multipliers λ_b: force G_bᵀλ_b, rows (g_b, G_b) and their
     curvature Σ λ_i ∇²g_i. ``scaled``: the gap tolerance follows the model's extent at the
     predictor (:class:`JointTolerance`), else it is tol_gap × model.length.
-    ``linearize_first``: their curvature is evaluated with the gradient in the first
-    iteration (a solve is sure to follow), else when a solve asks for it."""
+    ``linearize_first``: their curvature is evaluated with the gradient in every iteration,
+    else when a solve asks for it."""
 
     rows = True
 
@@ -270,10 +278,10 @@ class Joints(ForceTerm):
 
     def evaluate(self, step, it):
         joints = self.joints
-        # the curvature where a solve is sure to follow (the first iteration), else only once
-        # one does
-        first = self.first and it == 0 and not joints.linear
-        weights = self.lam if first else None
+        # the curvature with the gradient (``linearize_first``: a bordered solve follows
+        # every iteration that does not converge, and the curvature costs less than a second
+        # evaluation of the joints), else only once a solve asks for it
+        weights = self.lam if self.first and not joints.linear else None
         self.gb, self.Gb, self.Cb = joints.linearize(step.q, joints.all, weights)
 
     def residual(self, r):
@@ -301,15 +309,17 @@ class Joints(ForceTerm):
     def retreat(self, s: float) -> None:
         self.lam = self.lam - s * self.dlam
 
-    def bound(self, step, dq, x, ff: float) -> bool:
+    def bound(self, step, dq, x, ff: float, extra: float = 0.0) -> bool:
         """Whether the update (dq, x = Δλ_b) ends the iteration by the remainder bound: when
         it is below half the tolerances the next residual test passes at the same q (the
         other half covers the solve's round-off). The reference max(|f_ext|, |M v̇|) is at
-        most that of the test (which includes |f_int|); ``ff`` = |f_ext|²."""
+        most that of the test (which includes |f_int|); ``ff`` = |f_ext|², ``extra`` (N) the
+        remainder of the other nonlinear forces."""
         bound = newton_remainder(self.joints, dq, self.lam, x)
         if bound is None:
             return False
         gap, force = bound
+        force += extra
         if not self.tol.admits(gap, 0.5):
             return False
         limit = 0.5 * step.opts.tol_residual
