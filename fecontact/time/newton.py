@@ -320,8 +320,9 @@ class SmoothNewton:
         step, joints = self.step, self.joints
         if self.plan.bound and len(self.rowed) == 1 and joints is not None:
             ff = 0.0 if self.load is None else self.load.ff
-            # (on a group: the gyroscopic forces' own remainder, exact)
-            extra = 0.0 if self.gyroscopic is None else self.gyroscopic.remainder(step, dq)
+            # (on a group: the gyroscopic forces' own remainder, exact, once the gaps pass)
+            gyro = self.gyroscopic
+            extra = None if gyro is None else (lambda: gyro.remainder(step, dq))
             if joints.bound(step, dq, self.x[self.model.n_free :], ff, extra):
                 return True
         return self.model.update_size(dq) <= self.opts.tol_increment and all(

@@ -309,19 +309,20 @@ class Joints(ForceTerm):
     def retreat(self, s: float) -> None:
         self.lam = self.lam - s * self.dlam
 
-    def bound(self, step, dq, x, ff: float, extra: float = 0.0) -> bool:
+    def bound(self, step, dq, x, ff: float, extra=None) -> bool:
         """Whether the update (dq, x = Δλ_b) ends the iteration by the remainder bound: when
         it is below half the tolerances the next residual test passes at the same q (the
         other half covers the solve's round-off). The reference max(|f_ext|, |M v̇|) is at
-        most that of the test (which includes |f_int|); ``ff`` = |f_ext|², ``extra`` (N) the
-        remainder of the other nonlinear forces."""
+        most that of the test (which includes |f_int|); ``ff`` = |f_ext|², ``extra()`` (N)
+        the remainder of the other nonlinear forces (None: none)."""
         bound = newton_remainder(self.joints, dq, self.lam, x)
         if bound is None:
             return False
         gap, force = bound
-        force += extra
         if not self.tol.admits(gap, 0.5):
             return False
+        if extra is not None:
+            force += extra()
         limit = 0.5 * step.opts.tol_residual
         if force <= limit * math.sqrt(ff):
             return True
