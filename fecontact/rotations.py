@@ -67,7 +67,7 @@ def _coefficients(psi: np.ndarray):
     """θ², sin θ/θ, (1 − cos θ)/θ² and (θ − sin θ)/θ³ of the vectors ``psi`` (…, 3): the
     first two from the half angle, sin θ/θ = s cos(θ/2) and (1 − cos θ)/θ² = ½s² with
     s = sin(θ/2)/(θ/2), free of cancellation (the angle offset as in :func:`quaternions`)."""
-    t2 = np.einsum("...i,...i->...", psi, psi)
+    t2 = (psi * psi).sum(axis=-1)
     half = 0.5 * np.sqrt(t2) + _OFFSET
     sh = np.sin(half) / half
     a, b = sh * np.cos(half), 0.5 * sh * sh
@@ -82,7 +82,7 @@ def _combination(psi: np.ndarray, k0, k1, k2) -> np.ndarray:
     """k0 I + k1 ψ̃ + k2 ψψᵀ (…, 3, 3) of the vectors ``psi`` (…, 3), coefficients (…)."""
     out = (k2[..., None] * psi)[..., :, None] * psi[..., None, :]
     out += k1[..., None, None] * hat(psi)
-    out[..., [0, 1, 2], [0, 1, 2]] += k0[..., None]
+    out.reshape(out.shape[:-2] + (9,))[..., ::4] += k0[..., None]  # the diagonal (a view)
     return out
 
 

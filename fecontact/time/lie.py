@@ -155,6 +155,7 @@ class LieStep:
         R = model.rotations
         self.single = len(R) == 1  # one body: the single-vector paths of ``rotations``
         self.F = model.free[R]
+        self.cols = R.ravel()  # the triples' columns (free dofs), in order
         self.p = None if self.single or not R.size else quaternions(q_n[self.F])
         self.D = None  # the rotation part of the current increment D
         self._T = None  # (k, 3, 3) right tangents at D, once asked for
@@ -191,8 +192,13 @@ class LieStep:
         if sp.issparse(A):
             return (A @ self._block()).tocsr()
         out = np.array(A, dtype=float, copy=True)
-        out[:, R] = np.einsum("nki,kij->nkj", np.asarray(A)[:, R], self.T)
+        out[:, self.cols] = self._times(out[:, self.cols], self.T)
         return out
+
+    def _times(self, A: np.ndarray, T: np.ndarray) -> np.ndarray:
+        """The columns ``A`` (n, 3k) of the triples, each triple's three times its T (k, 3, 3)."""
+        n, k = A.shape[0], T.shape[0]
+        return np.einsum("nki,kij->nkj", A.reshape(n, k, 3), T).reshape(n, 3 * k)
 
     def _block(self) -> sp.csr_matrix:
         """The block-diagonal T(D) on the free dofs (identity off the triples)."""
@@ -212,7 +218,7 @@ class LieStep:
             return S
         if sp.issparse(S):
             return S + (self.right(K) - K)
-        S[:, R] += np.einsum("nki,kij->nkj", np.asarray(K)[:, R], self.T - _EYE3)
+        S[:, self.cols] += self._times(np.asarray(K)[:, self.cols], self.T - _EYE3)
         return S
 
     def bordered(self, Kb, G):
