@@ -57,7 +57,8 @@ def alpha_plan(model, smooth: bool, friction: bool, extra=()) -> NewtonPlan:
         extra = (Gyroscopic(model), *extra)
     reuse = model.linear and not group and not any(term.own_tangent for term in extra)
     joints = model.joints
-    elastic = Elastic(model, tangent=not reuse)
+    # (a linear model on a group: K is assembled, once)
+    elastic = Elastic(model, tangent=not reuse, constant=model.linear)
     terms: list[ForceTerm] = [elastic, ExternalLoad(model)]
     if any(model.damping):
         terms.append(Damping(model, elastic, constant=model.linear))

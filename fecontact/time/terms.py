@@ -129,20 +129,24 @@ class Elastic(ForceTerm):
     """The internal forces f_int(q) of the bodies and their tangent K_t; it opens the
     iteration matrix with the inertia, β′M + K_t (``fused``: summed in the model's sparse
     pattern, else as two matrices). ``tangent``: K_t is assembled (False where a linear
-    model's S_t is reused). The loop's energy descent reads
-    the strain energy ``W``."""
+    model's S_t is reused); ``constant``: it is the same at every q (a linear model), assembled
+    once. The loop's energy descent reads the strain energy ``W``."""
 
-    def __init__(self, model, tangent: bool, fused: bool = True):
+    def __init__(self, model, tangent: bool, fused: bool = True, constant: bool = False):
         self.model, self.F, self.assemble, self.fused = model, model.free_slice, tangent, fused
         self.W = self.fint = self.fi = self.K = None
         self.bp = 0.0
+        self.constant = constant and tangent
 
     def begin(self, step):
         self.bp = step.c.bp
         return self
 
     def evaluate(self, step, it):
-        self.W, self.fint, self.K = self.model.internal(step.q, tangent=self.assemble)
+        if self.constant and self.K is not None:
+            self.W, self.fint, _ = self.model.internal(step.q, tangent=False)
+        else:
+            self.W, self.fint, self.K = self.model.internal(step.q, tangent=self.assemble)
         self.fi = self.fint[self.F]
 
     def residual(self, r):
