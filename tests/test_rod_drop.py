@@ -54,7 +54,7 @@ def test_without_spin_the_drop_is_the_planar_one():
 @pytest.mark.xfail(
     strict=True,
     reason="the spinning rod's vertical angular momentum changes by 4.9e-4 relative over "
-    "0.25 s (bound 1e-4), all of it at the impacts (free flight keeps it to 1e-8): the position "
+    "0.25 s (bound 1e-4), all of it at the impacts (1e-7 between them): the position "
     "correction in the stiffness metric moves the nodes sideways (7.6e-5 in the mass metric)",
 )
 def test_with_spin_the_vertical_angular_momentum_holds_through_the_impacts():
