@@ -63,7 +63,7 @@ from ..errors import InputError
 from .dual_numbers import Jet
 from .mortar_duals import CLAMPED, FOREIGN, covered_ends, dual_coefficients
 from .mortar_interface import MortarInterface
-from .mortar_segments import segment_pair_integrals
+from .mortar_segments import GAUSS_POINTS, segment_pair_integrals
 
 __all__ = ["MortarContact"]
 
@@ -135,9 +135,13 @@ class MortarContact(MortarInterface):
         slave segments e, local slave and master nodes, local coordinates z (P, 12) and the
         results of the value-only pass that selected them (``segment_pair_integrals``)."""
         xs, xm = self.positions(q)
-        e, f = self._pairs(xs, xm)
+        e, f = self._near(xs, xm, *self._pairs(xs, xm))
         sn, mn = self.local_nodes[e], self.master_facets[f]
         z = np.concatenate([xs[sn], xm[mn]], axis=1).reshape(len(e), 12)
+        if len(e) == 0:  # no pair near (a free flight): no integrals
+            nothing, none, empty = Jet(np.zeros(0), None, None), np.zeros((0, GAUSS_POINTS)), e
+            ends = (empty * 0.0, empty * 0.0, empty, empty, empty * 0.0, empty * 0.0)
+            return xs, xm, e, sn, mn, z, (nothing, nothing, np.zeros(0), (none, none), ends)
         # the candidates that do not overlap contribute nothing: left out before the
         # differentiated integrals, by a value-only pass that also gives the overlaps' ends
         prior = segment_pair_integrals(z, self.has_prev[e], self.has_next[e], None, self.margin)

@@ -86,7 +86,7 @@ class MortarContact3D(MortarInterface):
         functions of a partly covered triangle — zeros without ``derivatives`` — and
         Σ w λ_k (3)), the dofs (P, 18) and the slave nodes' positions."""
         xs, xm = self.positions(q)
-        e, f = self._pairs(xs, xm)
+        e, f = self._near(xs, xm, *self._pairs(xs, xm))
         ts, tm = xs[self.facets[e]], xm[self.master_facets[f]]
         u, v = ts[:, 1] - ts[:, 0], ts[:, 2] - ts[:, 0]
         N = np.cross(u, v)

@@ -130,6 +130,22 @@ class MortarInterface(PairDefaults):
         moved = max(np.max(np.abs(xs - xs0)), np.max(np.abs(xm - xm0)))
         return pairs if moved <= 0.125 * self.margin else None
 
+    def _near(self, xs: np.ndarray, xm: np.ndarray, e: np.ndarray, f: np.ndarray):
+        """The candidate pairs (e, f), or none when the bounding boxes of every pair's two
+        elements are farther apart than the margin. A gap is measured from a slave point to
+        a master point on the master element, so then every point's |g_N| exceeds the
+        margin, and no row could be a candidate (g ≤ margin) but by extrapolating a gap
+        from elsewhere: every row reports +inf, as when the search finds no pair, without
+        the integrals (the steps of a free flight)."""
+        if len(e) == 0:
+            return e, f
+        ts, tm = xs[self.facets[e]], xm[self.master_facets[f]]
+        apart = np.maximum(tm.min(axis=1) - ts.max(axis=1), ts.min(axis=1) - tm.max(axis=1))
+        distance = np.sqrt((np.maximum(apart, 0.0) ** 2).sum(axis=1))
+        if distance.min() > self.margin:
+            return e[:0], f[:0]
+        return e, f
+
     def positions(self, q: np.ndarray):
         """Every node's position (m) of the slave and of the master at q."""
         (oa, ob), (a, b) = self.offsets, self.bodies
