@@ -87,6 +87,9 @@ class MortarContact3D(MortarInterface):
         Σ w λ_k (3)), the dofs (P, 18) and the slave nodes' positions."""
         xs, xm = self.positions(q)
         e, f = self._near(xs, xm, *self._pairs(xs, xm))
+        if len(e) == 0:  # no pair near (a free flight): no clipping
+            dofs = self._global_dofs(self.facets[e], self.master_facets[f])
+            return e, np.zeros((0, 94)), dofs, xs
         ts, tm = xs[self.facets[e]], xm[self.master_facets[f]]
         u, v = ts[:, 1] - ts[:, 0], ts[:, 2] - ts[:, 0]
         N = np.cross(u, v)
