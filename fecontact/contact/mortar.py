@@ -122,13 +122,12 @@ class MortarContact(MortarInterface):
             return pairs
         fs, fm = self.facets, self.master_facets
         cs, cm = 0.5 * (xs[fs[:, 0]] + xs[fs[:, 1]]), 0.5 * (xm[fm[:, 0]] + xm[fm[:, 1]])
-        ls = np.max(np.linalg.norm(xs[fs[:, 1]] - xs[fs[:, 0]], axis=1))
-        lm = np.max(np.linalg.norm(xm[fm[:, 1]] - xm[fm[:, 0]], axis=1))
-        r = 1.25 * self.margin + ls + lm
+        ls = np.linalg.norm(xs[fs[:, 1]] - xs[fs[:, 0]], axis=1)
+        lm = np.linalg.norm(xm[fm[:, 1]] - xm[fm[:, 0]], axis=1)
+        r = 1.25 * self.margin + ls.max() + lm.max()
         found = cKDTree(cs).sparse_distance_matrix(cKDTree(cm), r, output_type="ndarray")
-        pairs = (found["i"].astype(int), found["j"].astype(int))
-        self._search = (xs.copy(), xm.copy(), pairs)
-        return pairs
+        e, f = found["i"].astype(int), found["j"].astype(int)
+        return self._keep_search(xs, xm, e, f, found["v"] - 0.5 * (ls[e] + lm[f]))
 
     def _overlapping(self, q: np.ndarray):
         """The slave nodes' positions, and the candidate segment pairs that overlap: their

@@ -73,10 +73,9 @@ class MortarContact3D(MortarInterface):
         found = cKDTree(cs).sparse_distance_matrix(cKDTree(cm), r, output_type="ndarray")
         i, j = found["i"].astype(int), found["j"].astype(int)
         # each pair within the margin plus its own triangles' reach (graded meshes)
-        keep = found["v"] <= 1.25 * self.margin + rs[i] + rm[j]
-        pairs = (i[keep], j[keep])
-        self._search = (xs.copy(), xm.copy(), pairs)
-        return pairs
+        apart = found["v"] - rs[i] - rm[j]
+        keep = apart <= 1.25 * self.margin
+        return self._keep_search(xs, xm, i[keep], j[keep], apart[keep])
 
     def _local(self, q: np.ndarray, derivatives: bool = True):
         """Entries: the Gauss points of the overlaps of the slave triangles with the master
