@@ -173,6 +173,8 @@ class MortarContact(MortarInterface):
         ends of the covered part are the overlaps' own ends; the same values as
         :meth:`_integrate` gives)."""
         xs, _, e, _, _, _, (ga, gb, coverage, (xi, wJ), ends) = self._overlapping(q)
+        if len(e) == 0:  # no pair near: every row +inf (``_gap_values``)
+            return e, [ga, gb], coverage, np.zeros((0, 2)), xs
         lo, hi, lo_node, hi_node, m1, m2 = ends
         kind_lo, kind_hi, src_lo, src_hi = covered_ends(e, lo, hi, lo_node, hi_node,
                                                         len(self.facets))  # fmt: skip

@@ -189,6 +189,8 @@ class MortarInterface(PairDefaults):
         return all(np.array_equal(k, c) for k, c in zip(self._key(q), key, strict=True))
 
     def _gap_values(self, e, jets, coverage, dual, xs):
+        if len(e) == 0:  # no entry: no row takes part
+            return np.full(self.size, np.inf)
         g = np.zeros(self.size)
         for k, jet in enumerate(jets):
             g += np.bincount(self.element_rows[e, k], jet.v, self.size)
