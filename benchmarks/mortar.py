@@ -13,9 +13,11 @@
    centre-of-mass speed |v_y| over the impact speed, the final energy over the initial one,
    the exit speed, steps, the wall time per step (ms, median of the repeats), the CPU time
    per step (ms, mean of the repeats; less sensitive to other processes on the machine) and
-   its ratio to node-to-surface's, and the share of
-   the time loop spent in the contact phase and in the smooth step's assembly (which carries
-   the smooth contact force, and with it the mortar integrals of persistent contacts).
+   its ratio to node-to-surface's, the step halvings, and the share of the time loop (the
+   run's wall time less its output) spent in the contact phase and in the smooth step's
+   assembly (which carries the smooth contact force, and with it the mortar integrals of
+   persistent contacts). Then the same disks 10 cm apart for 20 ms (no contact: a free
+   flight), both methods alternating: the CPU time per step and its ratio.
 
 3. ``cases/two_balls.py`` (3D, graded P1 balls): the mortar interface with the right mesh
    turned by 30° about the impact axis (no node meets a node) and unturned (node on node),
@@ -29,6 +31,7 @@
 
     python benchmarks/mortar.py            # refinements 1–5, the default balls (an hour)
     python benchmarks/mortar.py --quick    # refinements 1–3, coarse balls (minutes)
+    python benchmarks/mortar.py --refinements 1 2 3 4 --coarse-balls   # (20 minutes)
 """
 
 from __future__ import annotations
@@ -101,14 +104,35 @@ def disk_rows(refinements, repeats):
                     "steps": r["steps"],
                     "ms per step": 1e3 * r["wall"] / r["steps"],
                     "CPU ms per step": 1e3 * cpu / r["steps"],
-                    "contact share": ph.get("contact", 0.0) / r["wall"],
-                    "assembly share": ph.get("assembly", 0.0) / r["wall"],
+                    "halvings": int(s.get("step_halvings", 0)),
+                    "contact share": ph.get("contact", 0.0) / r["compute"],
+                    "assembly share": ph.get("assembly", 0.0) / r["compute"],
                 }
             )
             print(rows[-1], flush=True)
         node = rows[-2]["CPU ms per step"]
         for row in rows[-2:]:
             row["CPU ratio"] = row["CPU ms per step"] / node
+    return rows
+
+
+def free_rows(refinements, repeats, t_end=0.02):
+    """CPU time per step of the disks in free flight (10 cm apart, ``t_end`` s: 20 ms, 4 ms in
+    the quick run), the two methods alternating ``repeats`` times: the median of each and
+    their ratio."""
+    rows = []
+    for ref in refinements:
+        cpu = {"node-to-surface": [], "mortar": []}
+        for _ in range(repeats):
+            for method in cpu:
+                sim = case("two_disks").build(refinements=ref, method=method, gap=0.1, t_end=t_end)
+                start = time.process_time()
+                r = timed_run(sim, repeats=1)
+                cpu[method].append(1e3 * (time.process_time() - start) / r["steps"])
+        node, mortar = (float(np.median(cpu[m])) for m in cpu)
+        rows.append({"refinements": ref, "steps": r["steps"], "node-to-surface CPU ms": node,
+                     "mortar CPU ms": mortar, "ratio": mortar / node})  # fmt: skip
+        print(rows[-1], flush=True)
     return rows
 
 
@@ -137,7 +161,9 @@ def ball_rows(quick: bool):
             sim = case("two_balls").build(against=against, rotate=rotate, **options, **mesh)
             if step == "t_c/50":
                 sim = sim.replace(dt=ref["t_c"] / 50)
+            cpu = time.process_time()
             r = timed_run(sim, repeats=1)
+            cpu = time.process_time() - cpu
             h = r["history"]
             force = np.asarray(h["contact_force"])
             on = np.flatnonzero(force > 0.0)
@@ -160,6 +186,7 @@ def ball_rows(quick: bool):
                     "F_max error (%)": 100.0 * (force.max() / ref["F_max"] - 1.0),
                     "steps": r["steps"],
                     "wall (s)": r["wall"],
+                    "CPU ms per step": 1e3 * cpu / r["steps"],
                 }
             )
             print(rows[-1], flush=True)
@@ -171,15 +198,21 @@ def ball_rows(quick: bool):
 
 
 def main():
-    args = parser(__doc__.splitlines()[0]).parse_args()
+    p = parser(__doc__.splitlines()[0])
+    p.add_argument("--refinements", type=int, nargs="+", help="the disks' refinements")
+    p.add_argument("--coarse-balls", action="store_true", help="the quick run's balls")
+    args = p.parse_args()
     refinements, repeats = ((1, 2, 3), 1) if args.quick else ((1, 2, 3, 4, 5), 3)
+    refinements = args.refinements or refinements
     patch = patch_rows()
     disks = disk_rows(refinements, repeats)
-    balls = ball_rows(args.quick)
+    free = free_rows(refinements, repeats, 0.004 if args.quick else 0.02)
+    balls = ball_rows(args.quick or args.coarse_balls)
     text = report(
         "Mortar and node-to-surface contact" + (" (quick)" if args.quick else ""),
         ("Patch test, small displacements, p = 1e5 Pa (relative errors).", patch),
         ("Two elastic disks head-on (cases/two_disks.py), 1 m/s each, side by side.", disks),
+        ("The same disks in free flight (10 cm apart, 20 ms), alternating.", free),
         ("Two elastic balls head-on (cases/two_balls.py), 1 m/s each.", balls),
     )
     print(text)

@@ -12,9 +12,10 @@ baseline), and whether the positions and velocities of every step are bit-identi
 runs of both (a refactor must not change a result).
 
 Cases: the founding flexible pendulum (1.5 s, 1500 steps), the bouncing ball (5 s, 5000
-steps of a point mass) and two elastic disks colliding (580 dofs, smooth contact), each
-with its defaults, impacts at the end of their step (``localize=False``, the baseline's
-only way; ``benchmarks/localization.py`` measures the cost of localization).
+steps of a point mass) and two elastic disks colliding (580 dofs, smooth contact,
+node-to-surface contact as in the baseline), each with its defaults otherwise, impacts at
+the end of their step (``localize=False``, the baseline's only way;
+``benchmarks/localization.py`` measures the cost of localization).
 
     python benchmarks/stepper_speed.py [--quick] [--repeats N] [--baseline REV] [--out DIR]
 """
@@ -35,6 +36,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "benchmarks" / "results"
 CASES = ("flexible_pendulum", "bouncing_ball", "two_disks")
+# two_disks with node-to-surface contact, the baseline's (mortar became the default later)
+BASELINE_PARAMS = {"two_disks": {"method": "node-to-surface"}}
 
 # runs in a fresh interpreter: the CPU time per step of the time loop (``simulate``, a
 # model built anew for each run, so that every run makes its own factorizations), the least
@@ -48,9 +51,13 @@ except ImportError:  # (a baseline from before the command line had its own laye
     from fecontact.io.cli import load_case
 from fecontact.time import simulate
 path, t_end, inner = Path(sys.argv[1]), float(sys.argv[2]), int(sys.argv[3])
+params = json.loads(sys.argv[4])
 best, digest = float("inf"), None
 for _ in range(inner):
-    sim = load_case(path).build()
+    try:  # the baseline's discretization, where a later version changed the case's default
+        sim = load_case(path).build(**params)
+    except Exception:  # (a baseline without that parameter: its only discretization)
+        sim = load_case(path).build()
     t_end = t_end if t_end > 0 else sim.t_end
     opts = sim.options
     # impacts at the end of their step, as in a baseline from before impact localization
@@ -84,7 +91,8 @@ def one_run(tree: Path, case: str, t_end: float | None, inner: int) -> dict:
     """Runs of ``case`` with the package of ``tree``, in a fresh interpreter."""
     env = dict(os.environ, PYTHONPATH=str(tree), OPENBLAS_NUM_THREADS="1")
     path = str(tree / "cases" / f"{case}.py")
-    args = [sys.executable, "-c", WORKER, path, repr(t_end or 0.0), str(inner)]
+    params = json.dumps(BASELINE_PARAMS.get(case, {}))
+    args = [sys.executable, "-c", WORKER, path, repr(t_end or 0.0), str(inner), params]
     out = subprocess.run(args, check=True, capture_output=True, text=True, env=env, cwd=tree)
     return json.loads(out.stdout.strip().splitlines()[-1])
 

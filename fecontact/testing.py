@@ -231,7 +231,7 @@ def pressed_blocks(n_lower: int, n_upper: int, p: float, method="mortar", small=
         face = upper.nodes_where(
             lambda x: (abs(x[1] - 0.5) < 1e-9) & (x[0] > 1e-9) & (x[0] < 1 - 1e-9)
         )
-        pair = Contact(upper, lower, nodes=face)
+        pair = Contact(upper, lower, nodes=face, method="node-to-surface")
     model = Model([lower, upper], [pair], gravity=(0.0, 0.0))
     load = np.zeros(model.n)
     top = upper.nodes_where(lambda x: x[1] > 1 - 1e-9)
@@ -282,7 +282,7 @@ def pressed_boxes(n_lower: int, n_upper: int, p: float, method="mortar", small=T
                 & (np.max(np.abs(x[:2] - 0.5), axis=0) < 0.5 - 1e-9)
             )
         )
-        pair = Contact(upper, lower, nodes=inner)
+        pair = Contact(upper, lower, nodes=inner, method="node-to-surface")
     model = Model([lower, upper], [pair], gravity=(0.0, 0.0, 0.0))
     load = np.zeros(model.n)
     o = model.offset_of(upper)

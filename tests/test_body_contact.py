@@ -15,6 +15,7 @@ from fecontact.contact.body_pairs import (
     facet_plane_gap,
     triangle_plane_distance,
 )
+from fecontact.contact.mortar import MortarContact
 
 MAT = LinearElastic(E=1e6, nu=0.3, rho=1000.0)
 RNG = np.random.default_rng(20240611)
@@ -128,7 +129,7 @@ CONFIGURATIONS = [
 
 
 def bound_pair(slave, master, **options):
-    pair = Contact(slave, master, **options)
+    pair = Contact(slave, master, method="node-to-surface", **options)
     Model([slave, master], [pair], gravity=np.zeros(slave.dim))
     return pair
 
@@ -284,7 +285,7 @@ def test_only_nodes_within_the_margin_get_a_finite_gap():
 def test_global_dofs_follow_the_model_layout():
     slave, master = bodies_2d()
     beam = Beam2D.straight([0.0, -1.0], [1.0, -1.0], 3, Material(1e9, rho=1e3), Section(1e-4, 1e-9))
-    pair = Contact(slave, master)
+    pair = Contact(slave, master, method="node-to-surface")
     model = Model([beam, master, slave], [pair])
     g, dofs, G, H = pair.evaluate(np.zeros(model.n))
     rows = np.isfinite(g)
@@ -331,7 +332,10 @@ def test_pair_rejects_bad_input():
     with pytest.raises(InputError, match="restitution"):
         Contact(slave, master, restitution=1.5)
     with pytest.raises(InputError):
-        Contact(slave, master, nodes=[10**6])
+        Contact(slave, master, nodes=[10**6], method="node-to-surface")
+    # the default between two solids is a mortar interface of the whole boundaries
+    with pytest.raises(InputError, match="method='node-to-surface'"):
+        Contact(slave, master, nodes=[0])
     bar = Beam2D.straight([0.0, 0.0], [1.0, 0.0], 2, Material(1e9, rho=1e3), Section(1e-4, 1e-9))
     # a solid against a beam is the beam's two-sided surface; given the other way round, or
     # in 3D, it is refused
@@ -345,9 +349,11 @@ def test_pair_rejects_bad_input():
 def test_nonlinear_solids_use_the_same_pairs():
     a = Solid.disk([0.0, 0.0], 1.0, 1, NeoHookean(E=1e6, nu=0.3, rho=1e3))
     b = Solid.disk([2.01, 0.0], 1.0, 1, NeoHookean(E=1e6, nu=0.3, rho=1e3))
-    pair = Contact(a, b)
+    pair = Contact(a, b, method="node-to-surface")
     assert isinstance(pair, NodeSurfaceContact) and pair.obstacle is None and pair.body is a
     assert not pair.linear and pair.restitution == 0.0
+    mortar = Contact(a, b)  # the default between two solids
+    assert isinstance(mortar, MortarContact) and mortar.body is a and not mortar.linear
 
 
 # -- bar ends --------------------------------------------------------------------------------

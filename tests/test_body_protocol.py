@@ -117,6 +117,7 @@ KIND_MEMBERS = {
         "boundary_nodes",
         "stiffness_matrix",
         "tributary_areas",
+        "thickness",  # a 2D mortar interface's pressure area
     },
     RigidBody2D: {"shape", "position", "center", "orientation", "to_frame", "frame_point_function"},
     PointMass: {"position"},

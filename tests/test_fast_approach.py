@@ -48,7 +48,9 @@ def worst_penetration(model, q):
 @pytest.mark.parametrize("velocity", [5.0, 10.0, 30.0])
 @pytest.mark.parametrize("courant", [1, 2, 4, 8])
 def test_disks_thrown_at_each_other_do_not_interpenetrate(velocity, courant):
-    sim = case("two_disks").build(velocity=velocity, refinements=2, gap=0.0005, t_end=0.006)
+    sim = case("two_disks").build(
+        velocity=velocity, refinements=2, gap=0.0005, t_end=0.006, method="node-to-surface"
+    )
     model = sim.model
     dt = wave_step(model.bodies[0], courant)
     states = simulate(model, dt, sim.t_end, sim.options, q0=sim.q0, v0=sim.v0)
@@ -70,7 +72,9 @@ def test_the_search_reaches_as_far_as_the_bodies_can_close_in_a_step():
     # two disks 3.5 cm apart closing at 2 x 100 m/s: within a step of 0.1 ms they close by
     # 2 cm, beyond the search margin of the model (5 % of its size, 1 cm); looking ahead,
     # the nearest nodes see the facets they are heading for
-    sim = case("two_disks").build(velocity=100.0, refinements=1, gap=0.035)
+    sim = case("two_disks").build(
+        velocity=100.0, refinements=1, gap=0.035, method="node-to-surface"
+    )
     model, pair = sim.model, sim.model.contacts.pairs[0]
     q = np.zeros(model.n)
     model.contacts.detect_within(0.01)
@@ -96,6 +100,7 @@ def test_the_summary_counts_the_retaken_steps_and_reports_the_measured_penetrati
     path = Path(__file__).resolve().parents[1] / "cases" / "two_disks.py"
     args = ["run", str(path), "--quiet", "--out", str(tmp_path), "--checkpoint-every", "0"]
     args += ["--set", "velocity=10", "--set", "refinements=2", "--set", "gap=0.0005"]
+    args += ["--set", "method=node-to-surface"]
     sim = case("two_disks").build(refinements=2)
     assert main([*args, "--dt", str(wave_step(sim.model.bodies[0], 8)), "--t-end", "0.004"]) == 0
     summary = json.loads((tmp_path / "summary.json").read_text())

@@ -124,8 +124,9 @@ def test_penetration_check_sees_overlap():
     assert penetration(a.X, fa, b.X, fb) > 1e-3
 
 
-def run_disks(method="mortar", refinements=2, t_end=0.006, options=None, **params):
-    sim = TWO_DISKS.build(method=method, refinements=refinements, t_end=t_end, **params)
+def run_disks(refinements=2, t_end=0.006, options=None, **params):
+    """The case with its defaults (mortar contact) but for ``params``."""
+    sim = TWO_DISKS.build(refinements=refinements, t_end=t_end, **params)
     model = sim.model
     A, B = model.bodies
     fa, fb = A.boundary_facets(), B.boundary_facets()
@@ -143,7 +144,7 @@ def run_disks(method="mortar", refinements=2, t_end=0.006, options=None, **param
 @pytest.mark.parametrize("refinements", [1, 2, 3, pytest.param(4, marks=pytest.mark.slow)])
 def test_two_disks_head_on_no_sideways_speed_no_penetration(refinements):
     """From the octagon (refinements 1: two vertices meet, each segment covered in part by
-    the other disk) to 128 boundary nodes."""
+    the other disk) to 128 boundary nodes, with the case's defaults (mortar contact)."""
     rows, edge, sim, last = run_disks(refinements=refinements)
     v_impact = 1.0
     assert np.max(np.abs(rows[:, 1:])) <= 0.01 * v_impact
@@ -324,7 +325,7 @@ def test_two_balls_head_on_like_the_plane_of_symmetry(mesh):
     """Pole to pole, node on node or turned: each ball moves as against the rigid plane of
     symmetry (node-to-surface both ways: 24-34 % lateral, restitution 0.79-0.91), and no node
     enters the other ball (measured 0 at every step)."""
-    lateral, exit_speed, deepest, edge = ball_impact(method="mortar", **mesh)
+    lateral, exit_speed, deepest, edge = ball_impact(**mesh)  # the default contact: mortar
     _, plane_exit, _, _ = ball_impact(against="plane", **mesh)
     assert lateral <= 0.01 * 1.0
     assert abs(exit_speed / plane_exit - 1.0) <= 0.02

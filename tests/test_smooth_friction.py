@@ -98,7 +98,9 @@ def test_an_oblique_frictional_impact_between_two_disks():
     opposite, so both momentum components stay zero; the impact is point-symmetric, so both
     disks leave spinning the same way at the same rate; friction and e_N = 0 only take
     energy out."""
-    sim = case("two_disks").build(refinements=2, offset=0.04, friction=0.3, t_end=0.01)
+    sim = case("two_disks").build(
+        refinements=2, offset=0.04, friction=0.3, t_end=0.01, method="node-to-surface"
+    )
     model = sim.model
     left, right = model.bodies
     probes = {}

@@ -32,9 +32,8 @@ def Contact(
     disk (``RigidBody2D`` with a ``Disk``) contacts a ``Plane``, a ``Circle``, another disk, a
     rigid polygon or a ``Beam2D`` through its centre and radius; see
     :mod:`fecontact.contact.rigid_pairs`.
-    Two deformable bodies: a ``Solid`` against a ``Solid`` is a node-to-surface pair (``nodes``
-    of ``body``, default its boundary nodes, against the boundary of the second; add the
-    reversed pair for the other direction), a ``Beam2D`` against a ``Beam2D`` an end-to-end
+    Two deformable bodies: a ``Solid`` against a ``Solid`` is a dual mortar interface of their
+    whole boundaries (``method``, below), a ``Beam2D`` against a ``Beam2D`` an end-to-end
     pair along the bar axis (``nodes`` = (end of body, end of the other), default the closest
     ends); see :mod:`fecontact.contact.body_pairs`. A ``Solid``'s boundary nodes (or ``nodes``)
     against a ``Beam2D``, and a ``Beam2D``'s nodes against another with a ``clearance`` > 0 (two
@@ -47,11 +46,12 @@ def Contact(
     slip of the contact points (:mod:`fecontact.contact.friction`). Every pair but the
     end-to-end beam pair takes it.
 
-    ``method`` chooses the discretization of a contact between two solids:
-    ``"node-to-surface"`` (the default) or ``"mortar"`` (dual mortar, weighted gaps integrated
-    over the first body's boundary: :mod:`fecontact.contact.mortar` in 2D,
-    :mod:`fecontact.contact.mortar3d` in 3D; ``nodes`` must be None, and the pair declared
-    both ways is one interface). Other pairs take None only.
+    ``method`` chooses the discretization of a contact between two solids: ``"mortar"`` (the
+    default, None: dual mortar, weighted gaps integrated over the first body's boundary,
+    :mod:`fecontact.contact.mortar` in 2D, :mod:`fecontact.contact.mortar3d` in 3D; ``nodes``
+    must be None, and the pair declared both ways is one interface) or ``"node-to-surface"``
+    (``nodes`` of ``body``, default its boundary nodes, against the boundary of the second;
+    add the reversed pair for the other direction). Other pairs take None only.
 
     The pair comes from the factory registered for the classes of ``body`` and ``obstacle``
     (:func:`fecontact.contact.registry.register_pair`): a new body type registers its own.
@@ -59,8 +59,8 @@ def Contact(
     friction = check_positive("friction", friction, allow_zero=True)
     clearance = check_positive("clearance", clearance, allow_zero=True)
     solids = isinstance(body, Solid) and isinstance(obstacle, Solid)
-    if method == "mortar":
-        pair = _mortar(body, obstacle, nodes, restitution, clearance, solids)
+    if method == "mortar" or (method is None and solids):
+        pair = _mortar(body, obstacle, nodes, restitution, clearance, solids, method)
     elif method in (None, "node-to-surface"):
         if method is not None and not solids:
             raise InputError("method: 'node-to-surface' applies between two solids; use None")
@@ -74,11 +74,15 @@ def Contact(
     return pair
 
 
-def _mortar(body, obstacle, nodes, restitution, clearance, solids: bool):
+def _mortar(body, obstacle, nodes, restitution, clearance, solids: bool, method):
     if not solids:
         raise InputError("method: 'mortar' applies between two solids")
     if nodes is not None or clearance:
-        raise InputError("nodes, clearance: a mortar contact takes the whole boundaries")
+        default = " (the default between two solids)" if method is None else ""
+        raise InputError(
+            f"nodes, clearance: a mortar contact{default} takes the whole boundaries; "
+            "method='node-to-surface' constrains chosen nodes"
+        )
     if body.dim == 3:
         return MortarContact3D(body, obstacle, restitution)
     return MortarContact(body, obstacle, restitution)

@@ -63,7 +63,7 @@ from ..errors import InputError
 from .dual_numbers import Jet
 from .mortar_duals import CLAMPED, FOREIGN, covered_ends, dual_coefficients
 from .mortar_interface import MortarInterface
-from .mortar_segments import segment_pair_integrals
+from .mortar_segments import GAUSS_POINTS, segment_pair_integrals
 
 __all__ = ["MortarContact"]
 
@@ -122,22 +122,25 @@ class MortarContact(MortarInterface):
             return pairs
         fs, fm = self.facets, self.master_facets
         cs, cm = 0.5 * (xs[fs[:, 0]] + xs[fs[:, 1]]), 0.5 * (xm[fm[:, 0]] + xm[fm[:, 1]])
-        ls = np.max(np.linalg.norm(xs[fs[:, 1]] - xs[fs[:, 0]], axis=1))
-        lm = np.max(np.linalg.norm(xm[fm[:, 1]] - xm[fm[:, 0]], axis=1))
-        r = 1.25 * self.margin + ls + lm
+        ls = np.linalg.norm(xs[fs[:, 1]] - xs[fs[:, 0]], axis=1)
+        lm = np.linalg.norm(xm[fm[:, 1]] - xm[fm[:, 0]], axis=1)
+        r = 1.25 * self.margin + ls.max() + lm.max()
         found = cKDTree(cs).sparse_distance_matrix(cKDTree(cm), r, output_type="ndarray")
-        pairs = (found["i"].astype(int), found["j"].astype(int))
-        self._search = (xs.copy(), xm.copy(), pairs)
-        return pairs
+        e, f = found["i"].astype(int), found["j"].astype(int)
+        return self._keep_search(xs, xm, e, f, found["v"] - 0.5 * (ls[e] + lm[f]))
 
     def _overlapping(self, q: np.ndarray):
         """The slave nodes' positions, and the candidate segment pairs that overlap: their
         slave segments e, local slave and master nodes, local coordinates z (P, 12) and the
         results of the value-only pass that selected them (``segment_pair_integrals``)."""
         xs, xm = self.positions(q)
-        e, f = self._pairs(xs, xm)
+        e, f = self._near(xs, xm, *self._pairs(xs, xm))
         sn, mn = self.local_nodes[e], self.master_facets[f]
         z = np.concatenate([xs[sn], xm[mn]], axis=1).reshape(len(e), 12)
+        if len(e) == 0:  # no pair near (a free flight): no integrals
+            nothing, none, empty = Jet(np.zeros(0), None, None), np.zeros((0, GAUSS_POINTS)), e
+            ends = (empty * 0.0, empty * 0.0, empty, empty, empty * 0.0, empty * 0.0)
+            return xs, xm, e, sn, mn, z, (nothing, nothing, np.zeros(0), (none, none), ends)
         # the candidates that do not overlap contribute nothing: left out before the
         # differentiated integrals, by a value-only pass that also gives the overlaps' ends
         prior = segment_pair_integrals(z, self.has_prev[e], self.has_next[e], None, self.margin)
@@ -170,6 +173,8 @@ class MortarContact(MortarInterface):
         ends of the covered part are the overlaps' own ends; the same values as
         :meth:`_integrate` gives)."""
         xs, _, e, _, _, _, (ga, gb, coverage, (xi, wJ), ends) = self._overlapping(q)
+        if len(e) == 0:  # no pair near: every row +inf (``_gap_values``)
+            return e, [ga, gb], coverage, np.zeros((0, 2)), xs
         lo, hi, lo_node, hi_node, m1, m2 = ends
         kind_lo, kind_hi, src_lo, src_hi = covered_ends(e, lo, hi, lo_node, hi_node,
                                                         len(self.facets))  # fmt: skip

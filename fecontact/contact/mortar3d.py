@@ -81,10 +81,9 @@ class MortarContact3D(MortarInterface):
         found = cKDTree(cs).sparse_distance_matrix(cKDTree(cm), r, output_type="ndarray")
         i, j = found["i"].astype(int), found["j"].astype(int)
         # each pair within the margin plus its own triangles' reach (graded meshes)
-        keep = found["v"] <= 1.25 * self.margin + rs[i] + rm[j]
-        pairs = (i[keep], j[keep])
-        self._search = (xs.copy(), xm.copy(), pairs)
-        return pairs
+        apart = found["v"] - rs[i] - rm[j]
+        keep = apart <= 1.25 * self.margin
+        return self._keep_search(xs, xm, i[keep], j[keep], apart[keep])
 
     def _local(self, q: np.ndarray, derivatives: bool = True):
         """Entries: the Gauss points of the overlaps of the slave triangles with the master
@@ -94,7 +93,10 @@ class MortarContact3D(MortarInterface):
         functions of a partly covered triangle — zeros without ``derivatives`` — and
         Σ w λ_k (3)), the dofs (P, 18) and the slave nodes' positions."""
         xs, xm = self.positions(q)
-        e, f = self._pairs(xs, xm)
+        e, f = self._near(xs, xm, *self._pairs(xs, xm))
+        if len(e) == 0:  # no pair near (a free flight): no clipping
+            dofs = self._global_dofs(self.facets[e], self.master_facets[f])
+            return e, np.zeros((0, 94)), dofs, xs
         ts, tm = xs[self.facets[e]], xm[self.master_facets[f]]
         u, v = ts[:, 1] - ts[:, 0], ts[:, 2] - ts[:, 0]
         N = np.cross(u, v)

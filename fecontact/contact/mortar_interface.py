@@ -130,9 +130,29 @@ class MortarInterface(PairDefaults):
         margin since (None: search again)."""
         if self._search is None:
             return None
-        xs0, xm0, pairs = self._search
-        moved = max(np.max(np.abs(xs - xs0)), np.max(np.abs(xm - xm0)))
-        return pairs if moved <= 0.125 * self.margin else None
+        return self._search[2] if self._moved(xs, xm) <= 0.125 * self.margin else None
+
+    def _moved(self, xs: np.ndarray, xm: np.ndarray) -> float:
+        """The largest coordinate change (m) of a node of either body since the last search."""
+        xs0, xm0 = self._search[:2]
+        return max(np.max(np.abs(xs - xs0)), np.max(np.abs(xm - xm0)))
+
+    def _keep_search(self, xs, xm, e, f, apart: np.ndarray):
+        """Keep the pairs (e, f) found at xs, xm, with ``apart`` (P,) a lower bound (m) of the
+        distance of each pair's elements (centres' distance less both elements' reach)."""
+        self._search = (xs.copy(), xm.copy(), (e, f), float(np.min(apart, initial=np.inf)))
+        return e, f
+
+    def _near(self, xs: np.ndarray, xm: np.ndarray, e: np.ndarray, f: np.ndarray):
+        """The candidate pairs (e, f), or none when every pair's elements are farther apart
+        than the margin. A gap is measured from a slave point to a master point on the
+        master element, so then every point's |g_N| exceeds the margin, and no row could be
+        a candidate (g ≤ margin) but by extrapolating a gap from elsewhere: every row reports
+        +inf, as when the search finds no pair, without the integrals (the steps of a free
+        flight). The pairs' distances are bounded below at the search, less twice the
+        largest displacement since (√d times its largest coordinate change)."""
+        bound = self._search[3] - 2.0 * np.sqrt(self.dim) * self._moved(xs, xm)
+        return (e[:0], f[:0]) if bound > self.margin else (e, f)
 
     def positions(self, q: np.ndarray):
         """Every node's position (m) of the slave and of the master at q."""
@@ -173,6 +193,8 @@ class MortarInterface(PairDefaults):
         return all(np.array_equal(k, c) for k, c in zip(self._key(q), key, strict=True))
 
     def _gap_values(self, e, jets, coverage, dual, xs):
+        if len(e) == 0:  # no entry: no row takes part
+            return np.full(self.size, np.inf)
         g = np.zeros(self.size)
         for k, jet in enumerate(jets):
             g += np.bincount(self.element_rows[e, k], jet.v, self.size)

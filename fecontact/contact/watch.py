@@ -49,6 +49,11 @@ class SolidWatch:
         pair = self.pair
         x = [b.positions(q[o : o + b.ndof]) for b, o in zip(pair.bodies, pair.offsets, strict=True)]
         deepest = relative = 0.0
+        # no node lies inside a closed surface from outside its bounding box: two bodies
+        # whose boxes are apart (a free flight) need no test
+        (lo_a, lo_b), (hi_a, hi_b) = ([f(y, axis=0) for y in x] for f in (np.min, np.max))
+        if np.any(hi_a < lo_b) or np.any(hi_b < lo_a):
+            return deepest, relative
         for i, search in enumerate(self.searches):
             xs, xm = x[i][self.nodes[i]], x[1 - i]
             watched = search.watched(xs, xm, pair.margin)
