@@ -12,7 +12,7 @@ from fecontact.cli.commands import main
 from fecontact.io.output import LEDGER_COLUMNS, read_history
 from fecontact.simulation import Simulation, run
 from fecontact.testing import case
-from fecontact.time import IntegratorOptions
+from fecontact.time import IntegratorOptions, simulate
 
 # short runs through the first contact events (the reference runs, a few shortened)
 RUNS = {
@@ -96,17 +96,22 @@ def test_loads_damping_friction_and_a_moving_floor(integrator, tmp_path):
 
 def test_kane_chain_newton_warns_and_poisson_does_not_create(tmp_path):
     """Newton's law, e_N = 1, μ = 0.5: the run creates 1.13 J in the strike's velocity jump,
-    which the warning names; friction takes 0.028 J there (the slip stops on the cone's
-    edge, then the end sticks: tests/test_poisson.py derives it), so no friction warning:
-    the gain is the kinematic restitution's. Poisson's law: created ≤ 1e-6 of the scale,
-    and friction takes energy at every step."""
+    and the warning names friction's positive work there: the tangential impulse times the
+    mean slip, P_T·(v_T⁻ + v_T⁺)/2, is +1.14 J, the normal impulse's work ~0 (measured
+    −0.017 J: the law restitutes the approach rate at the crossing, not that of ṽ). Read
+    along the impact process friction takes 0.028 J (the slip stops on the cone's edge,
+    then the end sticks: tests/test_poisson.py derives it); that reading stays the ledger's
+    friction dissipation. Poisson's law: created ≤ 1e-6 of the scale, no warning, and
+    friction takes energy at every step."""
     sim = case("kane_chain").build()
     summary = run(sim, tmp_path / "n", frames=False)
-    ledger = summary["energy_ledger"]
+    ledger, works = summary["energy_ledger"], summary["impact_work"]
     assert 1.0 < ledger["created"] < 1.3 and 0.02 < ledger["friction_dissipation"] < 0.04
+    assert 1.1 < works["tangential"] < 1.2 and abs(works["normal"]) < 0.02
     (created,) = summary["warnings"]
     assert created.startswith("energy") and "in the velocity jump" in created
-    assert "t = 0.408 s" in created
+    assert "t = 0.408 s" in created and "contact(s) 0 (pair 0)" in created
+    assert "friction did positive work" in created and 'impact_law="poisson"' in created
     options = IntegratorOptions(impact_law="poisson")
     summary = run(sim.replace(options=options), tmp_path / "p", frames=False)
     ledger = summary["energy_ledger"]
@@ -114,6 +119,51 @@ def test_kane_chain_newton_warns_and_poisson_does_not_create(tmp_path):
     assert not [w for w in summary["warnings"] if w.startswith("energy")]
     friction = read_history(tmp_path / "p" / "history.csv")["friction_dissipation"]
     assert np.all(np.diff(friction) >= 0.0) and friction[-1] > 0.02
+
+
+@pytest.mark.parametrize("law", ["newton", "poisson"])
+@pytest.mark.parametrize(
+    "name, kw",
+    [
+        ("kane_chain", {}),  # one frictional contact and two pins
+        ("kane_chain", {"friction": 0.0, "restitution": 0.8}),
+        ("rocking_block", {"friction": 0.5, "restitution": 0.5}),  # two corners
+    ],
+)
+def test_a_jump_changes_the_kinetic_energy_by_its_impulses_work(name, kw, law):
+    """Every velocity jump v⁺ = ṽ + M⁻¹AᵀP of rigid bodies on a fixed floor: its kinetic
+    energy change ½(v⁺ᵀMv⁺ − ṽᵀMṽ) = P·A(ṽ + v⁺)/2 is the sum of the normal, tangential
+    and joint impulses' works that the step records (per phase under Poisson's law), to
+    the round-off of the products (1e-12 of the kinetic energy)."""
+    sim = case(name).build(**kw)
+    model, opts = sim.model, IntegratorOptions(impact_law=law)
+    jumps = 0
+    for st in simulate(model, sim.dt, 0.6, opts, q0=sim.q0, v0=sim.v0):
+        if st.ledger is None or not np.any(st.impulse):
+            continue
+        jumps += 1
+        T_tilde, works = st.ledger[0], st.ledger[3:6]
+        T = model.kinetic_energy(st.v)
+        assert abs(T - T_tilde - works.sum()) <= 1e-12 * max(T, T_tilde)
+    assert jumps > 0
+
+
+@pytest.mark.parametrize("law", ["newton", "poisson"])
+def test_moreau_jean_names_friction_s_positive_work_on_kane_s_chain(law, tmp_path):
+    """Moreau–Jean on Kane's chain: Newton's law creates the same 1.13 J in its impact step,
+    and the warning names friction's positive work, 1.13 J at the step's mean slip; under
+    Poisson's law no warning."""
+    sim = case("kane_chain").build()
+    options = IntegratorOptions(integrator="moreau", impact_law=law)
+    summary = run(sim.replace(options=options), tmp_path, frames=False)
+    energy = [w for w in summary["warnings"] if w.startswith("energy")]
+    if law == "poisson":
+        assert not energy
+        return
+    (created,) = energy
+    assert "in the impact" in created and "t = 0.408 s" in created
+    assert "friction did positive work" in created and "contact(s) 0" in created
+    assert 1.1 < summary["impact_work"]["tangential"] < 1.2
 
 
 @pytest.mark.parametrize(

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["friction_dissipation", "solve_decompression"]
+__all__ = ["friction_dissipation", "impulse_work", "solve_decompression"]
 
 
 def solve_decompression(c, D, mu, nt: int, floor, tol: float, max_sweeps: int = 2000):
@@ -106,6 +106,27 @@ def friction_dissipation(x, w0, w, D, mu, nt: int, tol: float) -> float:
         return float(-0.5 * np.sum(P * (s0 + s1)))
     P = P.ravel()
     return float(-P @ s1.ravel() + 0.5 * P @ (Dh[np.ix_(t, t)] @ P))
+
+
+def impulse_work(x, w0, w, m: int, nt: int) -> np.ndarray:
+    r"""The work (J) of the impulses ``x`` of one velocity jump at the mean of the rates
+    before (``w0``) and after (``w``) it, split (normal, tangential, equality rows):
+
+        Σ_j P_N,j (ġ⁻_j + ġ⁺_j)/2,   Σ_j P_T,j·(w_T,j⁻ + w_T,j⁺)/2,   Σ_b P_b (ġ⁻_b + ġ⁺_b)/2,
+
+    in the layout of :func:`solve_decompression` (``m`` contacts of 1 + ``nt`` rows, normal
+    first, then the equality rows). With rates relative to fixed obstacles and a linear map
+    v⁺ = v⁻ + H⁻¹Aᵀx, the three sum to the jump's ½(v⁺ᵀHv⁺ − v⁻ᵀHv⁻) exactly: the kinetic
+    energy change when H = M. Unlike :func:`friction_dissipation` this reading needs no
+    process: it is the impulse times the slip a jump of constant direction makes (Kane &
+    Levinson, 1985), and a positive tangential part is the energy Newton's kinematic
+    restitution lets Coulomb's friction give (Glocker, Multibody Syst. Dyn., 2013)."""
+    x, w0, w = (np.asarray(a, float) for a in (x, w0, w))
+    power = x * 0.5 * (w0 + w)
+    nc = m * (1 + nt)
+    kind = np.arange(nc) % (1 + nt) > 0
+    contacts = power[:nc]
+    return np.array([contacts[~kind].sum(), contacts[kind].sum(), power[nc:].sum()])
 
 
 def _condensed(D, nc):
