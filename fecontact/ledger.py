@@ -47,6 +47,8 @@ FRICTION = 1e-6
 # this fraction of the largest of the scale, |E(0)| and the weight times the model's size
 ROUND_OFF = 1e-9
 TERMS = ("load_work", "damping", "friction", "impact", "numerical")
+NO_WORK = np.zeros(3)  # a step without impulses: (normal, tangential, joints) works
+NO_WORK.flags.writeable = False
 JUMPS = ("velocity jump", "impact")  # the phases that are velocity jumps (NSGA, Moreau–Jean)
 
 
@@ -57,15 +59,15 @@ def smooth_record(
     step, when a ``contact_phase`` (correction or jump) may follow: the kinetic energy of
     ṽ, the potential (strain + gravity) energy of q̃ (NaN when no correction moved q: then
     it is that of the step's end), the work the smooth step's friction forces dissipated
-    and the velocity jump's ``works`` (normal, tangential, joints; :func:`jump_work`) (J).
-    Without a contact phase, None."""
+    and the velocity jump's ``works`` (normal, tangential, joints;
+    :func:`fecontact.ledger_works.jump_work`) (J). Without a contact phase, None."""
     if not contact_phase:
         return None
     V = math.nan
     if q_tilde is not None:
         V = model.strain_energy(q_tilde) + model.potential_energy(q_tilde)
-    works = np.zeros(3) if works is None else works
-    return np.r_[model.kinetic_energy(v_tilde), V, friction_work, works]
+    works = (0.0, 0.0, 0.0) if works is None else works
+    return np.array([model.kinetic_energy(v_tilde), V, friction_work, *works])
 
 
 class EnergyLedger:
@@ -126,14 +128,15 @@ class EnergyLedger:
             self.vCv = vCv
         friction = self._friction(st)
         impact, gains, works = self._impact(st, kinetic, E, W, damping, friction)
-        self.impact_work += works
+        if works is not NO_WORK:
+            self.impact_work += works
         numerical = W - dE - damping - friction - impact
         for k, x in zip(TERMS, (W, damping, friction, impact, numerical), strict=True):
             self.terms[k] += x
         self.energy = E
         self.scale = max(self.scale, kinetic + strain)
         gains.setdefault("smooth step" if self.integrator == "nsga" else "time step", -numerical)
-        self._track(st, E, gains, friction, works[1])
+        self._track(st, E, gains, friction, float(works[1]))
         self.last = st
 
     def _energies(self, st):
@@ -168,11 +171,11 @@ class EnergyLedger:
         """D_impact of the step ending in ``st`` (J) and the energy gains of its phases."""
         record = st.ledger
         if record is not None:  # NSGA: the smooth step's end (ṽ, q̃)
-            T_tilde, V_tilde, smooth_friction = (float(x) for x in record[:3])
+            T_tilde, V_tilde, smooth_friction = record[:3].tolist()
             V = E - kinetic
             if math.isnan(V_tilde):
                 V_tilde = V
-            works = record[3:6] if record.size >= 6 else np.zeros(3)
+            works = record[3:6] if record.size >= 6 else NO_WORK
             correction, jump = V - V_tilde, kinetic - T_tilde
             smooth = T_tilde + V_tilde - self.energy - W + damping + smooth_friction
             gains = {
@@ -182,7 +185,7 @@ class EnergyLedger:
                 "friction": -friction,
             }
             return -(correction + jump) - (friction - smooth_friction), gains, works
-        works = np.zeros(3)
+        works = NO_WORK
         if self.integrator == "moreau" and np.any(st.impulse):
             works = moreau_works(self.model, self.last, st)
             impact = -works[0] - works[1] - friction
@@ -205,7 +208,8 @@ class EnergyLedger:
         elif fall > 0.0:
             if self.worst is None or step_fall > self.worst[0]:
                 phase = max(gains, key=gains.get)
-                self.worst = (step_fall, st.t, st.step, phase, slip_work, _jump_gripping(st))
+                gripping = _jump_gripping(st) if slip_work > 0.0 else []
+                self.worst = (step_fall, st.t, st.step, phase, slip_work, gripping)
             if fall > self.created:
                 self.created, self.where = fall, self.worst
         if friction < 0.0:

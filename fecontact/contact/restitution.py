@@ -121,12 +121,15 @@ def impulse_work(x, w0, w, m: int, nt: int) -> np.ndarray:
     process: it is the impulse times the slip a jump of constant direction makes (Kane &
     Levinson, 1985), and a positive tangential part is the energy Newton's kinematic
     restitution lets Coulomb's friction give (Glocker, Multibody Syst. Dyn., 2013)."""
-    x, w0, w = (np.asarray(a, float) for a in (x, w0, w))
-    power = x * 0.5 * (w0 + w)
     nc = m * (1 + nt)
-    kind = np.arange(nc) % (1 + nt) > 0
-    contacts = power[:nc]
-    return np.array([contacts[~kind].sum(), contacts[kind].sum(), power[nc:].sum()])
+    mean = 0.5 * (np.asarray(w0, float) + w)
+    x = np.asarray(x, float)
+    # (a function of every jump: sums of slices, no masks)
+    joints = float(x[nc:] @ mean[nc:])
+    if nt == 0:
+        return np.array([float(x[:nc] @ mean[:nc]), 0.0, joints])
+    power = (x[:nc] * mean[:nc]).reshape(m, 1 + nt)
+    return np.array([power[:, 0].sum(), power[:, 1:].sum(), joints])
 
 
 def _condensed(D, nc):
