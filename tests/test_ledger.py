@@ -213,8 +213,8 @@ def test_the_gains_measured_beyond_the_cases_warn(name, args, phase, tmp_path, c
 
 
 def test_a_resumed_run_keeps_its_ledger(tmp_path):
-    """Kane's chain (Newton) stopped after its strike and resumed: the same ledger and the
-    same warnings as the run straight through, the strike's time included."""
+    """Kane's chain (Newton) stopped after its strike and resumed: the same ledger, jump works
+    and warnings as the run straight through, the strike's time included."""
     sim = case("kane_chain").build().replace(t_end=0.5)
     whole = run(sim, tmp_path / "a", frames=False, checkpoint_every=0)
     run(sim.replace(t_end=0.45), tmp_path / "b", checkpoint_every=100)
@@ -222,6 +222,9 @@ def test_a_resumed_run_keeps_its_ledger(tmp_path):
     for k, v in whole["energy_ledger"].items():
         assert resumed["energy_ledger"][k] == pytest.approx(v, rel=1e-12, abs=1e-15), k
     assert resumed["warnings"] == whole["warnings"] and "t = 0.408 s" in whole["warnings"][0]
+    assert "friction did positive work" in whole["warnings"][0]
+    for k, v in whole["impact_work"].items():
+        assert resumed["impact_work"][k] == pytest.approx(v, rel=1e-12, abs=1e-15), k
 
 
 def test_history_png_has_the_ledger_panel(tmp_path):
