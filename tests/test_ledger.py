@@ -2,6 +2,8 @@
 D_impact − D_numerical closes at every step on every case and integrator; it separates what
 each mechanism took; and energy created after losses is a warning naming its phase."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 from conftest import ROOT
@@ -145,15 +147,17 @@ def test_kane_chain_newton_warns_and_poisson_does_not_create(tmp_path):
         ("kane_chain", {}),  # one frictional contact and two pins
         ("kane_chain", {"friction": 0.0, "restitution": 0.8}),
         ("rocking_block", {"friction": 0.5, "restitution": 0.5}),  # two corners
+        ("tumbling_box", {}),  # rotations in space, up to four rough corners
+        ("box_stack", {}),  # two boxes on each other and on the floor
     ],
 )
 def test_a_jump_changes_the_kinetic_energy_by_its_impulses_work(name, kw, law):
-    """Every velocity jump v⁺ = ṽ + M⁻¹AᵀP of rigid bodies on a fixed floor: its kinetic
-    energy change ½(v⁺ᵀMv⁺ − ṽᵀMṽ) = P·A(ṽ + v⁺)/2 is the sum of the normal, tangential
-    and joint impulses' works that the step records (per phase under Poisson's law), to
-    the round-off of the products (1e-12 of the kinetic energy)."""
+    """Every velocity jump v⁺ = ṽ + M⁻¹AᵀP of rigid bodies (planar and in space) on a fixed
+    floor: its kinetic energy change ½(v⁺ᵀMv⁺ − ṽᵀMṽ) = P·A(ṽ + v⁺)/2 is the sum of the
+    normal, tangential and joint impulses' works that the step records (per phase under
+    Poisson's law), to the round-off of the products (1e-12 of the kinetic energy)."""
     sim = case(name).build(**kw)
-    model, opts = sim.model, IntegratorOptions(impact_law=law)
+    model, opts = sim.model, dataclasses.replace(sim.options, impact_law=law)
     jumps = 0
     for st in simulate(model, sim.dt, 0.6, opts, q0=sim.q0, v0=sim.v0):
         if st.ledger is None or not np.any(st.impulse):
