@@ -37,7 +37,7 @@ import numpy as np
 
 from .ledger_works import moreau_works, spring_step_work
 
-__all__ = ["EnergyLedger", "smooth_record"]
+__all__ = ["EnergyLedger", "joined_record", "smooth_record"]
 
 # a creation above this fraction of the scale is a warning (the issue's measured gains are
 # 0.3 % and more); friction's positive work above FRICTION of it
@@ -68,6 +68,32 @@ def smooth_record(
         V = model.strain_energy(q_tilde) + model.potential_energy(q_tilde)
     works = (0.0, 0.0, 0.0) if works is None else works
     return np.array([model.kinetic_energy(v_tilde), V, friction_work, *works])
+
+
+def joined_record(model, first, second) -> np.ndarray | None:
+    """The record (:func:`smooth_record`) of one step made of the steps that end in
+    ``first`` and ``second`` (a halved step, an impact located inside a step): the contact
+    phases of both are the step's, so that the ledger charges them as such. With the first
+    part's end energies T_1, V_1 and T̃_i, Ṽ_i the parts' smooth ends, T̃ = T̃_2 − (T_1 − T̃_1),
+    Ṽ = Ṽ_2 − (V_1 − Ṽ_1); the smooth friction and the jumps' works add."""
+    r1, r2 = first.ledger, second.ledger
+    if r1 is None:
+        return r2
+    T1 = model.kinetic_energy(first.v)
+    V1 = model.strain_energy(first.q) + model.potential_energy(first.q)
+    if r2 is None:  # the second part has no contact phase: it ends where its smooth step does
+        r2 = smooth_record(model, True, second.v, second.q)
+    elif math.isnan(r2[1]):
+        r2 = r2.copy()
+        r2[1] = model.strain_energy(second.q) + model.potential_energy(second.q)
+    V1_tilde = V1 if math.isnan(r1[1]) else r1[1]
+    out = np.zeros(max(r1.size, r2.size, 6))
+    out[: r2.size] = r2
+    out[0] = r2[0] - (T1 - r1[0])
+    out[1] = r2[1] - (V1 - V1_tilde)
+    out[2] = r1[2] + r2[2]
+    out[3:6] += r1[3:6] if r1.size >= 6 else 0.0
+    return out
 
 
 class EnergyLedger:
