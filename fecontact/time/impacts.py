@@ -89,7 +89,8 @@ def velocity_jump(
         W, lam_n, lam_t, status, its, work, lam_b = frictional_jump(
             model, st, q, v, closed, G1, gdot, opts, tol, preload=preload
         )
-        works = jump_work(model, q, v, W, closed, G1, rates, np.r_[lam_n, lam_b], lam_t)
+        lam = np.concatenate([lam_n, lam_b])
+        works = jump_work(model, q, v, W, closed, G1, rates, lam, lam_t)
         return W, lam_n, its, (lam_t, status, work), works
     Y = constraint_columns(model, ("mass",), closed, G1, model.solve_M, cons, constant=True)
     p = augmentation(opts.penalty_scale, G1, Y)
