@@ -10,6 +10,12 @@ then the L swings and twists freely, its energy constant (at ``rho_inf`` = 1, wi
 dissipation).
 
 Probes: ``elbow_z`` and ``tip_z`` (m), the displacements along z.
+
+Checked against (docs/validation/beam3d.md): the linearised L's modal solution while it moves
+little (at these defaults 1.9 % of the elbow's rise off it up to t = 1 s, order 2 in h and the
+mesh), the published tip curve's extremes (8.25 m, −9.73 m, 7.20 m converged, against 8.32,
+−9.21 and 7.50 m), and its own convergence (the tip within 0.18 m of the converged history
+over the first 10 s at these defaults, 0.009 m at 16 elements a leg and h = 0.0125 s).
 """
 
 import numpy as np

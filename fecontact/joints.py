@@ -119,6 +119,10 @@ def newton_remainder(joints, dq: np.ndarray, lam: np.ndarray, dlam: np.ndarray):
     Σ |r| (½ |λ + dλ| dθ² + |dλ| |dθ|): Newton's quadratic convergence made explicit. Returns
     (max over pins of the gap bound in m, the force bound in N), or None when a pin's
     curvature is unknown. ``lam`` is λ + dλ, rows as in ``joints`` (two per pin).
+
+    A ball joint in space (:mod:`fecontact.joints3d`) gives its arms with the three dofs of
+    each rotation increment d (dθ = |d|: the second derivative of d ↦ exp((D + d)~) r is at
+    most |r| |d|², and the first |r| |d|), its rows three.
     """
     gap = force = 0.0
     row = 0
@@ -129,12 +133,20 @@ def newton_remainder(joints, dq: np.ndarray, lam: np.ndarray, dlam: np.ndarray):
         if arms:
             s1 = s2 = 0.0
             for dof, arm in arms:
-                d = abs(float(dq[dof]))
+                d = abs(float(dq[dof])) if np.ndim(dof) == 0 else math.sqrt(dq[dof] @ dq[dof])
                 s1 += arm * d
                 s2 += arm * d * d
-            lx, ly = lam[row : row + 2].tolist()
-            dx, dy = dlam[row : row + 2].tolist()
+            rows = slice(row, row + pin.size)
+            lam_norm, dlam_norm = _norm(lam[rows]), _norm(dlam[rows])
             gap = max(gap, 0.5 * s2)
-            force += 0.5 * math.hypot(lx, ly) * s2 + math.hypot(dx, dy) * s1
+            force += 0.5 * lam_norm * s2 + dlam_norm * s1
         row += pin.size
     return gap, force
+
+
+def _norm(x: np.ndarray) -> float:
+    """|x| of a pin's two rows (as math.hypot) or a ball joint's three."""
+    if x.size == 2:
+        a, b = x.tolist()
+        return math.hypot(a, b)
+    return math.sqrt(x @ x)

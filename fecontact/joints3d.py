@@ -70,7 +70,7 @@ class _Joint(PairDefaults):
 
     restitution = 0.0
     linear = False
-    arms = None  # no remainder bound of the planar pins (:func:`fecontact.joints.newton_remainder`)
+    arms = None  # the remainder bound's arms (:func:`fecontact.joints.newton_remainder`)
 
     def __init__(self, body, point, other=None, pairs=(), lines=None):
         for name, b in (("body", body), ("other", other)):
@@ -89,11 +89,28 @@ class _Joint(PairDefaults):
         self.lines = lines
         self.size = (3 if lines is None else len(lines)) + len(self.pairs)
         self.offsets = (0, 0)
+        self._rows_dofs = None  # (offsets, the rows' dofs) of the last binding
         self.k = 6 if other is None else 12
 
     def bind(self, model) -> None:
         ob = 0 if self.other is None else model.offset_of(self.other)
         self.offsets = (model.offset_of(self.body), ob)
+        if self.lines is None and not self.pairs:  # point rows alone: a ball joint
+            self.arms = self._arms(model.free_index)
+
+    def _arms(self, free_index: np.ndarray) -> list:
+        """[(free rotation dofs (3,), |r| in m)] of the bodies of a ball joint (a held
+        rotation has none). Its rows x = c + R exp(D̃) r along an increment d of D have
+        second derivatives of length at most |r| |d|², as exp's of skew matrices (the
+        bound of :func:`fecontact.joints.newton_remainder`)."""
+        arms = []
+        sides = ((self.body, self.r_a), (self.other, self.r_b))
+        for (body, r), offset in zip(sides, self.offsets, strict=True):
+            if body is not None:
+                dofs = free_index[offset + np.arange(3, 6)]
+                if np.all(dofs >= 0):
+                    arms.append((dofs, float(np.linalg.norm(r))))
+        return arms
 
     def _frames(self, q: np.ndarray):
         oa, ob = self.offsets
@@ -123,11 +140,16 @@ class _Joint(PairDefaults):
         return g, self._dofs(qb), G, H
 
     def _dofs(self, qb) -> np.ndarray:
+        """The rows' dofs (size, k): the bodies' twelve (or six), fixed once bound."""
         oa, ob = self.offsets
-        dofs = oa + np.arange(6)
-        if qb is not None:
-            dofs = np.concatenate([dofs, ob + np.arange(6)])
-        return np.repeat(dofs[None], self.size, axis=0)
+        if self._rows_dofs is None or self._rows_dofs[0] != self.offsets:
+            dofs = oa + np.arange(6)
+            if qb is not None:
+                dofs = np.concatenate([dofs, ob + np.arange(6)])
+            dofs = np.repeat(dofs[None], self.size, axis=0)
+            dofs.flags.writeable = False
+            self._rows_dofs = (self.offsets, dofs)
+        return self._rows_dofs[1]
 
     def _point_rows(self, qa, qb, g, G, H) -> None:
         """x_a(r_a) − x_b(r_b) (or − the point), into the first three rows."""

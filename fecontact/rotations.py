@@ -20,7 +20,17 @@ import math
 
 import numpy as np
 
-__all__ = ["compose", "exp", "hat", "log", "tangent", "tangent_inverse", "vee"]
+__all__ = [
+    "compose",
+    "compose_quaternions",
+    "exp",
+    "hat",
+    "log",
+    "quaternions",
+    "tangent",
+    "tangent_inverse",
+    "vee",
+]
 
 # below this angle the closed forms lose digits to cancellation: their Taylor series are used
 _SMALL = 1e-4
@@ -47,27 +57,51 @@ def vee(W: np.ndarray) -> np.ndarray:
     )
 
 
-def _coefficients(theta: np.ndarray):
-    """sin θ/θ, (1 − cos θ)/θ² and (θ − sin θ)/θ³, by their series near θ = 0."""
-    t2 = theta * theta
-    small = theta < _SMALL
-    safe = np.where(small, 1.0, theta)
-    a = np.where(small, 1.0 - t2 / 6.0, np.sin(safe) / safe)
-    b = np.where(small, 0.5 - t2 / 24.0, (1.0 - np.cos(safe)) / safe**2)
-    c = np.where(small, 1.0 / 6.0 - t2 / 120.0, (safe - np.sin(safe)) / safe**3)
-    return a, b, c
+# (θ − sin θ)/θ³ = Σ_k (−1)^k θ^2k/(2k + 3)!: its series below θ² = 1/16, where the closed
+# form loses up to 1e-14 to cancellation and the first term left out is below 1e-15 of it
+_C_SERIES = np.array([1 / 6, -1 / 120, 1 / 5040, -1 / 362880, 1 / 39916800])
+_C_SMALL = 0.0625
+
+
+def _coefficients(psi: np.ndarray):
+    """θ², sin θ/θ, (1 − cos θ)/θ² and (θ − sin θ)/θ³ of the vectors ``psi`` (…, 3): the
+    first two from the half angle, sin θ/θ = s cos(θ/2) and (1 − cos θ)/θ² = ½s² with
+    s = sin(θ/2)/(θ/2), free of cancellation (the angle offset as in :func:`quaternions`)."""
+    t2 = (psi * psi).sum(axis=-1)
+    half = 0.5 * np.sqrt(t2) + _OFFSET
+    sh = np.sin(half) / half
+    a, b = sh * np.cos(half), 0.5 * sh * sh
+    k4, k3, k2, k1, k0 = _C_SERIES[::-1].tolist()
+    c = (((k4 * t2 + k3) * t2 + k2) * t2 + k1) * t2 + k0
+    if t2.max(initial=0.0) >= _C_SMALL:
+        c = np.where(t2 < _C_SMALL, c, (1.0 - a) / np.maximum(t2, _C_SMALL))
+    return t2, a, b, c
+
+
+def _combination(psi: np.ndarray, k0, k1, k2) -> np.ndarray:
+    """k0 I + k1 ψ̃ + k2 ψψᵀ (…, 3, 3) of the vectors ``psi`` (…, 3), coefficients (…)."""
+    out = (k2[..., None] * psi)[..., :, None] * psi[..., None, :]
+    out += k1[..., None, None] * hat(psi)
+    out.reshape(out.shape[:-2] + (9,))[..., ::4] += k0[..., None]  # the diagonal (a view)
+    return out
 
 
 def _scalars(psi: np.ndarray):
     """θ², sin θ/θ, (1 − cos θ)/θ², (θ − sin θ)/θ³ of one rotation vector, by math (a single
-    vector is the common case of a rigid body: numpy's per-call cost would dominate)."""
+    vector is the common case of a rigid body: numpy's per-call cost would dominate), as
+    :func:`_coefficients`."""
     x, y, z = psi.tolist()
     t2 = x * x + y * y + z * z
-    if t2 < _SMALL * _SMALL:
-        return t2, 1.0 - t2 / 6.0, 0.5 - t2 / 24.0, 1.0 / 6.0 - t2 / 120.0
-    t = math.sqrt(t2)
-    s, c = math.sin(t), math.cos(t)
-    return t2, s / t, (1.0 - c) / t2, (t - s) / (t2 * t)
+    half = 0.5 * math.sqrt(t2) + _OFFSET
+    sh = math.sin(half) / half
+    a = sh * math.cos(half)
+    if t2 < _C_SMALL:
+        c = 0.0
+        for k in _C_SERIES[::-1].tolist():
+            c = c * t2 + k
+    else:
+        c = (1.0 - a) / t2
+    return t2, a, 0.5 * sh * sh, c
 
 
 def _single(psi: np.ndarray, k1: float, k2: float, k0: float) -> np.ndarray:
@@ -88,9 +122,8 @@ def exp(psi: np.ndarray) -> np.ndarray:
     if psi.shape == (3,):  # ψ̃² = ψψᵀ − θ²I
         t2, a, b, _ = _scalars(psi)
         return _single(psi, a, b, 1.0 - b * t2)
-    a, b, _ = _coefficients(np.linalg.norm(psi, axis=-1))
-    P = hat(psi)
-    return np.eye(3) + a[..., None, None] * P + b[..., None, None] * (P @ P)
+    t2, a, b, _ = _coefficients(psi)
+    return _combination(psi, 1.0 - b * t2, a, b)
 
 
 def tangent(psi: np.ndarray) -> np.ndarray:
@@ -99,9 +132,8 @@ def tangent(psi: np.ndarray) -> np.ndarray:
     if psi.shape == (3,):
         t2, _, b, c = _scalars(psi)
         return _single(psi, -b, c, 1.0 - c * t2)
-    _, b, c = _coefficients(np.linalg.norm(psi, axis=-1))
-    P = hat(psi)
-    return np.eye(3) - b[..., None, None] * P + c[..., None, None] * (P @ P)
+    t2, _, b, c = _coefficients(psi)
+    return _combination(psi, 1.0 - c * t2, -b, c)
 
 
 def tangent_inverse(psi: np.ndarray) -> np.ndarray:
@@ -119,26 +151,51 @@ def tangent_inverse(psi: np.ndarray) -> np.ndarray:
     return np.eye(3) + 0.5 * P + d[..., None, None] * (P @ P)
 
 
-def _quaternion(psi: np.ndarray) -> np.ndarray:
-    """Unit quaternions (…, 4), scalar first, of the rotation vectors ``psi``."""
-    theta = np.linalg.norm(psi, axis=-1)
-    half = 0.5 * theta
-    small = theta < _SMALL
-    # sin(θ/2)/θ, by its series near 0
-    s = np.where(small, 0.5 - theta**2 / 48.0, np.sin(half) / np.where(small, 1.0, theta))
-    return np.concatenate([np.cos(half)[..., None], s[..., None] * psi], axis=-1)
+_OFFSET = 1e-300  # added to an angle in a denominator: changes the ratio only at 0, to its limit
+
+
+def quaternions(psi: np.ndarray) -> np.ndarray:
+    """Unit quaternions (…, 4), scalar first, of the rotation vectors ``psi`` (…, 3):
+    (cos(θ/2), sin(θ/2)/θ ψ). sin(θ/2)/θ has no cancellation: with the angle offset by 1e-300
+    it is ½ at θ = 0 and exact to round-off elsewhere."""
+    psi = np.asarray(psi, dtype=float)
+    half = 0.5 * np.sqrt(np.einsum("...i,...i->...", psi, psi)) + _OFFSET
+    out = np.empty(psi.shape[:-1] + (4,))
+    out[..., 0] = np.cos(half)
+    out[..., 1:] = (0.5 * np.sin(half) / half)[..., None] * psi
+    return out
+
+
+def _hamilton() -> np.ndarray:
+    """The (4, 4, 4) table of the quaternion product: (p d)_k = Σ_ij p_i d_j H_ijk."""
+    H = np.zeros((4, 4, 4))
+    H[0, 0, 0] = 1.0
+    for i in range(1, 4):
+        H[i, i, 0], H[0, i, i], H[i, 0, i] = -1.0, 1.0, 1.0
+        j, k = i % 3 + 1, (i + 1) % 3 + 1
+        H[i, j, k], H[j, i, k] = 1.0, -1.0
+    return H
+
+
+_HAMILTON = _hamilton()
 
 
 def _vector(quat: np.ndarray) -> np.ndarray:
-    """Rotation vectors (…, 3) with θ ≤ π of the unit quaternions ``quat`` (…, 4)."""
-    quat = np.where(quat[..., :1] < 0.0, -quat, quat)  # the same rotation, θ ≤ π
+    """Rotation vectors (…, 3) with θ ≤ π of the quaternions ``quat`` (…, 4), normalized
+    here: 2 atan2(|u|, w) u/|u| with the sign of w made positive (the same rotation, θ ≤ π);
+    atan2(s, w)/s is accurate down to s = 0, where u = 0 (offset as in :func:`quaternions`)."""
+    norm = np.sqrt(np.einsum("...i,...i->...", quat, quat))
+    quat = quat * (np.copysign(1.0, quat[..., 0]) / norm)[..., None]
     w, u = quat[..., 0], quat[..., 1:]
-    s = np.linalg.norm(u, axis=-1)
-    small = s < _SMALL
-    safe = np.where(small, 1.0, s)
-    # θ/sin(θ/2) = 2 atan2(s, w)/s, by its series 2(1 − s²/3w²)/w as s → 0 (w → 1)
-    scale = np.where(small, 2.0 / w * (1.0 - s**2 / (3.0 * w**2)), 2.0 * np.arctan2(s, w) / safe)
-    return scale[..., None] * u
+    s = np.sqrt(np.einsum("...i,...i->...", u, u))
+    return (2.0 * np.arctan2(s, w) / (s + _OFFSET))[..., None] * u
+
+
+def compose_quaternions(p: np.ndarray, delta: np.ndarray) -> np.ndarray:
+    """ψ ⊕ Δ (…, 3) from the quaternions ``p`` (…, 4) of ψ (:func:`quaternions`, kept by a
+    caller that composes the same ψ with several Δ)."""
+    d = quaternions(delta)
+    return _vector(np.einsum("...i,...j,ijk->...k", p, d, _HAMILTON))
 
 
 def log(R: np.ndarray) -> np.ndarray:
@@ -162,18 +219,14 @@ def log(R: np.ndarray) -> np.ndarray:
     )
     k = np.argmax(np.stack([1.0 + tr, x, y, z], -1), axis=-1)
     q = np.take_along_axis(rows, k[..., None, None], axis=-2)[..., 0, :]
-    return _vector(q / np.linalg.norm(q, axis=-1, keepdims=True))
+    return _vector(q)
 
 
 def compose(psi: np.ndarray, delta: np.ndarray) -> np.ndarray:
     """ψ ⊕ Δ: the rotation vectors (…, 3) of exp(ψ̃) exp(Δ̃), with θ ≤ π."""
     if np.shape(psi) == (3,) and np.shape(delta) == (3,):
         return _compose_single(np.asarray(psi, float), np.asarray(delta, float))
-    p, d = _quaternion(np.asarray(psi, float)), _quaternion(np.asarray(delta, float))
-    w = p[..., 0] * d[..., 0] - np.sum(p[..., 1:] * d[..., 1:], axis=-1)
-    u = p[..., :1] * d[..., 1:] + d[..., :1] * p[..., 1:] + np.cross(p[..., 1:], d[..., 1:])
-    q = np.concatenate([w[..., None], u], axis=-1)
-    return _vector(q / np.linalg.norm(q, axis=-1, keepdims=True))
+    return compose_quaternions(quaternions(psi), np.asarray(delta, float))
 
 
 def _half(v: np.ndarray):

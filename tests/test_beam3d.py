@@ -4,6 +4,7 @@ respect to the right rotation increments, Beam2D as its planar case, inertia, co
 import numpy as np
 import pytest
 import scipy.linalg
+import scipy.sparse as sp
 
 from fecontact import (
     Beam2D,
@@ -16,6 +17,7 @@ from fecontact import (
     Section,
     Sphere,
     rotations,
+    simulate,
     testing,
 )
 from fecontact.bodies.beam import rectangle_torsion
@@ -232,16 +234,23 @@ def test_a_given_rotary_inertia_replaces_the_sections():
     assert spin.ravel() @ (beam.mass_matrix() @ spin.ravel()) == pytest.approx(40.0, rel=1e-14)
 
 
-def test_gyroscopic_force_and_its_tangent():
-    beam = bent_beam().add_mass(-1, 0.1, inertia=np.diag([1e-5, 2e-5, 4e-5]))
+@pytest.mark.parametrize("n", [3, 24])  # a dense tangent (18 dofs), a sparse one (150)
+def test_gyroscopic_force_and_its_tangent(n):
+    X = np.column_stack([np.linspace(0, 0.3, n + 1), 0.1 * np.sin(np.linspace(0, 2, n + 1)),
+                         np.linspace(0, 0.1, n + 1) ** 2])  # fmt: skip
+    beam = Beam3D(X, ALU, Section.rectangle(0.02, 0.004), orientation=[0.0, 0.3, 1.0])
+    beam.add_mass(-1, 0.1, inertia=np.diag([1e-5, 2e-5, 4e-5]))
     v = random_state(beam, 5, 10.0)
     f, C = beam.inertial(np.zeros(beam.ndof), v)
-    J = beam.nodal_inertias()
-    Om = v.reshape(-1, 6)[:, 3:]
-    np.testing.assert_allclose(
-        f.reshape(-1, 6)[:, 3:], np.cross(Om, np.einsum("nij,nj->ni", J, Om)), rtol=1e-14
-    )
+    C = C.toarray() if sp.issparse(C) else C
+    # the gyroscopic force of the consistent mass: Ω_a × (M Ω)_a, M's rotation rows alone
+    spin = v.copy()
+    spin.reshape(-1, 6)[:, :3] = 0.0
+    Om, pi = spin.reshape(-1, 6)[:, 3:], (beam.mass_matrix() @ spin).reshape(-1, 6)[:, 3:]
+    np.testing.assert_allclose(f.reshape(-1, 6)[:, 3:], np.cross(Om, pi), rtol=1e-13, atol=0)
     assert np.abs(f.reshape(-1, 6)[:, :3]).max() == 0.0
+    # it does no work: Ω_a · (Ω_a × π_a) = 0 but for the round-off of the products
+    assert abs(f @ v) <= 1e-14 * Om.size * np.abs(Om).max() ** 2 * np.abs(pi).max()
     h = 1e-6  # f is quadratic in v: central differences exact but for round-off
     fd = np.column_stack(
         [
@@ -249,7 +258,43 @@ def test_gyroscopic_force_and_its_tangent():
             for e in np.eye(beam.ndof)
         ]
     )
-    np.testing.assert_allclose(C.toarray(), fd, atol=1e-8 * np.abs(fd).max())
+    np.testing.assert_allclose(C, fd, atol=1e-8 * np.abs(fd).max())
+
+
+def free_flight_momentum_drift(h: float) -> float:
+    """Largest relative change of the angular momentum Σ x × p + Σ R π (about the origin, of
+    the mass matrix) of a free, flexible Beam3D tumbling and twisting unevenly over 20 ms
+    at the step ``h`` (s). Its rotary inertia is made large (ρA L²/25 per length) so that
+    the nodes' angular velocities, which differ, carry much of the momentum."""
+    material, section = Material(2e9, nu=0.3, rho=1000.0), Section.rectangle(0.02, 0.01)
+    J = (2e-3, 1e-3, 1e-3)  # kg·m
+    beam = Beam3D.straight([0, 0, 0], [0.5, 0, 0], 6, material, section, rotary_inertia=J)
+    model = Model([beam], [], gravity=(0.0, 0.0, 0.0))
+    s = np.linspace(-1.0, 1.0, beam.n_nodes)
+    omega = np.array([3.0, 40.0, 25.0])
+    v0 = np.zeros((beam.n_nodes, 6))
+    v0[:, :3] = np.cross(omega, beam.X - beam.X.mean(axis=0)) + np.outer(2.0 * s**2, [0, 0, 1])
+    v0[:, 3:] = omega + np.outer(200.0 * s**2, [1, 0, 0])  # twist rates that differ
+    M = model.M_full
+
+    def momentum(st):
+        p = (M @ st.v).reshape(-1, 6)
+        R = rotations.exp(st.q.reshape(-1, 6)[:, 3:])
+        spin = np.einsum("nij,nj->ni", R, p[:, 3:])
+        return (np.cross(beam.positions(st.q), p[:, :3]) + spin).sum(axis=0)
+
+    L = np.array([momentum(st) for st in simulate(model, h, 0.02, v0=v0.ravel())])
+    return float(np.abs(L - L[0]).max() / np.linalg.norm(L[0]))
+
+
+def test_a_free_spinning_beam_keeps_its_angular_momentum_to_second_order():
+    # the gyroscopic force of the consistent rotary mass: the semi-discrete equations keep
+    # the momentum exactly, the step loses it at order 2 (measured 4.3e-4, 1.1e-4, 2.8e-5;
+    # the lumped gyroscopic term with the same mass kept 4.8e-3 at every step)
+    drift = [free_flight_momentum_drift(h) for h in (4e-4, 2e-4, 1e-4)]
+    orders = np.log2(np.array(drift[:-1]) / drift[1:])
+    assert np.all(orders > 1.8), (drift, orders)
+    assert drift[-1] < 5e-5
 
 
 def test_rigid_modes_are_free_of_strain_to_first_order():

@@ -25,6 +25,7 @@ RUNS = {
     "impacting_bar": ["--set", "n_elements=20"],
     "rigid_pendulum": ["--t-end", "0.6"],
     "rocking_block": ["--t-end", "0.3"],
+    "rod_on_post": ["--t-end", "0.11"],
     "two_bars": ["--set", "n_elements=20"],
     "two_disks": ["--set", "refinements=2", "--t-end", "0.004"],
 }

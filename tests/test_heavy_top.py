@@ -76,3 +76,15 @@ def test_the_top_keeps_its_axial_momentum_exactly_and_its_energy():
     assert np.ptp(axial) / axial[0] < 1e-12
     assert np.ptp(L[:, 2]) / abs(L[0, 2]) < 5e-5
     assert np.ptp(E) / E[0] < 1e-5
+
+
+def test_the_joint_bound_ends_newton_on_the_group_with_the_joint_held():
+    # after the second update the ball joint's remainder bound (|r| |d|² along the increment
+    # d of D) and the gyroscopic force's exact remainder stand for the residual that would
+    # confirm convergence: two updates a step, and the point held to the tolerance
+    sim, states = run(1e-3, 0.1)
+    model = sim.model
+    tol = sim.options.tol_gap * model.length
+    gaps = [np.abs(model.joints.gaps(st.q)).max() for st in states[1:]]
+    assert max(gaps) <= tol, max(gaps)
+    assert all(st.iterations["smooth"] == 2 for st in states[1:])

@@ -15,6 +15,7 @@ from fecontact.contact import Contact
 from fecontact.contact.geometry import segment_distance
 from fecontact.contact.mortar import MortarContact
 from fecontact.contact.mortar3d import MortarContact3D
+from fecontact.contact.mortar_facets import meet_triangles
 from fecontact.errors import InputError
 from fecontact.scenes import solid_material
 from fecontact.testing import gap_derivatives_error, pressed_blocks, pressed_boxes
@@ -330,11 +331,11 @@ def test_two_balls_head_on_like_the_plane_of_symmetry(mesh):
     assert deepest <= 0.01 * edge  # no node inside the other ball beyond 1 % of an edge
 
 
-def coarsest_balls():
-    """Balls of 18 boundary nodes (``base=1``, not graded), turned 30°, at the case's step:
+def coarsest_balls(rotate=30.0):
+    """Balls of 18 boundary nodes (``base=1``, not graded), turned ``rotate``°, at the case's step:
     the left ball's centre-of-mass velocities (m/s), the energies (J), the deepest node of
     either ball inside the other (m) and the shortest edge (m)."""
-    sim = TWO_BALLS.build(graded=0, base=1, rotate=30.0, t_end=1.3 * T_C)
+    sim = TWO_BALLS.build(graded=0, base=1, rotate=rotate, t_end=1.3 * T_C)
     model = sim.model
     A, B = model.bodies
     fa, fb = A.contact_facets(), B.contact_facets()
@@ -360,6 +361,36 @@ def test_coarsest_balls_rebound():
     # no energy made over the impact: measured E_end/E_0 = 1.005 (the rigid plane's 0.982,
     # ρ∞ = 0.5); 1 % as for the disks, for the position corrections
     assert energy[-1] <= 1.01 * energy[0]
+
+
+@pytest.mark.parametrize("angle", [85.0, 95.0, 120.0, 150.0, 180.0])
+def test_triangles_facing_at_any_angle_beyond_a_right_angle_meet(angle):
+    """The facing test has no blind spot: a point 1 cm from a triangle along its own normal
+    meets it whenever that normal makes more than 90° with the triangle's (the projection is
+    defined), 120° exactly included (the coarsest poles node on node); at 85° the triangle
+    does not face it."""
+    tri = np.array([[[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [0.0, 1.0, 0.0]]])  # normal +z
+    t = np.radians(angle)
+    n = np.array([[0.0, np.sin(t), np.cos(t)]])
+    distance, _, meets = meet_triangles(-0.01 * n, n, tri, np.inf)
+    assert meets[0] == (angle > 90.0)
+    if meets[0]:
+        assert distance[0] == pytest.approx(0.01, rel=1e-12)
+
+
+def test_coarsest_balls_node_on_node_meet():
+    """Identical unrotated meshes: the pole triangles meet with their normals at exactly 120°
+    (each tilted 30° from the axis); they are partners (the facing test asks for more than
+    90°), and the pole node keeps its row while its covered share swings around ½. Measured:
+    no node inside the other ball, exit 0.982 m/s (0.982 against the rigid plane), lateral
+    0.16 %, E_end/E_0 = 0.982; with the 120° facing test they passed through each other
+    (55 % of an edge deep, no force), with the share ½ the pole node was released pressed in
+    (1.1 % of an edge, +1.7 % energy)."""
+    velocity, energy, deepest, edge = coarsest_balls(rotate=0.0)
+    assert velocity[-1, 0] < -0.9  # the left ball rebounds (it came in at +1 m/s)
+    assert np.max(np.hypot(velocity[:, 1], velocity[:, 2])) <= 0.01 * 1.0
+    assert energy[-1] <= 1.01 * energy[0]  # as for the turned balls
+    assert deepest <= 0.01 * edge
 
 
 @pytest.mark.xfail(strict=True, reason="coarsest balls: the poles overlap by 2.9 % of an edge")

@@ -107,7 +107,6 @@ def test_free_body_converges_at_second_order():
         ({"integrator": "moreau"}, "integrator"),
         ({"integrator": "penalty"}, "integrator"),
         ({"scheme": "energy-decaying"}, "scheme"),
-        ({"smooth_contact": "on"}, "smooth_contact"),
     ],
 )
 def test_other_integrators_refuse_rotations_in_space_by_name(options, name):

@@ -2,6 +2,8 @@
 product, and the right tangent is the derivative of exp, checked against finite differences
 and closed forms (rotations about a fixed axis add)."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -80,3 +82,23 @@ def test_hat_and_vee():
     w, a = RNG.normal(size=(5, 3)), RNG.normal(size=(5, 3))
     assert np.allclose(np.einsum("nij,nj->ni", so3.hat(w), a), np.cross(w, a))
     assert np.allclose(so3.vee(so3.hat(w)), w)
+
+
+def test_one_vector_and_many_agree_and_the_coefficients_have_no_cancellation():
+    # the single-vector paths (math) and the vectorised ones: the same formulas, to round-off
+    psi = _vectors(40)
+    for f in (so3.exp, so3.tangent):
+        many, one = f(psi), np.array([f(p) for p in psi])
+        assert np.abs(many - one).max() <= 1e-15
+    delta = _vectors(40, largest=0.3)[::-1]
+    pairs = np.array([so3.compose(p, d) for p, d in zip(psi, delta, strict=True)])
+    kept = so3.compose_quaternions(so3.quaternions(psi), delta)  # q_n's quaternions kept
+    assert np.abs(kept - so3.compose(psi, delta)).max() == 0.0
+    assert np.allclose(kept, pairs, atol=1e-14, rtol=0)
+    # T's ψ̃² coefficient c = (θ − sin θ)/θ³, below and above the switch from its series
+    # (θ² = 1/16), against 25 terms of Σ (−θ²)^k/(2k + 3)! (below 1e-16 at θ ≤ 2): with
+    # ψ = θ (1, 1, 0)/√2, T_01 = c ψ_x ψ_y = c θ²/2
+    theta = np.array([1e-8, 1e-4, 2e-4, 1e-3, 0.2, 0.2499, 0.2501, 0.5, 2.0])
+    exact = sum((-(theta**2)) ** k / math.factorial(2 * k + 3) for k in range(25))
+    T = so3.tangent(theta[:, None] * np.array([1.0, 1.0, 0.0]) / np.sqrt(2.0))
+    np.testing.assert_allclose(2.0 * T[:, 0, 1] / theta**2, exact, rtol=1e-13, atol=0)

@@ -15,10 +15,9 @@ the rotations (:mod:`.beam3d_kernels`). The mass matrix is constant and consiste
 along z) moving in that plane has Beam2D's strains, energy, in-plane mass blocks and internal
 force.
 
-The velocity-dependent inertial force of the rotations, the gyroscopic Ω × JΩ, is taken with
-the nodes' lumped inertias J (the rows of the rotational mass summed), which the consistent
-mass matches for a uniform spin; the two differ by the differences of Ω between neighbouring
-nodes, and the rotary inertia of a slender beam is a small part of its kinetic energy.
+The velocity-dependent inertial force of the rotations, the gyroscopic term, is the one of
+that consistent rotational mass M: Ω_a × (M Ω)_a on node a (:mod:`.beam3d_inertia`), so that
+the pair conserves the kinetic energy and the angular momentum of the mass matrix.
 """
 
 from __future__ import annotations
@@ -27,8 +26,9 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import InputError, check_count, check_finite, check_positive
+from ..linalg import DENSE_LIMIT
 from .beam import Material, Section
-from .beam3d_inertia import consistent_mass, gyroscopic, lumped_inertias
+from .beam3d_inertia import Gyroscopic, consistent_mass, lumped_inertias
 from .beam3d_kernels import (
     Beam3DElements,
     beam3d_energy,
@@ -86,6 +86,8 @@ class Beam3D(Centreline):
         # Λ₀ diag(J₁, J₂, J₃) Λ₀ᵀ per element: the rotary inertia per length in frame R
         J = np.diag(self._section_inertia(rotary_inertia))
         self._J = np.einsum("eij,jk,elk->eil", triads, J, triads)
+        self._gyroscopic = Gyroscopic(self._el, len(X), dense=6 * len(X) <= DENSE_LIMIT)
+        self._rotary = None  # the rotary mass on its entries, made when first asked
 
     def _section_inertia(self, given) -> np.ndarray:
         """Rotary inertia per length (kg·m) about the section axes: ``given`` (3 values ≥ 0),
@@ -138,6 +140,7 @@ class Beam3D(Centreline):
         if J.shape != (3, 3) or np.any(np.linalg.eigvalsh(0.5 * (J + J.T)) < 0):
             raise InputError("inertia must be >= 0, or a symmetric positive (3, 3) tensor")
         self.point_inertias[i] += J
+        self._rotary = None
         return self
 
     # -- sizes ------------------------------------------------------------------------------
@@ -183,9 +186,12 @@ class Beam3D(Centreline):
         return lumped_inertias(self._el, self._J, self.point_inertias)
 
     def inertial(self, q: np.ndarray, v: np.ndarray):
-        """Gyroscopic force Ω × JΩ on the rotation dofs (N·m, frame R; zero on translations)
-        and its tangent ∂f/∂v = Ω̃J − (JΩ)~ (sparse, ndof × ndof), J the lumped inertias."""
-        return gyroscopic(self.nodal_inertias(), v, self.rotation_triples)
+        """Gyroscopic force Ω_a × (M Ω)_a on the rotation dofs (N·m, frame R; zero on
+        translations), M the consistent rotational mass, and its tangent ∂f/∂v (sparse,
+        ndof × ndof)."""
+        if self._rotary is None:
+            self._rotary = self._gyroscopic.mass(self._el, self._J, self.point_inertias)
+        return self._gyroscopic(self._rotary, np.asarray(v, float))
 
     def translation_field(self, vector) -> np.ndarray:
         """Nodal dof vector with ``vector`` on every translation and 0 on the rotations."""

@@ -1,15 +1,27 @@
-"""Inertia of the spatial beam :class:`~fecontact.bodies.beam3d.Beam3D`: its constant
-consistent mass matrix and the gyroscopic force of its nodes' rotations."""
+r"""Inertia of the spatial beam :class:`~fecontact.bodies.beam3d.Beam3D`: its constant
+consistent mass matrix and the gyroscopic force of its nodes' rotations.
+
+The kinetic energy of the rotations is T = ½ Σ_ab Ω_a · M_ab Ω_b, the angular velocities Ω_a
+of the nodes (frame R) and M_ab the blocks of the constant rotational mass (the P1 mass of the
+elements' ρJ plus the point inertias). With T independent of the rotations, the
+Euler–Poincaré equations of the nodes (Simo & Vu-Quoc, Comput. Methods Appl. Mech. Eng. 1988,
+for the rotational inertia in the material frame) are
+
+    (M Ω̇)_a + Ω_a × π_a = moments on node a,      π = M Ω,
+
+so the gyroscopic force consistent with that mass is f_a = Ω_a × π_a, with the tangent
+∂f_a/∂Ω_b = Ω̃_a M_ab − δ_ab π̃_a. It conserves T (Ω_a · f_a = 0) and, with moments free of a
+net torque, the angular momentum Σ_a R_a π_a + Σ x × p of the mass matrix.
+"""
 
 from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
 
-from ..rotations import hat
 from .beam3d_kernels import Beam3DElements
 
-__all__ = ["consistent_mass", "gyroscopic", "lumped_inertias"]
+__all__ = ["Gyroscopic", "consistent_mass", "lumped_inertias"]
 
 _P1_MASS = np.array([[2.0, 1.0], [1.0, 2.0]]) / 6.0  # ∫ N_a N_b ds / ℓ of linear elements
 
@@ -42,14 +54,80 @@ def lumped_inertias(el: Beam3DElements, J, point_inertias) -> np.ndarray:
     return out
 
 
-def gyroscopic(J: np.ndarray, v: np.ndarray, triples: np.ndarray):
-    """Force Ω × JΩ (N·m) on the rotation dofs ``triples`` (n, 3) of the velocity ``v``, zero
-    elsewhere, and its tangent ∂f/∂v = Ω̃J − (JΩ)~ (sparse)."""
-    Om = v[triples]
-    JOm = np.einsum("nij,nj->ni", J, Om)
-    f = np.zeros(v.size)
-    f[triples] = np.cross(Om, JOm)
-    blocks = hat(Om) @ J - hat(JOm)
-    rows = np.broadcast_to(triples[:, :, None], blocks.shape).ravel()
-    cols = np.broadcast_to(triples[:, None, :], blocks.shape).ravel()
-    return f, sp.csr_matrix((blocks.ravel(), (rows, cols)), shape=(v.size, v.size))
+def _levi_civita() -> np.ndarray:
+    """ε_ijk (3, 3, 3): (a × b)_i = ε_ijk a_j b_k, so that ã_ik = ε_ijk a_j."""
+    E = np.zeros((3, 3, 3))
+    for i, j, k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
+        E[i, j, k], E[i, k, j] = 1.0, -1.0
+    return E
+
+
+_EPS = _levi_civita()
+
+
+class Gyroscopic:
+    """The gyroscopic force of the consistent rotary mass of a beam's elements ``el`` over
+    ``n`` nodes (module docstring), with its sparsity decided once: the 3 × 3 blocks of the
+    rotational mass M (node blocks and the elements' blocks) as entries of the rotation dofs
+    (3n × 3n, sorted by row then column). ``dense``: the tangent is returned as a dense
+    (6n, 6n) array (a small beam, whose model is dense), else as CSR."""
+
+    def __init__(self, el: Beam3DElements, n: int, dense: bool):
+        ends = np.stack([el.n0, el.n1], axis=1)  # (E, 2)
+        pairs = np.concatenate([ends, ends[:, ::-1], np.stack([np.arange(n)] * 2, axis=1)])
+        self.m, self.n, self.dense = 3 * n, n, dense
+        self.keys = np.unique(self._keys(pairs[:, 0], pairs[:, 1]))
+        rows, self.cols = np.divmod(self.keys, self.m)
+        self.rows = rows
+        a, i = np.divmod(rows, 3)
+        b, j = np.divmod(self.cols, 3)
+        # the entries (3a + k, col), k = 0, 1, 2, of each entry's node: Ω̃_a M mixes them,
+        # (Ω̃_a)_ik = ε_ilk Ω_l
+        self.mix = np.searchsorted(self.keys, (3 * a)[:, None] * self.m + self.cols[:, None]
+                                   + self.m * np.arange(3))  # fmt: skip
+        self.node, self.eps = a, _EPS[i].transpose(0, 2, 1)  # (e, k, l)
+        # − π̃_a on the node blocks: −(π̃_a)_ij = −ε_ilj π_l, one l per entry off the diagonal
+        diagonal = np.flatnonzero((a == b) & (i != j))
+        l_ = 3 - i[diagonal] - j[diagonal]
+        self.diagonal, self.pi_at = diagonal, 3 * a[diagonal] + l_
+        self.pi_sign = -_EPS[i[diagonal], l_, j[diagonal]]
+        row, col = 6 * a + 3 + i, 6 * b + 3 + j  # in the beam's dofs (6n)
+        self.flat = row * (6 * n) + col
+        self.indices, self.indptr = col, np.searchsorted(row, np.arange(6 * n + 1))
+
+    def _keys(self, na, nb) -> np.ndarray:
+        """The keys row·3n + column of the 3 × 3 blocks (k, 3, 3) of the node pairs."""
+        r = 3 * np.asarray(na)[:, None, None] + np.arange(3)[:, None]
+        c = 3 * np.asarray(nb)[:, None, None] + np.arange(3)[None, :]
+        return (r * self.m + c).ravel()
+
+    def mass(self, el: Beam3DElements, J, point_inertias) -> np.ndarray:
+        """The values of M on the entries (kg·m²): ℓ P1_ab J_e of the elements, plus the
+        point inertias (n, 3, 3) on the node blocks."""
+        lJ = el.ell[:, None, None] * J
+        nodes, values = (el.n0, el.n1), np.zeros(self.keys.size)
+        for (a, b), w in np.ndenumerate(_P1_MASS):
+            slots = np.searchsorted(self.keys, self._keys(nodes[a], nodes[b]))
+            np.add.at(values, slots, (w * lJ).ravel())
+        every = np.arange(self.n)
+        slots = np.searchsorted(self.keys, self._keys(every, every))
+        np.add.at(values, slots, point_inertias.ravel())
+        return values
+
+    def __call__(self, M: np.ndarray, v: np.ndarray):
+        """(f (6n,), ∂f/∂v) at the velocity ``v`` (6n,) with the values ``M`` of the rotary
+        mass on the entries (:meth:`mass`)."""
+        Om = v.reshape(-1, 6)[:, 3:]
+        w = Om.ravel()
+        pi = np.bincount(self.rows, weights=M * w[self.cols], minlength=self.m)
+        f = np.zeros((self.n, 6))
+        f[:, 3:] = np.einsum("ijk,nj,nk->ni", _EPS, Om, pi.reshape(-1, 3))
+        # Ω̃_a M on every entry, − π̃_a on the node blocks
+        values = np.einsum("ekl,el,ek->e", self.eps, Om[self.node], M[self.mix])
+        values[self.diagonal] += self.pi_sign * pi[self.pi_at]
+        ndof = 6 * self.n
+        if self.dense:
+            C = np.zeros(ndof * ndof)
+            C[self.flat] = values
+            return f.ravel(), C.reshape(ndof, ndof)
+        return f.ravel(), sp.csr_matrix((values, self.indices, self.indptr), shape=(ndof, ndof))

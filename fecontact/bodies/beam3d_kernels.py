@@ -346,13 +346,23 @@ def beam3d_internal(el: Beam3DElements, X: np.ndarray, q: np.ndarray, ndof: int,
     return float(s.W.sum()), f, _tangent(el, s) if tangent else None
 
 
+def _strain_columns(el: Beam3DElements, X: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """The strains (Γ, K) as the columns of (E, 3, 2), as ``_Strains.S`` without the
+    tangent's rotation functions: R_m = R₀ exp(½ρ̃) alone."""
+    R0, R1, x0, x1 = _nodal(el, X, q)
+    rho = _log(R0.mT @ R1)
+    Rm = R0 @ rotation_matrices(0.5 * rho)
+    V = np.concatenate([Rm.mT @ (x1 - x0)[..., None], rho[..., None]], axis=2)
+    return el.L0.mT @ V / el.ell[:, None, None] - _E1_COLUMN
+
+
 def beam3d_strains(el: Beam3DElements, X: np.ndarray, q: np.ndarray):
     """Γ (E, 3) and K (E, 3, 1/m) in the section frames at the element midpoints."""
-    S = _Strains(el, *_nodal(el, X, q)).S
+    S = _strain_columns(el, X, q)
     return S[:, :, 0], S[:, :, 1]
 
 
 def beam3d_energy(el: Beam3DElements, X: np.ndarray, q: np.ndarray) -> float:
     """Strain energy W (J)."""
-    S = _Strains(el, *_nodal(el, X, q)).S
+    S = _strain_columns(el, X, q)
     return 0.5 * float(el.ell @ (S * S * _rigidity_columns(el.C)).sum(axis=(1, 2)))

@@ -27,6 +27,10 @@ __all__ = ["RigidBody3D"]
 
 _SHAPES = (Ball, Box, Capsule, Cylinder, ConvexMesh)
 _DOFS6 = np.arange(6)[None]
+_EYE3 = np.eye(3)
+_EPS = np.zeros((3, 3, 3))  # ε_ijk: ã_ik = ε_ijk a_j
+for _i, _j, _k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
+    _EPS[_i, _j, _k], _EPS[_i, _k, _j] = 1.0, -1.0
 
 
 def _vector3(name: str, value) -> np.ndarray:
@@ -185,10 +189,11 @@ class RigidBody3D(RigidDefaults):
         m = len(r)
         x = self.center(q) + r @ R.T
         J = np.zeros((m, 3, 6))
-        J[:, 0, 0] = J[:, 1, 1] = J[:, 2, 2] = 1.0
+        J[:, :, :3] = _EYE3
         J[:, :, 3:] = -R @ r_hat
         H = np.zeros((m, 3, 6, 6))
-        H[:, :, 3:, 3:] = r_hat[:, None] @ hat(R)[None]  # hat(R) rows: (Rᵀe_i)~
+        # H_i = r̃ (Rᵀe_i)~, (Rᵀe_i)~_lk = ε_lpk R_ip
+        H[:, :, 3:, 3:] = np.einsum("mjl,lpk,ip->mijk", r_hat, _EPS, R)
         return x, np.repeat(_DOFS6, m, axis=0), J, H
 
     def point_data(self, q: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:

@@ -2,7 +2,18 @@
 set of pairs of a model, and the Alart–Curnier laws solved by semi-smooth Newton."""
 
 # the modules of pairs register theirs with ``register_pair`` on import: ``Contact`` finds them
-from . import beam_sides, body_pairs, rigid3d_pairs, rigid_pairs, segment_pairs  # noqa: F401
+from . import (  # noqa: F401
+    beam3d_edges,
+    beam3d_pairs,
+    beam3d_solid,
+    beam_sides,
+    body_pairs,
+    rigid3d_pairs,
+    rigid_pairs,
+    segment_pairs,
+    solid_rigid3d,
+)
+from .beam3d_edges import SolidEdges
 from .contact_set import ContactSet
 from .dispatch import Contact
 from .laws import (
@@ -26,6 +37,7 @@ __all__ = [
     "Plane",
     "Point",
     "PointSegmentContact",
+    "SolidEdges",
     "Sphere",
     "alart_curnier_residual",
     "register_pair",

@@ -196,7 +196,7 @@ class NodeSurfaceContact(PairDefaults):
     looks_ahead = True
 
     def __init__(self, body, master, nodes=None, restitution: float = 0.0, margin=None):
-        check_solid_pair(body, master, "node-to-surface")
+        self.check_bodies(body, master)
         self.body, self.master = body, master
         self.bodies = (body, master)
         self.dim = body.dim
@@ -223,6 +223,12 @@ class NodeSurfaceContact(PairDefaults):
         self.selected = np.full(self.size, -1)
         """Facet chosen for each slave node at the last evaluation (−1: none near)."""
         self._last = None  # (the two bodies' dofs, result) of the last evaluation
+
+    @staticmethod
+    def check_bodies(body, master) -> None:
+        """An ``InputError`` unless the slave ``body`` and the ``master`` can be paired (two
+        solids here; a pair of another slave kind overrides it)."""
+        check_solid_pair(body, master, "node-to-surface")
 
     @property
     def size(self) -> int:

@@ -8,8 +8,11 @@ touch through a manifold instead, as physics engines build it: the face of eithe
 aligned with n is the reference face, the other body's face most opposed to it the incident
 face; the incident face clipped by the reference face's side planes (Sutherland–Hodgman) gives
 the contact points x_b, each with its projection x_a on the reference plane. Where neither
-face is within ``FACE_COS`` of n (an edge on an edge, a corner on an edge) and for round
-shapes (``Ball``, ``Capsule``), the pair holds the single witness pair of GJK/EPA.
+face is within ``FACE_COS`` of n (an edge on an edge, a corner on an edge) and for a ``Ball``,
+the pair holds the single witness pair of GJK/EPA. A ``Capsule`` on a polyhedron touches
+along a segment where it lies on a face: its axis clipped by the face's side planes gives the
+two ends of the contact (a cap, or the edge it overhangs); otherwise its caps' witnesses and,
+where it lies below the line between them (an edge under the segment), its own.
 
 Every contact point pair (r_a, r_b), body-frame points of a and b, has the gap
 g = n·(x_b − x_a) and the gradient row, in the (u, Θ) of both bodies (Θ body-frame),
@@ -20,6 +23,17 @@ g = n·(x_b − x_a) and the gradient row, in the (u, Θ) of both bodies (Θ bod
 rate, not its answer). A pair holds a fixed number of slots (the two largest faces' vertex
 counts); slots the manifold leaves empty carry a gap of the bodies' size and a zero row, so
 they stay open.
+
+Coulomb friction acts at the same points, in the tangent basis T(n) of the analytic pairs
+(:func:`fecontact.contact.friction.tangent_basis`): the slip rows are T applied to the
+relative velocity of b's material point r_b against a's r_a,
+
+    G_T = T [−I, R_a r̃_a, I, −R_b r̃_b],
+
+and the slip over a step is T applied to the chord of those two material points from q_n to
+q, (c_b + R_b r_b − c_a − R_a r_a)(q) − (…)(q_n), as for the vertices of a body on a plane
+(:class:`fecontact.contact.NodeContact`): exact for a translating body, a rotating one's
+points follow their chords.
 """
 
 from __future__ import annotations
@@ -31,8 +45,9 @@ import numpy as np
 from ..bodies.rigid3d import RigidBody3D
 from ..bodies.shapes3d import Ball, Capsule
 from ..errors import InputError, check_range
-from ..rotations import exp
+from ..rotations import exp, hat, log
 from .base import PairDefaults
+from .friction import tangent_basis
 
 __all__ = ["ConvexContact", "hull_faces"]
 
@@ -135,17 +150,32 @@ def face_manifold(ref, inc, nr, n_inc, tol):
     return [labels[i] for i in unique], x_ref[unique], x_inc[unique]
 
 
+def _increment(q: np.ndarray, q_n: np.ndarray, o: int) -> np.ndarray:
+    """(Δu, log(R_nᵀR)) of the rigid body at dofs o … o + 5 from q_n to q."""
+    psi, psi_n = q[o + 3 : o + 6], q_n[o + 3 : o + 6]
+    return np.concatenate([q[o : o + 3] - q_n[o : o + 3], log(exp(psi_n).T @ exp(psi))])
+
+
+def _capsule_side(hulls) -> int | None:
+    """Which of the two hulls is a capsule facing a polyhedron (None: neither)."""
+    for side in (0, 1):
+        if hulls[side].caps is not None and hulls[1 - side].faces is not None:
+            return side
+    return None
+
+
 class _Hull:
     """A body's shape for the queries: the coal geometry and, for a polyhedron, its faces."""
 
     def __init__(self, body: RigidBody3D):
         coal = _coal()
         shape = body.shape
-        self.faces = None
+        self.faces = self.caps = None
         if isinstance(shape, Ball):
             self.geometry = coal.Sphere(shape.radius)
         elif isinstance(shape, Capsule):
             self.geometry = coal.Capsule(shape.radius, shape.length)
+            self.caps, self.cap = shape.balls[0], coal.Sphere(shape.radius)
         else:
             V = np.asarray(shape.vertices, dtype=float)
             points = coal.StdVec_Vec3s()
@@ -161,9 +191,10 @@ class _Hull:
 
 class ConvexContact(PairDefaults):
     """Two convex ``RigidBody3D`` (any shapes) by GJK/EPA, polyhedra through a face-clipping
-    manifold; frictionless."""
+    manifold, with Coulomb friction at the manifold's points."""
 
     linear = False
+    frictional = True
 
     def __init__(self, a: RigidBody3D, b: RigidBody3D, restitution=0.0, clearance=0.0):
         if a is b:
@@ -179,6 +210,11 @@ class ConvexContact(PairDefaults):
         self.pool = sum(len(h.vertices) for h in self.hulls) if polyhedra else 0
         widest = sum(max(len(f) for f in h.faces) for h in self.hulls) if polyhedra else 1
         self.size = int(self.pool + widest)
+        # a capsule on a polyhedron: its GJK witness and the witnesses of its two caps
+        self.capsule = _capsule_side(self.hulls)
+        self.round = not polyhedra  # a ball or a capsule: its points roll
+        if self.capsule is not None:
+            self.size = 3
         self.tol = 1e-9 * (a.shape.size + b.shape.size)  # coincident points, m
         self.far = a.shape.size + b.shape.size  # an empty slot's gap, m
         coal = _coal()
@@ -190,6 +226,7 @@ class ConvexContact(PairDefaults):
         self._result = coal.DistanceResult
         self._distance = coal.distance
         self.offsets = (0, 0)
+        self._last = (None, None)  # (q of the two bodies, its contact points)
 
     def bind(self, model) -> None:
         self.offsets = tuple(model.offset_of(b) for b in self.bodies)
@@ -200,14 +237,22 @@ class ConvexContact(PairDefaults):
             for b, o in zip(self.bodies, self.offsets, strict=True)
         ]
 
-    def query(self, q: np.ndarray):
-        """Signed distance d (m), unit normal n from a to b and the witness points (world)."""
-        (Ra, ca), (Rb, cb) = self._poses(q)
+    def query(self, q: np.ndarray, cap: int | None = None):
+        """Signed distance d (m), unit normal n from a to b and the witness points (world);
+        ``cap`` (0, 1): the capsule's cap ball in place of the capsule."""
+        poses = self._poses(q)
+        geometry = [h.geometry for h in self.hulls]
+        if cap is not None:
+            side = self.capsule
+            R, c = poses[side]
+            geometry[side] = self.hulls[side].cap
+            poses[side] = (R, c + R @ self.hulls[side].caps[cap])
+        (Ra, ca), (Rb, cb) = poses
         res = self._result()
         d = self._distance(
-            self.hulls[0].geometry,
+            geometry[0],
             self._transform(Ra, ca),
-            self.hulls[1].geometry,
+            geometry[1],
             self._transform(Rb, cb),
             self._request,
             res,
@@ -221,10 +266,13 @@ class ConvexContact(PairDefaults):
         )
 
     def manifold(self, q: np.ndarray):
-        """Slots (k,), world points x_a (k, 3) on a and x_b (k, 3) on b, normal n from a to b."""
+        """Slots (k,), world points x_a (k, 3) on a and x_b (k, 3) on b, normal n from a to b
+        (3,), or one per point (k, 3) (a capsule on a polyhedron)."""
         d, n, pa, pb = self.query(q)
         (Ra, ca), (Rb, cb) = self._poses(q)
         ha, hb = self.hulls
+        if self.capsule is not None:
+            return self._capsule_points(q, d, n, pa, pb)
         if ha.faces is None or hb.faces is None:
             return np.zeros(1, int), pa[None], pb[None], n
         fa = int(np.argmax(ha.normals @ (Ra.T @ n)))
@@ -252,6 +300,80 @@ class ConvexContact(PairDefaults):
             return np.array(slots, int), x_inc, x_ref, -nr
         return np.array(slots, int), x_ref, x_inc, nr
 
+    def _capsule_on_face(self, q, n):
+        """A capsule lying on a face of the polyhedron (the face within ``FACE_COS`` of n, the
+        axis within as much of its plane): its axis clipped by the face's side planes, the
+        contact points at the two ends of the clipped axis (a cap, or where the capsule leaves
+        the face over an edge) with their projections on the face. None where it does not
+        lie on a face. Returns slots, x_a, x_b and the normals, as ``manifold``."""
+        side, poly = self.capsule, 1 - self.capsule
+        poses = self._poses(q)
+        (Rp, cp), (Rc, cc) = poses[poly], poses[side]
+        hull, capsule = self.hulls[poly], self.hulls[side]
+        toward = n if poly == 0 else -n  # from the polyhedron to the capsule
+        f = int(np.argmax(hull.normals @ (Rp.T @ toward)))
+        nf = Rp @ hull.normals[f]
+        ends = capsule.caps @ Rc.T + cc
+        axis = ends[1] - ends[0]
+        tilt = abs(axis @ nf) / np.linalg.norm(axis)
+        if nf @ toward < FACE_COS or tilt > np.sqrt(1.0 - FACE_COS**2):
+            return None
+        face = hull.face(f) @ Rp.T + cp
+        m = _inward(face, nf)
+        a = np.einsum("ej,ej->e", m, ends[0] - face)  # side planes: a_e + s b_e ≥ 0
+        b = m @ axis
+        lo = max([0.0, *(-a[b > 0.0] / b[b > 0.0])])
+        hi = min([1.0, *(-a[b < 0.0] / b[b < 0.0])])
+        if lo > hi or np.any((b == 0.0) & (a < 0.0)):
+            return None
+        s = np.array([lo, hi]) if (hi - lo) * np.linalg.norm(axis) > self.tol else np.array([lo])
+        centres = ends[0] + np.outer(s, axis)
+        on_capsule = centres - capsule.cap.radius * nf
+        on_face = centres - np.outer((centres - face[0]) @ nf, nf)
+        pair = (on_face, on_capsule) if poly == 0 else (on_capsule, on_face)
+        normals = np.repeat((nf if poly == 0 else -nf)[None], len(s), axis=0)
+        return np.arange(1, 1 + len(s)), *pair, normals
+
+    def _capsule_points(self, q, d, n, pa, pb):
+        """A capsule on a polyhedron touches along a segment where it lies on a face: one
+        witness anywhere along it would rock the capsule, so the witnesses of its two cap
+        balls are slots 1 and 2, and the capsule's own witness is slot 0 where it lies below
+        the line between theirs (an edge or a corner under the segment: the gap along a flat
+        face is affine in the segment's parameter). Normals per slot (k, 3)."""
+        flat = self._capsule_on_face(q, n)
+        if flat is not None:
+            return flat
+        caps = [self.query(q, cap) for cap in (0, 1)]
+        slots, xa, xb, normals = [1, 2], [c[2] for c in caps], [c[3] for c in caps], []
+        normals = [c[1] for c in caps]
+        R, c = self._poses(q)[self.capsule]
+        ends = self.hulls[self.capsule].caps
+        on_axis = (R.T @ ((pa, pb)[self.capsule] - c) - ends[0]) @ (ends[1] - ends[0])
+        s = np.clip(on_axis / np.sum((ends[1] - ends[0]) ** 2), 0.0, 1.0)
+        if d < (1.0 - s) * caps[0][0] + s * caps[1][0] - self.tol:
+            slots, xa, xb, normals = [0, *slots], [pa, *xa], [pb, *xb], [n, *normals]
+        return np.array(slots), np.array(xa), np.array(xb), np.array(normals)
+
+    def _points(self, q: np.ndarray):
+        """Slots k, world points x_a, x_b, the normal n and the poses at q, the manifold kept
+        for the last q (the gaps, slip rows and slips of one iterate share one query)."""
+        oa, ob = self.offsets
+        key = np.concatenate([q[oa : oa + 6], q[ob : ob + 6]])
+        if self._last[0] is not None and np.array_equal(self._last[0], key):
+            return self._last[1]
+        k, xa, xb, n = self.manifold(q)
+        n = np.broadcast_to(n, xa.shape)  # (one normal for the pair but a capsule's points)
+        keep = k < self.size  # more crossings than the pool holds: impossible for convex faces
+        points = (k[keep], xa[keep], xb[keep], n[keep], self._poses(q))
+        self._last = (key, points)
+        return points
+
+    def _arms(self, q: np.ndarray):
+        """Slots k, the body-frame arms r_a, r_b (k, 3) of the contact points, n and poses."""
+        k, xa, xb, n, poses = self._points(q)
+        (Ra, ca), (Rb, cb) = poses
+        return k, (xa - ca) @ Ra, (xb - cb) @ Rb, n, poses
+
     def _dofs(self):
         oa, ob = self.offsets
         row = np.concatenate([oa + np.arange(6), ob + np.arange(6)])
@@ -259,18 +381,46 @@ class ConvexContact(PairDefaults):
 
     def evaluate(self, q: np.ndarray):
         """Gaps (size,), dofs (size, 12), gradients (size, 12), no curvature."""
-        k, xa, xb, n = self.manifold(q)
-        (Ra, ca), (Rb, cb) = self._poses(q)
-        keep = k < self.size  # more crossings than the pool holds: impossible for convex faces
-        k, xa, xb = k[keep], xa[keep], xb[keep]
+        k, xa, xb, n, ((Ra, _), (Rb, _)) = self._points(q)
+        k, ra, rb = self._arms(q)[:3]  # body-frame arms Rᵀ(x − c)
         g = np.full(self.size, self.far)
         G = np.zeros((self.size, 12))
-        g[k] = (xb - xa) @ n - self.clearance
-        ra, rb = (xa - ca) @ Ra, (xb - cb) @ Rb  # body-frame arms Rᵀ(x − c)
+        g[k] = np.einsum("kd,kd->k", xb - xa, n) - self.clearance
         G[k, :3], G[k, 6:9] = -n, n
-        G[k, 3:6] = -np.cross(ra, Ra.T @ n)
-        G[k, 9:12] = np.cross(rb, Rb.T @ n)
+        G[k, 3:6] = -np.cross(ra, n @ Ra)  # (rows Rᵀn)
+        G[k, 9:12] = np.cross(rb, n @ Rb)
         return g, self._dofs(), G, None
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         return self.evaluate(q)[0]
+
+    def tangents(self, q: np.ndarray):
+        """Slip rows (size, 2, 12) of b's contact points against a's, T (size, 2, 3): every
+        slot in the basis of the pair's normal, zero rows in the empty slots."""
+        k, ra, rb, n, ((Ra, _), (Rb, _)) = self._arms(q)
+        T = np.zeros((self.size, 2, 3))
+        if k.size:  # (the empty slots in the basis of the first point's normal)
+            T[:] = tangent_basis(n[:1])
+            T[k] = tangent_basis(n)
+        rows = np.zeros((self.size, 3, 12))
+        rows[k, :, :3], rows[k, :, 6:9] = -np.eye(3), np.eye(3)
+        rows[k, :, 3:6] = Ra @ hat(ra)  # −∂x_a/∂Θ_a = R_a r̃_a
+        rows[k, :, 9:12] = -Rb @ hat(rb)
+        return self._dofs(), np.einsum("mti,mik->mtk", T, rows), T
+
+    def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
+        """The slip over the step (size, 2), zero in the empty slots: between polyhedra
+        T·(x_rel(q) − x_rel(q_n)) of the material points r_a, r_b found at q; with a round
+        shape the slip rows applied to both bodies' increments (Δu, log(R_nᵀR)), zero for a
+        ball or capsule rolling over the step (its material point's chord is O(Δθ³) off the
+        rolling, and sticking held it: a capsule rolling at 20 rad/s on a face lagged its
+        roll on a plane by 2e-8 m a step)."""
+        if self.round:
+            _, G, _ = self.tangents(q)
+            return G @ np.concatenate([_increment(q, q_n, o) for o in self.offsets])
+        k, ra, rb, _, ((Ra, ca), (Rb, cb)) = self._arms(q)
+        (Ran, can), (Rbn, cbn) = self._poses(q_n)
+        chord = (cb - cbn) - (ca - can) + rb @ (Rb - Rbn).T - ra @ (Ra - Ran).T
+        out = np.zeros(T.shape[:2])
+        out[k] = np.einsum("mtd,md->mt", T[k], chord)
+        return out

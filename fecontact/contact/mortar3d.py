@@ -14,12 +14,13 @@ edges, so the mortar integrals are exact where the integrand is polynomial on ea
 the patch test holds to round-off. The gap is measured along the slave triangle's own normal
 (no averaged normals: the kinematics stay local to one triangle pair per point).
 
-Partners: master triangles facing the slave triangle (normals at more than 120°) whose
-vertices lie on average at most twice the detection margin ahead of it and at most the margin
-behind it. A slave triangle the master covers in part (the edge of the contact zone, or
-every triangle at the pole of a coarse ball) takes the dual functions biorthogonal on its
-covered polygon (:mod:`fecontact.contact.mortar_cover`, Popp, Seitz, Gee & Wall 2013); one
-covered by less than ``mortar_cover.SMALLEST`` of its area counts as not covered.
+Partners: master triangles facing the slave triangle (normals at more than 90°,
+``mortar_facets.FACING``) whose vertices lie on average at most twice the detection margin
+ahead of it and at most the margin behind it. A slave triangle the master covers in part (the
+edge of the contact zone, or every triangle at the pole of a coarse ball) takes the dual
+functions biorthogonal on its covered polygon (:mod:`fecontact.contact.mortar_cover`, Popp,
+Seitz, Gee & Wall 2013); one covered by less than ``mortar_cover.SMALLEST`` of its area
+counts as not covered.
 
 Linearisation: the gradient is exact. On a fully covered triangle the cells' boundaries move
 with q, but the integrand Φ_j g_N is continuous across the master's edges, so the moving
@@ -42,7 +43,7 @@ from scipy.spatial import cKDTree
 
 from ..errors import InputError
 from .mortar_cover import covered_duals, triangles_taking_part
-from .mortar_facets import clipped_points, facet_pair_integrals, meet_triangles
+from .mortar_facets import FACING, clipped_points, facet_pair_integrals, meet_triangles
 from .mortar_interface import MortarInterface, element_measures
 
 __all__ = ["MortarContact3D"]
@@ -53,6 +54,13 @@ class MortarContact3D(MortarInterface):
     ``body``) with the boundary of another (the ``master``); see the module docstring. One
     contact per slave boundary node; ``restitution`` is Newton's e_N in [0, 1]; ``margin``
     (m) the search distance (default: the integrator's detection distance)."""
+
+    taking_part = 0.25
+    """A node takes part from a quarter of its covered weight (half in 2D): at the pole of a
+    coarse ball (four triangles) the share swings around ½ as the pole flattens (0.47-0.57
+    measured on two balls of 18 boundary nodes meeting node on node), and a node dropped
+    there is released while it is pressed in (it then lay 1.1 % of an edge inside the other
+    ball and the impact gained 1.7 % of the energy)."""
 
     def __init__(self, body, master, restitution: float = 0.0, margin=None):
         super().__init__(body, master, restitution, margin)
@@ -94,7 +102,7 @@ class MortarContact3D(MortarInterface):
         Nm = np.cross(tm[:, 1] - tm[:, 0], tm[:, 2] - tm[:, 0])
         r = tm - ts[:, None, 0]  # (P, 3 master vertices, 3)
         depth = np.einsum("pkd,pd->pk", r, n).mean(axis=1)
-        facing = np.einsum("pd,pd->p", n, Nm) < -0.5 * np.linalg.norm(Nm, axis=1)
+        facing = np.einsum("pd,pd->p", n, Nm) < -FACING * np.linalg.norm(Nm, axis=1)
         near = np.flatnonzero(facing & (depth >= -self.margin) & (depth <= 2.0 * self.margin))
         e, f, ts, tm, u, v, n, r = (
             e[near],
@@ -124,7 +132,9 @@ class MortarContact3D(MortarInterface):
         weight = np.bincount(pair, w, len(e))
         area = element_measures(xs, self.facets)
         covered = self._covered(pair, w, lam, len(e)) * area[e, None]
-        needed = triangles_taking_part(self.element_rows, e, weight, covered, area)
+        needed = triangles_taking_part(
+            self.element_rows, e, weight, covered, area, self.taking_part
+        )
         part, A, extra, drop = covered_duals(e, ts, tm, u, v, plane, weight, needed, derivatives)
         w = np.where(drop[pair], 0.0, w)
         x = np.einsum("pk,pkd->pd", lam, ts[pair])

@@ -76,19 +76,20 @@ def _pair_terms(ts, tm):
     return f, r
 
 
-def triangles_taking_part(rows, e, weight, covered, area) -> np.ndarray:
+def triangles_taking_part(rows, e, weight, covered, area, share: float) -> np.ndarray:
     """The slave triangles (bool per triangle) with a node that may take part: its covered
     weight Σ_e ∫_C λ_j dA (``covered`` (P, 3), m², of the pairs of triangles ``e``) at least
-    0.45 of the area its covered triangles give it (the interface's rule asks ½; the margin
-    keeps every node that passes it). ``rows`` (triangles, 3): the nodes' rows; ``weight``
-    (P,) the overlaps' fractions; ``area`` (triangles,) m². The dual functions of the covered
-    part are built on these triangles only: on the others no row takes part."""
+    0.9 ``share`` of the area its covered triangles give it (the interface's rule asks
+    ``share``; the margin keeps every node that passes it). ``rows`` (triangles, 3): the
+    nodes' rows; ``weight`` (P,) the overlaps' fractions; ``area`` (triangles,) m². The dual
+    functions of the covered part are built on these triangles only: on the others no row
+    takes part."""
     size = int(rows.max(initial=-1)) + 1
     W = sum(np.bincount(rows[e, k], covered[:, k], size) for k in range(3))
     fraction = np.bincount(e, weight, len(rows))
     on = fraction > _FULL
     support = np.bincount(rows[on].ravel(), np.repeat(area[on] / 3.0, 3), size)
-    node = (W > 0.0) & (W >= 0.45 * support)
+    node = (W > 0.0) & (W >= 0.9 * share * support)
     return node[rows].any(axis=1)
 
 

@@ -27,7 +27,7 @@ import numpy as np
 
 from .dual_numbers import Jet
 
-__all__ = ["clipped_moments", "clipped_points", "facet_pair_integrals", "meet_triangles"]
+__all__ = ["FACING", "clipped_moments", "clipped_points", "facet_pair_integrals", "meet_triangles"]
 
 
 def _cross_tensor() -> np.ndarray:
@@ -129,17 +129,26 @@ def _offset_hessians(m, JM, w, mu) -> np.ndarray:
     return hR
 
 
+FACING = 0.0
+"""Triangles face each other when their unit normals satisfy n_s·n_m < −FACING: when the
+master faces the slave at all (normals at more than 90°). The projection along n_s onto the
+master's plane is defined for any n_s·n_m ≠ 0, and a pair that faces barely contributes only
+where it overlaps within the depth filter, so any stricter bound would be a blind spot: the
+poles of two coarse balls meshed alike meet with their triangles' normals at exactly 120°
+(each tilted 30° from the axis) and passed through each other with a bound of ½."""
+
+
 def meet_triangles(x, n, tri, depth: float):
     """For points x (P, 3) with unit normals n (P, 3) against candidate triangles tri
     (P, 3, 3): the signed distance t (P,) along n to each triangle's plane, the area
     coordinates μ (P, 3) of the point met, and whether the line meets the triangle, facing it
-    (normals at more than 120°) and not deeper than ``depth`` (m) behind."""
+    (``FACING``) and not deeper than ``depth`` (m) behind."""
     e1, e2 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
     M = np.cross(e1, e2)
     r = x - tri[:, 0]
     nM = np.einsum("pi,pi->p", n, M)
     Mn = np.linalg.norm(M, axis=1)
-    facing = nM < -0.5 * Mn
+    facing = nM < -FACING * Mn
     with np.errstate(divide="ignore", invalid="ignore"):
         t = -np.einsum("pi,pi->p", r, M) / nM
         p = r + t[:, None] * n

@@ -7,11 +7,11 @@ entry's local coordinates. This module gathers them into the pair's rows g_j = g
 L_j = Σ_e |e|/n_e the reference measure (length in 2D, area in 3D) node j carries (n_e the
 element's nodes; ∫_e Φ_j dA = |e|/n_e for the dual functions of linear elements), pads the rows
 to one width, and decides which nodes take part: those whose covered support carries at least
-half of the weight of their covered elements, W_j ≥ ½ Σ_e |e|/n_e, W_j the covered weight the
-subclass reports (2D: of the shape functions N_j; 3D: of the dual functions Φ_j, equal to
-that of N_j since the dual functions of a partly covered element are those of its covered
-part, ∫_C Φ_j dA = ∫_C N_j dA). The others
-report g = +inf and a zero gradient. The gaps of the last q are kept: the time loop asks for
+the share s (``taking_part``: ½ in 2D, ¼ in 3D) of the weight of their covered elements,
+W_j ≥ s Σ_e |e|/n_e, W_j the covered weight the subclass reports (2D: of the shape functions
+N_j; 3D: of the dual functions Φ_j, equal to that of N_j since the dual functions of a partly
+covered element are those of its covered part, ∫_C Φ_j dA = ∫_C N_j dA). The others report
+g = +inf and a zero gradient. The gaps of the last q are kept: the time loop asks for
 them again at the same q (the correction, the probes, the summary).
 """
 
@@ -80,6 +80,10 @@ class MortarInterface(PairDefaults):
     """Whether a node whose elements the master covers in part may take part (2D and 3D: the
     dual functions of the covered part and the moving bounds of the overlaps are
     differentiated, so their gradients are exact)."""
+    taking_part = 0.5
+    """The least share W_j / Σ_e |e|/n_e of a node's covered weight for its row to take part:
+    below it the covered part lies too far out on the node's elements for the weighted gap,
+    extrapolated from there, to read the node's own gap."""
 
     def __init__(self, body, master, restitution: float = 0.0, margin=None):
         check_solid_pair(body, master, "mortar")
@@ -155,7 +159,7 @@ class MortarInterface(PairDefaults):
         covered = fraction > _COVERED
         share = np.repeat(element_measures(xs, self.facets[covered]) / ends, ends)
         support = np.bincount(self.element_rows[covered].ravel(), share, self.size)
-        valid = (W > 0.0) & (W >= 0.5 * support)
+        valid = (W > 0.0) & (W >= self.taking_part * support)
         if not self.partial:
             part = covered & (fraction < 1.0 - 1e-9)
             valid[self.element_rows[part].ravel()] = False

@@ -14,7 +14,7 @@ pair                        gap
 vertices on a ``Plane``     :class:`fecontact.contact.NodeContact` through the body's
                             ``point_kinematics`` (a ``Box``'s corners, a ``Cylinder``'s rims)
 any other two shapes        :class:`fecontact.contact.convex_pairs.ConvexContact`: GJK/EPA,
-                            the face-clipping manifold of polyhedra (frictionless)
+                            the face-clipping manifold of polyhedra
 ==========================  =================================================================
 
 Friction acts at the contact points, the balls' points nearest the partner: its slip rows

@@ -13,7 +13,7 @@ is not retaken for it; a node deeper than ``BOUND`` of the other surface's short
 a warning of the run. What the watch has measured beyond that: 19 % of an edge (2.4 mm) in
 an oblique frictional impact of two disks (``two_disks``, refinements 2, offset 0.02 m,
 μ = 0.3), and two coarse balls (one refinement, pole to pole) that no weighted gap covered
-and that passed through each other.
+and that passed through each other while triangles counted as facing only beyond 120°.
 """
 
 from __future__ import annotations

@@ -57,7 +57,8 @@ def alpha_plan(model, smooth: bool, friction: bool, extra=()) -> NewtonPlan:
         extra = (Gyroscopic(model), *extra)
     reuse = model.linear and not group and not any(term.own_tangent for term in extra)
     joints = model.joints
-    elastic = Elastic(model, tangent=not reuse)
+    # (a linear model on a group: K is assembled, once)
+    elastic = Elastic(model, tangent=not reuse, constant=model.linear)
     terms: list[ForceTerm] = [elastic, ExternalLoad(model)]
     if any(model.damping):
         terms.append(Damping(model, elastic, constant=model.linear))
@@ -65,7 +66,9 @@ def alpha_plan(model, smooth: bool, friction: bool, extra=()) -> NewtonPlan:
         terms.append(Joints(model, scaled=True, linearize_first=True))
     if smooth:
         terms.append(SmoothContact(model, friction))
-    bound = bool(reuse and joints.size and not joints.linear)
+    # the joints' remainder bound where every other force is affine in q (on a group: but
+    # for the gyroscopic forces, whose remainder the loop adds)
+    bound = bool((reuse or (group and model.linear)) and joints.size and not joints.linear)
     # (on a group S_t is not symmetric: plain Newton, no descent in energy)
     descent = not model.linear and not group
     return NewtonPlan((*terms, *extra), reuse, descent, False, bound, "smooth step", group)

@@ -9,8 +9,9 @@ decoupled form of Galvez, Cavalieri, Cosimo, Brüls & Cardona 2020):
 - position level, q = q̃ + U: the slip over the step,
   w_T = T(x_rel(q) − x_rel(q_n)) − T(d_{n+1} − d_n) ≈ G_T(q)(q − q_n) − T Δd, in the cone
   |ν_T| ≤ μ ν_N of the normal correction: a contact that sticks does not creep, one that
-  slips is held back by μ ν_N. Only contacts closed at t_n have it: the tangential motion
-  of a contact that lands within the step is no slip (its impact is a velocity-level matter);
+  slips is held back by μ ν_N. Only contacts closed (or pressed) at t_n have it: the
+  tangential motion of a contact that lands within the step is no slip (its impact is a
+  velocity-level matter);
 - velocity level, v = ṽ + W: the slip rate w_T = G_T v − T ḋ in the cone |Λ_T| ≤ μ Λ_N;
   Newton's law stays normal (no tangential restitution).
 
@@ -96,7 +97,10 @@ def frictional_correction(model, st, q_tilde, work, solve_H, opts, tol_gap, t, p
     cons = Constraints(model, work)
     m, mu, k = len(work), contacts.friction[work], opts.multiplier_scale
     if st.gaps.size == contacts.size:  # slip counts from contact on: closed ones at t_n only
-        mu = np.where(st.gaps[work] <= tol_gap, mu, 0.0)
+        # (or pressed in the step before: after a rebound split inside a step a contact that
+        # strikes again may start its sub-step a little open; without its rows its normal
+        # correction turns the body against the others' grip)
+        mu = np.where((st.gaps[work] <= tol_gap) | st.pressed()[work], mu, 0.0)
     shift = _obstacle_shift(contacts, work, st.t, t)
     U, x, its, dU = np.zeros(len(F)), None, 0, np.inf
     pre = None

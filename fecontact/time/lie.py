@@ -16,7 +16,10 @@ the residual, its tangent ∂/∂Ω with the rate γ′ at which v moves with D:
     S_t = β′M + γ′(C + C_Ω) + K_t T(D).
 
 Contact rows of persistent smooth contacts keep T = I in the matrix (their residual is exact;
-T(D) = I + O(|D|) only slows Newton by a factor O(|D|) where they act).
+T(D) = I + O(|D|) only slows Newton by a factor O(|D|) where they act). With friction they
+are not bordered rows but a Coulomb law solved on their Delassus matrix A S_t⁻¹Aᵀ
+(:class:`fecontact.time.coulomb.SmoothFriction`), through S_t's own (unsymmetric) factors,
+the rows A unchanged: a ball's slip over the step is its slip rows applied to D itself.
 """
 
 from __future__ import annotations
@@ -25,11 +28,19 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import InputError
-from ..rotations import tangent
-from .configuration import plus
+from ..rotations import compose, compose_quaternions, quaternions, tangent
 from .constraints import bordered
 
-__all__ = ["LieStep", "check_group", "inertial_forces", "on_group", "predict_increment"]
+__all__ = [
+    "InertialForces",
+    "LieStep",
+    "check_group",
+    "inertial_forces",
+    "on_group",
+    "predict_increment",
+]
+
+_EYE3 = np.eye(3)
 
 
 def on_group(model) -> bool:
@@ -38,9 +49,8 @@ def on_group(model) -> bool:
 
 
 def check_group(model, settings) -> None:
-    """Rotations in space run on the NSGA integrator with the generalized-α smooth step, and
-    with friction on the decoupled contact phase: an ``InputError`` naming the option otherwise
-    (before any step)."""
+    """Rotations in space run on the NSGA integrator with the generalized-α smooth step: an
+    ``InputError`` naming the option otherwise (before any step)."""
     if not on_group(model):
         return
     if settings.integrator != "nsga":
@@ -53,11 +63,6 @@ def check_group(model, settings) -> None:
             f"scheme = {settings.scheme!r}: rotations in space (RigidBody3D, gyroscopic forces) "
             "run on scheme 'generalized-alpha' only"
         )
-    if settings.smooth and settings.friction:  # (its friction term has no bordered rows)
-        raise InputError(
-            "smooth_contact: rotations in space with friction run with smooth_contact 'off' "
-            "(the default without a Solid); frictionless contact may use 'on'"
-        )
 
 
 def predict_increment(st, c) -> np.ndarray:
@@ -69,55 +74,112 @@ def predict_increment(st, c) -> np.ndarray:
 def inertial_forces(model, q: np.ndarray, v: np.ndarray, tangent: bool = True):
     """The bodies' velocity-dependent inertial forces (gyroscopic Ω × JΩ, N·m) on the free
     dofs and, with ``tangent``, their tangent ∂f/∂v (free dofs; dense or CSR like the model's
-    matrices; a body gives its own dense or sparse)."""
-    f = np.zeros(model.n)
-    n_free = model.n_free
-    dense = np.zeros((n_free, n_free)) if tangent and model.dense else None
-    rows, cols, vals = [], [], []
-    for body, s in model.inertial_bodies:
-        fb, Cb = body.inertial(q[s], v[s])
-        f[s] += fb
-        if not tangent:
-            continue
-        idx = model.free_index[s]
-        i0, n = int(idx[0]), len(idx)
-        if dense is not None and not sp.issparse(Cb) and i0 >= 0 and idx[-1] == i0 + n - 1:
-            dense[i0 : i0 + n, i0 : i0 + n] += Cb  # a body with every dof free (contiguous)
-            continue
+    matrices). For the Newton iterations of a run, :class:`InertialForces` keeps the scatter."""
+    return InertialForces(model)(q, v, tangent)
+
+
+class InertialForces:
+    """The bodies' inertial forces and tangents on the free dofs of ``model``, with each
+    body's scatter onto them decided once: the body's free local dofs and their free numbers
+    (a slice where they are every dof of the body, in order)."""
+
+    def __init__(self, model):
+        self.model = model
+        self.parts = []
+        for body, s in model.inertial_bodies:
+            idx = model.free_index[s]
+            local = np.flatnonzero(idx >= 0)
+            glob = idx[local]
+            whole = local.size == idx.size and np.array_equal(glob, glob[0] + local)
+            if whole:
+                place = slice(int(glob[0]), int(glob[0]) + local.size)
+                self.parts.append((body, s, None, place))
+            else:  # (the flat indices of the dense scatter, made once)
+                n_b, n_f = idx.size, model.n_free
+                flat = ((local * n_b)[:, None] + local).ravel()
+                self.parts.append(
+                    (body, s, (local, flat), (glob, ((glob * n_f)[:, None] + glob).ravel()))
+                )
+
+    def __call__(self, q: np.ndarray, v: np.ndarray, tangent: bool = True):
+        """(f on the free dofs, ∂f/∂v on the free dofs or None without ``tangent``)."""
+        model = self.model
+        f = np.zeros(model.n)
+        dense = model.dense and tangent
+        C = np.zeros((model.n_free,) * 2) if dense else None
+        sparse_parts = []
+        for body, s, local, place in self.parts:
+            fb, Cb = body.inertial(q[s], v[s])
+            f[s] += fb
+            if not tangent:
+                continue
+            if not dense:
+                sparse_parts.append(self._coo(Cb, local, place))
+                continue
+            Cb = Cb.toarray() if sp.issparse(Cb) else np.asarray(Cb)
+            if local is None:
+                C[place, place] += Cb
+            else:  # (bodies share no dof: each entry of C is set by one body)
+                C.put(place[1], Cb.take(local[1]))
+        f = f[model.free_slice]
+        if not tangent or dense:
+            return f, C
+        n = model.n_free
+        if not sparse_parts:
+            return f, sp.csr_matrix((n, n))
+        rows, cols, vals = (np.concatenate(x) for x in zip(*sparse_parts, strict=True))
+        return f, sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+
+    def _coo(self, Cb, local, place):
+        """(rows, columns, values) of a body's tangent on the free dofs."""
         Cb = sp.coo_matrix(Cb)
+        if local is None:
+            return Cb.row + place.start, Cb.col + place.start, Cb.data
+        idx = np.full(Cb.shape[0], -1)
+        idx[local[0]] = place[0]
         r, c = idx[Cb.row], idx[Cb.col]
         keep = (r >= 0) & (c >= 0)
-        rows.append(r[keep]), cols.append(c[keep]), vals.append(Cb.data[keep])
-    if not tangent:
-        return f[model.free_slice], None
-    C = None
-    if rows:
-        C = sp.csr_matrix(
-            (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-            shape=(n_free, n_free),
-        )
-    if dense is not None:
-        return f[model.free_slice], dense if C is None else dense + C.toarray()
-    return f[model.free_slice], C if C is not None else sp.csr_matrix((n_free, n_free))
+        return r[keep], c[keep], Cb.data[keep]
 
 
 class LieStep:
     """The Lie-group parts of one smooth step from the positions ``q_n``: the configuration
-    q_n ⊕ D and the right tangent T(D)."""
+    q_n ⊕ D and the right tangent T(D). The quaternions of q_n's rotations are made once per
+    step; T(D) when a matrix asks for it."""
 
     def __init__(self, model, q_n: np.ndarray):
         self.model, self.q_n = model, q_n
-        self.T = None  # (k, 3, 3) right tangents at the current D
+        R = model.rotations
+        self.single = len(R) == 1  # one body: the single-vector paths of ``rotations``
+        self.F = model.free[R]
+        self.cols = R.ravel()  # the triples' columns (free dofs), in order
+        self.p = None if self.single or not R.size else quaternions(q_n[self.F])
+        self.D = None  # the rotation part of the current increment D
+        self._T = None  # (k, 3, 3) right tangents at D, once asked for
 
     def configuration(self, D: np.ndarray) -> np.ndarray:
-        """q = q_n ⊕ D (all dofs); also evaluates T(D) for the matrices of the iteration."""
+        """q = q_n ⊕ D (all dofs; D on the free dofs, as the iterate's first row)."""
         model = self.model
-        R = model.rotations
-        if len(R) == 1:  # one body: the single-vector path of ``tangent``
-            self.T = tangent(D[model.free[R[0]]])[None]
-        elif R.size:
-            self.T = tangent(D[model.free[R]])
-        return plus(model, self.q_n, D[model.free_slice])
+        R, F = model.rotations, self.F
+        out = self.q_n.copy()
+        out[model.free_slice] += D[model.free_slice]
+        self._T = None
+        if not R.size:
+            return out
+        if self.single:
+            self.D = D[model.free[R[0]]]
+            out[F[0]] = compose(self.q_n[F[0]], self.D)
+        else:
+            self.D = D[model.free[R]]
+            out[F] = compose_quaternions(self.p, self.D)
+        return out
+
+    @property
+    def T(self) -> np.ndarray:
+        """(k, 3, 3) right tangents T(D) of the rotation triples at the current D."""
+        if self._T is None:
+            self._T = tangent(self.D)[None] if self.single else tangent(self.D)
+        return self._T
 
     def right(self, A):
         """A T(D): the columns of the rotation triples of ``A`` (free dofs) times T(D)."""
@@ -127,8 +189,13 @@ class LieStep:
         if sp.issparse(A):
             return (A @ self._block()).tocsr()
         out = np.array(A, dtype=float, copy=True)
-        out[:, R] = np.einsum("nki,kij->nkj", np.asarray(A)[:, R], self.T)
+        out[:, self.cols] = self._times(out[:, self.cols], self.T)
         return out
+
+    def _times(self, A: np.ndarray, T: np.ndarray) -> np.ndarray:
+        """The columns ``A`` (n, 3k) of the triples, each triple's three times its T (k, 3, 3)."""
+        n, k = A.shape[0], T.shape[0]
+        return np.einsum("nki,kij->nkj", A.reshape(n, k, 3), T).reshape(n, 3 * k)
 
     def _block(self) -> sp.csr_matrix:
         """The block-diagonal T(D) on the free dofs (identity off the triples)."""
@@ -141,9 +208,14 @@ class LieStep:
 
     def iteration_matrix(self, S, K):
         """S_t of the group: ``S`` = β′M + γ′(C + C_Ω) + K of the terms, with K T(D) in
-        place of K (the stiffness moves with D through the right tangent)."""
-        if self.model.rotations.size and K is not None:
-            S = S + (self.right(K) - K)
+        place of K (the stiffness moves with D through the right tangent); a dense ``S`` (a
+        sum made for this iteration) is changed in place, on the triples' columns only."""
+        R = self.model.rotations
+        if not R.size or K is None:
+            return S
+        if sp.issparse(S):
+            return S + (self.right(K) - K)
+        S[:, self.cols] += self._times(np.asarray(K)[:, self.cols], self.T - _EYE3)
         return S
 
     def bordered(self, Kb, G):

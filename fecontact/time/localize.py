@@ -24,6 +24,17 @@ closes slower than ``GRAZING`` gap tolerances per step) and ``unrefined`` (no in
 to the tolerance within ``MAX_REFINE`` smooth steps, or a gap unknown at the step's start).
 Positions stay held at every sub-step, so no penetration follows from a split.
 
+On a flexible body (a beam or a solid) a closing starts a contact phase of its own dynamics:
+the body's elastic spring-back lifts the point off and it strikes again, several times within
+a few steps (a chattering contact). A step of h holds such a contact pressed for as long as
+the smooth step still drives it in, which it does for several steps after the converged
+release. So a step of a flexible model in which a contact closes, or that starts with a
+contact pressed within ``CHATTER_WINDOW`` steps of the latest closing, or one whose mean
+force falls to zero within ``RELEASE`` steps along the line of its last two, is taken as
+``CHATTER`` sub-steps, each localized as above: the releases and re-strikes fall at the
+sub-steps' resolution and every re-strike is located. A contact pressed for longer is a
+lasting one, left to the step. Such steps are counted (``subdivided_steps``).
+
 Linear models factorize their iteration matrix once per step size: the split steps' sizes
 are used once, so their factorizations (and the correction's columns) are dropped after the
 step, counted in ``localization_cost``; the full step's are kept.
@@ -41,7 +52,18 @@ from .nsga import smooth_phases
 from .settings import RunSettings
 from .state import PhaseTimer, State, length_scale
 
-__all__ = ["GRAZING", "MAX_IMPACTS", "MIN_REST", "TOGETHER", "joined", "localized_step"]
+__all__ = [
+    "CHATTER",
+    "CHATTER_WINDOW",
+    "GRAZING",
+    "MAX_IMPACTS",
+    "MIN_REST",
+    "TOGETHER",
+    "Localizer",
+    "joined",
+    "localized_step",
+    "localized_stepper",
+]
 
 MAX_IMPACTS = 4
 """Impacts located in one step, at most (K): more is an accumulation (Zeno)."""
@@ -65,6 +87,17 @@ acceleration and the regula falsi converges superlinearly: 1 to 3 are measured).
 LAST = 1e-9
 """Fraction of the step: an impact that closes this near its end ends the step."""
 
+CHATTER = 8
+"""Sub-steps of a step of a flexible model in which a contact chatters (module docstring)."""
+
+CHATTER_WINDOW = 16
+"""Steps after the latest closing within which a pressed contact of a flexible model is
+taken as chattering; longer, it is a lasting contact."""
+
+RELEASE = 2.0
+"""Steps within which a contact whose mean force falls reaches zero along the line of its
+last two steps' forces: the step is taken in sub-steps (the release falls inside it)."""
+
 
 def localizes(model, opts: RunSettings) -> bool:
     """Whether the run of ``model`` with ``opts`` locates impacts inside its steps: the
@@ -87,9 +120,80 @@ def localized_step(model, st: State, h: float, opts: RunSettings, timer: PhaseTi
     """The NSGA step from ``st`` over ``h`` (s), split at the instants the gaps open at its
     start close (module docstring); a step without a closing is the NSGA step itself."""
     phases = smooth_phases(model, st, h, opts, timer)
-    if not _penetrates(model, phases, opts):  # (most steps: nothing more to do)
+    # (most steps end here: the gaps at q̃, which the correction takes as they are, all
+    # above −tol_gap × the model size, a lower bound of the gap tolerance; the obstacles
+    # are fixed, localizes(): no set_time; argmin, not min: a third of the time on a few
+    # contacts, where this test is most of what localization adds to a step)
+    g1 = phases.g_tilde = model.contacts.gaps(phases.q)
+    if not g1.size or g1[g1.argmin()] >= -opts.tol_gap * model.length:
         return phases.finish(time.perf_counter())
     return _split_step(model, st, h, opts, timer, phases)
+
+
+def localized_stepper(model):
+    """The step function of a run of ``model`` that localizes its impacts: a
+    :class:`Localizer` where a body is flexible, else :func:`localized_step` itself."""
+    flexible = model.continuum or model.slender
+    return Localizer(model) if flexible and CHATTER > 1 else localized_step
+
+
+class Localizer:
+    """The localized step of one run of a flexible ``model`` (its step function):
+    :func:`localized_step`, in ``CHATTER`` sub-steps while a contact chatters (module
+    docstring). It remembers the instant of the run's latest closing (s) and whether a
+    contact carried a force in its last (sub-)step (a joined step's state sums its
+    sub-steps' impulses)."""
+
+    def __init__(self, model):
+        self.substeps = CHATTER
+        self.closed = -np.inf
+        self.pressed = None
+        self.force = np.zeros(model.contacts.size)  # N: the mean forces of the last step
+
+    def __call__(self, model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
+        pressed, releasing = st.pressed().any(), self._releasing(st)
+        if pressed and (releasing or st.t - self.closed <= CHATTER_WINDOW * h):
+            return self._subdivided(model, st, h, opts, timer)
+        out = localized_step(model, st, h, opts, timer)
+        ends = out.pressed().any()
+        if not ends and (pressed if self.pressed is None else self.pressed):
+            opts.stats.localization.last_release = st.t  # (a release at the step's start)
+        if pressed or not ends:
+            self.pressed = ends
+            return out
+        self.closed = st.t  # a closing: the step again, in sub-steps
+        return self._subdivided(model, st, h, opts, timer)
+
+    def _releasing(self, st: State) -> bool:
+        """Whether a contact's mean force, falling from the step before ``st``'s to
+        ``st``'s, reaches zero within ``RELEASE`` steps along that line (its release); notes
+        the forces of ``st``."""
+        force = st.mean_force() if st.impulse.size == self.force.size else self.force * 0
+        before, self.force = self.force, force
+        falling = (force > 0.0) & (force < before)
+        return bool(np.any(falling & (force <= RELEASE * (before - force))))
+
+    def _subdivided(self, model, st, h, opts, timer) -> State:
+        """The step from ``st`` over ``h`` as ``substeps`` localized steps, joined; a closing
+        in one of them moves the latest closing there, a release the run's last one."""
+        opts.stats.localization.subdivided += 1
+        k = h / self.substeps
+        before = st.pressed().any() if self.pressed is None else self.pressed
+        parts, cur = [], st
+        for _ in range(self.substeps):
+            cur = localized_step(model, cur, k, opts, timer)
+            after = cur.pressed().any()
+            if after and not before:
+                self.closed = parts[-1].t if parts else st.t
+            elif before and not after:
+                opts.stats.localization.last_release = parts[-1].t if parts else st.t
+            parts.append(cur)
+            before = after
+        self.pressed = before
+        out = parts[0]
+        for part in parts[1:]:  # (after the sub-steps: each starts from its own state)
+            out = joined(out, part, h)
+        return out
 
 
 def _penetrates(model, phases, opts) -> bool:
@@ -116,6 +220,8 @@ def _split_step(model, st, h, opts, timer, phases) -> State:
             delta, phases = split
             parts.append(phases.finish(time.perf_counter()))
             stats.impacts += 1
+            if stats.first_closing is None:
+                stats.first_closing = parts[-1].t
             cur, left = parts[-1], left - delta
             if left <= LAST * h:
                 break

@@ -32,7 +32,7 @@ from .constraints import StepFailure, bordered, factorize_or_fail, plus_curvatur
 from .descent import Armijo, descent_direction
 from .generalized_alpha import predict
 from .lie import LieStep, predict_increment
-from .terms import ExternalLoad, ForceTerm, Joints, StepContext
+from .terms import ExternalLoad, ForceTerm, Gyroscopic, Joints, StepContext
 
 __all__ = ["NewtonPlan", "SmoothNewton"]
 
@@ -41,7 +41,8 @@ class Roles(NamedTuple):
     """What the loop asks of each of a step's terms, sorted once: all ``terms`` (the elastic
     one first), those evaluated after the elastic one (``evaluated``), those that set the
     residual's scale (``scaled``), those with rows (``rowed``) and with a convergence test of
-    their own (``checked``), and the ``joints`` and ``load`` terms (None: absent)."""
+    their own (``checked``), and the ``joints``, ``load`` and ``gyroscopic`` terms (None:
+    absent)."""
 
     terms: list
     evaluated: list
@@ -50,6 +51,7 @@ class Roles(NamedTuple):
     checked: list
     joints: Joints | None
     load: ExternalLoad | None
+    gyroscopic: Gyroscopic | None
 
 
 def roles(terms) -> Roles:
@@ -67,6 +69,7 @@ def roles(terms) -> Roles:
         [term for term in terms if overrides(term, "converged")],
         next((term for term in terms if isinstance(term, Joints)), None),
         next((term for term in terms if isinstance(term, ExternalLoad)), None),
+        next((term for term in terms if isinstance(term, Gyroscopic)), None),
     )
 
 
@@ -106,7 +109,8 @@ class SmoothNewton:
     the persistent contacts). ``run()`` iterates; then ``step`` holds the iterate."""
 
     __slots__ = (
-        "S armijo checked clock dq elastic evaluated joints lie load model name opts plain plan "
+        "S armijo checked clock dq elastic evaluated gyroscopic joints lie load model name opts "
+        "plain plan "
         "previous r ref rnorm rowed s scaled small solve step terms timer x"
     ).split()
 
@@ -128,7 +132,7 @@ class SmoothNewton:
                 term.begin(step)
             sorted_ = plan.roles
         self.terms, self.evaluated, self.scaled, self.rowed, self.checked = sorted_[:5]
-        self.joints, self.load = sorted_.joints, sorted_.load
+        self.joints, self.load, self.gyroscopic = sorted_.joints, sorted_.load, sorted_.gyroscopic
         self.elastic = self.terms[0]
         self.S = self.solve = self.armijo = self.x = self.dq = self.small = None
         self.plain = True  # every solve was with S_t alone: S_t's solver is a metric
@@ -226,7 +230,11 @@ class SmoothNewton:
         touching = [term for term in self.rowed if term.touching()] if self.rowed else None
         if not touching:
             dq = self._plain_update()
-        elif len(touching) == 1 and touching[0].schur and self.lie is None:
+        elif (
+            len(touching) == 1
+            and touching[0].schur
+            and (self.lie is None or touching[0].schur_only)
+        ):
             dq = self._schur_update(touching[0])
         else:
             dq = self._bordered_update(touching)
@@ -316,7 +324,10 @@ class SmoothNewton:
         step, joints = self.step, self.joints
         if self.plan.bound and len(self.rowed) == 1 and joints is not None:
             ff = 0.0 if self.load is None else self.load.ff
-            if joints.bound(step, dq, self.x[self.model.n_free :], ff):
+            # (on a group: the gyroscopic forces' own remainder, exact, once the gaps pass)
+            gyro = self.gyroscopic
+            extra = None if gyro is None else (lambda: gyro.remainder(step, dq))
+            if joints.bound(step, dq, self.x[self.model.n_free :], ff, extra):
                 return True
         return self.model.update_size(dq) <= self.opts.tol_increment and all(
             term.settled(step) for term in self.rowed

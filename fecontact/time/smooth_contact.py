@@ -78,6 +78,7 @@ import numpy as np
 from ..contact.laws import kkt_multipliers, solve_velocity_jump
 from .constraints import Constraints, StepFailure, augmentation, constraint_columns
 from .coulomb import frictional_restart
+from .lie import inertial_forces
 from .records import SmoothForces
 
 __all__ = [
@@ -299,7 +300,7 @@ def restarted_acceleration(model, q, v, v_smooth, t, closed, tol_rate: float, st
     """The acceleration v̇ (free dofs) consistent with the state after an impact step, from
     which the generalized-α acceleration variable restarts (a = v̇, as at t = 0):
 
-        M v̇ = f_ext(t) − f_int(q) − C ṽ + Σ G_jᵀ μ_j,
+        M v̇ = f_ext(t) − f_int(q) − C ṽ − f_gyr(q, v) + Σ G_jᵀ μ_j,
         0 ≤ G_j v̇ + vᵀ∇²g_j v ⊥ μ_j ≥ 0 on the closed contacts that do not separate
         (ġ_j ≤ ``tol_rate``).
 
@@ -324,6 +325,8 @@ def restarted_acceleration(model, q, v, v_smooth, t, closed, tol_rate: float, st
     alpha, beta_k = model.damping
     _, fint, K = model.internal(q, tangent=bool(beta_k))
     f = model.external(t)[F] - fint[F]
+    if model.inertial_bodies:  # the gyroscopic forces of rotating bodies, Ω × JΩ
+        f -= inertial_forces(model, q, v, tangent=False)[0]
     if alpha or beta_k:
         f -= (alpha * model.M + beta_k * K) @ v_smooth[F]
     x = model.solve_M(f)

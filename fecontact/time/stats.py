@@ -42,11 +42,18 @@ class Localization:
     left to the end-of-step impact, by reason: ``accumulation`` (the step already split
     ``max_impacts`` times, or too little of it left), ``persistent`` (a contact was already
     pressed at the step's start), ``grazing`` (the gap closes with ġ ≈ 0), ``unrefined``
-    (no instant found to the gap tolerance)."""
+    (no instant found to the gap tolerance); ``subdivided`` counts the steps of a flexible
+    model taken in sub-steps while a contact chattered. ``first_closing`` is the earliest
+    located closing instant (s) and ``last_release`` the end of the last (sub-)step of a
+    flexible model in which a contact carried a force before one in which none did (s):
+    a single impact's duration is their difference (None: not seen)."""
 
     impacts: int = 0
     smooth_steps: int = 0
     factorizations: int = 0
+    subdivided: int = 0
+    first_closing: float | None = None
+    last_release: float | None = None
     fallbacks: dict = field(
         default_factory=lambda: dict.fromkeys(
             ("accumulation", "persistent", "grazing", "unrefined"), 0
@@ -111,7 +118,12 @@ class StepStats:
             "localization_cost": {
                 "smooth_steps": self.localization.smooth_steps,
                 "factorizations": self.localization.factorizations,
+                "subdivided_steps": self.localization.subdivided,
             },
+            "localized_contact_span_s": [
+                self.localization.first_closing,
+                self.localization.last_release,
+            ],
             # rtol's control (fecontact.time.adaptive): steps taken again smaller
             "steps_rejected": self.control.rejected,
             "step_control": asdict(self.control),

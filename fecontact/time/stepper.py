@@ -12,7 +12,7 @@ from .alpha_step import alpha_plan
 from .constraints import StepFailure
 from .energy_step import check_energy_scheme, energy_nsga_step
 from .lie import check_group
-from .localize import joined, localized_step, localizes
+from .localize import joined, localized_stepper, localizes
 from .moreau import moreau_plan, moreau_step
 from .nsga import nsga_step
 from .penalty import penalty_plan, penalty_step
@@ -103,7 +103,7 @@ def make_stepper(
         check_energy_scheme(model, settings)
         kind = energy_nsga_step
     if localizes(model, settings):  # (decided once: every step of the run splits or none)
-        kind = localized_step
+        kind = localized_stepper(model)
     plan = None if steps is None else RunPlan(max(int(steps), 1), model.linear)
     model.use_solver(settings.stats.solver(model, plan))
     return Stepper(model, settings, kind)

@@ -28,7 +28,7 @@ from ..linalg import low_rank_solver
 from .constraints import StepFailure
 from .correction import unit_columns
 from .coulomb import SmoothFriction
-from .lie import inertial_forces
+from .lie import InertialForces
 from .smooth_contact import SmoothContacts
 from .state import JointTolerance
 
@@ -79,6 +79,7 @@ class ForceTerm:
     own_tangent = False
     rows = False
     schur = False
+    schur_only = False  # its rows cannot border S_t (a law solved on its Delassus matrix)
 
     def begin(self, step: StepContext) -> ForceTerm | None:
         """The term as it acts in the step ``step`` (None: absent in it)."""
@@ -129,20 +130,24 @@ class Elastic(ForceTerm):
     """The internal forces f_int(q) of the bodies and their tangent K_t; it opens the
     iteration matrix with the inertia, β′M + K_t (``fused``: summed in the model's sparse
     pattern, else as two matrices). ``tangent``: K_t is assembled (False where a linear
-    model's S_t is reused). The loop's energy descent reads
-    the strain energy ``W``."""
+    model's S_t is reused); ``constant``: it is the same at every q (a linear model), assembled
+    once. The loop's energy descent reads the strain energy ``W``."""
 
-    def __init__(self, model, tangent: bool, fused: bool = True):
+    def __init__(self, model, tangent: bool, fused: bool = True, constant: bool = False):
         self.model, self.F, self.assemble, self.fused = model, model.free_slice, tangent, fused
         self.W = self.fint = self.fi = self.K = None
         self.bp = 0.0
+        self.constant = constant and tangent
 
     def begin(self, step):
         self.bp = step.c.bp
         return self
 
     def evaluate(self, step, it):
-        self.W, self.fint, self.K = self.model.internal(step.q, tangent=self.assemble)
+        if self.constant and self.K is not None:
+            self.W, self.fint, _ = self.model.internal(step.q, tangent=False)
+        else:
+            self.W, self.fint, self.K = self.model.internal(step.q, tangent=self.assemble)
         self.fi = self.fint[self.F]
 
     def residual(self, r):
@@ -192,19 +197,28 @@ class Gyroscopic(ForceTerm):
 
     def __init__(self, model):
         self.model, self.f, self.C_v, self.gp = model, None, None, 0.0
+        self.forces = InertialForces(model)  # each body's scatter, decided once
 
     def begin(self, step):
         self.gp = step.c.gp
         return self
 
     def evaluate(self, step, it):
-        self.f, self.C_v = inertial_forces(self.model, step.q, step.v)
+        self.f, self.C_v = self.forces(step.q, step.v)
 
     def residual(self, r):
         return r + self.f
 
     def tangent(self, S):
         return S + self.gp * self.C_v
+
+    def remainder(self, step, dq: np.ndarray) -> float:
+        """|f(v + γ′dq) − f(v) − γ′C_v dq| (N, N·m) after a Newton update dq of the free
+        dofs: f(γ′dq) itself, as the forces Ω × JΩ are quadratic forms of v."""
+        dv = np.zeros(self.model.n)
+        dv[self.model.free_slice] = self.gp * dq
+        r = self.forces(step.q, dv, tangent=False)[0]
+        return math.sqrt(r @ r)
 
 
 class Damping(ForceTerm):
@@ -249,8 +263,8 @@ class Joints(ForceTerm):
     """The joints g_b(q) = 0 with multipliers λ_b: force G_bᵀλ_b, rows (g_b, G_b) and their
     curvature Σ λ_i ∇²g_i. ``scaled``: the gap tolerance follows the model's extent at the
     predictor (:class:`JointTolerance`), else it is tol_gap × model.length.
-    ``linearize_first``: their curvature is evaluated with the gradient in the first
-    iteration (a solve is sure to follow), else when a solve asks for it."""
+    ``linearize_first``: their curvature is evaluated with the gradient in every iteration,
+    else when a solve asks for it."""
 
     rows = True
 
@@ -269,10 +283,10 @@ class Joints(ForceTerm):
 
     def evaluate(self, step, it):
         joints = self.joints
-        # the curvature where a solve is sure to follow (the first iteration), else only once
-        # one does
-        first = self.first and it == 0 and not joints.linear
-        weights = self.lam if first else None
+        # the curvature with the gradient (``linearize_first``: a bordered solve follows
+        # every iteration that does not converge, and the curvature costs less than a second
+        # evaluation of the joints), else only once a solve asks for it
+        weights = self.lam if self.first and not joints.linear else None
         self.gb, self.Gb, self.Cb = joints.linearize(step.q, joints.all, weights)
 
     def residual(self, r):
@@ -300,17 +314,20 @@ class Joints(ForceTerm):
     def retreat(self, s: float) -> None:
         self.lam = self.lam - s * self.dlam
 
-    def bound(self, step, dq, x, ff: float) -> bool:
+    def bound(self, step, dq, x, ff: float, extra=None) -> bool:
         """Whether the update (dq, x = Δλ_b) ends the iteration by the remainder bound: when
         it is below half the tolerances the next residual test passes at the same q (the
         other half covers the solve's round-off). The reference max(|f_ext|, |M v̇|) is at
-        most that of the test (which includes |f_int|); ``ff`` = |f_ext|²."""
+        most that of the test (which includes |f_int|); ``ff`` = |f_ext|², ``extra()`` (N)
+        the remainder of the other nonlinear forces (None: none)."""
         bound = newton_remainder(self.joints, dq, self.lam, x)
         if bound is None:
             return False
         gap, force = bound
         if not self.tol.admits(gap, 0.5):
             return False
+        if extra is not None:
+            force += extra()
         limit = 0.5 * step.opts.tol_residual
         if force <= limit * math.sqrt(ff):
             return True
@@ -355,6 +372,7 @@ class PersistentContacts(ForceTerm):
 
     def __init__(self, sc, curved: bool):
         self.sc, self.curved = sc, curved
+        self.schur_only = isinstance(sc, SmoothFriction)
 
     def evaluate(self, step, it):
         self.sc.update(step.q, self.curved)

@@ -1,0 +1,385 @@
+r"""Contact of a :class:`~fecontact.bodies.beam3d.Beam3D` through its segments: a tube of radius
+r (the ``clearance``) about the centreline against a sphere, a rigid body's core or a second
+tube.
+
+Every segment (a, b) of the beam carries one contact at its point closest to the partner's
+core, a point c or a segment (c, d) (:mod:`.segment3d`):
+
+==========================  ====================================================================
+partner                     core, gap
+==========================  ====================================================================
+``Sphere`` (outside)        its centre c: g = |x₁ − c| − R − r
+``RigidBody3D`` ``Ball``    its centre: g = |x₁ − c| − ρ − r
+``RigidBody3D`` ``Capsule`` the segment between its caps' centres: g = |x₁ − x₂| − ρ − r
+``RigidBody3D`` ``Box``     the box itself: g = s(x₁) − r, s the signed distance from the box
+                            (:mod:`.beam3d_box`; gradient only)
+``Beam3D``                  the other beam's segment closest to this one: g = |x₁ − x₂| − r,
+                            r the sum of the two tubes' radii; and every node of either beam
+                            against the other's closest segment (:class:`TubeBeamContact`)
+==========================  ====================================================================
+
+A segment lying across a sphere touches it between its nodes, where node contact would let the
+chord pass through. Against a ``Plane`` a segment's distance is linear along it, so its nodes
+(:class:`~fecontact.contact.NodeContact`) are exact.
+
+Two-sided: the normal is the direction of the closest points, whichever side the partner is on.
+Two centrelines that pass through each other within a step reverse that direction; the gap of a
+contact whose normal has turned by more than 90° from the start of the step against the same
+partner segment is −|x₁ − x₂| − r (the side taken from the motion over the step, as for the
+planar beams of :mod:`.beam_sides`), so the correction pushes the tubes back the way they came.
+The gradients act on the translations of the segments' nodes (and on the (u, Θ) of a rigid
+partner, Θ body-frame, by the chain rule through its points' kinematics); the curvature is exact
+(:func:`.segment3d.tube_distance`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..bodies.beam3d import Beam3D
+from ..bodies.rigid3d import RigidBody3D
+from ..bodies.shapes3d import Ball, Box, Capsule
+from ..errors import InputError, check_range
+from ..rotations import exp
+from .base import PairDefaults
+from .beam3d_box import closest_to_box
+from .friction import tangent_basis
+from .geometry import closest_on_segments
+from .node_pairs import NodeContact
+from .obstacles import Circle
+from .registry import register_pair
+from .segment3d import closest_segments, tube_distance
+
+__all__ = ["TubeBeamContact", "TubeBoxContact", "TubeRigidContact", "TubeSphereContact"]
+
+
+class TubeContact(PairDefaults):
+    """The segments of a ``Beam3D`` (one contact each) against a core of a partner; subclasses
+    give the core's points (``_core``) and place the partner's rows (``_partner_rows``)."""
+
+    linear = False
+    looks_ahead = True
+
+    def __init__(self, body: Beam3D, restitution: float, radius: float):
+        self.body = body
+        self.restitution = check_range("restitution", restitution, 0.0, 1.0)
+        self.radius = radius  # m: the sum of the tube radii and any partner's radius
+        self.segments = body.segments()
+        self.size = len(self.segments)
+        self.offset = 0
+        self._start = None  # (normal e₀, partner segment) at the start of the step
+
+    def bind(self, model) -> None:
+        self.offset = model.offset_of(self.body)
+        self._start = None
+
+    def _ends(self, q: np.ndarray) -> np.ndarray:
+        """The segments' end points (m, 2, 3)."""
+        x = self.body.positions(q[self.offset : self.offset + self.body.ndof])
+        return x[self.segments]
+
+    def _beam_dofs(self) -> np.ndarray:
+        nodes = self.segments.ravel()
+        return self.offset + self.body.node_translation_dofs(nodes).reshape(-1, 6)
+
+    def _sides(self, e: np.ndarray, which: np.ndarray) -> np.ndarray:
+        """σ = −1 where the normal has reversed since the step's start against the same
+        partner segment (the centrelines went through each other), else +1."""
+        if self._start is None:
+            return np.ones(len(e))
+        e0, which0 = self._start
+        crossed = (np.einsum("mi,mi->m", e, e0) < 0.0) & (which == which0)
+        return np.where(crossed, -1.0, 1.0)
+
+    def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
+        """Keep the normals at the start of the coming step (the sides follow the motion)."""
+        P = self._ends(q)
+        Q, which = self._core(q, P)[:2]
+        e = tube_distance(P, Q, hessian=False)[1]
+        self._start = (e * self._sides(e, which)[:, None], which)
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        P = self._ends(q)
+        Q, which = self._core(q, P)[:2]
+        f, e = tube_distance(P, Q, hessian=False)[:2]
+        return self._sides(e, which) * f - self.radius
+
+    def evaluate(self, q: np.ndarray):
+        """Gaps (m,), dofs (m, k), gradients (m, k) and curvatures (m, k, k)."""
+        P = self._ends(q)
+        Q, which, core = self._core(q, P)
+        f, e, _, G, H = tube_distance(P, Q)
+        sigma = self._sides(e, which)
+        G, H = sigma[:, None] * G, sigma[:, None, None] * H
+        dofs, G, H = self._partner_rows(self._beam_dofs(), G, H, core)
+        return sigma * f - self.radius, dofs, G, H
+
+
+class TubeSphereContact(TubeContact):
+    """The segments of a ``Beam3D`` of tube radius ``clearance`` against a rigid ``Sphere``
+    (a 3D ``Circle`` seen from outside)."""
+
+    frictional = True
+
+    def __init__(self, body: Beam3D, sphere: Circle, restitution=0.0, clearance=0.0):
+        if sphere.dim != 3 or sphere.inside:
+            raise InputError("obstacle: a Beam3D's segments meet a Sphere seen from outside")
+        super().__init__(body, restitution, sphere.radius + clearance)
+        self.obstacle = sphere
+
+    def _core(self, q, P):
+        c = self.obstacle.center + self.obstacle.shift()
+        return np.broadcast_to(c, (self.size, 1, 3)), np.zeros(self.size, int), None
+
+    def _partner_rows(self, dofs, G, H, core):
+        return dofs, G[:, :6], H[:, :6, :6]
+
+    def rate(self, q: np.ndarray) -> np.ndarray:
+        """∂g/∂t = −σ e·ċ (m/s) of a moving sphere, per segment."""
+        if not self.obstacle.moving:
+            return np.zeros(self.size)
+        P = self._ends(q)
+        Q, which, _ = self._core(q, P)
+        e = tube_distance(P, Q, hessian=False)[1]
+        return -self._sides(e, which) * (e @ self.obstacle.speed())
+
+    def tangents(self, q: np.ndarray):
+        """Slip rows of the segments' material points at ξ against the fixed sphere."""
+        P = self._ends(q)
+        Q, which, _ = self._core(q, P)
+        _, e, (xi, _), _, _ = tube_distance(P, Q, hessian=False)
+        T = tangent_basis(e)
+        GT = np.concatenate([(1.0 - xi)[:, None, None] * T, xi[:, None, None] * T], axis=2)
+        return self._beam_dofs(), GT, T
+
+
+class TubeBeamContact(TubeContact):
+    """Two ``Beam3D`` tubes; the ``clearance`` is the sum of their radii (m, > 0).
+
+    Three groups of contacts: each segment of the first beam against the second's closest
+    segment (segment to segment: the tubes crossing), then each node of the first and each
+    node of the second against the other beam's closest segment (point to segment). Two
+    segments within ``LINE`` (sin² of their angle) of parallel touch along a line, where their
+    closest pair is ill-posed (it jumps between the ends of their overlap): that segment-to-
+    segment contact is left out (g = +inf, zero rows), and the nodes, which end every overlap,
+    hold the tubes apart there."""
+
+    frictional = True
+
+    def __init__(self, body: Beam3D, other: Beam3D, restitution=0.0, clearance=0.0):
+        if other is body:
+            raise InputError("a beam cannot contact itself (self-contact is not supported)")
+        if not clearance > 0.0:
+            raise InputError("clearance: two Beam3D touch through their tubes; give r1 + r2 > 0")
+        super().__init__(body, restitution, clearance)
+        self.other = other
+        self.bodies = (body, other)
+        self.other_segments = other.segments()
+        self.other_offset = 0
+        self.size = len(self.segments) + body.n_nodes + other.n_nodes
+        # closest distances this near (m) are ties: round-off of the two beams' sizes
+        self.tie = 1e-12 * max(body.characteristic_length, other.characteristic_length)
+
+    def bind(self, model) -> None:
+        super().bind(model)
+        self.other_offset = model.offset_of(self.other)
+
+    def _groups(self, q):
+        """(P, Q, partner segment, dofs) of the three groups of the class docstring: P the
+        segments (m, 2, 3), Q the partners' segments or nodes (m, k, 3), the dofs of P's ends
+        then of Q (a node's padded to 12 by its own, whose rows stay zero)."""
+        o = self.other_offset
+        xa = self.body.positions(q[self.offset : self.offset + self.body.ndof])
+        xb = self.other.positions(q[o : o + self.other.ndof])
+        A, B = xa[self.segments], xb[self.other_segments]
+        a_dofs = self._beam_dofs()
+        b_dofs = o + self.other.node_translation_dofs(self.other_segments.ravel()).reshape(-1, 6)
+        wb = closest_segments(A, B, self.tie)
+        groups = [(A, B[wb], wb, np.concatenate([a_dofs, b_dofs[wb]], axis=1))]
+        for x, segs, seg_dofs, beam, offset in (
+            (xa, B, b_dofs, self.body, self.offset),
+            (xb, A, a_dofs, self.other, o),
+        ):
+            which = _closest_to_points(x, segs)
+            own = offset + beam.node_translation_dofs(np.arange(beam.n_nodes))
+            dofs = np.concatenate([seg_dofs[which], own, own], axis=1)
+            groups.append((segs[which], x[:, None], which, dofs))
+        return groups
+
+    def _distances(self, q, hessian: bool):
+        """Per contact: f, e, (ξ, η), the partner segment, dofs (m, 12), G (m, 12), H (m, 12,
+        12) or None, and whether it is a segment pair near parallel (left out)."""
+        out = [[] for _ in range(8)]
+        for k, (P, Q, which, dofs) in enumerate(self._groups(q)):
+            f, e, params, G, H = tube_distance(P, Q, hessian)
+            line = _near_parallel(P, Q) if k == 0 else np.zeros(len(f), bool)
+            if k:  # a node: pad its columns to the segment pair's 12
+                G = np.concatenate([G, np.zeros((len(G), 3))], axis=1)
+                H = None if H is None else np.pad(H, ((0, 0), (0, 3), (0, 3)))
+            for part, value in zip(out, (f, e, params, which, dofs, G, H, line), strict=True):
+                part.append(value)
+        f, e, which, dofs, G, line = (np.concatenate(out[i]) for i in (0, 1, 3, 4, 5, 7))
+        xi = np.concatenate([p[0] for p in out[2]])
+        eta = np.concatenate([p[1] for p in out[2]])
+        H = None if not hessian else np.concatenate(out[6])
+        return f, e, (xi, eta, line), which, dofs, G, H
+
+    def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
+        """Keep the normals at the start of the coming step (the sides follow the motion)."""
+        _, e, _, which, _, _, _ = self._distances(q, False)
+        self._start = (e * self._sides(e, which)[:, None], which)
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        f, e, (_, _, line), which, _, _, _ = self._distances(q, False)
+        return np.where(line, np.inf, self._sides(e, which) * f - self.radius)
+
+    def evaluate(self, q: np.ndarray):
+        """Gaps (m,), dofs (m, 12), gradients (m, 12) and curvatures (m, 12, 12)."""
+        f, e, (_, _, line), which, dofs, G, H = self._distances(q, True)
+        sigma = self._sides(e, which)
+        scale = np.where(line, 0.0, sigma)
+        g = np.where(line, np.inf, sigma * f - self.radius)
+        return g, dofs, scale[:, None] * G, scale[:, None, None] * H
+
+    def tangents(self, q: np.ndarray):
+        """Slip rows of the two material points of each contact, T (x₁ − x₂) rates."""
+        _, e, (xi, eta, line), _, dofs, G, _ = self._distances(q, False)
+        T = tangent_basis(e)
+        m, n = len(self.segments), len(e)
+        w = np.zeros((n, 4))
+        w[:, 0], w[:, 1] = 1.0 - xi, xi
+        w[:m, 2], w[:m, 3] = eta[:m] - 1.0, -eta[:m]
+        w[m:, 2] = -1.0
+        w[line] = 0.0
+        GT = np.concatenate([w[:, j, None, None] * T for j in range(4)], axis=2)
+        return dofs, GT, T
+
+
+LINE = 1e-6
+"""sin² of the angle below which two segments touch along a line (about 1 mrad): their
+segment-to-segment contact is left out and the nodes hold them (:class:`TubeBeamContact`)."""
+
+
+def _near_parallel(P: np.ndarray, Q: np.ndarray) -> np.ndarray:
+    d1, d2 = P[:, 1] - P[:, 0], Q[:, 1] - Q[:, 0]
+    c = np.cross(d1, d2)
+    sin2 = np.einsum("mi,mi->m", c, c)
+    return sin2 < LINE * np.einsum("mi,mi->m", d1, d1) * np.einsum("mi,mi->m", d2, d2)
+
+
+def _closest_to_points(x: np.ndarray, segs: np.ndarray) -> np.ndarray:
+    """For each point x (n, 3), the index of the closest segment of ``segs`` (m, 2, 3)."""
+    n, m = len(x), len(segs)
+    a, b = np.tile(segs[:, 0], (n, 1)), np.tile(segs[:, 1], (n, 1))
+    dist = closest_on_segments(np.repeat(x, m, axis=0), a, b)[1]
+    return np.argmin(dist.reshape(n, m), axis=1)
+
+
+class TubeRigidContact(TubeContact):
+    """The segments of a ``Beam3D`` of tube radius ``clearance`` against a ``RigidBody3D``
+    whose shape is a ``Ball`` (core: its centre) or a ``Capsule`` (core: the segment between
+    its caps' centres)."""
+
+    def __init__(self, body: Beam3D, rigid: RigidBody3D, restitution=0.0, clearance=0.0):
+        if not isinstance(rigid.shape, (Ball, Capsule, Box)):
+            raise InputError(
+                f"a Beam3D's segments meet a RigidBody3D with a Ball, a Capsule or a Box "
+                f"shape, got a {type(rigid.shape).__name__}"
+            )
+        centres, rho = rigid.shape.balls
+        super().__init__(body, restitution, rho + clearance)
+        self.rigid = rigid
+        self.bodies = (body, rigid)
+        self.points = centres if isinstance(rigid.shape, Capsule) else np.zeros((1, 3))
+        self.rigid_offset = 0
+
+    def bind(self, model) -> None:
+        super().bind(model)
+        self.rigid_offset = model.offset_of(self.rigid)
+
+    def _core(self, q, P):
+        o = self.rigid_offset
+        x, _, J, Hx = self.rigid.frame_point_kinematics(q[o : o + 6], self.points)
+        Q = np.broadcast_to(x, (self.size, *x.shape))
+        return Q, np.zeros(self.size, int), (J, Hx)
+
+    def _partner_rows(self, dofs, G, H, core):
+        """Chain rule through the core points x_i(u, Θ): ∂x_i = J_i, ∂²x_i = H_i."""
+        J, Hx = core
+        m, k = self.size, len(J)
+        Js = J.reshape(3 * k, 6)
+        gQ = G[:, 6:].reshape(m, k, 3)
+        G_rigid = G[:, 6:] @ Js
+        Hout = np.zeros((m, 12, 12))
+        Hout[:, :6, :6] = H[:, :6, :6]
+        Hout[:, :6, 6:] = H[:, :6, 6:] @ Js
+        Hout[:, 6:, :6] = Hout[:, :6, 6:].transpose(0, 2, 1)
+        Hout[:, 6:, 6:] = Js.T @ H[:, 6:, 6:] @ Js + np.einsum("mki,kiab->mab", gQ, Hx)
+        rigid = np.broadcast_to(self.rigid_offset + np.arange(6), (m, 6))
+        return np.concatenate([dofs, rigid], axis=1), np.concatenate([G[:, :6], G_rigid], 1), Hout
+
+
+class TubeBoxContact(TubeRigidContact):
+    """The segments of a ``Beam3D`` of tube radius ``clearance`` against a ``RigidBody3D``
+    ``Box``: the segment's point of least signed distance from the box
+    (:func:`.beam3d_box.closest_to_box`). The distance is stationary in ξ there (or ξ sits at
+    an end), so the gradient is that of the point x(ξ*) held on the segment: ((1 − ξ*) n,
+    ξ* n) on the ends, n = R n_b the box's outward normal at its closest point (the nearest
+    face's inside), and −n, n_b × ρ on the box's (u, Θ) (ρ = x(ξ*) in the box frame,
+    δρ = ρ × δΘ). The curvature is left out (Newton's rate, not its answer), as for the rigid
+    ball against a box."""
+
+    def _box_geometry(self, q: np.ndarray):
+        o = self.rigid_offset
+        qr = q[o : o + 6]
+        R = exp(qr[3:])
+        P = self._ends(q) - self.rigid.center(qr)
+        return (R, *closest_to_box(P[:, 0] @ R, P[:, 1] @ R, 0.5 * self.rigid.shape.sides))
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        return self._box_geometry(q)[2] - self.radius
+
+    def evaluate(self, q: np.ndarray):
+        """Gaps (m,), dofs (m, 12), gradients (m, 12), no curvature."""
+        R, xi, s, rho, nb = self._box_geometry(q)
+        n = nb @ R.T
+        G = np.concatenate(
+            [(1.0 - xi)[:, None] * n, xi[:, None] * n, -n, np.cross(nb, rho)], axis=1
+        )
+        rigid = np.broadcast_to(self.rigid_offset + np.arange(6), (self.size, 6))
+        return s - self.radius, np.concatenate([self._beam_dofs(), rigid], axis=1), G, None
+
+    def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
+        """Nothing to keep: a box has an inside, so the side is never in doubt."""
+
+
+@register_pair(Beam3D, Circle)
+def _beam3d_sphere(beam, sphere, nodes, restitution, clearance):
+    """The segments against a Sphere seen from outside; named ``nodes`` or a cavity: nodes."""
+    if sphere.inside or nodes is not None:
+        return NodeContact(beam, sphere, nodes, restitution, clearance)
+    return TubeSphereContact(beam, sphere, restitution, clearance)
+
+
+@register_pair(Beam3D, Beam3D)
+def _beam3d_beam3d(beam, other, nodes, restitution, clearance):
+    """Two tubes, segment against segment; ``clearance`` the sum of their radii."""
+    if nodes is not None:
+        raise InputError("nodes: two Beam3D meet through their segments; give no nodes")
+    return TubeBeamContact(beam, other, restitution, clearance)
+
+
+@register_pair(Beam3D, RigidBody3D)
+def _beam3d_rigid(beam, rigid, nodes, restitution, clearance):
+    """The segments against a rigid Ball, Capsule or Box."""
+    if nodes is not None:
+        raise InputError("nodes: a Beam3D meets a RigidBody3D through its segments")
+    if isinstance(rigid.shape, Box):
+        return TubeBoxContact(beam, rigid, restitution, clearance)
+    return TubeRigidContact(beam, rigid, restitution, clearance)
+
+
+@register_pair(RigidBody3D, Beam3D)
+def _rigid_beam3d(rigid, beam, nodes, restitution, clearance):
+    """The same pair named the other way round."""
+    return _beam3d_rigid(beam, rigid, nodes, restitution, clearance)

@@ -1,0 +1,131 @@
+r"""Dual multipliers of quadratic (P2) slave faces: the basis transformation of Popp, Wohlmuth,
+Gee & Wall (SIAM J. Sci. Comput. 2012).
+
+Dual functions Φ_j = Σ_k A_jk N_k biorthogonal to the face's shape functions N_k,
+
+    ∫_e Φ_j N_k dA = δ_jk ∫_e N_k dA,   A = D M⁻¹,
+    D = diag(∫_e N_k dA),   M_kl = ∫_e N_k N_l dA,
+
+make every multiplier a nodal unknown with its own complementarity (the rows of a mortar
+interface). They need D_jj > 0. On the 6-node triangle the corner functions
+N_i = λ_i (2 λ_i − 1) integrate to zero (the edge functions 4 λ_i λ_j to |e|/3 each): the
+corner nodes would carry no weight and no dual function. The remedy chosen is the one of the
+paper: transform the slave face's displacement basis element by element,
+
+    Ñ_i = N_i + α Σ_{edges m at corner i} N_m   (corners),   Ñ_m = (1 − 2α) N_m   (edges),
+
+Ñ = T N, with α = 1/5; Σ_k Ñ_k = Σ_k N_k = 1 and T is invertible for α ≠ ½, so Ñ spans the
+same space and only the nodal unknowns change (d = Tᵀ d̃ for u = Σ N_k d_k = Σ Ñ_k d̃_k).
+Then ∫Ñ_i = 2α|e|/3 = 2|e|/15 at a corner and (1 − 2α)|e|/3 = |e|/5 at an edge node, all
+positive, and the dual functions are built on Ñ (A = D̃ M̃⁻¹, Φ̃ biorthogonal to Ñ). This
+form is chosen because it keeps what the linear faces have: one multiplier per slave node
+with its own complementarity (D̃ diagonal), a multiplier space of the trace's own order that
+reproduces a uniform pressure (Σ_j Φ_j = 1), and nodal forces Σ_j z_j ∫Φ_j N_k = p ∫N_k for
+a uniform pressure p, the consistent P2 load (corners 0, edge nodes |e|/3 on the triangle).
+
+On the 3-node segment (2D) the corner functions (ξ(ξ ∓ 1)/2) integrate to |e|/6 > 0: the
+standard quadratic dual functions exist (α = 0 is the default there); the same
+transformation with α > 0 is available and gives the corner nodes more weight.
+
+Node order: segment (a, b, m) — the two ends, then the mid node; triangle (1, 2, 3, m12,
+m23, m31) — the corners, then the edge nodes opposite corners 3, 1, 2. The functions here
+are those of the reference element; the Jacobian of a curved face enters through the
+weights at the integration points (:func:`dual_coefficients`), exactly as the element's
+measure does for a flat face (where it cancels in A).
+
+Not yet connected to the mortar interfaces: P2 bodies still enter mortar contact with their
+boundary split through the mid nodes into linear facets (``Solid.contact_facets``), whose
+force distribution is not the P2 one; see docs/explanation/mortar.md (quadratic faces).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = [
+    "ALPHA",
+    "dual_coefficients",
+    "reference_rule",
+    "shape_functions",
+    "transformation",
+]
+
+ALPHA = {"segment": 0.0, "triangle": 0.2}
+"""Default α of the transformation per face kind: none needed on the segment, 1/5 on the
+triangle (the paper's value)."""
+
+_EDGES = ((0, 1), (1, 2), (2, 0))  # the triangle's edge nodes 3, 4, 5 join these corners
+
+
+def _check_kind(kind: str) -> None:
+    if kind not in ALPHA:
+        raise InputError(f"kind must be 'segment' or 'triangle', got {kind!r}")
+
+
+def transformation(kind: str, alpha: float | None = None) -> np.ndarray:
+    """T (n, n) with Ñ = T N for a P2 ``kind`` face ("segment": n = 3, "triangle": n = 6),
+    α in [0, ½) (default :data:`ALPHA`)."""
+    _check_kind(kind)
+    a = ALPHA[kind] if alpha is None else float(alpha)
+    if not 0.0 <= a < 0.5:
+        raise InputError(f"alpha must be in [0, 0.5), got {alpha!r}")
+    if kind == "segment":
+        return np.array([[1.0, 0.0, a], [0.0, 1.0, a], [0.0, 0.0, 1.0 - 2.0 * a]])
+    T = np.eye(6)
+    for m, (i, j) in enumerate(_EDGES):
+        T[i, 3 + m] = T[j, 3 + m] = a
+        T[3 + m, 3 + m] = 1.0 - 2.0 * a
+    return T
+
+
+def shape_functions(kind: str, points: np.ndarray) -> np.ndarray:
+    """The P2 shape functions N (m, n) at reference ``points``: ξ ∈ [−1, 1] (m,) on the
+    segment, (λ₂, λ₃) (m, 2) on the triangle (λ₁ = 1 − λ₂ − λ₃)."""
+    _check_kind(kind)
+    p = np.asarray(points, dtype=float)
+    if kind == "segment":
+        xi = p.reshape(-1)
+        return np.stack([0.5 * xi * (xi - 1.0), 0.5 * xi * (xi + 1.0), 1.0 - xi * xi], axis=1)
+    p = p.reshape(-1, 2)
+    lam = np.stack([1.0 - p[:, 0] - p[:, 1], p[:, 0], p[:, 1]], axis=1)
+    corners = lam * (2.0 * lam - 1.0)
+    edges = np.stack([4.0 * lam[:, i] * lam[:, j] for i, j in _EDGES], axis=1)
+    return np.concatenate([corners, edges], axis=1)
+
+
+def reference_rule(kind: str, n: int = 5):
+    """Points and weights of a Gauss rule on the reference ``kind`` face: n points on
+    [−1, 1] (weights summing to 1, the fraction of the face), or n² collapsed (Duffy) points
+    on the triangle (weights summing to 1); exact for polynomials of degree 2n − 2 or more
+    (degree 8 at n = 5: the products of two P2 functions and a quadratic Jacobian)."""
+    _check_kind(kind)
+    x, w = np.polynomial.legendre.leggauss(n)
+    if kind == "segment":
+        return x, 0.5 * w
+    u, wu = 0.5 * (x + 1.0), 0.5 * w
+    U, V = np.meshgrid(u, u, indexing="ij")
+    W = np.outer(wu, wu) * (1.0 - U)  # dA = (1 − u) du dv over the unit square
+    points = np.stack([U.ravel(), (V * (1.0 - U)).ravel()], axis=1)
+    return points, 2.0 * W.ravel()
+
+
+def dual_coefficients(kind: str, alpha: float | None = None, jacobian=None):
+    """(A, T): the dual functions Φ = A Ñ biorthogonal to the transformed basis Ñ = T N of a
+    P2 ``kind`` face (module docstring). ``jacobian`` (m,), the face's measure density at the
+    points of :func:`reference_rule` (default rule) relative to its mean (None: a flat face,
+    constant); A does not depend on the face's size."""
+    T = transformation(kind, alpha)
+    points, w = reference_rule(kind)
+    if jacobian is not None:
+        jac = np.asarray(jacobian, dtype=float)
+        if jac.shape != w.shape or not np.all(np.isfinite(jac)) or np.any(jac <= 0.0):
+            raise InputError(f"jacobian must be {w.shape[0]} positive values at the rule's points")
+        w = w * jac
+    Nt = shape_functions(kind, points) @ T.T  # Ñ at the points (m, n)
+    D = Nt.T @ w
+    M = (Nt * w[:, None]).T @ Nt
+    if np.any(D <= 1e-12 * D.max()):  # (round-off of a zero integral)
+        raise InputError(f"alpha: a shape function of the {kind} integrates to {D.min():.3g}")
+    return D[:, None] * np.linalg.inv(M), T

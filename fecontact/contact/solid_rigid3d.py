@@ -1,0 +1,146 @@
+r"""A 3D :class:`~fecontact.Solid`'s nodes against the exact surface of a
+:class:`~fecontact.bodies.rigid3d.RigidBody3D` (node-to-surface on a rigid master).
+
+One contact per slave node x (its boundary nodes by default), against the rigid body's shape:
+
+==========  ======================================================================================
+``Ball``    g = |x − c| − ρ, c the body's centre; the normal e = (x − c)/|x − c|
+``Box``     g = |ρ − p| with ρ = Rᵀ(x − c) the node in the box frame and p = clamp(ρ, ±h) its
+            closest point of the box (h the half sides); inside the box g = −(depth below the
+            nearest face). The normal n = R (ρ − p)/|ρ − p| (the nearest face's inside).
+==========  ======================================================================================
+
+Gradients act on the node's translations and on the body's (u, Θ), Θ body-frame: with δρ =
+ρ × δΘ under R ⊕ δΘ = R exp(δΘ̃), ∂g/∂Θ = n_b × ρ (n_b = Rᵀn). The ball's curvature is exact,
+K = (I − e eᵀ)/|x − c| on the two translations; the box's is left out (Newton's rate, not its
+answer), as for the rigid ball against a box. Both shapes are exact: a rigid ball is no
+faceted surface, and the box's faces are flat.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..bodies.rigid3d import RigidBody3D
+from ..bodies.shapes3d import Ball, Box
+from ..bodies.solid import Solid
+from ..errors import InputError, check_range
+from ..rotations import exp
+from .base import PairDefaults
+from .registry import register_pair
+
+__all__ = ["NodeBallContact", "NodeBoxContact"]
+
+
+class NodeRigidContact(PairDefaults):
+    """Nodes of a 3D solid against a rigid body in space; the subclasses give the shape."""
+
+    linear = False
+
+    def __init__(self, body: Solid, rigid: RigidBody3D, nodes, restitution, clearance):
+        if body.dim != 3:
+            raise InputError("a RigidBody3D meets the nodes of a 3D Solid")
+        self.body, self.rigid = body, rigid
+        self.bodies = (body, rigid)
+        self.nodes = body.contact_nodes(nodes)
+        if len(self.nodes) == 0:
+            raise InputError("nodes must name at least one node")
+        self.restitution = check_range("restitution", restitution, 0.0, 1.0)
+        self.clearance = clearance
+        self.size = len(self.nodes)
+        self._node_dofs = body.node_translation_dofs(self.nodes)
+        self.offsets = (0, 0)
+
+    def bind(self, model) -> None:
+        self.offsets = (model.offset_of(self.body), model.offset_of(self.rigid))
+
+    def _state(self, q: np.ndarray):
+        """The nodes' positions (m, 3) and the rigid body's dofs (6,)."""
+        (oa, ob), body = self.offsets, self.body
+        x = body.positions(q[oa : oa + body.ndof])[self.nodes]
+        return x, q[ob : ob + 6]
+
+    def _dofs(self) -> np.ndarray:
+        oa, ob = self.offsets
+        rigid = np.broadcast_to(ob + np.arange(6), (self.size, 6))
+        return np.concatenate([oa + self._node_dofs, rigid], axis=1)
+
+
+class NodeBallContact(NodeRigidContact):
+    """Nodes of a 3D solid against a rigid ``Ball`` (outside it)."""
+
+    def _geometry(self, q):
+        x, qr = self._state(q)
+        d = x - self.rigid.center(qr)
+        dist = np.linalg.norm(d, axis=1)
+        if np.any(dist == 0.0):
+            raise InputError("a node lies at the rigid ball's centre: no contact normal")
+        return d / dist[:, None], dist
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        return self._geometry(q)[1] - self.rigid.shape.radius - self.clearance
+
+    def evaluate(self, q: np.ndarray):
+        """Gaps (m,), dofs (m, 9), gradients (m, 9) and curvatures (m, 9, 9)."""
+        e, dist = self._geometry(q)
+        m = self.size
+        G = np.zeros((m, 9))
+        G[:, :3], G[:, 3:6] = e, -e
+        K = (np.eye(3) - e[:, :, None] * e[:, None, :]) / dist[:, None, None]
+        H = np.zeros((m, 9, 9))
+        H[:, :3, :3] = H[:, 3:6, 3:6] = K
+        H[:, :3, 3:6] = H[:, 3:6, :3] = -K
+        g = dist - self.rigid.shape.radius - self.clearance
+        return g, self._dofs(), G, H
+
+
+class NodeBoxContact(NodeRigidContact):
+    """Nodes of a 3D solid against a rigid ``Box``."""
+
+    def _geometry(self, q):
+        """R, ρ (m, 3), the normal in the box frame n_b (m, 3) and the signed distance (m,)."""
+        x, qr = self._state(q)
+        R = exp(qr[3:])
+        half = 0.5 * self.rigid.shape.sides
+        rho = (x - self.rigid.center(qr)) @ R
+        d = rho - np.clip(rho, -half, half)
+        dist = np.linalg.norm(d, axis=1)
+        inside = dist == 0.0
+        nb = np.zeros_like(rho)
+        nb[~inside] = d[~inside] / dist[~inside, None]
+        if inside.any():  # leave by the nearest face
+            depth = half - np.abs(rho[inside])
+            k = np.argmin(depth, axis=1)
+            rows = np.flatnonzero(inside)
+            nb[rows, k] = np.where(rho[rows, k] >= 0.0, 1.0, -1.0)
+            dist[inside] = -depth[np.arange(len(rows)), k]
+        return R, rho, nb, dist
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        return self._geometry(q)[3] - self.clearance
+
+    def evaluate(self, q: np.ndarray):
+        """Gaps (m,), dofs (m, 9), gradients (m, 9), no curvature."""
+        R, rho, nb, dist = self._geometry(q)
+        n = nb @ R.T
+        G = np.concatenate([n, -n, np.cross(nb, rho)], axis=1)
+        return dist - self.clearance, self._dofs(), G, None
+
+
+@register_pair(Solid, RigidBody3D)
+def _solid_rigid3d(solid, rigid, nodes, restitution, clearance):
+    """The solid's nodes (default its boundary nodes) against a rigid Ball or Box."""
+    if isinstance(rigid.shape, Ball):
+        return NodeBallContact(solid, rigid, nodes, restitution, clearance)
+    if isinstance(rigid.shape, Box):
+        return NodeBoxContact(solid, rigid, nodes, restitution, clearance)
+    raise InputError(
+        f"a Solid's nodes meet a RigidBody3D with a Ball or a Box shape, "
+        f"got a {type(rigid.shape).__name__}"
+    )
+
+
+@register_pair(RigidBody3D, Solid)
+def _rigid3d_solid(rigid, solid, nodes, restitution, clearance):
+    """The same pair named the other way round (``nodes`` of the solid)."""
+    return _solid_rigid3d(solid, rigid, nodes, restitution, clearance)

@@ -1,0 +1,109 @@
+"""A 3D solid's nodes against the exact surface of a rigid body in space (a Ball or a Box):
+rows by central differences, and an elastic ball bouncing on a rigid box
+(fecontact.contact.solid_rigid3d)."""
+
+import numpy as np
+import pytest
+
+from fecontact import Model, simulate
+from fecontact.bodies import LinearElastic, RigidBody3D, Solid
+from fecontact.bodies.shapes3d import Ball, Box, Capsule
+from fecontact.contact import Contact, Plane
+from fecontact.contact.solid_rigid3d import NodeBallContact, NodeBoxContact
+from fecontact.errors import InputError
+from fecontact.rotations import compose
+from fecontact.scenes import wave_step
+from fecontact.time.settings import IntegratorOptions
+
+RUBBER = LinearElastic(E=1e7, nu=0.3, rho=1000.0)
+R = 0.05
+
+
+def moved(model, q, d):
+    out = q + d
+    for triple in model.rotations:
+        out[triple] = compose(q[triple], d[triple])
+    return out
+
+
+@pytest.mark.parametrize("shape", [Ball(0.04), Box(0.3, 0.2, 0.05)])
+def test_node_rows_are_the_derivatives_of_the_gaps(shape):
+    """G against central differences (step 1e-6) of the gaps along every dof, the rigid
+    rotation in the body frame; the ball's curvature against those of G (the box's is left
+    out). Nodes outside and inside the box, on both sides of its corners."""
+    ball = Solid.ball([0.01, 0.02, R + 0.01], R, 1, RUBBER)
+    below = -0.03 if isinstance(shape, Ball) else 0.02  # the box's top face cuts the ball
+    rigid = RigidBody3D.uniform(1.0, [0.0, 0.0, below], shape)
+    pair = Contact(ball, rigid)
+    assert isinstance(pair, NodeBallContact if isinstance(shape, Ball) else NodeBoxContact)
+    model = Model([ball, rigid], [pair], gravity=(0.0, 0.0, 0.0))
+    rng = np.random.default_rng(2)
+    q = 2e-3 * rng.normal(size=model.n)
+    q[-3:] = [0.2, -0.3, 0.4]
+    g, dofs, G, H = pair.evaluate(q)
+    assert (g < 0).any() == isinstance(shape, Box)
+    for j in np.unique(dofs):
+        d = np.zeros(model.n)
+        d[j] = 1e-6
+        gp, _, Gp, _ = pair.evaluate(moved(model, q, d))
+        gm, _, Gm, _ = pair.evaluate(moved(model, q, -d))
+        col = (dofs == j).astype(float)
+        np.testing.assert_allclose((gp - gm) / 2e-6, np.sum(G * col, axis=1), atol=1e-8)
+        if H is not None:
+            np.testing.assert_allclose((Gp - Gm) / 2e-6, np.einsum("mkl,ml->mk", H, col), atol=1e-6)
+
+
+def test_other_shapes_are_refused_by_name():
+    ball = Solid.ball([0.0, 0.0, R], R, 1, RUBBER)
+    capsule = RigidBody3D.uniform(1.0, [0.0, 0.0, -0.1], Capsule(0.05, 0.2))
+    with pytest.raises(InputError, match="Ball or a Box"):
+        Contact(ball, capsule)
+    box = RigidBody3D.uniform(1.0, [0.0, 0.0, -0.1], Box(0.2, 0.2, 0.1))
+    assert isinstance(Contact(box, ball), NodeBoxContact)  # named either way round
+
+
+def ball_drop(floor: str):
+    """The elastic ball of ``ball_drop`` (P1, 2 refinements) at 1 m/s onto a rigid plane, onto
+    a rigid box 1000 times its mass standing on that plane, or onto a free box twice its mass
+    (no gravity); the step is Δx/c as the case's. Returns the ball's and the box's vertical
+    momenta over the run (N·s) and the smallest gap."""
+    ball = Solid.ball([0.0, 0.0, R + 0.002], R, 2, RUBBER)
+    mb, side = ball.mass, 0.05
+    gravity = (0.0, 0.0, 0.0 if floor == "free" else -9.81)
+    if floor == "plane":
+        model = Model([ball], [Contact(ball, Plane([0, 0, 0], [0, 0, 1]))], gravity)
+    else:
+        mass = 1000.0 * mb if floor == "heavy" else 2.0 * mb
+        box = RigidBody3D.uniform(mass, [0.0, 0.0, -side / 2], Box(0.3, 0.3, side))
+        pairs = [Contact(ball, box)]
+        if floor == "heavy":  # on three of its bottom corners: four would be redundant rows
+            corners = [i for i, v in enumerate(box.shape.vertices) if v[2] < 0][:3]
+            pairs.append(Contact(box, Plane([0, 0, -side], [0, 0, 1]), nodes=corners))
+        model = Model([ball, box], pairs, gravity)
+    p, gmin = [], np.inf
+    v0 = model.translation(ball, (0.0, 0.0, -1.0))
+    for st in simulate(model, wave_step(ball, 1.0, None), 0.008, IntegratorOptions(), v0=v0):
+        gmin = min(gmin, float(np.min(st.gaps, initial=np.inf)))
+        mv = model.M_full @ st.v
+        p.append((mv[: ball.ndof][2::3].sum(), mv[ball.ndof + 2] if floor != "plane" else 0.0))
+    return np.array(p) / mb, gmin
+
+
+def test_an_elastic_ball_bounces_on_a_heavy_box_as_on_the_plane_under_it():
+    """The box on the plane holds still (its corners' contacts), the ball's node gaps to its
+    top face are those to the plane shifted: the rebound is the plane's to round-off (1e-12
+    measured; the bound 1e-9 m/s is the solvers' tolerance)."""
+    on_plane, _ = ball_drop("plane")
+    on_box, gmin = ball_drop("heavy")
+    assert gmin >= -1e-9
+    assert on_box[-1, 0] > 0.9  # it has bounced
+    np.testing.assert_allclose(on_box[:, 0], on_plane[:, 0], atol=1e-9)
+
+
+def test_a_free_box_recoils_with_the_momentum_the_ball_loses():
+    """No gravity, a free box of twice the ball's mass: the vertical momentum of the two is
+    kept to round-off at every step (1.7e-13 of m v measured) while the ball bounces."""
+    p, gmin = ball_drop("free")
+    assert gmin >= -1e-9
+    np.testing.assert_allclose(p.sum(axis=1), -1.0, atol=1e-10)
+    assert p[-1, 0] > 0.2 and p[-1, 1] < -0.5
