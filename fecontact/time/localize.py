@@ -192,6 +192,7 @@ class Localizer:
         self.pressed = before
         out = parts[0]
         for part in parts[1:]:  # (after the sub-steps: each starts from its own state)
+            part.ledger = joined_record(model, out, part)  # every sub-step's contact phases
             out = joined(out, part, h)
         return out
 
