@@ -42,6 +42,7 @@ ROTATING = {
     "heavy_top": ["--t-end", "0.05"],
     "right_angle_cantilever": ["--t-end", "3"],  # a 3D beam under its load pulse
     "rod_drop": ["--t-end", "0.02"],
+    "rod_on_post": ["--t-end", "0.11"],  # the rod across the post (its reference run)
     "spatial_pendulum": ["--t-end", "0.3"],
     "tumbling_box": ["--t-end", "0.3"],
 }
