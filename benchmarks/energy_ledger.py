@@ -2,8 +2,8 @@
 default cases that warn against the step size, and Newton's against Poisson's impact law
 where they differ.
 
-Each run goes through ``fecontact.run``; the tables give its ``energy_ledger`` (J) and the
-warnings it raised (the phase named).
+Each run goes through ``fecontact.run``; the tables give its ``energy_ledger`` (J), the
+tangential part of its ``impact_work`` (J) and the warnings it raised (the phase named).
 
     python benchmarks/energy_ledger.py [--quick]
 """
@@ -27,11 +27,18 @@ def ledger(label: str, sim) -> dict:
         except SolverError as err:
             return {"run": label, "status": f"failed: {err}"[:80]}
     led = summary["energy_ledger"]
-    phase = [w.split(", in the ")[-1] for w in summary["warnings"] if "created" in w]
+    # the phase named: "..., in the <phase>[, where friction did positive work: ...]"
+    phase = [
+        w.split(", in the ")[-1].split(",")[0] + (" (friction's positive work)" * ("friction" in w))
+        for w in summary["warnings"]
+        if "created" in w
+    ]
     row = {"run": label, "status": summary["status"]}
     row |= {k: led[k] for k in KEYS}
     row["created/scale"] = led["created"] / led["scale"]
     row["E_end-E_0"] = summary["energy_final"] - summary["energy_initial"]
+    # the jumps' tangential impulses times the mean slip (J)
+    row["P_T.mean_slip"] = summary["impact_work"]["tangential"]
     row["warns in"] = phase[0] if phase else "-"
     return row
 

@@ -1,8 +1,9 @@
 """What the energy ledger costs a step: the time spent in its own calls against the step.
 
-The ledger's work in a run is the recorder's ``EnergyLedger.add`` per step and the record
+The ledger's work in a run is the recorder's ``EnergyLedger.add`` per step, the record
 NSGA leaves after its smooth step (``smooth_record``: the kinetic energy of ṽ and, after a
-position correction, the potential energy of q̃). Both are timed inside ordinary runs (each
+position correction, the potential energy of q̃) and the works of a velocity jump's
+impulses (``impulse_work``, ``jump_work``). All are timed inside ordinary runs (each
 call wrapped with a clock), so that the share is measured in the same run as the step and
 the machine's noise cannot tilt it. Reported: the median over ``--repeats`` runs of the time
 per step and of the ledger's share of it.
@@ -18,7 +19,9 @@ import time
 from _common import markdown_table, parser, publish, report, timed_run
 
 import fecontact.ledger
+import fecontact.time.impacts
 import fecontact.time.nsga
+import fecontact.time.poisson
 from fecontact.testing import case
 
 CASES = [
@@ -41,24 +44,37 @@ class Clock:
             self.seconds += time.perf_counter() - start
 
 
+# the ledger's functions a step calls, by the module that calls them
+CALLS = [
+    (fecontact.time.nsga, "smooth_record"),
+    (fecontact.time.impacts, "impulse_work"),
+    (fecontact.time.impacts, "jump_work"),
+    (fecontact.time.poisson, "impulse_work"),
+]
+
+
 def measure(name: str, kw: dict, t_end: float, repeats: int) -> dict:
     sim = case(name).build(**kw).replace(t_end=t_end)
-    add, record = fecontact.ledger.EnergyLedger.add, fecontact.time.nsga.smooth_record
+    add = fecontact.ledger.EnergyLedger.add
+    originals = [getattr(module, attr) for module, attr in CALLS]
     shares, per_step = [], []
     try:
         for _ in range(repeats):
-            clock_add, clock_record = Clock(add), Clock(record)
+            clock_add = Clock(add)
+            clocks = [Clock(fn) for fn in originals]
             fecontact.ledger.EnergyLedger.add = lambda self, *a, c=clock_add: c(self, *a)
-            fecontact.time.nsga.smooth_record = clock_record
+            for (module, attr), clock in zip(CALLS, clocks, strict=True):
+                setattr(module, attr, clock)
             out = timed_run(sim, repeats=1)
             steps = out["steps"]
-            ledger = clock_add.seconds + clock_record.seconds
+            ledger = clock_add.seconds + sum(c.seconds for c in clocks)
             step = out["compute"] / steps
             per_step.append(step)
             shares.append(ledger / steps / step)
     finally:
         fecontact.ledger.EnergyLedger.add = add
-        fecontact.time.nsga.smooth_record = record
+        for (module, attr), fn in zip(CALLS, originals, strict=True):
+            setattr(module, attr, fn)
     return {
         "case": name,
         "steps": steps,

@@ -35,7 +35,9 @@ import math
 
 import numpy as np
 
-__all__ = ["EnergyLedger", "smooth_record"]
+from .ledger_works import moreau_works, spring_step_work
+
+__all__ = ["EnergyLedger", "joined_record", "smooth_record"]
 
 # a creation above this fraction of the scale is a warning (the issue's measured gains are
 # 0.3 % and more); friction's positive work above FRICTION of it
@@ -45,22 +47,53 @@ FRICTION = 1e-6
 # this fraction of the largest of the scale, |E(0)| and the weight times the model's size
 ROUND_OFF = 1e-9
 TERMS = ("load_work", "damping", "friction", "impact", "numerical")
+NO_WORK = np.zeros(3)  # a step without impulses: (normal, tangential, joints) works
+NO_WORK.flags.writeable = False
+JUMPS = ("velocity jump", "impact")  # the phases that are velocity jumps (NSGA, Moreau–Jean)
 
 
 def smooth_record(
-    model, contact_phase, v_tilde, q_tilde=None, friction_work=0.0
+    model, contact_phase, v_tilde, q_tilde=None, friction_work=0.0, works=None
 ) -> np.ndarray | None:
     """What a stepper leaves in its state (``State.ledger``) for the ledger after its smooth
     step, when a ``contact_phase`` (correction or jump) may follow: the kinetic energy of
     ṽ, the potential (strain + gravity) energy of q̃ (NaN when no correction moved q: then
-    it is that of the step's end) and the work the smooth step's friction forces dissipated
-    (J). Without a contact phase, None."""
+    it is that of the step's end), the work the smooth step's friction forces dissipated
+    and the velocity jump's ``works`` (normal, tangential, joints;
+    :func:`fecontact.ledger_works.jump_work`) (J). Without a contact phase, None."""
     if not contact_phase:
         return None
     V = math.nan
     if q_tilde is not None:
         V = model.strain_energy(q_tilde) + model.potential_energy(q_tilde)
-    return np.array([model.kinetic_energy(v_tilde), V, friction_work])
+    works = (0.0, 0.0, 0.0) if works is None else works
+    return np.array([model.kinetic_energy(v_tilde), V, friction_work, *works])
+
+
+def joined_record(model, first, second) -> np.ndarray | None:
+    """The record (:func:`smooth_record`) of one step made of the steps that end in
+    ``first`` and ``second`` (a halved step, an impact located inside a step): the contact
+    phases of both are the step's, so that the ledger charges them as such. With the first
+    part's end energies T_1, V_1 and T̃_i, Ṽ_i the parts' smooth ends, T̃ = T̃_2 − (T_1 − T̃_1),
+    Ṽ = Ṽ_2 − (V_1 − Ṽ_1); the smooth friction and the jumps' works add."""
+    r1, r2 = first.ledger, second.ledger
+    if r1 is None:
+        return r2
+    T1 = model.kinetic_energy(first.v)
+    V1 = model.strain_energy(first.q) + model.potential_energy(first.q)
+    if r2 is None:  # the second part has no contact phase: it ends where its smooth step does
+        r2 = smooth_record(model, True, second.v, second.q)
+    elif math.isnan(r2[1]):
+        r2 = r2.copy()
+        r2[1] = model.strain_energy(second.q) + model.potential_energy(second.q)
+    V1_tilde = V1 if math.isnan(r1[1]) else r1[1]
+    out = np.zeros(max(r1.size, r2.size, 6))
+    out[: r2.size] = r2
+    out[0] = r2[0] - (T1 - r1[0])
+    out[1] = r2[1] - (V1 - V1_tilde)
+    out[2] = r1[2] + r2[2]
+    out[3:6] += r1[3:6] if r1.size >= 6 else 0.0
+    return out
 
 
 class EnergyLedger:
@@ -87,6 +120,7 @@ class EnergyLedger:
         self.worst = None  # (fall of D, t, step, phase) since the last running maximum
         self.where = None  # ... of the largest creation
         self.friction_where = None  # (work, t, step, contacts) of friction's largest gain
+        self.impact_work = np.zeros(3)  # the jumps' (normal, tangential, joints) works
         self.last = None  # the previous state
 
     # -- the state of a step -----------------------------------------------------------------
@@ -119,14 +153,16 @@ class EnergyLedger:
             damping = 0.5 * st.h * (self.vCv + vCv)
             self.vCv = vCv
         friction = self._friction(st)
-        impact, gains = self._impact(st, kinetic, E, W, damping, friction)
+        impact, gains, works = self._impact(st, kinetic, E, W, damping, friction)
+        if works is not NO_WORK:
+            self.impact_work += works
         numerical = W - dE - damping - friction - impact
         for k, x in zip(TERMS, (W, damping, friction, impact, numerical), strict=True):
             self.terms[k] += x
         self.energy = E
         self.scale = max(self.scale, kinetic + strain)
         gains.setdefault("smooth step" if self.integrator == "nsga" else "time step", -numerical)
-        self._track(st, E, gains, friction)
+        self._track(st, E, gains, friction, float(works[1]))
         self.last = st
 
     def _energies(self, st):
@@ -161,10 +197,11 @@ class EnergyLedger:
         """D_impact of the step ending in ``st`` (J) and the energy gains of its phases."""
         record = st.ledger
         if record is not None:  # NSGA: the smooth step's end (ṽ, q̃)
-            T_tilde, V_tilde, smooth_friction = (float(x) for x in record)
+            T_tilde, V_tilde, smooth_friction = record[:3].tolist()
             V = E - kinetic
             if math.isnan(V_tilde):
                 V_tilde = V
+            works = record[3:6] if record.size >= 6 else NO_WORK
             correction, jump = V - V_tilde, kinetic - T_tilde
             smooth = T_tilde + V_tilde - self.energy - W + damping + smooth_friction
             gains = {
@@ -173,55 +210,20 @@ class EnergyLedger:
                 "velocity jump": jump,
                 "friction": -friction,
             }
-            return -(correction + jump) - (friction - smooth_friction), gains
+            return -(correction + jump) - (friction - smooth_friction), gains, works
+        works = NO_WORK
         if self.integrator == "moreau" and np.any(st.impulse):
-            impact = self._impulse_work(st) + self._slip_work(st) - friction
+            works = moreau_works(self.model, self.last, st)
+            impact = -works[0] - works[1] - friction
         elif self.integrator == "penalty" and (np.any(st.impulse) or np.any(self.last.impulse)):
-            impact = self._spring_work(st)
+            impact = spring_step_work(self.last, st)
         else:
             impact = 0.0
-        return impact, {"impact": -impact, "friction": -friction}
-
-    def _impulse_work(self, st) -> float:
-        """−Σ P_j G_j(q_{n+1}) v_mid of Moreau–Jean's normal impulses (J)."""
-        j = np.flatnonzero(st.impulse)
-        G = self.model.contacts.linearize(st.q, j)[1]
-        v_mid = 0.5 * (st.v + self.last.v)[self.model.free]
-        rate = G @ v_mid
-        if self.model.contacts.moving:
-            rate = rate + self.model.contacts.rates(st.q, j)
-        return -float(st.impulse[j] @ rate)
-
-    def _slip_work(self, st) -> float:
-        """−Σ P_T,j·G_T,j(q_{n+1}) v_mid (J), Moreau–Jean's tangential impulses times the
-        mean slip of the step: what they take from the bodies; the part friction's reading
-        does not explain is the impact's (0 where the impulse opposes the slip throughout)."""
-        record = st.friction
-        if record is None or not np.any(record.impulse):
-            return 0.0
-        j = np.flatnonzero(np.any(record.impulse != 0.0, axis=1))
-        contacts = self.model.contacts
-        GT, T = contacts.tangent_jacobian(st.q, j)
-        v_mid = 0.5 * (st.v + self.last.v)[self.model.free]
-        slip = GT @ v_mid
-        speed = contacts.obstacle_motion(j, velocity=True)
-        if speed is not None:
-            slip = slip - np.einsum("mtd,md->mt", T, speed)
-        return -float(np.sum(record.impulse[j] * slip))
-
-    def _spring_work(self, st) -> float:
-        """−½(λ_n + λ_{n+1})·Δg (J): what the penalty forces took from the bodies."""
-        lam = st.impulse / st.h
-        lam0 = self.last.impulse / self.last.h if self.last.h > 0 else np.zeros_like(lam)
-        if lam0.size != lam.size or self.last.gaps.size != st.gaps.size:
-            return 0.0
-        g0, g1 = self.last.gaps, st.gaps
-        both = np.isfinite(g0) & np.isfinite(g1)
-        return -0.5 * float(np.sum(((lam0 + lam) * (g1 - g0))[both]))
+        return impact, {"impact": -impact, "friction": -friction}, works
 
     # -- creation ----------------------------------------------------------------------------
 
-    def _track(self, st, E, gains, friction) -> None:
+    def _track(self, st, E, gains, friction, slip_work) -> None:
         D = self.initial + self.terms["load_work"] - E - self._springs(st)
         fall = self.peak - D
         # the step's own fall of D names it: a step whose correction gains what its jump
@@ -232,7 +234,8 @@ class EnergyLedger:
         elif fall > 0.0:
             if self.worst is None or step_fall > self.worst[0]:
                 phase = max(gains, key=gains.get)
-                self.worst = (step_fall, st.t, st.step, phase)
+                gripping = _jump_gripping(st) if slip_work > 0.0 else []
+                self.worst = (step_fall, st.t, st.step, phase, slip_work, gripping)
             if fall > self.created:
                 self.created, self.where = fall, self.worst
         if friction < 0.0:
@@ -274,12 +277,20 @@ class EnergyLedger:
         """The run's energy warnings (each begins with "energy")."""
         out = []
         if self.checked and self.created > self._limit(CREATED) and self.where is not None:
-            _, t, step, phase = self.where
-            out.append(
+            _, t, step, phase, slip_work, contacts = (*self.where, 0.0, [])[:6]
+            text = (
                 f"energy: the run created {self.created:.3g} J ({self.created / self.scale:.2%}"
                 f" of its largest kinetic plus strain energy, {self.scale:.3g} J); the step "
                 f"that made most of it: t = {t:.6g} s, step {step}, in the {phase}"
             )
+            if phase in JUMPS and slip_work > self._limit(FRICTION):
+                text += (
+                    f", where friction did positive work: its impulses P_T times the mean slip "
+                    f"(v_T⁻ + v_T⁺)/2 gave {slip_work:.3g} J at {self._named(contacts)}; "
+                    "Newton's kinematic restitution with Coulomb friction is not energetically "
+                    'consistent, Poisson\'s law is (impact_law="poisson")'
+                )
+            out.append(text)
         if self.positive_friction > self._limit(FRICTION):
             work, t, step, contacts = self.friction_where
             out.append(
@@ -289,10 +300,24 @@ class EnergyLedger:
             )
         return out
 
+    def _named(self, contacts) -> str:
+        """``contacts`` as "contact(s) j (pair i)", j over the model's contacts."""
+        owner = self.model.contacts.owner
+        named = [f"{j} (pair {owner[j]})" for j in contacts]
+        return f"contact(s) {', '.join(named)}" if named else "no contact"
+
+    def impact_works(self) -> dict:
+        """``summary.json``'s ``impact_work``: the impulses of the velocity jumps times the
+        mean of the rates before and after each (J, since t = 0), normal, tangential and of
+        the joints (:func:`fecontact.contact.restitution.impulse_work`)."""
+        keys = ("normal", "tangential", "joints")
+        return dict(zip(keys, map(float, self.impact_work), strict=True))
+
     def state(self) -> dict:
         """What a checkpoint keeps: the totals and where the creations were."""
         out = {k: getattr(self, k) for k in self.FIELDS}
         places = {k: getattr(self, k) for k in ("worst", "where", "friction_where")}
+        out["impact_work"] = self.impact_work.tolist()
         return out | {f"term_{k}": v for k, v in self.terms.items()} | places
 
     def restore(self, values: dict) -> None:
@@ -301,9 +326,19 @@ class EnergyLedger:
                 setattr(self, k, float(values[k]))
         for k in self.terms:
             self.terms[k] = float(values.get(f"term_{k}", self.terms[k]))
+        if "impact_work" in values:
+            self.impact_work = np.array(values["impact_work"], dtype=float)
         for k in ("worst", "where", "friction_where"):
             if values.get(k) is not None:
                 setattr(self, k, tuple(values[k]))
+
+
+def _jump_gripping(st) -> list[int]:
+    """The contacts that carried a tangential impulse in the contact phase of ``st``."""
+    record = st.friction
+    if record is None or record.impulse is None:
+        return []
+    return np.flatnonzero(np.any(record.impulse != 0.0, axis=1)).tolist()
 
 
 def _gripping(st) -> list[int]:

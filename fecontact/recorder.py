@@ -181,6 +181,7 @@ class Recorder:
             "energy_max": self.energy_max,
             "energy_balance": self.balance.summary(),
             "energy_ledger": self.ledger.summary(*self.energies),
+            "impact_work": self.ledger.impact_works(),
             "impacts": self.impacts,
             "parameters": jsonable(sim.parameters),
             "case_file": sim.origin,

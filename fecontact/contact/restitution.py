@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["friction_dissipation", "solve_decompression"]
+__all__ = ["friction_dissipation", "impulse_work", "solve_decompression"]
 
 
 def solve_decompression(c, D, mu, nt: int, floor, tol: float, max_sweeps: int = 2000):
@@ -106,6 +106,30 @@ def friction_dissipation(x, w0, w, D, mu, nt: int, tol: float) -> float:
         return float(-0.5 * np.sum(P * (s0 + s1)))
     P = P.ravel()
     return float(-P @ s1.ravel() + 0.5 * P @ (Dh[np.ix_(t, t)] @ P))
+
+
+def impulse_work(x, w0, w, m: int, nt: int) -> np.ndarray:
+    r"""The work (J) of the impulses ``x`` of one velocity jump at the mean of the rates
+    before (``w0``) and after (``w``) it, split (normal, tangential, equality rows):
+
+        Σ_j P_N,j (ġ⁻_j + ġ⁺_j)/2,   Σ_j P_T,j·(w_T,j⁻ + w_T,j⁺)/2,   Σ_b P_b (ġ⁻_b + ġ⁺_b)/2,
+
+    in the layout of :func:`solve_decompression` (``m`` contacts of 1 + ``nt`` rows, normal
+    first, then the equality rows). With rates relative to fixed obstacles and a linear map
+    v⁺ = v⁻ + H⁻¹Aᵀx, the three sum to the jump's ½(v⁺ᵀHv⁺ − v⁻ᵀHv⁻) exactly: the kinetic
+    energy change when H = M. Unlike :func:`friction_dissipation` this reading needs no
+    process: it is the impulse times the slip a jump of constant direction makes (Kane &
+    Levinson, 1985), and a positive tangential part is the energy Newton's kinematic
+    restitution lets Coulomb's friction give (Glocker, Multibody Syst. Dyn., 2013)."""
+    nc = m * (1 + nt)
+    mean = 0.5 * (np.asarray(w0, float) + w)
+    x = np.asarray(x, float)
+    # (a function of every jump: sums of slices, no masks)
+    joints = float(x[nc:] @ mean[nc:])
+    if nt == 0:
+        return np.array([float(x[:nc] @ mean[:nc]), 0.0, joints])
+    power = (x[:nc] * mean[:nc]).reshape(m, 1 + nt)
+    return np.array([power[:, 0].sum(), power[:, 1:].sum(), joints])
 
 
 def _condensed(D, nc):

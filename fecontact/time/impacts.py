@@ -6,6 +6,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..contact import solve_velocity_jump
+from ..contact.restitution import impulse_work
+from ..ledger_works import jump_work
 from ..linalg import factorize
 from .constraints import Constraints, StepFailure, augmentation, constraint_columns
 from .coulomb import frictional_jump
@@ -42,18 +44,21 @@ def velocity_jump(
     ġ⁻_j = (1 − τ_j) G_j(q_n) v_n + τ_j G_j(q_{n+1}) ṽ_{n+1}, with τ_j the fraction of the
     step at which the gap crosses zero (τ_j = 0 with ``impact_velocity="step_start"``).
     Warm-started from the previous step's impulses; a residual ġ below tol_gap/h closes less
-    than the gap tolerance within the step. Returns (W, k Λ, iterations, friction) with
-    friction = (k Λ_T, stick/slip status, work of Λ_T in J) of the closed contacts when the
-    model has friction (:func:`fecontact.time.coulomb.frictional_jump`, whose cone holds
+    than the gap tolerance within the step. Returns (W, k Λ, iterations, friction, works)
+    with friction = (k Λ_T, stick/slip status, work of Λ_T in J) of the closed contacts when
+    the model has friction (:func:`fecontact.time.coulomb.frictional_jump`, whose cone holds
     the step's total impulse: ``preload`` (len(closed), 1 + nt), the impulse h(λ_N, λ_T)
-    of the smooth forces), else None."""
+    of the smooth forces), else None, and works (J) the normal, tangential and joint
+    impulses' work at the mean rates (:func:`fecontact.contact.restitution.impulse_work`)."""
     F = model.free
     if closed.size == 0:
         # joints only: the M-orthogonal projection onto G_b v = 0, no active set to find
         G1 = model.joints.jacobian(q, model.joints.all)[1] if Gb is None else Gb
         Y = model.solve_M(G1.T).reshape(len(F), -1)
-        mu = factorize(G1 @ Y, solver=model.solver)(-(G1 @ v[F]))
-        return Y @ mu, _EMPTY, 1, None
+        rate = G1 @ v[F]
+        mu = factorize(G1 @ Y, solver=model.solver)(-rate)
+        W = Y @ mu
+        return W, _EMPTY, 1, None, impulse_work(mu, rate, rate + G1 @ W, 0, 0)
     cons = Constraints(model, closed)
     if held is not None:
         cons.bilateral[: closed.size] = held
@@ -78,12 +83,15 @@ def velocity_jump(
             model, st, q, v, closed, G1, gdot, e, gdot_n[: closed.size], opts, tol,
             bilateral=cons.bilateral, preload=preload,
         )  # fmt: skip
+    rates = gdot.copy()  # ġ of ṽ, without the impact law's term
     gdot += e * gdot_n
     if contacts.frictional:
-        W, lam_n, lam_t, status, its, work, _ = frictional_jump(
+        W, lam_n, lam_t, status, its, work, lam_b = frictional_jump(
             model, st, q, v, closed, G1, gdot, opts, tol, preload=preload
         )
-        return W, lam_n, its, (lam_t, status, work)
+        lam = np.concatenate([lam_n, lam_b])
+        works = jump_work(model, q, v, W, closed, G1, rates, lam, lam_t)
+        return W, lam_n, its, (lam_t, status, work), works
     Y = constraint_columns(model, ("mass",), closed, G1, model.solve_M, cons, constant=True)
     p = augmentation(opts.penalty_scale, G1, Y)
     k = opts.multiplier_scale
@@ -104,7 +112,8 @@ def velocity_jump(
         )
     except RuntimeError as err:
         raise StepFailure(str(err), np.nan) from None
-    return W, k * Lam, its, None
+    works = impulse_work(k * Lam, rates, rates + G1 @ W, closed.size, 0)
+    return W, k * Lam, its, None, works
 
 
 def _approach_rates(model, st, q, t, rows, opts, tol_gap, approach) -> np.ndarray:

@@ -47,6 +47,7 @@ import time
 import numpy as np
 
 from ..errors import InputError
+from ..ledger import joined_record
 from .nsga import smooth_phases
 from .settings import RunSettings
 from .state import PhaseTimer, State, length_scale
@@ -191,6 +192,7 @@ class Localizer:
         self.pressed = before
         out = parts[0]
         for part in parts[1:]:  # (after the sub-steps: each starts from its own state)
+            part.ledger = joined_record(model, out, part)  # every sub-step's contact phases
             out = joined(out, part, h)
         return out
 
@@ -230,6 +232,7 @@ def _split_step(model, st, h, opts, timer, phases) -> State:
             stats.factorizations += _drop_caches(model, kept)
     out = parts[0]
     for part in parts[1:]:
+        part.ledger = joined_record(model, out, part)  # the step's contact phases, for the ledger
         out = joined(out, part, h)
     out.h = h
     return out

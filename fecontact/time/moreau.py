@@ -365,7 +365,7 @@ def _poisson_law(model, st, q, v_free, G, rows, solve, opts, h):
     v[model.free] = v_free
     index_set = rows[0].select
     tol = opts.tol_gap * length_scale(model, st.q) / h  # (m/s), as Coulomb's law's
-    W, P, its, friction = poisson_jump(
+    W, P, its, friction, _ = poisson_jump(
         model, st, q, v, index_set, G, G @ v_free, rows[2], rows[3][: index_set.size], opts,
         tol, solve=solve, bilateral=rows[0].bilateral,
     )  # fmt: skip

@@ -98,7 +98,7 @@ class _Phases:
     __slots__ = (
         "Gb P a c cand closed corrected force forces g_tilde gaps grip h held impulse "
         "iters lam m model nu opts q q_tilde record smooth_step st st_s step t timer tol_gap "
-        "v v_tilde vd"
+        "v v_tilde vd works"
     ).split()
 
     def __init__(self, model, st: State, h: float, opts, timer: PhaseTimer, smooth_step):
@@ -108,7 +108,7 @@ class _Phases:
         self.c = coefficients(1.0 if smooth_step else opts.rho_inf, h)
         self.t = st.t + h
         self.m = model.contacts.size
-        self.record = self.forces = None  # the step's friction and smooth forces' records
+        self.record = self.forces = self.works = None  # friction, smooth forces, jump's works
         self.grip = None  # (λ_N, λ_T) of the smooth step with friction
         self.nu = self.impulse = self.gaps = self.cand = None
         self.corrected = None  # (q̃, the metric's solve) after a correction (decoupled scheme)
@@ -225,7 +225,7 @@ class _Phases:
         force, grip = self.force, self.grip
         self.held = held = None if force is None else force[closed] > 0.0
         preload = None if grip is None else self.h * grip[closed]  # the smooth forces' impulse
-        W, Lam, self.iters["velocity"], tangential = velocity_jump(
+        W, Lam, self.iters["velocity"], tangential, self.works = velocity_jump(
             model,
             self.st,
             self.q,
@@ -336,8 +336,8 @@ class _Phases:
             at |= {"gaps": self.gaps, "candidates": self.cand, "nu": self.nu}
             at |= {"impulse": self.impulse, "smooth": self.forces, "friction": self.record}
             phase = self.cand.size + self.model.joints.size  # a correction or a jump may follow
-            work = self.step.friction_work
-            at["ledger"] = smooth_record(self.model, phase, self.v_tilde, self.q_tilde, work)
+            args = (self.v_tilde, self.q_tilde, self.step.friction_work, self.works)
+            at["ledger"] = smooth_record(self.model, phase, *args)
         return State(self.t, self.q, self.v, self.vd, self.a, **at)
 
 

@@ -27,7 +27,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..contact import solve_velocity_jump
-from ..contact.restitution import friction_dissipation, solve_decompression
+from ..contact.restitution import friction_dissipation, impulse_work, solve_decompression
 from .constraints import StepFailure, augmentation
 from .coulomb import frictional_jump
 
@@ -43,8 +43,10 @@ def poisson_jump(model, st, q, v, closed, G1, rates, e, approach, opts, tol, **k
     ``bilateral`` the equality rows (held contacts and joints; with friction the contacts
     keep their law and the smooth forces' ``preload`` holds them),
     ``preload`` as in :func:`fecontact.time.coulomb.frictional_jump`. Returns (W, k Λ of
-    every row (N·s), iterations, friction) with friction = (Λ_T (len(closed), nt), status,
-    work of Λ_T (J)) or None without friction, as :func:`fecontact.time.impacts.velocity_jump`.
+    every row (N·s), iterations, friction, works) with friction = (Λ_T (len(closed), nt),
+    status, work of Λ_T (J)) or None without friction, as
+    :func:`fecontact.time.impacts.velocity_jump`; works sums each phase's impulses times
+    the mean of its rates (:func:`fecontact.contact.restitution.impulse_work`).
     """
     solve = kw.get("solve") or model.solve_M
     nc = closed.size
@@ -55,11 +57,13 @@ def poisson_jump(model, st, q, v, closed, G1, rates, e, approach, opts, tol, **k
     if model.contacts.frictional:
         out = _frictional(model, st, q, v, closed, G1, rates, pre, e, opts, tol, solve, kw)
     else:
-        out = _frictionless(model, G1, rates, pre, e, opts, tol, solve, kw.get("bilateral"))
+        rows = (G1, rates, pre, e, nc)
+        out = _frictionless(rows, opts, tol, solve, kw.get("bilateral"))
     return out
 
 
-def _frictionless(model, G1, rates, pre, e, opts, tol, solve, bilateral):
+def _frictionless(rows, opts, tol, solve, bilateral):
+    G1, rates, pre, e, nc = rows
     G = _dense(G1)
     Y = solve(G.T).reshape(G.shape[1], -1)
     D = G @ Y
@@ -71,9 +75,12 @@ def _frictionless(model, G1, rates, pre, e, opts, tol, solve, bilateral):
     c = (rates + D @ lam_c)[order]
     floor = (e * np.clip(lam_i, 0.0, lam_c))[unilateral]
     x, its_d = _decompression(c, D[np.ix_(order, order)], np.zeros(unilateral.size), 0, floor, tol)
-    lam = lam_c.copy()
-    lam[order] += x
-    return Y @ lam, lam, its_c + its_i + its_d, None
+    lam_d = np.zeros_like(lam_c)
+    lam_d[order] = x
+    w_c = rates + D @ lam_c  # the rates after the compression
+    works = impulse_work(lam_c, rates, w_c, nc, 0)
+    works += impulse_work(lam_d, w_c, w_c + D @ lam_d, nc, 0)
+    return Y @ (lam_c + lam_d), lam_c + lam_d, its_c + its_i + its_d, None, works
 
 
 def _compression(G, rates, solve, Y, eq, opts, tol):
@@ -128,7 +135,8 @@ def _frictional(model, st, q, v, closed, G1, rates, pre, e, opts, tol, solve, kw
     restituted = np.any(x_d[: nc * (1 + nt)].reshape(nc, -1) != 0.0, axis=1)
     status = np.where(restituted, _slip_status(c + D @ x_d, nc, nt, tol), status)
     W = W_c + Y @ x_d
-    return W, lam, its + its_d, (t_c + blocks[:, 1:], status, work + work_d)
+    works = impulse_work(x_c, w0, c, nc, nt) + impulse_work(x_d, c, c + D @ x_d, nc, nt)
+    return W, lam, its + its_d, (t_c + blocks[:, 1:], status, work + work_d), works
 
 
 def _slip_status(w, nc, nt, tol) -> np.ndarray:

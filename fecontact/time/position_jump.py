@@ -126,7 +126,7 @@ def velocity_follows(model, st, q, v0, v_tilde, dvd, hold, Lam0, c, opts, t, tol
     h_a = c.h * c.gamma * (1.0 - c.af) / (1.0 - c.am)
     v1 = v_tilde.copy()
     v1[model.free_slice] += h_a * dvd
-    W, Lam, its, _ = velocity_jump(
+    W, Lam, its, *_ = velocity_jump(
         model, st, q, v1, closed, g_tilde, opts, t, tol_gap, Gb, held, approach=v_tilde
     )
     v1[model.free_slice] += W

@@ -6,6 +6,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from ..errors import InputError
+from ..ledger import joined_record
 from ..linalg.choice import RunPlan
 from .alpha_step import alpha_plan
 from .constraints import StepFailure
@@ -65,6 +66,7 @@ class Stepper:
             retake = isinstance(err, PenetrationFailure)
         first = self.step(st, 0.5 * h, timer, depth + 1)
         second = self.step(first, 0.5 * h, timer, depth + 1)
+        second.ledger = joined_record(model, first, second)  # both halves' contact phases
         second = joined(first, second, h)
         second.halvings += 1
         second.retakes += retake
