@@ -48,13 +48,12 @@ from typing import NamedTuple
 import numpy as np
 import scipy.sparse as sp
 
-from ..contact import solve_velocity_jump
 from ..contact.restitution import friction_dissipation
 from .constraints import (
     Constraints,
     StepFailure,
-    augmentation,
     factorize_or_fail,
+    impact_law,
     plus_curvature,
 )
 from .coulomb import frictional_jump
@@ -364,7 +363,8 @@ def _contact_law(model, st, q, v_free, G, rows, solve, opts, slip, h):
         return _poisson_law(model, st, q, v_free, G, rows, solve, opts, h)
     if slip is not None:
         return _coulomb_law(model, st, q, v_free, G, rows, solve, opts, slip)
-    W, P, n = _impact_law(G, G @ v_free + rows[1], solve, rows[0].bilateral, opts)
+    Y = solve(G.T).reshape(G.shape[1], -1)  # Ŵ⁻¹Gᵀ
+    W, P, n = impact_law(G, G @ v_free + rows[1], solve, Y, opts, rows[0].bilateral)
     return W, P, n, None
 
 
@@ -406,20 +406,6 @@ def _turning(model, slip) -> bool:
 
 def _is_zero(K) -> bool:
     return not (K.data.any() if sp.issparse(K) else K.any())
-
-
-def _impact_law(G, c, solve, bilateral, opts):
-    """Ŵ W = Σ G_jᵀ P_j with 0 ≤ c_j + G_j W ⊥ P_j ≥ 0 (equalities on ``bilateral`` rows),
-    through the Alart–Curnier semi-smooth Newton; returns W, P = kΛ and its iterations."""
-    p = augmentation(opts.penalty_scale, G, solve(G.T).reshape(G.shape[1], -1))
-    k = opts.multiplier_scale
-    try:
-        W, Lam, its = solve_velocity_jump(
-            G, c, solve, p, k, opts.max_iterations, bilateral=bilateral, stats=opts.stats.contact
-        )
-    except RuntimeError as err:
-        raise StepFailure(str(err), np.nan) from None
-    return W, k * Lam, its
 
 
 # -- penalty contact in the smooth generalized-α step -------------------------------------------
