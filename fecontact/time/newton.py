@@ -23,6 +23,13 @@ update and the test.
   bound).
 - Moreau–Jean's velocity form (:class:`fecontact.time.moreau.VelocityForm`): the unknown
   v_{n+1}, with the impact law inside each update.
+
+A form is a class the loop builds for each step as ``form(newton, st, c, law)`` (``law``:
+what the form needs of the step besides its state and coefficients, None for the
+acceleration form). It gives ``context(t, P)``, the step's :class:`StepContext` at the
+predictor; ``residual(it)``, whether the iterate has converged, leaving ``rnorm`` and its
+reference ``ref``; ``update()``, whether the update ended the iteration; and, where the plan
+halves updates, ``halves()``.
 """
 
 from __future__ import annotations
