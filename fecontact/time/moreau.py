@@ -237,14 +237,14 @@ class VelocityForm:
     bodies) and with constant G the residual is linear in v and one iteration is exact."""
 
     __slots__ = (
-        "G GP P R c f ff_t h hf_n ht lcp model newton opts q0 ref rnorm rows size slip solve "
-        "st step tangential v vn"
+        "G GP P R f ff_t h hf_n ht lcp model newton opts q0 ref rnorm rows size slip solve st "
+        "step tangential v vn"
     ).split()
 
-    def __init__(self, newton, st, c, law: ImpactRows):
+    def __init__(self, newton, st, c, t: float, P, law: ImpactRows):
         model = newton.model
         F, h, ht = model.free, c.h, c.ht
-        self.newton, self.model, self.opts, self.st, self.c = newton, model, newton.opts, st, c
+        self.newton, self.model, self.opts, self.st = newton, model, newton.opts, st
         self.h, self.ht, (self.rows, self.slip) = h, ht, law
         self.vn = st.v[F]
         self.hf_n = (h - ht) * (model.M @ st.vd[F])  # st.vd = M⁻¹ f_n
@@ -252,15 +252,12 @@ class VelocityForm:
         nr = len(self.rows[0].bilateral) if self.rows else 0
         self.v, self.P, self.GP, self.G = self.vn.copy(), np.zeros(nr), 0.0, None
         self.tangential, self.ff_t, self.size, self.lcp = None, 0.0, math.inf, 0
-        self.solve = self.f = self.R = self.step = None  # (solve: Ŵ⁻¹ of the last update)
+        self.solve = self.f = self.R = None  # (solve: Ŵ⁻¹ of the last update)
         self.rnorm, self.ref = math.inf, 1.0
-
-    def context(self, t: float, P) -> StepContext:
-        """The step's context at the predictor v_n (no persistent contacts: ``P`` unused)."""
-        X = np.zeros((4, self.model.n))
-        X[0], X[1] = self.st.q, self.st.v
-        self.step = StepContext(self.model, self.c, t, self.st, self.opts, None, X)
-        return self.step
+        # the step's context at the predictor v_n (no persistent contacts: ``P`` unused)
+        X = np.zeros((4, model.n))
+        X[0], X[1] = st.q, st.v
+        self.step = StepContext(model, c, t, st, self.opts, None, X)
 
     def residual(self, it: int) -> bool:
         """r at v (q = q_n + h(1 − θ)v_n + hθ v); whether it has converged: the residual or
@@ -282,7 +279,7 @@ class VelocityForm:
                 model, X[0], self.G, self.P, self.tangential, self.slip
             )
         r = R - self.GP - self.ff_t
-        newton.lap("assembly")
+        newton.clock = newton.timer.add("assembly", newton.clock)
         self.rnorm, self.ref = _norms(r, (Mdv, self.hf_n, self.h, f), self.GP if nr else None)
         return _converged(it, nr, self.rnorm, self.ref, self.size, self.opts)
 
@@ -294,14 +291,14 @@ class VelocityForm:
             What = plus_curvature(What, -self.ht, rows[0].curvature(q, self.P))
         self.solve = solve = factorize_or_fail(What, self.rnorm / self.ref, True, model.solver)
         v_new = self.v - solve(self.R)
-        newton.lap("solve")
+        newton.clock = newton.timer.add("solve", newton.clock)
         if self.P.size:
             law = _contact_law(model, self.st, q, v_new, self.G, rows, solve, self.opts,
                                self.slip, self.h)  # fmt: skip
             W, self.P, n, self.tangential = law
             v_new += W
             self.lcp += n
-            newton.lap("contact")
+            newton.clock = newton.timer.add("contact", newton.clock)
         if _exact(model, rows, newton.elastic.K, self.slip):
             damping = next((term for term in newton.terms if isinstance(term, Damping)), None)
             if damping is not None:  # (f at v_{n+1})

@@ -24,10 +24,11 @@ update and the test.
 - Moreau–Jean's velocity form (:class:`fecontact.time.moreau.VelocityForm`): the unknown
   v_{n+1}, with the impact law inside each update.
 
-A form is a class the loop builds for each step as ``form(newton, st, c, law)`` (``law``:
-what the form needs of the step besides its state and coefficients, None for the
-acceleration form). It gives ``context(t, P)``, the step's :class:`StepContext` at the
-predictor; ``residual(it)``, whether the iterate has converged, leaving ``rnorm`` and its
+A form is a class the loop builds for each step as ``form(newton, st, c, t, P, law)`` (the
+step from the state ``st`` with the coefficients ``c`` to the time ``t``, the persistent
+contacts ``P``; ``law``: what the form needs of the step besides, None for the acceleration
+form). It holds ``step``, the step's :class:`StepContext` at the predictor, and gives
+``residual(it)``, whether the iterate has converged, leaving ``rnorm`` and its
 reference ``ref``; ``update()``, whether the update ended the iteration; and, where the plan
 halves updates, ``halves()``.
 """
@@ -130,8 +131,8 @@ class SmoothNewton:
     def __init__(self, plan: NewtonPlan, model, st, t, c, opts, timer, P=None, law=None):
         self.model, self.opts, self.timer, self.name = model, opts, timer, plan.name
         self.plan = plan
-        self.form = form = plan.form(self, st, c, law)
-        self.step = step = form.context(t, P)
+        self.form = form = plan.form(self, st, c, t, P, law)
+        self.step = step = form.step
         if plan.roles is None:
             begun = (term.begin(step) for term in plan.terms)
             sorted_ = roles(term for term in begun if term is not None)
@@ -188,10 +189,6 @@ class SmoothNewton:
             S = term.tangent(S)
         return S
 
-    def lap(self, phase: str) -> None:
-        """Charge the time since the last lap to ``phase``."""
-        self.clock = self.timer.add(phase, self.clock)
-
 
 class AccelerationForm:
     """The generalized-α form of the loop ``newton`` (module docstring): the unknown q_{n+1}
@@ -200,34 +197,22 @@ class AccelerationForm:
     updates from S_t, alone, through a Schur complement or bordered by the terms' rows.
     ``law``: unused (the step needs nothing else)."""
 
-    __slots__ = (
-        "S armijo c dq lie model newton opts plain plan previous r ref rnorm s small solve st "
-        "step x"
-    ).split()
+    # what a step holds before its first update (an instance sets its own as they change:
+    # class defaults keep the per-step construction to the few that differ)
+    S = solve = armijo = x = dq = small = r = None
+    plain = True  # every solve was with S_t alone: S_t's solver is a metric
+    previous, s = math.inf, 1.0
+    rnorm, ref = math.inf, 1.0
 
-    def __init__(self, newton: SmoothNewton, st, c, law=None):
-        self.newton, self.model, self.opts, self.plan = (
-            newton,
-            newton.model,
-            newton.opts,
-            newton.plan,
-        )
-        self.st, self.c = st, c
+    def __init__(self, newton: SmoothNewton, st, c, t: float, P, law=None):
+        model, opts, plan = newton.model, newton.opts, newton.plan
+        self.newton, self.model, self.opts, self.plan = newton, model, opts, plan
         # on a Lie group the first row of X is the increment D, and q = q_n ⊕ D (:mod:`.lie`)
-        self.lie = LieStep(self.model, st.q) if self.plan.group else None
-        self.S = self.solve = self.armijo = self.x = self.dq = self.small = None
-        self.plain = True  # every solve was with S_t alone: S_t's solver is a metric
-        self.previous, self.s = math.inf, 1.0
-        self.r, self.rnorm, self.ref, self.step = None, math.inf, 1.0, None
-
-    def context(self, t: float, P) -> StepContext:
-        """The step's context at the predictor."""
-        st, c = self.st, self.c
-        X = predict_increment(st, c) if self.lie is not None else predict(st, c)
-        self.step = step = StepContext(self.model, c, t, st, self.opts, P, X)
-        if self.lie is not None:
-            step.q = self.lie.configuration(X[0])
-        return step
+        lie = self.lie = LieStep(model, st.q) if plan.group else None
+        X = predict(st, c) if lie is None else predict_increment(st, c)
+        self.step = step = StepContext(model, c, t, st, opts, P, X)
+        if lie is not None:
+            step.q = lie.configuration(X[0])
 
     def residual(self, it: int) -> bool:
         """The residual r at the iterate, after the Armijo test of the last full update
@@ -246,7 +231,7 @@ class AccelerationForm:
                 ref = x
         self.ref = math.sqrt(ref)
         self.rnorm = rnorm = math.sqrt(r @ r)
-        newton.lap("assembly")
+        newton.clock = newton.timer.add("assembly", newton.clock)
         if not math.isfinite(rnorm):
             fi = newton.elastic.fi
             why = "" if np.all(np.isfinite(fi)) else ": an element inverts (det F <= 0)"
@@ -272,7 +257,8 @@ class AccelerationForm:
 
     def update(self) -> bool:
         """One Newton update of the iterate; whether it has converged with it."""
-        step, rowed = self.step, self.newton.rowed
+        step, newton = self.step, self.newton
+        rowed = newton.rowed
         self.small = None  # (whether dq is below the increment tolerance, where known)
         self._matrix()
         touching = [term for term in rowed if term.touching()] if rowed else None
@@ -285,7 +271,7 @@ class AccelerationForm:
         step.X[:, self.model.free_slice] += np.multiply.outer(step.c.w, dq)  # q, v, v̇, a
         if self.lie is not None:  # (D, v, v̇, a): the positions q_n ⊕ D
             step.q = self.lie.configuration(step.X[0])
-        self.newton.lap("solve")
+        newton.clock = newton.timer.add("solve", newton.clock)
         self.dq = dq
         if not rowed:
             if self.small is not None:
