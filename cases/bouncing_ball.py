@@ -10,15 +10,16 @@ acts on the centre: gap = y_c − r. Rotation is free but never excited (no fric
 from fecontact import Model, Param, Probe, Simulation, case, run_cli
 from fecontact.bodies import Disk, RigidBody2D
 from fecontact.contact import Contact, Plane
+from fecontact.scenes import GRAVITY, IMPACT
 
 
-@case
+@case(IMPACT, GRAVITY)
 def build(
     height=Param.nonnegative(1.0, "m", "initial gap between the ball and the plane"),
-    restitution=Param.fraction(0.8, "Newton's coefficient of restitution e_N"),
+    restitution=0.8,
     mass=Param.positive(1.0, "kg", "mass of the ball"),
     radius=Param.positive(0.1, "m", "radius of the ball"),
-    gravity=Param.nonnegative(9.81, "m/s^2", "acceleration of gravity, along -y"),
+    gravity=9.81,
 ):
     shape = Disk(radius)
     ball = RigidBody2D.uniform(mass, [0.0, radius + height], shape)

@@ -18,19 +18,18 @@ import numpy as np
 from fecontact import Model, Param, Probe, Simulation, case, run_cli
 from fecontact.bodies import Box, RigidBody3D
 from fecontact.contact import Contact, Plane
+from fecontact.scenes import GRAVITY, IMPACT
 
 
-@case
+@case(IMPACT, GRAVITY)  # friction against the plane; gravity along -z
 def build(
     side=Param.positive(0.2, "m", "side of the bottom box along x and y"),
     height=Param.positive(0.1, "m", "height of each box"),
     mass=Param.positive(1.0, "kg", "mass of each box (uniform)"),
     knock=Param(1.0, "m/s", "initial velocity of the top box along +x", -100.0, 100.0),
-    friction=Param.nonnegative(0.5, "-", "Coulomb's coefficient mu against the plane"),
-    restitution=Param.fraction(0.0, "Newton's coefficient of restitution e_N"),
-    gravity=Param.positive(9.81, "m/s^2", "acceleration of gravity, along -z"),
+    friction=0.5, restitution=0.0, gravity=9.81,
     t_end=Param.positive(0.6, "s", "end time"),
-):
+):  # fmt: skip
     sizes = (1.0, 0.8, 0.6)  # each box narrower than the one below
     boxes = [
         RigidBody3D.uniform(mass, [0.0, 0.0, (k + 0.5) * height], Box(s * side, s * side, height))

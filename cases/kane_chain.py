@@ -21,19 +21,18 @@ import numpy as np
 from fecontact import InputError, Model, Param, Pin, Probe, Simulation, case, run_cli
 from fecontact.bodies import Polygon, RigidBody2D
 from fecontact.contact import Contact, Plane
+from fecontact.scenes import GRAVITY, IMPACT
 
 
-@case
+@case(IMPACT, GRAVITY)  # at the floor; gravity along -y
 def build(
     length=Param.positive(1.0, "m", "length of each bar"),
     mass=Param.positive(1.0, "kg", "mass of each bar"),
     height=Param.positive(1.5, "m", "height of the ground pin above the floor"),
     angle1=Param(10.0, "deg", "initial angle of the pinned bar, from +x", -360.0, 360.0),
     angle2=Param(-135.0, "deg", "initial angle of the striking bar, from +x", -360.0, 360.0),
-    restitution=Param.fraction(1.0, "coefficient of restitution e_N"),
-    friction=Param.nonnegative(0.5, "-", "Coulomb's coefficient mu at the floor"),
-    gravity=Param.positive(9.81, "m/s^2", "acceleration of gravity, along -y"),
-):
+    restitution=1.0, friction=0.5, gravity=9.81,
+):  # fmt: skip
     L, m = length, mass
     angle1, angle2 = np.radians(angle1), np.radians(angle2)
     w = 0.02 * L  # a thin diamond: a vertex at each end of the bar's axis

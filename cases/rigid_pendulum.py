@@ -16,15 +16,15 @@ import numpy as np
 from fecontact import Model, Param, Pin, Probe, Simulation, case, run_cli
 from fecontact.bodies import Polygon, RigidBody2D
 from fecontact.contact import Contact, Plane
+from fecontact.scenes import GRAVITY, IMPACT
 
 
-@case
+@case(IMPACT, GRAVITY)
 def build(
     length=Param.positive(1.0, "m", "length of the bar"),
     mass=Param.positive(1.0, "kg", "mass of the bar"),
-    restitution=Param.fraction(0.5, "Newton's coefficient of restitution e_N"),
-    gravity=Param.positive(9.81, "m/s^2", "acceleration of gravity, along -y"),
-):
+    restitution=0.5, gravity=9.81,
+):  # fmt: skip
     L = length
     # the bar is a line (I = mL²/12 about its centre); a thin diamond with a vertex at each
     # end gives it a contact point on its axis and an outline to draw

@@ -18,9 +18,10 @@ from fecontact import InputError, Model, Param, Probe, Simulation, case, run_cli
 from fecontact.bodies import Polygon, RigidBody2D
 from fecontact.bodies.rigid import rotation
 from fecontact.contact import Contact, Plane
+from fecontact.scenes import GRAVITY, IMPACT
 
 
-@case
+@case(IMPACT, GRAVITY)
 def build(
     width=Param.positive(0.2, "m", "box width"),
     height=Param.positive(0.4, "m", "box height"),
@@ -33,9 +34,9 @@ def build(
         np.pi / 2,
         (False, False),
     ),
-    restitution=Param.fraction(0.5, "Newton's coefficient of restitution e_N at the corners"),
-    friction=Param.nonnegative(0.0, "-", "Coulomb's coefficient mu at the corners"),
-    gravity=Param.nonnegative(9.81, "m/s^2", "acceleration of gravity, along -y"),
+    restitution=0.5,
+    friction=0.0,
+    gravity=9.81,
 ):
     # below atan(width/height) the centre of mass lies over the support: the box falls back
     if angle >= np.arctan2(width, height):

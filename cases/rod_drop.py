@@ -18,9 +18,10 @@ import numpy as np
 from fecontact import Model, Param, Simulation, case, node_probe, run_cli
 from fecontact.bodies import Beam3D, Material, Section
 from fecontact.contact import Contact, Plane
+from fecontact.scenes import IMPACT
 
 
-@case
+@case(IMPACT)
 def build(
     length=Param.positive(0.5, "m", "rod length"),
     radius=Param.positive(0.005, "m", "radius of the circular section"),
@@ -33,8 +34,8 @@ def build(
     drop_height=Param.nonnegative(0.002, "m", "initial gap between the lower end and the floor"),
     velocity=Param.nonnegative(1.0, "m/s", "initial downward speed"),
     yaw_rate=Param(0.0, "rad/s", "initial spin about the vertical through the rod's centre"),
-    restitution=Param.fraction(0.0, "Newton's coefficient of restitution e_N"),
-    friction=Param.nonnegative(0.0, "-", "Coulomb's coefficient mu on the floor"),
+    restitution=0.0,
+    friction=0.0,
 ):
     a, b = np.radians(angle), np.radians(azimuth)
     axis = np.array([np.cos(a) * np.cos(b), np.cos(a) * np.sin(b), np.sin(a)])

@@ -14,16 +14,17 @@ Probes: ``x`` (m) and ``vx`` (m/s) of the centre, ``omega`` (rad/s, counter-cloc
 from fecontact import Model, Param, Probe, Simulation, case, run_cli
 from fecontact.bodies import Disk, RigidBody2D
 from fecontact.contact import Contact, Plane
+from fecontact.scenes import GRAVITY, IMPACT
 
 
-@case
+@case(IMPACT, GRAVITY)
 def build(
     radius=Param.positive(0.1, "m", "disk radius"),
     mass=Param.positive(1.0, "kg", "disk mass (uniform)"),
     velocity=Param(2.0, "m/s", "initial speed of the centre along +x"),
     spin=Param(0.0, "rad/s", "initial angular velocity, counter-clockwise (backspin > 0)"),
-    friction=Param.nonnegative(0.3, "-", "Coulomb's coefficient mu"),
-    gravity=Param.nonnegative(9.81, "m/s^2", "acceleration of gravity, along -y"),
+    friction=0.3,
+    gravity=9.81,
 ):
     disk = RigidBody2D.uniform(mass, (0.0, radius), Disk(radius))
     floor = Plane([0.0, 0.0], [0.0, 1.0])

@@ -17,17 +17,18 @@ import numpy as np
 from fecontact import Model, Param, Probe, Simulation, case, run_cli
 from fecontact.bodies import Polygon, RigidBody2D
 from fecontact.contact import Contact, Plane
+from fecontact.scenes import GRAVITY, IMPACT
 
 
-@case
+@case(IMPACT, GRAVITY)
 def build(
     incline=Param(20.0, "deg", "slope of the plane, descending toward +x", 0.0, 80.0),
-    friction=Param.nonnegative(0.5, "-", "Coulomb's coefficient mu at the corners"),
+    friction=0.5,
     velocity=Param(0.0, "m/s", "initial speed along the slope, positive down the slope"),
     width=Param.positive(0.2, "m", "box width along the slope"),
     height=Param.positive(0.1, "m", "box height"),
     mass=Param.positive(1.0, "kg", "box mass (uniform density)"),
-    gravity=Param.nonnegative(9.81, "m/s^2", "acceleration of gravity, along -y"),
+    gravity=9.81,
 ):
     alpha = np.radians(incline)
     down = np.array([np.cos(alpha), -np.sin(alpha)])  # unit vector down the slope

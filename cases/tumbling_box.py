@@ -26,9 +26,10 @@ from fecontact import (
     run_cli,
 )
 from fecontact.rotations import exp
+from fecontact.scenes import GRAVITY, IMPACT
 
 
-@case
+@case(IMPACT, GRAVITY)  # gravity along -z
 def build(
     a=Param.positive(0.2, "m", "side along the body x axis"),
     b=Param.positive(0.15, "m", "side along the body y axis"),
@@ -37,11 +38,9 @@ def build(
     height=Param.positive(0.3, "m", "initial height of the centre"),
     velocity=Param(1.0, "m/s", "initial velocity of the centre along +x", -100.0, 100.0),
     spin=Param(8.0, "rad/s", "initial spin about the body axis (1, 2, 3)/|(1, 2, 3)|", -1e3, 1e3),
-    friction=Param.nonnegative(0.5, "-", "Coulomb's coefficient mu"),
-    restitution=Param.fraction(0.2, "Newton's coefficient of restitution e_N"),
-    gravity=Param.positive(9.81, "m/s^2", "acceleration of gravity, along -z"),
+    friction=0.5, restitution=0.2, gravity=9.81,
     t_end=Param.positive(3.0, "s", "end time"),
-):
+):  # fmt: skip
     box = RigidBody3D.uniform(mass, [0.0, 0.0, height], Box(a, b, c))
     floor = Plane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], extent=1.0)
     contact = Contact(box, floor, restitution=restitution, friction=friction)

@@ -27,11 +27,11 @@ import dataclasses
 
 import numpy as np
 
-from fecontact import Model, Param, Simulation, case, run_cli
+from fecontact import Model, Param, case, run_cli
 from fecontact.bodies import LinearElastic, Solid
 from fecontact.bodies.meshes import ball_mesh, graded_ball_mesh
 from fecontact.contact import Contact, Plane
-from fecontact.scenes import SOLID, centre_of_mass_probes, contact_force_probe, wave_step
+from fecontact.scenes import SOLID, centre_of_mass_probes, contact_force_probe, wave_simulation
 
 
 def _turned(mesh, angle_x: float):
@@ -96,15 +96,7 @@ def build(
     v0 = model.translation(left, (velocity, 0.0, 0.0))
     if against == "ball":
         v0 += model.translation(right, (-velocity, 0.0, 0.0))
-    return Simulation(
-        model,
-        dt=wave_step(left, 1.0, spacing_nodes),
-        t_end=t_end,
-        probes=probes,
-        output_interval=t_end / 20,
-        name="two_balls",
-        v0=v0,
-    )
+    return wave_simulation(model, left, "two_balls", t_end, probes, v0, spacing_nodes, frames=20)
 
 
 def _gap_probe():

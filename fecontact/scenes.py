@@ -14,6 +14,8 @@ __all__ = [
     "BAR",
     "DISK",
     "DROP",
+    "GRAVITY",
+    "IMPACT",
     "MATERIALS",
     "SOLID",
     "PENDULUM_STOP",
@@ -48,18 +50,25 @@ def wave_step(body, fraction: float, spacing: float | None = None) -> float:
 
 
 def wave_simulation(
-    model, body, name: str, t_end: float, probes: dict, v0, spacing: float | None = None
+    model,
+    body,
+    name: str,
+    t_end: float,
+    probes: dict,
+    v0,
+    spacing: float | None = None,
+    frames: int = 40,
 ) -> Simulation:
     """The ``Simulation`` of an elastic body's impact: ``name``, end time ``t_end`` (s), the
     initial velocity ``v0`` (one value a dof of the model, m/s) and ``probes``; the step is the
     time the dilatational wave of ``body`` takes to cross one node ``spacing`` (``wave_step``:
-    by default the body's shortest edge), and a frame is written every ``t_end`` / 40."""
+    by default the body's shortest edge), and ``frames`` frames are written over the run."""
     return Simulation(
         model,
         dt=wave_step(body, 1.0, spacing),
         t_end=t_end,
         probes=probes,
-        output_interval=t_end / 40,
+        output_interval=t_end / frames,
         name=name,
         v0=v0,
     )
@@ -182,13 +191,25 @@ STRIP = {
 """A straight metal strip (``Beam2D`` of rectangular section; parameter group of ``case``):
 aluminium by default."""
 
+IMPACT = {
+    "restitution": Param.fraction(0.0, "Newton's coefficient of restitution e_N"),
+    "friction": Param.nonnegative(0.0, "-", "Coulomb's coefficient mu"),
+}
+"""The laws of a contact: Newton's impact law and Coulomb's friction (parameter group of
+``case``)."""
+
+GRAVITY = {
+    "gravity": Param.nonnegative(9.81, "m/s^2", "acceleration of gravity, along -y (2D), -z (3D)")
+}
+"""The acceleration of gravity, along the vertical axis of the model's space (parameter group
+of ``case``)."""
+
 PENDULUM_STOP = {
     "tip_mass": Param.nonnegative(0.14, "kg", "point mass on the tip node"),
-    "restitution": Param.fraction(0.0, "Newton's coefficient of restitution e_N"),
-    "friction": Param.nonnegative(0.0, "-", "Coulomb's coefficient mu between tip and stop"),
-    "gravity": Param.nonnegative(9.81, "m/s^2", "acceleration of gravity, along -y"),
+    **IMPACT,
+    **GRAVITY,
 }
-"""The founding case's tip mass, stop and gravity (parameter group of ``case``)."""
+"""The founding case's tip mass, its stop's laws and gravity (parameter group of ``case``)."""
 
 DISK = {
     "radius": Param.positive(0.05, "m", "radius of the disk (of each disk)"),

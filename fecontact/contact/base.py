@@ -36,6 +36,15 @@ class PairDefaults:
     frictional = False  # True: tangents(q) gives the slip rows of Coulomb friction
     friction = 0.0  # Coulomb's μ of every contact of the pair (set by ``Contact``)
 
+    def bind(self, model) -> None:
+        """Place the pair in the global dof vector of ``model``: the offsets of its two
+        ``bodies``; what it kept of an earlier placement is forgotten (``reset``)."""
+        self.offsets = (model.offset_of(self.bodies[0]), model.offset_of(self.bodies[1]))
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget what the pair keeps between evaluations (a new placement)."""
+
     def gaps(self, q: np.ndarray) -> np.ndarray:
         """The gaps g_j(q) (m) alone; pairs with a cheaper path than ``evaluate`` override."""
         return self.evaluate(q)[0]

@@ -101,9 +101,7 @@ class PointBeamContact(PairDefaults):
     def size(self) -> int:
         return len(self.nodes)
 
-    def bind(self, model) -> None:
-        """Place the pair in the global dof vector of ``model``."""
-        self.offsets = (model.offset_of(self.body), model.offset_of(self.beam))
+    def reset(self) -> None:
         self._start = None
 
     def _coordinates(self, q: np.ndarray):

@@ -234,9 +234,7 @@ class NodeSurfaceContact(PairDefaults):
     def size(self) -> int:
         return len(self.nodes)
 
-    def bind(self, model) -> None:
-        """Place the pair in the global dof vector of ``model``."""
-        self.offsets = (model.offset_of(self.body), model.offset_of(self.master))
+    def reset(self) -> None:
         self._last = None
         self.search.reset()
 

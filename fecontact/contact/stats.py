@@ -10,18 +10,19 @@ __all__ = ["ContactStats", "CoulombStats", "FinalResiduals"]
 
 @dataclass
 class CoulombStats:
-    """Frictional contact solves (:func:`fecontact.contact.friction.solve_coulomb`): Newton
-    iterations, backtracking cuts of the merit |R|², updates taken in full after the
-    backtracking found no decrease (a kink of the nonsmooth residual), solves where Newton
-    alone did not converge and a nonsmooth Gauss–Seidel over the contacts brought it near the
-    solution first, and Newton steps taken as the minimum-norm solution on a singular
-    Jacobian (more closed rows than degrees of freedom: redundant contacts)."""
+    """Frictional contact solves (:func:`fecontact.contact.friction.solve_coulomb`) and
+    their fallbacks, each counted where it happens."""
 
     solves: int = 0
-    iterations: int = 0
-    line_search_cuts: int = 0
+    iterations: int = 0  # semi-smooth Newton iterations
+    line_search_cuts: int = 0  # backtracking cuts of the merit |R|²
+    # updates taken in full after the backtracking found no decrease (a kink of the residual)
     full_steps_forced: int = 0
+    # solves where Newton alone did not converge and a nonsmooth Gauss–Seidel over the
+    # contacts brought it near the solution first
     gauss_seidel_solves: int = 0
+    # Newton steps taken as the minimum-norm solution on a singular Jacobian (more closed
+    # rows than degrees of freedom: redundant contacts)
     minimum_norm_steps: int = 0
 
 

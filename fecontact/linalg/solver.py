@@ -27,17 +27,15 @@ class Factorizations:
 
 @dataclass
 class IterativeStats:
-    """Preconditioned CG work: solves (one per right-hand side), of which preconditioned by
-    the diagonal, CG iterations, AMG hierarchy setups, fallbacks to the direct factorization,
-    and wall time (s) of the setups and of all of it (setups included)."""
+    """Preconditioned CG work and its wall time."""
 
-    solves: int = 0
-    diagonal: int = 0
-    iterations: int = 0
-    setups: int = 0
-    fallbacks: int = 0
-    setup_seconds: float = 0.0
-    seconds: float = 0.0
+    solves: int = 0  # one per right-hand side
+    diagonal: int = 0  # of the solves, those preconditioned by the diagonal
+    iterations: int = 0  # CG iterations
+    setups: int = 0  # AMG hierarchies built
+    fallbacks: int = 0  # solves handed to the direct factorization
+    setup_seconds: float = 0.0  # wall time of the setups (s)
+    seconds: float = 0.0  # wall time of all of it, setups included (s)
 
 
 class LinearSolver:

@@ -89,7 +89,8 @@ def alpha_smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
     Gb = None if stale or joints is None else joints.Gb
     q, (_, v, vd, a) = step.q, step.X  # (on a group the first row of X is the increment D)
     force, force_t, work = _contact_forces(newton.rowed, model.contacts.size)
-    return SmoothStep(q, v, vd, a, newton.lam(), newton.metric(), it, Gb, force, force_t, work)
+    form = newton.form
+    return SmoothStep(q, v, vd, a, form.lam(), form.metric(), it, Gb, force, force_t, work)
 
 
 def _contact_forces(rowed, m: int):

@@ -1,11 +1,13 @@
 """Constraint rows shared by the steppers: contacts and joints as one set of rows, the bordered
-saddle-point matrix, and a factorization that reports a singular matrix as a failed step."""
+saddle-point matrix, a factorization that reports a singular matrix as a failed step, and
+Newton's impact law on the rows with the run's augmentation."""
 
 from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
 
+from ..contact import solve_velocity_jump
 from ..linalg import factorize
 
 __all__ = [
@@ -15,6 +17,7 @@ __all__ = [
     "bordered",
     "constraint_columns",
     "factorize_or_fail",
+    "impact_law",
     "plus_curvature",
 ]
 
@@ -39,6 +42,36 @@ def augmentation(scale: float, G, Y) -> np.ndarray:
             np.nan,
         )
     return scale / inverse_mass
+
+
+def impact_law(G, c, solve, Y, opts, bilateral=None, P0=None, tol: float = 0.0):
+    """Newton's impact law on the rows G in the metric H (``solve``: H⁻¹, ``Y`` = H⁻¹Gᵀ):
+    H W = Σ G_jᵀ P_j with 0 ≤ c_j + G_j W ⊥ P_j ≥ 0 (equalities on ``bilateral`` rows),
+    by the Alart–Curnier semi-smooth Newton of
+    :func:`fecontact.contact.solve_velocity_jump` with the run's augmentation and
+    multiplier scale k (``opts``), from the impulses ``P0`` (N·s; None: zero) to the
+    tolerance ``tol`` (m/s; 0: until the active set repeats). Returns W, P = kΛ (N·s) and
+    the iterations; an active set that does not settle fails the step."""
+    p = augmentation(opts.penalty_scale, G, Y)
+    k = opts.multiplier_scale
+    Lam0 = None if P0 is None else P0 / k
+    try:
+        W, Lam, its = solve_velocity_jump(
+            G,
+            c,
+            solve,
+            p,
+            k,
+            opts.max_iterations,
+            bilateral=bilateral,
+            Y=Y,
+            Lam0=Lam0,
+            tol=tol,
+            stats=opts.stats.contact,
+        )
+    except RuntimeError as err:
+        raise StepFailure(str(err), np.nan) from None
+    return W, k * Lam, its
 
 
 def factorize_or_fail(A, residual, symmetric=False, solver=None):

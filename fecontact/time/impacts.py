@@ -5,11 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..contact import solve_velocity_jump
 from ..contact.restitution import impulse_work
 from ..ledger_works import jump_work
 from ..linalg import factorize
-from .constraints import Constraints, StepFailure, augmentation, constraint_columns
+from .constraints import Constraints, StepFailure, constraint_columns, impact_law
 from .coulomb import frictional_jump
 from .poisson import poisson_jump
 
@@ -93,27 +92,10 @@ def velocity_jump(
         works = jump_work(model, q, v, W, closed, G1, rates, lam, lam_t)
         return W, lam_n, its, (lam_t, status, work), works
     Y = constraint_columns(model, ("mass",), closed, G1, model.solve_M, cons, constant=True)
-    p = augmentation(opts.penalty_scale, G1, Y)
-    k = opts.multiplier_scale
-    try:
-        Lam0 = np.r_[st.impulse[closed] / k, np.zeros(model.joints.size)]
-        W, Lam, its = solve_velocity_jump(
-            G1,
-            gdot,
-            model.solve_M,
-            p,
-            k,
-            opts.max_iterations,
-            bilateral=cons.bilateral,
-            Y=Y,
-            Lam0=Lam0,
-            tol=tol,
-            stats=opts.stats.contact,
-        )
-    except RuntimeError as err:
-        raise StepFailure(str(err), np.nan) from None
-    works = impulse_work(k * Lam, rates, rates + G1 @ W, closed.size, 0)
-    return W, k * Lam, its, None, works
+    P0 = np.r_[st.impulse[closed], np.zeros(model.joints.size)]  # the last step's: warm start
+    W, P, its = impact_law(G1, gdot, model.solve_M, Y, opts, cons.bilateral, P0, tol)
+    works = impulse_work(P, rates, rates + G1 @ W, closed.size, 0)
+    return W, P, its, None, works
 
 
 def _approach_rates(model, st, q, t, rows, opts, tol_gap, approach) -> np.ndarray:

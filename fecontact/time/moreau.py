@@ -48,13 +48,12 @@ from typing import NamedTuple
 import numpy as np
 import scipy.sparse as sp
 
-from ..contact import solve_velocity_jump
 from ..contact.restitution import friction_dissipation
 from .constraints import (
     Constraints,
     StepFailure,
-    augmentation,
     factorize_or_fail,
+    impact_law,
     plus_curvature,
 )
 from .coulomb import frictional_jump
@@ -63,9 +62,9 @@ from .poisson import poisson_jump
 from .records import FrictionRecord
 from .settings import run_settings
 from .state import IntegratorOptions, PhaseTimer, State, length_scale
-from .terms import Damping, Elastic, ExternalLoad
+from .terms import Damping, Elastic, ExternalLoad, StepContext
 
-__all__ = ["MoreauNewton", "moreau_plan", "moreau_step"]
+__all__ = ["ImpactRows", "VelocityForm", "moreau_plan", "moreau_step"]
 
 
 def moreau_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseTimer) -> State:
@@ -89,10 +88,14 @@ def moreau_step(model, st: State, h: float, opts: IntegratorOptions, timer: Phas
     timer.add("contact", clock)
     friction = model.contacts.frictional and index_set.size
     slip = (index_set, opts.tol_gap * length_scale(model, st.q) / h) if friction else None
-    newton = MoreauNewton(opts.plan, model, st, h, theta, rows, opts, timer, slip)
+    ht = h * theta
+    c = MoreauRates(h, ht, ht, 1.0 / (ht * ht))
+    law = ImpactRows(rows, slip)
+    newton = SmoothNewton(opts.plan, model, st, st.t + h, c, opts, timer, law=law)
     it, _ = newton.run()
-    v, P, f, tangential = newton.v, newton.P, newton.f, newton.tangential
-    its = (it, newton.lcp)
+    form = newton.form
+    v, P, f, tangential = form.v, form.P, form.f, form.tangential
+    its = (it, form.lcp)
     q, vfull, vd = st.q.copy(), np.zeros(model.n), np.zeros(model.n)
     v_theta = (1.0 - theta) * st.v[F] + theta * v
     q[F] += h * v_theta
@@ -104,7 +107,7 @@ def moreau_step(model, st: State, h: float, opts: IntegratorOptions, timer: Phas
         P_t, status, GT = tangential
         record.impulse[index_set] = P_t
         record.status[index_set] = status
-        record.work += _friction_work(model, newton, index_set, v, slip[1])
+        record.work += _friction_work(model, form, index_set, v, slip[1])
     vd[F] = model.solve_M(f)
     impulse = np.zeros(m)
     impulse[index_set] = P[: index_set.size]
@@ -129,7 +132,7 @@ def moreau_step(model, st: State, h: float, opts: IntegratorOptions, timer: Phas
     )
 
 
-def _friction_work(model, newton, closed, v, tol: float) -> float:
+def _friction_work(model, form, closed, v, tol: float) -> float:
     """The energy (J) the step's tangential impulses P_T take, read against the slip rates
     at the step's start and end, G_T v_n and G_T v_{n+1} (relative to moving obstacles,
     G_T at q_{n+1}), through :func:`fecontact.contact.restitution.friction_dissipation` in
@@ -139,24 +142,24 @@ def _friction_work(model, newton, closed, v, tol: float) -> float:
     the step it is not the impulse times that slip, which counts the reaction of a contact
     that sticks, along the slip before the step, as positive work. ``tol``: the slip rate
     (m/s) below which a contact sticks, as Coulomb's law's."""
-    P_t, status, GT = newton.tangential
+    P_t, status, GT = form.tangential
     nc, nt = closed.size, GT.shape[1]
-    G = newton.G.toarray() if sp.issparse(newton.G) else np.asarray(newton.G)
+    G = form.G.toarray() if sp.issparse(form.G) else np.asarray(form.G)
     A = np.concatenate([np.concatenate([G[:nc, None], GT], axis=1).reshape(-1, G.shape[1]),
                         G[nc:]])  # fmt: skip
-    D = A @ newton.solve(A.T).reshape(G.shape[1], -1)
+    D = A @ form.solve(A.T).reshape(G.shape[1], -1)
     speed = model.contacts.obstacle_motion(closed, velocity=True)
     drag = 0.0  # the obstacle's tangential velocity (m/s), (nc, nt)
     if speed is not None:
-        T = model.contacts.tangent_jacobian(newton.step.X[0], closed)[1]
+        T = model.contacts.tangent_jacobian(form.step.X[0], closed)[1]
         drag = np.einsum("mtd,md->mt", T, speed)
-    w0, w = (_block_rates(G, GT, u, drag) for u in (newton.vn, v))
+    w0, w = (_block_rates(G, GT, u, drag) for u in (form.vn, v))
     # a contact the law holds stuck ends the step stuck: the slip it keeps is the law's
     # solver tolerance, which may lie a little above the stick threshold ``tol``
     stuck = np.flatnonzero(status == 1)
     for k in range(nt):
         w[stuck * (1 + nt) + 1 + k] = 0.0
-    P = newton.P
+    P = form.P
     x = np.concatenate([np.column_stack([P[:nc], P_t]).ravel(), P[nc:]])
     return friction_dissipation(x, w0, w, D, model.contacts.friction[closed], nt, tol)
 
@@ -209,48 +212,63 @@ def moreau_plan(model, smooth: bool = False, friction: bool = False, extra=()) -
     terms = [elastic, ExternalLoad(model)]
     if any(model.damping):
         terms.append(Damping(model, elastic, constant=False))
-    return NewtonPlan((*terms, *extra), False, False, False, False, "Moreau–Jean step")
-
-
-class MoreauNewton(SmoothNewton):
-    """Newton on R(v) − G(q(v))ᵀP − G_T(q(v))ᵀP_T = 0, R(v) = M(v − v_n) − h[(1 − θ) f_n +
-    θ f(q(v), v)], f = f_ext − Σ_k f_k over the plan's force terms, with the impact law on
-    ``rows``: the shared loop (:class:`~fecontact.time.newton.SmoothNewton`) with its own
-    unknown (v_{n+1}, predictor v_n), residual, update and test. With ``slip`` = (the
-    contacts of ``rows``, the Coulomb tolerance in m/s), Coulomb's law on their slip rates
-    G_T v. Without stiffness (K_t = 0: rigid bodies) and with constant G the residual is
-    linear in v and one iteration is exact."""
-
-    __slots__ = (
-        "G GP P R damping f ff_t h hf_n ht lcp q0 rows size slip solve tangential v vn".split()
+    return NewtonPlan(
+        (*terms, *extra), False, False, False, False, "Moreau–Jean step", form=VelocityForm
     )
 
-    def __init__(self, plan, model, st, h, theta, rows, opts, timer, slip=None):
-        F, ht = model.free, h * theta
-        self.h, self.ht, self.rows, self.slip = h, ht, rows, slip
+
+class ImpactRows(NamedTuple):
+    """What Moreau–Jean's form needs of a step besides its state: the impact law's ``rows``
+    (Constraints of the index set and the joints, e ġ⁻, e, ġ⁻; None without any) and, with
+    friction, ``slip`` = (the contacts of the rows, the Coulomb tolerance in m/s)."""
+
+    rows: tuple | None
+    slip: tuple | None
+
+
+class VelocityForm:
+    """Moreau–Jean's form of the shared Newton loop ``newton``
+    (:class:`~fecontact.time.newton.SmoothNewton`): Newton on R(v) − G(q(v))ᵀP −
+    G_T(q(v))ᵀP_T = 0, R(v) = M(v − v_n) − h[(1 − θ) f_n + θ f(q(v), v)], f = f_ext − Σ_k
+    f_k over the plan's force terms, for the unknown v = v_{n+1} from the predictor v_n
+    (``st``), with q = q_n + h(1 − θ)v_n + hθ v (the rates ``c``, :class:`MoreauRates`) and
+    the impact law on the rows of ``law`` (:class:`ImpactRows`) inside each update; with its
+    ``slip``, Coulomb's law on their slip rates G_T v. Without stiffness (K_t = 0: rigid
+    bodies) and with constant G the residual is linear in v and one iteration is exact."""
+
+    __slots__ = (
+        "G GP P R f ff_t h hf_n ht lcp model newton opts q0 ref rnorm rows size slip solve st "
+        "step tangential v vn"
+    ).split()
+
+    def __init__(self, newton, st, c, t: float, P, law: ImpactRows):
+        model = newton.model
+        F, h, ht = model.free, c.h, c.ht
+        self.newton, self.model, self.opts, self.st = newton, model, newton.opts, st
+        self.h, self.ht, (self.rows, self.slip) = h, ht, law
         self.vn = st.v[F]
         self.hf_n = (h - ht) * (model.M @ st.vd[F])  # st.vd = M⁻¹ f_n
         self.q0 = st.q[F] + (h - ht) * self.vn
-        X = np.zeros((4, model.n))
-        X[0], X[1] = st.q, st.v  # predictor: v_n
-        c = MoreauRates(h, ht, ht, 1.0 / (ht * ht))
-        super().__init__(plan, model, st, st.t + h, c, opts, timer, None, X)
-        nr = len(rows[0].bilateral) if rows else 0
+        nr = len(self.rows[0].bilateral) if self.rows else 0
         self.v, self.P, self.GP, self.G = self.vn.copy(), np.zeros(nr), 0.0, None
         self.tangential, self.ff_t, self.size, self.lcp = None, 0.0, math.inf, 0
-        self.solve = None  # Ŵ⁻¹ of the last update
-        self.damping = next((term for term in self.terms if isinstance(term, Damping)), None)
+        self.solve = self.f = self.R = None  # (solve: Ŵ⁻¹ of the last update)
+        self.rnorm, self.ref = math.inf, 1.0
+        # the step's context at the predictor v_n (no persistent contacts: ``P`` unused)
+        X = np.zeros((4, model.n))
+        X[0], X[1] = st.q, st.v
+        self.step = StepContext(model, c, t, st, self.opts, None, X)
 
     def residual(self, it: int) -> bool:
         """r at v (q = q_n + h(1 − θ)v_n + hθ v); whether it has converged: the residual or
         the last update below tolerance, with rows not before the law was solved once."""
-        model, F, X, rows = self.model, self.model.free, self.step.X, self.rows
+        newton, model, F, X, rows = self.newton, self.model, self.model.free, self.step.X, self.rows
         X[0, F] = self.q0 + self.ht * self.v
         X[1, F] = self.v
-        self.evaluate(it)
+        newton.evaluate(it)
         # f = f_ext − f_int − C v = −Σ_k f_k: the sum starts from −0 (−0 + x = x exactly)
         # and 0 − s negates it exactly, zeros included, as the direct sum would round
-        self.f = f = 0.0 - self.forces(np.full(self.v.size, -0.0))
+        self.f = f = 0.0 - newton.forces(np.full(self.v.size, -0.0))
         Mdv = model.M @ (self.v - self.vn)
         self.R = R = Mdv - self.hf_n - self.ht * f
         nr = self.P.size
@@ -261,29 +279,30 @@ class MoreauNewton(SmoothNewton):
                 model, X[0], self.G, self.P, self.tangential, self.slip
             )
         r = R - self.GP - self.ff_t
-        self.clock = self.timer.add("assembly", self.clock)
+        newton.clock = newton.timer.add("assembly", newton.clock)
         self.rnorm, self.ref = _norms(r, (Mdv, self.hf_n, self.h, f), self.GP if nr else None)
         return _converged(it, nr, self.rnorm, self.ref, self.size, self.opts)
 
     def update(self) -> bool:
         """v ← v − Ŵ⁻¹R, then the impact law from there; whether one iteration was exact."""
-        model, rows, q = self.model, self.rows, self.step.X[0]
-        What = self.tangent()
+        newton, model, rows, q = self.newton, self.model, self.rows, self.step.X[0]
+        What = newton.tangent()
         if rows and not rows[0].linear and np.any(self.P):
             What = plus_curvature(What, -self.ht, rows[0].curvature(q, self.P))
         self.solve = solve = factorize_or_fail(What, self.rnorm / self.ref, True, model.solver)
         v_new = self.v - solve(self.R)
-        self.clock = self.timer.add("solve", self.clock)
+        newton.clock = newton.timer.add("solve", newton.clock)
         if self.P.size:
-            law = _contact_law(model, self.step.st, q, v_new, self.G, rows, solve, self.opts,
+            law = _contact_law(model, self.st, q, v_new, self.G, rows, solve, self.opts,
                                self.slip, self.h)  # fmt: skip
             W, self.P, n, self.tangential = law
             v_new += W
             self.lcp += n
-            self.clock = self.timer.add("contact", self.clock)
-        if _exact(model, rows, self.elastic.K, self.slip):
-            if self.damping is not None:  # (f at v_{n+1})
-                self.f = _minus_damping(self.f, self.damping.Ct, v_new - self.v)
+            newton.clock = newton.timer.add("contact", newton.clock)
+        if _exact(model, rows, newton.elastic.K, self.slip):
+            damping = next((term for term in newton.terms if isinstance(term, Damping)), None)
+            if damping is not None:  # (f at v_{n+1})
+                self.f = _minus_damping(self.f, damping.Ct, v_new - self.v)
             self.v = v_new
             return True
         self.size = model.update_size(self.ht * (v_new - self.v))
@@ -341,7 +360,8 @@ def _contact_law(model, st, q, v_free, G, rows, solve, opts, slip, h):
         return _poisson_law(model, st, q, v_free, G, rows, solve, opts, h)
     if slip is not None:
         return _coulomb_law(model, st, q, v_free, G, rows, solve, opts, slip)
-    W, P, n = _impact_law(G, G @ v_free + rows[1], solve, rows[0].bilateral, opts)
+    Y = solve(G.T).reshape(G.shape[1], -1)  # Ŵ⁻¹Gᵀ
+    W, P, n = impact_law(G, G @ v_free + rows[1], solve, Y, opts, rows[0].bilateral)
     return W, P, n, None
 
 
@@ -383,20 +403,6 @@ def _turning(model, slip) -> bool:
 
 def _is_zero(K) -> bool:
     return not (K.data.any() if sp.issparse(K) else K.any())
-
-
-def _impact_law(G, c, solve, bilateral, opts):
-    """Ŵ W = Σ G_jᵀ P_j with 0 ≤ c_j + G_j W ⊥ P_j ≥ 0 (equalities on ``bilateral`` rows),
-    through the Alart–Curnier semi-smooth Newton; returns W, P = kΛ and its iterations."""
-    p = augmentation(opts.penalty_scale, G, solve(G.T).reshape(G.shape[1], -1))
-    k = opts.multiplier_scale
-    try:
-        W, Lam, its = solve_velocity_jump(
-            G, c, solve, p, k, opts.max_iterations, bilateral=bilateral, stats=opts.stats.contact
-        )
-    except RuntimeError as err:
-        raise StepFailure(str(err), np.nan) from None
-    return W, k * Lam, its
 
 
 # -- penalty contact in the smooth generalized-α step -------------------------------------------

@@ -1,23 +1,36 @@
-r"""The Newton loop of the smooth generalized-α step, shared by every stepper that solves one.
+r"""The Newton loop every stepper solves its step with, over the force terms of its run.
 
-It solves r(X) = M v̇ + Σ_k f_k(q, v, t) = 0 over the force terms f_k of a run
-(:mod:`.terms`), with the rows of the terms that have multipliers (joints, persistent
-contacts) as constraints, for the iterate X = (q, v, v̇, a) of one step: Newton moves q by dq
-and (v, v̇, a) by (γ′, β′, ∂a/∂q) dq. Each update solves
+The loop evaluates the force terms f_k(q, v, t) of a run (:mod:`.terms`) at an iterate,
+sums their forces and tangents, and iterates a residual to convergence. What it iterates is
+its *form*, decided once per run in the :class:`NewtonPlan`: the unknown, the residual, the
+update and the test.
 
-    S_t dq = −r,   S_t = β′M + Σ_k (∂f_k/∂q + γ′ ∂f_k/∂v),
+- :class:`AccelerationForm`, the generalized-α step (the NSGA's smooth step, penalty): it
+  solves r(X) = M v̇ + Σ_k f_k(q, v, t) = 0, with the rows of the terms that have
+  multipliers (joints, persistent contacts) as constraints, for the iterate X = (q, v, v̇, a)
+  of one step: Newton moves q by dq and (v, v̇, a) by (γ′, β′, ∂a/∂q) dq. Each update solves
 
-with S_t alone, with S_t's own factors and the Schur complement of one term's rows, or
-bordered by every touching term's rows. What changes between steppers is a
-:class:`NewtonPlan`, decided once per run: the terms, whether a linear model's S_t and its
-factors are reused (no term brings a tangent of its own), and the globalization: the energy
-descent of :mod:`.descent` (the NSGA's smooth step), or the halving of an update that does
-not lower the residual (the penalty scheme).
+      S_t dq = −r,   S_t = β′M + Σ_k (∂f_k/∂q + γ′ ∂f_k/∂v),
 
-The loop converges when |r| ≤ tol_residual · max(|f_ext|, |f_int|, |M v̇|) and every term's
-own test holds at the iterate, or when an update is below the increment tolerance and every
-constrained term's test holds after it (or, in a linear model with nonlinear joints, by the
-joints' remainder bound).
+  with S_t alone, with S_t's own factors and the Schur complement of one term's rows, or
+  bordered by every touching term's rows. The plan decides whether a linear model's S_t and
+  its factors are reused (no term brings a tangent of its own), and the globalization: the
+  energy descent of :mod:`.descent` (the NSGA's smooth step), or the halving of an update
+  that does not lower the residual (penalty). It converges when
+  |r| ≤ tol_residual · max(|f_ext|, |f_int|, |M v̇|) and every term's own test holds at the
+  iterate, or when an update is below the increment tolerance and every constrained term's
+  test holds after it (or, in a linear model with nonlinear joints, by the joints' remainder
+  bound).
+- Moreau–Jean's velocity form (:class:`fecontact.time.moreau.VelocityForm`): the unknown
+  v_{n+1}, with the impact law inside each update.
+
+A form is a class the loop builds for each step as ``form(newton, st, c, t, P, law)`` (the
+step from the state ``st`` with the coefficients ``c`` to the time ``t``, the persistent
+contacts ``P``; ``law``: what the form needs of the step besides, None for the acceleration
+form). It holds ``step``, the step's :class:`StepContext` at the predictor, and gives
+``residual(it)``, whether the iterate has converged, leaving ``rnorm`` and its
+reference ``ref``; ``update()``, whether the update ended the iteration; and, where the plan
+halves updates, ``halves()``.
 """
 
 from __future__ import annotations
@@ -34,7 +47,7 @@ from .generalized_alpha import predict
 from .lie import LieStep, predict_increment
 from .terms import ExternalLoad, ForceTerm, Gyroscopic, Joints, StepContext
 
-__all__ = ["NewtonPlan", "SmoothNewton"]
+__all__ = ["AccelerationForm", "NewtonPlan", "SmoothNewton"]
 
 
 class Roles(NamedTuple):
@@ -74,17 +87,18 @@ def roles(terms) -> Roles:
 
 
 class NewtonPlan:
-    """The smooth Newton loop of a run, decided once: its ``terms`` (the elastic one first),
-    ``reuse``: S_t and its factors come from the linear model's cache, ``descent``: plain
-    updates of a nonlinear model are globalized in energy (:mod:`.descent`), ``halving``:
-    an update that does not lower the residual is halved (up to six times), ``bound``: the
-    joints' remainder bound may end the iteration, and the ``name`` failures carry.
-    ``group``: the positions live on a Lie group (rotation vectors in space, :mod:`.lie`):
-    the iterate's first row is the increment D and q = q_n ⊕ D.
+    """The Newton loop of a run, decided once: its ``terms`` (the elastic one first), its
+    ``form`` (what it iterates: :class:`AccelerationForm` or another class with its
+    methods), ``reuse``: S_t and its factors come from the linear model's cache,
+    ``descent``: plain updates of a nonlinear model are globalized in energy
+    (:mod:`.descent`), ``halving``: an update that does not lower the residual is halved (up
+    to six times), ``bound``: the joints' remainder bound may end the iteration, and the
+    ``name`` failures carry. ``group``: the positions live on a Lie group (rotation vectors
+    in space, :mod:`.lie`): the iterate's first row is the increment D and q = q_n ⊕ D.
     ``roles``: the terms' :class:`Roles`, when every term acts in every step as itself (no
     ``per_step`` term), else None (sorted per step)."""
 
-    __slots__ = ("terms", "reuse", "descent", "halving", "bound", "name", "group", "roles")
+    __slots__ = ("terms", "reuse", "descent", "halving", "bound", "name", "group", "roles", "form")
 
     def __init__(
         self,
@@ -95,35 +109,34 @@ class NewtonPlan:
         bound: bool,
         name: str,
         group: bool = False,
+        form: type | None = None,
     ):
         self.terms: tuple[ForceTerm, ...] = tuple(terms)
         self.reuse, self.descent, self.halving, self.bound = reuse, descent, halving, bound
         self.name, self.group = name, group
+        self.form = AccelerationForm if form is None else form
         fixed = not any(term.per_step for term in self.terms)
         self.roles = roles(self.terms) if fixed else None
 
 
 class SmoothNewton:
-    """Newton's iteration of one step from the predictor of ``st`` with the coefficients
-    ``c`` to the time ``t`` (s), over the terms of ``plan`` as they act in the step (``P``:
-    the persistent contacts). ``run()`` iterates; then ``step`` holds the iterate."""
+    """Newton's iteration of one step from ``st`` with the coefficients ``c`` to the time
+    ``t`` (s), over the terms of ``plan`` as they act in the step (``P``: the persistent
+    contacts), in the plan's form (built with the step's ``law``: what the form needs of the
+    step besides its state, None for the acceleration form). ``run()`` iterates; then
+    ``step`` holds the iterate and ``form`` what the form found."""
 
     __slots__ = (
-        "S armijo checked clock dq elastic evaluated gyroscopic joints lie load model name opts "
-        "plain plan "
-        "previous r ref rnorm rowed s scaled small solve step terms timer x"
+        "checked clock elastic evaluated form gyroscopic joints load model name opts plan rowed "
+        "scaled "
+        "step terms timer"
     ).split()
 
-    def __init__(self, plan: NewtonPlan, model, st, t, c, opts, timer, P=None, X=None):
+    def __init__(self, plan: NewtonPlan, model, st, t, c, opts, timer, P=None, law=None):
         self.model, self.opts, self.timer, self.name = model, opts, timer, plan.name
         self.plan = plan
-        # on a Lie group the first row of X is the increment D, and q = q_n ⊕ D (:mod:`.lie`)
-        self.lie = LieStep(model, st.q) if plan.group else None
-        if X is None:
-            X = predict_increment(st, c) if plan.group else predict(st, c)
-        self.step = step = StepContext(model, c, t, st, opts, P, X)
-        if plan.group:
-            step.q = self.lie.configuration(X[0])
+        self.form = form = plan.form(self, st, c, t, P, law)
+        self.step = step = form.step
         if plan.roles is None:
             begun = (term.begin(step) for term in plan.terms)
             sorted_ = roles(term for term in begun if term is not None)
@@ -134,61 +147,31 @@ class SmoothNewton:
         self.terms, self.evaluated, self.scaled, self.rowed, self.checked = sorted_[:5]
         self.joints, self.load, self.gyroscopic = sorted_.joints, sorted_.load, sorted_.gyroscopic
         self.elastic = self.terms[0]
-        self.S = self.solve = self.armijo = self.x = self.dq = self.small = None
-        self.plain = True  # every solve was with S_t alone: S_t's solver is a metric
-        self.previous, self.s = math.inf, 1.0
         self.clock = time.perf_counter()
 
     def run(self) -> tuple[int, bool]:
-        """Iterate to convergence: (the iterations, whether the last update moved q after
-        the terms were evaluated). Raises StepFailure where it does not converge."""
-        top = self.opts.max_iterations
+        """Iterate to convergence: (the iterations, whether the last update moved the
+        iterate after the terms were evaluated). Raises StepFailure where it does not
+        converge."""
+        top, form = self.opts.max_iterations, self.form
         for it in range(top + 1):
-            if self.residual(it):
+            if form.residual(it):
                 return it, False
             if it == top:
-                raise StepFailure(self.name, self.rnorm / self.ref)
-            if self.plan.halving and self._halves():
+                raise StepFailure(self.name, form.rnorm / form.ref)
+            if self.plan.halving and form.halves():
                 continue
-            if self.update():
+            if form.update():
                 return it + 1, True
         raise AssertionError("unreachable")
 
-    def residual(self, it: int) -> bool:
-        """The residual r at the iterate, after the Armijo test of the last full update
-        (decided by the strain energy at its end); whether the iterate has converged."""
-        step = self.step
-        self.evaluate(it)
-        Mvd = self.model.M @ step.vd[self.model.free_slice]
-        r = Mvd
-        for term in self.terms:
-            r = term.residual(r)
-        self.r = r
-        ref = max(Mvd @ Mvd, 1e-300)
-        for term in self.scaled:
-            x = term.reference()
-            if x > ref:
-                ref = x
-        self.ref = math.sqrt(ref)
-        self.rnorm = rnorm = math.sqrt(r @ r)
-        self.clock = self.timer.add("assembly", self.clock)
-        if not math.isfinite(rnorm):
-            fi = self.elastic.fi
-            why = "" if np.all(np.isfinite(fi)) else ": an element inverts (det F <= 0)"
-            raise StepFailure(self.name + " diverged" + why, rnorm)
-        if rnorm > self.opts.tol_residual * self.ref:
-            return False
-        for term in self.checked:
-            if not term.converged(step):
-                return False
-        return True
-
-    def evaluate(self, it: int) -> None:
-        """Every term at the iterate (the elastic one first), each timed in its phase."""
+    def evaluate(self, it: int, check=None) -> None:
+        """Every term at the iterate (the elastic one first, then ``check(it)`` where given),
+        each timed in its phase."""
         step, timer, elastic = self.step, self.timer, self.elastic
         elastic.evaluate(step, it)
-        if self.armijo is not None:
-            self._armijo(it)
+        if check is not None:
+            check(it)
         for term in self.evaluated:
             if term.phase == "assembly":
                 term.evaluate(step, it)
@@ -210,11 +193,65 @@ class SmoothNewton:
             S = term.tangent(S)
         return S
 
+
+class AccelerationForm:
+    """The generalized-α form of the loop ``newton`` (module docstring): the unknown q_{n+1}
+    (on a Lie group the increment D, q = q_n ⊕ D), with (v, v̇, a) following at the rates
+    of the coefficients ``c``; the predictor from ``st``; the residual r = M v̇ + Σ_k f_k;
+    updates from S_t, alone, through a Schur complement or bordered by the terms' rows.
+    ``law``: unused (the step needs nothing else)."""
+
+    # what a step holds before its first update (an instance sets its own as they change:
+    # class defaults keep the per-step construction to the few that differ)
+    S = solve = armijo = x = dq = small = r = None
+    plain = True  # every solve was with S_t alone: S_t's solver is a metric
+    previous, s = math.inf, 1.0
+    rnorm, ref = math.inf, 1.0
+
+    def __init__(self, newton: SmoothNewton, st, c, t: float, P, law=None):
+        model, opts, plan = newton.model, newton.opts, newton.plan
+        self.newton, self.model, self.opts, self.plan = newton, model, opts, plan
+        # on a Lie group the first row of X is the increment D, and q = q_n ⊕ D (:mod:`.lie`)
+        lie = self.lie = LieStep(model, st.q) if plan.group else None
+        X = predict(st, c) if lie is None else predict_increment(st, c)
+        self.step = step = StepContext(model, c, t, st, opts, P, X)
+        if lie is not None:
+            step.q = lie.configuration(X[0])
+
+    def residual(self, it: int) -> bool:
+        """The residual r at the iterate, after the Armijo test of the last full update
+        (decided by the strain energy at its end); whether the iterate has converged."""
+        newton, step = self.newton, self.step
+        newton.evaluate(it, None if self.armijo is None else self._armijo)
+        Mvd = self.model.M @ step.vd[self.model.free_slice]
+        r = Mvd
+        for term in newton.terms:
+            r = term.residual(r)
+        self.r = r
+        ref = max(Mvd @ Mvd, 1e-300)
+        for term in newton.scaled:
+            x = term.reference()
+            if x > ref:
+                ref = x
+        self.ref = math.sqrt(ref)
+        self.rnorm = rnorm = math.sqrt(r @ r)
+        newton.clock = newton.timer.add("assembly", newton.clock)
+        if not math.isfinite(rnorm):
+            fi = newton.elastic.fi
+            why = "" if np.all(np.isfinite(fi)) else ": an element inverts (det F <= 0)"
+            raise StepFailure(newton.name + " diverged" + why, rnorm)
+        if rnorm > self.opts.tol_residual * self.ref:
+            return False
+        for term in newton.checked:
+            if not term.converged(step):
+                return False
+        return True
+
     def _armijo(self, it: int) -> None:
         """The Armijo test of the last full update, by the strain energy the elastic term
         found at its end; where it fails, the update is cut back and the term evaluated
         again."""
-        step, elastic = self.step, self.elastic
+        step, elastic = self.step, self.newton.elastic
         armijo, self.armijo = self.armijo, None
         if not armijo.accepts(elastic.W):
             s = armijo.backtrack(self.model, self.opts.stats.newton)
@@ -224,10 +261,11 @@ class SmoothNewton:
 
     def update(self) -> bool:
         """One Newton update of the iterate; whether it has converged with it."""
-        step = self.step
+        step, newton = self.step, self.newton
+        rowed = newton.rowed
         self.small = None  # (whether dq is below the increment tolerance, where known)
         self._matrix()
-        touching = [term for term in self.rowed if term.touching()] if self.rowed else None
+        touching = [term for term in rowed if term.touching()] if rowed else None
         if not touching:
             dq = self._plain_update()
         elif (
@@ -241,9 +279,9 @@ class SmoothNewton:
         step.X[:, self.model.free_slice] += np.multiply.outer(step.c.w, dq)  # q, v, v̇, a
         if self.lie is not None:  # (D, v, v̇, a): the positions q_n ⊕ D
             step.q = self.lie.configuration(step.X[0])
-        self.clock = self.timer.add("solve", self.clock)
+        newton.clock = newton.timer.add("solve", newton.clock)
         self.dq = dq
-        if not self.rowed:
+        if not rowed:
             if self.small is not None:
                 return self.small
             return self.model.update_size(dq) <= self.opts.tol_increment
@@ -255,9 +293,9 @@ class SmoothNewton:
             c = self.step.c
             self.S, self.solve, _ = self.model.iteration_matrix(c.bp, c.gp)
             return
-        self.S = self.tangent()
+        self.S = self.newton.tangent()
         if self.lie is not None:  # the stiffness moves with D through T(D)
-            self.S = self.lie.iteration_matrix(self.S, self.elastic.K)
+            self.S = self.lie.iteration_matrix(self.S, self.newton.elastic.K)
 
     def _factors(self):
         """S_t's solver (factorized here unless reused)."""
@@ -304,7 +342,7 @@ class SmoothNewton:
         solve = self._factors()
         if plan.reuse or not plan.descent:  # (linear: Π is quadratic, S_t positive definite)
             return -solve(r)
-        elastic, opts, res = self.elastic, self.opts, self.rnorm / self.ref
+        elastic, opts, res = self.newton.elastic, self.opts, self.rnorm / self.ref
         newton = (opts.tol_increment, res, opts.stats.newton, model.solver)
         shift, shifts = self.step.c.bp * model.M, opts.stats.newton.shifted_directions
         dq, *test = descent_direction(
@@ -321,26 +359,27 @@ class SmoothNewton:
     def _settled(self, dq) -> bool:
         """Whether the update ``dq`` ended the iteration: by the joints' remainder bound, or
         below the increment tolerance with every constrained term's test holding."""
-        step, joints = self.step, self.joints
-        if self.plan.bound and len(self.rowed) == 1 and joints is not None:
-            ff = 0.0 if self.load is None else self.load.ff
+        step, newton = self.step, self.newton
+        joints, rowed = newton.joints, newton.rowed
+        if self.plan.bound and len(rowed) == 1 and joints is not None:
+            ff = 0.0 if newton.load is None else newton.load.ff
             # (on a group: the gyroscopic forces' own remainder, exact, once the gaps pass)
-            gyro = self.gyroscopic
+            gyro = newton.gyroscopic
             extra = None if gyro is None else (lambda: gyro.remainder(step, dq))
             if joints.bound(step, dq, self.x[self.model.n_free :], ff, extra):
                 return True
         return self.model.update_size(dq) <= self.opts.tol_increment and all(
-            term.settled(step) for term in self.rowed
+            term.settled(step) for term in rowed
         )
 
-    def _halves(self) -> bool:
+    def halves(self) -> bool:
         """Halve the last update where it did not lower the residual (up to six times);
         whether it did."""
         if self.dq is not None and self.rnorm >= self.previous and self.s > 1.0 / 64.0:
             self.s *= 0.5
             step = self.step
             step.X[:, self.model.free_slice] += np.multiply.outer(step.c.w, -self.s * self.dq)
-            for term in self.rowed:
+            for term in self.newton.rowed:
                 term.retreat(self.s)
             return True
         self.previous, self.s = self.rnorm, 1.0
@@ -348,11 +387,12 @@ class SmoothNewton:
 
     def lam(self) -> np.ndarray:
         """The joints' multipliers λ_b (N)."""
-        return self.step.st.lam.copy() if self.joints is None else self.joints.lam
+        joints = self.newton.joints
+        return self.step.st.lam.copy() if joints is None else joints.lam
 
     def metric(self):
         """(S_t, its solver) where every solve was with S_t alone and there are no joints:
         the metric of the position correction; else None (rebuilt on demand)."""
-        if self.S is not None and self.plain and self.joints is None:
+        if self.S is not None and self.plain and self.newton.joints is None:
             return self.S, self.solve
         return None

@@ -273,7 +273,7 @@ def penalty_step(model, st: State, h: float, opts: IntegratorOptions, timer: Pha
         candidates=np.flatnonzero(gaps <= opts.detection_margin * model.length),
         nu=np.zeros(model.contacts.size),
         impulse=h * contact.lam,
-        lam=newton.lam(),
+        lam=newton.form.lam(),
         iterations={"smooth": it, "position": 0, "velocity": 0},
         penalty=contact.law.record,
     )

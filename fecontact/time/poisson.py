@@ -26,9 +26,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from ..contact import solve_velocity_jump
 from ..contact.restitution import friction_dissipation, impulse_work, solve_decompression
-from .constraints import StepFailure, augmentation
+from .constraints import StepFailure, impact_law
 from .coulomb import frictional_jump
 
 __all__ = ["poisson_jump"]
@@ -84,24 +83,8 @@ def _frictionless(rows, opts, tol, solve, bilateral):
 
 
 def _compression(G, rates, solve, Y, eq, opts, tol):
-    p = augmentation(opts.penalty_scale, G, Y)
-    k = opts.multiplier_scale
-    try:
-        _, Lam, its = solve_velocity_jump(
-            G,
-            rates,
-            solve,
-            p,
-            k,
-            opts.max_iterations,
-            bilateral=eq,
-            Y=Y,
-            tol=tol,
-            stats=opts.stats.contact,
-        )
-    except RuntimeError as err:
-        raise StepFailure(str(err), np.nan) from None
-    return k * Lam, its
+    _, P, its = impact_law(G, rates, solve, Y, opts, eq, tol=tol)
+    return P, its
 
 
 def _frictional(model, st, q, v, closed, G1, rates, pre, e, opts, tol, solve, kw):
