@@ -7,13 +7,14 @@ the vertex onto the next, whose plane pushes it back, and the smooth step's Newt
 alternates between them. Near a concave feature the node therefore gets one row per facet of
 the feature: the plane gap of each facet f′ that
 
-- shares a vertex with the node's closest facet f (the primary row, unchanged),
-- is concave against it: the centroid of f′ lies above the plane of f by more than
-  ``CONCAVE`` times the longest edge of f (a flat surface adds none, so every result away
-  from concave features is unchanged), and
-- is nearly as close to the node as f: its distance to the facet itself exceeds the closest
-  by at most ``NEAR_FEATURE`` times that edge, and the node lies within that distance of the
-  surface.
+- is nearly as close to the node as its closest facet: its distance to the facet itself
+  exceeds the closest by at most ``NEAR_FEATURE`` times the closest facet's longest edge, and
+  the node lies within that distance of the surface, and
+- among those near facets, is concave against one that shares a vertex with it (the other's
+  centroid lies above its plane by more than ``CONCAVE`` times that edge) and convex against
+  none (a flat surface adds no row, so every result away from concave features is
+  unchanged; the set does not depend on which near facet is the closest, so that the rows
+  do not change while the node slides across the feature).
 
 Near a concave feature the surface is the upper envelope of its facets' planes, so each
 extended plane lies under the surface and its gap is never below the node's true distance:
@@ -51,30 +52,49 @@ def concave_rows(pairs, dist, primary, facets, xm, normal_gap, extra: int):
     """
     s, f = pairs
     n = len(primary)
-    fp = primary[s]
-    keep = (fp >= 0) & (f != fp)
-    s, f, fp, dist = s[keep], f[keep], fp[keep], dist[keep]
-    if s.size == 0:
-        return s, f
-    shares = np.any(facets[f][:, :, None] == facets[fp][:, None, :], axis=(1, 2))
-    xp = xm[facets[fp]]
+    has = primary[s] >= 0
+    s, f, dist = s[has], f[has], dist[has]
+    xp = xm[facets[primary[s]]]
     edge = np.max(np.linalg.norm(xp - np.roll(xp, 1, axis=1), axis=2), axis=1)
-    centroid = xm[facets[f]].mean(axis=1)
-    above = normal_gap(centroid, xp)
     dmin = np.full(n, np.inf)
-    np.minimum.at(dmin, s, dist)  # (fp is among the candidates: its distance is the least)
-    # (a node deeper than that inside the master is no longer in the dent: the correction
-    # takes it back along its closest facet alone)
+    np.minimum.at(dmin, s, dist)
+    # the facets about as close as the closest, of a node near the surface (one deeper
+    # inside the master is no longer in the dent: the correction takes it back along its
+    # closest facet alone)
     near = (dist <= dmin[s] + NEAR_FEATURE * edge) & (dmin[s] <= NEAR_FEATURE * edge)
-    keep = shares & (above > CONCAVE * edge) & near
-    s, f = s[keep], f[keep]
-    if s.size == 0:
-        return s, f
+    s, f, dist, edge = s[near], f[near], dist[near], edge[near]
+    i, j = _pairs_within(s)
+    if i.size == 0:
+        return i, i
+    # facet j against facet i: sharing a vertex, its centroid above (concave) or below
+    # (convex) the plane of i; the rows are the near facets concave against another and
+    # convex against none, so that the set does not depend on which of them is the closest
+    shares = np.any(facets[f[i]][:, :, None] == facets[f[j]][:, None, :], axis=(1, 2))
+    height = normal_gap(xm[facets[f[j]]].mean(axis=1), xm[facets[f[i]]])
+    tol = CONCAVE * edge[i]
+    concave = np.bincount(i, shares & (height > tol), len(s)) > 0
+    convex = np.bincount(i, shares & (height < -tol), len(s)) > 0
+    keep = concave & ~convex & (f != primary[s])
+    s, f, dist = s[keep], f[keep], dist[keep]
     # the facets nearest each node first, at most ``extra`` of them
-    order = np.lexsort((dist[keep], s))
+    order = np.lexsort((dist, s))
     s, f = s[order], f[order]
     keep = _rank(s) < extra
     return s[keep], f[keep]
+
+
+def _pairs_within(s):
+    """Index pairs (i, j), i ≠ j, of the entries of s with equal values."""
+    order = np.argsort(s, kind="stable")
+    ss = s[order]
+    start = np.r_[0, np.flatnonzero(ss[1:] != ss[:-1]) + 1] if ss.size else ss
+    size = np.diff(np.r_[start, len(ss)])
+    count = np.repeat(size, size)  # the group size of each sorted entry
+    first = np.repeat(start, size)
+    i = np.repeat(np.arange(len(ss)), count)
+    j = np.repeat(first, count) + (np.arange(len(i)) - np.repeat(np.cumsum(count) - count, count))
+    keep = i != j
+    return order[i[keep]], order[j[keep]]
 
 
 def slot_rows(s, f, se, fe, n: int):
