@@ -356,10 +356,11 @@ class NodeSurfaceContact(PairDefaults):
         self.selected = np.full(m, -1)
         self.selected[s] = f
         self.closest = self.selected[: len(xs)].copy()
-        if s.size:
+        if s.size and self.extra:
             s, f = slot_rows(s, f, *self._concave(xs, xm), len(xs))
             self.selected[: len(xs)] = -1
             self.selected[s] = f
+        if s.size:
             x = xs[self._row_node[s]]
             g[s], G[s], _ = facet_plane_gap(x, xm[self.facets[f]], hessian=False)
             dofs[s, self.dim :] = ob + self._facet_dofs[f]
