@@ -109,7 +109,7 @@ def test_redundant_rows_take_minimum_norm_multipliers():
     row = rng.normal(size=6)
     GA = np.vstack([row, row, row + 1e-13 * rng.normal(size=6)])
     Y = GA.T.copy()  # H = I
-    stats = ContactStats()
+    stats = ContactStats(minimum_norm=True)  # (a run with concave rows)
     mu = kkt_multipliers(GA, Y, np.full(3, 2.0), 1.0, stats)
     assert mu == pytest.approx(np.full(3, 2.0 / (3.0 * row @ row)), rel=1e-9)
     assert stats.least_squares == 1

@@ -191,6 +191,7 @@ class NodeSurfaceContact(PairDefaults):
         # in 3D only: in 2D a node thrown deep into a disk kept the correction from settling
         self.extra = 0 if d == 2 else 6
         self._row_node = np.tile(np.arange(len(self.nodes)), 1 + self.extra)
+        self.redundant_rows = self.extra > 0  # (six planes through a vertex)
         self._slave_dofs = body.node_translation_dofs(self.nodes)[self._row_node]
         self._facet_dofs = master.node_translation_dofs(self.facets.ravel()).reshape(
             len(self.facets), -1

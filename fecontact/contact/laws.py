@@ -56,8 +56,16 @@ def alart_curnier_residual(nu, g, p, k):
 
 def kkt_multipliers(GA, Y, rhs, k, stats: ContactStats | None = None, rcond: float = 1e-10):
     """Solve k (G_A Y) μ = rhs for the active multipliers (least squares if redundant, and
-    counted in ``stats.least_squares``)."""
+    counted in ``stats.least_squares``). In a run whose rows can be redundant up to round-off
+    (``stats.minimum_norm``) a pivot below ``rcond`` of the largest counts as singular."""
     S = k * (GA @ Y)
+    if stats is None or not stats.minimum_norm:
+        try:
+            return np.linalg.solve(S, rhs)
+        except np.linalg.LinAlgError:
+            if stats is not None:
+                stats.least_squares += 1
+            return np.linalg.lstsq(S, rhs, rcond=None)[0]
     lu, piv, _ = dgetrf(S)  # (LAPACK's getrf and getrs: np.linalg.solve's own path)
     pivots = np.abs(np.diagonal(lu))
     # rows that meet at a concave vertex are redundant up to round-off: an LU would return
