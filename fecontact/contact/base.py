@@ -35,6 +35,7 @@ class PairDefaults:
     lazy_hessians = False  # True: evaluate() leaves H out; hessians(q, rows) gives it
     frictional = False  # True: tangents(q) gives the slip rows of Coulomb friction
     friction = 0.0  # Coulomb's μ of every contact of the pair (set by ``Contact``)
+    redundant_rows = False  # True: rows can be redundant up to round-off (minimum-norm μ)
 
     def bind(self, model) -> None:
         """Place the pair in the global dof vector of ``model``: the offsets of its two

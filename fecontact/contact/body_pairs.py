@@ -39,7 +39,9 @@ in it (:meth:`NodeSurfaceContact.look_ahead`). A slave node already inside the m
 however deep, gets its closest facet from the inside/outside test of
 :mod:`fecontact.contact.inside`. Any other slave node with no facet within the margin reports
 g = +inf with zero gradient; the integrator only works on contacts with g below its own
-detection margin. The number of contacts (one per slave node) is fixed.
+detection margin. Near a concave feature of the master (a dent's vertex or valley) a node
+gets a row for each facet of the feature too (:mod:`fecontact.contact.concave_rows`): 1 +
+``extra`` rows per slave node, a fixed number of contacts.
 
 Penetration (:meth:`NodeSurfaceContact.penetration`, every step): a node whose closest point
 on the master lies strictly inside a facet is as deep inside the master as it lies behind
@@ -61,9 +63,10 @@ from ..bodies.solid import Solid
 from ..errors import InputError, check_finite, check_positive, check_range
 from .base import PairDefaults, check_solid_pair
 from .beam_sides import PointBeamContact
+from .concave_rows import concave_rows, slot_rows
 from .facet_search import FacetSearch
 from .friction import point_tangents
-from .geometry import point_line_distance, segment_distance
+from .geometry import closest_facet_distance, point_line_distance
 from .inside import face_depths
 from .registry import pair_factory, register_pair
 
@@ -142,36 +145,6 @@ def facet_plane_gap(x: np.ndarray, xf: np.ndarray, hessian: bool = True):
     return triangle_plane_distance(x, xf[:, 0], xf[:, 1], xf[:, 2], hessian)
 
 
-def closest_facet_distance(x: np.ndarray, xf: np.ndarray):
-    """Distances (m,) from points x (m, d) to the facets xf (m, k, d) themselves (the closest
-    point clipped to the segment or triangle), and the signed plane gaps (m,)."""
-    if x.shape[1] == 2:
-        a, b = xf[:, 0], xf[:, 1]
-        t = b - a
-        w = x - a
-        g = (t[:, 1] * w[:, 0] - t[:, 0] * w[:, 1]) / np.linalg.norm(t, axis=1)
-        return segment_distance(x, a, b), g
-    a, b, c = xf[:, 0], xf[:, 1], xf[:, 2]
-    u, w, v = b - a, c - a, x - a
-    N = np.cross(u, w)
-    g = np.einsum("mi,mi->m", v, N) / np.linalg.norm(N, axis=1)
-    d00, d01, d11 = (np.einsum("mi,mi->m", p, s) for p, s in ((u, u), (u, w), (w, w)))
-    d20, d21 = np.einsum("mi,mi->m", v, u), np.einsum("mi,mi->m", v, w)
-    den = d00 * d11 - d01 * d01
-    beta = (d11 * d20 - d01 * d21) / den
-    gamma = (d00 * d21 - d01 * d20) / den
-    inside = (beta >= 0.0) & (gamma >= 0.0) & (beta + gamma <= 1.0)
-    dist = np.abs(g)
-    out = ~inside
-    if out.any():
-        xo, ao, bo, co = x[out], a[out], b[out], c[out]
-        dist[out] = np.minimum(
-            np.minimum(segment_distance(xo, ao, bo), segment_distance(xo, bo, co)),
-            segment_distance(xo, co, ao),
-        )
-    return dist, g
-
-
 class NodeSurfaceContact(PairDefaults):
     """Nodes of a :class:`~fecontact.Solid` (the slave ``body``) against the boundary of
     another solid (the ``master``): node-to-segment in 2D, node-to-facet (triangles) in 3D.
@@ -214,14 +187,20 @@ class NodeSurfaceContact(PairDefaults):
         # distances to the closest facets within this (m) are ties, decided by the gap
         self.tie_tolerance = 1e-12 * max(body.characteristic_length, master.characteristic_length)
         d = self.dim
-        self._slave_dofs = body.node_translation_dofs(self.nodes)
+        # rows per node beyond the closest facet's, at concave features (:mod:`.concave_rows`);
+        # in 3D only: in 2D a node thrown deep into a disk kept the correction from settling
+        self.extra = 0 if d == 2 else 6
+        self._row_node = np.tile(np.arange(len(self.nodes)), 1 + self.extra)
+        self.redundant_rows = self.extra > 0  # (six planes through a vertex)
+        self._slave_dofs = body.node_translation_dofs(self.nodes)[self._row_node]
         self._facet_dofs = master.node_translation_dofs(self.facets.ravel()).reshape(
             len(self.facets), -1
         )
         self.width = d + self._facet_dofs.shape[1]
         self.offsets = (0, 0)
         self.selected = np.full(self.size, -1)
-        """Facet chosen for each slave node at the last evaluation (−1: none near)."""
+        """Facet of each row at the last evaluation (−1: none near)."""
+        self.closest = self.selected[: len(self.nodes)]  # each node's closest facet
         self._last = None  # (the two bodies' dofs, result) of the last evaluation
 
     @staticmethod
@@ -232,7 +211,7 @@ class NodeSurfaceContact(PairDefaults):
 
     @property
     def size(self) -> int:
-        return len(self.nodes)
+        return len(self._row_node)
 
     def reset(self) -> None:
         self._last = None
@@ -273,7 +252,7 @@ class NodeSurfaceContact(PairDefaults):
         if watched.size == 0:
             return 0.0
         self.evaluate(q)  # the selected facets at q: the closest of all (module docstring)
-        f = self.selected[watched]
+        f = self.closest[watched]
         near = f >= 0
         face, depth = face_depths(xs[watched[near]], xm[self.facets[f[near]]])
         rest = np.r_[watched[~near], watched[near][~face]]
@@ -290,6 +269,17 @@ class NodeSurfaceContact(PairDefaults):
         xf = self.positions(q)[1][self.facets[self.selected[rows]]]
         size = np.max(np.linalg.norm(xf - np.roll(xf, 1, axis=1), axis=2), axis=1)
         return float(np.max(-g[rows] / size))
+
+    def _concave(self, xs: np.ndarray, xm: np.ndarray):
+        """(rows, facets) of the extra rows at concave features (:mod:`.concave_rows`)."""
+        s, f = self.search.pairs(xs, xm, self.margin)
+        dist = closest_facet_distance(xs[s], xm[self.facets[f]])[0]
+        keep = dist <= self.margin
+        primary = self.closest[: len(xs)]
+        plane = lambda x, xf: facet_plane_gap(x, xf, hessian=False)[0]  # noqa: E731
+        return concave_rows(
+            (s[keep], f[keep]), dist[keep], primary, self.facets, xm, plane, self.extra
+        )
 
     def _closest_near(self, xs: np.ndarray, xm: np.ndarray):
         s, f = self.search.pairs(xs, xm, self.margin)
@@ -370,8 +360,14 @@ class NodeSurfaceContact(PairDefaults):
         s, f, _ = self.closest_facets(xs, xm)
         self.selected = np.full(m, -1)
         self.selected[s] = f
+        self.closest = self.selected[: len(xs)].copy()
+        if s.size and self.extra:
+            s, f = slot_rows(s, f, *self._concave(xs, xm), len(xs))
+            self.selected[: len(xs)] = -1
+            self.selected[s] = f
         if s.size:
-            g[s], G[s], _ = facet_plane_gap(xs[s], xm[self.facets[f]], hessian=False)
+            x = xs[self._row_node[s]]
+            g[s], G[s], _ = facet_plane_gap(x, xm[self.facets[f]], hessian=False)
             dofs[s, self.dim :] = ob + self._facet_dofs[f]
         return g, dofs, G, None
 
@@ -393,7 +389,7 @@ class NodeSurfaceContact(PairDefaults):
         near = f >= 0
         if near.any():
             xs, xm = self.positions(q)
-            x = xs[np.asarray(rows)[near]]
+            x = xs[self._row_node[np.asarray(rows)[near]]]
             H[near] = facet_plane_gap(x, xm[self.facets[f[near]]])[2]
         return H
 

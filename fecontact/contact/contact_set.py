@@ -26,6 +26,7 @@ class ContactSet(FrictionRows):
         self.linear = all(pair.linear for pair in self.pairs)
         self.friction = _per_contact(self.pairs, [pair.friction for pair in self.pairs])
         self.frictional = bool(np.any(self.friction > 0.0))
+        self.redundant_rows = any(getattr(pair, "redundant_rows", False) for pair in self.pairs)
         self.owner = _per_contact(self.pairs, range(len(self.pairs)), int)  # pair of a contact
         # each contact's number within its pair
         self.local = _per_contact(self.pairs, [np.arange(pair.size) for pair in self.pairs], int)

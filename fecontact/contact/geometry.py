@@ -12,6 +12,7 @@ import numpy as np
 from ..errors import InputError
 
 __all__ = [
+    "closest_facet_distance",
     "closest_on_segments",
     "distance_curvature",
     "point_line_distance",
@@ -99,3 +100,33 @@ def polygon_distance(vertices: np.ndarray, normals: np.ndarray, x: np.ndarray):
     k = i if t[i] == 0.0 else (i + 1) % len(vertices)
     e, d = unit(x - vertices[k], "the disk centre and a polygon vertex")
     return d, e, distance_curvature(e, d)
+
+
+def closest_facet_distance(x: np.ndarray, xf: np.ndarray):
+    """Distances (m,) from points x (m, d) to the facets xf (m, k, d) themselves (the closest
+    point clipped to the segment or triangle), and the signed plane gaps (m,)."""
+    if x.shape[1] == 2:
+        a, b = xf[:, 0], xf[:, 1]
+        t = b - a
+        w = x - a
+        g = (t[:, 1] * w[:, 0] - t[:, 0] * w[:, 1]) / np.linalg.norm(t, axis=1)
+        return segment_distance(x, a, b), g
+    a, b, c = xf[:, 0], xf[:, 1], xf[:, 2]
+    u, w, v = b - a, c - a, x - a
+    N = np.cross(u, w)
+    g = np.einsum("mi,mi->m", v, N) / np.linalg.norm(N, axis=1)
+    d00, d01, d11 = (np.einsum("mi,mi->m", p, s) for p, s in ((u, u), (u, w), (w, w)))
+    d20, d21 = np.einsum("mi,mi->m", v, u), np.einsum("mi,mi->m", v, w)
+    den = d00 * d11 - d01 * d01
+    beta = (d11 * d20 - d01 * d21) / den
+    gamma = (d00 * d21 - d01 * d20) / den
+    inside = (beta >= 0.0) & (gamma >= 0.0) & (beta + gamma <= 1.0)
+    dist = np.abs(g)
+    out = ~inside
+    if out.any():
+        xo, ao, bo, co = x[out], a[out], b[out], c[out]
+        dist[out] = np.minimum(
+            np.minimum(segment_distance(xo, ao, bo), segment_distance(xo, bo, co)),
+            segment_distance(xo, co, ao),
+        )
+    return dist, g

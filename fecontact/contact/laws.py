@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.linalg.lapack import dgetrf, dgetrs
 
 from .stats import ContactStats
 
@@ -53,16 +54,27 @@ def alart_curnier_residual(nu, g, p, k):
 # -- semi-smooth Newton on the Alart–Curnier residuals -------------------------------------------
 
 
-def kkt_multipliers(GA, Y, rhs, k, stats: ContactStats | None = None):
+def kkt_multipliers(GA, Y, rhs, k, stats: ContactStats | None = None, rcond: float = 1e-10):
     """Solve k (G_A Y) μ = rhs for the active multipliers (least squares if redundant, and
-    counted in ``stats.least_squares``)."""
+    counted in ``stats.least_squares``). In a run whose rows can be redundant up to round-off
+    (``stats.minimum_norm``) a pivot below ``rcond`` of the largest counts as singular."""
     S = k * (GA @ Y)
-    try:
-        return np.linalg.solve(S, rhs)
-    except np.linalg.LinAlgError:
-        if stats is not None:
-            stats.least_squares += 1
-        return np.linalg.lstsq(S, rhs, rcond=None)[0]
+    if stats is None or not stats.minimum_norm:
+        try:
+            return np.linalg.solve(S, rhs)
+        except np.linalg.LinAlgError:
+            if stats is not None:
+                stats.least_squares += 1
+            return np.linalg.lstsq(S, rhs, rcond=None)[0]
+    lu, piv, _ = dgetrf(S)  # (LAPACK's getrf and getrs: np.linalg.solve's own path)
+    pivots = np.abs(np.diagonal(lu))
+    # rows that meet at a concave vertex are redundant up to round-off: an LU would return
+    # their round-off amplified by a pivot near zero, the truncated SVD the minimum norm
+    if S.size and pivots.min() > rcond * pivots.max():
+        return dgetrs(lu, piv, rhs)[0]
+    if stats is not None:
+        stats.least_squares += 1
+    return np.linalg.lstsq(S, rhs, rcond=rcond)[0]
 
 
 def _residual(nu, g, p, k, eq) -> float:

@@ -48,5 +48,8 @@ class ContactStats:
     frictional solves."""
 
     least_squares: int = 0
+    # decided once per run: the model has pairs whose rows can be redundant up to round-off
+    # (:func:`fecontact.contact.laws.kkt_multipliers` then reads the LU's pivots)
+    minimum_norm: bool = False
     final_residuals: FinalResiduals = field(default_factory=FinalResiduals)
     coulomb: CoulombStats = field(default_factory=CoulombStats)

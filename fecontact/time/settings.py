@@ -52,11 +52,14 @@ def run_settings(
     values = {f.name: getattr(opts, f.name) for f in dataclasses.fields(IntegratorOptions)}
     smooth = uses_smooth_contact(model, opts)  # (read by the NSGA step only)
     friction = model.contacts.frictional
+    run_stats = StepStats() if stats is None else stats
+    # rows that can be redundant (planes through one point) take minimum-norm multipliers
+    run_stats.contact.minimum_norm = model.contacts.redundant_rows
     return RunSettings(
         **values,
         smooth=smooth,
         restarts=smooth and not model.slender,  # (beams: see smooth_contact, the restart)
         friction=friction,
-        stats=StepStats() if stats is None else stats,
+        stats=run_stats,
         plan=None if plan is None else plan(model, smooth, friction, terms),
     )

@@ -1,0 +1,116 @@
+r"""Extra node-to-surface rows where the master's surface is concave.
+
+A slave node held by the plane of one facet cannot rest at the bottom of a concave dent: no
+single plane balances a force along the axis of the cone that the facets around a concave
+vertex (or the two facets of a concave edge) form. Held by one facet the node slides across
+the vertex onto the next, whose plane pushes it back, and the smooth step's Newton iteration
+alternates between them. Near a concave feature the node therefore gets one row per facet of
+the feature: the plane gap of each facet f′ that
+
+- is nearly as close to the node as its closest facet: its distance to the facet itself
+  exceeds the closest by at most ``NEAR_FEATURE`` times the closest facet's longest edge, and
+  the node lies within that distance of the surface, and
+- among those near facets, is concave against one that shares a vertex with it (the other's
+  centroid lies above its plane by more than ``CONCAVE`` times that edge) and convex against
+  none (a flat surface adds no row, so every result away from concave features is
+  unchanged; the set does not depend on which near facet is the closest, so that the rows
+  do not change while the node slides across the feature).
+
+Near a concave feature the surface is the upper envelope of its facets' planes, so each
+extended plane lies under the surface and its gap is never below the node's true distance:
+the rows together describe the dent. Around a vertex the rows are redundant (six planes
+meet in one point); their multipliers are then minimum-norm (see
+:func:`fecontact.contact.laws.kkt_multipliers`). Each node has ``1 + extra`` rows i + j n
+(j = 0 … extra; g = +inf when unused), so the number of contacts stays fixed over a run: a
+node with one facet keeps row i, one at a concave feature fills them in the order of its
+facets (:func:`slot_rows`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["CONCAVE", "NEAR_FEATURE", "concave_rows", "slot_rows"]
+
+CONCAVE = 1e-6
+"""A facet is concave against another when its centroid lies this fraction of the other's
+longest edge above the other's plane (a flat surface deformed by round-off stays flat)."""
+
+NEAR_FEATURE = 0.1
+"""A concave neighbour gets a row when its distance to the node exceeds the closest facet's
+by at most this fraction of the closest facet's longest edge."""
+
+
+def concave_rows(pairs, dist, primary, facets, xm, normal_gap, extra: int):
+    """Extra (row, facet) pairs of the slave nodes near a concave feature.
+
+    ``pairs`` = (slave indices, facet indices) of the candidate pairs with their distances
+    ``dist`` (m) to the facets themselves; ``primary`` (n,) each node's closest facet (−1:
+    none); ``facets`` (n_f, k) the master's facet vertices at positions ``xm``;
+    ``normal_gap(x, xf)`` the signed plane gaps of points x from facets xf; ``extra`` the
+    rows per node beyond the first. Returns the (slave indices, facets) of the extra pairs.
+    """
+    s, f = pairs
+    n = len(primary)
+    has = primary[s] >= 0
+    s, f, dist = s[has], f[has], dist[has]
+    xp = xm[facets[primary[s]]]
+    edge = np.max(np.linalg.norm(xp - np.roll(xp, 1, axis=1), axis=2), axis=1)
+    dmin = np.full(n, np.inf)
+    np.minimum.at(dmin, s, dist)
+    # the facets about as close as the closest, of a node near the surface (one deeper
+    # inside the master is no longer in the dent: the correction takes it back along its
+    # closest facet alone)
+    near = (dist <= dmin[s] + NEAR_FEATURE * edge) & (dmin[s] <= NEAR_FEATURE * edge)
+    s, f, dist, edge = s[near], f[near], dist[near], edge[near]
+    i, j = _pairs_within(s)
+    if i.size == 0:
+        return i, i
+    # facet j against facet i: sharing a vertex, its centroid above (concave) or below
+    # (convex) the plane of i; the rows are the near facets concave against another and
+    # convex against none, so that the set does not depend on which of them is the closest
+    shares = np.any(facets[f[i]][:, :, None] == facets[f[j]][:, None, :], axis=(1, 2))
+    height = normal_gap(xm[facets[f[j]]].mean(axis=1), xm[facets[f[i]]])
+    tol = CONCAVE * edge[i]
+    concave = np.bincount(i, shares & (height > tol), len(s)) > 0
+    convex = np.bincount(i, shares & (height < -tol), len(s)) > 0
+    keep = concave & ~convex & (f != primary[s])
+    s, f, dist = s[keep], f[keep], dist[keep]
+    # the facets nearest each node first, at most ``extra`` of them
+    order = np.lexsort((dist, s))
+    s, f = s[order], f[order]
+    keep = _rank(s) < extra
+    return s[keep], f[keep]
+
+
+def _pairs_within(s):
+    """Index pairs (i, j), i ≠ j, of the entries of s with equal values."""
+    order = np.argsort(s, kind="stable")
+    ss = s[order]
+    start = np.r_[0, np.flatnonzero(ss[1:] != ss[:-1]) + 1] if ss.size else ss
+    size = np.diff(np.r_[start, len(ss)])
+    count = np.repeat(size, size)  # the group size of each sorted entry
+    first = np.repeat(start, size)
+    i = np.repeat(np.arange(len(ss)), count)
+    j = np.repeat(first, count) + (np.arange(len(i)) - np.repeat(np.cumsum(count) - count, count))
+    keep = i != j
+    return order[i[keep]], order[j[keep]]
+
+
+def slot_rows(s, f, se, fe, n: int):
+    """Rows of the primary pairs (s, f) and the extra pairs (se, fe) of n slave nodes: a node
+    with one facet keeps row s; a node with several takes rows s + j n in the order of its
+    facets' indices, so that a row keeps its facet while the closest one changes among them
+    (an active set and its multipliers stay attached to their facets)."""
+    if se.size == 0:
+        return s, f
+    s, f = np.r_[s, se], np.r_[f, fe]
+    order = np.lexsort((f, s))
+    s, f = s[order], f[order]
+    return s + n * _rank(s), f
+
+
+def _rank(s):
+    """The position of each entry among the equal entries of the sorted array s."""
+    start = np.r_[0, np.flatnonzero(s[1:] != s[:-1]) + 1]
+    return np.arange(len(s)) - np.repeat(start, np.diff(np.r_[start, len(s)]))
