@@ -41,9 +41,10 @@ RUNS = [
     ("pendulum before impact", "flexible_pendulum", {}, 0.25, 2.5e-4, "free"),
     ("two_disks impact", "two_disks", {}, 0.006, -1.0, "contact"),
 ]  # fmt: skip
-# the fast approach: disks (refinements 2) 0.5 mm apart at 5, 10, 30 m/s each, 1..8 Δx/c
+# the fast approach: disks (refinements 2) 2 mm apart at 5, 10, 30 m/s each, 1..8 Δx/c (the
+# case's default gap: a closer start is refused where the mortar gap stands off the surface)
 FAST = [
-    (f"{v:g} m/s, {f} dx/c", "two_disks", {"velocity": v, "refinements": 2, "gap": 0.0005},
+    (f"{v:g} m/s, {f} dx/c", "two_disks", {"velocity": v, "refinements": 2, "gap": 0.002},
      0.006, -float(f), "fast")
     for v in (5.0, 10.0, 30.0) for f in (1, 2, 4, 8)
 ]  # fmt: skip
