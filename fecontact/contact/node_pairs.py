@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..bodies.base import RigidDefaults
 from ..bodies.beam import Beam2D
 from ..errors import InputError, check_range
 from .base import PairDefaults
@@ -37,6 +38,11 @@ class NodeContact(PairDefaults):
         self.restitution = check_range("restitution", restitution, 0.0, 1.0)
         self.clearance = clearance  # m kept between the points and the obstacle
         self.linear = obstacle.linear and body.linear_kinematics
+        # a rigid body moves off a plane in 3 dofs in space (2 in the plane): more points
+        # than that (a box's four bottom corners) give rows redundant up to round-off
+        self.redundant_rows = isinstance(body, RigidDefaults) and len(self.nodes) > (
+            3 if body.ndof == 6 else 2
+        )
         self.offset = 0
         # positions alone where the body has a cheaper path to them (rigid bodies)
         self._positions = body.point_positions

@@ -48,6 +48,10 @@ class ContactStats:
     frictional solves."""
 
     least_squares: int = 0
+    # smooth-step Newton updates whose bordered matrix was singular because the touching
+    # rows were redundant (four corners of a rigid face on a plane): taken on a maximal
+    # independent subset of the rows, the others' multipliers kept
+    redundant_row_updates: int = 0
     # decided once per run: the model has pairs whose rows can be redundant up to round-off
     # (:func:`fecontact.contact.laws.kkt_multipliers` then reads the LU's pivots)
     minimum_norm: bool = False

@@ -5,6 +5,7 @@ Newton's impact law on the rows with the run's augmentation."""
 from __future__ import annotations
 
 import numpy as np
+import scipy.linalg
 import scipy.sparse as sp
 
 from ..contact import solve_velocity_jump
@@ -18,6 +19,7 @@ __all__ = [
     "constraint_columns",
     "factorize_or_fail",
     "impact_law",
+    "independent_rows",
     "plus_curvature",
 ]
 
@@ -92,6 +94,18 @@ def factorize_or_fail(A, residual, symmetric=False, solver=None):
             raise StepFailure("singular iteration matrix", residual) from None
 
     return checked
+
+
+def independent_rows(G, rtol: float = 1e-10) -> np.ndarray:
+    """The indices of a maximal set of linearly independent rows of G (dense or sparse), by
+    a QR factorization of Gᵀ with column pivoting: the pivots whose |R_ii| exceed ``rtol``
+    of the largest (far above round-off, far below any independent row's size)."""
+    Gd = G.toarray() if sp.issparse(G) else np.asarray(G)
+    if Gd.shape[0] == 0:
+        return np.zeros(0, int)
+    R, piv = scipy.linalg.qr(Gd.T, mode="r", pivoting=True)
+    d = np.abs(np.diag(R))
+    return np.sort(piv[: int(np.count_nonzero(d > rtol * d[0]))])
 
 
 def bordered(K, G, lower=None):

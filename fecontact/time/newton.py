@@ -40,8 +40,15 @@ import time
 from typing import NamedTuple
 
 import numpy as np
+import scipy.sparse as sp
 
-from .constraints import StepFailure, bordered, factorize_or_fail, plus_curvature
+from .constraints import (
+    StepFailure,
+    bordered,
+    factorize_or_fail,
+    independent_rows,
+    plus_curvature,
+)
 from .descent import Armijo, descent_direction
 from .generalized_alpha import predict
 from .lie import LieStep, predict_increment
@@ -313,7 +320,7 @@ class AccelerationForm:
 
     def _bordered_update(self, touching):
         """The update of the saddle-point system bordered by the rows of ``touching``."""
-        model, nF = self.model, self.model.n_free
+        nF = self.model.n_free
         K, gs, Gs = self.S, [], []
         for term in touching:
             g, G, C = term.border(self.step)
@@ -324,16 +331,37 @@ class AccelerationForm:
             Gs.append(G)
         g_rows = gs[0] if len(gs) == 1 else np.concatenate(gs)
         G_rows = Gs[0] if len(Gs) == 1 else np.vstack(Gs)
-        res = self.rnorm / self.ref
-        A = bordered(K, G_rows) if self.lie is None else self.lie.bordered(K, G_rows)
-        self.solve = factorize_or_fail(A, res, False, model.solver)
-        self.plain = False
-        self.x = x = -self.solve(np.concatenate([self.r, g_rows]))
+        self.x = x = self._bordered_solve(K, G_rows, g_rows)
         start = nF
         for term, g in zip(touching, gs, strict=True):
             term.take(x[start : start + g.size])
             start += g.size
         return x[:nF]
+
+    def _bordered_solve(self, K, G, g):
+        """[Δq; Δλ] of the system bordered by the rows G with gaps g. Where the matrix is
+        singular because rows are redundant (more rows than the dofs they move: a rigid
+        face's four corners on a plane), the update is taken on a maximal independent subset
+        of them (the others' multipliers unchanged; their gaps follow, being dependent),
+        counted in the run's ``redundant_row_updates``."""
+        res, nF = self.rnorm / self.ref, self.model.n_free
+        b = self.lie.bordered if self.lie is not None else bordered
+        self.plain = False
+        try:
+            self.solve = factorize_or_fail(b(K, G), res, False, self.model.solver)
+            return -self.solve(np.concatenate([self.r, g]))
+        except StepFailure:
+            keep = independent_rows(G)
+            if keep.size == g.size:
+                raise
+        self.opts.stats.contact.redundant_row_updates += 1
+        self.solve = factorize_or_fail(b(K, G[keep]), res, False, self.model.solver)
+        y = -self.solve(np.concatenate([self.r, g[keep]]))
+        # the kept rows' force Gᵀ Δλ spread over all of them by minimum norm (equal shares
+        # where rows are alike, as the frictional solves' minimum-norm steps do)
+        Gd = G.toarray() if sp.issparse(G) else np.asarray(G)
+        lam = np.linalg.lstsq(Gd.T, Gd[keep].T @ y[nF:], rcond=None)[0]
+        return np.concatenate([y[:nF], lam])
 
     def _plain_update(self):
         """Newton's update with S_t alone, globalized in energy where the model is

@@ -12,7 +12,9 @@ candidate — and the step is failed so that the time loop halves it. Velocity-l
 
 A mortar interface holds its weighted gaps to round-off (they count with the gaps above); the
 depth of its nodes, every boundary node of either solid against the other's boundary
-(:mod:`fecontact.contact.watch`), is measured and reported in ``State.penetration``.
+(:mod:`fecontact.contact.watch`), is measured and reported in ``State.penetration``, and at the
+predictor a node deeper than ``DEEPEST`` fails the step as for the other solids (two disks
+closing faster than the search reaches: without it they passed through each other).
 """
 
 from __future__ import annotations
@@ -73,7 +75,12 @@ def check_predictor(model, q, gaps) -> None:
     """Fail the step (``PenetrationFailure``) when a node of a solid lies deeper inside another
     solid at the predictor q (−g, ``gaps`` every contact's g at q) than ``DEEPEST`` of the
     facet closest to it."""
-    if model.contacts.size and (ratio := model.contacts.relative_depth(q, gaps)) > DEEPEST:
+    if not model.contacts.size:
+        return
+    ratio = model.contacts.relative_depth(q, gaps)
+    if model.contacts.watches:  # a mortar interface's nodes, which no own gap measures
+        ratio = max(ratio, watched_depth(model.contacts.watches, q)[1])
+    if ratio > DEEPEST:
         raise PenetrationFailure(
             f"a node enters another body {ratio:.2f} facet lengths deep in one step", np.nan
         )

@@ -107,6 +107,8 @@ class StepStats:
             "sparse_factorizations": asdict(self.factorizations),
             # redundant active constraints whose multipliers came from least squares
             "least_squares_multipliers": self.contact.least_squares,
+            # smooth-step updates on an independent subset of redundant bordering rows
+            "redundant_row_updates": self.contact.redundant_row_updates,
             # the globalization of the smooth Newton (fecontact.time.descent)
             "smooth_newton": asdict(self.newton),
             # the velocity's follow-ups of an impact's correction (fecontact.time.position_jump)
