@@ -18,17 +18,12 @@ import numpy as np
 from fecontact import Model, Param, Simulation, case, node_probe, run_cli
 from fecontact.bodies import Beam3D, Material, Section
 from fecontact.contact import Contact, Plane
-from fecontact.scenes import IMPACT
+from fecontact.scenes import IMPACT, ROD
 
 
-@case(IMPACT)
+@case(ROD, IMPACT)  # a steel rod; its contact's laws
 def build(
-    length=Param.positive(0.5, "m", "rod length"),
-    radius=Param.positive(0.005, "m", "radius of the circular section"),
-    n_elements=Param.count(10, "number of beam elements"),
-    E=Param.positive(210e9, "Pa", "Young's modulus"),
-    nu=Param(0.3, "-", "Poisson's ratio", -1.0, 0.5, (False, False)),
-    rho=Param.positive(7850.0, "kg/m^3", "density"),
+    length=0.5, radius=0.005, n_elements=10, E=210e9, nu=0.3, rho=7850.0,
     angle=Param(30.0, "deg", "inclination of the rod from the horizontal", 0.0, 90.0),
     azimuth=Param(45.0, "deg", "direction of the rod's horizontal projection, from +x"),
     drop_height=Param.nonnegative(0.002, "m", "initial gap between the lower end and the floor"),
@@ -36,7 +31,7 @@ def build(
     yaw_rate=Param(0.0, "rad/s", "initial spin about the vertical through the rod's centre"),
     restitution=0.0,
     friction=0.0,
-):
+):  # fmt: skip
     a, b = np.radians(angle), np.radians(azimuth)
     axis = np.array([np.cos(a) * np.cos(b), np.cos(a) * np.sin(b), np.sin(a)])
     low = np.array([0.0, 0.0, radius + drop_height])

@@ -22,17 +22,12 @@ from fecontact import InputError, Model, Param, Probe, Simulation, case, node_pr
 from fecontact.bodies import Beam3D, Material, RigidBody3D, Section
 from fecontact.bodies.shapes3d import Capsule
 from fecontact.contact import Contact
-from fecontact.scenes import contact_force_probe
+from fecontact.scenes import ROD, contact_force_probe
 
 
-@case
+@case(ROD)  # a steel rod
 def build(
-    length=Param.positive(0.5, "m", "rod length"),
-    radius=Param.positive(0.005, "m", "radius of the circular section"),
-    n_elements=Param.count(10, "number of beam elements"),
-    E=Param.positive(210e9, "Pa", "Young's modulus"),
-    nu=Param(0.3, "-", "Poisson's ratio", -1.0, 0.5, (False, False)),
-    rho=Param.positive(7850.0, "kg/m^3", "density"),
+    length=0.5, radius=0.005, n_elements=10, E=210e9, nu=0.3, rho=7850.0,
     spin=Param(10.0, "rad/s", "initial rate of turn of the rod about the vertical"),
     post_distance=Param.positive(0.325, "m", "distance of the post's axis from the root"),
     post_azimuth=Param(60.0, "deg", "direction of the post from +x, about +z"),
@@ -40,7 +35,7 @@ def build(
     post_bottom=Param(-0.5, "m", "height of the post's lower cap centre"),
     post_top=Param(0.2, "m", "height of the post's upper cap centre"),
     restitution=Param.fraction(0.0, "Newton's coefficient of restitution e_N"),
-):
+):  # fmt: skip
     if not post_top > post_bottom:
         raise InputError(f"post_top must lie above post_bottom ({post_bottom} m), got {post_top}")
     material = Material(E, nu=nu, rho=rho)

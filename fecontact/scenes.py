@@ -19,6 +19,7 @@ __all__ = [
     "MATERIALS",
     "SOLID",
     "PENDULUM_STOP",
+    "ROD",
     "STRIP",
     "axial_bar",
     "axial_velocity_probe",
@@ -210,6 +211,16 @@ PENDULUM_STOP = {
     **GRAVITY,
 }
 """The founding case's tip mass, its stop's laws and gravity (parameter group of ``case``)."""
+
+ROD = {
+    "length": Param.positive(0.5, "m", "rod length"),
+    "radius": Param.positive(0.005, "m", "radius of the circular section"),
+    "n_elements": Param.count(10, "number of beam elements"),
+    "E": Param.positive(210e9, "Pa", "Young's modulus"),
+    "nu": Param(0.3, "-", "Poisson's ratio", -1.0, 0.5, (False, False)),
+    "rho": Param.positive(7850.0, "kg/m^3", "density"),
+}
+"""A steel rod of circular section: ``Beam3D.straight`` (parameter group of ``case``)."""
 
 DISK = {
     "radius": Param.positive(0.05, "m", "radius of the disk (of each disk)"),
