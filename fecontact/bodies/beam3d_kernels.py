@@ -160,16 +160,32 @@ def _hat(w: np.ndarray) -> np.ndarray:
     return (w @ _SKEW).reshape(w.shape[:-1] + (3, 3))
 
 
+def _quaternion_table() -> np.ndarray:
+    """(16, 9): the products q_k q_l of a unit quaternion q = (w, u) (flattened k, l) @ it
+    is R = (w² − u·u) I + 2w ũ + 2uuᵀ flattened row by row."""
+    Q = np.zeros((4, 4, 3, 3))
+    Q[0, 0] = _I3
+    Q[1:, 1:] -= _I3[:, :, None, None] * _I3  # −(u·u) I
+    Q[1:, 1:] += 2.0 * np.einsum("ki,lj->klij", _I3, _I3)  # 2uuᵀ
+    S = _skew_basis().reshape(3, 3, 3)  # ũ = Σ_k u_k S_k
+    Q[0, 1:] += S
+    Q[1:, 0] += S  # 2w ũ, split between the products w u_k and u_k w
+    return Q.reshape(16, 9)
+
+
+_QUATERNION = _quaternion_table()
+
+
 def rotation_matrices(psi: np.ndarray) -> np.ndarray:
     """R = exp(ψ̃) (n, 3, 3) of the rotation vectors ψ (n, 3; rad), as
-    :func:`fecontact.rotations.exp` to round-off, in fewer array operations:
-    I + sin θ/θ ψ̃ + ½ (sin(θ/2)/(θ/2))² ψ̃², free of cancellation at small θ (θ is offset by
-    1e-300, which changes it only at 0, where it makes both ratios 1)."""
-    t = np.sqrt(np.einsum("ij,ij->i", psi, psi)) + _TINY
-    h = 0.5 * t
-    P = _hat(psi)
-    a, b = np.sin(t) / t, 0.5 * (np.sin(h) / h) ** 2
-    return _I3 + a[:, None, None] * P + b[:, None, None] * (P @ P)
+    :func:`fecontact.rotations.exp` to round-off, in few array operations: the products of the
+    unit quaternion (cos(θ/2), sin(θ/2)/θ ψ) times a fixed table, free of cancellation at small
+    θ (θ is offset by 1e-300, which changes sin(θ/2)/θ only at 0, where it makes it ½)."""
+    h = 0.5 * np.sqrt((psi * psi).sum(axis=1)) + _TINY
+    q = np.empty((len(psi), 4))
+    q[:, 0] = np.cos(h)
+    q[:, 1:] = (0.5 * np.sin(h) / h)[:, None] * psi
+    return ((q[:, :, None] * q[:, None, :]).reshape(-1, 16) @ _QUATERNION).reshape(-1, 3, 3)
 
 
 def _log(A: np.ndarray) -> np.ndarray:
