@@ -195,7 +195,8 @@ class LieStep:
     def _times(self, A: np.ndarray, T: np.ndarray) -> np.ndarray:
         """The columns ``A`` (n, 3k) of the triples, each triple's three times its T (k, 3, 3)."""
         n, k = A.shape[0], T.shape[0]
-        return np.einsum("nki,kij->nkj", A.reshape(n, k, 3), T).reshape(n, 3 * k)
+        AT = A.reshape(n, k, 3).transpose(1, 0, 2) @ T  # (k, n, 3): one batched product
+        return AT.transpose(1, 0, 2).reshape(n, 3 * k)
 
     def _block(self) -> sp.csr_matrix:
         """The block-diagonal T(D) on the free dofs (identity off the triples)."""
