@@ -409,7 +409,7 @@ def _strain_columns(el: Beam3DElements, X: np.ndarray, q: np.ndarray) -> np.ndar
     rho = _log(R0.mT @ R1)
     Rm = R0 @ rotation_matrices(0.5 * rho)
     V = np.concatenate([Rm.mT @ (x1 - x0)[..., None], rho[..., None]], axis=2)
-    return el.L0.mT @ V / el.ell[:, None, None] - _E1_COLUMN
+    return el.L0.mT @ V / el.ell32 - el.E1
 
 
 def beam3d_strains(el: Beam3DElements, X: np.ndarray, q: np.ndarray):
@@ -421,4 +421,4 @@ def beam3d_strains(el: Beam3DElements, X: np.ndarray, q: np.ndarray):
 def beam3d_energy(el: Beam3DElements, X: np.ndarray, q: np.ndarray) -> float:
     """Strain energy W (J)."""
     S = _strain_columns(el, X, q)
-    return 0.5 * float(el.ell @ (S * S * _rigidity_columns(el.C)).sum(axis=(1, 2)))
+    return 0.5 * float(el.ell @ (S * S * el.C32).sum(axis=(1, 2)))
