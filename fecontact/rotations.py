@@ -63,42 +63,33 @@ _C_SERIES = np.array([1 / 6, -1 / 120, 1 / 5040, -1 / 362880, 1 / 39916800])
 _C_SMALL = 0.0625
 
 
-_C_POWERS = np.arange(len(_C_SERIES))
-
-
 def _coefficients(psi: np.ndarray):
     """θ², sin θ/θ, (1 − cos θ)/θ² and (θ − sin θ)/θ³ of the vectors ``psi`` (…, 3): the
     first two from the half angle, sin θ/θ = s cos(θ/2) and (1 − cos θ)/θ² = ½s² with
-    s = sin(θ/2)/(θ/2), free of cancellation (the angle offset as in :func:`quaternions`); the
-    series of the third as one product of the powers of θ² with its coefficients."""
-    t2 = (psi * psi).sum(axis=-1)
+    s = sin(θ/2)/(θ/2), free of cancellation (the angle offset as in :func:`quaternions`).
+    Every operation is on arrays of one shape: numpy broadcasts small arrays ~10× slower."""
+    x, y, z = psi[..., 0], psi[..., 1], psi[..., 2]
+    t2 = x * x + y * y + z * z
     half = 0.5 * np.sqrt(t2) + _OFFSET
     sh = np.sin(half) / half
     a, b = sh * np.cos(half), 0.5 * sh * sh
-    c = (t2[..., None] ** _C_POWERS) @ _C_SERIES
+    k4, k3, k2, k1, k0 = _C_SERIES[::-1].tolist()
+    c = (((k4 * t2 + k3) * t2 + k2) * t2 + k1) * t2 + k0
     if t2.max(initial=0.0) >= _C_SMALL:
         c = np.where(t2 < _C_SMALL, c, (1.0 - a) / np.maximum(t2, _C_SMALL))
     return t2, a, b, c
 
 
-def _skew_table() -> np.ndarray:
-    """(3, 9): w @ it is w̃ flattened row by row (w̃_ij = −ε_ijk w_k)."""
-    B = np.zeros((3, 3, 3))
-    for i, j, k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
-        B[k, i, j], B[k, j, i] = -1.0, 1.0
-    return B.reshape(3, 9)
-
-
-_SKEW9 = _skew_table()
-_EYE9 = np.eye(3).ravel()
-
-
 def _combination(psi: np.ndarray, k0, k1, k2) -> np.ndarray:
-    """k0 I + k1 ψ̃ + k2 ψψᵀ (…, 3, 3) of the vectors ``psi`` (…, 3), coefficients (…): three
-    products on the rows of the flattened matrices (few array operations for few vectors)."""
-    out = (k2[..., None] * psi)[..., :, None] * psi[..., None, :]
-    flat = out.reshape(out.shape[:-2] + (9,))
-    flat += (k1[..., None] * psi) @ _SKEW9 + k0[..., None] * _EYE9
+    """k0 I + k1 ψ̃ + k2 ψψᵀ (…, 3, 3) of the vectors ``psi`` (…, 3), coefficients (…), entry
+    by entry on arrays of one shape (the entries (k2 ψ_i) ψ_j, plus k0 or ± k1 ψ_k)."""
+    x, y, z = psi[..., 0], psi[..., 1], psi[..., 2]
+    kx, ky, kz = k2 * x, k2 * y, k2 * z
+    sx, sy, sz = k1 * x, k1 * y, k1 * z
+    out = np.empty(psi.shape + (3,))
+    out[..., 0, 0], out[..., 0, 1], out[..., 0, 2] = kx * x + k0, kx * y - sz, kx * z + sy
+    out[..., 1, 0], out[..., 1, 1], out[..., 1, 2] = ky * x + sz, ky * y + k0, ky * z - sx
+    out[..., 2, 0], out[..., 2, 1], out[..., 2, 2] = kz * x - sy, kz * y + sx, kz * z + k0
     return out
 
 
@@ -175,7 +166,8 @@ def quaternions(psi: np.ndarray) -> np.ndarray:
     (cos(θ/2), sin(θ/2)/θ ψ). sin(θ/2)/θ has no cancellation: with the angle offset by 1e-300
     it is ½ at θ = 0 and exact to round-off elsewhere."""
     psi = np.asarray(psi, dtype=float)
-    half = 0.5 * np.sqrt((psi * psi).sum(axis=-1)) + _OFFSET
+    x, y, z = psi[..., 0], psi[..., 1], psi[..., 2]
+    half = 0.5 * np.sqrt(x * x + y * y + z * z) + _OFFSET
     out = np.empty(psi.shape[:-1] + (4,))
     out[..., 0] = np.cos(half)
     out[..., 1:] = (0.5 * np.sin(half) / half)[..., None] * psi
@@ -202,7 +194,7 @@ def _vector(quat: np.ndarray) -> np.ndarray:
     (no normalization needed) and the same rotation as −(w, u) (θ ≤ π); atan2(s, w)/s is
     accurate down to s = 0, where u = 0 (offset as in :func:`quaternions`)."""
     w, u = quat[..., 0], quat[..., 1:]
-    s = np.sqrt((u * u).sum(axis=-1))
+    s = np.sqrt(u[..., 0] * u[..., 0] + u[..., 1] * u[..., 1] + u[..., 2] * u[..., 2])
     return (np.copysign(2.0, w) * np.arctan2(s, np.abs(w)) / (s + _OFFSET))[..., None] * u
 
 

@@ -40,8 +40,6 @@ __all__ = [
     "predict_increment",
 ]
 
-_EYE3 = np.eye(3)
-
 
 def on_group(model) -> bool:
     """Whether the model's smooth step runs on the Lie group (decided once per model)."""
@@ -216,7 +214,8 @@ class LieStep:
             return S
         if sp.issparse(S):
             return S + (self.right(K) - K)
-        S[:, self.cols] += self._times(np.asarray(K)[:, self.cols], self.T - _EYE3)
+        Kc = np.asarray(K)[:, self.cols]
+        S[:, self.cols] += self._times(Kc, self.T) - Kc  # K (T − I), no broadcast of I
         return S
 
     def bordered(self, Kb, G):
