@@ -83,6 +83,7 @@ class Beam3D(Centreline):
         GA = m.G * s.area * s.shear_factor
         C = (m.E * s.area, GA, GA, m.G * s.torsion, m.E * s.inertia_2, m.E * s.inertia)
         self._el = Beam3DElements.of(X, triads, C)
+        self._node_triads = np.concatenate([triads, triads[-1:]])  # (section_frames)
         # Λ₀ diag(J₁, J₂, J₃) Λ₀ᵀ per element: the rotary inertia per length in frame R
         J = np.diag(self._section_inertia(rotary_inertia))
         self._J = np.einsum("eij,jk,elk->eil", triads, J, triads)
@@ -233,8 +234,7 @@ class Beam3D(Centreline):
     def section_frames(self, q: np.ndarray) -> np.ndarray:
         """(n, 3, 3) section frames R Λ₀ of the nodes (columns: tangent, axis 2, axis 3),
         Λ₀ that of the element starting at the node (the last element's at the last node)."""
-        L0 = np.concatenate([self._el.L0, self._el.L0[-1:]])
-        return rotation_matrices(q.reshape(-1, 6)[:, 3:]) @ L0
+        return rotation_matrices(q.reshape(-1, 6)[:, 3:]) @ self._node_triads
 
     def point_data(self, q: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:
         """Nodal output: displacement, velocity (m, m/s), rotation vector ψ (rad), angular

@@ -85,7 +85,12 @@ class Gyroscopic:
         # (Ω̃_a)_ik = ε_ilk Ω_l
         self.mix = np.searchsorted(self.keys, (3 * a)[:, None] * self.m + self.cols[:, None]
                                    + self.m * np.arange(3))  # fmt: skip
-        self.node, self.eps = a, _EPS[i].transpose(0, 2, 1)  # (e, k, l)
+        # (Ω̃_a M)_e = (Ω_a × M_mix)_i = Ω_j M_k − Ω_k M_j, (i, j, k) cyclic: the flat
+        # indices of its two products, so that two gathers of each replace a sum over ε
+        j_, k_ = (i + 1) % 3, (i + 2) % 3
+        self.omega_j, self.omega_k = 3 * a + j_, 3 * a + k_
+        self.mass_k = np.take_along_axis(self.mix, k_[:, None], axis=1)[:, 0]
+        self.mass_j = np.take_along_axis(self.mix, j_[:, None], axis=1)[:, 0]
         # − π̃_a on the node blocks: −(π̃_a)_ij = −ε_ilj π_l, one l per entry off the diagonal
         diagonal = np.flatnonzero((a == b) & (i != j))
         l_ = 3 - i[diagonal] - j[diagonal]
@@ -121,9 +126,11 @@ class Gyroscopic:
         w = Om.ravel()
         pi = np.bincount(self.rows, weights=M * w[self.cols], minlength=self.m)
         f = np.zeros((self.n, 6))
-        f[:, 3:] = np.einsum("ijk,nj,nk->ni", _EPS, Om, pi.reshape(-1, 3))
+        P = pi.reshape(-1, 3)
+        for i, j, k in ((3, 1, 2), (4, 2, 0), (5, 0, 1)):  # Ω × π by its components
+            f[:, i] = Om[:, j] * P[:, k] - Om[:, k] * P[:, j]
         # Ω̃_a M on every entry, − π̃_a on the node blocks
-        values = np.einsum("ekl,el,ek->e", self.eps, Om[self.node], M[self.mix])
+        values = w[self.omega_j] * M[self.mass_k] - w[self.omega_k] * M[self.mass_j]
         values[self.diagonal] += self.pi_sign * pi[self.pi_at]
         ndof = 6 * self.n
         if self.dense:

@@ -69,6 +69,20 @@ class Beam3DElements:
     C: np.ndarray
     CG: np.ndarray
     CK: np.ndarray
+    # The per-element constants repeated to the shapes they meet, (E, 3, k) or gathered by
+    # index: numpy combines small arrays of one shape ~10× faster than it broadcasts them.
+    ell31: np.ndarray
+    ell32: np.ndarray
+    ell33: np.ndarray
+    ell312: np.ndarray
+    E1: np.ndarray  # (E₁, 0) (E, 3, 2)
+    C32: np.ndarray  # (C_Γ, C_K) as columns (E, 3, 2)
+    eye: np.ndarray  # I (E, 3, 3)
+    zero: np.ndarray  # 0 (E, 3, 3)
+    ones: np.ndarray  # (E, 1)
+    basis0: np.ndarray  # I flattened (E, 1, 9)
+    ones31: np.ndarray  # (E, 3, 1)
+    r31: np.ndarray  # (6E,): (2, E) values @ it → (2, E, 3, 1)
 
     @classmethod
     def of(cls, X: np.ndarray, triads: np.ndarray, rigidities) -> Beam3DElements:
@@ -77,6 +91,11 @@ class Beam3DElements:
         pairs = np.stack([n0, n1], axis=1)
         C = np.asarray(rigidities, dtype=float)
         ell = np.linalg.norm(X[n1] - X[n0], axis=1)
+        E = len(n0)
+
+        def full(a, k):
+            return np.repeat(a, 3 * k).reshape(E, 3, k)
+
         return cls(
             n0=n0,
             n1=n1,
@@ -86,6 +105,18 @@ class Beam3DElements:
             C=C,
             CG=(triads * C[:3]) @ triads.mT,
             CK=(triads * C[3:]) @ triads.mT / ell[:, None, None],
+            ell31=full(ell, 1),
+            ell32=full(ell, 2),
+            ell33=full(ell, 3),
+            ell312=full(ell, 12),
+            E1=np.repeat(_E1_COLUMN[None], E, axis=0),
+            C32=np.repeat(_rigidity_columns(C)[None], E, axis=0),
+            eye=np.repeat(_I3[None], E, axis=0),
+            zero=np.zeros((E, 3, 3)),
+            ones=np.ones((E, 1)),
+            basis0=np.repeat(_I3.reshape(1, 1, 9), E, axis=0),
+            ones31=np.ones((E, 3, 1)),
+            r31=np.repeat(np.arange(2 * E), 3),
         )
 
 
@@ -160,16 +191,32 @@ def _hat(w: np.ndarray) -> np.ndarray:
     return (w @ _SKEW).reshape(w.shape[:-1] + (3, 3))
 
 
+def _quaternion_table() -> np.ndarray:
+    """(16, 9): the products q_k q_l of a unit quaternion q = (w, u) (flattened k, l) @ it
+    is R = (w² − u·u) I + 2w ũ + 2uuᵀ flattened row by row."""
+    Q = np.zeros((4, 4, 3, 3))
+    Q[0, 0] = _I3
+    Q[1:, 1:] -= _I3[:, :, None, None] * _I3  # −(u·u) I
+    Q[1:, 1:] += 2.0 * np.einsum("ki,lj->klij", _I3, _I3)  # 2uuᵀ
+    S = _skew_basis().reshape(3, 3, 3)  # ũ = Σ_k u_k S_k
+    Q[0, 1:] += S
+    Q[1:, 0] += S  # 2w ũ, split between the products w u_k and u_k w
+    return Q.reshape(16, 9)
+
+
+_QUATERNION = _quaternion_table()
+
+
 def rotation_matrices(psi: np.ndarray) -> np.ndarray:
     """R = exp(ψ̃) (n, 3, 3) of the rotation vectors ψ (n, 3; rad), as
-    :func:`fecontact.rotations.exp` to round-off, in fewer array operations:
-    I + sin θ/θ ψ̃ + ½ (sin(θ/2)/(θ/2))² ψ̃², free of cancellation at small θ (θ is offset by
-    1e-300, which changes it only at 0, where it makes both ratios 1)."""
-    t = np.sqrt(np.einsum("ij,ij->i", psi, psi)) + _TINY
-    h = 0.5 * t
-    P = _hat(psi)
-    a, b = np.sin(t) / t, 0.5 * (np.sin(h) / h) ** 2
-    return _I3 + a[:, None, None] * P + b[:, None, None] * (P @ P)
+    :func:`fecontact.rotations.exp` to round-off, in few array operations: the products of the
+    unit quaternion (cos(θ/2), sin(θ/2)/θ ψ) times a fixed table, free of cancellation at small
+    θ (θ is offset by 1e-300, which changes sin(θ/2)/θ only at 0, where it makes it ½)."""
+    h = 0.5 * np.sqrt((psi * psi).sum(axis=1)) + _TINY
+    q = np.empty((len(psi), 4))
+    q[:, 0] = np.cos(h)
+    q[:, 1:] = (0.5 * np.sin(h) / h)[:, None] * psi
+    return ((q[:, :, None] * q[:, None, :]).reshape(-1, 16) @ _QUATERNION).reshape(-1, 3, 3)
 
 
 def _log(A: np.ndarray) -> np.ndarray:
@@ -177,7 +224,8 @@ def _log(A: np.ndarray) -> np.ndarray:
     v = A.reshape(-1, 9) @ _VEE
     a, c1 = v[:, :3], v[:, 3] + 0.5  # sin θ · axis, 1 + cos θ
     # tan(θ/2) (offset as in rotation_matrices: atan(s)/s is 1 at 0); NaN for an element turned by π
-    s = np.sqrt(np.einsum("ij,ij->i", a, a)) / c1 + _TINY
+    a0, a1, a2 = a[:, 0], a[:, 1], a[:, 2]
+    s = np.sqrt(a0 * a0 + a1 * a1 + a2 * a2) / c1 + _TINY
     return (2.0 * np.arctan(s) / (s * c1))[:, None] * a
 
 
@@ -228,10 +276,13 @@ def _maps():
     # T(½ρ)ᵀ = I + (b/2) ρ̃ + (c/4) ρ̃², slopes in |ρ|² = 4x: b′/8, c′/16
     S[6, 0], S[7, 1], S[8, 2], S[9, 3] = 0.5, 0.25, 0.125, 1 / 16
     s0[4], S[0, 5], S[1, 7] = -0.5, 1.0, 1.0  # T(ρ)⁻ᵀ = I − ½ρ̃ + d ρ̃²
-    return (M, m0), (S, s0)
+    return np.vstack([M, m0]), np.vstack([S, s0])
 
 
-(_MATRICES, _MATRICES0), (_SLOPES, _SLOPES0) = _maps()
+# the offsets as the last row: the coefficients carry a trailing 1 (``_Strains.co``)
+_MATRICES, _SLOPES = _maps()
+# (4, 9): (−α v, β ρ·v) @ it is −α ṽ + (β ρ·v) I flattened (:func:`_matrix_slopes`)
+_SKEW_EYE = np.vstack([_SKEW, _I3.reshape(1, 9)])
 
 
 class _Strains:
@@ -241,19 +292,22 @@ class _Strains:
     def __init__(self, el, R0, R1, x0, x1):
         self.A = R0.mT @ R1  # exp(ρ̃)
         rho = _log(self.A)
-        self.t2 = np.einsum("ij,ij->i", rho, rho)
-        self.co = _coefficients(self.t2).transpose(1, 0, 2).reshape(-1, 10)
-        w = (self.co @ _MATRICES + _MATRICES0).reshape(-1, 3, 2, 1, 1)
+        r0, r1, r2 = rho[:, 0], rho[:, 1], rho[:, 2]
+        self.t2 = r0 * r0 + r1 * r1 + r2 * r2
+        co = _coefficients(self.t2).transpose(1, 0, 2).reshape(-1, 10)
+        self.co = np.concatenate([co, el.ones], axis=1)  # (E, 11), a 1 for the offsets
         self.P = P = _hat(rho)
-        Ps = P[:, None]
-        M = (_I3 + w[:, :, 0] * Ps + w[:, :, 1] * (Ps @ Ps)).transpose(1, 0, 2, 3)
+        # (1, w_k1, w_k2) @ (I, ρ̃, ρ̃²) flattened: the three matrices I + w_k1 ρ̃ + w_k2 ρ̃²
+        w = np.concatenate([el.ones31, (self.co @ _MATRICES).reshape(-1, 3, 2)], axis=2)
+        basis = np.concatenate([el.basis0, P.reshape(-1, 1, 9), (P @ P).reshape(-1, 1, 9)], 1)
+        M = (w @ basis).reshape(-1, 3, 3, 3).transpose(1, 0, 2, 3)
         self.H, self.Ti, self.Th = M  # exp(½ρ̃), T(ρ)⁻¹, T(½ρ)
         self.Rm = R0 @ self.H
         self.rho = rho[..., None]
         # L0ᵀ (R_mᵀ x′, ρ/ℓ) − (E₁, 0): the strains Γ and K as two columns
         V = np.concatenate([self.Rm.mT @ (x1 - x0)[..., None], self.rho], axis=2)
-        self.S = el.L0.mT @ V / el.ell[:, None, None] - _E1_COLUMN
-        self.gh = V[:, :, :1] / el.ell[:, None, None]
+        self.S = el.L0.mT @ V / el.ell32 - el.E1
+        self.gh = V[:, :, :1] / el.ell31
 
 
 class _Forces(_Strains):
@@ -261,8 +315,8 @@ class _Forces(_Strains):
 
     def __init__(self, el, R0, R1, x0, x1):
         super().__init__(el, R0, R1, x0, x1)
-        ell = el.ell[:, None, None]
-        NM = self.S * _rigidity_columns(el.C)
+        ell = el.ell31
+        NM = self.S * el.C32
         nm = el.L0 @ NM  # n̂, m̂
         self.n, m = nm[:, :, :1], nm[:, :, 1:]
         self.Nh, self.Gh = _hat(self.n[..., 0]), _hat(self.gh[..., 0])
@@ -279,17 +333,24 @@ def _rigidity_columns(C):
     return C.reshape(2, 3).T
 
 
-def _matrix_slopes(P, rho, v, c):
+def _matrix_slopes(el, P, rho, v, c):
     """∂(M_k v_k)/∂ρ (2, E, 3, 3) of M_k = I + α_k ρ̃ + β_k ρ̃², α_k and β_k functions of
     x = |ρ|² with slopes α′_k, β′_k, the columns of c (E, 2, 4); P = ρ̃, ρ (E, 3, 1) and v
     (2, E, 3, 1) columns:
 
-        −α ṽ + β (ρ vᵀ + (ρ·v) I − 2 v ρᵀ) + 2 (α′ ρ×v + β′ ρ×(ρ×v)) ρᵀ."""
-    alpha, beta, alpha1, beta1 = c.transpose(2, 1, 0)[..., None, None]
+        −α ṽ + β (ρ vᵀ + (ρ·v) I − 2 v ρᵀ) + 2 (α′ ρ×v + β′ ρ×(ρ×v)) ρᵀ
+
+    as [w, βρ] [ρ, v]ᵀ with w = 2 (α′ ρ×v + β′ ρ×(ρ×v) − β v), plus −α ṽ + (β ρ·v) I."""
+    E = len(P)
+    alpha, beta, alpha1, beta1 = c.transpose(2, 1, 0).reshape(4, -1).take(el.r31, axis=1)
+    alpha, beta, alpha1, beta1 = (k.reshape(2, E, 3, 1) for k in (alpha, beta, alpha1, beta1))
     w1 = P @ v
     w = 2 * (alpha1 * w1 + beta1 * (P @ w1) - beta * v)
-    G = w @ rho.mT + beta * (rho @ v.mT + (rho.mT @ v) * _I3)
-    return G - alpha * _hat(v[..., 0])
+    rho2 = np.concatenate((rho[None], rho[None]))  # ρ for p and for u
+    G = np.concatenate([w, beta * rho2], axis=3) @ np.concatenate([rho2, v], axis=3).mT
+    rv = beta[:, :, :1] * (rho.mT @ v)  # β ρ·v (2, E, 1, 1)
+    G += (np.concatenate([-alpha * v, rv], axis=2).reshape(2, E, 4) @ _SKEW_EYE).reshape(G.shape)
+    return G
 
 
 def _tangent(el, s: _Forces) -> np.ndarray:
@@ -309,27 +370,22 @@ def _tangent(el, s: _Forces) -> np.ndarray:
 
     The derivatives of T's matrices are :func:`_matrix_slopes` with the coefficients' slopes;
     T(ρ)⁻¹ exp(−ρ̃) = T(ρ)⁻ᵀ (as exp(ρ̃) T(ρ) = T(ρ)ᵀ) gives Dρ without a product."""
-    E, ell = len(el.ell), el.ell[:, None, None]
-    At, Ht = s.A.mT, s.H.mT
-    Dphi = np.zeros((E, 3, 12))
-    Dphi[:, :, 3:6] = -At
-    Dphi[:, :, 9:] = _I3
-    Drho = np.zeros((E, 3, 12))
-    Drho[:, :, 3:6] = -s.Ti.mT
-    Drho[:, :, 9:] = s.Ti
+    Ht, Z = s.H.mT, el.zero
+    Dphi = np.concatenate([Z, -s.A.mT, Z, el.eye], axis=2)
+    Drho = np.concatenate([Z, -s.Ti.mT, Z, s.Ti], axis=2)
     ThDrho = s.Th @ Drho
     Dpsi = 0.5 * ThDrho
     Dpsi[:, :, 3:6] += Ht
     Dg = s.Gh @ Dpsi
-    B = s.Rm.mT / ell
+    B = s.Rm.mT / el.ell33
     Dg[:, :, :3] -= B
     Dg[:, :, 6:9] += B
     Dn = el.CG @ Dg
     Dm = el.CK @ Drho
-    Dp = ell * (s.Nh @ Dg - s.Gh @ Dn)
-    c = (s.co @ _SLOPES + _SLOPES0).reshape(-1, 2, 4)
+    Dp = el.ell312 * (s.Nh @ Dg - s.Gh @ Dn)
+    c = (s.co @ _SLOPES).reshape(-1, 2, 4)
     v = np.concatenate([s.p, s.u], axis=2).transpose(2, 0, 1)[..., None]  # (p, u) stacked first
-    Gp, Gu = _matrix_slopes(s.P, s.rho, v, c) @ Drho
+    Gp, Gu = _matrix_slopes(el, s.P, s.rho, v, c) @ Drho
     Du = Dm + 0.5 * (s.Th.mT @ Dp + Gp)
     Dt = s.Ti.mT @ Du + Gu
     Dfx = s.Rm @ (Dn - s.Nh @ Dpsi)
@@ -353,7 +409,7 @@ def _strain_columns(el: Beam3DElements, X: np.ndarray, q: np.ndarray) -> np.ndar
     rho = _log(R0.mT @ R1)
     Rm = R0 @ rotation_matrices(0.5 * rho)
     V = np.concatenate([Rm.mT @ (x1 - x0)[..., None], rho[..., None]], axis=2)
-    return el.L0.mT @ V / el.ell[:, None, None] - _E1_COLUMN
+    return el.L0.mT @ V / el.ell32 - el.E1
 
 
 def beam3d_strains(el: Beam3DElements, X: np.ndarray, q: np.ndarray):
@@ -365,4 +421,4 @@ def beam3d_strains(el: Beam3DElements, X: np.ndarray, q: np.ndarray):
 def beam3d_energy(el: Beam3DElements, X: np.ndarray, q: np.ndarray) -> float:
     """Strain energy W (J)."""
     S = _strain_columns(el, X, q)
-    return 0.5 * float(el.ell @ (S * S * _rigidity_columns(el.C)).sum(axis=(1, 2)))
+    return 0.5 * float(el.ell @ (S * S * el.C32).sum(axis=(1, 2)))

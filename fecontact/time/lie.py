@@ -40,8 +40,6 @@ __all__ = [
     "predict_increment",
 ]
 
-_EYE3 = np.eye(3)
-
 
 def on_group(model) -> bool:
     """Whether the model's smooth step runs on the Lie group (decided once per model)."""
@@ -195,7 +193,8 @@ class LieStep:
     def _times(self, A: np.ndarray, T: np.ndarray) -> np.ndarray:
         """The columns ``A`` (n, 3k) of the triples, each triple's three times its T (k, 3, 3)."""
         n, k = A.shape[0], T.shape[0]
-        return np.einsum("nki,kij->nkj", A.reshape(n, k, 3), T).reshape(n, 3 * k)
+        AT = A.reshape(n, k, 3).transpose(1, 0, 2) @ T  # (k, n, 3): one batched product
+        return AT.transpose(1, 0, 2).reshape(n, 3 * k)
 
     def _block(self) -> sp.csr_matrix:
         """The block-diagonal T(D) on the free dofs (identity off the triples)."""
@@ -215,7 +214,8 @@ class LieStep:
             return S
         if sp.issparse(S):
             return S + (self.right(K) - K)
-        S[:, self.cols] += self._times(np.asarray(K)[:, self.cols], self.T - _EYE3)
+        Kc = np.asarray(K)[:, self.cols]
+        S[:, self.cols] += self._times(Kc, self.T) - Kc  # K (T − I), no broadcast of I
         return S
 
     def bordered(self, Kb, G):
