@@ -28,7 +28,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from stepper_speed import export
+from stepper_speed import export, write_table
 
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "benchmarks" / "results"
@@ -189,11 +189,7 @@ def main(argv=None) -> int:
     verdicts = [compare(b, n) for b, n in zip(base, new, strict=True)]
     text = table(runs, verdicts, [len(n["steps"]) - 1 for n in new], args.baseline)
     print(text)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    path = out / ("bit_identity_quick.md" if args.quick else "bit_identity.md")
-    path.write_text(f"# Bit identity\n\n{text}")
-    print(f"wrote {path}")
+    write_table(args.out, "bit_identity", args.quick, "Bit identity", text)
     return 0 if args.quick or all(v == "identical" for v in verdicts) else 1
 
 

@@ -155,12 +155,18 @@ def main(argv=None) -> int:
         rows = measure(trees, repeats, args.quick, 1 if args.quick else 3)
     text = table(rows, repeats, args.baseline)
     print(text)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    path = out / ("stepper_speed_quick.md" if args.quick else "stepper_speed.md")
-    path.write_text(f"# Stepper speed\n\n{text}")
-    print(f"wrote {path}")
+    write_table(args.out, "stepper_speed", args.quick, "Stepper speed", text)
     return 0 if all(r["same_history"] for r in rows) else 1
+
+
+def write_table(out, stem: str, quick: bool, title: str, text: str) -> Path:
+    """``text`` under the heading ``title`` in ``out``/``stem``.md (``stem``_quick.md for a
+    quick run); the path written."""
+    path = Path(out) / (f"{stem}_quick.md" if quick else f"{stem}.md")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(f"# {title}\n\n{text}")
+    print(f"wrote {path}")
+    return path
 
 
 if __name__ == "__main__":

@@ -1,3 +1,4 @@
+import importlib.util
 import os
 import sys
 from pathlib import Path
@@ -15,6 +16,12 @@ if not any(os.environ.get(name) for name in USER_SETTINGS):
     from threadpoolctl import threadpool_limits
 
     threadpool_limits(limits=1, user_api="blas")
+
+
+# convex–convex contact needs the 'collision' extra (coal)
+needs_coal = pytest.mark.skipif(
+    importlib.util.find_spec("coal") is None, reason="the 'collision' extra (coal) is missing"
+)
 
 
 @pytest.fixture(scope="session")

@@ -2,12 +2,11 @@
 distances against closed forms, a box resting on a box, a box dropped corner first, two free
 boxes colliding."""
 
-import importlib.util
 import sys
 
 import numpy as np
 import pytest
-from conftest import load_case
+from conftest import load_case, needs_coal
 
 from fecontact import (
     Ball,
@@ -24,9 +23,6 @@ from fecontact.contact.rigid3d_pairs import BallBoxContact
 from fecontact.rotations import exp, log
 from fecontact.time.simulate import simulate
 
-needs_coal = pytest.mark.skipif(
-    importlib.util.find_spec("coal") is None, reason="the 'collision' extra (coal) is missing"
-)
 G = 9.81
 # a rotation that turns the corner (−1, −1, −1)/√3 of a cube straight down
 _D = np.array([-1.0, -1.0, -1.0]) / np.sqrt(3.0)

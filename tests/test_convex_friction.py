@@ -2,10 +2,10 @@
 answers: a box sliding on a box to its stop, a box on an incline below and above tan θ = μ, a
 ball rolling out of a slide on a box face, a cylinder rolling on a box face as on a plane."""
 
-import importlib.util
 
 import numpy as np
 import pytest
+from conftest import needs_coal
 
 from fecontact import (
     Ball,
@@ -23,9 +23,6 @@ from fecontact.rotations import exp, log
 from fecontact.time.simulate import simulate
 from fecontact.time.stats import StepStats
 
-needs_coal = pytest.mark.skipif(
-    importlib.util.find_spec("coal") is None, reason="the 'collision' extra (coal) is missing"
-)
 G = 9.81
 SLAB = Box(2.0, 1.0, 0.2)  # the fixed body, its top face at z = 0
 BRICK = Box(0.2, 0.15, 0.1)
