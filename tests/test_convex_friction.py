@@ -2,7 +2,6 @@
 answers: a box sliding on a box to its stop, a box on an incline below and above tan θ = μ, a
 ball rolling out of a slide on a box face, a cylinder rolling on a box face as on a plane."""
 
-
 import numpy as np
 import pytest
 from conftest import needs_coal
