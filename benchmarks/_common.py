@@ -210,6 +210,17 @@ def report(title: str, *sections) -> str:
     return "\n".join(text)
 
 
+def publish_report(out, stem: str, quick: bool, title: str, rows, *sections) -> str:
+    """The report of ``sections`` (:func:`report`) under ``title``, printed and published as
+    ``out``/``stem`` (``stem``_quick for a quick run) with ``rows`` as its CSV; the report's
+    text."""
+    suffix = "_quick" if quick else ""
+    text = report(title + (" (quick)" if quick else ""), *sections)
+    print(text)
+    publish(Path(out) / f"{stem}{suffix}", rows, list(rows[0]), text)
+    return text
+
+
 def write_csv(path, rows, columns) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)

@@ -19,10 +19,8 @@ ball's centre of mass (m/s; the speed at the first step with an active contact, 
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
-from _common import case, parser, publish, report, timed_run
+from _common import case, parser, publish_report, timed_run
 
 BALL_ON_SLAB = case("ball_on_slab")
 # (method, passes, element, ball refinements, slab divisions, step / Δx/c)
@@ -76,13 +74,10 @@ def main():
     for spec in runs:
         rows.append(row(*spec))
         print(rows[-1], flush=True)
-    text = report(
-        "Elastic ball on an elastic slab" + (" (quick)" if args.quick else ""),
+    publish_report(
+        args.out, "ball_on_slab", args.quick, "Elastic ball on an elastic slab", rows,
         ("cases/ball_on_slab.py, 1 m/s, 12 ms, e_N = 0.", rows),
-    )
-    print(text)
-    stem = Path(args.out) / ("ball_on_slab_quick" if args.quick else "ball_on_slab")
-    publish(stem, rows, list(rows[0]), text)
+    )  # fmt: skip
 
 
 if __name__ == "__main__":

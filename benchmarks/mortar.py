@@ -37,10 +37,9 @@
 from __future__ import annotations
 
 import time
-from pathlib import Path
 
 import numpy as np
-from _common import case, parser, publish, report, timed_run
+from _common import case, parser, publish_report, timed_run
 
 from fecontact.testing import pressed_blocks
 
@@ -208,16 +207,13 @@ def main():
     disks = disk_rows(refinements, repeats)
     free = free_rows(refinements, repeats, 0.004 if args.quick else 0.02)
     balls = ball_rows(args.quick or args.coarse_balls)
-    text = report(
-        "Mortar and node-to-surface contact" + (" (quick)" if args.quick else ""),
+    publish_report(
+        args.out, "mortar", args.quick, "Mortar and node-to-surface contact", disks,
         ("Patch test, small displacements, p = 1e5 Pa (relative errors).", patch),
         ("Two elastic disks head-on (cases/two_disks.py), 1 m/s each, side by side.", disks),
         ("The same disks in free flight (10 cm apart, 20 ms), alternating.", free),
         ("Two elastic balls head-on (cases/two_balls.py), 1 m/s each.", balls),
-    )
-    print(text)
-    stem = Path(args.out) / ("mortar_quick" if args.quick else "mortar")
-    publish(stem, disks, list(disks[0]), text)
+    )  # fmt: skip
 
 
 if __name__ == "__main__":

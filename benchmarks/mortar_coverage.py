@@ -20,7 +20,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from _common import ROOT, parser, publish, report
+from _common import ROOT, parser, publish_report
 
 T_C = 6.2e-3  # Hertz's contact duration of each ball at 1 m/s, s
 
@@ -101,14 +101,11 @@ def main():
                 }
             )
             print(rows[-1], flush=True)
-    text = report(
-        "3D mortar, partly covered triangles, against a baseline"
-        + (" (quick)" if args.quick else ""),
+    publish_report(
+        args.out, "mortar_coverage", args.quick,
+        "3D mortar, partly covered triangles, against a baseline", rows,
         ("Two elastic balls head-on (cases/two_balls.py), 1 m/s each.", rows),
-    )
-    print(text)
-    stem = Path(args.out) / ("mortar_coverage_quick" if args.quick else "mortar_coverage")
-    publish(stem, rows, list(rows[0]), text)
+    )  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -30,10 +30,9 @@ v = 0.01 m/s (a_max/R = 0.032, a_max = 1.6 mm) Hertz is the limit (finite ball â
 from __future__ import annotations
 
 import time
-from pathlib import Path
 
 import numpy as np
-from _common import case, parser, publish, report
+from _common import case, parser, publish_report
 
 from fecontact import simulate
 
@@ -105,13 +104,10 @@ def main():
         for v, partner, spacing in SERIES:
             rows.append(impact(v, partner, {"element": "P2", "spacing": spacing}))
             print(rows[-1], flush=True)
-    text = report(
-        "Two elastic balls head-on against Hertz" + (" (quick)" if args.quick else ""),
+    publish_report(
+        args.out, "two_balls_hertz", args.quick, "Two elastic balls head-on against Hertz", rows,
         ("Each ball's t_c, F_max and Î´_max against Hertz's ball on a plane, h = t_c/50.", rows),
-    )
-    print(text)
-    stem = Path(args.out) / ("two_balls_hertz_quick" if args.quick else "two_balls_hertz")
-    publish(stem, rows, list(rows[0]), text)
+    )  # fmt: skip
 
 
 if __name__ == "__main__":
