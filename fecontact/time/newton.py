@@ -342,8 +342,8 @@ class AccelerationForm:
         """[Δq; Δλ] of the system bordered by the rows G with gaps g. Where the matrix is
         singular because rows are redundant (more rows than the dofs they move: a rigid
         face's four corners on a plane), the update is taken on a maximal independent subset
-        of them (the others' multipliers unchanged; their gaps follow, being dependent),
-        counted in the run's ``redundant_row_updates``."""
+        of them (the others' gaps follow, being dependent) and its force Gᵀ Δλ shared over all
+        of them by minimum norm, counted in the run's ``redundant_row_updates``."""
         res, nF = self.rnorm / self.ref, self.model.n_free
         b = self.lie.bordered if self.lie is not None else bordered
         self.plain = False
@@ -351,15 +351,14 @@ class AccelerationForm:
             self.solve = factorize_or_fail(b(K, G), res, False, self.model.solver)
             return -self.solve(np.concatenate([self.r, g]))
         except StepFailure:
-            keep = independent_rows(G)
+            Gd = G.toarray() if sp.issparse(G) else np.asarray(G)
+            keep = independent_rows(Gd)
             if keep.size == g.size:
                 raise
         self.opts.stats.contact.redundant_row_updates += 1
         self.solve = factorize_or_fail(b(K, G[keep]), res, False, self.model.solver)
         y = -self.solve(np.concatenate([self.r, g[keep]]))
-        # the kept rows' force Gᵀ Δλ spread over all of them by minimum norm (equal shares
-        # where rows are alike, as the frictional solves' minimum-norm steps do)
-        Gd = G.toarray() if sp.issparse(G) else np.asarray(G)
+        # (equal shares where rows are alike, as the frictional solves' minimum-norm steps)
         lam = np.linalg.lstsq(Gd.T, Gd[keep].T @ y[nF:], rcond=None)[0]
         return np.concatenate([y[:nF], lam])
 
