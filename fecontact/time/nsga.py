@@ -40,7 +40,7 @@ from .configuration import plus
 from .constraints import (
     StepFailure,
 )
-from .correction import correction_metric, position_correction
+from .correction import correction_metric, momentum_kept, position_correction
 from .coulomb import frictional_correction
 from .generalized_alpha import coefficients
 from .impacts import velocity_jump
@@ -97,7 +97,7 @@ class _Phases:
     # the attributes (slots: every access of the step's hot loop is cheaper)
     __slots__ = (
         "Gb P a c cand closed corrected force forces g_tilde gaps grip h held impulse "
-        "iters lam m model nu opts q q_tilde record smooth_step st st_s step t timer tol_gap "
+        "iters kept lam m model nu opts q q_tilde record smooth_step st st_s step t timer tol_gap "
         "v v_tilde vd works"
     ).split()
 
@@ -114,6 +114,7 @@ class _Phases:
         self.corrected = None  # (q̃, the metric's solve) after a correction (decoupled scheme)
         self.q_tilde = None  # q̃ after a correction moved q (for the energy ledger)
         self.g_tilde = None  # the gaps at q̃, when known before the correction
+        self.kept = None  # the velocity that held the bodies' angular momenta at the correction
 
     def smooth(self) -> np.ndarray:
         """Step 1 (taken again without the contacts it releases) and the records of its
@@ -190,6 +191,9 @@ class _Phases:
             work = np.union1d(work, pushed)
         if model.inverted(q):
             raise StepFailure("the position correction inverts an element (det F <= 0)", np.nan)
+        if (kept := momentum_kept(model)) is not None:
+            self.kept = kept(q_tilde, q, self.v, model.contacts.linearize(q, work)[1])
+            self.v = self.v + self.kept
         self.nu[work] = nu_w[: work.size]
         if friction is not None:
             nu_t, U_t = friction
@@ -305,7 +309,7 @@ class _Phases:
                 st,
                 self.q,
                 self.v,
-                self.v_tilde,
+                self.v_tilde if self.kept is None else self.v_tilde + self.kept,
                 dvd,
                 hold,
                 self.impulse[closed],
