@@ -8,9 +8,9 @@ import math
 import numpy as np
 import scipy.sparse as sp
 
-from .. import rotations
 from ..contact import solve_position_correction
 from ..linalg import UnitColumns, low_rank_solver
+from ..rotations import exp
 from .configuration import plus
 from .constraints import (
     Constraints,
@@ -23,6 +23,7 @@ from .constraints import (
 __all__ = [
     "MomentumKept",
     "correction_metric",
+    "momentum_held",
     "momentum_kept",
     "position_correction",
     "unit_columns",
@@ -165,7 +166,7 @@ class MomentumKept:
 def _momentum(body, M, q, v) -> np.ndarray:
     """L = Σ x_i × p_i + Σ R_i π_i (kg·m²/s) of a beam in space, about the origin."""
     p = (M @ v).reshape(-1, 6)
-    R = rotations.exp(q.reshape(-1, 6)[:, 3:])
+    R = exp(q.reshape(-1, 6)[:, 3:])
     x = body.positions(q)
     return np.cross(x, p[:, :3]).sum(axis=0) + np.einsum("nij,nj->i", R, p[:, 3:])
 
@@ -173,7 +174,7 @@ def _momentum(body, M, q, v) -> np.ndarray:
 def _rotation_fields(r, q) -> np.ndarray:
     """(3, ndof) velocities of the rigid rotations about e_x, e_y, e_z through the centre of
     mass (r = x − c the nodes' positions from it): v_i = e_k × r_i, Ω_i = R_iᵀe_k."""
-    R = rotations.exp(q.reshape(-1, 6)[:, 3:])
+    R = exp(q.reshape(-1, 6)[:, 3:])
     fields = np.zeros((3, len(r), 6))
     fields[:, :, :3] = np.cross(np.eye(3)[:, None, :], r)
     fields[:, :, 3:] = np.einsum("nji,kj->kni", R, np.eye(3))  # R_iᵀ e_k
@@ -186,7 +187,7 @@ def _common_normal(G, fields) -> np.ndarray | None:
     G_c f_n of the rigid rotation f_n about n is zero to round-off); else None."""
     if len(G) == 0:
         return None
-    forces = G[:, :, None].reshape(len(G), -1, 6)[:, :, :3].sum(axis=1)
+    forces = G.reshape(len(G), -1, 6)[:, :, :3].sum(axis=1)
     size = np.linalg.norm(forces, axis=1)
     if np.any(size == 0.0):
         return None
@@ -198,6 +199,17 @@ def _common_normal(G, fields) -> np.ndarray | None:
     if np.abs(rate).max() > 1e-12 * np.abs(G).max() * np.abs(fields).max():
         return None
     return n
+
+
+def momentum_held(model, q_tilde, q, v, work) -> tuple[np.ndarray, np.ndarray | None]:
+    """(v, Δv): the velocity ``v`` after the correction q̃ → q over the contacts ``work`` with
+    the increment Δv of :class:`MomentumKept` (None, v itself, for models without such
+    bodies)."""
+    kept = momentum_kept(model)
+    if kept is None:
+        return v, None
+    dv = kept(q_tilde, q, v, model.contacts.linearize(q, work)[1])
+    return v + dv, dv
 
 
 def momentum_kept(model) -> MomentumKept | None:

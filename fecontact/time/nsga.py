@@ -40,7 +40,7 @@ from .configuration import plus
 from .constraints import (
     StepFailure,
 )
-from .correction import correction_metric, momentum_kept, position_correction
+from .correction import correction_metric, momentum_held, position_correction
 from .coulomb import frictional_correction
 from .generalized_alpha import coefficients
 from .impacts import velocity_jump
@@ -114,7 +114,6 @@ class _Phases:
         self.corrected = None  # (q̃, the metric's solve) after a correction (decoupled scheme)
         self.q_tilde = None  # q̃ after a correction moved q (for the energy ledger)
         self.g_tilde = None  # the gaps at q̃, when known before the correction
-        self.kept = None  # the velocity that held the bodies' angular momenta at the correction
 
     def smooth(self) -> np.ndarray:
         """Step 1 (taken again without the contacts it releases) and the records of its
@@ -191,9 +190,7 @@ class _Phases:
             work = np.union1d(work, pushed)
         if model.inverted(q):
             raise StepFailure("the position correction inverts an element (det F <= 0)", np.nan)
-        if (kept := momentum_kept(model)) is not None:
-            self.kept = kept(q_tilde, q, self.v, model.contacts.linearize(q, work)[1])
-            self.v = self.v + self.kept
+        self.v, self.kept = momentum_held(model, q_tilde, q, self.v, work)  # (kept: Δv or None)
         self.nu[work] = nu_w[: work.size]
         if friction is not None:
             nu_t, U_t = friction
@@ -276,8 +273,7 @@ class _Phases:
             self.forces.in_vd, self.forces.in_a = shares
 
     def follow(self) -> None:
-        """v̇ and a follow the correction (:mod:`.position_jump`) in a step where a contact
-        closed, and without friction v follows them."""
+        """v̇, a (v without friction) follow the correction of an impact (:mod:`.position_jump`)."""
         st, closed = self.st, self.closed
         if self.corrected is None:  # (tested first: it decides most steps at no cost)
             return
