@@ -74,11 +74,11 @@ def test_mortar_disks_thrown_at_each_other_do_not_pass_through(velocity, courant
     """The default contact of two solids (mortar), from the case's default gap (a closer start
     is refused where the weighted gap stands off the surface). The predictor's depth check
     halves a step that would close past the search (at 10 m/s and 8 Dx/c the disks passed
-    through each other, 4.9 cm deep, before it). At 30 m/s the weighted gaps alone let the
-    slave disk's nodes in by 2.2 % of an edge at Dx/c; a node deeper than half a per cent
-    of an edge takes its own gap as its row (contact.mortar_safeguard). Measured (deepest
-    over the local edge, Dx/c ... 8 Dx/c): 0 at 5 and 10 m/s; at 30 m/s 0.73, 0.97, 0.49,
-    0.08 %, the master disk's nodes in the slave disk (the slave's own: at most 0.08 %)."""
+    through each other, 4.9 cm deep, before it). At 30 m/s the weighted gaps alone let
+    nodes in by 2.2 % of an edge at Dx/c; a node of either disk deeper than half the
+    allowance (0.5 % of the shortest edge) is held by its own gap (contact.mortar_safeguard).
+    Measured (deepest over the local edge, Dx/c ... 8 Dx/c): 0 at 5 and 10 m/s; at 30 m/s
+    0.47, 0.47, 0.47, 0.07 % (the weighted gaps alone: 2.2, 0.97, 0.48, 0.08 %)."""
     sim = case("two_disks").build(velocity=velocity, refinements=2, t_end=0.006)
     model = sim.model
     dt = wave_step(model.bodies[0], courant)

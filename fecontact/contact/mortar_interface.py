@@ -127,8 +127,9 @@ class MortarInterface(PairDefaults):
         self._dofs_m = master.node_translation_dofs(np.arange(master.n_nodes))
         self.offsets = (0, 0)
         self._last = self._last_gaps = self._search = self._layout_of = None
-        self.pointwise = safeguard_rows(body, master, restitution, self.nodes)
-        """The slave nodes' own gaps (:mod:`.mortar_safeguard`; None: none)."""
+        self.pointwise, self.master_rows = safeguard_rows(body, master, restitution, self.nodes)
+        """The slave nodes' own gaps and the master nodes' rows, contacts of the model after
+        its declared pairs (:mod:`.mortar_safeguard`; None: none)."""
 
     @property
     def size(self) -> int:
@@ -140,6 +141,7 @@ class MortarInterface(PairDefaults):
         self._last = self._last_gaps = self._search = self._layout_of = None
         if self.pointwise is not None:  # (in 2D)
             self.pointwise.bind(model)
+            self.master_rows.bind(model)
 
     def detect_within(self, distance: float) -> None:
         """Search as far as the integrator's candidates reach (``distance`` m)."""
@@ -336,7 +338,7 @@ class MortarInterface(PairDefaults):
 def merge_interfaces(pairs):
     """The pairs with each mortar interface once: a mortar pair declared both ways, (a, b)
     and (b, a), is one interface (the first declared); their restitution and friction must
-    agree."""
+    agree. The master nodes' safeguard rows of the 2D interfaces follow the declared pairs."""
     seen: dict = {}
     out = []
     for pair in pairs:
@@ -352,4 +354,4 @@ def merge_interfaces(pairs):
                 continue
             seen[key] = pair
         out.append(pair)
-    return out
+    return out + [p.master_rows for p in seen.values() if p.master_rows is not None]

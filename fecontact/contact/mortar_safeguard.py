@@ -35,6 +35,7 @@ from .body_pairs import NodeSurfaceContact
 
 __all__ = [
     "ALLOWANCE",
+    "MasterNodeRows",
     "SafeguardRows",
     "deep_hessians",
     "deep_rows",
@@ -88,15 +89,34 @@ class SafeguardRows(NodeSurfaceContact):
         return super().closest_facets(xs, xm)
 
 
+class MasterNodeRows(SafeguardRows):
+    """The second pass: every boundary node of the interface's master (``body`` here)
+    against the slave's surface (``master`` here), g_s = g_N + δ for a node deeper than δ/2;
+    the others report a gap ``far`` beyond any detection distance (twice the pair's), with
+    a zero gradient: never a candidate, and finite, so that a row that a correction's
+    iterate lifts out stays a number. Frictionless: the rows only stop a node sinking."""
+
+    inside_test = False  # g_s is held to round-off like a signed distance
+
+    def _evaluate(self, q):
+        g, dofs, G, H = super()._evaluate(q)
+        shallow = ~(g < 0.5 * self.allowance)
+        g[shallow] = 2.0 * self.base_margin
+        G[shallow] = 0.0
+        self.selected[shallow] = -1  # (no curvature either)
+        return g, dofs, G, H
+
+
 def safeguard_rows(body, master, restitution: float, nodes: np.ndarray):
-    """The pointwise rows of a 2D interface's slave ``nodes`` (those of its weighted gaps, in
-    their order), None in 3D (module docstring)."""
+    """The pointwise rows of a 2D interface: its slave ``nodes``' own gaps (those of its
+    weighted gaps, in their order) and the rows of the master's nodes; (None, None) in 3D
+    (module docstring)."""
     if body.dim != 2:
-        return None
+        return None, None
     rows = SafeguardRows(body, master, restitution)
     if not np.array_equal(rows.nodes, nodes):
         raise ValueError("the mortar rows' nodes must be the slave body's boundary nodes")
-    return rows
+    return rows, MasterNodeRows(master, body, restitution)
 
 
 def deep_rows(rows: SafeguardRows | None, q: np.ndarray, g: np.ndarray) -> np.ndarray:
