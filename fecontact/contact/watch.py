@@ -7,13 +7,15 @@ watch measures every boundary node of each body against the other's discretized 
 the end of every step, by the inside/outside test of :mod:`fecontact.contact.inside`, through
 the broad phase of :mod:`fecontact.contact.facet_search` (a node outside and far from the
 other surface is not tested again until the bodies have moved). The depth is reported (the
-run's ``max_penetration``), not held: the weighted gaps let a node in by the interpolation's
-own error (measured 0.03–0.3 % of the shortest edge on a ball landing on a slab), and a step
-is not retaken for it; a node deeper than ``BOUND`` of the other surface's shortest edge is
-a warning of the run. What the watch has measured beyond that: 19 % of an edge (2.4 mm) in
-an oblique frictional impact of two disks (``two_disks``, refinements 2, offset 0.02 m,
-μ = 0.3), and two coarse balls (one refinement, pole to pole) that no weighted gap covered
-and that passed through each other while triangles counted as facing only beyond 120°.
+run's ``max_penetration``): the weighted gaps let a node in by the interpolation's own error
+(measured 0.03–0.3 % of the shortest edge on a ball landing on a slab), and a step is not
+retaken for it; in 2D a node of either body deeper than half a per cent of an edge is held
+by its own gap (:mod:`fecontact.contact.mortar_safeguard`). A node deeper than ``BOUND`` of
+the other surface's shortest edge is a warning of the run. What the watch has measured
+beyond that: 19 % of an edge (2.4 mm) in an oblique frictional impact of two disks
+(``two_disks``, refinements 2, offset 0.02 m, μ = 0.3), and two coarse balls (one
+refinement, pole to pole) that no weighted gap covered and that passed through each other
+while triangles counted as facing only beyond 120°.
 """
 
 from __future__ import annotations
