@@ -232,8 +232,9 @@ class MortarInterface(PairDefaults):
         for cached in (self._last, self._last_gaps):
             if cached is not None and self._same(q, cached[0]):
                 return cached[1]["g"].copy()
-        g = self._gap_values(*self._values(q))
-        g = take_deep(self.pointwise, q, deep_rows(self.pointwise, q, g), g)[0]
+        values = self._values(q)
+        g = self._gap_values(*values)
+        g = take_deep(self.pointwise, q, deep_rows(self.pointwise, q, g, len(values[0])), g)[0]
         self._last_gaps = (tuple(k.copy() for k in self._key(q)), {"g": g})
         return g.copy()
 
@@ -261,7 +262,7 @@ class MortarInterface(PairDefaults):
         layout = self._layout(ends, dofs)
         scale = np.where(valid, 1.0 / self.length, 0.0)
         G = layout.rows(ends, [j.g * scale[r, None] for r, j in zip(ends, jets, strict=True)])
-        deep = deep_rows(self.pointwise, q, g)
+        deep = deep_rows(self.pointwise, q, g, len(e))
         g, dofs, G = take_deep(self.pointwise, q, deep, g, layout.dofs, G)
         G.flags.writeable = False
         key = tuple(k.copy() for k in self._key(q))

@@ -97,6 +97,26 @@ class MasterNodeRows(SafeguardRows):
     iterate lifts out stays a number. Frictionless: the rows only stop a node sinking."""
 
     inside_test = False  # g_s is held to round-off like a signed distance
+    # the base margin is enough: a node that sinks is found by the inside test however deep
+    looks_ahead = False
+    _far = None  # (margin and placement, the rows of a free flight)
+
+    def evaluate(self, q: np.ndarray):
+        xs, xm = self.positions(q)
+        lo, hi = xm.min(axis=0) - self.margin, xm.max(axis=0) + self.margin
+        if np.any(np.all((xs >= lo) & (xs <= hi), axis=1)):
+            return super().evaluate(q)
+        # every node farther than the margin from the other body: the rows of a free flight,
+        # made once per margin and placement (most steps of a run)
+        key = (self.base_margin, self.offsets)
+        if self._far is None or self._far[0] != key:
+            far = super()._evaluate(q)
+            for array in far[1:3]:
+                array.flags.writeable = False
+            self._far = (key, far)
+        self.selected = np.full(self.size, -1)
+        g, dofs, G, H = self._far[1]
+        return g.copy(), dofs, G, H
 
     def _evaluate(self, q):
         g, dofs, G, H = super()._evaluate(q)
@@ -119,10 +139,12 @@ def safeguard_rows(body, master, restitution: float, nodes: np.ndarray):
     return rows, MasterNodeRows(master, body, restitution)
 
 
-def deep_rows(rows: SafeguardRows | None, q: np.ndarray, g: np.ndarray) -> np.ndarray:
+def deep_rows(rows: SafeguardRows | None, q: np.ndarray, g: np.ndarray, entries: int):
     """The rows (m,) whose node's own gap g_N + δ (``rows`` at q) is below its weighted gap g
-    and below δ/2: the node lies deeper than δ/2 inside the master."""
-    if rows is None:
+    and below δ/2: the node lies deeper than δ/2 inside the master. None without ``entries``
+    (the interface's element pairs at q): then no element of the master lies within the
+    margin of the slave's, and no slave node inside it (a free flight, at no cost)."""
+    if rows is None or entries == 0:
         return np.zeros(len(g), bool)
     g_s = rows.gaps(q)
     return (g_s < g) & (g_s < 0.5 * rows.allowance)
