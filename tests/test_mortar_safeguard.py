@@ -81,3 +81,26 @@ def test_no_node_that_deep_leaves_the_weighted_gaps_bit_for_bit():
     for a, b in zip(pair.evaluate(q)[:3], weighted.evaluate(q)[:3], strict=True):
         assert np.array_equal(a, b)
     assert np.all(pair.master_rows.gaps(q) > 0.02)
+
+
+def test_the_summary_counts_the_steps_that_end_with_a_node_held(tmp_path):
+    import json
+    from pathlib import Path
+
+    from fecontact.cli.commands import main
+    from fecontact.scenes import wave_step
+    from fecontact.testing import case
+
+    path = Path(__file__).resolve().parents[1] / "cases" / "two_disks.py"
+    dt = wave_step(case("two_disks").build(refinements=2).model.bodies[0], 1)
+    for velocity, held in ((30, True), (1, False)):
+        out = tmp_path / str(velocity)
+        args = ["run", str(path), "--quiet", "--out", str(out), "--checkpoint-every", "0"]
+        args += ["--set", f"velocity={velocity}", "--set", "refinements=2"]
+        assert main([*args, "--dt", str(dt), "--t-end", "0.004"]) == 0
+        summary = json.loads((out / "summary.json").read_text())
+        assert summary["status"] == "completed"
+        # 30 m/s at dx/c: nodes of both disks sink and are held (the weighted gaps alone let
+        # them 2.2 % of an edge in); 1 m/s: the weighted gaps alone, no node held
+        assert (summary["mortar_held_steps"] > 0) == held
+        assert summary["mortar_depth"] <= 0.01

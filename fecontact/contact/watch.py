@@ -24,8 +24,9 @@ import numpy as np
 
 from .facet_search import FacetSearch
 from .mortar_interface import MortarInterface
+from .mortar_safeguard import MasterNodeRows
 
-__all__ = ["BOUND", "SolidWatch", "solid_watches", "watched_depth"]
+__all__ = ["BOUND", "SolidWatch", "held_nodes", "solid_watches", "watched_depth"]
 
 BOUND = 0.01
 """Deepest a node of a mortar interface may sit inside the other solid, over the shortest
@@ -76,6 +77,20 @@ def _shortest_edge(body, facets: np.ndarray) -> float:
 def solid_watches(pairs) -> list[SolidWatch]:
     """The watches of the mortar interfaces among ``pairs``."""
     return [SolidWatch(pair) for pair in pairs if isinstance(pair, MortarInterface)]
+
+
+def held_nodes(pairs, q: np.ndarray) -> int:
+    """How many nodes of the 2D mortar interfaces among ``pairs`` lie deeper than half the
+    allowance δ inside the other solid at q, so that their own gaps are their rows
+    (:mod:`fecontact.contact.mortar_safeguard`): a held node ends a step about δ deep."""
+    held = 0
+    for pair in pairs:
+        if isinstance(pair, MortarInterface) and pair.pointwise is not None:
+            g, g_s = pair.gaps(q), pair.pointwise.gaps(q)
+            held += int(np.count_nonzero((g == g_s) & (g_s < 0.5 * pair.pointwise.allowance)))
+        elif isinstance(pair, MasterNodeRows):
+            held += int(np.count_nonzero(pair.gaps(q) < 0.5 * pair.allowance))
+    return held
 
 
 def watched_depth(watches, q: np.ndarray) -> tuple[float, float]:
