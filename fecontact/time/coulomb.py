@@ -131,6 +131,7 @@ def frictional_correction(model, st, q_tilde, work, solve_H, opts, tol_gap, t, p
                 x,
                 tol_gap,
                 stats=opts.stats.contact.coulomb,
+                minimum_norm=opts.stats.contact.minimum_norm,
             )
         except RuntimeError as err:
             raise StepFailure(f"position correction: {err}", np.nan) from None
@@ -190,6 +191,7 @@ def frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol, solve=None, pr
             x0,
             tol,
             stats=opts.stats.contact.coulomb,
+            minimum_norm=opts.stats.contact.minimum_norm,
         )
     except RuntimeError as err:
         raise StepFailure(f"velocity jump: {err}", np.nan) from None
