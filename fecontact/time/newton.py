@@ -348,14 +348,18 @@ class AccelerationForm:
         res, nF = self.rnorm / self.ref, self.model.n_free
         b = self.lie.bordered if self.lie is not None else bordered
         self.plain = False
-        try:
-            self.solve = factorize_or_fail(b(K, G), res, False, self.model.solver)
-            return -self.solve(np.concatenate([self.r, g]))
-        except StepFailure:
-            Gd = G.toarray() if sp.issparse(G) else np.asarray(G)
-            keep = independent_rows(Gd)
-            if keep.size == g.size:
-                raise
+        # where rows can be redundant (decided once per run) they are tested first: an LU
+        # need not fail on them, and its near-zero pivot would spread round-off into Δq
+        keep = independent_rows(G) if self.opts.stats.contact.minimum_norm else None
+        if keep is None or keep.size == g.size:
+            try:
+                self.solve = factorize_or_fail(b(K, G), res, False, self.model.solver)
+                return -self.solve(np.concatenate([self.r, g]))
+            except StepFailure:
+                keep = independent_rows(G)
+                if keep.size == g.size:
+                    raise
+        Gd = G.toarray() if sp.issparse(G) else np.asarray(G)
         self.opts.stats.contact.redundant_row_updates += 1
         self.solve = factorize_or_fail(b(K, G[keep]), res, False, self.model.solver)
         y = -self.solve(np.concatenate([self.r, g[keep]]))

@@ -183,7 +183,7 @@ class _Phases:
             U, nu_w, friction = self._corrected(q_tilde, work, metric)
             self.q = q = plus(model, q_tilde, U)
             self.gaps = model.contacts.gaps(q)
-            pushed = cand[self.gaps[cand] < -self.tol_gap]
+            pushed = _pushed(cand, self.gaps[cand], self.tol_gap, opts.stats.contact.minimum_norm)
             pushed = pushed[~np.isin(pushed, work)]
             if pushed.size == 0:
                 break
@@ -339,6 +339,14 @@ class _Phases:
             args = (self.v_tilde, self.q_tilde, self.step.friction_work, self.works)
             at["ledger"] = smooth_record(self.model, phase, *args)
         return State(self.t, self.q, self.v, self.vd, self.a, **at)
+
+
+def _pushed(cand, gaps, tol_gap: float, redundant: bool) -> np.ndarray:
+    """The candidates the correction left below −tol_gap, and, where rows can be redundant,
+    those it left touching within the tolerance (g ≤ tol_gap): a box face's fourth corner
+    lands with the other three, and whether it shares their load must not depend on the
+    round-off of its gap."""
+    return cand[gaps <= tol_gap] if redundant else cand[gaps < -tol_gap]
 
 
 def _impact(nu, impulse, held) -> bool:
