@@ -156,7 +156,7 @@ class SmoothNewton:
 
     __slots__ = (
         "checked clock elastic evaluated form gyroscopic joints load model name opts plan rowed "
-        "scaled step terms timer fixed kept keeps"
+        "scaled step terms timer fixed kept keeps shift"
     ).split()
 
     def __init__(self, plan: NewtonPlan, model, st, t, c, opts, timer, P=None, law=None):
@@ -166,6 +166,7 @@ class SmoothNewton:
         # roles, where fixed, are the plan's)
         self.fixed, self.kept = plan.roles is not None, None
         self.keeps = issubclass(plan.form, AccelerationForm)
+        self.shift = (None, None)  # (the coefficients, β′M of them)
         if self.fixed:
             self._sort(plan.roles)
         if st is not None:
@@ -196,6 +197,15 @@ class SmoothNewton:
             self._sort(roles(term for term in begun if term is not None))
         self.clock = time.perf_counter()
         return self
+
+    def mass_shift(self, c):
+        """β′M of the coefficients ``c`` (the shift of a direction that does not descend),
+        made once for a run's steps of one size."""
+        of, shift = self.shift
+        if of is not c:
+            shift = c.bp * self.model.M
+            self.shift = (c, shift)
+        return shift
 
     def run(self) -> tuple[int, bool]:
         """Iterate to convergence: (the iterations, whether the last update moved the
@@ -424,7 +434,8 @@ class AccelerationForm:
             return -solve(r)
         elastic, opts, res = self.newton.elastic, self.opts, self.rnorm / self.ref
         newton = (opts.tol_increment, res, opts.stats.newton, model.solver)
-        shift, shifts = self.step.c.bp * model.M, opts.stats.newton.shifted_directions
+        shift = self.newton.mass_shift(self.step.c)
+        shifts = opts.stats.newton.shifted_directions
         dq, *test = descent_direction(
             model, r, elastic.fi, self.S, elastic.K, solve, shift, *newton
         )
