@@ -30,8 +30,8 @@ contacts ``P``; ``law``: what the form needs of the step besides, None for the a
 form). It holds ``step``, the step's :class:`StepContext` at the predictor, and gives
 ``residual(it)``, whether the iterate has converged, leaving ``rnorm`` and its
 reference ``ref``; ``update()``, whether the update ended the iteration; and, where the plan
-halves updates, ``halves()``. A form with ``begin(st, c, t, P, law)`` (the acceleration
-form) is built once per run and begun again at every step.
+halves updates, ``halves()``. The acceleration form is built once per run and begun again
+at every step (``begin(st, c, t, P, law)``); another form is built for each step.
 
 The loop itself is built once per run (:meth:`NewtonPlan.loop`) and started at every step
 (:meth:`SmoothNewton.start`): the run's terms are sorted into their roles once, and a step
