@@ -1,15 +1,17 @@
 """Time per step of the stepper against an earlier version of the package, side by side.
 
-The earlier version (``--baseline``, a git revision of this repository; default 21d058e, the
-stepper before it was configured once per run) is exported into a temporary folder. Each
-case then runs in fresh interpreters, alternately on the baseline and on this checkout, so
-that a change of load on the machine hits both. A process steps the case with
+The earlier versions (``--baseline``, git revisions of this repository separated by commas;
+default 21d058e, the stepper before it was configured once per run) are exported into a
+temporary folder. Each case then runs in fresh interpreters, alternately on every baseline
+and on this checkout (and, with ``--noise``, on this checkout a second time: the ratio of the
+two copies is the noise of the measurement), so that a change of load on the machine hits
+all of them. A process steps the case with
 ``fecontact.simulate`` (no output), a model built anew for each run, and reports the CPU
 time per step (``time.process_time``, which the other processes of a loaded machine disturb
 far less than the wall clock), the least of its runs. Per case: the median and the minimum
-over the processes of each version, the ratio of the medians (this checkout over the
-baseline), and whether the positions and velocities of every step are bit-identical in all
-runs of both (a refactor must not change a result).
+over the processes of each version, the ratio of the medians (this checkout over each
+other), and whether the positions and velocities of every step are bit-identical in all
+runs of every version (a refactor must not change a result).
 
 Cases: the founding flexible pendulum (1.5 s, 1500 steps), the bouncing ball (5 s, 5000
 steps of a point mass) and two elastic disks colliding (580 dofs, smooth contact,
@@ -17,7 +19,8 @@ node-to-surface contact as in the baseline), each with its defaults otherwise, i
 the end of their step (``localize=False``, the baseline's only way;
 ``benchmarks/localization.py`` measures the cost of localization).
 
-    python benchmarks/stepper_speed.py [--quick] [--repeats N] [--baseline REV] [--out DIR]
+    python benchmarks/stepper_speed.py [--quick] [--repeats N] [--baseline REV[,REV...]]
+        [--noise] [--out DIR]
 """
 
 from __future__ import annotations
@@ -82,6 +85,7 @@ def export(revision: str, folder: Path) -> Path:
         check=True,
         capture_output=True,
     ).stdout
+    folder.mkdir(parents=True, exist_ok=True)
     with tarfile.open(fileobj=io.BytesIO(tar)) as archive:
         archive.extractall(folder, filter="data")
     return folder
@@ -98,46 +102,53 @@ def one_run(tree: Path, case: str, t_end: float | None, inner: int) -> dict:
 
 
 def measure(trees: dict, repeats: int, quick: bool, inner: int) -> list[dict]:
+    """Per case, the CPU time per step of each tree (median and minimum over ``repeats``
+    processes, alternated tree by tree) and whether every run's history is the same."""
     rows = []
     for case in CASES:
         t_end = {"flexible_pendulum": 0.3, "bouncing_ball": 1.0, "two_disks": 0.002}[case]
         t_end = t_end if quick else None
         runs = {name: [] for name in trees}
-        for _ in range(repeats):  # alternate: a change of load hits both
+        for _ in range(repeats):  # alternate: a change of load hits every tree alike
             for name, tree in trees.items():
                 runs[name].append(one_run(tree, case, t_end, inner))
         per = {n: [r["per_step"] for r in runs[n]] for n in runs}
-        med = {n: statistics.median(per[n]) for n in per}
         rows.append(
             {
                 "case": case,
                 "steps": runs["new"][0]["steps"],
-                "baseline_median_us": 1e6 * med["baseline"],
-                "new_median_us": 1e6 * med["new"],
-                "baseline_min_us": 1e6 * min(per["baseline"]),
-                "new_min_us": 1e6 * min(per["new"]),
-                "ratio": med["new"] / med["baseline"],
+                "median_us": {n: 1e6 * statistics.median(per[n]) for n in per},
+                "min_us": {n: 1e6 * min(per[n]) for n in per},
                 "same_history": len({r["history"] for n in runs for r in runs[n]}) == 1,
             }
         )
     return rows
 
 
-def table(rows: list[dict], repeats: int, baseline: str) -> str:
+def table(rows: list[dict], repeats: int, baselines: list[str], noise: bool) -> str:
+    """The times of every tree and the ratios of this checkout over each baseline (and over
+    its own second copy: the same code's noise)."""
+    others = [*baselines, *(["same code"] if noise else [])]
     lines = [
-        f"CPU time per step of the time loop, this checkout against {baseline}: median (and "
-        f"minimum) over {repeats} processes of each, alternated, of the least of the runs in "
-        "each process. Same history: the positions and velocities of every step are "
-        "bit-identical in every run of both.",
+        f"CPU time per step of the time loop (µs): median (and minimum) over {repeats} "
+        "processes of each version, alternated, of the least of the runs in each process; "
+        "ratio: this checkout's median over the other's. 'same code': a second copy of this "
+        "checkout in the same alternation (its ratio is the noise of the measurement). Same "
+        "history: the positions and velocities of every step are bit-identical in every run "
+        "of every version.",
         "",
-        "| case | steps | baseline (µs) | this checkout (µs) | ratio | same history |",
-        "| --- | ---: | ---: | ---: | ---: | --- |",
+        "| case | steps | this checkout | "
+        + " | ".join(f"{b} | ratio" for b in others)
+        + " | same history |",
+        "| --- | ---: | ---: | " + " | ".join("---: | ---:" for _ in others) + " | --- |",
     ]
     for r in rows:
+        med, low = r["median_us"], r["min_us"]
+        cells = [f"{med[b]:.1f} ({low[b]:.1f}) | {med['new'] / med[b]:.3f}" for b in others]
         lines.append(
-            f"| {r['case']} | {r['steps']} | {r['baseline_median_us']:.1f} "
-            f"({r['baseline_min_us']:.1f}) | {r['new_median_us']:.1f} ({r['new_min_us']:.1f}) "
-            f"| {r['ratio']:.3f} | {'yes' if r['same_history'] else 'NO'} |"
+            f"| {r['case']} | {r['steps']} | {med['new']:.1f} ({low['new']:.1f}) | "
+            + " | ".join(cells)
+            + f" | {'yes' if r['same_history'] else 'NO'} |"
         )
     return "\n".join(lines) + "\n"
 
@@ -146,14 +157,25 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="short runs, 3 repeats")
     parser.add_argument("--repeats", type=int, default=None, help="processes of each (default 7)")
-    parser.add_argument("--baseline", default="21d058e", help="git revision to compare with")
+    parser.add_argument(
+        "--baseline",
+        default="21d058e",
+        help="git revisions to compare with, separated by commas (default: %(default)s)",
+    )
+    parser.add_argument(
+        "--noise", action="store_true", help="also time a second copy of this checkout"
+    )
     parser.add_argument("--out", default=str(RESULTS), help="output folder (default: %(default)s)")
     args = parser.parse_args(argv)
     repeats = args.repeats or (3 if args.quick else 7)
+    baselines = [b.strip() for b in args.baseline.split(",") if b.strip()]
     with tempfile.TemporaryDirectory(prefix="fecontact_baseline_") as tmp:
-        trees = {"baseline": export(args.baseline, Path(tmp)), "new": ROOT}
+        trees = {b: export(b, Path(tmp) / b) for b in baselines}
+        trees["new"] = ROOT
+        if args.noise:  # this checkout's own files, a second time (same code)
+            trees["same code"] = ROOT
         rows = measure(trees, repeats, args.quick, 1 if args.quick else 3)
-    text = table(rows, repeats, args.baseline)
+    text = table(rows, repeats, baselines, args.noise)
     print(text)
     write_table(args.out, "stepper_speed", args.quick, "Stepper speed", text)
     return 0 if all(r["same_history"] for r in rows) else 1

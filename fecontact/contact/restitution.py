@@ -124,6 +124,8 @@ def impulse_work(x, w0, w, m: int, nt: int) -> np.ndarray:
     nc = m * (1 + nt)
     mean = 0.5 * (np.asarray(w0, float) + w)
     x = np.asarray(x, float)
+    if nt == 0 and x.size == nc:  # normal rows only (most jumps): one product
+        return np.array([float(x @ mean), 0.0, 0.0])
     # (a function of every jump: sums of slices, no masks)
     joints = float(x[nc:] @ mean[nc:])
     if nt == 0:

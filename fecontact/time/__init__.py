@@ -1,6 +1,11 @@
 """Time stepping: the nonsmooth generalized-α step and its baselines behind one signature,
-``step(model, state, h, options, timer) -> State``, chosen by name in :mod:`.simulate`."""
+``step(model, state, h, options, timer) -> State``, chosen by name in :mod:`.simulate`.
+``NEWTON``, ``FOLLOW_UPS`` and ``RELEASES`` are deprecated
+(:mod:`fecontact.linalg.legacy`)."""
 
+import dataclasses
+
+from ..linalg.legacy import LastRunCounts, deprecated
 from .generalized_alpha import alpha_coefficients
 from .records import (
     FrictionRecord,
@@ -18,6 +23,9 @@ from .terms import ForceTerm, StepContext
 
 __all__ = [
     "uses_smooth_contact",
+    "FOLLOW_UPS",
+    "NEWTON",
+    "RELEASES",
     "ForceTerm",
     "FrictionRecord",
     "PenaltyRecord",
@@ -39,3 +47,18 @@ __all__ = [
     "run_settings",
     "simulate",
 ]
+
+# the deprecated counter names: the counts of the calling thread's latest run, by their old keys
+_COUNTERS = {
+    "NEWTON": lambda stats: dataclasses.asdict(stats.newton),
+    "FOLLOW_UPS": lambda stats: dataclasses.asdict(stats.follow_ups),
+    "RELEASES": lambda stats: {"steps": stats.releases},
+}
+
+
+def __getattr__(name: str):
+    read = _COUNTERS.get(name)
+    if read is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    deprecated(f"fecontact.time.{name}", "read the run's StepStats (simulate's stats)")
+    return LastRunCounts(name, lambda stats: read(StepStats() if stats is None else stats))

@@ -11,7 +11,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .lie import LieGroup, on_group
-from .newton import NewtonPlan, SmoothNewton
+from .newton import NewtonPlan
 from .terms import (
     Damping,
     Elastic,
@@ -91,7 +91,7 @@ def alpha_smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
     Returns a :class:`SmoothStep`: S = (S_t, its solver) for the metric of the position
     correction (None with joints), G_b the joint gradient at the returned q (None when the
     last update moved q after it was evaluated)."""
-    newton = SmoothNewton(opts.plan, model, st, t, c, opts, timer, P)
+    newton = opts.plan.loop(model, opts, timer).start(st, t, c, P)
     it, stale = newton.run()
     step, joints = newton.step, newton.joints
     Gb = None if stale or joints is None else joints.Gb

@@ -92,7 +92,7 @@ def position_correction(model, q_tilde, cand, metric, c, opts, tol_gap, nu0=None
             0.1 * tol_gap,
             opts.max_iterations,
             bilateral=cons.bilateral,
-            nu0=None if nu0 is None else np.r_[nu0, np.zeros(model.joints.size)],
+            nu0=None if nu0 is None else np.concatenate([nu0, np.zeros(model.joints.size)]),
             stats=opts.stats.contact,
         )
     except RuntimeError as err:

@@ -92,7 +92,8 @@ def velocity_jump(
         works = jump_work(model, q, v, W, closed, G1, rates, lam, lam_t)
         return W, lam_n, its, (lam_t, status, work), works
     Y = constraint_columns(model, ("mass",), closed, G1, model.solve_M, cons, constant=True)
-    P0 = np.r_[st.impulse[closed], np.zeros(model.joints.size)]  # the last step's: warm start
+    # the last step's impulses: warm start
+    P0 = np.concatenate([st.impulse[closed], np.zeros(model.joints.size)])
     W, P, its = impact_law(G1, gdot, model.solve_M, Y, opts, cons.bilateral, P0, tol)
     works = impulse_work(P, rates, rates + G1 @ W, closed.size, 0)
     return W, P, its, None, works

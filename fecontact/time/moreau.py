@@ -57,7 +57,7 @@ from .constraints import (
     plus_curvature,
 )
 from .coulomb import frictional_jump
-from .newton import NewtonPlan, SmoothNewton
+from .newton import NewtonPlan
 from .poisson import poisson_jump
 from .records import FrictionRecord
 from .settings import run_settings
@@ -91,7 +91,7 @@ def moreau_step(model, st: State, h: float, opts: IntegratorOptions, timer: Phas
     ht = h * theta
     c = MoreauRates(h, ht, ht, 1.0 / (ht * ht))
     law = ImpactRows(rows, slip)
-    newton = SmoothNewton(opts.plan, model, st, st.t + h, c, opts, timer, law=law)
+    newton = opts.plan.loop(model, opts, timer).start(st, st.t + h, c, law=law)
     it, _ = newton.run()
     form = newton.form
     v, P, f, tangential = form.v, form.P, form.f, form.tangential

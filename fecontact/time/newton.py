@@ -30,7 +30,12 @@ contacts ``P``; ``law``: what the form needs of the step besides, None for the a
 form). It holds ``step``, the step's :class:`StepContext` at the predictor, and gives
 ``residual(it)``, whether the iterate has converged, leaving ``rnorm`` and its
 reference ``ref``; ``update()``, whether the update ended the iteration; and, where the plan
-halves updates, ``halves()``.
+halves updates, ``halves()``. The acceleration form is built once per run and begun again
+at every step (``begin(st, c, t, P, law)``); another form is built for each step.
+
+The loop itself is built once per run (:meth:`NewtonPlan.loop`) and started at every step
+(:meth:`SmoothNewton.start`): the run's terms are sorted into their roles once, and a step
+allocates only its predictor and its context.
 """
 
 from __future__ import annotations
@@ -106,7 +111,7 @@ class NewtonPlan:
     ``roles``: the terms' :class:`Roles`, when every term acts in every step as itself (no
     ``per_step`` term), else None (sorted per step)."""
 
-    __slots__ = ("terms", "reuse", "descent", "halving", "bound", "name", "group", "roles", "form")
+    __slots__ = "terms reuse descent halving bound name group roles form last_loop".split()
 
     def __init__(
         self,
@@ -125,37 +130,83 @@ class NewtonPlan:
         self.form = AccelerationForm if form is None else form
         fixed = not any(term.per_step for term in self.terms)
         self.roles = roles(self.terms) if fixed else None
+        self.last_loop: SmoothNewton | None = None
+
+    def loop(self, model, opts, timer) -> SmoothNewton:
+        """The run's loop over this plan for ``model`` with the run's settings ``opts`` and
+        ``timer``: built on first use and kept (a plan belongs to one run), built anew where
+        the model, settings or timer differ from the kept loop's."""
+        loop = self.last_loop
+        if (
+            loop is None
+            or loop.model is not model
+            or loop.opts is not opts
+            or loop.timer is not timer
+        ):
+            loop = self.last_loop = SmoothNewton(self, model, None, 0.0, None, opts, timer)
+        return loop
 
 
 class SmoothNewton:
-    """Newton's iteration of one step from ``st`` with the coefficients ``c`` to the time
-    ``t`` (s), over the terms of ``plan`` as they act in the step (``P``: the persistent
-    contacts), in the plan's form (built with the step's ``law``: what the form needs of the
-    step besides its state, None for the acceleration form). ``run()`` iterates; then
-    ``step`` holds the iterate and ``form`` what the form found."""
+    """Newton's iteration of a run's steps over the terms of ``plan``, in the plan's form.
+    Built for one step from ``st`` with the coefficients ``c`` to the time ``t`` (s), the
+    persistent contacts ``P`` and the form's ``law`` (what the form needs of the step besides
+    its state, None for the acceleration form), or, with ``st`` None, for a run whose steps
+    each :meth:`start` it (:meth:`NewtonPlan.loop`). ``run()`` iterates; then ``step`` holds
+    the iterate and ``form`` what the form found."""
 
     __slots__ = (
         "checked clock elastic evaluated form gyroscopic joints load model name opts plan rowed "
-        "scaled "
-        "step terms timer"
+        "scaled step terms timer fixed kept keeps shift"
     ).split()
 
     def __init__(self, plan: NewtonPlan, model, st, t, c, opts, timer, P=None, law=None):
         self.model, self.opts, self.timer, self.name = model, opts, timer, plan.name
         self.plan = plan
-        self.form = form = plan.form(self, st, c, t, P, law)
-        self.step = step = form.step
-        if plan.roles is None:
-            begun = (term.begin(step) for term in plan.terms)
-            sorted_ = roles(term for term in begun if term is not None)
-        else:
-            for term in plan.terms:
-                term.begin(step)
-            sorted_ = plan.roles
+        # (the acceleration form is kept from step to step, begun again at each; the terms'
+        # roles, where fixed, are the plan's)
+        self.fixed, self.kept = plan.roles is not None, None
+        self.keeps = issubclass(plan.form, AccelerationForm)
+        self.shift = (None, None)  # (the coefficients, β′M of them)
+        if self.fixed:
+            self._sort(plan.roles)
+        if st is not None:
+            self.start(st, t, c, P, law)
+
+    def _sort(self, sorted_: Roles) -> None:
         self.terms, self.evaluated, self.scaled, self.rowed, self.checked = sorted_[:5]
         self.joints, self.load, self.gyroscopic = sorted_.joints, sorted_.load, sorted_.gyroscopic
         self.elastic = self.terms[0]
+
+    def start(self, st, t, c, P=None, law=None) -> SmoothNewton:
+        """Begin the step from ``st`` with the coefficients ``c`` to the time ``t`` (s) (the
+        persistent contacts ``P``, the form's ``law``); returns the loop."""
+        plan, form = self.plan, self.kept
+        if form is None:
+            form = plan.form(self, st, c, t, P, law)
+            if self.keeps:
+                self.kept = form
+        else:
+            form.begin(st, c, t, P, law)
+        self.form = form
+        self.step = step = form.step
+        if self.fixed:
+            for term in plan.terms:
+                term.begin(step)
+        else:
+            begun = (term.begin(step) for term in plan.terms)
+            self._sort(roles(term for term in begun if term is not None))
         self.clock = time.perf_counter()
+        return self
+
+    def mass_shift(self, c):
+        """β′M of the coefficients ``c`` (the shift of a direction that does not descend),
+        made once for a run's steps of one size."""
+        of, shift = self.shift
+        if of is not c:
+            shift = c.bp * self.model.M
+            self.shift = (c, shift)
+        return shift
 
     def run(self) -> tuple[int, bool]:
         """Iterate to convergence: (the iterations, whether the last update moved the
@@ -209,22 +260,34 @@ class AccelerationForm:
     updates from S_t, alone, through a Schur complement or bordered by the terms' rows.
     ``law``: unused (the step needs nothing else)."""
 
-    # what a step holds before its first update (an instance sets its own as they change:
-    # class defaults keep the per-step construction to the few that differ)
-    S = solve = armijo = x = dq = small = r = None
-    plain = True  # every solve was with S_t alone: S_t's solver is a metric
-    previous, s = math.inf, 1.0
-    rnorm, ref = math.inf, 1.0
+    __slots__ = (
+        "S armijo dq group lie model newton opts plain plan previous r ref rnorm s small "
+        "solve step x"
+    ).split()
 
     def __init__(self, newton: SmoothNewton, st, c, t: float, P, law=None):
         model, opts, plan = newton.model, newton.opts, newton.plan
         self.newton, self.model, self.opts, self.plan = newton, model, opts, plan
+        self.group = plan.group
+        self.begin(st, c, t, P, law)
+
+    def begin(self, st, c, t: float, P, law=None) -> None:
+        """Start the step from ``st`` with the coefficients ``c`` to the time ``t`` (s) at
+        its predictor, nothing of a previous step kept."""
+        self.S = self.solve = self.armijo = self.x = self.dq = self.small = self.r = None
+        self.plain = True  # every solve was with S_t alone: S_t's solver is a metric
+        self.previous, self.s = math.inf, 1.0
+        self.rnorm, self.ref = math.inf, 1.0
+        model = self.model
         # on a Lie group the first row of X is the increment D, and q = q_n ⊕ D (:mod:`.lie`)
-        lie = self.lie = LieStep(plan.group, st.q) if plan.group else None
-        X = predict(st, c) if lie is None else predict_increment(st, c, plan.bound)
-        self.step = step = StepContext(model, c, t, st, opts, P, X)
-        if lie is not None:
+        if self.group:
+            lie = self.lie = LieStep(self.group, st.q)
+            X = predict_increment(st, c, self.plan.bound)
+            self.step = step = StepContext(model, c, t, st, self.opts, P, X)
             step.q = lie.configuration(X[0])
+        else:
+            self.lie = None
+            self.step = StepContext(model, c, t, st, self.opts, P, predict(st, c))
 
     def residual(self, it: int) -> bool:
         """The residual r at the iterate, after the Armijo test of the last full update
@@ -376,7 +439,8 @@ class AccelerationForm:
             return -solve(r)
         elastic, opts, res = self.newton.elastic, self.opts, self.rnorm / self.ref
         newton = (opts.tol_increment, res, opts.stats.newton, model.solver)
-        shift, shifts = self.step.c.bp * model.M, opts.stats.newton.shifted_directions
+        shift = self.newton.mass_shift(self.step.c)
+        shifts = opts.stats.newton.shifted_directions
         dq, *test = descent_direction(
             model, r, elastic.fi, self.S, elastic.K, solve, shift, *newton
         )

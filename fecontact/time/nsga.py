@@ -184,7 +184,7 @@ class _Phases:
             self.q = q = plus(model, q_tilde, U)
             self.gaps = model.contacts.gaps(q)
             pushed = _pushed(cand, self.gaps[cand], self.tol_gap, opts.stats.contact.minimum_norm)
-            pushed = pushed[~np.isin(pushed, work)]
+            pushed = pushed[~np.isin(pushed, work)] if pushed.size else pushed  # (most: none)
             if pushed.size == 0:
                 break
             work = np.union1d(work, pushed)

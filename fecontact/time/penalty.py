@@ -59,7 +59,7 @@ import scipy.sparse as sp
 from ..linalg import factorize
 from .constraints import bordered, plus_curvature
 from .generalized_alpha import Coefficients
-from .newton import NewtonPlan, SmoothNewton
+from .newton import NewtonPlan
 from .records import PenaltyRecord
 from .settings import run_settings
 from .state import IntegratorOptions, PhaseTimer, State
@@ -255,7 +255,7 @@ def penalty_step(model, st: State, h: float, opts: IntegratorOptions, timer: Pha
     direction."""
     opts = run_settings(model, opts, plan=penalty_plan)
     c = Coefficients(opts.rho_inf, h)
-    newton = SmoothNewton(opts.plan, model, st, st.t + h, c, opts, timer)
+    newton = opts.plan.loop(model, opts, timer).start(st, st.t + h, c)
     it, stale = newton.run()
     contact = next(term for term in newton.terms if isinstance(term, PenaltyContact))
     if stale:  # the forces and gaps at the final q

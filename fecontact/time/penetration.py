@@ -57,8 +57,9 @@ def hold_penetration(model, st: State, opts: IntegratorOptions, timer: PhaseTime
     clock = time.perf_counter()
     depth = model.contacts.penetration(st.q, st.gaps)
     # the mortar interfaces' nodes: measured and reported, not held (contact.watch)
-    watched, st.mortar_depth = watched_depth(model.contacts.watches, st.q)
+    watched = st.mortar_depth = 0.0
     if model.contacts.watches:
+        watched, st.mortar_depth = watched_depth(model.contacts.watches, st.q)
         st.mortar_held = held_nodes(model.contacts.pairs, st.q)
     st.penetration = max(depth, watched)
     timer.add("contact", clock)

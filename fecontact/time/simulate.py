@@ -6,6 +6,7 @@ import math
 from collections.abc import Iterator
 
 from ..errors import check_positive
+from ..linalg.legacy import record_run
 from .adaptive import adaptive_steps, failure_error, ladder_depth
 from .constraints import StepFailure
 from .smooth_contact import resting_start
@@ -48,34 +49,37 @@ def simulate(
     choice = model.solver.choice
     opts = stepper.settings
     model.contacts.detect_within(opts.detection_margin * model.length)
-    if start is None:
-        state = initial_state(model, q0, v0, opts.tol_gap)
-        if opts.integrator == "nsga" and opts.smooth:
-            tol = opts.tol_gap * length_scale(model, state.q)
-            state = resting_start(model, state, tol, tol / dt, opts.stats.contact)
-        yield state
-    else:
-        state = start
-    if opts.rtol is not None:
-        yield from _controlled(stepper, state, n_steps, dt, t_end, timer)
-        return
-    for n in range(state.step + 1, n_steps + 1):
-        t_next = min(n * dt, t_end)
-        h = t_next - state.t
-        # n·dt − (n − 1)·dt differs from dt in its last bits: take the nominal step, so that
-        # what is cached per step size (factorizations of linear models) is built once
-        if abs(h - dt) <= 1e-9 * dt:
-            h = dt
-        try:
-            state = stepper.step(state, h, timer)
-        except StepFailure as err:
-            tried = f"{opts.max_halvings} step halvings"
-            raise failure_error(err, state.t, n, tried) from None
-        state.t = t_next
-        state.step = n
-        if choice is not None:  # the rates per step that "auto" weighs count this one
-            choice.note_step()
-        yield state
+    try:
+        if start is None:
+            state = initial_state(model, q0, v0, opts.tol_gap)
+            if opts.integrator == "nsga" and opts.smooth:
+                tol = opts.tol_gap * length_scale(model, state.q)
+                state = resting_start(model, state, tol, tol / dt, opts.stats.contact)
+            yield state
+        else:
+            state = start
+        if opts.rtol is not None:
+            yield from _controlled(stepper, state, n_steps, dt, t_end, timer)
+            return
+        for n in range(state.step + 1, n_steps + 1):
+            t_next = min(n * dt, t_end)
+            h = t_next - state.t
+            # n·dt − (n − 1)·dt differs from dt in its last bits: take the nominal step, so that
+            # what is cached per step size (factorizations of linear models) is built once
+            if abs(h - dt) <= 1e-9 * dt:
+                h = dt
+            try:
+                state = stepper.step(state, h, timer)
+            except StepFailure as err:
+                tried = f"{opts.max_halvings} step halvings"
+                raise failure_error(err, state.t, n, tried) from None
+            state.t = t_next
+            state.step = n
+            if choice is not None:  # the rates per step that "auto" weighs count this one
+                choice.note_step()
+            yield state
+    finally:  # (the deprecated counter names read it: fecontact.linalg.legacy)
+        record_run(stepper.stats)
 
 
 def _controlled(stepper, state, n_steps, dt, t_end, timer) -> Iterator[State]:

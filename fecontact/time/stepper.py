@@ -8,6 +8,7 @@ from collections.abc import Callable
 from ..errors import InputError
 from ..ledger import joined_record
 from ..linalg.choice import RunPlan
+from ..linalg.legacy import registered_modes
 from .alpha_step import alpha_plan
 from .constraints import StepFailure
 from .energy_step import check_energy_scheme, energy_nsga_step
@@ -105,5 +106,9 @@ def make_stepper(
     if localizes(model, settings):  # (decided once: every step of the run splits or none)
         kind = localized_stepper(model)
     plan = None if steps is None else RunPlan(max(int(steps), 1), model.linear)
-    model.use_solver(settings.stats.solver(model, plan))
+    solver = settings.stats.solver(model, plan)
+    # AMG's near-null space registered by this thread (deprecated set_near_null_space)
+    if (modes := registered_modes(model.n_free)) is not None:
+        solver.modes = modes
+    model.use_solver(solver)
     return Stepper(model, settings, kind)
