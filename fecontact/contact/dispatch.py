@@ -7,6 +7,7 @@ from ..bodies.solid import Solid
 from ..errors import InputError, check_positive
 from .mortar import MortarContact
 from .mortar3d import MortarContact3D
+from .mortar_p2_segments import MortarContactP2
 from .registry import pair_factory
 
 __all__ = ["Contact"]
@@ -85,4 +86,6 @@ def _mortar(body, obstacle, nodes, restitution, clearance, solids: bool, method)
         )
     if body.dim == 3:
         return MortarContact3D(body, obstacle, restitution)
+    if body.element == obstacle.element == "P2":  # the curved faces themselves
+        return MortarContactP2(body, obstacle, restitution)
     return MortarContact(body, obstacle, restitution)

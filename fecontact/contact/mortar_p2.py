@@ -33,9 +33,8 @@ are those of the reference element; the Jacobian of a curved face enters through
 weights at the integration points (:func:`dual_coefficients`), exactly as the element's
 measure does for a flat face (where it cancels in A).
 
-Not yet connected to the mortar interfaces: P2 bodies still enter mortar contact with their
-boundary split through the mid nodes into linear facets (``Solid.contact_facets``), whose
-force distribution is not the P2 one; see docs/explanation/mortar.md (quadratic faces).
+Where they are used: the 3-node segments of two 2D P2 solids in contact
+(:mod:`fecontact.contact.mortar_p2_segments`, the segment's own dual functions, α = 0).
 """
 
 from __future__ import annotations
