@@ -49,7 +49,10 @@ def Contact(
 
     ``method`` chooses the discretization of a contact between two solids: ``"mortar"`` (the
     default, None: dual mortar, weighted gaps integrated over the first body's boundary,
-    :mod:`fecontact.contact.mortar` in 2D, :mod:`fecontact.contact.mortar3d` in 3D; ``nodes``
+    :mod:`fecontact.contact.mortar` in 2D, on the quadratic segments themselves between two
+    P2 solids, :mod:`fecontact.contact.mortar_p2_segments`; :mod:`fecontact.contact.mortar3d`
+    in 3D, P2 faces split into flat triangles (``MortarContact3DP2`` of
+    :mod:`fecontact.contact.mortar3d_p2` takes the curved faces, built explicitly); ``nodes``
     must be None, and the pair declared both ways is one interface) or ``"node-to-surface"``
     (``nodes`` of ``body``, default its boundary nodes, against the boundary of the second;
     add the reversed pair for the other direction). Other pairs take None only.
