@@ -25,7 +25,7 @@ from fecontact.errors import InputError
 from fecontact.model import Model
 from fecontact.scenes import solid_material, wave_step
 from fecontact.statics import solve_static_contact
-from fecontact.testing import gap_derivatives_error
+from fecontact.testing import gap_derivatives_error, pressed_p2_blocks, pressed_p2_boxes
 
 KINDS = ("segment", "triangle")
 # a face of varying measure density (a curved face): J ∝ 1 + 0.3 ξ, 1 + 0.3 λ₂ − 0.2 λ₃
@@ -107,52 +107,6 @@ def test_bad_input():
         dual_coefficients("segment", jacobian=np.ones(2))
 
 
-def pressed_p2_blocks(n_lower: int, n_upper: int, p: float = 1e5, method="mortar"):
-    """The 2D patch test of ``fecontact.testing.pressed_blocks`` on P2 triangles: the upper
-    block loaded by its consistent P2 nodal forces p L (1/6, 2/3, 1/6) per top edge. Returns
-    the pair, the contact forces λ (N), the nodal pressures of the contact face over p (None
-    for node-to-surface, which has no pressure field) and the largest displacement error of
-    either block relative to the exact linear field."""
-    E_LOW, E_UP, NU = 1e7, 3e7, 0.3
-    mats = [solid_material("linear", E, NU, 1e3) for E in (E_LOW, E_UP)]
-    lower = Solid.rectangle([0, 0], [1, 0.5], (n_lower, 3), mats[0], element="P2")
-    upper = Solid.rectangle([0, 0.5], [1, 1.0], (n_upper, 3), mats[1], element="P2")
-    lower.fix(lower.nodes_where(lambda x: x[1] < 1e-9), "y")
-    for b in (lower, upper):
-        b.fix(b.nodes_where(lambda x: x[0] < 1e-9), "x")
-    if method == "mortar":
-        pair = Contact(upper, lower, method="mortar")
-    else:  # the face's nodes but its corners (at a corner the closest facet is a tie)
-        face = upper.nodes_where(
-            lambda x: (abs(x[1] - 0.5) < 1e-9) & (x[0] > 1e-9) & (x[0] < 1 - 1e-9)
-        )
-        pair = Contact(upper, lower, nodes=face, method="node-to-surface")
-    model = Model([lower, upper], [pair], gravity=(0.0, 0.0))
-    load = np.zeros(model.n)
-    top = upper.nodes_where(lambda x: x[1] > 1 - 1e-9)
-    top = top[np.argsort(upper.X[top, 0])]  # corner, mid, corner, ... along the top
-    o = model.offset_of(upper)
-    for a, m, b in zip(top[:-2:2], top[1:-1:2], top[2::2], strict=True):
-        length = upper.X[b, 0] - upper.X[a, 0]
-        load[o + 2 * np.array([a, m, b]) + 1] -= p * length * np.array([1 / 6, 2 / 3, 1 / 6])
-    q, lam = solve_static_contact(model, load, small=True)
-    error = 0.0
-    for k, (body, E) in enumerate(((lower, E_LOW), (upper, E_UP))):
-        X = body.X
-        ux = NU * (1 + NU) * p / E * X[:, 0]
-        uy = (
-            -(1 - NU**2)
-            * p
-            * (np.minimum(X[:, 1], 0.5) / E_LOW + np.maximum(X[:, 1] - 0.5, 0.0) / E_UP)
-        )
-        exact = np.stack([ux, uy], axis=1).ravel()
-        error = max(error, np.max(np.abs(q[model.body_slice(k)] - exact)) / np.max(np.abs(exact)))
-    if method != "mortar":
-        return pair, lam, None, error
-    nodes, z = pair.nodal_pressure(lam)
-    return pair, lam, z[np.abs(upper.X[nodes, 1] - 0.5) < 1e-9] / p, error
-
-
 @pytest.mark.parametrize("meshes", [(7, 5), (5, 7), (4, 4), (13, 6)])
 def test_p2_patch_test_uniform_pressure(meshes):
     """Acceptance 1 on P2 blocks: every node of the quadratic face, ends and mid nodes, carries
@@ -167,10 +121,12 @@ def test_p2_patch_test_uniform_pressure(meshes):
     assert error <= 1e-8
 
 
-def test_p2_patch_test_node_to_surface_is_not_exact():
-    """The same P2 blocks with node-to-surface contact (the table of docs/explanation/mortar.md):
-    its nodal forces are not the P2 load of a uniform pressure."""
-    _, _, _, error = pressed_p2_blocks(7, 5, method="node-to-surface")
+@pytest.mark.parametrize("method", ["split", "node-to-surface"])
+def test_p2_patch_test_is_not_exact_without_the_quadratic_faces(method):
+    """The same P2 blocks with the boundary split into linear segments, or node-to-surface
+    (the table of docs/explanation/mortar.md): their nodal forces are not the P2 load of a
+    uniform pressure."""
+    _, _, _, error = pressed_p2_blocks(7, 5, method=method)
     assert error > 1e-3
 
 
@@ -269,42 +225,6 @@ def test_p2_disks_head_on_keep_on_the_axis_and_friction_keeps_momentum():
     assert any(np.any(s.force > 0) or np.any(s.impulse > 0) for s in states)
 
 
-def pressed_p2_boxes(n_lower: int, n_upper: int, p: float = 1e5, quadratic: bool = True):
-    """The 3D patch test of ``fecontact.testing.pressed_boxes`` on P2 tetrahedra, the upper box
-    loaded by the consistent P2 nodal forces p ∫ N_k dA of its top faces (corners 0, edge
-    nodes a third of the face). ``quadratic``: the contact on the curved faces
-    (``MortarContact3DP2``), else the default (faces split into flat triangles). Returns the
-    pair, λ (N), the face's nodal pressures over p and the largest displacement error of
-    either box relative to the exact linear field."""
-    E_LOW, E_UP, NU = 1e7, 3e7, 0.3
-    mats = [solid_material("linear", E, NU, 1e3) for E in (E_LOW, E_UP)]
-    lower = Solid.box([0, 0, 0], [1, 1, 0.5], (n_lower, n_lower, 2), mats[0], element="P2")
-    upper = Solid.box([0, 0, 0.5], [1, 1, 1.0], (n_upper, n_upper, 2), mats[1], element="P2")
-    lower.fix(lower.nodes_where(lambda x: x[2] < 1e-9), "z")
-    for b in (lower, upper):
-        b.fix(b.nodes_where(lambda x: x[0] < 1e-9), "x")
-        b.fix(b.nodes_where(lambda x: x[1] < 1e-9), "y")
-    pair = MortarContact3DP2(upper, lower) if quadratic else Contact(upper, lower)
-    model = Model([lower, upper], [pair], gravity=(0.0, 0.0, 0.0))
-    load = np.zeros(model.n)
-    o, X = model.offset_of(upper), upper.X
-    points, w = reference_rule("triangle")
-    share = shape_functions("triangle", points).T @ w  # ∫ N_k dA / A
-    for tri in quadratic_triangles(upper):
-        if np.all(X[tri, 2] > 1 - 1e-9):
-            area = 0.5 * np.linalg.norm(np.cross(X[tri[1]] - X[tri[0]], X[tri[2]] - X[tri[0]]))
-            load[o + 3 * tri + 2] -= p * area * share
-    q, lam = solve_static_contact(model, load, small=True)
-    error = 0.0
-    for k, (body, E) in enumerate(((lower, E_LOW), (upper, E_UP))):
-        Xb = body.X
-        uz = -p * (np.minimum(Xb[:, 2], 0.5) / E_LOW + np.maximum(Xb[:, 2] - 0.5, 0.0) / E_UP)
-        exact = np.stack([NU * p / E * Xb[:, 0], NU * p / E * Xb[:, 1], uz], axis=1).ravel()
-        error = max(error, np.max(np.abs(q[model.body_slice(k)] - exact)) / np.max(np.abs(exact)))
-    nodes, z = pair.nodal_pressure(lam)
-    return pair, lam, z[np.abs(upper.X[nodes, 2] - 0.5) < 1e-9] / p, error
-
-
 @pytest.mark.parametrize("meshes", [(3, 2), (4, 3), (3, 4), (5, 2)])
 def test_p2_patch_test_3d_uniform_pressure(meshes):
     """Acceptance 1 on P2 boxes, on the curved-face interface: every corner and edge node of
@@ -321,7 +241,7 @@ def test_p2_patch_test_3d_uniform_pressure(meshes):
 def test_p2_faces_split_into_flat_triangles_fail_the_3d_patch_test():
     """The default 3D mortar of P2 solids (faces split into flat triangles) is not exact on
     the same boxes: the table of docs/explanation/mortar.md."""
-    _, _, pressure, error = pressed_p2_boxes(4, 3, quadratic=False)
+    _, _, pressure, error = pressed_p2_boxes(4, 3, method="split")
     assert np.max(np.abs(pressure - 1.0)) > 0.1 and error > 1e-2
 
 
