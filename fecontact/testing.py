@@ -338,7 +338,10 @@ def pressed_p2_blocks(n_lower: int, n_upper: int, p: float = 1e5, method: str = 
     lower.fix(lower.nodes_where(lambda x: x[1] < 1e-9), "y")
     for b in (lower, upper):
         b.fix(b.nodes_where(lambda x: x[0] < 1e-9), "x")
-    face = lambda x: (abs(x[1] - 0.5) < 1e-9) & (x[0] > 1e-9) & (x[0] < 1 - 1e-9)  # noqa: E731
+
+    def face(x):  # node-to-surface: the face's nodes but its corners
+        return (abs(x[1] - 0.5) < 1e-9) & (x[0] > 1e-9) & (x[0] < 1 - 1e-9)
+
     pair = _p2_pair(upper, lower, method, face)
     model = Model([lower, upper], [pair], gravity=(0.0, 0.0))
     load = np.zeros(model.n)
@@ -372,7 +375,8 @@ def _p2_results(model, pair, q, lam, exact, height, face: float, p: float):
 def pressed_p2_boxes(n_lower: int, n_upper: int, p: float = 1e5, method: str = "quadratic"):
     """The patch test of :func:`pressed_boxes` on P2 tetrahedra, the upper box loaded by the
     consistent P2 nodal forces p ∫ N_k dA of its top faces (corners 0, edge nodes a third of
-    the face); ``method`` "quadratic" or "split" (:func:`_p2_pair`). Returns as
+    the face); ``method`` of the contact (:func:`_p2_pair`; node-to-surface: the face's
+    nodes off its edges). Returns as
     :func:`pressed_p2_blocks`."""
     from .bodies import Solid
     from .contact.mortar3d_p2 import quadratic_triangles
@@ -389,7 +393,11 @@ def pressed_p2_boxes(n_lower: int, n_upper: int, p: float = 1e5, method: str = "
     for b in (lower, upper):
         b.fix(b.nodes_where(lambda x: x[0] < 1e-9), "x")
         b.fix(b.nodes_where(lambda x: x[1] < 1e-9), "y")
-    pair = _p2_pair(upper, lower, method, None)
+
+    def inner(x):  # node-to-surface: the face's nodes off its edges
+        return (abs(x[2] - 0.5) < 1e-9) & (np.max(np.abs(x[:2] - 0.5), axis=0) < 0.5 - 1e-9)
+
+    pair = _p2_pair(upper, lower, method, inner)
     model = Model([lower, upper], [pair], gravity=(0.0, 0.0, 0.0))
     load = np.zeros(model.n)
     o, X = model.offset_of(upper), upper.X
@@ -405,7 +413,8 @@ def pressed_p2_boxes(n_lower: int, n_upper: int, p: float = 1e5, method: str = "
         Xb = body.X
         uz = -p * (np.minimum(Xb[:, 2], 0.5) / E_LOW + np.maximum(Xb[:, 2] - 0.5, 0.0) / E_UP)
         exact.append(np.stack([NU * p / E * Xb[:, 0], NU * p / E * Xb[:, 1], uz], 1).ravel())
-    return _p2_results(model, pair, q, lam, exact, upper.X[:, 2], 0.5, p)
+    height = None if method == "node-to-surface" else upper.X[:, 2]
+    return _p2_results(model, pair, q, lam, exact, height, 0.5, p)
 
 
 def roll_up(n: int, fraction: float, steps: int = 10):
