@@ -296,3 +296,28 @@ def test_quadratic_faces_need_p2_tetrahedra():
         quadratic_triangles(box)
     with pytest.raises(InputError, match="2D P2 solid"):
         quadratic_segments(Solid.disk([0, 0], 0.1, 1, MAT))
+
+
+@pytest.mark.parametrize("test", [pressed_p2_blocks, pressed_p2_boxes])
+def test_slip_rows_of_quadratic_faces_read_a_sliding_translation(test):
+    """Friction's slip rows on the quadratic faces: the slave sliding by a uniform velocity u
+    over the resting master reads T_j·u at every pressed node inside the face (∫ Φ_j dA = L_j,
+    Σ_i N_i = 1; a node on the face's border also carries the side faces' weight in L_j); the
+    master sliding instead reads −T_j·u."""
+    pair, lam, _, _ = test(4, 3)
+    slave, master = pair.bodies
+    n = slave.ndof + master.ndof
+    q = np.zeros(n)
+    dofs, rows, T = pair.tangents(q)
+    u = np.eye(slave.dim)[0]
+    X = slave.X[pair.nodes][:, :-1]  # the face's tangential coordinates
+    pressed = (lam > 0) & np.all((X > 1e-9) & (X < 1 - 1e-9), axis=1)
+    assert pressed.sum() >= 5
+    for body, sign in ((slave, 1.0), (master, -1.0)):
+        v = np.zeros(n)
+        o = pair.offsets[pair.bodies.index(body)]
+        v[o : o + body.ndof] = body.translation_field(u)
+        slip = np.einsum("jtk,jk->jt", rows, v[dofs])
+        expected = sign * T @ u
+        # sums of products of weights of order 1: round-off
+        assert np.max(np.abs(slip[pressed] - expected[pressed])) <= 1e-12
