@@ -16,16 +16,10 @@ import numpy as np
 
 from ..errors import InputError
 from .mortar3d import MortarContact3D
-from .mortar_p2 import reference_rule, shape_functions
+from .mortar_p2 import covered_part_gaps, reference_rule, shape_functions
 from .mortar_p2_triangles import DUALS, TRANSFORM, p2_triangle_integrals
 
-__all__ = [
-    "SMALLEST",
-    "MortarContact3DP2",
-    "quadratic_triangles",
-    "triangle_shares",
-    "weighted_gaps",
-]
+__all__ = ["MortarContact3DP2", "quadratic_triangles", "triangle_shares"]
 
 
 def quadratic_triangles(body) -> np.ndarray:
@@ -94,7 +88,7 @@ class MortarContact3DP2(MortarContact3D):
         """Jets of the faces' weighted gaps, coverage, covered weights and the quadrature
         (with each entry's dual coefficients) of the entries."""
         moments, mass, coverage, covered, quad = p2_triangle_integrals(z, hessian, self.margin)
-        jets, A = weighted_gaps(e, moments, mass, coverage, len(self.facets))
+        jets, A = covered_part_gaps(e, moments, mass, coverage, len(self.facets), DUALS)
         return jets, coverage, covered, (*quad, A)
 
     def _slip_weights(self, quad, k: int) -> np.ndarray:
@@ -106,46 +100,3 @@ class MortarContact3DP2(MortarContact3D):
         Nm = shape_functions("triangle", mu.reshape(-1, 2)).reshape(P, Q, 6)
         w = np.einsum("pqk,pk->pq", Ns @ TRANSFORM.T, A[:, k]) * dA
         return np.concatenate([np.einsum("pq,pqi->pi", w, Ns), -np.einsum("pq,pqi->pi", w, Nm)], 1)
-
-
-SMALLEST = 1e-6
-"""A slave face covered by less than this fraction of its parameter triangle counts as not
-covered (its covered-part moment matrix would be near singular)."""
-
-_FULL = 1e-9  # a face covered to within this fraction is covered fully
-
-
-def weighted_gaps(e, moments, mass, coverage, n_faces: int):
-    """The Jets g̃_j = Σ_k A_jk m_k (j = 1..6) of P entries (slave faces ``e``) and their
-    dual coefficients A (P, 6, 6): on a face covered fully those of the reference face
-    (:data:`DUALS`); on a face covered in part those biorthogonal on the covered part C,
-    A = D M⁻¹ with M = Σ_pairs M_p the face's ∫_C Ñ Ñᵀ dA and D = diag(M 1) (Popp, Seitz,
-    Gee & Wall, CMAME 2013). A depends on every pair of the face; with t = M⁻¹ S, S = Σ m_p,
-    its derivative splits over the pairs, ∂(A S)_j ⊃ t_j Σ_l ∂M_p,jl − Σ_i A_ji (∂M_p t)_i,
-    so the gradients stay exact in the pairs' own coordinates; the Hessians are those at
-    fixed A. A face covered by less than :data:`SMALLEST` contributes nothing."""
-    fraction = np.bincount(e, coverage, n_faces)[e]
-    part = (fraction >= SMALLEST) & (fraction < 1.0 - _FULL)
-    A = np.where((fraction >= SMALLEST)[:, None, None], DUALS, 0.0)
-    t = np.zeros((len(e), 6))
-    if part.any():
-        faces, local = np.unique(e[part], return_inverse=True)
-        M = np.zeros((len(faces), 6, 6))
-        S = np.zeros((len(faces), 6))
-        Mp = np.stack([np.stack([j.v[part] for j in row], 1) for row in mass], 1)
-        np.add.at(M, local, Mp)
-        np.add.at(S, local, np.stack([m.v[part] for m in moments], 1))
-        inv = np.linalg.inv(M)
-        A[part] = (M.sum(axis=2)[:, :, None] * inv)[local]
-        t[part] = np.einsum("fkl,fl->fk", inv, S)[local]
-    jets = [sum(moments[k] * A[:, j, k] for k in range(6)) for j in range(6)]
-    if part.any() and moments[0].g is not None:
-        dM = np.stack([np.stack([j.g[part] for j in row], 1) for row in mass], 1)  # (Pp,6,6,n)
-        tp, Ap = t[part], A[part]
-        own = dM.sum(axis=2) * tp[:, :, None]  # t_j Σ_l ∂M_jl
-        other = np.einsum("pji,pilz,pl->pjz", Ap, dM, tp)
-        for j, jet in enumerate(jets):
-            g = jet.g.copy()
-            g[part] += own[:, j] - other[:, j]
-            jet.g = g
-    return jets, A

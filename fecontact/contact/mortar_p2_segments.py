@@ -25,17 +25,18 @@ derivative of A, and Σ_j Φ_j = 1 holds on any segment: a uniform pressure z_j 
 every node k of either body its consistent P2 load p ∫ N_k ds (ends 1/6, mid 2/3 of a
 straight segment's length), the property the patch test needs. L_j = Σ_e ∫_e N_j ds.
 
-A slave segment the master covers in part keeps the dual functions of the whole segment
-(the covered-part functions of :mod:`fecontact.contact.mortar_duals` are built for linear
-segments only); a node takes part when its covered weight ∫_covered N_j ds is at least half
-of its support, as on linear segments.
+A slave segment the master covers in part takes the dual functions biorthogonal on its
+covered part (Popp, Seitz, Gee & Wall, CMAME 2013), A = D M⁻¹ with M = ∫_covered N Nᵀ ds
+(:func:`~fecontact.contact.mortar_p2.covered_part_gaps`); a node takes part when its covered
+weight ∫_covered N_j ds is at least half of its support, as on linear segments.
 
 Linearisation: written once in :class:`~fecontact.contact.dual_numbers.Jet` arithmetic over
 the 12 coordinates z = (x_a, x_b, x_m, y_1, y_2, y_m). The projections' values are found by
 Newton's method (ξ) or in closed form (η); one step of Chebyshev's method in Jet arithmetic
 from the converged value gives their exact first and second derivatives (those of the
 implicit function), so the gradients and Hessians of g̃ are exact and Newton's method keeps
-its quadratic rate.
+its quadratic rate; on a segment covered in part the Hessians are those at fixed dual
+coefficients (their gradients exact).
 """
 
 from __future__ import annotations
@@ -45,7 +46,7 @@ import numpy as np
 from ..errors import InputError
 from .dual_numbers import Jet
 from .mortar import MortarContact
-from .mortar_p2 import dual_coefficients
+from .mortar_p2 import covered_part_gaps, dual_coefficients
 from .mortar_segments import FACING, GAUSS_POINTS
 
 __all__ = [
@@ -182,21 +183,17 @@ def p2_segment_integrals(z: np.ndarray, hessian=None, depth: float = np.inf):
     (m): a master segment whose mean gap over the overlap is below −depth lies behind the
     slave segment (a far part of the master facing it) and is dropped.
 
-    Returns (jets, coverage, covered, quad): the Jets of g̃_a, g̃_b, g̃_m (m²), the fraction
-    of the slave segment the pair covers (P,; 0 where the segments do not face each other,
+    Returns (moments, mass, coverage, covered, quad): the Jets of m_k = ∫ N_k g_N ds (m²)
+    and M_kl = ∫ N_k N_l ds (m, 3 × 3) over the overlap (the weighted gaps are g̃ = A m,
+    :func:`~fecontact.contact.mortar_p2.covered_part_gaps`), the fraction of the slave
+    segment the pair covers (P,; 0 where the segments do not face each other,
     ``mortar_segments.FACING``, or miss), ∫ N_k ds over the overlap (P, 3; m), and the
     quadrature as values, ξ, η and the weights of ds (P, G), for the slip rows."""
     c = Jet.variables(z, hessian)
     xa, xb, xm, y1, y2, ym = ((c[2 * i], c[2 * i + 1]) for i in range(6))
     slave, master = _curve(xa, xb, xm), _curve(y1, y2, ym)
     order = 0 if hessian is None else (2 if hessian else 1)
-    chord_s, chord_m = z[:, 2:4] - z[:, 0:2], z[:, 8:10] - z[:, 6:8]
-    cosine = np.einsum("pi,pi->p", chord_s, chord_m) / (
-        np.linalg.norm(chord_s, axis=1) * np.linalg.norm(chord_m, axis=1)
-    )
-    # the normals are the chords turned alike: they face when the chords run opposite
-    facing = cosine < -FACING
-    lo, span, coverage = _overlap(_foot(slave, y1, order), _foot(slave, y2, order), facing)
+    lo, span, coverage = _overlap(_foot(slave, y1, order), _foot(slave, y2, order), _facing(z))
     G, P = GAUSS_POINTS, len(z)
     keep = np.repeat(coverage > 0.0, G)
     xi = lo.repeat(G) + span.repeat(G) * np.tile(0.5 * (1.0 + _THETA), P)
@@ -212,13 +209,30 @@ def p2_segment_integrals(z: np.ndarray, hessian=None, depth: float = np.inf):
         coverage = np.where(behind, 0.0, coverage)
         w = w.where(~np.repeat(behind, G), 0.0)
         ds = np.where(np.repeat(behind, G), 0.0, ds)
-    f = gds * w
     N = _shape(xi)
-    m = [_sum_points(Nk * f, P, G) for Nk in N]
-    jets = [m[0] * DUALS[j, 0] + m[1] * DUALS[j, 1] + m[2] * DUALS[j, 2] for j in range(3)]
+    moments = [_sum_points(Nk * (gds * w), P, G) for Nk in N]
+    dsj = ((t[0] * t[0] + t[1] * t[1]).where(keep, 1.0).sqrt() * w).where(keep, 0.0)
+    mass = _mass(N, dsj, P, G)
     covered = np.stack([(Nk.v * ds).reshape(P, G).sum(1) for Nk in N], axis=1)
     quad = (xi.v.reshape(P, G), eta.v.reshape(P, G), ds.reshape(P, G))
-    return jets, coverage, covered, quad
+    return moments, mass, coverage, covered, quad
+
+
+def _facing(z: np.ndarray) -> np.ndarray:
+    """Whether the segments face each other: the normals are the chords turned alike, so
+    they face when the chords run opposite (``mortar_segments.FACING``)."""
+    chord_s, chord_m = z[:, 2:4] - z[:, 0:2], z[:, 8:10] - z[:, 6:8]
+    size = np.linalg.norm(chord_s, axis=1) * np.linalg.norm(chord_m, axis=1)
+    return np.einsum("pi,pi->p", chord_s, chord_m) < -FACING * size
+
+
+def _mass(N, ds: Jet, P: int, G: int):
+    """M_kl = ∫ N_k N_l ds per pair (3 × 3 Jets, symmetric)."""
+    mass = [[None] * 3 for _ in range(3)]
+    for k in range(3):
+        for m in range(k, 3):
+            mass[k][m] = mass[m][k] = _sum_points(N[k] * N[m] * ds, P, G)
+    return mass
 
 
 def _sum_points(f: Jet, P: int, G: int) -> Jet:
@@ -243,9 +257,8 @@ class MortarContactP2(MortarContact):
         e, f = self._near(xs, xm, *self._pairs(xs, xm))
         sn, mn = self.facets[e], self.master_facets[f]
         z = np.concatenate([xs[sn], xm[mn]], axis=1).reshape(len(e), 12)
-        prior = p2_segment_integrals(z, None, self.margin)
-        keep = prior[1] > 0.0
-        jets, coverage, covered, _ = prior
+        jets, coverage, covered, _ = self._integrate(e, z, None)
+        keep = coverage > 0.0
         prior = ([j.take(keep) for j in jets], coverage[keep], covered[keep])
         dofs = self._global_dofs(sn[keep], mn[keep])
         return xs, e[keep], z[keep], dofs, prior
@@ -259,12 +272,17 @@ class MortarContactP2(MortarContact):
         return e, jets, coverage, covered, xs
 
     def _integrate(self, e, z, hessian):
-        return p2_segment_integrals(z, hessian, self.margin)
+        """Jets of the segments' weighted gaps (the dual functions of the covered part on a
+        segment covered in part), coverage, covered weights and the quadrature (with each
+        entry's dual coefficients)."""
+        moments, mass, coverage, covered, quad = p2_segment_integrals(z, hessian, self.margin)
+        jets, A = covered_part_gaps(e, moments, mass, coverage, len(self.facets), DUALS)
+        return jets, coverage, covered, (*quad, A)
 
     def _slip_weights(self, quad, k: int) -> np.ndarray:
         """Weights (P, 6) of the local nodes' motion in end k's slip: ∫ Φ_k N_i ds on the
         slave's nodes, −∫ Φ_k N_i(η) ds on the master's (the projections frozen)."""
-        xi, eta, ds = quad
+        xi, eta, ds, A = quad
         Ns, Nm = np.stack(_shape(xi), axis=2), np.stack(_shape(eta), axis=2)  # (P, G, 3)
-        w = (Ns @ DUALS[k]) * ds
+        w = np.einsum("pgl,pl->pg", Ns, A[:, k]) * ds
         return np.concatenate([np.einsum("pg,pgi->pi", w, Ns), -np.einsum("pg,pgi->pi", w, Nm)], 1)
