@@ -285,9 +285,11 @@ def test_curved_face_integrals_have_exact_derivatives():
     z = pair._last[1]["z"][:12]
     dz = np.random.default_rng(2).normal(size=z.shape)
     eps = 1e-7  # central differences: truncation 1e-14, round-off 1e-9 of the values
-    moments, mass, _, _, _ = p2_triangle_integrals(z, True)
+    every = np.ones(len(z), bool)
+    moments, mass_of, _, _, _ = p2_triangle_integrals(z, True)
     plus, minus = (p2_triangle_integrals(z + s * eps * dz, False) for s in (1.0, -1.0))
-    for jets, jp, jm in ((moments, plus[0], minus[0]), (mass[0], plus[1][0], minus[1][0])):
+    mass, mp, mm = mass_of(every)[0], plus[1](every)[0], minus[1](every)[0]
+    for jets, jp, jm in ((moments, plus[0], minus[0]), (mass, mp, mm)):
         for j, a, b in zip(jets, jp, jm, strict=True):
             slope = np.einsum("pi,pi->p", j.g, dz)
             assert np.max(np.abs((a.v - b.v) / (2 * eps) - slope)) <= 1e-7 * np.max(np.abs(slope))

@@ -87,8 +87,8 @@ class MortarContact3DP2(MortarContact3D):
     def _integrate(self, e, z, hessian):
         """Jets of the faces' weighted gaps, coverage, covered weights and the quadrature
         (with each entry's dual coefficients) of the entries."""
-        moments, mass, coverage, covered, quad = p2_triangle_integrals(z, hessian, self.margin)
-        jets, A = covered_part_gaps(e, moments, mass, coverage, len(self.facets), DUALS)
+        moments, mass_of, coverage, covered, quad = p2_triangle_integrals(z, hessian, self.margin)
+        jets, A = covered_part_gaps(e, moments, mass_of, coverage, len(self.facets), DUALS)
         return jets, coverage, covered, (*quad, A)
 
     def _slip_weights(self, quad, k: int) -> np.ndarray:

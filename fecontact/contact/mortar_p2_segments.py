@@ -183,8 +183,9 @@ def p2_segment_integrals(z: np.ndarray, hessian=None, depth: float = np.inf):
     (m): a master segment whose mean gap over the overlap is below −depth lies behind the
     slave segment (a far part of the master facing it) and is dropped.
 
-    Returns (moments, mass, coverage, covered, quad): the Jets of m_k = ∫ N_k g_N ds (m²)
-    and M_kl = ∫ N_k N_l ds (m, 3 × 3) over the overlap (the weighted gaps are g̃ = A m,
+    Returns (moments, mass_of, coverage, covered, quad): the Jets of m_k = ∫ N_k g_N ds (m²)
+    and a function of a mask of the pairs giving their M_kl = ∫ N_k N_l ds (m, 3 × 3) over
+    the overlap (the weighted gaps are g̃ = A m,
     :func:`~fecontact.contact.mortar_p2.covered_part_gaps`), the fraction of the slave
     segment the pair covers (P,; 0 where the segments do not face each other,
     ``mortar_segments.FACING``, or miss), ∫ N_k ds over the overlap (P, 3; m), and the
@@ -211,11 +212,16 @@ def p2_segment_integrals(z: np.ndarray, hessian=None, depth: float = np.inf):
         ds = np.where(np.repeat(behind, G), 0.0, ds)
     N = _shape(xi)
     moments = [_sum_points(Nk * (gds * w), P, G) for Nk in N]
-    dsj = ((t[0] * t[0] + t[1] * t[1]).where(keep, 1.0).sqrt() * w).where(keep, 0.0)
-    mass = _mass(N, dsj, P, G)
+
+    def mass_of(part):  # M_kl of the entries ``part``: points of those entries alone
+        at = np.flatnonzero(np.repeat(part, G))
+        tt = [c.take(at) for c in t]
+        ds_ = ((tt[0] * tt[0] + tt[1] * tt[1]).sqrt() * w.take(at)).where(keep[at], 0.0)
+        return _mass([Nk.take(at) for Nk in N], ds_, int(part.sum()), G)
+
     covered = np.stack([(Nk.v * ds).reshape(P, G).sum(1) for Nk in N], axis=1)
     quad = (xi.v.reshape(P, G), eta.v.reshape(P, G), ds.reshape(P, G))
-    return moments, mass, coverage, covered, quad
+    return moments, mass_of, coverage, covered, quad
 
 
 def _facing(z: np.ndarray) -> np.ndarray:
@@ -275,8 +281,8 @@ class MortarContactP2(MortarContact):
         """Jets of the segments' weighted gaps (the dual functions of the covered part on a
         segment covered in part), coverage, covered weights and the quadrature (with each
         entry's dual coefficients)."""
-        moments, mass, coverage, covered, quad = p2_segment_integrals(z, hessian, self.margin)
-        jets, A = covered_part_gaps(e, moments, mass, coverage, len(self.facets), DUALS)
+        moments, mass_of, coverage, covered, quad = p2_segment_integrals(z, hessian, self.margin)
+        jets, A = covered_part_gaps(e, moments, mass_of, coverage, len(self.facets), DUALS)
         return jets, coverage, covered, (*quad, A)
 
     def _slip_weights(self, quad, k: int) -> np.ndarray:

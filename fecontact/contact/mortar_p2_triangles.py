@@ -290,7 +290,7 @@ def _live(z) -> np.ndarray:
 
 def _scatter(result, live, n: int, hessian):
     """The results of the live pairs placed among all (zeros elsewhere)."""
-    moments, mass, coverage, covered, quad = result
+    moments, mass_of, coverage, covered, quad = result
     P = len(live)
 
     def put(a, fill=0.0):
@@ -302,8 +302,10 @@ def _scatter(result, live, n: int, hessian):
         g = None if j.g is None else put(j.g)
         return Jet(put(j.v), g, None if j.h is None else put(j.h))
 
-    mass = [[jet(j) for j in row] for row in mass]
-    return [jet(j) for j in moments], mass, put(coverage), put(covered), tuple(map(put, quad))
+    def mass_all(part):  # the pairs covered in part are live (they cover something)
+        return mass_of(part[live])
+
+    return [jet(j) for j in moments], mass_all, put(coverage), put(covered), tuple(map(put, quad))
 
 
 def p2_triangle_integrals(z: np.ndarray, hessian=None, depth: float = np.inf):
@@ -312,8 +314,9 @@ def p2_triangle_integrals(z: np.ndarray, hessian=None, depth: float = np.inf):
     (gradients) or True (Hessians too) over z; ``depth`` (m): a master face whose mean gap
     over the overlap is below −depth lies behind the slave face and is dropped.
 
-    Returns (moments, mass, coverage, covered, quad): the Jets of m_k = ∫ Ñ_k g_N dA (m³)
-    and M_kl = ∫ Ñ_k Ñ_l dA (m², 6 × 6) over the overlap, the fraction of the slave face's
+    Returns (moments, mass_of, coverage, covered, quad): the Jets of m_k = ∫ Ñ_k g_N dA
+    (m³), a function of a mask of the pairs giving their M_kl = ∫ Ñ_k Ñ_l dA (m², 6 × 6)
+    over the overlap, the fraction of the slave face's
     parameter triangle the pair covers (P,), ∫ Ñ_k dA over the overlap (P, 6; m²) and the
     quadrature as values for the slip rows: (s, t) (P, Q, 2), μ (P, Q, 2) and the weights
     of dA (P, Q). The weighted gaps are g̃ = A m with the dual coefficients A of the
@@ -344,7 +347,13 @@ def p2_triangle_integrals(z: np.ndarray, hessian=None, depth: float = np.inf):
     f = (alpha * nn * w).where(w.v != 0.0, 0.0)
     Nt = [sum(Nk * TRANSFORM[j, k] for k, Nk in enumerate(shape(s, t))) for j in range(6)]
     moments = [_per_pair(Nt[k] * f, cells, P, G) for k in range(6)]
-    mass = _mass(Nt, (nn.sqrt() * w).where(w.v != 0.0, 0.0), (cells, P, G))
+
+    def mass_of(part):  # M_kl of the pairs ``part``: their points alone
+        at = np.flatnonzero(np.tile(np.repeat(part, G), cells))
+        w_ = w.take(at)
+        dA_ = (nn.take(at).sqrt() * w_).where(w_.v != 0.0, 0.0)
+        return _mass([N_.take(at) for N_ in Nt], dA_, (cells, int(part.sum()), G))
+
     coverage = 2.0 * w.v.reshape(cells, P, G).sum((0, 2))
     covered = np.stack([(Ntk.v * dA).reshape(cells, P, G).sum((0, 2)) for Ntk in Nt], axis=1)
 
@@ -353,7 +362,7 @@ def p2_triangle_integrals(z: np.ndarray, hessian=None, depth: float = np.inf):
         return a.reshape(P, cells * G, *a.shape[3:])
 
     quad = (per_pair(np.stack([s.v, t.v], 1)), per_pair(mu[:, :2]), per_pair(dA))
-    return moments, mass, coverage, covered, quad
+    return moments, mass_of, coverage, covered, quad
 
 
 def _projection(cs, cm, cm_v, s, t, order: int, spread):
