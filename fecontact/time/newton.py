@@ -101,7 +101,8 @@ class NewtonPlan:
     (:mod:`.descent`), ``halving``: an update that does not lower the residual is halved (up
     to six times), ``bound``: the joints' remainder bound may end the iteration, and the
     ``name`` failures carry. ``group``: the positions live on a Lie group (rotation vectors
-    in space, :mod:`.lie`): the iterate's first row is the increment D and q = q_n ⊕ D.
+    in space, :mod:`.lie`; its :class:`~.lie.LieGroup`, else None): the iterate's first row
+    is the increment D and q = q_n ⊕ D.
     ``roles``: the terms' :class:`Roles`, when every term acts in every step as itself (no
     ``per_step`` term), else None (sorted per step)."""
 
@@ -115,7 +116,7 @@ class NewtonPlan:
         halving: bool,
         bound: bool,
         name: str,
-        group: bool = False,
+        group=None,
         form: type | None = None,
     ):
         self.terms: tuple[ForceTerm, ...] = tuple(terms)
@@ -219,8 +220,8 @@ class AccelerationForm:
         model, opts, plan = newton.model, newton.opts, newton.plan
         self.newton, self.model, self.opts, self.plan = newton, model, opts, plan
         # on a Lie group the first row of X is the increment D, and q = q_n ⊕ D (:mod:`.lie`)
-        lie = self.lie = LieStep(model, st.q) if plan.group else None
-        X = predict(st, c) if lie is None else predict_increment(st, c)
+        lie = self.lie = LieStep(plan.group, st.q) if plan.group else None
+        X = predict(st, c) if lie is None else predict_increment(st, c, plan.bound)
         self.step = step = StepContext(model, c, t, st, opts, P, X)
         if lie is not None:
             step.q = lie.configuration(X[0])

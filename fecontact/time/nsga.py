@@ -40,7 +40,7 @@ from .configuration import plus
 from .constraints import (
     StepFailure,
 )
-from .correction import correction_metric, position_correction
+from .correction import correction_metric, momentum_held, position_correction
 from .coulomb import frictional_correction
 from .generalized_alpha import coefficients
 from .impacts import velocity_jump
@@ -97,7 +97,7 @@ class _Phases:
     # the attributes (slots: every access of the step's hot loop is cheaper)
     __slots__ = (
         "Gb P a c cand closed corrected force forces g_tilde gaps grip h held impulse "
-        "iters lam m model nu opts q q_tilde record smooth_step st st_s step t timer tol_gap "
+        "iters kept lam m model nu opts q q_tilde record smooth_step st st_s step t timer tol_gap "
         "v v_tilde vd works"
     ).split()
 
@@ -190,6 +190,7 @@ class _Phases:
             work = np.union1d(work, pushed)
         if model.inverted(q):
             raise StepFailure("the position correction inverts an element (det F <= 0)", np.nan)
+        self.v, self.kept = momentum_held(model, q_tilde, q, self.v, work)  # (kept: Δv or None)
         self.nu[work] = nu_w[: work.size]
         if friction is not None:
             nu_t, U_t = friction
@@ -272,8 +273,7 @@ class _Phases:
             self.forces.in_vd, self.forces.in_a = shares
 
     def follow(self) -> None:
-        """v̇ and a follow the correction (:mod:`.position_jump`) in a step where a contact
-        closed, and without friction v follows them."""
+        """v̇, a (v without friction) follow the correction of an impact (:mod:`.position_jump`)."""
         st, closed = self.st, self.closed
         if self.corrected is None:  # (tested first: it decides most steps at no cost)
             return
@@ -305,7 +305,7 @@ class _Phases:
                 st,
                 self.q,
                 self.v,
-                self.v_tilde,
+                self.v_tilde if self.kept is None else self.v_tilde + self.kept,
                 dvd,
                 hold,
                 self.impulse[closed],
