@@ -29,6 +29,13 @@
    Σ λ_j + k Λ_j / h, both against Hertz's (a ball on a rigid plane at the impact speed of
    each ball), and the wall time.
 
+4. P2 (quadratic) faces: the patch tests on P2 blocks (7/5 cells) and boxes (4/3 cells) with
+   mortar on the curved faces ("quadratic": ``MortarContactP2``, ``MortarContact3DP2``), on
+   the faces split into linear pieces ("split") and node-to-surface; then the cost of a P2
+   mortar step against a split one: two P2 disks (refinements 2) head-on for 6 ms, the two
+   alternating (CPU ms per step, the largest sideways speed), and one evaluation of the rows
+   with their gradients on the graded P2 balls of ``two_balls`` at their start (ms).
+
     python benchmarks/mortar.py            # refinements 1–5, the default balls (an hour)
     python benchmarks/mortar.py --quick    # refinements 1–3, coarse balls (minutes)
     python benchmarks/mortar.py --refinements 1 2 3 4 --coarse-balls   # (20 minutes)
@@ -41,7 +48,14 @@ import time
 import numpy as np
 from _common import case, parser, publish_report, timed_run
 
-from fecontact.testing import pressed_blocks
+from fecontact import Model, simulate
+from fecontact.bodies import Solid
+from fecontact.contact.mortar import MortarContact
+from fecontact.contact.mortar3d import MortarContact3D
+from fecontact.contact.mortar3d_p2 import MortarContact3DP2
+from fecontact.contact.mortar_p2_segments import MortarContactP2
+from fecontact.scenes import solid_material, wave_step
+from fecontact.testing import pressed_blocks, pressed_p2_blocks, pressed_p2_boxes
 
 PATCH_MESHES = ((7, 4), (4, 7), (5, 5), (13, 6))
 
@@ -196,6 +210,57 @@ def ball_rows(quick: bool):
     return rows
 
 
+def p2_patch_rows():
+    rows = []
+    for dim, test, cells in ((2, pressed_p2_blocks, (7, 5)), (3, pressed_p2_boxes, (4, 3))):
+        for method in ("quadratic", "split", "node-to-surface"):
+            _, lam, pressure, error = test(*cells, method=method)
+            spread = np.nan if pressure is None else float(np.max(np.abs(pressure - 1.0)))
+            rows.append({"dim": dim, "cells lower/upper": "/".join(map(str, cells)),
+                         "method": method, "active nodes": int(np.count_nonzero(lam > 0)),
+                         "displacement error": error, "pressure spread": spread})  # fmt: skip
+    return rows
+
+
+def p2_disk_run(quadratic: bool, t_end: float):
+    """Two P2 disks (refinements 2) head-on at 1 m/s each: CPU s per step and the largest
+    sideways speed of the left disk (m/s)."""
+    mat = solid_material("linear", 1e7, 0.3, 1e3)
+    a = Solid.disk([-0.101, 0.0], 0.1, 2, mat, element="P2")
+    b = Solid.disk([0.101, 0.0], 0.1, 2, mat, element="P2")
+    pair = (MortarContactP2 if quadratic else MortarContact)(a, b)
+    model = Model([a, b], [pair], gravity=(0.0, 0.0))
+    v0 = model.translation(a, (1.0, 0.0)) + model.translation(b, (-1.0, 0.0))
+    wy = a.mass_matrix() @ a.translation_field((0.0, 1.0))
+    options = case("two_disks").build(refinements=1).options
+    cpu, steps, lateral = time.process_time(), 0, 0.0
+    for st in simulate(model, wave_step(a, 1.0, a.min_edge_length / 2), t_end, options, v0=v0):
+        steps += 1
+        lateral = max(lateral, abs(float(wy @ st.v[model.body_slice(0)])) / a.mass)
+    return (time.process_time() - cpu) / steps, lateral
+
+
+def p2_cost_rows(repeats: int, t_end: float):
+    rows = []
+    for quadratic in (True, False) * repeats:  # alternating: the same load on both
+        cpu, lateral = p2_disk_run(quadratic, t_end)
+        faces = "quadratic" if quadratic else "split"
+        rows.append({"problem": "P2 disks head-on", "faces": faces, "CPU ms": 1e3 * cpu,
+                     "what": "per step", "sideways |vy|/v0": lateral})  # fmt: skip
+    sim = case("two_balls").build(element="P2")
+    left, right = sim.model.bodies
+    for cls, name in ((MortarContact3DP2, "quadratic"), (MortarContact3D, "split")):
+        pair = cls(left, right)
+        Model([left, right], [pair], gravity=(0.0, 0.0, 0.0))
+        cpu = time.process_time()
+        g = pair.evaluate(np.zeros(left.ndof + right.ndof))[0]
+        rows.append({"problem": "graded P2 balls", "faces": name,
+                     "CPU ms": 1e3 * (time.process_time() - cpu),
+                     "what": f"one evaluation, {int(np.isfinite(g).sum())} rows",
+                     "sideways |vy|/v0": np.nan})  # fmt: skip
+    return rows
+
+
 def main():
     p = parser(__doc__.splitlines()[0])
     p.add_argument("--refinements", type=int, nargs="+", help="the disks' refinements")
@@ -207,12 +272,17 @@ def main():
     disks = disk_rows(refinements, repeats)
     free = free_rows(refinements, repeats, 0.004 if args.quick else 0.02)
     balls = ball_rows(args.quick or args.coarse_balls)
+    p2_patch = p2_patch_rows()
+    p2_cost = p2_cost_rows(1 if args.quick else 3, 0.002 if args.quick else 0.006)
     publish_report(
         args.out, "mortar", args.quick, "Mortar and node-to-surface contact", disks,
         ("Patch test, small displacements, p = 1e5 Pa (relative errors).", patch),
         ("Two elastic disks head-on (cases/two_disks.py), 1 m/s each, side by side.", disks),
         ("The same disks in free flight (10 cm apart, 20 ms), alternating.", free),
         ("Two elastic balls head-on (cases/two_balls.py), 1 m/s each.", balls),
+        ("P2 faces: patch tests, quadratic faces against faces split into linear pieces.",
+         p2_patch),
+        ("P2 faces: cost of a step (disks, alternating) and of an evaluation (balls).", p2_cost),
     )  # fmt: skip
 
 

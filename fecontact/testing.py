@@ -32,6 +32,8 @@ __all__ = [
     "pendulum_exact",
     "pressed_blocks",
     "pressed_boxes",
+    "pressed_p2_blocks",
+    "pressed_p2_boxes",
     "trace",
 ]
 
@@ -302,6 +304,120 @@ def pressed_boxes(n_lower: int, n_upper: int, p: float, method="mortar", small=T
     parts = (q[model.body_slice(0)], q[model.body_slice(1)])
     # (the interface's own rows come first; the safeguard rows of its nodes follow)
     return pair, parts, lam[: pair.size], (u_low.ravel(), u_up.ravel())
+
+
+def _p2_pair(upper, lower, method: str, face):
+    """The contact of the P2 patch tests: "quadratic" (mortar on the curved faces), "split"
+    (mortar on the faces split into linear pieces) or "node-to-surface" (the ``face`` nodes)."""
+    from .contact import Contact
+    from .contact.mortar import MortarContact
+    from .contact.mortar3d import MortarContact3D
+    from .contact.mortar3d_p2 import MortarContact3DP2
+    from .contact.mortar_p2_segments import MortarContactP2
+
+    if method == "node-to-surface":
+        return Contact(upper, lower, nodes=upper.nodes_where(face), method=method)
+    kinds = {"quadratic": (MortarContactP2, MortarContact3DP2),
+             "split": (MortarContact, MortarContact3D)}  # fmt: skip
+    return kinds[method][upper.dim - 2](upper, lower)
+
+
+def pressed_p2_blocks(n_lower: int, n_upper: int, p: float = 1e5, method: str = "quadratic"):
+    """The patch test of :func:`pressed_blocks` on P2 triangles, the upper block loaded by its
+    consistent P2 nodal forces p L (1/6, 2/3, 1/6) per top edge; ``method`` of the contact
+    (:func:`_p2_pair`; node-to-surface: the face's nodes but its corners). Returns the pair,
+    λ (N), the nodal pressures of the contact face over p (None for node-to-surface) and
+    the largest displacement error of either block relative to the exact linear field."""
+    from .bodies import Solid
+    from .model import Model
+    from .scenes import solid_material
+    from .statics import solve_static_contact
+
+    E_LOW, E_UP, NU = 1e7, 3e7, 0.3
+    mats = [solid_material("linear", E, NU, 1e3) for E in (E_LOW, E_UP)]
+    lower = Solid.rectangle([0, 0], [1, 0.5], (n_lower, 3), mats[0], element="P2")
+    upper = Solid.rectangle([0, 0.5], [1, 1.0], (n_upper, 3), mats[1], element="P2")
+    lower.fix(lower.nodes_where(lambda x: x[1] < 1e-9), "y")
+    for b in (lower, upper):
+        b.fix(b.nodes_where(lambda x: x[0] < 1e-9), "x")
+
+    def face(x):  # node-to-surface: the face's nodes but its corners
+        return (abs(x[1] - 0.5) < 1e-9) & (x[0] > 1e-9) & (x[0] < 1 - 1e-9)
+
+    pair = _p2_pair(upper, lower, method, face)
+    model = Model([lower, upper], [pair], gravity=(0.0, 0.0))
+    load = np.zeros(model.n)
+    top = upper.nodes_where(lambda x: x[1] > 1 - 1e-9)
+    top = top[np.argsort(upper.X[top, 0])]  # corner, mid, corner, ... along the top
+    o = model.offset_of(upper)
+    for a, m, b in zip(top[:-2:2], top[1:-1:2], top[2::2], strict=True):
+        length = upper.X[b, 0] - upper.X[a, 0]
+        load[o + 2 * np.array([a, m, b]) + 1] -= p * length * np.array([1 / 6, 2 / 3, 1 / 6])
+    q, lam = solve_static_contact(model, load, small=True)
+    exact = []
+    for body, E in ((lower, E_LOW), (upper, E_UP)):
+        y = body.X[:, 1]
+        uy = -(1 - NU**2) * p * (np.minimum(y, 0.5) / E_LOW + np.maximum(y - 0.5, 0.0) / E_UP)
+        exact.append(np.stack([NU * (1 + NU) * p / E * body.X[:, 0], uy], axis=1).ravel())
+    height = None if method == "node-to-surface" else upper.X[:, 1]
+    return _p2_results(model, pair, q, lam, exact, height, 0.5, p)
+
+
+def _p2_results(model, pair, q, lam, exact, height, face: float, p: float):
+    """(pair, λ, the face's pressures over p or None, the largest relative displacement
+    error) of a P2 patch test."""
+    error = max(np.max(np.abs(q[model.body_slice(k)] - u)) / np.max(np.abs(u))
+                for k, u in enumerate(exact))  # fmt: skip
+    lam = lam[: pair.size]  # the pair's own rows come first (then any safeguard rows)
+    if height is None:  # node-to-surface: no pressure field
+        return pair, lam, None, error
+    nodes, z = pair.nodal_pressure(lam)
+    return pair, lam, z[np.abs(height[nodes] - face) < 1e-9] / p, error
+
+
+def pressed_p2_boxes(n_lower: int, n_upper: int, p: float = 1e5, method: str = "quadratic"):
+    """The patch test of :func:`pressed_boxes` on P2 tetrahedra, the upper box loaded by the
+    consistent P2 nodal forces p ∫ N_k dA of its top faces (corners 0, edge nodes a third of
+    the face); ``method`` of the contact (:func:`_p2_pair`; node-to-surface: the face's
+    nodes off its edges). Returns as
+    :func:`pressed_p2_blocks`."""
+    from .bodies import Solid
+    from .contact.mortar3d_p2 import quadratic_triangles
+    from .contact.mortar_p2 import reference_rule, shape_functions
+    from .model import Model
+    from .scenes import solid_material
+    from .statics import solve_static_contact
+
+    E_LOW, E_UP, NU = 1e7, 3e7, 0.3
+    mats = [solid_material("linear", E, NU, 1e3) for E in (E_LOW, E_UP)]
+    lower = Solid.box([0, 0, 0], [1, 1, 0.5], (n_lower, n_lower, 2), mats[0], element="P2")
+    upper = Solid.box([0, 0, 0.5], [1, 1, 1.0], (n_upper, n_upper, 2), mats[1], element="P2")
+    lower.fix(lower.nodes_where(lambda x: x[2] < 1e-9), "z")
+    for b in (lower, upper):
+        b.fix(b.nodes_where(lambda x: x[0] < 1e-9), "x")
+        b.fix(b.nodes_where(lambda x: x[1] < 1e-9), "y")
+
+    def inner(x):  # node-to-surface: the face's nodes off its edges
+        return (abs(x[2] - 0.5) < 1e-9) & (np.max(np.abs(x[:2] - 0.5), axis=0) < 0.5 - 1e-9)
+
+    pair = _p2_pair(upper, lower, method, inner)
+    model = Model([lower, upper], [pair], gravity=(0.0, 0.0, 0.0))
+    load = np.zeros(model.n)
+    o, X = model.offset_of(upper), upper.X
+    points, w = reference_rule("triangle")
+    share = shape_functions("triangle", points).T @ w  # ∫ N_k dA / A
+    for tri in quadratic_triangles(upper):
+        if np.all(X[tri, 2] > 1 - 1e-9):
+            area = 0.5 * np.linalg.norm(np.cross(X[tri[1]] - X[tri[0]], X[tri[2]] - X[tri[0]]))
+            load[o + 3 * tri + 2] -= p * area * share
+    q, lam = solve_static_contact(model, load, small=True)
+    exact = []
+    for body, E in ((lower, E_LOW), (upper, E_UP)):
+        Xb = body.X
+        uz = -p * (np.minimum(Xb[:, 2], 0.5) / E_LOW + np.maximum(Xb[:, 2] - 0.5, 0.0) / E_UP)
+        exact.append(np.stack([NU * p / E * Xb[:, 0], NU * p / E * Xb[:, 1], uz], 1).ravel())
+    height = None if method == "node-to-surface" else upper.X[:, 2]
+    return _p2_results(model, pair, q, lam, exact, height, 0.5, p)
 
 
 def roll_up(n: int, fraction: float, steps: int = 10):

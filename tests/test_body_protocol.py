@@ -118,6 +118,7 @@ KIND_MEMBERS = {
         "stiffness_matrix",
         "tributary_areas",
         "thickness",  # a 2D mortar interface's pressure area
+        "element",  # two P2 solids meet on their quadratic faces (mortar)
     },
     RigidBody2D: {"shape", "position", "center", "orientation", "to_frame", "frame_point_function"},
     PointMass: {"position"},

@@ -7,6 +7,7 @@ from ..bodies.solid import Solid
 from ..errors import InputError, check_positive
 from .mortar import MortarContact
 from .mortar3d import MortarContact3D
+from .mortar_p2_segments import MortarContactP2
 from .registry import pair_factory
 
 __all__ = ["Contact"]
@@ -48,7 +49,10 @@ def Contact(
 
     ``method`` chooses the discretization of a contact between two solids: ``"mortar"`` (the
     default, None: dual mortar, weighted gaps integrated over the first body's boundary,
-    :mod:`fecontact.contact.mortar` in 2D, :mod:`fecontact.contact.mortar3d` in 3D; ``nodes``
+    :mod:`fecontact.contact.mortar` in 2D, on the quadratic segments themselves between two
+    P2 solids, :mod:`fecontact.contact.mortar_p2_segments`; :mod:`fecontact.contact.mortar3d`
+    in 3D, P2 faces split into flat triangles (``MortarContact3DP2`` of
+    :mod:`fecontact.contact.mortar3d_p2` takes the curved faces, built explicitly); ``nodes``
     must be None, and the pair declared both ways is one interface) or ``"node-to-surface"``
     (``nodes`` of ``body``, default its boundary nodes, against the boundary of the second;
     add the reversed pair for the other direction). Other pairs take None only.
@@ -85,4 +89,6 @@ def _mortar(body, obstacle, nodes, restitution, clearance, solids: bool, method)
         )
     if body.dim == 3:
         return MortarContact3D(body, obstacle, restitution)
+    if body.element == obstacle.element == "P2":  # the curved faces themselves
+        return MortarContactP2(body, obstacle, restitution)
     return MortarContact(body, obstacle, restitution)

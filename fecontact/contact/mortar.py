@@ -33,10 +33,9 @@ second-order forward differentiation of the integral (:mod:`fecontact.contact.du
 through the averaged normals, the projections, the moving bounds of the overlaps, the dual
 functions of partly covered segments and the segment Jacobian. This is the consistent
 linearisation of Popp, Gee & Wall (2009) obtained without deriving its terms by hand, so the
-position correction keeps Newton's quadratic rate. Quadratic faces (the basis transformation
-of Popp, Wohlmuth, Gee & Wall 2012, needed because the corner shape functions of a P2 face
-integrate to zero) are not implemented: P2 bodies are taken with their boundary split into
-linear segments, like node-to-surface contact.
+position correction keeps Newton's quadratic rate. Two P2 solids meet on their quadratic
+segments themselves (:mod:`fecontact.contact.mortar_p2_segments`); a P2 solid against a P1
+one is taken with its boundary split through the mid nodes into linear segments.
 
 Contact rows are the slave boundary nodes. The master covers a part of a node's segments
 (where the slave normals meet master segments facing them); a node takes part when the

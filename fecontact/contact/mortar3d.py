@@ -4,8 +4,9 @@ The form is that of :mod:`fecontact.contact.mortar` (dual Lagrange multipliers, 
 boundary node, weighted gaps g̃_j = ∫ Φ_j g_N dA as the constraints, rows g_j = g̃_j / L_j with
 L_j the reference area the node carries, exact gradients), over triangles: the
 boundary of P1 tetrahedra, or of P2 tetrahedra split through their edge nodes into four flat
-triangles (as for node-to-surface contact; the basis transformation of Popp, Wohlmuth, Gee &
-Wall 2012 for curved quadratic faces is not implemented). The integral is evaluated over the
+triangles (as for node-to-surface contact; the curved quadratic faces themselves, with the
+basis transformation of Popp, Wohlmuth, Gee & Wall 2012, are
+:class:`~fecontact.contact.mortar3d_p2.MortarContact3DP2`). The integral is evaluated over the
 overlap of each slave triangle with the master triangles (segment-based integration: each
 master triangle is projected onto the slave triangle's plane along its normal, the overlap
 clipped, cut into a fan of cells and integrated with a degree-2 rule,

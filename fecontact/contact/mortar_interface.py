@@ -24,7 +24,14 @@ from .base import PairDefaults, check_solid_pair
 from .friction import tangent_basis
 from .mortar_safeguard import deep_hessians, deep_rows, safeguard_rows, take_deep
 
-__all__ = ["MortarInterface", "element_measures", "merge_interfaces", "node_normals"]
+__all__ = [
+    "MortarInterface",
+    "element_measures",
+    "linear_faces",
+    "linear_shares",
+    "merge_interfaces",
+    "node_normals",
+]
 
 _COVERED = 1e-9  # an element covered by less than this fraction counts as not covered
 
@@ -35,6 +42,18 @@ def element_measures(x: np.ndarray, facets: np.ndarray) -> np.ndarray:
         return np.linalg.norm(x[facets[:, 1]] - x[facets[:, 0]], axis=1)
     u, w = x[facets[:, 1]] - x[facets[:, 0]], x[facets[:, 2]] - x[facets[:, 0]]
     return 0.5 * np.linalg.norm(np.cross(u, w), axis=1)
+
+
+def linear_faces(body) -> np.ndarray:
+    """The boundary elements of ``body`` a mortar interface integrates over (rows of nodes):
+    its flat contact facets."""
+    return body.contact_facets()
+
+
+def linear_shares(x: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """∫_e N_k dA (faces, nodes per face) of each face's nodes at positions x: |e|/n_e."""
+    ends = faces.shape[1]
+    return np.repeat(element_measures(x, faces) / ends, ends).reshape(-1, ends)
 
 
 def node_normals(x: np.ndarray, facets: np.ndarray, rows: np.ndarray, m: int) -> np.ndarray:
@@ -92,6 +111,8 @@ class MortarInterface(PairDefaults):
     entries and their integrals (2D: :class:`~fecontact.contact.mortar.MortarContact`)."""
 
     linear = False
+    faces_of, shares_of = staticmethod(linear_faces), staticmethod(linear_shares)
+    """The elements a body's boundary is integrated over and their nodes' ∫_e N_k dA."""
     lazy_hessians = True
     frictional = True
     partial = True
@@ -113,12 +134,11 @@ class MortarInterface(PairDefaults):
         if margin is None:
             margin = 0.05 * max(body.characteristic_length, master.characteristic_length)
         self.margin = check_positive("margin", margin)
-        self.facets = body.contact_facets()
-        self.master_facets = master.contact_facets()
+        self.facets = self.faces_of(body)
+        self.master_facets = self.faces_of(master)
         self.nodes, rows = np.unique(self.facets, return_inverse=True)
         self.element_rows = rows.reshape(self.facets.shape)  # the rows of each element's ends
-        ends = self.facets.shape[1]
-        share = np.repeat(element_measures(body.X, self.facets) / ends, ends)
+        share = self.shares_of(body.X, self.facets).ravel()
         self.length = np.bincount(self.element_rows.ravel(), share, len(self.nodes))
         """Reference measure L_j (m in 2D, m² in 3D) each slave node carries: its rows are
         g̃_j / L_j."""
@@ -203,7 +223,7 @@ class MortarInterface(PairDefaults):
             W += np.bincount(self.element_rows[e, k], dual[:, k], self.size)
         fraction = np.bincount(e, coverage, len(self.facets))
         covered = fraction > _COVERED
-        share = np.repeat(element_measures(xs, self.facets[covered]) / ends, ends)
+        share = self.shares_of(xs, self.facets[covered]).ravel()
         support = np.bincount(self.element_rows[covered].ravel(), share, self.size)
         valid = (W > 0.0) & (W >= self.taking_part * support)
         if not self.partial:

@@ -33,9 +33,8 @@ are those of the reference element; the Jacobian of a curved face enters through
 weights at the integration points (:func:`dual_coefficients`), exactly as the element's
 measure does for a flat face (where it cancels in A).
 
-Not yet connected to the mortar interfaces: P2 bodies still enter mortar contact with their
-boundary split through the mid nodes into linear facets (``Solid.contact_facets``), whose
-force distribution is not the P2 one; see docs/explanation/mortar.md (quadratic faces).
+Where they are used: the 3-node segments of two 2D P2 solids in contact
+(:mod:`fecontact.contact.mortar_p2_segments`, the segment's own dual functions, α = 0).
 """
 
 from __future__ import annotations
@@ -46,6 +45,8 @@ from ..errors import InputError
 
 __all__ = [
     "ALPHA",
+    "SMALLEST",
+    "covered_part_gaps",
     "dual_coefficients",
     "reference_rule",
     "shape_functions",
@@ -129,3 +130,51 @@ def dual_coefficients(kind: str, alpha: float | None = None, jacobian=None):
     if np.any(D <= 1e-12 * D.max()):  # (round-off of a zero integral)
         raise InputError(f"alpha: a shape function of the {kind} integrates to {D.min():.3g}")
     return D[:, None] * np.linalg.inv(M), T
+
+
+SMALLEST = 1e-6
+"""A slave face covered by less than this fraction of its parameter triangle counts as not
+covered (its covered-part moment matrix would be near singular)."""
+
+_FULL = 1e-9  # a face covered to within this fraction is covered fully
+
+
+def covered_part_gaps(e, moments, mass_of, coverage, n_faces: int, duals: np.ndarray):
+    """The Jets g̃_j = Σ_k A_jk m_k (j = 1..n) of P entries (slave faces ``e``), from the
+    entries' Jets m_k = ∫ Ñ_k g_N dA over their overlaps (``moments``), ``mass_of(part)``
+    giving the Jets M_kl = ∫ Ñ_k Ñ_l dA of the entries ``part`` (bool, P) alone (needed on
+    faces covered in part only) and the fractions of the faces they cover (``coverage``);
+    and their dual coefficients A (P, n, n): on a face covered fully those of the reference face
+    (``duals``, n × n); on a face covered in part those biorthogonal on the covered part C,
+    A = D M⁻¹ with M = Σ_pairs M_p the face's ∫_C Ñ Ñᵀ dA and D = diag(M 1) (Popp, Seitz,
+    Gee & Wall, CMAME 2013). A depends on every pair of the face; with t = M⁻¹ S, S = Σ m_p,
+    its derivative splits over the pairs, ∂(A S)_j ⊃ t_j Σ_l ∂M_p,jl − Σ_i A_ji (∂M_p t)_i,
+    so the gradients stay exact in the pairs' own coordinates; the Hessians are those at
+    fixed A. A face covered by less than :data:`SMALLEST` contributes nothing."""
+    fraction = np.bincount(e, coverage, n_faces)[e]
+    part = (fraction >= SMALLEST) & (fraction < 1.0 - _FULL) & (coverage > 0.0)
+    n = len(duals)
+    A = np.where((fraction >= SMALLEST)[:, None, None], duals, 0.0)
+    t = np.zeros((len(e), n))
+    mass = mass_of(part) if part.any() else None
+    if part.any():
+        faces, local = np.unique(e[part], return_inverse=True)
+        M = np.zeros((len(faces), n, n))
+        S = np.zeros((len(faces), n))
+        Mp = np.stack([np.stack([j.v for j in row], 1) for row in mass], 1)
+        np.add.at(M, local, Mp)
+        np.add.at(S, local, np.stack([m.v[part] for m in moments], 1))
+        inv = np.linalg.inv(M)
+        A[part] = (M.sum(axis=2)[:, :, None] * inv)[local]
+        t[part] = np.einsum("fkl,fl->fk", inv, S)[local]
+    jets = [sum(moments[k] * A[:, j, k] for k in range(n)) for j in range(n)]
+    if part.any() and moments[0].g is not None:
+        dM = np.stack([np.stack([j.g for j in row], 1) for row in mass], 1)  # (Pp, n, n, z)
+        tp, Ap = t[part], A[part]
+        own = dM.sum(axis=2) * tp[:, :, None]  # t_j Σ_l ∂M_jl
+        other = np.einsum("pji,pilz,pl->pjz", Ap, dM, tp)
+        for j, jet in enumerate(jets):
+            g = jet.g.copy()
+            g[part] += own[:, j] - other[:, j]
+            jet.g = g
+    return jets, A

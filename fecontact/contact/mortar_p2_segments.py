@@ -1,0 +1,301 @@
+r"""Mortar contact between two 2D solids of quadratic (P2) triangles: curved 3-node segments.
+
+The form is that of :mod:`fecontact.contact.mortar` (dual multipliers, one per slave boundary
+node, the weighted gaps g̃_j = ∫ Φ_j g_N ds as the constraints, rows g_j = g̃_j / L_j), on the
+quadratic boundary itself: every P2 face node, end or mid, carries a row. Slave segment
+(x_a, x_b, x_m), ξ ∈ [−1, 1],
+
+    x(ξ) = N_a x_a + N_b x_b + N_m x_m,   N_{a,b} = ξ (ξ ∓ 1)/2,   N_m = 1 − ξ²,
+
+master segment (y_1, y_2, y_m) likewise in η. The gap is measured along the slave segment's
+own normal n(ξ) = (t_y, −t_x), t = x′(ξ) (outward on a counter-clockwise boundary): the
+master point y(η) met by the line x(ξ) + s n(ξ) solves (y(η) − x(ξ))·t = 0, a quadratic in
+η, and g_N ds = (y(η) − x(ξ))·n(ξ) dξ (|n| = |t| = ds/dξ: no square root). The overlap of
+the two segments is bounded by the master's end nodes projected onto the slave curve along
+its normals, (x(ξ) − y_i)·x′(ξ) = 0, a cubic in ξ: at its ends the slave normal meets the
+master's end, so that the integrand is smooth on the overlap and a 5-point Gauss rule
+integrates the patch test's polynomial integrands (degree 4 on a straight face) exactly.
+
+Dual functions: those of the quadratic reference segment, Φ = A N with A = D M⁻¹ from
+:func:`fecontact.contact.mortar_p2.dual_coefficients` (on the 3-node segment the end functions
+integrate to 1/6 of the length, so no basis transformation is needed). They are biorthogonal
+in the measure ds exactly on straight segments (a constant Jacobian) and to the curvature's
+order on curved ones; A does not depend on the geometry, so the rows' derivatives need no
+derivative of A, and Σ_j Φ_j = 1 holds on any segment: a uniform pressure z_j = p puts on
+every node k of either body its consistent P2 load p ∫ N_k ds (ends 1/6, mid 2/3 of a
+straight segment's length), the property the patch test needs. L_j = Σ_e ∫_e N_j ds.
+
+A slave segment the master covers in part takes the dual functions biorthogonal on its
+covered part (Popp, Seitz, Gee & Wall, CMAME 2013), A = D M⁻¹ with M = ∫_covered N Nᵀ ds
+(:func:`~fecontact.contact.mortar_p2.covered_part_gaps`); a node takes part when its covered
+weight ∫_covered N_j ds is at least half of its support, as on linear segments.
+
+Linearisation: written once in :class:`~fecontact.contact.dual_numbers.Jet` arithmetic over
+the 12 coordinates z = (x_a, x_b, x_m, y_1, y_2, y_m). The projections' values are found by
+Newton's method (ξ) or in closed form (η); one step of Chebyshev's method in Jet arithmetic
+from the converged value gives their exact first and second derivatives (those of the
+implicit function), so the gradients and Hessians of g̃ are exact and Newton's method keeps
+its quadratic rate; on a segment covered in part the Hessians are those at fixed dual
+coefficients (their gradients exact).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+from .dual_numbers import Jet
+from .mortar import MortarContact
+from .mortar_p2 import covered_part_gaps, dual_coefficients
+from .mortar_segments import FACING, GAUSS_POINTS
+
+__all__ = [
+    "MortarContactP2",
+    "p2_segment_integrals",
+    "quadratic_segments",
+    "segment_shares",
+]
+
+_THETA, _WEIGHT = np.polynomial.legendre.leggauss(GAUSS_POINTS)
+DUALS = dual_coefficients("segment")[0]
+"""A (3, 3) of the reference segment's dual functions Φ = A N, nodes (a, b, m)."""
+
+_NEWTON = 30  # iterations of the slave projection's cubic (converges in 3-5 on a face)
+
+
+def quadratic_segments(body) -> np.ndarray:
+    """The P2 boundary segments (a, b, m) of a 2D ``body`` (ends along the counter-clockwise
+    boundary, then the mid node), from its boundary split through the mid nodes."""
+    split = body.contact_facets()
+    n = len(split) // 2
+    first, second = split[:n], split[n:]
+    if body.element != "P2" or not np.array_equal(first[:, 1], second[:, 0]):
+        raise InputError("body: quadratic mortar segments need a 2D P2 solid")
+    return np.ascontiguousarray(np.stack([first[:, 0], second[:, 1], first[:, 1]], axis=1))
+
+
+def segment_shares(x: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """∫_e N_k ds (faces, 3) of the curved segments ``faces`` (a, b, m) at positions x (m)."""
+    xi = _THETA
+    N = np.stack(_shape(xi), axis=1)  # (G, 3)
+    dN = np.stack([xi - 0.5, xi + 0.5, -2.0 * xi], axis=1)
+    t = np.einsum("gk,fkd->fgd", dN, x[faces])
+    ds = np.linalg.norm(t, axis=2) * _WEIGHT  # (faces, G)
+    return ds @ N
+
+
+def _shape(xi):
+    """(N_a, N_b, N_m) at ξ (Jets or arrays)."""
+    return (xi * (xi - 1.0)) * 0.5, (xi * (xi + 1.0)) * 0.5, 1.0 - xi * xi
+
+
+def _curve(a, b, m):
+    """Coefficients (c, d, e) of x(ξ) = c + ξ d + ξ² e, each a pair of components."""
+    return (
+        m,
+        tuple((b[i] - a[i]) * 0.5 for i in range(2)),
+        tuple((a[i] + b[i]) * 0.5 - m[i] for i in range(2)),
+    )
+
+
+def _dot(u, w):
+    return u[0] * w[0] + u[1] * w[1]
+
+
+def _at(curve, xi):
+    """x(ξ) and x′(ξ) of a curve (c, d, e)."""
+    c, d, e = curve
+    x = tuple(c[i] + xi * (d[i] + xi * e[i]) for i in range(2))
+    t = tuple(d[i] + xi * (e[i] * 2.0) for i in range(2))
+    return x, t
+
+
+def _root(coef, x0, order):
+    """The root near the values x0 of Σ_k coef_k ξ^k (Jets), with the derivatives of the
+    implicit function from one Chebyshev step (exact to second order): ξ₀ − u − p″/(2p′) u²,
+    u = p/p′ at the constant ξ₀."""
+    if order == 0:
+        return coef[0].constant_like(x0)
+    p = sum(c * x0**k for k, c in enumerate(coef))
+    dp = sum(c * (k * x0 ** (k - 1)) for k, c in enumerate(coef) if k >= 1)
+    ddp = sum(c * (k * (k - 1) * x0 ** (k - 2)) for k, c in enumerate(coef) if k >= 2)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv = dp.reciprocal()
+        u = p * inv
+        x = -u if order == 1 else -u - (ddp * 0.5) * (u * u) * inv
+    x = x + x0
+    x.v = x0  # the root itself
+    return x
+
+
+def _foot(curve, y, order):
+    """ξ (Jet) of the point y projected onto the slave curve along its normals:
+    (x(ξ) − y)·x′(ξ) = 0, a cubic; inf where Newton's method does not reach a root."""
+    c, d, e = curve
+    r = (c[0] - y[0], c[1] - y[1])
+    coef = (_dot(r, d), _dot(r, e) * 2.0 + _dot(d, d), _dot(d, e) * 3.0, _dot(e, e) * 2.0)
+    v = [k.v for k in coef]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xi = -v[0] / v[1]
+        for _ in range(_NEWTON):
+            p = v[0] + xi * (v[1] + xi * (v[2] + xi * v[3]))
+            step = p / (v[1] + xi * (2.0 * v[2] + 3.0 * xi * v[3]))
+            xi = xi - step
+            if not np.any(np.abs(step) > 1e-15 * (1.0 + np.abs(xi))):
+                break
+        ok = np.isfinite(xi) & (np.abs(step) <= 1e-12 * (1.0 + np.abs(xi)))
+    xi = np.where(ok, xi, np.inf)
+    root = _root(coef, np.where(ok, xi, 0.0), order)
+    root.v = xi
+    return root
+
+
+def _meet(master, x, t, order):
+    """η (Jet) of the master point met from x along the normal of the tangent t:
+    (y(η) − x)·t = a0 + a1 η + a2 η² = 0, the root nearest the straight master's."""
+    c, d, e = master
+    coef = (_dot((c[0] - x[0], c[1] - x[1]), t), _dot(d, t), _dot(e, t))
+    a0, a1, a2 = (k.v for k in coef)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        disc = np.sqrt(np.maximum(a1 * a1 - 4.0 * a0 * a2, 0.0))
+        eta = -2.0 * a0 / (a1 + np.where(a1 < 0.0, -1.0, 1.0) * disc)
+    return _root(coef, np.where(np.isfinite(eta), eta, 0.0), order)
+
+
+def _overlap(s1, s2, facing):
+    """[lo, hi] ∩ [−1, 1] of the master's end nodes' feet, its span (Jet, 0 where not
+    covered) and the covered fraction of the slave segment."""
+    first = s1.v <= s2.v
+    lo, hi = s1.where(first, s2), s2.where(first, s1)
+    lo = lo.where(lo.v > -1.0, -1.0)
+    hi = hi.where(hi.v < 1.0, 1.0)
+    with np.errstate(invalid="ignore"):
+        ok = facing & np.isfinite(s1.v + s2.v)
+        coverage = 0.5 * np.where(ok, np.maximum(hi.v - lo.v, 0.0), 0.0)
+    span = (hi - lo).where(coverage > 0.0, 0.0)
+    return lo.where(np.isfinite(lo.v), 0.0), span, coverage
+
+
+def p2_segment_integrals(z: np.ndarray, hessian=None, depth: float = np.inf):
+    """Weighted-gap contributions of P (slave segment, master segment) pairs of 3-node
+    segments: ``z`` (P, 12) the coordinates (m) of (x_a, x_b, x_m, y_1, y_2, y_m);
+    ``hessian`` None (values), False (gradients) or True (Hessians too) over z; ``depth``
+    (m): a master segment whose mean gap over the overlap is below −depth lies behind the
+    slave segment (a far part of the master facing it) and is dropped.
+
+    Returns (moments, mass_of, coverage, covered, quad): the Jets of m_k = ∫ N_k g_N ds (m²)
+    and a function of a mask of the pairs giving their M_kl = ∫ N_k N_l ds (m, 3 × 3) over
+    the overlap (the weighted gaps are g̃ = A m,
+    :func:`~fecontact.contact.mortar_p2.covered_part_gaps`), the fraction of the slave
+    segment the pair covers (P,; 0 where the segments do not face each other,
+    ``mortar_segments.FACING``, or miss), ∫ N_k ds over the overlap (P, 3; m), and the
+    quadrature as values, ξ, η and the weights of ds (P, G), for the slip rows."""
+    c = Jet.variables(z, hessian)
+    xa, xb, xm, y1, y2, ym = ((c[2 * i], c[2 * i + 1]) for i in range(6))
+    slave, master = _curve(xa, xb, xm), _curve(y1, y2, ym)
+    order = 0 if hessian is None else (2 if hessian else 1)
+    lo, span, coverage = _overlap(_foot(slave, y1, order), _foot(slave, y2, order), _facing(z))
+    G, P = GAUSS_POINTS, len(z)
+    keep = np.repeat(coverage > 0.0, G)
+    xi = lo.repeat(G) + span.repeat(G) * np.tile(0.5 * (1.0 + _THETA), P)
+    rep = tuple(tuple(k.repeat(G) for k in part) for part in slave)
+    x, t = _at(rep, xi)
+    eta = _meet(tuple(tuple(k.repeat(G) for k in part) for part in master), x, t, order)
+    y, _ = _at(tuple(tuple(k.repeat(G) for k in part) for part in master), eta)
+    gds = ((y[0] - x[0]) * t[1] - (y[1] - x[1]) * t[0]).where(keep, 0.0)  # g_N ds/dξ
+    w = (span.repeat(G) * np.tile(0.5 * _WEIGHT, P)).where(keep, 0.0)
+    ds = np.sqrt(t[0].v ** 2 + t[1].v ** 2) * w.v
+    behind = (gds.v * w.v).reshape(P, G).sum(1) < -depth * ds.reshape(P, G).sum(1)
+    if behind.any():
+        coverage = np.where(behind, 0.0, coverage)
+        w = w.where(~np.repeat(behind, G), 0.0)
+        ds = np.where(np.repeat(behind, G), 0.0, ds)
+    N = _shape(xi)
+    moments = [_sum_points(Nk * (gds * w), P, G) for Nk in N]
+
+    def mass_of(part):  # M_kl of the entries ``part``: points of those entries alone
+        at = np.flatnonzero(np.repeat(part, G))
+        tt = [c.take(at) for c in t]
+        ds_ = ((tt[0] * tt[0] + tt[1] * tt[1]).sqrt() * w.take(at)).where(keep[at], 0.0)
+        return _mass([Nk.take(at) for Nk in N], ds_, int(part.sum()), G)
+
+    covered = np.stack([(Nk.v * ds).reshape(P, G).sum(1) for Nk in N], axis=1)
+    quad = (xi.v.reshape(P, G), eta.v.reshape(P, G), ds.reshape(P, G))
+    return moments, mass_of, coverage, covered, quad
+
+
+def _facing(z: np.ndarray) -> np.ndarray:
+    """Whether the segments face each other: the normals are the chords turned alike, so
+    they face when the chords run opposite (``mortar_segments.FACING``)."""
+    chord_s, chord_m = z[:, 2:4] - z[:, 0:2], z[:, 8:10] - z[:, 6:8]
+    size = np.linalg.norm(chord_s, axis=1) * np.linalg.norm(chord_m, axis=1)
+    return np.einsum("pi,pi->p", chord_s, chord_m) < -FACING * size
+
+
+def _mass(N, ds: Jet, P: int, G: int):
+    """M_kl = ∫ N_k N_l ds per pair (3 × 3 Jets, symmetric)."""
+    mass = [[None] * 3 for _ in range(3)]
+    for k in range(3):
+        for m in range(k, 3):
+            mass[k][m] = mass[m][k] = _sum_points(N[k] * N[m] * ds, P, G)
+    return mass
+
+
+def _sum_points(f: Jet, P: int, G: int) -> Jet:
+    """Σ over the G points of each of the P pairs."""
+    g = None if f.g is None else f.g.reshape(P, G, -1).sum(axis=1)
+    h = None if f.h is None else f.h.reshape(P, G, *f.h.shape[1:]).sum(axis=1)
+    return Jet(f.v.reshape(P, G).sum(axis=1), g, h)
+
+
+class MortarContactP2(MortarContact):
+    """Dual mortar contact of the quadratic boundary of a 2D P2 :class:`~fecontact.Solid`
+    (the slave ``body``) with the quadratic boundary of another P2 solid (the ``master``);
+    see the module docstring. One contact per slave boundary node, ends and mid nodes;
+    ``restitution`` is Newton's e_N in [0, 1]; ``margin`` (m) the search distance."""
+
+    faces_of, shares_of = staticmethod(quadratic_segments), staticmethod(segment_shares)
+
+    def __init__(self, body, master, restitution: float = 0.0, margin=None):
+        super().__init__(body, master, restitution, margin)
+        # no pointwise safeguard (mortar_safeguard): its node gaps are measured to the
+        # master's chords, which a node resting on the curved master surface lies behind by
+        # the sagitta (0.12 mm on the refinement-2 P2 disks, beyond its 0.05 mm allowance)
+        self.pointwise = self.master_rows = None
+
+    def _overlapping(self, q: np.ndarray, hessian=None):
+        """The slave nodes' positions and the candidate pairs that overlap: slave segments
+        e, local coordinates z (P, 12), global dofs and the value pass's integrals."""
+        xs, xm = self.positions(q)
+        e, f = self._near(xs, xm, *self._pairs(xs, xm))
+        sn, mn = self.facets[e], self.master_facets[f]
+        z = np.concatenate([xs[sn], xm[mn]], axis=1).reshape(len(e), 12)
+        jets, coverage, covered, _ = self._integrate(e, z, None)
+        keep = coverage > 0.0
+        prior = ([j.take(keep) for j in jets], coverage[keep], covered[keep])
+        dofs = self._global_dofs(sn[keep], mn[keep])
+        return xs, e[keep], z[keep], dofs, prior
+
+    def _local(self, q: np.ndarray):
+        xs, e, z, dofs, _ = self._overlapping(q)
+        return e, z, dofs, xs
+
+    def _values(self, q: np.ndarray):
+        xs, e, _, _, (jets, coverage, covered) = self._overlapping(q)
+        return e, jets, coverage, covered, xs
+
+    def _integrate(self, e, z, hessian):
+        """Jets of the segments' weighted gaps (the dual functions of the covered part on a
+        segment covered in part), coverage, covered weights and the quadrature (with each
+        entry's dual coefficients)."""
+        moments, mass_of, coverage, covered, quad = p2_segment_integrals(z, hessian, self.margin)
+        jets, A = covered_part_gaps(e, moments, mass_of, coverage, len(self.facets), DUALS)
+        return jets, coverage, covered, (*quad, A)
+
+    def _slip_weights(self, quad, k: int) -> np.ndarray:
+        """Weights (P, 6) of the local nodes' motion in end k's slip: ∫ Φ_k N_i ds on the
+        slave's nodes, −∫ Φ_k N_i(η) ds on the master's (the projections frozen)."""
+        xi, eta, ds, A = quad
+        Ns, Nm = np.stack(_shape(xi), axis=2), np.stack(_shape(eta), axis=2)  # (P, G, 3)
+        w = np.einsum("pgl,pl->pg", Ns, A[:, k]) * ds
+        return np.concatenate([np.einsum("pg,pgi->pi", w, Ns), -np.einsum("pg,pgi->pi", w, Nm)], 1)
