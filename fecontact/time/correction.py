@@ -201,11 +201,10 @@ def _common_normal(G, fields) -> np.ndarray | None:
     return n
 
 
-def momentum_held(model, q_tilde, q, v, work) -> tuple[np.ndarray, np.ndarray | None]:
+def momentum_held(kept, model, q_tilde, q, v, work) -> tuple[np.ndarray, np.ndarray | None]:
     """(v, Δv): the velocity ``v`` after the correction q̃ → q over the contacts ``work`` with
-    the increment Δv of :class:`MomentumKept` (None, v itself, for models without such
-    bodies)."""
-    kept = momentum_kept(model)
+    the increment Δv of ``kept``, the run's :class:`MomentumKept` (None, v itself, for models
+    without such bodies: :func:`momentum_kept`)."""
     if kept is None:
         return v, None
     dv = kept(q_tilde, q, v, model.contacts.linearize(q, work)[1])
@@ -213,8 +212,6 @@ def momentum_held(model, q_tilde, q, v, work) -> tuple[np.ndarray, np.ndarray | 
 
 
 def momentum_kept(model) -> MomentumKept | None:
-    """The model's :class:`MomentumKept`, built once; None when no body qualifies."""
-    cache = model.column_cache
-    if ("momentum",) not in cache:
-        cache["momentum",] = MomentumKept(model)
-    return cache["momentum",] if cache["momentum",].bodies else None
+    """The model's :class:`MomentumKept`, decided once per run; None when no body qualifies."""
+    kept = MomentumKept(model)
+    return kept if kept.bodies else None

@@ -190,7 +190,7 @@ class _Phases:
             work = np.union1d(work, pushed)
         if model.inverted(q):
             raise StepFailure("the position correction inverts an element (det F <= 0)", np.nan)
-        self.v, self.kept = momentum_held(model, q_tilde, q, self.v, work)  # (kept: Δv or None)
+        self.v, self.kept = momentum_held(opts.momentum, model, q_tilde, q, self.v, work)
         self.nu[work] = nu_w[: work.size]
         if friction is not None:
             nu_t, U_t = friction

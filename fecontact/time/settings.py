@@ -6,6 +6,7 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass, field
 
+from .correction import MomentumKept, momentum_kept
 from .newton import NewtonPlan
 from .state import IntegratorOptions
 from .stats import StepStats
@@ -21,13 +22,16 @@ class RunSettings(IntegratorOptions):
     an impact, which beams do not take; ``friction``: the contacts have friction), its
     statistics ``stats``, which the phases of its steps fill, and ``plan``, the smooth
     Newton loop's force terms and configuration (:class:`~fecontact.time.newton.NewtonPlan`;
-    None for a stepper without one)."""
+    None for a stepper without one), and ``momentum``, what holds the angular momentum of
+    free beams in space through position corrections
+    (:class:`~fecontact.time.correction.MomentumKept`; None where no body qualifies)."""
 
     smooth: bool = False
     restarts: bool = False
     friction: bool = False
     stats: StepStats = field(default_factory=StepStats, repr=False, compare=False)
     plan: NewtonPlan | None = field(default=None, repr=False, compare=False)
+    momentum: MomentumKept | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self):
         pass  # the values are those of options already checked, taken as they are
@@ -62,4 +66,5 @@ def run_settings(
         friction=friction,
         stats=run_stats,
         plan=None if plan is None else plan(model, smooth, friction, terms),
+        momentum=momentum_kept(model),
     )
