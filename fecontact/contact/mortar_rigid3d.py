@@ -265,7 +265,10 @@ class MortarRigid3D(PairDefaults):
         grads = s[:, :, None] * dA15[:, None, :] + A[:, None, None] * gs
         if order == 1:
             return near, tris, values, grads, None
-        Hp = Jr.transpose(0, 2, 1) @ (K @ Jr) + _rotation_terms(R, nb, rho, lam)
+        Hp = _rotation_terms(R, nb, rho, lam)
+        curved = np.flatnonzero(K.any(axis=(1, 2)))  # a box face's points have ∇²D = 0
+        Jc = Jr[curved]
+        Hp[curved] += Jc.transpose(0, 2, 1) @ (K[curved] @ Jc)
         Hs = np.add.reduceat(wphi[:, :, None, None] * Hp[:, None], starts, axis=0)
         HA15 = np.pad(HA, ((0, 0), (0, 6), (0, 6)))
         cross = dA15[:, None, :, None] * gs[:, :, None, :]

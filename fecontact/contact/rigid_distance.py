@@ -35,6 +35,9 @@ SUBDIVISIONS = 4
 """Sub-triangles per edge (s) of a triangle that a box's region plane cuts: s² pieces, 7·s²
 points."""
 
+ON_PLANE = 1e-9
+"""Vertices within this fraction of the box's largest half side of a region plane lie on it."""
+
 # Dunavant's 7-point rule of degree 5: area coordinates and weights (fractions of the area)
 _A1, _B1, _W1 = 0.059715871789770, 0.470142064105115, 0.132394152788506
 _A2, _B2, _W2 = 0.797426985353087, 0.101286507323456, 0.125939180544827
@@ -63,13 +66,18 @@ def triangle_rule(s: int = 1) -> tuple[np.ndarray, np.ndarray]:
 
 def straddles(shape, rho: np.ndarray) -> np.ndarray:
     """Whether each triangle with body-frame vertices ``rho`` (E, 3, 3) is cut by a plane
-    where the curvature of D jumps (a box's ρ_k = ±h_k): its vertices lie in different
-    regions along some axis. A ball has none."""
+    where the curvature of D jumps (a box's ρ_k = ±h_k): it has vertices on both sides of
+    it, farther than ``ON_PLANE`` of the box's size (a vertex on the plane, as of a face
+    resting on the box, cuts nothing). A ball has none."""
     if isinstance(shape, Ball):
         return np.zeros(len(rho), dtype=bool)
     half = 0.5 * shape.sides
-    region = np.where(rho > half, 1, np.where(rho < -half, -1, 0))  # (E, 3 vertices, 3 axes)
-    return np.any(region.min(axis=1) != region.max(axis=1), axis=1)
+    tol = ON_PLANE * float(half.max())
+    cut = np.zeros(len(rho), dtype=bool)
+    for plane in (half, -half):
+        above, below = rho > plane + tol, rho < plane - tol  # (E, 3 vertices, 3 axes)
+        cut |= np.any(above.any(axis=1) & below.any(axis=1), axis=1)
+    return cut
 
 
 def shape_distance(shape, rho: np.ndarray, curvature: bool = True):
