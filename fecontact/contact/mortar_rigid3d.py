@@ -4,24 +4,30 @@ The solid's boundary triangles (:meth:`~fecontact.Solid.contact_facets`) are the
 the exact shape of a :class:`~fecontact.bodies.rigid3d.RigidBody3D` (``Ball`` or ``Box``) the
 master. Each slave boundary node j carries one multiplier and one row, its weighted gap
 
-    g̃_j = Σ_e ∫_e Φ_j g(x) dA,   g(x) = D(Rᵀ(x − c)) − clearance,   rows g_j = g̃_j / L_j,
+    g̃_j = Σ_e ∫_e Φ_j g(x) dA₀,   g(x) = D(Rᵀ(x − c)) − clearance,   rows g_j = g̃_j / L_j,
 
 with D the shape's exact signed distance (:mod:`fecontact.contact.rigid_distance`), c and R the
-body's centre and rotation, Φ_j = 4λ_j − 1 the dual functions of the linear triangle
-(∫_e Φ_j λ_k dA = δ_jk |e|/3), the area |e| that of the current triangle, and L_j = Σ_e |e|₀/3
-the reference area node j carries (as :mod:`fecontact.contact.mortar3d`). The master's
-distance field is defined everywhere, so every slave triangle is covered whole and keeps the
-dual functions of the whole triangle: no projection, no clipping, no partial coverage. For a
-flat master (a box face) and a gap field linear on a triangle, g̃_j = g(x_j) |e|/3: each row
-is the node's own gap (times the current over the reference area), the patch test.
+body's centre and rotation, x = Σ λ_k x_k the current point of area coordinates λ,
+Φ_j = 4λ_j − 1 the dual functions of the linear triangle (∫_e Φ_j λ_k dA₀ = δ_jk |e|₀/3), and
+L_j = Σ_e |e|₀/3 the reference area node j carries. The master's distance field is defined
+everywhere, so every slave triangle is covered whole and keeps the dual functions of the whole
+triangle: no projection, no clipping, no partial coverage. For a flat master (a box face) and
+a gap field linear on a triangle, g̃_j = g(x_j) |e|₀/3: each row is the node's own gap at any
+strain, the patch test.
+
+The integral is over the reference surface (dA₀), unlike the solid–solid mortar's current
+area: the multiplier λ_j / L_j is then the nominal (first Piola–Kirchhoff) pressure, uniform
+to round-off under a uniform load at any strain, as node-to-surface's nodal forces over the
+same areas. Over the current area the rows of a block pressed at 0.1 % strain carried the
+strain of the faces beside the contact into the pressure of the perimeter nodes (0.1 %
+spread, measured).
 
 Integration: the degree-5 rule of :func:`~fecontact.contact.rigid_distance.triangle_rule` on
 each triangle, on s² sub-triangles where a box's region plane cuts it.
 
 Gradients and curvature: over the 15 local dofs of a triangle, its nodes' translations and the
 body's (u, Θ), Θ body-frame (R ⊕ δΘ = R exp(δΘ̃)). At a point ρ = Rᵀ(x − c), with
-x = Σ λ_k x_k, ∂ρ/∂(x_k, u, Θ) = (λ_k Rᵀ, −Rᵀ, ρ̃), so ∂g = n_bᵀ ∂ρ and the area's
-derivatives come from N = (x_2 − x_1) × (x_3 − x_1). The curvature is the derivative of the
+∂ρ/∂(x_k, u, Θ) = (λ_k Rᵀ, −Rᵀ, ρ̃), so ∂g = n_bᵀ ∂ρ. The curvature is the derivative of the
 gradient along the dofs (the rotation's included: Newton's tangent of the force Gᵀλ on the
 group), J_ρᵀ ∇²D J_ρ plus the terms of R moving n_b and ρ̃ moving with Θ:
 (x_k, Θ): −λ_k R ñ_b, (u, Θ): R ñ_b, their mirror images, and (Θ, Θ): ñ_b ρ̃ (unsymmetric).
@@ -35,7 +41,7 @@ gap exceeds the margin. Every node's exact distance is measured at every evaluat
 search to miss one), and :class:`NodeDepths` reports the deepest node inside the shape (the
 weighted gaps hold the integrals, not each node: a node may sit inside by the
 discretization's own amount).
-Friction: slip rows T_j·∫ Φ_j (ẋ − ẏ) dA / L_j, ẏ the velocity of the body's material point
+Friction: slip rows T_j·∫ Φ_j (ẋ − ẏ) dA₀ / L_j, ẏ the velocity of the body's material point
 under x, T_j the tangents of the shape's normal at node j (as the solid–solid mortar does).
 """
 
@@ -57,9 +63,9 @@ __all__ = ["LIPSCHITZ", "MortarRigid3D", "NodeDepths"]
 _EYE = np.eye(3)
 
 LIPSCHITZ = 2.5
-"""A node's row is at least share_j (d_j − 2.4 reach_j): every point of its triangles lies
-within reach_j (their longest edge) of the node, the distance is 1-Lipschitz, and
-∫ |Φ_j| dA = 0.79 |e| on each triangle (3 × 0.79 = 2.4 per unit of the node's area share)."""
+"""A node's row is at least d_j − 2.4 reach_j: every point of its triangles lies within
+reach_j (their longest edge) of the node, the distance is 1-Lipschitz, and ∫ |Φ_j| dA₀ =
+0.79 |e|₀ on each triangle (3 × 0.79 = 2.4 per unit of the node's area L_j)."""
 
 
 def _stars(rows: np.ndarray, m: int):
@@ -89,24 +95,9 @@ def _local_rows(lam, node, other, turn) -> np.ndarray:
     return J
 
 
-def _area_terms(t: np.ndarray, second: bool):
-    """Areas A (T,), ∂A (T, 9) and, with ``second``, ∂²A (T, 9, 9) of triangles t (T, 3, 3)."""
-    N = np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
-    nu = np.linalg.norm(N, axis=1)
-    nh = N / nu[:, None]
-    opposite = np.stack([t[:, 2] - t[:, 1], t[:, 0] - t[:, 2], t[:, 1] - t[:, 0]], axis=1)
-    JN = np.concatenate([hat(opposite[:, k]) for k in range(3)], axis=2)  # ∂N/∂x_k = (opp. edge)~
-    dA = 0.5 * (nh[:, None, :] @ JN)[:, 0]
-    if not second:
-        return 0.5 * nu, dA, None
-    proj = _EYE - nh[:, :, None] * nh[:, None, :]
-    H = JN.transpose(0, 2, 1) @ proj @ JN / nu[:, None, None]
-    n_hat = hat(nh)
-    Q = np.zeros_like(H)
-    for a, b in ((0, 1), (1, 2), (2, 0)):  # N's second-order part δ1×δ2 + δ2×δ3 + δ3×δ1
-        Q[:, 3 * a : 3 * a + 3, 3 * b : 3 * b + 3] = -n_hat
-        Q[:, 3 * b : 3 * b + 3, 3 * a : 3 * a + 3] = n_hat
-    return 0.5 * nu, dA, 0.5 * (H + Q)
+def _areas(t: np.ndarray) -> np.ndarray:
+    """Areas (T,) of triangles t (T, 3, 3), m²."""
+    return 0.5 * np.linalg.norm(np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), axis=1)
 
 
 def _rotation_terms(R, nb, rho, lam) -> np.ndarray:
@@ -158,8 +149,8 @@ class MortarRigid3D(PairDefaults):
         self.facets = body.contact_facets()
         self.nodes, rows = np.unique(self.facets, return_inverse=True)
         self.element_rows = rows.reshape(self.facets.shape)
-        area0 = _area_terms(body.X[self.facets], False)[0]
-        self.length = np.bincount(rows.ravel(), np.repeat(area0 / 3.0, 3), len(self.nodes))
+        self.area0 = _areas(body.X[self.facets])  # |e|₀ (m²)
+        self.length = np.bincount(rows.ravel(), np.repeat(self.area0 / 3.0, 3), len(self.nodes))
         """Reference area L_j (m²) each slave node carries: its rows are g̃_j / L_j."""
         self.area = self.length
         self._star, self._cols = _stars(self.element_rows, len(self.nodes))
@@ -204,19 +195,16 @@ class MortarRigid3D(PairDefaults):
         return shape_distance(self.rigid.shape, (x[self.nodes] - c) @ R, False)[0] - self.clearance
 
     def _near(self, x, R, c):
-        """The rows that take part (m,) bool and the triangles (T,) to integrate for them:
-        the rows whose bound from below, share_j (d_j − LIPSCHITZ reach_j), is within the
-        margin (module docstring; share_j the node's current over its reference area)."""
+        """The rows that take part (m,) bool, those whose bound from below
+        d_j − LIPSCHITZ reach_j is within the margin, and the triangles (T,) to integrate for
+        them."""
         d = shape_distance(self.rigid.shape, (x[self.nodes] - c) @ R, False)[0]
         t = x[self.facets]
         edge = np.linalg.norm(t - np.roll(t, 1, axis=1), axis=2).max(axis=1)
-        area = _area_terms(t, False)[0] / 3.0
-        reach, share = np.zeros(self.size), np.zeros(self.size)
+        reach = np.zeros(self.size)
         for k in range(3):
             np.maximum.at(reach, self.element_rows[:, k], edge)
-            share += np.bincount(self.element_rows[:, k], area, self.size)
-        low = share / self.length * (d - self.clearance - LIPSCHITZ * reach)
-        near = low <= self.margin
+        near = d - self.clearance - LIPSCHITZ * reach <= self.margin
         tris = np.flatnonzero(near[self.element_rows].any(axis=1))
         return near, tris
 
@@ -238,7 +226,7 @@ class MortarRigid3D(PairDefaults):
         return tris, which, lam, w, starts
 
     def _integrals(self, q: np.ndarray, order: int, tris=None):
-        """The triangles' end integrals ∫ Φ_i g dA (T, 3), and with ``order`` ≥ 1 their
+        """The triangles' end integrals ∫ Φ_i g dA₀ (T, 3), and with ``order`` ≥ 1 their
         gradients (T, 3, 15), with ``order`` 2 their curvatures (T, 3, 15, 15): over the
         triangles of the rows that take part (or ``tris``). Returns (near, tris, values...)."""
         x, R, c = self._frame(q)
@@ -253,7 +241,7 @@ class MortarRigid3D(PairDefaults):
         D, nb, K = shape_distance(self.rigid.shape, rho, order == 2)
         wphi = w[:, None] * (4.0 * lam - 1.0)  # (P, 3)
         s = np.add.reduceat(wphi * (D - self.clearance)[:, None], starts, axis=0)
-        A, dA, HA = _area_terms(t, order == 2)
+        A = self.area0[tris]
         values = A[:, None] * s
         if order == 0:
             return near, tris, values, None, None
@@ -261,8 +249,7 @@ class MortarRigid3D(PairDefaults):
         Jr = _local_rows(lam, R.T, -R.T, hat(rho))
         gp = (nb[:, None, :] @ Jr)[:, 0]
         gs = np.add.reduceat(wphi[:, :, None] * gp[:, None, :], starts, axis=0)  # (T, 3, 15)
-        dA15 = np.pad(dA, ((0, 0), (0, 6)))
-        grads = s[:, :, None] * dA15[:, None, :] + A[:, None, None] * gs
+        grads = A[:, None, None] * gs
         if order == 1:
             return near, tris, values, grads, None
         Hp = _rotation_terms(R, nb, rho, lam)
@@ -270,11 +257,7 @@ class MortarRigid3D(PairDefaults):
         Jc = Jr[curved]
         Hp[curved] += Jc.transpose(0, 2, 1) @ (K[curved] @ Jc)
         Hs = np.add.reduceat(wphi[:, :, None, None] * Hp[:, None], starts, axis=0)
-        HA15 = np.pad(HA, ((0, 0), (0, 6), (0, 6)))
-        cross = dA15[:, None, :, None] * gs[:, :, None, :]
-        H = (A[:, None, None, None] * Hs + s[:, :, None, None] * HA15[:, None]
-             + cross + cross.transpose(0, 1, 3, 2))  # fmt: skip
-        return near, tris, values, grads, H
+        return near, tris, values, grads, A[:, None, None, None] * Hs
 
     # -- rows -------------------------------------------------------------------------------
     def _rows(self, near, tris, values) -> np.ndarray:
@@ -330,7 +313,7 @@ class MortarRigid3D(PairDefaults):
 
     # -- friction ---------------------------------------------------------------------------
     def tangents(self, q: np.ndarray):
-        """Slip rows (m, 2, k): T_j·∫ Φ_j (ẋ − ẏ) dA / L_j, ẏ = u̇ − R ρ̃ Ω the body's material
+        """Slip rows (m, 2, k): T_j·∫ Φ_j (ẋ − ẏ) dA₀ / L_j, ẏ = u̇ − R ρ̃ Ω the body's material
         point at x, T_j (m, 2, 3) the tangents of the shape's normal at node j."""
         x, R, c = self._frame(q)
         near, tris = self._near(x, R, c)
@@ -344,7 +327,7 @@ class MortarRigid3D(PairDefaults):
             Jx = _local_rows(lam, _EYE, -_EYE, R @ hat(rho))  # ∂(x − y)/∂(local dofs)
             wphi = w[:, None] * (4.0 * lam - 1.0)
             Ws = np.add.reduceat(wphi[:, :, None, None] * Jx[:, None], starts, axis=0)
-            Ws *= _area_terms(t, False)[0][:, None, None, None]
+            Ws *= self.area0[tris, None, None, None]
             scale = np.where(near, 1.0 / self.length, 0.0)
             for k in range(3):
                 r = self.element_rows[tris, k]
@@ -366,8 +349,8 @@ class MortarRigid3D(PairDefaults):
         return NodeDepths(self)
 
     def nodal_pressure(self, forces: np.ndarray):
-        """The slave nodes (indices in the body) and their pressure z_j = λ_j / L_j (Pa)
-        from the rows' normal forces λ_j (N)."""
+        """The slave nodes (indices in the body) and their nominal pressure z_j = λ_j / L_j
+        (Pa, per reference area) from the rows' normal forces λ_j (N)."""
         forces = np.asarray(forces, dtype=float)
         if forces.shape != (self.size,):
             raise InputError(f"forces must have {self.size} entries, got {forces.shape}")
