@@ -330,3 +330,25 @@ def test_a_block_pressed_on_a_box_carries_a_uniform_pressure():
     nodes' areas."""
     for method in (None, "node-to-surface"):
         np.testing.assert_allclose(pressed_block(method), 1e3, rtol=1e-8)
+
+
+@pytest.mark.parametrize("shape, below", [(Ball(0.04), -0.02), (Box(0.08, 0.06, 0.05), -0.013)])
+def test_rows_left_out_are_beyond_the_margin(shape, below):
+    """A row reported +inf (its node farther than margin + LIPSCHITZ × its longest edge) has a
+    weighted gap above the margin, and the rows kept are those of the whole integral: on
+    deformed balls (refinements 2) against a rigid ball and a box, margins 1-8 mm."""
+    ball = Solid.ball([0.01, 0.02, R + 0.01], R, 2, RUBBER)
+    rigid = RigidBody3D.uniform(1.0, [0.0, 0.0, below], shape)
+    everything = MortarRigid3D(ball, rigid, margin=1.0)
+    Model([ball, rigid], [everything], gravity=(0.0, 0.0, 0.0))
+    rng = np.random.default_rng(5)
+    for margin in (1e-3, 3e-3, 8e-3):
+        pair = MortarRigid3D(ball, rigid, margin=margin)
+        model = Model([ball, rigid], [pair], gravity=(0.0, 0.0, 0.0))
+        q = 3e-3 * rng.normal(size=model.n)
+        g, full = pair.gaps(q), everything.gaps(q)
+        kept = np.isfinite(g)
+        assert np.all(np.isfinite(full))
+        assert 0 < kept.sum() < pair.size
+        np.testing.assert_allclose(g[kept], full[kept], rtol=0, atol=1e-15)
+        assert np.all(full[~kept] > margin)

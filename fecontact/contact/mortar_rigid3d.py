@@ -35,7 +35,7 @@ The integration points are fixed in area coordinates; where a box's region plane
 triangle the sub-triangles do not follow it, and the curvature of D jumps there: the rate of
 Newton's method can drop to superlinear while such a triangle is pressed.
 
-Rows of nodes farther from the shape than the detection margin plus 2.5 times their
+Rows of nodes farther from the shape than the detection margin plus 1.4 times their
 triangles' longest edge (``LIPSCHITZ``) report g = +inf and a zero gradient: their weighted
 gap exceeds the margin. Every node's exact distance is measured at every evaluation (no
 search to miss one), and :class:`NodeDepths` reports the deepest node inside the shape (the
@@ -62,10 +62,13 @@ __all__ = ["LIPSCHITZ", "MortarRigid3D", "NodeDepths"]
 
 _EYE = np.eye(3)
 
-LIPSCHITZ = 2.5
-"""A node's row is at least d_j − 2.4 reach_j: every point of its triangles lies within
-reach_j (their longest edge) of the node, the distance is 1-Lipschitz, and ∫ |Φ_j| dA₀ =
-0.79 |e|₀ on each triangle (3 × 0.79 = 2.4 per unit of the node's area L_j)."""
+LIPSCHITZ = 1.4
+"""A node's row is at least d_j − 1.375 reach_j: with n_j the distance's gradient at the node,
+r(x) = D(x) − d_j − n_j·(x − x_j) lies in [0, 2|x − x_j|] (the signed distance of a convex
+shape is convex and 1-Lipschitz), the linear part integrates to zero against Φ_j
+(biorthogonality), every point of the node's triangles lies within reach_j (their longest
+edge) of it, and the negative lobe of Φ_j weighs 0.229 |e|₀ on each triangle (3 × 0.229 per
+unit of the node's area L_j)."""
 
 
 def _stars(rows: np.ndarray, m: int):
