@@ -61,17 +61,18 @@ def test_mortar_rows_are_the_derivatives_of_the_weighted_gaps(shape, below, step
     q = 2e-3 * rng.normal(size=model.n)
     q[-3:] = [0.2, -0.3, 0.4]
     g, dofs, G, _ = pair.evaluate(q)
-    rows = np.flatnonzero(np.isfinite(g))
-    assert len(rows) == pair.size
+    rows = np.flatnonzero(np.isfinite(g))  # the rows within the margin's bound
+    assert len(rows) >= 10
     H = pair.hessians(q, rows)
     for j in np.unique(dofs):
         d = np.zeros(model.n)
         d[j] = step
         gp, _, Gp, _ = pair.evaluate(moved(model, q, d))
         gm, _, Gm, _ = pair.evaluate(moved(model, q, -d))
-        col = (dofs == j).astype(float)
-        np.testing.assert_allclose((gp - gm) / (2 * step), np.sum(G * col, axis=1), atol=1e-8)
-        fd = (Gp - Gm) / (2 * step)
+        col = (dofs[rows] == j).astype(float)
+        fd = (gp[rows] - gm[rows]) / (2 * step)
+        np.testing.assert_allclose(fd, np.sum(G[rows] * col, axis=1), atol=1e-8)
+        fd = (Gp[rows] - Gm[rows]) / (2 * step)
         exact = np.einsum("mkl,ml->mk", H, col)
         np.testing.assert_allclose(fd, exact, atol=1e-6 * np.abs(H).max())
 
