@@ -38,10 +38,9 @@ from fecontact.bodies.shapes3d import Ball, Box
 from fecontact.contact import Contact
 from fecontact.contact.rigid_distance import shape_distance, triangle_rule
 from fecontact.io.output import read_history
-from fecontact.model import NodalLoad
 from fecontact.scenes import wave_step
 from fecontact.simulation import Simulation
-from fecontact.time.settings import IntegratorOptions
+from fecontact.testing import block_on_rigid_box
 
 RUBBER = LinearElastic(E=1e7, nu=0.3, rho=1000.0)
 METHODS = ("mortar", "node-to-surface")
@@ -119,29 +118,11 @@ def rigid_ball_on_slab(method: str, divisions: int, t_end: float):
 
 
 def pressed_block(method: str):
-    block = Solid.box([-0.04, -0.03, 0.0], [0.04, 0.05, 0.04], (3, 4, 2),
-                      LinearElastic(E=1e6, nu=0.3, rho=1000.0))  # fmt: skip
-    box = RigidBody3D.uniform(1.0, [0.0, 0.0, -0.05], Box(0.2, 0.2, 0.1)).fix()
-    pair = Contact(block, box, method=method)
-    f, X = block.contact_facets(), block.X
-    area = 0.5 * np.linalg.norm(np.cross(X[f[:, 1]] - X[f[:, 0]], X[f[:, 2]] - X[f[:, 0]]), axis=1)
-
-    def share(z):
-        face = np.all(np.abs(X[f][..., 2] - z) < 1e-12, axis=1)
-        return np.bincount(f[face].ravel(), np.repeat(area[face] / 3, 3), block.n_nodes)
-
-    top, bottom = share(0.04), share(0.0)
-    loads = [NodalLoad(block, j, [0.0, 0.0, -1e3 * top[j]]) for j in np.flatnonzero(top)]
-    model = Model([block, box], [pair], (0.0, 0.0, 0.0), loads=loads)
-    from fecontact import simulate
-
-    st = list(simulate(model, 5e-3, 0.5, IntegratorOptions(rho_inf=0.0)))[-1]
-    on = bottom[pair.nodes] > 0.0
-    z = st.mean_force()[on] / bottom[pair.nodes][on]
+    pressure, _ = block_on_rigid_box(method)
     return {
         "case": "pressed",
         "method": method,
-        "pressure spread": float(np.max(np.abs(z / 1e3 - 1))),
+        "pressure spread": float(np.max(np.abs(pressure / 1e3 - 1))),
     }
 
 

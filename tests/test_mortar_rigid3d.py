@@ -15,21 +15,14 @@ from fecontact.contact.mortar_rigid3d import MortarRigid3D
 from fecontact.contact.rigid_distance import triangle_rule
 from fecontact.contact.solid_rigid3d import NodeBoxContact
 from fecontact.errors import InputError
-from fecontact.model import NodalLoad
-from fecontact.rotations import compose, exp
+from fecontact.rotations import exp
 from fecontact.scenes import wave_step
 from fecontact.simulation import Simulation, run
+from fecontact.testing import block_on_rigid_box, moved_on_group
 from fecontact.time.settings import IntegratorOptions
 
 RUBBER = LinearElastic(E=1e7, nu=0.3, rho=1000.0)
 R = 0.05
-
-
-def moved(model, q, d):
-    out = q + d
-    for triple in model.rotations:
-        out[triple] = compose(q[triple], d[triple])
-    return out
 
 
 def pair_at(shape, below, refinements=1):
@@ -67,8 +60,8 @@ def test_mortar_rows_are_the_derivatives_of_the_weighted_gaps(shape, below, step
     for j in np.unique(dofs):
         d = np.zeros(model.n)
         d[j] = step
-        gp, _, Gp, _ = pair.evaluate(moved(model, q, d))
-        gm, _, Gm, _ = pair.evaluate(moved(model, q, -d))
+        gp, _, Gp, _ = pair.evaluate(moved_on_group(model, q, d))
+        gm, _, Gm, _ = pair.evaluate(moved_on_group(model, q, -d))
         col = (dofs[rows] == j).astype(float)
         fd = (gp[rows] - gm[rows]) / (2 * step)
         np.testing.assert_allclose(fd, np.sum(G[rows] * col, axis=1), atol=1e-8)
@@ -299,38 +292,15 @@ def test_a_block_sliding_on_a_rigid_box_stops_where_coulomb_says():
     assert max(s.penetration for s in states) <= 1e-9
 
 
-def pressed_block(method):
-    """A block (3 × 4 × 2 cells, E = 1 MPa) on a fixed box, its top face loaded by 1 kPa
-    (consistent nodal loads, no gravity), brought to rest by ρ∞ = 0 at steps far beyond its
-    periods. Returns the contact forces of its bottom nodes over the reference area each
-    carries on the bottom face (Pa): the linear solution, which P1 elements hold exactly."""
-    block = Solid.box([-0.04, -0.03, 0.0], [0.04, 0.05, 0.04], (3, 4, 2),
-                      LinearElastic(E=1e6, nu=0.3, rho=1000.0))  # fmt: skip
-    box = RigidBody3D.uniform(1.0, [0.0, 0.0, -0.05], Box(0.2, 0.2, 0.1)).fix()
-    pair = Contact(block, box, method=method)
-    f, X = block.contact_facets(), block.X
-    area = 0.5 * np.linalg.norm(np.cross(X[f[:, 1]] - X[f[:, 0]], X[f[:, 2]] - X[f[:, 0]]), axis=1)
-
-    def share(z):  # the area each node carries on the face at height z
-        face = np.all(np.abs(X[f][..., 2] - z) < 1e-12, axis=1)
-        return np.bincount(f[face].ravel(), np.repeat(area[face] / 3, 3), block.n_nodes)
-
-    top, bottom = share(0.04), share(0.0)
-    loads = [NodalLoad(block, j, [0.0, 0.0, -1e3 * top[j]]) for j in np.flatnonzero(top)]
-    model = Model([block, box], [pair], (0.0, 0.0, 0.0), loads=loads)
-    st = list(simulate(model, 5e-3, 0.5, IntegratorOptions(rho_inf=0.0)))[-1]
-    assert np.abs(st.v).max() < 1e-12  # at rest
-    on = bottom[pair.nodes] > 0.0
-    return st.mean_force()[on] / bottom[pair.nodes][on]
-
-
 def test_a_block_pressed_on_a_box_carries_a_uniform_pressure():
     """Mortar (the default) and node-to-surface beside it: the bottom pressure is the load,
     1 kPa, at every bottom node to 1e-8 relative (measured 6e-13 and 4e-13): on a flat face
     the weighted gaps are the nodal gaps and the multipliers the nominal pressure times the
     nodes' areas."""
     for method in (None, "node-to-surface"):
-        np.testing.assert_allclose(pressed_block(method), 1e3, rtol=1e-8)
+        pressure, speed = block_on_rigid_box(method)
+        assert speed < 1e-12  # at rest
+        np.testing.assert_allclose(pressure, 1e3, rtol=1e-8)
 
 
 @pytest.mark.parametrize("shape, below", [(Ball(0.04), -0.02), (Box(0.08, 0.06, 0.05), -0.013)])
