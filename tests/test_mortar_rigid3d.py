@@ -339,3 +339,19 @@ def test_a_free_box_takes_the_momentum_the_ball_loses_through_mortar_rows():
         p.append(mv[: ball.ndof].reshape(-1, 3).sum(axis=0) + mv[ball.ndof : ball.ndof + 3])
     np.testing.assert_allclose(np.array(p) / ball.mass, [[0.0, 0.0, -1.0]] * len(p), atol=1e-10)
     assert st.v[ball.ndof + 2] < -0.3 and np.linalg.norm(st.v[ball.ndof + 3 :]) > 0.1
+
+
+def test_the_watch_reports_the_deepest_node_by_its_exact_distance():
+    """The pair's watch joins the model's watches (the run's ``max_penetration`` and the
+    mortar-depth warning): a ball sunk 2 mm into a box face reports 2 mm, over the shortest
+    edge at its lowest node; lifted clear, 0."""
+    ball = Solid.ball([0.0, 0.0, R - 0.002], R, 1, RUBBER)
+    box = RigidBody3D.uniform(1.0, [0.0, 0.0, -0.05], Box(0.3, 0.3, 0.1))
+    model = Model([ball, box], [Contact(ball, box)], gravity=(0.0, 0.0, 0.0))
+    (watch,) = model.contacts.watches
+    depth, relative = watch.depth(np.zeros(model.n))
+    assert depth == pytest.approx(0.002, rel=1e-12)
+    assert relative == pytest.approx(0.002 / watch.edge[np.argmin(ball.X[watch.pair.nodes, 2])])
+    q = np.zeros(model.n)
+    q[: ball.ndof] = model.translation(ball, (0.0, 0.0, 0.003))[: ball.ndof]
+    assert watch.depth(q) == (0.0, 0.0)
