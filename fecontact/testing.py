@@ -24,9 +24,11 @@ __all__ = [
     "G",
     "ball_exact_gap",
     "ball_impact_times",
+    "block_on_rigid_box",
     "case",
     "episode_starts",
     "gap_derivatives_error",
+    "moved_on_group",
     "roll_up",
     "observed_order",
     "pendulum_exact",
@@ -436,3 +438,47 @@ def roll_up(n: int, fraction: float, steps: int = 10):
     load[-1] = fraction * 2.0 * np.pi * material.E * section.inertia
     sol = solve_static_rotations(model, load, steps=steps)
     return beam.positions(sol.q)[-1], sol
+
+
+def block_on_rigid_box(method=None, p: float = 1e3):
+    """A block 0.08 × 0.08 × 0.04 m (3 × 4 × 2 cells, E = 1 MPa) resting on a fixed rigid box,
+    its top face loaded by a uniform pressure p (Pa, consistent nodal loads, no gravity),
+    brought to rest by ρ∞ = 0 at steps far beyond its periods (100 steps of 5 ms); ``method``
+    of the contact. Returns the contact force of each bottom node over the reference area it
+    carries on the bottom face (Pa: p for the linear solution, which P1 holds exactly) and the
+    largest speed left (m/s)."""
+    from .bodies import RigidBody3D, Solid
+    from .bodies.shapes3d import Box
+    from .contact import Contact
+    from .model import Model, NodalLoad
+    from .scenes import solid_material
+    from .time.settings import IntegratorOptions
+
+    mat = solid_material("linear", 1e6, 0.3, 1e3)
+    block = Solid.box([-0.04, -0.03, 0.0], [0.04, 0.05, 0.04], (3, 4, 2), mat)
+    box = RigidBody3D.uniform(1.0, [0.0, 0.0, -0.05], Box(0.2, 0.2, 0.1)).fix()
+    pair = Contact(block, box, method=method)
+    f, X = block.contact_facets(), block.X
+    area = 0.5 * np.linalg.norm(np.cross(X[f[:, 1]] - X[f[:, 0]], X[f[:, 2]] - X[f[:, 0]]), axis=1)
+
+    def share(z):  # the area each node carries on the face at height z (m²)
+        face = np.all(np.abs(X[f][..., 2] - z) < 1e-12, axis=1)
+        return np.bincount(f[face].ravel(), np.repeat(area[face] / 3, 3), block.n_nodes)
+
+    top, bottom = share(0.04), share(0.0)
+    loads = [NodalLoad(block, j, [0.0, 0.0, -p * top[j]]) for j in np.flatnonzero(top)]
+    model = Model([block, box], [pair], (0.0, 0.0, 0.0), loads=loads)
+    st = list(simulate(model, 5e-3, 0.5, IntegratorOptions(rho_inf=0.0)))[-1]
+    on = bottom[pair.nodes] > 0.0
+    return st.mean_force()[on] / bottom[pair.nodes][on], float(np.abs(st.v).max())
+
+
+def moved_on_group(model, q: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """q moved by d: added, but on the model's rotation triples composed on the right,
+    R exp(d̃) (the increments along which rows are differentiated)."""
+    from .rotations import compose
+
+    out = q + d
+    for triple in model.rotations:
+        out[triple] = compose(q[triple], d[triple])
+    return out

@@ -1,6 +1,7 @@
 """A 3D solid's nodes against the exact surface of a rigid body in space (a Ball or a Box):
 rows by central differences, and an elastic ball bouncing on a rigid box
-(fecontact.contact.solid_rigid3d)."""
+(fecontact.contact.solid_rigid3d, ``method="node-to-surface"``; the default, mortar, is in
+tests/test_mortar_rigid3d.py)."""
 
 import numpy as np
 import pytest
@@ -34,7 +35,7 @@ def test_node_rows_are_the_derivatives_of_the_gaps(shape):
     ball = Solid.ball([0.01, 0.02, R + 0.01], R, 1, RUBBER)
     below = -0.03 if isinstance(shape, Ball) else 0.02  # the box's top face cuts the ball
     rigid = RigidBody3D.uniform(1.0, [0.0, 0.0, below], shape)
-    pair = Contact(ball, rigid)
+    pair = Contact(ball, rigid, method="node-to-surface")
     assert isinstance(pair, NodeBallContact if isinstance(shape, Ball) else NodeBoxContact)
     model = Model([ball, rigid], [pair], gravity=(0.0, 0.0, 0.0))
     rng = np.random.default_rng(2)
@@ -56,13 +57,15 @@ def test_node_rows_are_the_derivatives_of_the_gaps(shape):
 def test_other_shapes_are_refused_by_name():
     ball = Solid.ball([0.0, 0.0, R], R, 1, RUBBER)
     capsule = RigidBody3D.uniform(1.0, [0.0, 0.0, -0.1], Capsule(0.05, 0.2))
-    with pytest.raises(InputError, match="Ball or a Box"):
-        Contact(ball, capsule)
+    for method in ("node-to-surface", None):
+        with pytest.raises(InputError, match="Ball or a Box"):
+            Contact(ball, capsule, method=method)
     box = RigidBody3D.uniform(1.0, [0.0, 0.0, -0.1], Box(0.2, 0.2, 0.1))
-    assert isinstance(Contact(box, ball), NodeBoxContact)  # named either way round
+    pair = Contact(box, ball, method="node-to-surface")
+    assert isinstance(pair, NodeBoxContact)  # named either way round
 
 
-def ball_drop(floor: str):
+def ball_drop(floor: str, method="node-to-surface"):
     """The elastic ball of ``ball_drop`` (P1, 2 refinements) at 1 m/s onto a rigid plane, onto
     a rigid box 1000 times its mass standing on that plane, or onto a free box twice its mass
     (no gravity); the step is Δx/c as the case's. Returns the ball's and the box's vertical
@@ -75,7 +78,7 @@ def ball_drop(floor: str):
     else:
         mass = 1000.0 * mb if floor == "heavy" else 2.0 * mb
         box = RigidBody3D.uniform(mass, [0.0, 0.0, -side / 2], Box(0.3, 0.3, side))
-        pairs = [Contact(ball, box)]
+        pairs = [Contact(ball, box, method=method)]
         if floor == "heavy":  # on three of its bottom corners: four would be redundant rows
             corners = [i for i, v in enumerate(box.shape.vertices) if v[2] < 0][:3]
             pairs.append(Contact(box, Plane([0, 0, -side], [0, 0, 1]), nodes=corners))
@@ -120,7 +123,8 @@ def test_a_box_on_its_four_corners_holds_the_ball_s_impact():
     side = 0.05
     box = RigidBody3D.uniform(1000.0 * ball.mass, [0.0, 0.0, -side / 2], Box(0.3, 0.3, side))
     plane = Plane([0, 0, -side], [0, 0, 1])
-    model = Model([ball, box], [Contact(ball, box), Contact(box, plane)], (0.0, 0.0, -9.81))
+    pairs = [Contact(ball, box, method="node-to-surface"), Contact(box, plane)]
+    model = Model([ball, box], pairs, (0.0, 0.0, -9.81))
     v0 = model.translation(ball, (0.0, 0.0, -1.0))
     gmin, vz = np.inf, []
     for st in simulate(model, wave_step(ball, 1.0, None), 0.008, IntegratorOptions(), v0=v0):

@@ -86,6 +86,12 @@ class PairDefaults:
         """Widen a spatial search of the pair's own to how far its bodies can close in the
         coming step h (s) from positions q and velocities v (pairs with one only)."""
 
+    def watch(self):
+        """What measures the nodes the pair's rows do not hold one by one (a mortar pair's
+        weighted gaps): an object with ``depth(q) -> (m, depth over the local edge)``, or
+        None when every row is a node's own gap."""
+        return None
+
     def rate(self, q: np.ndarray) -> np.ndarray:
         """∂g_j/∂t (m/s) from a moving obstacle; zero for obstacles at rest."""
         return np.zeros(self.size)

@@ -50,6 +50,7 @@ class ContactSet(FrictionRows):
         self._inside_rows = [np.flatnonzero(self.owner == i) for i in self._inside]
         self._looking = [pair for pair in self.pairs if pair.looks_ahead]
         self.watches = solid_watches(self.pairs)  # the mortar interfaces' nodes
+        self.watches += [w for w in (pair.watch() for pair in self.pairs) if w is not None]
 
     def _affine_and_small(self) -> bool:
         """Affine gaps (constant gradients, fixed obstacles) of a small model: g(q) = g₀ + G q

@@ -3,11 +3,13 @@ with the factory registered for their kinds (:mod:`fecontact.contact.registry`).
 
 from __future__ import annotations
 
+from ..bodies.rigid3d import RigidBody3D
 from ..bodies.solid import Solid
 from ..errors import InputError, check_positive
 from .mortar import MortarContact
 from .mortar3d import MortarContact3D
 from .mortar_p2_segments import MortarContactP2
+from .mortar_rigid3d import MortarRigid3D
 from .registry import pair_factory
 
 __all__ = ["Contact"]
@@ -55,7 +57,11 @@ def Contact(
     :mod:`fecontact.contact.mortar3d_p2` takes the curved faces, built explicitly); ``nodes``
     must be None, and the pair declared both ways is one interface) or ``"node-to-surface"``
     (``nodes`` of ``body``, default its boundary nodes, against the boundary of the second;
-    add the reversed pair for the other direction). Other pairs take None only.
+    add the reversed pair for the other direction). A 3D ``Solid`` against a ``RigidBody3D``
+    (``Ball`` or ``Box``, named either way round) takes the same option: ``"mortar"`` (the
+    default: the solid's boundary against the body's exact shape,
+    :mod:`fecontact.contact.mortar_rigid3d`) or ``"node-to-surface"`` (its ``nodes``,
+    :mod:`fecontact.contact.solid_rigid3d`). Other pairs take None only.
 
     The pair comes from the factory registered for the classes of ``body`` and ``obstacle``
     (:func:`fecontact.contact.registry.register_pair`): a new body type registers its own.
@@ -63,11 +69,18 @@ def Contact(
     friction = check_positive("friction", friction, allow_zero=True)
     clearance = check_positive("clearance", clearance, allow_zero=True)
     solids = isinstance(body, Solid) and isinstance(obstacle, Solid)
-    if method == "mortar" or (method is None and solids):
-        pair = _mortar(body, obstacle, nodes, restitution, clearance, solids, method)
+    rigid = _solid_and_rigid3d(body, obstacle)
+    if method == "mortar" or (method is None and (solids or rigid)):
+        if rigid:
+            pair = _rigid_mortar(*rigid, nodes, restitution, clearance, method)
+        else:
+            pair = _mortar(body, obstacle, nodes, restitution, clearance, solids, method)
     elif method in (None, "node-to-surface"):
-        if method is not None and not solids:
-            raise InputError("method: 'node-to-surface' applies between two solids; use None")
+        if method is not None and not (solids or rigid):
+            raise InputError(
+                "method: 'node-to-surface' applies between two solids or a 3D solid and a "
+                "RigidBody3D; use None"
+            )
         pair = pair_factory(body, obstacle)(body, obstacle, nodes, restitution, clearance)
     else:
         raise InputError(f"method must be 'node-to-surface' or 'mortar', got {method!r}")
@@ -78,9 +91,30 @@ def Contact(
     return pair
 
 
+def _solid_and_rigid3d(body, obstacle):
+    """(the solid, the rigid body) of a 3D Solid and a RigidBody3D named either way, else
+    None."""
+    for a, b in ((body, obstacle), (obstacle, body)):
+        if isinstance(a, Solid) and a.dim == 3 and isinstance(b, RigidBody3D):
+            return a, b
+    return None
+
+
+def _rigid_mortar(solid, rigid, nodes, restitution, clearance, method):
+    if nodes is not None:
+        default = " (the default between a 3D solid and a RigidBody3D)" if method is None else ""
+        raise InputError(
+            f"nodes: a mortar contact{default} takes the solid's whole boundary; "
+            "method='node-to-surface' constrains chosen nodes"
+        )
+    return MortarRigid3D(solid, rigid, restitution, clearance)
+
+
 def _mortar(body, obstacle, nodes, restitution, clearance, solids: bool, method):
     if not solids:
-        raise InputError("method: 'mortar' applies between two solids")
+        raise InputError(
+            "method: 'mortar' applies between two solids or a 3D solid and a RigidBody3D"
+        )
     if nodes is not None or clearance:
         default = " (the default between two solids)" if method is None else ""
         raise InputError(

@@ -1,6 +1,9 @@
 r"""A 3D :class:`~fecontact.Solid`'s nodes against the exact surface of a
 :class:`~fecontact.bodies.rigid3d.RigidBody3D` (node-to-surface on a rigid master).
 
+``Contact(solid, body, method="node-to-surface")`` builds these pairs; the default for the two
+is dual mortar over the solid's boundary (:mod:`fecontact.contact.mortar_rigid3d`).
+
 One contact per slave node x (its boundary nodes by default), against the rigid body's shape:
 
 ==========  ======================================================================================

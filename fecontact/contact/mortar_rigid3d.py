@@ -1,0 +1,378 @@
+r"""Dual mortar contact of a 3D :class:`~fecontact.Solid` against a rigid body in space.
+
+The solid's boundary triangles (:meth:`~fecontact.Solid.contact_facets`) are the slave surface,
+the exact shape of a :class:`~fecontact.bodies.rigid3d.RigidBody3D` (``Ball`` or ``Box``) the
+master. Each slave boundary node j carries one multiplier and one row, its weighted gap
+
+    g̃_j = Σ_e ∫_e Φ_j g(x) dA₀,   g(x) = D(Rᵀ(x − c)) − clearance,   rows g_j = g̃_j / L_j,
+
+with D the shape's exact signed distance (:mod:`fecontact.contact.rigid_distance`), c and R the
+body's centre and rotation, x = Σ λ_k x_k the current point of area coordinates λ,
+Φ_j = 4λ_j − 1 the dual functions of the linear triangle (∫_e Φ_j λ_k dA₀ = δ_jk |e|₀/3), and
+L_j = Σ_e |e|₀/3 the reference area node j carries. The master's distance field is defined
+everywhere, so every slave triangle is covered whole and keeps the dual functions of the whole
+triangle: no projection, no clipping, no partial coverage. For a flat master (a box face) and
+a gap field linear on a triangle, g̃_j = g(x_j) |e|₀/3: each row is the node's own gap at any
+strain, the patch test.
+
+The integral is over the reference surface (dA₀), unlike the solid–solid mortar's current
+area: the multiplier λ_j / L_j is then the nominal (first Piola–Kirchhoff) pressure, uniform
+to round-off under a uniform load at any strain, as node-to-surface's nodal forces over the
+same areas. Over the current area the rows of a block pressed at 0.1 % strain carried the
+strain of the faces beside the contact into the pressure of the perimeter nodes (0.1 %
+spread, measured).
+
+Integration: the degree-5 rule of :func:`~fecontact.contact.rigid_distance.triangle_rule` on
+each triangle, on s² sub-triangles where a box's region plane cuts it.
+
+Gradients and curvature: over the 15 local dofs of a triangle, its nodes' translations and the
+body's (u, Θ), Θ body-frame (R ⊕ δΘ = R exp(δΘ̃)). At a point ρ = Rᵀ(x − c), with
+∂ρ/∂(x_k, u, Θ) = (λ_k Rᵀ, −Rᵀ, ρ̃), so ∂g = n_bᵀ ∂ρ. The curvature is the derivative of the
+gradient along the dofs (the rotation's included: Newton's tangent of the force Gᵀλ on the
+group), J_ρᵀ ∇²D J_ρ plus the terms of R moving n_b and ρ̃ moving with Θ:
+(x_k, Θ): −λ_k R ñ_b, (u, Θ): R ñ_b, their mirror images, and (Θ, Θ): ñ_b ρ̃ (unsymmetric).
+The integration points are fixed in area coordinates; where a box's region plane crosses a
+triangle the sub-triangles do not follow it, and the curvature of D jumps there: the rate of
+Newton's method can drop to superlinear while such a triangle is pressed.
+
+Rows of nodes farther from the shape than the detection margin plus 1.4 times their
+triangles' longest edge (``LIPSCHITZ``) report g = +inf and a zero gradient: their weighted
+gap exceeds the margin. Every node's exact distance is measured at every evaluation (no
+search to miss one), and :class:`NodeDepths` reports the deepest node inside the shape (the
+weighted gaps hold the integrals, not each node: a node may sit inside by the
+discretization's own amount).
+Friction: slip rows T_j·∫ Φ_j (ẋ − ẏ) dA₀ / L_j, ẏ the velocity of the body's material point
+under x, T_j the tangents of the shape's normal at node j (as the solid–solid mortar does).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..bodies.rigid3d import RigidBody3D
+from ..bodies.shapes3d import Ball, Box
+from ..bodies.solid import Solid
+from ..errors import InputError, check_positive, check_range
+from ..rotations import exp, hat, log
+from .base import PairDefaults
+from .friction import tangent_basis
+from .rigid_distance import SUBDIVISIONS, shape_distance, straddles, triangle_rule
+
+__all__ = ["LIPSCHITZ", "MortarRigid3D", "NodeDepths"]
+
+_EYE = np.eye(3)
+
+LIPSCHITZ = 1.4
+"""A node's row is at least d_j − 1.375 reach_j: with n_j the distance's gradient at the node,
+r(x) = D(x) − d_j − n_j·(x − x_j) lies in [0, 2|x − x_j|] (the signed distance of a convex
+shape is convex and 1-Lipschitz), the linear part integrates to zero against Φ_j
+(biorthogonality), every point of the node's triangles lies within reach_j (their longest
+edge) of it, and the negative lobe of Φ_j weighs 0.229 |e|₀ on each triangle (3 × 0.229 per
+unit of the node's area L_j)."""
+
+
+def _stars(rows: np.ndarray, m: int):
+    """Each row's star, the nodes of its triangles: (m, K) node rows padded with the row's own
+    node, and the columns (E, 3, 15) of each triangle end's 15 local dofs in its row."""
+    j = np.repeat(rows, 3, axis=1).ravel()  # (e, k, a) -> rows[e, k]
+    a = np.tile(rows, (1, 3)).ravel()  # (e, k, a) -> rows[e, a]
+    uniq, inv = np.unique(j * m + a, return_inverse=True)
+    uj, ua = np.divmod(uniq, m)
+    pos = np.arange(len(uniq)) - np.searchsorted(uj, uj)
+    K = int(np.bincount(uj, minlength=m).max())
+    star = np.repeat(np.arange(m)[:, None], K, axis=1)
+    star[uj, pos] = ua
+    node_cols = 3 * pos[inv].reshape(len(rows), 3, 3)[..., None] + np.arange(3)
+    rigid = np.broadcast_to(3 * K + np.arange(6), (len(rows), 3, 6))
+    return star, np.concatenate([node_cols.reshape(len(rows), 3, 9), rigid], axis=2)
+
+
+def _local_rows(lam, node, other, turn) -> np.ndarray:
+    """(P, 3, 15): the blocks λ_k ``node`` (3, 3) for the triangle's nodes k, ``other`` (3, 3)
+    for the body's u and ``turn`` (P, 3, 3) for its Θ."""
+    J = np.empty((len(lam), 3, 15))
+    for k in range(3):
+        J[:, :, 3 * k : 3 * k + 3] = lam[:, k, None, None] * node
+    J[:, :, 9:12] = other
+    J[:, :, 12:] = turn
+    return J
+
+
+def _areas(t: np.ndarray) -> np.ndarray:
+    """Areas (T,) of triangles t (T, 3, 3), m²."""
+    return 0.5 * np.linalg.norm(np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), axis=1)
+
+
+def _rotation_terms(R, nb, rho, lam) -> np.ndarray:
+    """The curvature's terms (P, 15, 15) from R turning n_b and from ρ̃ (module
+    docstring)."""
+    P = len(nb)
+    E = np.zeros((P, 15, 15))
+    Rn = R @ hat(nb)  # (P, 3, 3)
+    for k in range(3):
+        E[:, 3 * k : 3 * k + 3, 12:] = -lam[:, k, None, None] * Rn
+        E[:, 12:, 3 * k : 3 * k + 3] = -lam[:, k, None, None] * Rn.transpose(0, 2, 1)
+    E[:, 9:12, 12:] = Rn
+    E[:, 12:, 9:12] = Rn.transpose(0, 2, 1)
+    E[:, 12:, 12:] = hat(nb) @ hat(rho)
+    return E
+
+
+class MortarRigid3D(PairDefaults):
+    """Dual mortar contact of the boundary of a 3D :class:`~fecontact.Solid` (``body``, the
+    slave) with the exact surface of a :class:`~fecontact.bodies.rigid3d.RigidBody3D` with a
+    ``Ball`` or ``Box`` shape; see the module docstring. One contact per slave boundary node;
+    ``restitution`` Newton's e_N in [0, 1]; ``clearance`` (m, ≥ 0) kept from the shape;
+    ``margin`` (m) the search distance (default: the integrator's detection distance);
+    ``subdivisions`` (s ≥ 1) the sub-triangles per edge of a triangle a box's region plane
+    cuts."""
+
+    linear = False
+    lazy_hessians = True
+    frictional = True
+
+    def __init__(self, body, rigid, restitution=0.0, clearance=0.0, margin=None,
+                 subdivisions: int = SUBDIVISIONS):  # fmt: skip
+        if not isinstance(body, Solid) or body.dim != 3 or not isinstance(rigid, RigidBody3D):
+            raise InputError("mortar contact with a RigidBody3D needs a 3D Solid")
+        if not isinstance(rigid.shape, Ball | Box):
+            raise InputError(
+                f"a Solid's mortar contact meets a RigidBody3D with a Ball or a Box shape, "
+                f"got a {type(rigid.shape).__name__}"
+            )
+        self.body, self.rigid, self.bodies = body, rigid, (body, rigid)
+        self.restitution = check_range("restitution", restitution, 0.0, 1.0)
+        self.clearance = check_positive("clearance", clearance, allow_zero=True)
+        self._own_margin = margin is not None
+        self.margin = check_positive("margin", 0.05 * body.characteristic_length
+                                     if margin is None else margin)  # fmt: skip
+        if int(subdivisions) != subdivisions or subdivisions < 1:
+            raise InputError(f"subdivisions must be an integer ≥ 1, got {subdivisions!r}")
+        self.rules = (triangle_rule(1), triangle_rule(int(subdivisions)))
+        self.facets = body.contact_facets()
+        self.nodes, rows = np.unique(self.facets, return_inverse=True)
+        self.element_rows = rows.reshape(self.facets.shape)
+        self.area0 = _areas(body.X[self.facets])  # |e|₀ (m²)
+        self.length = np.bincount(rows.ravel(), np.repeat(self.area0 / 3.0, 3), len(self.nodes))
+        """Reference area L_j (m²) each slave node carries: its rows are g̃_j / L_j."""
+        self.area = self.length
+        self._star, self._cols = _stars(self.element_rows, len(self.nodes))
+        self._node_dofs = body.node_translation_dofs(self.nodes)
+        self.offsets = (0, 0)
+        self.dofs = np.zeros((len(self.nodes), self._cols.shape[2]), dtype=int)
+        self._last = self._last_gaps = None
+
+    @property
+    def size(self) -> int:
+        return len(self.nodes)
+
+    def bind(self, model) -> None:
+        """Place the pair in the global dof vector of ``model``."""
+        oa, ob = self.offsets = (model.offset_of(self.body), model.offset_of(self.rigid))
+        m, K = self._star.shape
+        nodes = (oa + self._node_dofs[self._star]).reshape(m, 3 * K)
+        self.dofs = np.concatenate([nodes, np.broadcast_to(ob + np.arange(6), (m, 6))], 1)
+        self.dofs.flags.writeable = False
+        self.reset()
+
+    def reset(self) -> None:
+        self._last = self._last_gaps = None
+
+    def detect_within(self, distance: float) -> None:
+        """Rows within ``distance`` (m, the integrator's detection distance) are integrated."""
+        if not self._own_margin and distance > 0.0 and distance != self.margin:
+            self.margin = distance
+            self.reset()
+
+    # -- geometry ---------------------------------------------------------------------------
+    def _frame(self, q: np.ndarray):
+        """Every node's position (m) of the solid, the body's R and centre c at q."""
+        (oa, ob), body = self.offsets, self.body
+        qr = q[ob : ob + 6]
+        return body.positions(q[oa : oa + body.ndof]), exp(qr[3:]), self.rigid.center(qr)
+
+    def node_distances(self, q: np.ndarray) -> np.ndarray:
+        """The exact signed distance g(x_j) (m) of every slave node to the shape, less the
+        clearance."""
+        x, R, c = self._frame(q)
+        return shape_distance(self.rigid.shape, (x[self.nodes] - c) @ R, False)[0] - self.clearance
+
+    def _near(self, x, R, c):
+        """The rows that take part (m,) bool, those whose bound from below
+        d_j − LIPSCHITZ reach_j is within the margin, and the triangles (T,) to integrate for
+        them."""
+        d = shape_distance(self.rigid.shape, (x[self.nodes] - c) @ R, False)[0]
+        t = x[self.facets]
+        edge = np.linalg.norm(t - np.roll(t, 1, axis=1), axis=2).max(axis=1)
+        reach = np.zeros(self.size)
+        for k in range(3):
+            np.maximum.at(reach, self.element_rows[:, k], edge)
+        near = d - self.clearance - LIPSCHITZ * reach <= self.margin
+        tris = np.flatnonzero(near[self.element_rows].any(axis=1))
+        return near, tris
+
+    def _points(self, tris, x, R, c):
+        """The triangles reordered (plain ones first), and their points: the index of each
+        point's triangle in that order, area coordinates λ (P, 3), weights w (P,) and the
+        start of each triangle's points."""
+        rho = (x[self.facets[tris]] - c) @ R
+        cut = straddles(self.rigid.shape, rho)
+        tris = np.concatenate([tris[~cut], tris[cut]])
+        counts = np.concatenate([np.full((~cut).sum(), len(self.rules[0][1])),
+                                 np.full(cut.sum(), len(self.rules[1][1]))])  # fmt: skip
+        which = np.repeat(np.arange(len(tris)), counts)
+        lam = np.concatenate([np.tile(self.rules[0][0], ((~cut).sum(), 1)),
+                              np.tile(self.rules[1][0], (cut.sum(), 1))])  # fmt: skip
+        w = np.concatenate([np.tile(self.rules[0][1], (~cut).sum()),
+                            np.tile(self.rules[1][1], cut.sum())])  # fmt: skip
+        starts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(int)
+        return tris, which, lam, w, starts
+
+    def _integrals(self, q: np.ndarray, order: int, tris=None):
+        """The triangles' end integrals ∫ Φ_i g dA₀ (T, 3), and with ``order`` ≥ 1 their
+        gradients (T, 3, 15), with ``order`` 2 their curvatures (T, 3, 15, 15): over the
+        triangles of the rows that take part (or ``tris``). Returns (near, tris, values...)."""
+        x, R, c = self._frame(q)
+        near, found = self._near(x, R, c)
+        tris = found if tris is None else tris
+        if len(tris) == 0:
+            return near, tris, np.zeros((0, 3)), None, None
+        tris, which, lam, w, starts = self._points(tris, x, R, c)
+        t = x[self.facets[tris]]
+        xp = (lam[:, None, :] @ t[which])[:, 0]
+        rho = (xp - c) @ R
+        D, nb, K = shape_distance(self.rigid.shape, rho, order == 2)
+        wphi = w[:, None] * (4.0 * lam - 1.0)  # (P, 3)
+        s = np.add.reduceat(wphi * (D - self.clearance)[:, None], starts, axis=0)
+        A = self.area0[tris]
+        values = A[:, None] * s
+        if order == 0:
+            return near, tris, values, None, None
+        # ∂ρ/∂(x_1, x_2, x_3, u, Θ) (P, 3, 15) and ∂g = n_bᵀ ∂ρ
+        Jr = _local_rows(lam, R.T, -R.T, hat(rho))
+        gp = (nb[:, None, :] @ Jr)[:, 0]
+        gs = np.add.reduceat(wphi[:, :, None] * gp[:, None, :], starts, axis=0)  # (T, 3, 15)
+        grads = A[:, None, None] * gs
+        if order == 1:
+            return near, tris, values, grads, None
+        Hp = _rotation_terms(R, nb, rho, lam)
+        curved = np.flatnonzero(K.any(axis=(1, 2)))  # a box face's points have ∇²D = 0
+        Jc = Jr[curved]
+        Hp[curved] += Jc.transpose(0, 2, 1) @ (K[curved] @ Jc)
+        Hs = np.add.reduceat(wphi[:, :, None, None] * Hp[:, None], starts, axis=0)
+        return near, tris, values, grads, A[:, None, None, None] * Hs
+
+    # -- rows -------------------------------------------------------------------------------
+    def _rows(self, near, tris, values) -> np.ndarray:
+        g = np.zeros(self.size)
+        for k in range(3):
+            g += np.bincount(self.element_rows[tris, k], values[:, k], self.size)
+        return np.where(near, g / self.length, np.inf)
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        """The rows g_j (m) alone (+inf for rows that take no part)."""
+        for cached in (self._last, self._last_gaps):
+            if cached is not None and np.array_equal(cached[0], q):
+                return cached[1].copy()
+        g = self._rows(*self._integrals(q, 0)[:3])
+        self._last_gaps = (q.copy(), g)
+        return g.copy()
+
+    def evaluate(self, q: np.ndarray):
+        """Rows (m,) in m, dofs (m, k), gradients (m, k), no curvature (:meth:`hessians`)."""
+        if self._last is not None and np.array_equal(self._last[0], q):
+            return self._last[1].copy(), self.dofs, self._last[2], None
+        near, tris, values, grads, _ = self._integrals(q, 1)
+        g = self._rows(near, tris, values)
+        scale = np.where(near, 1.0 / self.length, 0.0)
+        G = np.zeros(self.dofs.shape)
+        for k in range(3):
+            r = self.element_rows[tris, k]
+            np.add.at(G, (r[:, None], self._cols[tris, k]), grads[:, k] * scale[r, None])
+        G.flags.writeable = False
+        self._last = (q.copy(), g, G)
+        return g.copy(), self.dofs, G, None
+
+    def hessians(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        """∇²g_j (len(rows), k, k) of the rows ``rows`` at q (the derivative of the gradient
+        along the dofs), in the layout of :meth:`evaluate`."""
+        rows = np.asarray(rows, dtype=int)
+        k = self.dofs.shape[1]
+        out = np.zeros((len(rows), k, k))
+        where = np.full(self.size, -1)
+        where[rows] = np.arange(len(rows))
+        tris = np.flatnonzero((where[self.element_rows] >= 0).any(axis=1))
+        near, tris, _, _, H = self._integrals(q, 2, tris)
+        if len(tris) == 0:
+            return out
+        scale = np.where(near, 1.0 / self.length, 0.0)
+        for end in range(3):
+            r = self.element_rows[tris, end]
+            sel = where[r] >= 0
+            c = self._cols[tris[sel], end]
+            vals = H[sel, end] * scale[r[sel], None, None]
+            np.add.at(out, (where[r[sel]][:, None, None], c[:, :, None], c[:, None, :]), vals)
+        return out
+
+    # -- friction ---------------------------------------------------------------------------
+    def tangents(self, q: np.ndarray):
+        """Slip rows (m, 2, k): T_j·∫ Φ_j (ẋ − ẏ) dA₀ / L_j, ẏ = u̇ − R ρ̃ Ω the body's material
+        point at x, T_j (m, 2, 3) the tangents of the shape's normal at node j."""
+        x, R, c = self._frame(q)
+        near, tris = self._near(x, R, c)
+        nb = shape_distance(self.rigid.shape, (x[self.nodes] - c) @ R, False)[1]
+        T = tangent_basis(nb @ R.T)
+        W = np.zeros((self.size, 3, self.dofs.shape[1]))
+        if len(tris):
+            tris, which, lam, w, starts = self._points(tris, x, R, c)
+            t = x[self.facets[tris]]
+            rho = ((lam[:, None, :] @ t[which])[:, 0] - c) @ R
+            Jx = _local_rows(lam, _EYE, -_EYE, R @ hat(rho))  # ∂(x − y)/∂(local dofs)
+            wphi = w[:, None] * (4.0 * lam - 1.0)
+            Ws = np.add.reduceat(wphi[:, :, None, None] * Jx[:, None], starts, axis=0)
+            Ws *= self.area0[tris, None, None, None]
+            scale = np.where(near, 1.0 / self.length, 0.0)
+            for k in range(3):
+                r = self.element_rows[tris, k]
+                at = (r[:, None, None], np.arange(3)[None, :, None], self._cols[tris, k][:, None])
+                np.add.at(W, at, Ws[:, k] * scale[r, None, None])
+        return self.dofs, np.einsum("mti,mik->mtk", T, W), T
+
+    def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
+        """The slip rows at q applied to the step's increment, the body's rotation by
+        log(R_nᵀR) (its body-frame increment), the solid's translations by their difference."""
+        _, W, _ = self.tangents(q)
+        step = q - q_n
+        ob = self.offsets[1]
+        step[ob + 3 : ob + 6] = log(exp(q_n[ob + 3 : ob + 6]).T @ exp(q[ob + 3 : ob + 6]))
+        return np.einsum("mtk,mk->mt", W, step[self.dofs])
+
+    # -- what the rows do not hold ----------------------------------------------------------
+    def watch(self) -> NodeDepths:
+        return NodeDepths(self)
+
+    def nodal_pressure(self, forces: np.ndarray):
+        """The slave nodes (indices in the body) and their nominal pressure z_j = λ_j / L_j
+        (Pa, per reference area) from the rows' normal forces λ_j (N)."""
+        forces = np.asarray(forces, dtype=float)
+        if forces.shape != (self.size,):
+            raise InputError(f"forces must have {self.size} entries, got {forces.shape}")
+        return self.nodes, forces / self.length
+
+
+class NodeDepths:
+    """The deepest slave node of a :class:`MortarRigid3D` inside the rigid shape, by its exact
+    signed distance, over the shortest reference boundary edge at that node."""
+
+    def __init__(self, pair: MortarRigid3D):
+        self.pair = pair
+        t = pair.body.X[pair.facets]
+        edge = np.linalg.norm(t - np.roll(t, 1, axis=1), axis=2).min(axis=1)
+        self.edge = np.full(pair.size, np.inf)
+        for k in range(3):
+            np.minimum.at(self.edge, pair.element_rows[:, k], edge)
+
+    def depth(self, q: np.ndarray) -> tuple[float, float]:
+        """(deepest node's depth in m, ≥ 0; the largest depth over the node's shortest edge)."""
+        d = -self.pair.node_distances(q)
+        return max(0.0, float(d.max())), max(0.0, float((d / self.edge).max()))

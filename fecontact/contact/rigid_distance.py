@@ -1,0 +1,124 @@
+r"""The exact signed distance to a rigid shape in space, and the triangle rules that integrate it.
+
+In the body frame, a point at ρ (m, from the centre) has the signed distance D(ρ) (m; > 0
+outside), its gradient n_b = ∇D (the unit outward normal of the closest surface point) and its
+curvature ∇²D (1/m):
+
+=======  ===================================================================================
+Ball     D = |ρ| − r,  n_b = ρ/|ρ|,  ∇²D = (I − n_b n_bᵀ)/|ρ|
+Box      outside: D = |ρ − p|, p = clamp(ρ, ±h) the closest point (h the half sides),
+         n_b = (ρ − p)/D, ∇²D = (diag(m) − n_b n_bᵀ)/D, m_k = 1 on the axes where ρ is
+         clamped; inside: D = −min_k (h_k − |ρ_k|), n_b = ±e_k of the nearest face, ∇²D = 0
+=======  ===================================================================================
+
+Outside a convex shape D is C¹ (its gradient is the unit vector to the closest point), its
+curvature jumps where the closest point moves from a face to an edge or a corner: across the
+planes ρ_k = ±h_k of a box. A triangle rule of degree 5 integrates the mortar integrands
+(a linear dual function times D) exactly where D is linear (over one face region) and to
+O(ℓ⁶) where it is smooth; a triangle cut by one of the box's region planes is integrated with
+the same rule on each of s² sub-triangles (:func:`triangle_rule`), where the error of the
+kink in the curvature falls as s grows (docs/explanation/mortar.md, the measured order).
+Inside the box D is only C⁰ (the nearest face changes across the medial planes): the
+penetrated part is integrated with the same rules, without subdivision.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..bodies.shapes3d import Ball, Box
+from ..errors import InputError
+
+__all__ = ["SUBDIVISIONS", "shape_distance", "straddles", "triangle_rule"]
+
+SUBDIVISIONS = 4
+"""Sub-triangles per edge (s) of a triangle that a box's region plane cuts: s² pieces, 7·s²
+points."""
+
+ON_PLANE = 1e-9
+"""Vertices within this fraction of the box's largest half side of a region plane lie on it."""
+
+# Dunavant's 7-point rule of degree 5: area coordinates and weights (fractions of the area)
+_A1, _B1, _W1 = 0.059715871789770, 0.470142064105115, 0.132394152788506
+_A2, _B2, _W2 = 0.797426985353087, 0.101286507323456, 0.125939180544827
+_POINTS = np.array(
+    [[1 / 3, 1 / 3, 1 / 3],
+     [_A1, _B1, _B1], [_B1, _A1, _B1], [_B1, _B1, _A1],
+     [_A2, _B2, _B2], [_B2, _A2, _B2], [_B2, _B2, _A2]]
+)  # fmt: skip
+_WEIGHTS = np.array([0.225, _W1, _W1, _W1, _W2, _W2, _W2])
+
+
+def triangle_rule(s: int = 1) -> tuple[np.ndarray, np.ndarray]:
+    """Area coordinates (7 s², 3) and weights (7 s²,) summing to 1 of the degree-5 rule on
+    each of the s² congruent sub-triangles of a triangle (s ≥ 1 per edge)."""
+    corners = []
+    for i in range(s):
+        for j in range(s - i):
+            corners.append([(i, j), (i + 1, j), (i, j + 1)])
+            if i + j < s - 1:
+                corners.append([(i + 1, j), (i + 1, j + 1), (i, j + 1)])
+    c = np.array(corners, dtype=float) / s  # (s², 3 corners, (λ₂, λ₃))
+    lam23 = np.einsum("pk,tkd->tpd", _POINTS, c).reshape(-1, 2)
+    lam = np.column_stack([1.0 - lam23.sum(axis=1), lam23])
+    return lam, np.tile(_WEIGHTS, len(c)) / len(c)
+
+
+def straddles(shape, rho: np.ndarray) -> np.ndarray:
+    """Whether each triangle with body-frame vertices ``rho`` (E, 3, 3) is cut by a plane
+    where the curvature of D jumps (a box's ρ_k = ±h_k): it has vertices on both sides of
+    it, farther than ``ON_PLANE`` of the box's size (a vertex on the plane, as of a face
+    resting on the box, cuts nothing). A ball has none."""
+    if isinstance(shape, Ball):
+        return np.zeros(len(rho), dtype=bool)
+    half = 0.5 * shape.sides
+    tol = ON_PLANE * float(half.max())
+    cut = np.zeros(len(rho), dtype=bool)
+    for plane in (half, -half):
+        above, below = rho > plane + tol, rho < plane - tol  # (E, 3 vertices, 3 axes)
+        cut |= np.any(above.any(axis=1) & below.any(axis=1), axis=1)
+    return cut
+
+
+def shape_distance(shape, rho: np.ndarray, curvature: bool = True):
+    """D (P,), n_b (P, 3) and, with ``curvature``, ∇²D (P, 3, 3) at body-frame points ρ
+    (P, 3) (module docstring)."""
+    if isinstance(shape, Ball):
+        return _ball(shape.radius, rho, curvature)
+    if isinstance(shape, Box):
+        return _box(0.5 * shape.sides, rho, curvature)
+    raise InputError(f"mortar contact meets a Ball or a Box, got a {type(shape).__name__}")
+
+
+def _ball(radius: float, rho: np.ndarray, curvature: bool):
+    dist = np.linalg.norm(rho, axis=1)
+    if np.any(dist == 0.0):
+        raise InputError("a point lies at the rigid ball's centre: no contact normal")
+    n = rho / dist[:, None]
+    if not curvature:
+        return dist - radius, n, None
+    K = (np.eye(3) - n[:, :, None] * n[:, None, :]) / dist[:, None, None]
+    return dist - radius, n, K
+
+
+def _box(half: np.ndarray, rho: np.ndarray, curvature: bool):
+    d = rho - np.clip(rho, -half, half)
+    dist = np.linalg.norm(d, axis=1)
+    out = dist > 0.0
+    n = np.zeros_like(rho)
+    n[out] = d[out] / dist[out, None]
+    if not out.all():  # inside: leave by the nearest face
+        rows = np.flatnonzero(~out)
+        depth = half - np.abs(rho[rows])
+        k = np.argmin(depth, axis=1)
+        n[rows, k] = np.where(rho[rows, k] >= 0.0, 1.0, -1.0)
+        dist[rows] = -depth[np.arange(len(rows)), k]
+    if not curvature:
+        return dist, n, None
+    K = np.zeros((len(rho), 3, 3))
+    if out.any():
+        clamped = (np.abs(rho[out]) > half).astype(float)
+        K[out] = (clamped[:, :, None] * np.eye(3) - n[out, :, None] * n[out, None, :]) / dist[
+            out, None, None
+        ]
+    return dist, n, K
