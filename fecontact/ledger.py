@@ -133,10 +133,22 @@ class EnergyLedger:
         if math.isnan(self.initial):
             self.initial = self.energy
             self.peak = 0.0
+            if st.ledger is not None:  # an impact at t = 0: the run was given T(v₀⁻)
+                self._initial_jump(st, kinetic)
         if math.isnan(self.lost):
             self.lost = self.initial + self.terms["load_work"] - self.energy
         if self.damped:
             self.vCv = self._vCv(st)
+
+    def _initial_jump(self, st, kinetic: float) -> None:
+        """Book the velocity jump of a run's start (:func:`fecontact.time.impacts.
+        impact_start`): E(0) is the energy before it, the jump's change is the impact's."""
+        jump = kinetic - float(st.ledger[0])
+        self.initial -= jump
+        self.terms["impact"] -= jump
+        self.impact_work += st.ledger[3:6]
+        self.lost = 0.0
+        self._track(st, self.energy, {"velocity jump": jump}, 0.0, float(st.ledger[4]))
 
     def add(self, st, kinetic: float, strain: float, gravity: float, load_work: float) -> None:
         """Account for the step that ended in ``st`` with its energies (J) and the loads'
