@@ -246,8 +246,10 @@ class EnergyLedger:
         elif fall > 0.0:
             if self.worst is None or step_fall > self.worst[0]:
                 phase = max(gains, key=gains.get)
-                gripping = _jump_gripping(st) if slip_work > 0.0 else []
-                self.worst = (step_fall, st.t, st.step, phase, slip_work, gripping)
+                named = _jump_gripping(st) if slip_work > 0.0 else []
+                if phase == "position correction":
+                    named = _closing(self.last, st)
+                self.worst = (step_fall, st.t, st.step, phase, slip_work, named)
             if fall > self.created:
                 self.created, self.where = fall, self.worst
         if friction < 0.0:
@@ -302,6 +304,12 @@ class EnergyLedger:
                     "Newton's kinematic restitution with Coulomb friction is not energetically "
                     'consistent, Poisson\'s law is (impact_law="poisson")'
                 )
+            if phase == "position correction" and contacts:
+                text += (
+                    f", of {self._named(contacts)} that closed within the step: the strain "
+                    "the correction leaves pushing them out of the obstacle is energy the "
+                    "impact did not have (localize=1 takes a closing at its instant)"
+                )
             out.append(text)
         if self.positive_friction > self._limit(FRICTION):
             work, t, step, contacts = self.friction_where
@@ -343,6 +351,14 @@ class EnergyLedger:
         for k in ("worst", "where", "friction_where"):
             if values.get(k) is not None:
                 setattr(self, k, tuple(values[k]))
+
+
+def _closing(last, st) -> list[int]:
+    """The contacts the position correction of the step ``st`` pushed out that no force
+    pressed in the step before (``last``): they closed within the step."""
+    if last is None or st.nu.size != st.impulse.size or last.impulse.size != st.nu.size:
+        return []
+    return np.flatnonzero((st.nu > 0.0) & ~last.pressed()).tolist()
 
 
 def _jump_gripping(st) -> list[int]:

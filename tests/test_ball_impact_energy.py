@@ -107,7 +107,7 @@ def test_a_closing_inside_a_step_is_booked_to_its_correction(tmp_path, lift):
     ledger = s["energy_ledger"]
     assert ledger["created"] >= strain - jump - 1e-12
     (warning,) = s["warnings"]
-    assert "step 1, in the position correction" in warning
+    assert "step 1, in the position correction, of contact(s) 60 (pair 0) that closed" in warning
 
 
 def test_a_localized_closing_creates_nothing(tmp_path):
