@@ -50,24 +50,29 @@ TERMS = ("load_work", "damping", "friction", "impact", "numerical")
 NO_WORK = np.zeros(3)  # a step without impulses: (normal, tangential, joints) works
 NO_WORK.flags.writeable = False
 JUMPS = ("velocity jump", "impact")  # the phases that are velocity jumps (NSGA, Moreau–Jean)
+# the phase of a smooth step taken again without the forces of the contacts it releases
+RELEASE = "smooth step's retake without the forces of the contacts it releases"
 
 
 def smooth_record(
-    model, contact_phase, v_tilde, q_tilde=None, friction_work=0.0, works=None
+    model, contact_phase, v_tilde, q_tilde=None, friction_work=0.0, works=None, release=0.0
 ) -> np.ndarray | None:
     """What a stepper leaves in its state (``State.ledger``) for the ledger after its smooth
     step, when a ``contact_phase`` (correction or jump) may follow: the kinetic energy of
     ṽ, the potential (strain + gravity) energy of q̃ (NaN when no correction moved q: then
-    it is that of the step's end), the work the smooth step's friction forces dissipated
-    and the velocity jump's ``works`` (normal, tangential, joints;
-    :func:`fecontact.ledger_works.jump_work`) (J). Without a contact phase, None."""
+    it is that of the step's end), the work the smooth step's friction forces dissipated,
+    the velocity jump's ``works`` (normal, tangential, joints;
+    :func:`fecontact.ledger_works.jump_work`) and the energy the smooth step's retake
+    without the forces of the contacts it releases added over its first try (``release``)
+    (J). Without a contact phase, None."""
     if not contact_phase:
         return None
     V = math.nan
     if q_tilde is not None:
         V = model.strain_energy(q_tilde) + model.potential_energy(q_tilde)
     works = (0.0, 0.0, 0.0) if works is None else works
-    return np.array([model.kinetic_energy(v_tilde), V, friction_work, *works])
+    record = [model.kinetic_energy(v_tilde), V, friction_work, *works]
+    return np.array(record + [release] if release else record)
 
 
 def joined_record(model, first, second) -> np.ndarray | None:
@@ -93,6 +98,8 @@ def joined_record(model, first, second) -> np.ndarray | None:
     out[1] = r2[1] - (V1 - V1_tilde)
     out[2] = r1[2] + r2[2]
     out[3:6] += r1[3:6] if r1.size >= 6 else 0.0
+    if r1.size > 6:  # the first part's release
+        out[6] += r1[6]
     return out
 
 
@@ -216,8 +223,10 @@ class EnergyLedger:
             works = record[3:6] if record.size >= 6 else NO_WORK
             correction, jump = V - V_tilde, kinetic - T_tilde
             smooth = T_tilde + V_tilde - self.energy - W + damping + smooth_friction
+            release = float(record[6]) if record.size > 6 else 0.0
             gains = {
-                "smooth step": smooth,
+                "smooth step": smooth - release,
+                RELEASE: release,
                 "position correction": correction,
                 "velocity jump": jump,
                 "friction": -friction,
