@@ -50,6 +50,12 @@ TERMS = ("load_work", "damping", "friction", "impact", "numerical")
 NO_WORK = np.zeros(3)  # a step without impulses: (normal, tangential, joints) works
 NO_WORK.flags.writeable = False
 JUMPS = ("velocity jump", "impact")  # the phases that are velocity jumps (NSGA, Moreau–Jean)
+# what a creation in the position correction of contacts that closed within the step adds
+CLOSING = (
+    ", of {} that closed within the step: the strain the correction leaves pushing them out "
+    "of the obstacle is energy the impact did not have (localize=1 takes a closing at its "
+    "instant)"
+)
 # the phase of a smooth step taken again without the forces of the contacts it releases
 RELEASE = "smooth step's retake without the forces of the contacts it releases"
 
@@ -141,21 +147,11 @@ class EnergyLedger:
             self.initial = self.energy
             self.peak = 0.0
             if st.ledger is not None:  # an impact at t = 0: the run was given T(v₀⁻)
-                self._initial_jump(st, kinetic)
+                _initial_jump(self, st, kinetic)
         if math.isnan(self.lost):
             self.lost = self.initial + self.terms["load_work"] - self.energy
         if self.damped:
             self.vCv = self._vCv(st)
-
-    def _initial_jump(self, st, kinetic: float) -> None:
-        """Book the velocity jump of a run's start (:func:`fecontact.time.impacts.
-        impact_start`): E(0) is the energy before it, the jump's change is the impact's."""
-        jump = kinetic - float(st.ledger[0])
-        self.initial -= jump
-        self.terms["impact"] -= jump
-        self.impact_work += st.ledger[3:6]
-        self.lost = 0.0
-        self._track(st, self.energy, {"velocity jump": jump}, 0.0, float(st.ledger[4]))
 
     def add(self, st, kinetic: float, strain: float, gravity: float, load_work: float) -> None:
         """Account for the step that ended in ``st`` with its energies (J) and the loads'
@@ -314,11 +310,7 @@ class EnergyLedger:
                     'consistent, Poisson\'s law is (impact_law="poisson")'
                 )
             if phase == "position correction" and contacts:
-                text += (
-                    f", of {self._named(contacts)} that closed within the step: the strain "
-                    "the correction leaves pushing them out of the obstacle is energy the "
-                    "impact did not have (localize=1 takes a closing at its instant)"
-                )
+                text += CLOSING.format(self._named(contacts))
             out.append(text)
         if self.positive_friction > self._limit(FRICTION):
             work, t, step, contacts = self.friction_where
@@ -360,6 +352,17 @@ class EnergyLedger:
         for k in ("worst", "where", "friction_where"):
             if values.get(k) is not None:
                 setattr(self, k, tuple(values[k]))
+
+
+def _initial_jump(ledger: EnergyLedger, st, kinetic: float) -> None:
+    """Book the velocity jump of a run's start (:func:`fecontact.time.impacts.impact_start`)
+    in ``ledger``: E(0) is the energy before it, the jump's change is the impact's."""
+    jump = kinetic - float(st.ledger[0])
+    ledger.initial -= jump
+    ledger.terms["impact"] -= jump
+    ledger.impact_work += st.ledger[3:6]
+    ledger.lost = 0.0
+    ledger._track(st, ledger.energy, {"velocity jump": jump}, 0.0, float(st.ledger[4]))
 
 
 def _closing(last, st) -> list[int]:

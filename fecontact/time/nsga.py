@@ -126,12 +126,8 @@ class _Phases:
         self.st_s = st  # the state the smooth step starts from
         step = (self.smooth_step or alpha_smooth_step)(model, st, t, c, opts, self.timer, P)
         if opts.smooth and (rows := released(st, P, step.force, opts.tol_residual)).size:
-            self.st_s, first = without_released(model, st, rows), step.iterations
-            opts.stats.releases += 1
-            trial = _energy(model, step.q, step.v)
-            step = alpha_smooth_step(model, self.st_s, t, c, opts, self.timer, P)
-            step = step._replace(iterations=step.iterations + first)
-            self.release = _energy(model, step.q, step.v) - trial
+            at = (t, c, P, self.timer)
+            self.st_s, step, self.release = _retake(model, st, step, rows, opts, at)
         self.P, self.step = P, step
         self.q, self.v, self.vd, self.a, self.lam = step.q, step.v, step.vd, step.a, step.lam
         self.Gb, self.force = step.Gb, step.force
@@ -342,6 +338,18 @@ class _Phases:
             args = (self.v_tilde, self.q_tilde, self.step.friction_work, self.works)
             at["ledger"] = smooth_record(self.model, phase, *args, release=self.release)
         return State(self.t, self.q, self.v, self.vd, self.a, **at)
+
+
+def _retake(model, st, step, rows, opts, at):
+    """The smooth step from ``st`` taken again without the forces of the contacts ``rows``
+    it released (:func:`without_released`; ``at`` = (t_{n+1}, coefficients, P, timer)): the
+    state it starts from, the step, and the energy (J) it ends with over the first ``step``."""
+    t, c, P, timer = at
+    st_s = without_released(model, st, rows)
+    opts.stats.releases += 1
+    retake = alpha_smooth_step(model, st_s, t, c, opts, timer, P)
+    retake = retake._replace(iterations=retake.iterations + step.iterations)
+    return st_s, retake, _energy(model, retake.q, retake.v) - _energy(model, step.q, step.v)
 
 
 def _energy(model, q, v) -> float:
