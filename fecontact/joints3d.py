@@ -82,6 +82,9 @@ class _Joint(PairDefaults):
         self.point = _vector3("point", point)
         self.r_a = body.to_frame(self.point)[None]
         self.r_b = None if other is None else other.to_frame(self.point)[None]
+        # the pivot's kinematics on each body, with what does not change made once
+        self.kin_a = body.frame_point_function(self.r_a)
+        self.kin_b = None if other is None else other.frame_point_function(self.r_b)
         # the pivots' skew matrices, kept: every Newton iteration evaluates the joint
         self.hats = (hat(self.r_a), None if other is None else hat(self.r_b))
         self.pairs = [(np.asarray(a, float), np.asarray(b, float)) for a, b in pairs]
@@ -122,10 +125,14 @@ class _Joint(PairDefaults):
         """Constraint values (size,), dofs (size, k), gradient rows (size, k), curvature
         (size, k, k) (module docstring)."""
         qa, qb = self._frames(q)
+        ball = self.lines is None and not self.pairs  # a ball joint: its point rows alone
+        if ball and qb is None:  # (to the ground: the pivot's own arrays)
+            x, _, J, Hx = self.kin_a(qa)
+            return x[0] - self.point, self._dofs(qb), J[0], Hx[0]
         g = np.zeros(self.size)
         G = np.zeros((self.size, self.k))
         H = np.zeros((self.size, self.k, self.k))
-        if self.lines is None and not self.pairs:  # a ball joint: its point rows alone
+        if ball:
             self._point_rows(qa, qb, g, G, H)
             return g, self._dofs(qb), G, H
         Ra, Rb = exp(qa[3:]), (np.eye(3) if qb is None else exp(qb[3:]))
@@ -138,6 +145,16 @@ class _Joint(PairDefaults):
         for i, (da, db) in enumerate(self.pairs, start=first):
             g[i], G[i], H[i] = self._right_angle(Ra, Rb, da, db, qb is not None)
         return g, self._dofs(qb), G, H
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        """The constraint values alone (m for the point rows and lines)."""
+        if self.lines is not None or self.pairs:
+            return self.evaluate(q)[0]
+        qa, qb = self._frames(q)
+        x = self.body.point_positions_frame(qa, self.r_a)[0]
+        if qb is None:
+            return x - self.point
+        return x - self.other.point_positions_frame(qb, self.r_b)[0]
 
     def _dofs(self, qb) -> np.ndarray:
         """The rows' dofs (size, k): the bodies' twelve (or six), fixed once bound."""
@@ -153,12 +170,12 @@ class _Joint(PairDefaults):
 
     def _point_rows(self, qa, qb, g, G, H) -> None:
         """x_a(r_a) − x_b(r_b) (or − the point), into the first three rows."""
-        xa, _, Ja, Ha = self.body.frame_point_kinematics(qa, self.r_a, self.hats[0])
+        xa, _, Ja, Ha = self.kin_a(qa)
         g[:3], G[:3, :6], H[:3, :6, :6] = xa[0], Ja[0], Ha[0]
         if qb is None:
             g[:3] -= self.point
             return
-        xb, _, Jb, Hb = self.other.frame_point_kinematics(qb, self.r_b, self.hats[1])
+        xb, _, Jb, Hb = self.kin_b(qb)
         g[:3] -= xb[0]
         G[:3, 6:], H[:3, 6:, 6:] = -Jb[0], -Hb[0]
 

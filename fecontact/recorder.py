@@ -34,6 +34,7 @@ class Recorder:
         "max_penetration",
         "mortar_depth",
         "mortar_deepest",
+        "mortar_held_steps",
         "min_gap",
         "energy_initial",
         "energy_final",
@@ -63,6 +64,7 @@ class Recorder:
         self.max_penetration = 0.0  # m, from the inside/outside test at every step's end
         # the deepest mortar node over its edge, and (t, step, depth in m) where it was
         self.mortar_depth, self.mortar_deepest = 0.0, None
+        self.mortar_held_steps = 0  # steps ending with a mortar node held by its own gap
         self.min_gap = math.inf
         self.energy_initial = math.nan
         self.energy_final = math.nan
@@ -110,6 +112,7 @@ class Recorder:
             self.max_penetration = max(self.max_penetration, st.penetration)
             if st.mortar_depth > self.mortar_depth:
                 self.mortar_depth, self.mortar_deepest = st.mortar_depth, (st.t, st.step)
+            self.mortar_held_steps += st.mortar_held > 0
             self.dt_min, self.dt_max = min(self.dt_min, st.h), max(self.dt_max, st.h)
         self.energy_final = total
         self.energy_max = max(self.energy_max, total)
@@ -175,6 +178,9 @@ class Recorder:
             # the deepest node of a mortar interface inside the other solid, over that solid's
             # shortest boundary edge (0 without mortar interfaces)
             "mortar_depth": self.mortar_depth,
+            # steps that end with a node of a 2D mortar interface held by its own gap
+            # (contact.mortar_safeguard)
+            "mortar_held_steps": self.mortar_held_steps,
             "min_gap": self.min_gap,
             "energy_initial": self.energy_initial,
             "energy_final": self.energy_final,

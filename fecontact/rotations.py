@@ -80,17 +80,39 @@ def _coefficients(psi: np.ndarray):
     return t2, a, b, c
 
 
+def _combination_table() -> np.ndarray:
+    """(13, 9): the features (k0, k1 ψ, k2 ψψᵀ flattened) @ it is k0 I + k1 ψ̃ + k2 ψψᵀ
+    flattened row by row. Every entry of the table is 0 or ±1, so each matrix entry is the
+    sum of its two nonzero products exactly as written out (k2ψ_iψ_j + k0, k2ψ_iψ_j ± k1ψ_k),
+    whatever the order or fusion of the product's sums."""
+    table = np.zeros((13, 3, 3))
+    table[0] = np.eye(3)
+    for i, j, k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):  # ψ̃: (i, j) = −ψ_k, (j, i) = +ψ_k
+        table[1 + k, i, j], table[1 + k, j, i] = -1.0, 1.0
+    for i in range(3):
+        for j in range(3):
+            table[4 + 3 * i + j, i, j] = 1.0
+    return table.reshape(13, 9)
+
+
+_COMBINATION = _combination_table()
+
+
 def _combination(psi: np.ndarray, k0, k1, k2) -> np.ndarray:
-    """k0 I + k1 ψ̃ + k2 ψψᵀ (…, 3, 3) of the vectors ``psi`` (…, 3), coefficients (…), entry
-    by entry on arrays of one shape (the entries (k2 ψ_i) ψ_j, plus k0 or ± k1 ψ_k)."""
-    x, y, z = psi[..., 0], psi[..., 1], psi[..., 2]
-    kx, ky, kz = k2 * x, k2 * y, k2 * z
-    sx, sy, sz = k1 * x, k1 * y, k1 * z
-    out = np.empty(psi.shape + (3,))
-    out[..., 0, 0], out[..., 0, 1], out[..., 0, 2] = kx * x + k0, kx * y - sz, kx * z + sy
-    out[..., 1, 0], out[..., 1, 1], out[..., 1, 2] = ky * x + sz, ky * y + k0, ky * z - sx
-    out[..., 2, 0], out[..., 2, 1], out[..., 2, 2] = kz * x - sy, kz * y + sx, kz * z + k0
-    return out
+    """k0 I + k1 ψ̃ + k2 ψψᵀ (…, 3, 3) of the vectors ``psi`` (…, 3), coefficients (…): the
+    products (k2 ψ_i) ψ_j and k1 ψ_k, then one product with a fixed table of 0 and ±1
+    (:func:`_combination_table`: the same sums as entry by entry, in few array operations)."""
+    lead = psi.shape[:-1]
+    kpsi = k2[..., None] * psi
+    features = np.concatenate(
+        [
+            k0[..., None],
+            k1[..., None] * psi,
+            (kpsi[..., :, None] * psi[..., None, :]).reshape(lead + (9,)),
+        ],
+        axis=-1,
+    )
+    return (features @ _COMBINATION).reshape(lead + (3, 3))
 
 
 def _scalars(psi: np.ndarray):

@@ -246,7 +246,8 @@ def pressed_blocks(n_lower: int, n_upper: int, p: float, method="mortar", small=
     u_low = np.stack([exx(E_LOW) * XL[:, 0], eyy(E_LOW) * XL[:, 1]], axis=1)
     u_up = np.stack([exx(E_UP) * XU[:, 0], eyy(E_LOW) * 0.5 + eyy(E_UP) * (XU[:, 1] - 0.5)], axis=1)
     parts = (q[model.body_slice(0)], q[model.body_slice(1)])
-    return pair, parts, lam, (u_low.ravel(), u_up.ravel())
+    # (the interface's own rows come first; the safeguard rows of its nodes follow)
+    return pair, parts, lam[: pair.size], (u_low.ravel(), u_up.ravel())
 
 
 def pressed_boxes(n_lower: int, n_upper: int, p: float, method="mortar", small=True):
@@ -299,7 +300,8 @@ def pressed_boxes(n_lower: int, n_upper: int, p: float, method="mortar", small=T
     u_up = np.stack([NU * p / E_UP * XU[:, 0], NU * p / E_UP * XU[:, 1],
                      -p / E_LOW * 0.5 - p / E_UP * (XU[:, 2] - 0.5)], axis=1)  # fmt: skip
     parts = (q[model.body_slice(0)], q[model.body_slice(1)])
-    return pair, parts, lam, (u_low.ravel(), u_up.ravel())
+    # (the interface's own rows come first; the safeguard rows of its nodes follow)
+    return pair, parts, lam[: pair.size], (u_low.ravel(), u_up.ravel())
 
 
 def roll_up(n: int, fraction: float, steps: int = 10):

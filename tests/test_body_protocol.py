@@ -128,6 +128,7 @@ KIND_MEMBERS = {
         "rotation",
         "to_frame",
         "frame_point_kinematics",
+        "frame_point_function",
         "point_positions_frame",
     },
 }

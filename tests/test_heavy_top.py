@@ -79,12 +79,17 @@ def test_the_top_keeps_its_axial_momentum_exactly_and_its_energy():
 
 
 def test_the_joint_bound_ends_newton_on_the_group_with_the_joint_held():
-    # after the second update the ball joint's remainder bound (|r| |d|² along the increment
-    # d of D) and the gyroscopic force's exact remainder stand for the residual that would
-    # confirm convergence: two updates a step, and the point held to the tolerance
+    # the ball joint's remainder bound (|r| |d|² along the increment d of D) and the
+    # gyroscopic force's exact remainder stand for the residual that would confirm
+    # convergence. With v̇ extrapolated in the predictor (the top's body-frame torque turns
+    # at its spin, 100 rad/s) the first update is about 1e-6 rad and ends the step: one
+    # update a step after the first three (the first has no slope of v̇, the next two carry
+    # the start's transient), the point held to the tolerance (3.2e-14 m of 1e-13 m), over
+    # the whole 5 s of the case as over 0.1 s
     sim, states = run(1e-3, 0.1)
     model = sim.model
     tol = sim.options.tol_gap * model.length
     gaps = [np.abs(model.joints.gaps(st.q)).max() for st in states[1:]]
     assert max(gaps) <= tol, max(gaps)
-    assert all(st.iterations["smooth"] == 2 for st in states[1:])
+    updates = [st.iterations["smooth"] for st in states[1:]]
+    assert max(updates[:3]) <= 2 and set(updates[3:]) == {1}, updates

@@ -81,8 +81,10 @@ def test_weighted_gap_derivatives_are_exact():
 def test_a_pair_declared_both_ways_is_one_interface():
     a, b = disks()
     model = Model([a, b], [Contact(a, b, method="mortar"), Contact(b, a, method="mortar")])
-    assert len(model.contacts.pairs) == 1
-    assert isinstance(model.contacts.pairs[0], MortarContact)
+    interface = model.contacts.pairs[0]
+    assert isinstance(interface, MortarContact)
+    # then the rows that hold the master's nodes (mortar_safeguard), once
+    assert model.contacts.pairs[1:] == [interface.master_rows]
     with pytest.raises(InputError, match="both ways"):
         Model(
             [a, b],

@@ -196,6 +196,31 @@ class RigidBody3D(RigidDefaults):
         H[:, :, 3:, 3:] = np.einsum("mjl,lpk,ip->mijk", r_hat, _EPS, R)
         return x, np.repeat(_DOFS6, m, axis=0), J, H
 
+    def frame_point_function(self, r):
+        """q ↦ ``frame_point_kinematics(q, r)`` of fixed body-frame points ``r`` (m, 3) (m,
+        from the centre): what does not depend on q is made once (a joint's pivot, evaluated
+        at every Newton iteration). The curvature H_i = r̃ (Rᵀe_i)~ = Σ_p R_ip B_p, with the
+        constant B_p = r̃ ε_{·p·} (ã_lk = ε_lpk a_p), is one product of R with a table."""
+        r = np.atleast_2d(np.asarray(r, dtype=float))
+        m = len(r)
+        r_hat = hat(r)
+        table = np.einsum("mjl,lpk->mpjk", r_hat, _EPS).reshape(m, 3, 9)
+        dofs = np.repeat(_DOFS6, m, axis=0)
+        dofs.flags.writeable = False
+        position, minus_r_hat = self.position, -r_hat
+        J0, H0 = np.zeros((m, 3, 6)), np.zeros((m, 3, 6, 6))
+        J0[:, :, :3] = _EYE3
+
+        def kinematics(q: np.ndarray):
+            R = exp(q[3:6])
+            x = (position + q[:3]) + r @ R.T
+            J, H = J0.copy(), H0.copy()
+            J[:, :, 3:] = R @ minus_r_hat
+            H[:, :, 3:, 3:] = (R @ table).reshape(m, 3, 3, 3)
+            return x, dofs, J, H
+
+        return kinematics
+
     def point_data(self, q: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:
         """Displacement and velocity of the output points (m, m/s), the body's rotation
         vector ψ (rad) and body-frame angular velocity Ω (rad/s) at every point."""

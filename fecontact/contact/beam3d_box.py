@@ -9,8 +9,9 @@ x(ξ) = A + ξ(B − A), ξ ∈ [0, 1]. The signed distance of a point from the 
 is convex (the box is), and so is s(x(ξ)). Its minimum over [0, 1] lies at an end, at a
 breakpoint x_k(ξ) = ±h_k, at the stationary point of the squared distance Σ (|x_k| − h_k)²
 over the clamped axes on one piece between breakpoints, or, inside, where two of the six
-depths h_k ∓ x_k(ξ) are equal: all are candidates, and the least s among them is exact. The
-gap of the segment is g = s(x(ξ*)) − r.
+depths h_k ∓ x_k(ξ) are equal: all are candidates, and the least s among them is exact. A
+segment parallel to a face is equally near along its stretch over the face: ξ* is then the
+middle of that stretch. The gap of the segment is g = s(x(ξ*)) − r.
 """
 
 from __future__ import annotations
@@ -18,6 +19,10 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["box_signed_distance", "closest_to_box"]
+
+TIE = 1e-12
+"""Signed distances within this fraction of the box's half diagonal of the least are equal
+(round-off of coordinates of the box's size)."""
 
 
 def box_signed_distance(x: np.ndarray, half: np.ndarray):
@@ -66,8 +71,11 @@ def closest_to_box(A: np.ndarray, B: np.ndarray, half: np.ndarray):
     d = B - A
     xi = _candidates(A, d, half)
     s = box_signed_distance(A[:, None] + xi[..., None] * d[:, None], half)[0]
-    best = np.argmin(s, axis=1)
-    xi = xi[np.arange(len(A)), best]
+    # a segment lying along a face is equally near over a stretch: s is convex along the
+    # segment, so the candidates within round-off of the least bound that stretch, and its
+    # middle is taken (a choice that moves with the segment, not with round-off)
+    tied = s <= s.min(axis=1)[:, None] + TIE * np.linalg.norm(half)
+    xi = 0.5 * (np.where(tied, xi, np.inf).min(axis=1) + np.where(tied, xi, -np.inf).max(axis=1))
     rho = A + xi[:, None] * d
     s, nb = box_signed_distance(rho, half)
     return xi, s, rho, nb

@@ -30,6 +30,10 @@ planar beams of :mod:`.beam_sides`), so the correction pushes the tubes back the
 The gradients act on the translations of the segments' nodes (and on the (u, Θ) of a rigid
 partner, Θ body-frame, by the chain rule through its points' kinematics); the curvature is exact
 (:func:`.segment3d.tube_distance`).
+
+Coulomb friction acts on the slip of the segment's centreline point against the partner's
+material point at the contact (a rigid partner's rotation included, the tube's section rotation
+not: friction acts at the centreline, as on the beams' nodes).
 """
 
 from __future__ import annotations
@@ -40,7 +44,7 @@ from ..bodies.beam3d import Beam3D
 from ..bodies.rigid3d import RigidBody3D
 from ..bodies.shapes3d import Ball, Box, Capsule
 from ..errors import InputError, check_range
-from ..rotations import exp
+from ..rotations import exp, hat
 from .base import PairDefaults
 from .beam3d_box import closest_to_box
 from .friction import tangent_basis
@@ -278,7 +282,15 @@ def _closest_to_points(x: np.ndarray, segs: np.ndarray) -> np.ndarray:
 class TubeRigidContact(TubeContact):
     """The segments of a ``Beam3D`` of tube radius ``clearance`` against a ``RigidBody3D``
     whose shape is a ``Ball`` (core: its centre) or a ``Capsule`` (core: the segment between
-    its caps' centres)."""
+    its caps' centres).
+
+    Coulomb friction acts on the slip of the segment's centreline point at ξ against the rigid
+    body's material point at the contact, a = p + ρ Rᵀe in the body frame (p the core point,
+    ρ its ball's radius): T((1 − ξ)ẋ_a + ξẋ_b − u̇ + R ã Ω), the rigid body's rotation
+    included (a ball rolls on the tube); the tube's own section rotation is not in it, as for
+    every beam contact (friction acts at the centreline)."""
+
+    frictional = True
 
     def __init__(self, body: Beam3D, rigid: RigidBody3D, restitution=0.0, clearance=0.0):
         if not isinstance(rigid.shape, (Ball, Capsule, Box)):
@@ -288,6 +300,7 @@ class TubeRigidContact(TubeContact):
             )
         centres, rho = rigid.shape.balls
         super().__init__(body, restitution, rho + clearance)
+        self.rho = rho  # m: the radius of the partner's core's balls (0 for a box)
         self.rigid = rigid
         self.bodies = (body, rigid)
         self.points = centres if isinstance(rigid.shape, Capsule) else np.zeros((1, 3))
@@ -318,6 +331,46 @@ class TubeRigidContact(TubeContact):
         rigid = np.broadcast_to(self.rigid_offset + np.arange(6), (m, 6))
         return np.concatenate([dofs, rigid], axis=1), np.concatenate([G[:, :6], G_rigid], 1), Hout
 
+    def _contact_frame(self, q: np.ndarray):
+        """(ξ, unit normals n (m, 3) from the rigid body to the tube, the rigid body's arms a
+        (m, 3) to its contact points in its frame, R)."""
+        P = self._ends(q)
+        Q = self._core(q, P)[0]
+        _, e, (xi, eta), _, _ = tube_distance(P, Q, hessian=False)
+        R = exp(q[self.rigid_offset + 3 : self.rigid_offset + 6])
+        core = self.points[0] + eta[:, None] * (self.points[-1] - self.points[0])
+        return xi, e, core + self.rho * e @ R, R
+
+    def tangents(self, q: np.ndarray):
+        """Slip rows: the tube's point at ξ relative to the rigid body's contact point (class
+        docstring), on the segment's translations and the rigid body's (u, Θ)."""
+        xi, n, arm, R = self._contact_frame(q)
+        return self._slip_rows(xi, n, arm, R)
+
+    def _slip_rows(self, xi, n, arm, R):
+        T = tangent_basis(n)
+        rigid = np.zeros((len(n), 3, 6))
+        rigid[:, :, :3] = np.eye(3)
+        rigid[:, :, 3:] = -R @ hat(arm)  # ∂(u + R a)/∂(u, Θ), Θ in the body frame
+        tube = np.concatenate([(1.0 - xi)[:, None, None] * T, xi[:, None, None] * T], axis=2)
+        GT = np.concatenate([tube, -np.einsum("mti,mik->mtk", T, rigid)], axis=2)
+        dofs = np.concatenate(
+            [self._beam_dofs(), self.rigid_offset + np.arange(6)[None].repeat(len(n), axis=0)],
+            axis=1,
+        )
+        return dofs, GT, T
+
+    def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
+        """T·(Δx_tube − Δx_rigid) over the step: the rigid contact point's chord
+        u + R a − (u_n + R_n a), exact for a rotating body (the linear form is not)."""
+        xi, _, arm, R = self._contact_frame(q)
+        o = self.rigid_offset
+        R_n = exp(q_n[o + 3 : o + 6])
+        ends = self._ends(q) - self._ends(q_n)
+        tube = (1.0 - xi)[:, None] * ends[:, 0] + xi[:, None] * ends[:, 1]
+        rigid = (q[o : o + 3] - q_n[o : o + 3]) + arm @ (R - R_n).T
+        return np.einsum("mtd,md->mt", T, tube - rigid)
+
 
 class TubeBoxContact(TubeRigidContact):
     """The segments of a ``Beam3D`` of tube radius ``clearance`` against a ``RigidBody3D``
@@ -327,7 +380,8 @@ class TubeBoxContact(TubeRigidContact):
     ξ* n) on the ends, n = R n_b the box's outward normal at its closest point (the nearest
     face's inside), and −n, n_b × ρ on the box's (u, Θ) (ρ = x(ξ*) in the box frame,
     δρ = ρ × δΘ). The curvature is left out (Newton's rate, not its answer), as for the rigid
-    ball against a box."""
+    ball against a box. Friction as for :class:`TubeRigidContact`, the box's material point
+    being its surface point p = ρ − s n_b nearest the segment."""
 
     def _box_geometry(self, q: np.ndarray):
         o = self.rigid_offset
@@ -351,6 +405,12 @@ class TubeBoxContact(TubeRigidContact):
 
     def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
         """Nothing to keep: a box has an inside, so the side is never in doubt."""
+
+    def _contact_frame(self, q: np.ndarray):
+        """(ξ*, the box's outward normals n = R n_b (m, 3), the box's contact points
+        p = ρ − s n_b in its frame (on its surface), R)."""
+        R, xi, s, rho, nb = self._box_geometry(q)
+        return xi, nb @ R.T, rho - s[:, None] * nb, R
 
 
 @register_pair(Beam3D, Circle)

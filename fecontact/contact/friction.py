@@ -25,8 +25,9 @@ of :func:`solve_coulomb`, not its answer.
 from __future__ import annotations
 
 import numpy as np
-from scipy.linalg.lapack import dgetrf, dgetrs
 
+from .coulomb_newton import NotConverged, coulomb_projection, newton
+from .friction_redundant import least_norm, one_open, without_round_off
 from .stats import CoulombStats
 
 __all__ = [
@@ -68,48 +69,48 @@ def point_tangents(G: np.ndarray, dim: int) -> np.ndarray:
     return np.einsum("mp,mtd->mtpd", w, T).reshape(m, T.shape[1], k)
 
 
-def coulomb_projection(sigma: np.ndarray, mu: np.ndarray):
-    """Π(σ) and its generalized Jacobian for contacts σ (m, 1 + nt), normal first.
-
-    Returns (Π (m, b), ∂Π/∂σ (m, b, b), status (m,)): 0 open, 1 stick, 2 slip. A contact
-    with μ = 0 slips with zero tangential force whatever σ_T."""
-    m, b = sigma.shape
-    sN, sT = sigma[:, 0], sigma[:, 1:]
-    closed = sN > 0.0
-    r = mu * np.maximum(sN, 0.0)
-    norm = np.linalg.norm(sT, axis=1)
-    stick = closed & (r > 0.0) & (norm <= r)
-    slip = closed & ~stick
-    Pi = np.zeros((m, b))
-    dPi = np.zeros((m, b, b))
-    Pi[closed, 0] = sN[closed]
-    dPi[closed, 0, 0] = 1.0
-    Pi[stick, 1:] = sT[stick]
-    dPi[stick, 1:, 1:] = np.eye(b - 1)
-    u = np.divide(sT, norm[:, None], out=np.zeros_like(sT), where=norm[:, None] > 0.0)
-    Pi[slip, 1:] = r[slip, None] * u[slip]
-    dPi[slip, 1:, 0] = mu[slip, None] * u[slip]
-    ratio = np.divide(r, norm, out=np.zeros_like(r), where=norm > 0.0)
-    uu = np.eye(b - 1)[None] - u[:, :, None] * u[:, None, :]
-    dPi[slip, 1:, 1:] = ratio[slip, None, None] * uu[slip]
-    status = np.where(stick, 1, np.where(slip, 2, 0))
-    return Pi, dPi, status
-
-
-def solve_coulomb(c, D, p, k, mu, nt, x0=None, tol=0.0, max_iter=50, stats=None):
+def solve_coulomb(
+    c, D, p, k, mu, nt, x0=None, tol=0.0, max_iter=50, stats=None, minimum_norm=False
+):
     """Multipliers x of m frictional contacts (and any equality rows after them) with
-    w = c + k D x and R(x) = k x − Π(k x − p w) = 0 (see :func:`_newton`).
+    w = c + k D x and R(x) = k x − Π(k x − p w) = 0 (see :func:`newton`).
 
     Semi-smooth Newton first; where it does not converge (the Newton of the disk cone is
     not globally convergent when D couples contacts strongly), a nonsmooth Gauss–Seidel over
     the contacts, each solved exactly on its own, comes near the solution and Newton
-    finishes from there. ``stats`` (:class:`fecontact.contact.stats.CoulombStats`, or None)
-    receives the counts of the work. Returns (x, status (m,), iterations); raises
-    ``RuntimeError`` when neither converges.
+    finishes from there. ``minimum_norm`` (decided once per run, for models whose rows can
+    be redundant): of a family of solutions, the one of least norm (:func:`_least_norm`).
+    ``stats`` (:class:`fecontact.contact.stats.CoulombStats`, or None) receives the counts
+    of the work. Returns (x, status (m,), iterations); raises ``RuntimeError`` when neither
+    converges.
     """
     stats = CoulombStats() if stats is None else stats
     stats.solves += 1
     p = _isotropic(np.asarray(p, dtype=float), len(mu), nt)
+    if not minimum_norm:
+        return _solve(c, D, p, k, mu, nt, x0, tol, max_iter, stats)[:3]
+    mu = np.asarray(mu, dtype=float)
+    found = []
+    # several closed contacts with friction can have distinct solutions (three corners
+    # slipping and the fourth lifting, or all four slipping): the warm start and the cold
+    # one may reach different ones, and the least-norm of them is kept
+    for start in (x0,) if x0 is None or len(mu) == 1 else (x0, None):
+        try:
+            x, status, its = _solve(c, D, p, k, mu, nt, start, tol, max_iter, stats, True)
+        except RuntimeError:
+            if start is None and found:
+                continue
+            raise
+        x, status = least_norm(c, D, p, k, mu, nt, x, tol, stats)
+        found.append(without_round_off(x, status, len(mu), nt) + (its,))
+    x, status, its = min(found, key=lambda f: np.linalg.norm(f[0]))
+    if len(found) == 2 and np.max(np.abs(k * D @ (found[0][0] - found[1][0]))) > tol:
+        stats.distinct_solutions += 1
+    return x, status, its
+
+
+def _solve(c, D, p, k, mu, nt, x0, tol, max_iter, stats, redundant=False):
+    """:func:`solve_coulomb` without the choice among a family of solutions."""
     if len(mu) == 1 and len(c) == 1 + nt:  # one contact: its law solved exactly
         x = _local(c, D, p, k, float(mu[0]), nt, x0, tol, stats)
         if x is not None:
@@ -117,23 +118,24 @@ def solve_coulomb(c, D, p, k, mu, nt, x0=None, tol=0.0, max_iter=50, stats=None)
             if R <= tol:
                 return x, status, 1
     try:
-        return _newton(c, D, p, k, mu, nt, x0, tol, max_iter, stats)
-    except _NotConverged:
-        stats.gauss_seidel_solves += 1
+        return newton(c, D, p, k, mu, nt, x0, tol, max_iter, stats)
+    except NotConverged:
+        pass
+    if redundant and len(mu) > 1:
+        found = one_open(c, D, p, k, mu, nt, x0, tol, max_iter, stats)
+        if found is not None:
+            return found[0], _settled(c, D, k, np.asarray(mu, float), nt, found[0])[1], found[1]
+    stats.gauss_seidel_solves += 1
     x, sweeps = _gauss_seidel(c, D, p, k, np.asarray(mu, dtype=float), nt, x0, tol, stats)
     try:
-        x, status, its = _newton(c, D, p, k, mu, nt, x, tol, max_iter, stats)
-    except _NotConverged as err:
+        x, status, its = newton(c, D, p, k, mu, nt, x, tol, max_iter, stats)
+    except NotConverged as err:
         R, status = _settled(c, D, k, np.asarray(mu, dtype=float), nt, x)
         if R <= tol:  # Gauss–Seidel converged where Newton's polish did not
             return x, status, sweeps
         msg = f"frictional contact: {err} (after {sweeps} Gauss-Seidel sweeps)"
         raise RuntimeError(msg) from None
     return x, status, its + sweeps
-
-
-class _NotConverged(Exception):
-    pass
 
 
 def _settled(c, D, k, mu, nt, x):
@@ -250,8 +252,8 @@ def _local(c, D, p, k, mu, nt, x0, tol, stats):
     if x is not None:
         return x
     try:
-        return _newton(c, D, p, k, np.array([mu]), nt, x0, 0.1 * tol, 50, stats)[0]
-    except _NotConverged:
+        return newton(c, D, p, k, np.array([mu]), nt, x0, 0.1 * tol, 50, stats)[0]
+    except NotConverged:
         return None
 
 
@@ -284,117 +286,3 @@ def _slip_direction(c, D, mu, samples=72):
             xn = -c[0] / d[0]
             return np.concatenate([[xn], -mu * xn * u[:, 0]])
     return None
-
-
-def _newton(c, D, p, k, mu, nt, x0, tol, max_iter, stats):
-    """Multipliers x of m frictional contacts (and any equality rows after them) with
-    w = c + k D x and R(x) = k x − Π(k x − p w) = 0.
-
-    Rows are ordered contact by contact (normal, then its ``nt`` tangents), then any
-    bilateral rows (joints: Π = identity, so w = 0 there). ``D`` is the Delassus matrix
-    G H⁻¹ Gᵀ of the rows, ``p`` one augmentation per row (> 0; the same on the tangent rows
-    of a contact, see :func:`_isotropic`), ``mu`` (m,) the friction
-    coefficients. Semi-smooth Newton on R/p, a residual in the units of w: on the rows where
-    Π is the identity (closed normal, stick, bilateral) R/p = w, evaluated as such, so that
-    the equations w = 0 keep their accuracy for any p (k x − σ would cancel to round-off of
-    k x). Backtracking on |R/p|²; it stops when every |R_i/p_i| is below ``tol``. Returns
-    (x, status (m,), iterations); raises ``RuntimeError`` when it does not converge.
-    """
-    mu = np.asarray(mu, dtype=float)
-    m, b = len(mu), 1 + nt
-    nc, N = len(mu) * b, len(c)
-    x = np.zeros(N) if x0 is None else np.asarray(x0, dtype=float).copy()
-    kD = k * D
-    dsigma = k * np.eye(N) - p[:, None] * kD
-
-    def residual(x):
-        w = c + kD @ x
-        sigma = k * x - p * w
-        Pi, dPi, status = coulomb_projection(sigma[:nc].reshape(m, b), mu)
-        dPi = _block_diagonal(dPi, N)
-        ident = np.diagonal(dPi) == 1.0
-        ident[nc:] = True
-        ident[:nc] &= np.repeat(status == 1, b) | (np.arange(nc) % b == 0)
-        R = np.where(ident, w, (k * x - np.concatenate([Pi.ravel(), sigma[nc:]])) / p)
-        return R, (dPi, ident), status
-
-    R, lin, status = residual(x)
-    for it in range(max_iter + 1):
-        err = np.max(np.abs(R), initial=0.0)
-        if not np.isfinite(err):
-            raise RuntimeError("frictional contact: non-finite residual")
-        if err <= tol:
-            stats.iterations += it
-            return x, status, it
-        if it == max_iter:
-            break
-        directions = _newton_direction(kD, dsigma, *lin, p, k, R, stats)
-        x, R, lin, status = _backtrack(residual, x, directions, R, stats)
-    raise _NotConverged(f"residual {err:.3e} above {tol:.3e} after {max_iter} iterations")
-
-
-def _jacobian(kD, dsigma, dPi, ident, p, k):
-    """∂(R/p)/∂x: kD on the rows evaluated as w, (k I − ∂Π ∂σ/∂x)/p on the others."""
-    J = -(dPi @ dsigma)
-    J[np.diag_indices(len(J))] += k
-    return np.where(ident[:, None], kD, J / p[:, None])
-
-
-def _newton_direction(kD, dsigma, dPi, ident, p, k, R, stats, rcond=1e-10):
-    """The semi-smooth Newton update dx of R/p.
-
-    More closed rows than the bodies' degrees of freedom (a cylinder on the rim points of
-    its base, a box face with many points) make D = A H⁻¹ Aᵀ singular, and with it the
-    Newton matrix on sticking contacts. An LU then returns a step whose components in the
-    null space of D are round-off amplified by the inverse of a pivot near zero: they do not
-    move the bodies (H⁻¹Aᵀ x ignores them), but they move σ = k x − p w and with it each
-    contact's status, and the backtracking stalls. Where the LU's pivots show the matrix
-    singular (the smallest below ``rcond`` of the largest), the step is the minimum-norm
-    solution of the truncated singular value decomposition: Newton's step on the range,
-    none along the multipliers the contacts cannot tell apart. The residual stays the exact
-    one, so the answer is exact. Counted in ``stats.minimum_norm_steps``.
-
-    Returns the directions to try in turn: on a singular matrix the minimum-norm one, then
-    the LU's where its pivots are nonzero. Where the rows are inconsistent for the current
-    statuses (R outside the range of J) the minimum-norm step stops at a nonzero minimum of
-    |R|²; the LU's long step crosses into other statuses (a tumbling box's velocity jumps
-    needed it)."""
-    J = _jacobian(kD, dsigma, dPi, ident, p, k)
-    lu, piv, _ = dgetrf(J)  # (LAPACK's getrf and getrs: np.linalg.solve's own path)
-    pivots = np.abs(np.diagonal(lu))
-    if pivots.min(initial=np.inf) > rcond * pivots.max(initial=0.0):
-        return (dgetrs(lu, piv, -R)[0],)
-    stats.minimum_norm_steps += 1
-    lu_step = dgetrs(lu, piv, -R)[0] if np.all(pivots > 0.0) else None
-    return np.linalg.lstsq(J, -R, rcond=rcond)[0], lu_step
-
-
-def _backtrack(residual, x, directions, R, stats):
-    """x + s dx with the largest s = 2⁻ⁱ that decreases |R|² (Armijo), over the
-    ``directions`` in turn (None: none); the full step of the last when none of 20 does
-    along any (the merit of a nonsmooth residual can rise across a kink), counted."""
-    f0 = R @ R
-    directions = [d for d in directions if d is not None]
-    for dx in directions:
-        s = 1.0
-        for _ in range(20):
-            xs = x + s * dx
-            Rs, lin, status = residual(xs)
-            if Rs @ Rs <= (1.0 - 1e-4 * s) * f0:
-                return xs, Rs, lin, status
-            s *= 0.5
-            stats.line_search_cuts += 1
-    stats.full_steps_forced += 1
-    xs = x + directions[-1]
-    return (xs, *residual(xs))
-
-
-def _block_diagonal(blocks: np.ndarray, N: int) -> np.ndarray:
-    """The (N, N) matrix of the contacts' (m, b, b) blocks followed by an identity."""
-    m, b, _ = blocks.shape
-    out = np.zeros((N, N))
-    idx = np.arange(m)[:, None] * b + np.arange(b)
-    out[idx[:, :, None], idx[:, None, :]] = blocks
-    tail = np.arange(m * b, N)
-    out[tail, tail] = 1.0
-    return out

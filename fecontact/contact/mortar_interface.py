@@ -22,8 +22,9 @@ import numpy as np
 from ..errors import InputError, check_positive, check_range
 from .base import PairDefaults, check_solid_pair
 from .friction import tangent_basis
+from .mortar_safeguard import deep_hessians, deep_rows, safeguard_rows, take_deep
 
-__all__ = ["MortarInterface", "element_measures", "merge_interfaces"]
+__all__ = ["MortarInterface", "element_measures", "merge_interfaces", "node_normals"]
 
 _COVERED = 1e-9  # an element covered by less than this fraction counts as not covered
 
@@ -34,6 +35,23 @@ def element_measures(x: np.ndarray, facets: np.ndarray) -> np.ndarray:
         return np.linalg.norm(x[facets[:, 1]] - x[facets[:, 0]], axis=1)
     u, w = x[facets[:, 1]] - x[facets[:, 0]], x[facets[:, 2]] - x[facets[:, 0]]
     return 0.5 * np.linalg.norm(np.cross(u, w), axis=1)
+
+
+def node_normals(x: np.ndarray, facets: np.ndarray, rows: np.ndarray, m: int) -> np.ndarray:
+    """Unit outward normals (m, d) of m nodes, the mean of the unit normals of the ``facets``
+    (at node positions x) around each; ``rows`` (n_f, k) the facets' ends' node numbers."""
+    f, dim = facets, x.shape[1]
+    if dim == 2:
+        t = x[f[:, 1]] - x[f[:, 0]]
+        nu = np.stack([t[:, 1], -t[:, 0]], axis=1)
+    else:
+        nu = np.cross(x[f[:, 1]] - x[f[:, 0]], x[f[:, 2]] - x[f[:, 0]])
+    nu /= np.linalg.norm(nu, axis=1)[:, None]
+    n = np.zeros((m, dim))
+    for k in range(f.shape[1]):
+        np.add.at(n, rows[:, k], nu)
+    norm = np.linalg.norm(n, axis=1)
+    return n / np.where(norm > 0.0, norm, 1.0)[:, None]
 
 
 class _Layout:
@@ -109,6 +127,9 @@ class MortarInterface(PairDefaults):
         self._dofs_m = master.node_translation_dofs(np.arange(master.n_nodes))
         self.offsets = (0, 0)
         self._last = self._last_gaps = self._search = self._layout_of = None
+        self.pointwise, self.master_rows = safeguard_rows(body, master, restitution, self.nodes)
+        """The slave nodes' own gaps and the master nodes' rows, contacts of the model after
+        its declared pairs (:mod:`.mortar_safeguard`; None: none)."""
 
     @property
     def size(self) -> int:
@@ -118,12 +139,17 @@ class MortarInterface(PairDefaults):
         """Place the pair in the global dof vector of ``model``."""
         self.offsets = (model.offset_of(self.body), model.offset_of(self.master))
         self._last = self._last_gaps = self._search = self._layout_of = None
+        if self.pointwise is not None:  # (in 2D)
+            self.pointwise.bind(model)
+            self.master_rows.bind(model)
 
     def detect_within(self, distance: float) -> None:
         """Search as far as the integrator's candidates reach (``distance`` m)."""
         if not self._own_margin and distance > 0.0 and distance != self.margin:
             self.margin = distance
             self._last = self._last_gaps = self._search = None
+        if self.pointwise is not None:
+            self.pointwise.detect_within(distance)
 
     def _kept_pairs(self, xs: np.ndarray, xm: np.ndarray):
         """The element pairs of the last search while no node has moved an eighth of the
@@ -206,7 +232,9 @@ class MortarInterface(PairDefaults):
         for cached in (self._last, self._last_gaps):
             if cached is not None and self._same(q, cached[0]):
                 return cached[1]["g"].copy()
-        g = self._gap_values(*self._values(q))
+        values = self._values(q)
+        g = self._gap_values(*values)
+        g = take_deep(self.pointwise, q, deep_rows(self.pointwise, q, g, len(values[0])), g)[0]
         self._last_gaps = (tuple(k.copy() for k in self._key(q)), {"g": g})
         return g.copy()
 
@@ -223,7 +251,7 @@ class MortarInterface(PairDefaults):
         last = self._last
         if last is not None and self._same(q, last[0]):
             r = last[1]
-            return r["g"].copy(), r["layout"].dofs, r["G"], None
+            return r["g"].copy(), r["dofs"], r["G"], None
         e, z, dofs, xs = self._local(q)
         jets, coverage, dual, quad = self._integrate(e, z, False)
         g = self._gap_values(e, jets, coverage, dual, xs)
@@ -234,11 +262,13 @@ class MortarInterface(PairDefaults):
         layout = self._layout(ends, dofs)
         scale = np.where(valid, 1.0 / self.length, 0.0)
         G = layout.rows(ends, [j.g * scale[r, None] for r, j in zip(ends, jets, strict=True)])
+        deep = deep_rows(self.pointwise, q, g, len(e))
+        g, dofs, G = take_deep(self.pointwise, q, deep, g, layout.dofs, G)
         G.flags.writeable = False
         key = tuple(k.copy() for k in self._key(q))
         self._last = (key, dict(g=g, G=G, e=e, z=z, layout=layout, scale=scale, quad=quad,
-                                counts=counts))  # fmt: skip
-        return g.copy(), layout.dofs, G, None
+                                counts=counts, dofs=dofs, deep=deep))  # fmt: skip
+        return g.copy(), dofs, G, None
 
     def _layout(self, ends, dofs: np.ndarray) -> _Layout:
         """The layout of these entries: the last one while the entries are the same (the
@@ -257,9 +287,9 @@ class MortarInterface(PairDefaults):
         r = self._last[1]
         e, layout, scale = r["e"], r["layout"], r["scale"]
         k = layout.dofs.shape[1]
-        H = np.zeros((len(rows), k, k))
+        H, deep = deep_hessians(self.pointwise, q, np.asarray(rows), r["deep"], r["dofs"], k)
         where = np.full(self.size, -1)
-        where[np.asarray(rows)] = np.arange(len(rows))
+        where[np.asarray(rows)[~deep]] = np.arange(len(rows))[~deep]
         ends = [self.element_rows[e, j] for j in range(self.facets.shape[1])]
         use = np.flatnonzero(r["counts"] & np.any([where[x] >= 0 for x in ends], axis=0))
         if use.size == 0:
@@ -276,19 +306,7 @@ class MortarInterface(PairDefaults):
     def normals(self, q: np.ndarray) -> np.ndarray:
         """Averaged unit outward normals (m, d) of the slave nodes at q (the mean of the
         adjacent elements' unit normals)."""
-        x = self.positions(q)[0]
-        f = self.facets
-        if self.dim == 2:
-            t = x[f[:, 1]] - x[f[:, 0]]
-            nu = np.stack([t[:, 1], -t[:, 0]], axis=1)
-        else:
-            nu = np.cross(x[f[:, 1]] - x[f[:, 0]], x[f[:, 2]] - x[f[:, 0]])
-        nu /= np.linalg.norm(nu, axis=1)[:, None]
-        n = np.zeros((self.size, self.dim))
-        for k in range(f.shape[1]):
-            np.add.at(n, self.element_rows[:, k], nu)
-        norm = np.linalg.norm(n, axis=1)
-        return n / np.where(norm > 0.0, norm, 1.0)[:, None]
+        return node_normals(self.positions(q)[0], self.facets, self.element_rows, self.size)
 
     def tangents(self, q: np.ndarray):
         """Slip rows (m, nt, k) of the weighted relative motion of each slave node,
@@ -321,7 +339,7 @@ class MortarInterface(PairDefaults):
 def merge_interfaces(pairs):
     """The pairs with each mortar interface once: a mortar pair declared both ways, (a, b)
     and (b, a), is one interface (the first declared); their restitution and friction must
-    agree."""
+    agree. The master nodes' safeguard rows of the 2D interfaces follow the declared pairs."""
     seen: dict = {}
     out = []
     for pair in pairs:
@@ -337,4 +355,4 @@ def merge_interfaces(pairs):
                 continue
             seen[key] = pair
         out.append(pair)
-    return out
+    return out + [p.master_rows for p in seen.values() if p.master_rows is not None]

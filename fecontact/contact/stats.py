@@ -24,6 +24,16 @@ class CoulombStats:
     # Newton steps taken as the minimum-norm solution on a singular Jacobian (more closed
     # rows than degrees of freedom: redundant contacts)
     minimum_norm_steps: int = 0
+    # moves along a family of solutions to its least-norm member (redundant rows), and the
+    # solves where that choice did not settle (the solution kept is the law's, not the least)
+    least_norm_moves: int = 0
+    least_norm_unsettled: int = 0
+    # solves (in runs with redundant rows) where Newton stalled with every contact closed
+    # and the law was solved with one contact left out, which separates
+    opened_contact_solves: int = 0
+    # solves (in runs with redundant rows) whose warm and cold starts reached solutions of
+    # the law that move the bodies differently (beyond the tolerance): the law is not unique
+    distinct_solutions: int = 0
 
 
 @dataclass

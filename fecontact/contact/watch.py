@@ -7,13 +7,15 @@ watch measures every boundary node of each body against the other's discretized 
 the end of every step, by the inside/outside test of :mod:`fecontact.contact.inside`, through
 the broad phase of :mod:`fecontact.contact.facet_search` (a node outside and far from the
 other surface is not tested again until the bodies have moved). The depth is reported (the
-run's ``max_penetration``), not held: the weighted gaps let a node in by the interpolation's
-own error (measured 0.03–0.3 % of the shortest edge on a ball landing on a slab), and a step
-is not retaken for it; a node deeper than ``BOUND`` of the other surface's shortest edge is
-a warning of the run. What the watch has measured beyond that: 19 % of an edge (2.4 mm) in
-an oblique frictional impact of two disks (``two_disks``, refinements 2, offset 0.02 m,
-μ = 0.3), and two coarse balls (one refinement, pole to pole) that no weighted gap covered
-and that passed through each other while triangles counted as facing only beyond 120°.
+run's ``max_penetration``): the weighted gaps let a node in by the interpolation's own error
+(measured 0.03–0.3 % of the shortest edge on a ball landing on a slab), and a step is not
+retaken for it; in 2D a node of either body deeper than half a per cent of an edge is held
+by its own gap (:mod:`fecontact.contact.mortar_safeguard`). A node deeper than ``BOUND`` of
+the other surface's shortest edge is a warning of the run. What the watch has measured
+beyond that: 19 % of an edge (2.4 mm) in an oblique frictional impact of two disks
+(``two_disks``, refinements 2, offset 0.02 m, μ = 0.3), and two coarse balls (one
+refinement, pole to pole) that no weighted gap covered and that passed through each other
+while triangles counted as facing only beyond 120°.
 """
 
 from __future__ import annotations
@@ -22,8 +24,9 @@ import numpy as np
 
 from .facet_search import FacetSearch
 from .mortar_interface import MortarInterface
+from .mortar_safeguard import MasterNodeRows
 
-__all__ = ["BOUND", "SolidWatch", "solid_watches", "watched_depth"]
+__all__ = ["BOUND", "SolidWatch", "held_nodes", "solid_watches", "watched_depth"]
 
 BOUND = 0.01
 """Deepest a node of a mortar interface may sit inside the other solid, over the shortest
@@ -74,6 +77,20 @@ def _shortest_edge(body, facets: np.ndarray) -> float:
 def solid_watches(pairs) -> list[SolidWatch]:
     """The watches of the mortar interfaces among ``pairs``."""
     return [SolidWatch(pair) for pair in pairs if isinstance(pair, MortarInterface)]
+
+
+def held_nodes(pairs, q: np.ndarray) -> int:
+    """How many nodes of the 2D mortar interfaces among ``pairs`` lie deeper than half the
+    allowance δ inside the other solid at q, so that their own gaps are their rows
+    (:mod:`fecontact.contact.mortar_safeguard`): a held node ends a step about δ deep."""
+    held = 0
+    for pair in pairs:
+        if isinstance(pair, MortarInterface) and pair.pointwise is not None:
+            g, g_s = pair.gaps(q), pair.pointwise.gaps(q)
+            held += int(np.count_nonzero((g == g_s) & (g_s < 0.5 * pair.pointwise.allowance)))
+        elif isinstance(pair, MasterNodeRows):
+            held += int(np.count_nonzero(pair.gaps(q) < 0.5 * pair.allowance))
+    return held
 
 
 def watched_depth(watches, q: np.ndarray) -> tuple[float, float]:

@@ -10,7 +10,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .lie import on_group
+from .lie import LieGroup, on_group
 from .newton import NewtonPlan, SmoothNewton
 from .terms import (
     Damping,
@@ -52,7 +52,7 @@ def alpha_plan(model, smooth: bool, friction: bool, extra=()) -> NewtonPlan:
     unless a term brings a tangent of its own."""
     extra = tuple(extra)
     # rotations in space (:mod:`.lie`): q = q_n ⊕ D, S_t through T(D), gyroscopic forces
-    group = on_group(model)
+    group = LieGroup(model) if on_group(model) else None
     if model.inertial_bodies:
         extra = (Gyroscopic(model), *extra)
     reuse = model.linear and not group and not any(term.own_tangent for term in extra)
@@ -66,12 +66,20 @@ def alpha_plan(model, smooth: bool, friction: bool, extra=()) -> NewtonPlan:
         terms.append(Joints(model, scaled=True, linearize_first=True))
     if smooth:
         terms.append(SmoothContact(model, friction))
-    # the joints' remainder bound where every other force is affine in q (on a group: but
-    # for the gyroscopic forces, whose remainder the loop adds)
-    bound = bool((reuse or (group and model.linear)) and joints.size and not joints.linear)
+    bound = _remainder_bound(model, reuse or (group is not None and model.linear))
     # (on a group S_t is not symmetric: plain Newton, no descent in energy)
     descent = not model.linear and not group
     return NewtonPlan((*terms, *extra), reuse, descent, False, bound, "smooth step", group)
+
+
+def _remainder_bound(model, affine: bool) -> bool:
+    """Whether the joints' remainder bound may end Newton: every other force is ``affine``
+    in q (on a group: but for the gyroscopic forces, whose remainder the loop adds) and every
+    joint's curvature is known (its arms: pins, ball joints)."""
+    joints = model.joints
+    if not (affine and joints.size) or joints.linear:
+        return False
+    return all(joint.arms is not None for joint in joints.pairs)
 
 
 def alpha_smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:

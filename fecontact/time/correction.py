@@ -10,6 +10,7 @@ import scipy.sparse as sp
 
 from ..contact import solve_position_correction
 from ..linalg import UnitColumns, low_rank_solver
+from ..rotations import exp
 from .configuration import plus
 from .constraints import (
     Constraints,
@@ -19,7 +20,14 @@ from .constraints import (
     factorize_or_fail,
 )
 
-__all__ = ["correction_metric", "position_correction", "unit_columns"]
+__all__ = [
+    "MomentumKept",
+    "correction_metric",
+    "momentum_held",
+    "momentum_kept",
+    "position_correction",
+    "unit_columns",
+]
 
 
 def correction_metric(model, q, S, c, kind):
@@ -98,3 +106,115 @@ def unit_columns(model, key, solve_H, constant: bool) -> UnitColumns:
     if not constant:
         return UnitColumns(solve_H, model.n_free)
     return model.column_cache.setdefault(("unit", *key), UnitColumns(solve_H, model.n_free))
+
+
+class MomentumKept:
+    """The angular momentum of a free beam in space about its contacts' common normal, held
+    through a position correction.
+
+    The correction q̃ → q is a projection of the positions, not a force: it moves the nodes
+    but leaves the velocities, so a body's angular momentum L = Σ x_i × p_i + Σ R_i π_i
+    (p, π the translational and rotational momenta M v, π in the node frame R_i) changes by
+    Σ U_i × p_i and by the rotation of R_i π_i. In the stiffness metric U is mostly the rigid
+    response of the body (a tilt about a horizontal axis for a rod struck at one end), whose
+    horizontal displacements crossed with a spinning rod's horizontal momenta change its
+    momentum about the vertical, which vertical contact forces never change.
+
+    Where every contact of the correction pushes the body along one normal n (a plane, or a
+    single contact), their forces have no moment about any axis along n: the component L·n is
+    then held, by the rigid angular velocity δω = ℓ n/(nᵀI n) about the centre of mass c,
+    v_i += δω × (x_i − c), Ω_i += R_iᵀδω (I the locked inertia, ℓ the lost L·n): of the
+    velocities that return L·n to its value at (q̃, ṽ), the one of least kinetic energy. The
+    linear momentum is unchanged. The other components are left alone: the contact forces
+    change them (for a slender rod, holding them all would force a torsional spin, the
+    corrected axis being tilted against L).
+
+    Decided once per model: the beams in space (a rotation vector at every node) without
+    support or joint (a held body's momentum is not its own), in a frictionless model (a
+    frictional correction moves the nodes along the tangents too)."""
+
+    def __init__(self, model):
+        self.bodies = []  # (body, global slice, its free dofs, mass matrix, node masses (kg))
+        if model.joints.size or model.contacts.frictional:
+            return
+        for i, b in enumerate(model.bodies):
+            if not b.slender or b.fixed or len(b.rotation_triples) != b.n_nodes:
+                continue
+            M, s = b.mass_matrix(), model.body_slice(i)
+            m = (M @ b.translation_field([1.0, 0.0, 0.0]))[::6]
+            self.bodies.append((b, s, model.free_index[s], M, m))
+
+    def __call__(self, q_tilde, q, v, G) -> np.ndarray:
+        """The increment (all dofs) of the velocity ``v`` (ṽ) that holds each body's angular
+        momentum (kg·m²/s) about its contacts' common normal at its value at (q̃, ṽ) after the
+        correction to ``q``; ``G``: the gradients (free dofs) of the correction's contacts."""
+        dv = np.zeros_like(v)
+        for b, s, free, M, m in self.bodies:
+            Gb = G[:, free]
+            Gb = Gb[np.abs(Gb).max(axis=1) > 0.0]
+            x = b.positions(q[s])
+            fields = _rotation_fields(x - m @ x / m.sum(), q[s])
+            n = _common_normal(Gb, fields)
+            if n is None:
+                continue
+            lost = _momentum(b, M, q_tilde[s], v[s]) - _momentum(b, M, q[s], v[s])
+            f = n @ fields  # the rigid rotation about n through c
+            dv[s] = (n @ lost) / (n @ _momentum(b, M, q[s], f)) * f
+        return dv
+
+
+def _momentum(body, M, q, v) -> np.ndarray:
+    """L = Σ x_i × p_i + Σ R_i π_i (kg·m²/s) of a beam in space, about the origin."""
+    p = (M @ v).reshape(-1, 6)
+    R = exp(q.reshape(-1, 6)[:, 3:])
+    x = body.positions(q)
+    return np.cross(x, p[:, :3]).sum(axis=0) + np.einsum("nij,nj->i", R, p[:, 3:])
+
+
+def _rotation_fields(r, q) -> np.ndarray:
+    """(3, ndof) velocities of the rigid rotations about e_x, e_y, e_z through the centre of
+    mass (r = x − c the nodes' positions from it): v_i = e_k × r_i, Ω_i = R_iᵀe_k."""
+    R = exp(q.reshape(-1, 6)[:, 3:])
+    fields = np.zeros((3, len(r), 6))
+    fields[:, :, :3] = np.cross(np.eye(3)[:, None, :], r)
+    fields[:, :, 3:] = np.einsum("nji,kj->kni", R, np.eye(3))  # R_iᵀ e_k
+    return fields.reshape(3, -1)
+
+
+def _common_normal(G, fields) -> np.ndarray | None:
+    """The unit normal n shared by the contacts of gradient rows ``G`` (on a body's dofs): the
+    force direction Σ_i G_c(x_i) of each, all parallel, with no moment about n (the rate
+    G_c f_n of the rigid rotation f_n about n is zero to round-off); else None."""
+    if len(G) == 0:
+        return None
+    forces = G.reshape(len(G), -1, 6)[:, :, :3].sum(axis=1)
+    size = np.linalg.norm(forces, axis=1)
+    if np.any(size == 0.0):
+        return None
+    n = forces[0] / size[0]
+    # (round-off of unit normals made from coordinates of order the body's size)
+    if np.abs(np.cross(forces / size[:, None], n)).max() > 1e-12:
+        return None
+    rate = G @ (n @ fields)
+    if np.abs(rate).max() > 1e-12 * np.abs(G).max() * np.abs(fields).max():
+        return None
+    return n
+
+
+def momentum_held(model, q_tilde, q, v, work) -> tuple[np.ndarray, np.ndarray | None]:
+    """(v, Δv): the velocity ``v`` after the correction q̃ → q over the contacts ``work`` with
+    the increment Δv of :class:`MomentumKept` (None, v itself, for models without such
+    bodies)."""
+    kept = momentum_kept(model)
+    if kept is None:
+        return v, None
+    dv = kept(q_tilde, q, v, model.contacts.linearize(q, work)[1])
+    return v + dv, dv
+
+
+def momentum_kept(model) -> MomentumKept | None:
+    """The model's :class:`MomentumKept`, built once; None when no body qualifies."""
+    cache = model.column_cache
+    if ("momentum",) not in cache:
+        cache["momentum",] = MomentumKept(model)
+    return cache["momentum",] if cache["momentum",].bodies else None

@@ -131,6 +131,7 @@ def frictional_correction(model, st, q_tilde, work, solve_H, opts, tol_gap, t, p
                 x,
                 tol_gap,
                 stats=opts.stats.contact.coulomb,
+                minimum_norm=opts.stats.contact.minimum_norm,
             )
         except RuntimeError as err:
             raise StepFailure(f"position correction: {err}", np.nan) from None
@@ -190,6 +191,7 @@ def frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol, solve=None, pr
             x0,
             tol,
             stats=opts.stats.contact.coulomb,
+            minimum_norm=opts.stats.contact.minimum_norm,
         )
     except RuntimeError as err:
         raise StepFailure(f"velocity jump: {err}", np.nan) from None
@@ -273,6 +275,7 @@ class SmoothFriction:
         self.mu, self.nt = self.contacts.friction[P], model.dim - 1
         self.k, self.scale, self.far = opts.multiplier_scale, opts.penalty_scale, far
         self.stats = opts.stats.contact.coulomb
+        self.minimum_norm = opts.stats.contact.minimum_norm  # (rows that can be redundant)
         force = None if st.smooth is None else st.smooth.normal
         force_t = None if st.smooth is None else st.smooth.tangential
         self.lam = np.zeros((P.size, 1 + self.nt))
@@ -316,8 +319,9 @@ class SmoothFriction:
         self.p = _augmentation(D, self.scale)
         try:
             z, _, _ = solve_coulomb(
-                c, D, self.p, self.k, self.mu, self.nt, lam / self.k, tol, stats=self.stats
-            )
+                c, D, self.p, self.k, self.mu, self.nt, lam / self.k, tol, stats=self.stats,
+                minimum_norm=self.minimum_norm,
+            )  # fmt: skip
         except RuntimeError as err:
             raise StepFailure(f"smooth step, friction: {err}", np.nan) from None
         new = self.k * z

@@ -101,7 +101,8 @@ class NewtonPlan:
     (:mod:`.descent`), ``halving``: an update that does not lower the residual is halved (up
     to six times), ``bound``: the joints' remainder bound may end the iteration, and the
     ``name`` failures carry. ``group``: the positions live on a Lie group (rotation vectors
-    in space, :mod:`.lie`): the iterate's first row is the increment D and q = q_n ⊕ D.
+    in space, :mod:`.lie`; its :class:`~.lie.LieGroup`, else None): the iterate's first row
+    is the increment D and q = q_n ⊕ D.
     ``roles``: the terms' :class:`Roles`, when every term acts in every step as itself (no
     ``per_step`` term), else None (sorted per step)."""
 
@@ -115,7 +116,7 @@ class NewtonPlan:
         halving: bool,
         bound: bool,
         name: str,
-        group: bool = False,
+        group=None,
         form: type | None = None,
     ):
         self.terms: tuple[ForceTerm, ...] = tuple(terms)
@@ -219,8 +220,8 @@ class AccelerationForm:
         model, opts, plan = newton.model, newton.opts, newton.plan
         self.newton, self.model, self.opts, self.plan = newton, model, opts, plan
         # on a Lie group the first row of X is the increment D, and q = q_n ⊕ D (:mod:`.lie`)
-        lie = self.lie = LieStep(model, st.q) if plan.group else None
-        X = predict(st, c) if lie is None else predict_increment(st, c)
+        lie = self.lie = LieStep(plan.group, st.q) if plan.group else None
+        X = predict(st, c) if lie is None else predict_increment(st, c, plan.bound)
         self.step = step = StepContext(model, c, t, st, opts, P, X)
         if lie is not None:
             step.q = lie.configuration(X[0])
@@ -347,14 +348,18 @@ class AccelerationForm:
         res, nF = self.rnorm / self.ref, self.model.n_free
         b = self.lie.bordered if self.lie is not None else bordered
         self.plain = False
-        try:
-            self.solve = factorize_or_fail(b(K, G), res, False, self.model.solver)
-            return -self.solve(np.concatenate([self.r, g]))
-        except StepFailure:
-            Gd = G.toarray() if sp.issparse(G) else np.asarray(G)
-            keep = independent_rows(Gd)
-            if keep.size == g.size:
-                raise
+        # where rows can be redundant (decided once per run) they are tested first: an LU
+        # need not fail on them, and its near-zero pivot would spread round-off into Δq
+        keep = independent_rows(G) if self.opts.stats.contact.minimum_norm else None
+        if keep is None or keep.size == g.size:
+            try:
+                self.solve = factorize_or_fail(b(K, G), res, False, self.model.solver)
+                return -self.solve(np.concatenate([self.r, g]))
+            except StepFailure:
+                keep = independent_rows(G)
+                if keep.size == g.size:
+                    raise
+        Gd = G.toarray() if sp.issparse(G) else np.asarray(G)
         self.opts.stats.contact.redundant_row_updates += 1
         self.solve = factorize_or_fail(b(K, G[keep]), res, False, self.model.solver)
         y = -self.solve(np.concatenate([self.r, g[keep]]))

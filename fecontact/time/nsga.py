@@ -40,7 +40,7 @@ from .configuration import plus
 from .constraints import (
     StepFailure,
 )
-from .correction import correction_metric, position_correction
+from .correction import correction_metric, momentum_held, position_correction
 from .coulomb import frictional_correction
 from .generalized_alpha import coefficients
 from .impacts import velocity_jump
@@ -97,8 +97,8 @@ class _Phases:
     # the attributes (slots: every access of the step's hot loop is cheaper)
     __slots__ = (
         "Gb P a c cand closed corrected force forces g_tilde gaps grip h held impulse "
-        "iters lam m model nu opts q q_tilde record release smooth_step st st_s step t timer "
-        "tol_gap v v_tilde vd works"
+        "iters kept lam m model nu opts q q_tilde record release smooth_step st st_s step t "
+        "timer tol_gap v v_tilde vd works"
     ).split()
 
     def __init__(self, model, st: State, h: float, opts, timer: PhaseTimer, smooth_step):
@@ -182,13 +182,14 @@ class _Phases:
             U, nu_w, friction = self._corrected(q_tilde, work, metric)
             self.q = q = plus(model, q_tilde, U)
             self.gaps = model.contacts.gaps(q)
-            pushed = cand[self.gaps[cand] < -self.tol_gap]
+            pushed = _pushed(cand, self.gaps[cand], self.tol_gap, opts.stats.contact.minimum_norm)
             pushed = pushed[~np.isin(pushed, work)]
             if pushed.size == 0:
                 break
             work = np.union1d(work, pushed)
         if model.inverted(q):
             raise StepFailure("the position correction inverts an element (det F <= 0)", np.nan)
+        self.v, self.kept = momentum_held(model, q_tilde, q, self.v, work)  # (kept: Δv or None)
         self.nu[work] = nu_w[: work.size]
         if friction is not None:
             nu_t, U_t = friction
@@ -271,8 +272,7 @@ class _Phases:
             self.forces.in_vd, self.forces.in_a = shares
 
     def follow(self) -> None:
-        """v̇ and a follow the correction (:mod:`.position_jump`) in a step where a contact
-        closed, and without friction v follows them."""
+        """v̇, a (v without friction) follow the correction of an impact (:mod:`.position_jump`)."""
         st, closed = self.st, self.closed
         if self.corrected is None:  # (tested first: it decides most steps at no cost)
             return
@@ -304,7 +304,7 @@ class _Phases:
                 st,
                 self.q,
                 self.v,
-                self.v_tilde,
+                self.v_tilde if self.kept is None else self.v_tilde + self.kept,
                 dvd,
                 hold,
                 self.impulse[closed],
@@ -355,6 +355,14 @@ def _retake(model, st, step, rows, opts, at):
 def _energy(model, q, v) -> float:
     """T + V_strain + V_gravity (J) at (q, v)."""
     return model.kinetic_energy(v) + model.strain_energy(q) + model.potential_energy(q)
+
+
+def _pushed(cand, gaps, tol_gap: float, redundant: bool) -> np.ndarray:
+    """The candidates the correction left below −tol_gap, and, where rows can be redundant,
+    those it left touching within the tolerance (g ≤ tol_gap): a box face's fourth corner
+    lands with the other three, and whether it shares their load must not depend on the
+    round-off of its gap."""
+    return cand[gaps <= tol_gap] if redundant else cand[gaps < -tol_gap]
 
 
 def _impact(nu, impulse, held) -> bool:

@@ -23,7 +23,7 @@ import time
 
 import numpy as np
 
-from ..contact.watch import watched_depth
+from ..contact.watch import held_nodes, watched_depth
 from .constraints import StepFailure
 from .state import IntegratorOptions, PhaseTimer, State, length_scale
 
@@ -58,6 +58,8 @@ def hold_penetration(model, st: State, opts: IntegratorOptions, timer: PhaseTime
     depth = model.contacts.penetration(st.q, st.gaps)
     # the mortar interfaces' nodes: measured and reported, not held (contact.watch)
     watched, st.mortar_depth = watched_depth(model.contacts.watches, st.q)
+    if model.contacts.watches:
+        st.mortar_held = held_nodes(model.contacts.pairs, st.q)
     st.penetration = max(depth, watched)
     timer.add("contact", clock)
     if opts.integrator != "nsga" or depth == 0.0:

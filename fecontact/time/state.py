@@ -214,6 +214,8 @@ class State:
     # the deepest node of a mortar interface inside the other solid, over that solid's
     # shortest boundary edge (fecontact.contact.watch)
     mortar_depth: float = 0.0
+    # nodes of 2D mortar interfaces held by their own gaps at the end (contact.mortar_safeguard)
+    mortar_held: int = 0
     smooth: SmoothForces | None = None
     friction: FrictionRecord | None = None
     penalty: PenaltyRecord | None = None

@@ -1,0 +1,170 @@
+"""The semi-smooth Newton of Coulomb's law in the Alart–Curnier form (see
+:mod:`fecontact.contact.friction`): the projection Π on the cone and its generalized
+Jacobian, the residual R/p and its Jacobian, the Newton update (minimum-norm on a singular
+matrix) and its backtracking."""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.linalg.lapack import dgetrf, dgetrs
+
+__all__ = [
+    "NotConverged",
+    "coulomb_projection",
+    "newton",
+    "newton_jacobian",
+    "newton_residual",
+]
+
+
+class NotConverged(Exception):
+    """Newton did not bring the residual below its tolerance."""
+
+
+def coulomb_projection(sigma: np.ndarray, mu: np.ndarray):
+    """Π(σ) and its generalized Jacobian for contacts σ (m, 1 + nt), normal first.
+
+    Returns (Π (m, b), ∂Π/∂σ (m, b, b), status (m,)): 0 open, 1 stick, 2 slip. A contact
+    with μ = 0 slips with zero tangential force whatever σ_T."""
+    m, b = sigma.shape
+    sN, sT = sigma[:, 0], sigma[:, 1:]
+    closed = sN > 0.0
+    r = mu * np.maximum(sN, 0.0)
+    norm = np.linalg.norm(sT, axis=1)
+    stick = closed & (r > 0.0) & (norm <= r)
+    slip = closed & ~stick
+    Pi = np.zeros((m, b))
+    dPi = np.zeros((m, b, b))
+    Pi[closed, 0] = sN[closed]
+    dPi[closed, 0, 0] = 1.0
+    Pi[stick, 1:] = sT[stick]
+    dPi[stick, 1:, 1:] = np.eye(b - 1)
+    u = np.divide(sT, norm[:, None], out=np.zeros_like(sT), where=norm[:, None] > 0.0)
+    Pi[slip, 1:] = r[slip, None] * u[slip]
+    dPi[slip, 1:, 0] = mu[slip, None] * u[slip]
+    ratio = np.divide(r, norm, out=np.zeros_like(r), where=norm > 0.0)
+    uu = np.eye(b - 1)[None] - u[:, :, None] * u[:, None, :]
+    dPi[slip, 1:, 1:] = ratio[slip, None, None] * uu[slip]
+    status = np.where(stick, 1, np.where(slip, 2, 0))
+    return Pi, dPi, status
+
+
+def newton(c, D, p, k, mu, nt, x0, tol, max_iter, stats):
+    """Multipliers x of m frictional contacts (and any equality rows after them) with
+    w = c + k D x and R(x) = k x − Π(k x − p w) = 0.
+
+    Rows are ordered contact by contact (normal, then its ``nt`` tangents), then any
+    bilateral rows (joints: Π = identity, so w = 0 there). ``D`` is the Delassus matrix
+    G H⁻¹ Gᵀ of the rows, ``p`` one augmentation per row (> 0; the same on the tangent rows
+    of a contact, see :func:`fecontact.contact.friction.solve_coulomb`), ``mu`` (m,) the friction
+    coefficients. Semi-smooth Newton on R/p, a residual in the units of w: on the rows where
+    Π is the identity (closed normal, stick, bilateral) R/p = w, evaluated as such, so that
+    the equations w = 0 keep their accuracy for any p (k x − σ would cancel to round-off of
+    k x). Backtracking on |R/p|²; it stops when every |R_i/p_i| is below ``tol``. Returns
+    (x, status (m,), iterations); raises ``RuntimeError`` when it does not converge.
+    """
+    mu = np.asarray(mu, dtype=float)
+    nc, N = len(mu) * (1 + nt), len(c)
+    x = np.zeros(N) if x0 is None else np.asarray(x0, dtype=float).copy()
+    kD = k * D
+    dsigma = k * np.eye(N) - p[:, None] * kD
+
+    def residual(x):
+        return newton_residual(x, c, kD, p, k, mu, nc)
+
+    R, lin, status = residual(x)
+    for it in range(max_iter + 1):
+        err = np.max(np.abs(R), initial=0.0)
+        if not np.isfinite(err):
+            raise RuntimeError("frictional contact: non-finite residual")
+        if err <= tol:
+            stats.iterations += it
+            return x, status, it
+        if it == max_iter:
+            break
+        directions = _newton_direction(kD, dsigma, *lin, p, k, R, stats)
+        x, R, lin, status = _backtrack(residual, x, directions, R, stats)
+    raise NotConverged(f"residual {err:.3e} above {tol:.3e} after {max_iter} iterations")
+
+
+def newton_residual(x, c, kD, p, k, mu, nc):
+    """R/p of :func:`newton` at x (w where Π is the identity), the parts of its Jacobian
+    (∂Π, the rows evaluated as w) and the contacts' status."""
+    m, N = len(mu), len(c)
+    b = nc // m if m else 1
+    w = c + kD @ x
+    sigma = k * x - p * w
+    Pi, dPi, status = coulomb_projection(sigma[:nc].reshape(m, b), mu)
+    dPi = _block_diagonal(dPi, N)
+    ident = np.diagonal(dPi) == 1.0
+    ident[nc:] = True
+    ident[:nc] &= np.repeat(status == 1, b) | (np.arange(nc) % b == 0)
+    R = np.where(ident, w, (k * x - np.concatenate([Pi.ravel(), sigma[nc:]])) / p)
+    return R, (dPi, ident), status
+
+
+def newton_jacobian(kD, dsigma, dPi, ident, p, k):
+    """∂(R/p)/∂x: kD on the rows evaluated as w, (k I − ∂Π ∂σ/∂x)/p on the others."""
+    J = -(dPi @ dsigma)
+    J[np.diag_indices(len(J))] += k
+    return np.where(ident[:, None], kD, J / p[:, None])
+
+
+def _newton_direction(kD, dsigma, dPi, ident, p, k, R, stats, rcond=1e-10):
+    """The semi-smooth Newton update dx of R/p.
+
+    More closed rows than the bodies' degrees of freedom (a cylinder on the rim points of
+    its base, a box face with many points) make D = A H⁻¹ Aᵀ singular, and with it the
+    Newton matrix on sticking contacts. An LU then returns a step whose components in the
+    null space of D are round-off amplified by the inverse of a pivot near zero: they do not
+    move the bodies (H⁻¹Aᵀ x ignores them), but they move σ = k x − p w and with it each
+    contact's status, and the backtracking stalls. Where the LU's pivots show the matrix
+    singular (the smallest below ``rcond`` of the largest), the step is the minimum-norm
+    solution of the truncated singular value decomposition: Newton's step on the range,
+    none along the multipliers the contacts cannot tell apart. The residual stays the exact
+    one, so the answer is exact. Counted in ``stats.minimum_norm_steps``.
+
+    Returns the directions to try in turn: on a singular matrix the minimum-norm one, then
+    the LU's where its pivots are nonzero. Where the rows are inconsistent for the current
+    statuses (R outside the range of J) the minimum-norm step stops at a nonzero minimum of
+    |R|²; the LU's long step crosses into other statuses (a tumbling box's velocity jumps
+    needed it)."""
+    J = newton_jacobian(kD, dsigma, dPi, ident, p, k)
+    lu, piv, _ = dgetrf(J)  # (LAPACK's getrf and getrs: np.linalg.solve's own path)
+    pivots = np.abs(np.diagonal(lu))
+    if pivots.min(initial=np.inf) > rcond * pivots.max(initial=0.0):
+        return (dgetrs(lu, piv, -R)[0],)
+    stats.minimum_norm_steps += 1
+    lu_step = dgetrs(lu, piv, -R)[0] if np.all(pivots > 0.0) else None
+    return np.linalg.lstsq(J, -R, rcond=rcond)[0], lu_step
+
+
+def _backtrack(residual, x, directions, R, stats):
+    """x + s dx with the largest s = 2⁻ⁱ that decreases |R|² (Armijo), over the
+    ``directions`` in turn (None: none); the full step of the last when none of 20 does
+    along any (the merit of a nonsmooth residual can rise across a kink), counted."""
+    f0 = R @ R
+    directions = [d for d in directions if d is not None]
+    for dx in directions:
+        s = 1.0
+        for _ in range(20):
+            xs = x + s * dx
+            Rs, lin, status = residual(xs)
+            if Rs @ Rs <= (1.0 - 1e-4 * s) * f0:
+                return xs, Rs, lin, status
+            s *= 0.5
+            stats.line_search_cuts += 1
+    stats.full_steps_forced += 1
+    xs = x + directions[-1]
+    return (xs, *residual(xs))
+
+
+def _block_diagonal(blocks: np.ndarray, N: int) -> np.ndarray:
+    """The (N, N) matrix of the contacts' (m, b, b) blocks followed by an identity."""
+    m, b, _ = blocks.shape
+    out = np.zeros((N, N))
+    idx = np.arange(m)[:, None] * b + np.arange(b)
+    out[idx[:, :, None], idx[:, None, :]] = blocks
+    tail = np.arange(m * b, N)
+    out[tail, tail] = 1.0
+    return out

@@ -1,0 +1,94 @@
+"""Redundant frictional contacts: more closed rows than the degrees of freedom they move (a
+box face's four corners on a plane: four normal rows on the three dofs that lift it). The
+law's multipliers are then not unique, and Coulomb friction can make the motion depend on
+which are taken; the choices here depend on neither p nor k (see
+:func:`fecontact.contact.friction.solve_coulomb` with ``minimum_norm``)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .coulomb_newton import NotConverged, newton, newton_jacobian, newton_residual
+
+__all__ = ["least_norm", "one_open", "without_round_off"]
+
+
+def one_open(c, D, p, k, mu, nt, x0, tol, max_iter, stats):
+    """Where Newton stalls at a nonzero minimum of |R|² on redundant rows (a box's four
+    corners all held closed while the law needs one to lift: the rows are inconsistent for
+    those statuses), the law on every contact but one, kept where the one left out
+    separates (w_N ≥ −tol): (x, iterations) of the least-norm of those, or None. Counted in
+    ``stats.opened_contact_solves``."""
+    m, b = len(mu), 1 + nt
+    best = None
+    for j in range(m):
+        keep = np.flatnonzero((np.arange(len(c)) // b != j) | (np.arange(len(c)) >= m * b))
+        sub = np.ix_(keep, keep)
+        start = None if x0 is None else x0[keep]
+        try:
+            xr, _, its = newton(
+                c[keep], D[sub], p[keep], k, np.delete(mu, j), nt, start, tol, max_iter, stats
+            )
+        except NotConverged:
+            continue
+        x = np.zeros(len(c))
+        x[keep] = xr
+        lifts = c[j * b] + k * (D[j * b] @ x) >= -tol
+        if lifts and (best is None or np.linalg.norm(x) < np.linalg.norm(best[0])):
+            best = x, its
+    if best is None:
+        return None
+    stats.opened_contact_solves += 1
+    return best
+
+
+def least_norm(c, D, p, k, mu, nt, x, tol, stats, rcond=1e-10, cycles=8):
+    """Of the solutions of the law around the solution x, the one of least norm |x|.
+
+    Redundant rows (a box face's four corners on a plane: four normal rows on the three
+    dofs that lift it) leave a family of solutions: impulses that move no body (internal
+    forces between sticking corners), and, where a corner slips, normal impulses traded
+    between the corners whose friction then moves the body differently. Which member the
+    semi-smooth Newton reaches depends on its path, and with it on p, k and the warm start.
+    The family's directions at x are the null space Z of the Jacobian of R/p (singular
+    values below ``rcond`` of the largest); x is moved to x − ZZᵀx (the least-norm point of
+    the family's tangent plane) and Newton brings it back onto the law with minimum-norm
+    steps, which stay orthogonal to Z. On a straight family (frictionless, sticking) one
+    cycle reaches the least-norm solution; friction curves it, and the cycles repeat until
+    the move is below 1e-12 of |x|. The rule involves neither p nor k: with a frictionless
+    law it is the limit of a uniform contact compliance going to zero. A cycle whose Newton
+    fails keeps the solution it started from; such cycles and those that end unsettled are
+    counted (``stats.least_norm_unsettled``), the moves in ``stats.least_norm_moves``."""
+    kD = k * D
+    nc, N = len(mu) * (1 + nt), len(c)
+    dsigma = k * np.eye(N) - p[:, None] * kD
+    status = None
+    for _ in range(cycles):
+        R, (dPi, ident), status = newton_residual(x, c, kD, p, k, mu, nc)
+        s, Vt = np.linalg.svd(newton_jacobian(kD, dsigma, dPi, ident, p, k))[1:]
+        Z = Vt[s <= rcond * s[0]]
+        shift = Z.T @ (Z @ x)
+        if np.linalg.norm(shift) <= 1e-12 * np.linalg.norm(x):
+            return x, status
+        stats.least_norm_moves += 1
+        try:
+            x, status, _ = newton(c, D, p, k, mu, nt, x - shift, tol, 50, stats)
+        except NotConverged:
+            break
+    stats.least_norm_unsettled += 1
+    return x, status
+
+
+def without_round_off(x, status, m: int, nt: int):
+    """x with the contacts whose normal multiplier is round-off of the largest (1e-14 of
+    it) carrying nothing: such a contact is grazing (zero gap, zero force), and the sign of
+    its round-off would decide whether the next step counts it as pressed (and gives it
+    slip rows)."""
+    blocks = x[: m * (1 + nt)].reshape(m, 1 + nt)
+    idle = blocks[:, 0] <= 1e-14 * np.max(np.abs(x), initial=0.0)
+    idle &= np.any(blocks != 0.0, axis=1)
+    if not idle.any():
+        return x, status
+    x = x.copy()
+    x[: m * (1 + nt)].reshape(m, 1 + nt)[idle] = 0.0
+    return x, np.where(idle, 0, status)

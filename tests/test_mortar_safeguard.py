@@ -1,0 +1,106 @@
+"""The pointwise safeguard of 2D mortar interfaces: a node deeper than half the allowance
+inside the other disk is held by its own gap (slave nodes: their row becomes the smaller of
+the weighted gap and g_N + δ; master nodes: rows of their own), with exact derivatives, and
+the weighted gaps are untouched bit for bit wherever no node is that deep."""
+
+import numpy as np
+
+from fecontact import Model
+from fecontact.bodies import Solid
+from fecontact.contact import Contact
+from fecontact.contact.mortar_safeguard import ALLOWANCE, shortest_edge
+from fecontact.scenes import solid_material
+from fecontact.testing import gap_derivatives_error
+
+
+def overlapping_disks(gap, safeguard=True):
+    """Two disks of radius 0.1 m (refinements 2, 12 mm edges) ``gap`` apart (m; < 0 overlap),
+    the right one 3 mm up, their mortar pair and model; ``safeguard`` False: the weighted gaps
+    alone (for comparison)."""
+    mat = solid_material("linear", 1e7, 0.3, 1e3)
+    a = Solid.disk([-0.1 - gap / 2, 0.0], 0.1, 2, mat)
+    b = Solid.disk([0.1 + gap / 2, 0.003], 0.1, 2, mat)
+    pair = Contact(a, b, method="mortar")
+    if not safeguard:
+        pair.pointwise = pair.master_rows = None
+    model = Model([a, b], [pair], gravity=(0.0, 0.0))
+    pair.detect_within(0.02)
+    return model, pair
+
+
+def poked(model, body: int, depth: float) -> np.ndarray:
+    """q that moves the boundary node of disk ``body`` nearest the other disk ``depth`` (m)
+    towards it along x, the rest of both disks at rest."""
+    solid, sign = model.bodies[body], (1.0, -1.0)[body]
+    tip = solid.contact_nodes(None)[np.argmax(sign * solid.X[solid.contact_nodes(None), 0])]
+    q = np.zeros(model.n)
+    q[model.offset_of(solid) + solid.node_translation_dofs(np.array([tip]))[0, 0]] = sign * depth
+    return q
+
+
+def test_a_slave_node_deeper_than_its_weighted_gap_is_held_by_its_own_gap():
+    # statically overlapping or poked disks have their weighted gaps below the nodes' own
+    # (the dual weights extrapolate from the covered part); the nodes that sink deeper than
+    # their weighted gaps are those of a surface bulging in flight (tests/test_fast_approach).
+    # Here the allowance is made negative (−5 mm) so that every row near the contact takes
+    # the node's own gap: the rows' composition and its derivatives are what is tested
+    model, pair = overlapping_disks(-0.003)
+    _, weighted = overlapping_disks(-0.003, safeguard=False)
+    pair.pointwise.allowance = -0.005
+    q = np.random.default_rng(2).normal(0.0, 1e-4, model.n)
+    g, g_w, g_s = pair.evaluate(q)[0], weighted.evaluate(q)[0], pair.pointwise.gaps(q)
+    deep = (g_s < g_w) & (g_s < -0.0025)
+    assert deep.sum() >= 1  # (the tip of the left disk)
+    assert np.array_equal(g[deep], g_s[deep]) and np.array_equal(g[~deep], g_w[~deep])
+    # central differences, step 1e-7 m: round-off ~1e-9 relative
+    err_g, err_h = gap_derivatives_error(pair, q, 1e-7)
+    assert err_g < 1e-8 and err_h < 1e-6
+
+
+def test_a_master_node_deep_inside_gets_a_row_and_the_others_are_never_candidates():
+    model, pair = overlapping_disks(-0.003)
+    rows = pair.master_rows
+    a = model.bodies[0]  # the slave disk, whose surface the master's nodes are held out of
+    assert rows.allowance == ALLOWANCE * shortest_edge(a, a.contact_facets())
+    q = np.zeros(model.n)
+    g, _, G, _ = rows.evaluate(q)
+    deep = g < 0.5 * rows.allowance
+    assert deep.sum() >= 1
+    # the shallow nodes: a finite gap beyond the detection distance, no gradient
+    assert np.all(g[~deep] == 2.0 * rows.base_margin) and not G[~deep].any()
+    assert (
+        gap_derivatives_error(rows, np.random.default_rng(3).normal(0.0, 1e-4, model.n))[0] < 1e-8
+    )
+
+
+def test_no_node_that_deep_leaves_the_weighted_gaps_bit_for_bit():
+    # 0.5 mm apart: every row is the weighted gap, the master's rows are never candidates
+    model, pair = overlapping_disks(0.0005)
+    _, weighted = overlapping_disks(0.0005, safeguard=False)
+    q = np.zeros(model.n)
+    for a, b in zip(pair.evaluate(q)[:3], weighted.evaluate(q)[:3], strict=True):
+        assert np.array_equal(a, b)
+    assert np.all(pair.master_rows.gaps(q) > 0.02)
+
+
+def test_the_summary_counts_the_steps_that_end_with_a_node_held(tmp_path):
+    import json
+    from pathlib import Path
+
+    from fecontact.cli.commands import main
+    from fecontact.scenes import wave_step
+    from fecontact.testing import case
+
+    path = Path(__file__).resolve().parents[1] / "cases" / "two_disks.py"
+    dt = wave_step(case("two_disks").build(refinements=2).model.bodies[0], 1)
+    for velocity, held in ((30, True), (1, False)):
+        out = tmp_path / str(velocity)
+        args = ["run", str(path), "--quiet", "--out", str(out), "--checkpoint-every", "0"]
+        args += ["--set", f"velocity={velocity}", "--set", "refinements=2"]
+        assert main([*args, "--dt", str(dt), "--t-end", "0.004"]) == 0
+        summary = json.loads((out / "summary.json").read_text())
+        assert summary["status"] == "completed"
+        # 30 m/s at dx/c: nodes of both disks sink and are held (the weighted gaps alone let
+        # them 2.2 % of an edge in); 1 m/s: the weighted gaps alone, no node held
+        assert (summary["mortar_held_steps"] > 0) == held
+        assert summary["mortar_depth"] <= 0.01
