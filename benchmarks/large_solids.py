@@ -15,8 +15,10 @@ path), ``direct`` (the default: sparse Cholesky, MKL PARDISO, for the symmetric 
 in the "auto chose" column). Per row: ms per step (``time_per_step_s``, wall) and CPU ms per
 step (the run's CPU time over its steps: what the comparisons use), Newton iterations per
 step, factorizations and their time, CG solves, the factor's memory (PARDISO's report) and
-the process's peak (``ru_maxrss``), the largest penetration and the final energy (the paths
-agree on them to the solver tolerance). Per group: each path's CPU time over the fastest
+the process's peak (``ru_maxrss``), the largest penetration, the initial and final energy
+(T + V_strain) and the energy the ledger finds created (``summary.json`` ``energy_ledger``;
+its warning, naming the step and phase, follows the status) (the paths agree on them to the
+solver tolerance). Per group: each path's CPU time over the fastest
 one's. Below the table: the default's growth exponent from the smallest to the largest ball,
 per material and step.
 
@@ -80,7 +82,9 @@ COLUMNS = [
     "factor_mb",
     "peak_mb",
     "max_penetration",
+    "energy_initial",
     "energy_final",
+    "created",
     "vs_fastest",
     "status",
     "sweep",
@@ -94,7 +98,9 @@ HEADERS = {
     "factor_mb": "factor (MB)",
     "peak_mb": "peak memory (MB)",
     "max_penetration": "penetration (m)",
+    "energy_initial": "initial energy (J)",
     "energy_final": "final energy (J)",
+    "created": "created (J)",
     "vs_fastest": "/ fastest",
 }
 TITLES = [HEADERS.get(c, c) for c in COLUMNS]
@@ -148,8 +154,10 @@ def one(material: str, size: int, per_tc: int, solver: str, cap: int) -> dict:
         "factor_mb": record["factor_memory_mb"],
         "peak_mb": record["peak_memory_mb"],
         "max_penetration": s["max_penetration"],
+        "energy_initial": s["energy_initial"],
         "energy_final": s["energy_final"],
-        "status": s["status"],
+        "created": s["energy_ledger"]["created"],
+        "status": s["status"] + "".join(f"; {w}" for w in s["warnings"]),
     }
 
 

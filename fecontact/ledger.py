@@ -50,24 +50,35 @@ TERMS = ("load_work", "damping", "friction", "impact", "numerical")
 NO_WORK = np.zeros(3)  # a step without impulses: (normal, tangential, joints) works
 NO_WORK.flags.writeable = False
 JUMPS = ("velocity jump", "impact")  # the phases that are velocity jumps (NSGA, Moreau–Jean)
+# what a creation in the position correction of contacts that closed within the step adds
+CLOSING = (
+    ", of {} that closed within the step: the strain the correction leaves pushing them out "
+    "of the obstacle is energy the impact did not have (localize=1 takes a closing at its "
+    "instant)"
+)
+# the phase of a smooth step taken again without the forces of the contacts it releases
+RELEASE = "smooth step's retake without the forces of the contacts it releases"
 
 
 def smooth_record(
-    model, contact_phase, v_tilde, q_tilde=None, friction_work=0.0, works=None
+    model, contact_phase, v_tilde, q_tilde=None, friction_work=0.0, works=None, release=0.0
 ) -> np.ndarray | None:
     """What a stepper leaves in its state (``State.ledger``) for the ledger after its smooth
     step, when a ``contact_phase`` (correction or jump) may follow: the kinetic energy of
     ṽ, the potential (strain + gravity) energy of q̃ (NaN when no correction moved q: then
-    it is that of the step's end), the work the smooth step's friction forces dissipated
-    and the velocity jump's ``works`` (normal, tangential, joints;
-    :func:`fecontact.ledger_works.jump_work`) (J). Without a contact phase, None."""
+    it is that of the step's end), the work the smooth step's friction forces dissipated,
+    the velocity jump's ``works`` (normal, tangential, joints;
+    :func:`fecontact.ledger_works.jump_work`) and the energy the smooth step's retake
+    without the forces of the contacts it releases added over its first try (``release``)
+    (J). Without a contact phase, None."""
     if not contact_phase:
         return None
     V = math.nan
     if q_tilde is not None:
         V = model.strain_energy(q_tilde) + model.potential_energy(q_tilde)
     works = (0.0, 0.0, 0.0) if works is None else works
-    return np.array([model.kinetic_energy(v_tilde), V, friction_work, *works])
+    record = [model.kinetic_energy(v_tilde), V, friction_work, *works]
+    return np.array(record + [release] if release else record)
 
 
 def joined_record(model, first, second) -> np.ndarray | None:
@@ -93,6 +104,8 @@ def joined_record(model, first, second) -> np.ndarray | None:
     out[1] = r2[1] - (V1 - V1_tilde)
     out[2] = r1[2] + r2[2]
     out[3:6] += r1[3:6] if r1.size >= 6 else 0.0
+    if r1.size > 6:  # the first part's release
+        out[6] += r1[6]
     return out
 
 
@@ -133,6 +146,8 @@ class EnergyLedger:
         if math.isnan(self.initial):
             self.initial = self.energy
             self.peak = 0.0
+            if st.ledger is not None:  # an impact at t = 0: the run was given T(v₀⁻)
+                _initial_jump(self, st, kinetic)
         if math.isnan(self.lost):
             self.lost = self.initial + self.terms["load_work"] - self.energy
         if self.damped:
@@ -204,8 +219,10 @@ class EnergyLedger:
             works = record[3:6] if record.size >= 6 else NO_WORK
             correction, jump = V - V_tilde, kinetic - T_tilde
             smooth = T_tilde + V_tilde - self.energy - W + damping + smooth_friction
+            release = float(record[6]) if record.size > 6 else 0.0
             gains = {
-                "smooth step": smooth,
+                "smooth step": smooth - release,
+                RELEASE: release,
                 "position correction": correction,
                 "velocity jump": jump,
                 "friction": -friction,
@@ -234,8 +251,10 @@ class EnergyLedger:
         elif fall > 0.0:
             if self.worst is None or step_fall > self.worst[0]:
                 phase = max(gains, key=gains.get)
-                gripping = _jump_gripping(st) if slip_work > 0.0 else []
-                self.worst = (step_fall, st.t, st.step, phase, slip_work, gripping)
+                named = _jump_gripping(st) if slip_work > 0.0 else []
+                if phase == "position correction":
+                    named = _closing(self.last, st)
+                self.worst = (step_fall, st.t, st.step, phase, slip_work, named)
             if fall > self.created:
                 self.created, self.where = fall, self.worst
         if friction < 0.0:
@@ -290,6 +309,8 @@ class EnergyLedger:
                     "Newton's kinematic restitution with Coulomb friction is not energetically "
                     'consistent, Poisson\'s law is (impact_law="poisson")'
                 )
+            if phase == "position correction" and contacts:
+                text += CLOSING.format(self._named(contacts))
             out.append(text)
         if self.positive_friction > self._limit(FRICTION):
             work, t, step, contacts = self.friction_where
@@ -331,6 +352,25 @@ class EnergyLedger:
         for k in ("worst", "where", "friction_where"):
             if values.get(k) is not None:
                 setattr(self, k, tuple(values[k]))
+
+
+def _initial_jump(ledger: EnergyLedger, st, kinetic: float) -> None:
+    """Book the velocity jump of a run's start (:func:`fecontact.time.impacts.impact_start`)
+    in ``ledger``: E(0) is the energy before it, the jump's change is the impact's."""
+    jump = kinetic - float(st.ledger[0])
+    ledger.initial -= jump
+    ledger.terms["impact"] -= jump
+    ledger.impact_work += st.ledger[3:6]
+    ledger.lost = 0.0
+    ledger._track(st, ledger.energy, {"velocity jump": jump}, 0.0, float(st.ledger[4]))
+
+
+def _closing(last, st) -> list[int]:
+    """The contacts the position correction of the step ``st`` pushed out that no force
+    pressed in the step before (``last``): they closed within the step."""
+    if last is None or st.nu.size != st.impulse.size or last.impulse.size != st.nu.size:
+        return []
+    return np.flatnonzero((st.nu > 0.0) & ~last.pressed()).tolist()
 
 
 def _jump_gripping(st) -> list[int]:

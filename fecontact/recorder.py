@@ -102,7 +102,7 @@ class Recorder:
             row += [p.fn(m, st) for p in self.sim.probes.values()]
             self.history.write(row)
         if st.step == 0:
-            self.energy_initial = total
+            self.energy_initial = self.ledger.initial  # (before an impact at t = 0)
         else:
             self.steps += 1
             self.iter_total += its

@@ -3,16 +3,19 @@ q_{n+1}, the joints' velocity constraints, and Coulomb friction where the contac
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from ..contact.restitution import impulse_work
+from ..ledger import smooth_record
 from ..ledger_works import jump_work
 from ..linalg import factorize
 from .constraints import Constraints, StepFailure, constraint_columns, impact_law
 from .coulomb import frictional_jump
 from .poisson import poisson_jump
 
-__all__ = ["velocity_jump"]
+__all__ = ["impact_start", "velocity_jump"]
 
 _EMPTY = np.zeros(0)
 _EMPTY.flags.writeable = False
@@ -97,6 +100,35 @@ def velocity_jump(
     W, P, its = impact_law(G1, gdot, model.solve_M, Y, opts, cons.bilateral, P0, tol)
     works = impulse_work(P, rates, rates + G1 @ W, closed.size, 0)
     return W, P, its, None, works
+
+
+def impact_start(model, st, opts, tol_gap: float, dt: float):
+    """The initial state ``st`` with the impact law applied at t = 0 to the contacts that
+    touch (gap ≤ ``tol_gap``, m) while approaching (ġ < −tol_gap/``dt``): the impact of a
+    body released in contact takes place at t = 0, where the jump of the first step would
+    take it at t = dt. Left to that jump, a solid's contact node enters the obstacle by
+    ġ dt before the position correction pushes it out, and the strain the correction
+    leaves is energy the impact never had: ½ δᵀ(G H⁻¹Gᵀ)⁻¹δ with δ = ġ dt (the 3,993-dof
+    ball at 0.1 m/s and dt = t_c/20: 1.3e-4 J, 5 % of its kinetic energy). After the jump
+    the contacts carry its impulses, so that the smooth step holds them (they are
+    persistent, :mod:`.smooth_contact`). The state keeps a ledger record of its kinetic
+    energy before the jump, so that the ledger starts from the energy the run was given
+    and books the jump as impact. ``opts``: the run's settings. Moving obstacles,
+    friction and states without an approaching contact are left as they are."""
+    touching = np.flatnonzero(st.gaps <= tol_gap)
+    contacts = model.contacts
+    if touching.size == 0 or contacts.moving or contacts.frictional:
+        return st
+    _, G = contacts.linearize(st.q, touching)[:2]
+    if not np.any(G @ st.v[model.free] < -tol_gap / dt):
+        return st
+    W, P, _, _, works = velocity_jump(model, st, st.q, st.v, touching, st.gaps, opts, dt, tol_gap)
+    v = st.v.copy()
+    v[model.free_slice] += W
+    impulse = st.impulse.copy()
+    impulse[touching] = P[: touching.size]
+    record = smooth_record(model, True, st.v, None, 0.0, works)
+    return dataclasses.replace(st, v=v, impulse=impulse, candidates=touching, ledger=record)
 
 
 def _approach_rates(model, st, q, t, rows, opts, tol_gap, approach) -> np.ndarray:

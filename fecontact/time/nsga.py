@@ -97,8 +97,8 @@ class _Phases:
     # the attributes (slots: every access of the step's hot loop is cheaper)
     __slots__ = (
         "Gb P a c cand closed corrected force forces g_tilde gaps grip h held impulse "
-        "iters kept lam m model nu opts q q_tilde record smooth_step st st_s step t timer tol_gap "
-        "v v_tilde vd works"
+        "iters kept lam m model nu opts q q_tilde record release smooth_step st st_s step t "
+        "timer tol_gap v v_tilde vd works"
     ).split()
 
     def __init__(self, model, st: State, h: float, opts, timer: PhaseTimer, smooth_step):
@@ -114,6 +114,7 @@ class _Phases:
         self.corrected = None  # (q̃, the metric's solve) after a correction (decoupled scheme)
         self.q_tilde = None  # q̃ after a correction moved q (for the energy ledger)
         self.g_tilde = None  # the gaps at q̃, when known before the correction
+        self.release = 0.0  # what a retake without released contacts' forces put in (J)
 
     def smooth(self) -> np.ndarray:
         """Step 1 (taken again without the contacts it releases) and the records of its
@@ -125,10 +126,8 @@ class _Phases:
         self.st_s = st  # the state the smooth step starts from
         step = (self.smooth_step or alpha_smooth_step)(model, st, t, c, opts, self.timer, P)
         if opts.smooth and (rows := released(st, P, step.force, opts.tol_residual)).size:
-            self.st_s, first = without_released(model, st, rows), step.iterations
-            opts.stats.releases += 1
-            step = alpha_smooth_step(model, self.st_s, t, c, opts, self.timer, P)
-            step = step._replace(iterations=step.iterations + first)
+            at = (t, c, P, self.timer)
+            self.st_s, step, self.release = _retake(model, st, step, rows, opts, at)
         self.P, self.step = P, step
         self.q, self.v, self.vd, self.a, self.lam = step.q, step.v, step.vd, step.a, step.lam
         self.Gb, self.force = step.Gb, step.force
@@ -337,8 +336,25 @@ class _Phases:
             at |= {"impulse": self.impulse, "smooth": self.forces, "friction": self.record}
             phase = self.cand.size + self.model.joints.size  # a correction or a jump may follow
             args = (self.v_tilde, self.q_tilde, self.step.friction_work, self.works)
-            at["ledger"] = smooth_record(self.model, phase, *args)
+            at["ledger"] = smooth_record(self.model, phase, *args, release=self.release)
         return State(self.t, self.q, self.v, self.vd, self.a, **at)
+
+
+def _retake(model, st, step, rows, opts, at):
+    """The smooth step from ``st`` taken again without the forces of the contacts ``rows``
+    it released (:func:`without_released`; ``at`` = (t_{n+1}, coefficients, P, timer)): the
+    state it starts from, the step, and the energy (J) it ends with over the first ``step``."""
+    t, c, P, timer = at
+    st_s = without_released(model, st, rows)
+    opts.stats.releases += 1
+    retake = alpha_smooth_step(model, st_s, t, c, opts, timer, P)
+    retake = retake._replace(iterations=retake.iterations + step.iterations)
+    return st_s, retake, _energy(model, retake.q, retake.v) - _energy(model, step.q, step.v)
+
+
+def _energy(model, q, v) -> float:
+    """T + V_strain + V_gravity (J) at (q, v)."""
+    return model.kinetic_energy(v) + model.strain_energy(q) + model.potential_energy(q)
 
 
 def _pushed(cand, gaps, tol_gap: float, redundant: bool) -> np.ndarray:

@@ -9,6 +9,7 @@ from ..errors import check_positive
 from ..linalg.legacy import record_run
 from .adaptive import adaptive_steps, failure_error, ladder_depth
 from .constraints import StepFailure
+from .impacts import impact_start
 from .smooth_contact import resting_start
 from .state import IntegratorOptions, PhaseTimer, State, initial_state, length_scale
 from .stats import StepStats
@@ -54,7 +55,9 @@ def simulate(
             state = initial_state(model, q0, v0, opts.tol_gap)
             if opts.integrator == "nsga" and opts.smooth:
                 tol = opts.tol_gap * length_scale(model, state.q)
-                state = resting_start(model, state, tol, tol / dt, opts.stats.contact)
+                given = state.v  # (the damping of the restart is taken before an impact at 0)
+                state = impact_start(model, state, opts, tol, dt)
+                state = resting_start(model, state, tol, tol / dt, opts.stats.contact, given)
             yield state
         else:
             state = start

@@ -206,7 +206,7 @@ class SmoothContacts:
         return out
 
 
-def resting_start(model, st, tol_gap: float, tol_rate: float, stats=None):
+def resting_start(model, st, tol_gap: float, tol_rate: float, stats=None, v_smooth=None):
     """The initial state ``st`` with its resting contacts pressed: those that touch (gap ≤
     ``tol_gap``, m) and neither approach nor leave (|ġ| ≤ ``tol_rate``, m/s) carry the
     contact forces of the consistent acceleration (:func:`restarted_acceleration`), in v̇₀ =
@@ -214,14 +214,17 @@ def resting_start(model, st, tol_gap: float, tol_rate: float, stats=None):
     then starts supported, instead of falling into it in the first step and being stopped
     by a correction, which put energy in the strain of an unresolved mesh (a block on a
     plane at 8 Δx/c: 6e-5 J, ten times the energy of its ringing). Approaching contacts are
-    left to the impact law. ``stats``: the run's :class:`fecontact.contact.stats.ContactStats`."""
+    left to the impact law. ``stats``: the run's :class:`fecontact.contact.stats.ContactStats`;
+    ``v_smooth``: the velocity damping is taken at, the given one before an impact at t = 0
+    (:func:`fecontact.time.impacts.impact_start`; default ``st.v``)."""
     F = model.free
     touching = np.flatnonzero(st.gaps <= tol_gap)
     if touching.size == 0 or model.contacts.moving:  # (moving obstacles: no restart)
         return st
     _, G = model.contacts.linearize(st.q, touching)[:2]
     resting = touching[np.abs(G @ st.v[F]) <= tol_rate]
-    start = restarted_acceleration(model, st.q, st.v, st.v, st.t, resting, tol_rate, stats)
+    v_smooth = st.v if v_smooth is None else v_smooth
+    start = restarted_acceleration(model, st.q, st.v, v_smooth, st.t, resting, tol_rate, stats)
     if start is None or start[1][0].size == 0:
         return st
     acc, (rows, forces) = start
