@@ -45,6 +45,19 @@ def test_a_resting_solid_is_carried_by_the_smooth_force():
     assert max(np.abs(st.impulse).sum() for st in late) < 1e-6 * weight * sim.dt
 
 
+def test_mass_proportional_damping_alone_restarts_the_acceleration():
+    """Rayleigh damping with α only (β_K = 0): the restart after an impact damps with α M
+    alone (it asked for no tangent and multiplied β_K by a missing K: a TypeError at the
+    first landing). The block settles and the plane carries its weight."""
+    block = Solid.rectangle([0.0, 0.0], [0.2, 0.05], (8, 2), LinearElastic(1e7, 0.3, 1000.0))
+    model = Model([block], [Contact(block, Plane([0.0, 0.0], [0.0, 1.0]))], damping=(5.0, 0.0))
+    states = list(simulate(model, 1e-3, 0.4, IntegratorOptions()))
+    weight = block.mass * 9.81
+    # settled under α = 5 /s over 0.4 s: the force is the weight to the solver's tolerance
+    # on the residual (1e-8 of the forces), and the velocities decay as e^(−αt/2) ≈ 0.37
+    assert states[-1].force.sum() == pytest.approx(weight, rel=1e-6)
+
+
 def test_the_decoupled_scheme_stays_available():
     sim = resting_block("off")
     states = list(simulate(sim.model, sim.dt, sim.t_end, sim.options))

@@ -326,7 +326,7 @@ def restarted_acceleration(model, q, v, v_smooth, t, closed, tol_rate: float, st
         return None
     F = model.free
     alpha, beta_k = model.damping
-    _, fint, K = model.internal(q, tangent=bool(beta_k))
+    _, fint, K = model.internal(q, tangent=bool(alpha or beta_k))  # (K: the damping's)
     f = model.external(t)[F] - fint[F]
     if model.inertial_bodies:  # the gyroscopic forces of rotating bodies, Ω × JΩ
         f -= inertial_forces(model, q, v, tangent=False)[0]
