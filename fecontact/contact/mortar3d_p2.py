@@ -16,7 +16,7 @@ import numpy as np
 
 from ..errors import InputError
 from .mortar3d import MortarContact3D
-from .mortar_p2 import covered_part_gaps, reference_rule, shape_functions
+from .mortar_p2 import QuadraticFacePairs, covered_part_gaps, reference_rule, shape_functions
 from .mortar_p2_triangles import DUALS, TRANSFORM, p2_triangle_integrals
 
 __all__ = ["MortarContact3DP2", "quadratic_triangles", "triangle_shares"]
@@ -57,32 +57,12 @@ def triangle_shares(x: np.ndarray, faces: np.ndarray) -> np.ndarray:
     return dA @ _NT
 
 
-class MortarContact3DP2(MortarContact3D):
+class MortarContact3DP2(QuadraticFacePairs, MortarContact3D):
     """Dual mortar contact of the curved boundary of a 3D P2 :class:`~fecontact.Solid` (the
     slave ``body``) with that of another (the ``master``); see the module docstring. One
     contact per slave boundary node, corners and edge nodes."""
 
     faces_of, shares_of = staticmethod(quadratic_triangles), staticmethod(triangle_shares)
-
-    def _overlapping(self, q: np.ndarray):
-        """The slave nodes' positions and the candidate pairs that overlap: slave faces e,
-        local coordinates z (P, 36), global dofs and the value pass's integrals."""
-        xs, xm = self.positions(q)
-        e, f = self._near(xs, xm, *self._pairs(xs, xm))
-        sn, mn = self.facets[e], self.master_facets[f]
-        z = np.concatenate([xs[sn], xm[mn]], axis=1).reshape(len(e), 36)
-        jets, coverage, covered, _ = self._integrate(e, z, None)
-        keep = coverage > 0.0
-        prior = ([j.take(keep) for j in jets], coverage[keep], covered[keep])
-        return xs, e[keep], z[keep], self._global_dofs(sn[keep], mn[keep]), prior
-
-    def _local(self, q: np.ndarray, derivatives: bool = True):
-        xs, e, z, dofs, _ = self._overlapping(q)
-        return e, z, dofs, xs
-
-    def _values(self, q: np.ndarray):
-        xs, e, _, _, (jets, coverage, covered) = self._overlapping(q)
-        return e, jets, coverage, covered, xs
 
     def _integrate(self, e, z, hessian):
         """Jets of the faces' weighted gaps, coverage, covered weights and the quadrature

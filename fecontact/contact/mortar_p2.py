@@ -45,6 +45,7 @@ from ..errors import InputError
 
 __all__ = [
     "ALPHA",
+    "QuadraticFacePairs",
     "SMALLEST",
     "covered_part_gaps",
     "dual_coefficients",
@@ -178,3 +179,30 @@ def covered_part_gaps(e, moments, mass_of, coverage, n_faces: int, duals: np.nda
             g[part] += own[:, j] - other[:, j]
             jet.g = g
     return jets, A
+
+
+class QuadraticFacePairs:
+    """The candidate pairs of a mortar interface on quadratic faces (segments or triangles),
+    shared by the 2D and 3D interfaces: their overlap found by the value pass of the
+    interface's own ``_integrate``, the pairs whose slave face it covers kept."""
+
+    def _overlapping(self, q: np.ndarray):
+        """The slave nodes' positions and the candidate pairs that overlap: slave faces e,
+        local coordinates z (P, the two faces' nodes × dim), global dofs and the value
+        pass's integrals."""
+        xs, xm = self.positions(q)
+        e, f = self._near(xs, xm, *self._pairs(xs, xm))
+        sn, mn = self.facets[e], self.master_facets[f]
+        z = np.concatenate([xs[sn], xm[mn]], axis=1).reshape(len(e), -1)
+        jets, coverage, covered, _ = self._integrate(e, z, None)
+        keep = coverage > 0.0
+        prior = ([j.take(keep) for j in jets], coverage[keep], covered[keep])
+        return xs, e[keep], z[keep], self._global_dofs(sn[keep], mn[keep]), prior
+
+    def _local(self, q: np.ndarray, derivatives: bool = True):
+        xs, e, z, dofs, _ = self._overlapping(q)
+        return e, z, dofs, xs
+
+    def _values(self, q: np.ndarray):
+        xs, e, _, _, (jets, coverage, covered) = self._overlapping(q)
+        return e, jets, coverage, covered, xs

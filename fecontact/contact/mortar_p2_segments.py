@@ -46,7 +46,7 @@ import numpy as np
 from ..errors import InputError
 from .dual_numbers import Jet
 from .mortar import MortarContact
-from .mortar_p2 import covered_part_gaps, dual_coefficients
+from .mortar_p2 import QuadraticFacePairs, covered_part_gaps, dual_coefficients
 from .mortar_segments import FACING, GAUSS_POINTS
 
 __all__ = [
@@ -248,7 +248,7 @@ def _sum_points(f: Jet, P: int, G: int) -> Jet:
     return Jet(f.v.reshape(P, G).sum(axis=1), g, h)
 
 
-class MortarContactP2(MortarContact):
+class MortarContactP2(QuadraticFacePairs, MortarContact):
     """Dual mortar contact of the quadratic boundary of a 2D P2 :class:`~fecontact.Solid`
     (the slave ``body``) with the quadratic boundary of another P2 solid (the ``master``);
     see the module docstring. One contact per slave boundary node, ends and mid nodes;
@@ -262,27 +262,6 @@ class MortarContactP2(MortarContact):
         # master's chords, which a node resting on the curved master surface lies behind by
         # the sagitta (0.12 mm on the refinement-2 P2 disks, beyond its 0.05 mm allowance)
         self.pointwise = self.master_rows = None
-
-    def _overlapping(self, q: np.ndarray, hessian=None):
-        """The slave nodes' positions and the candidate pairs that overlap: slave segments
-        e, local coordinates z (P, 12), global dofs and the value pass's integrals."""
-        xs, xm = self.positions(q)
-        e, f = self._near(xs, xm, *self._pairs(xs, xm))
-        sn, mn = self.facets[e], self.master_facets[f]
-        z = np.concatenate([xs[sn], xm[mn]], axis=1).reshape(len(e), 12)
-        jets, coverage, covered, _ = self._integrate(e, z, None)
-        keep = coverage > 0.0
-        prior = ([j.take(keep) for j in jets], coverage[keep], covered[keep])
-        dofs = self._global_dofs(sn[keep], mn[keep])
-        return xs, e[keep], z[keep], dofs, prior
-
-    def _local(self, q: np.ndarray):
-        xs, e, z, dofs, _ = self._overlapping(q)
-        return e, z, dofs, xs
-
-    def _values(self, q: np.ndarray):
-        xs, e, _, _, (jets, coverage, covered) = self._overlapping(q)
-        return e, jets, coverage, covered, xs
 
     def _integrate(self, e, z, hessian):
         """Jets of the segments' weighted gaps (the dual functions of the covered part on a

@@ -24,7 +24,7 @@ import numpy as np
 
 from .facet_search import FacetSearch
 from .mortar_interface import MortarInterface
-from .mortar_safeguard import MasterNodeRows
+from .mortar_safeguard import MasterNodeRows, shortest_edge
 
 __all__ = ["BOUND", "SolidWatch", "held_nodes", "solid_watches", "watched_depth"]
 
@@ -44,7 +44,7 @@ class SolidWatch:
         # the nodes of a against the surface of b, then those of b against a
         self.searches = (FacetSearch(facets[1]), FacetSearch(facets[0]))
         # the shortest boundary edge of the surface each body's nodes are tested against (m)
-        self.edges = (_shortest_edge(b, facets[1]), _shortest_edge(a, facets[0]))
+        self.edges = (shortest_edge(b, facets[1]), shortest_edge(a, facets[0]))
 
     def depth(self, q: np.ndarray) -> tuple[float, float]:
         """The deepest boundary node of either body inside the other at q: its depth (m, ≥ 0)
@@ -63,15 +63,6 @@ class SolidWatch:
             d = float(np.max(search.surface.depths(xm, xs[watched]), initial=0))
             deepest, relative = max(deepest, d), max(relative, d / self.edges[i])
         return deepest, relative
-
-
-def _shortest_edge(body, facets: np.ndarray) -> float:
-    """The shortest edge (m) of the boundary ``facets`` of ``body`` in its reference
-    configuration."""
-    x = body.positions(np.zeros(body.ndof))
-    corners = x[facets]
-    edges = corners - np.roll(corners, 1, axis=1)
-    return float(np.sqrt((edges**2).sum(-1)).min())
 
 
 def solid_watches(pairs) -> list[SolidWatch]:
