@@ -162,7 +162,8 @@ class _Phases:
         if self.g_tilde is None:
             self.g_tilde = model.contacts.gaps(q)
         g_tilde = self.g_tilde
-        check_predictor(model, q, g_tilde)
+        if opts.depth_check:  # (decided once: without solid pairs no node can enter)
+            check_predictor(model, q, g_tilde)
         cand = (g_tilde <= opts.detection_margin * model.length).nonzero()[0]
         # (only the candidates use the gap tolerance)
         self.tol_gap = opts.tol_gap * length_scale(model, q) if cand.size else 0.0
