@@ -65,9 +65,10 @@ def smooth_record(
 ) -> np.ndarray | None:
     """What a stepper leaves in its state (``State.ledger``) for the ledger after its smooth
     step, when a ``contact_phase`` (correction or jump) may follow: the kinetic energy of
-    ṽ, the potential (strain + gravity) energy of q̃ (NaN when no correction moved q: then
-    it is that of the step's end), the work the smooth step's friction forces dissipated,
-    the velocity jump's ``works`` (normal, tangential, joints;
+    ṽ (NaN when ``v_tilde`` is None: no correction and no jump moved v, then it is that of
+    the step's end), the potential (strain + gravity) energy of q̃ (NaN when no correction
+    moved q: then it is that of the step's end), the work the smooth step's friction forces
+    dissipated, the velocity jump's ``works`` (normal, tangential, joints;
     :func:`fecontact.ledger_works.jump_work`) and the energy the smooth step's retake
     without the forces of the contacts it releases added over its first try (``release``)
     (J). Without a contact phase, None."""
@@ -77,7 +78,8 @@ def smooth_record(
     if q_tilde is not None:
         V = model.strain_energy(q_tilde) + model.potential_energy(q_tilde)
     works = (0.0, 0.0, 0.0) if works is None else works
-    record = [model.kinetic_energy(v_tilde), V, friction_work, *works]
+    T = math.nan if v_tilde is None else model.kinetic_energy(v_tilde)
+    record = [T, V, friction_work, *works]
     return np.array(record + [release] if release else record)
 
 
@@ -94,13 +96,17 @@ def joined_record(model, first, second) -> np.ndarray | None:
     V1 = model.strain_energy(first.q) + model.potential_energy(first.q)
     if r2 is None:  # the second part has no contact phase: it ends where its smooth step does
         r2 = smooth_record(model, True, second.v, second.q)
-    elif math.isnan(r2[1]):
+    else:  # (NaN: the smooth step's end is the part's end)
         r2 = r2.copy()
-        r2[1] = model.strain_energy(second.q) + model.potential_energy(second.q)
+        if math.isnan(r2[0]):
+            r2[0] = model.kinetic_energy(second.v)
+        if math.isnan(r2[1]):
+            r2[1] = model.strain_energy(second.q) + model.potential_energy(second.q)
+    T1_tilde = T1 if math.isnan(r1[0]) else r1[0]
     V1_tilde = V1 if math.isnan(r1[1]) else r1[1]
     out = np.zeros(max(r1.size, r2.size, 6))
     out[: r2.size] = r2
-    out[0] = r2[0] - (T1 - r1[0])
+    out[0] = r2[0] - (T1 - T1_tilde)
     out[1] = r2[1] - (V1 - V1_tilde)
     out[2] = r1[2] + r2[2]
     out[3:6] += r1[3:6] if r1.size >= 6 else 0.0
@@ -216,6 +222,8 @@ class EnergyLedger:
             V = E - kinetic
             if math.isnan(V_tilde):
                 V_tilde = V
+            if math.isnan(T_tilde):
+                T_tilde = kinetic
             works = record[3:6] if record.size >= 6 else NO_WORK
             correction, jump = V - V_tilde, kinetic - T_tilde
             smooth = T_tilde + V_tilde - self.energy - W + damping + smooth_friction

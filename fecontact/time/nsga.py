@@ -106,8 +106,7 @@ class _Phases:
         self.smooth_step = smooth_step
         # another step 1 (:mod:`.energy_step`) corrects in the metric of the trapezoidal rule
         self.c = coefficients(1.0 if smooth_step else opts.rho_inf, h)
-        self.t = st.t + h
-        self.m = model.contacts.size
+        self.t, self.m = st.t + h, model.contacts.size
         self.record = self.forces = self.works = None  # friction, smooth forces, jump's works
         self.grip = None  # (λ_N, λ_T) of the smooth step with friction
         self.nu = self.impulse = self.gaps = self.cand = None
@@ -162,7 +161,8 @@ class _Phases:
         if self.g_tilde is None:
             self.g_tilde = model.contacts.gaps(q)
         g_tilde = self.g_tilde
-        check_predictor(model, q, g_tilde)
+        if opts.depth_check:  # (decided once: without solid pairs no node can enter)
+            check_predictor(model, q, g_tilde)
         cand = (g_tilde <= opts.detection_margin * model.length).nonzero()[0]
         # (only the candidates use the gap tolerance)
         self.tol_gap = opts.tol_gap * length_scale(model, q) if cand.size else 0.0
@@ -329,14 +329,15 @@ class _Phases:
         return self.state()
 
     def state(self) -> State:
-        """The state at the end of the step."""
+        """The state at the end of the step (ṽ left out of the ledger's record where v is it)."""
         at = {"h": self.h, "lam": self.lam, "iterations": self.iters}
         if self.nu is not None:  # (else no contacts, no joints: the smooth step alone)
             at |= {"gaps": self.gaps, "candidates": self.cand, "nu": self.nu}
             at |= {"impulse": self.impulse, "smooth": self.forces, "friction": self.record}
             phase = self.cand.size + self.model.joints.size  # a correction or a jump may follow
-            args = (self.v_tilde, self.q_tilde, self.step.friction_work, self.works)
-            at["ledger"] = smooth_record(self.model, phase, *args, release=self.release)
+            moved = self.q_tilde is not None or self.closed.size or self.model.joints.size
+            args = (self.v_tilde if moved else None, self.q_tilde, self.step.friction_work)
+            at["ledger"] = smooth_record(self.model, phase, *args, self.works, release=self.release)
         return State(self.t, self.q, self.v, self.vd, self.a, **at)
 
 

@@ -24,7 +24,10 @@ class RunSettings(IntegratorOptions):
     Newton loop's force terms and configuration (:class:`~fecontact.time.newton.NewtonPlan`;
     None for a stepper without one), and ``momentum``, what holds the angular momentum of
     free beams in space through position corrections
-    (:class:`~fecontact.time.correction.MomentumKept`; None where no body qualifies)."""
+    (:class:`~fecontact.time.correction.MomentumKept`; None where no body qualifies), and
+    ``depth_check``: whether a solid's nodes can enter another solid (pairs tested
+    inside/outside, mortar interfaces), so that the predictor's depth is checked
+    (:func:`~fecontact.time.penetration.check_predictor`)."""
 
     smooth: bool = False
     restarts: bool = False
@@ -32,6 +35,7 @@ class RunSettings(IntegratorOptions):
     stats: StepStats = field(default_factory=StepStats, repr=False, compare=False)
     plan: NewtonPlan | None = field(default=None, repr=False, compare=False)
     momentum: MomentumKept | None = field(default=None, repr=False, compare=False)
+    depth_check: bool = field(default=True, repr=False, compare=False)
 
     def __post_init__(self):
         pass  # the values are those of options already checked, taken as they are
@@ -55,7 +59,8 @@ def run_settings(
         return opts
     values = {f.name: getattr(opts, f.name) for f in dataclasses.fields(IntegratorOptions)}
     smooth = uses_smooth_contact(model, opts)  # (read by the NSGA step only)
-    friction = model.contacts.frictional
+    contacts = model.contacts
+    friction = contacts.frictional
     run_stats = StepStats() if stats is None else stats
     # rows that can be redundant (planes through one point) take minimum-norm multipliers
     run_stats.contact.minimum_norm = model.contacts.redundant_rows
@@ -67,4 +72,5 @@ def run_settings(
         stats=run_stats,
         plan=None if plan is None else plan(model, smooth, friction, terms),
         momentum=momentum_kept(model),
+        depth_check=any(pair.inside_test for pair in contacts.pairs) or bool(contacts.watches),
     )
