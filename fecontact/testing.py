@@ -27,6 +27,7 @@ __all__ = [
     "block_on_rigid_box",
     "case",
     "episode_starts",
+    "derivative_errors_near_contact",
     "gap_derivatives_error",
     "moved_on_group",
     "roll_up",
@@ -203,6 +204,16 @@ def gap_derivatives_error(pair, q: np.ndarray, eps: float = 1e-7) -> tuple[float
             h = Hs[j][:, at].sum(axis=1)
             err_h = max(err_h, float(np.max(np.abs(dG - h))) / max(1.0, np.abs(h).max()))
     return err_g, err_h
+
+
+def derivative_errors_near_contact(pair, n: int, margin: float = 0.02, spread: float = 1e-3):
+    """(rows with a finite gap, gradient error, Hessian error) of ``pair`` of a model of ``n``
+    dofs, its rows detected within ``margin`` (m), at dofs drawn from a normal distribution of
+    deviation ``spread`` (m, seed 1): :func:`gap_derivatives_error` with steps of 1e-7 m."""
+    pair.detect_within(margin)
+    q = np.random.default_rng(1).normal(0.0, spread, n)
+    finite = int(np.isfinite(pair.evaluate(q)[0]).sum())
+    return (finite, *gap_derivatives_error(pair, q, 1e-7))
 
 
 def pressed_blocks(n_lower: int, n_upper: int, p: float, method="mortar", small=True):
