@@ -1,21 +1,26 @@
-"""Simo & Vu-Quoc's right-angle cantilever struck out of its plane (Comput. Methods Appl.
-Mech. Eng. 66, 1988): a flexible L swinging and twisting in space.
+"""Simo & Vu-Quoc's right-angle cantilever struck out of its plane (J. C. Simo and L. Vu-Quoc,
+On the dynamics in space of rods undergoing large motions: a geometrically exact approach,
+Comput. Methods Appl. Mech. Eng. 66, 125–161, 1988): a flexible L swinging and twisting in
+space.
 
 Two legs of length 10 m in the x–y plane, from the clamped root (0, 10, 0) to the elbow
 (10, 10, 0) and on to the free tip (10, 0, 0), with the paper's EA = GA = 10⁶ N,
-EI = GJ = 10³ N·m², ρA = 1 kg/m and rotary inertia per length diag(20, 10, 10) kg·m (a section
-of area 0.012 m², E = 10⁶/0.012 Pa, ν = 0, shear factor 2, ρ = 1/0.012 kg/m³). A force along z
-at the elbow rises linearly to ``peak_force`` at t = 1 s and falls back to zero at t = 2 s;
-then the L swings and twists freely, its energy constant (at ``rho_inf`` = 1, without
-dissipation).
+EI = GJ = 10³ N·m², ρA = 1 kg/m and rotary inertia per length diag(20, 10, 10) kg·m about the
+section's axis (torsion) and its two bending axes: the torsional one is the sum of the two
+bending ones, as for any section (a section of area 0.012 m², E = 10⁶/0.012 Pa, ν = 0, shear
+factor 2, ρ = 1/0.012 kg/m³ gives the stiffnesses). A force along z, fixed in direction, at the
+elbow rises linearly to ``peak_force`` at t = 1 s and falls back to zero at t = 2 s; then the L
+swings and twists freely, its energy constant (at ``rho_inf`` = 1, without dissipation).
 
 Probes: ``elbow_z`` and ``tip_z`` (m), the displacements along z.
 
 Checked against (docs/validation/beam3d.md): the linearised L's modal solution while it moves
 little (at these defaults 1.9 % of the elbow's rise off it up to t = 1 s, order 2 in h and the
-mesh), the published tip curve's extremes (8.25 m, −9.73 m, 7.20 m converged, against 8.32,
-−9.21 and 7.50 m), and its own convergence (the tip within 0.18 m of the converged history
-over the first 10 s at these defaults, 0.009 m at 16 elements a leg and h = 0.0125 s).
+mesh); an independent implementation's extremes (to its printed 0.01 m, at the same steps);
+the published tip curve's heights (8.25 m, −9.73 m, 7.20 m converged, against 8.32, −9.21 and
+7.50 m), whose times lead ours by 0.7–1.1 s, which no reading of the set-up reproduces; and its
+own convergence (the tip within 0.18 m of the converged history over the first 10 s at these
+defaults, 0.009 m at 16 elements a leg and h = 0.0125 s).
 """
 
 import numpy as np

@@ -1,12 +1,15 @@
 """Simo & Vu-Quoc's right-angle cantilever (cases/right_angle_cantilever.py).
 
-Checked three ways: (a) while it moves little, against an independent linear solution of the
+Checked four ways: (a) while it moves little, against an independent linear solution of the
 L's out-of-plane motion, computed here (Euler–Bernoulli bending with the section's rotary
 inertia and Saint-Venant torsion on Hermite/linear elements, modal superposition with the
 exact response of each mode to the piecewise-linear pulse); (b) in large motion, against the
-published tip curve (Simo & Vu-Quoc, Comput. Methods Appl. Mech. Eng. 66, 1988, digitized point
-by point from its figure); (c) its own convergence in h and the mesh.
-After the pulse (t = 2 s) nothing works on the L, and at rho_inf = 1 its energy stays."""
+extremes an independent implementation of the geometrically exact beam prints for the same
+case; (c) against the published tip curve (Simo & Vu-Quoc, Comput. Methods Appl. Mech. Eng. 66,
+1988, digitized point by point from its figure): its heights hold, its times do not (they lead
+by 0.7–1.1 s, measured and argued in docs/validation/beam3d.md); (d) its own convergence in h
+and the mesh. After the pulse (t = 2 s) nothing works on the L, and at rho_inf = 1 its energy
+stays."""
 
 import numpy as np
 import pytest
@@ -144,9 +147,28 @@ def test_the_case_starts_on_the_linear_solution_while_its_rotations_are_small():
     assert np.all(elbow >= -1e-12) and elbow[-1] > 0.5
 
 
-# the published tip curve (Simo & Vu-Quoc 1988, digitized point by point from its figure):
-# its first maximum, its minimum (a plateau from 14.4 to 15.1 s) and its last maximum
-PUBLISHED = {"max": (6.58, 8.32), "min": (14.75, -9.21), "max2": (25.82, 7.50)}
+def test_the_extremes_match_an_independent_implementation():
+    """Another code's geometrically exact beam (its own two-node element, Lie-group
+    generalized-α at ρ∞ = 1) prints for this case at 10 elements a leg and h = 0.05 s: the
+    tip at 8.24 m (t = 7.40 s) and −9.75 m (15.85 s), the elbow at −4.07 m (10.85 s); at 40
+    elements and h = 0.005 s 8.25 (7.44), −9.73 (15.87), −4.06 (10.87). Measured here at 10
+    elements: 8.2358 (7.40), −9.7502 (15.85), −4.0682 (10.85); at 40: 8.2512 (7.44), −9.7286
+    (15.87), −4.0608 (10.86). Bounds: the printed rounding (0.005 m) plus 0.005 m for the two
+    elements' different discretization errors; the same step on the same 0.05 s grid."""
+    t, elbow, tip = run(10, 0.05)
+    printed = [(tip, np.argmax, 7.40, 8.24), (tip, np.argmin, 15.85, -9.75)]
+    printed += [(elbow, np.argmin, 10.85, -4.07)]
+    for history, extremum, when, value in printed:
+        i = extremum(history)
+        assert abs(history[i] - value) < 0.01, (when, history[i])
+        assert abs(t[i] - when) < 0.025, (when, t[i])
+
+
+# the published tip curve (Simo & Vu-Quoc 1988, digitized point by point from its figure, one
+# pixel 0.039 s by 0.038 m): its first maximum, its minimum (a plateau from 14.43 to 15.06 s)
+# and its last maximum, each (t in s, height in m), with the time's reading uncertainty (s):
+# two pixels at a peak, the plateau's half width at the minimum
+PUBLISHED = {"max": (6.58, 8.32, 0.08), "min": (14.75, -9.21, 0.32), "max2": (25.82, 7.50, 0.08)}
 
 
 def extremes(t, tip):
@@ -156,20 +178,36 @@ def extremes(t, tip):
     return {"max": (t[first], tip[first]), "min": (t[low], tip[low]), "max2": (t[last], tip[last])}
 
 
-@pytest.mark.slow
-def test_the_tip_swings_to_the_published_extremes():
-    """Large motion, 8 elements a leg at h = 0.025 s (within 0.1 m of the converged history
-    below): the tip's extremes against the published curve. Measured 8.23 m at 7.40 s,
-    −9.77 m at 15.80 s, 7.25 m at 26.03 s against 8.32 at 6.58, −9.21 at 14.4–15.1 and 7.50
-    at 25.82: amplitudes within 1 %, 6 % and 3.3 %; the first two later by 0.8 and 1 s, the
-    last within 0.2 s. Bounds: 8 % and 1.2 s. (The digitized curve's first seconds do not
-    follow the linear solution above, 0.93 m at 1.54 s where the linear tip has moved 2 cm,
-    so its times are read from the figure with that much doubt.)"""
+@pytest.fixture(scope="module")
+def large_motion():
+    """8 elements a leg at h = 0.025 s over 30 s: extremes within 0.05 m and 0.15 s of the
+    converged history's (32 elements, h = 0.00625 s: 8.25 m at 7.43 s, −9.73 m at 15.86 s,
+    7.20 m at 26.18 s)."""
     t, _, tip = run(8, 0.025)
-    ours = extremes(t, tip)
-    for key, (when, value) in PUBLISHED.items():
-        assert ours[key][1] == pytest.approx(value, rel=0.08), key
-        assert abs(ours[key][0] - when) < 1.2, key
+    return extremes(t, tip)
+
+
+@pytest.mark.slow
+def test_the_tip_swings_to_the_published_heights(large_motion):
+    """Measured 8.23, −9.77 and 7.25 m against the published 8.32, −9.21 and 7.50 m: 0.09,
+    0.56 and 0.25 m off (1, 6 and 3 %), well above the reading's pixel (0.04 m); the converged
+    history is as far (8.25, −9.73, 7.20). Where the rest comes from the published figure does
+    not say (its minimum is a plateau at one height for 0.6 s). Bounds: the measured
+    differences with 0.1 m of room."""
+    bounds = {"max": 0.2, "min": 0.66, "max2": 0.35}
+    for key, (_, height, _) in PUBLISHED.items():
+        assert abs(large_motion[key][1] - height) < bounds[key], key
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="the published curve leads by 0.7-1.1 s (docs)")
+def test_the_tip_reaches_the_published_extremes_at_their_times(large_motion):
+    """Does not hold: measured 7.40, 15.80 and 26.03 s against 6.58, 14.43–15.06 and 25.82 s.
+    The lead is nearly uniform from the first rise on and no reading of the set-up (rotary
+    inertias, load point or direction, rotary inertia as a total) reproduces it while keeping
+    the heights (docs/validation/beam3d.md). Bound: the reading's uncertainty plus one step."""
+    for key, (when, _, doubt) in PUBLISHED.items():
+        assert abs(large_motion[key][0] - when) < doubt + 0.025, key
 
 
 @pytest.mark.slow
