@@ -2,6 +2,10 @@ r"""A :class:`~fecontact.bodies.beam3d.Beam3D` against a 3D :class:`~fecontact.S
 beam's nodes, on the axis of a tube of radius r (the ``clearance``), against the solid's
 boundary triangles.
 
+``Contact(beam, solid, clearance=r, method="node-to-surface")`` (or the two named the other
+way) builds this pair; the default for the two is dual mortar over the solid's boundary
+against the tube (:mod:`fecontact.contact.mortar_beam3d`, :func:`tube_mortar`).
+
 Node-to-surface (:class:`~fecontact.contact.body_pairs.NodeSurfaceContact`) with the beam's
 nodes as slaves: each node's gap is its signed distance from the plane of its closest boundary
 triangle less r, g = n·(x_s − x_a) − r, with that pair's exact gradient, curvature, search and
@@ -19,9 +23,10 @@ from ..bodies.beam3d import Beam3D
 from ..bodies.solid import Solid
 from ..errors import InputError
 from .body_pairs import NodeSurfaceContact
+from .mortar_beam3d import MortarBeam3D
 from .registry import register_pair
 
-__all__ = ["TubeSolidContact"]
+__all__ = ["TubeSolidContact", "solid_and_beam3d", "tube_mortar"]
 
 
 class TubeSolidContact(NodeSurfaceContact):
@@ -47,3 +52,29 @@ class TubeSolidContact(NodeSurfaceContact):
 def _beam3d_solid(beam, solid, nodes, restitution, clearance):
     """The beam's nodes (a tube of radius ``clearance``) against the solid's boundary."""
     return TubeSolidContact(beam, solid, nodes, restitution, clearance)
+
+
+@register_pair(Solid, Beam3D)
+def _solid_beam3d(solid, beam, nodes, restitution, clearance):
+    """The same pair named the other way round (``nodes`` of the beam)."""
+    return _beam3d_solid(beam, solid, nodes, restitution, clearance)
+
+
+def solid_and_beam3d(body, partner):
+    """(the solid, the beam) of a 3D Solid and a Beam3D named either way, else None."""
+    for a, b in ((body, partner), (partner, body)):
+        if isinstance(a, Solid) and a.dim == 3 and isinstance(b, Beam3D):
+            return a, b
+    return None
+
+
+def tube_mortar(solid, beam, nodes, restitution, clearance, method) -> MortarBeam3D:
+    """The mortar pair of ``solid``'s boundary against ``beam``'s tube of radius
+    ``clearance`` (m, > 0); ``nodes`` must be None (``method`` None: the default)."""
+    if nodes is not None:
+        default = " (the default between a 3D solid and a Beam3D)" if method is None else ""
+        raise InputError(
+            f"nodes: a mortar contact{default} takes the solid's whole boundary; "
+            "method='node-to-surface' constrains chosen nodes of the beam"
+        )
+    return MortarBeam3D(solid, beam, restitution, clearance)

@@ -6,6 +6,7 @@ from __future__ import annotations
 from ..bodies.rigid3d import RigidBody3D
 from ..bodies.solid import Solid
 from ..errors import InputError, check_positive
+from .beam3d_solid import solid_and_beam3d, tube_mortar
 from .mortar import MortarContact
 from .mortar3d import MortarContact3D
 from .mortar_p2_segments import MortarContactP2
@@ -61,7 +62,11 @@ def Contact(
     (``Ball`` or ``Box``, named either way round) takes the same option: ``"mortar"`` (the
     default: the solid's boundary against the body's exact shape,
     :mod:`fecontact.contact.mortar_rigid3d`) or ``"node-to-surface"`` (its ``nodes``,
-    :mod:`fecontact.contact.solid_rigid3d`). Other pairs take None only.
+    :mod:`fecontact.contact.solid_rigid3d`). So does a 3D ``Solid`` against a ``Beam3D``
+    (either way round, ``clearance`` the tube's radius): ``"mortar"`` (the default: the
+    solid's boundary against the tube, :mod:`fecontact.contact.mortar_beam3d`) or
+    ``"node-to-surface"`` (the beam's ``nodes`` against the solid's boundary,
+    :mod:`fecontact.contact.beam3d_solid`). Other pairs take None only.
 
     The pair comes from the factory registered for the classes of ``body`` and ``obstacle``
     (:func:`fecontact.contact.registry.register_pair`): a new body type registers its own.
@@ -70,16 +75,19 @@ def Contact(
     clearance = check_positive("clearance", clearance, allow_zero=True)
     solids = isinstance(body, Solid) and isinstance(obstacle, Solid)
     rigid = _solid_and_rigid3d(body, obstacle)
-    if method == "mortar" or (method is None and (solids or rigid)):
-        if rigid:
+    tube = solid_and_beam3d(body, obstacle)
+    if method == "mortar" or (method is None and (solids or rigid or tube)):
+        if tube:
+            pair = tube_mortar(*tube, nodes, restitution, clearance, method)
+        elif rigid:
             pair = _rigid_mortar(*rigid, nodes, restitution, clearance, method)
         else:
             pair = _mortar(body, obstacle, nodes, restitution, clearance, solids, method)
     elif method in (None, "node-to-surface"):
-        if method is not None and not (solids or rigid):
+        if method is not None and not (solids or rigid or tube):
             raise InputError(
                 "method: 'node-to-surface' applies between two solids or a 3D solid and a "
-                "RigidBody3D; use None"
+                "RigidBody3D or a Beam3D; use None"
             )
         pair = pair_factory(body, obstacle)(body, obstacle, nodes, restitution, clearance)
     else:
@@ -113,7 +121,8 @@ def _rigid_mortar(solid, rigid, nodes, restitution, clearance, method):
 def _mortar(body, obstacle, nodes, restitution, clearance, solids: bool, method):
     if not solids:
         raise InputError(
-            "method: 'mortar' applies between two solids or a 3D solid and a RigidBody3D"
+            "method: 'mortar' applies between two solids or a 3D solid and a RigidBody3D "
+            "or a Beam3D"
         )
     if nodes is not None or clearance:
         default = " (the default between two solids)" if method is None else ""
