@@ -18,8 +18,9 @@ rotations: D is a function of the solid's nodes and the beam's node positions on
 Integration: the degree-5 rule of :func:`~fecontact.contact.rigid_distance.triangle_rule` on
 each triangle, on s² sub-triangles where the triangle's vertices have their closest points in
 different regions of the centreline (a segment's interior, a node: the end caps, the switch
-between neighbouring segments at a joint), where the curvature of D jumps (and on the concave
-side of a bend, its gradient). The sub-triangles are fixed in area coordinates: they do not
+between neighbouring segments at a joint turning by more than
+:data:`~fecontact.contact.polyline_distance.KINK`), where the curvature of D jumps (and on the
+concave side of a bend, its gradient). The sub-triangles are fixed in area coordinates: they do not
 follow the region's boundary, whose kink they integrate to a smaller error only.
 
 Gradients and curvature over a triangle's 9 node coordinates and the 3 n_b beam node
@@ -50,7 +51,7 @@ from ..bodies.beam3d import Beam3D
 from ..bodies.solid import Solid
 from ..errors import InputError, check_positive, check_range
 from .base import PairDefaults
-from .polyline_distance import closest_on_polyline, region_labels
+from .polyline_distance import closest_on_polyline, region_labels, straight_runs
 from .rigid_distance import SUBDIVISIONS, triangle_rule
 from .segment3d import tube_distance
 
@@ -191,7 +192,8 @@ class MortarBeam3D(PairDefaults):
             np.maximum.at(reach, self.element_rows[:, k], edge)
         near = d - self.clearance - REACH * reach <= self.margin
         tris = np.flatnonzero(near[self.element_rows].any(axis=1))
-        return near, tris, region_labels(which, xi, self.segments)
+        runs = straight_runs(ends, self.segments, self.beam.n_nodes)
+        return near, tris, region_labels(which, xi, self.segments, runs)
 
     def _points(self, tris, labels):
         """The triangles reordered (plain ones first), and their points: the index of each
