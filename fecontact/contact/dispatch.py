@@ -73,30 +73,36 @@ def Contact(
     """
     friction = check_positive("friction", friction, allow_zero=True)
     clearance = check_positive("clearance", clearance, allow_zero=True)
-    solids = isinstance(body, Solid) and isinstance(obstacle, Solid)
-    rigid = _solid_and_rigid3d(body, obstacle)
-    tube = solid_and_beam3d(body, obstacle)
-    if method == "mortar" or (method is None and (solids or rigid or tube)):
-        if tube:
-            pair = tube_mortar(*tube, nodes, restitution, clearance, method)
-        elif rigid:
-            pair = _rigid_mortar(*rigid, nodes, restitution, clearance, method)
-        else:
-            pair = _mortar(body, obstacle, nodes, restitution, clearance, solids, method)
-    elif method in (None, "node-to-surface"):
-        if method is not None and not (solids or rigid or tube):
-            raise InputError(
-                "method: 'node-to-surface' applies between two solids or a 3D solid and a "
-                "RigidBody3D or a Beam3D; use None"
-            )
+    pair = _mortar_pair(body, obstacle, nodes, restitution, clearance, method)
+    if pair is None:
         pair = pair_factory(body, obstacle)(body, obstacle, nodes, restitution, clearance)
-    else:
-        raise InputError(f"method must be 'node-to-surface' or 'mortar', got {method!r}")
     if friction:
         if not pair.frictional:
             raise InputError(f"friction: not available for a {type(pair).__name__}; use 0")
         pair.friction = friction
     return pair
+
+
+def _mortar_pair(body, obstacle, nodes, restitution, clearance, method):
+    """The mortar pair of ``body`` and ``obstacle`` where ``method`` asks for one or it is
+    their default, else None (``method`` checked by name)."""
+    solids = isinstance(body, Solid) and isinstance(obstacle, Solid)
+    rigid = _solid_and_rigid3d(body, obstacle)
+    tube = solid_and_beam3d(body, obstacle)
+    if method == "mortar" or (method is None and (solids or rigid or tube)):
+        if tube:
+            return tube_mortar(*tube, nodes, restitution, clearance, method)
+        if rigid:
+            return _rigid_mortar(*rigid, nodes, restitution, clearance, method)
+        return _mortar(body, obstacle, nodes, restitution, clearance, solids, method)
+    if method not in (None, "node-to-surface"):
+        raise InputError(f"method must be 'node-to-surface' or 'mortar', got {method!r}")
+    if method is not None and not (solids or rigid or tube):
+        raise InputError(
+            "method: 'node-to-surface' applies between two solids or a 3D solid and a "
+            "RigidBody3D or a Beam3D; use None"
+        )
+    return None
 
 
 def _solid_and_rigid3d(body, obstacle):
