@@ -4,7 +4,7 @@ boundary triangles.
 
 ``Contact(beam, solid, clearance=r, method="node-to-surface")`` (or the two named the other
 way) builds this pair; the default for the two is dual mortar over the solid's boundary
-against the tube (:mod:`fecontact.contact.mortar_beam3d`, :func:`tube_mortar`).
+against the tube (:mod:`fecontact.contact.mortar_beam3d`).
 
 Node-to-surface (:class:`~fecontact.contact.body_pairs.NodeSurfaceContact`) with the beam's
 nodes as slaves: each node's gap is its signed distance from the plane of its closest boundary
@@ -23,10 +23,9 @@ from ..bodies.beam3d import Beam3D
 from ..bodies.solid import Solid
 from ..errors import InputError
 from .body_pairs import NodeSurfaceContact
-from .mortar_beam3d import MortarBeam3D
 from .registry import register_pair
 
-__all__ = ["TubeSolidContact", "solid_and_beam3d", "tube_mortar"]
+__all__ = ["TubeSolidContact"]
 
 
 class TubeSolidContact(NodeSurfaceContact):
@@ -58,23 +57,3 @@ def _beam3d_solid(beam, solid, nodes, restitution, clearance):
 def _solid_beam3d(solid, beam, nodes, restitution, clearance):
     """The same pair named the other way round (``nodes`` of the beam)."""
     return _beam3d_solid(beam, solid, nodes, restitution, clearance)
-
-
-def solid_and_beam3d(body, partner):
-    """(the solid, the beam) of a 3D Solid and a Beam3D named either way, else None."""
-    for a, b in ((body, partner), (partner, body)):
-        if isinstance(a, Solid) and a.dim == 3 and isinstance(b, Beam3D):
-            return a, b
-    return None
-
-
-def tube_mortar(solid, beam, nodes, restitution, clearance, method) -> MortarBeam3D:
-    """The mortar pair of ``solid``'s boundary against ``beam``'s tube of radius
-    ``clearance`` (m, > 0); ``nodes`` must be None (``method`` None: the default)."""
-    if nodes is not None:
-        default = " (the default between a 3D solid and a Beam3D)" if method is None else ""
-        raise InputError(
-            f"nodes: a mortar contact{default} takes the solid's whole boundary; "
-            "method='node-to-surface' constrains chosen nodes of the beam"
-        )
-    return MortarBeam3D(solid, beam, restitution, clearance)

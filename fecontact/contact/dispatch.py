@@ -3,12 +3,13 @@ with the factory registered for their kinds (:mod:`fecontact.contact.registry`).
 
 from __future__ import annotations
 
+from ..bodies.beam3d import Beam3D
 from ..bodies.rigid3d import RigidBody3D
 from ..bodies.solid import Solid
 from ..errors import InputError, check_positive
-from .beam3d_solid import solid_and_beam3d, tube_mortar
 from .mortar import MortarContact
 from .mortar3d import MortarContact3D
+from .mortar_beam3d import MortarBeam3D
 from .mortar_p2_segments import MortarContactP2
 from .mortar_rigid3d import MortarRigid3D
 from .registry import pair_factory
@@ -87,13 +88,13 @@ def _mortar_pair(body, obstacle, nodes, restitution, clearance, method):
     """The mortar pair of ``body`` and ``obstacle`` where ``method`` asks for one or it is
     their default, else None (``method`` checked by name)."""
     solids = isinstance(body, Solid) and isinstance(obstacle, Solid)
-    rigid = _solid_and_rigid3d(body, obstacle)
-    tube = solid_and_beam3d(body, obstacle)
+    rigid = _solid3d_and(RigidBody3D, body, obstacle)
+    tube = _solid3d_and(Beam3D, body, obstacle)
     if method == "mortar" or (method is None and (solids or rigid or tube)):
         if tube:
-            return tube_mortar(*tube, nodes, restitution, clearance, method)
+            return _whole_boundary(MortarBeam3D, *tube, nodes, restitution, clearance, method)
         if rigid:
-            return _rigid_mortar(*rigid, nodes, restitution, clearance, method)
+            return _whole_boundary(MortarRigid3D, *rigid, nodes, restitution, clearance, method)
         return _mortar(body, obstacle, nodes, restitution, clearance, solids, method)
     if method not in (None, "node-to-surface"):
         raise InputError(f"method must be 'node-to-surface' or 'mortar', got {method!r}")
@@ -105,23 +106,24 @@ def _mortar_pair(body, obstacle, nodes, restitution, clearance, method):
     return None
 
 
-def _solid_and_rigid3d(body, obstacle):
-    """(the solid, the rigid body) of a 3D Solid and a RigidBody3D named either way, else
-    None."""
+def _solid3d_and(kind: type, body, obstacle):
+    """(the solid, the other) of a 3D Solid and a ``kind`` body named either way, else None."""
     for a, b in ((body, obstacle), (obstacle, body)):
-        if isinstance(a, Solid) and a.dim == 3 and isinstance(b, RigidBody3D):
+        if isinstance(a, Solid) and a.dim == 3 and isinstance(b, kind):
             return a, b
     return None
 
 
-def _rigid_mortar(solid, rigid, nodes, restitution, clearance, method):
+def _whole_boundary(pair_class, solid, other, nodes, restitution, clearance, method):
+    """``pair_class``'s mortar pair of the solid's whole boundary against ``other``."""
     if nodes is not None:
-        default = " (the default between a 3D solid and a RigidBody3D)" if method is None else ""
+        kind = type(other).__name__
+        default = f" (the default between a 3D solid and a {kind})" if method is None else ""
         raise InputError(
             f"nodes: a mortar contact{default} takes the solid's whole boundary; "
             "method='node-to-surface' constrains chosen nodes"
         )
-    return MortarRigid3D(solid, rigid, restitution, clearance)
+    return pair_class(solid, other, restitution, clearance)
 
 
 def _mortar(body, obstacle, nodes, restitution, clearance, solids: bool, method):

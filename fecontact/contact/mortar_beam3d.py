@@ -38,7 +38,7 @@ weigh 0.229 |e|₀ on each triangle) the row is at least D_j − 2.375 reach_j. 
 convex, so the sharper bound of the rigid pair does not hold.)
 
 What the rows do not hold one by one: a slave node may sit inside the tube by the
-discretization's own amount; :class:`TubeDepths` measures every slave node's exact distance.
+discretization's own amount; the pair's watch measures every slave node's exact distance.
 No friction: a frictional pair between a solid and a beam is node-to-surface.
 """
 
@@ -49,37 +49,18 @@ import scipy.sparse as sp
 
 from ..bodies.beam3d import Beam3D
 from ..bodies.solid import Solid
-from ..errors import InputError, check_positive, check_range
-from .base import PairDefaults
+from ..errors import InputError, check_positive
+from .boundary_mortar import BoundaryRows
+from .mortar_rigid3d import NodeDepths
 from .polyline_distance import closest_on_polyline, region_labels, straight_runs
-from .rigid_distance import SUBDIVISIONS, triangle_rule
+from .rigid_distance import SUBDIVISIONS
 from .segment3d import tube_distance
 
-__all__ = ["REACH", "MortarBeam3D", "TubeDepths"]
+__all__ = ["REACH", "MortarBeam3D"]
 
 REACH = 2.4
 """A node's row is at least D_j − 2.375 reach_j (module docstring): a node farther than the
 margin plus ``REACH`` times its triangles' longest edge has a row beyond the margin."""
-
-
-def _stars(rows: np.ndarray, m: int):
-    """Each row's star, the nodes of its triangles: (m, K) node rows padded with the row's own
-    node, and the positions (E, 3 ends, 3 nodes) of each triangle's nodes in the star of the
-    row of each of its ends."""
-    j = np.repeat(rows, 3, axis=1).ravel()  # (e, k, a) -> rows[e, k]
-    a = np.tile(rows, (1, 3)).ravel()  # (e, k, a) -> rows[e, a]
-    uniq, inv = np.unique(j * m + a, return_inverse=True)
-    uj, ua = np.divmod(uniq, m)
-    pos = np.arange(len(uniq)) - np.searchsorted(uj, uj)
-    K = int(np.bincount(uj, minlength=m).max())
-    star = np.repeat(np.arange(m)[:, None], K, axis=1)
-    star[uj, pos] = ua
-    return star, pos[inv].reshape(len(rows), 3, 3)
-
-
-def _areas(t: np.ndarray) -> np.ndarray:
-    """Areas (T,) of triangles t (T, 3, 3), m²."""
-    return 0.5 * np.linalg.norm(np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), axis=1)
 
 
 def _local(lam: np.ndarray, G: np.ndarray, H: np.ndarray | None):
@@ -102,7 +83,7 @@ def _local(lam: np.ndarray, G: np.ndarray, H: np.ndarray | None):
     return grad, curv
 
 
-class MortarBeam3D(PairDefaults):
+class MortarBeam3D(BoundaryRows):
     """Dual mortar contact of the boundary of a 3D :class:`~fecontact.Solid` (``body``, the
     slave) with the tube of radius ``clearance`` (m, > 0) about the centreline of a
     :class:`~fecontact.bodies.beam3d.Beam3D`; see the module docstring. One contact per slave
@@ -110,63 +91,34 @@ class MortarBeam3D(PairDefaults):
     (default: the integrator's detection distance); ``subdivisions`` (s ≥ 1) the sub-triangles
     per edge of a triangle across a region boundary of the centreline."""
 
-    linear = False
-    lazy_hessians = True
     frictional = False
 
     def __init__(self, body, beam, restitution=0.0, clearance=0.0, margin=None,
                  subdivisions: int = SUBDIVISIONS):  # fmt: skip
         if not isinstance(body, Solid) or body.dim != 3 or not isinstance(beam, Beam3D):
             raise InputError("mortar contact with a Beam3D's tube needs a 3D Solid")
-        self.body, self.beam, self.bodies = body, beam, (body, beam)
-        self.restitution = check_range("restitution", restitution, 0.0, 1.0)
-        self.clearance = check_positive("clearance (the tube's radius)", clearance)
-        self._own_margin = margin is not None
-        self.margin = check_positive("margin", 0.05 * body.characteristic_length
-                                     if margin is None else margin)  # fmt: skip
-        if int(subdivisions) != subdivisions or subdivisions < 1:
-            raise InputError(f"subdivisions must be an integer ≥ 1, got {subdivisions!r}")
-        self.rules = (triangle_rule(1), triangle_rule(int(subdivisions)))
-        self.facets = body.contact_facets()
-        self.nodes, rows = np.unique(self.facets, return_inverse=True)
-        self.element_rows = rows.reshape(self.facets.shape)
-        self.area0 = _areas(body.X[self.facets])  # |e|₀ (m²)
-        self.length = np.bincount(rows.ravel(), np.repeat(self.area0 / 3.0, 3), len(self.nodes))
-        """Reference area L_j (m²) each slave node carries: its rows are g̃_j / L_j."""
-        self.area = self.length
-        self._star, pos = _stars(self.element_rows, len(self.nodes))
+        clearance = check_positive("clearance (the tube's radius)", clearance)
+        super().__init__(body, restitution, clearance, margin, subdivisions)
+        self.beam, self.bodies = beam, (body, beam)
         self.segments = beam.segments()
         # each triangle end's node columns in its row (the beam's follow the star's 3K)
-        self._node_cols = (3 * pos[..., None] + np.arange(3)).reshape(len(self.facets), 3, 9)
-        self._beam_col0 = 3 * self._star.shape[1]
+        cols = 3 * self.star_positions[..., None] + np.arange(3)
+        self._node_cols = cols.reshape(len(self.facets), 3, 9)
+        self._beam_col0 = 3 * self.star.shape[1]
         self._node_dofs = body.node_translation_dofs(self.nodes)
         self._beam_dofs = beam.node_translation_dofs(np.arange(beam.n_nodes))
         self.offsets = (0, 0)
         self.dofs = np.zeros((len(self.nodes), self._beam_col0 + self._beam_dofs.size), int)
-        self._last = self._last_gaps = None
-
-    @property
-    def size(self) -> int:
-        return len(self.nodes)
 
     def bind(self, model) -> None:
         """Place the pair in the global dof vector of ``model``."""
         oa, ob = self.offsets = (model.offset_of(self.body), model.offset_of(self.beam))
-        m, K = self._star.shape
-        nodes = (oa + self._node_dofs[self._star]).reshape(m, 3 * K)
+        m, K = self.star.shape
+        nodes = (oa + self._node_dofs[self.star]).reshape(m, 3 * K)
         beam = np.broadcast_to(ob + self._beam_dofs.ravel(), (m, self._beam_dofs.size))
         self.dofs = np.concatenate([nodes, beam], axis=1)
         self.dofs.flags.writeable = False
         self.reset()
-
-    def reset(self) -> None:
-        self._last = self._last_gaps = None
-
-    def detect_within(self, distance: float) -> None:
-        """Rows within ``distance`` (m, the integrator's detection distance) are integrated."""
-        if not self._own_margin and distance > 0.0 and distance != self.margin:
-            self.margin = distance
-            self.reset()
 
     # -- geometry ---------------------------------------------------------------------------
     def _frame(self, q: np.ndarray):
@@ -185,33 +137,12 @@ class MortarBeam3D(PairDefaults):
         is within the margin, the triangles (T,) to integrate for them, and the region label of
         every slave node."""
         which, xi, d = closest_on_polyline(x[self.nodes], ends)
-        t = x[self.facets]
-        edge = np.linalg.norm(t - np.roll(t, 1, axis=1), axis=2).max(axis=1)
-        reach = np.zeros(self.size)
-        for k in range(3):
-            np.maximum.at(reach, self.element_rows[:, k], edge)
-        near = d - self.clearance - REACH * reach <= self.margin
+        near = d - self.clearance - REACH * self.reach(x) <= self.margin
         tris = np.flatnonzero(near[self.element_rows].any(axis=1))
         runs = straight_runs(ends, self.segments, self.beam.n_nodes)
         return near, tris, region_labels(which, xi, self.segments, runs)
 
-    def _points(self, tris, labels):
-        """The triangles reordered (plain ones first), and their points: the index of each
-        point's triangle in that order, area coordinates λ (P, 3), weights w (P,) and the
-        start of each triangle's points."""
-        lab = labels[self.element_rows[tris]]
-        cut = (lab[:, 0] != lab[:, 1]) | (lab[:, 0] != lab[:, 2])
-        tris = np.concatenate([tris[~cut], tris[cut]])
-        n_plain, n_cut = int((~cut).sum()), int(cut.sum())
-        (l1, w1), (ls, ws) = self.rules
-        counts = np.concatenate([np.full(n_plain, len(w1)), np.full(n_cut, len(ws))])
-        which = np.repeat(np.arange(len(tris)), counts)
-        lam = np.concatenate([np.tile(l1, (n_plain, 1)), np.tile(ls, (n_cut, 1))])
-        w = np.concatenate([np.tile(w1, n_plain), np.tile(ws, n_cut)])
-        starts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(int)
-        return tris, which, lam, w, starts
-
-    def _integrals(self, q: np.ndarray, order: int, tris=None):
+    def integrals(self, q: np.ndarray, order: int, tris=None):
         """The triangles' end integrals ∫ Φ_i D dA₀ (T, 3) over the triangles of the rows that
         take part (or ``tris``), and for ``order`` ≥ 1 their derivatives by groups, the points
         of one triangle closest to one segment (whose 15 local dofs (x₁, x₂, x₃, a, b) have the
@@ -223,7 +154,9 @@ class MortarBeam3D(PairDefaults):
         tris = found if tris is None else tris
         if len(tris) == 0:
             return near, tris, np.zeros((0, 3)), None
-        tris, which, lam, w, starts = self._points(tris, labels)
+        lab = labels[self.element_rows[tris]]
+        cut = (lab[:, 0] != lab[:, 1]) | (lab[:, 0] != lab[:, 2])
+        tris, which, lam, w, starts = self.rule_points(tris, cut)
         xp = (lam[:, None, :] @ x[self.facets[tris]][which])[:, 0]
         seg = closest_on_polyline(xp, ends)[0]
         f, _, _, G, H = tube_distance(ends[seg], xp[:, None, :], hessian=order == 2)
@@ -254,27 +187,12 @@ class MortarBeam3D(PairDefaults):
         return cols
 
     # -- rows -------------------------------------------------------------------------------
-    def _rows(self, near, tris, values) -> np.ndarray:
-        g = np.zeros(self.size)
-        for k in range(3):
-            g += np.bincount(self.element_rows[tris, k], values[:, k], self.size)
-        return np.where(near, g / self.length, np.inf)
-
-    def gaps(self, q: np.ndarray) -> np.ndarray:
-        """The rows g_j (m) alone (+inf for rows that take no part)."""
-        for cached in (self._last, self._last_gaps):
-            if cached is not None and np.array_equal(cached[0], q):
-                return cached[1].copy()
-        g = self._rows(*self._integrals(q, 0)[:3])
-        self._last_gaps = (q.copy(), g)
-        return g.copy()
-
     def evaluate(self, q: np.ndarray):
         """Rows (m,) in m, dofs (m, k), gradients (m, k), no curvature (:meth:`hessians`)."""
-        if self._last is not None and np.array_equal(self._last[0], q):
-            return self._last[1].copy(), self.dofs, self._last[2], None
-        near, tris, values, groups = self._integrals(q, 1)
-        g = self._rows(near, tris, values)
+        if self.cached is not None and np.array_equal(self.cached[0], q):
+            return self.cached[1].copy(), self.dofs, self.cached[2], None
+        near, tris, values, groups = self.integrals(q, 1)
+        g = self.sum_rows(near, tris, values)
         k = self.dofs.shape[1]
         G = np.zeros(self.dofs.shape)
         if groups is not None:
@@ -284,7 +202,7 @@ class MortarBeam3D(PairDefaults):
             vals = scale[:, :, None] * groups[2]
             G = np.bincount(at.ravel(), vals.ravel(), G.size).reshape(G.shape)
         G.flags.writeable = False
-        self._last = (q.copy(), g, G)
+        self.cached = (q.copy(), g, G)
         return g.copy(), self.dofs, G, None
 
     def hessians(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
@@ -295,7 +213,7 @@ class MortarBeam3D(PairDefaults):
         where = np.full(self.size, -1)
         where[rows] = np.arange(len(rows))
         tris = np.flatnonzero((where[self.element_rows] >= 0).any(axis=1))
-        near, tris, _, groups = self._integrals(q, 2, tris)
+        near, tris, _, groups = self.integrals(q, 2, tris)
         if groups is None:
             return np.zeros((len(rows), k, k))
         r = self.element_rows[tris[groups[0]]]  # (n, 3)
@@ -307,31 +225,6 @@ class MortarBeam3D(PairDefaults):
         return np.bincount(at.ravel(), vals.ravel(), len(rows) * k * k).reshape(len(rows), k, k)
 
     # -- what the rows do not hold ----------------------------------------------------------
-    def watch(self) -> TubeDepths:
-        return TubeDepths(self)
-
-    def nodal_pressure(self, forces: np.ndarray):
-        """The slave nodes (indices in the body) and their nominal pressure z_j = λ_j / L_j
-        (Pa, per reference area) from the rows' normal forces λ_j (N)."""
-        forces = np.asarray(forces, dtype=float)
-        if forces.shape != (self.size,):
-            raise InputError(f"forces must have {self.size} entries, got {forces.shape}")
-        return self.nodes, forces / self.length
-
-
-class TubeDepths:
-    """The deepest slave node of a :class:`MortarBeam3D` inside the tube, by its exact
-    distance to the centreline, over the shortest reference boundary edge at that node."""
-
-    def __init__(self, pair: MortarBeam3D):
-        self.pair = pair
-        t = pair.body.X[pair.facets]
-        edge = np.linalg.norm(t - np.roll(t, 1, axis=1), axis=2).min(axis=1)
-        self.edge = np.full(pair.size, np.inf)
-        for k in range(3):
-            np.minimum.at(self.edge, pair.element_rows[:, k], edge)
-
-    def depth(self, q: np.ndarray) -> tuple[float, float]:
-        """(deepest node's depth in m, ≥ 0; the largest depth over the node's shortest edge)."""
-        d = -self.pair.node_distances(q)
-        return max(0.0, float(d.max())), max(0.0, float((d / self.edge).max()))
+    def watch(self) -> NodeDepths:
+        """The deepest slave node inside the tube, by its exact distance to the centreline."""
+        return NodeDepths(self)
