@@ -77,8 +77,8 @@ def test_mortar_rows_are_the_derivatives_of_the_weighted_gaps():
     beam's translations and rotations, composed on the right), the curvature against those
     of G. Step 1e-7: the closest point of a quadrature point changes region (an end cap, the
     concave side of a bent joint, where D's gradient jumps) within 1e-6 of some points,
-    which a step of 1e-6 crosses (8e-5 measured there); at 1e-7 the errors are 2.7e-10 and
-    3.7e-9 against a largest curvature of 53 (bounds 1e-8 and 1e-6 relative)."""
+    which a step of 1e-6 crosses (8e-5 measured there); at 1e-7 the errors are 3.2e-10 and
+    3.8e-9 against a largest curvature of 53 (bounds 1e-8 and 1e-6 relative)."""
     pair, model, q = bent_rod_on_block()
     assert isinstance(pair, MortarBeam3D)
     g, dofs, G, _ = pair.evaluate(q)

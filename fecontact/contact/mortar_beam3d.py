@@ -158,8 +158,15 @@ class MortarBeam3D(BoundaryRows):
         cut = (lab[:, 0] != lab[:, 1]) | (lab[:, 0] != lab[:, 2])
         tris, which, lam, w, starts = self.rule_points(tris, cut)
         xp = (lam[:, None, :] @ x[self.facets[tris]][which])[:, 0]
-        seg = closest_on_polyline(xp, ends)[0]
-        f, _, _, G, H = tube_distance(ends[seg], xp[:, None, :], hessian=order == 2)
+        seg, xi, f = closest_on_polyline(xp, ends)
+        G = H = None
+        if order == 2:
+            f, _, _, G, H = tube_distance(ends[seg], xp[:, None, :])
+        elif order == 1:  # the gradient ((1 − ξ)e, ξe, −e) over (a, b, x), e from x to p
+            t = np.clip(xi, 0.0, 1.0)[:, None]
+            a, b = ends[seg, 0], ends[seg, 1]
+            e = ((1.0 - t) * a + t * b - xp) / f[:, None]
+            G = np.concatenate([(1.0 - t) * e, t * e, -e], axis=1)
         wphi = w[:, None] * (4.0 * lam - 1.0) * self.area0[tris][which, None]  # (P, 3)
         values = np.add.reduceat(wphi * (f - self.clearance)[:, None], starts, axis=0)
         if order == 0:
