@@ -265,7 +265,7 @@ def test_a_rod_dropped_on_an_elastic_block_stays_out_and_keeps_the_momentum():
     block = Solid(mesh, LinearElastic(1e9, 0.3, rho=1000.0))
     z0 = R_TUBE + 0.001
     bar = rod([-0.08, -0.05, z0], [0.08, 0.07, z0], 4)
-    pair = Contact(bar, block, clearance=R_TUBE)
+    pair = Contact(bar, block, clearance=R_TUBE, method="node-to-surface")
     assert isinstance(pair, TubeSolidContact)
     model = Model([bar, block], [pair], gravity=(0.0, 0.0, 0.0))
     gmin, st, deepest = run(
@@ -428,7 +428,7 @@ def rod_over_a_block_edge(edges: bool, n=1):
     d, up = np.array([np.cos(a), 0.0, -np.sin(a)]), np.array([np.sin(a), 0.0, np.cos(a)])
     c = np.array([0.1, 0.0, 0.0]) + (R_TUBE + 0.001) * up
     bar = rod(c - 0.08 * d, c + 0.08 * d, n)
-    pairs = [Contact(bar, block, clearance=R_TUBE)]
+    pairs = [Contact(bar, block, clearance=R_TUBE, method="node-to-surface")]
     if edges:
         pairs.append(Contact(bar, SolidEdges(block), clearance=R_TUBE))
     return bar, block, Model([bar, block], pairs, gravity=(0.0, 0.0, 0.0))

@@ -2,6 +2,10 @@ r"""A :class:`~fecontact.bodies.beam3d.Beam3D` against a 3D :class:`~fecontact.S
 beam's nodes, on the axis of a tube of radius r (the ``clearance``), against the solid's
 boundary triangles.
 
+``Contact(beam, solid, clearance=r, method="node-to-surface")`` (or the two named the other
+way) builds this pair; the default for the two is dual mortar over the solid's boundary
+against the tube (:mod:`fecontact.contact.mortar_beam3d`).
+
 Node-to-surface (:class:`~fecontact.contact.body_pairs.NodeSurfaceContact`) with the beam's
 nodes as slaves: each node's gap is its signed distance from the plane of its closest boundary
 triangle less r, g = n·(x_s − x_a) − r, with that pair's exact gradient, curvature, search and
@@ -47,3 +51,9 @@ class TubeSolidContact(NodeSurfaceContact):
 def _beam3d_solid(beam, solid, nodes, restitution, clearance):
     """The beam's nodes (a tube of radius ``clearance``) against the solid's boundary."""
     return TubeSolidContact(beam, solid, nodes, restitution, clearance)
+
+
+@register_pair(Solid, Beam3D)
+def _solid_beam3d(solid, beam, nodes, restitution, clearance):
+    """The same pair named the other way round (``nodes`` of the beam)."""
+    return _beam3d_solid(beam, solid, nodes, restitution, clearance)

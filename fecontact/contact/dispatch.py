@@ -3,11 +3,13 @@ with the factory registered for their kinds (:mod:`fecontact.contact.registry`).
 
 from __future__ import annotations
 
+from ..bodies.beam3d import Beam3D
 from ..bodies.rigid3d import RigidBody3D
 from ..bodies.solid import Solid
 from ..errors import InputError, check_positive
 from .mortar import MortarContact
 from .mortar3d import MortarContact3D
+from .mortar_beam3d import MortarBeam3D
 from .mortar_p2_segments import MortarContactP2
 from .mortar_rigid3d import MortarRigid3D
 from .registry import pair_factory
@@ -61,29 +63,20 @@ def Contact(
     (``Ball`` or ``Box``, named either way round) takes the same option: ``"mortar"`` (the
     default: the solid's boundary against the body's exact shape,
     :mod:`fecontact.contact.mortar_rigid3d`) or ``"node-to-surface"`` (its ``nodes``,
-    :mod:`fecontact.contact.solid_rigid3d`). Other pairs take None only.
+    :mod:`fecontact.contact.solid_rigid3d`). So does a 3D ``Solid`` against a ``Beam3D``
+    (either way round, ``clearance`` the tube's radius): ``"mortar"`` (the default: the
+    solid's boundary against the tube, :mod:`fecontact.contact.mortar_beam3d`) or
+    ``"node-to-surface"`` (the beam's ``nodes`` against the solid's boundary,
+    :mod:`fecontact.contact.beam3d_solid`). Other pairs take None only.
 
     The pair comes from the factory registered for the classes of ``body`` and ``obstacle``
     (:func:`fecontact.contact.registry.register_pair`): a new body type registers its own.
     """
     friction = check_positive("friction", friction, allow_zero=True)
     clearance = check_positive("clearance", clearance, allow_zero=True)
-    solids = isinstance(body, Solid) and isinstance(obstacle, Solid)
-    rigid = _solid_and_rigid3d(body, obstacle)
-    if method == "mortar" or (method is None and (solids or rigid)):
-        if rigid:
-            pair = _rigid_mortar(*rigid, nodes, restitution, clearance, method)
-        else:
-            pair = _mortar(body, obstacle, nodes, restitution, clearance, solids, method)
-    elif method in (None, "node-to-surface"):
-        if method is not None and not (solids or rigid):
-            raise InputError(
-                "method: 'node-to-surface' applies between two solids or a 3D solid and a "
-                "RigidBody3D; use None"
-            )
+    pair = _mortar_pair(body, obstacle, nodes, restitution, clearance, method)
+    if pair is None:
         pair = pair_factory(body, obstacle)(body, obstacle, nodes, restitution, clearance)
-    else:
-        raise InputError(f"method must be 'node-to-surface' or 'mortar', got {method!r}")
     if friction:
         if not pair.frictional:
             raise InputError(f"friction: not available for a {type(pair).__name__}; use 0")
@@ -91,29 +84,53 @@ def Contact(
     return pair
 
 
-def _solid_and_rigid3d(body, obstacle):
-    """(the solid, the rigid body) of a 3D Solid and a RigidBody3D named either way, else
-    None."""
+def _mortar_pair(body, obstacle, nodes, restitution, clearance, method):
+    """The mortar pair of ``body`` and ``obstacle`` where ``method`` asks for one or it is
+    their default, else None (``method`` checked by name)."""
+    solids = isinstance(body, Solid) and isinstance(obstacle, Solid)
+    rigid = _solid3d_and(RigidBody3D, body, obstacle)
+    tube = _solid3d_and(Beam3D, body, obstacle)
+    if method == "mortar" or (method is None and (solids or rigid or tube)):
+        if tube:
+            return _whole_boundary(MortarBeam3D, *tube, nodes, restitution, clearance, method)
+        if rigid:
+            return _whole_boundary(MortarRigid3D, *rigid, nodes, restitution, clearance, method)
+        return _mortar(body, obstacle, nodes, restitution, clearance, solids, method)
+    if method not in (None, "node-to-surface"):
+        raise InputError(f"method must be 'node-to-surface' or 'mortar', got {method!r}")
+    if method is not None and not (solids or rigid or tube):
+        raise InputError(
+            "method: 'node-to-surface' applies between two solids or a 3D solid and a "
+            "RigidBody3D or a Beam3D; use None"
+        )
+    return None
+
+
+def _solid3d_and(kind: type, body, obstacle):
+    """(the solid, the other) of a 3D Solid and a ``kind`` body named either way, else None."""
     for a, b in ((body, obstacle), (obstacle, body)):
-        if isinstance(a, Solid) and a.dim == 3 and isinstance(b, RigidBody3D):
+        if isinstance(a, Solid) and a.dim == 3 and isinstance(b, kind):
             return a, b
     return None
 
 
-def _rigid_mortar(solid, rigid, nodes, restitution, clearance, method):
+def _whole_boundary(pair_class, solid, other, nodes, restitution, clearance, method):
+    """``pair_class``'s mortar pair of the solid's whole boundary against ``other``."""
     if nodes is not None:
-        default = " (the default between a 3D solid and a RigidBody3D)" if method is None else ""
+        kind = type(other).__name__
+        default = f" (the default between a 3D solid and a {kind})" if method is None else ""
         raise InputError(
             f"nodes: a mortar contact{default} takes the solid's whole boundary; "
             "method='node-to-surface' constrains chosen nodes"
         )
-    return MortarRigid3D(solid, rigid, restitution, clearance)
+    return pair_class(solid, other, restitution, clearance)
 
 
 def _mortar(body, obstacle, nodes, restitution, clearance, solids: bool, method):
     if not solids:
         raise InputError(
-            "method: 'mortar' applies between two solids or a 3D solid and a RigidBody3D"
+            "method: 'mortar' applies between two solids or a 3D solid and a RigidBody3D "
+            "or a Beam3D"
         )
     if nodes is not None or clearance:
         default = " (the default between two solids)" if method is None else ""

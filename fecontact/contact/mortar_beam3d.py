@@ -1,0 +1,237 @@
+r"""Dual mortar contact of a 3D :class:`~fecontact.Solid` against the tube of a
+:class:`~fecontact.bodies.beam3d.Beam3D`.
+
+The solid's boundary triangles (:meth:`~fecontact.Solid.contact_facets`) are the slave surface,
+the beam's tube of radius r (the ``clearance``) about its centreline polyline the master. Each
+slave boundary node j carries one multiplier and one row, its weighted gap
+
+    g̃_j = Σ_e ∫_e Φ_j D(x) dA₀,   D(x) = d(x) − r,   rows g_j = g̃_j / L_j,
+
+with d the distance of the current point x = Σ λ_k x_k to the centreline (the least distance to
+its segments between consecutive nodes, :mod:`fecontact.contact.polyline_distance`),
+Φ_j = 4λ_j − 1 the dual functions of the linear triangle and L_j = Σ_e |e|₀/3 the reference
+area node j carries: the same dual basis, reference-area integral and rule as the mortar
+against a rigid body (:mod:`fecontact.contact.mortar_rigid3d`), whose multipliers λ_j / L_j
+are the nominal pressure. A circular tube's surface does not depend on the sections'
+rotations: D is a function of the solid's nodes and the beam's node positions only.
+
+Integration: the degree-5 rule of :func:`~fecontact.contact.rigid_distance.triangle_rule` on
+each triangle, on s² sub-triangles where the triangle's vertices have their closest points in
+different regions of the centreline (a segment's interior, a node: the end caps, the switch
+between neighbouring segments at a joint turning by more than
+:data:`~fecontact.contact.polyline_distance.KINK`), where the curvature of D jumps (and on the
+concave side of a bend, its gradient). The sub-triangles are fixed in area coordinates: they do not
+follow the region's boundary, whose kink they integrate to a smaller error only.
+
+Gradients and curvature over a triangle's 9 node coordinates and the 3 n_b beam node
+translations (zero on the section rotations): at a point x with closest point p on segment
+(a, b) at ξ, n = (x − p)/|x − p| and ∂D/∂(x, a, b) = (n, −(1 − ξ) n, −ξ n), x = Σ λ_k x_k;
+the curvature is that of the segment's distance (held parameter for a closest point inside the
+segment, :func:`~fecontact.contact.segment3d.tube_distance`) through the same chain. The
+closest segment is chosen per point and held: at a joint it changes where both segments' fields
+meet, with equal values (and, on the convex side, equal gradients).
+
+Rows of nodes farther than the margin plus ``REACH`` times their triangles' longest edge from the
+tube report +inf and a zero gradient: d is 1-Lipschitz, so D ≥ D_j − |x − x_j| and
+D ≤ D_j + |x − x_j| over the node's triangles, and with ∫|Φ_j| = 2.375 L_j (the negative lobes
+weigh 0.229 |e|₀ on each triangle) the row is at least D_j − 2.375 reach_j. (A polyline is not
+convex, so the sharper bound of the rigid pair does not hold.)
+
+What the rows do not hold one by one: a slave node may sit inside the tube by the
+discretization's own amount; the pair's watch measures every slave node's exact distance.
+No friction: a frictional pair between a solid and a beam is node-to-surface.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..bodies.beam3d import Beam3D
+from ..bodies.solid import Solid
+from ..errors import InputError, check_positive
+from .boundary_mortar import BoundaryRows
+from .mortar_rigid3d import NodeDepths
+from .polyline_distance import closest_on_polyline, region_labels, straight_runs
+from .rigid_distance import SUBDIVISIONS
+from .segment3d import tube_distance
+
+__all__ = ["REACH", "MortarBeam3D"]
+
+REACH = 2.4
+"""A node's row is at least D_j − 2.375 reach_j (module docstring): a node farther than the
+margin plus ``REACH`` times its triangles' longest edge has a row beyond the margin."""
+
+
+def _local(lam: np.ndarray, G: np.ndarray, H: np.ndarray | None):
+    """The gradients (P, 15) and, from H, the curvatures (P, 15, 15) over (x₁, x₂, x₃, a, b)
+    of a segment's distance with gradient G (P, 9) and curvature H (P, 9, 9) over (a, b, x):
+    the chain through x = Σ λ_k x_k."""
+    P = len(lam)
+    grad = np.empty((P, 15))
+    grad[:, :9] = (lam[:, :, None] * G[:, None, 6:]).reshape(P, 9)
+    grad[:, 9:] = G[:, :6]
+    if H is None:
+        return grad, None
+    curv = np.empty((P, 15, 15))
+    ll = lam[:, :, None] * lam[:, None, :]
+    curv[:, :9, :9] = (ll[:, :, None, :, None] * H[:, None, 6:, None, 6:]).reshape(P, 9, 9)
+    cross = (lam[:, :, None, None] * H[:, None, 6:, :6]).reshape(P, 9, 6)
+    curv[:, :9, 9:] = cross
+    curv[:, 9:, :9] = cross.transpose(0, 2, 1)
+    curv[:, 9:, 9:] = H[:, :6, :6]
+    return grad, curv
+
+
+class MortarBeam3D(BoundaryRows):
+    """Dual mortar contact of the boundary of a 3D :class:`~fecontact.Solid` (``body``, the
+    slave) with the tube of radius ``clearance`` (m, > 0) about the centreline of a
+    :class:`~fecontact.bodies.beam3d.Beam3D`; see the module docstring. One contact per slave
+    boundary node; ``restitution`` Newton's e_N in [0, 1]; ``margin`` (m) the search distance
+    (default: the integrator's detection distance); ``subdivisions`` (s ≥ 1) the sub-triangles
+    per edge of a triangle across a region boundary of the centreline."""
+
+    frictional = False
+
+    def __init__(self, body, beam, restitution=0.0, clearance=0.0, margin=None,
+                 subdivisions: int = SUBDIVISIONS):  # fmt: skip
+        if not isinstance(body, Solid) or body.dim != 3 or not isinstance(beam, Beam3D):
+            raise InputError("mortar contact with a Beam3D's tube needs a 3D Solid")
+        clearance = check_positive("clearance (the tube's radius)", clearance)
+        super().__init__(body, restitution, clearance, margin, subdivisions)
+        self.beam, self.bodies = beam, (body, beam)
+        self.segments = beam.segments()
+        # each triangle end's node columns in its row (the beam's follow the star's 3K)
+        cols = 3 * self.star_positions[..., None] + np.arange(3)
+        self._node_cols = cols.reshape(len(self.facets), 3, 9)
+        self._beam_col0 = 3 * self.star.shape[1]
+        self._node_dofs = body.node_translation_dofs(self.nodes)
+        self._beam_dofs = beam.node_translation_dofs(np.arange(beam.n_nodes))
+        self.offsets = (0, 0)
+        self.dofs = np.zeros((len(self.nodes), self._beam_col0 + self._beam_dofs.size), int)
+
+    def bind(self, model) -> None:
+        """Place the pair in the global dof vector of ``model``."""
+        oa, ob = self.offsets = (model.offset_of(self.body), model.offset_of(self.beam))
+        m, K = self.star.shape
+        nodes = (oa + self._node_dofs[self.star]).reshape(m, 3 * K)
+        beam = np.broadcast_to(ob + self._beam_dofs.ravel(), (m, self._beam_dofs.size))
+        self.dofs = np.concatenate([nodes, beam], axis=1)
+        self.dofs.flags.writeable = False
+        self.reset()
+
+    # -- geometry ---------------------------------------------------------------------------
+    def _frame(self, q: np.ndarray):
+        """Every node's position (m) of the solid, and the beam's segments' ends (S, 2, 3)."""
+        (oa, ob), body, beam = self.offsets, self.body, self.beam
+        x = body.positions(q[oa : oa + body.ndof])
+        return x, beam.positions(q[ob : ob + beam.ndof])[self.segments]
+
+    def node_distances(self, q: np.ndarray) -> np.ndarray:
+        """D(x_j) (m): every slave node's distance to the centreline less the tube's radius."""
+        x, ends = self._frame(q)
+        return closest_on_polyline(x[self.nodes], ends)[2] - self.clearance
+
+    def _near(self, x, ends):
+        """The rows that take part (m,) bool, those whose bound from below D_j − REACH reach_j
+        is within the margin, the triangles (T,) to integrate for them, and the region label of
+        every slave node."""
+        which, xi, d = closest_on_polyline(x[self.nodes], ends)
+        near = d - self.clearance - REACH * self.reach(x) <= self.margin
+        tris = np.flatnonzero(near[self.element_rows].any(axis=1))
+        runs = straight_runs(ends, self.segments, self.beam.n_nodes)
+        return near, tris, region_labels(which, xi, self.segments, runs)
+
+    def integrals(self, q: np.ndarray, order: int, tris=None):
+        """The triangles' end integrals ∫ Φ_i D dA₀ (T, 3) over the triangles of the rows that
+        take part (or ``tris``), and for ``order`` ≥ 1 their derivatives by groups, the points
+        of one triangle closest to one segment (whose 15 local dofs (x₁, x₂, x₃, a, b) have the
+        same columns): (index of the triangle in tris (n,), segment (n,), the gradients
+        (n, 3 ends, 15) and with ``order`` 2 the curvatures (n, 3, 15, 15)). Returns (near,
+        tris, values, groups or None)."""
+        x, ends = self._frame(q)
+        near, found, labels = self._near(x, ends)
+        tris = found if tris is None else tris
+        if len(tris) == 0:
+            return near, tris, np.zeros((0, 3)), None
+        lab = labels[self.element_rows[tris]]
+        cut = (lab[:, 0] != lab[:, 1]) | (lab[:, 0] != lab[:, 2])
+        tris, which, lam, w, starts = self.rule_points(tris, cut)
+        xp = (lam[:, None, :] @ x[self.facets[tris]][which])[:, 0]
+        seg, xi, f = closest_on_polyline(xp, ends)
+        G = H = None
+        if order == 2:
+            f, _, _, G, H = tube_distance(ends[seg], xp[:, None, :])
+        elif order == 1:  # the gradient ((1 − ξ)e, ξe, −e) over (a, b, x), e from x to p
+            t = np.clip(xi, 0.0, 1.0)[:, None]
+            a, b = ends[seg, 0], ends[seg, 1]
+            e = ((1.0 - t) * a + t * b - xp) / f[:, None]
+            G = np.concatenate([(1.0 - t) * e, t * e, -e], axis=1)
+        wphi = w[:, None] * (4.0 * lam - 1.0) * self.area0[tris][which, None]  # (P, 3)
+        values = np.add.reduceat(wphi * (f - self.clearance)[:, None], starts, axis=0)
+        if order == 0:
+            return near, tris, values, None
+        S, P = len(self.segments), len(which)
+        keys, group = np.unique(which * S + seg, return_inverse=True)
+        n = len(keys)
+        # W (3n, P): the weights w Φ_i |e|₀ of each point in its group's end rows
+        W = sp.csr_matrix((wphi.ravel(), ((3 * group)[:, None] + np.arange(3)).ravel(),
+                           np.arange(0, 3 * P + 1, 3)), shape=(P, 3 * n)).T.tocsr()  # fmt: skip
+        grad, curv = _local(lam, G, H if order == 2 else None)
+        grads = (W @ grad).reshape(n, 3, 15)
+        curvs = None if curv is None else (W @ curv.reshape(P, 225)).reshape(n, 3, 15, 15)
+        return near, tris, values, (keys // S, keys % S, grads, curvs)
+
+    def _columns(self, tris, groups) -> np.ndarray:
+        """The columns (n, 3 ends, 15) of each group's 15 local dofs in the row of each end of
+        its triangle."""
+        tri, seg = groups[:2]
+        nodes = self.segments[seg]
+        beam = self._beam_col0 + 3 * nodes[:, :, None] + np.arange(3)  # (n, 2, 3)
+        cols = np.empty((len(tri), 3, 15), dtype=int)
+        cols[:, :, :9] = self._node_cols[tris[tri]]
+        cols[:, :, 9:] = beam.reshape(-1, 1, 6)
+        return cols
+
+    # -- rows -------------------------------------------------------------------------------
+    def evaluate(self, q: np.ndarray):
+        """Rows (m,) in m, dofs (m, k), gradients (m, k), no curvature (:meth:`hessians`)."""
+        if self.cached is not None and np.array_equal(self.cached[0], q):
+            return self.cached[1].copy(), self.dofs, self.cached[2], None
+        near, tris, values, groups = self.integrals(q, 1)
+        g = self.sum_rows(near, tris, values)
+        k = self.dofs.shape[1]
+        G = np.zeros(self.dofs.shape)
+        if groups is not None:
+            r = self.element_rows[tris[groups[0]]]  # (n, 3)
+            scale = np.where(near, 1.0 / self.length, 0.0)[r]
+            at = r[:, :, None] * k + self._columns(tris, groups)
+            vals = scale[:, :, None] * groups[2]
+            G = np.bincount(at.ravel(), vals.ravel(), G.size).reshape(G.shape)
+        G.flags.writeable = False
+        self.cached = (q.copy(), g, G)
+        return g.copy(), self.dofs, G, None
+
+    def hessians(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        """∇²g_j (len(rows), k, k) of the rows ``rows`` at q, in the layout of
+        :meth:`evaluate`."""
+        rows = np.asarray(rows, dtype=int)
+        k = self.dofs.shape[1]
+        where = np.full(self.size, -1)
+        where[rows] = np.arange(len(rows))
+        tris = np.flatnonzero((where[self.element_rows] >= 0).any(axis=1))
+        near, tris, _, groups = self.integrals(q, 2, tris)
+        if groups is None:
+            return np.zeros((len(rows), k, k))
+        r = self.element_rows[tris[groups[0]]]  # (n, 3)
+        scale = np.where(near, 1.0 / self.length, 0.0)[r]
+        g, end = np.nonzero(where[r] >= 0)
+        c = self._columns(tris, groups)[g, end]  # (N, 15)
+        at = (where[r[g, end]][:, None, None] * k + c[:, :, None]) * k + c[:, None, :]
+        vals = scale[g, end, None, None] * groups[3][g, end]
+        return np.bincount(at.ravel(), vals.ravel(), len(rows) * k * k).reshape(len(rows), k, k)
+
+    # -- what the rows do not hold ----------------------------------------------------------
+    def watch(self) -> NodeDepths:
+        """The deepest slave node inside the tube, by its exact distance to the centreline."""
+        return NodeDepths(self)
