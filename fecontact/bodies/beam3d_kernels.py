@@ -75,6 +75,8 @@ class Beam3DElements:
     ell32: np.ndarray
     ell33: np.ndarray
     ell312: np.ndarray
+    ell3: np.ndarray  # ℓ (E, 3)
+    scale: np.ndarray  # (1, 1/ℓ) as columns (E, 3, 2): the strains of (L0ᵀγ̂, L0ᵀρ)
     E1: np.ndarray  # (E₁, 0) (E, 3, 2)
     C32: np.ndarray  # (C_Γ, C_K) as columns (E, 3, 2)
     eye: np.ndarray  # I (E, 3, 3)
@@ -109,6 +111,8 @@ class Beam3DElements:
             ell32=full(ell, 2),
             ell33=full(ell, 3),
             ell312=full(ell, 12),
+            ell3=np.repeat(ell, 3).reshape(E, 3),
+            scale=np.concatenate([np.ones((E, 3, 1)), 1 / full(ell, 1)], axis=2),
             E1=np.repeat(_E1_COLUMN[None], E, axis=0),
             C32=np.repeat(_rigidity_columns(C)[None], E, axis=0),
             eye=np.repeat(_I3[None], E, axis=0),
@@ -183,7 +187,7 @@ _N_TERMS = 12  # at θ² < _SERIES_MAX the first neglected term is below 1e-20 o
 _SERIES_MAX = 1.0
 _SKEW, _VEE, _SERIES = _skew_basis(), _vee_trace(), _series_table()
 _POWERS = np.arange(_N_TERMS)
-_ARGUMENTS = np.array([[1.0], [0.25]])
+_ARGUMENTS = np.array([1.0, 0.25])
 _TINY = 1e-300
 
 
@@ -219,23 +223,27 @@ def rotation_matrices(psi: np.ndarray) -> np.ndarray:
     return ((q[:, :, None] * q[:, None, :]).reshape(-1, 16) @ _QUATERNION).reshape(-1, 3, 3)
 
 
-def _log(A: np.ndarray) -> np.ndarray:
-    """Rotation vector of A (θ < π): θ = 2 atan(sin θ/(1 + cos θ)) along the axial vector."""
+def _log(A: np.ndarray):
+    """Rotation vector ρ (E, 3) of A (θ < π) and its angle θ (E): θ = 2 atan(sin θ/(1 + cos θ))
+    along the axial vector."""
     v = A.reshape(-1, 9) @ _VEE
     a, c1 = v[:, :3], v[:, 3] + 0.5  # sin θ · axis, 1 + cos θ
     # tan(θ/2) (offset as in rotation_matrices: atan(s)/s is 1 at 0); NaN for an element turned by π
     a0, a1, a2 = a[:, 0], a[:, 1], a[:, 2]
     s = np.sqrt(a0 * a0 + a1 * a1 + a2 * a2) / c1 + _TINY
-    return (2.0 * np.arctan(s) / (s * c1))[:, None] * a
+    theta = 2.0 * np.arctan(s)
+    return (theta / (s * c1))[:, None] * a, theta
 
 
 def _coefficients(t2: np.ndarray) -> np.ndarray:
-    """(2, E, 5): d, d′ of x = θ² (row 0) and a, b, c, b′, c′ of x = θ²/4 (row 1), by their
-    series where θ² < _SERIES_MAX, else by the closed forms d′ = ((1 + a)/(4b) − 1)/x²,
-    b′ = (a/2 − b)/x, c′ = (b − 3c)/(2x) (of θ², resp. θ²/4)."""
-    S = ((_ARGUMENTS * t2)[..., None] ** _POWERS) @ _SERIES  # x = θ², θ²/4
+    """(E, 17): the weights (1, w₁, w₂) of (I, ρ̃, ρ̃²) in exp(½ρ̃), T(ρ)⁻¹ and T(½ρ), then
+    (α, β, α′, β′) of T(½ρ)ᵀ and of T(ρ)⁻ᵀ (:func:`_maps`), from d, d′ of x = θ² and a, b,
+    c, b′, c′ of x = θ²/4: by their series where θ² < _SERIES_MAX (one product of the powers of
+    x with a table), else by the closed forms d′ = ((1 + a)/(4b) − 1)/x², b′ = (a/2 − b)/x,
+    c′ = (b − 3c)/(2x) (of θ², resp. θ²/4)."""
+    X = ((t2[:, None] * _ARGUMENTS)[..., None] ** _POWERS).reshape(-1, 2 * _N_TERMS)
     if t2.max() < _SERIES_MAX:
-        return S
+        return X @ _SERIES_MAPS
     small = t2 < _SERIES_MAX
     x1 = np.where(small, 1.0, t2)
     t = np.sqrt(x1)
@@ -245,12 +253,11 @@ def _coefficients(t2: np.ndarray) -> np.ndarray:
     a2, b2, cc2 = s2 / h, (1 - c2) / x2, (h - s2) / (x2 * h)
     d = 1 / x1 - (1 + c1) / (2 * t * s1)
     closed = np.stack(
-        [
-            np.stack([d, ((1 + a1) / (4 * b1) - 1) / x1**2, d, d, d], axis=-1),
-            np.stack([a2, b2, cc2, (0.5 * a2 - b2) / x2, (b2 - 3 * cc2) / (2 * x2)], axis=-1),
-        ]
+        [d, ((1 + a1) / (4 * b1) - 1) / x1**2, d, d, d]
+        + [a2, b2, cc2, (0.5 * a2 - b2) / x2, (b2 - 3 * cc2) / (2 * x2), np.ones_like(t2)],
+        axis=-1,
     )
-    return np.where(small[:, None], S, closed)
+    return np.where(small[:, None], X @ _SERIES_MAPS, closed @ _MAPS)
 
 
 # -- strains, force and tangent ---------------------------------------------------------------
@@ -264,23 +271,33 @@ def _nodal(el, X, q):
 
 
 def _maps():
-    """Fixed linear maps from the coefficients (E, 10) = (d, d′, 0, 0, 0, a, b, c, b′, c′)
-    (:func:`_coefficients`, rows flattened) to the (ρ̃, ρ̃²) weights of exp(½ρ̃), T(ρ)⁻¹ and
-    T(½ρ) (``_MATRICES``, (10, 6) and an offset) and to (α, β, α′, β′) of T(½ρ)ᵀ and of T(ρ)⁻ᵀ
-    as functions of ρ for :func:`_matrix_slopes` (``_SLOPES``, (10, 8) and an offset)."""
-    M, m0 = np.zeros((10, 6)), np.zeros(6)
-    M[5, 0], M[6, 1] = 0.5, 0.25  # exp(½ρ̃) = I + ½a ρ̃ + ¼b ρ̃²  (a, b of θ²/4)
-    m0[2], M[0, 3] = 0.5, 1.0  # T(ρ)⁻¹ = I + ½ρ̃ + d ρ̃²
-    M[6, 4], M[7, 5] = -0.5, 0.25  # T(½ρ) = I − ½b ρ̃ + ¼c ρ̃²
-    S, s0 = np.zeros((10, 8)), np.zeros(8)
+    """Fixed linear map from the coefficients (E, 11) = (d, d′, 0, 0, 0, a, b, c, b′, c′, 1)
+    to the weights (1, w₁, w₂) of (I, ρ̃, ρ̃²) in exp(½ρ̃), T(ρ)⁻¹ and T(½ρ) (columns 0–8),
+    and to (α, β, α′, β′) of T(½ρ)ᵀ and of T(ρ)⁻ᵀ as functions of ρ for
+    :func:`_matrix_slopes` (columns 9–16); the last row carries the constants."""
+    M = np.zeros((11, 17))
+    M[10, [0, 3, 6]] = 1.0  # the weights of I
+    M[5, 1], M[6, 2] = 0.5, 0.25  # exp(½ρ̃) = I + ½a ρ̃ + ¼b ρ̃²  (a, b of θ²/4)
+    M[10, 4], M[0, 5] = 0.5, 1.0  # T(ρ)⁻¹ = I + ½ρ̃ + d ρ̃²
+    M[6, 7], M[7, 8] = -0.5, 0.25  # T(½ρ) = I − ½b ρ̃ + ¼c ρ̃²
     # T(½ρ)ᵀ = I + (b/2) ρ̃ + (c/4) ρ̃², slopes in |ρ|² = 4x: b′/8, c′/16
-    S[6, 0], S[7, 1], S[8, 2], S[9, 3] = 0.5, 0.25, 0.125, 1 / 16
-    s0[4], S[0, 5], S[1, 7] = -0.5, 1.0, 1.0  # T(ρ)⁻ᵀ = I − ½ρ̃ + d ρ̃²
-    return np.vstack([M, m0]), np.vstack([S, s0])
+    M[6, 9], M[7, 10], M[8, 11], M[9, 12] = 0.5, 0.25, 0.125, 1 / 16
+    M[10, 13], M[0, 14], M[1, 16] = -0.5, 1.0, 1.0  # T(ρ)⁻ᵀ = I − ½ρ̃ + d ρ̃²
+    return M
 
 
-# the offsets as the last row: the coefficients carry a trailing 1 (``_Strains.co``)
-_MATRICES, _SLOPES = _maps()
+def _series_maps() -> np.ndarray:
+    """(2N, 17): the powers (x⁰ … x^(N−1) of x = θ², then of θ²/4) @ it is
+    :func:`_coefficients`' result by the series (the series table composed with the map,
+    the constants on the power x⁰)."""
+    S = np.zeros((2 * _N_TERMS, 11))
+    S[:_N_TERMS, :5], S[_N_TERMS:, 5:10] = _SERIES[0], _SERIES[1]
+    S[0, 10] = 1.0
+    return S @ _MAPS
+
+
+_MAPS = _maps()
+_SERIES_MAPS = _series_maps()
 # (4, 9): (−α v, β ρ·v) @ it is −α ṽ + (β ρ·v) I flattened (:func:`_matrix_slopes`)
 _SKEW_EYE = np.vstack([_SKEW, _I3.reshape(1, 9)])
 
@@ -291,41 +308,39 @@ class _Strains:
 
     def __init__(self, el, R0, R1, x0, x1):
         self.A = R0.mT @ R1  # exp(ρ̃)
-        rho = _log(self.A)
-        r0, r1, r2 = rho[:, 0], rho[:, 1], rho[:, 2]
-        self.t2 = r0 * r0 + r1 * r1 + r2 * r2
-        co = _coefficients(self.t2).transpose(1, 0, 2).reshape(-1, 10)
-        self.co = np.concatenate([co, el.ones], axis=1)  # (E, 11), a 1 for the offsets
+        rho, theta = _log(self.A)
+        self.t2 = theta * theta
+        self.co = co = _coefficients(self.t2)  # (E, 17)
         self.P = P = _hat(rho)
         # (1, w_k1, w_k2) @ (I, ρ̃, ρ̃²) flattened: the three matrices I + w_k1 ρ̃ + w_k2 ρ̃²
-        w = np.concatenate([el.ones31, (self.co @ _MATRICES).reshape(-1, 3, 2)], axis=2)
         basis = np.concatenate([el.basis0, P.reshape(-1, 1, 9), (P @ P).reshape(-1, 1, 9)], 1)
-        M = (w @ basis).reshape(-1, 3, 3, 3).transpose(1, 0, 2, 3)
+        M = (co[:, :9].reshape(-1, 3, 3) @ basis).reshape(-1, 3, 3, 3).transpose(1, 0, 2, 3)
         self.H, self.Ti, self.Th = M  # exp(½ρ̃), T(ρ)⁻¹, T(½ρ)
         self.Rm = R0 @ self.H
         self.rho = rho[..., None]
-        # L0ᵀ (R_mᵀ x′, ρ/ℓ) − (E₁, 0): the strains Γ and K as two columns
-        V = np.concatenate([self.Rm.mT @ (x1 - x0)[..., None], self.rho], axis=2)
-        self.S = el.L0.mT @ V / el.ell32 - el.E1
-        self.gh = V[:, :, :1] / el.ell31
+        # (γ̂, ρ) = (R_mᵀ x′, ρ) and the strains Γ = L0ᵀγ̂ − E₁, K = L0ᵀρ/ℓ as two columns
+        V = np.concatenate([self.Rm.mT @ ((x1 - x0) / el.ell3)[..., None], self.rho], axis=2)
+        self.S = el.L0.mT @ V * el.scale - el.E1
+        self.gh = V[:, :, :1]
 
 
 class _Forces(_Strains):
-    """The element force f (E, 12) and energy W (E), and the quantities the tangent reuses."""
+    """The element force f (E, 12) and energy W (J, all elements), and the quantities the
+    tangent reuses."""
 
     def __init__(self, el, R0, R1, x0, x1):
         super().__init__(el, R0, R1, x0, x1)
-        ell = el.ell31
         NM = self.S * el.C32
         nm = el.L0 @ NM  # n̂, m̂
         self.n, m = nm[:, :, :1], nm[:, :, 1:]
-        self.Nh, self.Gh = _hat(self.n[..., 0]), _hat(self.gh[..., 0])
-        self.p = p = ell * (self.Nh @ self.gh)
+        # n̂~ and γ̂~ from one product: (E, 2, 3, 3)
+        self.Nh, self.Gh = _hat(np.concatenate([self.n, self.gh], axis=2).mT).transpose(1, 0, 2, 3)
+        self.p = p = el.ell31 * (self.Nh @ self.gh)
         self.u = m + 0.5 * (self.Th.mT @ p)
         self.t = t = self.Ti.mT @ self.u
         fx = self.Rm @ self.n
         self.f = np.concatenate([-fx, self.H @ p - self.A @ t, fx, t], axis=1)
-        self.W = 0.5 * el.ell * (NM * self.S).sum(axis=(1, 2))
+        self.W = 0.5 * float(np.vdot(NM * self.S, el.ell32))
 
 
 def _rigidity_columns(C):
@@ -383,7 +398,7 @@ def _tangent(el, s: _Forces) -> np.ndarray:
     Dn = el.CG @ Dg
     Dm = el.CK @ Drho
     Dp = el.ell312 * (s.Nh @ Dg - s.Gh @ Dn)
-    c = (s.co @ _SLOPES).reshape(-1, 2, 4)
+    c = s.co[:, 9:].reshape(-1, 2, 4)
     v = np.concatenate([s.p, s.u], axis=2).transpose(2, 0, 1)[..., None]  # (p, u) stacked first
     Gp, Gu = _matrix_slopes(el, s.P, s.rho, v, c) @ Drho
     Du = Dm + 0.5 * (s.Th.mT @ Dp + Gp)
@@ -399,17 +414,17 @@ def beam3d_internal(el: Beam3DElements, X: np.ndarray, q: np.ndarray, ndof: int,
     element tangents ∂f(q ⊕ Δ)/∂Δ (E, 12, 12) with respect to the right increments."""
     s = _Forces(el, *_nodal(el, X, q))
     f = np.bincount(el.dofs.ravel(), s.f.ravel(), minlength=ndof)
-    return float(s.W.sum()), f, _tangent(el, s) if tangent else None
+    return s.W, f, _tangent(el, s) if tangent else None
 
 
 def _strain_columns(el: Beam3DElements, X: np.ndarray, q: np.ndarray) -> np.ndarray:
     """The strains (Γ, K) as the columns of (E, 3, 2), as ``_Strains.S`` without the
     tangent's rotation functions: R_m = R₀ exp(½ρ̃) alone."""
     R0, R1, x0, x1 = _nodal(el, X, q)
-    rho = _log(R0.mT @ R1)
+    rho, _ = _log(R0.mT @ R1)
     Rm = R0 @ rotation_matrices(0.5 * rho)
-    V = np.concatenate([Rm.mT @ (x1 - x0)[..., None], rho[..., None]], axis=2)
-    return el.L0.mT @ V / el.ell32 - el.E1
+    V = np.concatenate([Rm.mT @ ((x1 - x0) / el.ell3)[..., None], rho[..., None]], axis=2)
+    return el.L0.mT @ V * el.scale - el.E1
 
 
 def beam3d_strains(el: Beam3DElements, X: np.ndarray, q: np.ndarray):
