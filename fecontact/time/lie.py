@@ -28,7 +28,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import InputError
-from ..rotations import compose, compose_quaternions, quaternions, tangent
+from ..rotations import RightIncrements, compose, tangent
 from .constraints import bordered
 
 __all__ = [
@@ -199,7 +199,7 @@ class LieStep:
     def __init__(self, group: LieGroup, q_n: np.ndarray):
         self.group, self.model, self.q_n = group, group.model, q_n
         self.single, self.F, self.cols = group.single, group.F, group.cols
-        self.p = None if self.single or not self.cols.size else quaternions(q_n[self.F])
+        self.p = None if self.single or not self.cols.size else RightIncrements(q_n[self.F])
         self.D = None  # the rotation part of the current increment D
         self._T = None  # (k, 3, 3) right tangents at D, once asked for
 
@@ -217,14 +217,14 @@ class LieStep:
             out[F[0]] = compose(self.q_n[F[0]], self.D)
         else:
             self.D = D[F]
-            out[F] = compose_quaternions(self.p, self.D)
+            out[F] = self.p.compose(self.D)
         return out
 
     @property
     def T(self) -> np.ndarray:
         """(k, 3, 3) right tangents T(D) of the rotation triples at the current D."""
         if self._T is None:
-            self._T = tangent(self.D)[None] if self.single else tangent(self.D)
+            self._T = tangent(self.D)[None] if self.single else self.p.tangent()
         return self._T
 
     def right(self, A):
