@@ -189,6 +189,18 @@ class LieGroup:
         consecutive = self.single and np.array_equal(R[0], first + np.arange(3))
         self.block = slice(first, first + 3) if consecutive else None
         self.stiff = any(len(b.rotation_triples) and not b.rigid_frame for b in model.bodies)
+        # a small dense model: K (T(D) − I) as one product with the block-diagonal T(D) − I,
+        # its triples' entries at these flat places of an n × n array (beyond some 40 free
+        # dofs the n³ product costs more than the triples' columns gathered)
+        n = model.n_free
+        self.places = None
+        if model.dense and n <= _WHOLE_PRODUCT and len(R):
+            self.places = (R[:, :, None] * n + R[:, None, :]).ravel()
+
+
+# the largest dense model whose K (T(D) − I) is one n × n product
+_WHOLE_PRODUCT = 40
+_EYE3 = np.eye(3)
 
 
 class LieStep:
@@ -266,6 +278,13 @@ class LieStep:
             return S
         if sp.issparse(S):
             return S + (self.right(K) - K)
+        places = self.group.places
+        if places is not None:
+            n = S.shape[0]
+            Z = np.zeros(n * n)
+            Z[places] = (self.T - _EYE3).ravel()
+            S += K @ Z.reshape(n, n)
+            return S
         Kc = np.asarray(K)[:, self.cols]
         S[:, self.cols] += self._times(Kc, self.T) - Kc  # K (T − I), no broadcast of I
         return S
