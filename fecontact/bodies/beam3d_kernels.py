@@ -345,6 +345,26 @@ def _rigidity_columns(C):
     return C.reshape(2, 3).T
 
 
+def _slope_table() -> np.ndarray:
+    """(126, 18): the products a_m b_n (flattened m, n) of a = (w (3, 2), βρ (3, 2), −α (2))
+    and b = (ρ, v (3, 2)), each (3, 2) flattened row by row with the columns k = p, u, @ it
+    is w_k ρᵀ + β_k ρ v_kᵀ − α_k ṽ_k + β_k (ρ·v_k) I of k = p, u, flattened
+    (:func:`_matrix_slopes`)."""
+    T = np.zeros((14, 9, 2, 3, 3))
+    for k in range(2):
+        for i in range(3):
+            for j in range(3):
+                T[2 * i + k, j, k, i, j] += 1.0  # w ρᵀ
+                T[6 + 2 * i + k, 3 + 2 * j + k, k, i, j] += 1.0  # β ρ vᵀ
+                T[6 + 2 * j + k, 3 + 2 * j + k, k, i, i] += 1.0  # β (ρ·v) I
+                for m in range(3):  # (−α) ṽ, ṽ = Σ_m v_m (the skew basis)_m
+                    T[12 + k, 3 + 2 * m + k, k, i, j] += _SKEW[m, 3 * i + j]
+    return T.reshape(126, 18)
+
+
+_SLOPE_TABLE = _slope_table()
+
+
 def _matrix_slopes(P, rho, V, c):
     """∂(M_k v_k)/∂ρ (E, 2, 3, 3) of M_k = I + α_k ρ̃ + β_k ρ̃², α_k and β_k functions of
     x = |ρ|² with slopes α′_k, β′_k, for the columns v_k of V (E, 3, 2); P = ρ̃, ρ (E, 3, 1),
@@ -353,16 +373,15 @@ def _matrix_slopes(P, rho, V, c):
 
         −α ṽ + β (ρ vᵀ + (ρ·v) I − 2 v ρᵀ) + 2 (α′ ρ×v + β′ ρ×(ρ×v)) ρᵀ
 
-    = w ρᵀ + β ρ vᵀ − α ṽ + (β ρ·v) I with w = 2 (α′ ρ×v + β′ ρ×(ρ×v) − β v)."""
+    = w ρᵀ + β ρ vᵀ − α ṽ + (β ρ·v) I with w = 2 (α′ ρ×v + β′ ρ×(ρ×v) − β v): the products
+    of (w, βρ, −α) with (ρ, v), all of them from one outer product, summed by a fixed table."""
     m_alpha, beta, alpha1, beta1, m_beta = c.transpose(1, 0, 2, 3)
     PV = P @ V  # ρ × v
     w = alpha1 * PV + beta1 * (P @ PV) + m_beta * V
-    brho = beta * np.concatenate([rho, rho], axis=2)
-    # the outer products w ρᵀ + (βρ) vᵀ of each column, (E, 2, 3, 3)
-    G = w.mT[..., None] * rho.mT[:, None] + brho.mT[..., None] * V.mT[:, :, None]
-    rv = beta[:, :1] * (rho.mT @ V)  # β ρ·v (E, 1, 2)
-    skew = np.concatenate([m_alpha * V, rv], axis=1).mT @ _SKEW_EYE  # (E, 2, 9)
-    return G + skew.reshape(G.shape)
+    E = len(V)
+    a = np.concatenate([w.reshape(E, 6), (beta * rho).reshape(E, 6), m_alpha[:, 0]], axis=1)
+    b = np.concatenate([rho.reshape(E, 3), V.reshape(E, 6)], axis=1)
+    return ((a[:, :, None] * b[:, None, :]).reshape(E, 126) @ _SLOPE_TABLE).reshape(E, 2, 3, 3)
 
 
 def _places() -> np.ndarray:
