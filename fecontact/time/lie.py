@@ -118,21 +118,23 @@ class InertialForces:
                     (body, s, (local, flat), (glob, ((glob * n_f)[:, None] + glob).ravel()))
                 )
 
-        # one body whose dofs are all the model's, all free, with a dense tangent (a top):
-        # its own force and tangent are the model's
-        self.alone = None
-        if len(self.parts) == 1 and model.dense and model.n_free == model.n:
+        # one body whose dofs are all the model's, with a dense tangent: its own force and
+        # tangent are the model's (a top: all dofs free), or their rows and columns of the
+        # free dofs where those are one range (a beam pinned at its first node)
+        self.alone = self.window = None
+        if len(self.parts) == 1 and model.dense:
             body, s, local, place = self.parts[0]
             zero = np.zeros(body.ndof)
-            whole = local is None and body.ndof == model.n
-            if whole and isinstance(body.inertial(zero, zero)[1], np.ndarray):
-                self.alone = body
+            if body.ndof == model.n and isinstance(body.inertial(zero, zero)[1], np.ndarray):
+                if model.n_free == model.n and local is None:
+                    self.alone = body
+                elif isinstance(model.free_slice, slice):
+                    self.alone, self.window = body, model.free_slice
 
     def __call__(self, q: np.ndarray, v: np.ndarray, tangent: bool = True):
         """(f on the free dofs, ∂f/∂v on the free dofs or None without ``tangent``)."""
         if self.alone is not None:
-            f, C = self.alone.inertial(q, v)
-            return f, (C if tangent else None)
+            return self._own(q, v, tangent)
         model = self.model
         f = np.zeros(model.n)
         dense = model.dense and tangent
@@ -159,6 +161,14 @@ class InertialForces:
             return f, sp.csr_matrix((n, n))
         rows, cols, vals = (np.concatenate(x) for x in zip(*sparse_parts, strict=True))
         return f, sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+
+    def _own(self, q: np.ndarray, v: np.ndarray, tangent: bool):
+        """The one body's own force and tangent, cut to the free dofs' range if need be."""
+        f, C = self.alone.inertial(q, v)
+        w = self.window
+        if w is None:
+            return f, (C if tangent else None)
+        return f[w], (C[w, w] if tangent else None)
 
     def _coo(self, Cb, local, place):
         """(rows, columns, values) of a body's tangent on the free dofs."""
