@@ -5,8 +5,10 @@ Measured, alternating the two cases run after run so that both see the same load
 machine: the compute time per step of each run through the driver (no frames; wall clock, and
 the process CPU time, which a busy machine inflates less), and the ratio of each pair of runs;
 then the time of one evaluation of each beam's internal force with and without its tangent,
-alternating too. Reported: medians and the spread (min–max) of the ratios. The runs move in
-the x–y plane (out_of_plane_velocity = 0), where the two give the same history.
+alternating too, and of the spatial step's other per-iteration work on the group (the
+gyroscopic force and tangent, q_n ⊕ D, T(D), K T(D)). Reported: medians and the spread
+(min–max) of the ratios. The runs move in the x–y plane (out_of_plane_velocity = 0), where the
+two give the same history. ``--kernels`` times the evaluations alone (no runs).
 """
 
 from __future__ import annotations
@@ -50,16 +52,75 @@ def kernel_times(beams, repeats: int, number: int = 200) -> dict:
     return out
 
 
+def group_times(sim, repeats: int, number: int = 200) -> dict:
+    """µs (process CPU time) per call of the spatial step's work on the group besides the
+    kernel, on the case's arrays at a random state: the gyroscopic force and tangent, q_n ⊕ D,
+    T(D) and S_t's K T(D) − K, as a Newton iteration asks for them."""
+    from fecontact.time.lie import LieGroup, LieStep
+
+    model = sim.model
+    rng = np.random.default_rng(1)
+    q, v, D = (rng.normal(size=model.n) * s for s in (1e-2, 1.0, 1e-3))
+    step = LieStep(LieGroup(model), q)
+    step.configuration(D)
+    K = rng.normal(size=(model.n_free, model.n_free))
+    S = K.copy()
+    beam = model.bodies[0]
+
+    calls = {
+        "gyroscopic (µs)": lambda: beam.inertial(q, v),
+        "q_n ⊕ D (µs)": lambda: step.configuration(D),
+        "T(D) (µs)": step.p.tangent,  # (the step's RightIncrements, uncached)
+        "K T(D) − K (µs)": lambda: step.iteration_matrix(S, K),
+    }
+    out = {name: [] for name in calls}
+    for _ in range(repeats):
+        for name, call in calls.items():
+            t = time.process_time()
+            for _ in range(number):
+                call()
+            out[name].append(1e6 * (time.process_time() - t) / number)
+    return out
+
+
 def spread(values) -> str:
     return f"{statistics.median(values):.2f} ({min(values):.2f}–{max(values):.2f})"
 
 
+def kernels_only(sims, repeats: int, out: str, quick: bool) -> None:
+    """The ``--kernels`` mode: each beam's force (and tangent), and the group's work."""
+    space = CASES[1]
+    kernels = kernel_times({n: s.model.bodies[0] for n, s in sims.items()}, repeats)
+    times = {}
+    for name, k in kernels.items():
+        times[f"{name}: force + tangent"] = k[True]
+        times[f"{name}: force"] = k[False]
+    for name, values in group_times(sims[space], repeats).items():
+        times[f"{space}: {name[:-5]}"] = values
+    rows = [
+        {"evaluation": name, "median (µs)": statistics.median(v), "least (µs)": min(v)}
+        for name, v in times.items()
+    ]
+    columns = list(rows[0])
+    table = markdown_table(rows, columns)
+    print(table)
+    stem = "beam3d_kernels_quick" if quick else "beam3d_kernels"
+    write_csv(f"{out}/{stem}.csv", rows, columns)
+    write_markdown(f"{out}/{stem}.md", f"# One evaluation in space and in the plane\n\n{table}")
+
+
 def main() -> None:
-    args = parser(__doc__.splitlines()[0]).parse_args()
+    p = parser(__doc__.splitlines()[0])
+    p.add_argument("--kernels", action="store_true", help="time the evaluations alone")
+    args = p.parse_args()
     t_end, repeats = (0.05, 2) if args.quick else (0.5, 9)
     sims = {name: case(name).build().replace(t_end=t_end) for name in CASES}
+    if args.kernels:
+        kernels_only(sims, repeats, args.out or RESULTS, args.quick)
+        return
     steps = step_times(sims, repeats)
     kernels = kernel_times({n: s.model.bodies[0] for n, s in sims.items()}, repeats)
+    group = group_times(sims[CASES[1]], repeats)
     base, space = CASES
     ratio = {
         key: [a / b for a, b in zip(steps[space][key], steps[base][key], strict=True)]
@@ -85,7 +146,9 @@ def main() -> None:
     note = (
         f"Ratios spatial/flexible, median (min–max) of {repeats} alternating pairs: step wall "
         f"{spread(ratio['wall'])}, step CPU {spread(ratio['cpu'])}, force + tangent "
-        f"{spread(k_ratio)}."
+        f"{spread(k_ratio)}. Spatial, per call (µs, median): "
+        + ", ".join(f"{name[:-5]} {statistics.median(v):.1f}" for name, v in group.items())
+        + "."
     )
     print(table)
     print(note)

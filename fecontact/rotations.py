@@ -21,6 +21,7 @@ import math
 import numpy as np
 
 __all__ = [
+    "RightIncrements",
     "compose",
     "compose_quaternions",
     "exp",
@@ -229,6 +230,41 @@ def compose_quaternions(p: np.ndarray, delta: np.ndarray) -> np.ndarray:
     d = quaternions(delta)
     pd = p[..., :, None] * d[..., None, :]
     return _vector(pd.reshape(pd.shape[:-2] + (16,)) @ _HAMILTON16)
+
+
+_C_POWERS = np.arange(len(_C_SERIES))
+
+
+class RightIncrements:
+    """Increments Δ (k, 3) composed on the right of fixed rotations ψ (k, 3): ψ ⊕ Δ by
+    :meth:`compose`, and the right tangents T(Δ) of the last Δ by :meth:`tangent`, from the
+    same half angles (a Newton iteration on the group asks for both at each of its iterates;
+    ψ's quaternions are made once)."""
+
+    def __init__(self, psi: np.ndarray):
+        # the left products p ⊗ · of ψ's quaternions as matrices (k, 4, 4)
+        self.left = (quaternions(psi) @ _HAMILTON.reshape(4, 16)).reshape(-1, 4, 4).mT.copy()
+        self.delta = self.t2 = self.sh = self.ch = None
+
+    def compose(self, delta: np.ndarray) -> np.ndarray:
+        """ψ ⊕ Δ (k, 3), θ ≤ π (as :func:`compose`)."""
+        x, y, z = delta[:, 0], delta[:, 1], delta[:, 2]
+        self.delta, self.t2 = delta, x * x + y * y + z * z
+        half = 0.5 * np.sqrt(self.t2) + _OFFSET
+        self.sh = np.sin(half) / half  # sin(θ/2)/(θ/2), free of cancellation
+        d = np.empty((len(delta), 4))
+        d[:, 0] = self.ch = np.cos(half)
+        d[:, 1:] = (0.5 * self.sh)[:, None] * delta
+        return _vector((self.left @ d[:, :, None])[:, :, 0])
+
+    def tangent(self) -> np.ndarray:
+        """T(Δ) (k, 3, 3) of the last composed Δ: (1 − cos θ)/θ² = ½ (sin(θ/2)/(θ/2))², and
+        (θ − sin θ)/θ³ by its series below θ² = 1/16 (as :func:`tangent`)."""
+        t2, sh = self.t2, self.sh
+        c = (t2[:, None] ** _C_POWERS) @ _C_SERIES
+        if t2.max(initial=0.0) >= _C_SMALL:
+            c = np.where(t2 < _C_SMALL, c, (1.0 - sh * self.ch) / np.maximum(t2, _C_SMALL))
+        return _combination(self.delta, 1.0 - c * t2, -0.5 * sh * sh, c)
 
 
 def log(R: np.ndarray) -> np.ndarray:

@@ -102,3 +102,18 @@ def test_one_vector_and_many_agree_and_the_coefficients_have_no_cancellation():
     exact = sum((-(theta**2)) ** k / math.factorial(2 * k + 3) for k in range(25))
     T = so3.tangent(theta[:, None] * np.array([1.0, 1.0, 0.0]) / np.sqrt(2.0))
     np.testing.assert_allclose(2.0 * T[:, 0, 1] / theta**2, exact, rtol=1e-13, atol=0)
+
+
+def test_right_increments_compose_and_give_the_tangent_of_the_increment():
+    # a Newton iteration's increments on fixed rotations: ψ ⊕ Δ and T(Δ) as compose and
+    # tangent, through both branches of T's ψ̃² coefficient (θ² = 1/16) and up to a half turn
+    psi = _vectors(40)
+    increments = so3.RightIncrements(psi)
+    for largest in (1e-6, 0.2, 0.3, np.pi):
+        delta = _vectors(40, largest=largest)[::-1]
+        # the same formulas but for the order of the quaternion product's sums: round-off of
+        # a few ulps of angles up to π
+        np.testing.assert_allclose(
+            increments.compose(delta), so3.compose(psi, delta), rtol=0, atol=1e-14
+        )
+        np.testing.assert_allclose(increments.tangent(), so3.tangent(delta), rtol=0, atol=1e-15)

@@ -88,7 +88,7 @@ class Beam3D(Centreline):
         J = np.diag(self._section_inertia(rotary_inertia))
         self._J = np.einsum("eij,jk,elk->eil", triads, J, triads)
         self._gyroscopic = Gyroscopic(self._el, len(X), dense=6 * len(X) <= DENSE_LIMIT)
-        self._rotary = None  # the rotary mass on its entries, made when first asked
+        self._rotary = None  # the rotary mass (Gyroscopic.mass), made when first asked
 
     def _section_inertia(self, given) -> np.ndarray:
         """Rotary inertia per length (kg·m) about the section axes: ``given`` (3 values ≥ 0),

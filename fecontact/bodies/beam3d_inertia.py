@@ -65,6 +65,17 @@ def _levi_civita() -> np.ndarray:
 _EPS = _levi_civita()
 
 
+def _skew6() -> np.ndarray:
+    """(6, 36): a node's 6 dof values @ it is the (6, 6) matrix with the skew matrix w̃ of
+    its rotation part w (the last three) on the rotation block, zero elsewhere, flattened."""
+    S = np.zeros((6, 6, 6))
+    S[3:, 3:, 3:] = -_EPS  # w̃_ij = −ε_ijk w_k: entry (k, i, j)
+    return S.reshape(6, 36)
+
+
+_SKEW6 = _skew6()
+
+
 class Gyroscopic:
     """The gyroscopic force of the consistent rotary mass of a beam's elements ``el`` over
     ``n`` nodes (module docstring), with its sparsity decided once: the 3 × 3 blocks of the
@@ -99,6 +110,7 @@ class Gyroscopic:
         row, col = 6 * a + 3 + i, 6 * b + 3 + j  # in the beam's dofs (6n)
         self.flat = row * (6 * n) + col
         self.indices, self.indptr = col, np.searchsorted(row, np.arange(6 * n + 1))
+        self.nodes = np.arange(n)
 
     def _keys(self, na, nb) -> np.ndarray:
         """The keys row·3n + column of the 3 × 3 blocks (k, 3, 3) of the node pairs."""
@@ -107,8 +119,8 @@ class Gyroscopic:
         return (r * self.m + c).ravel()
 
     def mass(self, el: Beam3DElements, J, point_inertias) -> np.ndarray:
-        """The values of M on the entries (kg·m²): ℓ P1_ab J_e of the elements, plus the
-        point inertias (n, 3, 3) on the node blocks."""
+        """M (kg·m²): ℓ P1_ab J_e of the elements, plus the point inertias (n, 3, 3) on the
+        node blocks; its values on the entries, or dense (n, 6, 6n) with ``dense``."""
         lJ = el.ell[:, None, None] * J
         nodes, values = (el.n0, el.n1), np.zeros(self.keys.size)
         for (a, b), w in np.ndenumerate(_P1_MASS):
@@ -117,11 +129,35 @@ class Gyroscopic:
         every = np.arange(self.n)
         slots = np.searchsorted(self.keys, self._keys(every, every))
         np.add.at(values, slots, point_inertias.ravel())
-        return values
+        return self._dense_mass(values) if self.dense else values
+
+    def _dense_mass(self, M: np.ndarray) -> np.ndarray:
+        """The rotary mass as a dense (n, 6, 6n) array (zero on the translations) from its
+        values ``M`` on the entries: the operand of :meth:`_dense_forces`."""
+        ndof = 6 * self.n
+        out = np.zeros(ndof * ndof)
+        out[self.flat] = M
+        return out.reshape(self.n, 6, ndof)
+
+    def _dense_forces(self, M6: np.ndarray, v: np.ndarray):
+        """(f (6n,), ∂f/∂v dense (6n, 6n)) at the velocity ``v`` (6n,) with the dense rotary
+        mass ``M6`` (:meth:`_dense_mass`): π = M v, then per node Ω̃_a on its rows of π and of
+        M, and −π̃_a on its diagonal block, each a batched product over the nodes (a beam
+        small enough for a dense model: a few numpy calls in all)."""
+        n, ndof = self.n, 6 * self.n
+        pi = M6.reshape(ndof, ndof) @ v
+        W = (v.reshape(n, 6) @ _SKEW6).reshape(n, 6, 6)  # Ω̃_a on the rotation block
+        f = W @ pi.reshape(n, 6, 1)
+        C = W @ M6
+        Pi = (pi.reshape(n, 6) @ _SKEW6).reshape(n, 6, 6)  # π̃_a on the rotation block
+        C.reshape(n, 6, n, 6)[self.nodes, :, self.nodes, :] -= Pi
+        return f.reshape(ndof), C.reshape(ndof, ndof)
 
     def __call__(self, M: np.ndarray, v: np.ndarray):
-        """(f (6n,), ∂f/∂v) at the velocity ``v`` (6n,) with the values ``M`` of the rotary
-        mass on the entries (:meth:`mass`)."""
+        """(f (6n,), ∂f/∂v) at the velocity ``v`` (6n,) with the rotary mass ``M`` made by
+        :meth:`mass`."""
+        if self.dense:
+            return self._dense_forces(M, v)
         Om = v.reshape(-1, 6)[:, 3:]
         w = Om.ravel()
         pi = np.bincount(self.rows, weights=M * w[self.cols], minlength=self.m)
@@ -133,8 +169,4 @@ class Gyroscopic:
         values = w[self.omega_j] * M[self.mass_k] - w[self.omega_k] * M[self.mass_j]
         values[self.diagonal] += self.pi_sign * pi[self.pi_at]
         ndof = 6 * self.n
-        if self.dense:
-            C = np.zeros(ndof * ndof)
-            C[self.flat] = values
-            return f.ravel(), C.reshape(ndof, ndof)
         return f.ravel(), sp.csr_matrix((values, self.indices, self.indptr), shape=(ndof, ndof))

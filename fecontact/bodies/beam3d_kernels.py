@@ -73,16 +73,14 @@ class Beam3DElements:
     # index: numpy combines small arrays of one shape ~10× faster than it broadcasts them.
     ell31: np.ndarray
     ell32: np.ndarray
-    ell33: np.ndarray
     ell312: np.ndarray
+    inv_ell312: np.ndarray  # 1/ℓ (E, 3, 12)
+    ell3: np.ndarray  # ℓ (E, 3)
+    scale: np.ndarray  # (1, 1/ℓ) as columns (E, 3, 2): the strains of (L0ᵀγ̂, L0ᵀρ)
     E1: np.ndarray  # (E₁, 0) (E, 3, 2)
     C32: np.ndarray  # (C_Γ, C_K) as columns (E, 3, 2)
-    eye: np.ndarray  # I (E, 3, 3)
-    zero: np.ndarray  # 0 (E, 3, 3)
     ones: np.ndarray  # (E, 1)
     basis0: np.ndarray  # I flattened (E, 1, 9)
-    ones31: np.ndarray  # (E, 3, 1)
-    r31: np.ndarray  # (6E,): (2, E) values @ it → (2, E, 3, 1)
 
     @classmethod
     def of(cls, X: np.ndarray, triads: np.ndarray, rigidities) -> Beam3DElements:
@@ -107,16 +105,14 @@ class Beam3DElements:
             CK=(triads * C[3:]) @ triads.mT / ell[:, None, None],
             ell31=full(ell, 1),
             ell32=full(ell, 2),
-            ell33=full(ell, 3),
             ell312=full(ell, 12),
+            inv_ell312=1 / full(ell, 12),
+            ell3=np.repeat(ell, 3).reshape(E, 3),
+            scale=np.concatenate([np.ones((E, 3, 1)), 1 / full(ell, 1)], axis=2),
             E1=np.repeat(_E1_COLUMN[None], E, axis=0),
             C32=np.repeat(_rigidity_columns(C)[None], E, axis=0),
-            eye=np.repeat(_I3[None], E, axis=0),
-            zero=np.zeros((E, 3, 3)),
             ones=np.ones((E, 1)),
             basis0=np.repeat(_I3.reshape(1, 1, 9), E, axis=0),
-            ones31=np.ones((E, 3, 1)),
-            r31=np.repeat(np.arange(2 * E), 3),
         )
 
 
@@ -183,7 +179,7 @@ _N_TERMS = 12  # at θ² < _SERIES_MAX the first neglected term is below 1e-20 o
 _SERIES_MAX = 1.0
 _SKEW, _VEE, _SERIES = _skew_basis(), _vee_trace(), _series_table()
 _POWERS = np.arange(_N_TERMS)
-_ARGUMENTS = np.array([[1.0], [0.25]])
+_ARGUMENTS = np.array([1.0, 0.25])
 _TINY = 1e-300
 
 
@@ -219,23 +215,27 @@ def rotation_matrices(psi: np.ndarray) -> np.ndarray:
     return ((q[:, :, None] * q[:, None, :]).reshape(-1, 16) @ _QUATERNION).reshape(-1, 3, 3)
 
 
-def _log(A: np.ndarray) -> np.ndarray:
-    """Rotation vector of A (θ < π): θ = 2 atan(sin θ/(1 + cos θ)) along the axial vector."""
+def _log(A: np.ndarray):
+    """Rotation vector ρ (E, 3) of A (θ < π) and its angle θ (E): θ = 2 atan(sin θ/(1 + cos θ))
+    along the axial vector."""
     v = A.reshape(-1, 9) @ _VEE
     a, c1 = v[:, :3], v[:, 3] + 0.5  # sin θ · axis, 1 + cos θ
     # tan(θ/2) (offset as in rotation_matrices: atan(s)/s is 1 at 0); NaN for an element turned by π
     a0, a1, a2 = a[:, 0], a[:, 1], a[:, 2]
     s = np.sqrt(a0 * a0 + a1 * a1 + a2 * a2) / c1 + _TINY
-    return (2.0 * np.arctan(s) / (s * c1))[:, None] * a
+    theta = 2.0 * np.arctan(s)
+    return (theta / (s * c1))[:, None] * a, theta
 
 
 def _coefficients(t2: np.ndarray) -> np.ndarray:
-    """(2, E, 5): d, d′ of x = θ² (row 0) and a, b, c, b′, c′ of x = θ²/4 (row 1), by their
-    series where θ² < _SERIES_MAX, else by the closed forms d′ = ((1 + a)/(4b) − 1)/x²,
-    b′ = (a/2 − b)/x, c′ = (b − 3c)/(2x) (of θ², resp. θ²/4)."""
-    S = ((_ARGUMENTS * t2)[..., None] ** _POWERS) @ _SERIES  # x = θ², θ²/4
+    """(E, 39): the weights (1, w₁, w₂) of (I, ρ̃, ρ̃²) in exp(½ρ̃), T(ρ)⁻¹ and T(½ρ), then
+    the slopes' coefficients of T(½ρ)ᵀ and of T(ρ)⁻ᵀ (:func:`_maps`), from d, d′ of x = θ² and a, b,
+    c, b′, c′ of x = θ²/4: by their series where θ² < _SERIES_MAX (one product of the powers of
+    x with a table), else by the closed forms d′ = ((1 + a)/(4b) − 1)/x², b′ = (a/2 − b)/x,
+    c′ = (b − 3c)/(2x) (of θ², resp. θ²/4)."""
+    X = ((t2[:, None] * _ARGUMENTS)[..., None] ** _POWERS).reshape(-1, 2 * _N_TERMS)
     if t2.max() < _SERIES_MAX:
-        return S
+        return X @ _SERIES_MAPS
     small = t2 < _SERIES_MAX
     x1 = np.where(small, 1.0, t2)
     t = np.sqrt(x1)
@@ -245,12 +245,11 @@ def _coefficients(t2: np.ndarray) -> np.ndarray:
     a2, b2, cc2 = s2 / h, (1 - c2) / x2, (h - s2) / (x2 * h)
     d = 1 / x1 - (1 + c1) / (2 * t * s1)
     closed = np.stack(
-        [
-            np.stack([d, ((1 + a1) / (4 * b1) - 1) / x1**2, d, d, d], axis=-1),
-            np.stack([a2, b2, cc2, (0.5 * a2 - b2) / x2, (b2 - 3 * cc2) / (2 * x2)], axis=-1),
-        ]
+        [d, ((1 + a1) / (4 * b1) - 1) / x1**2, d, d, d]
+        + [a2, b2, cc2, (0.5 * a2 - b2) / x2, (b2 - 3 * cc2) / (2 * x2), np.ones_like(t2)],
+        axis=-1,
     )
-    return np.where(small[:, None], S, closed)
+    return np.where(small[:, None], X @ _SERIES_MAPS, closed @ _MAPS)
 
 
 # -- strains, force and tangent ---------------------------------------------------------------
@@ -264,23 +263,37 @@ def _nodal(el, X, q):
 
 
 def _maps():
-    """Fixed linear maps from the coefficients (E, 10) = (d, d′, 0, 0, 0, a, b, c, b′, c′)
-    (:func:`_coefficients`, rows flattened) to the (ρ̃, ρ̃²) weights of exp(½ρ̃), T(ρ)⁻¹ and
-    T(½ρ) (``_MATRICES``, (10, 6) and an offset) and to (α, β, α′, β′) of T(½ρ)ᵀ and of T(ρ)⁻ᵀ
-    as functions of ρ for :func:`_matrix_slopes` (``_SLOPES``, (10, 8) and an offset)."""
-    M, m0 = np.zeros((10, 6)), np.zeros(6)
-    M[5, 0], M[6, 1] = 0.5, 0.25  # exp(½ρ̃) = I + ½a ρ̃ + ¼b ρ̃²  (a, b of θ²/4)
-    m0[2], M[0, 3] = 0.5, 1.0  # T(ρ)⁻¹ = I + ½ρ̃ + d ρ̃²
-    M[6, 4], M[7, 5] = -0.5, 0.25  # T(½ρ) = I − ½b ρ̃ + ¼c ρ̃²
-    S, s0 = np.zeros((10, 8)), np.zeros(8)
+    """Fixed linear map from the coefficients (E, 11) = (d, d′, 0, 0, 0, a, b, c, b′, c′, 1)
+    to the weights (1, w₁, w₂) of (I, ρ̃, ρ̃²) in exp(½ρ̃), T(ρ)⁻¹ and T(½ρ) (columns 0–8),
+    and to (α, β, α′, β′) of T(½ρ)ᵀ and of T(ρ)⁻ᵀ as functions of ρ, as
+    :func:`_matrix_slopes` takes them (columns 9–38); the last row carries the constants."""
+    M = np.zeros((11, 39))
+    M[10, [0, 3, 6]] = 1.0  # the weights of I
+    M[5, 1], M[6, 2] = 0.5, 0.25  # exp(½ρ̃) = I + ½a ρ̃ + ¼b ρ̃²  (a, b of θ²/4)
+    M[10, 4], M[0, 5] = 0.5, 1.0  # T(ρ)⁻¹ = I + ½ρ̃ + d ρ̃²
+    M[6, 7], M[7, 8] = -0.5, 0.25  # T(½ρ) = I − ½b ρ̃ + ¼c ρ̃²
     # T(½ρ)ᵀ = I + (b/2) ρ̃ + (c/4) ρ̃², slopes in |ρ|² = 4x: b′/8, c′/16
-    S[6, 0], S[7, 1], S[8, 2], S[9, 3] = 0.5, 0.25, 0.125, 1 / 16
-    s0[4], S[0, 5], S[1, 7] = -0.5, 1.0, 1.0  # T(ρ)⁻ᵀ = I − ½ρ̃ + d ρ̃²
-    return np.vstack([M, m0]), np.vstack([S, s0])
+    S = np.zeros((11, 2, 4))  # (α, β, α′, β′) of each matrix
+    S[6, 0, 0], S[7, 0, 1], S[8, 0, 2], S[9, 0, 3] = 0.5, 0.25, 0.125, 1 / 16
+    S[10, 1, 0], S[0, 1, 1], S[1, 1, 3] = -0.5, 1.0, 1.0  # T(ρ)⁻ᵀ = I − ½ρ̃ + d ρ̃²
+    # as :func:`_matrix_slopes` takes them: −α, β, 2α′, 2β′, −2β (5, 3, 2), down the rows
+    S = S[:, :, [0, 1, 2, 3, 1]] * np.array([-1.0, 1.0, 2.0, 2.0, -2.0])
+    M[:, 9:] = np.repeat(S.transpose(0, 2, 1)[:, :, None, :], 3, axis=2).reshape(11, 30)
+    return M
 
 
-# the offsets as the last row: the coefficients carry a trailing 1 (``_Strains.co``)
-_MATRICES, _SLOPES = _maps()
+def _series_maps() -> np.ndarray:
+    """(2N, 39): the powers (x⁰ … x^(N−1) of x = θ², then of θ²/4) @ it is
+    :func:`_coefficients`' result by the series (the series table composed with the map,
+    the constants on the power x⁰)."""
+    S = np.zeros((2 * _N_TERMS, 11))
+    S[:_N_TERMS, :5], S[_N_TERMS:, 5:10] = _SERIES[0], _SERIES[1]
+    S[0, 10] = 1.0
+    return S @ _MAPS
+
+
+_MAPS = _maps()
+_SERIES_MAPS = _series_maps()
 # (4, 9): (−α v, β ρ·v) @ it is −α ṽ + (β ρ·v) I flattened (:func:`_matrix_slopes`)
 _SKEW_EYE = np.vstack([_SKEW, _I3.reshape(1, 9)])
 
@@ -291,41 +304,40 @@ class _Strains:
 
     def __init__(self, el, R0, R1, x0, x1):
         self.A = R0.mT @ R1  # exp(ρ̃)
-        rho = _log(self.A)
-        r0, r1, r2 = rho[:, 0], rho[:, 1], rho[:, 2]
-        self.t2 = r0 * r0 + r1 * r1 + r2 * r2
-        co = _coefficients(self.t2).transpose(1, 0, 2).reshape(-1, 10)
-        self.co = np.concatenate([co, el.ones], axis=1)  # (E, 11), a 1 for the offsets
+        rho, theta = _log(self.A)
+        self.t2 = theta * theta
+        self.co = co = _coefficients(self.t2)  # (E, 39)
         self.P = P = _hat(rho)
         # (1, w_k1, w_k2) @ (I, ρ̃, ρ̃²) flattened: the three matrices I + w_k1 ρ̃ + w_k2 ρ̃²
-        w = np.concatenate([el.ones31, (self.co @ _MATRICES).reshape(-1, 3, 2)], axis=2)
         basis = np.concatenate([el.basis0, P.reshape(-1, 1, 9), (P @ P).reshape(-1, 1, 9)], 1)
-        M = (w @ basis).reshape(-1, 3, 3, 3).transpose(1, 0, 2, 3)
-        self.H, self.Ti, self.Th = M  # exp(½ρ̃), T(ρ)⁻¹, T(½ρ)
-        self.Rm = R0 @ self.H
+        M = co[:, :9].reshape(-1, 3, 3) @ basis
+        self.H, self.Ti, self.Th = M.reshape(-1, 3, 3, 3).transpose(1, 0, 2, 3)
+        self.Rm = R0 @ self.H  # exp(½ρ̃), T(ρ)⁻¹, T(½ρ) above
+        self.M = M
         self.rho = rho[..., None]
-        # L0ᵀ (R_mᵀ x′, ρ/ℓ) − (E₁, 0): the strains Γ and K as two columns
-        V = np.concatenate([self.Rm.mT @ (x1 - x0)[..., None], self.rho], axis=2)
-        self.S = el.L0.mT @ V / el.ell32 - el.E1
-        self.gh = V[:, :, :1] / el.ell31
+        # (γ̂, ρ) = (R_mᵀ x′, ρ) and the strains Γ = L0ᵀγ̂ − E₁, K = L0ᵀρ/ℓ as two columns
+        V = np.concatenate([self.Rm.mT @ ((x1 - x0) / el.ell3)[..., None], self.rho], axis=2)
+        self.S = el.L0.mT @ V * el.scale - el.E1
+        self.gh = V[:, :, :1]
 
 
 class _Forces(_Strains):
-    """The element force f (E, 12) and energy W (E), and the quantities the tangent reuses."""
+    """The element force f (E, 12) and energy W (J, all elements), and the quantities the
+    tangent reuses."""
 
     def __init__(self, el, R0, R1, x0, x1):
         super().__init__(el, R0, R1, x0, x1)
-        ell = el.ell31
         NM = self.S * el.C32
         nm = el.L0 @ NM  # n̂, m̂
         self.n, m = nm[:, :, :1], nm[:, :, 1:]
-        self.Nh, self.Gh = _hat(self.n[..., 0]), _hat(self.gh[..., 0])
-        self.p = p = ell * (self.Nh @ self.gh)
+        # n̂~ and γ̂~ from one product: (E, 2, 3, 3)
+        self.Nh, self.Gh = _hat(np.concatenate([self.n, self.gh], axis=2).mT).transpose(1, 0, 2, 3)
+        self.p = p = el.ell31 * (self.Nh @ self.gh)
         self.u = m + 0.5 * (self.Th.mT @ p)
         self.t = t = self.Ti.mT @ self.u
         fx = self.Rm @ self.n
         self.f = np.concatenate([-fx, self.H @ p - self.A @ t, fx, t], axis=1)
-        self.W = 0.5 * el.ell * (NM * self.S).sum(axis=(1, 2))
+        self.W = 0.5 * float(np.vdot(NM * self.S, el.ell32))
 
 
 def _rigidity_columns(C):
@@ -333,24 +345,62 @@ def _rigidity_columns(C):
     return C.reshape(2, 3).T
 
 
-def _matrix_slopes(el, P, rho, v, c):
-    """∂(M_k v_k)/∂ρ (2, E, 3, 3) of M_k = I + α_k ρ̃ + β_k ρ̃², α_k and β_k functions of
-    x = |ρ|² with slopes α′_k, β′_k, the columns of c (E, 2, 4); P = ρ̃, ρ (E, 3, 1) and v
-    (2, E, 3, 1) columns:
+def _slope_table() -> np.ndarray:
+    """(126, 18): the products a_m b_n (flattened m, n) of a = (w (3, 2), βρ (3, 2), −α (2))
+    and b = (ρ, v (3, 2)), each (3, 2) flattened row by row with the columns k = p, u, @ it
+    is w_k ρᵀ + β_k ρ v_kᵀ − α_k ṽ_k + β_k (ρ·v_k) I of k = p, u, flattened
+    (:func:`_matrix_slopes`)."""
+    T = np.zeros((14, 9, 2, 3, 3))
+    for k in range(2):
+        for i in range(3):
+            for j in range(3):
+                T[2 * i + k, j, k, i, j] += 1.0  # w ρᵀ
+                T[6 + 2 * i + k, 3 + 2 * j + k, k, i, j] += 1.0  # β ρ vᵀ
+                T[6 + 2 * j + k, 3 + 2 * j + k, k, i, i] += 1.0  # β (ρ·v) I
+                for m in range(3):  # (−α) ṽ, ṽ = Σ_m v_m (the skew basis)_m
+                    T[12 + k, 3 + 2 * m + k, k, i, j] += _SKEW[m, 3 * i + j]
+    return T.reshape(126, 18)
+
+
+_SLOPE_TABLE = _slope_table()
+
+
+def _matrix_slopes(P, rho, V, c):
+    """∂(M_k v_k)/∂ρ (E, 2, 3, 3) of M_k = I + α_k ρ̃ + β_k ρ̃², α_k and β_k functions of
+    x = |ρ|² with slopes α′_k, β′_k, for the columns v_k of V (E, 3, 2); P = ρ̃, ρ (E, 3, 1),
+    and c (E, 5, 3, 2): −α, β, 2α′, 2β′, −2β, each repeated down the rows (so that the
+    arrays combine without broadcasting):
 
         −α ṽ + β (ρ vᵀ + (ρ·v) I − 2 v ρᵀ) + 2 (α′ ρ×v + β′ ρ×(ρ×v)) ρᵀ
 
-    as [w, βρ] [ρ, v]ᵀ with w = 2 (α′ ρ×v + β′ ρ×(ρ×v) − β v), plus −α ṽ + (β ρ·v) I."""
-    E = len(P)
-    alpha, beta, alpha1, beta1 = c.transpose(2, 1, 0).reshape(4, -1).take(el.r31, axis=1)
-    alpha, beta, alpha1, beta1 = (k.reshape(2, E, 3, 1) for k in (alpha, beta, alpha1, beta1))
-    w1 = P @ v
-    w = 2 * (alpha1 * w1 + beta1 * (P @ w1) - beta * v)
-    rho2 = np.concatenate((rho[None], rho[None]))  # ρ for p and for u
-    G = np.concatenate([w, beta * rho2], axis=3) @ np.concatenate([rho2, v], axis=3).mT
-    rv = beta[:, :, :1] * (rho.mT @ v)  # β ρ·v (2, E, 1, 1)
-    G += (np.concatenate([-alpha * v, rv], axis=2).reshape(2, E, 4) @ _SKEW_EYE).reshape(G.shape)
-    return G
+    = w ρᵀ + β ρ vᵀ − α ṽ + (β ρ·v) I with w = 2 (α′ ρ×v + β′ ρ×(ρ×v) − β v): the products
+    of (w, βρ, −α) with (ρ, v), all of them from one outer product, summed by a fixed table."""
+    m_alpha, beta, alpha1, beta1, m_beta = c.transpose(1, 0, 2, 3)
+    PV = P @ V  # ρ × v
+    w = alpha1 * PV + beta1 * (P @ PV) + m_beta * V
+    E = len(V)
+    a = np.concatenate([w.reshape(E, 6), (beta * rho).reshape(E, 6), m_alpha[:, 0]], axis=1)
+    b = np.concatenate([rho.reshape(E, 3), V.reshape(E, 6)], axis=1)
+    return ((a[:, :, None] * b[:, None, :]).reshape(E, 126) @ _SLOPE_TABLE).reshape(E, 2, 3, 3)
+
+
+def _places() -> np.ndarray:
+    """(46, 144): the flattened (exp(ρ̃), exp(½ρ̃), T(ρ)⁻¹, T(½ρ), R_m, 1) of an element @ it
+    is (Dρ, Dφ, (0, exp(−½ρ̃), 0, 0), (−R_mᵀ, 0, R_mᵀ, 0)), each (3, 12) flattened
+    (:func:`_tangent`): their blocks are those matrices, transposed, negated, or I."""
+    T = np.zeros((6, 3, 3, 4, 3, 12))  # (matrix, its row, column) -> (output, row, column)
+    i, j = np.meshgrid(range(3), range(3), indexing="ij")
+    T[2, j, i, 0, i, 3 + j] = -1.0  # Dρ = (0, −T(ρ)⁻ᵀ, 0, T(ρ)⁻¹)
+    T[2, i, j, 0, i, 9 + j] = 1.0
+    T[0, j, i, 1, i, 3 + j] = -1.0  # Dφ = (0, −exp(−ρ̃), 0, I)
+    T[5, 0, 0, 1, range(3), range(9, 12)] = 1.0
+    T[1, j, i, 2, i, 3 + j] = 1.0  # exp(½ρ̃)ᵀ at θ₀
+    T[4, j, i, 3, i, j] = -1.0  # R_mᵀ at x₀ and x₁
+    T[4, j, i, 3, i, 6 + j] = 1.0
+    return T.reshape(54, 144)[:46]
+
+
+_PLACES = _places()
 
 
 def _tangent(el, s: _Forces) -> np.ndarray:
@@ -370,22 +420,20 @@ def _tangent(el, s: _Forces) -> np.ndarray:
 
     The derivatives of T's matrices are :func:`_matrix_slopes` with the coefficients' slopes;
     T(ρ)⁻¹ exp(−ρ̃) = T(ρ)⁻ᵀ (as exp(ρ̃) T(ρ) = T(ρ)ᵀ) gives Dρ without a product."""
-    Ht, Z = s.H.mT, el.zero
-    Dphi = np.concatenate([Z, -s.A.mT, Z, el.eye], axis=2)
-    Drho = np.concatenate([Z, -s.Ti.mT, Z, s.Ti], axis=2)
+    # the rotation matrices' places in the derivatives, by one product with a fixed table
+    flat = np.concatenate(
+        [s.A.reshape(-1, 9), s.M.reshape(-1, 27), s.Rm.reshape(-1, 9), el.ones], 1
+    )
+    Drho, Dphi, HtDx, BDx = (flat @ _PLACES).reshape(-1, 4, 3, 12).transpose(1, 0, 2, 3)
     ThDrho = s.Th @ Drho
-    Dpsi = 0.5 * ThDrho
-    Dpsi[:, :, 3:6] += Ht
-    Dg = s.Gh @ Dpsi
-    B = s.Rm.mT / el.ell33
-    Dg[:, :, :3] -= B
-    Dg[:, :, 6:9] += B
+    Dpsi = 0.5 * ThDrho + HtDx
+    Dg = s.Gh @ Dpsi + BDx * el.inv_ell312
     Dn = el.CG @ Dg
     Dm = el.CK @ Drho
     Dp = el.ell312 * (s.Nh @ Dg - s.Gh @ Dn)
-    c = (s.co @ _SLOPES).reshape(-1, 2, 4)
-    v = np.concatenate([s.p, s.u], axis=2).transpose(2, 0, 1)[..., None]  # (p, u) stacked first
-    Gp, Gu = _matrix_slopes(el, s.P, s.rho, v, c) @ Drho
+    c = s.co[:, 9:].reshape(-1, 5, 3, 2)
+    G = _matrix_slopes(s.P, s.rho, np.concatenate([s.p, s.u], axis=2), c)
+    Gp, Gu = (G.reshape(-1, 6, 3) @ Drho).reshape(-1, 2, 3, 12).transpose(1, 0, 2, 3)
     Du = Dm + 0.5 * (s.Th.mT @ Dp + Gp)
     Dt = s.Ti.mT @ Du + Gu
     Dfx = s.Rm @ (Dn - s.Nh @ Dpsi)
@@ -399,17 +447,17 @@ def beam3d_internal(el: Beam3DElements, X: np.ndarray, q: np.ndarray, ndof: int,
     element tangents ∂f(q ⊕ Δ)/∂Δ (E, 12, 12) with respect to the right increments."""
     s = _Forces(el, *_nodal(el, X, q))
     f = np.bincount(el.dofs.ravel(), s.f.ravel(), minlength=ndof)
-    return float(s.W.sum()), f, _tangent(el, s) if tangent else None
+    return s.W, f, _tangent(el, s) if tangent else None
 
 
 def _strain_columns(el: Beam3DElements, X: np.ndarray, q: np.ndarray) -> np.ndarray:
     """The strains (Γ, K) as the columns of (E, 3, 2), as ``_Strains.S`` without the
     tangent's rotation functions: R_m = R₀ exp(½ρ̃) alone."""
     R0, R1, x0, x1 = _nodal(el, X, q)
-    rho = _log(R0.mT @ R1)
+    rho, _ = _log(R0.mT @ R1)
     Rm = R0 @ rotation_matrices(0.5 * rho)
-    V = np.concatenate([Rm.mT @ (x1 - x0)[..., None], rho[..., None]], axis=2)
-    return el.L0.mT @ V / el.ell32 - el.E1
+    V = np.concatenate([Rm.mT @ ((x1 - x0) / el.ell3)[..., None], rho[..., None]], axis=2)
+    return el.L0.mT @ V * el.scale - el.E1
 
 
 def beam3d_strains(el: Beam3DElements, X: np.ndarray, q: np.ndarray):

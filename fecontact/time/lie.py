@@ -28,7 +28,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import InputError
-from ..rotations import compose, compose_quaternions, quaternions, tangent
+from ..rotations import RightIncrements, compose, tangent
 from .constraints import bordered
 
 __all__ = [
@@ -118,21 +118,23 @@ class InertialForces:
                     (body, s, (local, flat), (glob, ((glob * n_f)[:, None] + glob).ravel()))
                 )
 
-        # one body whose dofs are all the model's, all free, with a dense tangent (a top):
-        # its own force and tangent are the model's
-        self.alone = None
-        if len(self.parts) == 1 and model.dense and model.n_free == model.n:
+        # one body whose dofs are all the model's, with a dense tangent: its own force and
+        # tangent are the model's (a top: all dofs free), or their rows and columns of the
+        # free dofs where those are one range (a beam pinned at its first node)
+        self.alone = self.window = None
+        if len(self.parts) == 1 and model.dense:
             body, s, local, place = self.parts[0]
             zero = np.zeros(body.ndof)
-            whole = local is None and body.ndof == model.n
-            if whole and isinstance(body.inertial(zero, zero)[1], np.ndarray):
-                self.alone = body
+            if body.ndof == model.n and isinstance(body.inertial(zero, zero)[1], np.ndarray):
+                if model.n_free == model.n and local is None:
+                    self.alone = body
+                elif isinstance(model.free_slice, slice):
+                    self.alone, self.window = body, model.free_slice
 
     def __call__(self, q: np.ndarray, v: np.ndarray, tangent: bool = True):
         """(f on the free dofs, ∂f/∂v on the free dofs or None without ``tangent``)."""
         if self.alone is not None:
-            f, C = self.alone.inertial(q, v)
-            return f, (C if tangent else None)
+            return self._own(q, v, tangent)
         model = self.model
         f = np.zeros(model.n)
         dense = model.dense and tangent
@@ -159,6 +161,14 @@ class InertialForces:
             return f, sp.csr_matrix((n, n))
         rows, cols, vals = (np.concatenate(x) for x in zip(*sparse_parts, strict=True))
         return f, sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+
+    def _own(self, q: np.ndarray, v: np.ndarray, tangent: bool):
+        """The one body's own force and tangent, cut to the free dofs' range if need be."""
+        f, C = self.alone.inertial(q, v)
+        w = self.window
+        if w is None:
+            return f, (C if tangent else None)
+        return f[w], (C[w, w] if tangent else None)
 
     def _coo(self, Cb, local, place):
         """(rows, columns, values) of a body's tangent on the free dofs."""
@@ -189,6 +199,18 @@ class LieGroup:
         consecutive = self.single and np.array_equal(R[0], first + np.arange(3))
         self.block = slice(first, first + 3) if consecutive else None
         self.stiff = any(len(b.rotation_triples) and not b.rigid_frame for b in model.bodies)
+        # a small dense model: K (T(D) − I) as one product with the block-diagonal T(D) − I,
+        # its triples' entries at these flat places of an n × n array (beyond some 40 free
+        # dofs the n³ product costs more than the triples' columns gathered)
+        n = model.n_free
+        self.places = None
+        if model.dense and n <= _WHOLE_PRODUCT and len(R):
+            self.places = (R[:, :, None] * n + R[:, None, :]).ravel()
+
+
+# the largest dense model whose K (T(D) − I) is one n × n product
+_WHOLE_PRODUCT = 40
+_EYE3 = np.eye(3)
 
 
 class LieStep:
@@ -199,7 +221,7 @@ class LieStep:
     def __init__(self, group: LieGroup, q_n: np.ndarray):
         self.group, self.model, self.q_n = group, group.model, q_n
         self.single, self.F, self.cols = group.single, group.F, group.cols
-        self.p = None if self.single or not self.cols.size else quaternions(q_n[self.F])
+        self.p = None if self.single or not self.cols.size else RightIncrements(q_n[self.F])
         self.D = None  # the rotation part of the current increment D
         self._T = None  # (k, 3, 3) right tangents at D, once asked for
 
@@ -217,14 +239,14 @@ class LieStep:
             out[F[0]] = compose(self.q_n[F[0]], self.D)
         else:
             self.D = D[F]
-            out[F] = compose_quaternions(self.p, self.D)
+            out[F] = self.p.compose(self.D)
         return out
 
     @property
     def T(self) -> np.ndarray:
         """(k, 3, 3) right tangents T(D) of the rotation triples at the current D."""
         if self._T is None:
-            self._T = tangent(self.D)[None] if self.single else tangent(self.D)
+            self._T = tangent(self.D)[None] if self.single else self.p.tangent()
         return self._T
 
     def right(self, A):
@@ -266,6 +288,13 @@ class LieStep:
             return S
         if sp.issparse(S):
             return S + (self.right(K) - K)
+        places = self.group.places
+        if places is not None:
+            n = S.shape[0]
+            Z = np.zeros(n * n)
+            Z[places] = (self.T - _EYE3).ravel()
+            S += K @ Z.reshape(n, n)
+            return S
         Kc = np.asarray(K)[:, self.cols]
         S[:, self.cols] += self._times(Kc, self.T) - Kc  # K (T − I), no broadcast of I
         return S
