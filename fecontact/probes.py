@@ -5,6 +5,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
+import numpy as np
+
 from .errors import InputError
 
 __all__ = ["Probe", "node_probe"]
@@ -45,4 +47,28 @@ def node_probe(model, body, node: int, quantity: str) -> Probe:
     unit, text, get = _NODE_QUANTITIES[quantity]
     i = body.node_index(node)
     s = model.body_slice(model.bodies.index(body))
+    if body.linear_kinematics:
+        return Probe(_dof_reader(body, s.start, i, quantity), unit, f"{text} of node {i}")
     return Probe(lambda m, st: float(get(body, st.q[s], st.v[s])[i]), unit, f"{text} of node {i}")
+
+
+_AXES = {"x": 0, "y": 1, "z": 2, "ux": 0, "uy": 1, "vx": 0, "vy": 1, "vz": 2}
+
+
+def _dof_reader(body, offset: int, i: int, quantity: str) -> Callable:
+    """The probe of node ``i`` of a body whose node positions are X + u (linear kinematics)
+    as one global dof read, resolved once: the same float as the body's ``positions`` and
+    ``point_data`` give, without their arrays at every history row."""
+    if quantity == "rotation":
+        g = offset + body.dofs_per_node * i + body.components.index("theta")
+        return lambda m, st: float(st.q[g])
+    # X_i exactly: x + (−0.0) is x for every float x, a negative zero included
+    X, dofs, _, _ = body.point_kinematics(np.full(body.ndof, -0.0), np.array([i]))
+    k = _AXES[quantity]
+    g = offset + int(dofs[0, k])
+    if quantity in ("x", "y", "z"):
+        x = float(X[0, k])
+        return lambda m, st: x + float(st.q[g])
+    if quantity.startswith("u"):
+        return lambda m, st: float(st.q[g])
+    return lambda m, st: float(st.v[g])
