@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from .contact.watch import BOUND
-from .energy import EnergyBalance
+from .energy import EnergyBalance, StateEnergies
 from .io.frames import friction_totals
 from .io.output import FRICTION_COLUMNS, LEDGER_COLUMNS, STANDARD_COLUMNS
 from .io.run_folder import jsonable
@@ -70,6 +70,7 @@ class Recorder:
         self.energy_final = math.nan
         self.energy_max = -math.inf
         self.balance = EnergyBalance(self.model)
+        self.measure = StateEnergies(self.model)
         self.ledger = EnergyLedger(self.model, sim.options)
         self.energies = (math.nan, math.nan, math.nan)  # T, V_strain, V_gravity of the last
         self.steps = 0
@@ -79,7 +80,7 @@ class Recorder:
         """Account for the state ``st``; write its history row unless it is a step between
         two rows (``st.substep``, with rtol)."""
         m = self.model
-        ke, se, pe = m.kinetic_energy(st.v), m.strain_energy(st.q), m.potential_energy(st.q)
+        ke, se, pe = self.measure(st.q, st.v)
         total = ke + se + pe
         self.balance.add(st.t, st.q, ke, se, pe)
         self.ledger.add(st, ke, se, pe, self.balance.work)
