@@ -22,6 +22,17 @@ from .version import __version__
 __all__ = ["Recorder"]
 
 
+def _pressed(st: State) -> np.ndarray:
+    """Per contact, whether any force acted in the step: ``State.pressed`` without its array
+    of zero smooth forces where the step had none."""
+    if st.smooth is not None:
+        return st.pressed()
+    out = st.impulse > 0.0
+    if st.nu.size == out.size:
+        out |= st.nu > 0.0
+    return out
+
+
 class Recorder:
     """History rows, impact detection and summary statistics over a run."""
 
@@ -75,6 +86,9 @@ class Recorder:
         self.energies = (math.nan, math.nan, math.nan)  # T, V_strain, V_gravity of the last
         self.steps = 0
         self.dt_min, self.dt_max = math.inf, 0.0  # s: the smallest and largest step taken
+        # what every row uses, resolved once: the gaps' reach (m) and the probes
+        self.reach = self.model.length * sim.options.detection_margin
+        self.probes = list(sim.probes.values())
 
     def record(self, st: State) -> None:
         """Account for the state ``st``; write its history row unless it is a step between
@@ -85,22 +99,22 @@ class Recorder:
         self.balance.add(st.t, st.q, ke, se, pe)
         self.ledger.add(st, ke, se, pe, self.balance.work)
         self.energies = (ke, se, pe)
-        near = st.gaps[st.candidates] if st.step > 0 else st.gaps
-        near = near[near <= m.length * self.sim.options.detection_margin]
-        min_gap = float(near.min()) if near.size else math.inf
-        active = st.pressed()
-        for j in np.flatnonzero(active & ~self.closed):
-            self.impacts.append({"time": st.t, "contact": int(j), "impulse": st.impulse[j]})
+        min_gap = self._min_gap(st)
+        active = _pressed(st)
+        opened = active > self.closed  # pressed now, not in the state before
+        if opened.any():
+            for j in np.flatnonzero(opened):
+                self.impacts.append({"time": st.t, "contact": int(j), "impulse": st.impulse[j]})
         self.closed = active
         its = st.newton_iterations
-        row = [st.t, ke, se, pe, total, min_gap, int(active.sum()), float(st.impulse.sum()), its]
-        row.append(st.h)
+        n_active = int(np.count_nonzero(active))
+        row = [st.t, ke, se, pe, total, min_gap, n_active, float(st.impulse.sum()), its, st.h]
         if self.friction:
             row += friction_totals(st)
             self.friction_work = row[-1]
         if not st.substep:
             row += self.ledger.row()
-            row += [p.fn(m, st) for p in self.sim.probes.values()]
+            row += [p.fn(m, st) for p in self.probes]
             self.history.write(row)
         if st.step == 0:
             self.energy_initial = self.ledger.initial  # (before an impact at t = 0)
@@ -118,6 +132,15 @@ class Recorder:
         self.energy_final = total
         self.energy_max = max(self.energy_max, total)
         self.min_gap = min(self.min_gap, min_gap)
+
+    def _min_gap(self, st: State) -> float:
+        """The smallest gap (m) among the contacts within the detection margin (the step's
+        candidates), inf without any."""
+        if not st.gaps.size:
+            return math.inf
+        near = st.gaps[st.candidates] if st.step > 0 else st.gaps
+        near = near[near <= self.reach]
+        return float(near.min()) if near.size else math.inf
 
     def penetration_warnings(self) -> list[str]:
         """A warning when a node of a mortar interface went deeper into the other solid than
