@@ -67,6 +67,7 @@ class Recorder:
         self.history = HistoryWriter(out / "history.csv", self.columns, keep_rows=keep_rows)
         self.impacts: list[dict] = []
         self.closed = np.zeros(self.model.contacts.size, dtype=bool)
+        self.n_closed, self.closing = 0, False
         self.impact_frame = False  # the first impact's frame is written
         self.iter_total = 0
         self.iter_max = 0
@@ -108,6 +109,8 @@ class Recorder:
         self.closed = active
         its = st.newton_iterations
         n_active = int(np.count_nonzero(active))
+        # more contacts pressed than in the state before (the driver's first-impact frame)
+        self.closing, self.n_closed = n_active > self.n_closed, n_active
         row = [st.t, ke, se, pe, total, min_gap, n_active, float(st.impulse.sum()), its, st.h]
         if self.friction:
             row += friction_totals(st)
@@ -165,6 +168,7 @@ class Recorder:
         for k in self.STATS:
             setattr(self, k, stats.get(k, getattr(self, k)))
         self.closed = np.array(stats["closed"], dtype=bool)
+        self.n_closed = int(np.count_nonzero(self.closed))
         self.impact_frame = bool(stats.get("impact_frame", True))
         self.balance.restore(stats.get("energy_balance", {}))
         self.ledger.restore(stats.get("energy_ledger", {}))
