@@ -102,15 +102,14 @@ class Recorder:
         self.energies = (ke, se, pe)
         min_gap = self._min_gap(st)
         active = _pressed(st)
-        opened = active > self.closed  # pressed now, not in the state before
-        if opened.any():
-            for j in np.flatnonzero(opened):
+        n_active = int(np.count_nonzero(active))
+        if n_active:  # the impacts: contacts pressed now, not in the state before
+            for j in np.flatnonzero(active > self.closed):
                 self.impacts.append({"time": st.t, "contact": int(j), "impulse": st.impulse[j]})
         self.closed = active
-        its = st.newton_iterations
-        n_active = int(np.count_nonzero(active))
         # more contacts pressed than in the state before (the driver's first-impact frame)
         self.closing, self.n_closed = n_active > self.n_closed, n_active
+        its = st.newton_iterations
         row = [st.t, ke, se, pe, total, min_gap, n_active, float(st.impulse.sum()), its, st.h]
         if self.friction:
             row += friction_totals(st)
