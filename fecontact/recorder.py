@@ -138,9 +138,14 @@ class Recorder:
     def _min_gap(self, st: State) -> float:
         """The smallest gap (m) among the contacts within the detection margin (the step's
         candidates), inf without any."""
-        if not st.gaps.size:
+        if st.step > 0:
+            if not st.candidates.size:  # (a step far from every obstacle)
+                return math.inf
+            near = st.gaps[st.candidates]
+        elif st.gaps.size:
+            near = st.gaps
+        else:
             return math.inf
-        near = st.gaps[st.candidates] if st.step > 0 else st.gaps
         near = near[near <= self.reach]
         return float(near.min()) if near.size else math.inf
 
