@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from test_body_protocol import bodies
 
-from fecontact import Model, node_probe
+from fecontact import Model, PointMass, node_probe
 from fecontact.errors import InputError
 
 QUANTITIES = ("x", "y", "z", "ux", "uy", "vx", "vy", "vz", "rotation")
@@ -49,3 +49,22 @@ def test_probes_give_the_bodys_own_values_to_the_bit(body):
                 assert bits(probe.fn(model, st)) == bits(expected), (quantity, node)
                 checked += 1
     assert checked >= 8  # x, y and vx, vy at least, at two states
+
+
+class Lever(PointMass):
+    """A point whose position moves twice its dofs: affine kinematics other than X + u."""
+
+    def positions(self, q):
+        return (self.position + 2.0 * q[:2])[None, :]
+
+    def point_kinematics(self, q, nodes):
+        x, dofs, J, H = super().point_kinematics(q, nodes)
+        return self.positions(q).repeat(len(nodes), axis=0), dofs, 2.0 * J, H
+
+
+def test_a_body_whose_positions_are_not_x_plus_u_is_probed_through_its_positions():
+    body = Lever(1.0, [0.5, 0.25])
+    model = Model([body])
+    st = SimpleNamespace(q=np.array([0.1, -0.2]), v=np.array([1.0, 2.0]))
+    assert node_probe(model, body, 0, "x").fn(model, st) == 0.5 + 2.0 * 0.1
+    assert node_probe(model, body, 0, "y").fn(model, st) == 0.25 - 2.0 * 0.2
