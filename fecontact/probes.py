@@ -5,6 +5,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
+import numpy as np
+
 from .errors import InputError
 
 __all__ = ["Probe", "node_probe"]
@@ -45,4 +47,35 @@ def node_probe(model, body, node: int, quantity: str) -> Probe:
     unit, text, get = _NODE_QUANTITIES[quantity]
     i = body.node_index(node)
     s = model.body_slice(model.bodies.index(body))
-    return Probe(lambda m, st: float(get(body, st.q[s], st.v[s])[i]), unit, f"{text} of node {i}")
+    read = _dof_reader(body, s.start, i, quantity) if body.linear_kinematics else None
+    return Probe(read or _array_reader(body, s, i, get), unit, f"{text} of node {i}")
+
+
+def _array_reader(body, s: slice, i: int, get) -> Callable:
+    """The probe of node ``i`` read from the body's output arrays (a rigid body's points)."""
+    return lambda m, st: float(get(body, st.q[s], st.v[s])[i])
+
+
+_AXES = {"x": 0, "y": 1, "z": 2, "ux": 0, "uy": 1, "vx": 0, "vy": 1, "vz": 2}
+
+
+def _dof_reader(body, offset: int, i: int, quantity: str) -> Callable | None:
+    """The probe of node ``i`` of a body with linear kinematics as one global dof read,
+    resolved once: the same float as the body's ``positions`` and ``point_data`` give,
+    without their arrays at every history row; None where the node's position is not
+    X + u (an affine map other than the identity)."""
+    if quantity == "rotation":  # (the node's dofs are its components, in order)
+        g = offset + body.dofs_per_node * i + body.components.index("theta")
+        return lambda m, st: float(st.q[g])
+    # X_i exactly: x + (−0.0) is x for every float x, a negative zero included
+    X, dofs, J, H = body.point_kinematics(np.full(body.ndof, -0.0), np.array([i]))
+    if H is not None or not np.array_equal(J[0], np.eye(body.dim)):
+        return None
+    k = _AXES[quantity]
+    g = offset + int(dofs[0, k])
+    if quantity in ("x", "y", "z"):
+        x = float(X[0, k])
+        return lambda m, st: x + float(st.q[g])
+    if quantity.startswith("u"):
+        return lambda m, st: float(st.q[g])
+    return lambda m, st: float(st.v[g])

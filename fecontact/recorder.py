@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from .contact.watch import BOUND
-from .energy import EnergyBalance
+from .energy import EnergyBalance, StateEnergies
 from .io.frames import friction_totals
 from .io.output import FRICTION_COLUMNS, LEDGER_COLUMNS, STANDARD_COLUMNS
 from .io.run_folder import jsonable
@@ -20,6 +20,17 @@ from .time import State, uses_smooth_contact
 from .version import __version__
 
 __all__ = ["Recorder"]
+
+
+def _pressed(st: State) -> np.ndarray:
+    """Per contact, whether any force acted in the step: ``State.pressed`` without its array
+    of zero smooth forces where the step had none."""
+    if st.smooth is not None:
+        return st.pressed()
+    out = st.impulse > 0.0
+    if st.nu.size == out.size:
+        out |= st.nu > 0.0
+    return out
 
 
 class Recorder:
@@ -56,6 +67,7 @@ class Recorder:
         self.history = HistoryWriter(out / "history.csv", self.columns, keep_rows=keep_rows)
         self.impacts: list[dict] = []
         self.closed = np.zeros(self.model.contacts.size, dtype=bool)
+        self.n_closed, self.closing = 0, False
         self.impact_frame = False  # the first impact's frame is written
         self.iter_total = 0
         self.iter_max = 0
@@ -70,36 +82,41 @@ class Recorder:
         self.energy_final = math.nan
         self.energy_max = -math.inf
         self.balance = EnergyBalance(self.model)
+        self.measure = StateEnergies(self.model)
         self.ledger = EnergyLedger(self.model, sim.options)
         self.energies = (math.nan, math.nan, math.nan)  # T, V_strain, V_gravity of the last
         self.steps = 0
         self.dt_min, self.dt_max = math.inf, 0.0  # s: the smallest and largest step taken
+        # what every row uses, resolved once: the gaps' reach (m) and the probes
+        self.reach = self.model.length * sim.options.detection_margin
+        self.probes = list(sim.probes.values())
 
     def record(self, st: State) -> None:
         """Account for the state ``st``; write its history row unless it is a step between
         two rows (``st.substep``, with rtol)."""
         m = self.model
-        ke, se, pe = m.kinetic_energy(st.v), m.strain_energy(st.q), m.potential_energy(st.q)
+        ke, se, pe = self.measure(st.q, st.v)
         total = ke + se + pe
         self.balance.add(st.t, st.q, ke, se, pe)
         self.ledger.add(st, ke, se, pe, self.balance.work)
         self.energies = (ke, se, pe)
-        near = st.gaps[st.candidates] if st.step > 0 else st.gaps
-        near = near[near <= m.length * self.sim.options.detection_margin]
-        min_gap = float(near.min()) if near.size else math.inf
-        active = st.pressed()
-        for j in np.flatnonzero(active & ~self.closed):
-            self.impacts.append({"time": st.t, "contact": int(j), "impulse": st.impulse[j]})
+        min_gap = self._min_gap(st)
+        active = _pressed(st)
+        n_active = int(np.count_nonzero(active))
+        if n_active:  # the impacts: contacts pressed now, not in the state before
+            for j in np.flatnonzero(active > self.closed):
+                self.impacts.append({"time": st.t, "contact": int(j), "impulse": st.impulse[j]})
         self.closed = active
+        # more contacts pressed than in the state before (the driver's first-impact frame)
+        self.closing, self.n_closed = n_active > self.n_closed, n_active
         its = st.newton_iterations
-        row = [st.t, ke, se, pe, total, min_gap, int(active.sum()), float(st.impulse.sum()), its]
-        row.append(st.h)
+        row = [st.t, ke, se, pe, total, min_gap, n_active, float(st.impulse.sum()), its, st.h]
         if self.friction:
             row += friction_totals(st)
             self.friction_work = row[-1]
         if not st.substep:
             row += self.ledger.row()
-            row += [p.fn(m, st) for p in self.sim.probes.values()]
+            row += [p.fn(m, st) for p in self.probes]
             self.history.write(row)
         if st.step == 0:
             self.energy_initial = self.ledger.initial  # (before an impact at t = 0)
@@ -117,6 +134,20 @@ class Recorder:
         self.energy_final = total
         self.energy_max = max(self.energy_max, total)
         self.min_gap = min(self.min_gap, min_gap)
+
+    def _min_gap(self, st: State) -> float:
+        """The smallest gap (m) among the contacts within the detection margin (the step's
+        candidates), inf without any."""
+        if st.step > 0:
+            if not st.candidates.size:  # (a step far from every obstacle)
+                return math.inf
+            near = st.gaps[st.candidates]
+        elif st.gaps.size:
+            near = st.gaps
+        else:
+            return math.inf
+        near = near[near <= self.reach]
+        return float(near.min()) if near.size else math.inf
 
     def penetration_warnings(self) -> list[str]:
         """A warning when a node of a mortar interface went deeper into the other solid than
@@ -141,6 +172,7 @@ class Recorder:
         for k in self.STATS:
             setattr(self, k, stats.get(k, getattr(self, k)))
         self.closed = np.array(stats["closed"], dtype=bool)
+        self.n_closed = int(np.count_nonzero(self.closed))
         self.impact_frame = bool(stats.get("impact_frame", True))
         self.balance.restore(stats.get("energy_balance", {}))
         self.ledger.restore(stats.get("energy_ledger", {}))

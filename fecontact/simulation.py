@@ -273,7 +273,6 @@ def _checkpoint(out: Path, rec: Recorder, output: _Frames, st: State, every: int
 def _record(rec: Recorder, output: _Frames, st: State) -> None:
     """Record the state ``st`` and write its frame if it is due; an energy blow-up stops
     the run."""
-    closed_before = int(rec.closed.sum())
     rec.record(st)
     if rec.balance.runaway():
         raise SolverError(
@@ -283,7 +282,7 @@ def _record(rec: Recorder, output: _Frames, st: State) -> None:
         )
     # the first impact gets a frame of its own: the bodies touching, whatever the output
     # interval (contacts closed from the first step are not an impact)
-    impact = not rec.impact_frame and st.step >= 2 and rec.closed.sum() > closed_before
+    impact = not rec.impact_frame and st.step >= 2 and rec.closing
     rec.impact_frame = rec.impact_frame or impact
     output.write(st, impact)
 

@@ -206,6 +206,8 @@ def test_history_round_trip_with_inf_nan_and_bools(tmp_path):
     text = (tmp_path / "history.csv").read_text()
     assert text.splitlines()[0] == ",".join(columns)
     assert text.splitlines()[1] == "0.0,1.5,0.0,-2.0,-0.5,inf,0,0.0,0,0.0,0.3"
+    assert text.splitlines()[2] == "0.001,1.25,0.1,-2.1,-0.75,1e-09,1,0.012,3,0.001,0.1"
+    assert text.splitlines()[3] == f"0.002,nan,0.2,-2.2,-inf,-inf,1,0.0,2,0.001,{1 / 3!r}"
     assert "True" not in text and "np." not in text
 
     PVDWriter(tmp_path, "case").write_frame(0.0, {"beam": beam_at(0.0)})

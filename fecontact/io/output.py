@@ -105,6 +105,10 @@ def _cell(x, _repr=float.__repr__) -> str:
     return _repr(float(x))
 
 
+# the cells' usual exact types, formatted as _cell does without its dispatch
+_FORMATS = {float: float.__repr__, np.float64: float.__repr__, int: int.__repr__}
+
+
 class HistoryWriter:
     """Append one numeric CSV row per time step; the header fixes the column order.
 
@@ -152,7 +156,8 @@ class HistoryWriter:
             row = values
         elif len(row) != len(self.columns):
             raise ValueError(f"history row has {len(row)} values, expected {len(self.columns)}")
-        self._buffer.append(",".join(map(_cell, row)) + "\n")
+        get = _FORMATS.get
+        self._buffer.append(",".join([get(type(x), _cell)(x) for x in row]) + "\n")
         if len(self._buffer) >= self.flush_every:
             self.flush()
 

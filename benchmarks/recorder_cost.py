@@ -1,0 +1,166 @@
+"""What a history row costs: the recorder's time per recorded state, against an earlier version.
+
+A run's recorder (``fecontact.recorder.Recorder``) accounts for every state the time loop
+yields: the energies, the energy balance and ledger, the contacts that closed, the probes,
+and the history row. Its time is the ``output`` phase of ``summary.json`` (with frames off),
+left out of ``time_per_step_s``.
+
+Measured in fresh interpreters, alternately with the package of each ``--baseline`` (git
+revisions of this repository, exported into a temporary folder) and with this checkout, so
+that a change of load on the machine hits all of them: a process builds the case, steps it
+once with ``fecontact.simulate`` and keeps its states, then feeds them to new recorders
+(``record`` and the blow-up check of the driver, per state), ``--inner`` times; the CPU time
+per row (``time.process_time``) is the least of these. Per case: the median and minimum over
+the processes of each version, the ratio of the medians (this checkout over the other), and
+whether every version wrote the same ``history.csv`` and the same energy summaries (byte for
+byte: the recorder's savings must not change what it reports).
+
+    python benchmarks/recorder_cost.py [--quick] [--repeats N] [--baseline REV[,REV...]]
+        [--out DIR]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+from stepper_speed import export, write_table
+
+ROOT = Path(__file__).resolve().parents[1]
+RESULTS = ROOT / "benchmarks" / "results"
+# the cases, with their duration in full and quick runs (s)
+CASES = {
+    "spatial_pendulum": (1.5, 0.1),
+    "flexible_pendulum": (1.5, 0.1),
+    "bouncing_ball": (5.0, 0.5),
+}
+
+# runs in a fresh interpreter: the recorder's CPU time per row over a run's states, the least
+# of ``inner`` passes, and digests of what it wrote (history.csv, energy summaries)
+WORKER = """
+import hashlib, json, sys, tempfile, time
+from pathlib import Path
+from fecontact.cli import load_case
+from fecontact.recorder import Recorder
+from fecontact.time import simulate
+path, t_end, inner = Path(sys.argv[1]), float(sys.argv[2]), int(sys.argv[3])
+sim = load_case(path).build().replace(t_end=t_end)
+start = time.process_time()
+states = list(simulate(sim.model, sim.dt, sim.t_end, sim.options, q0=sim.q0, v0=sim.v0))
+step = (time.process_time() - start) / (len(states) - 1)
+best, digest = float("inf"), None
+with tempfile.TemporaryDirectory() as tmp:
+    for _ in range(inner):
+        rec = Recorder(sim, Path(tmp))
+        start = time.process_time()
+        for st in states:
+            rec.record(st)
+            rec.balance.runaway()
+        best = min(best, (time.process_time() - start) / len(states))
+        rec.history.close()
+        text = (Path(tmp) / "history.csv").read_bytes()
+        summaries = [rec.ledger.summary(*rec.energies), rec.balance.summary(), rec.stats()]
+        digest = hashlib.sha256(text + json.dumps(summaries, default=str).encode()).hexdigest()
+print(json.dumps({"per_row": best, "per_step": step, "rows": len(states), "output": digest}))
+"""
+
+
+def one_run(tree: Path, case: str, t_end: float, inner: int) -> dict:
+    """The recorder's time per row of ``case`` with the package of ``tree``, in a fresh
+    interpreter."""
+    env = dict(os.environ, PYTHONPATH=str(tree), OPENBLAS_NUM_THREADS="1")
+    path = str(tree / "cases" / f"{case}.py")
+    args = [sys.executable, "-c", WORKER, path, repr(t_end), str(inner)]
+    out = subprocess.run(args, check=True, capture_output=True, text=True, env=env, cwd=tree)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def measure(trees: dict, repeats: int, quick: bool, inner: int) -> list[dict]:
+    """Per case: µs per row of each tree (median and minimum over ``repeats`` processes,
+    alternated tree by tree) and whether all wrote the same output."""
+    rows = []
+    for case, durations in CASES.items():
+        t_end = durations[1 if quick else 0]
+        runs = {name: [] for name in trees}
+        for _ in range(repeats):
+            for name, tree in trees.items():
+                runs[name].append(one_run(tree, case, t_end, inner))
+        per = {n: [1e6 * r["per_row"] for r in runs[n]] for n in runs}
+        # the recorder's time over the step's, process by process
+        share = {n: [r["per_row"] / r["per_step"] for r in runs[n]] for n in runs}
+        rows.append(
+            {
+                "case": case,
+                "rows": runs["new"][0]["rows"],
+                "median_us": {n: statistics.median(per[n]) for n in per},
+                "min_us": {n: min(per[n]) for n in per},
+                "share": {n: statistics.median(share[n]) for n in share},
+                "same_output": len({r["output"] for n in runs for r in runs[n]}) == 1,
+            }
+        )
+    return rows
+
+
+def table(rows: list[dict], repeats: int, baselines: list[str]) -> str:
+    lines = [
+        f"The recorder's CPU time per history row (µs): median (and minimum) over {repeats} "
+        "processes of each version, alternated, of the least of the passes in each process; "
+        "ratio: this checkout's median over the other's; share: the median over the processes "
+        "of the recorder's time per row over the CPU time of a step (one run of the time loop "
+        "in the same process). Same output: history.csv and the energy summaries are "
+        "byte-identical in every run of every version.",
+        "",
+        "| case | rows | this checkout | share | "
+        + " | ".join(f"{b} | share | ratio" for b in baselines)
+        + " | same output |",
+        "| --- | ---: | ---: | ---: | "
+        + " | ".join("---: | ---: | ---:" for _ in baselines)
+        + " | --- |",
+    ]
+    for r in rows:
+        med, low, share = r["median_us"], r["min_us"], r["share"]
+        cells = [
+            f"{med[b]:.1f} ({low[b]:.1f}) | {share[b]:.1%} | {med['new'] / med[b]:.3f}"
+            for b in baselines
+        ]
+        lines.append(
+            f"| {r['case']} | {r['rows']} | {med['new']:.1f} ({low['new']:.1f}) | "
+            f"{share['new']:.1%} | "
+            + " | ".join(cells)
+            + f" | {'yes' if r['same_output'] else 'NO'} |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="short runs, 2 repeats")
+    parser.add_argument("--repeats", type=int, default=None, help="processes of each (default 5)")
+    parser.add_argument(
+        "--baseline",
+        default="d84e5f8",
+        help="git revisions to compare with, separated by commas (default: %(default)s)",
+    )
+    parser.add_argument("--inner", type=int, default=5, help="passes per process (default 5)")
+    parser.add_argument("--out", default=str(RESULTS), help="output folder (default: %(default)s)")
+    args = parser.parse_args(argv)
+    repeats = args.repeats or (2 if args.quick else 5)
+    baselines = [b.strip() for b in args.baseline.split(",") if b.strip()]
+    with tempfile.TemporaryDirectory(prefix="fecontact_baseline_") as tmp:
+        trees = {b: export(b, Path(tmp) / b) for b in baselines}
+        trees["new"] = ROOT
+        rows = measure(trees, repeats, args.quick, 2 if args.quick else args.inner)
+    text = table(rows, repeats, baselines)
+    print(text)
+    write_table(args.out, "recorder_cost", args.quick, "The recorder's cost per row", text)
+    return 0 if all(r["same_output"] for r in rows) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
