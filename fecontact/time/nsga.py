@@ -34,7 +34,7 @@ import time
 
 import numpy as np
 
-from ..ledger import smooth_record
+from ..ledger import pending_record
 from .alpha_step import SmoothStep, alpha_plan, alpha_smooth_step
 from .configuration import plus
 from .constraints import (
@@ -337,7 +337,7 @@ class _Phases:
             phase = self.cand.size + self.model.joints.size  # a correction or a jump may follow
             moved = self.q_tilde is not None or self.closed.size or self.model.joints.size
             args = (self.v_tilde if moved else None, self.q_tilde, self.step.friction_work)
-            at["ledger"] = smooth_record(self.model, phase, *args, self.works, release=self.release)
+            at["ledger"] = pending_record(self.model, phase, *args, self.works, self.release)
         return State(self.t, self.q, self.v, self.vd, self.a, **at)
 
 
