@@ -321,10 +321,12 @@ class _Phases:
         and the state they end in."""
         if self.m == 0 and self.model.joints.size == 0:
             return self.state()
-        self.v_tilde = self.v.copy()  # ṽ, the smooth step's velocity
+        v_tilde = self.v  # ṽ, the smooth step's velocity (a correction replaces self.v)
         self.correct()  # 2., only if a contact candidate penetrates (joints already hold)
-        self.jump()  # 3.
-        self.follow()
+        if self.cand.size or self.model.joints.size:  # (else nothing to jump or follow)
+            self.v_tilde = v_tilde.copy()  # (the jump adds to v in place)
+            self.jump()  # 3.
+            self.follow()
         self.timer.add("contact", clock)
         return self.state()
 
@@ -335,7 +337,9 @@ class _Phases:
             at |= {"gaps": self.gaps, "candidates": self.cand, "nu": self.nu}
             at |= {"impulse": self.impulse, "smooth": self.forces, "friction": self.record}
             phase = self.cand.size + self.model.joints.size  # a correction or a jump may follow
-            moved = self.q_tilde is not None or self.closed.size or self.model.joints.size
+            moved = phase and (
+                self.q_tilde is not None or self.closed.size or self.model.joints.size
+            )
             args = (self.v_tilde if moved else None, self.q_tilde, self.step.friction_work)
             at["ledger"] = pending_record(self.model, phase, *args, self.works, self.release)
         return State(self.t, self.q, self.v, self.vd, self.a, **at)

@@ -54,6 +54,11 @@ def hold_penetration(model, st: State, opts: IntegratorOptions, timer: PhaseTime
     round-off the constraints allow. Its time counts in the ``contact`` phase."""
     if model.contacts.size == 0:
         return st
+    if not (opts.depth_check or st.candidates.size) and opts.integrator == "nsga":
+        # an NSGA step without candidates made no correction: every gap is its g(q̃), above
+        # the detection margin (≥ 0), and no pair tests nodes inside or watches an interface
+        st.penetration = st.mortar_depth = 0.0
+        return st
     clock = time.perf_counter()
     depth = model.contacts.penetration(st.q, st.gaps)
     # the mortar interfaces' nodes: measured and reported, not held (contact.watch)
