@@ -49,6 +49,9 @@ ROUND_OFF = 1e-9
 TERMS = ("load_work", "damping", "friction", "impact", "numerical")
 NO_WORK = np.zeros(3)  # a step without impulses: (normal, tangential, joints) works
 NO_WORK.flags.writeable = False
+# the record of a step whose contact phase moved neither q nor v and did no work
+NOTHING_MOVED = np.array([math.nan, math.nan, 0.0, 0.0, 0.0, 0.0])
+NOTHING_MOVED.flags.writeable = False
 JUMPS = ("velocity jump", "impact")  # the phases that are velocity jumps (NSGA, Moreau–Jean)
 # what a creation in the position correction of contacts that closed within the step adds
 CLOSING = (
@@ -116,8 +119,15 @@ def pending_record(
     a :class:`SmoothRecord` where it has an energy to compute, else the record itself (None
     without a contact phase)."""
     if not contact_phase or (v_tilde is None and q_tilde is None):
+        if contact_phase and works is None and not release and _plus_zero(friction_work):
+            return NOTHING_MOVED  # (most steps with candidates: shared, read-only)
         return smooth_record(model, contact_phase, None, None, friction_work, works, release)
     return SmoothRecord(model, v_tilde, q_tilde, friction_work, works, release)
+
+
+def _plus_zero(x: float) -> bool:
+    """Whether x is +0.0 (not −0.0, whose sign a record keeps)."""
+    return x == 0.0 and math.copysign(1.0, x) > 0.0
 
 
 def joined_record(model, first, second) -> np.ndarray | None:
