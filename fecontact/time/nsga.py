@@ -340,9 +340,12 @@ def _end_state(step: _Phases) -> State:
     if step.nu is None:  # no contacts, no joints: the smooth step alone
         return State(*at, h=step.h, lam=step.lam, iterations=step.iters)
     joints = step.model.joints.size
-    phase = step.cand.size + joints  # a correction or a jump may follow
-    moved = phase and (step.q_tilde is not None or step.closed.size or joints)
-    args = (step.v_tilde if moved else None, step.q_tilde, step.step.friction_work)
+    phase = step.cand.size + joints  # a correction or a jump may follow (else no record)
+    record = None
+    if phase:
+        moved = step.q_tilde is not None or step.closed.size or joints
+        args = (step.v_tilde if moved else None, step.q_tilde, step.step.friction_work)
+        record = pending_record(step.model, phase, *args, step.works, step.release)
     return State(
         *at,
         h=step.h,
@@ -354,7 +357,7 @@ def _end_state(step: _Phases) -> State:
         impulse=step.impulse,
         smooth=step.forces,
         friction=step.record,
-        ledger=pending_record(step.model, phase, *args, step.works, step.release),
+        ledger=record,
     )
 
 
