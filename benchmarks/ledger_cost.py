@@ -1,8 +1,9 @@
 """What the energy ledger costs a step: the time spent in its own calls against the step.
 
 The ledger's work in a run is the recorder's ``EnergyLedger.add`` per step, the record
-NSGA leaves after its smooth step (``smooth_record``: the kinetic energy of ṽ and, after a
-position correction, the potential energy of q̃) and the works of a velocity jump's
+NSGA leaves after its smooth step (``pending_record``: the kinetic energy of ṽ and, after a
+position correction, the potential energy of q̃, made when ``add`` first reads the record,
+so inside its time) and the works of a velocity jump's
 impulses (``impulse_work``, ``jump_work``). All are timed inside ordinary runs (each
 call wrapped with a clock), so that the share is measured in the same run as the step and
 the machine's noise cannot tilt it. Reported: the median over ``--repeats`` runs of the time
@@ -46,7 +47,7 @@ class Clock:
 
 # the ledger's functions a step calls, by the module that calls them
 CALLS = [
-    (fecontact.time.nsga, "smooth_record"),
+    (fecontact.time.nsga, "pending_record"),
     (fecontact.time.impacts, "impulse_work"),
     (fecontact.time.impacts, "jump_work"),
     (fecontact.time.poisson, "impulse_work"),

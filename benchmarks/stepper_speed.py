@@ -19,8 +19,13 @@ node-to-surface contact as in the baseline), each with its defaults otherwise, i
 the end of their step (``localize=False``, the baseline's only way;
 ``benchmarks/localization.py`` measures the cost of localization).
 
+``--single`` adds the CPU time of one step repeated from stored states of each case (a step
+in flight, near the floor and resting for the ball; steps of the swing and of the contact for
+the others), every version loaded in one interpreter and alternated batch by batch: far less
+noisy on a loaded machine than whole runs in separate processes.
+
     python benchmarks/stepper_speed.py [--quick] [--repeats N] [--baseline REV[,REV...]]
-        [--noise] [--out DIR]
+        [--noise] [--single] [--out DIR]
 """
 
 from __future__ import annotations
@@ -76,6 +81,103 @@ for _ in range(inner):
     digest = h.hexdigest()
 print(json.dumps({"per_step": best, "steps": len(states) - 1, "history": digest}))
 """
+
+
+# ``--single``: one interpreter loads every tree in turn (each under its own copy of the
+# package's modules) and steps each case from stored states of its own run, the trees
+# alternated batch by batch, so that a change of load hits all of them alike: the CPU time of
+# one step (``time.process_time``) from each state, the least over the rounds
+SINGLE = """
+import dataclasses, gc, json, sys, time
+from pathlib import Path
+trees, spec = json.loads(sys.argv[1]), json.loads(sys.argv[2])
+reps, rounds = int(sys.argv[3]), int(sys.argv[4])
+steps = {}
+for name, tree in trees.items():
+    for key in [k for k in sys.modules if k.split(".")[0] == "fecontact"]:
+        del sys.modules[key]
+    sys.path.insert(0, tree)
+    try:
+        try:
+            from fecontact.cli.cases import load_case
+        except ImportError:
+            from fecontact.io.cli import load_case
+        from fecontact.time import simulate
+        from fecontact.time.state import PhaseTimer
+        for case, (params, picks) in spec.items():
+            try:
+                sim = load_case(Path(tree) / "cases" / f"{case}.py").build(**params)
+            except Exception:
+                sim = load_case(Path(tree) / "cases" / f"{case}.py").build()
+            opts = sim.options
+            if "localize" in {f.name for f in dataclasses.fields(opts)}:
+                opts = dataclasses.replace(opts, localize=False)
+            end = (max(picks.values()) + 1) * sim.dt
+            states = list(simulate(sim.model, sim.dt, end, opts, q0=sim.q0, v0=sim.v0))
+            try:  # the run's configured stepper, penetration record included
+                from fecontact.time.stepper import make_stepper
+                step = make_stepper(sim.model, opts).step
+            except ImportError:  # (a version before it: the step function itself)
+                from fecontact.time.simulate import STEPPERS
+                model, kind = sim.model, STEPPERS[opts.integrator]
+                def step(st, h, timer, model=model, kind=kind, opts=opts):
+                    return kind(model, st, h, opts, timer)
+            for pick, i in picks.items():
+                steps[(case, pick, name)] = (step, states[i], sim.dt, PhaseTimer())
+    finally:
+        sys.path.remove(tree)
+gc.collect()
+gc.freeze()  # (the stored runs are not the steps' garbage)
+best = dict.fromkeys(steps, float("inf"))
+for _ in range(rounds):
+    for key, (step, st, h, timer) in steps.items():
+        start = time.process_time()
+        for _ in range(reps):
+            step(st, h, timer)
+        best[key] = min(best[key], (time.process_time() - start) / reps)
+print(json.dumps([[*key, value] for key, value in best.items()]))
+"""
+# the states stepped from, by case: (parameters, {name: step index})
+SINGLE_STEPS = {
+    "bouncing_ball": ({}, {"in flight": 10, "candidate, no contact": 449, "resting": 4900}),
+    "flexible_pendulum": ({}, {"step 50": 50, "step 400": 400, "step 1000": 1000}),
+    "two_disks": ({"method": "node-to-surface"}, {"step 10": 10, "step 60": 60}),
+}
+
+
+def single_steps(trees: dict, quick: bool) -> str:
+    """The table of one step's CPU time from stored states of each case, every tree in one
+    interpreter, alternated (``SINGLE``)."""
+    spec = {c: v for c, v in SINGLE_STEPS.items() if not quick or c == "bouncing_ball"}
+    reps, rounds = (50, 3) if quick else (100, 20)
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
+    args = [json.dumps({n: str(t) for n, t in trees.items()}), json.dumps(spec), str(reps)]
+    out = subprocess.run(
+        [sys.executable, "-c", SINGLE, *args, str(rounds)],
+        check=True,
+        capture_output=True,
+        text=True,
+        env=env,
+    )
+    best = {(c, p, n): v for c, p, n, v in json.loads(out.stdout.strip().splitlines()[-1])}
+    others = [n for n in trees if n != "new"]
+    lines = [
+        f"CPU time of one step from a stored state (µs), the least of {rounds} rounds of "
+        f"{reps} steps, every version in one interpreter, alternated; ratio: this checkout's "
+        "over the other's.",
+        "",
+        "| case | state | this checkout | " + " | ".join(f"{n} | ratio" for n in others) + " |",
+        "| --- | --- | ---: | " + " | ".join("---: | ---:" for _ in others) + " |",
+    ]
+    for case, (_, picks) in spec.items():
+        for pick in picks:
+            new = best[(case, pick, "new")]
+            cells = [
+                f"{1e6 * best[(case, pick, n)]:.1f} | {new / best[(case, pick, n)]:.3f}"
+                for n in others
+            ]
+            lines.append(f"| {case} | {pick} | {1e6 * new:.1f} | " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
 
 
 def export(revision: str, folder: Path) -> Path:
@@ -165,6 +267,9 @@ def main(argv=None) -> int:
     parser.add_argument(
         "--noise", action="store_true", help="also time a second copy of this checkout"
     )
+    parser.add_argument(
+        "--single", action="store_true", help="also time single steps from stored states"
+    )
     parser.add_argument("--out", default=str(RESULTS), help="output folder (default: %(default)s)")
     args = parser.parse_args(argv)
     repeats = args.repeats or (3 if args.quick else 7)
@@ -175,7 +280,11 @@ def main(argv=None) -> int:
         if args.noise:  # this checkout's own files, a second time (same code)
             trees["same code"] = ROOT
         rows = measure(trees, repeats, args.quick, 1 if args.quick else 3)
-    text = table(rows, repeats, baselines, args.noise)
+        text = table(rows, repeats, baselines, args.noise)
+        if args.single:
+            text += "\n" + single_steps(
+                {n: t for n, t in trees.items() if n != "same code"}, args.quick
+            )
     print(text)
     write_table(args.out, "stepper_speed", args.quick, "Stepper speed", text)
     return 0 if all(r["same_history"] for r in rows) else 1

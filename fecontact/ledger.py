@@ -37,7 +37,7 @@ import numpy as np
 
 from .ledger_works import moreau_works, spring_step_work
 
-__all__ = ["EnergyLedger", "joined_record", "smooth_record"]
+__all__ = ["EnergyLedger", "SmoothRecord", "joined_record", "pending_record", "smooth_record"]
 
 # a creation above this fraction of the scale is a warning (the issue's measured gains are
 # 0.3 % and more); friction's positive work above FRICTION of it
@@ -49,6 +49,9 @@ ROUND_OFF = 1e-9
 TERMS = ("load_work", "damping", "friction", "impact", "numerical")
 NO_WORK = np.zeros(3)  # a step without impulses: (normal, tangential, joints) works
 NO_WORK.flags.writeable = False
+# the record of a step whose contact phase moved neither q nor v and did no work
+NOTHING_MOVED = np.array([math.nan, math.nan, 0.0, 0.0, 0.0, 0.0])
+NOTHING_MOVED.flags.writeable = False
 JUMPS = ("velocity jump", "impact")  # the phases that are velocity jumps (NSGA, Moreau–Jean)
 # what a creation in the position correction of contacts that closed within the step adds
 CLOSING = (
@@ -81,6 +84,50 @@ def smooth_record(
     T = math.nan if v_tilde is None else model.kinetic_energy(v_tilde)
     record = [T, V, friction_work, *works]
     return np.array(record + [release] if release else record)
+
+
+class SmoothRecord:
+    """The record of :func:`smooth_record` for the state of one step, made when it is first
+    read (``State.ledger`` calls it): the energies of ṽ and q̃ are sparse products and
+    element sums that a run which never reads the ledger (``simulate`` without the recorder)
+    need not pay for. q̃ and ṽ are the step's own arrays, which no later phase changes, and
+    a body's energy is a function of its q alone, so the values are the same numbers at
+    whatever time they are made."""
+
+    __slots__ = ("model", "v_tilde", "q_tilde", "friction_work", "works", "release")
+
+    def __init__(self, model, v_tilde, q_tilde, friction_work: float, works, release: float):
+        self.model, self.v_tilde, self.q_tilde = model, v_tilde, q_tilde
+        self.friction_work, self.works, self.release = friction_work, works, release
+
+    def __call__(self) -> np.ndarray:
+        return smooth_record(
+            self.model,
+            True,
+            self.v_tilde,
+            self.q_tilde,
+            self.friction_work,
+            self.works,
+            release=self.release,
+        )
+
+
+def pending_record(
+    model, contact_phase, v_tilde, q_tilde=None, friction_work=0.0, works=None, release=0.0
+):
+    """:func:`smooth_record` of the same arguments, its energies made when it is first read:
+    a :class:`SmoothRecord` where it has an energy to compute, else the record itself (None
+    without a contact phase)."""
+    if not contact_phase or (v_tilde is None and q_tilde is None):
+        if contact_phase and works is None and not release and _plus_zero(friction_work):
+            return NOTHING_MOVED  # (most steps with candidates: shared, read-only)
+        return smooth_record(model, contact_phase, None, None, friction_work, works, release)
+    return SmoothRecord(model, v_tilde, q_tilde, friction_work, works, release)
+
+
+def _plus_zero(x: float) -> bool:
+    """Whether x is +0.0 (not −0.0, whose sign a record keeps)."""
+    return x == 0.0 and math.copysign(1.0, x) > 0.0
 
 
 def joined_record(model, first, second) -> np.ndarray | None:

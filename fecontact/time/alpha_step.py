@@ -96,7 +96,9 @@ def alpha_smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
     step, joints = newton.step, newton.joints
     Gb = None if stale or joints is None else joints.Gb
     q, (_, v, vd, a) = step.q, step.X  # (on a group the first row of X is the increment D)
-    force, force_t, work = _contact_forces(newton.rowed, model.contacts.size)
+    force, force_t, work = None, None, 0.0
+    if newton.rowed:  # (the persistent contacts' forces, where they are a term)
+        force, force_t, work = _contact_forces(newton.rowed, model.contacts.size)
     form = newton.form
     return SmoothStep(q, v, vd, a, form.lam(), form.metric(), it, Gb, force, force_t, work)
 

@@ -33,9 +33,8 @@ reference ``ref``; ``update()``, whether the update ended the iteration; and, wh
 halves updates, ``halves()``. The acceleration form is built once per run and begun again
 at every step (``begin(st, c, t, P, law)``); another form is built for each step.
 
-The loop itself is built once per run (:meth:`NewtonPlan.loop`) and started at every step
-(:meth:`SmoothNewton.start`): the run's terms are sorted into their roles once, and a step
-allocates only its predictor and its context.
+The loop is built once per run (:meth:`NewtonPlan.loop`), its terms sorted into their roles
+once, and started at every step (:meth:`SmoothNewton.start`).
 """
 
 from __future__ import annotations
@@ -67,7 +66,7 @@ class Roles(NamedTuple):
     one first), those evaluated after the elastic one (``evaluated``), those that set the
     residual's scale (``scaled``), those with rows (``rowed``) and with a convergence test of
     their own (``checked``), and the ``joints``, ``load`` and ``gyroscopic`` terms (None:
-    absent)."""
+    absent); ``forced`` and ``stiff``: those with a force and with a tangent."""
 
     terms: list
     evaluated: list
@@ -77,24 +76,31 @@ class Roles(NamedTuple):
     joints: Joints | None
     load: ExternalLoad | None
     gyroscopic: Gyroscopic | None
+    forced: list
+    stiff: list
 
 
 def roles(terms) -> Roles:
     """The :class:`Roles` of ``terms`` (a method a term does not override is not called)."""
     terms = list(terms)
 
-    def overrides(term, name):
-        return getattr(type(term), name) is not getattr(ForceTerm, name)
+    def having(name, among=terms):
+        return [term for term in among if getattr(type(term), name) is not getattr(ForceTerm, name)]
+
+    def first(kind):  # (the first term of that kind, None: absent)
+        return next((term for term in terms if isinstance(term, kind)), None)
 
     return Roles(
         terms,
-        [term for term in terms[1:] if overrides(term, "evaluate")],
-        [term for term in terms if overrides(term, "reference")],
+        having("evaluate", terms[1:]),
+        having("reference"),
         [term for term in terms if term.rows],
-        [term for term in terms if overrides(term, "converged")],
-        next((term for term in terms if isinstance(term, Joints)), None),
-        next((term for term in terms if isinstance(term, ExternalLoad)), None),
-        next((term for term in terms if isinstance(term, Gyroscopic)), None),
+        having("converged"),
+        first(Joints),
+        first(ExternalLoad),
+        first(Gyroscopic),
+        having("residual"),
+        terms[:1] + having("tangent", terms[1:]),
     )
 
 
@@ -157,7 +163,7 @@ class SmoothNewton:
 
     __slots__ = (
         "checked clock elastic evaluated form gyroscopic joints load model name opts plan rowed "
-        "scaled step terms timer fixed kept keeps shift"
+        "scaled step terms timer fixed kept keeps shift forced stiff"
     ).split()
 
     def __init__(self, plan: NewtonPlan, model, st, t, c, opts, timer, P=None, law=None):
@@ -176,7 +182,7 @@ class SmoothNewton:
     def _sort(self, sorted_: Roles) -> None:
         self.terms, self.evaluated, self.scaled, self.rowed, self.checked = sorted_[:5]
         self.joints, self.load, self.gyroscopic = sorted_.joints, sorted_.load, sorted_.gyroscopic
-        self.elastic = self.terms[0]
+        self.elastic, self.forced, self.stiff = self.terms[0], sorted_.forced, sorted_.stiff
 
     def start(self, st, t, c, P=None, law=None) -> SmoothNewton:
         """Begin the step from ``st`` with the coefficients ``c`` to the time ``t`` (s) (the
@@ -241,14 +247,14 @@ class SmoothNewton:
 
     def forces(self, r: np.ndarray) -> np.ndarray:
         """r + Σ_k f_k, the terms' forces added in their order."""
-        for term in self.terms:
+        for term in self.forced:
             r = term.residual(r)
         return r
 
     def tangent(self):
         """Σ_k of the terms' tangents, opened by the elastic term with the inertia."""
         S = None
-        for term in self.terms:
+        for term in self.stiff:
             S = term.tangent(S)
         return S
 
@@ -296,7 +302,7 @@ class AccelerationForm:
         newton.evaluate(it, None if self.armijo is None else self._armijo)
         Mvd = self.model.M @ step.vd[self.model.free_slice]
         r = Mvd
-        for term in newton.terms:
+        for term in newton.forced:
             r = term.residual(r)
         self.r = r
         ref = max(Mvd @ Mvd, 1e-300)

@@ -34,7 +34,7 @@ import time
 
 import numpy as np
 
-from ..ledger import smooth_record
+from ..ledger import pending_record
 from .alpha_step import SmoothStep, alpha_plan, alpha_smooth_step
 from .configuration import plus
 from .constraints import (
@@ -66,7 +66,9 @@ def nsga_step(model, st: State, h: float, opts: IntegratorOptions, timer: PhaseT
     step, the position correction and the velocity jump (module docstring)."""
     if not isinstance(opts, RunSettings):
         opts = run_settings(model, opts, plan=alpha_plan)
-    return smooth_phases(model, st, h, opts, timer).finish(time.perf_counter())
+    step = _Phases(model, st, h, opts, timer, None)
+    step.smooth()
+    return step.finish(time.perf_counter())
 
 
 def smooth_phases(model, st: State, h: float, opts: RunSettings, timer: PhaseTimer):
@@ -320,25 +322,43 @@ class _Phases:
         """Steps 2 and 3 after the smooth step (``clock``: when the contact phase started),
         and the state they end in."""
         if self.m == 0 and self.model.joints.size == 0:
-            return self.state()
-        self.v_tilde = self.v.copy()  # ṽ, the smooth step's velocity
+            return _end_state(self)
+        v_tilde = self.v  # ṽ, the smooth step's velocity (a correction replaces self.v)
         self.correct()  # 2., only if a contact candidate penetrates (joints already hold)
-        self.jump()  # 3.
-        self.follow()
+        if self.cand.size or self.model.joints.size:  # (else nothing to jump or follow)
+            self.v_tilde = v_tilde.copy()  # (the jump adds to v in place)
+            self.jump()  # 3.
+            self.follow()
         self.timer.add("contact", clock)
-        return self.state()
+        return _end_state(self)
 
-    def state(self) -> State:
-        """The state at the end of the step (ṽ left out of the ledger's record where v is it)."""
-        at = {"h": self.h, "lam": self.lam, "iterations": self.iters}
-        if self.nu is not None:  # (else no contacts, no joints: the smooth step alone)
-            at |= {"gaps": self.gaps, "candidates": self.cand, "nu": self.nu}
-            at |= {"impulse": self.impulse, "smooth": self.forces, "friction": self.record}
-            phase = self.cand.size + self.model.joints.size  # a correction or a jump may follow
-            moved = self.q_tilde is not None or self.closed.size or self.model.joints.size
-            args = (self.v_tilde if moved else None, self.q_tilde, self.step.friction_work)
-            at["ledger"] = smooth_record(self.model, phase, *args, self.works, release=self.release)
-        return State(self.t, self.q, self.v, self.vd, self.a, **at)
+
+def _end_state(step: _Phases) -> State:
+    """The state at the end of the NSGA ``step`` (ṽ left out of the ledger's record where v
+    is it)."""
+    at = (step.t, step.q, step.v, step.vd, step.a)
+    if step.nu is None:  # no contacts, no joints: the smooth step alone
+        return State(*at, h=step.h, lam=step.lam, iterations=step.iters)
+    joints = step.model.joints.size
+    phase = step.cand.size + joints  # a correction or a jump may follow (else no record)
+    record = None
+    if phase:
+        moved = step.q_tilde is not None or step.closed.size or joints
+        args = (step.v_tilde if moved else None, step.q_tilde, step.step.friction_work)
+        record = pending_record(step.model, phase, *args, step.works, step.release)
+    return State(
+        *at,
+        h=step.h,
+        lam=step.lam,
+        iterations=step.iters,
+        gaps=step.gaps,
+        candidates=step.cand,
+        nu=step.nu,
+        impulse=step.impulse,
+        smooth=step.forces,
+        friction=step.record,
+        ledger=record,
+    )
 
 
 def _retake(model, st, step, rows, opts, at):

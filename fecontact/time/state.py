@@ -220,7 +220,8 @@ class State:
     friction: FrictionRecord | None = None
     penalty: PenaltyRecord | None = None
     strain_increment: np.ndarray | None = None
-    # the energy ledger's record of the smooth step (fecontact.ledger.smooth_record), or None
+    # the energy ledger's record of the smooth step (fecontact.ledger.smooth_record), or None;
+    # given as a callable (fecontact.ledger.SmoothRecord), it is made when first read
     ledger: np.ndarray | None = None
     # with rtol (fecontact.time.adaptive): a step between two history rows, and the step (s)
     # the control takes next (0: the run's dt)
@@ -249,6 +250,21 @@ class State:
     def mean_force(self) -> np.ndarray:
         """The mean contact force of every contact over the step, λ + k Λ/h (N)."""
         return self.force + (self.impulse / self.h if self.h > 0 else 0.0)
+
+
+def _ledger(st: State) -> np.ndarray | None:
+    record = st._ledger_record
+    if record is not None and not isinstance(record, np.ndarray):
+        record = st._ledger_record = record()  # (deferred: made on first read)
+    return record
+
+
+def _set_ledger(st: State, record) -> None:
+    st._ledger_record = record
+
+
+# (after the dataclass is made: its __init__ and the fields' readers go through the property)
+State.ledger = property(_ledger, _set_ledger, doc="The energy ledger's record of the step.")
 
 
 class PhaseTimer(dict):
