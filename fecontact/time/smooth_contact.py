@@ -112,10 +112,6 @@ def persistent_contacts(model, st, near: float) -> np.ndarray:
     and with a gap g(q_n) ≤ ``near`` (m). A model with friction and joints has none."""
     contacts = model.contacts
     m = contacts.size
-    import os
-    if os.environ.get("E31_ALLP") and m:
-        g = st.gaps if st.gaps.size == m else contacts.gaps(st.q)
-        return np.flatnonzero(g <= near)
     # a contact pressed in the last step was one of its candidates: in flight, nothing to do
     if m == 0 or st.gaps.size != m or st.candidates.size == 0:
         return _NONE
