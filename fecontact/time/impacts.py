@@ -91,6 +91,7 @@ def velocity_jump(
         W, lam_n, lam_t, status, its, work, lam_b = frictional_jump(
             model, st, q, v, closed, G1, gdot, opts, tol, preload=preload
         )
+        lam_n = _without_round_off(lam_n, preload)
         lam = np.concatenate([lam_n, lam_b])
         works = jump_work(model, q, v, W, closed, G1, rates, lam, lam_t)
         return W, lam_n, its, (lam_t, status, work), works
@@ -99,7 +100,20 @@ def velocity_jump(
     P0 = np.concatenate([st.impulse[closed], np.zeros(model.joints.size)])
     W, P, its = impact_law(G1, gdot, model.solve_M, Y, opts, cons.bilateral, P0, tol)
     works = impulse_work(P, rates, rates + G1 @ W, closed.size, 0)
+    P[: closed.size] = _without_round_off(P[: closed.size], preload)
     return W, P, its, None, works
+
+
+def _without_round_off(P: np.ndarray, preload=None) -> np.ndarray:
+    """The normal impulses ``P`` (N s) with those within round-off of zero set to zero: a
+    held contact's impulse (of either sign) that should be zero comes out as ±1e-20 N s,
+    and its sign would decide whether the contact counts as pressed in the next step, so
+    that the run would depend on the BLAS's summation order. Round-off: 1e-12 of the
+    step's largest impulse, or of the smooth forces' impulse h λ (``preload``)."""
+    scale = np.abs(P).max(initial=0.0)
+    if preload is not None:
+        scale = max(scale, np.abs(preload).max(initial=0.0))
+    return np.where(np.abs(P) <= 1e-12 * scale, 0.0, P)
 
 
 def impact_start(model, st, opts, tol_gap: float, dt: float):

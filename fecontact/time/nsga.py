@@ -366,7 +366,8 @@ def _retake(model, st, step, rows, opts, at):
     it released (:func:`without_released`; ``at`` = (t_{n+1}, coefficients, P, timer)): the
     state it starts from, the step, and the energy (J) it ends with over the first ``step``."""
     t, c, P, timer = at
-    st_s = without_released(model, st, rows)
+    solve_H = correction_metric(model, st.q, step.S, c, "stiffness")[1]  # (S_t's factors)
+    st_s = without_released(model, st, rows, solve_H)
     opts.stats.releases += 1
     retake = alpha_smooth_step(model, st_s, t, c, opts, timer, P)
     retake = retake._replace(iterations=retake.iterations + step.iterations)
