@@ -56,11 +56,18 @@ from ..errors import InputError, check_positive, check_range
 from ..rotations import exp, hat, log
 from .base import PairDefaults
 from .friction import tangent_basis
-from .rigid_distance import SUBDIVISIONS, shape_distance, straddles, triangle_rule
+from .rigid_distance import (
+    SUBDIVISIONS,
+    feature_weights,
+    shape_distance,
+    straddles,
+    triangle_rule,
+)
 
 __all__ = ["LIPSCHITZ", "MortarRigid3D", "NodeDepths"]
 
 _EYE = np.eye(3)
+_NODE9 = np.r_[0:3, 9:15]  # a point at a triangle's first end: its node's and the body's dofs
 
 LIPSCHITZ = 1.4
 """A node's row is at least d_j − 1.375 reach_j: with n_j the distance's gradient at the node,
@@ -101,6 +108,16 @@ def _local_rows(lam, node, other, turn) -> np.ndarray:
 def _areas(t: np.ndarray) -> np.ndarray:
     """Areas (T,) of triangles t (T, 3, 3), m²."""
     return 0.5 * np.linalg.norm(np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), axis=1)
+
+
+def _longest_edges(X, facets, rows, m) -> np.ndarray:
+    """The longest edge (m,) of each of the m nodes' triangles ``facets`` at positions X."""
+    t = X[facets]
+    edge = np.linalg.norm(t - np.roll(t, 1, axis=1), axis=2).max(axis=1)
+    out = np.zeros(m)
+    for k in range(3):
+        np.maximum.at(out, rows[:, k], edge)
+    return out
 
 
 def _rotation_terms(R, nb, rho, lam) -> np.ndarray:
@@ -157,6 +174,13 @@ class MortarRigid3D(PairDefaults):
         """Reference area L_j (m²) each slave node carries: its rows are g̃_j / L_j."""
         self.area = self.length
         self._star, self._cols = _stars(self.element_rows, len(self.nodes))
+        m, K = self._star.shape
+        own = np.argmax(self._star == np.arange(m)[:, None], axis=1)
+        rigid = np.broadcast_to(3 * K + np.arange(6), (m, 6))
+        self._own_cols = np.concatenate([3 * own[:, None] + np.arange(3), rigid], axis=1)
+        self.reach = _longest_edges(body.X, self.facets, self.element_rows, m)
+        """The longest reference edge (m) of each slave node's triangles: the length over
+        which its row turns from the node's own distance to the weighted gap."""
         self._node_dofs = body.node_translation_dofs(self.nodes)
         self.offsets = (0, 0)
         self.dofs = np.zeros((len(self.nodes), self._cols.shape[2]), dtype=int)
@@ -201,14 +225,12 @@ class MortarRigid3D(PairDefaults):
         """The rows that take part (m,) bool, those whose bound from below
         d_j − LIPSCHITZ reach_j is within the margin, and the triangles (T,) to integrate for
         them."""
-        d = shape_distance(self.rigid.shape, (x[self.nodes] - c) @ R, False)[0]
-        t = x[self.facets]
-        edge = np.linalg.norm(t - np.roll(t, 1, axis=1), axis=2).max(axis=1)
-        reach = np.zeros(self.size)
-        for k in range(3):
-            np.maximum.at(reach, self.element_rows[:, k], edge)
+        rho = (x[self.nodes] - c) @ R
+        d = shape_distance(self.rigid.shape, rho, False)[0]
+        reach = _longest_edges(x, self.facets, self.element_rows, self.size)
         near = d - self.clearance - LIPSCHITZ * reach <= self.margin
-        tris = np.flatnonzero(near[self.element_rows].any(axis=1))
+        weighted = near & (feature_weights(self.rigid.shape, rho, self.reach)[0] > 0.0)
+        tris = np.flatnonzero(weighted[self.element_rows].any(axis=1))
         return near, tris
 
     def _points(self, tris, x, R, c):
@@ -236,7 +258,7 @@ class MortarRigid3D(PairDefaults):
         near, found = self._near(x, R, c)
         tris = found if tris is None else tris
         if len(tris) == 0:
-            return near, tris, np.zeros((0, 3)), None, None
+            return near, tris, np.zeros((0, 3)), np.zeros((0, 3, 15)), np.zeros((0, 3, 15, 15))
         tris, which, lam, w, starts = self._points(tris, x, R, c)
         t = x[self.facets[tris]]
         xp = (lam[:, None, :] @ t[which])[:, 0]
@@ -263,18 +285,58 @@ class MortarRigid3D(PairDefaults):
         return near, tris, values, grads, A[:, None, None, None] * Hs
 
     # -- rows -------------------------------------------------------------------------------
-    def _rows(self, near, tris, values) -> np.ndarray:
+    def _nodal(self, q: np.ndarray, order: int, rows=None):
+        """At the nodes ``rows`` (default all): their own distance g (n,) less the clearance,
+        the weight w (n,) of the weighted gap in their row, and with ``order`` ≥ 1 the
+        gradients of g and w over the node's and the body's dofs (n, 9), with ``order`` 2
+        their curvatures (n, 9, 9)."""
+        x, R, c = self._frame(q)
+        rows = np.arange(self.size) if rows is None else rows
+        rho = (x[self.nodes[rows]] - c) @ R
+        shape = self.rigid.shape
+        D, nb, K = shape_distance(shape, rho, order == 2)
+        w, v, w1, w2 = feature_weights(shape, rho, self.reach[rows])
+        if order == 0:
+            return D - self.clearance, w
+        lam = np.broadcast_to(np.array([1.0, 0.0, 0.0]), (len(rows), 3))
+        J = _local_rows(lam, R.T, -R.T, hat(rho))[:, :, _NODE9]
+        de = (v[:, None, :] @ J)[:, 0]  # ∂e along the feature's axis
+        Gn, Gw = (nb[:, None, :] @ J)[:, 0], w1[:, None] * de
+        if order == 1:
+            return D - self.clearance, w, Gn, Gw
+        sel = np.ix_(np.arange(len(rows)), _NODE9, _NODE9)
+        Hn = _rotation_terms(R, nb, rho, lam)[sel] + J.transpose(0, 2, 1) @ K @ J
+        Hw = w2[:, None, None] * de[:, :, None] * de[:, None, :]
+        Hw += w1[:, None, None] * _rotation_terms(R, v, rho, lam)[sel]
+        return D - self.clearance, w, Gn, Gw, Hn, Hw
+
+    def _mortar_rows(self, near, tris, values) -> np.ndarray:
+        """The weighted gaps g̃_j / L_j (m,) of the rows whose triangles ``tris`` hold."""
         g = np.zeros(self.size)
         for k in range(3):
             g += np.bincount(self.element_rows[tris, k], values[:, k], self.size)
-        return np.where(near, g / self.length, np.inf)
+        return g / self.length
+
+    def _on_rows(self, nodal: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        """Nodal arrays (n, 9[, 9]) of ``rows`` placed in their rows' columns (n, k[, k])."""
+        k, n = self.dofs.shape[1], len(rows)
+        cols = self._own_cols[rows]
+        if nodal.ndim == 2:
+            out = np.zeros((n, k))
+            out[np.arange(n)[:, None], cols] = nodal
+            return out
+        out = np.zeros((n, k, k))
+        out[np.arange(n)[:, None, None], cols[:, :, None], cols[:, None, :]] = nodal
+        return out
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         """The rows g_j (m) alone (+inf for rows that take no part)."""
         for cached in (self._last, self._last_gaps):
             if cached is not None and np.array_equal(cached[0], q):
                 return cached[1].copy()
-        g = self._rows(*self._integrals(q, 0)[:3])
+        near, tris, values = self._integrals(q, 0)[:3]
+        g, w = self._nodal(q, 0)
+        g = np.where(near, g + w * (self._mortar_rows(near, tris, values) - g), np.inf)
         self._last_gaps = (q.copy(), g)
         return g.copy()
 
@@ -283,13 +345,17 @@ class MortarRigid3D(PairDefaults):
         if self._last is not None and np.array_equal(self._last[0], q):
             return self._last[1].copy(), self.dofs, self._last[2], None
         near, tris, values, grads, _ = self._integrals(q, 1)
-        g = self._rows(near, tris, values)
-        scale = np.where(near, 1.0 / self.length, 0.0)
-        G = np.zeros(self.dofs.shape)
+        g, w, Gn, Gw = self._nodal(q, 1)
+        m = self._mortar_rows(near, tris, values)
+        Gm = np.zeros(self.dofs.shape)
         for k in range(3):
             r = self.element_rows[tris, k]
-            np.add.at(G, (r[:, None], self._cols[tris, k]), grads[:, k] * scale[r, None])
+            np.add.at(Gm, (r[:, None], self._cols[tris, k]), grads[:, k] / self.length[r, None])
+        every = np.arange(self.size)
+        G = w[:, None] * Gm + self._on_rows((1.0 - w[:, None]) * Gn + (m - g)[:, None] * Gw, every)
+        G[~near] = 0.0
         G.flags.writeable = False
+        g = np.where(near, g + w * (m - g), np.inf)
         self._last = (q.copy(), g, G)
         return g.copy(), self.dofs, G, None
 
@@ -298,44 +364,58 @@ class MortarRigid3D(PairDefaults):
         along the dofs), in the layout of :meth:`evaluate`."""
         rows = np.asarray(rows, dtype=int)
         k = self.dofs.shape[1]
-        out = np.zeros((len(rows), k, k))
         where = np.full(self.size, -1)
         where[rows] = np.arange(len(rows))
         tris = np.flatnonzero((where[self.element_rows] >= 0).any(axis=1))
-        near, tris, _, _, H = self._integrals(q, 2, tris)
-        if len(tris) == 0:
-            return out
-        scale = np.where(near, 1.0 / self.length, 0.0)
+        near, tris, values, grads, H = self._integrals(q, 2, tris)
+        Hm, Gm = np.zeros((len(rows), k, k)), np.zeros((len(rows), k))
         for end in range(3):
             r = self.element_rows[tris, end]
             sel = where[r] >= 0
-            c = self._cols[tris[sel], end]
-            vals = H[sel, end] * scale[r[sel], None, None]
-            np.add.at(out, (where[r[sel]][:, None, None], c[:, :, None], c[:, None, :]), vals)
+            c, at = self._cols[tris[sel], end], where[r[sel]]
+            scale = 1.0 / self.length[r[sel]]
+            np.add.at(Hm, (at[:, None, None], c[:, :, None], c[:, None, :]),
+                      H[sel, end] * scale[:, None, None])  # fmt: skip
+            np.add.at(Gm, (at[:, None], c), grads[sel, end] * scale[:, None])
+        m = self._mortar_rows(near, tris, values)[rows]
+        g, w, Gn, Gw, Hn, Hw = self._nodal(q, 2, rows)
+        dG, Gw = Gm - self._on_rows(Gn, rows), self._on_rows(Gw, rows)
+        out = w[:, None, None] * Hm + self._on_rows((1.0 - w[:, None, None]) * Hn, rows)
+        out += dG[:, :, None] * Gw[:, None, :] + Gw[:, :, None] * dG[:, None, :]
+        out += (m - g)[:, None, None] * self._on_rows(Hw, rows)
+        out[~near[rows]] = 0.0
         return out
 
     # -- friction ---------------------------------------------------------------------------
     def tangents(self, q: np.ndarray):
-        """Slip rows (m, 2, k): T_j·∫ Φ_j (ẋ − ẏ) dA₀ / L_j, ẏ = u̇ − R ρ̃ Ω the body's material
-        point at x, T_j (m, 2, 3) the tangents of the shape's normal at node j."""
+        """Slip rows (m, 2, k): T_j·∫ ψ_j (ẋ − ẏ) dA₀ / L_j, ẏ = u̇ − R ρ̃ Ω the body's material
+        point at x, ψ_j the row's weight (w_j Φ_j and 1 − w_j at the node), T_j (m, 2, 3) the
+        tangents of the shape's normal at node j."""
         x, R, c = self._frame(q)
         near, tris = self._near(x, R, c)
-        nb = shape_distance(self.rigid.shape, (x[self.nodes] - c) @ R, False)[1]
+        rho = (x[self.nodes] - c) @ R
+        nb = shape_distance(self.rigid.shape, rho, False)[1]
+        w = feature_weights(self.rigid.shape, rho, self.reach)[0]
         T = tangent_basis(nb @ R.T)
         W = np.zeros((self.size, 3, self.dofs.shape[1]))
+        lam = np.broadcast_to(np.array([1.0, 0.0, 0.0]), (self.size, 3))
+        Wn = _local_rows(lam, _EYE, -_EYE, R @ hat(rho))[:, :, _NODE9]
+        at = (np.arange(self.size)[:, None, None], np.arange(3)[None, :, None])
+        W[at + (self._own_cols[:, None, :],)] = (1.0 - w[:, None, None]) * Wn
         if len(tris):
-            tris, which, lam, w, starts = self._points(tris, x, R, c)
+            tris, which, lam, wq, starts = self._points(tris, x, R, c)
             t = x[self.facets[tris]]
             rho = ((lam[:, None, :] @ t[which])[:, 0] - c) @ R
             Jx = _local_rows(lam, _EYE, -_EYE, R @ hat(rho))  # ∂(x − y)/∂(local dofs)
-            wphi = w[:, None] * (4.0 * lam - 1.0)
+            wphi = wq[:, None] * (4.0 * lam - 1.0)
             Ws = np.add.reduceat(wphi[:, :, None, None] * Jx[:, None], starts, axis=0)
             Ws *= self.area0[tris, None, None, None]
-            scale = np.where(near, 1.0 / self.length, 0.0)
+            scale = w / self.length
             for k in range(3):
                 r = self.element_rows[tris, k]
                 at = (r[:, None, None], np.arange(3)[None, :, None], self._cols[tris, k][:, None])
                 np.add.at(W, at, Ws[:, k] * scale[r, None, None])
+        W[~near] = 0.0
         return self.dofs, np.einsum("mti,mik->mtk", T, W), T
 
     def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
