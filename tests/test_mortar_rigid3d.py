@@ -408,3 +408,28 @@ def test_a_ball_landing_inside_a_box_edge_leaves_straight_up_where_its_patch_end
     v = edge_drop(inside)
     assert np.abs(v[:, :2]).max() <= 1e-9
     assert 0.95 <= v[-1, 2] <= 1.05
+
+
+def small_ball_over_a_node(height: float):
+    """A rigid ball (1 cm) ``height`` (m) above a node of a coarse slab (4 × 4 × 1 cells,
+    10 cm wide): its triangles (2.5 cm legs) are larger than the ball, so the rows are the
+    dual weighted gaps (w = 1)."""
+    slab = Solid.box([-0.05, -0.05, -0.02], [0.05, 0.05, 0.0], (4, 4, 1), RUBBER)
+    ball = RigidBody3D.of_density(1000.0, [0.0, 0.0, 0.01 + height], Ball(0.01))
+    return Model([slab, ball], [Contact(slab, ball)], (0.0, 0.0, 0.0))
+
+
+def test_the_initial_state_is_judged_by_the_nodes_not_by_the_weighted_gaps():
+    """1 mm above a node the weighted gap of that node reads −0.166 h²/r + 1 mm < 0 (the dual
+    functions' negative lobes on the sphere's curvature) with every node outside: the run is
+    admitted and warns of the stand-off by name; a node 1 mm inside the ball is refused."""
+    from fecontact.time.state import initial_state
+
+    model = small_ball_over_a_node(0.001)
+    pair = model.contacts.pairs[0]
+    g = pair.gaps(np.zeros(model.n))
+    assert np.min(g) < -1e-3 and np.min(pair.node_distances(np.zeros(model.n))) > 0.0
+    with pytest.warns(UserWarning, match="stand-off"):
+        initial_state(model)
+    with pytest.raises(InputError, match="penetrates by 1.000e-03 m"):
+        initial_state(small_ball_over_a_node(-0.001))

@@ -157,6 +157,12 @@ class ContactSet(FrictionRows):
             return self._gap_functions[0](q)
         return np.concatenate([gaps(q) for gaps in self._gap_functions])
 
+    def admissible_gaps(self, q: np.ndarray, g: np.ndarray) -> np.ndarray:
+        """The gaps (m) by which a state at t = 0 is admitted, from the rows g at q (each
+        pair's ``admissible_gaps``)."""
+        parts = [pair.admissible_gaps(q, g[self.owner == i]) for i, pair in enumerate(self.pairs)]
+        return np.concatenate([np.zeros(0), *parts])
+
     def jacobian(self, q: np.ndarray, select: np.ndarray):
         """Gaps and dense gradient (len(select) × n_free) of the contacts ``select``."""
         return self.linearize(q, select)[:2]

@@ -428,6 +428,11 @@ class MortarRigid3D(PairDefaults):
         return np.einsum("mtk,mk->mt", W, step[self.dofs])
 
     # -- what the rows do not hold ----------------------------------------------------------
+    def admissible_gaps(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        """The nodes' exact distances (m) where the rows take part: a state is admitted unless
+        a node lies inside the shape (a weighted gap reads a stand-off where none is)."""
+        return np.where(np.isfinite(rows), self.node_distances(q), np.inf)
+
     def watch(self) -> NodeDepths:
         return NodeDepths(self)
 
