@@ -2,18 +2,31 @@ r"""Dual mortar contact of a 3D :class:`~fecontact.Solid` against a rigid body i
 
 The solid's boundary triangles (:meth:`~fecontact.Solid.contact_facets`) are the slave surface,
 the exact shape of a :class:`~fecontact.bodies.rigid3d.RigidBody3D` (``Ball`` or ``Box``) the
-master. Each slave boundary node j carries one multiplier and one row, its weighted gap
+master. Each slave boundary node j carries one multiplier and one row,
 
-    g̃_j = Σ_e ∫_e Φ_j g(x) dA₀,   g(x) = D(Rᵀ(x − c)) − clearance,   rows g_j = g̃_j / L_j,
+    g_j = d_j + w_j (g̃_j / L_j − d_j),   g̃_j = Σ_e ∫_e Φ_j g(x) dA₀,
+    g(x) = D(Rᵀ(x − c)) − clearance,
 
-with D the shape's exact signed distance (:mod:`fecontact.contact.rigid_distance`), c and R the
-body's centre and rotation, x = Σ λ_k x_k the current point of area coordinates λ,
-Φ_j = 4λ_j − 1 the dual functions of the linear triangle (∫_e Φ_j λ_k dA₀ = δ_jk |e|₀/3), and
-L_j = Σ_e |e|₀/3 the reference area node j carries. The master's distance field is defined
-everywhere, so every slave triangle is covered whole and keeps the dual functions of the whole
-triangle: no projection, no clipping, no partial coverage. For a flat master (a box face) and
-a gap field linear on a triangle, g̃_j = g(x_j) |e|₀/3: each row is the node's own gap at any
-strain, the patch test.
+with D the shape's exact signed distance (:mod:`fecontact.contact.rigid_distance`), d_j = g at
+the node, c and R the body's centre and rotation, x = Σ λ_k x_k the current point of area
+coordinates λ, Φ_j = 4λ_j − 1 the dual functions of the linear triangle
+(∫_e Φ_j λ_k dA₀ = δ_jk |e|₀/3), L_j = Σ_e |e|₀/3 the reference area node j carries, and w_j
+the weight of :func:`~fecontact.contact.rigid_distance.feature_weights`. The master's distance
+field is defined everywhere, so every slave triangle is covered whole and keeps the dual
+functions of the whole triangle: no projection, no clipping, no partial coverage.
+
+Why the weight: by biorthogonality g̃_j / L_j = d_j + ∫ Φ_j (g − ℓ_j) dA₀ / L_j, ℓ_j the
+distance linearised at the node: the weighted gap adds to the node's distance only the
+dual-weighted curvature of D over the node's triangles. Where the mesh resolves that curvature
+it is a second-order artefact with the sign of the negative lobes: a stand-off (−0.166 h²/r
+where a sphere touches a flat mesh at a node) and, at a box edge, a tangential force from face
+nodes whose triangles reach across the edge's region plane (+17.5 % of the approach speed
+sideways for a ball landing 1 cm inside an edge its contact patch never reaches). Where it
+does not (a box's edge or corner seen from its region, a ball smaller than the triangles) it
+is what keeps the feature out between the nodes. So w_j = 0 over a box's faces (the rows are
+the nodal distances, which the weighted gap of a linear field equals: the patch test) and
+against a ball the mesh resolves, ramping to 1 over the node's own triangle size into an edge
+or corner region, or as the triangles outgrow the ball.
 
 The integral is over the reference surface (dA₀), unlike the solid–solid mortar's current
 area: the multiplier λ_j / L_j is then the nominal (first Piola–Kirchhoff) pressure, uniform
@@ -25,24 +38,25 @@ spread, measured).
 Integration: the degree-5 rule of :func:`~fecontact.contact.rigid_distance.triangle_rule` on
 each triangle, on s² sub-triangles where a box's region plane cuts it.
 
-Gradients and curvature: over the 15 local dofs of a triangle, its nodes' translations and the
-body's (u, Θ), Θ body-frame (R ⊕ δΘ = R exp(δΘ̃)). At a point ρ = Rᵀ(x − c), with
-∂ρ/∂(x_k, u, Θ) = (λ_k Rᵀ, −Rᵀ, ρ̃), so ∂g = n_bᵀ ∂ρ. The curvature is the derivative of the
-gradient along the dofs (the rotation's included: Newton's tangent of the force Gᵀλ on the
-group), J_ρᵀ ∇²D J_ρ plus the terms of R moving n_b and ρ̃ moving with Θ:
-(x_k, Θ): −λ_k R ñ_b, (u, Θ): R ñ_b, their mirror images, and (Θ, Θ): ñ_b ρ̃ (unsymmetric).
-The integration points are fixed in area coordinates; where a box's region plane crosses a
-triangle the sub-triangles do not follow it, and the curvature of D jumps there: the rate of
-Newton's method can drop to superlinear while such a triangle is pressed.
+Gradients and curvature (of d_j, g̃_j and w_j, combined by the product rule): over the 15 local
+dofs of a triangle, its nodes' translations and the body's (u, Θ), Θ body-frame (R ⊕ δΘ = R
+exp(δΘ̃)). At a point ρ = Rᵀ(x − c), with ∂ρ/∂(x_k, u, Θ) = (λ_k Rᵀ, −Rᵀ, ρ̃), so ∂g = n_bᵀ ∂ρ.
+The curvature is the derivative of the gradient along the dofs (the rotation's included:
+Newton's tangent of the force Gᵀλ on the group), J_ρᵀ ∇²D J_ρ plus the terms of R moving n_b
+and ρ̃ moving with Θ: (x_k, Θ): −λ_k R ñ_b, (u, Θ): R ñ_b, their mirror images, and (Θ, Θ): ñ_b
+ρ̃ (unsymmetric). The integration points are fixed in area coordinates; where a box's region
+plane crosses a triangle the sub-triangles do not follow it, and the curvature of D jumps
+there: the rate of Newton's method can drop to superlinear while such a triangle is pressed.
 
-Rows of nodes farther from the shape than the detection margin plus 1.4 times their
-triangles' longest edge (``LIPSCHITZ``) report g = +inf and a zero gradient: their weighted
-gap exceeds the margin. Every node's exact distance is measured at every evaluation (no
-search to miss one), and :class:`NodeDepths` reports the deepest node inside the shape (the
-weighted gaps hold the integrals, not each node: a node may sit inside by the
-discretization's own amount).
-Friction: slip rows T_j·∫ Φ_j (ẋ − ẏ) dA₀ / L_j, ẏ the velocity of the body's material point
-under x, T_j the tangents of the shape's normal at node j (as the solid–solid mortar does).
+Rows of nodes farther from the shape than the detection margin plus 1.4 times their triangles'
+longest edge (``LIPSCHITZ``) report g = +inf and a zero gradient: their distance and their
+weighted gap exceed the margin. Only the triangles of rows with w_j > 0 are integrated. Every
+node's exact distance is measured at every evaluation (no search to miss one), and
+:class:`NodeDepths` reports the deepest node inside the shape (the weighted gaps hold the
+integrals, not each node: a node may sit inside by the discretization's own amount).
+Friction: slip rows T_j·[(1 − w_j)(ẋ_j − ẏ_j) + w_j ∫ Φ_j (ẋ − ẏ) dA₀ / L_j], ẏ the velocity of
+the body's material point under x, T_j the tangents of the shape's normal at node j (as the
+solid–solid mortar does).
 """
 
 from __future__ import annotations
