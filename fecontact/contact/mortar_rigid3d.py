@@ -378,9 +378,12 @@ class MortarRigid3D(PairDefaults):
         along the dofs), in the layout of :meth:`evaluate`."""
         rows = np.asarray(rows, dtype=int)
         k = self.dofs.shape[1]
+        g, w, Gn, Gw, Hn, Hw = self._nodal(q, 2, rows)
         where = np.full(self.size, -1)
         where[rows] = np.arange(len(rows))
-        tris = np.flatnonzero((where[self.element_rows] >= 0).any(axis=1))
+        weighted = np.full(self.size, False)
+        weighted[rows[w > 0.0]] = True  # rows with w = 0 have no weighted-gap terms
+        tris = np.flatnonzero(weighted[self.element_rows].any(axis=1))
         near, tris, values, grads, H = self._integrals(q, 2, tris)
         Hm, Gm = np.zeros((len(rows), k, k)), np.zeros((len(rows), k))
         for end in range(3):
@@ -392,7 +395,6 @@ class MortarRigid3D(PairDefaults):
                       H[sel, end] * scale[:, None, None])  # fmt: skip
             np.add.at(Gm, (at[:, None], c), grads[sel, end] * scale[:, None])
         m = self._mortar_rows(near, tris, values)[rows]
-        g, w, Gn, Gw, Hn, Hw = self._nodal(q, 2, rows)
         dG, Gw = Gm - self._on_rows(Gn, rows), self._on_rows(Gw, rows)
         out = w[:, None, None] * Hm + self._on_rows((1.0 - w[:, None, None]) * Hn, rows)
         out += dG[:, :, None] * Gw[:, None, :] + Gw[:, :, None] * dG[:, None, :]
