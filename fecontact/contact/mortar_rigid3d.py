@@ -149,18 +149,10 @@ def _rotation_terms(R, nb, rho, lam) -> np.ndarray:
     return E
 
 
-class MortarRigid3D(PairDefaults):
-    """Dual mortar contact of the boundary of a 3D :class:`~fecontact.Solid` (``body``, the
-    slave) with the exact surface of a :class:`~fecontact.bodies.rigid3d.RigidBody3D` with a
-    ``Ball`` or ``Box`` shape; see the module docstring. One contact per slave boundary node;
-    ``restitution`` Newton's e_N in [0, 1]; ``clearance`` (m, ≥ 0) kept from the shape;
-    ``margin`` (m) the search distance (default: the integrator's detection distance);
-    ``subdivisions`` (s ≥ 1) the sub-triangles per edge of a triangle a box's region plane
-    cuts."""
-
-    linear = False
-    lazy_hessians = True
-    frictional = True
+class RigidMortarGeometry(PairDefaults):
+    """The geometry of :class:`MortarRigid3D` (its constructor's arguments): the slave
+    triangles, their stars and areas, the body's frame, the rows' weights w_j and the
+    integrals of their weighted gaps."""
 
     def __init__(self, body, rigid, restitution=0.0, clearance=0.0, margin=None,
                  subdivisions: int = SUBDIVISIONS):  # fmt: skip
@@ -342,6 +334,20 @@ class MortarRigid3D(PairDefaults):
         out = np.zeros((n, k, k))
         out[np.arange(n)[:, None, None], cols[:, :, None], cols[:, None, :]] = nodal
         return out
+
+
+class MortarRigid3D(RigidMortarGeometry):
+    """Dual mortar contact of the boundary of a 3D :class:`~fecontact.Solid` (``body``, the
+    slave) with the exact surface of a :class:`~fecontact.bodies.rigid3d.RigidBody3D` with a
+    ``Ball`` or ``Box`` shape; see the module docstring. One contact per slave boundary node;
+    ``restitution`` Newton's e_N in [0, 1]; ``clearance`` (m, ≥ 0) kept from the shape;
+    ``margin`` (m) the search distance (default: the integrator's detection distance);
+    ``subdivisions`` (s ≥ 1) the sub-triangles per edge of a triangle a box's region plane
+    cuts."""
+
+    linear = False
+    lazy_hessians = True
+    frictional = True
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         """The rows g_j (m) alone (+inf for rows that take no part)."""

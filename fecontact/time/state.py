@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..contact.contact_set import admissible_gaps
 from ..errors import (
     InputError,
     check_count,
@@ -277,7 +278,7 @@ def initial_state(model, q0=None, v0=None, tol_gap: float | None = None) -> Stat
     g = model.contacts.gaps(q)
     tol_gap = IntegratorOptions.tol_gap if tol_gap is None else tol_gap
     tol = tol_gap * length_scale(model, q)
-    admitted = model.contacts.admissible_gaps(q, g)  # a weighted gap's stand-off admits
+    admitted = admissible_gaps(model.contacts, q, g)  # a weighted gap's stand-off admits
     if np.any(admitted < -tol):
         j = int(np.argmin(admitted))
         raise InputError(
