@@ -4,17 +4,21 @@ Both methods side by side in one process, on the same meshes and steps:
 
 1. ``flat``: the elastic ball of ``ball_drop`` (P1, ``refinements``) at 1 m/s onto a rigid
    box 1000 times its mass, fixed, its pole over the middle of the top face; ``edge``: the
-   same with the box's edge 1 cm from the pole (the contact zone straddles it). Per run: the
-   ball's vertical centre-of-mass velocity at the end (the rebound), its largest lateral
-   centre-of-mass speed, both over the approach speed, the deepest node inside the box (from
-   the nodes' own coordinates in the box's frame) over the ball's shortest edge, the energy
-   ledger's ``created`` over its ``scale``, halvings and the CPU time per step.
+   same with the box's edge (along y) 0, 0.5, 1, 1.5 and 2 cm from the pole (Hertz's contact
+   radius at the peak is 1.00 cm). Per run: the ball's vertical centre-of-mass velocity at
+   the end (the rebound), its lateral centre-of-mass velocity along x at the end (signed:
+   > 0 toward the box's middle) and its largest lateral speed, over the approach speed, the
+   deepest node inside the box (from the nodes' own coordinates in the box's frame) over the
+   ball's shortest edge, the energy ledger's ``created`` over its ``scale``, halvings and the
+   CPU time per step.
 2. ``slab``: a rigid ball (5 cm, 1000 kg/m³) at 1 m/s on an elastic slab 0.1 × 0.1 × 0.04 m
    (``divisions`` × ``divisions`` × 3 cells, clamped at its base), at the slab's Δx/c: the
    contact duration t_c (first to last step with a contact force), the time of the first
-   contact (the ball starts 1 mm above: 1 ms at the exact surface; earlier is the weighted
-   gap's stand-off on a coarse mesh), the ball's rebound speed, ``created``/``scale``,
-   halvings and the CPU time per step.
+   contact (the ball starts 1 mm above: the sphere reaches the slab's flat top at 1.00 ms and
+   its nearest node at 1.13 ms; earlier is a stand-off), the instant the ball turns, the
+   deepest point of the slab's surface inside the sphere (over its triangles' integration
+   points, between the nodes), the ball's rebound speed, ``created``/``scale``, halvings and
+   the CPU time per step.
 3. ``pressed``: a block (3 × 4 × 2 cells) loaded by 1 kPa on its top face, resting on a box:
    the largest |z_j/p − 1| over its bottom nodes at rest.
 4. The integration of one triangle straddling a box edge, ∫ Φ_i D dA / |e| (m) with the
@@ -22,6 +26,9 @@ Both methods side by side in one process, on the same meshes and steps:
 
     python benchmarks/rigid_mortar.py           # refinements 2 and 3, divisions 8 and 16
     python benchmarks/rigid_mortar.py --quick   # refinement 1, divisions 8, short runs
+
+Refinements 4 (18,051 dofs, about 10 min a run on one core) were run with ``ball_on_box``
+from this module for the edge at 0.5 and 1 cm (docs/explanation/mortar_rigid.md).
 """
 
 from __future__ import annotations
@@ -63,10 +70,12 @@ def measured(sim, body, extra):
     }, history
 
 
-def ball_on_box(where: str, method: str, refinements: int, t_end: float):
+def ball_on_box(inside, method: str, refinements: int, t_end: float):
+    """The ball onto the box's face centre (``inside`` None) or with the box's edge
+    ``inside`` (m) from the pole."""
     R = 0.05
     ball = Solid.ball([0.0, 0.0, R + 0.002], R, refinements, RUBBER)
-    x0 = 0.0 if where == "flat" else 0.14
+    x0 = 0.0 if inside is None else 0.15 - inside
     box = RigidBody3D.uniform(1000 * ball.mass, [x0, 0.0, -0.025], Box(0.3, 0.3, 0.05)).fix()
     model = Model([ball, box], [Contact(ball, box, method=method)], (0.0, 0.0, -9.81))
     w = [ball.mass_matrix() @ ball.translation_field(e) / ball.mass for e in np.eye(3)]
@@ -86,8 +95,10 @@ def ball_on_box(where: str, method: str, refinements: int, t_end: float):
     v0 = model.translation(ball, (0.0, 0.0, -1.0))
     sim = Simulation(model, dt=wave_step(ball, 1.0), t_end=t_end, probes=probes,
                      name="ball_on_box", v0=v0, output_interval=t_end)  # fmt: skip
-    row, h = measured(sim, ball, {"case": where, "method": method, "refinements": refinements})
+    case = "flat" if inside is None else f"edge {100 * inside:g} cm"
+    row, h = measured(sim, ball, {"case": case, "method": method, "refinements": refinements})
     row["rebound vz/v0"] = float(h["vz"][-1])
+    row["vx/v0"] = float(h["vx"][-1])
     row["lateral max/v0"] = float(np.max(np.hypot(h["vx"], h["vy"])))
     row["deepest/edge"] = max(0.0, float(np.max(h["depth"]))) / ball.min_edge_length
     return row
@@ -101,9 +112,17 @@ def rigid_ball_on_slab(method: str, divisions: int, t_end: float):
     ball = RigidBody3D.of_density(1000.0, [0.003, -0.002, radius + 0.001], Ball(radius))
     model = Model([slab, ball], [Contact(slab, ball, method=method)], (0.0, 0.0, -9.81))
     o = slab.ndof
+    facets, (lam, _) = slab.contact_facets(), triangle_rule(2)
+
+    def between(m, st):  # the deepest point of the slab's triangles inside the sphere
+        t = slab.positions(st.q[:o])[facets]
+        points = np.einsum("pk,tkd->tpd", lam, t).reshape(-1, 3) - ball.center(st.q[o : o + 6])
+        return float(max(0.0, -np.min(np.linalg.norm(points, axis=1) - radius)))
+
     probes = {
         "vz": Probe(lambda m, st: float(st.v[o + 2]), "m/s", "ball"),
         "force": Probe(lambda m, st: float(st.mean_force().sum()), "N", "contact"),
+        "between": Probe(between, "m", "deepest point of the slab's surface in the sphere"),
     }
     v0 = model.translation(ball, (0.0, 0.0, -1.0))
     sim = Simulation(model, dt=wave_step(slab, 1.0), t_end=t_end, probes=probes,
@@ -113,6 +132,11 @@ def rigid_ball_on_slab(method: str, divisions: int, t_end: float):
     dt = t[1] - t[0]
     row["first contact (ms)"] = 1e3 * (t[on[0]] - dt) if len(on) else np.nan
     row["t_c (ms)"] = 1e3 * (t[on[-1]] - t[on[0]] + dt) if len(on) else np.nan
+    vz = np.asarray(h["vz"])
+    turn = np.flatnonzero((vz[:-1] < 0.0) & (vz[1:] >= 0.0))
+    i = turn[0] if len(turn) else -1
+    row["turns (ms)"] = 1e3 * (t[i] - vz[i] * dt / (vz[i + 1] - vz[i])) if len(turn) else np.nan
+    row["deepest between nodes (mm)"] = 1e3 * float(np.max(h["between"]))
     row["rebound vz/v0"] = float(h["vz"][-1])
     return row
 
@@ -147,9 +171,9 @@ def main() -> None:
     t_box, t_slab = (0.002, 0.002) if args.quick else (0.008, 0.0075)
     boxes, slabs = [], []
     for ref in refinements:
-        for where in ("flat", "edge"):
+        for inside in (None, 0.0, 0.005, 0.01, 0.015, 0.02):
             for method in METHODS:
-                boxes.append(ball_on_box(where, method, ref, t_box))
+                boxes.append(ball_on_box(inside, method, ref, t_box))
                 print(boxes[-1], flush=True)
     for div in divisions:
         for method in METHODS:
@@ -160,7 +184,7 @@ def main() -> None:
     publish_report(
         args.out, "rigid_mortar", args.quick,
         "Mortar and node-to-surface between a 3D solid and a RigidBody3D", boxes + slabs,
-        ("An elastic ball onto a heavy box (face, and 1 cm from an edge)", boxes),
+        ("An elastic ball onto a heavy box (face centre, and 0-2 cm inside an edge)", boxes),
         ("A rigid ball onto an elastic slab", slabs),
         ("A block pressed by 1 kPa on a box: max |z/p - 1| at rest", pressed),
         ("One triangle across a box edge: the rule on s^2 sub-triangles", rule),

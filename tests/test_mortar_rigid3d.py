@@ -145,7 +145,7 @@ def newton_residuals(shape, below):
     q0[n:] = [0.0, 0.0, 0.0, 0.1, -0.2, 0.3]  # the rigid body turned, held there
     g, dofs, _, _ = pair.evaluate(q0)
     rows = np.flatnonzero(g < 0.0)
-    assert len(rows) >= 3
+    assert len(rows) >= 2
     q, lam, out = q0.copy(), np.zeros(len(rows)), []
     for _ in range(8):
         g, dofs, Gv, _ = pair.evaluate(q)
@@ -165,10 +165,12 @@ def newton_residuals(shape, below):
     return np.array(out)
 
 
-@pytest.mark.parametrize("shape, below", [(Ball(0.04), -0.02), (Box(0.08, 0.06, 0.05), -0.013)])
+@pytest.mark.parametrize("shape, below", [(Ball(0.015), 0.006), (Box(0.08, 0.06, 0.05), -0.013)])
 def test_newton_converges_quadratically_with_the_rows_curvature(shape, below):
     """|r_{k+1}| ≤ C |r_k|² with C of the order of the curvature (1/m): the residuals fall
-    1e-3, 1e-6, 1e-12 (measured); a first-order curvature would give a linear rate."""
+    4.7e-3, 1.8e-4, 1.3e-7, 4.5e-13 (measured) on the weighted rows (w = 0.9, 0.98) of a
+    ball smaller than the triangles; a first-order curvature would give a linear rate. On a
+    box face the rows are the nodes' own distances and one step lands (7e-3, 0)."""
     r = newton_residuals(shape, below)
     assert r[-1] < 1e-13 * max(1.0, r[0]) or r[-1] < 1e-14
     rates = r[2:] / r[1:-1] ** 2
@@ -238,19 +240,23 @@ def slab_drop(fraction=1.0, options=None, t_end=0.0075, out=None):
     return run(sim, out, frames=False, checkpoint_every=0)
 
 
-def contact_time(states) -> float:
-    """From the first step with a contact force or impulse to the step after the last (s)."""
-    on = [s.t for s in states if np.any(s.lam > 0.0) or np.any(s.impulse > 0.0)]
-    return on[-1] - on[0] + states[1].t - states[0].t
+def turning_time(states) -> float:
+    """The instant (s) the ball's vertical velocity turns from down to up (its deepest
+    point), interpolated linearly within the step."""
+    t, v = np.array([s.t for s in states]), np.array([s.v[-4] for s in states])
+    i = np.flatnonzero((v[:-1] < 0.0) & (v[1:] >= 0.0))[0]
+    return t[i] - v[i] * (t[i + 1] - t[i]) / (v[i + 1] - v[i])
 
 
 def test_a_rigid_ball_on_an_elastic_slab_is_hertz_like_without_halving(tmp_path):
-    """At the slab's Δx/c: no step halved, t_c within 3 % of the run at a quarter of the step
-    (measured 1.6 %: 5.28 against 5.20 ms; Hertz on a half-space gives 6.15 ms, the clamped
-    4 cm slab is stiffer), the ball rebounds, the energy ledger's ``created`` is small
-    (measured 0.17 % of its scale, made in the position correction of the persistent
-    contact, which the run's warning names; bound 1 %), and no slave node lies deeper in the
-    ball than 1 % of its shortest edge (the watch's exact distances)."""
+    """At the slab's Δx/c: no step halved, the ball's turning instant within 0.5 % of the run
+    at a quarter of the step (measured 3.7386 against 3.7372 ms; with the dual weighted gaps
+    the stand-off took it 0.51 ms earlier), the ball rebounds, the energy ledger's
+    ``created`` is small (bound 1 %, made in the position correction of the persistent
+    contact, which the run's warning names), no slave node lies deeper in the ball than 1 %
+    of its shortest edge (the watch's exact distances), and no contact is taken before the
+    nearest node reaches the sphere (its gap 1.13 mm at 1 m/s; the dual weighted gaps took it
+    at 0.54 ms, the surfaces 0.46 mm apart)."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         summary = slab_drop(out=tmp_path)
@@ -261,9 +267,13 @@ def test_a_rigid_ball_on_an_elastic_slab_is_hertz_like_without_halving(tmp_path)
     coarse = slab_drop()
     fine = slab_drop(fraction=0.25)
     assert sum(s.halvings for s in coarse) == 0
-    assert contact_time(coarse) == pytest.approx(contact_time(fine), rel=0.03)
+    assert turning_time(coarse) == pytest.approx(turning_time(fine), rel=0.005)
     assert coarse[-1].v[-4] > 0.9  # the ball's vertical velocity: it has rebounded
     assert max(s.mortar_depth for s in coarse) <= 0.01
+    first = next(s.t for s in fine if np.any(s.lam > 0.0) or np.any(s.impulse > 0.0))
+    dt = fine[1].t - fine[0].t
+    gap = min(fine[0].gaps)  # the nearest node's distance to the sphere at t = 0
+    assert first > gap / 1.0 - dt  # 1 m/s: the step that takes the contact ends after it
 
 
 @pytest.mark.parametrize("change", [{"penalty_scale": 1e3}, {"multiplier_scale": 1e-2}])
@@ -360,3 +370,66 @@ def test_the_watch_reports_the_deepest_node_by_its_exact_distance():
     q = np.zeros(model.n)
     q[: ball.ndof] = model.translation(ball, (0.0, 0.0, 0.003))[: ball.ndof]
     assert watch.depth(q) == (0.0, 0.0)
+
+
+def hertz_contact_radius(ball: Solid, v: float) -> float:
+    """Hertz's contact radius (m) at the peak of an elastic ball's impact at ``v`` (m/s) on a
+    rigid flat: δ = (15 m v² / (16 E* √R))^{2/5}, a = √(R δ), E* = E / (1 − ν²)."""
+    E_star = RUBBER.E / (1.0 - RUBBER.nu**2)
+    delta = (15.0 * ball.mass * v**2 / (16.0 * E_star * np.sqrt(R))) ** 0.4
+    return float(np.sqrt(R * delta))
+
+
+def edge_drop(inside: float, refinements: int = 2) -> np.ndarray:
+    """``ball_drop``'s ball (P1) at 1 m/s onto a fixed box whose edge (along y) lies
+    ``inside`` (m) from the pole: the ball's centre-of-mass velocity (steps, 3)."""
+    ball = Solid.ball([0.0, 0.0, R + 0.002], R, refinements, RUBBER)
+    box = RigidBody3D.uniform(1.0, [0.15 - inside, 0.0, -0.025], Box(0.3, 0.3, 0.05)).fix()
+    model = Model([ball, box], [Contact(ball, box)], (0.0, 0.0, -9.81))
+    v0 = model.translation(ball, (0.0, 0.0, -1.0))
+    n = ball.ndof
+    states = simulate(model, wave_step(ball, 1.0, None), 0.008, IntegratorOptions(), v0=v0)
+    return np.array([(model.M_full @ s.v)[:n].reshape(-1, 3).sum(axis=0) / ball.mass
+                     for s in states])  # fmt: skip
+
+
+@pytest.mark.parametrize("inside", [0.01, 0.015, 0.02])
+def test_a_ball_landing_inside_a_box_edge_leaves_straight_up_where_its_patch_ends_short(inside):
+    """Hertz's contact radius at the peak is 1.00 cm (the 1 cm case only grazes the edge,
+    where Hertz's pressure vanishes), so the edge takes no load and the ball leaves straight
+    up, as from the face. The nodes' own distances on the face (the rows turn to the weighted
+    gap only inside an edge's region) give no lateral force from triangles reaching across the
+    edge: measured ≤ 1e-14 of the approach speed at 1, 1.5 and 2 cm (with the dual weighted
+    gap of every row: +17.5 %, +4.6 %, 0 at these meshes, and −9.1 %, +1.5 %, 0 one
+    refinement finer). Bounds: 1e-9 m/s, Newton's tolerance on the rows; the rebound
+    0.95–1.05, the vertical restitution of the same ball on the face."""
+    ball = Solid.ball([0.0, 0.0, R + 0.002], R, 2, RUBBER)
+    assert hertz_contact_radius(ball, 1.0) == pytest.approx(0.0100, abs=1e-4)
+    v = edge_drop(inside)
+    assert np.abs(v[:, :2]).max() <= 1e-9
+    assert 0.95 <= v[-1, 2] <= 1.05
+
+
+def small_ball_over_a_node(height: float):
+    """A rigid ball (1 cm) ``height`` (m) above a node of a coarse slab (4 × 4 × 1 cells,
+    10 cm wide): its triangles (2.5 cm legs) are larger than the ball, so the rows are the
+    dual weighted gaps (w = 1)."""
+    slab = Solid.box([-0.05, -0.05, -0.02], [0.05, 0.05, 0.0], (4, 4, 1), RUBBER)
+    ball = RigidBody3D.of_density(1000.0, [0.0, 0.0, 0.01 + height], Ball(0.01))
+    return Model([slab, ball], [Contact(slab, ball)], (0.0, 0.0, 0.0))
+
+
+def test_the_initial_state_is_judged_by_the_nodes_not_by_the_weighted_gaps():
+    """1 mm above a node the weighted gap of that node reads −0.166 h²/r + 1 mm < 0 (the dual
+    functions' negative lobes on the sphere's curvature) with every node outside: the run is
+    admitted and warns of the stand-off by name; a node 1 mm inside the ball is refused."""
+    from fecontact.time.state import initial_state
+
+    model = small_ball_over_a_node(0.001)
+    pair = model.contacts.pairs[0]
+    g = pair.gaps(np.zeros(model.n))
+    assert np.min(g) < -1e-3 and np.min(pair.node_distances(np.zeros(model.n))) > 0.0
+    with pytest.warns(UserWarning, match="stand-off"):
+        initial_state(model)
+    with pytest.raises(InputError, match="penetrates by 1.000e-03 m"):
+        initial_state(small_ball_over_a_node(-0.001))

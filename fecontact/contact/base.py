@@ -50,6 +50,12 @@ class PairDefaults:
         """The gaps g_j(q) (m) alone; pairs with a cheaper path than ``evaluate`` override."""
         return self.evaluate(q)[0]
 
+    def admissible_gaps(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        """The gaps (m) that admit a state at t = 0, from this pair's rows at q: the rows
+        themselves; a pair whose rows are weighted gaps judges by its nodes' exact distances
+        (a weighted gap can read below zero where no node is inside)."""
+        return rows
+
     def penetration(self, q: np.ndarray) -> float:
         """How deep (m, ≥ 0) the deepest point of the pair lies on the wrong side: −min g
         where the gap is the signed distance itself (obstacles, bar ends); pairs with an

@@ -11,7 +11,7 @@ from .friction_rows import FrictionRows
 from .mortar_interface import merge_interfaces
 from .watch import solid_watches
 
-__all__ = ["ContactSet"]
+__all__ = ["ContactSet", "admissible_gaps"]
 
 
 class ContactSet(FrictionRows):
@@ -348,3 +348,11 @@ def _add(A: np.ndarray, index, values: np.ndarray, unique: bool, assign=False) -
         flat[index] += values
     else:
         np.add.at(flat, index, values)
+
+
+def admissible_gaps(contacts: ContactSet, q: np.ndarray, g: np.ndarray) -> np.ndarray:
+    """The gaps (m) by which a state at t = 0 is admitted, from the rows g of ``contacts`` at q
+    (each pair's ``admissible_gaps``)."""
+    owner = contacts.owner
+    parts = [pair.admissible_gaps(q, g[owner == i]) for i, pair in enumerate(contacts.pairs)]
+    return np.concatenate([np.zeros(0), *parts])

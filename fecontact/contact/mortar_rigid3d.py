@@ -2,18 +2,31 @@ r"""Dual mortar contact of a 3D :class:`~fecontact.Solid` against a rigid body i
 
 The solid's boundary triangles (:meth:`~fecontact.Solid.contact_facets`) are the slave surface,
 the exact shape of a :class:`~fecontact.bodies.rigid3d.RigidBody3D` (``Ball`` or ``Box``) the
-master. Each slave boundary node j carries one multiplier and one row, its weighted gap
+master. Each slave boundary node j carries one multiplier and one row,
 
-    g̃_j = Σ_e ∫_e Φ_j g(x) dA₀,   g(x) = D(Rᵀ(x − c)) − clearance,   rows g_j = g̃_j / L_j,
+    g_j = d_j + w_j (g̃_j / L_j − d_j),   g̃_j = Σ_e ∫_e Φ_j g(x) dA₀,
+    g(x) = D(Rᵀ(x − c)) − clearance,
 
-with D the shape's exact signed distance (:mod:`fecontact.contact.rigid_distance`), c and R the
-body's centre and rotation, x = Σ λ_k x_k the current point of area coordinates λ,
-Φ_j = 4λ_j − 1 the dual functions of the linear triangle (∫_e Φ_j λ_k dA₀ = δ_jk |e|₀/3), and
-L_j = Σ_e |e|₀/3 the reference area node j carries. The master's distance field is defined
-everywhere, so every slave triangle is covered whole and keeps the dual functions of the whole
-triangle: no projection, no clipping, no partial coverage. For a flat master (a box face) and
-a gap field linear on a triangle, g̃_j = g(x_j) |e|₀/3: each row is the node's own gap at any
-strain, the patch test.
+with D the shape's exact signed distance (:mod:`fecontact.contact.rigid_distance`), d_j = g at
+the node, c and R the body's centre and rotation, x = Σ λ_k x_k the current point of area
+coordinates λ, Φ_j = 4λ_j − 1 the dual functions of the linear triangle
+(∫_e Φ_j λ_k dA₀ = δ_jk |e|₀/3), L_j = Σ_e |e|₀/3 the reference area node j carries, and w_j
+the weight of :func:`~fecontact.contact.rigid_distance.feature_weights`. The master's distance
+field is defined everywhere, so every slave triangle is covered whole and keeps the dual
+functions of the whole triangle: no projection, no clipping, no partial coverage.
+
+Why the weight: by biorthogonality g̃_j / L_j = d_j + ∫ Φ_j (g − ℓ_j) dA₀ / L_j, ℓ_j the
+distance linearised at the node: the weighted gap adds to the node's distance only the
+dual-weighted curvature of D over the node's triangles. Where the mesh resolves that curvature
+it is a second-order artefact with the sign of the negative lobes: a stand-off (−0.166 h²/r
+where a sphere touches a flat mesh at a node) and, at a box edge, a tangential force from face
+nodes whose triangles reach across the edge's region plane (+17.5 % of the approach speed
+sideways for a ball landing 1 cm inside an edge its contact patch never reaches). Where it
+does not (a box's edge or corner seen from its region, a ball smaller than the triangles) it
+is what keeps the feature out between the nodes. So w_j = 0 over a box's faces (the rows are
+the nodal distances, which the weighted gap of a linear field equals: the patch test) and
+against a ball the mesh resolves, ramping to 1 over the node's own triangle size into an edge
+or corner region, or as the triangles outgrow the ball.
 
 The integral is over the reference surface (dA₀), unlike the solid–solid mortar's current
 area: the multiplier λ_j / L_j is then the nominal (first Piola–Kirchhoff) pressure, uniform
@@ -25,24 +38,25 @@ spread, measured).
 Integration: the degree-5 rule of :func:`~fecontact.contact.rigid_distance.triangle_rule` on
 each triangle, on s² sub-triangles where a box's region plane cuts it.
 
-Gradients and curvature: over the 15 local dofs of a triangle, its nodes' translations and the
-body's (u, Θ), Θ body-frame (R ⊕ δΘ = R exp(δΘ̃)). At a point ρ = Rᵀ(x − c), with
-∂ρ/∂(x_k, u, Θ) = (λ_k Rᵀ, −Rᵀ, ρ̃), so ∂g = n_bᵀ ∂ρ. The curvature is the derivative of the
-gradient along the dofs (the rotation's included: Newton's tangent of the force Gᵀλ on the
-group), J_ρᵀ ∇²D J_ρ plus the terms of R moving n_b and ρ̃ moving with Θ:
-(x_k, Θ): −λ_k R ñ_b, (u, Θ): R ñ_b, their mirror images, and (Θ, Θ): ñ_b ρ̃ (unsymmetric).
-The integration points are fixed in area coordinates; where a box's region plane crosses a
-triangle the sub-triangles do not follow it, and the curvature of D jumps there: the rate of
-Newton's method can drop to superlinear while such a triangle is pressed.
+Gradients and curvature (of d_j, g̃_j and w_j, combined by the product rule): over the 15 local
+dofs of a triangle, its nodes' translations and the body's (u, Θ), Θ body-frame (R ⊕ δΘ = R
+exp(δΘ̃)). At a point ρ = Rᵀ(x − c), with ∂ρ/∂(x_k, u, Θ) = (λ_k Rᵀ, −Rᵀ, ρ̃), so ∂g = n_bᵀ ∂ρ.
+The curvature is the derivative of the gradient along the dofs (the rotation's included:
+Newton's tangent of the force Gᵀλ on the group), J_ρᵀ ∇²D J_ρ plus the terms of R moving n_b
+and ρ̃ moving with Θ: (x_k, Θ): −λ_k R ñ_b, (u, Θ): R ñ_b, their mirror images, and (Θ, Θ): ñ_b
+ρ̃ (unsymmetric). The integration points are fixed in area coordinates; where a box's region
+plane crosses a triangle the sub-triangles do not follow it, and the curvature of D jumps
+there: the rate of Newton's method can drop to superlinear while such a triangle is pressed.
 
-Rows of nodes farther from the shape than the detection margin plus 1.4 times their
-triangles' longest edge (``LIPSCHITZ``) report g = +inf and a zero gradient: their weighted
-gap exceeds the margin. Every node's exact distance is measured at every evaluation (no
-search to miss one), and :class:`NodeDepths` reports the deepest node inside the shape (the
-weighted gaps hold the integrals, not each node: a node may sit inside by the
-discretization's own amount).
-Friction: slip rows T_j·∫ Φ_j (ẋ − ẏ) dA₀ / L_j, ẏ the velocity of the body's material point
-under x, T_j the tangents of the shape's normal at node j (as the solid–solid mortar does).
+Rows of nodes farther from the shape than the detection margin plus 1.4 times their triangles'
+longest edge (``LIPSCHITZ``) report g = +inf and a zero gradient: their distance and their
+weighted gap exceed the margin. Only the triangles of rows with w_j > 0 are integrated. Every
+node's exact distance is measured at every evaluation (no search to miss one), and
+:class:`NodeDepths` reports the deepest node inside the shape (the weighted gaps hold the
+integrals, not each node: a node may sit inside by the discretization's own amount).
+Friction: slip rows T_j·[(1 − w_j)(ẋ_j − ẏ_j) + w_j ∫ Φ_j (ẋ − ẏ) dA₀ / L_j], ẏ the velocity of
+the body's material point under x, T_j the tangents of the shape's normal at node j (as the
+solid–solid mortar does).
 """
 
 from __future__ import annotations
@@ -56,11 +70,18 @@ from ..errors import InputError, check_positive, check_range
 from ..rotations import exp, hat, log
 from .base import PairDefaults
 from .friction import tangent_basis
-from .rigid_distance import SUBDIVISIONS, shape_distance, straddles, triangle_rule
+from .rigid_distance import (
+    SUBDIVISIONS,
+    feature_weights,
+    shape_distance,
+    straddles,
+    triangle_rule,
+)
 
 __all__ = ["LIPSCHITZ", "MortarRigid3D", "NodeDepths"]
 
 _EYE = np.eye(3)
+_NODE9 = np.r_[0:3, 9:15]  # a point at a triangle's first end: its node's and the body's dofs
 
 LIPSCHITZ = 1.4
 """A node's row is at least d_j − 1.375 reach_j: with n_j the distance's gradient at the node,
@@ -103,6 +124,16 @@ def _areas(t: np.ndarray) -> np.ndarray:
     return 0.5 * np.linalg.norm(np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), axis=1)
 
 
+def _longest_edges(X, facets, rows, m) -> np.ndarray:
+    """The longest edge (m,) of each of the m nodes' triangles ``facets`` at positions X."""
+    t = X[facets]
+    edge = np.linalg.norm(t - np.roll(t, 1, axis=1), axis=2).max(axis=1)
+    out = np.zeros(m)
+    for k in range(3):
+        np.maximum.at(out, rows[:, k], edge)
+    return out
+
+
 def _rotation_terms(R, nb, rho, lam) -> np.ndarray:
     """The curvature's terms (P, 15, 15) from R turning n_b and from ρ̃ (module
     docstring)."""
@@ -118,18 +149,10 @@ def _rotation_terms(R, nb, rho, lam) -> np.ndarray:
     return E
 
 
-class MortarRigid3D(PairDefaults):
-    """Dual mortar contact of the boundary of a 3D :class:`~fecontact.Solid` (``body``, the
-    slave) with the exact surface of a :class:`~fecontact.bodies.rigid3d.RigidBody3D` with a
-    ``Ball`` or ``Box`` shape; see the module docstring. One contact per slave boundary node;
-    ``restitution`` Newton's e_N in [0, 1]; ``clearance`` (m, ≥ 0) kept from the shape;
-    ``margin`` (m) the search distance (default: the integrator's detection distance);
-    ``subdivisions`` (s ≥ 1) the sub-triangles per edge of a triangle a box's region plane
-    cuts."""
-
-    linear = False
-    lazy_hessians = True
-    frictional = True
+class RigidMortarGeometry(PairDefaults):
+    """The geometry of :class:`MortarRigid3D` (its constructor's arguments): the slave
+    triangles, their stars and areas, the body's frame, the rows' weights w_j and the
+    integrals of their weighted gaps."""
 
     def __init__(self, body, rigid, restitution=0.0, clearance=0.0, margin=None,
                  subdivisions: int = SUBDIVISIONS):  # fmt: skip
@@ -157,6 +180,13 @@ class MortarRigid3D(PairDefaults):
         """Reference area L_j (m²) each slave node carries: its rows are g̃_j / L_j."""
         self.area = self.length
         self._star, self._cols = _stars(self.element_rows, len(self.nodes))
+        m, K = self._star.shape
+        own = np.argmax(self._star == np.arange(m)[:, None], axis=1)
+        rigid = np.broadcast_to(3 * K + np.arange(6), (m, 6))
+        self._own_cols = np.concatenate([3 * own[:, None] + np.arange(3), rigid], axis=1)
+        self.reach = _longest_edges(body.X, self.facets, self.element_rows, m)
+        """The longest reference edge (m) of each slave node's triangles: the length over
+        which its row turns from the node's own distance to the weighted gap."""
         self._node_dofs = body.node_translation_dofs(self.nodes)
         self.offsets = (0, 0)
         self.dofs = np.zeros((len(self.nodes), self._cols.shape[2]), dtype=int)
@@ -201,14 +231,12 @@ class MortarRigid3D(PairDefaults):
         """The rows that take part (m,) bool, those whose bound from below
         d_j − LIPSCHITZ reach_j is within the margin, and the triangles (T,) to integrate for
         them."""
-        d = shape_distance(self.rigid.shape, (x[self.nodes] - c) @ R, False)[0]
-        t = x[self.facets]
-        edge = np.linalg.norm(t - np.roll(t, 1, axis=1), axis=2).max(axis=1)
-        reach = np.zeros(self.size)
-        for k in range(3):
-            np.maximum.at(reach, self.element_rows[:, k], edge)
+        rho = (x[self.nodes] - c) @ R
+        d = shape_distance(self.rigid.shape, rho, False)[0]
+        reach = _longest_edges(x, self.facets, self.element_rows, self.size)
         near = d - self.clearance - LIPSCHITZ * reach <= self.margin
-        tris = np.flatnonzero(near[self.element_rows].any(axis=1))
+        weighted = near & (feature_weights(self.rigid.shape, rho, self.reach)[0] > 0.0)
+        tris = np.flatnonzero(weighted[self.element_rows].any(axis=1))
         return near, tris
 
     def _points(self, tris, x, R, c):
@@ -236,7 +264,7 @@ class MortarRigid3D(PairDefaults):
         near, found = self._near(x, R, c)
         tris = found if tris is None else tris
         if len(tris) == 0:
-            return near, tris, np.zeros((0, 3)), None, None
+            return near, tris, np.zeros((0, 3)), np.zeros((0, 3, 15)), np.zeros((0, 3, 15, 15))
         tris, which, lam, w, starts = self._points(tris, x, R, c)
         t = x[self.facets[tris]]
         xp = (lam[:, None, :] @ t[which])[:, 0]
@@ -263,18 +291,72 @@ class MortarRigid3D(PairDefaults):
         return near, tris, values, grads, A[:, None, None, None] * Hs
 
     # -- rows -------------------------------------------------------------------------------
-    def _rows(self, near, tris, values) -> np.ndarray:
+    def _nodal(self, q: np.ndarray, order: int, rows=None):
+        """At the nodes ``rows`` (default all): their own distance g (n,) less the clearance,
+        the weight w (n,) of the weighted gap in their row, and with ``order`` ≥ 1 the
+        gradients of g and w over the node's and the body's dofs (n, 9), with ``order`` 2
+        their curvatures (n, 9, 9)."""
+        x, R, c = self._frame(q)
+        rows = np.arange(self.size) if rows is None else rows
+        rho = (x[self.nodes[rows]] - c) @ R
+        shape = self.rigid.shape
+        D, nb, K = shape_distance(shape, rho, order == 2)
+        w, v, w1, w2 = feature_weights(shape, rho, self.reach[rows])
+        if order == 0:
+            return D - self.clearance, w
+        lam = np.broadcast_to(np.array([1.0, 0.0, 0.0]), (len(rows), 3))
+        J = _local_rows(lam, R.T, -R.T, hat(rho))[:, :, _NODE9]
+        de = (v[:, None, :] @ J)[:, 0]  # ∂e along the feature's axis
+        Gn, Gw = (nb[:, None, :] @ J)[:, 0], w1[:, None] * de
+        if order == 1:
+            return D - self.clearance, w, Gn, Gw
+        sel = np.ix_(np.arange(len(rows)), _NODE9, _NODE9)
+        Hn = _rotation_terms(R, nb, rho, lam)[sel] + J.transpose(0, 2, 1) @ K @ J
+        Hw = w2[:, None, None] * de[:, :, None] * de[:, None, :]
+        Hw += w1[:, None, None] * _rotation_terms(R, v, rho, lam)[sel]
+        return D - self.clearance, w, Gn, Gw, Hn, Hw
+
+    def _mortar_rows(self, near, tris, values) -> np.ndarray:
+        """The weighted gaps g̃_j / L_j (m,) of the rows whose triangles ``tris`` hold."""
         g = np.zeros(self.size)
         for k in range(3):
             g += np.bincount(self.element_rows[tris, k], values[:, k], self.size)
-        return np.where(near, g / self.length, np.inf)
+        return g / self.length
+
+    def _on_rows(self, nodal: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        """Nodal arrays (n, 9[, 9]) of ``rows`` placed in their rows' columns (n, k[, k])."""
+        k, n = self.dofs.shape[1], len(rows)
+        cols = self._own_cols[rows]
+        if nodal.ndim == 2:
+            out = np.zeros((n, k))
+            out[np.arange(n)[:, None], cols] = nodal
+            return out
+        out = np.zeros((n, k, k))
+        out[np.arange(n)[:, None, None], cols[:, :, None], cols[:, None, :]] = nodal
+        return out
+
+
+class MortarRigid3D(RigidMortarGeometry):
+    """Dual mortar contact of the boundary of a 3D :class:`~fecontact.Solid` (``body``, the
+    slave) with the exact surface of a :class:`~fecontact.bodies.rigid3d.RigidBody3D` with a
+    ``Ball`` or ``Box`` shape; see the module docstring. One contact per slave boundary node;
+    ``restitution`` Newton's e_N in [0, 1]; ``clearance`` (m, ≥ 0) kept from the shape;
+    ``margin`` (m) the search distance (default: the integrator's detection distance);
+    ``subdivisions`` (s ≥ 1) the sub-triangles per edge of a triangle a box's region plane
+    cuts."""
+
+    linear = False
+    lazy_hessians = True
+    frictional = True
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         """The rows g_j (m) alone (+inf for rows that take no part)."""
         for cached in (self._last, self._last_gaps):
             if cached is not None and np.array_equal(cached[0], q):
                 return cached[1].copy()
-        g = self._rows(*self._integrals(q, 0)[:3])
+        near, tris, values = self._integrals(q, 0)[:3]
+        g, w = self._nodal(q, 0)
+        g = np.where(near, g + w * (self._mortar_rows(near, tris, values) - g), np.inf)
         self._last_gaps = (q.copy(), g)
         return g.copy()
 
@@ -283,13 +365,17 @@ class MortarRigid3D(PairDefaults):
         if self._last is not None and np.array_equal(self._last[0], q):
             return self._last[1].copy(), self.dofs, self._last[2], None
         near, tris, values, grads, _ = self._integrals(q, 1)
-        g = self._rows(near, tris, values)
-        scale = np.where(near, 1.0 / self.length, 0.0)
-        G = np.zeros(self.dofs.shape)
+        g, w, Gn, Gw = self._nodal(q, 1)
+        m = self._mortar_rows(near, tris, values)
+        Gm = np.zeros(self.dofs.shape)
         for k in range(3):
             r = self.element_rows[tris, k]
-            np.add.at(G, (r[:, None], self._cols[tris, k]), grads[:, k] * scale[r, None])
+            np.add.at(Gm, (r[:, None], self._cols[tris, k]), grads[:, k] / self.length[r, None])
+        every = np.arange(self.size)
+        G = w[:, None] * Gm + self._on_rows((1.0 - w[:, None]) * Gn + (m - g)[:, None] * Gw, every)
+        G[~near] = 0.0
         G.flags.writeable = False
+        g = np.where(near, g + w * (m - g), np.inf)
         self._last = (q.copy(), g, G)
         return g.copy(), self.dofs, G, None
 
@@ -298,44 +384,60 @@ class MortarRigid3D(PairDefaults):
         along the dofs), in the layout of :meth:`evaluate`."""
         rows = np.asarray(rows, dtype=int)
         k = self.dofs.shape[1]
-        out = np.zeros((len(rows), k, k))
+        g, w, Gn, Gw, Hn, Hw = self._nodal(q, 2, rows)
         where = np.full(self.size, -1)
         where[rows] = np.arange(len(rows))
-        tris = np.flatnonzero((where[self.element_rows] >= 0).any(axis=1))
-        near, tris, _, _, H = self._integrals(q, 2, tris)
-        if len(tris) == 0:
-            return out
-        scale = np.where(near, 1.0 / self.length, 0.0)
+        weighted = np.full(self.size, False)
+        weighted[rows[w > 0.0]] = True  # rows with w = 0 have no weighted-gap terms
+        tris = np.flatnonzero(weighted[self.element_rows].any(axis=1))
+        near, tris, values, grads, H = self._integrals(q, 2, tris)
+        Hm, Gm = np.zeros((len(rows), k, k)), np.zeros((len(rows), k))
         for end in range(3):
             r = self.element_rows[tris, end]
             sel = where[r] >= 0
-            c = self._cols[tris[sel], end]
-            vals = H[sel, end] * scale[r[sel], None, None]
-            np.add.at(out, (where[r[sel]][:, None, None], c[:, :, None], c[:, None, :]), vals)
+            c, at = self._cols[tris[sel], end], where[r[sel]]
+            scale = 1.0 / self.length[r[sel]]
+            np.add.at(Hm, (at[:, None, None], c[:, :, None], c[:, None, :]),
+                      H[sel, end] * scale[:, None, None])  # fmt: skip
+            np.add.at(Gm, (at[:, None], c), grads[sel, end] * scale[:, None])
+        m = self._mortar_rows(near, tris, values)[rows]
+        dG, Gw = Gm - self._on_rows(Gn, rows), self._on_rows(Gw, rows)
+        out = w[:, None, None] * Hm + self._on_rows((1.0 - w[:, None, None]) * Hn, rows)
+        out += dG[:, :, None] * Gw[:, None, :] + Gw[:, :, None] * dG[:, None, :]
+        out += (m - g)[:, None, None] * self._on_rows(Hw, rows)
+        out[~near[rows]] = 0.0
         return out
 
     # -- friction ---------------------------------------------------------------------------
     def tangents(self, q: np.ndarray):
-        """Slip rows (m, 2, k): T_j·∫ Φ_j (ẋ − ẏ) dA₀ / L_j, ẏ = u̇ − R ρ̃ Ω the body's material
-        point at x, T_j (m, 2, 3) the tangents of the shape's normal at node j."""
+        """Slip rows (m, 2, k): T_j·∫ ψ_j (ẋ − ẏ) dA₀ / L_j, ẏ = u̇ − R ρ̃ Ω the body's material
+        point at x, ψ_j the row's weight (w_j Φ_j and 1 − w_j at the node), T_j (m, 2, 3) the
+        tangents of the shape's normal at node j."""
         x, R, c = self._frame(q)
         near, tris = self._near(x, R, c)
-        nb = shape_distance(self.rigid.shape, (x[self.nodes] - c) @ R, False)[1]
+        rho = (x[self.nodes] - c) @ R
+        nb = shape_distance(self.rigid.shape, rho, False)[1]
+        w = feature_weights(self.rigid.shape, rho, self.reach)[0]
         T = tangent_basis(nb @ R.T)
         W = np.zeros((self.size, 3, self.dofs.shape[1]))
+        lam = np.broadcast_to(np.array([1.0, 0.0, 0.0]), (self.size, 3))
+        Wn = _local_rows(lam, _EYE, -_EYE, R @ hat(rho))[:, :, _NODE9]
+        at = (np.arange(self.size)[:, None, None], np.arange(3)[None, :, None])
+        W[at + (self._own_cols[:, None, :],)] = (1.0 - w[:, None, None]) * Wn
         if len(tris):
-            tris, which, lam, w, starts = self._points(tris, x, R, c)
+            tris, which, lam, wq, starts = self._points(tris, x, R, c)
             t = x[self.facets[tris]]
             rho = ((lam[:, None, :] @ t[which])[:, 0] - c) @ R
             Jx = _local_rows(lam, _EYE, -_EYE, R @ hat(rho))  # ∂(x − y)/∂(local dofs)
-            wphi = w[:, None] * (4.0 * lam - 1.0)
+            wphi = wq[:, None] * (4.0 * lam - 1.0)
             Ws = np.add.reduceat(wphi[:, :, None, None] * Jx[:, None], starts, axis=0)
             Ws *= self.area0[tris, None, None, None]
-            scale = np.where(near, 1.0 / self.length, 0.0)
+            scale = w / self.length
             for k in range(3):
                 r = self.element_rows[tris, k]
                 at = (r[:, None, None], np.arange(3)[None, :, None], self._cols[tris, k][:, None])
                 np.add.at(W, at, Ws[:, k] * scale[r, None, None])
+        W[~near] = 0.0
         return self.dofs, np.einsum("mti,mik->mtk", T, W), T
 
     def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
@@ -348,6 +450,11 @@ class MortarRigid3D(PairDefaults):
         return np.einsum("mtk,mk->mt", W, step[self.dofs])
 
     # -- what the rows do not hold ----------------------------------------------------------
+    def admissible_gaps(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        """The nodes' exact distances (m) where the rows take part: a state is admitted unless
+        a node lies inside the shape (a weighted gap reads a stand-off where none is)."""
+        return np.where(np.isfinite(rows), self.node_distances(q), np.inf)
+
     def watch(self) -> NodeDepths:
         return NodeDepths(self)
 

@@ -29,7 +29,7 @@ import numpy as np
 from ..bodies.shapes3d import Ball, Box
 from ..errors import InputError
 
-__all__ = ["SUBDIVISIONS", "shape_distance", "straddles", "triangle_rule"]
+__all__ = ["SUBDIVISIONS", "feature_weights", "shape_distance", "straddles", "triangle_rule"]
 
 SUBDIVISIONS = 4
 """Sub-triangles per edge (s) of a triangle that a box's region plane cuts: s² pieces, 7·s²
@@ -122,3 +122,37 @@ def _box(half: np.ndarray, rho: np.ndarray, curvature: bool):
             out, None, None
         ]
     return dist, n, K
+
+
+def _smoothstep(t: np.ndarray):
+    """s(t) = 3t² − 2t³ on [0, 1] (0 below, 1 above; C¹), s' and s''."""
+    t = np.clip(t, 0.0, 1.0)
+    inner = (t > 0.0) & (t < 1.0)
+    d1, d2 = np.where(inner, 6 * t * (1 - t), 0.0), np.where(inner, 6 - 12 * t, 0.0)
+    return 3 * t**2 - 2 * t**3, d1, d2
+
+
+def feature_weights(shape, rho: np.ndarray, reach: np.ndarray):
+    """How much of the weighted gap (rather than the node's own distance) each slave node's
+    row takes, and its derivatives: (w, v, w1, w2), w (m,) in [0, 1], dw/dρ = w1 v and
+    d²w/dρ² = w2 v vᵀ with v (m, 3) a unit axis (or 0), at nodes ρ (m, 3) (body frame, m)
+    whose triangles' longest edge is ``reach`` (m,) (m).
+
+    The weighted gap differs from the node's own distance by the dual-weighted curvature of
+    D over the node's triangles only; where the mesh resolves that curvature the difference
+    is a second-order artefact (a stand-off; a tangential force where a node's triangles
+    reach across a box edge), where it does not (a box edge or corner, a ball smaller than
+    the triangles) it is what keeps the feature out between the nodes. Box: w = s(e/reach),
+    e the node's depth into an edge or corner region (the second largest of the outward
+    offsets |ρ_k| − h_k > 0; 0 over a face or inside). Ball: w = s(reach/r − 1), constant."""
+    m = len(rho)
+    if isinstance(shape, Ball):
+        w = _smoothstep(reach / shape.radius - 1.0)[0]
+        return w, np.zeros((m, 3)), np.zeros(m), np.zeros(m)
+    offsets = np.maximum(np.abs(rho) - 0.5 * shape.sides, 0.0)
+    axis = np.argsort(offsets, axis=1, kind="stable")[:, 1]
+    e = offsets[np.arange(m), axis]
+    w, d1, d2 = _smoothstep(e / reach)
+    v = np.zeros((m, 3))
+    v[np.arange(m), axis] = np.where(e > 0.0, np.sign(rho[np.arange(m), axis]), 0.0)
+    return w, v, d1 / reach, d2 / reach**2
