@@ -29,6 +29,7 @@ __all__ = [
     "episode_starts",
     "derivative_errors_near_contact",
     "gap_derivatives_error",
+    "group_derivative_errors",
     "moved_on_group",
     "roll_up",
     "observed_order",
@@ -493,3 +494,25 @@ def moved_on_group(model, q: np.ndarray, d: np.ndarray) -> np.ndarray:
     for triple in model.rotations:
         out[triple] = compose(q[triple], d[triple])
     return out
+
+
+def group_derivative_errors(pair, model, q: np.ndarray, along, step: float = 1e-7):
+    """Largest errors of ``pair``'s gradients G (absolute, m/m) and curvatures (relative to the
+    largest curvature entry) at q against central differences of its rows and G along each
+    dof of ``along``, moved on the group (:func:`moved_on_group`), over its rows with a finite
+    gap. A dof listed twice in a row carries the sum of its entries."""
+    g, dofs, G_, _ = pair.evaluate(q)
+    rows = np.flatnonzero(np.isfinite(g))
+    H = pair.hessians(q, rows)
+    err_g = err_h = 0.0
+    for j in along:
+        d = np.zeros(model.n)
+        d[j] = step
+        gp, _, Gp, _ = pair.evaluate(moved_on_group(model, q, d))
+        gm, _, Gm, _ = pair.evaluate(moved_on_group(model, q, -d))
+        col = (dofs[rows] == j).astype(float)
+        fd = (gp[rows] - gm[rows]) / (2 * step)
+        err_g = max(err_g, float(np.max(np.abs(fd - np.sum(G_[rows] * col, axis=1)))))
+        fd = (Gp[rows] - Gm[rows]) / (2 * step)
+        err_h = max(err_h, float(np.max(np.abs(fd - np.einsum("mkl,ml->mk", H, col)))))
+    return err_g, err_h / np.abs(H).max()

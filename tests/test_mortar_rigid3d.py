@@ -18,7 +18,7 @@ from fecontact.errors import InputError
 from fecontact.rotations import exp
 from fecontact.scenes import wave_step
 from fecontact.simulation import Simulation, run
-from fecontact.testing import block_on_rigid_box, moved_on_group
+from fecontact.testing import block_on_rigid_box, group_derivative_errors
 from fecontact.time.settings import IntegratorOptions
 
 RUBBER = LinearElastic(E=1e7, nu=0.3, rho=1000.0)
@@ -53,21 +53,10 @@ def test_mortar_rows_are_the_derivatives_of_the_weighted_gaps(shape, below, step
     rng = np.random.default_rng(2)
     q = 2e-3 * rng.normal(size=model.n)
     q[-3:] = [0.2, -0.3, 0.4]
-    g, dofs, G, _ = pair.evaluate(q)
-    rows = np.flatnonzero(np.isfinite(g))  # the rows within the margin's bound
-    assert len(rows) >= 10
-    H = pair.hessians(q, rows)
-    for j in np.unique(dofs):
-        d = np.zeros(model.n)
-        d[j] = step
-        gp, _, Gp, _ = pair.evaluate(moved_on_group(model, q, d))
-        gm, _, Gm, _ = pair.evaluate(moved_on_group(model, q, -d))
-        col = (dofs[rows] == j).astype(float)
-        fd = (gp[rows] - gm[rows]) / (2 * step)
-        np.testing.assert_allclose(fd, np.sum(G[rows] * col, axis=1), atol=1e-8)
-        fd = (Gp[rows] - Gm[rows]) / (2 * step)
-        exact = np.einsum("mkl,ml->mk", H, col)
-        np.testing.assert_allclose(fd, exact, atol=1e-6 * np.abs(H).max())
+    g, dofs, _, _ = pair.evaluate(q)
+    assert np.isfinite(g).sum() >= 10  # the rows within the margin's bound
+    err_g, err_h = group_derivative_errors(pair, model, q, np.unique(dofs), step)
+    assert err_g <= 1e-8 and err_h <= 1e-6
 
 
 def test_triangle_rule_is_of_degree_five_on_every_subdivision():

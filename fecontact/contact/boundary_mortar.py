@@ -117,12 +117,17 @@ class BoundaryRows(PairDefaults):
         starts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(int)
         return tris, which, lam, w, starts
 
-    def sum_rows(self, near, tris, values) -> np.ndarray:
-        """The rows g_j (m,) from the triangles' end integrals, +inf where not ``near``."""
+    def weighted_rows(self, tris, values) -> np.ndarray:
+        """The weighted gaps g̃_j / L_j (m,) from the end integrals ``values`` (T, 3) of the
+        triangles ``tris``."""
         g = np.zeros(self.size)
         for k in range(3):
             g += np.bincount(self.element_rows[tris, k], values[:, k], self.size)
-        return np.where(near, g / self.length, np.inf)
+        return g / self.length
+
+    def sum_rows(self, near, tris, values) -> np.ndarray:
+        """The rows g_j (m,) from the triangles' end integrals, +inf where not ``near``."""
+        return np.where(near, self.weighted_rows(tris, values), np.inf)
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         """The rows g_j (m) alone (+inf for rows that take no part)."""

@@ -66,16 +66,15 @@ import numpy as np
 from ..bodies.rigid3d import RigidBody3D
 from ..bodies.shapes3d import Ball, Box
 from ..bodies.solid import Solid
-from ..errors import InputError, check_positive, check_range
+from ..errors import InputError, check_positive
 from ..rotations import exp, hat, log
-from .base import PairDefaults
+from .boundary_mortar import BoundaryRows
 from .friction import tangent_basis
 from .rigid_distance import (
     SUBDIVISIONS,
     feature_weights,
     shape_distance,
     straddles,
-    triangle_rule,
 )
 
 __all__ = ["LIPSCHITZ", "MortarRigid3D", "NodeDepths"]
@@ -92,20 +91,13 @@ edge) of it, and the negative lobe of Φ_j weighs 0.229 |e|₀ on each triangle 
 unit of the node's area L_j)."""
 
 
-def _stars(rows: np.ndarray, m: int):
-    """Each row's star, the nodes of its triangles: (m, K) node rows padded with the row's own
-    node, and the columns (E, 3, 15) of each triangle end's 15 local dofs in its row."""
-    j = np.repeat(rows, 3, axis=1).ravel()  # (e, k, a) -> rows[e, k]
-    a = np.tile(rows, (1, 3)).ravel()  # (e, k, a) -> rows[e, a]
-    uniq, inv = np.unique(j * m + a, return_inverse=True)
-    uj, ua = np.divmod(uniq, m)
-    pos = np.arange(len(uniq)) - np.searchsorted(uj, uj)
-    K = int(np.bincount(uj, minlength=m).max())
-    star = np.repeat(np.arange(m)[:, None], K, axis=1)
-    star[uj, pos] = ua
-    node_cols = 3 * pos[inv].reshape(len(rows), 3, 3)[..., None] + np.arange(3)
-    rigid = np.broadcast_to(3 * K + np.arange(6), (len(rows), 3, 6))
-    return star, np.concatenate([node_cols.reshape(len(rows), 3, 9), rigid], axis=2)
+def _columns(star_positions: np.ndarray, K: int) -> np.ndarray:
+    """The columns (E, 3, 15) of each triangle end's 15 local dofs in its row: its nodes'
+    translations at their places in the row's star of K nodes, then the body's six dofs."""
+    E = len(star_positions)
+    node_cols = 3 * star_positions[..., None] + np.arange(3)
+    rigid = np.broadcast_to(3 * K + np.arange(6), (E, 3, 6))
+    return np.concatenate([node_cols.reshape(E, 3, 9), rigid], axis=2)
 
 
 def _local_rows(lam, node, other, turn) -> np.ndarray:
@@ -117,21 +109,6 @@ def _local_rows(lam, node, other, turn) -> np.ndarray:
     J[:, :, 9:12] = other
     J[:, :, 12:] = turn
     return J
-
-
-def _areas(t: np.ndarray) -> np.ndarray:
-    """Areas (T,) of triangles t (T, 3, 3), m²."""
-    return 0.5 * np.linalg.norm(np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), axis=1)
-
-
-def _longest_edges(X, facets, rows, m) -> np.ndarray:
-    """The longest edge (m,) of each of the m nodes' triangles ``facets`` at positions X."""
-    t = X[facets]
-    edge = np.linalg.norm(t - np.roll(t, 1, axis=1), axis=2).max(axis=1)
-    out = np.zeros(m)
-    for k in range(3):
-        np.maximum.at(out, rows[:, k], edge)
-    return out
 
 
 def _rotation_terms(R, nb, rho, lam) -> np.ndarray:
@@ -149,10 +126,10 @@ def _rotation_terms(R, nb, rho, lam) -> np.ndarray:
     return E
 
 
-class RigidMortarGeometry(PairDefaults):
-    """The geometry of :class:`MortarRigid3D` (its constructor's arguments): the slave
-    triangles, their stars and areas, the body's frame, the rows' weights w_j and the
-    integrals of their weighted gaps."""
+class RigidMortarGeometry(BoundaryRows):
+    """The geometry of :class:`MortarRigid3D` (its constructor's arguments): the slave rows
+    (:class:`~fecontact.contact.boundary_mortar.BoundaryRows`), the body's frame, the rows'
+    weights w_j and the integrals of their weighted gaps."""
 
     def __init__(self, body, rigid, restitution=0.0, clearance=0.0, margin=None,
                  subdivisions: int = SUBDIVISIONS):  # fmt: skip
@@ -163,56 +140,29 @@ class RigidMortarGeometry(PairDefaults):
                 f"a Solid's mortar contact meets a RigidBody3D with a Ball or a Box shape, "
                 f"got a {type(rigid.shape).__name__}"
             )
-        self.body, self.rigid, self.bodies = body, rigid, (body, rigid)
-        self.restitution = check_range("restitution", restitution, 0.0, 1.0)
-        self.clearance = check_positive("clearance", clearance, allow_zero=True)
-        self._own_margin = margin is not None
-        self.margin = check_positive("margin", 0.05 * body.characteristic_length
-                                     if margin is None else margin)  # fmt: skip
-        if int(subdivisions) != subdivisions or subdivisions < 1:
-            raise InputError(f"subdivisions must be an integer ≥ 1, got {subdivisions!r}")
-        self.rules = (triangle_rule(1), triangle_rule(int(subdivisions)))
-        self.facets = body.contact_facets()
-        self.nodes, rows = np.unique(self.facets, return_inverse=True)
-        self.element_rows = rows.reshape(self.facets.shape)
-        self.area0 = _areas(body.X[self.facets])  # |e|₀ (m²)
-        self.length = np.bincount(rows.ravel(), np.repeat(self.area0 / 3.0, 3), len(self.nodes))
-        """Reference area L_j (m²) each slave node carries: its rows are g̃_j / L_j."""
-        self.area = self.length
-        self._star, self._cols = _stars(self.element_rows, len(self.nodes))
-        m, K = self._star.shape
-        own = np.argmax(self._star == np.arange(m)[:, None], axis=1)
+        clearance = check_positive("clearance", clearance, allow_zero=True)
+        super().__init__(body, restitution, clearance, margin, subdivisions)
+        self.rigid, self.bodies = rigid, (body, rigid)
+        m, K = self.star.shape
+        self._cols = _columns(self.star_positions, K)
+        own = np.argmax(self.star == np.arange(m)[:, None], axis=1)
         rigid = np.broadcast_to(3 * K + np.arange(6), (m, 6))
         self._own_cols = np.concatenate([3 * own[:, None] + np.arange(3), rigid], axis=1)
-        self.reach = _longest_edges(body.X, self.facets, self.element_rows, m)
+        self.reference_reach = self.reach(body.X)
         """The longest reference edge (m) of each slave node's triangles: the length over
         which its row turns from the node's own distance to the weighted gap."""
         self._node_dofs = body.node_translation_dofs(self.nodes)
         self.offsets = (0, 0)
         self.dofs = np.zeros((len(self.nodes), self._cols.shape[2]), dtype=int)
-        self._last = self._last_gaps = None
-
-    @property
-    def size(self) -> int:
-        return len(self.nodes)
 
     def bind(self, model) -> None:
         """Place the pair in the global dof vector of ``model``."""
         oa, ob = self.offsets = (model.offset_of(self.body), model.offset_of(self.rigid))
-        m, K = self._star.shape
-        nodes = (oa + self._node_dofs[self._star]).reshape(m, 3 * K)
+        m, K = self.star.shape
+        nodes = (oa + self._node_dofs[self.star]).reshape(m, 3 * K)
         self.dofs = np.concatenate([nodes, np.broadcast_to(ob + np.arange(6), (m, 6))], 1)
         self.dofs.flags.writeable = False
         self.reset()
-
-    def reset(self) -> None:
-        self._last = self._last_gaps = None
-
-    def detect_within(self, distance: float) -> None:
-        """Rows within ``distance`` (m, the integrator's detection distance) are integrated."""
-        if not self._own_margin and distance > 0.0 and distance != self.margin:
-            self.margin = distance
-            self.reset()
 
     # -- geometry ---------------------------------------------------------------------------
     def _frame(self, q: np.ndarray):
@@ -233,28 +183,16 @@ class RigidMortarGeometry(PairDefaults):
         them."""
         rho = (x[self.nodes] - c) @ R
         d = shape_distance(self.rigid.shape, rho, False)[0]
-        reach = _longest_edges(x, self.facets, self.element_rows, self.size)
-        near = d - self.clearance - LIPSCHITZ * reach <= self.margin
-        weighted = near & (feature_weights(self.rigid.shape, rho, self.reach)[0] > 0.0)
+        near = d - self.clearance - LIPSCHITZ * self.reach(x) <= self.margin
+        weighted = near & (feature_weights(self.rigid.shape, rho, self.reference_reach)[0] > 0.0)
         tris = np.flatnonzero(weighted[self.element_rows].any(axis=1))
         return near, tris
 
     def _points(self, tris, x, R, c):
-        """The triangles reordered (plain ones first), and their points: the index of each
-        point's triangle in that order, area coordinates λ (P, 3), weights w (P,) and the
-        start of each triangle's points."""
+        """The triangles and their points (:meth:`rule_points`), those a box's region plane
+        cuts on the subdivided rule."""
         rho = (x[self.facets[tris]] - c) @ R
-        cut = straddles(self.rigid.shape, rho)
-        tris = np.concatenate([tris[~cut], tris[cut]])
-        counts = np.concatenate([np.full((~cut).sum(), len(self.rules[0][1])),
-                                 np.full(cut.sum(), len(self.rules[1][1]))])  # fmt: skip
-        which = np.repeat(np.arange(len(tris)), counts)
-        lam = np.concatenate([np.tile(self.rules[0][0], ((~cut).sum(), 1)),
-                              np.tile(self.rules[1][0], (cut.sum(), 1))])  # fmt: skip
-        w = np.concatenate([np.tile(self.rules[0][1], (~cut).sum()),
-                            np.tile(self.rules[1][1], cut.sum())])  # fmt: skip
-        starts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(int)
-        return tris, which, lam, w, starts
+        return self.rule_points(tris, straddles(self.rigid.shape, rho))
 
     def _integrals(self, q: np.ndarray, order: int, tris=None):
         """The triangles' end integrals ∫ Φ_i g dA₀ (T, 3), and with ``order`` ≥ 1 their
@@ -301,7 +239,7 @@ class RigidMortarGeometry(PairDefaults):
         rho = (x[self.nodes[rows]] - c) @ R
         shape = self.rigid.shape
         D, nb, K = shape_distance(shape, rho, order == 2)
-        w, v, w1, w2 = feature_weights(shape, rho, self.reach[rows])
+        w, v, w1, w2 = feature_weights(shape, rho, self.reference_reach[rows])
         if order == 0:
             return D - self.clearance, w
         lam = np.broadcast_to(np.array([1.0, 0.0, 0.0]), (len(rows), 3))
@@ -315,13 +253,6 @@ class RigidMortarGeometry(PairDefaults):
         Hw = w2[:, None, None] * de[:, :, None] * de[:, None, :]
         Hw += w1[:, None, None] * _rotation_terms(R, v, rho, lam)[sel]
         return D - self.clearance, w, Gn, Gw, Hn, Hw
-
-    def _mortar_rows(self, near, tris, values) -> np.ndarray:
-        """The weighted gaps g̃_j / L_j (m,) of the rows whose triangles ``tris`` hold."""
-        g = np.zeros(self.size)
-        for k in range(3):
-            g += np.bincount(self.element_rows[tris, k], values[:, k], self.size)
-        return g / self.length
 
     def _on_rows(self, nodal: np.ndarray, rows: np.ndarray) -> np.ndarray:
         """Nodal arrays (n, 9[, 9]) of ``rows`` placed in their rows' columns (n, k[, k])."""
@@ -345,28 +276,26 @@ class MortarRigid3D(RigidMortarGeometry):
     ``subdivisions`` (s ≥ 1) the sub-triangles per edge of a triangle a box's region plane
     cuts."""
 
-    linear = False
-    lazy_hessians = True
     frictional = True
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         """The rows g_j (m) alone (+inf for rows that take no part)."""
-        for cached in (self._last, self._last_gaps):
+        for cached in (self.cached, self.cached_gaps):
             if cached is not None and np.array_equal(cached[0], q):
                 return cached[1].copy()
         near, tris, values = self._integrals(q, 0)[:3]
         g, w = self._nodal(q, 0)
-        g = np.where(near, g + w * (self._mortar_rows(near, tris, values) - g), np.inf)
-        self._last_gaps = (q.copy(), g)
+        g = np.where(near, g + w * (self.weighted_rows(tris, values) - g), np.inf)
+        self.cached_gaps = (q.copy(), g)
         return g.copy()
 
     def evaluate(self, q: np.ndarray):
         """Rows (m,) in m, dofs (m, k), gradients (m, k), no curvature (:meth:`hessians`)."""
-        if self._last is not None and np.array_equal(self._last[0], q):
-            return self._last[1].copy(), self.dofs, self._last[2], None
+        if self.cached is not None and np.array_equal(self.cached[0], q):
+            return self.cached[1].copy(), self.dofs, self.cached[2], None
         near, tris, values, grads, _ = self._integrals(q, 1)
         g, w, Gn, Gw = self._nodal(q, 1)
-        m = self._mortar_rows(near, tris, values)
+        m = self.weighted_rows(tris, values)
         Gm = np.zeros(self.dofs.shape)
         for k in range(3):
             r = self.element_rows[tris, k]
@@ -376,7 +305,7 @@ class MortarRigid3D(RigidMortarGeometry):
         G[~near] = 0.0
         G.flags.writeable = False
         g = np.where(near, g + w * (m - g), np.inf)
-        self._last = (q.copy(), g, G)
+        self.cached = (q.copy(), g, G)
         return g.copy(), self.dofs, G, None
 
     def hessians(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
@@ -400,7 +329,7 @@ class MortarRigid3D(RigidMortarGeometry):
             np.add.at(Hm, (at[:, None, None], c[:, :, None], c[:, None, :]),
                       H[sel, end] * scale[:, None, None])  # fmt: skip
             np.add.at(Gm, (at[:, None], c), grads[sel, end] * scale[:, None])
-        m = self._mortar_rows(near, tris, values)[rows]
+        m = self.weighted_rows(tris, values)[rows]
         dG, Gw = Gm - self._on_rows(Gn, rows), self._on_rows(Gw, rows)
         out = w[:, None, None] * Hm + self._on_rows((1.0 - w[:, None, None]) * Hn, rows)
         out += dG[:, :, None] * Gw[:, None, :] + Gw[:, :, None] * dG[:, None, :]
@@ -417,7 +346,7 @@ class MortarRigid3D(RigidMortarGeometry):
         near, tris = self._near(x, R, c)
         rho = (x[self.nodes] - c) @ R
         nb = shape_distance(self.rigid.shape, rho, False)[1]
-        w = feature_weights(self.rigid.shape, rho, self.reach)[0]
+        w = feature_weights(self.rigid.shape, rho, self.reference_reach)[0]
         T = tangent_basis(nb @ R.T)
         W = np.zeros((self.size, 3, self.dofs.shape[1]))
         lam = np.broadcast_to(np.array([1.0, 0.0, 0.0]), (self.size, 3))
@@ -457,14 +386,6 @@ class MortarRigid3D(RigidMortarGeometry):
 
     def watch(self) -> NodeDepths:
         return NodeDepths(self)
-
-    def nodal_pressure(self, forces: np.ndarray):
-        """The slave nodes (indices in the body) and their nominal pressure z_j = λ_j / L_j
-        (Pa, per reference area) from the rows' normal forces λ_j (N)."""
-        forces = np.asarray(forces, dtype=float)
-        if forces.shape != (self.size,):
-            raise InputError(f"forces must have {self.size} entries, got {forces.shape}")
-        return self.nodes, forces / self.length
 
 
 class NodeDepths:
