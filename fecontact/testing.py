@@ -17,6 +17,12 @@ from functools import cache
 import numpy as np
 
 from .cli.cases import bundled_cases, cases_folder, load_case
+from .derivative_checks import (
+    derivative_errors_near_contact,
+    gap_derivatives_error,
+    group_derivative_errors,
+    moved_on_group,
+)
 from .errors import SolverError
 from .time import simulate
 
@@ -180,41 +186,6 @@ def pendulum_exact(t, e=0.5, length=1.0, g=G, n_impacts=60):
         sel = (t >= t_imp[j]) & (t < t_imp[j + 1])
         out[sel] = 2.0 * np.arcsin(k * ellipj(w0 * (t[sel] - t_imp[j]), k * k)[0])
     return out, np.array(t_imp)
-
-
-def gap_derivatives_error(pair, q: np.ndarray, eps: float = 1e-7) -> tuple[float, float]:
-    """Largest errors of a pair's gradient and Hessian against central differences of its
-    own gaps and gradients at q (each relative to the largest entry, or absolute below 1).
-    A dof listed twice in a row carries the sum of its entries."""
-    g, dofs, G_, H = pair.evaluate(q)
-    rows = np.flatnonzero(np.isfinite(g))
-    Hs = np.zeros((len(g),) + (dofs.shape[1],) * 2)
-    if H is not None or pair.lazy_hessians:
-        Hs[rows] = pair.hessians(q, rows) if pair.lazy_hessians else H[rows]
-    err_g = err_h = 0.0
-    for j in rows:
-        for i in np.unique(dofs[j]):
-            at = dofs[j] == i
-            dq = np.zeros_like(q)
-            dq[i] = eps
-            gp, _, Gp, _ = pair.evaluate(q + dq)
-            gm, _, Gm, _ = pair.evaluate(q - dq)
-            dg = (gp[j] - gm[j]) / (2 * eps)
-            err_g = max(err_g, abs(dg - G_[j, at].sum()) / max(1.0, abs(dg)))
-            dG = (Gp[j] - Gm[j]) / (2 * eps)
-            h = Hs[j][:, at].sum(axis=1)
-            err_h = max(err_h, float(np.max(np.abs(dG - h))) / max(1.0, np.abs(h).max()))
-    return err_g, err_h
-
-
-def derivative_errors_near_contact(pair, n: int, margin: float = 0.02, spread: float = 1e-3):
-    """(rows with a finite gap, gradient error, Hessian error) of ``pair`` of a model of ``n``
-    dofs, its rows detected within ``margin`` (m), at dofs drawn from a normal distribution of
-    deviation ``spread`` (m, seed 1): :func:`gap_derivatives_error` with steps of 1e-7 m."""
-    pair.detect_within(margin)
-    q = np.random.default_rng(1).normal(0.0, spread, n)
-    finite = int(np.isfinite(pair.evaluate(q)[0]).sum())
-    return (finite, *gap_derivatives_error(pair, q, 1e-7))
 
 
 def pressed_blocks(n_lower: int, n_upper: int, p: float, method="mortar", small=True):
@@ -483,36 +454,3 @@ def block_on_rigid_box(method=None, p: float = 1e3):
     st = list(simulate(model, 5e-3, 0.5, IntegratorOptions(rho_inf=0.0)))[-1]
     on = bottom[pair.nodes] > 0.0
     return st.mean_force()[on] / bottom[pair.nodes][on], float(np.abs(st.v).max())
-
-
-def moved_on_group(model, q: np.ndarray, d: np.ndarray) -> np.ndarray:
-    """q moved by d: added, but on the model's rotation triples composed on the right,
-    R exp(d̃) (the increments along which rows are differentiated)."""
-    from .rotations import compose
-
-    out = q + d
-    for triple in model.rotations:
-        out[triple] = compose(q[triple], d[triple])
-    return out
-
-
-def group_derivative_errors(pair, model, q: np.ndarray, along, step: float = 1e-7):
-    """Largest errors of ``pair``'s gradients G (absolute, m/m) and curvatures (relative to the
-    largest curvature entry) at q against central differences of its rows and G along each
-    dof of ``along``, moved on the group (:func:`moved_on_group`), over its rows with a finite
-    gap. A dof listed twice in a row carries the sum of its entries."""
-    g, dofs, G_, _ = pair.evaluate(q)
-    rows = np.flatnonzero(np.isfinite(g))
-    H = pair.hessians(q, rows)
-    err_g = err_h = 0.0
-    for j in along:
-        d = np.zeros(model.n)
-        d[j] = step
-        gp, _, Gp, _ = pair.evaluate(moved_on_group(model, q, d))
-        gm, _, Gm, _ = pair.evaluate(moved_on_group(model, q, -d))
-        col = (dofs[rows] == j).astype(float)
-        fd = (gp[rows] - gm[rows]) / (2 * step)
-        err_g = max(err_g, float(np.max(np.abs(fd - np.sum(G_[rows] * col, axis=1)))))
-        fd = (Gp[rows] - Gm[rows]) / (2 * step)
-        err_h = max(err_h, float(np.max(np.abs(fd - np.einsum("mkl,ml->mk", H, col)))))
-    return err_g, err_h / np.abs(H).max()

@@ -1,0 +1,82 @@
+r"""Checks of contact pairs' derivatives against central differences of their own rows: the
+gradients G and the curvatures that Newton's tangent uses, on the additive path and on the
+rotation group (increments composed on the right)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "derivative_errors_near_contact",
+    "gap_derivatives_error",
+    "group_derivative_errors",
+    "moved_on_group",
+]
+
+
+def gap_derivatives_error(pair, q: np.ndarray, eps: float = 1e-7) -> tuple[float, float]:
+    """Largest errors of a pair's gradient and Hessian against central differences of its
+    own gaps and gradients at q (each relative to the largest entry, or absolute below 1).
+    A dof listed twice in a row carries the sum of its entries."""
+    g, dofs, G_, H = pair.evaluate(q)
+    rows = np.flatnonzero(np.isfinite(g))
+    Hs = np.zeros((len(g),) + (dofs.shape[1],) * 2)
+    if H is not None or pair.lazy_hessians:
+        Hs[rows] = pair.hessians(q, rows) if pair.lazy_hessians else H[rows]
+    err_g = err_h = 0.0
+    for j in rows:
+        for i in np.unique(dofs[j]):
+            at = dofs[j] == i
+            dq = np.zeros_like(q)
+            dq[i] = eps
+            gp, _, Gp, _ = pair.evaluate(q + dq)
+            gm, _, Gm, _ = pair.evaluate(q - dq)
+            dg = (gp[j] - gm[j]) / (2 * eps)
+            err_g = max(err_g, abs(dg - G_[j, at].sum()) / max(1.0, abs(dg)))
+            dG = (Gp[j] - Gm[j]) / (2 * eps)
+            h = Hs[j][:, at].sum(axis=1)
+            err_h = max(err_h, float(np.max(np.abs(dG - h))) / max(1.0, np.abs(h).max()))
+    return err_g, err_h
+
+
+def derivative_errors_near_contact(pair, n: int, margin: float = 0.02, spread: float = 1e-3):
+    """(rows with a finite gap, gradient error, Hessian error) of ``pair`` of a model of ``n``
+    dofs, its rows detected within ``margin`` (m), at dofs drawn from a normal distribution of
+    deviation ``spread`` (m, seed 1): :func:`gap_derivatives_error` with steps of 1e-7 m."""
+    pair.detect_within(margin)
+    q = np.random.default_rng(1).normal(0.0, spread, n)
+    finite = int(np.isfinite(pair.evaluate(q)[0]).sum())
+    return (finite, *gap_derivatives_error(pair, q, 1e-7))
+
+
+def moved_on_group(model, q: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """q moved by d: added, but on the model's rotation triples composed on the right,
+    R exp(d̃) (the increments along which rows are differentiated)."""
+    from .rotations import compose
+
+    out = q + d
+    for triple in model.rotations:
+        out[triple] = compose(q[triple], d[triple])
+    return out
+
+
+def group_derivative_errors(pair, model, q: np.ndarray, along, step: float = 1e-7):
+    """Largest errors of ``pair``'s gradients G (absolute, m/m) and curvatures (relative to the
+    largest curvature entry) at q against central differences of its rows and G along each
+    dof of ``along``, moved on the group (:func:`moved_on_group`), over its rows with a finite
+    gap. A dof listed twice in a row carries the sum of its entries."""
+    g, dofs, G_, _ = pair.evaluate(q)
+    rows = np.flatnonzero(np.isfinite(g))
+    H = pair.hessians(q, rows)
+    err_g = err_h = 0.0
+    for j in along:
+        d = np.zeros(model.n)
+        d[j] = step
+        gp, _, Gp, _ = pair.evaluate(moved_on_group(model, q, d))
+        gm, _, Gm, _ = pair.evaluate(moved_on_group(model, q, -d))
+        col = (dofs[rows] == j).astype(float)
+        fd = (gp[rows] - gm[rows]) / (2 * step)
+        err_g = max(err_g, float(np.max(np.abs(fd - np.sum(G_[rows] * col, axis=1)))))
+        fd = (Gp[rows] - Gm[rows]) / (2 * step)
+        err_h = max(err_h, float(np.max(np.abs(fd - np.einsum("mkl,ml->mk", H, col)))))
+    return err_g, err_h / np.abs(H).max()
