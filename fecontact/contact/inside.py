@@ -182,14 +182,16 @@ def segment_depths(points, x, facets, neighbours, f, slack: float):
     known = (xi > 0.0) & (xi < 1.0)
     if known.all():
         return known, depth
-    end = xi > 0.5
-    r = points - np.where(end[:, None], b, a)
-    other = facets[neighbours[f, end.astype(int)]]
-    t = x[other[:, 1]] - x[other[:, 0]]
+    end = (xi > 0.5).astype(np.intp)  # the closest end: b where the projection passes it
+    r = points - x[facets[f, end]]
+    xo = x[facets[neighbours[f, end]]]  # the other segment at that end
+    t = xo[:, 1] - xo[:, 0]
     # outward normals (t_y, −t_x)/|t| summed: the rotated sum of the unit tangents
-    n = u / length[:, None] + t / np.linalg.norm(t, axis=1)[:, None]
+    n = u / length[:, None] + t / np.sqrt(np.einsum("mi,mi->m", t, t))[:, None]
     s = r[:, 0] * n[:, 1] - r[:, 1] * n[:, 0]
-    outside = ~known & (s > 4.0 * np.sqrt(2.0 * np.sqrt(np.einsum("mi,mi->m", r, r)) * slack))
+    # s > 4 √(2 D ε), squared
+    far = s * s > 32.0 * slack * np.sqrt(np.einsum("mi,mi->m", r, r))
+    outside = ~known & (s > 0.0) & far
     depth[outside] = 0.0
     return known | outside, depth
 
