@@ -6,7 +6,13 @@ import pytest
 from fecontact.bodies import Solid
 from fecontact.bodies.materials import LinearElastic
 from fecontact.contact import Contact
-from fecontact.contact.inside import Surface, face_depths, winding_numbers
+from fecontact.contact.inside import (
+    Surface,
+    face_depths,
+    segment_depths,
+    segment_neighbours,
+    winding_numbers,
+)
 from fecontact.model import Model
 
 MAT = LinearElastic(1e7, 0.3, 1000.0)
@@ -100,6 +106,31 @@ def test_a_point_whose_closest_point_is_on_a_face_gets_the_full_tests_depth(dim)
     np.testing.assert_allclose(depth[face], np.maximum(0.0, -s[face]), rtol=1e-12, atol=1e-15)
     near = np.abs(s) < 0.02
     assert face[near].sum() >= 0.5 * near.sum()
+
+
+def test_a_vertex_certifies_outside_only_points_the_full_test_finds_outside():
+    # a star polygon (reflex and sharp convex vertices) with a square hole, points all around:
+    # where segment_depths settles a point beyond a vertex its depth is the full test's 0, on
+    # a face the full test's depth; and it settles most points whose closest point is a vertex
+    k = np.arange(14)
+    radius = np.where(k % 2 == 0, 1.0, 0.35)
+    star = np.c_[radius * np.cos(k * np.pi / 7), radius * np.sin(k * np.pi / 7)]
+    hole = 0.1 * np.array([[1, 1], [1, -1], [-1, -1], [-1, 1]], float)  # clockwise
+    x = np.vstack([star, hole])
+    facets = np.r_[np.c_[k, np.roll(k, -1)], 14 + np.c_[np.arange(4), np.roll(np.arange(4), -1)]]
+    surface = Surface(facets)
+    p = RNG.uniform(-1.3, 1.3, (20000, 2))
+    s, f = surface.signed_distance(x, p, pad=1.0)
+    known, depth = segment_depths(p, x, facets, segment_neighbours(facets), f, 1e-12)
+    full = np.maximum(0.0, -s)
+    face = face_depths(p, x[facets[f]])[0]
+    np.testing.assert_array_equal(depth[face], face_depths(p, x[facets[f]])[1][face])
+    vertex = known & ~face
+    assert np.all(full[vertex] == 0.0) and np.all(depth[vertex] == 0.0)
+    assert vertex.sum() >= 0.95 * np.count_nonzero(~face & (s > 0.0))
+    assert not known[~face & (s < 0.0)].any()
+    # not a closed polygon (a node starts two segments): no neighbours
+    assert segment_neighbours(np.array([[0, 1], [1, 2], [1, 0]])) is None
 
 
 @pytest.mark.parametrize("dim", [2, 3])

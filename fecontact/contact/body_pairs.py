@@ -47,8 +47,9 @@ Penetration (:meth:`NodeSurfaceContact.penetration`, every step): a node whose c
 on the master lies strictly inside a facet is as deep inside the master as it lies behind
 that facet's plane — the face's normal is the angle-weighted pseudo-normal there
 (:func:`fecontact.contact.inside.face_depths`) —, and that facet is the one selected when any
-lies within the margin; only the other nodes the search watches (closest to an edge or a
-vertex, or with no facet near) take the full inside/outside test.
+lies within the margin; in 2D a node closest to a vertex and outside by the vertex's
+pseudo-normal is outside (:func:`fecontact.contact.inside.segment_depths`); only the other
+nodes the search watches take the full inside/outside test.
 
 Bar ends (:class:`NodeNodeContact`): node i of body a against node j of body b along a fixed
 unit axis n (from a towards b): g = (x_j − x_i)·n, linear in q.
@@ -67,7 +68,6 @@ from .concave_rows import concave_rows, slot_rows
 from .facet_search import FacetSearch
 from .friction import point_tangents
 from .geometry import closest_facet_distance, point_line_distance
-from .inside import face_depths
 from .registry import pair_factory, register_pair
 
 __all__ = [
@@ -254,9 +254,12 @@ class NodeSurfaceContact(PairDefaults):
         self.evaluate(q)  # the selected facets at q: the closest of all (module docstring)
         f = self.closest[watched]
         near = f >= 0
-        face, depth = face_depths(xs[watched[near]], xm[self.facets[f[near]]])
-        rest = np.r_[watched[~near], watched[near][~face]]
-        deepest = float(np.max(depth[face], initial=0.0))
+        # on its facet's face, or (2D) outside beyond a vertex: known by proof, no full test
+        known, depth = self.surface.settled(xs[watched[near]], xm, f[near], self.tie_tolerance)
+        deepest = float(np.max(depth[known], initial=0.0))
+        rest = np.concatenate((watched[~near], watched[near][~known]))
+        if rest.size == 0:
+            return deepest
         return max(deepest, float(np.max(self.surface.depths(xm, xs[rest]), initial=0.0)))
 
     def relative_depth(self, q: np.ndarray, g: np.ndarray) -> float:
