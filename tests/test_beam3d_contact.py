@@ -24,7 +24,7 @@ from fecontact.contact.body_pairs import closest_facet_distance
 from fecontact.contact.geometry import segment_distance
 from fecontact.contact.segment3d import tube_distance
 from fecontact.errors import InputError
-from fecontact.rotations import compose
+from fecontact.testing import moved_on_group
 from fecontact.time.settings import IntegratorOptions
 
 STEEL = Material(210e9, nu=0.3, rho=7850.0)
@@ -76,14 +76,6 @@ def test_crossing_and_parallel_segments_have_their_exact_closest_points():
 
 
 # -- the pairs: their rows are the derivatives of their gaps ---------------------------------
-def moved(model, q, d):
-    """q ⊕ d: translations add, rigid rotation vectors compose on the right."""
-    out = q + d
-    for triple in model.rotations:
-        out[triple] = compose(q[triple], d[triple])
-    return out
-
-
 def scenes():
     bar = rod([-0.3, 0.02, 0.11], [0.3, -0.03, 0.1])
     sphere = Sphere([0.01, 0.0, -0.2], 0.3)
@@ -114,8 +106,8 @@ def test_tube_rows_are_the_derivatives_of_the_gaps(name):
     for j in np.unique(dofs):
         d = np.zeros(model.n)
         d[j] = 1e-6
-        gp, dp, Gp, _ = pair.evaluate(moved(model, q, d))
-        gm, dm, Gm, _ = pair.evaluate(moved(model, q, -d))
+        gp, dp, Gp, _ = pair.evaluate(moved_on_group(model, q, d))
+        gm, dm, Gm, _ = pair.evaluate(moved_on_group(model, q, -d))
         assert np.array_equal(dp, dofs) and np.array_equal(dm, dofs)
         col = np.where(dofs == j, 1.0, 0.0)
         np.testing.assert_allclose((gp - gm) / 2e-6, np.sum(G * col, axis=1), atol=1e-8)
@@ -324,7 +316,7 @@ def test_box_rows_are_the_derivatives_of_the_gaps():
     for j in np.unique(dofs):
         d = np.zeros(model.n)
         d[j] = 1e-6
-        gp, gm = pair.gaps(moved(model, q, d)), pair.gaps(moved(model, q, -d))
+        gp, gm = pair.gaps(moved_on_group(model, q, d)), pair.gaps(moved_on_group(model, q, -d))
         col = (dofs == j).astype(float)
         np.testing.assert_allclose((gp - gm) / 2e-6, np.sum(G * col, axis=1), atol=1e-8)
 
