@@ -81,6 +81,8 @@ class Beam3DElements:
     C32: np.ndarray  # (C_Γ, C_K) as columns (E, 3, 2)
     ones: np.ndarray  # (E, 1)
     basis0: np.ndarray  # I flattened (E, 1, 9)
+    chord: np.ndarray  # X₁ − X₀ (E, 3)
+    C32ell: np.ndarray  # ℓ (C_Γ, C_K) (E, 3, 2)
 
     @classmethod
     def of(cls, X: np.ndarray, triads: np.ndarray, rigidities) -> Beam3DElements:
@@ -113,6 +115,8 @@ class Beam3DElements:
             C32=np.repeat(_rigidity_columns(C)[None], E, axis=0),
             ones=np.ones((E, 1)),
             basis0=np.repeat(_I3.reshape(1, 1, 9), E, axis=0),
+            chord=X[n1] - X[n0],
+            C32ell=ell[:, None, None] * _rigidity_columns(C),
         )
 
 
@@ -201,18 +205,31 @@ def _quaternion_table() -> np.ndarray:
 
 
 _QUATERNION = _quaternion_table()
+_QUARTER = np.full(3, 0.25)  # (ψ * ψ) @ it is θ²/4
+
+
+def _node_quaternions(psi: np.ndarray) -> np.ndarray:
+    """Unit quaternions (n, 4), scalar first, of the rotation vectors ψ (n, 3; rad):
+    (cos(θ/2), sin(θ/2)/θ ψ), with θ/2 = √(ψ·ψ/4) offset by 1e-300, which changes
+    sin(θ/2)/θ only at 0, where it makes it ½."""
+    h = np.sqrt((psi * psi) @ _QUARTER) + _TINY
+    q = np.empty((len(psi), 4))
+    q[:, 0] = np.cos(h)
+    q[:, 1:] = (0.5 * np.sin(h) / h)[:, None] * psi
+    return q
+
+
+def _matrices(q: np.ndarray) -> np.ndarray:
+    """R (n, 3, 3) of the quaternions q (n, 4), unit or scaled by s: s² R."""
+    return ((q[:, :, None] * q[:, None, :]).reshape(-1, 16) @ _QUATERNION).reshape(-1, 3, 3)
 
 
 def rotation_matrices(psi: np.ndarray) -> np.ndarray:
     """R = exp(ψ̃) (n, 3, 3) of the rotation vectors ψ (n, 3; rad), as
     :func:`fecontact.rotations.exp` to round-off, in few array operations: the products of the
     unit quaternion (cos(θ/2), sin(θ/2)/θ ψ) times a fixed table, free of cancellation at small
-    θ (θ is offset by 1e-300, which changes sin(θ/2)/θ only at 0, where it makes it ½)."""
-    h = 0.5 * np.sqrt((psi * psi).sum(axis=1)) + _TINY
-    q = np.empty((len(psi), 4))
-    q[:, 0] = np.cos(h)
-    q[:, 1:] = (0.5 * np.sin(h) / h)[:, None] * psi
-    return ((q[:, :, None] * q[:, None, :]).reshape(-1, 16) @ _QUATERNION).reshape(-1, 3, 3)
+    θ."""
+    return _matrices(_node_quaternions(psi))
 
 
 def _log(A: np.ndarray):
@@ -450,13 +467,38 @@ def beam3d_internal(el: Beam3DElements, X: np.ndarray, q: np.ndarray, ndof: int,
     return s.W, f, _tangent(el, s) if tangent else None
 
 
+def _relative_table() -> np.ndarray:
+    """(16, 4): the products p_i d_j of two quaternions (flattened i, j) @ it is p̄ ⊗ d, the
+    conjugate of p times d: (p₀d₀ + p·d, p₀d − d₀p − p × d)."""
+    T = np.zeros((4, 4, 4))
+    T[0, 0, 0] = 1.0
+    for i in range(1, 4):
+        T[i, i, 0], T[0, i, i], T[i, 0, i] = 1.0, 1.0, -1.0
+    for m in range(3):  # −(p × d)_k = −ε_ijk p_i d_j = (the skew basis)_k[i, j] p_i d_j
+        T[1:, 1:, 1 + m] += _SKEW[m].reshape(3, 3)
+    return T.reshape(16, 4)
+
+
+_RELATIVE = _relative_table()
+_ONES3 = np.ones(3)
+
+
 def _strain_columns(el: Beam3DElements, X: np.ndarray, q: np.ndarray) -> np.ndarray:
     """The strains (Γ, K) as the columns of (E, 3, 2), as ``_Strains.S`` without the
-    tangent's rotation functions: R_m = R₀ exp(½ρ̃) alone."""
-    R0, R1, x0, x1 = _nodal(el, X, q)
-    rho, _ = _log(R0.mT @ R1)
-    Rm = R0 @ rotation_matrices(0.5 * rho)
-    V = np.concatenate([Rm.mT @ ((x1 - x0) / el.ell3)[..., None], rho[..., None]], axis=2)
+    tangent's matrices, by the nodes' unit quaternions q₀, q₁: their relative rotation
+    r = q̄₀ ⊗ q₁ = (w, v) gives ρ = 2 atan(|v|/|w|) sign(w) v/|v|, and the midpoint rotation
+    R_m = R₀ exp(½ρ̃) is that of q₀ + sign(w) q₁ (the half-way point of the shorter arc),
+    whose squared norm is 2(1 + |w|)."""
+    Q = q.reshape(-1, 6)
+    N = _node_quaternions(Q[:, 3:])
+    q0, q1 = N[:-1], N[1:]
+    r = (q0[:, :, None] * q1[:, None, :]).reshape(-1, 16) @ _RELATIVE
+    w, v = r[:, 0], r[:, 1:]
+    s, aw = np.sqrt((v * v) @ _ONES3), np.abs(w)
+    rho = (np.copysign(2.0, w) * np.arctan2(s, aw) / (s + _TINY))[:, None] * v
+    m = q0 + np.copysign(1.0, w)[:, None] * q1
+    d = (Q[1:, :3] - Q[:-1, :3] + el.chord) * (0.5 / (el.ell * (1.0 + aw)))[:, None]
+    V = np.concatenate([_matrices(m).mT @ d[..., None], rho[..., None]], axis=2)
     return el.L0.mT @ V * el.scale - el.E1
 
 
@@ -469,4 +511,4 @@ def beam3d_strains(el: Beam3DElements, X: np.ndarray, q: np.ndarray):
 def beam3d_energy(el: Beam3DElements, X: np.ndarray, q: np.ndarray) -> float:
     """Strain energy W (J)."""
     S = _strain_columns(el, X, q)
-    return 0.5 * float(el.ell @ (S * S * el.C32).sum(axis=(1, 2)))
+    return 0.5 * float(np.vdot(S * S, el.C32ell))
