@@ -233,38 +233,55 @@ def compose_quaternions(p: np.ndarray, delta: np.ndarray) -> np.ndarray:
 
 
 _C_POWERS = np.arange(len(_C_SERIES))
+# (4, 16): a quaternion p @ it is the matrix of p ⊗ · (flattened row by row)
+_LEFT = _HAMILTON.transpose(0, 2, 1).reshape(4, 16)
+_QUARTER = np.full(3, 0.25)  # (ψ * ψ) @ it is θ²/4
+_ONES = np.ones(3)
 
 
 class RightIncrements:
     """Increments Δ (k, 3) composed on the right of fixed rotations ψ (k, 3): ψ ⊕ Δ by
     :meth:`compose`, and the right tangents T(Δ) of the last Δ by :meth:`tangent`, from the
     same half angles (a Newton iteration on the group asks for both at each of its iterates;
-    ψ's quaternions are made once)."""
+    ψ's quaternions are made once). Two-dimensional arrays throughout: the paths of
+    :func:`quaternions` and :func:`_vector` without their leading-axis generality, whose
+    indexing costs as much as the arithmetic at a few rotations."""
 
     def __init__(self, psi: np.ndarray):
         # the left products p ⊗ · of ψ's quaternions as matrices (k, 4, 4)
-        self.left = (quaternions(psi) @ _HAMILTON.reshape(4, 16)).reshape(-1, 4, 4).mT.copy()
-        self.delta = self.t2 = self.sh = self.ch = None
+        self.left = (self._quaternions(psi)[0] @ _LEFT).reshape(-1, 4, 4)
+        self.delta = self.x = self.sh = self.ch = None
+
+    @staticmethod
+    def _quaternions(psi: np.ndarray):
+        """(unit quaternions (k, 4), θ²/4, θ/2 offset, sin(θ/2)/θ) of ``psi`` (k, 3)."""
+        x = (psi * psi) @ _QUARTER
+        half = np.sqrt(x) + _OFFSET
+        s = np.sin(half) / (half + half)  # sin(θ/2)/θ, free of cancellation
+        out = np.empty((len(psi), 4))
+        out[:, 0] = np.cos(half)
+        out[:, 1:] = s[:, None] * psi
+        return out, x, half, s
 
     def compose(self, delta: np.ndarray) -> np.ndarray:
         """ψ ⊕ Δ (k, 3), θ ≤ π (as :func:`compose`)."""
-        x, y, z = delta[:, 0], delta[:, 1], delta[:, 2]
-        self.delta, self.t2 = delta, x * x + y * y + z * z
-        half = 0.5 * np.sqrt(self.t2) + _OFFSET
-        self.sh = np.sin(half) / half  # sin(θ/2)/(θ/2), free of cancellation
-        d = np.empty((len(delta), 4))
-        d[:, 0] = self.ch = np.cos(half)
-        d[:, 1:] = (0.5 * self.sh)[:, None] * delta
-        return _vector((self.left @ d[:, :, None])[:, :, 0])
+        d, self.x, _, self.sh = self._quaternions(delta)
+        self.delta, self.ch = delta, d[:, 0]
+        pd = (self.left @ d[:, :, None])[:, :, 0]
+        w, u = pd[:, 0], pd[:, 1:]
+        s = np.sqrt((u * u) @ _ONES)
+        return (np.copysign(2.0, w) * np.arctan2(s, np.abs(w)) / (s + _OFFSET))[:, None] * u
 
-    def tangent(self) -> np.ndarray:
-        """T(Δ) (k, 3, 3) of the last composed Δ: (1 − cos θ)/θ² = ½ (sin(θ/2)/(θ/2))², and
-        (θ − sin θ)/θ³ by its series below θ² = 1/16 (as :func:`tangent`)."""
-        t2, sh = self.t2, self.sh
+    def tangent(self, identity: float = 1.0) -> np.ndarray:
+        """T(Δ) (k, 3, 3) of the last composed Δ, less (1 − ``identity``) I: (1 − cos θ)/θ² =
+        2 (sin(θ/2)/θ)², and (θ − sin θ)/θ³ by its series below θ² = 1/16 (as
+        :func:`tangent`)."""
+        t2, sh = 4.0 * self.x, self.sh
         c = (t2[:, None] ** _C_POWERS) @ _C_SERIES
         if t2.max(initial=0.0) >= _C_SMALL:
-            c = np.where(t2 < _C_SMALL, c, (1.0 - sh * self.ch) / np.maximum(t2, _C_SMALL))
-        return _combination(self.delta, 1.0 - c * t2, -0.5 * sh * sh, c)
+            a = 2.0 * sh * self.ch  # sin θ/θ
+            c = np.where(t2 < _C_SMALL, c, (1.0 - a) / np.maximum(t2, _C_SMALL))
+        return _combination(self.delta, identity - c * t2, -2.0 * sh * sh, c)
 
 
 def log(R: np.ndarray) -> np.ndarray:

@@ -249,6 +249,12 @@ class LieStep:
             self._T = tangent(self.D)[None] if self.single else self.p.tangent()
         return self._T
 
+    def _T_minus_identity(self) -> np.ndarray:
+        """T(D) − I (k, 3, 3): made as such for several triples (no broadcast of I)."""
+        if self._T is not None or self.single:
+            return self.T - _EYE3
+        return self.p.tangent(identity=0.0)
+
     def right(self, A):
         """A T(D): the columns of the rotation triples of ``A`` (free dofs) times T(D)."""
         R = self.model.rotations
@@ -292,7 +298,7 @@ class LieStep:
         if places is not None:
             n = S.shape[0]
             Z = np.zeros(n * n)
-            Z[places] = (self.T - _EYE3).ravel()
+            Z[places] = self._T_minus_identity().ravel()
             S += K @ Z.reshape(n, n)
             return S
         Kc = np.asarray(K)[:, self.cols]
