@@ -245,7 +245,7 @@ def _log(A: np.ndarray):
 
 
 def _coefficients(t2: np.ndarray) -> np.ndarray:
-    """(E, 39): the weights (1, w₁, w₂) of (I, ρ̃, ρ̃²) in exp(½ρ̃), T(ρ)⁻¹ and T(½ρ), then
+    """(E, 39): the weights (1, w₁, w₂) of (I, ρ̃, ρ̃²) in exp(½ρ̃), T(ρ)⁻¹ and ½T(½ρ), then
     the slopes' coefficients of T(½ρ)ᵀ and of T(ρ)⁻ᵀ (:func:`_maps`), from d, d′ of x = θ² and a, b,
     c, b′, c′ of x = θ²/4: by their series where θ² < _SERIES_MAX (one product of the powers of
     x with a table), else by the closed forms d′ = ((1 + a)/(4b) − 1)/x², b′ = (a/2 − b)/x,
@@ -281,18 +281,21 @@ def _nodal(el, X, q):
 
 def _maps():
     """Fixed linear map from the coefficients (E, 11) = (d, d′, 0, 0, 0, a, b, c, b′, c′, 1)
-    to the weights (1, w₁, w₂) of (I, ρ̃, ρ̃²) in exp(½ρ̃), T(ρ)⁻¹ and T(½ρ) (columns 0–8),
-    and to (α, β, α′, β′) of T(½ρ)ᵀ and of T(ρ)⁻ᵀ as functions of ρ, as
-    :func:`_matrix_slopes` takes them (columns 9–38); the last row carries the constants."""
+    to the weights (1, w₁, w₂) of (I, ρ̃, ρ̃²) in exp(½ρ̃), T(ρ)⁻¹ and ½T(½ρ) (columns 0–8),
+    and to (α, β, α′, β′) of T(½ρ)ᵀ (times ½, as the tangent takes its slope) and of T(ρ)⁻ᵀ
+    as functions of ρ, as :func:`_matrix_slopes` takes them (columns 9–38); the last row
+    carries the constants. (The factors ½ are exact: powers of two.)"""
     M = np.zeros((11, 39))
     M[10, [0, 3, 6]] = 1.0  # the weights of I
     M[5, 1], M[6, 2] = 0.5, 0.25  # exp(½ρ̃) = I + ½a ρ̃ + ¼b ρ̃²  (a, b of θ²/4)
     M[10, 4], M[0, 5] = 0.5, 1.0  # T(ρ)⁻¹ = I + ½ρ̃ + d ρ̃²
-    M[6, 7], M[7, 8] = -0.5, 0.25  # T(½ρ) = I − ½b ρ̃ + ¼c ρ̃²
+    M[6, 7], M[7, 8] = -0.5, 0.25  # T(½ρ) = I − ½b ρ̃ + ¼c ρ̃², halved below
+    M[:, 6:9] *= 0.5
     # T(½ρ)ᵀ = I + (b/2) ρ̃ + (c/4) ρ̃², slopes in |ρ|² = 4x: b′/8, c′/16
     S = np.zeros((11, 2, 4))  # (α, β, α′, β′) of each matrix
     S[6, 0, 0], S[7, 0, 1], S[8, 0, 2], S[9, 0, 3] = 0.5, 0.25, 0.125, 1 / 16
     S[10, 1, 0], S[0, 1, 1], S[1, 1, 3] = -0.5, 1.0, 1.0  # T(ρ)⁻ᵀ = I − ½ρ̃ + d ρ̃²
+    S[:, 0] *= 0.5
     # as :func:`_matrix_slopes` takes them: −α, β, 2α′, 2β′, −2β (5, 3, 2), down the rows
     S = S[:, :, [0, 1, 2, 3, 1]] * np.array([-1.0, 1.0, 2.0, 2.0, -2.0])
     M[:, 9:] = np.repeat(S.transpose(0, 2, 1)[:, :, None, :], 3, axis=2).reshape(11, 30)
@@ -328,8 +331,8 @@ class _Strains:
         # (1, w_k1, w_k2) @ (I, ρ̃, ρ̃²) flattened: the three matrices I + w_k1 ρ̃ + w_k2 ρ̃²
         basis = np.concatenate([el.basis0, P.reshape(-1, 1, 9), (P @ P).reshape(-1, 1, 9)], 1)
         M = co[:, :9].reshape(-1, 3, 3) @ basis
-        self.H, self.Ti, self.Th = M.reshape(-1, 3, 3, 3).transpose(1, 0, 2, 3)
-        self.Rm = R0 @ self.H  # exp(½ρ̃), T(ρ)⁻¹, T(½ρ) above
+        self.H, self.Ti, self.hTh = M.reshape(-1, 3, 3, 3).transpose(1, 0, 2, 3)
+        self.Rm = R0 @ self.H  # exp(½ρ̃), T(ρ)⁻¹, ½T(½ρ) above
         self.M = M
         self.rho = rho[..., None]
         # (γ̂, ρ) = (R_mᵀ x′, ρ) and the strains Γ = L0ᵀγ̂ − E₁, K = L0ᵀρ/ℓ as two columns
@@ -348,9 +351,10 @@ class _Forces(_Strains):
         nm = el.L0 @ NM  # n̂, m̂
         self.n, m = nm[:, :, :1], nm[:, :, 1:]
         # n̂~ and γ̂~ from one product: (E, 2, 3, 3)
-        self.Nh, self.Gh = _hat(np.concatenate([self.n, self.gh], axis=2).mT).transpose(1, 0, 2, 3)
+        self.NG = _hat(np.concatenate([self.n, self.gh], axis=2).mT).reshape(-1, 6, 3)
+        self.Nh, self.Gh = self.NG[:, :3], self.NG[:, 3:]
         self.p = p = el.ell31 * (self.Nh @ self.gh)
-        self.u = m + 0.5 * (self.Th.mT @ p)
+        self.u = m + self.hTh.mT @ p
         self.t = t = self.Ti.mT @ self.u
         fx = self.Rm @ self.n
         self.f = np.concatenate([-fx, self.H @ p - self.A @ t, fx, t], axis=1)
@@ -442,20 +446,21 @@ def _tangent(el, s: _Forces) -> np.ndarray:
         [s.A.reshape(-1, 9), s.M.reshape(-1, 27), s.Rm.reshape(-1, 9), el.ones], 1
     )
     Drho, Dphi, HtDx, BDx = (flat @ _PLACES).reshape(-1, 4, 3, 12).transpose(1, 0, 2, 3)
-    ThDrho = s.Th @ Drho
-    Dpsi = 0.5 * ThDrho + HtDx
-    Dg = s.Gh @ Dpsi + BDx * el.inv_ell312
-    Dn = el.CG @ Dg
-    Dm = el.CK @ Drho
-    Dp = el.ell312 * (s.Nh @ Dg - s.Gh @ Dn)
     c = s.co[:, 9:].reshape(-1, 5, 3, 2)
     G = _matrix_slopes(s.P, s.rho, np.concatenate([s.p, s.u], axis=2), c)
-    Gp, Gu = (G.reshape(-1, 6, 3) @ Drho).reshape(-1, 2, 3, 12).transpose(1, 0, 2, 3)
-    Du = Dm + 0.5 * (s.Th.mT @ Dp + Gp)
+    # the four products with Dρ as one: ½T(½ρ) Dρ, Dm̂, ½ Gp and Gu
+    L = np.concatenate([s.hTh, el.CK, G.reshape(-1, 6, 3)], axis=1) @ Drho
+    hThDrho, Dm, Gp, Gu = L[:, :3], L[:, 3:6], L[:, 6:9], L[:, 9:]
+    Dpsi = hThDrho + HtDx
+    NGDpsi = s.NG @ Dpsi  # n̂~ Dψ_m, γ̂~ Dψ_m
+    Dg = NGDpsi[:, 3:] + BDx * el.inv_ell312
+    Dn = el.CG @ Dg
+    Dp = el.ell312 * (s.Nh @ Dg - s.Gh @ Dn)
+    Du = Dm + (s.hTh.mT @ Dp + Gp)
     Dt = s.Ti.mT @ Du + Gu
-    Dfx = s.Rm @ (Dn - s.Nh @ Dpsi)
+    Dfx = s.Rm @ (Dn - NGDpsi[:, :3])
     pt = _hat(np.concatenate([s.p, s.t], axis=2).transpose(0, 2, 1))  # p̃, t̃
-    Df0 = s.H @ (Dp - 0.5 * (pt[:, 0] @ ThDrho)) - s.A @ (Dt - pt[:, 1] @ Dphi)
+    Df0 = s.H @ (Dp - pt[:, 0] @ hThDrho) - s.A @ (Dt - pt[:, 1] @ Dphi)
     return np.concatenate([-Dfx, Df0, Dfx, Dt], axis=1)
 
 
