@@ -75,13 +75,14 @@ class Beam3DElements:
     ell32: np.ndarray
     ell312: np.ndarray
     inv_ell312: np.ndarray  # 1/ℓ (E, 3, 12)
-    ell3: np.ndarray  # ℓ (E, 3)
     scale: np.ndarray  # (1, 1/ℓ) as columns (E, 3, 2): the strains of (L0ᵀγ̂, L0ᵀρ)
     E1: np.ndarray  # (E₁, 0) (E, 3, 2)
     C32: np.ndarray  # (C_Γ, C_K) as columns (E, 3, 2)
     ones: np.ndarray  # (E, 1)
     basis0: np.ndarray  # I flattened (E, 1, 9)
     chord: np.ndarray  # X₁ − X₀ (E, 3)
+    slope: np.ndarray  # (E, n): @ the nodal (n, k) values it is their (v₁ − v₀)/ℓ
+    chord_slope: np.ndarray  # (X₁ − X₀)/ℓ (E, 3, 1)
     C32ell: np.ndarray  # ℓ (C_Γ, C_K) (E, 3, 2)
 
     @classmethod
@@ -109,13 +110,14 @@ class Beam3DElements:
             ell32=full(ell, 2),
             ell312=full(ell, 12),
             inv_ell312=1 / full(ell, 12),
-            ell3=np.repeat(ell, 3).reshape(E, 3),
             scale=np.concatenate([np.ones((E, 3, 1)), 1 / full(ell, 1)], axis=2),
             E1=np.repeat(_E1_COLUMN[None], E, axis=0),
             C32=np.repeat(_rigidity_columns(C)[None], E, axis=0),
             ones=np.ones((E, 1)),
             basis0=np.repeat(_I3.reshape(1, 1, 9), E, axis=0),
             chord=X[n1] - X[n0],
+            slope=(np.eye(len(X))[n1] - np.eye(len(X))[n0]) / ell[:, None],
+            chord_slope=((X[n1] - X[n0]) / ell[:, None])[:, :, None],
             C32ell=ell[:, None, None] * _rigidity_columns(C),
         )
 
@@ -183,7 +185,6 @@ _N_TERMS = 12  # at θ² < _SERIES_MAX the first neglected term is below 1e-20 o
 _SERIES_MAX = 1.0
 _SKEW, _VEE, _SERIES = _skew_basis(), _vee_trace(), _series_table()
 _POWERS = np.arange(_N_TERMS)
-_ARGUMENTS = np.array([1.0, 0.25])
 _TINY = 1e-300
 
 
@@ -238,8 +239,7 @@ def _log(A: np.ndarray):
     v = A.reshape(-1, 9) @ _VEE
     a, c1 = v[:, :3], v[:, 3] + 0.5  # sin θ · axis, 1 + cos θ
     # tan(θ/2) (offset as in rotation_matrices: atan(s)/s is 1 at 0); NaN for an element turned by π
-    a0, a1, a2 = a[:, 0], a[:, 1], a[:, 2]
-    s = np.sqrt(a0 * a0 + a1 * a1 + a2 * a2) / c1 + _TINY
+    s = np.sqrt((a * a) @ _ONES3) / c1 + _TINY
     theta = 2.0 * np.arctan(s)
     return (theta / (s * c1))[:, None] * a, theta
 
@@ -250,7 +250,7 @@ def _coefficients(t2: np.ndarray) -> np.ndarray:
     c, b′, c′ of x = θ²/4: by their series where θ² < _SERIES_MAX (one product of the powers of
     x with a table), else by the closed forms d′ = ((1 + a)/(4b) − 1)/x², b′ = (a/2 − b)/x,
     c′ = (b − 3c)/(2x) (of θ², resp. θ²/4)."""
-    X = ((t2[:, None] * _ARGUMENTS)[..., None] ** _POWERS).reshape(-1, 2 * _N_TERMS)
+    X = t2[:, None] ** _POWERS
     if t2.max() < _SERIES_MAX:
         return X @ _SERIES_MAPS
     small = t2 < _SERIES_MAX
@@ -271,12 +271,11 @@ def _coefficients(t2: np.ndarray) -> np.ndarray:
 
 # -- strains, force and tangent ---------------------------------------------------------------
 def _nodal(el, X, q):
-    """R and x of the elements' first and second nodes: the polyline's nodes e and e + 1
-    (``Beam3DElements.of``), so views rather than gathers."""
+    """R of the elements' first and second nodes (the polyline's nodes e and e + 1,
+    ``Beam3DElements.of``: views rather than gathers) and x′ = (x₁ − x₀)/ℓ (E, 3, 1)."""
     Q = q.reshape(-1, 6)
     R = rotation_matrices(Q[:, 3:])
-    x = X + Q[:, :3]
-    return R[:-1], R[1:], x[:-1], x[1:]
+    return R[:-1], R[1:], (el.slope @ Q)[:, :3, None] + el.chord_slope
 
 
 def _maps():
@@ -303,11 +302,11 @@ def _maps():
 
 
 def _series_maps() -> np.ndarray:
-    """(2N, 39): the powers (x⁰ … x^(N−1) of x = θ², then of θ²/4) @ it is
-    :func:`_coefficients`' result by the series (the series table composed with the map,
-    the constants on the power x⁰)."""
-    S = np.zeros((2 * _N_TERMS, 11))
-    S[:_N_TERMS, :5], S[_N_TERMS:, 5:10] = _SERIES[0], _SERIES[1]
+    """(N, 39): the powers x⁰ … x^(N−1) of x = θ² @ it is :func:`_coefficients`' result by
+    the series (the series table composed with the map, the constants on the power x⁰; the
+    series in θ²/4 with their coefficients divided by 4ᵏ)."""
+    S = np.zeros((_N_TERMS, 11))
+    S[:, :5], S[:, 5:10] = _SERIES[0], _SERIES[1] * 0.25 ** _POWERS[:, None]
     S[0, 10] = 1.0
     return S @ _MAPS
 
@@ -322,7 +321,7 @@ class _Strains:
     """ρ = log(R₀ᵀR₁), the rotation functions of the element, R_m, γ̂ and the strains
     (Γ, K) as the columns of ``S`` (E, 3, 2). Vectors are kept as columns (E, 3, 1)."""
 
-    def __init__(self, el, R0, R1, x0, x1):
+    def __init__(self, el, R0, R1, xp):
         self.A = R0.mT @ R1  # exp(ρ̃)
         rho, theta = _log(self.A)
         self.t2 = theta * theta
@@ -336,7 +335,7 @@ class _Strains:
         self.M = M
         self.rho = rho[..., None]
         # (γ̂, ρ) = (R_mᵀ x′, ρ) and the strains Γ = L0ᵀγ̂ − E₁, K = L0ᵀρ/ℓ as two columns
-        V = np.concatenate([self.Rm.mT @ ((x1 - x0) / el.ell3)[..., None], self.rho], axis=2)
+        V = np.concatenate([self.Rm.mT @ xp, self.rho], axis=2)
         self.S = el.L0.mT @ V * el.scale - el.E1
         self.gh = V[:, :, :1]
 
@@ -345,8 +344,8 @@ class _Forces(_Strains):
     """The element force f (E, 12) and energy W (J, all elements), and the quantities the
     tangent reuses."""
 
-    def __init__(self, el, R0, R1, x0, x1):
-        super().__init__(el, R0, R1, x0, x1)
+    def __init__(self, el, R0, R1, xp):
+        super().__init__(el, R0, R1, xp)
         NM = self.S * el.C32
         nm = el.L0 @ NM  # n̂, m̂
         self.n, m = nm[:, :, :1], nm[:, :, 1:]
