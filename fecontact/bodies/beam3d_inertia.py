@@ -76,6 +76,17 @@ def _skew6() -> np.ndarray:
 _SKEW6 = _skew6()
 
 
+def _skew12() -> np.ndarray:
+    """(12, 72): a node's 6 dof values w then its 6 values π @ it is the (6, 12) matrix
+    [w̃ | π̃] (:func:`_skew6` of each, side by side), flattened."""
+    S = np.zeros((2, 6, 6, 2, 6))
+    S[0, :, :, 0], S[1, :, :, 1] = _SKEW6.reshape(6, 6, 6), _SKEW6.reshape(6, 6, 6)
+    return S.reshape(12, 72)
+
+
+_SKEW12 = _skew12()
+
+
 class Gyroscopic:
     """The gyroscopic force of the consistent rotary mass of a beam's elements ``el`` over
     ``n`` nodes (module docstring), with its sparsity decided once: the 3 × 3 blocks of the
@@ -110,7 +121,6 @@ class Gyroscopic:
         row, col = 6 * a + 3 + i, 6 * b + 3 + j  # in the beam's dofs (6n)
         self.flat = row * (6 * n) + col
         self.indices, self.indptr = col, np.searchsorted(row, np.arange(6 * n + 1))
-        self.nodes = np.arange(n)
 
     def _keys(self, na, nb) -> np.ndarray:
         """The keys row·3n + column of the 3 × 3 blocks (k, 3, 3) of the node pairs."""
@@ -118,9 +128,10 @@ class Gyroscopic:
         c = 3 * np.asarray(nb)[:, None, None] + np.arange(3)[None, :]
         return (r * self.m + c).ravel()
 
-    def mass(self, el: Beam3DElements, J, point_inertias) -> np.ndarray:
+    def mass(self, el: Beam3DElements, J, point_inertias):
         """M (kg·m²): ℓ P1_ab J_e of the elements, plus the point inertias (n, 3, 3) on the
-        node blocks; its values on the entries, or dense (n, 6, 6n) with ``dense``."""
+        node blocks; its values on the entries, or with ``dense`` the operands of the dense path
+        (:meth:`_dense_mass`)."""
         lJ = el.ell[:, None, None] * J
         nodes, values = (el.n0, el.n1), np.zeros(self.keys.size)
         for (a, b), w in np.ndenumerate(_P1_MASS):
@@ -131,27 +142,29 @@ class Gyroscopic:
         np.add.at(values, slots, point_inertias.ravel())
         return self._dense_mass(values) if self.dense else values
 
-    def _dense_mass(self, M: np.ndarray) -> np.ndarray:
-        """The rotary mass as a dense (n, 6, 6n) array (zero on the translations) from its
-        values ``M`` on the entries: the operand of :meth:`_dense_forces`."""
-        ndof = 6 * self.n
+    def _dense_mass(self, M: np.ndarray):
+        """The rotary mass as a dense (6n, 6n) array (zero on the translations) from its
+        values ``M`` on the entries, and per node a its rows M_a stacked over −E_a (n, 12, 6n),
+        E_a the identity on the node's own block: the operands of :meth:`_dense_forces`."""
+        n, ndof = self.n, 6 * self.n
         out = np.zeros(ndof * ndof)
         out[self.flat] = M
-        return out.reshape(self.n, 6, ndof)
+        M6 = out.reshape(n, 6, ndof)
+        E = -np.eye(ndof).reshape(n, 6, ndof)
+        return out.reshape(ndof, ndof), np.concatenate([M6, E], axis=1)
 
-    def _dense_forces(self, M6: np.ndarray, v: np.ndarray):
+    def _dense_forces(self, mass, v: np.ndarray):
         """(f (6n,), ∂f/∂v dense (6n, 6n)) at the velocity ``v`` (6n,) with the dense rotary
-        mass ``M6`` (:meth:`_dense_mass`): π = M v, then per node Ω̃_a on its rows of π and of
-        M, and −π̃_a on its diagonal block, each a batched product over the nodes (a beam
+        mass (:meth:`_dense_mass`): π = M v, then per node [Ω̃_a | π̃_a] from one product,
+        and Ω̃_a π_a and Ω̃_a M_a − π̃_a E_a each one batched product over the nodes (a beam
         small enough for a dense model: a few numpy calls in all)."""
+        M, ME = mass
         n, ndof = self.n, 6 * self.n
-        pi = M6.reshape(ndof, ndof) @ v
-        W = (v.reshape(n, 6) @ _SKEW6).reshape(n, 6, 6)  # Ω̃_a on the rotation block
-        f = W @ pi.reshape(n, 6, 1)
-        C = W @ M6
-        Pi = (pi.reshape(n, 6) @ _SKEW6).reshape(n, 6, 6)  # π̃_a on the rotation block
-        C.reshape(n, 6, n, 6)[self.nodes, :, self.nodes, :] -= Pi
-        return f.reshape(ndof), C.reshape(ndof, ndof)
+        pi = M @ v
+        Vp = np.concatenate([v.reshape(n, 6), pi.reshape(n, 6)], axis=1)
+        WP = (Vp @ _SKEW12).reshape(n, 6, 12)  # [Ω̃_a | π̃_a] on the rotation block
+        f = WP[:, :, :6] @ pi.reshape(n, 6, 1)
+        return f.reshape(ndof), (WP @ ME).reshape(ndof, ndof)
 
     def __call__(self, M: np.ndarray, v: np.ndarray):
         """(f (6n,), ∂f/∂v) at the velocity ``v`` (6n,) with the rotary mass ``M`` made by
