@@ -79,6 +79,7 @@ class Beam3DElements:
     E1: np.ndarray  # (E₁, 0) (E, 3, 2)
     C32: np.ndarray  # (C_Γ, C_K) as columns (E, 3, 2)
     ones: np.ndarray  # (E, 1)
+    one_zero: np.ndarray  # (1, 0) (E, 2)
     basis0: np.ndarray  # I flattened (E, 1, 9)
     chord: np.ndarray  # X₁ − X₀ (E, 3)
     slope: np.ndarray  # (E, n): @ the nodal (n, k) values it is their (v₁ − v₀)/ℓ
@@ -114,6 +115,7 @@ class Beam3DElements:
             E1=np.repeat(_E1_COLUMN[None], E, axis=0),
             C32=np.repeat(_rigidity_columns(C)[None], E, axis=0),
             ones=np.ones((E, 1)),
+            one_zero=np.repeat([[1.0, 0.0]], E, axis=0),
             basis0=np.repeat(_I3.reshape(1, 1, 9), E, axis=0),
             chord=X[n1] - X[n0],
             slope=(np.eye(len(X))[n1] - np.eye(len(X))[n0]) / ell[:, None],
@@ -355,8 +357,14 @@ class _Forces(_Strains):
         self.p = p = el.ell31 * (self.Nh @ self.gh)
         self.u = m + self.hTh.mT @ p
         self.t = t = self.Ti.mT @ self.u
-        fx = self.Rm @ self.n
-        self.f = np.concatenate([-fx, self.H @ p - self.A @ t, fx, t], axis=1)
+        # the rotation matrices' places in f's matrix B and in the tangent's derivatives
+        flat = np.concatenate(
+            [self.A.reshape(-1, 9), self.M.reshape(-1, 27), self.Rm.reshape(-1, 9), el.one_zero],
+            1,
+        )
+        self.placed = np.concatenate([flat, -flat], axis=1).take(_PLACES, axis=1)
+        self.B = self.placed[:, 144:].reshape(-1, 12, 12)
+        self.f = self.B @ np.concatenate([self.n, p, t, t], axis=1)
         self.W = 0.5 * float(np.vdot(NM * self.S, el.ell32))
 
 
@@ -405,9 +413,11 @@ def _matrix_slopes(P, rho, V, c):
 
 
 def _places() -> np.ndarray:
-    """(46, 144): the flattened (exp(ρ̃), exp(½ρ̃), T(ρ)⁻¹, T(½ρ), R_m, 1) of an element @ it
+    """(46, 288): the flattened (exp(ρ̃), exp(½ρ̃), T(ρ)⁻¹, ½T(½ρ), R_m, 1) of an element @ it
     is (Dρ, Dφ, (0, exp(−½ρ̃), 0, 0), (−R_mᵀ, 0, R_mᵀ, 0)), each (3, 12) flattened
-    (:func:`_tangent`): their blocks are those matrices, transposed, negated, or I."""
+    (:func:`_tangent`), then the (12, 12) matrix B that gives the element force from
+    (n̂, p, t, t) and its tangent from their derivatives (:class:`_Forces`): their blocks are
+    those matrices, transposed, negated, or I."""
     T = np.zeros((6, 3, 3, 4, 3, 12))  # (matrix, its row, column) -> (output, row, column)
     i, j = np.meshgrid(range(3), range(3), indexing="ij")
     T[2, j, i, 0, i, 3 + j] = -1.0  # Dρ = (0, −T(ρ)⁻ᵀ, 0, T(ρ)⁻¹)
@@ -417,10 +427,27 @@ def _places() -> np.ndarray:
     T[1, j, i, 2, i, 3 + j] = 1.0  # exp(½ρ̃)ᵀ at θ₀
     T[4, j, i, 3, i, j] = -1.0  # R_mᵀ at x₀ and x₁
     T[4, j, i, 3, i, 6 + j] = 1.0
-    return T.reshape(54, 144)[:46]
+    B = np.zeros((6, 3, 3, 12, 12))  # f = (−R_m n̂, exp(½ρ̃) p − exp(ρ̃) t, R_m n̂, t)
+    B[4, i, j, i, j], B[4, i, j, 6 + i, j] = -1.0, 1.0
+    B[1, i, j, 3 + i, 3 + j], B[0, i, j, 3 + i, 6 + j] = 1.0, -1.0
+    B[5, 0, 0, range(9, 12), range(9, 12)] = 1.0
+    return np.concatenate([T.reshape(54, 144), B.reshape(54, 144)], axis=1)[:46]
 
 
-_PLACES = _places()
+def _sources(places: np.ndarray) -> np.ndarray:
+    """The places table as a gather: for each output column, the index in (x, 0, −x, −0)
+    (x the 46 flattened inputs) of its one input, signed, or of the zero."""
+    n = places.shape[0]
+    out = np.full(places.shape[1], n)
+    for c in range(places.shape[1]):
+        (r,) = np.nonzero(places[:, c])
+        if r.size:
+            assert r.size == 1 and abs(places[r[0], c]) == 1.0
+            out[c] = r[0] if places[r[0], c] > 0 else n + 1 + r[0]
+    return out
+
+
+_PLACES = _sources(_places())
 
 
 def _tangent(el, s: _Forces) -> np.ndarray:
@@ -440,11 +467,7 @@ def _tangent(el, s: _Forces) -> np.ndarray:
 
     The derivatives of T's matrices are :func:`_matrix_slopes` with the coefficients' slopes;
     T(ρ)⁻¹ exp(−ρ̃) = T(ρ)⁻ᵀ (as exp(ρ̃) T(ρ) = T(ρ)ᵀ) gives Dρ without a product."""
-    # the rotation matrices' places in the derivatives, by one product with a fixed table
-    flat = np.concatenate(
-        [s.A.reshape(-1, 9), s.M.reshape(-1, 27), s.Rm.reshape(-1, 9), el.ones], 1
-    )
-    Drho, Dphi, HtDx, BDx = (flat @ _PLACES).reshape(-1, 4, 3, 12).transpose(1, 0, 2, 3)
+    Drho, Dphi, HtDx, BDx = s.placed[:, :144].reshape(-1, 4, 3, 12).transpose(1, 0, 2, 3)
     c = s.co[:, 9:].reshape(-1, 5, 3, 2)
     G = _matrix_slopes(s.P, s.rho, np.concatenate([s.p, s.u], axis=2), c)
     # the four products with Dρ as one: ½T(½ρ) Dρ, Dm̂, ½ Gp and Gu
@@ -457,10 +480,9 @@ def _tangent(el, s: _Forces) -> np.ndarray:
     Dp = el.ell312 * (s.Nh @ Dg - s.Gh @ Dn)
     Du = Dm + (s.hTh.mT @ Dp + Gp)
     Dt = s.Ti.mT @ Du + Gu
-    Dfx = s.Rm @ (Dn - NGDpsi[:, :3])
     pt = _hat(np.concatenate([s.p, s.t], axis=2).transpose(0, 2, 1))  # p̃, t̃
-    Df0 = s.H @ (Dp - pt[:, 0] @ hThDrho) - s.A @ (Dt - pt[:, 1] @ Dphi)
-    return np.concatenate([-Dfx, Df0, Dfx, Dt], axis=1)
+    dn, dp, dt = Dn - NGDpsi[:, :3], Dp - pt[:, 0] @ hThDrho, Dt - pt[:, 1] @ Dphi
+    return s.B @ np.concatenate([dn, dp, dt, Dt], axis=1)
 
 
 def beam3d_internal(el: Beam3DElements, X: np.ndarray, q: np.ndarray, ndof: int, tangent: bool):
