@@ -239,6 +239,34 @@ _QUARTER = np.full(3, 0.25)  # (ψ * ψ) @ it is θ²/4
 _ONES = np.ones(3)
 
 
+def _tangent_series(identity: float) -> np.ndarray:
+    """(7, 3): the powers x⁰ … x⁶ of x = θ² @ it is (k₀, k₁, k₂) of T(ψ) − (1 − identity) I =
+    k₀ I + k₁ ψ̃ + k₂ ψψᵀ: k₂ = c = (θ − sin θ)/θ³ = Σ (−1)ᵏ xᵏ/(2k + 3)!, k₁ = −b =
+    −(1 − cos θ)/θ² = −Σ (−1)ᵏ xᵏ/(2k + 2)!, k₀ = identity − c x; below x = 1/16 the first
+    term left out is below 1e-18 of each."""
+    k = np.arange(7)
+    fact = np.array([math.factorial(int(n)) for n in range(17)], dtype=float)
+    sign = (-1.0) ** k
+    S = np.zeros((7, 3))
+    S[:6, 1], S[:6, 2] = -sign[:6] / fact[2 * k[:6] + 2], sign[:6] / fact[2 * k[:6] + 3]
+    S[1:, 0] = -S[:6, 2]
+    S[0, 0] = identity
+    return S
+
+
+def _combination_pairs() -> np.ndarray:
+    """(39, 9): the products (k₀, k₁, k₂) ⊗ (1, ψ, ψψᵀ flattened) @ it is k₀ I + k₁ ψ̃ + k₂ ψψᵀ
+    flattened (the table of :func:`_combination`, its features each times its coefficient)."""
+    T = np.zeros((3, 13, 9))
+    T[0, 0], T[1, 1:4], T[2, 4:] = _COMBINATION[0], _COMBINATION[1:4], _COMBINATION[4:]
+    return T.reshape(39, 9)
+
+
+_T_POWERS = np.arange(7)
+_T_SERIES = {1.0: _tangent_series(1.0), 0.0: _tangent_series(0.0)}
+_PAIRS = _combination_pairs()
+
+
 class RightIncrements:
     """Increments Δ (k, 3) composed on the right of fixed rotations ψ (k, 3): ψ ⊕ Δ by
     :meth:`compose`, and the right tangents T(Δ) of the last Δ by :meth:`tangent`, from the
@@ -250,6 +278,7 @@ class RightIncrements:
     def __init__(self, psi: np.ndarray):
         # the left products p ⊗ · of ψ's quaternions as matrices (k, 4, 4)
         self.left = (self._quaternions(psi)[0] @ _LEFT).reshape(-1, 4, 4)
+        self.ones = np.ones((len(psi), 1))
         self.delta = self.x = self.sh = self.ch = None
 
     @staticmethod
@@ -273,15 +302,21 @@ class RightIncrements:
         return (np.copysign(2.0, w) * np.arctan2(s, np.abs(w)) / (s + _OFFSET))[:, None] * u
 
     def tangent(self, identity: float = 1.0) -> np.ndarray:
-        """T(Δ) (k, 3, 3) of the last composed Δ, less (1 − ``identity``) I: (1 − cos θ)/θ² =
+        """T(Δ) (k, 3, 3) of the last composed Δ, less (1 − ``identity``) I (``identity`` 1 or
+        0). Where every θ² < 1/16 (a Newton increment), the coefficients by their series from
+        one product, and T from one product of them with (1, Δ, ΔΔᵀ); else (1 − cos θ)/θ² =
         2 (sin(θ/2)/θ)², and (θ − sin θ)/θ³ by its series below θ² = 1/16 (as
         :func:`tangent`)."""
-        t2, sh = 4.0 * self.x, self.sh
+        t2, sh, D = 4.0 * self.x, self.sh, self.delta
+        if t2.max(initial=0.0) < _C_SMALL:
+            k = len(D)
+            K = (t2[:, None] ** _T_POWERS) @ _T_SERIES[identity]
+            F = np.concatenate([self.ones, D, (D[:, :, None] * D[:, None, :]).reshape(k, 9)], 1)
+            return ((K[:, :, None] * F[:, None, :]).reshape(k, 39) @ _PAIRS).reshape(k, 3, 3)
         c = (t2[:, None] ** _C_POWERS) @ _C_SERIES
-        if t2.max(initial=0.0) >= _C_SMALL:
-            a = 2.0 * sh * self.ch  # sin θ/θ
-            c = np.where(t2 < _C_SMALL, c, (1.0 - a) / np.maximum(t2, _C_SMALL))
-        return _combination(self.delta, identity - c * t2, -2.0 * sh * sh, c)
+        a = 2.0 * sh * self.ch  # sin θ/θ
+        c = np.where(t2 < _C_SMALL, c, (1.0 - a) / np.maximum(t2, _C_SMALL))
+        return _combination(D, identity - c * t2, -2.0 * sh * sh, c)
 
 
 def log(R: np.ndarray) -> np.ndarray:

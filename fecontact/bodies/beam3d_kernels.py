@@ -40,6 +40,13 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.special
 
+from .beam3d_quaternions import (
+    node_quaternions,
+    quaternion_matrices,
+    relative_rotations,
+    rotation_matrices,
+)
+
 __all__ = [
     "Beam3DElements",
     "beam3d_energy",
@@ -51,7 +58,6 @@ __all__ = [
 
 _E1_COLUMN = np.array([[1.0, 0.0], [0.0, 0.0], [0.0, 0.0]])  # (E₁, 0): Γ = L0ᵀR_mᵀx′ − E₁
 _I3 = np.eye(3)
-_DIAG = np.arange(3)
 
 
 @dataclass(frozen=True)
@@ -72,14 +78,15 @@ class Beam3DElements:
     # The per-element constants repeated to the shapes they meet, (E, 3, k) or gathered by
     # index: numpy combines small arrays of one shape ~10× faster than it broadcasts them.
     ell31: np.ndarray
-    ell32: np.ndarray
     ell312: np.ndarray
     inv_ell312: np.ndarray  # 1/ℓ (E, 3, 12)
     scale: np.ndarray  # (1, 1/ℓ) as columns (E, 3, 2): the strains of (L0ᵀγ̂, L0ᵀρ)
     E1: np.ndarray  # (E₁, 0) (E, 3, 2)
-    C32: np.ndarray  # (C_Γ, C_K) as columns (E, 3, 2)
     ones: np.ndarray  # (E, 1)
     one_zero: np.ndarray  # (1, 0) (E, 2)
+    t0: np.ndarray  # Λ₀E₁ (E, 3, 1)
+    CGK: np.ndarray  # the block diagonal (CG, CK) (E, 6, 6)
+    ell6: np.ndarray  # (ℓ, ℓ, ℓ, 1, 1, 1) (E, 6, 1)
     basis0: np.ndarray  # I flattened (E, 1, 9)
     chord: np.ndarray  # X₁ − X₀ (E, 3)
     slope: np.ndarray  # (E, n): @ the nodal (n, k) values it is their (v₁ − v₀)/ℓ
@@ -108,20 +115,30 @@ class Beam3DElements:
             CG=(triads * C[:3]) @ triads.mT,
             CK=(triads * C[3:]) @ triads.mT / ell[:, None, None],
             ell31=full(ell, 1),
-            ell32=full(ell, 2),
             ell312=full(ell, 12),
             inv_ell312=1 / full(ell, 12),
             scale=np.concatenate([np.ones((E, 3, 1)), 1 / full(ell, 1)], axis=2),
             E1=np.repeat(_E1_COLUMN[None], E, axis=0),
-            C32=np.repeat(_rigidity_columns(C)[None], E, axis=0),
             ones=np.ones((E, 1)),
             one_zero=np.repeat([[1.0, 0.0]], E, axis=0),
+            t0=triads[:, :, :1].copy(),
+            CGK=_block_diagonal(
+                (triads * C[:3]) @ triads.mT, (triads * C[3:]) @ triads.mT / ell[:, None, None]
+            ),
+            ell6=np.concatenate([full(ell, 1), np.ones((E, 3, 1))], axis=1),
             basis0=np.repeat(_I3.reshape(1, 1, 9), E, axis=0),
             chord=X[n1] - X[n0],
             slope=(np.eye(len(X))[n1] - np.eye(len(X))[n0]) / ell[:, None],
             chord_slope=((X[n1] - X[n0]) / ell[:, None])[:, :, None],
             C32ell=ell[:, None, None] * _rigidity_columns(C),
         )
+
+
+def _block_diagonal(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(E, 6, 6) with the (E, 3, 3) ``a`` and ``b`` on the diagonal."""
+    out = np.zeros((len(a), 6, 6))
+    out[:, :3, :3], out[:, 3:, 3:] = a, b
+    return out
 
 
 def reference_triads(X: np.ndarray, orientation) -> np.ndarray:
@@ -153,15 +170,6 @@ def _skew_basis() -> np.ndarray:
     return B.reshape(3, 9)
 
 
-def _vee_trace() -> np.ndarray:
-    """(9, 4): a flattened 3×3 matrix @ it is its axial vector (skew part) and half its trace."""
-    V = np.zeros((9, 4))
-    for k, (i, j) in enumerate(((2, 1), (0, 2), (1, 0))):
-        V[3 * i + j, k], V[3 * j + i, k] = 0.5, -0.5
-    V[[0, 4, 8], 3] = 0.5
-    return V
-
-
 def _series_table() -> np.ndarray:
     """(2, N, 5): Taylor coefficients in x of d(x), d′(x), 0, 0, 0 (row 0) and of a, b, c, b′, c′
     (row 1), with a = sin θ/θ, b = (1 − cos θ)/θ², c = (θ − sin θ)/θ³,
@@ -185,65 +193,12 @@ def _series_table() -> np.ndarray:
 
 _N_TERMS = 12  # at θ² < _SERIES_MAX the first neglected term is below 1e-20 of each function
 _SERIES_MAX = 1.0
-_SKEW, _VEE, _SERIES = _skew_basis(), _vee_trace(), _series_table()
+_SKEW, _SERIES = _skew_basis(), _series_table()
 _POWERS = np.arange(_N_TERMS)
-_TINY = 1e-300
 
 
 def _hat(w: np.ndarray) -> np.ndarray:
     return (w @ _SKEW).reshape(w.shape[:-1] + (3, 3))
-
-
-def _quaternion_table() -> np.ndarray:
-    """(16, 9): the products q_k q_l of a unit quaternion q = (w, u) (flattened k, l) @ it
-    is R = (w² − u·u) I + 2w ũ + 2uuᵀ flattened row by row."""
-    Q = np.zeros((4, 4, 3, 3))
-    Q[0, 0] = _I3
-    Q[1:, 1:] -= _I3[:, :, None, None] * _I3  # −(u·u) I
-    Q[1:, 1:] += 2.0 * np.einsum("ki,lj->klij", _I3, _I3)  # 2uuᵀ
-    S = _skew_basis().reshape(3, 3, 3)  # ũ = Σ_k u_k S_k
-    Q[0, 1:] += S
-    Q[1:, 0] += S  # 2w ũ, split between the products w u_k and u_k w
-    return Q.reshape(16, 9)
-
-
-_QUATERNION = _quaternion_table()
-_QUARTER = np.full(3, 0.25)  # (ψ * ψ) @ it is θ²/4
-
-
-def _node_quaternions(psi: np.ndarray) -> np.ndarray:
-    """Unit quaternions (n, 4), scalar first, of the rotation vectors ψ (n, 3; rad):
-    (cos(θ/2), sin(θ/2)/θ ψ), with θ/2 = √(ψ·ψ/4) offset by 1e-300, which changes
-    sin(θ/2)/θ only at 0, where it makes it ½."""
-    h = np.sqrt((psi * psi) @ _QUARTER) + _TINY
-    q = np.empty((len(psi), 4))
-    q[:, 0] = np.cos(h)
-    q[:, 1:] = (0.5 * np.sin(h) / h)[:, None] * psi
-    return q
-
-
-def _matrices(q: np.ndarray) -> np.ndarray:
-    """R (n, 3, 3) of the quaternions q (n, 4), unit or scaled by s: s² R."""
-    return ((q[:, :, None] * q[:, None, :]).reshape(-1, 16) @ _QUATERNION).reshape(-1, 3, 3)
-
-
-def rotation_matrices(psi: np.ndarray) -> np.ndarray:
-    """R = exp(ψ̃) (n, 3, 3) of the rotation vectors ψ (n, 3; rad), as
-    :func:`fecontact.rotations.exp` to round-off, in few array operations: the products of the
-    unit quaternion (cos(θ/2), sin(θ/2)/θ ψ) times a fixed table, free of cancellation at small
-    θ."""
-    return _matrices(_node_quaternions(psi))
-
-
-def _log(A: np.ndarray):
-    """Rotation vector ρ (E, 3) of A (θ < π) and its angle θ (E): θ = 2 atan(sin θ/(1 + cos θ))
-    along the axial vector."""
-    v = A.reshape(-1, 9) @ _VEE
-    a, c1 = v[:, :3], v[:, 3] + 0.5  # sin θ · axis, 1 + cos θ
-    # tan(θ/2) (offset as in rotation_matrices: atan(s)/s is 1 at 0); NaN for an element turned by π
-    s = np.sqrt((a * a) @ _ONES3) / c1 + _TINY
-    theta = 2.0 * np.arctan(s)
-    return (theta / (s * c1))[:, None] * a, theta
 
 
 def _coefficients(t2: np.ndarray) -> np.ndarray:
@@ -273,11 +228,12 @@ def _coefficients(t2: np.ndarray) -> np.ndarray:
 
 # -- strains, force and tangent ---------------------------------------------------------------
 def _nodal(el, X, q):
-    """R of the elements' first and second nodes (the polyline's nodes e and e + 1,
-    ``Beam3DElements.of``: views rather than gathers) and x′ = (x₁ − x₀)/ℓ (E, 3, 1)."""
+    """The nodes' quaternions N and rotations R (the elements' first and second nodes are
+    the polyline's nodes e and e + 1, ``Beam3DElements.of``: views rather than gathers) and
+    x′ = (x₁ − x₀)/ℓ (E, 3, 1)."""
     Q = q.reshape(-1, 6)
-    R = rotation_matrices(Q[:, 3:])
-    return R[:-1], R[1:], (el.slope @ Q)[:, :3, None] + el.chord_slope
+    N = node_quaternions(Q[:, 3:])
+    return N, quaternion_matrices(N), (el.slope @ Q)[:, :3, None] + el.chord_slope
 
 
 def _maps():
@@ -315,17 +271,18 @@ def _series_maps() -> np.ndarray:
 
 _MAPS = _maps()
 _SERIES_MAPS = _series_maps()
-# (4, 9): (−α v, β ρ·v) @ it is −α ṽ + (β ρ·v) I flattened (:func:`_matrix_slopes`)
-_SKEW_EYE = np.vstack([_SKEW, _I3.reshape(1, 9)])
 
 
 class _Strains:
-    """ρ = log(R₀ᵀR₁), the rotation functions of the element, R_m, γ̂ and the strains
-    (Γ, K) as the columns of ``S`` (E, 3, 2). Vectors are kept as columns (E, 3, 1)."""
+    """ρ = log(R₀ᵀR₁) from the nodes' quaternions (as :func:`_strain_columns`), the rotation
+    functions of the element, R_m, γ̂ = R_mᵀx′ and, in the frame R, the strains
+    g = (γ̂ − t₀, ρ) (E, 6, 1), t₀ = Λ₀E₁ the reference tangent: Γ = Λ₀ᵀ(γ̂ − t₀) and
+    K = Λ₀ᵀρ/ℓ. Vectors are kept as columns (E, 3, 1)."""
 
-    def __init__(self, el, R0, R1, xp):
-        self.A = R0.mT @ R1  # exp(ρ̃)
-        rho, theta = _log(self.A)
+    def __init__(self, el, N, R, xp):
+        R0 = R[:-1]
+        self.A = R0.mT @ R[1:]  # exp(ρ̃)
+        rho, theta, _ = relative_rotations(N)
         self.t2 = theta * theta
         self.co = co = _coefficients(self.t2)  # (E, 39)
         self.P = P = _hat(rho)
@@ -336,21 +293,19 @@ class _Strains:
         self.Rm = R0 @ self.H  # exp(½ρ̃), T(ρ)⁻¹, ½T(½ρ) above
         self.M = M
         self.rho = rho[..., None]
-        # (γ̂, ρ) = (R_mᵀ x′, ρ) and the strains Γ = L0ᵀγ̂ − E₁, K = L0ᵀρ/ℓ as two columns
-        V = np.concatenate([self.Rm.mT @ xp, self.rho], axis=2)
-        self.S = el.L0.mT @ V * el.scale - el.E1
-        self.gh = V[:, :, :1]
+        self.gh = self.Rm.mT @ xp
+        self.g = np.concatenate([self.gh - el.t0, self.rho], axis=1)
 
 
 class _Forces(_Strains):
     """The element force f (E, 12) and energy W (J, all elements), and the quantities the
-    tangent reuses."""
+    tangent reuses: the stress resultants (n̂, m̂) = (Λ₀C_ΓΓ, Λ₀C_K K) = (CG, CK) g and
+    W = ½ Σ (ℓ(γ̂ − t₀)·n̂ + ρ·m̂)."""
 
-    def __init__(self, el, R0, R1, xp):
-        super().__init__(el, R0, R1, xp)
-        NM = self.S * el.C32
-        nm = el.L0 @ NM  # n̂, m̂
-        self.n, m = nm[:, :, :1], nm[:, :, 1:]
+    def __init__(self, el, N, R, xp):
+        super().__init__(el, N, R, xp)
+        nm = el.CGK @ self.g
+        self.n, m = nm[:, :3], nm[:, 3:]
         # n̂~ and γ̂~ from one product: (E, 2, 3, 3)
         self.NG = _hat(np.concatenate([self.n, self.gh], axis=2).mT).reshape(-1, 6, 3)
         self.Nh, self.Gh = self.NG[:, :3], self.NG[:, 3:]
@@ -365,7 +320,7 @@ class _Forces(_Strains):
         self.placed = np.concatenate([flat, -flat], axis=1).take(_PLACES, axis=1)
         self.B = self.placed[:, 144:].reshape(-1, 12, 12)
         self.f = self.B @ np.concatenate([self.n, p, t, t], axis=1)
-        self.W = 0.5 * float(np.vdot(NM * self.S, el.ell32))
+        self.W = 0.5 * float(np.vdot(nm, self.g * el.ell6))
 
 
 def _rigidity_columns(C):
@@ -493,38 +448,18 @@ def beam3d_internal(el: Beam3DElements, X: np.ndarray, q: np.ndarray, ndof: int,
     return s.W, f, _tangent(el, s) if tangent else None
 
 
-def _relative_table() -> np.ndarray:
-    """(16, 4): the products p_i d_j of two quaternions (flattened i, j) @ it is p̄ ⊗ d, the
-    conjugate of p times d: (p₀d₀ + p·d, p₀d − d₀p − p × d)."""
-    T = np.zeros((4, 4, 4))
-    T[0, 0, 0] = 1.0
-    for i in range(1, 4):
-        T[i, i, 0], T[0, i, i], T[i, 0, i] = 1.0, 1.0, -1.0
-    for m in range(3):  # −(p × d)_k = −ε_ijk p_i d_j = (the skew basis)_k[i, j] p_i d_j
-        T[1:, 1:, 1 + m] += _SKEW[m].reshape(3, 3)
-    return T.reshape(16, 4)
-
-
-_RELATIVE = _relative_table()
-_ONES3 = np.ones(3)
-
-
 def _strain_columns(el: Beam3DElements, X: np.ndarray, q: np.ndarray) -> np.ndarray:
-    """The strains (Γ, K) as the columns of (E, 3, 2), as ``_Strains.S`` without the
+    """The strains (Γ, K) as the columns of (E, 3, 2), as ``_Strains`` without the
     tangent's matrices, by the nodes' unit quaternions q₀, q₁: their relative rotation
-    r = q̄₀ ⊗ q₁ = (w, v) gives ρ = 2 atan(|v|/|w|) sign(w) v/|v|, and the midpoint rotation
-    R_m = R₀ exp(½ρ̃) is that of q₀ + sign(w) q₁ (the half-way point of the shorter arc),
-    whose squared norm is 2(1 + |w|)."""
+    r = q̄₀ ⊗ q₁ = (w, v) gives ρ, and the midpoint rotation R_m = R₀ exp(½ρ̃) is that of
+    q₀ + sign(w) q₁ (the half-way point of the shorter arc), whose squared norm is
+    2(1 + |w|)."""
     Q = q.reshape(-1, 6)
-    N = _node_quaternions(Q[:, 3:])
-    q0, q1 = N[:-1], N[1:]
-    r = (q0[:, :, None] * q1[:, None, :]).reshape(-1, 16) @ _RELATIVE
-    w, v = r[:, 0], r[:, 1:]
-    s, aw = np.sqrt((v * v) @ _ONES3), np.abs(w)
-    rho = (np.copysign(2.0, w) * np.arctan2(s, aw) / (s + _TINY))[:, None] * v
-    m = q0 + np.copysign(1.0, w)[:, None] * q1
-    d = (Q[1:, :3] - Q[:-1, :3] + el.chord) * (0.5 / (el.ell * (1.0 + aw)))[:, None]
-    V = np.concatenate([_matrices(m).mT @ d[..., None], rho[..., None]], axis=2)
+    N = node_quaternions(Q[:, 3:])
+    rho, _, w = relative_rotations(N)
+    m = N[:-1] + np.copysign(1.0, w)[:, None] * N[1:]
+    d = (Q[1:, :3] - Q[:-1, :3] + el.chord) * (0.5 / (el.ell * (1.0 + np.abs(w))))[:, None]
+    V = np.concatenate([quaternion_matrices(m).mT @ d[..., None], rho[..., None]], axis=2)
     return el.L0.mT @ V * el.scale - el.E1
 
 
