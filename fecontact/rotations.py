@@ -299,7 +299,8 @@ class RightIncrements:
         pd = (self.left @ d[:, :, None])[:, :, 0]
         w, u = pd[:, 0], pd[:, 1:]
         s = np.sqrt((u * u) @ _ONES)
-        return (np.copysign(2.0, w) * np.arctan2(s, np.abs(w)) / (s + _OFFSET))[:, None] * u
+        # 2 atan(s/w) is 2 atan2(s, |w|) sign(w): −(w, u) is the same rotation, by θ ≤ π
+        return (2.0 * np.arctan(s / w) / (s + _OFFSET))[:, None] * u
 
     def tangent(self, identity: float = 1.0) -> np.ndarray:
         """T(Δ) (k, 3, 3) of the last composed Δ, less (1 − ``identity``) I (``identity`` 1 or
