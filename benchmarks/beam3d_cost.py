@@ -6,7 +6,8 @@ machine: the compute time per step of each run through the driver (no frames; wa
 the process CPU time, which a busy machine inflates less), and the ratio of each pair of runs;
 then the time of one evaluation of each beam's internal force with and without its tangent,
 alternating too, and of the spatial step's other per-iteration work on the group (the
-gyroscopic force and tangent, q_n ⊕ D, T(D), K T(D)). Reported: medians and the spread
+gyroscopic force and tangent, q_n ⊕ D, T(D), K (T(D) − I)) and of the strain energy the
+recorder asks for each step. Reported: medians and the spread
 (min–max) of the ratios. The runs move in the x–y plane (out_of_plane_velocity = 0), where the
 two give the same history. ``--kernels`` times the evaluations alone (no runs).
 """
@@ -53,9 +54,10 @@ def kernel_times(beams, repeats: int, number: int = 200) -> dict:
 
 
 def group_times(sim, repeats: int, number: int = 200) -> dict:
-    """µs (process CPU time) per call of the spatial step's work on the group besides the
-    kernel, on the case's arrays at a random state: the gyroscopic force and tangent, q_n ⊕ D,
-    T(D) and S_t's K T(D) − K, as a Newton iteration asks for them."""
+    """µs (process CPU time) per call of the spatial step's work besides the kernel, on the
+    case's arrays at a random state: the gyroscopic force and tangent, q_n ⊕ D, T(D), and
+    S_t's K (T(D) − I) with the T(D) − I it makes, as a Newton iteration asks for them; the
+    strain energy, as the recorder asks for it once a step."""
     from fecontact.time.lie import LieGroup, LieStep
 
     model = sim.model
@@ -71,7 +73,8 @@ def group_times(sim, repeats: int, number: int = 200) -> dict:
         "gyroscopic (µs)": lambda: beam.inertial(q, v),
         "q_n ⊕ D (µs)": lambda: step.configuration(D),
         "T(D) (µs)": step.p.tangent,  # (the step's RightIncrements, uncached)
-        "K T(D) − K (µs)": lambda: step.iteration_matrix(S, K),
+        "K (T(D) − I) (µs)": lambda: step.iteration_matrix(S, K),
+        "strain energy (µs)": lambda: beam.energy(q[: beam.ndof]),
     }
     out = {name: [] for name in calls}
     for _ in range(repeats):

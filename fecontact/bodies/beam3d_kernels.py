@@ -27,9 +27,14 @@ Its tangent ∂f(q ⊕ Δ)/∂Δ is the chain rule through these intermediates i
 (:func:`_tangent`), with the derivatives of T(½ρ)ᵀ and T(ρ)⁻ᵀ as matrix functions of ρ; it
 equals the complex-step derivative of the same force (:mod:`.beam3d_complex_step`) to
 round-off. With a handful of elements a kernel's time is that of its numpy calls, not of its
-arithmetic, so the code keeps their number small: vectors as columns, the three rotation
-matrices of an element from one product, the rotation coefficients and their slopes from one
-product with a table of Taylor coefficients.
+arithmetic, so the code keeps their number small: vectors as columns; ρ from the nodes'
+quaternions (:mod:`.beam3d_quaternions`); the strains and stresses in the frame R,
+(n̂, m̂) = (Λ₀C_ΓΛ₀ᵀ, Λ₀C_KΛ₀ᵀ/ℓ)(γ̂ − Λ₀E₁, ρ) as one product with a block-diagonal matrix;
+the three rotation matrices of an element from one product, the rotation coefficients and
+their slopes from one product with a table of Taylor coefficients; the force as one product
+f = B (n̂, p, t, t) with a (12, 12) matrix B whose blocks are R_m, exp(½ρ̃), exp(ρ̃) and I,
+which also ends the tangent; and the places of the rotation matrices in B and in the
+derivatives as one gather.
 """
 
 from __future__ import annotations
