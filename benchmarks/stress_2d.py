@@ -473,7 +473,11 @@ def run_once(sim, watch, **options):
 
 
 def measure(row: Row) -> dict:
-    sim, watch = row.build()
+    try:
+        sim, watch = row.build()
+    except InputError as err:  # refused as built: a row of its own
+        return {"group": row.group, "run": row.name, "completed": False, "message": str(err),
+                "depth": 0.0, "depth_rel": 0.0, "created_rel": 0.0, "max_penetration": 0.0}  # fmt: skip
     s, h, message, cpu = run_once(sim, watch)
     ledger = s.get("energy_ledger", {})
     out = {
