@@ -62,7 +62,7 @@ from scipy.spatial import cKDTree
 from ..errors import InputError
 from .dual_numbers import Jet
 from .mortar_duals import CLAMPED, FOREIGN, covered_ends, dual_coefficients
-from .mortar_interface import MortarInterface
+from .mortar_interface import MortarInterface, element_measures, linear_faces
 from .mortar_segments import GAUSS_POINTS, segment_pair_integrals
 
 __all__ = ["MortarContact", "finer_first"]
@@ -78,8 +78,7 @@ def finer_first(a, b):
     (Wohlmuth 2000)."""
 
     def mean_segment(body):
-        f = body.boundary_facets()
-        return float(np.mean(np.linalg.norm(body.X[f[:, 1]] - body.X[f[:, 0]], axis=1)))
+        return float(np.mean(element_measures(body.X, linear_faces(body))))
 
     return (b, a) if mean_segment(b) < mean_segment(a) else (a, b)
 
