@@ -37,6 +37,7 @@ that probe's range).
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 import tempfile
 import time
@@ -313,130 +314,104 @@ def from_case(name, **params):
     return sim.replace(t_end=min(sim.t_end, 1.0), probes={}), []
 
 
-def rows() -> list[Row]:
-    out = []
-    for method in ("mortar", "node-to-surface"):
-        tag = "" if method == "mortar" else ", NTS"
-        for frac in (0.0, 0.3, 0.7):
-            for e in (0.0, 0.5, 1.0):
-                for mu in (0.0, 0.3):
-                    if method != "mortar" and e == 1.0:
-                        continue
-                    out.append(
-                        Row(
-                            "disks",
-                            f"off {frac}R, e {e}, mu {mu}{tag}",
-                            lambda f=frac, e=e, mu=mu, m=method: two_disks(
-                                offset=0.05 * f, e=e, mu=mu, method=m
-                            ),
-                            pk=(frac == 0.3 and e == 0.5 and mu == 0.3),
-                            symmetric=frac == 0.0,
-                            free=True,
-                            quick=(frac == 0.3 and e == 0.5 and mu == 0.3 and not tag),
-                        )  # fmt: skip
-                    )
-        for courant, cells in ((1, 0.25), (4, 1), (8, 1), (8, 3)):
-            for frac in (0.0, 0.3):
-                speed = cell_speed(cells, courant)
-                out.append(
-                    Row(
-                        "fast",
-                        f"{speed:.3g} m/s, {courant} dx/c ({cells} cells), off {frac}R{tag}",
-                        lambda s=speed, c=courant, f=frac, m=method: two_disks(
-                            speed=s, courant=c, offset=0.05 * f, method=m
-                        ),
-                        symmetric=frac == 0.0,
-                        free=True,
-                        quick=(courant == 8 and cells == 3 and frac == 0.0 and not tag),
-                        pk=(courant == 8 and cells == 1 and frac == 0.3 and not tag),
-                    )  # fmt: skip
-                )
-        for radii, refs in (((0.05, 0.03), (3, 1)), ((0.08, 0.05), (2, 3)), ((0.05, 0.05), (1, 3))):
-            for e in (0.0, 0.5):
-                out.append(
-                    Row(
-                        "unequal",
-                        f"R {radii}, ref {refs}, e {e}{tag}",
-                        lambda r=radii, n=refs, e=e, m=method: two_disks(
-                            radii=r, refinements=n, e=e, method=m
-                        ),
-                        symmetric=True,
-                        free=True,
-                        quick=(refs == (1, 3) and e == 0.5 and not tag),
-                    )  # fmt: skip
-                )
+def disk_rows(method: str):
+    """Two elastic disks: head-on and off-centre, fast approach, unequal meshes."""
+    tag = "" if method == "mortar" else ", NTS"
+    for frac, e, mu in itertools.product((0.0, 0.3, 0.7), (0.0, 0.5, 1.0), (0.0, 0.3)):
+        if method != "mortar" and e == 1.0:
+            continue
+        chosen = frac == 0.3 and e == 0.5 and mu == 0.3
+        yield Row(
+            "disks", f"off {frac}R, e {e}, mu {mu}{tag}",
+            lambda f=frac, e=e, mu=mu: two_disks(offset=0.05 * f, e=e, mu=mu, method=method),
+            pk=chosen, symmetric=frac == 0.0, free=True, quick=chosen and not tag,
+        )  # fmt: skip
+    for (courant, cells), frac in itertools.product(((1, 0.25), (4, 1), (8, 1), (8, 3)), (0, 0.3)):
+        speed = cell_speed(cells, courant)
+        yield Row(
+            "fast", f"{speed:.3g} m/s, {courant} dx/c ({cells} cells), off {float(frac)}R{tag}",
+            lambda s=speed, c=courant, f=frac: two_disks(
+                speed=s, courant=c, offset=0.05 * f, method=method),
+            symmetric=frac == 0, free=True,
+            quick=(courant, cells, frac) == (8, 3, 0) and not tag,
+            pk=(courant, cells, frac) == (8, 1, 0.3) and not tag,
+        )  # fmt: skip
+    meshes = (((0.05, 0.03), (3, 1)), ((0.08, 0.05), (2, 3)), ((0.05, 0.05), (1, 3)))
+    for (radii, refs), e in itertools.product(meshes, (0.0, 0.5)):
+        yield Row(
+            "unequal", f"R {radii}, ref {refs}, e {e}{tag}",
+            lambda r=radii, n=refs, e=e: two_disks(radii=r, refinements=n, e=e, method=method),
+            symmetric=True, free=True, quick=refs == (1, 3) and e == 0.5 and not tag,
+        )  # fmt: skip
+
+
+def beam_rows():
+    """Disks on a strip from both sides, crossing strips, a strip thrown end first."""
     for side in (1, -1):
-        for x in (0.5, 0.03, 0.97):
-            for rigid in (False, True):
-                kind = "rigid" if rigid else "elastic"
-                out.append(
-                    Row(
-                        "beams",
-                        f"{kind} disk, {'above' if side > 0 else 'below'}, x {x}",
-                        lambda x=x, s=side, r=rigid: disk_on_strip(x=x, side=s, rigid=r, e=0.5),
-                        quick=(x == 0.97 and side == -1 and not rigid),
-                    )  # fmt: skip
-                )
         where = "above" if side > 0 else "below"
-        out.append(
-            Row("beams", f"elastic disk at a cantilever's free end, {where}",
-                lambda s=side: disk_on_strip(x=0.99, side=s, supports="cantilever"))
-        )  # fmt: skip
-    for angle, speed in ((14.0, 2.0), (14.0, 20.0), (40.0, 5.0)):
-        out.append(
-            Row("beams", f"strips crossing at {angle} deg, {speed} m/s",
-                lambda a=angle, s=speed: crossing_strips(a, s), quick=speed == 2.0)
-        )  # fmt: skip
-    for rigid in (True, False):
-        for speed in (2.0, 20.0):
-            out.append(
-                Row("beams", f"strip end-on at a {'rigid' if rigid else 'elastic'} disk, {speed}",
-                    lambda r=rigid, s=speed: strip_end_on_disk(rigid=r, speed=s), free=True,
-                    quick=(not rigid and speed == 2.0))
+        for x, rigid in itertools.product((0.5, 0.03, 0.97), (False, True)):
+            yield Row(
+                "beams", f"{'rigid' if rigid else 'elastic'} disk, {where}, x {x}",
+                lambda x=x, s=side, r=rigid: disk_on_strip(x=x, side=s, rigid=r, e=0.5),
+                quick=x == 0.97 and side == -1 and not rigid,
             )  # fmt: skip
+        yield Row("beams", f"elastic disk at a cantilever's free end, {where}",
+                  lambda s=side: disk_on_strip(x=0.99, side=s, supports="cantilever"))  # fmt: skip
+    for angle, speed in ((14.0, 2.0), (14.0, 20.0), (40.0, 5.0)):
+        yield Row("beams", f"strips crossing at {angle} deg, {speed} m/s",
+                  lambda a=angle, s=speed: crossing_strips(a, s), quick=speed == 2.0)  # fmt: skip
+    for rigid, speed in itertools.product((True, False), (2.0, 20.0)):
+        yield Row(
+            "beams", f"strip end-on at a {'rigid' if rigid else 'elastic'} disk, {speed}",
+            lambda r=rigid, s=speed: strip_end_on_disk(rigid=r, speed=s), free=True,
+            quick=not rigid and speed == 2.0,
+        )  # fmt: skip
+
+
+def pendulum_rows():
+    """The founding pendulum against other stops, restitutions and friction."""
     for stop in ("wall", "floor", "tilted", "peg"):
         for e, mu in ((0.0, 0.0), (0.5, 0.0), (1.0, 0.0), (0.5, 0.3), (1.0, 0.3)):
             if stop == "peg" and mu:
                 continue
-            out.append(
-                Row("pendulum", f"{stop}, e {e}, mu {mu}",
-                    lambda st=stop, e=e, mu=mu: pendulum(st, e, mu),
-                    pk=(stop == "tilted" and e == 0.5 and mu == 0.3),
-                    quick=(stop == "tilted" and e == 0.5 and mu == 0.3))
-            )  # fmt: skip
-    for e in (0.0, 0.5, 1.0):
-        for mu in (0.0, 0.3, 1.0):
-            for angle in (0.1, 0.4):
-                out.append(
-                    Row("rigid", f"rocking block, angle {angle}, e {e}, mu {mu}",
-                        lambda e=e, mu=mu, a=angle: from_case(
-                            "rocking_block", restitution=e, friction=mu, angle=a),
-                        quick=(e == 1.0 and mu == 1.0 and angle == 0.4))
-                )  # fmt: skip
-    for mu in (0.1, 1.0):
-        for v, spin in ((2.0, 0.0), (2.0, 60.0), (10.0, -200.0)):
-            out.append(
-                Row("rigid", f"rolling disk, v {v}, spin {spin}, mu {mu}",
-                    lambda mu=mu, v=v, s=spin: from_case(
-                        "rolling_disk", friction=mu, velocity=v, spin=s))
-            )  # fmt: skip
-    for knock in (0.5, 2.0):
-        for e, mu in ((0.0, 0.2), (0.5, 1.0)):
-            out.append(
-                Row("rigid", f"box stack (3D), knock {knock}, e {e}, mu {mu}",
-                    lambda k=knock, e=e, mu=mu: from_case(
-                        "box_stack", knock=k, restitution=e, friction=mu, t_end=0.6))
-            )  # fmt: skip
-    for spin in (0.0, 30.0, -30.0):
-        for e in (0.5, 1.0):
-            out.append(
-                Row("rigid", f"disk on a rough floor, e {e}, mu 0.5, spin {spin}",
-                    lambda s=spin, e=e: rigid_drop(spin=s, e=e), quick=(spin == 30.0 and e == 1.0))
-            )  # fmt: skip
+            chosen = stop == "tilted" and e == 0.5 and mu == 0.3
+            yield Row("pendulum", f"{stop}, e {e}, mu {mu}",
+                      lambda st=stop, e=e, mu=mu: pendulum(st, e, mu),
+                      pk=chosen, quick=chosen)  # fmt: skip
+
+
+def rigid_rows():
+    """Rigid bodies: the rocking block, the rolling disk, the box stack, oblique strikes."""
+    for e, mu, angle in itertools.product((0.0, 0.5, 1.0), (0.0, 0.3, 1.0), (0.1, 0.4)):
+        yield Row(
+            "rigid", f"rocking block, angle {angle}, e {e}, mu {mu}",
+            lambda e=e, mu=mu, a=angle: from_case(
+                "rocking_block", restitution=e, friction=mu, angle=a),
+            quick=(e, mu, angle) == (1.0, 1.0, 0.4),
+        )  # fmt: skip
+    for mu, (v, spin) in itertools.product((0.1, 1.0), ((2.0, 0.0), (2.0, 60.0), (10.0, -200.0))):
+        yield Row("rigid", f"rolling disk, v {v}, spin {spin}, mu {mu}",
+                  lambda mu=mu, v=v, s=spin: from_case(
+                      "rolling_disk", friction=mu, velocity=v, spin=s))  # fmt: skip
+    for knock, (e, mu) in itertools.product((0.5, 2.0), ((0.0, 0.2), (0.5, 1.0))):
+        yield Row("rigid", f"box stack (3D), knock {knock}, e {e}, mu {mu}",
+                  lambda k=knock, e=e, mu=mu: from_case(
+                      "box_stack", knock=k, restitution=e, friction=mu, t_end=0.6))  # fmt: skip
+    for spin, e in itertools.product((0.0, 30.0, -30.0), (0.5, 1.0)):
+        yield Row("rigid", f"disk on a rough floor, e {e}, mu 0.5, spin {spin}",
+                  lambda s=spin, e=e: rigid_drop(spin=s, e=e),
+                  quick=spin == 30.0 and e == 1.0)  # fmt: skip
     for offset in (0.05, 0.15):
-        out.append(Row("rigid", f"two rigid disks, e 1, mu 0.5, offset {offset} m",
-                       lambda o=offset: rigid_disks(offset=o), free=True))  # fmt: skip
-    return out
+        yield Row("rigid", f"two rigid disks, e 1, mu 0.5, offset {offset} m",
+                  lambda o=offset: rigid_disks(offset=o), free=True)  # fmt: skip
+
+
+def rows() -> list[Row]:
+    """Every row of the sweep, in the order of the table."""
+    return [
+        *disk_rows("mortar"), *disk_rows("node-to-surface"), *beam_rows(), *pendulum_rows(),
+        *rigid_rows(),
+    ]  # fmt: skip
 
 
 # -- running a row -------------------------------------------------------------------------------
@@ -502,13 +477,7 @@ def measure(row: Row) -> dict:
         "message": message or (s.get("warnings") or [""])[0][:120],
     }
     if row.free and "px" in h:
-        p = np.stack([h["px"], h["py"]])
-        out["momentum_drift"] = float(np.max(np.abs(p - p[:, :1]))) / h["psum"][0]
-        if row.group in ("disks", "fast", "unequal"):  # the impact speed is the left disk's vx
-            v = float(sim.v0[model_first_vx(sim)])
-            if row.symmetric:
-                lat = max(float(np.max(np.abs(h[k]))) for k in ("vy0", "vy1"))
-                out["lateral_rel"] = lat / abs(v)
+        out.update(free_pair_measures(row, sim, h))
     if row.pk:
         out["pk_change"] = pk_change(sim, watch, h)
     if out["created_rel"] > 1e-3 and not sim.model.continuum:
@@ -520,8 +489,16 @@ def measure(row: Row) -> dict:
     return out
 
 
-def model_first_vx(sim):
-    return sim.model.body_slice(0).start  # the first dof of the first body: a node's x
+def free_pair_measures(row: Row, sim, h) -> dict:
+    """The drift of the total momentum over the sum of the bodies' momentum norms, and for
+    mirror-symmetric disks the largest lateral speed of either over the impact speed (the
+    first dof of the left disk: a node's x-velocity)."""
+    p = np.stack([h["px"], h["py"]])
+    out = {"momentum_drift": float(np.max(np.abs(p - p[:, :1]))) / h["psum"][0]}
+    if row.symmetric and row.group in ("disks", "fast", "unequal"):
+        v = float(sim.v0[sim.model.body_slice(0).start])
+        out["lateral_rel"] = max(float(np.max(np.abs(h[k]))) for k in ("vy0", "vy1")) / abs(v)
+    return out
 
 
 def pk_change(sim, watch, h):
