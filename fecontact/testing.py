@@ -190,7 +190,8 @@ def pendulum_exact(t, e=0.5, length=1.0, g=G, n_impacts=60):
 
 def pressed_blocks(n_lower: int, n_upper: int, p: float, method="mortar", small=True):
     """The contact patch test: two blocks [0, 1] × [0, 0.5] and [0, 1] × [0.5, 1] (m) with
-    ``n_lower`` and ``n_upper`` cells along x (non-matching meshes), the upper (slave) one
+    ``n_lower`` and ``n_upper`` cells along x (non-matching meshes; the finer one is the
+    mortar slave), the upper one
     three times stiffer, pressed by a uniform pressure p (Pa) on its top; the lower one
     rests on rollers at y = 0, both on rollers at x = 0; ``method`` of the contact, ``small``
     displacements or not (:func:`fecontact.statics.solve_static_contact`). Returns (the

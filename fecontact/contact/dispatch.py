@@ -7,7 +7,7 @@ from ..bodies.beam3d import Beam3D
 from ..bodies.rigid3d import RigidBody3D
 from ..bodies.solid import Solid
 from ..errors import InputError, check_positive
-from .mortar import MortarContact
+from .mortar import MortarContact, finer_first
 from .mortar3d import MortarContact3D
 from .mortar_beam3d import MortarBeam3D
 from .mortar_p2_segments import MortarContactP2
@@ -52,7 +52,8 @@ def Contact(
     end-to-end beam pair takes it.
 
     ``method`` chooses the discretization of a contact between two solids: ``"mortar"`` (the
-    default, None: dual mortar, weighted gaps integrated over the first body's boundary,
+    default, None: dual mortar, weighted gaps integrated over the first body's boundary in
+    3D, in 2D over the finer of the two boundaries (the first where they are alike),
     :mod:`fecontact.contact.mortar` in 2D, on the quadratic segments themselves between two
     P2 solids, :mod:`fecontact.contact.mortar_p2_segments`; :mod:`fecontact.contact.mortar3d`
     in 3D, P2 faces split into flat triangles (``MortarContact3DP2`` of
@@ -140,6 +141,7 @@ def _mortar(body, obstacle, nodes, restitution, clearance, solids: bool, method)
         )
     if body.dim == 3:
         return MortarContact3D(body, obstacle, restitution)
+    body, obstacle = finer_first(body, obstacle)  # the finer boundary carries the gaps
     if body.element == obstacle.element == "P2":  # the curved faces themselves
         return MortarContactP2(body, obstacle, restitution)
     return MortarContact(body, obstacle, restitution)

@@ -1,7 +1,8 @@
 r"""Mortar (segment-to-segment) contact between two deformable solids, 2D.
 
 The form chosen: dual mortar with weighted gaps (Wohlmuth 2000; Popp, Gee & Wall, IJNME 2009).
-The slave body's boundary (the first body) carries one multiplier per node, interpolated by
+The slave body's boundary (the one with the shorter segments, :func:`finer_first`; the first
+body where they are alike) carries one multiplier per node, interpolated by
 dual shape functions Φ_j, biorthogonal to the nodal shape functions N_j; the constraint of node
 j is its weighted gap
 
@@ -61,10 +62,25 @@ from scipy.spatial import cKDTree
 from ..errors import InputError
 from .dual_numbers import Jet
 from .mortar_duals import CLAMPED, FOREIGN, covered_ends, dual_coefficients
-from .mortar_interface import MortarInterface
+from .mortar_interface import MortarInterface, element_measures, linear_faces
 from .mortar_segments import GAUSS_POINTS, segment_pair_integrals
 
-__all__ = ["MortarContact"]
+__all__ = ["MortarContact", "finer_first"]
+
+
+def finer_first(a, b):
+    """(slave, master) of two 2D solids: the one whose boundary segments are shorter on
+    average first, ``a`` where they are alike. The weighted gaps integrate the master's
+    distance over the slave's segments with the slave's dual functions: from the coarser
+    side a vertex reads less than its distance to the finer boundary's curvature (two disks
+    of 8 and 5 cm, 20 mm against 6.2 mm segments, 2 mm apart: −0.63 mm), from the finer
+    side its distance (1.96 mm). Mortar methods put the multipliers on the finer side
+    (Wohlmuth 2000)."""
+
+    def mean_segment(body):
+        return float(np.mean(element_measures(body.X, linear_faces(body))))
+
+    return (b, a) if mean_segment(b) < mean_segment(a) else (a, b)
 
 
 def _neighbours(facets: np.ndarray):

@@ -240,7 +240,9 @@ class DiskBeamContact(_Pair):
         x = beam.positions(np.zeros(beam.ndof))
         xi, dist, f = self._project(disk.position, x)
         e = int(np.argmin(dist))
-        if f[e] == 0.0:
+        # on the centreline itself no side can be told; on its line beyond an end the gap is
+        # the distance to the end node, whatever the side
+        if f[e] == 0.0 and 0.0 < xi[e] < 1.0:
             raise InputError("the disk centre lies on the beam centreline at t = 0")
         self._start = None  # line coordinates (t₀, f₀) of the centre at the step's start
 
