@@ -39,7 +39,20 @@ convex, so the sharper bound of the rigid pair does not hold.)
 
 What the rows do not hold one by one: a slave node may sit inside the tube by the
 discretization's own amount; the pair's watch measures every slave node's exact distance.
-No friction: a frictional pair between a solid and a beam is node-to-surface.
+
+Friction: one slip row per slave node, the node's motion against the beam's material point at
+its place, c_j T_j·(ẋ_j − ẏ_j) with ẏ_j = ṗ_j + ω_j × (x_j − p_j): p_j = (1 − ξ)a + ξb the
+node's closest point on the centreline (ξ clamped), ω_j = (1 − ξ) R_a Ω_a + ξ R_b Ω_b the
+sections' spatial angular velocity (Ω body-frame: a rolling rod turns its contact point).
+T_j are the tangents of the solid's own outward normal ν_j at the node (its triangles'
+area-weighted normals), and c_j = max(0, ν_j·N_j) with N_j = Σ_beam ∂g_j/∂x_b the force the
+row puts on the beam per unit multiplier: Coulomb's bound μλ_j then acts on the row's load
+along the surface's normal, λ_j ν_j·N_j. Why not the row's own normal N_j: a node beside the
+line where a tube touches a flat face sees the tube's normal tilted by its offset, and the
+rows either side squeeze the tube sideways in opposite directions; their multipliers carry
+that squeeze (Σλ_j exceeds the load), and their tilted tangent planes read the normal motion
+ahead of a rolling tube as slip. Resolved on ν_j, Σ λ_j c_j is the load on a flat face
+exactly, and a tube rolling on it has no slip at any row.
 """
 
 from __future__ import annotations
@@ -50,7 +63,9 @@ import scipy.sparse as sp
 from ..bodies.beam3d import Beam3D
 from ..bodies.solid import Solid
 from ..errors import InputError, check_positive
+from ..rotations import exp, hat
 from .boundary_mortar import BoundaryRows
+from .friction import tangent_basis
 from .mortar_rigid3d import NodeDepths
 from .polyline_distance import closest_on_polyline, region_labels, straight_runs
 from .rigid_distance import SUBDIVISIONS
@@ -91,7 +106,7 @@ class MortarBeam3D(BoundaryRows):
     (default: the integrator's detection distance); ``subdivisions`` (s ≥ 1) the sub-triangles
     per edge of a triangle across a region boundary of the centreline."""
 
-    frictional = False
+    frictional = True
 
     def __init__(self, body, beam, restitution=0.0, clearance=0.0, margin=None,
                  subdivisions: int = SUBDIVISIONS):  # fmt: skip
@@ -231,7 +246,68 @@ class MortarBeam3D(BoundaryRows):
         vals = scale[g, end, None, None] * groups[3][g, end]
         return np.bincount(at.ravel(), vals.ravel(), len(rows) * k * k).reshape(len(rows), k, k)
 
+    # -- friction ---------------------------------------------------------------------------
+    def _slip_frame(self, q: np.ndarray):
+        """Per row: the segment's node indices (m, 2), ξ clamped (m,), the arm x_j − p_j (m, 3),
+        the scaled tangents c_j T_j (m, 2, 3) and the unit tangents T_j (module docstring)."""
+        x, ends = self._frame(q)
+        xj = x[self.nodes]
+        seg, xi, _ = closest_on_polyline(xj, ends)
+        t = np.clip(xi, 0.0, 1.0)
+        arm = xj - (1.0 - t)[:, None] * ends[seg, 0] - t[:, None] * ends[seg, 1]
+        G = self.evaluate(q)[2]
+        N = G[:, self._beam_col0 :].reshape(self.size, -1, 3).sum(axis=1)
+        nu = outward_normals(x, self.facets, self.element_rows, self.size)
+        c = np.maximum(np.einsum("mi,mi->m", nu, N), 0.0)
+        T = tangent_basis(nu)
+        return self.segments[seg], t, arm, c[:, None, None] * T, T
+
+    def tangents(self, q: np.ndarray):
+        """Slip rows: dofs (m, 15), the node's translation and the 6 dofs of each of its
+        segment's two beam nodes; c_j T_j ∂(x_j − y_j)/∂ (m, 2, 15); unit tangents T_j."""
+        nodes, t, arm, cT, T = self._slip_frame(q)
+        ob = self.offsets[1]
+        R = exp(q[ob : ob + self.beam.ndof].reshape(-1, 6)[:, 3:])[nodes]  # (m, 2, 3, 3)
+        W = np.empty((self.size, 2, 15))
+        W[:, :, :3] = cT
+        turn = np.einsum("mti,mij->mtj", cT, hat(arm))  # ∂(−ω × arm) = hat(arm) δω
+        for k, s in enumerate((1.0 - t, t)):
+            W[:, :, 3 + 6 * k : 6 + 6 * k] = -s[:, None, None] * cT
+            W[:, :, 6 + 6 * k : 9 + 6 * k] = s[:, None, None] * turn @ R[:, k]
+        beam = ob + 6 * nodes[:, :, None] + np.arange(6)
+        dofs = np.concatenate([self.offsets[0] + self._node_dofs, beam.reshape(-1, 12)], 1)
+        return dofs, W, T
+
+    def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
+        """c_j T_j·(y_j,n − x_j,n) over the step: where the beam's material point now at x_j
+        was at q_n, p_n + Σ_k s_k R_k,n R_kᵀ (x_j − p_j) (s = (1 − ξ, ξ), the same segment and
+        ξ), against where the node was (exact for a rigid turn of the segment; the linear form
+        on the rotation vectors is not)."""
+        nodes, t, arm, cT, _ = self._slip_frame(q)
+        ob = self.offsets[1]
+        R = exp(q[ob : ob + self.beam.ndof].reshape(-1, 6)[:, 3:])[nodes]
+        qn = q_n[ob : ob + self.beam.ndof].reshape(-1, 6)
+        Rn, pn = exp(qn[:, 3:])[nodes], self.beam.X[nodes] + qn[nodes, :3]  # (m, 2, ...)
+        y = np.zeros((self.size, 3))
+        for k, s in enumerate((1.0 - t, t)):
+            back = np.einsum("mji,mj->mi", R[:, k], arm)  # R_kᵀ arm
+            y += s[:, None] * (pn[:, k] + np.einsum("mij,mj->mi", Rn[:, k], back))
+        oa, body = self.offsets[0], self.body
+        xn = body.positions(q_n[oa : oa + body.ndof])[self.nodes]
+        return np.einsum("mti,mi->mt", cT, y - xn)
+
     # -- what the rows do not hold ----------------------------------------------------------
     def watch(self) -> NodeDepths:
         """The deepest slave node inside the tube, by its exact distance to the centreline."""
         return NodeDepths(self)
+
+
+def outward_normals(x: np.ndarray, facets: np.ndarray, rows: np.ndarray, m: int) -> np.ndarray:
+    """Unit outward normals (m, 3) of a boundary's nodes at positions x: the sums of their
+    triangles' area vectors (``facets`` (T, 3) outward, ``rows`` (T, 3) their nodes' rows)."""
+    t = x[facets]
+    area = np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
+    nu = np.zeros((m, 3))
+    for k in range(3):
+        np.add.at(nu, rows[:, k], area)
+    return nu / np.linalg.norm(nu, axis=1)[:, None]
