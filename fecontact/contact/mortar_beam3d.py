@@ -44,8 +44,10 @@ Friction: one slip row per slave node, the node's motion against the beam's mate
 its place, c_j T_j·(ẋ_j − ẏ_j) with ẏ_j = ṗ_j + ω_j × (x_j − p_j): p_j = (1 − ξ)a + ξb the
 node's closest point on the centreline (ξ clamped), ω_j = (1 − ξ) R_a Ω_a + ξ R_b Ω_b the
 sections' spatial angular velocity (Ω body-frame: a rolling rod turns its contact point).
-T_j are the tangents of the solid's own outward normal ν_j at the node (its triangles'
-area-weighted normals), and c_j = max(0, ν_j·N_j) with N_j = Σ_beam ∂g_j/∂x_b the force the
+T_j are the tangents of the solid's own outward normal ν_j at the node (the area-weighted
+normal of its triangles on the face toward the tube, :func:`facing_normals`, turned across
+the segment's axis where the node's closest point is inside a segment, :func:`across_axis`),
+and c_j = max(0, ν_j·N_j) with N_j = Σ_beam ∂g_j/∂x_b the force the
 row puts on the beam per unit multiplier: Coulomb's bound μλ_j then acts on the row's load
 along the surface's normal, λ_j ν_j·N_j. Why not the row's own normal N_j: a node beside the
 line where a tube touches a flat face sees the tube's normal tilted by its offset, and the
@@ -122,6 +124,7 @@ class MortarBeam3D(BoundaryRows):
         self._beam_col0 = 3 * self.star.shape[1]
         self._node_dofs = body.node_translation_dofs(self.nodes)
         self._beam_dofs = beam.node_translation_dofs(np.arange(beam.n_nodes))
+        self._row_tris = row_triangles(self.element_rows, self.size)
         self.offsets = (0, 0)
         self.dofs = np.zeros((len(self.nodes), self._beam_col0 + self._beam_dofs.size), int)
 
@@ -257,7 +260,7 @@ class MortarBeam3D(BoundaryRows):
         arm = xj - (1.0 - t)[:, None] * ends[seg, 0] - t[:, None] * ends[seg, 1]
         G = self.evaluate(q)[2]
         N = G[:, self._beam_col0 :].reshape(self.size, -1, 3).sum(axis=1)
-        nu = outward_normals(x, self.facets, self.element_rows, self.size)
+        nu = across_axis(facing_normals(x, self.facets, self._row_tris, N), ends[seg], xi)
         c = np.maximum(np.einsum("mi,mi->m", nu, N), 0.0)
         T = tangent_basis(nu)
         return self.segments[seg], t, arm, c[:, None, None] * T, T
@@ -302,12 +305,51 @@ class MortarBeam3D(BoundaryRows):
         return NodeDepths(self)
 
 
-def outward_normals(x: np.ndarray, facets: np.ndarray, rows: np.ndarray, m: int) -> np.ndarray:
-    """Unit outward normals (m, 3) of a boundary's nodes at positions x: the sums of their
-    triangles' area vectors (``facets`` (T, 3) outward, ``rows`` (T, 3) their nodes' rows)."""
+FACE = np.cos(np.pi / 4)
+"""Triangles of a node whose normals lie within 45° of its triangle facing the tube most
+squarely count as that node's face: at a box's edge the side face (90° away) is left out."""
+
+
+def across_axis(nu: np.ndarray, ends: np.ndarray, xi: np.ndarray) -> np.ndarray:
+    """The normals ν (m, 3) of the nodes whose closest point lies inside their segment
+    (0 < ξ < 1; ``ends`` (m, 2, 3) the segments) turned into the plane across its axis e:
+    ν − (ν·e)e, normalised. A tube touches a face along a line only where the face contains
+    the axis' direction; a face tilted along the axis (a block pitched by its load) touches
+    it in the tube's own normal, across the axis. At an end cap (a sphere's field) ν is
+    kept, as where ν lies along the axis."""
+    e = ends[:, 1] - ends[:, 0]
+    e /= np.linalg.norm(e, axis=1)[:, None]
+    across = nu - np.einsum("mi,mi->m", nu, e)[:, None] * e
+    size = np.linalg.norm(across, axis=1)
+    turn = (xi > 0.0) & (xi < 1.0) & (size > 1e-6)
+    nu = nu.copy()
+    nu[turn] = across[turn] / size[turn, None]
+    return nu
+
+
+def row_triangles(rows: np.ndarray, m: int) -> np.ndarray:
+    """The triangles (m, K) of each of m rows, −1 padded (``rows`` (T, 3) the triangles'
+    rows)."""
+    r = rows.ravel()
+    order = np.argsort(r, kind="stable")
+    count = np.bincount(r, minlength=m)
+    start = np.concatenate([[0], np.cumsum(count)[:-1]])
+    table = np.full((m, int(count.max())), -1)
+    table[r[order], np.arange(len(r)) - start[r[order]]] = order // 3
+    return table
+
+
+def facing_normals(x, facets, row_tris, N) -> np.ndarray:
+    """Unit outward normals (m, 3) of the slave nodes' faces toward the tube: over each node's
+    triangles ``row_tris`` (m, K; −1 pads) at positions x, the area-weighted normal of those
+    within ``FACE`` of the one most along N (m, 3), the row's force on the beam."""
     t = x[facets]
     area = np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
-    nu = np.zeros((m, 3))
-    for k in range(3):
-        np.add.at(nu, rows[:, k], area)
+    unit = area / np.linalg.norm(area, axis=1)[:, None]
+    real = row_tris >= 0
+    a, n = area[row_tris] * real[..., None], unit[row_tris] * real[..., None]
+    score = np.where(real, np.einsum("mki,mi->mk", n, N), -np.inf)
+    best = n[np.arange(len(N)), np.argmax(score, axis=1)]
+    keep = real & (np.einsum("mki,mi->mk", n, best) >= FACE)
+    nu = np.einsum("mk,mki->mi", keep.astype(float), a)
     return nu / np.linalg.norm(nu, axis=1)[:, None]
