@@ -218,8 +218,8 @@ def test_an_oblique_frictional_rod_drop_creates_no_energy_and_is_independent_of_
 ):
     """Impacts and persistent contact with friction, sticking and slipping rows: completed
     without halving, the ledger's ``created`` ≤ 1e-3 of ``scale`` (measured 0; friction
-    dissipates 10 % of the scale); p × 1000 and k / 100 change
-    the trajectory by round-off (bound 1e-8 of r; measured 4.1e-10 and 2.9e-14 of it)."""
+    dissipates 10 % of the scale); p × 1000 and k / 100 change the trajectory by round-off
+    (bound 1e-8 of r; measured 4.1e-10 and 2.9e-14 of it)."""
     summary = oblique_drop(out=tmp_path, t_end=0.006)
     assert summary["status"] == "completed" and summary["step_halvings"] == 0
     ledger = summary["energy_ledger"]

@@ -44,17 +44,14 @@ Friction: one slip row per slave node, the node's motion against the beam's mate
 its place, c_j T_j·(ẋ_j − ẏ_j) with ẏ_j = ṗ_j + ω_j × (x_j − p_j): p_j = (1 − ξ)a + ξb the
 node's closest point on the centreline (ξ clamped), ω_j = (1 − ξ) R_a Ω_a + ξ R_b Ω_b the
 sections' spatial angular velocity (Ω body-frame: a rolling rod turns its contact point).
-T_j are the tangents of the solid's own outward normal ν_j at the node (the area-weighted
-normal of its triangles on the face toward the tube, :func:`facing_normals`, turned across
-the segment's axis where the node's closest point is inside a segment, :func:`across_axis`),
-and c_j = max(0, ν_j·N_j) with N_j = Σ_beam ∂g_j/∂x_b the force the
-row puts on the beam per unit multiplier: Coulomb's bound μλ_j then acts on the row's load
-along the surface's normal, λ_j ν_j·N_j. Why not the row's own normal N_j: a node beside the
-line where a tube touches a flat face sees the tube's normal tilted by its offset, and the
-rows either side squeeze the tube sideways in opposite directions; their multipliers carry
-that squeeze (Σλ_j exceeds the load), and their tilted tangent planes read the normal motion
-ahead of a rolling tube as slip. Resolved on ν_j, Σ λ_j c_j is the load on a flat face
-exactly, and a tube rolling on it has no slip at any row.
+T_j are the tangents of ν_j, the solid's outward normal at the node on its face toward the
+tube (:func:`facing_normals`), turned across the segment's axis where the node's closest
+point is inside a segment (:func:`across_axis`); c_j = max(0, ν_j·N_j), N_j = Σ_beam ∂g_j/∂x_b
+the force the row puts on the beam per unit multiplier, so that Coulomb's bound μλ_j acts on
+the row's load along that normal. Not the row's own normal N_j: beside the line where a tube
+touches a face it is tilted by the node's offset, the rows either side squeezing the tube
+sideways, so that Σλ_j exceeds the load and the tilted tangents read the normal motion ahead
+of a rolling tube as slip (measured in the docs page ``explanation/mortar_beam3d``).
 """
 
 from __future__ import annotations
