@@ -124,8 +124,8 @@ def test_rows_are_the_nodes_own_distances_where_the_distance_is_linear():
 
 def test_mortar_is_the_default_and_the_options_are_checked_by_name():
     """Mortar for a 3D solid and a Beam3D named either way; ``method="node-to-surface"``
-    keeps the beam's nodes against the boundary (either way); ``nodes``, no radius, friction
-    and bad options refused with the parameter's name before any work."""
+    keeps the beam's nodes against the boundary (either way); ``nodes``, no radius and bad
+    options refused with the parameter's name before any work; friction taken."""
     block = Solid.box([-0.1, -0.1, -0.05], [0.1, 0.1, 0.0], (2, 2, 1), RUBBER)
     bar = Beam3D.straight([-0.05, 0.0, 0.02], [0.05, 0.0, 0.02], 2, STEEL, Section.circle(R))
     for a, b in ((block, bar), (bar, block)):
@@ -136,8 +136,7 @@ def test_mortar_is_the_default_and_the_options_are_checked_by_name():
         Contact(block, bar, nodes=[0], clearance=R)
     with pytest.raises(InputError, match="clearance"):
         Contact(block, bar)
-    with pytest.raises(InputError, match="friction"):
-        Contact(block, bar, clearance=R, friction=0.3)
+    assert Contact(block, bar, clearance=R, friction=0.3).friction == 0.3
     with pytest.raises(InputError, match="subdivisions"):
         MortarBeam3D(block, bar, clearance=R, subdivisions=0)
     with pytest.raises(InputError, match="restitution"):

@@ -39,7 +39,19 @@ convex, so the sharper bound of the rigid pair does not hold.)
 
 What the rows do not hold one by one: a slave node may sit inside the tube by the
 discretization's own amount; the pair's watch measures every slave node's exact distance.
-No friction: a frictional pair between a solid and a beam is node-to-surface.
+
+Friction: one slip row per slave node, the node's motion against the beam's material point at
+its place, c_j T_j·(ẋ_j − ẏ_j) with ẏ_j = ṗ_j + ω_j × (x_j − p_j): p_j = (1 − ξ)a + ξb the
+node's closest point on the centreline (ξ clamped), ω_j = (1 − ξ) R_a Ω_a + ξ R_b Ω_b the
+sections' spatial angular velocity (Ω body-frame: a rolling rod turns its contact point).
+T_j are the tangents of ν_j, the solid's outward normal at the node on its face toward the
+tube (:func:`facing_normals`), turned across the segment's axis where the node's closest
+point is inside a segment (:func:`across_axis`); c_j = max(0, ν_j·N_j), N_j = Σ_beam ∂g_j/∂x_b
+the force the row puts on the beam per unit multiplier, so that Coulomb's bound μλ_j acts on
+the row's load along that normal. Not the row's own normal N_j: beside the line where a tube
+touches a face it is tilted by the node's offset, the rows either side squeezing the tube
+sideways, so that Σλ_j exceeds the load and the tilted tangents read the normal motion ahead
+of a rolling tube as slip (measured in the docs page ``explanation/mortar_beam3d``).
 """
 
 from __future__ import annotations
@@ -50,7 +62,9 @@ import scipy.sparse as sp
 from ..bodies.beam3d import Beam3D
 from ..bodies.solid import Solid
 from ..errors import InputError, check_positive
+from ..rotations import exp, hat
 from .boundary_mortar import BoundaryRows
+from .friction import tangent_basis
 from .mortar_rigid3d import NodeDepths
 from .polyline_distance import closest_on_polyline, region_labels, straight_runs
 from .rigid_distance import SUBDIVISIONS
@@ -91,7 +105,7 @@ class MortarBeam3D(BoundaryRows):
     (default: the integrator's detection distance); ``subdivisions`` (s ≥ 1) the sub-triangles
     per edge of a triangle across a region boundary of the centreline."""
 
-    frictional = False
+    frictional = True
 
     def __init__(self, body, beam, restitution=0.0, clearance=0.0, margin=None,
                  subdivisions: int = SUBDIVISIONS):  # fmt: skip
@@ -107,6 +121,7 @@ class MortarBeam3D(BoundaryRows):
         self._beam_col0 = 3 * self.star.shape[1]
         self._node_dofs = body.node_translation_dofs(self.nodes)
         self._beam_dofs = beam.node_translation_dofs(np.arange(beam.n_nodes))
+        self._row_tris = row_triangles(self.element_rows, self.size)
         self.offsets = (0, 0)
         self.dofs = np.zeros((len(self.nodes), self._beam_col0 + self._beam_dofs.size), int)
 
@@ -231,7 +246,107 @@ class MortarBeam3D(BoundaryRows):
         vals = scale[g, end, None, None] * groups[3][g, end]
         return np.bincount(at.ravel(), vals.ravel(), len(rows) * k * k).reshape(len(rows), k, k)
 
+    # -- friction ---------------------------------------------------------------------------
+    def _slip_frame(self, q: np.ndarray):
+        """Per row: the segment's node indices (m, 2), ξ clamped (m,), the arm x_j − p_j (m, 3),
+        the scaled tangents c_j T_j (m, 2, 3) and the unit tangents T_j (module docstring)."""
+        x, ends = self._frame(q)
+        xj = x[self.nodes]
+        seg, xi, _ = closest_on_polyline(xj, ends)
+        t = np.clip(xi, 0.0, 1.0)
+        arm = xj - (1.0 - t)[:, None] * ends[seg, 0] - t[:, None] * ends[seg, 1]
+        G = self.evaluate(q)[2]
+        N = G[:, self._beam_col0 :].reshape(self.size, -1, 3).sum(axis=1)
+        nu = across_axis(facing_normals(x, self.facets, self._row_tris, N), ends[seg], xi)
+        c = np.maximum(np.einsum("mi,mi->m", nu, N), 0.0)
+        T = tangent_basis(nu)
+        return self.segments[seg], t, arm, c[:, None, None] * T, T
+
+    def tangents(self, q: np.ndarray):
+        """Slip rows: dofs (m, 15), the node's translation and the 6 dofs of each of its
+        segment's two beam nodes; c_j T_j ∂(x_j − y_j)/∂ (m, 2, 15); unit tangents T_j."""
+        nodes, t, arm, cT, T = self._slip_frame(q)
+        ob = self.offsets[1]
+        R = exp(q[ob : ob + self.beam.ndof].reshape(-1, 6)[:, 3:])[nodes]  # (m, 2, 3, 3)
+        W = np.empty((self.size, 2, 15))
+        W[:, :, :3] = cT
+        turn = np.einsum("mti,mij->mtj", cT, hat(arm))  # ∂(−ω × arm) = hat(arm) δω
+        for k, s in enumerate((1.0 - t, t)):
+            W[:, :, 3 + 6 * k : 6 + 6 * k] = -s[:, None, None] * cT
+            W[:, :, 6 + 6 * k : 9 + 6 * k] = s[:, None, None] * turn @ R[:, k]
+        beam = ob + 6 * nodes[:, :, None] + np.arange(6)
+        dofs = np.concatenate([self.offsets[0] + self._node_dofs, beam.reshape(-1, 12)], 1)
+        return dofs, W, T
+
+    def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
+        """c_j T_j·(y_j,n − x_j,n) over the step: where the beam's material point now at x_j
+        was at q_n, p_n + Σ_k s_k R_k,n R_kᵀ (x_j − p_j) (s = (1 − ξ, ξ), the same segment and
+        ξ), against where the node was (exact for a rigid turn of the segment; the linear form
+        on the rotation vectors is not)."""
+        nodes, t, arm, cT, _ = self._slip_frame(q)
+        ob = self.offsets[1]
+        R = exp(q[ob : ob + self.beam.ndof].reshape(-1, 6)[:, 3:])[nodes]
+        qn = q_n[ob : ob + self.beam.ndof].reshape(-1, 6)
+        Rn, pn = exp(qn[:, 3:])[nodes], self.beam.X[nodes] + qn[nodes, :3]  # (m, 2, ...)
+        y = np.zeros((self.size, 3))
+        for k, s in enumerate((1.0 - t, t)):
+            back = np.einsum("mji,mj->mi", R[:, k], arm)  # R_kᵀ arm
+            y += s[:, None] * (pn[:, k] + np.einsum("mij,mj->mi", Rn[:, k], back))
+        oa, body = self.offsets[0], self.body
+        xn = body.positions(q_n[oa : oa + body.ndof])[self.nodes]
+        return np.einsum("mti,mi->mt", cT, y - xn)
+
     # -- what the rows do not hold ----------------------------------------------------------
     def watch(self) -> NodeDepths:
         """The deepest slave node inside the tube, by its exact distance to the centreline."""
         return NodeDepths(self)
+
+
+FACE = np.cos(np.pi / 4)
+"""Triangles of a node whose normals lie within 45° of its triangle facing the tube most
+squarely count as that node's face: at a box's edge the side face (90° away) is left out."""
+
+
+def across_axis(nu: np.ndarray, ends: np.ndarray, xi: np.ndarray) -> np.ndarray:
+    """The normals ν (m, 3) of the nodes whose closest point lies inside their segment
+    (0 < ξ < 1; ``ends`` (m, 2, 3) the segments) turned into the plane across its axis e:
+    ν − (ν·e)e, normalised. A tube touches a face along a line only where the face contains
+    the axis' direction; a face tilted along the axis (a block pitched by its load) touches
+    it in the tube's own normal, across the axis. At an end cap (a sphere's field) ν is
+    kept, as where ν lies along the axis."""
+    e = ends[:, 1] - ends[:, 0]
+    e /= np.linalg.norm(e, axis=1)[:, None]
+    across = nu - np.einsum("mi,mi->m", nu, e)[:, None] * e
+    size = np.linalg.norm(across, axis=1)
+    turn = (xi > 0.0) & (xi < 1.0) & (size > 1e-6)
+    nu = nu.copy()
+    nu[turn] = across[turn] / size[turn, None]
+    return nu
+
+
+def row_triangles(rows: np.ndarray, m: int) -> np.ndarray:
+    """The triangles (m, K) of each of m rows, −1 padded (``rows`` (T, 3) the triangles'
+    rows)."""
+    r = rows.ravel()
+    order = np.argsort(r, kind="stable")
+    count = np.bincount(r, minlength=m)
+    start = np.concatenate([[0], np.cumsum(count)[:-1]])
+    table = np.full((m, int(count.max())), -1)
+    table[r[order], np.arange(len(r)) - start[r[order]]] = order // 3
+    return table
+
+
+def facing_normals(x, facets, row_tris, N) -> np.ndarray:
+    """Unit outward normals (m, 3) of the slave nodes' faces toward the tube: over each node's
+    triangles ``row_tris`` (m, K; −1 pads) at positions x, the area-weighted normal of those
+    within ``FACE`` of the one most along N (m, 3), the row's force on the beam."""
+    t = x[facets]
+    area = np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
+    unit = area / np.linalg.norm(area, axis=1)[:, None]
+    real = row_tris >= 0
+    a, n = area[row_tris] * real[..., None], unit[row_tris] * real[..., None]
+    score = np.where(real, np.einsum("mki,mi->mk", n, N), -np.inf)
+    best = n[np.arange(len(N)), np.argmax(score, axis=1)]
+    keep = real & (np.einsum("mki,mi->mk", n, best) >= FACE)
+    nu = np.einsum("mk,mki->mi", keep.astype(float), a)
+    return nu / np.linalg.norm(nu, axis=1)[:, None]

@@ -1,0 +1,232 @@
+"""Coulomb friction on the dual mortar pair of a 3D solid and a Beam3D's tube
+(fecontact.contact.mortar_beam3d): the slip rows against central differences of the exact
+slips, rows resolved on the solid's normal."""
+
+import numpy as np
+import pytest
+from test_mortar_beam3d import RUBBER, STEEL, R, bent_rod_on_block
+
+from fecontact import Model, Solid, simulate
+from fecontact.bodies import Beam3D, LinearElastic, Section
+from fecontact.contact import Contact
+from fecontact.simulation import Simulation, run
+from fecontact.testing import moved_on_group
+from fecontact.time.settings import IntegratorOptions
+
+G = 9.81
+
+
+def test_slip_rows_are_the_derivatives_of_the_exact_slips():
+    """G_T d against central differences of the exact slips from q to q moved by ±εd on the
+    group (every dof: the block's nodes, the beam's translations and its rotations composed
+    on the right): the difference is the central rule's O(ε²) (measured 3.4e-6, 3.4e-8,
+    3.4e-10 at ε = 1e-5, 1e-6, 1e-7 against rows of 1.8), and the slip rows act on the
+    beam's rotations (a turning section moves the material point under a node, by its arm
+    of about r: measured 0.84 r)."""
+    pair, model, q = bent_rod_on_block()
+    pair.friction = 0.3
+    dofs, W, T = pair.tangents(q)
+    assert np.allclose(np.einsum("mti,msi->mts", T, T), np.eye(2), atol=1e-14)
+    rotations = model.offset_of(pair.beam) + pair.beam.rotation_triples.ravel()
+    turn = np.isin(dofs, rotations)[:, None, :].repeat(2, axis=1)
+    assert np.abs(W[turn]).max() > 0.5 * R  # m/rad: the arm to the tube's surface, about r
+    d = np.random.default_rng(2).normal(size=model.n)
+    linear = np.einsum("mtk,mk->mt", W, d[dofs])
+    errors = []
+    for eps in (1e-5, 1e-6):
+        plus = pair.slips(moved_on_group(model, q, eps * d), q, T)
+        minus = pair.slips(moved_on_group(model, q, -eps * d), q, T)
+        errors.append(np.abs((plus - minus) / (2 * eps) - linear).max())
+    assert errors[1] <= 1e-7 * np.abs(linear).max()
+    assert errors[1] <= 0.02 * errors[0]  # second order: 100× per decade
+
+
+# -- a block sliding on two fixed rods -------------------------------------------------------
+HARD = LinearElastic(1e8, 0.3, rho=1000.0)
+
+
+def block_on_rods(mu: float, slope: float = 0.0):
+    """A block 4 × 4 × 2 cm (cells of 1 cm) lying on two clamped steel rods (r = 1 cm, along x,
+    at y = ±5 mm: between two lines of the block's nodes, where the weighted gaps' stand-off
+    is least; over a line of nodes it is highest and the block rolls off sideways). Settled
+    at rest under gravity along −z with ρ∞ = 0 over 50 steps of 1 ms from the height where
+    the least row is zero; then gravity tilted by ``slope`` (rad) about y: an incline rising
+    along −x. Returns the model (tilted), the block, the pairs and the settled state."""
+    block = Solid.box([-0.02, -0.02, 0.0], [0.02, 0.02, 0.02], (4, 4, 2), HARD)
+    rods = []
+    for y in (-0.005, 0.005):
+        rod = Beam3D.straight([-0.05, y, -R], [0.15, y, -R], 4, STEEL, Section.circle(R))
+        for k in range(5):
+            rod.clamp(k)
+        rods.append(rod)
+    pairs = [Contact(block, rod, clearance=R, friction=mu) for rod in rods]
+    model = Model([block, *rods], pairs, gravity=(0.0, 0.0, -G))
+    q = np.zeros(model.n)
+    lo, hi = -0.2 * R, 0.2 * R
+    for _ in range(60):  # bisection on the height where the least row is zero
+        q[: block.ndof].reshape(-1, 3)[:, 2] = 0.5 * (lo + hi)
+        if min(p.gaps(q).min() for p in pairs) < 0.0:
+            lo = 0.5 * (lo + hi)
+        else:
+            hi = 0.5 * (lo + hi)
+    q[: block.ndof].reshape(-1, 3)[:, 2] = hi
+    settled = list(simulate(model, 1e-3, 0.05, IntegratorOptions(rho_inf=0.0), q0=q))[-1]
+    if slope:
+        gravity = (G * np.sin(slope), 0.0, -G * np.cos(slope))
+        model = Model([block, *rods], pairs, gravity=gravity)
+    return model, block, pairs, settled
+
+
+def along(block, model, states, axis=0):
+    """The block's centre of mass and its velocity along ``axis`` (m, m/s) over ``states``."""
+    w = block.mass_matrix() @ block.translation_field(np.eye(3)[axis]) / block.mass
+    n = block.ndof
+    return np.array([w @ s.q[:n] for s in states]), np.array([w @ s.v[:n] for s in states])
+
+
+def stopping(h: float, mu=0.3, v0=0.5):
+    """The block on the rods launched at v0 along them: its centre's travel and velocity
+    over the run, and the states."""
+    model, block, pairs, st = block_on_rods(mu)
+    v = st.v + model.translation(block, (v0, 0.0, 0.0))
+    states = list(simulate(model, h, 1.3 * v0 / (mu * G), IntegratorOptions(rho_inf=0.0),
+                           q0=st.q, v0=v))  # fmt: skip
+    x, vx = along(block, model, states)
+    return x - x[0], vx, states
+
+
+def test_a_block_sliding_along_two_rods_stops_where_coulomb_says():
+    """μ = 0.3, v₀ = 0.5 m/s, h = 1 ms: while it slides the deceleration is μg to 1e-6
+    (measured 2.1e-7: Σ c_j λ_j is the weight, the rows' load resolved on the block's face,
+    across the rods' axes), and it stops after v₀²/(2μg) = 42.4737 mm to 1e-6 m (measured
+    4.5e-7 m long with one BLAS thread, 2.4e-8 m with two: the error is made in the first
+    steps, where friction starts and the block pitches under it, a transient round-off
+    steers), at rest to 1e-9 m/s."""
+    exact = 0.5**2 / (2 * 0.3 * G)
+    h = 1e-3
+    x, vx, states = stopping(h)
+    assert abs(x[-1] - exact) <= 1e-6
+    assert abs(vx[-1]) <= 1e-9
+    t = np.array([s.t for s in states])
+    sliding = (t > 0.02) & (t < 0.12)
+    np.testing.assert_allclose(np.diff(vx)[sliding[1:]] / h, -0.3 * G, rtol=1e-6)
+
+
+def test_a_block_on_rods_holds_below_atan_mu_and_slides_above_at_the_exact_rate():
+    """μ = 0.3 (atan μ = 0.2915 rad), the rods along the slope. At θ = 0.25 rad the block
+    holds: tilting gravity at t = 0 shifts it in the first steps (the load turning at once;
+    measured 12 µm with one BLAS thread, 0.27 mm with two: the block bounces, a transient
+    round-off steers), then it does not move over the next second (measured drift 4.6e-14 and
+    1.6e-13 m; bound 1e-11 m, round-off of positions of 0.01 m over 100 steps). At
+    θ = 0.35 rad it slides down at g(sin θ − μ cos θ) = 0.599254 m/s² (measured 0.599253,
+    9e-7 relative; bound 1e-5) once friction has set in (20 ms), the block pitched under it."""
+    model, block, _, st = block_on_rods(0.3, 0.25)
+    states = list(simulate(model, 1e-2, 1.1, IntegratorOptions(rho_inf=0.0), q0=st.q,
+                           v0=st.v))  # fmt: skip
+    x, vx = along(block, model, states)
+    assert abs(x[10] - x[0]) < 1e-3
+    assert abs(x[-1] - x[10]) <= 1e-11 and abs(vx[-1]) <= 1e-10
+    theta = 0.35
+    model, block, _, st = block_on_rods(0.3, theta)
+    h = 1e-3
+    states = list(simulate(model, h, 0.1, IntegratorOptions(rho_inf=0.0), q0=st.q, v0=st.v))
+    _, vx = along(block, model, states)
+    a = np.diff(vx)[20:] / h
+    np.testing.assert_allclose(a, G * (np.sin(theta) - 0.3 * np.cos(theta)), rtol=1e-5)
+
+
+def test_the_sliding_block_creates_no_energy_and_is_independent_of_p_and_k(tmp_path):
+    """The block launched along the rods (μ = 0.3, v₀ = 0.5 m/s) to rest: the ledger's
+    ``created`` ≤ 1e-3 of its ``scale`` (measured 8.8e-7 of it) and friction dissipates the
+    launch's kinetic energy ½mv₀² to 2e-4 (measured 1.03e-4, the ledger's numerical
+    dissipation −1.02e-4 of it: the generalized-α step's share at ρ∞ = 0); p × 1000 and
+    k / 100 change the first 50 ms of the trajectory by round-off (bound 1e-8 of r;
+    measured 7.9e-10 and 1.1e-11 of it)."""
+    model, block, _, st = block_on_rods(0.3)
+    v = st.v + model.translation(block, (0.5, 0.0, 0.0))
+    options = IntegratorOptions(rho_inf=0.0)
+    sim = Simulation(model, dt=1e-3, t_end=0.22, name="block_on_rods", q0=st.q, v0=v,
+                     options=options, output_interval=0.22)  # fmt: skip
+    summary = run(sim, tmp_path, frames=False, checkpoint_every=0)
+    assert summary["status"] == "completed"
+    ledger = summary["energy_ledger"]
+    assert 0.0 <= ledger["created"] <= 1e-3 * ledger["scale"]
+    kinetic = 0.5 * block.mass * 0.5**2
+    assert ledger["friction_dissipation"] == pytest.approx(kinetic, rel=2e-4)
+    base = list(simulate(model, 1e-3, 0.05, options, q0=st.q, v0=v))
+    for change in ({"penalty_scale": 1e3}, {"multiplier_scale": 1e-2}):
+        other = list(simulate(model, 1e-3, 0.05, IntegratorOptions(rho_inf=0.0, **change),
+                              q0=st.q, v0=v))  # fmt: skip
+        diff = max(np.max(np.abs(a.q - b.q)) for a, b in zip(base, other, strict=True))
+        assert diff <= 1e-8 * R
+
+
+def test_a_rod_rolling_on_a_face_slips_at_no_row():
+    """A rod along y over a block's top face (overhanging its edges), its sections turned by
+    0.7 rad about the axis, rolling along x (V = ω h, h its axis' height over the face): the
+    material point under every slave node moves along the face's normal only (ω × (x_j −
+    p_j) = V x̂ − ωX ẑ for a node X ahead), so every row's slip is zero to round-off. Rows
+    tangent to the tube's own (tilted) normal at the node would read the normal motion as
+    slip (up to 0.089 V at the rows within 0.5 mm, measured), braking a rolling rod; and sliding
+    without spin every row slips at c_j V."""
+    block = Solid.box([-0.05, -0.05, -0.02], [0.05, 0.05, 0.0], (8, 8, 1), HARD)
+    z = R + 2e-4
+    bar = Beam3D.straight([0.003, -0.08, z], [0.003, 0.08, z], 4, STEEL, Section.circle(R))
+    pair = Contact(block, bar, clearance=R, friction=0.3)
+    model = Model([block, bar], [pair], gravity=(0.0, 0.0, 0.0))
+    pair.detect_within(0.02)
+    q = np.zeros(model.n)
+    ob = model.offset_of(bar)
+    q[ob:].reshape(-1, 6)[:, 3:] = [0.0, 0.7, 0.0]
+    dofs, W, T = pair.tangents(q)
+    c = np.einsum("mti,mti->m", W[:, :, :3], T) / 2  # the rows' scale c_j
+    rows = np.flatnonzero(c > 0.0)
+    assert len(rows) >= 20
+    V = 0.1
+    v = np.zeros(model.n)
+    beam = v[ob:].reshape(-1, 6)
+    beam[:, 0], beam[:, 4] = V, V / z  # Ω body-frame: a turn about y keeps ŷ
+    slip = np.einsum("mtk,mk->mt", W, v[dofs])
+    assert np.abs(slip[rows]).max() <= 1e-12 * V
+    beam[:, 4] = 0.0
+    slip = np.einsum("mtk,mk->mt", W, v[dofs])
+    np.testing.assert_allclose(np.linalg.norm(slip[rows], axis=1), c[rows] * V, rtol=1e-12)
+
+
+def oblique_drop(options=None, out=None, t_end=0.003):
+    """The rod drop of the frictionless tests (r = 1 cm, 8 elements, across a rubber block at
+    30°, overhanging its top edges, h = 0.1 ms) thrown at (0.5, 0, −1) m/s with μ = 0.3: its
+    states (or, with ``out``, the run's summary)."""
+    block = Solid.box([-0.05, -0.05, -0.03], [0.05, 0.05, 0.0], (8, 8, 2), RUBBER)
+    block.fix(block.nodes_where(lambda x: x[2] <= -0.03 + 1e-9))
+    d = np.array([np.cos(np.radians(30.0)), np.sin(np.radians(30.0)), 0.0])
+    c = np.array([0.003, -0.002, R + 0.001])
+    bar = Beam3D.straight(c - 0.08 * d, c + 0.08 * d, 8, STEEL, Section.circle(R))
+    pair = Contact(block, bar, clearance=R, friction=0.3)
+    model = Model([block, bar], [pair], gravity=(0.0, 0.0, -G))
+    v0 = model.translation(bar, (0.5, 0.0, -1.0))
+    if out is not None:
+        sim = Simulation(model, dt=1e-4, t_end=t_end, name="oblique_rod", v0=v0,
+                         output_interval=t_end)  # fmt: skip
+        return run(sim, out, frames=False, checkpoint_every=0)
+    return list(simulate(model, 1e-4, t_end, options or IntegratorOptions(), v0=v0))
+
+
+def test_an_oblique_frictional_rod_drop_creates_no_energy_and_is_independent_of_p_and_k(
+    tmp_path,
+):
+    """Impacts and persistent contact with friction, sticking and slipping rows: completed
+    without halving, the ledger's ``created`` ≤ 1e-3 of ``scale`` (measured 0; friction
+    dissipates 10 % of the scale); p × 1000 and k / 100 change the trajectory by round-off
+    (bound 1e-8 of r; measured 4.1e-10 and 2.9e-14 of it)."""
+    summary = oblique_drop(out=tmp_path, t_end=0.006)
+    assert summary["status"] == "completed" and summary["step_halvings"] == 0
+    ledger = summary["energy_ledger"]
+    assert 0.0 <= ledger["created"] <= 1e-3 * ledger["scale"]
+    base = oblique_drop()
+    status = np.concatenate([s.friction.status for s in base if s.friction is not None])
+    assert np.any(status == 1) and np.any(status == 2)
+    for change in ({"penalty_scale": 1e3}, {"multiplier_scale": 1e-2}):
+        other = oblique_drop(IntegratorOptions(**change))
+        diff = max(np.max(np.abs(a.q - b.q)) for a, b in zip(base, other, strict=True))
+        assert diff <= 1e-8 * R
