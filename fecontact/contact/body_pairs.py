@@ -201,7 +201,8 @@ class NodeSurfaceContact(PairDefaults):
         self.selected = np.full(self.size, -1)
         """Facet of each row at the last evaluation (−1: none near)."""
         self.closest = self.selected[: len(self.nodes)]  # each node's closest facet
-        self._last = None  # (the two bodies' dofs, result) of the last evaluation
+        self._last = None  # (the two bodies' dofs, result, ``_seen``) of the last evaluation
+        self._seen = None  # (xs, xm, watched) of the last search by closest_facets
 
     @staticmethod
     def check_bodies(body, master) -> None:
@@ -228,7 +229,9 @@ class NodeSurfaceContact(PairDefaults):
         with a facet of the master (node positions xm) within the margin, or inside it however
         deep: the closest facet and the node's signed gap from its plane."""
         s, f, g = self._closest_near(xs, xm)
-        lost = self.search.watched(xs, xm, self.margin).copy()  # (the others are outside)
+        watched = self.search.watched(xs, xm, self.margin)  # (the others are outside)
+        self._seen = (xs, xm, watched)
+        lost = watched.copy()
         lost[s] = False
         lost = np.flatnonzero(lost)
         if lost.size == 0:
@@ -244,20 +247,24 @@ class NodeSurfaceContact(PairDefaults):
     def penetration(self, q: np.ndarray) -> float:
         """Depth (m, ≥ 0) of the deepest slave node inside the master by the inside/outside
         test, over the nodes the search cannot rule out (:mod:`.facet_search`)."""
-        last = self._last  # an evaluation at q has run the search at q: none watched, none in
-        if last is not None and not self.search.last_watched.any() and self._same_dofs(q, last[0]):
-            return 0.0
-        xs, xm = self.positions(q)
-        watched = np.flatnonzero(self.search.watched(xs, xm, self.margin))  # (others: out)
+        last = self._last
+        if last is not None and last[2] is not None and last[0] == self._dofs_key(q):
+            # the evaluation at q ran the search at q, and the full test on every watched
+            # node without a facet within the margin: one it gave no facet is outside
+            (xs, xm, watched), tested = last[2], True
+        else:
+            xs, xm = self.positions(q)
+            watched, tested = self.search.watched(xs, xm, self.margin), False
+        watched = np.flatnonzero(watched)  # (the others are outside)
         if watched.size == 0:
             return 0.0
         self.evaluate(q)  # the selected facets at q: the closest of all (module docstring)
         f = self.closest[watched]
         near = f >= 0
         # on its facet's face, or (2D) outside beyond a vertex: known by proof, no full test
-        known, depth = self.surface.settled(xs[watched[near]], xm, f[near], self.tie_tolerance)
-        deepest = float(np.max(depth[known], initial=0.0))
-        rest = np.concatenate((watched[~near], watched[near][~known]))
+        on = watched[near]
+        deepest, unknown = self.surface.settled_depth(xs[on], xm, f[near], self.tie_tolerance)
+        rest = on[unknown] if tested else np.concatenate((watched[~near], on[unknown]))
         if rest.size == 0:
             return deepest
         return max(deepest, float(np.max(self.surface.depths(xm, xs[rest]), initial=0.0)))
@@ -325,10 +332,11 @@ class NodeSurfaceContact(PairDefaults):
             self.search.reset()
             self._last = None
 
-    def _same_dofs(self, q, key) -> bool:
+    def _dofs_key(self, q) -> tuple[bytes, bytes]:
+        """The two bodies' dofs of q as bytes: equal bytes are the same q to the bit (a
+        tenth of the cost of comparing the arrays), so the result kept for them holds."""
         (oa, ob), (a, b) = self.offsets, self.bodies
-        now = (q[oa : oa + a.ndof], q[ob : ob + b.ndof])
-        return all(np.array_equal(k, c) for k, c in zip(now, key, strict=True))
+        return q[oa : oa + a.ndof].tobytes(), q[ob : ob + b.ndof].tobytes()
 
     def evaluate(self, q: np.ndarray):
         """Gaps (m,) in m, global dofs (m, k) — the slave node's d translations, then those of
@@ -339,16 +347,16 @@ class NodeSurfaceContact(PairDefaults):
         The integrator often evaluates twice at the same q (gaps, then gradients): the last
         result is kept and returned again (dofs and G read-only, g a fresh copy).
         """
-        (oa, ob), (a, b) = self.offsets, self.bodies
-        key = (q[oa : oa + a.ndof], q[ob : ob + b.ndof])
+        key = self._dofs_key(q)
         last = self._last
-        if last is not None and self._same_dofs(q, last[0]):
+        if last is not None and last[0] == key:
             g, dofs, G, H = last[1]
             return g.copy(), dofs, G, H
+        self._seen = None
         result = self._evaluate(q)
         for array in result[1:3]:
             array.flags.writeable = False
-        self._last = ((key[0].copy(), key[1].copy()), result)
+        self._last = (key, result, self._seen)
         return result[0].copy(), *result[1:]
 
     def _evaluate(self, q):
