@@ -64,6 +64,7 @@ from ..bodies.solid import Solid
 from ..errors import InputError, check_finite, check_positive, check_range
 from .base import PairDefaults, check_solid_pair
 from .beam_sides import PointBeamContact
+from .closest_facet import closest_among
 from .concave_rows import concave_rows, slot_rows
 from .facet_search import FacetSearch
 from .friction import point_tangents
@@ -228,8 +229,8 @@ class NodeSurfaceContact(PairDefaults):
         """(slave indices, facet indices, plane gaps in m) of the slave nodes (positions xs)
         with a facet of the master (node positions xm) within the margin, or inside it however
         deep: the closest facet and the node's signed gap from its plane."""
-        s, f, g = self._closest_near(xs, xm)
-        watched = self.search.watched(xs, xm, self.margin)  # (the others are outside)
+        s, f, watched = self.search.found(xs, xm, self.margin)  # (unwatched nodes: outside)
+        s, f, g = closest_among(xs, xm, self.facets, s, f, self.margin, self.tie_tolerance)
         self._seen = (xs, xm, watched)
         lost = watched.copy()
         lost[s] = False
@@ -290,24 +291,6 @@ class NodeSurfaceContact(PairDefaults):
         return concave_rows(
             (s[keep], f[keep]), dist[keep], primary, self.facets, xm, plane, self.extra
         )
-
-    def _closest_near(self, xs: np.ndarray, xm: np.ndarray):
-        s, f = self.search.pairs(xs, xm, self.margin)
-        if s.size == 0:
-            return s, f, np.zeros(0)
-        dist, g = closest_facet_distance(xs[s], xm[self.facets[f]])
-        keep = dist <= self.margin
-        s, f, dist, g = s[keep], f[keep], dist[keep], g[keep]
-        if s.size == 0:
-            return s, f, g
-        dmin = np.full(len(xs), np.inf)
-        np.minimum.at(dmin, s, dist)
-        # the closest facets; among equally close ones the largest |g| (module docstring)
-        score = np.where(dist <= dmin[s] + self.tie_tolerance, np.abs(g), -1.0)
-        order = np.lexsort((-score, s))
-        s_sorted = s[order]
-        first = order[np.r_[True, s_sorted[1:] != s_sorted[:-1]]]
-        return s[first], f[first], g[first]
 
     def detect_within(self, distance: float) -> None:
         """Search as far as the integrator's candidates reach (``distance`` m), unless the

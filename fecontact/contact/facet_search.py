@@ -49,6 +49,12 @@ class FacetSearch:
         """Mask of the slave nodes that may be inside the master at positions xs, xm."""
         return self._search(xs, xm, margin)[4]
 
+    def found(self, xs: np.ndarray, xm: np.ndarray, margin: float):
+        """(slave indices, facet indices, watched mask) of one search: :meth:`pairs` and
+        :meth:`watched` at once."""
+        cache = self._search(xs, xm, margin)
+        return cache[3][0], cache[3][1], cache[4]
+
     @property
     def last_watched(self) -> np.ndarray:
         """The watched nodes of the last search (all, before any)."""
@@ -57,7 +63,7 @@ class FacetSearch:
     def _search(self, xs, xm, margin):
         cache = self._cache
         if cache is not None and cache[2] == margin:
-            moved = max(np.max(np.abs(xs - cache[0]), initial=0.0), np.max(np.abs(xm - cache[1])))
+            moved = max(np.abs(xs - cache[0]).max(initial=0.0), np.abs(xm - cache[1]).max())
             if 2.0 * moved <= 0.25 * margin:
                 return cache
         s, f = self._search_pairs(xs, xm, 1.25 * margin)
