@@ -57,6 +57,8 @@ unit axis n (from a towards b): g = (x_j − x_i)·n, linear in q.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..bodies.beam import Beam2D
@@ -277,7 +279,11 @@ class NodeSurfaceContact(PairDefaults):
         if rows.size == 0:
             return 0.0
         self.evaluate(q)  # the facets selected at q (kept from the gaps' evaluation)
-        xf = self.positions(q)[1][self.facets[self.selected[rows]]]
+        seen = self._last[2]  # (the positions of the evaluation at q, when it searched)
+        xf = (self.positions(q) if seen is None else seen)[1][self.facets[self.selected[rows]]]
+        if self.dim == 2:  # a segment's longest edge is itself (the same sum of squares)
+            e = xf[:, 1] - xf[:, 0]
+            return float(np.max(-g[rows] / np.sqrt((e * e).sum(axis=1))))
         size = np.max(np.linalg.norm(xf - np.roll(xf, 1, axis=1), axis=2), axis=1)
         return float(np.max(-g[rows] / size))
 
@@ -305,8 +311,8 @@ class NodeSurfaceContact(PairDefaults):
         velocities v: h √d (max |v_a| + max |v_b|) over the velocity components of every node,
         in powers of two of the base margin so that the cached search is kept."""
         (oa, ob), (a, b) = self.offsets, self.bodies
-        speed = np.max(np.abs(v[oa : oa + a.ndof])) + np.max(np.abs(v[ob : ob + b.ndof]))
-        ratio = 2.0 * h * np.sqrt(self.dim) * speed / self.base_margin
+        speed = np.abs(v[oa : oa + a.ndof]).max() + np.abs(v[ob : ob + b.ndof]).max()
+        ratio = 2.0 * h * math.sqrt(self.dim) * speed / self.base_margin
         self._set_margin(self.base_margin * (2.0 ** np.ceil(np.log2(ratio)) if ratio > 1 else 1))
 
     def _set_margin(self, margin: float) -> None:
@@ -382,7 +388,8 @@ class NodeSurfaceContact(PairDefaults):
         f = self.selected[rows]
         near = f >= 0
         if near.any():
-            xs, xm = self.positions(q)
+            seen = self._last[2]  # (the positions of the evaluation at q, when it searched)
+            xs, xm = self.positions(q) if seen is None else seen[:2]
             x = xs[self._row_node[np.asarray(rows)[near]]]
             H[near] = facet_plane_gap(x, xm[self.facets[f[near]]])[2]
         return H
