@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .inside import Surface, facet_distances
+from .inside import Surface, bounding_box, facet_distances
 
 __all__ = ["NEAR", "FacetSearch"]
 
@@ -81,14 +81,16 @@ class FacetSearch:
         return self._cache
 
     def _search_pairs(self, xs: np.ndarray, xm: np.ndarray, r: float):
-        lo, hi = xm.min(axis=0) - r, xm.max(axis=0) + r
+        lo, hi = bounding_box(xm)
+        lo, hi = lo - r, hi + r
         near = np.flatnonzero(np.all((xs >= lo) & (xs <= hi), axis=1))
         if near.size == 0:
             return near, near
         xf = xm[self.facets]
         centroid = xf.mean(axis=1)
         reach = float(np.sqrt(np.max(np.sum((xf - centroid[:, None]) ** 2, axis=2))))
-        slo, shi = xs[near].min(axis=0) - r - reach, xs[near].max(axis=0) + r + reach
+        slo, shi = bounding_box(xs[near])
+        slo, shi = slo - r - reach, shi + r + reach
         fnear = np.flatnonzero(np.all((centroid >= slo) & (centroid <= shi), axis=1))
         if fnear.size == 0:
             return fnear, fnear

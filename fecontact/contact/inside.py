@@ -39,6 +39,7 @@ from .geometry import closest_on_segments
 
 __all__ = [
     "Surface",
+    "bounding_box",
     "facet_distances",
     "face_depths",
     "segment_depths",
@@ -66,7 +67,7 @@ def winding_numbers(points: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndar
     return out
 
 
-def _box(x: np.ndarray):
+def bounding_box(x: np.ndarray):
     """Lower and upper corners of the box of points x (n, d), per component: a reduction
     along the long axis of an (n, d) array costs a fraction of one across it."""
     d = range(x.shape[1])
@@ -280,9 +281,9 @@ class Surface:
         if len(points) == 0:
             return s, facet
         # the box of every node (of a solid, the box of its boundary), before any gather
-        lo, hi = _box(x)
+        lo, hi = bounding_box(x)
         lo, hi = lo - pad, hi + pad
-        p_lo, p_hi = _box(points)
+        p_lo, p_hi = bounding_box(points)
         if np.any(p_hi < lo) or np.any(p_lo > hi):  # the boxes are apart: every point out
             return s, facet
         near = np.flatnonzero(((points >= lo) & (points <= hi)).all(axis=1))
