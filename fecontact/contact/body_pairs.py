@@ -261,7 +261,8 @@ class NodeSurfaceContact(PairDefaults):
         watched = np.flatnonzero(watched)  # (the others are outside)
         if watched.size == 0:
             return 0.0
-        self.evaluate(q)  # the selected facets at q: the closest of all (module docstring)
+        if not tested:  # the selected facets at q: the closest of all (module docstring)
+            self.evaluate(q)
         f = self.closest[watched]
         near = f >= 0
         # on its facet's face, or (2D) outside beyond a vertex: known by proof, no full test
