@@ -49,7 +49,9 @@ that facet's plane — the face's normal is the angle-weighted pseudo-normal the
 (:func:`fecontact.contact.inside.face_depths`) —, and that facet is the one selected when any
 lies within the margin; in 2D a node closest to a vertex and outside by the vertex's
 pseudo-normal is outside (:func:`fecontact.contact.inside.segment_depths`); only the other
-nodes the search watches take the full inside/outside test.
+nodes the search watches take the full inside/outside test, and after an evaluation at the
+same q only those the evaluation did not test already (it tests every watched node without
+a facet within the margin, and keeps its positions and search for the record).
 
 Bar ends (:class:`NodeNodeContact`): node i of body a against node j of body b along a fixed
 unit axis n (from a towards b): g = (x_j − x_i)·n, linear in q.
