@@ -163,17 +163,24 @@ def test_a_few_points_are_settled_in_floats_exactly_as_by_numpy():
     assert 0 in surface.settled_depth(np.r_[[[np.nan, 0.0]], p[1:2]], x, f[:2], 1e-12)[1]
 
 
+def _round_pair(dim: int, distance: float):
+    """The node-to-surface pair of two round bodies of radius 1 whose centres are
+    ``distance`` apart, and its model."""
+    make = Solid.disk if dim == 2 else Solid.ball
+    a = make(np.zeros(dim), 1.0, 3 if dim == 2 else 2, MAT)
+    b = make(np.r_[distance, np.zeros(dim - 1)], 1.0, 3 if dim == 2 else 2, MAT)
+    model = Model([a, b], [Contact(a, b, method="node-to-surface")])
+    pair = model.contacts.pairs[0]
+    pair.detect_within(0.2)
+    return pair, model
+
+
 @pytest.mark.parametrize("dim", [2, 3])
 def test_the_pairs_penetration_is_the_full_inside_test(dim):
     # two round bodies pushed into each other, their nodes jittered: the node-to-surface
     # pair's depth (the closest facet's face first, the full test for the rest) equals the
     # full test over every slave node
-    make = Solid.disk if dim == 2 else Solid.ball
-    a = make(np.zeros(dim), 1.0, 3 if dim == 2 else 2, MAT)
-    b = make(np.r_[1.9, np.zeros(dim - 1)], 1.0, 3 if dim == 2 else 2, MAT)
-    model = Model([a, b], [Contact(a, b, method="node-to-surface")])
-    pair = model.contacts.pairs[0]
-    pair.detect_within(0.2)
+    pair, model = _round_pair(dim, 1.9)
     for seed in range(5):
         q = np.random.default_rng(seed).normal(0.0, 0.01, model.n)
         xs, xm = pair.positions(q)
@@ -191,12 +198,7 @@ def test_the_pairs_penetration_after_its_evaluation_is_the_full_inside_test(dim)
     # the other's boundary: the depth reusing the evaluation at q (its search, its full
     # test of the nodes without a facet near, a few points settled in floats) is the full
     # test's, and the same as measured before any evaluation
-    make = Solid.disk if dim == 2 else Solid.ball
-    a = make(np.zeros(dim), 1.0, 3 if dim == 2 else 2, MAT)
-    b = make(np.r_[2.0, np.zeros(dim - 1)], 1.0, 3 if dim == 2 else 2, MAT)
-    model = Model([a, b], [Contact(a, b, method="node-to-surface")])
-    pair = model.contacts.pairs[0]
-    pair.detect_within(0.2)
+    pair, model = _round_pair(dim, 2.0)
     inside = 0
     for seed in range(20):
         q = np.random.default_rng(seed).normal(0.0, 0.01, model.n)
@@ -208,8 +210,6 @@ def test_the_pairs_penetration_after_its_evaluation_is_the_full_inside_test(dim)
         pair.evaluate(q)
         after = pair.penetration(q)
         assert after == before
-        # (the depth behind a face's plane and the distance to its closest point differ in
-        # their last bits)
         assert after == pytest.approx(float(np.max(depths, initial=0.0)), rel=1e-12)
     assert inside >= 5  # (nodes found inside over the 20 states: the depths are not all 0)
 
