@@ -133,17 +133,54 @@ def test_a_vertex_certifies_outside_only_points_the_full_test_finds_outside():
     assert segment_neighbours(np.array([[0, 1], [1, 2], [1, 0]])) is None
 
 
+def test_a_few_points_are_settled_in_floats_exactly_as_by_numpy():
+    # the plain-float path of a few points against segment_depths on the star polygon with a
+    # hole of the test above: the same deepest depth and the same unsettled points, to the
+    # bit, for batches of 1 to 8 points all around (faces, convex and reflex vertices)
+    k = np.arange(14)
+    radius = np.where(k % 2 == 0, 1.0, 0.35)
+    star = np.c_[radius * np.cos(k * np.pi / 7), radius * np.sin(k * np.pi / 7)]
+    hole = 0.1 * np.array([[1, 1], [1, -1], [-1, -1], [-1, 1]], float)
+    x = np.vstack([star, hole])
+    facets = np.r_[np.c_[k, np.roll(k, -1)], 14 + np.c_[np.arange(4), np.roll(np.arange(4), -1)]]
+    surface = Surface(facets)
+    # points near the boundary, where the pairs ask (half of them within 1 % of a vertex)
+    p = np.vstack([RNG.uniform(-1.3, 1.3, (3000, 2)), x[RNG.integers(0, 18, 3000)]])
+    p[3000:] += RNG.normal(0.0, 0.01, (3000, 2))
+    s, f = surface.signed_distance(x, p, pad=1.0)
+    neighbours = segment_neighbours(facets)
+    vertex = 0  # points settled beyond a vertex (the vertex certificate exercised)
+    for start in range(0, len(p), 8):
+        for n in (1, 3, 8):
+            i = slice(start, start + n)
+            known, depth = segment_depths(p[i], x, facets, neighbours, f[i], 1e-12)
+            deepest, rest = surface.settled_depth(p[i], x, f[i], 1e-12)
+            assert deepest == float(np.max(depth[known], initial=0.0))
+            np.testing.assert_array_equal(rest, np.flatnonzero(~known))
+            vertex += np.count_nonzero(known & ~face_depths(p[i], x[facets[f[i]]])[0])
+    assert vertex > 1000
+    # a NaN position is not settled: the full test gets it
+    assert 0 in surface.settled_depth(np.r_[[[np.nan, 0.0]], p[1:2]], x, f[:2], 1e-12)[1]
+
+
+def _round_pair(dim: int, distance: float):
+    """The node-to-surface pair of two round bodies of radius 1 whose centres are
+    ``distance`` apart, and its model."""
+    make = Solid.disk if dim == 2 else Solid.ball
+    a = make(np.zeros(dim), 1.0, 3 if dim == 2 else 2, MAT)
+    b = make(np.r_[distance, np.zeros(dim - 1)], 1.0, 3 if dim == 2 else 2, MAT)
+    model = Model([a, b], [Contact(a, b, method="node-to-surface")])
+    pair = model.contacts.pairs[0]
+    pair.detect_within(0.2)
+    return pair, model
+
+
 @pytest.mark.parametrize("dim", [2, 3])
 def test_the_pairs_penetration_is_the_full_inside_test(dim):
     # two round bodies pushed into each other, their nodes jittered: the node-to-surface
     # pair's depth (the closest facet's face first, the full test for the rest) equals the
     # full test over every slave node
-    make = Solid.disk if dim == 2 else Solid.ball
-    a = make(np.zeros(dim), 1.0, 3 if dim == 2 else 2, MAT)
-    b = make(np.r_[1.9, np.zeros(dim - 1)], 1.0, 3 if dim == 2 else 2, MAT)
-    model = Model([a, b], [Contact(a, b, method="node-to-surface")])
-    pair = model.contacts.pairs[0]
-    pair.detect_within(0.2)
+    pair, model = _round_pair(dim, 1.9)
     for seed in range(5):
         q = np.random.default_rng(seed).normal(0.0, 0.01, model.n)
         xs, xm = pair.positions(q)
@@ -153,6 +190,28 @@ def test_the_pairs_penetration_is_the_full_inside_test(dim):
         # (the depth behind a face's plane and the distance to its closest point differ in
         # their last bits)
         assert pair.penetration(q) == pytest.approx(full, rel=1e-12)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_the_pairs_penetration_after_its_evaluation_is_the_full_inside_test(dim):
+    # two round bodies just touching, their nodes jittered, a few nodes on either side of
+    # the other's boundary: the depth reusing the evaluation at q (its search, its full
+    # test of the nodes without a facet near, a few points settled in floats) is the full
+    # test's, and the same as measured before any evaluation
+    pair, model = _round_pair(dim, 2.0)
+    inside = 0
+    for seed in range(20):
+        q = np.random.default_rng(seed).normal(0.0, 0.01, model.n)
+        xs, xm = pair.positions(q)
+        depths = pair.surface.depths(xm, xs)
+        inside += np.count_nonzero(depths)
+        pair.reset()
+        before = pair.penetration(q)  # (its own search, then an evaluation at q)
+        pair.evaluate(q)
+        after = pair.penetration(q)
+        assert after == before
+        assert after == pytest.approx(float(np.max(depths, initial=0.0)), rel=1e-12)
+    assert inside >= 5  # (nodes found inside over the 20 states: the depths are not all 0)
 
 
 @pytest.mark.parametrize("dim", [2, 3])

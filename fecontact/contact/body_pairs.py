@@ -49,13 +49,17 @@ that facet's plane — the face's normal is the angle-weighted pseudo-normal the
 (:func:`fecontact.contact.inside.face_depths`) —, and that facet is the one selected when any
 lies within the margin; in 2D a node closest to a vertex and outside by the vertex's
 pseudo-normal is outside (:func:`fecontact.contact.inside.segment_depths`); only the other
-nodes the search watches take the full inside/outside test.
+nodes the search watches take the full inside/outside test, and after an evaluation at the
+same q only those the evaluation did not test already (it tests every watched node without
+a facet within the margin, and keeps its positions and search for the record).
 
 Bar ends (:class:`NodeNodeContact`): node i of body a against node j of body b along a fixed
 unit axis n (from a towards b): g = (x_j − x_i)·n, linear in q.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -64,6 +68,7 @@ from ..bodies.solid import Solid
 from ..errors import InputError, check_finite, check_positive, check_range
 from .base import PairDefaults, check_solid_pair
 from .beam_sides import PointBeamContact
+from .closest_facet import closest_among
 from .concave_rows import concave_rows, slot_rows
 from .facet_search import FacetSearch
 from .friction import point_tangents
@@ -201,7 +206,8 @@ class NodeSurfaceContact(PairDefaults):
         self.selected = np.full(self.size, -1)
         """Facet of each row at the last evaluation (−1: none near)."""
         self.closest = self.selected[: len(self.nodes)]  # each node's closest facet
-        self._last = None  # (the two bodies' dofs, result) of the last evaluation
+        self._last = None  # (the two bodies' dofs, result, ``_seen``) of the last evaluation
+        self._seen = None  # (xs, xm, watched) of the last search by closest_facets
 
     @staticmethod
     def check_bodies(body, master) -> None:
@@ -227,8 +233,10 @@ class NodeSurfaceContact(PairDefaults):
         """(slave indices, facet indices, plane gaps in m) of the slave nodes (positions xs)
         with a facet of the master (node positions xm) within the margin, or inside it however
         deep: the closest facet and the node's signed gap from its plane."""
-        s, f, g = self._closest_near(xs, xm)
-        lost = self.search.watched(xs, xm, self.margin).copy()  # (the others are outside)
+        s, f, watched = self.search.found(xs, xm, self.margin)  # (unwatched nodes: outside)
+        s, f, g = closest_among(xs, xm, self.facets, s, f, self.margin, self.tie_tolerance)
+        self._seen = (xs, xm, watched)
+        lost = watched.copy()
         lost[s] = False
         lost = np.flatnonzero(lost)
         if lost.size == 0:
@@ -244,20 +252,25 @@ class NodeSurfaceContact(PairDefaults):
     def penetration(self, q: np.ndarray) -> float:
         """Depth (m, ≥ 0) of the deepest slave node inside the master by the inside/outside
         test, over the nodes the search cannot rule out (:mod:`.facet_search`)."""
-        last = self._last  # an evaluation at q has run the search at q: none watched, none in
-        if last is not None and not self.search.last_watched.any() and self._same_dofs(q, last[0]):
-            return 0.0
-        xs, xm = self.positions(q)
-        watched = np.flatnonzero(self.search.watched(xs, xm, self.margin))  # (others: out)
+        last = self._last
+        if last is not None and last[2] is not None and last[0] == self._dofs_key(q):
+            # the evaluation at q ran the search at q, and the full test on every watched
+            # node without a facet within the margin: one it gave no facet is outside
+            (xs, xm, watched), tested = last[2], True
+        else:
+            xs, xm = self.positions(q)
+            watched, tested = self.search.watched(xs, xm, self.margin), False
+        watched = np.flatnonzero(watched)  # (the others are outside)
         if watched.size == 0:
             return 0.0
-        self.evaluate(q)  # the selected facets at q: the closest of all (module docstring)
+        if not tested:  # the selected facets at q: the closest of all (module docstring)
+            self.evaluate(q)
         f = self.closest[watched]
         near = f >= 0
         # on its facet's face, or (2D) outside beyond a vertex: known by proof, no full test
-        known, depth = self.surface.settled(xs[watched[near]], xm, f[near], self.tie_tolerance)
-        deepest = float(np.max(depth[known], initial=0.0))
-        rest = np.concatenate((watched[~near], watched[near][~known]))
+        on = watched[near]
+        deepest, unknown = self.surface.settled_depth(xs[on], xm, f[near], self.tie_tolerance)
+        rest = on[unknown] if tested else np.concatenate((watched[~near], on[unknown]))
         if rest.size == 0:
             return deepest
         return max(deepest, float(np.max(self.surface.depths(xm, xs[rest]), initial=0.0)))
@@ -269,7 +282,11 @@ class NodeSurfaceContact(PairDefaults):
         if rows.size == 0:
             return 0.0
         self.evaluate(q)  # the facets selected at q (kept from the gaps' evaluation)
-        xf = self.positions(q)[1][self.facets[self.selected[rows]]]
+        seen = self._last[2]  # (the positions of the evaluation at q, when it searched)
+        xf = (self.positions(q) if seen is None else seen)[1][self.facets[self.selected[rows]]]
+        if self.dim == 2:  # a segment's longest edge is itself (the same sum of squares)
+            e = xf[:, 1] - xf[:, 0]
+            return float(np.max(-g[rows] / np.sqrt((e * e).sum(axis=1))))
         size = np.max(np.linalg.norm(xf - np.roll(xf, 1, axis=1), axis=2), axis=1)
         return float(np.max(-g[rows] / size))
 
@@ -284,24 +301,6 @@ class NodeSurfaceContact(PairDefaults):
             (s[keep], f[keep]), dist[keep], primary, self.facets, xm, plane, self.extra
         )
 
-    def _closest_near(self, xs: np.ndarray, xm: np.ndarray):
-        s, f = self.search.pairs(xs, xm, self.margin)
-        if s.size == 0:
-            return s, f, np.zeros(0)
-        dist, g = closest_facet_distance(xs[s], xm[self.facets[f]])
-        keep = dist <= self.margin
-        s, f, dist, g = s[keep], f[keep], dist[keep], g[keep]
-        if s.size == 0:
-            return s, f, g
-        dmin = np.full(len(xs), np.inf)
-        np.minimum.at(dmin, s, dist)
-        # the closest facets; among equally close ones the largest |g| (module docstring)
-        score = np.where(dist <= dmin[s] + self.tie_tolerance, np.abs(g), -1.0)
-        order = np.lexsort((-score, s))
-        s_sorted = s[order]
-        first = order[np.r_[True, s_sorted[1:] != s_sorted[:-1]]]
-        return s[first], f[first], g[first]
-
     def detect_within(self, distance: float) -> None:
         """Search as far as the integrator's candidates reach (``distance`` m), unless the
         pair was given a margin of its own: a node closing from beyond the search would
@@ -315,8 +314,8 @@ class NodeSurfaceContact(PairDefaults):
         velocities v: h √d (max |v_a| + max |v_b|) over the velocity components of every node,
         in powers of two of the base margin so that the cached search is kept."""
         (oa, ob), (a, b) = self.offsets, self.bodies
-        speed = np.max(np.abs(v[oa : oa + a.ndof])) + np.max(np.abs(v[ob : ob + b.ndof]))
-        ratio = 2.0 * h * np.sqrt(self.dim) * speed / self.base_margin
+        speed = np.abs(v[oa : oa + a.ndof]).max() + np.abs(v[ob : ob + b.ndof]).max()
+        ratio = 2.0 * h * math.sqrt(self.dim) * speed / self.base_margin
         self._set_margin(self.base_margin * (2.0 ** np.ceil(np.log2(ratio)) if ratio > 1 else 1))
 
     def _set_margin(self, margin: float) -> None:
@@ -325,10 +324,11 @@ class NodeSurfaceContact(PairDefaults):
             self.search.reset()
             self._last = None
 
-    def _same_dofs(self, q, key) -> bool:
+    def _dofs_key(self, q) -> tuple[bytes, bytes]:
+        """The two bodies' dofs of q as bytes: equal bytes are the same q to the bit (a
+        tenth of the cost of comparing the arrays), so the result kept for them holds."""
         (oa, ob), (a, b) = self.offsets, self.bodies
-        now = (q[oa : oa + a.ndof], q[ob : ob + b.ndof])
-        return all(np.array_equal(k, c) for k, c in zip(now, key, strict=True))
+        return q[oa : oa + a.ndof].tobytes(), q[ob : ob + b.ndof].tobytes()
 
     def evaluate(self, q: np.ndarray):
         """Gaps (m,) in m, global dofs (m, k) — the slave node's d translations, then those of
@@ -339,16 +339,16 @@ class NodeSurfaceContact(PairDefaults):
         The integrator often evaluates twice at the same q (gaps, then gradients): the last
         result is kept and returned again (dofs and G read-only, g a fresh copy).
         """
-        (oa, ob), (a, b) = self.offsets, self.bodies
-        key = (q[oa : oa + a.ndof], q[ob : ob + b.ndof])
+        key = self._dofs_key(q)
         last = self._last
-        if last is not None and self._same_dofs(q, last[0]):
+        if last is not None and last[0] == key:
             g, dofs, G, H = last[1]
             return g.copy(), dofs, G, H
+        self._seen = None
         result = self._evaluate(q)
         for array in result[1:3]:
             array.flags.writeable = False
-        self._last = ((key[0].copy(), key[1].copy()), result)
+        self._last = (key, result, self._seen)
         return result[0].copy(), *result[1:]
 
     def _evaluate(self, q):
@@ -391,7 +391,8 @@ class NodeSurfaceContact(PairDefaults):
         f = self.selected[rows]
         near = f >= 0
         if near.any():
-            xs, xm = self.positions(q)
+            seen = self._last[2]  # (the positions of the evaluation at q, when it searched)
+            xs, xm = self.positions(q) if seen is None else seen[:2]
             x = xs[self._row_node[np.asarray(rows)[near]]]
             H[near] = facet_plane_gap(x, xm[self.facets[f[near]]])[2]
         return H

@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .inside import Surface, facet_distances
+from .inside import Surface, bounding_box, facet_distances
 
 __all__ = ["NEAR", "FacetSearch"]
 
@@ -49,6 +49,12 @@ class FacetSearch:
         """Mask of the slave nodes that may be inside the master at positions xs, xm."""
         return self._search(xs, xm, margin)[4]
 
+    def found(self, xs: np.ndarray, xm: np.ndarray, margin: float):
+        """(slave indices, facet indices, watched mask) of one search: :meth:`pairs` and
+        :meth:`watched` at once."""
+        cache = self._search(xs, xm, margin)
+        return cache[3][0], cache[3][1], cache[4]
+
     @property
     def last_watched(self) -> np.ndarray:
         """The watched nodes of the last search (all, before any)."""
@@ -57,7 +63,7 @@ class FacetSearch:
     def _search(self, xs, xm, margin):
         cache = self._cache
         if cache is not None and cache[2] == margin:
-            moved = max(np.max(np.abs(xs - cache[0]), initial=0.0), np.max(np.abs(xm - cache[1])))
+            moved = max(np.abs(xs - cache[0]).max(initial=0.0), np.abs(xm - cache[1]).max())
             if 2.0 * moved <= 0.25 * margin:
                 return cache
         s, f = self._search_pairs(xs, xm, 1.25 * margin)
@@ -75,14 +81,16 @@ class FacetSearch:
         return self._cache
 
     def _search_pairs(self, xs: np.ndarray, xm: np.ndarray, r: float):
-        lo, hi = xm.min(axis=0) - r, xm.max(axis=0) + r
+        lo, hi = bounding_box(xm)
+        lo, hi = lo - r, hi + r
         near = np.flatnonzero(np.all((xs >= lo) & (xs <= hi), axis=1))
         if near.size == 0:
             return near, near
         xf = xm[self.facets]
         centroid = xf.mean(axis=1)
         reach = float(np.sqrt(np.max(np.sum((xf - centroid[:, None]) ** 2, axis=2))))
-        slo, shi = xs[near].min(axis=0) - r - reach, xs[near].max(axis=0) + r + reach
+        slo, shi = bounding_box(xs[near])
+        slo, shi = slo - r - reach, shi + r + reach
         fnear = np.flatnonzero(np.all((centroid >= slo) & (centroid <= shi), axis=1))
         if fnear.size == 0:
             return fnear, fnear

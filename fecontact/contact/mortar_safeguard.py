@@ -32,6 +32,7 @@ from __future__ import annotations
 import numpy as np
 
 from .body_pairs import NodeSurfaceContact
+from .inside import bounding_box
 
 __all__ = [
     "ALLOWANCE",
@@ -82,7 +83,8 @@ class SafeguardRows(NodeSurfaceContact):
     def closest_facets(self, xs: np.ndarray, xm: np.ndarray):
         # a node farther than the margin from the master's bounding box has no facet within
         # it (the search would find none): bodies whose boxes are apart need no search
-        lo, hi = xm.min(axis=0) - self.margin, xm.max(axis=0) + self.margin
+        lo, hi = bounding_box(xm)
+        lo, hi = lo - self.margin, hi + self.margin
         if not np.any(np.all((xs >= lo) & (xs <= hi), axis=1)):
             empty = np.zeros(0, int)
             return empty, empty, np.zeros(0)
@@ -103,7 +105,8 @@ class MasterNodeRows(SafeguardRows):
 
     def evaluate(self, q: np.ndarray):
         xs, xm = self.positions(q)
-        lo, hi = xm.min(axis=0) - self.margin, xm.max(axis=0) + self.margin
+        lo, hi = bounding_box(xm)
+        lo, hi = lo - self.margin, hi + self.margin
         if np.any(np.all((xs >= lo) & (xs <= hi), axis=1)):
             return super().evaluate(q)
         # every node farther than the margin from the other body: the rows of a free flight,

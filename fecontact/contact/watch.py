@@ -23,6 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from .facet_search import FacetSearch
+from .inside import bounding_box
 from .mortar_interface import MortarInterface
 from .mortar_safeguard import MasterNodeRows, shortest_edge
 
@@ -54,7 +55,7 @@ class SolidWatch:
         deepest = relative = 0.0
         # no node lies inside a closed surface from outside its bounding box: two bodies
         # whose boxes are apart (a free flight) need no test
-        (lo_a, lo_b), (hi_a, hi_b) = ([f(y, axis=0) for y in x] for f in (np.min, np.max))
+        (lo_a, hi_a), (lo_b, hi_b) = (bounding_box(y) for y in x)
         if np.any(hi_a < lo_b) or np.any(hi_b < lo_a):
             return deepest, relative
         for i, search in enumerate(self.searches):
