@@ -224,6 +224,8 @@ class _Phases:
         self.closed = closed = cand[self.gaps[cand] <= tol_gap] if cand.size else cand
         if not (closed.size or model.joints.size):
             return
+        if self.v is self.v_tilde:  # (the jump adds to v in place: ṽ is kept apart)
+            self.v = self.v.copy()
         force, grip = self.force, self.grip
         self.held = held = None if force is None else force[closed] > 0.0
         preload = None if grip is None else self.h * grip[closed]  # the smooth forces' impulse
@@ -323,10 +325,9 @@ class _Phases:
         and the state they end in."""
         if self.m == 0 and self.model.joints.size == 0:
             return _end_state(self)
-        v_tilde = self.v  # ṽ, the smooth step's velocity (a correction replaces self.v)
+        self.v_tilde = self.v  # ṽ, the smooth step's velocity (a correction replaces self.v)
         self.correct()  # 2., only if a contact candidate penetrates (joints already hold)
         if self.cand.size or self.model.joints.size:  # (else nothing to jump or follow)
-            self.v_tilde = v_tilde.copy()  # (the jump adds to v in place)
             self.jump()  # 3.
             self.follow()
         self.timer.add("contact", clock)
@@ -339,8 +340,8 @@ def _end_state(step: _Phases) -> State:
     at = (step.t, step.q, step.v, step.vd, step.a)
     if step.nu is None:  # no contacts, no joints: the smooth step alone
         return State(*at, h=step.h, lam=step.lam, iterations=step.iters)
-    joints = step.model.joints.size
-    phase = step.cand.size + joints  # a correction or a jump may follow (else no record)
+    joints, cand = step.model.joints.size, step.cand
+    phase = cand.size + joints  # a correction or a jump may follow (else no record)
     record = None
     if phase:
         moved = step.q_tilde is not None or step.closed.size or joints
@@ -352,7 +353,10 @@ def _end_state(step: _Phases) -> State:
         lam=step.lam,
         iterations=step.iters,
         gaps=step.gaps,
-        candidates=step.cand,
+        candidates=cand,
+        # (uncorrected: the candidates' gaps are ≥ 0 unless a smooth force holds them, the
+        # others' above the detection margin)
+        outside=step.q_tilde is None and (step.force is None or not cand.size),
         nu=step.nu,
         impulse=step.impulse,
         smooth=step.forces,
