@@ -81,7 +81,10 @@ class AccelerationForm:
         """The residual r at the iterate, after the Armijo test of the last full update
         (decided by the strain energy at its end); whether the iterate has converged."""
         newton, step = self.newton, self.step
-        newton.evaluate(it, None if self.armijo is None else self._armijo)
+        if self.armijo is None and not newton.evaluated:  # (the elastic term alone)
+            newton.elastic.evaluate(step, it)
+        else:
+            newton.evaluate(it, None if self.armijo is None else self._armijo)
         Mvd = self.model.M @ step.vd[self.model.free_slice]
         r = Mvd
         for term in newton.forced:

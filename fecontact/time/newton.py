@@ -41,7 +41,8 @@ class Roles(NamedTuple):
     one first), those evaluated after the elastic one (``evaluated``), those that set the
     residual's scale (``scaled``), those with rows (``rowed``) and with a convergence test of
     their own (``checked``), and the ``joints``, ``load`` and ``gyroscopic`` terms (None:
-    absent); ``forced`` and ``stiff``: those with a force and with a tangent."""
+    absent); ``forced`` and ``stiff``: those with a force and with a tangent; ``begun``: those
+    a step begins (the others' ``begin`` is the term itself)."""
 
     terms: list
     evaluated: list
@@ -53,6 +54,7 @@ class Roles(NamedTuple):
     gyroscopic: Gyroscopic | None
     forced: list
     stiff: list
+    begun: list
 
 
 def roles(terms) -> Roles:
@@ -76,6 +78,7 @@ def roles(terms) -> Roles:
         first(Gyroscopic),
         having("residual"),
         terms[:1] + having("tangent", terms[1:]),
+        having("begin"),
     )
 
 
@@ -138,7 +141,7 @@ class SmoothNewton:
 
     __slots__ = (
         "checked clock elastic evaluated form gyroscopic joints load model name opts plan rowed "
-        "scaled step terms timer fixed kept keeps shift forced stiff"
+        "scaled step terms timer fixed kept keeps shift forced stiff begun"
     ).split()
 
     def __init__(self, plan: NewtonPlan, model, st, t, c, opts, timer, P=None, law=None):
@@ -158,6 +161,7 @@ class SmoothNewton:
         self.terms, self.evaluated, self.scaled, self.rowed, self.checked = sorted_[:5]
         self.joints, self.load, self.gyroscopic = sorted_.joints, sorted_.load, sorted_.gyroscopic
         self.elastic, self.forced, self.stiff = self.terms[0], sorted_.forced, sorted_.stiff
+        self.begun = sorted_.begun
 
     def start(self, st, t, c, P=None, law=None) -> SmoothNewton:
         """Begin the step from ``st`` with the coefficients ``c`` to the time ``t`` (s) (the
@@ -172,7 +176,7 @@ class SmoothNewton:
         self.form = form
         self.step = step = form.step
         if self.fixed:
-            for term in plan.terms:
+            for term in self.begun:
                 term.begin(step)
         else:
             begun = (term.begin(step) for term in plan.terms)

@@ -166,9 +166,11 @@ class _Phases:
         if opts.depth_check:  # (decided once: without solid pairs no node can enter)
             check_predictor(model, q, g_tilde)
         cand = (g_tilde <= opts.detection_margin * model.length).nonzero()[0]
-        # (only the candidates use the gap tolerance)
-        self.tol_gap = opts.tol_gap * length_scale(model, q) if cand.size else 0.0
         self.nu, self.impulse, self.gaps, self.cand = np.zeros(m), np.zeros(m), g_tilde, cand
+        if not cand.size:  # (most steps: nothing to correct, and no gap tolerance to use)
+            self.tol_gap = 0.0
+            return
+        self.tol_gap = opts.tol_gap * length_scale(model, q)
         short = g_tilde[cand] < 0.0
         if self.force is not None:  # the persistent contacts the smooth step closed are not short
             short &= ~(np.isin(cand, self.P) & (g_tilde[cand] >= -self.tol_gap))
