@@ -168,13 +168,16 @@ class _Phases:
         cand = (g_tilde <= opts.detection_margin * model.length).nonzero()[0]
         self.nu, self.impulse, self.gaps, self.cand = np.zeros(m), np.zeros(m), g_tilde, cand
         if not cand.size:  # (most steps: nothing to correct, and no gap tolerance to use)
-            self.tol_gap = 0.0
+            self.tol_gap, self.closed = 0.0, cand
             return
         self.tol_gap = opts.tol_gap * length_scale(model, q)
-        short = g_tilde[cand] < 0.0
+        g_cand = g_tilde[cand]
+        short = g_cand < 0.0
         if self.force is not None:  # the persistent contacts the smooth step closed are not short
-            short &= ~(np.isin(cand, self.P) & (g_tilde[cand] >= -self.tol_gap))
-        if not short.any():
+            short &= ~(np.isin(cand, self.P) & (g_cand >= -self.tol_gap))
+        # (count_nonzero: a third of the time of any() on a few contacts)
+        if not np.count_nonzero(short):  # (closed: the contacts closed where the step ends)
+            self.closed = cand[g_cand <= self.tol_gap]
             return
         was_active = st.nu[cand] > 0.0 if st.nu.size == m else False
         if self.grip is not None:  # contacts gripped by the smooth step keep their grip
@@ -204,6 +207,7 @@ class _Phases:
             self.record.work += f[model.free] @ U_t
         self.Gb = None  # the joints' gradient moved with q
         self.corrected = None if opts.restarts else (q_tilde, metric[1])
+        self.closed = cand[self.gaps[cand] <= self.tol_gap]
 
     def _corrected(self, q_tilde, work, metric):
         """(U, k ν_N, (k ν_T, U_T) with friction else None) of the correction on ``work``."""
@@ -222,10 +226,7 @@ class _Phases:
 
     def jump(self) -> None:
         """Step 3 on the contacts closed at q_{n+1} and on the joints."""
-        model, cand, tol_gap = self.model, self.cand, self.tol_gap
-        self.closed = closed = cand[self.gaps[cand] <= tol_gap] if cand.size else cand
-        if not (closed.size or model.joints.size):
-            return
+        model, closed, tol_gap = self.model, self.closed, self.tol_gap
         if self.v is self.v_tilde:  # (the jump adds to v in place: ṽ is kept apart)
             self.v = self.v.copy()
         force, grip = self.force, self.grip
@@ -282,7 +283,7 @@ class _Phases:
         st, closed = self.st, self.closed
         if self.corrected is None:  # (tested first: it decides most steps at no cost)
             return
-        if not (st.gaps.size == self.m and np.any(st.gaps[closed] > self.tol_gap)):
+        if not (st.gaps.size == self.m and np.count_nonzero(st.gaps[closed] > self.tol_gap)):
             return
         model, c, opts, F = self.model, self.c, self.opts, self.model.free_slice
         q_tilde, solve_H = self.corrected
@@ -329,7 +330,7 @@ class _Phases:
             return _end_state(self)
         self.v_tilde = self.v  # ṽ, the smooth step's velocity (a correction replaces self.v)
         self.correct()  # 2., only if a contact candidate penetrates (joints already hold)
-        if self.cand.size or self.model.joints.size:  # (else nothing to jump or follow)
+        if self.closed.size or self.model.joints.size:  # (else nothing to jump or follow)
             self.jump()  # 3.
             self.follow()
         self.timer.add("contact", clock)
@@ -396,7 +397,7 @@ def _pushed(cand, gaps, tol_gap: float, redundant: bool) -> np.ndarray:
 def _impact(nu, impulse, held) -> bool:
     """Whether the step stopped a contact that was not held by a smooth force: a position
     correction, or an impulse on a contact outside the held ones (``held``: mask or None)."""
-    if np.any(nu > 0.0):
+    if np.count_nonzero(nu > 0.0):
         return True
     new = impulse > 0.0
-    return bool(np.any(new if held is None else new & ~held))
+    return bool(np.count_nonzero(new if held is None else new & ~held))

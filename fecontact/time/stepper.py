@@ -51,6 +51,9 @@ class Stepper:
         # penetration to record)
         self.looks = any(pair.looks_ahead for pair in contacts.pairs)
         self.holds = contacts.size > 0
+        # an NSGA step whose end is outside every body (State.outside) and where no node can
+        # enter a solid has nothing to measure: its record is the 0 m its state starts with
+        self.trusts = settings.integrator == "nsga" and not settings.depth_check
 
     @property
     def stats(self) -> StepStats:
@@ -65,7 +68,9 @@ class Stepper:
             model.contacts.look_ahead(st.q, st.v, h)
         try:
             end = self.kind(model, st, h, settings, timer)
-            return hold_penetration(model, end, settings, timer) if self.holds else end
+            if not self.holds or (self.trusts and end.outside):
+                return end
+            return hold_penetration(model, end, settings, timer)
         except StepFailure as err:
             if depth >= self.settings.max_halvings:
                 raise
