@@ -12,12 +12,16 @@ stability measures need, one row per step.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import csv
 import dataclasses
+import io
 import math
 import os
 import statistics
+import subprocess
 import sys
+import tarfile
 import tempfile
 from pathlib import Path
 
@@ -45,12 +49,15 @@ RESULTS = ROOT / "benchmarks" / "results"
 
 __all__ = [
     "G",
+    "alternated",
     "RESULTS",
     "ROOT",
     "ball_exact_gap",
     "ball_impact_times",
+    "baseline_trees",
     "case",
     "episode_starts",
+    "export",
     "fmt",
     "map_runs",
     "markdown_table",
@@ -63,6 +70,8 @@ __all__ = [
     "tidy_log_axes",
     "timed_run",
     "trace",
+    "versions_parser",
+    "versions_row",
     "with_options",
     "publish",
     "write_csv",
@@ -298,3 +307,75 @@ def machine_note() -> str:
         f"{load:.2f} at start; Python {platform.python_version()}, fecontact "
         f"{fecontact.__version__}; `{' '.join([Path(sys.argv[0]).name, *sys.argv[1:]])}`"
     )
+
+
+def alternated(trees: dict, repeats: int, run) -> dict:
+    """``run(tree)`` ``repeats`` times for each of ``trees`` (name: tree), alternated tree by
+    tree so that a change of load on the machine hits every version alike: by name, the
+    results in order."""
+    runs = {name: [] for name in trees}
+    for _ in range(repeats):
+        for name, tree in trees.items():
+            runs[name].append(run(tree))
+    return runs
+
+
+def versions_row(row: dict, count: str, same: str, others, share: dict | None = None) -> str:
+    """The Markdown row of one case timed on several versions: its name, ``row[count]``, this
+    checkout's median (and minimum) time, then per other version its time and the ratio of
+    this checkout's median over its, and whether all agreed (``row[same]``). ``share``: by
+    version, a fraction shown after each time (None: no such column)."""
+    med, low = row["median_us"], row["min_us"]
+
+    def time(name: str) -> str:
+        extra = "" if share is None else f" | {share[name]:.1%}"
+        return f"{med[name]:.1f} ({low[name]:.1f}){extra}"
+
+    cells = [f"{time(b)} | {med['new'] / med[b]:.3f}" for b in others]
+    return (
+        f"| {row['case']} | {row[count]} | {time('new')} | "
+        + " | ".join(cells)
+        + f" | {'yes' if row[same] else 'NO'} |"
+    )
+
+
+def versions_parser(description: str, repeats: tuple[int, int], baseline: str):
+    """The command line of a script that times this checkout against earlier versions:
+    ``--quick``, ``--repeats`` (default ``repeats``: (quick, full) processes of each) and
+    ``--baseline`` (git revisions separated by commas, default ``baseline``)."""
+    p = argparse.ArgumentParser(description=description)
+    p.add_argument("--quick", action="store_true", help=f"short runs, {repeats[0]} repeats")
+    p.add_argument(
+        "--repeats", type=int, default=None, help=f"processes of each (default {repeats[1]})"
+    )
+    p.add_argument(
+        "--baseline",
+        default=baseline,
+        help="git revisions to compare with, separated by commas (default: %(default)s)",
+    )
+    return p
+
+
+def export(revision: str, folder: Path) -> Path:
+    """The package at ``revision`` of this repository, written into ``folder``."""
+    tar = subprocess.run(
+        ["git", "-C", str(ROOT), "archive", "--format=tar", revision],
+        check=True,
+        capture_output=True,
+    ).stdout
+    folder.mkdir(parents=True, exist_ok=True)
+    with tarfile.open(fileobj=io.BytesIO(tar)) as archive:
+        archive.extractall(folder, filter="data")
+    return folder
+
+
+@contextlib.contextmanager
+def baseline_trees(revisions: str):
+    """The package at each of ``revisions`` (git revisions of this repository separated by
+    commas) exported into a temporary folder for the ``with`` block: (the revisions, by name
+    the trees, with this checkout as "new")."""
+    baselines = [b.strip() for b in revisions.split(",") if b.strip()]
+    with tempfile.TemporaryDirectory(prefix="fecontact_baseline_") as tmp:
+        trees = {b: export(b, Path(tmp) / b) for b in baselines}
+        trees["new"] = ROOT
+        yield baselines, trees

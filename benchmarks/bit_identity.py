@@ -29,7 +29,8 @@ import sys
 import tempfile
 from pathlib import Path
 
-from stepper_speed import export, write_table
+from _common import export
+from stepper_speed import write_table
 
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "benchmarks" / "results"

@@ -21,16 +21,16 @@ byte: the recorder's savings must not change what it reports).
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import statistics
 import subprocess
 import sys
-import tempfile
+from functools import partial
 from pathlib import Path
 
-from stepper_speed import export, write_table
+from _common import alternated, baseline_trees, versions_parser, versions_row
+from stepper_speed import write_table
 
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "benchmarks" / "results"
@@ -87,10 +87,7 @@ def measure(trees: dict, repeats: int, quick: bool, inner: int) -> list[dict]:
     rows = []
     for case, durations in CASES.items():
         t_end = durations[1 if quick else 0]
-        runs = {name: [] for name in trees}
-        for _ in range(repeats):
-            for name, tree in trees.items():
-                runs[name].append(one_run(tree, case, t_end, inner))
+        runs = alternated(trees, repeats, partial(one_run, case=case, t_end=t_end, inner=inner))
         per = {n: [1e6 * r["per_row"] for r in runs[n]] for n in runs}
         # the recorder's time over the step's, process by process
         share = {n: [r["per_row"] / r["per_step"] for r in runs[n]] for n in runs}
@@ -123,38 +120,18 @@ def table(rows: list[dict], repeats: int, baselines: list[str]) -> str:
         + " | ".join("---: | ---: | ---:" for _ in baselines)
         + " | --- |",
     ]
-    for r in rows:
-        med, low, share = r["median_us"], r["min_us"], r["share"]
-        cells = [
-            f"{med[b]:.1f} ({low[b]:.1f}) | {share[b]:.1%} | {med['new'] / med[b]:.3f}"
-            for b in baselines
-        ]
-        lines.append(
-            f"| {r['case']} | {r['rows']} | {med['new']:.1f} ({low['new']:.1f}) | "
-            f"{share['new']:.1%} | "
-            + " | ".join(cells)
-            + f" | {'yes' if r['same_output'] else 'NO'} |"
-        )
+    lines += [versions_row(r, "rows", "same_output", baselines, r["share"]) for r in rows]
     return "\n".join(lines) + "\n"
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="short runs, 2 repeats")
-    parser.add_argument("--repeats", type=int, default=None, help="processes of each (default 5)")
-    parser.add_argument(
-        "--baseline",
-        default="fb610ca",  # the Beam3D kernel of today, the recorder before: same output
-        help="git revisions to compare with, separated by commas (default: %(default)s)",
-    )
+    # (the default baseline: the Beam3D kernel of today, the recorder before: same output)
+    parser = versions_parser(__doc__.splitlines()[0], (2, 5), "fb610ca")
     parser.add_argument("--inner", type=int, default=5, help="passes per process (default 5)")
     parser.add_argument("--out", default=str(RESULTS), help="output folder (default: %(default)s)")
     args = parser.parse_args(argv)
     repeats = args.repeats or (2 if args.quick else 5)
-    baselines = [b.strip() for b in args.baseline.split(",") if b.strip()]
-    with tempfile.TemporaryDirectory(prefix="fecontact_baseline_") as tmp:
-        trees = {b: export(b, Path(tmp) / b) for b in baselines}
-        trees["new"] = ROOT
+    with baseline_trees(args.baseline) as (baselines, trees):
         rows = measure(trees, repeats, args.quick, 2 if args.quick else args.inner)
     text = table(rows, repeats, baselines)
     print(text)

@@ -30,16 +30,15 @@ noisy on a loaded machine than whole runs in separate processes.
 
 from __future__ import annotations
 
-import argparse
-import io
 import json
 import os
 import statistics
 import subprocess
 import sys
-import tarfile
-import tempfile
+from functools import partial
 from pathlib import Path
+
+from _common import alternated, baseline_trees, versions_parser, versions_row
 
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "benchmarks" / "results"
@@ -180,19 +179,6 @@ def single_steps(trees: dict, quick: bool) -> str:
     return "\n".join(lines) + "\n"
 
 
-def export(revision: str, folder: Path) -> Path:
-    """The package at ``revision`` of this repository, written into ``folder``."""
-    tar = subprocess.run(
-        ["git", "-C", str(ROOT), "archive", "--format=tar", revision],
-        check=True,
-        capture_output=True,
-    ).stdout
-    folder.mkdir(parents=True, exist_ok=True)
-    with tarfile.open(fileobj=io.BytesIO(tar)) as archive:
-        archive.extractall(folder, filter="data")
-    return folder
-
-
 def one_run(tree: Path, case: str, t_end: float | None, inner: int) -> dict:
     """Runs of ``case`` with the package of ``tree``, in a fresh interpreter."""
     env = dict(os.environ, PYTHONPATH=str(tree), OPENBLAS_NUM_THREADS="1")
@@ -210,10 +196,7 @@ def measure(trees: dict, repeats: int, quick: bool, inner: int) -> list[dict]:
     for case in CASES:
         t_end = {"flexible_pendulum": 0.3, "bouncing_ball": 1.0, "two_disks": 0.002}[case]
         t_end = t_end if quick else None
-        runs = {name: [] for name in trees}
-        for _ in range(repeats):  # alternate: a change of load hits every tree alike
-            for name, tree in trees.items():
-                runs[name].append(one_run(tree, case, t_end, inner))
+        runs = alternated(trees, repeats, partial(one_run, case=case, t_end=t_end, inner=inner))
         per = {n: [r["per_step"] for r in runs[n]] for n in runs}
         rows.append(
             {
@@ -244,26 +227,12 @@ def table(rows: list[dict], repeats: int, baselines: list[str], noise: bool) -> 
         + " | same history |",
         "| --- | ---: | ---: | " + " | ".join("---: | ---:" for _ in others) + " | --- |",
     ]
-    for r in rows:
-        med, low = r["median_us"], r["min_us"]
-        cells = [f"{med[b]:.1f} ({low[b]:.1f}) | {med['new'] / med[b]:.3f}" for b in others]
-        lines.append(
-            f"| {r['case']} | {r['steps']} | {med['new']:.1f} ({low['new']:.1f}) | "
-            + " | ".join(cells)
-            + f" | {'yes' if r['same_history'] else 'NO'} |"
-        )
+    lines += [versions_row(r, "steps", "same_history", others) for r in rows]
     return "\n".join(lines) + "\n"
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="short runs, 3 repeats")
-    parser.add_argument("--repeats", type=int, default=None, help="processes of each (default 7)")
-    parser.add_argument(
-        "--baseline",
-        default="21d058e",
-        help="git revisions to compare with, separated by commas (default: %(default)s)",
-    )
+    parser = versions_parser(__doc__.splitlines()[0], (3, 7), "21d058e")
     parser.add_argument(
         "--noise", action="store_true", help="also time a second copy of this checkout"
     )
@@ -273,10 +242,7 @@ def main(argv=None) -> int:
     parser.add_argument("--out", default=str(RESULTS), help="output folder (default: %(default)s)")
     args = parser.parse_args(argv)
     repeats = args.repeats or (3 if args.quick else 7)
-    baselines = [b.strip() for b in args.baseline.split(",") if b.strip()]
-    with tempfile.TemporaryDirectory(prefix="fecontact_baseline_") as tmp:
-        trees = {b: export(b, Path(tmp) / b) for b in baselines}
-        trees["new"] = ROOT
+    with baseline_trees(args.baseline) as (baselines, trees):
         if args.noise:  # this checkout's own files, a second time (same code)
             trees["same code"] = ROOT
         rows = measure(trees, repeats, args.quick, 1 if args.quick else 3)

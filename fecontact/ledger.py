@@ -119,15 +119,12 @@ def pending_record(
     a :class:`SmoothRecord` where it has an energy to compute, else the record itself (None
     without a contact phase)."""
     if not contact_phase or (v_tilde is None and q_tilde is None):
-        if contact_phase and works is None and not release and _plus_zero(friction_work):
+        # (a +0.0 friction work: a −0.0 the record keeps)
+        plus_zero = friction_work == 0.0 and math.copysign(1.0, friction_work) > 0.0
+        if contact_phase and works is None and not release and plus_zero:
             return NOTHING_MOVED  # (most steps with candidates: shared, read-only)
         return smooth_record(model, contact_phase, None, None, friction_work, works, release)
     return SmoothRecord(model, v_tilde, q_tilde, friction_work, works, release)
-
-
-def _plus_zero(x: float) -> bool:
-    """Whether x is +0.0 (not −0.0, whose sign a record keeps)."""
-    return x == 0.0 and math.copysign(1.0, x) > 0.0
 
 
 def joined_record(model, first, second) -> np.ndarray | None:

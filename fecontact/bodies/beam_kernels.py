@@ -90,7 +90,13 @@ def beam_internal(el: BeamElements, q: np.ndarray, ndof: int, tangent: bool):
     g1 = 1.0 + Gam
     W = 0.5 * float(w @ (N * Gam + V * gam + Mb * kap))
     # f_e = w (N ∂Γ + V ∂γ + M ∂κ)
-    coef = np.stack([N * c - V * s, N * s + V * c, N * gam - V * g1, Mb], axis=1)
+    # (columns written into one array: np.stack costs more than the products on a beam of
+    # tens of elements, and the layout, hence every sum below, is the same)
+    coef = np.empty((w.size, 4))
+    coef[:, 0] = N * c - V * s
+    coef[:, 1] = N * s + V * c
+    coef[:, 2] = N * gam - V * g1
+    coef[:, 3] = Mb
     f_e = np.einsum("ek,eki->ei", w[:, None] * coef, el.e)
     f = np.bincount(el.dofs.ravel(), f_e.ravel(), minlength=ndof)
     if not tangent:
@@ -98,17 +104,13 @@ def beam_internal(el: BeamElements, q: np.ndarray, ndof: int, tangent: bool):
     # K_e = w (EA ∂Γ⊗∂Γ + GA ∂γ⊗∂γ + EI ∂κ⊗∂κ + N ∂²Γ + V ∂²γ); the second derivatives
     # couple translations and rotations (sym(e1e3), sym(e2e3)) and the rotations (e3e3)
     cs = c * s
-    K = np.stack(
-        [
-            EA * c * c + GA * s * s,
-            EA * s * s + GA * c * c,
-            EA * gam * gam + GA * g1 * g1 - N * g1 - V * gam,
-            (EA - GA) * cs,
-            EA * c * gam + GA * s * g1 - N * s - V * c,
-            EA * s * gam - GA * c * g1 + N * c - V * s,
-            np.full_like(c, EI),
-        ],
-        axis=1,
-    )
+    K = np.empty((w.size, 7))
+    K[:, 0] = EA * c * c + GA * s * s
+    K[:, 1] = EA * s * s + GA * c * c
+    K[:, 2] = EA * gam * gam + GA * g1 * g1 - N * g1 - V * gam
+    K[:, 3] = (EA - GA) * cs
+    K[:, 4] = EA * c * gam + GA * s * g1 - N * s - V * c
+    K[:, 5] = EA * s * gam - GA * c * g1 + N * c - V * s
+    K[:, 6] = EI
     K_e = np.einsum("ek,ekij->eij", w[:, None] * K, el.P)
     return W, f, K_e

@@ -37,7 +37,7 @@ def augmentation(scale: float, G, Y) -> np.ndarray:
     Alart–Curnier tests around: the step fails instead, to be halved."""
     inverse_mass = np.einsum("ij,ji->i", G, Y)
     bad = ~(np.isfinite(inverse_mass) & (inverse_mass > 0.0))
-    if bad.any():
+    if np.count_nonzero(bad):
         raise StepFailure(
             f"constraint row {int(np.argmax(bad))} has no positive effective mass "
             f"(G H^-1 G^T = {inverse_mass[bad][0]:.3e})",

@@ -166,13 +166,18 @@ class _Phases:
         if opts.depth_check:  # (decided once: without solid pairs no node can enter)
             check_predictor(model, q, g_tilde)
         cand = (g_tilde <= opts.detection_margin * model.length).nonzero()[0]
-        # (only the candidates use the gap tolerance)
-        self.tol_gap = opts.tol_gap * length_scale(model, q) if cand.size else 0.0
         self.nu, self.impulse, self.gaps, self.cand = np.zeros(m), np.zeros(m), g_tilde, cand
-        short = g_tilde[cand] < 0.0
+        if not cand.size:  # (most steps: nothing to correct, and no gap tolerance to use)
+            self.tol_gap, self.closed = 0.0, cand
+            return
+        self.tol_gap = opts.tol_gap * length_scale(model, q)
+        g_cand = g_tilde[cand]
+        short = g_cand < 0.0
         if self.force is not None:  # the persistent contacts the smooth step closed are not short
-            short &= ~(np.isin(cand, self.P) & (g_tilde[cand] >= -self.tol_gap))
-        if not short.any():
+            short &= ~(np.isin(cand, self.P) & (g_cand >= -self.tol_gap))
+        # (count_nonzero: a third of the time of any() on a few contacts)
+        if not np.count_nonzero(short):  # (closed: the contacts closed where the step ends)
+            self.closed = cand[g_cand <= self.tol_gap]
             return
         was_active = st.nu[cand] > 0.0 if st.nu.size == m else False
         if self.grip is not None:  # contacts gripped by the smooth step keep their grip
@@ -202,6 +207,7 @@ class _Phases:
             self.record.work += f[model.free] @ U_t
         self.Gb = None  # the joints' gradient moved with q
         self.corrected = None if opts.restarts else (q_tilde, metric[1])
+        self.closed = cand[self.gaps[cand] <= self.tol_gap]
 
     def _corrected(self, q_tilde, work, metric):
         """(U, k ν_N, (k ν_T, U_T) with friction else None) of the correction on ``work``."""
@@ -220,10 +226,9 @@ class _Phases:
 
     def jump(self) -> None:
         """Step 3 on the contacts closed at q_{n+1} and on the joints."""
-        model, cand, tol_gap = self.model, self.cand, self.tol_gap
-        self.closed = closed = cand[self.gaps[cand] <= tol_gap] if cand.size else cand
-        if not (closed.size or model.joints.size):
-            return
+        model, closed, tol_gap = self.model, self.closed, self.tol_gap
+        if self.v is self.v_tilde:  # (the jump adds to v in place: ṽ is kept apart)
+            self.v = self.v.copy()
         force, grip = self.force, self.grip
         self.held = held = None if force is None else force[closed] > 0.0
         preload = None if grip is None else self.h * grip[closed]  # the smooth forces' impulse
@@ -278,7 +283,7 @@ class _Phases:
         st, closed = self.st, self.closed
         if self.corrected is None:  # (tested first: it decides most steps at no cost)
             return
-        if not (st.gaps.size == self.m and np.any(st.gaps[closed] > self.tol_gap)):
+        if not (st.gaps.size == self.m and np.count_nonzero(st.gaps[closed] > self.tol_gap)):
             return
         model, c, opts, F = self.model, self.c, self.opts, self.model.free_slice
         q_tilde, solve_H = self.corrected
@@ -323,10 +328,9 @@ class _Phases:
         and the state they end in."""
         if self.m == 0 and self.model.joints.size == 0:
             return _end_state(self)
-        v_tilde = self.v  # ṽ, the smooth step's velocity (a correction replaces self.v)
+        self.v_tilde = self.v  # ṽ, the smooth step's velocity (a correction replaces self.v)
         self.correct()  # 2., only if a contact candidate penetrates (joints already hold)
-        if self.cand.size or self.model.joints.size:  # (else nothing to jump or follow)
-            self.v_tilde = v_tilde.copy()  # (the jump adds to v in place)
+        if self.closed.size or self.model.joints.size:  # (else nothing to jump or follow)
             self.jump()  # 3.
             self.follow()
         self.timer.add("contact", clock)
@@ -339,8 +343,8 @@ def _end_state(step: _Phases) -> State:
     at = (step.t, step.q, step.v, step.vd, step.a)
     if step.nu is None:  # no contacts, no joints: the smooth step alone
         return State(*at, h=step.h, lam=step.lam, iterations=step.iters)
-    joints = step.model.joints.size
-    phase = step.cand.size + joints  # a correction or a jump may follow (else no record)
+    joints, cand = step.model.joints.size, step.cand
+    phase = cand.size + joints  # a correction or a jump may follow (else no record)
     record = None
     if phase:
         moved = step.q_tilde is not None or step.closed.size or joints
@@ -352,7 +356,10 @@ def _end_state(step: _Phases) -> State:
         lam=step.lam,
         iterations=step.iters,
         gaps=step.gaps,
-        candidates=step.cand,
+        candidates=cand,
+        # (uncorrected: the candidates' gaps are ≥ 0 unless a smooth force holds them, the
+        # others' above the detection margin)
+        outside=step.q_tilde is None and (step.force is None or not cand.size),
         nu=step.nu,
         impulse=step.impulse,
         smooth=step.forces,
@@ -390,7 +397,7 @@ def _pushed(cand, gaps, tol_gap: float, redundant: bool) -> np.ndarray:
 def _impact(nu, impulse, held) -> bool:
     """Whether the step stopped a contact that was not held by a smooth force: a position
     correction, or an impulse on a contact outside the held ones (``held``: mask or None)."""
-    if np.any(nu > 0.0):
+    if np.count_nonzero(nu > 0.0):
         return True
     new = impulse > 0.0
-    return bool(np.any(new if held is None else new & ~held))
+    return bool(np.count_nonzero(new if held is None else new & ~held))

@@ -59,11 +59,9 @@ def hold_penetration(model, st: State, opts: IntegratorOptions, timer: PhaseTime
         return st
     nsga = opts.integrator == "nsga"
     if not opts.depth_check:  # signed distances only (decided once per run)
-        # an NSGA step without candidates made no correction: every gap is its g(q̃), above
-        # the detection margin (≥ 0)
-        depth = (
-            0.0 if nsga and not st.candidates.size else model.contacts.penetration(st.q, st.gaps)
-        )
+        # an NSGA step that made no correction and held no contact by a smooth force knows
+        # every gap is ≥ 0 (``State.outside``)
+        depth = 0.0 if nsga and st.outside else model.contacts.penetration(st.q, st.gaps)
         st.penetration, st.mortar_depth = depth, 0.0
     else:
         clock = time.perf_counter()

@@ -46,6 +46,14 @@ class Stepper:
 
     def __init__(self, model, settings: RunSettings, kind: Callable):
         self.model, self.settings, self.kind = model, settings, kind
+        contacts = model.contacts
+        # (decided once: pairs that search ahead of a step; a model without contacts has no
+        # penetration to record)
+        self.looks = any(pair.looks_ahead for pair in contacts.pairs)
+        self.holds = contacts.size > 0
+        # an NSGA step whose end is outside every body (State.outside) and where no node can
+        # enter a solid has nothing to measure: its record is the 0 m its state starts with
+        self.trusts = settings.integrator == "nsga" and not settings.depth_check
 
     @property
     def stats(self) -> StepStats:
@@ -55,12 +63,14 @@ class Stepper:
         """The state after ``h`` (s) from ``st``: one step, or, where it fails, two of h/2,
         recursively down to ``max_halvings`` levels (then the failure propagates). A step
         retaken because it left a point too deep inside a body counts in ``retakes``."""
-        model = self.model
-        model.contacts.look_ahead(st.q, st.v, h)
+        model, settings = self.model, self.settings
+        if self.looks:
+            model.contacts.look_ahead(st.q, st.v, h)
         try:
-            return hold_penetration(
-                model, self.kind(model, st, h, self.settings, timer), self.settings, timer
-            )
+            end = self.kind(model, st, h, settings, timer)
+            if not self.holds or (self.trusts and end.outside):
+                return end
+            return hold_penetration(model, end, settings, timer)
         except StepFailure as err:
             if depth >= self.settings.max_halvings:
                 raise

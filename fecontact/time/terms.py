@@ -139,11 +139,8 @@ class Elastic(ForceTerm):
         self.bp = 0.0
         self.constant = constant and tangent
 
-    def begin(self, step):
-        self.bp = step.c.bp
-        return self
-
     def evaluate(self, step, it):
+        self.bp = step.c.bp  # (of the step: its tangent opens with β′M)
         if self.constant and self.K is not None:
             self.W, self.fint, _ = self.model.internal(step.q, tangent=False)
         else:

@@ -1,0 +1,285 @@
+r"""The generalized-α form of the Newton loop (:mod:`.newton`), for the NSGA's smooth step
+and the penalty step: it solves r(X) = M v̇ + Σ_k f_k(q, v, t) = 0, with the rows of the
+terms that have multipliers (joints, persistent contacts) as constraints, for the iterate
+X = (q, v, v̇, a) of one step: Newton moves q by dq and (v, v̇, a) by (γ′, β′, ∂a/∂q) dq.
+Each update solves
+
+    S_t dq = −r,   S_t = β′M + Σ_k (∂f_k/∂q + γ′ ∂f_k/∂v),
+
+with S_t alone, with S_t's own factors and the Schur complement of one term's rows, or
+bordered by every touching term's rows. The plan decides whether a linear model's S_t and
+its factors are reused (no term brings a tangent of its own), and the globalization: the
+energy descent of :mod:`.descent` (the NSGA's smooth step), or the halving of an update
+that does not lower the residual (penalty). It converges when
+|r| ≤ tol_residual · max(|f_ext|, |f_int|, |M v̇|) and every term's own test holds at the
+iterate, or when an update is below the increment tolerance and every constrained term's
+test holds after it (or, in a linear model with nonlinear joints, by the joints' remainder
+bound).
+
+The loop builds the form once per run and begins it again at every step.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import scipy.sparse as sp
+
+from .constraints import (
+    StepFailure,
+    bordered,
+    factorize_or_fail,
+    independent_rows,
+    plus_curvature,
+)
+from .descent import Armijo, descent_direction
+from .generalized_alpha import predict
+from .lie import LieStep, predict_increment
+from .terms import StepContext
+
+__all__ = ["AccelerationForm"]
+
+
+class AccelerationForm:
+    """The generalized-α form of the loop ``newton`` (module docstring): the unknown q_{n+1}
+    (on a Lie group the increment D, q = q_n ⊕ D), with (v, v̇, a) following at the rates
+    of the coefficients ``c``; the predictor from ``st``; the residual r = M v̇ + Σ_k f_k;
+    updates from S_t, alone, through a Schur complement or bordered by the terms' rows.
+    ``law``: unused (the step needs nothing else)."""
+
+    __slots__ = (
+        "S armijo dq group lie model newton opts plain plan previous r ref rnorm s small "
+        "solve step x"
+    ).split()
+
+    def __init__(self, newton, st, c, t: float, P, law=None):  # (newton: the loop)
+        model, opts, plan = newton.model, newton.opts, newton.plan
+        self.newton, self.model, self.opts, self.plan = newton, model, opts, plan
+        self.group = plan.group
+        self.begin(st, c, t, P, law)
+
+    def begin(self, st, c, t: float, P, law=None) -> None:
+        """Start the step from ``st`` with the coefficients ``c`` to the time ``t`` (s) at
+        its predictor, nothing of a previous step kept."""
+        self.S = self.solve = self.armijo = self.x = self.dq = self.small = self.r = None
+        self.plain = True  # every solve was with S_t alone: S_t's solver is a metric
+        self.previous, self.s = math.inf, 1.0
+        self.rnorm, self.ref = math.inf, 1.0
+        model = self.model
+        # on a Lie group the first row of X is the increment D, and q = q_n ⊕ D (:mod:`.lie`)
+        if self.group:
+            lie = self.lie = LieStep(self.group, st.q)
+            X = predict_increment(st, c, self.plan.bound)
+            self.step = step = StepContext(model, c, t, st, self.opts, P, X)
+            step.q = lie.configuration(X[0])
+        else:
+            self.lie = None
+            self.step = StepContext(model, c, t, st, self.opts, P, predict(st, c))
+
+    def residual(self, it: int) -> bool:
+        """The residual r at the iterate, after the Armijo test of the last full update
+        (decided by the strain energy at its end); whether the iterate has converged."""
+        newton, step = self.newton, self.step
+        if self.armijo is None and not newton.evaluated:  # (the elastic term alone)
+            newton.elastic.evaluate(step, it)
+        else:
+            newton.evaluate(it, None if self.armijo is None else self._armijo)
+        Mvd = self.model.M @ step.vd[self.model.free_slice]
+        r = Mvd
+        for term in newton.forced:
+            r = term.residual(r)
+        self.r = r
+        ref = max(Mvd @ Mvd, 1e-300)
+        for term in newton.scaled:
+            x = term.reference()
+            if x > ref:
+                ref = x
+        self.ref = math.sqrt(ref)
+        self.rnorm = rnorm = math.sqrt(r @ r)
+        newton.clock = newton.timer.add("assembly", newton.clock)
+        if not math.isfinite(rnorm):
+            fi = newton.elastic.fi
+            why = "" if np.all(np.isfinite(fi)) else ": an element inverts (det F <= 0)"
+            raise StepFailure(newton.name + " diverged" + why, rnorm)
+        if rnorm > self.opts.tol_residual * self.ref:
+            return False
+        for term in newton.checked:
+            if not term.converged(step):
+                return False
+        return True
+
+    def _armijo(self, it: int) -> None:
+        """The Armijo test of the last full update, by the strain energy the elastic term
+        found at its end; where it fails, the update is cut back and the term evaluated
+        again."""
+        step, elastic = self.step, self.newton.elastic
+        armijo, self.armijo = self.armijo, None
+        if not armijo.accepts(elastic.W):
+            s = armijo.backtrack(self.model, self.opts.stats.newton)
+            step.X[:] = armijo.X
+            step.X[:, self.model.free_slice] += np.multiply.outer(step.c.w, s * armijo.dq)
+            elastic.evaluate(step, it)
+
+    def update(self) -> bool:
+        """One Newton update of the iterate; whether it has converged with it."""
+        step, newton = self.step, self.newton
+        rowed = newton.rowed
+        self.small = None  # (whether dq is below the increment tolerance, where known)
+        self._matrix()
+        touching = [term for term in rowed if term.touching()] if rowed else None
+        if not touching:
+            dq = self._plain_update()
+        elif (
+            len(touching) == 1
+            and touching[0].schur
+            and (self.lie is None or touching[0].schur_only)
+        ):
+            dq = self._schur_update(touching[0])
+        else:
+            dq = self._bordered_update(touching)
+        step.X[:, self.model.free_slice] += np.multiply.outer(step.c.w, dq)  # q, v, v̇, a
+        if self.lie is not None:  # (D, v, v̇, a): the positions q_n ⊕ D
+            step.q = self.lie.configuration(step.X[0])
+        newton.clock = newton.timer.add("solve", newton.clock)
+        self.dq = dq
+        if not rowed:
+            if self.small is not None:
+                return self.small
+            return self.model.update_size(dq) <= self.opts.tol_increment
+        return self._settled(dq)
+
+    def _matrix(self) -> None:
+        """S_t: the linear model's, with its factors, or the sum of the terms' tangents."""
+        if self.plan.reuse:
+            c = self.step.c
+            self.S, self.solve, _ = self.model.iteration_matrix(c.bp, c.gp)
+            return
+        self.S = self.newton.tangent()
+        if self.lie is not None:  # the stiffness moves with D through T(D)
+            self.S = self.lie.iteration_matrix(self.S, self.newton.elastic.K)
+
+    def _factors(self):
+        """S_t's solver (factorized here unless reused)."""
+        if not self.plan.reuse:  # (on a group S_t is not symmetric: gyroscopic, T(D))
+            symmetric = self.lie is None
+            self.solve = factorize_or_fail(
+                self.S, self.rnorm / self.ref, symmetric, self.model.solver
+            )
+        return self.solve
+
+    def _schur_update(self, term):
+        """The update with one term's rows through S_t's own factors."""
+        solve = self._factors()
+        return term.schur_update(self.step, self.r, solve, self.plan.reuse, self.rnorm / self.ref)
+
+    def _bordered_update(self, touching):
+        """The update of the saddle-point system bordered by the rows of ``touching``."""
+        nF = self.model.n_free
+        K, gs, Gs = self.S, [], []
+        for term in touching:
+            g, G, C = term.border(self.step)
+            if self.lie is not None:  # the forces' curvature moves with D through T(D)
+                C = self.lie.right(C)
+            K = plus_curvature(K, 1.0, C)
+            gs.append(g)
+            Gs.append(G)
+        g_rows = gs[0] if len(gs) == 1 else np.concatenate(gs)
+        G_rows = Gs[0] if len(Gs) == 1 else np.vstack(Gs)
+        self.x = x = self._bordered_solve(K, G_rows, g_rows)
+        start = nF
+        for term, g in zip(touching, gs, strict=True):
+            term.take(x[start : start + g.size])
+            start += g.size
+        return x[:nF]
+
+    def _bordered_solve(self, K, G, g):
+        """[Δq; Δλ] of the system bordered by the rows G with gaps g. Where the matrix is
+        singular because rows are redundant (more rows than the dofs they move: a rigid
+        face's four corners on a plane), the update is taken on a maximal independent subset
+        of them (the others' gaps follow, being dependent) and its force Gᵀ Δλ shared over all
+        of them by minimum norm, counted in the run's ``redundant_row_updates``."""
+        res, nF = self.rnorm / self.ref, self.model.n_free
+        b = self.lie.bordered if self.lie is not None else bordered
+        self.plain = False
+        # where rows can be redundant (decided once per run) they are tested first: an LU
+        # need not fail on them, and its near-zero pivot would spread round-off into Δq
+        keep = independent_rows(G) if self.opts.stats.contact.minimum_norm else None
+        if keep is None or keep.size == g.size:
+            try:
+                self.solve = factorize_or_fail(b(K, G), res, False, self.model.solver)
+                return -self.solve(np.concatenate([self.r, g]))
+            except StepFailure:
+                keep = independent_rows(G)
+                if keep.size == g.size:
+                    raise
+        Gd = G.toarray() if sp.issparse(G) else np.asarray(G)
+        self.opts.stats.contact.redundant_row_updates += 1
+        self.solve = factorize_or_fail(b(K, G[keep]), res, False, self.model.solver)
+        y = -self.solve(np.concatenate([self.r, g[keep]]))
+        # (equal shares where rows are alike, as the frictional solves' minimum-norm steps)
+        lam = np.linalg.lstsq(Gd.T, Gd[keep].T @ y[nF:], rcond=None)[0]
+        return np.concatenate([y[:nF], lam])
+
+    def _plain_update(self):
+        """Newton's update with S_t alone, globalized in energy where the model is
+        nonlinear and the plan asks for it."""
+        model, r, plan = self.model, self.r, self.plan
+        solve = self._factors()
+        if plan.reuse or not plan.descent:  # (linear: Π is quadratic, S_t positive definite)
+            return -solve(r)
+        elastic, opts, res = self.newton.elastic, self.opts, self.rnorm / self.ref
+        newton = (opts.tol_increment, res, opts.stats.newton, model.solver)
+        shift = self.newton.mass_shift(self.step.c)
+        shifts = opts.stats.newton.shifted_directions
+        dq, *test = descent_direction(
+            model, r, elastic.fi, self.S, elastic.K, solve, shift, *newton
+        )
+        if test[-1] is None:  # below the increment tolerance: taken whole
+            self.small = True
+            return dq
+        self.armijo = Armijo(self.step.X.copy(), dq, *test, elastic.W, res)
+        # Newton's own direction, measured by the descent test: above the tolerance
+        self.small = False if opts.stats.newton.shifted_directions == shifts else None
+        return dq
+
+    def _settled(self, dq) -> bool:
+        """Whether the update ``dq`` ended the iteration: by the joints' remainder bound, or
+        below the increment tolerance with every constrained term's test holding."""
+        step, newton = self.step, self.newton
+        joints, rowed = newton.joints, newton.rowed
+        if self.plan.bound and len(rowed) == 1 and joints is not None:
+            ff = 0.0 if newton.load is None else newton.load.ff
+            # (on a group: the gyroscopic forces' own remainder, exact, once the gaps pass)
+            gyro = newton.gyroscopic
+            extra = None if gyro is None else (lambda: gyro.remainder(step, dq))
+            if joints.bound(step, dq, self.x[self.model.n_free :], ff, extra):
+                return True
+        return self.model.update_size(dq) <= self.opts.tol_increment and all(
+            term.settled(step) for term in rowed
+        )
+
+    def halves(self) -> bool:
+        """Halve the last update where it did not lower the residual (up to six times);
+        whether it did."""
+        if self.dq is not None and self.rnorm >= self.previous and self.s > 1.0 / 64.0:
+            self.s *= 0.5
+            step = self.step
+            step.X[:, self.model.free_slice] += np.multiply.outer(step.c.w, -self.s * self.dq)
+            for term in self.newton.rowed:
+                term.retreat(self.s)
+            return True
+        self.previous, self.s = self.rnorm, 1.0
+        return False
+
+    def lam(self) -> np.ndarray:
+        """The joints' multipliers λ_b (N)."""
+        joints = self.newton.joints
+        return self.step.st.lam.copy() if joints is None else joints.lam
+
+    def metric(self):
+        """(S_t, its solver) where every solve was with S_t alone and there are no joints:
+        the metric of the position correction; else None (rebuilt on demand)."""
+        if self.S is not None and self.plain and self.newton.joints is None:
+            return self.S, self.solve
+        return None
