@@ -44,7 +44,7 @@ import numpy as np
 from _common import parser, publish_report
 
 import fecontact
-from fecontact import Model, Probe, SolverError, run
+from fecontact import InputError, Model, Probe, SolverError, run
 from fecontact.bodies import Beam3D, LinearElastic, Material, RigidBody3D, Section, Solid
 from fecontact.bodies.meshes import graded_ball_mesh
 from fecontact.bodies.shapes3d import Ball, Box
@@ -126,17 +126,24 @@ def centre_probes(model, body, name: str) -> dict:
 
 
 def solid_depth(a: Solid, b: Solid, sa: slice, sb: slice):
-    """The deepest boundary node of either solid inside the other's discretized boundary (m),
-    by the inside/outside test alone."""
-    surfaces = [Surface(body.contact_facets()) for body in (a, b)]
-    nodes = [np.unique(body.contact_facets()) for body in (a, b)]
+    """The deepest boundary node of either solid inside the other's discretized boundary, by
+    the inside/outside test alone: (m, and over the longest edge of the facet it is under)."""
+    facets = [body.contact_facets() for body in (a, b)]
+    surfaces = [Surface(f) for f in facets]
+    nodes = [np.unique(f) for f in facets]
 
     def depth(st):
         x = [a.positions(st.q[sa]), b.positions(st.q[sb])]
-        return max(
-            float(np.max(surfaces[1 - i].depths(x[1 - i], x[i][nodes[i]]), initial=0.0))
-            for i in (0, 1)
-        )
+        deepest, ratio = 0.0, 0.0
+        for i in (0, 1):
+            s, f = surfaces[1 - i].signed_distance(x[1 - i], x[i][nodes[i]], outside=False)
+            inside = np.flatnonzero(s < 0.0)
+            if inside.size:
+                tri = x[1 - i][facets[1 - i][f[inside]]]  # (k, 3, 3)
+                edge = np.linalg.norm(tri - np.roll(tri, 1, axis=1), axis=2).max(axis=1)
+                deepest = max(deepest, float(-s[inside].min()))
+                ratio = max(ratio, float(np.max(-s[inside] / edge)))
+        return deepest, ratio
 
     return depth
 
@@ -173,8 +180,22 @@ def lateral_probe(model, bodies) -> Probe:
     return Probe(lateral, "m/s", "largest lateral centre-of-mass speed")
 
 
-def depth_probe(depth) -> Probe:
-    return Probe(lambda m, st: depth(st), "m", "deepest point inside the partner")
+def depth_probes(depth, local: bool = False) -> dict:
+    """``depth`` (m) from ``depth(st)``; with ``local``, ``depth(st)`` gives (depth, ratio) and
+    the probe ``local`` holds the ratio (the depth over the longest edge of its facet)."""
+    if not local:
+        return {"depth": Probe(lambda m, st: depth(st), "m", "deepest point inside the partner")}
+    last = {}
+
+    def both(st):  # one evaluation for the two probes of a row
+        if last.get("key") != (st.t, st.step):
+            last["key"], last["value"] = (st.t, st.step), depth(st)
+        return last["value"]
+
+    return {
+        "depth": Probe(lambda m, st: both(st)[0], "m", "deepest point inside the partner"),
+        "local": Probe(lambda m, st: both(st)[1], "-", "that depth over its facet's longest edge"),
+    }
 
 
 FALLBACKS = (
@@ -213,6 +234,8 @@ def executed(sim):
         except SolverError as err:
             summary = fecontact.io.output.read_json(Path(tmp) / "summary.json")
             status, message = "failed", str(err)
+        except InputError as err:  # refused before the first step
+            return {}, {}, "refused", str(err), time.process_time() - cpu
         cpu = time.process_time() - cpu
         history = read_history(Path(tmp) / "history.csv")
     return summary, {k: np.asarray(v) for k, v in history.items()}, status, message, cpu
@@ -227,6 +250,9 @@ def centres(history) -> np.ndarray:
 def measure(spec: Spec) -> dict:
     """Run ``spec`` and return its table row."""
     summary, h, status, message, cpu = executed(spec.sim)
+    if status == "refused":
+        return {"group": spec.group, "run": spec.label, "step": spec.step, "status": status,
+                "fallbacks": "", "message": message.splitlines()[0][:160]}  # fmt: skip
     t = h["t"]
     ledger = summary.get("energy_ledger") or {}
     scale = ledger.get("scale") or np.nan
@@ -240,6 +266,7 @@ def measure(spec: Spec) -> dict:
         "max_penetration (m)": float(summary.get("max_penetration", np.nan)),
         "depth (m)": float(np.max(h["depth"])),
         "depth / edge": float(np.max(h["depth"])) / spec.edge,
+        "depth / local edge": float(np.max(h["local"])) if "local" in h else np.nan,
         "created / scale": ledger.get("created", np.nan) / scale,
         "fallbacks": fallbacks(summary),
         "CPU (s)": cpu,
@@ -314,7 +341,7 @@ def two_balls(v, b=0.0, e=0.0, cells=None, r2=R, spacing=0.16, spacing2=None, ba
     probes = (
         momentum_probes(model) | centre_probes(model, left, "l") | centre_probes(model, right, "r")
     )
-    probes["depth"] = depth_probe(solid_depth(left, right, sl, sr))
+    probes |= depth_probes(solid_depth(left, right, sl, sr), local=True)
     if b == 0.0:
         probes["lateral"] = lateral_probe(model, (left, right))
     edge = min(left.min_edge_length, right.min_edge_length)
@@ -350,7 +377,9 @@ def ball_on_slab(v, offset=(0.0, 0.0), method="mortar", refinements=2, divisions
         pairs.append(Contact(slab, ball, nodes=top, method=method))
     model = Model([ball, slab], pairs, (0.0, 0.0, -9.81))
     probes = centre_probes(model, ball, "b")
-    probes["depth"] = depth_probe(solid_depth(ball, slab, model.body_slice(0), model.body_slice(1)))
+    probes |= depth_probes(
+        solid_depth(ball, slab, model.body_slice(0), model.body_slice(1)), local=True
+    )
     t_end = 0.001 / v + 1.5 * hertz_time(v, R)
     v0 = model.translation(ball, (0.0, 0.0, -v))
     sim = Simulation(model, dt=wave_step(ball, 1.0), t_end=t_end, probes=probes, v0=v0,
@@ -371,7 +400,7 @@ def rigid_ball_on_slab(v, offset=(0.003, -0.002), method="mortar", divisions=8):
     top = np.unique(slab.contact_facets())
     probes = centre_probes(model, ball, "b")
     depth = rigid_points_depth(ball, sb, lambda st: slab.positions(st.q[ss])[top])
-    probes["depth"] = depth_probe(depth)
+    probes |= depth_probes(depth)
     t_end = 0.001 / v + 12e-3 * v**-0.2
     v0 = model.translation(ball, (0.0, 0.0, -v))
     sim = Simulation(model, dt=wave_step(slab, 1.0), t_end=t_end, probes=probes, v0=v0,
@@ -390,15 +419,39 @@ def ball_on_box(v, where="face", method="mortar", refinements=2):
     sb, sx = model.body_slice(0), model.body_slice(1)
     nodes = ball.boundary_nodes()
     probes = centre_probes(model, ball, "b")
-    probes["depth"] = depth_probe(
-        rigid_points_depth(box, sx, lambda st: ball.positions(st.q[sb])[nodes])
-    )
+    probes |= depth_probes(rigid_points_depth(box, sx, lambda st: ball.positions(st.q[sb])[nodes]))
     t_end = 0.001 / v + 1.5 * hertz_time(v, R)
     v0 = model.translation(ball, (0.0, 0.0, -v))
     sim = Simulation(model, dt=wave_step(ball, 1.0), t_end=t_end, probes=probes, v0=v0,
                      name="ball_on_box", output_interval=t_end)  # fmt: skip
     label = f"elastic ball {v:g} m/s on a rigid box's {where}, {method}"
     return Spec("slab", label, sim, R, ball.min_edge_length, v, pk=where == "edge", step="dx/c")
+
+
+def ball_on_free_rigid(kind: str, b: float, v: float = 1.0, refinements: int = 2):
+    """The elastic ball thrown at ``v`` (m/s) at a free rigid ``kind`` ("box" 0.2 × 0.15 ×
+    0.1 m or "ball" of 4 cm, as heavy as the elastic ball) in space, its centre moved sideways
+    by ``b`` R: a free pair, whose momentum no external force changes."""
+    shape = Box(0.2, 0.15, 0.1) if kind == "box" else Ball(0.04)
+    reach = 0.05 if kind == "box" else 0.04  # the rigid surface's distance from its centre
+    ball = Solid.ball([-(R + reach + 0.001), b * R, 0.0], R, refinements, RUBBER)
+    target = RigidBody3D.uniform(ball.mass, [0.0, 0.0, 0.0], shape)
+    if kind == "box":  # the face x = -0.05 toward the ball: the box turned about z
+        target = RigidBody3D.uniform(ball.mass, [0.0, 0.0, 0.0], Box(0.1, 0.15, 0.2))
+    model = Model([ball, target], [Contact(ball, target)], gravity=(0.0, 0.0, 0.0))
+    sb, st_ = model.body_slice(0), model.body_slice(1)
+    nodes = ball.boundary_nodes()
+    probes = momentum_probes(model) | centre_probes(model, ball, "b")
+    probes |= centre_probes(model, target, "t")
+    probes |= depth_probes(
+        rigid_points_depth(target, st_, lambda st: ball.positions(st.q[sb])[nodes])
+    )
+    t_end = 0.001 / v + 1.5 * hertz_time(v, R)
+    v0 = model.translation(ball, (v, 0.0, 0.0))
+    sim = Simulation(model, dt=wave_step(ball, 1.0), t_end=t_end, probes=probes, v0=v0,
+                     name="ball_on_free_rigid", output_interval=t_end)  # fmt: skip
+    label = f"elastic ball {v:g} m/s at a free rigid {kind} in space, b {b:g}"
+    return Spec("slab", label, sim, R, ball.min_edge_length, v, free=True, step="dx/c")
 
 
 def tumbling_box(velocity, spin, friction=0.5, t_end=2.0):
@@ -415,7 +468,7 @@ def tumbling_box(velocity, spin, friction=0.5, t_end=2.0):
         return max(0.0, -float(box.point_positions(st.q[s], np.arange(8))[:, 2].min()))
 
     probes = dict(sim.probes) | centre_probes(sim.model, box, "b")
-    probes["depth"] = depth_probe(depth)
+    probes |= depth_probes(depth)
     sim = sim.replace(probes=probes, output_interval=t_end)
     label = f"tumbling box {velocity:g} m/s, spin {spin:g} rad/s, mu {friction:g}"
     return Spec("rigid", label, sim, 0.1, np.nan, max(abs(velocity), 1.0), pk=True, step="1 ms")
@@ -435,7 +488,7 @@ def box_on_box(friction=0.3, t_end=1.0):
     v0 = np.zeros(12)
     v0[6:] = [0.5, 0.0, -1.0, 3.0, -2.0, 5.0]
     probes = centre_probes(model, upper, "u") | centre_probes(model, lower, "l")
-    probes["depth"] = depth_probe(own_gaps_depth)
+    probes |= depth_probes(own_gaps_depth)
     sim = Simulation(model, dt=1e-3, t_end=t_end, probes=probes, q0=q0, v0=v0, name="box_on_box",
                      output_interval=t_end)  # fmt: skip
     label = f"spinning box dropped on a box on a plane, mu {friction:g}"
@@ -452,12 +505,12 @@ def free_pair(kind: str, b: float, friction: float, v: float = 2.0):
     model = Model([target, ball], [Contact(target, ball, friction=friction, restitution=0.5)],
                   gravity=(0.0, 0.0, 0.0))  # fmt: skip
     v0 = np.zeros(12)
-    v0[3:6] = [0.0, 1.0, 10.0]  # the target spins
+    v0[3:6] = [0.0, 0.0, 10.0]  # the target spins about a principal axis: L kept in flight
     v0[6:9] = [v, 0.0, 0.0]
     probes = (
         momentum_probes(model) | centre_probes(model, ball, "b") | centre_probes(model, target, "t")
     )
-    probes["depth"] = depth_probe(own_gaps_depth)
+    probes |= depth_probes(own_gaps_depth)
     t_end = 0.3 / v
     sim = Simulation(model, dt=2e-4, t_end=t_end, probes=probes, v0=v0, name="free_pair",
                      output_interval=t_end)  # fmt: skip
@@ -465,17 +518,18 @@ def free_pair(kind: str, b: float, friction: float, v: float = 2.0):
     return Spec("rigid", label, sim, 0.05, np.nan, v, free=True, pk=kind == "box", step="0.2 ms")
 
 
-def rod(on: str, v=1.0, angle=30.0, t_end=0.04, divisions=12):
+def rod(on: str, v=1.0, angle=30.0, t_end=0.04, divisions=20, width=0.2):
     """The steel rod of ``cases/rod_drop.py`` (0.5 m, r = 5 mm, 10 elements), inclined by
     ``angle`` (deg), dropped at ``v`` (m/s) on an elastic block (``on`` "block") or a fixed
-    rigid box ("box") whose top face is z = 0; its lower end 2 mm above."""
+    rigid box ("box") whose top face is z = 0 (the block ``width`` wide, ``divisions`` cells
+    along a side, its middle under the rod's lower end); its lower end 2 mm above."""
     radius, length = 0.005, 0.5
     a, az = np.radians(angle), np.radians(45.0)
     axis = np.array([np.cos(a) * np.cos(az), np.cos(a) * np.sin(az), np.sin(a)])
-    low = np.array([-0.1, -0.1, radius + 0.002])
+    low = np.array([0.0, 0.0, radius + 0.002])
     beam = Beam3D.straight(low, low + length * axis, 10, STEEL, Section.circle(radius))
     if on == "block":
-        block = _slab(0.6, 0.05, divisions, 2)
+        block = _slab(width, 0.04, divisions, 2)
         model = Model([block, beam], [Contact(block, beam, clearance=radius)], (0.0, 0.0, -9.81))
         sb, sr = model.body_slice(0), model.body_slice(1)
         surface = np.unique(block.contact_facets())
@@ -505,11 +559,13 @@ def rod(on: str, v=1.0, angle=30.0, t_end=0.04, divisions=12):
         depth = rigid_points_depth(box, sx, points, pad=radius)
         edge = np.nan
     v0 = model.translation(beam, (0.0, 0.0, -v))
-    probes = {"depth": depth_probe(depth)}
+    probes = depth_probes(depth)
     sim = Simulation(model, dt=1e-4, t_end=t_end, probes=probes, v0=v0, name="rod",
                      output_interval=t_end)  # fmt: skip
     target = "an elastic block" if on == "block" else "a rigid box"
     label = f"rod {v:g} m/s at {angle:g} deg on {target}"
+    if on == "block":
+        label += f" ({width:g} m, {divisions} cells a side)"
     return Spec("rod", label, sim, radius, edge, v, step="0.1 ms")
 
 
@@ -543,12 +599,17 @@ FULL = [
     lambda: box_on_box(),
     lambda: free_pair("box", 0.3, 0.3),
     lambda: free_pair("ball", 0.7, 0.5),
+    lambda: ball_on_free_rigid("box", 0.0),
+    lambda: ball_on_free_rigid("box", 0.5),
+    lambda: ball_on_free_rigid("ball", 0.5),
     lambda: rod("block"),
+    lambda: rod("block", divisions=4, width=0.6),
     lambda: rod("box"),
     lambda: rod("box", v=3.0, angle=10.0),
 ]
 
 COLUMNS = ("group", "run", "step", "status", "min gap (m)", "max_penetration (m)", "depth / edge",
+           "depth / local edge",
            "created / scale", "dP / (m v)", "dL / (m v R)", "lateral / v", "fallbacks")  # fmt: skip
 
 
