@@ -52,6 +52,7 @@ from fecontact.contact import Contact, Plane
 from fecontact.contact.inside import Surface
 from fecontact.contact.rigid_distance import shape_distance
 from fecontact.io.output import read_history
+from fecontact.rotations import exp
 from fecontact.scenes import wave_step
 from fecontact.simulation import Simulation
 
@@ -409,6 +410,46 @@ def rigid_ball_on_slab(v, offset=(0.003, -0.002), method="mortar", divisions=8):
     return Spec("slab", label, sim, R, slab.min_edge_length, v, pk=True, step="dx/c")
 
 
+def box_on_slab(v=1.0, tilt=(0.4, 0.3), friction=0.0, divisions=8, method="mortar"):
+    """A rigid box 4 × 3 × 2 cm (1000 kg/m³) dropped at ``v`` (m/s) corner first (turned by
+    ``tilt`` rad about x and y) onto the 0.1 m slab, with Coulomb ``friction``."""
+    slab = _slab(0.1, 0.04, divisions, 3)
+    half = 0.5 * np.array([0.04, 0.03, 0.02])
+    box = RigidBody3D.of_density(1000.0, [0.003, -0.002, 0.0], Box(*(2 * half)))
+    model = Model([slab, box], [Contact(slab, box, method=method, friction=friction)],
+                  (0.0, 0.0, -9.81))  # fmt: skip
+    ss, sb = model.body_slice(0), model.body_slice(1)
+    q0 = np.zeros(model.n)
+    rot = exp(np.array([tilt[0], tilt[1], 0.0]))
+    corners = np.array([[i, j, k] for i in (-1, 1) for j in (-1, 1) for k in (-1, 1)]) * half
+    q0[sb][:3] = [0.0, 0.0, 0.001 - np.min(corners @ rot.T, axis=0)[2]]
+    q0[sb][3:6] = [tilt[0], tilt[1], 0.0]
+    top = np.unique(slab.contact_facets())
+    surface = Surface(slab.contact_facets())
+    s = np.linspace(0.0, 1.0, 9)[:, None, None]
+    edges = [
+        (a, b) for a in range(8) for b in range(a + 1, 8) if np.sum(corners[a] != corners[b]) == 1
+    ]
+    ends = np.array(edges)
+    in_box = rigid_points_depth(box, sb, lambda st: slab.positions(st.q[ss])[top])
+
+    def depth(st):  # slab nodes in the box, and the box's edges (9 points each) in the slab
+        q = st.q[sb]
+        x = corners @ exp(q[3:6]).T + box.center(q)
+        pts = ((1 - s) * x[ends[:, 0]] + s * x[ends[:, 1]]).reshape(-1, 3)
+        inside = -float(np.min(surface.signed_distance(slab.positions(st.q[ss]), pts)[0]))
+        return max(in_box(st), inside, 0.0)
+
+    probes = centre_probes(model, box, "b") | depth_probes(depth)
+    t_end = 0.001 / v + 0.02
+    v0 = model.translation(box, (0.0, 0.0, -v))
+    sim = Simulation(model, dt=wave_step(slab, 1.0), t_end=t_end, probes=probes, q0=q0,
+                     v0=v0, name="box_on_slab", output_interval=t_end)  # fmt: skip
+    label = f"rigid box {v:g} m/s corner first on a {divisions}x{divisions} slab, mu {friction:g}"
+    label += f", {method}"
+    return Spec("slab", label, sim, 0.02, slab.min_edge_length, v, step="dx/c")
+
+
 def ball_on_box(v, where="face", method="mortar", refinements=2):
     """The elastic ball at ``v`` (m/s) onto a fixed rigid box 0.3 × 0.3 × 0.05 m: its pole
     over the face's middle, 5 mm inside an edge, or over a corner."""
@@ -590,6 +631,9 @@ FULL = [
     lambda: ball_on_slab(1.0, method="node-to-surface"),
     lambda: rigid_ball_on_slab(1.0),
     lambda: rigid_ball_on_slab(3.0, (0.01, 0.01)),
+    lambda: box_on_slab(1.0),
+    lambda: box_on_slab(1.0, friction=0.3),
+    lambda: box_on_slab(1.0, method="node-to-surface"),
     lambda: ball_on_box(1.0, "face"),
     lambda: ball_on_box(1.0, "edge"),
     lambda: ball_on_box(1.0, "corner"),

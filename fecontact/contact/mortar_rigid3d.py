@@ -72,6 +72,7 @@ from .boundary_mortar import BoundaryRows
 from .friction import tangent_basis
 from .rigid_distance import (
     SUBDIVISIONS,
+    FeatureDepths,
     feature_weights,
     shape_distance,
     straddles,
@@ -390,7 +391,9 @@ class MortarRigid3D(RigidMortarGeometry):
 
 class NodeDepths:
     """The deepest slave node of a :class:`MortarRigid3D` inside the rigid shape, by its exact
-    signed distance, over the shortest reference boundary edge at that node."""
+    signed distance, over the shortest reference boundary edge at that node, and the deepest
+    corner or edge of a box inside the solid (:class:`FeatureDepths`), over the longest edge
+    of the triangle it lies under."""
 
     def __init__(self, pair: MortarRigid3D):
         self.pair = pair
@@ -399,8 +402,10 @@ class NodeDepths:
         self.edge = np.full(pair.size, np.inf)
         for k in range(3):
             np.minimum.at(self.edge, pair.element_rows[:, k], edge)
+        self.features = FeatureDepths(pair)
 
     def depth(self, q: np.ndarray) -> tuple[float, float]:
-        """(deepest node's depth in m, ≥ 0; the largest depth over the node's shortest edge)."""
+        """(deepest point's depth in m, ≥ 0; the largest depth over its local edge)."""
         d = -self.pair.node_distances(q)
-        return max(0.0, float(d.max())), max(0.0, float((d / self.edge).max()))
+        corner, ratio = self.features.depth(q)
+        return max(0.0, float(d.max()), corner), max(0.0, float((d / self.edge).max()), ratio)

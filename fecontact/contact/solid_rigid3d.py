@@ -31,6 +31,7 @@ from ..errors import InputError, check_range
 from ..rotations import exp
 from .base import PairDefaults
 from .registry import register_pair
+from .rigid_distance import FeatureDepths
 
 __all__ = ["NodeBallContact", "NodeBoxContact"]
 
@@ -56,6 +57,11 @@ class NodeRigidContact(PairDefaults):
 
     def bind(self, model) -> None:
         self.offsets = (model.offset_of(self.body), model.offset_of(self.rigid))
+
+    def watch(self) -> FeatureDepths | None:
+        """A box's corners and edges against the solid's boundary (the rows hold nodes only:
+        a corner between them is measured, :class:`FeatureDepths`); None for a ball."""
+        return FeatureDepths(self) if isinstance(self.rigid.shape, Box) else None
 
     def _state(self, q: np.ndarray):
         """The nodes' positions (m, 3) and the rigid body's dofs (6,)."""

@@ -1,0 +1,158 @@
+"""3D body-to-body contact beyond the cases (``benchmarks/stress_3d.py``): what the sweep found,
+as small regression tests.
+
+- A rigid box's corner entering a solid between its nodes is measured (its rows hold the
+  solid's nodes only): the run stops and names it instead of completing with the corner
+  millimetres inside and ``max_penetration`` 0.
+- Every 3D pair's gaps are objective (unchanged by a rigid motion of the whole model), so its
+  contact forces have no net force and no net moment: the momentum of a free pair changes by
+  the integrator alone.
+- An elastic ball thrown at a free rigid box in space keeps the pair's linear momentum to
+  round-off.
+"""
+
+import numpy as np
+import pytest
+
+from fecontact import Model, SolverError, simulate
+from fecontact.bodies import Beam3D, LinearElastic, Material, RigidBody3D, Section, Solid
+from fecontact.bodies.shapes3d import Ball, Box
+from fecontact.contact import Contact
+from fecontact.contact.rigid_distance import FeatureDepths, box_features
+from fecontact.rotations import exp, log
+from fecontact.scenes import wave_step
+from fecontact.time.settings import IntegratorOptions
+
+RUBBER = LinearElastic(E=1e7, nu=0.3, rho=1000.0)
+TILT = np.array([0.4, 0.3, 0.0])  # rad: a corner of the box lowest
+
+
+def slab(divisions=4):
+    s = Solid.box([-0.05, -0.05, -0.04], [0.05, 0.05, 0.0], (divisions, divisions, 2), RUBBER)
+    s.fix(s.nodes_where(lambda x: x[2] <= -0.04 + 1e-9))
+    return s
+
+
+def corner_first(method, lift):
+    """A 4 × 3 × 2 cm rigid box over a 4 × 4 slab (2.5 cm cells), its lowest corner ``lift``
+    (m) above the top face, between the nodes."""
+    base = slab()
+    box = RigidBody3D.of_density(1000.0, [0.006, -0.004, 0.0], Box(0.04, 0.03, 0.02))
+    model = Model([base, box], [Contact(base, box, method=method)], (0.0, 0.0, -9.81))
+    low = np.min(box_features(box.shape) @ exp(TILT).T, axis=0)[2]
+    q0 = np.zeros(model.n)
+    q0[base.ndof :] = [0.0, 0.0, lift - low, *TILT]
+    return model, q0
+
+
+@pytest.mark.parametrize("method", ["mortar", "node-to-surface"])
+def test_a_box_corner_between_the_nodes_is_measured(method):
+    model, q0 = corner_first(method, -0.002)  # the corner 2 mm inside the slab
+    pair = model.contacts.pairs[0]
+    # the rows hold nodes: every node is outside the box
+    assert np.all(pair.gaps(q0)[np.isfinite(pair.gaps(q0))] > 0.0)
+    watch = pair.watch()
+    depth, ratio = (watch.features if method == "mortar" else watch).depth(q0)
+    # the corner's own depth below the flat top face, to round-off
+    assert depth == pytest.approx(0.002, abs=1e-12)
+    assert ratio == pytest.approx(0.002 / np.hypot(0.025, 0.025), rel=1e-9)
+    assert model.contacts.watches  # the run measures it at every step
+
+
+def test_a_ball_has_no_features():
+    base = slab()
+    ball = RigidBody3D.of_density(1000.0, [0.0, 0.0, 0.0495], Ball(0.05))
+    model = Model([base, ball], [Contact(base, ball)], (0.0, 0.0, -9.81))
+    assert FeatureDepths(model.contacts.pairs[0]).depth(np.zeros(model.n)) == (0.0, 0.0)
+
+
+def test_a_box_dropped_corner_first_stops_and_names_it():
+    """Before, the corner sank 6.7 mm between the nodes of an 8 × 8 slab and the run completed
+    with max_penetration 2e-14 m (benchmarks/stress_3d.py)."""
+    model, q0 = corner_first("mortar", 0.001)
+    v0 = np.zeros(model.n)
+    v0[-6:-3] = [0.0, 0.0, -1.0]
+    dt = wave_step(model.bodies[0], 1.0)
+    with pytest.raises(SolverError, match="penetration not held"):
+        for _ in simulate(model, dt, 0.02, IntegratorOptions(), q0=q0, v0=v0):
+            pass
+
+
+def _moved(model, q, R, t):
+    """q after the rigid motion x → R x + t of the whole model."""
+    out = q.copy()
+    for i, body in enumerate(model.bodies):
+        s = model.body_slice(i)
+        if isinstance(body, RigidBody3D):
+            out[s][:3] = R @ body.center(q[s]) + t - body.position
+            out[s][3:6] = log(R @ exp(q[s][3:6]))
+        elif isinstance(body, Beam3D):
+            nodes = q[s].reshape(-1, 6).copy()
+            nodes[:, :3] = body.positions(q[s]) @ R.T + t - body.X
+            nodes[:, 3:] = [log(R @ exp(psi)) for psi in nodes[:, 3:]]
+            out[s] = nodes.ravel()
+        else:
+            X = body.positions(np.zeros(body.ndof))
+            out[s] = (body.positions(q[s]) @ R.T + t - X).ravel()
+    return out
+
+
+def _pairs():
+    rng = np.random.default_rng(3)
+    steel = Material(210e9, nu=0.3, rho=7850.0)
+    for method in ("mortar", "node-to-surface"):
+        for shape, at in ((Box(0.3, 0.3, 0.05), [0.14, 0.0, -0.025]), (Ball(0.04), [0, 0, -0.04])):
+            ball = Solid.ball([0.0, 0.0, 0.0505], 0.05, 2, RUBBER)
+            body = RigidBody3D.uniform(1.0, at, shape)
+            model = Model([ball, body], [Contact(ball, body, method=method)], (0, 0, 0))
+            q = np.zeros(model.n)
+            q[: ball.ndof] = rng.normal(size=ball.ndof) * 1e-5
+            q[ball.ndof :] = [1e-3, -2e-3, 0.0, 0.1, -0.05, 0.2]
+            name = f"solid-{type(shape).__name__.lower()}-{method}"
+            yield pytest.param(model, q, id=name)
+    shapes = ((Ball(0.05), Ball(0.06), [0.11, 0.02, 0.0]), (Box(0.2, 0.15, 0.1),
+              Box(0.3, 0.3, 0.1), [0.0, 0.0, -0.1]), (Ball(0.05), Box(0.2, 0.15, 0.1),
+              [0.0, 0.0, -0.1]))  # fmt: skip
+    for a, b, at in shapes:
+        A, B = RigidBody3D.uniform(1.0, [0, 0, 0], a), RigidBody3D.uniform(1.0, at, b)
+        model = Model([A, B], [Contact(A, B)], (0, 0, 0))
+        q = np.r_[0.0, 0.0, 0.0, 0.02, 0.0, 0.01, 0.0, 0.0, 0.0, 0.01, 0.02, -0.01]
+        name = f"rigid-{type(a).__name__.lower()}-{type(b).__name__.lower()}"
+        yield pytest.param(model, q, id=name)
+    rod = Beam3D.straight([-0.1, 0, 0.006], [0.1, 0.02, 0.008], 4, steel, Section.circle(0.005))
+    box = RigidBody3D.uniform(1.0, [0, 0, -0.05], Box(0.3, 0.3, 0.1))
+    model = Model([box, rod], [Contact(rod, box, clearance=0.005)], (0, 0, 0))
+    q = np.zeros(model.n)
+    q[6:] = rng.normal(size=rod.ndof) * 1e-4
+    yield pytest.param(model, q, id="beam-box")
+
+
+@pytest.mark.parametrize("model, q", list(_pairs()))
+def test_gaps_are_objective(model, q):
+    """g(rigid motion of q) = g(q) to round-off over the rows near contact: G is orthogonal
+    to the rigid translations and rotations of the whole model (no net force or moment)."""
+    g = model.contacts.gaps(q)
+    near = np.isfinite(g) & (np.abs(g) < 0.02)
+    assert near.any()
+    moved = model.contacts.gaps(
+        _moved(model, q, exp(np.array([0.3, -0.5, 0.7])), [0.01, -0.02, 0.03])
+    )
+    # (coordinates of order 0.1 m moved and turned: a few ulps of them)
+    assert np.abs(moved[near] - g[near]).max() < 1e-15
+
+
+def test_a_ball_on_a_free_box_keeps_the_linear_momentum():
+    ball = Solid.ball([-0.101, 0.02, 0.0], 0.05, 1, RUBBER)
+    box = RigidBody3D.uniform(ball.mass, [0.0, 0.0, 0.0], Box(0.1, 0.15, 0.2))
+    model = Model([ball, box], [Contact(ball, box)], gravity=(0.0, 0.0, 0.0))
+    v0 = model.translation(ball, (1.0, 0.0, 0.0))
+    w = ball.mass_matrix() @ ball.translation_field([1.0, 0.0, 0.0])
+    n = ball.ndof
+    p, pressed = [], 0
+    for st in simulate(model, wave_step(ball, 1.0), 0.012, IntegratorOptions(), v0=v0):
+        p.append([w @ st.v[:n] + box.mass * st.v[n], st.v[n]])
+        pressed += bool(st.pressed().any())
+    p = np.array(p)
+    assert pressed > 0 and p[-1, 1] > 0.3  # it hit the box and pushed it
+    # the momentum is a sum of O(1) terms: round-off
+    assert np.abs(p[:, 0] - p[0, 0]).max() < 1e-12 * ball.mass
