@@ -50,7 +50,7 @@ from fecontact.bodies.meshes import graded_ball_mesh
 from fecontact.bodies.shapes3d import Ball, Box
 from fecontact.contact import Contact, Plane
 from fecontact.contact.inside import Surface
-from fecontact.contact.rigid_distance import shape_distance
+from fecontact.contact.rigid_distance import FeatureDepths, shape_distance
 from fecontact.io.output import read_history
 from fecontact.rotations import exp
 from fecontact.scenes import wave_step
@@ -159,6 +159,13 @@ def rigid_points_depth(rigid: RigidBody3D, sr: slice, points, pad: float = 0.0):
         return max(0.0, -float(np.min(shape_distance(rigid.shape, rho, False)[0])) + pad)
 
     return depth
+
+
+def with_features(depth, pair):
+    """``depth`` and the deepest corner or edge point of a rigid box inside the solid of
+    ``pair`` (:class:`fecontact.contact.rigid_distance.FeatureDepths`): the larger (m)."""
+    features = FeatureDepths(pair)
+    return lambda st: max(depth(st), features.depth(st.q)[0])
 
 
 def own_gaps_depth(st) -> float:
@@ -460,7 +467,8 @@ def ball_on_box(v, where="face", method="mortar", refinements=2):
     sb, sx = model.body_slice(0), model.body_slice(1)
     nodes = ball.boundary_nodes()
     probes = centre_probes(model, ball, "b")
-    probes |= depth_probes(rigid_points_depth(box, sx, lambda st: ball.positions(st.q[sb])[nodes]))
+    nodes_in = rigid_points_depth(box, sx, lambda st: ball.positions(st.q[sb])[nodes])
+    probes |= depth_probes(with_features(nodes_in, model.contacts.pairs[0]))
     t_end = 0.001 / v + 1.5 * hertz_time(v, R)
     v0 = model.translation(ball, (0.0, 0.0, -v))
     sim = Simulation(model, dt=wave_step(ball, 1.0), t_end=t_end, probes=probes, v0=v0,
@@ -485,7 +493,10 @@ def ball_on_free_rigid(kind: str, b: float, v: float = 1.0, refinements: int = 2
     probes = momentum_probes(model) | centre_probes(model, ball, "b")
     probes |= centre_probes(model, target, "t")
     probes |= depth_probes(
-        rigid_points_depth(target, st_, lambda st: ball.positions(st.q[sb])[nodes])
+        with_features(
+            rigid_points_depth(target, st_, lambda st: ball.positions(st.q[sb])[nodes]),
+            model.contacts.pairs[0],
+        )
     )
     t_end = 0.001 / v + 1.5 * hertz_time(v, R)
     v0 = model.translation(ball, (v, 0.0, 0.0))
