@@ -1,9 +1,10 @@
 """3D body-to-body contact beyond the cases (``benchmarks/stress_3d.py``): what the sweep found,
 as small regression tests.
 
-- A rigid box's corner entering a solid between its nodes is measured (its rows hold the
-  solid's nodes only): the run stops and names it instead of completing with the corner
-  millimetres inside and ``max_penetration`` 0.
+- A rigid box's corner entering a solid between its nodes is held by its own row
+  (:mod:`fecontact.contact.box_corners`), and its corners and edges are measured every step,
+  instead of the run completing with the corner millimetres inside and ``max_penetration``
+  0.
 - Every 3D pair's gaps are objective (unchanged by a rigid motion of the whole model), so its
   contact forces have no net force and no net moment: the momentum of a free pair changes by
   the integrator alone.
@@ -14,10 +15,11 @@ as small regression tests.
 import numpy as np
 import pytest
 
-from fecontact import Model, SolverError, simulate
+from fecontact import Model, simulate
 from fecontact.bodies import Beam3D, LinearElastic, Material, RigidBody3D, Section, Solid
 from fecontact.bodies.shapes3d import Ball, Box
 from fecontact.contact import Contact
+from fecontact.contact.box_corners import BoxCorners
 from fecontact.contact.rigid_distance import FeatureDepths, box_features
 from fecontact.rotations import exp, log
 from fecontact.scenes import wave_step
@@ -66,16 +68,24 @@ def test_a_ball_has_no_features():
     assert FeatureDepths(model.contacts.pairs[0]).depth(np.zeros(model.n)) == (0.0, 0.0)
 
 
-def test_a_box_dropped_corner_first_stops_and_names_it():
-    """Before, the corner sank 6.7 mm between the nodes of an 8 × 8 slab and the run completed
-    with max_penetration 2e-14 m (benchmarks/stress_3d.py)."""
-    model, q0 = corner_first("mortar", 0.001)
+@pytest.mark.parametrize("method", ["mortar", "node-to-surface"])
+def test_a_box_dropped_corner_first_is_held_at_its_corner(method):
+    """Before the corner rows, the corner sank 6.7 mm between the nodes of an 8 × 8 slab and
+    the run completed with max_penetration 2e-14 m (benchmarks/stress_3d.py)."""
+    model, q0 = corner_first(method, 0.001)
     v0 = np.zeros(model.n)
     v0[-6:-3] = [0.0, 0.0, -1.0]
-    dt = wave_step(model.bodies[0], 1.0)
-    with pytest.raises(SolverError, match="penetration not held"):
-        for _ in simulate(model, dt, 0.02, IntegratorOptions(), q0=q0, v0=v0):
-            pass
+    corners = model.contacts.pairs[-1]
+    assert isinstance(corners, BoxCorners)
+    n, deepest, pressed = model.bodies[0].ndof, 0.0, 0
+    for st in simulate(model, wave_step(model.bodies[0], 1.0), 0.012, IntegratorOptions(),
+                       q0=q0, v0=v0):  # fmt: skip
+        deepest = max(deepest, -float(np.min(corners.gaps(st.q))))
+        pressed += bool(st.pressed()[-8:].any())
+        assert st.q[n + 2] > -0.01  # (not through the slab)
+    assert pressed > 0
+    # the corners' rows are held as any gap: to the correction's round-off (tol_gap)
+    assert deepest < 1e-12
 
 
 def _moved(model, q, R, t):
@@ -156,3 +166,39 @@ def test_a_ball_on_a_free_box_keeps_the_linear_momentum():
     assert pressed > 0 and p[-1, 1] > 0.3  # it hit the box and pushed it
     # the momentum is a sum of O(1) terms: round-off
     assert np.abs(p[:, 0] - p[0, 0]).max() < 1e-12 * ball.mass
+
+
+def test_corner_rows_have_the_exact_gradient():
+    """Central differences of the corners' gaps over their 15 dofs (the box's translations and
+    body-frame rotation increments, their triangle's nodes) against G."""
+    model, q = corner_first("mortar", -0.0005)
+    rng = np.random.default_rng(5)
+    n = model.bodies[0].ndof
+    q[:n] = rng.normal(size=n) * 2e-4  # tilted triangles
+    corners = model.contacts.pairs[-1]
+    g, dofs, G, _ = corners.evaluate(q)
+    rows = np.flatnonzero(np.isfinite(g))
+    assert rows.size
+    h = 1e-7
+
+    def moved(k, s):  # q with the local dof k of the row moved by s
+        out = q.copy()
+        if k < 3:
+            out[n + k] += s
+        elif k < 6:  # R ⊕ δΘ = R exp(δΘ̃)
+            d = np.zeros(3)
+            d[k - 3] = s
+            out[n + 3 : n + 6] = log(exp(q[n + 3 : n + 6]) @ exp(d))
+        return out
+
+    for r in rows:
+        for k in range(15):
+            if k < 6:
+                plus, minus = moved(k, h), moved(k, -h)
+            else:
+                plus, minus = q.copy(), q.copy()
+                plus[dofs[r, k]] += h
+                minus[dofs[r, k]] -= h
+            fd = (corners.gaps(plus)[r] - corners.gaps(minus)[r]) / (2 * h)
+            # (central differences of O(1) slopes: error h² g''' + round-off 1e-17/h)
+            assert fd == pytest.approx(G[r, k], abs=1e-7)

@@ -69,6 +69,7 @@ from ..bodies.solid import Solid
 from ..errors import InputError, check_positive
 from ..rotations import exp, hat, log
 from .boundary_mortar import BoundaryRows
+from .box_corners import BoxCorners
 from .friction import tangent_basis
 from .rigid_distance import (
     SUBDIVISIONS,
@@ -155,6 +156,11 @@ class RigidMortarGeometry(BoundaryRows):
         self._node_dofs = body.node_translation_dofs(self.nodes)
         self.offsets = (0, 0)
         self.dofs = np.zeros((len(self.nodes), self._cols.shape[2]), dtype=int)
+        # a box's corners, which the nodes' rows let in between them (module box_corners)
+        box = isinstance(self.rigid.shape, Box)
+        self.companions = (
+            (BoxCorners(body, self.rigid, restitution, clearance, margin),) if box else ()
+        )
 
     def bind(self, model) -> None:
         """Place the pair in the global dof vector of ``model``."""
@@ -164,6 +170,8 @@ class RigidMortarGeometry(BoundaryRows):
         self.dofs = np.concatenate([nodes, np.broadcast_to(ob + np.arange(6), (m, 6))], 1)
         self.dofs.flags.writeable = False
         self.reset()
+        for pair in self.companions:
+            pair.bind(model)
 
     # -- geometry ---------------------------------------------------------------------------
     def _frame(self, q: np.ndarray):

@@ -30,6 +30,7 @@ from ..bodies.solid import Solid
 from ..errors import InputError, check_range
 from ..rotations import exp
 from .base import PairDefaults
+from .box_corners import BoxCorners
 from .registry import register_pair
 from .rigid_distance import FeatureDepths
 
@@ -54,9 +55,14 @@ class NodeRigidContact(PairDefaults):
         self.size = len(self.nodes)
         self._node_dofs = body.node_translation_dofs(self.nodes)
         self.offsets = (0, 0)
+        # a box's corners, which the nodes' rows let in between them (module box_corners)
+        if isinstance(rigid.shape, Box):
+            self.companions = (BoxCorners(body, rigid, self.restitution, clearance),)
 
     def bind(self, model) -> None:
         self.offsets = (model.offset_of(self.body), model.offset_of(self.rigid))
+        for pair in self.companions:
+            pair.bind(model)
 
     def watch(self) -> FeatureDepths | None:
         """A box's corners and edges against the solid's boundary (the rows hold nodes only:
