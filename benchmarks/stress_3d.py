@@ -30,7 +30,7 @@ a few rows, the largest change of the bodies' centres when the run is repeated w
 and with k ÷100, over R (the converged answer does not depend on them).
 
     python benchmarks/stress_3d.py            # the whole sweep (about 20 min on one core)
-    python benchmarks/stress_3d.py --quick    # four small rows (under a minute)
+    python benchmarks/stress_3d.py --quick    # five small rows (under a minute)
 """
 
 from __future__ import annotations
@@ -627,6 +627,7 @@ QUICK = [
     lambda: rigid_ball_on_slab(1.0, divisions=4),
     lambda: free_pair("ball", 0.5, 0.3),
     lambda: tumbling_box(1.0, 8.0, t_end=0.4),
+    lambda: box_on_slab(1.0, divisions=4),
 ]
 
 FULL = [
