@@ -202,3 +202,32 @@ def test_corner_rows_have_the_exact_gradient():
             fd = (corners.gaps(plus)[r] - corners.gaps(minus)[r]) / (2 * h)
             # (central differences of O(1) slopes: error h² g''' + round-off 1e-17/h)
             assert fd == pytest.approx(G[r, k], abs=1e-7)
+
+
+def test_corner_rows_slip_against_the_triangle():
+    """Friction on the corner rows: the slip over a small step (the box's body-frame
+    increment, the nodes' displacements) is the slip rows times that step, and a motion of
+    the box and the triangle together (the triangle's nodes moved as the corner) slips by
+    nothing."""
+    model, q = corner_first("mortar", -0.0005)
+    n = model.bodies[0].ndof
+    corners = model.contacts.pairs[-1]
+    dofs, GT, T = corners.tangents(q)
+    rows = np.flatnonzero(np.isfinite(corners.gaps(q)))
+    rng = np.random.default_rng(7)
+    d = rng.normal(size=model.n) * 1e-7
+    d[n + 3 : n + 6] = 0.0  # (translations: the rows are exact for them)
+
+    def error(d):
+        step = np.einsum("mtk,mk->mt", GT, d[dofs])
+        return np.abs(corners.slips(q + d, q, T) - step)[rows].max() / np.abs(step).max()
+
+    # the rows at the step's end against those at its start: second order in the step, so
+    # the relative error falls as the step
+    assert error(d) < 1e-4
+    assert error(0.1 * d) < 0.2 * error(d)
+    together = np.zeros(model.n)
+    together[:n] = np.tile([2e-6, -1e-6, 0.0], n // 3)
+    together[n : n + 3] = [2e-6, -1e-6, 0.0]
+    assert np.abs(np.einsum("mtk,mk->mt", GT, together[dofs]))[rows].max() < 1e-18
+    assert np.allclose(np.einsum("mtd,md->mt", T[rows], corners._geometry(q)[4][rows]), 0.0)

@@ -18,9 +18,13 @@ area coordinates), so
     ∂g/∂x_i = −λ_i n,   ∂g/∂u = n,   ∂g/∂Θ = r × (Rᵀ n)   (δp = δu − R r̃ δΘ),
 
 and the curvature is left out (Newton's rate, not its answer), as for the other box pairs.
+Coulomb friction, with the coefficient of the pair that brings the rows (``owner``), acts on
+the slip of the corner's material point against the triangle's point under it, T (ṗ − Σ λ_i
+ẋ_i), T the tangents of n: the rows T·[I, −R r̃, −λ_a I, −λ_b I, −λ_c I], applied over a
+step to the box's body-frame increment (Δu, log(R_nᵀR)) and the nodes' displacements.
 Corners whose closest triangle lies farther than the search distance (plus the triangles'
 size) read +inf; the closest triangle is searched among those whose bounding spheres can hold
-it. The rows are frictionless and take the pair's restitution. The box's edges are not
+it. The rows take the pair's restitution and friction. The box's edges are not
 rows: an edge entering between nodes is measured (:class:`~.rigid_distance.FeatureDepths`)
 and stops the run (``docs/validation/stress_3d.md``).
 """
@@ -29,8 +33,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..rotations import exp
+from ..rotations import exp, hat, log
 from .base import PairDefaults
+from .friction import tangent_basis
 from .inside import facet_distances
 from .rigid_distance import box_features
 
@@ -39,16 +44,18 @@ __all__ = ["BoxCorners"]
 
 class BoxCorners(PairDefaults):
     """The eight corners of the ``Box`` of ``rigid`` (a ``RigidBody3D``) against the boundary
-    of the 3D solid ``body``: one row each (module docstring), ``restitution`` Newton's e_N,
-    ``clearance`` (m) kept from the surface, ``margin`` (m) the search distance (default: the
-    integrator's detection distance)."""
+    of the 3D solid ``body``: one row each (module docstring), for the pair ``owner`` (its
+    restitution and friction), ``clearance`` (m) kept from the surface, ``margin`` (m) the
+    search distance (default: the integrator's detection distance)."""
 
     linear = False
+    frictional = True
 
-    def __init__(self, body, rigid, restitution=0.0, clearance=0.0, margin=None):
+    def __init__(self, owner, body, rigid, clearance=0.0, margin=None):
+        self.owner = owner
         self.body, self.rigid = body, rigid
         self.bodies = (body, rigid)
-        self.restitution, self.clearance = restitution, clearance
+        self.restitution, self.clearance = owner.restitution, clearance
         self.corners = box_features(rigid.shape, 0)
         self.size = len(self.corners)
         self.facets = body.contact_facets()
@@ -56,6 +63,11 @@ class BoxCorners(PairDefaults):
         self.own_margin = margin is not None
         self.margin = margin if margin is not None else 0.05 * body.characteristic_length
         self.offsets = (0, 0)
+
+    @property
+    def friction(self) -> float:
+        """Coulomb's μ of the pair that brings the rows (``Contact`` sets it there)."""
+        return self.owner.friction
 
     def detect_within(self, distance: float) -> None:
         if not self.own_margin and distance > 0.0:
@@ -103,6 +115,17 @@ class BoxCorners(PairDefaults):
         f[near[k[first][keep]]] = j[first][keep]
         return f
 
+    @staticmethod
+    def _area_coordinates(p: np.ndarray, t: np.ndarray) -> np.ndarray:
+        """Area coordinates (k, 3) of the projections of points p (k, 3) on the planes of the
+        triangles t (k, 3, 3)."""
+        e1, e2, w = t[:, 1] - t[:, 0], t[:, 2] - t[:, 0], p - t[:, 0]
+        d11, d12, d22 = (np.einsum("kd,kd->k", a, b) for a, b in ((e1, e1), (e1, e2), (e2, e2)))
+        w1, w2 = np.einsum("kd,kd->k", w, e1), np.einsum("kd,kd->k", w, e2)
+        det = d11 * d22 - d12 * d12
+        l1, l2 = (d22 * w1 - d12 * w2) / det, (d11 * w2 - d12 * w1) / det
+        return np.stack([1.0 - l1 - l2, l1, l2], axis=1)
+
     def gaps(self, q: np.ndarray) -> np.ndarray:
         return self._geometry(q)[-1]
 
@@ -118,15 +141,36 @@ class BoxCorners(PairDefaults):
         G = np.zeros((self.size, 15))
         if np.all(f < 0):
             return g, dofs, G, None
-        # area coordinates of each corner's projection on its triangle's plane
-        e1, e2, w = t[:, 1] - t[:, 0], t[:, 2] - t[:, 0], p - t[:, 0]
-        d11, d12, d22 = (np.einsum("kd,kd->k", a, b) for a, b in ((e1, e1), (e1, e2), (e2, e2)))
-        w1, w2 = np.einsum("kd,kd->k", w, e1), np.einsum("kd,kd->k", w, e2)
-        det = d11 * d22 - d12 * d12
-        l1, l2 = (d22 * w1 - d12 * w2) / det, (d11 * w2 - d12 * w1) / det
-        lam = np.stack([1.0 - l1 - l2, l1, l2], axis=1)
+        lam = self._area_coordinates(p, t)
         G[:, :3] = n
         G[:, 3:6] = np.cross(self.corners, n @ R)  # r × (Rᵀ n)
         G[:, 6:] = (-lam[:, :, None] * n[:, None, :]).reshape(-1, 9)
         G[~np.isfinite(g)] = 0.0
         return g, dofs, G, None
+
+    def tangents(self, q: np.ndarray):
+        """Dofs (8, 15), slip rows (8, 2, 15) and tangents T (8, 2, 3) of the corners (zero
+        rows where no triangle is near)."""
+        p, R, f, t, n, g = self._geometry(q)
+        dofs = self.evaluate(q)[1]
+        near = np.isfinite(g)
+        T = np.broadcast_to(tangent_basis(np.array([[0.0, 0.0, 1.0]])), (self.size, 2, 3)).copy()
+        W = np.zeros((self.size, 3, 15))
+        if near.any():
+            T[near] = tangent_basis(n[near])
+            lam = self._area_coordinates(p, t)
+            W[:, :, :3] = np.eye(3)
+            W[:, :, 3:6] = -R @ hat(self.corners)  # ∂p/∂Θ = −R r̃
+            for i in range(3):
+                W[:, :, 6 + 3 * i : 9 + 3 * i] = -lam[:, i, None, None] * np.eye(3)
+            W[~near] = 0.0
+        return dofs, np.einsum("mti,mik->mtk", T, W), T
+
+    def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
+        """The slip rows at q applied to the step: the box's body-frame increment
+        (Δu, log(R_nᵀR)) and the nodes' displacements."""
+        dofs, W, _ = self.tangents(q)
+        step = q - q_n
+        ob = self.offsets[1]
+        step[ob + 3 : ob + 6] = log(exp(q_n[ob + 3 : ob + 6]).T @ exp(q[ob + 3 : ob + 6]))
+        return np.einsum("mtk,mk->mt", W, step[dofs])

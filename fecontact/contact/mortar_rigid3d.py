@@ -158,9 +158,7 @@ class RigidMortarGeometry(BoundaryRows):
         self.dofs = np.zeros((len(self.nodes), self._cols.shape[2]), dtype=int)
         # a box's corners, which the nodes' rows let in between them (module box_corners)
         box = isinstance(self.rigid.shape, Box)
-        self.companions = (
-            (BoxCorners(body, self.rigid, restitution, clearance, margin),) if box else ()
-        )
+        self.companions = (BoxCorners(self, body, self.rigid, clearance, margin),) if box else ()
 
     def bind(self, model) -> None:
         """Place the pair in the global dof vector of ``model``."""

@@ -57,7 +57,7 @@ class NodeRigidContact(PairDefaults):
         self.offsets = (0, 0)
         # a box's corners, which the nodes' rows let in between them (module box_corners)
         if isinstance(rigid.shape, Box):
-            self.companions = (BoxCorners(body, rigid, self.restitution, clearance),)
+            self.companions = (BoxCorners(self, body, rigid, clearance),)
 
     def bind(self, model) -> None:
         self.offsets = (model.offset_of(self.body), model.offset_of(self.rigid))
