@@ -18,7 +18,7 @@ import pytest
 from fecontact import Model, simulate
 from fecontact.bodies import Beam3D, LinearElastic, Material, RigidBody3D, Section, Solid
 from fecontact.bodies.shapes3d import Ball, Box
-from fecontact.contact import Contact
+from fecontact.contact import Contact, Plane
 from fecontact.contact.box_corners import BoxCorners
 from fecontact.contact.rigid_distance import FeatureDepths, box_features
 from fecontact.rotations import exp, log
@@ -231,3 +231,17 @@ def test_corner_rows_slip_against_the_triangle():
     together[n : n + 3] = [2e-6, -1e-6, 0.0]
     assert np.abs(np.einsum("mtk,mk->mt", GT, together[dofs]))[rows].max() < 1e-18
     assert np.allclose(np.einsum("mtd,md->mt", T[rows], corners._geometry(q)[4][rows]), 0.0)
+
+
+def test_a_frictional_model_whose_closing_contacts_are_frictionless():
+    """A box landing on a frictionless floor while its only frictional pair (a wall) is far:
+    the frictional correction met no slip rows at all and stopped with a ValueError."""
+    box = RigidBody3D.uniform(1.0, [0.0, 0.0, 0.051], Box(0.1, 0.1, 0.1))
+    floor = Plane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], extent=1.0)
+    wall = Plane([1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], extent=1.0)
+    pairs = [Contact(box, floor), Contact(box, wall, friction=0.3)]
+    model = Model([box], pairs, (0.0, 0.0, -9.81))
+    v0 = np.r_[0.0, 0.0, -1.0, 0.0, 0.0, 0.0]
+    states = list(simulate(model, 1e-3, 0.05, IntegratorOptions(), v0=v0))
+    assert any(st.pressed()[:8].any() for st in states)
+    assert states[-1].gaps[:8].min() > -1e-12  # (the floor's corners held to round-off)

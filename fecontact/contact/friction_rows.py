@@ -38,6 +38,9 @@ class FrictionRows:
             c = np.broadcast_to(np.maximum(fi, 0)[:, None, :], values.shape)
             np.add.at(GT, (r, np.arange(values.shape[1])[None, :, None], c), values)
             T[rows] = Tv[loc]
+        if GT is None:  # only frictionless contacts among them: zero rows of the set's shape
+            nt, d = next(p for p in self.pairs if p.friction).tangents(q)[2].shape[1:]
+            GT, T = np.zeros((len(select), nt, self.n_free)), np.zeros((len(select), nt, d))
         return GT, T
 
     def slips(self, q, q_n, select, GT, T):
