@@ -408,10 +408,11 @@ class NodeDepths:
         self.edge = np.full(pair.size, np.inf)
         for k in range(3):
             np.minimum.at(self.edge, pair.element_rows[:, k], edge)
-        self.features = FeatureDepths(pair)
+        # a rigid box's corners and edges (the tube pair, which shares the class, has none)
+        self.features = FeatureDepths(pair) if isinstance(pair, MortarRigid3D) else None
 
     def depth(self, q: np.ndarray) -> tuple[float, float]:
         """(deepest point's depth in m, ≥ 0; the largest depth over its local edge)."""
         d = -self.pair.node_distances(q)
-        corner, ratio = self.features.depth(q)
+        corner, ratio = (0.0, 0.0) if self.features is None else self.features.depth(q)
         return max(0.0, float(d.max()), corner), max(0.0, float((d / self.edge).max()), ratio)
