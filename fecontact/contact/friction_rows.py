@@ -25,7 +25,8 @@ class FrictionRows:
     def tangent_jacobian(self, q: np.ndarray, select: np.ndarray):
         """Slip rows of the contacts ``select``: GT (len(select), nt, n_free), zero for the
         frictionless pairs, and the unit tangents T (len(select), nt, d) of the contact
-        planes. The slip rate of contact j is GT_j v minus T_j·ḋ of a moving obstacle."""
+        planes (both zero for a frictionless pair; None where no pair of the set has friction).
+        The slip rate of contact j is GT_j v minus T_j·ḋ of a moving obstacle."""
         GT = T = None
         for pair, rows, loc in self._frictional(select):
             dofs, Gv, Tv = pair.tangents(q)
@@ -38,9 +39,12 @@ class FrictionRows:
             c = np.broadcast_to(np.maximum(fi, 0)[:, None, :], values.shape)
             np.add.at(GT, (r, np.arange(values.shape[1])[None, :, None], c), values)
             T[rows] = Tv[loc]
-        if GT is None:  # only frictionless contacts among them: zero rows of the set's shape
-            nt, d = next(p for p in self.pairs if p.friction).tangents(q)[2].shape[1:]
-            GT, T = np.zeros((len(select), nt, self.n_free)), np.zeros((len(select), nt, d))
+        if GT is None and self.frictional:
+            # none of ``select`` has friction, but the set does: the callers' arrays still
+            # need their shape (a mortar interface's frictionless safeguard rows, released)
+            _, Gv, Tv = next(p for p in self.pairs if p.friction).tangents(q)
+            GT = np.zeros((len(select), Gv.shape[1], self.n_free))
+            T = np.zeros((len(select), *Tv.shape[1:]))
         return GT, T
 
     def slips(self, q, q_n, select, GT, T):
