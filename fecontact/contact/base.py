@@ -36,6 +36,7 @@ class PairDefaults:
     frictional = False  # True: tangents(q) gives the slip rows of Coulomb friction
     friction = 0.0  # Coulomb's μ of every contact of the pair (set by ``Contact``)
     redundant_rows = False  # True: rows can be redundant up to round-off (minimum-norm μ)
+    companions: tuple = ()  # pairs it brings into the model, bound with it (rows of its own)
 
     def bind(self, model) -> None:
         """Place the pair in the global dof vector of ``model``: the offsets of its two

@@ -359,7 +359,8 @@ class MortarInterface(PairDefaults):
 def merge_interfaces(pairs):
     """The pairs with each mortar interface once: a mortar pair declared both ways, (a, b)
     and (b, a), is one interface (the first declared); their restitution and friction must
-    agree. The master nodes' safeguard rows of the 2D interfaces follow the declared pairs."""
+    agree. The master nodes' safeguard rows of the 2D interfaces follow the declared pairs,
+    then the pairs' ``companions`` (a solid–box pair's corner rows)."""
     seen: dict = {}
     out = []
     for pair in pairs:
@@ -375,4 +376,5 @@ def merge_interfaces(pairs):
                 continue
             seen[key] = pair
         out.append(pair)
-    return out + [p.master_rows for p in seen.values() if p.master_rows is not None]
+    companions = [c for p in out for c in getattr(p, "companions", ())]
+    return out + [p.master_rows for p in seen.values() if p.master_rows is not None] + companions

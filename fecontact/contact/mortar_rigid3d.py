@@ -56,7 +56,10 @@ node's exact distance is measured at every evaluation (no search to miss one), a
 integrals, not each node: a node may sit inside by the discretization's own amount).
 Friction: slip rows T_j·[(1 − w_j)(ẋ_j − ẏ_j) + w_j ∫ Φ_j (ẋ − ẏ) dA₀ / L_j], ẏ the velocity of
 the body's material point under x, T_j the tangents of the shape's normal at node j (as the
-solid–solid mortar does).
+solid–solid mortar does). A box's corners, which can enter between the nodes, carry rows of
+their own (:mod:`fecontact.contact.box_corners`, the pair's ``companions``), and
+:class:`NodeDepths` also measures the box's corners and edges inside the solid
+(:class:`~fecontact.contact.rigid_distance.FeatureDepths`).
 """
 
 from __future__ import annotations
@@ -69,9 +72,11 @@ from ..bodies.solid import Solid
 from ..errors import InputError, check_positive
 from ..rotations import exp, hat, log
 from .boundary_mortar import BoundaryRows
+from .box_corners import BoxCorners
 from .friction import tangent_basis
 from .rigid_distance import (
     SUBDIVISIONS,
+    FeatureDepths,
     feature_weights,
     shape_distance,
     straddles,
@@ -154,6 +159,9 @@ class RigidMortarGeometry(BoundaryRows):
         self._node_dofs = body.node_translation_dofs(self.nodes)
         self.offsets = (0, 0)
         self.dofs = np.zeros((len(self.nodes), self._cols.shape[2]), dtype=int)
+        # a box's corners, which the nodes' rows let in between them (module box_corners)
+        box = isinstance(self.rigid.shape, Box)
+        self.companions = (BoxCorners(self, body, self.rigid, clearance, margin),) if box else ()
 
     def bind(self, model) -> None:
         """Place the pair in the global dof vector of ``model``."""
@@ -163,6 +171,8 @@ class RigidMortarGeometry(BoundaryRows):
         self.dofs = np.concatenate([nodes, np.broadcast_to(ob + np.arange(6), (m, 6))], 1)
         self.dofs.flags.writeable = False
         self.reset()
+        for pair in self.companions:
+            pair.bind(model)
 
     # -- geometry ---------------------------------------------------------------------------
     def _frame(self, q: np.ndarray):
@@ -390,7 +400,9 @@ class MortarRigid3D(RigidMortarGeometry):
 
 class NodeDepths:
     """The deepest slave node of a :class:`MortarRigid3D` inside the rigid shape, by its exact
-    signed distance, over the shortest reference boundary edge at that node."""
+    signed distance, over the shortest reference boundary edge at that node, and the deepest
+    corner or edge of a box inside the solid (:class:`FeatureDepths`), over the longest edge
+    of the triangle it lies under."""
 
     def __init__(self, pair: MortarRigid3D):
         self.pair = pair
@@ -399,8 +411,11 @@ class NodeDepths:
         self.edge = np.full(pair.size, np.inf)
         for k in range(3):
             np.minimum.at(self.edge, pair.element_rows[:, k], edge)
+        # a rigid box's corners and edges (the tube pair, which shares the class, has none)
+        self.features = FeatureDepths(pair) if isinstance(pair, MortarRigid3D) else None
 
     def depth(self, q: np.ndarray) -> tuple[float, float]:
-        """(deepest node's depth in m, ≥ 0; the largest depth over the node's shortest edge)."""
+        """(deepest point's depth in m, ≥ 0; the largest depth over its local edge)."""
         d = -self.pair.node_distances(q)
-        return max(0.0, float(d.max())), max(0.0, float((d / self.edge).max()))
+        corner, ratio = (0.0, 0.0) if self.features is None else self.features.depth(q)
+        return max(0.0, float(d.max()), corner), max(0.0, float((d / self.edge).max()), ratio)

@@ -28,8 +28,19 @@ import numpy as np
 
 from ..bodies.shapes3d import Ball, Box
 from ..errors import InputError
+from ..rotations import exp
+from .inside import Surface
 
-__all__ = ["SUBDIVISIONS", "feature_weights", "shape_distance", "straddles", "triangle_rule"]
+__all__ = [
+    "EDGE_POINTS",
+    "FeatureDepths",
+    "SUBDIVISIONS",
+    "box_features",
+    "feature_weights",
+    "shape_distance",
+    "straddles",
+    "triangle_rule",
+]
 
 SUBDIVISIONS = 4
 """Sub-triangles per edge (s) of a triangle that a box's region plane cuts: s² pieces, 7·s²
@@ -156,3 +167,53 @@ def feature_weights(shape, rho: np.ndarray, reach: np.ndarray):
     v = np.zeros((m, 3))
     v[np.arange(m), axis] = np.where(e > 0.0, np.sign(rho[np.arange(m), axis]), 0.0)
     return w, v, d1 / reach, d2 / reach**2
+
+
+EDGE_POINTS = 7
+"""Points inside each edge of a box (besides its corners) that :class:`FeatureDepths` tests."""
+
+
+def box_features(box: Box, per_edge: int = EDGE_POINTS) -> np.ndarray:
+    """Body-frame points (8 + 12 ``per_edge``, 3) in m: a box's corners, then ``per_edge``
+    points evenly spaced inside each of its twelve edges."""
+    signs = np.array([[i, j, k] for i in (-1, 1) for j in (-1, 1) for k in (-1, 1)], float)
+    corners = 0.5 * signs * box.sides
+    edges = [(a, b) for a in range(8) for b in range(a + 1, 8) if np.sum(signs[a] != signs[b]) == 1]
+    t = (np.arange(1, per_edge + 1) / (per_edge + 1))[:, None, None]
+    a, b = corners[[e[0] for e in edges]], corners[[e[1] for e in edges]]
+    return np.vstack([corners, ((1.0 - t) * a + t * b).reshape(-1, 3)])
+
+
+class FeatureDepths:
+    """A rigid box's corners and edges against a 3D solid's discretized boundary: what the
+    rows of a ``pair`` of the two (one per node of the solid) cannot see, a corner or an edge
+    entering between the nodes. The pair names the ``body`` (the solid), the ``rigid`` body
+    and the ``offsets`` of their dofs (read at each call: set when the model binds it).
+
+    ``depth(q)``: the deepest of the box's points (:func:`box_features`) inside the solid's
+    boundary, by the inside/outside test of :class:`fecontact.contact.inside.Surface`, in m
+    (≥ 0), and that depth over the longest edge of the triangle it lies under. A ball's
+    surface between the nodes sinks by the discretization's own sag, which the rows bound
+    (``docs/explanation/mortar_rigid.md``): nothing is tested for a ball (0, 0)."""
+
+    def __init__(self, pair):
+        self.pair = pair
+        shape = pair.rigid.shape
+        self.points = box_features(shape) if isinstance(shape, Box) else None
+        self.facets = pair.body.contact_facets()
+        self.surface = Surface(self.facets) if self.points is not None else None
+
+    def depth(self, q: np.ndarray) -> tuple[float, float]:
+        if self.points is None:
+            return 0.0, 0.0
+        (oa, ob), solid, rigid = self.pair.offsets, self.pair.body, self.pair.rigid
+        x = solid.positions(q[oa : oa + solid.ndof])
+        q_rigid = q[ob : ob + 6]
+        p = self.points @ exp(q_rigid[3:6]).T + rigid.center(q_rigid)
+        s, f = self.surface.signed_distance(x, p, outside=False)
+        inside = np.flatnonzero(s < 0.0)
+        if inside.size == 0:
+            return 0.0, 0.0
+        t = x[self.facets[f[inside]]]
+        longest = np.linalg.norm(t - np.roll(t, 1, axis=1), axis=2).max(axis=1)
+        return float(-s[inside].min()), float(np.max(-s[inside] / longest))

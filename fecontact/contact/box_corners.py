@@ -1,0 +1,176 @@
+r"""A rigid box's corners against the boundary of a 3D solid: the rows a solid–box pair adds
+for what its own rows, one per node of the solid, cannot hold.
+
+A box dropped corner first on an elastic slab put its corner 6.7 mm (54 % of a cell) between
+the slab's nodes with every node outside the box (``benchmarks/stress_3d.py``): a feature
+narrower than the cells enters between the nodes. Each of the box's eight corners therefore
+carries one row against the solid's discretized boundary (its triangles, numbered with the
+outward normal), node-to-surface with the corner as the slave point:
+
+    g = n·(p − x_a) − clearance,
+
+the gap of the corner p = c + R r (r its body-frame position) to the plane of its closest
+triangle (a, b, c), n that triangle's unit outward normal. The
+gradient is exact for the plane gap: moving the triangle's nodes within its plane leaves the
+plane, moving node i along n by δ moves the plane at the projection of p by λ_i δ (λ its
+area coordinates), so
+
+    ∂g/∂x_i = −λ_i n,   ∂g/∂u = n,   ∂g/∂Θ = r × (Rᵀ n)   (δp = δu − R r̃ δΘ),
+
+and the curvature is left out (Newton's rate, not its answer), as for the other box pairs.
+Coulomb friction, with the coefficient of the pair that brings the rows (``owner``), acts on
+the slip of the corner's material point against the triangle's point under it, T (ṗ − Σ λ_i
+ẋ_i), T the tangents of n: the rows T·[I, −R r̃, −λ_a I, −λ_b I, −λ_c I], applied over a
+step to the box's body-frame increment (Δu, log(R_nᵀR)) and the nodes' displacements.
+Corners whose closest triangle lies farther than the search distance (plus the triangles'
+size) read +inf; the closest triangle is searched among those whose bounding spheres can hold
+it. The rows take the pair's restitution and friction. The box's edges are not
+rows: an edge entering between nodes is measured (:class:`~.rigid_distance.FeatureDepths`)
+and stops the run (``docs/validation/stress_3d.md``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..rotations import exp, hat, log
+from .base import PairDefaults
+from .friction import tangent_basis
+from .inside import facet_distances
+from .rigid_distance import box_features
+
+__all__ = ["BoxCorners"]
+
+
+class BoxCorners(PairDefaults):
+    """The eight corners of the ``Box`` of ``rigid`` (a ``RigidBody3D``) against the boundary
+    of the 3D solid ``body``: one row each (module docstring), for the pair ``owner`` (its
+    restitution and friction), ``clearance`` (m) kept from the surface, ``margin`` (m) the
+    search distance (default: the integrator's detection distance)."""
+
+    linear = False
+    frictional = True
+
+    def __init__(self, owner, body, rigid, clearance=0.0, margin=None):
+        self.owner = owner
+        self.body, self.rigid = body, rigid
+        self.bodies = (body, rigid)
+        self.restitution, self.clearance = owner.restitution, clearance
+        self.corners = box_features(rigid.shape, 0)
+        self.size = len(self.corners)
+        self.facets = body.contact_facets()
+        self._facet_dofs = body.node_translation_dofs(self.facets.ravel()).reshape(-1, 9)
+        self.own_margin = margin is not None
+        self.margin = margin if margin is not None else 0.05 * body.characteristic_length
+        self.offsets = (0, 0)
+
+    @property
+    def friction(self) -> float:
+        """Coulomb's μ of the pair that brings the rows (``Contact`` sets it there)."""
+        return self.owner.friction
+
+    def detect_within(self, distance: float) -> None:
+        if not self.own_margin and distance > 0.0:
+            self.margin = distance
+
+    def _geometry(self, q: np.ndarray):
+        """Corners p (8, 3), R, their closest triangles (8,) (−1: none near), the triangles'
+        nodes (8, 3, 3), unit outward normals n (8, 3) and the rows' gaps (8,)."""
+        (oa, ob), body = self.offsets, self.body
+        x = body.positions(q[oa : oa + body.ndof])
+        qr = q[ob : ob + 6]
+        R = exp(qr[3:6])
+        p = self.corners @ R.T + self.rigid.center(qr)
+        f = self._closest(p, x)
+        if np.all(f < 0):  # no corner near the solid: nothing to measure
+            far = np.full((self.size, 3), np.nan)
+            return p, R, f, np.zeros((self.size, 3, 3)), far, np.full(self.size, np.inf)
+        t = x[self.facets[np.maximum(f, 0)]]
+        n = np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
+        n /= np.linalg.norm(n, axis=1)[:, None]
+        g = np.einsum("kd,kd->k", n, p - t[:, 0]) - self.clearance
+        return p, R, f, t, n, np.where(f >= 0, g, np.inf)
+
+    def _closest(self, p: np.ndarray, x: np.ndarray) -> np.ndarray:
+        """The closest triangle (k,) of each point p (k, 3) among the solid's boundary
+        triangles (its nodes at x) within the search distance of it (−1: none). A triangle
+        whose bounding sphere (its centroid, radius ρ) lies farther than the nearest sphere
+        plus twice the largest ρ cannot be the closest, and none is tested beyond the search
+        distance; points outside the solid's box grown by it need no triangle at all."""
+        f = np.full(len(p), -1)
+        lo, hi = x.min(axis=0) - self.margin, x.max(axis=0) + self.margin
+        near = np.flatnonzero(np.all((p >= lo) & (p <= hi), axis=1))
+        if near.size == 0:
+            return f
+        xf = x[self.facets]
+        centre = xf.mean(axis=1)
+        radius = np.linalg.norm(xf - centre[:, None], axis=2).max(axis=1)
+        d = np.linalg.norm(p[near, None] - centre[None], axis=2) - radius  # (k, F) ≤ distance
+        bound = np.minimum(d.min(axis=1), self.margin) + 2.0 * radius.max()
+        k, j = np.nonzero(d <= bound[:, None])
+        dist = facet_distances(p[near][k], xf[j])
+        order = np.lexsort((dist, k))  # by corner, nearest first
+        first = order[np.r_[0, np.flatnonzero(np.diff(k[order])) + 1]]
+        keep = dist[first] <= self.margin + 2.0 * radius.max()
+        f[near[k[first][keep]]] = j[first][keep]
+        return f
+
+    @staticmethod
+    def _area_coordinates(p: np.ndarray, t: np.ndarray) -> np.ndarray:
+        """Area coordinates (k, 3) of the projections of points p (k, 3) on the planes of the
+        triangles t (k, 3, 3)."""
+        e1, e2, w = t[:, 1] - t[:, 0], t[:, 2] - t[:, 0], p - t[:, 0]
+        d11, d12, d22 = (np.einsum("kd,kd->k", a, b) for a, b in ((e1, e1), (e1, e2), (e2, e2)))
+        w1, w2 = np.einsum("kd,kd->k", w, e1), np.einsum("kd,kd->k", w, e2)
+        det = d11 * d22 - d12 * d12
+        l1, l2 = (d22 * w1 - d12 * w2) / det, (d11 * w2 - d12 * w1) / det
+        return np.stack([1.0 - l1 - l2, l1, l2], axis=1)
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        return self._geometry(q)[-1]
+
+    def evaluate(self, q: np.ndarray):
+        """Gaps (8,), dofs (8, 15): the box's six then the triangle's nine, gradients (8, 15),
+        no curvature."""
+        p, R, f, t, n, g = self._geometry(q)
+        oa, ob = self.offsets
+        dofs = np.concatenate(
+            [np.broadcast_to(ob + np.arange(6), (self.size, 6)),
+             oa + self._facet_dofs[np.maximum(f, 0)]], axis=1
+        )  # fmt: skip
+        G = np.zeros((self.size, 15))
+        if np.all(f < 0):
+            return g, dofs, G, None
+        lam = self._area_coordinates(p, t)
+        G[:, :3] = n
+        G[:, 3:6] = np.cross(self.corners, n @ R)  # r × (Rᵀ n)
+        G[:, 6:] = (-lam[:, :, None] * n[:, None, :]).reshape(-1, 9)
+        G[~np.isfinite(g)] = 0.0
+        return g, dofs, G, None
+
+    def tangents(self, q: np.ndarray):
+        """Dofs (8, 15), slip rows (8, 2, 15) and tangents T (8, 2, 3) of the corners (zero
+        rows where no triangle is near)."""
+        p, R, f, t, n, g = self._geometry(q)
+        dofs = self.evaluate(q)[1]
+        near = np.isfinite(g)
+        T = np.broadcast_to(tangent_basis(np.array([[0.0, 0.0, 1.0]])), (self.size, 2, 3)).copy()
+        W = np.zeros((self.size, 3, 15))
+        if near.any():
+            T[near] = tangent_basis(n[near])
+            lam = self._area_coordinates(p, t)
+            W[:, :, :3] = np.eye(3)
+            W[:, :, 3:6] = -R @ hat(self.corners)  # ∂p/∂Θ = −R r̃
+            for i in range(3):
+                W[:, :, 6 + 3 * i : 9 + 3 * i] = -lam[:, i, None, None] * np.eye(3)
+            W[~near] = 0.0
+        return dofs, np.einsum("mti,mik->mtk", T, W), T
+
+    def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
+        """The slip rows at q applied to the step: the box's body-frame increment
+        (Δu, log(R_nᵀR)) and the nodes' displacements."""
+        dofs, W, _ = self.tangents(q)
+        step = q - q_n
+        ob = self.offsets[1]
+        step[ob + 3 : ob + 6] = log(exp(q_n[ob + 3 : ob + 6]).T @ exp(q[ob + 3 : ob + 6]))
+        return np.einsum("mtk,mk->mt", W, step[dofs])
