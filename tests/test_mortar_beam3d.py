@@ -17,6 +17,7 @@ from fecontact.rotations import exp
 from fecontact.simulation import Simulation, run
 from fecontact.testing import group_derivative_errors
 from fecontact.time.settings import IntegratorOptions
+from fecontact.time.state import initial_state
 
 STEEL = Material(210e9, nu=0.3, rho=7850.0)
 RUBBER = LinearElastic(1e7, 0.3, rho=1000.0)
@@ -315,3 +316,49 @@ def test_the_rod_drop_is_independent_of_p_and_k(change):
     assert any(np.any(s.lam > 0.0) or np.any(s.impulse > 0.0) for s in base)
     diff = max(np.max(np.abs(a.q - b.q)) for a, b in zip(base, other, strict=True))
     assert diff <= 1e-8 * R
+
+
+def rod_over_coarse_block(lift, at=(0.0, 0.0)):
+    """A steel rod (r = 5 mm, 10 cm, 4 elements) ``lift`` (m) above (below: into) the top face
+    of a rubber block 0.6 m wide in 4 × 4 cells (15 cm triangles, 30 times the tube's radius),
+    its middle over ``at``; its base clamped."""
+    r = 0.005
+    block = Solid.box([-0.3, -0.3, -0.04], [0.3, 0.3, 0.0], (4, 4, 2), RUBBER)
+    block.fix(block.nodes_where(lambda x: x[2] <= -0.04 + 1e-9))
+    c = np.array([*at, r + lift])
+    d = np.array([0.05, 0.015, 0.0])
+    bar = Beam3D.straight(c - d, c + d, 4, STEEL, Section.circle(r))
+    model = Model([block, bar], [Contact(block, bar, clearance=r)], (0.0, 0.0, -9.81))
+    return model, model.contacts.pairs[0]
+
+
+def test_a_rod_above_a_coarse_block_is_admitted():
+    """2 mm above the face, no node inside the tube and no point of the tube inside the block:
+    the rows read down to −3.9 mm (the dual functions' negative lobes on triangles 30 times
+    the tube's radius), the start check reads every exact gap ≥ 2 mm and warns of the
+    stand-off."""
+    model, pair = rod_over_coarse_block(0.002)
+    q = np.zeros(model.n)
+    rows = pair.gaps(q)
+    assert rows.min() < -0.003
+    exact = pair.admissible_gaps(q, rows)
+    # the tube's lowest line is 2 mm above the flat face: the exact gaps to round-off
+    assert exact.min() == pytest.approx(0.002, abs=1e-12)
+    with pytest.warns(UserWarning, match="stand-off"):
+        initial_state(model)
+
+
+@pytest.mark.parametrize(
+    ("lift", "at", "depth"),
+    [
+        (-0.001, (0.075, 0.075), 0.001),  # between the nodes, where the rows read +12 mm
+        (-0.003, (0.0, 0.0), 0.003),  # the middle node inside the tube
+    ],
+)
+def test_a_rod_inside_a_coarse_block_is_refused(lift, at, depth):
+    """A tube reaching into the block between its nodes (no node inside: the weighted rows
+    read a gap of +12 mm there) or over a node is refused, naming the contact and the
+    depth of the tube below the face."""
+    model, pair = rod_over_coarse_block(lift, at)
+    with pytest.raises(InputError, match=rf"contact \d+ penetrates by {depth:.3e} m"):
+        simulate(model, 1e-4, 1e-4).__next__()

@@ -65,16 +65,24 @@ from ..errors import InputError, check_positive
 from ..rotations import exp, hat
 from .boundary_mortar import BoundaryRows
 from .friction import tangent_basis
+from .inside import Surface
 from .mortar_rigid3d import NodeDepths
 from .polyline_distance import closest_on_polyline, region_labels, straight_runs
 from .rigid_distance import SUBDIVISIONS
 from .segment3d import tube_distance
 
-__all__ = ["REACH", "MortarBeam3D"]
+__all__ = ["REACH", "SAMPLES", "MortarBeam3D"]
 
 REACH = 2.4
 """A node's row is at least D_j − 2.375 reach_j (module docstring): a node farther than the
 margin plus ``REACH`` times its triangles' longest edge has a row beyond the margin."""
+
+
+SAMPLES = 8
+"""The start check measures the tube's depth in the solid at the beam's nodes and at
+``SAMPLES`` − 1 points between each two (a straight segment's depth below a flat face is
+linear: its deepest point is a node; across a solid's edge it is deepest at the edge, between
+the samples, and read to within the sample spacing times the slope)."""
 
 
 def _local(lam: np.ndarray, G: np.ndarray, H: np.ndarray | None):
@@ -297,6 +305,23 @@ class MortarBeam3D(BoundaryRows):
         return np.einsum("mti,mi->mt", cT, y - xn)
 
     # -- what the rows do not hold ----------------------------------------------------------
+    def admissible_gaps(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        """The exact gaps (m) that admit a state at t = 0 where the rows take part: each slave
+        node's own distance D_j, and where the tube reaches into the solid (its centreline
+        sampled, :data:`SAMPLES`), d − r of that point (d its signed distance to the solid's
+        boundary, negative inside) on the rows of its closest triangle. A weighted gap reads
+        a stand-off below both on triangles much larger than the tube (the negative lobes of
+        the dual functions), where nothing is inside."""
+        x, ends = self._frame(q)
+        s = np.linspace(0.0, 1.0, SAMPLES + 1)[:, None, None]
+        points = ((1.0 - s) * ends[:, 0] + s * ends[:, 1]).reshape(-1, 3)
+        d, facet = Surface(self.facets).signed_distance(x, points, pad=self.clearance)
+        beam = np.full(self.size, np.inf)
+        hit = facet >= 0
+        for k in range(3):
+            np.minimum.at(beam, self.element_rows[facet[hit], k], d[hit] - self.clearance)
+        return np.where(np.isfinite(rows), np.minimum(self.node_distances(q), beam), np.inf)
+
     def watch(self) -> NodeDepths:
         """The deepest slave node inside the tube, by its exact distance to the centreline."""
         return NodeDepths(self)
