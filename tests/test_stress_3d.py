@@ -245,3 +245,26 @@ def test_a_frictional_model_whose_closing_contacts_are_frictionless():
     states = list(simulate(model, 1e-3, 0.05, IntegratorOptions(), v0=v0))
     assert any(st.pressed()[:8].any() for st in states)
     assert states[-1].gaps[:8].min() > -1e-12  # (the floor's corners held to round-off)
+
+
+@pytest.mark.parametrize("method", ["mortar", "node-to-surface"])
+def test_the_predictor_names_what_enters(method):
+    """A step whose predictor puts a box's corner 3 mm inside the slab (0.08 of the longest
+    edge of its triangle, beyond the 0.05 allowed) fails naming the corner; a ball 3 mm into
+    the slab over a node (0.12 of the shortest edge), which the mortar rows hold only
+    weighted, names the node."""
+    from fecontact.time.penetration import PenetrationFailure, check_predictor
+
+    model, q0 = corner_first(method, -0.003)
+    with pytest.raises(PenetrationFailure, match="^a box edge or corner of a rigid body enters"):
+        check_predictor(model, q0, model.contacts.gaps(q0))
+    model, q0 = corner_first(method, 0.001)
+    check_predictor(model, q0, model.contacts.gaps(q0))  # outside: no failure
+    if method != "mortar":  # node-to-surface rows are the nodes' own signed distances
+        return
+    base = slab()
+    ball = RigidBody3D.of_density(1000.0, [0.0, 0.0, 0.047], Ball(0.05))
+    model = Model([base, ball], [Contact(base, ball, method=method)], (0.0, 0.0, -9.81))
+    q0 = np.zeros(model.n)
+    with pytest.raises(PenetrationFailure, match="^a node enters"):
+        check_predictor(model, q0, model.contacts.gaps(q0))

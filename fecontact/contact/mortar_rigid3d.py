@@ -419,3 +419,11 @@ class NodeDepths:
         d = -self.pair.node_distances(q)
         corner, ratio = (0.0, 0.0) if self.features is None else self.features.depth(q)
         return max(0.0, float(d.max()), corner), max(0.0, float((d / self.edge).max()), ratio)
+
+    def entering(self, q: np.ndarray) -> str:
+        """What enters the other body deepest over its local edge: a slave node, or a box's
+        edge or corner (for a message)."""
+        if self.features is None:
+            return "a node"
+        nodes = float(np.max(-self.pair.node_distances(q) / self.edge, initial=0.0))
+        return self.features.entering(q) if self.features.depth(q)[1] > nodes else "a node"

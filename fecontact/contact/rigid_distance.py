@@ -217,3 +217,7 @@ class FeatureDepths:
         t = x[self.facets[f[inside]]]
         longest = np.linalg.norm(t - np.roll(t, 1, axis=1), axis=2).max(axis=1)
         return float(-s[inside].min()), float(np.max(-s[inside] / longest))
+
+    def entering(self, q: np.ndarray) -> str:
+        """What of the box enters the solid (for a message)."""
+        return "a box edge or corner of a rigid body"

@@ -27,7 +27,7 @@ from .inside import bounding_box
 from .mortar_interface import MortarInterface
 from .mortar_safeguard import MasterNodeRows, shortest_edge
 
-__all__ = ["BOUND", "SolidWatch", "held_nodes", "solid_watches", "watched_depth"]
+__all__ = ["BOUND", "SolidWatch", "entering", "held_nodes", "solid_watches", "watched_depth"]
 
 BOUND = 0.01
 """Deepest a node of a mortar interface may sit inside the other solid, over the shortest
@@ -65,6 +65,10 @@ class SolidWatch:
             deepest, relative = max(deepest, d), max(relative, d / self.edges[i])
         return deepest, relative
 
+    def entering(self, q: np.ndarray) -> str:
+        """What of the pair enters the other at its deepest (for a message)."""
+        return "a node"
+
 
 def solid_watches(pairs) -> list[SolidWatch]:
     """The watches of the mortar interfaces among ``pairs``."""
@@ -90,3 +94,10 @@ def watched_depth(watches, q: np.ndarray) -> tuple[float, float]:
     m, depth over the shortest edge of the surface entered), as :meth:`SolidWatch.depth`."""
     depths = [watch.depth(q) for watch in watches]
     return max((d for d, _ in depths), default=0.0), max((r for _, r in depths), default=0.0)
+
+
+def entering(watches, q: np.ndarray) -> str:
+    """What enters another body deepest at q, over its local edge, among the ``watches``: a
+    node, or a rigid box's edge or corner."""
+    ratios = [watch.depth(q)[1] for watch in watches]
+    return watches[int(np.argmax(ratios))].entering(q) if watches else "a node"

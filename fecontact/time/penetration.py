@@ -23,7 +23,7 @@ import time
 
 import numpy as np
 
-from ..contact.watch import held_nodes, watched_depth
+from ..contact.watch import entering, held_nodes, watched_depth
 from .constraints import StepFailure
 from .state import IntegratorOptions, PhaseTimer, State, length_scale
 
@@ -92,10 +92,12 @@ def check_predictor(model, q, gaps) -> None:
     facet closest to it."""
     if not model.contacts.size:
         return
-    ratio = model.contacts.relative_depth(q, gaps)
-    if model.contacts.watches:  # a mortar interface's nodes, which no own gap measures
-        ratio = max(ratio, watched_depth(model.contacts.watches, q)[1])
+    ratio = own = model.contacts.relative_depth(q, gaps)
+    watches = model.contacts.watches
+    if watches:  # a mortar interface's nodes, which no own gap measures
+        ratio = max(ratio, watched_depth(watches, q)[1])
     if ratio > DEEPEST:
+        what = entering(watches, q) if ratio > own else "a node"
         raise PenetrationFailure(
-            f"a node enters another body {ratio:.2f} facet lengths deep in one step", np.nan
+            f"{what} enters another body {ratio:.2f} facet lengths deep in one step", np.nan
         )
