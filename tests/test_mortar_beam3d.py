@@ -10,6 +10,7 @@ from fecontact.bodies import Beam3D, LinearElastic, Material, Section
 from fecontact.contact import Contact
 from fecontact.contact.beam3d_solid import TubeSolidContact
 from fecontact.contact.geometry import closest_facet_distance
+from fecontact.contact.inside import Surface
 from fecontact.contact.mortar_beam3d import MortarBeam3D
 from fecontact.contact.polyline_distance import closest_on_polyline, region_labels, straight_runs
 from fecontact.errors import InputError
@@ -348,17 +349,51 @@ def test_a_rod_above_a_coarse_block_is_admitted():
         initial_state(model)
 
 
-@pytest.mark.parametrize(
-    ("lift", "at", "depth"),
-    [
-        (-0.001, (0.075, 0.075), 0.001),  # between the nodes, where the rows read +12 mm
-        (-0.003, (0.0, 0.0), 0.003),  # the middle node inside the tube
-    ],
-)
-def test_a_rod_inside_a_coarse_block_is_refused(lift, at, depth):
-    """A tube reaching into the block between its nodes (no node inside: the weighted rows
-    read a gap of +12 mm there) or over a node is refused, naming the contact and the
-    depth of the tube below the face."""
-    model, pair = rod_over_coarse_block(lift, at)
+@pytest.mark.parametrize("depth", [0.001, 0.003])
+def test_a_rod_inside_a_coarse_block_is_refused(depth):
+    """The tube over a node of the coarse face, ``depth`` (m) into it: refused, naming the
+    contact and the node's depth in the tube (the rows read −20 mm there: the stand-off and
+    the depth together)."""
+    model, pair = rod_over_coarse_block(-depth)
+    q = np.zeros(model.n)
+    rows = pair.gaps(q)
+    assert pair.admissible_gaps(q, rows).min() == pytest.approx(-depth, abs=1e-12)
     with pytest.raises(InputError, match=rf"contact \d+ penetrates by {depth:.3e} m"):
-        simulate(model, 1e-4, 1e-4).__next__()
+        next(simulate(model, 1e-4, 1e-4))
+
+
+def test_a_tube_deeper_in_the_solid_than_its_rows_is_refused():
+    """A tube 1 mm into a face between the nodes (a fine face: 1 cm cells; no node inside),
+    whose rows read −0.62 mm, is refused by the shallower of the two depths; the same tube
+    resting where its least row is zero, dipping between the nodes by the rows' own
+    stand-off, is admitted."""
+    block = Solid.box([-0.05, -0.05, -0.02], [0.05, 0.05, 0.0], (10, 10, 2), RUBBER)
+    model = None
+    for lift in (-0.001, 0.0):
+        bar = Beam3D.straight([-0.03, 0.005, R + lift], [0.03, 0.005, R + lift], 6, STEEL,
+                              Section.circle(R))  # fmt: skip
+        model = Model([block, bar], [Contact(block, bar, clearance=R)], (0.0, 0.0, -9.81))
+        pair = model.contacts.pairs[0]
+        q = np.zeros(model.n)
+        rows = pair.gaps(q)
+        exact = pair.admissible_gaps(q, rows)
+        assert pair.node_distances(q)[np.isfinite(rows)].min() > 0.0  # no node inside
+        if lift < 0.0:
+            tube = Surface(block.contact_facets()).signed_distance(block.X, bar.X, pad=R)[0]
+            assert tube.min() - R == pytest.approx(-0.001, rel=1e-9)
+            assert exact.min() == pytest.approx(rows.min(), rel=1e-12)
+            assert -0.001 < rows.min() < -0.0005
+            with pytest.raises(InputError, match=rf"penetrates by {-rows.min():.3e} m"):
+                initial_state(model)
+    # lowered until the least row is zero (bisection): the tube dips into the face, admitted
+    beam = q[model.offset_of(bar) :].reshape(-1, 6)
+    lo, hi = -0.2 * R, 0.0
+    for _ in range(60):
+        beam[:, 2] = 0.5 * (lo + hi)
+        lo, hi = (lo, beam[0, 2]) if pair.gaps(q).min() >= 0.0 else (beam[0, 2], hi)
+    beam[:, 2] = hi
+    rows = pair.gaps(q)
+    assert 0.0 <= rows.min() < 1e-12
+    assert pair.admissible_gaps(q, rows).min() >= 0.0
+    centre = bar.X + beam[:, :3]
+    assert Surface(block.contact_facets()).signed_distance(block.X, centre, pad=R)[0].min() < R

@@ -306,21 +306,26 @@ class MortarBeam3D(BoundaryRows):
 
     # -- what the rows do not hold ----------------------------------------------------------
     def admissible_gaps(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
-        """The exact gaps (m) that admit a state at t = 0 where the rows take part: each slave
-        node's own distance D_j, and where the tube reaches into the solid (its centreline
-        sampled, :data:`SAMPLES`), d − r of that point (d its signed distance to the solid's
-        boundary, negative inside) on the rows of its closest triangle. A weighted gap reads
-        a stand-off below both on triangles much larger than the tube (the negative lobes of
-        the dual functions), where nothing is inside."""
+        """The gaps (m) that admit a state at t = 0 where the rows take part: each slave node's
+        own distance D_j (a row reads a stand-off below it on triangles much larger than the
+        tube, the dual functions' negative lobes, where no node is inside), and where the tube
+        reaches into the solid (its centreline sampled, :data:`SAMPLES`; d − r, d the signed
+        distance to the solid's boundary) where the rows of its closest triangle read below
+        zero too, the shallower of the two: a tube resting on its rows (zero) dips between
+        the nodes by their own stand-off and is admitted."""
         x, ends = self._frame(q)
         s = np.linspace(0.0, 1.0, SAMPLES + 1)[:, None, None]
         points = ((1.0 - s) * ends[:, 0] + s * ends[:, 1]).reshape(-1, 3)
         d, facet = Surface(self.facets).signed_distance(x, points, pad=self.clearance)
-        beam = np.full(self.size, np.inf)
+        tube = np.full(self.size, np.inf)
         hit = facet >= 0
         for k in range(3):
-            np.minimum.at(beam, self.element_rows[facet[hit], k], d[hit] - self.clearance)
-        return np.where(np.isfinite(rows), np.minimum(self.node_distances(q), beam), np.inf)
+            np.minimum.at(tube, self.element_rows[facet[hit], k], d[hit] - self.clearance)
+        # a row at zero holds its tube as in a run (dipping between the nodes by the rows'
+        # stand-off; a settled state's rows are zero to round-off): a tube inside is refused
+        # where its row reads below zero too, by the shallower of the two depths
+        exact = np.minimum(self.node_distances(q), np.maximum(tube, rows))
+        return np.where(np.isfinite(rows), exact, np.inf)
 
     def watch(self) -> NodeDepths:
         """The deepest slave node inside the tube, by its exact distance to the centreline."""
