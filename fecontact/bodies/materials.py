@@ -126,6 +126,12 @@ class _Isotropic:
         E3 = self._embed(E, plane)
         return E3[2, 2], self.response3(E3, tangent=False)[1][2, 2]
 
+    def normal33(self, E3: np.ndarray):
+        """S₃₃ (Pa) and ℂ₃₃₃₃ (Pa) at strains E3 (3, 3, *points): the residual and slope of
+        the plane-stress condition S₃₃ = 0. A material may give them without its whole ℂ."""
+        _, S, CC = self.response3(E3, tangent=True)
+        return S[2, 2], CC[2, 2, 2, 2]
+
     def _embed(self, E, plane):
         E3 = np.zeros((3, 3) + E.shape[2:])
         E3[:2, :2] = E
@@ -134,11 +140,10 @@ class _Isotropic:
         # Newton on S₃₃(E₃₃) = 0; S₃₃ increases with E₃₃ (ℂ₃₃₃₃ > 0), so it converges from 0
         tol = self.E * 1e-13
         for _ in range(50):
-            _, S, CC = self.response3(E3, tangent=True)
-            r = S[2, 2]
+            r, slope = self.normal33(E3)
             if np.all(np.abs(r) <= tol):
                 return E3
-            step = -r / CC[2, 2, 2, 2]
+            step = -r / slope
             # keep C₃₃ = 1 + 2E₃₃ positive (the Neo-Hookean energy is infinite at C₃₃ = 0)
             E3[2, 2] += np.maximum(step, -0.45 * (1.0 + 2.0 * E3[2, 2]))
         return E3
@@ -176,14 +181,27 @@ class NeoHookean(_Isotropic):
 
     barrier = True
 
-    def response3(self, E, tangent=True):
-        lam, mu = self.lame
+    def _inverse(self, E):
+        """C⁻¹ and ln J at E (C = 2E + I, J = √det C)."""
         C = 2.0 * E
         for i in range(3):
             C[i, i] += 1.0
         with np.errstate(invalid="ignore", divide="ignore"):
             detC, Ci = det(C), inv(C)
             lnJ = 0.5 * np.log(detC)
+        return C, Ci, lnJ
+
+    def normal33(self, E3):
+        # the entries of response3's S and ℂ, in its order of operations (the same numbers)
+        lam, mu = self.lame
+        _, Ci, lnJ = self._inverse(E3)
+        c = Ci[2, 2]
+        p = c * c
+        return (lam * lnJ - mu) * c + mu, (p + p) * (mu - lam * lnJ) + lam * c * c
+
+    def response3(self, E, tangent=True):
+        lam, mu = self.lame
+        C, Ci, lnJ = self._inverse(E)
         W = 0.5 * mu * (C[0, 0] + C[1, 1] + C[2, 2] - 3.0 - 2.0 * lnJ) + 0.5 * lam * lnJ**2
         S = (lam * lnJ - mu) * Ci
         for i in range(3):
