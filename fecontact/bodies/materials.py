@@ -100,10 +100,11 @@ class _Isotropic:
         lam, mu = self.lame
         return float(np.sqrt((lam + 2.0 * mu) / self.rho))
 
-    def response3(self, E: np.ndarray, tangent: bool = True):
-        """W (*points) in J/m³, S (3, 3, *points) in Pa and ℂ (3, 3, 3, 3, *points) in Pa at
-        Green–Lagrange strains E (3, 3, *points). ℂ is None unless ``tangent``; a constant ℂ
-        comes with singleton point axes."""
+    def response3(self, E: np.ndarray, tangent: bool = True, dims: int = 3):
+        """W (*points) in J/m³, S (3, 3, *points) in Pa and ℂ (dims, dims, dims, dims,
+        *points) in Pa at Green–Lagrange strains E (3, 3, *points): ℂ's block of the first
+        ``dims`` axes (2: the in-plane block plane strain reads). ℂ is None unless
+        ``tangent``; a constant ℂ comes with singleton point axes."""
         raise NotImplementedError
 
     def response(self, E: np.ndarray, plane: str | None = None, tangent: bool = True):
@@ -112,7 +113,8 @@ class _Isotropic:
         if plane is None:
             return self.response3(E, tangent)
         E3 = self._embed(E, plane)
-        W, S, CC = self.response3(E3, tangent)
+        # (plane strain reads ℂ's in-plane block alone; plane stress also its E₃₃ entries)
+        W, S, CC = self.response3(E3, tangent, 2 if plane == "strain" else 3)
         if not tangent:
             return W, S[:2, :2], None
         CC2 = CC[:2, :2, :2, :2]
@@ -158,8 +160,8 @@ class LinearElastic(_Isotropic):
 
     linear = True
 
-    def response3(self, E, tangent=True):
-        return _quadratic(self.lame, E, tangent)
+    def response3(self, E, tangent=True, dims=3):
+        return _quadratic(self.lame, E, tangent, dims)
 
 
 class StVenantKirchhoff(_Isotropic):
@@ -168,8 +170,8 @@ class StVenantKirchhoff(_Isotropic):
     Exact under large rotations; use for moderate strains (it softens in strong compression).
     """
 
-    def response3(self, E, tangent=True):
-        return _quadratic(self.lame, E, tangent)
+    def response3(self, E, tangent=True, dims=3):
+        return _quadratic(self.lame, E, tangent, dims)
 
 
 class NeoHookean(_Isotropic):
@@ -199,7 +201,7 @@ class NeoHookean(_Isotropic):
         p = c * c
         return (lam * lnJ - mu) * c + mu, (p + p) * (mu - lam * lnJ) + lam * c * c
 
-    def response3(self, E, tangent=True):
+    def response3(self, E, tangent=True, dims=3):
         lam, mu = self.lame
         C, Ci, lnJ = self._inverse(E)
         W = 0.5 * mu * (C[0, 0] + C[1, 1] + C[2, 2] - 3.0 - 2.0 * lnJ) + 0.5 * lam * lnJ**2
@@ -208,6 +210,7 @@ class NeoHookean(_Isotropic):
             S[i, i] += mu
         if not tangent:
             return W, S, None
+        Ci = Ci[:dims, :dims]
         P = Ci[:, None, :, None] * Ci[None, :, None, :]  # C⁻¹_IK C⁻¹_JL
         CC = P + P.swapaxes(2, 3)
         CC *= mu - lam * lnJ
@@ -215,7 +218,7 @@ class NeoHookean(_Isotropic):
         return W, S, CC
 
 
-def _quadratic(lame, E, tangent):
+def _quadratic(lame, E, tangent, dims=3):
     """W = λ/2 (tr E)² + μ E:E, its stress and (constant) tangent."""
     lam, mu = lame
     trE = E[0, 0] + E[1, 1] + E[2, 2]
@@ -226,4 +229,4 @@ def _quadratic(lame, E, tangent):
     if not tangent:
         return W, S, None
     CC = (lam * _OUTER + 2.0 * mu * _SYM4).reshape((3, 3, 3, 3) + (1,) * (E.ndim - 2))
-    return W, S, CC
+    return W, S, CC[:dims, :dims, :dims, :dims]
