@@ -14,6 +14,7 @@ dV as (Q, E), tensors as (d, d, Q, E).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 from skfem.helpers import det
@@ -51,6 +52,13 @@ class Quadrature:
             nodes=nodes,
             dofs=(d * nodes[:, :, None] + np.arange(d)).reshape(len(nodes), -1),
         )
+
+    @cached_property
+    def weighted_grad(self) -> np.ndarray:
+        """∇N_a dV element-major, (E, n_loc, Q·d), as :func:`element_tangent`'s batched
+        product reads it: fixed with the reference mesh, so made on first use."""
+        G = self.grad * self.dV
+        return np.ascontiguousarray(G.transpose(3, 0, 2, 1)).reshape(G.shape[-1], len(G), -1)
 
     @property
     def dim(self) -> int:
@@ -99,8 +107,7 @@ def element_tangent(quad: Quadrature, F, CC: np.ndarray, S) -> np.ndarray:
     # quadrature points and J together, writes K_e contiguous as Pattern reads it
     n_el, n = G.shape[-1], quad.dofs.shape[1]
     AG = np.ascontiguousarray(AG.transpose(5, 4, 0, 1, 2, 3)).reshape(n_el, -1, n * quad.dim)
-    Gw = np.ascontiguousarray((G * dV).transpose(3, 0, 2, 1)).reshape(n_el, len(G), -1)
-    return np.matmul(Gw, AG).reshape(n_el, n, n)
+    return np.matmul(quad.weighted_grad, AG).reshape(n_el, n, n)
 
 
 def cauchy_stress(material, plane, F, E: np.ndarray) -> np.ndarray:

@@ -100,10 +100,11 @@ class _Isotropic:
         lam, mu = self.lame
         return float(np.sqrt((lam + 2.0 * mu) / self.rho))
 
-    def response3(self, E: np.ndarray, tangent: bool = True):
-        """W (*points) in J/m³, S (3, 3, *points) in Pa and ℂ (3, 3, 3, 3, *points) in Pa at
-        Green–Lagrange strains E (3, 3, *points). ℂ is None unless ``tangent``; a constant ℂ
-        comes with singleton point axes."""
+    def response3(self, E: np.ndarray, tangent: bool = True, dims: int = 3):
+        """W (*points) in J/m³, S (3, 3, *points) in Pa and ℂ (dims, dims, dims, dims,
+        *points) in Pa at Green–Lagrange strains E (3, 3, *points): ℂ's block of the first
+        ``dims`` axes (2: the in-plane block plane strain reads). ℂ is None unless
+        ``tangent``; a constant ℂ comes with singleton point axes."""
         raise NotImplementedError
 
     def response(self, E: np.ndarray, plane: str | None = None, tangent: bool = True):
@@ -112,7 +113,8 @@ class _Isotropic:
         if plane is None:
             return self.response3(E, tangent)
         E3 = self._embed(E, plane)
-        W, S, CC = self.response3(E3, tangent)
+        # (plane strain reads ℂ's in-plane block alone; plane stress also its E₃₃ entries)
+        W, S, CC = self.response3(E3, tangent, 2 if plane == "strain" else 3)
         if not tangent:
             return W, S[:2, :2], None
         CC2 = CC[:2, :2, :2, :2]
@@ -126,6 +128,12 @@ class _Isotropic:
         E3 = self._embed(E, plane)
         return E3[2, 2], self.response3(E3, tangent=False)[1][2, 2]
 
+    def normal33(self, E3: np.ndarray):
+        """S₃₃ (Pa) and ℂ₃₃₃₃ (Pa) at strains E3 (3, 3, *points): the residual and slope of
+        the plane-stress condition S₃₃ = 0. A material may give them without its whole ℂ."""
+        _, S, CC = self.response3(E3, tangent=True)
+        return S[2, 2], CC[2, 2, 2, 2]
+
     def _embed(self, E, plane):
         E3 = np.zeros((3, 3) + E.shape[2:])
         E3[:2, :2] = E
@@ -134,11 +142,10 @@ class _Isotropic:
         # Newton on S₃₃(E₃₃) = 0; S₃₃ increases with E₃₃ (ℂ₃₃₃₃ > 0), so it converges from 0
         tol = self.E * 1e-13
         for _ in range(50):
-            _, S, CC = self.response3(E3, tangent=True)
-            r = S[2, 2]
+            r, slope = self.normal33(E3)
             if np.all(np.abs(r) <= tol):
                 return E3
-            step = -r / CC[2, 2, 2, 2]
+            step = -r / slope
             # keep C₃₃ = 1 + 2E₃₃ positive (the Neo-Hookean energy is infinite at C₃₃ = 0)
             E3[2, 2] += np.maximum(step, -0.45 * (1.0 + 2.0 * E3[2, 2]))
         return E3
@@ -153,8 +160,8 @@ class LinearElastic(_Isotropic):
 
     linear = True
 
-    def response3(self, E, tangent=True):
-        return _quadratic(self.lame, E, tangent)
+    def response3(self, E, tangent=True, dims=3):
+        return _quadratic(self.lame, E, tangent, dims)
 
 
 class StVenantKirchhoff(_Isotropic):
@@ -163,8 +170,8 @@ class StVenantKirchhoff(_Isotropic):
     Exact under large rotations; use for moderate strains (it softens in strong compression).
     """
 
-    def response3(self, E, tangent=True):
-        return _quadratic(self.lame, E, tangent)
+    def response3(self, E, tangent=True, dims=3):
+        return _quadratic(self.lame, E, tangent, dims)
 
 
 class NeoHookean(_Isotropic):
@@ -176,20 +183,34 @@ class NeoHookean(_Isotropic):
 
     barrier = True
 
-    def response3(self, E, tangent=True):
-        lam, mu = self.lame
+    def _inverse(self, E):
+        """C⁻¹ and ln J at E (C = 2E + I, J = √det C)."""
         C = 2.0 * E
         for i in range(3):
             C[i, i] += 1.0
         with np.errstate(invalid="ignore", divide="ignore"):
             detC, Ci = det(C), inv(C)
             lnJ = 0.5 * np.log(detC)
+        return C, Ci, lnJ
+
+    def normal33(self, E3):
+        # the entries of response3's S and ℂ, in its order of operations (the same numbers)
+        lam, mu = self.lame
+        _, Ci, lnJ = self._inverse(E3)
+        c = Ci[2, 2]
+        p = c * c
+        return (lam * lnJ - mu) * c + mu, (p + p) * (mu - lam * lnJ) + lam * c * c
+
+    def response3(self, E, tangent=True, dims=3):
+        lam, mu = self.lame
+        C, Ci, lnJ = self._inverse(E)
         W = 0.5 * mu * (C[0, 0] + C[1, 1] + C[2, 2] - 3.0 - 2.0 * lnJ) + 0.5 * lam * lnJ**2
         S = (lam * lnJ - mu) * Ci
         for i in range(3):
             S[i, i] += mu
         if not tangent:
             return W, S, None
+        Ci = Ci[:dims, :dims]
         P = Ci[:, None, :, None] * Ci[None, :, None, :]  # C⁻¹_IK C⁻¹_JL
         CC = P + P.swapaxes(2, 3)
         CC *= mu - lam * lnJ
@@ -197,7 +218,7 @@ class NeoHookean(_Isotropic):
         return W, S, CC
 
 
-def _quadratic(lame, E, tangent):
+def _quadratic(lame, E, tangent, dims=3):
     """W = λ/2 (tr E)² + μ E:E, its stress and (constant) tangent."""
     lam, mu = lame
     trE = E[0, 0] + E[1, 1] + E[2, 2]
@@ -208,4 +229,4 @@ def _quadratic(lame, E, tangent):
     if not tangent:
         return W, S, None
     CC = (lam * _OUTER + 2.0 * mu * _SYM4).reshape((3, 3, 3, 3) + (1,) * (E.ndim - 2))
-    return W, S, CC
+    return W, S, CC[:dims, :dims, :dims, :dims]

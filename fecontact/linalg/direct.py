@@ -138,9 +138,10 @@ class Pattern:
             # in one int64 array: rows and columns apart cost 3x the memory of large 3D meshes
             fi = free_index[edofs].astype(np.int64)
             keep = ((fi[:, :, None] >= 0) & (fi[:, None, :] >= 0)).ravel()
-            self.keep.append(keep)
             flat = (fi[:, :, None] * n_free + fi[:, None, :]).ravel()
-            flats.append(flat if keep.all() else flat[keep])
+            whole = bool(keep.all())
+            self.keep.append(None if whole else keep)
+            flats.append(flat if whole else flat[keep])
         extra = sp.coo_matrix(extra) if extra is not None else sp.coo_matrix((n_free, n_free))
         flats.append(extra.row.astype(np.int64) * n_free + extra.col)
         allflat = np.concatenate(flats)
@@ -154,13 +155,15 @@ class Pattern:
         bounds = np.cumsum([0] + [len(f) for f in flats])
         self.pos = [pos[a:b] for a, b in zip(bounds[:-1], bounds[1:], strict=True)]
         self.extra = np.bincount(self.pos[-1], extra.data, minlength=self.size)
+        self._csc = None  # (the CSC order of the entries, found on first use)
 
     def assemble(self, values) -> np.ndarray:
         """Data array of the sum of the element matrices ``values`` (one (E, d, d) per block)."""
         data = np.zeros(self.size)
         for v, keep, pos in zip(values, self.keep, self.pos, strict=False):
-            if v.size:
-                data += np.bincount(pos, v.reshape(-1)[keep], minlength=self.size)
+            if v.size:  # (a block whose entries are all free is taken whole, unmasked)
+                v = v.reshape(-1) if keep is None else v.reshape(-1)[keep]
+                data += np.bincount(pos, v, minlength=self.size)
         return data
 
     def matrix(self, data: np.ndarray):
@@ -168,3 +171,18 @@ class Pattern:
         if self.dense:
             return data.reshape(self.n, self.n)
         return sp.csr_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
+
+    def csc(self, A):
+        """``A.tocsc()``: the same matrix, entries and order; where A is a CSR matrix of this
+        structure (:meth:`matrix`), by the column order of its entries found once, not by
+        sorting them again at every factorization."""
+        if self.dense or not sp.issparse(A) or A.format != "csr" or A.indptr is not self.indptr:
+            return A.tocsc()
+        if self._csc is None:
+            rows = np.repeat(np.arange(self.n, dtype=np.int32), np.diff(self.indptr))
+            order = np.lexsort((rows, self.indices))  # by column, then row
+            counts = np.bincount(self.indices, minlength=self.n)
+            indptr = np.concatenate([[0], np.cumsum(counts)]).astype(np.int32)
+            self._csc = order, rows[order], indptr
+        order, indices, indptr = self._csc
+        return sp.csc_matrix((A.data[order], indices, indptr), shape=(self.n, self.n))

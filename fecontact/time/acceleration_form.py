@@ -49,7 +49,7 @@ class AccelerationForm:
     ``law``: unused (the step needs nothing else)."""
 
     __slots__ = (
-        "S armijo dq group lie model newton opts plain plan previous r ref rnorm s small "
+        "S armijo csc dq group lie model newton opts plain plan previous r ref rnorm s small "
         "solve step x"
     ).split()
 
@@ -57,6 +57,10 @@ class AccelerationForm:
         model, opts, plan = newton.model, newton.opts, newton.plan
         self.newton, self.model, self.opts, self.plan = newton, model, opts, plan
         self.group = plan.group
+        # S_t in the column order of a direct sparse solver, made from its structure (the
+        # same matrix as ``tocsc``); an iterative or automatic solver takes S_t as it is
+        direct = model.solver.name in ("direct", "superlu") and not model.dense
+        self.csc = model.pattern.csc if direct else None
         self.begin(st, c, t, P, law)
 
     def begin(self, st, c, t: float, P, law=None) -> None:
@@ -163,9 +167,8 @@ class AccelerationForm:
         """S_t's solver (factorized here unless reused)."""
         if not self.plan.reuse:  # (on a group S_t is not symmetric: gyroscopic, T(D))
             symmetric = self.lie is None
-            self.solve = factorize_or_fail(
-                self.S, self.rnorm / self.ref, symmetric, self.model.solver
-            )
+            S = self.S if self.csc is None else self.csc(self.S)
+            self.solve = factorize_or_fail(S, self.rnorm / self.ref, symmetric, self.model.solver)
         return self.solve
 
     def _schur_update(self, term):
