@@ -92,6 +92,15 @@ def with_options(sim, **options):
 # -- runs ---------------------------------------------------------------------------------------
 
 
+def run_or_failure(sim, folder) -> tuple[dict, str, str]:
+    """Run ``sim`` into ``folder`` (no frames, no checkpoints): its summary, "completed" or
+    "failed" (a ``SolverError``: the summary the failed run wrote) and the error's message."""
+    try:
+        return run(sim, folder, frames=False, checkpoint_every=0), "completed", ""
+    except SolverError as err:
+        return fecontact.io.output.read_json(Path(folder) / "summary.json"), "failed", str(err)
+
+
 def timed_run(sim, repeats=3):
     """Run ``sim`` through ``fecontact.run`` (no frames, no checkpoints) ``repeats`` times.
 
@@ -104,12 +113,7 @@ def timed_run(sim, repeats=3):
     first = None
     for i in range(repeats):
         with tempfile.TemporaryDirectory(prefix="fecontact_bench_") as tmp:
-            try:
-                summary = run(sim, tmp, frames=False, checkpoint_every=0)
-                status, message = "completed", ""
-            except SolverError as err:
-                summary = fecontact.io.output.read_json(Path(tmp) / "summary.json")
-                status, message = "failed", str(err)
+            summary, status, message = run_or_failure(sim, tmp)
             if i == 0:
                 first = {
                     "summary": summary,

@@ -41,10 +41,9 @@ import time
 from pathlib import Path
 
 import numpy as np
-from _common import parser, publish_report
+from _common import parser, publish_report, run_or_failure
 
-import fecontact
-from fecontact import InputError, Model, Probe, SolverError, run
+from fecontact import InputError, Model, Probe
 from fecontact.bodies import Beam3D, LinearElastic, Material, RigidBody3D, Section, Solid
 from fecontact.bodies.meshes import graded_ball_mesh
 from fecontact.bodies.shapes3d import Ball, Box
@@ -237,11 +236,7 @@ def executed(sim):
     with tempfile.TemporaryDirectory(prefix="fecontact_stress3d_") as tmp:
         cpu = time.process_time()
         try:
-            summary = run(sim, tmp, frames=False, checkpoint_every=0)
-            status, message = "completed", ""
-        except SolverError as err:
-            summary = fecontact.io.output.read_json(Path(tmp) / "summary.json")
-            status, message = "failed", str(err)
+            summary, status, message = run_or_failure(sim, tmp)
         except InputError as err:  # refused before the first step
             return {}, {}, "refused", str(err), time.process_time() - cpu
         cpu = time.process_time() - cpu
