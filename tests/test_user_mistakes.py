@@ -368,7 +368,16 @@ def test_ctrl_c_during_a_sweep_is_one_line(tmp_path):
 
     argv = [sys.executable, "-m", "fecontact", "sweep", "bouncing_ball", "--quiet"]
     argv += ["--set", "restitution=0,0.5", "--t-end", "30", "--workers", "1", "--out", "s"]
-    proc = subprocess.Popen(argv, cwd=tmp_path, stderr=subprocess.PIPE, text=True)
+    # the child starts with Ctrl-C's default disposition, as from a terminal: a child inherits
+    # an ignored SIGINT (a background job's, or one a library set in this process), and then
+    # Python installs no KeyboardInterrupt handler at all
+    proc = subprocess.Popen(
+        argv,
+        cwd=tmp_path,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
     deadline = time.monotonic() + 120
     while not list(tmp_path.glob("s/*/history.csv")) and time.monotonic() < deadline:
         time.sleep(0.2)  # until a run is under way
