@@ -10,15 +10,30 @@ gyroscopic force and tangent, q_n ⊕ D, T(D), K (T(D) − I)) and of the strain
 recorder asks for each step. Reported: medians and the spread
 (min–max) of the ratios. The runs move in the x–y plane (out_of_plane_velocity = 0), where the
 two give the same history. ``--kernels`` times the evaluations alone (no runs).
+
+Then the step's budget, piece by piece (:func:`budget`): per case, the Newton updates, the
+force-and-tangent evaluations and the tangents formed but never factorized (a step that ends
+on the residual test) per step, counted over a run; and the CPU time of each piece of the
+smooth step's Newton loop per call, at a stored state of the swing (step 150), the two cases
+alternated piece by piece, times its calls per step: the spatial step's cost beyond the planar
+one, where it is spent. A whole step from stored states (``Stepper.step``, no recorder) is
+timed the same way.
 """
 
 from __future__ import annotations
 
+import collections
 import statistics
 import time
 
 import numpy as np
 from _common import RESULTS, case, markdown_table, parser, timed_run, write_csv, write_markdown
+
+from fecontact.linalg.direct import factorize
+from fecontact.time import simulate
+from fecontact.time.generalized_alpha import coefficients
+from fecontact.time.state import PhaseTimer
+from fecontact.time.stepper import make_stepper
 
 CASES = ("flexible_pendulum", "spatial_pendulum")
 
@@ -84,6 +99,121 @@ def group_times(sim, repeats: int, number: int = 200) -> dict:
                 call()
             out[name].append(1e6 * (time.process_time() - t) / number)
     return out
+
+
+def newton_counts(sims) -> dict:
+    """Per case, per step of a run: Newton updates (factorized iteration matrices), force
+    and tangent evaluations of the beam, those never factorized (evaluations − updates: the
+    step ended on the residual test after it) and the strain energies the recorder asks."""
+    out = {}
+    for name, sim in sims.items():
+        beam = sim.model.bodies[0]
+        calls = {True: 0, False: 0, "energy": 0}
+        internal, energy = beam.internal, beam.energy
+
+        def counted_internal(q, tangent=True, _f=internal, _c=calls):
+            _c[bool(tangent)] += 1
+            return _f(q, tangent)
+
+        def counted_energy(q, _f=energy, _c=calls):
+            _c["energy"] += 1
+            return _f(q)
+
+        beam.internal, beam.energy = counted_internal, counted_energy
+        try:
+            run = timed_run(sim, repeats=1)
+        finally:
+            del beam.internal, beam.energy  # (the instance's own attributes: back to the class)
+        n, updates = run["steps"], run["summary"]["newton_iterations_total"]
+        out[name] = {
+            "updates": updates / n,
+            "evaluations": calls[True] / n,
+            "unfactorized": (calls[True] - updates) / n,
+            "energies": calls["energy"] / n,
+        }
+    return out
+
+
+def _stored(sim, step: int):
+    """(the model's stepper, the state after ``step`` steps, the step size)."""
+    model = sim.model
+    (st,) = collections.deque(
+        simulate(model, sim.dt, step * sim.dt * (1 + 1e-9), sim.options, v0=sim.v0), maxlen=1
+    )
+    return make_stepper(model, sim.options), st, sim.dt
+
+
+def _pieces(sim, step: int = 150) -> dict:
+    """The Newton loop's pieces at the state after ``step`` steps of ``sim``, as calls:
+    the step's begin (predictor; on the group q_n ⊕ D), a residual (the force terms with
+    their tangents), of which the internal force and tangent and the gyroscopic term, S_t
+    (on the group with K (T(D) − I)), its LU, q_n ⊕ D after an update (the begin makes one
+    too), a whole step, the energies."""
+    stepper, st, h = _stored(sim, step)
+    opts, model = stepper.settings, sim.model
+    c = coefficients(opts.rho_inf, h)
+    loop = opts.plan.loop(model, opts, PhaseTimer()).start(st, st.t + h, c)
+    form, timer = loop.form, PhaseTimer()
+    form.residual(0)
+    stp, lie = form.step, form.lie
+    K = loop.elastic.K
+
+    def matrix():
+        S = loop.tangent()
+        return S if lie is None else lie.iteration_matrix(S, K)
+
+    S = matrix()
+    pieces = {
+        "begin (predictor)": lambda: loop.start(st, st.t + h, c),
+        "residual": lambda: form.residual(0),
+        "  internal force + tangent": lambda: model.internal(stp.q),
+        "  gyroscopic": None
+        if loop.gyroscopic is None
+        else (lambda: loop.gyroscopic.evaluate(stp, 0)),
+        "S_t": matrix,
+        "LU of S_t": lambda: factorize(S),
+        "q_n ⊕ D after an update": None if lie is None else (lambda: lie.configuration(stp.X[0])),
+        "whole step (no recorder)": lambda: stepper.step(st, h, timer),
+        "recorder's energies": lambda: model.kinetic_energy(st.v) + model.strain_energy(st.q),
+    }
+    return pieces
+
+
+def budget(sims, repeats: int, number: int = 100) -> tuple[list[dict], str]:
+    """The rows of the step's budget (module docstring): per piece, per case, µs per call
+    (least over ``repeats`` alternated rounds of ``number`` calls) and calls per step, and the
+    spatial step's µs beyond the planar one; and the counts per step, as a sentence."""
+    counts = newton_counts(sims)
+    pieces = {name: _pieces(sim) for name, sim in sims.items()}
+    times = {name: {k: [] for k, f in p.items() if f is not None} for name, p in pieces.items()}
+    for _ in range(repeats):
+        for key in pieces[CASES[1]]:
+            for name in CASES:
+                call = pieces[name][key]
+                if call is None:
+                    continue
+                t = time.process_time()
+                for _ in range(number):
+                    call()
+                times[name][key].append(1e6 * (time.process_time() - t) / number)
+    rows = []
+    for key in pieces[CASES[1]]:
+        row, extra = {"piece": key}, 0.0
+        for name in CASES:
+            n = counts[name]
+            per_step = {"begin (predictor)": 1.0, "S_t": n["updates"], "LU of S_t": n["updates"],
+                        "q_n ⊕ D after an update": n["updates"], "whole step (no recorder)": 1.0,
+                        "recorder's energies": 1.0}.get(key, n["evaluations"])  # fmt: skip
+            least = min(times[name][key]) if times[name].get(key) else 0.0
+            short = name.split("_")[0]
+            row[f"{short} µs/call"], row[f"{short} calls/step"] = least, per_step
+            extra += (1.0 if name == CASES[1] else -1.0) * least * per_step
+        row["spatial − flexible, µs/step"] = extra
+        rows.append(row)
+    note = "Per step of a run: " + "; ".join(
+        f"{name} " + ", ".join(f"{k} {v:.3f}" for k, v in counts[name].items()) for name in CASES
+    )
+    return rows, note + "."
 
 
 def spread(values) -> str:
@@ -153,12 +283,23 @@ def main() -> None:
         + ", ".join(f"{name[:-5]} {statistics.median(v):.1f}" for name, v in group.items())
         + "."
     )
+    parts, counts = budget(sims, repeats)
+    part_columns = list(parts[0])
+    part_table = markdown_table(parts, part_columns)
     print(table)
     print(note)
+    print(part_table)
+    print(counts)
     out = args.out or RESULTS
     stem = "beam3d_cost_quick" if args.quick else "beam3d_cost"
     write_csv(f"{out}/{stem}.csv", rows, columns)
-    write_markdown(f"{out}/{stem}.md", f"# The cost of a step in space\n\n{table}\n\n{note}")
+    write_csv(f"{out}/{stem}_budget.csv", parts, part_columns)
+    write_markdown(
+        f"{out}/{stem}.md",
+        f"# The cost of a step in space\n\n{table}\n\n{note}\n\n## Where a step goes\n\n"
+        f"Per call at a stored state of the swing, least of {repeats} alternated rounds, "
+        f"times the calls per step counted over a run.\n\n{part_table}\n\n{counts}",
+    )
 
 
 if __name__ == "__main__":
