@@ -309,7 +309,7 @@ class RightIncrements:
         2 (sin(θ/2)/θ)², and (θ − sin θ)/θ³ by its series below θ² = 1/16 (as
         :func:`tangent`)."""
         t2, sh, D = 4.0 * self.x, self.sh, self.delta
-        if t2.max(initial=0.0) < _C_SMALL:
+        if max(t2.tolist(), default=0.0) < _C_SMALL:  # (as a numpy reduction: 5× the time)
             k = len(D)
             K = (t2[:, None] ** _T_POWERS) @ _T_SERIES[identity]
             F = np.concatenate([self.ones, D, (D[:, :, None] * D[:, None, :]).reshape(k, 9)], 1)

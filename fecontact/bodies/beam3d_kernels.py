@@ -213,7 +213,7 @@ def _coefficients(t2: np.ndarray) -> np.ndarray:
     x with a table), else by the closed forms d′ = ((1 + a)/(4b) − 1)/x², b′ = (a/2 − b)/x,
     c′ = (b − 3c)/(2x) (of θ², resp. θ²/4)."""
     X = t2[:, None] ** _POWERS
-    if t2.max() < _SERIES_MAX:
+    if max(t2.tolist()) < _SERIES_MAX:  # (a reduction of a few floats costs more in numpy)
         return X @ _SERIES_MAPS
     small = t2 < _SERIES_MAX
     x1 = np.where(small, 1.0, t2)
