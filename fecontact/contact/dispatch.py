@@ -9,10 +9,10 @@ from ..bodies.solid import Solid
 from ..errors import InputError, check_positive
 from .mortar import MortarContact, finer_first
 from .mortar3d import MortarContact3D
-from .mortar_beam3d import MortarBeam3D
 from .mortar_p2_segments import MortarContactP2
 from .mortar_rigid3d import MortarRigid3D
 from .registry import pair_factory
+from .tube_line_mortar import tube_mortar
 
 __all__ = ["Contact"]
 
@@ -93,7 +93,7 @@ def _mortar_pair(body, obstacle, nodes, restitution, clearance, method):
     tube = _solid3d_and(Beam3D, body, obstacle)
     if method == "mortar" or (method is None and (solids or rigid or tube)):
         if tube:
-            return _whole_boundary(MortarBeam3D, *tube, nodes, restitution, clearance, method)
+            return _whole_boundary(tube_mortar, *tube, nodes, restitution, clearance, method)
         if rigid:
             return _whole_boundary(MortarRigid3D, *rigid, nodes, restitution, clearance, method)
         return _mortar(body, obstacle, nodes, restitution, clearance, solids, method)
