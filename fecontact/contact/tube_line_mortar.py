@@ -50,8 +50,9 @@ from ..errors import check_positive, check_range
 from ..rotations import exp, hat
 from .base import PairDefaults
 from .body_pairs import facet_plane_gap
+from .closest_facet import closest_among
+from .facet_search import FacetSearch
 from .friction import tangent_basis
-from .inside import Surface
 from .mortar_beam3d import MortarBeam3D
 from .polyline_distance import closest_on_polyline
 
@@ -100,7 +101,10 @@ class TubeLineMortar(PairDefaults):
         self.margin = check_positive("margin", 0.05 * body.characteristic_length
                                      if margin is None else margin)  # fmt: skip
         self.facets = body.contact_facets()
-        self.surface = Surface(self.facets)
+        self.search = FacetSearch(self.facets)  # of the rule's points
+        self.node_search = FacetSearch(self.facets)  # of the beam's nodes (friction)
+        # closest distances within this (m) are ties, decided by the plane gap
+        self.tie = 1e-12 * max(body.characteristic_length, beam.characteristic_length)
         self.segments = beam.segments()
         S, n_b = len(self.segments), beam.n_nodes
         self.xi, w = _rule(PIECES)
@@ -137,6 +141,8 @@ class TubeLineMortar(PairDefaults):
 
     def reset(self) -> None:
         self.cached = None
+        self.search.reset()
+        self.node_search.reset()
 
     def detect_within(self, distance: float) -> None:
         """Rows within ``distance`` (m, the integrator's detection distance) are evaluated."""
@@ -152,16 +158,25 @@ class TubeLineMortar(PairDefaults):
 
     def points(self, q: np.ndarray):
         """The solid's node positions, the rule's centreline points (S, P, 3) and the closest
-        boundary triangle of each (S, P; −1 where the segment's points are all beyond the
-        margin plus the segment's length from the solid's box)."""
+        boundary triangle of each (S, P; −1 beyond the margin plus the tube's radius and the
+        longest segment: a row with a point within the margin has all of them)."""
         x, xb = self._frame(q)
         ends = xb[self.segments]
         c = (1.0 - self.xi)[None, :, None] * ends[:, None, 0] + self.xi[None, :, None] * ends[
             :, None, 1
         ]
-        pad = self.margin + self.clearance + float(self.ell.max()) * 2.0
-        f = self.surface.signed_distance(x, c.reshape(-1, 3), pad=pad)[1]
-        return x, c, f.reshape(c.shape[:2])
+        return x, c, self._closest(self.search, c.reshape(-1, 3), x).reshape(c.shape[:2])
+
+    def _closest(self, search, points: np.ndarray, x: np.ndarray) -> np.ndarray:
+        """The closest boundary triangle (P,) of each of ``points`` (−1: none within the
+        search's reach), ties within round-off to the largest plane gap's magnitude (the
+        node-to-surface choice, continuous outside a convex edge)."""
+        reach = self.margin + self.clearance + float(self.ell.max())
+        s, f, _ = search.found(points, x, reach)
+        s, f, _ = closest_among(points, x, self.facets, s, f, reach, self.tie)
+        out = np.full(len(points), -1)
+        out[s] = f
+        return out
 
     def _point_terms(self, q: np.ndarray, order: int):
         """At every rule point: φ (S, P), its facet (S, P), the near rows (m,) and, for
@@ -292,8 +307,9 @@ class TubeLineMortar(PairDefaults):
         area coordinates (m, 3), the arm −r n to the tube's surface (m, 3), the scaled
         tangents c_i T_i (m, 2, 3) and the unit tangents T_i."""
         x, xb = self._frame(q)
-        f = self.surface.signed_distance(x, xb, pad=self.margin + self.clearance)[1]
-        f = np.maximum(f, 0)
+        f = np.maximum(
+            self._closest(self.node_search, xb, x), 0
+        )  # (rows without one carry no load: c = 0)
         tri = self.facets[f]
         a, b, c = (x[tri[:, k]] for k in range(3))
         N = np.cross(b - a, c - a)
