@@ -41,7 +41,7 @@ def test_rows_are_the_derivatives_of_the_weighted_gaps():
     """G and the curvature against central differences of the rows and of G along every dof
     of the rows (the block's triangles under the rule's points, the beam's translations) and
     the beam's rotations (the rows ignore them), at a step of 1e-7 where no rule point changes
-    its closest triangle (measured 2.7e-11 and 2.5e-10 relative; bounds 1e-8 and 1e-6)."""
+    its closest triangle (measured 1.1e-11 and 2.7e-10 relative; bounds 1e-8 and 1e-6)."""
     pair, model, q = bent_rod_on_coarse_block()
     g, dofs, _, _ = pair.evaluate(q)
     rows = np.flatnonzero(np.isfinite(g))
@@ -85,8 +85,9 @@ def test_rows_are_the_tubes_own_gaps_on_a_flat_face_wherever_it_lies():
 
 def test_slip_rows_are_the_derivatives_of_the_exact_slips():
     """G_T d against central differences of the exact slips from q to q moved by ±εd on the
-    group (every dof, the beam's rotations composed on the right): second order in ε (bound
-    1e-7 of the rows at ε = 1e-6, 100× less per decade), and a turning section moves the
+    group (every dof, the beam's rotations composed on the right): second order in ε
+    (measured 8.6e-7, 8.6e-9 at ε = 1e-5, 1e-6 against rows of 2.35; bound 1e-7 of the rows
+    at ε = 1e-6 and 50× less than at 1e-5), and a turning section moves the
     tube's point facing the solid (the rows act on the rotations, by the arm r)."""
     pair, model, q = bent_rod_on_coarse_block()
     dofs, W, T = pair.tangents(q)
@@ -120,7 +121,8 @@ def coarse_drop(options=None, t_end=0.005, out=None):
 
 def test_a_rod_dropped_on_a_coarse_block_stays_out_and_creates_no_energy(tmp_path):
     """Completes with contact; no block node in the tube; the penetration record (the rows)
-    ≤ 1e-9 m (measured 2e-14); the ledger's ``created`` ≤ 1e-3 of its ``scale``. Between the
+    ≤ 1e-9 m (measured 1.3e-18); the ledger's ``created`` ≤ 1e-3 of its ``scale`` (measured
+    5.2e-7 of it). Between the
     beam's nodes a rule point can dip below the face where a segment crosses a fold of the
     dented face (the rows hold the segment's weighted gap, the face bends at the triangle's
     edge under it): by at most the fold's angle, about twice the dent's depth over the cell,
@@ -149,7 +151,8 @@ def test_a_rod_dropped_on_a_coarse_block_stays_out_and_creates_no_energy(tmp_pat
 
 @pytest.mark.parametrize("change", [{"penalty_scale": 1e3}, {"multiplier_scale": 1e-2}])
 def test_the_coarse_drop_is_independent_of_p_and_k(change):
-    """p × 1000 and k / 100 change the trajectory by round-off (bound 1e-8 of the radius)."""
+    """p × 1000 and k / 100 change the trajectory by round-off (bound 1e-8 of the radius;
+    measured 1.1e-10 and 2.5e-10 of it: the Newton tolerances on a 15 cm block)."""
     base = coarse_drop(t_end=0.003)[0]
     other = coarse_drop(options=IntegratorOptions(**change), t_end=0.003)[0]
     assert any(np.any(s.lam > 0.0) or np.any(s.impulse > 0.0) for s in base)
@@ -183,14 +186,15 @@ def test_a_rod_launched_sliding_ends_rolling_at_two_thirds_of_its_speed(angle):
     """v₀ = 0.1 m/s, μ = 0.5: it slides, decelerating at μg, until it rolls at
     v₀/(1 + J/(m r²)) = 2/3 v₀ (a solid circular section) at t = v₀/(3μg) = 6.8 ms, then
     keeps that speed over the mesh's lines (across them, and turned at 0.3 rad to them) to
-    0.2 % (measured 0.05 %; the solid's rows lost half the speed in 20 ms on a finer mesh,
+    0.2 % (measured 0.075 % and 0.070 %: the block's vibration under the launch; the
+    deceleration μg to 6.8e-4 and 9e-5; the solid's rows lost half the speed in 20 ms on a finer mesh,
     riding their stand-off's washboard), and its axis stays on the face (height change below
     1 µm: the block's elastic sag; no hop)."""
     v0 = 0.1
     t, speed, z = rolling(v0, angle)
     slide = (t > 0.5e-3) & (t < 6e-3)
     a = -np.polyfit(t[slide], speed[slide], 1)[0]
-    assert a == pytest.approx(0.5 * 9.81, rel=0.02)
+    assert a == pytest.approx(0.5 * 9.81, rel=5e-3)
     rolled = t >= 8e-3
     np.testing.assert_allclose(speed[rolled], 2.0 / 3.0 * v0, rtol=2e-3)
     assert np.ptp(z) < 1e-6
