@@ -47,14 +47,13 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import check_positive, check_range
-from ..rotations import exp, hat
 from .base import PairDefaults
 from .body_pairs import facet_plane_gap
 from .closest_facet import closest_among
 from .facet_search import FacetSearch
-from .friction import tangent_basis
 from .mortar_beam3d import MortarBeam3D
 from .polyline_distance import closest_on_polyline
+from .tube_line_friction import line_slips, line_tangents
 
 __all__ = ["LINE_RATIO", "PIECES", "TubeLineMortar", "TubeNodeDepths", "face_size", "tube_mortar"]
 
@@ -125,12 +124,12 @@ class TubeLineMortar(PairDefaults):
         self.slot = slot.reshape(S, 2)
         self.slots = int(count.max())
         P = len(self.xi)
-        self._beam_cols = 3 * n_b
+        self.beam_cols = 3 * n_b
         self.width = 3 * n_b + 9 * P * self.slots
         self._beam_dofs = beam.node_translation_dofs(np.arange(n_b)).ravel()
-        self._solid_dofs = body.node_translation_dofs(np.arange(body.n_nodes))
+        self.solid_dofs = body.node_translation_dofs(np.arange(body.n_nodes))
         # each point's facet columns in the row of each of its segment's ends (S, P, 2, 9)
-        self._facet_cols = (self._beam_cols + 9 * (P * self.slot[:, None, :] +
+        self._facet_cols = (self.beam_cols + 9 * (P * self.slot[:, None, :] +
                             np.arange(P)[None, :, None]))[..., None] + np.arange(9)  # fmt: skip
         self.offsets = (0, 0)
         self.cached = None
@@ -151,7 +150,7 @@ class TubeLineMortar(PairDefaults):
             self.reset()
 
     # -- geometry ---------------------------------------------------------------------------
-    def _frame(self, q: np.ndarray):
+    def frame(self, q: np.ndarray):
         """The solid's node positions (m) and the beam's segments' ends (S, 2, 3)."""
         (oa, ob), body, beam = self.offsets, self.body, self.beam
         return body.positions(q[oa : oa + body.ndof]), beam.positions(q[ob : ob + beam.ndof])
@@ -160,14 +159,14 @@ class TubeLineMortar(PairDefaults):
         """The solid's node positions, the rule's centreline points (S, P, 3) and the closest
         boundary triangle of each (S, P; −1 beyond the margin plus the tube's radius and the
         longest segment: a row with a point within the margin has all of them)."""
-        x, xb = self._frame(q)
+        x, xb = self.frame(q)
         ends = xb[self.segments]
         c = (1.0 - self.xi)[None, :, None] * ends[:, None, 0] + self.xi[None, :, None] * ends[
             :, None, 1
         ]
-        return x, c, self._closest(self.search, c.reshape(-1, 3), x).reshape(c.shape[:2])
+        return x, c, self.closest(self.search, c.reshape(-1, 3), x).reshape(c.shape[:2])
 
-    def _closest(self, search, points: np.ndarray, x: np.ndarray) -> np.ndarray:
+    def closest(self, search, points: np.ndarray, x: np.ndarray) -> np.ndarray:
         """The closest boundary triangle (P,) of each of ``points`` (−1: none within the
         search's reach), ties within round-off to the largest plane gap's magnitude (the
         node-to-surface choice, continuous outside a convex edge)."""
@@ -209,10 +208,10 @@ class TubeLineMortar(PairDefaults):
         """The rows' global dofs (m, width) with the points' facets f (S, P)."""
         oa, ob = self.offsets
         dofs = np.empty((self.size, self.width), int)
-        dofs[:, : self._beam_cols] = ob + self._beam_dofs
-        fill = oa + self._solid_dofs[self.facets[0]].ravel()  # columns no point uses (G = 0)
-        dofs[:, self._beam_cols :] = np.tile(fill, (self.width - self._beam_cols) // 9)
-        facet = oa + self._solid_dofs[self.facets[np.maximum(f, 0)]].reshape(*f.shape, 9)
+        dofs[:, : self.beam_cols] = ob + self._beam_dofs
+        fill = oa + self.solid_dofs[self.facets[0]].ravel()  # columns no point uses (G = 0)
+        dofs[:, self.beam_cols :] = np.tile(fill, (self.width - self.beam_cols) // 9)
+        facet = oa + self.solid_dofs[self.facets[np.maximum(f, 0)]].reshape(*f.shape, 9)
         for e in range(2):
             rows = np.broadcast_to(
                 self.segments[:, e, None, None], self._facet_cols[..., e, :].shape
@@ -290,7 +289,7 @@ class TubeLineMortar(PairDefaults):
     # -- what the rows do not hold ----------------------------------------------------------
     def node_distances(self, q: np.ndarray) -> np.ndarray:
         """Every boundary node's distance (m) to the centreline less the tube's radius."""
-        x, xb = self._frame(q)
+        x, xb = self.frame(q)
         return closest_on_polyline(x[self.watched], xb[self.segments])[2] - self.clearance
 
     @property
@@ -301,61 +300,14 @@ class TubeLineMortar(PairDefaults):
         """The deepest boundary node of the solid inside the tube."""
         return TubeNodeDepths(self)
 
-    # -- friction ---------------------------------------------------------------------------
-    def _slip_frame(self, q: np.ndarray):
-        """Per row: the solid's nodes of its closest triangle (m, 3), the node's projection's
-        area coordinates (m, 3), the arm −r n to the tube's surface (m, 3), the scaled
-        tangents c_i T_i (m, 2, 3) and the unit tangents T_i."""
-        x, xb = self._frame(q)
-        f = np.maximum(
-            self._closest(self.node_search, xb, x), 0
-        )  # (rows without one carry no load: c = 0)
-        tri = self.facets[f]
-        a, b, c = (x[tri[:, k]] for k in range(3))
-        N = np.cross(b - a, c - a)
-        n = N / np.linalg.norm(N, axis=1)[:, None]
-        p = xb - np.einsum("mi,mi->m", xb - a, n)[:, None] * n  # projection on the plane
-        area = lambda u, v, w: np.einsum("mi,mi->m", np.cross(v - u, w - u), n)  # noqa: E731
-        total = area(a, b, c)
-        zeta = np.stack([area(p, b, c), area(a, p, c), area(a, b, p)], axis=1) / total[:, None]
-        G = self.evaluate(q)[2]
-        Nb = G[:, : self._beam_cols].reshape(self.size, -1, 3).sum(axis=1)
-        scale = np.maximum(np.einsum("mi,mi->m", n, Nb), 0.0)
-        T = tangent_basis(n)
-        return tri, zeta, -self.clearance * n, scale[:, None, None] * T, T
-
+    # -- friction (:mod:`.tube_line_friction`) -----------------------------------------------
     def tangents(self, q: np.ndarray):
-        """Slip rows: dofs (m, 15), the 9 of the solid's triangle under the node, then the
-        node's 6; c_i T_i ∂(x_i − y_i)/∂ (m, 2, 15) with x the solid's material point and y
-        the tube's; unit tangents T_i."""
-        tri, zeta, arm, cT, T = self._slip_frame(q)
-        ob = self.offsets[1]
-        R = exp(q[ob : ob + self.beam.ndof].reshape(-1, 6)[:, 3:])  # (m, 3, 3)
-        W = np.empty((self.size, 2, 15))
-        for k in range(3):
-            W[:, :, 3 * k : 3 * k + 3] = zeta[:, k, None, None] * cT
-        W[:, :, 9:12] = -cT
-        # ẏ = ċ + ω × arm = ċ − hat(arm) R Ω
-        W[:, :, 12:15] = np.einsum("mti,mij,mjk->mtk", cT, hat(arm), R)
-        oa = self.offsets[0]
-        beam = ob + 6 * np.arange(self.size)[:, None] + np.arange(6)
-        dofs = np.concatenate([oa + self._solid_dofs[tri].reshape(-1, 9), beam], axis=1)
-        return dofs, W, T
+        """Slip rows: dofs (m, 15), c_i T_i ∂(x_i − y_i)/∂ (m, 2, 15), unit tangents T_i."""
+        return line_tangents(self, q)
 
     def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
-        """c_i T_i·((x_i − y_i) − (x_i,n − y_i,n)) over the step: the same material points
-        (area coordinates on the triangle, the arm turned back with the section,
-        y_n = c_n + R_n Rᵀ arm), exact for a rigid turn of the section."""
-        tri, zeta, arm, cT, _ = self._slip_frame(q)
-        (oa, ob), body, beam = self.offsets, self.body, self.beam
-        now, before = (v[ob : ob + beam.ndof].reshape(-1, 6) for v in (q, q_n))
-        R, Rn = exp(now[:, 3:]), exp(before[:, 3:])
-        c, cn = beam.X + now[:, :3], beam.X + before[:, :3]
-        yn = cn + np.einsum("mij,mkj,mk->mi", Rn, R, arm)
-        y = c + arm
-        x = np.einsum("mk,mki->mi", zeta, body.positions(q[oa : oa + body.ndof])[tri])
-        xn = np.einsum("mk,mki->mi", zeta, body.positions(q_n[oa : oa + body.ndof])[tri])
-        return np.einsum("mti,mi->mt", cT, (x - y) - (xn - yn))
+        """The exact slips c_i T_i·(x_rel(q) − x_rel(q_n)) (m, 2) over a step."""
+        return line_slips(self, q, q_n, T)
 
 
 class TubeNodeDepths:
