@@ -13,9 +13,11 @@ from fecontact.contact import Contact
 from fecontact.contact.body_pairs import facet_plane_gap
 from fecontact.contact.mortar_beam3d import MortarBeam3D
 from fecontact.contact.tube_line_mortar import TubeLineMortar
+from fecontact.errors import InputError
 from fecontact.simulation import Simulation, run
 from fecontact.testing import group_derivative_errors, moved_on_group
 from fecontact.time.settings import IntegratorOptions
+from fecontact.time.state import initial_state
 
 R = 0.005
 
@@ -198,3 +200,21 @@ def test_a_rod_launched_sliding_ends_rolling_at_two_thirds_of_its_speed(angle):
     rolled = t >= 8e-3
     np.testing.assert_allclose(speed[rolled], 2.0 / 3.0 * v0, rtol=2e-3)
     assert np.ptp(z) < 1e-6
+
+
+def test_a_start_over_a_coarse_blocks_edge_is_judged_by_the_exact_gaps():
+    """The rod 1 mm above the coarse face, overhanging the block's edge by 2 cm: the row of
+    the node over the edge reads −0.74 mm (the centreline's distance bends across the edge,
+    and the dual functions' negative lobe weighs its far, larger part), its rule points' exact
+    gaps are ≥ 1 mm: admitted, with the stand-off's warning. The same rod 1 mm into the face
+    is refused by that depth."""
+    model, pair = rod_over_coarse_block(0.001, at=(0.27, 0.0))
+    q = np.zeros(model.n)
+    rows = pair.gaps(q)
+    assert -1e-3 < rows.min() < -5e-4
+    assert pair.admissible_gaps(q, rows).min() == pytest.approx(0.001, abs=1e-12)
+    with pytest.warns(UserWarning, match="stand-off"):
+        initial_state(model)
+    model, pair = rod_over_coarse_block(-0.001, at=(0.27, 0.0))
+    with pytest.raises(InputError, match=r"contact \d+ penetrates by 1.000e-03 m"):
+        initial_state(model)

@@ -51,6 +51,7 @@ from .base import PairDefaults
 from .body_pairs import facet_plane_gap
 from .closest_facet import closest_among
 from .facet_search import FacetSearch
+from .inside import Surface
 from .mortar_beam3d import MortarBeam3D
 from .polyline_distance import closest_on_polyline
 from .tube_line_friction import line_slips, line_tangents
@@ -100,6 +101,7 @@ class TubeLineMortar(PairDefaults):
         self.margin = check_positive("margin", 0.05 * body.characteristic_length
                                      if margin is None else margin)  # fmt: skip
         self.facets = body.contact_facets()
+        self.surface = Surface(self.facets)  # (the start check's exact distances)
         self.search = FacetSearch(self.facets)  # of the rule's points
         self.node_search = FacetSearch(self.facets)  # of the beam's nodes (friction)
         # closest distances within this (m) are ties, decided by the plane gap
@@ -287,6 +289,26 @@ class TubeLineMortar(PairDefaults):
         return out.reshape(len(rows), k, k)
 
     # -- what the rows do not hold ----------------------------------------------------------
+    def admissible_gaps(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        """The gaps (m) that admit a state at t = 0 where the rows take part: where a row
+        reads below zero, the least exact gap of its rule points (signed distance to the
+        solid's boundary less r; across a solid's convex edge the rows read below it, the
+        dual functions' negative lobes on a distance that bends there), the shallower of the
+        two; and the depth in the tube of the boundary nodes nearest each row's segments."""
+        x, c, _ = self.points(q)
+        S, P = c.shape[:2]
+        reach = self.margin + self.clearance + float(self.ell.max())  # (as the rows')
+        d = self.surface.signed_distance(x, c.reshape(-1, 3), pad=reach)[0]
+        least = np.full(self.size, np.inf)
+        for e in range(2):
+            np.minimum.at(least, self.segments[:, e], d.reshape(S, P).min(axis=1))
+        exact = np.where(rows < 0.0, np.maximum(rows, least - self.clearance), rows)
+        xb = self.frame(q)[1]
+        seg, _, dist = closest_on_polyline(x[self.watched], xb[self.segments])
+        for e in range(2):
+            np.minimum.at(exact, self.segments[seg, e], dist - self.clearance)
+        return np.where(np.isfinite(rows), exact, np.inf)
+
     def node_distances(self, q: np.ndarray) -> np.ndarray:
         """Every boundary node's distance (m) to the centreline less the tube's radius."""
         x, xb = self.frame(q)
