@@ -66,7 +66,9 @@ def Contact(
     :mod:`fecontact.contact.mortar_rigid3d`) or ``"node-to-surface"`` (its ``nodes``,
     :mod:`fecontact.contact.solid_rigid3d`). So does a 3D ``Solid`` against a ``Beam3D``
     (either way round, ``clearance`` the tube's radius): ``"mortar"`` (the default: the
-    solid's boundary against the tube, :mod:`fecontact.contact.mortar_beam3d`) or
+    solid's boundary against the tube, :mod:`fecontact.contact.mortar_beam3d`, or on faces
+    of cells at least 4 radii wide the beam's centreline against the solid's boundary,
+    :mod:`fecontact.contact.tube_line_mortar`) or
     ``"node-to-surface"`` (the beam's ``nodes`` against the solid's boundary,
     :mod:`fecontact.contact.beam3d_solid`). Other pairs take None only.
 
