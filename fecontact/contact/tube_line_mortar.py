@@ -40,6 +40,11 @@ slips at no row.
 What the rows do not hold: the solid's nodes inside the tube (a face wrapping a tube thinner
 than its triangles, or a solid's edge or corner under the tube between the rule's points);
 the pair's watch measures every boundary node's distance to the centreline at every step.
+Across a solid's convex edge φ bends (the larger of the two faces' plane gaps), and the rows
+read below the tube's exact gap there, the dual functions' negative lobes again: a start is
+judged by the exact gaps (:meth:`TubeLineMortar.admissible_gaps`). Over a dent (a face node
+pushed in) φ is the least of the dent's planes, kinked where the closest triangle changes,
+and Newton's iteration can switch between them (step halvings, counted).
 """
 
 from __future__ import annotations
@@ -153,7 +158,7 @@ class TubeLineMortar(PairDefaults):
 
     # -- geometry ---------------------------------------------------------------------------
     def frame(self, q: np.ndarray):
-        """The solid's node positions (m) and the beam's segments' ends (S, 2, 3)."""
+        """The solid's node positions (m) and the beam's node positions (n_b, 3)."""
         (oa, ob), body, beam = self.offsets, self.body, self.beam
         return body.positions(q[oa : oa + body.ndof]), beam.positions(q[ob : ob + beam.ndof])
 
