@@ -656,7 +656,7 @@ FULL = [
     lambda: ball_on_free_rigid("box", 0.5),
     lambda: ball_on_free_rigid("ball", 0.5),
     lambda: rod("block"),
-    lambda: rod("block", divisions=4, width=0.6),
+    *(lambda k=k: rod("block", divisions=k, width=0.6) for k in (4, 8, 12)),
     lambda: rod("box"),
     lambda: rod("box", v=3.0, angle=10.0),
 ]

@@ -2,6 +2,8 @@
 rows against central differences, rows exact where the distance is linear, a rod resting on a
 block, Newton's quadratic rate, a rod dropped across a block."""
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -13,6 +15,7 @@ from fecontact.contact.geometry import closest_facet_distance
 from fecontact.contact.inside import Surface
 from fecontact.contact.mortar_beam3d import MortarBeam3D
 from fecontact.contact.polyline_distance import closest_on_polyline, region_labels, straight_runs
+from fecontact.contact.tube_line_mortar import LINE_RATIO, TubeLineMortar, face_size
 from fecontact.errors import InputError
 from fecontact.rotations import exp
 from fecontact.simulation import Simulation, run
@@ -125,15 +128,22 @@ def test_rows_are_the_nodes_own_distances_where_the_distance_is_linear():
 
 
 def test_mortar_is_the_default_and_the_options_are_checked_by_name():
-    """Mortar for a 3D solid and a Beam3D named either way; ``method="node-to-surface"``
-    keeps the beam's nodes against the boundary (either way); ``nodes``, no radius and bad
-    options refused with the parameter's name before any work; friction taken."""
+    """Mortar for a 3D solid and a Beam3D named either way: the solid's rows on faces of
+    cells finer than LINE_RATIO radii, the beam's rows on coarser ones (here 10 cm cells
+    against a 1 cm tube); ``method="node-to-surface"`` keeps the beam's nodes against the
+    boundary (either way); ``nodes``, no radius and bad options refused with the parameter's
+    name before any work; friction taken."""
     block = Solid.box([-0.1, -0.1, -0.05], [0.1, 0.1, 0.0], (2, 2, 1), RUBBER)
+    fine = Solid.box([-0.1, -0.1, -0.05], [0.1, 0.1, 0.0], (16, 16, 4), RUBBER)
+    assert face_size(fine) < LINE_RATIO * R <= face_size(block)
     bar = Beam3D.straight([-0.05, 0.0, 0.02], [0.05, 0.0, 0.02], 2, STEEL, Section.circle(R))
     for a, b in ((block, bar), (bar, block)):
         pair = Contact(a, b, clearance=R)
-        assert isinstance(pair, MortarBeam3D) and pair.body is block and pair.clearance == R
+        assert isinstance(pair, TubeLineMortar) and pair.body is block and pair.clearance == R
         assert isinstance(Contact(a, b, clearance=R, method="node-to-surface"), TubeSolidContact)
+    for a, b in ((fine, bar), (bar, fine)):
+        pair = Contact(a, b, clearance=R)
+        assert isinstance(pair, MortarBeam3D) and pair.body is fine and pair.clearance == R
     with pytest.raises(InputError, match="nodes: a mortar contact"):
         Contact(block, bar, nodes=[0], clearance=R)
     with pytest.raises(InputError, match="clearance"):
@@ -319,27 +329,36 @@ def test_the_rod_drop_is_independent_of_p_and_k(change):
     assert diff <= 1e-8 * R
 
 
-def rod_over_coarse_block(lift, at=(0.0, 0.0)):
+def rod_over_coarse_block(lift, at=(0.0, 0.0), solid_rows=False):
     """A steel rod (r = 5 mm, 10 cm, 4 elements) ``lift`` (m) above (below: into) the top face
     of a rubber block 0.6 m wide in 4 × 4 cells (15 cm triangles, 30 times the tube's radius),
-    its middle over ``at``; its base clamped."""
+    its middle over ``at``; its base clamped. The pair: the default (the beam's rows), or
+    with ``solid_rows`` the solid's (``MortarBeam3D``)."""
     r = 0.005
     block = Solid.box([-0.3, -0.3, -0.04], [0.3, 0.3, 0.0], (4, 4, 2), RUBBER)
     block.fix(block.nodes_where(lambda x: x[2] <= -0.04 + 1e-9))
     c = np.array([*at, r + lift])
     d = np.array([0.05, 0.015, 0.0])
     bar = Beam3D.straight(c - d, c + d, 4, STEEL, Section.circle(r))
-    model = Model([block, bar], [Contact(block, bar, clearance=r)], (0.0, 0.0, -9.81))
-    return model, model.contacts.pairs[0]
+    pair = MortarBeam3D(block, bar, clearance=r) if solid_rows else Contact(block, bar, clearance=r)
+    model = Model([block, bar], [pair], (0.0, 0.0, -9.81))
+    return model, pair
 
 
 def test_a_rod_above_a_coarse_block_is_admitted():
-    """2 mm above the face, no node inside the tube and no point of the tube inside the block:
-    the rows read down to −3.9 mm (the dual functions' negative lobes on triangles 30 times
-    the tube's radius), the start check reads every exact gap ≥ 2 mm and warns of the
-    stand-off."""
+    """2 mm above the face, no node inside the tube and no point of the tube inside the block.
+    The default pair (the beam's rows) reads every row at the tube's own gap, 2 mm to
+    round-off, and starts without a warning. The solid's rows read down to −3.9 mm (the dual
+    functions' negative lobes on triangles 30 times the tube's radius): their start check
+    reads every exact gap ≥ 2 mm and warns of the stand-off."""
     model, pair = rod_over_coarse_block(0.002)
+    assert isinstance(pair, TubeLineMortar)
     q = np.zeros(model.n)
+    np.testing.assert_allclose(pair.gaps(q), 0.002, rtol=0, atol=1e-15)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        initial_state(model)
+    model, pair = rod_over_coarse_block(0.002, solid_rows=True)
     rows = pair.gaps(q)
     assert rows.min() < -0.003
     exact = pair.admissible_gaps(q, rows)
@@ -349,12 +368,14 @@ def test_a_rod_above_a_coarse_block_is_admitted():
         initial_state(model)
 
 
+@pytest.mark.parametrize("solid_rows", [False, True])
 @pytest.mark.parametrize("depth", [0.001, 0.003])
-def test_a_rod_inside_a_coarse_block_is_refused(depth):
+def test_a_rod_inside_a_coarse_block_is_refused(depth, solid_rows):
     """The tube over a node of the coarse face, ``depth`` (m) into it: refused, naming the
-    contact and the node's depth in the tube (the rows read −20 mm there: the stand-off and
-    the depth together)."""
-    model, pair = rod_over_coarse_block(-depth)
+    contact and the depth: the beam's rows read it (the tube's own gap), the solid's by the
+    node's depth in the tube (their rows read −20 mm there: the stand-off and the depth
+    together)."""
+    model, pair = rod_over_coarse_block(-depth, solid_rows=solid_rows)
     q = np.zeros(model.n)
     rows = pair.gaps(q)
     assert pair.admissible_gaps(q, rows).min() == pytest.approx(-depth, abs=1e-12)

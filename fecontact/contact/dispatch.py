@@ -9,10 +9,10 @@ from ..bodies.solid import Solid
 from ..errors import InputError, check_positive
 from .mortar import MortarContact, finer_first
 from .mortar3d import MortarContact3D
-from .mortar_beam3d import MortarBeam3D
 from .mortar_p2_segments import MortarContactP2
 from .mortar_rigid3d import MortarRigid3D
 from .registry import pair_factory
+from .tube_line_mortar import tube_mortar
 
 __all__ = ["Contact"]
 
@@ -66,7 +66,9 @@ def Contact(
     :mod:`fecontact.contact.mortar_rigid3d`) or ``"node-to-surface"`` (its ``nodes``,
     :mod:`fecontact.contact.solid_rigid3d`). So does a 3D ``Solid`` against a ``Beam3D``
     (either way round, ``clearance`` the tube's radius): ``"mortar"`` (the default: the
-    solid's boundary against the tube, :mod:`fecontact.contact.mortar_beam3d`) or
+    solid's boundary against the tube, :mod:`fecontact.contact.mortar_beam3d`, or on faces
+    of cells at least 4 radii wide the beam's centreline against the solid's boundary,
+    :mod:`fecontact.contact.tube_line_mortar`) or
     ``"node-to-surface"`` (the beam's ``nodes`` against the solid's boundary,
     :mod:`fecontact.contact.beam3d_solid`). Other pairs take None only.
 
@@ -93,7 +95,7 @@ def _mortar_pair(body, obstacle, nodes, restitution, clearance, method):
     tube = _solid3d_and(Beam3D, body, obstacle)
     if method == "mortar" or (method is None and (solids or rigid or tube)):
         if tube:
-            return _whole_boundary(MortarBeam3D, *tube, nodes, restitution, clearance, method)
+            return _whole_boundary(tube_mortar, *tube, nodes, restitution, clearance, method)
         if rigid:
             return _whole_boundary(MortarRigid3D, *rigid, nodes, restitution, clearance, method)
         return _mortar(body, obstacle, nodes, restitution, clearance, solids, method)

@@ -39,6 +39,9 @@ convex, so the sharper bound of the rigid pair does not hold.)
 
 What the rows do not hold one by one: a slave node may sit inside the tube by the
 discretization's own amount; the pair's watch measures every slave node's exact distance.
+On triangles much wider than the tube the rows read millimetres below the nodes' own
+distances (the negative lobes weigh the cone the distance makes across the face): there
+``Contact`` builds the beam's rows instead (:mod:`fecontact.contact.tube_line_mortar`).
 
 Friction: one slip row per slave node, the node's motion against the beam's material point at
 its place, c_j T_j·(ẋ_j − ẏ_j) with ẏ_j = ṗ_j + ω_j × (x_j − p_j): p_j = (1 − ξ)a + ξb the

@@ -1,0 +1,233 @@
+"""The beam's rows of the solid–tube mortar on coarse faces (fecontact.contact.tube_line_mortar):
+rows and slips against central differences, rows exact on a flat face wherever the tube lies
+on the mesh, a rod dropped on a coarse block, a rod launched sliding ends rolling at 2/3 of
+its speed."""
+
+import numpy as np
+import pytest
+from test_mortar_beam3d import RUBBER, STEEL, placed, rod_over_coarse_block
+
+from fecontact import Model, Solid, simulate
+from fecontact.bodies import Beam3D, Section
+from fecontact.contact import Contact
+from fecontact.contact.body_pairs import facet_plane_gap
+from fecontact.contact.mortar_beam3d import MortarBeam3D
+from fecontact.contact.tube_line_mortar import TubeLineMortar
+from fecontact.errors import InputError
+from fecontact.simulation import Simulation, run
+from fecontact.testing import group_derivative_errors, moved_on_group
+from fecontact.time.settings import IntegratorOptions
+from fecontact.time.state import initial_state
+
+R = 0.005
+
+
+def bent_rod_on_coarse_block():
+    """A rod (r = 5 mm) of four elements bent at each joint, one node 2 mm into the face,
+    turned sections, over a block of 4 × 4 × 1 cells of 5 cm whose nodes are moved by 1 mm
+    at random (the face's triangles tilted: the closest triangle changes along segments)."""
+    block = Solid.box([-0.1, -0.1, -0.05], [0.1, 0.1, 0.0], (4, 4, 1), RUBBER)
+    nodes = np.array([[-0.09, -0.05, R + 0.002], [-0.03, -0.01, R], [0.02, 0.02, R - 0.002],
+                      [0.05, 0.06, R + 0.003], [0.09, 0.07, R + 0.004]])  # fmt: skip
+    bar = Beam3D.straight(nodes[0], nodes[-1], 4, STEEL, Section.circle(R))
+    pair = Contact(block, bar, clearance=R, friction=0.3)
+    assert isinstance(pair, TubeLineMortar)
+    rng = np.random.default_rng(0)
+    model, q = placed(block, bar, pair, nodes, 0.1 * rng.normal(size=(5, 3)))
+    q[: block.ndof] += 1e-3 * rng.normal(size=block.ndof)
+    pair.detect_within(0.02)
+    return pair, model, q
+
+
+def test_rows_are_the_derivatives_of_the_weighted_gaps():
+    """G and the curvature against central differences of the rows and of G along every dof
+    of the rows (the block's triangles under the rule's points, the beam's translations) and
+    the beam's rotations (the rows ignore them), at a step of 1e-7 where no rule point changes
+    its closest triangle (measured 1.1e-11 and 2.7e-10 relative; bounds 1e-8 and 1e-6)."""
+    pair, model, q = bent_rod_on_coarse_block()
+    g, dofs, _, _ = pair.evaluate(q)
+    rows = np.flatnonzero(np.isfinite(g))
+    assert len(rows) == 5 and g.min() < 0.0
+    rotations = model.offset_of(pair.beam) + pair.beam.rotation_triples.ravel()
+    assert not np.isin(dofs, rotations).any()
+    along = np.concatenate([np.unique(dofs[rows]), rotations[:3]])
+    err_g, err_h = group_derivative_errors(pair, model, q, along, 1e-7)
+    assert err_g <= 1e-8 and err_h <= 1e-6
+
+
+def test_rows_are_the_tubes_own_gaps_on_a_flat_face_wherever_it_lies():
+    """A straight rod, inclined and turned, at random places over a face of 15 cm cells (30
+    tube radii), everything turned and moved rigidly: every row is its node's height over the
+    face less r to round-off (the plane gap is linear along a segment and the dual functions
+    reproduce a linear field). The solid's rows on the same face read down to millimetres
+    below it, and by how much moves with the tube's place on the mesh (the washboard a
+    rolling rod rode: measured spread of the least row 2.6 mm over these places)."""
+    model, pair = rod_over_coarse_block(0.002)
+    block, bar = model.bodies
+    solid_rows = MortarBeam3D(block, bar, clearance=R)
+    Model([block, bar], [solid_rows], gravity=(0.0, 0.0, 0.0))
+    rng = np.random.default_rng(5)
+    Rt, shift = np.linalg.qr(rng.normal(size=(3, 3)))[0], np.array([0.01, -0.02, 0.03])
+    if np.linalg.det(Rt) < 0.0:
+        Rt = -Rt
+    least = []
+    for _ in range(6):
+        a = np.r_[rng.uniform(-0.2, 0.2, 2), R + rng.uniform(0.0, 0.004)]
+        b = a + np.r_[0.1 * rng.normal(size=2), rng.uniform(0.0, 0.003)]
+        nodes = a + np.linspace(0.0, 1.0, 5)[:, None] * (b - a)
+        height = nodes[:, 2] - R
+        q = np.zeros(model.n)
+        ob = model.offset_of(bar)
+        q[ob:].reshape(-1, 6)[:, :3] = nodes @ Rt.T + shift - bar.X
+        q[:ob] = (block.X @ Rt.T + shift - block.X).ravel()
+        np.testing.assert_allclose(pair.gaps(q), height, rtol=0, atol=1e-15)
+        least.append(np.min(solid_rows.gaps(q)) - height.min())
+    assert np.ptp(least) > 1e-3
+
+
+def test_slip_rows_are_the_derivatives_of_the_exact_slips():
+    """G_T d against central differences of the exact slips from q to q moved by ±εd on the
+    group (every dof, the beam's rotations composed on the right): second order in ε
+    (measured 8.6e-7, 8.6e-9 at ε = 1e-5, 1e-6 against rows of 2.35; bound 1e-7 of the rows
+    at ε = 1e-6 and 50× less than at 1e-5), and a turning section moves the
+    tube's point facing the solid (the rows act on the rotations, by the arm r)."""
+    pair, model, q = bent_rod_on_coarse_block()
+    dofs, W, T = pair.tangents(q)
+    assert np.allclose(np.einsum("mti,msi->mts", T, T), np.eye(2), atol=1e-14)
+    rotations = model.offset_of(pair.beam) + pair.beam.rotation_triples.ravel()
+    turn = np.isin(dofs, rotations)[:, None, :].repeat(2, axis=1)
+    assert np.abs(W[turn]).max() > 0.5 * R
+    d = np.random.default_rng(2).normal(size=model.n)
+    linear = np.einsum("mtk,mk->mt", W, d[dofs])
+    errors = []
+    for eps in (1e-5, 1e-6):
+        plus = pair.slips(moved_on_group(model, q, eps * d), q, T)
+        minus = pair.slips(moved_on_group(model, q, -eps * d), q, T)
+        errors.append(np.abs((plus - minus) / (2 * eps) - linear).max())
+    assert errors[1] <= 1e-7 * np.abs(linear).max()
+    assert errors[1] <= 0.02 * errors[0]
+
+
+def coarse_drop(options=None, t_end=0.005, out=None):
+    """The rod of ``rod_over_coarse_block`` (r = 5 mm, 10 cm) 2 mm above the block of 15 cm
+    cells, falling at 1 m/s, h = 0.1 ms: its states and model (or, with ``out``, the run's
+    summary)."""
+    model, _ = rod_over_coarse_block(0.002, at=(0.02, 0.03))
+    v0 = model.translation(model.bodies[1], (0.0, 0.0, -1.0))
+    if out is not None:
+        sim = Simulation(model, dt=1e-4, t_end=t_end, name="rod_on_coarse_block", v0=v0,
+                         output_interval=t_end)  # fmt: skip
+        return run(sim, out, frames=False, checkpoint_every=0)
+    return list(simulate(model, 1e-4, t_end, options or IntegratorOptions(), v0=v0)), model
+
+
+def test_a_rod_dropped_on_a_coarse_block_stays_out_and_creates_no_energy(tmp_path):
+    """Completes with contact; no block node in the tube; the penetration record (the rows)
+    ≤ 1e-9 m (measured 1.3e-18); the ledger's ``created`` ≤ 1e-3 of its ``scale`` (measured
+    5.2e-7 of it). Between the
+    beam's nodes a rule point can dip below the face where a segment crosses a fold of the
+    dented face (the rows hold the segment's weighted gap, the face bends at the triangle's
+    edge under it): by at most the fold's angle, about twice the dent's depth over the cell,
+    times a quarter of the segment (measured 2.9e-7 m against that bound's 3e-6 m). The
+    solid's rows on this face stopped the run at its first step (the correction removed their
+    −2.6 mm stand-off: 103 J over a 0.15 J scale)."""
+    summary = coarse_drop(out=tmp_path)
+    assert summary["status"] == "completed"
+    assert summary["max_penetration"] <= 1e-9
+    ledger = summary["energy_ledger"]
+    assert 0.0 <= ledger["created"] <= 1e-3 * ledger["scale"]
+    states, model = coarse_drop()
+    block, pair = model.bodies[0], model.contacts.pairs[0]
+    assert any(s.mean_force().sum() > 0.0 or s.impulse.sum() > 0.0 for s in states)
+    watch = model.contacts.watches[0]
+    assert max(watch.depth(s.q)[0] for s in states) == 0.0
+    dent = max(-s.q[: block.ndof].reshape(-1, 3)[:, 2].min() for s in states)
+    deepest = 0.0
+    for s in states:
+        x, c, f = pair.points(s.q)
+        ok = f >= 0
+        gap = facet_plane_gap(c[ok], x[pair.facets[f[ok]]], hessian=False)[0] - R
+        deepest = max(deepest, -gap.min())
+    assert deepest <= 2.0 * dent / 0.15 * pair.ell.max() / 4.0
+
+
+@pytest.mark.parametrize("change", [{"penalty_scale": 1e3}, {"multiplier_scale": 1e-2}])
+def test_the_coarse_drop_is_independent_of_p_and_k(change):
+    """p × 1000 and k / 100 change the trajectory by round-off (bound 1e-8 of the radius;
+    measured 1.1e-10 and 2.5e-10 of it: the Newton tolerances on a 15 cm block)."""
+    base = coarse_drop(t_end=0.003)[0]
+    other = coarse_drop(options=IntegratorOptions(**change), t_end=0.003)[0]
+    assert any(np.any(s.lam > 0.0) or np.any(s.impulse > 0.0) for s in base)
+    diff = max(np.max(np.abs(a.q - b.q)) for a, b in zip(base, other, strict=True))
+    assert diff <= 1e-8 * R
+
+
+def rolling(v0: float, angle: float, mu=0.5, t_end=0.012):
+    """A steel rod (r = 5 mm, 6 cm, 4 elements) lying on a rubber block of 2.5 cm cells (5
+    radii), its axis turned by ``angle`` (rad) from the mesh's y lines, between two of
+    them, launched sliding at ``v0`` (m/s) across its axis without spin, μ = ``mu``, h = 0.1
+    ms, ρ∞ = 0: the times, the rod's mean speed and its axis' mean height."""
+    block = Solid.box([-0.05, -0.05, -0.02], [0.25, 0.05, 0.0], (12, 4, 2), RUBBER)
+    block.fix(block.nodes_where(lambda x: x[2] <= -0.02 + 1e-9))
+    d = 0.03 * np.array([np.sin(angle), np.cos(angle), 0.0])
+    c = np.array([0.0125, 0.0, R])
+    bar = Beam3D.straight(c - d, c + d, 4, STEEL, Section.circle(R))
+    pair = Contact(block, bar, clearance=R, friction=mu)
+    assert isinstance(pair, TubeLineMortar)
+    model = Model([block, bar], [pair], gravity=(0.0, 0.0, -9.81))
+    v = model.translation(bar, (v0 * np.cos(angle), -v0 * np.sin(angle), 0.0))
+    states = list(simulate(model, 1e-4, t_end, IntegratorOptions(rho_inf=0.0), v0=v))
+    ob = model.offset_of(bar)
+    beam = np.array([s.v[ob:].reshape(-1, 6)[:, :2].mean(axis=0) for s in states])
+    z = np.array([s.q[ob:].reshape(-1, 6)[:, 2].mean() for s in states])
+    return np.array([s.t for s in states]), np.linalg.norm(beam, axis=1), z
+
+
+@pytest.mark.parametrize("angle", [0.0, 0.3])
+def test_a_rod_launched_sliding_ends_rolling_at_two_thirds_of_its_speed(angle):
+    """v₀ = 0.1 m/s, μ = 0.5: it slides, decelerating at μg, until it rolls at
+    v₀/(1 + J/(m r²)) = 2/3 v₀ (a solid circular section) at t = v₀/(3μg) = 6.8 ms, then
+    keeps that speed over the mesh's lines (across them, and turned at 0.3 rad to them) to
+    0.2 % (measured 0.075 % and 0.070 %: the block's vibration under the launch; the
+    deceleration μg to 6.8e-4 and 9e-5; the solid's rows lost half the speed in 20 ms on a
+    finer mesh, riding their stand-off's washboard), and its axis stays on the face (height
+    change below 1 µm, measured 0.57 µm: the block's elastic sag; no hop)."""
+    v0 = 0.1
+    t, speed, z = rolling(v0, angle)
+    slide = (t > 0.5e-3) & (t < 6e-3)
+    a = -np.polyfit(t[slide], speed[slide], 1)[0]
+    assert a == pytest.approx(0.5 * 9.81, rel=5e-3)
+    rolled = t >= 8e-3
+    np.testing.assert_allclose(speed[rolled], 2.0 / 3.0 * v0, rtol=2e-3)
+    assert np.ptp(z) < 1e-6
+
+
+def test_a_start_over_a_coarse_blocks_edge_is_judged_by_the_exact_gaps():
+    """The rod 1 mm above the coarse face, overhanging the block's edge by 2 cm: the row of
+    the node over the edge reads −0.74 mm (the centreline's distance bends across the edge,
+    and the dual functions' negative lobe weighs its far, larger part), its rule points' exact
+    gaps are ≥ 1 mm: admitted, with the stand-off's warning. The same rod 1 mm into the face
+    is refused by that depth."""
+    model, pair = rod_over_coarse_block(0.001, at=(0.27, 0.0))
+    q = np.zeros(model.n)
+    rows = pair.gaps(q)
+    assert -1e-3 < rows.min() < -5e-4
+    assert pair.admissible_gaps(q, rows).min() == pytest.approx(0.001, abs=1e-12)
+    with pytest.warns(UserWarning, match="stand-off"):
+        initial_state(model)
+    model, pair = rod_over_coarse_block(-0.001, at=(0.27, 0.0))
+    with pytest.raises(InputError, match=r"contact \d+ penetrates by 1.000e-03 m"):
+        initial_state(model)
+
+
+@pytest.mark.slow
+def test_a_fast_rod_rolls_without_hopping():
+    """v₀ = 1 m/s across the mesh's lines, μ = 1: it slides, decelerating at μg to 1e-3
+    (measured 8.9e-5), rolls from v₀/(3μg) = 34 ms at 2/3 v₀ to 1e-3 (measured 1.7e-4), and its
+    axis never rises above its start nor moves by more than 1 µm (measured 0.52 µm: the
+    block's sag; the solid's rows made a rod hop 3 mm at this speed on a finer mesh)."""
+    t, speed, z = rolling(1.0, 0.0, mu=1.0, t_end=0.045)
+    slide = (t > 0.5e-3) & (t < 0.03)
+    assert -np.polyfit(t[slide], speed[slide], 1)[0] == pytest.approx(9.81, rel=1e-3)
+    np.testing.assert_allclose(speed[t >= 0.04], 2.0 / 3.0, rtol=1e-3)
+    assert z.max() <= z[0] and np.ptp(z) < 1e-6
