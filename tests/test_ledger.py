@@ -55,13 +55,10 @@ TERMS = ("damping_dissipation", "friction_dissipation", "impact_dissipation")
 
 def _closure(history, summary) -> float:
     """The largest |E(t) − E(0) − W + ΣD| over the steps, relative to the energies summed in
-    it: the ledger's scale, or |E| where gravity dominates a body at rest. E(0) is the energy
-    the run was given: the first row's E − W + ΣD (a body released in contact while
-    approaching takes its impact at t = 0, and the first row books it)."""
+    it: the ledger's scale, or |E| where gravity dominates a body at rest."""
     E = history["total_energy"]
     D = sum(history[k] for k in (*TERMS, "numerical_dissipation"))
-    balance = E - history["load_work"] + D
-    residual = np.abs(balance - balance[0])
+    residual = np.abs(E - E[0] - history["load_work"] + D)
     scale = max(summary["energy_ledger"]["scale"], np.max(np.abs(E)))
     return float(residual.max() / scale)
 
@@ -194,13 +191,8 @@ def test_moreau_jean_names_friction_s_positive_work_on_kane_s_chain(law, tmp_pat
 @pytest.mark.parametrize(
     "name, args, phase",
     [
-        # the elastic bars at four times their step with the decoupled scheme: 39 % of the
-        # scale created (measured; 0 with the default smooth force on their held ends)
-        (
-            "two_bars",
-            ["--set", "n_elements=20", "--set", "smooth_contact=off", "--dt", "4x"],
-            "position correction",
-        ),
+        # the elastic bars at four times their step: 39 % of the scale created (measured)
+        ("two_bars", ["--set", "n_elements=20", "--dt", "4x"], "position correction"),
         # the disks with the decoupled scheme at Δx/c: 64 %, 13 J (measured)
         (
             "two_disks",
@@ -288,10 +280,9 @@ def test_history_png_has_the_ledger_panel(tmp_path):
         # the block pivoting on its corner: each correction lifts it by O(h²) more than the
         # jump takes back, over O(1/h) steps: created/scale 1.19e-3, 5.97e-4, 2.98e-4
         ("rocking_block", {}, 1.0),
-        # the bar held at the wall by the decoupled scheme: the energy of the persistent
-        # contact oscillates by 2.9 %, 1.1 %, 0.32 % of the scale (order 1.4 and 1.8); the
-        # default smooth force on the held end: 2.2e-6 (tests/test_lasting_contact_energy.py)
-        ("impacting_bar", {"n_elements": 20, "smooth_contact": "off"}, 1.4),
+        # the bar held at the wall: the energy of the persistent contact oscillates by
+        # 2.9 %, 1.1 %, 0.32 % of the scale (order 1.4 and 1.8)
+        ("impacting_bar", {"n_elements": 20}, 1.4),
     ],
 )
 @pytest.mark.filterwarnings("ignore:energy")
@@ -301,10 +292,7 @@ def test_the_creation_of_default_cases_is_the_scheme_and_falls_with_the_step(
     """The default cases that warn gain energy in persistent contact, a property of the
     decoupled step that falls with h: halving the step divides `created` by at least 2^order
     (the observed orders less 0.05: the order of a difference of two runs is not exact)."""
-    kw = dict(kw)
-    options = {k: kw.pop(k) for k in ("smooth_contact",) if k in kw}
     sim = case(name).build(**kw)
-    sim = sim.replace(options=dataclasses.replace(sim.options, **options))
     created = []
     for f in (1, 2, 4):
         summary = run(sim.replace(dt=sim.dt / f), tmp_path / str(f), frames=False)

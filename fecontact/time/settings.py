@@ -19,9 +19,10 @@ class RunSettings(IntegratorOptions):
     """The :class:`IntegratorOptions` of one run, the traits of its model the steps act on,
     decided once (``smooth``: persistent contacts carry a smooth force, the ``"auto"`` of
     ``smooth_contact`` resolved; ``restarts``: and the acceleration variable restarts after
-    an impact, which beams do not take; ``settle``: a contact of a beam is given the smooth
-    force only from the second step after the one in which it closed; ``friction``: the
-    contacts have friction), its
+    an impact, which beams do not take; ``settle``: on models with beams and no solid, a
+    contact carries the smooth force only from the second step after the one in which it
+    closed, and the accelerations follow the correction of the step between; ``friction``:
+    the contacts have friction), its
     statistics ``stats``, which the phases of its steps fill, and ``plan``, the smooth
     Newton loop's force terms and configuration (:class:`~fecontact.time.newton.NewtonPlan`;
     None for a stepper without one), and ``momentum``, what holds the angular momentum of
@@ -46,13 +47,8 @@ class RunSettings(IntegratorOptions):
 
 def uses_smooth_contact(model, opts) -> bool:
     """Whether the NSGA step gives persistent contacts a smooth force: ``smooth_contact``
-    "on", or "auto" on a model with an elastic continuum (a ``Solid``) or on a planar
-    model with beams whose smooth step is generalized-α (the energy-decaying step keeps the
-    decoupled contact phase)."""
-    if opts.smooth_contact != "auto":
-        return opts.smooth_contact == "on"
-    beams = model.slender and model.dim == 2 and opts.scheme == "generalized-alpha"
-    return model.continuum or beams
+    "on", or "auto" on a model with an elastic continuum (a ``Solid``)."""
+    return opts.smooth_contact == "on" or (opts.smooth_contact == "auto" and model.continuum)
 
 
 def run_settings(
@@ -76,7 +72,7 @@ def run_settings(
         **values,
         smooth=smooth,
         restarts=smooth and not model.slender,  # (beams: see smooth_contact, the restart)
-        settle=smooth and model.slender,
+        settle=smooth and model.slender and not model.continuum,
         friction=friction,
         stats=run_stats,
         plan=None if plan is None else plan(model, smooth, friction, terms),
