@@ -67,9 +67,10 @@ ON = {"smooth_contact": "on"}
 
 
 def test_beams_settle_a_step_after_an_impact_with_the_smooth_force():
-    """Decided once per run: beams with the smooth force settle a step after an impact;
-    solids (alone or with beams) take it from the next step and keep their results; the
-    default leaves beams and rigid bodies to the decoupled scheme."""
+    """Decided once per run: planar beams with the smooth force settle a step after an
+    impact; solids (alone or with beams), rigid bodies and beams in space take it from the
+    next step and keep their results; the default leaves beams and rigid bodies to the
+    decoupled scheme."""
     beams = pendulum("floor").model
     settings = run_settings(beams, IntegratorOptions(**ON))
     assert settings.smooth and settings.settle and not settings.restarts
@@ -79,6 +80,8 @@ def test_beams_settle_a_step_after_an_impact_with_the_smooth_force():
     assert settings.smooth and settings.restarts and not settings.settle
     rigid = case("rocking_block").build().model
     assert not run_settings(rigid, IntegratorOptions(**ON)).settle
+    space = case("rod_on_post").build().model  # (beams in space: not measured, unchanged)
+    assert not run_settings(space, IntegratorOptions(**ON)).settle
 
 
 @pytest.mark.filterwarnings("ignore:energy")
