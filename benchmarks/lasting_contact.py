@@ -25,7 +25,10 @@ from _common import markdown_table, parser, write_csv, write_markdown
 from stress_2d import pendulum, strip_end_on_disk
 
 from fecontact import SolverError, run, simulate
-from fecontact.time import nsga
+from fecontact.time import run_settings
+from fecontact.time.alpha_step import alpha_plan
+from fecontact.time.nsga import smooth_phases
+from fecontact.time.state import PhaseTimer
 
 RUNS = {
     "strip on a peg": lambda: pendulum("peg", 0.0)[0],
@@ -63,38 +66,24 @@ def created(sim, **options) -> tuple[float, str]:
 
 def phases(sim, t: float) -> dict:
     """(ΔT, ΔW) in mJ of the smooth step, the correction and the jump of the step ending at
-    ``t`` (s), the decoupled scheme."""
-    model = sim.model
-    log = {}
-    kept = {k: getattr(nsga._Phases, k) for k in ("correct", "jump")}
+    ``t`` (s), the decoupled scheme: the step taken again phase by phase from the state
+    before it (:func:`fecontact.time.nsga.smooth_phases`)."""
+    model, h = sim.model, sim.dt
+    *_, st = simulate(model, h, round(t / h - 1) * h, sim.options, v0=sim.v0)
+    settings = run_settings(model, sim.options, plan=alpha_plan)
 
-    def energies(step):
-        return np.array([model.kinetic_energy(step.v), model.strain_energy(step.q)])
+    def energies(q, v):
+        return np.array([model.kinetic_energy(v), model.strain_energy(q)])
 
-    def wrap(name):
-        def phase(step):
-            before = energies(step)
-            kept[name](step)
-            log[name] = energies(step) - before
-
-        return phase
-
-    try:
-        for name in kept:
-            setattr(nsga._Phases, name, wrap(name))
-        before = None
-        for st in simulate(model, sim.dt, t + 0.5 * sim.dt, sim.options, v0=sim.v0):
-            now = np.array([model.kinetic_energy(st.v), model.strain_energy(st.q)])
-            if before is not None and st.t >= t - 0.5 * sim.dt:
-                smooth = now - before - sum(log.values())
-                break
-            before = now
-            log.clear()
-    finally:
-        for name, f in kept.items():
-            setattr(nsga._Phases, name, f)
-    row = {"t": t, "smooth": smooth, **log}
-    return {k: v if k == "t" else 1e3 * v for k, v in row.items()}
+    step = smooth_phases(model, st, h, settings, PhaseTimer())
+    before, smooth = energies(st.q, st.v), energies(step.q, step.v)
+    step.v_tilde = step.v  # (what the step's finish does before its correction)
+    step.correct()
+    corrected = energies(step.q, step.v)
+    step.jump()
+    jumped = energies(step.q, step.v)
+    row = {"smooth": smooth - before, "correct": corrected - smooth, "jump": jumped - corrected}
+    return {"t": st.t + h, **{k: 1e3 * v for k, v in row.items()}}
 
 
 def main():

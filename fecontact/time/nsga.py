@@ -283,9 +283,8 @@ class _Phases:
         st, closed = self.st, self.closed
         if self.corrected is None:  # (tested first: it decides most steps at no cost)
             return
-        # (beams with the smooth force: also the correction of a contact closed at t_n, which
-        # is the settling step after its impact, before the smooth force holds it)
-        if not (self.opts.settle or np.count_nonzero(self._closing())):
+        # (settling beams: also a contact closed at t_n, whose smooth force starts next step)
+        if not (self.opts.settle or np.count_nonzero(_closing(self))):
             return
         model, c, opts, F = self.model, self.c, self.opts, self.model.free_slice
         q_tilde, solve_H = self.corrected
@@ -325,13 +324,6 @@ class _Phases:
             )
             self.iters["velocity"] += its
 
-    def _closing(self) -> np.ndarray:
-        """Which of the closed contacts were open at the start of the step (mask)."""
-        st = self.st
-        if st.gaps.size != self.m:
-            return np.zeros(self.closed.size, bool)
-        return st.gaps[self.closed] > self.tol_gap
-
     def finish(self, clock: float) -> State:
         """Steps 2 and 3 after the smooth step (``clock``: when the contact phase started),
         and the state they end in."""
@@ -344,9 +336,17 @@ class _Phases:
             self.follow()
         if self.opts.settle and self.forces is not None:
             self.forces.closing = np.zeros(self.m)
-            self.forces.closing[self.closed[self._closing()]] = 1.0
+            self.forces.closing[self.closed[_closing(self)]] = 1.0
         self.timer.add("contact", clock)
         return _end_state(self)
+
+
+def _closing(step: _Phases) -> np.ndarray:
+    """Which of the ``step``'s closed contacts were open at its start (mask)."""
+    st = step.st
+    if st.gaps.size != step.m:
+        return np.zeros(step.closed.size, bool)
+    return st.gaps[step.closed] > step.tol_gap
 
 
 def _end_state(step: _Phases) -> State:
