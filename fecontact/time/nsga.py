@@ -283,7 +283,8 @@ class _Phases:
         st, closed = self.st, self.closed
         if self.corrected is None:  # (tested first: it decides most steps at no cost)
             return
-        if not (st.gaps.size == self.m and np.count_nonzero(st.gaps[closed] > self.tol_gap)):
+        # (settling beams: also a contact closed at t_n, whose smooth force starts next step)
+        if not (self.opts.settle or np.count_nonzero(_closing(self))):
             return
         model, c, opts, F = self.model, self.c, self.opts, self.model.free_slice
         q_tilde, solve_H = self.corrected
@@ -333,8 +334,19 @@ class _Phases:
         if self.closed.size or self.model.joints.size:  # (else nothing to jump or follow)
             self.jump()  # 3.
             self.follow()
+        if self.opts.settle and self.forces is not None:
+            self.forces.closing = np.zeros(self.m)
+            self.forces.closing[self.closed[_closing(self)]] = 1.0
         self.timer.add("contact", clock)
         return _end_state(self)
+
+
+def _closing(step: _Phases) -> np.ndarray:
+    """Which of the ``step``'s closed contacts were open at its start (mask)."""
+    st = step.st
+    if st.gaps.size != step.m:
+        return np.zeros(step.closed.size, bool)
+    return st.gaps[step.closed] > step.tol_gap
 
 
 def _end_state(step: _Phases) -> State:

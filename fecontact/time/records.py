@@ -23,17 +23,19 @@ class SmoothForces:
     """The contact forces of the smooth step (:mod:`fecontact.time.smooth_contact`) at the
     end of a step: λ_N of every contact (m,) and, with friction, λ_T (m, nt) (N); and the
     forces (normal, tangential) (m, dim) (N) that v̇ and a carry, which a step that releases
-    a contact takes out again."""
+    a contact takes out again; ``closing`` (m,), where the run's contacts settle a step after
+    an impact: 1 for the contacts that closed within the step (open at its start), else 0."""
 
     normal: np.ndarray
     tangential: np.ndarray | None
     in_vd: np.ndarray
     in_a: np.ndarray
+    closing: np.ndarray | None = None
 
     def without(self, rows: np.ndarray) -> SmoothForces:
         """A copy with the forces of the contacts ``rows`` set to zero."""
         out = dataclasses.replace(self)
-        for name in ("normal", "tangential", "in_vd", "in_a"):
+        for name in ("normal", "tangential", "in_vd", "in_a", "closing"):
             x = getattr(self, name)
             if x is not None:
                 x = x.copy()
@@ -78,6 +80,7 @@ _FIELDS = {
     "friction_force": ("smooth", "tangential"),
     "force_in_vd": ("smooth", "in_vd"),
     "force_in_a": ("smooth", "in_a"),
+    "contact_closing": ("smooth", "closing"),
     "friction_nu": ("friction", "nu"),
     "friction_impulse": ("friction", "impulse"),
     "friction_status": ("friction", "status"),

@@ -19,7 +19,10 @@ class RunSettings(IntegratorOptions):
     """The :class:`IntegratorOptions` of one run, the traits of its model the steps act on,
     decided once (``smooth``: persistent contacts carry a smooth force, the ``"auto"`` of
     ``smooth_contact`` resolved; ``restarts``: and the acceleration variable restarts after
-    an impact, which beams do not take; ``friction``: the contacts have friction), its
+    an impact, which beams do not take; ``settle``: on planar models with beams and no solid, a
+    contact carries the smooth force only from the second step after the one in which it
+    closed, and the accelerations follow the correction of the step between; ``friction``:
+    the contacts have friction), its
     statistics ``stats``, which the phases of its steps fill, and ``plan``, the smooth
     Newton loop's force terms and configuration (:class:`~fecontact.time.newton.NewtonPlan`;
     None for a stepper without one), and ``momentum``, what holds the angular momentum of
@@ -31,6 +34,7 @@ class RunSettings(IntegratorOptions):
 
     smooth: bool = False
     restarts: bool = False
+    settle: bool = False
     friction: bool = False
     stats: StepStats = field(default_factory=StepStats, repr=False, compare=False)
     plan: NewtonPlan | None = field(default=None, repr=False, compare=False)
@@ -68,6 +72,8 @@ def run_settings(
         **values,
         smooth=smooth,
         restarts=smooth and not model.slender,  # (beams: see smooth_contact, the restart)
+        # (measured on planar beams: docs/explanation/energy_ledger.md, lasting contact)
+        settle=smooth and model.slender and not model.continuum and model.dim == 2,
         friction=friction,
         stats=run_stats,
         plan=None if plan is None else plan(model, smooth, friction, terms),

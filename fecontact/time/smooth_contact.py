@@ -122,6 +122,8 @@ def persistent_contacts(model, st, near: float) -> np.ndarray:
         pressed |= st.impulse > 0.0
     if st.smooth is not None:
         pressed |= st.smooth.normal > 0.0
+        if st.smooth.closing is not None:  # (beams: an impact's contact settles a step first)
+            pressed &= st.smooth.closing == 0.0
     return np.flatnonzero(pressed & (st.gaps <= near))
 
 
