@@ -73,6 +73,7 @@ from ..errors import InputError, check_positive
 from ..rotations import exp, hat, log
 from .boundary_mortar import BoundaryRows
 from .box_corners import BoxCorners
+from .box_edges import BoxEdges
 from .friction import tangent_basis
 from .rigid_distance import (
     SUBDIVISIONS,
@@ -161,7 +162,10 @@ class RigidMortarGeometry(BoundaryRows):
         self.dofs = np.zeros((len(self.nodes), self._cols.shape[2]), dtype=int)
         # a box's corners, which the nodes' rows let in between them (module box_corners)
         box = isinstance(self.rigid.shape, Box)
-        self.companions = (BoxCorners(self, body, self.rigid, clearance, margin),) if box else ()
+        self.companions = (
+            (BoxCorners(self, body, self.rigid, clearance, margin),
+             BoxEdges(self, body, self.rigid, clearance, margin)) if box else ()
+        )  # fmt: skip
 
     def bind(self, model) -> None:
         """Place the pair in the global dof vector of ``model``."""

@@ -33,6 +33,7 @@ from ..errors import InputError, check_range
 from ..rotations import exp
 from .base import PairDefaults
 from .box_corners import BoxCorners
+from .box_edges import BoxEdges
 from .registry import register_pair
 from .rigid_distance import FeatureDepths
 
@@ -59,7 +60,10 @@ class NodeRigidContact(PairDefaults):
         self.offsets = (0, 0)
         # a box's corners, which the nodes' rows let in between them (module box_corners)
         if isinstance(rigid.shape, Box):
-            self.companions = (BoxCorners(self, body, rigid, clearance),)
+            self.companions = (
+                BoxCorners(self, body, rigid, clearance),
+                BoxEdges(self, body, rigid, clearance),
+            )
 
     def bind(self, model) -> None:
         self.offsets = (model.offset_of(self.body), model.offset_of(self.rigid))
