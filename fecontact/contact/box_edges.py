@@ -112,7 +112,6 @@ class BoxEdges(PairDefaults):
 
     linear = False
     frictional = True
-    redundant_rows = True  # (a ridge crossed next to its node: its row and the node's agree)
 
     def __init__(self, owner, body, rigid, clearance=0.0, margin=None):
         self.owner = owner
@@ -296,27 +295,37 @@ class BoxEdges(PairDefaults):
         out[psi <= 0.0] = 0.0
         return out, psi
 
-    def tangents(self, q: np.ndarray):
-        """Dofs (N, 12), slip rows (N, 2, 12) and tangents T (N, 2, 3) (zero rows where the
-        ridge has no row)."""
+    def _relative_motion(self, q: np.ndarray):
+        """Rows with a gap (N,) bool, the tangents T (N, 2, 3) of their contact planes (along
+        the box edge, which is normal to n, and n × it: no basis switch as n turns) and the
+        motion of the box's point p relative to the ridge's point y over the local dofs
+        (N, 3, 12) (zero where no row)."""
         _, R, g, edge, s, t, n, _ = self._geometry(q)
         on = np.isfinite(g)
         T = np.broadcast_to(tangent_basis(np.array([[0.0, 0.0, 1.0]])), (self.size, 2, 3)).copy()
         W = np.zeros((self.size, 3, 12))
         if on.any():
-            T[on] = tangent_basis(n[on])
+            along = (self.b[edge[on]] - self.a[edge[on]]) @ R.T
+            along /= np.linalg.norm(along, axis=1)[:, None]
+            T[on] = np.stack([along, np.cross(n[on], along)], axis=1)
             r = self.a[edge[on]] + s[on, None] * (self.b[edge[on]] - self.a[edge[on]])
             W[on, :, :3] = np.eye(3)
             W[on, :, 3:6] = -R @ hat(r)  # ∂p/∂Θ = −R r̃
             W[on, :, 6:9] = -(1.0 - t[on, None, None]) * np.eye(3)
             W[on, :, 9:] = -t[on, None, None] * np.eye(3)
+        return on, T, W
+
+    def tangents(self, q: np.ndarray):
+        """Dofs (N, 12), slip rows (N, 2, 12) and tangents T (N, 2, 3) (zero rows where the
+        ridge has no row)."""
+        _, T, W = self._relative_motion(q)
         return self.dofs, np.einsum("mti,mik->mtk", T, W), T
 
     def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
-        """The slip rows at q applied to the step: the box's body-frame increment
-        (Δu, log(R_nᵀR)) and the nodes' displacements."""
-        dofs, W, _ = self.tangents(q)
+        """The relative motion's rows at q applied to the step (the box's body-frame increment
+        (Δu, log(R_nᵀR)) and the nodes' displacements), along the step's tangents T."""
+        _, _, W = self._relative_motion(q)
         step = q - q_n
         ob = self.offsets[1]
         step[ob + 3 : ob + 6] = log(exp(q_n[ob + 3 : ob + 6]).T @ exp(q[ob + 3 : ob + 6]))
-        return np.einsum("mtk,mk->mt", W, step[dofs])
+        return np.einsum("mti,mik,mk->mt", T, W, step[self.dofs])
