@@ -9,7 +9,8 @@ Groups (each row one run, at the step given in its ``step`` column):
   closes 1-3 of the contact zone's cells).
 - ``slab``: an elastic ball on an elastic slab clamped at its base (``cases/ball_on_slab.py``)
   at speeds and offsets, mortar and node-to-surface; a rigid ball (``RigidBody3D``) on the
-  slab; the elastic ball on a fixed ``RigidBody3D`` box: face, 5 mm inside an edge, a corner.
+  slab, and a rigid box dropped on it corner first and edge first; the elastic ball on a
+  fixed ``RigidBody3D`` box: face, 5 mm inside an edge, on an edge, a corner.
 - ``rigid``: ``RigidBody3D`` boxes and balls tumbling and bouncing on a plane and on each
   other with Coulomb friction, and free pairs in space.
 - ``rod``: a ``Beam3D`` steel rod (``cases/rod_drop.py``) dropped obliquely on an elastic
@@ -621,6 +622,13 @@ def rod(on: str, v=1.0, angle=30.0, t_end=0.04, divisions=20, width=0.2):
     return Spec("rod", label, sim, radius, edge, v, step="0.1 ms")
 
 
+EDGE_DOWN = (0.0, np.pi / 4, 0.0)  # rad: the box's edge along y lowest, level
+EDGE_SKEW = (
+    -0.117791,
+    0.779376,
+    0.284373,
+)  # rad: the same turned 0.3 rad about z (skew to the grid)
+
 QUICK = [
     lambda: two_balls(1.0, base=1, spacing=0.3),
     lambda: rigid_ball_on_slab(1.0, divisions=4),
@@ -646,11 +654,18 @@ FULL = [
     lambda: box_on_slab(1.0),
     lambda: box_on_slab(1.0, friction=0.3),
     lambda: box_on_slab(1.0, method="node-to-surface"),
+    *(
+        lambda t=t, m=m: box_on_slab(1.0, tilt=t, method=m, first="edge")
+        for t, m in ((EDGE_DOWN, "mortar"), (EDGE_SKEW, "mortar"), (EDGE_SKEW, "node-to-surface"))
+    ),
+    lambda: box_on_slab(1.0, tilt=EDGE_DOWN, friction=0.3, first="edge"),
     lambda: ball_on_box(1.0, "face"),
     lambda: ball_on_box(1.0, "edge"),
     lambda: ball_on_box(1.0, "corner"),
     lambda: ball_on_box(3.0, "corner"),
     lambda: ball_on_box(3.0, "edge"),
+    lambda: ball_on_box(1.0, "on edge"),
+    lambda: ball_on_box(3.0, "on edge"),
     lambda: tumbling_box(1.0, 8.0),
     lambda: tumbling_box(3.0, 30.0),
     lambda: box_on_box(),

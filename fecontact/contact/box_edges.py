@@ -2,34 +2,46 @@ r"""A rigid box's edges against the boundary edges of a 3D solid: the rows a sol
 adds for what neither its nodes' rows nor the corners' rows (:mod:`.box_corners`) hold, a box
 edge entering the solid's faceted surface between the nodes, away from the box's corners.
 
-Where a straight edge of a convex body meets a faceted surface with every node of the surface
-outside the body and both of its own ends outside the surface, it can only enter by passing
-under the surface's edges (the classical edge–edge contact of polyhedra: vertex–face, face–
-vertex and edge–edge are the only ways two polyhedral surfaces meet). Each boundary edge
-(c, d) of the solid (a "ridge", between two of its triangles) therefore carries one row, its
-signed distance to the box edge (a, b) it crosses, along the common normal of the two lines:
+Two polyhedral surfaces meet vertex to face, face to vertex or edge to edge. The nodes' rows
+hold the first (a node against the box's exact surface), the corners' rows the second; with
+both held, a box edge enters the solid only by passing under the solid's boundary edges. Each
+boundary edge (c, d) of the solid (a "ridge", between two of its triangles) therefore carries
+one row, its signed distance to the box edge (a, b) it crosses, along the common normal of
+the two lines (the classical edge–edge contact of polyhedra):
 
     g = n·(p − y) − clearance,   n = ±(b − a) × (d − c) / |(b − a) × (d − c)|,
 
-p = a + s (b − a) and y = c + t (d − c) the closest points of the two lines. The sign of n
-makes it point from the ridge toward the box: −n lies in the box edge's normal cone (between
-the outward normals of its two faces), and n has a positive part along the ridge's outward
-normal (the sum of its two triangles'). The row is taken where that holds, the closest points
-lie inside both segments (0 < s, t < 1; beyond them the nodes' and the corners' rows hold the
-ends) and the lines are not parallel (|sin| ≥ ``PARALLEL``); among the box's twelve edges a
-ridge takes the one of least gap. Elsewhere it reads +inf, as do ridges whose midpoint lies
-farther from the box than the search distance plus half their length.
+p = a + s (b − a) and y = c + t (d − c) the closest points of the two lines, the sign such
+that −n points into the box edge's normal cone (the side of its two faces' outward normals).
+The row is the edge–edge contact where the closest points lie inside both segments
+(0 < s, t < 1) and n lies in both normal cones: −n between the box edge's two face normals,
+n between the ridge's two triangles' outward normals (widened by ``CONE``: a flat ridge's cone
+is one direction). Elsewhere a ridge by a box edge is no edge–edge contact: a ridge on a box
+face beside its edge has lines whose common normal lies along the face, and their distance
+(the ridge's offset from the edge along the face) is no penetration. Among the box's twelve
+edges a ridge takes the one of least gap; it reads +inf without one, and where its midpoint
+lies farther from the box than the search distance plus half its length. Lines nearer
+parallel than ``PARALLEL`` have no common normal: their ends hold the contact.
 
-The gradient is exact: the closest points are stationary in s and t, and n stays normal to
-both lines (∂n·(p − y) = g ∂n·n − s ∂n·(b − a) + t ∂n·(d − c) with ∂n·n = 0 and ∂n·(b − a) =
-−n·∂(b − a)), so
+A row that holds must not vanish within a Newton iteration (the smooth step's active set
+cycles between an iterate with the row, pushed out, and one without, falling back in). Where
+the closest point leaves a segment, or −n leaves the box edge's cone, the row goes on as the
+lines' distance plus ``RAMP`` ℓ (φ(s) + φ(t) + ψ), ℓ the ridge's length, φ(u) = max(0, −u,
+u − 1), ψ = max_i n·a_i (a_i the box edge's face normals): continuous, growing, so the row
+opens and the nodes' or the corners' rows take over; it ends ``REACH`` beyond.
+
+The gradient is exact. Without the ramp the closest points are stationary in s and t, and n
+stays normal to both lines (∂n·(p − y) = g ∂n·n − s ∂n·(b − a) + t ∂n·(d − c) with ∂n·n = 0
+and ∂n·(b − a) = −n·∂(b − a)), so
 
     ∂g/∂x_c = −(1 − t) n,   ∂g/∂x_d = −t n,   ∂g/∂u = n,   ∂g/∂Θ = r × (Rᵀ n),
 
-r the body-frame position of p (δp = δu − R r̃ δΘ). The curvature is left out (Newton's rate,
-not its answer), as for the corners. Coulomb friction, with the coefficient of the pair that
-brings the rows (``owner``), acts on the slip of the box's material point at p against the
-ridge's point y: the rows T·[I, −R r̃, −(1 − t) I, −t I], T the tangents of n, applied over a
+r the body-frame position of p (δp = δu − R r̃ δΘ); the ramp adds the derivatives of s, t
+(from those of the two closest-point conditions) and of ψ (:meth:`BoxEdges._ramp_gradient`).
+The curvature is left out (Newton's rate, not its answer), as for the corners. Coulomb
+friction, with the coefficient of the pair that brings the rows (``owner``), acts on the slip
+of the box's material point at p against the ridge's point y: the rows T·[I, −R r̃,
+−(1 − t) I, −t I], T the tangents along the box edge (normal to n) and n × it, applied over a
 step to the box's body-frame increment (Δu, log(R_nᵀR)) and the nodes' displacements.
 """
 
