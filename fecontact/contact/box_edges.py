@@ -18,17 +18,21 @@ The row is the edge–edge contact where the closest points lie inside both segm
 n between the ridge's two triangles' outward normals (widened by ``CONE``: a flat ridge's cone
 is one direction). Elsewhere a ridge by a box edge is no edge–edge contact: a ridge on a box
 face beside its edge has lines whose common normal lies along the face, and their distance
-(the ridge's offset from the edge along the face) is no penetration. Among the box's twelve
-edges a ridge takes the one of least gap; it reads +inf without one, and where its midpoint
-lies farther from the box than the search distance plus half its length. Lines nearer
+(the ridge's offset from the edge along the face) is no penetration. A ridge has ``SLOTS``
+rows, for the first box edges it crosses in the box's own order of its edges (one by a corner
+passes under two at once, and a row that switched edges with the least gap made Newton
+cycle); a row reads +inf without its edge, and where the ridge's midpoint lies farther from
+the box than the search distance plus half the ridge's length. Lines nearer
 parallel than ``PARALLEL`` have no common normal: their ends hold the contact.
 
 A row that holds must not vanish within a Newton iteration (the smooth step's active set
 cycles between an iterate with the row, pushed out, and one without, falling back in). Where
-the closest point leaves a segment, or −n leaves the box edge's cone, the row goes on as the
-lines' distance plus ``RAMP`` ℓ (φ(s) + φ(t) + ψ), ℓ the ridge's length, φ(u) = max(0, −u,
-u − 1), ψ = max_i n·a_i (a_i the box edge's face normals): continuous, growing, so the row
-opens and the nodes' or the corners' rows take over; it ends ``REACH`` beyond.
+the closest point leaves the ridge, or −n leaves the box edge's cone, the row goes on as the
+lines' distance plus ``RAMP`` ℓ (φ(t) + ψ), ℓ the ridge's length, φ(t) = max(0, −t, t − 1),
+ψ = max_i n·a_i (a_i the box edge's face normals): continuous, growing, so the row opens and
+the nodes' rows take over; it ends ``REACH`` beyond. Beyond the box edge's ends (s outside
+(0, 1)) a row ends: there the corner's own row holds, and rows ramped past a corner met the
+rows of the corner's other edges and made Newton cycle.
 
 The gradient is exact. Without the ramp the closest points are stationary in s and t, and n
 stays normal to both lines (∂n·(p − y) = g ∂n·n − s ∂n·(b − a) + t ∂n·(d − c) with ∂n·n = 0
@@ -36,8 +40,8 @@ and ∂n·(b − a) = −n·∂(b − a)), so
 
     ∂g/∂x_c = −(1 − t) n,   ∂g/∂x_d = −t n,   ∂g/∂u = n,   ∂g/∂Θ = r × (Rᵀ n),
 
-r the body-frame position of p (δp = δu − R r̃ δΘ); the ramp adds the derivatives of s, t
-(from those of the two closest-point conditions) and of ψ (:meth:`BoxEdges._ramp_gradient`).
+r the body-frame position of p (δp = δu − R r̃ δΘ); the ramp adds the derivatives of t (from
+those of the two closest-point conditions) and of ψ (:meth:`BoxEdges._ramp_gradient`).
 The curvature is left out (Newton's rate, not its answer), as for the corners. Coulomb
 friction, with the coefficient of the pair that brings the rows (``owner``), acts on the slip
 of the box's material point at p against the ridge's point y: the rows T·[I, −R r̃,
@@ -55,7 +59,7 @@ from .base import PairDefaults
 from .friction import tangent_basis
 from .rigid_distance import shape_distance
 
-__all__ = ["CONE", "PARALLEL", "RAMP", "REACH", "BoxEdges", "box_edges"]
+__all__ = ["CONE", "PARALLEL", "RAMP", "REACH", "SLOTS", "BoxEdges", "box_edges"]
 
 PARALLEL = 1e-6
 """Smallest |sin| of the angle between a box edge and a ridge for a row: nearer parallel the
@@ -63,18 +67,21 @@ common normal is undefined, and the ridge's ends (the nodes' rows) hold the cont
 
 
 RAMP = 2.0
-"""The release ramp's slope: beyond the ends of the ridge or of the box edge a row goes on as
-the lines' distance plus RAMP ℓ φ (ℓ the ridge's length, φ how far beyond, in units of the
-segment), continuous where the closest point leaves the segment, so that a row that holds
-does not vanish within a Newton iteration: it opens, and the nodes' or the corners' rows
-hold the ends."""
+"""The release ramp's slope: beyond the ends of the ridge a row goes on as the lines'
+distance plus RAMP ℓ φ (ℓ the ridge's length, φ how far beyond, in units of the ridge),
+continuous where the closest point leaves the ridge, so that a row that holds does not vanish
+within a Newton iteration: it opens, and the nodes' rows hold the ends."""
+
+SLOTS = 2
+"""Rows per ridge: the box edges it crosses, at most two (by a corner) at once."""
 
 CONE = 1e-3
 """How far (rad) the common normal may lie outside the cone of the ridge's two triangles'
 normals: a flat ridge's cone is one direction, met by a box edge parallel to it."""
 
 REACH = 0.5
-"""How far beyond a segment's end (in its length) the ramp reaches before the row ends."""
+"""How far beyond the ridge's end (in its length), or outside the box edge's cone (n·a_i), the
+ramp reaches before the row ends."""
 
 
 def _beyond(u: np.ndarray) -> np.ndarray:
@@ -133,8 +140,10 @@ class BoxEdges(PairDefaults):
         self.a, self.b, self.faces = box_edges(np.asarray(rigid.shape.sides, dtype=float))
         self.facets = body.contact_facets()
         self.ridges, self._sides = _ridges(self.facets)
-        self.size = len(self.ridges)
+        self.size = SLOTS * len(self.ridges)
+        self._ridge = np.tile(np.arange(len(self.ridges)), SLOTS)  # the ridge of each row
         self._ridge_dofs = body.node_translation_dofs(self.ridges.ravel()).reshape(-1, 6)
+        self._ridge_dofs = np.tile(self._ridge_dofs, (SLOTS, 1))
         self.own_margin = margin is not None
         self.margin = margin if margin is not None else 0.05 * body.characteristic_length
         self.offsets = (0, 0)
@@ -208,7 +217,7 @@ class BoxEdges(PairDefaults):
         spread = np.arccos(np.clip(np.einsum("kd,kd->k", m[:, 0], m[:, 1]), -1.0, 1.0))
         ok = crossing & (outside < REACH) & (angles <= spread[:, None] + 2.0 * CONE)
         beyond = _beyond(s) + _beyond(t) + outside
-        ok &= (_beyond(s) < REACH) & (_beyond(t) < REACH)
+        ok &= (s > 0.0) & (s < 1.0) & (_beyond(t) < REACH)  # beyond a box corner: its row
         # the ridge's point on the edge's side of the box's two middle planes along its faces
         # (the lines of a ridge by one edge also cross the box's far edges, a box width away)
         y = (y0[:, None] + t[..., None] * d2[:, None] - c) @ R  # (K, 12, 3) in the body frame
@@ -219,11 +228,15 @@ class BoxEdges(PairDefaults):
         ok &= gap > -np.sqrt(ee)
         ramp = RAMP * np.sqrt(ee) * beyond
         gap = np.where(ok, gap + ramp - self.clearance, np.inf)
-        best = np.argmin(gap, axis=1)
-        k = np.arange(len(near))
-        keep = np.isfinite(gap[k, best])
-        k, e = k[keep], best[keep]
-        return near[keep], (gap[k, e], e, s[k, e], t[k, e], n[k, e], ramp[k, e])
+        # the first SLOTS box edges (in their own order, so that a row keeps its edge) with a
+        # row: a ridge by a box corner passes under two of its edges at once
+        first = np.argsort(~np.isfinite(gap), axis=1, kind="stable")[:, :SLOTS]  # (K, SLOTS)
+        k = np.broadcast_to(np.arange(len(near))[:, None], first.shape)
+        slot = np.broadcast_to(np.arange(SLOTS), first.shape)
+        keep = np.isfinite(gap[k, first])
+        k, e, slot = k[keep], first[keep], slot[keep]
+        rows = slot * len(self.ridges) + near[k]
+        return rows, (gap[k, e], e, s[k, e], t[k, e], n[k, e], ramp[k, e])
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         return self._geometry(q)[2]
@@ -256,7 +269,7 @@ class BoxEdges(PairDefaults):
         e, k = edge[rows], len(rows)
         d1b = self.b[e] - self.a[e]  # (k, 3) body frame
         d1 = d1b @ R.T
-        y0, y1 = x[self.ridges[rows, 0]], x[self.ridges[rows, 1]]
+        y0, y1 = x[self.ridges[self._ridge[rows], 0]], x[self.ridges[self._ridge[rows], 1]]
         d2 = y1 - y0
         w = g[rows] - ramp[rows] + self.clearance  # n·(p − y)
         rb = self.a[e] + s[rows, None] * d1b
