@@ -9,7 +9,8 @@ Groups (each row one run, at the step given in its ``step`` column):
   closes 1-3 of the contact zone's cells).
 - ``slab``: an elastic ball on an elastic slab clamped at its base (``cases/ball_on_slab.py``)
   at speeds and offsets, mortar and node-to-surface; a rigid ball (``RigidBody3D``) on the
-  slab; the elastic ball on a fixed ``RigidBody3D`` box: face, 5 mm inside an edge, a corner.
+  slab, and a rigid box dropped on it corner first and edge first; the elastic ball on a
+  fixed ``RigidBody3D`` box: face, 5 mm inside an edge, on an edge, a corner.
 - ``rigid``: ``RigidBody3D`` boxes and balls tumbling and bouncing on a plane and on each
   other with Coulomb friction, and free pairs in space.
 - ``rod``: a ``Beam3D`` steel rod (``cases/rod_drop.py``) dropped obliquely on an elastic
@@ -412,9 +413,11 @@ def rigid_ball_on_slab(v, offset=(0.003, -0.002), method="mortar", divisions=8):
     return Spec("slab", label, sim, R, slab.min_edge_length, v, pk=True, step="dx/c")
 
 
-def box_on_slab(v=1.0, tilt=(0.4, 0.3), friction=0.0, divisions=8, method="mortar"):
-    """A rigid box 4 × 3 × 2 cm (1000 kg/m³) dropped at ``v`` (m/s) corner first (turned by
-    ``tilt`` rad about x and y) onto the 0.1 m slab, with Coulomb ``friction``."""
+def box_on_slab(v=1.0, tilt=(0.4, 0.3, 0.0), friction=0.0, divisions=8, method="mortar",
+                first="corner"):  # fmt: skip
+    """A rigid box 4 × 3 × 2 cm (1000 kg/m³) dropped at ``v`` (m/s) ``first`` ("corner" or
+    "edge") first, turned by the rotation vector ``tilt`` (rad), onto the 0.1 m slab, with
+    Coulomb ``friction``."""
     slab = _slab(0.1, 0.04, divisions, 3)
     half = 0.5 * np.array([0.04, 0.03, 0.02])
     box = RigidBody3D.of_density(1000.0, [0.003, -0.002, 0.0], Box(*(2 * half)))
@@ -422,10 +425,10 @@ def box_on_slab(v=1.0, tilt=(0.4, 0.3), friction=0.0, divisions=8, method="morta
                   (0.0, 0.0, -9.81))  # fmt: skip
     ss, sb = model.body_slice(0), model.body_slice(1)
     q0 = np.zeros(model.n)
-    rot = exp(np.array([tilt[0], tilt[1], 0.0]))
+    rot = exp(np.asarray(tilt, dtype=float))
     corners = np.array([[i, j, k] for i in (-1, 1) for j in (-1, 1) for k in (-1, 1)]) * half
     q0[sb][:3] = [0.0, 0.0, 0.001 - np.min(corners @ rot.T, axis=0)[2]]
-    q0[sb][3:6] = [tilt[0], tilt[1], 0.0]
+    q0[sb][3:6] = tilt
     top = np.unique(slab.contact_facets())
     surface = Surface(slab.contact_facets())
     s = np.linspace(0.0, 1.0, 9)[:, None, None]
@@ -447,7 +450,7 @@ def box_on_slab(v=1.0, tilt=(0.4, 0.3), friction=0.0, divisions=8, method="morta
     v0 = model.translation(box, (0.0, 0.0, -v))
     sim = Simulation(model, dt=wave_step(slab, 1.0), t_end=t_end, probes=probes, q0=q0,
                      v0=v0, name="box_on_slab", output_interval=t_end)  # fmt: skip
-    label = f"rigid box {v:g} m/s corner first on a {divisions}x{divisions} slab, mu {friction:g}"
+    label = f"rigid box {v:g} m/s {first} first on a {divisions}x{divisions} slab, mu {friction:g}"
     label += f", {method}"
     pk = method == "mortar" and friction == 0.0
     return Spec("slab", label, sim, 0.02, slab.min_edge_length, v, pk=pk, step="dx/c")
@@ -455,9 +458,10 @@ def box_on_slab(v=1.0, tilt=(0.4, 0.3), friction=0.0, divisions=8, method="morta
 
 def ball_on_box(v, where="face", method="mortar", refinements=2):
     """The elastic ball at ``v`` (m/s) onto a fixed rigid box 0.3 × 0.3 × 0.05 m: its pole
-    over the face's middle, 5 mm inside an edge, or over a corner."""
+    over the face's middle, 5 mm inside an edge, on an edge ("on edge") or over a corner."""
     ball = Solid.ball([0.0, 0.0, R + 0.001], R, refinements, RUBBER)
-    x0, y0 = {"face": (0.0, 0.0), "edge": (0.145, 0.0), "corner": (0.15, 0.15)}[where]
+    x0, y0 = {"face": (0.0, 0.0), "edge": (0.145, 0.0), "on edge": (0.15, 0.0),
+              "corner": (0.15, 0.15)}[where]  # fmt: skip
     box = RigidBody3D.uniform(1000 * ball.mass, [x0, y0, -0.025], Box(0.3, 0.3, 0.05)).fix()
     model = Model([ball, box], [Contact(ball, box, method=method)], (0.0, 0.0, -9.81))
     sb, sx = model.body_slice(0), model.body_slice(1)
@@ -470,7 +474,8 @@ def ball_on_box(v, where="face", method="mortar", refinements=2):
     sim = Simulation(model, dt=wave_step(ball, 1.0), t_end=t_end, probes=probes, v0=v0,
                      name="ball_on_box", output_interval=t_end)  # fmt: skip
     label = f"elastic ball {v:g} m/s on a rigid box's {where}, {method}"
-    return Spec("slab", label, sim, R, ball.min_edge_length, v, pk=where == "edge", step="dx/c")
+    pk = where in ("edge", "on edge")
+    return Spec("slab", label, sim, R, ball.min_edge_length, v, pk=pk, step="dx/c")
 
 
 def ball_on_free_rigid(kind: str, b: float, v: float = 1.0, refinements: int = 2):
@@ -617,6 +622,13 @@ def rod(on: str, v=1.0, angle=30.0, t_end=0.04, divisions=20, width=0.2):
     return Spec("rod", label, sim, radius, edge, v, step="0.1 ms")
 
 
+EDGE_DOWN = (0.0, np.pi / 4, 0.0)  # rad: the box's edge along y lowest, level
+EDGE_SKEW = (
+    -0.117791,
+    0.779376,
+    0.284373,
+)  # rad: the same turned 0.3 rad about z (skew to the grid)
+
 QUICK = [
     lambda: two_balls(1.0, base=1, spacing=0.3),
     lambda: rigid_ball_on_slab(1.0, divisions=4),
@@ -642,11 +654,18 @@ FULL = [
     lambda: box_on_slab(1.0),
     lambda: box_on_slab(1.0, friction=0.3),
     lambda: box_on_slab(1.0, method="node-to-surface"),
+    *(
+        lambda t=t, m=m: box_on_slab(1.0, tilt=t, method=m, first="edge")
+        for t, m in ((EDGE_DOWN, "mortar"), (EDGE_SKEW, "mortar"), (EDGE_SKEW, "node-to-surface"))
+    ),
+    lambda: box_on_slab(1.0, tilt=EDGE_DOWN, friction=0.3, first="edge"),
     lambda: ball_on_box(1.0, "face"),
     lambda: ball_on_box(1.0, "edge"),
     lambda: ball_on_box(1.0, "corner"),
     lambda: ball_on_box(3.0, "corner"),
     lambda: ball_on_box(3.0, "edge"),
+    lambda: ball_on_box(1.0, "on edge"),
+    lambda: ball_on_box(3.0, "on edge"),
     lambda: tumbling_box(1.0, 8.0),
     lambda: tumbling_box(3.0, 30.0),
     lambda: box_on_box(),

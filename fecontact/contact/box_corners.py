@@ -24,9 +24,9 @@ the slip of the corner's material point against the triangle's point under it, T
 step to the box's body-frame increment (Δu, log(R_nᵀR)) and the nodes' displacements.
 Corners whose closest triangle lies farther than the search distance (plus the triangles'
 size) read +inf; the closest triangle is searched among those whose bounding spheres can hold
-it. The rows take the pair's restitution and friction. The box's edges are not
-rows: an edge entering between nodes is measured (:class:`~.rigid_distance.FeatureDepths`)
-and stops the run (``docs/validation/stress_3d.md``).
+it. The rows take the pair's restitution and friction. The box's edges have rows of their
+own against the solid's boundary edges (:mod:`.box_edges`), and the pair's watch measures
+corners and edges inside the solid (:class:`~.rigid_distance.FeatureDepths`).
 """
 
 from __future__ import annotations

@@ -56,10 +56,10 @@ node's exact distance is measured at every evaluation (no search to miss one), a
 integrals, not each node: a node may sit inside by the discretization's own amount).
 Friction: slip rows T_j·[(1 − w_j)(ẋ_j − ẏ_j) + w_j ∫ Φ_j (ẋ − ẏ) dA₀ / L_j], ẏ the velocity of
 the body's material point under x, T_j the tangents of the shape's normal at node j (as the
-solid–solid mortar does). A box's corners, which can enter between the nodes, carry rows of
-their own (:mod:`fecontact.contact.box_corners`, the pair's ``companions``), and
-:class:`NodeDepths` also measures the box's corners and edges inside the solid
-(:class:`~fecontact.contact.rigid_distance.FeatureDepths`).
+solid–solid mortar does). A box's corners and edges, which can enter between the nodes, carry
+rows of their own (:mod:`fecontact.contact.box_corners`, :mod:`fecontact.contact.box_edges`,
+the pair's ``companions``), and :class:`NodeDepths` also measures the box's corners and edges
+inside the solid (:class:`~fecontact.contact.rigid_distance.FeatureDepths`).
 """
 
 from __future__ import annotations
@@ -73,6 +73,7 @@ from ..errors import InputError, check_positive
 from ..rotations import exp, hat, log
 from .boundary_mortar import BoundaryRows
 from .box_corners import BoxCorners
+from .box_edges import BoxEdges
 from .friction import tangent_basis
 from .rigid_distance import (
     SUBDIVISIONS,
@@ -159,9 +160,12 @@ class RigidMortarGeometry(BoundaryRows):
         self._node_dofs = body.node_translation_dofs(self.nodes)
         self.offsets = (0, 0)
         self.dofs = np.zeros((len(self.nodes), self._cols.shape[2]), dtype=int)
-        # a box's corners, which the nodes' rows let in between them (module box_corners)
+        # a box's corners and edges, which the nodes' rows let in between them
         box = isinstance(self.rigid.shape, Box)
-        self.companions = (BoxCorners(self, body, self.rigid, clearance, margin),) if box else ()
+        self.companions = (
+            (BoxCorners(self, body, self.rigid, clearance, margin),
+             BoxEdges(self, body, self.rigid, clearance, margin)) if box else ()
+        )  # fmt: skip
 
     def bind(self, model) -> None:
         """Place the pair in the global dof vector of ``model``."""

@@ -17,9 +17,10 @@ Gradients act on the node's translations and on the body's (u, Θ), Θ body-fram
 ρ × δΘ under R ⊕ δΘ = R exp(δΘ̃), ∂g/∂Θ = n_b × ρ (n_b = Rᵀn). The ball's curvature is exact,
 K = (I − e eᵀ)/|x − c| on the two translations; the box's is left out (Newton's rate, not its
 answer), as for the rigid ball against a box. Both shapes are exact: a rigid ball is no
-faceted surface, and the box's faces are flat. A box's corners, which can enter between the
-nodes, carry rows of their own (:mod:`fecontact.contact.box_corners`), and the pair's watch
-measures its corners and edges inside the solid.
+faceted surface, and the box's faces are flat. A box's corners and edges, which can enter
+between the nodes, carry rows of their own (:mod:`fecontact.contact.box_corners`,
+:mod:`fecontact.contact.box_edges`), and the pair's watch measures its corners and edges
+inside the solid.
 """
 
 from __future__ import annotations
@@ -33,6 +34,7 @@ from ..errors import InputError, check_range
 from ..rotations import exp
 from .base import PairDefaults
 from .box_corners import BoxCorners
+from .box_edges import BoxEdges
 from .registry import register_pair
 from .rigid_distance import FeatureDepths
 
@@ -57,9 +59,12 @@ class NodeRigidContact(PairDefaults):
         self.size = len(self.nodes)
         self._node_dofs = body.node_translation_dofs(self.nodes)
         self.offsets = (0, 0)
-        # a box's corners, which the nodes' rows let in between them (module box_corners)
+        # a box's corners and edges, which the nodes' rows let in between them
         if isinstance(rigid.shape, Box):
-            self.companions = (BoxCorners(self, body, rigid, clearance),)
+            self.companions = (
+                BoxCorners(self, body, rigid, clearance),
+                BoxEdges(self, body, rigid, clearance),
+            )
 
     def bind(self, model) -> None:
         self.offsets = (model.offset_of(self.body), model.offset_of(self.rigid))

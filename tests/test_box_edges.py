@@ -1,0 +1,185 @@
+"""A rigid box's edges against a 3D solid's boundary edges (:mod:`fecontact.contact.box_edges`).
+
+Before these rows a box edge entered a solid between its nodes: an elastic ball landing with
+its pole on a box edge stopped at 3.34 ms with "penetration not held" (the edge in the ball's
+facets; before the edges were measured it completed with the edge inside the ball)."""
+
+import numpy as np
+import pytest
+
+from fecontact import Model, simulate
+from fecontact.bodies import LinearElastic, RigidBody3D, Solid
+from fecontact.bodies.shapes3d import Box
+from fecontact.contact import Contact
+from fecontact.contact.box_edges import BoxEdges
+from fecontact.contact.rigid_distance import FeatureDepths, box_features
+from fecontact.rotations import exp, log
+from fecontact.scenes import wave_step
+from fecontact.time.settings import IntegratorOptions
+
+RUBBER = LinearElastic(E=1e7, nu=0.3, rho=1000.0)
+EDGE_DOWN = np.array([0.0, np.pi / 4, 0.0])  # the box's edge along y lowest, level
+
+
+def _edge_rows(model) -> BoxEdges:
+    return next(pair for pair in model.contacts.pairs if isinstance(pair, BoxEdges))
+
+
+def edge_first(method, lift, sides=(0.04, 0.03, 0.02), turn=EDGE_DOWN):
+    """A rigid box of ``sides`` (m) over a 4 × 4 slab (0.1 m, 2.5 cm cells), its lowest edge
+    ``lift`` (m) above the top face, level and between the nodes (x = 6 mm)."""
+    slab = Solid.box([-0.05, -0.05, -0.04], [0.05, 0.05, 0.0], (4, 4, 2), RUBBER)
+    slab.fix(slab.nodes_where(lambda x: x[2] <= -0.04 + 1e-9))
+    box = RigidBody3D.of_density(1000.0, [0.0, 0.0, 0.0], Box(*sides))
+    model = Model([slab, box], [Contact(slab, box, method=method)], (0.0, 0.0, -9.81))
+    points = box_features(box.shape) @ exp(turn).T
+    q0 = np.zeros(model.n)
+    low = points[np.argmin(points[:, 2])]
+    q0[slab.ndof :] = [0.006 - low[0], -0.004, lift - low[2], *turn]
+    return model, q0
+
+
+@pytest.mark.parametrize("method", ["mortar", "node-to-surface"])
+def test_a_box_edge_between_the_nodes_is_read_by_its_rows(method):
+    """The lowest edge level and 1 mm into the flat slab between two lines of nodes: every
+    node is outside the box, the corners are beside the slab's nodes, and the rows of the
+    boundary edges the box edge crosses read −1 mm (their common normal is the slab's)."""
+    model, q0 = edge_first(method, -0.001)
+    pair = model.contacts.pairs[0]
+    assert np.all(pair.gaps(q0)[np.isfinite(pair.gaps(q0))] > 0.0)
+    g = _edge_rows(model).gaps(q0)
+    crossed = np.flatnonzero(np.isfinite(g) & (g < 0.0))
+    assert crossed.size >= 2
+    # (coordinates of 0.05 m: a few ulps of them)
+    assert g[crossed] == pytest.approx(-0.001, abs=1e-15)
+    model, q0 = edge_first(method, 0.001)
+    g = _edge_rows(model).gaps(q0)
+    assert np.min(g) == pytest.approx(0.001, abs=1e-15)
+
+
+def _ball_and_box(inside=0.0, refinements=1):
+    """``ball_drop``'s elastic ball over a fixed rigid box, its pole ``inside`` (m) from the
+    box's edge along y, turned so that no boundary edge of the ball lies along the box's."""
+    ball = Solid.ball([0.0, 0.0, 0.051], 0.05, refinements, RUBBER)
+    box = RigidBody3D.uniform(1000 * ball.mass, [0.15 - inside, 0.0, -0.025], Box(0.3, 0.3, 0.05))
+    return ball, box.fix()
+
+
+def test_edge_rows_have_the_exact_gradient():
+    """Central differences of the rows over their 12 dofs (the box's translations and
+    body-frame rotation increments, the boundary edge's two nodes) against G, over a ball
+    pressed on a box edge at random poses, the release ramps included (rows whose closest
+    points lie beyond a segment's end or whose normal lies outside the box edge's cone)."""
+    ball = Solid.ball([0.0, 0.0, 0.0], 0.05, 1, RUBBER)
+    box = RigidBody3D.uniform(1.0, [0.0, 0.0, 0.0], Box(0.1, 0.08, 0.06))
+    model = Model([ball, box], [Contact(ball, box, method="node-to-surface")], (0, 0, 0))
+    edges, n = _edge_rows(model), ball.ndof
+    rng = np.random.default_rng(1)
+    h, checked, ramped = 1e-7, 0, 0
+    for _ in range(40):
+        psi = rng.normal(size=3)
+        q = np.zeros(model.n)
+        q[:n] = rng.normal(size=n) * 3e-4
+        d = rng.normal(size=3)
+        d /= np.linalg.norm(d)
+        points = box_features(box.shape) @ exp(psi).T  # a box edge at the sphere along d
+        q[n:] = [*(d * 0.05 - points[np.argmin(points @ d)] + d * rng.uniform(-3e-3, 3e-3)), *psi]
+        g, dofs, G, _ = edges.evaluate(q)
+        ramped += int(np.count_nonzero(edges._geometry(q)[-1][np.isfinite(g)] > 0.0))
+
+        def moved(k, s, q=q):  # q with the local dof k moved by s
+            out = q.copy()
+            if k < 3:
+                out[n + k] += s
+            else:  # R ⊕ δΘ = R exp(δΘ̃)
+                step = np.zeros(3)
+                step[k - 3] = s
+                out[n + 3 :] = log(exp(q[n + 3 :]) @ exp(step))
+            return out
+
+        for r in np.flatnonzero(np.isfinite(g)):
+            for k in range(12):
+                if k < 6:
+                    plus, minus = moved(k, h), moved(k, -h)
+                else:
+                    plus, minus = q.copy(), q.copy()
+                    plus[dofs[r, k]] += h
+                    minus[dofs[r, k]] -= h
+                fd = (edges.gaps(plus)[r] - edges.gaps(minus)[r]) / (2 * h)
+                # (central differences of O(1) slopes: h² g''' + round-off 1e-17/h)
+                assert fd == pytest.approx(G[r, k], abs=1e-7)
+                checked += 1
+    assert checked > 300 and ramped > 10, (checked, ramped)
+
+
+def test_edge_rows_slip_between_the_edge_and_the_boundary_edge():
+    """Friction on the edge rows: the slip over a small step is the slip rows times that
+    step, to second order, and a motion of the box and the solid together slips by
+    nothing."""
+    model, q = edge_first("mortar", -0.001)
+    edges, n = _edge_rows(model), model.bodies[0].ndof
+    dofs, GT, T = edges.tangents(q)
+    rows = np.flatnonzero(np.isfinite(edges.gaps(q)))
+    rng = np.random.default_rng(7)
+    d = rng.normal(size=model.n) * 1e-7
+    d[n + 3 :] = 0.0  # (translations: the rows are exact for them)
+
+    def error(d):
+        step = np.einsum("mtk,mk->mt", GT, d[dofs])
+        return np.abs(edges.slips(q + d, q, T) - step)[rows].max() / np.abs(step[rows]).max()
+
+    assert error(d) < 1e-4
+    assert error(0.1 * d) < 0.2 * error(d)
+    together = np.zeros(model.n)
+    together[:n] = np.tile([2e-6, -1e-6, 0.0], n // 3)
+    together[n : n + 3] = [2e-6, -1e-6, 0.0]
+    assert np.abs(np.einsum("mtk,mk->mt", GT, together[dofs]))[rows].max() < 1e-18
+
+
+def test_a_ridge_on_the_face_beside_the_edge_has_no_row_below_zero():
+    """A ball resting on a box face 5 mm inside an edge: a boundary edge from the pole runs
+    along the box edge 5 mm from it, and the two lines' common normal lies along the face.
+    Their distance (−5 mm) is no penetration: the normal lies outside the cone of the
+    boundary edge's two triangles, and no row reads it."""
+    ball, box = _ball_and_box(inside=0.005, refinements=2)
+    model = Model([ball, box], [Contact(ball, box)], (0.0, 0.0, -9.81))
+    q = np.zeros(model.n)
+    q[2 : ball.ndof : 3] = -0.001  # the pole on the face
+    g = _edge_rows(model).gaps(q)
+    assert np.min(g) > 0.0
+
+
+@pytest.mark.parametrize("method", ["mortar", "node-to-surface"])
+def test_a_box_dropped_edge_first_is_held_at_its_edge(method):
+    """A bar (2 × 20 × 2 cm) dropped at 1 m/s with its lowest edge level across the slab,
+    between two lines of nodes, its corners beyond the slab: the edge rows take the load and
+    hold, and no point of the box's edges enters the slab's facets (the watch's 7 points an
+    edge)."""
+    model, q0 = edge_first(method, 0.001, sides=(0.02, 0.2, 0.02))
+    v0 = np.zeros(model.n)
+    v0[-4] = -1.0
+    edges, watch = _edge_rows(model), FeatureDepths(model.contacts.pairs[0])
+    rows = np.flatnonzero(model.contacts.owner == model.contacts.pairs.index(edges))
+    deepest, inside, pressed = 0.0, 0.0, 0
+    for st in simulate(model, wave_step(model.bodies[0], 1.0), 0.01, IntegratorOptions(),
+                       q0=q0, v0=v0):  # fmt: skip
+        deepest = max(deepest, -float(np.min(edges.gaps(st.q))))
+        inside = max(inside, watch.depth(st.q)[0])
+        pressed += bool(st.pressed()[rows].any())
+    assert pressed > 0
+    # held as any gap, to the correction's tolerance on the gaps (tol_gap)
+    assert deepest < 1e-12 and inside < 1e-12
+
+
+def test_a_ball_landing_with_its_pole_on_a_box_edge_completes():
+    """``ball_drop``'s ball (refinements 2) at 1 m/s with its pole over a box edge, through
+    the impact: the edge rows hold the edge out of the ball's facets at every step."""
+    ball, box = _ball_and_box(inside=0.0, refinements=2)
+    model = Model([ball, box], [Contact(ball, box)], (0.0, 0.0, -9.81))
+    watch = FeatureDepths(model.contacts.pairs[0])
+    v0 = model.translation(ball, (0.0, 0.0, -1.0))
+    inside, steps = 0.0, 0
+    for st in simulate(model, wave_step(ball, 1.0), 0.004, IntegratorOptions(), v0=v0):
+        inside = max(inside, watch.depth(st.q)[0])
+        steps += 1
+    assert steps > 30 and inside < 1e-12
