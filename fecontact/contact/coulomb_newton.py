@@ -14,6 +14,7 @@ __all__ = [
     "newton",
     "newton_jacobian",
     "newton_residual",
+    "stopping_error",
 ]
 
 
@@ -60,8 +61,9 @@ def newton(c, D, p, k, mu, nt, x0, tol, max_iter, stats):
     coefficients. Semi-smooth Newton on R/p, a residual in the units of w: on the rows where
     Π is the identity (closed normal, stick, bilateral) R/p = w, evaluated as such, so that
     the equations w = 0 keep their accuracy for any p (k x − σ would cancel to round-off of
-    k x). Backtracking on |R/p|²; it stops when every |R_i/p_i| is below ``tol``. Returns
-    (x, status (m,), iterations); raises ``RuntimeError`` when it does not converge.
+    k x). Backtracking on |R/p|²; it stops when the law's error, in the units of w and
+    whatever p, is below ``tol`` on every row (:func:`stopping_error`). Returns (x, status
+    (m,), iterations); raises ``RuntimeError`` when it does not converge.
     """
     mu = np.asarray(mu, dtype=float)
     nc, N = len(mu) * (1 + nt), len(c)
@@ -73,8 +75,9 @@ def newton(c, D, p, k, mu, nt, x0, tol, max_iter, stats):
         return newton_residual(x, c, kD, p, k, mu, nc)
 
     R, lin, status = residual(x)
+    weight = _penalty_factor(D, p, nc, 1 + nt)
     for it in range(max_iter + 1):
-        err = np.max(np.abs(R), initial=0.0)
+        err = stopping_error(R, lin[1], weight)
         if not np.isfinite(err):
             raise RuntimeError("frictional contact: non-finite residual")
         if err <= tol:
@@ -101,6 +104,30 @@ def newton_residual(x, c, kD, p, k, mu, nc):
     ident[:nc] &= np.repeat(status == 1, b) | (np.arange(nc) % b == 0)
     R = np.where(ident, w, (k * x - np.concatenate([Pi.ravel(), sigma[nc:]])) / p)
     return R, (dPi, ident), status
+
+
+def stopping_error(R, ident, weight) -> float:
+    """The largest error of the law in the units of w, whatever p: on the rows evaluated as
+    w (``ident``), |w|; on the others (open normals, slipping or open tangents) the impulse
+    error k x − Π(σ) times the inverse effective mass D_ii of its row, the change of w it
+    makes there: |R_i/p_i| times ``weight`` = p_i D_ii (:func:`_penalty_factor`). Judged
+    by |R_i/p_i| alone, p × 1000 accepted impulse errors that moved the velocities by up
+    to 1000 times the tolerance."""
+    return float(np.max(np.abs(np.where(ident, R, R * weight)), initial=0.0))
+
+
+def _penalty_factor(D, p, nc, b):
+    """p_i over the effective-mass augmentation 1/D_ii of each row (on the tangent rows of
+    a contact, which share one p, over the mean of theirs): the run's penalty scale, and
+    exactly 1.0 for p = 1/D_ii, so that the default scale keeps its stopping test bit for
+    bit. Rows that move nothing (D_ii ≤ 0) keep the factor 1."""
+    d = np.diag(D)
+    moves = d > 0.0
+    ref = np.divide(1.0, d, out=np.ones_like(d), where=moves)
+    if nc:
+        tangential = ref[:nc].reshape(-1, b)[:, 1:]
+        tangential[:] = tangential.mean(axis=1, keepdims=True)
+    return np.where(moves, p / ref, 1.0)
 
 
 def newton_jacobian(kD, dsigma, dPi, ident, p, k):
