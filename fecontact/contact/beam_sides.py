@@ -144,11 +144,14 @@ class PointBeamContact(PairDefaults):
         s, through = side[nodes, e], crossed[nodes, e]
         inner = ((xi[nodes, e] > 0.0) & (xi[nodes, e] < 1.0)) | through
         other = valley_neighbours(self.segments, x1, x2, e, s, t, inner & ~through)
-        two = other >= 0
-        elem = np.r_[np.where(two, np.minimum(e, other), e), np.where(two, np.maximum(e, other), 0)]
-        used = np.r_[np.ones(len(e), bool), two]
-        line = np.r_[inner, two]
-        return elem, np.r_[s, s], line, xi[np.r_[nodes, nodes], elem], used
+        n, two = len(e), other >= 0
+        elem = np.concatenate([e, other])
+        elem[:n][two] = np.minimum(e, other)[two]
+        elem[n:][two] = np.maximum(e, other)[two]
+        elem[n:][~two] = 0
+        used = np.concatenate([np.ones(n, bool), two])
+        rows = np.concatenate([nodes, nodes])
+        return elem, np.concatenate([s, s]), np.concatenate([inner, two]), xi[rows, elem], used
 
     def evaluate(self, q: np.ndarray):
         """Gaps (2n,) in m — rows i and i + n of node i, g = +inf for an unused row —,
@@ -156,7 +159,7 @@ class PointBeamContact(PairDefaults):
         (2n, 6) and Hessians (2n, 6, 6)."""
         x, x1, x2, t, f = self._coordinates(q)
         e, side, line, xe, used = self._rows(x, x1, x2, t, f)
-        x = np.r_[x, x]
+        x = np.concatenate([x, x])
         m = self.size
         g, G, H = np.full(m, np.inf), np.zeros((m, 6)), np.zeros((m, 6, 6))
         held = line & used
@@ -204,20 +207,24 @@ def valley_neighbours(segments, x1, x2, e, s, t, inner):
     e's line; t (n, n_e) its parameters on every element); −1 where there is none.
 
     ``segments`` (n_e, 2) the elements' node indices, x1 and x2 (n_e, 2) their ends (m)."""
-    n_e = len(segments)
+    n_e, rows = len(segments), np.arange(len(e))
     out = np.full(len(e), -1)
-    length = np.linalg.norm(x2 - x1, axis=1)[e]
     for step in (-1, 1):
         nb = np.clip(e + step, 0, n_e - 1)
+        tn = t[rows, nb]
         # the neighbour shares e's first node (step −1) or its second (step +1)
         shared = (
             segments[nb, 1] == segments[e, 0] if step < 0 else segments[nb, 0] == segments[e, 1]
         )
-        far = x1[nb] if step < 0 else x2[nb]
-        height = line_coordinates(far, x1[e], x2[e])[1]
-        tn = t[np.arange(len(e)), nb]
-        valley = (nb != e) & shared & (s * height > CONCAVE * length) & (tn >= 0.0) & (tn <= 1.0)
-        out = np.where(valley & inner & (out < 0), nb, out)
+        near = np.flatnonzero(inner & (out < 0) & (nb != e) & shared & (tn >= 0.0) & (tn <= 1.0))
+        if near.size == 0:  # (most evaluations: no node projects inside a neighbour)
+            continue
+        ei, ni = e[near], nb[near]
+        far = x1[ni] if step < 0 else x2[ni]
+        height = line_coordinates(far, x1[ei], x2[ei])[1]
+        length = np.linalg.norm(x2[ei] - x1[ei], axis=1)
+        valley = s[near] * height > CONCAVE * length
+        out[near[valley]] = ni[valley]
     return out
 
 
