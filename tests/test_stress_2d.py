@@ -2,7 +2,6 @@
 (``benchmarks/stress_2d.py``) found broken, each on a small mesh."""
 
 import numpy as np
-import pytest
 from matplotlib.path import Path as PolygonPath
 
 from fecontact import Beam2D, Contact, Material, Model, Section, simulate
@@ -91,17 +90,12 @@ def test_unequal_disks_take_the_finer_boundary_as_mortar_slave():
                 assert d < 0.01 * min(a.min_edge_length, b.min_edge_length)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="a disk node pressed into the kink of a beam over one of its nodes: one row per "
-    "node has no force along the corner and the smooth step's Newton cycles between the two "
-    "elements' normals (docs/validation/stress_2d.md)",
-)
 def test_an_elastic_disk_landing_over_a_beam_node_completes():
     # the disk's lowest boundary node lands right over the strip's middle node (x = 0.5 of a
-    # 10-element span): the position correction's active set does not settle (over a
-    # 20-element span, the smooth step's Newton after the first impact); 2 cm to the side
-    # (x = 0.52, 20 elements) the same throw completes with no halving
+    # 10-element span) and presses it into a valley; held by one row against its closest
+    # element, the position correction's active set did not settle (the smooth step's
+    # Newton, over a 20-element span); the node now has a row against each element's line
+    # (more in tests/test_beam_kink.py)
     beam = Beam2D.straight([0.0, 0.0], [1.0, 0.0], 10, STEEL, Section.rectangle(0.05, 0.01))
     beam.pin(0).pin(-1)
     disk = Solid.disk([0.5, 0.057], 0.05, 1, NeoHookean(1e8, 0.3, 1e3))

@@ -40,7 +40,7 @@ def test_point_beam_gap_derivatives(seed):
     q = 1e-3 * rng.normal(size=model.n)
     g, dofs, G, H = pair.evaluate(q)
     eps = 1e-6
-    for j in range(pair.size):
+    for j in np.flatnonzero(np.isfinite(g)):  # (a node's second row is +inf outside valleys)
         for c in range(dofs.shape[1]):
             dq = np.zeros(model.n)
             dq[dofs[j, c]] = eps

@@ -18,6 +18,21 @@ through the element, and keeps the side s = sign f₀ it came from (its gap is t
 and the correction puts it back). Otherwise s = sign f: a point that went around the free end
 of a cantilever is below it, and its gap is its distance. Before any step (no start known)
 s = sign f.
+
+Where two elements meet at a node the surface has a corner on each side. On the side the
+beam turns away from (convex), the offset surface is a circle arc of radius c around the
+beam node, the end caps of both elements: a point there is closest to the node, and its one
+row (the distance to the node less c) turns smoothly across the kink. On the side the beam
+turns toward (a valley), the offset lines meet in a sharp corner and the surface is the upper
+envelope of the two lines; a point in the valley (projecting inside both elements) is held
+by both lines, g₁ ≥ 0 and g₂ ≥ 0, and at the corner its force may lie anywhere between the
+two normals, which one row cannot carry. Each node therefore has two rows: row i against its
+closest element, and, in a valley, rows i and i + n against the two elements in the order of
+their indices (row i + n has g = +inf elsewhere). A row keeps its element while the node
+crosses the valley's bisector and the closest element changes: its multiplier, and the
+pre-impact rate G_j(q_n) v_n of Newton's law, stay those of one line. (Rows that followed the
+closest element swapped lines between iterates and between steps: over a kink of 5e-4 rad
+the correction then cycled, and Newton's law at e_N = 0.5 asked impulses of 1e4 N·s.)
 """
 
 from __future__ import annotations
@@ -71,9 +86,10 @@ def swept(start, t: np.ndarray, f: np.ndarray):
 
 class PointBeamContact(PairDefaults):
     """Nodes of a body (a ``Solid``'s boundary nodes, a ``Beam2D``'s nodes) against the
-    two-sided surface of a ``Beam2D``: its centreline offset by ± ``clearance`` c (m). One
-    contact per node, against its closest element: g = s f − c inside the element, the
-    distance to the end node − c at an end (module docstring for the side s)."""
+    two-sided surface of a ``Beam2D``: its centreline offset by ± ``clearance`` c (m). Two
+    rows per node: against its closest element, g = s f − c inside the element, the distance
+    to the end node − c at an end; in a valley between two elements, one row against each
+    line (module docstring for the side s and the valley)."""
 
     linear = False
     looks_ahead = True
@@ -99,7 +115,7 @@ class PointBeamContact(PairDefaults):
 
     @property
     def size(self) -> int:
-        return len(self.nodes)
+        return 2 * len(self.nodes)
 
     def reset(self) -> None:
         self._start = None
@@ -116,44 +132,100 @@ class PointBeamContact(PairDefaults):
         """Keep the line coordinates at the start of the coming step, for the sides."""
         self._start = self._coordinates(q)[3:]
 
-    def evaluate(self, q: np.ndarray):
-        """Gaps (m,) in m, global dofs (m, 6) — the node's (x, y), then the element's two
-        nodes' —, gradients (m, 6) and Hessians (m, 6, 6)."""
-        x, x1, x2, t, f = self._coordinates(q)
-        m, rows = self.size, np.arange(self.size)
+    def _rows(self, x, x1, x2, t, f):
+        """The element (2n,) of every row, its side s, whether it is held by the element's
+        line (else by the end cap at its parameter ξ), ξ, and whether the row is used."""
+        nodes = np.arange(len(self.nodes))
         xi = np.clip(t, 0.0, 1.0)
         d = x2 - x1
         dist = np.linalg.norm(x[:, None, :] - x1[None] - xi[..., None] * d[None], axis=2)
         e = np.argmin(dist, axis=1)
         side, crossed = swept(self._start, t, f)
-        side, xe = side[rows, e], xi[rows, e]
-        g, G, H = np.empty(m), np.zeros((m, 6)), np.zeros((m, 6, 6))
-        inner = ((xe > 0.0) & (xe < 1.0)) | crossed[rows, e]
-        if inner.any():
-            fi, Gi, Hi = point_line_distance(x[inner], x1[e[inner]], x2[e[inner]])
-            s = side[inner]
-            g[inner], G[inner], H[inner] = s * fi, s[:, None] * Gi, s[:, None, None] * Hi
-        end = ~inner
+        s, through = side[nodes, e], crossed[nodes, e]
+        inner = ((xi[nodes, e] > 0.0) & (xi[nodes, e] < 1.0)) | through
+        other = valley_neighbours(self.segments, x1, x2, e, s, t, inner & ~through)
+        n, two = len(e), other >= 0
+        elem = np.concatenate([e, other])
+        elem[:n][two] = np.minimum(e, other)[two]
+        elem[n:][two] = np.maximum(e, other)[two]
+        elem[n:][~two] = 0
+        used = np.concatenate([np.ones(n, bool), two])
+        rows = np.concatenate([nodes, nodes])
+        return elem, np.concatenate([s, s]), np.concatenate([inner, two]), xi[rows, elem], used
+
+    def evaluate(self, q: np.ndarray):
+        """Gaps (2n,) in m — rows i and i + n of node i, g = +inf for an unused row —,
+        global dofs (2n, 6) — the node's (x, y), then the element's two nodes' —, gradients
+        (2n, 6) and Hessians (2n, 6, 6)."""
+        x, x1, x2, t, f = self._coordinates(q)
+        e, side, line, xe, used = self._rows(x, x1, x2, t, f)
+        x = np.concatenate([x, x])
+        m = self.size
+        g, G, H = np.full(m, np.inf), np.zeros((m, 6)), np.zeros((m, 6, 6))
+        held = line & used
+        if held.any():
+            fi, Gi, Hi = point_line_distance(x[held], x1[e[held]], x2[e[held]])
+            s = side[held]
+            g[held], G[held], H[held] = s * fi, s[:, None] * Gi, s[:, None, None] * Hi
+        end = ~line & used
         if end.any():
             k = np.where(xe[end] == 0.0, 0, 1)
             node = np.where(k[:, None] == 0, x1[e[end]], x2[e[end]])
-            rel = x[end] - node
-            r = np.linalg.norm(rel, axis=1)
-            if np.any(r == 0.0):
-                raise InputError("a node lies on a beam's end node: contact normal undefined")
-            u = rel / r[:, None]
-            K = (np.eye(2) - u[:, :, None] * u[:, None, :]) / r[:, None, None]
-            g[end] = r
-            i, ax = np.flatnonzero(end), np.arange(2)
-            c = 2 + 2 * k[:, None] + ax  # the end node's columns
-            G[i, :2], G[i[:, None], c] = u, -u
-            H[i, :2, :2] = K
-            H[i[:, None, None], c[:, :, None], c[:, None, :]] = K
-            H[i[:, None, None], ax[None, :, None], c[:, None, :]] = -K
-            H[i[:, None, None], c[:, :, None], ax[None, None, :]] = -K
+            g[end] = _end_caps(x[end] - node, k, np.flatnonzero(end), G, H)
         (oa, ob) = self.offsets
-        dofs = np.hstack([oa + self._point_dofs, ob + self._segment_dofs[e]])
+        dofs = np.hstack([oa + np.tile(self._point_dofs, (2, 1)), ob + self._segment_dofs[e]])
         return g - self.clearance, dofs, G, H
+
+
+def _end_caps(rel, k, rows, G, H):
+    """Distances |rel| (m) of points from the end node k (0: first, 1: second) of their
+    elements; fills their gradients and Hessians into the ``rows`` of G and H."""
+    r = np.linalg.norm(rel, axis=1)
+    if np.any(r == 0.0):
+        raise InputError("a node lies on a beam's end node: contact normal undefined")
+    u = rel / r[:, None]
+    K = (np.eye(2) - u[:, :, None] * u[:, None, :]) / r[:, None, None]
+    i, ax = rows, np.arange(2)
+    c = 2 + 2 * k[:, None] + ax  # the end node's columns
+    G[i, :2], G[i[:, None], c] = u, -u
+    H[i, :2, :2] = K
+    H[i[:, None, None], c[:, :, None], c[:, None, :]] = K
+    H[i[:, None, None], ax[None, :, None], c[:, None, :]] = -K
+    H[i[:, None, None], c[:, :, None], ax[None, None, :]] = -K
+    return r
+
+
+CONCAVE = 1e-6
+"""Two elements form a valley on a side when the far node of one lies this fraction of the
+other's length on that side of the other's line (a straight beam bent by round-off stays
+straight: no second row)."""
+
+
+def valley_neighbours(segments, x1, x2, e, s, t, inner):
+    """The element next to each node's closest element e (sharing a node with it) that forms
+    a valley with it on the node's side s, where the node projects inside both (``inner``: on
+    e's line; t (n, n_e) its parameters on every element); −1 where there is none.
+
+    ``segments`` (n_e, 2) the elements' node indices, x1 and x2 (n_e, 2) their ends (m)."""
+    n_e, rows = len(segments), np.arange(len(e))
+    out = np.full(len(e), -1)
+    for step in (-1, 1):
+        nb = np.clip(e + step, 0, n_e - 1)
+        tn = t[rows, nb]
+        # the neighbour shares e's first node (step −1) or its second (step +1)
+        shared = (
+            segments[nb, 1] == segments[e, 0] if step < 0 else segments[nb, 0] == segments[e, 1]
+        )
+        near = np.flatnonzero(inner & (out < 0) & (nb != e) & shared & (tn >= 0.0) & (tn <= 1.0))
+        if near.size == 0:  # (most evaluations: no node projects inside a neighbour)
+            continue
+        ei, ni = e[near], nb[near]
+        far = x1[ni] if step < 0 else x2[ni]
+        height = line_coordinates(far, x1[ei], x2[ei])[1]
+        length = np.linalg.norm(x2[ei] - x1[ei], axis=1)
+        valley = s[near] * height > CONCAVE * length
+        out[near[valley]] = ni[valley]
+    return out
 
 
 @register_pair(object, Beam2D)
