@@ -136,3 +136,89 @@ def test_the_summary_counts_the_retaken_steps_and_reports_the_measured_penetrati
     assert summary["step_halvings"] >= summary["penetration_retakes"]
     # round-off of the position correction: tol_gap (1e-12) x the model size (0.2 m)
     assert 0.0 <= summary["max_penetration"] <= 1e-12
+
+
+# -- the predictor's depth against the facet entered (graded meshes) ----------------------------
+
+
+def graded_blocks(overlap: float):
+    """Two 2D blocks 0.1 m tall meeting along x = 0, ``overlap`` (m) into each other: their
+    cells are 1 cm along the contact face and 1 mm wide at the far ends only (the shortest
+    boundary edges, 5–10 cm from the contact), so each face node enters a 1 cm facet."""
+    import skfem
+
+    from fecontact import Model
+    from fecontact.bodies import LinearElastic, Solid
+    from fecontact.contact import Contact
+
+    rubber = LinearElastic(E=1e7, nu=0.3, rho=1000.0)
+    far = np.array([-0.1, -0.099, -0.097, -0.093, -0.085, -0.07, -0.05, -0.03, -0.01, 0.0])
+    y = np.linspace(-0.05, 0.05, 11)
+    left = Solid(skfem.MeshTri.init_tensor(far, y), rubber)
+    right = Solid(skfem.MeshTri.init_tensor(-far[::-1] - overlap, y), rubber)
+    return Model([left, right], [Contact(left, right)], gravity=(0.0, 0.0))
+
+
+@pytest.mark.parametrize("overlap, caught", [(3e-4, False), (6e-4, True), (3e-3, True)])
+def test_the_predictor_bound_is_the_size_of_the_facet_entered_in_2d(overlap, caught):
+    """A face node 0.3 mm inside the other block is 3 % of the 1 cm facet it entered (below
+    the 5 % of DEEPEST) but 30 % of the shortest boundary edge (1 mm, far from the contact):
+    the step goes on. 0.6 mm (6 % of the facet) and 3 mm are halved."""
+    from fecontact.time.penetration import DEEPEST, PenetrationFailure, check_predictor
+
+    model = graded_blocks(overlap)
+    q = np.zeros(model.n)
+    assert min(b.min_edge_length for b in model.bodies) == pytest.approx(1e-3)
+    assert model.contacts.watches  # (a mortar interface: the watch measures its nodes)
+    entered = max(w.entry(q) for w in model.contacts.watches)
+    # the face nodes enter 1 cm facets by the overlap (the plane of the face)
+    assert entered == pytest.approx(overlap / 0.01, rel=1e-9)
+    assert (entered > DEEPEST) == caught
+    if caught:
+        with pytest.raises(PenetrationFailure, match="facet lengths deep"):
+            check_predictor(model, q, model.contacts.gaps(q))
+    else:
+        check_predictor(model, q, model.contacts.gaps(q))
+    # the depth reported at the end of a step keeps its measure: over the shortest edge
+    depth, relative = model.contacts.watches[0].depth(q)
+    assert depth == pytest.approx(overlap, rel=1e-9)
+    assert relative == pytest.approx(overlap / 1e-3, rel=1e-9)
+
+
+def graded_balls(overlap: float):
+    """Two 5 cm balls pole to pole, ``overlap`` (m) into each other, their tetrahedra graded
+    from 1 cm at the far poles (the shortest boundary edges, 6.9 mm) to about 4 cm at the
+    poles that meet."""
+    from fecontact import Model
+    from fecontact.bodies import LinearElastic, Solid
+    from fecontact.bodies.meshes import graded_ball_mesh
+    from fecontact.contact import Contact
+
+    rubber, r, c = LinearElastic(E=1e7, nu=0.3, rho=1000.0), 0.05, 0.05 - 0.5 * overlap
+    left = Solid(graded_ball_mesh([-c, 0, 0], r, 0.2 * r, [-c - r, 0, 0], 0.5, 1), rubber)
+    right = Solid(graded_ball_mesh([c, 0, 0], r, 0.2 * r, [c + r, 0, 0], 0.5, 1), rubber)
+    return Model([left, right], [Contact(left, right)], gravity=(0.0, 0.0, 0.0))
+
+
+@pytest.mark.parametrize("overlap, caught", [(1e-3, False), (3e-3, True)])
+def test_the_predictor_bound_is_the_size_of_the_facet_entered_in_3d(overlap, caught):
+    """A pole node 1 mm inside the other ball is 13 % of its shortest boundary edge (at the
+    far pole) and 2.4 % of the longest edge of the triangle it entered: the step goes on.
+    3 mm (7 % of that triangle) is halved."""
+    from fecontact.time.penetration import DEEPEST, PenetrationFailure, check_predictor
+
+    model = graded_balls(overlap)
+    q = np.zeros(model.n)
+    watch = model.contacts.watches[0]
+    depth, relative = watch.depth(q)
+    entered = watch.entry(q)
+    # (the pole sits 0.9 overlap deep: the facets around the other pole are flat chords)
+    assert 0.8 * overlap < depth <= overlap
+    # the entered triangles are far coarser than the shortest edge (a factor 5.5 measured)
+    assert relative > 4.0 * entered
+    assert (entered > DEEPEST) == caught and relative > DEEPEST
+    if caught:
+        with pytest.raises(PenetrationFailure, match="facet lengths deep"):
+            check_predictor(model, q, model.contacts.gaps(q))
+    else:
+        check_predictor(model, q, model.contacts.gaps(q))
