@@ -61,15 +61,18 @@ class SolidWatch:
         return self.measure(q)[:2]
 
     def entry(self, q: np.ndarray) -> float:
-        """The largest depth at q of a boundary node inside the other body over the longest
+        """The largest depth at q of a boundary node inside the other body over the shortest
         edge of the facet closest to it (the facet it entered), the measure of the predictor
-        (:data:`fecontact.time.penetration.DEEPEST`): a node is judged by the facets it
-        meets, not by the finest cell elsewhere on the surface (a graded mesh)."""
+        (:data:`fecontact.time.penetration.DEEPEST`): a node is judged by the facet it
+        meets, not by the finest cell elsewhere on the surface (a graded mesh). The facet's
+        shortest edge, not its longest or their mean: on the balls' graded meshes, whose finest
+        triangles are those under the contact, those let the head-on approach at 63 Δx/c in
+        deeper and create 0.45 % and 0.47 % of the energy scale (0 with the shortest)."""
         return self.measure(q)[2]
 
     def measure(self, q: np.ndarray) -> tuple[float, float, float]:
         """(deepest node's depth in m, the largest depth over the shortest boundary edge of
-        the surface entered, the largest over the longest edge of each node's closest
+        the surface entered, the largest over the shortest edge of each node's closest
         facet), 0 when no node is inside."""
         pair = self.pair
         x = [b.positions(q[o : o + b.ndof]) for b, o in zip(pair.bodies, pair.offsets, strict=True)]
@@ -88,10 +91,10 @@ class SolidWatch:
                 continue
             d = -s[inside]
             t = xm[search.facets[f[inside]]]
-            longest = np.linalg.norm(t - np.roll(t, 1, axis=1), axis=2).max(axis=1)
+            edge = np.linalg.norm(t - np.roll(t, 1, axis=1), axis=2).min(axis=1)
             deepest = max(deepest, float(d.max()))
             relative = max(relative, float(d.max()) / self.edges[i])
-            entered = max(entered, float(np.max(d / longest)))
+            entered = max(entered, float(np.max(d / edge)))
         return deepest, relative, entered
 
     def entering(self, q: np.ndarray) -> str:

@@ -89,8 +89,9 @@ def hold_penetration(model, st: State, opts: IntegratorOptions, timer: PhaseTime
 def check_predictor(model, q, gaps) -> None:
     """Fail the step (``PenetrationFailure``) when a node of a solid lies deeper inside another
     solid at the predictor q (−g, ``gaps`` every contact's g at q) than ``DEEPEST`` of the
-    facet closest to it (its longest edge; per node, so that a graded surface's finest cells
-    elsewhere do not set the step)."""
+    facet closest to it (per node, so that a graded surface's finest cells elsewhere do not
+    set the step: the facet's longest edge for node-to-surface pairs, its shortest for the
+    nodes of a mortar interface, :meth:`fecontact.contact.watch.SolidWatch.entry`)."""
     if not model.contacts.size:
         return
     ratio = own = model.contacts.relative_depth(q, gaps)
