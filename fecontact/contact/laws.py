@@ -180,7 +180,9 @@ def _next_active_set(A, nu, g, p, k, eq) -> np.ndarray:
     error), and with a large p the set then cycles between pressed and open."""
     if A is None:
         return ((k * nu - p * g) > 0) | eq
-    return np.where(A, nu > 0, g < 0) | eq
+    # (a row whose gap became undefined, g = +inf with a zero gradient, leaves: it holds
+    # nothing, and kept it put inf in the Schur right-hand side and NaN in U)
+    return np.where(A, (nu > 0) & (g < np.inf), g < 0) | eq
 
 
 def _close(last, A, w) -> bool:

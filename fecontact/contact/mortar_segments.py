@@ -129,16 +129,46 @@ def _overlap(xm, xd, nm, nd, y1, y2, nab, order):
     s2 = _project_master_node(xm, xd, nm, nd, y2, order)
     first = s1.v <= s2.v
     lo, hi = s1.where(first, s2), s2.where(first, s1)
-    nodes = (np.where(lo.v > -1.0, np.where(first, 0, 1), -1),
-             np.where(hi.v < 1.0, np.where(first, 1, 0), -1))  # fmt: skip
+    lo_node, hi_node = np.where(first, 0, 1), np.where(first, 1, 0)
+    lo, hi, lo_node, hi_node, lost = _unwrapped(lo, hi, lo_node, hi_node, (xm, xd, nm, nd, y1, y2))
+    nodes = (np.where(lo.v > -1.0, lo_node, -1), np.where(hi.v < 1.0, hi_node, -1))
     lo = lo.where(lo.v > -1.0, -1.0)
     hi = hi.where(hi.v < 1.0, 1.0)
-    facing = _dot(nab, _segment_normal(y1, y2)).v < -FACING
+    facing = (_dot(nab, _segment_normal(y1, y2)).v < -FACING) & ~lost
     with np.errstate(invalid="ignore"):
         coverage = np.where(facing & np.isfinite(s1.v + s2.v), np.maximum(hi.v - lo.v, 0.0), 0.0)
     coverage = 0.5 * np.nan_to_num(coverage)
     span = (hi - lo).where(np.isfinite(hi.v - lo.v) & (coverage > 0.0), 0.0)
     return lo.where(np.isfinite(lo.v), 0.0), hi, span, coverage, nodes
+
+
+def _unwrapped(lo, hi, lo_node, hi_node, frame):
+    """The image [lo, hi] of the master segment on the slave's parameter line where it
+    passes through infinity: the projection ξ(η) is a rational function of the master point,
+    and where the slave's normal field turns parallel to the master line within the segment
+    (a far slave segment that sees the master edge-on) the image is the two rays
+    (−∞, lo] ∪ [hi, ∞), not [lo, hi]; the midpoint's projection tells which. Of the rays
+    the one that meets [−1, 1] is kept ([−1, lo] or [hi, 1]; the master node that bounds
+    it kept with it); none or both (a slave segment whose normals sweep across the master
+    line at both ends): no overlap (``lost``). Taking [lo, hi] instead made such a pair
+    jump from no coverage to full as one projection passed through infinity (measured: two
+    disks at 29 m/s, a slave segment 2 cm from the contact, its node's weighted gap from
+    +0.43 to −0.93 mm within 1/40 of one Newton update)."""
+    xm, xd, nm, nd, y1, y2 = frame
+    middle = _scale(0.5, _add(y1, y2))
+    mid = _project_master_node(xm, xd, nm, nd, middle, 0).v
+    with np.errstate(invalid="ignore"):
+        wrapped = np.isfinite(lo.v + hi.v) & ~((lo.v <= mid) & (mid <= hi.v))
+    none = np.zeros(len(lo.v), bool)
+    if not wrapped.any():
+        return lo, hi, lo_node, hi_node, none
+    left = wrapped & (lo.v > -1.0) & (hi.v >= 1.0)  # [−1, lo]: lo bounds it from above
+    right = wrapped & (hi.v < 1.0) & (lo.v <= -1.0)  # [hi, 1]: hi bounds it from below
+    new_lo = lo.where(~left, -1.0).where(~right, hi)
+    new_hi = hi.where(~left, lo).where(~right, 1.0)
+    new_lo_node = np.where(right, hi_node, lo_node)
+    new_hi_node = np.where(left, lo_node, hi_node)
+    return new_lo, new_hi, new_lo_node, new_hi_node, wrapped & ~left & ~right
 
 
 def _covered_end(kind, own, foreign, clamp: float, frame, order):

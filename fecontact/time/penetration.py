@@ -23,7 +23,7 @@ import time
 
 import numpy as np
 
-from ..contact.watch import entering, held_nodes, watched_depth
+from ..contact.watch import entering, entry_depth, held_nodes, watched_depth
 from .constraints import StepFailure
 from .state import IntegratorOptions, PhaseTimer, State, length_scale
 
@@ -89,13 +89,15 @@ def hold_penetration(model, st: State, opts: IntegratorOptions, timer: PhaseTime
 def check_predictor(model, q, gaps) -> None:
     """Fail the step (``PenetrationFailure``) when a node of a solid lies deeper inside another
     solid at the predictor q (−g, ``gaps`` every contact's g at q) than ``DEEPEST`` of the
-    facet closest to it."""
+    facet closest to it (per node, so that a graded surface's finest cells elsewhere do not
+    set the step: the facet's longest edge for node-to-surface pairs, its shortest for the
+    nodes of a mortar interface, :meth:`fecontact.contact.watch.SolidWatch.entry`)."""
     if not model.contacts.size:
         return
     ratio = own = model.contacts.relative_depth(q, gaps)
     watches = model.contacts.watches
     if watches:  # a mortar interface's nodes, which no own gap measures
-        ratio = max(ratio, watched_depth(watches, q)[1])
+        ratio = max(ratio, entry_depth(watches, q))
     if ratio > DEEPEST:
         what = entering(watches, q) if ratio > own else "a node"
         raise PenetrationFailure(
