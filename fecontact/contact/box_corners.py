@@ -39,14 +39,14 @@ from .friction import tangent_basis
 from .inside import facet_distances
 from .rigid_distance import box_features
 
-__all__ = ["BoxCorners"]
+__all__ = ["BoxCorners", "BoxFeatureRows"]
 
 
-class BoxCorners(PairDefaults):
-    """The eight corners of the ``Box`` of ``rigid`` (a ``RigidBody3D``) against the boundary
-    of the 3D solid ``body``: one row each (module docstring), for the pair ``owner`` (its
-    restitution and friction), ``clearance`` (m) kept from the surface, ``margin`` (m) the
-    search distance (default: the integrator's detection distance)."""
+class BoxFeatureRows(PairDefaults):
+    """Rows of a ``Box``'s features (corners, edges) of ``rigid`` (a ``RigidBody3D``) against
+    the 3D solid ``body``, for the pair ``owner`` (its restitution and friction),
+    ``clearance`` (m) kept from the surface, ``margin`` (m) the search distance (default: the
+    integrator's detection distance)."""
 
     linear = False
     frictional = True
@@ -56,10 +56,7 @@ class BoxCorners(PairDefaults):
         self.body, self.rigid = body, rigid
         self.bodies = (body, rigid)
         self.restitution, self.clearance = owner.restitution, clearance
-        self.corners = box_features(rigid.shape, 0)
-        self.size = len(self.corners)
         self.facets = body.contact_facets()
-        self._facet_dofs = body.node_translation_dofs(self.facets.ravel()).reshape(-1, 9)
         self.own_margin = margin is not None
         self.margin = margin if margin is not None else 0.05 * body.characteristic_length
         self.offsets = (0, 0)
@@ -72,6 +69,18 @@ class BoxCorners(PairDefaults):
     def detect_within(self, distance: float) -> None:
         if not self.own_margin and distance > 0.0:
             self.margin = distance
+
+
+class BoxCorners(BoxFeatureRows):
+    """The eight corners of the ``Box`` of ``rigid`` (a ``RigidBody3D``) against the boundary
+    of the 3D solid ``body``: one row each (module docstring); arguments as
+    :class:`BoxFeatureRows`."""
+
+    def __init__(self, owner, body, rigid, clearance=0.0, margin=None):
+        super().__init__(owner, body, rigid, clearance, margin)
+        self.corners = box_features(rigid.shape, 0)
+        self.size = len(self.corners)
+        self._facet_dofs = body.node_translation_dofs(self.facets.ravel()).reshape(-1, 9)
 
     def _geometry(self, q: np.ndarray):
         """Corners p (8, 3), R, their closest triangles (8,) (−1: none near), the triangles'

@@ -55,7 +55,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..rotations import exp, hat, log
-from .base import PairDefaults
+from .box_corners import BoxFeatureRows
 from .friction import tangent_basis
 from .rigid_distance import shape_distance
 
@@ -123,36 +123,20 @@ def _ridges(facets: np.ndarray):
     return ridges, (order // 3).reshape(-1, 2)
 
 
-class BoxEdges(PairDefaults):
+class BoxEdges(BoxFeatureRows):
     """The twelve edges of the ``Box`` of ``rigid`` (a ``RigidBody3D``) against the boundary
-    edges of the 3D solid ``body``: one row per boundary edge (module docstring), for the
-    pair ``owner`` (its restitution and friction), ``clearance`` (m) kept from the surface,
-    ``margin`` (m) the search distance (default: the integrator's detection distance)."""
-
-    linear = False
-    frictional = True
+    edges of the 3D solid ``body``: one row per boundary edge (module docstring); arguments
+    as :class:`~fecontact.contact.box_corners.BoxFeatureRows`."""
 
     def __init__(self, owner, body, rigid, clearance=0.0, margin=None):
-        self.owner = owner
-        self.body, self.rigid = body, rigid
-        self.bodies = (body, rigid)
-        self.restitution, self.clearance = owner.restitution, clearance
+        super().__init__(owner, body, rigid, clearance, margin)
         self.a, self.b, self.faces = box_edges(np.asarray(rigid.shape.sides, dtype=float))
-        self.facets = body.contact_facets()
         self.ridges, self._sides = _ridges(self.facets)
         self.size = SLOTS * len(self.ridges)
         self._ridge = np.tile(np.arange(len(self.ridges)), SLOTS)  # the ridge of each row
         self._ridge_dofs = body.node_translation_dofs(self.ridges.ravel()).reshape(-1, 6)
         self._ridge_dofs = np.tile(self._ridge_dofs, (SLOTS, 1))
-        self.own_margin = margin is not None
-        self.margin = margin if margin is not None else 0.05 * body.characteristic_length
-        self.offsets = (0, 0)
         self.dofs = np.zeros((self.size, 12), dtype=int)
-
-    @property
-    def friction(self) -> float:
-        """Coulomb's μ of the pair that brings the rows (``Contact`` sets it there)."""
-        return self.owner.friction
 
     def bind(self, model) -> None:
         super().bind(model)
@@ -160,10 +144,6 @@ class BoxEdges(PairDefaults):
         box = np.broadcast_to(ob + np.arange(6), (self.size, 6))
         self.dofs = np.concatenate([box, oa + self._ridge_dofs], axis=1)
         self.dofs.flags.writeable = False
-
-    def detect_within(self, distance: float) -> None:
-        if not self.own_margin and distance > 0.0:
-            self.margin = distance
 
     def _near(self, x: np.ndarray, R: np.ndarray, c: np.ndarray) -> np.ndarray:
         """The ridges (K,) whose midpoint lies within the search distance plus half their
