@@ -10,6 +10,7 @@ __all__ = [
     "derivative_errors_near_contact",
     "gap_derivatives_error",
     "group_derivative_errors",
+    "group_gradient_error",
     "moved_on_group",
 ]
 
@@ -58,6 +59,22 @@ def moved_on_group(model, q: np.ndarray, d: np.ndarray) -> np.ndarray:
     for triple in model.rotations:
         out[triple] = compose(q[triple], d[triple])
     return out
+
+
+def group_gradient_error(pair, model, q: np.ndarray, along, step: float = 1e-7) -> float:
+    """Largest error of ``pair``'s gradients G (absolute, m/m) at q against central
+    differences of its rows along each dof of ``along``, moved on the group
+    (:func:`moved_on_group`), over its rows with a finite gap: for rows without curvature."""
+    g, dofs, G_, _ = pair.evaluate(q)
+    rows = np.flatnonzero(np.isfinite(g))
+    err = 0.0
+    for j in along:
+        d = np.zeros(model.n)
+        d[j] = step
+        fd = pair.gaps(moved_on_group(model, q, d)) - pair.gaps(moved_on_group(model, q, -d))
+        col = (dofs[rows] == j).astype(float)
+        err = max(err, float(np.max(np.abs(fd[rows] / (2 * step) - np.sum(G_[rows] * col, 1)))))
+    return err
 
 
 def group_derivative_errors(pair, model, q: np.ndarray, along, step: float = 1e-7):

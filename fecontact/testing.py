@@ -21,6 +21,7 @@ from .derivative_checks import (
     derivative_errors_near_contact,
     gap_derivatives_error,
     group_derivative_errors,
+    group_gradient_error,
     moved_on_group,
 )
 from .errors import SolverError
@@ -36,6 +37,7 @@ __all__ = [
     "derivative_errors_near_contact",
     "gap_derivatives_error",
     "group_derivative_errors",
+    "group_gradient_error",
     "moved_on_group",
     "roll_up",
     "observed_order",

@@ -13,8 +13,9 @@ from fecontact.bodies.shapes3d import Box
 from fecontact.contact import Contact
 from fecontact.contact.box_edges import BoxEdges
 from fecontact.contact.rigid_distance import FeatureDepths, box_features
-from fecontact.rotations import exp, log
+from fecontact.rotations import exp
 from fecontact.scenes import wave_step
+from fecontact.testing import group_gradient_error
 from fecontact.time.settings import IntegratorOptions
 
 RUBBER = LinearElastic(E=1e7, nu=0.3, rho=1000.0)
@@ -87,29 +88,11 @@ def test_edge_rows_have_the_exact_gradient():
         g, dofs, G, _ = edges.evaluate(q)
         ramped += int(np.count_nonzero(edges._geometry(q)[-1][np.isfinite(g)] > 0.0))
 
-        def moved(k, s, q=q):  # q with the local dof k moved by s
-            out = q.copy()
-            if k < 3:
-                out[n + k] += s
-            else:  # R ⊕ δΘ = R exp(δΘ̃)
-                step = np.zeros(3)
-                step[k - 3] = s
-                out[n + 3 :] = log(exp(q[n + 3 :]) @ exp(step))
-            return out
-
-        for r in np.flatnonzero(np.isfinite(g)):
-            for k in range(12):
-                if k < 6:
-                    plus, minus = moved(k, h), moved(k, -h)
-                else:
-                    plus, minus = q.copy(), q.copy()
-                    plus[dofs[r, k]] += h
-                    minus[dofs[r, k]] -= h
-                fd = (edges.gaps(plus)[r] - edges.gaps(minus)[r]) / (2 * h)
-                # (central differences of O(1) slopes: h² g''' + round-off 1e-17/h)
-                assert fd == pytest.approx(G[r, k], abs=1e-7)
-                checked += 1
-    assert checked > 300 and ramped > 10, (checked, ramped)
+        rows = np.flatnonzero(np.isfinite(g))
+        # (central differences of O(1) slopes: h² g''' + round-off 1e-17/h)
+        assert group_gradient_error(edges, model, q, np.unique(dofs[rows]), h) < 1e-7
+        checked += rows.size
+    assert checked > 25 and ramped > 10, (checked, ramped)
 
 
 def test_edge_rows_slip_between_the_edge_and_the_boundary_edge():
