@@ -56,7 +56,7 @@ def moved_on_group(model, q: np.ndarray, d: np.ndarray) -> np.ndarray:
     from .rotations import compose
 
     out = q + d
-    for triple in model.rotations:
+    for triple in model.free[model.rotations]:  # (the triples are in free numbering)
         out[triple] = compose(q[triple], d[triple])
     return out
 
