@@ -12,6 +12,8 @@ __all__ = [
     "group_derivative_errors",
     "group_gradient_error",
     "moved_on_group",
+    "slip_derivative_errors",
+    "slip_step_errors",
 ]
 
 
@@ -97,3 +99,31 @@ def group_derivative_errors(pair, model, q: np.ndarray, along, step: float = 1e-
         fd = (Gp[rows] - Gm[rows]) / (2 * step)
         err_h = max(err_h, float(np.max(np.abs(fd - np.einsum("mkl,ml->mk", H, col)))))
     return err_g, err_h / np.abs(H).max()
+
+
+def slip_derivative_errors(pair, model, q: np.ndarray, T, steps=(1e-5, 1e-6), seed: int = 2):
+    """Errors (m, largest over rows) of ``pair``'s slip rows W d against central differences
+    of its exact slips from q to q moved by ±εd on the group (:func:`moved_on_group`), for a
+    random direction d and each ε of ``steps``, and the largest |W d| they compare with."""
+    dofs, W, _ = pair.tangents(q)
+    d = np.random.default_rng(seed).normal(size=model.n)
+    linear = np.einsum("mtk,mk->mt", W, d[dofs])
+    errors = []
+    for eps in steps:
+        plus = pair.slips(moved_on_group(model, q, eps * d), q, T)
+        minus = pair.slips(moved_on_group(model, q, -eps * d), q, T)
+        errors.append(float(np.abs((plus - minus) / (2 * eps) - linear).max()))
+    return errors, float(np.abs(linear).max())
+
+
+def slip_step_errors(pair, q: np.ndarray, d: np.ndarray, rows, scales=(1.0, 0.1)):
+    """Relative errors of ``pair``'s slip rows W (at q) as the slips of the step q → q + s d,
+    for each s of ``scales``, over ``rows``: the slip over a step is W times the step to
+    second order, so the error falls as s."""
+    dofs, W, T = pair.tangents(q)
+    errors = []
+    for s in scales:
+        step = np.einsum("mtk,mk->mt", W, s * d[dofs])[rows]
+        errors.append(float(np.abs(pair.slips(q + s * d, q, T)[rows] - step).max()))
+        errors[-1] /= float(np.abs(step).max())
+    return errors

@@ -23,6 +23,8 @@ from .derivative_checks import (
     group_derivative_errors,
     group_gradient_error,
     moved_on_group,
+    slip_derivative_errors,
+    slip_step_errors,
 )
 from .errors import SolverError
 from .time import simulate
@@ -40,6 +42,8 @@ __all__ = [
     "group_gradient_error",
     "moved_on_group",
     "roll_up",
+    "slip_derivative_errors",
+    "slip_step_errors",
     "observed_order",
     "pendulum_exact",
     "pressed_blocks",

@@ -6,6 +6,7 @@ facets; before the edges were measured it completed with the edge inside the bal
 
 import numpy as np
 import pytest
+from test_stress_3d import check_box_slip_rows
 
 from fecontact import Model, simulate
 from fecontact.bodies import LinearElastic, RigidBody3D, Solid
@@ -100,23 +101,7 @@ def test_edge_rows_slip_between_the_edge_and_the_boundary_edge():
     step, to second order, and a motion of the box and the solid together slips by
     nothing."""
     model, q = edge_first("mortar", -0.001)
-    edges, n = _edge_rows(model), model.bodies[0].ndof
-    dofs, GT, T = edges.tangents(q)
-    rows = np.flatnonzero(np.isfinite(edges.gaps(q)))
-    rng = np.random.default_rng(7)
-    d = rng.normal(size=model.n) * 1e-7
-    d[n + 3 :] = 0.0  # (translations: the rows are exact for them)
-
-    def error(d):
-        step = np.einsum("mtk,mk->mt", GT, d[dofs])
-        return np.abs(edges.slips(q + d, q, T) - step)[rows].max() / np.abs(step[rows]).max()
-
-    assert error(d) < 1e-4
-    assert error(0.1 * d) < 0.2 * error(d)
-    together = np.zeros(model.n)
-    together[:n] = np.tile([2e-6, -1e-6, 0.0], n // 3)
-    together[n : n + 3] = [2e-6, -1e-6, 0.0]
-    assert np.abs(np.einsum("mtk,mk->mt", GT, together[dofs]))[rows].max() < 1e-18
+    check_box_slip_rows(_edge_rows(model), model, q)
 
 
 def test_a_ridge_on_the_face_beside_the_edge_has_no_row_below_zero():

@@ -40,14 +40,15 @@ def placed(block, bar, pair, nodes, turns=None):
     return model, q
 
 
-def bent_rod_on_block():
-    """A rod of four elements bent at each joint (some nodes below r: pressed into the face),
-    turned sections, over a block whose nodes are moved by 1 mm at random."""
-    block = Solid.box([-0.1, -0.1, -0.05], [0.1, 0.1, 0.0], (6, 6, 2), RUBBER)
-    nodes = np.array([[-0.09, -0.05, R + 0.002], [-0.03, -0.01, R], [0.02, 0.02, R - 0.001],
+def bent_rod_on_block(cells=(6, 6, 2), depth=0.001, **options):
+    """A rod of four elements bent at each joint (the middle node ``depth`` below r: pressed
+    into the face), turned sections, over a block of ``cells`` whose nodes are moved by 1 mm
+    at random; ``options`` go to the contact."""
+    block = Solid.box([-0.1, -0.1, -0.05], [0.1, 0.1, 0.0], cells, RUBBER)
+    nodes = np.array([[-0.09, -0.05, R + 0.002], [-0.03, -0.01, R], [0.02, 0.02, R - depth],
                       [0.05, 0.06, R + 0.003], [0.09, 0.07, R + 0.004]])  # fmt: skip
     bar = Beam3D.straight(nodes[0], nodes[-1], 4, STEEL, Section.circle(R))
-    pair = Contact(block, bar, clearance=R)
+    pair = Contact(block, bar, clearance=R, **options)
     rng = np.random.default_rng(0)
     model, q = placed(block, bar, pair, nodes, 0.1 * rng.normal(size=(5, 3)))
     q[: block.ndof] += 1e-3 * rng.normal(size=block.ndof)

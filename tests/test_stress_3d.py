@@ -23,7 +23,7 @@ from fecontact.contact.box_corners import BoxCorners
 from fecontact.contact.rigid_distance import FeatureDepths, box_features
 from fecontact.rotations import exp, log
 from fecontact.scenes import wave_step
-from fecontact.testing import group_gradient_error
+from fecontact.testing import group_gradient_error, slip_step_errors
 from fecontact.time.settings import IntegratorOptions
 
 RUBBER = LinearElastic(E=1e7, nu=0.3, rho=1000.0)
@@ -195,27 +195,31 @@ def test_corner_rows_slip_against_the_triangle():
     the box and the triangle together (the triangle's nodes moved as the corner) slips by
     nothing."""
     model, q = corner_first("mortar", -0.0005)
-    n = model.bodies[0].ndof
     corners = _corner_rows(model)
-    dofs, GT, T = corners.tangents(q)
-    rows = np.flatnonzero(np.isfinite(corners.gaps(q)))
-    rng = np.random.default_rng(7)
-    d = rng.normal(size=model.n) * 1e-7
+    rows, T = check_box_slip_rows(corners, model, q)
+    assert np.allclose(np.einsum("mtd,md->mt", T[rows], corners._geometry(q)[4][rows]), 0.0)
+
+
+def check_box_slip_rows(feature_rows, model, q):
+    """The slip rows of a box's feature rows against a solid (the solid's dofs first, then the
+    box's translation and rotation) at q: the slip over a small step (the box's body-frame
+    increment, the nodes' displacements) is the slip rows times that step, and a common
+    translation of the box and the solid slips by nothing. Returns the rows and tangents."""
+    n = model.bodies[0].ndof
+    dofs, GT, T = feature_rows.tangents(q)
+    rows = np.flatnonzero(np.isfinite(feature_rows.gaps(q)))
+    d = np.random.default_rng(7).normal(size=model.n) * 1e-7
     d[n + 3 : n + 6] = 0.0  # (translations: the rows are exact for them)
-
-    def error(d):
-        step = np.einsum("mtk,mk->mt", GT, d[dofs])
-        return np.abs(corners.slips(q + d, q, T) - step)[rows].max() / np.abs(step).max()
-
     # the rows at the step's end against those at its start: second order in the step, so
     # the relative error falls as the step
-    assert error(d) < 1e-4
-    assert error(0.1 * d) < 0.2 * error(d)
+    errors = slip_step_errors(feature_rows, q, d, rows)
+    assert errors[0] < 1e-4
+    assert errors[1] < 0.2 * errors[0]
     together = np.zeros(model.n)
     together[:n] = np.tile([2e-6, -1e-6, 0.0], n // 3)
     together[n : n + 3] = [2e-6, -1e-6, 0.0]
     assert np.abs(np.einsum("mtk,mk->mt", GT, together[dofs]))[rows].max() < 1e-18
-    assert np.allclose(np.einsum("mtd,md->mt", T[rows], corners._geometry(q)[4][rows]), 0.0)
+    return rows, T
 
 
 def test_a_frictional_model_whose_closing_contacts_are_frictionless():

@@ -5,7 +5,7 @@ its speed."""
 
 import numpy as np
 import pytest
-from test_mortar_beam3d import RUBBER, STEEL, placed, rod_over_coarse_block
+from test_mortar_beam3d import RUBBER, STEEL, bent_rod_on_block, rod_over_coarse_block
 
 from fecontact import Model, Solid, simulate
 from fecontact.bodies import Beam3D, Section
@@ -15,7 +15,7 @@ from fecontact.contact.mortar_beam3d import MortarBeam3D
 from fecontact.contact.tube_line_mortar import TubeLineMortar
 from fecontact.errors import InputError
 from fecontact.simulation import Simulation, run
-from fecontact.testing import group_derivative_errors, moved_on_group
+from fecontact.testing import group_derivative_errors, slip_derivative_errors
 from fecontact.time.settings import IntegratorOptions
 from fecontact.time.state import initial_state
 
@@ -26,16 +26,8 @@ def bent_rod_on_coarse_block():
     """A rod (r = 5 mm) of four elements bent at each joint, one node 2 mm into the face,
     turned sections, over a block of 4 × 4 × 1 cells of 5 cm whose nodes are moved by 1 mm
     at random (the face's triangles tilted: the closest triangle changes along segments)."""
-    block = Solid.box([-0.1, -0.1, -0.05], [0.1, 0.1, 0.0], (4, 4, 1), RUBBER)
-    nodes = np.array([[-0.09, -0.05, R + 0.002], [-0.03, -0.01, R], [0.02, 0.02, R - 0.002],
-                      [0.05, 0.06, R + 0.003], [0.09, 0.07, R + 0.004]])  # fmt: skip
-    bar = Beam3D.straight(nodes[0], nodes[-1], 4, STEEL, Section.circle(R))
-    pair = Contact(block, bar, clearance=R, friction=0.3)
+    pair, model, q = bent_rod_on_block((4, 4, 1), 0.002, friction=0.3)
     assert isinstance(pair, TubeLineMortar)
-    rng = np.random.default_rng(0)
-    model, q = placed(block, bar, pair, nodes, 0.1 * rng.normal(size=(5, 3)))
-    q[: block.ndof] += 1e-3 * rng.normal(size=block.ndof)
-    pair.detect_within(0.02)
     return pair, model, q
 
 
@@ -97,14 +89,8 @@ def test_slip_rows_are_the_derivatives_of_the_exact_slips():
     rotations = model.offset_of(pair.beam) + pair.beam.rotation_triples.ravel()
     turn = np.isin(dofs, rotations)[:, None, :].repeat(2, axis=1)
     assert np.abs(W[turn]).max() > 0.5 * R
-    d = np.random.default_rng(2).normal(size=model.n)
-    linear = np.einsum("mtk,mk->mt", W, d[dofs])
-    errors = []
-    for eps in (1e-5, 1e-6):
-        plus = pair.slips(moved_on_group(model, q, eps * d), q, T)
-        minus = pair.slips(moved_on_group(model, q, -eps * d), q, T)
-        errors.append(np.abs((plus - minus) / (2 * eps) - linear).max())
-    assert errors[1] <= 1e-7 * np.abs(linear).max()
+    errors, rows = slip_derivative_errors(pair, model, q, T)
+    assert errors[1] <= 1e-7 * rows
     assert errors[1] <= 0.02 * errors[0]
 
 
