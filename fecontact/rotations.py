@@ -271,15 +271,19 @@ class RightIncrements:
     """Increments Δ (k, 3) composed on the right of fixed rotations ψ (k, 3): ψ ⊕ Δ by
     :meth:`compose`, and the right tangents T(Δ) of the last Δ by :meth:`tangent`, from the
     same half angles (a Newton iteration on the group asks for both at each of its iterates;
-    ψ's quaternions are made once). Two-dimensional arrays throughout: the paths of
-    :func:`quaternions` and :func:`_vector` without their leading-axis generality, whose
-    indexing costs as much as the arithmetic at a few rotations."""
+    ψ's quaternions are made once; ``pd``, the quaternions of the last ψ ⊕ Δ, unit to
+    round-off and of either sign, are kept for a caller that needs them). Two-dimensional
+    arrays throughout: the paths of :func:`quaternions` and :func:`_vector` without their
+    leading-axis generality, whose indexing costs as much as the arithmetic at a few
+    rotations."""
 
-    def __init__(self, psi: np.ndarray):
-        # the left products p ⊗ · of ψ's quaternions as matrices (k, 4, 4)
-        self.left = (self._quaternions(psi)[0] @ _LEFT).reshape(-1, 4, 4)
+    def __init__(self, psi: np.ndarray, quaternions: np.ndarray | None = None):
+        # the left products p ⊗ · of ψ's quaternions (``quaternions`` where known: unit, of
+        # either sign) as matrices (k, 4, 4)
+        p = self._quaternions(psi)[0] if quaternions is None else quaternions
+        self.left = (p @ _LEFT).reshape(-1, 4, 4)
         self.ones = np.ones((len(psi), 1))
-        self.delta = self.x = self.sh = self.ch = None
+        self.delta = self.x = self.sh = self.ch = self.pd = None
 
     @staticmethod
     def _quaternions(psi: np.ndarray):
@@ -296,7 +300,7 @@ class RightIncrements:
         """ψ ⊕ Δ (k, 3), θ ≤ π (as :func:`compose`)."""
         d, self.x, _, self.sh = self._quaternions(delta)
         self.delta, self.ch = delta, d[:, 0]
-        pd = (self.left @ d[:, :, None])[:, :, 0]
+        self.pd = pd = (self.left @ d[:, :, None])[:, :, 0]  # (kept: ψ ⊕ Δ's quaternions)
         w, u = pd[:, 0], pd[:, 1:]
         s = np.sqrt((u * u) @ _ONES)
         # 2 atan(s/w) is 2 atan2(s, |w|) sign(w): −(w, u) is the same rotation, by θ ≤ π
