@@ -324,7 +324,7 @@ class _Forces(_Strains):
             [self.A.reshape(-1, 9), self.M.reshape(-1, 27), self.Rm.reshape(-1, 9), el.one_zero],
             1,
         )
-        self.placed = np.concatenate([flat, -flat], axis=1).take(_PLACES, axis=1)
+        self.placed = flat.take(_PLACES, axis=1) * _PLACE_SIGNS
         self.B = self.placed[:, 144:].reshape(-1, 12, 12)
         self.f = self.B @ np.concatenate([self.n, p, t, t], axis=1)
         self.W = 0.5 * float(np.vdot(nm, self.g * el.ell6))
@@ -409,7 +409,14 @@ def _sources(places: np.ndarray) -> np.ndarray:
     return out
 
 
-_PLACES = _sources(_places())
+def _signed(sources: np.ndarray, n: int):
+    """The gather of :func:`_sources` as the columns of x with 0 appended (index n) and the
+    signs to multiply them by (±1: exact): one gather and one product of one shape."""
+    negative = sources > n
+    return np.where(negative, sources - n - 1, sources), np.where(negative, -1.0, 1.0)
+
+
+_PLACES, _PLACE_SIGNS = _signed(_sources(_places()), 46)
 
 
 def _tangent(el, s: _Forces) -> np.ndarray:

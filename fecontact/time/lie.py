@@ -204,9 +204,10 @@ class LieGroup:
         # its triples' entries at these flat places of an n × n array (beyond some 40 free
         # dofs the n³ product costs more than the triples' columns gathered)
         n = model.n_free
-        self.places = None
+        self.places = self.Z = None
         if model.dense and n <= _WHOLE_PRODUCT and len(R):
             self.places = (R[:, :, None] * n + R[:, None, :]).ravel()
+            self.Z = np.zeros(n * n)  # (T(D) − I placed, zero elsewhere: made once)
         # the quaternions of the last q_n ⊕ D (the bytes of its rotation vectors, them): the
         # next step's q_n where it is that configuration, and the beams whose every node
         # turns freely (their rows among the triples), which take them for their force
@@ -333,8 +334,7 @@ class LieStep:
             return S + (self.right(K) - K)
         places = self.group.places
         if places is not None:
-            n = S.shape[0]
-            Z = np.zeros(n * n)
+            n, Z = S.shape[0], self.group.Z
             Z[places] = self._T_minus_identity().ravel()
             S += K @ Z.reshape(n, n)
             return S
