@@ -85,5 +85,6 @@ def relative_rotations(N: np.ndarray):
     r = (N[:-1, :, None] * N[1:, None, :]).reshape(-1, 16) @ _RELATIVE
     w, v = r[:, 0], r[:, 1:]
     s = np.sqrt((v * v) @ _ONES)
-    theta = 2.0 * np.arctan(s / w)
+    half = np.arctan(s / w)
+    theta = half + half  # (2θ/2 exactly, without a Python float operand)
     return (theta / (s + _TINY))[:, None] * v, theta, w
