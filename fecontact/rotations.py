@@ -274,24 +274,20 @@ class RightIncrements:
     """Increments Δ (k, 3) composed on the right of fixed rotations ψ (k, 3): ψ ⊕ Δ by
     :meth:`compose`, and the right tangents T(Δ) of the last Δ by :meth:`tangent`, from the
     same half angles (a Newton iteration on the group asks for both at each of its iterates;
-    ψ's quaternions are made once; ``pd``, the quaternions of the last ψ ⊕ Δ, unit to
-    round-off and of either sign, are kept for a caller that needs them). Two-dimensional
-    arrays throughout: the paths of :func:`quaternions` and :func:`_vector` without their
-    leading-axis generality, whose indexing costs as much as the arithmetic at a few
-    rotations."""
+    ψ's quaternions are made once). Two-dimensional arrays throughout: the paths of
+    :func:`quaternions` and :func:`_vector` without their leading-axis generality, whose
+    indexing costs as much as the arithmetic at a few rotations."""
 
-    def __init__(self, psi: np.ndarray, quaternions: np.ndarray | None = None):
-        # the left products p ⊗ · of ψ's quaternions (``quaternions`` where known: unit, of
-        # either sign) as matrices (k, 4, 4)
-        p = self._quaternions(psi)[0] if quaternions is None else quaternions
+    def __init__(self, psi: np.ndarray):
+        # the left products p ⊗ · of ψ's quaternions as matrices (k, 4, 4)
         k = len(psi)
-        self.left = (p @ _LEFT).reshape(k, 4, 4)
+        self.left = (self._quaternions(psi)[0] @ _LEFT).reshape(k, 4, 4)
         self.ones = np.ones((k, 1))
         # the angle's offset (as :func:`quaternions`) as an array: numpy adds a Python float
         # to an array in about twice the time of an array of its shape
         self.offset = np.full(k, _OFFSET)
         self.d = np.empty((k, 4))  # Δ's quaternions, filled by each composition
-        self.delta = self.x = self.sh = self.ch = self.pd = None
+        self.delta = self.x = self.sh = self.ch = None
 
     @staticmethod
     def _quaternions(psi: np.ndarray):
@@ -314,7 +310,7 @@ class RightIncrements:
         d[:, 0] = self.ch = np.cos(half)
         d[:, 1:] = sh[:, None] * delta
         self.delta = delta
-        self.pd = pd = (self.left @ d[:, :, None])[:, :, 0]  # (kept: ψ ⊕ Δ's quaternions)
+        pd = (self.left @ d[:, :, None])[:, :, 0]
         w, u = pd[:, 0], pd[:, 1:]
         s = np.sqrt((u * u) @ _ONES)
         # 2 atan(s/w) is 2 atan2(s, |w|) sign(w): −(w, u) is the same rotation, by θ ≤ π

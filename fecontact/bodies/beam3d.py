@@ -89,7 +89,6 @@ class Beam3D(Centreline):
         self._J = np.einsum("eij,jk,elk->eil", triads, J, triads)
         self._gyroscopic = Gyroscopic(self._el, len(X), dense=6 * len(X) <= DENSE_LIMIT)
         self._rotary = None  # the rotary mass (Gyroscopic.mass), made when first asked
-        self._known = (b"", None)  # (the bytes of ψ (n, 3), their quaternions): see known
 
     def _section_inertia(self, given) -> np.ndarray:
         """Rotary inertia per length (kg·m) about the section axes: ``given`` (3 values ≥ 0),
@@ -167,26 +166,14 @@ class Beam3D(Centreline):
         element, (E, 3) each, in its section frame at the midpoint."""
         return beam3d_strains(self._el, self.X, q)
 
-    def known_rotations(self, psi: np.ndarray, quaternions: np.ndarray) -> None:
-        """Take the unit quaternions (n, 4; either sign) of the nodes' rotation vectors ``psi``
-        (n, 3, rad) as an integrator composed them (ψ ⊕ Δ by a quaternion product): the
-        force, tangent and energy at exactly these ψ start from them rather than make them
-        again (the same rotations, to round-off)."""
-        self._known = (psi.tobytes(), quaternions)
-
-    def _quaternions(self, q: np.ndarray):
-        """The known quaternions of q's rotation vectors (``known_rotations``), or None."""
-        key, N = self._known
-        return N if q.reshape(-1, 6)[:, 3:].tobytes() == key else None
-
     def energy(self, q: np.ndarray) -> float:
         """Strain energy W(q) in J."""
-        return beam3d_energy(self._el, self.X, q, self._quaternions(q))
+        return beam3d_energy(self._el, self.X, q)
 
     def internal(self, q: np.ndarray, tangent: bool = True):
         """Strain energy (J), internal force (N; N·m in the nodes' frames R) and the element
         tangents ∂f(q ⊕ Δ)/∂Δ (E, 12, 12), not symmetric away from equilibrium."""
-        return beam3d_internal(self._el, self.X, q, self.ndof, tangent, self._quaternions(q))
+        return beam3d_internal(self._el, self.X, q, self.ndof, tangent)
 
     def mass_matrix(self) -> sp.csr_matrix:
         """Constant consistent mass (kg, kg·m²): ρA and ρJ_e (frame R) with the P1 mass ℓ/6

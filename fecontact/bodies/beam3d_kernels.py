@@ -63,6 +63,7 @@ __all__ = [
 
 _E1_COLUMN = np.array([[1.0, 0.0], [0.0, 0.0], [0.0, 0.0]])  # (E₁, 0): Γ = L0ᵀR_mᵀx′ − E₁
 _I3 = np.eye(3)
+_HALF0, _ONE0 = np.array(0.5), np.array(1.0)  # (0-d arrays: cheaper operands than floats)
 
 
 @dataclass(frozen=True)
@@ -232,14 +233,12 @@ def _coefficients(t2: np.ndarray) -> np.ndarray:
 
 
 # -- strains, force and tangent ---------------------------------------------------------------
-def _nodal(el, X, q, N=None):
-    """The nodes' quaternions N (``N`` where given: those of q's rotation vectors, of any
-    sign) and rotations R (the elements' first and second nodes are the polyline's nodes e
-    and e + 1, ``Beam3DElements.of``: views rather than gathers) and x′ = (x₁ − x₀)/ℓ
-    (E, 3, 1)."""
+def _nodal(el, X, q):
+    """The nodes' quaternions N and rotations R (the elements' first and second nodes are
+    the polyline's nodes e and e + 1, ``Beam3DElements.of``: views rather than gathers) and
+    x′ = (x₁ − x₀)/ℓ (E, 3, 1)."""
     Q = q.reshape(-1, 6)
-    if N is None:
-        N = node_quaternions(Q[:, 3:])
+    N = node_quaternions(Q[:, 3:])
     return N, quaternion_matrices(N), (el.slope @ Q)[:, :3, None] + el.chord_slope
 
 
@@ -458,30 +457,25 @@ def _tangent(el, s: _Forces) -> np.ndarray:
     return s.B @ np.concatenate([dn, dp, dt, Dt], axis=1)
 
 
-def beam3d_internal(
-    el: Beam3DElements, X: np.ndarray, q: np.ndarray, ndof: int, tangent: bool, N=None
-):
+def beam3d_internal(el: Beam3DElements, X: np.ndarray, q: np.ndarray, ndof: int, tangent: bool):
     """Strain energy W (J), internal force (N, N·m; moments in the nodes' frames R) and the
-    element tangents ∂f(q ⊕ Δ)/∂Δ (E, 12, 12) with respect to the right increments; ``N``:
-    the unit quaternions (n, 4) of q's rotation vectors where known (either sign), else
-    made from them."""
-    s = _Forces(el, *_nodal(el, X, q, N))
+    element tangents ∂f(q ⊕ Δ)/∂Δ (E, 12, 12) with respect to the right increments."""
+    s = _Forces(el, *_nodal(el, X, q))
     f = np.bincount(el.dofs.ravel(), s.f.ravel(), minlength=ndof)
     return s.W, f, _tangent(el, s) if tangent else None
 
 
-def _strain_columns(el: Beam3DElements, X: np.ndarray, q: np.ndarray, N=None) -> np.ndarray:
+def _strain_columns(el: Beam3DElements, X: np.ndarray, q: np.ndarray) -> np.ndarray:
     """The strains (Γ, K) as the columns of (E, 3, 2), as ``_Strains`` without the
     tangent's matrices, by the nodes' unit quaternions q₀, q₁: their relative rotation
     r = q̄₀ ⊗ q₁ = (w, v) gives ρ, and the midpoint rotation R_m = R₀ exp(½ρ̃) is that of
     q₀ + sign(w) q₁ (the half-way point of the shorter arc), whose squared norm is
-    2(1 + |w|) (``N``: the quaternions where known, as :func:`beam3d_internal`)."""
+    2(1 + |w|)."""
     Q = q.reshape(-1, 6)
-    if N is None:
-        N = node_quaternions(Q[:, 3:])
+    N = node_quaternions(Q[:, 3:])
     rho, _, w = relative_rotations(N)
-    m = N[:-1] + np.copysign(1.0, w)[:, None] * N[1:]
-    d = (Q[1:, :3] - Q[:-1, :3] + el.chord) * (0.5 / (el.ell * (1.0 + np.abs(w))))[:, None]
+    m = N[:-1] + np.copysign(_ONE0, w)[:, None] * N[1:]
+    d = (Q[1:, :3] - Q[:-1, :3] + el.chord) * (_HALF0 / (el.ell * (_ONE0 + np.abs(w))))[:, None]
     V = np.concatenate([quaternion_matrices(m).mT @ d[..., None], rho[..., None]], axis=2)
     return el.L0.mT @ V * el.scale - el.E1
 
@@ -492,7 +486,7 @@ def beam3d_strains(el: Beam3DElements, X: np.ndarray, q: np.ndarray):
     return S[:, :, 0], S[:, :, 1]
 
 
-def beam3d_energy(el: Beam3DElements, X: np.ndarray, q: np.ndarray, N=None) -> float:
-    """Strain energy W (J) (``N`` as :func:`beam3d_internal`)."""
-    S = _strain_columns(el, X, q, N)
+def beam3d_energy(el: Beam3DElements, X: np.ndarray, q: np.ndarray) -> float:
+    """Strain energy W (J)."""
+    S = _strain_columns(el, X, q)
     return 0.5 * float(np.vdot(S * S, el.C32ell))

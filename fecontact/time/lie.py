@@ -27,7 +27,6 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from ..bodies.beam3d import Beam3D
 from ..errors import InputError
 from ..rotations import RightIncrements, compose, tangent
 from .constraints import bordered
@@ -208,38 +207,6 @@ class LieGroup:
         if model.dense and n <= _WHOLE_PRODUCT and len(R):
             self.places = (R[:, :, None] * n + R[:, None, :]).ravel()
             self.Z = np.zeros(n * n)  # (T(D) − I placed, zero elsewhere: made once)
-        # the quaternions of the last q_n ⊕ D (the bytes of its rotation vectors, them): the
-        # next step's q_n where it is that configuration, and the beams whose every node
-        # turns freely (their rows among the triples), which take them for their force
-        self.last = (b"", None)
-        self.beams = _beam_rows(model, R)
-
-    def remember(self, psi: np.ndarray, quaternions: np.ndarray) -> None:
-        """Keep the quaternions (k, 4) of the composed rotation vectors ``psi`` (k, 3)."""
-        self.last = (psi.tobytes(), quaternions)
-        for beam, rows in self.beams:
-            beam.known_rotations(psi[rows], quaternions[rows])
-
-    def quaternions(self, psi: np.ndarray):
-        """The kept quaternions where ``psi`` (k, 3) is the last composition, else None."""
-        key, quaternions = self.last
-        return quaternions if psi.tobytes() == key else None
-
-
-def _beam_rows(model, R: np.ndarray) -> list:
-    """(beam, its rows among the triples R (free numbering)) of each ``Beam3D`` of ``model``
-    whose every rotation triple is free."""
-    row = {int(r[0]): i for i, r in enumerate(R)}
-    out = []
-    for body, offset in zip(model.bodies, model.offsets, strict=False):
-        if not isinstance(body, Beam3D):
-            continue
-        first = model.free_index[offset + body.rotation_triples[:, 0]]
-        if np.all(first >= 0):
-            rows = np.array([row[int(f)] for f in first])
-            whole = np.array_equal(rows, rows[0] + np.arange(len(rows)))
-            out.append((body, slice(int(rows[0]), int(rows[-1]) + 1) if whole else rows))
-    return out
 
 
 # the largest dense model whose K (T(D) − I) is one n × n product
@@ -255,10 +222,7 @@ class LieStep:
     def __init__(self, group: LieGroup, q_n: np.ndarray):
         self.group, self.model, self.q_n = group, group.model, q_n
         self.single, self.F, self.cols = group.single, group.F, group.cols
-        self.p = None
-        if not self.single and self.cols.size:  # (q_n's quaternions where the group has them)
-            psi = q_n[self.F]
-            self.p = RightIncrements(psi, group.quaternions(psi))
+        self.p = None if self.single or not self.cols.size else RightIncrements(q_n[self.F])
         self.D = None  # the rotation part of the current increment D
         self._T = None  # (k, 3, 3) right tangents at D, once asked for
 
@@ -276,8 +240,7 @@ class LieStep:
             out[F[0]] = compose(self.q_n[F[0]], self.D)
         else:
             self.D = D[F]
-            out[F] = psi = self.p.compose(self.D)
-            self.group.remember(psi, self.p.pd)
+            out[F] = self.p.compose(self.D)
         return out
 
     @property
