@@ -274,19 +274,26 @@ class RightIncrements:
     """Increments Δ (k, 3) composed on the right of fixed rotations ψ (k, 3): ψ ⊕ Δ by
     :meth:`compose`, and the right tangents T(Δ) of the last Δ by :meth:`tangent`, from the
     same half angles (a Newton iteration on the group asks for both at each of its iterates;
-    ψ's quaternions are made once). Two-dimensional arrays throughout: the paths of
+    ψ's quaternions are made once, and again by :meth:`start` for other ψ, the arrays kept).
+    Two-dimensional arrays throughout: the paths of
     :func:`quaternions` and :func:`_vector` without their leading-axis generality, whose
     indexing costs as much as the arithmetic at a few rotations."""
 
     def __init__(self, psi: np.ndarray):
-        # the left products p ⊗ · of ψ's quaternions as matrices (k, 4, 4)
         k = len(psi)
-        self.left = (self._quaternions(psi)[0] @ _LEFT).reshape(k, 4, 4)
+        self.left = None
+        self.start(psi)
         self.ones = np.ones((k, 1))
         # the angle's offset (as :func:`quaternions`) as an array: numpy adds a Python float
         # to an array in about twice the time of an array of its shape
         self.offset = np.full(k, _OFFSET)
         self.d = np.empty((k, 4))  # Δ's quaternions, filled by each composition
+        self.delta = self.x = self.sh = self.ch = None
+
+    def start(self, psi: np.ndarray) -> None:
+        """Compose on the right of the rotations ``psi`` (k, 3; as many as at construction)
+        from now on: the left products p ⊗ · of their quaternions as matrices (k, 4, 4)."""
+        self.left = (self._quaternions(psi)[0] @ _LEFT).reshape(-1, 4, 4)
         self.delta = self.x = self.sh = self.ch = None
 
     @staticmethod

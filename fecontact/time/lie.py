@@ -220,9 +220,19 @@ class LieStep:
     quaternions of q_n's rotations are made once per step; T(D) when a matrix asks for it."""
 
     def __init__(self, group: LieGroup, q_n: np.ndarray):
-        self.group, self.model, self.q_n = group, group.model, q_n
+        self.group, self.model = group, group.model
         self.single, self.F, self.cols = group.single, group.F, group.cols
-        self.p = None if self.single or not self.cols.size else RightIncrements(q_n[self.F])
+        self.p = None
+        self.start(q_n)
+
+    def start(self, q_n: np.ndarray) -> None:
+        """Begin the step from the positions ``q_n`` (a run's steps reuse one LieStep)."""
+        self.q_n = q_n
+        if not self.single and self.cols.size:
+            if self.p is None:
+                self.p = RightIncrements(q_n[self.F])
+            else:
+                self.p.start(q_n[self.F])
         self.D = None  # the rotation part of the current increment D
         self._T = None  # (k, 3, 3) right tangents at D, once asked for
 
