@@ -264,6 +264,9 @@ def _combination_pairs() -> np.ndarray:
 
 _T_POWERS = np.arange(7)
 _T_SERIES = {1.0: _tangent_series(1.0), 0.0: _tangent_series(0.0)}
+# the same in the powers of θ²/4 (each row times 4ᵏ, a power of two: exact)
+_T_SERIES_QUARTER = {i: S * 4.0 ** _T_POWERS[:, None] for i, S in _T_SERIES.items()}
+_C_SMALL_QUARTER = _C_SMALL / 4.0  # θ²/4 below it: θ² below _C_SMALL
 _PAIRS = _combination_pairs()
 
 
@@ -271,14 +274,26 @@ class RightIncrements:
     """Increments Δ (k, 3) composed on the right of fixed rotations ψ (k, 3): ψ ⊕ Δ by
     :meth:`compose`, and the right tangents T(Δ) of the last Δ by :meth:`tangent`, from the
     same half angles (a Newton iteration on the group asks for both at each of its iterates;
-    ψ's quaternions are made once). Two-dimensional arrays throughout: the paths of
+    ψ's quaternions are made once, and again by :meth:`start` for other ψ, the arrays kept).
+    Two-dimensional arrays throughout: the paths of
     :func:`quaternions` and :func:`_vector` without their leading-axis generality, whose
     indexing costs as much as the arithmetic at a few rotations."""
 
     def __init__(self, psi: np.ndarray):
-        # the left products p ⊗ · of ψ's quaternions as matrices (k, 4, 4)
+        k = len(psi)
+        self.left = None
+        self.start(psi)
+        self.ones = np.ones((k, 1))
+        # the angle's offset (as :func:`quaternions`) as an array: numpy adds a Python float
+        # to an array in about twice the time of an array of its shape
+        self.offset = np.full(k, _OFFSET)
+        self.d = np.empty((k, 4))  # Δ's quaternions, filled by each composition
+        self.delta = self.x = self.sh = self.ch = None
+
+    def start(self, psi: np.ndarray) -> None:
+        """Compose on the right of the rotations ``psi`` (k, 3; as many as at construction)
+        from now on: the left products p ⊗ · of their quaternions as matrices (k, 4, 4)."""
         self.left = (self._quaternions(psi)[0] @ _LEFT).reshape(-1, 4, 4)
-        self.ones = np.ones((len(psi), 1))
         self.delta = self.x = self.sh = self.ch = None
 
     @staticmethod
@@ -293,27 +308,35 @@ class RightIncrements:
         return out, x, half, s
 
     def compose(self, delta: np.ndarray) -> np.ndarray:
-        """ψ ⊕ Δ (k, 3), θ ≤ π (as :func:`compose`)."""
-        d, self.x, _, self.sh = self._quaternions(delta)
-        self.delta, self.ch = delta, d[:, 0]
+        """ψ ⊕ Δ (k, 3), θ ≤ π (as :func:`compose`); Δ's quaternion as :meth:`_quaternions`,
+        with doublings written as sums (the same values, no Python float)."""
+        self.x = x = (delta * delta) @ _QUARTER
+        half = np.sqrt(x) + self.offset
+        self.sh = sh = np.sin(half) / (half + half)
+        d = self.d
+        d[:, 0] = self.ch = np.cos(half)
+        d[:, 1:] = sh[:, None] * delta
+        self.delta = delta
         pd = (self.left @ d[:, :, None])[:, :, 0]
         w, u = pd[:, 0], pd[:, 1:]
         s = np.sqrt((u * u) @ _ONES)
         # 2 atan(s/w) is 2 atan2(s, |w|) sign(w): −(w, u) is the same rotation, by θ ≤ π
-        return (2.0 * np.arctan(s / w) / (s + _OFFSET))[:, None] * u
+        a = np.arctan(s / w)
+        return ((a + a) / (s + self.offset))[:, None] * u
 
     def tangent(self, identity: float = 1.0) -> np.ndarray:
         """T(Δ) (k, 3, 3) of the last composed Δ, less (1 − ``identity``) I (``identity`` 1 or
         0). Where every θ² < 1/16 (a Newton increment), the coefficients by their series from
-        one product, and T from one product of them with (1, Δ, ΔΔᵀ); else (1 − cos θ)/θ² =
-        2 (sin(θ/2)/θ)², and (θ − sin θ)/θ³ by its series below θ² = 1/16 (as
-        :func:`tangent`)."""
-        t2, sh, D = 4.0 * self.x, self.sh, self.delta
-        if max(t2.tolist(), default=0.0) < _C_SMALL:  # (as a numpy reduction: 5× the time)
+        one product (of the powers of θ²/4, the table scaled by 4ᵏ: exact), and T from one
+        product of them with (1, Δ, ΔΔᵀ); else (1 − cos θ)/θ² = 2 (sin(θ/2)/θ)², and
+        (θ − sin θ)/θ³ by its series below θ² = 1/16 (as :func:`tangent`)."""
+        x, sh, D = self.x, self.sh, self.delta
+        if max(x.tolist(), default=0.0) < _C_SMALL_QUARTER:  # (a numpy reduction: 5× the time)
             k = len(D)
-            K = (t2[:, None] ** _T_POWERS) @ _T_SERIES[identity]
+            K = (x[:, None] ** _T_POWERS) @ _T_SERIES_QUARTER[identity]
             F = np.concatenate([self.ones, D, (D[:, :, None] * D[:, None, :]).reshape(k, 9)], 1)
             return ((K[:, :, None] * F[:, None, :]).reshape(k, 39) @ _PAIRS).reshape(k, 3, 3)
+        t2 = 4.0 * x
         c = (t2[:, None] ** _C_POWERS) @ _C_SERIES
         a = 2.0 * sh * self.ch  # sin θ/θ
         c = np.where(t2 < _C_SMALL, c, (1.0 - a) / np.maximum(t2, _C_SMALL))

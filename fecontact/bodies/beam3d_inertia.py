@@ -85,6 +85,7 @@ def _skew12() -> np.ndarray:
 
 
 _SKEW12 = _skew12()
+_ONE_PRODUCT = 8  # the most nodes whose gyroscopic term is made by _few_forces
 
 
 class Gyroscopic:
@@ -98,6 +99,7 @@ class Gyroscopic:
         ends = np.stack([el.n0, el.n1], axis=1)  # (E, 2)
         pairs = np.concatenate([ends, ends[:, ::-1], np.stack([np.arange(n)] * 2, axis=1)])
         self.m, self.n, self.dense = 3 * n, n, dense
+        self.half = np.full(6 * n, 0.5)  # (½ as an array: with a Python float numpy costs more)
         self.keys = np.unique(self._keys(pairs[:, 0], pairs[:, 1]))
         rows, self.cols = np.divmod(self.keys, self.m)
         self.rows = rows
@@ -145,19 +147,29 @@ class Gyroscopic:
     def _dense_mass(self, M: np.ndarray):
         """The rotary mass as a dense (6n, 6n) array (zero on the translations) from its
         values ``M`` on the entries, and per node a its rows M_a stacked over −E_a (n, 12, 6n),
-        E_a the identity on the node's own block: the operands of :meth:`_dense_forces`."""
+        E_a the identity on the node's own block: the operands of :meth:`_dense_forces`. On a
+        beam of at most ``_ONE_PRODUCT`` nodes the mass is replaced by the map W (6n, 72n) of
+        v to every node's [Ω̃_a | π̃_a], π = M v (``_few_forces``)."""
         n, ndof = self.n, 6 * self.n
         out = np.zeros(ndof * ndof)
         out[self.flat] = M
-        M6 = out.reshape(n, 6, ndof)
+        Md = out.reshape(ndof, ndof)
+        M6 = Md.reshape(n, 6, ndof)
         E = -np.eye(ndof).reshape(n, 6, ndof)
-        return out.reshape(ndof, ndof), np.concatenate([M6, E], axis=1)
+        ME = np.concatenate([M6, E], axis=1)
+        if n > _ONE_PRODUCT:
+            return Md, ME
+        # (v_a, π_a) = S_a v with S_a = [E_a; M_a] (12, 6n), then times the skew table
+        S = np.concatenate([-E, M6], axis=1).transpose(0, 2, 1)  # (n, 6n, 12): S_aᵀ
+        return (S @ _SKEW12).transpose(1, 0, 2).reshape(ndof, 72 * n), ME
 
     def _dense_forces(self, mass, v: np.ndarray):
         """(f (6n,), ∂f/∂v dense (6n, 6n)) at the velocity ``v`` (6n,) with the dense rotary
         mass (:meth:`_dense_mass`): π = M v, then per node [Ω̃_a | π̃_a] from one product,
         and Ω̃_a π_a and Ω̃_a M_a − π̃_a E_a each one batched product over the nodes (a beam
         small enough for a dense model: a few numpy calls in all)."""
+        if self.n <= _ONE_PRODUCT:
+            return self._few_forces(mass, v)
         M, ME = mass
         n, ndof = self.n, 6 * self.n
         pi = M @ v
@@ -165,6 +177,16 @@ class Gyroscopic:
         WP = (Vp @ _SKEW12).reshape(n, 6, 12)  # [Ω̃_a | π̃_a] on the rotation block
         f = WP[:, :, :6] @ pi.reshape(n, 6, 1)
         return f.reshape(ndof), (WP @ ME).reshape(ndof, ndof)
+
+    def _few_forces(self, mass, v: np.ndarray):
+        """:meth:`_dense_forces` on a beam of a few nodes: [Ω̃_a | π̃_a] of every node from
+        one product of v with the map W, C = ∂f/∂v from one batched product, and f = ½ C v,
+        as C v = Ω × π − π × Ω = 2 Ω × π node by node (the products of W cost 432 n² flops:
+        beyond some eight nodes more than the calls they save)."""
+        W, ME = mass
+        n, ndof = self.n, 6 * self.n
+        C = ((v @ W).reshape(n, 6, 12) @ ME).reshape(ndof, ndof)
+        return (C @ v) * self.half, C
 
     def __call__(self, M: np.ndarray, v: np.ndarray):
         """(f (6n,), ∂f/∂v) at the velocity ``v`` (6n,) with the rotary mass ``M`` made by

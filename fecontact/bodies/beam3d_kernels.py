@@ -63,6 +63,7 @@ __all__ = [
 
 _E1_COLUMN = np.array([[1.0, 0.0], [0.0, 0.0], [0.0, 0.0]])  # (E₁, 0): Γ = L0ᵀR_mᵀx′ − E₁
 _I3 = np.eye(3)
+_HALF0, _ONE0 = np.array(0.5), np.array(1.0)  # (0-d arrays: cheaper operands than floats)
 
 
 @dataclass(frozen=True)
@@ -322,7 +323,7 @@ class _Forces(_Strains):
             [self.A.reshape(-1, 9), self.M.reshape(-1, 27), self.Rm.reshape(-1, 9), el.one_zero],
             1,
         )
-        self.placed = np.concatenate([flat, -flat], axis=1).take(_PLACES, axis=1)
+        self.placed = flat.take(_PLACES, axis=1) * _PLACE_SIGNS
         self.B = self.placed[:, 144:].reshape(-1, 12, 12)
         self.f = self.B @ np.concatenate([self.n, p, t, t], axis=1)
         self.W = 0.5 * float(np.vdot(nm, self.g * el.ell6))
@@ -407,7 +408,14 @@ def _sources(places: np.ndarray) -> np.ndarray:
     return out
 
 
-_PLACES = _sources(_places())
+def _signed(sources: np.ndarray, n: int):
+    """The gather of :func:`_sources` as the columns of x with 0 appended (index n) and the
+    signs to multiply them by (±1: exact): one gather and one product of one shape."""
+    negative = sources > n
+    return np.where(negative, sources - n - 1, sources), np.where(negative, -1.0, 1.0)
+
+
+_PLACES, _PLACE_SIGNS = _signed(_sources(_places()), 46)
 
 
 def _tangent(el, s: _Forces) -> np.ndarray:
@@ -466,8 +474,8 @@ def _strain_columns(el: Beam3DElements, X: np.ndarray, q: np.ndarray) -> np.ndar
     Q = q.reshape(-1, 6)
     N = node_quaternions(Q[:, 3:])
     rho, _, w = relative_rotations(N)
-    m = N[:-1] + np.copysign(1.0, w)[:, None] * N[1:]
-    d = (Q[1:, :3] - Q[:-1, :3] + el.chord) * (0.5 / (el.ell * (1.0 + np.abs(w))))[:, None]
+    m = N[:-1] + np.copysign(_ONE0, w)[:, None] * N[1:]
+    d = (Q[1:, :3] - Q[:-1, :3] + el.chord) * (_HALF0 / (el.ell * (_ONE0 + np.abs(w))))[:, None]
     V = np.concatenate([quaternion_matrices(m).mT @ d[..., None], rho[..., None]], axis=2)
     return el.L0.mT @ V * el.scale - el.E1
 

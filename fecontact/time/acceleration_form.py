@@ -61,6 +61,7 @@ class AccelerationForm:
         # same matrix as ``tocsc``); an iterative or automatic solver takes S_t as it is
         direct = model.solver.name in ("direct", "superlu") and not model.dense
         self.csc = model.pattern.csc if direct else None
+        self.lie = None  # (on a group: one LieStep for the run's steps, begun at each)
         self.begin(st, c, t, P, law)
 
     def begin(self, st, c, t: float, P, law=None) -> None:
@@ -73,7 +74,11 @@ class AccelerationForm:
         model = self.model
         # on a Lie group the first row of X is the increment D, and q = q_n ⊕ D (:mod:`.lie`)
         if self.group:
-            lie = self.lie = LieStep(self.group, st.q)
+            lie = self.lie
+            if lie is None:
+                lie = self.lie = LieStep(self.group, st.q)
+            else:
+                lie.start(st.q)
             X = predict_increment(st, c, self.plan.bound)
             self.step = step = StepContext(model, c, t, st, self.opts, P, X)
             step.q = lie.configuration(X[0])

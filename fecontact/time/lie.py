@@ -203,9 +203,10 @@ class LieGroup:
         # its triples' entries at these flat places of an n × n array (beyond some 40 free
         # dofs the n³ product costs more than the triples' columns gathered)
         n = model.n_free
-        self.places = None
+        self.places = self.Z = None
         if model.dense and n <= _WHOLE_PRODUCT and len(R):
             self.places = (R[:, :, None] * n + R[:, None, :]).ravel()
+            self.Z = np.zeros(n * n)  # (T(D) − I placed, zero elsewhere: made once)
 
 
 # the largest dense model whose K (T(D) − I) is one n × n product
@@ -219,9 +220,19 @@ class LieStep:
     quaternions of q_n's rotations are made once per step; T(D) when a matrix asks for it."""
 
     def __init__(self, group: LieGroup, q_n: np.ndarray):
-        self.group, self.model, self.q_n = group, group.model, q_n
+        self.group, self.model = group, group.model
         self.single, self.F, self.cols = group.single, group.F, group.cols
-        self.p = None if self.single or not self.cols.size else RightIncrements(q_n[self.F])
+        self.p = None
+        self.start(q_n)
+
+    def start(self, q_n: np.ndarray) -> None:
+        """Begin the step from the positions ``q_n`` (a run's steps reuse one LieStep)."""
+        self.q_n = q_n
+        if not self.single and self.cols.size:
+            if self.p is None:
+                self.p = RightIncrements(q_n[self.F])
+            else:
+                self.p.start(q_n[self.F])
         self.D = None  # the rotation part of the current increment D
         self._T = None  # (k, 3, 3) right tangents at D, once asked for
 
@@ -296,8 +307,7 @@ class LieStep:
             return S + (self.right(K) - K)
         places = self.group.places
         if places is not None:
-            n = S.shape[0]
-            Z = np.zeros(n * n)
+            n, Z = S.shape[0], self.group.Z
             Z[places] = self._T_minus_identity().ravel()
             S += K @ Z.reshape(n, n)
             return S

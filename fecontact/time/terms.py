@@ -197,7 +197,7 @@ class Gyroscopic(ForceTerm):
         self.forces = InertialForces(model)  # each body's scatter, decided once
 
     def begin(self, step):
-        self.gp = step.c.gp
+        self.gp = np.array(step.c.gp)  # (0-d: numpy scales an array by it faster than by a float)
         return self
 
     def evaluate(self, step, it):
