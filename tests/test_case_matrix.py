@@ -1,0 +1,56 @@
+"""The case matrix (``benchmarks/case_matrix.py``): its cheapest quick rows hold what every
+row must, and what it found broken stays fixed."""
+
+import sys
+from pathlib import Path
+
+import pytest
+
+from fecontact import InputError
+from fecontact.contact.watch import BOUND
+from fecontact.testing import case
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+import case_matrix  # noqa: E402
+
+# the cheapest rows of the quick subset: (case, row label), a few seconds each
+CHEAP = [
+    ("ball_drop", "default"),
+    ("disk_drop", "default"),
+    ("disk_drop", "coarse"),
+    ("two_disks", "coarse"),
+    ("bouncing_ball", "default"),
+    ("rolling_disk", "mu=1"),
+]
+
+
+def quick_row(name: str, label: str) -> case_matrix.Row:
+    rows = case_matrix.quick_rows(case_matrix.all_rows([name]))
+    return next(r for r in rows if r.label == label)
+
+
+@pytest.mark.parametrize(("name", "label"), CHEAP, ids=lambda x: str(x))
+def test_quick_row_completes_outside_the_other_body_without_creating_energy(name, label):
+    row = quick_row(name, label)
+    res = case_matrix.run_row(row)
+    assert res["status"] == "completed", res["message"]
+    # depth: the solver's record and the positions' own measure, against the pair's bound: a
+    # node-based constraint holds its gap to round-off (1e-6 of the case's length is far
+    # above it); a mortar interface holds weighted gaps, its nodes within BOUND of an edge
+    if res["mortar"]:
+        tolerance = BOUND * res["edge"]
+    else:
+        tolerance = case_matrix.PEN_REL * case_matrix.CASES[name].length
+    assert res["max_penetration"] <= tolerance
+    assert res["depth"] <= tolerance
+    # energy: the closing step's position correction and jump create O(h²) energy on a
+    # flexible body (docs/explanation/energy_ledger.md), measured at most 5e-3 of the scale
+    # on these rows; rigid bodies create round-off
+    assert res["created_rel"] <= case_matrix.CREATED or res["created"] <= case_matrix.ROUND_OFF_J
+
+
+def test_a_tumbling_box_started_with_a_corner_under_the_plane_is_refused_naming_height():
+    with pytest.raises(InputError, match="height: the lowest corner starts at z = -0.003"):
+        case("tumbling_box").build(height=0.1)
+    with pytest.raises(InputError, match="give a height above 4.16"):
+        case("tumbling_box").build(a=20.0)
