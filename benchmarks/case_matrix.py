@@ -251,7 +251,9 @@ def speed_rows(name: str, spec: Spec, default: dict) -> list[Row]:
     rows = []
     for f in (0.1, 3.0, 10.0):
         value = default[spec.speed] * (f * f if spec.height else f)
-        approach = spec.approach / f  # a gap closed at f times the speed, a fall f² higher
+        # a gap closed at f times the speed takes 1/f of the time; a fall from rest f² higher
+        # (f times the speed at its end) takes f times as long
+        approach = spec.approach * f if spec.height else spec.approach / f
         t_end = spec.t_end + approach - spec.approach
         rows.append(Row(name, f"speed x{f:g}", {spec.speed: value}, {}, 1.0, t_end))
     return rows
