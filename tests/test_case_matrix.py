@@ -54,3 +54,22 @@ def test_a_tumbling_box_started_with_a_corner_under_the_plane_is_refused_naming_
         case("tumbling_box").build(height=0.1)
     with pytest.raises(InputError, match="give a height above 4.16"):
         case("tumbling_box").build(a=20.0)
+
+
+def test_a_post_started_inside_the_rod_is_refused_naming_its_parameters():
+    # the post's axis 17 mm from the rod's with 20 + 5 mm of radii: it used to reach the run's
+    # initial check as "contact 0 penetrates", naming no parameter
+    with pytest.raises(InputError, match="post_distance, post_azimuth, post_radius"):
+        case("rod_on_post").build(post_distance=0.02)
+    with pytest.raises(InputError, match="within post_radius \\+ rod radius = 0.505 m"):
+        case("rod_on_post").build(post_radius=0.5)
+    case("rod_on_post").build(post_bottom=0.01, post_distance=0.2, post_radius=0.005)  # clear
+
+
+def test_two_balls_started_inside_their_mortar_stand_off_are_refused_naming_gap():
+    with pytest.raises(
+        InputError, match="gap: 0 radii start the balls' mortar contact at -7.06e-06 m"
+    ):
+        case("two_balls").build(gap=0.0, base=1)
+    # node-to-surface reads the poles' distance to round-off: gap = 0 is admitted
+    case("two_balls").build(gap=0.0, base=1, method="node-to-surface")
