@@ -67,9 +67,8 @@ def test_a_post_started_inside_the_rod_is_refused_naming_its_parameters():
 
 
 def test_two_balls_started_inside_their_mortar_stand_off_are_refused_naming_gap():
-    with pytest.raises(
-        InputError, match="gap: 0 radii start the balls' mortar contact at -7.06e-06 m"
-    ):
+    refused = "gap: 0 radii start the balls' mortar contact at -7.06e-06 m"
+    with pytest.raises(InputError, match=refused):
         case("two_balls").build(gap=0.0, base=1)
     # node-to-surface reads the poles' distance to round-off: gap = 0 is admitted
     case("two_balls").build(gap=0.0, base=1, method="node-to-surface")
