@@ -28,7 +28,8 @@ depth beyond the contact tolerance (``max_penetration`` or the independent depth
 final state beyond 1e-6 of the default row's; a warning in summary.json.
 
     python benchmarks/case_matrix.py                  # every case (long on a shared machine)
-    python benchmarks/case_matrix.py --quick          # the default row and one more per case
+    python benchmarks/case_matrix.py --quick          # six cheap rows (``QUICK``), seconds
+    python benchmarks/case_matrix.py --quick --case rod_drop  # its default row and one more
     python benchmarks/case_matrix.py --case two_disks # one case, every row
 """
 
@@ -220,7 +221,15 @@ CASES = {
 }
 
 
-HEAVY = ("two_balls", "ball_on_slab")  # left out of --quick unless named by --case
+# --quick: the cheapest rows, a few seconds each on one core
+QUICK = (
+    ("ball_drop", "default"),
+    ("disk_drop", "default"),
+    ("disk_drop", "coarse"),
+    ("two_disks", "coarse"),
+    ("bouncing_ball", "default"),
+    ("rolling_disk", "mu=1"),
+)
 
 # -- the rows -------------------------------------------------------------------------------------
 
@@ -647,9 +656,10 @@ def main() -> None:
     rows = all_rows(names)
     if args.row:  # the default row too: the p/k rows' reference
         rows = [r for r in rows if r.label in {"default", *args.row}]
-    if args.quick:  # the 3D solid pairs' rows take half a minute each: by --case only
-        quick = [n for n in names if args.case or n not in HEAVY]
-        rows = [r for name in quick for r in quick_rows([x for x in rows if x.case == name])]
+    if args.quick and args.case:
+        rows = [r for name in names for r in quick_rows([x for x in rows if x.case == name])]
+    elif args.quick:  # the cheapest rows, seconds each (the tests run them)
+        rows = [r for r in rows if (r.case, r.label) in QUICK]
     table = run_matrix(rows, args.timeout)
     stem = args.name or "case_matrix" + ("_" + "_".join(args.case) if args.case else "")
     publish_table(table, args.out, stem + ("_quick" if args.quick else ""), args.quick)

@@ -13,20 +13,11 @@ from fecontact.testing import case
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 import case_matrix  # noqa: E402
 
-# the cheapest rows of the quick subset: (case, row label), a few seconds each
-CHEAP = [
-    ("ball_drop", "default"),
-    ("disk_drop", "default"),
-    ("disk_drop", "coarse"),
-    ("two_disks", "coarse"),
-    ("bouncing_ball", "default"),
-    ("rolling_disk", "mu=1"),
-]
+CHEAP = case_matrix.QUICK  # the quick subset: the cheapest rows, a few seconds each
 
 
 def quick_row(name: str, label: str) -> case_matrix.Row:
-    rows = case_matrix.quick_rows(case_matrix.all_rows([name]))
-    return next(r for r in rows if r.label == label)
+    return next(r for r in case_matrix.all_rows([name]) if r.label == label)
 
 
 @pytest.mark.parametrize(("name", "label"), CHEAP, ids=lambda x: str(x))
