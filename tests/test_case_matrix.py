@@ -63,3 +63,17 @@ def test_two_balls_started_inside_their_mortar_stand_off_are_refused_naming_gap(
         case("two_balls").build(gap=0.0, base=1)
     # node-to-surface reads the poles' distance to round-off: gap = 0 is admitted
     case("two_balls").build(gap=0.0, base=1, method="node-to-surface")
+
+
+def test_a_bar_struck_at_a_strain_its_nodes_cannot_hold_is_refused_naming_velocity():
+    # the strain at the wall is v/c and the discrete front overshoots it; only the end node
+    # holds the wall: the matrix's row at 10 x the default speed (v = c = 1 m/s) left the
+    # second node 8.95 mm inside the wall, and 0.7 c 0.39 mm; 0.6 c none
+    with pytest.raises(InputError, match="velocity must be at most 0.6 of the bar's wave"):
+        case("impacting_bar").build(velocity=0.7)
+    with pytest.raises(InputError, match="velocity must be at most 1.2 times the bars' wave"):
+        case("two_bars").build(velocity=1.4)
+    row = case_matrix.Row("impacting_bar", "0.6 c", {"velocity": 0.6}, {}, 1.0, 0.3)
+    res = case_matrix.run_row(row)
+    assert res["status"] == "completed", res["message"]
+    assert res["depth"] <= 1e-15  # every node on its side of the wall (the end: round-off)
