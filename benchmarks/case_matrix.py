@@ -535,7 +535,8 @@ def flags(entry: dict, reference: dict | None) -> list[str]:
     deep = max(entry["max_penetration"], np.nan_to_num(entry["depth"]))
     if deep > tol or entry["mortar_depth"] > BOUND:
         out.append("penetration")
-    if not entry.get("pk_diff", 0.0) <= PK_REL:
+    pk = entry.get("pk_diff", math.nan)  # nan: not a p/k row
+    if pk > PK_REL:
         out.append("p/k")
     if new_warnings(entry, reference):
         out.append("warning")
@@ -645,8 +646,10 @@ def main() -> None:
         runs = {(r["case"], r["row"]): r for path in args.combine for r in read_csv(path)}
         table = list(runs.values())  # a row run again in a later table replaces the earlier
         defaults = {r["case"]: r for r in table if r["row"] == "default"}
-        for r in table:
-            r["message"], r["warning"] = str(r["message"]), str(r["warning"])
+        text = ("case", "row", "status", "flags", "message", "command", "warning")
+        for r in table:  # an empty cell is a number not measured
+            r.update({k: math.nan for k, v in r.items() if v == "" and k not in text})
+            r.update({k: str(r[k]) for k in text})
             r["flags"] = " ".join(flags(r, defaults.get(r["case"])))
         return publish_table(table, args.out, args.name or "case_matrix", args.quick)
     names = args.case or list(CASES)
