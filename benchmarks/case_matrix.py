@@ -590,8 +590,9 @@ COLUMNS = [
 SHOWN = COLUMNS[: COLUMNS.index("message")]  # the Markdown table's columns
 
 
-def run_matrix(rows: list[Row], timeout: float) -> list[dict]:
-    """Run ``rows`` one after the other, each in its own process; the table's rows."""
+def run_matrix(rows: list[Row], timeout: float, csv_path=None) -> list[dict]:
+    """Run ``rows`` one after the other, each in its own process; the table's rows, also
+    written to ``csv_path`` after each row (a long matrix stopped keeps what it ran)."""
     table, defaults = [], {}
     for row in rows:
         res = run_isolated(row, timeout)
@@ -610,6 +611,8 @@ def run_matrix(rows: list[Row], timeout: float) -> list[dict]:
         entry["flags"] = " ".join(flags(entry, reference))
         entry["message"] = res.get("message") or res.get("warning", "")
         table.append(entry)
+        if csv_path is not None:
+            write_csv(csv_path, table, COLUMNS)
         print(
             f"{row.case:18s} {row.label:22s} {res['status']:9s} {res.get('wall', 0):6.1f} s "
             f"{entry['flags']}",
@@ -663,9 +666,10 @@ def main() -> None:
         rows = [r for name in names for r in quick_rows([x for x in rows if x.case == name])]
     elif args.quick:  # the cheapest rows, seconds each (the tests run them)
         rows = [r for r in rows if (r.case, r.label) in QUICK]
-    table = run_matrix(rows, args.timeout)
     stem = args.name or "case_matrix" + ("_" + "_".join(args.case) if args.case else "")
-    publish_table(table, args.out, stem + ("_quick" if args.quick else ""), args.quick)
+    stem += "_quick" if args.quick else ""
+    table = run_matrix(rows, args.timeout, Path(args.out) / f"{stem}.csv")
+    publish_table(table, args.out, stem, args.quick)
 
 
 def publish_table(table: list[dict], out: str, stem: str, quick: bool) -> None:
