@@ -353,16 +353,31 @@ def segment_distance(points: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.nda
 def depth_measure(model):
     """``measure(q)``: the deepest point (m) of one body inside another, from the positions
     alone, over the pairs this script knows how to measure; None if it knows none."""
-    from fecontact.bodies import Beam2D, RigidBody2D, Solid
-    from fecontact.contact import Plane
-
     bodies = list(model.bodies)
     slices = [model.body_slice(i) for i in range(len(bodies))]
+    parts = plane_parts(model, bodies, slices) + body_parts(model, bodies, slices)
+    if not parts:
+        return None
+    return lambda q: max(f(q) for f in parts)
+
+
+def plane_parts(model, bodies, slices) -> list:
+    """Depth measures of the bodies against their plane obstacles."""
+    from fecontact.contact import Plane
+
     parts = []
     for pair in model.contacts.pairs:
         if isinstance(getattr(pair, "obstacle", None), Plane):
             i = bodies.index(pair.body)
             parts.append(lambda q, p=pair, i=i: plane_depth(p, bodies[i].positions(q[slices[i]])))
+    return parts
+
+
+def body_parts(model, bodies, slices) -> list:
+    """Depth measures between bodies: two 2D solids, a rigid disk on a strip, two bars."""
+    from fecontact.bodies import Beam2D, RigidBody2D, Solid
+
+    parts = []
     solids = [i for i, b in enumerate(bodies) if isinstance(b, Solid) and b.dim == 2]
     if len(solids) == 2:
         for i, j in (solids, solids[::-1]):
@@ -370,24 +385,18 @@ def depth_measure(model):
     beams = [i for i, b in enumerate(bodies) if isinstance(b, Beam2D)]
     disks = [i for i, b in enumerate(bodies) if isinstance(b, RigidBody2D)]
     if len(beams) == 1 and len(disks) == 1 and model.contacts.pairs:
-        clearance = model.contacts.pairs[0].clearance
-        radius = bodies[disks[0]].shape.radius
-        parts.append(
-            lambda q: disk_on_strip(bodies, slices, q, beams[0], disks[0], radius + clearance)
-        )
+        reach = bodies[disks[0]].shape.radius + model.contacts.pairs[0].clearance
+        parts.append(lambda q: disk_on_strip(bodies, slices, q, beams[0], disks[0], reach))
     if len(beams) == 2:  # two bars on one axis: the striker's end past the target's
-        parts.append(
-            lambda q: max(
-                0.0,
-                float(
-                    np.max(bodies[0].positions(q[slices[0]])[:, 0])
-                    - np.min(bodies[1].positions(q[slices[1]])[:, 0])
-                ),
-            )
-        )
-    if not parts:
-        return None
-    return lambda q: max(f(q) for f in parts)
+        parts.append(lambda q: bars_overlap(bodies, slices, q))
+    return parts
+
+
+def bars_overlap(bodies, slices, q) -> float:
+    """How far the striker (body 0, on the left) reaches past the target's first node (m)."""
+    striker = bodies[0].positions(q[slices[0]])[:, 0]
+    target = bodies[1].positions(q[slices[1]])[:, 0]
+    return max(0.0, float(np.max(striker) - np.min(target)))
 
 
 def solid_in_solid(bodies, slices, q, i: int, j: int) -> float:
@@ -633,6 +642,20 @@ def all_rows(names) -> list[Row]:
 
 
 def main() -> None:
+    args = options().parse_args()
+    if args.worker:
+        print(json.dumps(run_row(Row(**json.loads(args.worker))), default=float))
+    elif args.combine:
+        combine(args.combine, args.out, args.name or "case_matrix", args.quick)
+    else:
+        rows = selected_rows(args)
+        stem = args.name or "case_matrix" + ("_" + "_".join(args.case) if args.case else "")
+        stem += "_quick" if args.quick else ""
+        table = run_matrix(rows, args.timeout, Path(args.out) / f"{stem}.csv")
+        publish_table(table, args.out, stem, args.quick)
+
+
+def options():
     p = parser(__doc__.splitlines()[0])
     p.add_argument("--case", action="append", help="only this case (repeatable)")
     p.add_argument("--timeout", type=float, default=300.0, help="per run, s (default 300)")
@@ -640,36 +663,37 @@ def main() -> None:
     p.add_argument("--name", help="stem of the result files (default: case_matrix)")
     p.add_argument("--combine", nargs="+", help="tables of earlier runs (CSV) to write as one")
     p.add_argument("--worker", help=argparse_hidden())
-    args = p.parse_args()
-    if args.worker:
-        row = Row(**json.loads(args.worker))
-        print(json.dumps(run_row(row), default=float))
-        return
-    if args.combine:
-        runs = {(r["case"], r["row"]): r for path in args.combine for r in read_csv(path)}
-        table = list(runs.values())  # a row run again in a later table replaces the earlier
-        defaults = {r["case"]: r for r in table if r["row"] == "default"}
-        text = ("case", "row", "status", "flags", "message", "command", "warning")
-        for r in table:  # an empty cell is a number not measured
-            r.update({k: math.nan for k, v in r.items() if v == "" and k not in text})
-            r.update({k: str(r[k]) for k in text})
-            r["flags"] = " ".join(flags(r, defaults.get(r["case"])))
-        return publish_table(table, args.out, args.name or "case_matrix", args.quick)
+    return p
+
+
+def selected_rows(args) -> list[Row]:
+    """The rows the command line asks for."""
     names = args.case or list(CASES)
     unknown = sorted(set(names) - set(CASES))
     if unknown:
-        p.error(f"--case: unknown {unknown[0]!r}; known: {', '.join(CASES)}")
+        raise SystemExit(f"--case: unknown {unknown[0]!r}; known: {', '.join(CASES)}")
     rows = all_rows(names)
     if args.row:  # the default row too: the p/k rows' reference
         rows = [r for r in rows if r.label in {"default", *args.row}]
     if args.quick and args.case:
-        rows = [r for name in names for r in quick_rows([x for x in rows if x.case == name])]
-    elif args.quick:  # the cheapest rows, seconds each (the tests run them)
-        rows = [r for r in rows if (r.case, r.label) in QUICK]
-    stem = args.name or "case_matrix" + ("_" + "_".join(args.case) if args.case else "")
-    stem += "_quick" if args.quick else ""
-    table = run_matrix(rows, args.timeout, Path(args.out) / f"{stem}.csv")
-    publish_table(table, args.out, stem, args.quick)
+        return [r for name in names for r in quick_rows([x for x in rows if x.case == name])]
+    if args.quick:  # the cheapest rows, seconds each (the tests run them)
+        return [r for r in rows if (r.case, r.label) in QUICK]
+    return rows
+
+
+def combine(paths, out: str, stem: str, quick: bool) -> None:
+    """One table of the CSVs ``paths`` (a row run again in a later one replaces the earlier),
+    flagged again, published as ``out``/``stem``."""
+    runs = {(r["case"], r["row"]): r for path in paths for r in read_csv(path)}
+    table = list(runs.values())
+    defaults = {r["case"]: r for r in table if r["row"] == "default"}
+    text = ("case", "row", "status", "flags", "message", "command", "warning")
+    for r in table:  # an empty cell is a number not measured
+        r.update({k: math.nan for k, v in r.items() if v == "" and k not in text})
+        r.update({k: str(r[k]) for k in text})
+        r["flags"] = " ".join(flags(r, defaults.get(r["case"])))
+    publish_table(table, out, stem, quick)
 
 
 def publish_table(table: list[dict], out: str, stem: str, quick: bool) -> None:
