@@ -485,7 +485,8 @@ def measurements(summary: dict, last: dict, measured: bool) -> dict:
         "t": summary.get("t_end") if summary.get("status") == "completed" else math.nan,
         "halvings": summary.get("step_halvings", 0),
         "least_squares": summary.get("least_squares_multipliers", 0),
-        "unconverged": summary.get("final_residuals", {}).get("position", 0.0),
+        "final_residual": max(summary.get("final_residuals", {}).values(), default=math.nan),
+        "fallbacks": fallbacks(summary),
         "max_penetration": summary.get("max_penetration", math.nan),
         "mortar_depth": summary.get("mortar_depth", 0.0),
         "depth": last.get("depth", math.nan) if measured else math.nan,
@@ -497,6 +498,18 @@ def measurements(summary: dict, last: dict, measured: bool) -> dict:
         "v": last["v"].tolist() if "v" in last else None,
         "vmax": last.get("vmax", math.nan),
     }
+
+
+def fallbacks(summary: dict) -> str:
+    """The other fallbacks ``summary`` counts, those not zero, as "name count; ..."."""
+    counts = {
+        "retakes": summary.get("penetration_retakes", 0),
+        "line search cuts": summary.get("smooth_newton", {}).get("line_search_cuts", 0),
+        "shortened follow-ups": summary.get("velocity_follow_ups", {}).get("shortened", 0),
+        "localization fallbacks": sum(summary.get("localization_fallbacks", {}).values()),
+        "rejected steps": summary.get("steps_rejected", 0),
+    }
+    return "; ".join(f"{name} {n}" for name, n in counts.items() if n)
 
 
 def run_isolated(row: Row, timeout: float) -> dict:
@@ -583,6 +596,8 @@ COLUMNS = [
     "steps",
     "halvings",
     "least_squares",
+    "fallbacks",
+    "final_residual",
     "max_penetration",
     "mortar_depth",
     "depth",
