@@ -557,6 +557,8 @@ def flags(entry: dict, reference: dict | None) -> list[str]:
     deep = max(entry["max_penetration"], np.nan_to_num(entry["depth"]))
     if deep > tol or entry["mortar_depth"] > BOUND:
         out.append("penetration")
+    if entry.get("final_residual", 0.0) > 1.0:  # a correction accepted beyond its tolerance
+        out.append("residual")
     pk = entry.get("pk_diff", math.nan)  # nan: not a p/k row
     if pk > PK_REL:
         out.append("p/k")
@@ -703,7 +705,7 @@ def combine(paths, out: str, stem: str, quick: bool) -> None:
     runs = {(r["case"], r["row"]): r for path in paths for r in read_csv(path)}
     table = list(runs.values())
     defaults = {r["case"]: r for r in table if r["row"] == "default"}
-    text = ("case", "row", "status", "flags", "message", "command", "warning")
+    text = ("case", "row", "status", "flags", "message", "command", "warning", "fallbacks")
     for r in table:  # an empty cell is a number not measured
         r.update({k: math.nan for k, v in r.items() if v == "" and k not in text})
         r.update({k: str(r[k]) for k in text})
@@ -722,7 +724,8 @@ def publish_table(table: list[dict], out: str, stem: str, quick: bool) -> None:
             f"{len(table)} runs, {len(flagged)} flagged. Flags: not completed (failed, timeout, "
             f"input, crash); created > {CREATED:g} of the scale; penetration beyond "
             f"{PEN_REL:g} of the case's length or a mortar node beyond 1 % of an edge; p/k: the "
-            f"final state moved by more than {PK_REL:g}; warning: summary.json warns.",
+            f"final state moved by more than {PK_REL:g}; residual: a converged correction left "
+            "its residual above its tolerance; warning: summary.json warns.",
             "",
             markdown_table(table, SHOWN),
             "",
