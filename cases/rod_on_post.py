@@ -38,6 +38,8 @@ def build(
 ):  # fmt: skip
     if not post_top > post_bottom:
         raise InputError(f"post_top must lie above post_bottom ({post_bottom} m), got {post_top}")
+    _check_post_clear(length, radius, post_distance, post_azimuth, post_radius,
+                      (post_bottom, post_top))  # fmt: skip
     material = Material(E, nu=nu, rho=rho)
     rod = Beam3D.straight([0, 0, 0], [length, 0, 0], n_elements, material, Section.circle(radius))
     rod.pin(0)
@@ -67,6 +69,23 @@ def build(
     v0[:, 3:] = omega
     v = np.concatenate([v0.ravel(), np.zeros(6)])
     return Simulation(model, dt=1e-4, t_end=0.3, probes=probes, name="rod_on_post", v0=v)
+
+
+def _check_post_clear(length, radius, distance, azimuth, post_radius, heights) -> None:
+    """The post must start clear of the rod: the closest points of the rod's axis (x in
+    [0, length] at z = 0) and of the post's axis (vertical, z in ``heights``) lie farther
+    apart than post_radius + radius."""
+    a = np.radians(azimuth)
+    foot = distance * np.array([np.cos(a), np.sin(a)])
+    x = np.clip(foot[0], 0.0, length)
+    z = np.clip(0.0, *heights)
+    apart = float(np.sqrt((foot[0] - x) ** 2 + foot[1] ** 2 + z**2))
+    if apart <= post_radius + radius:
+        raise InputError(
+            f"post_distance, post_azimuth, post_radius: the post's axis starts {apart:.4g} m "
+            f"from the rod's, within post_radius + rod radius = {post_radius + radius:.4g} m "
+            "(the post would start inside the rod); move the post or make it thinner"
+        )
 
 
 if __name__ == "__main__":

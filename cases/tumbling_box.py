@@ -16,6 +16,7 @@ import numpy as np
 from fecontact import (
     Box,
     Contact,
+    InputError,
     Model,
     Param,
     Plane,
@@ -48,6 +49,12 @@ def build(
     axis = np.array([1.0, 2.0, 3.0]) / np.sqrt(14.0)
     q0 = np.r_[0.0, 0.0, 0.0, 0.3, -0.4, 0.2]  # tilted: a corner lands first
     v0 = np.r_[velocity, 0.0, 0.0, spin * axis]
+    lowest = float(box.point_positions(q0, np.arange(8))[:, 2].min())
+    if lowest <= 0.0:  # the tilted box's lowest corner, before any work
+        raise InputError(
+            f"height: the lowest corner starts at z = {lowest:.4g} m, on or below the plane; "
+            f"give a height above {height - lowest:.4g} m for these sides a, b, c"
+        )
 
     def corners(st):
         return box.point_positions(st.q, np.arange(8))

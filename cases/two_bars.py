@@ -13,13 +13,26 @@ Probes: ``gap`` between the ends (m), ``contact_force`` k Λ/h (N, mean over the
 ``v_striker`` and ``v_target`` (m/s, momentum / mass of each bar).
 """
 
-from fecontact import Model, Probe, Simulation, case, run_cli
+import numpy as np
+
+from fecontact import InputError, Model, Probe, Simulation, case, run_cli
 from fecontact.contact import Contact
 from fecontact.scenes import BAR, axial_bar, axial_velocity_probe, contact_force_probe, wave_transit
 
 
 @case(BAR)
 def build(length, E, rho, area, velocity, gap, n_elements, restitution):
+    c = np.sqrt(E / rho)
+    if velocity > 1.2 * c:
+        # the strain where the ends meet is v/(2c); the discrete front overshoots it, and only
+        # the end nodes hold each other: at 0.7 (v = 1.4 c) the next nodes pass by
+        # 0.78 mm, at 0.6 by none (n = 100, the case's step)
+        raise InputError(
+            f"velocity must be at most 1.2 times the bars' wave speed, 1.2 sqrt(E/rho) = "
+            f"{1.2 * c:.4g} m/s, got "
+            f"{velocity:g}: the strain v/(2c) where the ends meet, overshot by the discrete "
+            "front, would push the nodes next to the ends through each other"
+        )
     striker = axial_bar([-gap - length, 0.0], [-gap, 0.0], n_elements, E, rho, area)
     target = axial_bar([0.0, 0.0], [length, 0.0], n_elements, E, rho, area)
     hit = Contact(striker, target, nodes=(-1, 0), restitution=restitution)
