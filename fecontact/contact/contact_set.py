@@ -30,6 +30,7 @@ class ContactSet(FrictionRows):
         self.owner = _per_contact(self.pairs, range(len(self.pairs)), int)  # pair of a contact
         # each contact's number within its pair
         self.local = _per_contact(self.pairs, [np.arange(pair.size) for pair in self.pairs], int)
+        self.point = _points(self.pairs)
         self._measured_by_inside_test()
         self._scatters: dict = {}
         self._last_scatter: dict = {}  # per pair: read-only (rows, dofs) and their _Scatter
@@ -71,6 +72,18 @@ class ContactSet(FrictionRows):
         """Whether every gap is affine in q (nodes against fixed planes): constant gradients,
         no curvature."""
         return self._affine is not None
+
+    def held_together(self, closed: np.ndarray, held: np.ndarray) -> np.ndarray:
+        """``held`` (a mask over the contacts ``closed``, those a smooth force presses) with
+        every closed row of a point one of whose rows is held: a point's rows take one impact
+        law. (A node in a beam's valley is held by one line's smooth force while the other,
+        nearly parallel line closes on it: an equality ġ = 0 on one row and Newton's
+        ġ⁺ = −e ġ⁻ > 0 on the other ask the node for two velocities along almost one
+        direction, which the jump meets with impulses of 1e4 N·s of opposite signs.)"""
+        if self.point is None or not held.any() or held.all():
+            return held
+        at = self.point[closed]
+        return np.isin(at, at[held])
 
     def detect_within(self, distance: float) -> None:
         """Give the pairs with a spatial search of their own the integrator's detection
@@ -260,6 +273,19 @@ class ContactSet(FrictionRows):
             )
             offset += m
         return f
+
+
+def _points(pairs) -> np.ndarray | None:
+    """The global number of the point each contact holds (rows of one point share it), or
+    None where every row holds a point of its own (decided once per model)."""
+    if not any(getattr(pair, "shared_points", False) for pair in pairs):
+        return None
+    out, base = [], 0
+    for pair in pairs:
+        own = pair.points() if getattr(pair, "shared_points", False) else np.arange(pair.size)
+        out.append(base + np.asarray(own, int))
+        base += pair.size
+    return np.concatenate(out)
 
 
 def _per_contact(pairs, values, dtype=float) -> np.ndarray:

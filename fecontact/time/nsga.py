@@ -230,7 +230,8 @@ class _Phases:
         if self.v is self.v_tilde:  # (the jump adds to v in place: ṽ is kept apart)
             self.v = self.v.copy()
         force, grip = self.force, self.grip
-        self.held = held = None if force is None else force[closed] > 0.0
+        held = None if force is None else model.contacts.held_together(closed, force[closed] > 0.0)
+        self.held = held
         preload = None if grip is None else self.h * grip[closed]  # the smooth forces' impulse
         W, Lam, self.iters["velocity"], tangential, self.works = velocity_jump(
             model,
