@@ -20,6 +20,7 @@ from fecontact import (
 from fecontact.bodies import Solid
 from fecontact.bodies.materials import LinearElastic, NeoHookean
 from fecontact.contact.beam_sides import PointBeamContact
+from fecontact.contact.contact_set import held_together
 from fecontact.ledger import EnergyLedger
 from fecontact.scenes import wave_step
 from fecontact.simulation import run
@@ -168,16 +169,16 @@ def test_a_nodes_two_rows_take_one_impact_law():
     model = disk_on_strip(0.5, 1, 0.5)[0].model
     n = model.contacts.size // 2
     closed = np.array([3, 5, 3 + n])
-    held = model.contacts.held_together(closed, np.array([True, False, False]))
+    held = held_together(model.contacts, closed, np.array([True, False, False]))
     np.testing.assert_array_equal(held, [True, False, True])
     alone = np.array([False, True, False])  # node 5 held, node 3 closing on both lines
-    np.testing.assert_array_equal(model.contacts.held_together(closed, alone), alone)
+    np.testing.assert_array_equal(held_together(model.contacts, closed, alone), alone)
     # pairs whose rows are points of their own: decided once, nothing changes
     ball = Solid.disk([0.0, 0.2], 0.05, 1, LinearElastic(1e7, 0.3, 1e3))
     plain = Model([ball], [Contact(ball, Plane([0.0, 0.0], [0.0, 1.0]))], gravity=(0.0, 0.0))
     assert plain.contacts.point is None
     some = np.array([True, False])
-    assert plain.contacts.held_together(np.array([0, 1]), some) is some
+    assert held_together(plain.contacts, np.array([0, 1]), some) is some
 
 
 @functools.cache

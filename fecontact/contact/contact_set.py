@@ -11,7 +11,7 @@ from .friction_rows import FrictionRows
 from .mortar_interface import merge_interfaces
 from .watch import solid_watches
 
-__all__ = ["ContactSet", "admissible_gaps"]
+__all__ = ["ContactSet", "admissible_gaps", "held_together"]
 
 
 class ContactSet(FrictionRows):
@@ -72,18 +72,6 @@ class ContactSet(FrictionRows):
         """Whether every gap is affine in q (nodes against fixed planes): constant gradients,
         no curvature."""
         return self._affine is not None
-
-    def held_together(self, closed: np.ndarray, held: np.ndarray) -> np.ndarray:
-        """``held`` (a mask over the contacts ``closed``, those a smooth force presses) with
-        every closed row of a point one of whose rows is held: a point's rows take one impact
-        law. (A node in a beam's valley is held by one line's smooth force while the other,
-        nearly parallel line closes on it: an equality ġ = 0 on one row and Newton's
-        ġ⁺ = −e ġ⁻ > 0 on the other ask the node for two velocities along almost one
-        direction, which the jump meets with impulses of 1e4 N·s of opposite signs.)"""
-        if self.point is None or not held.any() or held.all():
-            return held
-        at = self.point[closed]
-        return np.isin(at, at[held])
 
     def detect_within(self, distance: float) -> None:
         """Give the pairs with a spatial search of their own the integrator's detection
@@ -273,6 +261,18 @@ class ContactSet(FrictionRows):
             )
             offset += m
         return f
+
+
+def held_together(contacts: ContactSet, closed: np.ndarray, held: np.ndarray) -> np.ndarray:
+    """``held`` (a mask over the ``closed`` contacts: those a smooth force presses) with
+    every closed row of a point one of whose rows is held: a point's rows take one impact
+    law (a node in a beam's valley held by one line's force while the nearly parallel other
+    line closes on it: ġ = 0 on one row and Newton's ġ⁺ = −e ġ⁻ > 0 on the other ask the
+    node for two velocities along almost one direction)."""
+    if contacts.point is None or not held.any() or held.all():
+        return held
+    at = contacts.point[closed]
+    return np.isin(at, at[held])
 
 
 def _points(pairs) -> np.ndarray | None:
