@@ -69,7 +69,7 @@ class RigidMomentum:
         dv = np.zeros_like(v)
         Gr = G[:, self.columns]
         rows = np.abs(Gr).max(axis=1) > 0.0
-        outside = np.abs(G).sum(axis=1) > np.abs(Gr).sum(axis=1)  # rows on other bodies
+        outside = np.count_nonzero(G, axis=1) > np.count_nonzero(Gr, axis=1)  # other bodies
         touch = np.abs(Gr).reshape(len(G), len(self.bodies), 6).max(axis=2) > 0.0
         for group in _groups(touch[rows], outside[rows]):
             members = [self.bodies[a] for a in group]
