@@ -5,9 +5,9 @@ not a force, yet it changes the angular momentum about a fixed point O,
 
     L_O = Σ_a (c_a − O) × m_a u̇_a + R_a J_a Ω_a,
 
-by Σ_a (c_a − c̃_a) × m_a u̇_a + (R_a − R̃_a) J_a Ω_a: a ball struck off-centre by a spinning
-one keeps the correction's push along the normal at its own momentum, and the pair's total L
-changes at first order in h. Which components the contact forces conserve decides what is
+by Σ_a (c_a − c̃_a) × m_a u̇_a + (R_a − R̃_a) J_a Ω_a: two balls in an off-centre impact are
+pushed apart along their normal at fixed momenta, and the pair's total L changes at first
+order in h. Which components the contact forces conserve decides what is
 put back:
 
 - a *group* of free bodies whose contacts in the correction join only bodies of the group
@@ -19,17 +19,17 @@ put back:
   about n (a plane, or one contact), frictionless: L·n is conserved, the rule of
   :class:`fecontact.time.correction.MomentumKept` for beams.
 
-The lost components, ℓ = W ᵀ(L_O(q̃, ṽ) − L_O(q, ṽ)) with W the held axes (3 × k), are put
+The lost components, ℓ = Wᵀ(L_O(q̃, ṽ) − L_O(q, ṽ)) with W the held axes (3 × k), are put
 back by the velocity change of least kinetic energy that keeps P: a rigid rotation δω = W a
 of the group about its centre of mass c_G at q (O = c_G), δu̇_a = δω × (c_a − c_G),
 δΩ_a = R_aᵀδω, with (Wᵀ I_G W) a = ℓ and I_G the group's locked inertia about c_G. (Of all
-velocity changes with W ᵀΔL = ℓ and ΔP = 0 that one minimises ½ δvᵀ M δv: its Lagrange
+velocity changes with WᵀΔL = ℓ and ΔP = 0 that one minimises ½ δvᵀ M δv: its Lagrange
 conditions M δv = Σ (∂L·w/∂v)ᵀ a_w + (∂P/∂v)ᵀ b give exactly a rigid twist, and ΔP = 0 puts
 its axis through c_G.)
 
 Decided once per model: the free ``RigidBody3D`` bodies (no support), in a model without
-joints (a joint's force on one body of a pair is external to it); groups touched by rows on
-other bodies (solids, beams, fixed bodies' own rows excepted) are left alone.
+joints (a joint's force on one body of a pair is external to it). A group that a row joins to
+another kind of body (a solid, a beam) is left alone; a fixed body is an obstacle.
 """
 
 from __future__ import annotations
