@@ -37,6 +37,12 @@ class PairDefaults:
     friction = 0.0  # Coulomb's μ of every contact of the pair (set by ``Contact``)
     redundant_rows = False  # True: rows can be redundant up to round-off (minimum-norm μ)
     companions: tuple = ()  # pairs it brings into the model, bound with it (rows of its own)
+    shared_points = False  # True: several rows can hold one point (``points()`` says which)
+
+    def points(self) -> np.ndarray:
+        """The point (an int per row, the pair's own numbering) each row holds: rows of one
+        point share its impact law in the velocity jump. Every row its own point here."""
+        return np.arange(self.size)
 
     def bind(self, model) -> None:
         """Place the pair in the global dof vector of ``model``: the offsets of its two

@@ -11,7 +11,7 @@ from .friction_rows import FrictionRows
 from .mortar_interface import merge_interfaces
 from .watch import solid_watches
 
-__all__ = ["ContactSet", "admissible_gaps"]
+__all__ = ["ContactSet", "admissible_gaps", "held_together"]
 
 
 class ContactSet(FrictionRows):
@@ -30,6 +30,7 @@ class ContactSet(FrictionRows):
         self.owner = _per_contact(self.pairs, range(len(self.pairs)), int)  # pair of a contact
         # each contact's number within its pair
         self.local = _per_contact(self.pairs, [np.arange(pair.size) for pair in self.pairs], int)
+        self.point = _points(self.pairs)
         self._measured_by_inside_test()
         self._scatters: dict = {}
         self._last_scatter: dict = {}  # per pair: read-only (rows, dofs) and their _Scatter
@@ -260,6 +261,31 @@ class ContactSet(FrictionRows):
             )
             offset += m
         return f
+
+
+def held_together(contacts: ContactSet, closed: np.ndarray, held: np.ndarray) -> np.ndarray:
+    """``held`` (a mask over the ``closed`` contacts: those a smooth force presses) with
+    every closed row of a point one of whose rows is held: a point's rows take one impact
+    law (a node in a beam's valley held by one line's force while the nearly parallel other
+    line closes on it: ġ = 0 on one row and Newton's ġ⁺ = −e ġ⁻ > 0 on the other ask the
+    node for two velocities along almost one direction)."""
+    if contacts.point is None or not held.any() or held.all():
+        return held
+    at = contacts.point[closed]
+    return np.isin(at, at[held])
+
+
+def _points(pairs) -> np.ndarray | None:
+    """The global number of the point each contact holds (rows of one point share it), or
+    None where every row holds a point of its own (decided once per model)."""
+    if not any(getattr(pair, "shared_points", False) for pair in pairs):
+        return None
+    out, base = [], 0
+    for pair in pairs:
+        own = pair.points() if getattr(pair, "shared_points", False) else np.arange(pair.size)
+        out.append(base + np.asarray(own, int))
+        base += pair.size
+    return np.concatenate(out)
 
 
 def _per_contact(pairs, values, dtype=float) -> np.ndarray:

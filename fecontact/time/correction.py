@@ -19,6 +19,7 @@ from .constraints import (
     constraint_columns,
     factorize_or_fail,
 )
+from .momentum_rigid import common_normal, rigid_momentum
 
 __all__ = [
     "MomentumKept",
@@ -131,10 +132,13 @@ class MomentumKept:
 
     Decided once per model: the beams in space (a rotation vector at every node) without
     support or joint (a held body's momentum is not its own), in a frictionless model (a
-    frictional correction moves the nodes along the tangents too)."""
+    frictional correction moves the nodes along the tangents too). Free rigid bodies in space
+    are held by ``rigid`` (:mod:`.momentum_rigid`: a free pair's total L, a lone body's L·n).
+    """
 
     def __init__(self, model):
         self.bodies = []  # (body, global slice, its free dofs, mass matrix, node masses (kg))
+        self.rigid = rigid_momentum(model)
         if model.joints.size or model.contacts.frictional:
             return
         for i, b in enumerate(model.bodies):
@@ -148,13 +152,13 @@ class MomentumKept:
         """The increment (all dofs) of the velocity ``v`` (ṽ) that holds each body's angular
         momentum (kg·m²/s) about its contacts' common normal at its value at (q̃, ṽ) after the
         correction to ``q``; ``G``: the gradients (free dofs) of the correction's contacts."""
-        dv = np.zeros_like(v)
+        dv = np.zeros_like(v) if self.rigid is None else self.rigid(q_tilde, q, v, G)
         for b, s, free, M, m in self.bodies:
             Gb = G[:, free]
             Gb = Gb[np.abs(Gb).max(axis=1) > 0.0]
             x = b.positions(q[s])
             fields = _rotation_fields(x - m @ x / m.sum(), q[s])
-            n = _common_normal(Gb, fields)
+            n = common_normal(Gb, fields)
             if n is None:
                 continue
             lost = _momentum(b, M, q_tilde[s], v[s]) - _momentum(b, M, q[s], v[s])
@@ -181,26 +185,6 @@ def _rotation_fields(r, q) -> np.ndarray:
     return fields.reshape(3, -1)
 
 
-def _common_normal(G, fields) -> np.ndarray | None:
-    """The unit normal n shared by the contacts of gradient rows ``G`` (on a body's dofs): the
-    force direction Σ_i G_c(x_i) of each, all parallel, with no moment about n (the rate
-    G_c f_n of the rigid rotation f_n about n is zero to round-off); else None."""
-    if len(G) == 0:
-        return None
-    forces = G.reshape(len(G), -1, 6)[:, :, :3].sum(axis=1)
-    size = np.linalg.norm(forces, axis=1)
-    if np.any(size == 0.0):
-        return None
-    n = forces[0] / size[0]
-    # (round-off of unit normals made from coordinates of order the body's size)
-    if np.abs(np.cross(forces / size[:, None], n)).max() > 1e-12:
-        return None
-    rate = G @ (n @ fields)
-    if np.abs(rate).max() > 1e-12 * np.abs(G).max() * np.abs(fields).max():
-        return None
-    return n
-
-
 def momentum_held(kept, model, q_tilde, q, v, work) -> tuple[np.ndarray, np.ndarray | None]:
     """(v, Δv): the velocity ``v`` after the correction q̃ → q over the contacts ``work`` with
     the increment Δv of ``kept``, the run's :class:`MomentumKept` (None, v itself, for models
@@ -214,4 +198,4 @@ def momentum_held(kept, model, q_tilde, q, v, work) -> tuple[np.ndarray, np.ndar
 def momentum_kept(model) -> MomentumKept | None:
     """The model's :class:`MomentumKept`, decided once per run; None when no body qualifies."""
     kept = MomentumKept(model)
-    return kept if kept.bodies else None
+    return kept if kept.bodies or kept.rigid is not None else None

@@ -34,6 +34,7 @@ import time
 
 import numpy as np
 
+from ..contact.contact_set import held_together
 from ..ledger import pending_record
 from .alpha_step import SmoothStep, alpha_plan, alpha_smooth_step
 from .configuration import plus
@@ -230,7 +231,9 @@ class _Phases:
         if self.v is self.v_tilde:  # (the jump adds to v in place: ṽ is kept apart)
             self.v = self.v.copy()
         force, grip = self.force, self.grip
-        self.held = held = None if force is None else force[closed] > 0.0
+        self.held = held = (
+            None if force is None else held_together(model.contacts, closed, force[closed] > 0.0)
+        )
         preload = None if grip is None else self.h * grip[closed]  # the smooth forces' impulse
         W, Lam, self.iters["velocity"], tangential, self.works = velocity_jump(
             model,

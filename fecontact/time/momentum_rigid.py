@@ -1,0 +1,178 @@
+r"""The angular momentum of free rigid bodies in space, held through a position correction.
+
+The correction q̃ → q moves the bodies (q = q̃ ⊕ U) at fixed velocities: it is a projection,
+not a force, yet it changes the angular momentum about a fixed point O,
+
+    L_O = Σ_a (c_a − O) × m_a u̇_a + R_a J_a Ω_a,
+
+by Σ_a (c_a − c̃_a) × m_a u̇_a + (R_a − R̃_a) J_a Ω_a: two balls in an off-centre impact are
+pushed apart along their normal at fixed momenta, and the pair's total L changes at first
+order in h. Which components the contact forces conserve decides what is
+put back:
+
+- a *group* of free bodies whose contacts in the correction join only bodies of the group
+  (a free pair): every contact force acts on two bodies of the group, equal, opposite and
+  on one line through the contact point (or, with friction, at one point), so the group's
+  total L (and P) is conserved. The test is objectivity: no row's gap changes under any
+  rigid motion of the whole group (rates G f of its six rigid fields zero to round-off);
+- a *single* free body pushed only by fixed obstacles along one normal n with no moment
+  about n (a plane, or one contact), frictionless: L·n is conserved, the rule of
+  :class:`fecontact.time.correction.MomentumKept` for beams.
+
+The lost components, ℓ = Wᵀ(L_O(q̃, ṽ) − L_O(q, ṽ)) with W the held axes (3 × k), are put
+back by the velocity change of least kinetic energy that keeps P: a rigid rotation δω = W a
+of the group about its centre of mass c_G at q (O = c_G), δu̇_a = δω × (c_a − c_G),
+δΩ_a = R_aᵀδω, with (Wᵀ I_G W) a = ℓ and I_G the group's locked inertia about c_G. (Of all
+velocity changes with WᵀΔL = ℓ and ΔP = 0 that one minimises ½ δvᵀ M δv: its Lagrange
+conditions M δv = Σ (∂L·w/∂v)ᵀ a_w + (∂P/∂v)ᵀ b give exactly a rigid twist, and ΔP = 0 puts
+its axis through c_G.)
+
+Decided once per model: the free ``RigidBody3D`` bodies (no support), in a model without
+joints (a joint's force on one body of a pair is external to it). A group that a row joins to
+another kind of body (a solid, a beam) is left alone; a fixed body is an obstacle.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["RigidMomentum", "common_normal", "rigid_momentum"]
+
+OBJECTIVE = 1e-10
+"""Rates G f of the group's rigid fields below this fraction of max|G| · max|f| are zero: a
+row against a fixed obstacle moves at O(1) of that under a rigid motion of the group, a row
+between two of its bodies by round-off of its normal (1e-16 of the coordinates over the
+size); six orders in between."""
+
+
+class RigidMomentum:
+    """The free rigid bodies in space of a model, and the velocity change that puts back
+    the angular momentum a position correction moved without a force (module docstring)."""
+
+    def __init__(self, model):
+        # (body, global slice, its free dofs (6,)) of each free RigidBody3D
+        self.bodies = []
+        self.frictional = model.contacts.frictional
+        if model.joints.size:
+            return
+        for i, b in enumerate(model.bodies):
+            if b.rigid_frame and b.dim == 3 and not b.fixed:
+                s = model.body_slice(i)
+                self.bodies.append((b, s, model.free_index[s]))
+        self.columns = np.concatenate([f for _, _, f in self.bodies]) if self.bodies else None
+
+    def __call__(self, q_tilde, q, v, G) -> np.ndarray:
+        """The increment (all dofs) of the velocity ``v`` (ṽ) that holds the components of
+        the angular momentum (kg·m²/s) the contact forces conserve at their value at
+        (q̃, ṽ) after the correction to ``q``; ``G``: the correction's contacts' gradients
+        (dense, free dofs)."""
+        dv = np.zeros_like(v)
+        Gr = G[:, self.columns]
+        rows = np.abs(Gr).max(axis=1) > 0.0
+        outside = np.count_nonzero(G, axis=1) > np.count_nonzero(Gr, axis=1)  # other bodies
+        touch = np.abs(Gr).reshape(len(G), len(self.bodies), 6).max(axis=2) > 0.0
+        for group in _groups(touch[rows], outside[rows]):
+            members = [self.bodies[a] for a in group]
+            g_rows = Gr[rows][touch[rows][:, group].any(axis=1)]
+            cols = np.concatenate([np.arange(6 * a, 6 * a + 6) for a in group])
+            axes = self._held_axes(members, q, g_rows[:, cols])
+            if axes is not None:
+                _put_back(members, q_tilde, q, v, dv, axes)
+        return dv
+
+    def _held_axes(self, members, q, G) -> np.ndarray | None:
+        """The axes W (3, k) of the group's conserved angular momentum components, or None:
+        all three where its rows are objective, n where a lone frictionless body is pushed
+        along n with no moment about n."""
+        fields = _rigid_fields(members, q)  # 3 translations, 3 rotations about c_G
+        rates = G @ fields.T
+        if np.abs(rates).max() <= OBJECTIVE * np.abs(G).max() * np.abs(fields).max():
+            return np.eye(3)
+        if len(members) > 1 or self.frictional:
+            return None
+        n = common_normal(G, fields[3:])
+        return None if n is None else n[:, None]
+
+
+def _groups(touch: np.ndarray, outside: np.ndarray):
+    """The bodies joined by rows (``touch``: rows × bodies), one list per connected group,
+    leaving out every group one of whose rows also acts on other bodies (``outside``)."""
+    label = np.arange(touch.shape[1])
+    for r in touch:  # (a few rows: union by relabelling)
+        on = np.flatnonzero(r)
+        if on.size > 1:
+            label[np.isin(label, label[on])] = label[on[0]]
+    tainted = set(label[np.flatnonzero(touch[outside].any(axis=0))].tolist())
+    used = set(label[touch.any(axis=0)].tolist())
+    return [np.flatnonzero(label == g) for g in sorted(used - tainted)]
+
+
+def _rigid_fields(members, q) -> np.ndarray:
+    """(6, 6 k) velocities of the group's rigid motions: translations along e_x, e_y, e_z,
+    then rotations about them through the group's centre of mass c_G at ``q``:
+    u̇_a = e × (c_a − c_G), Ω_a = R_aᵀ e."""
+    c = np.array([b.center(q[s]) for b, s, _ in members])
+    m = np.array([b.mass for b, _, _ in members])
+    r = c - m @ c / m.sum()
+    fields = np.zeros((6, len(members), 6))
+    fields[:3, :, :3] = np.eye(3)[:, None, :]
+    fields[3:, :, :3] = np.cross(np.eye(3)[:, None, :], r)
+    for a, (b, s, _) in enumerate(members):
+        fields[3:, a, 3:] = b.rotation(q[s])  # row k: R_aᵀ e_k, the k-th row of R_a
+    return fields.reshape(6, -1)
+
+
+def _momentum(members, q, v, origin) -> np.ndarray:
+    """L about ``origin`` (kg·m²/s) of the group at (q, v) (module docstring)."""
+    L = np.zeros(3)
+    for b, s, _ in members:
+        qa, va = q[s], v[s]
+        L += np.cross(b.center(qa) - origin, b.mass * va[:3]) + b.rotation(qa) @ (b.J @ va[3:])
+    return L
+
+
+def _put_back(members, q_tilde, q, v, dv, axes) -> None:
+    """Add to ``dv`` the rigid rotation of the group about c_G, along ``axes`` (3, k), that
+    returns those components of L to their value at (q̃, ṽ) (module docstring)."""
+    c = np.array([b.center(q[s]) for b, s, _ in members])
+    m = np.array([b.mass for b, _, _ in members])
+    origin = m @ c / m.sum()
+    lost = _momentum(members, q_tilde, v, origin) - _momentum(members, q, v, origin)
+    k = axes.shape[1]
+    f = (axes.T @ _rigid_fields(members, q)[3:]).reshape(k, len(members), 6)
+    # the locked inertia along the axes, fᵀ M f with M = diag(m_a I, J_a) per body
+    gram = np.zeros((k, k))
+    for a, (b, _, _) in enumerate(members):
+        u, w = f[:, a, :3], f[:, a, 3:]
+        gram += m[a] * u @ u.T + w @ b.J @ w.T
+    rate = np.linalg.solve(gram, axes.T @ lost)
+    for a, (_, s, _) in enumerate(members):
+        dv[s] += rate @ f[:, a]
+
+
+def common_normal(G, fields) -> np.ndarray | None:
+    """The unit normal n shared by the contacts of gradient rows ``G`` (on one body's dofs,
+    6 per node, translations first): the force direction Σ_i G_c(x_i) of each, all parallel,
+    with no moment about n (the rate G_c f_n of the rigid rotation f_n = n·``fields``, the
+    three rotations about e_k through the centre of mass, is zero to round-off); else None."""
+    if len(G) == 0:
+        return None
+    forces = G.reshape(len(G), -1, 6)[:, :, :3].sum(axis=1)
+    size = np.linalg.norm(forces, axis=1)
+    if np.any(size == 0.0):
+        return None
+    n = forces[0] / size[0]
+    # (round-off of unit normals made from coordinates of order the body's size)
+    if np.abs(np.cross(forces / size[:, None], n)).max() > 1e-12:
+        return None
+    rate = G @ (n @ fields)
+    if np.abs(rate).max() > 1e-12 * np.abs(G).max() * np.abs(fields).max():
+        return None
+    return n
+
+
+def rigid_momentum(model) -> RigidMomentum | None:
+    """The model's :class:`RigidMomentum`, decided once per run; None without free rigid
+    bodies in space."""
+    kept = RigidMomentum(model)
+    return kept if kept.bodies else None
