@@ -122,25 +122,26 @@ def coarse_drop(options=None, t_end=0.005, out=None):
 
 
 def test_a_rod_dropped_on_a_coarse_block_stays_out_and_creates_no_energy(tmp_path):
-    """Completes with contact; no block node in the tube; the penetration record (the rows)
-    ≤ 1e-9 m (measured 1.3e-18); the ledger's ``created`` ≤ 1e-3 of its ``scale`` (measured
-    5.2e-7 of it). Between the
-    beam's nodes a rule point can dip below the face where a segment crosses a fold of the
-    dented face (the rows hold the segment's weighted gap, the face bends at the triangle's
-    edge under it): by at most the fold's angle, about twice the dent's depth over the cell,
-    times a quarter of the segment (measured 2.9e-7 m against that bound's 3e-6 m). The
-    solid's rows on this face stopped the run at its first step (the correction removed their
-    −2.6 mm stand-off: 103 J over a 0.15 J scale)."""
+    """Completes with contact; no block node in the tube; the ledger's ``created`` ≤ 1e-3 of
+    its ``scale`` (measured 5.2e-7 of it). Between the beam's nodes a rule point can dip below
+    the face where a segment crosses a fold of the dented face (the rows hold the segment's
+    weighted gap, the face bends at the triangle's edge under it): by at most the fold's
+    angle, about twice the dent's depth over the cell, times a quarter of the segment
+    (measured 2.9e-7 m against that bound's 3e-6 m). The penetration record measures it
+    (the centreline sampled at 9 points a segment against the solid's boundary: 3.07e-7 m;
+    the rows alone read 1.3e-18 m): at least half the deepest rule point's plane gap (other
+    points on the same segments) and within the same bound. The solid's rows on this face
+    stopped the run at its first step (the correction removed their −2.6 mm stand-off: 103 J
+    over a 0.15 J scale)."""
     summary = coarse_drop(out=tmp_path)
     assert summary["status"] == "completed"
-    assert summary["max_penetration"] <= 1e-9
+    record = summary["max_penetration"]
     ledger = summary["energy_ledger"]
     assert 0.0 <= ledger["created"] <= 1e-3 * ledger["scale"]
     states, model = coarse_drop()
     block, pair = model.bodies[0], model.contacts.pairs[0]
     assert any(s.mean_force().sum() > 0.0 or s.impulse.sum() > 0.0 for s in states)
-    watch = model.contacts.watches[0]
-    assert max(watch.depth(s.q)[0] for s in states) == 0.0
+    assert min(pair.node_distances(s.q).min() for s in states) > 0.0  # no node in the tube
     dent = max(-s.q[: block.ndof].reshape(-1, 3)[:, 2].min() for s in states)
     deepest = 0.0
     for s in states:
@@ -148,7 +149,9 @@ def test_a_rod_dropped_on_a_coarse_block_stays_out_and_creates_no_energy(tmp_pat
         ok = f >= 0
         gap = facet_plane_gap(c[ok], x[pair.facets[f[ok]]], hessian=False)[0] - R
         deepest = max(deepest, -gap.min())
-    assert deepest <= 2.0 * dent / 0.15 * pair.ell.max() / 4.0
+    bound = 2.0 * dent / 0.15 * pair.ell.max() / 4.0
+    assert deepest <= bound
+    assert 0.5 * deepest <= record <= bound
 
 
 @pytest.mark.parametrize("change", [{"penalty_scale": 1e3}, {"multiplier_scale": 1e-2}])
