@@ -9,6 +9,7 @@ from test_mortar_beam3d import RUBBER, STEEL, R, bent_rod_on_block
 from fecontact import Model, Solid, simulate
 from fecontact.bodies import Beam3D, LinearElastic, Section
 from fecontact.contact import Contact
+from fecontact.contact.mortar_beam3d import MortarBeam3D
 from fecontact.simulation import Simulation, run
 from fecontact.testing import moved_on_group
 from fecontact.time.settings import IntegratorOptions
@@ -23,7 +24,7 @@ def test_slip_rows_are_the_derivatives_of_the_exact_slips():
     3.4e-10 at ε = 1e-5, 1e-6, 1e-7 against rows of 1.8), and the slip rows act on the
     beam's rotations (a turning section moves the material point under a node, by its arm
     of about r: measured 0.84 r)."""
-    pair, model, q = bent_rod_on_block()
+    pair, model, q = bent_rod_on_block(MortarBeam3D)
     pair.friction = 0.3
     dofs, W, T = pair.tangents(q)
     assert np.allclose(np.einsum("mti,msi->mts", T, T), np.eye(2), atol=1e-14)
@@ -51,7 +52,9 @@ def block_on_rods(mu: float, slope: float = 0.0):
     is least; over a line of nodes it is highest and the block rolls off sideways). Settled
     at rest under gravity along −z with ρ∞ = 0 over 50 steps of 1 ms from the height where
     the least row is zero; then gravity tilted by ``slope`` (rad) about y: an incline rising
-    along −x. Returns the model (tilted), the block, the pairs and the settled state."""
+    along −x. The pairs are the weighted-distance rows (``MortarBeam3D``, named: the default on
+    this face blends them toward the tube's tangent plane, ``fecontact.contact.tube_plane``).
+    Returns the model (tilted), the block, the pairs and the settled state."""
     block = Solid.box([-0.02, -0.02, 0.0], [0.02, 0.02, 0.02], (4, 4, 2), HARD)
     rods = []
     for y in (-0.005, 0.005):
@@ -59,7 +62,9 @@ def block_on_rods(mu: float, slope: float = 0.0):
         for k in range(5):
             rod.clamp(k)
         rods.append(rod)
-    pairs = [Contact(block, rod, clearance=R, friction=mu) for rod in rods]
+    pairs = [MortarBeam3D(block, rod, clearance=R) for rod in rods]
+    for pair in pairs:
+        pair.friction = mu
     model = Model([block, *rods], pairs, gravity=(0.0, 0.0, -G))
     q = np.zeros(model.n)
     lo, hi = -0.2 * R, 0.2 * R

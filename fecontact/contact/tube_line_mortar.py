@@ -57,9 +57,9 @@ from .body_pairs import facet_plane_gap
 from .closest_facet import closest_among
 from .facet_search import FacetSearch
 from .inside import Surface
-from .mortar_beam3d import MortarBeam3D
 from .polyline_distance import closest_on_polyline
 from .tube_line_friction import line_slips, line_tangents
+from .tube_plane import TangentPlaneRows, face_size
 
 __all__ = [
     "LINE_RATIO",
@@ -86,14 +86,6 @@ LINE_RATIO = 4.0
 meets a tube through the beam's rows (this module); finer solids through the solid's rows
 (:mod:`fecontact.contact.mortar_beam3d`), which hold its nodes out of the tube where its face
 wraps it."""
-
-
-def face_size(solid) -> float:
-    """The width (m) of a right isosceles triangle of the mean area of the solid's boundary
-    triangles: the size of a face's cells, weighed by their area."""
-    t = solid.X[solid.contact_facets()]
-    area = 0.5 * np.linalg.norm(np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), axis=1)
-    return float(np.sqrt(2.0 * area.mean()))
 
 
 def _rule(pieces: int):
@@ -406,8 +398,9 @@ def tube_mortar(solid, beam, restitution=0.0, clearance=0.0):
     """The mortar pair of a 3D ``solid`` and a ``beam``'s tube of radius ``clearance`` (m),
     chosen once from the solid's face size (:func:`face_size`) over the radius: at least
     :data:`LINE_RATIO`, the beam's rows (:class:`TubeLineMortar`); finer, the solid's rows
-    (:class:`~fecontact.contact.mortar_beam3d.MortarBeam3D`)."""
+    blended toward the tube's tangent plane
+    (:class:`~fecontact.contact.tube_plane.TangentPlaneRows`)."""
     clearance = check_positive("clearance (the tube's radius)", clearance)
     if face_size(solid) >= LINE_RATIO * clearance:
         return TubeLineMortar(solid, beam, restitution, clearance)
-    return MortarBeam3D(solid, beam, restitution, clearance)
+    return TangentPlaneRows(solid, beam, restitution, clearance)
