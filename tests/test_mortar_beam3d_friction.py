@@ -198,16 +198,21 @@ def test_a_rod_rolling_on_a_face_slips_at_no_row():
     np.testing.assert_allclose(np.linalg.norm(slip[rows], axis=1), c[rows] * V, rtol=1e-12)
 
 
-def oblique_drop(options=None, out=None, t_end=0.003):
+def oblique_drop(options=None, out=None, t_end=0.003, solid_rows=True):
     """The rod drop of the frictionless tests (r = 1 cm, 8 elements, across a rubber block at
     30°, overhanging its top edges, h = 0.1 ms) thrown at (0.5, 0, −1) m/s with μ = 0.3: its
-    states (or, with ``out``, the run's summary)."""
+    states (or, with ``out``, the run's summary). The weighted-distance rows (``MortarBeam3D``)
+    with ``solid_rows``, else the default pair."""
     block = Solid.box([-0.05, -0.05, -0.03], [0.05, 0.05, 0.0], (8, 8, 2), RUBBER)
     block.fix(block.nodes_where(lambda x: x[2] <= -0.03 + 1e-9))
     d = np.array([np.cos(np.radians(30.0)), np.sin(np.radians(30.0)), 0.0])
     c = np.array([0.003, -0.002, R + 0.001])
     bar = Beam3D.straight(c - 0.08 * d, c + 0.08 * d, 8, STEEL, Section.circle(R))
-    pair = Contact(block, bar, clearance=R, friction=0.3)
+    if solid_rows:  # the weighted-distance rows, named (the default blends them: tube_plane)
+        pair = MortarBeam3D(block, bar, clearance=R)
+        pair.friction = 0.3
+    else:
+        pair = Contact(block, bar, clearance=R, friction=0.3)
     model = Model([block, bar], [pair], gravity=(0.0, 0.0, -G))
     v0 = model.translation(bar, (0.5, 0.0, -1.0))
     if out is not None:
