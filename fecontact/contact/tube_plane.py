@@ -126,17 +126,26 @@ class TangentPlaneRows(MortarBeam3D):
         best = unit[np.arange(len(rows)), np.argmax(score, axis=1)]
         return real & (np.einsum("rki,ri->rk", unit, best) >= FACE), t
 
+    def _geometry(self, q, rows):
+        """Per row: its node (R, 3), its closest segment (R,) and ends (R, 3) each, its face's
+        kept triangles (R, K_t) and their nodes (R, K_t, 3, 3), the face's area vector
+        (R, 3) and the cosine c of the node's angle under the axis (R,)."""
+        x, ends = self._frame(q)
+        xj = x[self.nodes[rows]]
+        seg, xi, d = closest_on_polyline(xj, ends)
+        t = np.clip(xi, 0.0, 1.0)[:, None]
+        a, b = ends[seg, 0], ends[seg, 1]
+        u = (1.0 - t) * a + t * b - xj
+        keep, tx = self._face(x, rows, u)
+        sides = np.cross(tx[:, :, 1] - tx[:, :, 0], tx[:, :, 2] - tx[:, :, 0])
+        area = 0.5 * np.einsum("rk,rki->ri", keep.astype(float), sides)
+        c = np.einsum("ri,ri->r", area, u) / (np.linalg.norm(area, axis=1) * d)
+        return xj, seg, a, b, keep, tx, area, c
+
     def _plane(self, q, rows):
         """P and w of ``rows`` as jets over the local variables, and the Jacobian (R, 12, k)
         of those variables on the rows' columns, the kept triangles and their positions."""
-        x, ends = self._frame(q)
-        xj = x[self.nodes[rows]]
-        seg, xi, _ = closest_on_polyline(xj, ends)
-        t = np.clip(xi, 0.0, 1.0)[:, None]
-        a, b = ends[seg, 0], ends[seg, 1]
-        keep, tx = self._face(x, rows, (1.0 - t) * a + t * b - xj)
-        sides = np.cross(tx[:, :, 1] - tx[:, :, 0], tx[:, :, 2] - tx[:, :, 0])
-        area = 0.5 * np.einsum("rk,rki->ri", keep.astype(float), sides)
+        xj, seg, a, b, keep, tx, area, _ = self._geometry(q, rows)
         P, w = tangent_plane_gap(xj, area, a, b, self.clearance, self.full, self.none)
         R, k = len(rows), self.dofs.shape[1]
         J = np.zeros((R, 12, k))
@@ -178,6 +187,8 @@ class TangentPlaneRows(MortarBeam3D):
     def _blend(self, q, g):
         """The rows taking part with a weight (R,), and P, w, J, kept triangles, positions."""
         rows = np.flatnonzero(np.isfinite(g))
+        if rows.size:  # (the jets only where the weight is not zero)
+            rows = rows[self._geometry(q, rows)[-1] > self.none]
         if rows.size == 0:
             return rows, None
         P, w, J, keep, pos = self._plane(q, rows)
