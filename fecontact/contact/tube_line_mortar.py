@@ -67,6 +67,7 @@ __all__ = [
     "SAMPLES",
     "TubeLineMortar",
     "TubeNodeDepths",
+    "centreline_depths",
     "face_size",
     "tube_mortar",
 ]
@@ -321,19 +322,6 @@ class TubeLineMortar(PairDefaults):
             np.minimum.at(exact, self.segments[seg, e], dist - self.clearance)
         return np.where(np.isfinite(rows), exact, np.inf)
 
-    def centreline_depths(self, q: np.ndarray):
-        """How deep (m, > 0 inside) the tube lies in the solid at :data:`SAMPLES` + 1 points of
-        each segment (its ends included): r less the centreline point's signed distance to
-        the solid's boundary, from the coordinates (no row's reading: between the beam's nodes
-        a segment crossing a fold of a dented face dips below it while its rows hold); and the
-        closest boundary triangle of each point (−1: farther than r outside the solid's
-        box)."""
-        x, xb = self.frame(q)
-        ends = xb[self.segments]
-        points = ((1.0 - _SAMPLE) * ends[:, None, 0] + _SAMPLE * ends[:, None, 1]).reshape(-1, 3)
-        d, facet = self.surface.signed_distance(x, points, pad=self.clearance)
-        return self.clearance - d, facet
-
     def node_distances(self, q: np.ndarray) -> np.ndarray:
         """Every boundary node's distance (m) to the centreline less the tube's radius."""
         x, xb = self.frame(q)
@@ -357,12 +345,25 @@ class TubeLineMortar(PairDefaults):
         return line_slips(self, q, q_n, T)
 
 
+def centreline_depths(pair: TubeLineMortar, q: np.ndarray):
+    """How deep (m, > 0 inside) the tube of ``pair`` lies in its solid at :data:`SAMPLES` + 1
+    points of each segment (its ends included): r less the centreline point's signed distance
+    to the solid's boundary, from the coordinates (no row's reading: between the beam's nodes
+    a segment crossing a fold of a dented face dips below it while its rows hold); and the
+    closest boundary triangle of each point (−1: farther than r outside the solid's box)."""
+    x, xb = pair.frame(q)
+    ends = xb[pair.segments]
+    points = ((1.0 - _SAMPLE) * ends[:, None, 0] + _SAMPLE * ends[:, None, 1]).reshape(-1, 3)
+    d, facet = pair.surface.signed_distance(x, points, pad=pair.clearance)
+    return pair.clearance - d, facet
+
+
 class TubeNodeDepths:
     """What the rows of a :class:`TubeLineMortar` do not hold, from the coordinates: the
     deepest boundary node of its solid inside the tube (by its distance to the centreline,
     over the shortest reference boundary edge at that node) and the deepest point of the
     tube inside the solid (the centreline sampled along each segment,
-    :meth:`TubeLineMortar.centreline_depths`, over the shortest reference edge of the
+    :func:`centreline_depths`, over the shortest reference edge of the
     triangle it lies under)."""
 
     def __init__(self, pair: TubeLineMortar):
@@ -378,7 +379,7 @@ class TubeNodeDepths:
     def _depths(self, q: np.ndarray):
         """((nodes' depths, over their edges), (the centreline's depths, over theirs)) (m)."""
         d = -self.pair.node_distances(q)
-        line, facet = self.pair.centreline_depths(q)
+        line, facet = centreline_depths(self.pair, q)
         line = np.where(facet >= 0, line, -np.inf)
         return (d, d / self.edge), (line, line / self.facet_edge[np.maximum(facet, 0)])
 
