@@ -40,15 +40,15 @@ def placed(block, bar, pair, nodes, turns=None):
     return model, q
 
 
-def bent_rod_on_block(cells=(6, 6, 2), depth=0.001, **options):
+def bent_rod_on_block(cells=(6, 6, 2), depth=0.001, make=Contact, **options):
     """A rod of four elements bent at each joint (the middle node ``depth`` below r: pressed
     into the face), turned sections, over a block of ``cells`` whose nodes are moved by 1 mm
-    at random; ``options`` go to the contact."""
+    at random; the pair made by ``make`` (the default: ``Contact``) with ``options``."""
     block = Solid.box([-0.1, -0.1, -0.05], [0.1, 0.1, 0.0], cells, RUBBER)
     nodes = np.array([[-0.09, -0.05, R + 0.002], [-0.03, -0.01, R], [0.02, 0.02, R - depth],
                       [0.05, 0.06, R + 0.003], [0.09, 0.07, R + 0.004]])  # fmt: skip
     bar = Beam3D.straight(nodes[0], nodes[-1], 4, STEEL, Section.circle(R))
-    pair = Contact(block, bar, clearance=R, **options)
+    pair = make(block, bar, clearance=R, **options)
     rng = np.random.default_rng(0)
     model, q = placed(block, bar, pair, nodes, 0.1 * rng.normal(size=(5, 3)))
     q[: block.ndof] += 1e-3 * rng.normal(size=block.ndof)
@@ -225,11 +225,12 @@ def test_a_rod_resting_on_a_block_carries_its_weight():
 def newton_residuals():
     """Newton's method on the projection of the block and the rod pressed 1 mm into it onto
     the weighted gaps' surface: min ½|q − q₀|² over every dof subject to g_j(q) = 0 on the
-    rows pressed at q₀, the rows' exact curvature in the matrix. |r| per iteration."""
+    rows pressed at q₀, the rows' exact curvature in the matrix (the weighted-distance rows,
+    ``MortarBeam3D``). |r| per iteration."""
     block = Solid.box([-0.05, -0.05, -0.03], [0.05, 0.05, 0.0], (8, 8, 2), RUBBER)
     a, b = np.array([-0.06, -0.02, R - 1e-3]), np.array([0.06, 0.03, R - 2e-3])
     bar = Beam3D.straight(a, b, 3, STEEL, Section.circle(R))
-    pair = Contact(block, bar, clearance=R)
+    pair = MortarBeam3D(block, bar, clearance=R)
     model, q0 = placed(block, bar, pair, bar.X)
     g, dofs, _, _ = pair.evaluate(q0)
     rows = np.flatnonzero(g < 0.0)
@@ -386,15 +387,16 @@ def test_a_rod_inside_a_coarse_block_is_refused(depth, solid_rows):
 
 def test_a_tube_deeper_in_the_solid_than_its_rows_is_refused():
     """A tube 1 mm into a face between the nodes (a fine face: 1 cm cells; no node inside),
-    whose rows read −0.62 mm, is refused by the shallower of the two depths; the same tube
-    resting where its least row is zero, dipping between the nodes by the rows' own
-    stand-off, is admitted."""
+    whose weighted-distance rows (``MortarBeam3D``) read −0.62 mm, is refused by the shallower
+    of the two depths; the same tube resting where its least row is zero, dipping between the
+    nodes by the rows' own stand-off, is admitted. (The default rows on this face, blended
+    toward the tangent plane, read the tube's exact depth: ``tests/test_tube_line_mortar``.)"""
     block = Solid.box([-0.05, -0.05, -0.02], [0.05, 0.05, 0.0], (10, 10, 2), RUBBER)
     model = None
     for lift in (-0.001, 0.0):
         bar = Beam3D.straight([-0.03, 0.005, R + lift], [0.03, 0.005, R + lift], 6, STEEL,
                               Section.circle(R))  # fmt: skip
-        model = Model([block, bar], [Contact(block, bar, clearance=R)], (0.0, 0.0, -9.81))
+        model = Model([block, bar], [MortarBeam3D(block, bar, clearance=R)], (0, 0, -9.81))
         pair = model.contacts.pairs[0]
         q = np.zeros(model.n)
         rows = pair.gaps(q)

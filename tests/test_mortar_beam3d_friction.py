@@ -9,6 +9,7 @@ from test_mortar_beam3d import RUBBER, STEEL, R, bent_rod_on_block
 from fecontact import Model, Solid, simulate
 from fecontact.bodies import Beam3D, LinearElastic, Section
 from fecontact.contact import Contact
+from fecontact.contact.mortar_beam3d import MortarBeam3D
 from fecontact.simulation import Simulation, run
 from fecontact.testing import slip_derivative_errors
 from fecontact.time.settings import IntegratorOptions
@@ -23,7 +24,7 @@ def test_slip_rows_are_the_derivatives_of_the_exact_slips():
     3.4e-10 at ε = 1e-5, 1e-6, 1e-7 against rows of 1.8), and the slip rows act on the
     beam's rotations (a turning section moves the material point under a node, by its arm
     of about r: measured 0.84 r)."""
-    pair, model, q = bent_rod_on_block()
+    pair, model, q = bent_rod_on_block(make=MortarBeam3D)
     pair.friction = 0.3
     dofs, W, T = pair.tangents(q)
     assert np.allclose(np.einsum("mti,msi->mts", T, T), np.eye(2), atol=1e-14)
@@ -45,7 +46,9 @@ def block_on_rods(mu: float, slope: float = 0.0):
     is least; over a line of nodes it is highest and the block rolls off sideways). Settled
     at rest under gravity along −z with ρ∞ = 0 over 50 steps of 1 ms from the height where
     the least row is zero; then gravity tilted by ``slope`` (rad) about y: an incline rising
-    along −x. Returns the model (tilted), the block, the pairs and the settled state."""
+    along −x. The pairs are the weighted-distance rows (``MortarBeam3D``, named: the default on
+    this face blends them toward the tube's tangent plane, ``fecontact.contact.tube_plane``).
+    Returns the model (tilted), the block, the pairs and the settled state."""
     block = Solid.box([-0.02, -0.02, 0.0], [0.02, 0.02, 0.02], (4, 4, 2), HARD)
     rods = []
     for y in (-0.005, 0.005):
@@ -53,7 +56,9 @@ def block_on_rods(mu: float, slope: float = 0.0):
         for k in range(5):
             rod.clamp(k)
         rods.append(rod)
-    pairs = [Contact(block, rod, clearance=R, friction=mu) for rod in rods]
+    pairs = [MortarBeam3D(block, rod, clearance=R) for rod in rods]
+    for pair in pairs:
+        pair.friction = mu
     model = Model([block, *rods], pairs, gravity=(0.0, 0.0, -G))
     q = np.zeros(model.n)
     lo, hi = -0.2 * R, 0.2 * R
@@ -187,16 +192,21 @@ def test_a_rod_rolling_on_a_face_slips_at_no_row():
     np.testing.assert_allclose(np.linalg.norm(slip[rows], axis=1), c[rows] * V, rtol=1e-12)
 
 
-def oblique_drop(options=None, out=None, t_end=0.003):
+def oblique_drop(options=None, out=None, t_end=0.003, solid_rows=True):
     """The rod drop of the frictionless tests (r = 1 cm, 8 elements, across a rubber block at
     30°, overhanging its top edges, h = 0.1 ms) thrown at (0.5, 0, −1) m/s with μ = 0.3: its
-    states (or, with ``out``, the run's summary)."""
+    states (or, with ``out``, the run's summary). The weighted-distance rows (``MortarBeam3D``)
+    with ``solid_rows``, else the default pair."""
     block = Solid.box([-0.05, -0.05, -0.03], [0.05, 0.05, 0.0], (8, 8, 2), RUBBER)
     block.fix(block.nodes_where(lambda x: x[2] <= -0.03 + 1e-9))
     d = np.array([np.cos(np.radians(30.0)), np.sin(np.radians(30.0)), 0.0])
     c = np.array([0.003, -0.002, R + 0.001])
     bar = Beam3D.straight(c - 0.08 * d, c + 0.08 * d, 8, STEEL, Section.circle(R))
-    pair = Contact(block, bar, clearance=R, friction=0.3)
+    if solid_rows:  # the weighted-distance rows, named (the default blends them: tube_plane)
+        pair = MortarBeam3D(block, bar, clearance=R)
+        pair.friction = 0.3
+    else:
+        pair = Contact(block, bar, clearance=R, friction=0.3)
     model = Model([block, bar], [pair], gravity=(0.0, 0.0, -G))
     v0 = model.translation(bar, (0.5, 0.0, -1.0))
     if out is not None:

@@ -6,13 +6,16 @@ its speed."""
 import numpy as np
 import pytest
 from test_mortar_beam3d import RUBBER, STEEL, bent_rod_on_block, rod_over_coarse_block
+from test_mortar_beam3d_friction import oblique_drop
 
 from fecontact import Model, Solid, simulate
 from fecontact.bodies import Beam3D, Section
 from fecontact.contact import Contact
 from fecontact.contact.body_pairs import facet_plane_gap
+from fecontact.contact.inside import Surface
 from fecontact.contact.mortar_beam3d import MortarBeam3D
 from fecontact.contact.tube_line_mortar import TubeLineMortar
+from fecontact.contact.tube_plane import TangentPlaneRows
 from fecontact.errors import InputError
 from fecontact.simulation import Simulation, run
 from fecontact.testing import group_derivative_errors, slip_derivative_errors
@@ -108,25 +111,26 @@ def coarse_drop(options=None, t_end=0.005, out=None):
 
 
 def test_a_rod_dropped_on_a_coarse_block_stays_out_and_creates_no_energy(tmp_path):
-    """Completes with contact; no block node in the tube; the penetration record (the rows)
-    ≤ 1e-9 m (measured 1.3e-18); the ledger's ``created`` ≤ 1e-3 of its ``scale`` (measured
-    5.2e-7 of it). Between the
-    beam's nodes a rule point can dip below the face where a segment crosses a fold of the
-    dented face (the rows hold the segment's weighted gap, the face bends at the triangle's
-    edge under it): by at most the fold's angle, about twice the dent's depth over the cell,
-    times a quarter of the segment (measured 2.9e-7 m against that bound's 3e-6 m). The
-    solid's rows on this face stopped the run at its first step (the correction removed their
-    −2.6 mm stand-off: 103 J over a 0.15 J scale)."""
+    """Completes with contact; no block node in the tube; the ledger's ``created`` ≤ 1e-3 of
+    its ``scale`` (measured 5.2e-7 of it). Between the beam's nodes a rule point can dip below
+    the face where a segment crosses a fold of the dented face (the rows hold the segment's
+    weighted gap, the face bends at the triangle's edge under it): by at most the fold's
+    angle, about twice the dent's depth over the cell, times a quarter of the segment
+    (measured 2.9e-7 m against that bound's 3e-6 m). The penetration record measures it
+    (the centreline sampled at 9 points a segment against the solid's boundary: 3.07e-7 m;
+    the rows alone read 1.3e-18 m): at least half the deepest rule point's plane gap (other
+    points on the same segments) and within the same bound. The solid's rows on this face
+    stopped the run at its first step (the correction removed their −2.6 mm stand-off: 103 J
+    over a 0.15 J scale)."""
     summary = coarse_drop(out=tmp_path)
     assert summary["status"] == "completed"
-    assert summary["max_penetration"] <= 1e-9
+    record = summary["max_penetration"]
     ledger = summary["energy_ledger"]
     assert 0.0 <= ledger["created"] <= 1e-3 * ledger["scale"]
     states, model = coarse_drop()
     block, pair = model.bodies[0], model.contacts.pairs[0]
     assert any(s.mean_force().sum() > 0.0 or s.impulse.sum() > 0.0 for s in states)
-    watch = model.contacts.watches[0]
-    assert max(watch.depth(s.q)[0] for s in states) == 0.0
+    assert min(pair.node_distances(s.q).min() for s in states) > 0.0  # no node in the tube
     dent = max(-s.q[: block.ndof].reshape(-1, 3)[:, 2].min() for s in states)
     deepest = 0.0
     for s in states:
@@ -134,7 +138,9 @@ def test_a_rod_dropped_on_a_coarse_block_stays_out_and_creates_no_energy(tmp_pat
         ok = f >= 0
         gap = facet_plane_gap(c[ok], x[pair.facets[f[ok]]], hessian=False)[0] - R
         deepest = max(deepest, -gap.min())
-    assert deepest <= 2.0 * dent / 0.15 * pair.ell.max() / 4.0
+    bound = 2.0 * dent / 0.15 * pair.ell.max() / 4.0
+    assert deepest <= bound
+    assert 0.5 * deepest <= record <= bound
 
 
 @pytest.mark.parametrize("change", [{"penalty_scale": 1e3}, {"multiplier_scale": 1e-2}])
@@ -217,3 +223,141 @@ def test_a_fast_rod_rolls_without_hopping():
     assert -np.polyfit(t[slide], speed[slide], 1)[0] == pytest.approx(9.81, rel=1e-3)
     np.testing.assert_allclose(speed[t >= 0.04], 2.0 / 3.0, rtol=1e-3)
     assert z.max() <= z[0] and np.ptp(z) < 1e-6
+
+
+# -- faces finer than the tube: the solid's rows blended toward the tangent plane ------------
+def fine_block(cells=(15, 8, 2)):
+    """A rubber block of 1 cm cells, 15 × 8 cm, 2 cm deep, base clamped."""
+    block = Solid.box([-0.03, -0.04, -0.02], [0.12, 0.04, 0.0], cells, RUBBER)
+    block.fix(block.nodes_where(lambda x: x[2] <= -0.02 + 1e-9))
+    return block
+
+
+def test_tangent_plane_rows_are_the_derivatives_of_their_values():
+    """The rows of ``TangentPlaneRows`` (the default on faces finer than 4 r) and their
+    curvature against central differences along every dof of the rows, the bent rod pressed
+    into a block moved at random (``bent_rod_on_block``: 3.3 cm cells, r = 1 cm; blended rows
+    with 0 < w < 1 among them): measured 4.7e-9 and 1.5e-9 at a step of 1e-7 (rows of
+    gradients up to 8; bounds 1e-7 and 1e-6); rows and ``gaps`` agree to the bit."""
+    pair, model, q = bent_rod_on_block()
+    assert isinstance(pair, TangentPlaneRows)
+    g, dofs, _, _ = pair.evaluate(q)
+    rows = np.flatnonzero(np.isfinite(g))
+    w = pair._plane(q, rows)[1].val
+    assert np.any(w >= 1.0) and np.any((w > 0.0) & (w < 1.0))
+    assert np.array_equal(pair.gaps(q), g)
+    rotations = model.offset_of(pair.beam) + pair.beam.rotation_triples.ravel()
+    along = np.concatenate([np.unique(dofs[rows]), rotations[:3]])
+    err_g, err_h = group_derivative_errors(pair, model, q, along, 1e-7)
+    assert err_g <= 1e-7 and err_h <= 1e-6
+
+
+@pytest.mark.parametrize("angle", [0.0, 0.3])
+def test_tangent_plane_rows_rest_a_rod_at_its_radius_wherever_it_lies(angle):
+    """A straight rod (r = 2 cm) 1 mm over a face of 1 cm cells (H = r/2), along the mesh's
+    lines or turned 0.3 rad, at six places across a cell: the least row of the face's inner
+    nodes is the rod's height over the face less r to round-off (1e-15 m; the plane gap is the
+    same at every node under a parallel segment). The weighted-distance rows on the same face
+    and places read a least row that moves with the place (the washboard; spread measured
+    6.4e-4 m along the lines, 3.2e-5 m turned: bounds 1e-4 and 1e-5)."""
+    block = fine_block((15, 8, 1))
+    spread = []
+    for form in (TangentPlaneRows, MortarBeam3D):
+        least = []
+        for x0 in np.linspace(0.0, 0.01, 6):
+            c = np.array([0.045 + x0, 0.0, 0.0])
+            e = np.array([np.sin(angle), np.cos(angle), 0.0])
+            bar = Beam3D.straight(c - 0.1 * e, c + 0.1 * e, 6, STEEL, Section.circle(0.02))
+            pair = form(block, bar, clearance=0.02, margin=1.0)
+            model = Model([block, bar], [pair], gravity=(0.0, 0.0, 0.0))
+            q = np.zeros(model.n)
+            q[block.ndof :].reshape(-1, 6)[:, 2] = 0.02 + 1e-3  # 1 mm above the face
+            X = block.X[pair.nodes]
+            inner = (np.abs(X[:, 0] - 0.045) < 0.07) & (np.abs(X[:, 1]) < 0.035)
+            least.append(pair.gaps(q)[inner & (X[:, 2] > -1e-9)].min() - 1e-3)
+        spread.append(np.ptp(least))
+        if form is TangentPlaneRows:
+            np.testing.assert_allclose(least, 0.0, atol=1e-15)
+    assert spread[1] > (1e-4 if angle == 0.0 else 1e-5)
+
+
+def test_contact_on_a_fine_face_is_the_tangent_plane_rows():
+    """The pair is chosen once from the face's cells over the tube's radius: 1 cm cells under
+    a 2 cm rod give the tangent-plane rows, 15 cm cells under a 5 mm rod the beam's rows."""
+    bar = Beam3D.straight([0.0, -0.03, 0.02], [0.0, 0.03, 0.02], 4, STEEL, Section.circle(0.02))
+    assert isinstance(Contact(fine_block(), bar, clearance=0.02), TangentPlaneRows)
+    assert isinstance(rod_over_coarse_block(0.002)[1], TubeLineMortar)
+
+
+def fine_rolling(t_end: float, x0=0.005, mu=0.3, v0=0.1):
+    """The fine setup: a steel rod (r = 2 cm, 6 cm, 4 elements) on the block of 1 cm cells,
+    along the mesh's y lines, its axis at ``x0``, settled at rest (ρ∞ = 0, 40 steps of 1 ms),
+    launched along x at ``v0`` (m/s) without spin, μ = ``mu``, h = 0.1 ms: the times, the
+    rod's mean speed over v0, and at each step the tube's least clearance from the block
+    (the centreline sampled at 9 points a segment: signed distance to the boundary less r)."""
+    r = 0.02
+    block = fine_block()
+    bar = Beam3D.straight([x0, -0.03, r], [x0, 0.03, r], 4, STEEL, Section.circle(r))
+    pair = Contact(block, bar, clearance=r, friction=mu)
+    model = Model([block, bar], [pair], gravity=(0.0, 0.0, -9.81))
+    options = IntegratorOptions(rho_inf=0.0)
+    settled = list(simulate(model, 1e-3, 0.04, options))[-1]
+    v = settled.v + model.translation(bar, (v0, 0.0, 0.0))
+    ob, out = model.offset_of(bar), []
+    for st in simulate(model, 1e-4, t_end, options, q0=settled.q, v0=v):
+        x = block.positions(st.q[: block.ndof])
+        clear = pair.node_distances(st.q).min()  # > 0: no block node in the tube
+        ends = bar.positions(st.q[ob:])[bar.segments()]
+        s = np.linspace(0.0, 1.0, 9)[:, None, None]
+        points = ((1.0 - s) * ends[:, 0] + s * ends[:, 1]).reshape(-1, 3)
+        lift = Surface(block.contact_facets()).signed_distance(x, points, pad=r)[0].min() - r
+        speed = np.linalg.norm(st.v[ob:].reshape(-1, 6)[:, :2].mean(axis=0)) / v0
+        out.append((st.t, speed, lift, clear))
+    return np.array(out).T
+
+
+@pytest.mark.slow
+def test_a_rod_sliding_on_a_fine_face_decelerates_at_mu_g_without_lifting():
+    """The first 10 ms of the fine setup (``fine_rolling``): the rod decelerates at μg to
+    2e-3 (measured 6e-4 over 0.5–10 ms; over 0.5–5 ms 1 %, the block's vertical vibration
+    under the launch modulating the load) and never lifts off the face (the tube's least
+    clearance from the block stays ≤ 0: measured −1.3e-6 m, the soft block's dent between
+    its nodes); no block node enters the tube. The weighted-distance rows lost 78 % of the
+    speed over 30 ms on this setup and hopped off the face."""
+    t, speed, lift, clear = fine_rolling(0.01)
+    slide = t > 0.5e-3
+    a = -np.polyfit(t[slide], 0.1 * speed[slide], 1)[0]
+    assert a == pytest.approx(0.3 * 9.81, rel=2e-3)
+    assert lift.max() <= 0.0 and clear.min() > 0.0
+
+
+@pytest.mark.slow
+def test_a_rod_launched_sliding_on_a_fine_face_rolls_at_two_thirds_of_its_speed():
+    """The fine setup over 30 ms: it slides until v₀/(3μg) = 11.3 ms, then rolls at
+    v₀/(1 + J/(m r²)) = 2/3 v₀ to 1 % at 30 ms (measured 0.667; over the last 10 ms
+    0.655–0.680, the soft block's vibration), and never lifts off the face by more than 1e-6 m
+    (the tube's least clearance from the block, from the coordinates: measured −1.3e-6 m)."""
+    t, speed, lift, clear = fine_rolling(0.03)
+    assert speed[-1] == pytest.approx(2.0 / 3.0, rel=1e-2)
+    assert lift.max() <= 1e-6 and clear.min() > 0.0
+
+
+def test_the_oblique_frictional_drop_on_the_tangent_plane_rows_creates_no_energy(tmp_path):
+    """The oblique frictional rod drop across the 1.25 cm block (``oblique_drop``: μ = 0.3,
+    impacts, sticking and slipping rows) on the default rows completes without halving and
+    the ledger's ``created`` ≤ 1e-3 of ``scale``."""
+    summary = oblique_drop(out=tmp_path, t_end=0.006, solid_rows=False)
+    assert summary["status"] == "completed" and summary["step_halvings"] == 0
+    ledger = summary["energy_ledger"]
+    assert 0.0 <= ledger["created"] <= 1e-3 * ledger["scale"]
+
+
+@pytest.mark.xfail(strict=True, reason="p × 1000 moves the oblique frictional drop on the "
+                   "tangent-plane rows by 3.6e-3 r from step 11 (k / 100: 3.7e-14 r): rows of "
+                   "nodes under the tube read equal small gaps, and the smooth step's first "
+                   "active set kλ − p g > 0 takes them or not depending on p")  # fmt: skip
+def test_the_oblique_frictional_drop_on_the_tangent_plane_rows_is_independent_of_p():
+    base = oblique_drop(solid_rows=False)
+    other = oblique_drop(IntegratorOptions(penalty_scale=1e3), solid_rows=False)
+    diff = max(np.max(np.abs(a.q - b.q)) for a, b in zip(base, other, strict=True))
+    assert diff <= 1e-8 * 0.01

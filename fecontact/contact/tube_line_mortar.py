@@ -57,28 +57,36 @@ from .body_pairs import facet_plane_gap
 from .closest_facet import closest_among
 from .facet_search import FacetSearch
 from .inside import Surface
-from .mortar_beam3d import MortarBeam3D
 from .polyline_distance import closest_on_polyline
 from .tube_line_friction import line_slips, line_tangents
+from .tube_plane import TangentPlaneRows, face_size
 
-__all__ = ["LINE_RATIO", "PIECES", "TubeLineMortar", "TubeNodeDepths", "face_size", "tube_mortar"]
+__all__ = [
+    "LINE_RATIO",
+    "PIECES",
+    "SAMPLES",
+    "TubeLineMortar",
+    "TubeNodeDepths",
+    "centreline_depths",
+    "face_size",
+    "tube_mortar",
+]
 
 PIECES = 4
 """Equal pieces of each segment in the rows' rule, two Gauss points each."""
+
+SAMPLES = 8
+"""The watch measures the tube's depth in the solid at the beam's nodes and at ``SAMPLES`` − 1
+points between each two (the rows hold weighted integrals: between the nodes, where a segment
+crosses a fold of a dented face, the centreline can dip below it)."""
+
+_SAMPLE = np.linspace(0.0, 1.0, SAMPLES + 1)[:, None]
 
 LINE_RATIO = 4.0
 """A solid whose boundary triangles are at least this many tube radii wide (:func:`face_size`)
 meets a tube through the beam's rows (this module); finer solids through the solid's rows
 (:mod:`fecontact.contact.mortar_beam3d`), which hold its nodes out of the tube where its face
 wraps it."""
-
-
-def face_size(solid) -> float:
-    """The width (m) of a right isosceles triangle of the mean area of the solid's boundary
-    triangles: the size of a face's cells, weighed by their area."""
-    t = solid.X[solid.contact_facets()]
-    area = 0.5 * np.linalg.norm(np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), axis=1)
-    return float(np.sqrt(2.0 * area.mean()))
 
 
 def _rule(pieces: int):
@@ -337,35 +345,63 @@ class TubeLineMortar(PairDefaults):
         return line_slips(self, q, q_n, T)
 
 
+def centreline_depths(pair: TubeLineMortar, q: np.ndarray):
+    """How deep (m, > 0 inside) the tube of ``pair`` lies in its solid at :data:`SAMPLES` + 1
+    points of each segment (its ends included): r less the centreline point's signed distance
+    to the solid's boundary, from the coordinates (no row's reading: between the beam's nodes
+    a segment crossing a fold of a dented face dips below it while its rows hold); and the
+    closest boundary triangle of each point (−1: farther than r outside the solid's box)."""
+    x, xb = pair.frame(q)
+    ends = xb[pair.segments]
+    points = ((1.0 - _SAMPLE) * ends[:, None, 0] + _SAMPLE * ends[:, None, 1]).reshape(-1, 3)
+    d, facet = pair.surface.signed_distance(x, points, pad=pair.clearance)
+    return pair.clearance - d, facet
+
+
 class TubeNodeDepths:
-    """The deepest boundary node of a :class:`TubeLineMortar`'s solid inside the tube, by its
-    distance to the centreline, over the shortest reference boundary edge at that node."""
+    """What the rows of a :class:`TubeLineMortar` do not hold, from the coordinates: the
+    deepest boundary node of its solid inside the tube (by its distance to the centreline,
+    over the shortest reference boundary edge at that node) and the deepest point of the
+    tube inside the solid (the centreline sampled along each segment,
+    :func:`centreline_depths`, over the shortest reference edge of the
+    triangle it lies under)."""
 
     def __init__(self, pair: TubeLineMortar):
         self.pair = pair
         nodes = pair.watched
         t = pair.body.X[pair.facets]
-        edge = np.linalg.norm(t - np.roll(t, 1, axis=1), axis=2).min(axis=1)
+        self.facet_edge = np.linalg.norm(t - np.roll(t, 1, axis=1), axis=2).min(axis=1)
         self.edge = np.full(pair.body.n_nodes, np.inf)
         for k in range(3):
-            np.minimum.at(self.edge, pair.facets[:, k], edge)
+            np.minimum.at(self.edge, pair.facets[:, k], self.facet_edge)
         self.edge = self.edge[nodes]
 
-    def depth(self, q: np.ndarray) -> tuple[float, float]:
-        """(deepest node's depth in m, ≥ 0; the largest depth over its local edge)."""
+    def _depths(self, q: np.ndarray):
+        """((nodes' depths, over their edges), (the centreline's depths, over theirs)) (m)."""
         d = -self.pair.node_distances(q)
-        return max(0.0, float(d.max())), max(0.0, float((d / self.edge).max()))
+        line, facet = centreline_depths(self.pair, q)
+        line = np.where(facet >= 0, line, -np.inf)
+        return (d, d / self.edge), (line, line / self.facet_edge[np.maximum(facet, 0)])
+
+    def depth(self, q: np.ndarray) -> tuple[float, float]:
+        """(deepest point's depth in m, ≥ 0; the largest depth over its local edge)."""
+        (d, dr), (line, lr) = self._depths(q)
+        deepest = max(0.0, float(d.max()), float(line.max()))
+        return deepest, max(0.0, float(dr.max()), float(lr.max()))
 
     def entering(self, q: np.ndarray) -> str:
-        return "a node"
+        """What enters the other body deepest over its local edge (for a message)."""
+        (_, dr), (_, lr) = self._depths(q)
+        return "the beam's tube" if lr.max() > dr.max() else "a node"
 
 
 def tube_mortar(solid, beam, restitution=0.0, clearance=0.0):
     """The mortar pair of a 3D ``solid`` and a ``beam``'s tube of radius ``clearance`` (m),
     chosen once from the solid's face size (:func:`face_size`) over the radius: at least
     :data:`LINE_RATIO`, the beam's rows (:class:`TubeLineMortar`); finer, the solid's rows
-    (:class:`~fecontact.contact.mortar_beam3d.MortarBeam3D`)."""
+    blended toward the tube's tangent plane
+    (:class:`~fecontact.contact.tube_plane.TangentPlaneRows`)."""
     clearance = check_positive("clearance (the tube's radius)", clearance)
     if face_size(solid) >= LINE_RATIO * clearance:
         return TubeLineMortar(solid, beam, restitution, clearance)
-    return MortarBeam3D(solid, beam, restitution, clearance)
+    return TangentPlaneRows(solid, beam, restitution, clearance)
