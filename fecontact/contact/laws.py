@@ -33,6 +33,7 @@ __all__ = [
     "alart_curnier_residual",
     "contact_force_multiplier",
     "kkt_multipliers",
+    "one_of_twins",
     "solve_position_correction",
     "solve_velocity_jump",
 ]
@@ -101,8 +102,9 @@ def _settled(nu, g, p, k, eq, tol) -> bool:
 
 
 def solve_position_correction(
-    gaps, system, n, p, k, tol_gap, tol_u, max_iter=30, bilateral=None, nu0=None, stats=None
-):
+    gaps, system, n, p, k, tol_gap, tol_u, max_iter=30, bilateral=None, nu0=None, stats=None,
+    twins=None,
+):  # fmt: skip
     """Position correction q = q̃ + U: find (U, ν) with H U = Σ G_jᵀ [k ν_j − p g_j(q)]_+ and
     k ν_j − [k ν_j − p g_j(q)]_+ = 0 for every candidate j.
 
@@ -116,7 +118,8 @@ def solve_position_correction(
     (a stack at rest) is found at once instead of one link per iteration. The iteration stops
     when the Alart–Curnier residual is below ``tol_gap`` (in m) and the update below ``tol_u``
     or no longer shrinking. ``stats`` (:class:`fecontact.contact.stats.ContactStats`, or
-    None) receives the least-squares multipliers and the final residual. Returns
+    None) receives the least-squares multipliers and the final residual; ``twins`` (each
+    row's twin among the rows, −1 none: :func:`one_of_twins`) or None. Returns
     (U, ν, iterations); raises ``RuntimeError`` when the iteration does not settle.
     """
     U = np.zeros(n)
@@ -130,7 +133,7 @@ def solve_position_correction(
         if it > 0 and settled and _settled(nu, g, p, k, eq, tol_gap):
             _record(stats, "position", nu, g, p, k, eq, tol_gap)
             return U, nu, it
-        A = _next_active_set(A, nu, g, p, k, eq)
+        A = one_of_twins(_next_active_set(A, nu, g, p, k, eq), g, twins)
         # the gaps' curvature weighted by the current contact forces k ν (the Hessian of the
         # Lagrangian, as in SQP), not by k ν − p g: on the first update that is −p g, which
         # with a large p dwarfs H and makes H − C indefinite; at convergence both agree
@@ -183,6 +186,20 @@ def _next_active_set(A, nu, g, p, k, eq) -> np.ndarray:
     # (a row whose gap became undefined, g = +inf with a zero gradient, leaves: it holds
     # nothing, and kept it put inf in the Schur right-hand side and NaN in U)
     return np.where(A, (nu > 0) & (g < np.inf), g < 0) | eq
+
+
+def one_of_twins(A: np.ndarray, g: np.ndarray, twins) -> np.ndarray:
+    """The active set A with at most one of two twin rows, two constraints on one node along
+    nearly the same normal (``twins``: each row's twin, −1 for none; None: no twins): the
+    one of smaller gap, the first on a tie. Both in one set are nearly redundant, and the
+    Schur complement splits their multipliers into large forces of opposite signs
+    (:mod:`fecontact.contact.mortar_safeguard`)."""
+    if twins is None:
+        return A
+    t = np.maximum(twins, 0)
+    first = np.arange(len(g)) < t
+    other = (twins >= 0) & A & A[t] & ((g > g[t]) | ((g == g[t]) & ~first))
+    return A & ~other
 
 
 def _close(last, A, w) -> bool:
