@@ -65,11 +65,13 @@ class SolidWatch:
         edge of the facet closest to it (the facet it entered), the measure of the predictor
         (:data:`fecontact.time.penetration.DEEPEST`): a node is judged by the facet it
         meets, not by the finest cell elsewhere on the surface (a graded mesh). With
-        ``q_start`` (the start of the step) each node's depth there is taken off: what the
-        step brings in. The weighted gaps hold no node's own depth, and on coarse P1 balls
-        they let nodes sink a few per cent of an edge over a lasting contact (reported);
-        a smaller step does not take that out, and measured from outside it failed every
-        halving of the step. The facet's
+        ``q_start`` (the start of the step) a node that was deeper there than twice ``BOUND``
+        of that edge is measured by what the step adds beyond it. The weighted gaps hold no
+        node's own depth, and on coarse P1 balls they let nodes sink a few per cent of an
+        edge over a lasting contact (reported); a smaller step does not take that out, and
+        measured from outside it failed every halving of the step. Within twice the bound
+        the total depth counts: measured from each node's start, the head-on balls at
+        63 Δx/c went deeper (1.4 % of the local edge) and created 0.47 % of the scale. The facet's
         shortest edge, not its longest or their mean: on the balls' graded meshes, whose finest
         triangles are those under the contact, those let the head-on approach at 63 Δx/c in
         deeper and create 0.45 % and 0.47 % of the energy scale (0 with the shortest)."""
@@ -105,8 +107,9 @@ class SolidWatch:
             edge = np.linalg.norm(t - np.roll(t, 1, axis=1), axis=2).min(axis=1)
             deepest = max(deepest, float(d.max()))
             relative = max(relative, float(d.max()) / self.edges[i])
-            if q_start is not None:
-                d = d - self._start_depth(q_start, i, np.flatnonzero(watched)[inside])
+            if q_start is not None:  # (beyond twice the allowance: what the step adds)
+                start = self._start_depth(q_start, i, np.flatnonzero(watched)[inside])
+                d = d - np.maximum(start - 2.0 * BOUND * edge, 0.0)
             entered = max(entered, float(np.max(d / edge)))
         return deepest, relative, entered
 
