@@ -129,13 +129,15 @@ def solve_position_correction(
     dU, dU_prev = np.inf, np.inf
     A = last = None
     cycle = _Cycle()
-    for it in range(max_iter + 1):
+    for it in range(2 * max_iter + 1):  # (beyond max_iter only to end a frozen cycle)
         settled = _update_settled(dU, dU_prev, tol_u, tol_gap)
         if it > 0 and settled and cycle.ends(A, nu, g, p, k, eq, tol_gap, stats):
             _record(stats, "position", nu, g, p, k, eq, tol_gap)
             return U, nu, it
         if it > 0:
             cycle.visit(A, _residual(nu, g, p, k, eq))
+        if it > max_iter and not cycle.freeze():
+            break
         A = cycle.next(A, nu, g, p, k, eq, twins, settled and (g < -tol_gap))
         # the gaps' curvature weighted by the current contact forces k ν (the Hessian of the
         # Lagrangian, as in SQP), not by k ν − p g: on the first update that is −p g, which
@@ -164,17 +166,17 @@ def solve_position_correction(
 
 
 class _Cycle:
-    """The active sets of one position correction. A set that comes a third time means the
-    primal–dual iteration cycles (a gap that jumps where a node's closest facet changes, seen
-    on node-to-surface disks at three edges a step: {1, 2} holds row 1 with a pulling force,
-    {2} leaves it 0.44 mm inside). The set whose solution had the least Alart–Curnier
-    residual is then *frozen*: iterated as equalities, rows entering it where they penetrate
-    at its converged iterate and none leaving (so it ends within as many additions as rows),
-    and accepted when its rows' gaps close and no other row penetrates, whatever the sign of
-    its multipliers (the step's final residual records the pull; counted in
-    ``frozen_active_sets``). Frozen at the set's second return, not when the iterations run
-    out: at three edges a step the later freeze (after 9 or 15 iterations) led the run to
-    stop at a predictor two steps on."""
+    """The active sets of one position correction. Where the primal–dual iteration has not
+    settled within its ``max_iter`` iterations and a set came three times or more, it cycles
+    (a gap that jumps where a node's closest facet changes, seen on node-to-surface disks at
+    three edges a step: {1, 2} holds row 1 with a pulling force, {2} leaves it 0.44 mm
+    inside). The set whose iterate had the least Alart–Curnier residual is then *frozen*:
+    iterated as equalities, rows entering it where they penetrate at its converged iterate
+    and none leaving (so it ends within as many additions as rows), and accepted when its
+    rows' gaps close and no other row penetrates, whatever the sign of its multipliers (the
+    step's final residual records the pull; counted in ``frozen_active_sets``). Only then: a
+    correction that settles within ``max_iter`` is unchanged to the bit (frozen at a set's
+    third coming, the shipped node-to-surface disks froze once and moved by round-off)."""
 
     def __init__(self):
         self.visits: dict = {}
@@ -194,10 +196,13 @@ class _Cycle:
         A = one_of_twins(_next_active_set(A, nu, g, p, k, eq), g, twins)
         key = A.tobytes()
         self.visits[key] = self.visits.get(key, 0) + 1
-        if self.visits[key] > 2 and self.best[1] is not None:
-            self.frozen = self.best[1]
-            return self.frozen
         return A
+
+    def freeze(self) -> bool:
+        """Freeze the best set, once, if the iteration has cycled; whether a set is frozen."""
+        if self.frozen is None and self.best[1] is not None and max(self.visits.values()) > 2:
+            self.frozen = self.best[1]
+        return self.frozen is not None
 
     def ends(self, A, nu, g, p, k, eq, tol: float, stats) -> bool:
         """Whether the settled iterate from the set A ends the correction: complementarity
