@@ -86,8 +86,8 @@ def test_a_pair_declared_both_ways_is_one_interface():
     model = Model([a, b], [Contact(a, b, method="mortar"), Contact(b, a, method="mortar")])
     interface = model.contacts.pairs[0]
     assert isinstance(interface, MortarContact)
-    # then the rows that hold the master's nodes (mortar_safeguard), once
-    assert model.contacts.pairs[1:] == [interface.master_rows]
+    # then the rows that hold the master's and the slave's nodes (mortar_safeguard), once
+    assert model.contacts.pairs[1:] == [interface.master_rows, interface.pointwise]
     with pytest.raises(InputError, match="both ways"):
         Model(
             [a, b],

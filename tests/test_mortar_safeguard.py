@@ -1,14 +1,14 @@
 """The pointwise safeguard of 2D mortar interfaces: a node deeper than half the allowance
-inside the other disk is held by its own gap (slave nodes: their row becomes the smaller of
-the weighted gap and g_N + δ; master nodes: rows of their own), with exact derivatives, and
-the weighted gaps are untouched bit for bit wherever no node is that deep."""
+inside the other disk is held by its own gap g_N + δ, a row of its own (a slave node's is
+the twin of its weighted row: an active set holds one of the two), with exact derivatives,
+and the weighted gaps are untouched bit for bit."""
 
 import numpy as np
 
 from fecontact import Model
 from fecontact.bodies import Solid
 from fecontact.contact import Contact
-from fecontact.contact.mortar_safeguard import ALLOWANCE, shortest_edge
+from fecontact.contact.mortar_safeguard import ALLOWANCE, shortest_edge, twins_among
 from fecontact.scenes import solid_material
 from fecontact.testing import gap_derivatives_error
 
@@ -38,23 +38,48 @@ def poked(model, body: int, depth: float) -> np.ndarray:
     return q
 
 
-def test_a_slave_node_deeper_than_its_weighted_gap_is_held_by_its_own_gap():
+def test_a_slave_node_deep_inside_has_a_row_of_its_own_twin_of_its_weighted_row():
     # statically overlapping or poked disks have their weighted gaps below the nodes' own
     # (the dual weights extrapolate from the covered part); the nodes that sink deeper than
     # their weighted gaps are those of a surface bulging in flight (tests/test_fast_approach).
-    # Here the allowance is made negative (−5 mm) so that every row near the contact takes
-    # the node's own gap: the rows' composition and its derivatives are what is tested
+    # Here the allowance is made negative (−5 mm) so that every node near the contact has
+    # its row: the rows, their derivatives and their numbering are what is tested
     model, pair = overlapping_disks(-0.003)
     _, weighted = overlapping_disks(-0.003, safeguard=False)
-    pair.pointwise.allowance = -0.005
+    rows = pair.pointwise
+    rows.allowance = -0.005
     q = np.random.default_rng(2).normal(0.0, 1e-4, model.n)
-    g, g_w, g_s = pair.evaluate(q)[0], weighted.evaluate(q)[0], pair.pointwise.gaps(q)
-    deep = (g_s < g_w) & (g_s < -0.0025)
+    # the weighted rows are the weighted gaps, bit for bit, however deep a node
+    for a, b in zip(pair.evaluate(q)[:3], weighted.evaluate(q)[:3], strict=True):
+        assert np.array_equal(a, b)
+    g, _, G, _ = rows.evaluate(q)
+    deep = g < 0.5 * rows.allowance
     assert deep.sum() >= 1  # (the tip of the left disk)
-    assert np.array_equal(g[deep], g_s[deep]) and np.array_equal(g[~deep], g_w[~deep])
+    assert np.all(g[~deep] == 2.0 * rows.base_margin) and not G[~deep].any()
     # central differences, step 1e-7 m: round-off ~1e-9 relative
-    err_g, err_h = gap_derivatives_error(pair, q, 1e-7)
+    err_g, err_h = gap_derivatives_error(rows, q, 1e-7)
     assert err_g < 1e-8 and err_h < 1e-6
+    # in the model: the weighted rows first, the master's nodes, then the slave's, each the
+    # twin of the weighted row of its node
+    contacts, n = model.contacts, pair.size
+    assert contacts.pairs == [pair, pair.master_rows, rows]
+    start = n + pair.master_rows.size
+    twins = contacts.twins
+    assert np.array_equal(twins[:n], start + np.arange(n))
+    assert np.array_equal(twins[start:], np.arange(n))
+    assert np.all(twins[n:start] == -1)
+    local = twins_among(twins, np.array([start + 3, 5, 3]), 1)
+    assert np.array_equal(local, [2, -1, 0, -1])
+
+
+def test_an_active_set_holds_the_deeper_of_two_twins():
+    from fecontact.contact.laws import one_of_twins
+
+    A = np.array([True, True, True, True, False, True])
+    g = np.array([-2.0, -1.0, -3.0, -3.0, -9.0, 0.5])
+    twins = np.array([1, 0, 3, 2, 5, 4])  # (4 inactive: 5 stays)
+    assert np.array_equal(one_of_twins(A, g, twins), [True, False, True, False, False, True])
+    assert one_of_twins(A, g, None) is A
 
 
 def test_a_master_node_deep_inside_gets_a_row_and_the_others_are_never_candidates():

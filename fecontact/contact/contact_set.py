@@ -9,6 +9,7 @@ import scipy.sparse as sp
 from ..linalg import DENSE_LIMIT
 from .friction_rows import FrictionRows
 from .mortar_interface import merge_interfaces
+from .mortar_safeguard import twin_rows
 from .watch import solid_watches
 
 __all__ = ["ContactSet", "admissible_gaps", "held_together"]
@@ -28,6 +29,7 @@ class ContactSet(FrictionRows):
         self.frictional = bool(np.any(self.friction > 0.0))
         self.redundant_rows = any(getattr(pair, "redundant_rows", False) for pair in self.pairs)
         self.owner = _per_contact(self.pairs, range(len(self.pairs)), int)  # pair of a contact
+        self.twins = twin_rows(self.pairs)  # two rows of one node (mortar_safeguard), or None
         # each contact's number within its pair
         self.local = _per_contact(self.pairs, [np.arange(pair.size) for pair in self.pairs], int)
         self.point = _points(self.pairs)

@@ -33,6 +33,7 @@ __all__ = [
     "alart_curnier_residual",
     "contact_force_multiplier",
     "kkt_multipliers",
+    "one_of_twins",
     "solve_position_correction",
     "solve_velocity_jump",
 ]
@@ -101,8 +102,9 @@ def _settled(nu, g, p, k, eq, tol) -> bool:
 
 
 def solve_position_correction(
-    gaps, system, n, p, k, tol_gap, tol_u, max_iter=30, bilateral=None, nu0=None, stats=None
-):
+    gaps, system, n, p, k, tol_gap, tol_u, max_iter=30, bilateral=None, nu0=None, stats=None,
+    twins=None,
+):  # fmt: skip
     """Position correction q = q̃ + U: find (U, ν) with H U = Σ G_jᵀ [k ν_j − p g_j(q)]_+ and
     k ν_j − [k ν_j − p g_j(q)]_+ = 0 for every candidate j.
 
@@ -116,7 +118,8 @@ def solve_position_correction(
     (a stack at rest) is found at once instead of one link per iteration. The iteration stops
     when the Alart–Curnier residual is below ``tol_gap`` (in m) and the update below ``tol_u``
     or no longer shrinking. ``stats`` (:class:`fecontact.contact.stats.ContactStats`, or
-    None) receives the least-squares multipliers and the final residual. Returns
+    None) receives the least-squares multipliers and the final residual; ``twins`` (each
+    row's twin among the rows, −1 none: :func:`one_of_twins`) or None. Returns
     (U, ν, iterations); raises ``RuntimeError`` when the iteration does not settle.
     """
     U = np.zeros(n)
@@ -125,12 +128,17 @@ def solve_position_correction(
     eq = np.zeros(len(g), bool) if bilateral is None else bilateral
     dU, dU_prev = np.inf, np.inf
     A = last = None
-    for it in range(max_iter + 1):
+    cycle = _Cycle()
+    for it in range(2 * max_iter + 1):  # (beyond max_iter only to end a frozen cycle)
         settled = _update_settled(dU, dU_prev, tol_u, tol_gap)
-        if it > 0 and settled and _settled(nu, g, p, k, eq, tol_gap):
+        if it > 0 and settled and cycle.ends(A, nu, g, p, k, eq, tol_gap, stats):
             _record(stats, "position", nu, g, p, k, eq, tol_gap)
             return U, nu, it
-        A = _next_active_set(A, nu, g, p, k, eq)
+        if it > 0:
+            cycle.visit(A, _residual(nu, g, p, k, eq))
+        if it > max_iter and not cycle.freeze():
+            break
+        A = cycle.next(A, nu, g, p, k, eq, twins, settled and (g < -tol_gap))
         # the gaps' curvature weighted by the current contact forces k ν (the Hessian of the
         # Lagrangian, as in SQP), not by k ν − p g: on the first update that is −p g, which
         # with a large p dwarfs H and makes H − C indefinite; at convergence both agree
@@ -155,6 +163,57 @@ def solve_position_correction(
         U = U_new
         g, G = gaps(U)
     raise RuntimeError(f"position correction: active set did not settle in {max_iter} iterations")
+
+
+class _Cycle:
+    """The active sets of one position correction. Where the primal–dual iteration has not
+    settled within its ``max_iter`` iterations and a set came three times or more, it cycles
+    (a gap that jumps where a node's closest facet changes, seen on node-to-surface disks at
+    three edges a step: {1, 2} holds row 1 with a pulling force, {2} leaves it 0.44 mm
+    inside). The set whose iterate had the least Alart–Curnier residual is then *frozen*:
+    iterated as equalities, rows entering it where they penetrate at its converged iterate
+    and none leaving (so it ends within as many additions as rows), and accepted when its
+    rows' gaps close and no other row penetrates, whatever the sign of its multipliers (the
+    step's final residual records the pull; counted in ``frozen_active_sets``). Only then: a
+    correction that settles within ``max_iter`` is unchanged to the bit (frozen at a set's
+    third coming, the shipped node-to-surface disks froze once and moved by round-off)."""
+
+    def __init__(self):
+        self.visits: dict = {}
+        self.best, self.frozen = (np.inf, None), None
+
+    def visit(self, A: np.ndarray, residual: float) -> None:
+        """The residual of the iterate that the set A gave."""
+        if residual < self.best[0]:
+            self.best = (residual, A.copy())
+
+    def next(self, A, nu, g, p, k, eq, twins, inside) -> np.ndarray:
+        """The set of the next update after A (``inside``: the rows that enter a frozen set,
+        those that penetrate once it has converged)."""
+        if self.frozen is not None:  # (a row whose gap became undefined leaves, as below)
+            self.frozen = (self.frozen & (g < np.inf)) | inside
+            return self.frozen
+        A = one_of_twins(_next_active_set(A, nu, g, p, k, eq), g, twins)
+        key = A.tobytes()
+        self.visits[key] = self.visits.get(key, 0) + 1
+        return A
+
+    def freeze(self) -> bool:
+        """Freeze the best set, once, if the iteration has cycled; whether a set is frozen."""
+        if self.frozen is None and self.best[1] is not None and max(self.visits.values()) > 2:
+            self.frozen = self.best[1]
+        return self.frozen is not None
+
+    def ends(self, A, nu, g, p, k, eq, tol: float, stats) -> bool:
+        """Whether the settled iterate from the set A ends the correction: complementarity
+        within ``tol``, or, for a frozen set, its rows closed and no other inside (counted
+        in ``stats``)."""
+        if self.frozen is None:
+            return _settled(nu, g, p, k, eq, tol)
+        held = bool(np.all(np.abs(g[A]) <= tol) and np.all(g[~A] >= -tol))
+        if held and stats is not None:
+            stats.frozen_active_sets += 1
+        return held
 
 
 def _update_settled(dU: float, dU_prev: float, tol_u: float, tol_gap: float) -> bool:
@@ -183,6 +242,20 @@ def _next_active_set(A, nu, g, p, k, eq) -> np.ndarray:
     # (a row whose gap became undefined, g = +inf with a zero gradient, leaves: it holds
     # nothing, and kept it put inf in the Schur right-hand side and NaN in U)
     return np.where(A, (nu > 0) & (g < np.inf), g < 0) | eq
+
+
+def one_of_twins(A: np.ndarray, g: np.ndarray, twins) -> np.ndarray:
+    """The active set A with at most one of two twin rows, two constraints on one node along
+    nearly the same normal (``twins``: each row's twin, −1 for none; None: no twins): the
+    one of smaller gap, the first on a tie. Both in one set are nearly redundant, and the
+    Schur complement splits their multipliers into large forces of opposite signs
+    (:mod:`fecontact.contact.mortar_safeguard`)."""
+    if twins is None:
+        return A
+    t = np.maximum(twins, 0)
+    first = np.arange(len(g)) < t
+    other = (twins >= 0) & A & A[t] & ((g > g[t]) | ((g == g[t]) & ~first))
+    return A & ~other
 
 
 def _close(last, A, w) -> bool:

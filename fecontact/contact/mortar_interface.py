@@ -22,7 +22,7 @@ import numpy as np
 from ..errors import InputError, check_positive, check_range
 from .base import PairDefaults, check_solid_pair
 from .friction import tangent_basis
-from .mortar_safeguard import deep_hessians, deep_rows, safeguard_rows, take_deep
+from .mortar_safeguard import safeguard_rows
 
 __all__ = [
     "MortarInterface",
@@ -147,9 +147,10 @@ class MortarInterface(PairDefaults):
         self._dofs_m = master.node_translation_dofs(np.arange(master.n_nodes))
         self.offsets = (0, 0)
         self._last = self._last_gaps = self._search = self._layout_of = None
-        self.pointwise, self.master_rows = safeguard_rows(body, master, restitution, self.nodes)
-        """The slave nodes' own gaps and the master nodes' rows, contacts of the model after
-        its declared pairs (:mod:`.mortar_safeguard`; None: none)."""
+        self.pointwise, self.master_rows = safeguard_rows(self)
+        """The rows of the slave's and of the master's nodes deep inside the other solid,
+        contacts of the model after its declared pairs (:mod:`.mortar_safeguard`; None:
+        none)."""
 
     @property
     def size(self) -> int:
@@ -253,9 +254,7 @@ class MortarInterface(PairDefaults):
         for cached in (self._last, self._last_gaps):
             if cached is not None and self._same(q, cached[0]):
                 return cached[1]["g"].copy()
-        values = self._values(q)
-        g = self._gap_values(*values)
-        g = take_deep(self.pointwise, q, deep_rows(self.pointwise, q, g, len(values[0])), g)[0]
+        g = self._gap_values(*self._values(q))
         self._last_gaps = (self._key(q), {"g": g})
         return g.copy()
 
@@ -272,7 +271,7 @@ class MortarInterface(PairDefaults):
         last = self._last
         if last is not None and self._same(q, last[0]):
             r = last[1]
-            return r["g"].copy(), r["dofs"], r["G"], None
+            return r["g"].copy(), r["layout"].dofs, r["G"], None
         e, z, dofs, xs = self._local(q)
         jets, coverage, dual, quad = self._integrate(e, z, False)
         g = self._gap_values(e, jets, coverage, dual, xs)
@@ -283,12 +282,10 @@ class MortarInterface(PairDefaults):
         layout = self._layout(ends, dofs)
         scale = np.where(valid, 1.0 / self.length, 0.0)
         G = layout.rows(ends, [j.g * scale[r, None] for r, j in zip(ends, jets, strict=True)])
-        deep = deep_rows(self.pointwise, q, g, len(e))
-        g, dofs, G = take_deep(self.pointwise, q, deep, g, layout.dofs, G)
         G.flags.writeable = False
         self._last = (self._key(q), dict(g=g, G=G, e=e, z=z, layout=layout, scale=scale, quad=quad,
-                                counts=counts, dofs=dofs, deep=deep))  # fmt: skip
-        return g.copy(), dofs, G, None
+                                counts=counts))  # fmt: skip
+        return g.copy(), layout.dofs, G, None
 
     def _layout(self, ends, dofs: np.ndarray) -> _Layout:
         """The layout of these entries: the last one while the entries are the same (the
@@ -306,10 +303,11 @@ class MortarInterface(PairDefaults):
         self.evaluate(q)
         r = self._last[1]
         e, layout, scale = r["e"], r["layout"], r["scale"]
+        rows = np.asarray(rows)
         k = layout.dofs.shape[1]
-        H, deep = deep_hessians(self.pointwise, q, np.asarray(rows), r["deep"], r["dofs"], k)
+        H = np.zeros((len(rows), k, k))
         where = np.full(self.size, -1)
-        where[np.asarray(rows)[~deep]] = np.arange(len(rows))[~deep]
+        where[rows] = np.arange(len(rows))
         ends = [self.element_rows[e, j] for j in range(self.facets.shape[1])]
         use = np.flatnonzero(r["counts"] & np.any([where[x] >= 0 for x in ends], axis=0))
         if use.size == 0:
@@ -359,8 +357,8 @@ class MortarInterface(PairDefaults):
 def merge_interfaces(pairs):
     """The pairs with each mortar interface once: a mortar pair declared both ways, (a, b)
     and (b, a), is one interface (the first declared); their restitution and friction must
-    agree. The master nodes' safeguard rows of the 2D interfaces follow the declared pairs,
-    then the pairs' ``companions`` (a solid–box pair's corner rows)."""
+    agree. The safeguard rows of the 2D interfaces (their master's nodes, then their slave's)
+    follow the declared pairs, then the pairs' ``companions`` (a solid–box pair's corner rows)."""
     seen: dict = {}
     out = []
     for pair in pairs:
@@ -377,4 +375,6 @@ def merge_interfaces(pairs):
             seen[key] = pair
         out.append(pair)
     companions = [c for p in out for c in getattr(p, "companions", ())]
-    return out + [p.master_rows for p in seen.values() if p.master_rows is not None] + companions
+    # (the master's rows first: the order before the slave's had rows of their own)
+    deep = [r for p in seen.values() for r in (p.master_rows, p.pointwise) if r is not None]
+    return out + deep + companions

@@ -5,21 +5,33 @@ each slave node's elements, not the node's own distance. Where the gap field is 
 linear over an element — a convex kink under a coarse pole, the bulge of a disk hit at tens
 of m/s — a node can lie inside the other body while its weighted gap is positive. The
 safeguard adds, for every boundary node of each solid of the interface (two passes: the
-slave's nodes against the master's surface, the master's nodes against the slave's), the
-node-to-surface gap of :class:`~fecontact.contact.body_pairs.NodeSurfaceContact` shifted by
-an allowance δ:
+slave's nodes against the master's surface, the master's nodes against the slave's), a row
+of its own, the node-to-surface gap of
+:class:`~fecontact.contact.body_pairs.NodeSurfaceContact` shifted by an allowance δ:
 
     g_s = g_N(x) + δ ≥ 0,   δ = ``ALLOWANCE`` × the shortest boundary edge of the surface,
 
 g_N the signed plane gap of the node from its closest facet (−distance inside a convex
-surface). The row is a candidate only for a node deeper than δ/2 (elsewhere it reports
-g = +inf and a zero gradient): a node that the weighted gaps keep out, or let in by their
-usual few tenths of a per cent of an edge, never sees it, so that every run in which no node
-sinks deeper is unchanged bit for bit, its symmetry included. A node deeper than δ makes the
-row active at both levels of the step, as any contact: Signorini at the position correction
-(g_s ≥ 0 with the Alart–Curnier multiplier), Newton's impact law on the velocity jump (with
-the interface's e_N and μ). Together with the node's own mortar row it can be redundant up
-to round-off; the interface declares it (minimum-norm multipliers, decided once per run).
+surface). The row is a candidate only for a node deeper than δ/2 (elsewhere it reports a
+finite gap beyond any detection distance and a zero gradient): a node that the weighted gaps
+keep out, or let in by their usual few tenths of a per cent of an edge, never sees it, so
+that every run in which no node sinks deeper is unchanged bit for bit, its symmetry
+included. A node deeper than δ makes the row active at both levels of the step, as any
+contact: Signorini at the position correction (g_s ≥ 0 with the Alart–Curnier multiplier),
+Newton's impact law on the velocity jump (with the interface's e_N; frictionless: the rows
+only stop a node sinking, the interface's weighted slip rows carry the friction).
+
+A slave node's weighted row and its own row are two constraints, g̃_j ≥ 0 and g_s ≥ 0,
+each with its multiplier. Their minimum as one row describes the same admissible set, but
+has a kink where the two cross: at three boundary edges a step (two disks at 43.5 m/s,
+8 Δx/c) the pointwise gap rose and the weighted one fell along the smooth step's Newton
+update, and the iterates jumped across the kink of their minimum without converging. Two
+rows have no kink; each keeps its own smooth linearisation. But both push the same node
+along nearly the same normal: in one active set they are a nearly redundant pair, whose
+multipliers the Schur complement splits into large forces of opposite signs (there the
+position correction cycled through three active sets). They are *twins*
+(:func:`twin_rows`): an active set holds the deeper of the two, and the other enters only
+in its place, when its own gap is the smaller (:func:`fecontact.contact.laws.one_of_twins`).
 
 This is the active-set safeguard of segment-to-segment methods that complement a weighted
 (integrated) constraint with pointwise checks where the integral lets a point through (the
@@ -36,13 +48,11 @@ from .inside import bounding_box
 
 __all__ = [
     "ALLOWANCE",
-    "MasterNodeRows",
-    "SafeguardRows",
-    "deep_hessians",
-    "deep_rows",
+    "DeepNodeRows",
     "safeguard_rows",
     "shortest_edge",
-    "take_deep",
+    "twin_rows",
+    "twins_among",
 ]
 
 ALLOWANCE = 0.005
@@ -60,10 +70,20 @@ def shortest_edge(body, facets: np.ndarray) -> float:
     return float(np.sqrt((edges**2).sum(-1)).min())
 
 
-class SafeguardRows(NodeSurfaceContact):
+class DeepNodeRows(NodeSurfaceContact):
     """Every boundary node of the solid ``body`` against the surface of the solid ``master``,
-    g_s = g_N + δ ≥ 0 for the nodes deeper than δ/2, +inf for the others (module
-    docstring); ``restitution`` e_N as the interface's."""
+    g_s = g_N + δ ≥ 0 for a node deeper than δ/2; the others report a gap ``far`` beyond any
+    detection distance (twice the pair's), with a zero gradient: never a candidate, and
+    finite, so that a row that a correction's iterate lifts out stays a number
+    (module docstring). ``restitution``: e_N, as the interface's; frictionless."""
+
+    inside_test = False  # g_s is held to round-off like a signed distance
+    # the base margin is enough: a node that sinks is found by the inside test however deep
+    looks_ahead = False
+    _far = None  # (margin and placement, the rows of a free flight)
+    twin = None
+    """The interface whose row j holds this pair's node j by its weighted gap (the slave's
+    rows; None: the master's, whose nodes have no weighted row)."""
 
     def __init__(self, body, master, restitution: float = 0.0):
         super().__init__(body, master, restitution=restitution)
@@ -76,10 +96,6 @@ class SafeguardRows(NodeSurfaceContact):
         self.allowance = ALLOWANCE * shortest_edge(master, self.facets)
         """δ (m): how deep a node may sink before its row holds it."""
 
-    def _evaluate(self, q):
-        g, dofs, G, H = super()._evaluate(q)
-        return g + self.allowance, dofs, G, H
-
     def closest_facets(self, xs: np.ndarray, xm: np.ndarray):
         # a node farther than the margin from the master's bounding box has no facet within
         # it (the search would find none): bodies whose boxes are apart need no search
@@ -89,19 +105,6 @@ class SafeguardRows(NodeSurfaceContact):
             empty = np.zeros(0, int)
             return empty, empty, np.zeros(0)
         return super().closest_facets(xs, xm)
-
-
-class MasterNodeRows(SafeguardRows):
-    """The second pass: every boundary node of the interface's master (``body`` here)
-    against the slave's surface (``master`` here), g_s = g_N + δ for a node deeper than δ/2;
-    the others report a gap ``far`` beyond any detection distance (twice the pair's), with
-    a zero gradient: never a candidate, and finite, so that a row that a correction's
-    iterate lifts out stays a number. Frictionless: the rows only stop a node sinking."""
-
-    inside_test = False  # g_s is held to round-off like a signed distance
-    # the base margin is enough: a node that sinks is found by the inside test however deep
-    looks_ahead = False
-    _far = None  # (margin and placement, the rows of a free flight)
 
     def evaluate(self, q: np.ndarray):
         xs, xm = self.positions(q)
@@ -113,7 +116,7 @@ class MasterNodeRows(SafeguardRows):
         # made once per margin and placement (most steps of a run)
         key = (self.base_margin, self.offsets)
         if self._far is None or self._far[0] != key:
-            far = super()._evaluate(q)
+            far = self._shifted(q)  # (+inf: no facet within reach of any node)
             for array in far[1:3]:
                 array.flags.writeable = False
             self._far = (key, far)
@@ -121,62 +124,64 @@ class MasterNodeRows(SafeguardRows):
         g, dofs, G, H = self._far[1]
         return g.copy(), dofs, G, H
 
-    def _evaluate(self, q):
+    def _shifted(self, q):
+        """The node-to-surface rows at q with their gaps shifted by δ."""
         g, dofs, G, H = super()._evaluate(q)
+        return g + self.allowance, dofs, G, H
+
+    def _evaluate(self, q):
+        g, dofs, G, H = self._shifted(q)
         shallow = ~(g < 0.5 * self.allowance)
         g[shallow] = 2.0 * self.base_margin
         G[shallow] = 0.0
         self.selected[shallow] = -1  # (no curvature either)
         return g, dofs, G, H
 
+    def held(self, q: np.ndarray) -> int:
+        """How many nodes lie deeper than δ/2 at q, so that their rows are candidates: a
+        held node ends a step about δ deep."""
+        return int(np.count_nonzero(self.gaps(q) < 0.5 * self.allowance))
 
-def safeguard_rows(body, master, restitution: float, nodes: np.ndarray):
-    """The pointwise rows of a 2D interface: its slave ``nodes``' own gaps (those of its
-    weighted gaps, in their order) and the rows of the master's nodes; (None, None) in 3D
-    (module docstring)."""
+
+def safeguard_rows(interface):
+    """The pointwise rows of a 2D mortar ``interface``: those of its slave's nodes against the
+    master's surface (row j the twin of the interface's row j, the same node), and of the
+    master's nodes against the slave's; (None, None) in 3D (module docstring)."""
+    body, master, restitution = interface.body, interface.master, interface.restitution
     if body.dim != 2:
         return None, None
-    rows = SafeguardRows(body, master, restitution)
-    if not np.array_equal(rows.nodes, nodes):
+    rows = DeepNodeRows(body, master, restitution)
+    if not np.array_equal(rows.nodes, interface.nodes):
         raise ValueError("the mortar rows' nodes must be the slave body's boundary nodes")
-    return rows, MasterNodeRows(master, body, restitution)
+    rows.twin = interface
+    return rows, DeepNodeRows(master, body, restitution)
 
 
-def deep_rows(rows: SafeguardRows | None, q: np.ndarray, g: np.ndarray, entries: int):
-    """The rows (m,) whose node's own gap g_N + δ (``rows`` at q) is below its weighted gap g
-    and below δ/2: the node lies deeper than δ/2 inside the master. None without ``entries``
-    (the interface's element pairs at q): then no element of the master lies within the
-    margin of the slave's, and no slave node inside it (a free flight, at no cost)."""
-    if rows is None or entries == 0:
-        return np.zeros(len(g), bool)
-    g_s = rows.gaps(q)
-    return (g_s < g) & (g_s < 0.5 * rows.allowance)
+def twin_rows(pairs) -> np.ndarray | None:
+    """For each contact of ``pairs`` (numbered in their order), its twin: the contact that
+    holds the same node by the other constraint (a slave node's weighted gap and its own
+    gap, module docstring), −1 for none; None when no pair has twins (decided once per
+    run)."""
+    start = np.cumsum([0] + [pair.size for pair in pairs])
+    first = {id(pair): s for pair, s in zip(pairs, start[:-1], strict=True)}
+    twins = np.full(start[-1], -1)
+    found = False
+    for pair, s in zip(pairs, start[:-1], strict=True):
+        if isinstance(pair, DeepNodeRows) and pair.twin is not None:
+            rows, t = np.arange(pair.size), first[id(pair.twin)]
+            twins[s + rows], twins[t + rows] = t + rows, s + rows
+            found = True
+    return twins if found else None
 
 
-def take_deep(rows, q, deep: np.ndarray, g: np.ndarray, dofs=None, G=None):
-    """The weighted rows (g, dofs, G) with the ``deep`` ones replaced by the nodes' own
-    (``rows`` at q): the dofs widened by the pointwise rows' (zero gradient on the unused
-    part of a row), unchanged when none is deep."""
-    if not deep.any():
-        return g, dofs, G
-    g_s, dofs_s, G_s, _ = rows.evaluate(q)
-    g[deep] = g_s[deep]
-    if G is None:
-        return g, dofs, G
-    G = np.concatenate([np.where(deep[:, None], 0.0, G), G_s * deep[:, None]], axis=1)
-    dofs = np.concatenate([dofs, dofs_s], axis=1)
-    dofs.flags.writeable = False
-    return g, dofs, G
-
-
-def deep_hessians(rows, q, select: np.ndarray, deep: np.ndarray, dofs: np.ndarray, k: int):
-    """Hessians (len(select), w, w) of the rows ``select`` in the widened layout ``dofs``
-    (width w), with the deep rows' own curvature in the pointwise block and zero elsewhere
-    (the weighted rows' block, the first k columns, is the caller's to fill); and which of
-    ``select`` are deep."""
-    width = dofs.shape[1]
-    H = np.zeros((len(select), width, width))
-    deep = deep[select]
-    if width > k:
-        H[deep, k:, k:] = rows.hessians(q, select[deep])
-    return H, deep
+def twins_among(twins: np.ndarray | None, rows: np.ndarray, extra: int = 0) -> np.ndarray | None:
+    """Each of the contacts ``rows``' twin (``twins``: :func:`twin_rows`) as an index into
+    ``rows`` (−1: none, or not among them), then ``extra`` rows without (joints); None in a
+    model without twins."""
+    if twins is None:
+        return None
+    where = np.full(len(twins), -1)
+    where[rows] = np.arange(len(rows))
+    twin = twins[rows]
+    local = np.where(twin >= 0, where[np.maximum(twin, 0)], -1)
+    return np.concatenate([local, np.full(extra, -1)])

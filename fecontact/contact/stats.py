@@ -62,6 +62,9 @@ class ContactStats:
     # rows were redundant (four corners of a rigid face on a plane): taken on a maximal
     # independent subset of the rows, the others' multipliers kept
     redundant_row_updates: int = 0
+    # position corrections whose active sets cycled, ended on the set of least residual
+    # (:func:`fecontact.contact.laws.solve_position_correction`)
+    frozen_active_sets: int = 0
     # decided once per run: the model has pairs whose rows can be redundant up to round-off
     # (:func:`fecontact.contact.laws.kkt_multipliers` then reads the LU's pivots)
     minimum_norm: bool = False

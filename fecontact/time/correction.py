@@ -9,6 +9,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..contact import solve_position_correction
+from ..contact.mortar_safeguard import twins_among
 from ..linalg import UnitColumns, low_rank_solver
 from ..rotations import exp
 from .configuration import plus
@@ -95,6 +96,7 @@ def position_correction(model, q_tilde, cand, metric, c, opts, tol_gap, nu0=None
             bilateral=cons.bilateral,
             nu0=None if nu0 is None else np.concatenate([nu0, np.zeros(model.joints.size)]),
             stats=opts.stats.contact,
+            twins=twins_among(model.contacts.twins, cand, model.joints.size),
         )
     except RuntimeError as err:
         raise StepFailure(str(err), np.nan) from None

@@ -165,7 +165,7 @@ class _Phases:
             self.g_tilde = model.contacts.gaps(q)
         g_tilde = self.g_tilde
         if opts.depth_check:  # (decided once: without solid pairs no node can enter)
-            check_predictor(model, q, g_tilde)
+            check_predictor(model, q, g_tilde, st.q)
         cand = (g_tilde <= opts.detection_margin * model.length).nonzero()[0]
         self.nu, self.impulse, self.gaps, self.cand = np.zeros(m), np.zeros(m), g_tilde, cand
         if not cand.size:  # (most steps: nothing to correct, and no gap tolerance to use)

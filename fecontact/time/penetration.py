@@ -86,18 +86,21 @@ def hold_penetration(model, st: State, opts: IntegratorOptions, timer: PhaseTime
     return st
 
 
-def check_predictor(model, q, gaps) -> None:
+def check_predictor(model, q, gaps, q_start=None) -> None:
     """Fail the step (``PenetrationFailure``) when a node of a solid lies deeper inside another
     solid at the predictor q (−g, ``gaps`` every contact's g at q) than ``DEEPEST`` of the
     facet closest to it (per node, so that a graded surface's finest cells elsewhere do not
     set the step: the facet's longest edge for node-to-surface pairs, its shortest for the
-    nodes of a mortar interface, :meth:`fecontact.contact.watch.SolidWatch.entry`)."""
+    nodes of a mortar interface, :meth:`fecontact.contact.watch.SolidWatch.entry`). A mortar
+    node is measured by what the step brings in, its depth at the predictor less its depth
+    at ``q_start`` (the positions the step starts from): the weighted gaps do not hold a
+    node's own depth, and a smaller step cannot take out what a node had at its start."""
     if not model.contacts.size:
         return
     ratio = own = model.contacts.relative_depth(q, gaps)
     watches = model.contacts.watches
     if watches:  # a mortar interface's nodes, which no own gap measures
-        ratio = max(ratio, entry_depth(watches, q))
+        ratio = max(ratio, entry_depth(watches, q, q_start))
     if ratio > DEEPEST:
         what = entering(watches, q) if ratio > own else "a node"
         raise PenetrationFailure(

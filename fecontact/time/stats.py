@@ -109,6 +109,8 @@ class StepStats:
             "least_squares_multipliers": self.contact.least_squares,
             # smooth-step updates on an independent subset of redundant bordering rows
             "redundant_row_updates": self.contact.redundant_row_updates,
+            # position corrections whose cycling active set was frozen at its best
+            "frozen_active_sets": self.contact.frozen_active_sets,
             # the globalization of the smooth Newton (fecontact.time.descent)
             "smooth_newton": asdict(self.newton),
             # the velocity's follow-ups of an impact's correction (fecontact.time.position_jump)
