@@ -46,11 +46,26 @@ def corner_drop():
     return box_on_slab(1.0).sim
 
 
+def box_on_box():
+    from stress_3d import box_on_box as build
+
+    return build().sim
+
+
+def frictional_disks():
+    from stress_2d import two_disks
+
+    sim, _ = two_disks(offset=0.05 * 0.3, e=0.5, mu=0.3)
+    return sim
+
+
 ROWS = {
     "oblique disks 8 dx/c": (oblique_disks, (8, 16)),
     "corner-first drop": (corner_drop, (8,)),
     "two_disks": (lambda: load_case("two_disks").build(), (8, 16)),
     "ball_drop": (lambda: load_case("ball_drop").build(), (8, 16)),
+    "box on box": (box_on_box, (8,)),
+    "frictional disks": (frictional_disks, (8,)),
 }
 
 
