@@ -4,15 +4,19 @@ cases, against the decoupled default: each case at its reference parameters
 largest distance of each setting's run at h from the h/8 runs (over the probe's range), the
 halvings, and the energy created (the largest rise of the total energy, over its range).
 
-    python benchmarks/beam_smooth_default.py [CASE ...]
+    python benchmarks/beam_smooth_default.py [CASE ...] [--quick] [--out DIR]
+
+Writes the printed lines to ``beam_smooth_default.md`` in the output folder.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import sys
+from pathlib import Path
 
 import numpy as np
+from _common import parser, write_markdown
 
 from fecontact.testing import load_case, trace
 
@@ -22,7 +26,16 @@ CASES = {  # (parameters, t_end) of tests/test_case_references.py
     "impacting_bar": ({"n_elements": 20}, None),
     "two_bars": ({"n_elements": 20}, None),
     "flexible_pendulum (1.5 s)": ({}, None),
+    "flexible_pendulum (quick)": ({}, 0.02),  # (--quick: a check that the script runs)
 }
+
+
+LINES = []
+
+
+def say(line):
+    print(line, flush=True)
+    LINES.append(line)
 
 
 def runs(name):
@@ -35,14 +48,17 @@ def runs(name):
         for refine in (1, 8):
             r = trace(s, dt=sim.dt / refine, t_end=t_end)
             out[setting, refine] = r
-            print(f"  {setting} h/{refine}: {r['status']}, halvings {r['halvings'].sum()}",
-                  flush=True)  # fmt: skip
+            say(f"  {setting} h/{refine}: {r['status']}, halvings {r['halvings'].sum()}")
     return sim, out
 
 
-def main(names):
+def main(argv=None):
+    ap = parser("the smooth force on the planar beam cases against h/8")
+    ap.add_argument("cases", nargs="*")
+    args = ap.parse_args(argv)
+    names = ["flexible_pendulum (quick)"] if args.quick else args.cases or list(CASES)[:-1]
     for name in names:
-        print(name, flush=True)
+        say(name)
         sim, out = runs(name)
         coarse_n = len(out["auto", 1]["t"])
         for probe in sim.probes:
@@ -58,13 +74,15 @@ def main(names):
                 cells.append(f"{s}: {d_self:.3e} (to auto h/8 {d_auto:.3e})")
             n = min(len(fine["auto"]), len(fine["on"]))
             fine_gap = np.max(np.abs(fine["auto"][:n] - fine["on"][:n])) / scale
-            print(f"  {probe:14s} " + "  ".join(cells) + f"  h/8 auto-on {fine_gap:.3e}")
+            say(f"  {probe:14s} " + "  ".join(cells) + f"  h/8 auto-on {fine_gap:.3e}")
         for s in ("auto", "on"):
             for r in (1, 8):
                 tot = out[s, r]["total"]
                 rise = np.max(tot - np.minimum.accumulate(tot))
-                print(f"  energy rise {s} h/{r}: {rise:.3e} J of {np.max(np.abs(tot)):.3e}")
+                say(f"  energy rise {s} h/{r}: {rise:.3e} J of {np.max(np.abs(tot)):.3e}")
+    text = "# The smooth force on planar beams against h/8\n\n```\n" + "\n".join(LINES) + "\n```"
+    write_markdown(Path(args.out) / "beam_smooth_default.md", text)
 
 
 if __name__ == "__main__":
-    main(sys.argv[1:] or list(CASES))
+    main(sys.argv[1:])

@@ -6,12 +6,13 @@ of mass (position over the model's length, velocity over the largest centre spee
 the coarse steps. Printed: the largest change of the p and k variants from the default, and
 the default's distance to the h/8 and h/16 runs.
 
-    python benchmarks/pk_active_set.py [--rows NAME ...]
+    python benchmarks/pk_active_set.py [--rows NAME ...] [--quick] [--out DIR]
+
+Writes the printed lines to ``pk_active_set.md`` in the output folder.
 """
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
 import sys
 import time
@@ -20,6 +21,8 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from _common import parser, write_markdown  # noqa: E402
 
 from fecontact import SolverError  # noqa: E402
 from fecontact.testing import load_case  # noqa: E402
@@ -105,32 +108,42 @@ def distance(a, b, length, speed):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser()
+    ap = parser("p, k and the fine step on the smooth step's active set")
     ap.add_argument("--rows", nargs="*", default=list(ROWS))
     ap.add_argument("--no-fine", action="store_true")
     ap.add_argument("--no-pk", action="store_true")
     args = ap.parse_args(argv)
+    lines = []
+
+    def say(line):
+        print(line, flush=True)
+        lines.append(line)
+
+    if args.quick:  # (a check that the script runs: one cheap row, no fine step)
+        args.rows, args.no_fine = ["ball_drop"], True
     for name in args.rows:
         build, fines = ROWS[name]
         sim = build()
         t0 = time.time()
         base = trajectory(sim)
         length, speed = sim.model.length, max(np.max(np.abs(base[1])), 1e-300)
-        print(f"{name}: {len(base[0])} states, completed {base[2]}, "
-              f"{base[3]} halvings, {time.time() - t0:.0f} s",
-              flush=True)  # fmt: skip
+        say(f"{name}: {len(base[0])} states, completed {base[2]}, "
+            f"{base[3]} halvings, {time.time() - t0:.0f} s")  # fmt: skip
         if not args.no_pk:
             for label, opts in VARIANTS:
                 other = trajectory(sim, **opts)
                 dx, dv, n = distance(base, other, length, speed)
-                print(f"  {label:8s} dq/L {dx:.2e} dv/v {dv:.2e} ({n} states, "
-                      f"completed {other[2]}, {other[3]} halvings)", flush=True)  # fmt: skip
+                say(f"  {label:8s} dq/L {dx:.2e} dv/v {dv:.2e} ({n} states, "
+                    f"completed {other[2]}, {other[3]} halvings)")  # fmt: skip
         if not args.no_fine:
             for r in fines:
                 fine = trajectory(sim, refine=r)
                 dx, dv, n = distance(base, fine, length, speed)
-                print(f"  h/{r:<6d} dq/L {dx:.2e} dv/v {dv:.2e} ({n} states, "
-                      f"completed {fine[2]}, {fine[3]} halvings)", flush=True)  # fmt: skip
+                say(f"  h/{r:<6d} dq/L {dx:.2e} dv/v {dv:.2e} ({n} states, "
+                    f"completed {fine[2]}, {fine[3]} halvings)")  # fmt: skip
+
+    text = "# p, k and the smooth step's active set\n\n```\n" + "\n".join(lines) + "\n```"
+    write_markdown(Path(args.out) / "pk_active_set.md", text)
 
 
 if __name__ == "__main__":
