@@ -181,11 +181,3 @@ def test_the_smooth_force_on_a_whipping_strip_does_not_depend_on_p(whipping_defa
     scaled = whipping(1e6)
     assert np.array_equal(ref["halvings"], scaled["halvings"])
     assert np.max(np.abs(scaled["tip_x"] - ref["tip_x"])) <= 1e-12
-
-
-@pytest.mark.xfail(strict=True, reason="the smooth Newton on a strip whipping around a cylinder")
-def test_the_smooth_force_on_a_whipping_strip_takes_its_steps_whole(whipping_default):
-    """Why the smooth force is not the default for beams: on the whipping strip its smooth
-    Newton fails at t = 0.079 s and the step is halved (7 halvings in 0.3 s), where the
-    decoupled scheme takes every step whole."""
-    assert whipping_default["halvings"].sum() == 0
