@@ -143,16 +143,24 @@ def _settled(c, D, k, mu, nt, x):
     return coulomb_violation(c + k * (D @ x), x, mu, nt)
 
 
-def coulomb_residual(w, x, p, k, mu, nt) -> float:
-    """max |R_i/p_i| (units of w) of the Alart–Curnier residual R = k x − Π(k x − p w) of m
-    frictional contacts (no equality rows): zero exactly where the law holds, for any p.
-    Unlike :func:`coulomb_violation` it weighs a force by what it does: a vanishing force
-    with a slip counts as open, not as a stick that creeps."""
+def coulomb_residual(w, x, p, k, mu, nt, scale: float = 1.0) -> float:
+    """The largest error (units of w) of the Alart–Curnier residual R = k x − Π(k x − p w)
+    of m frictional contacts (no equality rows): zero exactly where the law holds, for any
+    p. Where Π is the identity (a closed normal, a sticking tangent) R/p is w; on the other
+    rows R/p is a force error over p, weighed by ``scale`` = p_i D_ii (the augmentation over
+    the rows' effective mass) into the change of w it makes at its own row, so that the
+    measure does not grow with p (exactly |R/p| at the default scale 1). Unlike
+    :func:`coulomb_violation` it weighs a force by what it does: a vanishing force with a
+    slip counts as open, not as a stick that creeps."""
     mu = np.asarray(mu, dtype=float)
     p = _isotropic(np.asarray(p, dtype=float), len(mu), nt)
     sigma = k * x - p * w
-    Pi = coulomb_projection(sigma.reshape(len(mu), 1 + nt), mu)[0].ravel()
-    return float(np.max(np.abs((k * x - Pi) / p), initial=0.0))
+    Pi, _, status = coulomb_projection(sigma.reshape(len(mu), 1 + nt), mu)
+    b = 1 + nt
+    normal = np.arange(len(w)) % b == 0
+    ident = np.where(normal, sigma > 0.0, np.repeat(status == 1, b))
+    R = (k * x - Pi.ravel()) / p
+    return float(np.max(np.abs(np.where(ident, R, R * scale)), initial=0.0))
 
 
 def coulomb_violation(w, x, mu, nt):

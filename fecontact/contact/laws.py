@@ -78,32 +78,39 @@ def kkt_multipliers(GA, Y, rhs, k, stats: ContactStats | None = None, rcond: flo
     return np.linalg.lstsq(S, rhs, rcond=rcond)[0]
 
 
-def _residual(nu, g, p, k, eq) -> float:
-    """The largest Alart–Curnier residual |k ν − [k ν − p g]_+| / p of the unilateral rows,
-    and |g| of the equalities, in the units of g."""
+def _residual(nu, g, p, k, eq, scale: float = 1.0) -> float:
+    """The largest error of the unilateral rows' law in the units of g, whatever p, and |g|
+    of the equalities. On a closed row (k ν − p g > 0) the Alart–Curnier residual over p,
+    k ν − [k ν − p g]_+ over p, is the gap g itself; on an open row it is the force k ν
+    over p, which times p_j D_jj (``scale``: the rows' augmentation over their effective
+    mass, p_j = scale / D_jj with D_jj = G_j H⁻¹G_jᵀ) is the gap the force makes at its own
+    row, k ν D_jj. Judged by k ν/p alone, p × 1000 accepted forces that moved the gaps by up
+    to 1000 tolerances. At the default scale 1 the factor is exactly 1."""
     u = ~eq
-    r = np.abs(alart_curnier_residual(nu[u], g[u], p[u], k) / p[u])
+    R = alart_curnier_residual(nu[u], g[u], p[u], k) / p[u]
+    r = np.abs(np.where(k * nu[u] - p[u] * g[u] > 0.0, R, R * scale))
     return float(max(np.max(r, initial=0.0), np.max(np.abs(g[eq]), initial=0.0)))
 
 
-def _record(stats, level: str, nu, g, p, k, eq, tol) -> None:
+def _record(stats, level: str, nu, g, p, k, eq, tol, scale: float = 1.0) -> None:
     if tol > 0 and stats is not None:
-        stats.final_residuals.record(level, _residual(nu, g, p, k, eq) / tol)
+        stats.final_residuals.record(level, _residual(nu, g, p, k, eq, scale) / tol)
 
 
-def _settled(nu, g, p, k, eq, tol) -> bool:
-    """The Alart–Curnier residual k ν_j − [k ν_j − p_j g_j]_+, measured as a gap (divided by
-    p_j), is within ``tol`` for every unilateral row, and every equality holds to ``tol``.
+def _settled(nu, g, p, k, eq, tol, scale: float = 1.0) -> bool:
+    """The law's error (:func:`_residual`, in the units of g) is within ``tol`` for every
+    unilateral row, and every equality holds to ``tol``.
 
     This is the stopping test rather than a repeated active set: a contact whose gap is at
     round-off level (a body resting on another) may enter and leave the set from one
     iteration to the next while the answer has converged."""
-    return _residual(nu, g, p, k, eq) <= tol
+    return _residual(nu, g, p, k, eq, scale) <= tol
 
 
 def solve_position_correction(
     gaps, system, n, p, k, tol_gap, tol_u, max_iter=30, bilateral=None, nu0=None, stats=None,
     twins=None,
+    scale=1.0,
 ):  # fmt: skip
     """Position correction q = q̃ + U: find (U, ν) with H U = Σ G_jᵀ [k ν_j − p g_j(q)]_+ and
     k ν_j − [k ν_j − p g_j(q)]_+ = 0 for every candidate j.
@@ -116,7 +123,8 @@ def solve_position_correction(
     multipliers of either sign. ``nu0`` warm-starts the multipliers (those of the previous
     step): only the first active set depends on it, so a chain of contacts that stays closed
     (a stack at rest) is found at once instead of one link per iteration. The iteration stops
-    when the Alart–Curnier residual is below ``tol_gap`` (in m) and the update below ``tol_u``
+    when the law's error is below ``tol_gap`` (in m, whatever p: ``scale`` is p_j times the
+    rows' inverse effective mass D_jj, see :func:`_residual`) and the update below ``tol_u``
     or no longer shrinking. ``stats`` (:class:`fecontact.contact.stats.ContactStats`, or
     None) receives the least-squares multipliers and the final residual; ``twins`` (each
     row's twin among the rows, −1 none: :func:`one_of_twins`) or None. Returns
@@ -131,11 +139,11 @@ def solve_position_correction(
     cycle = _Cycle()
     for it in range(2 * max_iter + 1):  # (beyond max_iter only to end a frozen cycle)
         settled = _update_settled(dU, dU_prev, tol_u, tol_gap)
-        if it > 0 and settled and cycle.ends(A, nu, g, p, k, eq, tol_gap, stats):
-            _record(stats, "position", nu, g, p, k, eq, tol_gap)
+        if it > 0 and settled and cycle.ends(A, nu, g, p, k, eq, tol_gap, stats, scale):
+            _record(stats, "position", nu, g, p, k, eq, tol_gap, scale)
             return U, nu, it
         if it > 0:
-            cycle.visit(A, _residual(nu, g, p, k, eq))
+            cycle.visit(A, _residual(nu, g, p, k, eq, scale))
         if it > max_iter and not cycle.freeze():
             break
         A = cycle.next(A, nu, g, p, k, eq, twins, settled and (g < -tol_gap))
@@ -204,12 +212,12 @@ class _Cycle:
             self.frozen = self.best[1]
         return self.frozen is not None
 
-    def ends(self, A, nu, g, p, k, eq, tol: float, stats) -> bool:
+    def ends(self, A, nu, g, p, k, eq, tol: float, stats, scale: float = 1.0) -> bool:
         """Whether the settled iterate from the set A ends the correction: complementarity
         within ``tol``, or, for a frozen set, its rows closed and no other inside (counted
         in ``stats``)."""
         if self.frozen is None:
-            return _settled(nu, g, p, k, eq, tol)
+            return _settled(nu, g, p, k, eq, tol, scale)
         held = bool(np.all(np.abs(g[A]) <= tol) and np.all(g[~A] >= -tol))
         if held and stats is not None:
             stats.frozen_active_sets += 1
@@ -267,12 +275,14 @@ def _close(last, A, w) -> bool:
 
 
 def solve_velocity_jump(
-    G, c, solve_M, p, k, max_iter=30, bilateral=None, Y=None, Lam0=None, tol=0.0, stats=None
-):
+    G, c, solve_M, p, k, max_iter=30, bilateral=None, Y=None, Lam0=None, tol=0.0, stats=None,
+    scale=1.0,
+):  # fmt: skip
     """Velocity jump v = ṽ + W: M W = Σ G_jᵀ [k Λ_j − p ġ_j]_+ with ġ = c + G W and
     k Λ_j − [k Λ_j − p ġ_j]_+ = 0 (c_j = G_j ṽ + e_j G_j(q_n) v_n). Linear in W for a given
-    active set, so the iteration ends when the set repeats, or when the Alart–Curnier
-    residual (as a velocity, m/s) is below ``tol``. ``bilateral`` rows (joints) are always
+    active set, so the iteration ends when the set repeats, or when the law's error (as a
+    velocity, m/s, whatever p: ``scale`` as in :func:`solve_position_correction`) is below
+    ``tol``. ``bilateral`` rows (joints) are always
     active: G_b v = 0. ``Y`` may give M⁻¹Gᵀ; ``Lam0`` warm-starts the multipliers (those of
     the previous step: see :func:`solve_position_correction`); ``stats`` as there. Returns
     (W, Λ, iterations)."""
@@ -287,9 +297,9 @@ def solve_velocity_jump(
     for it in range(1, max_iter + 1):
         A = ((k * Lam - p * gd) > 0) | eq
         if A_prev is not None and (
-            np.array_equal(A, A_prev) or (tol > 0 and _settled(Lam, gd, p, k, eq, tol))
+            np.array_equal(A, A_prev) or (tol > 0 and _settled(Lam, gd, p, k, eq, tol, scale))
         ):
-            _record(stats, "velocity", Lam, gd, p, k, eq, tol)
+            _record(stats, "velocity", Lam, gd, p, k, eq, tol, scale)
             return W, Lam, it - 1
         Lam = np.zeros(m)
         if A.any():

@@ -70,6 +70,7 @@ def impact_law(G, c, solve, Y, opts, bilateral=None, P0=None, tol: float = 0.0):
             Lam0=Lam0,
             tol=tol,
             stats=opts.stats.contact,
+            scale=opts.penalty_scale,  # (p_j D_jj: the stop in m/s whatever p)
         )
     except RuntimeError as err:
         raise StepFailure(str(err), np.nan) from None

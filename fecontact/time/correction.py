@@ -97,6 +97,7 @@ def position_correction(model, q_tilde, cand, metric, c, opts, tol_gap, nu0=None
             nu0=None if nu0 is None else np.concatenate([nu0, np.zeros(model.joints.size)]),
             stats=opts.stats.contact,
             twins=twins_among(model.contacts.twins, cand, model.joints.size),
+            scale=opts.penalty_scale,  # (p_j D_jj: the stop in metres whatever p)
         )
     except RuntimeError as err:
         raise StepFailure(str(err), np.nan) from None

@@ -347,7 +347,8 @@ class SmoothFriction:
         if not self.solved:
             return not self.active.any()
         lam = self.lam.ravel()
-        return admits(coulomb_residual(self.w, lam / self.k, self.p, self.k, self.mu, self.nt))
+        law = coulomb_residual(self.w, lam / self.k, self.p, self.k, self.mu, self.nt, self.scale)
+        return admits(law)
 
     def settled(self, q: np.ndarray, admits) -> bool:
         self.update(q)

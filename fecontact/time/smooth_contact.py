@@ -15,8 +15,10 @@ carry a smooth contact force λ_j ≥ 0 (N) in the equations of motion at t_{n+1
     k λ_j − [k λ_j − p_j g_j(q̃_{n+1})]_+ = 0   (j ∈ P),
 
 the position-level Alart–Curnier law, 0 ≤ g_j ⊥ λ_j ≥ 0, solved together with the dynamics
-by semi-smooth Newton (a primal–dual active set, A = {j ∈ P : k λ_j − p_j g_j > 0}): on A
-the linearised gap G_j Δq = −g_j is a row of the bordered iteration matrix, off A λ_j = 0.
+by a primal–dual active set: on A the linearised gap G_j Δq = −g_j is a row of the
+bordered iteration matrix, off A λ_j = 0. A is decided on the force and the gap apart (first
+the contacts carried in pressed or penetrating; then a contact leaves when its force turns
+negative and enters when it penetrates), so that no augmentation p or scale k steers it.
 This is the index-3 treatment of the joints, given to the contacts that stay closed, with a
 multiplier warm-started from the previous step (after Chen, Acary, Virlez & Brüls 2013 and
 Brüls, Acary & Cardona 2014, who carry λ in the smooth part; here at position level so that
@@ -74,10 +76,12 @@ bounded fraction of it. Through M⁻¹, the elastic ball of 20,577 dofs at 20 Δ
 through S_t⁻¹ the step creates nothing and the ball ends 3.8 % below its start. v̇_n enters
 the step only through the implicit recursion of a, where M⁻¹ of the force stays bounded.
 
-p_j = β′ / Σ_i G_ji² / M_ii (N/m: the stiffness of the step's inertia along the contact,
-with the diagonal of M) and k only steer the active-set iteration; the converged forces do
-not depend on them. Frictional contacts carry a tangential force too
-(:class:`fecontact.time.coulomb.SmoothFriction`).
+The active set reads no augmentation: the semi-smooth test k λ_j − p_j g_j > 0 kept or
+dropped a pressed contact whose predictor gap came out slightly open depending on p (λ/p
+against g), and each choice took its own Newton path to within the tolerance, its own step
+halvings and its own trajectory (a box dropped corner first parted by 1e-4 of its speed
+between p and p × 1000, two fast oblique disks by 1 %; now to round-off). Frictional
+contacts carry a tangential force too (:class:`fecontact.time.coulomb.SmoothFriction`).
 """
 
 from __future__ import annotations
@@ -135,15 +139,11 @@ class SmoothContacts:
     (to subtract from the residual), ``rows`` the active rows to border the iteration
     matrix with, and ``satisfied(tol)`` the complementarity test of convergence."""
 
-    def __init__(self, model, P: np.ndarray, force0: np.ndarray, bp: float, opts):
+    def __init__(self, model, P: np.ndarray, force0: np.ndarray, opts):
         self.contacts, self.P = model.contacts, P
         self.lam = np.maximum(force0, 0.0)
-        self.k, self.stats = opts.multiplier_scale, opts.stats.contact
-        M = model.M
-        diag = np.diag(M) if isinstance(M, np.ndarray) else M.diagonal()
-        self.inverse_mass_diag = 1.0 / diag
-        self.p_scale = opts.penalty_scale * bp
-        self.g = self.G = self.p = None
+        self.stats = opts.stats.contact
+        self.g = self.G = None
         self.active = np.zeros(P.size, bool)
         self.solved = None  # the active set of the last update that enforced its gaps
 
@@ -153,15 +153,21 @@ class SmoothContacts:
         # the forces carried in weigh the curvature; one that leaves A below lags one update
         weights = -self.lam if curvature else None
         self.g, self.G, self.C = self.contacts.linearize(q, self.P, weights)
-        if self.p is None:
-            inverse = np.einsum("ij,j->i", self.G * self.G, self.inverse_mass_diag)
-            # a row without a gradient (no facet within reach: g = +inf) is never active;
-            # any positive p steers it
-            self.p = np.divide(
-                self.p_scale, inverse, out=np.full_like(inverse, self.p_scale), where=inverse > 0
-            )
-        self.active = self.k * self.lam - self.p * self.g > 0.0
+        self.active = self._next_active_set()
         self.lam[~self.active] = 0.0
+
+    def _next_active_set(self) -> np.ndarray:
+        """The contacts of the next update, decided on the force and the gap apart, so that
+        neither p nor k steers it. The first set: the contacts carried in pressed (λ > 0)
+        or penetrating at the predictor. After an update a contact leaves the set when its
+        force turns negative and enters it when it penetrates. The test k λ − p g > 0 kept
+        or dropped a pressed contact whose predictor gap came out slightly open depending on
+        p (λ/p against g), and with it the Newton path, the step halvings and the trajectory
+        (a box dropped corner first: 1.4e-5 of its size between p and p × 1000)."""
+        # (a row whose gap is undefined, g = +inf with a zero gradient, holds nothing)
+        if self.solved is None:
+            return (self.lam > 0.0) & (self.g < np.inf) | (self.g < 0.0)
+        return np.where(self.active, (self.lam > 0.0) & (self.g < np.inf), self.g < 0.0)
 
     def force_term(self) -> np.ndarray:
         return self.G.T @ self.lam

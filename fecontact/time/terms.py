@@ -357,7 +357,7 @@ class SmoothContact(ForceTerm):
             return SmoothFriction(model, st, step.P, step.t, step.opts)
         force = None if st.smooth is None else st.smooth.normal
         force0 = np.zeros(step.P.size) if force is None else force[step.P]
-        return SmoothContacts(model, step.P, force0, step.c.bp, step.opts)
+        return SmoothContacts(model, step.P, force0, step.opts)
 
 
 class PersistentContacts(ForceTerm):
