@@ -48,6 +48,7 @@ from fecontact.io.output import read_history, read_json
 from fecontact.scenes import wave_step
 from fecontact.simulation import Simulation
 from fecontact.testing import block_on_rigid_box
+from fecontact.time.settings import IntegratorOptions
 
 RUBBER = LinearElastic(E=1e7, nu=0.3, rho=1000.0)
 METHODS = ("mortar", "node-to-surface")
@@ -70,14 +71,16 @@ def measured(sim, body, extra):
         **extra,
         "status": summary["status"],
         "halvings": int(summary.get("step_halvings", 0)),
+        "least squares": int(summary.get("least_squares_multipliers", 0)),
+        "max_penetration (m)": float(summary.get("max_penetration", np.nan)),
         "created/scale": ledger["created"] / ledger["scale"],
         "CPU ms per step": 1e3 * cpu / max(len(history["t"]) - 1, 1),
     }, history
 
 
-def ball_on_box(inside, method: str, refinements: int, t_end: float):
-    """The ball onto the box's face centre (``inside`` None) or with the box's edge
-    ``inside`` (m) from the pole."""
+def ball_on_box(inside, method: str, refinements: int, t_end: float, v: float = 1.0, **options):
+    """The ball at ``v`` (m/s) onto the box's face centre (``inside`` None) or with the box's
+    edge ``inside`` (m) from the pole; ``options`` of the integrator (``IntegratorOptions``)."""
     R = 0.05
     ball = Solid.ball([0.0, 0.0, R + 0.002], R, refinements, RUBBER)
     x0 = 0.0 if inside is None else 0.15 - inside
@@ -97,14 +100,16 @@ def ball_on_box(inside, method: str, refinements: int, t_end: float):
         return float(np.max(np.min(half - np.abs(rho[inside]), axis=1), initial=0.0))
 
     probes["depth"] = Probe(depth, "m", "deepest node inside the box")
-    v0 = model.translation(ball, (0.0, 0.0, -1.0))
+    v0 = model.translation(ball, (0.0, 0.0, -v))
     sim = Simulation(model, dt=wave_step(ball, 1.0), t_end=t_end, probes=probes,
-                     name="ball_on_box", v0=v0, output_interval=t_end)  # fmt: skip
+                     name="ball_on_box", v0=v0, output_interval=t_end,
+                     options=IntegratorOptions(**options))  # fmt: skip
     case = "flat" if inside is None else f"edge {100 * inside:g} cm"
-    row, h = measured(sim, ball, {"case": case, "method": method, "refinements": refinements})
-    row["rebound vz/v0"] = float(h["vz"][-1])
-    row["vx/v0"] = float(h["vx"][-1])
-    row["lateral max/v0"] = float(np.max(np.hypot(h["vx"], h["vy"])))
+    extra = {"case": case, "method": method, "refinements": refinements, "v (m/s)": v}
+    row, h = measured(sim, ball, extra | options)
+    row["rebound vz/v0"] = float(h["vz"][-1]) / v
+    row["vx/v0"] = float(h["vx"][-1]) / v
+    row["lateral max/v0"] = float(np.max(np.hypot(h["vx"], h["vy"]))) / v
     row["deepest/edge"] = max(0.0, float(np.max(h["depth"]))) / ball.min_edge_length
     return row
 
