@@ -323,6 +323,12 @@ def three_edges_a_step(offset: float, method: str, steps: int):
     return sim.replace(t_end=steps * sim.dt, probes={})
 
 
+@pytest.mark.xfail(
+    strict=True,
+    reason="with the smooth step's p-free active set the run stops at step 4 (t = 2.59 ms, "
+    "6 halvings): the set holds both twin rows of a deep node, or with one of them the other "
+    "is left inside and the set alternates (docs/validation/stress_2d.md)",
+)
 def test_mortar_disks_three_edges_a_step_off_centre_get_past_the_first_contact(tmp_path):
     """Mortar, 0.3 R off-centre: a deep slave node's weighted row and its own row were one
     row, their minimum, whose kink the smooth step's Newton jumped across (the run stopped

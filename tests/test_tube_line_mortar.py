@@ -353,9 +353,9 @@ def test_the_oblique_frictional_drop_on_the_tangent_plane_rows_creates_no_energy
 
 
 @pytest.mark.xfail(strict=True, reason="p × 1000 moves the oblique frictional drop on the "
-                   "tangent-plane rows by 3.6e-3 r from step 11 (k / 100: 3.7e-14 r): rows of "
-                   "nodes under the tube read equal small gaps, and the smooth step's first "
-                   "active set kλ − p g > 0 takes them or not depending on p")  # fmt: skip
+                   "tangent-plane rows by 3.6e-3 r from step 11 (k / 100: 3.7e-14 r), also "
+                   "with the smooth step's p-free active set: rows of nodes under the tube "
+                   "read equal small gaps; where p enters is not found")  # fmt: skip
 def test_the_oblique_frictional_drop_on_the_tangent_plane_rows_is_independent_of_p():
     base = oblique_drop(solid_rows=False)
     other = oblique_drop(IntegratorOptions(penalty_scale=1e3), solid_rows=False)
