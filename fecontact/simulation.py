@@ -359,10 +359,26 @@ def _summary(sim, rec, stats, status, message, wall, timer) -> dict:
     summary["warnings"] = [rec.balance.describe()] if rec.balance.unstable() else []
     summary["warnings"] += rec.ledger.warnings()
     summary["warnings"] += rec.penetration_warnings()
+    summary["warnings"] += _residual_warnings(counts)
     if frictional:
         summary["friction_solver"] = friction_solver
         summary["friction_work"] = rec.friction_work
     return summary
+
+
+def _residual_warnings(counts: dict) -> list[str]:
+    """A warning for each level whose converged contact correction left the law's residual
+    above its tolerance (the active set repeated, or redundant rows solved by least squares,
+    ended the iteration): the constraints hold only to that residual."""
+    out = []
+    for level, ratio in counts["final_residuals"].items():
+        if ratio > 1.0:
+            out.append(
+                f"contact: a {level} correction ended with its residual {ratio:.3g} times its "
+                f"tolerance ({counts['least_squares_multipliers']} least-squares multipliers "
+                "in the run: redundant contacts); the constraints hold only to that residual"
+            )
+    return out
 
 
 def _write_summary(out: Path, summary: dict, status: str) -> None:
