@@ -156,9 +156,9 @@ def convergence(sim) -> list[dict]:
         a = np.array(steps[n])
         row = {"updates": n, "steps": len(a)}
         for k in range(min(n, 3)):
-            row[f"|dq_{k + 1}| median"] = float(np.median(a[:, k]))
+            row[f"size dq{k + 1}, median"] = float(np.median(a[:, k]))
         for k in range(1, min(n, 3)):
-            row[f"|dq_{k + 1}|/|dq_{k}|² median"] = float(np.median(a[:, k] / a[:, k - 1] ** 2))
+            row[f"dq{k + 1}/dq{k}², median"] = float(np.median(a[:, k] / a[:, k - 1] ** 2))
         rows.append(row)
     return rows
 
