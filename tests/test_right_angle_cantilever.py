@@ -167,10 +167,10 @@ def test_the_extremes_match_an_independent_implementation():
 # Simo & Vu-Quoc's figure of the tip and elbow histories (1988), as read by a digitization made
 # independently of this project (points every 0.6 s along the tip's curve, every 0.5 s along the
 # elbow's): each feature (t in s, height in m), an extremum at the vertex of the parabola through
-# its three points, a crossing of zero interpolated linearly. A second, earlier digitization of
-# the figure used here before reads a curve that leads by 0.7-1.1 s; it is not the stated
-# problem's (docs/validation/beam3d.md: its tip rises 0.93 m by t = 1.54 s, where the stated
-# problem's is at 0.04 m, 0.02 m in the linear solution).
+# its three points, a crossing of zero interpolated linearly. Another digitization of the
+# figure reads a tip curve that leads by 0.7-1.1 s; it is not the stated problem's
+# (docs/validation/beam3d.md: its tip rises 0.93 m by t = 1.54 s, where the stated problem's is
+# at 0.04 m, 0.02 m in the linear solution).
 FIGURE = {
     "tip": {
         "max": (7.58, 8.09),
