@@ -388,3 +388,28 @@ def test_a_smooth_row_with_no_gradient_leaves_the_active_set():
     sc.update(np.zeros(2), False)
     assert sc.active.tolist() == [False, True, True, False]
     assert sc.lam[0] == 0.0  # (no force is carried on a row that holds nothing)
+
+
+def test_a_correction_row_with_no_gradient_leaves_the_active_set():
+    """The same in the position correction: a node's own row pressed in the last step (its
+    multiplier warm-starts the correction) whose node is now out (a far gap, 14 mm, and a
+    zero gradient) made the Schur complement singular; it held nothing, and at h/128 of the
+    fast head-on mortar disks its update stalled at the round-off of the least-squares
+    multipliers until the iterations ran out. It leaves the set: no least squares, the other
+    row closed to round-off."""
+    from fecontact.contact.laws import solve_position_correction
+    from fecontact.contact.stats import ContactStats
+
+    G = np.array([[1.0, 0.0], [0.0, 0.0]])
+    g0 = np.array([-1e-3, 0.014])
+    stats = ContactStats()
+
+    def system(U, s, A):
+        return (lambda B: B), None  # (linear gaps: H⁻¹ = I, no curvature)
+
+    U, nu, _ = solve_position_correction(
+        lambda U: (g0 + G @ U, G), system, 2, np.ones(2), 1.0, 1e-12, 1e-13,
+        nu0=np.array([0.0, 1.0]), stats=stats,
+    )  # fmt: skip
+    assert stats.least_squares == 0 and nu[1] == 0.0
+    assert abs(g0[0] + U[0]) <= 1e-15  # (one linear row: closed by one solve)

@@ -146,7 +146,11 @@ def solve_position_correction(
             cycle.visit(A, _residual(nu, g, p, k, eq, scale))
         if it > max_iter and not cycle.freeze():
             break
-        A = cycle.next(A, nu, g, p, k, eq, twins, settled and (g < -tol_gap))
+        # (a row with a zero gradient holds nothing, as one whose gap is undefined: a deep
+        # node's own row reports a finite far gap once its node is out, and kept in the set
+        # it made the Schur complement singular and the update stall at its round-off)
+        holding = np.where(G.any(axis=1), g, np.inf)
+        A = cycle.next(A, nu, holding, p, k, eq, twins, settled and (g < -tol_gap))
         # the gaps' curvature weighted by the current contact forces k ν (the Hessian of the
         # Lagrangian, as in SQP), not by k ν − p g: on the first update that is −p g, which
         # with a large p dwarfs H and makes H − C indefinite; at convergence both agree
