@@ -146,7 +146,11 @@ def solve_position_correction(
             cycle.visit(A, _residual(nu, g, p, k, eq, scale))
         if it > max_iter and not cycle.freeze():
             break
-        A = cycle.next(A, nu, g, p, k, eq, twins, settled and (g < -tol_gap))
+        # (a row with a zero gradient holds nothing, as one whose gap is undefined: a deep
+        # node's own row reports a finite far gap once its node is out, and kept in the set
+        # it made the Schur complement singular and the update stall at its round-off)
+        holding = np.where(G.any(axis=1), g, np.inf)
+        A = cycle.next(A, nu, holding, p, k, eq, twins, settled and (g < -tol_gap))
         # the gaps' curvature weighted by the current contact forces k ν (the Hessian of the
         # Lagrangian, as in SQP), not by k ν − p g: on the first update that is −p g, which
         # with a large p dwarfs H and makes H − C indefinite; at convergence both agree
@@ -164,6 +168,7 @@ def solve_position_correction(
         if A.any():
             GA = G[A]
             Y = solve(GA.T).reshape(n, -1)
+            A, GA, Y = _apart(A, GA, Y, g, eq, twins)
             nu[A] = kkt_multipliers(GA, Y, GA @ (U - x0) - g[A], k, stats)
             U_new = x0 + k * (Y @ nu[A])
         dU_prev = dU
@@ -171,6 +176,40 @@ def solve_position_correction(
         U = U_new
         g, G = gaps(U)
     raise RuntimeError(f"position correction: active set did not settle in {max_iter} iterations")
+
+
+NEAR = 1e-3
+"""1 − the correlation above which two active rows are nearly redundant (:func:`_apart`)."""
+
+
+def _apart(A, GA, Y, g, eq, twins):
+    """The active set A (its rows' gradients ``GA`` and columns Y = H⁻¹G_Aᵀ) without the
+    shallower of two rows whose correlation in the metric H⁻¹, S_ij / √(S_ii S_jj) with
+    S = G_A H⁻¹G_Aᵀ, is above 1 − ``NEAR``: two constraints that move the same points along
+    nearly the same direction, as twins (:func:`one_of_twins`) but not declared. A slave
+    node's weighted gap and the own row of the master node facing it are such a pair (two
+    disks head-on on matching meshes: 0.9998); held together, their multipliers split into
+    large forces of opposite signs and the update moved the gaps by millimetres. The test
+    reads neither p nor k. Only where rows have twins (``twins`` not None, decided once per
+    run: mortar interfaces with their nodes' own rows). Returns (A, G_A, Y) of the rows
+    kept."""
+    if twins is None:
+        return A, GA, Y
+    S = GA @ Y
+    d = np.sqrt(np.abs(np.diagonal(S)))
+    with np.errstate(divide="ignore", invalid="ignore"):  # (a zero row correlates with none)
+        i, j = np.nonzero(np.triu(S / np.outer(d, d), 1) > 1.0 - NEAR)
+    if i.size == 0:
+        return A, GA, Y
+    rows = np.flatnonzero(A)
+    keep = np.ones(rows.size, bool)
+    for a, b in zip(i, j, strict=True):  # (the deeper of each pair, the first on a tie)
+        if keep[a] and keep[b]:
+            drop = b if g[rows[b]] >= g[rows[a]] else a
+            keep[drop] = bool(eq[rows[drop]])  # (joints stay)
+    A = A.copy()
+    A[rows[~keep]] = False
+    return A, GA[keep], Y[:, keep]
 
 
 class _Cycle:

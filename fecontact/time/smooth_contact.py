@@ -164,10 +164,13 @@ class SmoothContacts:
         or dropped a pressed contact whose predictor gap came out slightly open depending on
         p (λ/p against g), and with it the Newton path, the step halvings and the trajectory
         (a box dropped corner first: 1.4e-5 of its size between p and p × 1000)."""
-        # (a row whose gap is undefined, g = +inf with a zero gradient, holds nothing)
+        # (a row whose gap is undefined, g = +inf, or whose gradient is zero holds nothing: a
+        # deep node's own row reports a finite far gap once the node is out; kept, its force
+        # would stay as it came, untouched by a singular update, and its gap never close)
+        holds = (self.lam > 0.0) & (self.g < np.inf) & self.G.any(axis=1)
         if self.solved is None:
-            return (self.lam > 0.0) & (self.g < np.inf) | (self.g < 0.0)
-        return np.where(self.active, (self.lam > 0.0) & (self.g < np.inf), self.g < 0.0)
+            return holds | (self.g < 0.0)
+        return np.where(self.active, holds, self.g < 0.0)
 
     def force_term(self) -> np.ndarray:
         return self.G.T @ self.lam
