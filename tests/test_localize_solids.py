@@ -1,5 +1,5 @@
-"""Impacts of solids on fixed obstacles are localized by default ("auto"), in whole steps:
-the energy the end-of-step closing created is gone (docs/validation/localization.md)."""
+"""Impacts of frictionless solids are localized by default ("auto"), in whole steps: the
+energy the end-of-step closing created is gone (docs/validation/localization.md)."""
 
 import dataclasses
 import math
@@ -21,17 +21,22 @@ def decided(name, **params):
     return on, localized_stepper(model, settings) if on else None
 
 
-def test_auto_localizes_frictionless_solids_on_fixed_obstacles_in_whole_steps():
-    for name, params in (("ball_drop", {}), ("disk_drop", {}), ("two_balls", {"against": "plane"})):
-        on, step = decided(name, **params)
-        assert on and step is localized_step, name
-    # solid against solid (mortar or node-to-surface), friction: left to the step's end
+def test_auto_localizes_frictionless_solids_in_whole_steps():
     for name, params in (
+        ("ball_drop", {}),
+        ("disk_drop", {}),
         ("two_disks", {}),
         ("ball_on_slab", {}),
-        ("two_balls", {}),
+        ("two_balls", {"against": "plane"}),
+    ):
+        on, step = decided(name, **params)
+        assert on and step is localized_step, name
+    # friction, beams: left to the step's end
+    for name, params in (
         ("disk_drop", {"friction": 0.3}),
+        ("two_disks", {"friction": 0.3}),
         ("elastic_block", {}),
+        ("disk_on_beam", {}),
     ):
         assert not decided(name, **params)[0], name
     # localize=1 on a solid: the chattering contact's sub-steps, as on beams

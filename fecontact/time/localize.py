@@ -34,9 +34,9 @@ force falls to zero within ``RELEASE`` steps along the line of its last two, is 
 ``CHATTER`` sub-steps, each localized as above: the releases and re-strikes fall at the
 sub-steps' resolution and every re-strike is located. A contact pressed for longer is a
 lasting one, left to the step. Such steps are counted (``subdivided_steps``). They are
-taken with ``localize`` on; "auto" localizes the solids it chooses (:func:`solids_on_obstacles`)
-in whole steps: the closing's energy is gone at the cost of a few smooth steps, where the
-sub-steps cost the contact phase about eight steps per step.
+taken with ``localize`` on; "auto" localizes the solids it chooses
+(:func:`frictionless_solids`) in whole steps: the closing's energy is gone at the cost of a
+few smooth steps, where the sub-steps cost the contact phase about eight steps per step.
 
 Linear models factorize their iteration matrix once per step size: the split steps' sizes
 are used once, so their factorizations (and the correction's columns) are dropped after the
@@ -64,7 +64,7 @@ __all__ = [
     "TOGETHER",
     "Localizer",
     "joined",
-    "solids_on_obstacles",
+    "frictionless_solids",
     "localized_step",
     "localized_stepper",
 ]
@@ -105,8 +105,8 @@ last two steps' forces: the step is taken in sub-steps (the release falls inside
 
 def localizes(model, opts: RunSettings) -> bool:
     """Whether the run of ``model`` with ``opts`` locates impacts inside its steps: the
-    option ``localize`` (``"auto"``: a model of rigid bodies and point masses, or of solids
-    (:func:`solids_on_obstacles`), with frictionless contacts on fixed obstacles) for the
+    option ``localize`` (``"auto"``: a model of rigid bodies and point masses with
+    frictionless contacts on fixed obstacles, or of solids, :func:`frictionless_solids`) for the
     NSGA generalized-α step (the options check it) on a model with contacts. Raises
     ``InputError`` for ``localize=True`` with moving obstacles."""
     value = opts.localize
@@ -117,20 +117,18 @@ def localizes(model, opts: RunSettings) -> bool:
         # (measured: docs/validation/localization.md; friction is not yet validated with it)
         rigid = not (model.continuum or model.slender)
         value = rigid and not (model.contacts.frictional or model.contacts.moving)
-        value = value or solids_on_obstacles(model)
+        value = value or frictionless_solids(model)
     return bool(value and applies and model.contacts.size)
 
 
-def solids_on_obstacles(model) -> bool:
-    """Whether ``model`` has solids, no beam, and every contact pair is a body against a
-    fixed obstacle (a plane, a rigid shape that does not move), frictionless: the models
-    whose impacts "auto" localizes in whole steps. Not solid against solid pairs, nor
-    friction (measured in docs/validation/localization.md: no gain, and a lasting
+def frictionless_solids(model) -> bool:
+    """Whether every body of ``model`` is a solid and its contacts are frictionless and on
+    fixed obstacles or between its solids: the models whose impacts "auto" localizes in whole
+    steps. Not friction (measured in docs/validation/localization.md: no gain, and a lasting
     frictional contact's nodes that lift and re-close cost several times the run)."""
-    pairs = model.contacts.pairs
-    fixed = all(p.obstacle is not None and not p.obstacle.moving for p in pairs)
-    solids = model.continuum and not model.slender
-    return bool(pairs) and solids and fixed and not model.contacts.frictional
+    solids = all(body.continuum for body in model.bodies)
+    contacts = model.contacts
+    return bool(contacts.size) and solids and not (contacts.frictional or contacts.moving)
 
 
 def localized_step(model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
@@ -151,7 +149,7 @@ def localized_stepper(model, opts: RunSettings):
     """The step function of a run of ``model`` with ``opts`` that localizes its impacts,
     decided once: a :class:`Localizer` (sub-steps while a contact chatters) where a body is
     flexible and ``localize`` is on, :func:`localized_step` itself (whole steps) where the
-    bodies are rigid or "auto" chose it for solids (:func:`solids_on_obstacles`)."""
+    bodies are rigid or "auto" chose it for solids (:func:`frictionless_solids`)."""
     flexible = model.continuum or model.slender
     if flexible and opts.localize is True and CHATTER > 1:
         return Localizer(model)
