@@ -28,12 +28,14 @@ def test_auto_localizes_frictionless_solids_in_whole_steps():
         ("two_disks", {}),
         ("ball_on_slab", {}),
         ("two_balls", {"against": "plane"}),
+        ("elastic_block", {"friction": 0.0}),
     ):
         on, step = decided(name, **params)
         assert on and step is localized_step, name
-    # friction, beams: left to the step's end
+    # friction, Rayleigh damping, beams: left to the step's end
     for name, params in (
         ("disk_drop", {"friction": 0.3}),
+        ("elastic_block", {"friction": 0.0, "damping": 1e-4}),
         ("two_disks", {"friction": 0.3}),
         ("elastic_block", {}),
         ("disk_on_beam", {}),

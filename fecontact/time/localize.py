@@ -122,13 +122,17 @@ def localizes(model, opts: RunSettings) -> bool:
 
 
 def frictionless_solids(model) -> bool:
-    """Whether every body of ``model`` is a solid and its contacts are frictionless and on
-    fixed obstacles or between its solids: the models whose impacts "auto" localizes in whole
-    steps. Not friction (measured in docs/validation/localization.md: no gain, and a lasting
-    frictional contact's nodes that lift and re-close cost several times the run)."""
+    """Whether every body of ``model`` is a solid, undamped, and its contacts are frictionless
+    and on fixed obstacles or between its solids: the models whose impacts "auto" localizes in
+    whole steps. Not friction (measured in docs/validation/localization.md: no gain, and a
+    lasting frictional contact's nodes that lift and re-close cost several times the run),
+    nor Rayleigh damping (a damped block's located landing rebounds faster than it hit)."""
     solids = all(body.continuum for body in model.bodies)
     contacts = model.contacts
-    return bool(contacts.size) and solids and not (contacts.frictional or contacts.moving)
+    undamped = not any(model.damping)
+    return (
+        bool(contacts.size) and solids and undamped and not (contacts.frictional or contacts.moving)
+    )
 
 
 def localized_step(model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
