@@ -497,6 +497,8 @@ def measurements(summary: dict, last: dict, measured: bool) -> dict:
         "q": last["q"].tolist() if "q" in last else None,
         "v": last["v"].tolist() if "v" in last else None,
         "vmax": last.get("vmax", math.nan),
+        "impacts": summary.get("localized_impacts", 0),
+        "subdivided": summary.get("localization_cost", {}).get("subdivided_steps", 0),
     }
 
 

@@ -139,6 +139,9 @@ def test_acceleration_restarts_after_an_impact():
     runs = {}
     for fraction in (0.125, 1.0, 2.0, 4.0):
         sim = case("two_disks").build(refinements=2, method="node-to-surface")
+        # the impact at the step's end, whose restart this is ("auto" locates it: then no
+        # excess at all, exit speed -0.10 / -1.2 / -4.3 % at 1 / 2 / 4 Δx/c, measured)
+        sim = sim.replace(options=dataclasses.replace(sim.options, localize=False))
         runs[fraction] = trace(sim.replace(dt=fraction * wave_step(sim.model.bodies[0], 1.0)))
         assert runs[fraction]["status"] == "completed"
     for fraction in (1.0, 2.0):

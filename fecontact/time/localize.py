@@ -33,7 +33,10 @@ contact pressed within ``CHATTER_WINDOW`` steps of the latest closing, or one wh
 force falls to zero within ``RELEASE`` steps along the line of its last two, is taken as
 ``CHATTER`` sub-steps, each localized as above: the releases and re-strikes fall at the
 sub-steps' resolution and every re-strike is located. A contact pressed for longer is a
-lasting one, left to the step. Such steps are counted (``subdivided_steps``).
+lasting one, left to the step. Such steps are counted (``subdivided_steps``). They are
+taken with ``localize`` on; "auto" localizes the solids it chooses
+(:func:`frictionless_solids`) in whole steps: the closing's energy is gone at the cost of a
+few smooth steps, where the sub-steps cost the contact phase about eight steps per step.
 
 Linear models factorize their iteration matrix once per step size: the split steps' sizes
 are used once, so their factorizations (and the correction's columns) are dropped after the
@@ -61,6 +64,7 @@ __all__ = [
     "TOGETHER",
     "Localizer",
     "joined",
+    "frictionless_solids",
     "localized_step",
     "localized_stepper",
 ]
@@ -102,8 +106,8 @@ last two steps' forces: the step is taken in sub-steps (the release falls inside
 def localizes(model, opts: RunSettings) -> bool:
     """Whether the run of ``model`` with ``opts`` locates impacts inside its steps: the
     option ``localize`` (``"auto"``: a model of rigid bodies and point masses with
-    frictionless contacts on fixed obstacles) for the NSGA
-    generalized-α step (the options check it) on a model with contacts. Raises
+    frictionless contacts on fixed obstacles, or of solids, :func:`frictionless_solids`) for the
+    NSGA generalized-α step (the options check it) on a model with contacts. Raises
     ``InputError`` for ``localize=True`` with moving obstacles."""
     value = opts.localize
     applies = opts.integrator == "nsga" and opts.scheme == "generalized-alpha"
@@ -113,7 +117,22 @@ def localizes(model, opts: RunSettings) -> bool:
         # (measured: docs/validation/localization.md; friction is not yet validated with it)
         rigid = not (model.continuum or model.slender)
         value = rigid and not (model.contacts.frictional or model.contacts.moving)
+        value = value or frictionless_solids(model)
     return bool(value and applies and model.contacts.size)
+
+
+def frictionless_solids(model) -> bool:
+    """Whether every body of ``model`` is a solid, undamped, and its contacts are frictionless
+    and on fixed obstacles or between its solids: the models whose impacts "auto" localizes in
+    whole steps. Not friction (measured in docs/validation/localization.md: no gain, and a
+    lasting frictional contact's nodes that lift and re-close cost several times the run),
+    nor Rayleigh damping (a damped block's located landing rebounds faster than it hit)."""
+    solids = all(body.continuum for body in model.bodies)
+    contacts = model.contacts
+    undamped = not any(model.damping)
+    return (
+        bool(contacts.size) and solids and undamped and not (contacts.frictional or contacts.moving)
+    )
 
 
 def localized_step(model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
@@ -130,11 +149,15 @@ def localized_step(model, st: State, h: float, opts: RunSettings, timer: PhaseTi
     return _split_step(model, st, h, opts, timer, phases)
 
 
-def localized_stepper(model):
-    """The step function of a run of ``model`` that localizes its impacts: a
-    :class:`Localizer` where a body is flexible, else :func:`localized_step` itself."""
+def localized_stepper(model, opts: RunSettings):
+    """The step function of a run of ``model`` with ``opts`` that localizes its impacts,
+    decided once: a :class:`Localizer` (sub-steps while a contact chatters) where a body is
+    flexible and ``localize`` is on, :func:`localized_step` itself (whole steps) where the
+    bodies are rigid or "auto" chose it for solids (:func:`frictionless_solids`)."""
     flexible = model.continuum or model.slender
-    return Localizer(model) if flexible and CHATTER > 1 else localized_step
+    if flexible and opts.localize is True and CHATTER > 1:
+        return Localizer(model)
+    return localized_step
 
 
 class Localizer:

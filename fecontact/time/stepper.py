@@ -114,7 +114,7 @@ def make_stepper(
         check_energy_scheme(model, settings)
         kind = energy_nsga_step
     if localizes(model, settings):  # (decided once: every step of the run splits or none)
-        kind = localized_stepper(model)
+        kind = localized_stepper(model, settings)
     plan = None if steps is None else RunPlan(max(int(steps), 1), model.linear)
     solver = settings.stats.solver(model, plan)
     # AMG's near-null space registered by this thread (deprecated set_near_null_space)
