@@ -143,7 +143,9 @@ class _Phases:
         force = step.force
         if self.opts.friction:
             self.record = FrictionRecord.start(self.st.friction, m, model.dim)
-        if self.opts.smooth:
+        if self.opts.smooth and force is None and _nothing_carried(self.st_s, self.opts):
+            pass  # (in flight: a record of zeros is made only where a phase needs it)
+        elif self.opts.smooth:
             normal, tangential = np.zeros(m) if force is None else force, None
             if self.opts.friction:
                 tangential = np.zeros((m, model.dim - 1)) if force is None else step.friction_force
@@ -153,6 +155,14 @@ class _Phases:
         # (λ_N, λ_T) of the smooth step (N): the corrections hold the step's total in the cone
         if step.friction_force is not None:
             self.grip = np.column_stack([force, step.friction_force])
+
+    def _carried(self) -> SmoothForces:
+        """The smooth forces' record of the step, made of zeros where the smooth step had
+        none to record."""
+        if self.forces is None:
+            m, dim = self.m, self.model.dim
+            self.forces = SmoothForces(np.zeros(m), None, np.zeros((m, dim)), np.zeros((m, dim)))
+        return self.forces
 
     def correct(self) -> None:
         """Step 2 on the working set: the penetrating candidates and those active in the
@@ -279,7 +289,8 @@ class _Phases:
             shares = force_shares(
                 model, self.st_s, self.c, step.force, step.friction_force, restart[1]
             )
-            self.forces.in_vd, self.forces.in_a = shares
+            forces = self._carried()
+            forces.in_vd, forces.in_a = shares
 
     def follow(self) -> None:
         """v̇, a (v without friction) follow the correction of an impact (:mod:`.position_jump`)."""
@@ -307,7 +318,8 @@ class _Phases:
             self.vd[F] += dvd
             self.a[F] += (1.0 - c.af) / (1.0 - c.am) * dvd
         if opts.smooth:
-            self.forces.in_vd, self.forces.in_a = held_shares(self.forces, closed, hold, c)
+            forces = self._carried()
+            forces.in_vd, forces.in_a = held_shares(forces, closed, hold, c)
         if not opts.friction:
             rows = (closed, self.g_tilde, self.Gb, self.held)
             self.v, self.impulse[closed], its = velocity_follows(
@@ -337,11 +349,24 @@ class _Phases:
         if self.closed.size or self.model.joints.size:  # (else nothing to jump or follow)
             self.jump()  # 3.
             self.follow()
-        if self.opts.settle and self.forces is not None:
-            self.forces.closing = np.zeros(self.m)
-            self.forces.closing[self.closed[_closing(self)]] = 1.0
+        if self.opts.settle and self.m:
+            closing = self.closed[_closing(self)] if self.closed.size else self.closed
+            if self.forces is not None or closing.size:  # (else no record: none closing)
+                forces = self._carried()
+                forces.closing = np.zeros(self.m)
+                forces.closing[closing] = 1.0
         self.timer.add("contact", clock)
         return _end_state(self)
+
+
+def _nothing_carried(st: State, opts) -> bool:
+    """Whether ``st`` carries no smooth force in v̇ and a (its record absent or zero), and the
+    run has no friction, whose record a step keeps: a step without a smooth force then has
+    nothing to record."""
+    carried = st.smooth
+    if opts.friction:
+        return False
+    return carried is None or not (carried.in_vd.any() or carried.in_a.any())
 
 
 def _closing(step: _Phases) -> np.ndarray:
