@@ -78,8 +78,8 @@ def steps(quick: bool) -> list[dict]:
     items = [("rocking_block", {}, "off"), ("rocking_block", {}, "on")]
     if not quick:
         items += [
-            ("impacting_bar", {"n_elements": 20}, "auto"),
-            ("two_bars", {"n_elements": 20}, "auto"),
+            ("impacting_bar", {"n_elements": 20}, "off"),  # (the decoupled scheme)
+            ("two_bars", {"n_elements": 20}, "off"),
             ("two_bars", {"n_elements": 20}, "on"),
             ("ball_drop", {}, "auto"),
         ]

@@ -7,6 +7,7 @@ from fecontact import (
     Beam2D,
     Contact,
     InputError,
+    IntegratorOptions,
     Material,
     Model,
     NodalLoad,
@@ -31,12 +32,17 @@ def pendulum(with_pin: bool, **model_kw):
 
 def test_pin_joint_reproduces_the_pinned_support():
     """A Pin to the ground and a Dirichlet pin give the same motion, through an impact; the
-    joint holds at position and velocity level to solver tolerance at every step."""
+    joint holds at position and velocity level to solver tolerance at every step. Taken
+    with the decoupled contact phase: with the smooth force (the default of beams) the
+    stop's row borders the Newton matrix with the joint's rows in one model and alone in
+    the other, each iteration stopping at its own tolerance, and the tips differ by 2.4e-7 m
+    after the impact (the joint holds the same)."""
     beam_a, ma = pendulum(False)
     beam_b, mb = pendulum(True)
-    tip_a = [beam_a.positions(s.q)[-1] for s in simulate(ma, 1e-3, 0.4)]
+    decoupled = IntegratorOptions(smooth_contact="off")
+    tip_a = [beam_a.positions(s.q)[-1] for s in simulate(ma, 1e-3, 0.4, decoupled)]
     viol_q, viol_v, tip_b = [], [], []
-    for s in simulate(mb, 1e-3, 0.4):
+    for s in simulate(mb, 1e-3, 0.4, decoupled):
         tip_b.append(beam_b.positions(s.q)[-1])
         viol_q.append(np.abs(s.q[:2]).max())
         viol_v.append(np.abs(s.v[:2]).max())

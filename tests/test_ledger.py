@@ -55,10 +55,13 @@ TERMS = ("damping_dissipation", "friction_dissipation", "impact_dissipation")
 
 def _closure(history, summary) -> float:
     """The largest |E(t) − E(0) − W + ΣD| over the steps, relative to the energies summed in
-    it: the ledger's scale, or |E| where gravity dominates a body at rest."""
+    it: the ledger's scale, or |E| where gravity dominates a body at rest. E(0) is the
+    run's initial energy, before an impact at t = 0 (a bar that starts against the wall
+    with the smooth contact force: its first row is after that impact, whose dissipation
+    the ledger counts)."""
     E = history["total_energy"]
     D = sum(history[k] for k in (*TERMS, "numerical_dissipation"))
-    residual = np.abs(E - E[0] - history["load_work"] + D)
+    residual = np.abs(E - summary["energy_initial"] - history["load_work"] + D)
     scale = max(summary["energy_ledger"]["scale"], np.max(np.abs(E)))
     return float(residual.max() / scale)
 
@@ -191,8 +194,13 @@ def test_moreau_jean_names_friction_s_positive_work_on_kane_s_chain(law, tmp_pat
 @pytest.mark.parametrize(
     "name, args, phase",
     [
-        # the elastic bars at four times their step: 39 % of the scale created (measured)
-        ("two_bars", ["--set", "n_elements=20", "--dt", "4x"], "position correction"),
+        # the elastic bars at four times their step, the decoupled scheme: 39 % of the scale
+        # created (measured; with the smooth force, the default of beams: 2e-8)
+        (
+            "two_bars",
+            ["--set", "n_elements=20", "--set", "smooth_contact=off", "--dt", "4x"],
+            "position correction",
+        ),
         # the disks with the decoupled scheme at Δx/c: 64 %, 13 J (measured)
         (
             "two_disks",
@@ -289,10 +297,13 @@ def test_history_png_has_the_ledger_panel(tmp_path):
 def test_the_creation_of_default_cases_is_the_scheme_and_falls_with_the_step(
     name, kw, order, tmp_path
 ):
-    """The default cases that warn gain energy in persistent contact, a property of the
-    decoupled step that falls with h: halving the step divides `created` by at least 2^order
-    (the observed orders less 0.05: the order of a difference of two runs is not exact)."""
+    """The cases that warned under the decoupled scheme (the default of rigid bodies, and
+    before the smooth force became theirs, of beams) gain energy in persistent contact, a
+    property of the decoupled step that falls with h: halving the step divides `created` by
+    at least 2^order (the observed orders less 0.05: the order of a difference of two runs is
+    not exact)."""
     sim = case(name).build(**kw)
+    sim = sim.replace(options=dataclasses.replace(sim.options, smooth_contact="off"))
     created = []
     for f in (1, 2, 4):
         summary = run(sim.replace(dt=sim.dt / f), tmp_path / str(f), frames=False)

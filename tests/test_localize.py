@@ -129,8 +129,12 @@ def test_solid_impact_step_adds_no_energy():
 
 
 def tip_run(h, t_end=0.36):
+    # the decoupled contact phase, whose impulses carry all the stop's momentum (with the
+    # smooth force, the default of beams, the tip follows the h/8 run to 0.179 mm as well,
+    # part of the momentum in the smooth force)
     sim = case("flexible_pendulum").build()
-    sim = sim.replace(options=dataclasses.replace(sim.options, localize=True))
+    options = dataclasses.replace(sim.options, localize=True, smooth_contact="off")
+    sim = sim.replace(options=options)
     return trace(sim, dt=h, t_end=t_end)
 
 

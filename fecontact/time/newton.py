@@ -95,7 +95,7 @@ class NewtonPlan:
     ``roles``: the terms' :class:`Roles`, when every term acts in every step as itself (no
     ``per_step`` term), else None (sorted per step)."""
 
-    __slots__ = "terms reuse descent halving bound name group roles form last_loop".split()
+    __slots__ = "terms reuse descent halving bound name group roles bare form last_loop".split()
 
     def __init__(
         self,
@@ -114,6 +114,10 @@ class NewtonPlan:
         self.form = AccelerationForm if form is None else form
         fixed = not any(term.per_step for term in self.terms)
         self.roles = roles(self.terms) if fixed else None
+        # (the roles of a step in which every per-step term is absent, sorted once: most
+        # steps of a run with smooth contact forces have no persistent contact)
+        per_step = [term for term in self.terms if term.per_step]
+        self.bare = None if fixed else (per_step, roles(t for t in self.terms if not t.per_step))
         self.last_loop: SmoothNewton | None = None
 
     def loop(self, model, opts, timer) -> SmoothNewton:
@@ -179,8 +183,16 @@ class SmoothNewton:
             for term in self.begun:
                 term.begin(step)
         else:
-            begun = (term.begin(step) for term in plan.terms)
-            self._sort(roles(term for term in begun if term is not None))
+            per_step, bare = plan.bare
+            own = [term.begin(step) for term in per_step]
+            if own.count(None) == len(own):  # (no per-step term acts in this step)
+                for term in bare.begun:
+                    term.begin(step)
+                self._sort(bare)
+            else:
+                made = iter(own)
+                begun = [next(made) if t.per_step else t.begin(step) for t in plan.terms]
+                self._sort(roles(term for term in begun if term is not None))
         self.clock = time.perf_counter()
         return self
 

@@ -143,7 +143,8 @@ class _Phases:
         force = step.force
         if self.opts.friction:
             self.record = FrictionRecord.start(self.st.friction, m, model.dim)
-        if self.opts.smooth:
+        # (in flight, nothing to record: a record of zeros is made where a phase needs it)
+        if self.opts.smooth and (force is not None or not _nothing_carried(self.st_s, self.opts)):
             normal, tangential = np.zeros(m) if force is None else force, None
             if self.opts.friction:
                 tangential = np.zeros((m, model.dim - 1)) if force is None else step.friction_force
@@ -279,7 +280,7 @@ class _Phases:
             shares = force_shares(
                 model, self.st_s, self.c, step.force, step.friction_force, restart[1]
             )
-            self.forces.in_vd, self.forces.in_a = shares
+            _carried(self, shares)
 
     def follow(self) -> None:
         """v̇, a (v without friction) follow the correction of an impact (:mod:`.position_jump`)."""
@@ -307,7 +308,7 @@ class _Phases:
             self.vd[F] += dvd
             self.a[F] += (1.0 - c.af) / (1.0 - c.am) * dvd
         if opts.smooth:
-            self.forces.in_vd, self.forces.in_a = held_shares(self.forces, closed, hold, c)
+            _carried(self, held_shares(_carried(self), closed, hold, c))
         if not opts.friction:
             rows = (closed, self.g_tilde, self.Gb, self.held)
             self.v, self.impulse[closed], its = velocity_follows(
@@ -337,11 +338,42 @@ class _Phases:
         if self.closed.size or self.model.joints.size:  # (else nothing to jump or follow)
             self.jump()  # 3.
             self.follow()
-        if self.opts.settle and self.forces is not None:
-            self.forces.closing = np.zeros(self.m)
-            self.forces.closing[self.closed[_closing(self)]] = 1.0
+        if self.opts.settle and self.m:
+            _mark_closing(self)
         self.timer.add("contact", clock)
         return _end_state(self)
+
+
+def _carried(step: _Phases, shares=None) -> SmoothForces:
+    """The smooth forces' record of the ``step``, made of zeros where its smooth step had
+    none to record; with ``shares`` = (in v̇, in a) (m, dim) (N), those set in it."""
+    if step.forces is None:
+        m, dim = step.m, step.model.dim
+        step.forces = SmoothForces(np.zeros(m), None, np.zeros((m, dim)), np.zeros((m, dim)))
+    if shares is not None:
+        step.forces.in_vd, step.forces.in_a = shares
+    return step.forces
+
+
+def _mark_closing(step: _Phases) -> None:
+    """Settling beams: mark in the ``step``'s record the contacts that closed within it
+    (their smooth force starts a step later); no record where none closed and none was
+    made."""
+    closing = step.closed[_closing(step)] if step.closed.size else step.closed
+    if step.forces is not None or closing.size:
+        forces = _carried(step)
+        forces.closing = np.zeros(step.m)
+        forces.closing[closing] = 1.0
+
+
+def _nothing_carried(st: State, opts) -> bool:
+    """Whether ``st`` carries no smooth force in v̇ and a (its record absent or zero), and the
+    run has no friction, whose record a step keeps: a step without a smooth force then has
+    nothing to record."""
+    carried = st.smooth
+    if opts.friction:
+        return False
+    return carried is None or not (carried.in_vd.any() or carried.in_a.any())
 
 
 def _closing(step: _Phases) -> np.ndarray:

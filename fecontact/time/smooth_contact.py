@@ -124,6 +124,8 @@ def persistent_contacts(model, st, near: float) -> np.ndarray:
     pressed = st.nu > 0.0 if st.nu.size == m else np.zeros(m, bool)
     if st.impulse.size == m:
         pressed |= st.impulse > 0.0
+    if st.smooth is None and not pressed.any():  # (most steps near an obstacle: none)
+        return _NONE
     if st.smooth is not None:
         pressed |= st.smooth.normal > 0.0
         if st.smooth.closing is not None:  # (beams: an impact's contact settles a step first)

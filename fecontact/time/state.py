@@ -84,8 +84,10 @@ class IntegratorOptions:
         the smooth step (:mod:`fecontact.time.smooth_contact`); "off": the fully decoupled
         scheme, where only the position correction and the velocity jump act on contacts;
         "auto" (default): on for models with an elastic continuum (``Solid``), whose
-        lasting contacts it lets take steps of Δx/c and more, off for beams and rigid
-        bodies, which it does not change measurably (docs/explanation/stability.md).
+        lasting contacts it lets take steps of Δx/c and more (docs/explanation/stability.md),
+        and for models with beams, whose lasting contacts the decoupled scheme makes create
+        energy (docs/explanation/energy_ledger.md); off for rigid bodies and point masses,
+        which it does not change measurably, and with the energy-decaying scheme.
     scheme : NSGA only. The smooth step: "generalized-alpha" (default) or "energy-decaying"
         (:mod:`fecontact.time.energy_step`: planar geometrically exact beams, whose energy it
         cannot let grow; ``rho_inf`` ∈ [1/3, 1] sets its dissipation, 1 conserves energy).
