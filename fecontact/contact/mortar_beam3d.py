@@ -43,19 +43,20 @@ On triangles much wider than the tube the rows read millimetres below the nodes'
 distances (the negative lobes weigh the cone the distance makes across the face): there
 ``Contact`` builds the beam's rows instead (:mod:`fecontact.contact.tube_line_mortar`).
 
-Friction: one slip row per slave node, the node's motion against the beam's material point at
-its place, c_j T_j·(ẋ_j − ẏ_j) with ẏ_j = ṗ_j + ω_j × (x_j − p_j): p_j = (1 − ξ)a + ξb the
-node's closest point on the centreline (ξ clamped), ω_j = (1 − ξ) R_a Ω_a + ξ R_b Ω_b the
-sections' spatial angular velocity (Ω body-frame: a rolling rod turns its contact point).
-T_j are the tangents of ν_j, the solid's outward normal at the node on its face toward the
-tube (:func:`facing_normals`), turned across the segment's axis where the node's closest
-point is inside a segment (:func:`across_axis`); c_j = max(0, ν_j·N_j), N_j = Σ_beam ∂g_j/∂x_b
-the force the row puts on the beam per unit multiplier, so that Coulomb's bound μλ_j acts on
-the row's load along that normal. Not the row's own normal N_j: beside the line where a tube
-touches a face it is tilted by the node's offset, the rows either side squeezing the tube
-sideways, so that Σλ_j exceeds the load and the tilted tangents read the normal motion ahead
-of a rolling tube as slip (measured in the docs page ``explanation/mortar_beam3d``).
-"""
+Friction: one slip row per slave node, the node's motion against the beam's material point
+at its place, c_j T_j·(ẋ_j − ẏ_j) with ẏ_j = ṗ_j + ω_j × (x_j − p_j): p_j = (1 − ξ)a + ξb
+the node's closest point on the centreline (ξ clamped), ω_j = (1 − ξ) R_a Ω_a + ξ R_b Ω_b
+the sections' spatial angular velocity (Ω body-frame: a rolling rod turns its contact
+point). T_j are the tangents of ν_j, the solid's outward normal at the node on its face
+toward the tube (:func:`facing_normals`), turned across the segment's axis where the node's
+closest point is inside a segment, and on an end cap by a share falling with the node's
+angle off the end's plane (:func:`across_axis`: continuous there); c_j = max(0, ν_j·N_j),
+N_j = Σ_beam ∂g_j/∂x_b the force the row puts on the beam per unit multiplier, so that
+Coulomb's bound μλ_j acts on the row's load along that normal. Not the row's own normal N_j:
+beside the line where a tube touches a face it is tilted by the node's offset, the rows
+either side squeezing the tube sideways, so that Σλ_j exceeds the load and the tilted
+tangents read the normal motion ahead of a rolling tube as slip (measured in the docs page
+``explanation/mortar_beam3d``)."""
 
 from __future__ import annotations
 
@@ -268,10 +269,18 @@ class MortarBeam3D(BoundaryRows):
         arm = xj - (1.0 - t)[:, None] * ends[seg, 0] - t[:, None] * ends[seg, 1]
         G = self.evaluate(q)[2]
         N = G[:, self._beam_col0 :].reshape(self.size, -1, 3).sum(axis=1)
-        nu = across_axis(facing_normals(x, self.facets, self._row_tris, N), ends[seg], xi)
+        nu = facing_normals(x, self.facets, self._row_tris, N)
+        nu = across_axis(nu, ends[seg], xi, arm, self._cap(seg, xi))
         c = np.maximum(np.einsum("mi,mi->m", nu, N), 0.0)
         T = tangent_basis(nu)
         return self.segments[seg], t, arm, c[:, None, None] * T, T
+
+    def _cap(self, seg: np.ndarray, xi: np.ndarray) -> np.ndarray:
+        """Whether each closest point (segment, unclamped ξ) is a free end of the
+        centreline (an end cap, not a joint)."""
+        single = np.bincount(self.segments.ravel(), minlength=self.beam.n_nodes) == 1
+        return np.where(xi <= 0.0, single[self.segments[seg, 0]],
+                        (xi >= 1.0) & single[self.segments[seg, 1]])  # fmt: skip
 
     def tangents(self, q: np.ndarray):
         """Slip rows: dofs (m, 15), the node's translation and the 6 dofs of each of its
@@ -340,18 +349,30 @@ FACE = np.cos(np.pi / 4)
 squarely count as that node's face: at a box's edge the side face (90° away) is left out."""
 
 
-def across_axis(nu: np.ndarray, ends: np.ndarray, xi: np.ndarray) -> np.ndarray:
-    """The normals ν (m, 3) of the nodes whose closest point lies inside their segment
-    (0 < ξ < 1; ``ends`` (m, 2, 3) the segments) turned into the plane across its axis e:
-    ν − (ν·e)e, normalised. A tube touches a face along a line only where the face contains
-    the axis' direction; a face tilted along the axis (a block pitched by its load) touches
-    it in the tube's own normal, across the axis. At an end cap (a sphere's field) ν is
-    kept, as where ν lies along the axis."""
+def across_axis(nu: np.ndarray, ends: np.ndarray, xi: np.ndarray, arm: np.ndarray,
+                cap: np.ndarray) -> np.ndarray:  # fmt: skip
+    """The normals ν (m, 3) of the nodes turned toward the plane across their segment's axis
+    e (``ends`` (m, 2, 3) the segments, ``xi`` the closest points' parameters, ``arm`` (m, 3)
+    from the closest points to the nodes, ``cap``: the closest point is a free end of the
+    centreline): ν − s(ν·e)e, normalised. A tube touches a face along a line only where the
+    face contains the axis' direction; a face tilted along the axis (a block pitched by its
+    load) touches it in the tube's own normal, across the axis: s = 1 where the closest
+    point lies inside the segment (0 < ξ < 1). On an end cap the cap's normal turns from
+    across the axis (on the end's plane) to along it, and s = 1 − |arm·e|/|arm| falls with it
+    to 0, where ν is kept (a sphere's field): continuous across the end's plane. A turn
+    switched off there instead tilted the slip rows of a node lying on it by the face's pitch
+    (1.8e-4 rad), and the step's normal motion read through them as a slip that changed sign
+    with the side of the plane the iterate fell on: the smooth step's Newton cycled. At a
+    joint between two segments (the closest point a node of the beam) ν is kept."""
     e = ends[:, 1] - ends[:, 0]
     e /= np.linalg.norm(e, axis=1)[:, None]
-    across = nu - np.einsum("mi,mi->m", nu, e)[:, None] * e
+    reach = np.linalg.norm(arm, axis=1)
+    along = np.divide(np.abs(np.einsum("mi,mi->m", arm, e)), reach, out=np.ones_like(reach),
+                      where=reach > 0.0)  # fmt: skip
+    share = np.where((xi > 0.0) & (xi < 1.0), 1.0, np.where(cap, 1.0 - along, 0.0))
+    across = nu - (share * np.einsum("mi,mi->m", nu, e))[:, None] * e
     size = np.linalg.norm(across, axis=1)
-    turn = (xi > 0.0) & (xi < 1.0) & (size > 1e-6)
+    turn = (share > 0.0) & (size > 1e-6)
     nu = nu.copy()
     nu[turn] = across[turn] / size[turn, None]
     return nu

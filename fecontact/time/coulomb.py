@@ -142,7 +142,12 @@ def frictional_correction(model, st, q_tilde, work, solve_H, opts, tol_gap, t, p
         U = U_new
         if dU <= 0.1 * tol_gap:
             nt = GT.shape[1]
-            nu_n, nu_t, _ = _split(own, m, nt)
+            # a contact left open beyond the gap tolerance carries nothing in total: Newton
+            # holds its multipliers to round-off only (k/p on its rows of the Newton
+            # matrix), and their sign would decide whether the next step counts it pressed
+            x = x.copy()
+            x[: m * (1 + nt)].reshape(m, 1 + nt)[(status == 0) & (g[:m] > tol_gap)] = 0.0
+            nu_n, nu_t, _ = _split(k * x - pre, m, nt)
             tangential = np.zeros(len(x), bool)
             tangential[: m * (1 + nt)] = np.arange(m * (1 + nt)) % (1 + nt) > 0
             return U, nu_n, nu_t, Y[:, tangential] @ own[tangential], its
