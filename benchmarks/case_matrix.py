@@ -516,8 +516,13 @@ def fallbacks(summary: dict) -> str:
 
 def run_isolated(row: Row, timeout: float) -> dict:
     """``run_row`` in a subprocess of this script, at most ``timeout`` s."""
-    here = Path(__file__).resolve()
-    payload = json.dumps(dataclasses.asdict(row))
+    return run_worker(Path(__file__), json.dumps(dataclasses.asdict(row)), timeout)
+
+
+def run_worker(script: Path, payload: str, timeout: float) -> dict:
+    """The last JSON line ``script --worker payload`` prints, run in a subprocess for at most
+    ``timeout`` s; a timeout or a crash as a row of that status with its message and wall time."""
+    here = Path(script).resolve()
     clock = time.perf_counter()
     try:
         done = subprocess.run(

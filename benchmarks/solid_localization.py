@@ -26,8 +26,6 @@ import fecontact  # noqa: F401  (before numpy: single-threaded OpenBLAS)
 import dataclasses
 import json
 import math
-import subprocess
-import sys
 import tempfile
 import time
 from pathlib import Path
@@ -114,21 +112,7 @@ def run_one(row: cm.Row, substeps: int) -> dict:
 def run_isolated(row: cm.Row, substeps: int, timeout: float) -> dict:
     """``run_one`` in a subprocess of this script, at most ``timeout`` s."""
     payload = json.dumps([dataclasses.asdict(row), substeps])
-    here = Path(__file__).resolve()
-    try:
-        done = subprocess.run(
-            [sys.executable, str(here), "--worker", payload],
-            capture_output=True,
-            text=True,
-            timeout=timeout,
-            cwd=here.parent,
-        )
-    except subprocess.TimeoutExpired:
-        return {"status": "timeout"}
-    lines = [ln for ln in done.stdout.splitlines() if ln.startswith("{")]
-    if done.returncode or not lines:
-        return {"status": "crash", "message": (done.stderr.strip().splitlines() or [""])[-1]}
-    return json.loads(lines[-1])
+    return cm.run_worker(Path(__file__), payload, timeout)
 
 
 def velocity_error(res: dict, ref: dict, speed: float) -> float:
