@@ -100,25 +100,6 @@ def _slope(u: np.ndarray) -> np.ndarray:
     return np.where(u < 0.0, -1.0, np.where(u > 1.0, 1.0, 0.0))
 
 
-def _crossing(n: np.ndarray, faces: np.ndarray, r: np.ndarray, d2: np.ndarray) -> np.ndarray:
-    """t_e (K, 12): where each ridge's line y₀ + t d₂ crosses the plane of the box edge's face
-    j that −n lies beyond (a_j·(y − A) = 0; ``faces`` (12, 2, 3) in space, r = A − y₀
-    (K, 12, 3)); +inf for a ridge parallel to that plane."""
-    j = np.argmax(np.einsum("ked,eid->kei", n, faces), axis=2)
-    aj = faces[np.arange(len(faces))[None], j]  # (K, 12, 3)
-    N, D = np.einsum("ked,ked->ke", aj, r), np.einsum("ked,kd->ke", aj, d2)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(np.abs(D) > 0.0, N / np.where(D != 0.0, D, 1.0), np.inf)
-
-
-def _reach(t: np.ndarray, te: np.ndarray, psi: np.ndarray) -> np.ndarray:
-    """How far the row lies beyond its ridge: φ(t) of the closest point inside the box edge's
-    cone; past its border (ψ > 0), also φ(t_e) of the line's crossing of the face plane where
-    the row reads its height (equal to t at the border): a ridge that does not reach the box
-    edge has no height there."""
-    return np.where(psi > 0.0, np.maximum(_beyond(t), _beyond(te)), _beyond(t))
-
-
 def box_edges(sides: np.ndarray):
     """A box's twelve edges in its body frame (m): their ends a, b (12, 3) and the outward
     unit normals of their two faces (12, 2, 3)."""
@@ -221,8 +202,7 @@ class BoxEdges(BoxFeatureRows):
         angles = np.arccos(np.clip(np.einsum("ked,kid->kei", n, m), -1.0, 1.0)).sum(axis=2)
         spread = np.arccos(np.clip(np.einsum("kd,kd->k", m[:, 0], m[:, 1]), -1.0, 1.0))
         ok = crossing & (outside < REACH) & (angles <= spread[:, None] + 2.0 * CONE)
-        phi = _reach(t, _crossing(n, faces, r, d2), outside)
-        ok &= (s > 0.0) & (s < 1.0) & (phi < REACH)  # beyond a box corner: its row
+        ok &= (s > 0.0) & (s < 1.0) & (_beyond(t) < REACH)  # beyond a box corner: its row
         # the ridge's point on the edge's side of the box's two middle planes along its faces
         # (the lines of a ridge by one edge also cross the box's far edges, a box width away)
         y = (y0[:, None] + t[..., None] * d2[:, None] - c) @ R  # (K, 12, 3) in the body frame
@@ -233,7 +213,7 @@ class BoxEdges(BoxFeatureRows):
         ok &= gap > -np.sqrt(ee)
         # past the cone's border: the line's height over the face it passes over, at the
         # box edge (cos θ = √(1 − ψ²), ψ < REACH); beyond the ridge's ends: the ramp
-        row = gap / np.sqrt(1.0 - np.minimum(outside, REACH) ** 2) + RAMP * np.sqrt(ee) * phi
+        row = gap / np.sqrt(1.0 - np.minimum(outside, REACH) ** 2) + RAMP * np.sqrt(ee) * _beyond(t)
         lines, gap = gap, np.where(ok, row - self.clearance, np.inf)
         # the first SLOTS box edges (in their own order, so that a row keeps its edge) with a
         # row: a ridge by a box corner passes under two of its edges at once
@@ -297,38 +277,14 @@ class BoxEdges(BoxFeatureRows):
         dt = -(-b[:, None] * rhs1 + a[:, None] * rhs2) / det[:, None]
         length = np.sqrt(ee)
         dpsi, psi = self._cone_gradient(R, e, nr, d1, d2, Jd1)
-        r = w[:, None] * nr - s[rows, None] * d1 + t[rows, None] * d2  # A − y₀ (p − y = w n)
-        te, dte = self._crossing_gradient(R, e, nr, r, d2)
         cos = np.sqrt(1.0 - psi * psi)
         out = Gw / cos[:, None] + (w * psi / cos**3)[:, None] * dpsi
-        at = (psi > 0.0) & (_beyond(te) > _beyond(t[rows]))  # the crossing sets the ramp
-        u = np.where(at, te, t[rows])
-        out += (RAMP * length * _slope(u))[:, None] * np.where(at[:, None], dte, dt)
+        out += (RAMP * length * _slope(t[rows]))[:, None] * dt
         u = d2 / length[:, None]  # ∂ℓ = u·(∂y₁ − ∂y₀)
-        lever = RAMP * _reach(t[rows], te, psi)
+        lever = RAMP * _beyond(t[rows])
         out[:, 6:9] -= lever[:, None] * u
         out[:, 9:] += lever[:, None] * u
         return out
-
-    def _crossing_gradient(self, R, e, n, r, d2):
-        """t_e = N / D, N = a_j·r, r = A − y₀, D = a_j·d₂ (:func:`_crossing`), and its
-        gradient (k, 12): ∂t_e = (∂N − t_e ∂D) / D, with ∂a_j = −R ã_j δΘ and
-        ∂A = δu − R Ã δΘ (body-frame a_j and A)."""
-        k = len(e)
-        faces = self.faces[e] @ R.T
-        j = np.argmax(np.einsum("kd,kid->ki", n, faces), axis=1)
-        ab = self.faces[e, j]
-        aj = ab @ R.T
-        N, D = np.einsum("kd,kd->k", aj, r), np.einsum("kd,kd->k", aj, d2)
-        M = -R @ hat(ab)  # δa_j = M δΘ
-        dN, dD = np.zeros((k, 12)), np.zeros((k, 12))
-        dN[:, :3] = aj
-        dN[:, 3:6] = np.einsum("kd,kdj->kj", r, M) - np.einsum("kd,kdj->kj", aj, R @ hat(self.a[e]))
-        dN[:, 6:9] = -aj
-        dD[:, 3:6] = np.einsum("kd,kdj->kj", d2, M)
-        dD[:, 6:9], dD[:, 9:] = -aj, aj
-        te = N / D
-        return te, (dN - te[:, None] * dD) / D[:, None]
 
     def _cone_gradient(self, R, e, n, d1, d2, Jd1):
         """ψ = max(0, max_i n·a_i), how far −n lies outside the box edge's cone (a_i the
