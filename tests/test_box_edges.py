@@ -69,10 +69,9 @@ def _ball_and_box(inside=0.0, refinements=1):
 
 def test_edge_rows_have_the_exact_gradient():
     """Central differences of the rows over their 12 dofs (the box's translations and
-        body-frame rotation increments, the boundary edge's two nodes) against G, over a ball
-        pressed on a box edge at random poses, the release ramps included (rows whose closest
-        points lie beyond a segment's end, and rows whose normal lies outside the box edge's cone,
-    read as the height over a face at the edge)."""
+    body-frame rotation increments, the boundary edge's two nodes) against G, over a ball
+    pressed on a box edge at random poses, the release ramps included (rows whose closest
+    points lie beyond a segment's end or whose normal lies outside the box edge's cone)."""
     ball = Solid.ball([0.0, 0.0, 0.0], 0.05, 1, RUBBER)
     box = RigidBody3D.uniform(1.0, [0.0, 0.0, 0.0], Box(0.1, 0.08, 0.06))
     model = Model([ball, box], [Contact(ball, box, method="node-to-surface")], (0, 0, 0))
@@ -88,40 +87,13 @@ def test_edge_rows_have_the_exact_gradient():
         points = box_features(box.shape) @ exp(psi).T  # a box edge at the sphere along d
         q[n:] = [*(d * 0.05 - points[np.argmin(points @ d)] + d * rng.uniform(-3e-3, 3e-3)), *psi]
         g, dofs, G, _ = edges.evaluate(q)
-        w = edges._geometry(q)[-1]  # the lines' distance: the row past a border differs
-        ramped += int(np.count_nonzero(g[np.isfinite(g)] != w[np.isfinite(g)]))
+        ramped += int(np.count_nonzero(edges._geometry(q)[-1][np.isfinite(g)] > 0.0))
 
         rows = np.flatnonzero(np.isfinite(g))
         # (central differences of O(1) slopes: h² g''' + round-off 1e-17/h)
         assert group_gradient_error(edges, model, q, np.unique(dofs[rows]), h) < 1e-7
         checked += rows.size
     assert checked > 25 and ramped > 10, (checked, ramped)
-
-
-def test_rows_past_the_cone_border_have_the_exact_gradient():
-    """A ball flattened on a box face across its edge (its low nodes pressed to the face,
-    2e-5 m of noise): boundary edges lying on the face cross the box edge with their common
-    normal at the border of the box edge's cone, some just past it, where the row reads the
-    line's height over the face at the edge. Central differences against G there."""
-    ball, box = _ball_and_box(inside=0.005, refinements=2)
-    model = Model([ball, box], [Contact(ball, box)], (0.0, 0.0, 0.0))
-    edges, n = _edge_rows(model), ball.ndof
-    X = ball.positions(np.zeros(n))
-    low = X[:, 2] < 0.012
-    rng = np.random.default_rng(2)
-    past = 0
-    for _ in range(3):
-        u = np.zeros_like(X)
-        u[low, 2] = -X[low, 2] + rng.normal(size=low.sum()) * 2e-5
-        q = np.zeros(model.n)
-        q[:n] = u.ravel()
-        g, dofs, _, _ = edges.evaluate(q)
-        _, _, _, _, _, t, _, w = edges._geometry(q)
-        rows = np.flatnonzero(np.isfinite(g))
-        past += int(np.count_nonzero((g[rows] != w[rows]) & (t[rows] > 0.0) & (t[rows] < 1.0)))
-        # (central differences of O(1) slopes at h = 1e-8: h² g''' + round-off 1e-17/h)
-        assert group_gradient_error(edges, model, q, np.unique(dofs[rows]), 1e-8) < 1e-7
-    assert past >= 2, past
 
 
 def test_edge_rows_slip_between_the_edge_and_the_boundary_edge():

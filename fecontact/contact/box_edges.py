@@ -26,28 +26,22 @@ the box than the search distance plus half the ridge's length. Lines nearer
 parallel than ``PARALLEL`` have no common normal: their ends hold the contact.
 
 A row that holds must not vanish within a Newton iteration (the smooth step's active set
-cycles between an iterate with the row, pushed out, and one without, falling back in).
-Where −n leaves the box edge's cone past the face i (ψ = n·a_j > 0, a_j the other face's
-outward normal), the ridge's line passes over face i and the row goes on as the line's height
-over face i's plane where it crosses face j's plane, g / cos θ = g / √(1 − ψ²) (the faces
-are normal to each other): the same value and slope at the cone's border, so no kink there.
-A solid edge lying flat on a box face across its edge sits at that border, held by its row,
-and a kinked gap there made the smooth step's Newton cycle between the two slopes. Where the
-closest point leaves the ridge, the row goes on plus ``RAMP`` ℓ φ(t), ℓ the ridge's length,
-φ(t) = max(0, −t, t − 1): continuous, growing, so the row opens and the nodes' rows take
-over; the rows end ``REACH`` beyond. Beyond the box edge's ends (s outside (0, 1)) a row
-ends: there the corner's own row holds, and rows ramped past a corner met the rows of the
-corner's other edges and made Newton cycle.
+cycles between an iterate with the row, pushed out, and one without, falling back in). Where
+the closest point leaves the ridge, or −n leaves the box edge's cone, the row goes on as the
+lines' distance plus ``RAMP`` ℓ (φ(t) + ψ), ℓ the ridge's length, φ(t) = max(0, −t, t − 1),
+ψ = max_i n·a_i (a_i the box edge's face normals): continuous, growing, so the row opens and
+the nodes' rows take over; it ends ``REACH`` beyond. Beyond the box edge's ends (s outside
+(0, 1)) a row ends: there the corner's own row holds, and rows ramped past a corner met the
+rows of the corner's other edges and made Newton cycle.
 
-The gradient is exact. The closest points of the two lines are stationary in s and t, and n
+The gradient is exact. Without the ramp the closest points are stationary in s and t, and n
 stays normal to both lines (∂n·(p − y) = g ∂n·n − s ∂n·(b − a) + t ∂n·(d − c) with ∂n·n = 0
 and ∂n·(b − a) = −n·∂(b − a)), so
 
     ∂g/∂x_c = −(1 − t) n,   ∂g/∂x_d = −t n,   ∂g/∂u = n,   ∂g/∂Θ = r × (Rᵀ n),
 
-r the body-frame position of p (δp = δu − R r̃ δΘ); past the cone's border the row's gradient
-is ∂g / cos θ + g ψ ∂ψ / cos³ θ, and the ramp adds the derivatives of t (from those of the two
-closest-point conditions) and of ℓ (:meth:`BoxEdges._lift_gradient`).
+r the body-frame position of p (δp = δu − R r̃ δΘ); the ramp adds the derivatives of t (from
+those of the two closest-point conditions) and of ψ (:meth:`BoxEdges._ramp_gradient`).
 The curvature is left out (Newton's rate, not its answer), as for the corners. Coulomb
 friction, with the coefficient of the pair that brings the rows (``owner``), acts on the slip
 of the box's material point at p against the ridge's point y: the rows T·[I, −R r̃,
@@ -73,8 +67,8 @@ common normal is undefined, and the ridge's ends (the nodes' rows) hold the cont
 
 
 RAMP = 2.0
-"""The release ramp's slope: beyond the ends of the ridge a row goes on as its gap plus
-RAMP ℓ φ (ℓ the ridge's length, φ how far beyond, in units of the ridge),
+"""The release ramp's slope: beyond the ends of the ridge a row goes on as the lines'
+distance plus RAMP ℓ φ (ℓ the ridge's length, φ how far beyond, in units of the ridge),
 continuous where the closest point leaves the ridge, so that a row that holds does not vanish
 within a Newton iteration: it opens, and the nodes' rows hold the ends."""
 
@@ -86,8 +80,8 @@ CONE = 1e-3
 normals: a flat ridge's cone is one direction, met by a box edge parallel to it."""
 
 REACH = 0.5
-"""How far beyond the ridge's end (in its length), or outside the box edge's cone (n·a_j), a
-row reaches before it ends."""
+"""How far beyond the ridge's end (in its length), or outside the box edge's cone (n·a_i), the
+ramp reaches before the row ends."""
 
 
 def _beyond(u: np.ndarray) -> np.ndarray:
@@ -161,23 +155,23 @@ class BoxEdges(BoxFeatureRows):
     def _geometry(self, q: np.ndarray):
         """The solid's node positions x, R, and for every ridge: its gap (N,) (+inf: no row),
         the box edge it takes (N,), the parameters s, t (N,) of the closest points, the
-        common normal n (N, 3) and the lines' distance w = n·(p − y) (N,)."""
+        common normal n (N, 3) and the release ramp (N,) in the gap."""
         (oa, ob), body = self.offsets, self.body
         x = body.positions(q[oa : oa + body.ndof])
         qr = q[ob : ob + 6]
         R, c = exp(qr[3:6]), self.rigid.center(qr)
         N = self.size
         g, edge = np.full(N, np.inf), np.zeros(N, dtype=int)
-        s, t, n, w = np.zeros(N), np.zeros(N), np.zeros((N, 3)), np.zeros(N)
+        s, t, n, ramp = np.zeros(N), np.zeros(N), np.zeros((N, 3)), np.zeros(N)
         near = self._near(x, R, c)
         if near.size:
             rows, found = self._crossings(x, R, c, near)
-            g[rows], edge[rows], s[rows], t[rows], n[rows], w[rows] = found
-        return x, R, g, edge, s, t, n, w
+            g[rows], edge[rows], s[rows], t[rows], n[rows], ramp[rows] = found
+        return x, R, g, edge, s, t, n, ramp
 
     def _crossings(self, x, R, c, near):
         """For the ridges ``near``: those with a row, and their (gap, box edge, s, t, n,
-        lines' distance)."""
+        ramp)."""
         A, B = self.a @ R.T + c, self.b @ R.T + c  # (12, 3)
         y0, y1 = x[self.ridges[near, 0]], x[self.ridges[near, 1]]
         d1, d2 = B - A, y1 - y0  # (12, 3), (K, 3)
@@ -202,6 +196,7 @@ class BoxEdges(BoxFeatureRows):
         angles = np.arccos(np.clip(np.einsum("ked,kid->kei", n, m), -1.0, 1.0)).sum(axis=2)
         spread = np.arccos(np.clip(np.einsum("kd,kd->k", m[:, 0], m[:, 1]), -1.0, 1.0))
         ok = crossing & (outside < REACH) & (angles <= spread[:, None] + 2.0 * CONE)
+        beyond = _beyond(s) + _beyond(t) + outside
         ok &= (s > 0.0) & (s < 1.0) & (_beyond(t) < REACH)  # beyond a box corner: its row
         # the ridge's point on the edge's side of the box's two middle planes along its faces
         # (the lines of a ridge by one edge also cross the box's far edges, a box width away)
@@ -211,10 +206,8 @@ class BoxEdges(BoxFeatureRows):
         # a penetration deeper than the ridge is long is no crossing of this edge: nearly
         # parallel lines of a ridge and a far edge of the box meet across the box's width
         ok &= gap > -np.sqrt(ee)
-        # past the cone's border: the line's height over the face it passes over, at the
-        # box edge (cos θ = √(1 − ψ²), ψ < REACH); beyond the ridge's ends: the ramp
-        row = gap / np.sqrt(1.0 - np.minimum(outside, REACH) ** 2) + RAMP * np.sqrt(ee) * _beyond(t)
-        lines, gap = gap, np.where(ok, row - self.clearance, np.inf)
+        ramp = RAMP * np.sqrt(ee) * beyond
+        gap = np.where(ok, gap + ramp - self.clearance, np.inf)
         # the first SLOTS box edges (in their own order, so that a row keeps its edge) with a
         # row: a ridge by a box corner passes under two of its edges at once
         first = np.argsort(~np.isfinite(gap), axis=1, kind="stable")[:, :SLOTS]  # (K, SLOTS)
@@ -223,7 +216,7 @@ class BoxEdges(BoxFeatureRows):
         keep = np.isfinite(gap[k, first])
         k, e, slot = k[keep], first[keep], slot[keep]
         rows = slot * len(self.ridges) + near[k]
-        return rows, (gap[k, e], e, s[k, e], t[k, e], n[k, e], lines[k, e])
+        return rows, (gap[k, e], e, s[k, e], t[k, e], n[k, e], ramp[k, e])
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         return self._geometry(q)[2]
@@ -231,7 +224,7 @@ class BoxEdges(BoxFeatureRows):
     def evaluate(self, q: np.ndarray):
         """Gaps (N,), dofs (N, 12): the box's six then the ridge's two nodes', gradients
         (N, 12), no curvature."""
-        x, R, g, edge, s, t, n, w = self._geometry(q)
+        x, R, g, edge, s, t, n, ramp = self._geometry(q)
         G = np.zeros((self.size, 12))
         on = np.flatnonzero(np.isfinite(g))
         if on.size == 0:
@@ -242,23 +235,23 @@ class BoxEdges(BoxFeatureRows):
         G[on, 3:6] = np.cross(r, n[on] @ R)  # r × (Rᵀ n)
         G[on, 6:9] = -(1.0 - t[on, None]) * n[on]
         G[on, 9:] = -t[on, None] * n[on]
-        lifted = on[g[on] + self.clearance != w[on]]  # past the cone's border or the ridge
-        if lifted.size:
-            G[lifted] = self._lift_gradient(x, R, edge, s, t, n, w, lifted, G[lifted])
+        ramped = on[ramp[on] > 0.0]
+        if ramped.size:
+            G[ramped] += self._ramp_gradient(x, R, g, edge, s, t, n, ramp, ramped)
         return g, self.dofs, G, None
 
-    def _lift_gradient(self, x, R, edge, s, t, n, w, rows, Gw):
-        """The gradient (k, 12) of the ``rows`` past the cone's border or the ridge's ends,
-        w / cos θ + RAMP ℓ φ(t), from the lines' distance's ``Gw``: ℓ the ridge's length; the
-        closest points' parameters move by (∂s, ∂t) = −M⁻¹ (d₁·δ + w n·∂d₁, d₂·δ + w n·∂d₂),
-        from the derivative of (p − y)·d₁ = (p − y)·d₂ = 0, with M = [[d₁·d₁, −d₁·d₂],
-        [d₁·d₂, −d₂·d₂]], δ the motion of the material points at p and y."""
+    def _ramp_gradient(self, x, R, g, edge, s, t, n, ramp, rows):
+        """The gradient (k, 12) of the ramp RAMP ℓ (φ(s) + φ(t)) of the ``rows``, ℓ the
+        ridge's length: the closest points' parameters move by (∂s, ∂t) = −M⁻¹ (d₁·δ + w
+        n·∂d₁, d₂·δ + w n·∂d₂), from the derivative of (p − y)·d₁ = (p − y)·d₂ = 0, with
+        M = [[d₁·d₁, −d₁·d₂], [d₁·d₂, −d₂·d₂]], δ the motion of the material points at p
+        and y, and w = n·(p − y)."""
         e, k = edge[rows], len(rows)
         d1b = self.b[e] - self.a[e]  # (k, 3) body frame
         d1 = d1b @ R.T
         y0, y1 = x[self.ridges[self._ridge[rows], 0]], x[self.ridges[self._ridge[rows], 1]]
         d2 = y1 - y0
-        w = w[rows]
+        w = g[rows] - ramp[rows] + self.clearance  # n·(p − y)
         rb = self.a[e] + s[rows, None] * d1b
         J = np.zeros((k, 3, 12))  # δ over the local dofs
         J[:, :, :3] = np.eye(3)
@@ -274,14 +267,14 @@ class BoxEdges(BoxFeatureRows):
         rhs2[:, 9:] += w[:, None] * nr
         a, b, ee = (d1 * d1).sum(1), (d1 * d2).sum(1), (d2 * d2).sum(1)
         det = b * b - a * ee  # of M
+        ds = -(-ee[:, None] * rhs1 + b[:, None] * rhs2) / det[:, None]
         dt = -(-b[:, None] * rhs1 + a[:, None] * rhs2) / det[:, None]
         length = np.sqrt(ee)
         dpsi, psi = self._cone_gradient(R, e, nr, d1, d2, Jd1)
-        cos = np.sqrt(1.0 - psi * psi)
-        out = Gw / cos[:, None] + (w * psi / cos**3)[:, None] * dpsi
-        out += (RAMP * length * _slope(t[rows]))[:, None] * dt
+        out = _slope(s[rows])[:, None] * ds + _slope(t[rows])[:, None] * dt + dpsi
+        out *= RAMP * length[:, None]
         u = d2 / length[:, None]  # ∂ℓ = u·(∂y₁ − ∂y₀)
-        lever = RAMP * _beyond(t[rows])
+        lever = RAMP * (_beyond(s[rows]) + _beyond(t[rows]) + psi)
         out[:, 6:9] -= lever[:, None] * u
         out[:, 9:] += lever[:, None] * u
         return out
