@@ -96,6 +96,34 @@ def test_edge_rows_have_the_exact_gradient():
     assert checked > 25 and ramped > 10, (checked, ramped)
 
 
+def test_rows_past_the_cone_border_have_the_exact_gradient():
+    """A ball flattened on a box face across its edge (its low nodes pressed to the face,
+    2e-5 m of noise): boundary edges lying on the face cross the box edge with their common
+    normal at the border of the box edge's cone, some past it, where the release ramp in ψ
+    acts (the random poses above meet only the ramp past a ridge's end). Central
+    differences against G there."""
+    ball, box = _ball_and_box(inside=0.005, refinements=2)
+    model = Model([ball, box], [Contact(ball, box)], (0.0, 0.0, 0.0))
+    edges, n = _edge_rows(model), ball.ndof
+    X = ball.positions(np.zeros(n))
+    low = X[:, 2] < 0.012
+    rng = np.random.default_rng(2)
+    past = 0
+    for _ in range(3):
+        u = np.zeros_like(X)
+        u[low, 2] = -X[low, 2] + rng.normal(size=low.sum()) * 2e-5
+        q = np.zeros(model.n)
+        q[:n] = u.ravel()
+        g, dofs, _, _ = edges.evaluate(q)
+        _, _, _, _, _, t, _, ramp = edges._geometry(q)
+        rows = np.flatnonzero(np.isfinite(g))
+        past += int(np.count_nonzero((ramp[rows] > 0.0) & (t[rows] > 0.0) & (t[rows] < 1.0)))
+        # (central differences of O(1) slopes at h = 1e-8: h² g''' + round-off 1e-17/h; the
+        # ramp's kink at the border lies farther than h from every row here)
+        assert group_gradient_error(edges, model, q, np.unique(dofs[rows]), 1e-8) < 1e-7
+    assert past >= 2, past
+
+
 def test_edge_rows_slip_between_the_edge_and_the_boundary_edge():
     """Friction on the edge rows: the slip over a small step is the slip rows times that
     step, to second order, and a motion of the box and the solid together slips by
