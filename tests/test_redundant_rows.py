@@ -113,7 +113,7 @@ def test_a_frictionless_box_settling_on_a_face_holds_its_velocity_law(tmp_path):
     """The frictionless tumbling box lands on a face at 0.27 s: before, its velocity jump
     ended with a residual 7.7e4 times its tolerance and a warning; now every correction ends
     within tolerance, the proximal solves are counted, and the box rests on a face."""
-    sim = case("tumbling_box").build(friction=0.0).replace(t_end=0.4)
+    sim = case("tumbling_box").build(friction=0.0).replace(t_end=0.3)
     summary = run(sim, tmp_path / "free", frames=False)
     assert summary["status"] == "completed"
     assert max(summary["final_residuals"].values()) <= 1.0
@@ -122,3 +122,39 @@ def test_a_frictionless_box_settling_on_a_face_holds_its_velocity_law(tmp_path):
     assert summary["min_gap"] >= -1e-9
     ledger = summary["energy_ledger"]
     assert ledger["created"] <= 1e-3 * ledger["scale"]
+
+
+def _rough_box_on_face():
+    """(A, M⁻¹) of the box on its face with a normal and two tangent rows per corner."""
+    G, Minv = _box_on_face()
+    corners = np.array([[sx * A / 2, sy * B / 2, -C / 2] for sx in (-1, 1) for sy in (-1, 1)])
+    rows = []
+    for r, g in zip(corners, G, strict=True):
+        rows.append(g)
+        rows += [np.r_[t, np.cross(r, t)] for t in np.eye(3)[:2]]
+    return np.array(rows), Minv
+
+
+def test_a_relinearized_frictional_correction_is_not_solved_from_zero_again():
+    """Redundant rough rows (four sticking corners, 12 rows on 6 dofs): solved once from
+    the warm start and from zero, the relinearization that starts from that solution keeps
+    it without a second cold solve, to the same motion."""
+    from fecontact.contact import CoulombStats
+    from fecontact.contact.friction import solve_coulomb
+
+    A_, Minv = _rough_box_on_face()
+    D = A_ @ Minv @ A_.T
+    p = 1.0 / np.diag(D)
+    c = A_ @ np.array([0.002, 0.0, -0.01, 0.01, -0.02, 0.0])  # pressed, slipping, rocking
+    mu, tol = np.full(4, 0.5), 1e-12
+    first = CoulombStats()
+    x, _, _ = solve_coulomb(c, D, p, 1.0, mu, 2, 0.5 * np.ones(12), tol, stats=first,
+                            minimum_norm=True)  # fmt: skip
+    again, warm = CoulombStats(), CoulombStats()
+    x_cold, _, _ = solve_coulomb(c, D, p, 1.0, mu, 2, x, tol, stats=again, minimum_norm=True)
+    x_warm, _, _ = solve_coulomb(
+        c, D, p, 1.0, mu, 2, x, tol, stats=warm, minimum_norm=True, cold_start=False
+    )
+    assert warm.iterations < again.iterations  # the cold start's Newton iterations saved
+    # the same motion to the solver's tolerance (m/s of the rows)
+    assert np.max(np.abs(D @ (x_warm - x_cold))) <= tol
