@@ -70,8 +70,9 @@ def point_tangents(G: np.ndarray, dim: int) -> np.ndarray:
 
 
 def solve_coulomb(
-    c, D, p, k, mu, nt, x0=None, tol=0.0, max_iter=50, stats=None, minimum_norm=False
-):
+    c, D, p, k, mu, nt, x0=None, tol=0.0, max_iter=50, stats=None, minimum_norm=False,
+    cold_start=True,
+):  # fmt: skip
     """Multipliers x of m frictional contacts (and any equality rows after them) with
     w = c + k D x and R(x) = k x − Π(k x − p w) = 0 (see :func:`newton`).
 
@@ -79,7 +80,10 @@ def solve_coulomb(
     not globally convergent when D couples contacts strongly), a nonsmooth Gauss–Seidel over
     the contacts, each solved exactly on its own, comes near the solution and Newton
     finishes from there. ``minimum_norm`` (decided once per run, for models whose rows can
-    be redundant): of a family of solutions, the one of least norm (:func:`_least_norm`).
+    be redundant): of a family of solutions, the one of least norm (:func:`_least_norm`),
+    and of the solutions reached from ``x0`` and from zero the least-norm; ``cold_start``
+    False keeps the one from ``x0`` alone (a relinearization of a problem just solved from
+    both, whose solution ``x0`` is).
     ``stats`` (:class:`fecontact.contact.stats.CoulombStats`, or None) receives the counts
     of the work. Returns (x, status (m,), iterations); raises ``RuntimeError`` when neither
     converges.
@@ -94,7 +98,7 @@ def solve_coulomb(
     # several closed contacts with friction can have distinct solutions (three corners
     # slipping and the fourth lifting, or all four slipping): the warm start and the cold
     # one may reach different ones, and the least-norm of them is kept
-    for start in (x0,) if x0 is None or len(mu) == 1 else (x0, None):
+    for start in (x0,) if x0 is None or len(mu) == 1 or not cold_start else (x0, None):
         try:
             x, status, its = _solve(c, D, p, k, mu, nt, start, tol, max_iter, stats, True)
         except RuntimeError:

@@ -27,6 +27,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.linalg.lapack import dgetrf, dgetrs
 
+from .redundant_jump import proximal_jump
 from .stats import ContactStats
 
 __all__ = [
@@ -59,23 +60,28 @@ def kkt_multipliers(GA, Y, rhs, k, stats: ContactStats | None = None, rcond: flo
     """Solve k (G_A Y) μ = rhs for the active multipliers (least squares if redundant, and
     counted in ``stats.least_squares``). In a run whose rows can be redundant up to round-off
     (``stats.minimum_norm``) a pivot below ``rcond`` of the largest counts as singular."""
-    S = k * (GA @ Y)
+    return _kkt(k * (GA @ Y), rhs, stats, rcond)[0]
+
+
+def _kkt(S, rhs, stats, rcond=1e-10):
+    """:func:`kkt_multipliers` of the Schur matrix S = k G_A Y, and whether S was singular
+    (least squares)."""
     if stats is None or not stats.minimum_norm:
         try:
-            return np.linalg.solve(S, rhs)
+            return np.linalg.solve(S, rhs), False
         except np.linalg.LinAlgError:
             if stats is not None:
                 stats.least_squares += 1
-            return np.linalg.lstsq(S, rhs, rcond=None)[0]
+            return np.linalg.lstsq(S, rhs, rcond=None)[0], True
     lu, piv, _ = dgetrf(S)  # (LAPACK's getrf and getrs: np.linalg.solve's own path)
     pivots = np.abs(np.diagonal(lu))
     # rows that meet at a concave vertex are redundant up to round-off: an LU would return
     # their round-off amplified by a pivot near zero, the truncated SVD the minimum norm
     if S.size and pivots.min() > rcond * pivots.max():
-        return dgetrs(lu, piv, rhs)[0]
+        return dgetrs(lu, piv, rhs)[0], False
     if stats is not None:
         stats.least_squares += 1
-    return np.linalg.lstsq(S, rhs, rcond=rcond)[0]
+    return np.linalg.lstsq(S, rhs, rcond=rcond)[0], True
 
 
 def _residual(nu, g, p, k, eq, scale: float = 1.0) -> float:
@@ -333,17 +339,54 @@ def solve_velocity_jump(
     eq = np.zeros(m, bool) if bilateral is None else bilateral
     A_prev = None
     W = np.zeros(Y_all.shape[0])
+    law = (p, k, eq, tol, scale)
+    redundant = False  # (an active set's rows were redundant: least squares)
     for it in range(1, max_iter + 1):
         A = ((k * Lam - p * gd) > 0) | eq
         if A_prev is not None and (
             np.array_equal(A, A_prev) or (tol > 0 and _settled(Lam, gd, p, k, eq, tol, scale))
         ):
+            if redundant:
+                W, Lam, gd = _redundant_jump(Gd, c, Y_all, (W, Lam, gd), law, stats)
             _record(stats, "velocity", Lam, gd, p, k, eq, tol, scale)
             return W, Lam, it - 1
         Lam = np.zeros(m)
         if A.any():
-            Lam[A] = kkt_multipliers(Gd[A], Y_all[:, A], -c[A], k, stats)
+            Lam[A], singular = _kkt(k * (Gd[A] @ Y_all[:, A]), -c[A], stats)
+            redundant |= singular
         W = k * (Y_all @ Lam)
         gd = c + Gd @ W
         A_prev = A
+    if redundant:  # (an active set cycling between redundant rows)
+        W, Lam, gd = _redundant_jump(Gd, c, Y_all, (W, Lam, gd), law, stats)
+        if tol > 0 and _settled(Lam, gd, p, k, eq, tol, scale):
+            _record(stats, "velocity", Lam, gd, p, k, eq, tol, scale)
+            return W, Lam, max_iter
     raise RuntimeError(f"velocity jump: active set did not settle in {max_iter} iterations")
+
+
+def _redundant_jump(Gd, c, Y, jump, law, stats):
+    """The jump (W, Λ, ġ) as given where the law holds (or has no tolerance), else, its
+    active sets having been redundant, solved again by
+    :func:`fecontact.contact.redundant_jump.proximal_jump` from Λ (``law``: p, k, the
+    bilateral rows, the tolerance in m/s and the scale of :func:`_residual`); as given where
+    that does not settle either. Counted in ``stats.redundant_jumps`` (its proximal steps
+    in ``stats.redundant_jump_steps``)."""
+    p, k, eq, tol, scale = law
+    Lam = jump[1]
+    if tol <= 0 or _settled(Lam, jump[2], p, k, eq, tol, scale):
+        return jump
+    kD = k * (Gd @ Y)
+
+    def settled(x, gd):
+        return _settled(x, gd, p, k, eq, tol, scale)
+
+    found = proximal_jump(kD, c, eq, Lam, settled, tol)
+    if stats is not None:
+        stats.redundant_jumps += 1
+        stats.redundant_jump_steps += 0 if found is None else found[1]
+    if found is None:
+        return jump
+    Lam = found[0]
+    W = k * (Y @ Lam)
+    return W, Lam, c + Gd @ W

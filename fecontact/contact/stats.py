@@ -65,6 +65,11 @@ class ContactStats:
     # position corrections whose active sets cycled, ended on the set of least residual
     # (:func:`fecontact.contact.laws.solve_position_correction`)
     frozen_active_sets: int = 0
+    # frictionless velocity jumps whose redundant rows left the law unsettled after the
+    # active set repeated (the rows could not all close), solved again by the proximal
+    # point method (:mod:`fecontact.contact.redundant_jump`), and its proximal steps
+    redundant_jumps: int = 0
+    redundant_jump_steps: int = 0
     # decided once per run: the model has pairs whose rows can be redundant up to round-off
     # (:func:`fecontact.contact.laws.kkt_multipliers` then reads the LU's pivots)
     minimum_norm: bool = False

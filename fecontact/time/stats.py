@@ -111,6 +111,11 @@ class StepStats:
             "redundant_row_updates": self.contact.redundant_row_updates,
             # position corrections whose cycling active set was frozen at its best
             "frozen_active_sets": self.contact.frozen_active_sets,
+            # frictionless jumps on redundant rows solved by the proximal point method
+            "redundant_jumps": {
+                "solves": self.contact.redundant_jumps,
+                "proximal_steps": self.contact.redundant_jump_steps,
+            },
             # the globalization of the smooth Newton (fecontact.time.descent)
             "smooth_newton": asdict(self.newton),
             # the velocity's follow-ups of an impact's correction (fecontact.time.position_jump)
