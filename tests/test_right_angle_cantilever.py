@@ -164,31 +164,9 @@ def test_the_extremes_match_an_independent_implementation():
         assert abs(t[i] - when) < 0.025, (when, t[i])
 
 
-# Simo & Vu-Quoc's figure of the tip and elbow histories (1988), as read by a digitization made
-# independently of this project (points every 0.6 s along the tip's curve, every 0.5 s along the
-# elbow's): each feature (t in s, height in m), an extremum at the vertex of the parabola through
-# its three points, a crossing of zero interpolated linearly. Another digitization of the
-# figure reads a tip curve that leads by 0.7-1.1 s; it is not the stated problem's
-# (docs/validation/beam3d.md: its tip rises 0.93 m by t = 1.54 s, where the stated problem's is
-# at 0.04 m, 0.02 m in the linear solution).
-FIGURE = {
-    "tip": {
-        "max": (7.58, 8.09),
-        "down": (11.32, 0.0),
-        "min": (15.96, -9.67),
-        "up": (20.02, 0.0),
-        "max2": (26.00, 6.93),
-    },
-    "elbow": {
-        "max": (3.04, 5.51),
-        "min": (10.71, -3.87),
-        "up": (12.69, 0.0),
-        "max2": (13.78, 1.14),
-        "min2": (17.09, -1.41),
-        "min3": (20.75, -2.76),
-        "max3": (25.16, 6.09),
-    },
-}
+# the published curves' features (t in s, height in m): the case's FIGURE, where they are
+# read from and why that digitization (docs/validation/beam3d.md)
+FIGURE = load_case("right_angle_cantilever").FIGURE
 # where each feature is looked for: its kind (by its name) and time window (s)
 WINDOWS = {
     "tip": {
