@@ -45,6 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.special
 
+from .beam3d_gathers import coefficient_sources, element_gather
 from .beam3d_quaternions import (
     node_quaternions,
     quaternion_matrices,
@@ -98,6 +99,15 @@ class Beam3DElements:
     slope: np.ndarray  # (E, n): @ the nodal (n, k) values it is their (v₁ − v₀)/ℓ
     chord_slope: np.ndarray  # (X₁ − X₀)/ℓ (E, 3, 1)
     C32ell: np.ndarray  # ℓ (C_Γ, C_K) (E, 3, 2)
+    # the places of the rotation matrices in the tangent's derivatives (4, E, 3, 12) and in
+    # f's matrix B (E, 12, 12), as one gather from the elements' flattened inputs (E, 47)
+    # with its signs: each result contiguous in the layout it is used in
+    gather: np.ndarray
+    gather_signs: np.ndarray
+    ell33: np.ndarray  # ℓ (E, 3, 3)
+    zero33: np.ndarray  # 0 (E, 3, 3)
+    CG_ell0: np.ndarray  # (CG/ℓ flattened, 0) (E, 10): the tangent's constant block and its 0
+    coefficients: np.ndarray  # the tangent's (12, 12) coefficient matrix as a gather (E, 144)
 
     @classmethod
     def of(cls, X: np.ndarray, triads: np.ndarray, rigidities) -> Beam3DElements:
@@ -111,6 +121,9 @@ class Beam3DElements:
         def full(a, k):
             return np.repeat(a, 3 * k).reshape(E, 3, k)
 
+        CG = (triads * C[:3]) @ triads.mT
+        gather, gather_signs = element_gather(E)
+
         return cls(
             n0=n0,
             n1=n1,
@@ -118,7 +131,7 @@ class Beam3DElements:
             ell=ell,
             L0=triads,
             C=C,
-            CG=(triads * C[:3]) @ triads.mT,
+            CG=CG,
             CK=(triads * C[3:]) @ triads.mT / ell[:, None, None],
             ell31=full(ell, 1),
             ell312=full(ell, 12),
@@ -137,6 +150,12 @@ class Beam3DElements:
             slope=(np.eye(len(X))[n1] - np.eye(len(X))[n0]) / ell[:, None],
             chord_slope=((X[n1] - X[n0]) / ell[:, None])[:, :, None],
             C32ell=ell[:, None, None] * _rigidity_columns(C),
+            gather=gather,
+            gather_signs=gather_signs,
+            ell33=full(ell, 3),
+            zero33=np.zeros((E, 3, 3)),
+            CG_ell0=np.concatenate([(CG / ell[:, None, None]).reshape(E, 9), np.zeros((E, 1))], 1),
+            coefficients=91 * np.arange(E)[:, None] + coefficient_sources(),
         )
 
 
@@ -313,7 +332,8 @@ class _Forces(_Strains):
         nm = el.CGK @ self.g
         self.n, m = nm[:, :3], nm[:, 3:]
         # n̂~ and γ̂~ from one product: (E, 2, 3, 3)
-        self.NG = _hat(np.concatenate([self.n, self.gh], axis=2).mT).reshape(-1, 6, 3)
+        E = len(nm)
+        self.NG = _hat(np.concatenate([self.n, self.gh], axis=1).reshape(E, 2, 3)).reshape(E, 6, 3)
         self.Nh, self.Gh = self.NG[:, :3], self.NG[:, 3:]
         self.p = p = el.ell31 * (self.Nh @ self.gh)
         self.u = m + self.hTh.mT @ p
@@ -323,8 +343,9 @@ class _Forces(_Strains):
             [self.A.reshape(-1, 9), self.M.reshape(-1, 27), self.Rm.reshape(-1, 9), el.one_zero],
             1,
         )
-        self.placed = flat.take(_PLACES, axis=1) * _PLACE_SIGNS
-        self.B = self.placed[:, 144:].reshape(-1, 12, 12)
+        placed = flat.take(el.gather) * el.gather_signs
+        self.Z = placed[: 144 * E].reshape(E, 12, 12)  # (Dρ, Dφ, (0, exp(−½ρ̃), 0, 0), ..)
+        self.B = placed[144 * E :].reshape(E, 12, 12)
         self.f = self.B @ np.concatenate([self.n, p, t, t], axis=1)
         self.W = 0.5 * float(np.vdot(nm, self.g * el.ell6))
 
@@ -373,51 +394,6 @@ def _matrix_slopes(P, rho, V, c):
     return ((a[:, :, None] * b[:, None, :]).reshape(E, 126) @ _SLOPE_TABLE).reshape(E, 2, 3, 3)
 
 
-def _places() -> np.ndarray:
-    """(46, 288): the flattened (exp(ρ̃), exp(½ρ̃), T(ρ)⁻¹, ½T(½ρ), R_m, 1) of an element @ it
-    is (Dρ, Dφ, (0, exp(−½ρ̃), 0, 0), (−R_mᵀ, 0, R_mᵀ, 0)), each (3, 12) flattened
-    (:func:`_tangent`), then the (12, 12) matrix B that gives the element force from
-    (n̂, p, t, t) and its tangent from their derivatives (:class:`_Forces`): their blocks are
-    those matrices, transposed, negated, or I."""
-    T = np.zeros((6, 3, 3, 4, 3, 12))  # (matrix, its row, column) -> (output, row, column)
-    i, j = np.meshgrid(range(3), range(3), indexing="ij")
-    T[2, j, i, 0, i, 3 + j] = -1.0  # Dρ = (0, −T(ρ)⁻ᵀ, 0, T(ρ)⁻¹)
-    T[2, i, j, 0, i, 9 + j] = 1.0
-    T[0, j, i, 1, i, 3 + j] = -1.0  # Dφ = (0, −exp(−ρ̃), 0, I)
-    T[5, 0, 0, 1, range(3), range(9, 12)] = 1.0
-    T[1, j, i, 2, i, 3 + j] = 1.0  # exp(½ρ̃)ᵀ at θ₀
-    T[4, j, i, 3, i, j] = -1.0  # R_mᵀ at x₀ and x₁
-    T[4, j, i, 3, i, 6 + j] = 1.0
-    B = np.zeros((6, 3, 3, 12, 12))  # f = (−R_m n̂, exp(½ρ̃) p − exp(ρ̃) t, R_m n̂, t)
-    B[4, i, j, i, j], B[4, i, j, 6 + i, j] = -1.0, 1.0
-    B[1, i, j, 3 + i, 3 + j], B[0, i, j, 3 + i, 6 + j] = 1.0, -1.0
-    B[5, 0, 0, range(9, 12), range(9, 12)] = 1.0
-    return np.concatenate([T.reshape(54, 144), B.reshape(54, 144)], axis=1)[:46]
-
-
-def _sources(places: np.ndarray) -> np.ndarray:
-    """The places table as a gather: for each output column, the index in (x, 0, −x, −0)
-    (x the 46 flattened inputs) of its one input, signed, or of the zero."""
-    n = places.shape[0]
-    out = np.full(places.shape[1], n)
-    for c in range(places.shape[1]):
-        (r,) = np.nonzero(places[:, c])
-        if r.size:
-            assert r.size == 1 and abs(places[r[0], c]) == 1.0
-            out[c] = r[0] if places[r[0], c] > 0 else n + 1 + r[0]
-    return out
-
-
-def _signed(sources: np.ndarray, n: int):
-    """The gather of :func:`_sources` as the columns of x with 0 appended (index n) and the
-    signs to multiply them by (±1: exact): one gather and one product of one shape."""
-    negative = sources > n
-    return np.where(negative, sources - n - 1, sources), np.where(negative, -1.0, 1.0)
-
-
-_PLACES, _PLACE_SIGNS = _signed(_sources(_places()), 46)
-
-
 def _tangent(el, s: _Forces) -> np.ndarray:
     r"""∂f(q ⊕ Δ)/∂Δ (E, 12, 12), Δ = (δx₀, δθ₀, δx₁, δθ₁), by the chain rule through the
     force's intermediates, each a (E, 3, 12) derivative D·:
@@ -434,27 +410,31 @@ def _tangent(el, s: _Forces) -> np.ndarray:
         Df_θ₀ = exp(½ρ̃) (Dp − ½ p̃ T(½ρ) Dρ) − exp(ρ̃) (Dt − t̃ Dφ).
 
     The derivatives of T's matrices are :func:`_matrix_slopes` with the coefficients' slopes;
-    T(ρ)⁻¹ exp(−ρ̃) = T(ρ)⁻ᵀ (as exp(ρ̃) T(ρ) = T(ρ)ᵀ) gives Dρ without a product."""
-    # (copied to arrays of their own: numpy combines contiguous operands ~2× faster than
-    # the strided views of one table)
-    Drho, Dphi, HtDx, BDx = np.ascontiguousarray(
-        s.placed[:, :144].reshape(-1, 4, 3, 12).transpose(1, 0, 2, 3)
-    )
+    T(ρ)⁻¹ exp(−ρ̃) = T(ρ)⁻ᵀ (as exp(ρ̃) T(ρ) = T(ρ)ᵀ) gives Dρ without a product.
+
+    Every derivative is linear in Z = (Dρ, Dφ, Z₃, Z₄), Z₃ = (0, exp(−½ρ̃), 0, 0) and
+    Z₄ = (−R_mᵀ, 0, R_mᵀ, 0), with (3, 3) coefficients: with Q = n̂~ − γ̂~ Λ₀C_ΓΛ₀ᵀ,
+    Dp = ℓ Q Dγ̂. So the chain is carried on the coefficients, (E, 3, 3) products, and
+    (dn, dp, dt, Dt) = (Dn̂ − n̂~Dψ_m, Dp − ½p̃T(½ρ)Dρ, Dt − t̃Dφ, Dt) is one product C Z
+    (C placed by ``Beam3DElements.coefficients``, :mod:`.beam3d_gathers`)."""
+    E = len(s.Z)
     c = np.ascontiguousarray(s.co[:, 9:].reshape(-1, 5, 3, 2).transpose(1, 0, 2, 3))
     G = _matrix_slopes(s.P, s.rho, np.concatenate([s.p, s.u], axis=2), c)
-    # the four products with Dρ as one: ½T(½ρ) Dρ, Dm̂, ½ Gp and Gu
-    L = np.concatenate([s.hTh, el.CK, G.reshape(-1, 6, 3)], axis=1) @ Drho
-    hThDrho, Dm, Gp, Gu = L[:, :3], L[:, 3:6], L[:, 6:9], L[:, 9:]
-    Dpsi = hThDrho + HtDx
-    NGDpsi = s.NG @ Dpsi  # n̂~ Dψ_m, γ̂~ Dψ_m
-    Dg = NGDpsi[:, 3:] + BDx * el.inv_ell312
-    Dn = el.CG @ Dg
-    Dp = el.ell312 * (s.Nh @ Dg - s.Gh @ Dn)
-    Du = Dm + (s.hTh.mT @ Dp + Gp)
-    Dt = s.Ti.mT @ Du + Gu
-    pt = _hat(np.concatenate([s.p, s.t], axis=2).transpose(0, 2, 1))  # p̃, t̃
-    dn, dp, dt = Dn - NGDpsi[:, :3], Dp - pt[:, 0] @ hThDrho, Dt - pt[:, 1] @ Dphi
-    return s.B @ np.concatenate([dn, dp, dt, Dt], axis=1)
+    Nh, Gh, hTh, Ti_T = s.Nh, s.Gh, s.hTh, s.Ti.mT
+    # the coefficients of Dψ_m in dn, Dp and Dt (Dg = γ̂~ Dψ_m + Z₄/ℓ, Dp = ℓ Q Dg)
+    Q = Nh - Gh @ el.CG
+    ap = el.ell33 * (Q @ Gh)
+    V = Ti_T @ hTh.mT  # T(ρ)⁻ᵀ ½T(½ρ)ᵀ
+    A = np.concatenate([el.CG @ Gh - Nh, ap, V @ ap], axis=1)
+    mpt = _hat(-np.concatenate([s.p, s.t], axis=1).reshape(E, 2, 3))  # −p̃, −t̃
+    TK = Ti_T @ (el.CK + G[:, 0]) + G[:, 1]  # Dt's own coefficient of Dρ
+    # of Dρ: through Dψ_m = ½T(½ρ) Dρ + Z₃, and directly (−p̃ ½T(½ρ) in dp, TK in Dt)
+    C1 = A @ hTh + np.concatenate([el.zero33, mpt[:, 0] @ hTh, TK], axis=1)
+    flat = np.concatenate(
+        [C1.reshape(E, 27), A.reshape(E, 27), Q.reshape(E, 9), (V @ Q).reshape(E, 9),
+         mpt[:, 1].reshape(E, 9), el.CG_ell0], axis=1,
+    )  # fmt: skip
+    return s.B @ (flat.take(el.coefficients).reshape(E, 12, 12) @ s.Z)
 
 
 def beam3d_internal(el: Beam3DElements, X: np.ndarray, q: np.ndarray, ndof: int, tangent: bool):
