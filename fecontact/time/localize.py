@@ -63,6 +63,7 @@ __all__ = [
     "MIN_REST",
     "TOGETHER",
     "Localizer",
+    "Releases",
     "joined",
     "frictionless_solids",
     "localized_step",
@@ -152,11 +153,14 @@ def localized_step(model, st: State, h: float, opts: RunSettings, timer: PhaseTi
 def localized_stepper(model, opts: RunSettings):
     """The step function of a run of ``model`` with ``opts`` that localizes its impacts,
     decided once: a :class:`Localizer` (sub-steps while a contact chatters) where a body is
-    flexible and ``localize`` is on, :func:`localized_step` itself (whole steps) where the
-    bodies are rigid or "auto" chose it for solids (:func:`frictionless_solids`)."""
+    flexible and ``localize`` is on, :class:`Releases` (whole steps, sub-steps where a
+    contact releases) where "auto" chose it for solids (:func:`frictionless_solids`), and
+    :func:`localized_step` itself (whole steps) where the bodies are rigid."""
     flexible = model.continuum or model.slender
     if flexible and opts.localize is True and CHATTER > 1:
         return Localizer(model)
+    if flexible and CHATTER > 1:
+        return Releases(model)
     return localized_step
 
 
@@ -217,6 +221,24 @@ class Localizer:
         for part in parts[1:]:  # (after the sub-steps: each starts from its own state)
             part.ledger = joined_record(model, out, part)  # every sub-step's contact phases
             out = joined(out, part, h)
+        return out
+
+
+class Releases(Localizer):
+    """The localized step of one run of solids that "auto" localizes: whole steps, and a
+    step that starts pressed and in which a contact's mean force reaches zero along the
+    line of its last two steps' (:meth:`Localizer._releasing`) in ``CHATTER`` sub-steps, so
+    that the release falls at a sub-step's end, not the step's (Hertz's t_c at t_c/20 in
+    docs/validation/localization.md). A closing stays in the whole step that locates it."""
+
+    def __call__(self, model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
+        pressed = st.pressed().any()
+        if self._releasing(st) and pressed:
+            return self._subdivided(model, st, h, opts, timer)
+        out = localized_step(model, st, h, opts, timer)
+        self.pressed = out.pressed().any()
+        if pressed and not self.pressed:
+            opts.stats.localization.last_release = st.t  # (a release at the step's start)
         return out
 
 
