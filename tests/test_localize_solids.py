@@ -1,6 +1,6 @@
 """Impacts of frictionless solids are localized by default ("auto"), in whole steps (their
-releases in sub-steps): the energy the end-of-step closing created is gone
-(docs/validation/localization.md)."""
+releases read from sub-steps taken aside): the energy the end-of-step closing created is
+gone (docs/validation/localization.md)."""
 
 import dataclasses
 import math

@@ -37,6 +37,9 @@ lasting one, left to the step. Such steps are counted (``subdivided_steps``). Th
 taken with ``localize`` on; "auto" localizes the solids it chooses
 (:func:`frictionless_solids`) in whole steps: the closing's energy is gone at the cost of a
 few smooth steps, where the sub-steps cost the contact phase about eight steps per step.
+There the releasing step (the last test above) is also taken aside in sub-steps, which
+read the contact's end at a sub-step's resolution and leave the run as it is
+(:class:`Releases`).
 
 Linear models factorize their iteration matrix once per step size: the split steps' sizes
 are used once, so their factorizations (and the correction's columns) are dropped after the
@@ -225,21 +228,47 @@ class Localizer:
 
 
 class Releases(Localizer):
-    """The localized step of one run of solids that "auto" localizes: whole steps, and a
-    step that starts pressed and in which a contact's mean force reaches zero along the
-    line of its last two steps' (:meth:`Localizer._releasing`) in ``CHATTER`` sub-steps, so
-    that the release falls at a sub-step's end, not the step's (Hertz's t_c at t_c/20 in
-    docs/validation/localization.md). A closing stays in the whole step that locates it."""
+    """The localized step of one run of solids that "auto" localizes: whole steps, the
+    closings located in them. Where a step starts pressed and a contact's mean force reaches
+    zero along the line of its last two steps' (:meth:`Localizer._releasing`), the run is
+    also taken aside from that state in ``CHATTER`` sub-steps a step, for at most
+    ``RELEASE`` + 1 steps, only to read where the contact lets go (the end of the last
+    sub-step with a force). When the run's own steps release within a step after it, the
+    run's last release is that reading, not the end of the whole step (Hertz's t_c in
+    docs/validation/localization.md). The run goes on from its whole steps: the sub-steps
+    change nothing of it, and their work is counted (``release_probes``)."""
+
+    def __init__(self, model):
+        super().__init__(model)
+        self.read = (None, -np.inf)  # (s, s): the release a probe read, the probe's end
 
     def __call__(self, model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
-        pressed = st.pressed().any()
-        if self._releasing(st) and pressed:
-            return self._subdivided(model, st, h, opts, timer)
+        pressed, (release, until) = st.pressed().any(), self.read
+        if self._releasing(st) and pressed and st.t > until:
+            self.read = release, until = self._probe(model, st, h, opts, timer)
         out = localized_step(model, st, h, opts, timer)
-        self.pressed = out.pressed().any()
-        if pressed and not self.pressed:
-            opts.stats.localization.last_release = st.t  # (a release at the step's start)
+        if pressed and not out.pressed().any():  # (the run's release, at the step's start)
+            located = release is not None and st.t <= until
+            opts.stats.localization.last_release = release if located else st.t
         return out
+
+    def _probe(self, model, st, h, opts, timer) -> tuple:
+        """(the release read and a step after it, or None and the end of the span probed)
+        (s) of sub-steps of ``h``/``substeps`` from ``st`` (localized), at most ``RELEASE`` + 1
+        steps' worth, until one carries no force; their step size leaves no factorization
+        behind."""
+        stats = opts.stats.localization
+        stats.release_probes += 1
+        kept, cur, k = _cache_keys(model), st, h / self.substeps
+        try:
+            for _ in range(int(RELEASE + 1) * self.substeps):
+                nxt = localized_step(model, cur, k, opts, timer)
+                if not nxt.pressed().any():  # (the run's own steps release within a step)
+                    return cur.t, cur.t + h * (1.0 + 1e-9)
+                cur = nxt
+        finally:
+            stats.factorizations += _drop_caches(model, kept)
+        return None, cur.t
 
 
 def _penetrates(model, phases, opts) -> bool:
