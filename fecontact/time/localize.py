@@ -106,6 +106,11 @@ RELEASE = 2.0
 """Steps within which a contact whose mean force falls reaches zero along the line of its
 last two steps' forces: the step is taken in sub-steps (the release falls inside it)."""
 
+READ_RELEASE = 1.0
+"""The same for the solids "auto" localizes in whole steps, whose release is read from
+sub-steps taken aside (:class:`Releases`): Hertz's balls read the same instants with 2.0
+(docs/validation/localization.md) at the cost of up to a step more of sub-steps."""
+
 
 def localizes(model, opts: RunSettings) -> bool:
     """Whether the run of ``model`` with ``opts`` locates impacts inside its steps: the
@@ -194,14 +199,14 @@ class Localizer:
         self.closed = st.t  # a closing: the step again, in sub-steps
         return self._subdivided(model, st, h, opts, timer)
 
-    def _releasing(self, st: State) -> bool:
+    def _releasing(self, st: State, within: float = RELEASE) -> bool:
         """Whether a contact's mean force, falling from the step before ``st``'s to
-        ``st``'s, reaches zero within ``RELEASE`` steps along that line (its release); notes
+        ``st``'s, reaches zero within ``within`` steps along that line (its release); notes
         the forces of ``st``."""
         force = st.mean_force() if st.impulse.size == self.force.size else self.force * 0
         before, self.force = self.force, force
         falling = (force > 0.0) & (force < before)
-        return bool(np.any(falling & (force <= RELEASE * (before - force))))
+        return bool(np.any(falling & (force <= within * (before - force))))
 
     def _subdivided(self, model, st, h, opts, timer) -> State:
         """The step from ``st`` over ``h`` as ``substeps`` localized steps, joined; a closing
@@ -230,13 +235,14 @@ class Localizer:
 class Releases(Localizer):
     """The localized step of one run of solids that "auto" localizes: whole steps, the
     closings located in them. Where a step starts pressed and a contact's mean force reaches
-    zero along the line of its last two steps' (:meth:`Localizer._releasing`), the run is
-    also taken aside from that state in ``CHATTER`` sub-steps a step, for at most
-    ``RELEASE`` + 1 steps, only to read where the contact lets go (the end of the last
-    sub-step with a force). When the run's own steps release within a step after it, the
-    run's last release is that reading, not the end of the whole step (Hertz's t_c in
-    docs/validation/localization.md). The run goes on from its whole steps: the sub-steps
-    change nothing of it, and their work is counted (``release_probes``)."""
+    zero within ``READ_RELEASE`` steps along the line of its last two steps'
+    (:meth:`Localizer._releasing`), the run is also taken aside from that state in
+    ``CHATTER`` sub-steps a step, for at most ``READ_RELEASE`` + 1 steps, only to read where
+    the contact lets go (the end of the last sub-step with a force). When the run's own
+    steps release within a step after it, the run's last release is that reading, not the
+    end of the whole step (Hertz's t_c in docs/validation/localization.md). The run goes on
+    from its whole steps: the sub-steps change nothing of it, and their work is counted
+    (``release_probes``)."""
 
     def __init__(self, model):
         super().__init__(model)
@@ -244,7 +250,7 @@ class Releases(Localizer):
 
     def __call__(self, model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
         pressed, (release, until) = st.pressed().any(), self.read
-        if self._releasing(st) and pressed and st.t > until:
+        if self._releasing(st, READ_RELEASE) and pressed and st.t > until:
             self.read = release, until = self._probe(model, st, h, opts, timer)
         out = localized_step(model, st, h, opts, timer)
         if pressed and not out.pressed().any():  # (the run's release, at the step's start)
@@ -254,14 +260,14 @@ class Releases(Localizer):
 
     def _probe(self, model, st, h, opts, timer) -> tuple:
         """(the release read and a step after it, or None and the end of the span probed)
-        (s) of sub-steps of ``h``/``substeps`` from ``st`` (localized), at most ``RELEASE`` + 1
-        steps' worth, until one carries no force; their step size leaves no factorization
-        behind."""
+        (s) of sub-steps of ``h``/``substeps`` from ``st`` (localized), at most
+        ``READ_RELEASE`` + 1 steps' worth, until one carries no force; their step size
+        leaves no factorization behind."""
         stats = opts.stats.localization
         stats.release_probes += 1
         kept, cur, k = _cache_keys(model), st, h / self.substeps
         try:
-            for _ in range(int(RELEASE + 1) * self.substeps):
+            for _ in range(int(READ_RELEASE + 1) * self.substeps):
                 nxt = localized_step(model, cur, k, opts, timer)
                 if not nxt.pressed().any():  # (the run's own steps release within a step)
                     return cur.t, cur.t + h * (1.0 + 1e-9)
