@@ -52,7 +52,7 @@ import time
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, SolverError
 from ..ledger import joined_record
 from .nsga import smooth_phases
 from .settings import RunSettings
@@ -261,8 +261,9 @@ class Releases(Localizer):
     def _probe(self, model, st, h, opts, timer) -> tuple:
         """(the release read and a step after it, or None and the end of the span probed)
         (s) of sub-steps of ``h``/``substeps`` from ``st`` (localized), at most
-        ``READ_RELEASE`` + 1 steps' worth, until one carries no force; their step size
-        leaves no factorization behind."""
+        ``READ_RELEASE`` + 1 steps' worth, until one carries no force (a sub-step that fails
+        reads nothing, counted ``unrefined``); their step size leaves no factorization
+        behind."""
         stats = opts.stats.localization
         stats.release_probes += 1
         kept, cur, k = _cache_keys(model), st, h / self.substeps
@@ -272,6 +273,8 @@ class Releases(Localizer):
                 if not nxt.pressed().any():  # (the run's own steps release within a step)
                     return cur.t, cur.t + h * (1.0 + 1e-9)
                 cur = nxt
+        except SolverError:  # (the run's own step decides; the release is read at its end)
+            stats.fallbacks["unrefined"] += 1
         finally:
             stats.factorizations += _drop_caches(model, kept)
         return None, cur.t
