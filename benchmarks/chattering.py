@@ -206,8 +206,9 @@ def hertz_span(quick):
     """Hertz's ball (``hertz.py``, 1 m/s) closing 0.37 of a step into its third step: the
     contact duration from the located closing and the last release (``summary.json``'s
     ``localized_contact_span_s``) at t_c/20, t_c/50 and the finest step, against the finest
-    step's; and from whole steps (the end of the last step with a contact force, less the
-    exact closing instant)."""
+    step's (``localize=1``), with ``localize=1`` and at the defaults ("auto": whole steps,
+    the release in sub-steps); and without localization (the end of the last step with a
+    contact force, less the exact closing instant)."""
     import hertz
 
     balls = (("P1", 1),) if quick else (("P1", 1), ("P1", 2), ("P2", 1))
@@ -215,7 +216,7 @@ def hertz_span(quick):
     for element, refinements in balls:
         spans = {}
         for steps in ("finest", 20, 50):
-            for loc in (False, True):
+            for loc in (False, True) if steps == "finest" else (False, True, "auto"):
                 model, options, v0 = hertz.uniform_case(element, refinements)
                 ball = model.bodies[0]
                 t_c = hertz.hertz(ball.mass)["t_c"]
@@ -241,6 +242,8 @@ def hertz_span(quick):
                     "t_c, finest step (ms)": 1e3 * spans["finest", True],
                     "localized (ms)": 1e3 * spans[steps, True],
                     "error (%)": 100 * (spans[steps, True] / spans["finest", True] - 1),
+                    "defaults (ms)": 1e3 * spans[steps, "auto"],
+                    "defaults' error (%)": 100 * (spans[steps, "auto"] / spans["finest", True] - 1),
                     "whole steps (ms)": 1e3 * spans[steps, False],
                     "whole steps' error (%)": 100
                     * (spans[steps, False] / spans["finest", False] - 1),

@@ -37,6 +37,9 @@ lasting one, left to the step. Such steps are counted (``subdivided_steps``). Th
 taken with ``localize`` on; "auto" localizes the solids it chooses
 (:func:`frictionless_solids`) in whole steps: the closing's energy is gone at the cost of a
 few smooth steps, where the sub-steps cost the contact phase about eight steps per step.
+There the releasing step (the last test above) is also taken aside in sub-steps, which
+read the contact's end at a sub-step's resolution and leave the run as it is
+(:class:`Releases`).
 
 Linear models factorize their iteration matrix once per step size: the split steps' sizes
 are used once, so their factorizations (and the correction's columns) are dropped after the
@@ -49,7 +52,7 @@ import time
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, SolverError
 from ..ledger import joined_record
 from .nsga import smooth_phases
 from .settings import RunSettings
@@ -63,6 +66,7 @@ __all__ = [
     "MIN_REST",
     "TOGETHER",
     "Localizer",
+    "Releases",
     "joined",
     "frictionless_solids",
     "localized_step",
@@ -101,6 +105,11 @@ taken as chattering; longer, it is a lasting contact."""
 RELEASE = 2.0
 """Steps within which a contact whose mean force falls reaches zero along the line of its
 last two steps' forces: the step is taken in sub-steps (the release falls inside it)."""
+
+READ_RELEASE = 1.0
+"""The same for the solids "auto" localizes in whole steps, whose release is read from
+sub-steps taken aside (:class:`Releases`): Hertz's balls read the same instants with 2.0
+(docs/validation/localization.md) at the cost of up to a step more of sub-steps."""
 
 
 def localizes(model, opts: RunSettings) -> bool:
@@ -152,11 +161,14 @@ def localized_step(model, st: State, h: float, opts: RunSettings, timer: PhaseTi
 def localized_stepper(model, opts: RunSettings):
     """The step function of a run of ``model`` with ``opts`` that localizes its impacts,
     decided once: a :class:`Localizer` (sub-steps while a contact chatters) where a body is
-    flexible and ``localize`` is on, :func:`localized_step` itself (whole steps) where the
-    bodies are rigid or "auto" chose it for solids (:func:`frictionless_solids`)."""
+    flexible and ``localize`` is on, :class:`Releases` (whole steps, sub-steps where a
+    contact releases) where "auto" chose it for solids (:func:`frictionless_solids`), and
+    :func:`localized_step` itself (whole steps) where the bodies are rigid."""
     flexible = model.continuum or model.slender
     if flexible and opts.localize is True and CHATTER > 1:
         return Localizer(model)
+    if flexible and CHATTER > 1:
+        return Releases(model)
     return localized_step
 
 
@@ -187,14 +199,14 @@ class Localizer:
         self.closed = st.t  # a closing: the step again, in sub-steps
         return self._subdivided(model, st, h, opts, timer)
 
-    def _releasing(self, st: State) -> bool:
+    def _releasing(self, st: State, within: float = RELEASE) -> bool:
         """Whether a contact's mean force, falling from the step before ``st``'s to
-        ``st``'s, reaches zero within ``RELEASE`` steps along that line (its release); notes
+        ``st``'s, reaches zero within ``within`` steps along that line (its release); notes
         the forces of ``st``."""
         force = st.mean_force() if st.impulse.size == self.force.size else self.force * 0
         before, self.force = self.force, force
         falling = (force > 0.0) & (force < before)
-        return bool(np.any(falling & (force <= RELEASE * (before - force))))
+        return bool(np.any(falling & (force <= within * (before - force))))
 
     def _subdivided(self, model, st, h, opts, timer) -> State:
         """The step from ``st`` over ``h`` as ``substeps`` localized steps, joined; a closing
@@ -218,6 +230,54 @@ class Localizer:
             part.ledger = joined_record(model, out, part)  # every sub-step's contact phases
             out = joined(out, part, h)
         return out
+
+
+class Releases(Localizer):
+    """The localized step of one run of solids that "auto" localizes: whole steps, the
+    closings located in them. Where a step starts pressed and a contact's mean force reaches
+    zero within ``READ_RELEASE`` steps along the line of its last two steps'
+    (:meth:`Localizer._releasing`), the run is also taken aside from that state in
+    ``CHATTER`` sub-steps a step, for at most ``READ_RELEASE`` + 1 steps, only to read where
+    the contact lets go (the end of the last sub-step with a force). When the run's own
+    steps release within a step after it, the run's last release is that reading, not the
+    end of the whole step (Hertz's t_c in docs/validation/localization.md). The run goes on
+    from its whole steps: the sub-steps change nothing of it, and their work is counted
+    (``release_probes``)."""
+
+    def __init__(self, model):
+        super().__init__(model)
+        self.read = (None, -np.inf)  # (s, s): the release a probe read, the probe's end
+
+    def __call__(self, model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
+        pressed, (release, until) = st.pressed().any(), self.read
+        if self._releasing(st, READ_RELEASE) and pressed and st.t > until:
+            self.read = release, until = self._probe(model, st, h, opts, timer)
+        out = localized_step(model, st, h, opts, timer)
+        if pressed and not out.pressed().any():  # (the run's release, at the step's start)
+            located = release is not None and st.t <= until
+            opts.stats.localization.last_release = release if located else st.t
+        return out
+
+    def _probe(self, model, st, h, opts, timer) -> tuple:
+        """(the release read and a step after it, or None and the end of the span probed)
+        (s) of sub-steps of ``h``/``substeps`` from ``st`` (localized), at most
+        ``READ_RELEASE`` + 1 steps' worth, until one carries no force (a sub-step that fails
+        reads nothing, counted ``unrefined``); their step size leaves no factorization
+        behind."""
+        stats = opts.stats.localization
+        stats.release_probes += 1
+        kept, cur, k = _cache_keys(model), st, h / self.substeps
+        try:
+            for _ in range(int(READ_RELEASE + 1) * self.substeps):
+                nxt = localized_step(model, cur, k, opts, timer)
+                if not nxt.pressed().any():  # (the run's own steps release within a step)
+                    return cur.t, cur.t + h * (1.0 + 1e-9)
+                cur = nxt
+        except SolverError:  # (the run's own step decides; the release is read at its end)
+            stats.fallbacks["unrefined"] += 1
+        finally:
+            stats.factorizations += _drop_caches(model, kept)
+        return None, cur.t
 
 
 def _penetrates(model, phases, opts) -> bool:

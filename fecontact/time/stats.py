@@ -43,15 +43,19 @@ class Localization:
     ``max_impacts`` times, or too little of it left), ``persistent`` (a contact was already
     pressed at the step's start), ``grazing`` (the gap closes with ġ ≈ 0), ``unrefined``
     (no instant found to the gap tolerance); ``subdivided`` counts the steps of a flexible
-    model taken in sub-steps while a contact chattered. ``first_closing`` is the earliest
+    model taken in sub-steps while a contact chattered, ``release_probes`` the steps of solids
+    also taken aside in sub-steps to read a release (:class:`fecontact.time.localize.Releases`).
+    ``first_closing`` is the earliest
     located closing instant (s) and ``last_release`` the end of the last (sub-)step of a
-    flexible model in which a contact carried a force before one in which none did (s):
+    flexible model in which a contact carried a force before one in which none did (s; for
+    the solids "auto" localizes, that of the sub-steps taken aside where the run releases):
     a single impact's duration is their difference (None: not seen)."""
 
     impacts: int = 0
     smooth_steps: int = 0
     factorizations: int = 0
     subdivided: int = 0
+    release_probes: int = 0
     first_closing: float | None = None
     last_release: float | None = None
     fallbacks: dict = field(
@@ -128,6 +132,7 @@ class StepStats:
                 "smooth_steps": self.localization.smooth_steps,
                 "factorizations": self.localization.factorizations,
                 "subdivided_steps": self.localization.subdivided,
+                "release_probes": self.localization.release_probes,
             },
             "localized_contact_span_s": [
                 self.localization.first_closing,
