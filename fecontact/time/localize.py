@@ -299,12 +299,15 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list):
     tol, rows, tau, rate, g0 = crossing
     stats = opts.stats.localization
     reason = None
+    beside = np.any(st.pressed() & (phases.g_tilde <= tol))  # a contact pressed throughout
     if done >= MAX_IMPACTS or (done and left < MIN_REST * h):
         reason = "accumulation"
-    elif np.any(st.pressed() & (phases.g_tilde <= tol)) and not frictionless_solids(model):
+    elif beside and not frictionless_solids(model):
         reason = "persistent"
     elif rows.size == 0:
         reason = "unrefined"
+    elif beside and done + _instants(tau, TOGETHER * h / left) > MAX_IMPACTS:
+        reason = "accumulation"  # (a patch whose rings the step could not all locate)
     else:
         together = np.flatnonzero(tau <= tau.min() + TOGETHER * h / left)
         k = together[np.argmax(tau[together])]  # the last of those taken together
@@ -317,6 +320,12 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list):
         reason = "unrefined"
     stats.fallbacks[reason] += 1
     return None
+
+
+def _instants(tau: np.ndarray, together: float) -> int:
+    """How many instants the crossings at ``tau`` (fractions of the step's rest) close at,
+    those within ``together`` of the one before taken as one."""
+    return 1 + int(np.count_nonzero(np.diff(np.sort(tau)) > together))
 
 
 def _crossing(model, st, phases, left, opts):
