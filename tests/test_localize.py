@@ -256,6 +256,7 @@ def test_counts_in_the_summary_and_the_command_line_switch(tmp_path):
         "persistent",
         "grazing",
         "unrefined",
+        "failed",
     }
     args = ["run", "--quiet", "--out", str(tmp_path / "off"), "--t-end", "1", "--checkpoint-every"]
     path = str(case("bouncing_ball").__file__)

@@ -50,14 +50,18 @@ def correction_metric(model, q, S, c, kind):
     return lambda: matrix / c.bp, lambda b: c.bp * solve_S(b)
 
 
-def position_correction(model, q_tilde, cand, metric, c, opts, tol_gap, nu0=None):
+def position_correction(model, q_tilde, cand, metric, c, opts, tol_gap, nu0=None, held=None):
     """Step 2: q = q̃ + U, H U = Σ G_jᵀ [k ν_j − p g_j]_+ over the contacts ``cand``, with
     the joints kept as equalities (always active, multipliers of any sign); ``metric`` is
     (H, solve_H) from :func:`correction_metric`, ``nu0`` the contacts' multipliers of the previous
-    step."""
+    step. The ``held`` contacts (a mask over ``cand``: pressed by a smooth force at q̃) are
+    equalities too, g_j = 0 with ν_j of either sign: the correction of a contact that closes
+    beside them neither lifts them off nor pushes them in (:mod:`.smooth_contact`)."""
     F = model.free
     H, solve_H = metric
     cons = Constraints(model, cand)
+    if held is not None:
+        cons.bilateral[: cand.size] = held
     _, G0 = cons.jacobian(q_tilde)
     constant = model.linear or opts.metric == "mass"
     Y0 = constraint_columns(model, (opts.metric, c.bp, c.gp), cand, G0, solve_H, cons, constant)

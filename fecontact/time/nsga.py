@@ -182,7 +182,7 @@ class _Phases:
             self.closed = cand[g_cand <= self.tol_gap]
             return
         was_active = st.nu[cand] > 0.0 if st.nu.size == m else False
-        if self.grip is not None:  # contacts gripped by the smooth step keep their grip
+        if self.force is not None:  # contacts pressed by the smooth step stay closed (held)
             was_active = was_active | (self.force[cand] > 0.0)
         work = cand[short | was_active]
         q_tilde = self.q_tilde = q
@@ -222,7 +222,10 @@ class _Phases:
             self.iters["position"] += its
             return U, nu_w, (nu_t, U_t)
         nu0 = st.nu[work] / opts.multiplier_scale  # warm start: the previous step's
-        U, nu_w, its = position_correction(model, q_tilde, work, metric, c, opts, self.tol_gap, nu0)
+        held = None if self.force is None else self.force[work] > 0.0
+        U, nu_w, its = position_correction(
+            model, q_tilde, work, metric, c, opts, self.tol_gap, nu0, held
+        )
         self.iters["position"] += its
         return U, nu_w, None
 
@@ -237,19 +240,9 @@ class _Phases:
         )
         preload = None if grip is None else self.h * grip[closed]  # the smooth forces' impulse
         W, Lam, self.iters["velocity"], tangential, self.works = velocity_jump(
-            model,
-            self.st,
-            self.q,
-            self.v,
-            closed,
-            self.g_tilde,
-            self.opts,
-            self.t,
-            tol_gap,
-            self.Gb,
-            held,
-            preload,
-        )
+            model, self.st, self.q, self.v, closed, self.g_tilde, self.opts, self.t, tol_gap,
+            self.Gb, held, preload,
+        )  # fmt: skip
         self.v[model.free_slice] += W
         if closed.size:
             self.impulse[closed] = Lam[: closed.size]

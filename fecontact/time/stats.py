@@ -42,7 +42,8 @@ class Localization:
     left to the end-of-step impact, by reason: ``accumulation`` (the step already split
     ``max_impacts`` times, or too little of it left), ``persistent`` (a contact was already
     pressed at the step's start), ``grazing`` (the gap closes with ġ ≈ 0), ``unrefined``
-    (no instant found to the gap tolerance); ``subdivided`` counts the steps of a flexible
+    (no instant found to the gap tolerance), ``failed`` (a smooth step of the split step did
+    not converge: the step taken whole); ``subdivided`` counts the steps of a flexible
     model taken in sub-steps while a contact chattered, ``release_probes`` the steps of solids
     also taken aside in sub-steps to read a release (:class:`fecontact.time.localize.Releases`).
     ``first_closing`` is the earliest
@@ -60,7 +61,7 @@ class Localization:
     last_release: float | None = None
     fallbacks: dict = field(
         default_factory=lambda: dict.fromkeys(
-            ("accumulation", "persistent", "grazing", "unrefined"), 0
+            ("accumulation", "persistent", "grazing", "unrefined", "failed"), 0
         )
     )
 
