@@ -10,11 +10,16 @@ s = (t − t_n)/h ∈ [0, 1] with the end values g_0, g_1 and slopes h ġ_0, h �
     g(s) = (2s³ − 3s² + 1) g_0 + (s³ − 2s² + s) h ġ_0 + (−2s³ + 3s²) g_1 + (s³ − s²) h ġ_1,
 
 then refined by smooth steps from t_n to δ (regula falsi, Illinois variant, on the gap at
-the end of each) until |g(t_n + δ)| ≤ tol. The last of them is the smooth step of a step of
+the end of each) until 0 ≤ g(t_n + δ) ≤ tol, aimed at tol/2 (the interpolant's root too): the
+gap is closed within its tolerance on its open side, so no position correction (and no
+factorization of its metric) is needed. The last of them is the smooth step of a step of
 δ: its corrections apply the impact law with the gap closed (Newton's or Poisson's, the
 NSGA's own phases), and the rest of the step starts from there, where a later closing may
-be located in turn. Of several crossings the earliest is taken, with those that close
-within ``TOGETHER`` of the step after it (the correction closes them with it).
+be located in turn; its smooth step, the impact's elastic response, is solved by modified
+Newton (S_t's factors kept while the residual falls: one factorization where full Newton
+made about three on the Neo-Hookean disk). Of several crossings the earliest is taken, with
+those that close within ``TOGETHER`` of the step after it (the correction closes them with
+it).
 
 The step is left to the end-of-step treatment, counted by reason in the run's statistics:
 ``accumulation`` (``MAX_IMPACTS`` impacts already located in the step, or less than
@@ -236,7 +241,7 @@ def _split_step(model, st, h, opts, timer, phases) -> State:
     try:
         while True:
             if parts:
-                phases = smooth_phases(model, cur, left, opts, timer)
+                phases = _rest_phases(model, cur, left, opts, timer)
             split = _split(model, cur, phases, left, h, len(parts), opts, timer, kept)
             if split is None:
                 parts.append(phases.finish(time.perf_counter()))
@@ -259,6 +264,19 @@ def _split_step(model, st, h, opts, timer, phases) -> State:
         out = joined(out, part, h)
     out.h = h
     return out
+
+
+def _rest_phases(model, st, left, opts, timer):
+    """The smooth step of the rest of a step after a located impact, from ``st`` over
+    ``left`` (s), by modified Newton (:data:`~.acceleration_form.CONTRACTION`): the impact's
+    elastic response, about three updates from one factorization of S_t where each full
+    Newton update factorized its own."""
+    loop = opts.plan.loop(model, opts, timer)
+    loop.frozen = True
+    try:
+        return smooth_phases(model, st, left, opts, timer)
+    finally:
+        loop.frozen = False
 
 
 def _split(model, st, phases, left, h, done, opts, timer, kept: list):
@@ -315,7 +333,8 @@ def _crossing(model, st, phases, left, opts):
     _, G0 = contacts.jacobian(st.q, rows)
     _, G1 = contacts.jacobian(phases.q, rows)
     s0, s1 = left * (G0 @ st.v[F]), left * (G1 @ phases.v[F])  # slopes in s
-    tau, slope = hermite_root(g0[rows], s0, g1[rows], s1)
+    half = 0.5 * tol  # (aimed inside the tolerance, on the open side: no correction)
+    tau, slope = hermite_root(g0[rows] - half, s0, g1[rows] - half, s1)
     return tol, rows, tau, slope / left, g0[rows]
 
 
@@ -358,21 +377,23 @@ def hermite_root(g0, s0, g1, s1, samples: int = 32, iterations: int = 30):
 
 
 def _refine(model, st, phases, left, j, guess, tol, opts, timer):
-    """(δ, the phases of the smooth step of δ from ``st`` that ends with |g_j| ≤ ``tol``):
-    regula falsi (Illinois) on δ ∈ (0, left) from the Hermite ``guess`` (τ, g_j at the
-    start), δ = τ·left first; None when ``MAX_REFINE`` smooth steps do not find it."""
+    """(δ, the phases of the smooth step of δ from ``st`` that ends with 0 ≤ g_j ≤ ``tol``):
+    regula falsi (Illinois) on g_j − tol/2 over δ ∈ (0, left) from the Hermite ``guess`` (τ,
+    g_j at the start), δ = τ·left first; None when ``MAX_REFINE`` smooth steps do not find
+    it."""
     stats = opts.stats.localization
     tau, g0 = guess
-    a, ga = 0.0, float(g0)
-    b, gb = left, float(phases.g_tilde[j])
+    half = 0.5 * tol  # (the aim: 0 ≤ g ≤ tol, no position correction, module docstring)
+    a, ga = 0.0, float(g0) - half
+    b, gb = left, float(phases.g_tilde[j]) - half
     delta, side = tau * left, 0
     for _ in range(MAX_REFINE):
         trial = smooth_phases(model, st, delta, opts, timer)
         stats.smooth_steps += 1
         model.contacts.set_time(trial.t)
         trial.g_tilde = model.contacts.gaps(trial.q)
-        g = float(trial.g_tilde[j])
-        if abs(g) <= tol:
+        g = float(trial.g_tilde[j]) - half
+        if abs(g) <= half:
             return delta, trial
         if not np.isfinite(g):
             return None
