@@ -144,11 +144,11 @@ def joined_record(model, first, second) -> np.ndarray | None:
         dV = model.strain_energy(first.q) + model.potential_energy(first.q) - r1[1]
     if r2 is None:  # the second part has no contact phase: it ends where its smooth step does
         r2 = smooth_record(model, True, second.v, second.q)
-    else:  # (NaN: the smooth step's end is the part's end)
+    else:  # (NaN: the smooth step's end is the part's end, and stays the step's where d = 0)
         r2 = r2.copy()
-        if math.isnan(r2[0]):
+        if math.isnan(r2[0]) and dT:
             r2[0] = model.kinetic_energy(second.v)
-        if math.isnan(r2[1]):
+        if math.isnan(r2[1]) and dV:
             r2[1] = model.strain_energy(second.q) + model.potential_energy(second.q)
     out = np.zeros(max(r1.size, r2.size, 6))
     out[: r2.size] = r2
