@@ -15,6 +15,13 @@ velocity from the reference's at the same instants, over the approach speed.
     python benchmarks/solid_localization.py                  # every solid case, ~10 min
     python benchmarks/solid_localization.py --case ball_drop # one case
     python benchmarks/solid_localization.py --quick          # seconds
+    python benchmarks/solid_localization.py --step-cost      # the impact step's cost, ~1 min
+
+``--step-cost``: the first impact step of ``disk_drop`` and ``ball_drop`` (defaults and one
+refinement less), localized ("auto", whole steps) against the end-of-step impact
+(``localize`` off) from the same state: the CPU time of that step, medians of alternated
+repeats in one process; and of the impact step with the step after it (the off run's next
+step takes the impact's elastic response, which the localized step takes in its rest).
 """
 
 from __future__ import annotations
@@ -23,9 +30,11 @@ from __future__ import annotations
 import fecontact  # noqa: F401  (before numpy: single-threaded OpenBLAS)
 
 # isort: on
+import copy
 import dataclasses
 import json
 import math
+import statistics
 import tempfile
 import time
 from pathlib import Path
@@ -70,9 +79,9 @@ def run_one(row: cm.Row, substeps: int) -> dict:
     from fecontact import Probe, SolverError, run
     from fecontact.cli.cases import load_case
     from fecontact.io.output import read_json
-    from fecontact.time import localize
+    from fecontact.time import substeps as chatter
 
-    localize.CHATTER = substeps
+    chatter.CHATTER = substeps
     sim = load_case(row.case).build(**row.params)
     options = dataclasses.replace(sim.options, **row.options)
     sim = sim.replace(dt=sim.dt * row.dt_factor, t_end=row.t_end, options=options)
@@ -154,6 +163,97 @@ def approach_speed(row: cm.Row, default: dict) -> float:
     return abs(float(value)) if value else 1.0
 
 
+COST_CASES = (
+    ("disk_drop", {}),
+    ("disk_drop", {"refinements": 2}),
+    ("ball_drop", {}),
+    ("ball_drop", {"refinements": 1}),
+)
+COST_COLUMNS = ["case", "params", "on_ms", "off_ms", "ratio", "pair_ratio", "refinements"]
+
+
+def before_impact(name: str, params: dict, localize):
+    """(stepper, the state at the start of the first step that ends with a contact impulse,
+    the run's timer, the run's statistics) of the case ``name`` with ``params``."""
+    from fecontact.cli.cases import load_case
+    from fecontact.time import IntegratorOptions, PhaseTimer, initial_state, make_stepper
+
+    sim = load_case(name).build(**params)
+    opts = IntegratorOptions(**{**vars(sim.options), "localize": localize})
+    stepper = make_stepper(sim.model, opts, None, 1 << 20)
+    sim.model.contacts.detect_within(opts.detection_margin * sim.model.length)
+    timer = PhaseTimer()
+    st = initial_state(sim.model, sim.q0, sim.v0, opts.tol_gap)
+    while True:
+        end = stepper.step(copy.deepcopy(st), sim.dt, timer)
+        if np.any(end.impulse > 0.0):
+            return stepper, st, timer, sim.dt
+        st = end
+
+
+def step_cost(name: str, params: dict, repeats: int) -> dict:
+    """CPU ms (medians of ``repeats``, "auto" and off alternated) of the first impact step,
+    and of it with the step after it, localized and not, from the same state."""
+    runs = {loc: before_impact(name, params, loc) for loc in ("auto", False)}
+    assert np.array_equal(runs["auto"][1].q, runs[False][1].q), name  # the same state
+    one, two = {loc: [] for loc in runs}, {loc: [] for loc in runs}
+    for _ in range(repeats):
+        for loc, (stepper, st, timer, h) in runs.items():
+            start = copy.deepcopy(st)
+            clock = time.process_time()
+            end = stepper.step(start, h, timer)
+            mid = time.process_time()
+            stepper.step(end, h, timer)
+            one[loc].append(mid - clock)
+            two[loc].append(time.process_time() - clock)
+    on, off = statistics.median(one["auto"]), statistics.median(one[False])
+    stats = runs["auto"][0].stats.localization
+    return {
+        "case": name,
+        "params": json.dumps(params),
+        "on_ms": 1e3 * on,
+        "off_ms": 1e3 * off,
+        "ratio": on / off,
+        "pair_ratio": statistics.median(two["auto"]) / statistics.median(two[False]),
+        "refinements": stats.smooth_steps / max(stats.impacts, 1),
+    }
+
+
+def cost_table(args) -> None:
+    """The ``--step-cost`` table (module docstring)."""
+    repeats = 5 if args.quick else 41
+    cases = COST_CASES[1:2] if args.quick else COST_CASES
+    table = [step_cost(name, params, repeats) for name, params in cases]
+    stem = "solid_localization_step_cost" + ("_quick" if args.quick else "")
+    write_csv(Path(args.out) / f"{stem}.csv", table, COST_COLUMNS)
+    text = "\n".join(
+        [
+            "# The localized impact step against the end-of-step one, from the same state",
+            "",
+            f"CPU ms of the first impact step, medians of {repeats} alternated repeats; "
+            "pair_ratio: the impact step with the step after it; refinements: refining "
+            "smooth steps per located impact.",
+            "",
+            markdown_table(table, COST_COLUMNS),
+        ]
+    )
+    print(text)
+    write_markdown(Path(args.out) / f"{stem}.md", text)
+
+
+def print_rows(rows: list[dict]) -> None:
+    """One line for each run of ``rows`` (progress)."""
+    for e in rows:
+        print(
+            f"{e['case']:13s} {e['row']:22s} {e['run']:7s} {e.get('status')!s:9s} "
+            f"{e.get('time', math.nan):6.2f} s created {e.get('created_rel', math.nan):.3g} "
+            f"err {e['error']:.3g} pen {e.get('max_penetration', math.nan):.2g} "
+            f"mortar {e.get('mortar_depth', math.nan):.3g} sub {e.get('subdivided')} "
+            f"{e.get('fallbacks', '')}",
+            flush=True,
+        )
+
+
 def main() -> None:
     from fecontact.cli.cases import load_case
     from fecontact.params import declared_parameters
@@ -163,7 +263,11 @@ def main() -> None:
     p.add_argument("--row", action="append", help="only the rows of this label (repeatable)")
     p.add_argument("--timeout", type=float, default=600.0, help="per run, s (default 600)")
     p.add_argument("--worker", help=cm.argparse_hidden())
+    p.add_argument("--step-cost", action="store_true", help="the impact step's cost alone")
     args = p.parse_args()
+    if args.step_cost:
+        cost_table(args)
+        return
     if args.worker:
         row, sub = json.loads(args.worker)
         print(json.dumps(run_one(cm.Row(**row), sub), default=float))
@@ -180,15 +284,7 @@ def main() -> None:
         default = {k: p.default for k, p in declared_parameters(load_case(row.case).build).items()}
         table += measure(row, approach_speed(row, default), args.timeout)
         write_csv(Path(args.out) / f"{stem}.csv", table, COLUMNS)
-        for e in table[-len(VARIANTS) :]:
-            print(
-                f"{e['case']:13s} {e['row']:22s} {e['run']:7s} {e.get('status')!s:9s} "
-                f"{e.get('time', math.nan):6.2f} s created {e.get('created_rel', math.nan):.3g} "
-                f"err {e['error']:.3g} pen {e.get('max_penetration', math.nan):.2g} "
-                f"mortar {e.get('mortar_depth', math.nan):.3g} sub {e.get('subdivided')} "
-                f"{e.get('fallbacks', '')}",
-                flush=True,
-            )
+        print_rows(table[-len(VARIANTS) :])
     text = "\n".join(
         [
             "# Impact localization on the solid cases",

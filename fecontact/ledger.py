@@ -136,22 +136,24 @@ def joined_record(model, first, second) -> np.ndarray | None:
     r1, r2 = first.ledger, second.ledger
     if r1 is None:
         return r2
-    T1 = model.kinetic_energy(first.v)
-    V1 = model.strain_energy(first.q) + model.potential_energy(first.q)
+    # T_1 − T̃_1 and V_1 − Ṽ_1: zero, not evaluated, where the first part ends where its
+    # smooth step does (NaN)
+    dT = 0.0 if math.isnan(r1[0]) else model.kinetic_energy(first.v) - r1[0]
+    dV = 0.0
+    if not math.isnan(r1[1]):
+        dV = model.strain_energy(first.q) + model.potential_energy(first.q) - r1[1]
     if r2 is None:  # the second part has no contact phase: it ends where its smooth step does
         r2 = smooth_record(model, True, second.v, second.q)
-    else:  # (NaN: the smooth step's end is the part's end)
+    else:  # (NaN: the smooth step's end is the part's end, and stays the step's where d = 0)
         r2 = r2.copy()
-        if math.isnan(r2[0]):
+        if math.isnan(r2[0]) and dT:
             r2[0] = model.kinetic_energy(second.v)
-        if math.isnan(r2[1]):
+        if math.isnan(r2[1]) and dV:
             r2[1] = model.strain_energy(second.q) + model.potential_energy(second.q)
-    T1_tilde = T1 if math.isnan(r1[0]) else r1[0]
-    V1_tilde = V1 if math.isnan(r1[1]) else r1[1]
     out = np.zeros(max(r1.size, r2.size, 6))
     out[: r2.size] = r2
-    out[0] = r2[0] - (T1 - T1_tilde)
-    out[1] = r2[1] - (V1 - V1_tilde)
+    out[0] = r2[0] - dT
+    out[1] = r2[1] - dV
     out[2] = r1[2] + r2[2]
     out[3:6] += r1[3:6] if r1.size >= 6 else 0.0
     if r1.size > 6:  # the first part's release

@@ -11,12 +11,8 @@ import pytest
 from fecontact import run
 from fecontact.testing import G, case, trace
 from fecontact.time import IntegratorOptions, run_settings
-from fecontact.time.localize import (
-    Localizer,
-    Releases,
-    localized_stepper,
-    localizes,
-)
+from fecontact.time.localize import localizes
+from fecontact.time.substeps import Localizer, Releases, localized_stepper
 
 
 def decided(name, **params):

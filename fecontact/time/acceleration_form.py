@@ -38,7 +38,12 @@ from .generalized_alpha import predict
 from .lie import LieStep, predict_increment
 from .terms import StepContext
 
-__all__ = ["AccelerationForm"]
+__all__ = ["CONTRACTION", "AccelerationForm", "held_factors"]
+
+CONTRACTION = 0.9
+"""Modified Newton (the loop's ``frozen``): the factors of an earlier update are kept while
+each update lowers the relative residual by at least this factor, else S_t is made again at
+the iterate (a semi-smooth contact update lowers it by about half, full Newton or not)."""
 
 
 class AccelerationForm:
@@ -49,8 +54,8 @@ class AccelerationForm:
     ``law``: unused (the step needs nothing else)."""
 
     __slots__ = (
-        "S armijo csc dq group lie model newton opts plain plan previous r ref rnorm s small "
-        "solve step x"
+        "S armijo csc dq group held lie model newton opts plain plan previous r ref rnorm s "
+        "small solve step x"
     ).split()
 
     def __init__(self, newton, st, c, t: float, P, law=None):  # (newton: the loop)
@@ -68,6 +73,7 @@ class AccelerationForm:
         """Start the step from ``st`` with the coefficients ``c`` to the time ``t`` (s) at
         its predictor, nothing of a previous step kept."""
         self.S = self.solve = self.armijo = self.x = self.dq = self.small = self.r = None
+        self.held = None  # (modified Newton: held_factors)
         self.plain = True  # every solve was with S_t alone: S_t's solver is a metric
         self.previous, self.s = math.inf, 1.0
         self.rnorm, self.ref = math.inf, 1.0
@@ -135,8 +141,9 @@ class AccelerationForm:
         step, newton = self.step, self.newton
         rowed = newton.rowed
         self.small = None  # (whether dq is below the increment tolerance, where known)
-        self._matrix()
         touching = [term for term in rowed if term.touching()] if rowed else None
+        if not held_factors(self, touching):
+            self._matrix()
         if not touching:
             dq = self._plain_update()
         elif (
@@ -169,9 +176,9 @@ class AccelerationForm:
             self.S = self.lie.iteration_matrix(self.S, self.newton.elastic.K)
 
     def _factors(self):
-        """S_t's solver (factorized here unless reused)."""
-        if not self.plan.reuse:  # (on a group S_t is not symmetric: gyroscopic, T(D))
-            symmetric = self.lie is None
+        """S_t's solver (factorized here unless reused or held)."""
+        if not (self.plan.reuse or _holding(self.held)):
+            symmetric = self.lie is None  # (on a group: gyroscopic forces, T(D))
             S = self.S if self.csc is None else self.csc(self.S)
             self.solve = factorize_or_fail(S, self.rnorm / self.ref, symmetric, self.model.solver)
         return self.solve
@@ -268,8 +275,7 @@ class AccelerationForm:
         )
 
     def halves(self) -> bool:
-        """Halve the last update where it did not lower the residual (up to six times);
-        whether it did."""
+        """Halve the last update that did not lower the residual (six times at most)."""
         if self.dq is not None and self.rnorm >= self.previous and self.s > 1.0 / 64.0:
             self.s *= 0.5
             step = self.step
@@ -282,12 +288,39 @@ class AccelerationForm:
 
     def lam(self) -> np.ndarray:
         """The joints' multipliers λ_b (N)."""
-        joints = self.newton.joints
-        return self.step.st.lam.copy() if joints is None else joints.lam
+        return self.step.st.lam.copy() if self.newton.joints is None else self.newton.joints.lam
 
     def metric(self):
         """(S_t, its solver) where every solve was with S_t alone and there are no joints:
         the metric of the position correction; else None (rebuilt on demand)."""
-        if self.S is not None and self.plain and self.newton.joints is None:
-            return self.S, self.solve
+        if self.S is not None and self.plain and not _holding(self.held):
+            return (self.S, self.solve) if self.newton.joints is None else None
         return None
+
+
+def held_factors(form: AccelerationForm, touching) -> bool:
+    """Modified Newton, where the ``form``'s loop is ``frozen`` on a nonlinear model off a
+    group: whether the update through S_t's own factors (one term's Schur complement, the
+    ``touching`` terms) keeps those of an earlier update, which it may while the relative
+    residual fell by ``CONTRACTION`` since. Notes in ``form.held`` the residual at which the
+    factors serve: negative where they were not made at the iterate, None where none serve
+    (a bordered solve)."""
+    if not form.newton.frozen or form.plan.reuse or form.lie is not None:
+        return False
+    res = form.rnorm / form.ref  # (relative: the reference moves with the iterate)
+    if not touching:  # (a plain update: its factors of S_t may serve later ones)
+        form.held = res
+        return False
+    if not (len(touching) == 1 and touching[0].schur):
+        form.held = None
+        return False
+    held, form.held = form.held, res
+    if held is None or not res <= CONTRACTION * abs(held):
+        return False
+    form.held = -res
+    return True
+
+
+def _holding(held) -> bool:
+    """Whether the factors of S_t serving the iterate were made at an earlier one."""
+    return held is not None and held < 0.0

@@ -29,7 +29,9 @@ __all__ = ["SmoothStep", "alpha_plan", "alpha_smooth_step"]
 class SmoothStep(NamedTuple):
     """The smooth step's result: positions, velocities, accelerations v̇ and a, joint
     multipliers λ (N), the iteration matrix with its solver for the correction metric (None
-    with joints), the Newton iterations, and the joints' gradient at q (None when stale)."""
+    with joints), the Newton iterations, and the joints' gradient at q (None when stale);
+    ``fint``: the internal forces at q (N, all dofs; None where the last update moved q after
+    they were evaluated)."""
 
     q: np.ndarray
     v: np.ndarray
@@ -42,6 +44,7 @@ class SmoothStep(NamedTuple):
     force: np.ndarray | None  # λ of every contact (N), None without persistent contacts
     friction_force: np.ndarray | None  # λ_T (m, nt) (N), None without persistent friction
     friction_work: float  # the energy λ_T dissipated over the step's slip (J)
+    fint: np.ndarray | None = None
 
 
 def alpha_plan(model, smooth: bool, friction: bool, extra=()) -> NewtonPlan:
@@ -100,7 +103,8 @@ def alpha_smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
     if newton.rowed:  # (the persistent contacts' forces, where they are a term)
         force, force_t, work = _contact_forces(newton.rowed, model.contacts.size)
     form = newton.form
-    return SmoothStep(q, v, vd, a, form.lam(), form.metric(), it, Gb, force, force_t, work)
+    fint = None if stale else newton.elastic.fint
+    return SmoothStep(q, v, vd, a, form.lam(), form.metric(), it, Gb, force, force_t, work, fint)
 
 
 def _contact_forces(rowed, m: int):

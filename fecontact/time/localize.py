@@ -10,11 +10,16 @@ s = (t − t_n)/h ∈ [0, 1] with the end values g_0, g_1 and slopes h ġ_0, h �
     g(s) = (2s³ − 3s² + 1) g_0 + (s³ − 2s² + s) h ġ_0 + (−2s³ + 3s²) g_1 + (s³ − s²) h ġ_1,
 
 then refined by smooth steps from t_n to δ (regula falsi, Illinois variant, on the gap at
-the end of each) until |g(t_n + δ)| ≤ tol. The last of them is the smooth step of a step of
+the end of each) until 0 ≤ g(t_n + δ) ≤ tol, aimed at tol/2 (the interpolant's root too): the
+gap is closed within its tolerance on its open side, so no position correction (and no
+factorization of its metric) is needed. The last of them is the smooth step of a step of
 δ: its corrections apply the impact law with the gap closed (Newton's or Poisson's, the
 NSGA's own phases), and the rest of the step starts from there, where a later closing may
-be located in turn. Of several crossings the earliest is taken, with those that close
-within ``TOGETHER`` of the step after it (the correction closes them with it).
+be located in turn; its smooth step, the impact's elastic response, is solved by modified
+Newton (S_t's factors kept while the residual falls: one factorization where full Newton
+made about three on the Neo-Hookean disk). Of several crossings the earliest is taken, with
+those that close within ``TOGETHER`` of the step after it (the correction closes them with
+it).
 
 The step is left to the end-of-step treatment, counted by reason in the run's statistics:
 ``accumulation`` (``MAX_IMPACTS`` impacts already located in the step, or less than
@@ -31,22 +36,8 @@ entered by about −ġ(1 − τ)h is pushed out by the correction, whose strain 
 impact did not have (the ball at 10 m/s: 0.343 J of strain against 0.087 J of kinetic
 energy taken by the jump, 1.06 % of the run's scale created in one step).
 
-On a flexible body (a beam or a solid) a closing starts a contact phase of its own dynamics:
-the body's elastic spring-back lifts the point off and it strikes again, several times within
-a few steps (a chattering contact). A step of h holds such a contact pressed for as long as
-the smooth step still drives it in, which it does for several steps after the converged
-release. So a step of a flexible model in which a contact closes, or that starts with a
-contact pressed within ``CHATTER_WINDOW`` steps of the latest closing, or one whose mean
-force falls to zero within ``RELEASE`` steps along the line of its last two, is taken as
-``CHATTER`` sub-steps, each localized as above: the releases and re-strikes fall at the
-sub-steps' resolution and every re-strike is located. A contact pressed for longer is a
-lasting one, left to the step. Such steps are counted (``subdivided_steps``). They are
-taken with ``localize`` on; "auto" localizes the solids it chooses
-(:func:`frictionless_solids`) in whole steps: the closing's energy is gone at the cost of a
-few smooth steps, where the sub-steps cost the contact phase about eight steps per step.
-There the releasing step (the last test above) is also taken aside in sub-steps, which
-read the contact's end at a sub-step's resolution and leave the run as it is
-(:class:`Releases`).
+Flexible bodies' chattering contacts and the release read aside for solids take these
+steps in sub-steps (:mod:`fecontact.time.substeps`).
 
 Linear models factorize their iteration matrix once per step size: the split steps' sizes
 are used once, so their factorizations (and the correction's columns) are dropped after the
@@ -59,7 +50,7 @@ import time
 
 import numpy as np
 
-from ..errors import InputError, SolverError
+from ..errors import InputError
 from ..ledger import joined_record
 from .constraints import StepFailure
 from .nsga import smooth_phases
@@ -67,18 +58,15 @@ from .settings import RunSettings
 from .state import PhaseTimer, State, length_scale
 
 __all__ = [
-    "CHATTER",
-    "CHATTER_WINDOW",
     "GRAZING",
     "MAX_IMPACTS",
     "MIN_REST",
     "TOGETHER",
-    "Localizer",
-    "Releases",
     "joined",
     "frictionless_solids",
     "localized_step",
-    "localized_stepper",
+    "cache_keys",
+    "drop_caches",
 ]
 
 MAX_IMPACTS = 4
@@ -102,22 +90,6 @@ acceleration and the regula falsi converges superlinearly: 1 to 3 are measured).
 
 LAST = 1e-9
 """Fraction of the step: an impact that closes this near its end ends the step."""
-
-CHATTER = 8
-"""Sub-steps of a step of a flexible model in which a contact chatters (module docstring)."""
-
-CHATTER_WINDOW = 16
-"""Steps after the latest closing within which a pressed contact of a flexible model is
-taken as chattering; longer, it is a lasting contact."""
-
-RELEASE = 2.0
-"""Steps within which a contact whose mean force falls reaches zero along the line of its
-last two steps' forces: the step is taken in sub-steps (the release falls inside it)."""
-
-READ_RELEASE = 1.0
-"""The same for the solids "auto" localizes in whole steps, whose release is read from
-sub-steps taken aside (:class:`Releases`): Hertz's balls read the same instants with 2.0
-(docs/validation/localization.md) at the cost of up to a step more of sub-steps."""
 
 
 def localizes(model, opts: RunSettings) -> bool:
@@ -166,128 +138,6 @@ def localized_step(model, st: State, h: float, opts: RunSettings, timer: PhaseTi
     return _split_step(model, st, h, opts, timer, phases)
 
 
-def localized_stepper(model, opts: RunSettings):
-    """The step function of a run of ``model`` with ``opts`` that localizes its impacts,
-    decided once: a :class:`Localizer` (sub-steps while a contact chatters) where a body is
-    flexible and ``localize`` is on, :class:`Releases` (whole steps, sub-steps where a
-    contact releases) where "auto" chose it for solids (:func:`frictionless_solids`), and
-    :func:`localized_step` itself (whole steps) where the bodies are rigid."""
-    flexible = model.continuum or model.slender
-    if flexible and opts.localize is True and CHATTER > 1:
-        return Localizer(model)
-    if flexible and CHATTER > 1:
-        return Releases(model)
-    return localized_step
-
-
-class Localizer:
-    """The localized step of one run of a flexible ``model`` (its step function):
-    :func:`localized_step`, in ``CHATTER`` sub-steps while a contact chatters (module
-    docstring). It remembers the instant of the run's latest closing (s) and whether a
-    contact carried a force in its last (sub-)step (a joined step's state sums its
-    sub-steps' impulses)."""
-
-    def __init__(self, model):
-        self.substeps = CHATTER
-        self.closed = -np.inf
-        self.pressed = None
-        self.force = np.zeros(model.contacts.size)  # N: the mean forces of the last step
-
-    def __call__(self, model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
-        pressed, releasing = st.pressed().any(), self._releasing(st)
-        if pressed and (releasing or st.t - self.closed <= CHATTER_WINDOW * h):
-            return self._subdivided(model, st, h, opts, timer)
-        out = localized_step(model, st, h, opts, timer)
-        ends = out.pressed().any()
-        if not ends and (pressed if self.pressed is None else self.pressed):
-            opts.stats.localization.last_release = st.t  # (a release at the step's start)
-        if pressed or not ends:
-            self.pressed = ends
-            return out
-        self.closed = st.t  # a closing: the step again, in sub-steps
-        return self._subdivided(model, st, h, opts, timer)
-
-    def _releasing(self, st: State, within: float = RELEASE) -> bool:
-        """Whether a contact's mean force, falling from the step before ``st``'s to
-        ``st``'s, reaches zero within ``within`` steps along that line (its release); notes
-        the forces of ``st``."""
-        force = st.mean_force() if st.impulse.size == self.force.size else self.force * 0
-        before, self.force = self.force, force
-        falling = (force > 0.0) & (force < before)
-        return bool(np.any(falling & (force <= within * (before - force))))
-
-    def _subdivided(self, model, st, h, opts, timer) -> State:
-        """The step from ``st`` over ``h`` as ``substeps`` localized steps, joined; a closing
-        in one of them moves the latest closing there, a release the run's last one."""
-        opts.stats.localization.subdivided += 1
-        k = h / self.substeps
-        before = st.pressed().any() if self.pressed is None else self.pressed
-        parts, cur = [], st
-        for _ in range(self.substeps):
-            cur = localized_step(model, cur, k, opts, timer)
-            after = cur.pressed().any()
-            if after and not before:
-                self.closed = parts[-1].t if parts else st.t
-            elif before and not after:
-                opts.stats.localization.last_release = parts[-1].t if parts else st.t
-            parts.append(cur)
-            before = after
-        self.pressed = before
-        out = parts[0]
-        for part in parts[1:]:  # (after the sub-steps: each starts from its own state)
-            part.ledger = joined_record(model, out, part)  # every sub-step's contact phases
-            out = joined(out, part, h)
-        return out
-
-
-class Releases(Localizer):
-    """The localized step of one run of solids that "auto" localizes: whole steps, the
-    closings located in them. Where a step starts pressed and a contact's mean force reaches
-    zero within ``READ_RELEASE`` steps along the line of its last two steps'
-    (:meth:`Localizer._releasing`), the run is also taken aside from that state in
-    ``CHATTER`` sub-steps a step, for at most ``READ_RELEASE`` + 1 steps, only to read where
-    the contact lets go (the end of the last sub-step with a force). When the run's own
-    steps release within a step after it, the run's last release is that reading, not the
-    end of the whole step (Hertz's t_c in docs/validation/localization.md). The run goes on
-    from its whole steps: the sub-steps change nothing of it, and their work is counted
-    (``release_probes``)."""
-
-    def __init__(self, model):
-        super().__init__(model)
-        self.read = (None, -np.inf)  # (s, s): the release a probe read, the probe's end
-
-    def __call__(self, model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
-        pressed, (release, until) = st.pressed().any(), self.read
-        if self._releasing(st, READ_RELEASE) and pressed and st.t > until:
-            self.read = release, until = self._probe(model, st, h, opts, timer)
-        out = localized_step(model, st, h, opts, timer)
-        if pressed and not out.pressed().any():  # (the run's release, at the step's start)
-            located = release is not None and st.t <= until
-            opts.stats.localization.last_release = release if located else st.t
-        return out
-
-    def _probe(self, model, st, h, opts, timer) -> tuple:
-        """(the release read and a step after it, or None and the end of the span probed)
-        (s) of sub-steps of ``h``/``substeps`` from ``st`` (localized), at most
-        ``READ_RELEASE`` + 1 steps' worth, until one carries no force (a sub-step that fails
-        reads nothing, counted ``unrefined``); their step size leaves no factorization
-        behind."""
-        stats = opts.stats.localization
-        stats.release_probes += 1
-        kept, cur, k = _cache_keys(model), st, h / self.substeps
-        try:
-            for _ in range(int(READ_RELEASE + 1) * self.substeps):
-                nxt = localized_step(model, cur, k, opts, timer)
-                if not nxt.pressed().any():  # (the run's own steps release within a step)
-                    return cur.t, cur.t + h * (1.0 + 1e-9)
-                cur = nxt
-        except SolverError:  # (the run's own step decides; the release is read at its end)
-            stats.fallbacks["unrefined"] += 1
-        finally:
-            stats.factorizations += _drop_caches(model, kept)
-        return None, cur.t
-
-
 def _penetrates(model, phases, opts) -> bool:
     """Whether a gap at the end of the smooth ``phases`` is below −tol_gap × the model size
     (a lower bound of the gap tolerance, :func:`length_scale`); sets the phases' gaps."""
@@ -310,7 +160,7 @@ def _split_step(model, st, h, opts, timer, phases) -> State:
         parts = None
     finally:
         if kept:
-            stats.factorizations += _drop_caches(model, kept)
+            stats.factorizations += drop_caches(model, kept)
     if parts is None:  # (or no split: the trial is the step)
         return phases.finish(time.perf_counter())
     out = parts[0]
@@ -329,7 +179,7 @@ def _parts(model, st, h, opts, timer, phases, kept: list) -> list[State] | None:
     cur, left = st, h
     while True:
         if parts:
-            phases = smooth_phases(model, cur, left, opts, timer)
+            phases = _rest_phases(model, cur, left, opts, timer)
         split = _split(model, cur, phases, left, h, len(parts), opts, timer, kept)
         if split is None:
             if not parts:
@@ -347,6 +197,19 @@ def _parts(model, st, h, opts, timer, phases, kept: list) -> list[State] | None:
         model.contacts.look_ahead(cur.q, cur.v, left)
 
 
+def _rest_phases(model, st, left, opts, timer):
+    """The smooth step of the rest of a step after a located impact, from ``st`` over
+    ``left`` (s), by modified Newton (:data:`~.acceleration_form.CONTRACTION`): the impact's
+    elastic response, about three updates from one factorization of S_t where each full
+    Newton update factorized its own."""
+    loop = opts.plan.loop(model, opts, timer)
+    loop.frozen = True
+    try:
+        return smooth_phases(model, st, left, opts, timer)
+    finally:
+        loop.frozen = False
+
+
 def _split(model, st, phases, left, h, done, opts, timer, kept: list):
     """(δ, the NSGA phases of a step of δ whose smooth step ends where the earliest gap that
     crosses in the trial ``phases`` closes), or None to finish the trial as it is; the first
@@ -355,7 +218,7 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list):
     if crossing is None:
         return None
     if not kept:
-        kept.extend(_cache_keys(model))
+        kept.extend(cache_keys(model))
     tol, rows, tau, rate, g0 = crossing
     stats = opts.stats.localization
     reason = None
@@ -410,7 +273,8 @@ def _crossing(model, st, phases, left, opts):
     _, G0 = contacts.jacobian(st.q, rows)
     _, G1 = contacts.jacobian(phases.q, rows)
     s0, s1 = left * (G0 @ st.v[F]), left * (G1 @ phases.v[F])  # slopes in s
-    tau, slope = hermite_root(g0[rows], s0, g1[rows], s1)
+    half = 0.5 * tol  # (aimed inside the tolerance, on the open side: no correction)
+    tau, slope = hermite_root(g0[rows] - half, s0, g1[rows] - half, s1)
     return tol, rows, tau, slope / left, g0[rows]
 
 
@@ -453,21 +317,23 @@ def hermite_root(g0, s0, g1, s1, samples: int = 32, iterations: int = 30):
 
 
 def _refine(model, st, phases, left, j, guess, tol, opts, timer):
-    """(δ, the phases of the smooth step of δ from ``st`` that ends with |g_j| ≤ ``tol``):
-    regula falsi (Illinois) on δ ∈ (0, left) from the Hermite ``guess`` (τ, g_j at the
-    start), δ = τ·left first; None when ``MAX_REFINE`` smooth steps do not find it."""
+    """(δ, the phases of the smooth step of δ from ``st`` that ends with 0 ≤ g_j ≤ ``tol``):
+    regula falsi (Illinois) on g_j − tol/2 over δ ∈ (0, left) from the Hermite ``guess`` (τ,
+    g_j at the start), δ = τ·left first; None when ``MAX_REFINE`` smooth steps do not find
+    it."""
     stats = opts.stats.localization
     tau, g0 = guess
-    a, ga = 0.0, float(g0)
-    b, gb = left, float(phases.g_tilde[j])
+    half = 0.5 * tol  # (the aim: 0 ≤ g ≤ tol, no position correction, module docstring)
+    a, ga = 0.0, float(g0) - half
+    b, gb = left, float(phases.g_tilde[j]) - half
     delta, side = tau * left, 0
     for _ in range(MAX_REFINE):
         trial = smooth_phases(model, st, delta, opts, timer)
         stats.smooth_steps += 1
         model.contacts.set_time(trial.t)
         trial.g_tilde = model.contacts.gaps(trial.q)
-        g = float(trial.g_tilde[j])
-        if abs(g) <= tol:
+        g = float(trial.g_tilde[j]) - half
+        if abs(g) <= half:
             return delta, trial
         if not np.isfinite(g):
             return None
@@ -498,12 +364,12 @@ def joined(first: State, second: State, h: float) -> State:
     return second
 
 
-def _cache_keys(model) -> tuple[set, set]:
+def cache_keys(model) -> tuple[set, set]:
     """The step sizes' entries of a linear model's caches (factorizations, columns)."""
     return set(model.iteration_cache), set(model.column_cache)
 
 
-def _drop_caches(model, kept: list[set]) -> int:
+def drop_caches(model, kept: list[set]) -> int:
     """Drop the caches' entries made since ``kept`` (the split steps' sizes, used once);
     return how many factorizations they held."""
     added = [k for k in model.iteration_cache if k not in kept[0]]

@@ -145,7 +145,7 @@ class SmoothNewton:
 
     __slots__ = (
         "checked clock elastic evaluated form gyroscopic joints load model name opts plan rowed "
-        "scaled step terms timer fixed kept keeps shift forced stiff begun"
+        "scaled step terms timer fixed kept keeps shift forced stiff begun frozen"
     ).split()
 
     def __init__(self, plan: NewtonPlan, model, st, t, c, opts, timer, P=None, law=None):
@@ -156,6 +156,9 @@ class SmoothNewton:
         self.fixed, self.kept = plan.roles is not None, None
         self.keeps = issubclass(plan.form, AccelerationForm)
         self.shift = (None, None)  # (the coefficients, β′M of them)
+        # modified Newton: S_t's factors of a step's first update serve its later ones while
+        # the residual contracts (the acceleration form; set by the steps that ask for it)
+        self.frozen = False
         if self.fixed:
             self._sort(plan.roles)
         if st is not None:

@@ -256,16 +256,10 @@ class _Phases:
 
     def _restart(self) -> None:
         """Restart the acceleration variable from the post-impact state."""
-        model, closed = self.model, self.closed
+        model, closed, rate = self.model, self.closed, self.tol_gap / self.h
+        fint = self.step.fint if self.q_tilde is None else None  # (at q, where not corrected)
         restart = restarted_acceleration(
-            model,
-            self.q,
-            self.v,
-            self.v_tilde,
-            self.t,
-            closed,
-            self.tol_gap / self.h,
-            self.opts.stats.contact,
+            model, self.q, self.v, self.v_tilde, self.t, closed, rate, self.opts.stats.contact, fint
         )
         if restart is not None:
             self.vd[model.free_slice] = self.a[model.free_slice] = restart[0]

@@ -323,7 +323,9 @@ def held_shares(
     return in_vd, in_a
 
 
-def restarted_acceleration(model, q, v, v_smooth, t, closed, tol_rate: float, stats=None):
+def restarted_acceleration(
+    model, q, v, v_smooth, t, closed, tol_rate: float, stats=None, fint=None
+):
     """The acceleration v̇ (free dofs) consistent with the state after an impact step, from
     which the generalized-α acceleration variable restarts (a = v̇, as at t = 0):
 
@@ -344,13 +346,16 @@ def restarted_acceleration(model, q, v, v_smooth, t, closed, tol_rate: float, st
     law at the acceleration level (:func:`fecontact.time.coulomb.frictional_restart`).
     Moving obstacles (gaps that change with t) and joints keep a as it is: None. Else
     (v̇, (rows, their forces (normal, tangential) (N), (rows, dim))). ``stats``: the run's
-    :class:`fecontact.contact.stats.ContactStats`."""
+    :class:`fecontact.contact.stats.ContactStats`; ``fint``: f_int(q) (N, all dofs) where the
+    smooth step evaluated it at q, else evaluated here."""
     contacts = model.contacts
     if contacts.moving or model.joints.size:
         return None
     F = model.free
     alpha, beta_k = model.damping
-    _, fint, K = model.internal(q, tangent=bool(alpha or beta_k))  # (K: the damping's)
+    K = None
+    if fint is None or alpha or beta_k:  # (K: the damping's)
+        _, fint, K = model.internal(q, tangent=bool(alpha or beta_k))
     f = model.external(t)[F] - fint[F]
     if model.inertial_bodies:  # the gyroscopic forces of rotating bodies, Ω × JΩ
         f -= inertial_forces(model, q, v, tangent=False)[0]

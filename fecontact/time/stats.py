@@ -45,7 +45,7 @@ class Localization:
     (no instant found to the gap tolerance), ``failed`` (a smooth step of the split step did
     not converge: the step taken whole); ``subdivided`` counts the steps of a flexible
     model taken in sub-steps while a contact chattered, ``release_probes`` the steps of solids
-    also taken aside in sub-steps to read a release (:class:`fecontact.time.localize.Releases`).
+    also taken aside in sub-steps to read a release (:class:`fecontact.time.substeps.Releases`).
     ``first_closing`` is the earliest
     located closing instant (s) and ``last_release`` the end of the last (sub-)step of a
     flexible model in which a contact carried a force before one in which none did (s; for

@@ -13,7 +13,7 @@ from .alpha_step import alpha_plan
 from .constraints import StepFailure
 from .energy_step import check_energy_scheme, energy_nsga_step
 from .lie import check_group
-from .localize import joined, localized_stepper, localizes
+from .localize import joined, localizes
 from .moreau import moreau_plan, moreau_step
 from .nsga import nsga_step
 from .penalty import penalty_plan, penalty_step
@@ -21,6 +21,7 @@ from .penetration import PenetrationFailure, hold_penetration
 from .settings import RunSettings, run_settings
 from .state import IntegratorOptions, PhaseTimer, State
 from .stats import StepStats
+from .substeps import localized_stepper
 
 __all__ = ["PLANS", "STEPPERS", "TAKES_TERMS", "Stepper", "make_stepper"]
 

@@ -1,0 +1,170 @@
+r"""Contact phases taken in sub-steps: the chattering contacts of flexible bodies, and the
+release of solids read aside.
+
+On a flexible body (a beam or a solid) a closing starts a contact phase of its own dynamics:
+the body's elastic spring-back lifts the point off and it strikes again, several times
+within a few steps (a chattering contact). A step of h holds such a contact pressed for as
+long as the smooth step still drives it in, which it does for several steps after the
+converged release. So a step of a flexible model in which a contact closes, or that starts
+with a contact pressed within ``CHATTER_WINDOW`` steps of the latest closing, or one whose
+mean force falls to zero within ``RELEASE`` steps along the line of its last two, is taken
+as ``CHATTER`` sub-steps, each localized (:func:`fecontact.time.localize.localized_step`):
+the releases and re-strikes fall at the sub-steps' resolution and every re-strike is
+located. A contact pressed for longer is a lasting one, left to the step. Such steps are
+counted (``subdivided_steps``). They are taken with ``localize`` on; "auto" localizes the
+solids it chooses (:func:`fecontact.time.localize.frictionless_solids`) in whole steps: the
+closing's energy is gone at the cost of a few smooth steps, where the sub-steps cost the
+contact phase about eight steps per step. There the releasing step (the last test above) is
+also taken aside in sub-steps, which read the contact's end at a sub-step's resolution and
+leave the run as it is (:class:`Releases`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import SolverError
+from ..ledger import joined_record
+from .localize import cache_keys, drop_caches, joined, localized_step
+from .settings import RunSettings
+from .state import PhaseTimer, State
+
+__all__ = ["CHATTER", "CHATTER_WINDOW", "Localizer", "Releases", "localized_stepper"]
+
+CHATTER = 8
+"""Sub-steps of a step of a flexible model in which a contact chatters (module docstring)."""
+
+CHATTER_WINDOW = 16
+"""Steps after the latest closing within which a pressed contact of a flexible model is
+taken as chattering; longer, it is a lasting contact."""
+
+RELEASE = 2.0
+"""Steps within which a contact whose mean force falls reaches zero along the line of its
+last two steps' forces: the step is taken in sub-steps (the release falls inside it)."""
+
+READ_RELEASE = 1.0
+"""The same for the solids "auto" localizes in whole steps, whose release is read from
+sub-steps taken aside (:class:`Releases`): Hertz's balls read the same instants with 2.0
+(docs/validation/localization.md) at the cost of up to a step more of sub-steps."""
+
+
+def localized_stepper(model, opts: RunSettings):
+    """The step function of a run of ``model`` with ``opts`` that localizes its impacts,
+    decided once: a :class:`Localizer` (sub-steps while a contact chatters) where a body is
+    flexible and ``localize`` is on, :class:`Releases` (whole steps, sub-steps where a
+    contact releases) where "auto" chose it for solids (:func:`frictionless_solids`), and
+    :func:`localized_step` itself (whole steps) where the bodies are rigid."""
+    flexible = model.continuum or model.slender
+    if flexible and opts.localize is True and CHATTER > 1:
+        return Localizer(model)
+    if flexible and CHATTER > 1:
+        return Releases(model)
+    return localized_step
+
+
+class Localizer:
+    """The localized step of one run of a flexible ``model`` (its step function):
+    :func:`localized_step`, in ``CHATTER`` sub-steps while a contact chatters (module
+    docstring). It remembers the instant of the run's latest closing (s) and whether a
+    contact carried a force in its last (sub-)step (a joined step's state sums its
+    sub-steps' impulses)."""
+
+    def __init__(self, model):
+        self.substeps = CHATTER
+        self.closed = -np.inf
+        self.pressed = None
+        self.force = np.zeros(model.contacts.size)  # N: the mean forces of the last step
+
+    def __call__(self, model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
+        pressed, releasing = st.pressed().any(), self._releasing(st)
+        if pressed and (releasing or st.t - self.closed <= CHATTER_WINDOW * h):
+            return self._subdivided(model, st, h, opts, timer)
+        out = localized_step(model, st, h, opts, timer)
+        ends = out.pressed().any()
+        if not ends and (pressed if self.pressed is None else self.pressed):
+            opts.stats.localization.last_release = st.t  # (a release at the step's start)
+        if pressed or not ends:
+            self.pressed = ends
+            return out
+        self.closed = st.t  # a closing: the step again, in sub-steps
+        return self._subdivided(model, st, h, opts, timer)
+
+    def _releasing(self, st: State, within: float = RELEASE) -> bool:
+        """Whether a contact's mean force, falling from the step before ``st``'s to
+        ``st``'s, reaches zero within ``within`` steps along that line (its release); notes
+        the forces of ``st``."""
+        force = st.mean_force() if st.impulse.size == self.force.size else self.force * 0
+        before, self.force = self.force, force
+        falling = (force > 0.0) & (force < before)
+        return bool(np.any(falling & (force <= within * (before - force))))
+
+    def _subdivided(self, model, st, h, opts, timer) -> State:
+        """The step from ``st`` over ``h`` as ``substeps`` localized steps, joined; a closing
+        in one of them moves the latest closing there, a release the run's last one."""
+        opts.stats.localization.subdivided += 1
+        k = h / self.substeps
+        before = st.pressed().any() if self.pressed is None else self.pressed
+        parts, cur = [], st
+        for _ in range(self.substeps):
+            cur = localized_step(model, cur, k, opts, timer)
+            after = cur.pressed().any()
+            if after and not before:
+                self.closed = parts[-1].t if parts else st.t
+            elif before and not after:
+                opts.stats.localization.last_release = parts[-1].t if parts else st.t
+            parts.append(cur)
+            before = after
+        self.pressed = before
+        out = parts[0]
+        for part in parts[1:]:  # (after the sub-steps: each starts from its own state)
+            part.ledger = joined_record(model, out, part)  # every sub-step's contact phases
+            out = joined(out, part, h)
+        return out
+
+
+class Releases(Localizer):
+    """The localized step of one run of solids that "auto" localizes: whole steps, the
+    closings located in them. Where a step starts pressed and a contact's mean force reaches
+    zero within ``READ_RELEASE`` steps along the line of its last two steps'
+    (:meth:`Localizer._releasing`), the run is also taken aside from that state in
+    ``CHATTER`` sub-steps a step, for at most ``READ_RELEASE`` + 1 steps, only to read where
+    the contact lets go (the end of the last sub-step with a force). When the run's own
+    steps release within a step after it, the run's last release is that reading, not the
+    end of the whole step (Hertz's t_c in docs/validation/localization.md). The run goes on
+    from its whole steps: the sub-steps change nothing of it, and their work is counted
+    (``release_probes``)."""
+
+    def __init__(self, model):
+        super().__init__(model)
+        self.read = (None, -np.inf)  # (s, s): the release a probe read, the probe's end
+
+    def __call__(self, model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
+        pressed, (release, until) = st.pressed().any(), self.read
+        if self._releasing(st, READ_RELEASE) and pressed and st.t > until:
+            self.read = release, until = self._probe(model, st, h, opts, timer)
+        out = localized_step(model, st, h, opts, timer)
+        if pressed and not out.pressed().any():  # (the run's release, at the step's start)
+            located = release is not None and st.t <= until
+            opts.stats.localization.last_release = release if located else st.t
+        return out
+
+    def _probe(self, model, st, h, opts, timer) -> tuple:
+        """(the release read and a step after it, or None and the end of the span probed)
+        (s) of sub-steps of ``h``/``substeps`` from ``st`` (localized), at most
+        ``READ_RELEASE`` + 1 steps' worth, until one carries no force (a sub-step that fails
+        reads nothing, counted ``unrefined``); their step size leaves no factorization
+        behind."""
+        stats = opts.stats.localization
+        stats.release_probes += 1
+        kept, cur, k = cache_keys(model), st, h / self.substeps
+        try:
+            for _ in range(int(READ_RELEASE + 1) * self.substeps):
+                nxt = localized_step(model, cur, k, opts, timer)
+                if not nxt.pressed().any():  # (the run's own steps release within a step)
+                    return cur.t, cur.t + h * (1.0 + 1e-9)
+                cur = nxt
+        except SolverError:  # (the run's own step decides; the release is read at its end)
+            stats.fallbacks["unrefined"] += 1
+        finally:
+            stats.factorizations += drop_caches(model, kept)
+        return None, cur.t
