@@ -68,24 +68,29 @@ OFF = {"smooth_contact": "off"}
 
 
 def test_beams_settle_a_step_after_an_impact_with_the_smooth_force():
-    """Decided once per run: planar beams with the smooth force and no solid settle a step
-    after an impact; solids (alone or with beams), rigid bodies and beams in space take it
-    from the next step; the default gives the smooth force to beams (planar and in space)
-    and solids and leaves rigid bodies to the decoupled scheme."""
+    """Decided once per run: beams with the smooth force whose contacts are all at their
+    ends (a tip, a bar's end), planar or in space, settle a step after an impact; beams met
+    along their length (a disk, a post, a rod landing on its nodes), solids (alone or with
+    beams) and rigid bodies take the force from the next step; the default gives the smooth
+    force to beams (planar and in space) and solids and leaves rigid bodies to the
+    decoupled scheme."""
     beams = pendulum("floor").model
     for options in (IntegratorOptions(**ON), IntegratorOptions()):
         settings = run_settings(beams, options)
         assert settings.smooth and settings.settle and not settings.restarts
     assert not run_settings(beams, IntegratorOptions(**OFF)).smooth
+    for name in ("flexible_pendulum", "spatial_pendulum", "impacting_bar", "two_bars"):
+        assert run_settings(case(name).build().model, IntegratorOptions()).settle, name
+    for name in ("disk_on_beam", "rod_on_post", "rod_drop"):
+        settings = run_settings(case(name).build().model, IntegratorOptions())
+        assert settings.smooth and not settings.settle and not settings.restarts, name
+    assert not run_settings(pendulum("peg").model, IntegratorOptions()).settle
     solids = case("two_disks").build(refinements=1).model
     settings = run_settings(solids, IntegratorOptions())
     assert settings.smooth and settings.restarts and not settings.settle
     rigid = case("rocking_block").build().model
     assert not run_settings(rigid, IntegratorOptions(**ON)).settle
     assert not run_settings(rigid, IntegratorOptions()).smooth
-    space = case("rod_on_post").build().model
-    settings = run_settings(space, IntegratorOptions())
-    assert settings.smooth and not settings.settle and not settings.restarts
 
 
 @pytest.mark.filterwarnings("ignore:energy")

@@ -4,6 +4,7 @@ case; out of it, it keeps the angular momentum about the vertical until it hits 
 import dataclasses
 
 import numpy as np
+import pytest
 from conftest import load_case
 
 from fecontact import rotations, simulate
@@ -11,18 +12,32 @@ from fecontact.testing import trace
 
 
 def decoupled(sim):
-    """``sim`` with the decoupled contact phase: with the smooth force (the default of beams)
-    a planar strip settles a step after an impact and a spatial one does not, so that the
-    two schemes differ (3.9e-6 m at the tip over 0.4 s, measured)."""
+    """``sim`` with the decoupled contact phase (``smooth_contact="off"``)."""
     return sim.replace(options=dataclasses.replace(sim.options, smooth_contact="off"))
 
 
-def test_in_the_plane_it_is_the_founding_case():
-    # through the first impact (t = 0.319 s) and the rebound
-    flat = trace(decoupled(load_case("flexible_pendulum").build()), t_end=0.4)
-    space = trace(decoupled(load_case("spatial_pendulum").build()), t_end=0.4)
+def twins(options, t_end):
+    """The founding case and its twin in space, traced to ``t_end`` with ``options``."""
+    flat = trace(options(load_case("flexible_pendulum").build()), t_end=t_end)
+    space = trace(options(load_case("spatial_pendulum").build()), t_end=t_end)
     assert space["status"] == flat["status"] == "completed"
     assert space["impulse"].max() > 0.0
+    return flat, space
+
+
+def defaults(sim):
+    return sim
+
+
+@pytest.mark.parametrize("options, t_end", [(defaults, None), (decoupled, 0.4)])
+def test_in_the_plane_it_is_the_founding_case(options, t_end):
+    # at the defaults over the whole run (1.5 s: the strike at 0.319 s, the rebound, the
+    # lasting contact), both taking the smooth force a step after the strike (their one
+    # contact is at the strip's end); decoupled through the first impact and the rebound.
+    # 1e-6 m is the bound asked of the twin. Measured: decoupled 2.4e-12 m; at the defaults
+    # 7.3e-7 m, from the release at 0.327 s (5e-10 m there; the held steps before it split
+    # the same motion into slightly other multipliers, 1e-3 apart relative)
+    flat, space = twins(options, t_end)
     for q in ("tip_x", "tip_y"):
         np.testing.assert_allclose(space[q], flat[q], rtol=0, atol=1e-6)
     assert np.abs(space["tip_z"]).max() == 0.0
