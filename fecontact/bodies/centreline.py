@@ -72,11 +72,6 @@ class Centreline(BodyDefaults):
             return np.arange(self.n_nodes)
         return np.array([self.node_index(i) for i in np.atleast_1d(nodes)], dtype=int)
 
-    def end_nodes(self) -> np.ndarray:
-        """Indices of the nodes that end the centreline (on one segment only)."""
-        nodes, count = np.unique(self.segments(), return_counts=True)
-        return nodes[count == 1]
-
     def segments(self) -> np.ndarray:
         """(n_elements, 2) node indices of the centreline segments."""
         return np.stack([self._el.n0, self._el.n1], axis=1)

@@ -12,7 +12,16 @@ import numpy as np
 from ..bodies.solid import Solid
 from ..errors import InputError
 
-__all__ = ["PairDefaults", "check_solid_pair"]
+__all__ = ["PairDefaults", "at_beam_ends", "check_solid_pair"]
+
+
+def at_beam_ends(body, nodes) -> bool:
+    """Whether every node of ``nodes`` ends a beam ``body``'s centreline (lies on one of its
+    segments only); False for a body that is not a beam."""
+    if not body.slender:
+        return False
+    ends, count = np.unique(body.segments(), return_counts=True)
+    return bool(np.isin(nodes, ends[count == 1]).all())
 
 
 def check_solid_pair(body, master, kind: str) -> None:
