@@ -12,7 +12,16 @@ import numpy as np
 from ..bodies.solid import Solid
 from ..errors import InputError
 
-__all__ = ["PairDefaults", "check_solid_pair"]
+__all__ = ["PairDefaults", "at_beam_ends", "check_solid_pair"]
+
+
+def at_beam_ends(body, nodes) -> bool:
+    """Whether every node of ``nodes`` ends a beam ``body``'s centreline (lies on one of its
+    segments only); False for a body that is not a beam."""
+    if not body.slender:
+        return False
+    ends, count = np.unique(body.segments(), return_counts=True)
+    return bool(np.isin(nodes, ends[count == 1]).all())
 
 
 def check_solid_pair(body, master, kind: str) -> None:
@@ -36,6 +45,7 @@ class PairDefaults:
     frictional = False  # True: tangents(q) gives the slip rows of Coulomb friction
     friction = 0.0  # Coulomb's μ of every contact of the pair (set by ``Contact``)
     redundant_rows = False  # True: rows can be redundant up to round-off (minimum-norm μ)
+    at_beam_ends = False  # True: every contact is an end node of a beam (a tip, a bar's end)
     companions: tuple = ()  # pairs it brings into the model, bound with it (rows of its own)
     shared_points = False  # True: several rows can hold one point (``points()`` says which)
 

@@ -66,7 +66,7 @@ import numpy as np
 from ..bodies.beam import Beam2D
 from ..bodies.solid import Solid
 from ..errors import InputError, check_finite, check_positive, check_range
-from .base import PairDefaults, check_solid_pair
+from .base import PairDefaults, at_beam_ends, check_solid_pair
 from .beam_sides import PointBeamContact
 from .closest_facet import closest_among
 from .concave_rows import concave_rows, slot_rows
@@ -429,10 +429,11 @@ class NodeNodeContact(PairDefaults):
         if pair.size != 2:
             raise InputError(f"nodes must be a pair (node of a, node of b), got {nodes!r}")
         self.nodes = (a.node_index(pair[0]), b.node_index(pair[1]))
+        i, j = self.nodes
+        self.at_beam_ends = at_beam_ends(a, [i]) and at_beam_ends(b, [j])
         if axis is None:
             if not beams:
                 raise InputError("axis: give the contact direction n (from a towards b)")
-            i = self.nodes[0]
             if i not in (0, a.n_nodes - 1) or self.nodes[1] not in (0, b.n_nodes - 1):
                 raise InputError("nodes: bar-end contact acts between end nodes of the bars")
             axis = a.X[i] - a.X[1 if i == 0 else i - 1]

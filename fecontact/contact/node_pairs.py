@@ -8,7 +8,7 @@ import numpy as np
 from ..bodies.base import RigidDefaults
 from ..bodies.beam import Beam2D
 from ..errors import InputError, check_range
-from .base import PairDefaults
+from .base import PairDefaults, at_beam_ends
 from .beam_sides import line_coordinates, swept
 from .friction import tangent_basis
 from .geometry import closest_on_segments, point_line_distance, unit
@@ -37,6 +37,7 @@ class NodeContact(PairDefaults):
             raise InputError("nodes must name at least one node")
         self.restitution = check_range("restitution", restitution, 0.0, 1.0)
         self.clearance = clearance  # m kept between the points and the obstacle
+        self.at_beam_ends = at_beam_ends(body, self.nodes)
         self.linear = obstacle.linear and body.linear_kinematics
         # a rigid body moves off a plane in 3 dofs in space (2 in the plane): more points
         # than that (a box's four bottom corners) give rows redundant up to round-off

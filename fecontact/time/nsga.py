@@ -407,7 +407,11 @@ def _retake(model, st, step, rows, opts, at):
     it released (:func:`without_released`; ``at`` = (t_{n+1}, coefficients, P, timer)): the
     state it starts from, the step, and the energy (J) it ends with over the first ``step``."""
     t, c, P, timer = at
-    solve_H = correction_metric(model, st.q, step.S, c, "stiffness")[1]  # (S_t's factors)
+    # S_t at the step's end, as its Newton's own factors are where they are a metric (on a
+    # group, or with bordered rows, they are not): S_t at its start takes another share of
+    # the released force out of a (the floor pendulum in space left its planar twin by
+    # 3e-4 m at the first release, measured)
+    solve_H = correction_metric(model, step.q, step.S, c, "stiffness")[1]
     st_s = without_released(model, st, rows, solve_H)
     opts.stats.releases += 1
     retake = alpha_smooth_step(model, st_s, t, c, opts, timer, P)

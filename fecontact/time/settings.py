@@ -11,7 +11,7 @@ from .newton import NewtonPlan
 from .state import IntegratorOptions
 from .stats import StepStats
 
-__all__ = ["RunSettings", "run_settings", "uses_smooth_contact"]
+__all__ = ["RunSettings", "run_settings", "settles", "uses_smooth_contact"]
 
 
 @dataclass
@@ -19,9 +19,10 @@ class RunSettings(IntegratorOptions):
     """The :class:`IntegratorOptions` of one run, the traits of its model the steps act on,
     decided once (``smooth``: persistent contacts carry a smooth force, the ``"auto"`` of
     ``smooth_contact`` resolved; ``restarts``: and the acceleration variable restarts after
-    an impact, which beams do not take; ``settle``: on planar models with beams and no solid,
-    a contact carries the smooth force only from the second step after the one in which it
-    closed, and the accelerations follow the correction of the step between; ``friction``:
+    an impact, which beams do not take; ``settle``: on models whose contacts are all at beam
+    ends (:func:`settles`), a contact carries the smooth force only from the second step
+    after the one in which it closed, and the accelerations follow the correction of the
+    step between; ``friction``:
     the contacts have friction), its
     statistics ``stats``, which the phases of its steps fill, and ``plan``, the smooth
     Newton loop's force terms and configuration (:class:`~fecontact.time.newton.NewtonPlan`;
@@ -57,6 +58,20 @@ def uses_smooth_contact(model, opts) -> bool:
     return opts.scheme == "generalized-alpha" and (model.continuum or model.slender)
 
 
+def settles(model, smooth: bool) -> bool:
+    """Whether a contact of ``model`` closed in a step takes the smooth force only from the
+    second step after it (``RunSettings.settle``): on models with beams and no solid whose
+    contacts are all at beam ends (a tip, a bar's end), planar or in space alike. A node held
+    within the step that strikes it, while the beam still moves into it, drives the beam's
+    ringing (the floor pendulums blow up without the step between); contacts that close one
+    after another along a beam or on a body it meets create energy in each closing's
+    decoupled correction instead (measured: docs/explanation/energy_ledger.md, *Lasting
+    contact of beams*)."""
+    pairs = model.contacts.pairs
+    ends = bool(pairs) and all(pair.at_beam_ends for pair in pairs)
+    return smooth and model.slender and not model.continuum and ends
+
+
 def run_settings(
     model, opts: IntegratorOptions, stats: StepStats | None = None, terms=(), plan=None
 ) -> RunSettings:
@@ -78,9 +93,7 @@ def run_settings(
         **values,
         smooth=smooth,
         restarts=smooth and not model.slender,  # (beams: see smooth_contact, the restart)
-        # (measured: docs/explanation/energy_ledger.md, lasting contact; in space the rods'
-        # segment contacts closing along them made 0.4-1.2 % of their scale settling)
-        settle=smooth and model.slender and not model.continuum and model.dim == 2,
+        settle=settles(model, smooth),
         friction=friction,
         stats=run_stats,
         plan=None if plan is None else plan(model, smooth, friction, terms),
