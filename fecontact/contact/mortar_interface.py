@@ -160,7 +160,7 @@ class MortarInterface(PairDefaults):
         """Place the pair in the global dof vector of ``model``."""
         self.offsets = (model.offset_of(self.body), model.offset_of(self.master))
         self._last = self._last_gaps = self._search = self._layout_of = None
-        if self.pointwise is not None:  # (in 2D)
+        if self.pointwise is not None:  # (not on quadratic faces)
             self.pointwise.bind(model)
             self.master_rows.bind(model)
 
@@ -357,7 +357,7 @@ class MortarInterface(PairDefaults):
 def merge_interfaces(pairs):
     """The pairs with each mortar interface once: a mortar pair declared both ways, (a, b)
     and (b, a), is one interface (the first declared); their restitution and friction must
-    agree. The safeguard rows of the 2D interfaces (their master's nodes, then their slave's)
+    agree. The safeguard rows of the interfaces (their master's nodes, then their slave's)
     follow the declared pairs, then the pairs' ``companions`` (a solid–box pair's corner rows)."""
     seen: dict = {}
     out = []
