@@ -12,14 +12,20 @@ of its own, the node-to-surface gap of
     g_s = g_N(x) + δ ≥ 0,   δ = ``ALLOWANCE`` × the shortest boundary edge of the surface,
 
 g_N the signed plane gap of the node from its closest facet (−distance inside a convex
-surface). The row is a candidate only for a node deeper than δ/2 (elsewhere it reports a
-finite gap beyond any detection distance and a zero gradient): a node that the weighted gaps
-keep out, or let in by their usual few tenths of a per cent of an edge, never sees it, so
-that every run in which no node sinks deeper is unchanged bit for bit, its symmetry
-included. A node deeper than δ makes the row active at both levels of the step, as any
-contact: Signorini at the position correction (g_s ≥ 0 with the Alart–Curnier multiplier),
-Newton's impact law on the velocity jump (with the interface's e_N; frictionless: the rows
-only stop a node sinking, the interface's weighted slip rows carry the friction).
+surface). In 3D g_N is a smooth maximum of the plane gaps of the facets around the master
+vertex nearest the node (:class:`DeepNodeRows3D`): at the coarse pole of a ball, the apex of
+four facets tilted 30°, one facet's plane gap pushes the node along that facet's normal,
+sideways by half the force (the turned coarsest balls then left the axis at 32 % of the
+impact speed); the facets' weighted mean normal pushes it along the apex's axis.
+
+The row is a candidate only for a node deeper than δ/2 (elsewhere it reports a finite gap
+beyond any detection distance and a zero gradient): a node that the weighted gaps keep out,
+or let in by their usual few tenths of a per cent of an edge, never sees it, so that every
+run in which no node sinks deeper is unchanged bit for bit, its symmetry included. A node
+deeper than δ makes the row active at both levels of the step, as any contact: Signorini at
+the position correction (g_s ≥ 0 with the Alart–Curnier multiplier), Newton's impact law on
+the velocity jump (with the interface's e_N; frictionless: the rows only stop a node
+sinking, the interface's weighted slip rows carry the friction).
 
 A slave node's weighted row and its own row are two constraints, g̃_j ≥ 0 and g_s ≥ 0,
 each with its multiplier. Their minimum as one row describes the same admissible set, but
