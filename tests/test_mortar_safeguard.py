@@ -158,19 +158,19 @@ def test_a_pole_inside_the_apex_of_a_turned_ball_is_pushed_along_the_axis():
     pair = Contact(a, b, method="mortar")
     Model([a, b], [pair], gravity=(0.0, 0.0, 0.0))
     pair.detect_within(0.005)
-    for rows, pole in ((pair.pointwise, np.argmax), (pair.master_rows, np.argmin)):
-        assert isinstance(rows, DeepNodeRows3D)
-        j = pole(rows.body.X[rows.nodes, 0])
-        g, _, G, _ = rows.evaluate(np.zeros(2 * a.ndof))
-        eps = SMOOTHING * rows.allowance
-        expected = -d * cos + eps * np.log(4.0) + rows.allowance
-        # exact but for round-off (the mesh's nodes on the sphere): 1e-9 of d
-        assert abs(g[j] - expected) <= 1e-9 * d
-        push = G[j, :3]  # on the pole node (the gradient of a gap: unit length along x)
-        assert abs(abs(push[0]) - cos) <= 1e-9
-        assert np.hypot(push[1], push[2]) <= 1e-9  # round-off of the symmetric planes
-        # central differences, step 1e-9 m against ε = 19 µm: the soft maximum's curvature
-        # 1/ε makes the differences' truncation ~(h/ε)² relative
-        q = np.random.default_rng(3).normal(0.0, 1e-6, 2 * a.ndof)
-        err_g, err_h = gap_derivatives_error(rows, q, 1e-9)
-        assert err_g < 1e-6 and err_h < 1e-4
+    rows = pair.pointwise
+    assert isinstance(rows, DeepNodeRows3D) and pair.master_rows is None  # (the slave's only)
+    j = np.argmax(a.X[rows.nodes, 0])
+    g, _, G, _ = rows.evaluate(np.zeros(2 * a.ndof))
+    eps = SMOOTHING * rows.allowance
+    expected = -d * cos + eps * np.log(4.0) + rows.allowance
+    # exact but for round-off (the mesh's nodes on the sphere): 1e-9 of d
+    assert abs(g[j] - expected) <= 1e-9 * d
+    push = G[j, :3]  # on the pole node (the gradient of a gap: unit length along x)
+    assert abs(push[0] + cos) <= 1e-9  # (toward −x: out of the right ball)
+    assert np.hypot(push[1], push[2]) <= 1e-9  # round-off of the symmetric planes
+    # central differences, step 1e-9 m against ε = 19 µm: the soft maximum's curvature 1/ε
+    # makes the differences' truncation ~(h/ε)² relative
+    q = np.random.default_rng(3).normal(0.0, 1e-6, 2 * a.ndof)
+    err_g, err_h = gap_derivatives_error(rows, q, 1e-9)
+    assert err_g < 1e-6 and err_h < 1e-4
