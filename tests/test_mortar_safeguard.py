@@ -1,14 +1,24 @@
-"""The pointwise safeguard of 2D mortar interfaces: a node deeper than half the allowance
-inside the other disk is held by its own gap g_N + δ, a row of its own (a slave node's is
+"""The pointwise safeguard of mortar interfaces: a node deeper than half the allowance
+inside the other solid is held by its own gap g_N + δ, a row of its own (a slave node's is
 the twin of its weighted row: an active set holds one of the two), with exact derivatives,
-and the weighted gaps are untouched bit for bit."""
+and the weighted gaps are untouched bit for bit. In 3D the row is the smooth maximum of the
+plane gaps around the nearest master vertex."""
+
+import dataclasses
 
 import numpy as np
 
 from fecontact import Model
 from fecontact.bodies import Solid
+from fecontact.bodies.meshes import ball_mesh
 from fecontact.contact import Contact
-from fecontact.contact.mortar_safeguard import ALLOWANCE, shortest_edge, twins_among
+from fecontact.contact.mortar_safeguard import (
+    ALLOWANCE,
+    SMOOTHING,
+    DeepNodeRows3D,
+    shortest_edge,
+    twins_among,
+)
 from fecontact.scenes import solid_material
 from fecontact.testing import gap_derivatives_error
 
@@ -129,3 +139,38 @@ def test_the_summary_counts_the_steps_that_end_with_a_node_held(tmp_path):
         # them 2.2 % of an edge in); 1 m/s: the weighted gaps alone, no node held
         assert (summary["mortar_held_steps"] > 0) == held
         assert summary["mortar_depth"] <= 0.01
+
+
+def test_a_pole_inside_the_apex_of_a_turned_ball_is_pushed_along_the_axis():
+    """The coarsest balls (18 boundary nodes) overlapping pole into pole by d = 1 mm, the
+    right one turned 30° about the axis: each pole lies behind the four facets around the
+    other's pole, all tilted by θ from the axis (cos θ = 1/√(1 + 2(√2 − 1)²), θ = 30.4°:
+    the ring's nodes R/√2 off the axis), by d cos θ each. Its row reads that depth less the
+    ε ln 4 of a four-plane tie, and its gradient on the pole is the facets' mean normal,
+    along the axis (a single facet's plane gap pushed the poles sideways by half the force)."""
+    cos = 1.0 / np.sqrt(1.0 + 2.0 * (np.sqrt(2.0) - 1.0) ** 2)
+    mat = solid_material("linear", 1e7, 0.3, 1e3)
+    d, angle = 1e-3, np.radians(30.0)
+    mesh = ball_mesh([-0.05 + d / 2, 0.0, 0.0], 0.05, 1)
+    c, s = np.cos(angle), np.sin(angle)
+    turn = np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]]) @ np.diag([-1.0, -1.0, 1.0])
+    a, b = Solid(mesh, mat), Solid(dataclasses.replace(mesh, doflocs=turn @ mesh.doflocs), mat)
+    pair = Contact(a, b, method="mortar")
+    Model([a, b], [pair], gravity=(0.0, 0.0, 0.0))
+    pair.detect_within(0.005)
+    rows = pair.pointwise
+    assert isinstance(rows, DeepNodeRows3D) and pair.master_rows is None  # (the slave's only)
+    j = np.argmax(a.X[rows.nodes, 0])
+    g, _, G, _ = rows.evaluate(np.zeros(2 * a.ndof))
+    eps = SMOOTHING * rows.allowance
+    expected = -d * cos + eps * np.log(4.0) + rows.allowance
+    # exact but for round-off (the mesh's nodes on the sphere): 1e-9 of d
+    assert abs(g[j] - expected) <= 1e-9 * d
+    push = G[j, :3]  # on the pole node (the gradient of a gap: unit length along x)
+    assert abs(push[0] + cos) <= 1e-9  # (toward −x: out of the right ball)
+    assert np.hypot(push[1], push[2]) <= 1e-9  # round-off of the symmetric planes
+    # central differences, step 1e-9 m against ε = 19 µm: the soft maximum's curvature 1/ε
+    # makes the differences' truncation ~(h/ε)² relative
+    q = np.random.default_rng(3).normal(0.0, 1e-6, 2 * a.ndof)
+    err_g, err_h = gap_derivatives_error(rows, q, 1e-9)
+    assert err_g < 1e-6 and err_h < 1e-4

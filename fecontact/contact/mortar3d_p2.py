@@ -64,6 +64,13 @@ class MortarContact3DP2(QuadraticFacePairs, MortarContact3D):
 
     faces_of, shares_of = staticmethod(quadratic_triangles), staticmethod(triangle_shares)
 
+    def __init__(self, body, master, restitution: float = 0.0, margin=None):
+        super().__init__(body, master, restitution, margin)
+        # no pointwise safeguard (mortar_safeguard), as for the 2D quadratic faces: its node
+        # gaps are measured to the flat triangles split through the master's edge nodes, not
+        # to the curved faces the weighted gaps hold the nodes on
+        self.pointwise = self.master_rows = None
+
     def _integrate(self, e, z, hessian):
         """Jets of the faces' weighted gaps, coverage, covered weights and the quadrature
         (with each entry's dual coefficients) of the entries."""

@@ -148,7 +148,7 @@ class MortarInterface(PairDefaults):
         self.offsets = (0, 0)
         self._last = self._last_gaps = self._search = self._layout_of = None
         self.pointwise, self.master_rows = safeguard_rows(self)
-        """The rows of the slave's and of the master's nodes deep inside the other solid,
+        """The rows of the slave's and (2D) of the master's nodes deep inside the other solid,
         contacts of the model after its declared pairs (:mod:`.mortar_safeguard`; None:
         none)."""
 
@@ -160,9 +160,9 @@ class MortarInterface(PairDefaults):
         """Place the pair in the global dof vector of ``model``."""
         self.offsets = (model.offset_of(self.body), model.offset_of(self.master))
         self._last = self._last_gaps = self._search = self._layout_of = None
-        if self.pointwise is not None:  # (in 2D)
-            self.pointwise.bind(model)
-            self.master_rows.bind(model)
+        for rows in (self.pointwise, self.master_rows):
+            if rows is not None:  # (not on quadratic faces; in 3D the slave's nodes only)
+                rows.bind(model)
 
     def detect_within(self, distance: float) -> None:
         """Search as far as the integrator's candidates reach (``distance`` m)."""
@@ -357,7 +357,7 @@ class MortarInterface(PairDefaults):
 def merge_interfaces(pairs):
     """The pairs with each mortar interface once: a mortar pair declared both ways, (a, b)
     and (b, a), is one interface (the first declared); their restitution and friction must
-    agree. The safeguard rows of the 2D interfaces (their master's nodes, then their slave's)
+    agree. The safeguard rows of the interfaces (their master's nodes, then their slave's)
     follow the declared pairs, then the pairs' ``companions`` (a solid–box pair's corner rows)."""
     seen: dict = {}
     out = []

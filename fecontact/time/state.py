@@ -219,7 +219,7 @@ class State:
     # the deepest node of a mortar interface inside the other solid, over that solid's
     # shortest boundary edge (fecontact.contact.watch)
     mortar_depth: float = 0.0
-    # nodes of 2D mortar interfaces held by their own gaps at the end (contact.mortar_safeguard)
+    # nodes of mortar interfaces held by their own gaps at the end (contact.mortar_safeguard)
     mortar_held: int = 0
     # the step knows every gap is ≥ 0 at its end, so that its penetration is 0 unmeasured: a
     # position-level step that corrected nothing and held no contact by a smooth force
