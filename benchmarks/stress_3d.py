@@ -32,6 +32,7 @@ and with k ÷100, over R (the converged answer does not depend on them).
 
     python benchmarks/stress_3d.py            # the whole sweep (about 20 min on one core)
     python benchmarks/stress_3d.py --quick    # five small rows (under a minute)
+    python benchmarks/stress_3d.py --row "box's edge"   # the rows whose label holds the text
 """
 
 from __future__ import annotations
@@ -456,9 +457,13 @@ def box_on_slab(v=1.0, tilt=(0.4, 0.3, 0.0), friction=0.0, divisions=8, method="
     return Spec("slab", label, sim, 0.02, slab.min_edge_length, v, pk=pk, step="dx/c")
 
 
-def ball_on_box(v, where="face", method="mortar", refinements=2):
+BALL_ON_BOX = {"refinements": 2}  # the ball's mesh in the ball-on-box rows (--refinements)
+
+
+def ball_on_box(v, where="face", method="mortar", refinements=None):
     """The elastic ball at ``v`` (m/s) onto a fixed rigid box 0.3 × 0.3 × 0.05 m: its pole
     over the face's middle, 5 mm inside an edge, on an edge ("on edge") or over a corner."""
+    refinements = refinements or BALL_ON_BOX["refinements"]
     ball = Solid.ball([0.0, 0.0, R + 0.001], R, refinements, RUBBER)
     x0, y0 = {"face": (0.0, 0.0), "edge": (0.145, 0.0), "on edge": (0.15, 0.0),
               "corner": (0.15, 0.15)}[where]  # fmt: skip
@@ -474,6 +479,7 @@ def ball_on_box(v, where="face", method="mortar", refinements=2):
     sim = Simulation(model, dt=wave_step(ball, 1.0), t_end=t_end, probes=probes, v0=v0,
                      name="ball_on_box", output_interval=t_end)  # fmt: skip
     label = f"elastic ball {v:g} m/s on a rigid box's {where}, {method}"
+    label += "" if refinements == 2 else f", refinements {refinements}"
     pk = where in ("edge", "on edge")
     return Spec("slab", label, sim, R, ball.min_edge_length, v, pk=pk, step="dx/c")
 
@@ -686,10 +692,17 @@ COLUMNS = ("group", "run", "step", "status", "min gap (m)", "max_penetration (m)
 
 
 def main() -> None:
-    args = parser(__doc__.splitlines()[0]).parse_args()
+    p = parser(__doc__.splitlines()[0])
+    p.add_argument("--row", default="", help="run only the rows whose label contains this text")
+    p.add_argument("--refinements", type=int, default=2,
+                   help="the elastic ball's mesh refinements in the ball-on-box rows")  # fmt: skip
+    args = p.parse_args()
+    BALL_ON_BOX["refinements"] = args.refinements
     rows = []
     for build in QUICK if args.quick else FULL:
         spec = build()
+        if args.row not in spec.label:
+            continue
         rows.append(measure(spec))
         print(rows[-1], flush=True)
     keys = list(dict.fromkeys(k for r in rows for k in r))
