@@ -5,6 +5,7 @@ import meshio
 import numpy as np
 import pytest
 import skfem
+from skfem.io.meshio import to_meshio
 
 from fecontact import InputError, LinearElastic, Model, Solid
 from fecontact.bodies.mesh_files import merge_nodes, read_mesh
@@ -154,7 +155,7 @@ def test_a_p2_boundary_group_holds_its_edge_nodes(tmp_path):
     bf = m.boundary_facets()
     bottom = bf[m.doflocs[1, m.facets[:, bf]].max(axis=0) < 1e-9]
     line3 = np.column_stack([m.facets[:, bottom].T, m.nvertices + bottom])  # edge node last
-    triangle6 = skfem.io.meshio.to_meshio(m).cells[0].data
+    triangle6 = to_meshio(m).cells[0].data
     tags = [np.full(len(triangle6), 1), np.full(len(line3), 2)]
     mesh = meshio.Mesh(
         m.doflocs.T,
