@@ -39,7 +39,7 @@ try:
 except ImportError:
     import _common as common
 
-import fecontact.time.localize as localize_module
+import fecontact.time.substeps as substeps_module
 from fecontact.time import IntegratorOptions, StepStats, simulate
 
 H = 1e-3
@@ -50,12 +50,12 @@ SETTINGS = (("off", False, None), ("on, whole steps", True, 1), ("on, sub-steps"
 def substeps(count):
     """Localization's sub-steps per chattering step set to ``count`` (None: the default)
     while the block runs: the "whole steps" rows are localization as it was without them."""
-    saved = localize_module.CHATTER
-    localize_module.CHATTER = saved if count is None else count
+    saved = substeps_module.CHATTER
+    substeps_module.CHATTER = saved if count is None else count
     try:
         yield
     finally:
-        localize_module.CHATTER = saved
+        substeps_module.CHATTER = saved
 
 
 def pendulum_run(h, t_end, localize, count=None):
