@@ -35,12 +35,14 @@ from ..contact.friction import coulomb_residual, solve_coulomb
 from ..contact.restitution import friction_dissipation
 from .configuration import plus
 from .constraints import Constraints, StepFailure, constraint_columns
+from .correction import correction_metric
 
 __all__ = [
     "SmoothFriction",
     "frictional_correction",
     "frictional_jump",
     "frictional_restart",
+    "frictional_start",
 ]
 
 
@@ -211,7 +213,7 @@ def frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol, solve=None, pr
     return W, lam_n, lam_t, status, its, work, lam_b
 
 
-def frictional_restart(model, q, v, x, rows, G, rates, tol_rate: float, stats=None):
+def frictional_restart(model, q, v, x, rows, G, rates, tol_rate: float, stats=None, solve=None):
     r"""The contacts' share M⁻¹(Σ G_jᵀμ_N,j + G_T,jᵀμ_T,j) of the acceleration that restarts
     the generalized-α variable after an impact (:func:`.smooth_contact.restarted_acceleration`,
     whose free acceleration is ``x`` and whose normal acceleration rates are ``rates`` on
@@ -222,7 +224,8 @@ def frictional_restart(model, q, v, x, rows, G, rates, tol_rate: float, stats=No
     slides off against it. The law is met to 1e-12 of the largest free rate: a restart
     needs no more than the step's own accuracy. Returns (that share, the forces (μ_N, μ_T)
     (N) of the rows, (rows, 1 + nt)); ``stats``: the run's
-    :class:`fecontact.contact.stats.ContactStats`."""
+    :class:`fecontact.contact.stats.ContactStats`; ``solve``: H⁻¹ in place of M⁻¹
+    (:func:`frictional_start`)."""
     contacts, nt = model.contacts, model.dim - 1
     GT, _ = contacts.tangent_jacobian(q, rows)
     slip = GT @ v[model.free]
@@ -233,7 +236,7 @@ def frictional_restart(model, q, v, x, rows, G, rates, tol_rate: float, stats=No
     pulled = G - mu[:, None] * np.einsum("mt,mtn->mn", u, GT)
     GT_stuck = GT * ~sliding[:, None, None]
     A, B = _rows(G, GT_stuck), _rows(pulled, GT_stuck)
-    Y = model.solve_M(B.T).reshape(len(model.free), -1)
+    Y = (model.solve_M if solve is None else solve)(B.T).reshape(len(model.free), -1)
     D = A @ Y
     c = _stack(rates, GT_stuck @ x, np.zeros(0))
     tol = 1e-12 * np.max(np.abs(c), initial=0.0)
@@ -248,12 +251,39 @@ def frictional_restart(model, q, v, x, rows, G, rates, tol_rate: float, stats=No
             None,
             tol,
             stats=None if stats is None else stats.coulomb,
+            # (in the step's metric a stiff solid couples its rows: on the block on two rods
+            # the Delassus matrix's condition is 1.3e5, and Newton after Gauss–Seidel took 55)
+            max_iter=200,
         )
     except RuntimeError as err:
         raise StepFailure(f"restarted acceleration: {err}", np.nan) from None
     forces = z.reshape(-1, 1 + nt).copy()
     forces[sliding, 1:] = -(mu * forces[:, 0])[sliding, None] * u[sliding]
     return Y @ z, forces
+
+
+def frictional_start(model, q, t: float, G, tol_rate: float, first):
+    r"""The rate tolerance (m/s) and the metric H⁻¹ of a frictional run's start
+    (:func:`.smooth_contact.resting_start`; ``G``: the gradients of the contacts touching at
+    q, ``first``: the coefficients of the first step).
+
+    H = S_t/β′ of the first step: the start's acceleration restarts a, and a contact the
+    step holds turns what a carries into velocity, ṽ = h(1 − γ − γ(½ − β)/β) a₀ (h a₀/4 at
+    ρ∞ = 0), which the velocity jump removes along the normal but across it only inside
+    the cone the smooth force has filled. Through M⁻¹ a solid loaded along the face it
+    rests on starts with its interior accelerating over that face, a mode the step does not
+    resolve, and slides at that drift; through S_t⁻¹ it moves as the step moves it.
+
+    A rate counts as zero, for the normal rates (resting) and the slip rates (sticking)
+    alike, where it moves a contact over the step by less than 1e-6 of what the applied and
+    internal forces f at (q, t) move the contacts by in it: max(``tol_rate``,
+    ½·1e-6 max|G H⁻¹f| h). The rates of a state settled at a finer step are zero to that
+    step's tolerance only. Measured in ``docs/explanation/friction.md``."""
+    solve = correction_metric(model, q, None, first, "stiffness")[1]
+    F = model.free
+    f = model.external(t)[F] - model.internal(q, tangent=False)[1][F]
+    load = float(np.max(np.abs(G @ solve(f)), initial=0.0))
+    return max(tol_rate, 0.5e-6 * load * first.h), solve
 
 
 class SmoothFriction:

@@ -9,6 +9,7 @@ from ..errors import check_positive
 from ..linalg.legacy import record_run
 from .adaptive import adaptive_steps, failure_error, ladder_depth
 from .constraints import StepFailure
+from .generalized_alpha import coefficients
 from .impacts import impact_start
 from .smooth_contact import resting_start
 from .state import IntegratorOptions, PhaseTimer, State, initial_state, length_scale
@@ -57,7 +58,8 @@ def simulate(
                 tol = opts.tol_gap * length_scale(model, state.q)
                 given = state.v  # (the damping of the restart is taken before an impact at 0)
                 state = impact_start(model, state, opts, tol, dt)
-                state = resting_start(model, state, tol, tol / dt, opts.stats.contact, given)
+                first = coefficients(opts.rho_inf, dt)
+                state = resting_start(model, state, tol, tol / dt, opts.stats.contact, given, first)
             yield state
         else:
             state = start

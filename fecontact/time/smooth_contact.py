@@ -92,7 +92,7 @@ import numpy as np
 
 from ..contact.laws import kkt_multipliers, solve_velocity_jump
 from .constraints import Constraints, StepFailure, augmentation, constraint_columns
-from .coulomb import frictional_restart
+from .coulomb import frictional_restart, frictional_start
 from .lie import inertial_forces
 from .records import SmoothForces
 
@@ -230,7 +230,9 @@ class SmoothContacts:
         return out
 
 
-def resting_start(model, st, tol_gap: float, tol_rate: float, stats=None, v_smooth=None):
+def resting_start(
+    model, st, tol_gap: float, tol_rate: float, stats=None, v_smooth=None, first=None
+):
     """The initial state ``st`` with its resting contacts pressed: those that touch (gap ≤
     ``tol_gap``, m) and neither approach nor leave (|ġ| ≤ ``tol_rate``, m/s) carry the
     contact forces of the consistent acceleration (:func:`restarted_acceleration`), in v̇₀ =
@@ -240,15 +242,22 @@ def resting_start(model, st, tol_gap: float, tol_rate: float, stats=None, v_smoo
     plane at 8 Δx/c: 6e-5 J, ten times the energy of its ringing). Approaching contacts are
     left to the impact law. ``stats``: the run's :class:`fecontact.contact.stats.ContactStats`;
     ``v_smooth``: the velocity damping is taken at, the given one before an impact at t = 0
-    (:func:`fecontact.time.impacts.impact_start`; default ``st.v``)."""
+    (:func:`fecontact.time.impacts.impact_start`; default ``st.v``). With friction and
+    ``first``, the coefficients of the first step, the start is the step's own
+    (:func:`fecontact.time.coulomb.frictional_start`)."""
     F = model.free
     touching = np.flatnonzero(st.gaps <= tol_gap)
     if touching.size == 0 or model.contacts.moving:  # (moving obstacles: no restart)
         return st
     _, G = model.contacts.linearize(st.q, touching)[:2]
+    solve = None
+    if model.contacts.frictional and first is not None:
+        tol_rate, solve = frictional_start(model, st.q, st.t, G, tol_rate, first)
     resting = touching[np.abs(G @ st.v[F]) <= tol_rate]
     v_smooth = st.v if v_smooth is None else v_smooth
-    start = restarted_acceleration(model, st.q, st.v, v_smooth, st.t, resting, tol_rate, stats)
+    start = restarted_acceleration(
+        model, st.q, st.v, v_smooth, st.t, resting, tol_rate, stats, solve=solve
+    )
     if start is None or start[1][0].size == 0:
         return st
     acc, (rows, forces) = start
@@ -324,7 +333,7 @@ def held_shares(
 
 
 def restarted_acceleration(
-    model, q, v, v_smooth, t, closed, tol_rate: float, stats=None, fint=None
+    model, q, v, v_smooth, t, closed, tol_rate: float, stats=None, fint=None, solve=None
 ):
     """The acceleration v̇ (free dofs) consistent with the state after an impact step, from
     which the generalized-α acceleration variable restarts (a = v̇, as at t = 0):
@@ -347,7 +356,8 @@ def restarted_acceleration(
     Moving obstacles (gaps that change with t) and joints keep a as it is: None. Else
     (v̇, (rows, their forces (normal, tangential) (N), (rows, dim))). ``stats``: the run's
     :class:`fecontact.contact.stats.ContactStats`; ``fint``: f_int(q) (N, all dofs) where the
-    smooth step evaluated it at q, else evaluated here."""
+    smooth step evaluated it at q, else evaluated here; ``solve``: the metric's H⁻¹ in
+    place of M⁻¹ (:func:`fecontact.time.coulomb.frictional_start`)."""
     contacts = model.contacts
     if contacts.moving or model.joints.size:
         return None
@@ -361,7 +371,8 @@ def restarted_acceleration(
         f -= inertial_forces(model, q, v, tangent=False)[0]
     if alpha or beta_k:
         f -= (alpha * model.M + beta_k * K) @ v_smooth[F]
-    x = model.solve_M(f)
+    solve_H = model.solve_M if solve is None else solve
+    x = solve_H(f)
     _, G = contacts.linearize(q, closed)[:2]
     rows = closed[G @ v[F] <= tol_rate]
     forces = np.zeros((rows.size, model.dim))
@@ -369,15 +380,15 @@ def restarted_acceleration(
         return x, (rows, forces)
     cons = Constraints(model, rows)
     G = G[np.isin(closed, rows)]
-    Y = constraint_columns(model, ("mass",), rows, G, model.solve_M, cons, constant=True)
+    Y = constraint_columns(model, ("mass",), rows, G, solve_H, cons, constant=solve is None)
     # the velocity jump's problem, one level up: 0 ≤ G (x + M⁻¹Gᵀμ) + vᵀ∇²g v ⊥ μ ≥ 0
     rates = G @ x + contacts.quadratic(q, v)[rows]
     if contacts.frictional:
-        dvd, forces = frictional_restart(model, q, v, x, rows, G, rates, tol_rate, stats)
+        dvd, forces = frictional_restart(model, q, v, x, rows, G, rates, tol_rate, stats, solve)
         return x + dvd, (rows, forces)
     try:
         dvd, forces[:, 0], _ = solve_velocity_jump(
-            G, rates, model.solve_M, augmentation(1.0, G, Y), 1.0, rows.size + 2, Y=Y, stats=stats
+            G, rates, solve_H, augmentation(1.0, G, Y), 1.0, rows.size + 2, Y=Y, stats=stats
         )
     except RuntimeError:
         raise StepFailure("restarted acceleration: the active set did not settle", np.nan) from None
