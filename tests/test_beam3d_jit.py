@@ -23,7 +23,7 @@ def _states(beam, n: int):
     and relative rotations of its elements from 1e-3 to 1.5 rad, so that the rotation
     coefficients are taken both by their series (θ² < 1) and by their closed forms."""
     rng = np.random.default_rng(32)
-    for k in range(n):
+    for _ in range(n):
         Q = np.zeros((beam.n_nodes, 6))
         Q[:, :3] = 1e-2 * rng.normal(size=(beam.n_nodes, 3))
         spread = 10.0 ** rng.uniform(-3, np.log10(1.5 / np.sqrt(3)))
