@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from fecontact.bodies import Beam3D, Material, Section
-from fecontact.bodies.beam3d_jit import kernel_choice
+from fecontact.bodies.beam3d import kernel_choice
 from fecontact.errors import InputError
 
 ALUMINIUM = Material(7e10, nu=0.33, rho=2700.0)

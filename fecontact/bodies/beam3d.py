@@ -22,6 +22,9 @@ the pair conserves the kinetic energy and the angular momentum of the mass matri
 
 from __future__ import annotations
 
+import importlib.util
+import os
+
 import numpy as np
 import scipy.sparse as sp
 
@@ -29,7 +32,6 @@ from ..errors import InputError, check_count, check_finite, check_positive
 from ..linalg import DENSE_LIMIT
 from .beam import Material, Section
 from .beam3d_inertia import Gyroscopic, consistent_mass, lumped_inertias
-from .beam3d_jit import jit_energy, jit_internal, kernel_choice
 from .beam3d_kernels import (
     Beam3DElements,
     beam3d_energy,
@@ -40,9 +42,36 @@ from .beam3d_kernels import (
 )
 from .centreline import Centreline, centreline_nodes
 
-__all__ = ["Beam3D"]
+__all__ = ["KERNELS", "Beam3D", "kernel_choice"]
 
 _EYE3 = np.eye(3)[None]
+KERNELS = ("auto", "numpy", "jit")
+_NUMBA = importlib.util.find_spec("numba") is not None  # (installed; imported where used)
+
+
+def kernel_choice(kernel: str | None) -> str:
+    """The element kernel a beam runs, "numpy" or "jit" (:mod:`.beam3d_jit`), of ``kernel``
+    ("auto": jit where numba is installed; None: the environment's
+    ``FECONTACT_BEAM3D_KERNEL``, else "auto"). Raises InputError for another name, or for
+    "jit" without numba."""
+    if kernel is None:
+        kernel = os.environ.get("FECONTACT_BEAM3D_KERNEL", "auto")
+    if kernel not in KERNELS:
+        raise InputError(f"kernel must be one of {KERNELS}, got {kernel!r}")
+    if kernel == "jit" and not _NUMBA:
+        raise InputError('kernel "jit" needs numba; it comes with: pip install "fecontact[jit]"')
+    if kernel == "auto":
+        return "jit" if _NUMBA else "numpy"
+    return kernel
+
+
+def _kernel_functions(kernel: str):
+    """(internal, energy) of the kernel "numpy" or "jit"."""
+    if kernel == "numpy":
+        return beam3d_internal, beam3d_energy
+    from .beam3d_jit import jit_energy, jit_internal  # (numba imported only when used)
+
+    return jit_internal, jit_energy
 
 
 class Beam3D(Centreline):
@@ -99,9 +128,7 @@ class Beam3D(Centreline):
         self._gyroscopic = Gyroscopic(self._el, len(X), dense=6 * len(X) <= DENSE_LIMIT)
         self._rotary = None  # the rotary mass (Gyroscopic.mass), made when first asked
         self.kernel = kernel_choice(kernel)  # "numpy" or "jit", for the beam's life
-        jit = self.kernel == "jit"
-        self._internal = jit_internal if jit else beam3d_internal
-        self._energy = jit_energy if jit else beam3d_energy
+        self._internal, self._energy = _kernel_functions(self.kernel)
 
     def _section_inertia(self, given) -> np.ndarray:
         """Rotary inertia per length (kg·m) about the section axes: ``given`` (3 values ≥ 0),

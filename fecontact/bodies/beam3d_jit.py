@@ -10,16 +10,16 @@ from the same coefficient functions (their Taylor series in θ² where θ² < 1,
 forms), the force f = B (n̂, p, t, t) and the tangent B (C Z) with the same blocks. Only the
 order of the sums differs: the results agree to round-off (``tests/test_beam3d_jit.py``).
 
-numba is imported here only; without it :data:`AVAILABLE` is False and Beam3D runs the numpy
-kernel. The functions are compiled on their first call and cached on disk (``cache=True``):
-a process pays the cache's load once, a machine the compilation once
+numba is imported here only, and this module only by a Beam3D that runs it
+(:func:`~fecontact.bodies.beam3d.kernel_choice`): ``import fecontact`` does not pay numba's
+import (0.24 s of CPU time). The functions are compiled on their first call and cached on
+disk (``cache=True``): a process pays the cache's load once, a machine the compilation once
 (``docs/validation/beam3d.md``, Cost).
 """
 
 from __future__ import annotations
 
 import math
-import os
 
 import numpy as np
 import scipy.special
@@ -29,12 +29,9 @@ try:
 except ImportError:  # the numpy kernel runs: numba is the optional extra "jit"
     numba = None
 
-from ..errors import InputError
-
-__all__ = ["AVAILABLE", "KERNELS", "jit_energy", "jit_internal", "kernel_choice"]
+__all__ = ["AVAILABLE", "jit_energy", "jit_internal"]
 
 AVAILABLE = numba is not None
-KERNELS = ("auto", "numpy", "jit")
 
 _N_TERMS = 12  # as the numpy kernel: at θ² < 1 the first neglected term is below 1e-20
 _TINY = 1e-300  # as :mod:`.beam3d_quaternions`: changes a ratio only at 0, to its limit
@@ -358,21 +355,6 @@ def _energy(X, q, n0, ell, L0, CG, CK):
         for i in range(3):
             W += 0.5 * (ell[e] * g[i] * n[i] + rho[i] * xp[i])
     return W
-
-
-def kernel_choice(kernel: str | None) -> str:
-    """The kernel a beam runs, "numpy" or "jit", of ``kernel`` ("auto": jit where numba
-    imports; None: the environment's ``FECONTACT_BEAM3D_KERNEL``, else "auto"). Raises
-    InputError for another name, or for "jit" without numba."""
-    if kernel is None:
-        kernel = os.environ.get("FECONTACT_BEAM3D_KERNEL", "auto")
-    if kernel not in KERNELS:
-        raise InputError(f"kernel must be one of {KERNELS}, got {kernel!r}")
-    if kernel == "jit" and not AVAILABLE:
-        raise InputError('kernel "jit" needs numba; it comes with: pip install "fecontact[jit]"')
-    if kernel == "auto":
-        return "jit" if AVAILABLE else "numpy"
-    return kernel
 
 
 def jit_internal(el, X: np.ndarray, q: np.ndarray, ndof: int, tangent: bool):
