@@ -4,6 +4,7 @@ the same formulas, so the same force, tangent and energy to round-off."""
 import numpy as np
 import pytest
 
+from fecontact import Model, Simulation, run
 from fecontact.bodies import Beam3D, Material, Section
 from fecontact.bodies.beam3d import kernel_choice
 from fecontact.errors import InputError
@@ -36,6 +37,13 @@ def test_choice_of_kernel():
     assert kernel_choice("auto") in ("numpy", "jit")
     with pytest.raises(InputError, match="kernel"):
         kernel_choice("fortran")
+
+
+def test_summary_records_the_kernel(tmp_path):
+    beam = Beam3D.straight([0, 0, 0], [0.4, 0, 0], 2, ALUMINIUM, STRIP, kernel="numpy").pin(0)
+    sim = Simulation(Model([beam], [], gravity=(0.0, -9.81, 0.0)), dt=1e-3, t_end=2e-3)
+    summary = run(sim, tmp_path, frames=False, checkpoint_every=0)
+    assert summary["beam3d_kernel"] == "numpy"
 
 
 def test_jit_kernel_equals_the_numpy_kernel():
