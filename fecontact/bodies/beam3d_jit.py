@@ -208,7 +208,7 @@ def _block_product(A, a, B, b, C):
 
 
 @_jit
-def _element(X0, X1, u0, u1, N0, N1, ell, L0, CG, CK, f, K, tangent, w, v):
+def _element(chord, u0, u1, N0, N1, ell, L0, CG, CK, f, K, tangent, w, v):
     """Energy of one element; its force into f (12,) and, with ``tangent``, ∂f/∂Δ into K;
     ``w`` (18, 3, 3) and ``v`` (8, 3) hold the intermediates."""
     R0, R1, A, Rm, P, PP = w[0], w[1], w[2], w[3], w[4], w[5]
@@ -227,7 +227,7 @@ def _element(X0, X1, u0, u1, N0, N1, ell, L0, CG, CK, f, K, tangent, w, v):
     _combination(0.5, -0.25 * co[3], 0.125 * co[4], P, PP, hTh)  # ½T(½ρ)
     _mm(R0, H, Rm, False)
     for i in range(3):
-        xp[i] = (X1[i] + u1[i] - X0[i] - u0[i]) / ell
+        xp[i] = (u1[i] - u0[i] + chord[i]) / ell  # (X₁ − X₀ apart: exact where u is small)
     _mv(Rm, xp, gh, True)
     for i in range(3):
         e[i] = gh[i] - L0[i, 0]
@@ -305,9 +305,9 @@ def _element_tangent(rho, p, u, t, CG, CK, ell, co, B, K, w):
 
 
 @_jit
-def _internal(X, q, n0, ell, L0, CG, CK, f, K, tangent):
+def _internal(chord, q, n0, ell, L0, CG, CK, f, K, tangent):
     """Energy (J); the force into f (ndof,) (zeroed here) and the element tangents into K."""
-    n = len(X)
+    n = len(q) // 6
     N = np.empty((n, 4))
     for a in range(n):
         _quaternion(q[6 * a + 3 : 6 * a + 6], N[a])
@@ -317,7 +317,7 @@ def _internal(X, q, n0, ell, L0, CG, CK, f, K, tangent):
     for e in range(len(n0)):
         a, b = n0[e], n0[e] + 1
         W += _element(
-            X[a], X[b], q[6 * a : 6 * a + 3], q[6 * b : 6 * b + 3], N[a], N[b], ell[e],
+            chord[e], q[6 * a : 6 * a + 3], q[6 * b : 6 * b + 3], N[a], N[b], ell[e],
             L0[e], CG[e], CK[e], fe, K[e if tangent else 0], tangent, w, v,
         )  # fmt: skip
         f[6 * a : 6 * a + 6] += fe[:6]
@@ -326,9 +326,9 @@ def _internal(X, q, n0, ell, L0, CG, CK, f, K, tangent):
 
 
 @_jit
-def _energy(X, q, n0, ell, L0, CG, CK):
+def _energy(chord, q, n0, ell, L0, CG, CK):
     """Strain energy (J): the strains of ``_element`` without its force."""
-    n = len(X)
+    n = len(q) // 6
     N = np.empty((n, 4))
     for a in range(n):
         _quaternion(q[6 * a + 3 : 6 * a + 6], N[a])
@@ -346,7 +346,7 @@ def _energy(X, q, n0, ell, L0, CG, CK):
         _combination(1.0, 0.5 * co[2], 0.25 * co[3], P, PP, H)
         _mm(R0, H, Rm, False)
         for i in range(3):
-            xp[i] = (X[b, i] + q[6 * b + i] - X[a, i] - q[6 * a + i]) / ell[e]
+            xp[i] = (q[6 * b + i] - q[6 * a + i] + chord[e, i]) / ell[e]
         _mv(Rm, xp, g, True)
         for i in range(3):
             g[i] -= L0[e, i, 0]
@@ -364,11 +364,11 @@ def jit_internal(el, X: np.ndarray, q: np.ndarray, ndof: int, tangent: bool):
     f = np.empty(ndof)
     K = np.empty((len(el.ell) if tangent else 1, 12, 12))  # (one unused without tangent)
     q = np.ascontiguousarray(q, dtype=float)
-    W = _internal(X, q, el.n0, el.ell, el.L0, el.CG, el.CK, f, K, tangent)
+    W = _internal(el.chord, q, el.n0, el.ell, el.L0, el.CG, el.CK, f, K, tangent)
     return W, f, K if tangent else None
 
 
 def jit_energy(el, X: np.ndarray, q: np.ndarray) -> float:
     """As :func:`~fecontact.bodies.beam3d_kernels.beam3d_energy`: the strain energy W (J)."""
     q = np.ascontiguousarray(q, dtype=float)
-    return _energy(X, q, el.n0, el.ell, el.L0, el.CG, el.CK)
+    return _energy(el.chord, q, el.n0, el.ell, el.L0, el.CG, el.CK)
