@@ -32,11 +32,14 @@ def _states(beam, n: int):
         yield Q.ravel()
 
 
-def test_choice_of_kernel():
+def test_choice_of_kernel(monkeypatch):
     assert kernel_choice("numpy") == "numpy"
     assert kernel_choice("auto") in ("numpy", "jit")
     with pytest.raises(InputError, match="kernel"):
         kernel_choice("fortran")
+    monkeypatch.setenv("FECONTACT_BEAM3D_KERNEL", "numpy")  # the default where none is given
+    assert kernel_choice(None) == "numpy"
+    assert Beam3D.straight([0, 0, 0], [1, 0, 0], 2, ALUMINIUM, STRIP).kernel == "numpy"
 
 
 def test_summary_records_the_kernel(tmp_path):
