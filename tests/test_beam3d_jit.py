@@ -1,8 +1,14 @@
 """The compiled Beam3D kernel (:mod:`fecontact.bodies.beam3d_jit`) against the numpy kernel:
 the same formulas, so the same force, tangent and energy to round-off."""
 
+import json
+import subprocess
+import sys
+import textwrap
+
 import numpy as np
 import pytest
+from conftest import ROOT
 
 from fecontact import Model, Simulation, run
 from fecontact.bodies import Beam3D, Material, Section
@@ -68,3 +74,30 @@ def test_jit_kernel_equals_the_numpy_kernel():
         assert none is None and np.array_equal(fj_alone, fj)
         # (the energies are of one formula in two orders of summation: as the force's)
         assert abs(jit_beam.energy(q) - numpy_beam.energy(q)) <= 1e-12 * abs(W)
+
+
+def test_without_numba_the_numpy_kernel_runs(tmp_path):
+    """In an interpreter where numba cannot be imported, "auto" takes the numpy kernel."""
+    script = textwrap.dedent(
+        """
+        import importlib.abc, sys
+
+        class Blocker(importlib.abc.MetaPathFinder):
+            def find_spec(self, name, path=None, target=None):
+                if name.split(".")[0] in ("numba", "llvmlite"):
+                    raise ModuleNotFoundError(f"No module named {name!r}", name=name)
+
+        sys.meta_path.insert(0, Blocker())
+        from fecontact.cli import main
+        status = main(["run", "spatial_pendulum", "--t-end", "0.003", "--quiet"])
+        print(status, "numba" in sys.modules)
+        """
+    )
+    env = {"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin", "OPENBLAS_NUM_THREADS": "1"}
+    done = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, cwd=tmp_path, env=env
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split("\n")[0] == "0 False"
+    summary = json.loads((tmp_path / "out" / "spatial_pendulum" / "summary.json").read_text())
+    assert summary["beam3d_kernel"] == "numpy"

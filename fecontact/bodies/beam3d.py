@@ -46,7 +46,17 @@ __all__ = ["KERNELS", "Beam3D", "kernel_choice"]
 
 _EYE3 = np.eye(3)[None]
 KERNELS = ("auto", "numpy", "jit")
-_NUMBA = importlib.util.find_spec("numba") is not None  # (installed; imported where used)
+
+
+def _numba_installed() -> bool:
+    """Whether numba can be found (it is imported only where a beam runs the jit kernel)."""
+    try:
+        return importlib.util.find_spec("numba") is not None
+    except ImportError:  # a finder that refuses it (an environment that hides the extras)
+        return False
+
+
+_NUMBA = _numba_installed()
 
 
 def kernel_choice(kernel: str | None) -> str:
