@@ -227,7 +227,7 @@ def _element(chord, u0, u1, N0, N1, ell, L0, CG, CK, f, K, tangent, w, v):
     _combination(0.5, -0.25 * co[3], 0.125 * co[4], P, PP, hTh)  # ½T(½ρ)
     _mm(R0, H, Rm, False)
     for i in range(3):
-        xp[i] = (u1[i] - u0[i] + chord[i]) / ell  # (X₁ − X₀ apart: exact where u is small)
+        xp[i] = (u1[i] - u0[i] + chord[i]) / ell  # (the chord apart: round-off of u, not of |X|)
     _mv(Rm, xp, gh, True)
     for i in range(3):
         e[i] = gh[i] - L0[i, 0]
@@ -244,16 +244,18 @@ def _element(chord, u0, u1, N0, N1, ell, L0, CG, CK, f, K, tangent, w, v):
     _mv(hTh, p, u, True)
     u += m
     _mv(Ti, u, t, True)
-    B = np.zeros((12, 12))  # f = B (n̂, p, t, t): blocks R_m, exp(½ρ̃), exp(ρ̃), I
-    B[0:3, 0:3], B[6:9, 0:3] = -Rm, Rm
-    B[3:6, 3:6], B[3:6, 6:9] = H, -A
+    # f = B (n̂, p, t, t) = (−R_m n̂, exp(½ρ̃) p − exp(ρ̃) t, R_m n̂, t)
     for i in range(3):
-        B[9 + i, 9 + i] = 1.0
         rn = Rm[i, 0] * n[0] + Rm[i, 1] * n[1] + Rm[i, 2] * n[2]
         f[i], f[6 + i], f[9 + i] = -rn, rn, t[i]
         f[3 + i] = H[i, 0] * p[0] + H[i, 1] * p[1] + H[i, 2] * p[2]
         f[3 + i] -= A[i, 0] * t[0] + A[i, 1] * t[1] + A[i, 2] * t[2]
     if tangent:
+        B = np.zeros((12, 12))  # its blocks R_m, exp(½ρ̃), exp(ρ̃), I
+        B[0:3, 0:3], B[6:9, 0:3] = -Rm, Rm
+        B[3:6, 3:6], B[3:6, 6:9] = H, -A
+        for i in range(3):
+            B[9 + i, 9 + i] = 1.0
         _element_tangent(rho, p, u, t, CG, CK, ell, co, B, K, w)
     return W
 
