@@ -10,6 +10,9 @@ gyroscopic force and tangent, q_n ⊕ D, T(D), K (T(D) − I)) and of the strain
 recorder asks for each step. Reported: medians and the spread
 (min–max) of the ratios. The runs move in the x–y plane (out_of_plane_velocity = 0), where the
 two give the same history. ``--kernels`` times the evaluations alone (no runs).
+``--compare-kernels`` runs the spatial case with Beam3D's numpy kernel and with its compiled
+(numba) kernel beside the planar one, the three alternated, and reports both ratios
+(:func:`compare_kernels`).
 
 Then the step's budget, piece by piece (:func:`budget`): per case, the Newton updates, the
 force-and-tangent evaluations and the tangents formed but never factorized (a step that ends
@@ -23,6 +26,7 @@ timed the same way.
 from __future__ import annotations
 
 import collections
+import os
 import statistics
 import time
 
@@ -242,11 +246,68 @@ def kernels_only(sims, repeats: int, out: str, quick: bool) -> None:
     write_markdown(f"{out}/{stem}.md", f"# One evaluation in space and in the plane\n\n{table}")
 
 
+def _spatial(kernel: str, t_end: float):
+    """The spatial case with Beam3D's ``kernel`` ("numpy" or "jit"), chosen at its
+    construction (the environment's choice, as the case builds its beam)."""
+    os.environ["FECONTACT_BEAM3D_KERNEL"] = kernel
+    try:
+        sim = case(CASES[1]).build().replace(t_end=t_end)
+    finally:
+        del os.environ["FECONTACT_BEAM3D_KERNEL"]
+    assert sim.model.bodies[0].kernel == kernel
+    return sim
+
+
+def compare_kernels(repeats: int, t_end: float, out: str, quick: bool) -> None:
+    """The ``--compare-kernels`` mode: flexible_pendulum, spatial_pendulum with the numpy
+    kernel and with the jit kernel, run after run alternated; per step wall and CPU, the
+    ratios spatial/flexible of each pair, and the force + tangent of each beam alone."""
+    sims = {
+        "flexible_pendulum": case(CASES[0]).build().replace(t_end=t_end),
+        "spatial_pendulum numpy": _spatial("numpy", t_end),
+        "spatial_pendulum jit": _spatial("jit", t_end),
+    }
+    for sim in sims.values():  # (compiled, or loaded from the cache, outside the timing)
+        timed_run(sim.replace(t_end=2 * sim.dt), repeats=1)
+    steps = step_times(sims, repeats)
+    kernels = kernel_times({n: s.model.bodies[0] for n, s in sims.items()}, repeats)
+    base = "flexible_pendulum"
+    rows = []
+    for name in sims:
+        s, k = steps[name], kernels[name]
+        row = {"case": name, "steps": s["steps"], "status": s["status"]}
+        for key in ("wall", "cpu"):
+            r = [a / b for a, b in zip(s[key], steps[base][key], strict=True)]
+            row[f"{key} per step (ms)"] = statistics.median(s[key])
+            row[f"{key} ratio"] = spread(r)
+        k_ratio = [a / b for a, b in zip(k[True], kernels[base][True], strict=True)]
+        row["force + tangent (µs)"] = statistics.median(k[True])
+        row["force + tangent ratio"] = spread(k_ratio)
+        rows.append(row)
+    columns = list(rows[0])
+    table = markdown_table(rows, columns)
+    print(table)
+    stem = "beam3d_jit_quick" if quick else "beam3d_jit"
+    write_csv(f"{out}/{stem}.csv", rows, columns)
+    write_markdown(
+        f"{out}/{stem}.md",
+        "# A step in space with Beam3D's numpy and compiled kernels\n\n"
+        f"Ratios to flexible_pendulum: median (min–max) of {repeats} alternated "
+        f"triples.\n\n{table}",
+    )
+
+
 def main() -> None:
     p = parser(__doc__.splitlines()[0])
     p.add_argument("--kernels", action="store_true", help="time the evaluations alone")
+    p.add_argument(
+        "--compare-kernels", action="store_true", help="the spatial case with both kernels"
+    )
     args = p.parse_args()
     t_end, repeats = (0.05, 2) if args.quick else (0.5, 9)
+    if args.compare_kernels:
+        compare_kernels(repeats, t_end, args.out or RESULTS, args.quick)
+        return
     sims = {name: case(name).build().replace(t_end=t_end) for name in CASES}
     if args.kernels:
         kernels_only(sims, repeats, args.out or RESULTS, args.quick)

@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .bodies.beam3d import Beam3D
 from .errors import InputError, SolverError, check_positive
 from .io.frames import bodies_box, frame_parts, static_parts
 from .io.output import FRICTION_COLUMNS, LEDGER_COLUMNS, STANDARD_COLUMNS
@@ -363,6 +364,10 @@ def _summary(sim, rec, stats, status, message, wall, timer) -> dict:
     if frictional:
         summary["friction_solver"] = friction_solver
         summary["friction_work"] = rec.friction_work
+    # the element kernel of the spatial beams, chosen at their construction
+    kernels = sorted({body.kernel for body in sim.model.bodies if isinstance(body, Beam3D)})
+    if kernels:
+        summary["beam3d_kernel"] = kernels[0] if len(kernels) == 1 else kernels
     return summary
 
 

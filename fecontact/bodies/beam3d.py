@@ -22,6 +22,9 @@ the pair conserves the kinetic energy and the angular momentum of the mass matri
 
 from __future__ import annotations
 
+import importlib.util
+import os
+
 import numpy as np
 import scipy.sparse as sp
 
@@ -39,9 +42,46 @@ from .beam3d_kernels import (
 )
 from .centreline import Centreline, centreline_nodes
 
-__all__ = ["Beam3D"]
+__all__ = ["KERNELS", "Beam3D", "kernel_choice"]
 
 _EYE3 = np.eye(3)[None]
+KERNELS = ("auto", "numpy", "jit")
+
+
+def _numba_installed() -> bool:
+    """Whether numba can be found (it is imported only where a beam runs the jit kernel)."""
+    try:
+        return importlib.util.find_spec("numba") is not None
+    except ImportError:  # a finder that refuses it (an environment that hides the extras)
+        return False
+
+
+_NUMBA = _numba_installed()
+
+
+def kernel_choice(kernel: str | None) -> str:
+    """The element kernel a beam runs, "numpy" or "jit" (:mod:`.beam3d_jit`), of ``kernel``
+    ("auto": jit where numba is installed; None: the environment's
+    ``FECONTACT_BEAM3D_KERNEL``, else "auto"). Raises InputError for another name, or for
+    "jit" without numba."""
+    if kernel is None:
+        kernel = os.environ.get("FECONTACT_BEAM3D_KERNEL", "auto")
+    if kernel not in KERNELS:
+        raise InputError(f"kernel must be one of {KERNELS}, got {kernel!r}")
+    if kernel == "jit" and not _NUMBA:
+        raise InputError('kernel "jit" needs numba; it comes with: pip install "fecontact[jit]"')
+    if kernel == "auto":
+        return "jit" if _NUMBA else "numpy"
+    return kernel
+
+
+def _kernel_functions(kernel: str):
+    """(internal, energy) of the kernel "numpy" or "jit"."""
+    if kernel == "numpy":
+        return beam3d_internal, beam3d_energy
+    from .beam3d_jit import jit_energy, jit_internal  # (numba imported only when used)
+
+    return jit_internal, jit_energy
 
 
 class Beam3D(Centreline):
@@ -51,7 +91,9 @@ class Beam3D(Centreline):
     default e_z × tangent, so that a beam in the x–y plane has axis 2 in the plane and axis 3
     along z (the section's ``inertia`` bends it in the plane, as Beam2D). ``rotary_inertia``:
     the section's rotary inertia per length about its axes 1, 2, 3 (kg·m), default
-    ρ(I₂ + I₃, I₂, I₃). Supports (``pin``,
+    ρ(I₂ + I₃, I₂, I₃). ``kernel``: the element kernel, "numpy", "jit" (compiled with numba:
+    :mod:`.beam3d_jit`) or "auto" (jit where numba imports), decided here for the beam's life
+    (None: the environment's ``FECONTACT_BEAM3D_KERNEL``, else "auto"). Supports (``pin``,
     ``clamp``, ``fix``) and point masses (``add_mass``) are chainable; node indices may be
     negative. Dofs node by node: (u_x, u_y, u_z, ψ_x, ψ_y, ψ_z).
     """
@@ -63,7 +105,13 @@ class Beam3D(Centreline):
     linear_kinematics = True
 
     def __init__(
-        self, nodes, material: Material, section: Section, orientation=None, rotary_inertia=None
+        self,
+        nodes,
+        material: Material,
+        section: Section,
+        orientation=None,
+        rotary_inertia=None,
+        kernel: str | None = None,
     ):
         X, seg = centreline_nodes(nodes, 3)
         if orientation is not None:
@@ -89,6 +137,8 @@ class Beam3D(Centreline):
         self._J = np.einsum("eij,jk,elk->eil", triads, J, triads)
         self._gyroscopic = Gyroscopic(self._el, len(X), dense=6 * len(X) <= DENSE_LIMIT)
         self._rotary = None  # the rotary mass (Gyroscopic.mass), made when first asked
+        self.kernel = kernel_choice(kernel)  # "numpy" or "jit", for the beam's life
+        self._internal, self._energy = _kernel_functions(self.kernel)
 
     def _section_inertia(self, given) -> np.ndarray:
         """Rotary inertia per length (kg·m) about the section axes: ``given`` (3 values ≥ 0),
@@ -103,10 +153,18 @@ class Beam3D(Centreline):
 
     @classmethod
     def straight(
-        cls, start, end, n_elements: int, material, section, orientation=None, rotary_inertia=None
+        cls,
+        start,
+        end,
+        n_elements: int,
+        material,
+        section,
+        orientation=None,
+        rotary_inertia=None,
+        kernel=None,
     ):
         """Straight beam from ``start`` to ``end`` (m) with ``n_elements`` equal elements
-        (``rotary_inertia`` as the constructor's)."""
+        (``rotary_inertia`` and ``kernel`` as the constructor's)."""
         n = check_count("n_elements", n_elements)
         a, b = check_finite("start", start), check_finite("end", end)
         if a.shape != (3,) or b.shape != (3,):
@@ -114,7 +172,7 @@ class Beam3D(Centreline):
         if np.linalg.norm(b - a) == 0.0:
             raise InputError("length must be > 0: start and end coincide")
         s = np.linspace(0.0, 1.0, n + 1)[:, None]
-        return cls(a + s * (b - a), material, section, orientation, rotary_inertia)
+        return cls(a + s * (b - a), material, section, orientation, rotary_inertia, kernel)
 
     @classmethod
     def arc(cls, radius, angle, n_elements, material, section, orientation=None):
@@ -168,12 +226,12 @@ class Beam3D(Centreline):
 
     def energy(self, q: np.ndarray) -> float:
         """Strain energy W(q) in J."""
-        return beam3d_energy(self._el, self.X, q)
+        return self._energy(self._el, self.X, q)
 
     def internal(self, q: np.ndarray, tangent: bool = True):
         """Strain energy (J), internal force (N; N·m in the nodes' frames R) and the element
         tangents ∂f(q ⊕ Δ)/∂Δ (E, 12, 12), not symmetric away from equilibrium."""
-        return beam3d_internal(self._el, self.X, q, self.ndof, tangent)
+        return self._internal(self._el, self.X, q, self.ndof, tangent)
 
     def mass_matrix(self) -> sp.csr_matrix:
         """Constant consistent mass (kg, kg·m²): ρA and ρJ_e (frame R) with the P1 mass ℓ/6
