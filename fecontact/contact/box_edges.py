@@ -149,6 +149,11 @@ class BoxEdges(BoxFeatureRows):
     edges of the 3D solid ``body``: one row per boundary edge (module docstring); arguments
     as :class:`~fecontact.contact.box_corners.BoxFeatureRows`."""
 
+    # a ridge pressed flat on the box's face beside the edge pushes its nodes along the face's
+    # normal, as their own rows and the mortar rows do: rows redundant up to round-off, whose
+    # LU split the force by round-off amplified by k (minimum-norm μ instead)
+    redundant_rows = True
+
     def __init__(self, owner, body, rigid, clearance=0.0, margin=None):
         super().__init__(owner, body, rigid, clearance, margin)
         self.a, self.b, self.faces = box_edges(np.asarray(rigid.shape.sides, dtype=float))

@@ -324,7 +324,7 @@ def held_shares(
 
 
 def restarted_acceleration(
-    model, q, v, v_smooth, t, closed, tol_rate: float, stats=None, fint=None
+    model, q, v, v_smooth, t, closed, tol_rate: float, stats=None, fint=None, tol_acc=0.0
 ):
     """The acceleration v̇ (free dofs) consistent with the state after an impact step, from
     which the generalized-α acceleration variable restarts (a = v̇, as at t = 0):
@@ -347,7 +347,11 @@ def restarted_acceleration(
     Moving obstacles (gaps that change with t) and joints keep a as it is: None. Else
     (v̇, (rows, their forces (normal, tangential) (N), (rows, dim))). ``stats``: the run's
     :class:`fecontact.contact.stats.ContactStats`; ``fint``: f_int(q) (N, all dofs) where the
-    smooth step evaluated it at q, else evaluated here."""
+    smooth step evaluated it at q, else evaluated here; ``tol_acc`` (m/s²): the law's
+    tolerance, at which rows redundant up to round-off whose active set cycles are solved
+    again by the proximal point method (:mod:`fecontact.contact.redundant_jump`); 0: the set
+    must repeat. Round-off decided whether such a set repeated (an elastic ball pressed on a
+    box beside its edge: seven rows of rank five), and a set that cycled failed the step."""
     contacts = model.contacts
     if contacts.moving or model.joints.size:
         return None
@@ -377,8 +381,9 @@ def restarted_acceleration(
         return x + dvd, (rows, forces)
     try:
         dvd, forces[:, 0], _ = solve_velocity_jump(
-            G, rates, model.solve_M, augmentation(1.0, G, Y), 1.0, rows.size + 2, Y=Y, stats=stats
-        )
+            G, rates, model.solve_M, augmentation(1.0, G, Y), 1.0, rows.size + 2, Y=Y, stats=stats,
+            tol=tol_acc,
+        )  # fmt: skip
     except RuntimeError:
         raise StepFailure("restarted acceleration: the active set did not settle", np.nan) from None
     return x + dvd, (rows, forces)
