@@ -28,11 +28,16 @@ parallel than ``PARALLEL`` have no common normal: their ends hold the contact.
 A row that holds must not vanish within a Newton iteration (the smooth step's active set
 cycles between an iterate with the row, pushed out, and one without, falling back in). Where
 the closest point leaves the ridge, or −n leaves the box edge's cone, the row goes on as the
-lines' distance plus ``RAMP`` ℓ (φ(t) + ψ), ℓ the ridge's length, φ(t) = max(0, −t, t − 1),
-ψ = max_i n·a_i (a_i the box edge's face normals): continuous, growing, so the row opens and
-the nodes' rows take over; it ends ``REACH`` beyond. Beyond the box edge's ends (s outside
-(0, 1)) a row ends: there the corner's own row holds, and rows ramped past a corner met the
-rows of the corner's other edges and made Newton cycle.
+lines' distance plus ``RAMP`` ℓ (σ(φ(t)) + σ(ψ)), ℓ the ridge's length, φ(t) = max(0, −t,
+t − 1), ψ = max(0, max_i n·a_i) (a_i the box edge's face normals), σ(x) = x²/(2 ``SOFT``)
+below ``SOFT`` and x − SOFT/2 above: continuous with its gradient, growing, so the row opens
+and the nodes' rows take over; it ends ``REACH`` beyond. The gradient must not jump where the
+ramp starts: a ridge pressed flat on a box face beside the edge has its common normal on the
+face's normal, ψ = 0 to round-off, and with a kink there round-off chose between two
+gradients, the set of the next update and the run's path (k ÷ 100 moved the elastic ball
+on a box's edge line by 2.6e-6 of its radius, now by round-off). Beyond the box edge's ends
+(s outside (0, 1)) a row ends: there the corner's own row holds, and rows ramped past a
+corner met the rows of the corner's other edges and made Newton cycle.
 
 The gradient is exact. Without the ramp the closest points are stationary in s and t, and n
 stays normal to both lines (∂n·(p − y) = g ∂n·n − s ∂n·(b − a) + t ∂n·(d − c) with ∂n·n = 0
@@ -59,7 +64,7 @@ from .box_corners import BoxFeatureRows
 from .friction import tangent_basis
 from .rigid_distance import shape_distance
 
-__all__ = ["CONE", "PARALLEL", "RAMP", "REACH", "SLOTS", "BoxEdges", "box_edges"]
+__all__ = ["CONE", "PARALLEL", "RAMP", "REACH", "SLOTS", "SOFT", "BoxEdges", "box_edges"]
 
 PARALLEL = 1e-6
 """Smallest |sin| of the angle between a box edge and a ridge for a row: nearer parallel the
@@ -84,14 +89,30 @@ REACH = 0.5
 ramp reaches before the row ends."""
 
 
+SOFT = 0.05
+"""How far (in the units of φ and ψ) the ramp grows quadratically before it grows linearly:
+its gradient then starts from zero (module docstring), and a tenth of ``REACH`` leaves the
+ramp's reach and slope beyond it as they were."""
+
+
+def _soft(x: np.ndarray) -> np.ndarray:
+    """The ramp of x ≥ 0 (φ or ψ): x²/(2 SOFT) below SOFT, x − SOFT/2 above (C¹ at 0)."""
+    return np.where(x < SOFT, 0.5 * x * x / SOFT, x - 0.5 * SOFT)
+
+
+def _soft_slope(x: np.ndarray) -> np.ndarray:
+    """d(:func:`_soft`)/dx: x / SOFT below SOFT, 1 above."""
+    return np.minimum(x / SOFT, 1.0)
+
+
 def _beyond(u: np.ndarray) -> np.ndarray:
     """φ(u) = max(0, −u, u − 1): how far the parameter u lies outside [0, 1]."""
     return np.maximum(np.maximum(-u, u - 1.0), 0.0)
 
 
 def _slope(u: np.ndarray) -> np.ndarray:
-    """dφ/du: −1 below 0, +1 above 1, 0 inside."""
-    return np.where(u < 0.0, -1.0, np.where(u > 1.0, 1.0, 0.0))
+    """d(:func:`_soft` φ)/du: 0 inside [0, 1], growing from 0 at its ends to ∓1."""
+    return np.where(u < 0.0, -1.0, 1.0) * _soft_slope(_beyond(u))
 
 
 def box_edges(sides: np.ndarray):
@@ -127,6 +148,11 @@ class BoxEdges(BoxFeatureRows):
     """The twelve edges of the ``Box`` of ``rigid`` (a ``RigidBody3D``) against the boundary
     edges of the 3D solid ``body``: one row per boundary edge (module docstring); arguments
     as :class:`~fecontact.contact.box_corners.BoxFeatureRows`."""
+
+    # a ridge pressed flat on the box's face beside the edge pushes its nodes along the face's
+    # normal, as their own rows and the mortar rows do: rows redundant up to round-off, whose
+    # LU split the force by round-off amplified by k (minimum-norm μ instead)
+    redundant_rows = True
 
     def __init__(self, owner, body, rigid, clearance=0.0, margin=None):
         super().__init__(owner, body, rigid, clearance, margin)
@@ -196,7 +222,7 @@ class BoxEdges(BoxFeatureRows):
         angles = np.arccos(np.clip(np.einsum("ked,kid->kei", n, m), -1.0, 1.0)).sum(axis=2)
         spread = np.arccos(np.clip(np.einsum("kd,kd->k", m[:, 0], m[:, 1]), -1.0, 1.0))
         ok = crossing & (outside < REACH) & (angles <= spread[:, None] + 2.0 * CONE)
-        beyond = _beyond(s) + _beyond(t) + outside
+        beyond = _soft(_beyond(s)) + _soft(_beyond(t)) + _soft(outside)
         ok &= (s > 0.0) & (s < 1.0) & (_beyond(t) < REACH)  # beyond a box corner: its row
         # the ridge's point on the edge's side of the box's two middle planes along its faces
         # (the lines of a ridge by one edge also cross the box's far edges, a box width away)
@@ -241,7 +267,7 @@ class BoxEdges(BoxFeatureRows):
         return g, self.dofs, G, None
 
     def _ramp_gradient(self, x, R, g, edge, s, t, n, ramp, rows):
-        """The gradient (k, 12) of the ramp RAMP ℓ (φ(s) + φ(t)) of the ``rows``, ℓ the
+        """The gradient (k, 12) of the ramp RAMP ℓ (σ(φ(s)) + σ(φ(t)) + σ(ψ)) of the ``rows``, ℓ the
         ridge's length: the closest points' parameters move by (∂s, ∂t) = −M⁻¹ (d₁·δ + w
         n·∂d₁, d₂·δ + w n·∂d₂), from the derivative of (p − y)·d₁ = (p − y)·d₂ = 0, with
         M = [[d₁·d₁, −d₁·d₂], [d₁·d₂, −d₂·d₂]], δ the motion of the material points at p
@@ -274,7 +300,7 @@ class BoxEdges(BoxFeatureRows):
         out = _slope(s[rows])[:, None] * ds + _slope(t[rows])[:, None] * dt + dpsi
         out *= RAMP * length[:, None]
         u = d2 / length[:, None]  # ∂ℓ = u·(∂y₁ − ∂y₀)
-        lever = RAMP * (_beyond(s[rows]) + _beyond(t[rows]) + psi)
+        lever = RAMP * (_soft(_beyond(s[rows])) + _soft(_beyond(t[rows])) + _soft(psi))
         out[:, 6:9] -= lever[:, None] * u
         out[:, 9:] += lever[:, None] * u
         return out
@@ -297,8 +323,7 @@ class BoxEdges(BoxFeatureRows):
         w = (a - along[np.arange(len(e)), i, None] * n) * (sign / size)[:, None]
         out = np.einsum("kd,kdj->kj", w, dv)
         out[:, 3:6] += np.einsum("kd,kdj->kj", n, -R @ hat(ab))
-        out[psi <= 0.0] = 0.0
-        return out, psi
+        return out * _soft_slope(psi)[:, None], psi
 
     def _relative_motion(self, q: np.ndarray):
         """Rows with a gap (N,) bool, the tangents T (N, 2, 3) of their contact planes (along

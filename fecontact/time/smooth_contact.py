@@ -333,7 +333,17 @@ def held_shares(
 
 
 def restarted_acceleration(
-    model, q, v, v_smooth, t, closed, tol_rate: float, stats=None, fint=None, solve=None
+    model,
+    q,
+    v,
+    v_smooth,
+    t,
+    closed,
+    tol_rate: float,
+    stats=None,
+    fint=None,
+    solve=None,
+    tol_acc=0.0,
 ):
     """The acceleration v̇ (free dofs) consistent with the state after an impact step, from
     which the generalized-α acceleration variable restarts (a = v̇, as at t = 0):
@@ -357,7 +367,11 @@ def restarted_acceleration(
     (v̇, (rows, their forces (normal, tangential) (N), (rows, dim))). ``stats``: the run's
     :class:`fecontact.contact.stats.ContactStats`; ``fint``: f_int(q) (N, all dofs) where the
     smooth step evaluated it at q, else evaluated here; ``solve``: the metric's H⁻¹ in
-    place of M⁻¹ (:func:`fecontact.time.coulomb.frictional_start`)."""
+    place of M⁻¹ (:func:`fecontact.time.coulomb.frictional_start`); ``tol_acc`` (m/s²): the law's
+    tolerance, at which rows redundant up to round-off whose active set cycles are solved
+    again by the proximal point method (:mod:`fecontact.contact.redundant_jump`); 0: the set
+    must repeat. Round-off decided whether such a set repeated (an elastic ball pressed on a
+    box beside its edge: seven rows of rank five), and a set that cycled failed the step."""
     contacts = model.contacts
     if contacts.moving or model.joints.size:
         return None
@@ -388,8 +402,9 @@ def restarted_acceleration(
         return x + dvd, (rows, forces)
     try:
         dvd, forces[:, 0], _ = solve_velocity_jump(
-            G, rates, solve_H, augmentation(1.0, G, Y), 1.0, rows.size + 2, Y=Y, stats=stats
-        )
+            G, rates, solve_H, augmentation(1.0, G, Y), 1.0, rows.size + 2, Y=Y, stats=stats,
+            tol=tol_acc,
+        )  # fmt: skip
     except RuntimeError:
         raise StepFailure("restarted acceleration: the active set did not settle", np.nan) from None
     return x + dvd, (rows, forces)
