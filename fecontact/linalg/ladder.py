@@ -71,26 +71,34 @@ MAX_ITERATIONS = 40
 
 
 def iteration_solver(model, a: float, S, K):
-    """The solver of a linear ``model``'s iteration matrix ``S`` = S(a) with its constant
-    stiffness ``K``: S factorized, or, for a size met while ``model.passing``, the solver of
-    the model's ``ladder`` where one applies (undamped: S depends on a alone; sparse: a dense
-    factorization costs less than any of these solves; a direct solver: PCG takes exact
-    factors), made on first use."""
-    applies = not (model.dense or any(model.damping)) and model.solver.name not in (
-        "amg",
-        "auto",
-    )
-    if applies and model.ladder is None:
-        model.ladder = Ladder(
-            model.M, K, lambda A: factorize(A, symmetric=True, solver=model.solver)
-        )
-    ladder = model.ladder if applies else None
-    if ladder is not None and model.passing:
-        return ladder.solver(a, S)
+    """The factors of a linear ``model``'s iteration matrix ``S`` = S(a) with its constant
+    stiffness ``K``, kept by the model's ``ladder`` where one applies (undamped: S depends on
+    a alone; sparse: a dense factorization costs less than any of its solves; a direct
+    solver: PCG takes exact factors), made here on first use."""
     solve = factorize(S, symmetric=True, solver=model.solver)
-    if ladder is not None:
-        ladder.keep(a, solve)
+    if _applies(model):
+        if model.ladder is None:
+            model.ladder = Ladder(
+                model.M, K, lambda A: factorize(A, symmetric=True, solver=model.solver)
+            )
+        model.ladder.keep(a, solve)
     return solve
+
+
+def passing_matrix(model, a: float):
+    """(S(a), its solver, None) at a size the ``model`` meets once, from its ladder, or None
+    where none applies (the caller factorizes). S is the one sum of data arrays of the
+    model's pattern, the damping C (zero) left out."""
+    ladder = model.ladder
+    if ladder is None or not _applies(model):
+        return None
+    S = model.iteration_sum(a, ladder.K)
+    return S, ladder.solver(a, S), None
+
+
+def _applies(model) -> bool:
+    """Whether the ``model``'s sizes met once are solved by a ladder (:func:`iteration_solver`)."""
+    return not (model.dense or any(model.damping)) and model.solver.name not in ("amg", "auto")
 
 
 class Ladder:
