@@ -72,16 +72,11 @@ MAX_ITERATIONS = 40
 
 def iteration_solver(model, a: float, S, K):
     """The factors of a linear ``model``'s iteration matrix ``S`` = S(a) with its constant
-    stiffness ``K``, kept by the model's ``ladder`` where one applies (undamped: S depends on
-    a alone; sparse: a dense factorization costs less than any of its solves; a direct
-    solver: PCG takes exact factors), made here on first use."""
+    stiffness ``K``, kept by the model's ``ladder`` where one applies (:func:`_ladder`)."""
     solve = factorize(S, symmetric=True, solver=model.solver)
-    if _applies(model):
-        if model.ladder is None:
-            model.ladder = Ladder(
-                model.M, K, lambda A: factorize(A, symmetric=True, solver=model.solver)
-            )
-        model.ladder.keep(a, solve)
+    ladder = _ladder(model, K)
+    if ladder is not None:
+        ladder.keep(a, solve)
     return solve
 
 
@@ -89,16 +84,26 @@ def passing_matrix(model, a: float):
     """(S(a), its solver, None) at a size the ``model`` meets once, from its ladder, or None
     where none applies (the caller factorizes). S is the one sum of data arrays of the
     model's pattern, the damping C (zero) left out."""
-    ladder = model.ladder
-    if ladder is None or not _applies(model):
+    ladder = _ladder(model)
+    if ladder is None:
         return None
     S = model.iteration_sum(a, ladder.K)
     return S, ladder.solver(a, S), None
 
 
-def _applies(model) -> bool:
-    """Whether the ``model``'s sizes met once are solved by a ladder (:func:`iteration_solver`)."""
-    return not (model.dense or any(model.damping)) and model.solver.name not in ("amg", "auto")
+def _ladder(model, K=None) -> Ladder | None:
+    """The ``model``'s ladder (made on first use, with its constant stiffness ``K``, or
+    assembled), or None where none applies: damped (S depends on more than a), dense (a
+    dense factorization costs less than any of its solves), or an iterative solver (PCG
+    takes exact factors)."""
+    if model.dense or any(model.damping) or model.solver.name in ("amg", "auto"):
+        return None
+    if model.ladder is None:
+        K = model.internal(np.zeros(model.n))[2] if K is None else K
+        model.ladder = Ladder(
+            model.M, K, lambda A: factorize(A, symmetric=True, solver=model.solver)
+        )
+    return model.ladder
 
 
 class Ladder:
