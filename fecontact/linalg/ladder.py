@@ -26,7 +26,8 @@ of them serves a single step. Two ways avoid it, chosen once per model by its si
 Both are exact to round-off: the spectral solve's relative residual is 3e-15 (the direct
 solve's 5e-16), PCG's ``TOLERANCE``. A PCG solve that does not reach it in
 ``MAX_ITERATIONS`` is made again with a factorization of S(a) (counted), which then serves
-that size.
+that size, as is a size solved for more than ``MAX_COLUMNS`` columns at once (the contact
+rows' S⁻¹Gᵀ), where PCG's iterations would cost more than the factorization.
 """
 
 from __future__ import annotations
@@ -40,6 +41,7 @@ import scipy.sparse as sp
 from .direct import factorize
 
 __all__ = [
+    "MAX_COLUMNS",
     "MAX_ITERATIONS",
     "RATIO",
     "SPECTRAL_AFTER",
@@ -65,6 +67,11 @@ of P⁻¹S lie in [1, 2], a contraction of (√2 − 1)/(√2 + 1) ≈ 0.17 per 
 TOLERANCE = 1e-13
 """Relative residual |b − S x| / |b| of a PCG solve: a direct solve's own (5e-16) within a
 few hundred ulps, far below the Newton tolerance (1e-8) and the contact columns' use."""
+
+MAX_COLUMNS = 4
+"""Columns of b above which a size's solve factorizes S(a) instead of PCG (then kept for that
+size): PCG pays its iterations for every column, a factorization once (the 2,499-dof ball:
+16 iterations of about 1 ms a column against a 54 ms factorization and 0.8 ms a column)."""
 
 MAX_ITERATIONS = 40
 """PCG iterations of one solve, at most (16 to 17 reach ``TOLERANCE`` at a/b = 2 or 1/2)."""
@@ -188,8 +195,9 @@ class _Preconditioned:
         if self.exact is not None:
             return self.exact(b)
         b = b.toarray() if sp.issparse(b) else np.asarray(b, dtype=float)
-        x = self._pcg(b.reshape(b.shape[0], -1))
-        if x is None:
+        B = b.reshape(b.shape[0], -1)
+        x = self._pcg(B) if B.shape[1] <= MAX_COLUMNS else None
+        if x is None:  # (not converged, or many columns: S(a) factorized, counted)
             ladder = self.ladder
             ladder.counts["pcg_refactorized"] += 1
             self.exact = ladder.factor(self.a, self.S)
