@@ -152,8 +152,13 @@ class Ladder:
         return self.factor(a, S)
 
     def factor(self, a: float, S):
-        """S(a)'s factors (counted), kept as a rung where PCG uses them."""
+        """S(a)'s factors (counted), kept as a rung where PCG uses them. The pattern's
+        explicit zeros are left out, as the sparse sums that make a run's own S(a) leave
+        them: the same structure, so the same ordering and round-off as its factorization."""
         self.counts["factorizations"] += 1
+        if sp.issparse(S):
+            S = S.copy()
+            S.eliminate_zeros()
         solve = self._factorize(S)
         self.keep(a, solve)
         return solve
