@@ -14,6 +14,7 @@ import scipy.sparse as sp
 from .contact import ContactSet
 from .errors import InputError, check_finite, check_positive, check_vector
 from .linalg import DENSE_LIMIT, LinearSolver, Pattern, factorize
+from .linalg.ladder import Ladder, iteration_solver, passing_matrix
 
 __all__ = ["Model", "NodalLoad"]
 
@@ -88,6 +89,9 @@ class Model:
         # (S_t, its solver, C) of a linear model per (β′, γ′): one factorization per step size
         self.iteration_cache: dict = {}
         self.column_cache: dict = {}  # H⁻¹G_jᵀ per metric and contact (linear models)
+        # the solvers of S(a) = aM + K at sizes met once, and whether those met now are
+        self.ladder: Ladder | None = None
+        self.passing = False
 
     def _place_dofs(self) -> None:
         """The bodies' slices of the global vector (``offsets``, ``n``) and its free dofs,
@@ -255,14 +259,19 @@ class Model:
 
     def iteration_matrix(self, bp: float, gp: float):
         """(S, solve, C) with the damping C = αM + βK and S = β′M + γ′C + K, for linear
-        bodies (constant K): assembled and factorized once per step size, then reused."""
+        bodies (constant K): assembled and factorized once per step size, then reused. A size
+        met while ``passing`` (used once) is solved by the ``ladder`` where one applies, C
+        then None (:func:`fecontact.linalg.ladder.passing_matrix`)."""
         key = (bp, gp)
         if key not in self.iteration_cache:
-            _, _, K = self.internal(np.zeros(self.n))
-            alpha, beta = self.damping
-            C = alpha * self.M + beta * K
-            S = bp * self.M + K + gp * C
-            self.iteration_cache[key] = (S, factorize(S, symmetric=True, solver=self.solver), C)
+            once = passing_matrix(self, bp) if self.passing else None
+            if once is None:
+                _, _, K = self.internal(np.zeros(self.n))
+                alpha, beta = self.damping
+                C = alpha * self.M + beta * K
+                S = bp * self.M + K + gp * C
+                once = (S, iteration_solver(self, bp, S, K), C)
+            self.iteration_cache[key] = once
         return self.iteration_cache[key]
 
     def external(self, t: float) -> np.ndarray:

@@ -40,8 +40,10 @@ Flexible bodies' chattering contacts and the release read aside for solids take 
 steps in sub-steps (:mod:`fecontact.time.substeps`).
 
 Linear models factorize their iteration matrix once per step size: the split steps' sizes
-are used once, so their factorizations (and the correction's columns) are dropped after the
-step, counted in ``localization_cost``; the full step's are kept.
+are used once, so their solvers (and the correction's columns) are dropped after the step;
+the full step's are kept. An undamped sparse one solves them from the factors it keeps on a
+ladder of sizes, or from its eigendecomposition (:mod:`fecontact.linalg.ladder`), counted
+in ``localization_cost`` with the factorizations made for them.
 """
 
 from __future__ import annotations
@@ -151,6 +153,8 @@ def _split_step(model, st, h, opts, timer, phases) -> State:
     stats = opts.stats.localization
     kept: list = []  # the caches' entries of the full step
     before = (stats.impacts, stats.first_closing)
+    # the split's sizes are used once: solved from the ladder's factors (linalg.ladder)
+    passing, model.passing = model.passing, True
     try:
         parts = _parts(model, st, h, opts, timer, phases, kept)
     except StepFailure:  # a smooth step of the split failed: the trial, whole (counted)
@@ -159,8 +163,9 @@ def _split_step(model, st, h, opts, timer, phases) -> State:
         model.contacts.look_ahead(st.q, st.v, h)
         parts = None
     finally:
+        model.passing = passing
         if kept:
-            stats.factorizations += drop_caches(model, kept)
+            drop_caches(model, kept, stats)
     if parts is None:  # (or no split: the trial is the step)
         return phases.finish(time.perf_counter())
     out = parts[0]
@@ -364,17 +369,29 @@ def joined(first: State, second: State, h: float) -> State:
     return second
 
 
-def cache_keys(model) -> tuple[set, set]:
-    """The step sizes' entries of a linear model's caches (factorizations, columns)."""
-    return set(model.iteration_cache), set(model.column_cache)
+def cache_keys(model) -> tuple:
+    """The step sizes' entries of a linear model's caches (factorizations, columns), and the
+    counts of its ladder (:class:`fecontact.linalg.ladder.Ladder`) so far."""
+    counts = {} if model.ladder is None else dict(model.ladder.counts)
+    return set(model.iteration_cache), set(model.column_cache), counts
 
 
-def drop_caches(model, kept: list[set]) -> int:
-    """Drop the caches' entries made since ``kept`` (the split steps' sizes, used once);
-    return how many factorizations they held."""
+def drop_caches(model, kept, stats) -> None:
+    """Drop the caches' entries made since ``kept`` (the split steps' sizes, used once); count
+    in the localization ``stats`` the factorizations made for them and the ladder's solves
+    without one (the ladder keeps its factors)."""
     added = [k for k in model.iteration_cache if k not in kept[0]]
     for key in added:
         del model.iteration_cache[key]
     for key in [k for k in model.column_cache if k not in kept[1]]:
         del model.column_cache[key]
-    return len(added)
+    if model.ladder is None:
+        stats.factorizations += len(added)
+        return
+    before = kept[2]
+    for key, value in model.ladder.counts.items():
+        made = value - before.get(key, 0)
+        if key == "factorizations":
+            stats.factorizations += made
+        else:
+            stats.ladder[key] += made

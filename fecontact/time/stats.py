@@ -38,7 +38,9 @@ class FollowUps:
 class Localization:
     """Impacts located inside their step (:mod:`fecontact.time.localize`): the impacts
     applied at their own instant, the extra smooth steps that found those instants, the
-    factorizations made for the split steps' sizes (linear models; not kept), and the steps
+    factorizations made for the split steps' sizes (linear models), the ``ladder``'s solves
+    of those sizes without one (:class:`fecontact.linalg.ladder.Ladder`: PCG solves, their
+    iterations, those refactorized, eigendecompositions made), and the steps
     left to the end-of-step impact, by reason: ``accumulation`` (the step already split
     ``max_impacts`` times, or too little of it left), ``persistent`` (a contact was already
     pressed at the step's start), ``grazing`` (the gap closes with ġ ≈ 0), ``unrefined``
@@ -62,6 +64,11 @@ class Localization:
     fallbacks: dict = field(
         default_factory=lambda: dict.fromkeys(
             ("accumulation", "persistent", "grazing", "unrefined", "failed"), 0
+        )
+    )
+    ladder: dict = field(
+        default_factory=lambda: dict.fromkeys(
+            ("pcg_solves", "pcg_iterations", "pcg_refactorized", "spectral"), 0
         )
     )
 
@@ -132,6 +139,8 @@ class StepStats:
             "localization_cost": {
                 "smooth_steps": self.localization.smooth_steps,
                 "factorizations": self.localization.factorizations,
+                # the split steps' sizes solved without their own factorization
+                "ladder": dict(self.localization.ladder),
                 "subdivided_steps": self.localization.subdivided,
                 "release_probes": self.localization.release_probes,
             },

@@ -157,6 +157,7 @@ class Releases(Localizer):
         stats = opts.stats.localization
         stats.release_probes += 1
         kept, cur, k = cache_keys(model), st, h / self.substeps
+        passing, model.passing = model.passing, True  # (its size: a ladder's rung)
         try:
             for _ in range(int(READ_RELEASE + 1) * self.substeps):
                 nxt = localized_step(model, cur, k, opts, timer)
@@ -166,5 +167,6 @@ class Releases(Localizer):
         except SolverError:  # (the run's own step decides; the release is read at its end)
             stats.fallbacks["unrefined"] += 1
         finally:
-            stats.factorizations += drop_caches(model, kept)
+            model.passing = passing
+            drop_caches(model, kept, stats)
         return None, cur.t
