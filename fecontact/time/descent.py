@@ -18,6 +18,15 @@ checked and globalized in units of energy:
    Π(q + s d) − Π(q) ≤ 10⁻⁴ s r·d. The full step is tested with the strain energy that the
    next iteration's internal forces bring anyway; only a failed test costs evaluations of W.
 
+On a Lie group (q = q_n ⊕ D, :mod:`.lie`) S_t is not symmetric and the residual is the
+gradient of Π only where T(D) acts as the identity and no gyroscopic force acts (a beam moving
+in a plane). There Newton's direction is kept (no shift), and step 2 runs, in D with W at
+q_n ⊕ (D + s d), on the updates along which the stiffness softens, dᵀK_t d < 0: the case
+above, where a beam struck in the plane took a 2 rad update of its tip's rotation whole that
+the planar step cut. Elsewhere the test would judge a merit that is not the residual's
+potential: on a free beam tumbling in space it cut updates that Newton needs, and its
+momentum drift lost its order 2.
+
 Updates below the increment tolerance are taken whole: they end the iteration, and there the
 change of W is a difference of nearly equal sums that has lost its digits (I₁ − 3 of a small
 strain), so no test on Π could decide.
@@ -62,9 +71,10 @@ class Armijo(NamedTuple):
     def accepts(self, W1: float) -> bool:
         return self.lin + self.quad + (W1 - self.W0) <= ARMIJO * self.slope
 
-    def backtrack(self, model, stats: NewtonStats | None = None) -> float:
+    def backtrack(self, model, stats: NewtonStats | None = None, lie=None) -> float:
         """The first s = ½, ¼, … that passes the test, from the strain energy at q + s dq
-        (each halving counted in ``stats``)."""
+        (on a group, ``lie``: at q_n ⊕ (D + s dq), the iterate's first row being D; each
+        halving counted in ``stats``)."""
         stats = NewtonStats() if stats is None else stats
         q = self.X[0]
         qt = q.copy()
@@ -73,7 +83,8 @@ class Armijo(NamedTuple):
             s *= 0.5
             stats.line_search_cuts += 1
             qt[model.free] = q[model.free] + s * self.dq
-            change = s * self.lin + s * s * self.quad + (model.strain_energy(qt) - self.W0)
+            at = qt if lie is None else lie.configuration(qt)
+            change = s * self.lin + s * s * self.quad + (model.strain_energy(at) - self.W0)
             if change <= ARMIJO * s * self.slope:
                 return s
         raise StepFailure("smooth step: the line search found no decrease", self.residual)
@@ -113,12 +124,31 @@ def descent_direction(
     for _ in range(MAX_SHIFTS):
         slope = float(r @ dq)
         if slope < 0.0:
-            quad = 0.5 * (float(dq @ (S @ dq)) - float(dq @ (K @ dq)))
-            return dq, float((r - fi) @ dq), quad, slope
+            return dq, *line_terms(r, fi, S, K, dq), slope
         tau = 1.0 if tau == 0.0 else 10.0 * tau
         stats.shifted_directions += 1
         dq = -factorize_or_fail(_plus(S, tau * shift), residual, True, solver)(r)
     raise StepFailure("smooth step: no descent direction of the incremental potential", residual)
+
+
+def group_direction(model, r, elastic, S, solve, X, tol_increment: float, residual: float):
+    """Newton's update dq = −S⁻¹r on a Lie group (``X``: the iterate, its first row D;
+    ``elastic`` the elastic term at it) and its :class:`Armijo` test where it descends
+    above the increment tolerance along a softening stiffness, dqᵀK dq < 0 (else None:
+    taken whole, see the module docstring)."""
+    dq = -solve(r)
+    slope = float(r @ dq)
+    if slope >= 0.0 or model.update_size(dq) <= tol_increment:
+        return dq, None
+    if float(dq @ (elastic.K @ dq)) >= 0.0:
+        return dq, None
+    lin, quad = line_terms(r, elastic.fi, S, elastic.K, dq)
+    return dq, Armijo(X.copy(), dq, lin, quad, slope, elastic.W, residual)
+
+
+def line_terms(r, fi, S, K, dq) -> tuple[float, float]:
+    """(lin, quad) of :class:`Armijo` along ``dq``."""
+    return float((r - fi) @ dq), 0.5 * (float(dq @ (S @ dq)) - float(dq @ (K @ dq)))
 
 
 def _plus(S, T):
