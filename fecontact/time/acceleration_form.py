@@ -232,9 +232,9 @@ class AccelerationForm:
         if plan.reuse or not plan.descent:  # (linear: Π is quadratic, S_t positive definite)
             return -solve(r)
         elastic, opts, res = self.newton.elastic, self.opts, self.rnorm / self.ref
-        if self.lie is not None:  # (Newton's direction; the line search where K softens)
-            X, tol = self.step.X, opts.tol_increment
-            dq, self.armijo = group_direction(model, r, elastic, self.S, solve, X, tol, res)
+        if self.lie is not None:  # (Newton's direction, its length cut in D)
+            at = (self.lie, self.step.X, opts.tol_increment, res)
+            dq, self.armijo = group_direction(model, r, elastic, self.S, solve, *at)
             return dq
         newton = (opts.tol_increment, res, opts.stats.newton, model.solver)
         shift = self.newton.mass_shift(self.step.c)

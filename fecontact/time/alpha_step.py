@@ -70,9 +70,8 @@ def alpha_plan(model, smooth: bool, friction: bool, extra=()) -> NewtonPlan:
     if smooth:
         terms.append(SmoothContact(model, friction))
     bound = _remainder_bound(model, reuse or (group is not None and model.linear))
-    # (on a group, the line search alone, where the stiffness softens along the update:
-    # plain Newton took whole a 2 rad update of a struck beam's rotation, S_t indefinite,
-    # that the planar twin's line search cut)
+    # (on a group, the line search alone: plain Newton took whole a 2 rad update of a
+    # struck beam's rotation, S_t indefinite, that the planar twin's line search cut)
     descent = not model.linear
     return NewtonPlan((*terms, *extra), reuse, descent, False, bound, "smooth step", group)
 

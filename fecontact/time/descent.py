@@ -18,14 +18,15 @@ checked and globalized in units of energy:
    Π(q + s d) − Π(q) ≤ 10⁻⁴ s r·d. The full step is tested with the strain energy that the
    next iteration's internal forces bring anyway; only a failed test costs evaluations of W.
 
-On a Lie group (q = q_n ⊕ D, :mod:`.lie`) S_t is not symmetric and the residual is the
-gradient of Π only where T(D) acts as the identity and no gyroscopic force acts (a beam moving
-in a plane). There Newton's direction is kept (no shift), and step 2 runs, in D with W at
-q_n ⊕ (D + s d), on the updates along which the stiffness softens, dᵀK_t d < 0: the case
-above, where a beam struck in the plane took a 2 rad update of its tip's rotation whole that
-the planar step cut. Elsewhere the test would judge a merit that is not the residual's
-potential: on a free beam tumbling in space it cut updates that Newton needs, and its
-momentum drift lost its order 2.
+On a Lie group (q = q_n ⊕ D, :mod:`.lie`) S_t is not symmetric: Newton's direction is kept
+(no shift), and step 2 runs in D, with W at q_n ⊕ (D + s d), its slope f_int·T(D)d and the
+quadratic part of Π without the stiffness K T(D) that S_t holds; the gyroscopic forces stay
+in Π's linear and quadratic parts as the residual and S_t carry them. In a plane T(D) acts as
+the identity and the test is the planar one, cut for cut: a beam struck in the plane took
+whole, without it, a 2 rad update of its tip's rotation (S_t indefinite at the predictor)
+that the planar step cut, and left its planar twin. With the slope f_int·d instead, the test
+cut a free tumbling beam's Newton near convergence (the slope's missing f_int·(T − I)d) and
+its momentum drift lost its order 2.
 
 Updates below the increment tolerance are taken whole: they end the iteration, and there the
 change of W is a difference of nearly equal sums that has lost its digits (I₁ − 3 of a small
@@ -131,18 +132,21 @@ def descent_direction(
     raise StepFailure("smooth step: no descent direction of the incremental potential", residual)
 
 
-def group_direction(model, r, elastic, S, solve, X, tol_increment: float, residual: float):
-    """Newton's update dq = −S⁻¹r on a Lie group (``X``: the iterate, its first row D;
-    ``elastic`` the elastic term at it) and its :class:`Armijo` test where it descends
-    above the increment tolerance along a softening stiffness, dqᵀK dq < 0 (else None:
-    taken whole, see the module docstring)."""
+def group_direction(model, r, elastic, S, solve, lie, X, tol_increment: float, residual: float):
+    """Newton's update dq = −S⁻¹r on a Lie group and its :class:`Armijo` test where it
+    descends above the increment tolerance (else None: taken whole). ``lie`` is the step's
+    :class:`fecontact.time.lie.LieStep`, ``X`` the iterate (its first row D), ``elastic``
+    the elastic term at it. In D the strain energy changes along dq by f_int·T(D)dq and
+    S_t holds K T(D): the slope and the quadratic part are taken so (module docstring)."""
     dq = -solve(r)
-    slope = float(r @ dq)
+    fi, K = elastic.fi, elastic.K
+    lin = float((r - fi) @ dq)
+    # (row vectors times T(D): f_int·T d and dᵀK T d without forming K T)
+    fT, KT = lie.right(np.vstack([fi, K.T @ dq]))
+    slope = lin + float(fT @ dq)
     if slope >= 0.0 or model.update_size(dq) <= tol_increment:
         return dq, None
-    if float(dq @ (elastic.K @ dq)) >= 0.0:
-        return dq, None
-    lin, quad = line_terms(r, elastic.fi, S, elastic.K, dq)
+    quad = 0.5 * (float(dq @ (S @ dq)) - float(KT @ dq))
     return dq, Armijo(X.copy(), dq, lin, quad, slope, elastic.W, residual)
 
 
