@@ -234,7 +234,11 @@ class AccelerationForm:
         elastic, opts, res = self.newton.elastic, self.opts, self.rnorm / self.ref
         if self.lie is not None:  # (Newton's direction, its length cut in D)
             at = (self.lie, self.step.X, opts.tol_increment, res)
-            dq, self.armijo = group_direction(model, r, elastic, self.S, solve, *at)
+            dq, test = group_direction(model, r, elastic, self.S, solve, *at)
+            if isinstance(test, bool):  # (taken whole; below the tolerance or not)
+                self.small = test
+            else:  # (above the tolerance, tested)
+                self.armijo, self.small = test, False
             return dq
         newton = (opts.tol_increment, res, opts.stats.newton, model.solver)
         shift = self.newton.mass_shift(self.step.c)

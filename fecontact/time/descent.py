@@ -134,20 +134,33 @@ def descent_direction(
 
 def group_direction(model, r, elastic, S, solve, lie, X, tol_increment: float, residual: float):
     """Newton's update dq = −S⁻¹r on a Lie group and its :class:`Armijo` test where it
-    descends above the increment tolerance (else None: taken whole). ``lie`` is the step's
+    descends above the increment tolerance (else whether it is below: taken whole, an
+    update below the tolerance ending the iteration). ``lie`` is the step's
     :class:`fecontact.time.lie.LieStep`, ``X`` the iterate (its first row D), ``elastic``
     the elastic term at it. In D the strain energy changes along dq by f_int·T(D)dq and
     S_t holds K T(D): the slope and the quadratic part are taken so (module docstring)."""
     dq = -solve(r)
-    fi, K = elastic.fi, elastic.K
+    if model.update_size(dq) <= tol_increment:  # (most steps' last update)
+        return dq, True
+    fi = elastic.fi
     lin = float((r - fi) @ dq)
-    # (row vectors times T(D): f_int·T d and dᵀK T d without forming K T)
-    fT, KT = lie.right(np.vstack([fi, K.T @ dq]))
-    slope = lin + float(fT @ dq)
-    if slope >= 0.0 or model.update_size(dq) <= tol_increment:
-        return dq, None
-    quad = 0.5 * (float(dq @ (S @ dq)) - float(KT @ dq))
+    Td = _tangent_times(lie, dq)
+    slope = lin + float(fi @ Td)
+    if slope >= 0.0:
+        return dq, False
+    quad = 0.5 * (float(dq @ (S @ dq)) - float(dq @ (elastic.K @ Td)))
     return dq, Armijo(X.copy(), dq, lin, quad, slope, elastic.W, residual)
+
+
+def _tangent_times(lie, v: np.ndarray) -> np.ndarray:
+    """T(D) v on the free dofs: each rotation triple of v times its T(D), the rest kept."""
+    if not lie.model.rotations.size:
+        return v
+    T, block = lie.T, lie.group.block
+    cols = block if block is not None else lie.cols
+    out = v.copy()
+    out[cols] = np.einsum("kij,kj->ki", T, v[cols].reshape(T.shape[0], 3)).ravel()
+    return out
 
 
 def line_terms(r, fi, S, K, dq) -> tuple[float, float]:
