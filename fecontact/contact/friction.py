@@ -216,13 +216,13 @@ def _gauss_seidel(c, D, p, k, mu, nt, x0, tol, stats, max_sweeps=2000):
     sweep = 0
     while sweep < max_sweeps:
         sweep += 1
-        change, stuck = 0.0, False
+        change, stuck = 0.0, 0
         for j, rows in enumerate(blocks):
             Djj = D[np.ix_(rows, rows)]
             local = c[rows] + kD[rows] @ x - k * (Djj @ x[rows])
             xj = _local(local, Djj, p[rows], k, mu[j], nt, x[rows], tol, stats)
             if xj is None:
-                stuck = True  # kept for this sweep; the others move on
+                stuck += 1  # kept for this sweep; the others move on
                 continue
             change = max(change, float(np.max(np.abs(k * (Djj @ (xj - x[rows]))))))
             x[rows] = xj
@@ -232,6 +232,10 @@ def _gauss_seidel(c, D, p, k, mu, nt, x0, tol, stats, max_sweeps=2000):
             change = max(change, float(np.max(np.abs(kD[np.ix_(eq, eq)] @ (xe - x[eq])))))
             x[eq] = xe
         if change <= tol and not stuck:
+            break
+        if stuck == m and not eq.size:
+            # no contact's law has an answer with the others held (a Delassus block that
+            # is not positive, as at a diverging iterate): further sweeps repeat this one
             break
     return x, sweep
 

@@ -33,7 +33,7 @@ from .constraints import (
     independent_rows,
     plus_curvature,
 )
-from .descent import Armijo, descent_direction
+from .descent import Armijo, descent_direction, group_direction
 from .generalized_alpha import predict
 from .lie import LieStep, predict_increment
 from .terms import StepContext
@@ -99,7 +99,7 @@ class AccelerationForm:
         if self.armijo is None and not newton.evaluated:  # (the elastic term alone)
             newton.elastic.evaluate(step, it)
         else:
-            newton.evaluate(it, None if self.armijo is None else self._armijo)
+            newton.evaluate(it, None if self.armijo is None else lambda i: _armijo(self, i))
         Mvd = self.model.M @ step.vd[self.model.free_slice]
         r = Mvd
         for term in newton.forced:
@@ -123,18 +123,6 @@ class AccelerationForm:
             if not term.converged(step):
                 return False
         return True
-
-    def _armijo(self, it: int) -> None:
-        """The Armijo test of the last full update, by the strain energy the elastic term
-        found at its end; where it fails, the update is cut back and the term evaluated
-        again."""
-        step, elastic = self.step, self.newton.elastic
-        armijo, self.armijo = self.armijo, None
-        if not armijo.accepts(elastic.W):
-            s = armijo.backtrack(self.model, self.opts.stats.newton)
-            step.X[:] = armijo.X
-            step.X[:, self.model.free_slice] += np.multiply.outer(step.c.w, s * armijo.dq)
-            elastic.evaluate(step, it)
 
     def update(self) -> bool:
         """One Newton update of the iterate; whether it has converged with it."""
@@ -244,6 +232,14 @@ class AccelerationForm:
         if plan.reuse or not plan.descent:  # (linear: Π is quadratic, S_t positive definite)
             return -solve(r)
         elastic, opts, res = self.newton.elastic, self.opts, self.rnorm / self.ref
+        if self.lie is not None:  # (Newton's direction, its length cut in D)
+            at = (self.lie, self.step.X, opts.tol_increment, res)
+            dq, test = group_direction(model, r, elastic, self.S, solve, *at)
+            if isinstance(test, bool):  # (taken whole; below the tolerance or not)
+                self.small = test
+            else:  # (above the tolerance, tested)
+                self.armijo, self.small = test, False
+            return dq
         newton = (opts.tol_increment, res, opts.stats.newton, model.solver)
         shift = self.newton.mass_shift(self.step.c)
         shifts = opts.stats.newton.shifted_directions
@@ -296,6 +292,21 @@ class AccelerationForm:
         if self.S is not None and self.plain and not _holding(self.held):
             return (self.S, self.solve) if self.newton.joints is None else None
         return None
+
+
+def _armijo(form: AccelerationForm, it: int) -> None:
+    """The Armijo test of the ``form``'s last full update, by the strain energy the elastic
+    term found at its end; where it fails, the update is cut back and the term evaluated
+    again."""
+    step, elastic, lie = form.step, form.newton.elastic, form.lie
+    armijo, form.armijo = form.armijo, None
+    if not armijo.accepts(elastic.W):
+        s = armijo.backtrack(form.model, form.opts.stats.newton, lie)
+        step.X[:] = armijo.X
+        step.X[:, form.model.free_slice] += np.multiply.outer(step.c.w, s * armijo.dq)
+        if lie is not None:  # (q = q_n ⊕ D)
+            step.q = lie.configuration(step.X[0])
+        elastic.evaluate(step, it)
 
 
 def held_factors(form: AccelerationForm, touching) -> bool:

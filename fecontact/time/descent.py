@@ -18,6 +18,16 @@ checked and globalized in units of energy:
    Π(q + s d) − Π(q) ≤ 10⁻⁴ s r·d. The full step is tested with the strain energy that the
    next iteration's internal forces bring anyway; only a failed test costs evaluations of W.
 
+On a Lie group (q = q_n ⊕ D, :mod:`.lie`) S_t is not symmetric: Newton's direction is kept
+(no shift), and step 2 runs in D, with W at q_n ⊕ (D + s d), its slope f_int·T(D)d and the
+quadratic part of Π without the stiffness K T(D) that S_t holds; the gyroscopic forces stay
+in Π's linear and quadratic parts as the residual and S_t carry them. In a plane T(D) acts as
+the identity and the test is the planar one, cut for cut: a beam struck in the plane took
+whole, without it, a 2 rad update of its tip's rotation (S_t indefinite at the predictor)
+that the planar step cut, and left its planar twin. With the slope f_int·d instead, the test
+cut a free tumbling beam's Newton near convergence (the slope's missing f_int·(T − I)d) and
+its momentum drift lost its order 2.
+
 Updates below the increment tolerance are taken whole: they end the iteration, and there the
 change of W is a difference of nearly equal sums that has lost its digits (I₁ − 3 of a small
 strain), so no test on Π could decide.
@@ -62,9 +72,10 @@ class Armijo(NamedTuple):
     def accepts(self, W1: float) -> bool:
         return self.lin + self.quad + (W1 - self.W0) <= ARMIJO * self.slope
 
-    def backtrack(self, model, stats: NewtonStats | None = None) -> float:
+    def backtrack(self, model, stats: NewtonStats | None = None, lie=None) -> float:
         """The first s = ½, ¼, … that passes the test, from the strain energy at q + s dq
-        (each halving counted in ``stats``)."""
+        (on a group, ``lie``: at q_n ⊕ (D + s dq), the iterate's first row being D; each
+        halving counted in ``stats``)."""
         stats = NewtonStats() if stats is None else stats
         q = self.X[0]
         qt = q.copy()
@@ -73,7 +84,8 @@ class Armijo(NamedTuple):
             s *= 0.5
             stats.line_search_cuts += 1
             qt[model.free] = q[model.free] + s * self.dq
-            change = s * self.lin + s * s * self.quad + (model.strain_energy(qt) - self.W0)
+            at = qt if lie is None else lie.configuration(qt)
+            change = s * self.lin + s * s * self.quad + (model.strain_energy(at) - self.W0)
             if change <= ARMIJO * s * self.slope:
                 return s
         raise StepFailure("smooth step: the line search found no decrease", self.residual)
@@ -113,12 +125,47 @@ def descent_direction(
     for _ in range(MAX_SHIFTS):
         slope = float(r @ dq)
         if slope < 0.0:
-            quad = 0.5 * (float(dq @ (S @ dq)) - float(dq @ (K @ dq)))
-            return dq, float((r - fi) @ dq), quad, slope
+            return dq, *line_terms(r, fi, S, K, dq), slope
         tau = 1.0 if tau == 0.0 else 10.0 * tau
         stats.shifted_directions += 1
         dq = -factorize_or_fail(_plus(S, tau * shift), residual, True, solver)(r)
     raise StepFailure("smooth step: no descent direction of the incremental potential", residual)
+
+
+def group_direction(model, r, elastic, S, solve, lie, X, tol_increment: float, residual: float):
+    """Newton's update dq = −S⁻¹r on a Lie group and its :class:`Armijo` test where it
+    descends above the increment tolerance (else whether it is below: taken whole, an
+    update below the tolerance ending the iteration). ``lie`` is the step's
+    :class:`fecontact.time.lie.LieStep`, ``X`` the iterate (its first row D), ``elastic``
+    the elastic term at it. In D the strain energy changes along dq by f_int·T(D)dq and
+    S_t holds K T(D): the slope and the quadratic part are taken so (module docstring)."""
+    dq = -solve(r)
+    if model.update_size(dq) <= tol_increment:  # (most steps' last update)
+        return dq, True
+    fi = elastic.fi
+    lin = float((r - fi) @ dq)
+    Td = _tangent_times(lie, dq)
+    slope = lin + float(fi @ Td)
+    if slope >= 0.0:
+        return dq, False
+    quad = 0.5 * (float(dq @ (S @ dq)) - float(dq @ (elastic.K @ Td)))
+    return dq, Armijo(X.copy(), dq, lin, quad, slope, elastic.W, residual)
+
+
+def _tangent_times(lie, v: np.ndarray) -> np.ndarray:
+    """T(D) v on the free dofs: each rotation triple of v times its T(D), the rest kept."""
+    if not lie.model.rotations.size:
+        return v
+    T, block = lie.T, lie.group.block
+    cols = block if block is not None else lie.cols
+    out = v.copy()
+    out[cols] = np.einsum("kij,kj->ki", T, v[cols].reshape(T.shape[0], 3)).ravel()
+    return out
+
+
+def line_terms(r, fi, S, K, dq) -> tuple[float, float]:
+    """(lin, quad) of :class:`Armijo` along ``dq``."""
+    return float((r - fi) @ dq), 0.5 * (float(dq @ (S @ dq)) - float(dq @ (K @ dq)))
 
 
 def _plus(S, T):
