@@ -170,13 +170,20 @@ def trajectory(options):
     return np.array([st.q for st in simulate(sim.model, sim.dt, sim.t_end, options, v0=sim.v0)])
 
 
+@pytest.fixture(scope="module")
+def mortar_base():
+    """The trajectory at the case's own p and k, run once for the four changes."""
+    sim = TWO_DISKS.build(method="mortar", refinements=2, t_end=0.005)
+    return trajectory(sim.options)
+
+
 @pytest.mark.parametrize(
     "change", [{"penalty_scale": 1e-3}, {"penalty_scale": 1e3}, {"multiplier_scale": 1e-2},
                {"multiplier_scale": 1e2}]
 )  # fmt: skip
-def test_mortar_trajectory_independent_of_p_and_k(change):
+def test_mortar_trajectory_independent_of_p_and_k(change, mortar_base):
     sim = TWO_DISKS.build(method="mortar", refinements=2, t_end=0.005)
-    base = trajectory(sim.options)
+    base = mortar_base
     other = trajectory(dataclasses.replace(sim.options, **change))
     assert np.max(np.abs(other - base)) <= 1e-8 * 0.05  # of the radius
 
@@ -418,9 +425,15 @@ def ball_trajectory(options=None, **params):
     return sim, np.array([st.q for st in states])
 
 
+@pytest.fixture(scope="module")
+def ball_base():
+    """The balls' trajectory at the case's own p and k, run once for both changes."""
+    return ball_trajectory()
+
+
 @pytest.mark.parametrize("change", [{"penalty_scale": 1e3}, {"multiplier_scale": 1e-2}])
-def test_mortar_3d_trajectory_independent_of_p_and_k(change):
-    sim, base = ball_trajectory()
+def test_mortar_3d_trajectory_independent_of_p_and_k(change, ball_base):
+    sim, base = ball_base
     _, other = ball_trajectory(dataclasses.replace(sim.options, **change))
     assert np.max(np.abs(other - base)) <= 1e-8 * 0.05  # of the radius
 

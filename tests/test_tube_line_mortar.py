@@ -144,11 +144,17 @@ def test_a_rod_dropped_on_a_coarse_block_stays_out_and_creates_no_energy(tmp_pat
     assert 0.5 * deepest <= record <= bound
 
 
+@pytest.fixture(scope="module")
+def coarse_drop_base():
+    """The coarse drop at the default p and k over 3 ms, run once for both changes."""
+    return coarse_drop(t_end=0.003)[0]
+
+
 @pytest.mark.parametrize("change", [{"penalty_scale": 1e3}, {"multiplier_scale": 1e-2}])
-def test_the_coarse_drop_is_independent_of_p_and_k(change):
+def test_the_coarse_drop_is_independent_of_p_and_k(change, coarse_drop_base):
     """p × 1000 and k / 100 change the trajectory by round-off (bound 1e-8 of the radius;
     measured 1.1e-10 and 2.5e-10 of it: the Newton tolerances on a 15 cm block)."""
-    base = coarse_drop(t_end=0.003)[0]
+    base = coarse_drop_base
     other = coarse_drop(options=IntegratorOptions(**change), t_end=0.003)[0]
     assert any(np.any(s.lam > 0.0) or np.any(s.impulse > 0.0) for s in base)
     diff = max(np.max(np.abs(a.q - b.q)) for a, b in zip(base, other, strict=True))
@@ -317,15 +323,22 @@ def fine_rolling(t_end: float, x0=0.005, mu=0.3, v0=0.1):
     return np.array(out).T
 
 
+@pytest.fixture(scope="module")
+def fine_run():
+    """``fine_rolling`` over 30 ms, run once: its first 10 ms are the states of a 10 ms run
+    to the bit (the same steps from the same start)."""
+    return fine_rolling(0.03)
+
+
 @pytest.mark.slow
-def test_a_rod_sliding_on_a_fine_face_decelerates_at_mu_g_without_lifting():
+def test_a_rod_sliding_on_a_fine_face_decelerates_at_mu_g_without_lifting(fine_run):
     """The first 10 ms of the fine setup (``fine_rolling``): the rod decelerates at μg to
     2e-3 (measured 6e-4 over 0.5–10 ms; over 0.5–5 ms 1 %, the block's vertical vibration
     under the launch modulating the load) and never lifts off the face (the tube's least
     clearance from the block stays ≤ 0: measured −1.3e-6 m, the soft block's dent between
     its nodes); no block node enters the tube. The weighted-distance rows lost 78 % of the
     speed over 30 ms on this setup and hopped off the face."""
-    t, speed, lift, clear = fine_rolling(0.01)
+    t, speed, lift, clear = fine_run[:, fine_run[0] <= 0.01 + 1e-12]
     slide = t > 0.5e-3
     a = -np.polyfit(t[slide], 0.1 * speed[slide], 1)[0]
     assert a == pytest.approx(0.3 * 9.81, rel=2e-3)
@@ -333,12 +346,12 @@ def test_a_rod_sliding_on_a_fine_face_decelerates_at_mu_g_without_lifting():
 
 
 @pytest.mark.slow
-def test_a_rod_launched_sliding_on_a_fine_face_rolls_at_two_thirds_of_its_speed():
+def test_a_rod_launched_sliding_on_a_fine_face_rolls_at_two_thirds_of_its_speed(fine_run):
     """The fine setup over 30 ms: it slides until v₀/(3μg) = 11.3 ms, then rolls at
     v₀/(1 + J/(m r²)) = 2/3 v₀ to 1 % at 30 ms (measured 0.667; over the last 10 ms
     0.655–0.680, the soft block's vibration), and never lifts off the face by more than 1e-6 m
     (the tube's least clearance from the block, from the coordinates: measured −1.3e-6 m)."""
-    t, speed, lift, clear = fine_rolling(0.03)
+    t, speed, lift, clear = fine_run
     assert speed[-1] == pytest.approx(2.0 / 3.0, rel=1e-2)
     assert lift.max() <= 1e-6 and clear.min() > 0.0
 
