@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
+import fecontact.linalg.ladder as ladder_module
 import fecontact.model as model_module
 import fecontact.time.constraints as constraints_module
 import fecontact.time.impacts as impacts_module
@@ -30,6 +31,7 @@ def counted(monkeypatch):
     monkeypatch.setattr(model_module, "factorize", wrapper)
     monkeypatch.setattr(constraints_module, "factorize", wrapper)
     monkeypatch.setattr(impacts_module, "factorize", wrapper)
+    monkeypatch.setattr(ladder_module, "factorize", wrapper)
     return calls
 
 
