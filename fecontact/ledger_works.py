@@ -91,5 +91,5 @@ def spring_step_work(last, st) -> float:
     if lam0.size != lam.size or last.gaps.size != st.gaps.size:
         return 0.0
     g0, g1 = last.gaps, st.gaps
-    both = np.isfinite(g0) & np.isfinite(g1)
-    return -0.5 * float(np.sum(((lam0 + lam) * (g1 - g0))[both]))
+    both = np.isfinite(g0) & np.isfinite(g1)  # (rows without a gap at either end: no work)
+    return -0.5 * float(np.sum((lam0[both] + lam[both]) * (g1[both] - g0[both])))

@@ -192,20 +192,26 @@ def test_a_ball_pressed_by_a_box_edge_reads_neither_p_nor_k(inside, steps):
     it: k ÷ 100 moved a node by 5.5e-6 m (1.1e-4 R) at the 31st step on the edge, by 3.6e-4 R
     at the 22nd 5 mm inside. Now p × 1000 and k ÷ 100 take the same path."""
     import dataclasses
+    import warnings
 
     ball, box = _ball_and_box(inside=inside, refinements=2)
     model = Model([ball, box], [Contact(ball, box, method="mortar")], (0.0, 0.0, -9.81))
     v0 = model.translation(ball, (0.0, 0.0, -3.0))
     dt = wave_step(ball, 1.0)
     base = IntegratorOptions()
-    runs = [
-        [st.q.copy() for st in simulate(model, dt, steps * dt, options, v0=v0)]
-        for options in (
-            base,
-            dataclasses.replace(base, penalty_scale=1e3),
-            dataclasses.replace(base, multiplier_scale=1e-2),
-        )
-    ]
+    # no NaN on the way: a box edge's row held by the smooth step's force loses its gap
+    # (+inf) at an iterate of a correction on the edge (its common normal leaves the
+    # ridge's cone), and as an equality it made the update NaN
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        runs = [
+            [st.q.copy() for st in simulate(model, dt, steps * dt, options, v0=v0)]
+            for options in (
+                base,
+                dataclasses.replace(base, penalty_scale=1e3),
+                dataclasses.replace(base, multiplier_scale=1e-2),
+            )
+        ]
     for other in runs[1:]:
         drift = max(np.max(np.abs(a - b)) for a, b in zip(runs[0], other, strict=True))
         # (the solves' round-off, ≤ 6.5e-16 R measured; a different path is 1e-5 R or more)

@@ -162,3 +162,47 @@ def test_velocity_jump_applies_newtons_impact_law(e):
 def test_velocity_jump_ignores_separating_contacts():
     W, Lam, _ = solve_velocity_jump(np.eye(1), np.array([0.5]), lambda b: b, np.ones(1), 1.0)
     assert W[0] == 0.0 and Lam[0] == 0.0
+
+
+def _ledge(U):
+    """Two rows over two dofs: one 1 mm inside along the second dof, and one 2 mm inside
+    along the first that has no gap (+inf, zero gradient) once the first dof passes 1 mm, as
+    a box edge's row whose common normal leaves the ridge's cone. The iterates met are kept
+    in ``_ledge.met``."""
+    _ledge.met.append(U.copy())
+    defined = U[0] < 1e-3
+    g = np.array([U[1] - 1e-3, U[0] - 2e-3 if defined else np.inf])
+    return g, np.array([[0.0, 1.0], [1.0 if defined else 0.0, 0.0]])
+
+
+def test_a_held_row_whose_gap_becomes_undefined_holds_nothing():
+    """The second row held (an equality: pressed by the smooth step's force): its update
+    takes the first dof to 2 mm, where the row has no gap. It then leaves the equalities
+    (it held them, and its +inf made the multipliers, the update and the next iterates
+    NaN); without it the first dof returns to 0, where the row holds again: the set
+    cycles, and the correction fails, as a step's failure to be halved, with every iterate
+    finite."""
+    import warnings
+
+    _ledge.met = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        with pytest.raises(RuntimeError, match="did not settle"):
+            solve_position_correction(
+                _ledge, lambda U, s, A: ((lambda B: B), None), 2, np.ones(2), 1.0, 1e-9,
+                1e-10, bilateral=np.array([False, True]),
+            )  # fmt: skip
+    assert np.all(np.isfinite(_ledge.met))
+
+
+def test_a_gap_that_is_not_a_number_fails_the_correction():
+    """A NaN gap is no iterate to go on from: the correction raises (the step fails, and
+    is halved and counted) instead of carrying it into the multipliers."""
+
+    def gaps(U):
+        return np.array([np.nan]), np.ones((1, 1))
+
+    with pytest.raises(RuntimeError, match="non-finite"):
+        solve_position_correction(
+            gaps, lambda U, s, A: ((lambda B: B), None), 1, 1.0, 1.0, 1e-9, 1e-10
+        )

@@ -137,9 +137,10 @@ def solve_position_correction(
     (U, ν, iterations); raises ``RuntimeError`` when the iteration does not settle.
     """
     U = np.zeros(n)
-    g, G = gaps(U)
+    g, G = _defined(gaps, U)
     nu = np.zeros(len(g)) if nu0 is None else np.maximum(np.asarray(nu0, dtype=float), 0.0)
-    eq = np.zeros(len(g), bool) if bilateral is None else bilateral
+    bilateral = np.zeros(len(g), bool) if bilateral is None else bilateral
+    eq = _holding(bilateral, g)
     dU, dU_prev = np.inf, np.inf
     A = last = None
     cycle = _Cycle()
@@ -180,8 +181,31 @@ def solve_position_correction(
         dU_prev = dU
         dU = 0.0 if C is None else float(np.max(np.abs(U_new - U), initial=0.0))
         U = U_new
-        g, G = gaps(U)
+        g, G = _defined(gaps, U)
+        eq = _holding(bilateral, g)
     raise RuntimeError(f"position correction: active set did not settle in {max_iter} iterations")
+
+
+def _defined(gaps, U: np.ndarray):
+    """The gaps and gradient at q̃ + U, or ``RuntimeError`` (the step's failure, counted
+    where it is retaken) where the update or a gap is not a number: a row without a defined
+    gap reads +inf with a zero gradient, and anything else non-finite is no iterate to go
+    on from."""
+    if not np.all(np.isfinite(U)):
+        raise RuntimeError("position correction: non-finite update")
+    g, G = gaps(U)
+    if np.any(np.isnan(g) | (g == -np.inf)) or not np.all(np.isfinite(G)):
+        raise RuntimeError("position correction: non-finite gap or gradient")
+    return g, G
+
+
+def _holding(bilateral: np.ndarray, g: np.ndarray) -> np.ndarray:
+    """The equalities among the rows: the ``bilateral`` ones whose gap is defined. A contact
+    held by the smooth step's force is an equality of the correction, but where its gap
+    became undefined at an iterate (+inf: a box edge's row whose common normal left the
+    ridge's normal cone) it holds nothing, as any row there (:func:`_next_active_set`); kept
+    as an equality its +inf gap made the multipliers and the update NaN."""
+    return bilateral & (g < np.inf)
 
 
 NEAR = 1e-3

@@ -151,6 +151,8 @@ def frictional_correction(model, st, q_tilde, work, solve_H, opts, tol_gap, t, p
         its += n
         own = k * x - pre
         U_new = Y @ own
+        if not np.all(np.isfinite(U_new)):  # (no iterate to go on from: the step fails)
+            raise StepFailure("position correction: non-finite update", np.nan)
         dU = float(np.max(np.abs(U_new - U), initial=0.0))
         U = U_new
         if dU <= 0.1 * tol_gap:
