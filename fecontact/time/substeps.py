@@ -177,10 +177,11 @@ class Releases(Localizer):
         (s) of sub-steps of ``h``/``substeps`` from ``st`` (localized), at most
         ``READ_RELEASE`` + 1 steps' worth, until one carries no force (a sub-step that fails
         reads nothing, counted ``unrefined``); their step size leaves no factorization
-        behind."""
+        behind, nor the contact pairs' searches made at their positions."""
         stats = opts.stats.localization
         stats.release_probes += 1
         kept, cur, k = cache_keys(model), st, h / self.substeps
+        searches = [pair.searched for pair in model.contacts.pairs]
         passing, model.passing = model.passing, True  # (its size: a ladder's rung)
         try:
             for _ in range(int(READ_RELEASE + 1) * self.substeps):
@@ -193,4 +194,6 @@ class Releases(Localizer):
         finally:
             model.passing = passing
             drop_caches(model, kept, stats)
+            for pair, search in zip(model.contacts.pairs, searches, strict=True):
+                pair.searched = search  # (the run goes on from its own)
         return None, cur.t
