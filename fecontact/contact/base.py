@@ -38,11 +38,6 @@ def check_solid_pair(body, master, kind: str) -> None:
 class PairDefaults:
     """Defaults of a contact pair: no rigid obstacle, obstacles at rest."""
 
-    searched = None
-    """What the pair's own spatial search keeps from one evaluation for the next (None:
-    nothing): a search kept from other positions gives other candidates, so evaluations
-    taken aside put it back."""
-
     obstacle = None
     inside_test = False  # True: penetration(q) tests the nodes against a body's boundary
     looks_ahead = False  # True: look_ahead(q, v, h) is called before every step

@@ -146,7 +146,7 @@ class MortarInterface(PairDefaults):
         self._dofs_s = body.node_translation_dofs(np.arange(body.n_nodes))
         self._dofs_m = master.node_translation_dofs(np.arange(master.n_nodes))
         self.offsets = (0, 0)
-        self._last = self._last_gaps = self.searched = self._layout_of = None
+        self._last = self._last_gaps = self._search = self._layout_of = None
         self.pointwise, self.master_rows = safeguard_rows(self)
         """The rows of the slave's and (2D) of the master's nodes deep inside the other solid,
         contacts of the model after its declared pairs (:mod:`.mortar_safeguard`; None:
@@ -159,7 +159,7 @@ class MortarInterface(PairDefaults):
     def bind(self, model) -> None:
         """Place the pair in the global dof vector of ``model``."""
         self.offsets = (model.offset_of(self.body), model.offset_of(self.master))
-        self._last = self._last_gaps = self.searched = self._layout_of = None
+        self._last = self._last_gaps = self._search = self._layout_of = None
         for rows in (self.pointwise, self.master_rows):
             if rows is not None:  # (not on quadratic faces; in 3D the slave's nodes only)
                 rows.bind(model)
@@ -168,26 +168,26 @@ class MortarInterface(PairDefaults):
         """Search as far as the integrator's candidates reach (``distance`` m)."""
         if not self._own_margin and distance > 0.0 and distance != self.margin:
             self.margin = distance
-            self._last = self._last_gaps = self.searched = None
+            self._last = self._last_gaps = self._search = None
         if self.pointwise is not None:
             self.pointwise.detect_within(distance)
 
     def _kept_pairs(self, xs: np.ndarray, xm: np.ndarray):
         """The element pairs of the last search while no node has moved an eighth of the
         margin since (None: search again)."""
-        if self.searched is None:
+        if self._search is None:
             return None
-        return self.searched[2] if self._moved(xs, xm) <= 0.125 * self.margin else None
+        return self._search[2] if self._moved(xs, xm) <= 0.125 * self.margin else None
 
     def _moved(self, xs: np.ndarray, xm: np.ndarray) -> float:
         """The largest coordinate change (m) of a node of either body since the last search."""
-        xs0, xm0 = self.searched[:2]
+        xs0, xm0 = self._search[:2]
         return max(np.max(np.abs(xs - xs0)), np.max(np.abs(xm - xm0)))
 
     def _keep_search(self, xs, xm, e, f, apart: np.ndarray):
         """Keep the pairs (e, f) found at xs, xm, with ``apart`` (P,) a lower bound (m) of the
         distance of each pair's elements (centres' distance less both elements' reach)."""
-        self.searched = (xs.copy(), xm.copy(), (e, f), float(np.min(apart, initial=np.inf)))
+        self._search = (xs.copy(), xm.copy(), (e, f), float(np.min(apart, initial=np.inf)))
         return e, f
 
     def _near(self, xs: np.ndarray, xm: np.ndarray, e: np.ndarray, f: np.ndarray):
@@ -198,7 +198,7 @@ class MortarInterface(PairDefaults):
         +inf, as when the search finds no pair, without the integrals (the steps of a free
         flight). The pairs' distances are bounded below at the search, less twice the
         largest displacement since (√d times its largest coordinate change)."""
-        bound = self.searched[3] - 2.0 * np.sqrt(self.dim) * self._moved(xs, xm)
+        bound = self._search[3] - 2.0 * np.sqrt(self.dim) * self._moved(xs, xm)
         return (e[:0], f[:0]) if bound > self.margin else (e, f)
 
     def positions(self, q: np.ndarray):
