@@ -110,6 +110,8 @@ def frictional_correction(model, st, q_tilde, work, solve_H, opts, tol_gap, t, p
             # predictor's slip back along the strip in its own metric S_t/β′, bending the
             # ringing strip: 2.4e-4 J of strain on the founding case at μ = 1
             mu = np.where(st.smooth.closing[work] > 0.0, 0.0, mu)
+    if not opts.positional_friction:  # (the decoupled step of beams: the jump's friction only)
+        mu = np.zeros_like(mu)
     shift = _obstacle_shift(contacts, work, st.t, t)
     U, x, its, dU = np.zeros(len(F)), None, 0, np.inf
     pre = None
