@@ -299,7 +299,7 @@ def _both_ways(pairs) -> bool:
     (either sign): two disks at 30 m/s, one cell a step, took ±8e-3 multipliers on them,
     against 1e-5 on the others, and a 9 mm correction for a 0.2 mm overlap, 17 % of their
     energy created in the step. Their multipliers are the minimum-norm ones."""
-    ways = {(type(p), id(p.body), id(p.master)) for p in pairs if getattr(p, "meets_back", 0)}
+    ways = {(type(p), id(p.body), id(p.master)) for p in pairs if getattr(p, "meets_back", False)}
     return any((kind, b, a) in ways for kind, a, b in ways)
 
 
