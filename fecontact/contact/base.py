@@ -45,6 +45,9 @@ class PairDefaults:
     frictional = False  # True: tangents(q) gives the slip rows of Coulomb friction
     friction = 0.0  # Coulomb's μ of every contact of the pair (set by ``Contact``)
     redundant_rows = False  # True: rows can be redundant up to round-off (minimum-norm μ)
+    # True: declared with a pair of its kind the other way between the same two bodies
+    # (two-pass), its rows and theirs can be redundant up to round-off where nodes meet
+    meets_back = False
     at_beam_ends = False  # True: every contact is an end node of a beam (a tip, a bar's end)
     companions: tuple = ()  # pairs it brings into the model, bound with it (rows of its own)
     shared_points = False  # True: several rows can hold one point (``points()`` says which)

@@ -168,6 +168,9 @@ class NodeSurfaceContact(PairDefaults):
     unless the symmetric pair ``NodeSurfaceContact(master, body)`` is added too.
     """
 
+    # a node of each body at the other's facet where they meet: the two passes' rows hold
+    # one relative motion (ContactSet: minimum-norm multipliers)
+    meets_back = True
     linear = False
     lazy_hessians = True
     inside_test = True

@@ -27,7 +27,8 @@ class ContactSet(FrictionRows):
         self.linear = all(pair.linear for pair in self.pairs)
         self.friction = _per_contact(self.pairs, [pair.friction for pair in self.pairs])
         self.frictional = bool(np.any(self.friction > 0.0))
-        self.redundant_rows = any(getattr(pair, "redundant_rows", False) for pair in self.pairs)
+        redundant = any(getattr(pair, "redundant_rows", False) for pair in self.pairs)
+        self.redundant_rows = redundant or _both_ways(self.pairs)
         self.owner = _per_contact(self.pairs, range(len(self.pairs)), int)  # pair of a contact
         self.twins = twin_rows(self.pairs)  # two rows of one node (mortar_safeguard), or None
         # each contact's number within its pair
@@ -288,6 +289,18 @@ def _points(pairs) -> np.ndarray | None:
         out.append(base + np.asarray(own, int))
         base += pair.size
     return np.concatenate(out)
+
+
+def _both_ways(pairs) -> bool:
+    """Whether two pairs of a kind that ``meets_back`` hold the same two bodies each way
+    (two-pass node-to-surface): where the nodes of both bodies meet, a node's row on the
+    other body's facet and the row of the node it meets on its own facet hold one relative
+    motion. Two such rows pressed by a smooth force are equalities of the position correction
+    (either sign): two disks at 30 m/s, one cell a step, took ±8e-3 multipliers on them,
+    against 1e-5 on the others, and a 9 mm correction for a 0.2 mm overlap, 17 % of their
+    energy created in the step. Their multipliers are the minimum-norm ones."""
+    ways = {(type(p), id(p.body), id(p.master)) for p in pairs if getattr(p, "meets_back", False)}
+    return any((kind, b, a) in ways for kind, a, b in ways)
 
 
 def _per_contact(pairs, values, dtype=float) -> np.ndarray:

@@ -56,6 +56,12 @@ class FacetSearch:
         return cache[3][0], cache[3][1], cache[4]
 
     @property
+    def kept(self):
+        """The search kept for the next ones (both bodies' node positions at it, the margin,
+        the pairs, the watched nodes), None before one."""
+        return self._cache
+
+    @property
     def last_watched(self) -> np.ndarray:
         """The watched nodes of the last search (all, before any)."""
         return np.ones(1, dtype=bool) if self._cache is None else self._cache[4]

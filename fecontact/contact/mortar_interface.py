@@ -172,6 +172,9 @@ class MortarInterface(PairDefaults):
         if self.pointwise is not None:
             self.pointwise.detect_within(distance)
 
+    # the search kept for the next evaluations, None before one (time.aside leaves it be)
+    searched = property(lambda self: self._search)
+
     def _kept_pairs(self, xs: np.ndarray, xm: np.ndarray):
         """The element pairs of the last search while no node has moved an eighth of the
         margin since (None: search again)."""

@@ -91,6 +91,7 @@ class DeepNodeRows(NodeSurfaceContact):
     finite, so that a row that a correction's iterate lifts out stays a number
     (module docstring). ``restitution``: e_N, as the interface's; frictionless."""
 
+    meets_back = False  # (the rows of one interface's nodes deep inside, each way)
     inside_test = False  # g_s is held to round-off like a signed distance
     # the base margin is enough: a node that sinks is found by the inside test however deep
     looks_ahead = False

@@ -25,7 +25,9 @@ import numpy as np
 
 from ..errors import SolverError
 from ..ledger import joined_record
-from .localize import cache_keys, drop_caches, joined, localized_step
+from .aside import taken_aside
+from .constraints import StepFailure
+from .localize import joined, localized_step
 from .settings import RunSettings
 from .state import PhaseTimer, State
 
@@ -132,41 +134,62 @@ class Releases(Localizer):
     steps release within a step after it, the run's last release is that reading, not the
     end of the whole step (Hertz's t_c in docs/validation/localization.md). The run goes on
     from its whole steps: the sub-steps change nothing of it, and their work is counted
-    (``release_probes``)."""
+    (``release_probes``). The sub-steps are taken when their reading is first needed (the
+    run's release, or the next falling force within their span): a force that falls and
+    rises again, or a run that ends pressed, costs none."""
 
     def __init__(self, model):
         super().__init__(model)
         self.read = (None, -np.inf)  # (s, s): the release a probe read, the probe's end
+        self.pending = None  # (state, step size): a probe not yet taken, from that state
 
     def __call__(self, model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
-        pressed, (release, until) = st.pressed().any(), self.read
-        if self._releasing(st, READ_RELEASE) and pressed and st.t > until:
-            self.read = release, until = self._probe(model, st, h, opts, timer)
+        pressed = st.pressed().any()
+        if self._releasing(st, READ_RELEASE) and pressed:
+            self._drop_spent(st.t)
+            if st.t > self._reading(model, opts, timer)[1]:
+                self.pending = (st, h)
         out = localized_step(model, st, h, opts, timer)
         if pressed and not out.pressed().any():  # (the run's release, at the step's start)
+            self._drop_spent(st.t)
+            release, until = self._reading(model, opts, timer)
             located = release is not None and st.t <= until
             opts.stats.localization.last_release = release if located else st.t
         return out
+
+    def _drop_spent(self, t: float) -> None:
+        """Forget a probe not yet taken whose reading ends before ``t`` (s) whatever it reads:
+        its span, with the step after a release it reads, is below (READ_RELEASE + 2) steps."""
+        if self.pending is not None:
+            start, h = self.pending
+            if t > start.t + (READ_RELEASE + 2.0) * h:
+                self.pending = None
+
+    def _reading(self, model, opts, timer) -> tuple:
+        """(the release read, the end of its reading) (s) of the latest probe, taken now
+        where it is pending (:meth:`_probe`)."""
+        if self.pending is not None:
+            start, h = self.pending
+            self.pending = None
+            self.read = self._probe(model, start, h, opts, timer)
+        return self.read
 
     def _probe(self, model, st, h, opts, timer) -> tuple:
         """(the release read and a step after it, or None and the end of the span probed)
         (s) of sub-steps of ``h``/``substeps`` from ``st`` (localized), at most
         ``READ_RELEASE`` + 1 steps' worth, until one carries no force (a sub-step that fails
-        reads nothing, counted ``unrefined``); their step size leaves no factorization
-        behind."""
+        reads nothing, counted ``unrefined``), taken aside (:func:`taken_aside`): the run
+        goes on as without them."""
         stats = opts.stats.localization
         stats.release_probes += 1
-        kept, cur, k = cache_keys(model), st, h / self.substeps
-        passing, model.passing = model.passing, True  # (its size: a ladder's rung)
-        try:
-            for _ in range(int(READ_RELEASE + 1) * self.substeps):
-                nxt = localized_step(model, cur, k, opts, timer)
-                if not nxt.pressed().any():  # (the run's own steps release within a step)
-                    return cur.t, cur.t + h * (1.0 + 1e-9)
-                cur = nxt
-        except SolverError:  # (the run's own step decides; the release is read at its end)
-            stats.fallbacks["unrefined"] += 1
-        finally:
-            model.passing = passing
-            drop_caches(model, kept, stats)
+        cur, k = st, h / self.substeps
+        with taken_aside(model, st, h, stats):
+            try:
+                for _ in range(int(READ_RELEASE + 1) * self.substeps):
+                    nxt = localized_step(model, cur, k, opts, timer)
+                    if not nxt.pressed().any():  # (the run's own steps release within a step)
+                        return cur.t, cur.t + h * (1.0 + 1e-9)
+                    cur = nxt
+            except (StepFailure, SolverError):  # (the run's step decides; read at its end)
+                stats.fallbacks["unrefined"] += 1
         return None, cur.t

@@ -1,0 +1,84 @@
+"""The release of frictionless solids is read from sub-steps taken aside
+(:class:`fecontact.time.substeps.Releases`): reading it does not move the run. The sub-steps
+work on a copy of the contact set, leave the run's caches and ladder as they were
+(:mod:`fecontact.time.aside`), and a sub-step that fails reads nothing instead of failing
+the run's step."""
+
+import numpy as np
+import pytest
+
+from fecontact.contact.body_pairs import NodeSurfaceContact
+from fecontact.contact.mortar_interface import MortarInterface
+from fecontact.scenes import wave_step
+from fecontact.testing import case
+from fecontact.time import StepStats, simulate
+from fecontact.time import substeps as substeps_module
+from fecontact.time.substeps import Releases
+
+
+def fast_disks(stats):
+    """The node-to-surface disks of tests/test_fast_approach.py at 30 m/s each, Δx/c: their
+    probes start in halved steps, fail there, and read releases that pressed nodes make."""
+    sim = case("two_disks").build(
+        velocity=30.0, refinements=2, gap=0.0005, t_end=0.003, method="node-to-surface"
+    )
+    model = sim.model
+    dt = wave_step(model.bodies[0], 1)
+    return model, simulate(model, dt, sim.t_end, sim.options, q0=sim.q0, v0=sim.v0, stats=stats)
+
+
+def mortar_disks(stats):
+    """The default two disks (one mortar interface) past their release (4.38 ms)."""
+    sim = case("two_disks").build(t_end=0.0048)
+    model = sim.model
+    return model, simulate(model, sim.dt, sim.t_end, sim.options, q0=sim.q0, v0=sim.v0, stats=stats)
+
+
+def search_state(model):
+    """What each pair keeps of its search for the run's next evaluations: the margin, and the
+    kept search itself (the same object while no new search replaces it)."""
+    state = []
+    for pair in model.contacts.pairs:
+        if isinstance(pair, MortarInterface):
+            state.append((pair.margin, pair.searched))
+        elif isinstance(pair, NodeSurfaceContact):
+            state.append((pair.margin, pair.search.kept))
+    return state
+
+
+@pytest.mark.parametrize("run", [fast_disks, mortar_disks])
+def test_a_probe_leaves_the_pairs_searches_as_the_run_had_them(run, monkeypatch):
+    probe, seen = Releases._probe, []
+
+    def watched(self, model, st, h, opts, timer):
+        contacts, before = model.contacts, search_state(model)
+        reading = probe(self, model, st, h, opts, timer)
+        seen.append((model.contacts is contacts, before, search_state(model), reading[0]))
+        return reading
+
+    monkeypatch.setattr(Releases, "_probe", watched)
+    stats = StepStats()
+    for _ in run(stats)[1]:  # (the run to its end)
+        pass
+    assert seen and stats.localization.release_probes == len(seen)
+    assert any(release is not None for *_, release in seen)  # (a release read by a probe)
+    for same, before, after, _ in seen:
+        assert same and before
+        for (margin, kept), (margin_after, kept_after) in zip(before, after, strict=True):
+            assert margin_after == margin and kept_after is kept
+
+
+@pytest.mark.parametrize("run", [fast_disks, mortar_disks])
+def test_a_run_that_reads_its_releases_is_the_run_without_probes(run, monkeypatch):
+    """The whole run with its probes equals, to the bit, the run whose step is the localized
+    step alone (no sub-step ever taken aside)."""
+    stats = StepStats()
+    read = [np.concatenate([st.q, st.v]) for st in run(stats)[1]]
+    assert stats.localization.release_probes > 0
+    monkeypatch.setattr(substeps_module, "CHATTER", 1)  # (whole localized steps, no probe)
+    plain = StepStats()
+    alone = [np.concatenate([st.q, st.v]) for st in run(plain)[1]]
+    assert plain.localization.release_probes == 0
+    assert len(read) == len(alone)
+    for a, b in zip(read, alone, strict=True):
+        np.testing.assert_array_equal(a, b)  # (bit for bit: nothing of a probe is left)
