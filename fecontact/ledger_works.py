@@ -4,6 +4,8 @@ penalty baseline's contact forces."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .contact.restitution import impulse_work
@@ -91,5 +93,7 @@ def spring_step_work(last, st) -> float:
     if lam0.size != lam.size or last.gaps.size != st.gaps.size:
         return 0.0
     g0, g1 = last.gaps, st.gaps
+    if math.isfinite(np.add.reduce(g0) + np.add.reduce(g1)):  # (every row has its gap)
+        return -0.5 * float(np.sum((lam0 + lam) * (g1 - g0)))
     both = np.isfinite(g0) & np.isfinite(g1)  # (rows without a gap at either end: no work)
     return -0.5 * float(np.sum((lam0[both] + lam[both]) * (g1[both] - g0[both])))

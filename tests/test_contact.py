@@ -206,3 +206,41 @@ def test_a_gap_that_is_not_a_number_fails_the_correction():
         solve_position_correction(
             gaps, lambda U, s, A: ((lambda B: B), None), 1, 1.0, 1.0, 1e-9, 1e-10
         )
+
+
+@pytest.mark.parametrize(
+    "g, G",
+    [
+        ([-np.inf, 1.0], [[1.0, 0.0], [0.0, 1.0]]),
+        ([-1e-3, np.nan], [[1.0, 0.0], [0.0, 1.0]]),
+        ([-1e-3, 1.0], [[1.0, 0.0], [0.0, np.nan]]),
+        ([-1e-3, 1.0], [[1.0, np.inf], [0.0, 1.0]]),
+    ],
+)
+def test_a_gap_or_gradient_not_finite_anywhere_fails_the_correction(g, G):
+    """Any NaN or −inf among the gaps, or any non-finite entry of the gradient, in any row
+    (each array is checked by one reduction: a NaN or inf poisons its sum or its least
+    value), fails the correction."""
+    with pytest.raises(RuntimeError, match="non-finite gap or gradient"):
+        solve_position_correction(
+            lambda U: (np.array(g), np.array(G)),
+            lambda U, s, A: ((lambda B: B), None), 2, np.ones(2), 1.0, 1e-9, 1e-10,
+        )  # fmt: skip
+
+
+def test_a_non_finite_update_fails_the_correction():
+    """An update that is not a number (a solve gone NaN) is no iterate to go on from: the
+    correction raises before the gaps are evaluated there. Rows without a gap (+inf, zero
+    gradient) are no failure."""
+    met = []
+
+    def gaps(U):
+        met.append(U.copy())
+        return np.array([-1e-3, np.inf]), np.array([[1.0, 0.0], [0.0, 0.0]])
+
+    with pytest.raises(RuntimeError, match="non-finite update"):
+        solve_position_correction(
+            gaps, lambda U, s, A: ((lambda B: np.full(B.shape, np.nan)), None), 2, np.ones(2),
+            1.0, 1e-9, 1e-10,
+        )  # fmt: skip
+    assert len(met) == 1 and np.all(met[0] == 0.0)  # (the first iterate only)

@@ -23,6 +23,8 @@ enforced exactly, so the converged answer does not depend on p or k; they only s
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import scipy.sparse as sp
 from scipy.linalg.lapack import dgetrf, dgetrs
@@ -92,10 +94,20 @@ def _residual(nu, g, p, k, eq, scale: float = 1.0) -> float:
     mass, p_j = scale / D_jj with D_jj = G_j H⁻¹G_jᵀ) is the gap the force makes at its own
     row, k ν D_jj. Judged by k ν/p alone, p × 1000 accepted forces that moved the gaps by up
     to 1000 tolerances. At the default scale 1 the factor is exactly 1."""
+    if not np.count_nonzero(eq):  # (no equalities: the rows as they are, without copies)
+        return float(_unilateral(nu, g, p, k, scale))
     u = ~eq
-    R = alart_curnier_residual(nu[u], g[u], p[u], k) / p[u]
-    r = np.abs(np.where(k * nu[u] - p[u] * g[u] > 0.0, R, R * scale))
-    return float(max(np.max(r, initial=0.0), np.max(np.abs(g[eq]), initial=0.0)))
+    r = _unilateral(nu[u], g[u], p[u], k, scale)
+    return float(max(r, np.maximum.reduce(np.abs(g[eq]), initial=0.0)))
+
+
+def _unilateral(nu, g, p, k, scale: float):
+    """The largest error of the law on unilateral rows (:func:`_residual`); the factor
+    ``scale`` on open rows only where it is not 1 (R · 1 is R to the bit)."""
+    R = alart_curnier_residual(nu, g, p, k) / p
+    if scale != 1.0:
+        R = np.where(k * nu - p * g > 0.0, R, R * scale)
+    return np.maximum.reduce(np.abs(R), initial=0.0)
 
 
 def _record(stats, level: str, nu, g, p, k, eq, tol, scale: float = 1.0) -> None:
@@ -137,10 +149,11 @@ def solve_position_correction(
     (U, ν, iterations); raises ``RuntimeError`` when the iteration does not settle.
     """
     U = np.zeros(n)
-    g, G = _defined(gaps, U)
+    g, G = _checked(*gaps(U))
     nu = np.zeros(len(g)) if nu0 is None else np.maximum(np.asarray(nu0, dtype=float), 0.0)
     bilateral = np.zeros(len(g), bool) if bilateral is None else bilateral
-    eq = _holding(bilateral, g)
+    held = np.count_nonzero(bilateral) > 0  # (decided once: without equalities, none appear)
+    eq = _holding(bilateral, g, held)
     dU, dU_prev = np.inf, np.inf
     A = last = None
     cycle = _Cycle()
@@ -182,30 +195,40 @@ def solve_position_correction(
         dU = 0.0 if C is None else float(np.max(np.abs(U_new - U), initial=0.0))
         U = U_new
         g, G = _defined(gaps, U)
-        eq = _holding(bilateral, g)
+        eq = _holding(bilateral, g, held)
     raise RuntimeError(f"position correction: active set did not settle in {max_iter} iterations")
 
 
 def _defined(gaps, U: np.ndarray):
-    """The gaps and gradient at q̃ + U, or ``RuntimeError`` (the step's failure, counted
-    where it is retaken) where the update or a gap is not a number: a row without a defined
-    gap reads +inf with a zero gradient, and anything else non-finite is no iterate to go
-    on from."""
-    if not np.all(np.isfinite(U)):
+    """The gaps and gradient at q̃ + U (:func:`_checked`), or ``RuntimeError`` (the step's
+    failure, counted where it is retaken) where the update is not a number: no iterate to
+    go on from. A NaN or an infinity anywhere in U makes its sum non-finite: one reduction
+    (these checks are a large share of a resting body's step)."""
+    if not math.isfinite(np.add.reduce(U)):
         raise RuntimeError("position correction: non-finite update")
-    g, G = gaps(U)
-    if np.any(np.isnan(g) | (g == -np.inf)) or not np.all(np.isfinite(G)):
+    return _checked(*gaps(U))
+
+
+def _checked(g: np.ndarray, G: np.ndarray):
+    """(g, G), or ``RuntimeError`` where a gap or the gradient is not a number: a row without
+    a defined gap reads +inf with a zero gradient, and anything else non-finite is no
+    iterate to go on from. The least gap is NaN (``np.minimum`` keeps it) or −inf where any
+    gap is; a NaN or an infinity anywhere in G makes its sum non-finite."""
+    if not (np.minimum.reduce(g, initial=np.inf) > -np.inf):
+        raise RuntimeError("position correction: non-finite gap or gradient")
+    if not math.isfinite(np.add.reduce(G, axis=None)):
         raise RuntimeError("position correction: non-finite gap or gradient")
     return g, G
 
 
-def _holding(bilateral: np.ndarray, g: np.ndarray) -> np.ndarray:
-    """The equalities among the rows: the ``bilateral`` ones whose gap is defined. A contact
-    held by the smooth step's force is an equality of the correction, but where its gap
-    became undefined at an iterate (+inf: a box edge's row whose common normal left the
-    ridge's normal cone) it holds nothing, as any row there (:func:`_next_active_set`); kept
-    as an equality its +inf gap made the multipliers and the update NaN."""
-    return bilateral & (g < np.inf)
+def _holding(bilateral: np.ndarray, g: np.ndarray, held: bool) -> np.ndarray:
+    """The equalities among the rows: the ``bilateral`` ones whose gap is defined (``held``:
+    whether any row is bilateral; if none, ``bilateral`` itself). A contact held by the
+    smooth step's force is an equality of the correction, but where its gap became
+    undefined at an iterate (+inf: a box edge's row whose common normal left the ridge's
+    normal cone) it holds nothing, as any row there (:func:`_next_active_set`); kept as an
+    equality its +inf gap made the multipliers and the update NaN."""
+    return bilateral & (g < np.inf) if held else bilateral
 
 
 NEAR = 1e-3

@@ -29,6 +29,8 @@ curve them. Joints stay equalities (rows after the contacts).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..contact.friction import coulomb_residual, solve_coulomb
@@ -153,9 +155,9 @@ def frictional_correction(model, st, q_tilde, work, solve_H, opts, tol_gap, t, p
         its += n
         own = k * x - pre
         U_new = Y @ own
-        if not np.all(np.isfinite(U_new)):  # (no iterate to go on from: the step fails)
-            raise StepFailure("position correction: non-finite update", np.nan)
         dU = float(np.max(np.abs(U_new - U), initial=0.0))
+        if not math.isfinite(dU):  # (a NaN or inf in U_new: no iterate to go on from)
+            raise StepFailure("position correction: non-finite update", np.nan)
         U = U_new
         if dU <= 0.1 * tol_gap:
             nt = GT.shape[1]

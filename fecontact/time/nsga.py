@@ -458,5 +458,5 @@ def _struck(impulse, force, h: float, rtol: float) -> np.ndarray:
     None: any positive impulse). Below it an impulse is zero within the solves: round-off on
     rows redundant with the held ones (1e-17 N s beside 0.08 N s, an elastic ball pressed on
     a box beside its edge) decided whether the acceleration restarted, and the path with it."""
-    floor = 0.0 if force is None else rtol * h * float(np.max(force, initial=0.0))
+    floor = 0.0 if force is None else rtol * h * float(np.maximum.reduce(force, initial=0.0))
     return impulse > floor
