@@ -134,7 +134,9 @@ for case, params, changes, t_end in runs:
         steps = [digest(st) for st in states]
         summary = timeless(stats.summary(sim.model.contacts.frictional))
         summary.pop("sparse_solver", None)
-        out.append({"steps": steps, "counts": json.dumps(summary, sort_keys=True)})
+        # (numpy scalars among the counts: as plain numbers)
+        counts = json.dumps(summary, sort_keys=True, default=lambda x: np.asarray(x).tolist())
+        out.append({"steps": steps, "counts": counts})
     except Exception as err:
         out.append({"steps": [], "counts": "", "error": f"{type(err).__name__}: {err}"})
 print(json.dumps(out))
