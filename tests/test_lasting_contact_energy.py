@@ -68,10 +68,11 @@ OFF = {"smooth_contact": "off"}
 
 
 def test_beams_settle_a_step_after_an_impact_with_the_smooth_force():
-    """Decided once per run: planar beams with the smooth force and no solid settle a step
-    after an impact, and beams in space whose contacts are all at their ends (a tip, a bar's
-    end: the spatial pendulum, the founding case's twin); solids (alone or with beams),
-    rigid bodies and beams in space met along their length take it from the next step; the
+    """Decided once per run: beams with the smooth force and no solid settle a step after
+    an impact where every pair is struck at a beam's end (a tip, a bar's end: the founding
+    case and its spatial twin) or by a moving body (the disk on the beam); solids (alone or
+    with beams), rigid bodies and beams met along their length by a fixed obstacle or a held
+    body (the rods, the strip on a peg) take it from the next step; the
     default gives the smooth force to beams (planar and in space) and solids and leaves
     rigid bodies to the decoupled scheme."""
     beams = pendulum("floor").model
@@ -88,6 +89,7 @@ def test_beams_settle_a_step_after_an_impact_with_the_smooth_force():
     for name in ("rod_on_post", "rod_drop"):
         settings = run_settings(case(name).build().model, IntegratorOptions())
         assert settings.smooth and not settings.settle and not settings.restarts, name
+    assert not run_settings(pendulum("peg").model, IntegratorOptions()).settle
     for name in ("flexible_pendulum", "spatial_pendulum", "disk_on_beam", "impacting_bar"):
         assert run_settings(case(name).build().model, IntegratorOptions()).settle, name
 
