@@ -70,9 +70,9 @@ OFF = {"smooth_contact": "off"}
 def test_beams_settle_a_step_after_an_impact_with_the_smooth_force():
     """Decided once per run: beams with the smooth force and no solid settle a step after
     an impact where every pair is struck at a beam's end (a tip, a bar's end: the founding
-    case and its spatial twin) or by a moving body (the disk on the beam); solids (alone or
-    with beams), rigid bodies and beams met along their length by a fixed obstacle or a held
-    body (the rods, the strip on a peg) take it from the next step; the
+    case and its spatial twin) or, in the plane, by a moving body (the disk on the beam);
+    solids (alone or with beams), rigid bodies and beams met along their length by a fixed
+    obstacle or a held body (the rods, the strip on a peg) take it from the next step; the
     default gives the smooth force to beams (planar and in space) and solids and leaves
     rigid bodies to the decoupled scheme."""
     beams = pendulum("floor").model
