@@ -58,6 +58,7 @@ from .constraints import StepFailure
 from .nsga import smooth_phases
 from .settings import RunSettings
 from .state import PhaseTimer, State, length_scale
+from .terms import SmoothContact
 
 __all__ = [
     "GRAZING",
@@ -89,6 +90,9 @@ GRAZING = 1e3
 MAX_REFINE = 12
 """Smooth steps that refine an instant, at most (the Hermite guess is exact for a constant
 acceleration and the regula falsi converges superlinearly: 1 to 3 are measured)."""
+
+MASS_COLUMNS = ("mass",)
+"""The column cache's key of the mass's columns M⁻¹G_jᵀ (no step size in it)."""
 
 LAST = 1e-9
 """Fraction of the step: an impact that closes this near its end ends the step."""
@@ -206,13 +210,21 @@ def _rest_phases(model, st, left, opts, timer):
     """The smooth step of the rest of a step after a located impact, from ``st`` over
     ``left`` (s), by modified Newton (:data:`~.acceleration_form.CONTRACTION`): the impact's
     elastic response, about three updates from one factorization of S_t where each full
-    Newton update factorized its own."""
+    Newton update factorized its own. The persistent contacts' multipliers start from the
+    forces the restart at the impact carries in v̇ (:attr:`SmoothContact.carried`): the
+    contacts it holds are rows from the first update, which on a linear model is then the
+    solution (from zero, a free update first let them penetrate and a second held them)."""
     loop = opts.plan.loop(model, opts, timer)
     loop.frozen = True
+    terms = [term for term in opts.plan.terms if isinstance(term, SmoothContact)]
+    for term in terms:
+        term.carried = True
     try:
         return smooth_phases(model, st, left, opts, timer)
     finally:
         loop.frozen = False
+        for term in terms:
+            term.carried = False
 
 
 def _split(model, st, phases, left, h, done, opts, timer, kept: list):
@@ -377,13 +389,15 @@ def cache_keys(model) -> tuple:
 
 
 def drop_caches(model, kept, stats) -> None:
-    """Drop the caches' entries made since ``kept`` (the split steps' sizes, used once); count
+    """Drop the caches' entries made since ``kept`` (the split steps' sizes, used once; not
+    the mass's columns, which every size shares); count
     in the localization ``stats`` the factorizations made for them and the ladder's solves
     without one (the ladder keeps its factors)."""
     added = [k for k in model.iteration_cache if k not in kept[0]]
     for key in added:
         del model.iteration_cache[key]
-    for key in [k for k in model.column_cache if k not in kept[1]]:
+    # (the mass's columns M⁻¹G_jᵀ hold at every step size: kept for the run's later jumps)
+    for key in [k for k in model.column_cache if k not in kept[1] and k != MASS_COLUMNS]:
         del model.column_cache[key]
     if model.ladder is None:
         stats.factorizations += len(added)
