@@ -67,12 +67,14 @@ def _kkt(S, rhs, stats, rcond=1e-10):
     """:func:`kkt_multipliers` of the Schur matrix S = k G_A Y, and whether S was singular
     (least squares)."""
     if stats is None or not stats.minimum_norm:
-        try:
-            return np.linalg.solve(S, rhs), False
-        except np.linalg.LinAlgError:
-            if stats is not None:
-                stats.least_squares += 1
-            return np.linalg.lstsq(S, rhs, rcond=None)[0], True
+        # (np.linalg.solve's own LAPACK path, getrf and getrs, without its 5 µs of checks
+        # on the few rows of a contact step; an exactly zero pivot is its LinAlgError)
+        lu, piv, info = dgetrf(S) if S.size else (S, None, 1)
+        if info == 0:
+            return dgetrs(lu, piv, rhs)[0], False
+        if S.size and stats is not None:
+            stats.least_squares += 1
+        return np.linalg.lstsq(S, rhs, rcond=None)[0], bool(S.size)
     lu, piv, _ = dgetrf(S)  # (LAPACK's getrf and getrs: np.linalg.solve's own path)
     pivots = np.abs(np.diagonal(lu))
     # rows that meet at a concave vertex are redundant up to round-off: an LU would return

@@ -388,12 +388,13 @@ def restarted_acceleration(
     solve_H = model.solve_M if solve is None else solve
     x = solve_H(f)
     _, G = contacts.linearize(q, closed)[:2]
-    rows = closed[G @ v[F] <= tol_rate]
+    holding = G @ v[F] <= tol_rate
+    rows = closed[holding]
     forces = np.zeros((rows.size, model.dim))
     if rows.size == 0:
         return x, (rows, forces)
     cons = Constraints(model, rows)
-    G = G[np.isin(closed, rows)]
+    G = G[holding]
     Y = constraint_columns(model, ("mass",), rows, G, solve_H, cons, constant=solve is None)
     # the velocity jump's problem, one level up: 0 ≤ G (x + M⁻¹Gᵀμ) + vᵀ∇²g v ⊥ μ ≥ 0
     rates = G @ x + contacts.quadratic(q, v)[rows]
