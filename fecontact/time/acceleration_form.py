@@ -266,6 +266,8 @@ class AccelerationForm:
             extra = None if gyro is None else (lambda: gyro.remainder(step, dq))
             if joints.bound(step, dq, self.x[self.model.n_free :], ff, extra):
                 return True
+        if self.plan.exact and all(term.solved(step) for term in rowed):
+            return True  # (the update solved the step: its residual is round-off)
         return self.model.update_size(dq) <= self.opts.tol_increment and all(
             term.settled(step) for term in rowed
         )

@@ -108,6 +108,11 @@ class ForceTerm:
         """The term's own test after an update below the increment tolerance."""
         return True
 
+    def solved(self, step: StepContext) -> bool:
+        """The term's own test after an exact update (:attr:`NewtonPlan.exact`), which
+        leaves the term as it is: False where it cannot tell (the residual decides)."""
+        return False
+
     # -- a term with rows (``rows``) also has:
 
     def touching(self) -> bool:
@@ -388,6 +393,9 @@ class PersistentContacts(ForceTerm):
 
     def settled(self, step):
         return self.sc.settled(step.q, step.tolerance.admits)
+
+    def solved(self, step):
+        return self.sc.holds(step.q, step.tolerance.admits)
 
     def touching(self) -> bool:
         return bool(self.sc.active.any())
