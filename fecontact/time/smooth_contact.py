@@ -198,8 +198,8 @@ class SmoothContacts:
         GA, gA, rows = self.G[A], self.g[A], self.P[A]
         cons = Constraints(model, rows)  # (no joints here: the bordered path has them)
         constant = key is not None
-        Y = constraint_columns(model, ("smooth", *(key or ())), rows, GA, solve, cons, constant)
-        x = solve(r)
+        at = ("smooth", *(key or ()))
+        Y, x = constraint_columns(model, at, rows, GA, solve, cons, constant, rhs=r)
         dlam = kkt_multipliers(GA, Y, GA @ x - gA, 1.0, self.stats)
         self.lam[A] += dlam
         self.solved = A.copy()
