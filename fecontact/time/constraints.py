@@ -171,15 +171,21 @@ def constraint_columns(model, key, select, G, solve, cons, constant: bool, rhs=N
         X = solve(np.column_stack([rhs, G.T])).reshape(n, -1)
         return X[:, 1:], X[:, 0]
     cache = model.column_cache.setdefault(key, {})
-    missing = [i for i, j in enumerate(select) if j not in cache]
-    x = None
-    if missing:
-        B = G[missing].T if rhs is None else np.column_stack([G[missing].T, rhs])
-        Y = solve(B).reshape(n, -1)
-        for col, i in enumerate(missing):
-            cache[select[i]] = Y[:, col]
-        x = None if rhs is None else Y[:, -1].copy()
+    x = _missing_columns(cache, select, G, solve, rhs)
     Y = np.column_stack([cache[j] for j in select]) if len(select) else G.T.copy()
     if rhs is None:
         return Y
     return Y, (solve(rhs) if x is None else x)
+
+
+def _missing_columns(cache: dict, select, G, solve, rhs):
+    """Solve into ``cache`` the columns H⁻¹G_jᵀ of the contacts of ``select`` it lacks, with
+    ``rhs`` where given: H⁻¹ rhs, or None where no column was missing (or no ``rhs``)."""
+    missing = [i for i, j in enumerate(select) if j not in cache]
+    if not missing:
+        return None
+    B = G[missing].T if rhs is None else np.column_stack([G[missing].T, rhs])
+    Y = solve(B).reshape(G.shape[1], -1)
+    for col, i in enumerate(missing):
+        cache[select[i]] = Y[:, col]
+    return None if rhs is None else Y[:, -1].copy()

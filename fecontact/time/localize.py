@@ -53,11 +53,11 @@ import time
 import numpy as np
 
 from ..errors import InputError
-from ..ledger import joined_record
+from ..ledger import JoinedRecord
 from .constraints import StepFailure
 from .nsga import smooth_phases
 from .settings import RunSettings
-from .state import PhaseTimer, State, length_scale
+from .state import PhaseTimer, State, deferred_ledger, length_scale
 from .terms import SmoothContact
 
 __all__ = [
@@ -177,7 +177,8 @@ def _split_step(model, st, h, opts, timer, phases) -> State:
         return phases.finish(time.perf_counter())
     out = parts[0]
     for part in parts[1:]:
-        part.ledger = joined_record(model, out, part)  # the step's contact phases, for the ledger
+        # the step's contact phases, for the ledger (made when read)
+        part.ledger = JoinedRecord(model, out, part, deferred_ledger(part))
         out = joined(out, part, h)
     out.h = h
     return out
