@@ -332,12 +332,12 @@ def hermite_root(g0, s0, g1, s1, samples: int = 32, iterations: int = 30):
     )
     for _ in range(iterations):
         ps = p(s)
-        if np.all(np.abs(ps) <= small):
+        if (np.abs(ps) <= small).all():  # (the method: np.all's wrapper costs as much)
             break
         below = ps <= 0.0
         a, b = np.where(below, a, s), np.where(below, s, b)
         newton = s - ps / dp(s)
-        if np.all(np.abs(newton - s) <= 4.0 * eps * s):  # (stationary: s is the root)
+        if (np.abs(newton - s) <= 4.0 * eps * s).all():  # (stationary: s is the root)
             s = newton
             break
         s = np.where((newton > a) & (newton < b), newton, 0.5 * (a + b))
