@@ -292,7 +292,7 @@ def _crossing(model, st, phases, left, opts):
     rows = (closing & np.isfinite(g0)).nonzero()[0]
     F = model.free
     _, G0 = contacts.jacobian(st.q, rows)
-    _, G1 = contacts.jacobian(phases.q, rows)
+    G1 = G0 if contacts.affine else contacts.jacobian(phases.q, rows)[1]  # (affine: constant)
     s0, s1 = left * (G0 @ st.v[F]), left * (G1 @ phases.v[F])  # slopes in s
     half = 0.5 * tol  # (aimed inside the tolerance, on the open side: no correction)
     tau, slope = hermite_root(g0[rows] - half, s0, g1[rows] - half, s1)
