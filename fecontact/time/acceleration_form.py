@@ -14,7 +14,8 @@ that does not lower the residual (penalty). It converges when
 |r| ≤ tol_residual · max(|f_ext|, |f_int|, |M v̇|) and every term's own test holds at the
 iterate, or when an update is below the increment tolerance and every constrained term's
 test holds after it (or, in a linear model with nonlinear joints, by the joints' remainder
-bound).
+bound), or, where the plan is exact (affine forces and gaps), after any update whose rows'
+active set holds at its end (its residual is round-off).
 
 The loop builds the form once per run and begins it again at every step.
 """
