@@ -168,8 +168,8 @@ def constraint_columns(model, key, select, G, solve, cons, constant: bool, rhs=N
     if not (constant and cons.linear and model.joints.size == 0 and model.contacts.linear):
         if rhs is None:
             return solve(G.T).reshape(n, -1)
-        X = solve(np.column_stack([rhs, G.T])).reshape(n, -1)
-        return X[:, 1:], X[:, 0]
+        X = solve(np.column_stack([G.T, rhs])).reshape(n, -1)  # (rhs last, as it was solved)
+        return X[:, :-1], X[:, -1]
     cache = model.column_cache.setdefault(key, {})
     x = _missing_columns(cache, select, G, solve, rhs)
     Y = np.column_stack([cache[j] for j in select]) if len(select) else G.T.copy()
