@@ -37,7 +37,14 @@ import numpy as np
 
 from .ledger_works import moreau_works, spring_step_work
 
-__all__ = ["EnergyLedger", "SmoothRecord", "joined_record", "pending_record", "smooth_record"]
+__all__ = [
+    "EnergyLedger",
+    "JoinedRecord",
+    "SmoothRecord",
+    "joined_record",
+    "pending_record",
+    "smooth_record",
+]
 
 # a creation above this fraction of the scale is a warning (the gains measured on the shipped
 # cases before the ledger were 0.3 % and more); friction's positive work above FRICTION of it
@@ -133,7 +140,33 @@ def joined_record(model, first, second) -> np.ndarray | None:
     phases of both are the step's, so that the ledger charges them as such. With the first
     part's end energies T_1, V_1 and T̃_i, Ṽ_i the parts' smooth ends, T̃ = T̃_2 − (T_1 − T̃_1),
     Ṽ = Ṽ_2 − (V_1 − Ṽ_1); the smooth friction and the jumps' works add."""
-    r1, r2 = first.ledger, second.ledger
+    return _joined(model, first, second.ledger, second.v, second.q)
+
+
+class JoinedRecord:
+    """:func:`joined_record` of the parts ``first`` and ``second``, made when it is first
+    read (``State.ledger`` calls it), as :class:`SmoothRecord`: a run that never reads the
+    ledger does not pay the parts' energies. ``record``: ``second``'s record as it was set
+    (a deferred one not yet made; the part's ``ledger`` becomes this one); the parts'
+    arrays are kept, which no later phase changes."""
+
+    __slots__ = ("model", "first", "record", "v", "q")
+
+    def __init__(self, model, first, second, record):
+        self.model, self.first, self.v, self.q = model, first, second.v, second.q
+        self.record = record
+
+    def __call__(self) -> np.ndarray | None:
+        record = self.record
+        if record is not None and not isinstance(record, np.ndarray):
+            record = record()
+        return _joined(self.model, self.first, record, self.v, self.q)
+
+
+def _joined(model, first, r2, v2, q2) -> np.ndarray | None:
+    """:func:`joined_record` of ``first`` and a second part with the record ``r2`` that
+    ends at (``q2``, ``v2``)."""
+    r1 = first.ledger
     if r1 is None:
         return r2
     # T_1 − T̃_1 and V_1 − Ṽ_1: zero, not evaluated, where the first part ends where its
@@ -143,13 +176,13 @@ def joined_record(model, first, second) -> np.ndarray | None:
     if not math.isnan(r1[1]):
         dV = model.strain_energy(first.q) + model.potential_energy(first.q) - r1[1]
     if r2 is None:  # the second part has no contact phase: it ends where its smooth step does
-        r2 = smooth_record(model, True, second.v, second.q)
+        r2 = smooth_record(model, True, v2, q2)
     else:  # (NaN: the smooth step's end is the part's end, and stays the step's where d = 0)
         r2 = r2.copy()
         if math.isnan(r2[0]) and dT:
-            r2[0] = model.kinetic_energy(second.v)
+            r2[0] = model.kinetic_energy(v2)
         if math.isnan(r2[1]) and dV:
-            r2[1] = model.strain_energy(second.q) + model.potential_energy(second.q)
+            r2[1] = model.strain_energy(q2) + model.potential_energy(q2)
     out = np.zeros(max(r1.size, r2.size, 6))
     out[: r2.size] = r2
     out[0] = r2[0] - dT

@@ -261,7 +261,7 @@ class Model:
         """(S, solve, C) with the damping C = αM + βK and S = β′M + γ′C + K, for linear
         bodies (constant K): assembled and factorized once per step size, then reused. A size
         met while ``passing`` (used once) is solved by the ``ladder`` where one applies, C
-        then None (:func:`fecontact.linalg.ladder.passing_matrix`)."""
+        then None, S too where unread (:func:`fecontact.linalg.ladder.passing_matrix`)."""
         key = (bp, gp)
         if key not in self.iteration_cache:
             once = passing_matrix(self, bp) if self.passing else None

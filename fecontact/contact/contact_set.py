@@ -127,6 +127,8 @@ class ContactSet(FrictionRows):
 
     def quadratic(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
         """vᵀ ∇²g_j v for every constraint j (the acceleration term of a holonomic one)."""
+        if self._affine is not None:  # affine gaps: no curvature (and no pair evaluated)
+            return np.zeros(self.size)
         out = []
         for g, dofs, _, H in self.evaluate(q):
             if H is None:

@@ -90,12 +90,25 @@ def iteration_solver(model, a: float, S, K):
 def passing_matrix(model, a: float):
     """(S(a), its solver, None) at a size the ``model`` meets once, from its ladder, or None
     where none applies (the caller factorizes). S is the one sum of data arrays of the
-    model's pattern, the damping C (zero) left out."""
+    model's pattern, the damping C (zero) left out; None where the solve is spectral and
+    nothing reads S: affine contacts (a correction's metric is then its solve alone, no
+    curvature is added to it) and no joints (no bordered update), decided by the model
+    (:func:`unread`)."""
     ladder = _ladder(model)
     if ladder is None:
         return None
+    if ladder.spectral() and unread(model):
+        return None, ladder.solver(a, None), None
     S = model.iteration_sum(a, ladder.K)
     return S, ladder.solver(a, S), None
+
+
+def unread(model) -> bool:
+    """Whether no step reads a linear ``model``'s iteration matrix S itself, only its solve:
+    its contacts' gaps are affine (the correction's metric H = S/β′ is only added a
+    curvature where gaps are curved) and it has no joints (the updates bordered by their
+    rows take S)."""
+    return model.contacts.affine and not model.joints.size
 
 
 def _ladder(model, K=None) -> Ladder | None:
@@ -131,6 +144,13 @@ class Ladder:
             0,
         )
 
+    def spectral(self) -> bool:
+        """Whether the sizes met once are now solved by the eigendecomposition (made, or
+        made at the next such size), which reads no S(a)."""
+        if self.after is None:
+            return False
+        return self.modes is not None or self.counts["factorizations"] >= self.after
+
     def keep(self, a: float, solve) -> None:
         """Note the factors ``solve`` of S(a), made for a size the run steps with."""
         if self.after is None:
@@ -139,7 +159,7 @@ class Ladder:
     def solver(self, a: float, S):
         """``solve(b)`` of S = S(a) (``S`` itself, in the model's format) at a size met once."""
         if self.after is not None:
-            if self.modes is None and self.counts["factorizations"] >= self.after:
+            if self.modes is None and self.spectral():
                 self._decompose()
             if self.modes is None:
                 return self.factor(a, S)

@@ -14,7 +14,8 @@ that does not lower the residual (penalty). It converges when
 |r| ≤ tol_residual · max(|f_ext|, |f_int|, |M v̇|) and every term's own test holds at the
 iterate, or when an update is below the increment tolerance and every constrained term's
 test holds after it (or, in a linear model with nonlinear joints, by the joints' remainder
-bound).
+bound), or, where the plan is exact (affine forces and gaps), after any update whose rows'
+active set holds at its end (its residual is round-off).
 
 The loop builds the form once per run and begins it again at every step.
 """
@@ -266,6 +267,8 @@ class AccelerationForm:
             extra = None if gyro is None else (lambda: gyro.remainder(step, dq))
             if joints.bound(step, dq, self.x[self.model.n_free :], ff, extra):
                 return True
+        if self.plan.exact and all(term.solved(step) for term in rowed):
+            return True  # (the update solved the step: its residual is round-off)
         return self.model.update_size(dq) <= self.opts.tol_increment and all(
             term.settled(step) for term in rowed
         )

@@ -73,7 +73,10 @@ def alpha_plan(model, smooth: bool, friction: bool, extra=()) -> NewtonPlan:
     # (on a group, the line search alone: plain Newton took whole a 2 rad update of a
     # struck beam's rotation, S_t indefinite, that the planar twin's line search cut)
     descent = not model.linear
-    return NewtonPlan((*terms, *extra), reuse, descent, False, bound, "smooth step", group)
+    plan = NewtonPlan((*terms, *extra), reuse, descent, False, bound, "smooth step", group)
+    # (affine forces and gaps: an update through S_t's own factors is the solution)
+    plan.exact = reuse and not (joints.size or friction or extra) and model.contacts.affine
+    return plan
 
 
 def _remainder_bound(model, affine: bool) -> bool:

@@ -157,17 +157,35 @@ def plus_curvature(A, scale, C):
     return A + scale * (sp.csr_matrix(C) if sp.issparse(A) else C)
 
 
-def constraint_columns(model, key, select, G, solve, cons, constant: bool):
+def constraint_columns(model, key, select, G, solve, cons, constant: bool, rhs=None):
     """H⁻¹ G_jᵀ for the constraints ``select`` (n × m). When H is ``constant`` (the mass, or
     S_t/β′ of a linear model at a given step) and the gap gradients are too (nodes against
     planes), the columns are kept per contact: a large model in contact over a small zone
-    then solves only for contacts that are new."""
+    then solves only for contacts that are new. With ``rhs`` (n,), (the columns, H⁻¹ rhs),
+    solved together where columns are solved (one solve of a few columns costs little more
+    than one of a single column)."""
+    n = G.shape[1]
     if not (constant and cons.linear and model.joints.size == 0 and model.contacts.linear):
-        return solve(G.T).reshape(G.shape[1], -1)
+        if rhs is None:
+            return solve(G.T).reshape(n, -1)
+        X = solve(np.column_stack([G.T, rhs])).reshape(n, -1)  # (rhs last, as it was solved)
+        return X[:, :-1], X[:, -1]
     cache = model.column_cache.setdefault(key, {})
+    x = _missing_columns(cache, select, G, solve, rhs)
+    Y = np.column_stack([cache[j] for j in select]) if len(select) else G.T.copy()
+    if rhs is None:
+        return Y
+    return Y, (solve(rhs) if x is None else x)
+
+
+def _missing_columns(cache: dict, select, G, solve, rhs):
+    """Solve into ``cache`` the columns H⁻¹G_jᵀ of the contacts of ``select`` it lacks, with
+    ``rhs`` where given: H⁻¹ rhs, or None where no column was missing (or no ``rhs``)."""
     missing = [i for i, j in enumerate(select) if j not in cache]
-    if missing:
-        Y = solve(G[missing].T).reshape(G.shape[1], -1)
-        for col, i in enumerate(missing):
-            cache[select[i]] = Y[:, col]
-    return np.column_stack([cache[j] for j in select]) if len(select) else G.T.copy()
+    if not missing:
+        return None
+    B = G[missing].T if rhs is None else np.column_stack([G[missing].T, rhs])
+    Y = solve(B).reshape(G.shape[1], -1)
+    for col, i in enumerate(missing):
+        cache[select[i]] = Y[:, col]
+    return None if rhs is None else Y[:, -1].copy()

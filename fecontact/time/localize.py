@@ -53,11 +53,12 @@ import time
 import numpy as np
 
 from ..errors import InputError
-from ..ledger import joined_record
+from ..ledger import JoinedRecord
 from .constraints import StepFailure
 from .nsga import smooth_phases
 from .settings import RunSettings
-from .state import PhaseTimer, State, length_scale
+from .state import PhaseTimer, State, deferred_ledger, length_scale
+from .terms import SmoothContact
 
 __all__ = [
     "GRAZING",
@@ -89,6 +90,12 @@ GRAZING = 1e3
 MAX_REFINE = 12
 """Smooth steps that refine an instant, at most (the Hermite guess is exact for a constant
 acceleration and the regula falsi converges superlinearly: 1 to 3 are measured)."""
+
+MASS_COLUMNS = ("mass",)
+"""The column cache's key of the mass's columns M⁻¹G_jᵀ (no step size in it)."""
+
+_GRID = np.linspace(0.0, 1.0, 33)
+"""The samples of s at which the first sign change of a Hermite cubic is sought."""
 
 LAST = 1e-9
 """Fraction of the step: an impact that closes this near its end ends the step."""
@@ -170,7 +177,8 @@ def _split_step(model, st, h, opts, timer, phases) -> State:
         return phases.finish(time.perf_counter())
     out = parts[0]
     for part in parts[1:]:
-        part.ledger = joined_record(model, out, part)  # the step's contact phases, for the ledger
+        # the step's contact phases, for the ledger (made when read)
+        part.ledger = JoinedRecord(model, out, part, deferred_ledger(part))
         out = joined(out, part, h)
     out.h = h
     return out
@@ -206,13 +214,21 @@ def _rest_phases(model, st, left, opts, timer):
     """The smooth step of the rest of a step after a located impact, from ``st`` over
     ``left`` (s), by modified Newton (:data:`~.acceleration_form.CONTRACTION`): the impact's
     elastic response, about three updates from one factorization of S_t where each full
-    Newton update factorized its own."""
+    Newton update factorized its own. The persistent contacts' multipliers start from the
+    forces the restart at the impact carries in v̇ (:attr:`SmoothContact.carried`): the
+    contacts it holds are rows from the first update, which on a linear model is then the
+    solution (from zero, a free update first let them penetrate and a second held them)."""
     loop = opts.plan.loop(model, opts, timer)
     loop.frozen = True
+    terms = [term for term in opts.plan.terms if isinstance(term, SmoothContact)]
+    for term in terms:
+        term.carried = True
     try:
         return smooth_phases(model, st, left, opts, timer)
     finally:
         loop.frozen = False
+        for term in terms:
+            term.carried = False
 
 
 def _split(model, st, phases, left, h, done, opts, timer, kept: list):
@@ -276,7 +292,7 @@ def _crossing(model, st, phases, left, opts):
     rows = (closing & np.isfinite(g0)).nonzero()[0]
     F = model.free
     _, G0 = contacts.jacobian(st.q, rows)
-    _, G1 = contacts.jacobian(phases.q, rows)
+    G1 = G0 if contacts.affine else contacts.jacobian(phases.q, rows)[1]  # (affine: constant)
     s0, s1 = left * (G0 @ st.v[F]), left * (G1 @ phases.v[F])  # slopes in s
     half = 0.5 * tol  # (aimed inside the tolerance, on the open side: no correction)
     tau, slope = hermite_root(g0[rows] - half, s0, g1[rows] - half, s1)
@@ -287,36 +303,43 @@ def hermite_root(g0, s0, g1, s1, samples: int = 32, iterations: int = 30):
     """(s, p'(s)) at the first root s ∈ (0, 1] of the cubic Hermite p with p(0) = g0 > 0,
     p'(0) = s0, p(1) = g1 < 0, p'(1) = s1 (arrays, one per contact): the first sign change
     on ``samples`` intervals, then Newton kept inside it (bisection where it leaves), to
-    round-off."""
+    round-off (p within a few ulps of its largest term of zero, or a Newton step that no
+    longer moves s by more than a few ulps)."""
+    # p(s) = g0 + s0 s + c2 s² + c3 s³, by Horner (a dozen array operations fewer than the
+    # Hermite basis: the root of the step's one or few closings costs 15 µs, not 60)
+    d = g1 - g0
+    c2, c3 = 3.0 * d - 2.0 * s0 - s1, s0 + s1 - 2.0 * d
 
     def p(s):
-        s2, s3 = s * s, s * s * s
-        return (
-            (2 * s3 - 3 * s2 + 1) * g0 + (s3 - 2 * s2 + s) * s0 + (3 * s2 - 2 * s3) * g1
-            + (s3 - s2) * s1
-        )  # fmt: skip
+        return ((c3 * s + c2) * s + s0) * s + g0
 
     def dp(s):
-        return (
-            (6 * s * s - 6 * s) * (g0 - g1) + (3 * s * s - 4 * s + 1) * s0
-            + (3 * s * s - 2 * s) * s1
-        )  # fmt: skip
+        return (3.0 * c3 * s + 2.0 * c2) * s + s0
 
-    grid = np.linspace(0.0, 1.0, samples + 1)
+    grid = _GRID if samples == _GRID.size - 1 else np.linspace(0.0, 1.0, samples + 1)
     values = p(grid[:, None])  # (samples + 1, contacts)
     first = np.argmax(values <= 0.0, axis=0)  # p(1) = g1 < 0: a sign change exists
     a, b = grid[first - 1], grid[first]
-    pa, pb = values[first - 1, np.arange(first.size)], values[first, np.arange(first.size)]
+    cols = np.arange(first.size)
+    pa, pb = values[first - 1, cols], values[first, cols]
     s = a - pa * (b - a) / (pb - pa)  # the chord's root, then Newton
+    eps = np.finfo(float).eps
     # round-off of p: a few ulps of its largest term
-    small = 8.0 * np.finfo(float).eps * np.max(np.abs([g0, g1, s0, s1]), axis=0)
+    small = (
+        8.0
+        * eps
+        * np.maximum(np.maximum(np.abs(g0), np.abs(g1)), np.maximum(np.abs(s0), np.abs(s1)))
+    )
     for _ in range(iterations):
         ps = p(s)
-        if np.all(np.abs(ps) <= small):
+        if (np.abs(ps) <= small).all():  # (the method: np.all's wrapper costs as much)
             break
         below = ps <= 0.0
         a, b = np.where(below, a, s), np.where(below, s, b)
         newton = s - ps / dp(s)
+        if (np.abs(newton - s) <= 4.0 * eps * s).all():  # (stationary: s is the root)
+            s = newton
+            break
         s = np.where((newton > a) & (newton < b), newton, 0.5 * (a + b))
     return s, dp(s)
 
@@ -377,13 +400,15 @@ def cache_keys(model) -> tuple:
 
 
 def drop_caches(model, kept, stats) -> None:
-    """Drop the caches' entries made since ``kept`` (the split steps' sizes, used once); count
+    """Drop the caches' entries made since ``kept`` (the split steps' sizes, used once; not
+    the mass's columns, which every size shares); count
     in the localization ``stats`` the factorizations made for them and the ladder's solves
     without one (the ladder keeps its factors)."""
     added = [k for k in model.iteration_cache if k not in kept[0]]
     for key in added:
         del model.iteration_cache[key]
-    for key in [k for k in model.column_cache if k not in kept[1]]:
+    # (the mass's columns M⁻¹G_jᵀ hold at every step size: kept for the run's later jumps)
+    for key in [k for k in model.column_cache if k not in kept[1] and k != MASS_COLUMNS]:
         del model.column_cache[key]
     if model.ladder is None:
         stats.factorizations += len(added)

@@ -93,9 +93,14 @@ class NewtonPlan:
     in space, :mod:`.lie`; its :class:`~.lie.LieGroup`, else None): the iterate's first row
     is the increment D and q = q_n ⊕ D.
     ``roles``: the terms' :class:`Roles`, when every term acts in every step as itself (no
-    ``per_step`` term), else None (sorted per step)."""
+    ``per_step`` term), else None (sorted per step). ``exact``: every force is affine in q
+    and every row's gap too (a linear model without joints or friction, its contacts nodes
+    on fixed planes), so an update solves the step's equations to round-off, and ends the
+    iteration where the rows' active set holds after it (:meth:`ForceTerm.solved`)."""
 
-    __slots__ = "terms reuse descent halving bound name group roles bare form last_loop".split()
+    __slots__ = (
+        "terms reuse descent halving bound name group roles bare form last_loop exact".split()
+    )
 
     def __init__(
         self,
@@ -119,6 +124,7 @@ class NewtonPlan:
         per_step = [term for term in self.terms if term.per_step]
         self.bare = None if fixed else (per_step, roles(t for t in self.terms if not t.per_step))
         self.last_loop: SmoothNewton | None = None
+        self.exact = False  # (set by the plans whose updates are exact, alpha_plan)
 
     def loop(self, model, opts, timer) -> SmoothNewton:
         """The run's loop over this plan for ``model`` with the run's settings ``opts`` and

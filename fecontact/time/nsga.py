@@ -176,7 +176,9 @@ class _Phases:
         g_cand = g_tilde[cand]
         short = g_cand < 0.0
         if self.force is not None:  # the persistent contacts the smooth step closed are not short
-            short &= ~(np.isin(cand, self.P) & (g_cand >= -self.tol_gap))
+            persistent = np.zeros(m, bool)  # (a mask: np.isin costs 15 µs on a few contacts)
+            persistent[self.P] = True
+            short &= ~(persistent[cand] & (g_cand >= -self.tol_gap))
         # (count_nonzero: a third of the time of any() on a few contacts)
         if not np.count_nonzero(short):  # (closed: the contacts closed where the step ends)
             self.closed = cand[g_cand <= self.tol_gap]

@@ -155,10 +155,10 @@ class SmoothContacts:
         # the forces carried in weigh the curvature; one that leaves A below lags one update
         weights = -self.lam if curvature else None
         self.g, self.G, self.C = self.contacts.linearize(q, self.P, weights)
-        self.active = self._next_active_set()
+        self.active = self._next_active_set(self.g, self.G)
         self.lam[~self.active] = 0.0
 
-    def _next_active_set(self) -> np.ndarray:
+    def _next_active_set(self, g: np.ndarray, G: np.ndarray) -> np.ndarray:
         """The contacts of the next update, decided on the force and the gap apart, so that
         neither p nor k steers it. The first set: the contacts carried in pressed (λ > 0)
         or penetrating at the predictor. After an update a contact leaves the set when its
@@ -169,10 +169,10 @@ class SmoothContacts:
         # (a row whose gap is undefined, g = +inf, or whose gradient is zero holds nothing: a
         # deep node's own row reports a finite far gap once the node is out; kept, its force
         # would stay as it came, untouched by a singular update, and its gap never close)
-        holds = (self.lam > 0.0) & (self.g < np.inf) & self.G.any(axis=1)
+        holds = (self.lam > 0.0) & (g < np.inf) & G.any(axis=1)
         if self.solved is None:
-            return holds | (self.g < 0.0)
-        return np.where(self.active, holds, self.g < 0.0)
+            return holds | (g < 0.0)
+        return np.where(self.active, holds, g < 0.0)
 
     def force_term(self) -> np.ndarray:
         return self.G.T @ self.lam
@@ -198,8 +198,8 @@ class SmoothContacts:
         GA, gA, rows = self.G[A], self.g[A], self.P[A]
         cons = Constraints(model, rows)  # (no joints here: the bordered path has them)
         constant = key is not None
-        Y = constraint_columns(model, ("smooth", *(key or ())), rows, GA, solve, cons, constant)
-        x = solve(r)
+        at = ("smooth", *(key or ()))
+        Y, x = constraint_columns(model, at, rows, GA, solve, cons, constant, rhs=r)
         dlam = kkt_multipliers(GA, Y, GA @ x - gA, 1.0, self.stats)
         self.lam[A] += dlam
         self.solved = A.copy()
@@ -215,6 +215,20 @@ class SmoothContacts:
             return False
         worst = max(np.abs(self.g[A]).max(initial=0.0), (-self.g[~A]).max(initial=0.0))
         return admits(worst)
+
+    def holds(self, q: np.ndarray, admits) -> bool:
+        """Whether the active set just solved with is the one q gives and complementarity
+        holds at q (:meth:`satisfied`), with nothing of the contacts moved: the test of an
+        exact update (affine gaps and forces), whose residual is zero to round-off. Where
+        it fails the loop evaluates the residual, which updates the set once, as after any
+        update."""
+        A = self.active
+        if self.solved is None or not np.array_equal(A, self.solved):
+            return False
+        g, G, _ = self.contacts.linearize(q, self.P)
+        if not np.array_equal(self._next_active_set(g, G), A):
+            return False
+        return admits(max(np.abs(g[A]).max(initial=0.0), (-g[~A]).max(initial=0.0)))
 
     def settled(self, q: np.ndarray, admits) -> bool:
         """Whether the active set at q is the one just solved with and complementarity holds
@@ -388,12 +402,13 @@ def restarted_acceleration(
     solve_H = model.solve_M if solve is None else solve
     x = solve_H(f)
     _, G = contacts.linearize(q, closed)[:2]
-    rows = closed[G @ v[F] <= tol_rate]
+    holding = G @ v[F] <= tol_rate
+    rows = closed[holding]
     forces = np.zeros((rows.size, model.dim))
     if rows.size == 0:
         return x, (rows, forces)
     cons = Constraints(model, rows)
-    G = G[np.isin(closed, rows)]
+    G = G[holding]
     Y = constraint_columns(model, ("mass",), rows, G, solve_H, cons, constant=solve is None)
     # the velocity jump's problem, one level up: 0 ≤ G (x + M⁻¹Gᵀμ) + vᵀ∇²g v ⊥ μ ≥ 0
     rates = G @ x + contacts.quadratic(q, v)[rows]

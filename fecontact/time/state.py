@@ -28,6 +28,7 @@ __all__ = [
     "JointTolerance",
     "PhaseTimer",
     "State",
+    "deferred_ledger",
     "initial_state",
     "length_scale",
 ]
@@ -269,6 +270,11 @@ def _ledger(st: State) -> np.ndarray | None:
 
 def _set_ledger(st: State, record) -> None:
     st._ledger_record = record
+
+
+def deferred_ledger(st: State):
+    """``st``'s ledger record as it was set: a deferred one (a callable) not yet made."""
+    return st._ledger_record
 
 
 # (after the dataclass is made: its __init__ and the fields' readers go through the property)

@@ -108,6 +108,11 @@ class ForceTerm:
         """The term's own test after an update below the increment tolerance."""
         return True
 
+    def solved(self, step: StepContext) -> bool:
+        """The term's own test after an exact update (:attr:`NewtonPlan.exact`), which
+        leaves the term as it is: False where it cannot tell (the residual decides)."""
+        return False
+
     # -- a term with rows (``rows``) also has:
 
     def touching(self) -> bool:
@@ -343,6 +348,9 @@ class SmoothContact(ForceTerm):
     def __init__(self, model, friction: bool):
         self.model, self.friction = model, friction
         self.curved = not model.contacts.linear
+        # (set for the rest of a split step, :mod:`.localize`: the multipliers start from
+        # the forces that the restarted acceleration carries in v̇, not from zero)
+        self.carried = False
 
     def begin(self, step):
         P = step.P
@@ -357,6 +365,8 @@ class SmoothContact(ForceTerm):
             return SmoothFriction(model, st, step.P, step.t, step.opts)
         force = None if st.smooth is None else st.smooth.normal
         force0 = np.zeros(step.P.size) if force is None else force[step.P]
+        if self.carried and st.smooth is not None:
+            force0 = np.maximum(force0, st.smooth.in_vd[step.P, 0])
         return SmoothContacts(model, step.P, force0, step.opts)
 
 
@@ -383,6 +393,9 @@ class PersistentContacts(ForceTerm):
 
     def settled(self, step):
         return self.sc.settled(step.q, step.tolerance.admits)
+
+    def solved(self, step):
+        return self.sc.holds(step.q, step.tolerance.admits)
 
     def touching(self) -> bool:
         return bool(self.sc.active.any())
