@@ -46,11 +46,10 @@ def tangent_basis(n: np.ndarray) -> np.ndarray:
     2D: t = (n_y, −n_x), so that (t, n) is right-handed; for n = +y, t = +x. 3D: t₁ along
     the first of the axes x, y, z with |n_i| < 0.6 projected on the plane (at least 0.8 of
     it remains), t₂ = n × t₁. Coulomb's disk is isotropic, so the choice in the plane only
-    names the components of the output; it must not jump where normals usually lie. The
-    axis least aligned with n, the choice before, jumps where two components of n tie in
-    magnitude, along the coordinate axes themselves: a face of a box lying on a box, its
-    normal along z to 1e-12, swapped t₁ and t₂ between two evaluations of one step, and
-    multipliers carried over from one to the other acted along the swapped tangents."""
+    names the components of the output, but multipliers carried from one evaluation to the
+    next (a relinearization, a warm start) need it not to jump where normals usually lie:
+    this one jumps only far from the coordinate axes (the axis least aligned with n jumps
+    where two components of n tie in magnitude, along the axes themselves)."""
     n = np.asarray(n, dtype=float)
     if n.shape[1] == 2:
         return np.stack([n[:, 1], -n[:, 0]], axis=1)[:, None, :]
