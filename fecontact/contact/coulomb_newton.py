@@ -90,13 +90,18 @@ def newton(c, D, p, k, mu, nt, x0, tol, max_iter, stats):
     raise NotConverged(f"residual {err:.3e} above {tol:.3e} after {max_iter} iterations")
 
 
-def newton_residual(x, c, kD, p, k, mu, nc):
+def newton_residual(x, c, kD, p, k, mu, nc, closing=None):
     """R/p of :func:`newton` at x (w where Π is the identity), the parts of its Jacobian
-    (∂Π, the rows evaluated as w) and the contacts' status."""
+    (∂Π, the rows evaluated as w) and the contacts' status. ``closing`` (m,) bool: contacts
+    whose Jacobian and status are taken on their closed branch, σ_N at 0⁺ where it is ≤ 0
+    (:func:`fecontact.contact.friction_redundant.least_norm`)."""
     m, N = len(mu), len(c)
     b = nc // m if m else 1
     w = c + kD @ x
     sigma = k * x - p * w
+    if closing is not None:
+        sigma_n = sigma[:nc:b]
+        sigma_n[closing & (sigma_n <= 0.0)] = np.finfo(float).tiny
     Pi, dPi, status = coulomb_projection(sigma[:nc].reshape(m, b), mu)
     dPi = _block_diagonal(dPi, N)
     ident = np.diagonal(dPi) == 1.0

@@ -44,12 +44,17 @@ def tangent_basis(n: np.ndarray) -> np.ndarray:
     """Unit tangents (m, d−1, d) of the contact planes with unit normals n (m, d).
 
     2D: t = (n_y, −n_x), so that (t, n) is right-handed; for n = +y, t = +x. 3D: t₁ along
-    the axis least aligned with n projected on the plane, t₂ = n × t₁. Coulomb's disk is
-    isotropic, so the choice in the plane only names the components of the output."""
+    the first of the axes x, y, z with |n_i| < 0.6 projected on the plane (at least 0.8 of
+    it remains), t₂ = n × t₁. Coulomb's disk is isotropic, so the choice in the plane only
+    names the components of the output, but multipliers carried from one evaluation to the
+    next (a relinearization, a warm start) need it not to jump where normals usually lie:
+    this one jumps only far from the coordinate axes (the axis least aligned with n jumps
+    where two components of n tie in magnitude, along the axes themselves)."""
     n = np.asarray(n, dtype=float)
     if n.shape[1] == 2:
         return np.stack([n[:, 1], -n[:, 0]], axis=1)[:, None, :]
-    axis = np.eye(3)[np.argmin(np.abs(n), axis=1)]
+    # (a unit vector has a component below 1/√3: with |n_x|, |n_y| ≥ 0.6, |n_z| ≤ 0.53)
+    axis = np.eye(3)[np.argmax(np.abs(n) < 0.6, axis=1)]
     t1 = axis - np.einsum("mi,mi->m", axis, n)[:, None] * n
     t1 /= np.linalg.norm(t1, axis=1)[:, None]
     return np.stack([t1, np.cross(n, t1)], axis=1)
@@ -83,7 +88,7 @@ def solve_coulomb(
     be redundant): of a family of solutions, the one of least norm (:func:`_least_norm`),
     and of the solutions reached from ``x0`` and from zero the least-norm; ``cold_start``
     False keeps the one from ``x0`` alone (a relinearization of a problem just solved from
-    both, whose solution ``x0`` is).
+    both, whose solution ``x0`` is), the cold start only where the warm one fails.
     ``stats`` (:class:`fecontact.contact.stats.CoulombStats`, or None) receives the counts
     of the work. Returns (x, status (m,), iterations); raises ``RuntimeError`` when neither
     converges.
@@ -94,19 +99,28 @@ def solve_coulomb(
     if not minimum_norm:
         return _solve(c, D, p, k, mu, nt, x0, tol, max_iter, stats)[:3]
     mu = np.asarray(mu, dtype=float)
-    found = []
+    found, failure = [], None
     # several closed contacts with friction can have distinct solutions (three corners
     # slipping and the fourth lifting, or all four slipping): the warm start and the cold
-    # one may reach different ones, and the least-norm of them is kept
-    for start in (x0,) if x0 is None or len(mu) == 1 or not cold_start else (x0, None):
+    # one may reach different ones, and the least-norm of them is kept. Where the warm
+    # start fails the cold one is tried all the same: on redundant rows whether Newton
+    # converges from a warm start is its path's (a box on a box, 27 rows on 12 dofs:
+    # from the last step's impulses it failed at the default p and converged at p × 1e3,
+    # and from zero at every p, to the same rates)
+    for start in (x0,) if x0 is None or len(mu) == 1 else (x0, None):
+        if start is None and found and not cold_start:
+            break
         try:
             x, status, its = _solve(c, D, p, k, mu, nt, start, tol, max_iter, stats, True)
-        except RuntimeError:
-            if start is None and found:
-                continue
-            raise
+        except RuntimeError as err:
+            failure = err
+            continue
+        if start is None and failure is not None:
+            stats.cold_restarts += 1
         x, status = least_norm(c, D, p, k, mu, nt, x, tol, stats)
         found.append(without_round_off(x, status, len(mu), nt) + (its,))
+    if not found:
+        raise failure
     x, status, its = min(found, key=lambda f: np.linalg.norm(f[0]))
     if len(found) == 2 and np.max(np.abs(k * D @ (found[0][0] - found[1][0]))) > tol:
         stats.distinct_solutions += 1

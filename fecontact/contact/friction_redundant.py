@@ -10,7 +10,7 @@ import numpy as np
 
 from .coulomb_newton import NotConverged, newton, newton_jacobian, newton_residual
 
-__all__ = ["least_norm", "one_open", "without_round_off"]
+__all__ = ["least_norm", "one_open", "reachable_slips", "without_round_off"]
 
 
 def one_open(c, D, p, k, mu, nt, x0, tol, max_iter, stats):
@@ -58,13 +58,24 @@ def least_norm(c, D, p, k, mu, nt, x, tol, stats, rcond=1e-10, cycles=8):
     the move is below 1e-12 of |x|. The rule involves neither p nor k: with a frictionless
     law it is the limit of a uniform contact compliance going to zero. A cycle whose Newton
     fails keeps the solution it started from; such cycles and those that end unsettled are
-    counted (``stats.least_norm_unsettled``), the moves in ``stats.least_norm_moves``."""
+    counted (``stats.least_norm_unsettled``), the moves in ``stats.least_norm_moves``.
+
+    A family can end at a contact that opens: its normal multiplier reaches zero with its
+    normal row at zero (a grazing contact, |w_N| ≤ ``tol``). There the open branch's
+    Jacobian pins the multiplier and hides the family, and a Newton that ends at that end
+    keeps it whatever the member of least norm: on a box sliding on a box (nine contacts,
+    27 rows on 12 dofs) the default p reached the end, p × 1e3 and k ÷ 100 the least-norm
+    member, 8e-4 m/s apart. The family's directions are therefore read with the grazing
+    contacts on their closed branch, and such a move is kept only where it lowers |x|."""
     kD = k * D
     nc, N = len(mu) * (1 + nt), len(c)
     dsigma = k * np.eye(N) - p[:, None] * kD
     status = None
     for _ in range(cycles):
         R, (dPi, ident), status = newton_residual(x, c, kD, p, k, mu, nc)
+        grazing = (status == 0) & (np.abs(c[: nc : 1 + nt] + kD[: nc : 1 + nt] @ x) <= tol)
+        if grazing.any():
+            dPi, ident = newton_residual(x, c, kD, p, k, mu, nc, grazing)[1]
         s, Vt = np.linalg.svd(newton_jacobian(kD, dsigma, dPi, ident, p, k))[1:]
         Z = Vt[s <= rcond * s[0]]
         shift = Z.T @ (Z @ x)
@@ -72,9 +83,12 @@ def least_norm(c, D, p, k, mu, nt, x, tol, stats, rcond=1e-10, cycles=8):
             return x, status
         stats.least_norm_moves += 1
         try:
-            x, status, _ = newton(c, D, p, k, mu, nt, x - shift, tol, 50, stats)
+            y, found, _ = newton(c, D, p, k, mu, nt, x - shift, tol, 50, stats)
         except NotConverged:
             break
+        if grazing.any() and np.linalg.norm(y) >= np.linalg.norm(x):
+            return x, status  # (the family through the grazing contacts is no lower)
+        x, status = y, found
     stats.least_norm_unsettled += 1
     return x, status
 
@@ -92,3 +106,38 @@ def without_round_off(x, status, m: int, nt: int):
     x = x.copy()
     x[: m * (1 + nt)].reshape(m, 1 + nt)[idle] = 0.0
     return x, np.where(idle, 0, status)
+
+
+def reachable_slips(c, D, mu, nt: int, rcond=1e-10):
+    """The rows c of a position correction (w = c + k D x; contacts of 1 + nt rows with
+    friction coefficients ``mu``, then equality rows) with the part of their slips that no
+    multiplier reaches removed: the projection of c on the left null space of D over the
+    rows that can carry a force (singular values below ``rcond`` of the largest), taken
+    off the tangent rows of the contacts with friction. None where there is none.
+
+    The slip over the step, T(x_rel(q) − x_rel(q_n)), is the finite motion of each point
+    projected on the contact plane. Where a rigid face lands flat, tilted at t_n by θ, its
+    corners' projections draw in by (1 − cos θ) times their distance from the centre: a
+    stretch of the face, second order in the step, that no rigid motion (no combination of
+    the rows) makes or undoes. Sticking asks w_T = 0 on all four corners and cannot be met
+    where that stretch exceeds the tolerance, at any p. What the rows can tell is the rest,
+    the slip of the face as a rigid body. The normal rows keep their gaps: a gap no
+    multiplier closes is met by the law opening the contact. A frictionless contact's
+    slip is free and stays out: a corner landing without friction beside a pivot that
+    sticks does not share the pivot's slip."""
+    m, b = len(mu), 1 + nt
+    i = np.arange(len(c))
+    frictionless = np.zeros(len(c), bool)
+    frictionless[: m * b] = np.repeat(np.asarray(mu) == 0.0, b)
+    keep = np.flatnonzero(~((i < m * b) & (i % b > 0) & frictionless))
+    if not keep.size:
+        return None
+    U, s, _ = np.linalg.svd(D[np.ix_(keep, keep)])
+    Z = U[:, s <= rcond * s[0]]
+    tangential = (keep < m * b) & (keep % b > 0)
+    r = np.where(tangential, Z @ (Z.T @ c[keep]), 0.0)
+    if not Z.shape[1] or not r.any():
+        return None
+    out = c.copy()
+    out[keep] -= r
+    return out

@@ -34,6 +34,12 @@ class CoulombStats:
     # solves (in runs with redundant rows) whose warm and cold starts reached solutions of
     # the law that move the bodies differently (beyond the tolerance): the law is not unique
     distinct_solutions: int = 0
+    # solves (in runs with redundant rows) whose warm start failed and whose cold start
+    # (from zero) converged
+    cold_restarts: int = 0
+    # position corrections (in runs with redundant rows) that failed on their slips and
+    # converged without the part of them no multiplier reaches (a face landing flat)
+    unreachable_slip_solves: int = 0
 
 
 @dataclass

@@ -34,6 +34,7 @@ import math
 import numpy as np
 
 from ..contact.friction import coulomb_residual, solve_coulomb
+from ..contact.friction_redundant import reachable_slips
 from ..contact.restitution import friction_dissipation
 from .configuration import plus
 from .constraints import Constraints, StepFailure, constraint_columns
@@ -133,25 +134,12 @@ def frictional_correction(model, st, q_tilde, work, solve_H, opts, tol_gap, t, p
             if preload is not None:
                 pre[: preload.size] = preload.ravel()
             x = None if not pre.any() else pre / k
-        try:
-            x, status, n = solve_coulomb(
-                c - D @ pre,
-                D,
-                _augmentation(D, opts.penalty_scale),
-                k,
-                mu,
-                GT.shape[1],
-                x,
-                tol_gap,
-                stats=opts.stats.contact.coulomb,
-                minimum_norm=opts.stats.contact.minimum_norm,
-                # (a relinearization starts from the last one's solution, chosen between
-                # the warm and cold starts there: solving it from zero again, on redundant
-                # rows, doubled the correction's iterations at rest)
-                cold_start=dU == np.inf,
-            )
-        except RuntimeError as err:
-            raise StepFailure(f"position correction: {err}", np.nan) from None
+        # (a relinearization starts from the last one's solution, chosen between the warm
+        # and cold starts there: solving it from zero again, on redundant rows, doubled
+        # the correction's iterations at rest)
+        x, status, n = _position_law(
+            c - D @ pre, D, mu, GT.shape[1], x, dU == np.inf, opts, tol_gap
+        )
         its += n
         own = k * x - pre
         U_new = Y @ own
@@ -171,6 +159,36 @@ def frictional_correction(model, st, q_tilde, work, solve_H, opts, tol_gap, t, p
             tangential[: m * (1 + nt)] = np.arange(m * (1 + nt)) % (1 + nt) > 0
             return U, nu_n, nu_t, Y[:, tangential] @ own[tangential], its
     raise StepFailure(f"frictional position correction: update {dU:.3e} m did not settle", dU)
+
+
+def _position_law(c, D, mu, nt, x0, cold_start, opts, tol_gap):
+    """:func:`solve_coulomb` of the position correction. Where it fails on redundant rows
+    the slips are solved again without the part no multiplier reaches
+    (:func:`fecontact.contact.friction_redundant.reachable_slips`: the stretch of a face
+    landing flat, second order in the step), counted in ``unreachable_slip_solves``;
+    where they have none, or that fails too, the step fails."""
+    stats = opts.stats.contact.coulomb
+
+    def solve(c):
+        p = _augmentation(D, opts.penalty_scale)
+        redundant = opts.stats.contact.minimum_norm
+        return solve_coulomb(c, D, p, opts.multiplier_scale, mu, nt, x0, tol_gap, stats=stats,
+                             minimum_norm=redundant, cold_start=cold_start)  # fmt: skip
+
+    try:
+        return solve(c)
+    except RuntimeError as err:
+        failure = err
+    reachable = reachable_slips(c, D, mu, nt) if opts.stats.contact.minimum_norm else None
+    if reachable is not None:
+        try:
+            found = solve(reachable)
+        except RuntimeError:
+            pass
+        else:
+            stats.unreachable_slip_solves += 1
+            return found
+    raise StepFailure(f"position correction: {failure}", np.nan) from None
 
 
 def frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol, solve=None, preload=None):
