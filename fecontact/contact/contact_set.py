@@ -27,8 +27,7 @@ class ContactSet(FrictionRows):
         self.linear = all(pair.linear for pair in self.pairs)
         self.friction = _per_contact(self.pairs, [pair.friction for pair in self.pairs])
         self.frictional = bool(np.any(self.friction > 0.0))
-        redundant = any(getattr(pair, "redundant_rows", False) for pair in self.pairs)
-        self.redundant_rows = redundant or _both_ways(self.pairs)
+        self.redundant_rows = _redundant(self.pairs)
         self.owner = _per_contact(self.pairs, range(len(self.pairs)), int)  # pair of a contact
         self.twins = twin_rows(self.pairs)  # two rows of one node (mortar_safeguard), or None
         # each contact's number within its pair
@@ -291,6 +290,12 @@ def _points(pairs) -> np.ndarray | None:
         out.append(base + np.asarray(own, int))
         base += pair.size
     return np.concatenate(out)
+
+
+def _redundant(pairs) -> bool:
+    """Whether some rows of ``pairs`` may hold one motion twice: a pair that declares it
+    (``redundant_rows``), or two-pass node-to-surface (:func:`_both_ways`)."""
+    return any(getattr(p, "redundant_rows", False) for p in pairs) or _both_ways(pairs)
 
 
 def _both_ways(pairs) -> bool:
