@@ -336,7 +336,9 @@ class _Phases:
         if self.closed.size or self.model.joints.size:  # (else nothing to jump or follow)
             self.jump()  # 3.
             self.follow()
-        if self.opts.settle and self.m:
+        # (the decoupled step of the same models marks them too: a contact struck in the
+        # last step has no slip rows in the next correction, :func:`.coulomb._slip_coefficients`)
+        if (self.opts.settle or not self.opts.positional_friction) and self.m:
             _mark_closing(self)
         self.timer.add("contact", clock)
         return _end_state(self)
