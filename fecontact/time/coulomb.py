@@ -97,9 +97,10 @@ def frictional_correction(model, st, q_tilde, work, solve_H, opts, tol_gap, t, p
     held in the smooth step keeps its grip while the correction of another moves the body.
 
     Without ``opts.positional_friction`` (the decoupled step of the models that settle) a
-    contact keeps its slip rows only where the correction holds it stuck: one that the
-    correction slips at the cone's edge is solved again without them, its friction the
-    jump's (:func:`fecontact.time.settings.positional_friction`)."""
+    contact keeps its slip rows only where the correction holds it stuck (and it was not
+    struck in the last step, whose record marks it): one that the correction slips at the
+    cone's edge is solved again without them, its friction the jump's
+    (:func:`fecontact.time.settings.positional_friction`)."""
     mu = _slip_coefficients(model.contacts, st, work, tol_gap)
     out = _correct(model, st, q_tilde, work, solve_H, opts, tol_gap, t, preload, mu)
     slipping = (out[-1] == 2) & (mu > 0.0)
@@ -120,7 +121,8 @@ def _slip_coefficients(contacts, st, work, tol_gap) -> np.ndarray:
         # correction turns the body against the others' grip)
         mu = np.where((st.gaps[work] <= tol_gap) | st.pressed()[work], mu, 0.0)
         if st.smooth is not None and st.smooth.closing is not None:
-            # settling beams: a contact struck in the last step takes its lasting force, and
+            # settling beams (and their decoupled step, which marks its strikes too): a
+            # contact struck in the last step takes its lasting force, and
             # friction with it, in the next smooth step; in this one its tangential motion is
             # what the strike's jump left under Coulomb's law. Slip rows here pulled the
             # predictor's slip back along the strip in its own metric S_t/β′, bending the

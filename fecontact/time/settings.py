@@ -80,15 +80,16 @@ def positional_friction(model, smooth: bool) -> bool:
     contact it holds (``RunSettings.positional_friction``): not in the decoupled step
     (``smooth`` False) of the models whose contacts settle (:func:`settles`: planar beams,
     beam ends in space). There no step carries a contact force, and a contact keeps its rows
-    only where the correction holds it stuck; one the correction slips at the cone's edge is
-    corrected again without them, its friction the jump's, as in the step after a strike of
-    the smooth scheme. The rows of a slipping contact pulled the predictor's slip back in the
-    correction's metric S_t/β′, which on a beam is not the mass the jump moves: the pull-back
-    strained the strip near the contact, and the jump did not take that strain back as
-    kinetic energy. Friction then did positive work: the flexible pendulum at μ = 1, 6.5e-5 J
-    at t = 0.324 s. Without the rows of the stuck contacts too, a strip held on an incline
-    crept by the predictor's drift, h² g sin α/2 a step (docs/explanation/energy_ledger.md,
-    *Friction of the decoupled step*)."""
+    only where the correction holds it stuck and it was not struck in the last step (the
+    step marks its closings as the settling step does); one the correction slips at the
+    cone's edge is corrected again without them, its friction the jump's, as in the step
+    after a strike of the smooth scheme. The rows of a slipping contact pulled the
+    predictor's slip back in the correction's metric S_t/β′, which on a beam is not the mass
+    the jump moves: the pull-back strained the strip near the contact, and the jump did not
+    take that strain back as kinetic energy. Friction then did positive work: the flexible
+    pendulum at μ = 1, 6.5e-5 J at t = 0.324 s. Without the rows of the stuck contacts too,
+    a strip held on an incline crept by the predictor's drift, h² g sin α/2 a step
+    (docs/explanation/energy_ledger.md, *Friction of the decoupled step*)."""
     return smooth or not settles(model, True)
 
 
