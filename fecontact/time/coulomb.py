@@ -97,24 +97,49 @@ def frictional_correction(model, st, q_tilde, work, solve_H, opts, tol_gap, t, p
     ``preload`` (len(work), 1 + nt): positional multipliers the contacts already carry, the
     smooth forces as (λ_N, λ_T)/β′ (in the metric H = S_t/β′, H⁻¹Gᵀλ/β′ = S_t⁻¹Gᵀλ). The
     law then holds for the total kν + preload, as in :func:`frictional_jump`: a contact
-    held in the smooth step keeps its grip while the correction of another moves the body."""
-    contacts, F = model.contacts, model.free
-    cons = Constraints(model, work)
-    m, mu, k = len(work), contacts.friction[work], opts.multiplier_scale
+    held in the smooth step keeps its grip while the correction of another moves the body.
+
+    Without ``opts.positional_friction`` (the decoupled step of the models that settle) a
+    contact keeps its slip rows only where the correction holds it stuck (and it was not
+    struck in the last step, whose record marks it): one that the correction slips at the
+    cone's edge is solved again without them, its friction the jump's
+    (:func:`fecontact.time.settings.positional_friction`)."""
+    mu = _slip_coefficients(model.contacts, st, work, tol_gap)
+    out = _correct(model, st, q_tilde, work, solve_H, opts, tol_gap, t, preload, mu)
+    slipping = (out[-1] == 2) & (mu > 0.0)
+    if opts.positional_friction or not slipping.any():
+        return out[:-1]
+    its = out[-2]
+    mu = np.where(slipping, 0.0, mu)
+    out = _correct(model, st, q_tilde, work, solve_H, opts, tol_gap, t, preload, mu)
+    return (*out[:-2], its + out[-2])
+
+
+def _slip_coefficients(contacts, st, work, tol_gap) -> np.ndarray:
+    """μ of the slip rows of the contacts ``work`` in the position correction (0: none)."""
+    mu = contacts.friction[work]
     if st.gaps.size == contacts.size:  # slip counts from contact on: closed ones at t_n only
         # (or pressed in the step before: after a rebound split inside a step a contact that
         # strikes again may start its sub-step a little open; without its rows its normal
         # correction turns the body against the others' grip)
         mu = np.where((st.gaps[work] <= tol_gap) | st.pressed()[work], mu, 0.0)
         if st.smooth is not None and st.smooth.closing is not None:
-            # settling beams: a contact struck in the last step takes its lasting force, and
+            # settling beams (and their decoupled step, which marks its strikes too): a
+            # contact struck in the last step takes its lasting force, and
             # friction with it, in the next smooth step; in this one its tangential motion is
             # what the strike's jump left under Coulomb's law. Slip rows here pulled the
             # predictor's slip back along the strip in its own metric S_t/β′, bending the
             # ringing strip: 2.4e-4 J of strain on the founding case at μ = 1
             mu = np.where(st.smooth.closing[work] > 0.0, 0.0, mu)
-    if not opts.positional_friction:  # (the decoupled step of beams: the jump's friction only)
-        mu = np.zeros_like(mu)
+    return mu
+
+
+def _correct(model, st, q_tilde, work, solve_H, opts, tol_gap, t, preload, mu):
+    """The Newton loop of :func:`frictional_correction` with the slip coefficients ``mu``;
+    returns its results, then the contacts' status (0 open, 1 stick, 2 slip)."""
+    contacts, F = model.contacts, model.free
+    cons = Constraints(model, work)
+    m, k = len(work), opts.multiplier_scale
     shift = _obstacle_shift(contacts, work, st.t, t)
     U, x, its, dU = np.zeros(len(F)), None, 0, np.inf
     pre = None
@@ -157,7 +182,7 @@ def frictional_correction(model, st, q_tilde, work, solve_H, opts, tol_gap, t, p
             nu_n, nu_t, _ = _split(k * x - pre, m, nt)
             tangential = np.zeros(len(x), bool)
             tangential[: m * (1 + nt)] = np.arange(m * (1 + nt)) % (1 + nt) > 0
-            return U, nu_n, nu_t, Y[:, tangential] @ own[tangential], its
+            return U, nu_n, nu_t, Y[:, tangential] @ own[tangential], its, status
     raise StepFailure(f"frictional position correction: update {dU:.3e} m did not settle", dU)
 
 

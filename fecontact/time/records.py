@@ -24,7 +24,8 @@ class SmoothForces:
     end of a step: λ_N of every contact (m,) and, with friction, λ_T (m, nt) (N); and the
     forces (normal, tangential) (m, dim) (N) that v̇ and a carry, which a step that releases
     a contact takes out again; ``closing`` (m,), where the run's contacts settle a step after
-    an impact: 1 for the contacts that closed within the step (open at its start), else 0."""
+    an impact (or would, in the decoupled step, whose next correction then has no slip rows
+    for them): 1 for the contacts that closed within the step (open at its start), else 0."""
 
     normal: np.ndarray
     tangential: np.ndarray | None

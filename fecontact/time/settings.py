@@ -31,8 +31,8 @@ class RunSettings(IntegratorOptions):
     a contact carries the smooth force only from the second step after the one in which it
     closed, and the accelerations follow the correction of the step between; ``friction``:
     the contacts have friction; ``positional_friction``: the position correction carries their
-    slip rows, which the decoupled step (no smooth force) of the models that settle does
-    not: :func:`positional_friction`), its
+    slip rows, which the decoupled step (no smooth force) of the models that settle keeps
+    only for the contacts it holds stuck: :func:`positional_friction`), its
     statistics ``stats``, which the phases of its steps fill, and ``plan``, the smooth
     Newton loop's force terms and configuration (:class:`~fecontact.time.newton.NewtonPlan`;
     None for a stepper without one), and ``momentum``, what holds the angular momentum of
@@ -106,17 +106,20 @@ def _moves(model, body) -> bool:
 
 
 def positional_friction(model, smooth: bool) -> bool:
-    """Whether the position correction of ``model``'s steps carries slip rows
-    (``RunSettings.positional_friction``): not in the decoupled step (``smooth`` False) of
-    the models whose contacts settle (:func:`settles`: beams struck at their ends, or in
-    the plane by a moving body).
-    There no step carries a contact force, so every step's friction is the jump's, as in the
-    step after a strike of the smooth scheme. The slip rows pulled the predictor's slip back
-    in the correction's metric S_t/β′, which on a beam is not the mass the jump moves: the
-    pull-back strains the strip near the contact, and the jump does not take that strain
-    back as kinetic energy. Friction then did positive work: the flexible pendulum at μ = 1,
-    6.5e-5 J at t = 0.324 s (docs/explanation/energy_ledger.md, *Friction of the decoupled
-    step*)."""
+    """Whether the position correction of ``model``'s steps carries the slip rows of every
+    contact it holds (``RunSettings.positional_friction``): not in the decoupled step
+    (``smooth`` False) of the models whose contacts settle (:func:`settles`: beams struck at
+    their ends, or in the plane by a moving body). There no step carries a contact force,
+    and a contact keeps its rows only where the correction holds it stuck and it was not
+    struck in the last step (the step marks its closings as the settling step does); one the
+    correction slips at the cone's edge is corrected again without them, its friction the
+    jump's, as in the step after a strike of the smooth scheme. The rows of a slipping
+    contact pulled the predictor's slip back in the correction's metric S_t/β′, which on a
+    beam is not the mass the jump moves: the pull-back strained the strip near the contact,
+    and the jump did not take that strain back as kinetic energy. Friction then did positive
+    work: the flexible pendulum at μ = 1, 6.5e-5 J at t = 0.324 s. Without the rows of the
+    stuck contacts too, a strip held on an incline crept by the predictor's drift, h² g sin
+    α/2 a step (docs/explanation/energy_ledger.md, *Friction of the decoupled step*)."""
     return smooth or not settles(model, True)
 
 
