@@ -338,9 +338,7 @@ class _Phases:
         if self.closed.size or self.model.joints.size:  # (else nothing to jump or follow)
             self.jump()  # 3.
             self.follow()
-        # (the decoupled step of the same models marks them too: a contact struck in the
-        # last step has no slip rows in the next correction, as in the settling step)
-        if (self.opts.settle or not self.opts.positional_friction) and self.m:
+        if (self.opts.settle or not self.opts.positional_friction) and self.m:  # (below)
             _mark_closing(self)
         self.timer.add("contact", clock)
         return _end_state(self)
@@ -359,7 +357,8 @@ def _carried(step: _Phases, shares=None) -> SmoothForces:
 
 def _mark_closing(step: _Phases) -> None:
     """Settling beams: mark in the ``step``'s record the contacts that closed within it
-    (their smooth force starts a step later; in the decoupled step, their slip rows); no
+    (their smooth force starts a step later; in the decoupled step of the same models, their
+    slip rows: a contact struck in the last step has none in the next correction); no
     record where none closed and none was made."""
     closing = step.closed[_closing(step)] if step.closed.size else step.closed
     if step.forces is not None or closing.size:
