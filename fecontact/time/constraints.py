@@ -162,14 +162,14 @@ def constraint_columns(model, key, select, G, solve, cons, constant: bool, rhs=N
     S_t/β′ of a linear model at a given step) and the gap gradients are too (nodes against
     planes), the columns are kept per contact: a large model in contact over a small zone
     then solves only for contacts that are new. With ``rhs`` (n,), (the columns, H⁻¹ rhs),
-    solved together where columns are solved (one solve of a few columns costs little more
-    than one of a single column)."""
+    solved together where kept columns are solved (one solve of a few columns costs little
+    more than one of a single column)."""
     n = G.shape[1]
     if not (constant and cons.linear and model.joints.size == 0 and model.contacts.linear):
-        if rhs is None:
-            return solve(G.T).reshape(n, -1)
-        X = solve(np.column_stack([G.T, rhs])).reshape(n, -1)  # (rhs last, as it was solved)
-        return X[:, :-1], X[:, -1]
+        Y = solve(G.T).reshape(n, -1)
+        # (rhs apart: a dense factor's solve of several columns rounds otherwise than of one,
+        # and these models' histories stay those of the solves one by one)
+        return Y if rhs is None else (Y, solve(rhs))
     cache = model.column_cache.setdefault(key, {})
     x = _missing_columns(cache, select, G, solve, rhs)
     Y = np.column_stack([cache[j] for j in select]) if len(select) else G.T.copy()
