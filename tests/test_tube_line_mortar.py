@@ -188,13 +188,17 @@ def test_a_rod_launched_sliding_ends_rolling_at_two_thirds_of_its_speed(angle):
     v₀/(1 + J/(m r²)) = 2/3 v₀ (a solid circular section) at t = v₀/(3μg) = 6.8 ms, then
     keeps that speed over the mesh's lines (across them, and turned at 0.3 rad to them) to
     0.2 % (measured 0.075 % and 0.070 %: the block's vibration under the launch; the
-    deceleration μg to 6.8e-4 and 9e-5; the solid's rows lost half the speed in 20 ms on a
-    finer mesh, riding their stand-off's washboard), and its axis stays on the face (height
-    change below 1 µm, measured 0.57 µm: the block's elastic sag; no hop)."""
+    solid's rows lost half the speed in 20 ms on a finer mesh, riding their stand-off's
+    washboard), and its axis stays on the face (height change below 1 µm, measured 0.57 µm:
+    the block's elastic sag; no hop). The deceleration is read from the speed lost since
+    the launch, the friction impulse over the slide: μg to 4.1e-4 and 7.1e-4. (A line
+    fitted from 0.5 ms read the block's vibration under the launch, which swings the rate
+    over 2 ms windows by ±5 %: 4.66, 5.00, 4.93 m/s²; it gave 4.6e-3 and 5.3e-3, and
+    moved with the naming of the tangents in the plane.)"""
     v0 = 0.1
     t, speed, z = rolling(v0, angle)
-    slide = (t > 0.5e-3) & (t < 6e-3)
-    a = -np.polyfit(t[slide], speed[slide], 1)[0]
+    k = np.searchsorted(t, 6e-3 - 1e-12)  # (the slide ends at 6.8 ms)
+    a = (v0 - speed[k]) / t[k]
     assert a == pytest.approx(0.5 * 9.81, rel=5e-3)
     rolled = t >= 8e-3
     np.testing.assert_allclose(speed[rolled], 2.0 / 3.0 * v0, rtol=2e-3)
