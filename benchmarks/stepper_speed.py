@@ -19,6 +19,9 @@ node-to-surface contact as in the baseline), each with its defaults otherwise, i
 the end of their step (``localize=False``, the baseline's only way;
 ``benchmarks/localization.py`` measures the cost of localization).
 
+A full run exits 1 where a history differs; ``--quick`` (a few steps, three processes)
+always exits 0.
+
 ``--single`` adds the CPU time of one step repeated from stored states of each case (a step
 in flight, near the floor and resting for the ball; steps of the swing and of the contact for
 the others), every version loaded in one interpreter and alternated batch by batch: far less
@@ -253,7 +256,9 @@ def main(argv=None) -> int:
             )
     print(text)
     write_table(args.out, "stepper_speed", args.quick, "Stepper speed", text)
-    return 0 if all(r["same_history"] for r in rows) else 1
+    # (--quick shows the script works, as bit_identity's: the physics may since have changed
+    # on purpose, e.g. the two passes' minimum-norm multipliers of node-to-surface disks)
+    return 0 if args.quick or all(r["same_history"] for r in rows) else 1
 
 
 def write_table(out, stem: str, quick: bool, title: str, text: str) -> Path:
