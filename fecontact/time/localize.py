@@ -293,7 +293,7 @@ def _crossing(model, st, phases, left, opts):
     if not closing.any():
         return None
     rows = (closing & np.isfinite(g0)).nonzero()[0]
-    F = model.free
+    F = model.free_slice  # (a view where the free dofs are contiguous: no copies)
     _, G0 = contacts.jacobian(st.q, rows)
     G1 = G0 if contacts.affine else contacts.jacobian(phases.q, rows)[1]  # (affine: constant)
     s0, s1 = left * (G0 @ st.v[F]), left * (G1 @ phases.v[F])  # slopes in s
