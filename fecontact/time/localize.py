@@ -246,7 +246,7 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list):
     tol, rows, tau, rate, g0 = crossing
     stats = opts.stats.localization
     reason = None
-    beside = np.any(st.pressed() & (phases.g_tilde <= tol))  # a contact pressed throughout
+    beside = (st.pressed() & (phases.g_tilde <= tol)).any()  # a contact pressed throughout
     if done >= MAX_IMPACTS or (done and left < MIN_REST * h):
         reason = "accumulation"
     elif beside and not frictionless_solids(model):
@@ -256,8 +256,7 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list):
     elif beside and done + _instants(tau, TOGETHER * h / left) > MAX_IMPACTS:
         reason = "accumulation"  # (a patch whose rings the step could not all locate)
     else:
-        together = np.flatnonzero(tau <= tau.min() + TOGETHER * h / left)
-        k = together[np.argmax(tau[together])]  # the last of those taken together
+        k = _last_together(tau, TOGETHER * h / left)
         if -rate[k] * left <= GRAZING * tol:
             reason = "grazing"
     if reason is None:
@@ -267,6 +266,16 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list):
         reason = "unrefined"
     stats.fallbacks[reason] += 1
     return None
+
+
+def _last_together(tau: np.ndarray, within: float) -> int:
+    """Which of the crossings at ``tau`` (fractions of the step's rest) the step refines: the
+    last of those within ``within`` of the earliest (the correction closes the others with
+    it at its instant)."""
+    if tau.size == 1:  # (one crossing: most located steps)
+        return 0
+    together = np.flatnonzero(tau <= tau.min() + within)
+    return int(together[np.argmax(tau[together])])
 
 
 def _instants(tau: np.ndarray, together: float) -> int:
@@ -286,7 +295,7 @@ def _crossing(model, st, phases, left, opts):
     g1 = phases.g_tilde
     g0 = st.gaps if st.gaps.size == contacts.size else contacts.gaps(st.q)
     low = opts.tol_gap * model.length  # a lower bound of tol: decides most steps at no cost
-    if not np.any((g1 < -low) & (g0 > low)):
+    if not ((g1 < -low) & (g0 > low)).any():
         return None
     tol = opts.tol_gap * length_scale(model, phases.q)
     closing = (g1 < -tol) & (g0 > tol)
@@ -393,7 +402,7 @@ def _refine(model, st, phases, left, j, guess, tol, opts, timer):
     half = 0.5 * tol  # (the aim: 0 ≤ g ≤ tol, no position correction, module docstring)
     a, ga = 0.0, float(g0) - half
     b, gb = left, float(phases.g_tilde[j]) - half
-    delta, side = tau * left, 0
+    delta, side = float(tau) * left, 0  # (a float: the split's times and sizes are floats)
     for _ in range(MAX_REFINE):
         trial = smooth_phases(model, st, delta, opts, timer)
         stats.smooth_steps += 1
@@ -402,7 +411,7 @@ def _refine(model, st, phases, left, j, guess, tol, opts, timer):
         g = float(trial.g_tilde[j]) - half
         if abs(g) <= half:
             return delta, trial
-        if not np.isfinite(g):
+        if not math.isfinite(g):
             return None
         if g > 0.0:
             a, ga, gb = delta, g, (0.5 * gb if side > 0 else gb)

@@ -211,7 +211,7 @@ class SmoothContacts:
         only after an update has enforced them (then to round-off where they are linear, as
         in the position correction), not because the predictor lands within tolerance."""
         A = self.active
-        if A.any() and not np.array_equal(A, self.solved):
+        if A.any() and (self.solved is None or not (A == self.solved).all()):
             return False
         worst = max(np.abs(self.g[A]).max(initial=0.0), (-self.g[~A]).max(initial=0.0))
         return admits(worst)
