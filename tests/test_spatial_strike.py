@@ -85,8 +85,9 @@ def test_the_spatial_strike_in_its_plane_is_the_planar_one(x, speed):
     """The same equations in another dof order: measured 1.1e-13, 1.9e-11 and 5.1e-10 m
     apart mid-element (x = 0.525 m) at 10, 30 and 100 m/s and 7.3e-11 m over a node at
     10 m/s, where the plane settled and space did not: 2.1e-6, 6.9e-6, 8.9e-5 and 3.2e-5 m.
-    (Over a node at 30 m/s the two part by 2e-4 m under either rule: the planar pair and the
-    tube pair hold the node between two segments with other rows, three against four.)"""
+    (Over a node at 30 m/s the two part by 2e-4 m under either rule: the planar pair gives
+    the node to the element before it, the next element's gap +inf; the tube pair keeps a
+    row on both.)"""
     space, _, impulse, _ = path(3, x, speed)
     plane, *_ = path(2, x, speed)
     assert impulse > 0.0
