@@ -89,7 +89,7 @@ def struck(model, pair) -> bool:
     obstacle that moves; planar or in space. Not a beam met along its length by a fixed
     obstacle or a held body, nor two beams met along their lengths: crossing rods settling
     created 2.6e-2 to 4.6e-2 of their scale over four drop heights a quarter step apart
-    (h = 0.1 ms), 0 to 2.6e-2 not settling; two planar strips up to 3.7e-4 against 8.3e-5."""
+    (h = 0.1 ms), 0 to 2.6e-2 not settling; two planar strips up to 3.7e-4 against 6.7e-5."""
     if pair.at_beam_ends:
         return True
     if pair.obstacle is not None:
