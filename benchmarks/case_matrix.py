@@ -641,7 +641,8 @@ def run_matrix(rows: list[Row], timeout: float, csv_path=None) -> list[dict]:
         pk = row.label in ("p x1000", "k /100") and res.get("q") is not None
         if pk and reference and reference.get("q") is not None:
             entry["pk_diff"] = state_difference(res, reference, CASES[row.case].length)
-        entry["flags"] = " ".join(flags(entry, reference))
+        # (a default row is its own reference: flagged where it warns at all, as combine() does)
+        entry["flags"] = " ".join(flags(entry, entry if row.label == "default" else reference))
         entry["message"] = res.get("message") or res.get("warning", "")
         table.append(entry)
         if csv_path is not None:
