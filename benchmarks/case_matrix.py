@@ -249,7 +249,9 @@ class Row:
     def command(self, dt: float | None = None) -> str:
         """The command line that reproduces the row (``dt``: the step it ran with, s)."""
         parts = [f"python -m fecontact run {self.case} --t-end {self.t_end:g}"]
-        parts += [f"--set {k}={v}" for k, v in {**self.params, **self.options}.items()]
+        # (a switch as 1 or 0: the command line reads neither True nor False)
+        values = {**self.params, **self.options}.items()
+        parts += [f"--set {k}={int(v) if isinstance(v, bool) else v}" for k, v in values]
         if self.dt_factor != 1.0 and dt:
             parts.append(f"--dt {dt:.6g}")
         return " ".join(parts)
