@@ -308,7 +308,30 @@ def _crossing(model, st, phases, left, opts):
     s0, s1 = left * (G0 @ st.v[F]), left * (G1 @ phases.v[F])  # slopes in s
     half = 0.5 * tol  # (aimed inside the tolerance, on the open side: no correction)
     tau, slope = hermite_root(g0[rows] - half, s0, g1[rows] - half, s1)
+    keep = one_closing_per_node(contacts.twins, rows, tau)
+    rows, tau, slope = rows[keep], tau[keep], slope[keep]
     return tol, rows, tau, slope / left, g0[rows]
+
+
+def one_closing_per_node(twins, rows: np.ndarray, tau: np.ndarray) -> np.ndarray:
+    """Which of the crossing ``rows`` (instants ``tau``) stand for their node: of two twin
+    rows (``twins``: a mortar node's weighted row and its pointwise row,
+    :func:`fecontact.contact.mortar_safeguard.twin_rows`; None: none) that both cross, the
+    earlier instant (the first row on a tie). A pointwise row reads a placeholder gap while
+    its node is shallower than half its allowance, so its Hermite instant is not the node's;
+    counted as one more instant it made a ring of closings beside a pressed pole look like
+    an accumulation, and the step was left whole."""
+    keep = np.ones(rows.size, dtype=bool)
+    if twins is None or not rows.size:
+        return keep
+    where = np.full(twins.size, -1)
+    where[rows] = np.arange(rows.size)
+    twin = twins[rows]
+    partner = np.where(twin >= 0, where[np.maximum(twin, 0)], -1)  # its index among rows
+    both = partner >= 0
+    other = np.where(both, partner, 0)
+    later = (tau > tau[other]) | ((tau == tau[other]) & (rows > rows[other]))
+    return ~(both & later)
 
 
 def hermite_root(g0, s0, g1, s1, samples: int = 32, iterations: int = 30):
