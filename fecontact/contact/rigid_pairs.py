@@ -246,6 +246,8 @@ class DiskBeamContact(_Pair):
             raise InputError("the disk centre lies on the beam centreline at t = 0")
         self._start = None  # line coordinates (t₀, f₀) of the centre at the step's start
 
+    redundant_rows = True  # (two elements clipped to their shared node: one row twice)
+
     def _project(self, P, x):
         """Parameter ξ ∈ [0, 1] of the closest point of each element, distance from P to the
         element, and signed distance from the element's line."""
@@ -287,9 +289,9 @@ class DiskBeamContact(_Pair):
         E = self.size
         g, G = np.full(E, np.inf), np.zeros((E, 6))
         H = np.zeros((E, 6, 6))
-        # clipped to a node: its own end node, or the first node of the first element
+        # clipped to a node: its end node or its first node, every element its own distance
         at_end = xi == 1.0
-        at_end_node = (xi == 0.0) & (np.arange(E) == 0)
+        at_end_node = xi == 0.0
         # the line holds a centre that went through the element, even at an end node (at a
         # node shared with the previous element both hold it: the beam may kink there)
         inner = ((xi > 0.0) & (xi < 1.0)) | crossed
