@@ -216,12 +216,12 @@ class DiskBeamContact(_Pair):
     the segment it is the distance to the segment's line, signed by the side of the element
     the disk is on, decided over each step from its motion (:mod:`.beam_sides`: the side it
     came from if its centre's path crossed the element, else where it is); at an end it is
-    the distance to that node. A node shared by two
-    elements belongs to the element before it, so a disk over a straight or convex part of
-    the beam has one closed contact there, and a disk resting in a kink (the beam bent around
-    it) one on each side. Where an element's closest point is its first node and that node
-    belongs to the previous element, the gap is +inf (gradient 0): the previous element's
-    gap is never larger. The contact point thus slides from element to element. Each contact
+    the distance to that node. Every element has its gap, continuous in the configuration:
+    a disk over a node shared by two elements is held by both, by one row twice where both
+    clip to the node (a straight or convex node: redundant rows, minimum-norm multipliers)
+    and by the two lines in a kink (the beam bent around it). (Given to the element before it
+    alone, the node left the next element's gap +inf, which a kink under the disk turned
+    negative within a step: docs/explanation/energy_ledger.md.) Each contact
     depends on the disk's centre and on the translations of the element's two nodes.
     """
 
