@@ -55,8 +55,8 @@ class AccelerationForm:
     ``law``: unused (the step needs nothing else)."""
 
     __slots__ = (
-        "S armijo csc dq group held lie model newton opts plain plan previous r ref rnorm s "
-        "small solve step x"
+        "S armijo csc dq first group held lie model newton opts plain plan previous r ref rnorm "
+        "s small solve step x"
     ).split()
 
     def __init__(self, newton, st, c, t: float, P, law=None):  # (newton: the loop)
@@ -68,6 +68,7 @@ class AccelerationForm:
         direct = model.solver.name in ("direct", "superlu") and not model.dense
         self.csc = model.pattern.csc if direct else None
         self.lie = None  # (on a group: one LieStep for the run's steps, begun at each)
+        self.first = (None, None)  # (the start state, M v̇ at its predictor)
         self.begin(st, c, t, P, law)
 
     def begin(self, st, c, t: float, P, law=None) -> None:
@@ -101,7 +102,7 @@ class AccelerationForm:
             newton.elastic.evaluate(step, it)
         else:
             newton.evaluate(it, None if self.armijo is None else lambda i: _armijo(self, i))
-        Mvd = self.model.M @ step.vd[self.model.free_slice]
+        Mvd = self._inertia(it)
         r = Mvd
         for term in newton.forced:
             r = term.residual(r)
@@ -124,6 +125,20 @@ class AccelerationForm:
             if not term.converged(step):
                 return False
         return True
+
+    def _inertia(self, it: int) -> np.ndarray:
+        """M v̇ (N) at the iterate. At the predictor v̇ = v̇_n whatever the step size, so
+        another step from the same state (a located impact's refining smooth step, after its
+        trial) takes the product its first step made (the elastic term adds into a new
+        array: it is not changed)."""
+        step = self.step
+        if it == 0 and self.lie is None:
+            st, Mvd = self.first
+            if st is not step.st:
+                Mvd = self.model.M @ step.vd[self.model.free_slice]
+                self.first = (step.st, Mvd)
+            return Mvd
+        return self.model.M @ step.vd[self.model.free_slice]
 
     def update(self) -> bool:
         """One Newton update of the iterate; whether it has converged with it."""
