@@ -397,10 +397,8 @@ def _hermite_root_one(g0: float, s0: float, g1: float, s1: float, iterations: in
         values.append(((c3 * s + c2) * s + s0) * s + g0)
         if values[-1] <= 0.0:
             break
-    first = len(values) - 1
-    if values[-1] > 0.0:  # (no sign change: argmax's 0, from the last sample)
-        first = 0
-    elif first == 0:  # (p(0) ≤ 0, outside the contract: the last sample read as argmax does)
+    first = len(values) - 1 if values[-1] <= 0.0 else 0  # (no sign change: argmax's 0)
+    if first == 0:  # (no sign change, or p(0) ≤ 0 outside the contract: every sample)
         values = [((c3 * s + c2) * s + s0) * s + g0 for s in _SAMPLES]
     a, b = _SAMPLES[first - 1], _SAMPLES[first]
     pa, pb = values[first - 1], values[first]
