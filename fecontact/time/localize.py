@@ -392,8 +392,14 @@ def _hermite_root_one(g0: float, s0: float, g1: float, s1: float, iterations: in
     c2, c3 = 3.0 * d - 2.0 * s0 - s1, s0 + s1 - 2.0 * d
     if not all(map(math.isfinite, (g0, s0, g1, s1, c2, c3))):  # (the arrays' own way)
         return None
-    values = [((c3 * s + c2) * s + s0) * s + g0 for s in _SAMPLES]
-    first = next((i for i, x in enumerate(values) if x <= 0.0), 0)  # (as argmax)
+    values = []
+    for s in _SAMPLES:  # (up to the first sign change: the samples after it are not read)
+        values.append(((c3 * s + c2) * s + s0) * s + g0)
+        if values[-1] <= 0.0:
+            break
+    first = len(values) - 1 if values[-1] <= 0.0 else 0  # (no sign change: argmax's 0)
+    if first == 0:  # (no sign change, or p(0) ≤ 0 outside the contract: every sample)
+        values = [((c3 * s + c2) * s + s0) * s + g0 for s in _SAMPLES]
     a, b = _SAMPLES[first - 1], _SAMPLES[first]
     pa, pb = values[first - 1], values[first]
     s = a - pa * (b - a) / (pb - pa)
