@@ -218,9 +218,8 @@ class DiskBeamContact(_Pair):
     came from if its centre's path crossed the element, else where it is); at an end it is
     the distance to that node. Every element has its gap, continuous in the configuration:
     a disk over a node shared by two elements is held by both, by one row twice where both
-    clip to the node (a straight or convex node: redundant rows, minimum-norm multipliers,
-    as for two lines within about 1e-2 rad) and by the two lines in a kink (the beam bent
-    around it). (Given to the element before it
+    clip to the node (a straight or convex node: redundant rows, minimum-norm multipliers)
+    and by the two lines in a kink (the beam bent around it). (Given to the element before it
     alone, the node left the next element's gap +inf, which a kink under the disk turned
     negative within a step: docs/explanation/energy_ledger.md.) Each contact
     depends on the disk's centre and on the translations of the element's two nodes.
