@@ -45,9 +45,6 @@ class PairDefaults:
     frictional = False  # True: tangents(q) gives the slip rows of Coulomb friction
     friction = 0.0  # Coulomb's μ of every contact of the pair (set by ``Contact``)
     redundant_rows = False  # True: rows can be redundant up to round-off (minimum-norm μ)
-    # with redundant_rows: rows whose Schur pivot is below this fraction of the largest hold
-    # one motion (nearly parallel rows of one point); the minimum-norm solve drops the rest
-    redundant_rcond = 1e-10
     # True: declared with a pair of its kind the other way between the same two bodies
     # (two-pass), its rows and theirs can be redundant up to round-off where nodes meet
     meets_back = False

@@ -77,7 +77,6 @@ def _kkt(S, rhs, stats, rcond=1e-10):
         if S.size and stats is not None:
             stats.least_squares += 1
         return np.linalg.lstsq(S, rhs, rcond=None)[0], bool(S.size)
-    rcond = max(rcond, stats.rcond) if stats is not None else rcond  # (the run's, decided once)
     lu, piv, _ = dgetrf(S)  # (LAPACK's getrf and getrs: np.linalg.solve's own path)
     pivots = np.abs(np.diagonal(lu))
     # rows that meet at a concave vertex are redundant up to round-off: an LU would return

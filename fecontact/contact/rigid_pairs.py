@@ -247,9 +247,6 @@ class DiskBeamContact(_Pair):
         self._start = None  # line coordinates (t₀, f₀) of the centre at the step's start
 
     redundant_rows = True  # (two elements clipped to their shared node: one row twice)
-    # two elements whose lines meet at a node within about 1e-2 rad (Schur pivot ratio
-    # ≈ θ²) hold one motion of the disk: their split is round-off (energy_ledger.md)
-    redundant_rcond = 1e-4
 
     def _project(self, P, x):
         """Parameter ξ ∈ [0, 1] of the closest point of each element, distance from P to the

@@ -79,6 +79,5 @@ class ContactStats:
     # decided once per run: the model has pairs whose rows can be redundant up to round-off
     # (:func:`fecontact.contact.laws.kkt_multipliers` then reads the LU's pivots)
     minimum_norm: bool = False
-    rcond: float = 1e-10  # with minimum_norm: the pivot ratio below which rows hold one motion
     final_residuals: FinalResiduals = field(default_factory=FinalResiduals)
     coulomb: CoulombStats = field(default_factory=CoulombStats)

@@ -141,7 +141,6 @@ def run_settings(
     run_stats = StepStats() if stats is None else stats
     # rows that can be redundant (planes through one point) take minimum-norm multipliers
     run_stats.contact.minimum_norm = model.contacts.redundant_rows
-    run_stats.contact.rcond = max([p.redundant_rcond for p in contacts.pairs], default=1e-10)
     return RunSettings(
         **values,
         smooth=smooth,
