@@ -82,11 +82,6 @@ def roles(terms) -> Roles:
     )
 
 
-def _term(terms: list, place: int | None):
-    """The term at ``place`` of ``terms`` (None: absent)."""
-    return None if place is None else terms[place]
-
-
 class NewtonPlan:
     """The Newton loop of a run, decided once: its ``terms`` (the elastic one first), its
     ``form`` (what it iterates: :class:`AccelerationForm` or another class with its
@@ -142,14 +137,17 @@ class NewtonPlan:
         if places is None:
             where = {id(term): i for i, term in enumerate(terms)}
             places = self.sorts[key] = [
-                [where[id(t)] for t in role] if isinstance(role, list) else where.get(id(role))
+                tuple(where[id(t)] for t in role) if isinstance(role, list) else where.get(id(role))
                 for role in roles(terms)
             ]
+        # (the lists by map over the places, one Python frame for all roles: this runs at
+        # every step of a lasting contact and at the rest of a located impact's step)
+        at = terms.__getitem__
         return Roles(
-            *(
-                [terms[i] for i in place] if isinstance(place, list) else _term(terms, place)
-                for place in places
-            )
+            *[
+                list(map(at, p)) if type(p) is tuple else None if p is None else at(p)
+                for p in places
+            ]
         )
 
     def loop(self, model, opts, timer) -> SmoothNewton:
