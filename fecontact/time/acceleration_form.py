@@ -301,15 +301,15 @@ class AccelerationForm:
 def _inertia(form: AccelerationForm, it: int) -> np.ndarray:
     """M v̇ (N) at the ``form``'s iterate. At the predictor v̇ = v̇_n whatever the step size,
     so another step from the same state (a located impact's refining smooth step, after its
-    trial) takes the product its first step made (the elastic term adds into a new array:
-    the product is not changed)."""
+    trial) takes the product its first step made, handed out as a copy (a force term may add
+    into the loop's residual in place)."""
     step, model = form.step, form.model
     if it == 0 and form.lie is None:
         st, Mvd = form.first
         if st is not step.st:
             Mvd = model.M @ step.vd[model.free_slice]
             form.first = (step.st, Mvd)
-        return Mvd
+        return Mvd.copy()
     return model.M @ step.vd[model.free_slice]
 
 
