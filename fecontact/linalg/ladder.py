@@ -213,6 +213,8 @@ class Spectral:
         same under their ``keys`` (a contact's constant gradient): made once per key and
         kept, for every size a."""
         kept = self.projected
+        if len(keys) == 1 and keys[0] in kept:  # (one contact pressed: most located impacts)
+            return kept[keys[0]][:, None]
         missing = [i for i, key in enumerate(keys) if key not in kept]
         if missing:
             Y = self.phi.T @ B[:, missing]
