@@ -90,18 +90,22 @@ def test_a_contact_update_in_the_modes_is_the_update_through_the_factors():
     model.iteration_matrix(a_h, 0.0)  # (the ladder, with the run's own size)
     model.ladder.after = 0  # (the eigendecomposition at the next size met once)
     r = rng.normal(size=n)
-    for a in (1.7 * a_h, 0.3 * a_h):
+    for a, only in ((1.7 * a_h, False), (0.3 * a_h, False), (0.8 * a_h, True)):
+        if only:  # (one contact pressed, its kept column: the most common located impact)
+            g[:] = [1e-3, -2e-6, 1e-3, 1e-3]
         spectral = model.ladder.solver(a, None)
         assert type(spectral) is ladder.Spectral
         S = model.iteration_sum(a, model.ladder.K)
         exact = spla.splu(S.tocsc()).solve
         updates = []
         for solve, key in ((spectral, (a, 0.0)), (exact, None)):
-            sc = SmoothContacts(fake, np.arange(4), np.array([1.0, 2.0, 0.0, 0.0]), opts)
+            force0 = np.array([0.0, 2.0, 0.0, 0.0] if only else [1.0, 2.0, 0.0, 0.0])
+            sc = SmoothContacts(fake, np.arange(4), force0, opts)
             sc.update(np.zeros(n), False)
             updates.append((sc.schur_update(fake, r.copy(), solve, key), sc.lam.copy()))
         (dq, lam), (dq_exact, lam_exact) = updates
         # round-off: the spectral solve's relative residual is about 1e-15, the 3 × 3 Schur
         # complement of random rows well conditioned; 1e-11, as above, leaves a wide margin
         assert relative(dq, dq_exact) < 1e-11 and relative(lam, lam_exact) < 1e-11
+        assert np.count_nonzero(lam) == (1 if only else 3)
         assert sorted(model.ladder.projected) == [0, 1, 2]  # (kept once, at every size)
