@@ -152,8 +152,8 @@ def localized_step(model, st: State, h: float, opts: RunSettings, timer: PhaseTi
 
 def _penetrates(model, phases, opts) -> bool:
     """Whether a gap at the end of the smooth ``phases`` is below −tol_gap × the model size
-    (a lower bound of the gap tolerance, :func:`length_scale`); sets the phases' gaps."""
-    model.contacts.set_time(phases.t)
+    (a lower bound of the gap tolerance, :func:`length_scale`); sets the phases' gaps (fixed
+    obstacles, :func:`localizes`: no ``set_time``)."""
     g1 = phases.g_tilde = model.contacts.gaps(phases.q)
     return bool(g1.size) and g1.min() < -opts.tol_gap * model.length
 
@@ -246,7 +246,8 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list):
     tol, rows, tau, rate, g0 = crossing
     stats = opts.stats.localization
     reason = None
-    beside = (st.pressed() & (phases.g_tilde <= tol)).any()  # a contact pressed throughout
+    # a contact pressed throughout (one pressed was a candidate: none in flight, most impacts)
+    beside = st.candidates.size and (st.pressed() & (phases.g_tilde <= tol)).any()
     if done >= MAX_IMPACTS or (done and left < MIN_REST * h):
         reason = "accumulation"
     elif beside and not frictionless_solids(model):
@@ -308,8 +309,9 @@ def _crossing(model, st, phases, left, opts):
     s0, s1 = left * (G0 @ st.v[F]), left * (G1 @ phases.v[F])  # slopes in s
     half = 0.5 * tol  # (aimed inside the tolerance, on the open side: no correction)
     tau, slope = hermite_root(g0[rows] - half, s0, g1[rows] - half, s1)
-    keep = one_closing_per_node(contacts.twins, rows, tau)
-    rows, tau, slope = rows[keep], tau[keep], slope[keep]
+    if contacts.twins is not None:  # (no twin rows: every crossing stands for its node)
+        keep = one_closing_per_node(contacts.twins, rows, tau)
+        rows, tau, slope = rows[keep], tau[keep], slope[keep]
     return tol, rows, tau, slope / left, g0[rows]
 
 
@@ -435,7 +437,6 @@ def _refine(model, st, phases, left, j, guess, tol, opts, timer):
     for _ in range(MAX_REFINE):
         trial = smooth_phases(model, st, delta, opts, timer)
         stats.smooth_steps += 1
-        model.contacts.set_time(trial.t)
         trial.g_tilde = model.contacts.gaps(trial.q)
         g = float(trial.g_tilde[j]) - half
         if abs(g) <= half:
