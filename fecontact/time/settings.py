@@ -6,10 +6,13 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from .correction import MomentumKept, momentum_kept
 from .newton import NewtonPlan
 from .state import IntegratorOptions
 from .stats import StepStats
+from .turns import beam_turns
 
 __all__ = [
     "RunSettings",
@@ -40,7 +43,9 @@ class RunSettings(IntegratorOptions):
     (:class:`~fecontact.time.correction.MomentumKept`; None where no body qualifies), and
     ``depth_check``: whether a solid's nodes can enter another solid (pairs tested
     inside/outside, mortar interfaces), so that the predictor's depth is checked
-    (:func:`~fecontact.time.penetration.check_predictor`)."""
+    (:func:`~fecontact.time.penetration.check_predictor`); ``turns``: the dofs of the beams'
+    nodal rotations, whose turn over a step the smooth step bounds (:mod:`.turns`; None
+    without beams)."""
 
     smooth: bool = False
     restarts: bool = False
@@ -51,6 +56,7 @@ class RunSettings(IntegratorOptions):
     plan: NewtonPlan | None = field(default=None, repr=False, compare=False)
     momentum: MomentumKept | None = field(default=None, repr=False, compare=False)
     depth_check: bool = field(default=True, repr=False, compare=False)
+    turns: np.ndarray | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self):
         pass  # the values are those of options already checked, taken as they are
@@ -152,4 +158,5 @@ def run_settings(
         plan=None if plan is None else plan(model, smooth, friction, terms),
         momentum=momentum_kept(model),
         depth_check=any(pair.inside_test for pair in contacts.pairs) or bool(contacts.watches),
+        turns=beam_turns(model),
     )

@@ -96,6 +96,7 @@ class StepStats:
     follow_ups: FollowUps = field(default_factory=FollowUps)
     control: StepControl = field(default_factory=StepControl)  # rtol's rejections
     releases: int = 0  # smooth steps taken again without the force of a contact they released
+    turned: int = 0  # smooth steps failed for turning a beam node too far (:mod:`.turns`)
     localization: Localization = field(default_factory=Localization)
     contact: ContactStats = field(default_factory=ContactStats)
     factorizations: Factorizations = field(default_factory=Factorizations)
@@ -133,6 +134,8 @@ class StepStats:
             # the velocity's follow-ups of an impact's correction (fecontact.time.position_jump)
             "velocity_follow_ups": asdict(self.follow_ups),
             "contact_releases": self.releases,
+            # steps halved because their smooth step turned a beam node by more than π/2
+            "turned_steps": self.turned,
             # impacts at their own instant inside a step, and the steps left to the step's end
             "localized_impacts": self.localization.impacts,
             "localization_fallbacks": dict(self.localization.fallbacks),
