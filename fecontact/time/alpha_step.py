@@ -22,7 +22,6 @@ from .terms import (
     PersistentContacts,
     SmoothContact,
 )
-from .turns import check_turn
 
 __all__ = ["SmoothStep", "alpha_plan", "alpha_smooth_step"]
 
@@ -103,11 +102,11 @@ def alpha_smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
     turns = opts.turns
     if turns is not None:  # (beams: a step that turns a node too far is halved, :mod:`.turns`)
         group = newton.form.lie is not None
-        check_turn(turns, newton.step.X[0], st.q, group, "the predictor", opts.stats)
+        turns.check(newton.step.X[0], st.q, group, "the predictor", opts.stats)
     it, stale = newton.run()
     step, joints = newton.step, newton.joints
     if turns is not None:
-        check_turn(turns, step.X[0], st.q, group, "the smooth step", opts.stats)
+        turns.check(step.X[0], st.q, group, "the smooth step", opts.stats)
     Gb = None if stale or joints is None else joints.Gb
     q, (_, v, vd, a) = step.q, step.X  # (on a group the first row of X is the increment D)
     force, force_t, work = None, None, 0.0

@@ -6,13 +6,11 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass, field
 
-import numpy as np
-
 from .correction import MomentumKept, momentum_kept
 from .newton import NewtonPlan
 from .state import IntegratorOptions
 from .stats import StepStats
-from .turns import beam_turns
+from .turns import TurnBound, beam_turns
 
 __all__ = [
     "RunSettings",
@@ -43,9 +41,9 @@ class RunSettings(IntegratorOptions):
     (:class:`~fecontact.time.correction.MomentumKept`; None where no body qualifies), and
     ``depth_check``: whether a solid's nodes can enter another solid (pairs tested
     inside/outside, mortar interfaces), so that the predictor's depth is checked
-    (:func:`~fecontact.time.penetration.check_predictor`); ``turns``: the dofs of the beams'
-    nodal rotations, whose turn over a step the smooth step bounds (:mod:`.turns`; None
-    without beams)."""
+    (:func:`~fecontact.time.penetration.check_predictor`); ``turns``: the beams' nodal
+    rotations, whose turn the smooth step bounds over the step and over each update that
+    rows border (:class:`~fecontact.time.turns.TurnBound`; None without beams)."""
 
     smooth: bool = False
     restarts: bool = False
@@ -56,7 +54,7 @@ class RunSettings(IntegratorOptions):
     plan: NewtonPlan | None = field(default=None, repr=False, compare=False)
     momentum: MomentumKept | None = field(default=None, repr=False, compare=False)
     depth_check: bool = field(default=True, repr=False, compare=False)
-    turns: np.ndarray | None = field(default=None, repr=False, compare=False)
+    turns: TurnBound | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self):
         pass  # the values are those of options already checked, taken as they are
