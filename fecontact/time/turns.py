@@ -46,6 +46,10 @@ class TurnBound:
         self.dofs = dofs
         free = free_index[dofs]
         self.free = free[(free >= 0).all(axis=1)]
+        # (flat, with the largest turn of a flat array: |Δθ| in the plane, the rotation
+        # triples' norms in space; a few µs a step)
+        self._dofs, self._free = dofs.ravel(), self.free.ravel()
+        self._largest = _largest_angle if dofs.shape[1] == 1 else _largest_rotation
 
     def check(self, x: np.ndarray, q: np.ndarray, group: bool, what: str, stats) -> None:
         """Fail the step where ``x`` turns a beam node by more than :data:`TURN_BOUND` from
@@ -53,8 +57,8 @@ class TurnBound:
         (``group``) the increment D, whose rotation triples are the turns. ``what`` names
         the iterate (the predictor, the smooth step) in the failure, which ``stats``
         (:class:`~fecontact.time.stats.StepStats`) counts."""
-        dofs = self.dofs
-        turn = _largest(x[dofs] if group else x[dofs] - q[dofs])
+        dofs = self._dofs
+        turn = self._largest(x[dofs] if group else x[dofs] - q[dofs])
         if turn > TURN_BOUND:
             stats.turns.halved_steps += 1
             raise StepFailure(
@@ -65,15 +69,21 @@ class TurnBound:
     def cut(self, dq: np.ndarray, stats) -> float:
         """The fraction (≤ 1) of the update ``dq`` (free dofs) that turns no beam node by
         more than :data:`TURN_BOUND`; a cut counted in ``stats``."""
-        turn = _largest(dq[self.free])
+        turn = self._largest(dq[self._free])
         if turn <= TURN_BOUND:
             return 1.0
         stats.turns.cut_updates += 1
         return TURN_BOUND / turn
 
 
-def _largest(d: np.ndarray) -> float:
-    """The largest norm of the rows of ``d`` (rad)."""
+def _largest_angle(d: np.ndarray) -> float:
+    """The largest |d_i| of planar angles ``d`` (rad)."""
+    return float(np.abs(d).max(initial=0.0))
+
+
+def _largest_rotation(d: np.ndarray) -> float:
+    """The largest norm of the rotation vectors of ``d`` (rad; three components each)."""
+    d = d.reshape(-1, 3)
     return math.sqrt(float(np.einsum("ij,ij->i", d, d).max(initial=0.0)))
 
 
