@@ -295,23 +295,27 @@ def _rowed_update(form: AccelerationForm, touching) -> np.ndarray:
     quarter turn of any node (:mod:`.turns`)."""
     term = touching[0]
     if len(touching) == 1 and term.schur and (form.lie is None or term.schur_only):
-        dq = form._schur_update(term)
+        dq, bordered = form._schur_update(term), False
     else:
-        dq = form._bordered_update(touching)
-    return dq if form.opts.turns is None else _cut(form.opts, dq, touching)
+        dq, bordered = form._bordered_update(touching), True
+    return dq if form.opts.turns is None else _cut(form, dq, touching, bordered)
 
 
-def _cut(opts, dq: np.ndarray, touching) -> np.ndarray:
+def _cut(form: AccelerationForm, dq: np.ndarray, touching, bordered: bool) -> np.ndarray:
     """The update ``dq`` bordered by the rows of the ``touching`` terms, with their
-    multipliers' update, cut to turn no beam node by more than a quarter turn
-    (:class:`~fecontact.time.turns.TurnBound` of the run's settings ``opts``): no energy
-    descent tests these updates, and the kinematics linearized at the iterate say nothing a
-    quarter turn away."""
+    multipliers' update (and the ``bordered`` solve's, which the joints' remainder bound
+    reads), cut to turn no beam node by more than a quarter turn
+    (:class:`~fecontact.time.turns.TurnBound` of the run's settings): no energy descent
+    tests these updates, and the kinematics linearized at the iterate say nothing a quarter
+    turn away."""
+    opts = form.opts
     fraction = opts.turns.cut(dq, opts.stats)
     if fraction == 1.0:  # (every update of a step that resolves its rotations)
         return dq
     for term in touching:
         term.retreat(1.0 - fraction)
+    if bordered:
+        form.x = fraction * form.x
     return fraction * dq
 
 
