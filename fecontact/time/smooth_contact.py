@@ -152,6 +152,7 @@ class SmoothContacts:
         # (affine gaps: finite, their gradients constant, so the rows that can hold are
         # known from the first update: :meth:`_next_active_set`)
         self.affine, self.live = model.contacts.affine, None
+        self.last = None  # (the rows and the change of λ of the last update)
 
     def update(self, q: np.ndarray, curvature: bool) -> None:
         """Gaps, gradients (and, with ``curvature``, the curvature −Σ_A λ_j ∇²g_j of the
@@ -196,6 +197,7 @@ class SmoothContacts:
         """Apply the bordered solve's update of the rows' multipliers (μ = −λ)."""
         self.lam[self.active] -= dmu
         self.solved = self.active.copy()
+        self.last = (self.solved, -dmu)
 
     def schur_update(self, model, r, solve, key=None) -> np.ndarray:
         """The Newton update of the bordered system [[S, −G_Aᵀ], [G_A, 0]] (dq, Δλ_A) from
@@ -214,6 +216,7 @@ class SmoothContacts:
         dlam = kkt_multipliers(GA, Y, GA @ x - gA, 1.0, self.stats)
         self.lam[A] += dlam
         self.solved = A.copy()
+        self.last = (self.solved, dlam)
         return -x + Y @ dlam
 
     def _modal_update(self, rows, GA, gA, r, spectral: Spectral) -> np.ndarray:
@@ -231,7 +234,13 @@ class SmoothContacts:
         dlam = kkt_multipliers(P.T, Z, P.T @ z - gA, 1.0, self.stats)
         self.lam[A] += dlam
         self.solved = A.copy()
+        self.last = (self.solved, dlam)
         return spectral.phi @ (Z @ dlam - z)
+
+    def retreat(self, s: float) -> None:
+        """Take back the fraction ``s`` of the last update of the forces."""
+        rows, change = self.last
+        self.lam[rows] -= s * change
 
     def satisfied(self, admits) -> bool:
         """Complementarity within the gap tolerance (``admits(x)``: x ≤ tolerance, m): the
