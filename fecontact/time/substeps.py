@@ -142,7 +142,8 @@ class Releases(Localizer):
     from its whole steps: the sub-steps change nothing of it, and their work is counted
     (``release_probes``). The sub-steps are taken when their reading is first needed (the
     run's release, or the next falling force within their span): a force that falls and
-    rises again, or a run that ends pressed, costs none."""
+    rises again, or a run that ends pressed, costs none. A whole step that leaves a closing
+    unrefined is retaken in sub-steps (:meth:`_retaken`)."""
 
     def __init__(self, model):
         super().__init__(model)
