@@ -123,12 +123,12 @@ def localizes(model, opts: RunSettings) -> bool:
 
 
 def frictionless_solids(model) -> bool:
-    """Whether every body of ``model`` is a solid, undamped, and its contacts are frictionless
-    and on fixed obstacles or between its solids: the models whose impacts "auto" localizes in
-    whole steps. Not friction (measured in docs/validation/localization.md: no gain, and a
-    lasting frictional contact's nodes that lift and re-close cost several times the run),
-    nor Rayleigh damping (a damped block's located landing rebounds faster than it hit)."""
-    solids = all(body.continuum for body in model.bodies)
+    """Whether ``model`` has solids (rigid bodies beside them or not, no beams), undamped, its
+    contacts frictionless and on fixed obstacles or between its bodies: the models whose impacts
+    "auto" localizes in whole steps. Not friction (docs/validation/localization.md: no gain, and
+    a lasting frictional contact's nodes that lift and re-close cost several times the run), nor
+    Rayleigh damping (a damped block's located landing rebounds faster than it hit)."""
+    solids = model.continuum and not model.slender  # (a rigid box on a slab: 12.4 % → 0)
     contacts = model.contacts
     undamped = not any(model.damping)
     return (
