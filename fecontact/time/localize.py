@@ -22,9 +22,10 @@ those that close within ``TOGETHER`` of the step after it (the correction closes
 it).
 
 The step is left to the end-of-step treatment, counted by reason in the run's statistics:
-``accumulation`` (``MAX_IMPACTS`` impacts already located in the step, or less than
-``MIN_REST`` of it left), ``persistent`` (a contact pressed at the start of the step is
-still closed at its end: a lasting contact that other points join), ``grazing`` (the gap
+``accumulation`` (``MAX_IMPACTS`` impacts already located in the step, less than ``MIN_REST``
+of it left, or, beside a pressed contact or after an impact, more instants to locate than
+it may), ``persistent`` (a contact pressed at the start of the step is still closed at its
+end: a lasting contact that other points join), ``grazing`` (the gap
 closes slower than ``GRAZING`` gap tolerances per step), ``unrefined`` (no instant found
 to the tolerance within ``MAX_REFINE`` smooth steps, or a gap unknown at the step's start)
 and ``failed`` (a smooth step of the split did not converge: the step is taken whole).
@@ -60,6 +61,7 @@ from .nsga import smooth_phases
 from .settings import RunSettings, beams_along_obstacles
 from .state import PhaseTimer, State, deferred_ledger, length_scale
 from .terms import SmoothContact
+from .window import instants, last_together
 
 __all__ = [
     "GRAZING",
@@ -254,10 +256,10 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list):
         reason = "persistent"
     elif rows.size == 0:
         reason = "unrefined"
-    elif beside and done + _instants(tau, TOGETHER * h / left) > MAX_IMPACTS:
+    elif _rings(tau, done, beside, h, left):
         reason = "accumulation"  # (a patch whose rings the step could not all locate)
     else:
-        k = _last_together(tau, TOGETHER * h / left)
+        k = last_together(tau, TOGETHER * h / left)
         if -rate[k] * left <= GRAZING * tol:
             reason = "grazing"
     if reason is None:
@@ -269,20 +271,11 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list):
     return None
 
 
-def _last_together(tau: np.ndarray, within: float) -> int:
-    """Which of the crossings at ``tau`` (fractions of the step's rest) the step refines: the
-    last of those within ``within`` of the earliest (the correction closes the others with
-    it at its instant)."""
-    if tau.size == 1:  # (one crossing: most located steps)
-        return 0
-    together = np.flatnonzero(tau <= tau.min() + within)
-    return int(together[np.argmax(tau[together])])
-
-
-def _instants(tau: np.ndarray, together: float) -> int:
-    """How many instants the crossings at ``tau`` (fractions of the step's rest) close at,
-    those within ``together`` of the one before taken as one."""
-    return 1 + int(np.count_nonzero(np.diff(np.sort(tau)) > together))
+def _rings(tau: np.ndarray, done: int, beside, h: float, left: float) -> bool:
+    """Whether the closings at ``tau`` (fractions of the rest ``left`` of the step ``h``, s),
+    beside a pressed contact or after one of the step's ``done`` impacts, close at more
+    instants than the step may still locate (a patch's rings: left to its end at once)."""
+    return bool((beside or done) and done + instants(tau, TOGETHER * h / left) > MAX_IMPACTS)
 
 
 def _crossing(model, st, phases, left, opts):
