@@ -27,7 +27,7 @@ from ..errors import SolverError
 from ..ledger import joined_record
 from .aside import taken_aside
 from .constraints import StepFailure
-from .localize import joined, localized_step
+from .localize import cache_keys, drop_caches, joined, localized_step
 from .settings import RunSettings
 from .state import PhaseTimer, State
 
@@ -179,11 +179,16 @@ class Releases(Localizer):
         where it is +9e-8 m at its Hermite instant, and the regula falsi does not reach it;
         the correction at the step's end created 2.2 % of the run's scale, the sub-steps 7e-5
         (docs/validation/localization.md). The whole step's impacts (``counts``: the
-        impacts and first closing before it) are not counted."""
+        impacts and first closing before it) are not counted. The sub-steps' size is met
+        once, as a split step's: its factorization and columns are dropped after it."""
         stats = opts.stats.localization
         stats.impacts, stats.first_closing = counts
         model.contacts.look_ahead(st.q, st.v, h)
-        return self._subdivided(model, st, h, opts, timer)
+        kept = cache_keys(model)
+        try:
+            return self._subdivided(model, st, h, opts, timer)
+        finally:
+            drop_caches(model, kept, stats)
 
     def _drop_spent(self, t: float) -> None:
         """Forget a probe not yet taken whose reading ends before ``t`` (s) whatever it reads:
