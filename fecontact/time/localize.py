@@ -58,7 +58,7 @@ from ..errors import InputError
 from ..ledger import JoinedRecord
 from .constraints import StepFailure
 from .nsga import smooth_phases
-from .settings import RunSettings, beams_along_obstacles
+from .settings import RunSettings
 from .state import PhaseTimer, State, deferred_ledger, length_scale
 from .terms import SmoothContact
 from .window import instants, last_together
@@ -107,11 +107,11 @@ LAST = 1e-9
 
 
 def localizes(model, opts: RunSettings) -> bool:
-    """Whether the run of ``model`` with ``opts`` locates impacts inside its steps: the option
-    ``localize`` ("auto": rigid bodies and point masses on fixed obstacles without friction,
-    :func:`frictionless_solids`, :func:`beams_along_obstacles`) for the NSGA generalized-α
-    step (the options check it) on a model with contacts. Raises ``InputError`` for
-    ``localize=True`` with moving obstacles."""
+    """Whether the run of ``model`` with ``opts`` locates impacts inside its steps: the
+    option ``localize`` (``"auto"``: a model of rigid bodies and point masses with
+    frictionless contacts on fixed obstacles, or of solids, :func:`frictionless_solids`) for the
+    NSGA generalized-α step (the options check it) on a model with contacts. Raises
+    ``InputError`` for ``localize=True`` with moving obstacles."""
     value = opts.localize
     applies = opts.integrator == "nsga" and opts.scheme == "generalized-alpha"
     if value is True and model.contacts.moving:
@@ -120,7 +120,7 @@ def localizes(model, opts: RunSettings) -> bool:
         # (measured: docs/validation/localization.md; friction is not yet validated with it)
         rigid = not (model.continuum or model.slender)
         value = rigid and not (model.contacts.frictional or model.contacts.moving)
-        value = value or frictionless_solids(model) or beams_along_obstacles(model, opts.smooth)
+        value = value or frictionless_solids(model)
     return bool(value and applies and model.contacts.size)
 
 

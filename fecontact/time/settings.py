@@ -14,7 +14,6 @@ from .turns import TurnBound, beam_turns
 
 __all__ = [
     "RunSettings",
-    "beams_along_obstacles",
     "positional_friction",
     "run_settings",
     "settles",
@@ -102,24 +101,6 @@ def struck(model, pair) -> bool:
     if all(body.slender for body in pair.bodies):
         return False
     return all(_moves(model, body) for body in pair.bodies)
-
-
-def beams_along_obstacles(model, smooth: bool) -> bool:
-    """Whether ``model`` is planar beams alone whose every contact is frictionless and meets
-    a fixed obstacle along a beam's length (a strip on a peg), held by the smooth force
-    (``smooth``): the beams "auto" localizes. Such a contact takes the smooth force from
-    the step after its closing (it does not settle), so the closing step's position
-    correction is the one place it creates: it pushes back the depth the smooth step
-    reached and leaves strain the impact did not have, quadratic in where the closing falls
-    in the step (the founding strip re-closing on a peg
-    at e_N = 0.5 and 1: 2.8e-3 and 5.1e-3 of the scale, located 1.1e-4 and 8.3e-5;
-    docs/validation/stress_2d.md). Not beams struck at their ends (a located strike of the
-    floor pendulum rings its axial mode harder: 8.9e-3 → 0.171 at e_N = 0), nor the decoupled
-    step (``smooth_contact="off"``), whose lasting contact creates in every step."""
-    pairs = model.contacts.pairs
-    beams = model.dim == 2 and all(body.slender for body in model.bodies)
-    along = all(pair.obstacle is not None and not struck(model, pair) for pair in pairs)
-    return smooth and bool(pairs) and beams and along and not model.contacts.frictional
 
 
 def _moves(model, body) -> bool:

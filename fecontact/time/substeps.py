@@ -53,13 +53,11 @@ sub-steps taken aside (:class:`Releases`): Hertz's balls read the same instants 
 def localized_stepper(model, opts: RunSettings):
     """The step function of a run of ``model`` with ``opts`` that localizes its impacts,
     decided once: a :class:`Localizer` (sub-steps while a contact chatters) where a body is
-    flexible and ``localize`` is on, or the beams "auto" chose
-    (:func:`~fecontact.time.settings.beams_along_obstacles`), :class:`Releases` (whole
-    steps, sub-steps where a contact releases) where "auto" chose it for solids
-    (:func:`frictionless_solids`), and :func:`localized_step` itself (whole steps) where the
-    bodies are rigid."""
+    flexible and ``localize`` is on, :class:`Releases` (whole steps, sub-steps where a
+    contact releases) where "auto" chose it for solids (:func:`frictionless_solids`), and
+    :func:`localized_step` itself (whole steps) where the bodies are rigid."""
     flexible = model.continuum or model.slender
-    if flexible and (opts.localize is True or model.slender) and CHATTER > 1:
+    if flexible and opts.localize is True and CHATTER > 1:
         return Localizer(model)
     if flexible and CHATTER > 1:
         return Releases(model)
