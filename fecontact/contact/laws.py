@@ -68,6 +68,10 @@ def kkt_multipliers(GA, Y, rhs, k, stats: ContactStats | None = None, rcond: flo
 def _kkt(S, rhs, stats, rcond=1e-10):
     """:func:`kkt_multipliers` of the Schur matrix S = k G_A Y, and whether S was singular
     (least squares)."""
+    if S.shape == (1, 1):  # (one row, most contact phases: getrf and getrs divide, to the bit)
+        s = S[0, 0]
+        if s != 0.0 and math.isfinite(s) and rcond < 1.0:  # (else the paths below decide)
+            return rhs / s, False
     if stats is None or not stats.minimum_norm:
         # (np.linalg.solve's own LAPACK path, getrf and getrs, without its 5 µs of checks
         # on the few rows of a contact step; an exactly zero pivot is its LinAlgError)
