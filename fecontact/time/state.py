@@ -249,6 +249,10 @@ class State:
 
     def pressed(self) -> np.ndarray:
         """Per contact: whether any force acted in the step (ν > 0, Λ > 0 or λ > 0)."""
+        # (no candidate at the step's end: the correction gave ν to none, and no smooth force
+        # acts; Λ may still sit on a contact a located impact of the step left: kept)
+        if self.smooth is None and self.candidates.size == 0:
+            return self.impulse > 0.0
         out = self.force > 0.0
         if self.nu.size == out.size:
             out |= self.nu > 0.0
