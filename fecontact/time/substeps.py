@@ -28,6 +28,7 @@ from ..ledger import joined_record
 from .aside import taken_aside
 from .constraints import StepFailure
 from .localize import cache_keys, drop_caches, joined, localized_step
+from .release_split import EDGE, split_at_release
 from .settings import RunSettings
 from .state import PhaseTimer, State
 
@@ -43,6 +44,12 @@ taken as chattering; longer, it is a lasting contact."""
 RELEASE = 2.0
 """Steps within which a contact whose mean force falls reaches zero along the line of its
 last two steps' forces: the step is taken in sub-steps (the release falls inside it)."""
+
+LET_GO = 1.5
+"""Steps within which the total mean force of a solid's pressed contacts reaches zero along
+the line of its last two steps': its release is read now and the step split there
+(:class:`Releases`; Hertz's ball at t_c/20, its force 125.9 → 63.0 N, reaches zero 1.0006
+steps ahead, and the probe reads the release at 0.875 of that step)."""
 
 READ_RELEASE = 1.0
 """The same for the solids "auto" localizes in whole steps, whose release is read from
@@ -60,7 +67,7 @@ def localized_stepper(model, opts: RunSettings):
     if flexible and opts.localize is True and CHATTER > 1:
         return Localizer(model)
     if flexible and CHATTER > 1:
-        return Releases(model)
+        return Releases(model, split=opts.restarts)
     return localized_step
 
 
@@ -145,19 +152,18 @@ class Releases(Localizer):
     rises again, or a run that ends pressed, costs none. A whole step that leaves a closing
     unrefined is retaken in sub-steps (:meth:`_retaken`)."""
 
-    def __init__(self, model):
+    def __init__(self, model, split: bool = False):
         super().__init__(model)
         self.read = (None, -np.inf)  # (s, s): the release a probe read, the probe's end
         self.pending = None  # (state, step size): a probe not yet taken, from that state
+        self.split = split  # (the run's choice: releasing steps split at the release read)
 
     def __call__(self, model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
         pressed = st.pressed().any()
         if not pressed:  # (no force to fall: most steps)
             self._resting()
-        elif self._releasing(st, READ_RELEASE):
-            self._drop_spent(st.t)
-            if st.t > self._reading(model, opts, timer)[1]:
-                self.pending = (st, h)
+        elif (out := self._falling(model, st, h, opts, timer)) is not None:
+            return out
         stats = opts.stats.localization
         before = (stats.fallbacks["unrefined"], stats.impacts, stats.first_closing)
         out = localized_step(model, st, h, opts, timer)
@@ -168,6 +174,32 @@ class Releases(Localizer):
             release, until = self._reading(model, opts, timer)
             located = release is not None and st.t <= until
             opts.stats.localization.last_release = release if located else st.t
+        return out
+
+    def _falling(self, model, st, h, opts, timer) -> State | None:
+        """The step from the pressed ``st`` split at the release the probe reads inside it,
+        where ``split`` is on and the total mean force of the contacts reaches zero within
+        ``LET_GO`` steps (:func:`~.release_split.split_at_release`); None for the step as
+        it is. A probe starts from ``st`` where a contact's force (:meth:`_releasing`), or
+        that total, is falling to zero and no reading covers ``st``."""
+        before = float(np.sum(self.force))  # (the step before's mean forces, then st's)
+        falling = self._releasing(st, READ_RELEASE)
+        now = float(np.sum(self.force))
+        letting_go = self.split and 0.0 < now <= LET_GO * (before - now)
+        if not (falling or letting_go):
+            return None
+        self._drop_spent(st.t)
+        release, until = self._reading(model, opts, timer)
+        if st.t > until:
+            self.pending = (st, h)
+        if not letting_go:
+            return None
+        release = self._reading(model, opts, timer)[0]  # (taken now: the split needs it)
+        if release is None or not st.t + EDGE * h < release < st.t + (1.0 - EDGE) * h:
+            return None
+        out = split_at_release(model, st, h, release - st.t, opts, timer)
+        if out is not None and not out.pressed().any():
+            opts.stats.localization.last_release = release
         return out
 
     def _retaken(self, model, st, h, opts, timer, counts) -> State:
