@@ -17,8 +17,8 @@ the part of h/8, 0.134 % of the run's scale; restarted both parts lose energy an
 creates what whole steps do, 0.044 %; docs/validation/localization.md).
 
 Where the part held to the release ends with no smooth force (the run's own dynamics let go
-before the sub-steps' reading), or a part fails, the step is taken whole, as without the
-split, and counted.
+before the sub-steps' reading), the rest still presses a contact (they let go after it), or
+a part fails, the step is taken whole, as without the split, and counted.
 """
 
 from __future__ import annotations
@@ -50,9 +50,9 @@ def split_at_release(model, st: State, h: float, delta: float, opts, timer) -> S
     """The step from ``st`` over ``h`` (s) as a localized step of ``delta`` (s) that holds
     the contacts pressed at ``st`` to their release and the rest of the step, each from its
     start restarted (module docstring), joined; None (the model's contacts and caches as
-    before it, the step's counts undone) where the first part ends with no smooth force or
-    a part fails. Counted in the localization statistics (``release_splits``,
-    ``release_split_fallbacks``)."""
+    before it, the step's counts undone) where the first part ends with no smooth force,
+    the rest with a contact pressed, or a part fails. Counted in the localization
+    statistics (``release_splits``, ``release_split_fallbacks``)."""
     stats = opts.stats.localization
     counts = (stats.impacts, stats.first_closing)
     kept = cache_keys(model)
@@ -63,7 +63,8 @@ def split_at_release(model, st: State, h: float, delta: float, opts, timer) -> S
         first = localized_step(model, restarted(st), delta, opts, timer)
         if (first.force > 0.0).any():
             model.contacts.look_ahead(first.q, first.v, h - delta)
-            parts = first, localized_step(model, restarted(first), h - delta, opts, timer)
+            rest = localized_step(model, restarted(first), h - delta, opts, timer)
+            parts = None if rest.pressed().any() else (first, rest)
     except (StepFailure, SolverError):
         parts = None
     finally:

@@ -50,7 +50,7 @@ class Localization:
     also taken aside in sub-steps to read a release (:class:`fecontact.time.substeps.Releases`),
     ``release_splits`` the steps split where those read it (:mod:`fecontact.time.release_split`)
     and ``release_split_fallbacks`` those taken whole instead (the part held to the release
-    ended with no force, or a part failed).
+    ended with no force, the rest with one, or a part failed).
     ``first_closing`` is the earliest
     located closing instant (s) and ``last_release`` the end of the last (sub-)step of a
     flexible model in which a contact carried a force before one in which none did (s; for

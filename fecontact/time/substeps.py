@@ -16,7 +16,9 @@ solids it chooses (:func:`fecontact.time.localize.frictionless_solids`) in whole
 closing's energy is gone at the cost of a few smooth steps, where the sub-steps cost the
 contact phase about eight steps per step. There the releasing step (the last test above) is
 also taken aside in sub-steps, which read the contact's end at a sub-step's resolution and
-leave the run as it is (:class:`Releases`).
+leave the run as it is (:class:`Releases`); where the reading falls inside a step whose
+total force is falling to zero, that step is split there
+(:mod:`fecontact.time.release_split`).
 """
 
 from __future__ import annotations
@@ -61,7 +63,9 @@ def localized_stepper(model, opts: RunSettings):
     """The step function of a run of ``model`` with ``opts`` that localizes its impacts,
     decided once: a :class:`Localizer` (sub-steps while a contact chatters) where a body is
     flexible and ``localize`` is on, :class:`Releases` (whole steps, sub-steps where a
-    contact releases) where "auto" chose it for solids (:func:`frictionless_solids`), and
+    contact releases, the releasing step split at the release they read where the run's
+    acceleration restarts after an impact) where "auto" chose it for solids
+    (:func:`frictionless_solids`), and
     :func:`localized_step` itself (whole steps) where the bodies are rigid."""
     flexible = model.continuum or model.slender
     if flexible and opts.localize is True and CHATTER > 1:
@@ -145,12 +149,15 @@ class Releases(Localizer):
     ``CHATTER`` sub-steps a step, for at most ``READ_RELEASE`` + 1 steps, only to read where
     the contact lets go (the end of the last sub-step with a force). When the run's own
     steps release within a step after it, the run's last release is that reading, not the
-    end of the whole step (Hertz's t_c in docs/validation/localization.md). The run goes on
-    from its whole steps: the sub-steps change nothing of it, and their work is counted
-    (``release_probes``). The sub-steps are taken when their reading is first needed (the
-    run's release, or the next falling force within their span): a force that falls and
-    rises again, or a run that ends pressed, costs none. A whole step that leaves a closing
-    unrefined is retaken in sub-steps (:meth:`_retaken`)."""
+    end of the whole step (Hertz's t_c in docs/validation/localization.md). The sub-steps
+    change nothing of the run, and their work is counted (``release_probes``). The sub-steps
+    are taken when their reading is first needed (the run's release, the next falling force
+    within their span, or a step whose total force falls to zero within ``LET_GO`` steps):
+    a force that falls and rises again, or a run that ends pressed, costs none. With
+    ``split`` (solids whose acceleration restarts, decided once by
+    :func:`localized_stepper`), a step whose total force falls so and in which the reading
+    falls is split there (:meth:`_falling`). A whole step that leaves a closing unrefined
+    is retaken in sub-steps (:meth:`_retaken`)."""
 
     def __init__(self, model, split: bool = False):
         super().__init__(model)
@@ -198,7 +205,7 @@ class Releases(Localizer):
         if release is None or not st.t + EDGE * h < release < st.t + (1.0 - EDGE) * h:
             return None
         out = split_at_release(model, st, h, release - st.t, opts, timer)
-        if out is not None and not out.pressed().any():
+        if out is not None:  # (its rest lets go; the joined step sums both parts' impulses)
             opts.stats.localization.last_release = release
         return out
 
