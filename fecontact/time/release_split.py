@@ -18,7 +18,8 @@ creates what whole steps do, 0.044 %; docs/validation/localization.md).
 
 Where the part held to the release ends with no smooth force (the run's own dynamics let go
 before the sub-steps' reading), the rest still presses a contact (they let go after it), or
-a part fails, the step is taken whole, as without the split, and counted.
+a part fails or leaves a closing unrefined, the step is taken whole, as without the split,
+and counted.
 """
 
 from __future__ import annotations
@@ -51,10 +52,12 @@ def split_at_release(model, st: State, h: float, delta: float, opts, timer) -> S
     the contacts pressed at ``st`` to their release and the rest of the step, each from its
     start restarted (module docstring), joined; None (the model's contacts and caches as
     before it, the step's counts undone) where the first part ends with no smooth force,
-    the rest with a contact pressed, or a part fails. Counted in the localization
-    statistics (``release_splits``, ``release_split_fallbacks``)."""
+    the rest with a contact pressed, or a part fails or leaves a closing unrefined (the
+    parts' impacts and fallbacks are then not counted: the whole step counts its own).
+    Counted in the localization statistics (``release_splits``,
+    ``release_split_fallbacks``)."""
     stats = opts.stats.localization
-    counts = (stats.impacts, stats.first_closing)
+    counts = (stats.impacts, stats.first_closing, dict(stats.fallbacks))
     kept = cache_keys(model)
     passing, model.passing = model.passing, True  # (the parts' sizes are met once)
     parts = None
@@ -64,7 +67,9 @@ def split_at_release(model, st: State, h: float, delta: float, opts, timer) -> S
         if (first.force > 0.0).any():
             model.contacts.look_ahead(first.q, first.v, h - delta)
             rest = localized_step(model, restarted(first), h - delta, opts, timer)
-            parts = None if rest.pressed().any() else (first, rest)
+            # (a closing a part left unrefined: the whole step, which retakes it in sub-steps)
+            unrefined = stats.fallbacks["unrefined"] > counts[2]["unrefined"]
+            parts = None if rest.pressed().any() or unrefined else (first, rest)
     except (StepFailure, SolverError):
         parts = None
     finally:
@@ -72,7 +77,7 @@ def split_at_release(model, st: State, h: float, delta: float, opts, timer) -> S
         drop_caches(model, kept, stats)
     if parts is None:
         stats.release_split_fallbacks += 1
-        stats.impacts, stats.first_closing = counts
+        stats.impacts, stats.first_closing, stats.fallbacks = counts
         model.contacts.look_ahead(st.q, st.v, h)
         return None
     stats.release_splits += 1
