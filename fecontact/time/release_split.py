@@ -47,14 +47,14 @@ def restarted(st: State) -> State:
     return dataclasses.replace(st, a=st.vd.copy(), smooth=smooth)
 
 
-def split_at_release(model, st: State, h: float, delta: float, opts, timer) -> State | None:
+def split_at_release(model, st: State, h: float, delta: float, rows, opts, timer) -> State | None:
     """The step from ``st`` over ``h`` (s) as a localized step of ``delta`` (s) that holds
-    the contacts pressed at ``st`` to their release and the rest of the step, each from its
-    start restarted (module docstring), joined; None (the model's contacts and caches as
-    before it, the step's counts undone) where the first part ends with no smooth force,
-    the rest with a contact pressed, or a part fails or leaves a closing unrefined (the
-    parts' impacts and fallbacks are then not counted: the whole step counts its own).
-    Counted in the localization statistics (``release_splits``,
+    the contacts ``rows`` to their release and the rest of the step, each from its start
+    restarted (module docstring), joined; None (the model's contacts and caches as before
+    it, the step's counts undone) where the first part ends with no smooth force on
+    ``rows``, the rest with one of them pressed, or a part fails or leaves a closing
+    unrefined (the parts' impacts and fallbacks are then not counted: the whole step counts
+    its own). Counted in the localization statistics (``release_splits``,
     ``release_split_fallbacks``)."""
     stats = opts.stats.localization
     counts = (stats.impacts, stats.first_closing, dict(stats.fallbacks))
@@ -64,12 +64,12 @@ def split_at_release(model, st: State, h: float, delta: float, opts, timer) -> S
     try:
         model.contacts.look_ahead(st.q, st.v, h)
         first = localized_step(model, restarted(st), delta, opts, timer)
-        if (first.force > 0.0).any():
+        if (first.force[rows] > 0.0).any():
             model.contacts.look_ahead(first.q, first.v, h - delta)
             rest = localized_step(model, restarted(first), h - delta, opts, timer)
             # (a closing a part left unrefined: the whole step, which retakes it in sub-steps)
             unrefined = stats.fallbacks["unrefined"] > counts[2]["unrefined"]
-            parts = None if rest.pressed().any() or unrefined else (first, rest)
+            parts = None if rest.pressed()[rows].any() or unrefined else (first, rest)
     except (StepFailure, SolverError):
         parts = None
     finally:

@@ -75,6 +75,13 @@ def localized_stepper(model, opts: RunSettings):
     return localized_step
 
 
+def _same(rows, other) -> bool:
+    """Whether two sets of contacts (index arrays, or None for all) are the same."""
+    if rows is None or other is None:
+        return rows is other
+    return rows.size == other.size and bool(np.all(rows == other))
+
+
 class Localizer:
     """The localized step of one run of a flexible ``model`` (its step function):
     :func:`localized_step`, in ``CHATTER`` sub-steps while a contact chatters (module
@@ -164,6 +171,8 @@ class Releases(Localizer):
         self.read = (None, -np.inf)  # (s, s): the release a probe read, the probe's end
         self.pending = None  # (state, step size): a probe not yet taken, from that state
         self.split = split  # (the run's choice: releasing steps split at the release read)
+        self.watched = None  # the contacts whose release the pending probe reads (None: all)
+        self.read_rows = None  # those of the latest reading
 
     def __call__(self, model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
         pressed = st.pressed().any()
@@ -189,25 +198,36 @@ class Releases(Localizer):
         ``LET_GO`` steps (:func:`~.release_split.split_at_release`); None for the step as
         it is. A probe starts from ``st`` where a contact's force (:meth:`_releasing`), or
         that total, is falling to zero and no reading covers ``st``."""
-        before = float(np.sum(self.force))  # (the step before's mean forces, then st's)
+        before = self.force  # (the step before's mean forces; st's after _releasing)
         falling = self._releasing(st, READ_RELEASE)
-        now = float(np.sum(self.force))
-        letting_go = self.split and 0.0 < now <= LET_GO * (before - now)
-        if not (falling or letting_go):
+        rows = self._letting_go(model, before) if self.split else None
+        if not falling and rows is None:
             return None
         self._drop_spent(st.t)
-        release, until = self._reading(model, opts, timer)
-        if st.t > until:
-            self.pending = (st, h)
-        if not letting_go:
+        until = self._reading(model, opts, timer)[1]
+        if st.t > until or not _same(rows, self.read_rows):
+            self.pending, self.watched = (st, h), rows
+        if rows is None:
             return None
         release = self._reading(model, opts, timer)[0]  # (taken now: the split needs it)
         if release is None or not st.t + EDGE * h < release < st.t + (1.0 - EDGE) * h:
             return None
-        out = split_at_release(model, st, h, release - st.t, opts, timer)
-        if out is not None:  # (its rest lets go; the joined step sums both parts' impulses)
+        out = split_at_release(model, st, h, release - st.t, rows, opts, timer)
+        pressed = st.pressed()
+        pressed[rows] = False
+        if out is not None and not pressed.any():  # (every contact let go: the run's release)
             opts.stats.localization.last_release = release
         return out
+
+    def _letting_go(self, model, before: np.ndarray) -> np.ndarray | None:
+        """The contacts of the pairs whose total mean force, from ``before`` to the step's
+        (N), reaches zero within ``LET_GO`` steps along that line; None where none does (a
+        ball leaving a box that stays pressed on its floor: the ball's pair)."""
+        owner, n = model.contacts.owner, len(model.contacts.pairs)
+        now = np.bincount(owner, weights=self.force, minlength=n)
+        fell = np.bincount(owner, weights=before, minlength=n) - now
+        pairs = (now > 0.0) & (now <= LET_GO * fell)
+        return np.flatnonzero(pairs[owner]) if pairs.any() else None
 
     def _retaken(self, model, st, h, opts, timer, counts) -> State:
         """The step from ``st`` over ``h`` retaken in ``substeps`` localized sub-steps, where
@@ -242,14 +262,15 @@ class Releases(Localizer):
             start, h = self.pending
             self.pending = None
             self.read = self._probe(model, start, h, opts, timer)
+            self.read_rows = self.watched
         return self.read
 
     def _probe(self, model, st, h, opts, timer) -> tuple:
         """(the release read and a step after it, or None and the end of the span probed)
         (s) of sub-steps of ``h``/``substeps`` from ``st`` (localized), at most
-        ``READ_RELEASE`` + 1 steps' worth, until one carries no force (a sub-step that fails
-        reads nothing, counted ``unrefined``), taken aside (:func:`taken_aside`): the run
-        goes on as without them."""
+        ``READ_RELEASE`` + 1 steps' worth, until one carries no force on the contacts
+        ``watched`` (None: on any; a sub-step that fails reads nothing, counted
+        ``unrefined``), taken aside (:func:`taken_aside`): the run goes on as without them."""
         stats = opts.stats.localization
         stats.release_probes += 1
         cur, k = st, h / self.substeps
@@ -257,7 +278,8 @@ class Releases(Localizer):
             try:
                 for _ in range(int(READ_RELEASE + 1) * self.substeps):
                     nxt = localized_step(model, cur, k, opts, timer)
-                    if not nxt.pressed().any():  # (the run's own steps release within a step)
+                    watched = slice(None) if self.watched is None else self.watched
+                    if not nxt.pressed()[watched].any():  # (they let go within a step)
                         return cur.t, cur.t + h * (1.0 + 1e-9)
                     cur = nxt
             except (StepFailure, SolverError):  # (the run's step decides; read at its end)
