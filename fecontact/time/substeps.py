@@ -47,11 +47,13 @@ RELEASE = 2.0
 """Steps within which a contact whose mean force falls reaches zero along the line of its
 last two steps' forces: the step is taken in sub-steps (the release falls inside it)."""
 
-LET_GO = 1.5
-"""Steps within which the total mean force of a solid's pressed contacts reaches zero along
-the line of its last two steps': its release is read now and the step split there
-(:class:`Releases`; Hertz's ball at t_c/20, its force 125.9 → 63.0 N, reaches zero 1.0006
-steps ahead, and the probe reads the release at 0.875 of that step)."""
+LET_GO = 1.1
+"""Steps within which the total mean force of a contact pair reaches zero along the line of
+its last two steps': its release is read now and the step split there (:class:`Releases`;
+Hertz's ball at t_c/20, its force 125.9 → 63.0 N, reaches zero 1.0006 steps ahead, and the
+probe reads the release at 0.875 of that step). With 1.5 the readings and splits were the
+same and the probes started a step earlier: `two_disks` 1.06 × the CPU of whole steps, 1.0
+× now (docs/validation/localization.md)."""
 
 READ_RELEASE = 1.0
 """The same for the solids "auto" localizes in whole steps, whose release is read from
