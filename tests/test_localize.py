@@ -215,8 +215,10 @@ def test_hertz_contact_duration_at_the_defaults():
     _, fine, _ = hertz_span()
     _, coarse, counts = hertz_span(1 / 20, localize="auto")
     assert abs(coarse / fine - 1) <= 0.02
-    # the sub-steps read the release and leave the run in whole steps
+    # the sub-steps read the release; the run takes whole steps, the one in which they read
+    # it split there (tests/test_release_split.py)
     assert counts.release_probes == 1 and counts.subdivided == 0
+    assert counts.release_splits == 1
 
 
 def test_hermite_root_of_a_parabola():

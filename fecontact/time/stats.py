@@ -47,7 +47,10 @@ class Localization:
     (no instant found to the gap tolerance), ``failed`` (a smooth step of the split step did
     not converge: the step taken whole); ``subdivided`` counts the steps of a flexible
     model taken in sub-steps while a contact chattered, ``release_probes`` the steps of solids
-    also taken aside in sub-steps to read a release (:class:`fecontact.time.substeps.Releases`).
+    also taken aside in sub-steps to read a release (:class:`fecontact.time.substeps.Releases`),
+    ``release_splits`` the steps split where those read it (:mod:`fecontact.time.release_split`)
+    and ``release_split_fallbacks`` those taken whole instead (the part held to the release
+    ended with no force, the rest with one, or a part failed).
     ``first_closing`` is the earliest
     located closing instant (s) and ``last_release`` the end of the last (sub-)step of a
     flexible model in which a contact carried a force before one in which none did (s; for
@@ -59,6 +62,8 @@ class Localization:
     factorizations: int = 0
     subdivided: int = 0
     release_probes: int = 0
+    release_splits: int = 0
+    release_split_fallbacks: int = 0
     first_closing: float | None = None
     last_release: float | None = None
     fallbacks: dict = field(
@@ -156,6 +161,9 @@ class StepStats:
                 "ladder": dict(self.localization.ladder),
                 "subdivided_steps": self.localization.subdivided,
                 "release_probes": self.localization.release_probes,
+                # releasing steps split at the release the probes read, and those left whole
+                "release_splits": self.localization.release_splits,
+                "release_split_fallbacks": self.localization.release_split_fallbacks,
             },
             "localized_contact_span_s": [
                 self.localization.first_closing,

@@ -16,7 +16,9 @@ solids it chooses (:func:`fecontact.time.localize.frictionless_solids`) in whole
 closing's energy is gone at the cost of a few smooth steps, where the sub-steps cost the
 contact phase about eight steps per step. There the releasing step (the last test above) is
 also taken aside in sub-steps, which read the contact's end at a sub-step's resolution and
-leave the run as it is (:class:`Releases`).
+leave the run as it is (:class:`Releases`); where the reading falls inside a step whose
+total force is falling to zero, that step is split there
+(:mod:`fecontact.time.release_split`).
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ from ..ledger import joined_record
 from .aside import taken_aside
 from .constraints import StepFailure
 from .localize import cache_keys, drop_caches, joined, localized_step
+from .release_split import EDGE, split_at_release
 from .settings import RunSettings
 from .state import PhaseTimer, State
 
@@ -44,6 +47,14 @@ RELEASE = 2.0
 """Steps within which a contact whose mean force falls reaches zero along the line of its
 last two steps' forces: the step is taken in sub-steps (the release falls inside it)."""
 
+LET_GO = 1.1
+"""Steps within which the total mean force of a contact pair reaches zero along the line of
+its last two steps': its release is read now and the step split there (:class:`Releases`;
+Hertz's ball at t_c/20, its force 125.9 → 63.0 N, reaches zero 1.0006 steps ahead, and the
+probe reads the release at 0.875 of that step). With 1.5 the readings and splits were the
+same and the probes started a step earlier: `two_disks` 1.06 × the CPU of whole steps, 1.0
+× now (docs/validation/localization.md)."""
+
 READ_RELEASE = 1.0
 """The same for the solids "auto" localizes in whole steps, whose release is read from
 sub-steps taken aside (:class:`Releases`): Hertz's balls read the same instants with 2.0
@@ -54,14 +65,23 @@ def localized_stepper(model, opts: RunSettings):
     """The step function of a run of ``model`` with ``opts`` that localizes its impacts,
     decided once: a :class:`Localizer` (sub-steps while a contact chatters) where a body is
     flexible and ``localize`` is on, :class:`Releases` (whole steps, sub-steps where a
-    contact releases) where "auto" chose it for solids (:func:`frictionless_solids`), and
+    contact releases, the releasing step split at the release they read where the run's
+    acceleration restarts after an impact) where "auto" chose it for solids
+    (:func:`frictionless_solids`), and
     :func:`localized_step` itself (whole steps) where the bodies are rigid."""
     flexible = model.continuum or model.slender
     if flexible and opts.localize is True and CHATTER > 1:
         return Localizer(model)
     if flexible and CHATTER > 1:
-        return Releases(model)
+        return Releases(model, split=opts.restarts)
     return localized_step
+
+
+def _same(rows, other) -> bool:
+    """Whether two sets of contacts (index arrays, or None for all) are the same."""
+    if rows is None or other is None:
+        return rows is other
+    return rows.size == other.size and bool(np.all(rows == other))
 
 
 class Localizer:
@@ -138,26 +158,30 @@ class Releases(Localizer):
     ``CHATTER`` sub-steps a step, for at most ``READ_RELEASE`` + 1 steps, only to read where
     the contact lets go (the end of the last sub-step with a force). When the run's own
     steps release within a step after it, the run's last release is that reading, not the
-    end of the whole step (Hertz's t_c in docs/validation/localization.md). The run goes on
-    from its whole steps: the sub-steps change nothing of it, and their work is counted
-    (``release_probes``). The sub-steps are taken when their reading is first needed (the
-    run's release, or the next falling force within their span): a force that falls and
-    rises again, or a run that ends pressed, costs none. A whole step that leaves a closing
-    unrefined is retaken in sub-steps (:meth:`_retaken`)."""
+    end of the whole step (Hertz's t_c in docs/validation/localization.md). The sub-steps
+    change nothing of the run, and their work is counted (``release_probes``). The sub-steps
+    are taken when their reading is first needed (the run's release, the next falling force
+    within their span, or a step whose total force falls to zero within ``LET_GO`` steps):
+    a force that falls and rises again, or a run that ends pressed, costs none. With
+    ``split`` (solids whose acceleration restarts, decided once by
+    :func:`localized_stepper`), a step whose total force falls so and in which the reading
+    falls is split there (:meth:`_falling`). A whole step that leaves a closing unrefined
+    is retaken in sub-steps (:meth:`_retaken`)."""
 
-    def __init__(self, model):
+    def __init__(self, model, split: bool = False):
         super().__init__(model)
         self.read = (None, -np.inf)  # (s, s): the release a probe read, the probe's end
         self.pending = None  # (state, step size): a probe not yet taken, from that state
+        self.split = split  # (the run's choice: releasing steps split at the release read)
+        self.watched = None  # the contacts whose release the pending probe reads (None: all)
+        self.read_rows = None  # those of the latest reading
 
     def __call__(self, model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
         pressed = st.pressed().any()
         if not pressed:  # (no force to fall: most steps)
             self._resting()
-        elif self._releasing(st, READ_RELEASE):
-            self._drop_spent(st.t)
-            if st.t > self._reading(model, opts, timer)[1]:
-                self.pending = (st, h)
+        elif (out := self._falling(model, st, h, opts, timer)) is not None:
+            return out
         stats = opts.stats.localization
         before = (stats.fallbacks["unrefined"], stats.impacts, stats.first_closing)
         out = localized_step(model, st, h, opts, timer)
@@ -169,6 +193,43 @@ class Releases(Localizer):
             located = release is not None and st.t <= until
             opts.stats.localization.last_release = release if located else st.t
         return out
+
+    def _falling(self, model, st, h, opts, timer) -> State | None:
+        """The step from the pressed ``st`` split at the release the probe reads inside it,
+        where ``split`` is on and the total mean force of the contacts reaches zero within
+        ``LET_GO`` steps (:func:`~.release_split.split_at_release`); None for the step as
+        it is. A probe starts from ``st`` where a contact's force (:meth:`_releasing`), or
+        that total, is falling to zero and no reading covers ``st``."""
+        before = self.force  # (the step before's mean forces; st's after _releasing)
+        falling = self._releasing(st, READ_RELEASE)
+        rows = self._letting_go(model, before) if self.split else None
+        if not falling and rows is None:
+            return None
+        self._drop_spent(st.t)
+        until = self._reading(model, opts, timer)[1]
+        if st.t > until or not _same(rows, self.read_rows):
+            self.pending, self.watched = (st, h), rows
+        if rows is None:
+            return None
+        release = self._reading(model, opts, timer)[0]  # (taken now: the split needs it)
+        if release is None or not st.t + EDGE * h < release < st.t + (1.0 - EDGE) * h:
+            return None
+        out = split_at_release(model, st, h, release - st.t, rows, opts, timer)
+        pressed = st.pressed()
+        pressed[rows] = False
+        if out is not None and not pressed.any():  # (every contact let go: the run's release)
+            opts.stats.localization.last_release = release
+        return out
+
+    def _letting_go(self, model, before: np.ndarray) -> np.ndarray | None:
+        """The contacts of the pairs whose total mean force, from ``before`` to the step's
+        (N), reaches zero within ``LET_GO`` steps along that line; None where none does (a
+        ball leaving a box that stays pressed on its floor: the ball's pair)."""
+        owner, n = model.contacts.owner, len(model.contacts.pairs)
+        now = np.bincount(owner, weights=self.force, minlength=n)
+        fell = np.bincount(owner, weights=before, minlength=n) - now
+        pairs = (now > 0.0) & (now <= LET_GO * fell)
+        return np.flatnonzero(pairs[owner]) if pairs.any() else None
 
     def _retaken(self, model, st, h, opts, timer, counts) -> State:
         """The step from ``st`` over ``h`` retaken in ``substeps`` localized sub-steps, where
@@ -203,14 +264,15 @@ class Releases(Localizer):
             start, h = self.pending
             self.pending = None
             self.read = self._probe(model, start, h, opts, timer)
+            self.read_rows = self.watched
         return self.read
 
     def _probe(self, model, st, h, opts, timer) -> tuple:
         """(the release read and a step after it, or None and the end of the span probed)
         (s) of sub-steps of ``h``/``substeps`` from ``st`` (localized), at most
-        ``READ_RELEASE`` + 1 steps' worth, until one carries no force (a sub-step that fails
-        reads nothing, counted ``unrefined``), taken aside (:func:`taken_aside`): the run
-        goes on as without them."""
+        ``READ_RELEASE`` + 1 steps' worth, until one carries no force on the contacts
+        ``watched`` (None: on any; a sub-step that fails reads nothing, counted
+        ``unrefined``), taken aside (:func:`taken_aside`): the run goes on as without them."""
         stats = opts.stats.localization
         stats.release_probes += 1
         cur, k = st, h / self.substeps
@@ -218,7 +280,8 @@ class Releases(Localizer):
             try:
                 for _ in range(int(READ_RELEASE + 1) * self.substeps):
                     nxt = localized_step(model, cur, k, opts, timer)
-                    if not nxt.pressed().any():  # (the run's own steps release within a step)
+                    watched = slice(None) if self.watched is None else self.watched
+                    if not nxt.pressed()[watched].any():  # (they let go within a step)
                         return cur.t, cur.t + h * (1.0 + 1e-9)
                     cur = nxt
             except (StepFailure, SolverError):  # (the run's step decides; read at its end)
