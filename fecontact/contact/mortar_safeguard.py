@@ -51,12 +51,15 @@ import numpy as np
 
 from .body_pairs import NodeSurfaceContact, triangle_plane_distance
 from .inside import bounding_box
+from .jets import Jet, dot, variables
 
 __all__ = [
     "ALLOWANCE",
     "DeepNodeRows",
     "DeepNodeRows3D",
     "SMOOTHING",
+    "edge_excess",
+    "edge_excess_jet",
     "safeguard_rows",
     "shortest_edge",
     "twin_rows",
@@ -73,6 +76,52 @@ SMOOTHING = 0.1
 """ε over δ: the smoothing length of the 3D rows' maximum of plane gaps (:class:`DeepNodeRows3D`):
 at a vertex where n planes tie the row reads the node ε ln n shallower (0.35 δ at four), and
 the planes' weights trade over a sideways shift of about 2ε / sin θ (θ the planes' tilt)."""
+
+
+def _ramp(e: np.ndarray, eps: float):
+    """r(e) = 0 (e ≤ 0), e²/2ε (0 < e < ε), e − ε/2 (e ≥ ε), with r′ and r″: a ramp with a
+    continuous slope."""
+    band = (e > 0.0) & (e < eps)
+    r = np.where(e >= eps, e - 0.5 * eps, np.where(band, 0.5 * e * e / eps, 0.0))
+    first = np.where(e >= eps, 1.0, np.where(band, e / eps, 0.0))
+    return r, first, np.where(band, 1.0 / eps, 0.0)
+
+
+def edge_excess(x: np.ndarray, tri: np.ndarray, eps: float) -> np.ndarray:
+    """Σ over the three edges of the triangles ``tri`` (m, 3, 3) of r(e), e (m) the distance
+    of the foot of x (m, 3) on the triangle's plane beyond the edge's line (negative inside),
+    r the ramp of width ``eps`` (m): zero where the foot lies in the triangle."""
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    n = np.cross(b - a, c - a)
+    n /= np.linalg.norm(n, axis=1)[:, None]
+    total = np.zeros(len(x))
+    for p, q in ((a, b), (b, c), (c, a)):
+        m = np.cross(q - p, n) / np.linalg.norm(q - p, axis=1)[:, None]  # (outward)
+        total += _ramp(np.einsum("mk,mk->m", x - p, m), eps)[0]
+    return total
+
+
+def _cross(u: Jet, v: Jet) -> Jet:
+    """u × v of two vector jets (m, 3)."""
+    parts = [
+        u.column(j) * v.column(k) - u.column(k) * v.column(j) for j, k in ((1, 2), (2, 0), (0, 1))
+    ]
+    return Jet(*(np.stack([getattr(p, f) for p in parts], axis=1) for f in ("val", "grad", "hess")))
+
+
+def edge_excess_jet(x: np.ndarray, tri: np.ndarray, eps: float):
+    """:func:`edge_excess` with its gradient (m, 12) and Hessian (m, 12, 12) over
+    (x, a, b, c)."""
+    X, A, B, C = variables([x, tri[:, 0], tri[:, 1], tri[:, 2]], 12)
+    N = _cross(B - A, C - A)
+    n = N / dot(N, N).sqrt().scalar()
+    total = None
+    for p, q in ((A, B), (B, C), (C, A)):
+        u = q - p
+        e = dot(X - p, _cross(u, n)) / dot(u, u).sqrt()
+        r = e.apply(*_ramp(e.val, eps))
+        total = r if total is None else total + r
+    return total.val, total.grad, total.hess
 
 
 def shortest_edge(body, facets: np.ndarray) -> float:
@@ -200,6 +249,16 @@ class DeepNodeRows3D(DeepNodeRows):
         G = G.reshape(n, K, 12) * real[:, :, None]
         if H is not None:
             H = H.reshape(n, K, 12, 12) * real[:, :, None, None]
+        # each plane read deeper by how far the node's foot lies outside its facet
+        excess = np.where(real, edge_excess(xk, t, self.smoothing).reshape(n, K), 0.0)
+        g = g - excess
+        # (its derivatives where it weighs: a plane within 50 ε of the maximum)
+        need = (excess > 0.0) & (g > g.max(axis=1, keepdims=True) - 50.0 * self.smoothing)
+        if need.any():
+            _, dP, d2P = edge_excess_jet(xk[need.ravel()], t[need.ravel()], self.smoothing)
+            G[need] -= dP
+            if H is not None:
+                H[need] -= d2P
         return g, G, H, facets
 
     def _soft(self, g):
@@ -283,7 +342,7 @@ def safeguard_rows(interface):
     if not np.array_equal(rows.nodes, interface.nodes):
         raise ValueError("the mortar rows' nodes must be the slave body's boundary nodes")
     rows.twin = interface
-    return rows, (kind(master, body, restitution) if body.dim == 2 else None)
+    return rows, kind(master, body, restitution)
 
 
 def twin_rows(pairs) -> np.ndarray | None:
