@@ -16,7 +16,12 @@ surface). In 3D g_N is a smooth maximum of the plane gaps of the facets around t
 vertex nearest the node (:class:`DeepNodeRows3D`): at the coarse pole of a ball, the apex of
 four facets tilted 30°, one facet's plane gap pushes the node along that facet's normal,
 sideways by half the force (the turned coarsest balls then left the axis at 32 % of the
-impact speed); the facets' weighted mean normal pushes it along the apex's axis.
+impact speed); the facets' weighted mean normal pushes it along the apex's axis. Each plane
+gap is read deeper by how far the node's foot on the plane lies outside its facet: a master
+node pressed into the slave's surface dents it, the vertices around the node are concave,
+and there the largest plane gap is a neighbour's plane that the node is not behind (the
+graded balls 0.7 R off-centre: a node 2.4 % of the shortest edge behind its facet read
+0.45 %, held there, and sank on).
 
 The row is a candidate only for a node deeper than δ/2 (elsewhere it reports a finite gap
 beyond any detection distance and a zero gradient): a node that the weighted gaps keep out,
@@ -210,14 +215,17 @@ class DeepNodeRows(NodeSurfaceContact):
 class DeepNodeRows3D(DeepNodeRows):
     """:class:`DeepNodeRows` of 3D solids: a deep node's row is the smooth maximum of the
     plane gaps g_k of the master facets around the vertex v (of its closest facet) nearest
-    to it,
+    to it, each less the excess P_k of the node's foot beyond its facet's edges
+    (:func:`edge_excess`, zero on the facet),
 
-        g_s = ε ln Σ_k exp(g_k / ε) + δ,   ε = ``SMOOTHING`` δ,
+        g_s = ε ln Σ_k exp((g_k − P_k) / ε) + δ,   ε = ``SMOOTHING`` δ,
 
     the node's depth behind the convex vertex (inside, minus the largest plane gap), read at
     most ε ln n shallower where n planes tie. Its gradient Σ_k w_k ∇g_k (w the planes'
     soft-max weights) is their weighted mean: a node at the apex of the master's facets is
-    pushed along the apex's axis, not along one facet's normal (module docstring)."""
+    pushed along the apex's axis, not along one facet's normal. Behind a concave vertex the
+    planes whose facets the node is not under read deeper by P_k, and the row is the depth
+    behind the facet it is under (module docstring)."""
 
     def __init__(self, body, master, restitution: float = 0.0):
         super().__init__(body, master, restitution)
@@ -237,7 +245,8 @@ class DeepNodeRows3D(DeepNodeRows):
     def _planes(self, x, xm, vertex, hessian: bool):
         """The plane gaps (n, K) of points x (n, 3) from the facets around ``vertex`` (n,),
         their gradients (n, K, 12) and Hessians (n, K, 12, 12; None unless ``hessian``) over
-        (x, facet vertices), and the facets (n, K; −1 pads: gap −inf, zero derivatives)."""
+        (x, facet vertices), and the facets (n, K; −1 pads: gap −inf, zero derivatives); each
+        gap less the excess of the point's foot beyond its facet (:func:`edge_excess`)."""
         facets = self.around[vertex]
         n, K = facets.shape
         real = facets >= 0
@@ -330,12 +339,8 @@ class DeepNodeRows3D(DeepNodeRows):
 
 def safeguard_rows(interface):
     """The pointwise rows of a mortar ``interface``: those of its slave's nodes against the
-    master's surface (row j the twin of the interface's row j, the same node), and in 2D of
-    the master's nodes against the slave's (module docstring). A 3D interface has no master
-    rows: on the graded balls off-centre (1 m/s, 0.7 R) they made the impact create 1.4 % of
-    its scale (0.03 % without), and the fast off-centre balls (5 m/s, 57 Δx/c) stopped at
-    their first step, a master node's row beside the weighted rows of the slave nodes facing
-    it (nearly the same constraint, not declared twins)."""
+    master's surface (row j the twin of the interface's row j, the same node), and those of
+    the master's nodes against the slave's (module docstring)."""
     body, master, restitution = interface.body, interface.master, interface.restitution
     kind = DeepNodeRows if body.dim == 2 else DeepNodeRows3D
     rows = kind(body, master, restitution)
