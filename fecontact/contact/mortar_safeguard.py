@@ -261,8 +261,11 @@ class DeepNodeRows3D(DeepNodeRows):
         # each plane read deeper by how far the node's foot lies outside its facet
         excess = np.where(real, edge_excess(xk, t, self.smoothing).reshape(n, K), 0.0)
         g = g - excess
-        # (its derivatives where it weighs: a plane within 50 ε of the maximum)
-        need = (excess > 0.0) & (g > g.max(axis=1, keepdims=True) - 50.0 * self.smoothing)
+        # (its derivatives where they count: on a row deeper than δ/2, whose maximum is
+        # below −δ/2, and on a plane within 50 ε of that maximum, the others' weights
+        # below e⁻⁵⁰)
+        top = g.max(axis=1, keepdims=True)
+        need = (excess > 0.0) & (g > top - 50.0 * self.smoothing) & (top < -0.5 * self.allowance)
         if need.any():
             _, dP, d2P = edge_excess_jet(xk[need.ravel()], t[need.ravel()], self.smoothing)
             G[need] -= dP
