@@ -237,14 +237,3 @@ def test_a_node_behind_a_dented_vertex_reads_the_facet_it_is_under():
     assert np.linalg.norm(G[j, :3]) == pytest.approx(1.0, abs=1e-12)  # (a plane's normal)
     err_g, err_h = gap_derivatives_error(rows, q, 1e-9)
     assert err_g < 1e-6 and err_h < 1e-4  # as for the pole above: truncation (h/ε)²
-
-
-def test_a_localized_step_does_not_locate_the_deep_node_rows():
-    """A deep node's row jumps from its far gap to δ/2 as the node passes δ/2: no crossing
-    instant. Four master rows of two_balls passing it 1e-11 s apart were located in an order
-    that followed round-off (k ÷ 100 moved the run by 2.4e-4); the localized step looks for
-    the weighted gaps' closings only."""
-    model, pair = overlapping_disks(0.0005)
-    located = model.contacts.located
-    rows = np.concatenate([np.full(p.size, p is pair) for p in model.contacts.pairs])
-    assert located is not None and np.array_equal(located, rows)  # (the interface's rows)

@@ -51,7 +51,6 @@ class PairDefaults:
     at_beam_ends = False  # True: every contact is an end node of a beam (a tip, a bar's end)
     companions: tuple = ()  # pairs it brings into the model, bound with it (rows of its own)
     shared_points = False  # True: several rows can hold one point (``points()`` says which)
-    located = True  # False: a gap that jumps as it closes, no instant to locate (localize)
 
     def points(self) -> np.ndarray:
         """The point (an int per row, the pair's own numbering) each row holds: rows of one

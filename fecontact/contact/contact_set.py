@@ -33,9 +33,6 @@ class ContactSet(FrictionRows):
         # each contact's number within its pair
         self.local = _per_contact(self.pairs, [np.arange(pair.size) for pair in self.pairs], int)
         self.point = _points(self.pairs)
-        # the contacts whose closing instant a localized step may look for (None: all)
-        located = _per_contact(self.pairs, [pair.located for pair in self.pairs], bool)
-        self.located = None if located.all() else located
         self._measured_by_inside_test()
         self._scatters: dict = {}
         self._last_scatter: dict = {}  # per pair: read-only (rows, dofs) and their _Scatter

@@ -150,11 +150,6 @@ class DeepNodeRows(NodeSurfaceContact):
     # the base margin is enough: a node that sinks is found by the inside test however deep
     looks_ahead = False
     _far = None  # (margin and placement, the rows of a free flight)
-    # the row jumps from its far gap to δ/2 where the node passes δ/2: no crossing instant
-    # to locate (four master nodes around a pole passing it 1e-11 s apart were taken in an
-    # order that followed round-off, k ÷ 100 moved two_balls by 2.4e-4); the weighted gaps
-    # locate the impact, and the correction holds such a row where the step ends
-    located = False
     twin = None
     """The interface whose row j holds this pair's node j by its weighted gap (the slave's
     rows; None: the master's, whose nodes have no weighted row)."""

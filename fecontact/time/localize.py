@@ -287,8 +287,6 @@ def _crossing(model, st, phases, left, opts):
         return None
     tol = opts.tol_gap * length_scale(model, phases.q)
     closing = (g1 < -tol) & (g0 > tol)
-    if contacts.located is not None:  # (rows whose gap jumps as it closes: not located)
-        closing &= contacts.located
     if not closing.any():
         return None
     rows = (closing & np.isfinite(g0)).nonzero()[0]
