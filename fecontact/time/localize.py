@@ -253,7 +253,9 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list):
     elif beside and done + _instants(tau, TOGETHER * h / left) > MAX_IMPACTS:
         reason = "accumulation"  # (a patch whose rings the step could not all locate)
     else:
-        together = np.flatnonzero(tau <= tau.min() + TOGETHER * h / left)
+        # (within tol of the earliest's depth too: a row taken with it enters no deeper)
+        window = min(TOGETHER * h / left, tol / max(-rate.min() * left, tol))
+        together = np.flatnonzero(tau <= tau.min() + window)
         k = together[np.argmax(tau[together])]  # the last of those taken together
         if -rate[k] * left <= GRAZING * tol:
             reason = "grazing"
