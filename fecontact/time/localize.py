@@ -82,7 +82,9 @@ its end (an accumulation: the rebound is shorter than this)."""
 TOGETHER = 1e-4
 """Fraction of the step within which later closings are taken with the earliest: the
 correction closes them at its instant (a flat face landing flat closes all its corners at
-once, up to round-off)."""
+once, up to round-off); and only those within tol/(−ġ) of it, so that none is taken deeper
+than the gap tolerance (two master rows of two_balls 2e-11 s apart: the earlier entered
+1e4 tolerances, and the correction that put it back followed k)."""
 
 GRAZING = 1e3
 """A closing speed −ġ(t*) below this many gap tolerances per step is grazing."""
