@@ -82,9 +82,7 @@ its end (an accumulation: the rebound is shorter than this)."""
 TOGETHER = 1e-4
 """Fraction of the step within which later closings are taken with the earliest: the
 correction closes them at its instant (a flat face landing flat closes all its corners at
-once, up to round-off); and only those within tol/(−ġ) of it, so that none is taken deeper
-than the gap tolerance (two master rows of two_balls 2e-11 s apart: the earlier entered
-1e4 tolerances, and the correction that put it back followed k)."""
+once, up to round-off)."""
 
 GRAZING = 1e3
 """A closing speed −ġ(t*) below this many gap tolerances per step is grazing."""
@@ -255,9 +253,7 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list):
     elif beside and done + _instants(tau, TOGETHER * h / left) > MAX_IMPACTS:
         reason = "accumulation"  # (a patch whose rings the step could not all locate)
     else:
-        # (within tol of the earliest's depth too: a row taken with it enters no deeper)
-        window = min(TOGETHER * h / left, tol / max(-rate.min() * left, tol))
-        together = np.flatnonzero(tau <= tau.min() + window)
+        together = np.flatnonzero(tau <= tau.min() + TOGETHER * h / left)
         k = together[np.argmax(tau[together])]  # the last of those taken together
         if -rate[k] * left <= GRAZING * tol:
             reason = "grazing"
