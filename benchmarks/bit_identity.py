@@ -92,6 +92,11 @@ RUNS = [
     ("tumbling_box", {}, NSGA, 0.4),
     ("spatial_pendulum", {"out_of_plane_velocity": 0.5}, NSGA, 0.6),
     ("rod_drop", {"yaw_rate": 20.0}, NSGA, 0.01),
+    # (the solids whose impacts "auto" locates inside their steps, and a pair with localize=1)
+    ("ball_drop", {}, NSGA, None),
+    ("disk_drop", {}, NSGA, None),
+    ("ball_on_slab", {}, NSGA, None),
+    ("two_disks", {}, {"localize": True}, 0.006),
 ]
 QUICK = [RUNS[i] for i in (0, 4, 9, 11, 15, 20, 33, 45)]
 """One run of each integrator and scheme, and of joints, friction, smooth contact and rotations."""

@@ -249,7 +249,9 @@ class Row:
     def command(self, dt: float | None = None) -> str:
         """The command line that reproduces the row (``dt``: the step it ran with, s)."""
         parts = [f"python -m fecontact run {self.case} --t-end {self.t_end:g}"]
-        parts += [f"--set {k}={v}" for k, v in {**self.params, **self.options}.items()]
+        # (a switch as 1 or 0: the command line reads neither True nor False)
+        values = {**self.params, **self.options}.items()
+        parts += [f"--set {k}={int(v) if isinstance(v, bool) else v}" for k, v in values]
         if self.dt_factor != 1.0 and dt:
             parts.append(f"--dt {dt:.6g}")
         return " ".join(parts)
@@ -641,7 +643,8 @@ def run_matrix(rows: list[Row], timeout: float, csv_path=None) -> list[dict]:
         pk = row.label in ("p x1000", "k /100") and res.get("q") is not None
         if pk and reference and reference.get("q") is not None:
             entry["pk_diff"] = state_difference(res, reference, CASES[row.case].length)
-        entry["flags"] = " ".join(flags(entry, reference))
+        # (a default row is its own reference: flagged where it warns at all, as combine() does)
+        entry["flags"] = " ".join(flags(entry, entry if row.label == "default" else reference))
         entry["message"] = res.get("message") or res.get("warning", "")
         table.append(entry)
         if csv_path is not None:

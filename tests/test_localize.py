@@ -226,6 +226,18 @@ def test_hermite_root_of_a_parabola():
     assert slope[0] == pytest.approx(-4 / math.sqrt(2), abs=1e-12)
 
 
+def test_hermite_root_of_one_contact_is_that_of_the_arrays():
+    # one contact takes a path of floats, several the arrays': the same operations in the
+    # same order, so the same root and slope to the bit (equality, no tolerance)
+    rng = np.random.default_rng(7)
+    for _ in range(2000):
+        g0, g1 = rng.uniform(1e-9, 1e-3, 2) * 10.0 ** rng.uniform(-3, 3, 2) * [1, -1]
+        s0, s1 = rng.normal(size=2) * 10.0 ** rng.uniform(-6, 0, 2)
+        one = hermite_root(*(np.array([x]) for x in (g0, s0, g1, s1)))
+        twice = hermite_root(*(np.array([x, x]) for x in (g0, s0, g1, s1)))
+        assert one[0][0] == twice[0][0] and one[1][0] == twice[1][0]
+
+
 def test_option_values_and_errors():
     assert IntegratorOptions(localize=0).localize is False
     assert IntegratorOptions(localize="on").localize is True

@@ -5,7 +5,7 @@ full Newton, to the same answer (docs/validation/localization.md, Cost)."""
 import numpy as np
 
 from fecontact.testing import case, trace
-from fecontact.time import acceleration_form
+from fecontact.time import acceleration_form, newton
 
 
 def counted(monkeypatch, contraction: float):
@@ -36,3 +36,23 @@ def test_rest_of_the_step_by_modified_newton_matches_full_newton(monkeypatch):
     assert np.max(np.abs(held["total"] - full["total"])) <= 1e-8 * scale
     assert np.max(np.abs(held["kinetic"] - full["kinetic"])) <= 1e-8 * scale
     assert held["min_gap"].min() >= -1e-12 and full["min_gap"].min() >= -1e-12
+
+
+def test_step_terms_sorted_once_per_types_as_sorted_each_step(monkeypatch):
+    # the roles a step's terms are put in from their types' places (NewtonPlan.sorted) are
+    # those sorting them gives (newton.roles), term for term, in every step with a pressed
+    # contact of the ball's landing and rebound (identity: no tolerance)
+    checked = []
+    sorted_ = newton.NewtonPlan.sorted
+
+    def compared(plan, terms):
+        terms = list(terms)
+        placed, sorted_each = sorted_(plan, terms), newton.roles(terms)
+        for a, b in zip(placed, sorted_each, strict=True):
+            assert a == b if isinstance(a, list) else a is b
+        checked.append(1)
+        return placed
+
+    monkeypatch.setattr(newton.NewtonPlan, "sorted", compared)
+    r = trace(case("ball_drop").build(refinements=1), t_end=0.004)
+    assert r["status"] == "completed" and checked

@@ -351,15 +351,31 @@ def test_disk_polygon_derivatives(center, piece):
             assert not G[0, 2]  # the disk's own rotation does not enter (frictionless)
 
 
-def test_disk_beam_gaps_choose_one_owner_per_node():
+def test_disk_beam_gaps_are_every_elements_distance_continuous_over_a_node():
     beam = steel_beam(n=4)  # nodes at x = 0, 0.25, 0.5, 0.75, 1
     over_node = disk([0.5, 0.3], radius=0.1)
     pair = Contact(over_node, beam, clearance=0.005)
     bind(pair, [beam, over_node])
-    g = pair.evaluate(np.zeros(3 + beam.ndof))[0]
-    # the node x = 0.5 belongs to element 1 only: element 2 would repeat the same constraint
-    assert g[1] == pytest.approx(0.195) and np.isinf(g[2])
+    g, dofs, G, _ = pair.evaluate(np.zeros(3 + beam.ndof))
+    # both elements at the node x = 0.5 hold it by its distance: one row twice (redundant_rows)
+    assert g[1] == pytest.approx(0.195) and g[2] == pytest.approx(0.195)
     assert np.all(g[[0, 3]] > 0.195)
+    dense = np.zeros((4, 3 + beam.ndof))
+    for e in range(4):
+        dense[e, dofs[e]] = G[e]
+    np.testing.assert_allclose(dense[1], dense[2], rtol=0.0, atol=1e-15)  # (exact, round-off)
+    # across the node the gaps follow the distance: no element's gap jumps (once +inf left of
+    # the node for element 2, which a kink under the disk then made negative at once)
+    for dx in (-1e-7, 0.0, 1e-7):
+        moved = disk([0.5 + dx, 0.3], radius=0.1)
+        pair = Contact(moved, beam, clearance=0.005)
+        bind(pair, [beam, moved])
+        g = pair.evaluate(np.zeros(3 + beam.ndof))[0]
+        # the distance is 0.3 m within dx²/0.6 ≈ 2e-14 m; the line distance's round-off is
+        # 1.7e-14 m, measured: 1e-12 m leaves a factor 30 (the old rule's jump was infinite)
+        np.testing.assert_allclose(g[1:3], 0.195, rtol=0.0, atol=1e-12)
+    pair = Contact(over_node, beam, clearance=0.005)
+    bind(pair, [beam, over_node])
     # bend the beam into a V under the disk: both elements touch it, each by its own line
     q = np.zeros(3 + beam.ndof)
     q[3 * 2 + 1] = -0.02

@@ -177,13 +177,13 @@ class ContactSet(FrictionRows):
         ``DENSE_LIMIT`` free dofs, else sparse (CSR) over the dofs of the contacts with a
         nonzero weight."""
         n = self.n_free
-        G = np.zeros((len(select), n))
         C = _empty_curvature(weights, n)
         if not self.pairs or len(select) == 0:
-            return np.zeros(0), G, _curvature_matrix(C, n)
-        if self._affine is not None:  # affine gaps: no curvature
+            return np.zeros(0), np.zeros((len(select), n)), _curvature_matrix(C, n)
+        if self._affine is not None:  # affine gaps: no curvature (no dense G to fill)
             g0, Gq, Gf = self._affine
             return g0[select] + Gq[select] @ q, Gf[select], _curvature_matrix(C, n)
+        G = np.zeros((len(select), n))
         parts = [pair.evaluate(q) for pair in self.pairs]
         single = len(parts) == 1
         g_all = _gaps_of(parts)

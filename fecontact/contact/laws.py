@@ -389,9 +389,11 @@ def solve_velocity_jump(
     Gd = G.toarray() if sp.issparse(G) else np.asarray(G)
     Y_all = solve_M(Gd.T).reshape(-1, m) if Y is None else Y
     eq = np.zeros(m, bool) if bilateral is None else bilateral
+    law = (p, k, eq, tol, scale)
+    if m and eq.all():  # (every row an equality: the set is known, one solve)
+        return _held_jump(Gd, c, Y_all, law, stats)
     A_prev = None
     W = np.zeros(Y_all.shape[0])
-    law = (p, k, eq, tol, scale)
     redundant = False  # (an active set's rows were redundant: least squares)
     for it in range(1, max_iter + 1):
         A = ((k * Lam - p * gd) > 0) | eq
@@ -410,10 +412,34 @@ def solve_velocity_jump(
         gd = c + Gd @ W
         A_prev = A
     if redundant:  # (an active set cycling between redundant rows)
-        W, Lam, gd = _redundant_jump(Gd, c, Y_all, (W, Lam, gd), law, stats)
-        if tol > 0 and _settled(Lam, gd, p, k, eq, tol, scale):
-            _record(stats, "velocity", Lam, gd, p, k, eq, tol, scale)
-            return W, Lam, max_iter
+        return _cycling_jump(Gd, c, Y_all, (W, Lam, gd), law, stats, max_iter)
+    raise RuntimeError(f"velocity jump: active set did not settle in {max_iter} iterations")
+
+
+def _held_jump(Gd, c, Y, law, stats):
+    """:func:`solve_velocity_jump` where every row is an equality (joints, held contacts):
+    the active set is every row, so its first solve is the jump (the loop took a second
+    iteration to see the set repeat); least squares on redundant rows as there."""
+    p, k, eq, tol, scale = law
+    # (the rows taken as the loop takes a set: copies in its layout, the same round-off)
+    Lam, singular = _kkt(k * (Gd[eq] @ Y[:, eq]), -c[eq], stats)
+    W = k * (Y @ Lam)
+    gd = c + Gd @ W
+    if singular:
+        W, Lam, gd = _redundant_jump(Gd, c, Y, (W, Lam, gd), law, stats)
+    _record(stats, "velocity", Lam, gd, p, k, eq, tol, scale)
+    return W, Lam, 1
+
+
+def _cycling_jump(Gd, c, Y, jump, law, stats, max_iter: int):
+    """The jump (W, Λ, ġ) whose active sets cycled between redundant rows for ``max_iter``
+    iterations, solved again by :func:`_redundant_jump`: (W, Λ, ``max_iter``) where the law
+    then holds to its tolerance; raises RuntimeError otherwise."""
+    p, k, eq, tol, scale = law
+    W, Lam, gd = _redundant_jump(Gd, c, Y, jump, law, stats)
+    if tol > 0 and _settled(Lam, gd, p, k, eq, tol, scale):
+        _record(stats, "velocity", Lam, gd, p, k, eq, tol, scale)
+        return W, Lam, max_iter
     raise RuntimeError(f"velocity jump: active set did not settle in {max_iter} iterations")
 
 

@@ -216,12 +216,12 @@ class DiskBeamContact(_Pair):
     the segment it is the distance to the segment's line, signed by the side of the element
     the disk is on, decided over each step from its motion (:mod:`.beam_sides`: the side it
     came from if its centre's path crossed the element, else where it is); at an end it is
-    the distance to that node. A node shared by two
-    elements belongs to the element before it, so a disk over a straight or convex part of
-    the beam has one closed contact there, and a disk resting in a kink (the beam bent around
-    it) one on each side. Where an element's closest point is its first node and that node
-    belongs to the previous element, the gap is +inf (gradient 0): the previous element's
-    gap is never larger. The contact point thus slides from element to element. Each contact
+    the distance to that node. Every element has its gap, continuous in the configuration:
+    a disk over a node shared by two elements is held by both, by one row twice where both
+    clip to the node (a straight or convex node: redundant rows, minimum-norm multipliers)
+    and by the two lines in a kink (the beam bent around it). (Given to the element before it
+    alone, the node left the next element's gap +inf, which a kink under the disk turned
+    negative within a step: docs/explanation/energy_ledger.md.) Each contact
     depends on the disk's centre and on the translations of the element's two nodes.
     """
 
@@ -245,6 +245,8 @@ class DiskBeamContact(_Pair):
         if f[e] == 0.0 and 0.0 < xi[e] < 1.0:
             raise InputError("the disk centre lies on the beam centreline at t = 0")
         self._start = None  # line coordinates (t₀, f₀) of the centre at the step's start
+
+    redundant_rows = True  # (two elements clipped to their shared node: one row twice)
 
     def _project(self, P, x):
         """Parameter ξ ∈ [0, 1] of the closest point of each element, distance from P to the
@@ -287,9 +289,9 @@ class DiskBeamContact(_Pair):
         E = self.size
         g, G = np.full(E, np.inf), np.zeros((E, 6))
         H = np.zeros((E, 6, 6))
-        # clipped to a node: its own end node, or the first node of the first element
+        # clipped to a node: its end node or its first node, every element its own distance
         at_end = xi == 1.0
-        at_end_node = (xi == 0.0) & (np.arange(E) == 0)
+        at_end_node = xi == 0.0
         # the line holds a centre that went through the element, even at an end node (at a
         # node shared with the previous element both hold it: the beam may kink there)
         inner = ((xi > 0.0) & (xi < 1.0)) | crossed

@@ -55,8 +55,8 @@ class AccelerationForm:
     ``law``: unused (the step needs nothing else)."""
 
     __slots__ = (
-        "S armijo csc dq group held lie model newton opts plain plan previous r ref rnorm s "
-        "small solve step x"
+        "S armijo csc dq first group held lie model newton opts plain plan previous r ref rnorm "
+        "s small solve step x"
     ).split()
 
     def __init__(self, newton, st, c, t: float, P, law=None):  # (newton: the loop)
@@ -67,7 +67,8 @@ class AccelerationForm:
         # same matrix as ``tocsc``); an iterative or automatic solver takes S_t as it is
         direct = model.solver.name in ("direct", "superlu") and not model.dense
         self.csc = model.pattern.csc if direct else None
-        self.lie = None  # (on a group: one LieStep for the run's steps, begun at each)
+        # (on a group: one LieStep for the run's steps, begun at each; :func:`_inertia`'s)
+        self.lie, self.first = None, (None, None)
         self.begin(st, c, t, P, law)
 
     def begin(self, st, c, t: float, P, law=None) -> None:
@@ -101,7 +102,7 @@ class AccelerationForm:
             newton.elastic.evaluate(step, it)
         else:
             newton.evaluate(it, None if self.armijo is None else lambda i: _armijo(self, i))
-        Mvd = self.model.M @ step.vd[self.model.free_slice]
+        Mvd = _inertia(self, it)
         r = Mvd
         for term in newton.forced:
             r = term.residual(r)
@@ -295,6 +296,21 @@ class AccelerationForm:
         if self.S is not None and self.plain and not _holding(self.held):
             return (self.S, self.solve) if self.newton.joints is None else None
         return None
+
+
+def _inertia(form: AccelerationForm, it: int) -> np.ndarray:
+    """M v̇ (N) at the ``form``'s iterate. At the predictor v̇ = v̇_n whatever the step size,
+    so another step from the same state (a located impact's refining smooth step, after its
+    trial) takes the product its first step made, handed out as a copy (a force term may add
+    into the loop's residual in place)."""
+    step, model = form.step, form.model
+    if it == 0 and form.lie is None:
+        st, Mvd = form.first
+        if st is not step.st:
+            Mvd = model.M @ step.vd[model.free_slice]
+            form.first = (step.st, Mvd)
+        return Mvd.copy()
+    return model.M @ step.vd[model.free_slice]
 
 
 def _armijo(form: AccelerationForm, it: int) -> None:

@@ -65,7 +65,9 @@ def velocity_jump(
     if held is not None:
         cons.bilateral[: closed.size] = held
     _, G1 = cons.jacobian(q)
-    e = np.concatenate([model.contacts.restitution[closed], np.zeros(model.joints.size)])
+    e = model.contacts.restitution[closed]  # (a copy: the held rows' are set to zero)
+    if model.joints.size:
+        e = np.concatenate([e, np.zeros(model.joints.size)])
     if held is not None:
         e[: closed.size][held] = 0.0
     gdot = G1 @ v[F]
@@ -97,7 +99,9 @@ def velocity_jump(
         return W, lam_n, its, (lam_t, status, work), works
     Y = constraint_columns(model, ("mass",), closed, G1, model.solve_M, cons, constant=True)
     # the last step's impulses: warm start
-    P0 = np.concatenate([st.impulse[closed], np.zeros(model.joints.size)])
+    P0 = st.impulse[closed]
+    if model.joints.size:
+        P0 = np.concatenate([P0, np.zeros(model.joints.size)])
     W, P, its = impact_law(G1, gdot, model.solve_M, Y, opts, cons.bilateral, P0, tol)
     works = impulse_work(P, rates, rates + G1 @ W, closed.size, 0)
     P[: closed.size] = _without_round_off(P[: closed.size], preload)

@@ -48,6 +48,7 @@ in ``localization_cost`` with the factorizations made for them.
 
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
@@ -96,6 +97,8 @@ MASS_COLUMNS = ("mass",)
 
 _GRID = np.linspace(0.0, 1.0, 33)
 """The samples of s at which the first sign change of a Hermite cubic is sought."""
+_SAMPLES = _GRID.tolist()
+_EPS = float(np.finfo(float).eps)
 
 LAST = 1e-9
 """Fraction of the step: an impact that closes this near its end ends the step."""
@@ -243,7 +246,7 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list):
     tol, rows, tau, rate, g0 = crossing
     stats = opts.stats.localization
     reason = None
-    beside = np.any(st.pressed() & (phases.g_tilde <= tol))  # a contact pressed throughout
+    beside = (st.pressed() & (phases.g_tilde <= tol)).any()  # a contact pressed throughout
     if done >= MAX_IMPACTS or (done and left < MIN_REST * h):
         reason = "accumulation"
     elif beside and not frictionless_solids(model):
@@ -253,8 +256,7 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list):
     elif beside and done + _instants(tau, TOGETHER * h / left) > MAX_IMPACTS:
         reason = "accumulation"  # (a patch whose rings the step could not all locate)
     else:
-        together = np.flatnonzero(tau <= tau.min() + TOGETHER * h / left)
-        k = together[np.argmax(tau[together])]  # the last of those taken together
+        k = _last_together(tau, TOGETHER * h / left)
         if -rate[k] * left <= GRAZING * tol:
             reason = "grazing"
     if reason is None:
@@ -264,6 +266,16 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list):
         reason = "unrefined"
     stats.fallbacks[reason] += 1
     return None
+
+
+def _last_together(tau: np.ndarray, within: float) -> int:
+    """Which of the crossings at ``tau`` (fractions of the step's rest) the step refines: the
+    last of those within ``within`` of the earliest (the correction closes the others with
+    it at its instant)."""
+    if tau.size == 1:  # (one crossing: most located steps)
+        return 0
+    together = np.flatnonzero(tau <= tau.min() + within)
+    return int(together[np.argmax(tau[together])])
 
 
 def _instants(tau: np.ndarray, together: float) -> int:
@@ -283,20 +295,43 @@ def _crossing(model, st, phases, left, opts):
     g1 = phases.g_tilde
     g0 = st.gaps if st.gaps.size == contacts.size else contacts.gaps(st.q)
     low = opts.tol_gap * model.length  # a lower bound of tol: decides most steps at no cost
-    if not np.any((g1 < -low) & (g0 > low)):
+    if not ((g1 < -low) & (g0 > low)).any():
         return None
     tol = opts.tol_gap * length_scale(model, phases.q)
     closing = (g1 < -tol) & (g0 > tol)
     if not closing.any():
         return None
     rows = (closing & np.isfinite(g0)).nonzero()[0]
-    F = model.free
+    F = model.free_slice  # (a view where the free dofs are contiguous: no copies)
     _, G0 = contacts.jacobian(st.q, rows)
     G1 = G0 if contacts.affine else contacts.jacobian(phases.q, rows)[1]  # (affine: constant)
     s0, s1 = left * (G0 @ st.v[F]), left * (G1 @ phases.v[F])  # slopes in s
     half = 0.5 * tol  # (aimed inside the tolerance, on the open side: no correction)
     tau, slope = hermite_root(g0[rows] - half, s0, g1[rows] - half, s1)
+    keep = one_closing_per_node(contacts.twins, rows, tau)
+    rows, tau, slope = rows[keep], tau[keep], slope[keep]
     return tol, rows, tau, slope / left, g0[rows]
+
+
+def one_closing_per_node(twins, rows: np.ndarray, tau: np.ndarray) -> np.ndarray:
+    """Which of the crossing ``rows`` (instants ``tau``) stand for their node: of two twin
+    rows (``twins``: a mortar node's weighted row and its pointwise row,
+    :func:`fecontact.contact.mortar_safeguard.twin_rows`; None: none) that both cross, the
+    earlier instant (the first row on a tie). A pointwise row reads a placeholder gap while
+    its node is shallower than half its allowance, so its Hermite instant is not the node's;
+    counted as one more instant it made a ring of closings beside a pressed pole look like
+    an accumulation, and the step was left whole."""
+    keep = np.ones(rows.size, dtype=bool)
+    if twins is None or not rows.size:
+        return keep
+    where = np.full(twins.size, -1)
+    where[rows] = np.arange(rows.size)
+    twin = twins[rows]
+    partner = np.where(twin >= 0, where[np.maximum(twin, 0)], -1)  # its index among rows
+    both = partner >= 0
+    other = np.where(both, partner, 0)
+    later = (tau > tau[other]) | ((tau == tau[other]) & (rows > rows[other]))
+    return ~(both & later)
 
 
 def hermite_root(g0, s0, g1, s1, samples: int = 32, iterations: int = 30):
@@ -305,6 +340,10 @@ def hermite_root(g0, s0, g1, s1, samples: int = 32, iterations: int = 30):
     on ``samples`` intervals, then Newton kept inside it (bisection where it leaves), to
     round-off (p within a few ulps of its largest term of zero, or a Newton step that no
     longer moves s by more than a few ulps)."""
+    if g0.size == 1 and samples == _GRID.size - 1:  # (one closing: most located steps)
+        found = _hermite_root_one(*(float(x[0]) for x in (g0, s0, g1, s1)), iterations)
+        if found is not None:
+            return found
     # p(s) = g0 + s0 s + c2 s² + c3 s³, by Horner (a dozen array operations fewer than the
     # Hermite basis: the root of the step's one or few closings costs 15 µs, not 60)
     d = g1 - g0
@@ -344,6 +383,44 @@ def hermite_root(g0, s0, g1, s1, samples: int = 32, iterations: int = 30):
     return s, dp(s)
 
 
+def _hermite_root_one(g0: float, s0: float, g1: float, s1: float, iterations: int):
+    """:func:`hermite_root` of one contact in floats, on ``_GRID``: the same operations in
+    the same order (so the same root to the bit) without the arrays' overhead, on a ball's
+    first closing 40 → 6 µs of its crossing's search; None where a value is not finite
+    (NaN and inf: left to the arrays)."""
+    d = g1 - g0
+    c2, c3 = 3.0 * d - 2.0 * s0 - s1, s0 + s1 - 2.0 * d
+    if not all(map(math.isfinite, (g0, s0, g1, s1, c2, c3))):  # (the arrays' own way)
+        return None
+    values = []
+    for s in _SAMPLES:  # (up to the first sign change: the samples after it are not read)
+        values.append(((c3 * s + c2) * s + s0) * s + g0)
+        if values[-1] <= 0.0:
+            break
+    first = len(values) - 1 if values[-1] <= 0.0 else 0  # (no sign change: argmax's 0)
+    if first == 0:  # (no sign change, or p(0) ≤ 0 outside the contract: every sample)
+        values = [((c3 * s + c2) * s + s0) * s + g0 for s in _SAMPLES]
+    a, b = _SAMPLES[first - 1], _SAMPLES[first]
+    pa, pb = values[first - 1], values[first]
+    s = a - pa * (b - a) / (pb - pa)
+    eps = _EPS
+    small = 8.0 * eps * max(max(abs(g0), abs(g1)), max(abs(s0), abs(s1)))
+    for _ in range(iterations):
+        ps = ((c3 * s + c2) * s + s0) * s + g0
+        if abs(ps) <= small:
+            break
+        if ps <= 0.0:
+            b = s
+        else:
+            a = s
+        newton = s - ps / ((3.0 * c3 * s + 2.0 * c2) * s + s0)
+        if abs(newton - s) <= 4.0 * eps * s:
+            s = newton
+            break
+        s = newton if a < newton < b else 0.5 * (a + b)
+    return np.array([s]), np.array([(3.0 * c3 * s + 2.0 * c2) * s + s0])
+
+
 def _refine(model, st, phases, left, j, guess, tol, opts, timer):
     """(δ, the phases of the smooth step of δ from ``st`` that ends with 0 ≤ g_j ≤ ``tol``):
     regula falsi (Illinois) on g_j − tol/2 over δ ∈ (0, left) from the Hermite ``guess`` (τ,
@@ -354,7 +431,7 @@ def _refine(model, st, phases, left, j, guess, tol, opts, timer):
     half = 0.5 * tol  # (the aim: 0 ≤ g ≤ tol, no position correction, module docstring)
     a, ga = 0.0, float(g0) - half
     b, gb = left, float(phases.g_tilde[j]) - half
-    delta, side = tau * left, 0
+    delta, side = float(tau) * left, 0  # (a float: the split's times and sizes are floats)
     for _ in range(MAX_REFINE):
         trial = smooth_phases(model, st, delta, opts, timer)
         stats.smooth_steps += 1
@@ -363,7 +440,7 @@ def _refine(model, st, phases, left, j, guess, tol, opts, timer):
         g = float(trial.g_tilde[j]) - half
         if abs(g) <= half:
             return delta, trial
-        if not np.isfinite(g):
+        if not math.isfinite(g):
             return None
         if g > 0.0:
             a, ga, gb = delta, g, (0.5 * gb if side > 0 else gb)

@@ -99,8 +99,8 @@ class NewtonPlan:
     iteration where the rows' active set holds after it (:meth:`ForceTerm.solved`)."""
 
     __slots__ = (
-        "terms reuse descent halving bound name group roles bare form last_loop exact".split()
-    )
+        "terms reuse descent halving bound name group roles bare form last_loop exact sorts"
+    ).split()
 
     def __init__(
         self,
@@ -125,6 +125,30 @@ class NewtonPlan:
         self.bare = None if fixed else (per_step, roles(t for t in self.terms if not t.per_step))
         self.last_loop: SmoothNewton | None = None
         self.exact = False  # (set by the plans whose updates are exact, alpha_plan)
+        self.sorts: dict = {}  # (the places of each role, by the types of a step's terms)
+
+    def sorted(self, terms) -> Roles:
+        """The :class:`Roles` of a step's ``terms``: a term's roles are its type's, so they
+        are sorted once per sequence of types and the step's terms put in their places (a
+        third of the time of sorting them, at every step of a lasting contact)."""
+        terms = list(terms)
+        key = tuple(map(type, terms))
+        places = self.sorts.get(key)
+        if places is None:
+            where = {id(term): i for i, term in enumerate(terms)}
+            places = self.sorts[key] = [
+                tuple(where[id(t)] for t in role) if isinstance(role, list) else where.get(id(role))
+                for role in roles(terms)
+            ]
+        # (the lists by map over the places, one Python frame for all roles: this runs at
+        # every step of a lasting contact and at the rest of a located impact's step)
+        at = terms.__getitem__
+        return Roles(
+            *[
+                list(map(at, p)) if type(p) is tuple else None if p is None else at(p)
+                for p in places
+            ]
+        )
 
     def loop(self, model, opts, timer) -> SmoothNewton:
         """The run's loop over this plan for ``model`` with the run's settings ``opts`` and
@@ -201,7 +225,7 @@ class SmoothNewton:
             else:
                 made = iter(own)
                 begun = [next(made) if t.per_step else t.begin(step) for t in plan.terms]
-                self._sort(roles(term for term in begun if term is not None))
+                self._sort(plan.sorted(term for term in begun if term is not None))
         self.clock = time.perf_counter()
         return self
 

@@ -224,7 +224,7 @@ class _Phases:
             self.iters["position"] += its
             return U, nu_w, (nu_t, U_t)
         nu0 = st.nu[work] / opts.multiplier_scale  # warm start: the previous step's
-        held = None if self.force is None else self.force[work] > 0.0
+        held = _held(self.force, work, opts.restarts)
         U, nu_w, its = position_correction(
             model, q_tilde, work, metric, c, opts, self.tol_gap, nu0, held
         )
@@ -444,6 +444,16 @@ def _pushed(cand, gaps, tol_gap: float, redundant: bool) -> np.ndarray:
     lands with the other three, and whether it shares their load must not depend on the
     round-off of its gap."""
     return cand[gaps <= tol_gap] if redundant else cand[gaps < -tol_gap]
+
+
+def _held(force, work, restarts: bool):
+    """The mask over ``work`` of the contacts that the correction holds as equalities: those a
+    smooth ``force`` presses, where the acceleration ``restarts`` after an impact (solids,
+    rigid bodies), whose restart keeps their force; None elsewhere. On beams two rows at a
+    node (the elements each side of a disk pressed into the strip's kink) held so took
+    opposite impulses of 6.6e3 N·s (docs/explanation/energy_ledger.md, *Lasting contact of
+    beams*)."""
+    return None if force is None or not restarts else force[work] > 0.0
 
 
 def _impact(nu, struck, held) -> bool:

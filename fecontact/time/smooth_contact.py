@@ -148,6 +148,9 @@ class SmoothContacts:
         self.g = self.G = None
         self.active = np.zeros(P.size, bool)
         self.solved = None  # the active set of the last update that enforced its gaps
+        # (affine gaps: finite, their gradients constant, so the rows that can hold are
+        # known from the first update: :meth:`_next_active_set`)
+        self.affine, self.live = model.contacts.affine, None
 
     def update(self, q: np.ndarray, curvature: bool) -> None:
         """Gaps, gradients (and, with ``curvature``, the curvature −Σ_A λ_j ∇²g_j of the
@@ -169,7 +172,12 @@ class SmoothContacts:
         # (a row whose gap is undefined, g = +inf, or whose gradient is zero holds nothing: a
         # deep node's own row reports a finite far gap once the node is out; kept, its force
         # would stay as it came, untouched by a singular update, and its gap never close)
-        holds = (self.lam > 0.0) & (g < np.inf) & G.any(axis=1)
+        live = self.live
+        if live is None:
+            live = (g < np.inf) & G.any(axis=1)
+            if self.affine:
+                self.live = live
+        holds = (self.lam > 0.0) & live
         if self.solved is None:
             return holds | (g < 0.0)
         return np.where(self.active, holds, g < 0.0)
@@ -211,7 +219,7 @@ class SmoothContacts:
         only after an update has enforced them (then to round-off where they are linear, as
         in the position correction), not because the predictor lands within tolerance."""
         A = self.active
-        if A.any() and not np.array_equal(A, self.solved):
+        if A.any() and (self.solved is None or not (A == self.solved).all()):
             return False
         worst = max(np.abs(self.g[A]).max(initial=0.0), (-self.g[~A]).max(initial=0.0))
         return admits(worst)
@@ -223,10 +231,11 @@ class SmoothContacts:
         it fails the loop evaluates the residual, which updates the set once, as after any
         update."""
         A = self.active
-        if self.solved is None or not np.array_equal(A, self.solved):
+        # ((A == B).all(): np.array_equal's checks cost more, on arrays of P's one size)
+        if self.solved is None or not (A == self.solved).all():
             return False
         g, G, _ = self.contacts.linearize(q, self.P)
-        if not np.array_equal(self._next_active_set(g, G), A):
+        if not (self._next_active_set(g, G) == A).all():
             return False
         return admits(max(np.abs(g[A]).max(initial=0.0), (-g[~A]).max(initial=0.0)))
 
@@ -317,15 +326,14 @@ def force_shares(model, st, c, force, force_t, restart=None) -> tuple[np.ndarray
     (rows, forces (rows, dim)), the restart's forces in both (v̇ = a)."""
     m, dim = model.contacts.size, model.dim
     lam = np.zeros((m, dim))
+    if restart is not None:
+        rows, forces = restart
+        lam[rows] = forces
+        return lam, lam.copy()
     if force is not None:
         lam[:, 0] = force
         if force_t is not None:
             lam[:, 1:] = force_t
-    if restart is not None:
-        rows, forces = restart
-        lam = np.zeros((m, dim))
-        lam[rows] = forces
-        return lam, lam.copy()
     if st.smooth is None:
         in_vd = in_a = np.zeros((m, dim))
     else:

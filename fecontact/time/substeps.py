@@ -91,6 +91,12 @@ class Localizer:
         self.closed = st.t  # a closing: the step again, in sub-steps
         return self._subdivided(model, st, h, opts, timer)
 
+    def _resting(self) -> None:
+        """Note the forces of a state that presses no contact as zeros: its mean forces
+        λ + kΛ/h are ≤ 0, and the next :meth:`_releasing` finds a force falling only from a
+        positive one, so zeros read as they would (without making them)."""
+        self.force = np.zeros(self.force.size)
+
     def _releasing(self, st: State, within: float = RELEASE) -> bool:
         """Whether a contact's mean force, falling from the step before ``st``'s to
         ``st``'s, reaches zero within ``within`` steps along that line (its release); notes
@@ -145,7 +151,9 @@ class Releases(Localizer):
 
     def __call__(self, model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
         pressed = st.pressed().any()
-        if self._releasing(st, READ_RELEASE) and pressed:
+        if not pressed:  # (no force to fall: most steps)
+            self._resting()
+        elif self._releasing(st, READ_RELEASE):
             self._drop_spent(st.t)
             if st.t > self._reading(model, opts, timer)[1]:
                 self.pending = (st, h)
