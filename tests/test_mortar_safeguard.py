@@ -237,3 +237,27 @@ def test_a_node_behind_a_dented_vertex_reads_the_facet_it_is_under():
     assert np.linalg.norm(G[j, :3]) == pytest.approx(1.0, abs=1e-12)  # (a plane's normal)
     err_g, err_h = gap_derivatives_error(rows, q, 1e-9)
     assert err_g < 1e-6 and err_h < 1e-4  # as for the pole above: truncation (h/ε)²
+
+
+def test_k_does_not_move_the_balls_whose_rows_close_picoseconds_apart():
+    """``two_balls`` through its first 0.45 ms at k and k ÷ 100. At 0.404 ms two master nodes'
+    rows cross half their allowance 2e-11 s apart and are taken together at the later
+    instant; the correction that puts back the earlier lifts the later 3.5 gap tolerances
+    out, and left open by the jump it closed again 1.8e-12 s later, in a smooth step too
+    short to determine its contact forces: their sign (a row pressed or not) followed k,
+    and k ÷ 100 moved the run by 6.5e-3 of its speed by 0.45 ms. The jump closes every row
+    taken together."""
+    from fecontact import simulate
+    from fecontact.testing import case
+
+    ends = []
+    for k in (1.0, 1e-2):
+        sim = case("two_balls").build(t_end=4.5e-4)
+        opts = dataclasses.replace(sim.options, multiplier_scale=sim.options.multiplier_scale * k)
+        *_, end = simulate(sim.model, sim.dt, sim.t_end, opts, q0=sim.q0, v0=sim.v0)
+        ends.append(end)
+    a, b = ends
+    # round-off of the run (measured 2.5e-18 in q over the length, 2.4e-14 in v over the
+    # speed), far below the 1e-6 by which p and k may move a case at most; 6.5e-3 in v before
+    assert np.abs(a.q - b.q).max() <= 1e-9 * sim.model.length
+    assert np.abs(a.v - b.v).max() <= 1e-9 * np.abs(a.v).max()

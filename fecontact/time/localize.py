@@ -261,7 +261,8 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list):
             reason = "grazing"
     if reason is None:
         found = _refine(model, st, phases, left, rows[k], (tau[k], g0[k]), tol, opts, timer)
-        if found is not None:
+        if found is not None:  # (the jump closes every row taken together: nsga._closed)
+            found[1].together = rows[tau <= tau.min() + TOGETHER * h / left]
             return found
         reason = "unrefined"
     stats.fallbacks[reason] += 1
