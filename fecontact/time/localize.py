@@ -287,9 +287,9 @@ def _instants(tau: np.ndarray, together: float) -> int:
 
 def _crossing(model, st, phases, left, opts):
     """(tol, rows, τ, ġ(τ), g_0) of the contacts open at the start of the trial ``phases`` whose
-    gap at its end is below −tol (rows: those with a gap known at both ends, τ their Hermite
-    crossing as a fraction of ``left``, ġ(τ) their closing speed there in m/s, g_0 their gaps
-    at the start), or None where no gap crosses; sets the trial's gaps at q̃."""
+    gap at its end is below −tol (rows: a gap known at both ends, one per node, τ their
+    Hermite crossing as a fraction of ``left``, ġ(τ) their closing speed in m/s, g_0 their
+    gaps at the start), or None where no gap crosses; sets the trial's gaps at q̃."""
     contacts = model.contacts
     if phases.g_tilde is None and not _penetrates(model, phases, opts):
         return None
@@ -310,6 +310,9 @@ def _crossing(model, st, phases, left, opts):
     half = 0.5 * tol  # (aimed inside the tolerance, on the open side: no correction)
     tau, slope = hermite_root(g0[rows] - half, s0, g1[rows] - half, s1)
     keep = one_closing_per_node(contacts.twins, rows, tau)
+    sloped = G0.any(axis=1)  # (a deep node's row above half its allowance: no gradient)
+    if (keep & sloped).any():  # (a placeholder's instant is not its node's: the master's
+        keep &= sloped  # nodes have no twin; ball_on_slab at 10 m/s, localization.md)
     rows, tau, slope = rows[keep], tau[keep], slope[keep]
     return tol, rows, tau, slope / left, g0[rows]
 
@@ -365,11 +368,8 @@ def hermite_root(g0, s0, g1, s1, samples: int = 32, iterations: int = 30):
     s = a - pa * (b - a) / (pb - pa)  # the chord's root, then Newton
     eps = np.finfo(float).eps
     # round-off of p: a few ulps of its largest term
-    small = (
-        8.0
-        * eps
-        * np.maximum(np.maximum(np.abs(g0), np.abs(g1)), np.maximum(np.abs(s0), np.abs(s1)))
-    )
+    big = np.maximum(np.maximum(np.abs(g0), np.abs(g1)), np.maximum(np.abs(s0), np.abs(s1)))
+    small = 8.0 * eps * big
     for _ in range(iterations):
         ps = p(s)
         if (np.abs(ps) <= small).all():  # (the method: np.all's wrapper costs as much)
