@@ -244,7 +244,6 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list):
     if not kept:
         kept.extend(cache_keys(model))
     tol, rows, tau, rate, g0 = crossing
-    stats = opts.stats.localization
     reason = None
     beside = (st.pressed() & (phases.g_tilde <= tol)).any()  # a contact pressed throughout
     if done >= MAX_IMPACTS or (done and left < MIN_REST * h):
@@ -261,11 +260,12 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list):
             reason = "grazing"
     if reason is None:
         found = _refine(model, st, phases, left, rows[k], (tau[k], g0[k]), tol, opts, timer)
-        if found is not None:  # (the jump closes every row taken together: nsga._closed)
-            found[1].together = rows[tau <= tau.min() + TOGETHER * h / left]
+        if found is not None:  # (the jump closes the rows taken together: nsga._closed)
+            t = tau <= tau.min() + TOGETHER * h / left
+            found[1].together = (rows[t], -rate[t] * TOGETHER * h)
             return found
         reason = "unrefined"
-    stats.fallbacks[reason] += 1
+    opts.stats.localization.fallbacks[reason] += 1
     return None
 
 

@@ -181,7 +181,7 @@ class _Phases:
             short &= ~(persistent[cand] & (g_cand >= -self.tol_gap))
         # (count_nonzero: a third of the time of any() on a few contacts)
         if not np.count_nonzero(short):  # (closed: the contacts closed where the step ends)
-            self.closed = _closed(cand, g_cand, self.tol_gap, self.together)
+            self.closed = _closed(cand, g_tilde, self.tol_gap, self.together)
             return
         was_active = st.nu[cand] > 0.0 if st.nu.size == m else False
         if self.force is not None:  # contacts pressed by the smooth step stay closed (held)
@@ -211,7 +211,7 @@ class _Phases:
             self.record.work += f[model.free] @ U_t
         self.Gb = None  # the joints' gradient moved with q
         self.corrected = None if opts.restarts else (q_tilde, metric[1])
-        self.closed = _closed(cand, self.gaps[cand], self.tol_gap, self.together)
+        self.closed = _closed(cand, self.gaps, self.tol_gap, self.together)
 
     def _corrected(self, q_tilde, work, metric):
         """(U, k ν_N, (k ν_T, U_T) with friction else None) of the correction on ``work``."""
@@ -439,14 +439,18 @@ def _energy(model, q, v) -> float:
 
 
 def _closed(cand, gaps, tol_gap: float, together) -> np.ndarray:
-    """The candidates ``cand`` (gaps ``gaps``) the velocity jump closes: those within
-    ``tol_gap``, and the rows a located impact takes ``together`` (None: none) whatever
-    their gap. The correction that puts back the earlier of two rows closing at one
-    instant can lift the later out by a few tolerances (a neighbouring node, moved with
-    it in the metric); left open, it closed again picoseconds later, in a smooth step too
-    short to determine its contact forces (their sign then followed k)."""
-    closed = cand[gaps <= tol_gap]
-    return closed if together is None else np.union1d(closed, together)
+    """The candidates ``cand`` the velocity jump closes (``gaps``: every contact's): those
+    within ``tol_gap``, and the rows a located impact takes together, ``together`` = (rows,
+    reach (m): how far each closes within the window of rows taken together; None: none),
+    within ``tol_gap`` + reach. The correction that puts back the earlier of two rows that
+    close at one instant can lift the later a few tolerances out (a neighbouring node, moved
+    with it); left open, it closed again picoseconds later, in a smooth step too short to
+    determine its contact forces, whose signs then followed k (``two_balls.md``)."""
+    closed = cand[gaps[cand] <= tol_gap]
+    if together is None:
+        return closed
+    rows, reach = together
+    return np.union1d(closed, rows[gaps[rows] <= tol_gap + reach])
 
 
 def _pushed(cand, gaps, tol_gap: float, redundant: bool) -> np.ndarray:
