@@ -11,7 +11,9 @@ body that is no beam strikes it, not where another beam meets it along its lengt
   rods (tests/test_beam3d_contact.py's scene, 10 elements each), a 10-element rod across a
   free capsule and flat on a free box, two planar strips crossing at 14° at 2 and 20 m/s
   (tests/test_two_sided_beams.py's scene); created / scale;
-- steps: the 300 m/s strikes at h = 0.1 ms to h/8, plane and space.
+- steps: the strikes at 30, 100 and 300 m/s at h = 0.1 ms to h/8, plane and space: created /
+  scale and the step halvings (those of a step that turned a beam node by more than a
+  quarter turn among them, fecontact/time/turns.py).
 
     python benchmarks/beam_strike.py           # about 3 minutes on one core
     python benchmarks/beam_strike.py --quick   # one row of each table
@@ -149,10 +151,10 @@ def height_row(name, fraction):
     return row
 
 
-def step_row(x, divisor, dim):
-    _, status, created, halvings = run(*strike(dim, x, 300.0), 1e-4 / divisor, 0.004)
-    return {"x (m)": x, "h (s)": 1e-4 / divisor, "dim": dim, "status": status,
-            "created": created, "halvings": halvings}  # fmt: skip
+def step_row(x, speed, divisor, dim):
+    _, status, created, halvings = run(*strike(dim, x, speed), 1e-4 / divisor, 0.004)
+    return {"x (m)": x, "speed (m/s)": speed, "h (s)": 1e-4 / divisor, "dim": dim,
+            "status": status, "created": created, "halvings": halvings}  # fmt: skip
 
 
 def main():
@@ -163,12 +165,15 @@ def main():
     names = ("crossing rods",) if args.quick else tuple(SCENES)
     heights = [height_row(n, f) for n in names for f in fractions]
     divisors = (2,) if args.quick else (1, 2, 4, 8)
-    steps = [step_row(x, k, d) for x in (0.525, 0.5) for k in divisors for d in (2, 3)]
+    fast = (300.0,) if args.quick else (30.0, 100.0, 300.0)
+    steps = [
+        step_row(x, v, k, d) for x in (0.525, 0.5) for v in fast for k in divisors for d in (2, 3)
+    ]
     sections = (
         ("Twins: the ball on the spatial strip against the disk on the planar one.", twins),
         ("Drop heights a fraction of a step apart, settling and not (created / scale).",
          heights),
-        ("The 300 m/s strikes against the step.", steps),
+        ("The strikes at 30, 100 and 300 m/s against the step.", steps),
     )  # fmt: skip
     title = "A moving body striking a beam along its length" + (" (quick)" if args.quick else "")
     text = report(title, *sections)

@@ -62,3 +62,50 @@ def test_the_eigendecomposition_is_made_after_n_over_32_factorizations():
     counts = model.ladder.counts
     assert model.ladder.after == grid_after
     assert counts["factorizations"] == grid_after and counts["spectral"] == 1
+
+
+def test_a_contact_update_in_the_modes_is_the_update_through_the_factors():
+    """A persistent contact's Newton update at a size solved through the eigendecomposition
+    is made in the modes, Φᵀ G_jᵀ kept per contact (SmoothContacts._modal_update): the
+    update and the multipliers are those of the Schur complement through S(a)'s own factors,
+    at the first size and at another that takes the kept columns."""
+    from types import SimpleNamespace
+
+    from fecontact.contact.stats import ContactStats
+    from fecontact.time.smooth_contact import SmoothContacts
+
+    model = plate()
+    n, rng = model.n_free, np.random.default_rng(1)
+    G = np.zeros((4, n))  # four contacts, constant gradients on a few dofs each
+    for j in range(4):
+        G[j, rng.choice(n, 3, replace=False)] = rng.normal(size=3)
+    g = np.array([-1e-6, 2e-6, -3e-6, 1e-3])  # the last open: outside the active set
+    contacts = SimpleNamespace(
+        linearize=lambda q, P, w: (g[P], G[P], None), affine=True, linear=True
+    )
+    fake = SimpleNamespace(contacts=contacts, joints=SimpleNamespace(size=0, linear=True))
+    fake.n_free, fake.column_cache = n, {}
+    opts = SimpleNamespace(stats=SimpleNamespace(contact=ContactStats()))
+    a_h = 1.0 / (0.25 * 1e-4**2)
+    model.iteration_matrix(a_h, 0.0)  # (the ladder, with the run's own size)
+    model.ladder.after = 0  # (the eigendecomposition at the next size met once)
+    r = rng.normal(size=n)
+    for a, only in ((1.7 * a_h, False), (0.3 * a_h, False), (0.8 * a_h, True)):
+        if only:  # (one contact pressed, its kept column: the most common located impact)
+            g[:] = [1e-3, -2e-6, 1e-3, 1e-3]
+        spectral = model.ladder.solver(a, None)
+        assert type(spectral) is ladder.Spectral
+        S = model.iteration_sum(a, model.ladder.K)
+        exact = spla.splu(S.tocsc()).solve
+        updates = []
+        for solve, key in ((spectral, (a, 0.0)), (exact, None)):
+            force0 = np.array([0.0, 2.0, 0.0, 0.0] if only else [1.0, 2.0, 0.0, 0.0])
+            sc = SmoothContacts(fake, np.arange(4), force0, opts)
+            sc.update(np.zeros(n), False)
+            updates.append((sc.schur_update(fake, r.copy(), solve, key), sc.lam.copy()))
+        (dq, lam), (dq_exact, lam_exact) = updates
+        # round-off: the spectral solve's relative residual is about 1e-15, the 3 × 3 Schur
+        # complement of random rows well conditioned; 1e-11, as above, leaves a wide margin
+        assert relative(dq, dq_exact) < 1e-11 and relative(lam, lam_exact) < 1e-11
+        assert np.count_nonzero(lam) == (1 if only else 3)
+        assert sorted(model.ladder.projected) == [0, 1, 2]  # (kept once, at every size)

@@ -48,6 +48,7 @@ __all__ = [
     "SPECTRAL_LIMIT",
     "TOLERANCE",
     "Ladder",
+    "Spectral",
     "iteration_solver",
 ]
 
@@ -139,6 +140,7 @@ class Ladder:
         self.after = math.ceil(n / SPECTRAL_AFTER) if n <= SPECTRAL_LIMIT else None
         self.rungs: dict[float, object] = {}
         self.modes = None  # (ω² (1/s²), Φ): the eigendecomposition, once made
+        self.projected: dict = {}  # Φᵀb of constant columns by their key (Spectral.modal)
         self.counts = dict.fromkeys(
             ("factorizations", "pcg_solves", "pcg_iterations", "pcg_refactorized", "spectral"),
             0,
@@ -163,7 +165,7 @@ class Ladder:
                 self._decompose()
             if self.modes is None:
                 return self.factor(a, S)
-            return _Spectral(a, *self.modes)
+            return Spectral(a, *self.modes, self.projected)
         near = min(self.rungs, key=lambda b: abs(math.log(a / b)), default=None)
         if near is not None and max(a / near, near / a) <= RATIO:
             if near == a:
@@ -190,20 +192,35 @@ class Ladder:
         self.modes = sla.eigh(*dense, driver="gvd", check_finite=False)
 
 
-class _Spectral:
+class Spectral:
     """``solve(b)``: S(a)⁻¹b = Φ (a I + Ω²)⁻¹ Φᵀ b for the eigenvalues ``omega2`` (Ω², 1/s²)
-    and M-orthonormal modes ``phi``."""
+    and M-orthonormal modes ``phi``; ``scale`` = (a + Ω²)⁻¹. ``projected``: Φᵀb of the
+    columns b a caller keeps constant, by their key (:meth:`modal`), shared by every size."""
 
-    __slots__ = ("phi", "scale")
+    __slots__ = ("phi", "scale", "projected")
 
-    def __init__(self, a: float, omega2, phi):
-        self.phi, self.scale = phi, 1.0 / (a + omega2)
+    def __init__(self, a: float, omega2, phi, projected: dict):
+        self.phi, self.scale, self.projected = phi, 1.0 / (a + omega2), projected
 
     def __call__(self, b):
         b = b.toarray() if sp.issparse(b) else np.asarray(b, dtype=float)
         y = self.phi.T @ b
         y *= self.scale if y.ndim == 1 else self.scale[:, None]
         return self.phi @ y
+
+    def modal(self, keys, B) -> np.ndarray:
+        """Φᵀ B (n × len(keys)) of the columns of ``B`` (dense, n × len(keys)) that stay the
+        same under their ``keys`` (a contact's constant gradient): made once per key and
+        kept, for every size a."""
+        kept = self.projected
+        if len(keys) == 1 and keys[0] in kept:  # (one contact pressed: most located impacts)
+            return kept[keys[0]][:, None]
+        missing = [i for i, key in enumerate(keys) if key not in kept]
+        if missing:
+            Y = self.phi.T @ B[:, missing]
+            for col, i in enumerate(missing):
+                kept[keys[i]] = Y[:, col]
+        return np.column_stack([kept[key] for key in keys])
 
 
 class _Preconditioned:

@@ -134,16 +134,7 @@ class AccelerationForm:
         touching = [term for term in rowed if term.touching()] if rowed else None
         if not held_factors(self, touching):
             self._matrix()
-        if not touching:
-            dq = self._plain_update()
-        elif (
-            len(touching) == 1
-            and touching[0].schur
-            and (self.lie is None or touching[0].schur_only)
-        ):
-            dq = self._schur_update(touching[0])
-        else:
-            dq = self._bordered_update(touching)
+        dq = _rowed_update(self, touching) if touching else self._plain_update()
         step.X[:, self.model.free_slice] += np.multiply.outer(step.c.w, dq)  # q, v, v̇, a
         if self.lie is not None:  # (D, v, v̇, a): the positions q_n ⊕ D
             step.q = self.lie.configuration(step.X[0])
@@ -296,6 +287,36 @@ class AccelerationForm:
         if self.S is not None and self.plain and not _holding(self.held):
             return (self.S, self.solve) if self.newton.joints is None else None
         return None
+
+
+def _rowed_update(form: AccelerationForm, touching) -> np.ndarray:
+    """The ``form``'s update bordered by the rows of the ``touching`` terms: through S_t's
+    own factors where one term's rows allow it, else the bordered system; on beams cut to a
+    quarter turn of any node (:mod:`.turns`)."""
+    term = touching[0]
+    if len(touching) == 1 and term.schur and (form.lie is None or term.schur_only):
+        dq, bordered = form._schur_update(term), False
+    else:
+        dq, bordered = form._bordered_update(touching), True
+    return dq if form.opts.turns is None else _cut(form, dq, touching, bordered)
+
+
+def _cut(form: AccelerationForm, dq: np.ndarray, touching, bordered: bool) -> np.ndarray:
+    """The update ``dq`` bordered by the rows of the ``touching`` terms, with their
+    multipliers' update (and the ``bordered`` solve's, which the joints' remainder bound
+    reads), cut to turn no beam node by more than a quarter turn
+    (:class:`~fecontact.time.turns.TurnBound` of the run's settings): no energy descent
+    tests these updates, and the kinematics linearized at the iterate say nothing a quarter
+    turn away."""
+    opts = form.opts
+    fraction = opts.turns.cut(dq, opts.stats)
+    if fraction == 1.0:  # (every update of a step that resolves its rotations)
+        return dq
+    for term in touching:
+        term.retreat(1.0 - fraction)
+    if bordered:
+        form.x = fraction * form.x
+    return fraction * dq
 
 
 def _inertia(form: AccelerationForm, it: int) -> np.ndarray:

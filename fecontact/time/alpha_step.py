@@ -99,8 +99,14 @@ def alpha_smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
     correction (None with joints), G_b the joint gradient at the returned q (None when the
     last update moved q after it was evaluated)."""
     newton = opts.plan.loop(model, opts, timer).start(st, t, c, P)
+    turns = opts.turns
+    if turns is not None:  # (beams: a step that turns a node too far is halved, :mod:`.turns`)
+        group = newton.form.lie is not None
+        turns.check(newton.step.X[0], st.q, group, "the predictor", opts.stats)
     it, stale = newton.run()
     step, joints = newton.step, newton.joints
+    if turns is not None:
+        turns.check(step.X[0], st.q, group, "the smooth step", opts.stats)
     Gb = None if stale or joints is None else joints.Gb
     q, (_, v, vd, a) = step.q, step.X  # (on a group the first row of X is the increment D)
     force, force_t, work = None, None, 0.0

@@ -380,7 +380,7 @@ class SmoothFriction:
             self.lam[:, 1:] = np.where(self.lam[:, :1] > 0.0, force_t[P], 0.0)
         self.shift = _obstacle_shift(self.contacts, P, st.t, t)
         self.C = None  # (the curvature of the gaps is not in the iteration matrix)
-        self.solved = False
+        self.solved, self.change = False, None  # (and the last update's change of λ)
 
     def update(self, q: np.ndarray, curvature: bool = False) -> None:
         """Gaps, slips over the step and their rows at q. A contact with no facet within
@@ -421,8 +421,13 @@ class SmoothFriction:
             raise StepFailure(f"smooth step, friction: {err}", np.nan) from None
         new = self.k * z
         self.lam = new.reshape(self.lam.shape)
-        self.solved = True
+        self.solved, self.change = True, (new - lam).reshape(self.lam.shape)
         return -x + Y @ (new - lam)
+
+    def retreat(self, s: float) -> None:
+        """Take back the fraction ``s`` of the last update of the forces (between two
+        points of the cone: in it)."""
+        self.lam = self.lam - s * self.change
 
     def _columns(self, model, solve, key):
         if key is None:

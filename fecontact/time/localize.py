@@ -22,9 +22,10 @@ those that close within ``TOGETHER`` of the step after it (the correction closes
 it).
 
 The step is left to the end-of-step treatment, counted by reason in the run's statistics:
-``accumulation`` (``MAX_IMPACTS`` impacts already located in the step, or less than
-``MIN_REST`` of it left), ``persistent`` (a contact pressed at the start of the step is
-still closed at its end: a lasting contact that other points join), ``grazing`` (the gap
+``accumulation`` (``MAX_IMPACTS`` impacts already located in the step, less than ``MIN_REST``
+of it left, or, beside a pressed contact or after an impact, more instants to locate than
+it may), ``persistent`` (a contact pressed at the start of the step is still closed at its
+end: a lasting contact that other points join), ``grazing`` (the gap
 closes slower than ``GRAZING`` gap tolerances per step), ``unrefined`` (no instant found
 to the tolerance within ``MAX_REFINE`` smooth steps, or a gap unknown at the step's start)
 and ``failed`` (a smooth step of the split did not converge: the step is taken whole).
@@ -60,6 +61,7 @@ from .nsga import smooth_phases
 from .settings import RunSettings
 from .state import PhaseTimer, State, deferred_ledger, length_scale
 from .terms import SmoothContact
+from .window import instants, last_together
 
 __all__ = [
     "GRAZING",
@@ -123,12 +125,12 @@ def localizes(model, opts: RunSettings) -> bool:
 
 
 def frictionless_solids(model) -> bool:
-    """Whether every body of ``model`` is a solid, undamped, and its contacts are frictionless
-    and on fixed obstacles or between its solids: the models whose impacts "auto" localizes in
-    whole steps. Not friction (measured in docs/validation/localization.md: no gain, and a
-    lasting frictional contact's nodes that lift and re-close cost several times the run),
-    nor Rayleigh damping (a damped block's located landing rebounds faster than it hit)."""
-    solids = all(body.continuum for body in model.bodies)
+    """Whether ``model`` has solids (rigid bodies beside them or not, no beams), undamped, its
+    contacts frictionless and on fixed obstacles or between its bodies: the models whose impacts
+    "auto" localizes in whole steps. Not friction (docs/validation/localization.md: no gain, and
+    a lasting frictional contact's nodes that lift and re-close cost several times the run), nor
+    Rayleigh damping (a damped block's located landing rebounds faster than it hit)."""
+    solids = model.continuum and not model.slender  # (a rigid box on a slab: 12.4 % → 0)
     contacts = model.contacts
     undamped = not any(model.damping)
     return (
@@ -152,8 +154,8 @@ def localized_step(model, st: State, h: float, opts: RunSettings, timer: PhaseTi
 
 def _penetrates(model, phases, opts) -> bool:
     """Whether a gap at the end of the smooth ``phases`` is below −tol_gap × the model size
-    (a lower bound of the gap tolerance, :func:`length_scale`); sets the phases' gaps."""
-    model.contacts.set_time(phases.t)
+    (a lower bound of the gap tolerance, :func:`length_scale`); sets the phases' gaps (fixed
+    obstacles, :func:`localizes`: no ``set_time``)."""
     g1 = phases.g_tilde = model.contacts.gaps(phases.q)
     return bool(g1.size) and g1.min() < -opts.tol_gap * model.length
 
@@ -245,17 +247,18 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list):
         kept.extend(cache_keys(model))
     tol, rows, tau, rate, g0, jumps = crossing
     reason = None
-    beside = (st.pressed() & (phases.g_tilde <= tol)).any()  # a contact pressed throughout
+    # a contact pressed throughout (one pressed was a candidate: none in flight, most impacts)
+    beside = st.candidates.size and (st.pressed() & (phases.g_tilde <= tol)).any()
     if done >= MAX_IMPACTS or (done and left < MIN_REST * h):
         reason = "accumulation"
     elif beside and not frictionless_solids(model):
         reason = "persistent"
     elif rows.size == 0:
         reason = "unrefined"
-    elif beside and done + _instants(tau, TOGETHER * h / left) > MAX_IMPACTS:
+    elif _rings(tau, done, beside, h, left):
         reason = "accumulation"  # (a patch whose rings the step could not all locate)
     else:
-        k = _last_together(tau, TOGETHER * h / left)
+        k = last_together(tau, TOGETHER * h / left)
         if -rate[k] * left <= GRAZING * tol:
             reason = "grazing"
     if reason is None:
@@ -270,20 +273,11 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list):
     return None
 
 
-def _last_together(tau: np.ndarray, within: float) -> int:
-    """Which of the crossings at ``tau`` (fractions of the step's rest) the step refines: the
-    last of those within ``within`` of the earliest (the correction closes the others with
-    it at its instant)."""
-    if tau.size == 1:  # (one crossing: most located steps)
-        return 0
-    together = np.flatnonzero(tau <= tau.min() + within)
-    return int(together[np.argmax(tau[together])])
-
-
-def _instants(tau: np.ndarray, together: float) -> int:
-    """How many instants the crossings at ``tau`` (fractions of the step's rest) close at,
-    those within ``together`` of the one before taken as one."""
-    return 1 + int(np.count_nonzero(np.diff(np.sort(tau)) > together))
+def _rings(tau: np.ndarray, done: int, beside, h: float, left: float) -> bool:
+    """Whether the closings at ``tau`` (fractions of the rest ``left`` of the step ``h``, s),
+    beside a pressed contact or after one of the step's ``done`` impacts, close at more
+    instants than the step may still locate (a patch's rings: left to its end at once)."""
+    return bool((beside or done) and done + instants(tau, TOGETHER * h / left) > MAX_IMPACTS)
 
 
 def _crossing(model, st, phases, left, opts):
@@ -310,7 +304,9 @@ def _crossing(model, st, phases, left, opts):
     s0, s1 = left * (G0 @ st.v[F]), left * (G1 @ phases.v[F])  # slopes in s
     half = 0.5 * tol  # (aimed inside the tolerance, on the open side: no correction)
     tau, slope = hermite_root(g0[rows] - half, s0, g1[rows] - half, s1)
-    keep = one_closing_per_node(contacts.twins, rows, tau)
+    keep = np.ones(rows.size, dtype=bool)
+    if contacts.twins is not None:  # (no twin rows: every crossing stands for its node)
+        keep = one_closing_per_node(contacts.twins, rows, tau)
     sloped = G0.any(axis=1)  # (a deep node's row above half its allowance: no gradient)
     if (keep & sloped).any():  # (a placeholder's instant is not its node's: the master's
         keep &= sloped  # nodes have no twin; ball_on_slab at 10 m/s, localization.md)
@@ -436,7 +432,6 @@ def _refine(model, st, phases, left, j, guess, tol, opts, timer):
     for _ in range(MAX_REFINE):
         trial = smooth_phases(model, st, delta, opts, timer)
         stats.smooth_steps += 1
-        model.contacts.set_time(trial.t)
         trial.g_tilde = model.contacts.gaps(trial.q)
         g = float(trial.g_tilde[j]) - half
         if abs(g) <= half:

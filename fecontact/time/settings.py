@@ -10,6 +10,7 @@ from .correction import MomentumKept, momentum_kept
 from .newton import NewtonPlan
 from .state import IntegratorOptions
 from .stats import StepStats
+from .turns import TurnBound, beam_turns
 
 __all__ = [
     "RunSettings",
@@ -40,7 +41,9 @@ class RunSettings(IntegratorOptions):
     (:class:`~fecontact.time.correction.MomentumKept`; None where no body qualifies), and
     ``depth_check``: whether a solid's nodes can enter another solid (pairs tested
     inside/outside, mortar interfaces), so that the predictor's depth is checked
-    (:func:`~fecontact.time.penetration.check_predictor`)."""
+    (:func:`~fecontact.time.penetration.check_predictor`); ``turns``: the beams' nodal
+    rotations, whose turn the smooth step bounds over the step and over each update that
+    rows border (:class:`~fecontact.time.turns.TurnBound`; None without beams)."""
 
     smooth: bool = False
     restarts: bool = False
@@ -51,6 +54,7 @@ class RunSettings(IntegratorOptions):
     plan: NewtonPlan | None = field(default=None, repr=False, compare=False)
     momentum: MomentumKept | None = field(default=None, repr=False, compare=False)
     depth_check: bool = field(default=True, repr=False, compare=False)
+    turns: TurnBound | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self):
         pass  # the values are those of options already checked, taken as they are
@@ -152,4 +156,5 @@ def run_settings(
         plan=None if plan is None else plan(model, smooth, friction, terms),
         momentum=momentum_kept(model),
         depth_check=any(pair.inside_test for pair in contacts.pairs) or bool(contacts.watches),
+        turns=beam_turns(model),
     )

@@ -91,6 +91,7 @@ import dataclasses
 import numpy as np
 
 from ..contact.laws import kkt_multipliers, solve_velocity_jump
+from ..linalg.ladder import Spectral
 from .constraints import Constraints, StepFailure, augmentation, constraint_columns
 from .coulomb import frictional_restart, frictional_start
 from .lie import inertial_forces
@@ -151,6 +152,7 @@ class SmoothContacts:
         # (affine gaps: finite, their gradients constant, so the rows that can hold are
         # known from the first update: :meth:`_next_active_set`)
         self.affine, self.live = model.contacts.affine, None
+        self.last = None  # (the rows and the change of λ of the last update)
 
     def update(self, q: np.ndarray, curvature: bool) -> None:
         """Gaps, gradients (and, with ``curvature``, the curvature −Σ_A λ_j ∇²g_j of the
@@ -195,6 +197,7 @@ class SmoothContacts:
         """Apply the bordered solve's update of the rows' multipliers (μ = −λ)."""
         self.lam[self.active] -= dmu
         self.solved = self.active.copy()
+        self.last = (self.solved, -dmu)
 
     def schur_update(self, model, r, solve, key=None) -> np.ndarray:
         """The Newton update of the bordered system [[S, −G_Aᵀ], [G_A, 0]] (dq, Δλ_A) from
@@ -204,14 +207,40 @@ class SmoothContacts:
         contact, so a linear body in lasting contact factorizes S once per run."""
         A = self.active
         GA, gA, rows = self.G[A], self.g[A], self.P[A]
-        cons = Constraints(model, rows)  # (no joints here: the bordered path has them)
         constant = key is not None
+        if constant and type(solve) is Spectral and model.contacts.linear:
+            return self._modal_update(rows, GA, gA, r, solve)
+        cons = Constraints(model, rows)  # (no joints here: the bordered path has them)
         at = ("smooth", *(key or ()))
         Y, x = constraint_columns(model, at, rows, GA, solve, cons, constant, rhs=r)
         dlam = kkt_multipliers(GA, Y, GA @ x - gA, 1.0, self.stats)
         self.lam[A] += dlam
         self.solved = A.copy()
+        self.last = (self.solved, dlam)
         return -x + Y @ dlam
+
+    def _modal_update(self, rows, GA, gA, r, spectral: Spectral) -> np.ndarray:
+        """:meth:`schur_update` at a size solved in the modes Φ of S(a) = a M + K (a linear
+        model's size met once, :class:`~fecontact.linalg.ladder.Spectral`), with P = Φᵀ G_Aᵀ
+        kept per contact (constant gradients: the same at every size) and D = (a + Ω²)⁻¹:
+        S⁻¹r = Φ D Φᵀr, S⁻¹G_Aᵀ = Φ D P and G_A S⁻¹G_Aᵀ = Pᵀ D P, so the update is one
+        product by Φᵀ and one by Φ, where S⁻¹[G_Aᵀ r] made two of n × n by two columns
+        (callgrind, 387 dofs: 0.24 M against 1.45 M instructions). The same numbers but
+        for the products' round-off."""
+        A, D = self.active, spectral.scale
+        P = spectral.modal(rows, GA.T)
+        z = D * (spectral.phi.T @ r)  # S⁻¹r in the modes
+        Z = D[:, None] * P  # D Φᵀ G_Aᵀ
+        dlam = kkt_multipliers(P.T, Z, P.T @ z - gA, 1.0, self.stats)
+        self.lam[A] += dlam
+        self.solved = A.copy()
+        self.last = (self.solved, dlam)
+        return spectral.phi @ (Z @ dlam - z)
+
+    def retreat(self, s: float) -> None:
+        """Take back the fraction ``s`` of the last update of the forces."""
+        rows, change = self.last
+        self.lam[rows] -= s * change
 
     def satisfied(self, admits) -> bool:
         """Complementarity within the gap tolerance (``admits(x)``: x ≤ tolerance, m): the

@@ -10,7 +10,7 @@ from ..contact.stats import ContactStats
 from ..linalg import Factorizations, IterativeStats, LinearSolver
 from ..linalg.choice import RunPlan, SolverChoice
 
-__all__ = ["FollowUps", "Localization", "NewtonStats", "StepControl", "StepStats"]
+__all__ = ["FollowUps", "Localization", "NewtonStats", "StepControl", "StepStats", "TurnCounts"]
 
 
 @dataclass
@@ -74,6 +74,16 @@ class Localization:
 
 
 @dataclass
+class TurnCounts:
+    """The bound on the turn of beam nodes (:mod:`fecontact.time.turns`): the steps halved
+    because their predictor or smooth step turned a node by more than π/2, and the smooth
+    Newton updates bordered by rows cut to that turn."""
+
+    halved_steps: int = 0
+    cut_updates: int = 0
+
+
+@dataclass
 class StepControl:
     """What rtol's control did in a run: steps rejected for their error estimate, steps
     rejected because they failed (Newton or penetration; retaken a rung lower), and steps
@@ -96,6 +106,7 @@ class StepStats:
     follow_ups: FollowUps = field(default_factory=FollowUps)
     control: StepControl = field(default_factory=StepControl)  # rtol's rejections
     releases: int = 0  # smooth steps taken again without the force of a contact they released
+    turns: TurnCounts = field(default_factory=TurnCounts)
     localization: Localization = field(default_factory=Localization)
     contact: ContactStats = field(default_factory=ContactStats)
     factorizations: Factorizations = field(default_factory=Factorizations)
@@ -133,6 +144,8 @@ class StepStats:
             # the velocity's follow-ups of an impact's correction (fecontact.time.position_jump)
             "velocity_follow_ups": asdict(self.follow_ups),
             "contact_releases": self.releases,
+            # beam nodes turned by more than π/2: steps halved, row-bordered updates cut
+            "beam_turns": asdict(self.turns),
             # impacts at their own instant inside a step, and the steps left to the step's end
             "localized_impacts": self.localization.impacts,
             "localization_fallbacks": dict(self.localization.fallbacks),

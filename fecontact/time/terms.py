@@ -407,6 +407,9 @@ class PersistentContacts(ForceTerm):
     def take(self, x: np.ndarray) -> None:
         self.sc.take(x)
 
+    def retreat(self, s: float) -> None:
+        self.sc.retreat(s)
+
     def forces(self, m: int):
         """(λ (m,), λ_T (m, nt) or None without friction, the work of λ_T over the step (J))
         of every contact (N), zero outside the persistent ones."""
