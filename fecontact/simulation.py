@@ -374,15 +374,18 @@ def _summary(sim, rec, stats, status, message, wall, timer) -> dict:
 
 def _residual_warnings(counts: dict) -> list[str]:
     """A warning for each level whose converged contact correction left the law's residual
-    above its tolerance (the active set repeated, or redundant rows solved by least squares,
-    ended the iteration): the constraints hold only to that residual."""
+    above its tolerance (the active set repeated, redundant rows solved by least squares, or
+    a cycling position correction's set frozen with a row that pulls, ended the iteration):
+    the constraints hold only to that residual."""
     out = []
     for level, ratio in counts["final_residuals"].items():
         if ratio > 1.0:
             out.append(
                 f"contact: a {level} correction ended with its residual {ratio:.3g} times its "
                 f"tolerance ({counts['least_squares_multipliers']} least-squares multipliers "
-                "in the run: redundant contacts); the constraints hold only to that residual"
+                "in the run: redundant contacts; "
+                f"{counts['frozen_active_sets']} frozen active sets: cycling position "
+                "corrections); the constraints hold only to that residual"
             )
     return out
 

@@ -416,6 +416,32 @@ def test_a_correction_row_with_no_gradient_leaves_the_active_set():
     assert abs(g0[0] + U[0]) <= 1e-15  # (one linear row: closed by one solve)
 
 
+def test_a_held_row_with_no_gradient_is_no_equality_of_the_correction():
+    """The same for a row held as an equality (pressed by the smooth step's force): a master
+    node's own row whose node the smooth step lifted above half its allowance reads its
+    placeholder (a far gap, 17 mm, and a zero gradient). Kept as an equality, its zero row
+    made the Schur complement singular (least squares) and its gap the correction's residual
+    (1e11 tolerances on the 57 Δx/c off-centre balls of stress_3d.md). It holds nothing:
+    no least squares, the other row closed to round-off, the residual within tolerance."""
+    from fecontact.contact.laws import solve_position_correction
+    from fecontact.contact.stats import ContactStats
+
+    G = np.array([[1.0, 0.0], [0.0, 0.0]])
+    g0 = np.array([-1e-3, 0.0173])
+    stats = ContactStats()
+
+    def system(U, s, A):
+        return (lambda B: B), None  # (linear gaps: H⁻¹ = I, no curvature)
+
+    U, nu, _ = solve_position_correction(
+        lambda U: (g0 + G @ U, G), system, 2, np.ones(2), 1.0, 1e-12, 1e-13,
+        bilateral=np.array([False, True]), stats=stats,
+    )  # fmt: skip
+    assert stats.least_squares == 0 and nu[1] == 0.0
+    assert abs(g0[0] + U[0]) <= 1e-15  # (one linear row: closed by one solve)
+    assert stats.final_residuals.position <= 1.0  # (in tolerances: the law holds)
+
+
 @pytest.mark.parametrize("method", ["mortar", "node-to-surface"])
 def test_disks_three_edges_a_step_head_on_complete_at_h_over_128(method):
     """Head-on at 43.5 m/s and 8 Dx/c the rim nodes of the growing contact zone reach the

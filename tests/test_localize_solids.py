@@ -8,9 +8,14 @@ import math
 import numpy as np
 import pytest
 
-from fecontact import run
+from fecontact import Model, run, simulate
+from fecontact.bodies import LinearElastic, Solid
+from fecontact.bodies.meshes import graded_ball_mesh
+from fecontact.contact import Contact
+from fecontact.contact.mortar_safeguard import ALLOWANCE
+from fecontact.rotations import exp
 from fecontact.testing import G, case, trace
-from fecontact.time import IntegratorOptions, run_settings
+from fecontact.time import IntegratorOptions, localize, run_settings
 from fecontact.time.localize import localizes, one_closing_per_node
 from fecontact.time.substeps import Localizer, Releases, localized_stepper
 
@@ -147,3 +152,56 @@ def test_a_ring_beside_the_pressed_pole_of_a_3d_interface_is_located(tmp_path):
     ledger = auto["energy_ledger"]
     assert ledger["created"] / ledger["scale"] <= 2e-3
     assert auto["localization_fallbacks"]["failed"] == 0 and auto["localized_impacts"] >= 8
+
+
+def off_centre_balls(v: float, b: float, cells: float):
+    """Two coarse graded P1 balls (R 5 cm, rubber) 1 mm apart at ``v`` (m/s) each, the right
+    one moved sideways by ``b`` R and its mesh turned 30° about the line of centres; the
+    step closes ``cells`` contact-zone cells (benchmarks/stress_3d.py, base 1, spacing 0.3)."""
+    R, spacing = 0.05, 0.3
+    dx = np.sqrt((2.02 * R) ** 2 - (b * R) ** 2)
+    n = np.array([np.sqrt(4.0 * R**2 - (b * R) ** 2), b * R, 0.0]) / (2.0 * R)
+    centres = (np.array([-0.5 * dx, 0.0, 0.0]), np.array([0.5 * dx, b * R, 0.0]))
+    meshes = [
+        graded_ball_mesh(c, R, spacing * R, c + s * R * n, 0.5, 1)
+        for c, s in zip(centres, (1.0, -1.0), strict=True)
+    ]
+    turn, c = exp(np.radians(30.0) * n), centres[1][:, None]
+    meshes[1] = dataclasses.replace(meshes[1], doflocs=c + turn @ (meshes[1].doflocs - c))
+    rubber = LinearElastic(E=1e7, nu=0.3, rho=1000.0)
+    left, right = (Solid(m, rubber) for m in meshes)
+    model = Model([left, right], [Contact(left, right)], gravity=(0.0, 0.0, 0.0))
+    v0 = model.translation(left, (v, 0.0, 0.0)) + model.translation(right, (-v, 0.0, 0.0))
+    return model, v0, cells * spacing * R / (2.0 * v)
+
+
+def test_a_row_that_jumps_from_its_placeholder_is_located_where_it_first_reads_real(monkeypatch):
+    """The coarse balls at 5 m/s each, 0.7 R off-centre, a step closing two cells (3 ms):
+    0.98 ms into it a master node's pointwise row crosses from its placeholder gap (the node
+    passing half its allowance δ: no gradient before, a real gap after). Its regula falsi
+    brackets the instant between a placeholder reading and a real one and does not reach the
+    gap tolerance in MAX_REFINE smooth steps; the refinement takes the trial at the closed
+    end, the earliest that reads the gap real, instead of leaving the step unrefined (the
+    63 Δx/c head-on balls of stress_3d.md: 4 steps unrefined without it, 1 with it; 0.46 of
+    their scale created with the step left whole before the located windows of window.py)."""
+    model, v0, h = off_centre_balls(5.0, 0.7, 2.0)
+    refined, jumped = localize._refine, []
+
+    def recorded(model, st, phases, left, j, guess, tol, opts, timer):
+        found = refined(model, st, phases, left, j, guess, tol, opts, timer)
+        if guess[2]:  # (the row's gap at the step's start is a placeholder)
+            jumped.append(None if found is None else float(found[1].g_tilde[j]))
+        return found
+
+    monkeypatch.setattr(localize, "_refine", recorded)
+    *_, end = simulate(model, h, h, IntegratorOptions(), v0=v0)
+    assert end.t == pytest.approx(h, rel=1e-12)
+    assert jumped, "no row jumped from its placeholder: the setup no longer tests the rule"
+    delta = ALLOWANCE * min(body.min_edge_length for body in model.bodies)
+    for g in jumped:
+        assert g is not None  # (None: the step was left unrefined)
+        # the closed end reads the row real and inside: measured 1.4e-9 m (2e-5 δ, 8e3 gap
+        # tolerances, which the correction puts back); a placeholder reads two margins (mm)
+        # and a bracket that stopped early would sit up to a step's closing (0.3 mm) deep:
+        # 1e-3 δ (4e-8 m) is 30 times the measurement and far from both
+        assert -1e-3 * delta <= g < 0.0

@@ -7,6 +7,7 @@ plane gaps around the nearest master vertex."""
 import dataclasses
 
 import numpy as np
+import pytest
 
 from fecontact import Model
 from fecontact.bodies import Solid
@@ -159,7 +160,8 @@ def test_a_pole_inside_the_apex_of_a_turned_ball_is_pushed_along_the_axis():
     Model([a, b], [pair], gravity=(0.0, 0.0, 0.0))
     pair.detect_within(0.005)
     rows = pair.pointwise
-    assert isinstance(rows, DeepNodeRows3D) and pair.master_rows is None  # (the slave's only)
+    # (both passes: the master's nodes are the same kind of row against the slave's surface)
+    assert isinstance(rows, DeepNodeRows3D) and isinstance(pair.master_rows, DeepNodeRows3D)
     j = np.argmax(a.X[rows.nodes, 0])
     g, _, G, _ = rows.evaluate(np.zeros(2 * a.ndof))
     eps = SMOOTHING * rows.allowance
@@ -174,3 +176,88 @@ def test_a_pole_inside_the_apex_of_a_turned_ball_is_pushed_along_the_axis():
     q = np.random.default_rng(3).normal(0.0, 1e-6, 2 * a.ndof)
     err_g, err_h = gap_derivatives_error(rows, q, 1e-9)
     assert err_g < 1e-6 and err_h < 1e-4
+
+
+def test_the_balls_at_three_times_the_speed_keep_every_node_within_the_bound():
+    """``two_balls`` at 3 m/s each (graded P1, the right ball turned 30°) over its first
+    0.9 ms: with the slave's rows alone a node of the master ball sank 3.7 % of the shortest
+    boundary edge into the slave ball at step 35 (the weighted gaps let it in, and nothing
+    held it). The master's nodes now have rows too, whose planes are read by the facet each
+    node's foot lies on: the slave's surface dents around a master node that presses into
+    it, and there the largest plane gap around a vertex is a neighbour's plane that the node
+    is not behind."""
+    from fecontact import simulate
+    from fecontact.contact.watch import BOUND, watched_depth
+    from fecontact.testing import case
+
+    sim = case("two_balls").build(velocity=3.0, t_end=9e-4)
+    model = sim.model
+    worst = 0.0
+    for st in simulate(model, sim.dt, sim.t_end, sim.options, q0=sim.q0, v0=sim.v0):
+        worst = max(worst, watched_depth(model.contacts.watches, st.q)[1])
+    assert st.t == sim.t_end or abs(st.t - sim.t_end) <= 1e-12 * sim.t_end
+    # the held nodes end about δ = 0.5 % of the edge deep: the bound is the run's warning's
+    assert 0.0 < worst <= BOUND
+
+
+def test_a_node_behind_a_dented_vertex_reads_the_facet_it_is_under():
+    """A block's top face dented at its centre vertex by 6 mm (the facets around it slope
+    into the block: a concave vertex, as the slave ball's surface around a master node that
+    presses into it) and a node of a small cube 0.16 mm behind one of those facets, 9 mm
+    from the vertex. The planes of the facets across the dent pass above the node: their
+    largest plane gap read it 1 cm outside (beyond the detection distance: no row), so
+    nothing held it. With each plane read deeper by the node's foot beyond its facet, the
+    row is the node's plane gap behind the facet it is under, its signed distance to the
+    surface, with exact derivatives."""
+    from fecontact.contact.inside import Surface
+
+    mat = solid_material("linear", 1e7, 0.3, 1e3)
+    block = Solid.box([-0.05, -0.05, -0.02], [0.05, 0.05, 0.0], (4, 4, 1), mat)
+    cube = Solid.box([-0.005, -0.005, 0.001], [0.005, 0.005, 0.011], 1, mat)
+    pair = Contact(cube, block, method="mortar")
+    model = Model([cube, block], [pair], gravity=(0.0, 0.0, 0.0))
+    pair.detect_within(0.005)
+    rows = pair.pointwise
+    q = np.zeros(model.n)
+    centre = int(np.argmin(np.linalg.norm(block.X, axis=1)))  # (0, 0, 0): the top's centre
+    dofs = model.offset_of(block) + block.node_translation_dofs(np.array([centre]))[0]
+    q[dofs] = [0.0, 0.0, -0.006]
+    corner = int(np.argmin(cube.X.sum(axis=1)))
+    node = np.array([0.009, 0.004, -0.004])
+    q[model.offset_of(cube) + cube.node_translation_dofs(np.array([corner]))[0]] = (
+        node - cube.X[corner]
+    )
+    g, _, G, _ = rows.evaluate(q)
+    j = int(np.flatnonzero(rows.nodes == corner)[0])
+    x = block.positions(q[model.body_slice(1)])
+    depth = Surface(block.contact_facets()).signed_distance(x, node[None], outside=False)[0][0]
+    assert depth < -1e-4  # (0.156 mm inside)
+    # the other planes lie millimetres farther: their weights are e^(−mm/ε), nothing
+    assert abs(g[j] - rows.allowance - depth) <= 1e-12 * abs(depth)
+    assert np.linalg.norm(G[j, :3]) == pytest.approx(1.0, abs=1e-12)  # (a plane's normal)
+    err_g, err_h = gap_derivatives_error(rows, q, 1e-9)
+    assert err_g < 1e-6 and err_h < 1e-4  # as for the pole above: truncation (h/ε)²
+
+
+def test_k_does_not_move_the_balls_whose_rows_close_picoseconds_apart():
+    """``two_balls`` through its first 0.45 ms at k and k ÷ 100. At 0.404 ms two master nodes'
+    rows cross half their allowance 2e-11 s apart and are taken together at the later
+    instant; the correction that puts back the earlier lifts the later 3.5 gap tolerances
+    out, and left open by the jump it closed again 1.8e-12 s later, in a smooth step too
+    short to determine its contact forces: their sign (a row pressed or not) followed k,
+    and k ÷ 100 moved the run by 6.5e-3 of its speed by 0.45 ms. The jump closes every row
+    taken together."""
+    from fecontact import simulate
+    from fecontact.testing import case
+
+    ends = []
+    for k in (1.0, 1e-2):
+        sim = case("two_balls").build(t_end=4.5e-4)
+        opts = dataclasses.replace(sim.options, multiplier_scale=sim.options.multiplier_scale * k)
+        *_, end = simulate(sim.model, sim.dt, sim.t_end, opts, q0=sim.q0, v0=sim.v0)
+        ends.append(end)
+    a, b = ends
+    # round-off of the run (measured 2.5e-18 in q over the length, 2.4e-14 in v over the
+    # speed), far below the 1e-6 by which p and k may move a case at most; 6.5e-3 in v before
+    assert np.abs(a.q - b.q).max() <= 1e-9 * sim.model.length
+    assert np.abs(a.v - b.v).max() <= 1e-9 * np.abs(a.v).max()

@@ -162,7 +162,7 @@ def solve_position_correction(
     nu = np.zeros(len(g)) if nu0 is None else np.maximum(np.asarray(nu0, dtype=float), 0.0)
     bilateral = np.zeros(len(g), bool) if bilateral is None else bilateral
     held = np.count_nonzero(bilateral) > 0  # (decided once: without equalities, none appear)
-    eq = _holding(bilateral, g, held)
+    eq = _holding(bilateral, g, G, held)
     dU, dU_prev = np.inf, np.inf
     A = last = None
     cycle = _Cycle()
@@ -204,7 +204,7 @@ def solve_position_correction(
         dU = 0.0 if C is None else float(np.max(np.abs(U_new - U), initial=0.0))
         U = U_new
         g, G = _defined(gaps, U)
-        eq = _holding(bilateral, g, held)
+        eq = _holding(bilateral, g, G, held)
     raise RuntimeError(f"position correction: active set did not settle in {max_iter} iterations")
 
 
@@ -230,14 +230,18 @@ def _checked(g: np.ndarray, G: np.ndarray):
     return g, G
 
 
-def _holding(bilateral: np.ndarray, g: np.ndarray, held: bool) -> np.ndarray:
-    """The equalities among the rows: the ``bilateral`` ones whose gap is defined (``held``:
-    whether any row is bilateral; if none, ``bilateral`` itself). A contact held by the
-    smooth step's force is an equality of the correction, but where its gap became
-    undefined at an iterate (+inf: a box edge's row whose common normal left the ridge's
-    normal cone) it holds nothing, as any row there (:func:`_next_active_set`); kept as an
-    equality its +inf gap made the multipliers and the update NaN."""
-    return bilateral & (g < np.inf) if held else bilateral
+def _holding(bilateral: np.ndarray, g: np.ndarray, G: np.ndarray, held: bool) -> np.ndarray:
+    """The equalities among the rows: the ``bilateral`` ones whose gap is defined and has a
+    gradient ``G`` (``held``: whether any row is bilateral; if none, ``bilateral`` itself).
+    A contact held by the smooth step's force is an equality of the correction, but where
+    its gap became undefined at an iterate (+inf: a box edge's row whose common normal left
+    the ridge's normal cone) it holds nothing, as any row there (:func:`_next_active_set`);
+    kept as an equality its +inf gap made the multipliers and the update NaN. So does a
+    mortar node's own row whose node is above half its allowance (a placeholder gap, no
+    gradient): kept as an equality its zero row made the Schur complement singular (least
+    squares) and its placeholder gap (1.7e-2 m) the correction's residual 1e11 tolerances
+    (stress_3d.md, the 57 Δx/c off-centre balls)."""
+    return bilateral & (g < np.inf) & G.any(axis=1) if held else bilateral
 
 
 NEAR = 1e-3

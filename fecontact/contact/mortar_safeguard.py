@@ -16,7 +16,12 @@ surface). In 3D g_N is a smooth maximum of the plane gaps of the facets around t
 vertex nearest the node (:class:`DeepNodeRows3D`): at the coarse pole of a ball, the apex of
 four facets tilted 30°, one facet's plane gap pushes the node along that facet's normal,
 sideways by half the force (the turned coarsest balls then left the axis at 32 % of the
-impact speed); the facets' weighted mean normal pushes it along the apex's axis.
+impact speed); the facets' weighted mean normal pushes it along the apex's axis. Each plane
+gap is read deeper by how far the node's foot on the plane lies outside its facet: a master
+node pressed into the slave's surface dents it, the vertices around the node are concave,
+and there the largest plane gap is a neighbour's plane that the node is not behind (the
+graded balls 0.7 R off-centre: a node 2.4 % of the shortest edge behind its facet read
+0.45 %, held there, and sank on).
 
 The row is a candidate only for a node deeper than δ/2 (elsewhere it reports a finite gap
 beyond any detection distance and a zero gradient): a node that the weighted gaps keep out,
@@ -51,12 +56,15 @@ import numpy as np
 
 from .body_pairs import NodeSurfaceContact, triangle_plane_distance
 from .inside import bounding_box
+from .jets import Jet, dot, variables
 
 __all__ = [
     "ALLOWANCE",
     "DeepNodeRows",
     "DeepNodeRows3D",
     "SMOOTHING",
+    "edge_excess",
+    "edge_excess_jet",
     "safeguard_rows",
     "shortest_edge",
     "twin_rows",
@@ -73,6 +81,52 @@ SMOOTHING = 0.1
 """ε over δ: the smoothing length of the 3D rows' maximum of plane gaps (:class:`DeepNodeRows3D`):
 at a vertex where n planes tie the row reads the node ε ln n shallower (0.35 δ at four), and
 the planes' weights trade over a sideways shift of about 2ε / sin θ (θ the planes' tilt)."""
+
+
+def _ramp(e: np.ndarray, eps: float):
+    """r(e) = 0 (e ≤ 0), e²/2ε (0 < e < ε), e − ε/2 (e ≥ ε), with r′ and r″: a ramp with a
+    continuous slope."""
+    band = (e > 0.0) & (e < eps)
+    r = np.where(e >= eps, e - 0.5 * eps, np.where(band, 0.5 * e * e / eps, 0.0))
+    first = np.where(e >= eps, 1.0, np.where(band, e / eps, 0.0))
+    return r, first, np.where(band, 1.0 / eps, 0.0)
+
+
+def edge_excess(x: np.ndarray, tri: np.ndarray, eps: float) -> np.ndarray:
+    """Σ over the three edges of the triangles ``tri`` (m, 3, 3) of r(e), e (m) the distance
+    of the foot of x (m, 3) on the triangle's plane beyond the edge's line (negative inside),
+    r the ramp of width ``eps`` (m): zero where the foot lies in the triangle."""
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    n = np.cross(b - a, c - a)
+    n /= np.linalg.norm(n, axis=1)[:, None]
+    total = np.zeros(len(x))
+    for p, q in ((a, b), (b, c), (c, a)):
+        m = np.cross(q - p, n) / np.linalg.norm(q - p, axis=1)[:, None]  # (outward)
+        total += _ramp(np.einsum("mk,mk->m", x - p, m), eps)[0]
+    return total
+
+
+def _cross(u: Jet, v: Jet) -> Jet:
+    """u × v of two vector jets (m, 3)."""
+    parts = [
+        u.column(j) * v.column(k) - u.column(k) * v.column(j) for j, k in ((1, 2), (2, 0), (0, 1))
+    ]
+    return Jet(*(np.stack([getattr(p, f) for p in parts], axis=1) for f in ("val", "grad", "hess")))
+
+
+def edge_excess_jet(x: np.ndarray, tri: np.ndarray, eps: float):
+    """:func:`edge_excess` with its gradient (m, 12) and Hessian (m, 12, 12) over
+    (x, a, b, c)."""
+    X, A, B, C = variables([x, tri[:, 0], tri[:, 1], tri[:, 2]], 12)
+    N = _cross(B - A, C - A)
+    n = N / dot(N, N).sqrt().scalar()
+    total = None
+    for p, q in ((A, B), (B, C), (C, A)):
+        u = q - p
+        e = dot(X - p, _cross(u, n)) / dot(u, u).sqrt()
+        r = e.apply(*_ramp(e.val, eps))
+        total = r if total is None else total + r
+    return total.val, total.grad, total.hess
 
 
 def shortest_edge(body, facets: np.ndarray) -> float:
@@ -161,14 +215,17 @@ class DeepNodeRows(NodeSurfaceContact):
 class DeepNodeRows3D(DeepNodeRows):
     """:class:`DeepNodeRows` of 3D solids: a deep node's row is the smooth maximum of the
     plane gaps g_k of the master facets around the vertex v (of its closest facet) nearest
-    to it,
+    to it, each less the excess P_k of the node's foot beyond its facet's edges
+    (:func:`edge_excess`, zero on the facet),
 
-        g_s = ε ln Σ_k exp(g_k / ε) + δ,   ε = ``SMOOTHING`` δ,
+        g_s = ε ln Σ_k exp((g_k − P_k) / ε) + δ,   ε = ``SMOOTHING`` δ,
 
     the node's depth behind the convex vertex (inside, minus the largest plane gap), read at
     most ε ln n shallower where n planes tie. Its gradient Σ_k w_k ∇g_k (w the planes'
     soft-max weights) is their weighted mean: a node at the apex of the master's facets is
-    pushed along the apex's axis, not along one facet's normal (module docstring)."""
+    pushed along the apex's axis, not along one facet's normal. Behind a concave vertex the
+    planes whose facets the node is not under read deeper by P_k, and the row is the depth
+    behind the facet it is under (module docstring)."""
 
     def __init__(self, body, master, restitution: float = 0.0):
         super().__init__(body, master, restitution)
@@ -188,7 +245,8 @@ class DeepNodeRows3D(DeepNodeRows):
     def _planes(self, x, xm, vertex, hessian: bool):
         """The plane gaps (n, K) of points x (n, 3) from the facets around ``vertex`` (n,),
         their gradients (n, K, 12) and Hessians (n, K, 12, 12; None unless ``hessian``) over
-        (x, facet vertices), and the facets (n, K; −1 pads: gap −inf, zero derivatives)."""
+        (x, facet vertices), and the facets (n, K; −1 pads: gap −inf, zero derivatives); each
+        gap less the excess of the point's foot beyond its facet (:func:`edge_excess`)."""
         facets = self.around[vertex]
         n, K = facets.shape
         real = facets >= 0
@@ -200,6 +258,19 @@ class DeepNodeRows3D(DeepNodeRows):
         G = G.reshape(n, K, 12) * real[:, :, None]
         if H is not None:
             H = H.reshape(n, K, 12, 12) * real[:, :, None, None]
+        # each plane read deeper by how far the node's foot lies outside its facet
+        excess = np.where(real, edge_excess(xk, t, self.smoothing).reshape(n, K), 0.0)
+        g = g - excess
+        # (its derivatives where they count: on a row deeper than δ/2, whose maximum is
+        # below −δ/2, and on a plane within 50 ε of that maximum, the others' weights
+        # below e⁻⁵⁰)
+        top = g.max(axis=1, keepdims=True)
+        need = (excess > 0.0) & (g > top - 50.0 * self.smoothing) & (top < -0.5 * self.allowance)
+        if need.any():
+            _, dP, d2P = edge_excess_jet(xk[need.ravel()], t[need.ravel()], self.smoothing)
+            G[need] -= dP
+            if H is not None:
+                H[need] -= d2P
         return g, G, H, facets
 
     def _soft(self, g):
@@ -271,19 +342,15 @@ class DeepNodeRows3D(DeepNodeRows):
 
 def safeguard_rows(interface):
     """The pointwise rows of a mortar ``interface``: those of its slave's nodes against the
-    master's surface (row j the twin of the interface's row j, the same node), and in 2D of
-    the master's nodes against the slave's (module docstring). A 3D interface has no master
-    rows: on the graded balls off-centre (1 m/s, 0.7 R) they made the impact create 1.4 % of
-    its scale (0.03 % without), and the fast off-centre balls (5 m/s, 57 Δx/c) stopped at
-    their first step, a master node's row beside the weighted rows of the slave nodes facing
-    it (nearly the same constraint, not declared twins)."""
+    master's surface (row j the twin of the interface's row j, the same node), and those of
+    the master's nodes against the slave's (module docstring)."""
     body, master, restitution = interface.body, interface.master, interface.restitution
     kind = DeepNodeRows if body.dim == 2 else DeepNodeRows3D
     rows = kind(body, master, restitution)
     if not np.array_equal(rows.nodes, interface.nodes):
         raise ValueError("the mortar rows' nodes must be the slave body's boundary nodes")
     rows.twin = interface
-    return rows, (kind(master, body, restitution) if body.dim == 2 else None)
+    return rows, kind(master, body, restitution)
 
 
 def twin_rows(pairs) -> np.ndarray | None:

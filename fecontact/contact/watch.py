@@ -132,7 +132,7 @@ def solid_watches(pairs) -> list[SolidWatch]:
 
 
 def held_nodes(pairs, q: np.ndarray) -> int:
-    """How many nodes of the 2D mortar interfaces among ``pairs`` lie deeper than half the
+    """How many nodes of the mortar interfaces among ``pairs`` lie deeper than half the
     allowance δ inside the other solid at q, so that their own rows hold them
     (:mod:`fecontact.contact.mortar_safeguard`): a held node ends a step about δ deep."""
     return sum(pair.held(q) for pair in pairs if isinstance(pair, DeepNodeRows))

@@ -245,8 +245,7 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list):
         return None
     if not kept:
         kept.extend(cache_keys(model))
-    tol, rows, tau, rate, g0 = crossing
-    stats = opts.stats.localization
+    tol, rows, tau, rate, g0, jumps = crossing
     reason = None
     # a contact pressed throughout (one pressed was a candidate: none in flight, most impacts)
     beside = st.candidates.size and (st.pressed() & (phases.g_tilde <= tol)).any()
@@ -263,11 +262,14 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list):
         if -rate[k] * left <= GRAZING * tol:
             reason = "grazing"
     if reason is None:
-        found = _refine(model, st, phases, left, rows[k], (tau[k], g0[k]), tol, opts, timer)
-        if found is not None:
+        guess = (tau[k], g0[k], jumps[k])
+        found = _refine(model, st, phases, left, rows[k], guess, tol, opts, timer)
+        if found is not None:  # (the jump closes the rows taken together: nsga._closed)
+            t = tau <= tau.min() + TOGETHER * h / left
+            found[1].together = (rows[t], -rate[t] * TOGETHER * h)
             return found
         reason = "unrefined"
-    stats.fallbacks[reason] += 1
+    opts.stats.localization.fallbacks[reason] += 1
     return None
 
 
@@ -279,10 +281,10 @@ def _rings(tau: np.ndarray, done: int, beside, h: float, left: float) -> bool:
 
 
 def _crossing(model, st, phases, left, opts):
-    """(tol, rows, τ, ġ(τ), g_0) of the contacts open at the start of the trial ``phases`` whose
-    gap at its end is below −tol (rows: those with a gap known at both ends, τ their Hermite
-    crossing as a fraction of ``left``, ġ(τ) their closing speed there in m/s, g_0 their gaps
-    at the start), or None where no gap crosses; sets the trial's gaps at q̃."""
+    """(tol, rows, τ, ġ(τ), g_0, jumps) of the contacts open at the start of the trial ``phases``
+    whose gap at its end is below −tol (rows: a gap known at both ends, one per node, τ their
+    Hermite crossing as a fraction of ``left``, ġ(τ) their closing speed in m/s, g_0 their
+    gaps at the start, jumps: g_0 a placeholder), or None where none crosses; sets g at q̃."""
     contacts = model.contacts
     if phases.g_tilde is None and not _penetrates(model, phases, opts):
         return None
@@ -302,10 +304,14 @@ def _crossing(model, st, phases, left, opts):
     s0, s1 = left * (G0 @ st.v[F]), left * (G1 @ phases.v[F])  # slopes in s
     half = 0.5 * tol  # (aimed inside the tolerance, on the open side: no correction)
     tau, slope = hermite_root(g0[rows] - half, s0, g1[rows] - half, s1)
+    keep = np.ones(rows.size, dtype=bool)
     if contacts.twins is not None:  # (no twin rows: every crossing stands for its node)
         keep = one_closing_per_node(contacts.twins, rows, tau)
-        rows, tau, slope = rows[keep], tau[keep], slope[keep]
-    return tol, rows, tau, slope / left, g0[rows]
+    sloped = G0.any(axis=1)  # (a deep node's row above half its allowance: no gradient)
+    if (keep & sloped).any():  # (a placeholder's instant is not its node's: the master's
+        keep &= sloped  # nodes have no twin; ball_on_slab at 10 m/s, localization.md)
+    rows, tau, slope, sloped = rows[keep], tau[keep], slope[keep], sloped[keep]
+    return tol, rows, tau, slope / left, g0[rows], ~sloped
 
 
 def one_closing_per_node(twins, rows: np.ndarray, tau: np.ndarray) -> np.ndarray:
@@ -359,11 +365,8 @@ def hermite_root(g0, s0, g1, s1, samples: int = 32, iterations: int = 30):
     s = a - pa * (b - a) / (pb - pa)  # the chord's root, then Newton
     eps = np.finfo(float).eps
     # round-off of p: a few ulps of its largest term
-    small = (
-        8.0
-        * eps
-        * np.maximum(np.maximum(np.abs(g0), np.abs(g1)), np.maximum(np.abs(s0), np.abs(s1)))
-    )
+    big = np.maximum(np.maximum(np.abs(g0), np.abs(g1)), np.maximum(np.abs(s0), np.abs(s1)))
+    small = 8.0 * eps * big
     for _ in range(iterations):
         ps = p(s)
         if (np.abs(ps) <= small).all():  # (the method: np.all's wrapper costs as much)
@@ -419,13 +422,12 @@ def _hermite_root_one(g0: float, s0: float, g1: float, s1: float, iterations: in
 def _refine(model, st, phases, left, j, guess, tol, opts, timer):
     """(δ, the phases of the smooth step of δ from ``st`` that ends with 0 ≤ g_j ≤ ``tol``):
     regula falsi (Illinois) on g_j − tol/2 over δ ∈ (0, left) from the Hermite ``guess`` (τ,
-    g_j at the start), δ = τ·left first; None when ``MAX_REFINE`` smooth steps do not find
-    it."""
-    stats = opts.stats.localization
-    tau, g0 = guess
-    half = 0.5 * tol  # (the aim: 0 ≤ g ≤ tol, no position correction, module docstring)
-    a, ga = 0.0, float(g0) - half
-    b, gb = left, float(phases.g_tilde[j]) - half
+    g_j at the start, whether g_j jumps from a placeholder), δ = τ·left first; None when
+    ``MAX_REFINE`` smooth steps do not find it; a row that jumps has no root: the trial at the
+    bracket's closed end, where its gap is first real (``stress_3d.md``, the 63 Δx/c balls)."""
+    stats, below = opts.stats.localization, None  # (below: δ and trial on the closed side)
+    (tau, g0, jumps), half = guess, 0.5 * tol  # (aim: 0 ≤ g ≤ tol, no correction, module doc)
+    (a, ga), (b, gb) = (0.0, float(g0) - half), (left, float(phases.g_tilde[j]) - half)
     delta, side = float(tau) * left, 0  # (a float: the split's times and sizes are floats)
     for _ in range(MAX_REFINE):
         trial = smooth_phases(model, st, delta, opts, timer)
@@ -441,11 +443,11 @@ def _refine(model, st, phases, left, j, guess, tol, opts, timer):
             side = 1
         else:
             b, gb, ga = delta, g, (0.5 * ga if side < 0 else ga)
-            side = -1
+            side, below = -1, (delta, trial)
         delta = (a * gb - b * ga) / (gb - ga)
         if not a < delta < b:
             delta = 0.5 * (a + b)
-    return None
+    return below if jumps else None
 
 
 def joined(first: State, second: State, h: float) -> State:

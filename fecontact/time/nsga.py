@@ -101,7 +101,7 @@ class _Phases:
     __slots__ = (
         "Gb P a c cand closed corrected force forces g_tilde gaps grip h held impulse "
         "iters kept lam m model nu opts q q_tilde record release smooth_step st st_s step t "
-        "timer tol_gap v v_tilde vd works"
+        "timer tol_gap together v v_tilde vd works"
     ).split()
 
     def __init__(self, model, st: State, h: float, opts, timer: PhaseTimer, smooth_step):
@@ -112,7 +112,7 @@ class _Phases:
         self.t, self.m = st.t + h, model.contacts.size
         self.record = self.forces = self.works = None  # friction, smooth forces, jump's works
         self.grip = None  # (λ_N, λ_T) of the smooth step with friction
-        self.nu = self.impulse = self.gaps = self.cand = None
+        self.nu = self.impulse = self.gaps = self.cand = self.together = None
         self.corrected = None  # (q̃, the metric's solve) after a correction (decoupled scheme)
         self.q_tilde = None  # q̃ after a correction moved q (for the energy ledger)
         self.g_tilde = None  # the gaps at q̃, when known before the correction
@@ -181,7 +181,7 @@ class _Phases:
             short &= ~(persistent[cand] & (g_cand >= -self.tol_gap))
         # (count_nonzero: a third of the time of any() on a few contacts)
         if not np.count_nonzero(short):  # (closed: the contacts closed where the step ends)
-            self.closed = cand[g_cand <= self.tol_gap]
+            self.closed = _closed(cand, g_tilde, self.tol_gap, self.together)
             return
         was_active = st.nu[cand] > 0.0 if st.nu.size == m else False
         if self.force is not None:  # contacts pressed by the smooth step stay closed (held)
@@ -211,7 +211,7 @@ class _Phases:
             self.record.work += f[model.free] @ U_t
         self.Gb = None  # the joints' gradient moved with q
         self.corrected = None if opts.restarts else (q_tilde, metric[1])
-        self.closed = cand[self.gaps[cand] <= self.tol_gap]
+        self.closed = _closed(cand, self.gaps, self.tol_gap, self.together)
 
     def _corrected(self, q_tilde, work, metric):
         """(U, k ν_N, (k ν_T, U_T) with friction else None) of the correction on ``work``."""
@@ -436,6 +436,21 @@ def _retake(model, st, step, rows, opts, at):
 def _energy(model, q, v) -> float:
     """T + V_strain + V_gravity (J) at (q, v)."""
     return model.kinetic_energy(v) + model.strain_energy(q) + model.potential_energy(q)
+
+
+def _closed(cand, gaps, tol_gap: float, together) -> np.ndarray:
+    """The candidates ``cand`` the velocity jump closes (``gaps``: every contact's): those
+    within ``tol_gap``, and the rows a located impact takes together, ``together`` = (rows,
+    reach (m): how far each closes within the window of rows taken together; None: none),
+    within ``tol_gap`` + reach. The correction that puts back the earlier of two rows that
+    close at one instant can lift the later a few tolerances out (a neighbouring node, moved
+    with it); left open, it closed again picoseconds later, in a smooth step too short to
+    determine its contact forces, whose signs then followed k (``two_balls.md``)."""
+    closed = cand[gaps[cand] <= tol_gap]
+    if together is None:
+        return closed
+    rows, reach = together
+    return np.union1d(closed, rows[gaps[rows] <= tol_gap + reach])
 
 
 def _pushed(cand, gaps, tol_gap: float, redundant: bool) -> np.ndarray:
