@@ -85,3 +85,37 @@ def test_a_run_that_reads_its_releases_is_the_run_without_probes(run, monkeypatc
     assert len(read) == len(alone)
     for a, b in zip(read, alone, strict=True):
         np.testing.assert_array_equal(a, b)  # (bit for bit: nothing of a probe is left)
+
+
+def dropped_ball(stats):
+    """The elastic ball of ``ball_drop`` (one refinement) falling, striking, pressed, its
+    release read by a probe, and flying again."""
+    sim = case("ball_drop").build(refinements=1, t_end=0.02)
+    model = sim.model
+    return model, simulate(model, sim.dt, sim.t_end, sim.options, q0=sim.q0, v0=sim.v0, stats=stats)
+
+
+@pytest.mark.parametrize("run", [fast_disks, dropped_ball])
+def test_a_state_taken_as_in_flight_presses_nothing(run, monkeypatch):
+    """A step that starts from a state the step before noted as pressing nothing
+    (:meth:`Releases._note_flight`) skips its test: every such state presses nothing, and the
+    run equals, to the bit, the run that tests every state (the disks fly, press, are halved
+    and let go; the ball flies, strikes, is let go and flies)."""
+    call, flights = Releases.__call__, []
+
+    def watched(self, model, st, h, opts, timer):
+        free, impulse = self.flying
+        if st is free and st.impulse is impulse:
+            flights.append(bool(st.pressed().any()))
+        return call(self, model, st, h, opts, timer)
+
+    monkeypatch.setattr(Releases, "__call__", watched)
+    stats = StepStats()
+    noted = [np.concatenate([st.q, st.v, st.impulse]) for st in run(stats)[1]]
+    assert flights and not any(flights)
+    assert stats.localization.impacts and stats.localization.release_probes
+    monkeypatch.setattr(Releases, "_note_flight", lambda self, out, unsplit: None)
+    tested = [np.concatenate([st.q, st.v, st.impulse]) for st in run(StepStats())[1]]
+    assert len(noted) == len(tested)
+    for a, b in zip(noted, tested, strict=True):
+        np.testing.assert_array_equal(a, b)  # (bit for bit: the same decisions)

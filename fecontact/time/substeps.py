@@ -175,24 +175,39 @@ class Releases(Localizer):
         self.split = split  # (the run's choice: releasing steps split at the release read)
         self.watched = None  # the contacts whose release the pending probe reads (None: all)
         self.read_rows = None  # those of the latest reading
+        self.flying = (None, None)  # (a state it returned that presses nothing, its impulses)
 
     def __call__(self, model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
-        pressed = st.pressed().any()
-        if not pressed:  # (no force to fall: most steps)
+        # (in flight the step before proved st presses nothing, and noted the forces as zeros
+        # then: no test of its arrays; a state joined since has other impulses)
+        free, impulse = self.flying
+        known = st is free and st.impulse is impulse
+        pressed = not known and st.pressed().any()
+        if not (pressed or known):  # (no force to fall: most steps)
             self._resting()
-        elif (out := self._falling(model, st, h, opts, timer)) is not None:
+        elif pressed and (out := self._falling(model, st, h, opts, timer)) is not None:
             return out
         stats = opts.stats.localization
         before = (stats.fallbacks["unrefined"], stats.impacts, stats.first_closing)
         out = localized_step(model, st, h, opts, timer)
         if stats.fallbacks["unrefined"] > before[0]:  # an instant the whole step did not find
             out = self._retaken(model, st, h, opts, timer, before[1:])
+        elif not pressed:
+            self._note_flight(out, stats.impacts == before[1])
         if pressed and not out.pressed().any():  # (the run's release, at the step's start)
             self._drop_spent(st.t)
             release, until = self._reading(model, opts, timer)
             located = release is not None and st.t <= until
             opts.stats.localization.last_release = release if located else st.t
         return out
+
+    def _note_flight(self, out: State, unsplit: bool) -> None:
+        """Note ``out``, the end of a step from a state that pressed nothing, as pressing
+        nothing where it has no candidate, no smooth force and no impact was located in its
+        step: its correction then gave ν to none, its jump Λ to none (nothing closed at its
+        end), and no part of the step left Λ (:meth:`State.pressed`)."""
+        flying = unsplit and out.candidates.size == 0 and out.smooth is None
+        self.flying = (out, out.impulse) if flying else (None, None)
 
     def _falling(self, model, st, h, opts, timer) -> State | None:
         """The step from the pressed ``st`` split at the release the probe reads inside it,
