@@ -26,6 +26,7 @@ from .derivative_checks import (
     slip_derivative_errors,
     slip_step_errors,
 )
+from .energy import EnergyBalance
 from .errors import SolverError
 from .time import simulate
 
@@ -75,19 +76,27 @@ def trace(sim, dt=None, t_end=None, max_wall=None, abort=None):
     ``impulse`` (Σ kΛ, N·s),
     ``iterations`` (smooth + position + velocity), ``halvings``, ``vmax`` (max |v|); and
     ``status`` ("completed", "failed" on ``SolverError``, "timeout" after ``max_wall`` s,
-    "diverged" when ``abort(row)`` is true), ``message`` and ``wall`` (s).
+    "diverged" when ``abort(row)`` is true), ``message``, ``wall`` (s) and ``warnings``: the
+    run's, as ``summary.json`` holds them, of its settings and of its energy check
+    (:class:`fecontact.energy.EnergyBalance`).
     """
     model = sim.model
     names = ["t", "h", "kinetic", "total", "min_gap", "active", "impulse"]
     names += ["iterations", "halvings", "vmax", *sim.probes]
     rows = {k: [] for k in names}
     status, message = "completed", ""
+    balance = EnergyBalance(model)  # the run's energy check, as fecontact.run's
     start = time.perf_counter()
     steps = simulate(model, dt or sim.dt, t_end or sim.t_end, sim.options, q0=sim.q0, v0=sim.v0)
     try:
         for st in steps:
-            ke = model.kinetic_energy(st.v)
-            total = ke + model.potential_energy(st.q) + model.strain_energy(st.q)
+            ke, pe, se = (
+                model.kinetic_energy(st.v),
+                model.potential_energy(st.q),
+                model.strain_energy(st.q),
+            )
+            total = ke + pe + se
+            balance.add(st.t, st.q, ke, se, pe)
             row = {
                 "t": st.t,
                 "h": st.h,
@@ -117,6 +126,8 @@ def trace(sim, dt=None, t_end=None, max_wall=None, abort=None):
         status, message = "failed", str(err)
     out = {k: np.array(v) for k, v in rows.items()}
     out.update(status=status, message=message, wall=time.perf_counter() - start)
+    settings = sim.replace(dt=dt or sim.dt, t_end=t_end or sim.t_end).warnings()
+    out["warnings"] = settings + ([balance.describe()] if balance.unstable() else [])
     return out
 
 

@@ -76,11 +76,11 @@ def _impact(before: State, after: State) -> bool:
 def failure_error(err: StepFailure, t: float, step: int, tried: str) -> SolverError:
     """The run's error for a step that failed at ``t`` (s), row ``step``, after ``tried``:
     what failed, with the residual where a solve left one (a step refused for the turn of
-    a beam node ran no Newton iteration: none)."""
+    a beam node has none)."""
     if isinstance(err, TurnFailure):
         text = (
             f"beam turn bound at t = {t:.6g} s (step {step}): after {tried}, the last step "
-            f"tried was refused before any Newton iteration: its {err}"
+            f"tried was refused before its correction: {err}"
         )
     else:
         what = (
