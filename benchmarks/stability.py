@@ -2,10 +2,10 @@
 
 Per run: whether it completed ("completed, unstable" where the solver's own energy check,
 ``summary.json``'s warning, calls it unstable; ``SolverError`` caught: "failed"; non-finite
-or runaway energy: "diverged"; over the time budget: "timeout"), the time reached, the max penetration (m), the
-energy drift, Newton iterations per step (smooth + position + velocity; mean and max), the
-step halvings, and the wall time. Energy drift, with E the total energy (kinetic + strain +
-gravity) and K the kinetic energy:
+or runaway energy: "diverged"; over the time budget: "timeout"), the time reached, the max
+penetration (m), the energy drift, Newton iterations per step (smooth + position +
+velocity; mean and max), the step halvings, and the wall time. Energy drift, with E the
+total energy (kinetic + strain + gravity) and K the kinetic energy:
 
 - ``growth %``: max_t (E(t) − E(0)) over the peak kinetic energy max_t K(t), in %;
 - ``impact step %``: the largest E_n − E_{n−1} over the steps n where a contact closes, over

@@ -113,14 +113,9 @@ def trace(sim, dt=None, t_end=None, max_wall=None, abort=None):
                 row[name] = probe.fn(model, st)
             for k, v in row.items():
                 rows[k].append(v)
-            if not math.isfinite(total):
-                status, message = "diverged", f"non-finite energy at t = {st.t:.6g} s"
-                break
-            if abort is not None and abort(row):
-                status, message = "diverged", f"stopped at t = {st.t:.6g} s (energy blow-up)"
-                break
-            if max_wall is not None and time.perf_counter() - start > max_wall:
-                status, message = "timeout", f"stopped at t = {st.t:.6g} s after {max_wall} s"
+            stop = _stopped(row, abort, max_wall, time.perf_counter() - start)
+            if stop is not None:
+                status, message = stop
                 break
     except SolverError as err:
         status, message = "failed", str(err)
@@ -129,6 +124,17 @@ def trace(sim, dt=None, t_end=None, max_wall=None, abort=None):
     settings = sim.replace(dt=dt or sim.dt, t_end=t_end or sim.t_end).warnings()
     out["warnings"] = settings + ([balance.describe()] if balance.unstable() else [])
     return out
+
+
+def _stopped(row: dict, abort, max_wall, wall: float) -> tuple[str, str] | None:
+    """(status, message) where the trace stops after ``row``, else None."""
+    if not math.isfinite(row["total"]):
+        return "diverged", f"non-finite energy at t = {row['t']:.6g} s"
+    if abort is not None and abort(row):
+        return "diverged", f"stopped at t = {row['t']:.6g} s (energy blow-up)"
+    if max_wall is not None and wall > max_wall:
+        return "timeout", f"stopped at t = {row['t']:.6g} s after {max_wall} s"
+    return None
 
 
 def episode_starts(active) -> np.ndarray:

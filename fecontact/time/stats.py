@@ -84,7 +84,8 @@ class TurnCounts:
     smooth steps refused because they turned a node by more than π/2 (each one a halving of
     the step, a rejection of rtol's control or a localized split taken whole), and the
     smooth Newton updates bordered by rows cut to that turn. The halvings the refusals caused
-    and the steps that had any are counted with the states (:class:`fecontact.recorder.Recorder`)."""
+    and the steps that had any are counted with the states
+    (:class:`fecontact.recorder.Recorder`)."""
 
     refused: int = 0
     cut_updates: int = 0
