@@ -1,10 +1,11 @@
 """Stress tests of numerical stability: a matrix of runs and what each one did.
 
-Per run: whether it completed (``SolverError`` caught: "failed"; non-finite or runaway energy:
-"diverged"; over the time budget: "timeout"), the time reached, the max penetration (m), the
-energy drift, Newton iterations per step (smooth + position + velocity; mean and max), the
-step halvings, and the wall time. Energy drift, with E the total energy (kinetic + strain +
-gravity) and K the kinetic energy:
+Per run: whether it completed ("completed, unstable" where the solver's own energy check,
+``summary.json``'s warning, calls it unstable; ``SolverError`` caught: "failed"; non-finite
+or runaway energy: "diverged"; over the time budget: "timeout"), the time reached, the max
+penetration (m), the energy drift, Newton iterations per step (smooth + position +
+velocity; mean and max), the step halvings, and the wall time. Energy drift, with E the
+total energy (kinetic + strain + gravity) and K the kinetic energy:
 
 - ``growth %``: max_t (E(t) − E(0)) over the peak kinetic energy max_t K(t), in %;
 - ``impact step %``: the largest E_n − E_{n−1} over the steps n where a contact closes, over
@@ -591,7 +592,7 @@ def measure(spec: Spec, sim, tr) -> dict:
     row = {
         "group": spec.group,
         "run": spec.run,
-        "status": tr["status"],
+        "status": _status(tr),
         "t_end": spec.t_end or sim.t_end,
         "t_reached": float(t[-1]) if n else 0.0,
         "h": spec.dt or sim.dt,
@@ -608,11 +609,22 @@ def measure(spec: Spec, sim, tr) -> dict:
         "ms_per_step": 1e3 * tr["wall"] / max(steps, 1),
         "deviation": math.nan,
         "check": "",
-        "message": tr["message"][:300],
+        "message": "; ".join(filter(None, [tr["message"], *_unstable(tr)]))[:300],
     }
     if spec.check is not None and n > 1:
         row["check"] = spec.check(tr, sim)
     return row
+
+
+def _unstable(tr) -> list[str]:
+    """The verdict of the run's own energy check (``summary.json``'s warning), if any."""
+    return [w for w in tr.get("warnings", []) if "integration is unstable" in w]
+
+
+def _status(tr) -> str:
+    """The run's status, "completed" qualified where its own energy check calls it unstable."""
+    done = tr["status"] == "completed"
+    return "completed, unstable" if done and _unstable(tr) else tr["status"]
 
 
 def deviation(tr, ref, length):
@@ -727,7 +739,7 @@ def plot(rows, histories, path):
         for r in sel:
             i = rhos.index(float(r["run"].split()[0].split("=")[1]))
             j = cols.index(" ".join(r["run"].split()[1:3]))
-            done = r["status"] == "completed"
+            done = r["status"].startswith("completed")
             grid[i, j] = r["growth_pct"] if done else 1e3
             short = {"diverged": "div", "failed": "fail", "timeout": "time"}
             label[i, j] = f"{r['growth_pct']:.2g}" if done else short.get(r["status"], "?")

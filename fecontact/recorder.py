@@ -41,7 +41,10 @@ class Recorder:
         "iter_total",
         "iter_max",
         "halvings",
+        "halved_steps",
         "retakes",
+        "turn_halvings",
+        "turn_halved_steps",
         "max_penetration",
         "mortar_depth",
         "mortar_deepest",
@@ -53,6 +56,7 @@ class Recorder:
         "steps",
         "dt_min",
         "dt_max",
+        "dt_substep_min",
     )
 
     def __init__(self, sim, out: Path, keep_rows=None):
@@ -71,8 +75,10 @@ class Recorder:
         self.impact_frame = False  # the first impact's frame is written
         self.iter_total = 0
         self.iter_max = 0
-        self.halvings = 0
+        self.halvings, self.halved_steps = 0, 0  # halvings, and the steps that had any
         self.retakes = 0
+        # of the halvings, those for a beam node turned too far (fecontact.time.turns)
+        self.turn_halvings, self.turn_halved_steps = 0, 0
         self.max_penetration = 0.0  # m, from the inside/outside test at every step's end
         # the deepest mortar node over its edge, and (t, step, depth in m) where it was
         self.mortar_depth, self.mortar_deepest = 0.0, None
@@ -87,6 +93,7 @@ class Recorder:
         self.energies = (math.nan, math.nan, math.nan)  # T, V_strain, V_gravity of the last
         self.steps = 0
         self.dt_min, self.dt_max = math.inf, 0.0  # s: the smallest and largest step taken
+        self.dt_substep_min = math.inf  # s: the shortest sub-step of a halved step
         # what every row uses, resolved once: the gaps' reach (m) and the probes
         self.reach = self.model.length * sim.options.detection_margin
         self.probes = list(sim.probes.values())
@@ -125,12 +132,16 @@ class Recorder:
             self.iter_total += its
             self.iter_max = max(self.iter_max, its)
             self.halvings += st.halvings
+            self.halved_steps += st.halvings > 0
             self.retakes += st.retakes
+            self.turn_halvings += st.turn_halvings
+            self.turn_halved_steps += st.turn_halvings > 0
             self.max_penetration = max(self.max_penetration, st.penetration)
             if st.mortar_depth > self.mortar_depth:
                 self.mortar_depth, self.mortar_deepest = st.mortar_depth, (st.t, st.step)
             self.mortar_held_steps += st.mortar_held > 0
             self.dt_min, self.dt_max = min(self.dt_min, st.h), max(self.dt_max, st.h)
+            self.dt_substep_min = min(self.dt_substep_min, st.h_least or st.h)
         self.energy_final = total
         self.energy_max = max(self.energy_max, total)
         self.min_gap = min(self.min_gap, min_gap)
@@ -196,6 +207,8 @@ class Recorder:
             # the steps taken: dt but for the last one, or, with rtol, those the control chose
             "dt_min": self.dt_min if self.steps else None,
             "dt_max": self.dt_max if self.steps else None,
+            # the shortest step actually taken: a halved step's shortest sub-step, else dt_min
+            "dt_substep_min": self.dt_substep_min if self.steps else None,
             "t_end": sim.t_end,
             "wall_time_s": wall,
             "time_per_step_s": (wall - timer.get("output", 0.0)) / max(self.steps, 1),
@@ -205,6 +218,7 @@ class Recorder:
             "newton_iterations_max": self.iter_max,
             "newton_iterations_mean": self.iter_total / max(self.steps, 1),
             "step_halvings": self.halvings,
+            "halved_steps": self.halved_steps,
             "penetration_retakes": self.retakes,
             "max_penetration": max(self.max_penetration, -self.min_gap),
             # the deepest node of a mortar interface inside the other solid, over that solid's
@@ -239,3 +253,22 @@ class Recorder:
                 "scikit-fem": getattr(skfem, "__version__", "unknown"),
             },
         }
+
+
+def halving_warnings(rec: Recorder, dt: float) -> list[str]:
+    """A warning when steps of ``dt`` (s) were halved: the halvings and the steps that had
+    any, the shortest sub-step, and the halvings by cause (counted in ``summary.json``)."""
+    if not rec.halvings:
+        return []
+    turn, retake = rec.turn_halvings, rec.retakes
+    causes = {
+        "a beam node turned by more than a quarter turn": turn,
+        "a penetration retaken": retake,
+        "a solve that did not converge": rec.halvings - turn - retake,
+    }
+    why = ", ".join(f"{n} for {cause}" for cause, n in causes.items() if n)
+    return [
+        f"halvings: {rec.halved_steps} step(s) of dt = {dt:g} s were halved {rec.halvings} "
+        f"time(s), down to sub-steps of {rec.dt_substep_min:.3g} s: {why} (summary.json: "
+        "step_halvings, halved_steps, beam_turns, penetration_retakes, dt_substep_min)"
+    ]

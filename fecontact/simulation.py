@@ -32,7 +32,7 @@ from .io.run_folder import (
 )
 from .io.run_lock import hold_folder
 from .probes import Probe, node_probe
-from .recorder import Recorder
+from .recorder import Recorder, halving_warnings
 from .threads import blas_threads
 from .time import (
     IntegratorOptions,
@@ -223,8 +223,10 @@ def _run(sim, out, progress, frames, checkpoint_every, resume, overwrite, frame_
         _show(bar, None, status)
         summary = _summary(sim, rec, stats, status, message, wall, timer)
         _write_summary(out, summary, status)
+    said = sim.warnings() if start is None else []  # (warned before the run)
     for text in summary["warnings"]:
-        warnings.warn(text, UserWarning, stacklevel=3)
+        if text not in said:
+            warnings.warn(text, UserWarning, stacklevel=3)
     return summary
 
 
@@ -356,12 +358,16 @@ def _summary(sim, rec, stats, status, message, wall, timer) -> dict:
     frictional = sim.model.contacts.frictional
     counts = stats.summary(frictional)
     friction_solver = counts.pop("friction_solver", None)
+    # the turn bound's halvings, and the steps that had any, are counted with the states
+    counts["beam_turns"] |= {"halvings": rec.turn_halvings, "halved_steps": rec.turn_halved_steps}
     summary = rec.summary(status, wall, timer, message, counts) | counts
     # a run that ends with more energy than its budget is said so, not only counted
     summary["warnings"] = [rec.balance.describe()] if rec.balance.unstable() else []
     summary["warnings"] += rec.ledger.warnings()
     summary["warnings"] += rec.penetration_warnings()
     summary["warnings"] += _residual_warnings(counts)
+    # every warning of the run: also the halvings and its settings' (said before it too)
+    summary["warnings"] += halving_warnings(rec, sim.dt) + sim.warnings()
     if frictional:
         summary["friction_solver"] = friction_solver
         summary["friction_work"] = rec.friction_work

@@ -26,6 +26,7 @@ from .derivative_checks import (
     slip_derivative_errors,
     slip_step_errors,
 )
+from .energy import EnergyBalance
 from .errors import SolverError
 from .time import simulate
 
@@ -75,19 +76,27 @@ def trace(sim, dt=None, t_end=None, max_wall=None, abort=None):
     ``impulse`` (Σ kΛ, N·s),
     ``iterations`` (smooth + position + velocity), ``halvings``, ``vmax`` (max |v|); and
     ``status`` ("completed", "failed" on ``SolverError``, "timeout" after ``max_wall`` s,
-    "diverged" when ``abort(row)`` is true), ``message`` and ``wall`` (s).
+    "diverged" when ``abort(row)`` is true), ``message``, ``wall`` (s) and ``warnings``: the
+    run's, as ``summary.json`` holds them, of its settings and of its energy check
+    (:class:`fecontact.energy.EnergyBalance`).
     """
     model = sim.model
     names = ["t", "h", "kinetic", "total", "min_gap", "active", "impulse"]
     names += ["iterations", "halvings", "vmax", *sim.probes]
     rows = {k: [] for k in names}
     status, message = "completed", ""
+    balance = EnergyBalance(model)  # the run's energy check, as fecontact.run's
     start = time.perf_counter()
     steps = simulate(model, dt or sim.dt, t_end or sim.t_end, sim.options, q0=sim.q0, v0=sim.v0)
     try:
         for st in steps:
-            ke = model.kinetic_energy(st.v)
-            total = ke + model.potential_energy(st.q) + model.strain_energy(st.q)
+            ke, pe, se = (
+                model.kinetic_energy(st.v),
+                model.potential_energy(st.q),
+                model.strain_energy(st.q),
+            )
+            total = ke + pe + se
+            balance.add(st.t, st.q, ke, se, pe)
             row = {
                 "t": st.t,
                 "h": st.h,
@@ -104,20 +113,28 @@ def trace(sim, dt=None, t_end=None, max_wall=None, abort=None):
                 row[name] = probe.fn(model, st)
             for k, v in row.items():
                 rows[k].append(v)
-            if not math.isfinite(total):
-                status, message = "diverged", f"non-finite energy at t = {st.t:.6g} s"
-                break
-            if abort is not None and abort(row):
-                status, message = "diverged", f"stopped at t = {st.t:.6g} s (energy blow-up)"
-                break
-            if max_wall is not None and time.perf_counter() - start > max_wall:
-                status, message = "timeout", f"stopped at t = {st.t:.6g} s after {max_wall} s"
+            stop = _stopped(row, abort, max_wall, time.perf_counter() - start)
+            if stop is not None:
+                status, message = stop
                 break
     except SolverError as err:
         status, message = "failed", str(err)
     out = {k: np.array(v) for k, v in rows.items()}
     out.update(status=status, message=message, wall=time.perf_counter() - start)
+    settings = sim.replace(dt=dt or sim.dt, t_end=t_end or sim.t_end).warnings()
+    out["warnings"] = settings + ([balance.describe()] if balance.unstable() else [])
     return out
+
+
+def _stopped(row: dict, abort, max_wall, wall: float) -> tuple[str, str] | None:
+    """(status, message) where the trace stops after ``row``, else None."""
+    if not math.isfinite(row["total"]):
+        return "diverged", f"non-finite energy at t = {row['t']:.6g} s"
+    if abort is not None and abort(row):
+        return "diverged", f"stopped at t = {row['t']:.6g} s (energy blow-up)"
+    if max_wall is not None and wall > max_wall:
+        return "timeout", f"stopped at t = {row['t']:.6g} s after {max_wall} s"
+    return None
 
 
 def episode_starts(active) -> np.ndarray:

@@ -32,6 +32,7 @@ from ..errors import SolverError
 from .constraints import StepFailure
 from .penetration import PenetrationFailure
 from .state import PhaseTimer, State
+from .turns import TurnFailure
 
 __all__ = [
     "LADDER_DEPTH",
@@ -73,16 +74,23 @@ def _impact(before: State, after: State) -> bool:
 
 
 def failure_error(err: StepFailure, t: float, step: int, tried: str) -> SolverError:
-    """The run's error for a step that failed at ``t`` (s), row ``step``, after ``tried``."""
-    what = (
-        "penetration not held" if isinstance(err, PenetrationFailure) else "Newton did not converge"
-    )
-    return SolverError(
-        f"{what} at t = {t:.6g} s (step {step}): {err} (residual {err.residual:.3e}) after {tried}",
-        time=t,
-        step=step,
-        residual=err.residual,
-    )
+    """The run's error for a step that failed at ``t`` (s), row ``step``, after ``tried``:
+    what failed, with the residual where a solve left one (a step refused for the turn of
+    a beam node has none)."""
+    if isinstance(err, TurnFailure):
+        text = (
+            f"beam turn bound at t = {t:.6g} s (step {step}): after {tried}, the last step "
+            f"tried was refused before its correction: {err}"
+        )
+    else:
+        what = (
+            "penetration not held"
+            if isinstance(err, PenetrationFailure)
+            else "Newton did not converge"
+        )
+        text = f"{what} at t = {t:.6g} s (step {step}): {err} (residual {err.residual:.3e})"
+        text += f" after {tried}"
+    return SolverError(text, time=t, step=step, residual=err.residual)
 
 
 class _Ladder:

@@ -453,14 +453,17 @@ def _refine(model, st, phases, left, j, guess, tol, opts, timer):
 def joined(first: State, second: State, h: float) -> State:
     """``second`` as the end of one step of ``h`` (s) made of ``first`` and ``second``: the
     step's impulses, normal and tangential, iterations, halvings and retakes are the sums of
-    theirs, its penetration the deeper."""
+    theirs, its penetration the deeper, its shortest halved sub-step (``h_least``) the shorter."""
     second.impulse = second.impulse + first.impulse
     if second.friction is not None:  # the step's tangential impulse, as the normal
         second.friction.impulse = first.friction.impulse + second.friction.impulse
     second.iterations = {k: first.iterations[k] + second.iterations[k] for k in first.iterations}
     second.halvings = first.halvings + second.halvings
     second.retakes = first.retakes + second.retakes
+    second.turn_halvings = first.turn_halvings + second.turn_halvings
     second.penetration = max(first.penetration, second.penetration)
+    halved = [part.h_least for part in (first, second) if part.h_least is not None]
+    second.h_least = min(halved) if halved else None
     second.h = h
     return second
 

@@ -216,6 +216,9 @@ class State:
     lam: np.ndarray = field(default_factory=lambda: np.zeros(0))
     halvings: int = 0
     retakes: int = 0  # of the halvings: steps retaken for a penetration
+    turn_halvings: int = 0  # of the halvings: steps whose predictor turned a beam node too far
+    # the shortest (sub-)step (s) the step was taken in where it was halved; None: h itself
+    h_least: float | None = None
     penetration: float = 0.0  # m: the deepest contact point on the wrong side at the end
     # the deepest node of a mortar interface inside the other solid, over that solid's
     # shortest boundary edge (fecontact.contact.watch)

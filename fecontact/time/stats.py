@@ -80,11 +80,14 @@ class Localization:
 
 @dataclass
 class TurnCounts:
-    """The bound on the turn of beam nodes (:mod:`fecontact.time.turns`): the steps halved
-    because their predictor or smooth step turned a node by more than π/2, and the smooth
-    Newton updates bordered by rows cut to that turn."""
+    """The bound on the turn of beam nodes (:mod:`fecontact.time.turns`): the predictors and
+    smooth steps refused because they turned a node by more than π/2 (each one a halving of
+    the step, a rejection of rtol's control or a localized split taken whole), and the
+    smooth Newton updates bordered by rows cut to that turn. The halvings the refusals caused
+    and the steps that had any are counted with the states
+    (:class:`fecontact.recorder.Recorder`)."""
 
-    halved_steps: int = 0
+    refused: int = 0
     cut_updates: int = 0
 
 
@@ -149,7 +152,7 @@ class StepStats:
             # the velocity's follow-ups of an impact's correction (fecontact.time.position_jump)
             "velocity_follow_ups": asdict(self.follow_ups),
             "contact_releases": self.releases,
-            # beam nodes turned by more than π/2: steps halved, row-bordered updates cut
+            # beam nodes turned by more than π/2: (sub-)steps refused, row-bordered updates cut
             "beam_turns": asdict(self.turns),
             # impacts at their own instant inside a step, and the steps left to the step's end
             "localized_impacts": self.localization.impacts,

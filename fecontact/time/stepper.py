@@ -22,6 +22,7 @@ from .settings import RunSettings, run_settings
 from .state import IntegratorOptions, PhaseTimer, State
 from .stats import StepStats
 from .substeps import localized_stepper
+from .turns import TurnFailure
 
 __all__ = ["PLANS", "STEPPERS", "TAKES_TERMS", "Stepper", "make_stepper"]
 
@@ -63,7 +64,8 @@ class Stepper:
     def step(self, st: State, h: float, timer: PhaseTimer, depth: int = 0) -> State:
         """The state after ``h`` (s) from ``st``: one step, or, where it fails, two of h/2,
         recursively down to ``max_halvings`` levels (then the failure propagates). A step
-        retaken because it left a point too deep inside a body counts in ``retakes``."""
+        retaken because it left a point too deep inside a body counts in ``retakes``, one
+        whose predictor or smooth step turned a beam node too far in ``turn_halvings``."""
         model, settings = self.model, self.settings
         if self.looks:
             model.contacts.look_ahead(st.q, st.v, h)
@@ -76,12 +78,16 @@ class Stepper:
             if depth >= self.settings.max_halvings:
                 raise
             retake = isinstance(err, PenetrationFailure)
+            turn = isinstance(err, TurnFailure)
         first = self.step(st, 0.5 * h, timer, depth + 1)
         second = self.step(first, 0.5 * h, timer, depth + 1)
         second.ledger = joined_record(model, first, second)  # both halves' contact phases
+        least = min(first.h_least or first.h, second.h_least or second.h)
         second = joined(first, second, h)
+        second.h_least = least
         second.halvings += 1
         second.retakes += retake
+        second.turn_halvings += turn
         return second
 
 

@@ -20,7 +20,8 @@ turns the struck nodes by 80 rad (1.8e7 J of strain from 49 J). The kinematics l
 the iterate say nothing a quarter turn away, so such an update, with its multipliers, is cut
 to turn no node by more than π/2: a damped Newton update, whose direction is kept.
 
-Both are counted in ``summary.json`` (``beam_turns``: the steps halved, the updates cut).
+Both are counted in ``summary.json`` (``beam_turns``: the predictors and smooth steps
+refused, the halvings this caused and the steps that had any, the updates cut).
 """
 
 from __future__ import annotations
@@ -31,10 +32,18 @@ import numpy as np
 
 from .constraints import StepFailure
 
-__all__ = ["TURN_BOUND", "TurnBound", "beam_turns"]
+__all__ = ["TURN_BOUND", "TurnBound", "TurnFailure", "beam_turns"]
 
 TURN_BOUND = 0.5 * math.pi
 """The largest turn (rad) of a beam node over one step or one update: a quarter turn."""
+
+
+class TurnFailure(StepFailure):
+    """A predictor or smooth step refused before its correction for turning a beam node by
+    more than :data:`TURN_BOUND`: no Newton iteration ran, so it has no residual (nan)."""
+
+    def __init__(self, message: str):
+        super().__init__(message, math.nan)
 
 
 class TurnBound:
@@ -60,10 +69,9 @@ class TurnBound:
         dofs = self._dofs
         turn = self._largest(x[dofs] if group else x[dofs] - q[dofs])
         if turn > TURN_BOUND:
-            stats.turns.halved_steps += 1
-            raise StepFailure(
-                f"{what} turns a beam node by {turn:.3g} rad (more than a quarter turn)",
-                math.nan,
+            stats.turns.refused += 1
+            raise TurnFailure(
+                f"{what} turns a beam node by {turn:.3g} rad (more than a quarter turn)"
             )
 
     def cut(self, dq: np.ndarray, stats) -> float:
