@@ -66,11 +66,12 @@ with tempfile.TemporaryDirectory() as tmp:
         best = min(best, (time.process_time() - start) / len(states))
         rec.history.close()
         text = (Path(tmp) / "history.csv").read_bytes()
-        summaries = [rec.ledger.summary(*rec.energies), rec.balance.summary(), rec.stats()]
+        summaries = [rec.ledger.summary(*rec.energies), rec.balance.summary()]
         digest = hashlib.sha256(text + json.dumps(summaries, default=str).encode()).hexdigest()
+        counts = json.loads(json.dumps(rec.stats(), default=str))
 stepped = hashlib.sha256(b"".join(st.q.tobytes() + st.v.tobytes() for st in states)).hexdigest()
 print(json.dumps({"per_row": best, "per_step": step, "rows": len(states), "output": digest,
-                  "states": stepped}))
+                  "counts": counts, "states": stepped}))
 """
 
 
@@ -110,9 +111,13 @@ def measure(trees: dict, repeats: int, quick: bool, inner: int) -> list[dict]:
 def same_output(runs: dict) -> bool:
     """Whether every run that stepped the same states as this checkout (a version whose time
     loop differs at round-off steps others, and is compared in time only) wrote the same
-    history and energy summaries."""
+    history, energy summaries and the recorder's counts (on the keys every version has)."""
     states = runs["new"][0]["states"]
-    return len({r["output"] for n in runs for r in runs[n] if r["states"] == states}) == 1
+    same = [r for n in runs for r in runs[n] if r["states"] == states]
+    # (the recorder's counts compared on the keys every version has: a version may count more)
+    keys = set.intersection(*(set(r.get("counts", {})) for r in same))
+    counts = {json.dumps({k: r["counts"][k] for k in sorted(keys)}) for r in same}
+    return len({r["output"] for r in same}) == 1 and len(counts) == 1
 
 
 def table(rows: list[dict], repeats: int, baselines: list[str]) -> str:
