@@ -217,18 +217,9 @@ def hertz_span(quick):
         spans = {}
         for steps in ("finest", 20, 50):
             for loc in (False, True) if steps == "finest" else (False, True, "auto"):
-                model, options, v0 = hertz.uniform_case(element, refinements)
-                ball = model.bodies[0]
-                t_c = hertz.hertz(ball.mass)["t_c"]
-                h = hertz.base_step(ball) if steps == "finest" else t_c / steps
-                q0 = model.translation(ball, (0.0, 0.0, 2.37 * h * hertz.V))
-                options.detection_margin, options.localize = 0.01, loc
-                stats, last, after = StepStats(), 0.0, 0
-                for st in simulate(model, h, 3 * t_c, options, q0=q0, v0=v0, stats=stats):
-                    if st.step and st.pressed().any():
-                        last, after = st.t, 0
-                    elif last and (after := after + 1) * h > 0.1 * t_c:
-                        break
+                finest = steps == "finest"
+                run = hertz.located_impact(element, refinements, None if finest else steps, loc)
+                _, _, stats, last, h = run
                 span = stats.localization
                 spans[steps, loc] = (
                     span.last_release - span.first_closing if loc else last - 2.37 * h

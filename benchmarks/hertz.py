@@ -195,6 +195,28 @@ def base_step(ball) -> float:
     return 2.0 ** math.floor(math.log2(0.15 * node_spacing(ball) / ball.material.wave_speed))
 
 
+def located_impact(element: str, refinements: int, steps, localize):
+    """One impact of the uniform ball at 1 m/s closing 0.37 of a step into its third step,
+    at h = t_c/``steps`` (None: ``base_step``) with ``localize``, run until 0.1 t_c after its
+    last step with a contact force: (the ball, the last state, the run's statistics, the
+    end of that last pressed step (s), h (s))."""
+    from fecontact.time import StepStats
+
+    model, options, v0 = uniform_case(element, refinements)
+    ball = model.bodies[0]
+    t_c = hertz(ball.mass)["t_c"]
+    h = base_step(ball) if steps is None else t_c / steps
+    q0 = model.translation(ball, (0.0, 0.0, 2.37 * h * V))
+    options.detection_margin, options.localize = 0.01, localize
+    stats, last, after = StepStats(), 0.0, 0
+    for st in simulate(model, h, 3 * t_c, options, q0=q0, v0=v0, stats=stats):
+        if st.step and st.pressed().any():
+            last, after = st.t, 0
+        elif last and (after := after + 1) * h > 0.1 * t_c:
+            break
+    return ball, st, stats, last, h
+
+
 def measure(setup, v: float = V, dt_factor: float = 1.0, static: bool = True) -> dict:
     """One impact at ``v`` of the ball of ``setup`` = (model, options, v0): duration, peak
     force, approach and rebound with Hertz's values, and (``static``) the same mesh's static

@@ -27,7 +27,7 @@ from _common import parser, publish_report
 
 from fecontact import Probe, run
 from fecontact.testing import case
-from fecontact.time import StepStats, simulate, substeps
+from fecontact.time import substeps
 
 WHOLE = substeps.Releases.__init__
 
@@ -49,19 +49,8 @@ def split(on: bool):
 def hertz_run(element, refinements, steps, localize):
     """(rebound speed (m/s), contact duration (s)) of Hertz's ball at t_c/``steps`` (None:
     the finest step)."""
-    model, options, v0 = hertz.uniform_case(element, refinements)
-    ball = model.bodies[0]
-    t_c = hertz.hertz(ball.mass)["t_c"]
-    h = hertz.base_step(ball) if steps is None else t_c / steps
-    q0 = model.translation(ball, (0.0, 0.0, 2.37 * h * hertz.V))
-    options.detection_margin, options.localize = 0.01, localize
+    ball, st, stats, _, _ = hertz.located_impact(element, refinements, steps, localize)
     w = ball.mass_matrix() @ ball.translation_field(np.array([0.0, 0.0, 1.0])) / ball.mass
-    stats, last, after = StepStats(), 0.0, 0
-    for st in simulate(model, h, 3 * t_c, options, q0=q0, v0=v0, stats=stats):
-        if st.step and st.pressed().any():
-            last, after = st.t, 0
-        elif last and (after := after + 1) * h > 0.1 * t_c:
-            break
     span = stats.localization
     return float(w @ st.v[: ball.ndof]), span.last_release - span.first_closing
 

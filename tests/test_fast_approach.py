@@ -398,20 +398,8 @@ def test_a_correction_row_with_no_gradient_leaves_the_active_set():
     fast head-on mortar disks its update stalled at the round-off of the least-squares
     multipliers until the iterations ran out. It leaves the set: no least squares, the other
     row closed to round-off."""
-    from fecontact.contact.laws import solve_position_correction
-    from fecontact.contact.stats import ContactStats
-
-    G = np.array([[1.0, 0.0], [0.0, 0.0]])
     g0 = np.array([-1e-3, 0.014])
-    stats = ContactStats()
-
-    def system(U, s, A):
-        return (lambda B: B), None  # (linear gaps: H⁻¹ = I, no curvature)
-
-    U, nu, _ = solve_position_correction(
-        lambda U: (g0 + G @ U, G), system, 2, np.ones(2), 1.0, 1e-12, 1e-13,
-        nu0=np.array([0.0, 1.0]), stats=stats,
-    )  # fmt: skip
+    U, nu, stats = _corrected_with_a_flat_row(g0, nu0=np.array([0.0, 1.0]))
     assert stats.least_squares == 0 and nu[1] == 0.0
     assert abs(g0[0] + U[0]) <= 1e-15  # (one linear row: closed by one solve)
 
@@ -423,20 +411,8 @@ def test_a_held_row_with_no_gradient_is_no_equality_of_the_correction():
     made the Schur complement singular (least squares) and its gap the correction's residual
     (1e11 tolerances on the 57 Δx/c off-centre balls of stress_3d.md). It holds nothing:
     no least squares, the other row closed to round-off, the residual within tolerance."""
-    from fecontact.contact.laws import solve_position_correction
-    from fecontact.contact.stats import ContactStats
-
-    G = np.array([[1.0, 0.0], [0.0, 0.0]])
     g0 = np.array([-1e-3, 0.0173])
-    stats = ContactStats()
-
-    def system(U, s, A):
-        return (lambda B: B), None  # (linear gaps: H⁻¹ = I, no curvature)
-
-    U, nu, _ = solve_position_correction(
-        lambda U: (g0 + G @ U, G), system, 2, np.ones(2), 1.0, 1e-12, 1e-13,
-        bilateral=np.array([False, True]), stats=stats,
-    )  # fmt: skip
+    U, nu, stats = _corrected_with_a_flat_row(g0, bilateral=np.array([False, True]))
     assert stats.least_squares == 0 and nu[1] == 0.0
     assert abs(g0[0] + U[0]) <= 1e-15  # (one linear row: closed by one solve)
     assert stats.final_residuals.position <= 1.0  # (in tolerances: the law holds)
@@ -513,3 +489,21 @@ def test_disks_three_edges_a_step_head_on_complete_with_localized_impacts(method
         worst = max(worst, worst_penetration(model, st.q))  # (a SolverError fails the test)
     assert st.t == pytest.approx(sim.t_end, rel=1e-12)
     assert worst <= 0.01  # the discretization's own amount (1 % of an edge)
+
+
+def _corrected_with_a_flat_row(g0: np.ndarray, **kw):
+    """(U, ν, the contact statistics) of the position correction of two linear rows, the
+    second with no gradient (a placeholder's), from gaps ``g0``; ``kw`` to the solve."""
+    from fecontact.contact.laws import solve_position_correction
+    from fecontact.contact.stats import ContactStats
+
+    G = np.array([[1.0, 0.0], [0.0, 0.0]])
+    stats = ContactStats()
+
+    def system(U, s, A):
+        return (lambda B: B), None  # (linear gaps: H⁻¹ = I, no curvature)
+
+    U, nu, _ = solve_position_correction(
+        lambda U: (g0 + G @ U, G), system, 2, np.ones(2), 1.0, 1e-12, 1e-13, stats=stats, **kw
+    )
+    return U, nu, stats
