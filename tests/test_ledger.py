@@ -322,9 +322,11 @@ def test_a_correction_left_above_its_tolerance_is_said_so(tmp_path):
     counts = {
         "final_residuals": {"position": 0.5, "velocity": 7.7e4},
         "least_squares_multipliers": 3,
+        "frozen_active_sets": 1,
     }
     (warning,) = _residual_warnings(counts)
     assert warning.startswith("contact: a velocity correction") and "7.7e+04" in warning
+    assert "3 least-squares multipliers" in warning and "1 frozen active sets" in warning
     rough = run(case("tumbling_box").build().replace(t_end=0.4), tmp_path / "r", frames=False)
     assert max(rough["final_residuals"].values()) <= 1.0
     assert not [w for w in rough["warnings"] if w.startswith("contact:")]
