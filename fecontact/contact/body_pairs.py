@@ -236,8 +236,9 @@ class NodeSurfaceContact(PairDefaults):
         """(slave indices, facet indices, plane gaps in m) of the slave nodes (positions xs)
         with a facet of the master (node positions xm) within the margin, or inside it however
         deep: the closest facet and the node's signed gap from its plane."""
-        s, f, watched = self.search.found(xs, xm, self.margin)  # (unwatched nodes: outside)
-        s, f, g = closest_among(xs, xm, self.facets, s, f, self.margin, self.tie_tolerance)
+        tie = self.tie_tolerance  # (unwatched nodes: outside)
+        s, f, watched = self.search.closest_candidates(xs, xm, self.margin, tie)
+        s, f, g = closest_among(xs, xm, self.facets, s, f, self.margin, tie)
         self._seen = (xs, xm, watched)
         lost = watched.copy()
         lost[s] = False

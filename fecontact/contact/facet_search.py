@@ -13,6 +13,17 @@ inside then. While the search is kept every node of either body, and so every po
 facet, moves by less than m/8: a node relative to the surface by less than m/4 < 0.3 m. A node
 outside and farther than 0.3 m from every facet (a node without a pair is farther than r)
 cannot cross the surface meanwhile: it stays outside, and no test needs to look at it again.
+
+Which pairs may hold a node's closest facet (:meth:`FacetSearch.closest_candidates`, 3D): the
+distance d of every pair is taken once at the search (d₀, and each node's least d₀*); while
+no node of the slave has moved by more than μ_s and none of the master by more than μ_m in a
+component since, a node's distance to a facet (a point of a triangle moves no farther than
+its farthest vertex) has changed by at most b = √3 (μ_s + μ_m). A pair with
+d₀ > d₀* + 2b + τ is then farther than the node's closest facet by more than the tie τ of
+:func:`~fecontact.contact.closest_facet.closest_among`: it can be neither that facet nor one
+of its ties, and leaving it out chooses the same facet with the same numbers. On the default
+two balls a node has some 80 candidate facets within the search's reach, of which about 4
+are within 5 % of the margin of its closest.
 """
 
 from __future__ import annotations
@@ -20,6 +31,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
+from .geometry import closest_facet_distance
 from .inside import Surface, bounding_box, facet_distances
 
 __all__ = ["NEAR", "FacetSearch"]
@@ -37,9 +49,11 @@ class FacetSearch:
         self.facets = facets
         self.surface = Surface(facets)
         self._cache = None  # (x_s, x_m, margin, (slave, facet) pairs, watched nodes)
+        self._ranked = None  # (the search, d₀ of its pairs, each pair's node's d₀*)
 
     def reset(self) -> None:
         self._cache = None
+        self._ranked = None
 
     def pairs(self, xs: np.ndarray, xm: np.ndarray, margin: float):
         """(slave indices, facet indices) of the candidate pairs at positions xs, xm (m)."""
@@ -55,6 +69,26 @@ class FacetSearch:
         cache = self._search(xs, xm, margin)
         return cache[3][0], cache[3][1], cache[4]
 
+    def closest_candidates(self, xs: np.ndarray, xm: np.ndarray, margin: float, tie: float):
+        """:meth:`found` less the pairs that cannot hold a node's closest facet at xs, xm, nor
+        one within ``tie`` (m) of it (module docstring); all of them in 2D, where a node's
+        candidates are few and their distances cheap."""
+        cache = self._search(xs, xm, margin)
+        s, f = cache[3]
+        if xs.shape[1] == 2 or s.size == 0:
+            return s, f, cache[4]
+        ranked = self._ranked
+        if ranked is None or ranked[0] is not cache:
+            d0 = closest_facet_distance(cache[0][s], cache[1][self.facets[f]])[0]
+            least = np.full(len(xs), np.inf)
+            np.minimum.at(least, s, d0)
+            ranked = self._ranked = (cache, d0, least[s])
+        b = np.sqrt(3.0) * sum(_moved(xs, xm, cache))
+        # (1e-6 of the margin: far beyond the round-off of the distances, and too little to
+        # keep a pair that the bound leaves out)
+        keep = ranked[1] <= ranked[2] + (2.0 * b + tie + 1e-6 * margin)
+        return s[keep], f[keep], cache[4]
+
     @property
     def kept(self):
         """The search kept for the next ones (both bodies' node positions at it, the margin,
@@ -69,8 +103,7 @@ class FacetSearch:
     def _search(self, xs, xm, margin):
         cache = self._cache
         if cache is not None and cache[2] == margin:
-            moved = max(np.abs(xs - cache[0]).max(initial=0.0), np.abs(xm - cache[1]).max())
-            if 2.0 * moved <= 0.25 * margin:
+            if 2.0 * max(_moved(xs, xm, cache)) <= 0.25 * margin:
                 return cache
         s, f = self._search_pairs(xs, xm, 1.25 * margin)
         # nodes within NEAR × margin of a facet are watched; the others, if outside, cannot
@@ -104,3 +137,9 @@ class FacetSearch:
             cKDTree(centroid[fnear]), r + reach, output_type="ndarray"
         )
         return near[pairs["i"]], fnear[pairs["j"]]
+
+
+def _moved(xs: np.ndarray, xm: np.ndarray, cache) -> tuple[float, float]:
+    """The largest change of a component (m) of a slave node's and of a master node's position
+    since the search ``cache``."""
+    return np.abs(xs - cache[0]).max(initial=0.0), np.abs(xm - cache[1]).max()
