@@ -55,6 +55,7 @@ from __future__ import annotations
 import numpy as np
 
 from .body_pairs import NodeSurfaceContact, triangle_plane_distance
+from .geometry import closest_facet_distance
 from .inside import bounding_box
 from .jets import Jet, dot, variables
 
@@ -305,13 +306,28 @@ class DeepNodeRows3D(DeepNodeRows):
             corners = self.facets[f]  # the closest facet's vertex nearest to the node
             near = np.linalg.norm(xm[corners] - xs[s, None], axis=2).argmin(axis=1)
             self.vertex[s] = v = corners[np.arange(len(s)), near]
-            gk, Gk, _, facets = self._planes(xs[s], xm, v, hessian=False)
-            g[s], w = self._soft(gk)
-            g[s] += self.allowance
-            G[s] = self._spread(w, Gk)
+            facets = self.around[v]
             used = np.where(facets >= 0, facets, facets[:, :1])
             dofs[s, 3:] = ob + self._facet_dofs[used].reshape(len(s), -1)
+            # the planes of the rows that may be deep (the others keep g = +inf: shallow)
+            deep = s[self._may_be_deep(xs[s], xm[corners])]
+            if deep.size:
+                gk, Gk, _, _ = self._planes(xs[deep], xm, self.vertex[deep], hessian=False)
+                g[deep], w = self._soft(gk)
+                g[deep] += self.allowance
+                G[deep] = self._spread(w, Gk)
         return g, dofs, G, None
+
+    def _may_be_deep(self, x: np.ndarray, tri: np.ndarray) -> np.ndarray:
+        """Which points x (n, 3) may have a row deeper than δ/2 (g_s < δ/2) for their closest
+        facets ``tri`` (n, 3, 3): those with g − 3 √(d² − g²) < −δ/4, g the plane gap and d
+        the distance to the facet. The facet is one of the planes of the row (its vertex is
+        the facet's), the foot of x lies √(d² − g²) from the facet in its plane, and each of
+        the three edges' excesses is at most that far beyond its edge: g_s − δ ≥ g − P ≥
+        g − 3 √(d² − g²). Elsewhere g_s ≥ 3δ/4, δ/4 above the threshold: far beyond the
+        round-off of the two computations of g."""
+        d, g = closest_facet_distance(x, tri)
+        return g - 3.0 * np.sqrt(np.maximum(d * d - g * g, 0.0)) < -0.25 * self.allowance
 
     def hessians(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
         """∇²g_s of the rows at q: Σ_k w_k ∇²g_k + (Σ_k w_k ∇g_k ∇g_kᵀ − ∇g_s ∇g_sᵀ) / ε."""
