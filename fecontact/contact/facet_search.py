@@ -15,11 +15,12 @@ outside and farther than 0.3 m from every facet (a node without a pair is farthe
 cannot cross the surface meanwhile: it stays outside, and no test needs to look at it again.
 
 Which pairs may hold a node's closest facet (:meth:`FacetSearch.closest_candidates`, 3D): the
-distance d of every pair is taken once at the search (d₀, and each node's least d₀*); while
-no node of the slave has moved by more than μ_s and none of the master by more than μ_m in a
-component since, a node's distance to a facet (a point of a triangle moves no farther than
-its farthest vertex) has changed by at most b = √3 (μ_s + μ_m). A pair with
-d₀ > d₀* + 2b + τ is then farther than the node's closest facet by more than the tie τ of
+distance d of every pair is taken at the search, and again once the bodies have moved by a
+few per cent of the margin (``RERANK``): d₀, and each node's least d₀*. While no node of the
+slave has moved by more than μ_s and none of the master by more than μ_m in a component
+since, a node's distance to a facet (a point of a triangle moves no farther than its farthest
+vertex) has changed by at most b = √3 (μ_s + μ_m). A pair with d₀ > d₀* + 2b + τ is then
+farther than the node's closest facet by more than the tie τ of
 :func:`~fecontact.contact.closest_facet.closest_among`: it can be neither that facet nor one
 of its ties, and leaving it out chooses the same facet with the same numbers. On the default
 two balls a node has some 80 candidate facets within the search's reach, of which about 4
@@ -34,11 +35,17 @@ from scipy.spatial import cKDTree
 from .geometry import closest_facet_distance
 from .inside import Surface, bounding_box, facet_distances
 
-__all__ = ["NEAR", "FacetSearch"]
+__all__ = ["NEAR", "RERANK", "FacetSearch"]
 
 NEAR = 0.3
 """Nodes within this fraction of the margin of a facet are watched: while the search is kept
 the two bodies move relative to each other by less than 1/4 of the margin."""
+
+RERANK = 0.05
+"""The pairs' distances are taken again once the bound 2b of the motion since they were taken
+exceeds this fraction of the margin: 2b grows to 0.87 of it while a search is kept, and
+the pairs within 2b of a node's closest with it (on the default two balls a step moves them
+by about 1 % of the margin, 2b)."""
 
 
 class FacetSearch:
@@ -49,7 +56,7 @@ class FacetSearch:
         self.facets = facets
         self.surface = Surface(facets)
         self._cache = None  # (x_s, x_m, margin, (slave, facet) pairs, watched nodes)
-        self._ranked = None  # (the search, d₀ of its pairs, each pair's node's d₀*)
+        self._ranked = None  # (the search, (x_s, x_m) ranked at, d₀ of its pairs, their d₀*)
 
     def reset(self) -> None:
         self._cache = None
@@ -78,15 +85,16 @@ class FacetSearch:
         if xs.shape[1] == 2 or s.size == 0:
             return s, f, cache[4]
         ranked = self._ranked
-        if ranked is None or ranked[0] is not cache:
-            d0 = closest_facet_distance(cache[0][s], cache[1][self.facets[f]])[0]
+        b = 0.0 if ranked is None else np.sqrt(3.0) * sum(_moved(xs, xm, ranked[1]))
+        if ranked is None or ranked[0] is not cache or 2.0 * b > RERANK * margin:
+            d0 = closest_facet_distance(xs[s], xm[self.facets[f]])[0]
             least = np.full(len(xs), np.inf)
             np.minimum.at(least, s, d0)
-            ranked = self._ranked = (cache, d0, least[s])
-        b = np.sqrt(3.0) * sum(_moved(xs, xm, cache))
+            ranked = self._ranked = (cache, (xs.copy(), xm.copy()), d0, least[s])
+            b = 0.0
         # (1e-6 of the margin: far beyond the round-off of the distances, and too little to
         # keep a pair that the bound leaves out)
-        keep = ranked[1] <= ranked[2] + (2.0 * b + tie + 1e-6 * margin)
+        keep = ranked[2] <= ranked[3] + (2.0 * b + tie + 1e-6 * margin)
         return s[keep], f[keep], cache[4]
 
     @property
