@@ -325,9 +325,10 @@ class DeepNodeRows3D(DeepNodeRows):
         the facet's), the foot of x lies √(d² − g²) from the facet in its plane, and each of
         the three edges' excesses is at most that far beyond its edge: g_s − δ ≥ g − P ≥
         g − 3 √(d² − g²). Elsewhere g_s ≥ 3δ/4, δ/4 above the threshold: far beyond the
-        round-off of the two computations of g."""
+        round-off of the two computations of g (|δ|/4 for a δ set negative)."""
         d, g = closest_facet_distance(x, tri)
-        return g - 3.0 * np.sqrt(np.maximum(d * d - g * g, 0.0)) < -0.25 * self.allowance
+        bound = -0.5 * self.allowance + 0.25 * abs(self.allowance)
+        return g - 3.0 * np.sqrt(np.maximum(d * d - g * g, 0.0)) < bound
 
     def hessians(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
         """∇²g_s of the rows at q: Σ_k w_k ∇²g_k + (Σ_k w_k ∇g_k ∇g_kᵀ − ∇g_s ∇g_sᵀ) / ε."""
