@@ -239,6 +239,9 @@ class State:
     # the control takes next (0: the run's dt)
     substep: bool = False
     h_next: float = 0.0
+    # (T, V_strain, V_gravity) of (q, v) in J where the energy guard measured them
+    # (fecontact.time.energy_guard), which the recorder then takes as they are; None: not
+    energies: tuple[float, float, float] | None = None
 
     @property
     def newton_iterations(self) -> int:
