@@ -30,7 +30,8 @@ to the bit.
 
 Decided once (:func:`guards`): planar models with beams and no elastic continuum, a contact
 at a beam's end (a tip, a bar's end), contacts on fixed obstacles, no loads besides gravity,
-the generalized-α scheme at ρ∞ > 0.
+the generalized-α scheme at ρ∞ > 0 with the smooth contact force (the default of beams; the
+decoupled step is left as it is, for comparison).
 """
 
 from __future__ import annotations
@@ -57,6 +58,8 @@ def guards(model, settings: RunSettings) -> bool:
         return False
     if settings.rho_inf == 0.0 or model.dim != 2 or not model.slender or model.continuum:
         return False
+    if not settings.smooth:  # the decoupled step, whose lasting contacts create energy
+        return False  # that falls with h (docs/explanation/energy_ledger.md): left to compare
     contacts = model.contacts
     if not contacts.size or contacts.moving or model.loads:
         return False
@@ -67,7 +70,7 @@ def guards(model, settings: RunSettings) -> bool:
 
 
 class EnergyGuard:
-    """The energy check of one run's steps: ``held(stepper, st, end, h, timer)`` returns
+    """The energy check of one run's steps: ``held(stepper, st, end, h, timer, depth)`` returns
     ``end``, the step from ``st`` over ``h`` (s), or, where it raised the energy by more than
     ``GAIN`` of the scale, the step taken again by ``stepper`` with ``settings`` (ρ∞ = 0)
     and ``kind`` (located at its closings)."""
@@ -77,25 +80,34 @@ class EnergyGuard:
         # (the same statistics, plan and traits: only the coefficients change)
         self.settings = dataclasses.replace(settings, rho_inf=0.0)
         self.kind = localized_step
-        self.scale = 0.0  # J: the largest T + V_strain of the states measured
+        self.scale = 0.0  # J: the largest T + V_strain of the run's states
         self.last: tuple[State, float] | None = None  # the last state measured, its E (J)
 
     def energy(self, st: State) -> float:
-        """E = T + V_strain + V_gravity of ``st`` (J), the scale updated; the state keeps
-        the three energies (``State.energies``) for the run's recorder."""
+        """E = T + V_strain + V_gravity of ``st`` (J); the state keeps the three energies
+        (``State.energies``) for the run's recorder."""
         if self.last is not None and self.last[0] is st:
             return self.last[1]
         kinetic, strain, gravity = st.energies = self.measure(st.q, st.v)
-        self.scale = max(self.scale, kinetic + strain)
         self.last = (st, kinetic + strain + gravity)
         return self.last[1]
 
-    def held(self, stepper, st: State, end: State, h: float, timer) -> State:
-        """``end``, or the step from ``st`` taken again where ``end`` created energy."""
+    def accepted(self, st: State) -> State:
+        """``st`` as a state of the run: the scale takes its T + V_strain, and the state the
+        scale so far (``State.energy_scale``, which a checkpoint keeps: a resumed run's
+        first state carries that of the states before it)."""
+        kinetic, strain, _ = st.energies
+        self.scale = st.energy_scale = max(self.scale, st.energy_scale, kinetic + strain)
+        return st
+
+    def held(self, stepper, st: State, end: State, h: float, timer, depth: int = 0) -> State:
+        """``end``, or the step from ``st`` taken again where ``end`` created energy (with the
+        halvings left below ``depth``)."""
         before = self.energy(st)
+        self.accepted(st)  # (the run's first state, or a resumed run's)
         if self.energy(end) - before <= GAIN * self.scale:
-            return end
+            return self.accepted(end)
         self.settings.stats.energy_retakes += 1
-        retake = stepper.step(st, h, timer, damped=True)
+        retake = stepper.step(st, h, timer, depth, damped=True)
         self.energy(retake)
-        return retake
+        return self.accepted(retake)

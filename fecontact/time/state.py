@@ -242,6 +242,9 @@ class State:
     # (T, V_strain, V_gravity) of (q, v) in J where the energy guard measured them
     # (fecontact.time.energy_guard), which the recorder then takes as they are; None: not
     energies: tuple[float, float, float] | None = None
+    # J: the energy guard's scale so far, the largest T + V_strain of the states it measured
+    # (a checkpoint keeps it: a resumed run's guard decides as the whole run's)
+    energy_scale: float = 0.0
 
     @property
     def newton_iterations(self) -> int:

@@ -74,9 +74,9 @@ class Stepper:
         whole step that created energy is taken again ``damped``, by the guard's settings
         and step function (:mod:`.energy_guard`)."""
         end = self._taken(st, h, timer, depth, damped)
-        if depth or damped or self.guard is None:
+        if damped or self.guard is None:
             return end
-        return self.guard.held(self, st, end, h, timer)
+        return self.guard.held(self, st, end, h, timer, depth)
 
     def _taken(self, st: State, h: float, timer: PhaseTimer, depth: int, damped: bool) -> State:
         model, settings, kind = self.model, self.settings, self.kind
@@ -94,8 +94,9 @@ class Stepper:
                 raise
             retake = isinstance(err, PenetrationFailure)
             turn = isinstance(err, TurnFailure)
-        first = self.step(st, 0.5 * h, timer, depth + 1, damped)
-        second = self.step(first, 0.5 * h, timer, depth + 1, damped)
+        # (the halves as parts of this step: the energy guard checks the whole)
+        first = self._taken(st, 0.5 * h, timer, depth + 1, damped)
+        second = self._taken(first, 0.5 * h, timer, depth + 1, damped)
         second.ledger = joined_record(model, first, second)  # both halves' contact phases
         least = min(first.h_least or first.h, second.h_least or second.h)
         second = joined(first, second, h)
