@@ -107,7 +107,16 @@ class EnergyGuard:
         self.accepted(st)  # (the run's first state, or a resumed run's)
         if self.energy(end) - before <= GAIN * self.scale:
             return self.accepted(end)
-        self.settings.stats.energy_retakes += 1
+        stats = self.settings.stats
+        stats.energy_retakes += 1
         retake = stepper.step(st, h, timer, depth, damped=True)
-        self.energy(retake)
+        after = self.energy(retake)
+        if after - before > GAIN * self.scale and depth < self.settings.max_halvings:
+            # (still gaining: two halves at ρ∞ = 0, and the end that holds less energy)
+            stats.energy_retake_halves += 1
+            halves = stepper.halves(st, h, timer, depth, damped=True)
+            if self.energy(halves) < after:
+                retake = halves
+            else:
+                self.energy(retake)  # (its energies again the last measured)
         return self.accepted(retake)

@@ -115,6 +115,7 @@ class StepStats:
     control: StepControl = field(default_factory=StepControl)  # rtol's rejections
     releases: int = 0  # smooth steps taken again without the force of a contact they released
     energy_retakes: int = 0  # beam steps that created energy, taken again (.energy_guard)
+    energy_retake_halves: int = 0  # of those, retakes taken again in two halves
     turns: TurnCounts = field(default_factory=TurnCounts)
     localization: Localization = field(default_factory=Localization)
     contact: ContactStats = field(default_factory=ContactStats)
@@ -155,6 +156,7 @@ class StepStats:
             "contact_releases": self.releases,
             # steps of beams that raised the energy, taken again at rho_inf = 0, located
             "energy_retakes": self.energy_retakes,
+            "energy_retake_halves": self.energy_retake_halves,
             # beam nodes turned by more than π/2: (sub-)steps refused, row-bordered updates cut
             "beam_turns": asdict(self.turns),
             # impacts at their own instant inside a step, and the steps left to the step's end

@@ -94,16 +94,22 @@ class Stepper:
                 raise
             retake = isinstance(err, PenetrationFailure)
             turn = isinstance(err, TurnFailure)
-        # (the halves as parts of this step: the energy guard checks the whole)
-        first = self._taken(st, 0.5 * h, timer, depth + 1, damped)
-        second = self._taken(first, 0.5 * h, timer, depth + 1, damped)
-        second.ledger = joined_record(model, first, second)  # both halves' contact phases
-        least = min(first.h_least or first.h, second.h_least or second.h)
-        second = joined(first, second, h)
-        second.h_least = least
+        second = self.halves(st, h, timer, depth, damped)
         second.halvings += 1
         second.retakes += retake
         second.turn_halvings += turn
+        return second
+
+    def halves(self, st: State, h: float, timer: PhaseTimer, depth: int, damped: bool) -> State:
+        """The step from ``st`` over ``h`` (s) as two of h/2 (each halved in turn where it
+        fails), joined; the halves are parts of this step, which the energy guard checks
+        whole."""
+        first = self._taken(st, 0.5 * h, timer, depth + 1, damped)
+        second = self._taken(first, 0.5 * h, timer, depth + 1, damped)
+        second.ledger = joined_record(self.model, first, second)  # both halves' contact phases
+        least = min(first.h_least or first.h, second.h_least or second.h)
+        second = joined(first, second, h)
+        second.h_least = least
         return second
 
 
