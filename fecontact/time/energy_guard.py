@@ -28,10 +28,11 @@ goes on at its own ρ∞ from the retake's end. A retaken step is counted
 ledger. Steps that create nothing are never retaken: runs without such a step are the same
 to the bit.
 
-Decided once (:func:`guards`): planar models with beams and no elastic continuum, a contact
-at a beam's end (a tip, a bar's end), contacts on fixed obstacles, no loads besides gravity,
-the generalized-α scheme at ρ∞ > 0 with the smooth contact force (the default of beams; the
-decoupled step is left as it is, for comparison).
+Decided once (:func:`guards`, option ``energy_retakes``): planar models with beams and no
+elastic continuum, contacts on fixed obstacles, no loads besides gravity, the generalized-α
+scheme at ρ∞ > 0; under "auto" (the default) also a contact at a beam's end (a tip, a bar's
+end) and the smooth contact force (the default of beams; the decoupled step is left as it
+is, for comparison); ``energy_retakes=0`` turns the rule off.
 """
 
 from __future__ import annotations
@@ -54,19 +55,22 @@ no step above it; the strikes along the axis have gains of 2-13 % of the scale i
 def guards(model, settings: RunSettings) -> bool:
     """Whether the steps of a run of ``model`` with ``settings`` are checked for the energy
     they create (module docstring)."""
-    if settings.integrator != "nsga" or settings.scheme != "generalized-alpha":
+    chosen = settings.energy_retakes
+    if not chosen or settings.integrator != "nsga" or settings.scheme != "generalized-alpha":
         return False
     if settings.rho_inf == 0.0 or model.dim != 2 or not model.slender or model.continuum:
         return False
-    if not settings.smooth:  # the decoupled step, whose lasting contacts create energy
-        return False  # that falls with h (docs/explanation/energy_ledger.md): left to compare
     contacts = model.contacts
     if not contacts.size or contacts.moving or model.loads:
         return False
-    # (a beam's end, where the obstacle's normal can lie along the axis: a strip or a rod met
-    # along its length rings in bending, which the step resolves; the disk thrown onto the
-    # strip of ``disk_on_beam`` has one step above GAIN, whose retake is not closer to h/8)
-    return any(pair.at_beam_ends for pair in contacts.pairs)
+    if chosen is True:
+        return True
+    # "auto": not the decoupled step, whose lasting contacts create energy that falls with h
+    # (docs/explanation/energy_ledger.md), kept for comparison; and a beam's end, where the
+    # obstacle's normal can lie along the axis: a strip or a rod met along its length rings
+    # in bending, which the step resolves (the disk thrown onto the strip of
+    # ``disk_on_beam`` has one step above GAIN, whose retake is not closer to h/8)
+    return settings.smooth and any(pair.at_beam_ends for pair in contacts.pairs)
 
 
 class EnergyGuard:

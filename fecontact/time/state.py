@@ -106,6 +106,12 @@ class IntegratorOptions:
         this relative tolerance on the local error of the smooth step, with an absolute
         tolerance of rtol times the model size, from dt (the first and largest) down to
         dt/1024 (:mod:`fecontact.time.adaptive`); nsga and penalty, generalized-alpha only.
+    energy_retakes : NSGA with generalized-α, planar beams. "auto" (default): on models whose
+        beams are struck at an end, with the smooth contact force, a step whose energy
+        T + V rises by more than 1e-3 of the run's scale is taken again at ρ∞ = 0, located
+        at its closing (:mod:`fecontact.time.energy_guard`); True (1, "on"): on every planar
+        beam model with contacts on fixed obstacles and no loads (strips met along their
+        length and the decoupled step too); False (0, "off"): no step is taken again.
     """
 
     rho_inf: float = 0.5
@@ -128,10 +134,12 @@ class IntegratorOptions:
     impact_law: str = "newton"
     localize: bool | str = "auto"
     rtol: float | None = None
+    energy_retakes: bool | str = "auto"
 
     def __post_init__(self):
         alpha_coefficients(self.rho_inf)
         self.localize = _switch("localize", self.localize)
+        self.energy_retakes = _switch("energy_retakes", self.energy_retakes)
         if self.localize is True and (self.integrator, self.scheme) != ("nsga", SCHEMES[0]):
             raise InputError(
                 f"localize = true needs integrator 'nsga' with scheme {SCHEMES[0]!r}, got "
