@@ -1,4 +1,4 @@
-r"""Steps of planar beams that create energy, taken again with generalized-α's most damping.
+r"""Steps of beams that create energy, taken again with generalized-α's most damping.
 
 A beam struck with the obstacle's normal partly along its axis (the founding strip's tip on a
 floor or a tilted wall) rings in its axial mode, the tip mass on the last element, far above
@@ -33,11 +33,12 @@ goes on at its own ρ∞ from the retake's end. A retaken step is counted
 ledger. Steps that create nothing are never retaken: runs without such a step are the same
 to the bit.
 
-Decided once (:func:`guards`, option ``energy_retakes``): planar models with beams and no
-elastic continuum, contacts on fixed obstacles, no loads besides gravity, the generalized-α
-scheme at ρ∞ > 0; under "auto" (the default) also a contact at a beam's end (a tip, a bar's
-end) and the smooth contact force (the default of beams; the decoupled step is left as it
-is, for comparison); ``energy_retakes=0`` turns the rule off.
+Decided once (:func:`guards`, option ``energy_retakes``): models with beams (planar or in
+space: the strip struck against a floor as a ``Beam3D`` takes the planar one's path, and
+its retakes) and no elastic continuum, contacts on fixed obstacles, no loads besides
+gravity, the generalized-α scheme at ρ∞ > 0; under "auto" (the default) also a contact at
+a beam's end (a tip, a bar's end) and the smooth contact force (the default of beams; the
+decoupled step is left as it is, for comparison); ``energy_retakes=0`` turns it off.
 """
 
 from __future__ import annotations
@@ -63,7 +64,7 @@ def guards(model, settings: RunSettings) -> bool:
     chosen = settings.energy_retakes
     if not chosen or settings.integrator != "nsga" or settings.scheme != "generalized-alpha":
         return False
-    if settings.rho_inf == 0.0 or model.dim != 2 or not model.slender or model.continuum:
+    if settings.rho_inf == 0.0 or not model.slender or model.continuum:
         return False
     contacts = model.contacts
     if not contacts.size or contacts.moving or model.loads:

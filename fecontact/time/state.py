@@ -106,10 +106,10 @@ class IntegratorOptions:
         this relative tolerance on the local error of the smooth step, with an absolute
         tolerance of rtol times the model size, from dt (the first and largest) down to
         dt/1024 (:mod:`fecontact.time.adaptive`); nsga and penalty, generalized-alpha only.
-    energy_retakes : NSGA with generalized-α, planar beams. "auto" (default): on models whose
+    energy_retakes : NSGA with generalized-α, beams. "auto" (default): on models whose
         beams are struck at an end, with the smooth contact force, a step whose energy
         T + V rises by more than 1e-3 of the run's scale is taken again at ρ∞ = 0, located
-        at its closing (:mod:`fecontact.time.energy_guard`); True (1, "on"): on every planar
+        at its closing (:mod:`fecontact.time.energy_guard`); True (1, "on"): on every
         beam model with contacts on fixed obstacles and no loads (strips met along their
         length and the decoupled step too); False (0, "off"): no step is taken again.
     """
