@@ -102,7 +102,8 @@ class Recorder:
         """Account for the state ``st``; write its history row unless it is a step between
         two rows (``st.substep``, with rtol)."""
         m = self.model
-        ke, se, pe = self.measure(st.q, st.v)
+        # (the energy guard's measure of the state, where it made one: the same floats)
+        ke, se, pe = st.energies or self.measure(st.q, st.v)
         total = ke + se + pe
         self.balance.add(st.t, st.q, ke, se, pe)
         self.ledger.add(st, ke, se, pe, self.balance.work)

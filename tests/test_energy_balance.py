@@ -23,9 +23,13 @@ def test_a_blow_up_stops_the_run_and_keeps_its_frames(tmp_path, capsys):
     moves the tip alone and strains the strip, and the energy jumps from 0.46 J to 10.9 J
     at t = 0.319 s (docs: explanation/stability, ``metric = mass``). (ρ∞ = 1 and e_N = 1,
     which blew up here within 0.6 s, now complete: a step in which a node of the ringing
-    strip would turn by more than a quarter turn is halved, fecontact/time/turns.py.)"""
+    strip would turn by more than a quarter turn is halved, fecontact/time/turns.py. With
+    the smooth contact force, the default of beams, the steps that raise the energy are
+    taken again at ρ∞ = 0 and this run completes, 0.34 % of its scale created:
+    fecontact/time/energy_guard.py; the decoupled step is left as it was.)"""
     out = tmp_path / "p"
     args = ["--quiet", "--t-end", "0.6", "--set", "restitution=1", "--set", "metric=mass"]
+    args += ["--set", "smooth_contact=off"]
     assert main(["run", CASE, "--out", str(out), *args]) == 1
     err = capsys.readouterr().err
     assert "energy blow-up at t = " in err and "rho_inf or dt" in err

@@ -155,14 +155,19 @@ def test_the_floor_pendulum_completes_and_names_its_smooth_step(e):
     e_N = 0, 0.5, 1; decoupled 0.61 %, 4.9 %, a blow-up at e_N = 1) is generalized-α's own
     growth of that ringing mode through the strip's geometric stiffness, in the smooth steps
     after the impact: the energy-decaying smooth step, which cannot let it grow, creates
-    2.1e-3, 7.8e-4, 9.8e-2 on the same runs (decoupled contact)."""
-    summary = ledger(pendulum("floor", e), **ON)
+    2.1e-3, 7.8e-4, 9.8e-2 on the same runs (decoupled contact). These are the runs with
+    their steps kept as they are (energy_retakes=0); by default a step that creates energy
+    is taken again at ρ∞ = 0 (fecontact/time/energy_guard.py), and they create 0.20 %,
+    0.14 %, 0.082 % (the h/8 runs 0.13 %, 0.11 %, 0.17 %)."""
+    summary = ledger(pendulum("floor", e), **ON, energy_retakes=False)
     bound = {0.0: 0.02, 0.5: 0.02, 1.0: 0.3}[e]  # measured 0.0089, 0.0055, 0.135
     assert created(summary) <= bound
     if created(summary) > 1e-3:
         energy = [w for w in summary["warnings"] if w.startswith("energy")]
         assert energy and "in the smooth step" in energy[0]
     assert math.isfinite(summary["energy_ledger"]["numerical_dissipation"])
+    # with the retakes: at most 3e-3, about the h/8 runs' level (tests/test_energy_guard.py)
+    assert created(ledger(pendulum("floor", e), **ON)) <= 3e-3
 
 
 def whipping(p: float):

@@ -65,6 +65,7 @@ def save_checkpoint(path: Path, sim, st: State, rec, next_frame: float) -> None:
         "step": st.step,
         "h": st.h,
         "h_next": st.h_next,  # the step rtol's control takes next
+        "energy_scale": st.energy_scale,  # the energy guard's (fecontact.time.energy_guard)
         "next_frame": next_frame,
         "fingerprint": fingerprint(sim),
         "stats": rec.stats(),
@@ -93,6 +94,7 @@ def load_checkpoint(path: Path, sim):
     _check_frames(path.parent, sim.name, meta["t"])
     st = State(meta["t"], step=meta["step"], h=meta["h"], **records, **arrays)
     st.h_next = meta.get("h_next", 0.0)
+    st.energy_scale = meta.get("energy_scale", 0.0)
     return st, meta
 
 

@@ -106,6 +106,12 @@ class IntegratorOptions:
         this relative tolerance on the local error of the smooth step, with an absolute
         tolerance of rtol times the model size, from dt (the first and largest) down to
         dt/1024 (:mod:`fecontact.time.adaptive`); nsga and penalty, generalized-alpha only.
+    energy_retakes : NSGA with generalized-α, beams. "auto" (default): on models whose
+        beams are struck at an end, with the smooth contact force, a step whose energy
+        T + V rises by more than 1e-3 of the run's scale is taken again at ρ∞ = 0, located
+        at its closing (:mod:`fecontact.time.energy_guard`); True (1, "on"): on every
+        beam model with contacts on fixed obstacles and no loads (strips met along their
+        length and the decoupled step too); False (0, "off"): no step is taken again.
     """
 
     rho_inf: float = 0.5
@@ -128,10 +134,12 @@ class IntegratorOptions:
     impact_law: str = "newton"
     localize: bool | str = "auto"
     rtol: float | None = None
+    energy_retakes: bool | str = "auto"
 
     def __post_init__(self):
         alpha_coefficients(self.rho_inf)
         self.localize = _switch("localize", self.localize)
+        self.energy_retakes = _switch("energy_retakes", self.energy_retakes)
         if self.localize is True and (self.integrator, self.scheme) != ("nsga", SCHEMES[0]):
             raise InputError(
                 f"localize = true needs integrator 'nsga' with scheme {SCHEMES[0]!r}, got "
@@ -239,6 +247,12 @@ class State:
     # the control takes next (0: the run's dt)
     substep: bool = False
     h_next: float = 0.0
+    # (T, V_strain, V_gravity) of (q, v) in J where the energy guard measured them
+    # (fecontact.time.energy_guard), which the recorder then takes as they are; None: not
+    energies: tuple[float, float, float] | None = None
+    # J: the energy guard's scale so far, the largest T + V_strain of the states it measured
+    # (a checkpoint keeps it: a resumed run's guard decides as the whole run's)
+    energy_scale: float = 0.0
 
     @property
     def newton_iterations(self) -> int:

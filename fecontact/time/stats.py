@@ -114,6 +114,8 @@ class StepStats:
     follow_ups: FollowUps = field(default_factory=FollowUps)
     control: StepControl = field(default_factory=StepControl)  # rtol's rejections
     releases: int = 0  # smooth steps taken again without the force of a contact they released
+    energy_retakes: int = 0  # beam steps that created energy, taken again (.energy_guard)
+    energy_retake_halves: int = 0  # of those, retakes taken again in two halves
     turns: TurnCounts = field(default_factory=TurnCounts)
     localization: Localization = field(default_factory=Localization)
     contact: ContactStats = field(default_factory=ContactStats)
@@ -152,6 +154,9 @@ class StepStats:
             # the velocity's follow-ups of an impact's correction (fecontact.time.position_jump)
             "velocity_follow_ups": asdict(self.follow_ups),
             "contact_releases": self.releases,
+            # steps of beams that raised the energy, taken again at rho_inf = 0, located
+            "energy_retakes": self.energy_retakes,
+            "energy_retake_halves": self.energy_retake_halves,
             # beam nodes turned by more than π/2: (sub-)steps refused, row-bordered updates cut
             "beam_turns": asdict(self.turns),
             # impacts at their own instant inside a step, and the steps left to the step's end

@@ -11,6 +11,7 @@ from ..linalg.choice import RunPlan
 from ..linalg.legacy import registered_modes
 from .alpha_step import alpha_plan
 from .constraints import StepFailure
+from .energy_guard import EnergyGuard, guards
 from .energy_step import check_energy_scheme, energy_nsga_step
 from .lie import check_group
 from .localize import joined, localizes
@@ -44,10 +45,12 @@ class Stepper:
     """The step of one run: ``step(state, h, timer)`` takes ``state`` over ``h`` (s) with the
     step function ``kind`` chosen for the run, halving a step that fails, penetration
     included (:func:`hold_penetration`). ``settings`` are the run's :class:`RunSettings` (its
-    options, the traits decided once, its statistics)."""
+    options, the traits decided once, its statistics); ``guard`` checks each step's energy
+    and has a step that created some taken again (:class:`EnergyGuard`; None: no check)."""
 
-    def __init__(self, model, settings: RunSettings, kind: Callable):
+    def __init__(self, model, settings: RunSettings, kind: Callable, guard=None):
         self.model, self.settings, self.kind = model, settings, kind
+        self.guard = guard
         contacts = model.contacts
         # (decided once: pairs that search ahead of a step; a model without contacts has no
         # penetration to record)
@@ -61,16 +64,28 @@ class Stepper:
     def stats(self) -> StepStats:
         return self.settings.stats
 
-    def step(self, st: State, h: float, timer: PhaseTimer, depth: int = 0) -> State:
+    def step(
+        self, st: State, h: float, timer: PhaseTimer, depth: int = 0, damped: bool = False
+    ) -> State:
         """The state after ``h`` (s) from ``st``: one step, or, where it fails, two of h/2,
         recursively down to ``max_halvings`` levels (then the failure propagates). A step
         retaken because it left a point too deep inside a body counts in ``retakes``, one
-        whose predictor or smooth step turned a beam node too far in ``turn_halvings``."""
-        model, settings = self.model, self.settings
+        whose predictor or smooth step turned a beam node too far in ``turn_halvings``. A
+        whole step that created energy is taken again ``damped``, by the guard's settings
+        and step function (:mod:`.energy_guard`)."""
+        end = self._taken(st, h, timer, depth, damped)
+        if damped or self.guard is None:
+            return end
+        return self.guard.held(self, st, end, h, timer, depth)
+
+    def _taken(self, st: State, h: float, timer: PhaseTimer, depth: int, damped: bool) -> State:
+        model, settings, kind = self.model, self.settings, self.kind
+        if damped:
+            settings, kind = self.guard.settings, self.guard.kind
         if self.looks:
             model.contacts.look_ahead(st.q, st.v, h)
         try:
-            end = self.kind(model, st, h, settings, timer)
+            end = kind(model, st, h, settings, timer)
             if not self.holds or (self.trusts and end.outside):
                 return end
             return hold_penetration(model, end, settings, timer)
@@ -79,15 +94,22 @@ class Stepper:
                 raise
             retake = isinstance(err, PenetrationFailure)
             turn = isinstance(err, TurnFailure)
-        first = self.step(st, 0.5 * h, timer, depth + 1)
-        second = self.step(first, 0.5 * h, timer, depth + 1)
-        second.ledger = joined_record(model, first, second)  # both halves' contact phases
-        least = min(first.h_least or first.h, second.h_least or second.h)
-        second = joined(first, second, h)
-        second.h_least = least
+        second = self.halves(st, h, timer, depth, damped)
         second.halvings += 1
         second.retakes += retake
         second.turn_halvings += turn
+        return second
+
+    def halves(self, st: State, h: float, timer: PhaseTimer, depth: int, damped: bool) -> State:
+        """The step from ``st`` over ``h`` (s) as two of h/2 (each halved in turn where it
+        fails), joined; the halves are parts of this step, which the energy guard checks
+        whole."""
+        first = self._taken(st, 0.5 * h, timer, depth + 1, damped)
+        second = self._taken(first, 0.5 * h, timer, depth + 1, damped)
+        second.ledger = joined_record(self.model, first, second)  # both halves' contact phases
+        least = min(first.h_least or first.h, second.h_least or second.h)
+        second = joined(first, second, h)
+        second.h_least = least
         return second
 
 
@@ -128,4 +150,6 @@ def make_stepper(
     if (modes := registered_modes(model.n_free)) is not None:
         solver.modes = modes
     model.use_solver(solver)
-    return Stepper(model, settings, kind)
+    # (decided once: beams whose steps may create energy, module energy_guard)
+    guard = EnergyGuard(model, settings) if guards(model, settings) else None
+    return Stepper(model, settings, kind, guard)

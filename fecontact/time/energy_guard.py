@@ -1,0 +1,132 @@
+r"""Steps of beams that create energy, taken again with generalized-α's most damping.
+
+A beam struck with the obstacle's normal partly along its axis (the founding strip's tip on a
+floor or a tilted wall) rings in its axial mode, the tip mass on the last element, far above
+the step (hω ≈ 16 at h = 1 ms). Generalized-α at ρ∞ = 0.5 damps that mode by about half a
+step on a linear model, but the strip's geometric stiffness couples it to the bending and the
+nearly massless rotations, and the step's energy T + V swings by tens of millijoules from
+one step to the next: over the strike, the floor pendulum at e_N = 1 creates 13 % of its scale
+and the tilted wall 12 %, the flexible pendulum hitting at 24.7 m/s all of its kinetic
+energy (docs/validation/stress_2d.md, docs/explanation/stability.md).
+
+The rule, a property of the step rather than of the model: with fixed obstacles and no loads
+but gravity, contacts, friction, joints and damping do no positive work, so a step of the
+NSGA integrator whose total energy E = T + V_strain + V_gravity rises by more than ``GAIN``
+of the run's scale (the largest T + V_strain so far, the energy ledger's scale; ``GAIN`` is
+its warning level) made that energy itself. Such a step is taken again from the same state
+
+- at ρ∞ = 0 (α_m = −1, α_f = 0, γ = 3/2, β = 1: the unresolved modes annihilated in one step,
+  still second order in the resolved ones), and
+- located at the instant a contact closes within it (:func:`~.localize.localized_step`): a
+  closing taken at the step's end is corrected in the step's metric, which on a strip struck
+  along its axis leaves strain the impact did not have (7 % of the floor pendulum's scale).
+
+The ρ∞ = 0 step is no energy-decaying scheme on a nonlinear strip: a retake that still raises
+the energy above the level is taken once more as two halves at ρ∞ = 0, and of the two the end
+that holds less energy is kept (``energy_retake_halves``; the floor pendulum at e_N = 1 with
+``localize=1``: 7.3 % of its scale created with the whole retake, 0.19 % so).
+
+The retake keeps the state the step started from (q, v, v̇ and the acceleration variable a:
+the recursion of a at ρ∞ = 0, a_{n+1} = (v̇_{n+1} + a_n)/2, takes a_n as it is), and the run
+goes on at its own ρ∞ from the retake's end. A retaken step is counted
+(``energy_retakes`` in ``summary.json``), and what the retake still creates stays in the
+ledger. Steps that create nothing are never retaken: runs without such a step are the same
+to the bit.
+
+Decided once (:func:`guards`, option ``energy_retakes``): models with beams (planar or in
+space: the strip struck against a floor as a ``Beam3D`` takes the planar one's path, and
+its retakes) and no elastic continuum, contacts on fixed obstacles, no loads besides
+gravity, the generalized-α scheme at ρ∞ > 0; under "auto" (the default) also a contact at
+a beam's end (a tip, a bar's end) and the smooth contact force (the default of beams; the
+decoupled step is left as it is, for comparison); ``energy_retakes=0`` turns it off.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+from ..energy import StateEnergies
+from .localize import localized_step
+from .settings import RunSettings
+from .state import State
+
+__all__ = ["GAIN", "EnergyGuard", "guards"]
+
+GAIN = 1e-3
+"""Fraction of the run's scale: a step whose energy rises by more is taken again (the energy
+ledger's warning level, :data:`fecontact.ledger.CREATED`). The founding case (e_N = 0) has
+no step above it; the strikes along the axis have gains of 2-13 % of the scale in a step."""
+
+
+def guards(model, settings: RunSettings) -> bool:
+    """Whether the steps of a run of ``model`` with ``settings`` are checked for the energy
+    they create (module docstring)."""
+    chosen = settings.energy_retakes
+    if not chosen or settings.integrator != "nsga" or settings.scheme != "generalized-alpha":
+        return False
+    if settings.rho_inf == 0.0 or not model.slender or model.continuum:
+        return False
+    contacts = model.contacts
+    if not contacts.size or contacts.moving or model.loads:
+        return False
+    if chosen is True:
+        return True
+    # "auto": not the decoupled step, whose lasting contacts create energy that falls with h
+    # (docs/explanation/energy_ledger.md), kept for comparison; and a beam's end, where the
+    # obstacle's normal can lie along the axis: a strip or a rod met along its length rings
+    # in bending, which the step resolves (the disk thrown onto the strip of
+    # ``disk_on_beam`` has one step above GAIN, whose retake is not closer to h/8)
+    return settings.smooth and any(pair.at_beam_ends for pair in contacts.pairs)
+
+
+class EnergyGuard:
+    """The energy check of one run's steps: ``held(stepper, st, end, h, timer, depth)`` returns
+    ``end``, the step from ``st`` over ``h`` (s), or, where it raised the energy by more than
+    ``GAIN`` of the scale, the step taken again by ``stepper`` with ``settings`` (ρ∞ = 0)
+    and ``kind`` (located at its closings)."""
+
+    def __init__(self, model, settings: RunSettings):
+        self.measure = StateEnergies(model)
+        # (the same statistics, plan and traits: only the coefficients change)
+        self.settings = dataclasses.replace(settings, rho_inf=0.0)
+        self.kind = localized_step
+        self.scale = 0.0  # J: the largest T + V_strain of the run's states
+        self.last: tuple[State, float] | None = None  # the last state measured, its E (J)
+
+    def energy(self, st: State) -> float:
+        """E = T + V_strain + V_gravity of ``st`` (J); the state keeps the three energies
+        (``State.energies``) for the run's recorder."""
+        if self.last is not None and self.last[0] is st:
+            return self.last[1]
+        kinetic, strain, gravity = st.energies = self.measure(st.q, st.v)
+        self.last = (st, kinetic + strain + gravity)
+        return self.last[1]
+
+    def accepted(self, st: State) -> State:
+        """``st`` as a state of the run: the scale takes its T + V_strain, and the state the
+        scale so far (``State.energy_scale``, which a checkpoint keeps: a resumed run's
+        first state carries that of the states before it)."""
+        kinetic, strain, _ = st.energies
+        self.scale = st.energy_scale = max(self.scale, st.energy_scale, kinetic + strain)
+        return st
+
+    def held(self, stepper, st: State, end: State, h: float, timer, depth: int = 0) -> State:
+        """``end``, or the step from ``st`` taken again where ``end`` created energy (with the
+        halvings left below ``depth``)."""
+        before = self.energy(st)
+        self.accepted(st)  # (the run's first state, or a resumed run's)
+        if self.energy(end) - before <= GAIN * self.scale:
+            return self.accepted(end)
+        stats = self.settings.stats
+        stats.energy_retakes += 1
+        retake = stepper.step(st, h, timer, depth, damped=True)
+        after = self.energy(retake)
+        if after - before > GAIN * self.scale and depth < self.settings.max_halvings:
+            # (still gaining: two halves at ρ∞ = 0, and the end that holds less energy)
+            stats.energy_retake_halves += 1
+            halves = stepper.halves(st, h, timer, depth, damped=True)
+            if self.energy(halves) < after:
+                retake = halves
+            else:
+                self.energy(retake)  # (its energies again the last measured)
+        return self.accepted(retake)
