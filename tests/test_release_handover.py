@@ -45,11 +45,12 @@ def test_a_row_whose_twin_takes_its_load_is_not_released():
     st = SimpleNamespace(smooth=SimpleNamespace(normal=before))
     force = np.zeros_like(before)
     force[twin] = 504.0  # the twin holds the node: handed over, not released
-    assert released(st, P, force, 1e-10, twins).tolist() == [other]
+    assert released(model, st, P, force, 1e-10).tolist() == [other]
     # without the twins' pairing each row is a contact of its own, as on any other interface
-    assert released(st, P, force, 1e-10, None).tolist() == [row, other]
+    alone = SimpleNamespace(contacts=SimpleNamespace(twins=None))
+    assert released(alone, st, P, force, 1e-10).tolist() == [row, other]
     # both rows of the node let go: the node is released
-    assert released(st, P, np.zeros_like(before), 1e-10, twins).tolist() == P.tolist()
+    assert released(model, st, P, np.zeros_like(before), 1e-10).tolist() == P.tolist()
 
 
 def test_the_off_pole_ball_creates_nothing_in_a_release(tmp_path):
