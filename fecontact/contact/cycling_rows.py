@@ -13,20 +13,20 @@ __all__ = ["COMPLEMENTARY", "NEAR", "apart", "complementary_update"]
 
 
 NEAR = 1e-3
-"""1 − the correlation above which two active rows are nearly redundant (:func:`_apart`)."""
+"""1 − the correlation above which two active rows are nearly redundant (:func:`apart`)."""
 
 
 def apart(A, GA, Y, g, eq, twins):
     """The active set A (its rows' gradients ``GA`` and columns Y = H⁻¹G_Aᵀ) without the
     shallower of two rows whose correlation in the metric H⁻¹, S_ij / √(S_ii S_jj) with
     S = G_A H⁻¹G_Aᵀ, is above 1 − ``NEAR``: two constraints that move the same points along
-    nearly the same direction, as twins (:func:`one_of_twins`) but not declared. A slave
-    node's weighted gap and the own row of the master node facing it are such a pair (two
-    disks head-on on matching meshes: 0.9998); held together, their multipliers split into
-    large forces of opposite signs and the update moved the gaps by millimetres. The test
-    reads neither p nor k. Only where rows have twins (``twins`` not None, decided once per
-    run: mortar interfaces with their nodes' own rows). Returns (A, G_A, Y) of the rows
-    kept."""
+    nearly the same direction, as twins (:func:`fecontact.contact.laws.one_of_twins`) but
+    not declared. A slave node's weighted gap and the own row of the master node facing it
+    are such a pair (two disks head-on on matching meshes: 0.9998); held together, their
+    multipliers split into large forces of opposite signs and the update moved the gaps by
+    millimetres. The test reads neither p nor k. Only where rows have twins (``twins`` not
+    None, decided once per run: mortar interfaces with their nodes' own rows). Returns
+    (A, G_A, Y) of the rows kept."""
     if twins is None:
         return A, GA, Y
     S = GA @ Y
