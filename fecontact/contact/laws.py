@@ -29,6 +29,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.linalg.lapack import dgetrf, dgetrs
 
+from .cycling_rows import COMPLEMENTARY, apart, complementary_update
 from .redundant_jump import proximal_jump
 from .stats import ContactStats
 
@@ -163,49 +164,71 @@ def solve_position_correction(
     bilateral = np.zeros(len(g), bool) if bilateral is None else bilateral
     held = np.count_nonzero(bilateral) > 0  # (decided once: without equalities, none appear)
     eq = _holding(bilateral, g, G, held)
+    law = (np.broadcast_to(p, g.shape), k, tol_gap, lambda x, gap, pr, e: _settled(
+        x, gap, pr, k, e, tol_gap, scale))  # fmt: skip
     dU, dU_prev = np.inf, np.inf
     A = last = None
     cycle = _Cycle()
-    for it in range(2 * max_iter + 1):  # (beyond max_iter only to end a frozen cycle)
+    # (beyond max_iter only to end a cycle: complementarity updates, then a frozen set)
+    for it in range(2 * max_iter + COMPLEMENTARY + 1):
         settled = _update_settled(dU, dU_prev, tol_u, tol_gap)
         if it > 0 and settled and cycle.ends(A, nu, g, p, k, eq, tol_gap, stats, scale):
             _record(stats, "position", nu, g, p, k, eq, tol_gap, scale)
             return U, nu, it
         if it > 0:
             cycle.visit(A, _residual(nu, g, p, k, eq, scale))
-        if it > max_iter and not cycle.freeze():
+        if it > max_iter and not cycle.escalate():
             break
         # (a row with a zero gradient holds nothing, as one whose gap is undefined: a deep
         # node's own row reports a finite far gap once its node is out, and kept in the set
         # it made the Schur complement singular and the update stall at its round-off)
         holding = np.where(G.any(axis=1), g, np.inf)
-        A = cycle.next(A, nu, holding, p, k, eq, twins, settled and (g < -tol_gap))
-        # the gaps' curvature weighted by the current contact forces k ν (the Hessian of the
-        # Lagrangian, as in SQP), not by k ν − p g: on the first update that is −p g, which
-        # with a large p dwarfs H and makes H − C indefinite; at convergence both agree
-        w = np.where(eq, k * nu, np.maximum(k * nu, 0.0))
-        if not _close(last, A, w):
-            last = (A.copy(), w, *system(U, w, A))
-        # else the matrix of the last update serves again (a chord step): the active set is
-        # the same and the forces weighting the curvature moved by under a tenth, so the
-        # iteration still contracts fast and converges to the same U (the fixed point does
-        # not depend on C); each new curvature costs its evaluation and a factor update
-        solve, C = last[2], last[3]
-        x0 = np.zeros(n) if C is None else solve(-(C @ U))
-        nu = np.zeros(len(g))
-        U_new = x0
-        if A.any():
-            GA = G[A]
-            Y = solve(GA.T).reshape(n, -1)
-            A, GA, Y = _apart(A, GA, Y, g, eq, twins)
-            nu[A] = kkt_multipliers(GA, Y, GA @ (U - x0) - g[A], k, stats)
-            U_new = x0 + k * (Y @ nu[A])
+        update = None
+        if cycle.complementary:
+            update = complementary_update(U, g, G, nu, (holding, eq), system, law)
+            cycle.complementary = update is not None  # (else frozen at once)
+        if update is None:
+            A = cycle.next(A, nu, holding, p, k, eq, twins, settled and (g < -tol_gap))
+            update = _active_set_update(A, U, g, G, nu, eq, k, (system, last, twins), stats)
+            last = update[4]
+        A, nu, U_new, C = update[:4]
         dU_prev = dU
         dU = 0.0 if C is None else float(np.max(np.abs(U_new - U), initial=0.0))
         U = U_new
         g, G = _defined(gaps, U)
         eq = _holding(bilateral, g, G, held)
     raise RuntimeError(f"position correction: active set did not settle in {max_iter} iterations")
+
+
+def _active_set_update(A, U, g, G, nu, eq, k, solver, stats):
+    """The semi-smooth Newton update of :func:`solve_position_correction` on the active set
+    A at the iterate U (gaps g, gradient G, multipliers ν); ``solver``: (``system``, the last
+    system (A, w, solve, C) or None, ``twins``). Returns (A, ν, U, C, last): the set the
+    update held (without the rows that :func:`fecontact.contact.cycling_rows.apart` takes
+    apart), its multipliers, the new iterate, the curvature and the system used."""
+    system, last, twins = solver
+    n = U.size
+    # the gaps' curvature weighted by the current contact forces k ν (the Hessian of the
+    # Lagrangian, as in SQP), not by k ν − p g: on the first update that is −p g, which
+    # with a large p dwarfs H and makes H − C indefinite; at convergence both agree
+    w = np.where(eq, k * nu, np.maximum(k * nu, 0.0))
+    if not _close(last, A, w):
+        last = (A.copy(), w, *system(U, w, A))
+    # else the matrix of the last update serves again (a chord step): the active set is
+    # the same and the forces weighting the curvature moved by under a tenth, so the
+    # iteration still contracts fast and converges to the same U (the fixed point does
+    # not depend on C); each new curvature costs its evaluation and a factor update
+    solve, C = last[2], last[3]
+    x0 = np.zeros(n) if C is None else solve(-(C @ U))
+    nu = np.zeros(len(g))
+    U_new = x0
+    if A.any():
+        GA = G[A]
+        Y = solve(GA.T).reshape(n, -1)
+        A, GA, Y = apart(A, GA, Y, g, eq, twins)
+        nu[A] = kkt_multipliers(GA, Y, GA @ (U - x0) - g[A], k, stats)
+        U_new = x0 + k * (Y @ nu[A])
+    return A, nu, U_new, C, last
 
 
 def _defined(gaps, U: np.ndarray):
@@ -244,56 +267,28 @@ def _holding(bilateral: np.ndarray, g: np.ndarray, G: np.ndarray, held: bool) ->
     return bilateral & (g < np.inf) & G.any(axis=1) if held else bilateral
 
 
-NEAR = 1e-3
-"""1 − the correlation above which two active rows are nearly redundant (:func:`_apart`)."""
-
-
-def _apart(A, GA, Y, g, eq, twins):
-    """The active set A (its rows' gradients ``GA`` and columns Y = H⁻¹G_Aᵀ) without the
-    shallower of two rows whose correlation in the metric H⁻¹, S_ij / √(S_ii S_jj) with
-    S = G_A H⁻¹G_Aᵀ, is above 1 − ``NEAR``: two constraints that move the same points along
-    nearly the same direction, as twins (:func:`one_of_twins`) but not declared. A slave
-    node's weighted gap and the own row of the master node facing it are such a pair (two
-    disks head-on on matching meshes: 0.9998); held together, their multipliers split into
-    large forces of opposite signs and the update moved the gaps by millimetres. The test
-    reads neither p nor k. Only where rows have twins (``twins`` not None, decided once per
-    run: mortar interfaces with their nodes' own rows). Returns (A, G_A, Y) of the rows
-    kept."""
-    if twins is None:
-        return A, GA, Y
-    S = GA @ Y
-    d = np.sqrt(np.abs(np.diagonal(S)))
-    with np.errstate(divide="ignore", invalid="ignore"):  # (a zero row correlates with none)
-        i, j = np.nonzero(np.triu(S / np.outer(d, d), 1) > 1.0 - NEAR)
-    if i.size == 0:
-        return A, GA, Y
-    rows = np.flatnonzero(A)
-    keep = np.ones(rows.size, bool)
-    for a, b in zip(i, j, strict=True):  # (the deeper of each pair, the first on a tie)
-        if keep[a] and keep[b]:
-            drop = b if g[rows[b]] >= g[rows[a]] else a
-            keep[drop] = bool(eq[rows[drop]])  # (joints stay)
-    A = A.copy()
-    A[rows[~keep]] = False
-    return A, GA[keep], Y[:, keep]
-
-
 class _Cycle:
     """The active sets of one position correction. Where the primal–dual iteration has not
     settled within its ``max_iter`` iterations and a set came three times or more, it cycles
-    (a gap that jumps where a node's closest facet changes, seen on node-to-surface disks at
+    (a held row and its twin taking turns, as the active-set rule keeps one of two twins; a
+    gap that jumps where a node's closest facet changes, seen on node-to-surface disks at
     three edges a step: {1, 2} holds row 1 with a pulling force, {2} leaves it 0.44 mm
-    inside). The set whose iterate had the least Alart–Curnier residual is then *frozen*:
-    iterated as equalities, rows entering it where they penetrate at its converged iterate
-    and none leaving (so it ends within as many additions as rows), and accepted when its
-    rows' gaps close and no other row penetrates, whatever the sign of its multipliers (the
-    step's final residual records the pull; counted in ``frozen_active_sets``). Only then: a
-    correction that settles within ``max_iter`` is unchanged to the bit (frozen at a set's
-    third coming, the shipped node-to-surface disks froze once and moved by round-off)."""
+    inside). Its next updates solve the linearised law as a complementarity problem on every
+    row at once (:func:`fecontact.contact.cycling_rows.complementary_update`, up to
+    ``COMPLEMENTARY`` of them, counted in ``complementary_corrections`` where they
+    settle). Where those do not settle, the set whose iterate had the least Alart–Curnier
+    residual is *frozen*: iterated as equalities, rows entering it where they penetrate at
+    its converged iterate and none leaving (so it ends within as many additions as rows),
+    and accepted when its rows' gaps close and no other row penetrates, whatever the sign of
+    its multipliers (the step's final residual records the pull; counted in
+    ``frozen_active_sets``). Only then: a correction that settles within ``max_iter`` is
+    unchanged to the bit (frozen at a set's third coming,
+    the shipped node-to-surface disks froze once and moved by round-off)."""
 
     def __init__(self):
         self.visits: dict = {}
         self.best, self.frozen = (np.inf, None), None
+        self.complementary, self.solved = False, 0
 
     def visit(self, A: np.ndarray, residual: float) -> None:
         """The residual of the iterate that the set A gave."""
@@ -303,6 +298,8 @@ class _Cycle:
     def next(self, A, nu, g, p, k, eq, twins, inside) -> np.ndarray:
         """The set of the next update after A (``inside``: the rows that enter a frozen set,
         those that penetrate once it has converged)."""
+        if self.frozen is None and self.best[1] is not None and self.solved:
+            self.frozen = self.best[1]  # (the complementarity updates did not settle)
         if self.frozen is not None:  # (a row whose gap became undefined leaves, as below)
             self.frozen = (self.frozen & (g < np.inf)) | inside
             return self.frozen
@@ -311,18 +308,26 @@ class _Cycle:
         self.visits[key] = self.visits.get(key, 0) + 1
         return A
 
-    def freeze(self) -> bool:
-        """Freeze the best set, once, if the iteration has cycled; whether a set is frozen."""
-        if self.frozen is None and self.best[1] is not None and max(self.visits.values()) > 2:
-            self.frozen = self.best[1]
-        return self.frozen is not None
+    def escalate(self) -> bool:
+        """Past ``max_iter``: the next complementarity update if the iteration has cycled and
+        fewer than ``COMPLEMENTARY`` were made, else the frozen set; whether either goes on."""
+        if self.frozen is not None:
+            return True
+        if self.best[1] is None or max(self.visits.values()) <= 2:
+            return False
+        self.complementary = self.solved < COMPLEMENTARY
+        self.solved += 1
+        return True
 
     def ends(self, A, nu, g, p, k, eq, tol: float, stats, scale: float = 1.0) -> bool:
         """Whether the settled iterate from the set A ends the correction: complementarity
-        within ``tol``, or, for a frozen set, its rows closed and no other inside (counted
-        in ``stats``)."""
+        within ``tol`` (counted in ``stats`` after complementarity updates), or, for a frozen
+        set, its rows closed and no other inside (counted in ``stats``)."""
         if self.frozen is None:
-            return _settled(nu, g, p, k, eq, tol, scale)
+            done = _settled(nu, g, p, k, eq, tol, scale)
+            if done and self.solved and stats is not None:
+                stats.complementary_corrections += 1
+            return done
         held = bool(np.all(np.abs(g[A]) <= tol) and np.all(g[~A] >= -tol))
         if held and stats is not None:
             stats.frozen_active_sets += 1

@@ -144,6 +144,8 @@ class StepStats:
             "redundant_row_updates": self.contact.redundant_row_updates,
             # position corrections whose cycling active set was frozen at its best
             "frozen_active_sets": self.contact.frozen_active_sets,
+            # ... and those settled by complementarity updates on every row at once
+            "complementary_corrections": self.contact.complementary_corrections,
             # frictionless jumps on redundant rows solved by the proximal point method
             "redundant_jumps": {
                 "solves": self.contact.redundant_jumps,
