@@ -20,29 +20,20 @@ import time
 from pathlib import Path
 
 import numpy as np
+import stress_2d
 from _common import case, parser, report, with_options, write_markdown
 
-from fecontact import Contact, Model, Plane, SolverError, run
-from fecontact.bodies import Beam2D, Material, Section
+from fecontact import SolverError, run
 from fecontact.io.output import read_json
 from fecontact.simulation import Simulation
 from fecontact.time import simulate
 
-STOPS = {
-    "floor": Plane([0.0, -0.25], [0.0, 1.0]),
-    "tilted": Plane([0.0, -0.2], [math.cos(0.4), math.sin(0.4)]),
-}
+STOPS = ("floor", "tilted")
 
 
 def pendulum(stop: str, e: float, t_end: float) -> Simulation:
-    """The founding case's strip and tip mass against ``stop``."""
-    beam = Beam2D.straight(
-        [0.0, 0.0], [0.3, 0.0], 4, Material(70e9, nu=0.33, rho=2700.0),
-        Section.rectangle(0.02, 0.002),
-    )  # fmt: skip
-    beam.pin(0).add_mass(-1, 0.14)
-    pair = Contact(beam, STOPS[stop], nodes=[-1], restitution=e)
-    return Simulation(Model([beam], [pair], gravity=(0.0, -9.81)), dt=1e-3, t_end=t_end)
+    """The founding case's strip and tip mass against ``stop`` (``benchmarks/stress_2d.py``)."""
+    return stress_2d.pendulum(stop, e, t_end=t_end)[0]
 
 
 def measured(sim) -> dict:
