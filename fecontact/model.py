@@ -178,7 +178,7 @@ class Model:
 
     def use_solver(self, solver: LinearSolver) -> None:
         """Factorize the model's matrices with ``solver`` (a run's, which counts their work)
-        from now on; factorizations already made are kept."""
+        from now on; a run starts from caches emptied (:func:`~fecontact.time.make_stepper`)."""
         self.solver = solver
 
     def offset_of(self, body) -> int:

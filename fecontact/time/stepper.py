@@ -150,6 +150,18 @@ def make_stepper(
     if (modes := registered_modes(model.n_free)) is not None:
         solver.modes = modes
     model.use_solver(solver)
+    _empty_caches(model)
     # (decided once: beams whose steps may create energy, module energy_guard)
     guard = EnergyGuard(model, settings) if guards(model, settings) else None
     return Stepper(model, settings, kind, guard)
+
+
+def _empty_caches(model) -> None:
+    """Empty what a linear ``model`` keeps for the run: its step sizes' factorizations and
+    contact columns, and the ladder that solves the sizes met once. An earlier run's ladder
+    changes how a later run solves them (PCG from a nearer rung, a rung's exact factors, the
+    eigendecomposition sooner: module :mod:`fecontact.linalg.ladder`) and so its round-off;
+    empty, the run computes what it does in a fresh process (tests/test_run_independence.py).
+    The mass's factorization, the same for every run, is kept."""
+    model.iteration_cache, model.column_cache = {}, {}
+    model.ladder, model.passing = None, False
