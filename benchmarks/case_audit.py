@@ -35,7 +35,7 @@ from case_matrix import ROUND_OFF_J, Row, run_row, run_worker
 
 WARN = 1e-3  # the ledger's warning level, created over scale (fecontact.ledger.CREATED)
 CUT = 0.56  # the last step's fraction of dt in the "off grid" rows
-QUICK = ("bouncing_ball", "rocking_block")
+QUICK = ("disk_drop", "impacting_bar")
 VARIANTS = ("default", "off grid", "e_N=1", "h x2")
 COLUMNS = [
     "case",
