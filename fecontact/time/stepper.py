@@ -13,6 +13,7 @@ from .alpha_step import alpha_plan
 from .constraints import StepFailure
 from .energy_guard import EnergyGuard, guards
 from .energy_step import check_energy_scheme, energy_nsga_step
+from .generalized_alpha import resized
 from .lie import check_group
 from .localize import joined, localizes
 from .moreau import moreau_plan, moreau_step
@@ -59,6 +60,10 @@ class Stepper:
         # an NSGA step whose end is outside every body (State.outside) and where no node can
         # enter a solid has nothing to measure: its record is the 0 m its state starts with
         self.trusts = settings.integrator == "nsga" and not settings.depth_check
+        # the generalized-α steps, whose variable a belongs to the size of the step that made
+        # it: a step of another size (the last one, cut to end on t_end; a rung of the rtol
+        # ladder) starts from a taken to its own size (generalized_alpha.resized)
+        self.resizes = settings.scheme == "generalized-alpha" and settings.integrator != "moreau"
 
     @property
     def stats(self) -> StepStats:
@@ -72,8 +77,11 @@ class Stepper:
         retaken because it left a point too deep inside a body counts in ``retakes``, one
         whose predictor or smooth step turned a beam node too far in ``turn_halvings``. A
         whole step that created energy is taken again ``damped``, by the guard's settings
-        and step function (:mod:`.energy_guard`)."""
-        end = self._taken(st, h, timer, depth, damped)
+        and step function (:mod:`.energy_guard`). A generalized-α step of another size than
+        the one that made ``st`` starts from its a taken to ``h`` (:func:`.resized`); the
+        halves of a failed step keep that of ``h``, as they did."""
+        start = resized(st, h) if self.resizes else st
+        end = self._taken(start, h, timer, depth, damped)
         if damped or self.guard is None:
             return end
         return self.guard.held(self, st, end, h, timer, depth)
