@@ -78,6 +78,8 @@ COLUMNS = [
     "newton_mean",
     "newton_max",
     "halvings",
+    "retakes",
+    "retake_halves",
     "wall_s",
     "ms_per_step",
     "deviation",
@@ -95,6 +97,7 @@ TABLE = [
     "newton_mean",
     "newton_max",
     "halvings",
+    "retakes",
     "ms_per_step",
 ]
 HEADERS = {
@@ -605,6 +608,9 @@ def measure(spec: Spec, sim, tr) -> dict:
         "newton_mean": float(its.mean()) if its.size else math.nan,
         "newton_max": int(its.max()) if its.size else 0,
         "halvings": int(tr["halvings"].sum()),
+        # beam steps that created energy, taken again at rho_inf = 0 (a fallback: counted)
+        "retakes": tr["energy_retakes"],
+        "retake_halves": tr["energy_retake_halves"],
         "wall_s": tr["wall"],
         "ms_per_step": 1e3 * tr["wall"] / max(steps, 1),
         "deviation": math.nan,
@@ -693,6 +699,7 @@ def _report(i, n, spec, row, seconds):
         f"t={row['t_reached']:.4g} pen={row['max_penetration']:.2e} "
         f"growth={row['growth_pct']:.3g}% impact={row['impact_step_pct']:.3g}% "
         f"newton={row['newton_mean']:.2f}/{row['newton_max']} halv={row['halvings']} "
+        f"retakes={row['retakes']}/{row['retake_halves']} "
         f"dev={row['deviation']:.2e} {seconds:.1f}s {row['check']} "
         f"{row['message'][:120]}",
         flush=True,

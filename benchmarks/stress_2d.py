@@ -25,9 +25,9 @@ the local reference length (boundary edge or clearance); the drift of the total 
 free pairs over its initial norm; the largest lateral centre-of-mass speed of symmetric
 head-on impacts over the impact speed; the ledger's ``created``/``scale``; the fallbacks the
 summary counts (step halvings, penetration retakes, least-squares multipliers, line-search
-cuts, shortened follow-ups, localization fallbacks, rejected steps); and on some rows the
-largest change of any probe when p is multiplied by 1000 and k divided by 100 (relative to
-that probe's range).
+cuts, shortened follow-ups, localization fallbacks, rejected steps, energy retakes); and on
+some rows the largest change of any probe when p is multiplied by 1000 and k divided by 100
+(relative to that probe's range).
 
     python benchmarks/stress_2d.py            # the whole sweep (about 10 minutes on one core)
     python benchmarks/stress_2d.py --quick    # one row per group, small meshes
@@ -416,7 +416,10 @@ def rows() -> list[Row]:
 
 # -- running a row -------------------------------------------------------------------------------
 
-FALLBACKS = ("step_halvings", "penetration_retakes", "least_squares_multipliers", "steps_rejected")
+FALLBACKS = (
+    "step_halvings", "penetration_retakes", "least_squares_multipliers", "steps_rejected",
+    "energy_retakes",
+)  # fmt: skip
 
 
 def fallbacks(s) -> dict:

@@ -28,7 +28,7 @@ from .derivative_checks import (
 )
 from .energy import EnergyBalance
 from .errors import SolverError
-from .time import simulate
+from .time import StepStats, simulate
 
 __all__ = [
     "G",
@@ -74,7 +74,8 @@ def trace(sim, dt=None, t_end=None, max_wall=None, abort=None):
     Keys: ``t``, ``h``, the probes, ``kinetic``, ``total`` (energy, J), ``min_gap`` (m, over
     every contact), ``active`` (a contact with ν > 0, Λ > 0 or a smooth force λ > 0),
     ``impulse`` (Σ kΛ, N·s),
-    ``iterations`` (smooth + position + velocity), ``halvings``, ``vmax`` (max |v|); and
+    ``iterations`` (smooth + position + velocity), ``halvings``, ``vmax`` (max |v|); the
+    run's ``energy_retakes`` and ``energy_retake_halves`` (counts, as ``summary.json``'s); and
     ``status`` ("completed", "failed" on ``SolverError``, "timeout" after ``max_wall`` s,
     "diverged" when ``abort(row)`` is true), ``message``, ``wall`` (s) and ``warnings``: the
     run's, as ``summary.json`` holds them, of its settings and of its energy check
@@ -87,7 +88,10 @@ def trace(sim, dt=None, t_end=None, max_wall=None, abort=None):
     status, message = "completed", ""
     balance = EnergyBalance(model)  # the run's energy check, as fecontact.run's
     start = time.perf_counter()
-    steps = simulate(model, dt or sim.dt, t_end or sim.t_end, sim.options, q0=sim.q0, v0=sim.v0)
+    stats = StepStats()  # (the run's counts, read at its end)
+    steps = simulate(
+        model, dt or sim.dt, t_end or sim.t_end, sim.options, q0=sim.q0, v0=sim.v0, stats=stats
+    )
     try:
         for st in steps:
             ke, pe, se = (
@@ -121,6 +125,7 @@ def trace(sim, dt=None, t_end=None, max_wall=None, abort=None):
         status, message = "failed", str(err)
     out = {k: np.array(v) for k, v in rows.items()}
     out.update(status=status, message=message, wall=time.perf_counter() - start)
+    out.update(energy_retakes=stats.energy_retakes, energy_retake_halves=stats.energy_retake_halves)
     settings = sim.replace(dt=dt or sim.dt, t_end=t_end or sim.t_end).warnings()
     out["warnings"] = settings + ([balance.describe()] if balance.unstable() else [])
     return out

@@ -87,6 +87,20 @@ def test_the_benchmarks_trace_carries_the_energy_check(tmp_path):
     assert energy and [w for w in tr["warnings"] if "integration is unstable" in w] == energy
 
 
+def test_the_benchmarks_trace_counts_the_energy_retakes(tmp_path):
+    """The same pendulum with its steps that create energy taken again at ρ∞ = 0 (the
+    default): the trace of ``simulate`` counts the retakes the run's summary counts, so that
+    the stability matrix shows them (benchmarks/stability.py, column ``retakes``)."""
+    sim = load_case("flexible_pendulum").build(gravity=981.0, restitution=0.5)
+    sim = sim.replace(t_end=0.15)
+    tr = trace(sim)
+    with pytest.warns(UserWarning, match="energy: the run created"):  # (0.79 % of its scale)
+        summary = run(sim, tmp_path / "g", frames=False)
+    assert summary["energy_retakes"] > 0  # (20, 10 of them in halves: measured)
+    assert tr["energy_retakes"] == summary["energy_retakes"]
+    assert tr["energy_retake_halves"] == summary["energy_retake_halves"]
+
+
 @pytest.mark.parametrize("cli", [True, False])
 def test_a_run_that_keeps_its_step_warns_of_no_halving(tmp_path, capsys, cli):
     """The founding pendulum (ρ∞ = 0.5, e_N = 0.5) keeps its step: no halving, and
