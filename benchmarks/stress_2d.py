@@ -416,7 +416,13 @@ def rows() -> list[Row]:
 
 # -- running a row -------------------------------------------------------------------------------
 
-FALLBACKS = ("step_halvings", "penetration_retakes", "least_squares_multipliers", "steps_rejected")
+FALLBACKS = (
+    "step_halvings",
+    "penetration_retakes",
+    "least_squares_multipliers",
+    "steps_rejected",
+    "smooth_active_set_pivots",
+)
 
 
 def fallbacks(s) -> dict:
