@@ -6,7 +6,10 @@ persistent contacts at once: rows that penetrate enter, rows whose force turns n
 leave. On rows coupled through a rigid body's six dofs this can wander without end: a rigid
 box landing flat on an elastic cube went between sets of 12 and 17 of 23 rows for 40
 updates, six halvings, and the run stopped. Once the sets cycle (a set already solved with
-comes back) or stall (``STALL`` updates change no fewer rows than the fewest before), each
+comes back) or stall (``STALL`` updates change no fewer rows than the fewest before), both
+counted on updates that change several rows (a change of one row is a pivot already: a
+single contact that enters and leaves as its Newton iteration settles, the founding
+pendulum's tip, is left alone), each
 update changes only the lowest-numbered row that the proposed set changes: Murty's
 least-index rule, which ends in finitely many updates on the linearised law, whose Schur
 matrix G_A S⁻¹ G_Aᵀ is positive definite (Murty 1974; the switch after a stall is Júdice &
@@ -41,7 +44,8 @@ class LeastIndexPivot:
         changed = np.flatnonzero(proposed != current)
         if not changed.size:
             return proposed
-        self._watch(proposed, current, changed.size)
+        if changed.size > 1:  # (a change of one row is already a least-index step)
+            self._watch(proposed, current, changed.size)
         if not self.pivoting:
             return proposed
         if not (current == solved).all():  # (a row just entered holds no force yet)
