@@ -416,13 +416,7 @@ def rows() -> list[Row]:
 
 # -- running a row -------------------------------------------------------------------------------
 
-FALLBACKS = (
-    "step_halvings",
-    "penetration_retakes",
-    "least_squares_multipliers",
-    "steps_rejected",
-    "smooth_active_set_pivots",
-)
+FALLBACKS = ("step_halvings", "penetration_retakes", "least_squares_multipliers", "steps_rejected")
 
 
 def fallbacks(s) -> dict:

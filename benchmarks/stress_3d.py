@@ -214,7 +214,6 @@ FALLBACKS = (
     ("smooth_newton", "line_search_cuts"),
     ("velocity_follow_ups", "shortened"),
     ("steps_rejected",),
-    ("smooth_active_set_pivots",),
     ("localization_fallbacks", "accumulation"),
     ("localization_fallbacks", "persistent"),
     ("localization_fallbacks", "grazing"),

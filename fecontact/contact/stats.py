@@ -74,9 +74,6 @@ class ContactStats:
     # position corrections whose active sets cycled, settled by complementarity updates on
     # every row at once (the linearised law solved by principal pivoting)
     complementary_corrections: int = 0
-    # smooth steps whose active set cycled, ended by changing one row per update
-    # (:mod:`fecontact.time.pivoting`)
-    smooth_active_set_pivots: int = 0
     # frictionless velocity jumps whose redundant rows left the law unsettled after the
     # active set repeated (the rows could not all close), solved again by the proximal
     # point method (:mod:`fecontact.contact.redundant_jump`), and its proximal steps

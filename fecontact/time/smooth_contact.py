@@ -95,7 +95,6 @@ from ..linalg.ladder import Spectral
 from .constraints import Constraints, StepFailure, augmentation, constraint_columns
 from .coulomb import frictional_restart, frictional_start
 from .lie import inertial_forces
-from .pivoting import LeastIndexPivot
 from .records import SmoothForces
 
 __all__ = [
@@ -154,8 +153,6 @@ class SmoothContacts:
         # known from the first update: :meth:`_next_active_set`)
         self.affine, self.live = model.contacts.affine, None
         self.last = None  # (the rows and the change of λ of the last update)
-        # one row per update once the sets cycle or stall
-        self.pivot = LeastIndexPivot(opts.tol_gap * model.length, self.stats)
 
     def update(self, q: np.ndarray, curvature: bool) -> None:
         """Gaps, gradients (and, with ``curvature``, the curvature −Σ_A λ_j ∇²g_j of the
@@ -163,8 +160,7 @@ class SmoothContacts:
         # the forces carried in weigh the curvature; one that leaves A below lags one update
         weights = -self.lam if curvature else None
         self.g, self.G, self.C = self.contacts.linearize(q, self.P, weights)
-        proposed = self._next_active_set(self.g, self.G)
-        self.active = self.pivot(proposed, self.active, self.solved, self.g)
+        self.active = self._next_active_set(self.g, self.G)
         self.lam[~self.active] = 0.0
 
     def _next_active_set(self, g: np.ndarray, G: np.ndarray) -> np.ndarray:

@@ -146,8 +146,6 @@ class StepStats:
             "frozen_active_sets": self.contact.frozen_active_sets,
             # ... and those settled by complementarity updates on every row at once
             "complementary_corrections": self.contact.complementary_corrections,
-            # smooth steps whose cycling active set changed one row per update from then on
-            "smooth_active_set_pivots": self.contact.smooth_active_set_pivots,
             # frictionless jumps on redundant rows solved by the proximal point method
             "redundant_jumps": {
                 "solves": self.contact.redundant_jumps,
