@@ -1,0 +1,175 @@
+r"""A 2D :class:`~fecontact.Solid`'s nodes against the exact outline of a planar
+:class:`~fecontact.bodies.rigid.RigidBody2D` (node-to-surface on a rigid master).
+
+``Contact(solid, body)`` (either way round) builds these pairs, one contact per slave node x
+(the solid's boundary nodes by default, or ``nodes``), against the body's shape:
+
+===========  =====================================================================================
+``Disk``     g = |x − c| − r − clearance, c the disk's centre; the normal e = (x − c)/|x − c|
+``Polygon``  g = s(ρ) − clearance with ρ = R(φ)ᵀ(x − c) the node in the polygon's frame and s
+             the signed distance to the convex polygon (negative inside: the depth below the
+             nearest edge), as for a rigid disk's centre (:mod:`fecontact.contact.rigid_pairs`)
+===========  =====================================================================================
+
+Gaps are in m, positive open. Gradients act on the node's (u_x, u_y) and on the body's
+(u_x, u_y, θ), θ counter-clockwise. For the disk G = [e, −e, 0] and the curvature is exact,
+K = (I − e eᵀ)/|x − c| on the two translations (the disk's rotation moves no point of its
+outline off it). For the polygon, with J the rotation by +90°, A = ∂ρ/∂(x, c, θ) =
+[Rᵀ, −Rᵀ, −Jρ] and s' = ∂s/∂ρ: G = s'ᵀA and ∇²g = Aᵀ s'' A + Σ_i s'_i ∇²ρ_i, the only second
+derivatives of ρ being ∂²ρ/∂x∂θ = −J Rᵀ, ∂²ρ/∂c∂θ = J Rᵀ and ∂²ρ/∂θ² = −ρ; s'' is zero on an
+edge and the vertex distance's curvature near a vertex. The rows hold nodes only: a polygon's
+vertex can enter the solid between two nodes, and nothing holds it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..bodies.rigid import Disk, Polygon, RigidBody2D, rotation
+from ..bodies.solid import Solid
+from ..errors import InputError, check_range
+from .base import PairDefaults
+from .registry import register_pair
+
+__all__ = ["NodeDiskContact", "NodePolygonContact"]
+
+_PERP = np.array([[0.0, -1.0], [1.0, 0.0]])  # J, the rotation by +90°
+
+
+class NodeRigid2DContact(PairDefaults):
+    """Nodes of a 2D solid against a planar rigid body; the subclasses give the shape."""
+
+    linear = False
+
+    def __init__(self, body: Solid, rigid: RigidBody2D, nodes, restitution, clearance):
+        if body.dim != 2:
+            raise InputError("a RigidBody2D meets the nodes of a 2D Solid")
+        self.body, self.rigid = body, rigid
+        self.bodies = (body, rigid)
+        self.nodes = body.contact_nodes(nodes)
+        if len(self.nodes) == 0:
+            raise InputError("nodes must name at least one node")
+        self.restitution = check_range("restitution", restitution, 0.0, 1.0)
+        self.clearance = clearance
+        self.size = len(self.nodes)
+        self._node_dofs = body.node_translation_dofs(self.nodes)
+        self.offsets = (0, 0)
+
+    def _state(self, q: np.ndarray):
+        """The nodes' positions (m, 2) and the rigid body's dofs (3,)."""
+        (oa, ob), body = self.offsets, self.body
+        x = body.positions(q[oa : oa + body.ndof])[self.nodes]
+        return x, q[ob : ob + 3]
+
+    def _dofs(self) -> np.ndarray:
+        oa, ob = self.offsets
+        rigid = np.broadcast_to(ob + np.arange(3), (self.size, 3))
+        return np.concatenate([oa + self._node_dofs, rigid], axis=1)
+
+
+class NodeDiskContact(NodeRigid2DContact):
+    """Nodes of a 2D solid against a rigid ``Disk`` (outside it)."""
+
+    def _geometry(self, q):
+        x, qr = self._state(q)
+        d = x - self.rigid.center(qr)
+        dist = np.linalg.norm(d, axis=1)
+        if np.any(dist == 0.0):
+            raise InputError("a node lies at the rigid disk's centre: no contact normal")
+        return d / dist[:, None], dist
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        return self._geometry(q)[1] - self.rigid.shape.radius - self.clearance
+
+    def evaluate(self, q: np.ndarray):
+        """Gaps (m,), dofs (m, 5), gradients (m, 5) and curvatures (m, 5, 5)."""
+        e, dist = self._geometry(q)
+        m = self.size
+        G = np.zeros((m, 5))
+        G[:, :2], G[:, 2:4] = e, -e
+        K = (np.eye(2) - e[:, :, None] * e[:, None, :]) / dist[:, None, None]
+        H = np.zeros((m, 5, 5))
+        H[:, :2, :2] = H[:, 2:4, 2:4] = K
+        H[:, :2, 2:4] = H[:, 2:4, :2] = -K
+        g = dist - self.rigid.shape.radius - self.clearance
+        return g, self._dofs(), G, H
+
+
+def polygon_distances(vertices: np.ndarray, normals: np.ndarray, rho: np.ndarray):
+    """Signed distances s (m,) of the points ``rho`` (m, 2) to a convex counter-clockwise
+    polygon (negative inside), their gradients s' (m, 2) and Hessians s'' (m, 2, 2) on the
+    piece that holds each point: an edge's plane (inside, or the closest point inside the
+    edge) or a vertex's distance."""
+    rel = rho[:, None, :] - vertices[None]  # (m, k, 2)
+    s_edge = np.einsum("kj,mkj->mk", normals, rel)
+    d = np.roll(vertices, -1, axis=0) - vertices
+    t = np.clip(np.einsum("mkj,kj->mk", rel, d) / np.einsum("kj,kj->k", d, d), 0.0, 1.0)
+    dist = np.linalg.norm(rel - t[:, :, None] * d[None], axis=2)
+    rows = np.arange(len(rho))
+    inside = np.all(s_edge < 0.0, axis=1)
+    i = np.where(inside, np.argmax(s_edge, axis=1), np.argmin(dist, axis=1))
+    ti = t[rows, i]
+    corner = ~inside & ((ti == 0.0) | (ti == 1.0))
+    s, ds = s_edge[rows, i], normals[i]
+    dds = np.zeros((len(rho), 2, 2))
+    if corner.any():
+        k = np.where(ti[corner] == 0.0, i[corner], (i[corner] + 1) % len(vertices))
+        w = rho[corner] - vertices[k]
+        r = np.linalg.norm(w, axis=1)
+        if np.any(r == 0.0):
+            raise InputError("a node lies on a rigid polygon's vertex: no contact normal")
+        e = w / r[:, None]
+        s[corner], ds[corner] = r, e
+        dds[corner] = (np.eye(2) - e[:, :, None] * e[:, None, :]) / r[:, None, None]
+    return s, ds, dds
+
+
+class NodePolygonContact(NodeRigid2DContact):
+    """Nodes of a 2D solid against a rigid convex ``Polygon``."""
+
+    def _geometry(self, q):
+        """Rᵀ, ρ (m, 2) and s, s', s'' of the nodes in the polygon's frame."""
+        x, qr = self._state(q)
+        Rt = rotation(self.rigid.orientation(qr)).T
+        rho = (x - self.rigid.center(qr)) @ Rt.T
+        shape = self.rigid.shape
+        return Rt, rho, *polygon_distances(shape.vertices, shape.normals, rho)
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        return self._geometry(q)[2] - self.clearance
+
+    def evaluate(self, q: np.ndarray):
+        """Gaps (m,), dofs (m, 5), gradients (m, 5) and Hessians (m, 5, 5)."""
+        Rt, rho, s, ds, dds = self._geometry(q)
+        m = self.size
+        A = np.zeros((m, 2, 5))
+        A[:, :, :2], A[:, :, 2:4] = Rt, -Rt
+        A[:, :, 4] = -rho @ _PERP.T
+        G = np.einsum("mi,mij->mj", ds, A)
+        H = np.einsum("mia,mij,mjb->mab", A, dds, A)
+        b = -ds @ (_PERP @ Rt)  # Σ_i s'_i ∂²ρ_i/∂x∂θ
+        H[:, :2, 4] += b
+        H[:, 4, :2] += b
+        H[:, 2:4, 4] -= b
+        H[:, 4, 2:4] -= b
+        H[:, 4, 4] -= np.einsum("mi,mi->m", ds, rho)
+        return s - self.clearance, self._dofs(), G, H
+
+
+@register_pair(Solid, RigidBody2D)
+def _solid_rigid2d(solid, rigid, nodes, restitution, clearance):
+    """The solid's nodes (default its boundary nodes) against a rigid Disk or Polygon."""
+    if isinstance(rigid.shape, Disk):
+        return NodeDiskContact(solid, rigid, nodes, restitution, clearance)
+    if isinstance(rigid.shape, Polygon):
+        return NodePolygonContact(solid, rigid, nodes, restitution, clearance)
+    raise InputError(  # RigidBody2D takes no other shape today; a new one is named here
+        f"a Solid's nodes meet a RigidBody2D with a Disk or a Polygon shape, "
+        f"got a {type(rigid.shape).__name__}"
+    )
+
+
+@register_pair(RigidBody2D, Solid)
+def _rigid2d_solid(rigid, solid, nodes, restitution, clearance):
+    """The same pair named the other way round (``nodes`` of the solid)."""
+    return _solid_rigid2d(solid, rigid, nodes, restitution, clearance)
