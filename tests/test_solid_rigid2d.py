@@ -111,13 +111,30 @@ def test_a_free_disk_and_block_keep_their_momentum_through_the_impact(tmp_path):
     assert st.v[-2] > 0.4  # rebounded (0.496 m/s measured)
 
 
-@pytest.mark.parametrize("shape", [Disk(R), Polygon.box(0.06, 0.02), Polygon.regular(6, 0.03)])
-def test_a_body_dropped_on_a_held_block_neither_penetrates_nor_gains(tmp_path, shape):
+def test_a_vertex_between_two_nodes_is_measured_by_the_watch():
+    """A square turned 45° with its lowest vertex 0.1 mm below the block's top, midway
+    between two nodes 5 mm apart: no node row is closed (the nearest nodes are 1.7 mm from
+    its faces), and the pair's watch reads the vertex 0.1 mm deep, 0.02 of the segment, to
+    round-off of the coordinates (1e-15 m)."""
+    solid = block()
+    a = 0.02 / np.sqrt(2.0)  # the half diagonal of a 2 cm square
+    rigid = RigidBody2D.uniform(1.0, [0.0025, a - 1e-4], Polygon.box(0.02, 0.02), np.pi / 4)
+    pair = Contact(solid, rigid)
+    model = Model([solid, rigid], [pair], gravity=(0.0, 0.0))
+    q = np.zeros(model.n)
+    assert pair.gaps(q).min() > 1.5e-3
+    depth, ratio = pair.watch().depth(q)
+    assert depth == pytest.approx(1e-4, abs=1e-15)
+    assert ratio == pytest.approx(1e-4 / 0.005, abs=1e-12)
+    assert Contact(solid, RigidBody2D.uniform(1.0, [0.0, 0.05], DISK)).watch() is None
+
+
+def test_a_disk_dropped_on_a_held_block_neither_penetrates_nor_gains(tmp_path):
     """Under gravity on the block held at its bottom: the run completes, the deepest node
     stays within the gap tolerance (1e-9 m; measured 4e-14 m), the ledger's created energy
     stays below its warning level (1e-3 of the scale; measured 2.4e-9 J of 0.255 J, the
     block's round-off) and the run ends below its initial energy."""
-    summary, model, _ = disk_on_block(tmp_path, free=False, shape=shape)
+    summary, model, _ = disk_on_block(tmp_path, free=False)
     assert summary["status"] == "completed" and not summary["warnings"]
     assert summary["max_penetration"] <= 1e-9
     ledger = summary["energy_ledger"]

@@ -18,7 +18,8 @@ outline off it). For the polygon, with J the rotation by +90°, A = ∂ρ/∂(x,
 [Rᵀ, −Rᵀ, −Jρ] and s' = ∂s/∂ρ: G = s'ᵀA and ∇²g = Aᵀ s'' A + Σ_i s'_i ∇²ρ_i, the only second
 derivatives of ρ being ∂²ρ/∂x∂θ = −J Rᵀ, ∂²ρ/∂c∂θ = J Rᵀ and ∂²ρ/∂θ² = −ρ; s'' is zero on an
 edge and the vertex distance's curvature near a vertex. The rows hold nodes only: a polygon's
-vertex can enter the solid between two nodes, and nothing holds it.
+vertex can enter the solid between two nodes, and no row holds it. The pair's watch
+(:class:`VertexDepths`) measures it, so that the step's penetration test sees it.
 """
 
 from __future__ import annotations
@@ -29,9 +30,10 @@ from ..bodies.rigid import Disk, Polygon, RigidBody2D, rotation
 from ..bodies.solid import Solid
 from ..errors import InputError, check_range
 from .base import PairDefaults
+from .inside import Surface
 from .registry import register_pair
 
-__all__ = ["NodeDiskContact", "NodePolygonContact"]
+__all__ = ["NodeDiskContact", "NodePolygonContact", "VertexDepths"]
 
 _PERP = np.array([[0.0, -1.0], [1.0, 0.0]])  # J, the rotation by +90°
 
@@ -124,8 +126,42 @@ def polygon_distances(vertices: np.ndarray, normals: np.ndarray, rho: np.ndarray
     return s, ds, dds
 
 
+class VertexDepths:
+    """A rigid polygon's vertices against a 2D solid's discretized boundary: what the rows of
+    a ``pair`` of the two (one per node of the solid) cannot see, a vertex entering between
+    two nodes. ``depth(q)``: the deepest vertex inside the solid's boundary polygon (m, ≥ 0)
+    and that depth over the length of the segment it lies under (the pair's ``offsets`` are
+    read at each call: set when the model binds it)."""
+
+    def __init__(self, pair):
+        self.pair = pair
+        self.facets = pair.body.contact_facets()
+        self.surface = Surface(self.facets)
+
+    def depth(self, q: np.ndarray) -> tuple[float, float]:
+        (oa, ob), solid, rigid = self.pair.offsets, self.pair.body, self.pair.rigid
+        x = solid.positions(q[oa : oa + solid.ndof])
+        qr = q[ob : ob + 3]
+        p = rigid.shape.vertices @ rotation(rigid.orientation(qr)).T + rigid.center(qr)
+        s, f = self.surface.signed_distance(x, p, outside=False)
+        inside = np.flatnonzero(s < 0.0)
+        if inside.size == 0:
+            return 0.0, 0.0
+        seg = x[self.facets[f[inside]]]
+        length = np.linalg.norm(seg[:, 1] - seg[:, 0], axis=1)
+        return float(-s[inside].min()), float(np.max(-s[inside] / length))
+
+    def entering(self, q: np.ndarray) -> str:
+        """What of the polygon enters the solid (for a message)."""
+        return "a vertex of a rigid polygon"
+
+
 class NodePolygonContact(NodeRigid2DContact):
     """Nodes of a 2D solid against a rigid convex ``Polygon``."""
+
+    def watch(self) -> VertexDepths:
+        """The polygon's vertices against the solid's boundary (the rows hold nodes only)."""
+        return VertexDepths(self)
 
     def _geometry(self, q):
         """Rᵀ, ρ (m, 2) and s, s', s'' of the nodes in the polygon's frame."""
