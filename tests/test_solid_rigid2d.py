@@ -54,6 +54,37 @@ def test_node_rows_are_the_derivatives_of_the_gaps(shape):
         np.testing.assert_allclose((Gp - Gm) / 2e-6, np.einsum("mkl,ml->mk", H, col), atol=1e-6)
 
 
+@pytest.mark.parametrize("shape", [Polygon.regular(5, 0.04), Polygon.box(0.06, 0.03)])
+@pytest.mark.parametrize("seed", [2, 3])
+def test_vertex_rows_are_the_derivatives_of_their_gaps(shape, seed):
+    """The polygon's vertex rows (against the line of the closest boundary segment): G and
+    ∇²g against central differences (step 1e-7, no segment switches within it) at random
+    poses with vertices inside the block and outside. Bounds: the truncation, h² times the
+    third derivative ~ w²/L⁴, is 1e-7 for a vertex 4 cm from a 5 mm segment (measured: the
+    error falls as h²), the round-off 1e-16/1e-7 = 1e-9: 1e-8 on G, 1e-6 on ∇²g."""
+    solid = block()
+    rigid = RigidBody2D.uniform(1.0, [0.004, 0.02], shape, angle=0.3)
+    pair = Contact(solid, rigid)
+    (rows,) = pair.companions
+    Model([solid, rigid], [pair], gravity=(0.0, 0.0))
+    n = solid.ndof + 3
+    rng = np.random.default_rng(seed)
+    q = 1e-4 * rng.normal(size=n)
+    q[-3:] = [0.003, -0.012, 0.4] + 1e-3 * rng.normal(size=3)
+    g, dofs, G, H = rows.evaluate(q)
+    assert (g < 0).any() and (g > 0).any()
+    np.testing.assert_allclose(g, rows.gaps(q), rtol=0, atol=1e-17)
+    for j in np.unique(dofs):
+        d = np.zeros(n)
+        d[j] = 1e-7
+        gp, dp, Gp, _ = rows.evaluate(q + d)
+        gm, dm, Gm, _ = rows.evaluate(q - d)
+        assert (dp == dofs).all() and (dm == dofs).all()
+        col = (dofs == j).astype(float)
+        np.testing.assert_allclose((gp - gm) / 2e-7, np.sum(G * col, axis=1), atol=1e-8)
+        np.testing.assert_allclose((Gp - Gm) / 2e-7, np.einsum("mkl,ml->mk", H, col), atol=1e-6)
+
+
 def test_the_pair_is_named_either_way_and_checks_its_solid():
     solid = block()
     disk = RigidBody2D.uniform(1.0, [0.0, 0.05], Disk(R))
@@ -64,7 +95,7 @@ def test_the_pair_is_named_either_way_and_checks_its_solid():
         Contact(Solid.box([0, 0, 0], [1, 1, 1], 1, RUBBER), disk)
 
 
-def disk_on_block(tmp_path, free: bool, p=1.0, k=1.0, shape=DISK):
+def disk_on_block(tmp_path, free: bool, p=1.0, k=1.0, shape=DISK, angle=0.0):
     """A rigid disk (or ``shape``, mass 0.5 kg) 1 mm over the block's top at 1 m/s down, over
     8 ms at the step Δx/c (the impact, its rebound and the flight after it); the block's
     bottom held (``free`` False, gravity) or both bodies free in no gravity. Returns the
@@ -72,8 +103,9 @@ def disk_on_block(tmp_path, free: bool, p=1.0, k=1.0, shape=DISK):
     solid = block()
     if not free:
         solid.fix(np.flatnonzero(np.isclose(solid.positions(np.zeros(solid.ndof))[:, 1], -0.05)))
-    lift = R if isinstance(shape, Disk) else -shape.vertices[:, 1].min()
-    disk = RigidBody2D.uniform(0.5, [0.01, lift + 0.001], shape)
+    c, s = np.cos(angle), np.sin(angle)
+    lift = R if isinstance(shape, Disk) else -(shape.vertices @ [s, c]).min()
+    disk = RigidBody2D.uniform(0.5, [0.0127, lift + 0.001], shape, angle)
     gravity = (0.0, 0.0) if free else (0.0, -9.81)
     model = Model([solid, disk], [Contact(solid, disk)], gravity)
     v0 = np.zeros(model.n)
@@ -94,7 +126,7 @@ def disk_on_block(tmp_path, free: bool, p=1.0, k=1.0, shape=DISK):
 
 def test_a_free_disk_and_block_keep_their_momentum_through_the_impact(tmp_path):
     """No gravity, both bodies free: the total momentum (0, −0.5) N·s is kept at every step
-    to the solvers' round-off (6.9e-13 N·s measured; bound 1e-10 of m v, the 3D pair's);
+    to the solvers' round-off (6.4e-13 N·s measured; bound 1e-10 of m v, the 3D pair's);
     the disk rebounds, no node enters it beyond the gap tolerance (1e-9 m), and the ledger
     creates nothing (measured 0 J; bound its warning level, 1e-3 of the scale)."""
     summary, model, sim = disk_on_block(tmp_path, free=True)
@@ -108,7 +140,7 @@ def test_a_free_disk_and_block_keep_their_momentum_through_the_impact(tmp_path):
         momentum = mv[:-3].reshape(-1, 2).sum(axis=0) + mv[-3:-1]
         np.testing.assert_allclose(momentum, [0.0, -0.5], atol=1e-10 * 0.5)
     assert gmin >= -1e-9
-    assert st.v[-2] > 0.4  # rebounded (0.496 m/s measured)
+    assert st.v[-2] > 0.3  # rebounded (0.399 m/s measured)
 
 
 def test_a_vertex_between_two_nodes_is_measured_by_the_watch():
@@ -129,14 +161,23 @@ def test_a_vertex_between_two_nodes_is_measured_by_the_watch():
     assert Contact(solid, RigidBody2D.uniform(1.0, [0.0, 0.05], DISK)).watch() is None
 
 
-def test_a_disk_dropped_on_a_held_block_neither_penetrates_nor_gains(tmp_path):
-    """Under gravity on the block held at its bottom: the run completes, the deepest node
-    stays within the gap tolerance (1e-9 m; measured 4e-14 m), the ledger's created energy
-    stays below its warning level (1e-3 of the scale; measured 2.4e-9 J of 0.255 J, the
-    block's round-off) and the run ends below its initial energy."""
-    summary, model, _ = disk_on_block(tmp_path, free=False)
+@pytest.mark.parametrize(
+    "shape, angle",
+    [(DISK, 0.0), (Polygon.box(0.06, 0.02), 0.0), (Polygon.box(0.04, 0.04), np.pi / 4),
+     (Polygon.regular(3, 0.03), 0.3)],
+)  # fmt: skip
+def test_a_body_dropped_on_a_held_block_neither_penetrates_nor_gains(tmp_path, shape, angle):
+    """Under gravity on the block held at its bottom (a disk, a box flat, a square corner
+    first, a tilted triangle): the run completes, the deepest node and the deepest vertex
+    (the watch, over its segment) stay within the gap tolerance (1e-9 m; measured ≤ 1e-13 m
+    and ≤ 2e-11 of a segment; before the vertex rows the flat box's corners ended 57 µm, 1.1 %
+    of a segment, inside), the ledger's created energy stays below its warning level (1e-3
+    of the scale; measured ≤ 1e-8 of it, the block's round-off) and the run ends below its
+    initial energy."""
+    summary, model, _ = disk_on_block(tmp_path, free=False, shape=shape, angle=angle)
     assert summary["status"] == "completed" and not summary["warnings"]
     assert summary["max_penetration"] <= 1e-9
+    assert summary["mortar_depth"] <= 1e-9 / 0.005
     ledger = summary["energy_ledger"]
     assert ledger["created"] <= CREATED * ledger["scale"]
     assert summary["energy_final"] < summary["energy_initial"]
@@ -145,7 +186,7 @@ def test_a_disk_dropped_on_a_held_block_neither_penetrates_nor_gains(tmp_path):
 def test_the_impact_is_independent_of_p_and_k(tmp_path):
     """The multipliers' scalings (p x1000, k /100) change the iterations, not the answer: the
     final configuration agrees to the solvers' tolerance on positions, 1e-12 of the disk's
-    1.9 mm travel after the impact (measured: 0 and 2e-18 m)."""
+    1.1 mm travel after the impact (measured: 0 and 2e-19 m)."""
     finals = []
     for p, k in ((1.0, 1.0), (1000.0, 1.0), (1.0, 0.01)):
         _, model, sim = disk_on_block(tmp_path / f"{p}-{k}", free=False, p=p, k=k)

@@ -18,8 +18,13 @@ outline off it). For the polygon, with J the rotation by +90°, A = ∂ρ/∂(x,
 [Rᵀ, −Rᵀ, −Jρ] and s' = ∂s/∂ρ: G = s'ᵀA and ∇²g = Aᵀ s'' A + Σ_i s'_i ∇²ρ_i, the only second
 derivatives of ρ being ∂²ρ/∂x∂θ = −J Rᵀ, ∂²ρ/∂c∂θ = J Rᵀ and ∂²ρ/∂θ² = −ρ; s'' is zero on an
 edge and the vertex distance's curvature near a vertex. The rows hold nodes only: a polygon's
-vertex can enter the solid between two nodes, and no row holds it. The pair's watch
-(:class:`VertexDepths`) measures it, so that the step's penetration test sees it.
+vertex can enter the solid between two nodes, where no node row sees it. Each vertex p =
+c + R r therefore carries a row of its own (:class:`VertexRows`, the pair's companion)
+against the line of the solid's closest boundary segment (x₁, x₂), numbered with the outward
+normal on its right: g = −f(p, x₁, x₂) − clearance, f the signed distance from the line
+(positive on its left, :func:`~fecontact.contact.geometry.point_line_distance`), with its
+exact G and ∇²g through ∂p/∂(c, θ) = [I, J R r] and ∂²p/∂θ² = −R r. The pair's watch
+(:class:`VertexDepths`) measures the vertices inside the solid for the step's penetration test.
 """
 
 from __future__ import annotations
@@ -30,10 +35,11 @@ from ..bodies.rigid import Disk, Polygon, RigidBody2D, rotation
 from ..bodies.solid import Solid
 from ..errors import InputError, check_range
 from .base import PairDefaults
+from .geometry import closest_on_segments, point_line_distance
 from .inside import Surface
 from .registry import register_pair
 
-__all__ = ["NodeDiskContact", "NodePolygonContact", "VertexDepths"]
+__all__ = ["NodeDiskContact", "NodePolygonContact", "VertexDepths", "VertexRows"]
 
 _PERP = np.array([[0.0, -1.0], [1.0, 0.0]])  # J, the rotation by +90°
 
@@ -156,8 +162,76 @@ class VertexDepths:
         return "a vertex of a rigid polygon"
 
 
+class VertexRows(PairDefaults):
+    """The vertices of the ``Polygon`` of the pair ``owner``'s rigid body against the 2D
+    solid's boundary segments: one row each (module docstring), the owner's restitution.
+    Gaps in m, dofs (k, 7): the body's (u_x, u_y, θ) then the segment's two nodes'
+    (u_x, u_y)."""
+
+    linear = False
+    redundant_rows = True  # (a vertex on a node: its row and the node's hold one point)
+
+    def __init__(self, owner):
+        self.owner = owner
+        self.body, self.rigid = owner.body, owner.rigid
+        self.bodies = (self.body, self.rigid)
+        self.restitution, self.clearance = owner.restitution, owner.clearance
+        self.vertices = self.rigid.shape.vertices
+        self.size = len(self.vertices)
+        self.facets = self.body.contact_facets()
+        self._facet_dofs = self.body.node_translation_dofs(self.facets.ravel()).reshape(-1, 4)
+        self.offsets = (0, 0)
+
+    def _geometry(self, q: np.ndarray):
+        """The vertices' arms R r (k, 2) and positions p (k, 2), and the nodes (k, 2, 2) and
+        indices (k,) of their closest segments."""
+        (oa, ob), body = self.offsets, self.body
+        x = body.positions(q[oa : oa + body.ndof])
+        qr = q[ob : ob + 3]
+        arm = self.vertices @ rotation(self.rigid.orientation(qr)).T
+        p = arm + self.rigid.center(qr)
+        xf = x[self.facets]  # (F, 2, 2)
+        k, F = self.size, len(xf)
+        P = np.repeat(p, F, axis=0)
+        dist = closest_on_segments(P, np.tile(xf[:, 0], (k, 1)), np.tile(xf[:, 1], (k, 1)))[1]
+        f = np.argmin(dist.reshape(k, F), axis=1)
+        return arm, p, xf[f], f
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        _, p, seg, _ = self._geometry(q)
+        return -point_line_distance(p, seg[:, 0], seg[:, 1], hessian=False)[0] - self.clearance
+
+    def evaluate(self, q: np.ndarray):
+        """Gaps (k,), dofs (k, 7), gradients (k, 7) and Hessians (k, 7, 7)."""
+        arm, p, seg, f = self._geometry(q)
+        d, G6, H6 = point_line_distance(p, seg[:, 0], seg[:, 1])
+        k = self.size
+        A = np.zeros((k, 6, 7))  # ∂(p, x₁, x₂)/∂(c, θ, x₁, x₂)
+        A[:, :2, :2] = np.eye(2)
+        A[:, :2, 2] = arm @ _PERP.T
+        A[:, 2:, 3:] = np.eye(4)
+        G = -np.einsum("mi,mij->mj", G6, A)
+        H = -np.einsum("mia,mij,mjb->mab", A, H6, A)
+        H[:, 2, 2] += np.einsum("mi,mi->m", G6[:, :2], arm)  # −G_p·∂²p/∂θ², ∂²p/∂θ² = −R r
+        oa, ob = self.offsets
+        dofs = np.concatenate(
+            [np.broadcast_to(ob + np.arange(3), (k, 3)), oa + self._facet_dofs[f]], axis=1
+        )
+        return -d - self.clearance, dofs, G, H
+
+
 class NodePolygonContact(NodeRigid2DContact):
-    """Nodes of a 2D solid against a rigid convex ``Polygon``."""
+    """Nodes of a 2D solid against a rigid convex ``Polygon``; its vertices have rows of their
+    own (:class:`VertexRows`)."""
+
+    def __init__(self, body, rigid, nodes, restitution, clearance):
+        super().__init__(body, rigid, nodes, restitution, clearance)
+        self.companions = (VertexRows(self),)
+
+    def bind(self, model) -> None:
+        super().bind(model)
+        for pair in self.companions:
+            pair.bind(model)
 
     def watch(self) -> VertexDepths:
         """The polygon's vertices against the solid's boundary (the rows hold nodes only)."""
