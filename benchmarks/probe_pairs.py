@@ -8,8 +8,9 @@ Rows (each a run at the step given in its ``step`` column; coarse meshes, short 
   into the inner corner of a rigid box (three planes); a rigid box landing flat on a free
   elastic cube in space.
 - ``2D``: a spinning elastic disk thrown into a free elastic block with friction; Newton's
-  cradle of three elastic disks and of three rigid disks (e_N = 1, small gaps). (A rigid
-  disk on an elastic block is refused: no pair joins a ``Solid`` and a ``RigidBody2D``.)
+  cradle of three elastic disks and of three rigid disks (e_N = 1, small gaps); a spinning
+  rigid disk and a spinning rigid pentagon thrown into a free elastic block
+  (``fecontact.contact.solid_rigid2d``).
 
 The bodies that turn (the balls, the disk and block) are Neo-Hookean; the cube and slab are
 stress_3d's linear rubber.
@@ -54,7 +55,7 @@ from fecontact import Model, Probe
 from fecontact.bodies import RigidBody2D, RigidBody3D, Solid
 from fecontact.bodies.materials import NeoHookean
 from fecontact.bodies.meshes import graded_ball_mesh
-from fecontact.bodies.rigid import Disk
+from fecontact.bodies.rigid import Disk, Polygon
 from fecontact.bodies.shapes3d import Box
 from fecontact.contact import Contact, Plane
 from fecontact.scenes import wave_step
@@ -259,6 +260,34 @@ def disk_into_block(spin=40.0, mu=0.3, v=1.0, e=0.0):
     return Spec("2D", label, sim, R, edge, v, free=True, pk=True, step="dx/c")
 
 
+def rigid_into_block(shape=None, spin=40.0, v=1.0, e=0.0):
+    """A spinning rigid disk (R) or ``shape`` (1 kg, ``spin`` rad/s) thrown at ``v`` (m/s)
+    into the free elastic block of :func:`disk_into_block`, frictionless (the block's boundary
+    nodes against the body, a polygon's vertices against the block's boundary): a free pair,
+    its momentum and angular momentum kept. The depth: the block's nodes inside the body and
+    a polygon's vertices inside the block, from the coordinates."""
+    shape = Disk(R) if shape is None else shape
+    body = RigidBody2D.uniform(1.0, [-R - 0.001, 0.01], shape)
+    block = Solid.rectangle([0.0, -0.05], [0.06, 0.05], (6, 10), SOFT)
+    pair = Contact(body, block, restitution=e)
+    model = Model([body, block], [pair], (0.0, 0.0))
+    v0 = np.zeros(model.n)
+    v0[model.body_slice(0)] = [v, 0.0, spin]
+    if isinstance(shape, Disk):
+        depth = polygon_depth_2d(model, [(block, body)])
+    else:  # the pair's exact node distances and its watch of the vertices
+        watch = pair.watch()
+        depth = lambda st: max(0.0, -float(pair.gaps(st.q).min()), watch.depth(st.q)[0])  # noqa: E731
+    probes = probes_2d(model) | depth_probes(depth)
+    edge = block.min_edge_length
+    t_end = 0.001 / v + 0.012
+    sim = Simulation(model, dt=wave_step(block, 1.0, edge), t_end=t_end, probes=probes, v0=v0,
+                     name="rigid_into_block", output_interval=t_end)  # fmt: skip
+    what = "disk" if isinstance(shape, Disk) else f"{len(shape.vertices)}-gon"
+    label = f"spinning rigid {what} {v:g} m/s, {spin:g} rad/s, into a free elastic block"
+    return Spec("2D", label, sim, R, edge, v, free=True, pk=True, step="dx/c")
+
+
 def cradle(rigid=False, e=1.0, v=1.0, gap=0.001):
     """Newton's cradle in the plane: three disks (R) in a row ``gap`` (m) apart, the left one
     thrown at the others at ``v`` (m/s); elastic (rubber) or rigid (``rigid``, 1 kg)."""
@@ -335,6 +364,8 @@ FULL = [
     (lambda: ball_into_corner(), corner_outcome),
     (lambda: box_on_free_cube(), None),
     (lambda: disk_into_block(), None),
+    (lambda: rigid_into_block(), None),
+    (lambda: rigid_into_block(Polygon.regular(5, R)), None),
     (lambda: cradle(), cradle_outcome),
     (lambda: cradle(rigid=True), cradle_outcome),
 ]

@@ -11,6 +11,7 @@ from . import (  # noqa: F401
     rigid3d_pairs,
     rigid_pairs,
     segment_pairs,
+    solid_rigid2d,
     solid_rigid3d,
 )
 from .beam3d_edges import SolidEdges

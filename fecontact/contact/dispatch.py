@@ -36,7 +36,9 @@ def Contact(
     centreline the gaps measure. A rigid
     disk (``RigidBody2D`` with a ``Disk``) contacts a ``Plane``, a ``Circle``, another disk, a
     rigid polygon or a ``Beam2D`` through its centre and radius; see
-    :mod:`fecontact.contact.rigid_pairs`.
+    :mod:`fecontact.contact.rigid_pairs`. A 2D ``Solid``'s boundary nodes (or ``nodes``) meet a
+    ``RigidBody2D``'s exact disk or convex polygon, named either way round
+    (:mod:`fecontact.contact.solid_rigid2d`).
     Two deformable bodies: a ``Solid`` against a ``Solid`` is a dual mortar interface of their
     whole boundaries (``method``, below), a ``Beam2D`` against a ``Beam2D`` an end-to-end
     pair along the bar axis (``nodes`` = (end of body, end of the other), default the closest

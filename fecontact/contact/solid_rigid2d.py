@@ -1,0 +1,285 @@
+r"""A 2D :class:`~fecontact.Solid`'s nodes against the exact outline of a planar
+:class:`~fecontact.bodies.rigid.RigidBody2D` (node-to-surface on a rigid master).
+
+``Contact(solid, body)`` (either way round) builds these pairs, one contact per slave node x
+(the solid's boundary nodes by default, or ``nodes``), against the body's shape:
+
+===========  =====================================================================================
+``Disk``     g = |x − c| − r − clearance, c the disk's centre; the normal e = (x − c)/|x − c|
+``Polygon``  g = s(ρ) − clearance with ρ = R(φ)ᵀ(x − c) the node in the polygon's frame and s
+             the signed distance to the convex polygon (negative inside: the depth below the
+             nearest edge), as for a rigid disk's centre (:mod:`fecontact.contact.rigid_pairs`)
+===========  =====================================================================================
+
+Gaps are in m, positive open. Gradients act on the node's (u_x, u_y) and on the body's
+(u_x, u_y, θ), θ counter-clockwise. For the disk G = [e, −e, 0] and the curvature is exact,
+K = (I − e eᵀ)/|x − c| on the two translations (the disk's rotation moves no point of its
+outline off it). For the polygon, with J the rotation by +90°, A = ∂ρ/∂(x, c, θ) =
+[Rᵀ, −Rᵀ, −Jρ] and s' = ∂s/∂ρ: G = s'ᵀA and ∇²g = Aᵀ s'' A + Σ_i s'_i ∇²ρ_i, the only second
+derivatives of ρ being ∂²ρ/∂x∂θ = −J Rᵀ, ∂²ρ/∂c∂θ = J Rᵀ and ∂²ρ/∂θ² = −ρ; s'' is zero on an
+edge and the vertex distance's curvature near a vertex. The rows hold nodes only: a polygon's
+vertex can enter the solid between two nodes, where no node row sees it. Each vertex p =
+c + R r therefore carries a row of its own (:class:`VertexRows`, the pair's companion)
+against the line of the solid's closest boundary segment (x₁, x₂), numbered with the outward
+normal on its right: g = −f(p, x₁, x₂) − clearance, f the signed distance from the line
+(positive on its left, :func:`~fecontact.contact.geometry.point_line_distance`), with its
+exact G and ∇²g through ∂p/∂(c, θ) = [I, J R r] and ∂²p/∂θ² = −R r. The pair's watch
+(:class:`VertexDepths`) measures the vertices inside the solid for the step's penetration test.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..bodies.rigid import Disk, Polygon, RigidBody2D, rotation
+from ..bodies.solid import Solid
+from ..errors import InputError, check_range
+from .base import PairDefaults
+from .geometry import closest_on_segments, point_line_distance
+from .inside import Surface
+from .registry import register_pair
+
+__all__ = ["NodeDiskContact", "NodePolygonContact", "VertexDepths", "VertexRows"]
+
+_PERP = np.array([[0.0, -1.0], [1.0, 0.0]])  # J, the rotation by +90°
+
+
+class NodeRigid2DContact(PairDefaults):
+    """Nodes of a 2D solid against a planar rigid body; the subclasses give the shape."""
+
+    linear = False
+
+    def __init__(self, body: Solid, rigid: RigidBody2D, nodes, restitution, clearance):
+        if body.dim != 2:
+            raise InputError("a RigidBody2D meets the nodes of a 2D Solid")
+        self.body, self.rigid = body, rigid
+        self.bodies = (body, rigid)
+        self.nodes = body.contact_nodes(nodes)
+        if len(self.nodes) == 0:
+            raise InputError("nodes must name at least one node")
+        self.restitution = check_range("restitution", restitution, 0.0, 1.0)
+        self.clearance = clearance
+        self.size = len(self.nodes)
+        self._node_dofs = body.node_translation_dofs(self.nodes)
+        self.offsets = (0, 0)
+
+    def _state(self, q: np.ndarray):
+        """The nodes' positions (m, 2) and the rigid body's dofs (3,)."""
+        (oa, ob), body = self.offsets, self.body
+        x = body.positions(q[oa : oa + body.ndof])[self.nodes]
+        return x, q[ob : ob + 3]
+
+    def _dofs(self) -> np.ndarray:
+        oa, ob = self.offsets
+        rigid = np.broadcast_to(ob + np.arange(3), (self.size, 3))
+        return np.concatenate([oa + self._node_dofs, rigid], axis=1)
+
+
+class NodeDiskContact(NodeRigid2DContact):
+    """Nodes of a 2D solid against a rigid ``Disk`` (outside it)."""
+
+    def _geometry(self, q):
+        x, qr = self._state(q)
+        d = x - self.rigid.center(qr)
+        dist = np.linalg.norm(d, axis=1)
+        if np.any(dist == 0.0):
+            raise InputError("a node lies at the rigid disk's centre: no contact normal")
+        return d / dist[:, None], dist
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        return self._geometry(q)[1] - self.rigid.shape.radius - self.clearance
+
+    def evaluate(self, q: np.ndarray):
+        """Gaps (m,), dofs (m, 5), gradients (m, 5) and curvatures (m, 5, 5)."""
+        e, dist = self._geometry(q)
+        m = self.size
+        G = np.zeros((m, 5))
+        G[:, :2], G[:, 2:4] = e, -e
+        K = (np.eye(2) - e[:, :, None] * e[:, None, :]) / dist[:, None, None]
+        H = np.zeros((m, 5, 5))
+        H[:, :2, :2] = H[:, 2:4, 2:4] = K
+        H[:, :2, 2:4] = H[:, 2:4, :2] = -K
+        g = dist - self.rigid.shape.radius - self.clearance
+        return g, self._dofs(), G, H
+
+
+def polygon_distances(vertices: np.ndarray, normals: np.ndarray, rho: np.ndarray):
+    """Signed distances s (m,) of the points ``rho`` (m, 2) to a convex counter-clockwise
+    polygon (negative inside), their gradients s' (m, 2) and Hessians s'' (m, 2, 2) on the
+    piece that holds each point: an edge's plane (inside, or the closest point inside the
+    edge) or a vertex's distance."""
+    rel = rho[:, None, :] - vertices[None]  # (m, k, 2)
+    s_edge = np.einsum("kj,mkj->mk", normals, rel)
+    d = np.roll(vertices, -1, axis=0) - vertices
+    t = np.clip(np.einsum("mkj,kj->mk", rel, d) / np.einsum("kj,kj->k", d, d), 0.0, 1.0)
+    dist = np.linalg.norm(rel - t[:, :, None] * d[None], axis=2)
+    rows = np.arange(len(rho))
+    inside = np.all(s_edge < 0.0, axis=1)
+    i = np.where(inside, np.argmax(s_edge, axis=1), np.argmin(dist, axis=1))
+    ti = t[rows, i]
+    corner = ~inside & ((ti == 0.0) | (ti == 1.0))
+    s, ds = s_edge[rows, i], normals[i]
+    dds = np.zeros((len(rho), 2, 2))
+    if corner.any():
+        k = np.where(ti[corner] == 0.0, i[corner], (i[corner] + 1) % len(vertices))
+        w = rho[corner] - vertices[k]
+        r = np.linalg.norm(w, axis=1)
+        if np.any(r == 0.0):
+            raise InputError("a node lies on a rigid polygon's vertex: no contact normal")
+        e = w / r[:, None]
+        s[corner], ds[corner] = r, e
+        dds[corner] = (np.eye(2) - e[:, :, None] * e[:, None, :]) / r[:, None, None]
+    return s, ds, dds
+
+
+class VertexDepths:
+    """A rigid polygon's vertices against a 2D solid's discretized boundary: what the rows of
+    a ``pair`` of the two (one per node of the solid) cannot see, a vertex entering between
+    two nodes. ``depth(q)``: the deepest vertex inside the solid's boundary polygon (m, ≥ 0)
+    and that depth over the length of the segment it lies under (the pair's ``offsets`` are
+    read at each call: set when the model binds it)."""
+
+    def __init__(self, pair):
+        self.pair = pair
+        self.facets = pair.body.contact_facets()
+        self.surface = Surface(self.facets)
+
+    def depth(self, q: np.ndarray) -> tuple[float, float]:
+        (oa, ob), solid, rigid = self.pair.offsets, self.pair.body, self.pair.rigid
+        x = solid.positions(q[oa : oa + solid.ndof])
+        qr = q[ob : ob + 3]
+        p = rigid.shape.vertices @ rotation(rigid.orientation(qr)).T + rigid.center(qr)
+        s, f = self.surface.signed_distance(x, p, outside=False)
+        inside = np.flatnonzero(s < 0.0)
+        if inside.size == 0:
+            return 0.0, 0.0
+        seg = x[self.facets[f[inside]]]
+        length = np.linalg.norm(seg[:, 1] - seg[:, 0], axis=1)
+        return float(-s[inside].min()), float(np.max(-s[inside] / length))
+
+    def entering(self, q: np.ndarray) -> str:
+        """What of the polygon enters the solid (for a message)."""
+        return "a vertex of a rigid polygon"
+
+
+class VertexRows(PairDefaults):
+    """The vertices of the ``Polygon`` of the pair ``owner``'s rigid body against the 2D
+    solid's boundary segments: one row each (module docstring), the owner's restitution.
+    Gaps in m, dofs (k, 7): the body's (u_x, u_y, θ) then the segment's two nodes'
+    (u_x, u_y)."""
+
+    linear = False
+    redundant_rows = True  # (a vertex on a node: its row and the node's hold one point)
+
+    def __init__(self, owner):
+        self.owner = owner
+        self.body, self.rigid = owner.body, owner.rigid
+        self.bodies = (self.body, self.rigid)
+        self.restitution, self.clearance = owner.restitution, owner.clearance
+        self.vertices = self.rigid.shape.vertices
+        self.size = len(self.vertices)
+        self.facets = self.body.contact_facets()
+        self._facet_dofs = self.body.node_translation_dofs(self.facets.ravel()).reshape(-1, 4)
+        self.offsets = (0, 0)
+
+    def _geometry(self, q: np.ndarray):
+        """The vertices' arms R r (k, 2) and positions p (k, 2), and the nodes (k, 2, 2) and
+        indices (k,) of their closest segments."""
+        (oa, ob), body = self.offsets, self.body
+        x = body.positions(q[oa : oa + body.ndof])
+        qr = q[ob : ob + 3]
+        arm = self.vertices @ rotation(self.rigid.orientation(qr)).T
+        p = arm + self.rigid.center(qr)
+        xf = x[self.facets]  # (F, 2, 2)
+        k, F = self.size, len(xf)
+        P = np.repeat(p, F, axis=0)
+        dist = closest_on_segments(P, np.tile(xf[:, 0], (k, 1)), np.tile(xf[:, 1], (k, 1)))[1]
+        f = np.argmin(dist.reshape(k, F), axis=1)
+        return arm, p, xf[f], f
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        _, p, seg, _ = self._geometry(q)
+        return -point_line_distance(p, seg[:, 0], seg[:, 1], hessian=False)[0] - self.clearance
+
+    def evaluate(self, q: np.ndarray):
+        """Gaps (k,), dofs (k, 7), gradients (k, 7) and Hessians (k, 7, 7)."""
+        arm, p, seg, f = self._geometry(q)
+        d, G6, H6 = point_line_distance(p, seg[:, 0], seg[:, 1])
+        k = self.size
+        A = np.zeros((k, 6, 7))  # ∂(p, x₁, x₂)/∂(c, θ, x₁, x₂)
+        A[:, :2, :2] = np.eye(2)
+        A[:, :2, 2] = arm @ _PERP.T
+        A[:, 2:, 3:] = np.eye(4)
+        G = -np.einsum("mi,mij->mj", G6, A)
+        H = -np.einsum("mia,mij,mjb->mab", A, H6, A)
+        H[:, 2, 2] += np.einsum("mi,mi->m", G6[:, :2], arm)  # −G_p·∂²p/∂θ², ∂²p/∂θ² = −R r
+        oa, ob = self.offsets
+        dofs = np.concatenate(
+            [np.broadcast_to(ob + np.arange(3), (k, 3)), oa + self._facet_dofs[f]], axis=1
+        )
+        return -d - self.clearance, dofs, G, H
+
+
+class NodePolygonContact(NodeRigid2DContact):
+    """Nodes of a 2D solid against a rigid convex ``Polygon``; its vertices have rows of their
+    own (:class:`VertexRows`)."""
+
+    def __init__(self, body, rigid, nodes, restitution, clearance):
+        super().__init__(body, rigid, nodes, restitution, clearance)
+        self.companions = (VertexRows(self),)
+
+    def bind(self, model) -> None:
+        super().bind(model)
+        for pair in self.companions:
+            pair.bind(model)
+
+    def watch(self) -> VertexDepths:
+        """The polygon's vertices against the solid's boundary (the rows hold nodes only)."""
+        return VertexDepths(self)
+
+    def _geometry(self, q):
+        """Rᵀ, ρ (m, 2) and s, s', s'' of the nodes in the polygon's frame."""
+        x, qr = self._state(q)
+        Rt = rotation(self.rigid.orientation(qr)).T
+        rho = (x - self.rigid.center(qr)) @ Rt.T
+        shape = self.rigid.shape
+        return Rt, rho, *polygon_distances(shape.vertices, shape.normals, rho)
+
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        return self._geometry(q)[2] - self.clearance
+
+    def evaluate(self, q: np.ndarray):
+        """Gaps (m,), dofs (m, 5), gradients (m, 5) and Hessians (m, 5, 5)."""
+        Rt, rho, s, ds, dds = self._geometry(q)
+        m = self.size
+        A = np.zeros((m, 2, 5))
+        A[:, :, :2], A[:, :, 2:4] = Rt, -Rt
+        A[:, :, 4] = -rho @ _PERP.T
+        G = np.einsum("mi,mij->mj", ds, A)
+        H = np.einsum("mia,mij,mjb->mab", A, dds, A)
+        b = -ds @ (_PERP @ Rt)  # Σ_i s'_i ∂²ρ_i/∂x∂θ
+        H[:, :2, 4] += b
+        H[:, 4, :2] += b
+        H[:, 2:4, 4] -= b
+        H[:, 4, 2:4] -= b
+        H[:, 4, 4] -= np.einsum("mi,mi->m", ds, rho)
+        return s - self.clearance, self._dofs(), G, H
+
+
+@register_pair(Solid, RigidBody2D)
+def _solid_rigid2d(solid, rigid, nodes, restitution, clearance):
+    """The solid's nodes (default its boundary nodes) against a rigid Disk or Polygon."""
+    if isinstance(rigid.shape, Disk):
+        return NodeDiskContact(solid, rigid, nodes, restitution, clearance)
+    if isinstance(rigid.shape, Polygon):
+        return NodePolygonContact(solid, rigid, nodes, restitution, clearance)
+    raise InputError(  # RigidBody2D takes no other shape today; a new one is named here
+        f"a Solid's nodes meet a RigidBody2D with a Disk or a Polygon shape, "
+        f"got a {type(rigid.shape).__name__}"
+    )
+
+
+@register_pair(RigidBody2D, Solid)
+def _rigid2d_solid(rigid, solid, nodes, restitution, clearance):
+    """The same pair named the other way round (``nodes`` of the solid)."""
+    return _solid_rigid2d(solid, rigid, nodes, restitution, clearance)
