@@ -50,7 +50,9 @@ class Localization:
     also taken aside in sub-steps to read a release (:class:`fecontact.time.substeps.Releases`),
     ``release_splits`` the steps split where those read it (:mod:`fecontact.time.release_split`)
     and ``release_split_fallbacks`` those taken whole instead (the part held to the release
-    ended with no force, the rest with one, or a part failed).
+    ended with no force, the rest with one, or a part failed); ``retakes_kept_whole`` the
+    whole steps that left a closing unrefined whose retake in sub-steps left one unrefined
+    too, kept whole (:meth:`fecontact.time.substeps.Releases._retaken`).
     ``first_closing`` is the earliest
     located closing instant (s) and ``last_release`` the end of the last (sub-)step of a
     flexible model in which a contact carried a force before one in which none did (s; for
@@ -64,6 +66,7 @@ class Localization:
     release_probes: int = 0
     release_splits: int = 0
     release_split_fallbacks: int = 0
+    retakes_kept_whole: int = 0
     first_closing: float | None = None
     last_release: float | None = None
     fallbacks: dict = field(
@@ -174,6 +177,8 @@ class StepStats:
                 # releasing steps split at the release the probes read, and those left whole
                 "release_splits": self.localization.release_splits,
                 "release_split_fallbacks": self.localization.release_split_fallbacks,
+                # retakes in sub-steps that located no more than the whole step: not used
+                "retakes_kept_whole": self.localization.retakes_kept_whole,
             },
             "localized_contact_span_s": [
                 self.localization.first_closing,
