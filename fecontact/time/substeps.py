@@ -191,6 +191,7 @@ class Releases(Localizer):
             return out
         stats = opts.stats.localization
         before = (stats.fallbacks["unrefined"], stats.impacts, stats.first_closing)
+        stats.unrefined_depth = 0.0
         out = localized_step(model, st, h, opts, timer)
         if stats.fallbacks["unrefined"] > before[0]:  # an instant the whole step did not find
             out = self._retaken(model, st, out, h, opts, timer, before[1:])
@@ -258,14 +259,16 @@ class Releases(Localizer):
         impacts and first closing before it) are not counted. The sub-steps' size is met
         once, as a split step's: its factorization and columns are dropped after it.
 
-        Where a sub-step leaves a closing unrefined too, the retake located nothing the
-        whole step did not, and the ``whole`` step is kept with the run's contact set, counts
-        and chatter record as it left them (counted ``retakes_kept_whole``): a gap that jumps
-        has no instant to find at any step size, and a sub-step of h/8 corrects the jump in
-        the stiffer metric of its size (a mortar row of two disks at 14.5 m/s jumping from
-        +4.8e-5 to −1.2e-3 m within a sub-step: +48 J of strain in its correction, where the
-        whole step lost 2.8 J; docs/validation/stress_2d.md)."""
+        The retake is there to leave less depth to a correction at a step's end: where a
+        sub-step leaves a deeper gap unrefined than the ``whole`` step did
+        (``unrefined_depth``), the ``whole`` step is kept, with the run's contact set, counts
+        and chatter record as it left them (counted ``retakes_kept_whole``). A gap that
+        jumps has no instant to find at any step size: a mortar row of two disks at 14.5 m/s
+        jumped from +4.8e-5 to −1.2e-3 m inside a sub-step of h/8, deeper than the 9.6e-4 m
+        the whole step left, and its correction made +48 J of strain where the whole step
+        lost 2.8 J (docs/validation/stress_2d.md)."""
         stats = opts.stats.localization
+        depth, stats.unrefined_depth = stats.unrefined_depth, 0.0  # (the whole step's)
         left = (stats.impacts, stats.first_closing, stats.last_release, stats.subdivided)
         fallbacks, chatter = dict(stats.fallbacks), (self.closed, self.pressed, self.force)
         contacts = copy.deepcopy(model.contacts, {id(body): body for body in model.bodies})
@@ -276,7 +279,7 @@ class Releases(Localizer):
             out = self._subdivided(model, st, h, opts, timer)
         finally:
             drop_caches(model, kept, stats)
-        if stats.fallbacks["unrefined"] == fallbacks["unrefined"]:
+        if stats.unrefined_depth <= depth:  # (0 where every closing was located)
             return out
         model.contacts = contacts
         stats.impacts, stats.first_closing, stats.last_release, stats.subdivided = left
