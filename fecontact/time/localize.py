@@ -269,7 +269,7 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list):
             found[1].together = (rows[t], -rate[t] * TOGETHER * h)
             return found
         reason = "unrefined"
-    opts.stats.localization.fallbacks[reason] += 1
+    opts.stats.localization.fall_back(reason, phases.g_tilde)
     return None
 
 

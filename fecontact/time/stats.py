@@ -50,7 +50,10 @@ class Localization:
     also taken aside in sub-steps to read a release (:class:`fecontact.time.substeps.Releases`),
     ``release_splits`` the steps split where those read it (:mod:`fecontact.time.release_split`)
     and ``release_split_fallbacks`` those taken whole instead (the part held to the release
-    ended with no force, the rest with one, or a part failed).
+    ended with no force, the rest with one, or a part failed); ``retakes_kept_whole`` the
+    whole steps that left a closing unrefined whose retake in sub-steps left a deeper one
+    unrefined, kept whole (:meth:`fecontact.time.substeps.Releases._retaken`), and
+    ``unrefined_depth`` (m) the deepest gap a step left ``unrefined`` had at its end.
     ``first_closing`` is the earliest
     located closing instant (s) and ``last_release`` the end of the last (sub-)step of a
     flexible model in which a contact carried a force before one in which none did (s; for
@@ -64,6 +67,8 @@ class Localization:
     release_probes: int = 0
     release_splits: int = 0
     release_split_fallbacks: int = 0
+    retakes_kept_whole: int = 0
+    unrefined_depth: float = 0.0
     first_closing: float | None = None
     last_release: float | None = None
     fallbacks: dict = field(
@@ -76,6 +81,13 @@ class Localization:
             ("pcg_solves", "pcg_iterations", "pcg_refactorized", "spectral"), 0
         )
     )
+
+    def fall_back(self, reason: str, gaps) -> None:
+        """Count a step left to the end-of-step impact for ``reason``; an ``unrefined`` one
+        notes the deepest of the ``gaps`` (m) at its trial's end in ``unrefined_depth``."""
+        self.fallbacks[reason] += 1
+        if reason == "unrefined" and gaps.size:
+            self.unrefined_depth = max(self.unrefined_depth, -float(gaps.min()))
 
 
 @dataclass
@@ -174,6 +186,8 @@ class StepStats:
                 # releasing steps split at the release the probes read, and those left whole
                 "release_splits": self.localization.release_splits,
                 "release_split_fallbacks": self.localization.release_split_fallbacks,
+                # retakes in sub-steps that left a deeper gap unrefined: the whole step kept
+                "retakes_kept_whole": self.localization.retakes_kept_whole,
             },
             "localized_contact_span_s": [
                 self.localization.first_closing,
