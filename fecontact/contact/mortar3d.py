@@ -18,7 +18,7 @@ the patch test holds to round-off. The gap is measured along the slave triangle'
 Partners: master triangles facing the slave triangle (normals at more than 90°,
 ``mortar_facets.FACING``) whose vertices lie on average less than three times the detection
 margin ahead of it and at most the margin behind it. Beyond twice the margin a pair's
-weight falls linearly to 0 at three times (:func:`_faded`, its gradient included): a hard
+weight falls smoothly to 0 at three times (:func:`_faded`, its gradient included): a hard
 cut there let a pair enter a row's weighted gap with a finite overlap, and the gap jump
 under a held row's force created energy (``docs/validation/stress_3d.md``).
 A slave triangle the master covers in part (the edge of the contact zone, or every triangle
@@ -211,15 +211,15 @@ class MortarContact3D(MortarInterface):
 
 
 def _faded(d, u, v, n, r, margin: float):
-    """The pairs' weights, 1 up to a mean master depth ``d`` (in margins) of 2 and falling
-    linearly to 0 at 3, so that a pair enters and leaves the weighted gaps continuously,
-    and their gradients (P, 18) in the pair's local coordinates (slave a, b, c, master 1-3):
-    ∂d = (r̄⊥·∂N/|N| − n·∂x_a + n·Σ ∂y_k/3)/margin, r̄⊥ the mean of ``r`` normal to n."""
-    fade = np.clip(3.0 - d, 0.0, 1.0)
+    """The pairs' weights, 1 up to a mean master depth ``d`` (in margins) of 2 and falling to
+    0 at 3 as t² (3 − 2 t), t = 3 − d, so that a pair enters and leaves the weighted gaps
+    with their value and slope continuous, and their gradients (P, 18) in the pair's local
+    coordinates (slave a, b, c, master 1-3): ∂d = (r̄⊥·∂N/|N| − n·∂x_a + n·Σ ∂y_k/3)/margin,
+    r̄⊥ the mean of ``r`` normal to n."""
+    t = np.clip(3.0 - d, 0.0, 1.0)
     N = np.linalg.norm(np.cross(u, v), axis=1)[:, None]
     rbar = r.mean(axis=1)
     rho = rbar - np.einsum("pd,pd->p", rbar, n)[:, None] * n
     gb, gc = np.cross(v, rho) / N, np.cross(rho, u) / N
     grad = np.concatenate([-gb - gc - n, gb, gc, n / 3.0, n / 3.0, n / 3.0], axis=1)
-    ramp = (d > 2.0)[:, None]
-    return fade, np.where(ramp, -grad / margin, 0.0)
+    return t * t * (3.0 - 2.0 * t), (-6.0 * t * (1.0 - t) / margin)[:, None] * grad
