@@ -16,12 +16,15 @@ the patch test holds to round-off. The gap is measured along the slave triangle'
 (no averaged normals: the kinematics stay local to one triangle pair per point).
 
 Partners: master triangles facing the slave triangle (normals at more than 90°,
-``mortar_facets.FACING``) whose vertices lie on average at most twice the detection margin
-ahead of it and at most the margin behind it. A slave triangle the master covers in part (the
-edge of the contact zone, or every triangle at the pole of a coarse ball) takes the dual
-functions biorthogonal on its covered polygon (:mod:`fecontact.contact.mortar_cover`, Popp,
-Seitz, Gee & Wall 2013); one covered by less than ``mortar_cover.SMALLEST`` of its area
-counts as not covered.
+``mortar_facets.FACING``) whose vertices lie on average less than three times the detection
+margin ahead of it and at most the margin behind it. Beyond twice the margin a pair's
+weight falls smoothly to 0 at three times (:func:`_faded`, its gradient included): a hard
+cut there let a pair enter a row's weighted gap with a finite overlap, and the gap jump
+under a held row's force created energy (``docs/validation/stress_3d.md``).
+A slave triangle the master covers in part (the edge of the contact zone, or every triangle
+at the pole of a coarse ball) takes the dual functions biorthogonal on its covered polygon
+(:mod:`fecontact.contact.mortar_cover`, Popp, Seitz, Gee & Wall 2013); one covered by less
+than ``mortar_cover.SMALLEST`` of its area counts as not covered.
 
 Linearisation: the gradient is exact. On a fully covered triangle the cells' boundaries move
 with q, but the integrand Φ_j g_N is continuous across the master's edges, so the moving
@@ -89,15 +92,16 @@ class MortarContact3D(MortarInterface):
     def _local(self, q: np.ndarray, derivatives: bool = True):
         """Entries: the Gauss points of the overlaps of the slave triangles with the master
         triangles projected onto them along the slave normal (module docstring). Returns the
-        slave triangles e, z (P, 94) = (18 coordinates, the moments Σ w Φ_i λ_k and
+        slave triangles e, z (P, 112) = (18 coordinates, the moments Σ w Φ_i λ_k and
         Σ w Φ_i μ_k (18), the covered fraction, the gradients (3 × 18) through the dual
-        functions of a partly covered triangle — zeros without ``derivatives`` — and
-        Σ w λ_k (3)), the dofs (P, 18) and the slave nodes' positions."""
+        functions of a partly covered triangle — zeros without ``derivatives`` — Σ w λ_k
+        (3), and ∂ ln(fade)/∂z (18) of the entries on the whole triangle's duals), the dofs
+        (P, 18) and the slave nodes' positions."""
         xs, xm = self.positions(q)
         e, f = self._near(xs, xm, *self._pairs(xs, xm))
         if len(e) == 0:  # no pair near (a free flight): no clipping
             dofs = self._global_dofs(self.facets[e], self.master_facets[f])
-            return e, np.zeros((0, 94)), dofs, xs
+            return e, np.zeros((0, 112)), dofs, xs
         ts, tm = xs[self.facets[e]], xm[self.master_facets[f]]
         u, v = ts[:, 1] - ts[:, 0], ts[:, 2] - ts[:, 0]
         N = np.cross(u, v)
@@ -106,7 +110,7 @@ class MortarContact3D(MortarInterface):
         r = tm - ts[:, None, 0]  # (P, 3 master vertices, 3)
         depth = np.einsum("pkd,pd->pk", r, n).mean(axis=1)
         facing = np.einsum("pd,pd->p", n, Nm) < -FACING * np.linalg.norm(Nm, axis=1)
-        near = np.flatnonzero(facing & (depth >= -self.margin) & (depth <= 2.0 * self.margin))
+        near = np.flatnonzero(facing & (depth >= -self.margin) & (depth < 3.0 * self.margin))
         e, f, ts, tm, u, v, n, r = (
             e[near],
             f[near],
@@ -117,6 +121,7 @@ class MortarContact3D(MortarInterface):
             n[near],
             r[near],
         )
+        fade, dfade = _faded(depth[near] / self.margin, u, v, n, r, self.margin)
         # the master vertices' (λ₂, λ₃) in the slave triangle (orthogonal projection)
         uu, uv, vv = (np.einsum("pd,pd->p", a, b) for a, b in ((u, u), (u, v), (v, v)))
         ru, rv = np.einsum("pkd,pd->pk", r, u), np.einsum("pkd,pd->pk", r, v)
@@ -128,8 +133,9 @@ class MortarContact3D(MortarInterface):
         total = plane.sum(axis=2)
         meets = (plane.max(axis=1) >= 0.0).all(axis=1) & (total.min(axis=1) <= 1.0)
         e, f, ts, tm, n, plane = e[meets], f[meets], ts[meets], tm[meets], n[meets], plane[meets]
-        u, v = u[meets], v[meets]
+        u, v, fade, dfade = u[meets], v[meets], fade[meets], dfade[meets]
         pair, lam, w = clipped_points(plane)
+        w = w * fade[pair]
         # the dual functions of partly covered triangles, those of the covered part
         # (mortar_cover), with their derivatives through the overlaps' vertices
         weight = np.bincount(pair, w, len(e))
@@ -138,7 +144,9 @@ class MortarContact3D(MortarInterface):
         needed = triangles_taking_part(
             self.element_rows, e, weight, covered, area, self.taking_part
         )
-        part, A, extra, drop = covered_duals(e, ts, tm, u, v, plane, weight, needed, derivatives)
+        part, A, extra, drop = covered_duals(
+            e, ts, tm, u, v, plane, weight, needed, derivatives, (fade, dfade)
+        )
         w = np.where(drop[pair], 0.0, w)
         x = np.einsum("pk,pkd->pd", lam, ts[pair])
         _, mu, _ = meet_triangles(x, n[pair], tm[pair], np.inf)
@@ -161,7 +169,8 @@ class MortarContact3D(MortarInterface):
         covered = self._covered(pair, w, lam, len(e))
         z = np.concatenate(
             [ts[keep].reshape(-1, 9), tm[keep].reshape(-1, 9), moments[keep].reshape(-1, 18),
-             weight[keep, None], gradient[keep], covered[keep]], axis=1
+             weight[keep, None], gradient[keep], covered[keep],
+             np.where(part[:, None], 0.0, dfade / fade[:, None])[keep]], axis=1
         )  # fmt: skip
         ee, ff = e[keep], f[keep]
         return ee, z, self._global_dofs(self.facets[ee], self.master_facets[ff]), xs
@@ -184,8 +193,9 @@ class MortarContact3D(MortarInterface):
         jets = facet_pair_integrals(z, hessian)
         if hessian is not None:  # the derivatives through the covered-part dual functions
             extra = z[:, 37:91].reshape(-1, 3, 18)
+            ratio = z[:, 94:112]  # ∂ ln(fade)/∂z of the entries with the whole triangle's duals
             for k, jet in enumerate(jets):
-                jet.g = jet.g + extra[:, k]
+                jet.g = jet.g + extra[:, k] + jet.v[:, None] * ratio
         ts = z[:, :9].reshape(-1, 3, 3)
         area = 0.5 * np.linalg.norm(np.cross(ts[:, 1] - ts[:, 0], ts[:, 2] - ts[:, 0]), axis=1)
         moments = z[:, 18:36].reshape(-1, 2, 3, 3)
@@ -198,3 +208,18 @@ class MortarContact3D(MortarInterface):
         slave triangle's nodes, −Σ w Φ_k μ_i A on the master triangle's."""
         moments, area = quad
         return np.concatenate([moments[:, 0, k], -moments[:, 1, k]], axis=1) * area[:, None]
+
+
+def _faded(d, u, v, n, r, margin: float):
+    """The pairs' weights, 1 up to a mean master depth ``d`` (in margins) of 2 and falling to
+    0 at 3 as t² (3 − 2 t), t = 3 − d, so that a pair enters and leaves the weighted gaps
+    with their value and slope continuous, and their gradients (P, 18) in the pair's local
+    coordinates (slave a, b, c, master 1-3): ∂d = (r̄⊥·∂N/|N| − n·∂x_a + n·Σ ∂y_k/3)/margin,
+    r̄⊥ the mean of ``r`` normal to n."""
+    t = np.clip(3.0 - d, 0.0, 1.0)
+    N = np.linalg.norm(np.cross(u, v), axis=1)[:, None]
+    rbar = r.mean(axis=1)
+    rho = rbar - np.einsum("pd,pd->p", rbar, n)[:, None] * n
+    gb, gc = np.cross(v, rho) / N, np.cross(rho, u) / N
+    grad = np.concatenate([-gb - gc - n, gb, gc, n / 3.0, n / 3.0, n / 3.0], axis=1)
+    return t * t * (3.0 - 2.0 * t), (-6.0 * t * (1.0 - t) / margin)[:, None] * grad

@@ -93,7 +93,7 @@ def triangles_taking_part(rows, e, weight, covered, area, share: float) -> np.nd
     return node[rows].any(axis=1)
 
 
-def covered_duals(e, ts, tm, u, v, plane, weight, needed, derivatives: bool = True):
+def covered_duals(e, ts, tm, u, v, plane, weight, needed, derivatives: bool = True, fade=None):
     """The pairs (slave triangles ``e``, their vertices ``ts``, the master's ``tm``, ``u``,
     ``v`` the slave edges, ``plane`` the projected master vertices, ``weight`` the overlaps'
     fractions of the slave triangle) on partly covered triangles: returns ``part`` (P,) bool,
@@ -101,7 +101,9 @@ def covered_duals(e, ts, tm, u, v, plane, weight, needed, derivatives: bool = Tr
     weighted gaps through A and the overlaps (module docstring), and ``drop`` (P,) bool, the
     pairs of triangles covered by less than :data:`SMALLEST`. ``needed`` (bool per triangle):
     the triangles whose dual functions count (:func:`triangles_taking_part`); without
-    ``derivatives`` the extra gradients are zeros (for the gaps' values alone)."""
+    ``derivatives`` the extra gradients are zeros (for the gaps' values alone). ``fade``:
+    the pairs' weights (P,) and their gradients (P, 18), which scale the overlaps' moments
+    (none: 1)."""
     fraction = np.bincount(e, weight, len(needed))
     drop = (fraction < SMALLEST)[e]
     part = ((fraction >= SMALLEST) & (fraction < 1.0 - _FULL) & needed)[e] & (weight > 0.0)
@@ -111,7 +113,9 @@ def covered_duals(e, ts, tm, u, v, plane, weight, needed, derivatives: bool = Tr
     # the overlaps depend on z through the 6 projected master coordinates alone: their
     # moments are differentiated in those, then chained with ∂(λ₂, λ₃)/∂z
     own = np.broadcast_to(_PLANE, (len(ep), 3, 2, 6)) if derivatives else None
-    Q, dQ = clipped_moments(plane[part], own)
+    Q0, dQ = clipped_moments(plane[part], own)
+    f0, df0 = (np.ones(len(e)), np.zeros((len(e), 18))) if fade is None else fade
+    Q = Q0 * f0[part][:, None, None]
     tri, local = np.unique(ep, return_inverse=True)
     Qe = np.zeros((len(tri), 3, 3))
     np.add.at(Qe, local, Q)
@@ -121,7 +125,8 @@ def covered_duals(e, ts, tm, u, v, plane, weight, needed, derivatives: bool = Tr
         return part, A[local], np.zeros((len(ep), 3, 18)), drop
     d_plane = plane_gradients(u[part], v[part], tmp - tsp[:, None, 0], plane[part])
     dQ = dQ.reshape(-1, 9, 6) @ d_plane.reshape(-1, 6, 18)
-    dQ = dQ.reshape(-1, 3, 3, 18)
+    dQ = dQ.reshape(-1, 3, 3, 18) * f0[part][:, None, None, None]
+    dQ = dQ + Q0[..., None] * df0[part][:, None, None, :]
     f, r = _pair_terms(tsp, tmp)
     S = np.zeros((len(tri), 3))
     np.add.at(S, local, f[:, None] * np.einsum("pik,pk->pi", Q, r))
