@@ -33,10 +33,11 @@ import numpy as np
 
 from ..bodies.rigid import Disk, Polygon, RigidBody2D, rotation
 from ..bodies.solid import Solid
-from ..errors import InputError, check_range
+from ..errors import InputError
 from .base import PairDefaults
 from .geometry import closest_on_segments, point_line_distance
 from .inside import Surface
+from .node_rigid import NodeRigidRows, NodeRoundRows, node_rows
 from .registry import register_pair
 
 __all__ = ["NodeDiskContact", "NodePolygonContact", "VertexDepths", "VertexRows"]
@@ -44,63 +45,14 @@ __all__ = ["NodeDiskContact", "NodePolygonContact", "VertexDepths", "VertexRows"
 _PERP = np.array([[0.0, -1.0], [1.0, 0.0]])  # J, the rotation by +90°
 
 
-class NodeRigid2DContact(PairDefaults):
+class NodeRigid2DContact(NodeRigidRows):
     """Nodes of a 2D solid against a planar rigid body; the subclasses give the shape."""
 
-    linear = False
-
-    def __init__(self, body: Solid, rigid: RigidBody2D, nodes, restitution, clearance):
-        if body.dim != 2:
-            raise InputError("a RigidBody2D meets the nodes of a 2D Solid")
-        self.body, self.rigid = body, rigid
-        self.bodies = (body, rigid)
-        self.nodes = body.contact_nodes(nodes)
-        if len(self.nodes) == 0:
-            raise InputError("nodes must name at least one node")
-        self.restitution = check_range("restitution", restitution, 0.0, 1.0)
-        self.clearance = clearance
-        self.size = len(self.nodes)
-        self._node_dofs = body.node_translation_dofs(self.nodes)
-        self.offsets = (0, 0)
-
-    def _state(self, q: np.ndarray):
-        """The nodes' positions (m, 2) and the rigid body's dofs (3,)."""
-        (oa, ob), body = self.offsets, self.body
-        x = body.positions(q[oa : oa + body.ndof])[self.nodes]
-        return x, q[ob : ob + 3]
-
-    def _dofs(self) -> np.ndarray:
-        oa, ob = self.offsets
-        rigid = np.broadcast_to(ob + np.arange(3), (self.size, 3))
-        return np.concatenate([oa + self._node_dofs, rigid], axis=1)
+    dim, rigid_dofs = 2, 3
 
 
-class NodeDiskContact(NodeRigid2DContact):
-    """Nodes of a 2D solid against a rigid ``Disk`` (outside it)."""
-
-    def _geometry(self, q):
-        x, qr = self._state(q)
-        d = x - self.rigid.center(qr)
-        dist = np.linalg.norm(d, axis=1)
-        if np.any(dist == 0.0):
-            raise InputError("a node lies at the rigid disk's centre: no contact normal")
-        return d / dist[:, None], dist
-
-    def gaps(self, q: np.ndarray) -> np.ndarray:
-        return self._geometry(q)[1] - self.rigid.shape.radius - self.clearance
-
-    def evaluate(self, q: np.ndarray):
-        """Gaps (m,), dofs (m, 5), gradients (m, 5) and curvatures (m, 5, 5)."""
-        e, dist = self._geometry(q)
-        m = self.size
-        G = np.zeros((m, 5))
-        G[:, :2], G[:, 2:4] = e, -e
-        K = (np.eye(2) - e[:, :, None] * e[:, None, :]) / dist[:, None, None]
-        H = np.zeros((m, 5, 5))
-        H[:, :2, :2] = H[:, 2:4, 2:4] = K
-        H[:, :2, 2:4] = H[:, 2:4, :2] = -K
-        g = dist - self.rigid.shape.radius - self.clearance
-        return g, self._dofs(), G, H
+class NodeDiskContact(NodeRoundRows, NodeRigid2DContact):
+    """Nodes of a 2D solid against a rigid ``Disk`` (outside it; :class:`.NodeRoundRows`)."""
 
 
 def polygon_distances(vertices: np.ndarray, normals: np.ndarray, rho: np.ndarray):
@@ -266,17 +218,14 @@ class NodePolygonContact(NodeRigid2DContact):
         return s - self.clearance, self._dofs(), G, H
 
 
+# the shapes a solid's nodes meet, each its pair's class
+SHAPES = {Disk: NodeDiskContact, Polygon: NodePolygonContact}
+
+
 @register_pair(Solid, RigidBody2D)
 def _solid_rigid2d(solid, rigid, nodes, restitution, clearance):
     """The solid's nodes (default its boundary nodes) against a rigid Disk or Polygon."""
-    if isinstance(rigid.shape, Disk):
-        return NodeDiskContact(solid, rigid, nodes, restitution, clearance)
-    if isinstance(rigid.shape, Polygon):
-        return NodePolygonContact(solid, rigid, nodes, restitution, clearance)
-    raise InputError(  # RigidBody2D takes no other shape today; a new one is named here
-        f"a Solid's nodes meet a RigidBody2D with a Disk or a Polygon shape, "
-        f"got a {type(rigid.shape).__name__}"
-    )
+    return node_rows(SHAPES, solid, rigid, nodes, restitution, clearance)
 
 
 @register_pair(RigidBody2D, Solid)

@@ -30,35 +30,23 @@ import numpy as np
 from ..bodies.rigid3d import RigidBody3D
 from ..bodies.shapes3d import Ball, Box
 from ..bodies.solid import Solid
-from ..errors import InputError, check_range
 from ..rotations import exp
-from .base import PairDefaults
 from .box_corners import BoxCorners
 from .box_edges import BoxEdges
+from .node_rigid import NodeRigidRows, NodeRoundRows, node_rows
 from .registry import register_pair
 from .rigid_distance import FeatureDepths
 
 __all__ = ["NodeBallContact", "NodeBoxContact"]
 
 
-class NodeRigidContact(PairDefaults):
+class NodeRigidContact(NodeRigidRows):
     """Nodes of a 3D solid against a rigid body in space; the subclasses give the shape."""
 
-    linear = False
+    dim, rigid_dofs = 3, 6
 
     def __init__(self, body: Solid, rigid: RigidBody3D, nodes, restitution, clearance):
-        if body.dim != 3:
-            raise InputError("a RigidBody3D meets the nodes of a 3D Solid")
-        self.body, self.rigid = body, rigid
-        self.bodies = (body, rigid)
-        self.nodes = body.contact_nodes(nodes)
-        if len(self.nodes) == 0:
-            raise InputError("nodes must name at least one node")
-        self.restitution = check_range("restitution", restitution, 0.0, 1.0)
-        self.clearance = clearance
-        self.size = len(self.nodes)
-        self._node_dofs = body.node_translation_dofs(self.nodes)
-        self.offsets = (0, 0)
+        super().__init__(body, rigid, nodes, restitution, clearance)
         # a box's corners and edges, which the nodes' rows let in between them
         if isinstance(rigid.shape, Box):
             self.companions = (
@@ -76,44 +64,9 @@ class NodeRigidContact(PairDefaults):
         a corner between them is measured, :class:`FeatureDepths`); None for a ball."""
         return FeatureDepths(self) if isinstance(self.rigid.shape, Box) else None
 
-    def _state(self, q: np.ndarray):
-        """The nodes' positions (m, 3) and the rigid body's dofs (6,)."""
-        (oa, ob), body = self.offsets, self.body
-        x = body.positions(q[oa : oa + body.ndof])[self.nodes]
-        return x, q[ob : ob + 6]
 
-    def _dofs(self) -> np.ndarray:
-        oa, ob = self.offsets
-        rigid = np.broadcast_to(ob + np.arange(6), (self.size, 6))
-        return np.concatenate([oa + self._node_dofs, rigid], axis=1)
-
-
-class NodeBallContact(NodeRigidContact):
-    """Nodes of a 3D solid against a rigid ``Ball`` (outside it)."""
-
-    def _geometry(self, q):
-        x, qr = self._state(q)
-        d = x - self.rigid.center(qr)
-        dist = np.linalg.norm(d, axis=1)
-        if np.any(dist == 0.0):
-            raise InputError("a node lies at the rigid ball's centre: no contact normal")
-        return d / dist[:, None], dist
-
-    def gaps(self, q: np.ndarray) -> np.ndarray:
-        return self._geometry(q)[1] - self.rigid.shape.radius - self.clearance
-
-    def evaluate(self, q: np.ndarray):
-        """Gaps (m,), dofs (m, 9), gradients (m, 9) and curvatures (m, 9, 9)."""
-        e, dist = self._geometry(q)
-        m = self.size
-        G = np.zeros((m, 9))
-        G[:, :3], G[:, 3:6] = e, -e
-        K = (np.eye(3) - e[:, :, None] * e[:, None, :]) / dist[:, None, None]
-        H = np.zeros((m, 9, 9))
-        H[:, :3, :3] = H[:, 3:6, 3:6] = K
-        H[:, :3, 3:6] = H[:, 3:6, :3] = -K
-        g = dist - self.rigid.shape.radius - self.clearance
-        return g, self._dofs(), G, H
+class NodeBallContact(NodeRoundRows, NodeRigidContact):
+    """Nodes of a 3D solid against a rigid ``Ball`` (outside it; :class:`.NodeRoundRows`)."""
 
 
 class NodeBoxContact(NodeRigidContact):
@@ -149,17 +102,14 @@ class NodeBoxContact(NodeRigidContact):
         return dist - self.clearance, self._dofs(), G, None
 
 
+# the shapes a solid's nodes meet, each its pair's class
+SHAPES = {Ball: NodeBallContact, Box: NodeBoxContact}
+
+
 @register_pair(Solid, RigidBody3D)
 def _solid_rigid3d(solid, rigid, nodes, restitution, clearance):
     """The solid's nodes (default its boundary nodes) against a rigid Ball or Box."""
-    if isinstance(rigid.shape, Ball):
-        return NodeBallContact(solid, rigid, nodes, restitution, clearance)
-    if isinstance(rigid.shape, Box):
-        return NodeBoxContact(solid, rigid, nodes, restitution, clearance)
-    raise InputError(
-        f"a Solid's nodes meet a RigidBody3D with a Ball or a Box shape, "
-        f"got a {type(rigid.shape).__name__}"
-    )
+    return node_rows(SHAPES, solid, rigid, nodes, restitution, clearance)
 
 
 @register_pair(RigidBody3D, Solid)
