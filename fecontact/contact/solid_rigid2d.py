@@ -25,6 +25,11 @@ normal on its right: g = −f(p, x₁, x₂) − clearance, f the signed distanc
 (positive on its left, :func:`~fecontact.contact.geometry.point_line_distance`), with its
 exact G and ∇²g through ∂p/∂(c, θ) = [I, J R r] and ∂²p/∂θ² = −R r. The pair's watch
 (:class:`VertexDepths`) measures the vertices inside the solid for the step's penetration test.
+
+Coulomb friction: the node rows slip as the node against the body's material point under it
+(:mod:`fecontact.contact.node_rigid`); a vertex row as the vertex against the point of its
+segment's line under it, ṗ − ((1 − ξ) ẋ₁ + ξ ẋ₂) with ξ = (p − x₁)·(x₂ − x₁)/|x₂ − x₁|², so
+that G = n·W and the slip rows are T W, W = [I, J R r, −(1 − ξ) I, −ξ I], with the pair's μ.
 """
 
 from __future__ import annotations

@@ -20,7 +20,8 @@ answer), as for the rigid ball against a box. Both shapes are exact: a rigid bal
 faceted surface, and the box's faces are flat. A box's corners and edges, which can enter
 between the nodes, carry rows of their own (:mod:`fecontact.contact.box_corners`,
 :mod:`fecontact.contact.box_edges`), and the pair's watch measures its corners and edges
-inside the solid.
+inside the solid. Coulomb friction: the nodes slip against the body's material points under
+them (:mod:`fecontact.contact.node_rigid`), the corners and edges as theirs, with the pair's μ.
 """
 
 from __future__ import annotations
