@@ -25,6 +25,11 @@ normal on its right: g = −f(p, x₁, x₂) − clearance, f the signed distanc
 (positive on its left, :func:`~fecontact.contact.geometry.point_line_distance`), with its
 exact G and ∇²g through ∂p/∂(c, θ) = [I, J R r] and ∂²p/∂θ² = −R r. The pair's watch
 (:class:`VertexDepths`) measures the vertices inside the solid for the step's penetration test.
+
+Coulomb friction: the node rows slip as the node against the body's material point under it
+(:mod:`fecontact.contact.node_rigid`); a vertex row as the vertex against the point of its
+segment's line under it, ṗ − ((1 − ξ) ẋ₁ + ξ ẋ₂) with ξ = (p − x₁)·(x₂ − x₁)/|x₂ − x₁|², so
+that G = n·W and the slip rows are T W, W = [I, J R r, −(1 − ξ) I, −ξ I], with the pair's μ.
 """
 
 from __future__ import annotations
@@ -35,6 +40,7 @@ from ..bodies.rigid import Disk, Polygon, RigidBody2D, rotation
 from ..bodies.solid import Solid
 from ..errors import InputError
 from .base import PairDefaults
+from .friction import tangent_basis
 from .geometry import closest_on_segments, point_line_distance
 from .inside import Surface
 from .node_rigid import NodeRigidRows, NodeRoundRows, node_rows
@@ -49,6 +55,12 @@ class NodeRigid2DContact(NodeRigidRows):
     """Nodes of a 2D solid against a planar rigid body; the subclasses give the shape."""
 
     dim, rigid_dofs = 2, 3
+
+    def _rotation(self, qr: np.ndarray) -> np.ndarray:
+        return rotation(self.rigid.orientation(qr))
+
+    def _turn_rows(self, arm: np.ndarray, qr: np.ndarray) -> np.ndarray:
+        return -(arm @ _PERP.T)[:, :, None]  # ẏ = ċ + θ̇ J (y − c)
 
 
 class NodeDiskContact(NodeRoundRows, NodeRigid2DContact):
@@ -165,11 +177,56 @@ class VertexRows(PairDefaults):
         G = -np.einsum("mi,mij->mj", G6, A)
         H = -np.einsum("mia,mij,mjb->mab", A, H6, A)
         H[:, 2, 2] += np.einsum("mi,mi->m", G6[:, :2], arm)  # −G_p·∂²p/∂θ², ∂²p/∂θ² = −R r
+        return -d - self.clearance, self._dofs(f), G, H
+
+    def _dofs(self, f: np.ndarray) -> np.ndarray:
+        """Dofs (k, 7) of the rows: the body's (u_x, u_y, θ), then the segments' ``f``."""
         oa, ob = self.offsets
-        dofs = np.concatenate(
-            [np.broadcast_to(ob + np.arange(3), (k, 3)), oa + self._facet_dofs[f]], axis=1
-        )
-        return -d - self.clearance, dofs, G, H
+        body = np.broadcast_to(ob + np.arange(3), (self.size, 3))
+        return np.concatenate([body, oa + self._facet_dofs[f]], axis=1)
+
+    frictional = True
+
+    @property
+    def friction(self) -> float:
+        """Coulomb's μ of the pair that brings the rows (``Contact`` sets it there)."""
+        return self.owner.friction
+
+    def _slip_geometry(self, q: np.ndarray):
+        """The vertices' arms R r (k, 2), their segments (k,), the line parameters ξ (k,) of
+        the points under them and the rows' unit normals n (k, 2) (out of the solid)."""
+        arm, p, seg, f = self._geometry(q)
+        d = seg[:, 1] - seg[:, 0]
+        xi = np.einsum("kd,kd->k", p - seg[:, 0], d) / np.einsum("kd,kd->k", d, d)
+        n = -(d @ _PERP.T) / np.linalg.norm(d, axis=1)[:, None]  # −∂f/∂p
+        return arm, f, xi, n
+
+    def tangents(self, q: np.ndarray):
+        """Dofs (k, 7), slip rows (k, 1, 7) and unit tangents T (k, 1, 2): the vertex's
+        material point against the segment's point under it, ṗ − ((1 − ξ) ẋ₁ + ξ ẋ₂) with
+        ṗ = ċ + θ̇ J R r, so that G = n·[I, J R r, −(1 − ξ) I, −ξ I]."""
+        arm, f, xi, n = self._slip_geometry(q)
+        W = np.zeros((self.size, 2, 7))
+        W[:, :, :2] = np.eye(2)
+        W[:, :, 2] = arm @ _PERP.T
+        W[:, :, 3:5] = -(1.0 - xi)[:, None, None] * np.eye(2)
+        W[:, :, 5:] = -xi[:, None, None] * np.eye(2)
+        T = tangent_basis(n)
+        return self._dofs(f), np.einsum("mti,mik->mtk", T, W), T
+
+    def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
+        """T·((p − p_n) − (1 − ξ)(x₁ − x₁ₙ) − ξ(x₂ − x₂ₙ)) (k, 1): the vertex against the
+        segment's material point under it at q, over the step (exact)."""
+        arm, f, xi, _ = self._slip_geometry(q)
+        (oa, ob), body = self.offsets, self.body
+        qr_n = q_n[ob : ob + 3]
+        p_n = self.vertices @ rotation(self.rigid.orientation(qr_n)).T + self.rigid.center(qr_n)
+        p = arm + self.rigid.center(q[ob : ob + 3])
+        ends = self.facets[f]
+        x = body.positions(q[oa : oa + body.ndof])[ends]
+        x_n = body.positions(q_n[oa : oa + body.ndof])[ends]
+        dx = (1.0 - xi)[:, None] * (x[:, 0] - x_n[:, 0]) + xi[:, None] * (x[:, 1] - x_n[:, 1])
+        return np.einsum("mtd,md->mt", T, p - p_n - dx)
 
 
 class NodePolygonContact(NodeRigid2DContact):
@@ -199,6 +256,10 @@ class NodePolygonContact(NodeRigid2DContact):
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         return self._geometry(q)[2] - self.clearance
+
+    def _normals(self, q: np.ndarray) -> np.ndarray:
+        Rt, _, _, ds, _ = self._geometry(q)
+        return ds @ Rt  # R s'
 
     def evaluate(self, q: np.ndarray):
         """Gaps (m,), dofs (m, 5), gradients (m, 5) and Hessians (m, 5, 5)."""

@@ -20,7 +20,8 @@ answer), as for the rigid ball against a box. Both shapes are exact: a rigid bal
 faceted surface, and the box's faces are flat. A box's corners and edges, which can enter
 between the nodes, carry rows of their own (:mod:`fecontact.contact.box_corners`,
 :mod:`fecontact.contact.box_edges`), and the pair's watch measures its corners and edges
-inside the solid.
+inside the solid. Coulomb friction: the nodes slip against the body's material points under
+them (:mod:`fecontact.contact.node_rigid`), the corners and edges as theirs, with the pair's μ.
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ import numpy as np
 from ..bodies.rigid3d import RigidBody3D
 from ..bodies.shapes3d import Ball, Box
 from ..bodies.solid import Solid
-from ..rotations import exp
+from ..rotations import exp, hat
 from .box_corners import BoxCorners
 from .box_edges import BoxEdges
 from .node_rigid import NodeRigidRows, NodeRoundRows, node_rows
@@ -58,6 +59,12 @@ class NodeRigidContact(NodeRigidRows):
         self.offsets = (model.offset_of(self.body), model.offset_of(self.rigid))
         for pair in self.companions:
             pair.bind(model)
+
+    def _rotation(self, qr: np.ndarray) -> np.ndarray:
+        return exp(qr[3:])
+
+    def _turn_rows(self, arm: np.ndarray, qr: np.ndarray) -> np.ndarray:
+        return hat(arm) @ exp(qr[3:])  # R ρ̃ = (R ρ)~ R: ẏ = u̇ − R ρ̃ Ω
 
     def watch(self) -> FeatureDepths | None:
         """A box's corners and edges against the solid's boundary (the rows hold nodes only:
@@ -93,6 +100,10 @@ class NodeBoxContact(NodeRigidContact):
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         return self._geometry(q)[3] - self.clearance
+
+    def _normals(self, q: np.ndarray) -> np.ndarray:
+        R, _, nb, _ = self._geometry(q)
+        return nb @ R.T
 
     def evaluate(self, q: np.ndarray):
         """Gaps (m,), dofs (m, 9), gradients (m, 9), no curvature."""
