@@ -154,7 +154,7 @@ class MortarContact(MortarInterface):
         z = np.concatenate([xs[sn], xm[mn]], axis=1).reshape(len(e), 12)
         if len(e) == 0:  # no pair near (a free flight): no integrals
             nothing, none, empty = Jet(np.zeros(0), None, None), np.zeros((0, GAUSS_POINTS)), e
-            ends = (empty * 0.0, empty * 0.0, empty, empty, empty * 0.0, empty * 0.0)
+            ends = (empty * 0.0, empty * 0.0, empty, empty, empty * 0.0, empty * 0.0, empty > 0)
             return xs, xm, e, sn, mn, z, (nothing, nothing, np.zeros(0), (none, none), ends)
         # the candidates that do not overlap contribute nothing: left out before the
         # differentiated integrals, by a value-only pass that also gives the overlaps' ends
@@ -171,13 +171,16 @@ class MortarContact(MortarInterface):
         covered part when another pair's nodes do, then how each end is found) and global
         dofs (P, 12 or 16), and the slave nodes' positions."""
         xs, xm, e, sn, mn, z, prior = self._overlapping(q)
-        lo, hi, lo_node, hi_node = prior[4][:4]
+        lo, hi, lo_node, hi_node, _, _, fading = prior[4]
         kinds = covered_ends(e, lo, hi, lo_node, hi_node, len(self.facets))
         kind_lo, kind_hi, src_lo, src_hi = kinds
         if np.any(kind_lo == FOREIGN) or np.any(kind_hi == FOREIGN):
-            bound = np.stack([mn[src_lo, np.maximum(lo_node[src_lo], 0)],
-                              mn[src_hi, np.maximum(hi_node[src_hi], 0)]], axis=1)  # fmt: skip
-            z = np.concatenate([z, xm[bound].reshape(len(e), 4)], axis=1)
+            if fading.any():  # an overlap shrinking with its weight: its master segment
+                bound = np.concatenate([mn[src_lo], mn[src_hi]], axis=1)
+            else:
+                bound = np.stack([mn[src_lo, np.maximum(lo_node[src_lo], 0)],
+                                  mn[src_hi, np.maximum(hi_node[src_hi], 0)]], axis=1)  # fmt: skip
+            z = np.concatenate([z, xm[bound].reshape(len(e), -1)], axis=1)
             mn = np.concatenate([mn, bound], axis=1)
         z = np.concatenate([z, kind_lo[:, None], kind_hi[:, None]], axis=1)
         return e, z, self._global_dofs(sn, mn), xs
@@ -190,7 +193,7 @@ class MortarContact(MortarInterface):
         xs, _, e, _, _, _, (ga, gb, coverage, (xi, wJ), ends) = self._overlapping(q)
         if len(e) == 0:  # no pair near: every row +inf (``_gap_values``)
             return e, [ga, gb], coverage, np.zeros((0, 2)), xs
-        lo, hi, lo_node, hi_node, m1, m2 = ends
+        lo, hi, lo_node, hi_node, m1, m2, _ = ends
         kind_lo, kind_hi, src_lo, src_hi = covered_ends(e, lo, hi, lo_node, hi_node,
                                                         len(self.facets))  # fmt: skip
         if np.any(kind_lo) or np.any(kind_hi):
