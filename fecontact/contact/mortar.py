@@ -45,10 +45,12 @@ covered part carries at least half of the shape-function weight of its covered s
 ends would read a gap extrapolated from there. Other rows report g = +inf with a zero
 gradient. A master segment whose mean gap over its overlap is deeper than the margin behind
 the slave segment is a far part of the master that happens to face it, not a contact
-partner, and is left out. The search keeps the (slave, master) segment pairs whose midpoints
-are within the detection margin plus both segment lengths, refreshed when a node has moved
-by more than an eighth of the margin; a value-only pass drops the pairs that do not overlap
-before the differentiated one.
+partner, and is left out. One whose normal turns from the slave's by less than 120° is left
+out gradually: its overlap shrinks to nothing by 104.5° (``mortar_segments.TURNED``), so
+that the rows stay continuous as it leaves. The search keeps the (slave, master) segment
+pairs whose midpoints are within the detection margin plus both segment lengths, refreshed
+when a node has moved by more than an eighth of the margin; a value-only pass drops the
+pairs that do not overlap before the differentiated one.
 
 Friction: the slip row of node j is the weighted relative motion t_j·∫ Φ_j (ẋ − ẏ) ds / L_j
 along the slave node's tangent t_j, with the projections frozen over the step.
@@ -167,15 +169,19 @@ class MortarContact(MortarInterface):
 
     def _local(self, q: np.ndarray):
         """The slave segments e of the segment pairs that overlap, their local coordinates z
-        (P, 14 or 18: the 12 of the pair, the master nodes that bound the slave segment's
-        covered part when another pair's nodes do, then how each end is found) and global
-        dofs (P, 12 or 16), and the slave nodes' positions."""
+        (P, 14, 18 or 22: the 12 of the pair, the master nodes that bound the slave
+        segment's covered part when another pair's nodes do, or the master segments of
+        those pairs when a pair's overlap shrinks (``mortar_segments.TURNED``), then how each
+        end is found) and global dofs (P, 12, 16 or 20), and the slave nodes' positions."""
         xs, xm, e, sn, mn, z, prior = self._overlapping(q)
         lo, hi, lo_node, hi_node, _, _, fading = prior[4]
         kinds = covered_ends(e, lo, hi, lo_node, hi_node, len(self.facets))
         kind_lo, kind_hi, src_lo, src_hi = kinds
         if np.any(kind_lo == FOREIGN) or np.any(kind_hi == FOREIGN):
-            if fading.any():  # an overlap shrinking with its weight: its master segment
+            shrinking = ((kind_lo == FOREIGN) & fading[src_lo]) | (
+                (kind_hi == FOREIGN) & fading[src_hi]
+            )
+            if shrinking.any():  # an end that a shrinking overlap bounds: its master segment
                 bound = np.concatenate([mn[src_lo], mn[src_hi]], axis=1)
             else:
                 bound = np.stack([mn[src_lo, np.maximum(lo_node[src_lo], 0)],

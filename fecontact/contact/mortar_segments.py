@@ -158,7 +158,7 @@ def _smooth(t: Jet) -> Jet:
         return s.where(t.v < 1.0, 1.0).where(t.v > 0.0, 0.0)
 
 
-def _faded_overlap(frame, nab, y1, y2, depth: float, order):
+def _faded_overlap(frame, nab, y1, y2, depth: float, order, integrate: bool = True):
     """The overlap of the master segment (y1, y2) on the slave segment (``frame`` = x_m,
     x_d, n_m, n_d; ``nab`` its normal) as :func:`_overlap`, shrunk to φ of its span
     (``TURNED``) toward the end that is the projection of the master node nearer the slave
@@ -167,33 +167,57 @@ def _faded_overlap(frame, nab, y1, y2, depth: float, order):
     segment's length within the band, so the side cannot change while φ < 1). As φ falls
     to 0 the pair's integral, its coverage and the end of the covered part it bounds (and
     with them the dual functions of the other pairs on the segment) go continuously to
-    their values without it. A pair whose mean gap is below −``depth`` is dropped.
-    Returns (lo, hi, coverage, nodes, (ξ, w J, g_N w J) at the Gauss points, fading (P,):
-    0 < φ < 1)."""
+    their values without it. A pair whose mean gap over its whole overlap is below
+    −``depth`` is dropped. Returns (lo, hi, coverage, nodes, (ξ, w J, g_N w J) at the Gauss
+    points, fading (P,): 0 < φ < 1), or (lo, hi) alone without ``integrate``."""
     lo, hi, span, coverage, nodes, turn, ids = _overlap(*frame, y1, y2, nab, order)
-    points = _integration(frame, y1, y2, lo, span, coverage)
-    P, G = len(coverage), GAUSS_POINTS
-    gap, wJ = points[1:]
-    behind = (gap.v * wJ.v).reshape(P, G).sum(1) < -depth * wJ.v.reshape(P, G).sum(1)
-    fading = (coverage > 0.0) & (turn.v > -FACING) & ~behind
+    fading = (coverage > 0.0) & (turn.v > -FACING)
+    if not fading.any():  # (most pairs: the overlap and its integral as they are)
+        if not integrate:
+            return lo, hi
+        xi, gap, wJ = _integration(frame, y1, y2, lo, span, coverage)
+        return _kept(lo, hi, coverage, nodes, (xi, gap, wJ), depth, fading)
+    if integrate:  # (whether behind, from the values over the whole overlap)
+        plain = _integration(*_plain((frame, y1, y2, lo, span)), coverage)
+        behind = _behind(plain[1], plain[2], depth)
+        coverage, fading = np.where(behind, 0.0, coverage), fading & ~behind
+    phi = _smooth((turn * -1.0 - TURNED) * (1.0 / (FACING - TURNED)))
+    reach = [(y[0].v - frame[0][0].v) * nab[0].v + (y[1].v - frame[0][1].v) * nab[1].v
+             for y in (y1, y2)]  # fmt: skip
+    near = np.where(reach[0] <= reach[1], 0, 1)
+    toward_lo = (ids[0] == near) & (ids[1] != near)
+    part = span * phi
+    lo, hi = (lo.where(toward_lo, hi - part).where(fading, lo),
+              (lo + part).where(toward_lo, hi).where(fading, hi))  # fmt: skip
+    if not integrate:
+        return lo, hi
+    nodes = (np.where(fading & ~toward_lo, ids[0], nodes[0]),
+             np.where(fading & toward_lo, ids[1], nodes[1]))  # fmt: skip
+    coverage = np.where(fading, coverage * phi.v, coverage)
+    points = _integration(frame, y1, y2, lo, part.where(fading, span), coverage)
+    return _kept(lo, hi, coverage, nodes, points, np.inf, fading & (coverage > 0.0))
+
+
+def _plain(x):
+    """``x`` (a Jet, or tuples of them) without derivatives."""
+    return Jet(x.v, None, None) if isinstance(x, Jet) else tuple(_plain(c) for c in x)
+
+
+def _behind(gap: Jet, wJ: Jet, depth: float) -> np.ndarray:
+    """The pairs (P,) whose mean gap over the Gauss points (P G) is below −``depth``."""
+    P, G = len(gap.v) // GAUSS_POINTS, GAUSS_POINTS
+    with np.errstate(invalid="ignore"):
+        return (gap.v * wJ.v).reshape(P, G).sum(1) < -depth * wJ.v.reshape(P, G).sum(1)
+
+
+def _kept(lo, hi, coverage, nodes, points, depth: float, fading):
+    """:func:`_faded_overlap`'s answer, the pairs behind (:func:`_behind`) dropped."""
+    xi, gap, wJ = points
+    behind = _behind(gap, wJ, depth)
     if behind.any():
         coverage = np.where(behind, 0.0, coverage)
-        wJ = wJ.where(~np.repeat(behind, G), 0.0)
-    if fading.any():
-        phi = _smooth((turn * -1.0 - TURNED) * (1.0 / (FACING - TURNED)))
-        reach = [(y[0].v - frame[0][0].v) * nab[0].v + (y[1].v - frame[0][1].v) * nab[1].v
-                 for y in (y1, y2)]  # fmt: skip
-        near = np.where(reach[0] <= reach[1], 0, 1)
-        toward_lo = (ids[0] == near) & (ids[1] != near)
-        part = span * phi
-        lo, hi = (lo.where(toward_lo, hi - part).where(fading, lo),
-                  (lo + part).where(toward_lo, hi).where(fading, hi))  # fmt: skip
-        nodes = (np.where(fading & ~toward_lo, ids[0], nodes[0]),
-                 np.where(fading & toward_lo, ids[1], nodes[1]))  # fmt: skip
-        coverage = np.where(fading, coverage * phi.v, coverage)
-        xi, gap, wJ = _integration(frame, y1, y2, lo, part.where(fading, span), coverage)
-        points = (xi, gap, wJ)
-    return lo, hi, coverage, nodes, (points[0], wJ, gap * wJ), fading & (coverage > 0.0)
+        wJ = wJ.where(~np.repeat(behind, GAUSS_POINTS), 0.0)
+    return lo, hi, coverage, nodes, (xi, wJ, gap * wJ), fading
 
 
 def _integration(frame, y1, y2, lo, span, coverage):
@@ -252,7 +276,7 @@ def _covered_end(kind, own, foreign, clamp: float, context):
         frame, nab, depth, order = context
         with np.errstate(divide="ignore", invalid="ignore"):
             if len(foreign) == 2:
-                x = _faded_overlap(frame, nab, *foreign, depth, order)[1 if clamp > 0 else 0]
+                x = _faded_overlap(frame, nab, *foreign, depth, order, False)[int(clamp > 0)]
                 return end.where(kind != FOREIGN, x)
             x = _project_master_node(*frame, foreign[0], order)
         inside = (x.v > -1.0) & (x.v < 1.0)
@@ -271,15 +295,18 @@ def segment_pair_integrals(z, has_prev, has_next, hessian=None, depth=np.inf, en
     ``ends``: None for the dual functions of the whole segment, or (kind_lo, kind_hi) (P,)
     from :func:`~fecontact.contact.mortar_duals.covered_ends`: the dual functions are then
     those of the segment's covered part (:mod:`~fecontact.contact.mortar_duals`), whose
-    foreign ends are the master nodes in z[:, 12:14] and z[:, 14:16] (z then (P, 16)).
+    foreign ends are the master nodes in z[:, 12:14] and z[:, 14:16] (z then (P, 16)), or
+    the ends of the overlaps of the master segments z[:, 12:16] and z[:, 16:20] (P, 20)
+    where an overlap that bounds a covered part may be shrinking (``TURNED``).
 
     Returns (ga, gb, coverage, quad, ends): the Jets of g̃_a, g̃_b (m²), the fraction of
     the slave segment the master segment covers (P,; 0 where the segments do not face each
-    other, ``FACING``, or miss each other), the quadrature of the overlap as values — ξ and
-    η (P, G), the weights w J (P, G) in m and the dual coefficients A (P, 2, 2) — for the
-    slip rows of friction, and (lo, hi, lo_node, hi_node, m1, m2): the overlap's ends (P,),
-    the master node each is the projection of (0: y_1, 1: y_2, −1: the segment's end), and
-    the values of ∫ N_1 g_N ds and ∫ N_2 g_N ds over the overlap (m²).
+    other, ``FACING`` and ``TURNED``, or miss each other), the quadrature of the overlap as
+    values — ξ and η (P, G), the weights w J (P, G) in m and the dual coefficients A (P, 2,
+    2) — for the slip rows of friction, and (lo, hi, lo_node, hi_node, m1, m2, fading): the
+    overlap's ends (P,), the master node each is the projection of (0: y_1, 1: y_2, −1: the
+    segment's end; a shrinking end keeps its node), the values of ∫ N_1 g_N ds and
+    ∫ N_2 g_N ds over the overlap (m²), and whether the overlap is shrinking (P,).
 
     At a point ξ, x(ξ) + s n(ξ) lies on the master line y_1 + η d, d = y_2 − y_1, for
     s = (y_1 − x) × d / (n × d); with x(ξ) = x_m + ξ x_d and n(ξ) = n_m + ξ n_d that is
