@@ -18,21 +18,26 @@ def created(summary) -> float:
     return ledger["created"] / ledger["scale"]
 
 
-def test_a_retake_that_leaves_a_deeper_gap_keeps_the_whole_step(tmp_path):
+def test_the_disks_whose_mortar_gap_jumped_need_no_retake(tmp_path):
     """The mortar disks of benchmarks/stress_2d.py at 14.5 m/s each, 8 Δx/c, 0.3 R off
-    centre, through the closing step (2.6 ms): a mortar row jumps from +4.8e-5 to −1.2e-3 m
-    inside a sub-step, deeper than the 9.6e-4 m the whole step left. Retaken, the run
-    created 1.7e-2 of its scale (27.8 J); the whole step kept, 1.4e-16 (2.3e-13 J of
-    1.6e3 J). The bound 1e-9 is the ledger's round-off over a few steps of 1e3 J (1e-16)
-    with a wide margin, and seven orders below what the retake made."""
+    centre, through the closing step (2.6 ms). A mortar row jumped from +4.8e-5 to −1.2e-3 m
+    within 3 µm of motion, where a master segment turning past 120° from the slave segment
+    left the weighted gap whole (the facing cut, ``mortar_segments.TURNED``): the whole step
+    left that closing unrefined, its retake in sub-steps went deeper (9.6e-4 → 1.2e-3 m) and
+    created 1.7e-2 of the run's scale (27.8 J), and the whole step was kept (1.4e-16). With
+    the gap continuous the whole step locates every closing: nothing unrefined, nothing
+    retaken, 1.4e-16 created (2.3e-13 J of 1.6e3 J). The bound 1e-9 is the ledger's
+    round-off over a few steps of 1e3 J (1e-16) with a wide margin, and seven orders below
+    what the retake made."""
     from stress_2d import cell_speed, two_disks
 
     sim, _ = two_disks(speed=cell_speed(1, 8), courant=8, offset=0.015, t_end=2.6e-3)
     summary = run(sim, tmp_path, frames=False, checkpoint_every=0)
     assert summary["status"] == "completed"
     assert created(summary) <= 1e-9
-    assert summary["localization_cost"]["retakes_kept_whole"] == 1  # (counted)
-    assert summary["max_penetration"] <= 1e-4  # as before the retake (9.75e-5 m, halved steps)
+    assert summary["localization_fallbacks"]["unrefined"] == 0  # (1 with the facing cut)
+    assert summary["localization_cost"]["retakes_kept_whole"] == 0
+    assert summary["max_penetration"] <= 1e-4  # as before (9.75e-5 m, halved steps)
 
 
 @pytest.mark.parametrize("v", [1.0, 3.0])

@@ -45,10 +45,12 @@ covered part carries at least half of the shape-function weight of its covered s
 ends would read a gap extrapolated from there. Other rows report g = +inf with a zero
 gradient. A master segment whose mean gap over its overlap is deeper than the margin behind
 the slave segment is a far part of the master that happens to face it, not a contact
-partner, and is left out. The search keeps the (slave, master) segment pairs whose midpoints
-are within the detection margin plus both segment lengths, refreshed when a node has moved
-by more than an eighth of the margin; a value-only pass drops the pairs that do not overlap
-before the differentiated one.
+partner, and is left out. One whose normal turns from the slave's by less than 120° is left
+out gradually: its overlap shrinks to nothing by 104.5° (``mortar_segments.TURNED``), so
+that the rows stay continuous as it leaves. The search keeps the (slave, master) segment
+pairs whose midpoints are within the detection margin plus both segment lengths, refreshed
+when a node has moved by more than an eighth of the margin; a value-only pass drops the
+pairs that do not overlap before the differentiated one.
 
 Friction: the slip row of node j is the weighted relative motion t_j·∫ Φ_j (ẋ − ẏ) ds / L_j
 along the slave node's tangent t_j, with the projections frozen over the step.
@@ -154,7 +156,7 @@ class MortarContact(MortarInterface):
         z = np.concatenate([xs[sn], xm[mn]], axis=1).reshape(len(e), 12)
         if len(e) == 0:  # no pair near (a free flight): no integrals
             nothing, none, empty = Jet(np.zeros(0), None, None), np.zeros((0, GAUSS_POINTS)), e
-            ends = (empty * 0.0, empty * 0.0, empty, empty, empty * 0.0, empty * 0.0)
+            ends = (empty * 0.0, empty * 0.0, empty, empty, empty * 0.0, empty * 0.0, empty > 0)
             return xs, xm, e, sn, mn, z, (nothing, nothing, np.zeros(0), (none, none), ends)
         # the candidates that do not overlap contribute nothing: left out before the
         # differentiated integrals, by a value-only pass that also gives the overlaps' ends
@@ -167,17 +169,24 @@ class MortarContact(MortarInterface):
 
     def _local(self, q: np.ndarray):
         """The slave segments e of the segment pairs that overlap, their local coordinates z
-        (P, 14 or 18: the 12 of the pair, the master nodes that bound the slave segment's
-        covered part when another pair's nodes do, then how each end is found) and global
-        dofs (P, 12 or 16), and the slave nodes' positions."""
+        (P, 14, 18 or 22: the 12 of the pair, the master nodes that bound the slave
+        segment's covered part when another pair's nodes do, or the master segments of
+        those pairs when a pair's overlap shrinks (``mortar_segments.TURNED``), then how each
+        end is found) and global dofs (P, 12, 16 or 20), and the slave nodes' positions."""
         xs, xm, e, sn, mn, z, prior = self._overlapping(q)
-        lo, hi, lo_node, hi_node = prior[4][:4]
+        lo, hi, lo_node, hi_node, _, _, fading = prior[4]
         kinds = covered_ends(e, lo, hi, lo_node, hi_node, len(self.facets))
         kind_lo, kind_hi, src_lo, src_hi = kinds
         if np.any(kind_lo == FOREIGN) or np.any(kind_hi == FOREIGN):
-            bound = np.stack([mn[src_lo, np.maximum(lo_node[src_lo], 0)],
-                              mn[src_hi, np.maximum(hi_node[src_hi], 0)]], axis=1)  # fmt: skip
-            z = np.concatenate([z, xm[bound].reshape(len(e), 4)], axis=1)
+            shrinking = ((kind_lo == FOREIGN) & fading[src_lo]) | (
+                (kind_hi == FOREIGN) & fading[src_hi]
+            )
+            if shrinking.any():  # an end that a shrinking overlap bounds: its master segment
+                bound = np.concatenate([mn[src_lo], mn[src_hi]], axis=1)
+            else:
+                bound = np.stack([mn[src_lo, np.maximum(lo_node[src_lo], 0)],
+                                  mn[src_hi, np.maximum(hi_node[src_hi], 0)]], axis=1)  # fmt: skip
+            z = np.concatenate([z, xm[bound].reshape(len(e), -1)], axis=1)
             mn = np.concatenate([mn, bound], axis=1)
         z = np.concatenate([z, kind_lo[:, None], kind_hi[:, None]], axis=1)
         return e, z, self._global_dofs(sn, mn), xs
@@ -190,7 +199,7 @@ class MortarContact(MortarInterface):
         xs, _, e, _, _, _, (ga, gb, coverage, (xi, wJ), ends) = self._overlapping(q)
         if len(e) == 0:  # no pair near: every row +inf (``_gap_values``)
             return e, [ga, gb], coverage, np.zeros((0, 2)), xs
-        lo, hi, lo_node, hi_node, m1, m2 = ends
+        lo, hi, lo_node, hi_node, m1, m2, _ = ends
         kind_lo, kind_hi, src_lo, src_hi = covered_ends(e, lo, hi, lo_node, hi_node,
                                                         len(self.facets))  # fmt: skip
         if np.any(kind_lo) or np.any(kind_hi):

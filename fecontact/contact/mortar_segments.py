@@ -43,8 +43,14 @@ GAUSS_POINTS = 5
 surfaces the rational projection is integrated to well below the discretization error."""
 
 FACING = 0.5
-"""Segments face each other when their normals make more than 120° (n_s·n_m < −½): a side
+"""Segments face each other when their normals make more than 120° (n_s·n_m ≤ −½): a side
 face meeting the other body at a corner does not take the contact of the face below it."""
+
+TURNED = 0.25
+"""Beyond 120° a pair's weight φ falls as t²(3 − 2t), t = (−n_s·n_m − TURNED)/(FACING −
+TURNED), to 0 at n_s·n_m = −TURNED (104.5°; a block's side face against the face below,
+n_s·n_m = 0, stays out): a pair enters and leaves the weighted gaps continuously
+(:func:`_faded_overlap`)."""
 
 _THETA, _WEIGHT = np.polynomial.legendre.leggauss(GAUSS_POINTS)
 
@@ -123,8 +129,9 @@ def _project_master_node(xm, xd, nm, nd, y, order):
 
 def _overlap(xm, xd, nm, nd, y1, y2, nab, order):
     """The overlap [lo, hi] (Jets, finite) of the master segment's projection with
-    [−1, 1], its span hi − lo (0 where not covered), the covered fraction (P,), and the
-    master node (0: y_1, 1: y_2; −1: clamped at ∓1) whose projection each end is."""
+    [−1, 1], its span hi − lo (0 where not covered), the covered fraction (P,), the
+    master node (0: y_1, 1: y_2; −1: clamped at ∓1) whose projection each end is, the
+    cosine n_s·n_m of the segments' normals (Jet) and the node of each end unclamped."""
     s1 = _project_master_node(xm, xd, nm, nd, y1, order)
     s2 = _project_master_node(xm, xd, nm, nd, y2, order)
     first = s1.v <= s2.v
@@ -134,12 +141,100 @@ def _overlap(xm, xd, nm, nd, y1, y2, nab, order):
     nodes = (np.where(lo.v > -1.0, lo_node, -1), np.where(hi.v < 1.0, hi_node, -1))
     lo = lo.where(lo.v > -1.0, -1.0)
     hi = hi.where(hi.v < 1.0, 1.0)
-    facing = (_dot(nab, _segment_normal(y1, y2)).v < -FACING) & ~lost
+    turn = _dot(nab, _segment_normal(y1, y2))
+    facing = (turn.v < -TURNED) & ~lost
     with np.errstate(invalid="ignore"):
         coverage = np.where(facing & np.isfinite(s1.v + s2.v), np.maximum(hi.v - lo.v, 0.0), 0.0)
     coverage = 0.5 * np.nan_to_num(coverage)
     span = (hi - lo).where(np.isfinite(hi.v - lo.v) & (coverage > 0.0), 0.0)
-    return lo.where(np.isfinite(lo.v), 0.0), hi, span, coverage, nodes
+    lo = lo.where(np.isfinite(lo.v), 0.0)
+    return lo, hi, span, coverage, nodes, turn, (lo_node, hi_node)
+
+
+def _smooth(t: Jet) -> Jet:
+    """t²(3 − 2t) of t clipped to [0, 1] (Jet): 0 and 1 with their slopes continuous."""
+    s = t * t * (3.0 - t * 2.0)
+    with np.errstate(invalid="ignore"):
+        return s.where(t.v < 1.0, 1.0).where(t.v > 0.0, 0.0)
+
+
+def _faded_overlap(frame, nab, y1, y2, depth: float, order, integrate: bool = True):
+    """The overlap of the master segment (y1, y2) on the slave segment (``frame`` = x_m,
+    x_d, n_m, n_d; ``nab`` its normal) as :func:`_overlap`, shrunk to φ of its span
+    (``TURNED``) toward the end that is the projection of the master node nearer the slave
+    segment's line ((y − x_m)·n smaller: the contact zone's side, where the neighbouring
+    master segment faces more; the two nodes' distances differ by more than 0.86 of the
+    segment's length within the band, so the side cannot change while φ < 1). As φ falls
+    to 0 the pair's integral, its coverage and the end of the covered part it bounds (and
+    with them the dual functions of the other pairs on the segment) go continuously to
+    their values without it. A pair whose mean gap over its whole overlap is below
+    −``depth`` is dropped. Returns (lo, hi, coverage, nodes, (ξ, w J, g_N w J) at the Gauss
+    points, fading (P,): 0 < φ < 1), or (lo, hi) alone without ``integrate``."""
+    lo, hi, span, coverage, nodes, turn, ids = _overlap(*frame, y1, y2, nab, order)
+    fading = (coverage > 0.0) & (turn.v > -FACING)
+    if not fading.any():  # (most pairs: the overlap and its integral as they are)
+        if not integrate:
+            return lo, hi
+        xi, gap, wJ = _integration(frame, y1, y2, lo, span, coverage)
+        return _kept(lo, hi, coverage, nodes, (xi, gap, wJ), depth, fading)
+    if integrate:  # (whether behind, from the values over the whole overlap)
+        plain = _integration(*_plain((frame, y1, y2, lo, span)), coverage)
+        behind = _behind(plain[1], plain[2], depth)
+        coverage, fading = np.where(behind, 0.0, coverage), fading & ~behind
+    phi = _smooth((turn * -1.0 - TURNED) * (1.0 / (FACING - TURNED)))
+    reach = [(y[0].v - frame[0][0].v) * nab[0].v + (y[1].v - frame[0][1].v) * nab[1].v
+             for y in (y1, y2)]  # fmt: skip
+    near = np.where(reach[0] <= reach[1], 0, 1)
+    toward_lo = (ids[0] == near) & (ids[1] != near)
+    part = span * phi
+    lo, hi = (lo.where(toward_lo, hi - part).where(fading, lo),
+              (lo + part).where(toward_lo, hi).where(fading, hi))  # fmt: skip
+    if not integrate:
+        return lo, hi
+    nodes = (np.where(fading & ~toward_lo, ids[0], nodes[0]),
+             np.where(fading & toward_lo, ids[1], nodes[1]))  # fmt: skip
+    coverage = np.where(fading, coverage * phi.v, coverage)
+    points = _integration(frame, y1, y2, lo, part.where(fading, span), coverage)
+    return _kept(lo, hi, coverage, nodes, points, np.inf, fading & (coverage > 0.0))
+
+
+def _plain(x):
+    """``x`` (a Jet, or tuples of them) without derivatives."""
+    return Jet(x.v, None, None) if isinstance(x, Jet) else tuple(_plain(c) for c in x)
+
+
+def _behind(gap: Jet, wJ: Jet, depth: float) -> np.ndarray:
+    """The pairs (P,) whose mean gap over the Gauss points (P G) is below −``depth``."""
+    P, G = len(gap.v) // GAUSS_POINTS, GAUSS_POINTS
+    with np.errstate(invalid="ignore"):
+        return (gap.v * wJ.v).reshape(P, G).sum(1) < -depth * wJ.v.reshape(P, G).sum(1)
+
+
+def _kept(lo, hi, coverage, nodes, points, depth: float, fading):
+    """:func:`_faded_overlap`'s answer, the pairs behind (:func:`_behind`) dropped."""
+    xi, gap, wJ = points
+    behind = _behind(gap, wJ, depth)
+    if behind.any():
+        coverage = np.where(behind, 0.0, coverage)
+        wJ = wJ.where(~np.repeat(behind, GAUSS_POINTS), 0.0)
+    return lo, hi, coverage, nodes, (xi, wJ, gap * wJ), fading
+
+
+def _integration(frame, y1, y2, lo, span, coverage):
+    """ξ, g_N (m) and w J (m) (Jets, P G) at the Gauss points of the overlaps [lo,
+    lo + span] (0 where ``coverage`` is 0): see :func:`segment_pair_integrals`."""
+    xm, xd, nm, nd = frame
+    d = _sub(y2, y1)
+    coef = (_cross(_sub(y1, xm), d), _cross(xd, d), _cross(nm, d), _cross(nd, d),
+            _dot(nm, nm), _dot(nm, nd), _dot(nd, nd), _dot(xd, xd).sqrt() * span)  # fmt: skip
+    G, P = GAUSS_POINTS, len(coverage)
+    keep = np.repeat(coverage > 0.0, G)
+    A, B, C, D, E, F, H, Jspan = (c.repeat(G) for c in coef)
+    xi = lo.repeat(G) + span.repeat(G) * np.tile(0.5 * (1.0 + _THETA), P)
+    nn = E + xi * (F * 2.0 + xi * H)
+    gap = (A - xi * B) / (C + xi * D).where(keep, 1.0) * nn.sqrt()
+    wJ = (Jspan * np.tile(0.5 * _WEIGHT, P)).where(keep, 0.0)
+    return xi, gap.where(keep, 0.0), wJ
 
 
 def _unwrapped(lo, hi, lo_node, hi_node, frame):
@@ -171,13 +266,19 @@ def _unwrapped(lo, hi, lo_node, hi_node, frame):
     return new_lo, new_hi, new_lo_node, new_hi_node, wrapped & ~left & ~right
 
 
-def _covered_end(kind, own, foreign, clamp: float, frame, order):
+def _covered_end(kind, own, foreign, clamp: float, context):
     """An end of the slave segment's covered part (Jet): ∓1, the entry's own overlap end,
-    or the projection of the master node ``foreign`` (``mortar_duals.covered_ends``)."""
+    or the projection of the master node ``foreign`` (``mortar_duals.covered_ends``); where
+    ``foreign`` is the two nodes of the master segment whose overlap bounds the part (a
+    shrinking overlap, :func:`_faded_overlap`), that overlap's end."""
     end = own.where(kind == OWN, clamp)
     if np.any(kind == FOREIGN):
+        frame, nab, depth, order = context
         with np.errstate(divide="ignore", invalid="ignore"):
-            x = _project_master_node(*frame, foreign, order)
+            if len(foreign) == 2:
+                x = _faded_overlap(frame, nab, *foreign, depth, order, False)[int(clamp > 0)]
+                return end.where(kind != FOREIGN, x)
+            x = _project_master_node(*frame, foreign[0], order)
         inside = (x.v > -1.0) & (x.v < 1.0)
         end = end.where(kind != FOREIGN, x.where(inside, clamp))
     return end
@@ -194,15 +295,18 @@ def segment_pair_integrals(z, has_prev, has_next, hessian=None, depth=np.inf, en
     ``ends``: None for the dual functions of the whole segment, or (kind_lo, kind_hi) (P,)
     from :func:`~fecontact.contact.mortar_duals.covered_ends`: the dual functions are then
     those of the segment's covered part (:mod:`~fecontact.contact.mortar_duals`), whose
-    foreign ends are the master nodes in z[:, 12:14] and z[:, 14:16] (z then (P, 16)).
+    foreign ends are the master nodes in z[:, 12:14] and z[:, 14:16] (z then (P, 16)), or
+    the ends of the overlaps of the master segments z[:, 12:16] and z[:, 16:20] (P, 20)
+    where an overlap that bounds a covered part may be shrinking (``TURNED``).
 
     Returns (ga, gb, coverage, quad, ends): the Jets of g̃_a, g̃_b (m²), the fraction of
     the slave segment the master segment covers (P,; 0 where the segments do not face each
-    other, ``FACING``, or miss each other), the quadrature of the overlap as values — ξ and
-    η (P, G), the weights w J (P, G) in m and the dual coefficients A (P, 2, 2) — for the
-    slip rows of friction, and (lo, hi, lo_node, hi_node, m1, m2): the overlap's ends (P,),
-    the master node each is the projection of (0: y_1, 1: y_2, −1: the segment's end), and
-    the values of ∫ N_1 g_N ds and ∫ N_2 g_N ds over the overlap (m²).
+    other, ``FACING`` and ``TURNED``, or miss each other), the quadrature of the overlap as
+    values — ξ and η (P, G), the weights w J (P, G) in m and the dual coefficients A (P, 2,
+    2) — for the slip rows of friction, and (lo, hi, lo_node, hi_node, m1, m2, fading): the
+    overlap's ends (P,), the master node each is the projection of (0: y_1, 1: y_2, −1: the
+    segment's end; a shrinking end keeps its node), the values of ∫ N_1 g_N ds and
+    ∫ N_2 g_N ds over the overlap (m²), and whether the overlap is shrinking (P,).
 
     At a point ξ, x(ξ) + s n(ξ) lies on the master line y_1 + η d, d = y_2 − y_1, for
     s = (y_1 − x) × d / (n × d); with x(ξ) = x_m + ξ x_d and n(ξ) = n_m + ξ n_d that is
@@ -216,38 +320,29 @@ def segment_pair_integrals(z, has_prev, has_next, hessian=None, depth=np.inf, en
     xm, xd = _scale(0.5, _add(xa, xb)), _scale(0.5, _sub(xb, xa))
     nm, nd = _scale(0.5, _add(na, nb)), _scale(0.5, _sub(nb, na))
     order = 0 if hessian is None else (2 if hessian else 1)
-    lo, hi, span, coverage, nodes = _overlap(xm, xd, nm, nd, y1, y2, nab, order)
-    d = _sub(y2, y1)
-    coef = (_cross(_sub(y1, xm), d), _cross(xd, d), _cross(nm, d), _cross(nd, d),
-            _dot(nm, nm), _dot(nm, nd), _dot(nd, nd), _dot(xd, xd).sqrt() * span)  # fmt: skip
+    frame = (xm, xd, nm, nd)
+    lo, hi, coverage, nodes, points, fading = _faded_overlap(frame, nab, y1, y2, depth, order)
+    xi, wJ, gw = points
     G, P = GAUSS_POINTS, len(z)
-    keep = np.repeat(coverage > 0.0, G)
-    A, B, C, D, E, F, H, Jspan = (c.repeat(G) for c in coef)
-    xi = lo.repeat(G) + span.repeat(G) * np.tile(0.5 * (1.0 + _THETA), P)
-    nn = E + xi * (F * 2.0 + xi * H)
-    gap = (A - xi * B) / (C + xi * D).where(keep, 1.0) * nn.sqrt()
-    wJ = (Jspan * np.tile(0.5 * _WEIGHT, P)).where(keep, 0.0)
-    gap = gap.where(keep, 0.0)
-    behind = (gap.v * wJ.v).reshape(P, G).sum(1) < -depth * wJ.v.reshape(P, G).sum(1)
-    if behind.any():
-        coverage = np.where(behind, 0.0, coverage)
-        wJ = wJ.where(~np.repeat(behind, G), 0.0)
-    gw = gap * wJ
     s0, s1 = _sum_gauss(gw, P, G), _sum_gauss(xi * gw, P, G)
     m1, m2 = (s0 - s1) * 0.5, (s0 + s1) * 0.5  # ∫ N_k g_N ds
     if ends is None or not (np.any(ends[0]) or np.any(ends[1])):
         ga, gb, duals = m1 * 2.0 - m2, m2 * 2.0 - m1, np.broadcast_to(STANDARD, (P, 2, 2))
     else:
-        frame = (xm, xd, nm, nd)
-        foreign = (bound[0], bound[1]) if bound else (None, None)
-        a = _covered_end(ends[0], lo, foreign[0], -1.0, frame, order)
-        b = _covered_end(ends[1], hi, foreign[1], 1.0, frame, order)
+        # the master nodes bounding the covered part, or the master segments whose
+        # overlaps do (z then (P, 20))
+        k = len(bound) // 2
+        foreign = (bound[:k], bound[k:]) if bound else ((None,), (None,))
+        context = (frame, nab, depth, order)
+        a = _covered_end(ends[0], lo, foreign[0], -1.0, context)
+        b = _covered_end(ends[1], hi, foreign[1], 1.0, context)
         A11, A12, A21, A22 = dual_coefficients(a, b)
         ga, gb = A11 * m1 + A12 * m2, A21 * m1 + A22 * m2
         duals = np.stack([A11.v, A12.v, A21.v, A22.v], axis=1).reshape(P, 2, 2)
+    d = _sub(y2, y1)
     eta = _master_parameter(xi.v, xm, xd, nm, nd, y1, d, G)
     quad = (xi.v.reshape(P, G), eta.reshape(P, G), wJ.v.reshape(P, G), duals)
-    return ga, gb, coverage, quad, (lo.v, hi.v, *nodes, m1.v, m2.v)
+    return ga, gb, coverage, quad, (lo.v, hi.v, *nodes, m1.v, m2.v, fading)
 
 
 def _master_parameter(xi, xm, xd, nm, nd, y1, d, G):
