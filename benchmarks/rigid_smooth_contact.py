@@ -149,7 +149,9 @@ def exact_error(name: str, params: dict, coarse: dict) -> float:
     t = np.array([r[0] for r in coarse["rows"]])
     q = np.array([r[1] for r in coarse["rows"]])
     if name == "bouncing_ball":
-        gap = np.array([sim.probes["gap"](sim.model, _State(r[1], r[2])) for r in coarse["rows"]])
+        gap = np.array(
+            [sim.probes["gap"].fn(sim.model, _State(r[1], r[2])) for r in coarse["rows"]]
+        )
         exact = ball_exact_gap(t, params["height"], params["restitution"])
         return float(np.max(np.abs(gap - exact)))
     if name == "rigid_pendulum":
