@@ -225,8 +225,9 @@ def main() -> None:
     rows = QUICK if args.quick else ROWS
     stem = "rigid_smooth_contact" + ("_quick" if args.quick else "")
     csv_path = Path(args.out) / f"{stem}.csv"
-    if args.from_csv:
+    if args.from_csv:  # the table of an earlier run (or of runs made apart, joined)
         table = read_csv(args.from_csv)
+        write_csv(csv_path, table, COLUMNS)
     else:
         table = []
         for label in args.row or rows:
@@ -241,7 +242,8 @@ def main() -> None:
             f"Each row at the case's step h with `smooth_contact` off and on; errors against an "
             f"h/{FINE} run of the same setting (h/`fine` where given; dofs, m or rad; "
             "velocities, m/s or rad/s); "
-            "`exact`: against the exact solution; `cpu`: CPU s of the run at h.",
+            "`exact`: against the exact solution; `cpu`: CPU s of the run at h (one run "
+            "each; the machine was shared with other runs).",
             "",
             markdown_table(table, SHOWN),
         ]
