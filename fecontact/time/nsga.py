@@ -243,7 +243,7 @@ class _Phases:
         preload = None if grip is None else self.h * grip[closed]  # the smooth forces' impulse
         W, Lam, self.iters["velocity"], tangential, self.works = velocity_jump(
             model, self.st, self.q, self.v, closed, self.g_tilde, self.opts, self.t, tol_gap,
-            self.Gb, held, preload,
+            self.Gb, held, preload, pressed=None if force is None else self.h * force[closed],
         )  # fmt: skip
         self.v[model.free_slice] += W
         if closed.size:
