@@ -42,7 +42,7 @@ from ..errors import InputError
 from .base import PairDefaults
 from .friction import tangent_basis
 from .geometry import closest_on_segments, point_line_distance
-from .inside import Surface
+from .inside import Surface, winding_numbers
 from .node_rigid import NodeRigidRows, NodeRoundRows, node_rows
 from .registry import register_pair
 
@@ -147,8 +147,9 @@ class VertexRows(PairDefaults):
         self.offsets = (0, 0)
 
     def _geometry(self, q: np.ndarray):
-        """The vertices' arms R r (k, 2) and positions p (k, 2), and the nodes (k, 2, 2) and
-        indices (k,) of their closest segments."""
+        """The vertices' arms R r (k, 2) and positions p (k, 2), the nodes (k, 2, 2) and
+        indices (k,) of their closest segments and the parameters ξ (k,) of the points
+        under them on the segments' lines (not clamped)."""
         (oa, ob), body = self.offsets, self.body
         x = body.positions(q[oa : oa + body.ndof])
         qr = q[ob : ob + 3]
@@ -159,25 +160,54 @@ class VertexRows(PairDefaults):
         P = np.repeat(p, F, axis=0)
         dist = closest_on_segments(P, np.tile(xf[:, 0], (k, 1)), np.tile(xf[:, 1], (k, 1)))[1]
         f = np.argmin(dist.reshape(k, F), axis=1)
-        return arm, p, xf[f], f
+        seg = xf[f]
+        d = seg[:, 1] - seg[:, 0]
+        xi = np.einsum("kd,kd->k", p - seg[:, 0], d) / np.einsum("kd,kd->k", d, d)
+        return arm, p, seg, f, xi, x
+
+    def _distances(self, q: np.ndarray, hessian: bool = True):
+        """Signed distances s (k,) of the vertices to the solid's boundary (m, negative
+        inside), with their gradients (k, 6) and Hessians (k, 6, 6) with respect to
+        (p, x₁, x₂); the arms, segments and clamped ξ of :meth:`_geometry`."""
+        arm, p, seg, f, xi, x = self._geometry(q)
+        f_line, G6, H6 = point_line_distance(p, seg[:, 0], seg[:, 1], hessian=hessian)
+        s, G6 = -f_line, -G6
+        H6 = None if H6 is None else -H6
+        node = (xi < 0.0) | (xi > 1.0)
+        if node.any():  # the closest point is the end node x_e: s = ±|p − x_e|
+            at = (xi[node] > 1.0).astype(float)  # 1 at x₂, 0 at x₁
+            w = p[node] - ((1.0 - at)[:, None] * seg[node, 0] + at[:, None] * seg[node, 1])
+            r = np.linalg.norm(w, axis=1)
+            # inside or out by the winding number: the sign of no single line is right there
+            a, b = x[self.facets[:, 0]], x[self.facets[:, 1]]
+            sign = np.where(winding_numbers(p[node], a, b) > 0.5, -1.0, 1.0)
+            B = np.zeros((len(r), 2, 6))  # ∂(p − x_e)/∂(p, x₁, x₂)
+            B[:, :, :2] = np.eye(2)
+            B[:, :, 2:4] = -(1.0 - at)[:, None, None] * np.eye(2)
+            B[:, :, 4:] = -at[:, None, None] * np.eye(2)
+            e = w / r[:, None]
+            s[node] = sign * r
+            G6[node] = sign[:, None] * np.einsum("mi,mij->mj", e, B)
+            if hessian:
+                K = (np.eye(2) - e[:, :, None] * e[:, None, :]) * (sign / r)[:, None, None]
+                H6[node] = np.einsum("mia,mij,mjb->mab", B, K, B)
+        return s, G6, H6, arm, seg, f, np.clip(xi, 0.0, 1.0)
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
-        _, p, seg, _ = self._geometry(q)
-        return -point_line_distance(p, seg[:, 0], seg[:, 1], hessian=False)[0] - self.clearance
+        return self._distances(q, hessian=False)[0] - self.clearance
 
     def evaluate(self, q: np.ndarray):
         """Gaps (k,), dofs (k, 7), gradients (k, 7) and Hessians (k, 7, 7)."""
-        arm, p, seg, f = self._geometry(q)
-        d, G6, H6 = point_line_distance(p, seg[:, 0], seg[:, 1])
+        s, G6, H6, arm, _, f, _ = self._distances(q)
         k = self.size
         A = np.zeros((k, 6, 7))  # ∂(p, x₁, x₂)/∂(c, θ, x₁, x₂)
         A[:, :2, :2] = np.eye(2)
         A[:, :2, 2] = arm @ _PERP.T
         A[:, 2:, 3:] = np.eye(4)
-        G = -np.einsum("mi,mij->mj", G6, A)
-        H = -np.einsum("mia,mij,mjb->mab", A, H6, A)
-        H[:, 2, 2] += np.einsum("mi,mi->m", G6[:, :2], arm)  # −G_p·∂²p/∂θ², ∂²p/∂θ² = −R r
-        return -d - self.clearance, self._dofs(f), G, H
+        G = np.einsum("mi,mij->mj", G6, A)
+        H = np.einsum("mia,mij,mjb->mab", A, H6, A)
+        H[:, 2, 2] -= np.einsum("mi,mi->m", G6[:, :2], arm)  # G_p·∂²p/∂θ², ∂²p/∂θ² = −R r
+        return s - self.clearance, self._dofs(f), G, H
 
     def _dofs(self, f: np.ndarray) -> np.ndarray:
         """Dofs (k, 7) of the rows: the body's (u_x, u_y, θ), then the segments' ``f``."""
@@ -193,13 +223,11 @@ class VertexRows(PairDefaults):
         return self.owner.friction
 
     def _slip_geometry(self, q: np.ndarray):
-        """The vertices' arms R r (k, 2), their segments (k,), the line parameters ξ (k,) of
-        the points under them and the rows' unit normals n (k, 2) (out of the solid)."""
-        arm, p, seg, f = self._geometry(q)
-        d = seg[:, 1] - seg[:, 0]
-        xi = np.einsum("kd,kd->k", p - seg[:, 0], d) / np.einsum("kd,kd->k", d, d)
-        n = -(d @ _PERP.T) / np.linalg.norm(d, axis=1)[:, None]  # −∂f/∂p
-        return arm, f, xi, n
+        """The vertices' arms R r (k, 2), their segments (k,), the parameters ξ ∈ [0, 1] (k,)
+        of the closest points and the rows' unit normals n = ∂s/∂p (k, 2) (out of the
+        solid)."""
+        _, G6, _, arm, _, f, xi = self._distances(q, hessian=False)
+        return arm, f, xi, G6[:, :2]
 
     def tangents(self, q: np.ndarray):
         """Dofs (k, 7), slip rows (k, 1, 7) and unit tangents T (k, 1, 2): the vertex's
