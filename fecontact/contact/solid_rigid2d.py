@@ -19,17 +19,26 @@ outline off it). For the polygon, with J the rotation by +90°, A = ∂ρ/∂(x,
 derivatives of ρ being ∂²ρ/∂x∂θ = −J Rᵀ, ∂²ρ/∂c∂θ = J Rᵀ and ∂²ρ/∂θ² = −ρ; s'' is zero on an
 edge and the vertex distance's curvature near a vertex. The rows hold nodes only: a polygon's
 vertex can enter the solid between two nodes, where no node row sees it. Each vertex p =
-c + R r therefore carries a row of its own (:class:`VertexRows`, the pair's companion)
-against the line of the solid's closest boundary segment (x₁, x₂), numbered with the outward
-normal on its right: g = −f(p, x₁, x₂) − clearance, f the signed distance from the line
-(positive on its left, :func:`~fecontact.contact.geometry.point_line_distance`), with its
-exact G and ∇²g through ∂p/∂(c, θ) = [I, J R r] and ∂²p/∂θ² = −R r. The pair's watch
-(:class:`VertexDepths`) measures the vertices inside the solid for the step's penetration test.
+c + R r therefore carries a row of its own (:class:`VertexRows`, the pair's companion): its
+signed distance to the solid's boundary, g = s(p) − clearance, negative inside. Its closest
+boundary segment (x₁, x₂) is numbered with the outward normal on its right; with ξ = (p −
+x₁)·(x₂ − x₁)/|x₂ − x₁|², where 0 ≤ ξ ≤ 1 the closest point is on the segment and s = −f(p,
+x₁, x₂), f the signed distance from its line (positive on its left,
+:func:`~fecontact.contact.geometry.point_line_distance`); beyond an end x_e the closest
+point is that node and s = ±|p − x_e|, inside (−) by the winding number of the boundary
+(no one segment's line tells the side there: near a sharp convex corner a point outside
+lies behind the line of a segment that ends there, near a concave one a point inside lies
+before both lines). s is continuous across segments, and reads the true distance however
+far the vertex is. G and ∇²g are exact on both branches, through ∂p/∂(c, θ) = [I, J R r] and
+∂²p/∂θ² = −R r, the node branch's curvature (I − e eᵀ)/|p − x_e| on p − x_e. The pair's
+watch (:class:`VertexDepths`) measures the vertices inside the solid for the step's
+penetration test.
 
 Coulomb friction: the node rows slip as the node against the body's material point under it
-(:mod:`fecontact.contact.node_rigid`); a vertex row as the vertex against the point of its
-segment's line under it, ṗ − ((1 − ξ) ẋ₁ + ξ ẋ₂) with ξ = (p − x₁)·(x₂ − x₁)/|x₂ − x₁|², so
-that G = n·W and the slip rows are T W, W = [I, J R r, −(1 − ξ) I, −ξ I], with the pair's μ.
+(:mod:`fecontact.contact.node_rigid`); a vertex row as the vertex against the boundary's
+closest point, ṗ − ((1 − ξ) ẋ₁ + ξ ẋ₂) with ξ clamped to [0, 1] (the end node beyond the
+segment), so that G = n·W, n = ∂s/∂p, and the slip rows are T W, W = [I, J R r, −(1 − ξ) I,
+−ξ I], with the pair's μ.
 """
 
 from __future__ import annotations
@@ -41,7 +50,7 @@ from ..bodies.solid import Solid
 from ..errors import InputError
 from .base import PairDefaults
 from .friction import tangent_basis
-from .geometry import closest_on_segments, point_line_distance
+from .geometry import point_line_distance
 from .inside import Surface, winding_numbers
 from .node_rigid import NodeRigidRows, NodeRoundRows, node_rows
 from .registry import register_pair
@@ -156,10 +165,13 @@ class VertexRows(PairDefaults):
         arm = self.vertices @ rotation(self.rigid.orientation(qr)).T
         p = arm + self.rigid.center(qr)
         xf = x[self.facets]  # (F, 2, 2)
-        k, F = self.size, len(xf)
-        P = np.repeat(p, F, axis=0)
-        dist = closest_on_segments(P, np.tile(xf[:, 0], (k, 1)), np.tile(xf[:, 1], (k, 1)))[1]
-        f = np.argmin(dist.reshape(k, F), axis=1)
+        a, b = xf[None, :, 0], xf[None, :, 1]  # (1, F, 2)
+        d, w = b - a, p[:, None] - a
+        t = np.clip(np.einsum("kfi,kfi->kf", w, d) / np.einsum("kfi,kfi->kf", d, d), 0.0, 1.0)
+        # the end node itself at t = 1: a vertex nearest a node is at one distance from its
+        # two segments to the bit, and keeps the first of them
+        closest = np.where((t == 1.0)[:, :, None], b, a + t[:, :, None] * d)
+        f = np.argmin(np.linalg.norm(p[:, None] - closest, axis=2), axis=1)
         seg = xf[f]
         d = seg[:, 1] - seg[:, 0]
         xi = np.einsum("kd,kd->k", p - seg[:, 0], d) / np.einsum("kd,kd->k", d, d)
