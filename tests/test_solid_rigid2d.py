@@ -6,6 +6,7 @@ import warnings
 
 import numpy as np
 import pytest
+import skfem
 
 from fecontact import Contact, IntegratorOptions, Model, Simulation, run
 from fecontact.bodies import LinearElastic, RigidBody2D, Solid
@@ -57,7 +58,7 @@ def test_node_rows_are_the_derivatives_of_the_gaps(shape):
 @pytest.mark.parametrize("shape", [Polygon.regular(5, 0.04), Polygon.box(0.06, 0.03)])
 @pytest.mark.parametrize("seed", [2, 3])
 def test_vertex_rows_are_the_derivatives_of_their_gaps(shape, seed):
-    """The polygon's vertex rows (against the line of the closest boundary segment): G and
+    """The polygon's vertex rows (the signed distance to the solid's boundary): G and
     ∇²g against central differences (step 1e-7, no segment switches within it) at random
     poses with vertices inside the block and outside. Bounds: the truncation, h² times the
     third derivative ~ w²/L⁴, is 1e-7 for a vertex 4 cm from a 5 mm segment (measured: the
@@ -83,6 +84,81 @@ def test_vertex_rows_are_the_derivatives_of_their_gaps(shape, seed):
         col = (dofs == j).astype(float)
         np.testing.assert_allclose((gp - gm) / 2e-7, np.sum(G * col, axis=1), atol=1e-8)
         np.testing.assert_allclose((Gp - Gm) / 2e-7, np.einsum("mkl,ml->mk", H, col), atol=1e-6)
+
+
+def vertex_rows(solid, points):
+    """The vertex rows of a rigid triangle with its vertices at ``points`` (3, 2) (m, the body
+    unturned at their centroid) against ``solid``: (rows, n)."""
+    points = np.asarray(points, float)
+    centre = points.mean(axis=0)  # a triangle's centroid
+    rigid = RigidBody2D.uniform(1.0, centre, Polygon(points - centre))
+    pair = Contact(solid, rigid)
+    Model([solid, rigid], [pair], gravity=(0.0, 0.0))
+    return pair.companions[0], solid.ndof + 3
+
+
+def l_shape():
+    """The 2 cm L (the square [−1, 1]² cm without its quarter x, y > 0), refined to 2.5 mm
+    cells: a concave corner of the boundary at the origin."""
+    mesh = skfem.MeshTri.init_lshaped().scaled(0.01).refined(2)
+    return Solid(mesh, RUBBER)
+
+
+def test_vertex_rows_read_the_distance_to_the_boundary():
+    """A vertex row's gap is the vertex's signed distance to the solid's boundary: to the
+    block's corner node where its projection falls beyond the top face (the far corners of a
+    1 m lid resting on the 0.2 m block, 0.4 m off, and a vertex 0.1 m above and 0.3 m
+    beside the block), to the face under a vertex 2 cm deep, four segments' length; and in
+    the L, to its concave corner node from inside (5 mm: closer than the sides' lines, 3
+    and 4 mm), to the faces at the notch from outside and from inside. Exact up to the
+    round-off of the coordinates (1e-16 m)."""
+    solid = block()
+    lid, n = vertex_rows(solid, [[-0.5, 0.0], [0.5, 0.0], [0.0, 0.1]])
+    g = lid.gaps(np.zeros(n))
+    np.testing.assert_allclose(g, [0.4, 0.4, 0.1], rtol=0, atol=1e-16)
+    rows, n = vertex_rows(solid, [[0.0012, -0.02], [0.4, 0.1], [0.5, 0.2]])
+    expected = [-0.02, np.hypot(0.3, 0.1), np.hypot(0.4, 0.2)]
+    np.testing.assert_allclose(rows.gaps(np.zeros(n)), expected, rtol=0, atol=1e-16)
+    rows, n = vertex_rows(l_shape(), [[-0.003, -0.004], [0.004, 0.003], [-0.002, 0.004]])
+    np.testing.assert_allclose(rows.gaps(np.zeros(n)), [-0.005, 0.003, -0.002], atol=1e-16)
+
+
+def assert_vertex_derivatives(rows, q, n, h, bounds):
+    """G and ∇²g of ``rows`` at q against central differences (step h) along every dof of
+    the rows, within ``bounds`` (on G, on ∇²g); no row changes its segment within ± h."""
+    g, dofs, G, H = rows.evaluate(q)
+    np.testing.assert_allclose(g, rows.gaps(q), rtol=0, atol=1e-17)
+    for j in np.unique(dofs):
+        d = np.zeros(n)
+        d[j] = h
+        gp, dp, Gp, _ = rows.evaluate(q + d)
+        gm, dm, Gm, _ = rows.evaluate(q - d)
+        assert (dp == dofs).all() and (dm == dofs).all()
+        col = (dofs == j).astype(float)
+        np.testing.assert_allclose((gp - gm) / (2 * h), np.sum(G * col, axis=1), atol=bounds[0])
+        hd = np.einsum("mkl,ml->mk", H, col)
+        np.testing.assert_allclose((Gp - Gm) / (2 * h), hd, atol=bounds[1])
+    return g
+
+
+@pytest.mark.parametrize("seed", [2, 3, 4])
+def test_vertex_rows_near_an_end_node_are_the_derivatives_of_their_gaps(seed):
+    """Vertices whose closest boundary point is an end node, 1 to 2 mm from it: outside the
+    block's corner, inside the L's concave corner (the node branch, g = ±|p − x_e|), with
+    the others on faces, at random poses of the nodes and the body (1e-4 m, rad). Bounds:
+    the truncation h² g''' ~ h²/r² = 1e-8 on G and h² G''' ~ h²/r³ = 1e-5 m⁻¹ on ∇²g
+    (measured 8e-10 and 1.3e-6, a hundred times those at h = 1e-6: the truncation), the
+    round-off 1e-16/1e-7: 1e-8 on G, 1e-5 on ∇²g (whose entries are 1/r ~ 1e3 m⁻¹)."""
+    rng = np.random.default_rng(seed)
+    cases = [
+        (block(), [[-0.1012, 0.0009], [-0.095, -0.004], [-0.09, 0.002]], 1.0),
+        (l_shape(), [[-0.0011, -0.0013], [0.002, 0.005], [-0.003, 0.004]], -1.0),
+    ]
+    for solid, points, side in cases:
+        rows, n = vertex_rows(solid, points)
+        q = 1e-4 * rng.normal(size=n)
+        g = assert_vertex_derivatives(rows, q, n, 1e-7, (1e-8, 1e-5))
+        assert np.sign(g[0]) == side
 
 
 def test_the_pair_is_named_either_way_and_checks_its_solid():

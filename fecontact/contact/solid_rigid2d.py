@@ -19,17 +19,26 @@ outline off it). For the polygon, with J the rotation by +90°, A = ∂ρ/∂(x,
 derivatives of ρ being ∂²ρ/∂x∂θ = −J Rᵀ, ∂²ρ/∂c∂θ = J Rᵀ and ∂²ρ/∂θ² = −ρ; s'' is zero on an
 edge and the vertex distance's curvature near a vertex. The rows hold nodes only: a polygon's
 vertex can enter the solid between two nodes, where no node row sees it. Each vertex p =
-c + R r therefore carries a row of its own (:class:`VertexRows`, the pair's companion)
-against the line of the solid's closest boundary segment (x₁, x₂), numbered with the outward
-normal on its right: g = −f(p, x₁, x₂) − clearance, f the signed distance from the line
-(positive on its left, :func:`~fecontact.contact.geometry.point_line_distance`), with its
-exact G and ∇²g through ∂p/∂(c, θ) = [I, J R r] and ∂²p/∂θ² = −R r. The pair's watch
-(:class:`VertexDepths`) measures the vertices inside the solid for the step's penetration test.
+c + R r therefore carries a row of its own (:class:`VertexRows`, the pair's companion): its
+signed distance to the solid's boundary, g = s(p) − clearance, negative inside. Its closest
+boundary segment (x₁, x₂) is numbered with the outward normal on its right; with ξ = (p −
+x₁)·(x₂ − x₁)/|x₂ − x₁|², where 0 ≤ ξ ≤ 1 the closest point is on the segment and s = −f(p,
+x₁, x₂), f the signed distance from its line (positive on its left,
+:func:`~fecontact.contact.geometry.point_line_distance`); beyond an end x_e the closest
+point is that node and s = ±|p − x_e|, inside (−) by the winding number of the boundary
+(no one segment's line tells the side there: near a sharp convex corner a point outside
+lies behind the line of a segment that ends there, near a concave one a point inside lies
+before both lines). s is continuous across segments, and reads the true distance however
+far the vertex is. G and ∇²g are exact on both branches, through ∂p/∂(c, θ) = [I, J R r] and
+∂²p/∂θ² = −R r, the node branch's curvature (I − e eᵀ)/|p − x_e| on p − x_e. The pair's
+watch (:class:`VertexDepths`) measures the vertices inside the solid for the step's
+penetration test.
 
 Coulomb friction: the node rows slip as the node against the body's material point under it
-(:mod:`fecontact.contact.node_rigid`); a vertex row as the vertex against the point of its
-segment's line under it, ṗ − ((1 − ξ) ẋ₁ + ξ ẋ₂) with ξ = (p − x₁)·(x₂ − x₁)/|x₂ − x₁|², so
-that G = n·W and the slip rows are T W, W = [I, J R r, −(1 − ξ) I, −ξ I], with the pair's μ.
+(:mod:`fecontact.contact.node_rigid`); a vertex row as the vertex against the boundary's
+closest point, ṗ − ((1 − ξ) ẋ₁ + ξ ẋ₂) with ξ clamped to [0, 1] (the end node beyond the
+segment), so that G = n·W, n = ∂s/∂p, and the slip rows are T W, W = [I, J R r, −(1 − ξ) I,
+−ξ I], with the pair's μ.
 """
 
 from __future__ import annotations
@@ -41,8 +50,8 @@ from ..bodies.solid import Solid
 from ..errors import InputError
 from .base import PairDefaults
 from .friction import tangent_basis
-from .geometry import closest_on_segments, point_line_distance
-from .inside import Surface
+from .geometry import point_line_distance
+from .inside import Surface, winding_numbers
 from .node_rigid import NodeRigidRows, NodeRoundRows, node_rows
 from .registry import register_pair
 
@@ -147,37 +156,70 @@ class VertexRows(PairDefaults):
         self.offsets = (0, 0)
 
     def _geometry(self, q: np.ndarray):
-        """The vertices' arms R r (k, 2) and positions p (k, 2), and the nodes (k, 2, 2) and
-        indices (k,) of their closest segments."""
+        """The vertices' arms R r (k, 2) and positions p (k, 2), the nodes (k, 2, 2) and
+        indices (k,) of their closest segments and the parameters ξ (k,) of the points
+        under them on the segments' lines (not clamped)."""
         (oa, ob), body = self.offsets, self.body
         x = body.positions(q[oa : oa + body.ndof])
         qr = q[ob : ob + 3]
         arm = self.vertices @ rotation(self.rigid.orientation(qr)).T
         p = arm + self.rigid.center(qr)
         xf = x[self.facets]  # (F, 2, 2)
-        k, F = self.size, len(xf)
-        P = np.repeat(p, F, axis=0)
-        dist = closest_on_segments(P, np.tile(xf[:, 0], (k, 1)), np.tile(xf[:, 1], (k, 1)))[1]
-        f = np.argmin(dist.reshape(k, F), axis=1)
-        return arm, p, xf[f], f
+        a, b = xf[None, :, 0], xf[None, :, 1]  # (1, F, 2)
+        d, w = b - a, p[:, None] - a
+        t = np.clip(np.einsum("kfi,kfi->kf", w, d) / np.einsum("kfi,kfi->kf", d, d), 0.0, 1.0)
+        # the end node itself at t = 1: a vertex nearest a node is at one distance from its
+        # two segments to the bit, and keeps the first of them
+        closest = np.where((t == 1.0)[:, :, None], b, a + t[:, :, None] * d)
+        f = np.argmin(np.linalg.norm(p[:, None] - closest, axis=2), axis=1)
+        seg = xf[f]
+        d = seg[:, 1] - seg[:, 0]
+        xi = np.einsum("kd,kd->k", p - seg[:, 0], d) / np.einsum("kd,kd->k", d, d)
+        return arm, p, seg, f, xi, x
+
+    def _distances(self, q: np.ndarray, hessian: bool = True):
+        """Signed distances s (k,) of the vertices to the solid's boundary (m, negative
+        inside), with their gradients (k, 6) and Hessians (k, 6, 6) with respect to
+        (p, x₁, x₂); the arms, segments and clamped ξ of :meth:`_geometry`."""
+        arm, p, seg, f, xi, x = self._geometry(q)
+        f_line, G6, H6 = point_line_distance(p, seg[:, 0], seg[:, 1], hessian=hessian)
+        s, G6 = -f_line, -G6
+        H6 = None if H6 is None else -H6
+        node = (xi < 0.0) | (xi > 1.0)
+        if node.any():  # the closest point is the end node x_e: s = ±|p − x_e|
+            at = (xi[node] > 1.0).astype(float)  # 1 at x₂, 0 at x₁
+            w = p[node] - ((1.0 - at)[:, None] * seg[node, 0] + at[:, None] * seg[node, 1])
+            r = np.linalg.norm(w, axis=1)
+            # inside or out by the winding number: the sign of no single line is right there
+            a, b = x[self.facets[:, 0]], x[self.facets[:, 1]]
+            sign = np.where(winding_numbers(p[node], a, b) > 0.5, -1.0, 1.0)
+            B = np.zeros((len(r), 2, 6))  # ∂(p − x_e)/∂(p, x₁, x₂)
+            B[:, :, :2] = np.eye(2)
+            B[:, :, 2:4] = -(1.0 - at)[:, None, None] * np.eye(2)
+            B[:, :, 4:] = -at[:, None, None] * np.eye(2)
+            e = w / r[:, None]
+            s[node] = sign * r
+            G6[node] = sign[:, None] * np.einsum("mi,mij->mj", e, B)
+            if hessian:
+                K = (np.eye(2) - e[:, :, None] * e[:, None, :]) * (sign / r)[:, None, None]
+                H6[node] = np.einsum("mia,mij,mjb->mab", B, K, B)
+        return s, G6, H6, arm, seg, f, np.clip(xi, 0.0, 1.0)
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
-        _, p, seg, _ = self._geometry(q)
-        return -point_line_distance(p, seg[:, 0], seg[:, 1], hessian=False)[0] - self.clearance
+        return self._distances(q, hessian=False)[0] - self.clearance
 
     def evaluate(self, q: np.ndarray):
         """Gaps (k,), dofs (k, 7), gradients (k, 7) and Hessians (k, 7, 7)."""
-        arm, p, seg, f = self._geometry(q)
-        d, G6, H6 = point_line_distance(p, seg[:, 0], seg[:, 1])
+        s, G6, H6, arm, _, f, _ = self._distances(q)
         k = self.size
         A = np.zeros((k, 6, 7))  # ∂(p, x₁, x₂)/∂(c, θ, x₁, x₂)
         A[:, :2, :2] = np.eye(2)
         A[:, :2, 2] = arm @ _PERP.T
         A[:, 2:, 3:] = np.eye(4)
-        G = -np.einsum("mi,mij->mj", G6, A)
-        H = -np.einsum("mia,mij,mjb->mab", A, H6, A)
-        H[:, 2, 2] += np.einsum("mi,mi->m", G6[:, :2], arm)  # −G_p·∂²p/∂θ², ∂²p/∂θ² = −R r
-        return -d - self.clearance, self._dofs(f), G, H
+        G = np.einsum("mi,mij->mj", G6, A)
+        H = np.einsum("mia,mij,mjb->mab", A, H6, A)
+        H[:, 2, 2] -= np.einsum("mi,mi->m", G6[:, :2], arm)  # G_p·∂²p/∂θ², ∂²p/∂θ² = −R r
+        return s - self.clearance, self._dofs(f), G, H
 
     def _dofs(self, f: np.ndarray) -> np.ndarray:
         """Dofs (k, 7) of the rows: the body's (u_x, u_y, θ), then the segments' ``f``."""
@@ -193,13 +235,11 @@ class VertexRows(PairDefaults):
         return self.owner.friction
 
     def _slip_geometry(self, q: np.ndarray):
-        """The vertices' arms R r (k, 2), their segments (k,), the line parameters ξ (k,) of
-        the points under them and the rows' unit normals n (k, 2) (out of the solid)."""
-        arm, p, seg, f = self._geometry(q)
-        d = seg[:, 1] - seg[:, 0]
-        xi = np.einsum("kd,kd->k", p - seg[:, 0], d) / np.einsum("kd,kd->k", d, d)
-        n = -(d @ _PERP.T) / np.linalg.norm(d, axis=1)[:, None]  # −∂f/∂p
-        return arm, f, xi, n
+        """The vertices' arms R r (k, 2), their segments (k,), the parameters ξ ∈ [0, 1] (k,)
+        of the closest points and the rows' unit normals n = ∂s/∂p (k, 2) (out of the
+        solid)."""
+        _, G6, _, arm, _, f, xi = self._distances(q, hessian=False)
+        return arm, f, xi, G6[:, :2]
 
     def tangents(self, q: np.ndarray):
         """Dofs (k, 7), slip rows (k, 1, 7) and unit tangents T (k, 1, 2): the vertex's
