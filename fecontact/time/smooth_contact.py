@@ -96,6 +96,7 @@ from .constraints import Constraints, StepFailure, augmentation, constraint_colu
 from .coulomb import frictional_restart, frictional_start
 from .lie import inertial_forces
 from .records import SmoothForces
+from .smooth_redundant import linearised_law, wandering
 
 __all__ = [
     "SmoothContacts",
@@ -153,6 +154,9 @@ class SmoothContacts:
         # known from the first update: :meth:`_next_active_set`)
         self.affine, self.live = model.contacts.affine, None
         self.last = None  # (the rows and the change of λ of the last update)
+        # (rows that can be redundant, decided once per run: :mod:`.smooth_redundant`)
+        self.redundant = opts.stats.contact.minimum_norm
+        self.complementary, self.seen = False, []
 
     def update(self, q: np.ndarray, curvature: bool) -> None:
         """Gaps, gradients (and, with ``curvature``, the curvature −Σ_A λ_j ∇²g_j of the
@@ -162,6 +166,8 @@ class SmoothContacts:
         self.g, self.G, self.C = self.contacts.linearize(q, self.P, weights)
         self.active = self._next_active_set(self.g, self.G)
         self.lam[~self.active] = 0.0
+        if self.redundant and not self.complementary:
+            self.complementary = wandering(self.seen, self.active, self.G)
 
     def _next_active_set(self, g: np.ndarray, G: np.ndarray) -> np.ndarray:
         """The contacts of the next update, decided on the force and the gap apart, so that
@@ -180,9 +186,27 @@ class SmoothContacts:
             if self.affine:
                 self.live = live
         holds = (self.lam > 0.0) & live
+        if self.complementary and self.solved is not None:
+            return self.active  # (the law's own set, :meth:`complementary_update`)
         if self.solved is None:
             return holds | (g < 0.0)
         return np.where(self.active, holds, g < 0.0)
+
+    def complementary_update(self, L, x0, Y, lower, tol: float):
+        """Newton's update with the forces of the rows ``L`` from their linearised law
+        solved whole (:func:`~.smooth_redundant.linearised_law`); None where it does not
+        settle (then the active set's update is taken)."""
+        lam = self.lam[L]
+        new = linearised_law(self.g[L], lam, x0, Y, lower, tol)
+        if new is None:
+            return None
+        self.stats.complementary_smooth_updates += 1
+        self.lam[:] = 0.0
+        self.lam[L] = new
+        self.active = self.lam > 0.0
+        self.solved = self.active.copy()
+        self.last = (np.isin(np.arange(self.P.size), L), new - lam)
+        return x0 + Y @ (new - lam)
 
     def force_term(self) -> np.ndarray:
         return self.G.T @ self.lam
