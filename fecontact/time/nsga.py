@@ -127,7 +127,12 @@ class _Phases:
             P = persistent_contacts(model, st, opts.detection_margin * model.length)
         self.st_s = st  # the state the smooth step starts from
         step = (self.smooth_step or alpha_smooth_step)(model, st, t, c, opts, self.timer, P)
-        if opts.smooth and (rows := released(model, st, P, step.force, opts.tol_residual)).size:
+        # (rows that can be redundant: those still closed at q̃ are held)
+        closed = (step.q, opts.tol_gap * model.length) if opts.stats.contact.minimum_norm else None
+        if (
+            opts.smooth
+            and (rows := released(model, st, P, step.force, opts.tol_residual, closed)).size
+        ):
             at = (t, c, P, self.timer)
             self.st_s, step, self.release = _retake(model, st, step, rows, opts, at)
         self.P, self.step = P, step

@@ -51,7 +51,7 @@ def linearised_law(g, lam, x0, Y, lower, tol: float):
     def settled(x, w):
         return bool(np.all(w >= -tol) and np.all(np.abs(w[x > 0.0]) <= tol))
 
-    found = proximal_jump(D, c, np.zeros(len(c), bool), lam, settled, tol)
+    found = proximal_jump(D, c, np.zeros(len(c), bool), np.zeros(len(c)), settled, tol)
     return None if found is None else found[0]
 
 
