@@ -79,6 +79,9 @@ class ContactStats:
     # point method (:mod:`fecontact.contact.redundant_jump`), and its proximal steps
     redundant_jumps: int = 0
     redundant_jump_steps: int = 0
+    # smooth-step Newton updates whose persistent rows, dependent or with an active set that
+    # repeated, were solved whole as the linearised law (:mod:`fecontact.time.smooth_redundant`)
+    complementary_smooth_updates: int = 0
     # decided once per run: the model has pairs whose rows can be redundant up to round-off
     # (:func:`fecontact.contact.laws.kkt_multipliers` then reads the LU's pivots)
     minimum_norm: bool = False

@@ -294,11 +294,34 @@ def _rowed_update(form: AccelerationForm, touching) -> np.ndarray:
     own factors where one term's rows allow it, else the bordered system; on beams cut to a
     quarter turn of any node (:mod:`.turns`)."""
     term = touching[0]
-    if len(touching) == 1 and term.schur and (form.lie is None or term.schur_only):
+    dq = _complementary_update(form, term) if len(touching) == 1 and term.complementary() else None
+    if dq is not None:
+        bordered = False
+    elif len(touching) == 1 and term.schur and (form.lie is None or term.schur_only):
         dq, bordered = form._schur_update(term), False
     else:
         dq, bordered = form._bordered_update(touching), True
     return dq if form.opts.turns is None else _cut(form, dq, touching, bordered)
+
+
+def _complementary_update(form: AccelerationForm, term):
+    """The ``form``'s update with the linearised law of ``term``'s live rows solved whole
+    (:mod:`.smooth_redundant`), through the factors of K = S_t plus the forces' curvature;
+    None where the law does not settle."""
+    lie, res = form.lie, form.rnorm / form.ref
+    L, G, C = term.live_border()
+    if lie is not None:  # (the forces' curvature and the rows move with D through T(D))
+        C = lie.right(C)
+    if C is None:
+        solve = form._factors()
+    else:
+        K = plus_curvature(form.S, 1.0, C)
+        K = K.tocsc() if sp.issparse(K) else K
+        solve = factorize_or_fail(K, res, False, form.model.solver)
+    form.plain = False
+    Y = solve(G.T).reshape(form.model.n_free, -1)
+    lower = G if lie is None else lie.right(G)
+    return term.sc.complementary_update(L, -solve(form.r), Y, lower, form.step.tolerance.low)
 
 
 def _cut(form: AccelerationForm, dq: np.ndarray, touching, bordered: bool) -> np.ndarray:

@@ -127,9 +127,8 @@ class _Phases:
             P = persistent_contacts(model, st, opts.detection_margin * model.length)
         self.st_s = st  # the state the smooth step starts from
         step = (self.smooth_step or alpha_smooth_step)(model, st, t, c, opts, self.timer, P)
-        if opts.smooth and (rows := released(model, st, P, step.force, opts.tol_residual)).size:
-            at = (t, c, P, self.timer)
-            self.st_s, step, self.release = _retake(model, st, step, rows, opts, at)
+        if opts.smooth:  # (taken again without the contacts it releases)
+            self.st_s, step, self.release = _releases(model, st, step, P, opts, (t, c, self.timer))
         self.P, self.step = P, step
         self.q, self.v, self.vd, self.a, self.lam = step.q, step.v, step.vd, step.a, step.lam
         self.Gb, self.force = step.Gb, step.force
@@ -414,6 +413,17 @@ def _end_state(step: _Phases) -> State:
         friction=step.record,
         ledger=record,
     )
+
+
+def _releases(model, st, step, P, opts, at):
+    """(start state, ``step``, energy put in (J)): taken again (:func:`_retake`, ``at`` = (t,
+    c, timer)) without the contacts of ``P`` it releases (redundant ones closed are held)."""
+    closed = (step.q, opts.tol_gap * model.length) if opts.stats.contact.minimum_norm else None
+    rows = released(model, st, P, step.force, opts.tol_residual, closed)
+    if not rows.size:
+        return st, step, 0.0
+    t, c, timer = at
+    return _retake(model, st, step, rows, opts, (t, c, P, timer))
 
 
 def _retake(model, st, step, rows, opts, at):

@@ -96,6 +96,7 @@ from .constraints import Constraints, StepFailure, augmentation, constraint_colu
 from .coulomb import frictional_restart, frictional_start
 from .lie import inertial_forces
 from .records import SmoothForces
+from .smooth_redundant import linearised_law, wandering
 
 __all__ = [
     "SmoothContacts",
@@ -153,6 +154,8 @@ class SmoothContacts:
         # known from the first update: :meth:`_next_active_set`)
         self.affine, self.live = model.contacts.affine, None
         self.last = None  # (the rows and the change of λ of the last update)
+        # (rows that can be redundant, decided once per run: :mod:`.smooth_redundant`)
+        self.redundant, self.complementary, self.seen = opts.stats.contact.minimum_norm, False, []
 
     def update(self, q: np.ndarray, curvature: bool) -> None:
         """Gaps, gradients (and, with ``curvature``, the curvature −Σ_A λ_j ∇²g_j of the
@@ -162,6 +165,8 @@ class SmoothContacts:
         self.g, self.G, self.C = self.contacts.linearize(q, self.P, weights)
         self.active = self._next_active_set(self.g, self.G)
         self.lam[~self.active] = 0.0
+        if self.redundant and not self.complementary:
+            self.complementary = wandering(self.seen, self.active, self.G)
 
     def _next_active_set(self, g: np.ndarray, G: np.ndarray) -> np.ndarray:
         """The contacts of the next update, decided on the force and the gap apart, so that
@@ -180,9 +185,26 @@ class SmoothContacts:
             if self.affine:
                 self.live = live
         holds = (self.lam > 0.0) & live
+        if self.complementary and self.solved is not None:
+            return self.active  # (the law's own set, :meth:`complementary_update`)
         if self.solved is None:
             return holds | (g < 0.0)
         return np.where(self.active, holds, g < 0.0)
+
+    def complementary_update(self, L, x0, Y, lower, tol: float):
+        """Newton's update, the forces of the live rows ``L`` from their linearised law solved
+        whole (:func:`~.smooth_redundant.linearised_law`); None where it does not settle."""
+        lam = self.lam[L]
+        new = linearised_law(self.g[L], lam, x0, Y, lower, tol)
+        if new is None:
+            return None
+        self.stats.complementary_smooth_updates += 1
+        change, self.lam = new - lam, np.zeros(self.P.size)
+        self.lam[L] = new
+        self.active = self.lam > 0.0
+        self.solved = self.active.copy()
+        self.last = (np.isin(np.arange(self.P.size), L), change)
+        return x0 + Y @ change
 
     def force_term(self) -> np.ndarray:
         return self.G.T @ self.lam
@@ -321,7 +343,7 @@ def resting_start(
     return dataclasses.replace(st, vd=vd, a=vd.copy(), candidates=touching, smooth=smooth)
 
 
-def released(model, st, P: np.ndarray, force, rtol: float) -> np.ndarray:
+def released(model, st, P: np.ndarray, force, rtol: float, closed=None) -> np.ndarray:
     """The contacts of ``P`` pressed by a smooth force at t_n (``st``) that the smooth step's
     ``force`` (N, every contact) let go: down to ``rtol`` (the smooth Newton's relative
     tolerance) of the force at t_n, zero within the solve (a contact and its mirror image
@@ -332,11 +354,14 @@ def released(model, st, P: np.ndarray, force, rtol: float) -> np.ndarray:
     other, and taking the row's share out of v̇_n and a_n would start the step without a
     force that still acts (the elastic ball on the slab off-pole at 3 m/s: a node's
     weighted row handed 106 N to its own row, the retake without it pressed it again at
-    88 N and put in 3.4e-3 J)."""
+    88 N and put in 3.4e-3 J). Where rows can be redundant, ``closed`` = (q̃, gap
+    tolerance m): a row unloaded but closed at q̃ handed its force on, and is held."""
     if st.smooth is None or force is None or P.size == 0:
         return _NONE
     before = st.smooth.normal
     rows = P[(before[P] > 0.0) & (force[P] <= rtol * before[P])]
+    if closed is not None and rows.size:
+        rows = rows[model.contacts.gaps(closed[0])[rows] > closed[1]]
     twins = model.contacts.twins
     if twins is None or rows.size == 0:
         return rows

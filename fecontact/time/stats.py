@@ -154,6 +154,8 @@ class StepStats:
             "least_squares_multipliers": self.contact.least_squares,
             # smooth-step updates on an independent subset of redundant bordering rows
             "redundant_row_updates": self.contact.redundant_row_updates,
+            # ... and those whose persistent rows were solved whole as the linearised law
+            "complementary_smooth_updates": self.contact.complementary_smooth_updates,
             # position corrections whose cycling active set was frozen at its best
             "frozen_active_sets": self.contact.frozen_active_sets,
             # ... and those settled by complementarity updates on every row at once

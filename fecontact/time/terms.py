@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import scipy.sparse as sp
 
 from ..joints import newton_remainder
 from ..linalg import low_rank_solver
@@ -126,6 +127,11 @@ class ForceTerm:
 
     def take(self, x: np.ndarray) -> None:
         """Apply the bordered solve's update ``x`` of its multipliers."""
+
+    def complementary(self) -> bool:
+        """Whether its update is its rows' linearised law solved whole
+        (:mod:`.smooth_redundant`), not a bordered or Schur solve of its active rows."""
+        return False
 
     def retreat(self, s: float) -> None:
         """Take back the fraction ``s`` of the last update of its multipliers."""
@@ -406,6 +412,18 @@ class PersistentContacts(ForceTerm):
 
     def take(self, x: np.ndarray) -> None:
         self.sc.take(x)
+
+    def complementary(self) -> bool:
+        return not self.schur_only and self.sc.complementary
+
+    def live_border(self):
+        """(L, G_L, C): the rows of P that can hold (a finite gap, a nonzero gradient),
+        their gradients (dense) and the curvature of the forces at the iterate, for
+        :meth:`SmoothContacts.complementary_update`."""
+        sc = self.sc
+        G = sc.G.toarray() if sp.issparse(sc.G) else np.asarray(sc.G)
+        L = np.flatnonzero((sc.g < np.inf) & G.any(axis=1))
+        return L, G[L], sc.C
 
     def retreat(self, s: float) -> None:
         self.sc.retreat(s)
