@@ -251,6 +251,7 @@ def test_the_knocked_box_stack_runs_at_finer_steps(dt, tmp_path):
 
 
 @needs_coal
+@pytest.mark.slow
 def test_the_knocked_box_stack_runs_with_smooth_contact_at_a_finer_step(tmp_path):
     """With ``smooth_contact`` on at h = 5e-4 s, the smooth step's friction update failed
     three times between 0.5 and 0.6 s (residual up to 9.9e-13 m above its 3e-14 m) on
