@@ -2,6 +2,7 @@
 distances against closed forms, a box resting on a box, a box dropped corner first, two free
 boxes colliding."""
 
+import dataclasses
 import sys
 
 import numpy as np
@@ -21,6 +22,7 @@ from fecontact import (
 from fecontact.contact.convex_pairs import ConvexContact
 from fecontact.contact.rigid3d_pairs import BallBoxContact
 from fecontact.rotations import exp, log
+from fecontact.simulation import run
 from fecontact.time.simulate import simulate
 
 G = 9.81
@@ -222,3 +224,49 @@ def test_the_box_stack_rests_and_its_knocked_top_box_falls_off():
     top = sim.model.bodies[2]
     assert top.center(states[-1].q[12:18])[2] < 0.1
     assert min(s.gaps.min() for s in states[1:]) > -1e-9
+
+
+@needs_coal
+@pytest.mark.parametrize("dt", [5e-4, 2.5e-4])
+def test_the_knocked_box_stack_runs_at_finer_steps(dt, tmp_path):
+    """At h = 5e-4 and 2.5e-4 s the position correction closed the middle box onto the
+    bottom one to d = −1.4e-17 m, where EPA's normal is arbitrary (it gave (0.71, 0.71,
+    1e-5)): the face manifold fell to one witness, the next iterate lost the four corners and
+    the correction flip-flopped until the step failed at t = 0.084 s. The pair now takes the
+    face normal whose separating axis holds the distance: the run passes 0.1 s with no gap
+    below the constraints' round-off bound and no energy created beyond the ledger's warning."""
+    sim = load_case("box_stack").build(t_end=0.11)
+    sim = sim.replace(dt=dt)
+    summary = run(sim, tmp_path, frames=False, checkpoint_every=0)
+    assert summary["status"] == "completed"
+    # the constraints' own round-off bound, 4 tol_gap × the model size (1.2e-12 m): the
+    # correction stops at tol_gap × the coordinates' scale (3.8e-13 m here) and the jump's
+    # positions add their round-off (measured 1.7e-13 m at 5e-4, 3.7e-13 at 2.5e-4, and
+    # 4.2e-13 at the case's own 2e-3)
+    assert summary["max_penetration"] <= 4.0 * sim.options.tol_gap * sim.model.length
+    ledger = summary["energy_ledger"]
+    # no step creates energy beyond the ledger's warning (1e-3 of the scale)
+    assert ledger["created"] <= 1e-3 * ledger["scale"]
+    assert not summary["warnings"]
+
+
+@needs_coal
+@pytest.mark.slow
+def test_the_knocked_box_stack_runs_with_smooth_contact_at_a_finer_step(tmp_path):
+    """With ``smooth_contact`` on at h = 5e-4 s, the smooth step's friction update failed
+    three times between 0.5 and 0.6 s (residual up to 9.9e-13 m above its 3e-14 m) on
+    the corners of faces resting on the plane, whose slips over the step carry a part no
+    multiplier reaches (up to 2.7e-13 m): the update now drops that part as the position
+    correction does, counted. The run completes 0.6 s without halving a step, no gap below
+    the constraints' round-off bound, no energy created beyond the ledger's warning."""
+    sim = load_case("box_stack").build()
+    sim = sim.replace(dt=5e-4, options=dataclasses.replace(sim.options, smooth_contact="on"))
+    summary = run(sim, tmp_path, frames=False, checkpoint_every=0)
+    assert summary["status"] == "completed"
+    assert summary["step_halvings"] == 0
+    assert summary["friction_solver"]["unreachable_slip_solves"] > 0  # (the path is taken)
+    # 4 tol_gap × the model size (1.2e-12 m), as above (measured 2.9e-13 m)
+    assert summary["max_penetration"] <= 4.0 * sim.options.tol_gap * sim.model.length
+    ledger = summary["energy_ledger"]
+    assert ledger["created"] <= 1e-3 * ledger["scale"]  # (the ledger's warning; 3.7e-7 J)
+    assert not summary["warnings"]

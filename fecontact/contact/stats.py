@@ -37,8 +37,9 @@ class CoulombStats:
     # solves (in runs with redundant rows) whose warm start failed and whose cold start
     # (from zero) converged
     cold_restarts: int = 0
-    # position corrections (in runs with redundant rows) that failed on their slips and
-    # converged without the part of them no multiplier reaches (a face landing flat)
+    # position corrections and smooth-step friction updates (in runs with redundant rows)
+    # that failed on their slips and converged without the part of them no multiplier
+    # reaches (a face landing flat)
     unreachable_slip_solves: int = 0
 
 
