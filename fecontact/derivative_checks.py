@@ -8,6 +8,7 @@ import numpy as np
 
 __all__ = [
     "derivative_errors_near_contact",
+    "gap_steps_along",
     "gap_derivatives_error",
     "group_derivative_errors",
     "group_gradient_error",
@@ -131,3 +132,21 @@ def slip_step_errors(pair, q: np.ndarray, d: np.ndarray, rows, scales=(1.0, 0.1)
         errors.append(float(np.abs(pair.slips(q + s * d, q, T)[rows] - step).max()))
         errors[-1] /= float(np.abs(step).max())
     return errors
+
+
+def gap_steps_along(pair, q0: np.ndarray, q1: np.ndarray, samples: int):
+    """The rows' gap changes (m) between neighbouring points of the straight path from q0 to
+    q1 (``samples`` points), and the larger of the linear predictions |G Δq| at the two ends,
+    over the rows with a finite gap at both ends: a continuous gap changes by no more than its
+    slopes allow, a jump by far more."""
+    s = np.linspace(0.0, 1.0, samples)
+    dq = (q1 - q0) * (s[1] - s[0])
+    g, slope = [], []
+    for t in s:
+        gq, dofs, G, _ = pair.evaluate(q0 + t * (q1 - q0))
+        g.append(gq)
+        slope.append(np.abs(np.sum(G * dq[dofs], axis=1)))
+    g, slope = np.array(g), np.array(slope)
+    both = np.isfinite(g[1:]) & np.isfinite(g[:-1])
+    change = np.abs(np.diff(np.where(np.isfinite(g), g, 0.0), axis=0))[both]
+    return change, np.maximum(slope[1:], slope[:-1])[both]
