@@ -382,7 +382,7 @@ def test_a_smooth_row_with_no_gradient_leaves_the_active_set():
     g = np.array([0.014, 1e-6, -1e-6, 0.02])
     G = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.0, 1.0]])
     contacts = SimpleNamespace(linearize=lambda q, P, w: (g, G, None), affine=False)
-    opts = SimpleNamespace(stats=SimpleNamespace(contact=None))
+    opts = SimpleNamespace(stats=SimpleNamespace(contact=SimpleNamespace(minimum_norm=False)))
     sc = SmoothContacts(
         SimpleNamespace(contacts=contacts), np.arange(4), np.array([1e5, 2.0, 0, 0]), opts
     )

@@ -54,8 +54,10 @@ def velocity_jump(
     of the smooth forces), else None, and works (J) the normal, tangential and joint
     impulses' work at the mean rates (:func:`fecontact.contact.restitution.impulse_work`).
     ``pressed`` (len(closed),): the smooth forces' impulses h λ_N (N s) of the closed
-    contacts of a frictionless model, with which a held contact whose equality pulls it by
-    more than its force pressed it is let go (:func:`_let_go`)."""
+    contacts of a frictionless model of rigid bodies, with which a held contact whose
+    equality pulls it by more than its force pressed it is let go (:func:`_let_go`; measured
+    on rigid bodies, benchmarks/rigid_smooth_contact.py: solids and beams keep their held
+    equalities)."""
     F = model.free
     if closed.size == 0:
         # joints only: the M-orthogonal projection onto G_b v = 0, no active set to find
@@ -107,13 +109,20 @@ def velocity_jump(
     if model.joints.size:
         P0 = np.concatenate([P0, np.zeros(model.joints.size)])
     W, P, its = impact_law(G1, gdot, model.solve_M, Y, opts, cons.bilateral, P0, tol)
-    if pressed is not None and held is not None:
+    if _lets_go(model, pressed, held):
         W, P, its = _let_go(
             G1, gdot, model.solve_M, Y, opts, cons.bilateral, (W, P, its), pressed, tol
         )
     works = impulse_work(P, rates, rates + G1 @ W, closed.size, 0)
     P[: closed.size] = _without_round_off(P[: closed.size], preload)
     return W, P, its, None, works
+
+
+def _lets_go(model, pressed, held) -> bool:
+    """Whether the jump may let a held contact go (:func:`_let_go`): with the smooth forces'
+    impulses ``pressed`` and held contacts, on rigid bodies (measured there; solids and beams
+    keep their held equalities)."""
+    return pressed is not None and held is not None and not (model.continuum or model.slender)
 
 
 def _let_go(G1, gdot, solve, Y, opts, bilateral, jump, pressed, tol):

@@ -1,5 +1,4 @@
-r"""Contact forces in the smooth step: persistent contacts as unilateral constraints of the
-generalized-α Newton.
+r"""Contact forces in the smooth step: persistent contacts as unilateral constraints of Newton.
 
 In the fully decoupled scheme the smooth step carries no contact force, and a contact that
 stays closed is held only by the position correction U and the velocity jump W, which never
@@ -154,8 +153,9 @@ class SmoothContacts:
         # known from the first update: :meth:`_next_active_set`)
         self.affine, self.live = model.contacts.affine, None
         self.last = None  # (the rows and the change of λ of the last update)
-        # (rows that can be redundant, decided once per run: :mod:`.smooth_redundant`)
-        self.redundant, self.complementary, self.seen = opts.stats.contact.minimum_norm, False, []
+        # (once per run, :mod:`.smooth_redundant`; beams keep theirs: test_spatial_strike.py)
+        self.redundant = self.stats.minimum_norm and not model.slender
+        self.complementary, self.seen = False, []
 
     def update(self, q: np.ndarray, curvature: bool) -> None:
         """Gaps, gradients (and, with ``curvature``, the curvature −Σ_A λ_j ∇²g_j of the
