@@ -23,15 +23,14 @@ of the closed rows): the set of the answer is the law's, the multipliers are the
 member of their family, and neither the augmentation p nor the scale k enters (the law is
 solved without them). Newton then iterates on the rows' nonlinearity alone.
 
-Used in runs whose model can have redundant rows (decided once per run:
-``ContactStats.minimum_norm``), in a step whose active set holds dependent rows or repeats
-a set it had left, from that update to the step's end; every other
-step keeps the active-set iteration, to the bit. In those runs a row that the smooth step
-unloads while its gap stays closed is not released
-(:func:`fecontact.time.smooth_contact.released`): the least-norm forces handed its share to
-the rows it is redundant with. Measured on a rigid box landing flat on an elastic cube:
-docs/validation/stress_3d.md.
-"""
+Used in runs whose model can have redundant rows and no beam (decided once per run:
+``ContactStats.minimum_norm``; beams keep their updates on an independent subset), in a step
+whose active set holds dependent rows or repeats a set it had left, from that update to the
+step's end; every other step keeps the active-set iteration, to the bit. In those runs a row
+that the smooth step unloads while its gap stays closed is not released
+(:func:`fecontact.time.smooth_contact.released`): the least-norm forces handed its share to the
+rows it is redundant with. Measured on a rigid box landing flat on an elastic cube:
+docs/validation/stress_3d.md."""
 
 from __future__ import annotations
 
