@@ -40,17 +40,21 @@ one is taken with its boundary split through the mid nodes into linear segments.
 
 Contact rows are the slave boundary nodes. The master covers a part of a node's segments
 (where the slave normals meet master segments facing them); a node takes part when the
-covered part carries at least half of the shape-function weight of its covered segments,
-Σ_e ∫_covered N_j ds ≥ ½ Σ_e |e|/2: a node whose segments are covered only at their far
-ends would read a gap extrapolated from there. Other rows report g = +inf with a zero
-gradient. A master segment whose mean gap over its overlap is deeper than the margin behind
-the slave segment is a far part of the master that happens to face it, not a contact
-partner, and is left out. One whose normal turns from the slave's by less than 120° is left
-out gradually: its overlap shrinks to nothing by 104.5° (``mortar_segments.TURNED``), so
-that the rows stay continuous as it leaves. The search keeps the (slave, master) segment
-pairs whose midpoints are within the detection margin plus both segment lengths, refreshed
-when a node has moved by more than an eighth of the margin; a value-only pass drops the
-pairs that do not overlap before the differentiated one.
+covered part carries at least half of the shape-function weight of its covered segments from
+the node to their farthest covered point, Σ_e ∫_covered N_j ds ≥ ½ Σ_e ∫_{x_j}^{far} N_j ds:
+a node whose segments are covered only at their far ends would read a gap extrapolated from
+there, and a node inside the covered part always takes part (a segment counted whole, the
+node at a contact zone's edge left it as its outer segment began to be covered: from a
+sliver of it, W_j / Σ_e |e|/2 fell to |e_1| / (|e_1| + |e_2|), below ½ where the inner
+segment is compressed). Other rows report g = +inf with a zero gradient. A master segment
+whose mean gap over its overlap is deeper than the margin behind the slave segment is a far
+part of the master that happens to face it, not a contact partner, and is left out. One
+whose normal turns from the slave's by less than 120° is left out gradually: its overlap
+shrinks to nothing by 104.5° (``mortar_segments.TURNED``), so that the rows stay continuous
+as it leaves. The search keeps the (slave, master) segment pairs whose midpoints are within
+the detection margin plus both segment lengths, refreshed when a node has moved by more than
+an eighth of the margin; a value-only pass drops the pairs that do not overlap before the
+differentiated one.
 
 Friction: the slip row of node j is the weighted relative motion t_j·∫ Φ_j (ẋ − ẏ) ds / L_j
 along the slave node's tangent t_j, with the projections frozen over the step.

@@ -10,9 +10,10 @@ to one width, and decides which nodes take part: those whose covered support car
 the share s (``taking_part``: ½ in 2D, ¼ in 3D) of the weight of their covered elements,
 W_j ≥ s Σ_e |e|/n_e, W_j the covered weight the subclass reports (2D: of the shape functions
 N_j; 3D: of the dual functions Φ_j, equal to that of N_j since the dual functions of a partly
-covered element are those of its covered part, ∫_C Φ_j dA = ∫_C N_j dA). The others report
-g = +inf and a zero gradient. The gaps of the last q are kept: the time loop asks for
-them again at the same q (the correction, the probes, the summary).
+covered element are those of its covered part, ∫_C Φ_j dA = ∫_C N_j dA); a linear segment
+counts from the node to the farthest point of its covered part (:func:`segment_reach`). The
+others report g = +inf and a zero gradient. The gaps of the last q are kept: the time loop
+asks for them again at the same q (the correction, the probes, the summary).
 """
 
 from __future__ import annotations
@@ -26,11 +27,13 @@ from .mortar_safeguard import safeguard_rows
 
 __all__ = [
     "MortarInterface",
+    "covered_shares",
     "element_measures",
     "linear_faces",
     "linear_shares",
     "merge_interfaces",
     "node_normals",
+    "segment_reach",
 ]
 
 _COVERED = 1e-9  # an element covered by less than this fraction counts as not covered
@@ -54,6 +57,36 @@ def linear_shares(x: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """∫_e N_k dA (faces, nodes per face) of each face's nodes at positions x: |e|/n_e."""
     ends = faces.shape[1]
     return np.repeat(element_measures(x, faces) / ends, ends).reshape(-1, ends)
+
+
+def covered_shares(pair, xs, e, dual, covered) -> np.ndarray:
+    """The weight (C, ends) of the ``covered`` elements' ends that a node's covered weight is
+    measured against: the shares ∫_e N_k dA at the positions ``xs``; those of a 2D pair's
+    linear segments up to the farthest covered point (:func:`segment_reach`, from the
+    entries' covered weights ``dual`` (P, 2) on their elements ``e``)."""
+    share = pair.shares_of(xs, pair.facets[covered])
+    if pair.dim != 2 or pair.facets.shape[1] != 2:
+        return share
+    weights = [np.bincount(e, dual[:, k], len(pair.facets))[covered] for k in (0, 1)]
+    return share * segment_reach(share, *weights)
+
+
+def segment_reach(share: np.ndarray, w0: np.ndarray, w1: np.ndarray) -> np.ndarray:
+    """The part (S, 2) of each end's share of a linear segment (``share`` (S, 2), |e|/2)
+    that lies between that end and the farthest point of the segment's covered part, from
+    the covered weights ∫ N_0 ds and ∫ N_1 ds (S,): with the covered part [a, b] in ξ,
+    ∫_{−1}^{b} N_0 dξ = (1 + b)(3 − b)/4 and ∫_{a}^{1} N_1 dξ = (1 − a)(3 + a)/4. The
+    covered part's half length c and centre m follow from its weights: ∫ N_0 = c(1 − m)
+    |e|/2, ∫ N_1 = c(1 + m) |e|/2 (a covered part in pieces: the interval of the same
+    weights). 1 where the covered part reaches the far end; → 0 as a part that starts at
+    the end shrinks to nothing, so a node is not dropped when its other segment begins to
+    be covered from its side."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u0, u1 = w0 / share[:, 0], w1 / share[:, 1]
+        c, m = 0.5 * (u0 + u1), (u1 - u0) / (u0 + u1)
+    a = np.clip(np.nan_to_num(m - c, nan=-1.0), -1.0, 1.0)
+    b = np.clip(np.nan_to_num(m + c, nan=1.0), -1.0, 1.0)
+    return np.stack([(1.0 + b) * (3.0 - b), (1.0 - a) * (3.0 + a)], axis=1) * 0.25
 
 
 def node_normals(x: np.ndarray, facets: np.ndarray, rows: np.ndarray, m: int) -> np.ndarray:
@@ -227,7 +260,7 @@ class MortarInterface(PairDefaults):
             W += np.bincount(self.element_rows[e, k], dual[:, k], self.size)
         fraction = np.bincount(e, coverage, len(self.facets))
         covered = fraction > _COVERED
-        share = self.shares_of(xs, self.facets[covered]).ravel()
+        share = covered_shares(self, xs, e, dual, covered).ravel()
         support = np.bincount(self.element_rows[covered].ravel(), share, self.size)
         valid = (W > 0.0) & (W >= self.taking_part * support)
         if not self.partial:
