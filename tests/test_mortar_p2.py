@@ -354,3 +354,15 @@ def test_slip_rows_of_quadratic_faces_read_a_sliding_translation(test):
         expected = sign * T @ u
         # sums of products of weights of order 1: round-off
         assert np.max(np.abs(slip[pressed] - expected[pressed])) <= 1e-12
+
+
+def test_p2_disks_out_of_reach_have_open_rows():
+    """Two P2 disks farther apart than the search reaches (the fast approach's start): no
+    candidate pair, every row open (+inf), its gradient and slip rows empty of weight
+    (an empty batch of pairs once failed to reshape)."""
+    model, _, _ = p2_disks(gap=0.1, friction=0.3)
+    pair = model.contacts.pairs[0]
+    q = np.zeros(model.n)
+    g, _, G, _ = pair.evaluate(q)
+    assert np.all(np.isposinf(g)) and not np.any(G)
+    assert not np.any(pair.tangents(q)[1])

@@ -311,7 +311,7 @@ def _mass(N, ds: Jet, P: int, G: int):
 
 def _sum_points(f: Jet, P: int, G: int) -> Jet:
     """Σ over the G points of each of the P pairs."""
-    g = None if f.g is None else f.g.reshape(P, G, -1).sum(axis=1)
+    g = None if f.g is None else f.g.reshape(P, G, f.g.shape[1]).sum(axis=1)
     h = None if f.h is None else f.h.reshape(P, G, *f.h.shape[1:]).sum(axis=1)
     return Jet(f.v.reshape(P, G).sum(axis=1), g, h)
 
