@@ -27,7 +27,8 @@ straight segment's length), the property the patch test needs. L_j = Σ_e ∫_e 
 
 Segments face each other when their chords make more than 120°; between 120° and 104.5° a
 pair's overlap shrinks to 0 as on linear segments (``mortar_segments.TURNED``), so that a pair
-enters and leaves the weighted gaps continuously as the bodies turn.
+enters and leaves the weighted gaps continuously as the bodies turn. A pair deep behind
+(its mean gap below −margin) leaves likewise, by a weight on its points.
 
 A slave segment the master covers in part takes the dual functions biorthogonal on its
 covered part (Popp, Seitz, Gee & Wall, CMAME 2013), A = D M⁻¹ with M = ∫_covered N Nᵀ ds
@@ -51,7 +52,7 @@ from ..errors import InputError
 from .dual_numbers import Jet
 from .mortar import MortarContact
 from .mortar_p2 import QuadraticFacePairs, covered_part_gaps, dual_coefficients
-from .mortar_segments import FACING, GAUSS_POINTS, TURNED, fade_weight
+from .mortar_segments import FACING, GAUSS_POINTS, TURNED, fade_weight, smooth_step
 
 __all__ = [
     "MortarContactP2",
@@ -218,33 +219,34 @@ def _gauss(slave, master, lo, span, keep, order):
     return xi, t, eta, gds, w
 
 
-def _behind(gds: Jet, t, w: Jet, depth: float) -> np.ndarray:
-    """The pairs (P,) whose mean gap over their points is below −``depth``."""
+def _depth_weights(gds: Jet, t, w: Jet, depth: float):
+    """The pairs (P,) behind (mean gap over their points below −2 ``depth``) and the pairs'
+    weights ψ (Jet, P; None where no pair's mean gap ḡ lies between −2 ``depth`` and
+    −``depth``): 1 down to −``depth``, t²(3 − 2t) of t = (ḡ + 2 depth)/depth below, so that
+    a pair leaves continuously as the bodies overlap beyond the margin."""
     G = GAUSS_POINTS
     ds = np.sqrt(t[0].v ** 2 + t[1].v ** 2) * w.v
-    return (gds.v * w.v).reshape(-1, G).sum(1) < -depth * ds.reshape(-1, G).sum(1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        mean = (gds.v * w.v).reshape(-1, G).sum(1) / ds.reshape(-1, G).sum(1)
+        gone, ramp = mean <= -2.0 * depth, (mean < -depth) & (mean > -2.0 * depth)
+    if not ramp.any():  # (most evaluations: every pair whole or gone)
+        return gone, None
+    P = len(mean)
+    measure = _sum_points((t[0] * t[0] + t[1] * t[1]).sqrt() * w, P, G)
+    mean = _sum_points(gds * w, P, G) * measure.where(ramp, 1.0).reciprocal()
+    psi = smooth_step((mean + 2.0 * depth) * (1.0 / depth))
+    return gone, psi.where(ramp, 1.0)
 
 
-def _plain(x):
-    """``x`` (a Jet, or tuples of them) without derivatives."""
-    return Jet(x.v, None, None) if isinstance(x, Jet) else tuple(_plain(c) for c in x)
-
-
-def _shrunk(slave, master, overlap, depth: float, nodes):
+def _shrunk(overlap, nodes):
     """The overlap (lo, span, coverage) with the pairs in the fade band shrunk
-    (:func:`_faded`) and those of them behind (their mean gap over the whole overlap below
-    −``depth``) dropped; and the pairs fading (P,)."""
+    (:func:`_faded`)."""
     turn = _turn(*nodes)
     lo, span, coverage, _ = overlap
     fading = (coverage > 0.0) & (turn.v > -FACING)
     if not fading.any():  # (most pairs: the overlap as it is)
-        return lo, span, coverage, fading
-    keep = np.repeat(coverage > 0.0, GAUSS_POINTS)
-    plain = _gauss(_plain(slave), _plain(master), _plain(lo), _plain(span), keep, 0)
-    behind = fading & _behind(plain[3], plain[1], plain[4], depth)
-    fading &= ~behind
-    lo, span, coverage = _faded(overlap, turn, fading, nodes)
-    return lo, span, np.where(behind, 0.0, coverage), fading
+        return lo, span, coverage
+    return _faded(overlap, turn, fading, nodes)
 
 
 def p2_segment_integrals(z: np.ndarray, hessian=None, depth: float = np.inf):
@@ -252,7 +254,8 @@ def p2_segment_integrals(z: np.ndarray, hessian=None, depth: float = np.inf):
     segments: ``z`` (P, 12) the coordinates (m) of (x_a, x_b, x_m, y_1, y_2, y_m);
     ``hessian`` None (values), False (gradients) or True (Hessians too) over z; ``depth``
     (m): a master segment whose mean gap over the overlap is below −depth lies behind the
-    slave segment (a far part of the master facing it) and is dropped.
+    slave segment (a far part of the master facing it): its weight falls to 0 at −2 depth
+    (:func:`_depth_weights`).
 
     Returns (moments, mass_of, coverage, covered, quad): the Jets of m_k = ∫ N_k g_N ds (m²)
     and a function of a mask of the pairs giving their M_kl = ∫ N_k N_l ds (m, 3 × 3) over
@@ -267,16 +270,18 @@ def p2_segment_integrals(z: np.ndarray, hessian=None, depth: float = np.inf):
     order = 0 if hessian is None else (2 if hessian else 1)
     feet = (_foot(slave, y1, order), _foot(slave, y2, order))
     overlap = _overlap(*feet, _facing(z))
-    lo, span, coverage, fading = _shrunk(slave, master, overlap, depth, (xa, xb, y1, y2))
+    lo, span, coverage = _shrunk(overlap, (xa, xb, y1, y2))
     G, P = GAUSS_POINTS, len(z)
     keep = np.repeat(coverage > 0.0, G)
     xi, t, eta, gds, w = _gauss(slave, master, lo, span, keep, order)
     ds = np.sqrt(t[0].v ** 2 + t[1].v ** 2) * w.v
-    behind = _behind(gds, t, w, depth) & ~fading  # (the fading pairs: decided whole)
+    behind, psi = _depth_weights(gds, t, w, depth)
     if behind.any():
         coverage = np.where(behind, 0.0, coverage)
         w = w.where(~np.repeat(behind, G), 0.0)
         ds = np.where(np.repeat(behind, G), 0.0, ds)
+    if psi is not None:  # (the moments, M and the coverage of a pair all weighed by ψ)
+        w, coverage, ds = w * psi.repeat(G), coverage * psi.v, ds * np.repeat(psi.v, G)
     N = _shape(xi)
     moments = [_sum_points(Nk * (gds * w), P, G) for Nk in N]
 
