@@ -238,15 +238,14 @@ def _depth_weights(gds: Jet, t, w: Jet, depth: float):
     return gone, psi.where(ramp, 1.0)
 
 
-def _shrunk(overlap, nodes):
-    """The overlap (lo, span, coverage) with the pairs in the fade band shrunk
-    (:func:`_faded`)."""
-    turn = _turn(*nodes)
+def _shrunk(overlap, cosine: np.ndarray, nodes):
+    """The overlap (lo, span, coverage) with the pairs in the fade band (``cosine`` of the
+    chords' normals above −``FACING``) shrunk (:func:`_faded`)."""
     lo, span, coverage, _ = overlap
-    fading = (coverage > 0.0) & (turn.v > -FACING)
+    fading = (coverage > 0.0) & (cosine > -FACING)
     if not fading.any():  # (most pairs: the overlap as it is)
         return lo, span, coverage
-    return _faded(overlap, turn, fading, nodes)
+    return _faded(overlap, _turn(*nodes), fading, nodes)
 
 
 def p2_segment_integrals(z: np.ndarray, hessian=None, depth: float = np.inf):
@@ -269,8 +268,9 @@ def p2_segment_integrals(z: np.ndarray, hessian=None, depth: float = np.inf):
     slave, master = _curve(xa, xb, xm), _curve(y1, y2, ym)
     order = 0 if hessian is None else (2 if hessian else 1)
     feet = (_foot(slave, y1, order), _foot(slave, y2, order))
-    overlap = _overlap(*feet, _facing(z))
-    lo, span, coverage = _shrunk(overlap, (xa, xb, y1, y2))
+    cosine = _cosine(z)
+    overlap = _overlap(*feet, cosine < -TURNED)
+    lo, span, coverage = _shrunk(overlap, cosine, (xa, xb, y1, y2))
     G, P = GAUSS_POINTS, len(z)
     keep = np.repeat(coverage > 0.0, G)
     xi, t, eta, gds, w = _gauss(slave, master, lo, span, keep, order)
@@ -296,13 +296,13 @@ def p2_segment_integrals(z: np.ndarray, hessian=None, depth: float = np.inf):
     return moments, mass_of, coverage, covered, quad
 
 
-def _facing(z: np.ndarray) -> np.ndarray:
-    """Whether the segments face each other up to the end of the fade band: the normals are
-    the chords turned alike, so they face when the chords run opposite
-    (``mortar_segments.TURNED``)."""
+def _cosine(z: np.ndarray) -> np.ndarray:
+    """n_s·n_m (P,) of the pairs' normals, the chords turned alike: the segments face each
+    other below −``TURNED`` (the fade band's end, ``mortar_segments.TURNED``)."""
     chord_s, chord_m = z[:, 2:4] - z[:, 0:2], z[:, 8:10] - z[:, 6:8]
     size = np.linalg.norm(chord_s, axis=1) * np.linalg.norm(chord_m, axis=1)
-    return np.einsum("pi,pi->p", chord_s, chord_m) < -TURNED * size
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.einsum("pi,pi->p", chord_s, chord_m) / size
 
 
 def _mass(N, ds: Jet, P: int, G: int):
