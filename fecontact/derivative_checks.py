@@ -18,12 +18,14 @@ __all__ = [
 ]
 
 
-def gap_derivatives_error(pair, q: np.ndarray, eps: float = 1e-7) -> tuple[float, float]:
+def gap_derivatives_error(pair, q: np.ndarray, eps: float = 1e-7, rows=None):
     """Largest errors of a pair's gradient and Hessian against central differences of its
-    own gaps and gradients at q (each relative to the largest entry, or absolute below 1).
-    A dof listed twice in a row carries the sum of its entries."""
+    own gaps and gradients at q (each relative to the largest entry, or absolute below 1),
+    over ``rows`` (default: every row with a finite gap). A dof listed twice in a row
+    carries the sum of its entries."""
     g, dofs, G_, H = pair.evaluate(q)
-    rows = np.flatnonzero(np.isfinite(g))
+    finite = np.flatnonzero(np.isfinite(g))
+    rows = finite if rows is None else np.intersect1d(finite, rows)
     Hs = np.zeros((len(g),) + (dofs.shape[1],) * 2)
     if H is not None or pair.lazy_hessians:
         Hs[rows] = pair.hessians(q, rows) if pair.lazy_hessians else H[rows]

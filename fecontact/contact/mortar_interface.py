@@ -377,7 +377,7 @@ class MortarInterface(PairDefaults):
             # nodes that only bound the covered part (2D) carry no slip weight
             w = np.pad(w, ((0, 0), (0, r["layout"].cols.shape[2] // self.dim - w.shape[1])))
             v = w[:, None, :, None] * T[end][:, :, None, :]  # (P, nt, nodes, d)
-            values.append(v.reshape(len(e), T.shape[1], -1))
+            values.append(v.reshape(len(e), T.shape[1], v.shape[2] * v.shape[3]))
         return r["layout"].dofs, r["layout"].rows(ends, values), T
 
     def nodal_pressure(self, forces: np.ndarray):

@@ -193,7 +193,8 @@ class QuadraticFacePairs:
         xs, xm = self.positions(q)
         e, f = self._near(xs, xm, *self._pairs(xs, xm))
         sn, mn = self.facets[e], self.master_facets[f]
-        z = np.concatenate([xs[sn], xm[mn]], axis=1).reshape(len(e), -1)
+        z = np.concatenate([xs[sn], xm[mn]], axis=1)
+        z = z.reshape(len(e), z.shape[1] * z.shape[2])  # (also with no candidate pair)
         jets, coverage, covered, _ = self._integrate(e, z, None)
         keep = coverage > 0.0
         prior = ([j.take(keep) for j in jets], coverage[keep], covered[keep])

@@ -25,6 +25,11 @@ derivative of A, and Σ_j Φ_j = 1 holds on any segment: a uniform pressure z_j 
 every node k of either body its consistent P2 load p ∫ N_k ds (ends 1/6, mid 2/3 of a
 straight segment's length), the property the patch test needs. L_j = Σ_e ∫_e N_j ds.
 
+Segments face each other when their chords make more than 120°; between 120° and 104.5° a
+pair's overlap shrinks to 0 as on linear segments (``mortar_segments.TURNED``), so that a pair
+enters and leaves the weighted gaps continuously as the bodies turn. A pair deep behind
+(its mean gap below −margin) leaves likewise, by a weight on its points.
+
 A slave segment the master covers in part takes the dual functions biorthogonal on its
 covered part (Popp, Seitz, Gee & Wall, CMAME 2013), A = D M⁻¹ with M = ∫_covered N Nᵀ ds
 (:func:`~fecontact.contact.mortar_p2.covered_part_gaps`); a node takes part when its covered
@@ -47,7 +52,7 @@ from ..errors import InputError
 from .dual_numbers import Jet
 from .mortar import MortarContact
 from .mortar_p2 import QuadraticFacePairs, covered_part_gaps, dual_coefficients
-from .mortar_segments import FACING, GAUSS_POINTS
+from .mortar_segments import FACING, GAUSS_POINTS, TURNED, fade_weight, smooth_step
 
 __all__ = [
     "MortarContactP2",
@@ -163,8 +168,9 @@ def _meet(master, x, t, order):
 
 
 def _overlap(s1, s2, facing):
-    """[lo, hi] ∩ [−1, 1] of the master's end nodes' feet, its span (Jet, 0 where not
-    covered) and the covered fraction of the slave segment."""
+    """[lo, hi] ∩ [−1, 1] of the master's end nodes' feet: lo (Jet), its span (Jet, 0 where
+    not covered), the covered fraction of the slave segment and the master node (0: y_1,
+    1: y_2) whose foot lo is (clamped or not)."""
     first = s1.v <= s2.v
     lo, hi = s1.where(first, s2), s2.where(first, s1)
     lo = lo.where(lo.v > -1.0, -1.0)
@@ -173,7 +179,73 @@ def _overlap(s1, s2, facing):
         ok = facing & np.isfinite(s1.v + s2.v)
         coverage = 0.5 * np.where(ok, np.maximum(hi.v - lo.v, 0.0), 0.0)
     span = (hi - lo).where(coverage > 0.0, 0.0)
-    return lo.where(np.isfinite(lo.v), 0.0), span, coverage
+    return lo.where(np.isfinite(lo.v), 0.0), span, coverage, np.where(first, 0, 1)
+
+
+def _turn(xa, xb, y1, y2) -> Jet:
+    """n_s·n_m of the chords' normals (Jet): the normals are the chords turned alike."""
+    cs, cm = (xb[0] - xa[0], xb[1] - xa[1]), (y2[0] - y1[0], y2[1] - y1[1])
+    return _dot(cs, cm) * (_dot(cs, cs) * _dot(cm, cm)).sqrt().reciprocal()
+
+
+def _faded(overlap, turn: Jet, fading: np.ndarray, nodes):
+    """The overlap (lo, span, coverage, lo's master node) with the pairs ``fading``
+    (``mortar_segments.TURNED``) shrunk to φ of their span toward the foot of the master
+    node nearer the slave chord's line (``nodes`` = x_a, x_b, y_1, y_2; within the band the
+    two nodes' distances to it differ by at least 0.86 of the master chord, so the side
+    cannot change while φ < 1): lo (Jet), span (Jet), coverage."""
+    lo, span, coverage, lo_node = overlap
+    xa, xb, y1, y2 = ((p[0].v, p[1].v) for p in nodes)
+    normal = (xb[1] - xa[1], xa[0] - xb[0])
+    reach = [(y[0] - xa[0]) * normal[0] + (y[1] - xa[1]) * normal[1] for y in (y1, y2)]
+    toward_lo = lo_node == np.where(reach[0] <= reach[1], 0, 1)
+    phi = fade_weight(turn)
+    part = span * phi
+    lo = lo.where(toward_lo | ~fading, lo + span - part)
+    return lo, part.where(fading, span), np.where(fading, coverage * phi.v, coverage)
+
+
+def _gauss(slave, master, lo, span, keep, order):
+    """ξ, x′(ξ), η, g_N ds/dξ and the weights of dξ (Jets, P G) at the Gauss points of the
+    overlaps [lo, lo + span] (0 where not ``keep``, P G)."""
+    G, P = GAUSS_POINTS, len(keep) // GAUSS_POINTS
+    xi = lo.repeat(G) + span.repeat(G) * np.tile(0.5 * (1.0 + _THETA), P)
+    x, t = _at(tuple(tuple(k.repeat(G) for k in part) for part in slave), xi)
+    rep = tuple(tuple(k.repeat(G) for k in part) for part in master)
+    eta = _meet(rep, x, t, order)
+    y, _ = _at(rep, eta)
+    gds = ((y[0] - x[0]) * t[1] - (y[1] - x[1]) * t[0]).where(keep, 0.0)  # g_N ds/dξ
+    w = (span.repeat(G) * np.tile(0.5 * _WEIGHT, P)).where(keep, 0.0)
+    return xi, t, eta, gds, w
+
+
+def _depth_weights(gds: Jet, t, w: Jet, depth: float):
+    """The pairs (P,) behind (mean gap over their points below −2 ``depth``) and the pairs'
+    weights ψ (Jet, P; None where no pair's mean gap ḡ lies between −2 ``depth`` and
+    −``depth``): 1 down to −``depth``, t²(3 − 2t) of t = (ḡ + 2 depth)/depth below, so that
+    a pair leaves continuously as the bodies overlap beyond the margin."""
+    G = GAUSS_POINTS
+    ds = np.sqrt(t[0].v ** 2 + t[1].v ** 2) * w.v
+    with np.errstate(divide="ignore", invalid="ignore"):
+        mean = (gds.v * w.v).reshape(-1, G).sum(1) / ds.reshape(-1, G).sum(1)
+        gone, ramp = mean <= -2.0 * depth, (mean < -depth) & (mean > -2.0 * depth)
+    if not ramp.any():  # (most evaluations: every pair whole or gone)
+        return gone, None
+    P = len(mean)
+    measure = _sum_points((t[0] * t[0] + t[1] * t[1]).sqrt() * w, P, G)
+    mean = _sum_points(gds * w, P, G) * measure.where(ramp, 1.0).reciprocal()
+    psi = smooth_step((mean + 2.0 * depth) * (1.0 / depth))
+    return gone, psi.where(ramp, 1.0)
+
+
+def _shrunk(overlap, cosine: np.ndarray, nodes):
+    """The overlap (lo, span, coverage) with the pairs in the fade band (``cosine`` of the
+    chords' normals above −``FACING``) shrunk (:func:`_faded`)."""
+    lo, span, coverage, _ = overlap
+    fading = (coverage > 0.0) & (cosine > -FACING)
+    if not fading.any():  # (most pairs: the overlap as it is)
+        return lo, span, coverage
+    return _faded(overlap, _turn(*nodes), fading, nodes)
 
 
 def p2_segment_integrals(z: np.ndarray, hessian=None, depth: float = np.inf):
@@ -181,35 +253,35 @@ def p2_segment_integrals(z: np.ndarray, hessian=None, depth: float = np.inf):
     segments: ``z`` (P, 12) the coordinates (m) of (x_a, x_b, x_m, y_1, y_2, y_m);
     ``hessian`` None (values), False (gradients) or True (Hessians too) over z; ``depth``
     (m): a master segment whose mean gap over the overlap is below −depth lies behind the
-    slave segment (a far part of the master facing it) and is dropped.
+    slave segment (a far part of the master facing it): its weight falls to 0 at −2 depth
+    (:func:`_depth_weights`).
 
     Returns (moments, mass_of, coverage, covered, quad): the Jets of m_k = ∫ N_k g_N ds (m²)
     and a function of a mask of the pairs giving their M_kl = ∫ N_k N_l ds (m, 3 × 3) over
     the overlap (the weighted gaps are g̃ = A m,
     :func:`~fecontact.contact.mortar_p2.covered_part_gaps`), the fraction of the slave
     segment the pair covers (P,; 0 where the segments do not face each other,
-    ``mortar_segments.FACING``, or miss), ∫ N_k ds over the overlap (P, 3; m), and the
-    quadrature as values, ξ, η and the weights of ds (P, G), for the slip rows."""
+    ``mortar_segments.FACING`` and ``TURNED``, or miss), ∫ N_k ds over the overlap (P, 3;
+    m), and the quadrature as values, ξ, η and the weights of ds (P, G), for the slip rows."""
     c = Jet.variables(z, hessian)
     xa, xb, xm, y1, y2, ym = ((c[2 * i], c[2 * i + 1]) for i in range(6))
     slave, master = _curve(xa, xb, xm), _curve(y1, y2, ym)
     order = 0 if hessian is None else (2 if hessian else 1)
-    lo, span, coverage = _overlap(_foot(slave, y1, order), _foot(slave, y2, order), _facing(z))
+    feet = (_foot(slave, y1, order), _foot(slave, y2, order))
+    cosine = _cosine(z)
+    overlap = _overlap(*feet, cosine < -TURNED)
+    lo, span, coverage = _shrunk(overlap, cosine, (xa, xb, y1, y2))
     G, P = GAUSS_POINTS, len(z)
     keep = np.repeat(coverage > 0.0, G)
-    xi = lo.repeat(G) + span.repeat(G) * np.tile(0.5 * (1.0 + _THETA), P)
-    rep = tuple(tuple(k.repeat(G) for k in part) for part in slave)
-    x, t = _at(rep, xi)
-    eta = _meet(tuple(tuple(k.repeat(G) for k in part) for part in master), x, t, order)
-    y, _ = _at(tuple(tuple(k.repeat(G) for k in part) for part in master), eta)
-    gds = ((y[0] - x[0]) * t[1] - (y[1] - x[1]) * t[0]).where(keep, 0.0)  # g_N ds/dξ
-    w = (span.repeat(G) * np.tile(0.5 * _WEIGHT, P)).where(keep, 0.0)
+    xi, t, eta, gds, w = _gauss(slave, master, lo, span, keep, order)
     ds = np.sqrt(t[0].v ** 2 + t[1].v ** 2) * w.v
-    behind = (gds.v * w.v).reshape(P, G).sum(1) < -depth * ds.reshape(P, G).sum(1)
+    behind, psi = _depth_weights(gds, t, w, depth)
     if behind.any():
         coverage = np.where(behind, 0.0, coverage)
         w = w.where(~np.repeat(behind, G), 0.0)
         ds = np.where(np.repeat(behind, G), 0.0, ds)
+    if psi is not None:  # (the moments, M and the coverage of a pair all weighed by ψ)
+        w, coverage, ds = w * psi.repeat(G), coverage * psi.v, ds * np.repeat(psi.v, G)
     N = _shape(xi)
     moments = [_sum_points(Nk * (gds * w), P, G) for Nk in N]
 
@@ -224,12 +296,13 @@ def p2_segment_integrals(z: np.ndarray, hessian=None, depth: float = np.inf):
     return moments, mass_of, coverage, covered, quad
 
 
-def _facing(z: np.ndarray) -> np.ndarray:
-    """Whether the segments face each other: the normals are the chords turned alike, so
-    they face when the chords run opposite (``mortar_segments.FACING``)."""
+def _cosine(z: np.ndarray) -> np.ndarray:
+    """n_s·n_m (P,) of the pairs' normals, the chords turned alike: the segments face each
+    other below −``TURNED`` (the fade band's end, ``mortar_segments.TURNED``)."""
     chord_s, chord_m = z[:, 2:4] - z[:, 0:2], z[:, 8:10] - z[:, 6:8]
     size = np.linalg.norm(chord_s, axis=1) * np.linalg.norm(chord_m, axis=1)
-    return np.einsum("pi,pi->p", chord_s, chord_m) < -FACING * size
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.einsum("pi,pi->p", chord_s, chord_m) / size
 
 
 def _mass(N, ds: Jet, P: int, G: int):
@@ -243,7 +316,7 @@ def _mass(N, ds: Jet, P: int, G: int):
 
 def _sum_points(f: Jet, P: int, G: int) -> Jet:
     """Σ over the G points of each of the P pairs."""
-    g = None if f.g is None else f.g.reshape(P, G, -1).sum(axis=1)
+    g = None if f.g is None else f.g.reshape(P, G, f.g.shape[1]).sum(axis=1)
     h = None if f.h is None else f.h.reshape(P, G, *f.h.shape[1:]).sum(axis=1)
     return Jet(f.v.reshape(P, G).sum(axis=1), g, h)
 

@@ -36,7 +36,7 @@ import numpy as np
 from .dual_numbers import Jet
 from .mortar_duals import FOREIGN, OWN, STANDARD, dual_coefficients
 
-__all__ = ["GAUSS_POINTS", "segment_pair_integrals"]
+__all__ = ["GAUSS_POINTS", "fade_weight", "segment_pair_integrals", "smooth_step"]
 
 GAUSS_POINTS = 5
 """Gauss points per overlap: exact for the linear patch (a quadratic integrand); on curved
@@ -151,11 +151,17 @@ def _overlap(xm, xd, nm, nd, y1, y2, nab, order):
     return lo, hi, span, coverage, nodes, turn, (lo_node, hi_node)
 
 
-def _smooth(t: Jet) -> Jet:
+def smooth_step(t: Jet) -> Jet:
     """t²(3 − 2t) of t clipped to [0, 1] (Jet): 0 and 1 with their slopes continuous."""
     s = t * t * (3.0 - t * 2.0)
     with np.errstate(invalid="ignore"):
         return s.where(t.v < 1.0, 1.0).where(t.v > 0.0, 0.0)
+
+
+def fade_weight(turn: Jet) -> Jet:
+    """φ (Jet) of the cosine ``turn`` = n_s·n_m of a pair's normals: 1 up to −``FACING``,
+    t²(3 − 2t) in the band, 0 from −``TURNED`` (``TURNED``)."""
+    return smooth_step((turn * -1.0 - TURNED) * (1.0 / (FACING - TURNED)))
 
 
 def _faded_overlap(frame, nab, y1, y2, depth: float, order, integrate: bool = True):
@@ -181,7 +187,7 @@ def _faded_overlap(frame, nab, y1, y2, depth: float, order, integrate: bool = Tr
         plain = _integration(*_plain((frame, y1, y2, lo, span)), coverage)
         behind = _behind(plain[1], plain[2], depth)
         coverage, fading = np.where(behind, 0.0, coverage), fading & ~behind
-    phi = _smooth((turn * -1.0 - TURNED) * (1.0 / (FACING - TURNED)))
+    phi = fade_weight(turn)
     reach = [(y[0].v - frame[0][0].v) * nab[0].v + (y[1].v - frame[0][1].v) * nab[1].v
              for y in (y1, y2)]  # fmt: skip
     near = np.where(reach[0] <= reach[1], 0, 1)
