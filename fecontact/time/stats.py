@@ -101,6 +101,7 @@ class TurnCounts:
 
     refused: int = 0
     cut_updates: int = 0
+    velocity_predictors: int = 0
 
 
 @dataclass

@@ -161,6 +161,8 @@ def make_stepper(
     _empty_caches(model)
     # (decided once: beams whose steps may create energy, module energy_guard)
     guard = EnergyGuard(model, settings) if guards(model, settings) else None
+    if settings.turns is not None:  # (a predictor too far coasts where the guard checks steps)
+        settings.turns.coasts = guard is not None
     return Stepper(model, settings, kind, guard)
 
 
