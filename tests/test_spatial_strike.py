@@ -218,6 +218,7 @@ def test_the_turn_bound_is_one_rule_in_the_plane_and_in_space():
             "refused": 1,
             "cut_updates": 1,
             "velocity_predictors": 0,
+            "damped_steps": 0,
         }
     disk = RigidBody2D.uniform(0.1, [0.0, 0.0], Disk(RADIUS))
     assert beam_turns(Model([disk], gravity=(0.0, 0.0))) is None
