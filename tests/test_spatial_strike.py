@@ -214,7 +214,12 @@ def test_the_turn_bound_is_one_rule_in_the_plane_and_in_space():
         dq[turns.free[3]] *= 4.0
         assert turns.cut(dq, stats) == pytest.approx(1.0 / (4.0 * 0.99), rel=1e-14)
         # (the halvings the refusal causes are the stepper's, counted with the states)
-        assert stats.summary(False)["beam_turns"] == {"refused": 1, "cut_updates": 1}
+        assert stats.summary(False)["beam_turns"] == {
+            "refused": 1,
+            "cut_updates": 1,
+            "velocity_predictors": 0,
+            "damped_steps": 0,
+        }
     disk = RigidBody2D.uniform(0.1, [0.0, 0.0], Disk(RADIUS))
     assert beam_turns(Model([disk], gravity=(0.0, 0.0))) is None
 

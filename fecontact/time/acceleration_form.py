@@ -55,8 +55,8 @@ class AccelerationForm:
     ``law``: unused (the step needs nothing else)."""
 
     __slots__ = (
-        "S armijo csc dq first group held lie model newton opts plain plan previous r ref rnorm "
-        "s small solve step x"
+        "S armijo coasted csc dq first group held lie model newton opts plain plan previous r "
+        "ref rnorm s small solve step x"
     ).split()
 
     def __init__(self, newton, st, c, t: float, P, law=None):  # (newton: the loop)
@@ -79,6 +79,7 @@ class AccelerationForm:
         self.plain = True  # every solve was with S_t alone: S_t's solver is a metric
         self.previous, self.s = math.inf, 1.0
         self.rnorm, self.ref = math.inf, 1.0
+        self.coasted = False  # (started at constant velocity: :meth:`coast`)
         model = self.model
         # on a Lie group the first row of X is the increment D, and q = q_n ⊕ D (:mod:`.lie`)
         if self.group:
@@ -93,6 +94,10 @@ class AccelerationForm:
         else:
             self.lie = None
             self.step = StepContext(model, c, t, st, self.opts, P, predict(st, c))
+
+    def coast(self) -> None:
+        """Start again at the predictor of constant velocity (:func:`_coast`)."""
+        _coast(self)
 
     def residual(self, it: int) -> bool:
         """The residual r at the iterate, after the Armijo test of the last full update
@@ -342,13 +347,28 @@ def _cut(form: AccelerationForm, dq: np.ndarray, touching, bordered: bool) -> np
     return fraction * dq
 
 
+def _coast(form: AccelerationForm) -> None:
+    """Start the ``form``'s step again at the predictor of constant velocity, q_n + h v_n (on
+    a group D = h v_n), with (v, v̇, a) moved at the rates of a Newton update: the
+    generalized-α relations hold, so the step's equations and root are the same, only
+    Newton's first iterate is another (:meth:`fecontact.time.turns.TurnBound.start`)."""
+    step, lie = form.step, form.lie
+    X, st, c = step.X, step.st, step.c
+    at = c.h * st.v if lie is not None else st.q + c.h * st.v
+    X += np.multiply.outer(c.w, at - X[0])
+    if lie is not None:  # (q = q_n ⊕ D)
+        step.q = lie.configuration(X[0])
+    form.coasted = True
+
+
 def _inertia(form: AccelerationForm, it: int) -> np.ndarray:
     """M v̇ (N) at the ``form``'s iterate. At the predictor v̇ = v̇_n whatever the step size,
     so another step from the same state (a located impact's refining smooth step, after its
     trial) takes the product its first step made, handed out as a copy (a force term may add
-    into the loop's residual in place)."""
+    into the loop's residual in place); not a step started at constant velocity (its v̇ is
+    another)."""
     step, model = form.step, form.model
-    if it == 0 and form.lie is None:
+    if it == 0 and form.lie is None and not form.coasted:
         st, Mvd = form.first
         if st is not step.st:
             Mvd = model.M @ step.vd[model.free_slice]

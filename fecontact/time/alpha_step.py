@@ -102,7 +102,7 @@ def alpha_smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
     turns = opts.turns
     if turns is not None:  # (beams: a step that turns a node too far is halved, :mod:`.turns`)
         group = newton.form.lie is not None
-        turns.check(newton.step.X[0], st.q, group, "the predictor", opts.stats)
+        turns.start(newton.form, st.q, group, opts)
     it, stale = newton.run()
     step, joints = newton.step, newton.joints
     if turns is not None:

@@ -97,7 +97,8 @@ class EnergyGuard:
     def __init__(self, model, settings: RunSettings):
         self.measure = StateEnergies(model)
         # (the same statistics, plan and traits: only the coefficients change)
-        self.settings = dataclasses.replace(settings, rho_inf=0.0)
+        # (and a predictor that turns a beam node too far starts at constant velocity)
+        self.settings = dataclasses.replace(settings, rho_inf=0.0, coasts=True)
         self.kind = localized_step
         self.scale = 0.0  # J: the largest T + V_strain of the run's states
         self.last: tuple[State, float] | None = None  # the last state measured, its E (J)

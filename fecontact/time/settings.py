@@ -43,7 +43,9 @@ class RunSettings(IntegratorOptions):
     inside/outside, mortar interfaces), so that the predictor's depth is checked
     (:func:`~fecontact.time.penetration.check_predictor`); ``turns``: the beams' nodal
     rotations, whose turn the smooth step bounds over the step and over each update that
-    rows border (:class:`~fecontact.time.turns.TurnBound`; None without beams)."""
+    rows border (:class:`~fecontact.time.turns.TurnBound`; None without beams), and
+    ``coasts``: a predictor that turns a beam node too far starts Newton at constant
+    velocity instead (the energy guard's steps at ρ∞ = 0, :mod:`.turns`)."""
 
     smooth: bool = False
     restarts: bool = False
@@ -55,6 +57,7 @@ class RunSettings(IntegratorOptions):
     momentum: MomentumKept | None = field(default=None, repr=False, compare=False)
     depth_check: bool = field(default=True, repr=False, compare=False)
     turns: TurnBound | None = field(default=None, repr=False, compare=False)
+    coasts: bool = field(default=False, repr=False, compare=False)
 
     def __post_init__(self):
         pass  # the values are those of options already checked, taken as they are

@@ -101,6 +101,8 @@ class TurnCounts:
 
     refused: int = 0
     cut_updates: int = 0
+    velocity_predictors: int = 0
+    damped_steps: int = 0
 
 
 @dataclass

@@ -75,7 +75,8 @@ class Stepper:
         """The state after ``h`` (s) from ``st``: one step, or, where it fails, two of h/2,
         recursively down to ``max_halvings`` levels (then the failure propagates). A step
         retaken because it left a point too deep inside a body counts in ``retakes``, one
-        whose predictor or smooth step turned a beam node too far in ``turn_halvings``. A
+        whose predictor or smooth step turned a beam node too far in ``turn_halvings`` (in a
+        run the guard checks, such a step is first taken at ρ∞ = 0: :mod:`.turns`). A
         whole step that created energy is taken again ``damped``, by the guard's settings
         and step function (:mod:`.energy_guard`). A generalized-α step of another size than
         the one that made ``st`` starts from its a taken to ``h`` (:func:`.resized`); the
@@ -98,10 +99,15 @@ class Stepper:
                 return end
             return hold_penetration(model, end, settings, timer)
         except StepFailure as err:
-            if depth >= self.settings.max_halvings:
+            turn = isinstance(err, TurnFailure)
+            # (a step refused for a turn, in a run the guard checks: taken at ρ∞ = 0 first)
+            damps = turn and not damped and self.guard is not None
+            if depth >= self.settings.max_halvings and not damps:
                 raise
             retake = isinstance(err, PenetrationFailure)
-            turn = isinstance(err, TurnFailure)
+        if damps:  # (the undamped modes that turned the node taken out: module turns)
+            self.stats.turns.damped_steps += 1
+            return self._taken(st, h, timer, depth, True)
         second = self.halves(st, h, timer, depth, damped)
         second.halvings += 1
         second.retakes += retake

@@ -11,6 +11,22 @@ turns a beam node by more than π/2 fails before its correction, and the stepper
 (:class:`~fecontact.time.stepper.Stepper`): π/2 is a quarter turn, half the turn a rotation
 vector can represent, a geometric bound and the same rule in the plane and in space.
 
+The predictor extrapolates the acceleration at constant v̇_n, h²/2 · v̇_n at ρ∞ = 1, and a
+strip's v̇_n holds its rotation modes (0.46-0.79 MHz on the founding strip of four elements,
+hω up to 5e4 at h = 1e-2) wherever generalized-α leaves them undamped: consistent with
+M v̇ = f_ext − f_int(q) to 1e-7 N, micro-radians of turn, but up to 1.2e8 rad/s², which the
+predictor at h = 1e-2 extrapolates to 1.05e3 rad. Halving divides that by four a level, and
+the halves at ρ∞ = 1 keep the modes: six halvings do not reach the bound. So in a run whose
+steps the energy guard checks (:mod:`.energy_guard`), a step refused for a turn is first
+taken as the guard's retakes are, at ρ∞ = 0, which annihilates those modes within the step,
+and its predictor, only Newton's first iterate, where it still turns a node too far, is
+started again at constant velocity, q_n + h v_n (D = h v_n in space), with (v, v̇, a)
+moved as by a Newton update, the step's equations kept. That step is halved where it fails
+(a node spinning at 1.55e4 rad/s at h = 0.1 ms turns by 1.55 rad at constant velocity).
+Started at constant velocity but left at ρ∞ = 1, the modes grow: the pendulum at e_N = 1,
+h = 1e-3 reached 2.2e10 rad/s² and 1.5e3 rad/s at 13.7 s and failed. Without the guard the
+step is halved as before: there the halvings are what bounds the ringing strip at ρ∞ ≥ 0.9.
+
 The same bound holds each Newton update that rows border (persistent contacts, joints). The
 energy descent of :mod:`.descent` tests the updates with S_t alone; those with rows are taken
 whole, and where S_t is indefinite (a struck strip's geometric stiffness) one of them can turn
@@ -20,8 +36,10 @@ turns the struck nodes by 80 rad (1.8e7 J of strain from 49 J). The kinematics l
 the iterate say nothing a quarter turn away, so such an update, with its multipliers, is cut
 to turn no node by more than π/2: a damped Newton update, whose direction is kept.
 
-Both are counted in ``summary.json`` (``beam_turns``: the predictors and smooth steps
-refused, the halvings this caused and the steps that had any, the updates cut).
+All are counted in ``summary.json`` (``beam_turns``: the predictors and smooth steps
+refused, the halvings this caused and the steps that had any, the updates cut, the refused
+steps taken at ρ∞ = 0, ``damped_steps``, and the predictors started again at constant
+velocity, ``velocity_predictors``).
 """
 
 from __future__ import annotations
@@ -59,6 +77,20 @@ class TurnBound:
         # triples' norms in space; a few µs a step)
         self._dofs, self._free = dofs.ravel(), self.free.ravel()
         self._largest = _largest_angle if dofs.shape[1] == 1 else _largest_rotation
+
+    def start(self, form, q: np.ndarray, group: bool, opts) -> None:
+        """Newton's first iterate of the smooth step ``form`` (the acceleration form of
+        :mod:`~fecontact.time.acceleration_form` from the positions ``q``): its predictor, or,
+        where that turns a beam node by more than :data:`TURN_BOUND` and the run's settings
+        ``opts`` coast (the energy guard's), the predictor at constant velocity
+        (``form.coast()``, counted in ``opts.stats``); the step fails where the one kept
+        turns a node too far (module docstring)."""
+        dofs = self._dofs
+        x = form.step.X[0]
+        if opts.coasts and self._largest(x[dofs] if group else x[dofs] - q[dofs]) > TURN_BOUND:
+            opts.stats.turns.velocity_predictors += 1
+            form.coast()
+        self.check(form.step.X[0], q, group, "the predictor", opts.stats)
 
     def check(self, x: np.ndarray, q: np.ndarray, group: bool, what: str, stats) -> None:
         """Fail the step where ``x`` turns a beam node by more than :data:`TURN_BOUND` from
