@@ -12,7 +12,8 @@ from fecontact.cli.commands import main
 from fecontact.io.output import read_json
 from fecontact.testing import G, ball_exact_gap, ball_impact_times, case, pendulum_exact, trace
 from fecontact.time import IntegratorOptions, StepStats, simulate
-from fecontact.time.localize import hermite_root, localizes
+from fecontact.time.hermite import hermite_root
+from fecontact.time.localize import localizes
 
 E_BALL = 0.8
 

@@ -341,8 +341,9 @@ def test_the_spinning_drop_creates_no_energy(tmp_path):
 @pytest.mark.parametrize("dim", [2, 3])
 def test_the_spinning_drop_is_independent_of_p_and_k_and_of_the_order(dim):
     """p and k × 1e3 and ÷ 1e3, and the pair named the other way round: the same run to
-    1e-9 of the 0.03 m radius (measured 1e-16 m in the plane; in space 1e-16 m at × 1e3 and
-    1.2e-11 m at ÷ 1e3, the solvers' tolerance: the law's answer, not its parameters')."""
+    1e-9 of the 0.03 m radius (measured 1e-16 m in the plane and in space: the law's answer,
+    not its parameters'; in space 1.2e-11 m at ÷ 1e3 while the smooth step's test of a
+    slipping contact measured its law with the run's p, fecontact.time.coulomb)."""
     states = spinning_drop(dim)[0]
     for other in (spinning_drop(dim, scale=1e3)[0], spinning_drop(dim, scale=1e-3)[0],
                   spinning_drop(dim, rigid_first=True)[0]):  # fmt: skip

@@ -31,11 +31,13 @@ to the tolerance within ``MAX_REFINE`` smooth steps, or a gap unknown at the ste
 and ``failed`` (a smooth step of the split did not converge: the step is taken whole).
 Positions stay held at every sub-step, so no penetration follows from a split.
 
-Frictionless solids (:func:`frictionless_solids`) locate the closings beside a pressed
+Undamped solids (:func:`undamped_solids`) locate the closings beside a pressed
 contact too (the later rings of a contact patch): left to the step's end, a point that
 entered by about −ġ(1 − τ)h is pushed out by the correction, whose strain is energy the
 impact did not have (the ball at 10 m/s: 0.343 J of strain against 0.087 J of kinetic
-energy taken by the jump, 1.06 % of the run's scale created in one step).
+energy taken by the jump, 1.06 % of the run's scale created in one step). With friction,
+the contacts pressed within the last ``CHATTER_WINDOW`` steps (``lasting``, from
+:class:`~.substeps.Releases`) re-close at the step's end (counted ``persistent``).
 
 Flexible bodies' chattering contacts and the release read aside for solids take these
 steps in sub-steps (:mod:`fecontact.time.substeps`).
@@ -57,6 +59,7 @@ import numpy as np
 from ..errors import InputError
 from ..ledger import JoinedRecord
 from .constraints import StepFailure
+from .hermite import hermite_root
 from .nsga import smooth_phases
 from .settings import RunSettings
 from .state import PhaseTimer, State, deferred_ledger, length_scale
@@ -64,16 +67,26 @@ from .terms import SmoothContact
 from .window import instants, last_together
 
 __all__ = [
+    "FRICTIONAL_SOLIDS",
     "GRAZING",
     "MAX_IMPACTS",
     "MIN_REST",
     "TOGETHER",
     "joined",
-    "frictionless_solids",
+    "undamped_solids",
     "localized_step",
     "cache_keys",
     "drop_caches",
 ]
+
+FRICTIONAL_SOLIDS = False
+"""Whether "auto" localizes undamped frictional solids (:func:`undamped_solids`). Off: the
+struck block on its frictional floor creates 5.4e-2 of its scale off and 0 localized, but
+a tumbling block landing on corners with μ = 0.3 in space (``test_solid_rigid_friction``)
+then departs from its twin on a fixed box by 3.8e-5 m (bound 1e-6 m): a located impact
+sets the phase of the block's ringing, and the localized run departs from itself by 4.1e-5 m
+from a 1e-15 change of its initial velocity, the end-of-step run by 4.3e-8 m
+(docs/validation/localization.md)."""
 
 MAX_IMPACTS = 4
 """Impacts located in one step, at most (K): more is an accumulation (Zeno)."""
@@ -97,11 +110,6 @@ acceleration and the regula falsi converges superlinearly: 1 to 3 are measured).
 MASS_COLUMNS = ("mass",)
 """The column cache's key of the mass's columns M⁻¹G_jᵀ (no step size in it)."""
 
-_GRID = np.linspace(0.0, 1.0, 33)
-"""The samples of s at which the first sign change of a Hermite cubic is sought."""
-_SAMPLES = _GRID.tolist()
-_EPS = float(np.finfo(float).eps)
-
 LAST = 1e-9
 """Fraction of the step: an impact that closes this near its end ends the step."""
 
@@ -109,7 +117,8 @@ LAST = 1e-9
 def localizes(model, opts: RunSettings) -> bool:
     """Whether the run of ``model`` with ``opts`` locates impacts inside its steps: the
     option ``localize`` (``"auto"``: a model of rigid bodies and point masses with
-    frictionless contacts on fixed obstacles, or of solids, :func:`frictionless_solids`) for the
+    frictionless contacts on fixed obstacles, or of solids, :func:`undamped_solids`, with
+    friction where ``FRICTIONAL_SOLIDS``) for the
     NSGA generalized-α step (the options check it) on a model with contacts. Raises
     ``InputError`` for ``localize=True`` with moving obstacles."""
     value = opts.localize
@@ -117,30 +126,35 @@ def localizes(model, opts: RunSettings) -> bool:
     if value is True and model.contacts.moving:
         raise InputError("localize = true: moving obstacles are not supported (set localize=0)")
     if value == "auto":
-        # (measured: docs/validation/localization.md; friction is not yet validated with it)
+        # (measured: docs/validation/localization.md; friction between rigid bodies is not)
         rigid = not (model.continuum or model.slender)
         value = rigid and not (model.contacts.frictional or model.contacts.moving)
-        value = value or frictionless_solids(model)
+        solids = undamped_solids(model)
+        value = value or (solids and (FRICTIONAL_SOLIDS or not model.contacts.frictional))
     return bool(value and applies and model.contacts.size)
 
 
-def frictionless_solids(model) -> bool:
+def undamped_solids(model) -> bool:
     """Whether ``model`` has solids (rigid bodies beside them or not, no beams), undamped, its
-    contacts frictionless and on fixed obstacles or between its bodies: the models whose impacts
-    "auto" localizes in whole steps. Not friction (docs/validation/localization.md: no gain, and
-    a lasting frictional contact's nodes that lift and re-close cost several times the run), nor
-    Rayleigh damping (a damped block's located landing rebounds faster than it hit)."""
+    contacts on fixed obstacles or between its bodies, frictionless or not: the models whose
+    impacts "auto" localizes in whole steps. A frictional one leaves the re-closing of a
+    lasting contact's nodes to the step's end (:class:`~.substeps.Releases`; located too, the
+    struck block on its floor took 34 impacts for 14 and 1.4 × the CPU, and created 0 either
+    way). Not Rayleigh damping (a damped block's located landing rebounds faster than it
+    hit)."""
     solids = model.continuum and not model.slender  # (a rigid box on a slab: 12.4 % → 0)
     contacts = model.contacts
     undamped = not any(model.damping)
-    return (
-        bool(contacts.size) and solids and undamped and not (contacts.frictional or contacts.moving)
-    )
+    return bool(contacts.size) and solids and undamped and not contacts.moving
 
 
-def localized_step(model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
+def localized_step(
+    model, st: State, h: float, opts: RunSettings, timer: PhaseTimer, lasting=None
+) -> State:
     """The NSGA step from ``st`` over ``h`` (s), split at the instants the gaps open at its
-    start close (module docstring); a step without a closing is the NSGA step itself."""
+    start close (module docstring); a step without a closing is the NSGA step itself. The
+    contacts ``lasting`` (a mask, or None) are not located: their closing is left to the
+    step's end (counted ``persistent``)."""
     phases = smooth_phases(model, st, h, opts, timer)
     # (most steps end here: the gaps at q̃, which the correction takes as they are, all
     # above −tol_gap × the model size, a lower bound of the gap tolerance; the obstacles
@@ -149,7 +163,7 @@ def localized_step(model, st: State, h: float, opts: RunSettings, timer: PhaseTi
     g1 = phases.g_tilde = model.contacts.gaps(phases.q)
     if not g1.size or g1[g1.argmin()] >= -opts.tol_gap * model.length:
         return phases.finish(time.perf_counter())
-    return _split_step(model, st, h, opts, timer, phases)
+    return _split_step(model, st, h, opts, timer, phases, lasting)
 
 
 def _penetrates(model, phases, opts) -> bool:
@@ -160,7 +174,7 @@ def _penetrates(model, phases, opts) -> bool:
     return bool(g1.size) and g1.min() < -opts.tol_gap * model.length
 
 
-def _split_step(model, st, h, opts, timer, phases) -> State:
+def _split_step(model, st, h, opts, timer, phases, lasting) -> State:
     """:func:`localized_step` from its first smooth step ``phases``, which penetrates."""
     stats = opts.stats.localization
     kept: list = []  # the caches' entries of the full step
@@ -168,7 +182,7 @@ def _split_step(model, st, h, opts, timer, phases) -> State:
     # the split's sizes are used once: solved from the ladder's factors (linalg.ladder)
     passing, model.passing = model.passing, True
     try:
-        parts = _parts(model, st, h, opts, timer, phases, kept)
+        parts = _parts(model, st, h, opts, timer, phases, kept, lasting)
     except StepFailure:  # a smooth step of the split failed: the trial, whole (counted)
         stats.fallbacks["failed"] += 1
         stats.impacts, stats.first_closing = before
@@ -189,7 +203,7 @@ def _split_step(model, st, h, opts, timer, phases) -> State:
     return out
 
 
-def _parts(model, st, h, opts, timer, phases, kept: list) -> list[State] | None:
+def _parts(model, st, h, opts, timer, phases, kept: list, lasting) -> list[State] | None:
     """The parts of the step of ``h`` from ``st`` whose trial is ``phases``: each ends at a
     located impact, the last at the step's end; None where the trial is not split."""
     stats = opts.stats.localization
@@ -198,7 +212,7 @@ def _parts(model, st, h, opts, timer, phases, kept: list) -> list[State] | None:
     while True:
         if parts:
             phases = _rest_phases(model, cur, left, opts, timer)
-        split = _split(model, cur, phases, left, h, len(parts), opts, timer, kept)
+        split = _split(model, cur, phases, left, h, len(parts), opts, timer, kept, lasting)
         if split is None:
             if not parts:
                 return None
@@ -236,11 +250,11 @@ def _rest_phases(model, st, left, opts, timer):
             term.carried = False
 
 
-def _split(model, st, phases, left, h, done, opts, timer, kept: list):
+def _split(model, st, phases, left, h, done, opts, timer, kept: list, lasting=None):
     """(δ, the NSGA phases of a step of δ whose smooth step ends where the earliest gap that
     crosses in the trial ``phases`` closes), or None to finish the trial as it is; the first
     split of a step notes in ``kept`` the caches' entries its trial made."""
-    crossing = _crossing(model, st, phases, left, opts)
+    crossing = _crossing(model, st, phases, left, opts, lasting)
     if crossing is None:
         return None
     if not kept:
@@ -251,7 +265,7 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list):
     beside = st.candidates.size and (st.pressed() & (phases.g_tilde <= tol)).any()
     if done >= MAX_IMPACTS or (done and left < MIN_REST * h):
         reason = "accumulation"
-    elif beside and not frictionless_solids(model):
+    elif beside and not _locates_beside(model, lasting):
         reason = "persistent"
     elif rows.size == 0:
         reason = "unrefined"
@@ -273,6 +287,13 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list):
     return None
 
 
+def _locates_beside(model, lasting) -> bool:
+    """Whether closings beside a pressed contact are located: undamped solids', a frictional
+    one's only where its lasting contacts are known (``lasting``, :class:`~.substeps.Releases`;
+    ``localize=1``'s sub-steps leave them to the step's end)."""
+    return undamped_solids(model) and (lasting is not None or not model.contacts.frictional)
+
+
 def _rings(tau: np.ndarray, done: int, beside, h: float, left: float) -> bool:
     """Whether the closings at ``tau`` (fractions of the rest ``left`` of the step ``h``, s),
     beside a pressed contact or after one of the step's ``done`` impacts, close at more
@@ -280,7 +301,7 @@ def _rings(tau: np.ndarray, done: int, beside, h: float, left: float) -> bool:
     return bool((beside or done) and done + instants(tau, TOGETHER * h / left) > MAX_IMPACTS)
 
 
-def _crossing(model, st, phases, left, opts):
+def _crossing(model, st, phases, left, opts, lasting=None):
     """(tol, rows, τ, ġ(τ), g_0, jumps) of the contacts open at the start of the trial ``phases``
     whose gap at its end is below −tol (rows: a gap known at both ends, one per node, τ their
     Hermite crossing as a fraction of ``left``, ġ(τ) their closing speed in m/s, g_0 their
@@ -295,6 +316,11 @@ def _crossing(model, st, phases, left, opts):
         return None
     tol = opts.tol_gap * length_scale(model, phases.q)
     closing = (g1 < -tol) & (g0 > tol)
+    if lasting is not None and (closing & lasting).any():
+        closing &= ~lasting  # (a lasting contact's row re-closing: left to the step's end)
+        if not closing.any():
+            opts.stats.localization.fall_back("persistent", g1)
+            return None
     if not closing.any():
         return None
     rows = (closing & np.isfinite(g0)).nonzero()[0]
@@ -302,8 +328,8 @@ def _crossing(model, st, phases, left, opts):
     _, G0 = contacts.jacobian(st.q, rows)
     G1 = G0 if contacts.affine else contacts.jacobian(phases.q, rows)[1]  # (affine: constant)
     s0, s1 = left * (G0 @ st.v[F]), left * (G1 @ phases.v[F])  # slopes in s
-    half = 0.5 * tol  # (aimed inside the tolerance, on the open side: no correction)
-    tau, slope = hermite_root(g0[rows] - half, s0, g1[rows] - half, s1)
+    aim = closing_aim(model, tol)  # (inside the tolerance, on the open side: no correction)
+    tau, slope = hermite_root(g0[rows] - aim, s0, g1[rows] - aim, s1)
     keep = np.ones(rows.size, dtype=bool)
     if contacts.twins is not None:  # (no twin rows: every crossing stands for its node)
         keep = one_closing_per_node(contacts.twins, rows, tau)
@@ -312,6 +338,21 @@ def _crossing(model, st, phases, left, opts):
         keep &= sloped  # nodes have no twin; ball_on_slab at 10 m/s, localization.md)
     rows, tau, slope, sloped = rows[keep], tau[keep], slope[keep], sloped[keep]
     return tol, rows, tau, slope / left, g0[rows], ~sloped
+
+
+def closing_aim(model, tol: float) -> float:
+    """The gap (m) a located closing aims at, and half the band [0, 2 aim] it accepts: half
+    the gap tolerance ``tol`` (m), inside it on the open side; with friction, scaled from the
+    model's size to its smallest body's. A frictional closing's instant is then that of its
+    own bodies, not of the model's largest: a block landing on a fixed 1 m box aimed
+    4.5e-13 m higher than on the plane of the box's face, and accepted an iterate 1e-12 m
+    open that the plane refined further, and the two runs (μ = 0.3) parted by 7e-6 m in the
+    plane; scaled, 7.4e-11 m. Frictionless runs keep tol/2 (their references, as measured)."""
+    half = 0.5 * tol
+    bodies = model.bodies
+    if len(bodies) == 1 or not model.contacts.frictional:
+        return half
+    return half * (min(body.characteristic_length for body in bodies) / model.length)
 
 
 def one_closing_per_node(twins, rows: np.ndarray, tau: np.ndarray) -> np.ndarray:
@@ -335,106 +376,23 @@ def one_closing_per_node(twins, rows: np.ndarray, tau: np.ndarray) -> np.ndarray
     return ~(both & later)
 
 
-def hermite_root(g0, s0, g1, s1, samples: int = 32, iterations: int = 30):
-    """(s, p'(s)) at the first root s ∈ (0, 1] of the cubic Hermite p with p(0) = g0 > 0,
-    p'(0) = s0, p(1) = g1 < 0, p'(1) = s1 (arrays, one per contact): the first sign change
-    on ``samples`` intervals, then Newton kept inside it (bisection where it leaves), to
-    round-off (p within a few ulps of its largest term of zero, or a Newton step that no
-    longer moves s by more than a few ulps)."""
-    if g0.size == 1 and samples == _GRID.size - 1:  # (one closing: most located steps)
-        found = _hermite_root_one(*(float(x[0]) for x in (g0, s0, g1, s1)), iterations)
-        if found is not None:
-            return found
-    # p(s) = g0 + s0 s + c2 s² + c3 s³, by Horner (a dozen array operations fewer than the
-    # Hermite basis: the root of the step's one or few closings costs 15 µs, not 60)
-    d = g1 - g0
-    c2, c3 = 3.0 * d - 2.0 * s0 - s1, s0 + s1 - 2.0 * d
-
-    def p(s):
-        return ((c3 * s + c2) * s + s0) * s + g0
-
-    def dp(s):
-        return (3.0 * c3 * s + 2.0 * c2) * s + s0
-
-    grid = _GRID if samples == _GRID.size - 1 else np.linspace(0.0, 1.0, samples + 1)
-    values = p(grid[:, None])  # (samples + 1, contacts)
-    first = np.argmax(values <= 0.0, axis=0)  # p(1) = g1 < 0: a sign change exists
-    a, b = grid[first - 1], grid[first]
-    cols = np.arange(first.size)
-    pa, pb = values[first - 1, cols], values[first, cols]
-    s = a - pa * (b - a) / (pb - pa)  # the chord's root, then Newton
-    eps = np.finfo(float).eps
-    # round-off of p: a few ulps of its largest term
-    big = np.maximum(np.maximum(np.abs(g0), np.abs(g1)), np.maximum(np.abs(s0), np.abs(s1)))
-    small = 8.0 * eps * big
-    for _ in range(iterations):
-        ps = p(s)
-        if (np.abs(ps) <= small).all():  # (the method: np.all's wrapper costs as much)
-            break
-        below = ps <= 0.0
-        a, b = np.where(below, a, s), np.where(below, s, b)
-        newton = s - ps / dp(s)
-        if (np.abs(newton - s) <= 4.0 * eps * s).all():  # (stationary: s is the root)
-            s = newton
-            break
-        s = np.where((newton > a) & (newton < b), newton, 0.5 * (a + b))
-    return s, dp(s)
-
-
-def _hermite_root_one(g0: float, s0: float, g1: float, s1: float, iterations: int):
-    """:func:`hermite_root` of one contact in floats, on ``_GRID``: the same operations in
-    the same order (so the same root to the bit) without the arrays' overhead, on a ball's
-    first closing 40 → 6 µs of its crossing's search; None where a value is not finite
-    (NaN and inf: left to the arrays)."""
-    d = g1 - g0
-    c2, c3 = 3.0 * d - 2.0 * s0 - s1, s0 + s1 - 2.0 * d
-    if not all(map(math.isfinite, (g0, s0, g1, s1, c2, c3))):  # (the arrays' own way)
-        return None
-    values = []
-    for s in _SAMPLES:  # (up to the first sign change: the samples after it are not read)
-        values.append(((c3 * s + c2) * s + s0) * s + g0)
-        if values[-1] <= 0.0:
-            break
-    first = len(values) - 1 if values[-1] <= 0.0 else 0  # (no sign change: argmax's 0)
-    if first == 0:  # (no sign change, or p(0) ≤ 0 outside the contract: every sample)
-        values = [((c3 * s + c2) * s + s0) * s + g0 for s in _SAMPLES]
-    a, b = _SAMPLES[first - 1], _SAMPLES[first]
-    pa, pb = values[first - 1], values[first]
-    s = a - pa * (b - a) / (pb - pa)
-    eps = _EPS
-    small = 8.0 * eps * max(max(abs(g0), abs(g1)), max(abs(s0), abs(s1)))
-    for _ in range(iterations):
-        ps = ((c3 * s + c2) * s + s0) * s + g0
-        if abs(ps) <= small:
-            break
-        if ps <= 0.0:
-            b = s
-        else:
-            a = s
-        newton = s - ps / ((3.0 * c3 * s + 2.0 * c2) * s + s0)
-        if abs(newton - s) <= 4.0 * eps * s:
-            s = newton
-            break
-        s = newton if a < newton < b else 0.5 * (a + b)
-    return np.array([s]), np.array([(3.0 * c3 * s + 2.0 * c2) * s + s0])
-
-
 def _refine(model, st, phases, left, j, guess, tol, opts, timer):
-    """(δ, the phases of the smooth step of δ from ``st`` that ends with 0 ≤ g_j ≤ ``tol``):
-    regula falsi (Illinois) on g_j − tol/2 over δ ∈ (0, left) from the Hermite ``guess`` (τ,
+    """(δ, the phases of the smooth step of δ from ``st`` that ends with 0 ≤ g_j ≤ 2 aim, aim
+    the :func:`closing_aim` of ``tol``, at most ``tol``):
+    regula falsi (Illinois) on g_j − aim over δ ∈ (0, left) from the Hermite ``guess`` (τ,
     g_j at the start, whether g_j jumps from a placeholder), δ = τ·left first; None when
     ``MAX_REFINE`` smooth steps do not find it; a row that jumps has no root: the trial at the
     bracket's closed end, where its gap is first real (``stress_3d.md``, the 63 Δx/c balls)."""
     stats, below = opts.stats.localization, None  # (below: δ and trial on the closed side)
-    (tau, g0, jumps), half = guess, 0.5 * tol  # (aim: 0 ≤ g ≤ tol, no correction, module doc)
-    (a, ga), (b, gb) = (0.0, float(g0) - half), (left, float(phases.g_tilde[j]) - half)
+    (tau, g0, jumps), aim = guess, closing_aim(model, tol)  # (0 ≤ g ≤ 2 aim: no correction)
+    (a, ga), (b, gb) = (0.0, float(g0) - aim), (left, float(phases.g_tilde[j]) - aim)
     delta, side = float(tau) * left, 0  # (a float: the split's times and sizes are floats)
     for _ in range(MAX_REFINE):
         trial = smooth_phases(model, st, delta, opts, timer)
         stats.smooth_steps += 1
         trial.g_tilde = model.contacts.gaps(trial.q)
-        g = float(trial.g_tilde[j]) - half
-        if abs(g) <= half:
+        g = float(trial.g_tilde[j]) - aim
+        if abs(g) <= aim:
             return delta, trial
         if not math.isfinite(g):
             return None

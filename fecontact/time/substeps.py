@@ -12,7 +12,9 @@ as ``CHATTER`` sub-steps, each localized (:func:`fecontact.time.localize.localiz
 the releases and re-strikes fall at the sub-steps' resolution and every re-strike is
 located. A contact pressed for longer is a lasting one, left to the step. Such steps are
 counted (``subdivided_steps``). They are taken with ``localize`` on; "auto" localizes the
-solids it chooses (:func:`fecontact.time.localize.frictionless_solids`) in whole steps: the
+solids it chooses (:func:`fecontact.time.localize.undamped_solids`) in whole steps (with
+friction, a contact pressed within ``CHATTER_WINDOW`` steps is a lasting one whose
+re-closing is left to the step's end, :meth:`Releases.__call__`): the
 closing's energy is gone at the cost of a few smooth steps, where the sub-steps cost the
 contact phase about eight steps per step. There the releasing step (the last test above) is
 also taken aside in sub-steps, which read the contact's end at a sub-step's resolution and
@@ -69,7 +71,7 @@ def localized_stepper(model, opts: RunSettings):
     flexible and ``localize`` is on, :class:`Releases` (whole steps, sub-steps where a
     contact releases, the releasing step split at the release they read where the run's
     acceleration restarts after an impact) where "auto" chose it for solids
-    (:func:`frictionless_solids`), and
+    (:func:`undamped_solids`), and
     :func:`localized_step` itself (whole steps) where the bodies are rigid."""
     flexible = model.continuum or model.slender
     if flexible and opts.localize is True and CHATTER > 1:
@@ -95,6 +97,7 @@ class Localizer:
 
     def __init__(self, model):
         self.substeps = CHATTER
+        self.lasting = None  # (Releases: the contacts whose re-closing is not located)
         self.closed = -np.inf
         self.pressed = None
         self.force = np.zeros(model.contacts.size)  # N: the mean forces of the last step
@@ -136,7 +139,7 @@ class Localizer:
         before = st.pressed().any() if self.pressed is None else self.pressed
         parts, cur = [], st
         for _ in range(self.substeps):
-            cur = localized_step(model, cur, k, opts, timer)
+            cur = localized_step(model, cur, k, opts, timer, self.lasting)
             after = cur.pressed().any()
             if after and not before:
                 self.closed = parts[-1].t if parts else st.t
@@ -178,13 +181,34 @@ class Releases(Localizer):
         self.watched = None  # the contacts whose release the pending probe reads (None: all)
         self.read_rows = None  # those of the latest reading
         self.flying = (None, None)  # (a state it returned that presses nothing, its impulses)
+        # (frictional: when each contact last carried a force, s)
+        self.touched = np.full(model.contacts.size, -np.inf) if model.contacts.frictional else None
+        self.pressed_once = False  # (before: no lasting contact, no mask to make)
+        self.ends = (None, None, False)  # (the last state, its impulses, whether it presses)
 
     def __call__(self, model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
+        if self.touched is None:
+            return self._step(model, st, h, opts, timer)
+        # a frictional contact pressed within CHATTER_WINDOW steps is a lasting one: its nodes
+        # that lift and re-close are left to the step's end (located, the struck block on its
+        # floor created more: docs/validation/localization.md)
+        touched = self.touched
+        self.lasting = st.t - touched <= CHATTER_WINDOW * h if self.pressed_once else None
+        out = self._step(model, st, h, opts, timer)
+        if out is not self.flying[0]:  # (a state noted in flight presses nothing)
+            pressed = out.pressed()
+            touched[pressed] = out.t
+            self.ends = (out, out.impulse, pressed.any())  # (read by the next step)
+            self.pressed_once = self.pressed_once or self.ends[2]
+        return out
+
+    def _step(self, model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
+        """The step from ``st`` over ``h`` (s) (class docstring)."""
         # (in flight the step before proved st presses nothing, and noted the forces as zeros
         # then: no test of its arrays; a state joined since has other impulses)
         free, impulse = self.flying
         known = st is free and st.impulse is impulse
-        pressed = not known and st.pressed().any()
+        pressed = not known and self._presses(st)
         if not (pressed or known):  # (no force to fall: most steps)
             self._resting()
         elif pressed and (out := self._falling(model, st, h, opts, timer)) is not None:
@@ -192,7 +216,7 @@ class Releases(Localizer):
         stats = opts.stats.localization
         before = (stats.fallbacks["unrefined"], stats.impacts, stats.first_closing)
         stats.unrefined_depth = 0.0
-        out = localized_step(model, st, h, opts, timer)
+        out = localized_step(model, st, h, opts, timer, self.lasting)
         if stats.fallbacks["unrefined"] > before[0]:  # an instant the whole step did not find
             out = self._retaken(model, st, out, h, opts, timer, before[1:])
         elif not pressed:
@@ -203,6 +227,14 @@ class Releases(Localizer):
             located = release is not None and st.t <= until
             opts.stats.localization.last_release = release if located else st.t
         return out
+
+    def _presses(self, st: State) -> bool:
+        """Whether ``st`` presses a contact: as the step that returned it noted (:meth:`__call__`,
+        frictional runs), else read."""
+        end, impulse, pressed = self.ends
+        if st is end and st.impulse is impulse:
+            return bool(pressed)
+        return bool(st.pressed().any())
 
     def _note_flight(self, out: State, unsplit: bool) -> None:
         """Note ``out``, the end of a step from a state that pressed nothing, as pressing
