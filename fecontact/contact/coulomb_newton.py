@@ -14,6 +14,7 @@ __all__ = [
     "newton",
     "newton_jacobian",
     "newton_residual",
+    "penalty_factor",
     "stopping_error",
 ]
 
@@ -75,7 +76,7 @@ def newton(c, D, p, k, mu, nt, x0, tol, max_iter, stats):
         return newton_residual(x, c, kD, p, k, mu, nc)
 
     R, lin, status = residual(x)
-    weight = _penalty_factor(D, p, nc, 1 + nt)
+    weight = penalty_factor(D, p, nc, 1 + nt)
     for it in range(max_iter + 1):
         err = stopping_error(R, lin[1], weight)
         if not np.isfinite(err):
@@ -115,13 +116,13 @@ def stopping_error(R, ident, weight) -> float:
     """The largest error of the law in the units of w, whatever p: on the rows evaluated as
     w (``ident``), |w|; on the others (open normals, slipping or open tangents) the impulse
     error k x − Π(σ) times the inverse effective mass D_ii of its row, the change of w it
-    makes there: |R_i/p_i| times ``weight`` = p_i D_ii (:func:`_penalty_factor`). Judged
+    makes there: |R_i/p_i| times ``weight`` = p_i D_ii (:func:`penalty_factor`). Judged
     by |R_i/p_i| alone, p × 1000 accepted impulse errors that moved the velocities by up
     to 1000 times the tolerance."""
     return float(np.max(np.abs(np.where(ident, R, R * weight)), initial=0.0))
 
 
-def _penalty_factor(D, p, nc, b):
+def penalty_factor(D, p, nc, b):
     """p_i over the effective-mass augmentation 1/D_ii of each row (on the tangent rows of
     a contact, which share one p, over the mean of theirs): the run's penalty scale, and
     exactly 1.0 for p = 1/D_ii, so that the default scale keeps its stopping test bit for

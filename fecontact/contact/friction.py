@@ -27,7 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from .coulomb_newton import NotConverged, coulomb_projection, newton
-from .friction_redundant import least_norm, one_open, without_round_off
+from .friction_redundant import least_norm, one_open, proximal, without_round_off
 from .stats import CoulombStats
 
 __all__ = [
@@ -140,6 +140,9 @@ def _solve(c, D, p, k, mu, nt, x0, tol, max_iter, stats, redundant=False):
     except NotConverged:
         pass
     if redundant and len(mu) > 1:
+        found = proximal(c, D, p, k, mu, nt, x0, tol, max_iter, stats)
+        if found is not None:
+            return found[0], _settled(c, D, k, np.asarray(mu, float), nt, found[0])[1], found[1]
         found = one_open(c, D, p, k, mu, nt, x0, tol, max_iter, stats)
         if found is not None:
             return found[0], _settled(c, D, k, np.asarray(mu, float), nt, found[0])[1], found[1]

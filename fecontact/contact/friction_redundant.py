@@ -8,9 +8,58 @@ from __future__ import annotations
 
 import numpy as np
 
-from .coulomb_newton import NotConverged, newton, newton_jacobian, newton_residual
+from .coulomb_newton import (
+    NotConverged,
+    newton,
+    newton_jacobian,
+    newton_residual,
+    penalty_factor,
+    stopping_error,
+)
 
-__all__ = ["least_norm", "one_open", "reachable_slips", "without_round_off"]
+__all__ = ["least_norm", "one_open", "proximal", "reachable_slips", "without_round_off"]
+
+
+def proximal(c, D, p, k, mu, nt, x0, tol, max_iter, stats, steps=40):
+    """Where Newton stalls on redundant rows (D singular: a face's nodes, corners and edges
+    on one plane), the law solved by the proximal point method, as the frictionless rows
+    are (:mod:`.redundant_jump`): each step solves it by Newton with D + εI and c − kεx^i,
+    whose Jacobian is regular, and the fixed point is the law's with D. Along D's null
+    space (forces that move nothing) a step moves x by the rows' inconsistency over ε, so
+    that a row that has to open does so at once; in D's range a step leaves the error
+    ε(x^{i+1} − x^i). ε starts at 1e-8 of D's largest diagonal; a step whose Newton fails
+    is taken again from the same x with ε × 100 (up to 1e-2: near-parallel rows make
+    D + εI with a small ε as hard as D), and after each step that converges ε falls by
+    ten again. Stops on the law's own error with D (:func:`stopping_error`, in the units
+    of w, whatever p), so that ε only steers the path. From ``x0``, then from zero where
+    that does not settle. Returns (x, Newton iterations) or None; counted in
+    ``stats.proximal_solves`` and ``stats.proximal_steps``."""
+    scale = float(np.max(np.diag(D), initial=0.0))
+    if not scale > 0.0:
+        return None
+    N, nc = len(c), len(mu) * (1 + nt)
+    weight = penalty_factor(D, p, nc, 1 + nt)
+    for start in (x0, None) if x0 is not None else (None,):
+        x = np.zeros(N) if start is None else np.asarray(start, dtype=float)
+        its, rel = 0, 1e-8
+        for step in range(1, steps + 1):
+            eps = rel * scale
+            regular = D + eps * np.eye(N)
+            try:
+                x_new, _, n = newton(c - k * eps * x, regular, p, k, mu, nt, x, 0.1 * tol,
+                                     max_iter, stats)  # fmt: skip
+            except NotConverged:
+                if rel >= 1e-2:
+                    break
+                rel = min(1e-2, 100.0 * rel)
+                continue
+            x, its, rel = x_new, its + n, max(1e-8, 0.1 * rel)
+            R, (_, ident), _ = newton_residual(x, c, k * D, p, k, mu, nc)
+            if stopping_error(R, ident, weight) <= tol:
+                stats.proximal_solves += 1
+                stats.proximal_steps += step
+                return x, its
+    return None
 
 
 def one_open(c, D, p, k, mu, nt, x0, tol, max_iter, stats):

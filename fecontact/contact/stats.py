@@ -31,6 +31,11 @@ class CoulombStats:
     # solves (in runs with redundant rows) where Newton stalled with every contact closed
     # and the law was solved with one contact left out, which separates
     opened_contact_solves: int = 0
+    # solves (in runs with redundant rows) where Newton stalled on a singular Delassus
+    # matrix and the law was solved by the proximal point method (each step on D + εI), and
+    # those proximal steps
+    proximal_solves: int = 0
+    proximal_steps: int = 0
     # solves (in runs with redundant rows) whose warm and cold starts reached solutions of
     # the law that move the bodies differently (beyond the tolerance): the law is not unique
     distinct_solutions: int = 0
