@@ -8,6 +8,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.linalg.lapack import dgetrf, dgetrs
 
+from ..linalg.svd import lstsq
+
 __all__ = [
     "NotConverged",
     "coulomb_projection",
@@ -155,7 +157,9 @@ def _newton_direction(kD, dsigma, dPi, ident, p, k, R, stats, rcond=1e-10):
     singular (the smallest below ``rcond`` of the largest), the step is the minimum-norm
     solution of the truncated singular value decomposition: Newton's step on the range,
     none along the multipliers the contacts cannot tell apart. The residual stays the exact
-    one, so the answer is exact. Counted in ``stats.minimum_norm_steps``.
+    one, so the answer is exact. Counted in ``stats.minimum_norm_steps`` (and in
+    ``stats.svd_fallbacks`` where the decomposition is taken again,
+    :func:`fecontact.linalg.svd.lstsq`).
 
     Returns the directions to try in turn: on a singular matrix the minimum-norm one, then
     the LU's where its pivots are nonzero. Where the rows are inconsistent for the current
@@ -169,7 +173,9 @@ def _newton_direction(kD, dsigma, dPi, ident, p, k, R, stats, rcond=1e-10):
         return (dgetrs(lu, piv, -R)[0],)
     stats.minimum_norm_steps += 1
     lu_step = dgetrs(lu, piv, -R)[0] if np.all(pivots > 0.0) else None
-    return np.linalg.lstsq(J, -R, rcond=rcond)[0], lu_step
+    step, fell_back = lstsq(J, -R, rcond=rcond)
+    stats.svd_fallbacks += fell_back
+    return step, lu_step
 
 
 def _backtrack(residual, x, directions, R, stats):

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..linalg.svd import svd
 from .coulomb_newton import (
     NotConverged,
     newton,
@@ -125,7 +126,8 @@ def least_norm(c, D, p, k, mu, nt, x, tol, stats, rcond=1e-10, cycles=8):
         grazing = (status == 0) & (np.abs(c[: nc : 1 + nt] + kD[: nc : 1 + nt] @ x) <= tol)
         if grazing.any():
             dPi, ident = newton_residual(x, c, kD, p, k, mu, nc, grazing)[1]
-        s, Vt = np.linalg.svd(newton_jacobian(kD, dsigma, dPi, ident, p, k))[1:]
+        _, s, Vt, fell_back = svd(newton_jacobian(kD, dsigma, dPi, ident, p, k))
+        stats.svd_fallbacks += fell_back
         Z = Vt[s <= rcond * s[0]]
         shift = Z.T @ (Z @ x)
         if np.linalg.norm(shift) <= 1e-12 * np.linalg.norm(x):
@@ -157,7 +159,7 @@ def without_round_off(x, status, m: int, nt: int):
     return x, np.where(idle, 0, status)
 
 
-def reachable_slips(c, D, mu, nt: int, rcond=1e-10):
+def reachable_slips(c, D, mu, nt: int, stats, rcond=1e-10):
     """The rows c of a position correction (w = c + k D x; contacts of 1 + nt rows with
     friction coefficients ``mu``, then equality rows) with the part of their slips that no
     multiplier reaches removed: the projection of c on the left null space of D over the
@@ -173,7 +175,9 @@ def reachable_slips(c, D, mu, nt: int, rcond=1e-10):
     the slip of the face as a rigid body. The normal rows keep their gaps: a gap no
     multiplier closes is met by the law opening the contact. A frictionless contact's
     slip is free and stays out: a corner landing without friction beside a pivot that
-    sticks does not share the pivot's slip."""
+    sticks does not share the pivot's slip. ``stats``: the
+    :class:`fecontact.contact.stats.CoulombStats` that counts a decomposition taken again
+    (:func:`fecontact.linalg.svd.svd`)."""
     m, b = len(mu), 1 + nt
     i = np.arange(len(c))
     frictionless = np.zeros(len(c), bool)
@@ -181,7 +185,8 @@ def reachable_slips(c, D, mu, nt: int, rcond=1e-10):
     keep = np.flatnonzero(~((i < m * b) & (i % b > 0) & frictionless))
     if not keep.size:
         return None
-    U, s, _ = np.linalg.svd(D[np.ix_(keep, keep)])
+    U, s, _, fell_back = svd(D[np.ix_(keep, keep)])
+    stats.svd_fallbacks += fell_back
     Z = U[:, s <= rcond * s[0]]
     tangential = (keep < m * b) & (keep % b > 0)
     r = np.where(tangential, Z @ (Z.T @ c[keep]), 0.0)

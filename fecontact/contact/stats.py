@@ -46,6 +46,10 @@ class CoulombStats:
     # that failed on their slips and converged without the part of them no multiplier
     # reaches (a face landing flat)
     unreachable_slip_solves: int = 0
+    # singular value decompositions (least-norm moves, minimum-norm Newton steps, slips no
+    # multiplier reaches) where LAPACK's divide and conquer did not converge and the QR
+    # iteration was taken (:mod:`fecontact.linalg.svd`)
+    svd_fallbacks: int = 0
 
 
 @dataclass

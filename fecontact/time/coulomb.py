@@ -204,7 +204,7 @@ def _position_law(c, D, mu, nt, x0, cold_start, opts, tol_gap):
         return solve(c)
     except RuntimeError as err:
         failure = err
-    reachable = reachable_slips(c, D, mu, nt) if opts.stats.contact.minimum_norm else None
+    reachable = reachable_slips(c, D, mu, nt, stats) if opts.stats.contact.minimum_norm else None
     if reachable is not None:
         try:
             found = solve(reachable)
@@ -433,7 +433,9 @@ class SmoothFriction:
             return solve(c)
         except RuntimeError as err:
             failure = err
-        reachable = reachable_slips(c, D, self.mu, self.nt) if self.minimum_norm else None
+        reachable = None
+        if self.minimum_norm:
+            reachable = reachable_slips(c, D, self.mu, self.nt, self.stats)
         if reachable is not None:
             try:
                 z = solve(reachable)

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+import numpy as np
+
 from ..errors import InputError
 from ..ledger import joined_record
 from ..linalg.choice import RunPlan
@@ -94,10 +96,7 @@ class Stepper:
         if self.looks:
             model.contacts.look_ahead(st.q, st.v, h)
         try:
-            end = kind(model, st, h, settings, timer)
-            if not self.holds or (self.trusts and end.outside):
-                return end
-            return hold_penetration(model, end, settings, timer)
+            return self._attempt(model, st, h, settings, timer, kind)
         except StepFailure as err:
             turn = isinstance(err, TurnFailure)
             # (a step refused for a turn, in a run the guard checks: taken at ρ∞ = 0 first)
@@ -113,6 +112,17 @@ class Stepper:
         second.retakes += retake
         second.turn_halvings += turn
         return second
+
+    def _attempt(self, model, st: State, h: float, settings, timer: PhaseTimer, kind) -> State:
+        """One try of the step; a LAPACK error in it (a decomposition that did not converge,
+        a singular matrix no solver caught) is the step's failure, halved as any."""
+        try:
+            end = kind(model, st, h, settings, timer)
+            if not self.holds or (self.trusts and end.outside):
+                return end
+            return hold_penetration(model, end, settings, timer)
+        except np.linalg.LinAlgError as err:
+            raise StepFailure(f"linear algebra: {err}", np.nan) from None
 
     def halves(self, st: State, h: float, timer: PhaseTimer, depth: int, damped: bool) -> State:
         """The step from ``st`` over ``h`` (s) as two of h/2 (each halved in turn where it
