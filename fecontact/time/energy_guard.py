@@ -128,16 +128,19 @@ class EnergyGuard:
         kinetic, strain, _ = end.energies
         return max(self.scale, kinetic + strain)
 
-    def held(self, stepper, st: State, end: State, h: float, timer, depth: int = 0) -> State:
+    def held(
+        self, stepper, st: State, end: State, h: float, timer, depth: int = 0, damped=False
+    ) -> State:
         """``end``, or the step from ``st`` taken again where ``end`` created energy (with the
-        halvings left below ``depth``)."""
+        halvings left below ``depth``); an ``end`` taken ``damped`` already (a step refused for
+        a turn: module turns) is its own retake, the same computation."""
         before = self.energy(st)
         self.accepted(st)  # (the run's first state, or a resumed run's)
         if self.energy(end) - before <= GAIN * self.reach(end):
             return self.accepted(end)
         stats = self.settings.stats
         stats.energy_retakes += 1
-        retake = stepper.step(st, h, timer, depth, damped=True)
+        retake = end if damped else stepper.step(st, h, timer, depth, damped=True)
         after = self.energy(retake)
         if after - before > GAIN * self.reach(retake) and depth < self.settings.max_halvings:
             # (still gaining: two halves at ρ∞ = 0, and the end that holds less energy)

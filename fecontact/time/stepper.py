@@ -54,6 +54,7 @@ class Stepper:
     def __init__(self, model, settings: RunSettings, kind: Callable, guard=None):
         self.model, self.settings, self.kind = model, settings, kind
         self.guard = guard
+        self.turned: State | None = None  # the last step taken whole at ρ∞ = 0 for a turn
         contacts = model.contacts
         # (decided once: pairs that search ahead of a step; a model without contacts has no
         # penetration to record)
@@ -84,10 +85,11 @@ class Stepper:
         the one that made ``st`` starts from its a taken to ``h`` (:func:`.resized`); the
         halves of a failed step keep that of ``h``, as they did."""
         start = resized(st, h) if self.resizes else st
+        self.turned = None
         end = self._taken(start, h, timer, depth, damped)
         if damped or self.guard is None:
             return end
-        return self.guard.held(self, st, end, h, timer, depth)
+        return self.guard.held(self, st, end, h, timer, depth, end is self.turned)
 
     def _taken(self, st: State, h: float, timer: PhaseTimer, depth: int, damped: bool) -> State:
         model, settings, kind = self.model, self.settings, self.kind
@@ -106,7 +108,9 @@ class Stepper:
             retake = isinstance(err, PenetrationFailure)
         if damps:  # (the undamped modes that turned the node taken out: module turns)
             self.stats.turns.damped_steps += 1
-            return self._taken(st, h, timer, depth, True)
+            # (the whole step at ρ∞ = 0 is the guard's retake of it: kept, not taken again)
+            self.turned = self._taken(st, h, timer, depth, True)
+            return self.turned
         second = self.halves(st, h, timer, depth, damped)
         second.halvings += 1
         second.retakes += retake
