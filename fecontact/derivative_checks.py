@@ -13,6 +13,7 @@ __all__ = [
     "group_derivative_errors",
     "group_gradient_error",
     "moved_on_group",
+    "rigidly_placed",
     "slip_derivative_errors",
     "slip_step_errors",
 ]
@@ -152,3 +153,15 @@ def gap_steps_along(pair, q0: np.ndarray, q1: np.ndarray, samples: int):
     both = np.isfinite(g[1:]) & np.isfinite(g[:-1])
     change = np.abs(np.diff(np.where(np.isfinite(g), g, 0.0), axis=0))[both]
     return change, np.maximum(slope[1:], slope[:-1])[both]
+
+
+def rigidly_placed(model, body, angle: float, shift) -> np.ndarray:
+    """q of ``model`` with the planar ``body`` turned by ``angle`` (rad, counter-clockwise)
+    about the mean of its nodes and moved by ``shift`` (m); the other bodies where they lie."""
+    c, s = np.cos(angle), np.sin(angle)
+    centre = body.X.mean(axis=0)
+    x = (body.X - centre) @ np.array([[c, s], [-s, c]]) + centre
+    q = np.zeros(model.n)
+    o = model.offset_of(body)
+    q[o : o + body.ndof] = (x + np.asarray(shift) - body.X).ravel()
+    return q

@@ -15,7 +15,7 @@ import pytest
 from fecontact import Contact, Model
 from fecontact.bodies import Solid
 from fecontact.bodies.materials import NeoHookean
-from fecontact.derivative_checks import gap_derivatives_error, gap_steps_along
+from fecontact.derivative_checks import gap_derivatives_error, gap_steps_along, rigidly_placed
 
 RUBBER = NeoHookean(1e7, 0.3, 1000.0)
 
@@ -25,16 +25,6 @@ def _disks():
     b = Solid.disk([0.05, 0.0], 0.05, 2, RUBBER)
     pair = Contact(a, b, method="mortar")
     return b, pair, Model([a, b], [pair], gravity=(0.0, 0.0))
-
-
-def _turned(model, body, angle: float, shift) -> np.ndarray:
-    """q with ``body`` turned by ``angle`` (rad) about its centre and moved by ``shift`` (m)."""
-    c, s = np.cos(angle), np.sin(angle)
-    x = (body.X - body.X.mean(axis=0)) @ np.array([[c, s], [-s, c]]) + body.X.mean(axis=0)
-    q = np.zeros(model.n)
-    o = model.offset_of(body)
-    q[o : o + body.ndof] = (x + np.asarray(shift) - body.X).ravel()
-    return q
 
 
 @pytest.mark.parametrize("dy", [0.0, 0.005, 0.015])
@@ -47,7 +37,7 @@ def test_weighted_gaps_continuous_as_a_disk_turns(dy):
     path). Measured with the hard cut: 1.2–1.8 mm in one step (670–2800 × the bound)."""
     body, pair, model = _disks()
     shift = (-0.0015, dy)
-    q0, q1 = _turned(model, body, 0.0, shift), _turned(model, body, np.pi / 8, shift)
+    q0, q1 = rigidly_placed(model, body, 0.0, shift), rigidly_placed(model, body, np.pi / 8, shift)
     change, slope = gap_steps_along(pair, q0, q1, 401)
     assert change.size > 400  # the turn keeps rows in contact
     bound = 1.5 * slope + 1e-15  # (round-off of g ~ 1e-17 m)
@@ -62,7 +52,7 @@ def test_derivatives_exact_while_a_pair_fades(angle, columns):
     differences: the bounds of the existing test of the derivatives (step 1e-7 m: round-off
     of the differences ~1e-9, measured here ≤ 4e-10 and ≤ 2e-8)."""
     body, pair, model = _disks()
-    q = _turned(model, body, angle, (-0.0015, 0.005))
+    q = rigidly_placed(model, body, angle, (-0.0015, 0.005))
     fading = pair._overlapping(q)[-1][4][6]
     assert 0 < fading.sum() < len(fading)
     assert pair._local(q)[1].shape[1] == columns  # (12 + 8 foreign + 2 kinds; 12 + 2)

@@ -16,7 +16,7 @@ from fecontact import Contact, Model
 from fecontact.bodies import Solid
 from fecontact.bodies.materials import NeoHookean
 from fecontact.contact.mortar_p2_segments import MortarContactP2, p2_segment_integrals
-from fecontact.derivative_checks import gap_derivatives_error, gap_steps_along
+from fecontact.derivative_checks import gap_derivatives_error, gap_steps_along, rigidly_placed
 
 RUBBER = NeoHookean(1e7, 0.3, 1000.0)
 
@@ -27,16 +27,6 @@ def _disks():
     pair = Contact(a, b, method="mortar")
     assert isinstance(pair, MortarContactP2)
     return b, pair, Model([a, b], [pair], gravity=(0.0, 0.0))
-
-
-def _turned(model, body, angle: float, shift) -> np.ndarray:
-    """q with ``body`` turned by ``angle`` (rad) about its centre and moved by ``shift`` (m)."""
-    c, s = np.cos(angle), np.sin(angle)
-    x = (body.X - body.X.mean(axis=0)) @ np.array([[c, s], [-s, c]]) + body.X.mean(axis=0)
-    q = np.zeros(model.n)
-    o = model.offset_of(body)
-    q[o : o + body.ndof] = (x + np.asarray(shift) - body.X).ravel()
-    return q
 
 
 def _turns(z: np.ndarray) -> np.ndarray:
@@ -54,7 +44,7 @@ def test_weighted_gaps_continuous_as_a_p2_disk_turns(dy):
     one step, 101–1176 × |G Δq|."""
     body, pair, model = _disks()
     shift = (-0.0015, dy)
-    q0, q1 = _turned(model, body, 0.0, shift), _turned(model, body, np.pi / 8, shift)
+    q0, q1 = rigidly_placed(model, body, 0.0, shift), rigidly_placed(model, body, np.pi / 8, shift)
     change, slope = gap_steps_along(pair, q0, q1, 401)
     assert change.size > 400  # the turn keeps rows in contact
     bound = 1.5 * slope + 1e-15  # (round-off of g ~ 1e-17 m)
@@ -70,7 +60,7 @@ def test_derivatives_exact_while_a_p2_pair_fades(angle):
     the round-off; the rows' Hessians there are at fixed coefficients,
     tests/test_mortar_p2.py)."""
     body, pair, model = _disks()
-    q = _turned(model, body, angle, (-0.0015, 0.005))
+    q = rigidly_placed(model, body, angle, (-0.0015, 0.005))
     z = pair._overlapping(q)[2]
     c = _turns(z)
     z = z[(c > -0.5) & (c < -0.25)]
