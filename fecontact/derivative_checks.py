@@ -14,6 +14,7 @@ __all__ = [
     "group_gradient_error",
     "moved_on_group",
     "rigidly_placed",
+    "turn_gap_steps",
     "slip_derivative_errors",
     "slip_step_errors",
 ]
@@ -165,3 +166,10 @@ def rigidly_placed(model, body, angle: float, shift) -> np.ndarray:
     o = model.offset_of(body)
     q[o : o + body.ndof] = (x + np.asarray(shift) - body.X).ravel()
     return q
+
+
+def turn_gap_steps(pair, model, body, angle: float, shift, samples: int = 401):
+    """:func:`gap_steps_along` the path on which the planar ``body``, moved by ``shift`` (m),
+    turns by ``angle`` (rad) about its nodes' mean (node positions linear in the step)."""
+    q0 = rigidly_placed(model, body, 0.0, shift)
+    return gap_steps_along(pair, q0, rigidly_placed(model, body, angle, shift), samples)

@@ -15,7 +15,7 @@ import pytest
 from fecontact import Contact, Model
 from fecontact.bodies import Solid
 from fecontact.bodies.materials import NeoHookean
-from fecontact.derivative_checks import gap_derivatives_error, gap_steps_along, rigidly_placed
+from fecontact.derivative_checks import gap_derivatives_error, rigidly_placed, turn_gap_steps
 
 RUBBER = NeoHookean(1e7, 0.3, 1000.0)
 
@@ -36,9 +36,7 @@ def test_weighted_gaps_continuous_as_a_disk_turns(dy):
     the change between the two ends' slopes; 1.5 covers the curvature over 1/400 of the
     path). Measured with the hard cut: 1.2–1.8 mm in one step (670–2800 × the bound)."""
     body, pair, model = _disks()
-    shift = (-0.0015, dy)
-    q0, q1 = rigidly_placed(model, body, 0.0, shift), rigidly_placed(model, body, np.pi / 8, shift)
-    change, slope = gap_steps_along(pair, q0, q1, 401)
+    change, slope = turn_gap_steps(pair, model, body, np.pi / 8, (-0.0015, dy))
     assert change.size > 400  # the turn keeps rows in contact
     bound = 1.5 * slope + 1e-15  # (round-off of g ~ 1e-17 m)
     assert np.all(change <= bound), float(np.max(change / bound))

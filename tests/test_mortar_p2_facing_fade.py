@@ -16,7 +16,7 @@ from fecontact import Contact, Model
 from fecontact.bodies import Solid
 from fecontact.bodies.materials import NeoHookean
 from fecontact.contact.mortar_p2_segments import MortarContactP2, p2_segment_integrals
-from fecontact.derivative_checks import gap_derivatives_error, gap_steps_along, rigidly_placed
+from fecontact.derivative_checks import gap_derivatives_error, rigidly_placed, turn_gap_steps
 
 RUBBER = NeoHookean(1e7, 0.3, 1000.0)
 
@@ -43,9 +43,7 @@ def test_weighted_gaps_continuous_as_a_p2_disk_turns(dy):
     curvature over 1/400 of the path; measured ≤ 1.009). With the hard cut: 2.6–5.4 mm in
     one step, 101–1176 × |G Δq|."""
     body, pair, model = _disks()
-    shift = (-0.0015, dy)
-    q0, q1 = rigidly_placed(model, body, 0.0, shift), rigidly_placed(model, body, np.pi / 8, shift)
-    change, slope = gap_steps_along(pair, q0, q1, 401)
+    change, slope = turn_gap_steps(pair, model, body, np.pi / 8, (-0.0015, dy))
     assert change.size > 400  # the turn keeps rows in contact
     bound = 1.5 * slope + 1e-15  # (round-off of g ~ 1e-17 m)
     assert np.all(change <= bound), float(np.max(change / bound))
