@@ -122,13 +122,15 @@ class Localizer:
         positive one, so zeros read as they would (without making them)."""
         self.force = np.zeros(self.force.size)
 
-    def _releasing(self, st: State, within: float = RELEASE) -> bool:
+    def _releasing(self, st: State, within: float = RELEASE, settled=None) -> bool:
         """Whether a contact's mean force, falling from the step before ``st``'s to
-        ``st``'s, reaches zero within ``within`` steps along that line (its release); notes
-        the forces of ``st``."""
+        ``st``'s, reaches zero within ``within`` steps along that line (its release), of the
+        contacts not ``settled`` (a mask, or None: all); notes the forces of ``st``."""
         force = st.mean_force() if st.impulse.size == self.force.size else self.force * 0
         before, self.force = self.force, force
         falling = (force > 0.0) & (force < before)
+        if settled is not None:
+            falling &= ~settled
         return bool(np.any(falling & (force <= within * (before - force))))
 
     def _subdivided(self, model, st, h, opts, timer) -> State:
@@ -167,7 +169,10 @@ class Releases(Localizer):
     change nothing of the run, and their work is counted (``release_probes``). The sub-steps
     are taken when their reading is first needed (the run's release, the next falling force
     within their span, or a step whose total force falls to zero within ``LET_GO`` steps):
-    a force that falls and rises again, or a run that ends pressed, costs none. With
+    a force that falls and rises again, or a run that ends pressed, costs none; nor does a
+    frictional contact lasting for over ``CHATTER_WINDOW`` steps (``settled``: a floor
+    under a ringing block, whose forces fall again and again; ``elastic_block`` 26 → 2
+    probes, the run the same to the bit). With
     ``split`` (solids whose acceleration restarts, decided once by
     :func:`localized_stepper`), a step whose total force falls so and in which the reading
     falls is split there (:meth:`_falling`). A whole step that leaves a closing unrefined
@@ -184,6 +189,9 @@ class Releases(Localizer):
         # (frictional: when each contact last carried a force, s)
         self.touched = np.full(model.contacts.size, -np.inf) if model.contacts.frictional else None
         self.pressed_once = False  # (before: no lasting contact, no mask to make)
+        # (frictional: since when each contact has been lasting, s; inf: it is not)
+        self.since = np.full(model.contacts.size, np.inf)
+        self.settled = None  # lasting for over CHATTER_WINDOW steps: no release read
         self.ends = (None, None, False)  # (the last state, its impulses, whether it presses)
 
     def __call__(self, model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
@@ -194,6 +202,9 @@ class Releases(Localizer):
         # floor created more: docs/validation/localization.md)
         touched = self.touched
         self.lasting = st.t - touched <= CHATTER_WINDOW * h if self.pressed_once else None
+        if self.lasting is not None:  # (a floor under a ringing block: its forces ring)
+            self.since = np.where(self.lasting, np.minimum(self.since, st.t), np.inf)
+            self.settled = st.t - self.since > CHATTER_WINDOW * h
         out = self._step(model, st, h, opts, timer)
         if out is not self.flying[0]:  # (a state noted in flight presses nothing)
             pressed = out.pressed()
@@ -251,7 +262,7 @@ class Releases(Localizer):
         it is. A probe starts from ``st`` where a contact's force (:meth:`_releasing`), or
         that total, is falling to zero and no reading covers ``st``."""
         before = self.force  # (the step before's mean forces; st's after _releasing)
-        falling = self._releasing(st, READ_RELEASE)
+        falling = self._releasing(st, READ_RELEASE, self.settled)
         rows = self._letting_go(model, before) if self.split else None
         if not falling and rows is None:
             return None
