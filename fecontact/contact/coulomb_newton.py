@@ -25,11 +25,12 @@ class NotConverged(Exception):
     """Newton did not bring the residual below its tolerance."""
 
 
-def coulomb_projection(sigma: np.ndarray, mu: np.ndarray):
+def coulomb_projection(sigma: np.ndarray, mu: np.ndarray, jacobian: bool = True):
     """Π(σ) and its generalized Jacobian for contacts σ (m, 1 + nt), normal first.
 
     Returns (Π (m, b), ∂Π/∂σ (m, b, b), status (m,)): 0 open, 1 stick, 2 slip. A contact
-    with μ = 0 slips with zero tangential force whatever σ_T."""
+    with μ = 0 slips with zero tangential force whatever σ_T. ``jacobian`` False leaves
+    ∂Π/∂σ out (None): a line search's trial points need Π alone."""
     m, b = sigma.shape
     sN, sT = sigma[:, 0], sigma[:, 1:]
     closed = sN > 0.0
@@ -37,19 +38,20 @@ def coulomb_projection(sigma: np.ndarray, mu: np.ndarray):
     norm = np.linalg.norm(sT, axis=1)
     stick = closed & (r > 0.0) & (norm <= r)
     slip = closed & ~stick
-    Pi = np.zeros((m, b))
-    dPi = np.zeros((m, b, b))
-    Pi[closed, 0] = sN[closed]
-    dPi[closed, 0, 0] = 1.0
-    Pi[stick, 1:] = sT[stick]
-    dPi[stick, 1:, 1:] = np.eye(b - 1)
     u = np.divide(sT, norm[:, None], out=np.zeros_like(sT), where=norm[:, None] > 0.0)
-    Pi[slip, 1:] = r[slip, None] * u[slip]
+    Pi = np.empty((m, b))
+    Pi[:, 0] = np.where(closed, sN, 0.0)
+    Pi[:, 1:] = np.where(stick[:, None], sT, np.where(slip[:, None], r[:, None] * u, 0.0))
+    status = np.where(stick, 1, np.where(slip, 2, 0))
+    if not jacobian:
+        return Pi, None, status
+    dPi = np.zeros((m, b, b))
+    dPi[closed, 0, 0] = 1.0
+    dPi[stick, 1:, 1:] = np.eye(b - 1)
     dPi[slip, 1:, 0] = mu[slip, None] * u[slip]
     ratio = np.divide(r, norm, out=np.zeros_like(r), where=norm > 0.0)
     uu = np.eye(b - 1)[None] - u[:, :, None] * u[:, None, :]
     dPi[slip, 1:, 1:] = ratio[slip, None, None] * uu[slip]
-    status = np.where(stick, 1, np.where(slip, 2, 0))
     return Pi, dPi, status
 
 
@@ -74,8 +76,8 @@ def newton(c, D, p, k, mu, nt, x0, tol, max_iter, stats):
     kD = k * D
     dsigma = k * np.eye(N) - p[:, None] * kD
 
-    def residual(x):
-        return newton_residual(x, c, kD, p, k, mu, nc)
+    def residual(x, jacobian=True):
+        return newton_residual(x, c, kD, p, k, mu, nc, jacobian=jacobian)
 
     R, lin, status = residual(x)
     weight = penalty_factor(D, p, nc, 1 + nt)
@@ -93,11 +95,13 @@ def newton(c, D, p, k, mu, nt, x0, tol, max_iter, stats):
     raise NotConverged(f"residual {err:.3e} above {tol:.3e} after {max_iter} iterations")
 
 
-def newton_residual(x, c, kD, p, k, mu, nc, closing=None):
+def newton_residual(x, c, kD, p, k, mu, nc, closing=None, jacobian=True):
     """R/p of :func:`newton` at x (w where Π is the identity), the parts of its Jacobian
     (∂Π, the rows evaluated as w) and the contacts' status. ``closing`` (m,) bool: contacts
     whose Jacobian and status are taken on their closed branch, σ_N at 0⁺ where it is ≤ 0
-    (:func:`fecontact.contact.friction_redundant.least_norm`)."""
+    (:func:`fecontact.contact.friction_redundant.least_norm`). ``jacobian`` False: ∂Π is
+    None (the rows evaluated as w are read from the status alone: closed normals, sticking
+    tangents and the equality rows, where ∂Π has its unit diagonal)."""
     m, N = len(mu), len(c)
     b = nc // m if m else 1
     w = c + kD @ x
@@ -105,13 +109,12 @@ def newton_residual(x, c, kD, p, k, mu, nc, closing=None):
     if closing is not None:
         sigma_n = sigma[:nc:b]
         sigma_n[closing & (sigma_n <= 0.0)] = np.finfo(float).tiny
-    Pi, dPi, status = coulomb_projection(sigma[:nc].reshape(m, b), mu)
-    dPi = _block_diagonal(dPi, N)
-    ident = np.diagonal(dPi) == 1.0
-    ident[nc:] = True
-    ident[:nc] &= np.repeat(status == 1, b) | (np.arange(nc) % b == 0)
+    Pi, dPi, status = coulomb_projection(sigma[:nc].reshape(m, b), mu, jacobian)
+    ident = np.ones(N, bool)
+    normal = np.arange(nc) % b == 0
+    ident[:nc] = np.where(normal, np.repeat(status > 0, b), np.repeat(status == 1, b))
     R = np.where(ident, w, (k * x - np.concatenate([Pi.ravel(), sigma[nc:]])) / p)
-    return R, (dPi, ident), status
+    return R, (None if dPi is None else _block_diagonal(dPi, N), ident), status
 
 
 def stopping_error(R, ident, weight) -> float:
@@ -181,16 +184,18 @@ def _newton_direction(kD, dsigma, dPi, ident, p, k, R, stats, rcond=1e-10):
 def _backtrack(residual, x, directions, R, stats):
     """x + s dx with the largest s = 2⁻ⁱ that decreases |R|² (Armijo), over the
     ``directions`` in turn (None: none); the full step of the last when none of 20 does
-    along any (the merit of a nonsmooth residual can rise across a kink), counted."""
+    along any (the merit of a nonsmooth residual can rise across a kink), counted. The
+    trial points' residuals leave the Jacobian out (``residual(x, False)``); the point
+    taken has it evaluated."""
     f0 = R @ R
     directions = [d for d in directions if d is not None]
     for dx in directions:
         s = 1.0
         for _ in range(20):
             xs = x + s * dx
-            Rs, lin, status = residual(xs)
+            Rs = residual(xs, False)[0]
             if Rs @ Rs <= (1.0 - 1e-4 * s) * f0:
-                return xs, Rs, lin, status
+                return (xs, *residual(xs))
             s *= 0.5
             stats.line_search_cuts += 1
     stats.full_steps_forced += 1

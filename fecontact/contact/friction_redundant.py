@@ -21,7 +21,7 @@ from .coulomb_newton import (
 __all__ = ["least_norm", "one_open", "proximal", "reachable_slips", "without_round_off"]
 
 
-def proximal(c, D, p, k, mu, nt, x0, tol, max_iter, stats, steps=40):
+def proximal(c, D, p, k, mu, nt, x0, tol, max_iter, stats, steps=40, stall=5):
     """Where Newton stalls on redundant rows (D singular: a face's nodes, corners and edges
     on one plane), the law solved by the proximal point method, as the frictionless rows
     are (:mod:`.redundant_jump`): each step solves it by Newton with D + εI and c − kεx^i,
@@ -32,8 +32,11 @@ def proximal(c, D, p, k, mu, nt, x0, tol, max_iter, stats, steps=40):
     is taken again from the same x with ε × 100 (up to 1e-2: near-parallel rows make
     D + εI with a small ε as hard as D), and after each step that converges ε falls by
     ten again. Stops on the law's own error with D (:func:`stopping_error`, in the units
-    of w, whatever p), so that ε only steers the path. From ``x0``, then from zero where
-    that does not settle. Returns (x, Newton iterations) or None; counted in
+    of w, whatever p), so that ε only steers the path; a start whose error has not halved
+    over ``stall`` steps is left (the law is not monotone: on the box sliding flat, steps
+    settled with 20 contacts slipping and their normal rows inside by 4 times the tolerance,
+    where the law's solution opens 9 of the 25). From ``x0``, then from zero where that does
+    not settle. Returns (x, Newton iterations) or None; counted in
     ``stats.proximal_solves`` and ``stats.proximal_steps``."""
     scale = float(np.max(np.diag(D), initial=0.0))
     if not scale > 0.0:
@@ -42,8 +45,10 @@ def proximal(c, D, p, k, mu, nt, x0, tol, max_iter, stats, steps=40):
     weight = penalty_factor(D, p, nc, 1 + nt)
     for start in (x0, None) if x0 is not None else (None,):
         x = np.zeros(N) if start is None else np.asarray(start, dtype=float)
-        its, rel = 0, 1e-8
+        its, rel, errors = 0, 1e-8, []
         for step in range(1, steps + 1):
+            if len(errors) > stall and errors[-1] > 0.5 * errors[-1 - stall]:
+                break  # (settled at a fixed point that is not the law's)
             eps = rel * scale
             regular = D + eps * np.eye(N)
             try:
@@ -56,7 +61,8 @@ def proximal(c, D, p, k, mu, nt, x0, tol, max_iter, stats, steps=40):
                 continue
             x, its, rel = x_new, its + n, max(1e-8, 0.1 * rel)
             R, (_, ident), _ = newton_residual(x, c, k * D, p, k, mu, nc)
-            if stopping_error(R, ident, weight) <= tol:
+            errors.append(stopping_error(R, ident, weight))
+            if errors[-1] <= tol:
                 stats.proximal_solves += 1
                 stats.proximal_steps += step
                 return x, its
