@@ -98,6 +98,18 @@ class Recorder:
         self.reach = self.model.length * sim.options.detection_margin
         self.probes = list(sim.probes.values())
 
+    def count_failed(self, failed) -> None:
+        """Count the halvings of the step that stopped the run (a
+        :class:`~fecontact.time.stats.FailedStep`; None: none did) with those of its steps."""
+        if failed is None:
+            return
+        self.halvings += failed.halvings
+        self.halved_steps += failed.halvings > 0
+        self.retakes += failed.retakes
+        self.turn_halvings += failed.turn_halvings
+        self.turn_halved_steps += failed.turn_halvings > 0
+        self.dt_substep_min = min(self.dt_substep_min, failed.shortest)
+
     def record(self, st: State) -> None:
         """Account for the state ``st``; write its history row unless it is a step between
         two rows (``st.substep``, with rtol)."""
@@ -209,7 +221,7 @@ class Recorder:
             "dt_min": self.dt_min if self.steps else None,
             "dt_max": self.dt_max if self.steps else None,
             # the shortest step actually taken: a halved step's shortest sub-step, else dt_min
-            "dt_substep_min": self.dt_substep_min if self.steps else None,
+            "dt_substep_min": None if math.isinf(self.dt_substep_min) else self.dt_substep_min,
             "t_end": sim.t_end,
             "wall_time_s": wall,
             "time_per_step_s": (wall - timer.get("output", 0.0)) / max(self.steps, 1),

@@ -190,6 +190,7 @@ def _run(sim, out, progress, frames, checkpoint_every, resume, overwrite, frame_
     bar = _progress_bar(sim, start) if progress else None
     stats = StepStats()  # the counts of this run, which its steps fill
     status, message = "completed", ""
+    stop = None  # (t in s, step) where a failure names the step that stopped the run
     t_start = time.perf_counter()
     try:
         if start is None:
@@ -204,7 +205,7 @@ def _run(sim, out, progress, frames, checkpoint_every, resume, overwrite, frame_
             timer.add("output", clock)
             _show(bar, st)
     except SolverError as err:
-        status, message = "failed", str(err)
+        status, message, stop = "failed", str(err), (err.time, err.step)
         if rec.balance.unstable() and not message.startswith("energy blow-up"):
             message += f"; before it, {rec.balance.describe()}"
             raise SolverError(message, err.time, err.step, err.residual) from None
@@ -220,7 +221,7 @@ def _run(sim, out, progress, frames, checkpoint_every, resume, overwrite, frame_
         timer.add("output", _flush(pvd))
         wall = time.perf_counter() - t_start
         rec.history.close()
-        _show(bar, None, status)
+        _show(bar, None, status, stop)
         summary = _summary(sim, rec, stats, status, message, wall, timer)
         _write_summary(out, summary, status)
     said = sim.warnings() if start is None else []  # (warned before the run)
@@ -339,11 +340,11 @@ def _make_folder(out: Path) -> None:
         raise InputError(f"out: cannot create the output folder {out}: {err.strerror}") from None
 
 
-def _show(bar: RunProgress | None, st: State | None, status: str = "") -> None:
+def _show(bar: RunProgress | None, st: State | None, status: str = "", stop=None) -> None:
     """Advance the progress bar ``bar`` (None: none) past ``st``; close it with the run's
-    ``status`` (``st`` None)."""
+    ``status`` (``st`` None) and, for a failure, the (t, step) its error names."""
     if bar is not None and st is None:
-        bar.close(status)
+        bar.close(status, stop)
     elif bar is not None and st.step:
         bar.advance(st)
 
@@ -359,6 +360,7 @@ def _summary(sim, rec, stats, status, message, wall, timer) -> dict:
     counts = stats.summary(frictional)
     friction_solver = counts.pop("friction_solver", None)
     # the turn bound's halvings, and the steps that had any, are counted with the states
+    rec.count_failed(stats.failed)  # (a failed step's halvings counted as the others')
     counts["beam_turns"] |= {"halvings": rec.turn_halvings, "halved_steps": rec.turn_halved_steps}
     summary = rec.summary(status, wall, timer, message, counts) | counts
     # a run that ends with more energy than its budget is said so, not only counted

@@ -56,9 +56,16 @@ class RunProgress:
             self.next_tenth = tenth + 1
             self._line(f"{10 * tenth}% t = {st.t:.6g} s, step {st.step}, {self._wall()}")
 
-    def close(self, status: str = "completed") -> None:
+    def close(self, status: str = "completed", stop=None) -> None:
+        """The run's last line: where it ends, or, for a failure, the (t in s, step) its
+        error names (``stop``): a step is numbered by the row it ends on, so a step that
+        failed is one past the last state reached, and t is where it started."""
         if self.bar is not None:
             self.bar.close()
+            return
+        if stop is not None and stop[1] >= 0:
+            t, step = stop
+            self._line(f"stops ({status}) in step {step} at t = {t:.6g} s, {self._wall()}")
             return
         end = "ends" if status == "completed" else f"stops ({status})"
         self._line(f"{end} at t = {self.t:.6g} s, step {self.step}, {self._wall()}")

@@ -32,6 +32,7 @@ from ..errors import SolverError
 from .constraints import StepFailure
 from .penetration import PenetrationFailure
 from .state import PhaseTimer, State
+from .stats import FailedStep
 from .turns import TurnFailure
 
 __all__ = [
@@ -73,10 +74,12 @@ def _impact(before: State, after: State) -> bool:
     return bool(np.any(new))
 
 
-def failure_error(err: StepFailure, t: float, step: int, tried: str) -> SolverError:
+def failure_error(err: StepFailure, t: float, step: int, tried: str, stats) -> SolverError:
     """The run's error for a step that failed at ``t`` (s), row ``step``, after ``tried``:
     what failed, with the residual where a solve left one (a step refused for the turn of
-    a beam node has none)."""
+    a beam node has none); the step and its halvings go to the run's ``stats``
+    (:class:`~.stats.StepStats`)."""
+    stats.failed = FailedStep(step, err.halvings, err.retakes, err.turn_halvings, err.shortest)
     if isinstance(err, TurnFailure):
         text = (
             f"beam turn bound at t = {t:.6g} s (step {step}): after {tried}, the last step "

@@ -4,6 +4,8 @@ Newton's impact law on the rows with the run's augmentation."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import scipy.linalg
 import scipy.sparse as sp
@@ -25,9 +27,24 @@ __all__ = [
 
 
 class StepFailure(Exception):
+    """A step that failed, with the residual its solve left (nan: none). A stepper that
+    halves it adds what its attempts did before the failure reached the run (``halvings``,
+    of them ``retakes`` for a penetration and ``turn_halvings`` for a beam node's turn, and
+    the ``shortest`` sub-step tried), so
+    that the run counts a failed step's halvings as those of its other steps."""
+
     def __init__(self, message: str, residual: float):
         super().__init__(message)
         self.residual = residual
+        self.halvings = self.retakes = self.turn_halvings = 0
+        self.shortest = math.inf  # s: the shortest (sub-)step tried
+
+    def carries(self, halvings: int, retakes: int, turn_halvings: int) -> None:
+        """Add the halvings of an attempt of the failed step (those of a half that
+        succeeded, or the halving that led to the failure)."""
+        self.halvings += halvings
+        self.retakes += retakes
+        self.turn_halvings += turn_halvings
 
 
 def augmentation(scale: float, G, Y) -> np.ndarray:

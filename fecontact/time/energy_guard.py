@@ -33,6 +33,11 @@ goes on at its own ρ∞ from the retake's end. A retaken step is counted
 ledger. Steps that create nothing are never retaken: runs without such a step are the same
 to the bit.
 
+The level is never below the gravity potential's round-off (:func:`round_off`, ε times the
+model's weight times its size, decided once): the scale holds T + V_strain, but E holds
+V_gravity, which a beam lying at rest on a plane moves by 1e-41 to 5e-38 J a step
+(displacements of 1e-38 m) against a scale of 1e-61 J; such steps were retaken.
+
 A closing along a beam (a rod's far end slapping onto the floor, a disk dropped on a strip)
 is the other such step: the smooth step carries the node through the obstacle, and the
 correction that pushes it out at the step's end strains the beam by more than the impact
@@ -53,17 +58,31 @@ from __future__ import annotations
 
 import dataclasses
 
+import numpy as np
+
 from ..energy import StateEnergies
 from .localize import localized_step
 from .settings import RunSettings
-from .state import State
+from .state import State, length_scale
 
-__all__ = ["GAIN", "EnergyGuard", "guards"]
+__all__ = ["GAIN", "EnergyGuard", "guards", "round_off"]
 
 GAIN = 1e-3
 """Fraction of the run's scale: a step whose energy rises by more is taken again (the energy
 ledger's warning level, :data:`fecontact.ledger.CREATED`). The founding case (e_N = 0) has
 no step above it; the strikes along the axis have gains of 2-13 % of the scale in a step."""
+
+
+def round_off(model) -> float:
+    """The round-off of the gravity potential V_gravity = −f_gᵀq of ``model`` (J), decided
+    once per run: ε times its weight W (the gravity loads on its translations) times the
+    length its positions are resolved against (the model's size, or its coordinates' extent
+    where larger: :func:`~.state.length_scale`), as a node at x = X + u is resolved to ε|x|.
+    The 200-element strip lying on a plane (W = 7.7 N, 1 m): 1.7e-15 J."""
+    ones = np.ones(model.dim)
+    moves = np.concatenate([b.translation_field(ones) for b in model.bodies]) != 0
+    weight = float(np.abs(model.f_gravity[moves]).sum())
+    return float(np.finfo(float).eps) * weight * length_scale(model, np.zeros(model.n))
 
 
 def guards(model, settings: RunSettings) -> bool:
@@ -101,6 +120,7 @@ class EnergyGuard:
         self.settings = dataclasses.replace(settings, rho_inf=0.0, coasts=True)
         self.kind = localized_step
         self.scale = 0.0  # J: the largest T + V_strain of the run's states
+        self.floor = round_off(model)  # J: the least gain judged (module docstring)
         self.last: tuple[State, float] | None = None  # the last state measured, its E (J)
 
     def energy(self, st: State) -> float:
@@ -128,6 +148,11 @@ class EnergyGuard:
         kinetic, strain, _ = end.energies
         return max(self.scale, kinetic + strain)
 
+    def level(self, end: State) -> float:
+        """The gain (J) above which the step to ``end`` created energy: ``GAIN`` of the scale
+        with ``end`` measured (:meth:`reach`), and never below the round-off ``floor``."""
+        return max(GAIN * self.reach(end), self.floor)
+
     def held(
         self, stepper, st: State, end: State, h: float, timer, depth: int = 0, damped=False
     ) -> State:
@@ -136,13 +161,13 @@ class EnergyGuard:
         a turn: module turns) is its own retake, the same computation."""
         before = self.energy(st)
         self.accepted(st)  # (the run's first state, or a resumed run's)
-        if self.energy(end) - before <= GAIN * self.reach(end):
+        if self.energy(end) - before <= self.level(end):
             return self.accepted(end)
         stats = self.settings.stats
         stats.energy_retakes += 1
         retake = end if damped else stepper.step(st, h, timer, depth, damped=True)
         after = self.energy(retake)
-        if after - before > GAIN * self.reach(retake) and depth < self.settings.max_halvings:
+        if after - before > self.level(retake) and depth < self.settings.max_halvings:
             # (still gaining: two halves at ρ∞ = 0, and the end that holds less energy)
             stats.energy_retake_halves += 1
             halves = stepper.halves(st, h, timer, depth, damped=True)

@@ -77,7 +77,7 @@ def simulate(
                 state = stepper.step(state, h, timer)
             except StepFailure as err:
                 tried = f"{opts.max_halvings} step halvings"
-                raise failure_error(err, state.t, n, tried) from None
+                raise failure_error(err, state.t, n, tried, opts.stats) from None
             state.t = t_next
             state.step = n
             if choice is not None:  # the rates per step that "auto" weighs count this one
@@ -99,4 +99,4 @@ def _controlled(stepper, state, n_steps, dt, t_end, timer) -> Iterator[State]:
             yield state
     except StepFailure as err:
         tried = f"rejections down to the step {dt / 2 ** ladder_depth(stepper.settings):.3g} s"
-        raise failure_error(err, state.t, state.step + 1, tried) from None
+        raise failure_error(err, state.t, state.step + 1, tried, stepper.stats) from None

@@ -4,13 +4,22 @@
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass, field
 
 from ..contact.stats import ContactStats
 from ..linalg import Factorizations, IterativeStats, LinearSolver
 from ..linalg.choice import RunPlan, SolverChoice
 
-__all__ = ["FollowUps", "Localization", "NewtonStats", "StepControl", "StepStats", "TurnCounts"]
+__all__ = [
+    "FailedStep",
+    "FollowUps",
+    "Localization",
+    "NewtonStats",
+    "StepControl",
+    "StepStats",
+    "TurnCounts",
+]
 
 
 @dataclass
@@ -121,6 +130,20 @@ class StepControl:
 
 
 @dataclass
+class FailedStep:
+    """The step that stopped a run: its number ``step`` (the row it would have ended on,
+    as every step's) and the halvings it made before it failed, of them those for a
+    penetration (``retakes``) and for a beam node's turn (``turn_halvings``), and the
+    shortest sub-step it tried (``shortest``, s)."""
+
+    step: int
+    halvings: int = 0
+    retakes: int = 0
+    turn_halvings: int = 0
+    shortest: float = math.inf
+
+
+@dataclass
 class StepStats:
     """Counts of one run (each starts at zero)."""
 
@@ -131,6 +154,7 @@ class StepStats:
     energy_retakes: int = 0  # beam steps that created energy, taken again (.energy_guard)
     energy_retake_halves: int = 0  # of those, retakes taken again in two halves
     turns: TurnCounts = field(default_factory=TurnCounts)
+    failed: FailedStep | None = None  # the step that stopped the run, if one did
     localization: Localization = field(default_factory=Localization)
     contact: ContactStats = field(default_factory=ContactStats)
     factorizations: Factorizations = field(default_factory=Factorizations)
@@ -199,6 +223,8 @@ class StepStats:
             ],
             # rtol's control (fecontact.time.adaptive): steps taken again smaller
             "steps_rejected": self.control.rejected,
+            # the step that failed and stopped the run (None: none did)
+            "failed_step": None if self.failed is None else self.failed.step,
             "step_control": asdict(self.control),
             # the largest Alart–Curnier residual a converged correction left, over its tolerance
             "final_residuals": asdict(self.contact.final_residuals),

@@ -101,6 +101,7 @@ class Stepper:
             return self._attempt(model, st, h, settings, timer, kind)
         except StepFailure as err:
             turn = isinstance(err, TurnFailure)
+            err.shortest = min(err.shortest, h)
             # (a step refused for a turn, in a run the guard checks: taken at ρ∞ = 0 first)
             damps = turn and not damped and self.guard is not None
             if depth >= self.settings.max_halvings and not damps:
@@ -111,7 +112,11 @@ class Stepper:
             # (the whole step at ρ∞ = 0 is the guard's retake of it: kept, not taken again)
             self.turned = self._taken(st, h, timer, depth, True)
             return self.turned
-        second = self.halves(st, h, timer, depth, damped)
+        try:
+            second = self.halves(st, h, timer, depth, damped)
+        except StepFailure as failure:  # (this halving counted where the run stops)
+            failure.carries(1, retake, turn)
+            raise
         second.halvings += 1
         second.retakes += retake
         second.turn_halvings += turn
@@ -133,7 +138,11 @@ class Stepper:
         fails), joined; the halves are parts of this step, which the energy guard checks
         whole."""
         first = self._taken(st, 0.5 * h, timer, depth + 1, damped)
-        second = self._taken(first, 0.5 * h, timer, depth + 1, damped)
+        try:
+            second = self._taken(first, 0.5 * h, timer, depth + 1, damped)
+        except StepFailure as failure:  # (the first half's halvings are the failed step's)
+            failure.carries(first.halvings, first.retakes, first.turn_halvings)
+            raise
         second.ledger = joined_record(self.model, first, second)  # both halves' contact phases
         least = min(first.h_least or first.h, second.h_least or second.h)
         second = joined(first, second, h)
