@@ -150,8 +150,9 @@ def covered_part_gaps(e, moments, mass_of, coverage, n_faces: int, duals: np.nda
     A = D M⁻¹ with M = Σ_pairs M_p the face's ∫_C Ñ Ñᵀ dA and D = diag(M 1) (Popp, Seitz,
     Gee & Wall, CMAME 2013). A depends on every pair of the face; with t = M⁻¹ S, S = Σ m_p,
     its derivative splits over the pairs, ∂(A S)_j ⊃ t_j Σ_l ∂M_p,jl − Σ_i A_ji (∂M_p t)_i,
-    so the gradients stay exact in the pairs' own coordinates; the Hessians are those at
-    fixed A. A face covered by less than :data:`SMALLEST` contributes nothing."""
+    so the gradients stay exact in the pairs' own coordinates, and so do the Hessians
+    (:func:`_covered_hessians`; the terms coupling two pairs of a face are left out). A
+    face covered by less than :data:`SMALLEST` contributes nothing."""
     fraction = np.bincount(e, coverage, n_faces)[e]
     part = (fraction >= SMALLEST) & (fraction < 1.0 - _FULL) & (coverage > 0.0)
     n = len(duals)
@@ -170,15 +171,49 @@ def covered_part_gaps(e, moments, mass_of, coverage, n_faces: int, duals: np.nda
         t[part] = np.einsum("fkl,fl->fk", inv, S)[local]
     jets = [sum(moments[k] * A[:, j, k] for k in range(n)) for j in range(n)]
     if part.any() and moments[0].g is not None:
-        dM = np.stack([np.stack([j.g for j in row], 1) for row in mass], 1)  # (Pp, n, n, z)
-        tp, Ap = t[part], A[part]
-        own = dM.sum(axis=2) * tp[:, :, None]  # t_j Σ_l ∂M_jl
-        other = np.einsum("pji,pilz,pl->pjz", Ap, dM, tp)
-        for j, jet in enumerate(jets):
-            g = jet.g.copy()
-            g[part] += own[:, j] - other[:, j]
-            jet.g = g
+        _differentiate_covered(jets, moments, mass, part, (M[local], inv[local], A[part], t[part]))
     return jets, A
+
+
+def _differentiate_covered(jets, moments, mass, part, face):
+    """The derivatives of the Jets ``jets`` on the entries ``part`` (faces covered in part)
+    through their dual coefficients: ``face`` the face's M, M⁻¹, A and t = M⁻¹ S per entry."""
+    M, inv, Ap, tp = face
+    dM = np.stack([np.stack([j.g for j in row], 1) for row in mass], 1)  # (Pp, n, n, z)
+    own = dM.sum(axis=2) * tp[:, :, None]  # t_j Σ_l ∂M_jl
+    other = np.einsum("pji,pilz,pl->pjz", Ap, dM, tp)
+    for j, jet in enumerate(jets):
+        g = jet.g.copy()
+        g[part] += own[:, j] - other[:, j]
+        jet.g = g
+    if moments[0].h is None:
+        return
+    ddM = np.stack([np.stack([j.h for j in row], 1) for row in mass], 1)
+    dS = np.stack([m.g[part] for m in moments], 1)  # (Pp, n, z)
+    ddS = np.stack([m.h[part] for m in moments], 1)
+    hess = _covered_hessians(M, inv, tp, (dM, ddM), (dS, ddS))
+    for j, jet in enumerate(jets):
+        jet.h = jet.h.copy()
+        jet.h[part] = hess[:, j]
+        jet.flat = False
+
+
+def _covered_hessians(M, inv, t, dM, dS):
+    """∂²(A S)_j over one pair's coordinates (Pp, n, z, z) on faces covered in part, the
+    pair's own M_p and m_p varying and the face's other pairs fixed (their cross terms are
+    not pair-local): with t = M⁻¹ S and r = M 1 (A = diag(r) M⁻¹), (A S)_j = r_j t_j,
+    ∂t = M⁻¹(∂S − ∂M t), ∂²t = M⁻¹(∂²S − ∂²M t − ∂M ∂t − (∂M ∂t)ᵀ). At fixed A (A ∂²m
+    alone) a segment covered by a sliver had 50 times its curvature along a Newton update
+    (two P2 disks at 29 m/s, ``docs/explanation/mortar.md``)."""
+    (dM, ddM), (dS, ddS) = dM, dS
+    dt = np.einsum("pki,piz->pkz", inv, dS - np.einsum("pilz,pl->piz", dM, t))
+    mix = np.einsum("pilz,ply->pizy", dM, dt)
+    inner = ddS - np.einsum("pilzy,pl->pizy", ddM, t) - mix - mix.transpose(0, 1, 3, 2)
+    ddt = np.einsum("pki,pizy->pkzy", inv, inner)
+    r, dr, ddr = M.sum(axis=2), dM.sum(axis=2), ddM.sum(axis=2)
+    cross = dr[:, :, :, None] * dt[:, :, None, :]
+    return (ddr * t[:, :, None, None] + cross + cross.transpose(0, 1, 3, 2)
+            + ddt * r[:, :, None, None])  # fmt: skip
 
 
 class QuadraticFacePairs:
