@@ -78,7 +78,7 @@ def test_a_run_that_reads_its_releases_is_the_run_without_probes(run, monkeypatc
     read = [np.concatenate([st.q, st.v]) for st in run(stats)[1]]
     assert stats.localization.release_probes > 0
     # (no force ever falls to zero: no probe; the steps as the run's)
-    monkeypatch.setattr(Releases, "_releasing", lambda self, st, within: False)
+    monkeypatch.setattr(Releases, "_releasing", lambda self, st, within, settled=None: False)
     plain = StepStats()
     alone = [np.concatenate([st.q, st.v]) for st in run(plain)[1]]
     assert plain.localization.release_probes == 0
