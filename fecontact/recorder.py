@@ -103,12 +103,16 @@ class Recorder:
         :class:`~fecontact.time.stats.FailedStep`; None: none did) with those of its steps."""
         if failed is None:
             return
-        self.halvings += failed.halvings
-        self.halved_steps += failed.halvings > 0
-        self.retakes += failed.retakes
-        self.turn_halvings += failed.turn_halvings
-        self.turn_halved_steps += failed.turn_halvings > 0
+        self._count_halvings(failed.halvings, failed.retakes, failed.turn_halvings)
         self.dt_substep_min = min(self.dt_substep_min, failed.shortest)
+
+    def _count_halvings(self, halvings: int, retakes: int, turn_halvings: int) -> None:
+        """Add one step's halvings, energy retakes and halvings for a beam node's turn."""
+        self.halvings += halvings
+        self.halved_steps += halvings > 0
+        self.retakes += retakes
+        self.turn_halvings += turn_halvings
+        self.turn_halved_steps += turn_halvings > 0
 
     def record(self, st: State) -> None:
         """Account for the state ``st``; write its history row unless it is a step between
@@ -144,11 +148,7 @@ class Recorder:
             self.steps += 1
             self.iter_total += its
             self.iter_max = max(self.iter_max, its)
-            self.halvings += st.halvings
-            self.halved_steps += st.halvings > 0
-            self.retakes += st.retakes
-            self.turn_halvings += st.turn_halvings
-            self.turn_halved_steps += st.turn_halvings > 0
+            self._count_halvings(st.halvings, st.retakes, st.turn_halvings)
             self.max_penetration = max(self.max_penetration, st.penetration)
             if st.mortar_depth > self.mortar_depth:
                 self.mortar_depth, self.mortar_deepest = st.mortar_depth, (st.t, st.step)
