@@ -109,3 +109,33 @@ def test_a_contact_update_in_the_modes_is_the_update_through_the_factors():
         assert relative(dq, dq_exact) < 1e-11 and relative(lam, lam_exact) < 1e-11
         assert np.count_nonzero(lam) == (1 if only else 3)
         assert sorted(model.ladder.projected) == [0, 1, 2]  # (kept once, at every size)
+
+
+def test_old_rungs_are_made_again_where_pcg_takes_them():
+    """Every size met once that is factorized becomes a rung; beyond ``LIVE`` of them the
+    oldest drop their factors (a run that locates hundreds of instants held them all) and
+    make them again, from the same S(a), where PCG takes one: the solve is the one the kept
+    factors gave, to the bit."""
+    a_h = 1.0 / (0.25 * 1e-4**2)
+    sizes = a_h * 2.5 ** np.arange(ladder.LIVE + 3)  # (each beyond RATIO of the others)
+    b = np.random.default_rng(2).normal(size=(plate().n_free, 2))
+    solves = []
+    for retire in (False, True):
+        model = plate()
+        solve = model.iteration_matrix(sizes[0], 0.0)[1]  # the run's own step: factorized
+        grid = model.ladder
+        grid.after = None  # (rungs, as on a model above SPECTRAL_LIMIT)
+        grid.keep(sizes[0], solve)
+        if not retire:
+            grid.assemble = None  # (every rung keeps its factors)
+        model.passing = True
+        for a in sizes[1:]:
+            model.iteration_matrix(a, 0.0)
+        kept = [r for r in grid.rungs.values() if type(r) is not ladder._Remade]
+        assert len(grid.rungs) == sizes.size
+        assert len(kept) == (ladder.LIVE + 1 if retire else sizes.size)  # (+ the run's own)
+        a = 1.2 * sizes[1]  # (PCG from the oldest rung of a size met once)
+        solves.append(grid.solver(a, model.iteration_sum(a, grid.K))(b))
+        assert grid.counts["rungs_remade"] == int(retire)
+        assert grid.counts["pcg_solves"] == 1 and grid.counts["pcg_refactorized"] == 0
+    np.testing.assert_array_equal(solves[0], solves[1])

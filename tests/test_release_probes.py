@@ -9,10 +9,11 @@ import pytest
 
 from fecontact.contact.body_pairs import NodeSurfaceContact
 from fecontact.contact.mortar_interface import MortarInterface
+from fecontact.contact.mortar_safeguard import DeepNodeRows
 from fecontact.scenes import wave_step
 from fecontact.testing import case
 from fecontact.time import StepStats, simulate, substeps
-from fecontact.time.substeps import Releases
+from fecontact.time.substeps import READ_RELEASE, Releases
 
 
 def fast_disks(stats):
@@ -119,3 +120,33 @@ def test_a_state_taken_as_in_flight_presses_nothing(run, monkeypatch):
     assert len(noted) == len(tested)
     for a, b in zip(noted, tested, strict=True):
         np.testing.assert_array_equal(a, b)  # (bit for bit: the same decisions)
+
+
+class MeanForces:
+    """A state as :meth:`Releases._releasing` reads it: its contacts' mean forces (N)."""
+
+    def __init__(self, force: np.ndarray):
+        self.force, self.impulse = force, np.zeros(force.size)
+
+    def mean_force(self) -> np.ndarray:
+        return self.force
+
+
+def test_a_safeguard_row_unloading_reads_no_release():
+    """A mortar node's own row (the safeguard's pointwise rows, the master's nodes' too) whose
+    force falls to zero is the node back within its allowance, held by the interface's
+    weighted rows: no release of the balls, so no probe starts from it (two_balls at 10 m/s
+    took 10 probes, 70 s of its 280 s, on the master's rows while the balls were pressed
+    harder every step; none read a release). The same fall on a weighted row still does."""
+    model = case("two_balls").build(velocity=10.0).model
+    contacts = model.contacts
+    pointwise = np.array([isinstance(pair, DeepNodeRows) for pair in contacts.pairs])
+    rows = {kind: np.flatnonzero(pointwise[contacts.owner] == kind)[0] for kind in (True, False)}
+    assert pointwise.sum() == 2  # (the slave's nodes against the master, and the master's)
+    for safeguard, row in rows.items():
+        releases = Releases(model, split=True)
+        before, after = np.zeros(contacts.size), np.zeros(contacts.size)
+        before[row], after[row] = 10.0, 4.0  # (zero 2/3 of a step ahead along that line)
+        releases._releasing(MeanForces(before), READ_RELEASE, releases._aside())
+        reads = releases._releasing(MeanForces(after), READ_RELEASE, releases._aside())
+        assert reads is not safeguard

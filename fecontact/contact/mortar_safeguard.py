@@ -66,6 +66,7 @@ __all__ = [
     "SMOOTHING",
     "edge_excess",
     "edge_excess_jet",
+    "pointwise_pairs",
     "safeguard_rows",
     "shortest_edge",
     "twin_rows",
@@ -385,6 +386,13 @@ def twin_rows(pairs) -> np.ndarray | None:
             twins[s + rows], twins[t + rows] = t + rows, s + rows
             found = True
     return twins if found else None
+
+
+def pointwise_pairs(pairs) -> np.ndarray:
+    """For each of ``pairs``, whether it is a safeguard's pointwise rows (:class:`DeepNodeRows`,
+    the slave's or the master's): their force falls to zero where the node is back within its
+    allowance, held by the interface's weighted rows, not where the solids part."""
+    return np.array([isinstance(pair, DeepNodeRows) for pair in pairs], dtype=bool)
 
 
 def twins_among(twins: np.ndarray | None, rows: np.ndarray, extra: int = 0) -> np.ndarray | None:

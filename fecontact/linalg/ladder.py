@@ -19,9 +19,12 @@ of them serves a single step. Two ways avoid it, chosen once per model by its si
   least ``RATIO`` from the others (the run's own step sizes among them): a size within
   ``RATIO`` of a factor is solved by PCG from the nearest, a size farther from every factor
   is factorized and becomes a rung. A run then holds O(log) factors however many instants
-  it locates, and meets the same rungs again. On the 2,499-dof ball a factorization takes
-  54 ms and PCG 8 to 19 ms (5 to 16 iterations for a/b from 1.01 to 2); on the 387-dof ball
-  10 iterations cost more than its 1.8 ms factorization, hence the spectral way there.
+  it locates, and meets the same rungs again. A size PCG does not solve (below) is
+  factorized and becomes a rung too; of the rungs of sizes met once the ``LIVE`` latest
+  keep their factors, an older one's are made again where PCG takes it. On the 2,499-dof
+  ball a factorization takes 54 ms and PCG 8 to 19 ms (5 to 16 iterations for a/b from 1.01
+  to 2); on the 387-dof ball 10 iterations cost more than its 1.8 ms factorization, hence
+  the spectral way there.
 
 Both are exact to round-off: the spectral solve's relative residual is 3e-15 (the direct
 solve's 5e-16), PCG's ``TOLERANCE``. A PCG solve that does not reach it in
@@ -41,6 +44,7 @@ import scipy.sparse as sp
 from .direct import factorize
 
 __all__ = [
+    "LIVE",
     "MAX_COLUMNS",
     "MAX_ITERATIONS",
     "RATIO",
@@ -76,6 +80,12 @@ size): PCG pays its iterations for every column, a factorization once (the 2,499
 
 MAX_ITERATIONS = 40
 """PCG iterations of one solve, at most (16 to 17 reach ``TOLERANCE`` at a/b = 2 or 1/2)."""
+
+LIVE = 8
+"""Rungs of sizes met once whose factors are kept, at most (the latest made); an older one
+keeps its place on the ladder and its factors are made again, from the same S(a), when a
+PCG solve takes it (counted ``rungs_remade``): every size that PCG refactorized stayed a
+rung, and ``two_balls`` at 10 m/s held 525 factors of its 2,706 dofs, 3.6 GB."""
 
 
 def iteration_solver(model, a: float, S, K):
@@ -122,7 +132,10 @@ def _ladder(model, K=None) -> Ladder | None:
     if model.ladder is None:
         K = model.internal(np.zeros(model.n))[2] if K is None else K
         model.ladder = Ladder(
-            model.M, K, lambda A: factorize(A, symmetric=True, solver=model.solver)
+            model.M,
+            K,
+            lambda A: factorize(A, symmetric=True, solver=model.solver),
+            lambda a: model.iteration_sum(a, K),  # (S(a) as passing_matrix makes it)
         )
     return model.ladder
 
@@ -131,9 +144,10 @@ class Ladder:
     """Solvers of S(a) = a M + K (``M``, ``K``: the model's over its free dofs, sparse) at the
     sizes a (1/s²) a run meets once (module docstring). ``factorize(S)`` returns S's solver
     (the model's seam, which counts the work). ``counts``: the factorizations made for such
-    sizes, PCG solves, their iterations, PCG solves refactorized, eigendecompositions."""
+    sizes, PCG solves, their iterations, PCG solves refactorized, eigendecompositions, rungs
+    whose factors were made again (:data:`LIVE`)."""
 
-    def __init__(self, M, K, factorize):
+    def __init__(self, M, K, factorize, assemble=None):
         self.M, self.K, self._factorize = M, K, factorize
         n = M.shape[0]
         # (decided once: the spectral way for small models, after n/32 factorizations)
@@ -145,6 +159,9 @@ class Ladder:
             ("factorizations", "pcg_solves", "pcg_iterations", "pcg_refactorized", "spectral"),
             0,
         )
+        self.counts["rungs_remade"] = 0
+        self.own: set[float] = set()  # (the run's own sizes: their factors always kept)
+        self.assemble = assemble  # (a -> S(a) at a size met once: a rung's factors remade)
 
     def spectral(self) -> bool:
         """Whether the sizes met once are now solved by the eigendecomposition (made, or
@@ -157,6 +174,7 @@ class Ladder:
         """Note the factors ``solve`` of S(a), made for a size the run steps with."""
         if self.after is None:
             self.rungs[a] = solve
+            self.own.add(a)
 
     def solver(self, a: float, S):
         """``solve(b)`` of S = S(a) (``S`` itself, in the model's format) at a size met once."""
@@ -182,8 +200,20 @@ class Ladder:
             S = S.copy()
             S.eliminate_zeros()
         solve = self._factorize(S)
-        self.keep(a, solve)
+        if self.after is None:
+            self.rungs[a] = solve
+            self._retire()
         return solve
+
+    def _retire(self) -> None:
+        """Keep the factors of the ``LIVE`` latest rungs of sizes met once; the older ones'
+        factors are dropped, to be made again where PCG takes them (:class:`_Remade`)."""
+        if self.assemble is None:
+            return
+        own = self.own
+        made = [b for b, r in self.rungs.items() if b not in own and not isinstance(r, _Remade)]
+        for b in made[:-LIVE]:  # (a dict keeps its insertion order: the oldest first)
+            self.rungs[b] = _Remade(self, b)
 
     def _decompose(self) -> None:
         """Φ and Ω² of K Φ = M Φ Ω² (dense, once)."""
@@ -221,6 +251,27 @@ class Spectral:
             for col, i in enumerate(missing):
                 kept[keys[i]] = Y[:, col]
         return np.column_stack([kept[key] for key in keys])
+
+
+class _Remade:
+    """A rung whose factors were dropped (:meth:`Ladder._retire`): made again from S(a) at
+    its first solve, the same matrix as they were made from, so the same numbers."""
+
+    __slots__ = ("a", "ladder", "solve")
+
+    def __init__(self, ladder: Ladder, a: float):
+        self.ladder, self.a, self.solve = ladder, a, None
+
+    def __call__(self, b):
+        if self.solve is None:
+            ladder = self.ladder
+            ladder.counts["rungs_remade"] += 1
+            S = ladder.assemble(self.a)
+            if sp.issparse(S):  # (as Ladder.factor: the pattern's explicit zeros left out)
+                S = S.copy()
+                S.eliminate_zeros()
+            self.solve = ladder._factorize(S)
+        return self.solve(b)
 
 
 class _Preconditioned:

@@ -87,7 +87,7 @@ class Localization:
     )
     ladder: dict = field(
         default_factory=lambda: dict.fromkeys(
-            ("pcg_solves", "pcg_iterations", "pcg_refactorized", "spectral"), 0
+            ("pcg_solves", "pcg_iterations", "pcg_refactorized", "spectral", "rungs_remade"), 0
         )
     )
 

@@ -29,6 +29,7 @@ import copy
 
 import numpy as np
 
+from ..contact.mortar_safeguard import pointwise_pairs
 from ..errors import SolverError
 from ..ledger import joined_record
 from .aside import taken_aside
@@ -192,6 +193,10 @@ class Releases(Localizer):
         # (frictional: since when each contact has been lasting, s; inf: it is not)
         self.since = np.full(model.contacts.size, np.inf)
         self.settled = None  # lasting for over CHATTER_WINDOW steps: no release read
+        # (decided once: the mortar safeguard's pointwise rows, whose falling force reads no
+        # release; two_balls at 10 m/s: every probe was theirs, none read a release)
+        rows = pointwise_pairs(model.contacts.pairs)[model.contacts.owner]
+        self.pointwise = rows if rows.any() else None
         self.ends = (None, None, False)  # (the last state, its impulses, whether it presses)
 
     def __call__(self, model, st: State, h: float, opts: RunSettings, timer: PhaseTimer) -> State:
@@ -262,7 +267,7 @@ class Releases(Localizer):
         it is. A probe starts from ``st`` where a contact's force (:meth:`_releasing`), or
         that total, is falling to zero and no reading covers ``st``."""
         before = self.force  # (the step before's mean forces; st's after _releasing)
-        falling = self._releasing(st, READ_RELEASE, self.settled)
+        falling = self._releasing(st, READ_RELEASE, self._aside())
         rows = self._letting_go(model, before) if self.split else None
         if not falling and rows is None:
             return None
@@ -281,6 +286,14 @@ class Releases(Localizer):
         if out is not None and not pressed.any():  # (every contact let go: the run's release)
             opts.stats.localization.last_release = release
         return out
+
+    def _aside(self) -> np.ndarray | None:
+        """The contacts whose falling force reads no release: the settled ones (frictional
+        runs) and the mortar safeguard's pointwise rows; None where there is none."""
+        pointwise, settled = self.pointwise, self.settled
+        if pointwise is None or settled is None:
+            return settled if pointwise is None else pointwise
+        return settled | pointwise
 
     def _letting_go(self, model, before: np.ndarray) -> np.ndarray | None:
         """The contacts of the pairs whose total mean force, from ``before`` to the step's
