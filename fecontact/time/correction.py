@@ -108,12 +108,14 @@ def position_correction(model, q_tilde, cand, metric, c, opts, tol_gap, nu0=None
     return U, k * nu, its
 
 
-def unit_columns(model, key, solve_H, constant: bool) -> UnitColumns:
+def unit_columns(model, key, solve_H, constant: bool, once: bool = False) -> UnitColumns:
     """H⁻¹e_i of the dofs that gap curvatures touch, kept over the run when H is constant
-    (else over one correction)."""
+    (else over one correction); ``once``: H is of a size met once
+    (:meth:`UnitColumns.factorize_instead`)."""
     if not constant:
         return UnitColumns(solve_H, model.n_free)
-    return model.column_cache.setdefault(("unit", *key), UnitColumns(solve_H, model.n_free))
+    units = UnitColumns(solve_H, model.n_free, once)
+    return model.column_cache.setdefault(("unit", *key), units)
 
 
 class MomentumKept:

@@ -25,8 +25,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..joints import newton_remainder
-from ..linalg import low_rank_solver
-from .constraints import StepFailure
+from ..linalg import low_rank_solver, touched
+from .constraints import StepFailure, factorize_or_fail, plus_curvature
 from .correction import unit_columns
 from .coulomb import SmoothFriction
 from .lie import InertialForces
@@ -445,11 +445,18 @@ class PersistentContacts(ForceTerm):
 def schur_update(step, sc, r, solve, constant: bool, residual: float) -> np.ndarray:
     """The contacts' update through S_t's ``solve``: straight gaps by the Schur complement
     (S_t⁻¹G_jᵀ kept per contact when S_t is ``constant``), curved ones with the curvature as
-    a low-rank correction of S_t's factors."""
+    a low-rank correction of S_t's factors, or at a size met once S_t plus the curvature
+    factorized where that costs less than the correction's columns."""
     model, c = step.model, step.c
     if sc.C is None:
         return sc.schur_update(model, r, solve, (c.bp, c.gp) if constant else None)
-    units = unit_columns(model, ("smooth", c.bp, c.gp), solve, constant)
+    ladder = model.ladder  # (a size met once: S_t's factors serve one smooth step)
+    once = constant and model.passing and ladder is not None and ladder.met_once(c.bp)
+    units = unit_columns(model, ("smooth", c.bp, c.gp), solve, constant, once)
+    if units.factorize_instead(touched(sc.C)):  # (cheaper than the columns, counted)
+        ladder.counts["curvature_factorizations"] += 1
+        S = plus_curvature(model.iteration_matrix(c.bp, c.gp)[0], 1.0, sc.C)
+        return sc.schur_update(model, r, factorize_or_fail(S, residual, True, model.solver))
     return sc.schur_update(model, r, with_curvature(solve, sc.C, units, residual))
 
 
