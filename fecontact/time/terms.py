@@ -25,9 +25,9 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..joints import newton_remainder
-from ..linalg import low_rank_solver, touched
-from .constraints import StepFailure, factorize_or_fail, plus_curvature
-from .correction import unit_columns
+from ..linalg import low_rank_solver
+from .constraints import StepFailure
+from .correction import curved_factors, unit_columns
 from .coulomb import SmoothFriction
 from .lie import InertialForces
 from .smooth_contact import SmoothContacts
@@ -450,13 +450,11 @@ def schur_update(step, sc, r, solve, constant: bool, residual: float) -> np.ndar
     model, c = step.model, step.c
     if sc.C is None:
         return sc.schur_update(model, r, solve, (c.bp, c.gp) if constant else None)
-    ladder = model.ladder  # (a size met once: S_t's factors serve one smooth step)
-    once = constant and model.passing and ladder is not None and ladder.met_once(c.bp)
-    units = unit_columns(model, ("smooth", c.bp, c.gp), solve, constant, once)
-    if units.factorize_instead(touched(sc.C)):  # (cheaper than the columns, counted)
-        ladder.counts["curvature_factorizations"] += 1
-        S = plus_curvature(model.iteration_matrix(c.bp, c.gp)[0], 1.0, sc.C)
-        return sc.schur_update(model, r, factorize_or_fail(S, residual, True, model.solver))
+    units = unit_columns(model, ("smooth", c.bp, c.gp), solve, constant)
+    S = model.iteration_matrix  # (S_t at this size: the matrix the curvature adds to)
+    factors = curved_factors(model, units, lambda: S(c.bp, c.gp)[0], -sc.C, residual)
+    if factors is not None:  # (a size met once: cheaper than the columns)
+        return sc.schur_update(model, r, factors)
     return sc.schur_update(model, r, with_curvature(solve, sc.C, units, residual))
 
 
