@@ -5,6 +5,7 @@ import pytest
 import scipy.sparse as sp
 
 from fecontact.linalg import UnitColumns, factorize, low_rank_solver
+from fecontact.linalg.low_rank import FACTORIZATION_COLUMNS
 
 
 def spd(n, seed):
@@ -38,3 +39,50 @@ def test_singular_update_is_reported():
     solve_A = factorize(A.toarray())
     with pytest.raises(np.linalg.LinAlgError):
         low_rank_solver(solve_A, C, UnitColumns(solve_A, n))
+
+
+def test_a_size_met_once_factorizes_while_cheaper_than_its_columns():
+    n, t = 400, 3 * FACTORIZATION_COLUMNS + 10
+    T = np.arange(0, 2 * t, 2)
+    solve_A = factorize(spd(n, 1), symmetric=True)
+    units = UnitColumns(solve_A, n, once=True)
+    # three factorizations cost less than the t columns, a fourth would not: columns then
+    decisions = [units.factorize_instead(T) for _ in range(4)]
+    assert decisions == [True, True, True, False] and units.factorized == 3
+    units(T)  # (the columns, made at the fourth update)
+    assert not units.factorize_instead(T) and units.solves == t
+    # a run's own size keeps its columns for every step: never a factorization
+    own = UnitColumns(solve_A, n)
+    assert not any(own.factorize_instead(T) for _ in range(4))
+    # a few touched dofs: their columns cost less than one factorization
+    few = UnitColumns(solve_A, n, once=True)
+    assert not few.factorize_instead(T[: FACTORIZATION_COLUMNS - 1])
+
+
+def fast_balls(monkeypatch, columns: int):
+    """The coarse two balls (1,122 dofs) at 10 m/s into their first located impacts, with
+    ``columns`` the cost of a factorization in column solves (0: never one)."""
+    from fecontact.linalg import low_rank
+    from fecontact.testing import case
+    from fecontact.time import StepStats, simulate
+
+    monkeypatch.setattr(low_rank, "FACTORIZATION_COLUMNS", columns or 10**9)
+    sim = case("two_balls").build(velocity=10.0, spacing=0.2, base=1, t_end=1.2e-4)
+    stats = StepStats()
+    run = simulate(sim.model, sim.dt, sim.t_end, sim.options, q0=sim.q0, v0=sim.v0, stats=stats)
+    states = list(run)
+    return states[-1], stats.localization.ladder
+
+
+@pytest.mark.slow
+def test_factorizations_at_sizes_met_once_move_no_state_beyond_the_solves(monkeypatch):
+    columns_always = fast_balls(monkeypatch, 0)
+    st, ladder = fast_balls(monkeypatch, FACTORIZATION_COLUMNS)
+    assert columns_always[1]["curvature_factorizations"] == 0
+    assert ladder["curvature_factorizations"] > 0  # (the rule took the factorizations)
+    # the same Newton updates but for their solves' round-off (measured 1.2e-14 in q and
+    # 2.9e-14 in v); the bounds are those of the steps' own tolerance (1e-8 of the
+    # residual), which an update more or less would still meet
+    q, v = columns_always[0].q, columns_always[0].v
+    assert np.max(np.abs(st.q - q)) <= 1e-9 * np.max(np.abs(q))
+    assert np.max(np.abs(st.v - v)) <= 1e-7 * np.max(np.abs(v))

@@ -9,7 +9,7 @@ import dataclasses
 
 from .direct import DENSE_LIMIT, SYMMETRIC_PIVOT, Pattern, factorize
 from .legacy import LastRunCounts, deprecated, set_near_null_space
-from .low_rank import UnitColumns, low_rank_solver
+from .low_rank import UnitColumns, low_rank_solver, touched
 from .solver import Factorizations, IterativeStats, LinearSolver
 from .sparse_solvers import SPARSE_SOLVERS, sparse_solver, use_sparse_solver
 
@@ -28,6 +28,7 @@ __all__ = [
     "low_rank_solver",
     "set_near_null_space",
     "sparse_solver",
+    "touched",
     "use_sparse_solver",
 ]
 

@@ -145,7 +145,8 @@ class Ladder:
     sizes a (1/s²) a run meets once (module docstring). ``factorize(S)`` returns S's solver
     (the model's seam, which counts the work). ``counts``: the factorizations made for such
     sizes, PCG solves, their iterations, PCG solves refactorized, eigendecompositions, rungs
-    whose factors were made again (:data:`LIVE`)."""
+    whose factors were made again (:data:`LIVE`), factorizations of S(a) plus a contact
+    curvature made in place of its columns (:meth:`met_once`)."""
 
     def __init__(self, M, K, factorize, assemble=None):
         self.M, self.K, self._factorize = M, K, factorize
@@ -160,6 +161,7 @@ class Ladder:
             0,
         )
         self.counts["rungs_remade"] = 0
+        self.counts["curvature_factorizations"] = 0  # (S(a) + C in the columns' place)
         self.own: set[float] = set()  # (the run's own sizes: their factors always kept)
         self.assemble = assemble  # (a -> S(a) at a size met once: a rung's factors remade)
 
@@ -169,6 +171,12 @@ class Ladder:
         if self.after is None:
             return False
         return self.modes is not None or self.counts["factorizations"] >= self.after
+
+    def met_once(self, a: float) -> bool:
+        """Whether S(a) is a size met once solved from factors (not a run's own size, not
+        the eigendecomposition's): where the columns S(a)⁻¹e_i of a curvature's dofs serve
+        one smooth step only (:meth:`fecontact.linalg.UnitColumns.factorize_instead`)."""
+        return self.after is None and a not in self.own
 
     def keep(self, a: float, solve) -> None:
         """Note the factors ``solve`` of S(a), made for a size the run steps with."""

@@ -10,7 +10,7 @@ import scipy.sparse as sp
 
 from ..contact import solve_position_correction
 from ..contact.mortar_safeguard import twins_among
-from ..linalg import UnitColumns, low_rank_solver
+from ..linalg import UnitColumns, low_rank_solver, touched
 from ..rotations import exp
 from .configuration import plus
 from .constraints import (
@@ -19,12 +19,14 @@ from .constraints import (
     augmentation,
     constraint_columns,
     factorize_or_fail,
+    plus_curvature,
 )
 from .momentum_rigid import common_normal, rigid_momentum
 
 __all__ = [
     "MomentumKept",
     "correction_metric",
+    "curved_factors",
     "momentum_held",
     "momentum_kept",
     "position_correction",
@@ -81,6 +83,9 @@ def position_correction(model, q_tilde, cand, metric, c, opts, tol_gap, nu0=None
             # the curvature touches the contact zone only: update H's factors on its dofs
             if not units:
                 units.append(unit_columns(model, (opts.metric, c.bp, c.gp), solve_H, constant))
+            factors = curved_factors(model, units[0], H, C, math.nan)
+            if factors is not None:
+                return factors, C
             try:
                 return low_rank_solver(solve_H, C, units[0]), C
             except np.linalg.LinAlgError:
@@ -110,10 +115,27 @@ def position_correction(model, q_tilde, cand, metric, c, opts, tol_gap, nu0=None
 
 def unit_columns(model, key, solve_H, constant: bool) -> UnitColumns:
     """H⁻¹e_i of the dofs that gap curvatures touch, kept over the run when H is constant
-    (else over one correction)."""
+    (else over one correction); ``key``: (the metric, β′, γ′). Where H is of a size met once,
+    factorizations of H − C may stand in for them (:meth:`UnitColumns.factorize_instead`)."""
     if not constant:
         return UnitColumns(solve_H, model.n_free)
-    return model.column_cache.setdefault(("unit", *key), UnitColumns(solve_H, model.n_free))
+    units = model.column_cache.get(("unit", *key))
+    if units is None:
+        ladder = model.ladder  # (a size met once: H's factors serve one step)
+        once = key[0] != "mass" and model.passing and ladder is not None
+        units = UnitColumns(solve_H, model.n_free, once and ladder.met_once(key[1]))
+        model.column_cache[("unit", *key)] = units
+    return units
+
+
+def curved_factors(model, units: UnitColumns, H, C, residual: float):
+    """The factors of H − C (``H()`` the matrix) where ``units`` takes them instead of its
+    columns (:meth:`UnitColumns.factorize_instead`, counted in the ladder's
+    ``curvature_factorizations``), else None."""
+    if not (units.once and units.factorize_instead(touched(C))):
+        return None
+    model.ladder.counts["curvature_factorizations"] += 1
+    return factorize_or_fail(plus_curvature(H(), -1.0, C), residual, True, model.solver)
 
 
 class MomentumKept:

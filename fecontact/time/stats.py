@@ -87,7 +87,15 @@ class Localization:
     )
     ladder: dict = field(
         default_factory=lambda: dict.fromkeys(
-            ("pcg_solves", "pcg_iterations", "pcg_refactorized", "spectral", "rungs_remade"), 0
+            (
+                "pcg_solves",
+                "pcg_iterations",
+                "pcg_refactorized",
+                "spectral",
+                "rungs_remade",
+                "curvature_factorizations",
+            ),
+            0,
         )
     )
 
