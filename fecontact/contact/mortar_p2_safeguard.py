@@ -4,7 +4,7 @@ other solid's curved segment.
 The rows of :mod:`fecontact.contact.mortar_safeguard` measure a node against the flat pieces
 of the other surface (a P2 segment split through its mid node). Where that surface is
 concave — a P2 block dented by a disk — a node resting on the curved segment lies behind the
-pieces by their sagitta: e²/8R of a piece of length e, 0.55 mm on the 21 mm pieces of a
+pieces by their sagitta: e²/8R of a piece of length e, 0.57 mm on the 21 mm pieces of a
 block's face conforming to a disk of radius 0.1 m, several allowances δ. Such rows hold
 nodes off a surface they rest on, and the static solution of a P2 disk pressed into a P2
 block did not settle. Here the gap is the node's signed distance from the curved segment
