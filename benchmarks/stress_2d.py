@@ -6,7 +6,8 @@ Rows (``--quick``: one row of each group on the smallest meshes, under a minute 
 - two elastic disks (``Solid.disk``, Neo-Hookean, 5 cm): head-on and off-centre (0, 0.3 and
   0.7 of the radius), e_N 0, 0.5 and 1, with and without friction, mortar (the default) and
   node-to-surface (both ways); fast approach up to a step that moves each disk by 3 of its
-  boundary cells; unequal radii and meshes;
+  boundary cells (the off-centre rows up to 1 cell also on P2 cells, mortar on their
+  quadratic faces); unequal radii and meshes;
 - a disk on a flexible strip from above and from below, at mid-span and near the ends (an
   elastic disk: its boundary nodes against the strip's two-sided surface; a rigid disk:
   its centre against the centreline), two strips crossing at an angle, a strip thrown end
@@ -116,7 +117,7 @@ def depth_probe(model, watch):
             qa, qb = st.q[slices[id(a)]], st.q[slices[id(b)]]
             if kind == "solid":  # points of a inside the polygon of solid b
                 xb = b.positions(qb)
-                f = b.boundary_facets()
+                f = b.contact_facets()  # (P2: through the mid nodes, as the run's watch)
                 d, edge = polygon_depths(boundary_points(a, qa), xb[f[:, 0]], xb[f[:, 1]])
                 k = int(np.argmax(d / edge))
                 deepest, rel = max(deepest, d[k]), max(rel, d[k] / edge[k])
@@ -176,16 +177,18 @@ def motion_probes(model):
 
 def two_disks(
     speed=1.0, offset=0.0, e=0.0, mu=0.0, method="mortar", courant=1.0, radii=(0.05, 0.05),
-    refinements=(2, 2), gap=None, t_end=None,
+    refinements=(2, 2), gap=None, t_end=None, element="P1",
 ):  # fmt: skip
     """Disks moving toward each other at ``speed`` each; the right one ``offset`` (m) above,
-    ``gap`` (m) apart (default 2 mm, or 2.5 steps of approach if that is more)."""
+    ``gap`` (m) apart (default 2 mm, or 2.5 steps of approach if that is more); ``element``
+    the cells' (P1, P2)."""
     r1, r2 = radii
     meshes = zip(radii, refinements, strict=True)
-    h = min(wave_step(Solid.disk([0, 0], r, n, RUBBER), courant) for r, n in meshes)
+    cells = {"element": element}
+    h = min(wave_step(Solid.disk([0, 0], r, n, RUBBER, **cells), courant) for r, n in meshes)
     gap = gap or max(0.002, 5.0 * speed * h)
-    left = Solid.disk([-r1 - 0.5 * gap, -0.5 * offset], r1, refinements[0], RUBBER)
-    right = Solid.disk([r2 + 0.5 * gap, 0.5 * offset], r2, refinements[1], RUBBER)
+    left = Solid.disk([-r1 - 0.5 * gap, -0.5 * offset], r1, refinements[0], RUBBER, **cells)
+    right = Solid.disk([r2 + 0.5 * gap, 0.5 * offset], r2, refinements[1], RUBBER, **cells)
     opts = dict(restitution=e, friction=mu, method=method)
     pairs = [Contact(left, right, **opts)]
     if method == "node-to-surface":
@@ -336,6 +339,15 @@ def disk_rows(method: str):
             quick=(courant, cells, frac) == (8, 3, 0) and not tag,
             pk=(courant, cells, frac) == (8, 1, 0.3) and not tag,
         )  # fmt: skip
+    if method == "mortar":  # the same off-centre fast rows on P2 cells (quadratic faces)
+        for courant, cells in ((1, 0.25), (4, 1), (8, 1)):
+            speed = cell_speed(cells, courant)
+            yield Row(
+                "fast", f"{speed:.3g} m/s, {courant} dx/c ({cells} cells), off 0.3R, P2",
+                lambda s=speed, c=courant: two_disks(
+                    speed=s, courant=c, offset=0.015, element="P2"),
+                free=True, pk=courant == 8,
+            )  # fmt: skip
     meshes = (((0.05, 0.03), (3, 1)), ((0.08, 0.05), (2, 3)), ((0.05, 0.05), (1, 3)))
     for (radii, refs), e in itertools.product(meshes, (0.0, 0.5)):
         yield Row(

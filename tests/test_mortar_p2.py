@@ -153,11 +153,14 @@ def test_weighted_gap_derivatives_are_exact_on_curved_p2_faces():
     the slave segments the master covers fully. (Two segments three off the contact meet
     master segments turned by 110°, in the facing fade's band, and are covered by 3 % and
     9 %: their rows take the covered part's dual functions, whose Hessians are those at
-    fixed coefficients; test below and tests/test_mortar_p2_facing_fade.py.)"""
+    fixed coefficients; test below and tests/test_mortar_p2_facing_fade.py.) The search
+    reaches 4 cm: the rows 14 mm off the contact read +14 mm over pairs whose mean gap is
+    beyond 2 cm, which fade out from the search distance on (far in front); searched to
+    2 cm, those rows read +9 to +10 mm and one segment stays covered fully, not three."""
     model, _, _ = p2_disks(gap=0.002, offset=0.003)
     pair = model.contacts.pairs[0]
     assert isinstance(pair, MortarContactP2)
-    pair.detect_within(0.02)
+    pair.detect_within(0.04)
     q = np.random.default_rng(1).normal(0.0, 1e-3, model.n)
     _, e, _, _, (_, coverage, _) = pair._overlapping(q)
     fraction = np.bincount(e, coverage, len(pair.facets))
@@ -175,12 +178,14 @@ def test_weighted_gap_gradients_are_exact_on_partly_covered_p2_segments():
     contact is covered in part and takes the dual functions of its covered part; the
     gradients through them are exact (measured 2e-10). Their Hessians are exact in each
     pair's own coordinates (below); the terms coupling two pairs of one segment are left
-    out (the rows' Hessians 1.6 off, measured; 2.2 at fixed dual coefficients)."""
+    out (the rows' Hessians 1.6 off, measured; 2.2 at fixed dual coefficients). Searched to
+    4 cm (as above: the pairs far in front fade out from the search distance on; at 2 cm
+    only the contact's row takes part, the rows at +31 and +32 mm left out)."""
     from fecontact.contact.mortar_p2_segments import DUALS
 
     model, _, _ = p2_disks(refinements=1, gap=0.002, offset=0.003)
     pair = model.contacts.pairs[0]
-    pair.detect_within(0.02)
+    pair.detect_within(0.04)
     q = np.random.default_rng(1).normal(0.0, 1e-4, model.n)
     g = pair.evaluate(q)[0]
     A = pair._last[1]["quad"][3]

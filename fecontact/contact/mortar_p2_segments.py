@@ -28,7 +28,12 @@ straight segment's length), the property the patch test needs. L_j = Σ_e ∫_e 
 Segments face each other when their chords make more than 120°; between 120° and 104.5° a
 pair's overlap shrinks to 0 as on linear segments (``mortar_segments.TURNED``), so that a pair
 enters and leaves the weighted gaps continuously as the bodies turn. A pair deep behind
-(its mean gap below −margin) leaves likewise, by a weight on its points.
+(its mean gap below −margin) leaves likewise, by a weight on its points, and so does a pair
+far in front (above +margin): a far master segment in the fade band, its overlap clamped at
+the slave segment's end with no facing neighbour to take the rest over, put a kink into a
+row that the smooth step's Newton iterates jumped across (two P2 disks at 29 m/s).
+A node's own gap to the other solid's curved segments backs the weighted gaps where a node
+sinks between them (:mod:`fecontact.contact.mortar_p2_safeguard`).
 
 A slave segment the master covers in part takes the dual functions biorthogonal on its
 covered part (Popp, Seitz, Gee & Wall, CMAME 2013), A = D M⁻¹ with M = ∫_covered N Nᵀ ds
@@ -48,10 +53,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InputError
 from .dual_numbers import Jet
 from .mortar import MortarContact
 from .mortar_p2 import QuadraticFacePairs, covered_part_gaps, dual_coefficients
+from .mortar_p2_curves import curve_at, curve_foot, curve_meet, quadratic_curve, quadratic_segments
+from .mortar_p2_curves import dot as _dot
+from .mortar_p2_safeguard import DeepNodeRowsP2
+from .mortar_safeguard import safeguard_rows
 from .mortar_segments import FACING, GAUSS_POINTS, TURNED, fade_weight, smooth_step
 
 __all__ = [
@@ -64,19 +72,6 @@ __all__ = [
 _THETA, _WEIGHT = np.polynomial.legendre.leggauss(GAUSS_POINTS)
 DUALS = dual_coefficients("segment")[0]
 """A (3, 3) of the reference segment's dual functions Φ = A N, nodes (a, b, m)."""
-
-_NEWTON = 30  # iterations of the slave projection's cubic (converges in 3-5 on a face)
-
-
-def quadratic_segments(body) -> np.ndarray:
-    """The P2 boundary segments (a, b, m) of a 2D ``body`` (ends along the counter-clockwise
-    boundary, then the mid node), from its boundary split through the mid nodes."""
-    split = body.contact_facets()
-    n = len(split) // 2
-    first, second = split[:n], split[n:]
-    if body.element != "P2" or not np.array_equal(first[:, 1], second[:, 0]):
-        raise InputError("body: quadratic mortar segments need a 2D P2 solid")
-    return np.ascontiguousarray(np.stack([first[:, 0], second[:, 1], first[:, 1]], axis=1))
 
 
 def segment_shares(x: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -92,79 +87,6 @@ def segment_shares(x: np.ndarray, faces: np.ndarray) -> np.ndarray:
 def _shape(xi):
     """(N_a, N_b, N_m) at ξ (Jets or arrays)."""
     return (xi * (xi - 1.0)) * 0.5, (xi * (xi + 1.0)) * 0.5, 1.0 - xi * xi
-
-
-def _curve(a, b, m):
-    """Coefficients (c, d, e) of x(ξ) = c + ξ d + ξ² e, each a pair of components."""
-    return (
-        m,
-        tuple((b[i] - a[i]) * 0.5 for i in range(2)),
-        tuple((a[i] + b[i]) * 0.5 - m[i] for i in range(2)),
-    )
-
-
-def _dot(u, w):
-    return u[0] * w[0] + u[1] * w[1]
-
-
-def _at(curve, xi):
-    """x(ξ) and x′(ξ) of a curve (c, d, e)."""
-    c, d, e = curve
-    x = tuple(c[i] + xi * (d[i] + xi * e[i]) for i in range(2))
-    t = tuple(d[i] + xi * (e[i] * 2.0) for i in range(2))
-    return x, t
-
-
-def _root(coef, x0, order):
-    """The root near the values x0 of Σ_k coef_k ξ^k (Jets), with the derivatives of the
-    implicit function from one Chebyshev step (exact to second order): ξ₀ − u − p″/(2p′) u²,
-    u = p/p′ at the constant ξ₀."""
-    if order == 0:
-        return coef[0].constant_like(x0)
-    p = sum(c * x0**k for k, c in enumerate(coef))
-    dp = sum(c * (k * x0 ** (k - 1)) for k, c in enumerate(coef) if k >= 1)
-    ddp = sum(c * (k * (k - 1) * x0 ** (k - 2)) for k, c in enumerate(coef) if k >= 2)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        inv = dp.reciprocal()
-        u = p * inv
-        x = -u if order == 1 else -u - (ddp * 0.5) * (u * u) * inv
-    x = x + x0
-    x.v = x0  # the root itself
-    return x
-
-
-def _foot(curve, y, order):
-    """ξ (Jet) of the point y projected onto the slave curve along its normals:
-    (x(ξ) − y)·x′(ξ) = 0, a cubic; inf where Newton's method does not reach a root."""
-    c, d, e = curve
-    r = (c[0] - y[0], c[1] - y[1])
-    coef = (_dot(r, d), _dot(r, e) * 2.0 + _dot(d, d), _dot(d, e) * 3.0, _dot(e, e) * 2.0)
-    v = [k.v for k in coef]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        xi = -v[0] / v[1]
-        for _ in range(_NEWTON):
-            p = v[0] + xi * (v[1] + xi * (v[2] + xi * v[3]))
-            step = p / (v[1] + xi * (2.0 * v[2] + 3.0 * xi * v[3]))
-            xi = xi - step
-            if not np.any(np.abs(step) > 1e-15 * (1.0 + np.abs(xi))):
-                break
-        ok = np.isfinite(xi) & (np.abs(step) <= 1e-12 * (1.0 + np.abs(xi)))
-    xi = np.where(ok, xi, np.inf)
-    root = _root(coef, np.where(ok, xi, 0.0), order)
-    root.v = xi
-    return root
-
-
-def _meet(master, x, t, order):
-    """η (Jet) of the master point met from x along the normal of the tangent t:
-    (y(η) − x)·t = a0 + a1 η + a2 η² = 0, the root nearest the straight master's."""
-    c, d, e = master
-    coef = (_dot((c[0] - x[0], c[1] - x[1]), t), _dot(d, t), _dot(e, t))
-    a0, a1, a2 = (k.v for k in coef)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        disc = np.sqrt(np.maximum(a1 * a1 - 4.0 * a0 * a2, 0.0))
-        eta = -2.0 * a0 / (a1 + np.where(a1 < 0.0, -1.0, 1.0) * disc)
-    return _root(coef, np.where(np.isfinite(eta), eta, 0.0), order)
 
 
 def _overlap(s1, s2, facing):
@@ -210,30 +132,34 @@ def _gauss(slave, master, lo, span, keep, order):
     overlaps [lo, lo + span] (0 where not ``keep``, P G)."""
     G, P = GAUSS_POINTS, len(keep) // GAUSS_POINTS
     xi = lo.repeat(G) + span.repeat(G) * np.tile(0.5 * (1.0 + _THETA), P)
-    x, t = _at(tuple(tuple(k.repeat(G) for k in part) for part in slave), xi)
+    x, t = curve_at(tuple(tuple(k.repeat(G) for k in part) for part in slave), xi)
     rep = tuple(tuple(k.repeat(G) for k in part) for part in master)
-    eta = _meet(rep, x, t, order)
-    y, _ = _at(rep, eta)
+    eta = curve_meet(rep, x, t, order)
+    y, _ = curve_at(rep, eta)
     gds = ((y[0] - x[0]) * t[1] - (y[1] - x[1]) * t[0]).where(keep, 0.0)  # g_N ds/dξ
     w = (span.repeat(G) * np.tile(0.5 * _WEIGHT, P)).where(keep, 0.0)
     return xi, t, eta, gds, w
 
 
 def _depth_weights(gds: Jet, t, w: Jet, depth: float):
-    """The pairs (P,) behind (mean gap over their points below −2 ``depth``) and the pairs'
-    weights ψ (Jet, P; None where no pair's mean gap ḡ lies between −2 ``depth`` and
-    −``depth``): 1 down to −``depth``, t²(3 − 2t) of t = (ḡ + 2 depth)/depth below, so that
-    a pair leaves continuously as the bodies overlap beyond the margin."""
+    """The pairs (P,) gone (mean gap ḡ over their points below −2 ``depth`` or above
+    +2 ``depth``) and the pairs' weights ψ (Jet, P; None where no pair's ḡ lies in either
+    ramp): 1 for |ḡ| up to ``depth``, t²(3 − 2t) of t = (2 depth − |ḡ|)/depth beyond, so
+    that a pair leaves continuously as the bodies overlap beyond the margin (a far part of
+    the master behind) and as its overlap lies far in front (a far part of the master that
+    a faded or clamped overlap would make a kink of)."""
     G = GAUSS_POINTS
     ds = np.sqrt(t[0].v ** 2 + t[1].v ** 2) * w.v
     with np.errstate(divide="ignore", invalid="ignore"):
         mean = (gds.v * w.v).reshape(-1, G).sum(1) / ds.reshape(-1, G).sum(1)
-        gone, ramp = mean <= -2.0 * depth, (mean < -depth) & (mean > -2.0 * depth)
+        gone = np.abs(mean) >= 2.0 * depth
+        front, ramp = (mean > depth) & ~gone, (np.abs(mean) > depth) & ~gone
     if not ramp.any():  # (most evaluations: every pair whole or gone)
         return gone, None
     P = len(mean)
     measure = _sum_points((t[0] * t[0] + t[1] * t[1]).sqrt() * w, P, G)
     mean = _sum_points(gds * w, P, G) * measure.where(ramp, 1.0).reciprocal()
+    mean = (mean * -1.0).where(front, mean)  # −|ḡ|
     psi = smooth_step((mean + 2.0 * depth) * (1.0 / depth))
     return gone, psi.where(ramp, 1.0)
 
@@ -265,9 +191,9 @@ def p2_segment_integrals(z: np.ndarray, hessian=None, depth: float = np.inf):
     m), and the quadrature as values, ξ, η and the weights of ds (P, G), for the slip rows."""
     c = Jet.variables(z, hessian)
     xa, xb, xm, y1, y2, ym = ((c[2 * i], c[2 * i + 1]) for i in range(6))
-    slave, master = _curve(xa, xb, xm), _curve(y1, y2, ym)
+    slave, master = quadratic_curve(xa, xb, xm), quadratic_curve(y1, y2, ym)
     order = 0 if hessian is None else (2 if hessian else 1)
-    feet = (_foot(slave, y1, order), _foot(slave, y2, order))
+    feet = (curve_foot(slave, y1, order), curve_foot(slave, y2, order))
     cosine = _cosine(z)
     overlap = _overlap(*feet, cosine < -TURNED)
     lo, span, coverage = _shrunk(overlap, cosine, (xa, xb, y1, y2))
@@ -331,10 +257,9 @@ class MortarContactP2(QuadraticFacePairs, MortarContact):
 
     def __init__(self, body, master, restitution: float = 0.0, margin=None):
         super().__init__(body, master, restitution, margin)
-        # no pointwise safeguard (mortar_safeguard): its node gaps are measured to the
-        # master's chords, which a node resting on the curved master surface lies behind by
-        # the sagitta (0.12 mm on the refinement-2 P2 disks, beyond its 0.05 mm allowance)
-        self.pointwise = self.master_rows = None
+        # the nodes' own rows measured to the curved segments: the flat pieces' rows would
+        # hold a node resting on a concave (dented) P2 face by the pieces' sagitta
+        self.pointwise, self.master_rows = safeguard_rows(self, DeepNodeRowsP2)
 
     def _integrate(self, e, z, hessian):
         """Jets of the segments' weighted gaps (the dual functions of the covered part on a

@@ -358,12 +358,13 @@ class DeepNodeRows3D(DeepNodeRows):
         return H
 
 
-def safeguard_rows(interface):
+def safeguard_rows(interface, kind=None):
     """The pointwise rows of a mortar ``interface``: those of its slave's nodes against the
     master's surface (row j the twin of the interface's row j, the same node), and those of
-    the master's nodes against the slave's (module docstring)."""
+    the master's nodes against the slave's (module docstring); ``kind`` the rows' class
+    (None: :class:`DeepNodeRows` in 2D, :class:`DeepNodeRows3D` in 3D)."""
     body, master, restitution = interface.body, interface.master, interface.restitution
-    kind = DeepNodeRows if body.dim == 2 else DeepNodeRows3D
+    kind = kind or (DeepNodeRows if body.dim == 2 else DeepNodeRows3D)
     rows = kind(body, master, restitution)
     if not np.array_equal(rows.nodes, interface.nodes):
         raise ValueError("the mortar rows' nodes must be the slave body's boundary nodes")

@@ -10,7 +10,9 @@ other surface is not tested again until the bodies have moved). The depth is rep
 run's ``max_penetration``): the weighted gaps let a node in by the interpolation's own error
 (measured 0.03–0.3 % of the shortest edge on a ball landing on a slab), and a step is not
 retaken for it; in 2D a node of either body deeper than half a per cent of an edge is held
-by its own gap (:mod:`fecontact.contact.mortar_safeguard`). A node deeper than ``BOUND`` of
+by its own gap (:mod:`fecontact.contact.mortar_safeguard`; on the quadratic faces of two 2D
+P2 solids a node inside the flat pieces is measured on the curved segment, as its row
+measures it, :mod:`fecontact.contact.mortar_p2_safeguard`). A node deeper than ``BOUND`` of
 the other surface's shortest edge is a warning of the run. What the watch has measured
 beyond that: 19 % of an edge (2.4 mm) in an oblique frictional impact of two disks
 (``two_disks``, refinements 2, offset 0.02 m, μ = 0.3), and two coarse balls (one
@@ -25,6 +27,7 @@ import numpy as np
 from .facet_search import FacetSearch
 from .inside import bounding_box
 from .mortar_interface import MortarInterface
+from .mortar_p2_safeguard import DeepNodeRowsP2, piece_depths
 from .mortar_safeguard import DeepNodeRows, shortest_edge
 
 __all__ = [
@@ -54,6 +57,10 @@ class SolidWatch:
         self.searches = (FacetSearch(facets[1]), FacetSearch(facets[0]))
         # the shortest boundary edge of the surface each body's nodes are tested against (m)
         self.edges = (shortest_edge(b, facets[1]), shortest_edge(a, facets[0]))
+        # quadratic faces: a node inside the flat pieces is measured on the curve, as their
+        # pointwise rows measure it (a dented face's pieces lie in front of it)
+        rows = (pair.pointwise, pair.master_rows)
+        self.curves = tuple(r.segments if isinstance(r, DeepNodeRowsP2) else None for r in rows)
 
     def depth(self, q: np.ndarray) -> tuple[float, float]:
         """The deepest boundary node of either body inside the other at q: its depth (m, ≥ 0)
@@ -102,7 +109,7 @@ class SolidWatch:
             inside = s < 0.0
             if not inside.any():
                 continue
-            d = -s[inside]
+            d = self._depths(i, xs[watched][inside], xm, -s[inside], f[inside])
             t = xm[search.facets[f[inside]]]
             edge = np.linalg.norm(t - np.roll(t, 1, axis=1), axis=2).min(axis=1)
             deepest = max(deepest, float(d.max()))
@@ -118,8 +125,19 @@ class SolidWatch:
         ``self.nodes[i]``) of body i inside the other body."""
         x = self._positions(q_start)
         surface = self.searches[i].surface
-        s, _ = surface.signed_distance(x[1 - i], x[i][self.nodes[i][nodes]], outside=False)
-        return np.maximum(-s, 0.0)
+        points = x[i][self.nodes[i][nodes]]
+        s, f = surface.signed_distance(x[1 - i], points, outside=False)
+        inside = s < 0.0
+        d = np.zeros(len(s))
+        d[inside] = self._depths(i, points[inside], x[1 - i], -s[inside], f[inside])
+        return d
+
+    def _depths(self, i: int, points, xm, depth, facets) -> np.ndarray:
+        """The depths (m) of body i's ``points`` inside the other body's flat pieces
+        (``depth``, closest ``facets``), on quadratic faces read on the curve."""
+        if self.curves[i] is None:
+            return depth
+        return piece_depths(self.curves[i], points, xm, facets)
 
     def entering(self, q: np.ndarray) -> str:
         """What of the pair enters the other at its deepest (for a message)."""
