@@ -12,7 +12,8 @@ import numpy as np
 from fecontact import Model, simulate
 from fecontact.bodies import LinearElastic, RigidBody3D, Solid
 from fecontact.bodies.shapes3d import Box
-from fecontact.contact import Contact
+from fecontact.contact import Contact, friction_redundant
+from fecontact.contact.friction import coulomb_residual
 from fecontact.time.settings import IntegratorOptions
 from fecontact.time.stats import StepStats
 
@@ -78,3 +79,47 @@ def test_a_box_thrown_along_a_mirror_symmetric_face_slides_straight():
     assert len(states) == 4
     assert states[-1].v[n] < V0  # (it slides, slowed by friction)
     assert max(abs(st.v[n + 1]) for st in states) <= 1e-4 * V0
+
+
+def test_where_the_proximal_iterations_settle_the_pivoting_step_solves_the_law(monkeypatch):
+    """The third step's smooth Coulomb solve (from its warm start and from zero): the
+    proximal iterations settle with 20 contacts slipping, 5 open and the normal rows inside
+    by 4 times the tolerance; Lemke's pivoting on the normal multipliers with the slips held,
+    then Newton, reach the law's solution, which opens 9 of the 25 contacts. The law holds
+    there to its own tolerance (the solve's: the error of a row in the units of w, a force's
+    error times the inverse effective mass of its row): every closed normal row at zero, no
+    open one inside, no multiplier tensile, every tangential multiplier in its cone (to a
+    force error that moves its row by the tolerance), the Alart–Curnier residual at
+    p = 1/D_ii (the solve's stopping measure) below it (measured: closed rows 7e-21 m, open
+    ones 1.3e-14 m and more apart, the cone's excess 2.2e-15 m, the residual 5.5e-15 m
+    against 6.9e-15 m: the bound is the solve's own tolerance). No contact is left out one at
+    a time and the counts say which path was taken."""
+    found = []
+    pivoted = friction_redundant.pivoted
+
+    def recorded(c, D, p, k, mu, nt, x, tol, max_iter, stats):
+        out = pivoted(c, D, p, k, mu, nt, x, tol, max_iter, stats)
+        found.append((c, D, k, mu, nt, x, tol, out))
+        return out
+
+    monkeypatch.setattr(friction_redundant, "pivoted", recorded)
+    stats = StepStats()
+    run(IntegratorOptions(), stats)
+    counts = stats.contact.coulomb
+    assert len(found) == counts.pivoted_solves == 2
+    assert counts.pivoted_failures == counts.opened_contact_solves == 0
+    assert counts.pivots > 0
+    for c, D, k, mu, nt, settled, tol, (x, _) in found:
+        m, b = len(mu), 1 + nt
+        w = c + k * (D @ x)
+        xs, ws, d = (v[: m * b].reshape(m, b) for v in (x, w, np.diag(D)))
+        closed = xs[:, 0] > 0.0
+        assert np.all(xs[:, 0] >= 0.0)
+        assert np.max(np.abs(ws[closed, 0])) <= tol
+        assert np.min(ws[~closed, 0]) >= -tol
+        excess = np.linalg.norm(xs[:, 1:], axis=1) - mu * xs[:, 0]
+        assert np.max(k * excess * d[:, 1]) <= tol
+        p = 1.0 / d  # (the default augmentation, one p for a contact's tangents)
+        p[:, 1:] = p[:, 1:].mean(axis=1, keepdims=True)
+        assert coulomb_residual(w, x, p.ravel(), k, mu, nt) <= tol
+        assert np.sum(~closed) > np.sum(settled[: m * b : b] == 0.0)  # (it opened contacts)

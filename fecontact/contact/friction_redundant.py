@@ -45,8 +45,8 @@ def proximal(c, D, p, k, mu, nt, x0, tol, max_iter, stats, steps=40, stall=5):
     over ``stall`` steps is left (the law is not monotone: on the box sliding flat, steps
     settled with 20 contacts slipping and their normal rows inside by 4 times the tolerance,
     where the law's solution opens 9 of the 25) for :func:`pivoted` from where it settled.
-    From ``x0``, then from zero where neither settles. Returns (x, Newton iterations) or
-    None; counted in ``stats.proximal_solves`` and ``stats.proximal_steps``."""
+    From ``x0``, then from zero where that start does not solve it. Returns (x, Newton
+    iterations) or None; counted in ``stats.proximal_solves`` and ``stats.proximal_steps``."""
     scale = float(np.max(np.diag(D), initial=0.0))
     if not scale > 0.0:
         return None
@@ -98,8 +98,8 @@ def pivoted(c, D, p, k, mu, nt, x, tol, max_iter, stats):
     stats.svd_fallbacks += fell_back
     z, pivots = lemke(M[:m, :m] - M[:m, m:] @ X[:, :m], q[:m] - M[:m, m:] @ X[:, m])
     stats.pivots += pivots
-    if z is not None:
-        start = E @ np.concatenate([z, -(X[:, m] + X[:, :m] @ z)])
+    start = None if z is None else E @ np.concatenate([z, -(X[:, m] + X[:, :m] @ z)])
+    if start is not None and np.isfinite(start).all():
         try:
             x, _, its = newton(c, D, p, k, mu, nt, start, tol, max_iter, stats)
         except NotConverged:
