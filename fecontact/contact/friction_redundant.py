@@ -81,7 +81,7 @@ def proximal(c, D, p, k, mu, nt, x0, tol, max_iter, stats, steps=40, stall=5):
     return None
 
 
-def pivoted(c, D, p, k, mu, nt, x, tol, max_iter, stats):
+def pivoted(c, D, p, k, mu, nt, x, tol, max_iter, stats, rounds=3):
     """The law solved from x where the proximal iterations settled without solving it: with
     each contact's tangential status held as x reads it (slipping along σ_T at μ times its
     normal multiplier, open contacts too where σ_T ≠ 0; sticking, w_T = 0, otherwise), the
@@ -90,25 +90,35 @@ def pivoted(c, D, p, k, mu, nt, x, tol, max_iter, stats):
     least squares: redundant rows), solved by Lemke's pivoting (:func:`.lemke.lemke`): it
     opens and closes every contact at once, where leaving one out at a time
     (:func:`one_open`) took a Newton per contact. Newton on the full law finishes from there
-    (the slip directions move with the answer). Returns (x, iterations) or None; counted in
-    ``stats.pivoted_solves``, ``stats.pivots`` and ``stats.pivoted_failures``."""
+    (the slip directions move with the answer). Where it does not, the statuses are read
+    again at the pivoted answer and pivoted again, up to ``rounds`` times (thrown at 0.1 m/s,
+    at 26 ms: the second round's Newton converged in 14 iterations where the first stalled).
+    Returns (x, iterations) or None; counted in ``stats.pivoted_solves``, ``stats.pivots``
+    and ``stats.pivoted_failures``."""
+    for _ in range(rounds):
+        x = _pivoted_start(c, D, p, k, mu, nt, x, stats)
+        if x is None or not np.isfinite(x).all():
+            break
+        try:
+            x, _, its = newton(c, D, p, k, mu, nt, x, tol, max_iter, stats)
+        except NotConverged:
+            continue
+        stats.pivoted_solves += 1
+        return x, its
+    stats.pivoted_failures += 1
+    return None
+
+
+def _pivoted_start(c, D, p, k, mu, nt, x, stats):
+    """The multipliers of the complementarity problem of :func:`pivoted` with the statuses
+    x reads, or None where Lemke's path ends on a ray."""
     E, rows = _held_statuses(c, D, p, k, mu, nt, x)
     M, q, m = k * (D[rows] @ E), c[rows], len(mu)
     X, fell_back = lstsq(M[m:, m:], np.column_stack([M[m:, :m], q[m:]]), rcond=1e-10)
     stats.svd_fallbacks += fell_back
     z, pivots = lemke(M[:m, :m] - M[:m, m:] @ X[:, :m], q[:m] - M[:m, m:] @ X[:, m])
     stats.pivots += pivots
-    start = None if z is None else E @ np.concatenate([z, -(X[:, m] + X[:, :m] @ z)])
-    if start is not None and np.isfinite(start).all():
-        try:
-            x, _, its = newton(c, D, p, k, mu, nt, start, tol, max_iter, stats)
-        except NotConverged:
-            pass
-        else:
-            stats.pivoted_solves += 1
-            return x, its
-    stats.pivoted_failures += 1
-    return None
+    return None if z is None else E @ np.concatenate([z, -(X[:, m] + X[:, :m] @ z)])
 
 
 def _held_statuses(c, D, p, k, mu, nt, x):
