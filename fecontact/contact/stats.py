@@ -36,6 +36,14 @@ class CoulombStats:
     # those proximal steps
     proximal_solves: int = 0
     proximal_steps: int = 0
+    # solves (in runs with redundant rows) where the proximal iterations settled without
+    # solving the law and the law was solved from there by Lemke's pivoting on the normal
+    # multipliers, the tangential statuses held, then Newton; the pivots; and the settled
+    # iterations where that did not solve it (then left for the cold start, one contact left
+    # out, Gauss–Seidel)
+    pivoted_solves: int = 0
+    pivots: int = 0
+    pivoted_failures: int = 0
     # solves (in runs with redundant rows) whose warm and cold starts reached solutions of
     # the law that move the bodies differently (beyond the tolerance): the law is not unique
     distinct_solutions: int = 0
