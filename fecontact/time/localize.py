@@ -279,12 +279,21 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list, lasting=No
         guess = (tau[k], g0[k], jumps[k])
         found = _refine(model, st, phases, left, rows[k], guess, tol, opts, timer)
         if found is not None:  # (the jump closes the rows taken together: nsga._closed)
-            t = tau <= tau.min() + TOGETHER * h / left
-            found[1].together = (rows[t], -rate[t] * TOGETHER * h)
+            found[1].together = _together(rows, tau, rate, TOGETHER * h / left, h)
             return found
         reason = "unrefined"
     opts.stats.localization.fall_back(reason, phases.g_tilde)
     return None
+
+
+def _together(rows, tau, rate, window: float, h: float):
+    """(rows, reach (m)) of the crossing ``rows`` (instants ``tau``, fractions of the rest of
+    the step ``h`` (s), closing speeds ``rate``, m/s) within ``window`` of the earliest, which
+    the jump closes with it: each closes by −ġ ``TOGETHER`` h within the window."""
+    if rows.size == 1 and tau[0] <= tau[0] + window:  # (one crossing, finite: most impacts)
+        return rows, -rate * TOGETHER * h
+    t = tau <= tau.min() + window
+    return rows[t], -rate[t] * TOGETHER * h
 
 
 def _locates_beside(model, lasting) -> bool:
@@ -330,14 +339,25 @@ def _crossing(model, st, phases, left, opts, lasting=None):
     s0, s1 = left * (G0 @ st.v[F]), left * (G1 @ phases.v[F])  # slopes in s
     aim = closing_aim(model, tol)  # (inside the tolerance, on the open side: no correction)
     tau, slope = hermite_root(g0[rows] - aim, s0, g1[rows] - aim, s1)
-    keep = np.ones(rows.size, dtype=bool)
-    if contacts.twins is not None:  # (no twin rows: every crossing stands for its node)
-        keep = one_closing_per_node(contacts.twins, rows, tau)
-    sloped = G0.any(axis=1)  # (a deep node's row above half its allowance: no gradient)
-    if (keep & sloped).any():  # (a placeholder's instant is not its node's: the master's
-        keep &= sloped  # nodes have no twin; ball_on_slab at 10 m/s, localization.md)
-    rows, tau, slope, sloped = rows[keep], tau[keep], slope[keep], sloped[keep]
+    rows, tau, slope, sloped = _own_closings(contacts.twins, rows, tau, slope, G0)
     return tol, rows, tau, slope / left, g0[rows], ~sloped
+
+
+def _own_closings(twins, rows, tau, slope, G0):
+    """(rows, τ, slopes, whether each row has a gradient) of the crossing ``rows`` (gradients
+    ``G0``) that stand for their nodes: of twin rows the earlier (:func:`one_closing_per_node`),
+    and the rows with a gradient where any has one (a deep node's row above half its allowance
+    has none, and a placeholder's instant is not its node's: the master's nodes have no twin;
+    ball_on_slab at 10 m/s, localization.md)."""
+    sloped = G0.any(axis=1)
+    if twins is None and sloped.all():  # (every row its node's own, and sloped: most steps)
+        return rows, tau, slope, sloped
+    keep = np.ones(rows.size, dtype=bool)
+    if twins is not None:  # (no twin rows: every crossing stands for its node)
+        keep = one_closing_per_node(twins, rows, tau)
+    if (keep & sloped).any():
+        keep &= sloped
+    return rows[keep], tau[keep], slope[keep], sloped[keep]
 
 
 def closing_aim(model, tol: float) -> float:
