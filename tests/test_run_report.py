@@ -4,6 +4,7 @@ counts named for what they count, every warning printed also in ``summary.json``
 import json
 import math
 
+import numpy as np
 import pytest
 from conftest import ROOT
 
@@ -12,6 +13,7 @@ from fecontact.cli import main
 from fecontact.errors import SolverError
 from fecontact.testing import load_case, trace
 from fecontact.time import IntegratorOptions
+from fecontact.time.acceleration_form import AccelerationForm
 
 CASE = str(ROOT / "cases" / "flexible_pendulum.py")
 # ρ∞ = 1 and e_N = 1: the strip rings after the first impact (t ≈ 0.32 s) and steps whose
@@ -143,3 +145,26 @@ def test_a_failed_step_counts_its_halvings_and_names_one_step(tmp_path, capsys):
     assert any(w.startswith("halvings: 1 step(s)") for w in s["warnings"])
     last = capsys.readouterr().err.strip().splitlines()[-1]
     assert "stops (failed) in step 1 at t = 0 s" in last
+
+
+def test_a_non_finite_update_fails_its_step_which_is_halved(tmp_path, monkeypatch):
+    """A Newton update that lost its numbers (a solve returning NaN) fails its step at once,
+    as a residual that diverged does: the step is halved and counted, and no term is
+    evaluated at a non-finite iterate (a contact's neighbour search raised a ValueError
+    there and stopped the run)."""
+    plain, calls = AccelerationForm._plain_update, []
+
+    def lost(form):
+        calls.append(None)
+        dq = plain(form)
+        return np.full_like(dq, np.nan) if len(calls) == 2 else dq
+
+    monkeypatch.setattr(AccelerationForm, "_plain_update", lost)
+    out = tmp_path / "p"  # (the disks' mortar rows are evaluated at every iterate)
+    assert main(["run", "two_disks", "--out", str(out), "--t-end", "5e-4", "--quiet"]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert len(calls) > 2 and s["step_halvings"] == 1 and s["halved_steps"] == 1
+    (said,) = [w for w in s["warnings"] if w.startswith("halvings:")]
+    assert "1 for a solve that did not converge" in said
+    history = load_run(out).history
+    assert all(np.isfinite(np.asarray(column, dtype=float)).all() for column in history.values())

@@ -140,6 +140,9 @@ class AccelerationForm:
         if not held_factors(self, touching):
             self._matrix()
         dq = _rowed_update(self, touching) if touching else self._plain_update()
+        if not np.isfinite(dq).all():  # (a solve that lost its numbers: fail the step here,
+            # to be halved, rather than evaluate the contacts at a non-finite iterate)
+            raise StepFailure(self.newton.name + " diverged: a non-finite update", math.nan)
         step.X[:, self.model.free_slice] += np.multiply.outer(step.c.w, dq)  # q, v, v̇, a
         if self.lie is not None:  # (D, v, v̇, a): the positions q_n ⊕ D
             step.q = self.lie.configuration(step.X[0])
