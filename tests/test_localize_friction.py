@@ -1,4 +1,4 @@
-"""Undamped frictional solids localized in whole steps (``FRICTIONAL_SOLIDS``, off by default:
+"""Undamped frictional solids localized in whole steps (``FRICTIONAL_SOLIDS``, on by default:
 docs/validation/localization.md, "Friction"): the closing's energy is gone, and a node of a
 lasting contact that lifts and re-closes is left to the step's end (counted ``persistent``)."""
 
@@ -6,7 +6,6 @@ import dataclasses
 import warnings
 
 import numpy as np
-import pytest
 from conftest import load_case
 from test_localize_mixed import box_on_slab
 
@@ -18,12 +17,6 @@ from fecontact.ledger import CREATED
 from fecontact.scenes import wave_step
 from fecontact.time import localize, run_settings
 from fecontact.time.substeps import Releases, localized_stepper
-
-
-@pytest.fixture
-def frictional(monkeypatch):
-    """ "auto" localizes undamped frictional solids for the test."""
-    monkeypatch.setattr(localize, "FRICTIONAL_SOLIDS", True)
 
 
 def struck_block(t_end=0.005, mu=0.2):
@@ -48,7 +41,7 @@ def created(sim, out):
     return ledger["created"] / ledger["scale"], summary
 
 
-def test_auto_takes_frictional_solids_in_whole_steps_only_when_chosen(frictional, monkeypatch):
+def test_auto_takes_frictional_solids_in_whole_steps_unless_switched_off(monkeypatch):
     model = struck_block().model
     settings = run_settings(model, IntegratorOptions())
     assert localize.localizes(model, settings)
@@ -57,7 +50,7 @@ def test_auto_takes_frictional_solids_in_whole_steps_only_when_chosen(frictional
     assert not localize.localizes(model, run_settings(model, IntegratorOptions()))
 
 
-def test_the_struck_block_on_a_frictional_floor_creates_no_energy(frictional, tmp_path):
+def test_the_struck_block_on_a_frictional_floor_creates_no_energy(tmp_path):
     """The pentagon's closing at the end of its step pushes the block's nodes out: 5.4e-2 of
     the scale created (measured 0.0540, by 5 ms; h/4: 0). Located, 0 measured, as on the
     frictionless floor (0): bound the ledger's warning level, 1e-3 of the scale. The floor's
@@ -71,7 +64,7 @@ def test_the_struck_block_on_a_frictional_floor_creates_no_energy(frictional, tm
     assert summary["localization_fallbacks"]["persistent"] >= 1
 
 
-def test_a_box_dropped_corner_first_on_a_frictional_slab_creates_no_energy(frictional, tmp_path):
+def test_a_box_dropped_corner_first_on_a_frictional_slab_creates_no_energy(tmp_path):
     """The rigid box corner first on the elastic slab with μ = 0.3 (mortar): the end-of-step
     closing creates 2.66e-2 of the scale (measured 0.02656), located 0 measured; bound the
     ledger's warning level, 1e-3."""
@@ -82,7 +75,7 @@ def test_a_box_dropped_corner_first_on_a_frictional_slab_creates_no_energy(frict
     assert auto <= CREATED and summary["localized_impacts"] >= 1
 
 
-def test_a_settled_floor_under_a_ringing_block_reads_no_release(frictional, tmp_path):
+def test_a_settled_floor_under_a_ringing_block_reads_no_release(tmp_path):
     """``elastic_block`` at its defaults (held on its 20° incline by μ = 0.5, 30 ms): the
     floor's node forces ring and fall towards zero again and again, and each fall read the
     release aside (26 probes: 0.77 → 2.79 s of CPU). A contact lasting for over

@@ -55,9 +55,11 @@ def test_auto_localizes_rigid_bodies_with_solids_in_whole_steps():
     settings = run_settings(model, IntegratorOptions())
     assert localizes(model, settings)
     assert isinstance(localized_stepper(model, settings), Releases)
-    # friction: left to the step's end, as for solids alone
+    # friction: in whole steps too, as for solids alone (tests/test_localize_friction.py)
     model = box_on_slab(friction=0.3, method="mortar").model
-    assert not localizes(model, run_settings(model, IntegratorOptions()))
+    settings = run_settings(model, IntegratorOptions())
+    assert localizes(model, settings)
+    assert isinstance(localized_stepper(model, settings), Releases)
     # a beam beside a rigid body: left to the step's end, as for beams alone
     steel = Material(210e9, nu=0.3, rho=7850.0)
     rod = Beam3D.straight([0.0, 0.0, 0.05], [0.2, 0.0, 0.05], 4, steel, Section.circle(0.005))

@@ -1,6 +1,6 @@
-"""Impacts of frictionless solids are localized by default ("auto"), in whole steps (their
+"""Impacts of undamped solids are localized by default ("auto"), in whole steps (their
 releases read from sub-steps taken aside): the energy the end-of-step closing created is
-gone (docs/validation/localization.md)."""
+gone (docs/validation/localization.md; frictional solids: tests/test_localize_friction.py)."""
 
 import dataclasses
 import math
@@ -28,7 +28,7 @@ def decided(name, **params):
     return on, localized_stepper(model, settings) if on else None
 
 
-def test_auto_localizes_frictionless_solids_in_whole_steps():
+def test_auto_localizes_undamped_solids_in_whole_steps():
     for name, params in (
         ("ball_drop", {}),
         ("disk_drop", {}),
@@ -36,15 +36,17 @@ def test_auto_localizes_frictionless_solids_in_whole_steps():
         ("ball_on_slab", {}),
         ("two_balls", {"against": "plane"}),
         ("elastic_block", {"friction": 0.0}),
+        # frictional solids (FRICTIONAL_SOLIDS): tests/test_localize_friction.py
+        ("disk_drop", {"friction": 0.3}),
+        ("two_disks", {"friction": 0.3}),
+        ("elastic_block", {}),
     ):
         on, step = decided(name, **params)
         assert on and isinstance(step, Releases), name
-    # friction, Rayleigh damping, beams: left to the step's end
+    # Rayleigh damping, beams: left to the step's end
     for name, params in (
-        ("disk_drop", {"friction": 0.3}),
         ("elastic_block", {"friction": 0.0, "damping": 1e-4}),
-        ("two_disks", {"friction": 0.3}),
-        ("elastic_block", {}),
+        ("elastic_block", {"damping": 1e-4}),
         ("disk_on_beam", {}),
     ):
         assert not decided(name, **params)[0], name
