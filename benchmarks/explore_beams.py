@@ -10,7 +10,7 @@ thickness. A disk against a strip is measured by its centre's distance to the ch
 signed by the side it started on (a disk through the strip reads reach + distance). The
 founding pendulums' stop holds the tip node alone by definition: their depth is the tip's.
 
-    python benchmarks/explore_beams.py            # every row (81), about 4 min
+    python benchmarks/explore_beams.py            # every row (90), about 5 min
     python benchmarks/explore_beams.py --quick    # a few cheap rows
 """
 
@@ -284,6 +284,9 @@ class Row:
 PK = ({"penalty_scale": 1e3}, {"multiplier_scale": 1e-2})
 E1MU1 = {"restitution": 1.0, "friction": 1.0}
 YAW_MU = {"yaw_rate": 20.0, "friction": 0.3}
+LOC = {"localize": True}
+SLIDE = {"friction": 0.3, "slide": 0.5}
+HELD = {"side": -1.0, "slide": 0.5, "friction": 0.3, "held": True}
 
 
 def pk_rows(config: str, label: str, params: dict, t_end=None, quick=False) -> list[Row]:
@@ -314,6 +317,7 @@ def pendulum_rows() -> list[Row]:
         Row(sp, "out of plane 0.5, rtol 1e-4", oop, {"rtol": 1e-4}, t_end=0.6),
         Row(sp, "out of plane 0.5, localize on", oop, {"localize": True}, t_end=0.6),
         Row(sp, "out of plane 2", {"out_of_plane_velocity": 2.0}, t_end=0.6),
+        Row(sp, "out of plane 2, mu=1", {"out_of_plane_velocity": 2.0, "friction": 1.0}, t_end=0.6),
     ]
     return out
 
@@ -329,7 +333,10 @@ def rod_rows() -> list[Row]:
         Row(rd, "rtol 1e-4", {}, {"rtol": 1e-4}, t_end=0.02),
         Row(rd, "yaw 20, e_N=1 mu=1", {"yaw_rate": 20.0, **E1MU1}, t_end=0.02),
         Row(rd, "yaw 20, mu=0.3, localize on", YAW_MU, {"localize": True}, t_end=0.02),
+        Row(rd, "64 elements, mu=0.3, localize on", {"n_elements": 64, "friction": 0.3}, LOC),
+        Row(rd, "nearly upright 89, e_N=1", {"angle": 89.0, "restitution": 1.0}, t_end=0.02),
     ]
+    out[-2].t_end = 0.02
     out += pk_rows(rd, "upright 80, mu=1", {"angle": 80.0, "friction": 1.0}, 0.02)
     out += pk_rows(
         rp, "falls on the cap", {"spin": 0.0, "post_azimuth": 0.0, "post_top": -0.03}, 0.08
@@ -345,6 +352,7 @@ def rod_rows() -> list[Row]:
             mirror="y",
         ),
         Row(rp, "2 elements", {"n_elements": 2}, t_end=0.13),
+        Row(rp, "64 elements", {"n_elements": 64}, t_end=0.13),
         Row(rp, "rtol 1e-4", {}, {"rtol": 1e-4}, t_end=0.13),
         Row(rp, "dt x4", {}, dt_factor=4.0, t_end=0.13),
     ]
@@ -354,9 +362,10 @@ def rod_rows() -> list[Row]:
         Row(cr, "from below", {"side": -1.0}, ref="from above", mirror="z", quick=True),
         Row(cr, "from above, localize on", {}, {"localize": True}),
         Row(cr, "from above, 30 m/s, dt x10", {"speed": 30.0}, dt_factor=10.0),
+        Row(cr, "from above, sliding, mu=0.3, rtol 1e-4", SLIDE, {"rtol": 1e-4}),
+        Row(cr, "from below, held, sliding, mu=0.3, localize on", HELD, LOC),
     ]
-    slide = {"side": -1.0, "slide": 0.5, "friction": 0.3, "held": True}
-    out += pk_rows(cr, "from below, held, sliding, mu=0.3", slide)
+    out += pk_rows(cr, "from below, held, sliding, mu=0.3", HELD)
     out.append(
         Row(cr, "from above, e_N=1 mu=1", {"restitution": 1.0, "friction": 1.0, "slide": 1.0})
     )
@@ -368,6 +377,8 @@ def rod_rows() -> list[Row]:
     out.append(Row(cw, "floor z=-2, mu=0.3, rho_inf 0.5", {**mu, "rho_inf": 0.5}))
     out.append(Row(cw, "floor z=-2, mu=0.3, dt x0.5", mu, dt_factor=0.5))
     out.append(Row(cw, "floor z=-2, mu=0.3, 10 per leg", {**mu, "n_per_leg": 10}))
+    rtol = {"rtol": 1e-3}
+    out.append(Row(cw, "floor z=-2, mu=0.3, rho_inf 0.5, rtol 1e-3", {**mu, "rho_inf": 0.5}, rtol))
     return out
 
 
@@ -380,6 +391,7 @@ def strip_rows() -> list[Row]:
         Row(db, "E x1000", {"E": 210e12}, t_end=t),
         Row(db, "e_N=1, dt x4", {"restitution": 1.0}, dt_factor=4.0, t_end=t),
         Row(db, "rtol 1e-4", {}, {"rtol": 1e-4}, t_end=t),
+        Row(db, "near the support", {"position": 0.03}, t_end=t),
     ]
     out += pk_rows(du, "from below", {}, quick=True)
     out += [
@@ -388,6 +400,7 @@ def strip_rows() -> list[Row]:
         Row(du, "from below, E/1000", {"E": 210e6}),
         Row(du, "from below, localize on", {}, {"localize": True}),
         Row(du, "from below, 64 elements", {"n_elements": 64}),
+        Row(du, "from below, near the support", {"position": 0.03}),
         Row(du, "from below, oblique, spin, mu=0.5", {"friction": 0.5, "vx": 1.0, "spin": 30.0}),
     ]
     b = "bars"
