@@ -12,13 +12,16 @@ a linear acceleration between v̇_n and v̇_{n+1},
 
     q* = q_n + h v_n + h² (v̇_n / 3 + v̇_{n+1} / 6),   e = q_{n+1} − q*  (O(h³)),
 
-measured on the free dofs in the mixed norm of ODE solvers,
-‖e‖ = rms_i e_i / (rtol (L + max(|q_n,i|, |q_{n+1},i|))), with L the model size (m). A step
-whose norm exceeds 1 is rejected and taken again smaller; the next step is scaled by
-0.9 ‖e‖^(-1/3), within one rung up and two rungs down (× 2 … × 1/4). Steps that close a
-contact (an impact, a position correction) are accepted unmeasured: their error is the
-impact's, not the smooth step's; the control starts again from the next smooth step.
-A step that fails (Newton, penetration) is a rejection too, retaken a rung lower.
+on a rotation vector ψ the body-frame increment log(exp(−ψ̃_n) exp(ψ̃_{n+1})) in place of
+q_{n+1} − q_n (v is the body-frame Ω: the vectors' difference departs from h Ω at O(h) as
+soon as the axis turns, which took the spatial pendulum thrown out of its plane to 101331
+steps of 0.6 s at rtol = 1e-4 instead of 2106), measured on the free dofs in the mixed
+norm of ODE solvers, ‖e‖ = rms_i e_i / (rtol (L + max(|q_n,i|, |q_{n+1},i|))), with L the
+model size (m). A step whose norm exceeds 1 is rejected and taken again smaller; the next
+step is scaled by 0.9 ‖e‖^(-1/3), within one rung up and two rungs down (× 2 … × 1/4).
+Steps that close a contact (an impact, a position correction) are accepted unmeasured:
+their error is the impact's, not the smooth step's; the control starts again from the next
+smooth step. A step that fails (Newton, penetration) is a rejection too, retaken a rung lower.
 """
 
 from __future__ import annotations
@@ -29,6 +32,7 @@ from collections.abc import Iterator
 import numpy as np
 
 from ..errors import SolverError
+from .configuration import minus
 from .constraints import StepFailure
 from .penetration import PenetrationFailure
 from .state import PhaseTimer, State
@@ -58,7 +62,7 @@ def local_error(model, before: State, after: State, h: float, rtol: float) -> fl
     ``after`` over the tolerance (dimensionless; ≤ 1 accepts), see the module's doc. The
     supported dofs stay zero in q, v and v̇: summed over all dofs, averaged over the free."""
     q0, q1 = before.q, after.q
-    e = q1 - q0 - h * before.v - (h * h) * (before.vd / 3.0 + after.vd / 6.0)
+    e = minus(model, q1, q0) - h * before.v - (h * h) * (before.vd / 3.0 + after.vd / 6.0)
     e /= model.length + np.maximum(np.abs(q0), np.abs(q1))
     return math.sqrt(float(e @ e) / max(model.n_free, 1)) / rtol
 

@@ -8,7 +8,7 @@ import numpy as np
 
 from ..rotations import compose
 
-__all__ = ["plus"]
+__all__ = ["minus", "plus"]
 
 
 def plus(model, q: np.ndarray, dq: np.ndarray) -> np.ndarray:
@@ -25,4 +25,17 @@ def plus(model, q: np.ndarray, dq: np.ndarray) -> np.ndarray:
             out[F[0]] = compose(q[F[0]], dq[R[0]])
         else:
             out[F] = compose(q[F], dq[R])
+    return out
+
+
+def minus(model, q1: np.ndarray, q0: np.ndarray) -> np.ndarray:
+    """q₁ ⊖ q₀ (all dofs): the update Δ with q₀ ⊕ Δ = q₁, the inverse of :func:`plus`.
+    Displacements subtract; on the model's ``rotations`` it is the body-frame rotation
+    log(exp(−ψ̃₀) exp(ψ̃₁)), which the step's h v + O(h²) approximates (the difference of
+    the rotation vectors does so only for a turn about a fixed axis)."""
+    out = q1 - q0
+    R = model.rotations
+    if R.size:
+        F = model.free[R]
+        out[F] = compose(-q0[F], q1[F])
     return out
