@@ -146,7 +146,9 @@ class Ladder:
     (the model's seam, which counts the work). ``counts``: the factorizations made for such
     sizes, PCG solves, their iterations, PCG solves refactorized, eigendecompositions, rungs
     whose factors were made again (:data:`LIVE`), factorizations of S(a) plus a contact
-    curvature made in place of its columns (:meth:`met_once`)."""
+    curvature made in place of its columns (:meth:`met_once`). They decide (:meth:`spectral`)
+    and are put back after steps taken aside (:meth:`put_back`); :meth:`work` is what was
+    done, never put back."""
 
     def __init__(self, M, K, factorize, assemble=None):
         self.M, self.K, self._factorize = M, K, factorize
@@ -162,6 +164,7 @@ class Ladder:
         )
         self.counts["rungs_remade"] = 0
         self.counts["curvature_factorizations"] = 0  # (S(a) + C in the columns' place)
+        self.undone = dict.fromkeys(self.counts, 0)  # (counted, then put back)
         self.own: set[float] = set()  # (the run's own sizes: their factors always kept)
         self.assemble = assemble  # (a -> S(a) at a size met once: a rung's factors remade)
 
@@ -171,6 +174,17 @@ class Ladder:
         if self.after is None:
             return False
         return self.modes is not None or self.counts["factorizations"] >= self.after
+
+    def work(self) -> dict:
+        """The work done so far by its ``counts``' names, put back or not: it never falls."""
+        return {key: value + self.undone[key] for key, value in self.counts.items()}
+
+    def put_back(self, rungs: dict, modes, counts: dict) -> None:
+        """The rungs, eigendecomposition and ``counts`` (a copy) as they were before steps
+        taken aside, so the run decides as without them; their work stays in :meth:`work`."""
+        for key, value in self.counts.items():
+            self.undone[key] += value - counts[key]
+        self.rungs, self.modes, self.counts = rungs, modes, counts
 
     def met_once(self, a: float) -> bool:
         """Whether S(a) is a size met once solved from factors (not a run's own size, not
