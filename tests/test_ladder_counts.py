@@ -12,7 +12,7 @@ from test_ladder import plate
 
 from fecontact.linalg import ladder
 from fecontact.testing import case
-from fecontact.time import StepStats, correction, simulate, terms
+from fecontact.time import StepStats, correction, simulate, substeps, terms
 from fecontact.time.aside import taken_aside
 from fecontact.time.localize import cache_keys, drop_caches
 from fecontact.time.stats import Localization
@@ -22,13 +22,25 @@ A_H = 1.0 / (0.25 * 1e-4**2)  # β′ of a step of 0.1 ms (1/s²)
 
 @pytest.fixture
 def tally(monkeypatch) -> Counter:
-    """The ladder's work, counted where it is done, by the names of ``Ladder.counts``."""
-    made = Counter()
+    """The ladder's work, counted where it is done, by the names of ``Ladder.counts``; with
+    the factorizations of a retaken step's sub-step sizes (the run's own kind of size)."""
+    made, retaking = Counter(), []
     Pre, Remade, Ladder = ladder._Preconditioned, ladder._Remade, ladder.Ladder
 
     def factor(self, a, S, call=Ladder.factor):
         made["factorizations"] += 1
         return call(self, a, S)
+
+    def keep(self, a, solve, call=Ladder.keep):
+        made["factorizations"] += bool(retaking)
+        return call(self, a, solve)
+
+    def retaken(self, *args, call=substeps.Releases._retaken):
+        retaking.append(True)
+        try:
+            return call(self, *args)
+        finally:
+            retaking.pop()
 
     def decompose(self, call=Ladder._decompose):
         made["spectral"] += 1
@@ -58,6 +70,8 @@ def tally(monkeypatch) -> Counter:
 
     for cls, name, f in (
         (Ladder, "factor", factor),
+        (Ladder, "keep", keep),
+        (substeps.Releases, "_retaken", retaken),
         (Ladder, "_decompose", decompose),
         (Pre, "_pcg", pcg),
         (Pre, "__call__", refactorized),
