@@ -146,7 +146,9 @@ class Ladder:
     (the model's seam, which counts the work). ``counts``: the factorizations made for such
     sizes, PCG solves, their iterations, PCG solves refactorized, eigendecompositions, rungs
     whose factors were made again (:data:`LIVE`), factorizations of S(a) plus a contact
-    curvature made in place of its columns (:meth:`met_once`)."""
+    curvature made in place of its columns (:meth:`met_once`). They decide (:meth:`spectral`)
+    and are put back after steps taken aside (:meth:`put_back`); :meth:`work` is what was
+    done, never put back, with the factorizations of the run's own sizes (:meth:`keep`)."""
 
     def __init__(self, M, K, factorize, assemble=None):
         self.M, self.K, self._factorize = M, K, factorize
@@ -162,6 +164,8 @@ class Ladder:
         )
         self.counts["rungs_remade"] = 0
         self.counts["curvature_factorizations"] = 0  # (S(a) + C in the columns' place)
+        # (work the deciding counts leave out: put back, or at the run's own sizes)
+        self.outside = dict.fromkeys(self.counts, 0)
         self.own: set[float] = set()  # (the run's own sizes: their factors always kept)
         self.assemble = assemble  # (a -> S(a) at a size met once: a rung's factors remade)
 
@@ -172,6 +176,17 @@ class Ladder:
             return False
         return self.modes is not None or self.counts["factorizations"] >= self.after
 
+    def work(self) -> dict:
+        """The work done so far by its ``counts``' names, put back or not: it never falls."""
+        return {key: value + self.outside[key] for key, value in self.counts.items()}
+
+    def put_back(self, rungs: dict, modes, counts: dict) -> None:
+        """The rungs, eigendecomposition and ``counts`` (a copy) as they were before steps
+        taken aside, so the run decides as without them; their work stays in :meth:`work`."""
+        for key, value in self.counts.items():
+            self.outside[key] += value - counts[key]
+        self.rungs, self.modes, self.counts = rungs, modes, counts
+
     def met_once(self, a: float) -> bool:
         """Whether S(a) is a size met once solved from factors (not a run's own size, not
         the eigendecomposition's): where the columns S(a)⁻¹e_i of a curvature's dofs serve
@@ -179,7 +194,9 @@ class Ladder:
         return self.after is None and a not in self.own
 
     def keep(self, a: float, solve) -> None:
-        """Note the factors ``solve`` of S(a), made for a size the run steps with."""
+        """Note the factors ``solve`` of S(a), made for a size the run steps with (in
+        :meth:`work`: sub-steps of a retaken step are such sizes, met once)."""
+        self.outside["factorizations"] += 1
         if self.after is None:
             self.rungs[a] = solve
             self.own.add(a)

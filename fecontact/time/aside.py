@@ -15,7 +15,8 @@ other steps (other candidates, other round-off, amplified by the contacts):
 So the steps taken aside work on a copy of the contact set (the bodies shared: their
 positions are functions of q), which looks ahead from the state they start from as the
 run's step from it did; afterwards the run's contact set, caches and ladder are put back as
-they were, and the factorizations the steps made are counted in the localization statistics.
+they were, and the factorizations the steps made are counted in the localization statistics
+(once: the ladder's work is not put back with the counts that decide).
 """
 
 from __future__ import annotations
@@ -35,7 +36,8 @@ def taken_aside(model, st, h: float, stats):
     ``st`` and the step sizes are solved as met once (``model.passing``); on leaving, the run's
     contacts, caches and ladder are as they were (module docstring), the work counted in the
     localization ``stats``."""
-    contacts, passing, kept, ladder = model.contacts, model.passing, cache_keys(model), model.ladder
+    contacts, passing, ladder = model.contacts, model.passing, model.ladder
+    kept = cache_keys(model, stats)
     rungs = None if ladder is None else (dict(ladder.rungs), ladder.modes, dict(ladder.counts))
     model.contacts = copy.deepcopy(contacts, {id(body): body for body in model.bodies})
     model.contacts.look_ahead(st.q, st.v, h)
@@ -46,5 +48,5 @@ def taken_aside(model, st, h: float, stats):
         model.contacts, model.passing = contacts, passing
         drop_caches(model, kept, stats)
         if rungs is not None:
-            ladder.rungs, ladder.modes, ladder.counts = rungs
+            ladder.put_back(*rungs)
         model.ladder = ladder

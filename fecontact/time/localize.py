@@ -257,7 +257,7 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list, lasting=No
     if crossing is None:
         return None
     if not kept:
-        kept.extend(cache_keys(model))
+        kept.extend(cache_keys(model, opts.stats.localization))
     tol, rows, tau, rate, g0, jumps = crossing
     reason = None
     # a contact pressed throughout (one pressed was a candidate: none in flight, most impacts)
@@ -445,11 +445,17 @@ def joined(first: State, second: State, h: float) -> State:
     return second
 
 
-def cache_keys(model) -> tuple:
-    """The step sizes' entries of a linear model's caches (factorizations, columns), and the
-    counts of its ladder (:class:`fecontact.linalg.ladder.Ladder`) so far."""
-    counts = {} if model.ladder is None else dict(model.ladder.counts)
-    return set(model.iteration_cache), set(model.column_cache), counts
+def cache_keys(model, stats) -> tuple:
+    """The step sizes' entries of a linear model's caches (factorizations, columns), the work
+    of its ladder (:meth:`fecontact.linalg.ladder.Ladder.work`) so far and the localization
+    ``stats``' counts of it."""
+    work = {} if model.ladder is None else model.ladder.work()
+    return set(model.iteration_cache), set(model.column_cache), work, _reported(stats)
+
+
+def _reported(stats) -> dict:
+    """The localization ``stats``' counts of the ladder's work, by the ladder's names."""
+    return {**stats.ladder, "factorizations": stats.factorizations}
 
 
 def drop_caches(model, kept, stats) -> None:
@@ -466,10 +472,10 @@ def drop_caches(model, kept, stats) -> None:
     if model.ladder is None:
         stats.factorizations += len(added)
         return
-    before = kept[2]
-    for key, value in model.ladder.counts.items():
-        made = value - before.get(key, 0)
-        if key == "factorizations":
-            stats.factorizations += made
-        else:
-            stats.ladder[key] += made
+    # the counts as at ``kept`` plus the work since: what the calls nested in this one
+    # counted (localized steps in a split at a release, in sub-steps, taken aside) is part
+    # of it, so each factorization and solve is counted once
+    work, reported = kept[2], kept[3]
+    counts = {k: reported[k] + v - work.get(k, 0) for k, v in model.ladder.work().items()}
+    stats.factorizations = counts.pop("factorizations")
+    stats.ladder.update(counts)

@@ -58,7 +58,7 @@ def split_at_release(model, st: State, h: float, delta: float, rows, opts, timer
     ``release_split_fallbacks``)."""
     stats = opts.stats.localization
     counts = (stats.impacts, stats.first_closing, dict(stats.fallbacks))
-    kept = cache_keys(model)
+    kept = cache_keys(model, stats)
     passing, model.passing = model.passing, True  # (the parts' sizes are met once)
     parts = None
     try:

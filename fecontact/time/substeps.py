@@ -330,7 +330,7 @@ class Releases(Localizer):
         contacts = copy.deepcopy(model.contacts, {id(body): body for body in model.bodies})
         stats.impacts, stats.first_closing = counts
         model.contacts.look_ahead(st.q, st.v, h)
-        kept = cache_keys(model)
+        kept = cache_keys(model, stats)
         try:
             out = self._subdivided(model, st, h, opts, timer)
         finally:
