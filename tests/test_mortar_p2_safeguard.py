@@ -96,3 +96,44 @@ def test_fast_off_centre_p2_disks_pass_their_first_contact(tmp_path):
     assert summary["max_penetration"] <= 0.01 * edge
     ledger = summary["energy_ledger"]
     assert ledger["created"] <= 1e-6 * ledger["scale"]
+
+
+def test_the_sweeps_depth_measure_reads_a_p2_boundary_on_its_curve():
+    """``benchmarks/stress_2d.py`` measures a node's depth by ray parity on the other solid's
+    boundary; a P2 boundary is its curved segments cut into fine chords, not its flat pieces.
+    One segment of a P2 disk dented by 1 mm at its mid node (the fast P2 disks' deepest dent
+    is 0.36 mm): points 0.05 mm behind the curve at ξ = ±½ read 0.05 mm, where the pieces read
+    them behind by their sagitta too (¼ of the dent, 0.25 mm, at ξ = ±½); a point on the curve
+    reads 0. Margin: a chord stands off the parabola by at most the dent over N², 1e-6 m at
+    N = 32 chords (measured 2e-18 m: ξ = ±½ are ends of chords; the pieces read 0.2997 mm)."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from stress_2d import CURVE_CHORDS, boundary_polygon, polygon_depths
+
+    from fecontact.contact.mortar_p2_curves import quadratic_segments
+
+    disk = Solid.disk([0.0, 0.0], 0.05, 1, RUBBER, element="P2")
+    x = disk.positions(np.zeros(disk.ndof))
+    a, b, m = quadratic_segments(disk)[0]
+    chord = x[b] - x[a]
+    inward = np.array([-chord[1], chord[0]]) / np.linalg.norm(chord)  # (counter-clockwise)
+    dent = 1e-3
+    x[m] = 0.5 * (x[a] + x[b]) + dent * inward  # (the reference mid node is on the chord)
+    xi = np.array([-0.5, 0.5])
+    curve = np.outer(xi * (xi - 1) / 2, x[a]) + np.outer(xi * (xi + 1) / 2, x[b])
+    curve += np.outer(1 - xi * xi, x[m])
+    tangent = np.outer(xi - 0.5, x[a]) + np.outer(xi + 0.5, x[b]) + np.outer(-2 * xi, x[m])
+    normal_in = np.stack([-tangent[:, 1], tangent[:, 0]], 1)
+    normal_in /= np.linalg.norm(normal_in, axis=1)[:, None]
+    depth = 5e-5
+    points = np.concatenate([curve + depth * normal_in, curve])
+    bound = dent / CURVE_CHORDS**2
+    d, _ = polygon_depths(points, *boundary_polygon(disk, x))
+    assert np.allclose(d, [depth, depth, 0.0, 0.0], rtol=0.0, atol=bound)
+    f = disk.contact_facets()
+    pieces, _ = polygon_depths(points, x[f[:, 0]], x[f[:, 1]])
+    # behind the pieces by the depth and the sagitta, ¼ of the dent at ξ = ±½, less the
+    # pieces' tilt (cos of their angle to the curve, under 3 % at a 1 mm dent on 38 mm)
+    assert np.all(pieces[:2] >= depth + 0.97 * 0.25 * dent)
