@@ -439,9 +439,8 @@ def shortest_edge(model) -> float:
 
 def run_row(row: Row) -> dict:
     """Run ``row`` in this process: the measurements (see the module docstring)."""
-    from fecontact import InputError, Probe, SolverError, run
+    from fecontact import InputError
     from fecontact.cli.cases import load_case
-    from fecontact.io.output import read_json
 
     out = {"status": "crash", "message": "", "wall": math.nan}
     clock = time.perf_counter()
@@ -453,22 +452,7 @@ def run_row(row: Row) -> dict:
         out["dt"] = sim.dt
         measure = depth_measure(sim.model)
         out.update(mortar=mortar_pairs(sim.model), edge=shortest_edge(sim.model))
-
-        def probe(model, st):
-            last.update(q=st.q.copy(), v=st.v.copy())
-            last["vmax"] = max(last.get("vmax", 0.0), float(np.max(np.abs(st.v), initial=0.0)))
-            depth = measure(st.q) if measure is not None else math.nan
-            last["depth"] = max(last.get("depth", 0.0), depth)
-            return depth
-
-        sim = sim.replace(probes={**sim.probes, "matrix_depth": Probe(probe, "m")})
-        with tempfile.TemporaryDirectory(prefix="case_matrix_") as tmp:
-            try:
-                summary = run(sim, tmp, frames=False, checkpoint_every=0)
-                out["status"] = "completed"
-            except SolverError as err:
-                summary = read_json(Path(tmp) / "summary.json")
-                out.update(status="failed", message=str(err)[:300])
+        summary = run_measured(sim, measure, out, last, "matrix_depth")
         out.update(measurements(summary, last, measure is not None))
     except InputError as err:
         out.update(status="input", message=str(err)[:300])
@@ -476,6 +460,31 @@ def run_row(row: Row) -> dict:
         out.update(message=f"{type(err).__name__}: {str(err)[:250]}")
     out["wall"] = time.perf_counter() - clock
     return out
+
+
+def run_measured(sim, measure, out: dict, last: dict, name: str) -> dict:
+    """Run ``sim`` without frames, probed as ``name``: ``last`` keeps its last state, its
+    largest speed and the deepest ``measure`` (m; None: not measured) read at its steps;
+    ``out`` its status (``failed`` with the message of a ``SolverError``). The run's summary."""
+    from fecontact import Probe, SolverError, run
+    from fecontact.io.output import read_json
+
+    def probe(model, st):
+        last.update(q=st.q.copy(), v=st.v.copy())
+        last["vmax"] = max(last.get("vmax", 0.0), float(np.max(np.abs(st.v), initial=0.0)))
+        depth = measure(st.q) if measure is not None else math.nan
+        last["depth"] = max(last.get("depth", 0.0), depth)
+        return depth
+
+    sim = sim.replace(probes={**sim.probes, name: Probe(probe, "m")})
+    with tempfile.TemporaryDirectory(prefix=f"{name}_") as tmp:
+        try:
+            summary = run(sim, tmp, frames=False, checkpoint_every=0)
+            out["status"] = "completed"
+        except SolverError as err:
+            summary = read_json(Path(tmp) / "summary.json")
+            out.update(status="failed", message=str(err)[:300])
+    return summary
 
 
 def measurements(summary: dict, last: dict, measured: bool) -> dict:

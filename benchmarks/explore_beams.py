@@ -20,13 +20,12 @@ import dataclasses
 import json
 import math
 import sys
-import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 from _common import markdown_table, parser, write_csv, write_markdown
-from case_matrix import measurements, run_worker, segment_distance, state_difference
+from case_matrix import measurements, run_measured, run_worker, segment_distance, state_difference
 
 SAMPLES = 17  # points per chord of the penetration measure (ends included)
 CREATED = 1e-3  # ledger's created over its scale beyond which a row is flagged
@@ -426,8 +425,7 @@ def all_rows() -> list[Row]:
 
 def run_row(row: Row) -> dict:
     """Run ``row`` in this process: the case matrix's measurements and this script's depth."""
-    from fecontact import InputError, Probe, SolverError, run
-    from fecontact.io.output import read_json
+    from fecontact import InputError
 
     out = {"status": "crash", "message": "", "wall": math.nan}
     clock = time.perf_counter()
@@ -438,22 +436,7 @@ def run_row(row: Row) -> dict:
         t_end = row.t_end or sim.t_end
         sim = sim.replace(dt=sim.dt * row.dt_factor, t_end=t_end, options=options)
         out.update(dt=sim.dt, length=length)
-
-        def probe(model, st):
-            last.update(q=st.q.copy(), v=st.v.copy())
-            last["vmax"] = max(last.get("vmax", 0.0), float(np.max(np.abs(st.v), initial=0.0)))
-            depth = measure(st.q)
-            last["depth"] = max(last.get("depth", 0.0), depth)
-            return depth
-
-        sim = sim.replace(probes={**sim.probes, "explore_depth": Probe(probe, "m")})
-        with tempfile.TemporaryDirectory(prefix="explore_beams_") as tmp:
-            try:
-                summary = run(sim, tmp, frames=False, checkpoint_every=0)
-                out["status"] = "completed"
-            except SolverError as err:
-                summary = read_json(Path(tmp) / "summary.json")
-                out.update(status="failed", message=str(err)[:300])
+        summary = run_measured(sim, measure, out, last, "explore_depth")
         out.update(measurements(summary, last, True))
         out["rejected"] = summary.get("steps_rejected", 0)
     except InputError as err:
