@@ -40,8 +40,9 @@ from stress_3d import (
     depth_probes,
     hertz_time,
     lateral_probe,
-    measure,
+    measured_rows,
     momentum_probes,
+    report_tables,
     rigid_points_depth,
     solid_depth,
     with_features,
@@ -223,18 +224,8 @@ def main() -> None:
     p = parser(__doc__.splitlines()[0])
     p.add_argument("--row", default="", help="run only the rows whose label contains this text")
     args = p.parse_args()
-    rows = []
-    for build in QUICK if args.quick else FULL:
-        spec = build()
-        if args.row not in spec.label:
-            continue
-        rows.append(measure(spec))
-        print(rows[-1], flush=True)
-    keys = list(dict.fromkeys(k for r in rows for k in r))
-    table = [{k: r.get(k, "") for k in keys} for r in rows]
-    summary = [{k: r.get(k, "") for k in COLUMNS} for r in rows]
-    failed = [{"run": r["run"], "status": r["status"], "message": r.get("message", "")}
-              for r in rows if r.get("message")]  # fmt: skip
+    rows = measured_rows(QUICK if args.quick else FULL, args.row)
+    table, summary, failed = report_tables(rows, COLUMNS)
     sections = [("Every run: status, depth, energy, momentum, fallbacks, p and k", summary)]
     if failed:
         sections.append(("Runs that stopped, and why", failed))

@@ -691,6 +691,28 @@ COLUMNS = ("group", "run", "step", "status", "min gap (m)", "max_penetration (m)
            "created / scale", "dP / (m v)", "dL / (m v R)", "lateral / v", "fallbacks")  # fmt: skip
 
 
+def measured_rows(builds, label: str) -> list[dict]:
+    """The rows of ``builds`` whose label contains ``label``, each measured (:func:`measure`)
+    and printed as it ends."""
+    rows = []
+    for build in builds:
+        spec = build()
+        if label in spec.label:
+            rows.append(measure(spec))
+            print(rows[-1], flush=True)
+    return rows
+
+
+def report_tables(rows: list[dict], columns) -> tuple[list, list, list]:
+    """Every column of ``rows``, their ``columns``, and the runs that stopped with a message."""
+    keys = list(dict.fromkeys(k for r in rows for k in r))
+    table = [{k: r.get(k, "") for k in keys} for r in rows]
+    summary = [{k: r.get(k, "") for k in columns} for r in rows]
+    failed = [{"run": r["run"], "status": r["status"], "message": r.get("message", "")}
+              for r in rows if r.get("message")]  # fmt: skip
+    return table, summary, failed
+
+
 def main() -> None:
     p = parser(__doc__.splitlines()[0])
     p.add_argument("--row", default="", help="run only the rows whose label contains this text")
@@ -698,20 +720,11 @@ def main() -> None:
                    help="the elastic ball's mesh refinements in the ball-on-box rows")  # fmt: skip
     args = p.parse_args()
     BALL_ON_BOX["refinements"] = args.refinements
-    rows = []
-    for build in QUICK if args.quick else FULL:
-        spec = build()
-        if args.row not in spec.label:
-            continue
-        rows.append(measure(spec))
-        print(rows[-1], flush=True)
-    keys = list(dict.fromkeys(k for r in rows for k in r))
-    table = [{k: r.get(k, "") for k in keys} for r in rows]
-    summary = [{k: r.get(k, "") for k in COLUMNS} for r in rows]
+    rows = measured_rows(QUICK if args.quick else FULL, args.row)
+    table, summary, failed = report_tables(rows, COLUMNS)
+    keys = list(table[0]) if table else []
     pk = [{k: r[k] for k in ("group", "run") + tuple(k for k in keys if ": d centre" in k)}
           for r in rows if any(": d centre" in k for k in r)]  # fmt: skip
-    failed = [{"run": r["run"], "status": r["status"], "message": r.get("message", "")}
-              for r in rows if r.get("message")]  # fmt: skip
     sections = [("Every run: status, gaps, depth, energy, momentum, fallbacks", summary)]
     if pk:
         sections.append(("p x1000 and k /100: the largest change of the centres over R", pk))
