@@ -14,8 +14,7 @@ a linear acceleration between v̇_n and v̇_{n+1},
 
 on a rotation vector ψ the body-frame increment log(exp(−ψ̃_n) exp(ψ̃_{n+1})) in place of
 q_{n+1} − q_n (v is the body-frame Ω: the vectors' difference departs from h Ω at O(h) as
-soon as the axis turns, which took the spatial pendulum thrown out of its plane to 101331
-steps of 0.6 s at rtol = 1e-4 instead of 2106), measured on the free dofs in the mixed
+soon as the axis turns; docs/explanation/adaptive_steps.md), measured on the free dofs in the mixed
 norm of ODE solvers, ‖e‖ = rms_i e_i / (rtol (L + max(|q_n,i|, |q_{n+1},i|))), with L the
 model size (m). A step whose norm exceeds 1 is rejected and taken again smaller; the next
 step is scaled by 0.9 ‖e‖^(-1/3), within one rung up and two rungs down (× 2 … × 1/4).
