@@ -11,8 +11,10 @@ and 1):
   ``Circle`` (``DiskObstacleContact``, vertices as nodes); a rigid disk against a free rigid
   square (``DiskPolygonContact``); an elastic block named first against a rigid disk or
   pentagon; an elastic disk in a circular cavity and on a peg (``Circle``, its nodes).
-- 3D: a rod on a ``Sphere`` and inside a spherical cavity; a rod on a fixed rigid ball, capsule
-  and box named ``Contact(rigid, rod)``; a rod on an elastic block named ``Contact(rod,
+- P2 cells: two elastic disks P2/P2 and P2/P1 (mortar), P2/P2 node-to-surface; explore_3d's
+  balls on P2 cells, mortar and node-to-surface.
+- 3D: a rod on a ``Sphere`` and inside a spherical cavity; a rod on a fixed rigid ball and
+  box and a free capsule named ``Contact(rigid, rod)``; a rod on an elastic block named ``Contact(rod,
   block)`` (mortar), node-to-surface with ``SolidEdges`` across the block's edge; rigid balls
   and capsules on a ``Plane`` (``BallsPlaneContact``); a rigid ball named first against a free
   box (``BallBoxContact``: the other order is ``ConvexContact``); a rigid box named first
@@ -28,7 +30,7 @@ strip's or tube's centreline sampled at 9 points a segment against the exact dis
 point, plane or rigid shape (less the clearance), solid boundary nodes inside a rigid shape,
 a rigid disk's or ball's centre against a solid's boundary polygon or facets.
 
-    python benchmarks/explore_pairs.py            # every row (about 10 min on one core)
+    python benchmarks/explore_pairs.py            # every row (about 4 min on one core)
     python benchmarks/explore_pairs.py --quick    # three cheap rows
     python benchmarks/explore_pairs.py --row cavity
 """
@@ -38,7 +40,7 @@ from __future__ import annotations
 import numpy as np
 from _common import parser, publish_report
 from probe_pairs import SOFT, probes_2d
-from stress_2d import boundary_points, polygon_depths, polyline_distance
+from stress_2d import boundary_points, depth_probe, polygon_depths, polyline_distance
 from stress_2d import strip as pinned_strip
 from stress_3d import (
     STEEL,
@@ -281,6 +283,42 @@ def solid_circle(inside=True, v=1.0, mu=0.0, e=0.0):
     return spec(label, model, depth, wave_step(disk, 1.0), t_end, v0, R, v, edge=edge, pk=True)
 
 
+def p2_disks(method="mortar", mixed=False, offset=0.3, mu=0.3, e=0.0, v=1.0):
+    """Two elastic disks (R, 2 refinements) at ``v`` each, 2 mm apart, the right one
+    ``offset`` R up: P2 cells on the left, P1 (``mixed``) or P2 on the right; the depth of
+    either's boundary nodes inside the other's boundary, a P2 boundary's curved segments cut
+    into chords (stress_2d's measure)."""
+    gap = 0.002
+    left = Solid.disk([-R - 0.5 * gap, 0.0], R, 2, SOFT, element="P2")
+    right = Solid.disk([R + 0.5 * gap, offset * R], R, 2, SOFT, element="P1" if mixed else "P2")
+    opts = dict(method=method, friction=mu, restitution=e)
+    pairs = [Contact(left, right, **opts)]
+    if method == "node-to-surface":
+        pairs.append(Contact(right, left, **opts))
+    model = Model([left, right], pairs, (0.0, 0.0))
+    watch = depth_probe(model, [("solid", left, right, None), ("solid", right, left, None)])
+    v0 = model.translation(left, (v, 0.0)) + model.translation(right, (-v, 0.0))
+    dt = min(wave_step(d, 1.0) for d in (left, right)) / 2.0  # (P2: half the P1 step)
+    label = f"Solid P2/{'P1' if mixed else 'P2'} 2D, {method}: disks {v:g} m/s each, "
+    label += f"offset {offset:g} R, mu {mu:g}, e_N {e:g}"
+    edge = min(left.min_edge_length, right.min_edge_length)
+    out = spec(label, model, lambda st: 0.0, dt, gap / (2 * v) + 0.1 * R, v0, R, v, edge=edge,
+               free=True, pk=True)  # fmt: skip
+    probes = dict(out.sim.probes) | {"depth": watch["depth"]}
+    out.sim = out.sim.replace(probes=probes)
+    return out
+
+
+def p2_balls(method="mortar", b=0.3, mu=0.3):
+    """explore_3d's two elastic balls on P2 cells (uniform meshes, base 1), ``b`` R off
+    centre: the 3D P2 pairs (mortar on the faces' flat triangles, or node-to-surface)."""
+    from explore_3d import balls
+
+    out = balls(b=b, mu=mu, spacing=(None, None), base=1, element="P2", method=method)
+    out.group, out.label = "3D", f"Solid P2/P2 3D, {method}: " + out.label
+    return out
+
+
 # -- 3D -----------------------------------------------------------------------------------------
 
 
@@ -498,6 +536,9 @@ ROWS = [
     (solid_circle, dict(mu=0.3), None),
     (solid_circle, dict(v=10.0, e=1.0), None),
     (solid_circle, dict(inside=False), None),
+    (p2_disks, {}, None),
+    (p2_disks, dict(mixed=True), None),
+    (p2_disks, dict(method="node-to-surface", offset=0.0, mu=0.0, e=1.0), None),
     (rod_sphere, {}, None),
     (rod_sphere, dict(x=0.125, vx=0.5, mu=0.3, e=1.0), None),
     (rod_sphere, dict(x=0.125, v=10.0), None),
@@ -519,6 +560,8 @@ ROWS = [
     (rigid_solid, dict(b=0.5), "rigid_first"),
     (rigid_solid, dict(shape="ball", b=0.3, method="node-to-surface", mu=0.3), "rigid_first"),
     (rigid_solid, dict(shape="ball", v=10.0, method="node-to-surface"), None),
+    (p2_balls, {}, None),
+    (p2_balls, dict(method="node-to-surface"), None),
 ]
 QUICK = [ROWS[0], ROWS[6], ROWS[28]]
 
