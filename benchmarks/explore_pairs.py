@@ -14,8 +14,9 @@ and 1):
 - P2 cells: two elastic disks P2/P2 and P2/P1 (mortar), P2/P2 node-to-surface; explore_3d's
   balls on P2 cells, mortar and node-to-surface.
 - 3D: a rod on a ``Sphere`` and inside a spherical cavity; a rod on a fixed rigid ball and
-  box and a free capsule named ``Contact(rigid, rod)``; a rod on an elastic block named ``Contact(rod,
-  block)`` (mortar), node-to-surface with ``SolidEdges`` across the block's edge; rigid balls
+  box and a free capsule named ``Contact(rigid, rod)``; a rod on an elastic block named
+  ``Contact(rod, block)`` (mortar), node-to-surface with ``SolidEdges`` across the block's
+  edge; rigid balls
   and capsules on a ``Plane`` (``BallsPlaneContact``); a rigid ball named first against a free
   box (``BallBoxContact``: the other order is ``ConvexContact``); a rigid box named first
   against an elastic ball (mortar) and a rigid ball against an elastic block
