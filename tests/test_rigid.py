@@ -290,6 +290,18 @@ def test_disk_obstacle_gaps():
     assert not cavity.linear
 
 
+def test_disk_from_a_cavitys_centre_bounces_back():
+    """A disk starting at the centre of a circular cavity (R from the wall there, its normal
+    any direction) is thrown at the wall, e_N = 1: it comes back at its speed, never
+    deeper than round-off (a single rigid impact: exact)."""
+    d = disk([1.0, 0.0], radius=0.1, mass=1.0)
+    model = Model([d], [Contact(d, Circle([1.0, 0.0], 0.5, inside=True), restitution=1.0)],
+                  gravity=(0.0, 0.0))  # fmt: skip
+    states = list(simulate(model, 1e-3, 0.5, v0=np.array([2.0, 0.0, 0.0])))
+    assert states[-1].v[:2] == pytest.approx([-2.0, 0.0], abs=1e-12)
+    assert min(st.gaps.min() for st in states) >= -1e-12
+
+
 @pytest.mark.parametrize("trial", range(4))
 def test_disk_obstacle_derivatives(trial):
     rng = np.random.default_rng(RNG_SEED + trial)

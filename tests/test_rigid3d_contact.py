@@ -183,3 +183,18 @@ def test_the_tumbling_box_is_independent_of_p_and_k():
         last = other[-1]
         assert last.q[2] == pytest.approx(0.05 - 0.3, abs=1e-9)  # centre from 0.3 m to 0.05
         assert np.abs(last.v).max() < 1e-6
+
+
+def test_a_ball_against_a_sphere_is_refused_by_name_and_a_box_meets_it_by_its_corners():
+    """A Ball or Capsule has no vertices for a Sphere's node rows: refused naming the pair
+    (not a hint to call Contact, which was called); a box's 8 corners meet it."""
+    from fecontact import InputError
+    from fecontact.bodies.shapes3d import Capsule
+    from fecontact.contact import Sphere
+
+    cavity = Sphere([0.0, 0.0, 0.0], 1.0, inside=True)
+    for shape in (Ball(0.1), Capsule(0.1, 0.2)):
+        with pytest.raises(InputError, match="and a Sphere"):
+            Contact(RigidBody3D.uniform(1.0, [0.0, 0.0, 0.0], shape), cavity)
+    box = RigidBody3D.uniform(1.0, [0.0, 0.0, 0.0], Box(0.2, 0.2, 0.2))
+    assert Contact(box, cavity).size == 8

@@ -116,7 +116,8 @@ class Circle(_Motion):
     components); ``inside=True`` makes it a cavity.
 
     Outside: g = |x − c| − R. Inside (points kept within the circle): g = R − |x − c|. With
-    e = (x − c)/|x − c|: ∂g/∂x = ±e and ∂²g/∂x² = ±(I − e⊗e)/|x − c|. ``motion(t)`` (m)
+    e = (x − c)/|x − c|: ∂g/∂x = ±e and ∂²g/∂x² = ±(I − e⊗e)/|x − c| (at a cavity's
+    centre, R from its wall, e is the first axis and the curvature 0). ``motion(t)`` (m)
     translates the centre along a prescribed path (``velocity(t)`` in m/s, optional).
     """
 
@@ -135,12 +136,16 @@ class Circle(_Motion):
         _check_points(x, self.dim)
         d = x - self.center - self.shift()
         r = np.linalg.norm(d, axis=1)
-        if np.any(r == 0.0):
+        centre = r == 0.0
+        if np.any(centre) and not self.inside:
             raise InputError("a contact point lies exactly at the circle centre: normal undefined")
-        e = d / r[:, None]
+        # a cavity's centre is R from the wall (g = R > 0, no row there can be active): any
+        # direction holds for its normal, the first axis, and its curvature term is dropped
+        e = np.where(centre[:, None], np.eye(self.dim)[0], d / np.where(centre, 1.0, r)[:, None])
         g = self.sign * (r - self.radius)
         G = self.sign * e
-        H = self.sign * (np.eye(self.dim) - e[:, :, None] * e[:, None, :]) / r[:, None, None]
+        H = self.sign * (np.eye(self.dim) - e[:, :, None] * e[:, None, :])
+        H = H / np.where(centre, np.inf, r)[:, None, None]
         return g, G, H
 
     def gap_values(self, x: np.ndarray) -> np.ndarray:

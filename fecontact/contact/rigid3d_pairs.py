@@ -34,7 +34,7 @@ from .base import PairDefaults
 from .convex_pairs import ConvexContact
 from .friction import tangent_basis
 from .node_pairs import NodeContact
-from .obstacles import Plane
+from .obstacles import Circle, Plane
 from .registry import register_pair
 
 __all__ = ["BallBallContact", "BallBoxContact", "BallsPlaneContact", "RigidPair"]
@@ -251,6 +251,17 @@ def _rigid3d_plane(body, plane, nodes, restitution, clearance):
             raise InputError("nodes: a ball's contact is its whole surface; give no nodes")
         return BallsPlaneContact(body, plane, restitution, clearance)
     return NodeContact(body, plane, nodes, restitution, clearance)
+
+
+@register_pair(RigidBody3D, Circle)
+def _rigid3d_sphere(body, sphere, nodes, restitution, clearance):
+    """Vertices (default: all) against a ``Sphere``; a shape of balls has none."""
+    if len(body.shape.balls[0]):
+        raise InputError(
+            f"no contact between a RigidBody3D's {type(body.shape).__name__} and a Sphere: "
+            "a fixed RigidBody3D with a Ball stands for a sphere seen from outside"
+        )
+    return NodeContact(body, sphere, nodes, restitution, clearance)
 
 
 @register_pair(RigidBody3D, RigidBody3D)
