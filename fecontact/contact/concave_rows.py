@@ -24,13 +24,29 @@ meet in one point); their multipliers are then minimum-norm (see
 (j = 0 … extra; g = +inf when unused), so the number of contacts stays fixed over a run: a
 node with one facet keeps row i, one at a concave feature fills them in the order of its
 facets (:func:`slot_rows`).
+
+Within one position correction the set is decided once, at the configuration the correction
+starts from, and held through its iterations (:func:`held_rows`, :func:`with_held`): on a
+nearly flat zone the test reads concave at one iterate and convex at the next (the
+correction's own move flattens it), and rows that appear and vanish between iterates kept
+the relinearization from settling.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["CONCAVE", "NEAR_FEATURE", "concave_rows", "slot_rows"]
+from .geometry import closest_facet_distance, facet_plane_gap
+
+__all__ = [
+    "CONCAVE",
+    "NEAR_FEATURE",
+    "ConcaveRows",
+    "concave_rows",
+    "held_rows",
+    "slot_rows",
+    "with_held",
+]
 
 CONCAVE = 1e-6
 """A facet is concave against another when its centroid lies this fraction of the other's
@@ -39,6 +55,61 @@ longest edge above the other's plane (a flat surface deformed by round-off stays
 NEAR_FEATURE = 0.1
 """A concave neighbour gets a row when its distance to the node exceeds the closest facet's
 by at most this fraction of the closest facet's longest edge."""
+
+
+class ConcaveRows:
+    """The rows of a node-to-surface pair beyond each node's closest facet: ``extra`` per
+    node (row i + j n of node i, j = 1 … extra), at concave features, decided at each
+    evaluation or held from one configuration (:meth:`hold_rows`). The pair provides
+    ``extra``, ``nodes``, ``_row_node`` (the node of each row), its search (``search``,
+    ``margin``), ``facets``, ``closest``, ``selected``, ``evaluate`` and ``_last`` (the
+    result it keeps)."""
+
+    _held = None  # (rows, facets, nodes) held by hold_rows
+
+    @property
+    def shared_points(self) -> bool:
+        """Whether a node has several rows (they hold one point, the node)."""
+        return self.extra > 0
+
+    def points(self) -> np.ndarray:
+        return self._row_node
+
+    @property
+    def holds_rows(self) -> bool:
+        """Whether :meth:`hold_rows` holds anything: rows at concave features (3D)."""
+        return self.extra > 0
+
+    def hold_rows(self, q: np.ndarray) -> None:
+        """Hold the rows of the nodes with extra rows at q, with their facets, until
+        :meth:`release_rows`; the other nodes get no extra row meanwhile, so that no row
+        appears or vanishes between the iterates of a Newton loop."""
+        self.evaluate(q)
+        self._held = held_rows(self.selected, len(self.nodes))
+
+    def release_rows(self) -> None:
+        """Decide the rows at each evaluation again."""
+        self._held = self._last = None  # (the result kept was of the held rows)
+
+    def node_rows(self, s, f, xs, xm):
+        """The rows and facets of the primary pairs (s, f) (slave indices, facets) with the
+        extra ones at the slave positions xs and master positions xm, or those held."""
+        if self._held is not None:
+            return with_held(s, f, self._held)
+        if s.size == 0:
+            return s, f
+        return slot_rows(s, f, *self._concave(xs, xm), len(xs))
+
+    def _concave(self, xs: np.ndarray, xm: np.ndarray):
+        """(rows, facets) of the extra rows at concave features (:func:`concave_rows`)."""
+        s, f = self.search.pairs(xs, xm, self.margin)
+        dist = closest_facet_distance(xs[s], xm[self.facets[f]])[0]
+        keep = dist <= self.margin
+        primary = self.closest[: len(xs)]
+        plane = lambda x, xf: facet_plane_gap(x, xf, hessian=False)[0]  # noqa: E731
+        return concave_rows(
+            (s[keep], f[keep]), dist[keep], primary, self.facets, xm, plane, self.extra
+        )
 
 
 def concave_rows(pairs, dist, primary, facets, xm, normal_gap, extra: int):
@@ -108,6 +179,26 @@ def slot_rows(s, f, se, fe, n: int):
     order = np.lexsort((f, s))
     s, f = s[order], f[order]
     return s + n * _rank(s), f
+
+
+def held_rows(selected, n: int):
+    """(rows, facets, nodes) of the slave nodes that have extra rows in ``selected`` (the
+    facet of each of the 1 + extra rows of n nodes, −1: none): every row of such a node,
+    its primary one included, with its facet."""
+    slots = selected.reshape(-1, n)
+    nodes = np.flatnonzero((slots[1:] >= 0).any(axis=0))
+    rows = (nodes + n * np.arange(len(slots))[:, None]).ravel()
+    rows = rows[selected[rows] >= 0]
+    return rows, selected[rows], nodes
+
+
+def with_held(s, f, held):
+    """The rows and facets of the primary pairs (s, f) with the ``held`` rows
+    (:func:`held_rows`) in place of those of their nodes: a held node keeps its facets, the
+    others their closest alone."""
+    rows, facets, nodes = held
+    keep = ~np.isin(s, nodes)
+    return np.r_[s[keep], rows], np.r_[f[keep], facets]
 
 
 def _rank(s):
