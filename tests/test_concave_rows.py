@@ -129,22 +129,26 @@ def test_redundant_rows_take_minimum_norm_multipliers():
 
 
 def test_rows_are_held_from_one_configuration_through_the_iterates():
-    # a Newton loop's iterate that flattens the dent (or dents the flat surface) keeps the
-    # rows of the configuration the loop started from, each with its facet; the plane gaps
-    # are those of the iterate
+    # a Newton loop's iterate that flattens the dent keeps the rows of the configuration
+    # the loop started from, each with its facet (the plane gaps are the iterate's); rows a
+    # node gains at an iterate (the loop dents the flat surface) stay to the loop's end,
+    # its closest facet on its first row
     probe, slab, pair, centre, model = slab_and_probe()
-    contacts = model.contacts
     node = [0.002, 0.001, -0.004]
     dented, flat = (state(probe, slab, node, centre, dz) for dz in (-0.005, 0.0))
     start = rows_of(pair, dented)
     assert len(start[0]) > 1 and rows_of(pair, flat)[0].tolist() == [0]
-    with rows_held(contacts, dented):
+    with rows_held(model.contacts, dented):
         rows, facets, g = rows_of(pair, flat)
         assert rows.tolist() == start[0].tolist() and facets.tolist() == start[1].tolist()
         assert np.all(g < start[2])  # the vertex moved up by 5 mm under the node
     assert rows_of(pair, flat)[0].tolist() == [0]  # released: decided at each evaluation
-    with rows_held(contacts, flat):
-        assert rows_of(pair, dented)[0].tolist() == [0]
+    with rows_held(model.contacts, flat):
+        rows, facets, _ = rows_of(pair, dented)
+        assert set(facets.tolist()) == set(start[1].tolist())
+        assert facets[rows == 0][0] == pair.closest[0]
+        kept = rows_of(pair, flat)
+        assert kept[0].tolist() == rows.tolist() and kept[1].tolist() == facets.tolist()
     assert rows_of(pair, dented)[0].tolist() == start[0].tolist()
 
 

@@ -43,7 +43,9 @@ __all__ = [
     "NEAR_FEATURE",
     "ConcaveRows",
     "concave_rows",
+    "first_closest",
     "held_rows",
+    "joined",
     "slot_rows",
     "with_held",
 ]
@@ -82,10 +84,12 @@ class ConcaveRows:
 
     def hold_rows(self, q: np.ndarray) -> None:
         """Hold the rows of the nodes with extra rows at q, with their facets, until
-        :meth:`release_rows`; the other nodes get no extra row meanwhile, so that no row
-        appears or vanishes between the iterates of a Newton loop."""
+        :meth:`release_rows`: no row vanishes between the iterates of a Newton loop, and a
+        node that gains rows at an iterate (a dent the loop makes) keeps them, its closest
+        facet on its first row (:func:`first_closest`)."""
         self.evaluate(q)
-        self._held = held_rows(self.selected, len(self.nodes))
+        rows = np.flatnonzero(self.selected >= 0)
+        self._held = held_rows(rows, self.selected[rows], len(self.nodes))
 
     def release_rows(self) -> None:
         """Decide the rows at each evaluation again."""
@@ -94,11 +98,13 @@ class ConcaveRows:
     def node_rows(self, s, f, xs, xm):
         """The rows and facets of the primary pairs (s, f) (slave indices, facets) with the
         extra ones at the slave positions xs and master positions xm, or those held."""
-        if self._held is not None:
-            return with_held(s, f, self._held)
-        if s.size == 0:
-            return s, f
-        return slot_rows(s, f, *self._concave(xs, xm), len(xs))
+        rows, facets = slot_rows(s, f, *self._concave(xs, xm), len(xs)) if s.size else (s, f)
+        if self._held is None:
+            return rows, facets
+        n = len(xs)
+        found = held_rows(*first_closest(rows, facets, s, f, n), n)
+        self._held = joined(self._held, found, n)
+        return with_held(s, f, self._held)
 
     def _concave(self, xs: np.ndarray, xm: np.ndarray):
         """(rows, facets) of the extra rows at concave features (:func:`concave_rows`)."""
@@ -181,15 +187,34 @@ def slot_rows(s, f, se, fe, n: int):
     return s + n * _rank(s), f
 
 
-def held_rows(selected, n: int):
-    """(rows, facets, nodes) of the slave nodes that have extra rows in ``selected`` (the
-    facet of each of the 1 + extra rows of n nodes, −1: none): every row of such a node,
-    its primary one included, with its facet."""
-    slots = selected.reshape(-1, n)
-    nodes = np.flatnonzero((slots[1:] >= 0).any(axis=0))
-    rows = (nodes + n * np.arange(len(slots))[:, None]).ravel()
-    rows = rows[selected[rows] >= 0]
-    return rows, selected[rows], nodes
+def held_rows(rows, facets, n: int):
+    """(rows, facets, nodes) of the slave nodes that have extra rows among ``rows`` (their
+    ``facets``) of n nodes: every row of such a node, its primary one included."""
+    nodes = np.unique(rows[rows >= n] % n)
+    mine = np.isin(rows % n, nodes)
+    return rows[mine], facets[mine], nodes
+
+
+def first_closest(rows, facets, s, f, n: int):
+    """The rows (slot layout of :func:`slot_rows`) with each node's closest facet (the
+    primary pairs (s, f)) moved to its first row, the facet there to the closest's row: a
+    node that gains rows within a Newton loop keeps the plane its first row had."""
+    closest = np.full(n, -1)
+    closest[s] = f
+    node, slot = rows % n, rows // n
+    at = np.zeros(n, int)
+    mine = facets == closest[node]
+    at[node[mine]] = slot[mine]
+    j = at[node]
+    slot = np.where(slot == 0, j, np.where(slot == j, 0, slot))
+    return node + n * slot, facets
+
+
+def joined(held, found, n: int):
+    """The ``held`` rows (:func:`held_rows`) with those ``found`` of the nodes not held yet."""
+    rows, facets, nodes = found
+    new = ~np.isin(rows % n, held[2])
+    return np.r_[held[0], rows[new]], np.r_[held[1], facets[new]], np.union1d(held[2], nodes)
 
 
 def with_held(s, f, held):

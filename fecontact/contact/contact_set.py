@@ -292,8 +292,8 @@ def whole_points(contacts: ContactSet, mask: np.ndarray) -> np.ndarray:
 @contextmanager
 def rows_held(contacts: ContactSet, q: np.ndarray, hold: bool = True):
     """Within it (where ``hold``), every pair of ``contacts`` that decides its rows at each
-    evaluation keeps those it has at q, with their facets: the iterates of a Newton loop
-    (the smooth step, the position correction) neither gain nor lose a row
+    evaluation keeps those it has at q, with their facets, and those it gains: no row of
+    the iterates of a Newton loop (the smooth step, the position correction) vanishes
     (:mod:`.concave_rows`)."""
     holding = contacts._holding if hold else ()
     for pair in holding:
