@@ -52,7 +52,7 @@ class PairDefaults:
     companions: tuple = ()  # pairs it brings into the model, bound with it (rows of its own)
     shared_points = False  # True: several rows can hold one point (``points()`` says which)
     # True: the pair decides which rows it has at each evaluation, and can hold that choice
-    # from one configuration (``hold_rows(q)`` … ``release_rows()``: a position correction)
+    # from one configuration (``hold_rows(q)`` … ``release_rows()``: a Newton loop)
     holds_rows = False
 
     def points(self) -> np.ndarray:

@@ -25,11 +25,13 @@ meet in one point); their multipliers are then minimum-norm (see
 node with one facet keeps row i, one at a concave feature fills them in the order of its
 facets (:func:`slot_rows`).
 
-Within one position correction the set is decided once, at the configuration the correction
-starts from, and held through its iterations (:func:`held_rows`, :func:`with_held`): on a
-nearly flat zone the test reads concave at one iterate and convex at the next (the
-correction's own move flattens it), and rows that appear and vanish between iterates kept
-the relinearization from settling.
+Within a Newton loop (the smooth step, from q_n; the position correction, from q̃) a row
+once present is held to the loop's end with its facet (:class:`ConcaveRows`): on a nearly
+flat zone the test reads concave at one iterate and convex at the next (the loop's own move
+flattens it), and rows that appeared and vanished between iterates kept the loop from
+settling. A node that gains rows within the loop keeps its closest facet on its first row:
+laid out by the facets' indices, that row's plane jumped to another facet of the dent.
+Measured in ``docs/validation/stress_3d.md`` (node-to-surface balls with friction).
 """
 
 from __future__ import annotations
