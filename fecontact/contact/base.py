@@ -51,6 +51,9 @@ class PairDefaults:
     at_beam_ends = False  # True: every contact is an end node of a beam (a tip, a bar's end)
     companions: tuple = ()  # pairs it brings into the model, bound with it (rows of its own)
     shared_points = False  # True: several rows can hold one point (``points()`` says which)
+    # True: the pair decides which rows it has at each evaluation, and can hold that choice
+    # from one configuration (``hold_rows(q)`` … ``release_rows()``: a Newton loop)
+    holds_rows = False
 
     def points(self) -> np.ndarray:
         """The point (an int per row, the pair's own numbering) each row holds: rows of one

@@ -24,13 +24,33 @@ meet in one point); their multipliers are then minimum-norm (see
 (j = 0 … extra; g = +inf when unused), so the number of contacts stays fixed over a run: a
 node with one facet keeps row i, one at a concave feature fills them in the order of its
 facets (:func:`slot_rows`).
+
+Within a Newton loop (the smooth step, from q_n; the position correction, from q̃) a row
+once present is held to the loop's end with its facet (:class:`ConcaveRows`): on a nearly
+flat zone the test reads concave at one iterate and convex at the next (the loop's own move
+flattens it), and rows that appeared and vanished between iterates kept the loop from
+settling. A node that gains rows within the loop keeps its closest facet on its first row:
+laid out by the facets' indices, that row's plane jumped to another facet of the dent.
+Measured in ``docs/validation/stress_3d.md`` (node-to-surface balls with friction).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["CONCAVE", "NEAR_FEATURE", "concave_rows", "slot_rows"]
+from .geometry import closest_facet_distance, facet_plane_gap
+
+__all__ = [
+    "CONCAVE",
+    "NEAR_FEATURE",
+    "ConcaveRows",
+    "concave_rows",
+    "first_closest",
+    "held_rows",
+    "joined",
+    "slot_rows",
+    "with_held",
+]
 
 CONCAVE = 1e-6
 """A facet is concave against another when its centroid lies this fraction of the other's
@@ -39,6 +59,65 @@ longest edge above the other's plane (a flat surface deformed by round-off stays
 NEAR_FEATURE = 0.1
 """A concave neighbour gets a row when its distance to the node exceeds the closest facet's
 by at most this fraction of the closest facet's longest edge."""
+
+
+class ConcaveRows:
+    """The rows of a node-to-surface pair beyond each node's closest facet: ``extra`` per
+    node (row i + j n of node i, j = 1 … extra), at concave features, decided at each
+    evaluation or held from one configuration (:meth:`hold_rows`). The pair provides
+    ``extra``, ``nodes``, ``_row_node`` (the node of each row), its search (``search``,
+    ``margin``), ``facets``, ``closest``, ``selected``, ``evaluate`` and ``_last`` (the
+    result it keeps)."""
+
+    _held = None  # (rows, facets, nodes) held by hold_rows
+
+    @property
+    def shared_points(self) -> bool:
+        """Whether a node has several rows (they hold one point, the node)."""
+        return self.extra > 0
+
+    def points(self) -> np.ndarray:
+        return self._row_node
+
+    @property
+    def holds_rows(self) -> bool:
+        """Whether :meth:`hold_rows` holds anything: rows at concave features (3D)."""
+        return self.extra > 0
+
+    def hold_rows(self, q: np.ndarray) -> None:
+        """Hold the rows of the nodes with extra rows at q, with their facets, until
+        :meth:`release_rows`: no row vanishes between the iterates of a Newton loop, and a
+        node that gains rows at an iterate (a dent the loop makes) keeps them, its closest
+        facet on its first row (:func:`first_closest`)."""
+        self.evaluate(q)
+        rows = np.flatnonzero(self.selected >= 0)
+        self._held = held_rows(rows, self.selected[rows], len(self.nodes))
+
+    def release_rows(self) -> None:
+        """Decide the rows at each evaluation again."""
+        self._held = self._last = None  # (the result kept was of the held rows)
+
+    def node_rows(self, s, f, xs, xm):
+        """The rows and facets of the primary pairs (s, f) (slave indices, facets) with the
+        extra ones at the slave positions xs and master positions xm, or those held."""
+        rows, facets = slot_rows(s, f, *self._concave(xs, xm), len(xs)) if s.size else (s, f)
+        if self._held is None:
+            return rows, facets
+        n = len(xs)
+        found = held_rows(*first_closest(rows, facets, s, f, n), n)
+        self._held = joined(self._held, found, n)
+        return with_held(s, f, self._held)
+
+    def _concave(self, xs: np.ndarray, xm: np.ndarray):
+        """(rows, facets) of the extra rows at concave features (:func:`concave_rows`)."""
+        s, f = self.search.pairs(xs, xm, self.margin)
+        dist = closest_facet_distance(xs[s], xm[self.facets[f]])[0]
+        keep = dist <= self.margin
+        primary = self.closest[: len(xs)]
+        plane = lambda x, xf: facet_plane_gap(x, xf, hessian=False)[0]  # noqa: E731
+        return concave_rows(
+            (s[keep], f[keep]), dist[keep], primary, self.facets, xm, plane, self.extra
+        )
 
 
 def concave_rows(pairs, dist, primary, facets, xm, normal_gap, extra: int):
@@ -108,6 +187,45 @@ def slot_rows(s, f, se, fe, n: int):
     order = np.lexsort((f, s))
     s, f = s[order], f[order]
     return s + n * _rank(s), f
+
+
+def held_rows(rows, facets, n: int):
+    """(rows, facets, nodes) of the slave nodes that have extra rows among ``rows`` (their
+    ``facets``) of n nodes: every row of such a node, its primary one included."""
+    nodes = np.unique(rows[rows >= n] % n)
+    mine = np.isin(rows % n, nodes)
+    return rows[mine], facets[mine], nodes
+
+
+def first_closest(rows, facets, s, f, n: int):
+    """The rows (slot layout of :func:`slot_rows`) with each node's closest facet (the
+    primary pairs (s, f)) moved to its first row, the facet there to the closest's row: a
+    node that gains rows within a Newton loop keeps the plane its first row had."""
+    closest = np.full(n, -1)
+    closest[s] = f
+    node, slot = rows % n, rows // n
+    at = np.zeros(n, int)
+    mine = facets == closest[node]
+    at[node[mine]] = slot[mine]
+    j = at[node]
+    slot = np.where(slot == 0, j, np.where(slot == j, 0, slot))
+    return node + n * slot, facets
+
+
+def joined(held, found, n: int):
+    """The ``held`` rows (:func:`held_rows`) with those ``found`` of the nodes not held yet."""
+    rows, facets, nodes = found
+    new = ~np.isin(rows % n, held[2])
+    return np.r_[held[0], rows[new]], np.r_[held[1], facets[new]], np.union1d(held[2], nodes)
+
+
+def with_held(s, f, held):
+    """The rows and facets of the primary pairs (s, f) with the ``held`` rows
+    (:func:`held_rows`) in place of those of their nodes: a held node keeps its facets, the
+    others their closest alone."""
+    rows, facets, nodes = held
+    keep = ~np.isin(s, nodes)
+    return np.r_[s[keep], rows], np.r_[f[keep], facets]
 
 
 def _rank(s):

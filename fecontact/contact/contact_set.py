@@ -3,6 +3,8 @@ gaps, gradients and curvatures gathered into dense or sparse arrays."""
 
 from __future__ import annotations
 
+from contextlib import contextmanager
+
 import numpy as np
 import scipy.sparse as sp
 
@@ -12,7 +14,7 @@ from .mortar_interface import merge_interfaces
 from .mortar_safeguard import twin_rows
 from .watch import solid_watches
 
-__all__ = ["ContactSet", "admissible_gaps", "held_together"]
+__all__ = ["ContactSet", "admissible_gaps", "held_together", "rows_held", "whole_points"]
 
 
 class ContactSet(FrictionRows):
@@ -33,6 +35,7 @@ class ContactSet(FrictionRows):
         # each contact's number within its pair
         self.local = _per_contact(self.pairs, [np.arange(pair.size) for pair in self.pairs], int)
         self.point = _points(self.pairs)
+        self._holding = [p for p in self.pairs if getattr(p, "holds_rows", False)]  # rows_held
         self._measured_by_inside_test()
         self._scatters: dict = {}
         self._last_scatter: dict = {}  # per pair: read-only (rows, dofs) and their _Scatter
@@ -276,6 +279,30 @@ def held_together(contacts: ContactSet, closed: np.ndarray, held: np.ndarray) ->
         return held
     at = contacts.point[closed]
     return np.isin(at, at[held])
+
+
+def whole_points(contacts: ContactSet, mask: np.ndarray) -> np.ndarray:
+    """``mask`` (per contact) extended to every row of a point one of whose rows it marks
+    (a node-to-surface node's rows at a concave feature)."""
+    if contacts.point is None:
+        return mask
+    return np.isin(contacts.point, contacts.point[mask])
+
+
+@contextmanager
+def rows_held(contacts: ContactSet, q: np.ndarray, hold: bool = True):
+    """Within it (where ``hold``), every pair of ``contacts`` that decides its rows at each
+    evaluation keeps those it has at q, with their facets, and those it gains: no row of
+    the iterates of a Newton loop (the smooth step, the position correction) vanishes
+    (:mod:`.concave_rows`)."""
+    holding = contacts._holding if hold else ()
+    for pair in holding:
+        pair.hold_rows(q)
+    try:
+        yield
+    finally:
+        for pair in holding:
+            pair.release_rows()
 
 
 def _points(pairs) -> np.ndarray | None:

@@ -1,8 +1,15 @@
 r"""Distances and projections of the contact kinematics, in one place.
 
-Points against segments and lines (2D and 3D), and against convex polygons. Signed
-distances carry their derivatives where a gap needs them: the gradient and Hessian with
-respect to the coordinates that move.
+Points against segments and lines (2D and 3D), planes of triangles, and convex polygons.
+Signed distances carry their derivatives where a gap needs them: the gradient and Hessian
+with respect to the coordinates that move. The plane gap g = n·(x − a) of a point x from a
+triangle (a, b, c), n = N/|N|, N = (b − a) × (c − a), with r = x − a, u = b − a, w = c − a,
+s = r·N and ν = |N|: g = s/ν and
+
+    ∇²g = ∇²s/ν − (∇s ∇νᵀ + ∇ν ∇sᵀ)/ν² + s (2 ∇ν ∇νᵀ/ν³ − ∇²ν/ν²),
+
+where ∂N_k/∂u_i = ε_kij w_j, ∂N_k/∂w_j = ε_kij u_i, ∂²N_k/∂u_i∂w_j = ε_kij (ε the
+permutation symbol), ∇ν = (∂N)ᵀ n and ∇²ν = (∂N)ᵀ (I − n nᵀ)/ν (∂N) + n_k ∇²N_k.
 """
 
 from __future__ import annotations
@@ -15,9 +22,11 @@ __all__ = [
     "closest_facet_distance",
     "closest_on_segments",
     "distance_curvature",
+    "facet_plane_gap",
     "point_line_distance",
     "polygon_distance",
     "segment_distance",
+    "triangle_plane_distance",
     "unit",
 ]
 
@@ -133,3 +142,69 @@ def closest_facet_distance(x: np.ndarray, xf: np.ndarray):
             segment_distance(xo, co, ao),
         )
     return dist, g
+
+
+# permutation symbol ε_kij
+_EPS = np.zeros((3, 3, 3))
+_EPS[0, 1, 2] = _EPS[1, 2, 0] = _EPS[2, 0, 1] = 1.0
+_EPS[0, 2, 1] = _EPS[2, 1, 0] = _EPS[1, 0, 2] = -1.0
+# (r, u, w) = T (x_s, x_a, x_b, x_c): r = x_s − x_a, u = x_b − x_a, w = x_c − x_a
+_TRIANGLE_MAP = np.kron(
+    [[1.0, -1.0, 0.0, 0.0], [0.0, -1.0, 1.0, 0.0], [0.0, -1.0, 0.0, 1.0]], np.eye(3)
+)
+
+
+def triangle_plane_distance(x, a, b, c, hessian: bool = True):
+    """Signed distances g = n·(x − a) (m) of points x from the planes of triangles (a, b, c),
+    n = (b − a) × (c − a) normalised (right-hand rule), all (m, 3); with the gradients (m, 12)
+    and Hessians (m, 12, 12; None unless ``hessian``) with respect to (x, a, b, c)."""
+    r, u, w = x - a, b - a, c - a
+    N = np.cross(u, w)
+    nu = np.linalg.norm(N, axis=1)
+    n = N / nu[:, None]
+    s = np.einsum("mk,mk->m", r, N)
+    Au = np.einsum("kij,mj->mki", _EPS, w)  # ∂N_k/∂u_i
+    Aw = np.einsum("kij,mi->mkj", _EPS, u)  # ∂N_k/∂w_j
+    m = len(x)
+    J = np.zeros((m, 3, 9))  # ∂N/∂(r, u, w)
+    J[:, :, 3:6], J[:, :, 6:] = Au, Aw
+    s_z = np.concatenate(
+        [N, np.einsum("mk,mki->mi", r, Au), np.einsum("mk,mkj->mj", r, Aw)], axis=1
+    )
+    nu_z = np.einsum("mk,mkz->mz", n, J)
+    g = s / nu
+    g_z = s_z / nu[:, None] - (s / nu**2)[:, None] * nu_z
+    if not hessian:
+        return g, g_z @ _TRIANGLE_MAP, None
+    s_zz = np.zeros((m, 9, 9))
+    s_zz[:, :3, 3:6], s_zz[:, :3, 6:] = Au, Aw
+    s_zz[:, 3:6, 6:] = np.einsum("kij,mk->mij", _EPS, r)
+    s_zz += s_zz.transpose(0, 2, 1)
+    proj = (np.eye(3) - n[:, :, None] * n[:, None, :]) / nu[:, None, None]
+    nu_zz = np.einsum("mkz,mkl,mly->mzy", J, proj, J)
+    En = np.einsum("kij,mk->mij", _EPS, n)
+    nu_zz[:, 3:6, 6:] += En
+    nu_zz[:, 6:, 3:6] += En.transpose(0, 2, 1)
+    i1, i2, i3 = 1.0 / nu, 1.0 / nu**2, 1.0 / nu**3
+    cross = s_z[:, :, None] * nu_z[:, None, :]
+    g_zz = (
+        s_zz * i1[:, None, None]
+        - (cross + cross.transpose(0, 2, 1)) * i2[:, None, None]
+        + s[:, None, None]
+        * (
+            2.0 * i3[:, None, None] * nu_z[:, :, None] * nu_z[:, None, :]
+            - nu_zz * i2[:, None, None]
+        )
+    )
+    T = _TRIANGLE_MAP
+    return g, g_z @ T, np.einsum("ai,mab,bj->mij", T, g_zz, T)
+
+
+def facet_plane_gap(x: np.ndarray, xf: np.ndarray, hessian: bool = True):
+    """Signed gaps (m,) of points x (m, d) from the planes of facets with vertices xf (m, k, d)
+    along their outward normals (see the module docstring), with the gradients (m, d + k d) and
+    Hessians (None unless ``hessian``) with respect to (x, facet vertices)."""
+    if x.shape[1] == 2:
+        f, G, H = point_line_distance(x, xf[:, 0], xf[:, 1], hessian)
+        return -f, -G, None if H is None else -H
+    return triangle_plane_distance(x, xf[:, 0], xf[:, 1], xf[:, 2], hessian)

@@ -10,6 +10,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..contact.contact_set import rows_held
 from .lie import LieGroup, on_group
 from .newton import NewtonPlan
 from .terms import (
@@ -98,12 +99,14 @@ def alpha_smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
     Returns a :class:`SmoothStep`: S = (S_t, its solver) for the metric of the position
     correction (None with joints), G_b the joint gradient at the returned q (None when the
     last update moved q after it was evaluated)."""
-    newton = opts.plan.loop(model, opts, timer).start(st, t, c, P)
-    turns = opts.turns
-    if turns is not None:  # (beams: a step that turns a node too far is halved, :mod:`.turns`)
-        group = newton.form.lie is not None
-        turns.start(newton.form, st.q, group, opts)
-    it, stale = newton.run()
+    # (the persistent contacts' rows: those of q_n, held through the iterates)
+    with rows_held(model.contacts, st.q, P is not None and P.size > 0):
+        newton = opts.plan.loop(model, opts, timer).start(st, t, c, P)
+        turns = opts.turns
+        if turns is not None:  # (beams: a step that turns a node too far is halved, :mod:`.turns`)
+            group = newton.form.lie is not None
+            turns.start(newton.form, st.q, group, opts)
+        it, stale = newton.run()
     step, joints = newton.step, newton.joints
     if turns is not None:
         turns.check(step.X[0], st.q, group, "the smooth step", opts.stats)

@@ -33,6 +33,7 @@ import math
 
 import numpy as np
 
+from ..contact.contact_set import whole_points
 from ..contact.friction import coulomb_residual, solve_coulomb
 from ..contact.friction_redundant import reachable_slips
 from ..contact.restitution import friction_dissipation
@@ -122,7 +123,9 @@ def _slip_coefficients(contacts, st, work, tol_gap) -> np.ndarray:
         # (or pressed in the step before: after a rebound split inside a step a contact that
         # strikes again may start its sub-step a little open; without its rows its normal
         # correction turns the body against the others' grip)
-        mu = np.where((st.gaps[work] <= tol_gap) | st.pressed()[work], mu, 0.0)
+        # (a node closed by one of its rows slips on the others too: concave_rows)
+        closed = (st.gaps <= tol_gap) | st.pressed()
+        mu = np.where(whole_points(contacts, closed)[work], mu, 0.0)
         if st.smooth is not None and st.smooth.closing is not None:
             # settling beams (and their decoupled step, which marks its strikes too): a
             # contact struck in the last step takes its lasting force, and

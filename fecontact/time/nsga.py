@@ -34,13 +34,11 @@ import time
 
 import numpy as np
 
-from ..contact.contact_set import held_together
+from ..contact.contact_set import held_together, rows_held
 from ..ledger import pending_record
 from .alpha_step import SmoothStep, alpha_plan, alpha_smooth_step
 from .configuration import plus
-from .constraints import (
-    StepFailure,
-)
+from .constraints import StepFailure
 from .correction import correction_metric, momentum_held, position_correction
 from .coulomb import frictional_correction
 from .generalized_alpha import coefficients
@@ -333,7 +331,8 @@ class _Phases:
         if self.m == 0 and self.model.joints.size == 0:
             return _end_state(self)
         self.v_tilde = self.v  # ṽ, the smooth step's velocity (a correction replaces self.v)
-        self.correct()  # 2., only if a contact candidate penetrates (joints already hold)
+        with rows_held(self.model.contacts, self.q):  # (the correction's rows: from q̃)
+            self.correct()  # 2., only if a contact candidate penetrates (joints already hold)
         if self.closed.size or self.model.joints.size:  # (else nothing to jump or follow)
             self.jump()  # 3.
             self.follow()
