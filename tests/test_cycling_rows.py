@@ -66,3 +66,34 @@ def test_a_held_row_and_its_twin_that_take_turns_end_at_the_law(curvature):
         other = _corrected(curvature, p, k)
         # (the same law's answer, each to the gap tolerance: U moves the gaps one for one)
         assert np.max(np.abs(other[0] - U)) <= 10.0 * TOL
+
+
+def test_a_held_row_that_freezes_against_its_twin_is_solved_again_unilateral():
+    """A held row and its twin along the same normal (correlation 1), the twin 1 mm deeper:
+    no set closes the held row with the twin outside (closed, the held row pushes the twin
+    1 mm in; closing the twin lifts the held row 1 mm), and the complementarity updates
+    find no answer of the held law. The frozen set kept the deeper twin and left the held
+    equality 1 mm open (1e9 tolerances: the fast P2 disks' 1.13e8). Solved again with the
+    held row unilateral, the correction ends at the law: the twin closed and pushing, the
+    held row open without force, a third row untouched; counted as released, not frozen."""
+    G = np.array([[1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    g0 = np.array([0.0, -1e-3, 2e-5])  # m: the held row closed, its twin 1 mm in, one open
+
+    def gaps(U):
+        return g0 + G @ U, G.copy()
+
+    def system(U, s, A):
+        return (lambda B: B), None
+
+    stats = ContactStats()
+    U, nu, _ = solve_position_correction(
+        gaps, system, 3, np.ones(3), 1.0, TOL, 0.1 * TOL, bilateral=HELD, stats=stats,
+        twins=TWINS, held_rows=HELD,
+    )  # fmt: skip
+    g = gaps(U)[0]
+    assert stats.released_corrections == 1 and stats.frozen_active_sets == 0
+    assert stats.final_residuals.position <= 1.0  # (the law's own residual, in tolerances)
+    # (U moves the gaps one for one: the twin closed to the tolerance, the held row lifted
+    # by the 1 mm the twin needed, to the same tolerance)
+    assert abs(g[1]) <= TOL and abs(g[0] - 1e-3) <= TOL and g[2] == pytest.approx(2e-5)
+    assert nu[1] > 0.0 and nu[0] == 0.0 and nu[2] == 0.0

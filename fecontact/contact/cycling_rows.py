@@ -1,15 +1,17 @@
 """Rows that defeat the active-set iteration of the position correction
 (:func:`fecontact.contact.laws.solve_position_correction`): pairs of nearly redundant rows,
-of which the iteration holds one, and active sets that cycle, whose updates are then solved
-as complementarity problems on every row at once."""
+of which the iteration holds one, active sets that cycle, whose updates are then solved
+as complementarity problems on every row at once, and held rows that leave a frozen set no
+answer of the law."""
 
 from __future__ import annotations
 
 import numpy as np
 
 from .redundant_jump import proximal_jump
+from .stats import ContactStats
 
-__all__ = ["COMPLEMENTARY", "NEAR", "apart", "complementary_update"]
+__all__ = ["COMPLEMENTARY", "NEAR", "apart", "complementary_update", "unheld_correction"]
 
 
 NEAR = 1e-3
@@ -85,3 +87,28 @@ def complementary_update(U, g, G, nu, rows, system, law):
     nu[rows] = found[0]
     A = rows & (eq | (nu > 0.0))
     return A, nu, x0 + k * (Y @ found[0]), C
+
+
+def unheld_correction(held, stats, again):
+    """A correction whose ``held`` rows (the smooth step's decision) froze with the law
+    unsettled, solved ``again`` from its start with them unilateral (``again(trial)``, its
+    counts in ``trial``): the held equalities left no set where every row closes and pushes
+    (the fast P2 disks: a held row 20.9 µm open beside its twin, a master node's row pulling
+    among 10–13 held ones). The answer where the law then holds to its tolerance, counted in
+    ``stats.released_corrections``; else None (the frozen set stands)."""
+    if held is None or not np.count_nonzero(held):
+        return None
+    trial = ContactStats(minimum_norm=stats is not None and stats.minimum_norm)
+    try:
+        answer = again(trial)
+    except RuntimeError:
+        return None
+    if trial.final_residuals.position > 1.0:
+        return None
+    if stats is None:
+        return answer
+    for name in ("least_squares", "frozen_active_sets", "complementary_corrections"):
+        setattr(stats, name, getattr(stats, name) + getattr(trial, name))
+    stats.released_corrections += 1
+    stats.final_residuals.record("position", trial.final_residuals.position)
+    return answer

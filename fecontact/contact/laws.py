@@ -29,7 +29,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.linalg.lapack import dgetrf, dgetrs
 
-from .cycling_rows import COMPLEMENTARY, apart, complementary_update
+from .cycling_rows import COMPLEMENTARY, apart, complementary_update, unheld_correction
 from .redundant_jump import proximal_jump
 from .stats import ContactStats
 
@@ -139,6 +139,7 @@ def solve_position_correction(
     gaps, system, n, p, k, tol_gap, tol_u, max_iter=30, bilateral=None, nu0=None, stats=None,
     twins=None,
     scale=1.0,
+    held_rows=None,
 ):  # fmt: skip
     """Position correction q = q̃ + U: find (U, ν) with H U = Σ G_jᵀ [k ν_j − p g_j(q)]_+ and
     k ν_j − [k ν_j − p g_j(q)]_+ = 0 for every candidate j.
@@ -155,7 +156,10 @@ def solve_position_correction(
     rows' inverse effective mass D_jj, see :func:`_residual`) and the update below ``tol_u``
     or no longer shrinking. ``stats`` (:class:`fecontact.contact.stats.ContactStats`, or
     None) receives the least-squares multipliers and the final residual; ``twins`` (each
-    row's twin among the rows, −1 none: :func:`one_of_twins`) or None. Returns
+    row's twin among the rows, −1 none: :func:`one_of_twins`) or None; ``held_rows`` (a mask,
+    or None) the ``bilateral`` rows that are equalities by the smooth step's decision, not
+    joints: where their set freezes with the law unsettled,
+    :func:`fecontact.contact.cycling_rows.unheld_correction`. Returns
     (U, ν, iterations); raises ``RuntimeError`` when the iteration does not settle.
     """
     U = np.zeros(n)
@@ -172,9 +176,11 @@ def solve_position_correction(
     # (beyond max_iter only to end a cycle: complementarity updates, then a frozen set)
     for it in range(2 * max_iter + COMPLEMENTARY + 1):
         settled = _update_settled(dU, dU_prev, tol_u, tol_gap)
-        if it > 0 and settled and cycle.ends(A, nu, g, p, k, eq, tol_gap, stats, scale):
-            _record(stats, "position", nu, g, p, k, eq, tol_gap, scale)
-            return U, nu, it
+        if it > 0 and settled and cycle.ends(A, nu, g, p, k, eq, tol_gap, scale):
+            return cycle.answer((U, nu, it), (g, p, k, eq, tol_gap, scale), stats, lambda: (
+                unheld_correction(held_rows, stats, lambda trial: solve_position_correction(
+                    gaps, system, n, p, k, tol_gap, tol_u, max_iter, bilateral & ~held_rows,
+                    nu0, trial, twins, scale))))  # fmt: skip
         if it > 0:
             cycle.visit(A, _residual(nu, g, p, k, eq, scale))
         if it > max_iter and not cycle.escalate():
@@ -319,19 +325,30 @@ class _Cycle:
         self.solved += 1
         return True
 
-    def ends(self, A, nu, g, p, k, eq, tol: float, stats, scale: float = 1.0) -> bool:
+    def ends(self, A, nu, g, p, k, eq, tol: float, scale: float = 1.0) -> bool:
         """Whether the settled iterate from the set A ends the correction: complementarity
-        within ``tol`` (counted in ``stats`` after complementarity updates), or, for a frozen
-        set, its rows closed and no other inside (counted in ``stats``)."""
+        within ``tol``, or, for a frozen set, its rows closed and no other inside."""
         if self.frozen is None:
-            done = _settled(nu, g, p, k, eq, tol, scale)
-            if done and self.solved and stats is not None:
-                stats.complementary_corrections += 1
-            return done
-        held = bool(np.all(np.abs(g[A]) <= tol) and np.all(g[~A] >= -tol))
-        if held and stats is not None:
+            return _settled(nu, g, p, k, eq, tol, scale)
+        return bool(np.all(np.abs(g[A]) <= tol) and np.all(g[~A] >= -tol))
+
+    def answer(self, ended, law, stats, unheld):
+        """The correction's answer (U, ν, iterations) from its ``ended`` iterate (``law``:
+        g, p, k, the equalities, the tolerance, the scale of :func:`_residual`): where a
+        frozen set left the law unsettled, ``unheld()`` if it is not None (the held rows
+        unilateral); else the iterate, counted in ``stats`` (a frozen set, or
+        complementarity updates that settled) with its residual."""
+        nu = ended[1]
+        if self.frozen is not None and not _settled(nu, *law):
+            again = unheld()
+            if again is not None:
+                return again
+        if stats is not None and self.frozen is not None:
             stats.frozen_active_sets += 1
-        return held
+        elif stats is not None and self.solved:
+            stats.complementary_corrections += 1
+        _record(stats, "position", nu, *law)
+        return ended
 
 
 def _update_settled(dU: float, dU_prev: float, tol_u: float, tol_gap: float) -> bool:

@@ -92,6 +92,9 @@ class ContactStats:
     # position corrections whose active sets cycled, settled by complementarity updates on
     # every row at once (the linearised law solved by principal pivoting)
     complementary_corrections: int = 0
+    # position corrections whose held rows (equalities by the smooth step's decision) froze
+    # with the law unsettled, solved again with them unilateral (the law then held)
+    released_corrections: int = 0
     # frictionless velocity jumps whose redundant rows left the law unsettled after the
     # active set repeated (the rows could not all close), solved again by the proximal
     # point method (:mod:`fecontact.contact.redundant_jump`), and its proximal steps

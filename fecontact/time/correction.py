@@ -58,7 +58,9 @@ def position_correction(model, q_tilde, cand, metric, c, opts, tol_gap, nu0=None
     (H, solve_H) from :func:`correction_metric`, ``nu0`` the contacts' multipliers of the previous
     step. The ``held`` contacts (a mask over ``cand``: pressed by a smooth force at q̃) are
     equalities too, g_j = 0 with ν_j of either sign: the correction of a contact that closes
-    beside them neither lifts them off nor pushes them in (:mod:`.smooth_contact`)."""
+    beside them neither lifts them off nor pushes them in (:mod:`.smooth_contact`); where
+    they freeze its active sets with the law unsettled, it is solved again with them
+    unilateral (counted in ``released_corrections``)."""
     F = model.free
     H, solve_H = metric
     cons = Constraints(model, cand)
@@ -107,10 +109,17 @@ def position_correction(model, q_tilde, cand, metric, c, opts, tol_gap, nu0=None
             stats=opts.stats.contact,
             twins=twins_among(model.contacts.twins, cand, model.joints.size),
             scale=opts.penalty_scale,  # (p_j D_jj: the stop in metres whatever p)
+            held_rows=_with_joints(held, model.joints.size),
         )
     except RuntimeError as err:
         raise StepFailure(str(err), np.nan) from None
     return U, k * nu, its
+
+
+def _with_joints(held, joints: int):
+    """The mask ``held`` over the contacts extended over the joints (never held: equalities
+    by nature), or None."""
+    return None if held is None else np.concatenate([held, np.zeros(joints, bool)])
 
 
 def unit_columns(model, key, solve_H, constant: bool) -> UnitColumns:

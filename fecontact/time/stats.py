@@ -194,6 +194,8 @@ class StepStats:
             "frozen_active_sets": self.contact.frozen_active_sets,
             # ... and those settled by complementarity updates on every row at once
             "complementary_corrections": self.contact.complementary_corrections,
+            # ... and those whose held rows froze the law unsettled, solved with them unilateral
+            "released_corrections": self.contact.released_corrections,
             # frictionless jumps on redundant rows solved by the proximal point method
             "redundant_jumps": {
                 "solves": self.contact.redundant_jumps,
