@@ -74,3 +74,15 @@ def bar_impact(mass: float, inertia: float, d: float, v: float, e: float):
     velocity −v + P/m and the rate of turn P d/I after it."""
     P = (1.0 + e) * v / (1.0 / mass + d * d / inertia)
     return P, -v + P / mass, P * d / inertia
+
+
+def stuck_impact(mass: float, J, r, u, e: float):
+    """A free rigid body (``mass``, spatial inertia ``J`` about its centre) struck at ``r``
+    from its centre, the point moving at ``u``, on a plane of normal e_z: the impulse P that
+    gives Newton's law, u_N+ = −e u_N, with the point stuck along the plane, u_T+ = 0,
+    P = D⁻¹(u+ − u) with D = I/m − [r]× J⁻¹ [r]×. Coulomb's law holds it where
+    |P_T| ≤ μ P_N."""
+    r, u = np.asarray(r, float), np.asarray(u, float)
+    cross = np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
+    D = np.eye(3) / mass - cross @ np.linalg.solve(J, cross)
+    return np.linalg.solve(D, np.array([0.0, 0.0, -e * u[2]]) - u)

@@ -39,6 +39,7 @@ from _multibody_exact import (
     flip_half_period,
     rolling_ball,
     steady_precession,
+    stuck_impact,
     symmetric_omega,
     top_nutation_bound,
 )
@@ -69,6 +70,7 @@ from fecontact import (
 )
 from fecontact.rotations import exp, log
 from fecontact.testing import G, case
+from fecontact.time.localize import localizes
 
 TOP = case("heavy_top")
 
@@ -354,7 +356,9 @@ def box_drop(pose: str, e: float, mu: float, vx: float = 0.5, h: float = 1e-3,
     t_hit = (1.0 - np.sqrt(1.0 + 2 * G * 0.05)) / -G  # free flight to the plane
     i = int(np.searchsorted(t, t_hit))  # the step holding the impact
     before = -1.0 - G * t_hit
-    after = w[i] - (w[i + 1] - w[i]) / (t[i + 1] - t[i]) * (t[i] - t_hit)  # back to t_hit
+    after = w[i]  # an impact not located is taken at the end of the step holding it
+    if localizes(model, sim.options):  # located: its rebound flew from t_hit
+        after -= (w[i + 1] - w[i]) / (t[i + 1] - t[i]) * (t[i] - t_hit)  # back to t_hit
     P = np.column_stack([hist[f"P{c}"] for c in "xy"])
     parts = [f"v_N+ {after:.5g} m/s"]
     if mu == 0.0:
@@ -400,9 +404,10 @@ def rolling(v0=(1.0, 0.5, 0.0), w0=(3.0, -2.0, 5.0), mu: float = 0.3, h: float =
 
 
 def rod_on_post(e: float, mu: float = 0.0, vy: float = 0.0, d: float = 0.2, h: float = 1e-3,
-                t_end: float = 0.04) -> dict:  # fmt: skip
+                t_end: float = 0.04, smooth: str = "auto") -> dict:  # fmt: skip
     """A capsule rod (0.5 m, r 1 cm, 1 kg) falling flat along x at 1 m/s onto a held
-    vertical capsule post (r 2 cm) under the point ``d`` from its centre."""
+    vertical capsule post (r 2 cm) under the point ``d`` from its centre (``smooth``: the
+    option ``smooth_contact``; "on" restarts the acceleration after the impact)."""
     z0 = 0.02 + 0.01 + 0.001
     rod = RigidBody3D.uniform(1.0, [0.0, 0.0, z0], Capsule(0.01, 0.5))
     post = RigidBody3D.uniform(10.0, [d, 0.0, -0.15], Capsule(0.02, 0.3)).fix()
@@ -415,21 +420,35 @@ def rod_on_post(e: float, mu: float = 0.0, vy: float = 0.0, d: float = 0.2, h: f
     q0[3:6] = (0.0, np.pi / 2, 0.0)  # the axis along x
     v0 = np.zeros(model.n)
     v0[:3] = (0.0, vy, -1.0)
+    v = np.sqrt(1.0 + 2 * G * 0.001)
+    q0[1] = -vy * (v - 1.0) / G  # over the post's apex at the touch: a normal along z
     sim = Simulation(model, dt=h, t_end=t_end, probes=probes, q0=q0, v0=v0, name="explore_rod",
                      output_interval=t_end)  # fmt: skip
-    v = np.sqrt(1.0 + 2 * G * 0.001)
+    sim = with_options(sim, smooth_contact=smooth)
     inertia = rod.J[0, 0]
     P, vc, w = bar_impact(rod.mass, inertia, d, v, e)
+    exact = -w * inertia
+    if mu:  # stuck in the impact (|P_T| < μ P_N): friction along x, 1 cm below the axis, turns it
+        R = rod.rotation(q0[:6])
+        arm = (d, 0.0, -0.01)
+        impulse = stuck_impact(rod.mass, R @ rod.J @ R.T, arm, (0.0, vy, -v), e)
+        exact = float(np.cross(arm, impulse)[1])
     label = f"rod 0.5 m falling flat onto a post {d:g} m off its centre, e_N {e:g}, mu {mu:g}"
     if vy:
         label += f", vy {vy:g} m/s"
+    if smooth != "auto":
+        label += f", smooth_contact {smooth}"
     row, hist = measured("contact", label, sim)
     also = f"impulse exact {P:.4g} N s"
     if mu:
         also += f"; |dp_T| / (mu dp_N) max {coulomb_ratio(hist, rod.mass, mu, tangent='xy'):.6f}"
-    # H about the centre is kept in flight; friction along y adds nothing to H_y
+    # H about the centre is kept in flight
     also += f"; turn rate exact {w:.4g} rad/s"
-    compared(row, "H_y after impact (N m s)", -w * inertia, float(hist["Hy"][-1]), also)
+    if mu:
+        ratio = np.hypot(*impulse[:2]) / (mu * impulse[2])
+        struck = hist["Hy"][np.flatnonzero(hist["Hy"])[0]]  # at the end of the impact's step
+        also += f"; stuck ratio exact {ratio:.6f}; H_y at the impact's step {struck:.7g} N m s"
+    compared(row, "H_y after impact (N m s)", exact, float(hist["Hy"][-1]), also)
     return with_pk(row, sim, hist, 0.5)
 
 
@@ -462,6 +481,8 @@ FULL = [
     ("contact rod e 0.5", lambda: rod_on_post(0.5)),
     ("contact rod e 1", lambda: rod_on_post(1.0)),
     ("contact rod friction", lambda: rod_on_post(0.5, mu=0.3, vy=0.5)),
+    ("contact rod friction h/2", lambda: rod_on_post(0.5, mu=0.3, vy=0.5, h=5e-4)),
+    ("contact rod friction restarted", lambda: rod_on_post(0.5, mu=0.3, vy=0.5, smooth="on")),
 ]  # fmt: skip
 
 COLUMNS = ("group", "run", "h (s)", "status", "steps", "fallbacks", "created / scale",
