@@ -1,23 +1,24 @@
 """The rule of a :class:`~fecontact.contact.tube_line_mortar.TubeLineMortar`'s rows over a
 step: the weights of its centreline points in each row, chosen per segment at the step's start.
 
-Over one face of the solid (:func:`~fecontact.contact.convex_faces.convex_faces`) the plane gap
-φ is affine along a straight segment, and the dual weights (2 − 3ξ, 3ξ − 1) read the tube's own
-gap at each node. A segment whose points lie over two faces crosses a convex edge, where φ
-bends up (the larger of the two faces' plane gaps), and the dual functions' negative lobes
-weigh its far, larger part: a level rod 2 mm above a block's face, 5 cm beyond its edges, read
-−0.50 mm. Such a segment gives each of its two rows its node's own gap instead (the segment's
-first and last point moved to its ends, weight ℓ / 2 L_i): the value the dual weights give
-where φ is affine, so a row is continuous where the choice changes on a flat face. The choice
-is made once per step from the positions at its start, never inside Newton's iteration.
+Over one plane face of the solid (:func:`~fecontact.contact.plane_faces.plane_faces`) the
+plane gap φ is affine along a straight segment, and the dual weights (2 − 3ξ, 3ξ − 1) read the
+tube's own gap at each node. A segment whose points lie over two faces crosses an edge, where
+φ bends: up over a convex edge (the larger of the two faces' plane gaps), and the dual
+functions' negative lobes weigh its far, larger part (a level rod 2 mm above a block's face,
+5 cm beyond its edges, read −0.50 mm); down over a concave one, read above the node's gap.
+Such a segment gives each of its two rows its node's own gap instead (the segment's first and
+last point moved to its ends, weight ℓ / 2 L_i): the value the dual weights give where φ is
+affine, so a row is continuous where the choice changes over one face. The choice is made
+once per step from the positions at its start, never inside Newton's iteration.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .convex_faces import convex_faces
 from .facet_search import FacetSearch
+from .plane_faces import plane_faces
 
 __all__ = ["StepRule", "gauss_rule"]
 
@@ -43,7 +44,7 @@ class StepRule:
         self.nodal = np.zeros_like(self.dual)  # each end's node's own gap, ℓ / 2 L_i of it
         self.nodal[:, 0, 0] = ell / (2.0 * length[segments[:, 0]])
         self.nodal[:, -1, 1] = ell / (2.0 * length[segments[:, 1]])
-        self.face = convex_faces(solid.positions(np.zeros(solid.ndof)), facets)
+        self.face = plane_faces(solid.positions(np.zeros(solid.ndof)), facets)
         self.search = FacetSearch(facets)  # (of the points at a step's start)
         self.over_edge = np.zeros(len(segments), bool)
         self.weights, self.t = self.dual, np.broadcast_to(self.xi, self.dual.shape[:2])

@@ -1,11 +1,11 @@
-"""The faces of a 3D solid's boundary: its triangles joined across every edge that is not
-convex in the reference configuration (flat or concave), so that a plane gap of points over one
-face is affine along a straight line wherever the face is flat, and bends only where a line
-passes from one face to another over a convex edge.
+"""The plane faces of a 3D solid's boundary: its triangles joined across every edge whose two
+triangles are coplanar in the reference configuration, so that the plane gap of points over one
+face is affine along a straight line, and bends only where a line passes from one face to
+another over an edge (convex: the gap bends up; concave: down).
 
-An edge is convex where the third vertex of one of its two triangles lies below the other's
-plane by more than :data:`~fecontact.contact.beam3d_edges.CONVEX` of the edge's length (the
-test of :class:`~fecontact.contact.beam3d_edges.SolidEdges`).
+Coplanar: the third vertex of one triangle lies within
+:data:`~fecontact.contact.beam3d_edges.CONVEX` of the edge's length of the other's plane
+(the convexity test of :class:`~fecontact.contact.beam3d_edges.SolidEdges`, both ways).
 """
 
 from __future__ import annotations
@@ -16,10 +16,10 @@ from scipy.sparse.csgraph import connected_components
 
 from .beam3d_edges import CONVEX
 
-__all__ = ["convex_faces"]
+__all__ = ["plane_faces"]
 
 
-def convex_faces(X: np.ndarray, tri: np.ndarray) -> np.ndarray:
+def plane_faces(X: np.ndarray, tri: np.ndarray) -> np.ndarray:
     """The face (an int per triangle) of each boundary triangle ``tri`` (T, 3; numbered
     outward) with reference node positions ``X`` (n, 3)."""
     pairs = np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
@@ -34,7 +34,7 @@ def convex_faces(X: np.ndarray, tri: np.ndarray) -> np.ndarray:
     n /= np.linalg.norm(n, axis=1)[:, None]
     a, b = X[key[twin, 0]], X[key[twin, 1]]
     below = -np.einsum("mi,mi->m", X[third[twin + 1]] - a, n)
-    joined = below <= CONVEX * np.linalg.norm(b - a, axis=1)
+    joined = np.abs(below) <= CONVEX * np.linalg.norm(b - a, axis=1)
     i, j = owner[twin][joined], owner[twin + 1][joined]
     graph = coo_matrix((np.ones(len(i)), (i, j)), shape=(len(tri), len(tri)))
     return connected_components(graph, directed=False)[1]
