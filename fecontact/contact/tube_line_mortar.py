@@ -44,7 +44,8 @@ Across a solid's convex edge φ bends (the larger of the two faces' plane gaps),
 would read below the tube's exact gap there (the dual functions' negative lobes again): a
 segment over two faces of the solid at a step's start gives its rows its nodes' own gaps over
 that step (:mod:`fecontact.contact.tube_line_rule`); the edge itself, between the nodes, is
-held by no row (the watch measures it). Over a dent (a face node
+held by the pair's companion rows (each segment against the solid's closest convex edge,
+:mod:`fecontact.contact.beam3d_edges`, frictionless). Over a dent (a face node
 pushed in) φ is the least of the dent's planes, kinked where the closest triangle changes,
 and Newton's iteration can switch between them (step halvings, counted).
 """
@@ -55,6 +56,7 @@ import numpy as np
 
 from ..errors import check_positive, check_range
 from .base import PairDefaults
+from .beam3d_edges import SolidEdges, TubeEdgeContact
 from .body_pairs import facet_plane_gap
 from .closest_facet import closest_among
 from .facet_search import FacetSearch
@@ -140,10 +142,15 @@ class TubeLineMortar(PairDefaults):
                             np.arange(P)[None, :, None]))[..., None] + np.arange(9)  # fmt: skip
         self.offsets = (0, 0)
         self.cached = None
+        self.companions = _edge_rows(self)
 
     @property
     def size(self) -> int:
         return self.beam.n_nodes
+
+    def bind(self, model) -> None:
+        for pair in (super(), *self.companions):
+            pair.bind(model)
 
     def reset(self) -> None:
         self.cached = None
@@ -152,8 +159,7 @@ class TubeLineMortar(PairDefaults):
         self.rule.reset()
 
     def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
-        """Before a step (and at the first evaluation after a placement): its rule from the
-        positions q (:class:`~fecontact.contact.tube_line_rule.StepRule`)."""
+        """Before a step (or a placement's first evaluation): its rule (:class:`StepRule`)."""
         x, c = _centreline(self, q, np.broadcast_to(self.xi, self.rule.t.shape))
         f = self.closest(self.rule.search, c.reshape(-1, 3), x)
         if self.rule.choose(f.reshape(c.shape[:2])):
@@ -233,10 +239,6 @@ class TubeLineMortar(PairDefaults):
             dofs[rows, self._facet_cols[..., e, :]] = facet
         return dofs
 
-    def _beam_columns(self) -> np.ndarray:
-        """The beam columns (S, 6) of each segment's two ends' translations."""
-        return (3 * self.segments[:, :, None] + np.arange(3)).reshape(-1, 6)
-
     # -- rows -------------------------------------------------------------------------------
     def evaluate(self, q: np.ndarray):
         """Rows (m,) in m, dofs (m, width), gradients (m, width), no curvature."""
@@ -248,7 +250,7 @@ class TubeLineMortar(PairDefaults):
         dofs = self._dofs(f)
         G = np.zeros((self.size, self.width))
         S, P = f.shape
-        beam = np.broadcast_to(self._beam_columns()[:, None, :], (S, P, 6))
+        beam = np.broadcast_to(_beam_columns(self.segments)[:, None, :], (S, P, 6))
         for e in range(2):
             w = np.where(near[self.segments[:, e]][:, None], self.rule.weights[..., e], 0.0)
             row = self.segments[:, e, None, None]
@@ -286,7 +288,7 @@ class TubeLineMortar(PairDefaults):
         _, phi, near, _, H = self._point_terms(q, 2)
         where = np.full(self.size, -1)
         where[rows] = np.arange(len(rows))
-        beam = self._beam_columns()
+        beam = _beam_columns(self.segments)
         for e in range(2):
             r = where[self.segments[:, e]]
             s = np.flatnonzero((r >= 0) & near[self.segments[:, e]])
@@ -342,6 +344,21 @@ class TubeLineMortar(PairDefaults):
     def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
         """The exact slips c_i T_i·(x_rel(q) − x_rel(q_n)) (m, 2) over a step."""
         return line_slips(self, q, q_n, T)
+
+
+def _beam_columns(segments: np.ndarray) -> np.ndarray:
+    """The beam columns (S, 6) of each segment's two ends' translations."""
+    return (3 * segments[:, :, None] + np.arange(3)).reshape(-1, 6)
+
+
+def _edge_rows(pair: TubeLineMortar) -> tuple:
+    """The pair's companion rows: each segment against the solid's closest convex edge
+    (:mod:`fecontact.contact.beam3d_edges`, frictionless), which cuts into the tube between
+    two nodes where no row of the pair holds it; none on a solid of one plane face."""
+    if len(np.unique(pair.rule.face)) < 2:
+        return ()
+    edges = SolidEdges(pair.body)
+    return (TubeEdgeContact(pair.beam, edges, pair.restitution, pair.clearance),)
 
 
 def _centreline(pair: TubeLineMortar, q: np.ndarray, t: np.ndarray):
