@@ -13,6 +13,7 @@ from test_mortar_beam3d_friction import oblique_drop
 from fecontact import Model, Solid, simulate
 from fecontact.bodies import Beam3D, Section
 from fecontact.contact import Contact
+from fecontact.contact.beam3d_edges import TubeEdgeContact
 from fecontact.contact.body_pairs import facet_plane_gap
 from fecontact.contact.inside import Surface
 from fecontact.contact.mortar_beam3d import MortarBeam3D
@@ -213,12 +214,14 @@ def test_rows_over_a_coarse_blocks_edge_read_the_nodes_own_gaps():
     centreline's distance bends across the edge, and the dual functions' negative lobe read
     −0.74 mm there): every row ≥ 1 mm to round-off, the node beyond the edge 2 cm from the
     side face less r; a start without the stand-off's warning. The same rod 1 mm into the
-    face is refused by that depth."""
+    face is refused by that depth. The edge between the nodes: the pair's companion rows."""
     model, pair = rod_over_coarse_block(0.001, at=(0.27, 0.0))
     q = np.zeros(model.n)
     rows = pair.gaps(q)
     assert pair.rule.over_edge.tolist() == [False, False, False, True]
     np.testing.assert_allclose(rows, [0.001] * 4 + [0.015], rtol=0, atol=1e-15)
+    (edges,) = pair.companions  # the convex edges between two nodes
+    assert isinstance(edges, TubeEdgeContact) and edges.solid is pair.body
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         initial_state(model)
