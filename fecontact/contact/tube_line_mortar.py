@@ -40,9 +40,12 @@ slips at no row.
 What the rows do not hold: the solid's nodes inside the tube (a face wrapping a tube thinner
 than its triangles, or a solid's edge or corner under the tube between the rule's points);
 the pair's watch measures every boundary node's distance to the centreline at every step.
-Across a solid's convex edge φ bends (the larger of the two faces' plane gaps), and the rows
-read below the tube's exact gap there, the dual functions' negative lobes again: a start is
-judged by the exact gaps (:meth:`TubeLineMortar.admissible_gaps`). Over a dent (a face node
+Across a solid's convex edge φ bends (the larger of the two faces' plane gaps), and dual rows
+would read below the tube's exact gap there (the dual functions' negative lobes again): a
+segment over two faces of the solid at a step's start gives its rows its nodes' own gaps over
+that step (:mod:`fecontact.contact.tube_line_rule`); the edge itself, between the nodes, is
+held by the pair's companion rows (each segment against the solid's closest convex edge,
+:mod:`fecontact.contact.beam3d_edges`, frictionless). Over a dent (a face node
 pushed in) φ is the least of the dent's planes, kinked where the closest triangle changes,
 and Newton's iteration can switch between them (step halvings, counted).
 """
@@ -53,12 +56,14 @@ import numpy as np
 
 from ..errors import check_positive, check_range
 from .base import PairDefaults
+from .beam3d_edges import SolidEdges, TubeEdgeContact
 from .body_pairs import facet_plane_gap
 from .closest_facet import closest_among
 from .facet_search import FacetSearch
 from .inside import Surface
 from .polyline_distance import closest_on_polyline
 from .tube_line_friction import line_slips, line_tangents
+from .tube_line_rule import StepRule
 from .tube_plane import TangentPlaneRows, face_size
 
 __all__ = [
@@ -89,13 +94,6 @@ meets a tube through the beam's rows (this module); finer solids through the sol
 wraps it."""
 
 
-def _rule(pieces: int):
-    """Points ξ (P,) and weights (P,) summing to 1 of the composite two-point Gauss rule."""
-    x, w = np.polynomial.legendre.leggauss(2)
-    left = np.arange(pieces)[:, None] / pieces
-    return (left + (x + 1.0) / (2.0 * pieces)).ravel(), np.tile(w / (2.0 * pieces), pieces)
-
-
 class TubeLineMortar(PairDefaults):
     """Dual mortar rows of a :class:`~fecontact.bodies.beam3d.Beam3D`'s tube of radius
     ``clearance`` (m, > 0) against the boundary of a 3D :class:`~fecontact.Solid` ``body``,
@@ -105,6 +103,7 @@ class TubeLineMortar(PairDefaults):
     linear = False
     lazy_hessians = True
     frictional = True
+    looks_ahead = True  # (each step's rows: dual, or the nodes' own gaps over an edge)
 
     def __init__(self, body, beam, restitution=0.0, clearance=0.0, margin=None):
         self.body, self.beam, self.bodies = body, beam, (body, beam)
@@ -121,16 +120,11 @@ class TubeLineMortar(PairDefaults):
         self.tie = 1e-12 * max(body.characteristic_length, beam.characteristic_length)
         self.segments = beam.segments()
         S, n_b = len(self.segments), beam.n_nodes
-        self.xi, w = _rule(PIECES)
         ends = beam.X[self.segments]
         self.ell = np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1)  # ℓ_s (m)
         self.length = np.bincount(self.segments.ravel(), np.repeat(self.ell / 2, 2), n_b)
-        phi = np.stack([2.0 - 3.0 * self.xi, 3.0 * self.xi - 1.0], axis=1)  # (P, 2)
-        row = self.segments  # (S, 2): the row of each segment's end
-        # (S, P, 2) the weights w ℓ Φ_e / L of each point in the row of each end
-        self.weights = (
-            w[None, :, None] * self.ell[:, None, None] * phi[None] / self.length[row][:, None, :]
-        )
+        self.rule = StepRule(body, self.facets, self.segments, self.ell, self.length, PIECES)
+        self.xi, row = self.rule.xi, self.segments  # (S, 2): the row of each segment's end
         # the slot of each segment's end among its row's segments (its facet columns)
         order = np.argsort(row.ravel(), kind="stable")
         count = np.bincount(row.ravel(), minlength=n_b)
@@ -148,15 +142,28 @@ class TubeLineMortar(PairDefaults):
                             np.arange(P)[None, :, None]))[..., None] + np.arange(9)  # fmt: skip
         self.offsets = (0, 0)
         self.cached = None
+        self.companions = _edge_rows(self)
 
     @property
     def size(self) -> int:
         return self.beam.n_nodes
 
+    def bind(self, model) -> None:
+        for pair in (super(), *self.companions):
+            pair.bind(model)
+
     def reset(self) -> None:
         self.cached = None
         self.search.reset()
         self.node_search.reset()
+        self.rule.reset()
+
+    def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
+        """Before a step (or a placement's first evaluation): its rule (:class:`StepRule`)."""
+        x, c = _centreline(self, q, np.broadcast_to(self.xi, self.rule.t.shape))
+        f = self.closest(self.rule.search, c.reshape(-1, 3), x)
+        if self.rule.choose(f.reshape(c.shape[:2])):
+            self.cached = None
 
     def detect_within(self, distance: float) -> None:
         """Rows within ``distance`` (m, the integrator's detection distance) are evaluated."""
@@ -174,11 +181,9 @@ class TubeLineMortar(PairDefaults):
         """The solid's node positions, the rule's centreline points (S, P, 3) and the closest
         boundary triangle of each (S, P; −1 beyond the margin plus the tube's radius and the
         longest segment: a row with a point within the margin has all of them)."""
-        x, xb = self.frame(q)
-        ends = xb[self.segments]
-        c = (1.0 - self.xi)[None, :, None] * ends[:, None, 0] + self.xi[None, :, None] * ends[
-            :, None, 1
-        ]
+        if not self.rule.decided:
+            self.look_ahead(q, q, 0.0)
+        x, c = _centreline(self, q, self.rule.t)
         return x, c, self.closest(self.search, c.reshape(-1, 3), x).reshape(c.shape[:2])
 
     def closest(self, search, points: np.ndarray, x: np.ndarray) -> np.ndarray:
@@ -209,7 +214,7 @@ class TubeLineMortar(PairDefaults):
             xf = x[self.facets[f[ok]]]
             g, Gp, Hp = facet_plane_gap(c[ok], xf, hessian=order == 2)
             phi[ok] = g - self.clearance
-            t = np.broadcast_to(self.xi, (S, P))[ok][:, None]
+            t = self.rule.t[ok][:, None]
             G[ok] = np.concatenate([(1.0 - t) * Gp[:, :3], t * Gp[:, :3], Gp[:, 3:]], axis=1)
             if H is not None:
                 T = np.zeros((len(t), 12, 15))  # (c, x_f) from (a, b, x_f)
@@ -234,10 +239,6 @@ class TubeLineMortar(PairDefaults):
             dofs[rows, self._facet_cols[..., e, :]] = facet
         return dofs
 
-    def _beam_columns(self) -> np.ndarray:
-        """The beam columns (S, 6) of each segment's two ends' translations."""
-        return (3 * self.segments[:, :, None] + np.arange(3)).reshape(-1, 6)
-
     # -- rows -------------------------------------------------------------------------------
     def evaluate(self, q: np.ndarray):
         """Rows (m,) in m, dofs (m, width), gradients (m, width), no curvature."""
@@ -249,9 +250,9 @@ class TubeLineMortar(PairDefaults):
         dofs = self._dofs(f)
         G = np.zeros((self.size, self.width))
         S, P = f.shape
-        beam = np.broadcast_to(self._beam_columns()[:, None, :], (S, P, 6))
+        beam = np.broadcast_to(_beam_columns(self.segments)[:, None, :], (S, P, 6))
         for e in range(2):
-            w = np.where(near[self.segments[:, e]][:, None], self.weights[..., e], 0.0)
+            w = np.where(near[self.segments[:, e]][:, None], self.rule.weights[..., e], 0.0)
             row = self.segments[:, e, None, None]
             np.add.at(G, (np.broadcast_to(row, beam.shape), beam), w[..., None] * Gp[..., :6])
             G[np.broadcast_to(row, (S, P, 9)), self._facet_cols[..., e, :]] = (
@@ -267,7 +268,7 @@ class TubeLineMortar(PairDefaults):
         g = np.zeros(self.size)
         fin = np.where(np.isfinite(phi), phi, 0.0)
         for e in range(2):
-            g += np.bincount(self.segments[:, e], (self.weights[..., e] * fin).sum(axis=1),
+            g += np.bincount(self.segments[:, e], (self.rule.weights[..., e] * fin).sum(axis=1),
                              self.size)  # fmt: skip
         return np.where(near, g, np.inf)
 
@@ -287,7 +288,7 @@ class TubeLineMortar(PairDefaults):
         _, phi, near, _, H = self._point_terms(q, 2)
         where = np.full(self.size, -1)
         where[rows] = np.arange(len(rows))
-        beam = self._beam_columns()
+        beam = _beam_columns(self.segments)
         for e in range(2):
             r = where[self.segments[:, e]]
             s = np.flatnonzero((r >= 0) & near[self.segments[:, e]])
@@ -297,7 +298,7 @@ class TubeLineMortar(PairDefaults):
                 [np.broadcast_to(beam[s, None, :], (len(s), len(self.xi), 6)),
                  self._facet_cols[s, :, e, :]], axis=2)  # fmt: skip
             at = (r[s, None, None, None] * k + cols[..., :, None]) * k + cols[..., None, :]
-            vals = self.weights[s, :, e, None, None] * H[s]
+            vals = self.rule.weights[s, :, e, None, None] * H[s]
             out += np.bincount(at.ravel(), vals.ravel(), out.size).reshape(out.shape)
         return out.reshape(len(rows), k, k)
 
@@ -343,6 +344,28 @@ class TubeLineMortar(PairDefaults):
     def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
         """The exact slips c_i T_i·(x_rel(q) − x_rel(q_n)) (m, 2) over a step."""
         return line_slips(self, q, q_n, T)
+
+
+def _beam_columns(segments: np.ndarray) -> np.ndarray:
+    """The beam columns (S, 6) of each segment's two ends' translations."""
+    return (3 * segments[:, :, None] + np.arange(3)).reshape(-1, 6)
+
+
+def _edge_rows(pair: TubeLineMortar) -> tuple:
+    """The pair's companion rows: each segment against the solid's closest convex edge
+    (:mod:`fecontact.contact.beam3d_edges`, frictionless), which cuts into the tube between
+    two nodes where no row of the pair holds it; none on a solid of one plane face."""
+    if len(np.unique(pair.rule.face)) < 2:
+        return ()
+    edges = SolidEdges(pair.body)
+    return (TubeEdgeContact(pair.beam, edges, pair.restitution, pair.clearance),)
+
+
+def _centreline(pair: TubeLineMortar, q: np.ndarray, t: np.ndarray):
+    """The solid's node positions and the centreline points (S, P, 3) at ``t`` (S, P)."""
+    x, xb = pair.frame(q)
+    ends = xb[pair.segments]
+    return x, (1.0 - t)[..., None] * ends[:, None, 0] + t[..., None] * ends[:, None, 1]
 
 
 def centreline_depths(pair: TubeLineMortar, q: np.ndarray):
