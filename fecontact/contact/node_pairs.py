@@ -7,9 +7,11 @@ import numpy as np
 
 from ..bodies.base import RigidDefaults
 from ..bodies.beam import Beam2D
+from ..bodies.solid import Solid
 from ..errors import InputError, check_range
 from .base import PairDefaults, at_beam_ends
 from .beam_sides import line_coordinates, swept
+from .circle_watch import CircleSegmentDepths
 from .friction import tangent_basis
 from .geometry import closest_on_segments, point_line_distance, unit
 from .obstacles import Circle, Plane, Point
@@ -55,6 +57,14 @@ class NodeContact(PairDefaults):
     def bind(self, model) -> None:
         """Place the pair in the global dof vector of ``model``."""
         self.offset = model.offset_of(self.body)
+
+    def watch(self):
+        """A 2D solid's boundary segments against an outside Circle: its nodes' rows let a
+        circle smaller than an edge in between two nodes, which the watch measures."""
+        circle = self.obstacle
+        if isinstance(self.body, Solid) and isinstance(circle, Circle) and circle.dim == 2:
+            return None if circle.inside else CircleSegmentDepths(self)
+        return None
 
     def rate(self, q: np.ndarray) -> np.ndarray:
         """∂g/∂t = −∇φ·ḋ (m/s) of a moving obstacle at its current time, per contact."""

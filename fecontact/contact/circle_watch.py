@@ -1,0 +1,40 @@
+"""The depth of a rigid Circle into a 2D solid's boundary polygon.
+
+Node rows against a Circle keep the boundary nodes out, and a circle smaller than an edge
+enters between two nodes unseen by them. The watch measures the circle's depth into every
+boundary segment (the radius less the centre's distance to the segment, where the centre
+lies on the segment's inner side or within the radius of it) at every step's end: the run's
+``max_penetration`` and its warning over ``BOUND`` of the shortest boundary edge.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["CircleSegmentDepths"]
+
+
+class CircleSegmentDepths:
+    """The deepest point of an outside ``Circle`` inside a 2D solid's boundary segments."""
+
+    def __init__(self, pair):
+        self.pair = pair
+        self.segments = pair.body.contact_facets()  # (m, 2) node pairs of the boundary
+        X = pair.body.X[self.segments]
+        self.edge = float(np.linalg.norm(X[:, 1] - X[:, 0], axis=1).min())
+
+    def depth(self, q: np.ndarray) -> tuple[float, float]:
+        """(depth in m ≥ 0, depth over the shortest boundary edge) of the circle at q."""
+        pair, circle = self.pair, self.pair.obstacle
+        x = pair.body.positions(q[pair.offset : pair.offset + pair.body.ndof])
+        a, b = x[self.segments[:, 0]], x[self.segments[:, 1]]
+        c = circle.center + circle.shift()
+        t = b - a
+        s = np.clip(np.einsum("md,md->m", c - a, t) / np.einsum("md,md->m", t, t), 0.0, 1.0)
+        r = np.linalg.norm(a + s[:, None] * t - c, axis=1)
+        d = float(max(np.max(circle.radius - r), 0.0))
+        return d, d / self.edge
+
+    def entering(self, q: np.ndarray) -> str:
+        """What enters the solid (for a message)."""
+        return "a circle between boundary nodes"
