@@ -174,16 +174,18 @@ class Recorder:
         return float(near.min()) if near.size else math.inf
 
     def penetration_warnings(self) -> list[str]:
-        """A warning when a node of a mortar interface went deeper into the other solid than
-        the discretization's own amount (:data:`fecontact.contact.watch.BOUND`)."""
+        """A warning when a watched body went deeper into another than the discretization's
+        own amount (:data:`fecontact.contact.watch.BOUND`): a node of a mortar interface in
+        the other solid, or a rigid circle between a solid's boundary nodes."""
         if self.mortar_depth <= BOUND:
             return []
         t, step = self.mortar_deepest
         return [
-            f"penetration: a node of a mortar interface ends {100 * self.mortar_depth:.2g} % "
-            f"of the shortest boundary edge inside the other solid at t = {t:.6g} s (step "
-            f"{step}), beyond the {100 * BOUND:.0f} % the weighted gaps allow; refine the "
-            "mesh or the step"
+            f"penetration: a watched body ends {100 * self.mortar_depth:.2g} % of the "
+            f"shortest boundary edge inside another at t = {t:.6g} s (step {step}) (a node of "
+            "a mortar interface in the other solid, or a rigid circle between a solid's "
+            f"boundary nodes), beyond the {100 * BOUND:.0f} % the contact rows allow; refine "
+            "the mesh or the step"
         ]
 
     def stats(self) -> dict:

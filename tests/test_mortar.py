@@ -220,7 +220,7 @@ def test_a_mortar_node_deeper_than_the_bound_is_a_warning(tmp_path):
         if step == 1:
             assert rec.penetration_warnings() == []
     (text,) = rec.penetration_warnings()
-    assert text.startswith("penetration: a node of a mortar interface ends 5 %")
+    assert text.startswith("penetration: a watched body ends 5 %")
     assert "t = 0.0002 s (step 2)" in text
     rec.history.close()
 
