@@ -26,6 +26,7 @@ from ..bodies.beam3d import Beam3D
 from ..bodies.solid import Solid
 from ..errors import InputError
 from .beam3d_pairs import TubeContact
+from .geometry import edge_folds
 from .registry import register_pair
 from .segment3d import closest_segments, tube_distance
 
@@ -50,19 +51,8 @@ class SolidEdges:
         self.solid = solid
         tri = solid.contact_facets()
         X = solid.positions(np.zeros(solid.ndof))
-        pairs = np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
-        third = np.concatenate([tri[:, 2], tri[:, 0], tri[:, 1]])
-        owner = np.tile(np.arange(len(tri)), 3)
-        key = np.sort(pairs, axis=1)
-        order = np.lexsort((key[:, 1], key[:, 0]))
-        key, third, owner = key[order], third[order], owner[order]
-        twin = np.flatnonzero(np.all(key[1:] == key[:-1], axis=1))  # two triangles share it
-        edges, opposite = key[twin], np.stack([third[twin], third[twin + 1]], axis=1)
-        t = tri[owner[twin]]  # the first triangle, numbered outward
-        n1 = np.cross(X[t[:, 1]] - X[t[:, 0]], X[t[:, 2]] - X[t[:, 0]])
-        n1 /= np.linalg.norm(n1, axis=1)[:, None]
+        edges, opposite, _, below = edge_folds(X, tri)
         a, b = X[edges[:, 0]], X[edges[:, 1]]
-        below = -np.einsum("mi,mi->m", X[opposite[:, 1]] - a, n1)
         convex = below > CONVEX * np.linalg.norm(b - a, axis=1)
         self.edges, self.opposite = edges[convex], opposite[convex]
         if len(self.edges) == 0:

@@ -22,6 +22,7 @@ __all__ = [
     "closest_facet_distance",
     "closest_on_segments",
     "distance_curvature",
+    "edge_folds",
     "facet_plane_gap",
     "point_line_distance",
     "polygon_distance",
@@ -208,3 +209,24 @@ def facet_plane_gap(x: np.ndarray, xf: np.ndarray, hessian: bool = True):
         f, G, H = point_line_distance(x, xf[:, 0], xf[:, 1], hessian)
         return -f, -G, None if H is None else -H
     return triangle_plane_distance(x, xf[:, 0], xf[:, 1], xf[:, 2], hessian)
+
+
+def edge_folds(X: np.ndarray, tri: np.ndarray):
+    """The edges two boundary triangles ``tri`` (T, 3; numbered outward) share, with
+    reference node positions ``X`` (n, 3): ``edges`` (E, 2) node indices, ``opposite`` (E, 2)
+    the third vertices of the two triangles, ``owners`` (E, 2) the triangles, and ``below``
+    (E,) (m) how far the second triangle's third vertex lies below the first one's plane
+    (> 0: the edge is convex, 0: the two are coplanar)."""
+    pairs = np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
+    third = np.concatenate([tri[:, 2], tri[:, 0], tri[:, 1]])
+    owner = np.tile(np.arange(len(tri)), 3)
+    key = np.sort(pairs, axis=1)
+    order = np.lexsort((key[:, 1], key[:, 0]))
+    key, third, owner = key[order], third[order], owner[order]
+    twin = np.flatnonzero(np.all(key[1:] == key[:-1], axis=1))  # two triangles share it
+    edges, opposite = key[twin], np.stack([third[twin], third[twin + 1]], axis=1)
+    t = tri[owner[twin]]  # the first triangle, numbered outward
+    n = np.cross(X[t[:, 1]] - X[t[:, 0]], X[t[:, 2]] - X[t[:, 0]])
+    n /= np.linalg.norm(n, axis=1)[:, None]
+    below = -np.einsum("mi,mi->m", X[opposite[:, 1]] - X[edges[:, 0]], n)
+    return edges, opposite, np.stack([owner[twin], owner[twin + 1]], axis=1), below

@@ -15,6 +15,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
 from .beam3d_edges import CONVEX
+from .geometry import edge_folds
 
 __all__ = ["plane_faces"]
 
@@ -22,19 +23,9 @@ __all__ = ["plane_faces"]
 def plane_faces(X: np.ndarray, tri: np.ndarray) -> np.ndarray:
     """The face (an int per triangle) of each boundary triangle ``tri`` (T, 3; numbered
     outward) with reference node positions ``X`` (n, 3)."""
-    pairs = np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
-    third = np.concatenate([tri[:, 2], tri[:, 0], tri[:, 1]])
-    owner = np.tile(np.arange(len(tri)), 3)
-    key = np.sort(pairs, axis=1)
-    order = np.lexsort((key[:, 1], key[:, 0]))
-    key, third, owner = key[order], third[order], owner[order]
-    twin = np.flatnonzero(np.all(key[1:] == key[:-1], axis=1))  # two triangles share it
-    t = tri[owner[twin]]
-    n = np.cross(X[t[:, 1]] - X[t[:, 0]], X[t[:, 2]] - X[t[:, 0]])
-    n /= np.linalg.norm(n, axis=1)[:, None]
-    a, b = X[key[twin, 0]], X[key[twin, 1]]
-    below = -np.einsum("mi,mi->m", X[third[twin + 1]] - a, n)
+    edges, _, owners, below = edge_folds(X, tri)
+    a, b = X[edges[:, 0]], X[edges[:, 1]]
     joined = np.abs(below) <= CONVEX * np.linalg.norm(b - a, axis=1)
-    i, j = owner[twin][joined], owner[twin + 1][joined]
+    i, j = owners[joined, 0], owners[joined, 1]
     graph = coo_matrix((np.ones(len(i)), (i, j)), shape=(len(tri), len(tri)))
     return connected_components(graph, directed=False)[1]
