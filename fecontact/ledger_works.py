@@ -9,7 +9,6 @@ import math
 import numpy as np
 
 from .contact.restitution import impulse_work
-from .time.mean_frame import MeanFrames
 
 __all__ = [
     "impulse_step_work",
@@ -21,17 +20,14 @@ __all__ = [
 ]
 
 
-def jump_work(model, q, v, W, closed, G1, rates, lam, lam_t, q_n) -> np.ndarray:
+def jump_work(model, q, v, W, closed, G1, rates, lam, lam_t) -> np.ndarray:
     """The work (J) of the impulses of a velocity jump v → v + ``W`` at the mean of the rates
     before and after it, (normal, tangential, joints): ``G1`` the rows (``closed`` contacts,
     then joints) at ``q``, ``rates`` their rates at v (relative to moving obstacles), ``lam``
     their impulses (N·s), ``lam_t`` the tangential impulses (len(closed), nt)
-    (:func:`fecontact.contact.restitution.impulse_work`). The tangential impulses act
-    through their rows in the step's mean frame from ``q_n`` (:mod:`fecontact.time.mean_frame`),
-    and their work is read there, so that the works sum to the jump's change of kinetic energy."""
+    (:func:`fecontact.contact.restitution.impulse_work`)."""
     F, m = model.free, closed.size
     GT, T = model.contacts.tangent_jacobian(q, closed)
-    GT = MeanFrames(model).rows(GT, q_n, q)
     slip = GT @ v[F]
     speed = model.contacts.obstacle_motion(closed, velocity=True)
     if speed is not None:

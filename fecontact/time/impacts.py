@@ -101,7 +101,7 @@ def velocity_jump(
         )
         lam_n = _without_round_off(lam_n, preload)
         lam = np.concatenate([lam_n, lam_b])
-        works = jump_work(model, q, v, W, closed, G1, rates, lam, lam_t, st.q)
+        works = jump_work(model, q, v, W, closed, G1, rates, lam, lam_t)
         return W, lam_n, its, (lam_t, status, work), works
     Y = constraint_columns(model, ("mass",), closed, G1, model.solve_M, cons, constant=True)
     # the last step's impulses: warm start

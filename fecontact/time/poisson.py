@@ -29,7 +29,6 @@ import scipy.sparse as sp
 from ..contact.restitution import friction_dissipation, impulse_work, solve_decompression
 from .constraints import StepFailure, impact_law
 from .coulomb import frictional_jump
-from .mean_frame import MeanFrames
 
 __all__ = ["poisson_jump"]
 
@@ -83,12 +82,6 @@ def _frictionless(rows, opts, tol, solve, bilateral):
     return Y @ (lam_c + lam_d), lam_c + lam_d, its_c + its_i + its_d, None, works
 
 
-def _stacked(G, GT, nc):
-    """Rows (normal, tangents) per contact, then the joints'."""
-    blocks = np.concatenate([G[:nc, None], GT], axis=1)
-    return np.concatenate([blocks.reshape(-1, G.shape[1]), G[nc:]])
-
-
 def _compression(G, rates, solve, Y, eq, opts, tol):
     _, P, its = impact_law(G, rates, solve, Y, opts, eq, tol=tol)
     return P, its
@@ -109,15 +102,13 @@ def _frictional(model, st, q, v, closed, G1, rates, pre, e, opts, tol, solve, kw
     if speed is not None:
         slip -= np.einsum("mtd,md->mt", T, speed)
     G = _dense(G1)
-    A = _stacked(G, GT, nc)  # the law's rows; the impulses act through the mean frame's
-    A_mean = _stacked(G, MeanFrames(model).rows(GT, st.q, q), nc)
-    Y = solve(A_mean.T).reshape(len(F), -1)
-    D, D_mean = A @ Y, A_mean @ Y
+    blocks = np.concatenate([G[:nc, None], GT], axis=1)  # (normal, tangents) per contact
+    A = np.concatenate([blocks.reshape(-1, G.shape[1]), G[nc:]])
+    Y = solve(A.T).reshape(len(F), -1)
+    D = A @ Y
     x_c = np.concatenate([np.column_stack([n_c, t_c]).ravel(), b_c])
     w0 = np.concatenate([np.column_stack([rates[:nc], slip]).ravel(), rates[nc:]])
     c = w0 + D @ x_c
-    w0_mean = w0 + (A_mean - A) @ v[F]  # (the rates whose mean times an impulse is its work)
-    c_mean = w0_mean + D_mean @ x_c
     floor = e[:nc] * np.clip(n_i, 0.0, n_c)
     mu = model.contacts.friction[closed]
     x_d, its_d = _decompression(c, D, mu, nt, floor, tol)
@@ -127,8 +118,7 @@ def _frictional(model, st, q, v, closed, G1, rates, pre, e, opts, tol, solve, kw
     restituted = np.any(x_d[: nc * (1 + nt)].reshape(nc, -1) != 0.0, axis=1)
     status = np.where(restituted, _slip_status(c + D @ x_d, nc, nt, tol), status)
     W = W_c + Y @ x_d
-    works = impulse_work(x_c, w0_mean, c_mean, nc, nt)
-    works += impulse_work(x_d, c_mean, c_mean + D_mean @ x_d, nc, nt)
+    works = impulse_work(x_c, w0, c, nc, nt) + impulse_work(x_d, c, c + D @ x_d, nc, nt)
     return W, lam, its + its_d, (t_c + blocks[:, 1:], status, work + work_d), works
 
 
