@@ -40,7 +40,6 @@ from ..contact.restitution import friction_dissipation
 from .configuration import plus
 from .constraints import Constraints, StepFailure, constraint_columns
 from .correction import correction_metric
-from .mean_frame import MeanFrames
 
 __all__ = [
     "SmoothFriction",
@@ -240,9 +239,8 @@ def frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol, solve=None, pr
     speed = contacts.obstacle_motion(closed, velocity=True)
     if speed is not None:
         rate -= np.einsum("mtd,md->mt", T, speed)
-    A = _rows(G1, GT)  # the law's rows; the tangential impulse acts in the step's mean frame
-    A_mean = _rows(G1, MeanFrames(model).rows(GT, st.q, q))
-    Y = (model.solve_M if solve is None else solve)(A_mean.T).reshape(len(F), -1)
+    A = _rows(G1, GT)
+    Y = (model.solve_M if solve is None else solve)(A.T).reshape(len(F), -1)
     D = A @ Y
     w = _stack(gdot[:m], rate, gdot[m:])
     pre = np.zeros(len(w))
