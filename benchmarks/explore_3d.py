@@ -36,6 +36,7 @@ from stress_3d import (
     RUBBER,
     R,
     Spec,
+    ball_and_box,
     centre_probes,
     depth_probes,
     hertz_time,
@@ -43,16 +44,13 @@ from stress_3d import (
     measured_rows,
     momentum_probes,
     report_tables,
-    rigid_points_depth,
     solid_depth,
-    with_features,
 )
 
 from fecontact import Model
-from fecontact.bodies import RigidBody3D, Solid
+from fecontact.bodies import Solid
 from fecontact.bodies.materials import NeoHookean
 from fecontact.bodies.meshes import ball_mesh, graded_ball_mesh
-from fecontact.bodies.shapes3d import Box
 from fecontact.contact import Contact
 from fecontact.scenes import wave_step
 from fecontact.simulation import Simulation
@@ -163,15 +161,7 @@ def slab(v=(0.0, 0.0, -1.0), offset=(0.0, 0.0), mu=0.0, thick=0.04, layers=2, re
 def ball_box(v=(0.0, 0.0, -1.0), where="edge", mu=0.3):
     """The elastic ball thrown at ``v`` (m/s) onto a fixed rigid box 0.3 × 0.3 × 0.05 m,
     its pole 5 mm inside an edge ("edge") or over a corner ("corner"), friction ``mu``."""
-    ball = Solid.ball([0.0, 0.0, R + 0.001], R, 2, RUBBER)
-    x0, y0 = {"edge": (0.145, 0.0), "corner": (0.15, 0.15)}[where]
-    box = RigidBody3D.uniform(1000 * ball.mass, [x0, y0, -0.025], Box(0.3, 0.3, 0.05)).fix()
-    model = Model([ball, box], [Contact(ball, box, friction=mu)], (0.0, 0.0, -9.81))
-    sb, sx = model.body_slice(0), model.body_slice(1)
-    nodes = ball.boundary_nodes()
-    probes = centre_probes(model, ball, "b")
-    inside = rigid_points_depth(box, sx, lambda st: ball.positions(st.q[sb])[nodes])
-    probes |= depth_probes(with_features(inside, model.contacts.pairs[0]))
+    ball, model, probes = ball_and_box(where, 2, friction=mu)
     vz = -v[2]
     t_end = 0.001 / vz + 1.5 * hertz_time(vz, R)
     v0 = model.translation(ball, v)

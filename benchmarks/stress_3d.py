@@ -460,20 +460,28 @@ def box_on_slab(v=1.0, tilt=(0.4, 0.3, 0.0), friction=0.0, divisions=8, method="
 BALL_ON_BOX = {"refinements": 2}  # the ball's mesh in the ball-on-box rows (--refinements)
 
 
-def ball_on_box(v, where="face", method="mortar", refinements=None):
-    """The elastic ball at ``v`` (m/s) onto a fixed rigid box 0.3 × 0.3 × 0.05 m: its pole
-    over the face's middle, 5 mm inside an edge, on an edge ("on edge") or over a corner."""
-    refinements = refinements or BALL_ON_BOX["refinements"]
+def ball_and_box(where: str, refinements: int, **contact):
+    """The elastic ball 1 mm over a fixed rigid box 0.3 × 0.3 × 0.05 m, its pole over the
+    face's middle, 5 mm inside an edge, on an edge ("on edge") or over a corner; ``contact``:
+    the options of ``Contact``. Returns (ball, model, probes of its centre and depth)."""
     ball = Solid.ball([0.0, 0.0, R + 0.001], R, refinements, RUBBER)
     x0, y0 = {"face": (0.0, 0.0), "edge": (0.145, 0.0), "on edge": (0.15, 0.0),
               "corner": (0.15, 0.15)}[where]  # fmt: skip
     box = RigidBody3D.uniform(1000 * ball.mass, [x0, y0, -0.025], Box(0.3, 0.3, 0.05)).fix()
-    model = Model([ball, box], [Contact(ball, box, method=method)], (0.0, 0.0, -9.81))
+    model = Model([ball, box], [Contact(ball, box, **contact)], (0.0, 0.0, -9.81))
     sb, sx = model.body_slice(0), model.body_slice(1)
     nodes = ball.boundary_nodes()
     probes = centre_probes(model, ball, "b")
     nodes_in = rigid_points_depth(box, sx, lambda st: ball.positions(st.q[sb])[nodes])
     probes |= depth_probes(with_features(nodes_in, model.contacts.pairs[0]))
+    return ball, model, probes
+
+
+def ball_on_box(v, where="face", method="mortar", refinements=None):
+    """The elastic ball at ``v`` (m/s) onto a fixed rigid box 0.3 × 0.3 × 0.05 m: its pole
+    over the face's middle, 5 mm inside an edge, on an edge ("on edge") or over a corner."""
+    refinements = refinements or BALL_ON_BOX["refinements"]
+    ball, model, probes = ball_and_box(where, refinements, method=method)
     t_end = 0.001 / v + 1.5 * hertz_time(v, R)
     v0 = model.translation(ball, (0.0, 0.0, -v))
     sim = Simulation(model, dt=wave_step(ball, 1.0), t_end=t_end, probes=probes, v0=v0,
