@@ -53,7 +53,7 @@ from .base import PairDefaults
 from .geometry import point_line_distance
 from .registry import register_pair
 
-__all__ = ["PointBeamContact", "line_coordinates", "swept", "swept_sides"]
+__all__ = ["PointBeamContact", "closest_rows", "line_coordinates", "swept", "swept_sides"]
 
 
 def line_coordinates(x: np.ndarray, x1: np.ndarray, x2: np.ndarray):
@@ -145,33 +145,12 @@ class PointBeamContact(PairDefaults):
         """Keep the line coordinates at the start of the coming step, for the sides."""
         self._start = self._coordinates(q)[3:]
 
-    def _rows(self, x, x1, x2, t, f):
-        """The element (2n,) of every row, its side s, whether it is held by the element's
-        line (else by the end cap at its parameter ξ), ξ, and whether the row is used."""
-        nodes = np.arange(len(self.nodes))
-        xi = np.clip(t, 0.0, 1.0)
-        d = x2 - x1
-        dist = np.linalg.norm(x[:, None, :] - x1[None] - xi[..., None] * d[None], axis=2)
-        e = np.argmin(dist, axis=1)
-        side, crossed = swept(self._start, t, f)
-        s, through = side[nodes, e], crossed[nodes, e]
-        inner = ((xi[nodes, e] > 0.0) & (xi[nodes, e] < 1.0)) | through
-        other = valley_neighbours(self.segments, x1, x2, e, s, t, inner & ~through)
-        n, two = len(e), other >= 0
-        elem = np.concatenate([e, other])
-        elem[:n][two] = np.minimum(e, other)[two]
-        elem[n:][two] = np.maximum(e, other)[two]
-        elem[n:][~two] = 0
-        used = np.concatenate([np.ones(n, bool), two])
-        rows = np.concatenate([nodes, nodes])
-        return elem, np.concatenate([s, s]), np.concatenate([inner, two]), xi[rows, elem], used
-
     def evaluate(self, q: np.ndarray):
         """Gaps (2n,) in m — rows i and i + n of node i, g = +inf for an unused row —,
         global dofs (2n, 6) — the node's (x, y), then the element's two nodes' —, gradients
         (2n, 6) and Hessians (2n, 6, 6)."""
         x, x1, x2, t, f = self._coordinates(q)
-        e, side, line, xe, used = self._rows(x, x1, x2, t, f)
+        e, side, line, xe, used = closest_rows(self.segments, self._start, x, x1, x2, t, f)
         x = np.concatenate([x, x])
         m = self.size
         g, G, H = np.full(m, np.inf), np.zeros((m, 6)), np.zeros((m, 6, 6))
@@ -188,6 +167,30 @@ class PointBeamContact(PairDefaults):
         (oa, ob) = self.offsets
         dofs = np.hstack([oa + np.tile(self._point_dofs, (2, 1)), ob + self._segment_dofs[e]])
         return g - self.clearance, dofs, G, H
+
+
+def closest_rows(segments, start, x, x1, x2, t, f):
+    """Two rows per point x (n, 2) against the elements (x1, x2) (n_e, 2), t and f (n, n_e)
+    its line coordinates, ``start`` those at the step's start (or None): the element (2n,) of
+    every row, its side s, whether it is held by the element's line (else by the end cap at
+    its parameter ξ), ξ, and whether the row is used (module docstring)."""
+    nodes = np.arange(len(x))
+    xi = np.clip(t, 0.0, 1.0)
+    d = x2 - x1
+    dist = np.linalg.norm(x[:, None, :] - x1[None] - xi[..., None] * d[None], axis=2)
+    e = np.argmin(dist, axis=1)
+    side, crossed = swept(start, t, f)
+    s, through = side[nodes, e], crossed[nodes, e]
+    inner = ((xi[nodes, e] > 0.0) & (xi[nodes, e] < 1.0)) | through
+    other = valley_neighbours(segments, x1, x2, e, s, t, inner & ~through)
+    n, two = len(e), other >= 0
+    elem = np.concatenate([e, other])
+    elem[:n][two] = np.minimum(e, other)[two]
+    elem[n:][two] = np.maximum(e, other)[two]
+    elem[n:][~two] = 0
+    used = np.concatenate([np.ones(n, bool), two])
+    rows = np.concatenate([nodes, nodes])
+    return elem, np.concatenate([s, s]), np.concatenate([inner, two]), xi[rows, elem], used
 
 
 def _end_caps(rel, k, rows, G, H):

@@ -11,7 +11,14 @@ import numpy as np
 from .redundant_jump import proximal_jump
 from .stats import ContactStats
 
-__all__ = ["COMPLEMENTARY", "NEAR", "apart", "complementary_update", "unheld_correction"]
+__all__ = [
+    "COMPLEMENTARY",
+    "NEAR",
+    "apart",
+    "complementary_update",
+    "unheld_correction",
+    "unsettled",
+]
 
 
 NEAR = 1e-3
@@ -112,3 +119,13 @@ def unheld_correction(held, stats, again):
     stats.released_corrections += 1
     stats.final_residuals.record("position", trial.final_residuals.position)
     return answer
+
+
+def unsettled(max_iter: int, error: float) -> str:
+    """The message of a position correction whose active set kept changing for ``max_iter``
+    iterations, with the law's error (m) at its last iterate (a step that fails there has no
+    residual of its own to report)."""
+    return (
+        f"position correction: active set did not settle in {max_iter} iterations (it "
+        f"cycled; the law's error at the last iterate {error:.3e} m)"
+    )

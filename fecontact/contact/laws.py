@@ -29,7 +29,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.linalg.lapack import dgetrf, dgetrs
 
-from .cycling_rows import COMPLEMENTARY, apart, complementary_update, unheld_correction
+from .cycling_rows import COMPLEMENTARY, apart, complementary_update, unheld_correction, unsettled
 from .redundant_jump import proximal_jump
 from .stats import ContactStats
 
@@ -203,7 +203,7 @@ def solve_position_correction(
         U = U_new
         g, G = _defined(gaps, U)
         eq = _holding(bilateral, g, G, held)
-    raise RuntimeError(f"position correction: active set did not settle in {max_iter} iterations")
+    raise RuntimeError(unsettled(max_iter, _residual(nu, g, p, k, eq, scale)))
 
 
 def _active_set_update(A, U, g, G, nu, eq, k, solver, stats):

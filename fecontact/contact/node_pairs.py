@@ -10,10 +10,10 @@ from ..bodies.beam import Beam2D
 from ..bodies.solid import Solid
 from ..errors import InputError, check_range
 from .base import PairDefaults, at_beam_ends
-from .beam_sides import line_coordinates, swept
+from .beam_sides import closest_rows, line_coordinates
 from .circle_watch import CircleSegmentDepths
 from .friction import tangent_basis
-from .geometry import closest_on_segments, point_line_distance, unit
+from .geometry import closest_on_segments, point_line_distance
 from .obstacles import Circle, Plane, Point
 from .registry import register_pair
 
@@ -118,10 +118,20 @@ class PointSegmentContact(PairDefaults):
     The contact point slides along the beam: the gap is the distance from the point to the
     closest segment minus the radius, signed by the side of that segment the point is on,
     decided from the motion over the step (:mod:`.beam_sides`). When the closest point is a
-    vertex the gap is the distance to that node.
+    vertex the gap is the distance to that node. Two rows, as a node against a beam
+    (:func:`.beam_sides.closest_rows`): row 0 against the closest segment, and where the point
+    lies in a valley of the beam (a node bent toward it, the point projecting inside both of
+    its segments), rows 0 and 1 against the two lines in the order of their indices (row 1
+    has g = +inf elsewhere). One row there swapped lines between the iterates: under a node
+    of a landing strip the correction cycled.
     """
 
     linear = False
+    size = 2
+    shared_points = True  # both rows hold the one point
+
+    def points(self) -> np.ndarray:
+        return np.zeros(2, int)
 
     def __init__(self, body, obstacle: Point, restitution: float = 0.0, clearance=0.0):
         self.body = body
@@ -130,22 +140,22 @@ class PointSegmentContact(PairDefaults):
         self.restitution = check_range("restitution", restitution, 0.0, 1.0)
         self.segments = body.segments()
         self.offset = 0
-        self._start = None  # line coordinates (t₀, f₀) of the point at the step's start
+        self._start = None  # line coordinates (t₀, f₀) (1, E) of the point at the step's start
         f0 = self._signed_distance(np.zeros(body.ndof))
         if f0 == 0.0:
             raise InputError("the Point lies exactly on the beam centreline at t = 0")
-
-    size = 1
 
     def bind(self, model) -> None:
         self.offset = model.offset_of(self.body)
         self._start = None
 
-    def _lines(self, q: np.ndarray):
+    def _ends(self, q: np.ndarray):
         x = self.body.positions(q[self.offset : self.offset + self.body.ndof])
-        return line_coordinates(
-            self.obstacle.position, x[self.segments[:, 0]], x[self.segments[:, 1]]
-        )
+        return x[self.segments[:, 0]], x[self.segments[:, 1]]
+
+    def _lines(self, q: np.ndarray):
+        x1, x2 = self._ends(q)
+        return line_coordinates(self.obstacle.position[None, None], x1[None], x2[None])
 
     looks_ahead = True
 
@@ -153,13 +163,13 @@ class PointSegmentContact(PairDefaults):
         """Keep the point's line coordinates at the start of the coming step (the sides)."""
         self._start = self._lines(q)
 
-    def _side(self, e: int, x1: np.ndarray, d: np.ndarray):
-        """The side of element e (first node x1, direction d) the point is on, and whether it
-        went through the element in this step (:func:`.beam_sides.swept`)."""
-        t, f = line_coordinates(self.obstacle.position, x1, x1 + d)
-        start = None if self._start is None else (self._start[0][e], self._start[1][e])
-        side, crossed = swept(start, t, f)
-        return float(side), bool(crossed)
+    def _rows(self, q: np.ndarray):
+        """Both rows' elements, sides, line flags, ξ and use (:func:`closest_rows`), and the
+        elements' ends."""
+        x1, x2 = self._ends(q)
+        t, f = self._lines(q)
+        P = self.obstacle.position[None]
+        return closest_rows(self.segments, self._start, P, x1, x2, t, f), x1, x2
 
     def _closest(self, x):
         x1, x2 = x[self.segments[:, 0]], x[self.segments[:, 1]]
@@ -169,21 +179,27 @@ class PointSegmentContact(PairDefaults):
 
     frictional = True
 
+    def _normals(self, e, side, line, xe, x1, x2):
+        """Unit normals (2, 2) of both rows from the beam toward the point (zero unused)."""
+        d = x2[e] - x1[e]
+        n = side[:, None] * np.stack([-d[:, 1], d[:, 0]], axis=1)
+        n /= np.linalg.norm(d, axis=1)[:, None]
+        rel = self.obstacle.position - (x1[e] + xe[:, None] * d)
+        caps = rel / np.linalg.norm(rel, axis=1)[:, None]
+        return np.where(line[:, None], n, caps)
+
     def tangents(self, q: np.ndarray):
-        """Slip row of the fixed point against the beam's material point at the closest
+        """Slip rows of the fixed point against the beam's material point at each row's
         parameter ξ: −T((1 − ξ) ẋ_a + ξ ẋ_b), T the tangent of the contact plane."""
-        body = self.body
-        e, xi, x1, d = self._closest(body.positions(q[self.offset : self.offset + body.ndof]))
-        a, b = self.segments[e]
-        dofs = self.offset + body.node_translation_dofs([a, b]).ravel()
-        side, crossed = self._side(e, x1, d)
-        if 0.0 < xi < 1.0 or crossed:  # the side's normal of the segment, as in the gap
-            n = side * np.array([-d[1], d[0]]) / np.linalg.norm(d)
-        else:
-            n = unit(self.obstacle.position - (x1 + xi * d), "point and beam node")[0]
-        T = tangent_basis(n[None])
-        GT = -np.concatenate([(1.0 - xi) * T, xi * T], axis=2)
-        return dofs[None, :], GT, T
+        (e, side, line, xe, used), x1, x2 = self._rows(q)
+        n = self._normals(e, side, line, xe, x1, x2)
+        T = tangent_basis(n) * used[:, None, None]
+        GT = -np.concatenate([(1.0 - xe)[:, None, None] * T, xe[:, None, None] * T], axis=2)
+        return self._dofs(e), GT, T
+
+    def _dofs(self, e):
+        nodes = self.segments[e].ravel()
+        return self.offset + self.body.node_translation_dofs(nodes).reshape(len(e), 4)
 
     def _signed_distance(self, q_local):
         e, xi, x1, d = self._closest(self.body.positions(q_local))
@@ -191,29 +207,23 @@ class PointSegmentContact(PairDefaults):
         return (d[0] * w[1] - d[1] * w[0]) / np.linalg.norm(d)
 
     def evaluate(self, q: np.ndarray):
-        body = self.body
-        q_local = q[self.offset : self.offset + body.ndof]
-        e, xi, x1, d = self._closest(body.positions(q_local))
-        a, b = self.segments[e]
-        tdofs = self.offset + body.node_translation_dofs([a, b]).ravel()
+        (e, side, line, xe, used), x1, x2 = self._rows(q)
         P, r = self.obstacle.position, self.obstacle.radius + self.clearance
-        side, crossed = self._side(e, x1, d)
-        if 0.0 < xi < 1.0 or crossed:
-            # the point is rigid: derivatives with respect to the segment's ends only
-            f, G, H = point_line_distance(P[None], x1[None], (x1 + d)[None])
-            g, G, H = side * f[0] - r, side * G[0, 2:], side * H[0, 2:, 2:]
-        else:
-            xv = x1 + xi * d
-            ev = xv - P
+        g, G, H = np.full(2, np.inf), np.zeros((2, 4)), np.zeros((2, 4, 4))
+        for j in np.flatnonzero(used):
+            a, b = x1[e[j]], x2[e[j]]
+            if line[j]:  # the point is rigid: derivatives with respect to the ends only
+                f, Gj, Hj = point_line_distance(P[None], a[None], b[None])
+                g[j], G[j], H[j] = side[j] * f[0] - r, side[j] * Gj[0, 2:], side[j] * Hj[0, 2:, 2:]
+                continue
+            ev = a + xe[j] * (b - a) - P
             dist = np.linalg.norm(ev)
             ev = ev / dist
-            g = dist - r
-            G = np.zeros(4)
-            H = np.zeros((4, 4))
-            k = 0 if xi == 0.0 else 2
-            G[k : k + 2] = ev
-            H[k : k + 2, k : k + 2] = (np.eye(2) - np.outer(ev, ev)) / dist
-        return np.array([g]), tdofs[None, :], G[None, :], H[None, :, :]
+            k = 0 if xe[j] == 0.0 else 2
+            g[j] = dist - r
+            G[j, k : k + 2] = ev
+            H[j, k : k + 2, k : k + 2] = (np.eye(2) - np.outer(ev, ev)) / dist
+        return g, self._dofs(e), G, H
 
 
 @register_pair(object, Plane)

@@ -94,7 +94,9 @@ def failure_error(err: StepFailure, t: float, step: int, tried: str, stats) -> S
             if isinstance(err, PenetrationFailure)
             else "Newton did not converge"
         )
-        text = f"{what} at t = {t:.6g} s (step {step}): {err} (residual {err.residual:.3e})"
+        text = f"{what} at t = {t:.6g} s (step {step}): {err}"
+        if math.isfinite(err.residual):  # (nan: the solve recorded none, its message says why)
+            text += f" (residual {err.residual:.3e})"
         text += f" after {tried}"
     return SolverError(text, time=t, step=step, residual=err.residual)
 
