@@ -243,7 +243,7 @@ class _Phases:
             model, self.st, self.q, self.v, closed, self.g_tilde, self.opts, self.t, tol_gap,
             self.Gb, held, preload, pressed=None if force is None else self.h * force[closed],
         )  # fmt: skip
-        jumped(self.opts.spins, model, self.q, self.v, W, (self.vd, self.a))
+        jumped(self.opts.spins, model, (self.q, self.v), W, Lam[: closed.size], (self.vd, self.a))
         if closed.size:
             self.impulse[closed] = Lam[: closed.size]
         struck = _struck(self.impulse[closed], force, self.h, self.opts.tol_residual)

@@ -20,12 +20,16 @@ from .lie import inertial_forces
 __all__ = ["jumped"]
 
 
-def jumped(spins: bool, model, q, v, W, accelerations) -> None:
-    """v (all dofs) += W (free dofs), in place; where the run ``spins`` (decided once:
-    :attr:`~fecontact.time.settings.RunSettings.spins`) and W moves v, the gyroscopic
-    forces' change added to each array of ``accelerations`` (v̇, a; all dofs; in place)."""
+def jumped(spins: bool, model, state, W, impulses, accelerations) -> None:
+    """v (all dofs; ``state`` = (q, v)) += W (free dofs), in place; where the run ``spins``
+    (decided once: :attr:`~fecontact.time.settings.RunSettings.spins`) and a contact takes
+    an impulse (``impulses``, N s, of the closed contacts), the gyroscopic forces' change
+    added to each array of ``accelerations`` (v̇, a; all dofs; in place). A jump of the
+    joints alone (their velocity projection, each step of the heavy top) leaves v̇ and a
+    as they are."""
+    q, v = state
     F = model.free_slice
-    if not spins or not np.any(W):
+    if not spins or not np.any(impulses > 0.0):
         v[F] += W
         return
     before = inertial_forces(model, q, v, tangent=False)[0]
