@@ -55,6 +55,7 @@ from .smooth_contact import (
     restarted_acceleration,
     without_released,
 )
+from .spin_restart import jumped
 from .state import IntegratorOptions, PhaseTimer, State, length_scale
 
 __all__ = ["SmoothStep", "alpha_smooth_step", "decoupled_step", "nsga_step", "smooth_phases"]
@@ -242,7 +243,7 @@ class _Phases:
             model, self.st, self.q, self.v, closed, self.g_tilde, self.opts, self.t, tol_gap,
             self.Gb, held, preload, pressed=None if force is None else self.h * force[closed],
         )  # fmt: skip
-        self.v[model.free_slice] += W
+        jumped(self.opts.spins, model, (self.q, self.v), W, Lam[: closed.size], (self.vd, self.a))
         if closed.size:
             self.impulse[closed] = Lam[: closed.size]
         struck = _struck(self.impulse[closed], force, self.h, self.opts.tol_residual)

@@ -27,8 +27,10 @@ class RunSettings(IntegratorOptions):
     """The :class:`IntegratorOptions` of one run, the traits of its model the steps act on,
     decided once (``smooth``: persistent contacts carry a smooth force, the ``"auto"`` of
     ``smooth_contact`` resolved; ``restarts``: and the acceleration variable restarts after
-    an impact, which beams do not take; ``settle``: on models with beams and no solid whose
-    every pair is struck (at a beam's end, by a moving body that is no beam: :func:`settles`),
+    an impact, which beams do not take; ``spins``: the decoupled step's v̇ and a follow the
+    gyroscopic forces through a velocity jump (:mod:`.spin_restart`); ``settle``: on models
+    with beams and no solid whose every pair is struck (at a beam's end, by a moving body
+    that is no beam: :func:`settles`),
     a contact carries the smooth force only from the second step after the one in which it
     closed, and the accelerations follow the correction of the step between; ``friction``:
     the contacts have friction; ``positional_friction``: the position correction carries their
@@ -49,6 +51,7 @@ class RunSettings(IntegratorOptions):
 
     smooth: bool = False
     restarts: bool = False
+    spins: bool = False
     settle: bool = False
     friction: bool = False
     positional_friction: bool = True
@@ -152,6 +155,7 @@ def run_settings(
         **values,
         smooth=smooth,
         restarts=smooth and not model.slender,  # (beams: see smooth_contact, the restart)
+        spins=not smooth and bool(model.inertial_bodies),
         settle=settles(model, smooth),
         friction=friction,
         positional_friction=positional_friction(model, smooth),
