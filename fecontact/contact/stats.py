@@ -107,7 +107,7 @@ class ContactStats:
     # repeated, were solved whole as the linearised law (:mod:`fecontact.time.smooth_redundant`)
     complementary_smooth_updates: int = 0
     # decided once per run: the model has pairs whose rows can be redundant up to round-off
-    # (:func:`fecontact.contact.laws.kkt_multipliers` then reads the LU's pivots)
+    # (:func:`fecontact.contact.kkt.kkt_multipliers` then reads the LU's pivots)
     minimum_norm: bool = False
     # decided once per run: the model has pairs whose rows can be one row twice
     # (:func:`fecontact.contact.kkt.schur_multipliers` then merges them)
