@@ -36,6 +36,7 @@ class SegmentCircleContact(PairDefaults):
 
     linear = False
     frictional = True
+    duplicate_rows = True  # (two segments clipped to their shared node: one row twice)
 
     def __init__(self, body, obstacle: Circle, restitution: float = 0.0, clearance: float = 0.0):
         self.body = body
