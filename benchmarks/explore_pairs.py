@@ -254,13 +254,13 @@ def block_rigid(shape="disk", v=1.0, spin=40.0, mu=0.3, e=0.0, block_first=True)
                 edge=edge, free=True, pk=True)  # fmt: skip
 
 
-def solid_circle(inside=True, v=1.0, mu=0.0, e=0.0):
+def solid_circle(inside=True, v=1.0, mu=0.0, e=0.0, under=False):
     """An elastic disk (R) thrown at ``v`` along x in a circular cavity (radius 2.4 R) from
-    its centre, or at a fixed peg (radius R/5, half a boundary edge off the line of the
-    disk's pole node) from outside: the disk's nodes against the circle; the depth also
-    counts the peg entering between two nodes."""
+    its centre (its nodes against the circle), or at a fixed peg (radius R/5, half a
+    boundary edge off the line of the disk's pole node, or on it: ``under``) from outside
+    (its boundary segments); the depth also counts the peg entering between two nodes."""
     disk = Solid.disk([0.0 if inside else -1.2 * R - 0.001, 0.0], R, 2, SOFT)
-    peg = [0.0, 0.0 if inside else 0.5 * disk.min_edge_length]
+    peg = [0.0, 0.0 if inside or under else 0.5 * disk.min_edge_length]
     circle = Circle(peg, 2.4 * R if inside else 0.2 * R, inside=inside)
     model = Model([disk], [Contact(disk, circle, friction=mu, restitution=e)], (0.0, 0.0))
     facets = disk.boundary_facets()
@@ -278,6 +278,7 @@ def solid_circle(inside=True, v=1.0, mu=0.0, e=0.0):
 
     v0 = model.translation(disk, (v, 0.0))
     where = "in a cavity of radius 2.4 R" if inside else "at a peg of radius R/5"
+    where += " under a node" if under else ""
     label = f"Solid/Circle: elastic disk {v:g} m/s {where}, mu {mu:g}, e_N {e:g}"
     edge = disk.min_edge_length
     t_end = (1.4 * R if inside else 0.001) / v + 0.012
@@ -537,6 +538,10 @@ ROWS = [
     (solid_circle, dict(mu=0.3), None),
     (solid_circle, dict(v=10.0, e=1.0), None),
     (solid_circle, dict(inside=False), None),
+    (solid_circle, dict(inside=False, under=True), None),
+    (solid_circle, dict(inside=False, mu=0.3), None),
+    (solid_circle, dict(inside=False, under=True, mu=0.3), None),
+    (solid_circle, dict(inside=False, under=True, mu=0.3, e=1.0, v=10.0), None),
     (p2_disks, {}, None),
     (p2_disks, dict(mixed=True), None),
     (p2_disks, dict(method="node-to-surface", offset=0.0, mu=0.0, e=1.0), None),

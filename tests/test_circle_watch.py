@@ -1,10 +1,12 @@
-"""A peg between two boundary nodes of a 2D solid is seen by the run's penetration record."""
+"""A peg between two boundary nodes of a 2D solid held by node rows (``nodes`` named) is seen
+by the run's penetration record."""
 
 import numpy as np
 
 from fecontact import Model
 from fecontact.bodies import LinearElastic, Solid
 from fecontact.contact import Circle, Contact
+from fecontact.contact.node_pairs import NodeContact
 
 R = 0.05
 
@@ -17,8 +19,9 @@ def test_peg_between_nodes_is_measured():
     n = mid / np.linalg.norm(mid)  # outward, the disk is centred at the origin
     r, into = 0.2 * R, 0.004  # the peg overlaps the edge's midpoint by 4 mm
     circle = Circle(mid + (r - into) * n, r)
-    model = Model([disk], [Contact(disk, circle)], (0.0, 0.0))
-    pair = model.contacts.pairs[0]
+    pair = Contact(disk, circle, nodes=disk.boundary_nodes())
+    model = Model([disk], [pair], (0.0, 0.0))
+    assert isinstance(pair, NodeContact)
     # both nodes stay outside the peg: their rows see nothing
     assert np.all(pair.gaps(np.zeros(model.n)) > 0.0)
     depth, _ = pair.watch().depth(np.zeros(model.n))

@@ -29,11 +29,12 @@ def Contact(
     """Contact pair between ``body`` and a rigid ``obstacle`` or a second body.
 
     ``Plane`` and ``Circle`` act on ``nodes`` of the body (all nodes, or all polygon vertices
-    of a rigid body, by default; a ``Circle`` narrower than a 2D ``Solid``'s boundary edge
-    can pass between two nodes: the run measures its depth into the boundary segments, in
-    ``max_penetration``, and warns); a ``Circle`` seen from outside acts on a ``Beam2D``'s
-    centreline segments unless ``nodes`` are named (a chord cuts into it between its nodes);
-    a ``Point`` acts on the beam's centreline segments. ``clearance`` (m, ≥ 0) keeps the
+    of a rigid body, by default); a ``Circle`` seen from outside acts on a ``Beam2D``'s
+    centreline segments and on a 2D P1 ``Solid``'s boundary segments unless ``nodes`` are
+    named (a chord cuts into it, a peg narrower than an edge enters, between two nodes;
+    :mod:`fecontact.contact.segment_pairs`); where a solid's nodes hold it (named, or on P2
+    cells) the run measures its depth into the boundary segments, in ``max_penetration``,
+    and warns; a ``Point`` acts on the beam's centreline segments. ``clearance`` (m, ≥ 0) keeps the
     points or segments that far from a rigid obstacle: half the thickness of a beam, whose
     centreline the gaps measure. A rigid
     disk (``RigidBody2D`` with a ``Disk``) contacts a ``Plane``, a ``Circle``, another disk, a

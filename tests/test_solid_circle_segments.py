@@ -1,0 +1,95 @@
+"""A 2D solid's boundary segments against a rigid Circle seen from outside: a peg narrower
+than a boundary edge stays out between two nodes (node rows let it 4 mm in), and a peg right
+under a node is held by one row, not by the two segments meeting there."""
+
+import numpy as np
+import pytest
+
+from fecontact import Model
+from fecontact.bodies import LinearElastic, Solid
+from fecontact.contact import Circle, Contact
+from fecontact.contact.node_pairs import NodeContact
+from fecontact.contact.segment_pairs import SegmentCircleContact
+from fecontact.simulation import Simulation, run
+from fecontact.testing import gap_derivatives_error
+from fecontact.time import simulate
+
+R = 0.05
+SOFT = LinearElastic(1e6, 0.3, rho=1000.0)
+
+
+def disk_at_peg(under: bool, mu: float):
+    """A disk (R, 41 boundary nodes, edges 12.5 mm) at 1 m/s along x onto a fixed peg of R/5
+    on the line of its pole node (``under``) or half an edge off it (between two nodes)."""
+    disk = Solid.disk([-1.2 * R - 0.001, 0.0], R, 2, SOFT)
+    circle = Circle([0.0, 0.0 if under else 0.5 * disk.min_edge_length], 0.2 * R)
+    model = Model([disk], [Contact(disk, circle, friction=mu)], (0.0, 0.0))
+    return disk, circle, model
+
+
+def peg_depth(disk, circle, q) -> float:
+    """The peg's depth into the boundary polygon from the exact geometry: its radius less its
+    centre's distance to the nearest boundary segment (the centre never crosses the boundary
+    here: the depth stays below the radius)."""
+    x = disk.positions(q[: disk.ndof])
+    facets = disk.boundary_facets()
+    a, b = x[facets[:, 0]], x[facets[:, 1]]
+    t, c = b - a, circle.center
+    s = np.clip(np.einsum("md,md->m", c - a, t) / np.einsum("md,md->m", t, t), 0.0, 1.0)
+    return circle.radius - float(np.min(np.linalg.norm(a + s[:, None] * t - c, axis=1)))
+
+
+def test_the_pair_is_chosen_once_by_the_kind_of_circle_and_mesh():
+    disk = Solid.disk([0.0, 0.0], R, 1, SOFT)
+    pair = Contact(disk, Circle([0.0, 0.07], 0.01))
+    assert isinstance(pair, SegmentCircleContact) and pair.size == len(disk.boundary_facets())
+    # a convex cavity cannot enter between nodes; named nodes are the user's rows
+    assert isinstance(Contact(disk, Circle([0.0, 0.0], 0.1, inside=True)), NodeContact)
+    named = Contact(disk, Circle([0.0, 0.07], 0.01), nodes=disk.boundary_nodes())
+    assert isinstance(named, NodeContact) and named.watch() is not None
+    # a P2 boundary is curved: its nodes, with the watch on the chords
+    p2 = Contact(Solid.disk([0.0, 0.0], R, 1, SOFT, element="P2"), Circle([0.0, 0.07], 0.01))
+    assert isinstance(p2, NodeContact) and p2.watch() is not None
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_segment_gap_derivatives_on_a_deformed_disk(seed):
+    disk, _, model = disk_at_peg(False, 0.0)
+    pair = model.contacts.pairs[0]
+    q = 1e-3 * np.random.default_rng(seed).normal(size=model.n)
+    # central differences at eps = 1e-7: O(eps²) truncation, O(1e-16/eps) round-off
+    err_g, err_h = gap_derivatives_error(pair, q)
+    assert err_g < 1e-7 and err_h < 1e-6
+
+
+def test_a_node_under_the_peg_has_one_row():
+    disk, circle, model = disk_at_peg(True, 0.0)
+    pair = model.contacts.pairs[0]
+    q = np.zeros(model.n)
+    # the pole node onto the peg
+    q[: disk.ndof] = model.translation(disk, (0.001, 0.0))[: disk.ndof]
+    g = pair.gaps(q)
+    pole = np.argmax(disk.positions(q[: disk.ndof])[:, 0])
+    at_pole = g[np.any(pair.segments == pole, axis=1)]
+    # the pole node touches the peg (g = 0 to round-off) and both segments at it reach it
+    # there: one row holds it, the other reads no row (+inf)
+    assert np.isclose(g.min(), 0.0, atol=1e-15) and np.isclose(np.min(at_pole), 0.0, atol=1e-15)
+    assert np.count_nonzero(np.isclose(g, 0.0, atol=1e-15)) == 1
+    assert np.sort(at_pole)[1] == np.inf
+
+
+@pytest.mark.parametrize("under", [False, True])
+@pytest.mark.parametrize("mu", [0.0, 0.3])
+def test_a_thin_peg_stays_out_of_the_boundary(under, mu, tmp_path):
+    disk, circle, model = disk_at_peg(under, mu)
+    v0 = model.translation(disk, (1.0, 0.0))
+    deepest = max(peg_depth(disk, circle, st.q) for st in simulate(model, 1e-4, 0.008, v0=v0))
+    # node rows let the peg 4.0 mm in between two nodes; the segments hold the gap to the
+    # correction's tolerance (1e-12 of the model's size) up to the round-off of the distance
+    assert deepest <= 1e-12
+    summary = run(Simulation(model, dt=1e-4, t_end=0.008, v0=v0), tmp_path, frames=False,
+                  checkpoint_every=0)  # fmt: skip
+    assert summary["status"] == "completed" and summary["max_penetration"] <= 1e-12
+    # the two segments at a node never both hold it (before: least-squares multipliers at
+    # every step under the node) and a row changing segment at the node retakes no step
+    assert summary["least_squares_multipliers"] == 0 and summary["step_halvings"] == 0
