@@ -254,11 +254,11 @@ def test_option_values_and_errors():
         model = case(name).build().model
         return localizes(model, run_settings(model, IntegratorOptions(**options)))
 
-    # "auto": rigid and frictionless, or solids on fixed obstacles and frictionless
-    # (tests/test_localize_solids.py); not beams, friction or the baselines
+    # "auto": rigid bodies, frictional or not, or solids on fixed obstacles
+    # (tests/test_localize_solids.py); not beams or the baselines
     assert resolved("bouncing_ball") and resolved("rigid_pendulum")
     assert not resolved("flexible_pendulum") and resolved("disk_drop")
-    assert not resolved("sliding_block") and not resolved("bouncing_ball", integrator="moreau")
+    assert resolved("sliding_block") and not resolved("bouncing_ball", integrator="moreau")
     assert resolved("flexible_pendulum", localize=True)
 
 

@@ -124,10 +124,12 @@ def dropped_ball(on_box: bool, x0: float = 0.0, vx: float = 0.0, t_end: float = 
 
 def test_a_ball_on_a_box_face_bounces_and_slides_as_on_a_plane():
     """Ball against a fixed box's top face and against the plane of that face: the same
-    bounces and friction (1e-12) while the ball stays over the face."""
+    bounces and friction (1e-11) while the ball stays over the face."""
     on_box, on_plane = dropped_ball(True, vx=0.3), dropped_ball(False, vx=0.3)
     for a, b in zip(on_box, on_plane, strict=True):
-        assert np.abs(a.q[:6] - b.q).max() < 1e-12 and np.abs(a.v[:6] - b.v).max() < 1e-12
+        # each run locates its bounces: the two gaps' round-off moves the found instants,
+        # 1.5e-12 m/s of the 3 m/s apart (at the step's end 1e-12 held)
+        assert np.abs(a.q[:6] - b.q).max() < 1e-11 and np.abs(a.v[:6] - b.v).max() < 1e-11
     assert max(np.abs(s.q[:2]).max() for s in on_box) < 0.3  # over the face throughout
 
 

@@ -21,6 +21,7 @@ from .constraints import (
     factorize_or_fail,
     plus_curvature,
 )
+from .momentum_planar import planar_momentum
 from .momentum_rigid import common_normal, rigid_momentum
 
 __all__ = [
@@ -171,12 +172,15 @@ class MomentumKept:
     Decided once per model: the beams in space (a rotation vector at every node) without
     support or joint (a held body's momentum is not its own), in a frictionless model (a
     frictional correction moves the nodes along the tangents too). Free rigid bodies in space
-    are held by ``rigid`` (:mod:`.momentum_rigid`: a free pair's total L, a lone body's L·n).
+    are held by ``rigid`` (:mod:`.momentum_rigid`: a free pair's total L, a lone body's L·n),
+    free planar rigid bodies in contact only with each other by ``planar``
+    (:mod:`.momentum_planar`: the group's total L).
     """
 
     def __init__(self, model):
         self.bodies = []  # (body, global slice, its free dofs, mass matrix, node masses (kg))
         self.rigid = rigid_momentum(model)
+        self.planar = planar_momentum(model)
         if model.joints.size or model.contacts.frictional:
             return
         for i, b in enumerate(model.bodies):
@@ -191,6 +195,8 @@ class MomentumKept:
         momentum (kg·m²/s) about its contacts' common normal at its value at (q̃, ṽ) after the
         correction to ``q``; ``G``: the gradients (free dofs) of the correction's contacts."""
         dv = np.zeros_like(v) if self.rigid is None else self.rigid(q_tilde, q, v, G)
+        if self.planar is not None:
+            dv += self.planar(q_tilde, q, v, G)
         for b, s, free, M, m in self.bodies:
             Gb = G[:, free]
             Gb = Gb[np.abs(Gb).max(axis=1) > 0.0]
@@ -236,4 +242,4 @@ def momentum_held(kept, model, q_tilde, q, v, work) -> tuple[np.ndarray, np.ndar
 def momentum_kept(model) -> MomentumKept | None:
     """The model's :class:`MomentumKept`, decided once per run; None when no body qualifies."""
     kept = MomentumKept(model)
-    return kept if kept.bodies or kept.rigid is not None else None
+    return kept if kept.bodies or kept.rigid is not None or kept.planar is not None else None

@@ -116,18 +116,18 @@ LAST = 1e-9
 def localizes(model, opts: RunSettings) -> bool:
     """Whether the run of ``model`` with ``opts`` locates impacts inside its steps: the
     option ``localize`` (``"auto"``: a model of rigid bodies and point masses with
-    frictionless contacts on fixed obstacles, or of solids, :func:`undamped_solids`,
-    frictional ones where ``FRICTIONAL_SOLIDS``, the default) for the
-    NSGA generalized-α step (the options check it) on a model with contacts. Raises
+    contacts on fixed obstacles or between them, frictionless or not, or of solids,
+    :func:`undamped_solids`, frictional ones where ``FRICTIONAL_SOLIDS``, the default) for
+    the NSGA generalized-α step (the options check it) on a model with contacts. Raises
     ``InputError`` for ``localize=True`` with moving obstacles."""
     value = opts.localize
     applies = opts.integrator == "nsga" and opts.scheme == "generalized-alpha"
     if value is True and model.contacts.moving:
         raise InputError("localize = true: moving obstacles are not supported (set localize=0)")
     if value == "auto":
-        # (measured: docs/validation/localization.md; friction between rigid bodies is not)
+        # (measured: docs/validation/localization.md, friction between rigid bodies included)
         rigid = not (model.continuum or model.slender)
-        value = rigid and not (model.contacts.frictional or model.contacts.moving)
+        value = rigid and not model.contacts.moving
         solids = undamped_solids(model)
         value = value or (solids and (FRICTIONAL_SOLIDS or not model.contacts.frictional))
     return bool(value and applies and model.contacts.size)

@@ -100,7 +100,8 @@ class IntegratorOptions:
         is split at the instant it closes, where the impact law acts
         (:mod:`fecontact.time.localize`); False (0, "off"): the impact acts at the end of
         the step; "auto" (default): on for models of rigid bodies and point masses with
-        frictionless contacts on fixed obstacles, and for models of undamped solids
+        contacts on fixed obstacles or between them, frictionless or frictional, and for
+        models of undamped solids
         (rigid bodies beside them) on fixed obstacles or between them, frictionless or
         frictional (whole steps, no chattering sub-steps; decided per run).
     rtol : None (default): fixed steps of the run's dt. A number in (0, 1): steps chosen by
