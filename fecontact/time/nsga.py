@@ -113,7 +113,7 @@ class _Phases:
         self.grip = None  # (λ_N, λ_T) of the smooth step with friction
         self.nu = self.impulse = self.gaps = self.cand = self.together = None
         self.corrected = None  # (q̃, the metric's solve) after a correction (decoupled scheme)
-        self.q_tilde = None  # q̃ after a correction moved q (for the energy ledger)
+        self.q_tilde = self.kept = None  # q̃ after a correction moved q, Δv of its hold (ledger)
         self.g_tilde = None  # the gaps at q̃, when known before the correction
         self.release = 0.0  # what a retake without released contacts' forces put in (J)
 
@@ -396,7 +396,7 @@ def _end_state(step: _Phases) -> State:
     if phase:
         moved = step.q_tilde is not None or step.closed.size or joints
         args = (step.v_tilde if moved else None, step.q_tilde, step.step.friction_work)
-        record = pending_record(step.model, phase, *args, step.works, step.release)
+        record = pending_record(step.model, phase, *args, step.works, step.release, step.kept)
     return State(
         *at,
         h=step.h,
