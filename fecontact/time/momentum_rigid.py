@@ -30,10 +30,12 @@ its axis through c_G.)
 With friction the correction also turns each body it moves tangentially: R = R̃ exp(Ũ) at
 fixed body-frame Ω turns the spatial ω = RΩ by U × ω, U ≈ h²/2 J⁻¹Rᵀτ a step of a friction
 torque τ, which sums to (h t/2) α × ω over a slide (first order: a ball spinning about the
-vertical). In a frictional model each free body's spin R J Ω is held in space through the
-correction first, Ω ← J⁻¹RᵀR̃JΩ̃ (bodies it does not turn are left as they are); its change
-of ½ΩᵀJΩ (J not isotropic) is the ledger's ``momentum hold``
-(:mod:`fecontact.ledger`), then a group's total L is put back as above.
+vertical). In a frictional model the spin R J Ω of each free body that only fixed
+obstacles touch is held in space through the correction, Ω ← J⁻¹RᵀR̃JΩ̃ (bodies it does
+not turn are left as they are); its change of ½ΩᵀJΩ (J not isotropic) is the ledger's
+``momentum hold`` (:mod:`fecontact.ledger`). Bodies in contact with each other are left to
+the group rule above (a box dropped on a box, held too, went onto a path where p × 1000's
+frictional correction did not settle: docs/validation/multibody.md).
 
 Decided once per model: the free ``RigidBody3D`` bodies (no support), in a model without
 joints (a joint's force on one body of a pair is external to it; the joints' velocity
@@ -76,14 +78,14 @@ class RigidMomentum:
         (q̃, ṽ) after the correction to ``q``; ``G``: the correction's contacts' gradients
         (dense, free dofs)."""
         dv = np.zeros_like(v)
-        held = v
-        if self.frictional:
-            _hold_spins(self.bodies, q_tilde, q, v, dv)
-            held = v + dv
         Gr = G[:, self.columns]
         rows = np.abs(Gr).max(axis=1) > 0.0
         outside = np.count_nonzero(G, axis=1) > np.count_nonzero(Gr, axis=1)  # other bodies
         touch = np.abs(Gr).reshape(len(G), len(self.bodies), 6).max(axis=2) > 0.0
+        held = v
+        if self.frictional:
+            _hold_spins(self.bodies, _lone(touch, outside), q_tilde, q, v, dv)
+            held = v + dv
         for group in _groups(touch[rows], outside[rows]):
             members = [self.bodies[a] for a in group]
             g_rows = Gr[rows][touch[rows][:, group].any(axis=1)]
@@ -144,12 +146,19 @@ def _momentum(members, q, v, origin) -> np.ndarray:
     return L
 
 
-def _hold_spins(bodies, q_tilde, q, v, dv) -> None:
-    """Add to ``dv`` the change of each body's Ω that holds its spin R J Ω in space through
-    the correction q̃ → q (Ω ← J⁻¹RᵀR̃JΩ̃), for the bodies whose rotation it moved."""
-    for b, s, _ in bodies:
+def _lone(touch: np.ndarray, outside: np.ndarray) -> np.ndarray:
+    """Which bodies (mask) only fixed obstacles touch in the correction (``touch``: rows ×
+    bodies): no row of theirs joins another body."""
+    joined = (touch.sum(axis=1) > 1) | outside
+    return touch.any(axis=0) & ~touch[joined].any(axis=0)
+
+
+def _hold_spins(bodies, lone, q_tilde, q, v, dv) -> None:
+    """Add to ``dv`` the change of each ``lone`` body's Ω that holds its spin R J Ω in space
+    through the correction q̃ → q (Ω ← J⁻¹RᵀR̃JΩ̃), where it moved its rotation."""
+    for (b, s, _), alone in zip(bodies, lone, strict=True):
         psi_tilde, psi = q_tilde[s][3:6], q[s][3:6]
-        if np.array_equal(psi_tilde, psi):
+        if not alone or np.array_equal(psi_tilde, psi):
             continue
         W = v[s][3:6]
         spin = b.rotation(q_tilde[s]) @ (b.J @ W)
