@@ -13,9 +13,10 @@ With E = T + V_strain + V_gravity (J) of the bodies, every step closes
   :func:`fecontact.contact.restitution.friction_dissipation`);
 - D_impact: the rest of what the contact phase of a step changes. NSGA: the energy change
   of the position correction and of the velocity jump (with the acceleration follow-ups)
-  that friction does not explain; Moreau–Jean: −P·G v_mid of the normal and tangential
-  impulses that friction does not explain;
-  penalty: −½(λ_n + λ_{n+1})·Δg, the work of the contact forces (springs and dashpots);
+  that friction does not explain, and the change of T of the velocities that hold the
+  angular momentum through the correction (:mod:`fecontact.time.momentum_rigid`; named
+  ``momentum_hold``); Moreau–Jean: −P·G v_mid of the normal and tangential impulses that
+  friction does not explain; penalty: −½(λ_n + λ_{n+1})·Δg, the contact forces' work;
 - D_numerical: the term that closes the identity, the time integrator's own dissipation (for
   NSGA: that of the smooth step, ρ∞ < 1).
 
@@ -68,11 +69,14 @@ CLOSING = (
 )
 # the phase of a smooth step taken again without the forces of the contacts it releases
 RELEASE = "smooth step's retake without the forces of the contacts it releases"
+# the phase of the velocities that hold the angular momentum through the correction
+HOLD = "momentum hold"
 
 
 def smooth_record(
-    model, contact_phase, v_tilde, q_tilde=None, friction_work=0.0, works=None, release=0.0
-) -> np.ndarray | None:
+    model, contact_phase, v_tilde, q_tilde=None, friction_work=0.0, works=None, release=0.0,
+    held=None,
+) -> np.ndarray | None:  # fmt: skip
     """What a stepper leaves in its state (``State.ledger``) for the ledger after its smooth
     step, when a ``contact_phase`` (correction or jump) may follow: the kinetic energy of
     ṽ (NaN when ``v_tilde`` is None: no correction and no jump moved v, then it is that of
@@ -81,7 +85,8 @@ def smooth_record(
     dissipated, the velocity jump's ``works`` (normal, tangential, joints;
     :func:`fecontact.ledger_works.jump_work`) and the energy the smooth step's retake
     without the forces of the contacts it releases added over its first try (``release``)
-    (J). Without a contact phase, None."""
+    and the momentum hold's change of T, T(ṽ + ``held``) − T(ṽ) (J). Without a contact
+    phase, None."""
     if not contact_phase:
         return None
     V = math.nan
@@ -90,7 +95,9 @@ def smooth_record(
     works = (0.0, 0.0, 0.0) if works is None else works
     T = math.nan if v_tilde is None else model.kinetic_energy(v_tilde)
     record = [T, V, friction_work, *works]
-    return np.array(record + [release] if release else record)
+    hold = 0.0 if held is None else model.kinetic_energy(v_tilde + held) - T
+    tail = [release, hold] if hold else [release] if release else []
+    return np.array(record + tail)
 
 
 class SmoothRecord:
@@ -101,11 +108,12 @@ class SmoothRecord:
     a body's energy is a function of its q alone, so the values are the same numbers at
     whatever time they are made."""
 
-    __slots__ = ("model", "v_tilde", "q_tilde", "friction_work", "works", "release")
+    __slots__ = ("model", "v_tilde", "q_tilde", "friction_work", "works", "release", "held")
 
-    def __init__(self, model, v_tilde, q_tilde, friction_work: float, works, release: float):
+    def __init__(self, model, v_tilde, q_tilde, friction_work: float, works, release, held):
         self.model, self.v_tilde, self.q_tilde = model, v_tilde, q_tilde
         self.friction_work, self.works, self.release = friction_work, works, release
+        self.held = held
 
     def __call__(self) -> np.ndarray:
         return smooth_record(
@@ -115,13 +123,15 @@ class SmoothRecord:
             self.q_tilde,
             self.friction_work,
             self.works,
-            release=self.release,
+            self.release,
+            self.held,
         )
 
 
 def pending_record(
-    model, contact_phase, v_tilde, q_tilde=None, friction_work=0.0, works=None, release=0.0
-):
+    model, contact_phase, v_tilde, q_tilde=None, friction_work=0.0, works=None, release=0.0,
+    held=None,
+):  # fmt: skip
     """:func:`smooth_record` of the same arguments, its energies made when it is first read:
     a :class:`SmoothRecord` where it has an energy to compute, else the record itself (None
     without a contact phase)."""
@@ -131,7 +141,7 @@ def pending_record(
         if contact_phase and works is None and not release and plus_zero:
             return NOTHING_MOVED  # (most steps with candidates: shared, read-only)
         return smooth_record(model, contact_phase, None, None, friction_work, works, release)
-    return SmoothRecord(model, v_tilde, q_tilde, friction_work, works, release)
+    return SmoothRecord(model, v_tilde, q_tilde, friction_work, works, release, held)
 
 
 def joined_record(model, first, second) -> np.ndarray | None:
@@ -189,8 +199,8 @@ def _joined(model, first, r2, v2, q2) -> np.ndarray | None:
     out[1] = r2[1] - dV
     out[2] = r1[2] + r2[2]
     out[3:6] += r1[3:6] if r1.size >= 6 else 0.0
-    if r1.size > 6:  # the first part's release
-        out[6] += r1[6]
+    if r1.size > 6:  # the first part's release and momentum hold
+        out[6 : r1.size] += r1[6:]
     return out
 
 
@@ -204,7 +214,7 @@ class EnergyLedger:
         self.integrator = options.integrator
         self.checked = not model.contacts.moving
         self.damped = any(model.damping)
-        self.terms = dict.fromkeys(TERMS, 0.0)
+        self.terms = dict.fromkeys((*TERMS, "hold"), 0.0)  # hold: the momentum hold's share
         self.initial = math.nan
         self.energy = math.nan  # E of the last state
         self.created = 0.0
@@ -307,14 +317,17 @@ class EnergyLedger:
             correction, jump = V - V_tilde, kinetic - T_tilde
             smooth = T_tilde + V_tilde - self.energy - W + damping + smooth_friction
             release = float(record[6]) if record.size > 6 else 0.0
+            hold = float(record[7]) if record.size > 7 else 0.0  # (of D_impact: its share)
+            jump, self.terms["hold"] = jump - hold, self.terms["hold"] - hold
             gains = {
                 "smooth step": smooth - release,
                 RELEASE: release,
                 "position correction": correction,
                 "velocity jump": jump,
+                **({HOLD: hold} if hold else {}),  # (a phase only where a hold moved v)
                 "friction": -friction,
             }
-            return -(correction + jump) - (friction - smooth_friction), gains, works
+            return -(correction + jump + hold) - (friction - smooth_friction), gains, works
         works = NO_WORK
         if self.integrator == "moreau" and np.any(st.impulse):
             works = moreau_works(self.model, self.last, st)
@@ -372,6 +385,7 @@ class EnergyLedger:
             "friction_dissipation": t["friction"],
             "impact_dissipation": t["impact"],
             "numerical_dissipation": t["numerical"],
+            "momentum_hold": t["hold"],
             "created": self.created,
             "scale": self.scale,
         }

@@ -159,7 +159,8 @@ def test_a_jump_changes_the_kinetic_energy_by_its_impulses_work(name, kw, law):
     """Every velocity jump v⁺ = ṽ + M⁻¹AᵀP of rigid bodies (planar and in space) on a fixed
     floor: its kinetic energy change ½(v⁺ᵀMv⁺ − ṽᵀMṽ) = P·A(ṽ + v⁺)/2 is the sum of the
     normal, tangential and joint impulses' works that the step records (per phase under
-    Poisson's law), to the round-off of the products (1e-12 of the kinetic energy)."""
+    Poisson's law), to the round-off of the products (1e-12 of the kinetic energy), once the
+    momentum hold's change of T before the jump (its own term, record[7]) is taken off."""
     sim = case(name).build(**kw)
     model, opts = sim.model, dataclasses.replace(sim.options, impact_law=law)
     jumps = 0
@@ -168,8 +169,9 @@ def test_a_jump_changes_the_kinetic_energy_by_its_impulses_work(name, kw, law):
             continue
         jumps += 1
         T_tilde, works = st.ledger[0], st.ledger[3:6]
+        hold = st.ledger[7] if st.ledger.size > 7 else 0.0
         T = model.kinetic_energy(st.v)
-        assert abs(T - T_tilde - works.sum()) <= 1e-12 * max(T, T_tilde)
+        assert abs(T - T_tilde - hold - works.sum()) <= 1e-12 * max(T, T_tilde)
     assert jumps > 0
 
 
@@ -330,3 +332,20 @@ def test_a_correction_left_above_its_tolerance_is_said_so(tmp_path):
     rough = run(case("tumbling_box").build().replace(t_end=0.4), tmp_path / "r", frames=False)
     assert max(rough["final_residuals"].values()) <= 1.0
     assert not [w for w in rough["warnings"] if w.startswith("contact:")]
+
+
+def test_the_tumbling_box_s_momentum_hold_is_its_own_term(tmp_path):
+    """A correction that turns the box holds its spin R J Ω in space; J not isotropic, that
+    changes ½ΩᵀJΩ (measured: +7.8e-4 J over the run at h = 1 ms, in 24 steps, 1.3e-3 J at
+    most, at the impacts). The ledger names it (``momentum_hold``, a share of the impact's
+    dissipation): the identity closes at every step, the jumps' works stay exact (above),
+    and the run creates 2.5e-7 of its scale, as before the hold (the bound 1e-6 leaves 4x);
+    the hold's share is of the impacts' corrections, O(h): 2.9e-4 of the scale, bound 1e-3."""
+    sim = case("tumbling_box").build().replace(t_end=0.4)
+    summary = run(sim, tmp_path, frames=False)
+    history = read_history(tmp_path / "history.csv")
+    ledger = summary["energy_ledger"]
+    assert 0.0 < abs(ledger["momentum_hold"]) <= 1e-3 * ledger["scale"]
+    assert _closure(history, summary) <= 1e-9
+    assert ledger["created"] <= 1e-6 * ledger["scale"]
+    assert not [w for w in summary["warnings"] if w.startswith("energy")]

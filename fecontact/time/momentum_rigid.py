@@ -27,8 +27,19 @@ velocity changes with WᵀΔL = ℓ and ΔP = 0 that one minimises ½ δvᵀ M �
 conditions M δv = Σ (∂L·w/∂v)ᵀ a_w + (∂P/∂v)ᵀ b give exactly a rigid twist, and ΔP = 0 puts
 its axis through c_G.)
 
+With friction the correction also turns each body it moves tangentially: R = R̃ exp(Ũ) at
+fixed body-frame Ω turns the spatial ω = RΩ by U × ω, U ≈ h²/2 J⁻¹Rᵀτ a step of a friction
+torque τ, which sums to (h t/2) α × ω over a slide (first order: a ball spinning about the
+vertical). In a frictional model the spin R J Ω of each free body that only fixed
+obstacles touch is held in space through the correction, Ω ← J⁻¹RᵀR̃JΩ̃ (bodies it does
+not turn are left as they are); its change of ½ΩᵀJΩ (J not isotropic) is the ledger's
+``momentum hold`` (:mod:`fecontact.ledger`). Bodies in contact with each other are left to
+the group rule above (a box dropped on a box, held too, went onto a path where p × 1000's
+frictional correction did not settle: docs/validation/multibody.md).
+
 Decided once per model: the free ``RigidBody3D`` bodies (no support), in a model without
-joints (a joint's force on one body of a pair is external to it). A group that a row joins to
+joints (a joint's force on one body of a pair is external to it; the joints' velocity
+projection of the jump follows the correction). A group that a row joins to
 another kind of body (a solid, a beam) is left alone; a fixed body is an obstacle.
 """
 
@@ -52,7 +63,7 @@ class RigidMomentum:
     def __init__(self, model):
         # (body, global slice, its free dofs (6,)) of each free RigidBody3D
         self.bodies = []
-        self.frictional = model.contacts.frictional
+        self.frictional = model.contacts.frictional  # (then each body's spin is held)
         if model.joints.size:
             return
         for i, b in enumerate(model.bodies):
@@ -71,13 +82,17 @@ class RigidMomentum:
         rows = np.abs(Gr).max(axis=1) > 0.0
         outside = np.count_nonzero(G, axis=1) > np.count_nonzero(Gr, axis=1)  # other bodies
         touch = np.abs(Gr).reshape(len(G), len(self.bodies), 6).max(axis=2) > 0.0
+        held = v
+        if self.frictional:
+            _hold_spins(self.bodies, _lone(touch, outside), q_tilde, q, v, dv)
+            held = v + dv
         for group in _groups(touch[rows], outside[rows]):
             members = [self.bodies[a] for a in group]
             g_rows = Gr[rows][touch[rows][:, group].any(axis=1)]
             cols = np.concatenate([np.arange(6 * a, 6 * a + 6) for a in group])
             axes = self._held_axes(members, q, g_rows[:, cols])
             if axes is not None:
-                _put_back(members, q_tilde, q, v, dv, axes)
+                _put_back(members, (q_tilde, v), (q, held), dv, axes)
         return dv
 
     def _held_axes(self, members, q, G) -> np.ndarray | None:
@@ -131,13 +146,34 @@ def _momentum(members, q, v, origin) -> np.ndarray:
     return L
 
 
-def _put_back(members, q_tilde, q, v, dv, axes) -> None:
+def _lone(touch: np.ndarray, outside: np.ndarray) -> np.ndarray:
+    """Which bodies (mask) only fixed obstacles touch in the correction (``touch``: rows ×
+    bodies): no row of theirs joins another body."""
+    joined = (touch.sum(axis=1) > 1) | outside
+    return touch.any(axis=0) & ~touch[joined].any(axis=0)
+
+
+def _hold_spins(bodies, lone, q_tilde, q, v, dv) -> None:
+    """Add to ``dv`` the change of each ``lone`` body's Ω that holds its spin R J Ω in space
+    through the correction q̃ → q (Ω ← J⁻¹RᵀR̃JΩ̃), where it moved its rotation."""
+    for (b, s, _), alone in zip(bodies, lone, strict=True):
+        psi_tilde, psi = q_tilde[s][3:6], q[s][3:6]
+        if not alone or np.array_equal(psi_tilde, psi):
+            continue
+        W = v[s][3:6]
+        spin = b.rotation(q_tilde[s]) @ (b.J @ W)
+        dv[s][3:6] = np.linalg.solve(b.J, b.rotation(q[s]).T @ spin) - W
+
+
+def _put_back(members, before, after, dv, axes) -> None:
     """Add to ``dv`` the rigid rotation of the group about c_G, along ``axes`` (3, k), that
-    returns those components of L to their value at (q̃, ṽ) (module docstring)."""
+    returns those components of L at ``after`` (q, v) to their value at ``before`` (q̃, ṽ)
+    (module docstring)."""
+    q = after[0]
     c = np.array([b.center(q[s]) for b, s, _ in members])
     m = np.array([b.mass for b, _, _ in members])
     origin = m @ c / m.sum()
-    lost = _momentum(members, q_tilde, v, origin) - _momentum(members, q, v, origin)
+    lost = _momentum(members, *before, origin) - _momentum(members, *after, origin)
     k = axes.shape[1]
     f = (axes.T @ _rigid_fields(members, q)[3:]).reshape(k, len(members), 6)
     # the locked inertia along the axes, fᵀ M f with M = diag(m_a I, J_a) per body

@@ -113,7 +113,7 @@ class _Phases:
         self.grip = None  # (λ_N, λ_T) of the smooth step with friction
         self.nu = self.impulse = self.gaps = self.cand = self.together = None
         self.corrected = None  # (q̃, the metric's solve) after a correction (decoupled scheme)
-        self.q_tilde = None  # q̃ after a correction moved q (for the energy ledger)
+        self.q_tilde = self.kept = None  # q̃ after a correction moved q, Δv of its hold (ledger)
         self.g_tilde = None  # the gaps at q̃, when known before the correction
         self.release = 0.0  # what a retake without released contacts' forces put in (J)
 
@@ -232,8 +232,7 @@ class _Phases:
     def jump(self) -> None:
         """Step 3 on the contacts closed at q_{n+1} and on the joints."""
         model, closed, tol_gap = self.model, self.closed, self.tol_gap
-        if self.v is self.v_tilde:  # (the jump adds to v in place: ṽ is kept apart)
-            self.v = self.v.copy()
+        self.v = self.v.copy() if self.v is self.v_tilde else self.v  # (in place: ṽ kept apart)
         force, grip = self.force, self.grip
         self.held = held = (
             None if force is None else held_together(model.contacts, closed, force[closed] > 0.0)
@@ -243,7 +242,8 @@ class _Phases:
             model, self.st, self.q, self.v, closed, self.g_tilde, self.opts, self.t, tol_gap,
             self.Gb, held, preload, pressed=None if force is None else self.h * force[closed],
         )  # fmt: skip
-        jumped(self.opts.spins, model, (self.q, self.v), W, Lam[: closed.size], (self.vd, self.a))
+        state = (self.q, self.v, self.v_tilde)  # (v̇ and a follow ṽ, before a momentum hold)
+        jumped(self.opts.spins, model, state, W, Lam[: closed.size], (self.vd, self.a))
         if closed.size:
             self.impulse[closed] = Lam[: closed.size]
         struck = _struck(self.impulse[closed], force, self.h, self.opts.tol_residual)
@@ -396,7 +396,7 @@ def _end_state(step: _Phases) -> State:
     if phase:
         moved = step.q_tilde is not None or step.closed.size or joints
         args = (step.v_tilde if moved else None, step.q_tilde, step.step.friction_work)
-        record = pending_record(step.model, phase, *args, step.works, step.release)
+        record = pending_record(step.model, phase, *args, step.works, step.release, step.kept)
     return State(
         *at,
         h=step.h,

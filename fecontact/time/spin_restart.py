@@ -21,18 +21,19 @@ __all__ = ["jumped"]
 
 
 def jumped(spins: bool, model, state, W, impulses, accelerations) -> None:
-    """v (all dofs; ``state`` = (q, v)) += W (free dofs), in place; where the run ``spins``
+    """v (all dofs; ``state`` = (q, v, ṽ)) += W (free dofs), in place; where the run ``spins``
     (decided once: :attr:`~fecontact.time.settings.RunSettings.spins`) and a contact takes
     an impulse (``impulses``, N s, of the closed contacts), the gyroscopic forces' change
-    added to each array of ``accelerations`` (v̇, a; all dofs; in place). A jump of the
-    joints alone (their velocity projection, each step of the heavy top) leaves v̇ and a
-    as they are."""
-    q, v = state
+    from ṽ, the smooth step's velocity that v̇ and a follow (v before a momentum hold moved
+    it, :mod:`.momentum_rigid`), added to each array of ``accelerations`` (v̇, a; all dofs;
+    in place). A jump of the joints alone (their velocity projection, each step of the
+    heavy top) leaves v̇ and a as they are."""
+    q, v, v_smooth = state
     F = model.free_slice
     if not spins or not np.any(impulses > 0.0):
         v[F] += W
         return
-    before = inertial_forces(model, q, v, tangent=False)[0]
+    before = inertial_forces(model, q, v_smooth, tangent=False)[0]
     v[F] += W
     change = model.solve_M(before - inertial_forces(model, q, v, tangent=False)[0])
     for x in accelerations:
