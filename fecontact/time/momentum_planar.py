@@ -27,8 +27,8 @@ joints (a joint's force on one body of a pair is external to it).
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
+
+from .momentum_rigid import body_groups
 
 __all__ = ["PlanarMomentum", "planar_momentum"]
 
@@ -64,29 +64,16 @@ class PlanarMomentum:
         rows = touch.any(axis=1)
         # a row that also acts on dofs outside these bodies (a solid, a beam) taints its group
         outside = np.count_nonzero(G, axis=1) > np.count_nonzero(Gr, axis=1)
-        for group in _groups(touch[rows], outside[rows]):
+        # (a lone free body is pushed by an obstacle: its L is not its own)
+        for group in body_groups(touch[rows], outside[rows]):
+            if group.size < 2:
+                continue
             members = [self.bodies[a] for a in group]
             cols = (3 * group[:, None] + np.arange(3)).ravel()
             G_group = Gr[rows][touch[rows][:, group].any(axis=1)][:, cols]
             if _objective(G_group, _rigid_fields(members, q)):
                 _put_back(members, q_tilde, q, v, dv)
         return dv
-
-
-def _groups(touch: np.ndarray, outside: np.ndarray) -> list[np.ndarray]:
-    """The bodies joined by rows (``touch``: rows × bodies), one index array per connected
-    group of two or more, leaving out every group one of whose rows also acts on other
-    bodies (``outside``). (A lone free body is pushed by an obstacle: its L is not its own.)"""
-    links = sp.csr_matrix(touch.T.astype(float) @ touch.astype(float))
-    count, label = connected_components(links, directed=False)
-    used = np.flatnonzero(touch.any(axis=0))
-    tainted = np.unique(label[np.flatnonzero(touch[outside].any(axis=0))])
-    out = []
-    for g in range(count):
-        group = np.flatnonzero(label == g)
-        if group.size > 1 and np.isin(group, used).all() and g not in tainted:
-            out.append(group)
-    return out
 
 
 def _rigid_fields(members, q) -> np.ndarray:

@@ -47,7 +47,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["RigidMomentum", "common_normal", "rigid_momentum"]
+__all__ = ["RigidMomentum", "body_groups", "common_normal", "rigid_momentum"]
 
 OBJECTIVE = 1e-10
 """Rates G f of the group's rigid fields below this fraction of max|G| · max|f| are zero: a
@@ -86,7 +86,7 @@ class RigidMomentum:
         if self.frictional:
             _hold_spins(self.bodies, _lone(touch, outside), q_tilde, q, v, dv)
             held = v + dv
-        for group in _groups(touch[rows], outside[rows]):
+        for group in body_groups(touch[rows], outside[rows]):
             members = [self.bodies[a] for a in group]
             g_rows = Gr[rows][touch[rows][:, group].any(axis=1)]
             cols = np.concatenate([np.arange(6 * a, 6 * a + 6) for a in group])
@@ -109,7 +109,7 @@ class RigidMomentum:
         return None if n is None else n[:, None]
 
 
-def _groups(touch: np.ndarray, outside: np.ndarray):
+def body_groups(touch: np.ndarray, outside: np.ndarray) -> list[np.ndarray]:
     """The bodies joined by rows (``touch``: rows × bodies), one list per connected group,
     leaving out every group one of whose rows also acts on other bodies (``outside``)."""
     label = np.arange(touch.shape[1])
