@@ -212,3 +212,14 @@ def test_import_is_light():
     code = f"import sys, fecontact; print(sorted(set(sys.modules) & {heavy!r}))"
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert proc.returncode == 0 and proc.stdout.strip() == "[]", proc.stdout + proc.stderr
+
+
+def test_a_quiet_run_of_graded_balls_prints_nothing(tmp_path):
+    """The graded ball's refinement goes through scikit-fem's adaptive bisection, which logs
+    its own array copies as warnings: a quiet run must not pass them on."""
+    cmd = [sys.executable, "-m", "fecontact", "run", "two_balls", "--t-end", "1e-4"]
+    done = subprocess.run(
+        [*cmd, "--quiet", "--out", str(tmp_path)], capture_output=True, text=True, cwd=ROOT
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout == "" and done.stderr == ""

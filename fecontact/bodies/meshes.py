@@ -7,6 +7,8 @@ tetrahedra and hexahedra (3D), with linear or quadratic (P2) geometry.
 
 from __future__ import annotations
 
+import logging
+from contextlib import contextmanager
 from dataclasses import replace
 
 import numpy as np
@@ -136,6 +138,20 @@ def disk_mesh(center, radius: float, refinements: int):
     return m.scaled(r).translated(c)
 
 
+@contextmanager
+def _quiet_refinement():
+    """scikit-fem's adaptive refinement builds its arrays in Fortran order and logs each copy
+    to C order as a warning (beyond 1000 cells): a detail of its own, not of the user's mesh,
+    which printed through a quiet run."""
+    log = logging.getLogger("skfem.mesh.mesh")
+    level = log.level
+    log.setLevel(logging.ERROR)
+    try:
+        yield
+    finally:
+        log.setLevel(level)
+
+
 def ball_mesh(center, radius: float, refinements: int, quadratic: bool = False):
     """Ball of ``radius`` (m) at ``center`` (3-vector, m), tetrahedra refined ``refinements``
     times (8^refinements × 8 elements; at most 6: 2^21 elements), boundary vertices on the
@@ -170,7 +186,8 @@ def graded_ball_mesh(
         marked = np.flatnonzero(np.max(edges, axis=0) > h + grading * distance)
         if marked.size == 0:
             break
-        mesh = mesh.refined(marked)
+        with _quiet_refinement():
+            mesh = mesh.refined(marked)
         before = np.sign(_volumes(mesh.p, mesh.t))
         mesh = skfem.MeshTet(_on_sphere(mesh.p, mesh.boundary_nodes(), c, r), mesh.t)
         # the projection moves a vertex by about Δx²/(8R): no cell may turn inside out
