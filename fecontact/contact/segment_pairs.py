@@ -60,6 +60,7 @@ class SegmentCircleContact(PairDefaults):
         self.joints = None  # (m,) the segment starting at each one's end and ending at its start
         if joints:
             self.joints = _chain(self.segments, body.n_nodes)
+            self.hides_rows = True
 
     @property
     def size(self) -> int:
@@ -99,6 +100,12 @@ class SegmentCircleContact(PairDefaults):
         _, _, xi, dist, _ = self._closest(q)
         g = dist - self.obstacle.radius - self.clearance
         return np.where(self._used(xi), g, np.inf)
+
+    def reach(self, q: np.ndarray) -> np.ndarray:
+        """Every segment's distance (m,) to the circle, a row left out at its node included:
+        the node can dent within a correction, and the row then holds the segment."""
+        _, _, _, dist, _ = self._closest(q)
+        return dist - self.obstacle.radius - self.clearance
 
     def evaluate(self, q: np.ndarray):
         """Gaps (m,), dof indices (m, 4), gradient values (m, 4), Hessians (m, 4, 4)."""
