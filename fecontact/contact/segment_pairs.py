@@ -19,7 +19,10 @@ point is the node it shares with the next segment (ξ = 1), or with a previous s
 closest point lies inside it (ξ = 0), reads g = +∞ (no row). The node then lies on a segment
 whose own row is at least as close, and two equal rows (both segments at the node, under a
 peg on a node's normal) or nearly equal ones (one just inside its segment) are never both
-held: those made the multipliers least-squares at every step.
+held: those made the multipliers least-squares at every step. A row left out is still a
+candidate of the correction by its distance (:meth:`SegmentCircleContact.reach`): a
+correction that dents the node under a peg makes both segments' closest points inner, two
+touching points, and holds the second one too (before, the step was retaken).
 """
 
 from __future__ import annotations
