@@ -8,6 +8,7 @@ import pytest
 from fecontact import Model
 from fecontact.bodies import LinearElastic, Solid
 from fecontact.contact import Circle, Contact
+from fecontact.contact.contact_set import candidates
 from fecontact.contact.node_pairs import NodeContact
 from fecontact.contact.segment_pairs import SegmentCircleContact
 from fecontact.simulation import Simulation, run
@@ -18,13 +19,14 @@ R = 0.05
 SOFT = LinearElastic(1e6, 0.3, rho=1000.0)
 
 
-def disk_at_peg(under: bool, mu: float):
-    """A disk (R, 41 boundary nodes, edges 12.5 mm) at 1 m/s along x onto a fixed peg of R/5
-    on the line of its pole node (``under``) or half an edge off it (between two nodes)."""
+def disk_at_peg(under: bool, mu: float, restitution: float = 0.0, off: float = 0.0):
+    """A disk (R, 41 boundary nodes, edges 12.5 mm) along x onto a fixed peg of R/5 on the
+    line of its pole node (``under``; ``off`` (m) off it) or half an edge off it (between two
+    nodes)."""
     disk = Solid.disk([-1.2 * R - 0.001, 0.0], R, 2, SOFT)
-    circle = Circle([0.0, 0.0 if under else 0.5 * disk.min_edge_length], 0.2 * R)
-    model = Model([disk], [Contact(disk, circle, friction=mu)], (0.0, 0.0))
-    return disk, circle, model
+    circle = Circle([0.0, off if under else 0.5 * disk.min_edge_length], 0.2 * R)
+    pair = Contact(disk, circle, friction=mu, restitution=restitution)
+    return disk, circle, Model([disk], [pair], (0.0, 0.0))
 
 
 def peg_depth(disk, circle, q) -> float:
@@ -93,3 +95,36 @@ def test_a_thin_peg_stays_out_of_the_boundary(under, mu, tmp_path):
     # the two segments at a node never both hold it (before: least-squares multipliers at
     # every step under the node) and a row changing segment at the node retakes no step
     assert summary["least_squares_multipliers"] == 0 and summary["step_halvings"] == 0
+
+
+def test_a_row_left_out_at_a_convex_node_is_a_candidate():
+    disk, circle, model = disk_at_peg(True, 0.0)
+    pair = model.contacts.pairs[0]
+    q = np.zeros(model.n)
+    q[: disk.ndof] = model.translation(disk, (0.001, 0.0))[: disk.ndof]
+    pole = np.argmax(disk.positions(q[: disk.ndof])[:, 0])
+    at_pole = np.flatnonzero(np.any(pair.segments == pole, axis=1))
+    # one segment at the pole reads no row, yet its distance (the node's, 0 to round-off)
+    # makes it a candidate: a correction that dents the node makes it a row
+    assert np.count_nonzero(np.isinf(pair.gaps(q)[at_pole])) == 1
+    assert np.allclose(pair.reach(q)[at_pole], 0.0, atol=1e-15)
+    cand = candidates(model.contacts, q, model.contacts.gaps(q), 1e-3)
+    assert set(at_pole) <= set(cand)
+
+
+@pytest.mark.parametrize("off", [0.0, 1e-9])
+def test_a_node_dented_within_a_correction_is_held_by_both_segments(off, tmp_path):
+    # 10 m/s, e_N 1: at 0.54 ms the predictor has the pole node convex under the peg (one
+    # row) and the correction dents it, the peg then touching both segments inside them
+    # (xi 0.026 and 0.974); before, the second segment was no candidate and the step was
+    # retaken with the peg 6.6e-6 m into it
+    disk, _, model = disk_at_peg(True, 0.3, restitution=1.0, off=off)
+    v0 = model.translation(disk, (10.0, 0.0))
+    sim = Simulation(model, dt=1.08e-4, t_end=0.0012, v0=v0)
+    summary = run(sim, tmp_path, frames=False, checkpoint_every=0)
+    assert summary["status"] == "completed"
+    assert summary["step_halvings"] == 0 and summary["penetration_retakes"] == 0
+    assert summary["least_squares_multipliers"] == 0
+    # the correction holds the gaps to its tolerance, 1e-12 of the model's size (measured
+    # 2.7e-15 m)
+    assert summary["max_penetration"] <= 1e-12

@@ -54,6 +54,9 @@ class PairDefaults:
     # True: the pair decides which rows it has at each evaluation, and can hold that choice
     # from one configuration (``hold_rows(q)`` … ``release_rows()``: a Newton loop)
     holds_rows = False
+    # True: some rows read +∞ (no row) where another row holds their point, and ``reach(q)``
+    # gives each row's distance for the choice of candidates
+    hides_rows = False
 
     def points(self) -> np.ndarray:
         """The point (an int per row, the pair's own numbering) each row holds: rows of one
@@ -72,6 +75,12 @@ class PairDefaults:
     def gaps(self, q: np.ndarray) -> np.ndarray:
         """The gaps g_j(q) (m) alone; pairs with a cheaper path than ``evaluate`` override."""
         return self.evaluate(q)[0]
+
+    def reach(self, q: np.ndarray) -> np.ndarray:
+        """Each row's distance (m) that decides whether it is a candidate: its gap, or for
+        ``hides_rows`` pairs also a hidden row's distance (a row that can appear within a
+        step's correction)."""
+        return self.gaps(q)
 
     def admissible_gaps(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
         """The gaps (m) that admit a state at t = 0, from this pair's rows at q: the rows

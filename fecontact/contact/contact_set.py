@@ -14,7 +14,14 @@ from .mortar_interface import merge_interfaces
 from .mortar_safeguard import twin_rows
 from .watch import solid_watches
 
-__all__ = ["ContactSet", "admissible_gaps", "held_together", "rows_held", "whole_points"]
+__all__ = [
+    "ContactSet",
+    "admissible_gaps",
+    "candidates",
+    "held_together",
+    "rows_held",
+    "whole_points",
+]
 
 
 class ContactSet(FrictionRows):
@@ -267,6 +274,17 @@ class ContactSet(FrictionRows):
             )
             offset += m
         return f
+
+
+def candidates(contacts: ContactSet, q: np.ndarray, g: np.ndarray, margin: float) -> np.ndarray:
+    """The contacts within ``margin`` (m) at q (``g``: their gaps there), and the rows that a
+    ``hides_rows`` pair leaves out at q with their distance within it: a correction can make
+    them rows (a solid's node dented under a peg), and then holds them."""
+    near = g <= margin
+    for i, pair in enumerate(contacts.pairs):
+        if pair.hides_rows:
+            near[contacts.owner == i] |= pair.reach(q) <= margin
+    return near.nonzero()[0]
 
 
 def held_together(contacts: ContactSet, closed: np.ndarray, held: np.ndarray) -> np.ndarray:

@@ -19,7 +19,10 @@ point is the node it shares with the next segment (ξ = 1), or with a previous s
 closest point lies inside it (ξ = 0), reads g = +∞ (no row). The node then lies on a segment
 whose own row is at least as close, and two equal rows (both segments at the node, under a
 peg on a node's normal) or nearly equal ones (one just inside its segment) are never both
-held: those made the multipliers least-squares at every step.
+held: those made the multipliers least-squares at every step. A row left out is still a
+candidate of the correction by its distance (:meth:`SegmentCircleContact.reach`): a
+correction that dents the node under a peg makes both segments' closest points inner, two
+touching points, and holds the second one too (before, the step was retaken).
 """
 
 from __future__ import annotations
@@ -60,6 +63,7 @@ class SegmentCircleContact(PairDefaults):
         self.joints = None  # (m,) the segment starting at each one's end and ending at its start
         if joints:
             self.joints = _chain(self.segments, body.n_nodes)
+            self.hides_rows = True
 
     @property
     def size(self) -> int:
@@ -99,6 +103,12 @@ class SegmentCircleContact(PairDefaults):
         _, _, xi, dist, _ = self._closest(q)
         g = dist - self.obstacle.radius - self.clearance
         return np.where(self._used(xi), g, np.inf)
+
+    def reach(self, q: np.ndarray) -> np.ndarray:
+        """Every segment's distance (m,) to the circle, a row left out at its node included:
+        the node can dent within a correction, and the row then holds the segment."""
+        _, _, _, dist, _ = self._closest(q)
+        return dist - self.obstacle.radius - self.clearance
 
     def evaluate(self, q: np.ndarray):
         """Gaps (m,), dof indices (m, 4), gradient values (m, 4), Hessians (m, 4, 4)."""

@@ -34,7 +34,7 @@ import time
 
 import numpy as np
 
-from ..contact.contact_set import held_together, rows_held
+from ..contact.contact_set import candidates, held_together, rows_held
 from ..ledger import pending_record
 from .alpha_step import SmoothStep, alpha_plan, alpha_smooth_step
 from .configuration import plus
@@ -165,7 +165,7 @@ class _Phases:
         g_tilde = self.g_tilde
         if opts.depth_check:  # (decided once: without solid pairs no node can enter)
             check_predictor(model, q, g_tilde, st.q)
-        cand = (g_tilde <= opts.detection_margin * model.length).nonzero()[0]
+        cand = candidates(model.contacts, q, g_tilde, opts.detection_margin * model.length)
         self.nu, self.impulse, self.gaps, self.cand = np.zeros(m), np.zeros(m), g_tilde, cand
         if not cand.size:  # (most steps: nothing to correct, and no gap tolerance to use)
             self.tol_gap, self.closed = 0.0, cand
