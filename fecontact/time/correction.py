@@ -190,11 +190,11 @@ class MomentumKept:
             m = (M @ b.translation_field([1.0, 0.0, 0.0]))[::6]
             self.bodies.append((b, s, model.free_index[s], M, m))
 
-    def __call__(self, q_tilde, q, v, G) -> np.ndarray:
+    def __call__(self, q_tilde, q, v, G, GT=None) -> np.ndarray:
         """The increment (all dofs) of the velocity ``v`` (ṽ) that holds each body's angular
         momentum (kg·m²/s) about its contacts' common normal at its value at (q̃, ṽ) after the
         correction to ``q``; ``G``: the gradients (free dofs) of the correction's contacts."""
-        dv = np.zeros_like(v) if self.rigid is None else self.rigid(q_tilde, q, v, G)
+        dv = np.zeros_like(v) if self.rigid is None else self.rigid(q_tilde, q, v, G, GT)
         if self.planar is not None:
             dv += self.planar(q_tilde, q, v, G)
         for b, s, free, M, m in self.bodies:
@@ -235,7 +235,10 @@ def momentum_held(kept, model, q_tilde, q, v, work) -> tuple[np.ndarray, np.ndar
     without such bodies: :func:`momentum_kept`)."""
     if kept is None:
         return v, None
-    dv = kept(q_tilde, q, v, model.contacts.linearize(q, work)[1])
+    GT = None
+    if kept.rigid is not None and kept.rigid.frictional:
+        GT = model.contacts.tangent_jacobian(q, work)[0]
+    dv = kept(q_tilde, q, v, model.contacts.linearize(q, work)[1], GT)
     return v + dv, dv
 
 

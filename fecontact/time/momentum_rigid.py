@@ -33,9 +33,12 @@ torque τ, which sums to (h t/2) α × ω over a slide (first order: a ball spin
 vertical). In a frictional model the spin R J Ω of each free body that only fixed
 obstacles touch is held in space through the correction, Ω ← J⁻¹RᵀR̃JΩ̃ (bodies it does
 not turn are left as they are); its change of ½ΩᵀJΩ (J not isotropic) is the ledger's
-``momentum hold`` (:mod:`fecontact.ledger`). Bodies in contact with each other are left to
-the group rule above (a box dropped on a box, held too, went onto a path where p × 1000's
-frictional correction did not settle: docs/validation/multibody.md).
+``momentum hold`` (:mod:`fecontact.ledger`). Bodies in contact with each other take, of
+the velocity changes that leave every row's normal and slip rate as it is, the one nearest
+in kinetic energy to that hold (:func:`hold_pressed_spins`): the contact law at the points
+sees no change, and what the rows act on is left to them (a ball sliding on a free box
+keeps its spin about the normal; a box resting flat on another keeps almost nothing). The
+group rule above then puts back a free group's total L.
 
 Decided once per model: the free ``RigidBody3D`` bodies (no support), in a model without
 joints (a joint's force on one body of a pair is external to it; the joints' velocity
@@ -72,24 +75,28 @@ class RigidMomentum:
                 self.bodies.append((b, s, model.free_index[s]))
         self.columns = np.concatenate([f for _, _, f in self.bodies]) if self.bodies else None
 
-    def __call__(self, q_tilde, q, v, G) -> np.ndarray:
+    def __call__(self, q_tilde, q, v, G, GT) -> np.ndarray:
         """The increment (all dofs) of the velocity ``v`` (ṽ) that holds the components of
         the angular momentum (kg·m²/s) the contact forces conserve at their value at
         (q̃, ṽ) after the correction to ``q``; ``G``: the correction's contacts' gradients
-        (dense, free dofs)."""
+        (dense, free dofs), ``GT`` their slip rows (rows, nt, free dofs; None without
+        friction)."""
         dv = np.zeros_like(v)
         Gr = G[:, self.columns]
         rows = np.abs(Gr).max(axis=1) > 0.0
         outside = np.count_nonzero(G, axis=1) > np.count_nonzero(Gr, axis=1)  # other bodies
         touch = np.abs(Gr).reshape(len(G), len(self.bodies), 6).max(axis=2) > 0.0
-        held = v
         if self.frictional:
             _hold_spins(self.bodies, _lone(touch, outside), q_tilde, q, v, dv)
-            held = v + dv
         for group in body_groups(touch[rows], outside[rows]):
             members = [self.bodies[a] for a in group]
             g_rows = Gr[rows][touch[rows][:, group].any(axis=1)]
             cols = np.concatenate([np.arange(6 * a, 6 * a + 6) for a in group])
+            if self.frictional and len(group) > 1:
+                slips = GT[rows & touch[:, group].any(axis=1)][:, :, self.columns]
+                fixed = np.vstack([g_rows, slips.reshape(-1, len(self.columns))])
+                hold_pressed_spins(members, fixed[:, cols], (q_tilde, q, v), dv)
+            held = v + dv
             axes = self._held_axes(members, q, g_rows[:, cols])
             if axes is not None:
                 _put_back(members, (q_tilde, v), (q, held), dv, axes)
@@ -163,6 +170,35 @@ def _hold_spins(bodies, lone, q_tilde, q, v, dv) -> None:
         W = v[s][3:6]
         spin = b.rotation(q_tilde[s]) @ (b.J @ W)
         dv[s][3:6] = np.linalg.solve(b.J, b.rotation(q[s]).T @ spin) - W
+
+
+def hold_pressed_spins(members, G, states, dv) -> None:
+    """Add to ``dv`` the spin hold of a group of bodies pressed against each other (rows
+    ``G`` on the group's 6 k dofs): of the velocity changes that leave every row's rate G v
+    as it is, the one nearest in kinetic energy to holding each body's R J Ω in space
+    (Ω ← J⁻¹RᵀR̃JΩ̃); ``states``: (q̃, q, ṽ)."""
+    q_tilde, q, v = states
+    target = np.zeros((len(members), 6))
+    for a, (b, s, _) in enumerate(members):
+        if not np.array_equal(q_tilde[s][3:6], q[s][3:6]):
+            W = v[s][3:6]
+            spin = b.rotation(q_tilde[s]) @ (b.J @ W)
+            target[a, 3:] = np.linalg.solve(b.J, b.rotation(q[s]).T @ spin) - W
+    if not target.any():
+        return
+    # S Sᵀ = M⁻¹ per body (J = C Cᵀ): with y = S⁻¹ δv the kinetic metric is Euclidean, and
+    # y's part in the null space of G S keeps the rates (a least-squares projection: the
+    # rows of a box resting flat on another are dependent)
+    S = np.zeros((len(members), 6, 6))
+    for a, (b, _, _) in enumerate(members):
+        S[a, :3, :3] = np.eye(3) / np.sqrt(b.mass)
+        S[a, 3:, 3:] = np.linalg.inv(np.linalg.cholesky(b.J)).T
+    y = np.einsum("aij,aj->ai", np.linalg.inv(S), target).ravel()
+    A = G.reshape(len(G), len(members), 6)
+    A = np.einsum("rai,aij->raj", A, S).reshape(len(G), -1)
+    y = (y - np.linalg.lstsq(A, A @ y, rcond=None)[0]).reshape(len(members), 6)
+    for a, (_, s, _) in enumerate(members):
+        dv[s] += S[a] @ y[a]
 
 
 def _put_back(members, before, after, dv, axes) -> None:
