@@ -26,11 +26,13 @@ __all__ = [
 class NewtonStats:
     """Smooth Newton updates (:mod:`fecontact.time.descent`): all of them, the halvings of
     their length by the line search, and the directions recomputed with a mass shift (not
-    descending)."""
+    descending); ``roundoff_accepts`` the lengths whose decrease test passed only within
+    the round-off of the strain energy's change (:func:`fecontact.time.descent.energy_roundoff`)."""
 
     iterations: int = 0
     line_search_cuts: int = 0
     shifted_directions: int = 0
+    roundoff_accepts: int = 0
 
 
 @dataclass
