@@ -188,6 +188,8 @@ class StepStats:
             "sparse_factorizations": asdict(self.factorizations),
             # redundant active constraints whose multipliers came from least squares
             "least_squares_multipliers": self.contact.least_squares,
+            # active rows merged into their duplicate (a node's row from two clipped segments)
+            "duplicate_rows": self.contact.duplicate_rows,
             # smooth-step updates on an independent subset of redundant bordering rows
             "redundant_row_updates": self.contact.redundant_row_updates,
             # ... and those whose persistent rows were solved whole as the linearised law
