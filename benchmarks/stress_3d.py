@@ -211,6 +211,7 @@ FALLBACKS = (
     ("step_halvings",),
     ("penetration_retakes",),
     ("least_squares_multipliers",),
+    ("duplicate_rows",),
     ("smooth_newton", "line_search_cuts"),
     ("velocity_follow_ups", "shortened"),
     ("steps_rejected",),

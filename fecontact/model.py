@@ -130,11 +130,11 @@ class Model:
         self.solver = LinearSolver(modes=self.rigid_modes)
 
     def _measure_sizes(self, contacts) -> None:
-        """The model size ``length`` (m), the unit of each free dof's updates, and the extent
-        of the coordinates that gaps are computed from."""
+        """The model size ``length`` (m), the unit of each free dof's updates, the extent of
+        the coordinates that gaps are computed from, ∫E dV (J; W's round-off, ``descent``)."""
         self.length = max(b.characteristic_length for b in self.bodies)
-        # the unit of each free dof's updates: the model size for translations, 1 rad else
-        ones = np.ones(self.dim)
+        self.stiffness_volume = float(sum(b.stiffness_volume for b in self.bodies))
+        ones = np.ones(self.dim)  # (units: the model size for translations, 1 rad else)
         moves = np.concatenate([b.translation_field(ones) for b in self.bodies]) != 0
         self._update_unit = np.where(moves, self.length, 1.0)[self.free]
         self._reference = [b.positions(np.zeros(b.ndof)) for b in self.bodies]

@@ -235,7 +235,9 @@ def test_a_strike_that_turns_the_struck_nodes_too_far_is_bounded(dim, speed):
     vector represents. Now an update bordered by rows is cut to a quarter turn (the plane's
     first: 4 rad → π/2, then 9 iterations to 7.5e3 N on each row) and a step whose predictor
     or smooth step turns a node further is halved: both complete, the ball stays out of the
-    tube, and they create 1.50e-2 and 9.34e-3 of their scale (space at 100 m/s 1.54e-2).
+    tube, and they create 1.54e-2 and 9.34e-3 of their scale (space at 100 m/s 1.54e-2;
+    the plane read 1.50e-2 while two of its smooth steps were halved where the line search
+    read the strain energy's round-off as an increase, fecontact/time/descent.py).
     Without the energy retakes: with them (the default) the planar strike no longer turns
     its nodes that far (no update cut, 7.3e-4 of its scale created; space 7 cuts, 7.05e-3;
     measured), and the bound is what is tested here."""
@@ -244,4 +246,4 @@ def test_a_strike_that_turns_the_struck_nodes_too_far_is_bounded(dim, speed):
     assert impulse > 0.0 and stats.turns.cut_updates >= 1
     assert depth <= 1e-9  # the position correction's tolerance on the gaps (m)
     # measured, to the three digits stated
-    assert created <= {2: 1.50e-2, 3: 9.34e-3}[dim] * 1.005
+    assert created <= {2: 1.54e-2, 3: 9.34e-3}[dim] * 1.005

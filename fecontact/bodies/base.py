@@ -31,6 +31,7 @@ class Body(Protocol):
     dofs_per_node: int
     n_nodes: int  # nodes (output points of a rigid body)
     mass: float  # kg, point masses included
+    stiffness_volume: float  # ∫E dV (J): Young's modulus over the elastic volume, 0 if rigid
     characteristic_length: float  # m: the size of the body (beam length, box diagonal, ...)
     linear: bool  # internal force affine in q: the iteration matrix is constant
     linear_kinematics: bool  # node positions affine in q
@@ -86,6 +87,7 @@ class BodyDefaults:
     continuum = False
     slender = False
     energy_consistent = False  # has algorithmic_force (the energy-decaying smooth step)
+    stiffness_volume = 0.0  # no elastic volume
     center_index = None
     # no rotation vectors: every dof adds (planar rotations, displacements)
     rotation_triples = np.zeros((0, 3), dtype=int)

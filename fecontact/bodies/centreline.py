@@ -43,6 +43,11 @@ class Centreline(BodyDefaults):
         return self.material.rho * self.section.area * self.length
 
     @property
+    def stiffness_volume(self) -> float:
+        """∫E dV of the beam (J)."""
+        return self.material.E * self.section.area * self.length
+
+    @property
     def mass(self) -> float:
         """Mass of the beam with its point masses, kg."""
         return self.beam_mass + float(self.point_masses.sum())

@@ -63,6 +63,7 @@ class SolidMaterial(Protocol):
     """What a ``Solid`` asks of its material: density, whether the stiffness is constant, and
     the stress response S(E) (with its tangent) in the total Lagrangian form."""
 
+    E: float  # Young's modulus (Pa): the scale of the stresses a strain makes
     rho: float
     linear: bool
 

@@ -183,6 +183,11 @@ class Solid(SolidOutput, NodalTranslations):
         return float(self._mass_basis.dx.sum() * self.thickness)
 
     @property
+    def stiffness_volume(self) -> float:
+        """∫E dV of the solid (J)."""
+        return self.material.E * self.volume
+
+    @property
     def mass(self) -> float:
         """Total mass in kg."""
         return self.material.rho * self.volume

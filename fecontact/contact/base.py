@@ -45,6 +45,7 @@ class PairDefaults:
     frictional = False  # True: tangents(q) gives the slip rows of Coulomb friction
     friction = 0.0  # Coulomb's μ of every contact of the pair (set by ``Contact``)
     redundant_rows = False  # True: rows can be redundant up to round-off (minimum-norm μ)
+    duplicate_rows = False  # True: two segments clipped to their shared node: one row twice
     # True: declared with a pair of its kind the other way between the same two bodies
     # (two-pass), its rows and theirs can be redundant up to round-off where nodes meet
     meets_back = False

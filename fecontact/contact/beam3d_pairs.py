@@ -63,6 +63,7 @@ class TubeContact(PairDefaults):
 
     linear = False
     looks_ahead = True
+    duplicate_rows = True  # (two segments clipped to their shared node: one row twice)
 
     def __init__(self, body: Beam3D, restitution: float, radius: float):
         self.body = body

@@ -105,7 +105,9 @@ def unheld_correction(held, stats, again):
     ``stats.released_corrections``; else None (the frozen set stands)."""
     if held is None or not np.count_nonzero(held):
         return None
-    trial = ContactStats(minimum_norm=stats is not None and stats.minimum_norm)
+    trial = ContactStats()
+    if stats is not None:  # (the run's decisions on its rows hold in the trial)
+        trial.minimum_norm, trial.merge_duplicates = stats.minimum_norm, stats.merge_duplicates
     try:
         answer = again(trial)
     except RuntimeError:
@@ -114,7 +116,8 @@ def unheld_correction(held, stats, again):
         return None
     if stats is None:
         return answer
-    for name in ("least_squares", "frozen_active_sets", "complementary_corrections"):
+    for name in ("least_squares", "duplicate_rows", "frozen_active_sets",
+                 "complementary_corrections"):  # fmt: skip
         setattr(stats, name, getattr(stats, name) + getattr(trial, name))
     stats.released_corrections += 1
     stats.final_residuals.record("position", trial.final_residuals.position)

@@ -27,11 +27,10 @@ import math
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.linalg.lapack import dgetrf, dgetrs
 
 from .cycling_rows import COMPLEMENTARY, apart, complementary_update, unheld_correction, unsettled
+from .kkt import kkt_multipliers, schur_multipliers
 from .redundant_jump import proximal_jump
-from .stats import ContactStats
 
 __all__ = [
     "alart_curnier_residual",
@@ -57,40 +56,6 @@ def alart_curnier_residual(nu, g, p, k):
 
 
 # -- semi-smooth Newton on the Alart–Curnier residuals -------------------------------------------
-
-
-def kkt_multipliers(GA, Y, rhs, k, stats: ContactStats | None = None, rcond: float = 1e-10):
-    """Solve k (G_A Y) μ = rhs for the active multipliers (least squares if redundant, and
-    counted in ``stats.least_squares``). In a run whose rows can be redundant up to round-off
-    (``stats.minimum_norm``) a pivot below ``rcond`` of the largest counts as singular."""
-    return _kkt(k * (GA @ Y), rhs, stats, rcond)[0]
-
-
-def _kkt(S, rhs, stats, rcond=1e-10):
-    """:func:`kkt_multipliers` of the Schur matrix S = k G_A Y, and whether S was singular
-    (least squares)."""
-    if S.shape == (1, 1):  # (one row, most contact phases: getrf and getrs divide, to the bit)
-        s = S[0, 0]
-        if s != 0.0 and math.isfinite(s) and rcond < 1.0:  # (else the paths below decide)
-            return rhs / s, False
-    if stats is None or not stats.minimum_norm:
-        # (np.linalg.solve's own LAPACK path, getrf and getrs, without its 5 µs of checks
-        # on the few rows of a contact step; an exactly zero pivot is its LinAlgError)
-        lu, piv, info = dgetrf(S) if S.size else (S, None, 1)
-        if info == 0:
-            return dgetrs(lu, piv, rhs)[0], False
-        if S.size and stats is not None:
-            stats.least_squares += 1
-        return np.linalg.lstsq(S, rhs, rcond=None)[0], bool(S.size)
-    lu, piv, _ = dgetrf(S)  # (LAPACK's getrf and getrs: np.linalg.solve's own path)
-    pivots = np.abs(np.diagonal(lu))
-    # rows that meet at a concave vertex are redundant up to round-off: an LU would return
-    # their round-off amplified by a pivot near zero, the truncated SVD the minimum norm
-    if S.size and pivots.min() > rcond * pivots.max():
-        return dgetrs(lu, piv, rhs)[0], False
-    if stats is not None:
-        stats.least_squares += 1
-    return np.linalg.lstsq(S, rhs, rcond=rcond)[0], True
 
 
 def _residual(nu, g, p, k, eq, scale: float = 1.0) -> float:
@@ -436,7 +401,8 @@ def solve_velocity_jump(
             return W, Lam, it - 1
         Lam = np.zeros(m)
         if A.any():
-            Lam[A], singular = _kkt(k * (Gd[A] @ Y_all[:, A]), -c[A], stats)
+            GA = Gd[A]
+            Lam[A], singular = schur_multipliers(k * (GA @ Y_all[:, A]), -c[A], stats, GA=GA)
             redundant |= singular
         W = k * (Y_all @ Lam)
         gd = c + Gd @ W
@@ -452,7 +418,8 @@ def _held_jump(Gd, c, Y, law, stats):
     iteration to see the set repeat); least squares on redundant rows as there."""
     p, k, eq, tol, scale = law
     # (the rows taken as the loop takes a set: copies in its layout, the same round-off)
-    Lam, singular = _kkt(k * (Gd[eq] @ Y[:, eq]), -c[eq], stats)
+    GA = Gd[eq]
+    Lam, singular = schur_multipliers(k * (GA @ Y[:, eq]), -c[eq], stats, GA=GA)
     W = k * (Y @ Lam)
     gd = c + Gd @ W
     if singular:

@@ -247,6 +247,7 @@ class DiskBeamContact(_Pair):
         self._start = None  # line coordinates (t₀, f₀) of the centre at the step's start
 
     redundant_rows = True  # (two elements clipped to their shared node: one row twice)
+    duplicate_rows = True
 
     def _project(self, P, x):
         """Parameter ξ ∈ [0, 1] of the closest point of each element, distance from P to the

@@ -50,6 +50,7 @@ class SegmentCircleContact(PairDefaults):
 
     linear = False
     frictional = True
+    duplicate_rows = True  # (two segments clipped to their shared node: one row twice)
 
     def __init__(
         self, body, obstacle: Circle, restitution=0.0, clearance=0.0, segments=None, joints=False

@@ -82,6 +82,9 @@ class ContactStats:
     frictional solves."""
 
     least_squares: int = 0
+    # active rows merged into a duplicate of theirs (a node's row from two segments clipped
+    # to it) before the multipliers' solve (:mod:`fecontact.contact.kkt`)
+    duplicate_rows: int = 0
     # smooth-step Newton updates whose bordered matrix was singular because the touching
     # rows were redundant (four corners of a rigid face on a plane): taken on a maximal
     # independent subset of the rows, the others' multipliers kept
@@ -104,7 +107,10 @@ class ContactStats:
     # repeated, were solved whole as the linearised law (:mod:`fecontact.time.smooth_redundant`)
     complementary_smooth_updates: int = 0
     # decided once per run: the model has pairs whose rows can be redundant up to round-off
-    # (:func:`fecontact.contact.laws.kkt_multipliers` then reads the LU's pivots)
+    # (:func:`fecontact.contact.kkt.kkt_multipliers` then reads the LU's pivots)
     minimum_norm: bool = False
+    # decided once per run: the model has pairs whose rows can be one row twice
+    # (:func:`fecontact.contact.kkt.schur_multipliers` then merges them)
+    merge_duplicates: bool = False
     final_residuals: FinalResiduals = field(default_factory=FinalResiduals)
     coulomb: CoulombStats = field(default_factory=CoulombStats)

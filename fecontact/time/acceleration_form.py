@@ -34,7 +34,7 @@ from .constraints import (
     independent_rows,
     plus_curvature,
 )
-from .descent import Armijo, descent_direction, group_direction
+from .descent import Armijo, descent_direction, energy_roundoff, group_direction
 from .generalized_alpha import predict
 from .lie import LieStep, predict_increment
 from .terms import StepContext
@@ -250,7 +250,8 @@ class AccelerationForm:
         if test[-1] is None:  # below the increment tolerance: taken whole
             self.small = True
             return dq
-        self.armijo = Armijo(self.step.X.copy(), dq, *test, elastic.W, res)
+        floor = energy_roundoff(model, elastic.W)
+        self.armijo = Armijo(self.step.X.copy(), dq, *test, elastic.W, res, floor)
         # Newton's own direction, measured by the descent test: above the tolerance
         self.small = False if opts.stats.newton.shifted_directions == shifts else None
         return dq
@@ -386,7 +387,7 @@ def _armijo(form: AccelerationForm, it: int) -> None:
     again."""
     step, elastic, lie = form.step, form.newton.elastic, form.lie
     armijo, form.armijo = form.armijo, None
-    if not armijo.accepts(elastic.W):
+    if not armijo.accepts(elastic.W, form.opts.stats.newton):
         s = armijo.backtrack(form.model, form.opts.stats.newton, lie)
         step.X[:] = armijo.X
         step.X[:, form.model.free_slice] += np.multiply.outer(step.c.w, s * armijo.dq)

@@ -151,6 +151,10 @@ def run_settings(
     run_stats = StepStats() if stats is None else stats
     # rows that can be redundant (planes through one point) take minimum-norm multipliers
     run_stats.contact.minimum_norm = model.contacts.redundant_rows
+    # pairs whose segments clip to a shared node give its row twice: merged in the KKT solve
+    run_stats.contact.merge_duplicates = any(
+        getattr(p, "duplicate_rows", False) for p in contacts.pairs
+    )
     return RunSettings(
         **values,
         smooth=smooth,

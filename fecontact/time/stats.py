@@ -26,11 +26,13 @@ __all__ = [
 class NewtonStats:
     """Smooth Newton updates (:mod:`fecontact.time.descent`): all of them, the halvings of
     their length by the line search, and the directions recomputed with a mass shift (not
-    descending)."""
+    descending); ``roundoff_accepts`` the lengths whose decrease test passed only within
+    the round-off of the strain energy's change (:func:`fecontact.time.descent.energy_roundoff`)."""
 
     iterations: int = 0
     line_search_cuts: int = 0
     shifted_directions: int = 0
+    roundoff_accepts: int = 0
 
 
 @dataclass
@@ -186,6 +188,8 @@ class StepStats:
             "sparse_factorizations": asdict(self.factorizations),
             # redundant active constraints whose multipliers came from least squares
             "least_squares_multipliers": self.contact.least_squares,
+            # active rows merged into their duplicate (a node's row from two clipped segments)
+            "duplicate_rows": self.contact.duplicate_rows,
             # smooth-step updates on an independent subset of redundant bordering rows
             "redundant_row_updates": self.contact.redundant_row_updates,
             # ... and those whose persistent rows were solved whole as the linearised law
