@@ -12,7 +12,8 @@ class FrictionRows:
     """Slip rows of the frictional pairs of a contact set; the set provides ``pairs``,
     ``owner`` and ``local`` (each contact's pair and its number there), the same of its
     evaluation ``units`` (``unit_owner``, ``unit_local``: pairs alone or several of one
-    kind together), ``free_index``, ``n_free`` and ``size``."""
+    kind together), ``free_index``, ``n_free``, ``size`` and ``moving`` (whether an
+    obstacle moves)."""
 
     def _frictional(self, select: np.ndarray, units: bool = True):
         """(unit or pair, rows of ``select``, its own numbers of them) of the units (or the
@@ -85,6 +86,8 @@ class FrictionRows:
         contact ``select`` at its current time, (len(select), d), zero for bodies and fixed
         obstacles; None when no obstacle moves. A moving obstacle drags the slip, which counts
         relative to it."""
+        if not self.moving:  # (decided with the set: no pair to ask)
+            return None
         out, offset = None, 0
         for pair in self.pairs:
             o = pair.obstacle
