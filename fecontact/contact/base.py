@@ -59,6 +59,11 @@ class PairDefaults:
     # gives each row's distance for the choice of candidates
     hides_rows = False
 
+    def batch_key(self):
+        """What lets consecutive pairs be evaluated together: (a batch class taking them, …)
+        equal for pairs of one kind and setting, or None (evaluated alone)."""
+        return None
+
     def points(self) -> np.ndarray:
         """The point (an int per row, the pair's own numbering) each row holds: rows of one
         point share its impact law in the velocity jump. Every row its own point here."""

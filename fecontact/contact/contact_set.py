@@ -12,6 +12,7 @@ from ..linalg import DENSE_LIMIT
 from .friction_rows import FrictionRows
 from .mortar_interface import merge_interfaces
 from .mortar_safeguard import twin_rows
+from .pair_batches import evaluation_units
 from .watch import solid_watches
 
 __all__ = [
@@ -42,6 +43,7 @@ class ContactSet(FrictionRows):
         # each contact's number within its pair
         self.local = _per_contact(self.pairs, [np.arange(pair.size) for pair in self.pairs], int)
         self.point = _points(self.pairs)
+        self.units, self.unit_owner, self.unit_local, self._batched = evaluation_units(self.pairs)
         self._holding = [p for p in self.pairs if getattr(p, "holds_rows", False)]  # rows_held
         self._measured_by_inside_test()
         self._scatters: dict = {}
@@ -51,7 +53,7 @@ class ContactSet(FrictionRows):
         obstacles = [pair.obstacle for pair in self.pairs if pair.obstacle is not None]
         self._moving = [o for o in obstacles if o.moving]
         # the gaps alone are cheaper where a pair can skip its derivatives
-        self._gap_functions = [pair.gaps for pair in self.pairs]
+        self._gap_functions = [unit.gaps for unit in self.units]
         self._affine = _Affine(*self._affine_form()) if self._affine_and_small() else None
 
     def _measured_by_inside_test(self) -> None:
@@ -168,7 +170,7 @@ class ContactSet(FrictionRows):
             return np.zeros(0)
         if self._affine is not None:
             return self._affine.gaps(q)
-        if len(self.pairs) == 1:
+        if len(self.units) == 1:
             return self._gap_functions[0](q)
         return np.concatenate([gaps(q) for gaps in self._gap_functions])
 
@@ -193,10 +195,10 @@ class ContactSet(FrictionRows):
         if self._affine is not None:  # affine gaps: no curvature (no dense G to fill)
             return *self._affine.linearize(q, select), _curvature_matrix(C, n)
         G = np.zeros((len(select), n))
-        parts = [pair.evaluate(q) for pair in self.pairs]
+        parts = [unit.evaluate(q) for unit in self.units]
         single = len(parts) == 1
         g_all = _gaps_of(parts)
-        owner = None if single else self.owner[select]
+        owner = None if single else self.unit_owner[select]
         every = single and select is self._all  # no selection to copy
         for i, (_, dofs, Gv, H) in enumerate(parts):
             picked = self._picked(i, select, owner)
@@ -215,9 +217,8 @@ class ContactSet(FrictionRows):
         return g_all[select], G, _curvature_matrix(C, n)
 
     def _picked(self, i: int, select: np.ndarray, owner):
-        """The rows of ``select`` that are contacts of pair i and their numbers within the
-        pair, or None when it has none there (``owner``: the pair of each selected contact;
-        None for a single pair)."""
+        """The rows of ``select`` in unit i and their numbers there, or None when it has none
+        (``owner``: each selected contact's unit; None for a single unit)."""
         if owner is None:
             if select is self._all:
                 return self._all, self._all
@@ -225,18 +226,18 @@ class ContactSet(FrictionRows):
         rows = np.flatnonzero(owner == i)
         if rows.size == 0:
             return None
-        return rows, self.local[select[rows]]
+        return rows, self.unit_local[select[rows]]
 
     def _add_curvature(self, C, i, q, placed, H, weights, single: bool) -> None:
-        """C += Σ_r weights_r ∇²g_r over the selected rows of pair i; ``placed`` = (rows in
-        the selection, their numbers within the pair, the pair's dofs, their scatter). A
+        """C += Σ_r weights_r ∇²g_r over the selected rows of unit i; ``placed`` = (rows in
+        the selection, their numbers within the unit, the unit's dofs, their scatter). A
         pair with ``lazy_hessians`` is asked for those of the rows with a weight only (the
         active contacts)."""
         rows, loc, dofs, sc = placed
-        if self.pairs[i].lazy_hessians:
+        if self.units[i].lazy_hessians:
             act = np.flatnonzero(weights[rows])
             if act.size:
-                w, Ha = weights[rows[act]], self.pairs[i].hessians(q, loc[act])
+                w, Ha = weights[rows[act]], self.units[i].hessians(q, loc[act])
                 sa = self._scatter(i, rows[act], dofs[loc[act]])
                 _add_weighted(C, sa, w, Ha, assign=False)
         elif H is not None:
@@ -244,7 +245,7 @@ class ContactSet(FrictionRows):
             _add_weighted(C, sc, weights[rows], H, assign=single)
 
     def _scatter(self, i: int, rows: np.ndarray, dofs: np.ndarray):
-        """Where the gradient rows and Hessians of pair i land in G and C (cached: the dofs
+        """Where the gradient rows and Hessians of unit i land in G and C (cached: the dofs
         of most pairs never change)."""
         last = self._last_scatter.get(i)
         if last is not None and last[0] is rows and last[1] is dofs:
@@ -252,7 +253,7 @@ class ContactSet(FrictionRows):
         key = (i, rows.tobytes(), dofs.tobytes())
         sc = self._scatters.get(key)
         if sc is None:
-            sc = _Scatter(rows, self.free_index[dofs], self.n_free)
+            sc = _Scatter(rows, self.free_index[dofs], self.n_free, self._batched[i])
             if len(self._scatters) > 256:
                 self._scatters.clear()
             self._scatters[key] = sc
@@ -433,7 +434,7 @@ class _Scatter:
     dropped. The indices are flat (row × n + column): a one-dimensional fancy assignment
     costs half of a two-dimensional one on these small arrays."""
 
-    def __init__(self, rows: np.ndarray, fi: np.ndarray, n: int):
+    def __init__(self, rows: np.ndarray, fi: np.ndarray, n: int, batched: bool = False):
         k = fi.shape[1]
         r = np.repeat(rows, k)
         f = fi.ravel()
@@ -442,8 +443,9 @@ class _Scatter:
         self.g_unique = _unique(self.g_index)
         a = np.repeat(fi, k, axis=1).ravel()
         b = np.tile(fi, (1, k)).ravel()
-        # Hessians of rows on the same dofs are summed first: scattered as one row
-        self.shared = len(fi) > 1 and bool(np.all(fi == fi[0]))
+        # Hessians of a pair's rows on the same dofs are summed first: scattered as one row
+        # (a batch's rows are added pair after pair, as the pairs alone would be)
+        self.shared = len(fi) > 1 and not batched and bool(np.all(fi == fi[0]))
         if self.shared:
             a, b = np.repeat(fi[0], k), np.tile(fi[0], k)
         self.c_keep = (a >= 0) & (b >= 0)

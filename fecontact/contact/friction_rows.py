@@ -10,17 +10,22 @@ __all__ = ["FrictionRows"]
 
 class FrictionRows:
     """Slip rows of the frictional pairs of a contact set; the set provides ``pairs``,
-    ``owner`` and ``local`` (each contact's pair and its number there), ``free_index``,
-    ``n_free`` and ``size``."""
+    ``owner`` and ``local`` (each contact's pair and its number there), the same of its
+    evaluation ``units`` (``unit_owner``, ``unit_local``: pairs alone or several of one
+    kind together), ``free_index``, ``n_free``, ``size`` and ``moving`` (whether an
+    obstacle moves)."""
 
-    def _frictional(self, select: np.ndarray):
-        """(pair, rows of ``select``, the pair's own numbers of them) of the pairs with
-        friction among the contacts ``select``."""
-        owner = self.owner[select]
-        for i, pair in enumerate(self.pairs):
+    def _frictional(self, select: np.ndarray, units: bool = True):
+        """(unit or pair, rows of ``select``, its own numbers of them) of the units (or the
+        pairs) with friction among the contacts ``select``."""
+        if units:
+            owner, local, parts = self.unit_owner[select], self.unit_local, self.units
+        else:
+            owner, local, parts = self.owner[select], self.local, self.pairs
+        for i, pair in enumerate(parts):
             rows = np.flatnonzero(owner == i)
             if rows.size and pair.friction:
-                yield pair, rows, self.local[select[rows]]
+                yield pair, rows, local[select[rows]]
 
     def tangent_jacobian(self, q: np.ndarray, select: np.ndarray):
         """Slip rows of the contacts ``select``: GT (len(select), nt, n_free), zero for the
@@ -65,7 +70,8 @@ class FrictionRows:
         tangential impulses), and per dof the largest ``status`` of the contacts acting on it
         (1 stick, 2 slip), for the output of nodal friction."""
         f, flag = np.zeros(n), np.zeros(n)
-        for pair, rows, loc in self._frictional(select):
+        # pair by pair: each pair's forces summed into f in the order of the pairs
+        for pair, rows, loc in self._frictional(select, units=False):
             dofs, GT, _ = pair.tangents(q)
             dofs = np.broadcast_to(dofs, (pair.size, dofs.shape[1]))[loc]
             values = np.einsum("mt,mtk->mk", mult[rows], GT[loc])
@@ -80,6 +86,8 @@ class FrictionRows:
         contact ``select`` at its current time, (len(select), d), zero for bodies and fixed
         obstacles; None when no obstacle moves. A moving obstacle drags the slip, which counts
         relative to it."""
+        if not self.moving:  # (decided with the set: no pair to ask)
+            return None
         out, offset = None, 0
         for pair in self.pairs:
             o = pair.obstacle

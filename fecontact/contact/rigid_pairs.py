@@ -35,6 +35,7 @@ from ..bodies.rigid import Disk, Polygon, RigidBody2D, rotation
 from ..errors import InputError, check_positive, check_range
 from .base import PairDefaults
 from .beam_sides import line_coordinates, swept
+from .disk_batches import DiskDiskBatch, DiskPlaneBatch
 from .friction import tangent_basis
 from .geometry import distance_curvature, point_line_distance, polygon_distance, unit
 from .node_pairs import NodeContact
@@ -102,6 +103,12 @@ class DiskObstacleContact(_Pair):
         dofs = self.offsets[0] + np.arange(2)[None, :]
         return g - disk.shape.radius, dofs, np.array(G), H
 
+    def batch_key(self):
+        """Fixed planes, with friction or without, are evaluated together."""
+        if not isinstance(self.obstacle, Plane) or self.obstacle.moving:
+            return None
+        return DiskPlaneBatch, self.friction > 0.0
+
     frictional = True
 
     def tangents(self, q: np.ndarray):
@@ -134,6 +141,9 @@ class DiskDiskContact(_Pair):
         H = np.block([[K, -K], [-K, K]])
         dofs = np.concatenate([self.offsets[0] + np.arange(2), self.offsets[1] + np.arange(2)])
         return np.array([g]), dofs[None, :], G[None, :], H[None, :, :]
+
+    def batch_key(self):
+        return DiskDiskBatch, self.friction > 0.0
 
     frictional = True
 
