@@ -5,13 +5,19 @@ the run's timer so far, one line a step. For a run too slow to profile whole: cu
 time and read where the steps spend (``docs/validation/stress_3d.md``, the P2 balls).
 
     python benchmarks/step_counts.py two_balls --set element=P2 --set velocity=3 \\
-        --t-end 0.00016
+        --t-end 0.00016 [--out DIR]
+    python benchmarks/step_counts.py --quick   # three steps of two_balls: checks it runs
+
+The lines are printed and kept as ``step_counts.csv`` in ``--out``.
 """
 
 from __future__ import annotations
 
 import argparse
 import time
+from pathlib import Path
+
+from _common import parser, write_csv
 
 from fecontact.cli.cases import load_case
 from fecontact.cli.run import prepare
@@ -32,8 +38,8 @@ def flat(d: dict, prefix: str = "") -> dict:
 
 
 def main() -> None:
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("case")
+    p = parser(__doc__.split("\n\n")[0])
+    p.add_argument("case", nargs="?", default="two_balls")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
     p.add_argument("--t-end", type=float)
     p.add_argument("--dt", type=float)
@@ -42,9 +48,12 @@ def main() -> None:
         set=a.set, t_end=a.t_end, dt=a.dt, output_interval=None, rtol=None, debug=False
     )
     sim = prepare(load_case(a.case).build, args, a.case)
+    if a.quick:
+        sim = sim.replace(t_end=3 * sim.dt)
     timer, stats = PhaseTimer(), StepStats()
     frictional = sim.model.contacts.frictional
     before = flat(stats.summary(frictional))
+    rows = []
     start = last = time.perf_counter()
     steps = simulate(sim.model, sim.dt, sim.t_end, sim.options, timer, sim.q0, sim.v0, None, stats)
     for st in steps:
@@ -53,9 +62,14 @@ def main() -> None:
         added = {k: v - before.get(k, 0) for k, v in counts.items() if v != before.get(k, 0)}
         phases = {k: round(v, 2) for k, v in timer.items()}
         print(f"step {st.step} t={st.t:.5g} s wall {now - last:.2f} s {added} timer {phases}")
+        rows.append(
+            {"step": st.step, "t": st.t, "wall_s": now - last, "added": added, "timer": phases}
+        )
         before, last = counts, now
     print(f"total {time.perf_counter() - start:.1f} s")
     print({k: v for k, v in before.items() if v})
+    stem = "step_counts_quick.csv" if a.quick else "step_counts.csv"
+    print(f"wrote {write_csv(Path(a.out) / stem, rows, list(rows[0]))}")
 
 
 if __name__ == "__main__":
