@@ -8,16 +8,15 @@ time and read where the steps spend (``docs/validation/stress_3d.md``, the P2 ba
         --t-end 0.00016 [--out DIR]
     python benchmarks/step_counts.py --quick   # three steps of two_balls: checks it runs
 
-The lines are printed and kept as ``step_counts.csv`` in ``--out``.
+The lines are printed and kept as ``step_counts.csv`` and ``.md`` in ``--out``.
 """
 
 from __future__ import annotations
 
 import argparse
 import time
-from pathlib import Path
 
-from _common import parser, write_csv
+from _common import parser, publish_report
 
 from fecontact.cli.cases import load_case
 from fecontact.cli.run import prepare
@@ -68,8 +67,8 @@ def main() -> None:
         before, last = counts, now
     print(f"total {time.perf_counter() - start:.1f} s")
     print({k: v for k, v in before.items() if v})
-    stem = "step_counts_quick.csv" if a.quick else "step_counts.csv"
-    print(f"wrote {write_csv(Path(a.out) / stem, rows, list(rows[0]))}")
+    caption = f"`{a.case}` {' '.join(a.set)}: what each step added to the run's counts."
+    publish_report(a.out, "step_counts", a.quick, "Step counts", rows, (caption, rows))
 
 
 if __name__ == "__main__":
