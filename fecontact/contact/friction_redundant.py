@@ -238,31 +238,31 @@ def grazing_closed(c, D, p, k, mu, nt, x, status, tol, stats, band=1e-6, most=3)
     Near a grazing corner the law can have two solutions: one closes the corner with a
     normal impulse, the other leaves it open at a normal rate barely above zero; which one
     Newton reaches depends on p, k and the warm start. A contact is nearly grazing when it
-    is open at x with 0 < w_N ≤ ``band`` D_jj |x|: the rate that an impulse of ``band``
+    is open at x with 0 < w_N ≤ ``band`` k D_jj |x|: the rate that an impulse of ``band``
     times the whole jump's makes at that contact alone (the rows' scale, whatever p). Up
-    to ``most`` of them, the lowest first, are held closed in a Newton from x; a result is
-    a solution of the law where its own error is within ``tol`` (then σ_N > 0 there: the
-    corner carries a positive impulse). Counted in ``stats.grazing_tries`` and
+    to ``most`` of them, the lowest first, are held closed in a Newton from x and moved to
+    the least-norm member of their family with it held, both at the rows' own scale
+    p = 1/D_ii (the search reads no p); Newton at the run's p then finishes on the law
+    itself, or the try is dropped. Counted in ``stats.grazing_tries`` and
     ``stats.grazing_closed``; where no contact is nearly grazing x is returned as it is."""
     m, b = len(mu), 1 + nt
     nc, size = m * b, float(np.linalg.norm(x))
     w_n, d_n = (c + k * (D @ x))[:nc:b], np.diag(D)[:nc:b]
-    near = np.flatnonzero((status == 0) & (w_n > 0.0) & (w_n <= band * d_n * size))
+    near = np.flatnonzero((status == 0) & (w_n > 0.0) & (w_n <= band * k * d_n * size))
     if not near.size:
         return x, status
     near = near[np.argsort(w_n[near] / d_n[near])][:most]
     stats.grazing_tries += near.size
     weight = penalty_factor(D, p, nc, b)
     best = x, status
+    rows = p / weight  # the rows' own scale 1/D_ii: the search itself reads no p
     for j in near:
         held = np.arange(m) == j
         try:
-            y = newton(c, D, p, k, mu, nt, x, tol, 50, stats, closing=held)[0]
+            y = newton(c, D, rows, k, mu, nt, x, tol, 50, stats, closing=held)[0]
+            y = least_norm(c, D, rows, k, mu, nt, y, tol, stats, closing=held)[0]
+            y, found, _ = newton(c, D, p, k, mu, nt, y, tol, 50, stats)
         except NotConverged:
-            continue
-        y = least_norm(c, D, p, k, mu, nt, y, tol, stats, closing=held)[0]
-        R, (_, ident), found = newton_residual(y, c, k * D, p, k, mu, nc)
-        if stopping_error(R, ident, weight) > tol:
             continue
         y, found = least_norm(c, D, p, k, mu, nt, y, tol, stats)
         if np.linalg.norm(y) < np.linalg.norm(best[0]):
