@@ -21,7 +21,6 @@ from .coulomb_newton import (
 from .lemke import lemke
 
 __all__ = [
-    "grazing_closed",
     "least_norm",
     "one_open",
     "pivoted",
@@ -176,7 +175,7 @@ def one_open(c, D, p, k, mu, nt, x0, tol, max_iter, stats):
     return best
 
 
-def least_norm(c, D, p, k, mu, nt, x, tol, stats, rcond=1e-10, cycles=8, closing=None):
+def least_norm(c, D, p, k, mu, nt, x, tol, stats, rcond=1e-10, cycles=8):
     """Of the solutions of the law around the solution x, the one of least norm |x|.
 
     Redundant rows (a box face's four corners on a plane: four normal rows on the three
@@ -200,19 +199,16 @@ def least_norm(c, D, p, k, mu, nt, x, tol, stats, rcond=1e-10, cycles=8, closing
     keeps it whatever the member of least norm: on a box sliding on a box (nine contacts,
     27 rows on 12 dofs) the default p reached the end, p × 1e3 and k ÷ 100 the least-norm
     member, 8e-4 m/s apart. The family's directions are therefore read with the grazing
-    contacts on their closed branch, and such a move is kept only where it lowers |x|.
-    ``closing`` (m,) bool: contacts held on their closed branch throughout
-    (:func:`grazing_closed`)."""
+    contacts on their closed branch, and such a move is kept only where it lowers |x|."""
     kD = k * D
     nc, N = len(mu) * (1 + nt), len(c)
     dsigma = k * np.eye(N) - p[:, None] * kD
     status = None
     for _ in range(cycles):
-        R, (dPi, ident), status = newton_residual(x, c, kD, p, k, mu, nc, closing)
+        R, (dPi, ident), status = newton_residual(x, c, kD, p, k, mu, nc)
         grazing = (status == 0) & (np.abs(c[: nc : 1 + nt] + kD[: nc : 1 + nt] @ x) <= tol)
         if grazing.any():
-            held = grazing if closing is None else grazing | closing
-            dPi, ident = newton_residual(x, c, kD, p, k, mu, nc, held)[1]
+            dPi, ident = newton_residual(x, c, kD, p, k, mu, nc, grazing)[1]
         _, s, Vt, fell_back = svd(newton_jacobian(kD, dsigma, dPi, ident, p, k))
         stats.svd_fallbacks += fell_back
         Z = Vt[s <= rcond * s[0]]
@@ -221,7 +217,7 @@ def least_norm(c, D, p, k, mu, nt, x, tol, stats, rcond=1e-10, cycles=8, closing
             return x, status
         stats.least_norm_moves += 1
         try:
-            y, found, _ = newton(c, D, p, k, mu, nt, x - shift, tol, 50, stats, closing)
+            y, found, _ = newton(c, D, p, k, mu, nt, x - shift, tol, 50, stats)
         except NotConverged:
             break
         if grazing.any() and np.linalg.norm(y) >= np.linalg.norm(x):
@@ -229,46 +225,6 @@ def least_norm(c, D, p, k, mu, nt, x, tol, stats, rcond=1e-10, cycles=8, closing
         x, status = y, found
     stats.least_norm_unsettled += 1
     return x, status
-
-
-def grazing_closed(c, D, p, k, mu, nt, x, status, tol, stats, band=1e-6, most=3):
-    """Of the solution x and those that differ from it by closing a nearly grazing contact,
-    the one of least norm (each brought to its own least-norm member, :func:`least_norm`).
-
-    Near a grazing corner the law can have two solutions: one closes the corner with a
-    normal impulse, the other leaves it open at a normal rate barely above zero; which one
-    Newton reaches depends on p, k and the warm start. A contact is nearly grazing when it
-    is open at x with 0 < w_N ≤ ``band`` k D_jj |x|: the rate that an impulse of ``band``
-    times the whole jump's makes at that contact alone (the rows' scale, whatever p). Up
-    to ``most`` of them, the lowest first, are held closed in a Newton from x and moved to
-    the least-norm member of their family with it held, both at the rows' own scale
-    p = 1/D_ii (the search reads no p); Newton at the run's p then finishes on the law
-    itself, or the try is dropped. Counted in ``stats.grazing_tries`` and
-    ``stats.grazing_closed``; where no contact is nearly grazing x is returned as it is."""
-    m, b = len(mu), 1 + nt
-    nc, size = m * b, float(np.linalg.norm(x))
-    w_n, d_n = (c + k * (D @ x))[:nc:b], np.diag(D)[:nc:b]
-    near = np.flatnonzero((status == 0) & (w_n > 0.0) & (w_n <= band * k * d_n * size))
-    if not near.size:
-        return x, status
-    near = near[np.argsort(w_n[near] / d_n[near])][:most]
-    stats.grazing_tries += near.size
-    weight = penalty_factor(D, p, nc, b)
-    best = x, status
-    rows = p / weight  # the rows' own scale 1/D_ii: the search itself reads no p
-    for j in near:
-        held = np.arange(m) == j
-        try:
-            y = newton(c, D, rows, k, mu, nt, x, tol, 50, stats, closing=held)[0]
-            y = least_norm(c, D, rows, k, mu, nt, y, tol, stats, closing=held)[0]
-            y, found, _ = newton(c, D, p, k, mu, nt, y, tol, 50, stats)
-        except NotConverged:
-            continue
-        y, found = least_norm(c, D, p, k, mu, nt, y, tol, stats)
-        if np.linalg.norm(y) < np.linalg.norm(best[0]):
-            best = y, found
-    stats.grazing_closed += best[0] is not x
-    return best
 
 
 def without_round_off(x, status, m: int, nt: int):

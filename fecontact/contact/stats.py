@@ -28,11 +28,6 @@ class CoulombStats:
     # solves where that choice did not settle (the solution kept is the law's, not the least)
     least_norm_moves: int = 0
     least_norm_unsettled: int = 0
-    # open contacts whose normal rate was nearly grazing (on the scale of the jump) and the
-    # law was solved again with each held closed, and the solves where that closed solution
-    # was valid and of lower norm, and kept
-    grazing_tries: int = 0
-    grazing_closed: int = 0
     # solves (in runs with redundant rows) where Newton stalled with every contact closed
     # and the law was solved with one contact left out, which separates
     opened_contact_solves: int = 0
