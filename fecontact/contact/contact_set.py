@@ -44,8 +44,7 @@ class ContactSet(FrictionRows):
         self.local = _per_contact(self.pairs, [np.arange(pair.size) for pair in self.pairs], int)
         self.point = _points(self.pairs)
         self.units, self.unit_owner, self.unit_local, self._batched = evaluation_units(self.pairs)
-        self._holding = [p for p in self.pairs if getattr(p, "holds_rows", False)]  # rows_held
-        self._measured_by_inside_test()
+        self._pair_roles()
         self._scatters: dict = {}
         self._last_scatter: dict = {}  # per pair: read-only (rows, dofs) and their _Scatter
         self._all = np.arange(self.size)
@@ -56,9 +55,11 @@ class ContactSet(FrictionRows):
         self._gap_functions = [unit.gaps for unit in self.units]
         self._affine = _Affine(*self._affine_form()) if self._affine_and_small() else None
 
-    def _measured_by_inside_test(self) -> None:
-        """The pairs whose penetration an inside/outside test measures (the others by their
-        own gaps), and those that look ahead before every step."""
+    def _pair_roles(self) -> None:
+        """The pairs by role: measured by an inside/outside test (the others by their gaps),
+        looking ahead, holding their rows through a Newton loop, hiding rows (their mask)."""
+        self._holding = [p for p in self.pairs if p.holds_rows]  # rows_held
+        self._hiding = [(p, self.owner == i) for i, p in enumerate(self.pairs) if p.hides_rows]
         self._inside = [i for i, pair in enumerate(self.pairs) if pair.inside_test]
         self._signed = ~np.isin(self.owner, self._inside)  # contacts whose gap is a distance
         self._all_signed = bool(self._signed.all())
@@ -133,8 +134,7 @@ class ContactSet(FrictionRows):
         """∂g_j/∂t of the contacts ``select`` (m/s): nonzero for moving obstacles only."""
         if not self.moving:
             return np.zeros(len(select))
-        parts = [p.rate(q) for p in self.pairs]
-        return np.concatenate(parts)[select]
+        return np.concatenate([p.rate(q) for p in self.pairs])[select]
 
     def quadratic(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
         """vᵀ ∇²g_j v for every constraint j (the acceleration term of a holonomic one)."""
@@ -282,9 +282,8 @@ def candidates(contacts: ContactSet, q: np.ndarray, g: np.ndarray, margin: float
     ``hides_rows`` pair leaves out at q with their distance within it: a correction can make
     them rows (a solid's node dented under a peg), and then holds them."""
     near = g <= margin
-    for i, pair in enumerate(contacts.pairs):
-        if pair.hides_rows:
-            near[contacts.owner == i] |= pair.reach(q) <= margin
+    for pair, rows in contacts._hiding:
+        near[rows] |= pair.reach(q) <= margin
     return near.nonzero()[0]
 
 
@@ -327,11 +326,11 @@ def rows_held(contacts: ContactSet, q: np.ndarray, hold: bool = True):
 def _points(pairs) -> np.ndarray | None:
     """The global number of the point each contact holds (rows of one point share it), or
     None where every row holds a point of its own (decided once per model)."""
-    if not any(getattr(pair, "shared_points", False) for pair in pairs):
+    if not any(pair.shared_points for pair in pairs):
         return None
     out, base = [], 0
     for pair in pairs:
-        own = pair.points() if getattr(pair, "shared_points", False) else np.arange(pair.size)
+        own = pair.points() if pair.shared_points else np.arange(pair.size)
         out.append(base + np.asarray(own, int))
         base += pair.size
     return np.concatenate(out)
@@ -340,7 +339,7 @@ def _points(pairs) -> np.ndarray | None:
 def _redundant(pairs) -> bool:
     """Whether some rows of ``pairs`` may hold one motion twice: a pair that declares it
     (``redundant_rows``), or two-pass node-to-surface (:func:`_both_ways`)."""
-    return any(getattr(p, "redundant_rows", False) for p in pairs) or _both_ways(pairs)
+    return any(p.redundant_rows for p in pairs) or _both_ways(pairs)
 
 
 def _both_ways(pairs) -> bool:
@@ -351,7 +350,7 @@ def _both_ways(pairs) -> bool:
     (either sign): two disks at 30 m/s, one cell a step, took ±8e-3 multipliers on them,
     against 1e-5 on the others, and a 9 mm correction for a 0.2 mm overlap, 17 % of their
     energy created in the step. Their multipliers are the minimum-norm ones."""
-    ways = {(type(p), id(p.body), id(p.master)) for p in pairs if getattr(p, "meets_back", False)}
+    ways = {(type(p), id(p.body), id(p.master)) for p in pairs if p.meets_back}
     return any((kind, b, a) in ways for kind, a, b in ways)
 
 
