@@ -82,6 +82,7 @@ def test_the_wedged_jump_is_solved_plastic_and_counted(tmp_path):
     s = run(sim, tmp_path / "jam", progress=False, frames=False)
     assert s["status"] == "completed"
     assert s["friction_solver"]["plastic_jumps"] == 1
+    assert any("plastic" in w for w in s["warnings"])  # (not only counted: said)
     # the law's residuals converged at every solve kept, and nothing inside beyond the
     # gap tolerance (tol_gap 1e-12 of the model's length)
     assert s["final_residuals"] == {"position": 0.0, "velocity": 0.0}
