@@ -372,12 +372,23 @@ def _summary(sim, rec, stats, status, message, wall, timer) -> dict:
     summary["warnings"] += halving_warnings(rec, sim.dt) + sim.warnings()
     if frictional:
         summary["friction_solver"] = friction_solver
+        summary["warnings"] += _plastic_warnings(friction_solver["plastic_jumps"])
         summary["friction_work"] = rec.friction_work
     # the element kernel of the spatial beams, chosen at their construction
     kernels = sorted({body.kernel for body in sim.model.bodies if isinstance(body, Beam3D)})
     if kernels:
         summary["beam3d_kernel"] = kernels[0] if len(kernels) == 1 else kernels
     return summary
+
+
+def _plastic_warnings(count: int) -> list[str]:
+    """A warning where velocity jumps lost their restitution (``plastic_jumps``)."""
+    if not count:
+        return []
+    return [
+        f"contact: {count} velocity jump(s) solved as plastic (e = 0): the frictional law "
+        "with restitution had no solution found on redundant rows (docs/validation/pile.md)"
+    ]
 
 
 def _residual_warnings(counts: dict) -> list[str]:

@@ -39,6 +39,7 @@ class PairDefaults:
     """Defaults of a contact pair: no rigid obstacle, obstacles at rest."""
 
     obstacle = None
+    bodies: tuple = ()  # the bodies whose dofs the rows move (empty: ``body`` alone)
     inside_test = False  # True: penetration(q) tests the nodes against a body's boundary
     looks_ahead = False  # True: look_ahead(q, v, h) is called before every step
     lazy_hessians = False  # True: evaluate() leaves H out; hessians(q, rows) gives it

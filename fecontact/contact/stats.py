@@ -54,6 +54,9 @@ class CoulombStats:
     # that failed on their slips and converged without the part of them no multiplier
     # reaches (a face landing flat)
     unreachable_slip_solves: int = 0
+    # velocity jumps (in runs with redundant rows) whose frictional law with the impact
+    # law's restitution terms was not solved and that were solved as plastic ones (e = 0)
+    plastic_jumps: int = 0
     # singular value decompositions (least-norm moves, minimum-norm Newton steps, slips no
     # multiplier reaches) where LAPACK's divide and conquer did not converge and the QR
     # iteration was taken (:mod:`fecontact.linalg.svd`)

@@ -6,6 +6,7 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass, field
 
+from ..contact.contact_loops import loops_of_contacts
 from .correction import MomentumKept, momentum_kept
 from .newton import NewtonPlan
 from .state import IntegratorOptions
@@ -149,8 +150,9 @@ def run_settings(
     contacts = model.contacts
     friction = contacts.frictional
     run_stats = StepStats() if stats is None else stats
-    # rows that can be redundant (planes through one point) take minimum-norm multipliers
-    run_stats.contact.minimum_norm = model.contacts.redundant_rows
+    # rows that can be redundant (planes through one point, or rigid bodies closing a loop
+    # of contacts) take minimum-norm multipliers
+    run_stats.contact.minimum_norm = contacts.redundant_rows or loops_of_contacts(model)
     # pairs whose segments clip to a shared node give its row twice: merged in the KKT solve
     run_stats.contact.merge_duplicates = any(
         getattr(p, "duplicate_rows", False) for p in contacts.pairs
