@@ -55,7 +55,7 @@ def coulomb_projection(sigma: np.ndarray, mu: np.ndarray, jacobian: bool = True)
     return Pi, dPi, status
 
 
-def newton(c, D, p, k, mu, nt, x0, tol, max_iter, stats):
+def newton(c, D, p, k, mu, nt, x0, tol, max_iter, stats, closing=None):
     """Multipliers x of m frictional contacts (and any equality rows after them) with
     w = c + k D x and R(x) = k x − Π(k x − p w) = 0.
 
@@ -67,8 +67,9 @@ def newton(c, D, p, k, mu, nt, x0, tol, max_iter, stats):
     Π is the identity (closed normal, stick, bilateral) R/p = w, evaluated as such, so that
     the equations w = 0 keep their accuracy for any p (k x − σ would cancel to round-off of
     k x). Backtracking on |R/p|²; it stops when the law's error, in the units of w and
-    whatever p, is below ``tol`` on every row (:func:`stopping_error`). Returns (x, status
-    (m,), iterations); raises ``RuntimeError`` when it does not converge.
+    whatever p, is below ``tol`` on every row (:func:`stopping_error`). ``closing`` (m,)
+    bool: contacts held on their closed branch (:func:`newton_residual`). Returns (x,
+    status (m,), iterations); raises ``RuntimeError`` when it does not converge.
     """
     mu = np.asarray(mu, dtype=float)
     nc, N = len(mu) * (1 + nt), len(c)
@@ -77,7 +78,7 @@ def newton(c, D, p, k, mu, nt, x0, tol, max_iter, stats):
     dsigma = k * np.eye(N) - p[:, None] * kD
 
     def residual(x, jacobian=True):
-        return newton_residual(x, c, kD, p, k, mu, nc, jacobian=jacobian)
+        return newton_residual(x, c, kD, p, k, mu, nc, closing, jacobian=jacobian)
 
     R, lin, status = residual(x)
     weight = penalty_factor(D, p, nc, 1 + nt)

@@ -27,7 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from .coulomb_newton import NotConverged, coulomb_projection, newton
-from .friction_redundant import least_norm, one_open, proximal, without_round_off
+from .friction_redundant import grazing_closed, least_norm, one_open, proximal, without_round_off
 from .stats import CoulombStats
 
 __all__ = [
@@ -124,6 +124,7 @@ def solve_coulomb(
     x, status, its = min(found, key=lambda f: np.linalg.norm(f[0]))
     if len(found) == 2 and np.max(np.abs(k * D @ (found[0][0] - found[1][0]))) > tol:
         stats.distinct_solutions += 1
+    x, status = grazing_closed(c, D, p, k, mu, nt, x, status, tol, stats)
     return x, status, its
 
 

@@ -28,6 +28,16 @@ class CoulombStats:
     # solves where that choice did not settle (the solution kept is the law's, not the least)
     least_norm_moves: int = 0
     least_norm_unsettled: int = 0
+    # open contacts whose normal rate was nearly grazing (on the scale of the jump) and the
+    # law was solved again with each held closed; tries dropped (a search that failed, or a
+    # search from zero that reached another closed solution); solves whose closed solution
+    # was of lower norm, and kept
+    grazing_tries: int = 0
+    grazing_unsettled: int = 0
+    grazing_closed: int = 0
+    # closed solutions kept whose law's error at the run's p exceeded the tolerance, finished
+    # by Newton at that p
+    grazing_finished: int = 0
     # solves (in runs with redundant rows) where Newton stalled with every contact closed
     # and the law was solved with one contact left out, which separates
     opened_contact_solves: int = 0
