@@ -459,7 +459,7 @@ def schur_update(step, sc, r, solve, constant: bool, residual: float) -> np.ndar
     S = model.iteration_matrix  # (S_t at this size: the matrix the curvature adds to)
     factors = curved_factors(model, units, lambda: S(c.bp, c.gp)[0], -sc.C, residual)
     if factors is not None:  # (a size met once: cheaper than the columns)
-        hold(model, units, c.bp, factors, residual)
+        hold(model, units, c.bp, factors, sc.C, residual)
         return sc.schur_update(model, r, factors)
     return sc.schur_update(model, r, with_curvature(solve, sc.C, units, residual))
 
