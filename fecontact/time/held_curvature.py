@@ -50,23 +50,24 @@ step's sizes)."""
 
 class HeldCurvature:
     """The factors ``solve`` of S(a₀) + C₀, ``a`` = a₀ (1/s²), with ``last``: by size a, the
-    relative residual at the latest update through them (None: no longer trusted there) and
-    the number of dofs its curvature touched (the contact zone)."""
+    relative residual at the latest update through them (None: no longer trusted there),
+    the number of dofs its curvature touched (the contact zone) and its smooth step's
+    :class:`~fecontact.time.terms.StepContext` (a step at a size met before starts afresh)."""
 
     __slots__ = ("a", "solve", "last")
 
-    def __init__(self, a: float, solve, residual: float, zone: int):
-        self.a, self.solve, self.last = a, solve, {a: (residual, zone)}
+    def __init__(self, a: float, solve, residual: float, zone: int, step):
+        self.a, self.solve, self.last = a, solve, {a: (residual, zone, step)}
 
 
-def held_curvature(model, units, a: float, C, residual: float):
+def held_curvature(model, units, a: float, C, residual: float, step):
     """The held factors of S(a₀) + C₀ for an update at a size ``a`` met once (``units`` the
     size's :class:`~fecontact.linalg.UnitColumns`, ``C`` the curvature, ``residual`` the
-    relative residual at the iterate), counted in the ladder's ``curvature_reuses``; None
-    where the update is made as before: no factors held within ``NEAR``, the size's columns
-    of C's dofs all made (the exact update costs no factorization), or the residual did not
-    contract by ``CONTRACTION`` over an update whose contact zone stayed the same (counted
-    ``curvature_reuse_fallbacks``)."""
+    relative residual at the iterate of the smooth ``step``), counted in the ladder's
+    ``curvature_reuses``; None where the update is made as before: no factors held within
+    ``NEAR``, the size's columns of C's dofs all made (the exact update costs no
+    factorization), or the residual did not contract by ``CONTRACTION`` over the step's
+    previous update with the same contact zone (counted ``curvature_reuse_fallbacks``)."""
     if not units.once:
         return None
     held = model.column_cache.get(HELD)
@@ -76,22 +77,25 @@ def held_curvature(model, units, a: float, C, residual: float):
     if all(int(i) in units.columns for i in T):
         return None
     counts = model.ladder.counts
-    last, zone = held.last.get(a, (math.inf, T.size))
-    if last is None:
+    last, zone, of = held.last.get(a, (math.inf, T.size, step))
+    if of is not step:  # (the first update of another smooth step of this size)
+        last = math.inf
+    elif last is None:  # (refused in this step: made as before to its end)
         return None
     # (a residual that rose where the contact zone changed is the active set's, which
     # Newton's own update meets too: judged at the next update)
     if not residual <= CONTRACTION * last and zone == T.size:
-        held.last[a] = (None, T.size)
+        held.last[a] = (None, T.size, step)
         counts["curvature_reuse_fallbacks"] += 1
         return None
-    held.last[a] = (residual, T.size)
+    held.last[a] = (residual, T.size, step)
     counts["curvature_reuses"] += 1
     return held.solve
 
 
-def hold(model, units, a: float, factors, C, residual: float) -> None:
+def hold(model, units, a: float, factors, C, residual: float, step) -> None:
     """Hold the ``factors`` of S(a) + C just made for an update at a size met once (``units``
-    the size's columns) at the relative ``residual``, for the updates at nearby sizes."""
+    the size's columns) at the relative ``residual`` of the smooth ``step``, for the updates at
+    nearby sizes."""
     if units.once:
-        model.column_cache[HELD] = HeldCurvature(a, factors, residual, touched(C).size)
+        model.column_cache[HELD] = HeldCurvature(a, factors, residual, touched(C).size, step)

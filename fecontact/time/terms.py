@@ -453,13 +453,13 @@ def schur_update(step, sc, r, solve, constant: bool, residual: float) -> np.ndar
     if sc.C is None:
         return sc.schur_update(model, r, solve, (c.bp, c.gp) if constant else None)
     units = unit_columns(model, ("smooth", c.bp, c.gp), solve, constant)
-    held = held_curvature(model, units, c.bp, sc.C, residual)  # (modified Newton)
+    held = held_curvature(model, units, c.bp, sc.C, residual, step)  # (modified Newton)
     if held is not None:
         return sc.schur_update(model, r, held)
     S = model.iteration_matrix  # (S_t at this size: the matrix the curvature adds to)
     factors = curved_factors(model, units, lambda: S(c.bp, c.gp)[0], -sc.C, residual)
     if factors is not None:  # (a size met once: cheaper than the columns)
-        hold(model, units, c.bp, factors, sc.C, residual)
+        hold(model, units, c.bp, factors, sc.C, residual, step)
         return sc.schur_update(model, r, factors)
     return sc.schur_update(model, r, with_curvature(solve, sc.C, units, residual))
 
