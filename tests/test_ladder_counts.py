@@ -68,6 +68,14 @@ def tally(monkeypatch) -> Counter:
         made["curvature_factorizations"] += out is not None
         return out
 
+    def held(model, *args, call=terms.held_curvature):
+        counts = model.ladder.counts if model.ladder is not None else {}
+        before = counts.get("curvature_reuse_fallbacks", 0)  # (this call's own refusal)
+        out = call(model, *args)
+        made["curvature_reuses"] += out is not None
+        made["curvature_reuse_fallbacks"] += counts.get("curvature_reuse_fallbacks", 0) - before
+        return out
+
     for cls, name, f in (
         (Ladder, "factor", factor),
         (Ladder, "keep", keep),
@@ -78,6 +86,7 @@ def tally(monkeypatch) -> Counter:
         (Remade, "__call__", remade),
         (correction, "curved_factors", curved),
         (terms, "curved_factors", curved),  # (imported there by name)
+        (terms, "held_curvature", held),
     ):
         monkeypatch.setattr(cls, name, f)
     return made

@@ -164,6 +164,9 @@ class Ladder:
         )
         self.counts["rungs_remade"] = 0
         self.counts["curvature_factorizations"] = 0  # (S(a) + C in the columns' place)
+        # (updates at sizes met once through the factors of S(a₀) + C₀ of a nearby size, and
+        # those refused for a residual that did not contract: fecontact.time.held_curvature)
+        self.counts["curvature_reuses"] = self.counts["curvature_reuse_fallbacks"] = 0
         # (work the deciding counts leave out: put back, or at the run's own sizes)
         self.outside = dict.fromkeys(self.counts, 0)
         self.own: set[float] = set()  # (the run's own sizes: their factors always kept)

@@ -96,6 +96,8 @@ class Localization:
                 "spectral",
                 "rungs_remade",
                 "curvature_factorizations",
+                "curvature_reuses",
+                "curvature_reuse_fallbacks",
             ),
             0,
         )

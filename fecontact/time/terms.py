@@ -29,6 +29,7 @@ from ..linalg import low_rank_solver
 from .constraints import StepFailure
 from .correction import curved_factors, unit_columns
 from .coulomb import SmoothFriction
+from .held_curvature import held_curvature, hold
 from .lie import InertialForces
 from .smooth_contact import SmoothContacts
 from .state import JointTolerance
@@ -446,14 +447,19 @@ def schur_update(step, sc, r, solve, constant: bool, residual: float) -> np.ndar
     """The contacts' update through S_t's ``solve``: straight gaps by the Schur complement
     (S_t⁻¹G_jᵀ kept per contact when S_t is ``constant``), curved ones with the curvature as
     a low-rank correction of S_t's factors, or at a size met once S_t plus the curvature
-    factorized where that costs less than the correction's columns."""
+    factorized where that costs less than the correction's columns, those factors then
+    serving the updates at nearby sizes (:mod:`.held_curvature`)."""
     model, c = step.model, step.c
     if sc.C is None:
         return sc.schur_update(model, r, solve, (c.bp, c.gp) if constant else None)
     units = unit_columns(model, ("smooth", c.bp, c.gp), solve, constant)
+    held = held_curvature(model, units, c.bp, sc.C, residual, step)  # (modified Newton)
+    if held is not None:
+        return sc.schur_update(model, r, held)
     S = model.iteration_matrix  # (S_t at this size: the matrix the curvature adds to)
     factors = curved_factors(model, units, lambda: S(c.bp, c.gp)[0], -sc.C, residual)
     if factors is not None:  # (a size met once: cheaper than the columns)
+        hold(model, units, c.bp, factors, sc.C, residual, step)
         return sc.schur_update(model, r, factors)
     return sc.schur_update(model, r, with_curvature(solve, sc.C, units, residual))
 
