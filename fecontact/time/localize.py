@@ -409,6 +409,7 @@ def _refine(model, st, phases, left, j, guess, tol, opts, timer):
     for _ in range(MAX_REFINE):
         trial = smooth_phases(model, st, delta, opts, timer)
         stats.smooth_steps += 1
+        stats.smooth_iterations += trial.iters["smooth"]
         trial.g_tilde = model.contacts.gaps(trial.q)
         g = float(trial.g_tilde[j]) - aim
         if abs(g) <= aim:

@@ -48,9 +48,10 @@ class FollowUps:
 @dataclass
 class Localization:
     """Impacts located inside their step (:mod:`fecontact.time.localize`): the impacts
-    applied at their own instant, the extra smooth steps that found those instants, the
-    factorizations made for the split steps' sizes (linear models), the ``ladder``'s solves
-    of those sizes without one (:class:`fecontact.linalg.ladder.Ladder`: PCG solves, their
+    applied at their own instant, the extra smooth steps that found those instants and their
+    Newton iterations (``smooth_iterations``), the factorizations made for the split steps'
+    sizes (linear models), the ``ladder``'s solves of those sizes without one
+    (:class:`fecontact.linalg.ladder.Ladder`: PCG solves, their
     iterations, those refactorized, eigendecompositions made), and the steps
     left to the end-of-step impact, by reason: ``accumulation`` (the step already split
     ``max_impacts`` times, or too little of it left), ``persistent`` (a contact was already
@@ -73,6 +74,7 @@ class Localization:
 
     impacts: int = 0
     smooth_steps: int = 0
+    smooth_iterations: int = 0
     factorizations: int = 0
     subdivided: int = 0
     release_probes: int = 0
@@ -222,6 +224,7 @@ class StepStats:
             "localization_fallbacks": dict(self.localization.fallbacks),
             "localization_cost": {
                 "smooth_steps": self.localization.smooth_steps,
+                "smooth_iterations": self.localization.smooth_iterations,
                 "factorizations": self.localization.factorizations,
                 # the split steps' sizes solved without their own factorization
                 "ladder": dict(self.localization.ladder),
