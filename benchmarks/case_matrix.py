@@ -31,13 +31,21 @@ final state beyond 1e-6 of the default row's; a warning in summary.json.
     python benchmarks/case_matrix.py --quick          # six cheap rows (``QUICK``), seconds
     python benchmarks/case_matrix.py --quick --case rod_drop  # its default row and one more
     python benchmarks/case_matrix.py --case two_disks # one case, every row
+    python benchmarks/case_matrix.py --combinations 4 --seed 1  # two changes at once
+
+``--combinations N`` replaces the rows by each case's default row and N rows that each join
+two of its changes (drawn with ``--seed`` among pairs that change different things: the
+offset with the speed × 10, μ = 1 with e_N = 1, the finer mesh with k ÷ 100, ...): the
+failures no single change provokes.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import json
 import math
+import random
 import subprocess
 import sys
 import tempfile
@@ -308,6 +316,30 @@ def case_rows(name: str, default: dict) -> list[Row]:
             seen.add(key)
             out.append(r)
     return out
+
+
+def combined_rows(rows: list[Row], n: int, seed: int) -> list[Row]:
+    """Per case, its default row and ``n`` rows that each join two of its changes, drawn at
+    random (``seed``) among the pairs that change different things: parameters and options
+    merged, the step factors multiplied, the later end time kept."""
+    rng = random.Random(seed)
+    out = []
+    for name in dict.fromkeys(r.case for r in rows):
+        own = [r for r in rows if r.case == name]
+        out += [r for r in own if r.label == "default"]
+        changes = [r for r in own if r.label != "default"]
+        pairs = [(a, b) for a, b in itertools.combinations(changes, 2) if _apart(a, b)]
+        for a, b in rng.sample(pairs, min(n, len(pairs))):
+            params, options = {**a.params, **b.params}, {**a.options, **b.options}
+            dt, t_end = a.dt_factor * b.dt_factor, max(a.t_end, b.t_end)
+            out.append(Row(name, f"{a.label} + {b.label}", params, options, dt, t_end))
+    return out
+
+
+def _apart(a: Row, b: Row) -> bool:
+    """Whether rows ``a`` and ``b`` change different things (parameters, options, step)."""
+    steps = a.dt_factor != 1.0 and b.dt_factor != 1.0
+    return not (steps or a.params.keys() & b.params.keys() or a.options.keys() & b.options.keys())
 
 
 def quick_rows(rows: list[Row]) -> list[Row]:
@@ -686,6 +718,7 @@ def main() -> None:
     else:
         rows = selected_rows(args)
         stem = args.name or "case_matrix" + ("_" + "_".join(args.case) if args.case else "")
+        stem += f"_combinations{args.seed}" if args.combinations and not args.name else ""
         stem += "_quick" if args.quick else ""
         table = run_matrix(rows, args.timeout, Path(args.out) / f"{stem}.csv")
         publish_table(table, args.out, stem, args.quick)
@@ -698,6 +731,13 @@ def options():
     p.add_argument("--row", action="append", help="only the rows of this label (repeatable)")
     p.add_argument("--name", help="stem of the result files (default: case_matrix)")
     p.add_argument("--combine", nargs="+", help="tables of earlier runs (CSV) to write as one")
+    p.add_argument(
+        "--combinations",
+        type=int,
+        default=0,
+        help="per case, N rows each joining two of its changes drawn at random (default 0)",
+    )
+    p.add_argument("--seed", type=int, default=0, help="of --combinations' draw (default 0)")
     p.add_argument("--worker", help=argparse_hidden())
     return p
 
@@ -709,6 +749,8 @@ def selected_rows(args) -> list[Row]:
     if unknown:
         raise SystemExit(f"--case: unknown {unknown[0]!r}; known: {', '.join(CASES)}")
     rows = all_rows(names)
+    if args.combinations:
+        rows = combined_rows(rows, args.combinations, args.seed)
     if args.row:  # the default row too: the p/k rows' reference
         rows = [r for r in rows if r.label in {"default", *args.row}]
     if args.quick and args.case:
