@@ -6,6 +6,7 @@ its rigid bodies and pairs that its rows can be redundant (minimum-norm multipli
 velocity jump whose frictional law with restitution has no solution there is solved as a
 plastic one, counted (docs/validation/pile.md)."""
 
+import dataclasses
 import itertools
 
 import numpy as np
@@ -15,7 +16,9 @@ from fecontact import Model, Simulation, run
 from fecontact.bodies import Disk, RigidBody2D
 from fecontact.contact import Contact, Plane
 from fecontact.contact.contact_loops import loops_of_contacts
-from fecontact.time.state import length_scale
+from fecontact.time.simulate import simulate
+from fecontact.time.state import State, length_scale
+from fecontact.time.stats import StepStats
 
 R = 0.05  # the disks' radius (m)
 
@@ -88,3 +91,52 @@ def test_the_wedged_jump_is_solved_plastic_and_counted(tmp_path):
     # run's gap tolerance (tol_gap 1e-12 of the coordinates' extent, 4.7e-13 m here)
     assert s["final_residuals"] == {"position": 0.0, "velocity": 0.0}
     assert s["max_penetration"] <= 1e-12 * length_scale(model, np.array(Q790))
+
+
+# the 2 × 2 pile at k ÷ 100 at t = 0.899 s (run from rest at 1 ms steps): three disks at
+# rest wedged, the fourth rolling on them; k ν of the last step on its contacts (1 to 18)
+Q899 = [
+    0.05613038312661326, -0.019999999999933772, -1.1061451595260714,
+    0.04480213286245402, -0.02000000000003974, -0.8740742325491342,
+    -0.03790973523936194, -0.135, 3.6236963373161997,
+    -0.0026806347728402283, -0.04838859425067327, 1.8634747556375741,
+]  # fmt: skip
+V899 = [
+    -6.188251466339745e-18, -1.5612511283791264e-17, -6.521444617022061e-17,
+    1.5189862054281884e-18, 1.734723475976807e-18, -3.0379724108563777e-17,
+    6.295217862564486e-18, 1.734723475976807e-18, 4.7949798594437055e-17,
+    -0.018147634770369257, 0.039510626417353936, 0.7093433317321892,
+]  # fmt: skip
+NU899 = {
+    0: 3.589224866687908e-05, 3: 4.904999960263286e-06, 6: 8.306943507793524e-06,
+    7: 1.4144835854782505e-05, 13: 1.6636918907118648e-05, 14: 3.917989967622299e-05,
+}  # fmt: skip
+CANDIDATES899 = [0, 3, 5, 6, 7, 12, 13, 14, 16]
+
+
+def test_least_norm_cycles_entered_anywhere_keep_one_member():
+    # the position correction of the step after 0.899 s: least_norm's cycles go round three
+    # members of the law's family (contacts sticking and slipping in turn); each
+    # relinearization, warm-started from the last one's solution, entered the loop
+    # elsewhere and stopped on another member, rates 1.1e-13 m apart, so that the update
+    # (1.06e-12 m) never fell below 0.1 of the gap tolerance and the step failed after 6
+    # halvings. Keeping the least-norm member visited makes the relinearizations settle.
+    model = _pile(4)
+    q, v = np.array(Q899), np.array(V899)
+    nu = np.zeros(model.contacts.size)
+    nu[list(NU899)] = list(NU899.values())
+    gravity = np.tile([0.0, -9.81, 0.0], 4)
+    start = State(
+        0.0, q, v, gravity, gravity.copy(), h=1e-3, gaps=model.contacts.gaps(q),
+        candidates=np.array(CANDIDATES899), nu=nu, impulse=np.zeros(model.contacts.size),
+    )  # fmt: skip
+    options = Simulation(model, dt=1e-3, t_end=0.003).options
+    options = dataclasses.replace(options, multiplier_scale=0.01)
+    stats = StepStats()
+    states = list(simulate(model, 1e-3, 0.003, options, start=start, stats=stats))
+    assert [s.step for s in states] == [1, 2, 3]
+    assert all(s.halvings == 0 for s in states)
+    coulomb = stats.contact.coulomb
+    assert coulomb.least_norm_unsettled > 0  # (the loop is met: the rule is exercised)
+    # nothing inside beyond the gap tolerance (1e-12 of the coordinates' extent)
+    assert -min(s.gaps.min() for s in states) <= 1e-12 * length_scale(model, q)

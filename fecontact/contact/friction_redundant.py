@@ -192,9 +192,13 @@ def least_norm(c, D, p, k, mu, nt, x, tol, stats, rcond=1e-10, cycles=8, closing
     steps, which stay orthogonal to Z. On a straight family (frictionless, sticking) one
     cycle reaches the least-norm solution; friction curves it, and the cycles repeat until
     the move is below 1e-12 of |x|. The rule involves neither p nor k: with a frictionless
-    law it is the limit of a uniform contact compliance going to zero. A cycle whose Newton
-    fails keeps the solution it started from; such cycles and those that end unsettled are
-    counted (``stats.least_norm_unsettled``), the moves in ``stats.least_norm_moves``.
+    law it is the limit of a uniform contact compliance going to zero. Where the cycles end
+    unsettled (their limit reached, or a cycle's Newton failed) the least-norm of the
+    solutions visited, x among them, is kept: the cycles can go round a loop of members
+    (the 2 × 2 pile at k ÷ 100: three, sticking and slipping in turn, |x| equal to 8e-9
+    of it and rates 1.1e-13 m apart), and the one they stop on would read where the loop
+    was entered, which a relinearization's warm start moves (docs/validation/pile.md).
+    Counted in ``stats.least_norm_unsettled``, the moves in ``stats.least_norm_moves``.
 
     A family can end at a contact that opens: its normal multiplier reaches zero with its
     normal row at zero (a grazing contact, |w_N| ≤ ``tol``). There the open branch's
@@ -208,9 +212,10 @@ def least_norm(c, D, p, k, mu, nt, x, tol, stats, rcond=1e-10, cycles=8, closing
     kD = k * D
     nc, N = len(mu) * (1 + nt), len(c)
     dsigma = k * np.eye(N) - p[:, None] * kD
-    status = None
+    status, visited = None, []
     for _ in range(cycles):
         R, (dPi, ident), status = newton_residual(x, c, kD, p, k, mu, nc, closing)
+        visited.append((x, status))
         grazing = (status == 0) & (np.abs(c[: nc : 1 + nt] + kD[: nc : 1 + nt] @ x) <= tol)
         if grazing.any():
             held = grazing if closing is None else grazing | closing
@@ -230,7 +235,8 @@ def least_norm(c, D, p, k, mu, nt, x, tol, stats, rcond=1e-10, cycles=8, closing
             return x, status  # (the family through the grazing contacts is no lower)
         x, status = y, found
     stats.least_norm_unsettled += 1
-    return x, status
+    visited.append((x, status))
+    return min(visited, key=lambda member: np.linalg.norm(member[0]))
 
 
 def grazing_closed(c, D, p, k, mu, nt, x, status, tol, stats, band=1e-6, most=3):
