@@ -410,7 +410,7 @@ def merge_interfaces(pairs):
                 continue
             seen[key] = pair
         out.append(pair)
-    companions = [c for p in out for c in getattr(p, "companions", ())]
+    companions = [c for p in out for c in p.companions]
     # (the master's rows first: the order before the slave's had rows of their own)
     deep = [r for p in seen.values() for r in (p.master_rows, p.pointwise) if r is not None]
     return out + deep + companions

@@ -154,9 +154,7 @@ def run_settings(
     # of contacts) take minimum-norm multipliers
     run_stats.contact.minimum_norm = contacts.redundant_rows or loops_of_contacts(model)
     # pairs whose segments clip to a shared node give its row twice: merged in the KKT solve
-    run_stats.contact.merge_duplicates = any(
-        getattr(p, "duplicate_rows", False) for p in contacts.pairs
-    )
+    run_stats.contact.merge_duplicates = any(p.duplicate_rows for p in contacts.pairs)
     return RunSettings(
         **values,
         smooth=smooth,
