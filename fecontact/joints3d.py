@@ -35,7 +35,7 @@ import numpy as np
 from .bodies.rigid3d import RigidBody3D
 from .contact.base import PairDefaults
 from .errors import InputError, check_finite
-from .rotations import exp, hat
+from .rotations import cross, exp, hat
 
 __all__ = ["BallJoint", "FixedJoint", "HingeJoint", "PrismaticJoint", "UniversalJoint"]
 
@@ -58,9 +58,9 @@ def _unit(name: str, value) -> np.ndarray:
 def _perpendiculars(axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Two unit vectors completing ``axis`` to a right-handed orthonormal frame."""
     e = np.eye(3)[int(np.argmin(np.abs(axis)))]
-    p1 = np.cross(axis, e)
+    p1 = cross(axis, e)
     p1 /= np.linalg.norm(p1)
-    return p1, np.cross(axis, p1)
+    return p1, cross(axis, p1)
 
 
 class _Joint(PairDefaults):
@@ -186,13 +186,13 @@ class _Joint(PairDefaults):
         xa = self.body.center(qa) + Ra @ ra
         w = Rb @ e
         G, H = np.zeros(k), np.zeros((k, k))
-        G[:3], G[3:6] = w, np.cross(ra, Ra.T @ w)
+        G[:3], G[3:6] = w, cross(ra, Ra.T @ w)
         H[3:6, 3:6] = Ea @ hat(Ra.T @ w)
         if qb is None:
             return float(w @ (xa - self.point)), G, H
         cb = self.other.center(qb)
         E, rel = hat(e), Rb.T @ (xa - cb)
-        G[6:9], G[9:12] = -w, np.cross(e, rel)
+        G[6:9], G[9:12] = -w, cross(e, rel)
         H[6:9, 9:12], H[:3, 9:12] = Rb @ E, -Rb @ E
         H[9:12, 6:9], H[9:12, :3], H[9:12, 9:12] = -E @ Rb.T, E @ Rb.T, E @ hat(rel)
         H[9:12, 3:6] = -E @ Rb.T @ Ra @ Ea

@@ -19,7 +19,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import InputError, check_finite, check_positive
-from ..rotations import exp, hat
+from ..rotations import cross, exp, hat
 from .base import RigidDefaults
 from .shapes3d import Ball, Box, Capsule, ConvexMesh, Cylinder
 
@@ -165,7 +165,7 @@ class RigidBody3D(RigidDefaults):
         """The rigid field of the dof vector ``x`` = (a, ω) at the output points: a + R(ω × r)
         (for a velocity, the points' velocities in m/s)."""
         R = self.rotation(np.zeros(6) if q is None else q)
-        return x[:3] + np.cross(x[3:6], self._points) @ R.T
+        return x[:3] + cross(x[3:6], self._points) @ R.T
 
     def point_kinematics(self, q: np.ndarray, nodes: np.ndarray):
         """Positions (m, 3), local dofs (m, 6), ∂x/∂(u, Θ) (m, 3, 6) and the curvature

@@ -44,7 +44,7 @@ from ..bodies.beam3d import Beam3D
 from ..bodies.rigid3d import RigidBody3D
 from ..bodies.shapes3d import Ball, Box, Capsule
 from ..errors import InputError, check_range
-from ..rotations import exp, hat
+from ..rotations import cross, exp, hat
 from .base import PairDefaults
 from .beam3d_box import closest_to_box
 from .friction import tangent_basis
@@ -267,7 +267,7 @@ segment-to-segment contact is left out and the nodes hold them (:class:`TubeBeam
 
 def _near_parallel(P: np.ndarray, Q: np.ndarray) -> np.ndarray:
     d1, d2 = P[:, 1] - P[:, 0], Q[:, 1] - Q[:, 0]
-    c = np.cross(d1, d2)
+    c = cross(d1, d2)
     sin2 = np.einsum("mi,mi->m", c, c)
     return sin2 < LINE * np.einsum("mi,mi->m", d1, d1) * np.einsum("mi,mi->m", d2, d2)
 
@@ -398,9 +398,7 @@ class TubeBoxContact(TubeRigidContact):
         """Gaps (m,), dofs (m, 12), gradients (m, 12), no curvature."""
         R, xi, s, rho, nb = self._box_geometry(q)
         n = nb @ R.T
-        G = np.concatenate(
-            [(1.0 - xi)[:, None] * n, xi[:, None] * n, -n, np.cross(nb, rho)], axis=1
-        )
+        G = np.concatenate([(1.0 - xi)[:, None] * n, xi[:, None] * n, -n, cross(nb, rho)], axis=1)
         rigid = np.broadcast_to(self.rigid_offset + np.arange(6), (self.size, 6))
         return s - self.radius, np.concatenate([self._beam_dofs(), rigid], axis=1), G, None
 

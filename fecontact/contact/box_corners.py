@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..rotations import exp, hat, log
+from ..rotations import cross, exp, hat, log
 from .base import PairDefaults
 from .friction import tangent_basis
 from .inside import facet_distances
@@ -95,7 +95,7 @@ class BoxCorners(BoxFeatureRows):
             far = np.full((self.size, 3), np.nan)
             return p, R, f, np.zeros((self.size, 3, 3)), far, np.full(self.size, np.inf)
         t = x[self.facets[np.maximum(f, 0)]]
-        n = np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
+        n = cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
         n /= np.linalg.norm(n, axis=1)[:, None]
         g = np.einsum("kd,kd->k", n, p - t[:, 0]) - self.clearance
         return p, R, f, t, n, np.where(f >= 0, g, np.inf)
@@ -152,7 +152,7 @@ class BoxCorners(BoxFeatureRows):
             return g, dofs, G, None
         lam = self._area_coordinates(p, t)
         G[:, :3] = n
-        G[:, 3:6] = np.cross(self.corners, n @ R)  # r × (Rᵀ n)
+        G[:, 3:6] = cross(self.corners, n @ R)  # r × (Rᵀ n)
         G[:, 6:] = (-lam[:, :, None] * n[:, None, :]).reshape(-1, 9)
         G[~np.isfinite(g)] = 0.0
         return g, dofs, G, None

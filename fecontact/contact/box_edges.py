@@ -59,7 +59,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ..rotations import exp, hat, log
+from ..rotations import cross, exp, hat, log
 from .box_corners import BoxFeatureRows
 from .friction import tangent_basis
 from .rigid_distance import shape_distance
@@ -209,12 +209,12 @@ class BoxEdges(BoxFeatureRows):
         crossing = det > PARALLEL**2 * aa * ee
         det = np.where(crossing, det, 1.0)
         s, t = (bb * ff - cc * ee) / det, (aa * ff - bb * cc) / det
-        n = np.cross(d1[None], d2[:, None])  # (K, 12, 3)
+        n = cross(d1[None], d2[:, None])  # (K, 12, 3)
         n /= np.maximum(np.linalg.norm(n, axis=2), 1e-300)[..., None]
         faces = self.faces @ R.T  # (12, 2, 3) in space
         n *= np.where(np.einsum("ked,ed->ke", n, faces.sum(axis=1)) > 0.0, -1.0, 1.0)[..., None]
         tri = x[self.facets[self._sides[near]]]  # (K, 2, 3, 3)
-        m = np.cross(tri[..., 1, :] - tri[..., 0, :], tri[..., 2, :] - tri[..., 0, :])
+        m = cross(tri[..., 1, :] - tri[..., 0, :], tri[..., 2, :] - tri[..., 0, :])
         m /= np.linalg.norm(m, axis=2)[..., None]  # the ridge's two outward normals (K, 2, 3)
         # the common normal in both normal cones: −n between the box edge's two faces, n
         # between the ridge's two triangles (widened by CONE: a flat ridge has one normal)
@@ -258,7 +258,7 @@ class BoxEdges(BoxFeatureRows):
         e = edge[on]
         r = self.a[e] + s[on, None] * (self.b[e] - self.a[e])
         G[on, :3] = n[on]
-        G[on, 3:6] = np.cross(r, n[on] @ R)  # r × (Rᵀ n)
+        G[on, 3:6] = cross(r, n[on] @ R)  # r × (Rᵀ n)
         G[on, 6:9] = -(1.0 - t[on, None]) * n[on]
         G[on, 9:] = -t[on, None] * n[on]
         ramped = on[ramp[on] > 0.0]
@@ -314,7 +314,7 @@ class BoxEdges(BoxFeatureRows):
         i = np.argmax(along, axis=1)
         psi = np.maximum(along[np.arange(len(e)), i], 0.0)
         a, ab = faces[np.arange(len(e)), i], self.faces[e, i]
-        v = np.cross(d1, d2)
+        v = cross(d1, d2)
         size = np.linalg.norm(v, axis=1)
         sign = np.sign(np.einsum("kd,kd->k", n, v))
         Jd2 = np.zeros_like(Jd1)
@@ -337,7 +337,7 @@ class BoxEdges(BoxFeatureRows):
         if on.any():
             along = (self.b[edge[on]] - self.a[edge[on]]) @ R.T
             along /= np.linalg.norm(along, axis=1)[:, None]
-            T[on] = np.stack([along, np.cross(n[on], along)], axis=1)
+            T[on] = np.stack([along, cross(n[on], along)], axis=1)
             r = self.a[edge[on]] + s[on, None] * (self.b[edge[on]] - self.a[edge[on]])
             W[on, :, :3] = np.eye(3)
             W[on, :, 3:6] = -R @ hat(r)  # ∂p/∂Θ = −R r̃

@@ -45,7 +45,7 @@ import numpy as np
 from ..bodies.rigid3d import RigidBody3D
 from ..bodies.shapes3d import Ball, Capsule
 from ..errors import InputError, check_range
-from ..rotations import exp, hat, log
+from ..rotations import cross, exp, hat, log
 from .base import PairDefaults
 from .friction import tangent_basis
 
@@ -81,7 +81,7 @@ def hull_faces(vertices: np.ndarray):
         c = P.mean(0)
         e1 = P[0] - c
         e1 /= np.linalg.norm(e1)
-        e2 = np.cross(n, e1)
+        e2 = cross(n, e1)
         angle = np.arctan2((P - c) @ e2, (P - c) @ e1)
         faces.append(ids[np.argsort(angle)])
         normals.append(n)
@@ -92,7 +92,7 @@ def hull_faces(vertices: np.ndarray):
 def _inward(poly: np.ndarray, n: np.ndarray) -> np.ndarray:
     """Unit inward side normals (m, 3) of the polygon ``poly`` (m, 3), counter-clockwise about
     ``n``."""
-    m = np.cross(n, np.roll(poly, -1, axis=0) - poly)
+    m = cross(n, np.roll(poly, -1, axis=0) - poly)
     return m / np.linalg.norm(m, axis=1)[:, None]
 
 
@@ -110,7 +110,7 @@ def _crossings(ref, inc, nr, tol):
     r = inc_p[None] - ref[:, None]  # (m, k, 3)
 
     def along(a, b):  # (a × b)·nr, the signed area in the reference plane
-        return np.einsum("...i,i->...", np.cross(a, b), nr)
+        return np.einsum("...i,i->...", cross(a, b), nr)
 
     den = along(d1, d2)
     # parallel edges: their overlap ends at vertices, counted there
@@ -420,8 +420,8 @@ class ConvexContact(PairDefaults):
         G = np.zeros((self.size, 12))
         g[k] = np.einsum("kd,kd->k", xb - xa, n) - self.clearance
         G[k, :3], G[k, 6:9] = -n, n
-        G[k, 3:6] = -np.cross(ra, n @ Ra)  # (rows Rᵀn)
-        G[k, 9:12] = np.cross(rb, n @ Rb)
+        G[k, 3:6] = -cross(ra, n @ Ra)  # (rows Rᵀn)
+        G[k, 9:12] = cross(rb, n @ Rb)
         return g, self._dofs(), G, None
 
     def gaps(self, q: np.ndarray) -> np.ndarray:

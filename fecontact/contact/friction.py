@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..rotations import cross
 from .coulomb_newton import NotConverged, coulomb_projection, newton
 from .friction_redundant import grazing_closed, least_norm, one_open, proximal, without_round_off
 from .stats import CoulombStats
@@ -57,7 +58,7 @@ def tangent_basis(n: np.ndarray) -> np.ndarray:
     axis = np.eye(3)[np.argmax(np.abs(n) < 0.6, axis=1)]
     t1 = axis - np.einsum("mi,mi->m", axis, n)[:, None] * n
     t1 /= np.linalg.norm(t1, axis=1)[:, None]
-    return np.stack([t1, np.cross(n, t1)], axis=1)
+    return np.stack([t1, cross(n, t1)], axis=1)
 
 
 def point_tangents(G: np.ndarray, dim: int) -> np.ndarray:

@@ -29,7 +29,7 @@ import numpy as np
 from ..bodies.rigid3d import RigidBody3D
 from ..bodies.shapes3d import Ball, Box
 from ..errors import InputError, check_range
-from ..rotations import exp, hat, log
+from ..rotations import cross, exp, hat, log
 from .base import PairDefaults
 from .convex_pairs import ConvexContact
 from .friction import tangent_basis
@@ -227,7 +227,7 @@ class BallBoxContact(RigidPair):
         _, _, Rb, rho, _, nb, dist = self._geometry(q)
         n = Rb @ nb
         G = np.zeros((1, 12))
-        G[0, :3], G[0, 6:9], G[0, 9:12] = n, -n, np.cross(nb, rho)
+        G[0, :3], G[0, 6:9], G[0, 9:12] = n, -n, cross(nb, rho)
         return np.array([dist - self.radius]), self._dofs(), G, None
 
     def tangents(self, q: np.ndarray):

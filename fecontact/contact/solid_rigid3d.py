@@ -31,7 +31,7 @@ import numpy as np
 from ..bodies.rigid3d import RigidBody3D
 from ..bodies.shapes3d import Ball, Box
 from ..bodies.solid import Solid
-from ..rotations import exp, hat
+from ..rotations import cross, exp, hat
 from .box_corners import BoxCorners
 from .box_edges import BoxEdges
 from .node_rigid import NodeRigidRows, NodeRoundRows, node_rows
@@ -109,7 +109,7 @@ class NodeBoxContact(NodeRigidContact):
         """Gaps (m,), dofs (m, 9), gradients (m, 9), no curvature."""
         R, rho, nb, dist = self._geometry(q)
         n = nb @ R.T
-        G = np.concatenate([n, -n, np.cross(nb, rho)], axis=1)
+        G = np.concatenate([n, -n, cross(nb, rho)], axis=1)
         return dist - self.clearance, self._dofs(), G, None
 
 
