@@ -141,8 +141,8 @@ def face_manifold(ref, inc, nr, n_inc, tol):
     labels += [("ref", int(k)) for k in keep]
     x_ref.append(ref[keep])
     x_inc.append(ref[keep] + np.outer(t, nr))
-    cross, on_ref, on_inc = _crossings(ref, inc, nr, tol)
-    labels += [("cross", *c) for c in cross]
+    edges, on_ref, on_inc = _crossings(ref, inc, nr, tol)
+    labels += [("cross", *c) for c in edges]
     x_ref, x_inc = np.vstack([*x_ref, on_ref]), np.vstack([*x_inc, on_inc])
     unique = [
         i for i in range(len(labels)) if np.all(np.linalg.norm(x_ref[:i] - x_ref[i], axis=1) > tol)
