@@ -14,7 +14,8 @@ located. A contact pressed for longer is a lasting one, left to the step. Such s
 counted (``subdivided_steps``). They are taken with ``localize`` on; "auto" localizes the
 solids it chooses (:func:`fecontact.time.localize.undamped_solids`) in whole steps (with
 friction, a contact pressed within ``CHATTER_WINDOW`` steps is a lasting one whose
-re-closing is left to the step's end, :meth:`Releases.__call__`): the
+re-closing is left to the step's end, :meth:`Releases.__call__`, unless Newton's law threw
+it off, :meth:`Releases._rebounding`): the
 closing's energy is gone at the cost of a few smooth steps, where the sub-steps cost the
 contact phase about eight steps per step. There the releasing step (the last test above) is
 also taken aside in sub-steps, which read the contact's end at a sub-step's resolution and
@@ -208,7 +209,8 @@ class Releases(Localizer):
             return self._step(model, st, h, opts, timer)
         # a frictional contact pressed within CHATTER_WINDOW steps is a lasting one: its nodes
         # that lift and re-close are left to the step's end (located, the struck block on its
-        # floor created more: docs/validation/localization.md)
+        # floor cost 4.6x the CPU and created 0 either way: docs/validation/localization.md);
+        # one that an impulse threw off is in flight (_rebounding)
         touched = self.touched
         self.lasting = st.t - touched <= CHATTER_WINDOW * h if self.pressed_once else None
         if self.lasting is not None:  # (a floor under a ringing block: its forces ring)
