@@ -8,11 +8,11 @@ of these, which returns the pairs' rows stacked in their order, number for numbe
 the pairs themselves: the distances and plane gaps are the same per-row products
 (:func:`.pair_batches.dot_rows`), the normals and curvatures the same element-wise operations.
 
-The slip rows turn each ball's arm by its rotation, R = exp(ψ̃) per ball: the pairs take
-it by Python's ``math`` on one vector, the stacked Rodrigues formula by numpy's ufuncs, a
-different evaluation. So the batch asks its pairs for the slip rows of the rows asked for
-(the active contacts, a few of the many pairs) and for nothing else: the numbers are the
-pairs' own, and no more rotations are made than by the pairs alone.
+The slip rows turn each ball's arm by its rotation, R = exp(ψ̃) per ball, then take a few
+3 × 3 products per pair, each of which a stacked form would have to match bit for bit. So
+the batch asks its pairs for the slip rows of the rows asked for (the active contacts, a few
+of the many pairs) and for nothing else: the numbers are the pairs' own, and no more
+rotations are made than by the pairs alone.
 
 ==========================  ==================================================================
 batch                       pairs (see :mod:`.rigid3d_pairs` for the gaps and slips)
