@@ -123,6 +123,21 @@ class PairDefaults:
         the linear form is."""
         return None
 
+    def tangent_rows(self, q: np.ndarray, rows: np.ndarray):
+        """``tangents`` of the contacts ``rows`` (the pair's own numbering) alone: dofs
+        (len(rows), k), slip rows (len(rows), nt, k), tangents (len(rows), nt, d). A batch
+        whose slip rows cost a rotation per pair computes the asked rows only."""
+        dofs, G, T = self.tangents(q)
+        return np.broadcast_to(dofs, (self.size, dofs.shape[1]))[rows], G[rows], T[rows]
+
+    def slip_rows(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray, rows: np.ndarray):
+        """``slips`` of the contacts ``rows`` alone (T (len(rows), nt, d) their tangents), or
+        None where the linear form is exact."""
+        full = np.zeros((self.size, *T.shape[1:]))
+        full[rows] = T
+        exact = self.slips(q, q_n, full)
+        return None if exact is None else exact[rows]
+
     def detect_within(self, distance: float) -> None:
         """The integrator's detection distance (m), for pairs with a spatial search of their
         own: contacts farther than it are no candidates anyway."""

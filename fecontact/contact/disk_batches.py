@@ -21,6 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
+from .pair_batches import PairBatch, dot_rows, frozen
 
 __all__ = ["DiskDiskBatch", "DiskPlaneBatch"]
 
@@ -28,31 +29,7 @@ _XY = np.arange(2)
 _XYT = np.arange(3)
 
 
-def _dot_rows(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """a_j·b_j (m,) of rows (m, 2), each the product the pairs take one by one."""
-    return np.matmul(a[:, None, :], b[:, :, None])[:, 0, 0]
-
-
-class _Batch:
-    """Consecutive one-row pairs of one kind: their rows stacked in order."""
-
-    size = 0
-    lazy_hessians = False
-
-    def __init__(self, pairs):
-        self.pairs = tuple(pairs)
-        self.size = len(self.pairs)
-        self.friction = max(pair.friction for pair in self.pairs)
-
-    def hessians(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
-        return self.evaluate(q)[3][rows]
-
-    def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
-        """None: the linear slip G_T(q)(q − q_n) is the pairs' own (no exact form)."""
-        return None
-
-
-class DiskDiskBatch(_Batch):
+class DiskDiskBatch(PairBatch):
     """``DiskDiskContact`` pairs together: gaps, gradients (m, 4), Hessians (m, 4, 4) over
     (x, y) of a then b, and slip rows over (x, y, θ) of a then b."""
 
@@ -67,13 +44,13 @@ class DiskDiskBatch(_Batch):
         self._pb = np.array([body.position for body in b], float)
         self._ra = np.array([body.shape.radius for body in a], float)
         self._rb = np.array([body.shape.radius for body in b], float)
-        self._dofs = _frozen(np.hstack([self._xa, self._xb]))
-        self._slip_dofs = _frozen(np.hstack([oa + _XYT, ob + _XYT]))
+        self._dofs = frozen(np.hstack([self._xa, self._xb]))
+        self._slip_dofs = frozen(np.hstack([oa + _XYT, ob + _XYT]))
 
     def _normals(self, q: np.ndarray):
         """Unit normals e (m, 2) from a's centre to b's and the distances d (m,)."""
         x = (self._pb + q[self._xb]) - (self._pa + q[self._xa])
-        d = np.sqrt(_dot_rows(x, x))
+        d = np.sqrt(dot_rows(x, x))
         if not d.all():
             raise InputError("disk centres coincide: contact normal undefined")
         return x / d[:, None], d
@@ -97,7 +74,7 @@ class DiskDiskBatch(_Batch):
         return self._slip_dofs, GT[:, None, :], t[:, None, :]
 
 
-class DiskPlaneBatch(_Batch):
+class DiskPlaneBatch(PairBatch):
     """``DiskObstacleContact`` pairs on fixed ``Plane`` obstacles together: gaps, gradients
     (m, 2) over the centre, no curvature, slip rows over (x, y, θ) of the disk."""
 
@@ -109,24 +86,18 @@ class DiskPlaneBatch(_Batch):
         self._r = np.array([pair.body.shape.radius for pair in self.pairs], float)
         self._point = np.array([pair.obstacle.point for pair in self.pairs], float)
         self._normal = np.array([pair.obstacle.normal for pair in self.pairs], float)
-        self._dofs = _frozen(self._x.copy())
-        self._slip_dofs = _frozen(offsets + _XYT)
+        self._dofs = frozen(self._x.copy())
+        self._slip_dofs = frozen(offsets + _XYT)
         t = np.stack([self._normal[:, 1], -self._normal[:, 0]], axis=1)[:, None, :]
-        self._T = _frozen(t)
-        self._GT = _frozen(np.concatenate([t, self._r[:, None, None]], axis=2))
+        self._T = frozen(t)
+        self._GT = frozen(np.concatenate([t, self._r[:, None, None]], axis=2))
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         c = self._p + q[self._x]
-        return _dot_rows(c - self._point, self._normal) - self._r
+        return dot_rows(c - self._point, self._normal) - self._r
 
     def evaluate(self, q: np.ndarray):
         return self.gaps(q), self._dofs, self._normal.copy(), None
 
     def tangents(self, q: np.ndarray):
         return self._slip_dofs, self._GT, self._T
-
-
-def _frozen(a: np.ndarray) -> np.ndarray:
-    """``a`` made read-only: the same dofs at every evaluation (their scatter is kept)."""
-    a.flags.writeable = False
-    return a

@@ -34,16 +34,16 @@ class FrictionRows:
         The slip rate of contact j is GT_j v minus T_j·ḋ of a moving obstacle."""
         GT = T = None
         for pair, rows, loc in self._frictional(select):
-            dofs, Gv, Tv = pair.tangents(q)
+            dofs, Gv, Tv = pair.tangent_rows(q, loc)
             if GT is None:
                 nt, d = Tv.shape[1:]
                 GT, T = np.zeros((len(select), nt, self.n_free)), np.zeros((len(select), nt, d))
-            fi = self.free_index[np.broadcast_to(dofs, (pair.size, dofs.shape[1]))[loc]]
-            values = np.where(fi[:, None, :] >= 0, Gv[loc], 0.0)
+            fi = self.free_index[dofs]
+            values = np.where(fi[:, None, :] >= 0, Gv, 0.0)
             r = np.broadcast_to(rows[:, None, None], values.shape)
             c = np.broadcast_to(np.maximum(fi, 0)[:, None, :], values.shape)
             np.add.at(GT, (r, np.arange(values.shape[1])[None, :, None], c), values)
-            T[rows] = Tv[loc]
+            T[rows] = Tv
         if GT is None and self.frictional:
             # none of ``select`` has friction, but the set does: the callers' arrays still
             # need their shape (a mortar interface's frictionless safeguard rows, released)
@@ -58,11 +58,9 @@ class FrictionRows:
         give it (points of rotating bodies)."""
         slip = GT @ (q - q_n)[self.free_index >= 0]
         for pair, rows, loc in self._frictional(select):
-            full = np.zeros((pair.size, *T.shape[1:]))
-            full[loc] = T[rows]
-            exact = pair.slips(q, q_n, full)
+            exact = pair.slip_rows(q, q_n, T[rows], loc)
             if exact is not None:
-                slip[rows] = exact[loc]
+                slip[rows] = exact
         return slip
 
     def tangent_force(self, q, select, mult, status, n: int):

@@ -30,6 +30,7 @@ from ..bodies.rigid3d import RigidBody3D
 from ..bodies.shapes3d import Ball, Box
 from ..errors import InputError, check_range
 from ..rotations import cross, exp, hat, log
+from .ball_batches import BallBallBatch, BallPlaneBatch
 from .base import PairDefaults
 from .convex_pairs import ConvexContact
 from .friction import tangent_basis
@@ -74,6 +75,12 @@ class BallsPlaneContact(PairDefaults):
 
     def bind(self, model) -> None:
         self.offset = model.offset_of(self.body)
+
+    def batch_key(self):
+        """A ``Ball`` on a fixed plane, with friction or without, is evaluated with others."""
+        if not isinstance(self.body.shape, Ball) or self.obstacle.moving:
+            return None
+        return BallPlaneBatch, self.friction > 0.0
 
     def _local(self, q):
         return q[self.offset : self.offset + 6]
@@ -141,6 +148,9 @@ class BallBallContact(RigidPair):
     def __init__(self, a: RigidBody3D, b: RigidBody3D, restitution=0.0, clearance=0.0):
         super().__init__(a, b, restitution)
         self.radii = a.shape.radius + b.shape.radius + clearance
+
+    def batch_key(self):
+        return BallBallBatch, self.friction > 0.0
 
     def _geometry(self, q):
         (a, b), (oa, ob) = self.bodies, self.offsets
