@@ -4,13 +4,12 @@ front let pass their first contact (docs/explanation/mortar.md, *Quadratic faces
 
 import numpy as np
 import pytest
-from conftest import load_case
 
-from fecontact import Contact, Model, Solid, run, simulate
+from fecontact import Contact, Model, Solid, run
 from fecontact.bodies.materials import NeoHookean
-from fecontact.contact.mortar_p2_safeguard import DeepNodeRowsP2, curved_gaps, vertex_gaps
+from fecontact.contact.mortar_p2_safeguard import DeepNodeRowsP2, curved_gaps
 from fecontact.contact.mortar_safeguard import shortest_edge
-from fecontact.scenes import solid_material, wave_step
+from fecontact.scenes import wave_step
 from fecontact.simulation import Simulation
 
 RUBBER = NeoHookean(1e7, 0.3, 1000.0)
@@ -138,81 +137,3 @@ def test_the_sweeps_depth_measure_reads_a_p2_boundary_on_its_curve():
     # behind the pieces by the depth and the sagitta, ¼ of the dent at ξ = ±½, less the
     # pieces' tilt (cos of their angle to the curve, under 3 % at a 1 mm dent on 38 mm)
     assert np.all(pieces[:2] >= depth + 0.97 * 0.25 * dent)
-
-
-def pressed_vertex_to_vertex(depth):
-    """Two P2 disks (refinements 2, 5 cm) whose vertices on the x axis overlap by ``depth``
-    (m): the left disk's interface, built, and q = 0."""
-    left = Solid.disk([-0.05 + 0.5 * depth, 0.0], 0.05, 2, RUBBER, element="P2")
-    right = Solid.disk([0.05 - 0.5 * depth, 0.0], 0.05, 2, RUBBER, element="P2")
-    model = Model([left, right], [Contact(left, right)], gravity=(0.0, 0.0))
-    return model, model.contacts.pairs[0]
-
-
-def test_a_node_pressed_onto_a_vertex_is_pushed_along_its_bisector():
-    """The left disk's vertex on the axis, 2δ inside the right disk, is as deep behind both
-    of the right disk's segments that meet at its vertex there: its row pushes it along the
-    axis (sideways component of its gradient 0 to round-off), where one segment's normal
-    pushed it 11.25° off the axis (0.2 of the axial component; the disks left their axis at
-    9 % of the impact speed). It reads the node's depth behind the two segments' ends
-    (2δ cos 11.25°, the axial component of either normal) less ε ln 2, the smooth maximum
-    of two equal gaps (to round-off: 1e-12 of δ)."""
-    _, pair = pressed_vertex_to_vertex(0.0)
-    model, pair = pressed_vertex_to_vertex(2.0 * pair.pointwise.allowance)
-    rows = pair.pointwise
-    g, _, G, _ = rows.evaluate(np.zeros(model.n))
-    node = int(np.argmax(rows.body.positions(np.zeros(rows.body.ndof))[rows.nodes, 0]))
-    assert np.isfinite(g[node]) and g[node] < 0.5 * rows.allowance  # a candidate: deep
-    gx, gy = G[node, :2]
-    assert abs(gy) <= 1e-12 * abs(gx)
-    assert abs(gx) == pytest.approx(np.cos(np.pi / 16), rel=1e-12)  # (16 segments)
-    depth = 2.0 * rows.allowance * abs(gx)
-    expected = -depth + rows.smoothing * np.log(2.0) + rows.allowance
-    assert g[node] == pytest.approx(expected, rel=0.0, abs=1e-12 * rows.allowance)
-
-
-def test_vertex_gap_derivatives_are_exact():
-    """Gradients and Hessians of the smooth maximum over the node's and the two segments'
-    14 coordinates against central differences, points near the shared vertex (both planes
-    weighed). Step 1e-9 m against a smoothing length of 2e-5 m: measured 2.8e-10
-    (gradients) and 6.6e-10 of the largest entry (Hessians); the errors fall as the step
-    squared (2.6e-8 and 6.2e-8 at 1e-8 m: truncation, the derivatives exact)."""
-    rng = np.random.default_rng(5)
-    v = np.array([0.0, 0.0])
-    a1 = np.array([-0.04, -0.006]) + rng.normal(0, 0.001, (6, 2))
-    m1 = np.array([-0.02, -0.002]) + rng.normal(0, 0.0005, (6, 2))
-    b2 = np.array([0.04, -0.006]) + rng.normal(0, 0.001, (6, 2))
-    m2 = np.array([0.02, -0.002]) + rng.normal(0, 0.0005, (6, 2))
-    vv = np.tile(v, (6, 1))
-    x = np.c_[np.linspace(-2e-5, 2e-5, 6), -np.linspace(1e-5, 4e-5, 6)]
-    z = np.concatenate([x, a1, vv, m1, vv, b2, m2], axis=1)
-    real, eps = np.ones(6, bool), 2e-5
-    jet, h = vertex_gaps(z, real, eps, True), 1e-9
-    scale = max(1.0, np.abs(jet.h).max())
-    for i in range(14):
-        d = np.zeros_like(z)
-        d[:, i] = h
-        up, down = vertex_gaps(z + d, real, eps, False), vertex_gaps(z - d, real, eps, False)
-        assert np.abs((up.v - down.v) / (2 * h) - jet.g[:, i]).max() < 1e-8
-        assert np.abs((up.g - down.g) / (2 * h) - jet.h[:, :, i]).max() < 1e-8 * scale
-
-
-def test_p2_disks_head_on_at_a_wave_step_keep_on_their_axis():
-    """Two P2 disks (10 cm, refinements 2) head-on at 1 m/s each, step Δx/c, through the
-    contact and the parting (8 ms): the vertices on the axis meet vertex to vertex and are
-    held by their pointwise rows. With one segment's gap the disks left the axis at 8.7 % of
-    the impact speed; with the vertex's two segments, 5.6e-9 at 8 ms (grown from round-off
-    while the rows hold the vertices, 1.1e-8 at 12 ms; the bound 1e-7 is 1e-6 of 8.7 %)."""
-    mat = solid_material("linear", 1e7, 0.3, 1e3)
-    left = Solid.disk([-0.101, 0.0], 0.1, 2, mat, element="P2")
-    right = Solid.disk([0.101, 0.0], 0.1, 2, mat, element="P2")
-    model = Model([left, right], [Contact(left, right)], gravity=(0.0, 0.0))
-    v0 = model.translation(left, (1.0, 0.0)) + model.translation(right, (-1.0, 0.0))
-    wy = left.mass_matrix() @ left.translation_field((0.0, 1.0))
-    options = load_case("two_disks").build(refinements=1).options
-    lateral, deep, mortar = 0.0, 0, model.contacts.pairs[0].size
-    for st in simulate(model, wave_step(left, 1.0), 0.008, options, v0=v0):
-        lateral = max(lateral, abs(float(wy @ st.v[model.body_slice(0)])) / left.mass)
-        deep += int(np.any(st.force[mortar:] > 0))  # (the pointwise rows)
-    assert deep > 0  # the pointwise rows hold the vertices in this run
-    assert lateral <= 1e-7

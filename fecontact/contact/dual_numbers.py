@@ -147,18 +147,6 @@ class Jet:
             return Jet(s, None, None)
         return self._unary(s, 0.5 / s, -0.25 / (s * self.v))
 
-    def exp(self) -> Jet:
-        e = np.exp(self.v)
-        if self.g is None:
-            return Jet(e, None, None)
-        return self._unary(e, e, e)
-
-    def log(self) -> Jet:
-        r = 1.0 / self.v
-        if self.g is None:
-            return Jet(np.log(self.v), None, None)
-        return self._unary(np.log(self.v), r, -(r**2))
-
     def where(self, mask: np.ndarray, other) -> Jet:
         """This jet where ``mask`` (B,), ``other`` elsewhere."""
         o = self._lift(other)
