@@ -72,7 +72,7 @@ from ..bodies.solid import Solid
 from ..errors import InputError, check_positive
 from ..rotations import exp, hat, log
 from .boundary_mortar import BoundaryRows
-from .box_corners import BoxCorners
+from .box_corners import BallCentre, BoxCorners
 from .box_edges import BoxEdges
 from .friction import tangent_basis
 from .rigid_distance import (
@@ -160,12 +160,14 @@ class RigidMortarGeometry(BoundaryRows):
         self._node_dofs = body.node_translation_dofs(self.nodes)
         self.offsets = (0, 0)
         self.dofs = np.zeros((len(self.nodes), self._cols.shape[2]), dtype=int)
-        # a box's corners and edges, which the nodes' rows let in between them
-        box = isinstance(self.rigid.shape, Box)
-        self.companions = (
-            (BoxCorners(self, body, self.rigid, clearance, margin),
-             BoxEdges(self, body, self.rigid, clearance, margin)) if box else ()
-        )  # fmt: skip
+        # a box's corners and edges, which the nodes' rows let in between them; the centre of
+        # a ball the triangles outgrow, whose pole would sink between the nodes
+        shape = self.rigid.shape
+        if isinstance(shape, Box):
+            self.companions = (BoxCorners(self, body, self.rigid, clearance, margin),
+                               BoxEdges(self, body, self.rigid, clearance, margin))  # fmt: skip
+        elif np.any(self.reference_reach > shape.radius):
+            self.companions = (BallCentre(self, body, self.rigid, clearance, margin),)
 
     def bind(self, model) -> None:
         """Place the pair in the global dof vector of ``model``."""
