@@ -110,9 +110,11 @@ class RigidPoints(FeatureRows):
         g = np.einsum("kd,kd->k", n, p - t[:, 0])
         y = p
         if not self.plane_rows:  # off the face: the distance to its closest edge or vertex
-            dist, off, y = triangle_closest(p, t)
-            n[off] = (p[off] - y[off]) / dist[off, None]
-            g[off] = dist[off]
+            y, near = p.copy(), np.flatnonzero(f >= 0)
+            dist, off, y[near] = triangle_closest(p[near], t[near])
+            k = near[off]
+            n[k] = (p[k] - y[k]) / dist[off, None]
+            g[k] = dist[off]
         g = g - self.radii - self.clearance
         return p, R, f, t, n, np.where(f >= 0, g, np.inf), y
 
@@ -232,5 +234,12 @@ class BallCentre(RigidPoints):
     def _closest(self, p: np.ndarray, x: np.ndarray) -> np.ndarray:
         """Each row's triangle (k,), −1 where the centre lies beyond the search distance plus
         the radius of it."""
-        dist = facet_distances(p, x[self.facets])
-        return np.where(dist <= self.margin + self.radii, np.arange(self.size), -1)
+        xf, reach = x[self.facets], self.margin + self.radii[0]
+        centre = xf.mean(axis=1)
+        radius = np.linalg.norm(xf - centre[:, None], axis=2).max(axis=1)
+        # a triangle whose bounding sphere lies beyond the reach is beyond it
+        near = np.flatnonzero(np.linalg.norm(p - centre, axis=1) - radius <= reach)
+        f = np.full(self.size, -1)
+        near = near[facet_distances(p[near], xf[near]) <= reach]
+        f[near] = near
+        return f
