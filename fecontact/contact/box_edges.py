@@ -60,7 +60,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..rotations import cross, exp, hat, log
-from .box_corners import BoxFeatureRows
+from .box_corners import FeatureRows
 from .friction import tangent_basis
 from .rigid_distance import shape_distance
 
@@ -144,10 +144,10 @@ def _ridges(facets: np.ndarray):
     return ridges, (order // 3).reshape(-1, 2)
 
 
-class BoxEdges(BoxFeatureRows):
+class BoxEdges(FeatureRows):
     """The twelve edges of the ``Box`` of ``rigid`` (a ``RigidBody3D``) against the boundary
     edges of the 3D solid ``body``: one row per boundary edge (module docstring); arguments
-    as :class:`~fecontact.contact.box_corners.BoxFeatureRows`."""
+    as :class:`~fecontact.contact.box_corners.FeatureRows`."""
 
     # a ridge pressed flat on the box's face beside the edge pushes its nodes along the face's
     # normal, as their own rows and the mortar rows do: rows redundant up to round-off, whose

@@ -44,6 +44,7 @@ __all__ = [
     "face_depths",
     "segment_depths",
     "segment_neighbours",
+    "triangle_closest",
     "winding_numbers",
 ]
 
@@ -118,6 +119,14 @@ def facet_distances(points: np.ndarray, xf: np.ndarray) -> np.ndarray:
     if points.shape[1] == 2:
         return closest_on_segments(points, xf[:, 0], xf[:, 1])[1]
     return _triangle_closest(points, xf[:, 0], xf[:, 1], xf[:, 2])[0]
+
+
+def triangle_closest(points: np.ndarray, xf: np.ndarray):
+    """Distances (m,) from points (m, 3) to triangles xf (m, 3, 3), whether the closest point
+    lies off the face's interior (on an edge or a vertex) (m,) and the closest points (m, 3),
+    clipped to the triangles."""
+    dist, kind, _, closest = _triangle_closest(points, xf[:, 0], xf[:, 1], xf[:, 2])
+    return dist, kind > 0, closest
 
 
 def face_depths(points: np.ndarray, xf: np.ndarray):

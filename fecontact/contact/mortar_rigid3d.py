@@ -22,11 +22,14 @@ it is a second-order artefact with the sign of the negative lobes: a stand-off (
 where a sphere touches a flat mesh at a node) and, at a box edge, a tangential force from face
 nodes whose triangles reach across the edge's region plane (+17.5 % of the approach speed
 sideways for a ball landing 1 cm inside an edge its contact patch never reaches). Where it
-does not (a box's edge or corner seen from its region, a ball smaller than the triangles) it
-is what keeps the feature out between the nodes. So w_j = 0 over a box's faces (the rows are
-the nodal distances, which the weighted gap of a linear field equals: the patch test) and
-against a ball the mesh resolves, ramping to 1 over the node's own triangle size into an edge
-or corner region, or as the triangles outgrow the ball.
+does not (a box's edge or corner seen from its region) it is what keeps the feature out
+between the nodes. So w_j = 0 over a box's faces (the rows are the nodal distances, which the
+weighted gap of a linear field equals: the patch test), ramping to 1 over the node's own
+triangle size into an edge or corner region. Against a ball w_j = 0: where the triangles
+outgrow it (a node's longest edge above r) the ball's centre has rows of its own against
+them (:class:`~fecontact.contact.box_corners.BallCentre`), which hold the sphere out of the
+faces between the nodes; the weighted gap did it with a stand-off of 23 % of r (a 2 cm ball
+on 3.3 cm cells).
 
 The integral is over the reference surface (dA₀), unlike the solid–solid mortar's current
 area: the multiplier λ_j / L_j is then the nominal (first Piola–Kirchhoff) pressure, uniform
@@ -56,9 +59,10 @@ node's exact distance is measured at every evaluation (no search to miss one), a
 integrals, not each node: a node may sit inside by the discretization's own amount).
 Friction: slip rows T_j·[(1 − w_j)(ẋ_j − ẏ_j) + w_j ∫ Φ_j (ẋ − ẏ) dA₀ / L_j], ẏ the velocity of
 the body's material point under x, T_j the tangents of the shape's normal at node j (as the
-solid–solid mortar does). A box's corners and edges, which can enter between the nodes, carry
-rows of their own (:mod:`fecontact.contact.box_corners`, :mod:`fecontact.contact.box_edges`,
-the pair's ``companions``), and :class:`NodeDepths` also measures the box's corners and edges
+solid–solid mortar does). A box's corners and edges, and the pole of a ball smaller than the
+triangles, which can enter between the nodes, carry rows of their own
+(:mod:`fecontact.contact.box_corners`, :mod:`fecontact.contact.box_edges`, the pair's
+``companions``), and :class:`NodeDepths` also measures the box's corners and edges
 inside the solid (:class:`~fecontact.contact.rigid_distance.FeatureDepths`).
 """
 
@@ -72,7 +76,7 @@ from ..bodies.solid import Solid
 from ..errors import InputError, check_positive
 from ..rotations import exp, hat, log
 from .boundary_mortar import BoundaryRows
-from .box_corners import BoxCorners
+from .box_corners import BallCentre, BoxCorners
 from .box_edges import BoxEdges
 from .friction import tangent_basis
 from .rigid_distance import (
@@ -160,12 +164,14 @@ class RigidMortarGeometry(BoundaryRows):
         self._node_dofs = body.node_translation_dofs(self.nodes)
         self.offsets = (0, 0)
         self.dofs = np.zeros((len(self.nodes), self._cols.shape[2]), dtype=int)
-        # a box's corners and edges, which the nodes' rows let in between them
-        box = isinstance(self.rigid.shape, Box)
-        self.companions = (
-            (BoxCorners(self, body, self.rigid, clearance, margin),
-             BoxEdges(self, body, self.rigid, clearance, margin)) if box else ()
-        )  # fmt: skip
+        # a box's corners and edges, which the nodes' rows let in between them; the centre of
+        # a ball the triangles outgrow, whose pole would sink between the nodes
+        shape = self.rigid.shape
+        if isinstance(shape, Box):
+            self.companions = (BoxCorners(self, body, self.rigid, clearance, margin),
+                               BoxEdges(self, body, self.rigid, clearance, margin))  # fmt: skip
+        elif np.any(self.reference_reach > shape.radius):
+            self.companions = (BallCentre(self, body, self.rigid, clearance, margin),)
 
     def bind(self, model) -> None:
         """Place the pair in the global dof vector of ``model``."""
