@@ -13,9 +13,10 @@ Moreau–Jean's free velocity) and the metric H (M, or Moreau–Jean's iteration
 
 Joints are equalities in both phases. Λ_i is the percussion of the impact: the compression
 impulse that stops the approach ġ⁻ (the same pre-impact rate as Newton's law), found by the
-compression problem with ġ⁻ in place of the normal rates G ṽ (and the joints at rest),
-and at most Λ_c. The rest of
-Λ_c is the impulse of the finite forces over the step (gravity pressing a body that rests):
+compression problem with ġ⁻ in place of the normal rates G ṽ (the joints and the contacts
+held by smooth forces at rest, and without the smooth forces' impulses), and at most Λ_c.
+The rest of Λ_c is the impulse of the finite forces over the step (gravity pressing a body
+that rests; the smooth force a held contact gives up, which the rows coupled to it take):
 it is not restituted, or a resting body would be thrown up by e_N g h every step. Without
 forces over the step Λ_i = Λ_c. For one frictionless contact the two phases give
 ġ⁺ = −e_N ġ⁻, Newton's answer, and at e_N = 0 they are Newton's law.
@@ -50,9 +51,11 @@ def poisson_jump(model, st, q, v, closed, G1, rates, e, approach, opts, tol, **k
     solve = kw.get("solve") or model.solve_M
     nc = closed.size
     struck = e[:nc] > 0.0
+    held = np.zeros(nc, bool) if kw.get("bilateral") is None else kw["bilateral"][:nc]
     pre = rates.copy()
-    pre[:nc] = np.where(struck, approach, rates[:nc])  # ġ⁻ in place of G ṽ
-    pre[nc:] = 0.0  # (the joints' drift G_b ṽ of the index-3 smooth step is no approach)
+    pre[:nc] = np.where(struck, approach, np.where(held, 0.0, rates[:nc]))  # ġ⁻ for G ṽ
+    pre[nc:] = 0.0  # (the drift G ṽ of the index-3 smooth step on joints and held rows is
+    # no approach)
     if model.contacts.frictional:
         out = _frictional(model, st, q, v, closed, G1, rates, pre, e, opts, tol, solve, kw)
     else:
@@ -93,7 +96,10 @@ def _frictional(model, st, q, v, closed, G1, rates, pre, e, opts, tol, solve, kw
     W_c, n_c, t_c, status, its, work, b_c = frictional_jump(
         model, st, q, v, closed, G1, rates, opts, tol, solve, preload
     )
-    n_i = frictional_jump(model, st, q, v, closed, G1, pre, opts, tol, solve, preload)[1]
+    # the percussion without the smooth forces' preload: with it the held rows could give
+    # their force's impulse up (a negative own impulse) to a struck row, which then
+    # restituted it as if the approach had brought it
+    n_i = frictional_jump(model, st, q, v, closed, G1, pre, opts, tol, solve)[1]
     F = model.free
     GT, T = model.contacts.tangent_jacobian(q, closed)
     nt = GT.shape[1]
