@@ -60,22 +60,34 @@ def poisson_jump(model, st, q, v, closed, G1, rates, e, approach, opts, tol, **k
         out = _frictional(model, st, q, v, closed, G1, rates, pre, e, opts, tol, solve, kw)
     else:
         rows = (G1, rates, pre, e, nc)
-        out = _frictionless(rows, opts, tol, solve, kw.get("bilateral"))
+        out = _frictionless(rows, opts, tol, solve, kw.get("bilateral"), kw.get("pressed"))
     return out
 
 
-def _frictionless(rows, opts, tol, solve, bilateral):
+def _frictionless(rows, opts, tol, solve, bilateral, pressed):
+    """The two phases on normal rows; ``pressed`` (len(closed),): the smooth forces'
+    impulses h λ_N (N s) of the closed contacts, with which the held rows (equalities of
+    the compression, as in Newton's law) are unilateral in the decompression: its impulse
+    may lower a held row's total to zero, not below, where the struck rows' restitution
+    lifts it off (without them, None, the held rows stay equalities)."""
     G1, rates, pre, e, nc = rows
     G = _dense(G1)
     Y = solve(G.T).reshape(G.shape[1], -1)
     D = G @ Y
     eq = np.zeros(len(rates), bool) if bilateral is None else bilateral
     lam_c, its_c = _compression(G, rates, solve, Y, eq, opts, tol)
-    lam_i, its_i = _compression(G, pre, solve, Y, eq, opts, tol)
+    joints = np.arange(len(rates)) >= nc  # the percussion's held rows: unilateral, at rest
+    if pressed is not None:
+        lam_c, its_c = _let_go(G, rates, solve, Y, eq, opts, tol, (lam_c, its_c), pressed)
+    lam_i, its_i = _compression(G, pre, solve, Y, eq & joints, opts, tol)
+    floor = e * np.clip(lam_i, 0.0, lam_c)
+    if pressed is not None:
+        floor[:nc] = np.where(eq[:nc], -np.maximum(pressed + lam_c[:nc], 0.0), floor[:nc])
+        eq = eq & joints
     unilateral = np.flatnonzero(~eq)
     order = np.concatenate([unilateral, np.flatnonzero(eq)])
     c = (rates + D @ lam_c)[order]
-    floor = (e * np.clip(lam_i, 0.0, lam_c))[unilateral]
+    floor = floor[unilateral]
     x, its_d = _decompression(c, D[np.ix_(order, order)], np.zeros(unilateral.size), 0, floor, tol)
     lam_d = np.zeros_like(lam_c)
     lam_d[order] = x
@@ -83,6 +95,25 @@ def _frictionless(rows, opts, tol, solve, bilateral):
     works = impulse_work(lam_c, rates, w_c, nc, 0)
     works += impulse_work(lam_d, w_c, w_c + D @ lam_d, nc, 0)
     return Y @ (lam_c + lam_d), lam_c + lam_d, its_c + its_i + its_d, None, works
+
+
+def _let_go(G, rates, solve, Y, eq, opts, tol, compression, pressed):
+    """The compression again with the held rows unilateral on the step's total impulse
+    (its own plus ``pressed``), where their equalities pulled one by more than its smooth
+    force pressed it (as :func:`fecontact.time.impacts.velocity_jump` lets rigid bodies'
+    contacts go): the struck rows' compression then lifts the held row off."""
+    lam_c, its = compression
+    nc = pressed.size
+    held = eq[:nc]
+    floor = 1e-12 * max(np.abs(lam_c).max(initial=0.0), pressed.max(initial=0.0))
+    if not np.count_nonzero(held & (lam_c[:nc] + pressed < -floor)):  # (most: none pulled)
+        return lam_c, its
+    pre = np.zeros(lam_c.size)
+    pre[:nc][held] = pressed[held]
+    own = eq.copy()
+    own[:nc] = False  # (the joints stay equalities)
+    total, its2 = _compression(G, rates - G @ (Y @ pre), solve, Y, own, opts, tol)
+    return total - pre, its + its2
 
 
 def _compression(G, rates, solve, Y, eq, opts, tol):
