@@ -66,17 +66,19 @@ def poisson_jump(model, st, q, v, closed, G1, rates, e, approach, opts, tol, **k
 
 def _frictionless(rows, opts, tol, solve, bilateral, pressed):
     """The two phases on normal rows; ``pressed`` (len(closed),): the smooth forces'
-    impulses h λ_N (N s) of the closed contacts, with which the held rows (equalities of
-    the compression, as in Newton's law) are unilateral in the decompression: its impulse
-    may lower a held row's total to zero, not below, where the struck rows' restitution
-    lifts it off (without them, None, the held rows stay equalities)."""
+    impulses h λ_N (N s) of the closed contacts, with which the held rows (equalities, as
+    in Newton's law) are unilateral on the step's total impulse: the compression lets one
+    go where its equality pulled it by more than its force pressed it (:func:`_let_go`),
+    and the decompression's impulse may lower a held row's total to zero, not below, where
+    the struck rows' restitution lifts it off (without them, None, the held rows stay
+    equalities). The percussion's held rows are unilateral, at rest."""
     G1, rates, pre, e, nc = rows
     G = _dense(G1)
     Y = solve(G.T).reshape(G.shape[1], -1)
     D = G @ Y
     eq = np.zeros(len(rates), bool) if bilateral is None else bilateral
     lam_c, its_c = _compression(G, rates, solve, Y, eq, opts, tol)
-    joints = np.arange(len(rates)) >= nc  # the percussion's held rows: unilateral, at rest
+    joints = np.arange(len(rates)) >= nc
     if pressed is not None:
         lam_c, its_c = _let_go(G, rates, solve, Y, eq, opts, tol, (lam_c, its_c), pressed)
     lam_i, its_i = _compression(G, pre, solve, Y, eq & joints, opts, tol)
