@@ -91,7 +91,7 @@ def velocity_jump(
     if opts.impact_law == "poisson" and np.count_nonzero(e):
         return poisson_jump(
             model, st, q, v, closed, G1, gdot, e, gdot_n[: closed.size], opts, tol,
-            bilateral=cons.bilateral, preload=preload,
+            bilateral=cons.bilateral, preload=preload, pressed=pressed,
         )  # fmt: skip
     rates = gdot.copy()  # ġ of ṽ, without the impact law's term
     gdot += e * gdot_n

@@ -13,9 +13,10 @@ Moreau–Jean's free velocity) and the metric H (M, or Moreau–Jean's iteration
 
 Joints are equalities in both phases. Λ_i is the percussion of the impact: the compression
 impulse that stops the approach ġ⁻ (the same pre-impact rate as Newton's law), found by the
-compression problem with ġ⁻ in place of the normal rates G ṽ (and the joints at rest),
-and at most Λ_c. The rest of
-Λ_c is the impulse of the finite forces over the step (gravity pressing a body that rests):
+compression problem with ġ⁻ in place of the normal rates G ṽ (the joints and the contacts
+held by smooth forces at rest, and without the smooth forces' impulses), and at most Λ_c.
+The rest of Λ_c is the impulse of the finite forces over the step (gravity pressing a body
+that rests; the smooth force a held contact gives up, which the rows coupled to it take):
 it is not restituted, or a resting body would be thrown up by e_N g h every step. Without
 forces over the step Λ_i = Λ_c. For one frictionless contact the two phases give
 ġ⁺ = −e_N ġ⁻, Newton's answer, and at e_N = 0 they are Newton's law.
@@ -50,29 +51,45 @@ def poisson_jump(model, st, q, v, closed, G1, rates, e, approach, opts, tol, **k
     solve = kw.get("solve") or model.solve_M
     nc = closed.size
     struck = e[:nc] > 0.0
+    held = np.zeros(nc, bool) if kw.get("bilateral") is None else kw["bilateral"][:nc]
     pre = rates.copy()
-    pre[:nc] = np.where(struck, approach, rates[:nc])  # ġ⁻ in place of G ṽ
-    pre[nc:] = 0.0  # (the joints' drift G_b ṽ of the index-3 smooth step is no approach)
+    pre[:nc] = np.where(struck, approach, np.where(held, 0.0, rates[:nc]))  # ġ⁻ for G ṽ
+    pre[nc:] = 0.0  # (the drift G ṽ of the index-3 smooth step on joints and held rows is
+    # no approach)
     if model.contacts.frictional:
         out = _frictional(model, st, q, v, closed, G1, rates, pre, e, opts, tol, solve, kw)
     else:
         rows = (G1, rates, pre, e, nc)
-        out = _frictionless(rows, opts, tol, solve, kw.get("bilateral"))
+        out = _frictionless(rows, opts, tol, solve, kw.get("bilateral"), kw.get("pressed"))
     return out
 
 
-def _frictionless(rows, opts, tol, solve, bilateral):
+def _frictionless(rows, opts, tol, solve, bilateral, pressed):
+    """The two phases on normal rows; ``pressed`` (len(closed),): the smooth forces'
+    impulses h λ_N (N s) of the closed contacts, with which the held rows (equalities, as
+    in Newton's law) are unilateral on the step's total impulse: the compression lets one
+    go where its equality pulled it by more than its force pressed it (:func:`_let_go`),
+    and the decompression's impulse may lower a held row's total to zero, not below, where
+    the struck rows' restitution lifts it off (without them, None, the held rows stay
+    equalities). The percussion's held rows are unilateral, at rest."""
     G1, rates, pre, e, nc = rows
     G = _dense(G1)
     Y = solve(G.T).reshape(G.shape[1], -1)
     D = G @ Y
     eq = np.zeros(len(rates), bool) if bilateral is None else bilateral
     lam_c, its_c = _compression(G, rates, solve, Y, eq, opts, tol)
-    lam_i, its_i = _compression(G, pre, solve, Y, eq, opts, tol)
+    joints = np.arange(len(rates)) >= nc
+    if pressed is not None:
+        lam_c, its_c = _let_go(G, rates, solve, Y, eq, opts, tol, (lam_c, its_c), pressed)
+    lam_i, its_i = _compression(G, pre, solve, Y, eq & joints, opts, tol)
+    floor = e * np.clip(lam_i, 0.0, lam_c)
+    if pressed is not None:
+        floor[:nc] = np.where(eq[:nc], -np.maximum(pressed + lam_c[:nc], 0.0), floor[:nc])
+        eq = eq & joints
     unilateral = np.flatnonzero(~eq)
     order = np.concatenate([unilateral, np.flatnonzero(eq)])
     c = (rates + D @ lam_c)[order]
-    floor = (e * np.clip(lam_i, 0.0, lam_c))[unilateral]
+    floor = floor[unilateral]
     x, its_d = _decompression(c, D[np.ix_(order, order)], np.zeros(unilateral.size), 0, floor, tol)
     lam_d = np.zeros_like(lam_c)
     lam_d[order] = x
@@ -80,6 +97,25 @@ def _frictionless(rows, opts, tol, solve, bilateral):
     works = impulse_work(lam_c, rates, w_c, nc, 0)
     works += impulse_work(lam_d, w_c, w_c + D @ lam_d, nc, 0)
     return Y @ (lam_c + lam_d), lam_c + lam_d, its_c + its_i + its_d, None, works
+
+
+def _let_go(G, rates, solve, Y, eq, opts, tol, compression, pressed):
+    """The compression again with the held rows unilateral on the step's total impulse
+    (its own plus ``pressed``), where their equalities pulled one by more than its smooth
+    force pressed it (as :func:`fecontact.time.impacts.velocity_jump` lets rigid bodies'
+    contacts go): the struck rows' compression then lifts the held row off."""
+    lam_c, its = compression
+    nc = pressed.size
+    held = eq[:nc]
+    floor = 1e-12 * max(np.abs(lam_c).max(initial=0.0), pressed.max(initial=0.0))
+    if not np.count_nonzero(held & (lam_c[:nc] + pressed < -floor)):  # (most: none pulled)
+        return lam_c, its
+    pre = np.zeros(lam_c.size)
+    pre[:nc][held] = pressed[held]
+    own = eq.copy()
+    own[:nc] = False  # (the joints stay equalities)
+    total, its2 = _compression(G, rates - G @ (Y @ pre), solve, Y, own, opts, tol)
+    return total - pre, its + its2
 
 
 def _compression(G, rates, solve, Y, eq, opts, tol):
@@ -93,7 +129,10 @@ def _frictional(model, st, q, v, closed, G1, rates, pre, e, opts, tol, solve, kw
     W_c, n_c, t_c, status, its, work, b_c = frictional_jump(
         model, st, q, v, closed, G1, rates, opts, tol, solve, preload
     )
-    n_i = frictional_jump(model, st, q, v, closed, G1, pre, opts, tol, solve, preload)[1]
+    # the percussion without the smooth forces' preload: with it the held rows could give
+    # their force's impulse up (a negative own impulse) to a struck row, which then
+    # restituted it as if the approach had brought it
+    n_i = frictional_jump(model, st, q, v, closed, G1, pre, opts, tol, solve)[1]
     F = model.free
     GT, T = model.contacts.tangent_jacobian(q, closed)
     nt = GT.shape[1]
