@@ -23,6 +23,7 @@ __all__ = [
     "impact_law",
     "independent_rows",
     "plus_curvature",
+    "pulled_held_rows",
 ]
 
 
@@ -92,6 +93,24 @@ def impact_law(G, c, solve, Y, opts, bilateral=None, P0=None, tol: float = 0.0):
     except RuntimeError as err:
         raise StepFailure(str(err), np.nan) from None
     return W, k * Lam, its
+
+
+def pulled_held_rows(P: np.ndarray, pressed: np.ndarray, bilateral: np.ndarray):
+    """Where a jump's impulses ``P`` pulled a held contact (a contact row of ``bilateral``)
+    by more than its smooth force pressed it (``pressed``: h λ_N of the closed contacts,
+    P_j + h λ_j < 0 beyond round-off): (pre, own), ``pre`` the held contacts' smooth impulses
+    (zero elsewhere) to solve the jump again on the step's total impulses, ``own`` the rows
+    that stay equalities (the joints). None where nothing was pulled (most steps)."""
+    m = pressed.size
+    held = bilateral[:m]
+    floor = 1e-12 * max(np.abs(P).max(initial=0.0), pressed.max(initial=0.0))
+    if not np.count_nonzero(held & (P[:m] + pressed < -floor)):
+        return None
+    pre = np.zeros(P.size)
+    pre[:m][held] = pressed[held]
+    own = bilateral.copy()
+    own[:m] = False
+    return pre, own
 
 
 def factorize_or_fail(A, residual, symmetric=False, solver=None):

@@ -11,7 +11,7 @@ from ..contact.restitution import impulse_work
 from ..ledger import smooth_record
 from ..ledger_works import jump_work
 from ..linalg import factorize
-from .constraints import Constraints, StepFailure, constraint_columns, impact_law
+from .constraints import Constraints, StepFailure, constraint_columns, impact_law, pulled_held_rows
 from .coulomb import frictional_jump
 from .poisson import poisson_jump
 
@@ -167,16 +167,9 @@ def _let_go(G1, gdot, solve, Y, opts, bilateral, jump, pressed, tol):
     and gained 4.7e-3 of its scale over 1 s. As in the frictional jump
     (:func:`fecontact.time.coulomb.frictional_jump`), the contact may then open."""
     W, P, its = jump
-    m = pressed.size
-    held = bilateral[:m]
-    total = P[:m] + pressed
-    floor = 1e-12 * max(np.abs(P).max(initial=0.0), pressed.max(initial=0.0))
-    if not np.count_nonzero(held & (total < -floor)):  # (most steps: nothing pulled)
+    if (pulled := pulled_held_rows(P, pressed, bilateral)) is None:
         return W, P, its
-    pre = np.zeros(P.size)
-    pre[:m][held] = pressed[held]
-    own = bilateral.copy()
-    own[:m] = False  # (the joints stay equalities)
+    pre, own = pulled
     W2, P2, its2 = impact_law(G1, gdot - G1 @ (Y @ pre), solve, Y, opts, own, P + pre, tol)
     return W2 - Y @ pre, P2 - pre, its + its2
 

@@ -28,7 +28,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..contact.restitution import friction_dissipation, impulse_work, solve_decompression
-from .constraints import StepFailure, impact_law
+from .constraints import StepFailure, impact_law, pulled_held_rows
 from .coulomb import frictional_jump
 
 __all__ = ["poisson_jump"]
@@ -105,15 +105,9 @@ def _let_go(G, rates, solve, Y, eq, opts, tol, compression, pressed):
     force pressed it (as :func:`fecontact.time.impacts.velocity_jump` lets rigid bodies'
     contacts go): the struck rows' compression then lifts the held row off."""
     lam_c, its = compression
-    nc = pressed.size
-    held = eq[:nc]
-    floor = 1e-12 * max(np.abs(lam_c).max(initial=0.0), pressed.max(initial=0.0))
-    if not np.count_nonzero(held & (lam_c[:nc] + pressed < -floor)):  # (most: none pulled)
+    if (pulled := pulled_held_rows(lam_c, pressed, eq)) is None:  # (most: none pulled)
         return lam_c, its
-    pre = np.zeros(lam_c.size)
-    pre[:nc][held] = pressed[held]
-    own = eq.copy()
-    own[:nc] = False  # (the joints stay equalities)
+    pre, own = pulled
     total, its2 = _compression(G, rates - G @ (Y @ pre), solve, Y, own, opts, tol)
     return total - pre, its + its2
 
