@@ -285,7 +285,7 @@ def test_the_watch_reads_a_disk_between_two_nodes():
     """A 3 cm disk through the top nodes at x = 0 and 12.5 mm (the node rows closed, g = 0):
     its arc lies through the chord between them by the sagitta r − √(r² − L²/4) = 0.655 mm,
     L²/8r to 1 %, which the pair's watch reads (to the coordinates' round-off, 1e-15 m), and
-    which the segment's row reads as its gap."""
+    which the segment's row reads as its gap (P1 cells; on P2 cells the watch alone)."""
     solid, edge = coarse_block(), 0.0125
     rigid = RigidBody2D.uniform(0.5, [edge / 2, np.sqrt(R**2 - (edge / 2) ** 2)], DISK)
     pair = Contact(solid, rigid)
@@ -298,6 +298,9 @@ def test_the_watch_reads_a_disk_between_two_nodes():
     assert ratio == pytest.approx(sagitta / edge, abs=1e-13)
     (rows,) = pair.companions
     assert rows.gaps(q).min() == pytest.approx(-sagitta, abs=1e-15)
+    # a P2 boundary is curved, its chords not its surface: no segment rows, the watch alone
+    curved = Solid.rectangle([-0.1, -0.05], [0.1, 0.0], (16, 4), RUBBER, element="P2")
+    assert Contact(curved, rigid).companions == () and Contact(curved, rigid).watch()
 
 
 @pytest.mark.parametrize("x0, v, mu", [(0.00625, 0.0, 0.0), (0.00625, 10.0, 0.0), (0.0, 1.0, 0.0),

@@ -76,11 +76,13 @@ class NodeRigid2DContact(NodeRigidRows):
 
 class NodeDiskContact(NodeRoundRows, NodeRigid2DContact):
     """Nodes of a 2D solid against a rigid ``Disk`` (outside it; :class:`.NodeRoundRows`);
-    the boundary segments have rows of their own (:class:`.DiskSegmentRows`)."""
+    on P1 cells the boundary segments have rows of their own (:class:`.DiskSegmentRows`)."""
 
     def __init__(self, body, rigid, nodes, restitution, clearance):
         super().__init__(body, rigid, nodes, restitution, clearance)
-        self.companions = (DiskSegmentRows(self),)
+        # on P2 cells the boundary is curved and its chords are not its surface (as for a
+        # fixed Circle): the nodes' rows alone, the watch measuring the disk in the chords
+        self.companions = (DiskSegmentRows(self),) if body.element == "P1" else ()
 
     def bind(self, model) -> None:
         super().bind(model)
