@@ -9,7 +9,7 @@ import pytest
 import skfem
 
 from fecontact import Contact, IntegratorOptions, Model, Simulation, run
-from fecontact.bodies import LinearElastic, RigidBody2D, Solid
+from fecontact.bodies import LinearElastic, NeoHookean, RigidBody2D, Solid
 from fecontact.bodies.rigid import Disk, Polygon
 from fecontact.contact.solid_rigid2d import NodeDiskContact, NodePolygonContact
 from fecontact.errors import InputError
@@ -234,7 +234,99 @@ def test_a_vertex_between_two_nodes_is_measured_by_the_watch():
     depth, ratio = pair.watch().depth(q)
     assert depth == pytest.approx(1e-4, abs=1e-15)
     assert ratio == pytest.approx(1e-4 / 0.005, abs=1e-12)
-    assert Contact(solid, RigidBody2D.uniform(1.0, [0.0, 0.05], DISK)).watch() is None
+
+
+def coarse_block():
+    """A 0.2 m x 0.05 m Neo-Hookean block of 16 x 4 cells (12.5 mm boundary edges), top face
+    at y = 0, held at its bottom."""
+    solid = Solid.rectangle([-0.1, -0.05], [0.1, 0.0], (16, 4), NeoHookean(1e7, 0.3, 1000.0))
+    solid.fix(np.flatnonzero(np.isclose(solid.X[:, 1], -0.05)))
+    return solid
+
+
+@pytest.mark.parametrize("seed", [2, 3])
+def test_disk_segment_rows_are_the_derivatives_of_their_gaps(seed):
+    """The disk's segment rows (fecontact.contact.disk_segments): G and ∇²g against central
+    differences (step 1e-7) of the gaps at random poses sinking the disk into the block,
+    and the slip rows as the first-order part of the exact slip over a small step (its error
+    falls with the step's square). Bounds as for the vertex rows: the truncation h² times
+    the third derivative ~ 1e-14/1e-3 and the round-off 1e-16/1e-7 = 1e-9: 1e-8 on G, 1e-6
+    on ∇²g."""
+    solid = block()
+    rigid = RigidBody2D.uniform(1.0, [0.004, 0.02], DISK)
+    pair = Contact(solid, rigid)
+    (rows,) = pair.companions
+    Model([solid, rigid], [pair], gravity=(0.0, 0.0))
+    n = solid.ndof + 3
+    rng = np.random.default_rng(seed)
+    q = 1e-4 * rng.normal(size=n)
+    q[-3:] = [0.003, -0.012, 0.4] + 1e-3 * rng.normal(size=3)
+    g, dofs, G, H = rows.evaluate(q)
+    assert (g < 0).any() and (g > 0).any()
+    np.testing.assert_array_equal(g, rows.gaps(q))
+    for j in np.unique(dofs):
+        d = np.zeros(n)
+        d[j] = 1e-7
+        gp, _, Gp, _ = rows.evaluate(q + d)
+        gm, _, Gm, _ = rows.evaluate(q - d)
+        col = (dofs == j).astype(float)
+        np.testing.assert_allclose((gp - gm) / 2e-7, np.sum(G * col, axis=1), atol=1e-8)
+        np.testing.assert_allclose((Gp - Gm) / 2e-7, np.einsum("mkl,ml->mk", H, col), atol=1e-6)
+    tdofs, GT, T = rows.tangents(q)
+    dq = rng.normal(size=n)
+    errors = [
+        np.abs(rows.slips(q + h * dq, q, T) - np.einsum("mtk,mk->mt", GT, h * dq[tdofs])).max()
+        for h in (1e-6, 1e-7)
+    ]
+    assert errors[1] <= 0.02 * errors[0]  # second order (0.01, measured); first order: 0.1
+
+
+def test_the_watch_reads_a_disk_between_two_nodes():
+    """A 3 cm disk through the top nodes at x = 0 and 12.5 mm (the node rows closed, g = 0):
+    its arc lies through the chord between them by the sagitta r − √(r² − L²/4) = 0.655 mm,
+    L²/8r to 1 %, which the pair's watch reads (to the coordinates' round-off, 1e-15 m), and
+    which the segment's row reads as its gap (P1 cells; on P2 cells the watch alone)."""
+    solid, edge = coarse_block(), 0.0125
+    rigid = RigidBody2D.uniform(0.5, [edge / 2, np.sqrt(R**2 - (edge / 2) ** 2)], DISK)
+    pair = Contact(solid, rigid)
+    Model([solid, rigid], [pair], gravity=(0.0, 0.0))
+    q = np.zeros(solid.ndof + 3)
+    sagitta = R - np.sqrt(R**2 - edge**2 / 4)
+    assert abs(pair.gaps(q)).min() < 1e-15
+    depth, ratio = pair.watch().depth(q)
+    assert depth == pytest.approx(sagitta, abs=1e-15)
+    assert ratio == pytest.approx(sagitta / edge, abs=1e-13)
+    (rows,) = pair.companions
+    assert rows.gaps(q).min() == pytest.approx(-sagitta, abs=1e-15)
+    # a P2 boundary is curved, its chords not its surface: no segment rows, the watch alone
+    curved = Solid.rectangle([-0.1, -0.05], [0.1, 0.0], (16, 4), RUBBER, element="P2")
+    assert Contact(curved, rigid).companions == () and Contact(curved, rigid).watch()
+
+
+@pytest.mark.parametrize("x0, v, mu", [(0.00625, 0.0, 0.0), (0.00625, 10.0, 0.0), (0.0, 1.0, 0.0),
+                                       (0.00625 + 0.4 * R, 3.0, 0.3)])  # fmt: skip
+def test_a_disk_stays_out_of_the_chords(tmp_path, x0, v, mu):
+    """A 3 cm disk (0.5 kg) on the coarse block under gravity for 5 ms: set down on the chord
+    between two top nodes, dropped at 10 m/s there (1 mm over it), at 1 m/s over a node, and
+    at 3 m/s with μ = 0.3 0.4 r beside the chord's middle. Without the segments' rows the
+    arc went through the chords by 0.12 mm (falling through it, g t²/2), 0.69 mm, 2.5 µm and
+    0.66 mm, unreported. The run's measure (the watch: the disk's depth into the boundary
+    polygon) stays within the gap tolerance (1e-9 m; measured ≤ 7.2e-14 m), nothing is
+    warned, and the ledger creates nothing beyond its warning level (1e-3 of the scale;
+    measured ≤ 2e-8 of it)."""
+    solid = coarse_block()
+    rigid = RigidBody2D.uniform(0.5, [x0, R + (0.001 if v else 0.0)], DISK)
+    model = Model([solid, rigid], [Contact(solid, rigid, friction=mu)], (0.0, -9.81))
+    v0 = np.zeros(model.n)
+    v0[-2] = -v
+    sim = Simulation(model, dt=wave_step(solid, 1.0, None), t_end=0.005, v0=v0, name="chord")
+    with warnings.catch_warnings():  # (warnings are also in the summary, tested)
+        warnings.simplefilter("ignore", UserWarning)
+        summary = run(sim, tmp_path, frames=False, checkpoint_every=0)
+    assert summary["status"] == "completed" and not summary["warnings"]
+    assert summary["max_penetration"] <= 1e-9
+    ledger = summary["energy_ledger"]
+    assert ledger["created"] <= CREATED * ledger["scale"]
 
 
 @pytest.mark.parametrize(

@@ -4,14 +4,16 @@ Node rows against a Circle keep the boundary nodes out, and a circle smaller tha
 enters between two nodes unseen by them. The watch measures the circle's depth into every
 boundary segment (the radius less the centre's distance to the segment, where the centre
 lies on the segment's inner side or within the radius of it) at every step's end: the run's
-``max_penetration`` and its warning over ``BOUND`` of the shortest boundary edge.
+``max_penetration`` and its warning over ``BOUND`` of the shortest boundary edge. A rigid
+``Disk`` (a moving circle) against a 2D solid's nodes is watched the same way
+(:class:`DiskSegmentDepths`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["CircleSegmentDepths"]
+__all__ = ["CircleSegmentDepths", "DiskSegmentDepths"]
 
 
 class CircleSegmentDepths:
@@ -25,16 +27,34 @@ class CircleSegmentDepths:
 
     def depth(self, q: np.ndarray) -> tuple[float, float]:
         """(depth in m ≥ 0, depth over the shortest boundary edge) of the circle at q."""
-        pair, circle = self.pair, self.pair.obstacle
-        x = pair.body.positions(q[pair.offset : pair.offset + pair.body.ndof])
+        x, c, radius = self.circle(q)
         a, b = x[self.segments[:, 0]], x[self.segments[:, 1]]
-        c = circle.center + circle.shift()
         t = b - a
         s = np.clip(np.einsum("md,md->m", c - a, t) / np.einsum("md,md->m", t, t), 0.0, 1.0)
         r = np.linalg.norm(a + s[:, None] * t - c, axis=1)
-        d = float(max(np.max(circle.radius - r), 0.0))
+        d = float(max(np.max(radius - r), 0.0))
         return d, d / self.edge
+
+    def circle(self, q: np.ndarray):
+        """The solid's node positions (n, 2), the circle's centre (2,) and radius (m) at q."""
+        pair, circle = self.pair, self.pair.obstacle
+        x = pair.body.positions(q[pair.offset : pair.offset + pair.body.ndof])
+        return x, circle.center + circle.shift(), circle.radius
 
     def entering(self, q: np.ndarray) -> str:
         """What enters the solid (for a message)."""
         return "a circle between boundary nodes"
+
+
+class DiskSegmentDepths(CircleSegmentDepths):
+    """The deepest point of a rigid ``Disk`` (the pair's ``rigid``, a RigidBody2D) inside a
+    2D solid's boundary segments (the pair's ``offsets`` are read at each call: set when the
+    model binds it)."""
+
+    def circle(self, q: np.ndarray):
+        (oa, ob), solid, rigid = self.pair.offsets, self.pair.body, self.pair.rigid
+        x = solid.positions(q[oa : oa + solid.ndof])
+        return x, rigid.center(q[ob : ob + 3]), rigid.shape.radius
+
+    def entering(self, q: np.ndarray) -> str:
+        return "a rigid disk between boundary nodes"

@@ -73,12 +73,21 @@ class SegmentCircleContact(PairDefaults):
     def bind(self, model) -> None:
         self.offset = model.offset_of(self.body)
 
+    @property
+    def radius(self) -> float:
+        """The circle's radius (m)."""
+        return self.obstacle.radius
+
+    def centre(self, q: np.ndarray) -> np.ndarray:
+        """The circle's centre (2,) at q (m)."""
+        return self.obstacle.center + self.obstacle.shift()
+
     def _closest(self, q: np.ndarray):
         """Ends a, b (m, 2), parameter ξ (m,), distance (m,) and unit normal e (m, 2) from
         the centre to the closest point."""
         x = self.body.positions(q[self.offset : self.offset + self.body.ndof])
         a, b = x[self.segments[:, 0]], x[self.segments[:, 1]]
-        centre = self.obstacle.center + self.obstacle.shift()
+        centre = self.centre(q)
         xi, dist = closest_on_segments(centre, a, b)
         if np.any(dist == 0.0):
             raise InputError("a segment passes through the circle's centre: no normal")
@@ -102,14 +111,14 @@ class SegmentCircleContact(PairDefaults):
     def gaps(self, q: np.ndarray) -> np.ndarray:
         """Gaps (m,) alone, without their derivatives."""
         _, _, xi, dist, _ = self._closest(q)
-        g = dist - self.obstacle.radius - self.clearance
+        g = dist - self.radius - self.clearance
         return np.where(self._used(xi), g, np.inf)
 
     def reach(self, q: np.ndarray) -> np.ndarray:
         """Every segment's distance (m,) to the circle, a row left out at its node included:
         the node can dent within a correction, and the row then holds the segment."""
         _, _, _, dist, _ = self._closest(q)
-        return dist - self.obstacle.radius - self.clearance
+        return dist - self.radius - self.clearance
 
     def evaluate(self, q: np.ndarray):
         """Gaps (m,), dof indices (m, 4), gradient values (m, 4), Hessians (m, 4, 4)."""
@@ -118,7 +127,7 @@ class SegmentCircleContact(PairDefaults):
         H = np.zeros((self.size, 4, 4))
         inner = (xi > 0.0) & (xi < 1.0)
         if inner.any():
-            centre = np.broadcast_to(self.obstacle.center + self.obstacle.shift(), a.shape)
+            centre = np.broadcast_to(self.centre(q), a.shape)
             f, _, Hf = point_line_distance(centre[inner], a[inner], b[inner])
             H[inner] = np.sign(f)[:, None, None] * Hf[:, 2:, 2:]
         for end, k in ((xi == 0.0, 0), (xi == 1.0, 2)):
@@ -126,7 +135,7 @@ class SegmentCircleContact(PairDefaults):
                 ee = e[end]
                 block = (np.eye(2) - ee[:, :, None] * ee[:, None, :]) / dist[end, None, None]
                 H[np.ix_(end.nonzero()[0], range(k, k + 2), range(k, k + 2))] = block
-        g = dist - self.obstacle.radius - self.clearance
+        g = dist - self.radius - self.clearance
         used = self._used(xi)
         if not used.all():
             g, G, H = np.where(used, g, np.inf), G * used[:, None], H * used[:, None, None]

@@ -49,6 +49,8 @@ from ..bodies.rigid import Disk, Polygon, RigidBody2D, rotation
 from ..bodies.solid import Solid
 from ..errors import InputError
 from .base import PairDefaults
+from .circle_watch import DiskSegmentDepths
+from .disk_segments import DiskSegmentRows
 from .friction import tangent_basis
 from .geometry import point_line_distance
 from .inside import Surface, winding_numbers
@@ -73,7 +75,24 @@ class NodeRigid2DContact(NodeRigidRows):
 
 
 class NodeDiskContact(NodeRoundRows, NodeRigid2DContact):
-    """Nodes of a 2D solid against a rigid ``Disk`` (outside it; :class:`.NodeRoundRows`)."""
+    """Nodes of a 2D solid against a rigid ``Disk`` (outside it; :class:`.NodeRoundRows`);
+    on P1 cells the boundary segments have rows of their own (:class:`.DiskSegmentRows`)."""
+
+    def __init__(self, body, rigid, nodes, restitution, clearance):
+        super().__init__(body, rigid, nodes, restitution, clearance)
+        # on P2 cells the boundary is curved and its chords are not its surface (as for a
+        # fixed Circle): the nodes' rows alone, the watch measuring the disk in the chords
+        self.companions = (DiskSegmentRows(self),) if body.element == "P1" else ()
+
+    def bind(self, model) -> None:
+        super().bind(model)
+        for pair in self.companions:
+            pair.bind(model)
+
+    def watch(self) -> DiskSegmentDepths:
+        """The disk's arc against the solid's boundary segments: the node rows let it in
+        between two nodes, by up to the sagitta L²/8r of an edge L."""
+        return DiskSegmentDepths(self)
 
 
 def polygon_distances(vertices: np.ndarray, normals: np.ndarray, rho: np.ndarray):
