@@ -63,20 +63,33 @@ def test_vertex_rows_are_the_derivatives_of_their_gaps(shape, seed):
     poses with vertices inside the block and outside. Bounds: the truncation, h² times the
     third derivative ~ w²/L⁴, is 1e-7 for a vertex 4 cm from a 5 mm segment (measured: the
     error falls as h²), the round-off 1e-16/1e-7 = 1e-9: 1e-8 on G, 1e-6 on ∇²g."""
+    rows, q, _ = companion_rows_at_a_random_pose(shape, seed, angle=0.3)
+    np.testing.assert_allclose(rows.evaluate(q)[0], rows.gaps(q), rtol=0, atol=1e-17)
+    assert_rows_are_the_derivatives(rows, q)
+
+
+def companion_rows_at_a_random_pose(shape, seed, angle=0.0):
+    """The companion rows of ``shape`` (a rigid body 4 mm off the block's middle) against
+    the block, and a random pose q with some rows closed and some open: (rows, q, rng)."""
     solid = block()
-    rigid = RigidBody2D.uniform(1.0, [0.004, 0.02], shape, angle=0.3)
+    rigid = RigidBody2D.uniform(1.0, [0.004, 0.02], shape, angle=angle)
     pair = Contact(solid, rigid)
     (rows,) = pair.companions
     Model([solid, rigid], [pair], gravity=(0.0, 0.0))
-    n = solid.ndof + 3
     rng = np.random.default_rng(seed)
-    q = 1e-4 * rng.normal(size=n)
+    q = 1e-4 * rng.normal(size=solid.ndof + 3)
     q[-3:] = [0.003, -0.012, 0.4] + 1e-3 * rng.normal(size=3)
-    g, dofs, G, H = rows.evaluate(q)
+    g = rows.evaluate(q)[0]
     assert (g < 0).any() and (g > 0).any()
-    np.testing.assert_allclose(g, rows.gaps(q), rtol=0, atol=1e-17)
+    return rows, q, rng
+
+
+def assert_rows_are_the_derivatives(rows, q):
+    """G and ∇²g of ``rows`` against central differences of step 1e-7 (bounds in the
+    callers' docstrings: 1e-8 on G, 1e-6 on ∇²g), the rows' dofs unchanged by the step."""
+    g, dofs, G, H = rows.evaluate(q)
     for j in np.unique(dofs):
-        d = np.zeros(n)
+        d = np.zeros(q.size)
         d[j] = 1e-7
         gp, dp, Gp, _ = rows.evaluate(q + d)
         gm, dm, Gm, _ = rows.evaluate(q - d)
@@ -252,28 +265,11 @@ def test_disk_segment_rows_are_the_derivatives_of_their_gaps(seed):
     falls with the step's square). Bounds as for the vertex rows: the truncation h² times
     the third derivative ~ 1e-14/1e-3 and the round-off 1e-16/1e-7 = 1e-9: 1e-8 on G, 1e-6
     on ∇²g."""
-    solid = block()
-    rigid = RigidBody2D.uniform(1.0, [0.004, 0.02], DISK)
-    pair = Contact(solid, rigid)
-    (rows,) = pair.companions
-    Model([solid, rigid], [pair], gravity=(0.0, 0.0))
-    n = solid.ndof + 3
-    rng = np.random.default_rng(seed)
-    q = 1e-4 * rng.normal(size=n)
-    q[-3:] = [0.003, -0.012, 0.4] + 1e-3 * rng.normal(size=3)
-    g, dofs, G, H = rows.evaluate(q)
-    assert (g < 0).any() and (g > 0).any()
-    np.testing.assert_array_equal(g, rows.gaps(q))
-    for j in np.unique(dofs):
-        d = np.zeros(n)
-        d[j] = 1e-7
-        gp, _, Gp, _ = rows.evaluate(q + d)
-        gm, _, Gm, _ = rows.evaluate(q - d)
-        col = (dofs == j).astype(float)
-        np.testing.assert_allclose((gp - gm) / 2e-7, np.sum(G * col, axis=1), atol=1e-8)
-        np.testing.assert_allclose((Gp - Gm) / 2e-7, np.einsum("mkl,ml->mk", H, col), atol=1e-6)
+    rows, q, rng = companion_rows_at_a_random_pose(DISK, seed)
+    np.testing.assert_array_equal(rows.evaluate(q)[0], rows.gaps(q))
+    assert_rows_are_the_derivatives(rows, q)
     tdofs, GT, T = rows.tangents(q)
-    dq = rng.normal(size=n)
+    dq = rng.normal(size=q.size)
     errors = [
         np.abs(rows.slips(q + h * dq, q, T) - np.einsum("mtk,mk->mt", GT, h * dq[tdofs])).max()
         for h in (1e-6, 1e-7)
