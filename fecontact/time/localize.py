@@ -349,8 +349,9 @@ def _own_closings(twins, rows, tau, slope, G0):
     """(rows, τ, slopes, whether each row has a gradient) of the crossing ``rows`` (gradients
     ``G0``) that stand for their nodes: of twin rows the earlier (:func:`one_closing_per_node`),
     and the rows with a gradient where any has one (a deep node's row above half its allowance
-    has none, and a placeholder's instant is not its node's: the master's nodes have no twin;
-    ball_on_slab at 10 m/s, localization.md)."""
+    whose real gap is unknown, :func:`real_starts`, has none, and a placeholder's instant is
+    not its node's: the master's nodes have no twin; ball_on_slab at 10 m/s,
+    localization.md)."""
     sloped = G0.any(axis=1)
     if twins is None and sloped.all():  # (every row its node's own, and sloped: most steps)
         return rows, tau, slope, sloped
