@@ -56,6 +56,7 @@ import time
 
 import numpy as np
 
+from ..contact.mortar_safeguard import pointwise_row, real_gaps, real_starts
 from ..errors import InputError
 from ..ledger import JoinedRecord
 from .constraints import StepFailure
@@ -334,6 +335,8 @@ def _crossing(model, st, phases, left, opts, lasting=None):
     rows = (closing & np.isfinite(g0)).nonzero()[0]
     F = model.free_slice  # (a view where the free dofs are contiguous: no copies)
     _, G0 = contacts.jacobian(st.q, rows)
+    if not G0.any(axis=1).all():  # (a row without a gradient: a pointwise placeholder)
+        g0, G0 = real_starts(contacts, st.q, rows, g0, G0)
     G1 = G0 if contacts.affine else contacts.jacobian(phases.q, rows)[1]  # (affine: constant)
     s0, s1 = left * (G0 @ st.v[F]), left * (G1 @ phases.v[F])  # slopes in s
     aim = closing_aim(model, tol)  # (inside the tolerance, on the open side: no correction)
@@ -346,8 +349,9 @@ def _own_closings(twins, rows, tau, slope, G0):
     """(rows, τ, slopes, whether each row has a gradient) of the crossing ``rows`` (gradients
     ``G0``) that stand for their nodes: of twin rows the earlier (:func:`one_closing_per_node`),
     and the rows with a gradient where any has one (a deep node's row above half its allowance
-    has none, and a placeholder's instant is not its node's: the master's nodes have no twin;
-    ball_on_slab at 10 m/s, localization.md)."""
+    whose real gap is unknown, :func:`real_starts`, has none, and a placeholder's instant is
+    not its node's: the master's nodes have no twin; ball_on_slab at 10 m/s,
+    localization.md)."""
     sloped = G0.any(axis=1)
     if twins is None and sloped.all():  # (every row its node's own, and sloped: most steps)
         return rows, tau, slope, sloped
@@ -405,6 +409,7 @@ def _refine(model, st, phases, left, j, guess, tol, opts, timer):
     stats, below = opts.stats.localization, None  # (below: δ and trial on the closed side)
     (tau, g0, jumps), aim = guess, closing_aim(model, tol)  # (0 ≤ g ≤ 2 aim: no correction)
     (a, ga), (b, gb) = (0.0, float(g0) - aim), (left, float(phases.g_tilde[j]) - aim)
+    own = np.array([j]) if pointwise_row(model.contacts, j) else None
     delta, side = float(tau) * left, 0  # (a float: the split's times and sizes are floats)
     for _ in range(MAX_REFINE):
         trial = smooth_phases(model, st, delta, opts, timer)
@@ -412,6 +417,9 @@ def _refine(model, st, phases, left, j, guess, tol, opts, timer):
         stats.smooth_iterations += trial.iters["smooth"]
         trial.g_tilde = model.contacts.gaps(trial.q)
         g = float(trial.g_tilde[j]) - aim
+        if own is not None:  # (its node's gap, not the placeholder above half its allowance)
+            real = float(real_gaps(model.contacts, trial.q, own)[0][0]) - aim
+            g = real if math.isfinite(real) else g
         if abs(g) <= aim:
             return delta, trial
         if not math.isfinite(g):
