@@ -39,6 +39,7 @@ from .time import (
     PhaseTimer,
     State,
     StepStats,
+    check_options,
     initial_state,
     simulate,
 )
@@ -210,11 +211,8 @@ def _run(sim, out, progress, frames, checkpoint_every, resume, overwrite, frame_
             message += f"; before it, {rec.balance.describe()}"
             raise SolverError(message, err.time, err.step, err.residual) from None
         raise
-    except KeyboardInterrupt:
-        status, message = "interrupted", "interrupted by the user"
-        raise
-    except OSError as err:  # a full disk, a folder that stopped being writable
-        status, message = "failed", f"cannot write the output: {err.strerror or err}"
+    except BaseException as err:  # Ctrl-C, a failed write, any other error: never completed
+        status, message = _stop_reason(err)
         raise
     finally:
         output.end(status == "completed")
@@ -229,6 +227,15 @@ def _run(sim, out, progress, frames, checkpoint_every, resume, overwrite, frame_
         if text not in said:
             warnings.warn(text, UserWarning, stacklevel=3)
     return summary
+
+
+def _stop_reason(err: BaseException) -> tuple[str, str]:
+    """The status and message of a run stopped by ``err`` (other than a ``SolverError``)."""
+    if isinstance(err, KeyboardInterrupt):
+        return "interrupted", "interrupted by the user"
+    if isinstance(err, OSError):  # a full disk, a folder that stopped being writable
+        return "failed", f"cannot write the output: {err.strerror or err}"
+    return "failed", f"{type(err).__name__}: {err}"
 
 
 def _frame_format(sim: Simulation, out: Path, frames: bool, frame_format: str, resume: bool):
@@ -253,6 +260,7 @@ def _resume(start: State, meta: dict, pvd, rec: Recorder, output: _Frames) -> No
 def _starting_point(sim: Simulation, out: Path, resume: bool, overwrite: bool):
     """(state, checkpoint metadata) to resume from, or (None, None) for a new run, whose
     input errors and warnings surface here, before any file exists."""
+    check_options(sim.model, sim.options)  # (options the model cannot take: make_stepper's)
     if resume:
         start, meta = load_checkpoint(out / CHECKPOINT, sim)
         if start.t > sim.t_end * (1.0 + 1e-12):
