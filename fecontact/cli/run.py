@@ -28,6 +28,34 @@ class Parser(argparse.ArgumentParser):
     def error(self, message):
         raise InputError(message)
 
+    def parse_args(self, args=None, namespace=None):
+        argv = sys.argv[1:] if args is None else list(args)
+        return super().parse_args(_joined_numbers(argv), namespace)
+
+
+def _joined_numbers(argv: list[str]) -> list[str]:
+    """``argv`` with a number that starts with "-" joined to the option before it ("--dt
+    -1e-3" as "--dt=-1e-3"): argparse reads "-1e-3" or "-inf" as an option and said "--dt:
+    expected one argument"; joined, the value reaches its range check."""
+    out, i = [], 0
+    while i < len(argv):
+        value = argv[i + 1] if i + 1 < len(argv) else ""
+        if argv[i].startswith("--") and "=" not in argv[i] and _negative_number(value):
+            out.append(f"{argv[i]}={value}")
+            i += 2
+        else:
+            out.append(argv[i])
+            i += 1
+    return out
+
+
+def _negative_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return text.startswith("-")
+
 
 def parse_value(text: str):
     """``--set`` value: int, else float, else the string itself."""
