@@ -31,6 +31,7 @@ from .io.run_folder import (
     save_checkpoint,
 )
 from .io.run_lock import hold_folder
+from .io.termination import Terminated, terminate_as_interrupt
 from .probes import Probe, node_probe
 from .recorder import Recorder, halving_warnings
 from .threads import blas_threads
@@ -156,8 +157,9 @@ def run(
     ``progress`` shows a progress bar with the step, time and Newton iterations (on a
     terminal). Every ``checkpoint_every`` steps (0: never) the state is saved to
     ``checkpoint.npz``; ``resume=True`` continues from it, giving the same result as an
-    uninterrupted run. On ``SolverError`` or ``KeyboardInterrupt`` the summary records the
-    failure, every frame written so far stays readable, and the exception propagates.
+    uninterrupted run. On ``SolverError`` or ``KeyboardInterrupt`` (SIGTERM too, in the main
+    thread: :mod:`fecontact.io.termination`) the summary records the failure, every frame
+    written so far stays readable, and the exception propagates.
 
     Runs never mix: the run holds ``out_dir`` (a lock file) and another process's run there
     is refused; a new run removes what an earlier run of the same case left in ``out_dir``
@@ -170,7 +172,7 @@ def run(
     "auto" VTKHDF for 3D models where it writes faster (:func:`fecontact.io.output.
     frame_format`), else VTU. A resumed run keeps the format of the run it continues.
     """
-    with blas_threads(), hold_folder(out_dir, sim.name):
+    with blas_threads(), hold_folder(out_dir, sim.name), terminate_as_interrupt():
         options = (progress, frames, checkpoint_every, resume, overwrite, frame_format)
         return _run(sim, Path(out_dir), *options)
 
@@ -231,6 +233,8 @@ def _run(sim, out, progress, frames, checkpoint_every, resume, overwrite, frame_
 
 def _stop_reason(err: BaseException) -> tuple[str, str]:
     """The status and message of a run stopped by ``err`` (other than a ``SolverError``)."""
+    if isinstance(err, Terminated):
+        return "interrupted", "terminated by SIGTERM"
     if isinstance(err, KeyboardInterrupt):
         return "interrupted", "interrupted by the user"
     if isinstance(err, OSError):  # a full disk, a folder that stopped being writable

@@ -431,3 +431,30 @@ def test_a_run_stopped_by_an_unexpected_error_is_not_completed(tmp_path):
         run(sim, tmp_path, frames=False)
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["status"] == "failed" and "KeyError" in summary["message"]
+
+
+def test_sigterm_ends_a_run_as_ctrl_c_does(tmp_path):
+    # a scheduler's time limit: before, the process died with no summary, its lock left and
+    # the .pvd short of the frames written in the last second
+    import json
+    import os
+    import signal
+
+    from fecontact.io.termination import Terminated
+
+    def terminating(model, state):  # the signal arrives in the third step
+        if state.step == 3:
+            os.kill(os.getpid(), signal.SIGTERM)
+        return state.q[0]
+
+    sim = Simulation(Model([beam()], gravity=(0, -9.81)), 1e-3, 1e-2, output_interval=1e-3)
+    before = signal.getsignal(signal.SIGTERM)
+    with pytest.raises(Terminated):
+        run(sim.replace(probes={"tip": Probe(terminating, "m")}), tmp_path)
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert (summary["status"], summary["message"]) == ("interrupted", "terminated by SIGTERM")
+    assert not (tmp_path / ".fecontact.lock").exists()
+    # the frames before the step recorded when the signal came (t = 0, 1, 2 ms), all listed
+    assert len(list(tmp_path.glob("*.vtu"))) == 3
+    assert (tmp_path / "simulation.pvd").read_text().count("<DataSet") == 3
+    assert signal.getsignal(signal.SIGTERM) is before  # the handler is the run's alone

@@ -13,6 +13,7 @@ from pathlib import Path
 from ..errors import InputError, SolverError
 from ..extras import need
 from ..io.run_lock import hold_folder
+from ..io.termination import Terminated
 from ..params import assignment
 from .cases import case_origin
 
@@ -189,9 +190,10 @@ def _run(sim, out: Path, args) -> dict | int:
     except SolverError as err:
         print(f"fecontact: run failed: {err}; results so far are in {out}", file=sys.stderr)
         return 1
-    except KeyboardInterrupt:
-        print(f"fecontact: interrupted; results so far are in {out}", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as err:
+        how = "terminated (SIGTERM)" if isinstance(err, Terminated) else "interrupted"
+        print(f"fecontact: {how}; results so far are in {out}", file=sys.stderr)
+        return 143 if isinstance(err, Terminated) else 130  # (128 + the signal's number)
     except OSError as err:  # a full disk, a folder that cannot be written
         what = Path(err.filename).name if err.filename else "the output"
         why = err.strerror or type(err).__name__
