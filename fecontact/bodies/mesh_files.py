@@ -128,7 +128,7 @@ def _read(path: Path):
     except (Exception, SystemExit) as err:  # meshio raises many types, even SystemExit
         lines = [line for line in said.getvalue().splitlines() if line.strip()]
         text = lines[-1].removeprefix("Error: ") if isinstance(err, SystemExit) and lines else ""
-        why = (text or str(err)).splitlines()[0][:100] if text or str(err) else type(err).__name__
+        why = (text or str(err) or type(err).__name__).splitlines()[0][:100]
         raise InputError(f"cannot read mesh file {path.name}: {why}") from None
 
 
