@@ -113,7 +113,9 @@ class IntegratorOptions:
         on fixed obstacles or between the bodies and no loads, a step whose energy T + V
         rises by more than 1e-3 of the run's scale is taken again at ρ∞ = 0, located at its
         closing (:mod:`fecontact.time.energy_guard`); True (1, "on"): the decoupled step
-        too; False (0, "off"): no step is taken again.
+        too (refused on a model or integrator the rule cannot judge:
+        :func:`~fecontact.time.energy_guard.check_retakes`); False (0, "off"): no step is
+        taken again.
     """
 
     rho_inf: float = 0.5

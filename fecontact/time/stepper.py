@@ -13,7 +13,7 @@ from ..linalg.choice import RunPlan
 from ..linalg.legacy import registered_modes
 from .alpha_step import alpha_plan
 from .constraints import StepFailure
-from .energy_guard import EnergyGuard, guards
+from .energy_guard import EnergyGuard, check_retakes, guards
 from .energy_step import check_energy_scheme, energy_nsga_step
 from .generalized_alpha import resized
 from .lie import check_group
@@ -196,12 +196,14 @@ def check_options(model, options: IntegratorOptions) -> None:
     """``InputError`` where ``options`` do not apply to ``model``: rotations in space off the
     NSGA generalized-α step (:func:`check_group`), the energy-decaying step on a model it is
     not built for (:func:`check_energy_scheme`), ``localize`` true with moving obstacles
-    (:func:`localizes`). :func:`make_stepper` checks them; a run checks them before it
+    (:func:`localizes`), ``energy_retakes`` true where its rule cannot judge the steps
+    (:func:`check_retakes`). :func:`make_stepper` checks them; a run checks them before it
     writes any file."""
     check_group(model, options)
     if options.scheme == "energy-decaying":
         check_energy_scheme(model, options)
     localizes(model, options)
+    check_retakes(model, options)
 
 
 def _empty_caches(model) -> None:
