@@ -61,6 +61,20 @@ def test_max_iterations_at_least_one():
         IntegratorOptions(max_iterations=0)
 
 
+@pytest.mark.parametrize(
+    "options, words",
+    [
+        ({"integrator": "moreau", "smooth_contact": "on"}, "smooth_contact = 'on'"),
+        ({"penalty_stiffness": 1e6}, "penalty_stiffness is an option of integrator 'penalty'"),
+        ({"integrator": "moreau", "penalty_damping": 0.0}, "penalty_damping"),
+    ],
+)
+def test_a_choice_of_another_integrator_is_refused(options, words):
+    # (before: taken, and read by no step)
+    with pytest.raises(InputError, match=words):
+        IntegratorOptions(**options)
+
+
 def test_rotation_probe_of_a_solid_node_is_refused_at_once():
     body = Solid.rectangle([0, 0], [1, 1], 1, LinearElastic(E=1e6, nu=0.3, rho=1e3))
     model = Model([body])
