@@ -31,6 +31,7 @@ from .io.run_folder import (
     save_checkpoint,
 )
 from .io.run_lock import hold_folder
+from .io.termination import Terminated, terminate_as_interrupt
 from .probes import Probe, node_probe
 from .recorder import Recorder, halving_warnings
 from .threads import blas_threads
@@ -39,6 +40,7 @@ from .time import (
     PhaseTimer,
     State,
     StepStats,
+    check_options,
     initial_state,
     simulate,
 )
@@ -155,8 +157,9 @@ def run(
     ``progress`` shows a progress bar with the step, time and Newton iterations (on a
     terminal). Every ``checkpoint_every`` steps (0: never) the state is saved to
     ``checkpoint.npz``; ``resume=True`` continues from it, giving the same result as an
-    uninterrupted run. On ``SolverError`` or ``KeyboardInterrupt`` the summary records the
-    failure, every frame written so far stays readable, and the exception propagates.
+    uninterrupted run. On ``SolverError`` or ``KeyboardInterrupt`` (SIGTERM too, in the main
+    thread: :mod:`fecontact.io.termination`) the summary records the failure, every frame
+    written so far stays readable, and the exception propagates.
 
     Runs never mix: the run holds ``out_dir`` (a lock file) and another process's run there
     is refused; a new run removes what an earlier run of the same case left in ``out_dir``
@@ -169,7 +172,7 @@ def run(
     "auto" VTKHDF for 3D models where it writes faster (:func:`fecontact.io.output.
     frame_format`), else VTU. A resumed run keeps the format of the run it continues.
     """
-    with blas_threads(), hold_folder(out_dir, sim.name):
+    with blas_threads(), hold_folder(out_dir, sim.name), terminate_as_interrupt():
         options = (progress, frames, checkpoint_every, resume, overwrite, frame_format)
         return _run(sim, Path(out_dir), *options)
 
@@ -210,11 +213,8 @@ def _run(sim, out, progress, frames, checkpoint_every, resume, overwrite, frame_
             message += f"; before it, {rec.balance.describe()}"
             raise SolverError(message, err.time, err.step, err.residual) from None
         raise
-    except KeyboardInterrupt:
-        status, message = "interrupted", "interrupted by the user"
-        raise
-    except OSError as err:  # a full disk, a folder that stopped being writable
-        status, message = "failed", f"cannot write the output: {err.strerror or err}"
+    except BaseException as err:  # Ctrl-C, a failed write, any other error: never completed
+        status, message = _stop_reason(err)
         raise
     finally:
         output.end(status == "completed")
@@ -229,6 +229,17 @@ def _run(sim, out, progress, frames, checkpoint_every, resume, overwrite, frame_
         if text not in said:
             warnings.warn(text, UserWarning, stacklevel=3)
     return summary
+
+
+def _stop_reason(err: BaseException) -> tuple[str, str]:
+    """The status and message of a run stopped by ``err`` (other than a ``SolverError``)."""
+    if isinstance(err, Terminated):
+        return "interrupted", "terminated by SIGTERM"
+    if isinstance(err, KeyboardInterrupt):
+        return "interrupted", "interrupted by the user"
+    if isinstance(err, OSError):  # a full disk, a folder that stopped being writable
+        return "failed", f"cannot write the output: {err.strerror or err}"
+    return "failed", f"{type(err).__name__}: {err}"
 
 
 def _frame_format(sim: Simulation, out: Path, frames: bool, frame_format: str, resume: bool):
@@ -253,6 +264,7 @@ def _resume(start: State, meta: dict, pvd, rec: Recorder, output: _Frames) -> No
 def _starting_point(sim: Simulation, out: Path, resume: bool, overwrite: bool):
     """(state, checkpoint metadata) to resume from, or (None, None) for a new run, whose
     input errors and warnings surface here, before any file exists."""
+    check_options(sim.model, sim.options)  # (options the model cannot take: make_stepper's)
     if resume:
         start, meta = load_checkpoint(out / CHECKPOINT, sim)
         if start.t > sim.t_end * (1.0 + 1e-12):

@@ -104,7 +104,8 @@ def test_info_lists_parameters_with_units(capsys):
         (["--set", "bogus=1"], "bogus"),
         (["--set", "E"], "NAME=VALUE"),
         (["--dt", "0"], "dt"),
-        (["--dt", "-1e-3"], "dt"),
+        (["--dt", "-1e-3"], "dt must be > 0"),  # (argparse took "-1e-3" for an option)
+        (["--t-end", "-inf"], "t_end must be finite"),
         (["--t-end", "nan"], "t_end"),
         (["--output-interval", "0"], "output_interval"),
         (["--dt", "abc"], "dt"),

@@ -129,6 +129,25 @@ def test_the_rule_is_decided_once_per_run(name, params, options, guarded):
     assert (stepper.guard is not None) == guarded
 
 
+@pytest.mark.parametrize(
+    "name, options, why",
+    [
+        ("bouncing_ball", {}, "of beams"),  # (before: taken, and never applied)
+        ("two_disks", {"refinements": 1}, "of beams"),
+        ("flexible_pendulum", {"integrator": "moreau"}, "not integrator 'moreau'"),
+    ],
+)
+def test_retakes_turned_on_where_the_rule_cannot_judge_are_refused(name, options, why):
+    from fecontact.errors import InputError
+
+    params = {k: v for k, v in options.items() if k == "refinements"}
+    sim = case(name).build(**params)
+    opts = {k: v for k, v in options.items() if k != "refinements"}
+    opts = dataclasses.replace(sim.options, energy_retakes=True, **opts)
+    with pytest.raises(InputError, match=f"energy_retakes = true .*{why}"):
+        make_stepper(sim.model, opts)
+
+
 def test_a_strip_lying_at_rest_takes_no_step_again():
     """A steel strip (20 elements, 7.7 N) lying on the plane under gravity stays at rest. Its
     scale, T + V_strain, is round-off (~1e-61 J), and the gravity potential of displacements

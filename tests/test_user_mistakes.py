@@ -16,6 +16,7 @@ from fecontact import (
     Simulation,
     Solid,
     node_probe,
+    run,
     simulate,
 )
 from fecontact.cli.commands import main
@@ -58,6 +59,20 @@ def test_poisson_ratio_of_a_beam_is_below_a_half():
 def test_max_iterations_at_least_one():
     with pytest.raises(InputError, match="max_iterations"):
         IntegratorOptions(max_iterations=0)
+
+
+@pytest.mark.parametrize(
+    "options, words",
+    [
+        ({"integrator": "moreau", "smooth_contact": "on"}, "smooth_contact = 'on'"),
+        ({"penalty_stiffness": 1e6}, "penalty_stiffness is an option of integrator 'penalty'"),
+        ({"integrator": "moreau", "penalty_damping": 0.0}, "penalty_damping"),
+    ],
+)
+def test_a_choice_of_another_integrator_is_refused(options, words):
+    # (before: taken, and read by no step)
+    with pytest.raises(InputError, match=words):
+        IntegratorOptions(**options)
 
 
 def test_rotation_probe_of_a_solid_node_is_refused_at_once():
@@ -387,3 +402,73 @@ def test_ctrl_c_during_a_sweep_is_one_line(tmp_path):
     assert proc.returncode == 130, err
     assert len(lines) == 1 and "interrupted" in lines[0] and "Traceback" not in err, err
     assert (tmp_path / "s" / "sweep.csv").is_file()
+
+
+@pytest.mark.parametrize("content, why", [("", "the file is empty"), ("garbage\n", "as gmsh")])
+def test_an_unreadable_mesh_says_why_and_prints_nothing(tmp_path, capfd, content, why):
+    # meshio prints its reader's complaint and exits with status 1: the message said ": 1"
+    path = tmp_path / "bad.msh"
+    path.write_text(content)
+    with pytest.raises(InputError, match=why):
+        Solid.from_file(path, LinearElastic(E=1e6, nu=0.3, rho=1e3))
+    assert capfd.readouterr() == ("", "")
+
+
+@pytest.mark.parametrize("size", [0.0, 1e-40])
+def test_a_mesh_of_no_size_is_named(size):
+    import skfem
+
+    mesh = skfem.MeshTri()  # (before: "nodes coincide", for a mesh whose nodes are all one)
+    with pytest.raises(InputError, match=r"mesh size .* at least 1e-30 m"):
+        Solid(skfem.MeshTri(mesh.p * size, mesh.t), LinearElastic(E=1e6, nu=0.3, rho=1e3))
+
+
+def test_options_the_model_cannot_take_are_refused_before_any_file(tmp_path, capsys):
+    import skfem
+
+    body = Solid(skfem.MeshTri(), LinearElastic(E=1e6, nu=0.3, rho=1e3))
+    sim = Simulation(Model([body]), 1e-3, 1e-2, options=IntegratorOptions(scheme="energy-decaying"))
+    with pytest.raises(InputError, match="energy-decaying"):
+        run(sim, tmp_path / "o", frames=False)
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_run_stopped_by_an_unexpected_error_is_not_completed(tmp_path):
+    import json
+
+    def faulty(model, state):  # a probe with a fault that shows at the third step
+        return state.q[0] if state.step < 3 else {}["missing"]
+
+    sim = Simulation(Model([beam()], gravity=(0, -9.81)), 1e-3, 1e-2)
+    sim = sim.replace(probes={"tip": Probe(faulty, "m")})
+    with pytest.raises(KeyError, match="missing"):
+        run(sim, tmp_path, frames=False)
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["status"] == "failed" and "KeyError" in summary["message"]
+
+
+def test_sigterm_ends_a_run_as_ctrl_c_does(tmp_path):
+    # a scheduler's time limit: before, the process died with no summary, its lock left and
+    # the .pvd short of the frames written in the last second
+    import json
+    import os
+    import signal
+
+    from fecontact.io.termination import Terminated
+
+    def terminating(model, state):  # the signal arrives in the third step
+        if state.step == 3:
+            os.kill(os.getpid(), signal.SIGTERM)
+        return state.q[0]
+
+    sim = Simulation(Model([beam()], gravity=(0, -9.81)), 1e-3, 1e-2, output_interval=1e-3)
+    before = signal.getsignal(signal.SIGTERM)
+    with pytest.raises(Terminated):
+        run(sim.replace(probes={"tip": Probe(terminating, "m")}), tmp_path)
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert (summary["status"], summary["message"]) == ("interrupted", "terminated by SIGTERM")
+    assert not (tmp_path / ".fecontact.lock").exists()
+    # the frames before the step recorded when the signal came (t = 0, 1, 2 ms), all listed
+    assert len(list(tmp_path.glob("*.vtu"))) == 3
+    assert (tmp_path / "simulation.pvd").read_text().count("<DataSet") == 3
+    assert signal.getsignal(signal.SIGTERM) is before  # the handler is the run's alone

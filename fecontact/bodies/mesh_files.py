@@ -12,6 +12,8 @@ Coincident nodes that no cell joins are two surfaces, not one: the mesh checks r
 
 from __future__ import annotations
 
+import contextlib
+import io
 from pathlib import Path
 
 import numpy as np
@@ -116,11 +118,17 @@ def _read(path: Path):
         )
     if not path.is_file():
         raise InputError(f"mesh file not found: {path}")
+    if path.stat().st_size == 0:
+        raise InputError(f"cannot read mesh file {path.name}: the file is empty")
+    said = io.StringIO()  # meshio prints why a reader failed, then exits with status 1
     try:
-        # .msh is also an ANSYS extension; meshio would try (and print) that reader first
-        return meshio.read(path, file_format="gmsh" if suffix == ".msh" else None)
+        with contextlib.redirect_stdout(said), contextlib.redirect_stderr(said):
+            # .msh is also an ANSYS extension; meshio would try (and print) that reader first
+            return meshio.read(path, file_format="gmsh" if suffix == ".msh" else None)
     except (Exception, SystemExit) as err:  # meshio raises many types, even SystemExit
-        why = str(err).splitlines()[0][:100] if str(err) else type(err).__name__
+        lines = [line for line in said.getvalue().splitlines() if line.strip()]
+        text = lines[-1].removeprefix("Error: ") if isinstance(err, SystemExit) and lines else ""
+        why = (text or str(err) or type(err).__name__).splitlines()[0][:100]
         raise InputError(f"cannot read mesh file {path.name}: {why}") from None
 
 

@@ -14,7 +14,7 @@ from dataclasses import replace
 import numpy as np
 import skfem
 
-from ..errors import InputError, check_count, check_finite, check_positive
+from ..errors import MIN_MAGNITUDE, InputError, check_count, check_finite, check_positive
 
 __all__ = [
     "ELEMENTS",
@@ -52,7 +52,8 @@ _REFDOMS = {"RefTri": "tri", "RefQuad": "quad", "RefTet": "tet", "RefHex": "hex"
 
 def cell_kind(mesh) -> str:
     """The cell kind ("tri", "quad", "tet", "hex") of a scikit-fem mesh, after the checks every
-    body's mesh must pass: a known cell, not empty, finite coordinates, every node in a cell,
+    body's mesh must pass: a known cell, not empty, finite coordinates, a size (bounding box
+    diagonal) of at least ``MIN_MAGNITUDE``, every node in a cell,
     no coincident vertices left unmerged."""
     if not isinstance(mesh, skfem.Mesh):
         raise InputError(f"mesh must be a scikit-fem Mesh, got {type(mesh).__name__}")
@@ -65,6 +66,13 @@ def cell_kind(mesh) -> str:
     if mesh.t.shape[1] == 0 or mesh.p.shape[1] == 0:
         raise InputError("mesh is empty: it has no elements")
     check_finite("mesh coordinates", mesh.p)
+    extent = float(np.linalg.norm(np.ptp(mesh.p, axis=1)))
+    if extent < MIN_MAGNITUDE:
+        # (else the coincident-node check below would blame unmerged nodes)
+        raise InputError(
+            f"mesh size (the diagonal of its bounding box) must be at least "
+            f"{MIN_MAGNITUDE:g} m, got {extent:g} m"
+        )
     _check_loose_nodes(mesh, cell)
     _check_coincident(mesh)
     return cell

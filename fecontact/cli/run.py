@@ -13,6 +13,7 @@ from pathlib import Path
 from ..errors import InputError, SolverError
 from ..extras import need
 from ..io.run_lock import hold_folder
+from ..io.termination import Terminated
 from ..params import assignment
 from .cases import case_origin
 
@@ -27,6 +28,34 @@ class Parser(argparse.ArgumentParser):
 
     def error(self, message):
         raise InputError(message)
+
+    def parse_args(self, args=None, namespace=None):
+        argv = sys.argv[1:] if args is None else list(args)
+        return super().parse_args(_joined_numbers(argv), namespace)
+
+
+def _joined_numbers(argv: list[str]) -> list[str]:
+    """``argv`` with a number that starts with "-" joined to the option before it ("--dt
+    -1e-3" as "--dt=-1e-3"): argparse reads "-1e-3" or "-inf" as an option and said "--dt:
+    expected one argument"; joined, the value reaches its range check."""
+    out, i = [], 0
+    while i < len(argv):
+        value = argv[i + 1] if i + 1 < len(argv) else ""
+        if argv[i].startswith("--") and "=" not in argv[i] and _negative_number(value):
+            out.append(f"{argv[i]}={value}")
+            i += 2
+        else:
+            out.append(argv[i])
+            i += 1
+    return out
+
+
+def _negative_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return text.startswith("-")
 
 
 def parse_value(text: str):
@@ -161,9 +190,10 @@ def _run(sim, out: Path, args) -> dict | int:
     except SolverError as err:
         print(f"fecontact: run failed: {err}; results so far are in {out}", file=sys.stderr)
         return 1
-    except KeyboardInterrupt:
-        print(f"fecontact: interrupted; results so far are in {out}", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as err:
+        how = "terminated (SIGTERM)" if isinstance(err, Terminated) else "interrupted"
+        print(f"fecontact: {how}; results so far are in {out}", file=sys.stderr)
+        return 143 if isinstance(err, Terminated) else 130  # (128 + the signal's number)
     except OSError as err:  # a full disk, a folder that cannot be written
         what = Path(err.filename).name if err.filename else "the output"
         why = err.strerror or type(err).__name__

@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import json
 import math
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -112,14 +113,24 @@ _FORMATS = {float: float.__repr__, np.float64: float.__repr__, int: int.__repr__
 class HistoryWriter:
     """Append one numeric CSV row per time step; the header fixes the column order.
 
-    Rows are buffered and written every ``flush_every`` rows and on :meth:`flush`/:meth:`close`.
+    Rows are buffered and written every ``flush_every`` rows, or with the first row after
+    ``flush_seconds`` of wall time since the last write, and on :meth:`flush`/:meth:`close`:
+    a run killed hard (SIGKILL, a cluster's time limit) keeps its rows up to about that time
+    before, as the ``.pvd`` index its frames (100 rows alone are minutes of a large 3D run).
     Booleans are written as 0/1, non-finite values as ``inf``, ``-inf``, ``nan``.
     """
 
     def __init__(
-        self, path: str | Path, columns: list[str], flush_every: int = 100, keep_rows=None
+        self,
+        path: str | Path,
+        columns: list[str],
+        flush_every: int = 100,
+        keep_rows=None,
+        flush_seconds: float = 1.0,
     ):
         self.path = Path(path)
+        self.flush_seconds = float(flush_seconds)
+        self._flushed_at = time.perf_counter()
         self.columns = list(columns)
         if len(set(self.columns)) != len(self.columns) or not all(
             isinstance(c, str) and c and "," not in c for c in self.columns
@@ -158,7 +169,8 @@ class HistoryWriter:
             raise ValueError(f"history row has {len(row)} values, expected {len(self.columns)}")
         get = _FORMATS.get
         self._buffer.append(",".join([get(type(x), _cell)(x) for x in row]) + "\n")
-        if len(self._buffer) >= self.flush_every:
+        late = time.perf_counter() - self._flushed_at >= self.flush_seconds
+        if len(self._buffer) >= self.flush_every or late:
             self.flush()
 
     def flush(self) -> None:
@@ -166,6 +178,7 @@ class HistoryWriter:
             self._file.write("".join(self._buffer))
             self._buffer.clear()
         self._file.flush()
+        self._flushed_at = time.perf_counter()
 
     def close(self) -> None:
         if not self._file.closed:

@@ -18,7 +18,7 @@ from .settings import RunSettings, run_settings, uses_smooth_contact
 from .simulate import STEPPERS, simulate
 from .state import IntegratorOptions, PhaseTimer, State, initial_state, length_scale
 from .stats import StepStats
-from .stepper import Stepper, make_stepper
+from .stepper import Stepper, check_options, make_stepper
 from .terms import ForceTerm, StepContext
 
 __all__ = [
@@ -39,6 +39,7 @@ __all__ = [
     "StepStats",
     "Stepper",
     "alpha_coefficients",
+    "check_options",
     "initial_state",
     "length_scale",
     "make_stepper",

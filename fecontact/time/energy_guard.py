@@ -61,11 +61,12 @@ import dataclasses
 import numpy as np
 
 from ..energy import StateEnergies
+from ..errors import InputError
 from .localize import localized_step
 from .settings import RunSettings
 from .state import State, length_scale
 
-__all__ = ["GAIN", "EnergyGuard", "guards", "round_off"]
+__all__ = ["GAIN", "EnergyGuard", "check_retakes", "guards", "round_off"]
 
 GAIN = 1e-3
 """Fraction of the run's scale: a step whose energy rises by more is taken again (the energy
@@ -105,6 +106,28 @@ def guards(model, settings: RunSettings) -> bool:
     # (its axial ringing) and a beam met along its length, whose closing corrected at the
     # step's end strains it (rod_drop at e_N = 1: 2.0 % of its scale → 0.041 %)
     return settings.smooth
+
+
+def check_retakes(model, options) -> None:
+    """``InputError`` where ``energy_retakes`` is true (on) but the rule cannot judge the
+    steps of ``model`` with ``options``: another integrator or scheme, a model that is not
+    of beams alone, moving obstacles or loads (whose work raises the energy). "auto" and
+    off are taken as they are: "auto" decides for the model (:func:`guards`)."""
+    if options.energy_retakes is not True:
+        return
+    why = None
+    if options.integrator != "nsga" or options.scheme != "generalized-alpha":
+        why = f"not integrator {options.integrator!r} with scheme {options.scheme!r}"
+    elif not model.slender or model.continuum:
+        why = "the model must be of beams (no solid), with or without rigid bodies"
+    elif model.contacts.moving or model.loads:
+        why = "moving obstacles and loads do work that raises the energy"
+    if why:
+        raise InputError(
+            "energy_retakes = true applies to the nsga integrator's generalized-alpha step on "
+            f"models of beams with contacts on fixed obstacles and no loads: {why} (set "
+            "energy_retakes=auto or 0)"
+        )
 
 
 class EnergyGuard:

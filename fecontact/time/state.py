@@ -113,7 +113,9 @@ class IntegratorOptions:
         on fixed obstacles or between the bodies and no loads, a step whose energy T + V
         rises by more than 1e-3 of the run's scale is taken again at ρ∞ = 0, located at its
         closing (:mod:`fecontact.time.energy_guard`); True (1, "on"): the decoupled step
-        too; False (0, "off"): no step is taken again.
+        too (refused on a model or integrator the rule cannot judge:
+        :func:`~fecontact.time.energy_guard.check_retakes`); False (0, "off"): no step is
+        taken again.
     """
 
     rho_inf: float = 0.5
@@ -156,6 +158,7 @@ class IntegratorOptions:
                 f"impact_law = {self.impact_law!r} needs integrator nsga or moreau: the penalty "
                 "baseline has no impact law (its dashpot sets the restitution)"
             )
+        _check_integrator_choices(self)
         self.theta = check_range("theta", self.theta, 0.0, 1.0, (False, True))
         if self.penalty_stiffness is not None:
             self.penalty_stiffness = check_positive("penalty_stiffness", self.penalty_stiffness)
@@ -185,6 +188,22 @@ class IntegratorOptions:
                     f"scheme generalized-alpha), got integrator {self.integrator!r}, "
                     f"scheme {self.scheme!r}"
                 )
+
+
+def _check_integrator_choices(opts: IntegratorOptions) -> None:
+    """``InputError`` for a choice of one integrator given to another, which would not read
+    it: ``smooth_contact="on"`` (the NSGA step's), ``penalty_stiffness`` and
+    ``penalty_damping`` (the penalty baseline's)."""
+    if opts.smooth_contact == "on" and opts.integrator != "nsga":
+        raise InputError(
+            f"smooth_contact = 'on' is a choice of the nsga integrator's step, not of "
+            f"integrator {opts.integrator!r}"
+        )
+    given = [n for n in ("penalty_stiffness", "penalty_damping") if getattr(opts, n) is not None]
+    if given and opts.integrator != "penalty":
+        raise InputError(
+            f"{given[0]} is an option of integrator 'penalty', not of {opts.integrator!r}"
+        )
 
 
 def _switch(name: str, value) -> bool | str:

@@ -13,7 +13,7 @@ from ..linalg.choice import RunPlan
 from ..linalg.legacy import registered_modes
 from .alpha_step import alpha_plan
 from .constraints import StepFailure
-from .energy_guard import EnergyGuard, guards
+from .energy_guard import EnergyGuard, check_retakes, guards
 from .energy_step import check_energy_scheme, energy_nsga_step
 from .generalized_alpha import resized
 from .lie import check_group
@@ -28,7 +28,7 @@ from .stats import StepStats
 from .substeps import localized_stepper
 from .turns import TurnFailure
 
-__all__ = ["PLANS", "STEPPERS", "TAKES_TERMS", "Stepper", "make_stepper"]
+__all__ = ["PLANS", "STEPPERS", "TAKES_TERMS", "Stepper", "check_options", "make_stepper"]
 
 STEPPERS = {"nsga": nsga_step, "moreau": moreau_step, "penalty": penalty_step}
 """Every stepper, ``step(model, state, h, options, timer) -> State``, by the name of the
@@ -174,10 +174,9 @@ def make_stepper(
             f"scheme={options.scheme!r}"
         )
     settings = run_settings(model, options, stats, terms, plan)
-    check_group(model, settings)  # rotations in space: NSGA with generalized-α only
+    check_options(model, settings)
     kind = STEPPERS[settings.integrator]
     if settings.scheme == "energy-decaying":
-        check_energy_scheme(model, settings)
         kind = energy_nsga_step
     if localizes(model, settings):  # (decided once: every step of the run splits or none)
         kind = localized_stepper(model, settings)
@@ -191,6 +190,20 @@ def make_stepper(
     # (decided once: beams whose steps may create energy, module energy_guard)
     guard = EnergyGuard(model, settings) if guards(model, settings) else None
     return Stepper(model, settings, kind, guard)
+
+
+def check_options(model, options: IntegratorOptions) -> None:
+    """``InputError`` where ``options`` do not apply to ``model``: rotations in space off the
+    NSGA generalized-α step (:func:`check_group`), the energy-decaying step on a model it is
+    not built for (:func:`check_energy_scheme`), ``localize`` true with moving obstacles
+    (:func:`localizes`), ``energy_retakes`` true where its rule cannot judge the steps
+    (:func:`check_retakes`). :func:`make_stepper` checks them; a run checks them before it
+    writes any file."""
+    check_group(model, options)
+    if options.scheme == "energy-decaying":
+        check_energy_scheme(model, options)
+    localizes(model, options)
+    check_retakes(model, options)
 
 
 def _empty_caches(model) -> None:
