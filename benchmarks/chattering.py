@@ -85,9 +85,9 @@ def tip_distance(a, b) -> float:
 
 
 def founding(quick):
-    t_end = 0.5 if quick else 1.5
+    t_end = 0.36 if quick else 1.5  # quick: through the first contact phase
     steps = (H, H / 2) if quick else (H, H / 2, H / 4)
-    fine_h = H / (16 if quick else 64)
+    fine_h = H / (8 if quick else 64)
     fine, _, _ = pendulum_run(fine_h, t_end, True)
     fine = at_ms(fine, fine_h)
     out = []
@@ -162,7 +162,7 @@ def swing(quick):
 def bar_run(h, loc, count, quick):
     """(t, mean velocity) rows every step, statistics, wall time (s) of the impacting bar
     whose end closes 0.37 of a base step into its eleventh step."""
-    n = 40 if quick else 100
+    n = 20 if quick else 100
     dt = common.case("impacting_bar").build(n_elements=n).dt
     sim = common.case("impacting_bar").build(n_elements=n, gap=0.1 * dt * 10.37)
     opts = IntegratorOptions(**{**vars(sim.options), "localize": loc})
@@ -178,7 +178,7 @@ def bar_run(h, loc, count, quick):
 def bar(quick):
     """The bar's mean velocity at h, h/2, h/4 (h = Δx/2c) against an h/16 run, and its
     rebound (exact: the impact speed, 0.1 m/s)."""
-    base = common.case("impacting_bar").build(n_elements=40 if quick else 100).dt
+    base = common.case("impacting_bar").build(n_elements=20 if quick else 100).dt
     fine, _, _ = bar_run(base / 16, True, None, quick)
     out = []
     for name, loc, count in SETTINGS:

@@ -4,7 +4,7 @@ Cases: the founding case with friction μ = 0.3 between tip and stop (0.6 s: the
 and the tip rubbing along the stop), and the rigid disk thrown along a plane (μ = 0.3, 0.5 s:
 slipping, then rolling at 4/3 m/s). Per method and step h: the wall time of the run and the
 largest error of the probes (tip position; disk position and speed) against the NSGA run at
-h_ref = h_min/8, over the coarse run's times.
+h_ref = h_min/8 (``--quick``: h_min/2), over the coarse run's times.
 
     python benchmarks/friction_work_precision.py [--quick]
 """
@@ -45,9 +45,10 @@ def error(tr, ref, probes):
 def main() -> None:
     args = parser(__doc__.splitlines()[0]).parse_args()
     steps = STEPS[:2] if args.quick else STEPS
+    fine = 2 if args.quick else 8  # the reference's step: h_min / fine
     rows = []
     for name, (_, _, probes) in CASES.items():
-        ref, _ = run(name, "nsga", steps[-1] / 8)
+        ref, _ = run(name, "nsga", steps[-1] / fine)
         for h in steps:
             for method in METHODS:
                 tr, wall = run(name, method, h)
@@ -62,7 +63,7 @@ def main() -> None:
     out = Path(args.out or RESULTS)
     suffix = "_quick" if args.quick else ""
     write_csv(out / f"friction_work_precision{suffix}.csv", rows, COLUMNS)
-    head = "# Work against precision with friction\n\nReference: NSGA at h_min/8.\n\n"
+    head = f"# Work against precision with friction\n\nReference: NSGA at h_min/{fine}.\n\n"
     write_markdown(out / f"friction_work_precision{suffix}.md", head + table)
 
 

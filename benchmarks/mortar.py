@@ -37,7 +37,7 @@
    with their gradients on the graded P2 balls of ``two_balls`` at their start (ms).
 
     python benchmarks/mortar.py            # refinements 1–5, the default balls (an hour)
-    python benchmarks/mortar.py --quick    # refinements 1–3, coarse balls (minutes)
+    python benchmarks/mortar.py --quick    # refinements 1–3, the coarsest uniform balls
     python benchmarks/mortar.py --refinements 1 2 3 4 --coarse-balls   # (20 minutes)
 """
 
@@ -162,8 +162,11 @@ def hertz(v: float = 1.0) -> dict:
     }
 
 
-def ball_rows(quick: bool):
-    mesh = {"spacing": 0.16} if quick else {}
+# the balls' meshes: the case's, --coarse-balls', and --quick's (the coarsest, seconds a run)
+BALLS = {"default": {}, "coarse": {"spacing": 0.16}, "quick": {"graded": 0, "base": 1}}
+
+
+def ball_rows(mesh: dict):
     ref = hertz()
     runs = [("mortar", "ball", 30.0), ("mortar", "ball", 0.0), ("node-to-surface", "ball", 30.0),
             ("-", "plane", 0.0)]  # fmt: skip
@@ -264,14 +267,16 @@ def p2_cost_rows(repeats: int, t_end: float):
 def main():
     p = parser(__doc__.splitlines()[0])
     p.add_argument("--refinements", type=int, nargs="+", help="the disks' refinements")
-    p.add_argument("--coarse-balls", action="store_true", help="the quick run's balls")
+    p.add_argument("--coarse-balls", action="store_true", help="graded balls of spacing 0.16")
     args = p.parse_args()
     refinements, repeats = ((1, 2, 3), 1) if args.quick else ((1, 2, 3, 4, 5), 3)
     refinements = args.refinements or refinements
     patch = patch_rows()
     disks = disk_rows(refinements, repeats)
     free = free_rows(refinements, repeats, 0.004 if args.quick else 0.02)
-    balls = ball_rows(args.quick or args.coarse_balls)
+    balls = ball_rows(
+        BALLS["quick" if args.quick else "coarse" if args.coarse_balls else "default"]
+    )
     p2_patch = p2_patch_rows()
     p2_cost = p2_cost_rows(1 if args.quick else 3, 0.002 if args.quick else 0.006)
     publish_report(

@@ -9,7 +9,7 @@ time per step (ms, of the time loop alone; the mean of the repeats), and the rat
 tree's CPU time to the baseline's.
 
     python benchmarks/mortar_coverage.py --baseline /tmp/base          # 3 repeats
-    python benchmarks/mortar_coverage.py --quick  # the coarsest balls, this tree alone
+    python benchmarks/mortar_coverage.py --quick  # the coarsest balls once, this tree alone
 """
 
 from __future__ import annotations
@@ -66,9 +66,11 @@ def child(tree: Path, params: dict, step: str) -> dict:
 def main():
     p = parser(__doc__.splitlines()[0])
     p.add_argument("--baseline", help="source tree of the version to compare (default: none)")
-    p.add_argument("--repeats", type=int, default=3)
+    p.add_argument("--repeats", type=int, help="runs of each tree (default 3; --quick: 1)")
     p.add_argument("--runs", type=int, nargs="*", help="indices of the runs (default: all)")
     args = p.parse_args()
+    if args.repeats is None:  # quick: a check that the script runs, no timing to average
+        args.repeats = 1 if args.quick else 3
     runs = RUNS[-1:] if args.quick else RUNS
     runs = [runs[i] for i in args.runs] if args.runs else runs
     trees = (("this", ROOT),)

@@ -165,11 +165,11 @@ def table(rows: list[dict], repeats: int, baselines: list[str]) -> str:
 
 def main(argv=None) -> int:
     # (the default baseline: the Beam3D kernel of today, the recorder before: same output)
-    parser = versions_parser(__doc__.splitlines()[0], (2, 5), "fb610ca")
+    parser = versions_parser(__doc__.splitlines()[0], (1, 5), "fb610ca")
     parser.add_argument("--inner", type=int, default=5, help="passes per process (default 5)")
     parser.add_argument("--out", default=str(RESULTS), help="output folder (default: %(default)s)")
     args = parser.parse_args(argv)
-    repeats = args.repeats or (2 if args.quick else 5)
+    repeats = args.repeats or (1 if args.quick else 5)
     with baseline_trees(args.baseline) as (baselines, trees):
         rows = measure(trees, repeats, args.quick, 2 if args.quick else args.inner)
     text = table(rows, repeats, baselines)

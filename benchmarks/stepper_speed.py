@@ -19,8 +19,8 @@ node-to-surface contact as in the baseline), each with its defaults otherwise, i
 the end of their step (``localize=False``, the baseline's only way;
 ``benchmarks/localization.py`` measures the cost of localization).
 
-A full run exits 1 where a history differs; ``--quick`` (a few steps, three processes)
-always exits 0.
+A full run exits 1 where a history differs; ``--quick`` (a few steps, one process of each
+version) always exits 0.
 
 ``--single`` adds the CPU time of one step repeated from stored states of each case (a step
 in flight, near the floor and resting for the ball; steps of the swing and of the contact for
@@ -235,7 +235,7 @@ def table(rows: list[dict], repeats: int, baselines: list[str], noise: bool) -> 
 
 
 def main(argv=None) -> int:
-    parser = versions_parser(__doc__.splitlines()[0], (3, 7), "21d058e")
+    parser = versions_parser(__doc__.splitlines()[0], (1, 7), "21d058e")
     parser.add_argument(
         "--noise", action="store_true", help="also time a second copy of this checkout"
     )
@@ -244,7 +244,7 @@ def main(argv=None) -> int:
     )
     parser.add_argument("--out", default=str(RESULTS), help="output folder (default: %(default)s)")
     args = parser.parse_args(argv)
-    repeats = args.repeats or (3 if args.quick else 7)
+    repeats = args.repeats or (1 if args.quick else 7)
     with baseline_trees(args.baseline) as (baselines, trees):
         if args.noise:  # this checkout's own files, a second time (same code)
             trees["same code"] = ROOT
