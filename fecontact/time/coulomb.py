@@ -381,6 +381,8 @@ class SmoothFriction:
             self.lam[:, 0] = np.maximum(force[P], 0.0)
         if force_t is not None:  # (a tangential force only where a normal one presses)
             self.lam[:, 1:] = np.where(self.lam[:, :1] > 0.0, force_t[P], 0.0)
+        # (λ_T,n as v̇_n carries it: the step moves v by h(v̇_n + v̇_{n+1})/2 at ρ∞ = 1)
+        self.lam_n = 0.0 if st.smooth is None else st.smooth.in_vd[P, 1:]
         self.shift = _obstacle_shift(self.contacts, P, st.t, t)
         self.C = None  # (the curvature of the gaps is not in the iteration matrix)
         self.solved, self.change = False, None  # (and the last update's change of λ)
@@ -491,5 +493,8 @@ class SmoothFriction:
         return out[:, 0], out[:, 1:]
 
     def work(self) -> float:
-        """The energy the tangential forces dissipated over the step's slip (J)."""
-        return -float(np.sum(self.lam[:, 1:] * self.slip))
+        """The energy the tangential forces dissipated over the step's slip (J): the slip
+        times the mean of λ_T at t_n and t_{n+1}, the force the update of v applies at ρ∞ = 1.
+        λ_T,n+1 alone overbooks it by h/2 Σ λ̇_T·w_T where λ_N rises and falls on a slide
+        (``docs/explanation/energy_ledger.md``, *Friction of the smooth step*)."""
+        return -0.5 * float(np.sum((self.lam_n + self.lam[:, 1:]) * self.slip))
