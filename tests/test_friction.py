@@ -274,3 +274,47 @@ def test_friction_is_checked():
     b = Beam2D.straight([1.1, 0.0], [2.0, 0.0], 2, mat, sec)
     with pytest.raises(InputError, match="friction: not available"):
         Contact(a, b, friction=0.2)
+
+
+def _pinned_chain():
+    """Three thin bars joined end to end by two pins, released tilted above a floor with
+    μ = 0.3, e_N = 0.5 (9 dofs): its velocity jumps reach Coulomb laws on which Newton
+    stalls, both ends slipping with |R/p| ≈ 1e-6 that no Newton step reduces."""
+    from fecontact import Model, Pin
+    from fecontact.bodies import Polygon, RigidBody2D
+    from fecontact.contact import Plane
+
+    L, w = 0.5, 0.02
+    diamond = Polygon([[-L / 2, 0.0], [0.0, -w / 2], [L / 2, 0.0], [0.0, w / 2]])
+    bodies, ends = [], [np.array([0.0, 0.6])]
+    for a in (0.3, -0.2, 0.4):
+        d = np.array([np.cos(a), np.sin(a)])
+        bodies.append(RigidBody2D(1.0, L**2 / 12, ends[-1] + 0.5 * L * d, angle=a, shape=diamond))
+        ends.append(ends[-1] + L * d)
+    floor = Plane([0.0, 0.0], [0.0, 1.0])
+    contacts = [Contact(b, floor, restitution=0.5, friction=0.3) for b in bodies]
+    joints = [Pin(bodies[i], ends[i + 1], bodies[i + 1]) for i in range(2)]
+    return Model(bodies, contacts, gravity=(0.0, -G), joints=joints)
+
+
+def test_a_stalled_coulomb_newton_stops_at_once_with_the_same_motion(monkeypatch):
+    """Newton stopped at the first step forced in full that moves the multipliers by
+    round-off (its remaining iterations are round-off too) hands the fallbacks the same law
+    as the 50 iterations did: the chain's motion is the same bit for bit, for fewer cuts."""
+    import fecontact.contact.coulomb_newton as coulomb_newton
+    from fecontact.time import simulate
+    from fecontact.time.stats import StepStats
+
+    runs = {}
+    for stop in (True, False):
+        if not stop:
+            monkeypatch.setattr(coulomb_newton, "_round_off_move", lambda x, start: False)
+        stats = StepStats()
+        states = [
+            np.concatenate([st.q, st.v]) for st in simulate(_pinned_chain(), 1e-3, 0.4, stats=stats)
+        ]
+        runs[stop] = np.array(states), stats.contact.coulomb
+    (moved, stopped), (kept, full) = runs[True], runs[False]
+    assert stopped.stalled_newtons >= 1 and full.stalled_newtons == 0
+    assert stopped.line_search_cuts < full.line_search_cuts
+    np.testing.assert_array_equal(moved, kept)

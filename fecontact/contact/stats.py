@@ -18,6 +18,10 @@ class CoulombStats:
     line_search_cuts: int = 0  # backtracking cuts of the merit |R|²
     # updates taken in full after the backtracking found no decrease (a kink of the residual)
     full_steps_forced: int = 0
+    # Newton solves given up as soon as a step forced in full moved the multipliers by
+    # round-off alone (a stationary point of |R|² that is not a solution): the fallbacks
+    # then take over, as they did after the remaining iterations
+    stalled_newtons: int = 0
     # solves where Newton alone did not converge and a nonsmooth Gauss–Seidel over the
     # contacts brought it near the solution first
     gauss_seidel_solves: int = 0
