@@ -17,6 +17,7 @@ from .friction import tangent_basis
 from .geometry import closest_on_segments, point_line_distance
 from .obstacles import Circle, Plane, Point
 from .registry import register_pair
+from .section_segments import segment_turns
 
 __all__ = ["NodeContact", "PointSegmentContact"]
 
@@ -208,12 +209,17 @@ class PointSegmentContact(PairDefaults):
 
     def tangents(self, q: np.ndarray):
         """Slip rows of the fixed point against the beam's material point at each row's
-        parameter ξ: −T((1 − ξ) ẋ_a + ξ ẋ_b), T the tangent of the contact plane."""
+        parameter ξ, on its section c n from the centreline (c the ``clearance``), which the
+        section's turn moves (:mod:`.section_segments`): −T((1 − ξ) ẋ_a + ξ ẋ_b + ω(ξ) × c n),
+        T the tangent of the contact plane; the linear form is the slip of a step."""
         (e, side, line, xe, used), x1, x2 = self._rows(q)
         n = self._normals(e, side, line, xe, x1, x2)
         T = tangent_basis(n) * used[:, None, None]
-        GT = -np.concatenate([(1.0 - xe)[:, None, None] * T, xe[:, None, None] * T], axis=2)
-        return self._dofs(e), GT, T
+        qb = q[self.offset : self.offset + self.body.ndof]
+        turns, B = segment_turns(self.body, qb, self.segments[e], xe, self.clearance * n)
+        w = np.stack([1.0 - xe, xe], axis=1)[:, :, None, None] * T[:, None]
+        GT = -np.concatenate([w[:, 0], w[:, 1], np.einsum("mti,mik->mtk", T, B)], axis=2)
+        return np.concatenate([self._dofs(e), self.offset + turns], axis=1), GT, T
 
     def _dofs(self, e):
         nodes = self.segments[e].ravel()
