@@ -314,6 +314,21 @@ class Beam2D(Centreline):
         x = self.X[nodes] + q[dofs]
         return x, dofs, np.repeat(_EYE2, len(nodes), axis=0), None
 
+    def section_turns(self, q: np.ndarray, nodes: np.ndarray, arms: np.ndarray):
+        """Local dofs (m, 1) of the rotations θ at ``nodes`` and ∂ẋ_p/∂θ̇ = e_z × arm (m, 2, 1)
+        of the material points x_p = x + arm of their sections (``arms`` (m, 2), m): where a
+        section touches through its thickness, its turn moves the touching point."""
+        dofs = 3 * nodes[:, None] + 2
+        return dofs, np.stack([-arms[:, 1], arms[:, 0]], axis=1)[:, :, None]
+
+    def section_points_before(self, q, q_n, nodes: np.ndarray, arms: np.ndarray) -> np.ndarray:
+        """Where the material points now at x + arm (``arms`` (m, 2)) of the sections at
+        ``nodes`` were at q_n: x_n + R(θ_n − θ) arm (m, 2)."""
+        Q, Qn = q.reshape(-1, 3)[nodes], q_n.reshape(-1, 3)[nodes]
+        c, s = np.cos(Qn[:, 2] - Q[:, 2]), np.sin(Qn[:, 2] - Q[:, 2])
+        back = np.stack([c * arms[:, 0] - s * arms[:, 1], s * arms[:, 0] + c * arms[:, 1]], 1)
+        return self.X[nodes] + Qn[:, :2] + back
+
     def node_translation_dofs(self, nodes) -> np.ndarray:
         """(len(nodes), 2) local dof indices of (u_x, u_y) at ``nodes``."""
         idx = np.array([self.node_index(i) for i in np.atleast_1d(nodes)], dtype=int)

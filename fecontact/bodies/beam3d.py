@@ -281,6 +281,23 @@ class Beam3D(Centreline):
         dofs = 6 * nodes[:, None] + np.arange(3)
         return self.X[nodes] + q[dofs], dofs, np.repeat(_EYE3, len(nodes), axis=0), None
 
+    def section_turns(self, q: np.ndarray, nodes: np.ndarray, arms: np.ndarray):
+        """Local dofs (m, 3) of the rotations at ``nodes`` and ∂ẋ_p/∂Ω (m, 3, 3) of the
+        material points x_p = x + arm of their sections (``arms`` (m, 3), m): the spatial
+        angular velocity is RΩ (Ω the velocities of the rotation dofs, composed on the
+        right), so ẋ_p = ẋ + RΩ × arm and the block is −arm̃ R, whose columns are R_k × arm."""
+        dofs = 6 * nodes[:, None] + np.arange(3, 6)
+        R = rotation_matrices(q.reshape(-1, 6)[nodes, 3:])
+        return dofs, np.cross(R.transpose(0, 2, 1), arms[:, None, :]).transpose(0, 2, 1)
+
+    def section_points_before(self, q, q_n, nodes: np.ndarray, arms: np.ndarray) -> np.ndarray:
+        """Where the material points now at x + arm (``arms`` (m, 3)) of the sections at
+        ``nodes`` were at q_n: x_n + R_n Rᵀ arm (m, 3), exact for a rigid turn of the section."""
+        Q, Qn = q.reshape(-1, 6)[nodes], q_n.reshape(-1, 6)[nodes]
+        R, Rn = rotation_matrices(Q[:, 3:]), rotation_matrices(Qn[:, 3:])
+        back = np.einsum("mij,mkj,mk->mi", Rn, R, arms)
+        return self.X[nodes] + Qn[:, :3] + back
+
     def node_translation_dofs(self, nodes) -> np.ndarray:
         """(len(nodes), 3) local dof indices of (u_x, u_y, u_z) at ``nodes``."""
         return 6 * self.contact_nodes(nodes)[:, None] + np.arange(3)

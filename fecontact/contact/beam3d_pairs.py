@@ -31,9 +31,12 @@ The gradients act on the translations of the segments' nodes (and on the (u, Θ)
 partner, Θ body-frame, by the chain rule through its points' kinematics); the curvature is exact
 (:func:`.segment3d.tube_distance`).
 
-Coulomb friction acts on the slip of the segment's centreline point against the partner's
-material point at the contact (a rigid partner's rotation included, the tube's section rotation
-not: friction acts at the centreline, as on the beams' nodes).
+Coulomb friction acts on the slip of the tube's touching point against the partner's material
+point at the contact, a rigid partner's rotation included. Against a sphere or a rigid body the
+tube's point is its section's, −r n from the centreline point at ξ, which the section's turn
+moves (:mod:`.section_segments`). A box and a second tube slip at the centreline's point: a
+segment along a box's face touches it along a line whose one point jumps as the segment tilts
+(:class:`TubeBoxContact`), and two tubes' pair knows only the sum of their radii.
 """
 
 from __future__ import annotations
@@ -52,6 +55,7 @@ from .geometry import closest_on_segments
 from .node_pairs import NodeContact
 from .obstacles import Circle
 from .registry import register_pair
+from .section_segments import segment_point_moves, segment_turns
 from .segment3d import closest_segments, tube_distance
 
 __all__ = ["TubeBeamContact", "TubeBoxContact", "TubeRigidContact", "TubeSphereContact"]
@@ -73,6 +77,9 @@ class TubeContact(PairDefaults):
         self.size = len(self.segments)
         self.offset = 0
         self._start = None  # (normal e₀, partner segment) at the start of the step
+        # the tube's radius where its section touches (its turn moves the touching point);
+        # 0: the pair knows only the sum of two radii (two tubes) or there is no tube
+        self.section_radius = 0.0
 
     def bind(self, model) -> None:
         self.offset = model.offset_of(self.body)
@@ -86,6 +93,27 @@ class TubeContact(PairDefaults):
     def _beam_dofs(self) -> np.ndarray:
         nodes = self.segments.ravel()
         return self.offset + self.body.node_translation_dofs(nodes).reshape(-1, 6)
+
+    def _section_rows(self, q, dofs, GT, T, xi, n):
+        """The slip rows with the turn of the tube's section at ξ appended: its touching
+        point lies at arm = −r n from the centreline (:mod:`.section_segments`)."""
+        if not self.section_radius:
+            return dofs, GT
+        qb = q[self.offset : self.offset + self.body.ndof]
+        arms = -self.section_radius * n
+        turns, B = segment_turns(self.body, qb, self.segments, xi, arms)
+        GT = np.concatenate([GT, np.einsum("mti,mik->mtk", T, B)], axis=2)
+        return np.concatenate([dofs, self.offset + turns], axis=1), GT
+
+    def _tube_moves(self, q, q_n, xi, n):
+        """The motion (m, 3) over the step of the tube's touching points at ξ: its section's
+        point at −r n turned back with the section (the centreline's point where r = 0)."""
+        s = slice(self.offset, self.offset + self.body.ndof)
+        if self.section_radius:
+            arms = -self.section_radius * n
+            return segment_point_moves(self.body, q[s], q_n[s], self.segments, xi, arms)
+        ends = self._ends(q) - self._ends(q_n)
+        return (1.0 - xi)[:, None] * ends[:, 0] + xi[:, None] * ends[:, 1]
 
     def _sides(self, e: np.ndarray, which: np.ndarray) -> np.ndarray:
         """σ = −1 where the normal has reversed since the step's start against the same
@@ -131,6 +159,7 @@ class TubeSphereContact(TubeContact):
             raise InputError("obstacle: a Beam3D's segments meet a Sphere seen from outside")
         super().__init__(body, restitution, sphere.radius + clearance)
         self.obstacle = sphere
+        self.section_radius = clearance
 
     def _core(self, q, P):
         c = self.obstacle.center + self.obstacle.shift()
@@ -148,14 +177,28 @@ class TubeSphereContact(TubeContact):
         e = tube_distance(P, Q, hessian=False)[1]
         return -self._sides(e, which) * (e @ self.obstacle.speed())
 
-    def tangents(self, q: np.ndarray):
-        """Slip rows of the segments' material points at ξ against the fixed sphere."""
+    def _contact_frame(self, q: np.ndarray):
         P = self._ends(q)
-        Q, which, _ = self._core(q, P)
+        Q = self._core(q, P)[0]
         _, e, (xi, _), _, _ = tube_distance(P, Q, hessian=False)
+        return xi, e
+
+    def tangents(self, q: np.ndarray):
+        """Slip rows of the tube's touching points at ξ (its section's turn included)
+        against the fixed sphere."""
+        xi, e = self._contact_frame(q)
         T = tangent_basis(e)
         GT = np.concatenate([(1.0 - xi)[:, None, None] * T, xi[:, None, None] * T], axis=2)
-        return self._beam_dofs(), GT, T
+        dofs, GT = self._section_rows(q, self._beam_dofs(), GT, T, xi, e)
+        return dofs, GT, T
+
+    def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
+        """T·Δx of the tube's touching points over the step, turned with their sections
+        (the linear form is not exact for a turn)."""
+        if not self.section_radius:
+            return None
+        xi, e = self._contact_frame(q)
+        return np.einsum("mtd,md->mt", T, self._tube_moves(q, q_n, xi, e))
 
 
 class TubeBeamContact(TubeContact):
@@ -288,8 +331,8 @@ class TubeRigidContact(TubeContact):
     Coulomb friction acts on the slip of the segment's centreline point at ξ against the rigid
     body's material point at the contact, a = p + ρ Rᵀe in the body frame (p the core point,
     ρ its ball's radius): T((1 − ξ)ẋ_a + ξẋ_b − u̇ + R ã Ω), the rigid body's rotation
-    included (a ball rolls on the tube); the tube's own section rotation is not in it, as for
-    every beam contact (friction acts at the centreline)."""
+    included (a ball rolls on the tube), plus the turn of the tube's section at ξ, which
+    moves its touching point −r n from the centreline (r the ``clearance``)."""
 
     frictional = True
 
@@ -302,6 +345,7 @@ class TubeRigidContact(TubeContact):
         centres, rho = rigid.shape.balls
         super().__init__(body, restitution, rho + clearance)
         self.rho = rho  # m: the radius of the partner's core's balls (0 for a box)
+        self.section_radius = clearance
         self.rigid = rigid
         self.bodies = (body, rigid)
         self.points = centres if isinstance(rigid.shape, Capsule) else np.zeros((1, 3))
@@ -346,7 +390,9 @@ class TubeRigidContact(TubeContact):
         """Slip rows: the tube's point at ξ relative to the rigid body's contact point (class
         docstring), on the segment's translations and the rigid body's (u, Θ)."""
         xi, n, arm, R = self._contact_frame(q)
-        return self._slip_rows(xi, n, arm, R)
+        dofs, GT, T = self._slip_rows(xi, n, arm, R)
+        dofs, GT = self._section_rows(q, dofs, GT, T, xi, n)
+        return dofs, GT, T
 
     def _slip_rows(self, xi, n, arm, R):
         T = tangent_basis(n)
@@ -364,11 +410,10 @@ class TubeRigidContact(TubeContact):
     def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
         """T·(Δx_tube − Δx_rigid) over the step: the rigid contact point's chord
         u + R a − (u_n + R_n a), exact for a rotating body (the linear form is not)."""
-        xi, _, arm, R = self._contact_frame(q)
+        xi, n, arm, R = self._contact_frame(q)
         o = self.rigid_offset
         R_n = exp(q_n[o + 3 : o + 6])
-        ends = self._ends(q) - self._ends(q_n)
-        tube = (1.0 - xi)[:, None] * ends[:, 0] + xi[:, None] * ends[:, 1]
+        tube = self._tube_moves(q, q_n, xi, n)
         rigid = (q[o : o + 3] - q_n[o : o + 3]) + arm @ (R - R_n).T
         return np.einsum("mtd,md->mt", T, tube - rigid)
 
@@ -382,7 +427,15 @@ class TubeBoxContact(TubeRigidContact):
     face's inside), and −n, n_b × ρ on the box's (u, Θ) (ρ = x(ξ*) in the box frame,
     δρ = ρ × δΘ). The curvature is left out (Newton's rate, not its answer), as for the rigid
     ball against a box. Friction as for :class:`TubeRigidContact`, the box's material point
-    being its surface point p = ρ − s n_b nearest the segment."""
+    being its surface point p = ρ − s n_b nearest the segment, at the tube's centreline: a
+    segment along a face touches it along a line, whose one point ξ* jumps between the
+    middle and the ends as the segment tilts by round-off, and the section's moment about
+    the centreline tilts it (a rod pushed along itself on a box top: ξ* cycled 0, ½, 1 under
+    tilts of 2e-7 m and the first step failed)."""
+
+    def __init__(self, body: Beam3D, rigid: RigidBody3D, restitution=0.0, clearance=0.0):
+        super().__init__(body, rigid, restitution, clearance)
+        self.section_radius = 0.0  # (the class docstring: the line contact's point jumps)
 
     def _box_geometry(self, q: np.ndarray):
         o = self.rigid_offset

@@ -53,8 +53,12 @@ def Contact(
 
     ``friction`` is Coulomb's coefficient μ ≥ 0 of every contact of the pair (0: frictionless,
     today's path at no cost): the tangential impulse stays in |Λ_T| ≤ μ Λ_N and opposes the
-    slip of the contact points (:mod:`fecontact.contact.friction`). Every pair but the
-    end-to-end beam pair takes it.
+    slip of the contact points (:mod:`fecontact.contact.friction`); a beam slips at its
+    section's surface, which the section's turn moves (its nodes against a ``Plane`` or
+    ``Circle``, a tube's segments against a ``Sphere``, ``Ball`` or ``Capsule``, a ``Beam2D``
+    under a rigid disk or ``Point``; against a ``Box`` or another tube at the centreline).
+    Every pair but the end-to-end beam pair and a beam's nodes against another
+    beam's sides takes it.
 
     ``method`` chooses the discretization of a contact between two solids: ``"mortar"`` (the
     default, None: dual mortar, weighted gaps integrated over the first body's boundary in

@@ -7,6 +7,7 @@ import numpy as np
 
 from ..bodies.base import RigidDefaults
 from ..bodies.beam import Beam2D
+from ..bodies.beam3d import Beam3D
 from ..bodies.solid import Solid
 from ..errors import InputError, check_range
 from .base import PairDefaults, at_beam_ends
@@ -16,6 +17,7 @@ from .friction import tangent_basis
 from .geometry import closest_on_segments, point_line_distance
 from .obstacles import Circle, Plane, Point
 from .registry import register_pair
+from .section_segments import segment_turns
 
 __all__ = ["NodeContact", "PointSegmentContact"]
 
@@ -49,6 +51,9 @@ class NodeContact(PairDefaults):
         self.offset = 0
         # positions alone where the body has a cheaper path to them (rigid bodies)
         self._positions = body.point_positions
+        # a beam touches through its section, `clearance` from the node: the section's turn
+        # moves the touching point, which the slip rows must see (a spun rod rolls)
+        self.turning = clearance > 0.0 and isinstance(body, (Beam2D, Beam3D))
 
     @property
     def size(self) -> int:
@@ -78,18 +83,32 @@ class NodeContact(PairDefaults):
 
     def tangents(self, q: np.ndarray):
         """Slip rows: the tangents of the obstacle at each point applied to ∂x/∂q (a rigid
-        body's rotation included: its vertices roll)."""
+        body's rotation included: its vertices roll); on a beam's section, whose touching
+        point lies at arm = −c n from the node (c the clearance, n the obstacle's normal),
+        also to the section's turn, ẋ_p = ẋ + ω × arm."""
         qb = q[self.offset : self.offset + self.body.ndof]
         x, dofs, Jx, _ = self.body.point_kinematics(qb, self.nodes)
-        T = tangent_basis(self.obstacle.gap(x)[1])
-        return dofs + self.offset, np.einsum("mti,mik->mtk", T, Jx), T
+        n = self.obstacle.gap(x)[1]
+        T = tangent_basis(n)
+        GT = np.einsum("mti,mik->mtk", T, Jx)
+        if self.turning:
+            turns, B = self.body.section_turns(qb, self.nodes, -self.clearance * n)
+            dofs = np.concatenate([dofs, turns], axis=1)
+            GT = np.concatenate([GT, np.einsum("mti,mik->mtk", T, B)], axis=2)
+        return dofs + self.offset, GT, T
 
     def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
         """T·(x(q) − x(q_n)): a rigid body's vertex moves along a chord, not along the
-        tangent of its rotation."""
+        tangent of its rotation; a beam section's touching point x + arm against where that
+        material point was at q_n, turned back with its section."""
+        s = slice(self.offset, self.offset + self.body.ndof)
+        if self.turning:
+            x = self._positions(q[s], self.nodes)
+            arm = -self.clearance * self.obstacle.gap(x)[1]
+            before = self.body.section_points_before(q[s], q_n[s], self.nodes, arm)
+            return np.einsum("mtd,md->mt", T, x + arm - before)
         if self.body.linear_kinematics:
             return None
-        s = slice(self.offset, self.offset + self.body.ndof)
         dx = self._positions(q[s], self.nodes) - self._positions(q_n[s], self.nodes)
         return np.einsum("mtd,md->mt", T, dx)
 
@@ -190,12 +209,17 @@ class PointSegmentContact(PairDefaults):
 
     def tangents(self, q: np.ndarray):
         """Slip rows of the fixed point against the beam's material point at each row's
-        parameter ξ: −T((1 − ξ) ẋ_a + ξ ẋ_b), T the tangent of the contact plane."""
+        parameter ξ, on its section c n from the centreline (c the ``clearance``), which the
+        section's turn moves (:mod:`.section_segments`): −T((1 − ξ) ẋ_a + ξ ẋ_b + ω(ξ) × c n),
+        T the tangent of the contact plane; the linear form is the slip of a step."""
         (e, side, line, xe, used), x1, x2 = self._rows(q)
         n = self._normals(e, side, line, xe, x1, x2)
         T = tangent_basis(n) * used[:, None, None]
-        GT = -np.concatenate([(1.0 - xe)[:, None, None] * T, xe[:, None, None] * T], axis=2)
-        return self._dofs(e), GT, T
+        qb = q[self.offset : self.offset + self.body.ndof]
+        turns, B = segment_turns(self.body, qb, self.segments[e], xe, self.clearance * n)
+        w = np.stack([1.0 - xe, xe], axis=1)[:, :, None, None] * T[:, None]
+        GT = -np.concatenate([w[:, 0], w[:, 1], np.einsum("mti,mik->mtk", T, B)], axis=2)
+        return np.concatenate([self._dofs(e), self.offset + turns], axis=1), GT, T
 
     def _dofs(self, e):
         nodes = self.segments[e].ravel()

@@ -41,6 +41,7 @@ from .geometry import distance_curvature, point_line_distance, polygon_distance,
 from .node_pairs import NodeContact
 from .obstacles import Circle, Plane
 from .registry import pair_factory, register_pair
+from .section_segments import segment_turns
 
 __all__ = [
     "DiskObstacleContact",
@@ -336,9 +337,13 @@ class DiskBeamContact(_Pair):
     frictional = True
 
     def tangents(self, q: np.ndarray):
-        """Slip of the disk's contact point against the centreline point at the element's
-        closest parameter ξ: t·ċ + r ω − t·((1 − ξ) ẋ_a + ξ ẋ_b), over the disk's (x, y, θ)
-        and the element's two nodes' (u_x, u_y); zero for elements with no contact point."""
+        """Slip of the disk's contact point against the beam's at the element's closest
+        parameter ξ: t·ċ + r ω − t·((1 − ξ) ẋ_a + ξ ẋ_b) + c((1 − ξ) θ̇_a + ξ θ̇_b), over
+        the disk's (x, y, θ) and the element's two nodes' (u_x, u_y, θ): the beam touches
+        through its section, c (the ``clearance``) from the centreline toward the disk, which
+        the section's turn moves (:mod:`.section_segments`); zero for elements with no
+        contact point. The linear form is the slip of a step: the section's arc c Δθ, as the
+        disk's r Δφ."""
         disk, beam = self.bodies
         _, _, G, _ = self.evaluate(q)
         P = disk.center(self._local(q, 0))
@@ -348,11 +353,13 @@ class DiskBeamContact(_Pair):
         T = tangent_basis(n)[:, 0]  # zero where n is
         w = np.stack([1.0 - xi, xi], axis=1)[:, :, None] * T[:, None, :]
         r = disk.shape.radius * (np.linalg.norm(n, axis=1) > 0.0)
-        GT = np.concatenate([T, r[:, None], -w.reshape(-1, 4)], axis=1)
+        turns, B = segment_turns(beam, self._local(q, 1), self.segments, xi, self.clearance * n)
+        beam_rows = np.concatenate([w.reshape(-1, 4), np.einsum("mi,mik->mk", T, B)], axis=1)
+        GT = np.concatenate([T, r[:, None], -beam_rows], axis=1)
         dofs = np.hstack(
             [
                 self.offsets[0] + np.broadcast_to(np.arange(3), (self.size, 3)),
-                self.offsets[1] + self._node_dofs,
+                self.offsets[1] + np.concatenate([self._node_dofs, turns], axis=1),
             ]
         )
         return dofs, GT[:, None, :], T[:, None, :]

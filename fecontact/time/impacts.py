@@ -12,6 +12,7 @@ from ..ledger import smooth_record
 from ..ledger_works import jump_work
 from ..linalg import factorize
 from .constraints import Constraints, StepFailure, constraint_columns, impact_law, pulled_held_rows
+from .correction import correction_metric
 from .coulomb import frictional_jump
 from .poisson import poisson_jump
 
@@ -36,6 +37,7 @@ def velocity_jump(
     preload=None,
     approach=None,
     pressed=None,
+    rest=None,
 ):
     """Step 3: v = ṽ + W, M W = Σ G_jᵀ [k Λ_j − p ġ_j]_+ with
     ġ_j = G_j(q_{n+1}) v_{n+1} + e_j ġ⁻_j; joints: G_b v_{n+1} = 0 (``Gb``: their gradient
@@ -96,8 +98,9 @@ def velocity_jump(
     rates = gdot.copy()  # ġ of ṽ, without the impact law's term
     gdot += e * gdot_n
     if contacts.frictional:
+        solve = resting_metric(model, st, q, closed, tol_gap, rest)
         W, lam_n, lam_t, status, its, work, lam_b = _frictional_or_plastic(
-            model, st, q, v, closed, G1, (gdot, rates), opts, tol, preload
+            model, st, q, v, closed, G1, (gdot, rates), opts, tol, preload, solve
         )
         lam_n = _without_round_off(lam_n, preload)
         lam = np.concatenate([lam_n, lam_b])
@@ -129,7 +132,29 @@ def _twin_held(contacts, closed, held) -> np.ndarray | bool:
     return np.isin(contacts.twins[closed], closed[held])
 
 
-def _frictional_or_plastic(model, st, q, v, closed, G1, targets, opts, tol, preload):
+def resting_metric(model, st, q, closed, tol_gap: float, rest):
+    """H⁻¹ = β′S_t⁻¹ of the frictional jump of a decoupled step (``rest`` = (S_t, its
+    coefficients), None in the smooth scheme) that strikes nothing: every contact of
+    ``closed`` was closed or pressed at t_n. Else None: M⁻¹, Newton's law as an impulse.
+
+    Such a jump takes out the drift of a step that carried no contact force, the force's
+    impulse over the step, not a strike's. Where a beam slips under its section's surface,
+    c from the centreline, through M⁻¹ that impulse turned the sections (a strip's ρI is
+    a third of ρA c²) rather than stop the centreline: a strip held on a 20° incline
+    (μ = 0.5) left its first step at 2.5e-3 m/s down the slope with its sections spinning
+    against it, a turn the shear stiffness did not let the next step take, and the
+    position correction then slipped at the cone's edge: 8.7e-4 m of creep in 0.2 s. Through
+    S_t⁻¹ the turn costs the strain it makes, while a rod's roll about its axis, which
+    strains nothing, costs what it does through M⁻¹ (:func:`.coulomb.frictional_start`
+    chooses the same metric for the start's jump)."""
+    if rest is None or not closed.size or st.gaps.size != model.contacts.size:
+        return None
+    if not np.all((st.gaps[closed] <= tol_gap) | st.pressed()[closed]):
+        return None
+    return correction_metric(model, q, rest[0], rest[1], "stiffness")[1]
+
+
+def _frictional_or_plastic(model, st, q, v, closed, G1, targets, opts, tol, preload, solve):
     """:func:`fecontact.time.coulomb.frictional_jump` with the rates ``targets`` = (ġ with
     the impact law's term e ġ⁻, ġ without it). Where rows can be redundant and the law with
     e ≠ 0 is not solved, the jump is solved again as a plastic one (e = 0 on every row),
@@ -140,11 +165,11 @@ def _frictional_or_plastic(model, st, q, v, closed, G1, targets, opts, tol, prel
     docs/validation/pile.md); the plastic target G ṽ is, and stops the rows."""
     gdot, rates = targets
     try:
-        return frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol, preload=preload)
+        return frictional_jump(model, st, q, v, closed, G1, gdot, opts, tol, solve, preload)
     except StepFailure:
         if not opts.stats.contact.minimum_norm or np.array_equal(gdot, rates):
             raise
-    jump = frictional_jump(model, st, q, v, closed, G1, rates, opts, tol, preload=preload)
+    jump = frictional_jump(model, st, q, v, closed, G1, rates, opts, tol, solve, preload)
     opts.stats.contact.coulomb.plastic_jumps += 1
     return jump
 

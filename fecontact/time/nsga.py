@@ -128,9 +128,8 @@ class _Phases:
         step = (self.smooth_step or alpha_smooth_step)(model, st, t, c, opts, self.timer, P)
         if opts.smooth:  # (taken again without the contacts it releases)
             self.st_s, step, self.release = _releases(model, st, step, P, opts, (t, c, self.timer))
-        self.P, self.step = P, step
+        self.P, self.step, self.Gb, self.force = P, step, step.Gb, step.force
         self.q, self.v, self.vd, self.a, self.lam = step.q, step.v, step.vd, step.a, step.lam
-        self.Gb, self.force = step.Gb, step.force
         self.iters = {"smooth": step.iterations, "position": 0, "velocity": 0}
         if (opts.friction or opts.smooth) and (self.m or model.joints.size):
             self._records()
@@ -241,6 +240,7 @@ class _Phases:
         W, Lam, self.iters["velocity"], tangential, self.works = velocity_jump(
             model, self.st, self.q, self.v, closed, self.g_tilde, self.opts, self.t, tol_gap,
             self.Gb, held, preload, pressed=None if force is None else self.h * force[closed],
+            rest=None if self.opts.smooth else (self.step.S, self.c),
         )  # fmt: skip
         state = (self.q, self.v, self.v_tilde)  # (v̇ and a follow ṽ, before a momentum hold)
         jumped(self.opts.spins, model, state, W, Lam[: closed.size], (self.vd, self.a))
