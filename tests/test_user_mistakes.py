@@ -20,6 +20,7 @@ from fecontact import (
     simulate,
 )
 from fecontact.cli.commands import main
+from fecontact.time.state import INTEGRATORS, READERS
 
 CASE = str(ROOT / "cases" / "flexible_pendulum.py")
 
@@ -73,6 +74,45 @@ def test_a_choice_of_another_integrator_is_refused(options, words):
     # (before: taken, and read by no step)
     with pytest.raises(InputError, match=words):
         IntegratorOptions(**options)
+
+
+# a value off the default of every option that only some integrators read
+OFF_DEFAULT = {
+    "rho_inf": 0.3,
+    "metric": "mass",
+    "penalty_scale": 2.0,
+    "multiplier_scale": 2.0,
+    "impact_velocity": "step_start",
+    "theta": 0.6,
+    "penalty_stiffness": 1e6,
+    "penalty_damping": 0.1,
+    "smooth_contact": "off",
+    "scheme": "energy-decaying",
+    "impact_law": "poisson",
+    "localize": False,
+    "rtol": 1e-4,
+    "energy_retakes": False,
+}
+
+
+@pytest.mark.parametrize("name", sorted(READERS))
+def test_an_option_is_taken_by_its_integrators_and_refused_by_the_others(name):
+    # (before: theta with nsga, rho_inf with moreau, localize=0 with penalty, ... were
+    # taken and read by no step)
+    for integrator in INTEGRATORS:
+        options = {"integrator": integrator, name: OFF_DEFAULT[name]}
+        if integrator in READERS[name]:
+            assert getattr(IntegratorOptions(**options), name) == OFF_DEFAULT[name]
+            continue
+        with pytest.raises(InputError, match=f"{name}.*{integrator}"):
+            IntegratorOptions(**options)
+
+
+def test_an_option_no_step_reads_stops_the_command_line_before_any_file(tmp_path, capsys):
+    out = tmp_path / "run"
+    argv = ["run", "bouncing_ball", "--set", "theta=0.3", "--out", str(out), "--quiet"]
+    one_line_error(capsys, argv, "theta", "moreau", "'nsga'")
+    assert not out.exists()
 
 
 def test_rotation_probe_of_a_solid_node_is_refused_at_once():
