@@ -25,7 +25,23 @@ def test_history_and_probes_as_a_dataframe(pendulum_run):
     for name in ("tip_x", "tip_y", "tip_vx", "tip_vy", "kinetic_energy"):
         np.testing.assert_array_equal(frame[name].to_numpy(), run.history[name])
     assert len(frame) == 51  # t = 0 and 50 steps of 1 ms
-    assert frame.attrs["units"] == {"tip_x": "m", "tip_y": "m", "tip_vx": "m/s", "tip_vy": "m/s"}
+    units = frame.attrs["units"]
+    assert units.keys() == set(frame.columns)  # (before: the probes' only)
+    probes = {"tip_x": "m", "tip_y": "m", "tip_vx": "m/s", "tip_vy": "m/s"}
+    assert probes.items() <= units.items()
+    assert units["kinetic_energy"] == units["numerical_dissipation"] == "J"
+    assert (units["min_gap"], units["impulse"], units["dt"], units["n_active"]) == (
+        "m",
+        "N·s",
+        "s",
+        "",
+    )
+    # a notebook shows the run, not its arrays (before: every history column in full)
+    text = repr(run)
+    assert text == (
+        f"RunResult({str(run.out_dir)!r}: flexible_pendulum, completed, 51 history rows to "
+        "t = 0.05 s, 6 frames of obstacle0, beam2d0)"
+    )
 
 
 def test_progress_in_a_log_is_a_line_per_tenth_of_the_run(tmp_path, capsys):

@@ -62,6 +62,7 @@ __all__ = [
     "HISTORY_FILE",
     "SUMMARY_FILE",
     "STANDARD_COLUMNS",
+    "COLUMN_UNITS",
     "FRICTION_COLUMNS",
     "LEDGER_COLUMNS",
 ]
@@ -92,6 +93,22 @@ LEDGER_COLUMNS = (
     "impact_dissipation",
     "numerical_dissipation",
 )
+# the units of those columns ("": a count); a probe's is in summary.json
+COLUMN_UNITS = {
+    "t": "s",
+    "kinetic_energy": "J",
+    "strain_energy": "J",
+    "potential_energy": "J",
+    "total_energy": "J",
+    "min_gap": "m",
+    "n_active": "",
+    "impulse": "N·s",
+    "newton_iterations": "",
+    "dt": "s",
+    "tangential_impulse": "N·s",
+    "friction_work": "J",
+    **dict.fromkeys(LEDGER_COLUMNS, "J"),
+}
 
 
 def _cell(x, _repr=float.__repr__) -> str:
@@ -268,16 +285,28 @@ class RunResult:
 
     def to_dataframe(self):
         """``history.csv`` as a pandas ``DataFrame`` indexed by the time ``t`` (s): one row per
-        step, the standard columns and the probes; ``attrs["units"]`` maps each probe to its
-        unit (from ``summary.json``). Needs pandas: ``pip install "fecontact[pandas]"``."""
+        step, the standard columns and the probes; ``attrs["units"]`` maps each column to its
+        unit (:data:`COLUMN_UNITS`; a probe's from ``summary.json``; "" for counts). Needs
+        pandas: ``pip install "fecontact[pandas]"``."""
         pd = need("pandas", "pandas")
         if "t" not in self.history:
             raise InputError(f"{self.out_dir} has no history.csv to tabulate")
         columns = {k: v for k, v in self.history.items() if k != "t"}
         frame = pd.DataFrame(columns, index=pd.Index(self.history["t"], name="t"))
         probes = self.summary.get("probes", {})
-        frame.attrs["units"] = {k: p.get("unit", "") for k, p in probes.items()}
+        units = {k: p.get("unit", "") for k, p in probes.items()}
+        frame.attrs["units"] = {k: COLUMN_UNITS.get(k, units.get(k, "")) for k in columns}
         return frame
+
+    def __repr__(self) -> str:
+        # (a notebook shows it: what the run is, not its arrays, which the fields hold)
+        t = self.history.get("t", np.empty(0))
+        rows = f"{t.size} history rows" + (f" to t = {t[-1]:g} s" if t.size else "")
+        status = self.summary.get("status", "no summary.json")
+        return (
+            f"RunResult({str(self.out_dir)!r}: {self.case}, {status}, {rows}, "
+            f"{len(self.times)} frames of {', '.join(self.parts) or 'no part'})"
+        )
 
     @property
     def case(self) -> str:
