@@ -512,3 +512,17 @@ def test_sigterm_ends_a_run_as_ctrl_c_does(tmp_path):
     assert len(list(tmp_path.glob("*.vtu"))) == 3
     assert (tmp_path / "simulation.pvd").read_text().count("<DataSet") == 3
     assert signal.getsignal(signal.SIGTERM) is before  # the handler is the run's alone
+
+
+def test_a_stop_before_the_first_step_says_nothing_was_written(tmp_path, capsys, monkeypatch):
+    import fecontact.simulation as simulation
+
+    def ctrl_c(model, options):  # Ctrl-C while the run checks its model, before any file
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(simulation, "check_options", ctrl_c)
+    out = tmp_path / "run"
+    assert main(["run", CASE, "--quiet", "--t-end", "0.01", "--out", str(out)]) == 130
+    # (before: "results so far are in <out>", a folder that did not exist)
+    assert "stopped before the run wrote anything" in capsys.readouterr().err
+    assert not out.exists()
