@@ -163,6 +163,8 @@ def render_target(path: Path) -> Path:
         run = load_run(path)
     except (OSError, ValueError, SyntaxError) as err:  # XML parse errors are SyntaxErrors
         raise InputError(f"render: {str(err).splitlines()[0][:150]}") from None
+    if run.pvd is None:
+        raise InputError(f"render: {str(path)!r} holds no frames (a run with frames=False)")
     if len(run.times) == 0:
         raise InputError(f"render: {run.pvd.name} lists no frames")
     listed = dict.fromkeys(name for files in run.files for name in files.values())

@@ -271,11 +271,12 @@ class RunResult:
 
     ``history`` holds every ``history.csv`` column as a float array, ``summary`` the contents of
     ``summary.json`` (empty if the run did not finish), ``times`` the frame times (s),
-    ``pvd`` the frames' index: the ``.pvd``, or the ``.frames.json`` of VTKHDF frames.
+    ``pvd`` the frames' index: the ``.pvd``, or the ``.frames.json`` of VTKHDF frames (None
+    for a run that wrote no frames, ``frames=False``: ``times`` is then empty).
     """
 
     out_dir: Path
-    pvd: Path
+    pvd: Path | None
     history: dict[str, np.ndarray]
     summary: dict
     times: np.ndarray
@@ -303,19 +304,24 @@ class RunResult:
         t = self.history.get("t", np.empty(0))
         rows = f"{t.size} history rows" + (f" to t = {t[-1]:g} s" if t.size else "")
         status = self.summary.get("status", "no summary.json")
+        frames = f"{len(self.times)} frames of {', '.join(self.parts)}" if self.parts else ""
         return (
             f"RunResult({str(self.out_dir)!r}: {self.case}, {status}, {rows}, "
-            f"{len(self.times)} frames of {', '.join(self.parts) or 'no part'})"
+            f"{frames or 'no frames'})"
         )
 
     @property
     def case(self) -> str:
         """The case's name (case names hold no dots)."""
+        if self.pvd is None:  # (a run without frames)
+            return self.summary.get("case", self.out_dir.name)
         return self.pvd.name.split(".")[0]
 
     def reader(self):
         """``pyvista.get_reader`` on the ``.pvd`` (time-aware, all parts as blocks)."""
         pyvista = need("pyvista", "render")
+        if self.pvd is None:
+            raise FileNotFoundError(f"{str(self.out_dir)!r}: the run wrote no frames")
         return pyvista.get_reader(str(self.pvd))
 
     def frames(self, indices=None) -> list[tuple[float, dict]]:
@@ -401,13 +407,16 @@ def frame_writer(fmt: str, out_dir, case_name: str, index_interval: float = 0.0)
     raise ValueError(f"format must be 'vtu' or 'vtkhdf', got {fmt!r}")
 
 
-def _find_index(out_dir: Path) -> Path:
-    """The ``.pvd`` or ``.frames.json`` of a run folder (or that file itself)."""
+def _find_index(out_dir: Path) -> Path | None:
+    """The ``.pvd`` or ``.frames.json`` of a run folder (or that file itself); None for the
+    folder of a run that wrote no frames (``frames=False``: its history and summary only)."""
     if out_dir.is_file() and (out_dir.suffix == ".pvd" or out_dir.name.endswith(INDEX_SUFFIX)):
         return out_dir
     if not out_dir.is_dir():
         raise FileNotFoundError(f"no run output folder {str(out_dir)!r}")
     found = sorted([*out_dir.glob("*.pvd"), *out_dir.glob(f"*{INDEX_SUFFIX}")])
+    if not found and any((out_dir / name).is_file() for name in (HISTORY_FILE, SUMMARY_FILE)):
+        return None
     if not found:
         raise FileNotFoundError(f"no .pvd file in {str(out_dir)!r}: not a run output folder")
     if len(found) > 1:
@@ -435,10 +444,12 @@ def load_run(out_dir: str | Path) -> RunResult:
     ``"inf"``, ``"-inf"`` and ``"nan"`` strings in the summary become floats again.
     """
     index = _find_index(Path(out_dir))
-    folder = index.parent
+    folder = Path(out_dir) if index is None else index.parent
     history_path, summary_path = folder / HISTORY_FILE, folder / SUMMARY_FILE
     history = read_history(history_path) if history_path.is_file() else {}
     summary = read_json(summary_path) if summary_path.is_file() else {}
+    if index is None:  # (a run without frames: its history and summary)
+        return RunResult(folder, None, history, summary, np.zeros(0), [], [], [])
     if index.suffix != ".pvd":
         return RunResult(folder, index, history, summary, *_read_series(index))
     times, files, parts = read_pvd(index)
