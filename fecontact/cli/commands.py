@@ -121,9 +121,13 @@ def _info(module) -> int:
     for r in rows:
         print("  ".join(f"{c:<{w}}" for c, w in zip(r[:4], width, strict=True)) + f"  {r[4]}")
     from ..time import IntegratorOptions
+    from ..time.state import READERS
 
     names = [f.name for f in dataclasses.fields(IntegratorOptions)]
-    print("integrator options (also --set NAME=VALUE): " + ", ".join(names))
+    every = [n for n in names if n not in READERS]
+    some = [f"{n} ({', '.join(READERS[n])})" for n in names if n in READERS]
+    print("integrator options (also --set NAME=VALUE): " + ", ".join(every))
+    print("  read by some integrators only (others refuse them): " + ", ".join(some))
     return 0
 
 
