@@ -88,8 +88,8 @@ class Simulation:
                 )
 
     def warnings(self) -> list[str]:
-        """Settings that the stability study (benchmarks/stability.py) found unsafe here, and
-        a step that the run cannot take."""
+        """Settings that the stability study (benchmarks/stability.py) found unsafe here, a
+        step that the run cannot take, and friction that the penalty baseline leaves out."""
         out = []
         if self.dt > self.t_end:
             out.append(
@@ -98,6 +98,11 @@ class Simulation:
             )
         if any(not b.linear or b.element_dofs.size for b in self.model.bodies):
             out += _flexible_warnings(self.options, self.model.contacts.restitution)
+        if self.options.integrator == "penalty" and self.model.contacts.frictional:
+            out.append(
+                "integrator = 'penalty' has no friction: its contact forces are normal only, "
+                "and the contacts' friction coefficients act with integrator nsga or moreau"
+            )
         return out
 
     def replace(self, **changes) -> Simulation:

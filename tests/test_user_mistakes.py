@@ -526,3 +526,13 @@ def test_a_stop_before_the_first_step_says_nothing_was_written(tmp_path, capsys,
     # (before: "results so far are in <out>", a folder that did not exist)
     assert "stopped before the run wrote anything" in capsys.readouterr().err
     assert not out.exists()
+
+
+def test_friction_left_out_by_the_penalty_baseline_is_said(capsys):
+    # (before: a frictional model ran frictionless with penalty, friction_work 0, unsaid)
+    from fecontact.testing import case
+
+    sim = case("sliding_block").build()
+    penalty = sim.replace(options=IntegratorOptions(integrator="penalty"))
+    assert not [w for w in sim.warnings() if "friction" in w]
+    assert any("'penalty' has no friction" in w for w in penalty.warnings())
