@@ -111,7 +111,7 @@ def work_precision(quick, repeats):
     methods = {
         "nsga, localized": {"localize": True},
         "nsga": {"localize": False},
-        "moreau": {"integrator": "moreau", "localize": False},
+        "moreau": {"integrator": "moreau"},  # (localize is an nsga option)
     }
     rows = []
     for h in steps:

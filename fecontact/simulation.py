@@ -11,7 +11,6 @@ so that it then lists every frame written so far.
 from __future__ import annotations
 
 import dataclasses
-import math
 import time
 import warnings
 from dataclasses import dataclass, field
@@ -21,7 +20,6 @@ import numpy as np
 
 from .bodies.beam3d import Beam3D
 from .errors import InputError, SolverError, check_positive
-from .io.frames import bodies_box, frame_parts, static_parts
 from .io.output import FRICTION_COLUMNS, LEDGER_COLUMNS, STANDARD_COLUMNS
 from .io.progress import RunProgress
 from .io.run_folder import (
@@ -30,6 +28,7 @@ from .io.run_folder import (
     load_checkpoint,
     save_checkpoint,
 )
+from .io.run_frames import RunFrames
 from .io.run_lock import hold_folder
 from .io.termination import Terminated, terminate_as_interrupt
 from .probes import Probe, node_probe
@@ -89,8 +88,8 @@ class Simulation:
                 )
 
     def warnings(self) -> list[str]:
-        """Settings that the stability study (benchmarks/stability.py) found unsafe here, and
-        a step that the run cannot take."""
+        """Settings that the stability study (benchmarks/stability.py) found unsafe here, a
+        step that the run cannot take, and friction that the penalty baseline leaves out."""
         out = []
         if self.dt > self.t_end:
             out.append(
@@ -99,6 +98,11 @@ class Simulation:
             )
         if any(not b.linear or b.element_dofs.size for b in self.model.bodies):
             out += _flexible_warnings(self.options, self.model.contacts.restitution)
+        if self.options.integrator == "penalty" and self.model.contacts.frictional:
+            out.append(
+                "integrator = 'penalty' has no friction: its contact forces are normal only, "
+                "and the contacts' friction coefficients act with integrator nsga or moreau"
+            )
         return out
 
     def replace(self, **changes) -> Simulation:
@@ -187,7 +191,7 @@ def _run(sim, out, progress, frames, checkpoint_every, resume, overwrite, frame_
     pvd = frame_writer(fmt, out, sim.name, index_interval=PVD_INTERVAL)
     timer = PhaseTimer()
     rec = Recorder(sim, out, keep_rows=None if start is None else start.step + 1)
-    output = _Frames(sim, pvd, frames)
+    output = RunFrames(sim, pvd, frames)
     if start is not None:
         _resume(start, meta, pvd, rec, output)
     bar = _progress_bar(sim, start) if progress else None
@@ -252,13 +256,14 @@ def _frame_format(sim: Simulation, out: Path, frames: bool, frame_format: str, r
     return choose_format(frame_format, sim.model, index) if frames else "vtu"
 
 
-def _resume(start: State, meta: dict, pvd, rec: Recorder, output: _Frames) -> None:
+def _resume(start: State, meta: dict, pvd, rec: Recorder, output: RunFrames) -> None:
     """Take up the frames, history and statistics of the checkpoint ``meta`` at ``start``."""
     pvd.resume(start.t)
     rec.restore(meta["stats"])
     rec.balance.start(start.t, start.q)
     rec.ledger.start(start)
     output.next_frame = meta["next_frame"]
+    output.last = start  # (a frame due inside the first step is interpolated from it)
 
 
 def _starting_point(sim: Simulation, out: Path, resume: bool, overwrite: bool):
@@ -280,14 +285,14 @@ def _starting_point(sim: Simulation, out: Path, resume: bool, overwrite: bool):
     return None, None
 
 
-def _checkpoint(out: Path, rec: Recorder, output: _Frames, st: State, every: int) -> None:
+def _checkpoint(out: Path, rec: Recorder, output: RunFrames, st: State, every: int) -> None:
     """Save the checkpoint after every ``every`` steps (0: never)."""
     if every and st.step and not st.substep and st.step % every == 0:
         output.pvd.flush()  # a resumed run keeps the frames the index lists
         save_checkpoint(out / CHECKPOINT, output.sim, st, rec, output.next_frame)
 
 
-def _record(rec: Recorder, output: _Frames, st: State) -> None:
+def _record(rec: Recorder, output: RunFrames, st: State) -> None:
     """Record the state ``st`` and write its frame if it is due; an energy blow-up stops
     the run."""
     rec.record(st)
@@ -302,47 +307,6 @@ def _record(rec: Recorder, output: _Frames, st: State) -> None:
     impact = not rec.impact_frame and st.step >= 2 and rec.closing
     rec.impact_frame = rec.impact_frame or impact
     output.write(st, impact)
-
-
-class _Frames:
-    """The run's VTU frames: at the output interval, at the end and at the first impact, and
-    the box the bodies swept, under which the obstacles' outlines are drawn."""
-
-    def __init__(self, sim: Simulation, pvd, enabled: bool):
-        self.sim, self.pvd, self.enabled = sim, pvd, enabled
-        self.next_frame = 0.0  # time (s) of the next frame at the output interval
-        self.box = None  # the bodies' box over the frames, for the obstacles' outlines
-
-    def begin(self) -> None:
-        """The obstacles' outlines around the bodies at the start of a new run."""
-        if not self.enabled:
-            return
-        model = self.sim.model
-        self.box = bodies_box(model, np.zeros(model.n) if self.sim.q0 is None else self.sim.q0)
-        for part, mesh in static_parts(model, self.box).items():
-            self.pvd.write_static(part, mesh)
-
-    def write(self, st: State, impact: bool) -> None:
-        sim = self.sim
-        due = st.t >= self.next_frame - 1e-9 * sim.dt or st.t >= sim.t_end - 1e-12
-        if not (self.enabled and (impact or due)):
-            return
-        self.pvd.write_frame(st.t, frame_parts(sim.model, st))
-        now = bodies_box(sim.model, st.q)
-        box = self.box
-        self.box = (
-            now
-            if box is None
-            else np.stack([np.minimum(box[0], now[0]), np.maximum(box[1], now[1])])
-        )
-        interval = sim.output_interval
-        self.next_frame = (math.floor(st.t / interval + 1e-6) + 1) * interval
-
-    def end(self, completed: bool) -> None:
-        """The outlines under the whole motion, after a completed run."""
-        if self.enabled and self.box is not None and completed:
-            for part, mesh in static_parts(self.sim.model, self.box).items():
-                self.pvd.write_static(part, mesh)
 
 
 def _make_folder(out: Path) -> None:

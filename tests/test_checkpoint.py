@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from conftest import ROOT
 
-import fecontact.simulation as simulation
+import fecontact.io.run_frames as run_frames  # (the frame writer of a run)
 from fecontact import load_run
 from fecontact.cli.commands import main
 
@@ -38,14 +38,14 @@ def same_run(a, b):
 def interrupt_frames_after(monkeypatch, t_stop: float):
     """Ctrl-C from the frame writer once the run passes ``t_stop`` (s); returns the writer, to
     put back before resuming."""
-    frame_parts = simulation.frame_parts
+    frame_parts = run_frames.frame_parts
 
     def interrupt_late(model, st):
         if st.t > t_stop:
             raise KeyboardInterrupt
         return frame_parts(model, st)
 
-    monkeypatch.setattr(simulation, "frame_parts", interrupt_late)
+    monkeypatch.setattr(run_frames, "frame_parts", interrupt_late)
     return frame_parts
 
 
@@ -56,7 +56,7 @@ def test_resume_after_ctrl_c_equals_uninterrupted_run(reference, tmp_path, monke
     partial = load_run(out)
     assert partial.summary["status"] == "interrupted"
     assert 0.5 < partial.frames()[-1][0] <= 0.52  # every frame so far stays readable
-    monkeypatch.setattr(simulation, "frame_parts", frame_parts)
+    monkeypatch.setattr(run_frames, "frame_parts", frame_parts)
     assert main(["run", CASE, "--out", str(out), "--resume", *ARGS]) == 0
     same_run(reference, out)
 
@@ -127,7 +127,7 @@ def test_resume_vtkhdf_frames_after_ctrl_c(tmp_path, monkeypatch):
     frame_parts = interrupt_frames_after(monkeypatch, 0.52)
     assert main(["run", CASE, "--out", str(out), *vtkhdf]) == 130
     assert 0.5 < load_run(out).frames([-1])[0][0] <= 0.52
-    monkeypatch.setattr(simulation, "frame_parts", frame_parts)
+    monkeypatch.setattr(run_frames, "frame_parts", frame_parts)
     assert main(["run", CASE, "--out", str(out), "--resume", *vtkhdf]) == 0
     same_run(tmp_path / "whole", out)
     same_run(tmp_path / "vtu", out)

@@ -86,6 +86,8 @@ def test_info_lists_parameters_with_units(capsys):
     for name, unit in [("length", "m"), ("E", "Pa"), ("tip_mass", "kg"), ("restitution", "-")]:
         line = next(row for row in out.splitlines() if row.split()[:1] == [name])
         assert unit in line.split()
+    # an option only some integrators read is listed with them
+    assert "theta (moreau)" in out and "rho_inf (nsga, penalty)" in out
 
 
 @pytest.mark.parametrize(

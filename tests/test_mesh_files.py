@@ -168,3 +168,18 @@ def test_a_p2_boundary_group_holds_its_edge_nodes(tmp_path):
     nodes = body.nodes_of("bottom")
     np.testing.assert_array_equal(nodes, body.nodes_where(lambda x: x[1] < 1e-9))
     assert len(nodes) == 7  # 4 vertices and 3 edge nodes
+
+
+@pytest.mark.parametrize("z", ["curved", "xz plane"])
+def test_a_2d_mesh_off_the_xy_plane_is_refused_by_its_z(tmp_path, z):
+    # (before: z dropped, a curved surface flattened and a mesh in the xz plane collapsed)
+    mesh = skfem.MeshTri.init_tensor(np.linspace(0, 1, 3), np.linspace(0, 1, 3))
+    x, y = mesh.p
+    points = np.c_[x, y, x * y] if z == "curved" else np.c_[x, 0 * x, y]
+    path = tmp_path / "surface.msh"
+    meshio.write(path, meshio.Mesh(points, [("triangle", mesh.t.T)]), file_format="gmsh22")
+    with pytest.raises(InputError, match=r"surface.msh: a 2D mesh .* z spans \[0, 1\] m"):
+        read_mesh(path)
+    points[:, 1:] = np.c_[y, np.full_like(x, 0.3)]  # the same mesh in the plane z = 0.3
+    meshio.write(path, meshio.Mesh(points, [("triangle", mesh.t.T)]), file_format="gmsh22")
+    np.testing.assert_array_equal(read_mesh(path).p, mesh.p)

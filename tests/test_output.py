@@ -290,6 +290,23 @@ def test_load_run_accepts_pvd_path_and_reports_missing_or_ambiguous_pvd(tmp_path
         load_run(folder)
 
 
+def test_a_run_without_frames_loads_its_history(tmp_path, capsys):
+    from fecontact import run as run_sim
+    from fecontact.cli.cases import load_case
+    from fecontact.cli.commands import main
+
+    out = tmp_path / "ball"
+    sim = load_case("bouncing_ball").build().replace(t_end=0.005)
+    assert run_sim(sim, out, progress=False, frames=False)["status"] == "completed"
+    # (before: "no .pvd file: not a run output folder", its history unreachable)
+    run = load_run(out)
+    assert run.pvd is None and len(run.times) == 0 and run.frames() == []
+    assert run.history["t"].size == 6 and run.summary["status"] == "completed"
+    assert repr(run).endswith("bouncing_ball, completed, 6 history rows to t = 0.005 s, no frames)")
+    assert main(["render", str(out)]) == 2
+    assert "holds no frames" in capsys.readouterr().err
+
+
 def test_a_plane_is_drawn_under_the_whole_motion(tmp_path):
     """The block slides about 1.5 m down a 30° incline: the plane's outline covers where it
     went, not 2 model sizes around the plane's point."""

@@ -20,6 +20,7 @@ from fecontact import (
     simulate,
 )
 from fecontact.cli.commands import main
+from fecontact.time.state import INTEGRATORS, READERS
 
 CASE = str(ROOT / "cases" / "flexible_pendulum.py")
 
@@ -73,6 +74,45 @@ def test_a_choice_of_another_integrator_is_refused(options, words):
     # (before: taken, and read by no step)
     with pytest.raises(InputError, match=words):
         IntegratorOptions(**options)
+
+
+# a value off the default of every option that only some integrators read
+OFF_DEFAULT = {
+    "rho_inf": 0.3,
+    "metric": "mass",
+    "penalty_scale": 2.0,
+    "multiplier_scale": 2.0,
+    "impact_velocity": "step_start",
+    "theta": 0.6,
+    "penalty_stiffness": 1e6,
+    "penalty_damping": 0.1,
+    "smooth_contact": "off",
+    "scheme": "energy-decaying",
+    "impact_law": "poisson",
+    "localize": False,
+    "rtol": 1e-4,
+    "energy_retakes": False,
+}
+
+
+@pytest.mark.parametrize("name", sorted(READERS))
+def test_an_option_is_taken_by_its_integrators_and_refused_by_the_others(name):
+    # (before: theta with nsga, rho_inf with moreau, localize=0 with penalty, ... were
+    # taken and read by no step)
+    for integrator in INTEGRATORS:
+        options = {"integrator": integrator, name: OFF_DEFAULT[name]}
+        if integrator in READERS[name]:
+            assert getattr(IntegratorOptions(**options), name) == OFF_DEFAULT[name]
+            continue
+        with pytest.raises(InputError, match=f"{name}.*{integrator}"):
+            IntegratorOptions(**options)
+
+
+def test_an_option_no_step_reads_stops_the_command_line_before_any_file(tmp_path, capsys):
+    out = tmp_path / "run"
+    argv = ["run", "bouncing_ball", "--set", "theta=0.3", "--out", str(out), "--quiet"]
+    one_line_error(capsys, argv, "theta", "moreau", "'nsga'")
+    assert not out.exists()
 
 
 def test_rotation_probe_of_a_solid_node_is_refused_at_once():
@@ -472,3 +512,27 @@ def test_sigterm_ends_a_run_as_ctrl_c_does(tmp_path):
     assert len(list(tmp_path.glob("*.vtu"))) == 3
     assert (tmp_path / "simulation.pvd").read_text().count("<DataSet") == 3
     assert signal.getsignal(signal.SIGTERM) is before  # the handler is the run's alone
+
+
+def test_a_stop_before_the_first_step_says_nothing_was_written(tmp_path, capsys, monkeypatch):
+    import fecontact.simulation as simulation
+
+    def ctrl_c(model, options):  # Ctrl-C while the run checks its model, before any file
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(simulation, "check_options", ctrl_c)
+    out = tmp_path / "run"
+    assert main(["run", CASE, "--quiet", "--t-end", "0.01", "--out", str(out)]) == 130
+    # (before: "results so far are in <out>", a folder that did not exist)
+    assert "stopped before the run wrote anything" in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_friction_left_out_by_the_penalty_baseline_is_said(capsys):
+    # (before: a frictional model ran frictionless with penalty, friction_work 0, unsaid)
+    from fecontact.testing import case
+
+    sim = case("sliding_block").build()
+    penalty = sim.replace(options=IntegratorOptions(integrator="penalty"))
+    assert not [w for w in sim.warnings() if "friction" in w]
+    assert any("'penalty' has no friction" in w for w in penalty.warnings())

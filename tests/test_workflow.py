@@ -1,6 +1,8 @@
 """What a user's workflow around a run needs: the history as a pandas table, progress in logs
 and notebooks, sweeps on any scheduler, BLAS threads limited inside a run only."""
 
+import importlib.util
+
 import numpy as np
 import pytest
 
@@ -25,7 +27,23 @@ def test_history_and_probes_as_a_dataframe(pendulum_run):
     for name in ("tip_x", "tip_y", "tip_vx", "tip_vy", "kinetic_energy"):
         np.testing.assert_array_equal(frame[name].to_numpy(), run.history[name])
     assert len(frame) == 51  # t = 0 and 50 steps of 1 ms
-    assert frame.attrs["units"] == {"tip_x": "m", "tip_y": "m", "tip_vx": "m/s", "tip_vy": "m/s"}
+    units = frame.attrs["units"]
+    assert units.keys() == set(frame.columns)  # (before: the probes' only)
+    probes = {"tip_x": "m", "tip_y": "m", "tip_vx": "m/s", "tip_vy": "m/s"}
+    assert probes.items() <= units.items()
+    assert units["kinetic_energy"] == units["numerical_dissipation"] == "J"
+    assert (units["min_gap"], units["impulse"], units["dt"], units["n_active"]) == (
+        "m",
+        "N·s",
+        "s",
+        "",
+    )
+    # a notebook shows the run, not its arrays (before: every history column in full)
+    text = repr(run)
+    assert text == (
+        f"RunResult({str(run.out_dir)!r}: flexible_pendulum, completed, 51 history rows to "
+        "t = 0.05 s, 6 frames of obstacle0, beam2d0)"
+    )
 
 
 def test_progress_in_a_log_is_a_line_per_tenth_of_the_run(tmp_path, capsys):
@@ -66,6 +84,29 @@ def test_a_notebook_gets_a_bar(monkeypatch):
     assert bar.bar is not None and bar.bar.total == 10  # tqdm.auto's bar, not log lines
     bar.close()
     assert "case: starts" not in stream.getvalue()
+
+
+def test_a_notebook_without_ipywidgets_gets_the_text_bar_without_a_warning():
+    # (before: tqdm.auto warned "IProgress not found" into the cell, then drew the text bar)
+    import subprocess
+    import sys
+
+    code = """
+import sys, types, warnings
+import IPython
+for name in ("ipykernel", "ipykernel.zmqshell"):  # a Jupyter kernel, as tqdm sees one
+    sys.modules[name] = types.ModuleType(name)
+IPython.get_ipython = lambda: types.SimpleNamespace(config={"IPKernelApp": {}})
+from fecontact.io import progress
+warnings.simplefilter("always")
+bar = progress.RunProgress("case", t_end=1.0, dt=0.1, stream=sys.stderr)
+bar.close()
+print(type(bar.bar).__module__)
+"""
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert done.returncode == 0 and "Warning" not in done.stderr, done.stderr
+    widgets = importlib.util.find_spec("ipywidgets") is not None
+    assert done.stdout.split() == ["tqdm.notebook" if widgets else "tqdm.std"]
 
 
 def test_blas_threads_are_limited_inside_a_run_only(tmp_path):

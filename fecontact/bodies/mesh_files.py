@@ -52,6 +52,7 @@ def read_mesh(path, scale: float = 1.0, offset=None, merge_nodes: bool = False):
     kind, volume = _volume_blocks(blocks, Path(path).name)
     cell = _VOLUME[kind]
     points, index = _used_points(data.points, volume, merge_nodes)
+    _check_plane(points, _DIM[cell], Path(path).name)
     groups = _groups(data, blocks, cell)
     renumbered = meshio.Mesh(points, [(kind, index[conn]) for kind, conn in volume])
     mesh = _from_meshio(renumbered, cell).scaled(check_positive("scale", scale))
@@ -73,6 +74,22 @@ def _volume_blocks(blocks, name: str):
     if mixed:
         raise InputError(f"{name} mixes {kind} cells with {', '.join(sorted(mixed))}")
     return kind, [(k, conn) for k, conn in volume if k == kind]
+
+
+def _check_plane(points: np.ndarray, dim: int, name: str) -> None:
+    """``InputError`` for a 2D mesh (triangles, quadrilaterals) whose points do not share one
+    z, to 1e-8 of their bounding box's diagonal: the body is planar, in x and y, and its z
+    would be dropped (a surface in space flattened, a mesh drawn in the xz plane collapsed)."""
+    if dim != 2 or points.shape[1] < 3:
+        return
+    z = points[:, 2]
+    size = float(np.linalg.norm(np.ptp(points, axis=0)))
+    if np.ptp(z) > 1e-8 * size:
+        raise InputError(
+            f"{name}: a 2D mesh (triangles, quadrilaterals) lies in the xy plane, but its "
+            f"points' z spans [{z.min():g}, {z.max():g}] m: a surface in space, or a mesh "
+            "drawn in another plane (draw it in x and y)"
+        )
 
 
 def merge_nodes(mesh, tol: float | None = None):

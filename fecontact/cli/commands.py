@@ -121,9 +121,13 @@ def _info(module) -> int:
     for r in rows:
         print("  ".join(f"{c:<{w}}" for c, w in zip(r[:4], width, strict=True)) + f"  {r[4]}")
     from ..time import IntegratorOptions
+    from ..time.state import READERS
 
     names = [f.name for f in dataclasses.fields(IntegratorOptions)]
-    print("integrator options (also --set NAME=VALUE): " + ", ".join(names))
+    every = [n for n in names if n not in READERS]
+    some = [f"{n} ({', '.join(READERS[n])})" for n in names if n in READERS]
+    print("integrator options (also --set NAME=VALUE): " + ", ".join(every))
+    print("  read by some integrators only (others refuse them): " + ", ".join(some))
     return 0
 
 
@@ -163,6 +167,8 @@ def render_target(path: Path) -> Path:
         run = load_run(path)
     except (OSError, ValueError, SyntaxError) as err:  # XML parse errors are SyntaxErrors
         raise InputError(f"render: {str(err).splitlines()[0][:150]}") from None
+    if run.pvd is None:
+        raise InputError(f"render: {str(path)!r} holds no frames (a run with frames=False)")
     if len(run.times) == 0:
         raise InputError(f"render: {run.pvd.name} lists no frames")
     listed = dict.fromkeys(name for files in run.files for name in files.values())

@@ -6,12 +6,14 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import inspect
+import json
 import sys
 import warnings
 from pathlib import Path
 
 from ..errors import InputError, SolverError
 from ..extras import need
+from ..io.output import SUMMARY_FILE
 from ..io.run_lock import hold_folder
 from ..io.termination import Terminated
 from ..params import assignment
@@ -192,7 +194,7 @@ def _run(sim, out: Path, args) -> dict | int:
         return 1
     except KeyboardInterrupt as err:
         how = "terminated (SIGTERM)" if isinstance(err, Terminated) else "interrupted"
-        print(f"fecontact: {how}; results so far are in {out}", file=sys.stderr)
+        print(f"fecontact: {how}; {_so_far(out)}", file=sys.stderr)
         return 143 if isinstance(err, Terminated) else 130  # (128 + the signal's number)
     except OSError as err:  # a full disk, a folder that cannot be written
         what = Path(err.filename).name if err.filename else "the output"
@@ -202,6 +204,19 @@ def _run(sim, out: Path, args) -> dict | int:
             file=sys.stderr,
         )
         return 2
+
+
+def _so_far(out: Path) -> str:
+    """Where an interrupted run's results are: ``out``, if the run wrote its summary there
+    (status "interrupted"); a stop before its first step (building the model, checking it)
+    wrote nothing."""
+    try:
+        status = json.loads((out / SUMMARY_FILE).read_text()).get("status")
+    except (OSError, ValueError):
+        status = None
+    if status == "interrupted":
+        return f"results so far are in {out}"
+    return "stopped before the run wrote anything"
 
 
 def _report(sim, summary: dict, out: Path, quiet: bool) -> None:

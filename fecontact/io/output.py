@@ -62,6 +62,7 @@ __all__ = [
     "HISTORY_FILE",
     "SUMMARY_FILE",
     "STANDARD_COLUMNS",
+    "COLUMN_UNITS",
     "FRICTION_COLUMNS",
     "LEDGER_COLUMNS",
 ]
@@ -92,6 +93,22 @@ LEDGER_COLUMNS = (
     "impact_dissipation",
     "numerical_dissipation",
 )
+# the units of those columns ("": a count); a probe's is in summary.json
+COLUMN_UNITS = {
+    "t": "s",
+    "kinetic_energy": "J",
+    "strain_energy": "J",
+    "potential_energy": "J",
+    "total_energy": "J",
+    "min_gap": "m",
+    "n_active": "",
+    "impulse": "N·s",
+    "newton_iterations": "",
+    "dt": "s",
+    "tangential_impulse": "N·s",
+    "friction_work": "J",
+    **dict.fromkeys(LEDGER_COLUMNS, "J"),
+}
 
 
 def _cell(x, _repr=float.__repr__) -> str:
@@ -254,11 +271,12 @@ class RunResult:
 
     ``history`` holds every ``history.csv`` column as a float array, ``summary`` the contents of
     ``summary.json`` (empty if the run did not finish), ``times`` the frame times (s),
-    ``pvd`` the frames' index: the ``.pvd``, or the ``.frames.json`` of VTKHDF frames.
+    ``pvd`` the frames' index: the ``.pvd``, or the ``.frames.json`` of VTKHDF frames (None
+    for a run that wrote no frames, ``frames=False``: ``times`` is then empty).
     """
 
     out_dir: Path
-    pvd: Path
+    pvd: Path | None
     history: dict[str, np.ndarray]
     summary: dict
     times: np.ndarray
@@ -268,25 +286,42 @@ class RunResult:
 
     def to_dataframe(self):
         """``history.csv`` as a pandas ``DataFrame`` indexed by the time ``t`` (s): one row per
-        step, the standard columns and the probes; ``attrs["units"]`` maps each probe to its
-        unit (from ``summary.json``). Needs pandas: ``pip install "fecontact[pandas]"``."""
+        step, the standard columns and the probes; ``attrs["units"]`` maps each column to its
+        unit (:data:`COLUMN_UNITS`; a probe's from ``summary.json``; "" for counts). Needs
+        pandas: ``pip install "fecontact[pandas]"``."""
         pd = need("pandas", "pandas")
         if "t" not in self.history:
             raise InputError(f"{self.out_dir} has no history.csv to tabulate")
         columns = {k: v for k, v in self.history.items() if k != "t"}
         frame = pd.DataFrame(columns, index=pd.Index(self.history["t"], name="t"))
         probes = self.summary.get("probes", {})
-        frame.attrs["units"] = {k: p.get("unit", "") for k, p in probes.items()}
+        units = {k: p.get("unit", "") for k, p in probes.items()}
+        frame.attrs["units"] = {k: COLUMN_UNITS.get(k, units.get(k, "")) for k in columns}
         return frame
+
+    def __repr__(self) -> str:
+        # (a notebook shows it: what the run is, not its arrays, which the fields hold)
+        t = self.history.get("t", np.empty(0))
+        rows = f"{t.size} history rows" + (f" to t = {t[-1]:g} s" if t.size else "")
+        status = self.summary.get("status", "no summary.json")
+        frames = f"{len(self.times)} frames of {', '.join(self.parts)}" if self.parts else ""
+        return (
+            f"RunResult({str(self.out_dir)!r}: {self.case}, {status}, {rows}, "
+            f"{frames or 'no frames'})"
+        )
 
     @property
     def case(self) -> str:
         """The case's name (case names hold no dots)."""
+        if self.pvd is None:  # (a run without frames)
+            return self.summary.get("case", self.out_dir.name)
         return self.pvd.name.split(".")[0]
 
     def reader(self):
         """``pyvista.get_reader`` on the ``.pvd`` (time-aware, all parts as blocks)."""
         pyvista = need("pyvista", "render")
+        if self.pvd is None:
+            raise FileNotFoundError(f"{str(self.out_dir)!r}: the run wrote no frames")
         return pyvista.get_reader(str(self.pvd))
 
     def frames(self, indices=None) -> list[tuple[float, dict]]:
@@ -372,13 +407,16 @@ def frame_writer(fmt: str, out_dir, case_name: str, index_interval: float = 0.0)
     raise ValueError(f"format must be 'vtu' or 'vtkhdf', got {fmt!r}")
 
 
-def _find_index(out_dir: Path) -> Path:
-    """The ``.pvd`` or ``.frames.json`` of a run folder (or that file itself)."""
+def _find_index(out_dir: Path) -> Path | None:
+    """The ``.pvd`` or ``.frames.json`` of a run folder (or that file itself); None for the
+    folder of a run that wrote no frames (``frames=False``: its history and summary only)."""
     if out_dir.is_file() and (out_dir.suffix == ".pvd" or out_dir.name.endswith(INDEX_SUFFIX)):
         return out_dir
     if not out_dir.is_dir():
         raise FileNotFoundError(f"no run output folder {str(out_dir)!r}")
     found = sorted([*out_dir.glob("*.pvd"), *out_dir.glob(f"*{INDEX_SUFFIX}")])
+    if not found and any((out_dir / name).is_file() for name in (HISTORY_FILE, SUMMARY_FILE)):
+        return None
     if not found:
         raise FileNotFoundError(f"no .pvd file in {str(out_dir)!r}: not a run output folder")
     if len(found) > 1:
@@ -406,10 +444,12 @@ def load_run(out_dir: str | Path) -> RunResult:
     ``"inf"``, ``"-inf"`` and ``"nan"`` strings in the summary become floats again.
     """
     index = _find_index(Path(out_dir))
-    folder = index.parent
+    folder = Path(out_dir) if index is None else index.parent
     history_path, summary_path = folder / HISTORY_FILE, folder / SUMMARY_FILE
     history = read_history(history_path) if history_path.is_file() else {}
     summary = read_json(summary_path) if summary_path.is_file() else {}
+    if index is None:  # (a run without frames: its history and summary)
+        return RunResult(folder, None, history, summary, np.zeros(0), [], [], [])
     if index.suffix != ".pvd":
         return RunResult(folder, index, history, summary, *_read_series(index))
     times, files, parts = read_pvd(index)

@@ -7,11 +7,12 @@ each time it passes another tenth of its end time, and one at the end.
 
 from __future__ import annotations
 
+import importlib.util
 import math
 import sys
 import time
 
-__all__ = ["RunProgress", "in_notebook", "is_terminal"]
+__all__ = ["RunProgress", "bar_class", "in_notebook", "is_terminal"]
 
 
 def in_notebook() -> bool:
@@ -33,9 +34,9 @@ class RunProgress:
         self.name, self.t_end, self.stream = name, t_end, stream or sys.stderr
         self.t, self.step, self.clock = t0, step0, time.perf_counter()
         self.bar = None
-        if in_notebook() or is_terminal(self.stream):
-            from tqdm.auto import tqdm
-
+        notebook = in_notebook()
+        if notebook or is_terminal(self.stream):
+            tqdm = bar_class(notebook)
             total = max(1, math.ceil(t_end / dt - 1e-9))
             self.bar = tqdm(total=total, initial=step0, desc=name, unit="step", file=self.stream)
             return
@@ -75,6 +76,18 @@ class RunProgress:
 
     def _line(self, text: str) -> None:
         print(f"{self.name}: {text}", file=self.stream, flush=True)
+
+
+def bar_class(notebook: bool):
+    """The tqdm bar for a notebook (``notebook``) or a terminal: tqdm's widget in a notebook
+    with ipywidgets, else its text bar, which a notebook shows too. (``tqdm.auto`` in a
+    notebook without ipywidgets warns "IProgress not found" into the cell, then gives the
+    text bar.)"""
+    if notebook and importlib.util.find_spec("ipywidgets") is not None:
+        from tqdm.auto import tqdm
+    else:
+        from tqdm import tqdm
+    return tqdm
 
 
 def is_terminal(stream) -> bool:

@@ -361,6 +361,8 @@ def render_run(
     if fmt not in ("gif", "mp4"):
         raise ValueError(f"animation format must be 'gif' or 'mp4', got {fmt!r}")
     run = load_run(out_dir)
+    if run.pvd is None:
+        raise FileNotFoundError(f"{str(out_dir)!r}: the run wrote no frames to render")
     shots, movie = _chosen_frames(run, snapshot_times, max_frames if animation else 0)
     indices = sorted(movie | set(shots.values()))
     # bounds and colours over the frames drawn: what is not drawn needs no room

@@ -52,11 +52,38 @@ _CHOICES = {
 }
 
 
+# the options that only some integrators read, and those integrators: any other value than
+# the default given to another integrator is refused (IntegratorOptions), since its step
+# would not read it. The options every step reads (the tolerances, max_iterations,
+# max_halvings, detection_margin) and ``integrator`` itself are not listed.
+READERS = {
+    "rho_inf": ("nsga", "penalty"),  # the generalized-α (and energy-decaying) smooth step
+    "metric": ("nsga",),  # the position correction
+    "penalty_scale": ("nsga", "moreau"),  # the augmented Lagrangian of the contact solves
+    "multiplier_scale": ("nsga", "moreau"),
+    "impact_velocity": ("nsga",),  # the velocity jump's ġ⁻ (Moreau–Jean: ġ(q_n, v_n))
+    "theta": ("moreau",),
+    "penalty_stiffness": ("penalty",),
+    "penalty_damping": ("penalty",),
+    "smooth_contact": ("nsga",),
+    "scheme": ("nsga",),
+    "impact_law": ("nsga", "moreau"),
+    "localize": ("nsga",),
+    "rtol": ("nsga", "penalty"),
+    "energy_retakes": ("nsga",),
+}
+
+
 @dataclass
 class IntegratorOptions:
     """Settings of the nonsmooth generalized-α integrator.
 
-    rho_inf : spectral radius at infinite frequency, in [0, 1] (1: no numerical damping).
+    Options that only some integrators read (:data:`READERS`) are refused, with any value
+    other than their default, by the others: ``theta`` with "nsga", ``rho_inf`` with
+    "moreau", ``localize=False`` with "penalty".
+
+    rho_inf : spectral radius at infinite frequency, in [0, 1] (1: no numerical damping);
+        nsga and penalty.
     metric : position-correction metric, "stiffness" (H = S_t/β′) or "mass" (H = M).
     penalty_scale, multiplier_scale : factors (> 0) on the automatic p and k; they change the
         path of the contact Newton iterations, never the converged result.
@@ -188,6 +215,7 @@ class IntegratorOptions:
                     f"scheme generalized-alpha), got integrator {self.integrator!r}, "
                     f"scheme {self.scheme!r}"
                 )
+        _check_readers(self)
 
 
 def _check_integrator_choices(opts: IntegratorOptions) -> None:
@@ -204,6 +232,21 @@ def _check_integrator_choices(opts: IntegratorOptions) -> None:
         raise InputError(
             f"{given[0]} is an option of integrator 'penalty', not of {opts.integrator!r}"
         )
+
+
+def _check_readers(opts: IntegratorOptions) -> None:
+    """``InputError`` for an option of :data:`READERS` set off its default while the run's
+    integrator does not read it; the more specific checks of ``__post_init__`` come first."""
+    for name, readers in READERS.items():
+        if opts.integrator in readers:
+            continue
+        value = getattr(opts, name)
+        if value != getattr(IntegratorOptions, name):
+            raise InputError(
+                f"{name} = {value!r} is read by integrator {' and '.join(readers)} only, not "
+                f"integrator {opts.integrator!r}: its step would ignore it (leave {name} "
+                "at its default)"
+            )
 
 
 def _switch(name: str, value) -> bool | str:
