@@ -120,3 +120,16 @@ def test_the_run_records_its_solver_and_auto_agrees_with_direct(tmp_path, restor
     # CG solves to 1e-10 relative residual: κ(S) ≤ 1e4 here leaves 1e-5 relative in each
     # solve at worst, far below the history's rounding of contact quantities
     np.testing.assert_allclose(finals["auto"], finals["direct"], rtol=1e-5, atol=1e-9)
+
+
+def test_auto_weighs_a_pattern_first_met_after_the_first_step(tmp_path, restore):
+    """A linear disk (290 dofs) that closes on the plane in its second step: the located
+    closing brings iteration matrices of new step sizes, patterns met after the first step,
+    whose solves a step are not yet measured (their rate is then the guess, not 0 over the
+    steps done: "auto" divided by it)."""
+    use_sparse_solver("auto")
+    sim = case("disk_drop").build(material="linear", drop_height=8e-5)  # 1.5 v h: step 2
+    s = run(sim.replace(t_end=6 * sim.dt), tmp_path, frames=False, checkpoint_every=0)
+    assert s["status"] == "completed" and s["localized_impacts"] >= 1
+    decisions = s["sparse_solver"]["decisions"]
+    assert decisions and min(d["step"] for d in decisions) >= 1  # a pattern met late

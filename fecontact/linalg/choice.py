@@ -11,18 +11,19 @@ sooner:
 
     direct = F t_f + N t_s,        CG = N t_cg,
 
-with N the solves and F the factorizations still to come: N = (steps left) × (solves a step),
-F = 1 for a linear model before its one factorization and 0 after, F = (steps left) ×
-(factorizations a step) for a nonlinear one (one a Newton iteration). Solves and
-factorizations per step are measured as the run goes (``SOLVES_GUESS`` and ``NEWTON_GUESS``
-before its first step is over). t_f and t_s are measured once the role has been factorized,
-and until then estimated from the measured time of one product with A by ``FACTOR_MODEL``
-(``docs/validation/large_solids.md``). t_cg is measured on CG's solves; the first solve of a
-role is CG with the diagonal preconditioner, stopped once it has cost what a CG solve may cost
-for the paths to tie (so that a role the direct path serves better loses little to it): if it
-converges, its time is t_cg; if not, AMG-CG is estimated by ``AMG_MODEL`` until measured.
-The choice is made again at every new matrix of a role, and once a step on the CG path; each
-change of path is recorded with its reason.
+with N the solves and F the factorizations still to come: N = (steps left) × (solves a step), F
+= 1 for a linear model before its one factorization and 0 after, F = (steps left) ×
+(factorizations a step) for a nonlinear one (one a Newton iteration). Solves and factorizations
+per step are measured as the run goes, over the steps since the role's first solve and first
+matrix (``SOLVES_GUESS`` and ``NEWTON_GUESS`` before a step is over): a role may come late, the
+iteration matrix of a step size met at a located closing. t_f and t_s are measured once the
+role has been factorized, and until then estimated from the measured time of one product with A
+by ``FACTOR_MODEL`` (``docs/validation/large_solids.md``). t_cg is measured on CG's solves; the
+first solve of a role is CG with the diagonal preconditioner, stopped once it has cost what a
+CG solve may cost for the paths to tie (so that a role the direct path serves better loses
+little to it): if it converges, its time is t_cg; if not, AMG-CG is estimated by ``AMG_MODEL``
+until measured. The choice is made again at every new matrix of a role, and once a step on the
+CG path; each change of path is recorded with its reason.
 """
 
 from __future__ import annotations
@@ -87,8 +88,10 @@ class _Role:
 
     n: int
     product: float  # one product with A
+    met: int  # the step of the run in which the first matrix of the pattern came
     requests: int = 0  # matrices of this pattern to solve with
     solves: int = 0
+    solving: int | None = None  # the step of its first solve
     path: str | None = None
     t_f: float | None = None  # direct factorization, measured
     t_s: float | None = None  # direct solve, measured
@@ -137,19 +140,22 @@ class SolverChoice:
         """The measured costs of the matrices with the sparsity pattern of A (one per role)."""
         key = (A.shape[0], A.nnz, A.indices.__array_interface__["data"][0])
         if key not in self._roles:
-            self._roles[key] = _Role(A.shape[0], _product_time(A))
+            self._roles[key] = _Role(A.shape[0], _product_time(A), self.steps_done)
         return self._roles[key]
 
     def costs(self, role: _Role, factorized: bool) -> tuple[float, float, str]:
         """(direct, CG) seconds expected for the rest of the run, and how they were had."""
         left = max(self.plan.steps - self.steps_done, 1)
-        done = self.steps_done
-        per_step = role.solves / done if done else SOLVES_GUESS
+        # rates over the steps since the role's first matrix, and first solve: a pattern may
+        # come late (the iteration matrix of a new step size, or first solved at a closing)
+        solving = self.steps_done - (self.steps_done if role.solving is None else role.solving)
+        per_step = role.solves / solving if solving else SOLVES_GUESS
         t_f, t_s, source = self._direct_times(role)
         if self.plan.linear:
             factorizations = 0.0 if factorized else 1.0
         else:
-            factorizations = left * (role.requests / done if done else NEWTON_GUESS)
+            met = self.steps_done - role.met
+            factorizations = left * (role.requests / met if met else NEWTON_GUESS)
         direct = factorizations * t_f + left * per_step * t_s
         cg = left * per_step * role.t_cg
         how = (
@@ -240,6 +246,7 @@ class _AutoSolve:
             self.step, self.reweighed = self.choice.steps_done, self.reweighed or probed
             self._choose()
         role = self.role
+        role.solving = self.choice.steps_done if role.solving is None else role.solving
         role.solves += 1
         start = time.perf_counter()
         x = self.solve(b)
@@ -269,6 +276,7 @@ class _AutoSolve:
         if x is None:
             return None
         role.t_cg, role.cg_solves, role.solves = seconds, 1, 1
+        role.solving = choice.steps_done
         self.path, self.solve, self.step = "cg", self.iterative(), choice.steps_done
         reason = f"CG with the diagonal solved in {seconds:.3g} s, below the tie {tie:.3g} s"
         choice.decide(role, "cg", f"{reason} of the direct path ({how})")
