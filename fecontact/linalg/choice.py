@@ -11,19 +11,20 @@ sooner:
 
     direct = F t_f + N t_s,        CG = N t_cg,
 
-with N the solves and F the factorizations still to come: N = (steps left) × (solves a step), F
-= 1 for a linear model before its one factorization and 0 after, F = (steps left) ×
-(factorizations a step) for a nonlinear one (one a Newton iteration). Solves and factorizations
-per step are measured as the run goes, over the steps since the role's first solve and first
-matrix (``SOLVES_GUESS`` and ``NEWTON_GUESS`` before a step is over): a role may come late, the
-iteration matrix of a step size met at a located closing. t_f and t_s are measured once the
-role has been factorized, and until then estimated from the measured time of one product with A
-by ``FACTOR_MODEL`` (``docs/validation/large_solids.md``). t_cg is measured on CG's solves; the
-first solve of a role is CG with the diagonal preconditioner, stopped once it has cost what a
-CG solve may cost for the paths to tie (so that a role the direct path serves better loses
-little to it): if it converges, its time is t_cg; if not, AMG-CG is estimated by ``AMG_MODEL``
-until measured. The choice is made again at every new matrix of a role, and once a step on the
-CG path; each change of path is recorded with its reason.
+with N the solves (right-hand sides: a block of k columns is k solves) and F the factorizations
+still to come: N = (columns in hand) + (steps left) × (solves a step), F = 1 for a linear model
+before its one factorization and 0 after, F = (steps left) × (factorizations a step) for a
+nonlinear one (one a Newton iteration). Solves and factorizations per step are measured as the
+run goes, over the steps since the role's first solve and first matrix (``SOLVES_GUESS`` and
+``NEWTON_GUESS`` before a step is over): a role may come late, the iteration matrix of a step
+size met at a located closing. t_f and t_s are measured once the role has been factorized, and
+until then estimated from the measured time of one product with A by ``FACTOR_MODEL``
+(``docs/validation/large_solids.md``). t_cg is measured on CG's solves; the first solve of a
+role is CG with the diagonal preconditioner, stopped once it has cost what a CG solve may cost
+for the paths to tie (so that a role the direct path serves better loses little to it): if it
+converges, its time is t_cg; if not, AMG-CG is estimated by ``AMG_MODEL`` until measured. The
+choice is made again at every new matrix of a role, and on the CG path once a step and at every
+block of right-hand sides; each change of path is recorded with its reason.
 """
 
 from __future__ import annotations
@@ -99,9 +100,11 @@ class _Role:
     cg_solves: int = 0
     direct_solves: int = 0
 
-    def average(self, name: str, seconds: float, count: int) -> None:
-        old = getattr(self, name)
-        setattr(self, name, seconds if old is None else old + (seconds - old) / count)
+    def average(self, name: str, seconds: float, columns: int, count: int) -> None:
+        """The mean time of a column of ``name``, with ``columns`` more solved in ``seconds``
+        (``count`` columns in all)."""
+        old, each = getattr(self, name), seconds / columns
+        setattr(self, name, each if old is None else old + (each - old) * columns / count)
 
 
 @dataclass
@@ -143,8 +146,9 @@ class SolverChoice:
             self._roles[key] = _Role(A.shape[0], _product_time(A), self.steps_done)
         return self._roles[key]
 
-    def costs(self, role: _Role, factorized: bool) -> tuple[float, float, str]:
-        """(direct, CG) seconds expected for the rest of the run, and how they were had."""
+    def costs(self, role: _Role, factorized: bool, columns: int = 0) -> tuple[float, float, str]:
+        """(direct, CG) seconds expected for the rest of the run, ``columns`` in hand besides
+        the solves (columns) a step to come, and how they were had."""
         left = max(self.plan.steps - self.steps_done, 1)
         # rates over the steps since the role's first matrix, and first solve: a pattern may
         # come late (the iteration matrix of a new step size, or first solved at a closing)
@@ -156,10 +160,12 @@ class SolverChoice:
         else:
             met = self.steps_done - role.met
             factorizations = left * (role.requests / met if met else NEWTON_GUESS)
-        direct = factorizations * t_f + left * per_step * t_s
-        cg = left * per_step * role.t_cg
+        solves = columns + left * per_step
+        direct = factorizations * t_f + solves * t_s
+        cg = solves * role.t_cg
+        now = f"{columns} columns now + " if columns else ""
         how = (
-            f"{left} steps left x {per_step:.3g} solves, {factorizations:.3g} factorizations: "
+            f"{now}{left} steps left x {per_step:.3g} solves, {factorizations:.3g} factorizations: "
             f"factorization {t_f:.3g} s + solve {t_s:.3g} s ({source}) against CG {role.t_cg:.3g}"
             f" s ({'measured' if role.cg_solves else 'estimated'})"
         )
@@ -240,23 +246,26 @@ class _AutoSolve:
             if x is not None:
                 return x
         # on the CG path: choose at the first solve, right after the role's first CG solve
-        # (its cost now measured), then at most once a step
-        probed = self.role.cg_solves == 1 and not self.reweighed
-        if self.path != "direct" and (self.step != self.choice.steps_done or probed):
+        # (its cost now measured), at a block of columns (CG pays for each column what a
+        # solve costs, a factor little), else at most once a step
+        columns = np.shape(b)[1] if len(np.shape(b)) > 1 else 1
+        probed = self.role.cg_solves > 0 and not self.reweighed
+        again = self.step != self.choice.steps_done or probed or columns > 1
+        if self.path != "direct" and again:
             self.step, self.reweighed = self.choice.steps_done, self.reweighed or probed
-            self._choose()
+            self._choose(columns)
         role = self.role
         role.solving = self.choice.steps_done if role.solving is None else role.solving
-        role.solves += 1
+        role.solves += columns
         start = time.perf_counter()
         x = self.solve(b)
         seconds = time.perf_counter() - start
         if self.path == "direct":
-            role.direct_solves += 1
-            role.average("t_s", seconds, role.direct_solves)
+            role.direct_solves += columns
+            role.average("t_s", seconds, columns, role.direct_solves)
         else:
-            role.cg_solves += 1
-            role.average("t_cg", seconds, role.cg_solves)
+            role.cg_solves += columns
+            role.average("t_cg", seconds, columns, role.cg_solves)
         return x
 
     def _probe(self, b):
@@ -282,10 +291,11 @@ class _AutoSolve:
         choice.decide(role, "cg", f"{reason} of the direct path ({how})")
         return x
 
-    def _choose(self) -> None:
+    def _choose(self, columns: int) -> None:
+        """The path of this matrix for the rest of the run, ``columns`` to solve now."""
         role, choice = self.role, self.choice
         factorized = role.t_f is not None and choice.plan.linear
-        direct, cg, how = choice.costs(role, factorized and self.path == "direct")
+        direct, cg, how = choice.costs(role, factorized and self.path == "direct", columns)
         path = "direct" if direct <= cg else "cg"
         reason = f"expected direct {direct:.3g} s, CG {cg:.3g} s: {how}"
         choice.decide(role, path, reason)
