@@ -114,6 +114,7 @@ class SolverChoice:
     name: str
     plan: RunPlan
     backend: str  # the direct path of symmetric systems: "cholesky" or "superlu"
+    cg: bool = True  # whether CG is a path ("auto" without pyamg: the direct path alone)
     steps_done: int = 0
     decisions: list = field(default_factory=list)
     factorizations: dict = field(default_factory=dict)
@@ -213,6 +214,11 @@ class SolverChoice:
     def _reason(self) -> str:
         if self.name != "auto":
             return f'the sparse solver "{self.name}" (use_sparse_solver): no choice to make'
+        if not self.cg:
+            return (
+                'the direct path: "auto" without the pyamg package has no CG path to weigh '
+                '(pip install "fecontact[amg]")'
+            )
         if not self.decisions:
             return "no symmetric sparse system was solved"
         last = self.decisions[-1]

@@ -60,7 +60,7 @@ def factorize(A, symmetric: bool = False, solver: LinearSolver | None = None):
     if sp.issparse(A):
         solver = LinearSolver() if solver is None else solver
         name, choice = solver.name, solver.choice
-        if symmetric and name in ("amg", "auto"):
+        if symmetric and solver.cg:
 
             def direct():
                 return _symmetric_direct(A, solver)

@@ -127,7 +127,7 @@ def _ladder(model, K=None) -> Ladder | None:
     assembled), or None where none applies: damped (S depends on more than a), dense (a
     dense factorization costs less than any of its solves), or an iterative solver (PCG
     takes exact factors)."""
-    if model.dense or any(model.damping) or model.solver.name in ("amg", "auto"):
+    if model.dense or any(model.damping) or model.solver.cg:
         return None
     if model.ladder is None:
         K = model.internal(np.zeros(model.n))[2] if K is None else K
