@@ -277,8 +277,8 @@ class _AutoSolve:
     def _probe(self, b):
         """The first solve of a role: CG with the diagonal, stopped once it has cost what a
         solve may cost for CG to tie with the direct path (at most ``DIAGONAL_ITERATIONS``).
-        Its answer if it converged (CG's cost then measured); else None, and AMG-CG's cost
-        estimated (``AMG_MODEL``)."""
+        Its answer if it converged (CG's cost then measured; the CG path if within the time
+        too); else None, and AMG-CG's cost estimated (``AMG_MODEL``)."""
         role, choice = self.role, self.choice
         role.t_cg = 1.0  # a unit: the CG cost below is then the number of solves left
         direct, solves, how = choice.costs(role, factorized=False)
@@ -292,6 +292,8 @@ class _AutoSolve:
             return None
         role.t_cg, role.cg_solves, role.solves = seconds, 1, 1
         role.solving = choice.steps_done
+        if seconds > tie:  # within the iterations, not the time (a small system's overheads)
+            return x  # (weighed at the next solve, CG's cost measured)
         self.path, self.solve, self.step = "cg", self.iterative(), choice.steps_done
         reason = f"CG with the diagonal solved in {seconds:.3g} s, below the tie {tie:.3g} s"
         choice.decide(role, "cg", f"{reason} of the direct path ({how})")
