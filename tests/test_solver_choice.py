@@ -173,3 +173,18 @@ def test_the_run_records_the_factorization_of_its_mass(tmp_path, restore):
     s = run(sim.replace(t_end=3 * sim.dt), tmp_path, frames=False, checkpoint_every=0)
     assert s["sparse_solver"]["factorizations"]["superlu"]["count"] == 1
     assert s["sparse_factorizations"]["count"] == 1
+
+
+def test_one_role_per_sparsity_pattern():
+    """The iteration matrices of two step sizes are sums with index arrays of their own: one
+    pattern, one role, whose measured costs the second size weighs with (each size of a split
+    step used to start a role of its own on estimates: a 66,050-dof disk at 50 Δx/c probed
+    CG and then factorized for each of its 8 sizes of the first step)."""
+    choice = SolverChoice("auto", RunPlan(10, True), "superlu")
+    A = spd(20)
+    B = (2.0 * A).tocsr()  # the same pattern in new arrays
+    assert B.indices is not A.indices
+    assert choice.role(B) is choice.role(A)
+    C = (A + sp.eye(400, k=3)).tocsr()  # another pattern
+    assert choice.role(C) is not choice.role(A)
+    assert len(choice.record()["roles"]) == 2

@@ -141,11 +141,16 @@ class SolverChoice:
         return _AutoSolve(self, role, A, direct, iterative)
 
     def role(self, A) -> _Role:
-        """The measured costs of the matrices with the sparsity pattern of A (one per role)."""
-        key = (A.shape[0], A.nnz, A.indices.__array_interface__["data"][0])
-        if key not in self._roles:
-            self._roles[key] = _Role(A.shape[0], _product_time(A), self.steps_done)
-        return self._roles[key]
+        """The measured costs of the matrices with the sparsity pattern of A (one per role),
+        whether they share its index arrays or have equal ones (the iteration matrix of every
+        step size is a sum of its own)."""
+        same = self._roles.setdefault((A.format, A.shape[0], A.nnz), [])
+        for indptr, indices, role in same:
+            if _equal(A.indptr, indptr) and _equal(A.indices, indices):
+                return role
+        role = _Role(A.shape[0], _product_time(A), self.steps_done)
+        same.append((A.indptr, A.indices, role))
+        return role
 
     def costs(self, role: _Role, factorized: bool, columns: int = 0) -> tuple[float, float, str]:
         """(direct, CG) seconds expected for the rest of the run, ``columns`` in hand besides
@@ -205,7 +210,8 @@ class SolverChoice:
                     "cg_solves": r.cg_solves,
                     "direct_solves": r.direct_solves,
                 }
-                for r in self._roles.values()
+                for same in self._roles.values()
+                for _, _, r in same
             ]
             out |= {"roles": roles, "decisions": self.decisions}
         out["reason"] = self._reason()
@@ -223,6 +229,13 @@ class SolverChoice:
             return "no symmetric sparse system was solved"
         last = self.decisions[-1]
         return f"{last['path']} for the last choice (n = {last['n']}): {last['reason']}"
+
+
+def _equal(a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether the index arrays a and b are equal: the same array, or equal entries."""
+    if a.__array_interface__["data"][0] == b.__array_interface__["data"][0]:
+        return a.shape == b.shape
+    return np.array_equal(a, b)
 
 
 def _product_time(A) -> float:
