@@ -133,12 +133,13 @@ class SolverChoice:
         entry["seconds"] += seconds
         self.factor_memory_mb = max(self.factor_memory_mb, memory_mb)
 
-    def auto(self, A, direct, iterative):
+    def auto(self, A, direct, iterative, once: bool = False):
         """``solve(b)`` for the symmetric sparse A, by ``direct()`` or ``iterative()`` (each
-        returns a solve) as the costs measured so far choose."""
+        returns a solve) as the costs measured so far choose; ``once``: A serves one step (a
+        step size of a split step), whose solves alone it is weighed over."""
         role = self.role(A)
         role.requests += 1
-        return _AutoSolve(self, role, A, direct, iterative)
+        return _AutoSolve(self, role, A, (direct, iterative), once)
 
     def role(self, A) -> _Role:
         """The measured costs of the matrices with the sparsity pattern of A (one per role),
@@ -152,10 +153,13 @@ class SolverChoice:
         same.append((A.indptr, A.indices, role))
         return role
 
-    def costs(self, role: _Role, factorized: bool, columns: int = 0) -> tuple[float, float, str]:
-        """(direct, CG) seconds expected for the rest of the run, ``columns`` in hand besides
-        the solves (columns) a step to come, and how they were had."""
-        left = max(self.plan.steps - self.steps_done, 1)
+    def costs(
+        self, role: _Role, factorized: bool, columns: int = 0, once: bool = False
+    ) -> tuple[float, float, str]:
+        """(direct, CG) seconds expected for the rest of the run (of this step, ``once``),
+        ``columns`` in hand besides the solves (columns) a step to come, and how they were
+        had."""
+        left = 1 if once else max(self.plan.steps - self.steps_done, 1)
         # rates over the steps since the role's first matrix, and first solve: a pattern may
         # come late (the iteration matrix of a new step size, or first solved at a closing)
         solving = self.steps_done - (self.steps_done if role.solving is None else role.solving)
@@ -253,9 +257,9 @@ def _product_time(A) -> float:
 class _AutoSolve:
     """``solve(b)`` of one matrix of a role, by the path its role's costs choose."""
 
-    def __init__(self, choice: SolverChoice, role: _Role, A, direct, iterative):
-        self.choice, self.role, self.A = choice, role, A
-        self.direct_factorize, self.iterative = direct, iterative
+    def __init__(self, choice: SolverChoice, role: _Role, A, paths, once: bool):
+        self.choice, self.role, self.A, self.once = choice, role, A, once
+        self.direct_factorize, self.iterative = paths
         self.solve, self.path, self.step = None, None, -1
         self.reweighed = False  # chosen again once the role's first CG solve was timed
 
@@ -294,7 +298,7 @@ class _AutoSolve:
         too); else None, and AMG-CG's cost estimated (``AMG_MODEL``)."""
         role, choice = self.role, self.choice
         role.t_cg = 1.0  # a unit: the CG cost below is then the number of solves left
-        direct, solves, how = choice.costs(role, factorized=False)
+        direct, solves, how = choice.costs(role, False, once=self.once)
         role.t_cg = AMG_MODEL[0] * (role.n / 1e4) ** AMG_MODEL[1] * role.product
         tie = direct / solves  # s a CG solve may cost
         iterations = int(min(tie / (PRODUCTS_PER_ITERATION * role.product), DIAGONAL_ITERATIONS))
@@ -316,7 +320,9 @@ class _AutoSolve:
         """The path of this matrix for the rest of the run, ``columns`` to solve now."""
         role, choice = self.role, self.choice
         factorized = role.t_f is not None and choice.plan.linear
-        direct, cg, how = choice.costs(role, factorized and self.path == "direct", columns)
+        direct, cg, how = choice.costs(
+            role, factorized and self.path == "direct", columns, self.once
+        )
         path = "direct" if direct <= cg else "cg"
         reason = f"expected direct {direct:.3g} s, CG {cg:.3g} s: {how}"
         choice.decide(role, path, reason)
