@@ -278,7 +278,8 @@ def _starting_point(sim: Simulation, out: Path, resume: bool, overwrite: bool):
                 "give a later --t-end"
             )
         return start, meta
-    initial_state(sim.model, sim.q0, sim.v0, sim.options.tol_gap)
+    # (the input checked; the acceleration is the run's, solved with the run's solver)
+    initial_state(sim.model, sim.q0, sim.v0, sim.options.tol_gap, accelerate=False)
     for text in sim.warnings():
         warnings.warn(text, UserWarning, stacklevel=4)
     clear_earlier_run(out, sim.name, overwrite)

@@ -221,3 +221,33 @@ def test_ball_drop_runs_the_same_with_cg_and_with_the_direct_solver(amg):
     steps = len(q_cg) - 1
     bound = steps * kappa * PROMISE * np.abs(q_lu).max()
     assert np.abs(q_cg - q_lu).max() <= bound
+
+
+def test_auto_without_pyamg_takes_the_direct_path_and_says_so(monkeypatch, tmp_path):
+    """ "auto" without pyamg has one path, the direct one: it is accepted (it used to raise,
+    and from FECONTACT_SPARSE_SOLVER at ``import fecontact``), the run solves directly, the
+    ladder included, and its record says why."""
+    import builtins
+
+    from fecontact import run
+
+    real_import = builtins.__import__
+
+    def no_pyamg(name, *args, **kwargs):
+        if name == "pyamg":
+            raise ImportError(name)
+        return real_import(name, *args, **kwargs)
+
+    before = sparse_solver()
+    monkeypatch.setattr(builtins, "__import__", no_pyamg)
+    try:
+        use_sparse_solver("auto")
+        sim = case("disk_drop").build(material="linear", drop_height=8e-5)  # closes in step 2
+        s = run(sim.replace(t_end=6 * sim.dt), tmp_path, frames=False, checkpoint_every=0)
+    finally:
+        use_sparse_solver(before)
+        monkeypatch.undo()
+    record = s["sparse_solver"]
+    assert s["status"] == "completed" and s["iterative_solver"]["solves"] == 0
+    assert "pyamg" in record["reason"] and not record["decisions"]
+    assert sum(f["count"] for f in record["factorizations"].values()) >= 1

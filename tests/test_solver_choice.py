@@ -120,3 +120,96 @@ def test_the_run_records_its_solver_and_auto_agrees_with_direct(tmp_path, restor
     # CG solves to 1e-10 relative residual: κ(S) ≤ 1e4 here leaves 1e-5 relative in each
     # solve at worst, far below the history's rounding of contact quantities
     np.testing.assert_allclose(finals["auto"], finals["direct"], rtol=1e-5, atol=1e-9)
+
+
+def test_auto_weighs_a_pattern_first_met_after_the_first_step(tmp_path, restore):
+    """A linear disk (290 dofs) that closes on the plane in its second step: the located
+    closing brings iteration matrices of new step sizes, patterns met after the first step,
+    whose solves a step are not yet measured (their rate is then the guess, not 0 over the
+    steps done: "auto" divided by it)."""
+    use_sparse_solver("auto")
+    sim = case("disk_drop").build(material="linear", drop_height=8e-5)  # 1.5 v h: step 2
+    s = run(sim.replace(t_end=6 * sim.dt), tmp_path, frames=False, checkpoint_every=0)
+    assert s["status"] == "completed" and s["localized_impacts"] >= 1
+    decisions = s["sparse_solver"]["decisions"]
+    assert decisions and max(d["step"] for d in decisions) >= 1  # a pattern met late
+
+
+def test_auto_weighs_the_columns_in_hand():
+    """A block of right-hand sides (the contact rows' S⁻¹Gᵀ, a column a touching node and
+    direction) costs CG a solve a column and a factor little: on the CG path, such a block is
+    weighed with its columns and sends the matrix to the direct path (a 45,602-dof 2D block at
+    20 Δx/c ran a 302-column block by AMG-CG: 2.9 times the direct path's time)."""
+    calls = []
+
+    def path(name):
+        def make():
+            calls.append(name)
+            return lambda b: b
+
+        return make
+
+    choice = SolverChoice("auto", RunPlan(10, True), "superlu")
+    A = spd(30)
+    role = choice.role(A)
+    # measured (s): a factorization, a solve with it, a CG solve (over 10 solves)
+    role.t_f, role.t_s, role.t_cg, role.cg_solves = 1.0, 1e-3, 1e-2, 10
+    solve = choice.auto(A, path("direct"), path("cg"))
+    solve(np.ones(900))  # 1 + 10 steps x 2 solves: CG 0.21 s against 1.02 s
+    assert calls == ["cg"]
+    # the vector's own (instant) solve took the mean CG column to about 9.1e-3 s; 200 columns
+    # more: CG 2.0 s against 1.22 s
+    solve(np.ones((900, 200)))
+    assert calls == ["cg", "direct"]
+    assert "200 columns now" in choice.decisions[-1]["reason"]
+
+
+def test_the_run_records_the_factorization_of_its_mass(tmp_path, restore):
+    """The initial acceleration's solve with M is the run's: made with the run's solver, so
+    that its record counts the mass's factorization (a linear disk in free flight makes no
+    other; it used to be made before the run, with the model's own solver, and left out)."""
+    use_sparse_solver("direct")
+    sim = case("disk_drop").build(material="linear")  # 290 dofs, 2 mm above the plane
+    s = run(sim.replace(t_end=3 * sim.dt), tmp_path, frames=False, checkpoint_every=0)
+    assert s["sparse_solver"]["factorizations"]["superlu"]["count"] == 1
+    assert s["sparse_factorizations"]["count"] == 1
+
+
+def test_one_role_per_sparsity_pattern():
+    """The iteration matrices of two step sizes are sums with index arrays of their own: one
+    pattern, one role, whose measured costs the second size weighs with (each size of a split
+    step used to start a role of its own on estimates: a 66,050-dof disk at 50 Δx/c probed
+    CG and then factorized for each of its 8 sizes of the first step)."""
+    choice = SolverChoice("auto", RunPlan(10, True), "superlu")
+    A = spd(20)
+    B = (2.0 * A).tocsr()  # the same pattern in new arrays
+    assert B.indices is not A.indices
+    assert choice.role(B) is choice.role(A)
+    C = (A + sp.eye(400, k=3)).tocsr()  # another pattern
+    assert choice.role(C) is not choice.role(A)
+    assert len(choice.record()["roles"]) == 2
+
+
+def test_auto_weighs_a_size_met_once_over_its_step():
+    """The iteration matrix of a size of a split step serves that step only: weighed over the
+    rest of the run, each such size was factorized (17 factorizations on a 66,050-dof disk at
+    50 Δx/c where "direct" made 7 from its ladder, 1.85x "amg")."""
+    calls = []
+
+    def path(name):
+        def make():
+            calls.append(name)
+            return lambda b: b
+
+        return make
+
+    choice = SolverChoice("auto", RunPlan(100, True), "superlu")
+    A = spd(30)
+    role = choice.role(A)
+    role.t_f, role.t_s, role.t_cg, role.cg_solves = 1.0, 1e-3, 1e-2, 10  # measured (s)
+    # one step, 1 + 2 solves: CG 0.03 s against 1.003 s
+    choice.auto(A, path("direct"), path("cg"), once=True)(np.ones(900))
+    # the rest of the run, 1 + 100 steps x 2 solves (the instant solve above took CG's mean
+    # to about 9.1e-3 s): CG 1.83 s against 1.2 s
+    choice.auto(A, path("direct"), path("cg"))(np.ones(900))
+    assert calls == ["cg", "direct"]

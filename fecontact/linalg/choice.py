@@ -11,18 +11,20 @@ sooner:
 
     direct = F t_f + N t_s,        CG = N t_cg,
 
-with N the solves and F the factorizations still to come: N = (steps left) × (solves a step),
-F = 1 for a linear model before its one factorization and 0 after, F = (steps left) ×
-(factorizations a step) for a nonlinear one (one a Newton iteration). Solves and
-factorizations per step are measured as the run goes (``SOLVES_GUESS`` and ``NEWTON_GUESS``
-before its first step is over). t_f and t_s are measured once the role has been factorized,
-and until then estimated from the measured time of one product with A by ``FACTOR_MODEL``
+with N the solves (right-hand sides: a block of k columns is k solves) and F the factorizations
+still to come: N = (columns in hand) + (steps left) × (solves a step), F = 1 for a linear model
+before its one factorization and 0 after, F = (steps left) × (factorizations a step) for a
+nonlinear one (one a Newton iteration). Solves and factorizations per step are measured as the
+run goes, over the steps since the role's first solve and first matrix (``SOLVES_GUESS`` and
+``NEWTON_GUESS`` before a step is over): a role may come late, the iteration matrix of a step
+size met at a located closing. t_f and t_s are measured once the role has been factorized, and
+until then estimated from the measured time of one product with A by ``FACTOR_MODEL``
 (``docs/validation/large_solids.md``). t_cg is measured on CG's solves; the first solve of a
 role is CG with the diagonal preconditioner, stopped once it has cost what a CG solve may cost
 for the paths to tie (so that a role the direct path serves better loses little to it): if it
-converges, its time is t_cg; if not, AMG-CG is estimated by ``AMG_MODEL`` until measured.
-The choice is made again at every new matrix of a role, and once a step on the CG path; each
-change of path is recorded with its reason.
+converges, its time is t_cg; if not, AMG-CG is estimated by ``AMG_MODEL`` until measured. The
+choice is made again at every new matrix of a role, and on the CG path once a step and at every
+block of right-hand sides; each change of path is recorded with its reason.
 """
 
 from __future__ import annotations
@@ -87,8 +89,10 @@ class _Role:
 
     n: int
     product: float  # one product with A
+    met: int  # the step of the run in which the first matrix of the pattern came
     requests: int = 0  # matrices of this pattern to solve with
     solves: int = 0
+    solving: int | None = None  # the step of its first solve
     path: str | None = None
     t_f: float | None = None  # direct factorization, measured
     t_s: float | None = None  # direct solve, measured
@@ -96,9 +100,11 @@ class _Role:
     cg_solves: int = 0
     direct_solves: int = 0
 
-    def average(self, name: str, seconds: float, count: int) -> None:
-        old = getattr(self, name)
-        setattr(self, name, seconds if old is None else old + (seconds - old) / count)
+    def average(self, name: str, seconds: float, columns: int, count: int) -> None:
+        """The mean time of a column of ``name``, with ``columns`` more solved in ``seconds``
+        (``count`` columns in all)."""
+        old, each = getattr(self, name), seconds / columns
+        setattr(self, name, each if old is None else old + (each - old) * columns / count)
 
 
 @dataclass
@@ -108,6 +114,7 @@ class SolverChoice:
     name: str
     plan: RunPlan
     backend: str  # the direct path of symmetric systems: "cholesky" or "superlu"
+    cg: bool = True  # whether CG is a path ("auto" without pyamg: the direct path alone)
     steps_done: int = 0
     decisions: list = field(default_factory=list)
     factorizations: dict = field(default_factory=dict)
@@ -126,34 +133,49 @@ class SolverChoice:
         entry["seconds"] += seconds
         self.factor_memory_mb = max(self.factor_memory_mb, memory_mb)
 
-    def auto(self, A, direct, iterative):
+    def auto(self, A, direct, iterative, once: bool = False):
         """``solve(b)`` for the symmetric sparse A, by ``direct()`` or ``iterative()`` (each
-        returns a solve) as the costs measured so far choose."""
+        returns a solve) as the costs measured so far choose; ``once``: A serves one step (a
+        step size of a split step), whose solves alone it is weighed over."""
         role = self.role(A)
         role.requests += 1
-        return _AutoSolve(self, role, A, direct, iterative)
+        return _AutoSolve(self, role, A, (direct, iterative), once)
 
     def role(self, A) -> _Role:
-        """The measured costs of the matrices with the sparsity pattern of A (one per role)."""
-        key = (A.shape[0], A.nnz, A.indices.__array_interface__["data"][0])
-        if key not in self._roles:
-            self._roles[key] = _Role(A.shape[0], _product_time(A))
-        return self._roles[key]
+        """The measured costs of the matrices with the sparsity pattern of A (one per role),
+        whether they share its index arrays or have equal ones (the iteration matrix of every
+        step size is a sum of its own)."""
+        same = self._roles.setdefault((A.format, A.shape[0], A.nnz), [])
+        for indptr, indices, role in same:
+            if _equal(A.indptr, indptr) and _equal(A.indices, indices):
+                return role
+        role = _Role(A.shape[0], _product_time(A), self.steps_done)
+        same.append((A.indptr, A.indices, role))
+        return role
 
-    def costs(self, role: _Role, factorized: bool) -> tuple[float, float, str]:
-        """(direct, CG) seconds expected for the rest of the run, and how they were had."""
-        left = max(self.plan.steps - self.steps_done, 1)
-        done = self.steps_done
-        per_step = role.solves / done if done else SOLVES_GUESS
+    def costs(
+        self, role: _Role, factorized: bool, columns: int = 0, once: bool = False
+    ) -> tuple[float, float, str]:
+        """(direct, CG) seconds expected for the rest of the run (of this step, ``once``),
+        ``columns`` in hand besides the solves (columns) a step to come, and how they were
+        had."""
+        left = 1 if once else max(self.plan.steps - self.steps_done, 1)
+        # rates over the steps since the role's first matrix, and first solve: a pattern may
+        # come late (the iteration matrix of a new step size, or first solved at a closing)
+        solving = self.steps_done - (self.steps_done if role.solving is None else role.solving)
+        per_step = role.solves / solving if solving else SOLVES_GUESS
         t_f, t_s, source = self._direct_times(role)
         if self.plan.linear:
             factorizations = 0.0 if factorized else 1.0
         else:
-            factorizations = left * (role.requests / done if done else NEWTON_GUESS)
-        direct = factorizations * t_f + left * per_step * t_s
-        cg = left * per_step * role.t_cg
+            met = self.steps_done - role.met
+            factorizations = left * (role.requests / met if met else NEWTON_GUESS)
+        solves = columns + left * per_step
+        direct = factorizations * t_f + solves * t_s
+        cg = solves * role.t_cg
+        now = f"{columns} columns now + " if columns else ""
         how = (
-            f"{left} steps left x {per_step:.3g} solves, {factorizations:.3g} factorizations: "
+            f"{now}{left} steps left x {per_step:.3g} solves, {factorizations:.3g} factorizations: "
             f"factorization {t_f:.3g} s + solve {t_s:.3g} s ({source}) against CG {role.t_cg:.3g}"
             f" s ({'measured' if role.cg_solves else 'estimated'})"
         )
@@ -192,7 +214,8 @@ class SolverChoice:
                     "cg_solves": r.cg_solves,
                     "direct_solves": r.direct_solves,
                 }
-                for r in self._roles.values()
+                for same in self._roles.values()
+                for _, _, r in same
             ]
             out |= {"roles": roles, "decisions": self.decisions}
         out["reason"] = self._reason()
@@ -201,10 +224,22 @@ class SolverChoice:
     def _reason(self) -> str:
         if self.name != "auto":
             return f'the sparse solver "{self.name}" (use_sparse_solver): no choice to make'
+        if not self.cg:
+            return (
+                'the direct path: "auto" without the pyamg package has no CG path to weigh '
+                '(pip install "fecontact[amg]")'
+            )
         if not self.decisions:
             return "no symmetric sparse system was solved"
         last = self.decisions[-1]
         return f"{last['path']} for the last choice (n = {last['n']}): {last['reason']}"
+
+
+def _equal(a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether the index arrays a and b are equal: the same array, or equal entries."""
+    if a.__array_interface__["data"][0] == b.__array_interface__["data"][0]:
+        return a.shape == b.shape
+    return np.array_equal(a, b)
 
 
 def _product_time(A) -> float:
@@ -222,9 +257,9 @@ def _product_time(A) -> float:
 class _AutoSolve:
     """``solve(b)`` of one matrix of a role, by the path its role's costs choose."""
 
-    def __init__(self, choice: SolverChoice, role: _Role, A, direct, iterative):
-        self.choice, self.role, self.A = choice, role, A
-        self.direct_factorize, self.iterative = direct, iterative
+    def __init__(self, choice: SolverChoice, role: _Role, A, paths, once: bool):
+        self.choice, self.role, self.A, self.once = choice, role, A, once
+        self.direct_factorize, self.iterative = paths
         self.solve, self.path, self.step = None, None, -1
         self.reweighed = False  # chosen again once the role's first CG solve was timed
 
@@ -234,32 +269,36 @@ class _AutoSolve:
             if x is not None:
                 return x
         # on the CG path: choose at the first solve, right after the role's first CG solve
-        # (its cost now measured), then at most once a step
-        probed = self.role.cg_solves == 1 and not self.reweighed
-        if self.path != "direct" and (self.step != self.choice.steps_done or probed):
+        # (its cost now measured), at a block of columns (CG pays for each column what a
+        # solve costs, a factor little), else at most once a step
+        columns = np.shape(b)[1] if len(np.shape(b)) > 1 else 1
+        probed = self.role.cg_solves > 0 and not self.reweighed
+        again = self.step != self.choice.steps_done or probed or columns > 1
+        if self.path != "direct" and again:
             self.step, self.reweighed = self.choice.steps_done, self.reweighed or probed
-            self._choose()
+            self._choose(columns)
         role = self.role
-        role.solves += 1
+        role.solving = self.choice.steps_done if role.solving is None else role.solving
+        role.solves += columns
         start = time.perf_counter()
         x = self.solve(b)
         seconds = time.perf_counter() - start
         if self.path == "direct":
-            role.direct_solves += 1
-            role.average("t_s", seconds, role.direct_solves)
+            role.direct_solves += columns
+            role.average("t_s", seconds, columns, role.direct_solves)
         else:
-            role.cg_solves += 1
-            role.average("t_cg", seconds, role.cg_solves)
+            role.cg_solves += columns
+            role.average("t_cg", seconds, columns, role.cg_solves)
         return x
 
     def _probe(self, b):
         """The first solve of a role: CG with the diagonal, stopped once it has cost what a
         solve may cost for CG to tie with the direct path (at most ``DIAGONAL_ITERATIONS``).
-        Its answer if it converged (CG's cost then measured); else None, and AMG-CG's cost
-        estimated (``AMG_MODEL``)."""
+        Its answer if it converged (CG's cost then measured; the CG path if within the time
+        too); else None, and AMG-CG's cost estimated (``AMG_MODEL``)."""
         role, choice = self.role, self.choice
         role.t_cg = 1.0  # a unit: the CG cost below is then the number of solves left
-        direct, solves, how = choice.costs(role, factorized=False)
+        direct, solves, how = choice.costs(role, False, once=self.once)
         role.t_cg = AMG_MODEL[0] * (role.n / 1e4) ** AMG_MODEL[1] * role.product
         tie = direct / solves  # s a CG solve may cost
         iterations = int(min(tie / (PRODUCTS_PER_ITERATION * role.product), DIAGONAL_ITERATIONS))
@@ -269,15 +308,21 @@ class _AutoSolve:
         if x is None:
             return None
         role.t_cg, role.cg_solves, role.solves = seconds, 1, 1
+        role.solving = choice.steps_done
+        if seconds > tie:  # within the iterations, not the time (a small system's overheads)
+            return x  # (weighed at the next solve, CG's cost measured)
         self.path, self.solve, self.step = "cg", self.iterative(), choice.steps_done
         reason = f"CG with the diagonal solved in {seconds:.3g} s, below the tie {tie:.3g} s"
         choice.decide(role, "cg", f"{reason} of the direct path ({how})")
         return x
 
-    def _choose(self) -> None:
+    def _choose(self, columns: int) -> None:
+        """The path of this matrix for the rest of the run, ``columns`` to solve now."""
         role, choice = self.role, self.choice
         factorized = role.t_f is not None and choice.plan.linear
-        direct, cg, how = choice.costs(role, factorized and self.path == "direct")
+        direct, cg, how = choice.costs(
+            role, factorized and self.path == "direct", columns, self.once
+        )
         path = "direct" if direct <= cg else "cg"
         reason = f"expected direct {direct:.3g} s, CG {cg:.3g} s: {how}"
         choice.decide(role, path, reason)

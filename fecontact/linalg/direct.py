@@ -42,7 +42,7 @@ indefinite tangents of buckling ones."""
 _getrf, _getrs = sla.get_lapack_funcs(("getrf", "getrs"), (np.zeros(1),))
 
 
-def factorize(A, symmetric: bool = False, solver: LinearSolver | None = None):
+def factorize(A, symmetric: bool = False, solver: LinearSolver | None = None, once: bool = False):
     """Return ``solve(b)`` applying A⁻¹ to a vector or to the columns of a matrix.
 
     ``solver``: the run's :class:`LinearSolver` (the sparse solver, AMG's near-null space and
@@ -53,14 +53,15 @@ def factorize(A, symmetric: bool = False, solver: LinearSolver | None = None):
     Cholesky factorization when it is installed (:mod:`.cholesky`; SuperLU's symmetric mode
     otherwise, and for an A that is not positive definite), or to AMG-preconditioned CG with
     the sparse solver ``"amg"``, or to either with ``"auto"`` as the run's measured costs choose
-    (:mod:`.choice`; a solver without a run's plan takes the direct path). Raises
+    (:mod:`.choice`; a solver without a run's plan takes the direct path; ``once``: A serves
+    one step, a size of a split step, and is weighed over it). Raises
     ``np.linalg.LinAlgError`` if A is singular: here for a factorization, from ``solve`` for
     CG (when its fallback factorization fails).
     """
     if sp.issparse(A):
         solver = LinearSolver() if solver is None else solver
         name, choice = solver.name, solver.choice
-        if symmetric and name in ("amg", "auto"):
+        if symmetric and solver.cg:
 
             def direct():
                 return _symmetric_direct(A, solver)
@@ -68,7 +69,7 @@ def factorize(A, symmetric: bool = False, solver: LinearSolver | None = None):
             if name == "amg":
                 return amg_factorize(A, direct, solver)
             if choice is not None:  # without a run's plan there are no costs to weigh: direct
-                return choice.auto(A, direct, lambda: amg_factorize(A, direct, solver))
+                return choice.auto(A, direct, lambda: amg_factorize(A, direct, solver), once)
         if symmetric and name != "superlu":
             return _symmetric_direct(A, solver)
         if name == "pardiso":

@@ -91,7 +91,8 @@ rung, and ``two_balls`` at 10 m/s held 525 factors of its 2,706 dofs, 3.6 GB."""
 def iteration_solver(model, a: float, S, K):
     """The factors of a linear ``model``'s iteration matrix ``S`` = S(a) with its constant
     stiffness ``K``, kept by the model's ``ladder`` where one applies (:func:`_ladder`)."""
-    solve = factorize(S, symmetric=True, solver=model.solver)
+    # (a size met while passing serves one step: "auto" weighs it over that step)
+    solve = factorize(S, symmetric=True, solver=model.solver, once=model.passing)
     ladder = _ladder(model, K)
     if ladder is not None:
         ladder.keep(a, solve)
@@ -127,7 +128,7 @@ def _ladder(model, K=None) -> Ladder | None:
     assembled), or None where none applies: damped (S depends on more than a), dense (a
     dense factorization costs less than any of its solves), or an iterative solver (PCG
     takes exact factors)."""
-    if model.dense or any(model.damping) or model.solver.name in ("amg", "auto"):
+    if model.dense or any(model.damping) or model.solver.cg:
         return None
     if model.ladder is None:
         K = model.internal(np.zeros(model.n))[2] if K is None else K

@@ -12,7 +12,7 @@ import numpy as np
 
 from .choice import RunPlan, SolverChoice
 from .cholesky import cholesky_available
-from .sparse_solvers import check_sparse_solver, sparse_solver
+from .sparse_solvers import amg_available, check_sparse_solver, sparse_solver
 
 __all__ = ["Factorizations", "IterativeStats", "LinearSolver"]
 
@@ -47,7 +47,9 @@ class LinearSolver:
     constant). ``factorizations`` and ``iterative`` receive the counts of the work. ``plan``:
     what the run will ask of the solver (:class:`RunPlan`), which ``choice`` (a
     :class:`SolverChoice`, None without a plan) weighs for ``"auto"`` and where it records
-    the factorizations by backend and their memory; without a plan ``"auto"`` factorizes."""
+    the factorizations by backend and their memory; without a plan ``"auto"`` factorizes.
+    ``cg``: whether CG may solve the symmetric systems (``"amg"``, and ``"auto"`` with pyamg
+    installed: without it the direct path is its only one, the ladder's included)."""
 
     def __init__(
         self,
@@ -62,10 +64,11 @@ class LinearSolver:
         self.factorizations = Factorizations() if factorizations is None else factorizations
         self.iterative = IterativeStats() if iterative is None else iterative
         self.patterns: list = []  # AMG: the sparsity patterns met, most recently used last
+        self.cg = self.name == "amg" or (self.name == "auto" and amg_available())
         self.choice = None
         if plan is not None:
             direct = "superlu" if self.name == "superlu" or not cholesky_available() else None
-            self.choice = SolverChoice(self.name, plan, direct or "cholesky")
+            self.choice = SolverChoice(self.name, plan, direct or "cholesky", cg=self.cg)
 
     def count_factorization(self, backend: str, seconds: float, memory_mb: float = 0.0):
         """Count a sparse factorization by ``backend`` that took ``seconds`` and whose factor

@@ -13,7 +13,8 @@ measured costs say is cheaper (:mod:`fecontact.linalg.choice`).
 
 Select the process default with :func:`use_sparse_solver` or the environment variable
 ``FECONTACT_SPARSE_SOLVER`` (read at import); a run reads it once, when it starts, into its
-own :class:`fecontact.linalg.LinearSolver`.
+own :class:`fecontact.linalg.LinearSolver`. ``"amg"`` needs the optional ``pyamg`` package;
+``"auto"`` without it has one path to choose, the direct one, and says so in the run's record.
 """
 
 from __future__ import annotations
@@ -25,7 +26,13 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["SPARSE_SOLVERS", "check_sparse_solver", "sparse_solver", "use_sparse_solver"]
+__all__ = [
+    "SPARSE_SOLVERS",
+    "amg_available",
+    "check_sparse_solver",
+    "sparse_solver",
+    "use_sparse_solver",
+]
 
 SPARSE_SOLVERS = ("direct", "superlu", "pardiso", "amg", "auto")
 _default = {"name": "direct"}  # the process default: runs read it when they start
@@ -39,7 +46,8 @@ def use_sparse_solver(name: str) -> None:
 
 def check_sparse_solver(name: str) -> str:
     """``name`` if it is one of ``SPARSE_SOLVERS`` and its package is installed, else an
-    ``InputError`` that says how to install it."""
+    ``InputError`` that says how to install it (``"auto"`` takes the direct path without
+    pyamg: :func:`amg_available`)."""
     if not isinstance(name, str) or name not in SPARSE_SOLVERS:
         known = ", ".join(SPARSE_SOLVERS)
         raise InputError(f"sparse solver must be one of {known}, got {name!r}")
@@ -51,14 +59,21 @@ def check_sparse_solver(name: str) -> str:
                 'sparse solver "pardiso" needs the pypardiso package: '
                 'pip install "fecontact[pardiso]"'
             ) from None
-    if name in ("amg", "auto"):
-        try:
-            import pyamg  # noqa: F401
-        except ImportError:
-            raise InputError(
-                f'sparse solver "{name}" needs the pyamg package: pip install "fecontact[amg]"'
-            ) from None
+    if name == "amg" and not amg_available():
+        raise InputError(
+            'sparse solver "amg" needs the pyamg package: pip install "fecontact[amg]"'
+        )
     return name
+
+
+def amg_available() -> bool:
+    """Whether the ``pyamg`` package, AMG-CG's preconditioner, is installed (asked at every
+    call: an installed one is imported once)."""
+    try:
+        import pyamg  # noqa: F401
+    except ImportError:
+        return False
+    return True
 
 
 def sparse_solver() -> str:

@@ -375,12 +375,15 @@ class PhaseTimer(dict):
         return now
 
 
-def initial_state(model, q0=None, v0=None, tol_gap: float | None = None) -> State:
+def initial_state(
+    model, q0=None, v0=None, tol_gap: float | None = None, accelerate: bool = True
+) -> State:
     """State at t = 0 from q₀, v₀ (default: rest in the reference configuration), with the
     consistent acceleration M v̇₀ = f_ext − f_int(q₀) − C v₀ − f_inertial(q₀, v₀) (damping and
     gyroscopic forces where the model has them). Fixed dofs are kept at zero. A contact may
     start closed within ``tol_gap`` (relative, default the options' default) of the model
-    size, the run's own tolerance on gaps."""
+    size, the run's own tolerance on gaps. ``accelerate`` false: the input checked, v̇₀ left
+    zero (no solve with M: a run solves it with its own solver, which counts the work)."""
     n = model.n
     q = np.zeros(n) if q0 is None else check_vector("q0", q0, n).copy()
     v = np.zeros(n) if v0 is None else check_vector("v0", v0, n).copy()
@@ -405,25 +408,7 @@ def initial_state(model, q0=None, v0=None, tol_gap: float | None = None) -> Stat
             "by it",
             stacklevel=2,
         )
-    alpha, beta_k = model.damping
-    _, fint, K = model.internal(q, tangent=bool(alpha or beta_k))
-    F = model.free
-    f = model.external(0.0)[F] - fint[F]
-    if alpha or beta_k:
-        f -= (alpha * model.M + beta_k * K) @ v[F]
-    if model.inertial_bodies:  # the gyroscopic forces of rotating bodies
-        f -= inertial_forces(model, q, v, tangent=False)[0]
-    vd = np.zeros(n)
-    joints = model.joints
-    if joints.size:
-        gb, Gb = joints.jacobian(q, joints.all)
-        if np.max(np.abs(gb)) > tol or np.max(np.abs(Gb @ v[F])) > tol:
-            raise InputError("initial configuration: a joint is violated by q0 or v0")
-        # consistent acceleration: G_b v̇ = −vᵀ ∇²g_b v
-        x = factorize(bordered(model.M, Gb), solver=model.solver)(np.r_[f, -joints.quadratic(q, v)])
-        vd[F] = x[: len(F)]
-    else:
-        vd[F] = model.solve_M(f)
+    vd = _acceleration(model, q, v, tol, accelerate)
     m = model.contacts.size
     return State(
         0.0,
@@ -436,6 +421,31 @@ def initial_state(model, q0=None, v0=None, tol_gap: float | None = None) -> Stat
         impulse=np.zeros(m),
         lam=np.zeros(model.joints.size),
     )
+
+
+def _acceleration(model, q, v, tol: float, accelerate: bool) -> np.ndarray:
+    """v̇₀ of :func:`initial_state` (zero unless ``accelerate``), once the joints are checked
+    to hold within ``tol``."""
+    alpha, beta_k = model.damping
+    _, fint, K = model.internal(q, tangent=bool(alpha or beta_k))
+    F = model.free
+    f = model.external(0.0)[F] - fint[F]
+    if alpha or beta_k:
+        f -= (alpha * model.M + beta_k * K) @ v[F]
+    if model.inertial_bodies:  # the gyroscopic forces of rotating bodies
+        f -= inertial_forces(model, q, v, tangent=False)[0]
+    vd = np.zeros(model.n)
+    joints = model.joints
+    if joints.size:
+        gb, Gb = joints.jacobian(q, joints.all)
+        if np.max(np.abs(gb)) > tol or np.max(np.abs(Gb @ v[F])) > tol:
+            raise InputError("initial configuration: a joint is violated by q0 or v0")
+        if accelerate:  # consistent acceleration: G_b v̇ = −vᵀ ∇²g_b v
+            x = factorize(bordered(model.M, Gb), solver=model.solver)
+            vd[F] = x(np.r_[f, -joints.quadratic(q, v)])[: len(F)]
+    elif accelerate:
+        vd[F] = model.solve_M(f)
+    return vd
 
 
 def length_scale(model, q) -> float:
