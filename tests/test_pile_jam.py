@@ -12,7 +12,7 @@ import itertools
 import numpy as np
 import pytest
 
-from fecontact import Model, Simulation, run
+from fecontact import Model, Pin, Simulation, run
 from fecontact.bodies import Disk, RigidBody2D
 from fecontact.contact import Contact, Plane
 from fecontact.contact.contact_loops import loops_of_contacts
@@ -60,6 +60,18 @@ def test_loops_of_rigid_bodies_and_their_pairs():
     assert loops_of_contacts(Model([pinned], [stop], (0.0, -9.81)))
     assert not loops_of_contacts(
         Model([pinned], [Contact(pinned, Plane([0, -R], [0, 1]))], (0.0, -9.81))
+    )
+    # joints tie the bodies they join: two disks pinned together, each on the floor, close
+    # ground, disk, pin, disk; a disk pinned to the ground and on the floor closes a loop too
+    pair = [RigidBody2D.uniform(1.0, (x, R), Disk(R)) for x in (0.0, 2 * R)]
+    floor = Plane([0, 0], [0, 1])
+    on_floor = [Contact(d, floor) for d in pair]
+    assert not loops_of_contacts(Model(pair, on_floor, (0.0, -9.81)))
+    assert loops_of_contacts(
+        Model(pair, on_floor, (0.0, -9.81), joints=[Pin(pair[0], (R, R), pair[1])])
+    )
+    assert loops_of_contacts(
+        Model(pair[:1], on_floor[:1], (0.0, -9.81), joints=[Pin(pair[0], (0, R))])
     )
 
 

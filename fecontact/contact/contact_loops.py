@@ -19,7 +19,13 @@ So rows can be redundant only where
 
 Deformable bodies are no vertices: their contacts hold nodes, each a dof of its own, and
 close no loop of rigid motions (pairs whose rows meet on one node declare it themselves).
-Joints are not edges. The rule is a sufficient condition for independence, not a
+Joints between rigid bodies (or one and the ground) are edges too: they tie the motions of
+the bodies they join, so that two of their contacts can hold one motion twice. A chain of
+bars pinned end to end on a floor closes a loop ground–bar–pin–bar–ground, and where the
+pin strikes, the two bars' vertices at it give two rows of one normal rate. The joints
+among themselves are independent (:class:`fecontact.model.Model` checks it): a loop of
+joints alone is no redundancy of contact rows, and only a pair that closes a loop counts.
+The rule is a sufficient condition for independence, not a
 measure: a loop that never closes at once (a disk that cannot touch both walls of a wide
 box) is counted all the same; it costs those runs the minimum-norm path.
 """
@@ -41,6 +47,10 @@ def loops_of_contacts(model) -> bool:
     counts = {id(b): int(np.count_nonzero(free[model.body_slice(i)])) for i, b in
               enumerate(model.bodies) if isinstance(b, RigidDefaults)}  # fmt: skip
     roots: dict[int, int] = {}  # union-find over the vertices; 0 is the ground
+    for joint in model.joints.pairs:
+        ends = _free_ends(joint, counts, (joint.body, joint.other))
+        if ends:
+            _joined(roots, ends[0], ends[1] if len(ends) > 1 else 0)
     for pair in model.contacts.pairs:
         ends = _free_ends(pair, counts)
         if ends is None or not ends:  # (moves a deformable body, or nothing)
@@ -53,10 +63,11 @@ def loops_of_contacts(model) -> bool:
     return False
 
 
-def _free_ends(pair, counts: dict):
-    """The rigid bodies with free dofs that ``pair`` moves (their ids), or None where it
-    moves a deformable body: its nodes take rows of their own and close no loop."""
-    moved = pair.bodies or (pair.body,)
+def _free_ends(pair, counts: dict, moved=None):
+    """The rigid bodies with free dofs that ``pair`` moves (their ids; ``moved``: a joint's
+    two sides, None the ground), or None where it moves a deformable body: its nodes take
+    rows of their own and close no loop."""
+    moved = [b for b in (moved or pair.bodies or (pair.body,)) if b is not None]
     if any(id(b) not in counts for b in moved):
         return None
     return [id(b) for b in moved if counts[id(b)] > 0]

@@ -49,7 +49,7 @@ def solve_decompression(c, D, mu, nt: int, floor, tol: float, max_sweeps: int = 
         for j, rows in enumerate(blocks):
             Djj = Dc[rows, rows]
             local = cc[rows] + Dc[rows] @ x - Djj @ x[rows]
-            xj, status[j] = _local(local, Djj, mu[j], floor[j], tol)
+            xj, status[j] = _local(local, Djj, mu[j], floor[j], tol, x[rows])
             change = max(change, float(np.max(np.abs(Djj @ (xj - x[rows])), initial=0.0)))
             x[rows] = xj
         if change <= tol or m == 1:
@@ -159,8 +159,9 @@ def _slip_then_stick(P_N, P_T, s0, s1, mu, Dh, tol):
     return 0.5 * mu * P1 * abs(s0)
 
 
-def _local(c, D, mu, floor, tol):
-    """One contact: x with x_N ≥ floor ⊥ w_N ≥ 0 and Coulomb's cone, w = c + D x."""
+def _local(c, D, mu, floor, tol, x0=None):
+    """One contact: x with x_N ≥ floor ⊥ w_N ≥ 0 and Coulomb's cone, w = c + D x (``x0``:
+    the sweep's last impulses of the contact, where the 3D projection starts)."""
     nt = len(c) - 1
     if nt == 0 or mu == 0.0:
         x = np.zeros(len(c))
@@ -172,7 +173,7 @@ def _local(c, D, mu, floor, tol):
             if _admissible(x, w, mu, floor, pressed, tol):
                 return x, _status(x, w, mu, tol)
         raise RuntimeError("decompression: no case of the 2D contact law holds")
-    x = _projected(c, D, mu, floor, tol)
+    x = _projected(c, D, mu, floor, tol, x0)
     return x, _status(x, c + D @ x, mu, tol)
 
 
@@ -217,12 +218,20 @@ def _admissible(x, w, mu, floor, pressed, tol) -> bool:
     return wt * xt <= tol * abs(xt)
 
 
-def _projected(c, D, mu, floor, tol, max_iter=100000):
+def _projected(c, D, mu, floor, tol, x0=None, max_iter=100000):
     """3D contact: the fixed point x = Π(x − ρ w) of the projection on {x_N ≥ floor,
-    |x_T| ≤ μ x_N}, ρ = 1/λ_max(D), which is the law (Alart–Curnier with p/k = ρ)."""
+    |x_T| ≤ μ x_N}, ρ = 1/λ_max(D), which is the law (Alart–Curnier with p/k = ρ), from the
+    contact's last impulses ``x0`` where a sweep has them. Started from (floor, 0) at every
+    sweep, each solve stopped at its own distance from the fixed point, a few tenths of the
+    tolerance, and a Gauss–Seidel sweep over coupled contacts never changed w by less: a
+    box landing flat with friction under Poisson's law (four corners, 12 rows on 6 dofs)
+    changed it by 3.4e-10 m/s against 3.1e-10 at every one of its 2000 sweeps (50 s a
+    solve, then a failed step)."""
     rho = 1.0 / np.linalg.eigvalsh(0.5 * (D + D.T))[-1]
     x = np.zeros(len(c))
     x[0] = floor
+    if x0 is not None and x0[0] >= floor:
+        x = np.array(x0, dtype=float)  # (inside the set: the last sweep's projection)
     for _ in range(max_iter):
         y = x - rho * (c + D @ x)
         y[0] = max(y[0], floor)
