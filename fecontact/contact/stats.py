@@ -32,9 +32,6 @@ class CoulombStats:
     # solves where that choice did not settle (the solution kept is the law's, not the least)
     least_norm_moves: int = 0
     least_norm_unsettled: int = 0
-    # least-norm searches ended where a move came back no lower than its start, which is
-    # kept (a contact at its cone's edge with no slip curves the family there)
-    least_norm_rises: int = 0
     # open contacts whose normal rate was nearly grazing (on the scale of the jump) and the
     # law was solved again with each held closed; tries dropped (a search that failed, or a
     # search from zero that reached another closed solution); solves whose closed solution
