@@ -181,9 +181,9 @@ def one_open(c, D, p, k, mu, nt, x0, tol, max_iter, stats):
 EDGE = 1e-9
 """How near the edge of its cone a sticking contact's multipliers lie, |x_T| ≥ (1 − EDGE)
 μ x_N, for :func:`least_norm` to read the family's directions on its slip branch: a contact
-Newton brought to the edge sits there within its tolerance (measured within 9.3e-12 of
-μ x_N on a box held on an incline), and one that sticks inside it lies further in (0.15 on
-that box)."""
+that Newton brought to the edge sits there to round-off (within 4.3e-16 of μ x_N on a box
+held on an incline), one that sticks inside it lies further in (0.15 on that box), and the
+margin between them is a multiplier's, whatever p."""
 
 
 def least_norm(c, D, p, k, mu, nt, x, tol, stats, rcond=1e-10, cycles=8, closing=None):
