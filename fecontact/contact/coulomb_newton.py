@@ -13,6 +13,7 @@ from ..linalg.svd import lstsq
 __all__ = [
     "NotConverged",
     "coulomb_projection",
+    "edge_on_slip",
     "newton",
     "newton_jacobian",
     "newton_residual",
@@ -112,11 +113,13 @@ def _round_off_move(x, start) -> bool:
     return bool(np.max(np.abs(x - start), initial=0.0) <= 4.0 * np.finfo(float).eps * scale)
 
 
-def newton_residual(x, c, kD, p, k, mu, nc, closing=None, jacobian=True):
+def newton_residual(x, c, kD, p, k, mu, nc, closing=None, jacobian=True, edge=0.0):
     """R/p of :func:`newton` at x (w where Π is the identity), the parts of its Jacobian
     (∂Π, the rows evaluated as w) and the contacts' status. ``closing`` (m,) bool: contacts
     whose Jacobian and status are taken on their closed branch, σ_N at 0⁺ where it is ≤ 0
-    (:func:`fecontact.contact.friction_redundant.least_norm`). ``jacobian`` False: ∂Π is
+    (:func:`fecontact.contact.friction_redundant.least_norm`). ``edge`` > 0: sticking
+    contacts whose multipliers lie at the edge of their cone, |x_T| ≥ (1 − ``edge``) μ x_N,
+    are taken on their slip branch (:func:`edge_on_slip`). ``jacobian`` False: ∂Π is
     None (the rows evaluated as w are read from the status alone: closed normals, sticking
     tangents and the equality rows, where ∂Π has its unit diagonal)."""
     m, N = len(mu), len(c)
@@ -126,12 +129,29 @@ def newton_residual(x, c, kD, p, k, mu, nc, closing=None, jacobian=True):
     if closing is not None:
         sigma_n = sigma[:nc:b]
         sigma_n[closing & (sigma_n <= 0.0)] = np.finfo(float).tiny
+    if edge > 0.0 and m:
+        edge_on_slip(sigma[:nc].reshape(m, b), x[:nc].reshape(m, b), mu, edge)
     Pi, dPi, status = coulomb_projection(sigma[:nc].reshape(m, b), mu, jacobian)
     ident = np.ones(N, bool)
     normal = np.arange(nc) % b == 0
     ident[:nc] = np.where(normal, np.repeat(status > 0, b), np.repeat(status == 1, b))
     R = np.where(ident, w, (k * x - np.concatenate([Pi.ravel(), sigma[nc:]])) / p)
     return R, (None if dPi is None else _block_diagonal(dPi, N), ident), status
+
+
+def edge_on_slip(sigma, x, mu, band):
+    """Move σ_T (m, b, in place) of the contacts that stick with their multipliers x at the
+    edge of the cone, |x_T| ≥ (1 − ``band``) μ x_N, just outside it: their slip branch.
+    There stick and slip are both the law's answer and round-off picks the status; the
+    stick branch's Jacobian lets x_T grow past the cone, the slip branch's holds it on the
+    edge (:func:`fecontact.contact.friction_redundant.least_norm`)."""
+    r = mu * sigma[:, 0]
+    norm = np.linalg.norm(sigma[:, 1:], axis=1)
+    cone = mu * x[:, 0]
+    held = (r > 0.0) & (norm > 0.0) & (norm <= r) & (cone > 0.0)
+    held &= np.linalg.norm(x[:, 1:], axis=1) >= (1.0 - band) * cone
+    ratio = np.divide(r, norm, out=np.zeros_like(r), where=held)
+    sigma[held, 1:] *= (ratio[held] * (1.0 + 4.0 * np.finfo(float).eps))[:, None]
 
 
 def stopping_error(R, ident, weight) -> float:

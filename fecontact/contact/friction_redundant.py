@@ -178,6 +178,14 @@ def one_open(c, D, p, k, mu, nt, x0, tol, max_iter, stats):
     return best
 
 
+EDGE = 1e-9
+"""How near the edge of its cone a sticking contact's multipliers lie, |x_T| ≥ (1 − EDGE)
+μ x_N, for :func:`least_norm` to read the family's directions on its slip branch: a contact
+that Newton brought to the edge sits there to round-off (within 4.3e-16 of μ x_N on a box
+held on an incline), one that sticks inside it lies further in (0.15 on that box), and the
+margin between them is a multiplier's, whatever p."""
+
+
 def least_norm(c, D, p, k, mu, nt, x, tol, stats, rcond=1e-10, cycles=8, closing=None):
     """Of the solutions of the law around the solution x, the one of least norm |x|.
 
@@ -191,7 +199,12 @@ def least_norm(c, D, p, k, mu, nt, x, tol, stats, rcond=1e-10, cycles=8, closing
     the family's tangent plane) and Newton brings it back onto the law with minimum-norm
     steps, which stay orthogonal to Z. On a straight family (frictionless, sticking) one
     cycle reaches the least-norm solution; friction curves it, and the cycles repeat until
-    the move is below 1e-12 of |x|. The rule involves neither p nor k: with a frictionless
+    the move is below 1e-12 of |x|. A contact that sticks at the edge of its cone (``EDGE``)
+    is read on its slip branch for these directions: the least-norm member puts the less
+    loaded corners of a box held on an incline near its friction angle there, where their
+    status is round-off's, and the stick branch's directions, which let x_T grow past the
+    cone, sent the moves round other members until the cycles' limit
+    (docs/explanation/friction.md). The rule involves neither p nor k: with a frictionless
     law it is the limit of a uniform contact compliance going to zero. Where the cycles end
     unsettled (their limit reached, or a cycle's Newton failed) the least-norm of the
     solutions visited, x among them, is kept: the cycles can go round a loop of members
@@ -217,9 +230,11 @@ def least_norm(c, D, p, k, mu, nt, x, tol, stats, rcond=1e-10, cycles=8, closing
         R, (dPi, ident), status = newton_residual(x, c, kD, p, k, mu, nc, closing)
         visited.append((x, status))
         grazing = (status == 0) & (np.abs(c[: nc : 1 + nt] + kD[: nc : 1 + nt] @ x) <= tol)
+        held = closing
         if grazing.any():
             held = grazing if closing is None else grazing | closing
-            dPi, ident = newton_residual(x, c, kD, p, k, mu, nc, held)[1]
+        if grazing.any() or np.any(status == 1):
+            dPi, ident = newton_residual(x, c, kD, p, k, mu, nc, held, edge=EDGE)[1]
         _, s, Vt, fell_back = svd(newton_jacobian(kD, dsigma, dPi, ident, p, k))
         stats.svd_fallbacks += fell_back
         Z = Vt[s <= rcond * s[0]]
