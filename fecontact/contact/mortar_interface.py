@@ -34,6 +34,8 @@ __all__ = [
     "merge_interfaces",
     "node_normals",
     "segment_reach",
+    "sharp_nodes",
+    "slip_normals",
 ]
 
 _COVERED = 1e-9  # an element covered by less than this fraction counts as not covered
@@ -89,21 +91,66 @@ def segment_reach(share: np.ndarray, w0: np.ndarray, w1: np.ndarray) -> np.ndarr
     return np.stack([(1.0 + b) * (3.0 - b), (1.0 - a) * (3.0 + a)], axis=1) * 0.25
 
 
-def node_normals(x: np.ndarray, facets: np.ndarray, rows: np.ndarray, m: int) -> np.ndarray:
-    """Unit outward normals (m, d) of m nodes, the mean of the unit normals of the ``facets``
-    (at node positions x) around each; ``rows`` (n_f, k) the facets' ends' node numbers."""
-    f, dim = facets, x.shape[1]
-    if dim == 2:
+def facet_normals(x: np.ndarray, facets: np.ndarray) -> np.ndarray:
+    """Unit outward normals (n_f, d) of the ``facets`` (their corners first) at node positions x."""
+    f = facets
+    if x.shape[1] == 2:
         t = x[f[:, 1]] - x[f[:, 0]]
         nu = np.stack([t[:, 1], -t[:, 0]], axis=1)
     else:
         nu = np.cross(x[f[:, 1]] - x[f[:, 0]], x[f[:, 2]] - x[f[:, 0]])
-    nu /= np.linalg.norm(nu, axis=1)[:, None]
-    n = np.zeros((m, dim))
-    for k in range(f.shape[1]):
+    return nu / np.linalg.norm(nu, axis=1)[:, None]
+
+
+def node_normals(x: np.ndarray, facets: np.ndarray, rows: np.ndarray, m: int) -> np.ndarray:
+    """Unit outward normals (m, d) of m nodes, the mean of the unit normals of the ``facets``
+    (at node positions x) around each; ``rows`` (n_f, k) the facets' ends' node numbers."""
+    nu = facet_normals(x, facets)
+    n = np.zeros((m, x.shape[1]))
+    for k in range(facets.shape[1]):
         np.add.at(n, rows[:, k], nu)
     norm = np.linalg.norm(n, axis=1)
     return n / np.where(norm > 0.0, norm, 1.0)[:, None]
+
+
+SHARP = np.cos(np.radians(30.0))
+"""A node is on an edge or a corner (``sharp_nodes``) where a facet's normal turns from the
+node's mean normal by 30° or more: two faces meeting at 60° or more, the corner at which the
+2D pair splits its normal field (``mortar.MortarContact``)."""
+
+
+def sharp_nodes(x: np.ndarray, facets: np.ndarray, rows: np.ndarray, m: int) -> np.ndarray:
+    """Whether each of m nodes is on an edge or a corner of the boundary (``SHARP``)."""
+    nu, n = facet_normals(x, facets), node_normals(x, facets, rows, m)
+    sharp = np.zeros(m, bool)
+    for k in range(facets.shape[1]):
+        turned = np.einsum("fd,fd->f", nu, n[rows[:, k]]) <= SHARP
+        sharp[rows[turned, k]] = True
+    return sharp
+
+
+def slip_normals(pair, x, e, ends, weights) -> np.ndarray:
+    """The normals (m, d) whose tangent planes carry the slip rows of a mortar ``pair`` at its
+    slave's node positions x: the mean of each node's facets' unit normals, but on an edge or
+    a corner (``pair.sharp``) the facets' own normals weighted by the node's covered dual
+    weight ∫ Φ_j dA on each (−Σ of the master columns of the ``weights`` of the entries e,
+    whose ends' rows are ``ends``). There each facet's gap is measured along the facet's
+    normal, so the row's normal force on the slave is along that mean; a tangent from the
+    mean of all the node's facets (45° at a block's edge) had a normal part, and the
+    friction of a sliding block pressed it on (1.47 μ from the first step, 2.4 μ over 5 ms;
+    docs/explanation/mortar.md, *Friction at edges and corners*)."""
+    n = node_normals(x, pair.facets, pair.element_rows, pair.size)
+    sharp, n_master = pair.sharp, pair.master_facets.shape[1]
+    if not sharp.any():
+        return n
+    nf = facet_normals(x, pair.facets[e])
+    acc = np.zeros_like(n)
+    for end, w in zip(ends, weights, strict=True):
+        np.add.at(acc, end, -w[:, -n_master:].sum(axis=1)[:, None] * nf)
+    norm = np.linalg.norm(acc, axis=1)
+    use = sharp & (norm > 0.0)
+    n[use] = acc[use] / norm[use, None]
+    return n
 
 
 class _Layout:
@@ -173,6 +220,7 @@ class MortarInterface(PairDefaults):
         self.element_rows = rows.reshape(self.facets.shape)  # the rows of each element's ends
         share = self.shares_of(body.X, self.facets).ravel()
         self.length = np.bincount(self.element_rows.ravel(), share, len(self.nodes))
+        self.sharp = sharp_nodes(body.X, self.facets, self.element_rows, len(self.nodes))
         """Reference measure L_j (m in 2D, m² in 3D) each slave node carries: its rows are
         g̃_j / L_j."""
         self.area = self.length * (body.thickness if self.dim == 2 else 1.0)
@@ -357,11 +405,6 @@ class MortarInterface(PairDefaults):
             np.add.at(H, (where[rr[sel]][:, None, None], c[:, :, None], c[:, None, :]), values)
         return H
 
-    def normals(self, q: np.ndarray) -> np.ndarray:
-        """Averaged unit outward normals (m, d) of the slave nodes at q (the mean of the
-        adjacent elements' unit normals)."""
-        return node_normals(self.positions(q)[0], self.facets, self.element_rows, self.size)
-
     def tangents(self, q: np.ndarray):
         """Slip rows (m, nt, k) of the weighted relative motion of each slave node,
         T_j·∫ Φ_j (ẋ − ẏ) dA / L_j with the projections frozen, in the layout of
@@ -369,11 +412,10 @@ class MortarInterface(PairDefaults):
         self.evaluate(q)
         r = self._last[1]
         e, scale = r["e"], r["scale"]
-        T = tangent_basis(self.normals(q))
         ends = [self.element_rows[e, k] for k in range(self.facets.shape[1])]
-        values = []
-        for k, end in enumerate(ends):
-            w = self._slip_weights(r["quad"], k) * scale[end, None]  # (P, local nodes)
+        ws = [self._slip_weights(r["quad"], k) * scale[end, None] for k, end in enumerate(ends)]
+        T, values = tangent_basis(slip_normals(self, self.positions(q)[0], e, ends, ws)), []
+        for w, end in zip(ws, ends, strict=True):  # w (P, local nodes)
             # nodes that only bound the covered part (2D) carry no slip weight
             w = np.pad(w, ((0, 0), (0, r["layout"].cols.shape[2] // self.dim - w.shape[1])))
             v = w[:, None, :, None] * T[end][:, :, None, :]  # (P, nt, nodes, d)
