@@ -115,7 +115,7 @@ def test_tube_rows_are_the_derivatives_of_the_gaps(name):
         assert np.array_equal(dp, dofs) and np.array_equal(dm, dofs)
         col = np.where(dofs == j, 1.0, 0.0)
         np.testing.assert_allclose(
-            ((gp - gm) / 2e-6)[held], np.sum(G * col, axis=1)[held], atol=1e-8
+            (gp[held] - gm[held]) / 2e-6, np.sum(G * col, axis=1)[held], atol=1e-8
         )
         dF = np.einsum("m,mk->mk", lam, Gp - Gm) / 2e-6
         assert np.allclose(dF, np.einsum("m,mkl,ml->mk", lam, H, col), atol=1e-5)
@@ -416,26 +416,26 @@ def test_the_rod_across_the_sphere_is_independent_of_p_and_k():
     np.testing.assert_allclose(ends[0], ends[1], atol=1e-9)
 
 
-def test_a_rod_sliding_across_a_held_rod_stops_at_the_coulomb_distance():
-    """A one-element rod lying across a held one (tubes touching) slides along the held rod's
-    axis at 0.5 m/s, μ = 0.3: it slows at μg and stops after v₀²/(2μg) = 4.247 cm, at
-    v₀/(μg). The velocity is exact at every step (measured 2.7e-15 m/s; the generalized-α
-    step is exact for a constant force); the stop falls inside a step, which moves the
-    distance by O(μg h²) (measured 1.6e-8 m at h = 1 ms)."""
-    mu, v0, h = 0.3, 0.5, 1e-3
+def test_a_rod_pushed_across_a_held_rod_rolls_at_two_thirds():
+    """A one-element rod lying across a held one (tubes touching) pushed along the held rod's
+    axis at v₀ = 0.5 m/s, μ = 0.3: the friction at its tube's touching point, −r e from the
+    centreline, spins its sections up, and it rolls from t* = v₀/(3μg) at 2v₀/3 (a cylinder,
+    I = mr²/2). Exact at every step but the one holding t* (measured 9.4e-16 m/s; the
+    generalized-α step is exact for a constant force). Before the two tubes' slip rows took
+    the sections' turn, it slid to a stop at v₀²/(2μg)."""
+    mu, v0, h, g = 0.3, 0.5, 1e-3, 9.81
     a = rod([-0.15, 0.0, 2 * R_TUBE], [0.15, 0.0, 2 * R_TUBE], 1)
     b = rod([0.0, -0.5, 0.0], [0.0, 0.5, 0.0], 1).clamp(0).clamp(-1)
     model = Model([a, b], [Contact(a, b, clearance=2 * R_TUBE, friction=mu)])
-    t, y, v = [], [], []
-    for st in simulate(model, h, 0.25, IntegratorOptions(), v0=model.translation(a, (0, v0, 0))):
+    t, v = [], []
+    for st in simulate(model, h, 0.1, IntegratorOptions(), v0=model.translation(a, (0, v0, 0))):
         assert float(np.min(st.gaps, initial=np.inf)) >= -1e-9
         t.append(st.t)
-        y.append(st.q[1])
         v.append(st.v[1])
-    g = 9.81
-    exact = np.maximum(v0 - mu * g * np.array(t), 0.0)
-    np.testing.assert_allclose(v, exact, atol=1e-12)
-    assert y[-1] == pytest.approx(v0**2 / (2 * mu * g), abs=1e-6)
+    t, t_star = np.array(t), v0 / (3 * mu * g)
+    exact = np.where(t < t_star, v0 - mu * g * t, 2 * v0 / 3)
+    kept = np.abs(t - t_star) > h  # (the step holding t* rolls from inside it)
+    np.testing.assert_allclose(np.array(v)[kept], exact[kept], atol=1e-12)
 
 
 # -- against a solid's convex edges ---------------------------------------------------------

@@ -35,9 +35,9 @@ partner, Θ body-frame, by the chain rule through its points' kinematics); the c
 Coulomb friction acts on the slip of the tube's touching point against the partner's material
 point at the contact, a rigid partner's rotation included. Against a sphere or a rigid body the
 tube's point is its section's, −r n from the centreline point at ξ, which the section's turn
-moves (:mod:`.section_segments`). A box and a second tube slip at the centreline's point: a
-segment along a box's face touches it along a line whose one point jumps as the segment tilts
-(:class:`TubeBoxContact`), and two tubes' pair knows only the sum of their radii.
+moves (:mod:`.section_segments`); so do two tubes' (:mod:`.tube_beam`). A box slips at the
+centreline's point: a segment along a box's face touches it along a line whose one point
+jumps as the segment tilts (:class:`TubeBoxContact`).
 """
 
 from __future__ import annotations

@@ -21,6 +21,12 @@ and the second segment k, in the order of their indices whichever is closer; els
 first row takes the closest segment and the second is left out (+inf), as
 :mod:`.beam_sides` does for a point against a planar beam. The two rows of a segment or a
 node take one impact law in the velocity jump (``points``).
+
+**Friction.** Each contact slips at its two touching points, P's at −r_P e from its
+centreline point and Q's at +r_Q e (e from Q's point to P's), each moved by its section's
+turn (:mod:`.section_segments`): a rod lying across another rolls. The pair is given the sum
+of the radii (``clearance``) and shares it in proportion to the radii of the sections'
+circles of equal area (a circular section's own radius).
 """
 
 from __future__ import annotations
@@ -34,6 +40,7 @@ from .beam3d_pairs import TubeContact
 from .friction import tangent_basis
 from .geometry import closest_on_segments
 from .registry import register_pair
+from .section_segments import segment_point_moves, segment_turns
 from .segment3d import closest_parameters, closest_segments, tube_distance
 
 __all__ = ["LINE", "TubeBeamContact", "valley_partners"]
@@ -67,6 +74,10 @@ class TubeBeamContact(TubeContact):
         self.size = 2 * self.first
         # closest distances this near (m) are ties: round-off of the two beams' sizes
         self.tie = 1e-12 * max(body.characteristic_length, other.characteristic_length)
+        # where between the centrelines the surfaces touch: the clearance shared in
+        # proportion to the radii of the sections' circles of equal area (a circle's own)
+        rho = np.sqrt([body.section.area, other.section.area])
+        self.radii = clearance * rho / rho.sum()
 
     def bind(self, model) -> None:
         super().bind(model)
@@ -117,20 +128,23 @@ class TubeBeamContact(TubeContact):
         return [(*g, out) for g, out in zip(firsts + seconds, absent + lost, strict=True)]
 
     def _distances(self, q, hessian: bool):
-        """Per contact: f, e, (ξ, η, left out), the partner segment, dofs (m, 12), G (m, 12),
-        H (m, 12, 12) or None, and whether it is a segment pair (its η on a partner
-        segment); left out: a segment pair near parallel, or a second row outside a valley."""
+        """Per contact: f, e, (ξ, η, left out, group), the partner segment, dofs (m, 12),
+        G (m, 12), H (m, 12, 12) or None; group 0 a segment pair (η on the partner segment),
+        1 and 2 a node of the first beam, of the second; left out: a segment pair near
+        parallel, or a second row outside a valley."""
         out = [[] for _ in range(9)]
         for k, (P, Q, which, dofs, absent) in enumerate(self._groups(q)):
             f, e, params, G, H = tube_distance(P, Q, hessian)
-            pair = np.full(len(f), k % 3 == 0)
+            # (group 0: a segment pair; 1, 2: a node of the first, of the second; its number)
+            pair = np.stack([np.full(len(f), k % 3), np.arange(len(f))])
             out_ = absent | _near_parallel(P, Q) if k % 3 == 0 else absent
             if k % 3:  # a node: pad its columns to the segment pair's 12
                 G = np.concatenate([G, np.zeros((len(G), 3))], axis=1)
                 H = None if H is None else np.pad(H, ((0, 0), (0, 3), (0, 3)))
             for part, value in zip(out, (f, e, params, which, dofs, G, H, out_, pair), strict=True):
                 part.append(value)
-        f, e, which, dofs, G, line, pair = (np.concatenate(out[i]) for i in (0, 1, 3, 4, 5, 7, 8))
+        f, e, which, dofs, G, line = (np.concatenate(out[i]) for i in (0, 1, 3, 4, 5, 7))
+        pair = np.concatenate(out[8], axis=1)
         xi = np.concatenate([p[0] for p in out[2]])
         eta = np.concatenate([p[1] for p in out[2]])
         H = None if not hessian else np.concatenate(out[6])
@@ -154,16 +168,77 @@ class TubeBeamContact(TubeContact):
         return g, dofs, scale[:, None] * G, scale[:, None, None] * H
 
     def tangents(self, q: np.ndarray):
-        """Slip rows of the two material points of each contact, T (x₁ − x₂) rates."""
-        _, e, (xi, eta, line, pair), _, dofs, _, _ = self._distances(q, False)
+        """Slip rows of the two touching points of each contact, T (ẋ_P − ẋ_Q), each point
+        on its tube's surface (P's at −r_P e from its centreline, Q's at +r_Q e) and moved by
+        its section's turn (:mod:`.section_segments`)."""
+        _, e, (xi, eta, line, group), which, dofs, _, _ = self._distances(q, False)
         T = tangent_basis(e)
+        pair = group[0] == 0
         w = np.zeros((len(e), 4))
         w[:, 0], w[:, 1] = 1.0 - xi, xi
         w[:, 2] = np.where(pair, eta - 1.0, -1.0)
         w[:, 3] = np.where(pair, -eta, 0.0)
         w[line] = 0.0
-        GT = np.concatenate([w[:, j, None, None] * T for j in range(4)], axis=2)
-        return dofs, GT, T
+        GT = [np.concatenate([w[:, j, None, None] * T for j in range(4)], axis=2)]
+        cols = [dofs]
+        for sign, point in zip((1.0, -1.0), self._touching(e, group, which, xi, eta), strict=True):
+            turns, B = self._turns(q, *point)
+            cols.append(turns)
+            GT.append(np.where(line, 0.0, sign)[:, None, None] * np.einsum("mti,mik->mtk", T, B))
+        return np.concatenate(cols, axis=1), np.concatenate(GT, axis=2), T
+
+    def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
+        """T·(Δx_P − Δx_Q) of the two touching points over the step, each turned back with
+        its section (the linear form is not exact for a turn)."""
+        _, e, (xi, eta, line, group), which, _, _, _ = self._distances(q, False)
+        P, Q = (self._moves(q, q_n, *p) for p in self._touching(e, group, which, xi, eta))
+        return np.where(line[:, None], 0.0, np.einsum("mtd,md->mt", T, P - Q))
+
+    def _touching(self, e, group, which, xi, eta):
+        """P's and Q's touching points per contact: (on the second beam, their segments
+        (m, 2) as node numbers (a node twice), the parameter on them, the arm (m, 3) from
+        the centreline to the surface)."""
+        kind, own = group
+        own2 = np.stack([own, own], axis=1)
+        seg_a = self.segments[np.where(kind == 1, 0, np.where(kind == 0, own, which))]
+        seg_b = self.other_segments[np.where(kind == 2, 0, which)]
+        P_on_b = kind == 1  # (a node of the first beam: P is the second's segment)
+        Q_on_b = kind != 1
+        r_a, r_b = self.radii
+        P = (P_on_b, np.where(P_on_b[:, None], seg_b, seg_a), xi)
+        Q = (Q_on_b, np.where((kind == 0)[:, None], seg_b, own2), np.where(kind == 0, eta, 0.0))
+        arm_P = -np.where(P_on_b, r_b, r_a)[:, None] * e
+        arm_Q = np.where(Q_on_b, r_b, r_a)[:, None] * e
+        return (*P, arm_P), (*Q, arm_Q)
+
+    def _turns(self, q, on_b, nodes, at, arms):
+        """Global dofs (m, 6) of the rotations of the points' segment ends and
+        ∂ẋ_p/∂(their rates) (m, 3, 6), rows on either beam."""
+        dofs, B = np.zeros((len(at), 6), int), np.zeros((len(at), 3, 6))
+        for body, o, rows in (
+            (self.body, self.offset, ~on_b),
+            (self.other, self.other_offset, on_b),
+        ):
+            if rows.any():
+                local, B[rows] = segment_turns(
+                    body, q[o : o + body.ndof], nodes[rows], at[rows], arms[rows]
+                )
+                dofs[rows] = o + local
+        return dofs, B
+
+    def _moves(self, q, q_n, on_b, nodes, at, arms):
+        """The motion (m, 3) over the step of the touching points, rows on either beam."""
+        out = np.zeros((len(at), 3))
+        for body, o, rows in (
+            (self.body, self.offset, ~on_b),
+            (self.other, self.other_offset, on_b),
+        ):
+            if rows.any():
+                s = slice(o, o + body.ndof)
+                out[rows] = segment_point_moves(
+                    body, q[s], q_n[s], nodes[rows], at[rows], arms[rows]
+                )
+        return out
 
 
 def valley_partners(segs: np.ndarray, closest: np.ndarray, near):
