@@ -251,6 +251,15 @@ def test_rods_crossing_over_their_middle_nodes_hold_the_valley_with_both_segment
     assert np.min(st.gaps) >= -1e-12 and st.v[sa][2::6].max() > 0.0  # (in contact, pushed)
     assert halvings == 0
     assert asymmetry <= 3e-13
+    # the valley's rows hold nearly one motion (redundant_rows: least-norm multipliers), so
+    # the scale k does not choose their split: the same nodes to the correction's gap
+    # tolerance, 3e-13 m, and their turns to that over the tube's radius, 6e-11 rad
+    # (measured 7.8e-15 m and 6.3e-13 rad; without the least-norm path k ÷ 100 turned the
+    # sections by 4.8e-5 rad more in the first step of contact)
+    scaled = IntegratorOptions(smooth_contact="off", multiplier_scale=1e-2)
+    *_, end = simulate(model, 1e-5, 1.3e-3, scaled, v0=v0)
+    moved = np.abs(end.q - st.q).reshape(-1, 6)
+    assert moved[:, :3].max() <= 3e-13 and moved[:, 3:].max() <= 3e-13 / R_TUBE
 
 
 @pytest.mark.parametrize("fixed", [True, False])

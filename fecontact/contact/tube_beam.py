@@ -20,7 +20,10 @@ every row of the three groups has a second: in a valley, the first row takes seg
 and the second segment k, in the order of their indices whichever is closer; elsewhere the
 first row takes the closest segment and the second is left out (+inf), as
 :mod:`.beam_sides` does for a point against a planar beam. The two rows of a segment or a
-node take one impact law in the velocity jump (``points``).
+node take one impact law in the velocity jump (``points``). At a valley under a node the
+rows of the segments and of the nodes there hold nearly one motion: the pair declares
+``redundant_rows`` (least-norm multipliers), without which the scale k chose their split
+(k ÷ 100 turned the sections by 4.8e-5 rad more in the first step of such a contact).
 
 **Friction.** Each contact slips at its two touching points, P's at −r_P e from its
 centreline point and Q's at +r_Q e (e from Q's point to P's), each moved by its section's
@@ -59,6 +62,7 @@ class TubeBeamContact(TubeContact):
 
     frictional = True
     shared_points = True  # rows i and i + first hold one segment or node
+    redundant_rows = True  # (the rows of a valley and of the nodes there hold nearly one motion)
 
     def __init__(self, body: Beam3D, other: Beam3D, restitution=0.0, clearance=0.0):
         if other is body:
