@@ -236,7 +236,7 @@ def test_rods_crossing_over_their_middle_nodes_hold_the_valley_with_both_segment
     correction's iterates and the step halved 58 times in 1.3 ms (and broke the symmetry by
     1.2e-9 m); with a row on each segment of the valley no step halves and the two rods stay
     images of each other under (x, y, z) → (y, x, −z) within the correction's gap tolerance
-    (1e-12 of the length, 3e-13 m; measured 4.4e-15 m)."""
+    (1e-12 of the length, 3e-13 m; measured 3.6e-15 m)."""
     z = R_TUBE + 0.0005
     a = rod([-0.15, 0.0, z], [0.15, 0.0, z], 6)
     b = rod([0.0, -0.15, -z], [0.0, 0.15, -z], 6)
