@@ -118,6 +118,27 @@ def test_the_node_rows_of_a_beam_take_the_turn_of_its_sections(dim):
         assert errors[-1] < 1e-9 * largest
 
 
+def test_two_tubes_slip_rows_are_the_derivatives_of_their_slips():
+    """Two rods crossing 1 mm apart (three elements each, bent out of straight by q): the
+    slip rows of every contact (segment pairs, and each rod's nodes against the other's
+    segments) carry both sections' turns, each touching point on its own tube (r each) and
+    moved by its section, against the central difference of the exact slips as above
+    (1e-6 with the arms here)."""
+    bar = rod([-0.2, 0.0, 0.0], [0.2, 0.02, 0.01], 3)
+    other = rod([0.05, -0.2, -0.011], [-0.03, 0.2, -0.006], 3)
+    pair = Contact(bar, other, clearance=2 * R_TUBE, friction=0.3)
+    model = Model([bar, other], [pair], gravity=(0.0, 0.0, 0.0))
+    q = 1e-3 * np.random.default_rng(7).normal(size=model.n)
+    dofs, GT, T = pair.tangents(q)
+    assert GT.shape == (pair.size, 2, 24) and np.abs(GT[:, :, 12:]).max() > 1e-3
+    for j in np.unique(dofs):
+        d = np.zeros(model.n)
+        d[j] = 1e-7
+        slip = pair.slips(moved_on_group(model, q, d), moved_on_group(model, q, -d), T) / 2e-7
+        col = (dofs == j).astype(float)
+        np.testing.assert_allclose(slip, np.einsum("mtk,mk->mt", GT, col), atol=1e-6)
+
+
 # -- sliding under gravity -------------------------------------------------------------------
 def rod_on(partner: str, mu: float, theta: float = 0.0, n: int = 4, **options):
     """A free rod of 20 cm (``n`` elements) lying on a plane or on the top of a held box (its

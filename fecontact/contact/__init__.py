@@ -13,6 +13,7 @@ from . import (  # noqa: F401
     segment_pairs,
     solid_rigid2d,
     solid_rigid3d,
+    tube_beam,
 )
 from .beam3d_edges import SolidEdges
 from .contact_set import ContactSet

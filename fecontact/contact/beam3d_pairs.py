@@ -15,7 +15,8 @@ partner                     core, gap
                             (:mod:`.beam3d_box`; gradient only)
 ``Beam3D``                  the other beam's segment closest to this one: g = |x₁ − x₂| − r,
                             r the sum of the two tubes' radii; and every node of either beam
-                            against the other's closest segment (:class:`TubeBeamContact`)
+                            against the other's closest segment, two rows in a valley of
+                            its centreline (:mod:`.tube_beam`)
 ==========================  ====================================================================
 
 A segment lying across a sphere touches it between its nodes, where node contact would let the
@@ -34,9 +35,9 @@ partner, Θ body-frame, by the chain rule through its points' kinematics); the c
 Coulomb friction acts on the slip of the tube's touching point against the partner's material
 point at the contact, a rigid partner's rotation included. Against a sphere or a rigid body the
 tube's point is its section's, −r n from the centreline point at ξ, which the section's turn
-moves (:mod:`.section_segments`). A box and a second tube slip at the centreline's point: a
-segment along a box's face touches it along a line whose one point jumps as the segment tilts
-(:class:`TubeBoxContact`), and two tubes' pair knows only the sum of their radii.
+moves (:mod:`.section_segments`); so do two tubes' (:mod:`.tube_beam`). A box slips at the
+centreline's point: a segment along a box's face touches it along a line whose one point
+jumps as the segment tilts (:class:`TubeBoxContact`).
 """
 
 from __future__ import annotations
@@ -51,14 +52,13 @@ from ..rotations import cross, exp, hat
 from .base import PairDefaults
 from .beam3d_box import closest_to_box
 from .friction import tangent_basis
-from .geometry import closest_on_segments
 from .node_pairs import NodeContact
 from .obstacles import Circle
 from .registry import register_pair
 from .section_segments import segment_point_moves, segment_turns
-from .segment3d import closest_segments, tube_distance
+from .segment3d import tube_distance
 
-__all__ = ["TubeBeamContact", "TubeBoxContact", "TubeRigidContact", "TubeSphereContact"]
+__all__ = ["TubeBoxContact", "TubeContact", "TubeRigidContact", "TubeSphereContact"]
 
 
 class TubeContact(PairDefaults):
@@ -199,128 +199,6 @@ class TubeSphereContact(TubeContact):
             return None
         xi, e = self._contact_frame(q)
         return np.einsum("mtd,md->mt", T, self._tube_moves(q, q_n, xi, e))
-
-
-class TubeBeamContact(TubeContact):
-    """Two ``Beam3D`` tubes; the ``clearance`` is the sum of their radii (m, > 0).
-
-    Three groups of contacts: each segment of the first beam against the second's closest
-    segment (segment to segment: the tubes crossing), then each node of the first and each
-    node of the second against the other beam's closest segment (point to segment). Two
-    segments within ``LINE`` (sin² of their angle) of parallel touch along a line, where their
-    closest pair is ill-posed (it jumps between the ends of their overlap): that segment-to-
-    segment contact is left out (g = +inf, zero rows), and the nodes, which end every overlap,
-    hold the tubes apart there."""
-
-    frictional = True
-
-    def __init__(self, body: Beam3D, other: Beam3D, restitution=0.0, clearance=0.0):
-        if other is body:
-            raise InputError("a beam cannot contact itself (self-contact is not supported)")
-        if not clearance > 0.0:
-            raise InputError("clearance: two Beam3D touch through their tubes; give r1 + r2 > 0")
-        super().__init__(body, restitution, clearance)
-        self.other = other
-        self.bodies = (body, other)
-        self.other_segments = other.segments()
-        self.other_offset = 0
-        self.size = len(self.segments) + body.n_nodes + other.n_nodes
-        # closest distances this near (m) are ties: round-off of the two beams' sizes
-        self.tie = 1e-12 * max(body.characteristic_length, other.characteristic_length)
-
-    def bind(self, model) -> None:
-        super().bind(model)
-        self.other_offset = model.offset_of(self.other)
-
-    def _groups(self, q):
-        """(P, Q, partner segment, dofs) of the three groups of the class docstring: P the
-        segments (m, 2, 3), Q the partners' segments or nodes (m, k, 3), the dofs of P's ends
-        then of Q (a node's padded to 12 by its own, whose rows stay zero)."""
-        o = self.other_offset
-        xa = self.body.positions(q[self.offset : self.offset + self.body.ndof])
-        xb = self.other.positions(q[o : o + self.other.ndof])
-        A, B = xa[self.segments], xb[self.other_segments]
-        a_dofs = self._beam_dofs()
-        b_dofs = o + self.other.node_translation_dofs(self.other_segments.ravel()).reshape(-1, 6)
-        wb = closest_segments(A, B, self.tie)
-        groups = [(A, B[wb], wb, np.concatenate([a_dofs, b_dofs[wb]], axis=1))]
-        for x, segs, seg_dofs, beam, offset in (
-            (xa, B, b_dofs, self.body, self.offset),
-            (xb, A, a_dofs, self.other, o),
-        ):
-            which = _closest_to_points(x, segs)
-            own = offset + beam.node_translation_dofs(np.arange(beam.n_nodes))
-            dofs = np.concatenate([seg_dofs[which], own, own], axis=1)
-            groups.append((segs[which], x[:, None], which, dofs))
-        return groups
-
-    def _distances(self, q, hessian: bool):
-        """Per contact: f, e, (ξ, η), the partner segment, dofs (m, 12), G (m, 12), H (m, 12,
-        12) or None, and whether it is a segment pair near parallel (left out)."""
-        out = [[] for _ in range(8)]
-        for k, (P, Q, which, dofs) in enumerate(self._groups(q)):
-            f, e, params, G, H = tube_distance(P, Q, hessian)
-            line = _near_parallel(P, Q) if k == 0 else np.zeros(len(f), bool)
-            if k:  # a node: pad its columns to the segment pair's 12
-                G = np.concatenate([G, np.zeros((len(G), 3))], axis=1)
-                H = None if H is None else np.pad(H, ((0, 0), (0, 3), (0, 3)))
-            for part, value in zip(out, (f, e, params, which, dofs, G, H, line), strict=True):
-                part.append(value)
-        f, e, which, dofs, G, line = (np.concatenate(out[i]) for i in (0, 1, 3, 4, 5, 7))
-        xi = np.concatenate([p[0] for p in out[2]])
-        eta = np.concatenate([p[1] for p in out[2]])
-        H = None if not hessian else np.concatenate(out[6])
-        return f, e, (xi, eta, line), which, dofs, G, H
-
-    def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
-        """Keep the normals at the start of the coming step (the sides follow the motion)."""
-        _, e, _, which, _, _, _ = self._distances(q, False)
-        self._start = (e * self._sides(e, which)[:, None], which)
-
-    def gaps(self, q: np.ndarray) -> np.ndarray:
-        f, e, (_, _, line), which, _, _, _ = self._distances(q, False)
-        return np.where(line, np.inf, self._sides(e, which) * f - self.radius)
-
-    def evaluate(self, q: np.ndarray):
-        """Gaps (m,), dofs (m, 12), gradients (m, 12) and curvatures (m, 12, 12)."""
-        f, e, (_, _, line), which, dofs, G, H = self._distances(q, True)
-        sigma = self._sides(e, which)
-        scale = np.where(line, 0.0, sigma)
-        g = np.where(line, np.inf, sigma * f - self.radius)
-        return g, dofs, scale[:, None] * G, scale[:, None, None] * H
-
-    def tangents(self, q: np.ndarray):
-        """Slip rows of the two material points of each contact, T (x₁ − x₂) rates."""
-        _, e, (xi, eta, line), _, dofs, G, _ = self._distances(q, False)
-        T = tangent_basis(e)
-        m, n = len(self.segments), len(e)
-        w = np.zeros((n, 4))
-        w[:, 0], w[:, 1] = 1.0 - xi, xi
-        w[:m, 2], w[:m, 3] = eta[:m] - 1.0, -eta[:m]
-        w[m:, 2] = -1.0
-        w[line] = 0.0
-        GT = np.concatenate([w[:, j, None, None] * T for j in range(4)], axis=2)
-        return dofs, GT, T
-
-
-LINE = 1e-6
-"""sin² of the angle below which two segments touch along a line (about 1 mrad): their
-segment-to-segment contact is left out and the nodes hold them (:class:`TubeBeamContact`)."""
-
-
-def _near_parallel(P: np.ndarray, Q: np.ndarray) -> np.ndarray:
-    d1, d2 = P[:, 1] - P[:, 0], Q[:, 1] - Q[:, 0]
-    c = cross(d1, d2)
-    sin2 = np.einsum("mi,mi->m", c, c)
-    return sin2 < LINE * np.einsum("mi,mi->m", d1, d1) * np.einsum("mi,mi->m", d2, d2)
-
-
-def _closest_to_points(x: np.ndarray, segs: np.ndarray) -> np.ndarray:
-    """For each point x (n, 3), the index of the closest segment of ``segs`` (m, 2, 3)."""
-    n, m = len(x), len(segs)
-    a, b = np.tile(segs[:, 0], (n, 1)), np.tile(segs[:, 1], (n, 1))
-    dist = closest_on_segments(np.repeat(x, m, axis=0), a, b)[1]
-    return np.argmin(dist.reshape(n, m), axis=1)
 
 
 class TubeRigidContact(TubeContact):
@@ -471,14 +349,6 @@ def _beam3d_sphere(beam, sphere, nodes, restitution, clearance):
     if sphere.inside or nodes is not None:
         return NodeContact(beam, sphere, nodes, restitution, clearance)
     return TubeSphereContact(beam, sphere, restitution, clearance)
-
-
-@register_pair(Beam3D, Beam3D)
-def _beam3d_beam3d(beam, other, nodes, restitution, clearance):
-    """Two tubes, segment against segment; ``clearance`` the sum of their radii."""
-    if nodes is not None:
-        raise InputError("nodes: two Beam3D meet through their segments; give no nodes")
-    return TubeBeamContact(beam, other, restitution, clearance)
 
 
 @register_pair(Beam3D, RigidBody3D)

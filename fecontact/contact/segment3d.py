@@ -67,8 +67,9 @@ def closest_parameters(P: np.ndarray, Q: np.ndarray) -> tuple[np.ndarray, np.nda
 def closest_segments(P: np.ndarray, X: np.ndarray, tie: float) -> np.ndarray:
     """For each segment P (m, 2, 3), the index of the closest of the segments X (n, 2, 3).
     Distances within ``tie`` (m) of the least are ties (a segment lying along two collinear
-    ones), decided by the longest overlap of the projection on P's line, so that round-off
-    does not move the contact from one to the other between two evaluations."""
+    ones), decided by the longest overlap of the projection on P's line among partners along
+    it (within ``ALONG``), else by the first index, so that round-off does not move the
+    contact from one to the other between two evaluations."""
     m, n = len(P), len(X)
     Pa, Qa = np.repeat(P, n, axis=0), np.tile(X, (m, 1, 1))
     xi, eta = closest_parameters(Pa, Qa)
@@ -80,9 +81,22 @@ def closest_segments(P: np.ndarray, X: np.ndarray, tie: float) -> np.ndarray:
     tc = np.einsum("mi,mi->m", Qa[:, 0] - Pa[:, 0], d1) / A
     td = np.einsum("mi,mi->m", Qa[:, 1] - Pa[:, 0], d1) / A
     lo, hi = np.clip(np.minimum(tc, td), 0.0, 1.0), np.clip(np.maximum(tc, td), 0.0, 1.0)
-    overlap = (hi - lo).reshape(m, n)
+    d2 = Qa[:, 1] - Qa[:, 0]
+    c = np.cross(d1, d2)
+    sin2 = np.einsum("mi,mi->m", c, c) / (A * np.einsum("mi,mi->m", d2, d2))
+    # a partner along P's line ranks by its overlap; one across it ranks after them all, the
+    # first index among such ties: P crossing the two segments of a kink of X is as near to
+    # both at mirrored points, their overlaps the projection of X's node, which the
+    # deformation moves, and the partner taken then changed between the iterates of a
+    # correction, each with its own gradient (the correction cycled)
+    rank = np.where(sin2 < ALONG, 1.0 + hi - lo, 0.0).reshape(m, n)
     tied = dist <= dist.min(axis=1)[:, None] + tie
-    return np.argmax(np.where(tied, overlap, -1.0), axis=1)
+    return np.argmax(np.where(tied, rank, -1.0), axis=1)
+
+
+ALONG = 1e-6
+"""sin² of the angle (about 1 mrad) below which a partner lies along a segment and the
+longest overlap decides a tie of distances (:func:`closest_segments`)."""
 
 
 def _weights(xi: np.ndarray, eta: np.ndarray, k: int) -> np.ndarray:
