@@ -53,7 +53,14 @@ from .base import PairDefaults
 from .geometry import point_line_distance
 from .registry import register_pair
 
-__all__ = ["PointBeamContact", "closest_rows", "line_coordinates", "swept", "swept_sides"]
+__all__ = [
+    "PointBeamContact",
+    "StripNodeDepths",
+    "closest_rows",
+    "line_coordinates",
+    "swept",
+    "swept_sides",
+]
 
 
 def line_coordinates(x: np.ndarray, x1: np.ndarray, x2: np.ndarray):
@@ -132,6 +139,11 @@ class PointBeamContact(PairDefaults):
 
     def reset(self) -> None:
         self._start = None
+
+    def watch(self):
+        """Two strips: the second's nodes, which these rows do not hold, against the first's
+        surface (:class:`StripNodeDepths`); None for a solid's nodes."""
+        return StripNodeDepths(self) if isinstance(self.body, Beam2D) else None
 
     def _coordinates(self, q: np.ndarray):
         (oa, ob), (a, b) = self.offsets, self.bodies
@@ -242,6 +254,38 @@ def valley_neighbours(segments, x1, x2, e, s, t, inner):
         valley = s[near] * height > CONCAVE * length
         out[near[valley]] = ni[valley]
     return out
+
+
+class StripNodeDepths:
+    """The second strip's nodes against the first's two-sided surface, in a pair of two
+    strips: the rows hold the first strip's nodes only, so the second's end can go through
+    the first between its nodes (an end-first strike with the striker named second) unless
+    the reversed pair is declared too. ``depth(q)``: the deepest of those nodes inside the
+    first strip (the clearance less its distance to the first's centreline, m ≥ 0) and that
+    depth over the first strip's shortest element; reported and warned, not retaken (no row
+    holds it, and a smaller step does not take it out)."""
+
+    def __init__(self, pair: PointBeamContact):
+        self.pair = pair
+        self.segments = pair.body.segments()
+        X = pair.body.X[self.segments]
+        self.edge = float(np.linalg.norm(X[:, 1] - X[:, 0], axis=1).min())
+
+    def depth(self, q: np.ndarray) -> tuple[float, float]:
+        """(depth in m ≥ 0, depth over the first strip's shortest element) at q."""
+        (oa, ob), (a, b) = self.pair.offsets, self.pair.bodies
+        xa = a.positions(q[oa : oa + a.ndof])
+        x = b.positions(q[ob : ob + b.ndof])
+        x1, d = xa[self.segments[:, 0]], xa[self.segments[:, 1]] - xa[self.segments[:, 0]]
+        w = x[:, None, :] - x1[None]
+        t = np.einsum("nmd,md->nm", w, d) / np.einsum("md,md->m", d, d)
+        r = np.linalg.norm(w - np.clip(t, 0.0, 1.0)[..., None] * d[None], axis=2)
+        depth = max(self.pair.clearance - float(r.min()), 0.0)
+        return depth, depth / self.edge
+
+    def entering(self, q: np.ndarray) -> str:
+        """What enters the other strip (for a message)."""
+        return "a strip's node that no row holds"
 
 
 @register_pair(object, Beam2D)
