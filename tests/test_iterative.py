@@ -176,17 +176,8 @@ def test_auto_outside_a_run_factorizes_directly():
 
 
 def test_amg_without_pyamg_says_how_to_install(monkeypatch):
-    import builtins
-
-    real_import = builtins.__import__
-
-    def no_pyamg(name, *args, **kwargs):
-        if name == "pyamg":
-            raise ImportError(name)
-        return real_import(name, *args, **kwargs)
-
     before = sparse_solver()
-    monkeypatch.setattr(builtins, "__import__", no_pyamg)
+    hide_pyamg(monkeypatch)
     with pytest.raises(InputError, match=r'pip install "fecontact\[amg\]"'):
         use_sparse_solver("amg")
     assert sparse_solver() == before
@@ -227,19 +218,10 @@ def test_auto_without_pyamg_takes_the_direct_path_and_says_so(monkeypatch, tmp_p
     """ "auto" without pyamg has one path, the direct one: it is accepted (it used to raise,
     and from FECONTACT_SPARSE_SOLVER at ``import fecontact``), the run solves directly, the
     ladder included, and its record says why."""
-    import builtins
-
     from fecontact import run
 
-    real_import = builtins.__import__
-
-    def no_pyamg(name, *args, **kwargs):
-        if name == "pyamg":
-            raise ImportError(name)
-        return real_import(name, *args, **kwargs)
-
     before = sparse_solver()
-    monkeypatch.setattr(builtins, "__import__", no_pyamg)
+    hide_pyamg(monkeypatch)
     try:
         use_sparse_solver("auto")
         sim = case("disk_drop").build(material="linear", drop_height=8e-5)  # closes in step 2
@@ -251,3 +233,17 @@ def test_auto_without_pyamg_takes_the_direct_path_and_says_so(monkeypatch, tmp_p
     assert s["status"] == "completed" and s["iterative_solver"]["solves"] == 0
     assert "pyamg" in record["reason"] and not record["decisions"]
     assert sum(f["count"] for f in record["factorizations"].values()) >= 1
+
+
+def hide_pyamg(monkeypatch) -> None:
+    """Make ``import pyamg`` fail for the rest of the test, as where it is not installed."""
+    import builtins
+
+    real_import = builtins.__import__
+
+    def no_pyamg(name, *args, **kwargs):
+        if name == "pyamg":
+            raise ImportError(name)
+        return real_import(name, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "__import__", no_pyamg)

@@ -83,13 +83,7 @@ def test_auto_measures_cg_only_where_it_could_win():
     (then factorized), not for a large nonlinear one refactorized at every Newton iteration
     (CG converges within its allowance: the CG path, measured)."""
     calls = []
-
-    def path(name):
-        def make():
-            calls.append(name)
-            return lambda b: b
-
-        return make
+    path = recording_paths(calls)
 
     for linear, n, expected in ((True, 4, "direct"), (False, 300, "cg")):
         choice = SolverChoice("auto", RunPlan(100, linear), "cholesky")
@@ -141,13 +135,7 @@ def test_auto_weighs_the_columns_in_hand():
     weighed with its columns and sends the matrix to the direct path (a 45,602-dof 2D block at
     20 Δx/c ran a 302-column block by AMG-CG: 2.9 times the direct path's time)."""
     calls = []
-
-    def path(name):
-        def make():
-            calls.append(name)
-            return lambda b: b
-
-        return make
+    path = recording_paths(calls)
 
     choice = SolverChoice("auto", RunPlan(10, True), "superlu")
     A = spd(30)
@@ -195,13 +183,7 @@ def test_auto_weighs_a_size_met_once_over_its_step():
     rest of the run, each such size was factorized (17 factorizations on a 66,050-dof disk at
     50 Δx/c where "direct" made 7 from its ladder, 1.85x "amg")."""
     calls = []
-
-    def path(name):
-        def make():
-            calls.append(name)
-            return lambda b: b
-
-        return make
+    path = recording_paths(calls)
 
     choice = SolverChoice("auto", RunPlan(100, True), "superlu")
     A = spd(30)
@@ -213,3 +195,17 @@ def test_auto_weighs_a_size_met_once_over_its_step():
     # to about 9.1e-3 s): CG 1.83 s against 1.2 s
     choice.auto(A, path("direct"), path("cg"))(np.ones(900))
     assert calls == ["cg", "direct"]
+
+
+def recording_paths(calls: list):
+    """Path factories for ``SolverChoice.auto``: each adds its name to ``calls`` when the
+    choice makes it, and solves as the identity."""
+
+    def path(name):
+        def make():
+            calls.append(name)
+            return lambda b: b
+
+        return make
+
+    return path
