@@ -24,9 +24,9 @@ def counted(monkeypatch):
     """Count the calls of ``factorize`` from the model and the integrator."""
     calls = []
 
-    def wrapper(A, symmetric=False, solver=None):
+    def wrapper(A, symmetric=False, solver=None, **options):
         calls.append((A.shape[0], symmetric))
-        return factorize(A, symmetric, solver)
+        return factorize(A, symmetric, solver, **options)
 
     monkeypatch.setattr(model_module, "factorize", wrapper)
     monkeypatch.setattr(constraints_module, "factorize", wrapper)
