@@ -404,8 +404,8 @@ def _refine(model, st, phases, left, j, guess, tol, opts, timer):
     the :func:`closing_aim` of ``tol``, at most ``tol``):
     regula falsi (Illinois) on g_j − aim over δ ∈ (0, left) from the Hermite ``guess`` (τ,
     g_j at the start, whether g_j jumps from a placeholder), δ = τ·left first; None when
-    ``MAX_REFINE`` smooth steps do not find it; a row that jumps has no root: the trial at the
-    bracket's closed end, where its gap is first real (``stress_3d.md``, the 63 Δx/c balls)."""
+    ``MAX_REFINE`` smooth steps do not find it; a trial reading a placeholder bisects (it
+    is no gap), and a row that jumps keeps its closed end (``stress_3d.md``, 63 Δx/c balls)."""
     stats, below = opts.stats.localization, None  # (below: δ and trial on the closed side)
     (tau, g0, jumps), aim = guess, closing_aim(model, tol)  # (0 ≤ g ≤ 2 aim: no correction)
     (a, ga), (b, gb) = (0.0, float(g0) - aim), (left, float(phases.g_tilde[j]) - aim)
