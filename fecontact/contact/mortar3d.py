@@ -16,8 +16,9 @@ the patch test holds to round-off. The gap is measured along the slave triangle'
 (no averaged normals: the kinematics stay local to one triangle pair per point).
 
 Partners: master triangles facing the slave triangle (normals at more than 90°,
-``mortar_facets.FACING``) whose vertices lie on average less than three times the detection
-margin ahead of it and at most the margin behind it. Beyond twice the margin a pair's
+``mortar_facets.FACING``; up to 104.5° with a weight rising from 0, :func:`_turned`) whose
+vertices lie on average less than three times the detection margin ahead of it and at most
+the margin behind it. Beyond twice the margin a pair's
 weight falls smoothly to 0 at three times (:func:`_faded`, its gradient included): a hard
 cut there let a pair enter a row's weighted gap with a finite overlap, and the gap jump
 under a held row's force created energy (``docs/validation/stress_3d.md``).
@@ -122,6 +123,7 @@ class MortarContact3D(MortarInterface):
             r[near],
         )
         fade, dfade = _faded(depth[near] / self.margin, u, v, n, r, self.margin)
+        fade, dfade = _turned(fade, dfade, u, v, n, tm)
         # the master vertices' (λ₂, λ₃) in the slave triangle (orthogonal projection)
         uu, uv, vv = (np.einsum("pd,pd->p", a, b) for a, b in ((u, u), (u, v), (v, v)))
         ru, rv = np.einsum("pkd,pd->pk", r, u), np.einsum("pkd,pd->pk", r, v)
@@ -223,3 +225,37 @@ def _faded(d, u, v, n, r, margin: float):
     gb, gc = np.cross(v, rho) / N, np.cross(rho, u) / N
     grad = np.concatenate([-gb - gc - n, gb, gc, n / 3.0, n / 3.0, n / 3.0], axis=1)
     return t * t * (3.0 - 2.0 * t), (-6.0 * t * (1.0 - t) / margin)[:, None] * grad
+
+
+TURNED = 0.25
+"""Between normals at 90° (n_s·n_m = 0, where a pair starts to face) and at 104.5°
+(−n_s·n_m = ``TURNED``) a pair's weight rises from 0 as t²(3 − 2t), t = −n_s·n_m / TURNED,
+so that a pair enters and leaves the weighted gaps continuously as its triangles turn: a
+block's side face stands at exactly 90° to the face it rests on, and a cut there took its
+pairs in and out with every round-off of the normals (the active set cycled and a block laid
+on a slab stopped at its second step; docs/explanation/mortar.md, *A face against a face at
+90°*). The 2D pairs fade the same way, between 104.5° and 120° (``mortar_segments.TURNED``:
+a block's side face there stays out)."""
+
+
+def _turned(fade, dfade, u, v, n, tm):
+    """The pairs' weights ``fade`` (P,) and their gradients ``dfade`` (P, 18) times the facing
+    weight φ(c) = t²(3 − 2t), t = min(c / ``TURNED``, 1), c = −n·m of the slave triangle's unit
+    normal n (edges u, v) and the master's m (vertices ``tm``): ∂c/∂N = −(I − n nᵀ) m / |N|
+    through N = u × v, and the same of the master's."""
+    U, V = tm[:, 1] - tm[:, 0], tm[:, 2] - tm[:, 0]
+    M = np.cross(U, V)
+    Mn = np.linalg.norm(M, axis=1)[:, None]
+    m = M / Mn
+    c = -np.einsum("pd,pd->p", n, m)
+    t = np.clip(c / TURNED, 0.0, 1.0)
+    if np.all(t >= 1.0):  # (every pair faces by more than 104.5°: the weights as they were)
+        return fade, dfade
+    Nn = np.linalg.norm(np.cross(u, v), axis=1)[:, None]
+    gN = -(m - np.einsum("pd,pd->p", n, m)[:, None] * n) / Nn
+    gM = -(n - np.einsum("pd,pd->p", n, m)[:, None] * m) / Mn
+    sb, sc, mb, mc = np.cross(v, gN), np.cross(gN, u), np.cross(V, gM), np.cross(gM, U)
+    dc = np.concatenate([-sb - sc, sb, sc, -mb - mc, mb, mc], axis=1)
+    phi = t * t * (3.0 - 2.0 * t)
+    dphi = np.where(t < 1.0, 6.0 * t * (1.0 - t) / TURNED, 0.0)[:, None] * dc
+    return fade * phi, dfade * phi[:, None] + fade[:, None] * dphi

@@ -404,36 +404,46 @@ def _refine(model, st, phases, left, j, guess, tol, opts, timer):
     the :func:`closing_aim` of ``tol``, at most ``tol``):
     regula falsi (Illinois) on g_j − aim over δ ∈ (0, left) from the Hermite ``guess`` (τ,
     g_j at the start, whether g_j jumps from a placeholder), δ = τ·left first; None when
-    ``MAX_REFINE`` smooth steps do not find it; a row that jumps has no root: the trial at the
-    bracket's closed end, where its gap is first real (``stress_3d.md``, the 63 Δx/c balls)."""
+    ``MAX_REFINE`` smooth steps do not find it; a trial reading a placeholder bisects (it
+    is no gap), and a row that jumps keeps its closed end (``stress_3d.md``, 63 Δx/c balls)."""
     stats, below = opts.stats.localization, None  # (below: δ and trial on the closed side)
     (tau, g0, jumps), aim = guess, closing_aim(model, tol)  # (0 ≤ g ≤ 2 aim: no correction)
     (a, ga), (b, gb) = (0.0, float(g0) - aim), (left, float(phases.g_tilde[j]) - aim)
     own = np.array([j]) if pointwise_row(model.contacts, j) else None
+    read = not jumps  # (whether ga is a gap, not a placeholder's two margins)
     delta, side = float(tau) * left, 0  # (a float: the split's times and sizes are floats)
     for _ in range(MAX_REFINE):
         trial = smooth_phases(model, st, delta, opts, timer)
         stats.smooth_steps += 1
         stats.smooth_iterations += trial.iters["smooth"]
         trial.g_tilde = model.contacts.gaps(trial.q)
-        g = float(trial.g_tilde[j]) - aim
-        if own is not None:  # (its node's gap, not the placeholder above half its allowance)
-            real = float(real_gaps(model.contacts, trial.q, own)[0][0]) - aim
-            g = real if math.isfinite(real) else g
+        g, real = _trial_gap(model, trial, j, own, aim)
         if abs(g) <= aim:
             return delta, trial
         if not math.isfinite(g):
             return None
         if g > 0.0:
             a, ga, gb = delta, g, (0.5 * gb if side > 0 else gb)
-            side = 1
+            side, read = 1, real
         else:
             b, gb, ga = delta, g, (0.5 * ga if side < 0 else ga)
             side, below = -1, (delta, trial)
-        delta = (a * gb - b * ga) / (gb - ga)
+        # a placeholder tells the side, not how far: bisect until the open end reads a gap
+        delta = (a * gb - b * ga) / (gb - ga) if read else 0.5 * (a + b)
         if not a < delta < b:
             delta = 0.5 * (a + b)
     return below if jumps else None
+
+
+def _trial_gap(model, trial, j: int, own, aim: float):
+    """(g_j − aim at the ``trial``, whether it is a gap): a pointwise row (``own``: [j]) reads
+    its node's real gap (:func:`real_gaps`) where that is known; elsewhere its placeholder,
+    two margins whatever the node's depth above half its allowance (not a gap)."""
+    g = float(trial.g_tilde[j]) - aim
+    if own is None:
+        return g, True
+    real = float(real_gaps(model.contacts, trial.q, own)[0][0]) - aim
+    return (real, True) if math.isfinite(real) else (g, False)
 
 
 def joined(first: State, second: State, h: float) -> State:
