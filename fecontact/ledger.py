@@ -6,7 +6,8 @@ With E = T + V_strain + V_gravity (J) of the bodies, every step closes
 
 - W_loads: the work of the external loads other than gravity (trapezoidal in q, exact for
   constant loads; gravity is in V_gravity);
-- D_damping: ½ h (vᵀC v at both ends of the step), C = αM + βK(q) (Rayleigh);
+- D_damping: the mean of C v at both ends of the step times h times the mean velocity,
+  C = αM + βK(q) (Rayleigh);
 - D_friction: the energy the tangential forces and impulses take, as each stepper measures
   it (force × slip of the step; for the impulses of a jump or of a Moreau–Jean step, the
   work along a process in which friction opposes the slip,
@@ -36,7 +37,7 @@ import math
 
 import numpy as np
 
-from .ledger_works import moreau_works, spring_step_work
+from .ledger_works import damping_force, damping_step_work, moreau_works, spring_step_work
 
 __all__ = [
     "EnergyLedger",
@@ -207,7 +208,7 @@ def _joined(model, first, r2, v2, q2) -> np.ndarray | None:
 class EnergyLedger:
     """The ledger of one run (J): cumulative terms, ``created`` and ``scale``."""
 
-    FIELDS = ("initial", "created", "scale", "peak", "lost", "positive_friction", "energy", "vCv")
+    FIELDS = ("initial", "created", "scale", "peak", "lost", "positive_friction", "energy")
 
     def __init__(self, model, options):
         self.model = model
@@ -222,7 +223,7 @@ class EnergyLedger:
         self.peak = -math.inf  # the running maximum of D
         self.lost = math.nan  # D of the last state
         self.positive_friction = 0.0
-        self.vCv = 0.0
+        self.Cv = None  # the damping force C(q)v of the last state (free dofs, N)
         # the weight times the model's size (J): an energy scale for a body that rests
         self.slack = float(np.abs(model.f_gravity).sum()) * model.length
         self.worst = None  # (fall of D, t, step, phase) since the last running maximum
@@ -246,7 +247,7 @@ class EnergyLedger:
         if math.isnan(self.lost):
             self.lost = self.initial + self.terms["load_work"] - self.energy
         if self.damped:
-            self.vCv = self._vCv(st)
+            self.Cv = damping_force(self.model, st)
 
     def add(self, st, kinetic: float, strain: float, gravity: float, load_work: float) -> None:
         """Account for the step that ended in ``st`` with its energies (J) and the loads'
@@ -259,9 +260,7 @@ class EnergyLedger:
         dE, W = E - self.energy, load_work - self.terms["load_work"]
         damping = 0.0
         if self.damped:
-            vCv = self._vCv(st)
-            damping = 0.5 * st.h * (self.vCv + vCv)
-            self.vCv = vCv
+            damping, self.Cv = damping_step_work(self.model, self.last, st, self.Cv)
         friction = self._friction(st)
         impact, gains, works = self._impact(st, kinetic, E, W, damping, friction)
         if works is not NO_WORK:
@@ -286,16 +285,6 @@ class EnergyLedger:
             return 0.0
         delta = np.maximum(-st.gaps, 0.0)
         return float(0.5 * np.sum(np.nan_to_num(k) * delta**2))
-
-    def _vCv(self, st) -> float:
-        m, F = self.model, self.model.free
-        alpha, beta = m.damping
-        v = st.v[F]
-        out = alpha * float(v @ (m.M @ v))
-        if beta:
-            K = m.internal(st.q, tangent=True)[2]
-            out += beta * float(v @ (K @ v))
-        return out
 
     def _friction(self, st) -> float:
         now, before = st.friction, self.last.friction
