@@ -6,7 +6,8 @@ With E = T + V_strain + V_gravity (J) of the bodies, every step closes
 
 - W_loads: the work of the external loads other than gravity (trapezoidal in q, exact for
   constant loads; gravity is in V_gravity);
-- D_damping: ½ h (vᵀC v at both ends of the step), C = αM + βK(q) (Rayleigh);
+- D_damping: the mean of C v at both ends of the step times h times the mean velocity,
+  C = αM + βK(q) (Rayleigh);
 - D_friction: the energy the tangential forces and impulses take, as each stepper measures
   it (force × slip of the step; for the impulses of a jump or of a Moreau–Jean step, the
   work along a process in which friction opposes the slip,
@@ -36,7 +37,7 @@ import math
 
 import numpy as np
 
-from .ledger_works import moreau_works, spring_step_work
+from .ledger_works import damping_force, damping_step_work, moreau_works, spring_step_work
 
 __all__ = [
     "EnergyLedger",
@@ -44,6 +45,7 @@ __all__ = [
     "SmoothRecord",
     "joined_record",
     "pending_record",
+    "smooth_end",
     "smooth_record",
 ]
 
@@ -144,6 +146,14 @@ def pending_record(
     return SmoothRecord(model, v_tilde, q_tilde, friction_work, works, release, held)
 
 
+def smooth_end(record) -> tuple | None:
+    """(q̃ or None, ṽ) of a step's ledger record not yet made (``deferred_ledger``), where a
+    correction or a jump moved v after the smooth step; None where it does not keep them."""
+    if isinstance(record, SmoothRecord) and record.v_tilde is not None:
+        return record.q_tilde, record.v_tilde
+    return None
+
+
 def joined_record(model, first, second) -> np.ndarray | None:
     """The record (:func:`smooth_record`) of one step made of the steps that end in
     ``first`` and ``second`` (a halved step, an impact located inside a step): the contact
@@ -207,7 +217,7 @@ def _joined(model, first, r2, v2, q2) -> np.ndarray | None:
 class EnergyLedger:
     """The ledger of one run (J): cumulative terms, ``created`` and ``scale``."""
 
-    FIELDS = ("initial", "created", "scale", "peak", "lost", "positive_friction", "energy", "vCv")
+    FIELDS = ("initial", "created", "scale", "peak", "lost", "positive_friction", "energy")
 
     def __init__(self, model, options):
         self.model = model
@@ -222,7 +232,7 @@ class EnergyLedger:
         self.peak = -math.inf  # the running maximum of D
         self.lost = math.nan  # D of the last state
         self.positive_friction = 0.0
-        self.vCv = 0.0
+        self.Cv = None  # the damping force the next step starts with (free dofs, N)
         # the weight times the model's size (J): an energy scale for a body that rests
         self.slack = float(np.abs(model.f_gravity).sum()) * model.length
         self.worst = None  # (fall of D, t, step, phase) since the last running maximum
@@ -245,12 +255,13 @@ class EnergyLedger:
                 _initial_jump(self, st, kinetic)
         if math.isnan(self.lost):
             self.lost = self.initial + self.terms["load_work"] - self.energy
-        if self.damped:
-            self.vCv = self._vCv(st)
+        if self.damped and self.Cv is None:  # (a checkpoint keeps the force v̇ carries)
+            self.Cv = damping_force(self.model, st.q, st.v)
 
-    def add(self, st, kinetic: float, strain: float, gravity: float, load_work: float) -> None:
+    def add(self, st, kinetic, strain, gravity, load_work, smooth_end=None) -> None:
         """Account for the step that ended in ``st`` with its energies (J) and the loads'
-        work since t = 0 (J)."""
+        work since t = 0 (J); ``smooth_end`` (q̃ or None, ṽ), where known, the end of the
+        smooth step that a velocity jump followed (:func:`smooth_end`)."""
         if self.last is None:
             self.start(st)
             self.scale = max(self.scale, kinetic + strain)
@@ -259,9 +270,8 @@ class EnergyLedger:
         dE, W = E - self.energy, load_work - self.terms["load_work"]
         damping = 0.0
         if self.damped:
-            vCv = self._vCv(st)
-            damping = 0.5 * st.h * (self.vCv + vCv)
-            self.vCv = vCv
+            args = (self.model, self.last, st, self.Cv, smooth_end)
+            damping, self.Cv = damping_step_work(*args)
         friction = self._friction(st)
         impact, gains, works = self._impact(st, kinetic, E, W, damping, friction)
         if works is not NO_WORK:
@@ -286,16 +296,6 @@ class EnergyLedger:
             return 0.0
         delta = np.maximum(-st.gaps, 0.0)
         return float(0.5 * np.sum(np.nan_to_num(k) * delta**2))
-
-    def _vCv(self, st) -> float:
-        m, F = self.model, self.model.free
-        alpha, beta = m.damping
-        v = st.v[F]
-        out = alpha * float(v @ (m.M @ v))
-        if beta:
-            K = m.internal(st.q, tangent=True)[2]
-            out += beta * float(v @ (K @ v))
-        return out
 
     def _friction(self, st) -> float:
         now, before = st.friction, self.last.friction
@@ -440,6 +440,7 @@ class EnergyLedger:
         out = {k: getattr(self, k) for k in self.FIELDS}
         places = {k: getattr(self, k) for k in ("worst", "where", "friction_where")}
         out["impact_work"] = self.impact_work.tolist()
+        out["damping_force"] = None if self.Cv is None else self.Cv.tolist()
         return out | {f"term_{k}": v for k, v in self.terms.items()} | places
 
     def restore(self, values: dict) -> None:
@@ -450,6 +451,8 @@ class EnergyLedger:
             self.terms[k] = float(values.get(f"term_{k}", self.terms[k]))
         if "impact_work" in values:
             self.impact_work = np.array(values["impact_work"], dtype=float)
+        if values.get("damping_force") is not None:
+            self.Cv = np.array(values["damping_force"], dtype=float)
         for k in ("worst", "where", "friction_where"):
             if values.get(k) is not None:
                 setattr(self, k, tuple(values[k]))

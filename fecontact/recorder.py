@@ -15,8 +15,9 @@ from .energy import EnergyBalance, StateEnergies
 from .io.frames import friction_totals
 from .io.output import FRICTION_COLUMNS, LEDGER_COLUMNS, STANDARD_COLUMNS
 from .io.run_folder import jsonable
-from .ledger import EnergyLedger
+from .ledger import EnergyLedger, smooth_end
 from .time import State, uses_smooth_contact
+from .time.state import deferred_ledger
 from .version import __version__
 
 __all__ = ["Recorder"]
@@ -122,7 +123,8 @@ class Recorder:
         ke, se, pe = st.energies or self.measure(st.q, st.v)
         total = ke + se + pe
         self.balance.add(st.t, st.q, ke, se, pe)
-        self.ledger.add(st, ke, se, pe, self.balance.work)
+        end = smooth_end(deferred_ledger(st)) if self.ledger.damped else None
+        self.ledger.add(st, ke, se, pe, self.balance.work, end)
         self.energies = (ke, se, pe)
         min_gap = self._min_gap(st)
         active = _pressed(st)
