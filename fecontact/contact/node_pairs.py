@@ -64,11 +64,12 @@ class NodeContact(PairDefaults):
         self.offset = model.offset_of(self.body)
 
     def watch(self):
-        """A 2D solid's boundary segments against an outside Circle: its nodes' rows let a
-        circle smaller than an edge in between two nodes, which the watch measures."""
+        """A 2D solid's boundary segments, or a ``Beam2D``'s elements, against an outside
+        Circle: the nodes' rows let a circle smaller than an edge in between two nodes,
+        which the watch measures."""
         circle = self.obstacle
-        if isinstance(self.body, Solid) and isinstance(circle, Circle) and circle.dim == 2:
-            return None if circle.inside else CircleSegmentDepths(self)
+        if isinstance(self.body, (Solid, Beam2D)) and isinstance(circle, Circle):
+            return None if circle.inside or circle.dim != 2 else CircleSegmentDepths(self)
         return None
 
     def rate(self, q: np.ndarray) -> np.ndarray:
