@@ -1,11 +1,12 @@
-"""A peg between two boundary nodes of a 2D solid, or two nodes of a beam, held by node rows
-(``nodes`` named) is seen by the run's penetration record."""
+"""A peg between two boundary nodes of a 2D solid, or two nodes of a beam (a Sphere between
+a rod's), held by node rows (``nodes`` named) is seen by the run's penetration record."""
 
 import numpy as np
+import pytest
 
 from fecontact import Model
-from fecontact.bodies import Beam2D, LinearElastic, Material, Section, Solid
-from fecontact.contact import Circle, Contact
+from fecontact.bodies import Beam2D, Beam3D, LinearElastic, Material, Section, Solid
+from fecontact.contact import Circle, Contact, Sphere
 from fecontact.contact.node_pairs import NodeContact
 
 R = 0.05
@@ -29,14 +30,20 @@ def test_peg_between_nodes_is_measured():
     assert abs(depth - into) < 1e-12
 
 
-def test_peg_between_beam_nodes_is_measured():
-    # a strip of 4 elements (25 cm) whose named nodes a 1 cm peg presses mid-element: the
-    # rows see the nodes 12.5 cm away, the watch the peg's 3 mm into the 5 mm half thickness
-    strip = Beam2D.straight([0.0, 0.0], [1.0, 0.0], 4, Material(210e9, rho=7850.0),
-                            Section.rectangle(0.02, 0.01))  # fmt: skip
-    circle = Circle([0.375, -0.012], 0.01)
-    pair = Contact(strip, circle, nodes=np.arange(5), clearance=0.005)
-    model = Model([strip], [pair], (0.0, 0.0))
+@pytest.mark.parametrize("dim", [2, 3])
+def test_peg_between_beam_nodes_is_measured(dim):
+    # a strip of 4 elements (25 cm) whose named nodes a 1 cm peg presses mid-element (a rod
+    # and a Sphere in 3D): the rows see the nodes 12.5 cm away, the watch the peg's 3 mm
+    # into the 5 mm half thickness
+    steel, section = Material(210e9, rho=7850.0), Section.rectangle(0.02, 0.01)
+    if dim == 2:
+        beam = Beam2D.straight([0.0, 0.0], [1.0, 0.0], 4, steel, section)
+        peg = Circle([0.375, -0.012], 0.01)
+    else:
+        beam = Beam3D.straight([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], 4, steel, Section.circle(0.005))
+        peg = Sphere([0.375, 0.0, -0.012], 0.01)
+    pair = Contact(beam, peg, nodes=np.arange(5), clearance=0.005)
+    model = Model([beam], [pair], (0.0,) * dim)
     assert isinstance(pair, NodeContact)
     assert np.all(pair.gaps(np.zeros(model.n)) > 0.0)
     depth, relative = pair.watch().depth(np.zeros(model.n))

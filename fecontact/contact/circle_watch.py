@@ -4,9 +4,10 @@ Node rows against a Circle keep the boundary nodes out, and a circle smaller tha
 enters between two nodes unseen by them. The watch measures the circle's depth into every
 boundary segment (the radius less the centre's distance to the segment, where the centre
 lies on the segment's inner side or within the radius of it) at every step's end: the run's
-``max_penetration`` and its warning over ``BOUND`` of the shortest boundary edge. A
-``Beam2D``'s named nodes against a Circle are watched the same way, its elements as the
-segments and the pair's clearance (the half thickness) added to the radius. A rigid
+``max_penetration`` and its warning over ``BOUND`` of the shortest boundary edge. A beam's
+named nodes against a Circle (a ``Beam3D``'s against a Sphere) are watched the same way,
+its elements as the segments and the pair's clearance (the section's half height or
+radius) added to the radius. A rigid
 ``Disk`` (a moving circle) against a 2D solid's nodes is watched the same way
 (:class:`DiskSegmentDepths`).
 """
@@ -22,7 +23,7 @@ __all__ = ["CircleSegmentDepths", "DiskSegmentDepths"]
 
 class CircleSegmentDepths:
     """The deepest point of an outside ``Circle`` inside a 2D solid's boundary segments, or
-    within the clearance of a ``Beam2D``'s elements."""
+    within the clearance of a beam's elements (a ``Beam3D``'s against a ``Sphere``)."""
 
     def __init__(self, pair):
         self.pair = pair

@@ -34,8 +34,8 @@ def Contact(
     named (a chord cuts into it, a peg narrower than an edge enters, between two nodes;
     :mod:`fecontact.contact.segment_pairs`); where a solid's or a beam's nodes hold it
     (named, or on P2 cells) the run measures its depth into the boundary segments or the
-    beam's elements, in ``max_penetration``, and warns; a ``Point`` acts on the beam's
-    centreline segments. ``clearance`` (m, ≥ 0) keeps the points or segments that far from a
+    beam's elements (a ``Beam3D``'s named nodes against a ``Sphere`` the same), in
+    ``max_penetration``, and warns; a ``Point`` acts on the beam's centreline segments. ``clearance`` (m, ≥ 0) keeps the points or segments that far from a
     rigid obstacle: half the thickness of a beam, whose centreline the gaps measure. A rigid
     disk (``RigidBody2D`` with a ``Disk``) contacts a ``Plane``, a ``Circle``, another disk, a
     rigid polygon or a ``Beam2D`` through its centre and radius; see
