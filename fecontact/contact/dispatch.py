@@ -35,9 +35,10 @@ def Contact(
     :mod:`fecontact.contact.segment_pairs`); where a solid's or a beam's nodes hold it
     (named, or on P2 cells) the run measures its depth into the boundary segments or the
     beam's elements (a ``Beam3D``'s named nodes against a ``Sphere`` the same), in
-    ``max_penetration``, and warns; a ``Point`` acts on the beam's centreline segments. ``clearance`` (m, ≥ 0) keeps the points or segments that far from a
-    rigid obstacle: half the thickness of a beam, whose centreline the gaps measure. A rigid
-    disk (``RigidBody2D`` with a ``Disk``) contacts a ``Plane``, a ``Circle``, another disk, a
+    ``max_penetration``, and warns; a ``Point`` acts on the beam's centreline segments.
+    ``clearance`` (m, ≥ 0) keeps the points or segments that far from a rigid obstacle: half
+    the thickness of a beam, whose centreline the gaps measure. A rigid disk
+    (``RigidBody2D`` with a ``Disk``) contacts a ``Plane``, a ``Circle``, another disk, a
     rigid polygon or a ``Beam2D`` through its centre and radius; see
     :mod:`fecontact.contact.rigid_pairs`. A 2D ``Solid``'s boundary nodes (or ``nodes``) meet a
     ``RigidBody2D``'s exact disk or convex polygon, named either way round
