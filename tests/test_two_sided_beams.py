@@ -181,3 +181,23 @@ def test_a_strip_struck_end_first_through_a_pair_declared_one_way_is_reported(tm
     # held by its own rows to the position correction's round-off
     assert both["max_penetration"] < 1e-12
     assert not any(w.startswith("penetration") for w in both["warnings"])
+
+
+def test_a_strip_falling_end_first_onto_a_coarse_block_is_reported(tmp_path):
+    # Contact(block, strip) holds the block's boundary nodes, 20 cm apart on its top face,
+    # out of the strip; the strip's end, falling at 1 m/s onto the face between two of them
+    # 0.1 mm above its clearance, meets no row and goes on into the block (free flight: no
+    # node of the block comes near the strip). After 4 ms its centre is 1.1 mm above the
+    # face, 3.9 mm inside the 5 mm clearance: the run reports that depth and warns.
+    from fecontact import Simulation, run
+
+    block = Solid.rectangle([0.0, -0.1], [0.4, 0.0], (2, 1), LinearElastic(1e8, 0.3, 1e3))
+    block.fix(block.nodes_where(lambda x: x[1] < -0.1 + 1e-9))
+    strip = Beam2D.straight([0.1, 0.2], [0.1, 0.0051], 4, STEEL, Section.rectangle(0.02, 0.01))
+    model = Model([block, strip], [Contact(block, strip, clearance=0.005)], gravity=(0, 0))
+    v0 = model.translation(strip, (0.0, -1.0))
+    sim = Simulation(model, 2e-5, 0.004, v0=v0, name="end_first")
+    with pytest.warns(UserWarning, match="a beam's node between a solid's boundary nodes"):
+        summary = run(sim, tmp_path, progress=False, frames=False)
+    # the end node's path is free flight: its depth is exact to the steps' round-off
+    assert summary["max_penetration"] == pytest.approx(0.0039, abs=1e-12)

@@ -32,12 +32,13 @@ def Contact(
     of a rigid body, by default); a ``Circle`` seen from outside acts on a ``Beam2D``'s
     centreline segments and on a 2D P1 ``Solid``'s boundary segments unless ``nodes`` are
     named (a chord cuts into it, a peg narrower than an edge enters, between two nodes;
-    :mod:`fecontact.contact.segment_pairs`); where a solid's nodes hold it (named, or on P2
-    cells) the run measures its depth into the boundary segments, in ``max_penetration``,
-    and warns; a ``Point`` acts on the beam's centreline segments. ``clearance`` (m, ≥ 0) keeps the
-    points or segments that far from a rigid obstacle: half the thickness of a beam, whose
-    centreline the gaps measure. A rigid
-    disk (``RigidBody2D`` with a ``Disk``) contacts a ``Plane``, a ``Circle``, another disk, a
+    :mod:`fecontact.contact.segment_pairs`); where a solid's or a beam's nodes hold it
+    (named, or on P2 cells) the run measures its depth into the boundary segments or the
+    beam's elements (a ``Beam3D``'s named nodes against a ``Sphere`` the same), in
+    ``max_penetration``, and warns; a ``Point`` acts on the beam's centreline segments.
+    ``clearance`` (m, ≥ 0) keeps the points or segments that far from a rigid obstacle: half
+    the thickness of a beam, whose centreline the gaps measure. A rigid disk
+    (``RigidBody2D`` with a ``Disk``) contacts a ``Plane``, a ``Circle``, another disk, a
     rigid polygon or a ``Beam2D`` through its centre and radius; see
     :mod:`fecontact.contact.rigid_pairs`. A 2D ``Solid``'s boundary nodes (or ``nodes``) meet a
     ``RigidBody2D``'s exact disk or convex polygon, named either way round
@@ -50,7 +51,9 @@ def Contact(
     strips: the sum of their half thicknesses), meet the beam's two-sided surface, its
     centreline offset by ± ``clearance`` (:mod:`fecontact.contact.beam_sides`; add the reversed
     pair for two strips: declared one way, the second strip's nodes are not held, and their
-    depth in the first is reported in ``max_penetration`` and warned). ``restitution`` is
+    depth in the first is reported in ``max_penetration`` and warned; a beam's nodes are not
+    held against a solid either, and their depth into it is reported and warned the same
+    way). ``restitution`` is
     Newton's e_N in [0, 1].
 
     ``friction`` is Coulomb's coefficient μ ≥ 0 of every contact of the pair (0: frictionless,

@@ -64,10 +64,12 @@ class NodeContact(PairDefaults):
         self.offset = model.offset_of(self.body)
 
     def watch(self):
-        """A 2D solid's boundary segments against an outside Circle: its nodes' rows let a
-        circle smaller than an edge in between two nodes, which the watch measures."""
-        circle = self.obstacle
-        if isinstance(self.body, Solid) and isinstance(circle, Circle) and circle.dim == 2:
+        """A 2D solid's boundary segments, or a beam's elements, against an outside Circle
+        (a Sphere for a ``Beam3D``): the nodes' rows let a circle smaller than an edge in
+        between two nodes, which the watch measures."""
+        circle, body = self.obstacle, self.body
+        segments = isinstance(body, (Beam2D, Beam3D)) or (isinstance(body, Solid) and body.dim == 2)
+        if segments and isinstance(circle, Circle) and circle.dim == body.dim:
             return None if circle.inside else CircleSegmentDepths(self)
         return None
 
