@@ -76,14 +76,19 @@ def dip_closings(g0, s0, g1, s1, depth: float):
     return which, u * s_m, slope / s_m, s_m, p_m
 
 
-def near_dips(model, st, g1: np.ndarray, opts) -> bool:
-    """Whether a step from ``st`` whose trial ends with the gaps ``g1`` (none crossing) has a
-    contact that :func:`may_dip`, where the run scans for dips (``opts.dips``)."""
+def near_dips(model, st, g1: np.ndarray, opts, least: float | None = None) -> bool:
+    """Whether a step from ``st`` whose trial ends with the gaps ``g1`` (``least`` their
+    smallest, if known) has a contact that :func:`may_dip`, where the run scans for dips
+    (``opts.dips``)."""
+    reach = opts.detection_margin * model.length
     if not (opts.dips and g1.size):
+        return False
+    # (every gap beyond the reach: most steps of a flight, decided by one comparison)
+    if (g1.min() if least is None else least) >= reach:
         return False
     g0 = st.gaps if st.gaps.size == g1.size else model.contacts.gaps(st.q)
     low = opts.tol_gap * model.length
-    return bool(may_dip(g0, g1, low, opts.detection_margin * model.length).any())
+    return bool(may_dip(g0, g1, low, reach).any())
 
 
 def with_dips(contacts, st, phases, left: float, F, near, g0, aim: float, tol: float, found):

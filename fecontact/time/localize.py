@@ -162,8 +162,9 @@ def localized_step(
     # are fixed, localizes(): no set_time; argmin, not min: a third of the time on a few
     # contacts, where this test is most of what localization adds to a step)
     g1 = phases.g_tilde = model.contacts.gaps(phases.q)
-    if not g1.size or g1[g1.argmin()] >= -opts.tol_gap * model.length:
-        if not near_dips(model, st, g1, opts):  # (a gap that closes and opens: dips.py)
+    least = g1[g1.argmin()] if g1.size else math.inf
+    if least >= -opts.tol_gap * model.length:
+        if not near_dips(model, st, g1, opts, least):  # (closes and opens again: dips.py)
             return phases.finish(time.perf_counter())
     return _split_step(model, st, h, opts, timer, phases, lasting)
 
