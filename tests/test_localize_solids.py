@@ -16,7 +16,8 @@ from fecontact.rotations import exp
 from fecontact.scenes import wave_step
 from fecontact.testing import G, case, trace
 from fecontact.time import IntegratorOptions, localize, run_settings
-from fecontact.time.localize import localizes, one_closing_per_node
+from fecontact.time.crossings import one_closing_per_node
+from fecontact.time.localize import localizes
 from fecontact.time.substeps import Localizer, Releases, localized_stepper
 
 SOFT = NeoHookean(1e7, 0.3, 1000.0)  # rubber

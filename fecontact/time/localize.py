@@ -56,11 +56,12 @@ import time
 
 import numpy as np
 
-from ..contact.mortar_safeguard import pointwise_row, real_gaps, real_starts
+from ..contact.mortar_safeguard import pointwise_row, real_gaps
 from ..errors import InputError
 from ..ledger import JoinedRecord
 from .constraints import StepFailure
-from .hermite import hermite_root
+from .crossings import closings
+from .dips import may_dip, near_dips, with_dips
 from .nsga import smooth_phases
 from .settings import RunSettings
 from .state import PhaseTimer, State, deferred_ledger, length_scale
@@ -161,8 +162,10 @@ def localized_step(
     # are fixed, localizes(): no set_time; argmin, not min: a third of the time on a few
     # contacts, where this test is most of what localization adds to a step)
     g1 = phases.g_tilde = model.contacts.gaps(phases.q)
-    if not g1.size or g1[g1.argmin()] >= -opts.tol_gap * model.length:
-        return phases.finish(time.perf_counter())
+    least = g1[g1.argmin()] if g1.size else math.inf
+    if least >= -opts.tol_gap * model.length:
+        if not near_dips(model, st, g1, opts, least):  # (closes and opens again: dips.py)
+            return phases.finish(time.perf_counter())
     return _split_step(model, st, h, opts, timer, phases, lasting)
 
 
@@ -259,7 +262,7 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list, lasting=No
         return None
     if not kept:
         kept.extend(cache_keys(model, opts.stats.localization))
-    tol, rows, tau, rate, g0, jumps = crossing
+    tol, rows, tau, rate, g0, jumps, ends = crossing
     reason = None
     # a contact pressed throughout (one pressed was a candidate: none in flight, most impacts)
     beside = st.candidates.size and (st.pressed() & (phases.g_tilde <= tol)).any()
@@ -276,7 +279,7 @@ def _split(model, st, phases, left, h, done, opts, timer, kept: list, lasting=No
         if -rate[k] * left <= GRAZING * tol:
             reason = "grazing"
     if reason is None:
-        guess = (tau[k], g0[k], jumps[k])
+        guess = (tau[k], g0[k], jumps[k], ends[0][k], ends[1][k])
         found = _refine(model, st, phases, left, rows[k], guess, tol, opts, timer)
         if found is not None:  # (the jump closes the rows taken together: nsga._closed)
             found[1].together = _together(rows, tau, rate, TOGETHER * h / left, h)
@@ -311,17 +314,20 @@ def _rings(tau: np.ndarray, done: int, beside, h: float, left: float) -> bool:
 
 
 def _crossing(model, st, phases, left, opts, lasting=None):
-    """(tol, rows, τ, ġ(τ), g_0, jumps) of the contacts open at the start of the trial ``phases``
-    whose gap at its end is below −tol (rows: a gap known at both ends, one per node, τ their
-    Hermite crossing as a fraction of ``left``, ġ(τ) their closing speed in m/s, g_0 their
-    gaps at the start, jumps: g_0 a placeholder), or None where none crosses; sets g at q̃."""
+    """(tol, rows, τ, ġ(τ), g_0, jumps, ends) of the contacts open at the start of the trial
+    ``phases`` whose gap at its end is below −tol, or (``opts.dips``) dips below it inside
+    the step (rows: a gap known at both ends, one per node, τ their Hermite crossing as a
+    fraction of ``left``, ġ(τ) their closing speed in m/s, g_0 their gaps at the start,
+    jumps: g_0 a placeholder, ends: the fractions and gaps less the aim that close their
+    brackets), or None where none crosses; sets g at q̃."""
     contacts = model.contacts
-    if phases.g_tilde is None and not _penetrates(model, phases, opts):
+    if phases.g_tilde is None and not _penetrates(model, phases, opts) and not opts.dips:
         return None
     g1 = phases.g_tilde
     g0 = st.gaps if st.gaps.size == contacts.size else contacts.gaps(st.q)
     low = opts.tol_gap * model.length  # a lower bound of tol: decides most steps at no cost
-    if not ((g1 < -low) & (g0 > low)).any():
+    reach = opts.detection_margin * model.length
+    if not ((g1 < -low) & (g0 > low)).any() and not near_dips(model, st, g1, opts):
         return None
     tol = opts.tol_gap * length_scale(model, phases.q)
     closing = (g1 < -tol) & (g0 > tol)
@@ -330,37 +336,20 @@ def _crossing(model, st, phases, left, opts, lasting=None):
         if not closing.any():
             opts.stats.localization.fall_back("persistent", g1)
             return None
-    if not closing.any():
-        return None
-    rows = (closing & np.isfinite(g0)).nonzero()[0]
-    F = model.free_slice  # (a view where the free dofs are contiguous: no copies)
-    _, G0 = contacts.jacobian(st.q, rows)
-    if not G0.any(axis=1).all():  # (a row without a gradient: a pointwise placeholder)
-        g0, G0 = real_starts(contacts, st.q, rows, g0, G0)
-    G1 = G0 if contacts.affine else contacts.jacobian(phases.q, rows)[1]  # (affine: constant)
-    s0, s1 = left * (G0 @ st.v[F]), left * (G1 @ phases.v[F])  # slopes in s
     aim = closing_aim(model, tol)  # (inside the tolerance, on the open side: no correction)
-    tau, slope = hermite_root(g0[rows] - aim, s0, g1[rows] - aim, s1)
-    rows, tau, slope, sloped = _own_closings(contacts.twins, rows, tau, slope, G0)
-    return tol, rows, tau, slope / left, g0[rows], ~sloped
-
-
-def _own_closings(twins, rows, tau, slope, G0):
-    """(rows, τ, slopes, whether each row has a gradient) of the crossing ``rows`` (gradients
-    ``G0``) that stand for their nodes: of twin rows the earlier (:func:`one_closing_per_node`),
-    and the rows with a gradient where any has one (a deep node's row above half its allowance
-    whose real gap is unknown, :func:`real_starts`, has none, and a placeholder's instant is
-    not its node's: the master's nodes have no twin; ball_on_slab at 10 m/s,
-    localization.md)."""
-    sloped = G0.any(axis=1)
-    if twins is None and sloped.all():  # (every row its node's own, and sloped: most steps)
-        return rows, tau, slope, sloped
-    keep = np.ones(rows.size, dtype=bool)
-    if twins is not None:  # (no twin rows: every crossing stands for its node)
-        keep = one_closing_per_node(twins, rows, tau)
-    if (keep & sloped).any():
-        keep &= sloped
-    return rows[keep], tau[keep], slope[keep], sloped[keep]
+    F = model.free_slice  # (a view where the free dofs are contiguous: no copies)
+    found = None
+    if closing.any():
+        g0, found = closings(contacts, st, phases, left, closing, g0, aim, F)
+    if opts.dips:
+        near = may_dip(g0, g1, tol, reach) & ~closing
+        if lasting is not None:
+            near &= ~lasting
+        found = with_dips(contacts, st, phases, left, F, near, g0, aim, tol, found)
+    if found is None:
+        return None
+    rows, tau, slope, sloped, ends = found
+    return tol, rows, tau, slope / left, g0[rows], ~sloped, ends
 
 
 def closing_aim(model, tol: float) -> float:
@@ -378,27 +367,6 @@ def closing_aim(model, tol: float) -> float:
     return half * (min(body.characteristic_length for body in bodies) / model.length)
 
 
-def one_closing_per_node(twins, rows: np.ndarray, tau: np.ndarray) -> np.ndarray:
-    """Which of the crossing ``rows`` (instants ``tau``) stand for their node: of two twin
-    rows (``twins``: a mortar node's weighted row and its pointwise row,
-    :func:`fecontact.contact.mortar_safeguard.twin_rows`; None: none) that both cross, the
-    earlier instant (the first row on a tie). A pointwise row reads a placeholder gap while
-    its node is shallower than half its allowance, so its Hermite instant is not the node's;
-    counted as one more instant it made a ring of closings beside a pressed pole look like
-    an accumulation, and the step was left whole."""
-    keep = np.ones(rows.size, dtype=bool)
-    if twins is None or not rows.size:
-        return keep
-    where = np.full(twins.size, -1)
-    where[rows] = np.arange(rows.size)
-    twin = twins[rows]
-    partner = np.where(twin >= 0, where[np.maximum(twin, 0)], -1)  # its index among rows
-    both = partner >= 0
-    other = np.where(both, partner, 0)
-    later = (tau > tau[other]) | ((tau == tau[other]) & (rows > rows[other]))
-    return ~(both & later)
-
-
 def _refine(model, st, phases, left, j, guess, tol, opts, timer):
     """(δ, the phases of the smooth step of δ from ``st`` that ends with 0 ≤ g_j ≤ 2 aim, aim
     the :func:`closing_aim` of ``tol``, at most ``tol``):
@@ -407,8 +375,8 @@ def _refine(model, st, phases, left, j, guess, tol, opts, timer):
     ``MAX_REFINE`` smooth steps do not find it; a trial reading a placeholder bisects (it
     is no gap), and a row that jumps keeps its closed end (``stress_3d.md``, 63 Δx/c balls)."""
     stats, below = opts.stats.localization, None  # (below: δ and trial on the closed side)
-    (tau, g0, jumps), aim = guess, closing_aim(model, tol)  # (0 ≤ g ≤ 2 aim: no correction)
-    (a, ga), (b, gb) = (0.0, float(g0) - aim), (left, float(phases.g_tilde[j]) - aim)
+    (tau, g0, jumps, end, g_end), aim = guess, closing_aim(model, tol)  # (0 ≤ g ≤ 2 aim)
+    (a, ga), (b, gb) = (0.0, float(g0) - aim), (left * float(end), float(g_end))
     own = np.array([j]) if pointwise_row(model.contacts, j) else None
     read = not jumps  # (whether ga is a gap, not a placeholder's two margins)
     delta, side = float(tau) * left, 0  # (a float: the split's times and sizes are floats)

@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 
 from ..contact.contact_loops import loops_of_contacts
 from .correction import MomentumKept, momentum_kept
+from .dips import scans_dips
 from .newton import NewtonPlan
 from .state import IntegratorOptions
 from .stats import StepStats
@@ -48,7 +49,8 @@ class RunSettings(IntegratorOptions):
     rotations, whose turn the smooth step bounds over the step and over each update that
     rows border (:class:`~fecontact.time.turns.TurnBound`; None without beams), and
     ``coasts``: a predictor that turns a beam node too far starts Newton at constant
-    velocity instead (the energy guard's steps at ρ∞ = 0, :mod:`.turns`)."""
+    velocity instead (the energy guard's steps at ρ∞ = 0, :mod:`.turns`); ``dips``: a localized
+    step also locates a gap that closes and opens again inside it (:mod:`.dips`)."""
 
     smooth: bool = False
     restarts: bool = False
@@ -62,6 +64,7 @@ class RunSettings(IntegratorOptions):
     depth_check: bool = field(default=True, repr=False, compare=False)
     turns: TurnBound | None = field(default=None, repr=False, compare=False)
     coasts: bool = field(default=False, repr=False, compare=False)
+    dips: bool = field(default=False, repr=False, compare=False)
 
     def __post_init__(self):
         pass  # the values are those of options already checked, taken as they are
@@ -168,4 +171,5 @@ def run_settings(
         momentum=momentum_kept(model),
         depth_check=any(pair.inside_test for pair in contacts.pairs) or bool(contacts.watches),
         turns=beam_turns(model),
+        dips=scans_dips(model),
     )
