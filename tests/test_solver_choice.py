@@ -8,8 +8,9 @@ import scipy.sparse as sp
 from fecontact import run
 from fecontact.linalg import direct as direct_module
 from fecontact.linalg import factorize
-from fecontact.linalg.choice import RunPlan, SolverChoice
+from fecontact.linalg.choice import FACTOR_MODEL, PLANAR_MODEL, RunPlan, SolverChoice
 from fecontact.linalg.cholesky import CholeskyFactor
+from fecontact.linalg.graph_growth import PLANAR_GROWTH, graph_growth
 from fecontact.linalg.sparse_solvers import sparse_solver, use_sparse_solver
 from fecontact.testing import case
 
@@ -209,3 +210,42 @@ def recording_paths(calls: list):
         return make
 
     return path
+
+
+def grid(n: int, dim: int):
+    """The (2·dim + 1)-point Laplacian on n^dim points: the graph of a planar (dim 2) or a
+    volume (dim 3) mesh."""
+    d = sp.diags([-1.0, 2.0, -1.0], [-1, 0, 1], shape=(n, n))
+    A = d
+    for _ in range(dim - 1):
+        A = sp.kron(A, sp.eye(n)) + sp.kron(sp.eye(A.shape[0]), d)
+    return A.tocsr()
+
+
+def test_the_graph_s_growth_tells_planar_from_volume():
+    """The unknowns within graph distance r grow like r² on a planar grid, like r³ on a volume
+    one (the count stops at 3,000 unknowns, r = 39 and 13: the lattice's lower-order terms
+    keep the readings near 1.95 and 2.8, both 0.45 or more from the threshold); a matrix
+    too small to read gives None."""
+    planar, volume = graph_growth(grid(120, 2)), graph_growth(grid(25, 3))
+    assert planar < PLANAR_GROWTH - 0.2 and 1.8 < planar
+    assert volume > PLANAR_GROWTH + 0.3 and volume < 3.0
+    assert graph_growth(spd(50)) is None  # 2,500 unknowns: the count would reach the edges
+
+
+def test_the_factorization_estimate_follows_the_graph():
+    """Before a factorization is measured, a planar graph's is estimated by the planar law, a
+    volume graph's by the volume law (which overestimated the 66,050-dof disks' 6–27 times,
+    so that "auto" kept CG where the direct path was the faster), and the reason says which."""
+    choice = SolverChoice("auto", RunPlan(10, True), "superlu")
+    for A, law in ((grid(120, 2), PLANAR_MODEL), (grid(25, 3), FACTOR_MODEL)):
+        role = choice.role(A)
+        role.product, role.t_cg = 1e-3, 1.0  # s: the unit of the estimates, fixed for the test
+        direct, _, how = choice.costs(role, factorized=False)
+        (kf, qf), (ks, qs) = law["superlu"]
+        scale = A.shape[0] / 1e4
+        # one factorization and 10 steps x 2 solves (the guess before a step is over)
+        assert direct == pytest.approx(1e-3 * (kf * scale**qf + 20 * ks * scale**qs))
+        assert ("planar law" in how) == (law is PLANAR_MODEL)
+    growths = [role["graph_growth"] for role in choice.record()["roles"]]
+    assert growths[0] < PLANAR_GROWTH < growths[1]

@@ -18,13 +18,14 @@ nonlinear one (one a Newton iteration). Solves and factorizations per step are m
 run goes, over the steps since the role's first solve and first matrix (``SOLVES_GUESS`` and
 ``NEWTON_GUESS`` before a step is over): a role may come late, the iteration matrix of a step
 size met at a located closing. t_f and t_s are measured once the role has been factorized, and
-until then estimated from the measured time of one product with A by ``FACTOR_MODEL``
-(``docs/validation/large_solids.md``). t_cg is measured on CG's solves; the first solve of a
-role is CG with the diagonal preconditioner, stopped once it has cost what a CG solve may cost
-for the paths to tie (so that a role the direct path serves better loses little to it): if it
-converges, its time is t_cg; if not, AMG-CG is estimated by ``AMG_MODEL`` until measured. The
-choice is made again at every new matrix of a role, and on the CG path once a step and at every
-block of right-hand sides; each change of path is recorded with its reason.
+until then estimated from the measured time of one product with A by ``FACTOR_MODEL``, or
+``PLANAR_MODEL`` where A's graph grows like a planar one (:mod:`.graph_growth`: a 2D body, a
+thin slab), ``docs/validation/large_solids.md``. t_cg is measured on CG's solves; the first
+solve of a role is CG with the diagonal preconditioner, stopped once it has cost what a CG
+solve may cost for the paths to tie (so that a role the direct path serves better loses little
+to it): if it converges, its time is t_cg; if not, AMG-CG is estimated by ``AMG_MODEL`` until
+measured. The choice is made again at every new matrix of a role, and on the CG path once a
+step and at every block of right-hand sides; each change of path is recorded with its reason.
 """
 
 from __future__ import annotations
@@ -38,9 +39,10 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from .graph_growth import PLANAR_GROWTH, graph_growth
 from .iterative import DIAGONAL_ITERATIONS, RTOL, TRUE_RESIDUAL
 
-__all__ = ["FACTOR_MODEL", "RunPlan", "SolverChoice"]
+__all__ = ["FACTOR_MODEL", "PLANAR_MODEL", "RunPlan", "SolverChoice"]
 
 # the relative tolerance of scipy's cg: ``tol`` before SciPy 1.12, ``rtol`` since
 _RTOL = "rtol" if "rtol" in inspect.signature(spla.cg).parameters else "tol"
@@ -71,7 +73,20 @@ FACTOR_MODEL = {
 """Per backend, ((K_f, q_f), (K_s, q_s)): a factorization costs K_f (n/10⁴)^q_f and a solve
 K_s (n/10⁴)^q_s products with A (n unknowns), fitted to the iteration matrices of the 3D ball at
 20,577 and 65,856 dofs (PARDISO's Cholesky and SuperLU's symmetric mode, one thread). Only the
-first decision of a role uses it; measured times replace it."""
+first decision of a role uses it; measured times replace it. Matrices whose graph is planar
+take ``PLANAR_MODEL``."""
+
+PLANAR_MODEL = {
+    "cholesky": ((195.0, 0.34), (47.0, 0.0)),
+    "superlu": ((673.0, 0.34), (67.0, 0.0)),
+}
+"""``FACTOR_MODEL`` of the matrices whose graph grows like a planar one
+(:func:`.graph_growth.graph_growth` below ``PLANAR_GROWTH``). SuperLU's is fitted to the
+iteration matrices of P1 and P2 disks and squares and of a slab of two layers of tetrahedra,
+4,226 to 80,802 dofs, three runs each (its factorizations took 0.48–3.2 and its solves
+0.23–3.0 times the fit; the volume law overestimated these factorizations 6–27 times). The
+Cholesky path's is not measured on planar meshes: SuperLU's times the ratio of the two
+backends' volume laws at 10⁴ dofs (0.29 for a factorization, 0.70 for a solve)."""
 
 
 @dataclass
@@ -97,6 +112,7 @@ class _Role:
     t_f: float | None = None  # direct factorization, measured
     t_s: float | None = None  # direct solve, measured
     t_cg: float | None = None  # CG solve, measured (setups included)
+    growth: float | None = None  # of the pattern's graph (None: too small to read)
     cg_solves: int = 0
     direct_solves: int = 0
 
@@ -149,7 +165,7 @@ class SolverChoice:
         for indptr, indices, role in same:
             if _equal(A.indptr, indptr) and _equal(A.indices, indices):
                 return role
-        role = _Role(A.shape[0], _product_time(A), self.steps_done)
+        role = _Role(A.shape[0], _product_time(A), self.steps_done, growth=graph_growth(A))
         same.append((A.indptr, A.indices, role))
         return role
 
@@ -185,9 +201,12 @@ class SolverChoice:
         if role.t_f is not None:
             t_s = role.t_s if role.t_s is not None else role.t_f * 0.02
             return role.t_f, t_s, "measured"
-        (kf, qf), (ks, qs) = FACTOR_MODEL[self.backend]
+        planar = role.growth is not None and role.growth < PLANAR_GROWTH
+        (kf, qf), (ks, qs) = (PLANAR_MODEL if planar else FACTOR_MODEL)[self.backend]
         scale = role.n / 1e4
-        return kf * scale**qf * role.product, ks * scale**qs * role.product, "estimated"
+        graph = "graph unread" if role.growth is None else f"graph growth {role.growth:.2f}"
+        source = f"estimated, {'planar' if planar else 'volume'} law, {graph}"
+        return kf * scale**qf * role.product, ks * scale**qs * role.product, source
 
     def decide(self, role: _Role, path: str, reason: str) -> None:
         if path != role.path:
@@ -213,6 +232,7 @@ class SolverChoice:
                     "path": r.path,
                     "cg_solves": r.cg_solves,
                     "direct_solves": r.direct_solves,
+                    "graph_growth": r.growth,
                 }
                 for same in self._roles.values()
                 for _, _, r in same
