@@ -288,3 +288,21 @@ def test_auto_times_cg_without_its_first_hierarchy(monkeypatch):
         solve(np.ones(900))
         assert role.t_cg == pytest.approx(t_cg)
     assert (role.cg_solves, role.cg_timed, role.setups) == (3, 2, 2)
+
+
+def test_auto_probes_a_size_met_once():
+    """A size of a split step is smaller than the role's step and better conditioned: CG
+    with the diagonal is tried on it (here on the first column of a block) before the role's
+    CG cost, its first matrix's, sends it to a factorization of its own (a 66,050-dof P2
+    disk factorized 5 sizes where one and CG for the others took half the time)."""
+    calls = []
+    path = recording_paths(calls)
+
+    choice = SolverChoice("auto", RunPlan(100, True), "superlu")
+    A = spd(30)  # κ < 9: the diagonal converges in a few dozen iterations
+    role = choice.role(A)
+    role.product, role.t_f, role.t_s, role.t_cg = 1e-3, 1.0, 1e-3, 1.0  # s, measured
+    # weighed on the role's costs alone: direct 1.004 s against CG 4 x 1 s
+    choice.auto(A, path("direct"), path("cg"), once=True)(np.ones((900, 2)))
+    assert calls == ["cg"]
+    assert choice.decisions[-1]["reason"].startswith("CG with the diagonal solved")

@@ -295,9 +295,11 @@ class _AutoSolve:
         self.direct_factorize, self.iterative = paths
         self.solve, self.path, self.step = None, None, -1
         self.reweighed = False  # chosen again once the role's first CG solve was timed
+        self.probed = False  # by CG with the diagonal (_probe)
+        self.settled = False  # on the CG path for good (a matrix met once, by its probe)
 
     def __call__(self, b):
-        if self.path is None and self.role.t_cg is None:
+        if self.path is None and not self.probed and (self.role.t_cg is None or self.once):
             x = self._probe(b)
             if x is not None:
                 return x
@@ -307,7 +309,7 @@ class _AutoSolve:
         columns = np.shape(b)[1] if len(np.shape(b)) > 1 else 1
         probed = self.role.cg_solves > 0 and not self.reweighed
         again = self.step != self.choice.steps_done or probed or columns > 1
-        if self.path != "direct" and again:
+        if self.path != "direct" and again and not self.settled:
             self.step, self.reweighed = self.choice.steps_done, self.reweighed or probed
             self._choose(columns)
         role = self.role
@@ -342,29 +344,42 @@ class _AutoSolve:
         role.average("t_cg", seconds, columns, role.cg_timed)
 
     def _probe(self, b):
-        """The first solve of a role: CG with the diagonal, stopped once it has cost what a
-        solve may cost for CG to tie with the direct path (at most ``DIAGONAL_ITERATIONS``).
-        Its answer if it converged (CG's cost then measured; the CG path if within the time
-        too); else None, and AMG-CG's cost estimated (``AMG_MODEL``)."""
+        """The first solve of a role, or of a matrix met once: CG with the diagonal on b (on
+        its first column, for a block), stopped once it has cost what a solve may cost for
+        CG to tie with the direct path (at most ``DIAGONAL_ITERATIONS``). Its answer if it
+        converged (the CG path if within the time too; a role's first measures CG's cost; a
+        block is then solved on the path); else None, and for a role's first AMG-CG's cost
+        estimated (``AMG_MODEL``). A size of a split step is smaller than the role's step and
+        better conditioned: the diagonal may suffice where it did not for the role's first
+        matrix, whose AMG estimate would send it to a factorization of its own."""
         role, choice = self.role, self.choice
+        self.probed, known = True, role.t_cg
         role.t_cg = 1.0  # a unit: the CG cost below is then the number of solves left
-        direct, solves, how = choice.costs(role, False, once=self.once)
-        role.t_cg = AMG_MODEL[0] * (role.n / 1e4) ** AMG_MODEL[1] * role.product
+        block = np.ndim(b) > 1 and not sp.issparse(b)
+        columns = np.shape(b)[1] if block else 0
+        direct, solves, how = choice.costs(role, False, columns, once=self.once)
+        amg = AMG_MODEL[0] * (role.n / 1e4) ** AMG_MODEL[1] * role.product
+        role.t_cg = amg if known is None else known
         tie = direct / solves  # s a CG solve may cost
         iterations = int(min(tie / (PRODUCTS_PER_ITERATION * role.product), DIAGONAL_ITERATIONS))
         start = time.process_time()
-        x = _diagonal_cg(self.A, b, iterations)
+        x = _diagonal_cg(self.A, np.asarray(b)[:, 0] if block else b, iterations)
         seconds = time.process_time() - start
         if x is None:
             return None
-        role.t_cg, role.cg_solves, role.cg_timed, role.solves = seconds, 1, 1, 1
-        role.solving = choice.steps_done
-        if seconds > tie:  # within the iterations, not the time (a small system's overheads)
-            return x  # (weighed at the next solve, CG's cost measured)
-        self.path, self.solve, self.step = "cg", self.iterative(), choice.steps_done
-        reason = f"CG with the diagonal solved in {seconds:.3g} s, below the tie {tie:.3g} s"
-        choice.decide(role, "cg", f"{reason} of the direct path ({how})")
-        return x
+        role.cg_solves, role.solves = role.cg_solves + 1, role.solves + 1
+        if known is None:
+            role.t_cg, role.cg_timed, role.solving = seconds, 1, choice.steps_done
+        if seconds <= tie:
+            # a matrix met once keeps the path its own probe chose (the role's CG cost is
+            # its first matrix's, the worse conditioned)
+            self.path, self.solve, self.step = "cg", self.iterative(), choice.steps_done
+            self.settled = self.once
+            reason = f"CG with the diagonal solved in {seconds:.3g} s, below the tie {tie:.3g} s"
+            choice.decide(role, "cg", f"{reason} of the direct path ({how})")
+        # else within the iterations, not the time (a small system's overheads): weighed at
+        # the next solve, CG's cost measured
+        return None if block else x
 
     def _choose(self, columns: int) -> None:
         """The path of this matrix for the rest of the run, ``columns`` to solve now."""
