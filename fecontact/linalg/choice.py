@@ -303,15 +303,22 @@ class _AutoSolve:
             x = self._probe(b)
             if x is not None:
                 return x
-        # on the CG path: choose at the first solve, right after the role's first CG solve
-        # (its cost now measured), at a block of columns (CG pays for each column what a
-        # solve costs, a factor little), else at most once a step
         columns = np.shape(b)[1] if len(np.shape(b)) > 1 else 1
+        self._reweigh(columns)
+        return self._timed_solve(b, columns)
+
+    def _reweigh(self, columns: int) -> None:
+        """On the CG path: choose at the first solve, right after the role's first CG solve
+        (its cost now measured), at a block of columns (CG pays for each column what a solve
+        costs, a factor little), else at most once a step."""
         probed = self.role.cg_solves > 0 and not self.reweighed
         again = self.step != self.choice.steps_done or probed or columns > 1
         if self.path != "direct" and again and not self.settled:
             self.step, self.reweighed = self.choice.steps_done, self.reweighed or probed
             self._choose(columns)
+
+    def _timed_solve(self, b, columns: int):
+        """A⁻¹ b on the chosen path, its CPU time counted in the role."""
         role = self.role
         role.solving = self.choice.steps_done if role.solving is None else role.solving
         role.solves += columns
