@@ -241,7 +241,7 @@ def test_the_graph_s_growth_tells_planar_from_volume():
 
 def test_the_factorization_estimate_follows_the_graph():
     """Before a factorization is measured, a planar graph's is estimated by the planar law, a
-    volume graph's by the volume law (which overestimated the 66,050-dof disks' 6–27 times,
+    volume graph's by the volume law (which overestimated the 66,050-dof disks' 6.6 and 27 times,
     so that "auto" kept CG where the direct path was the faster), and the reason says which."""
     choice = SolverChoice("auto", RunPlan(10, True), "superlu")
     for A, law in ((grid(120, 2), PLANAR_MODEL), (grid(25, 3), FACTOR_MODEL)):

@@ -89,8 +89,9 @@ PLANAR_MODEL = {
 """``FACTOR_MODEL`` of the matrices whose graph grows like a planar one
 (:func:`.graph_growth.graph_growth` below ``PLANAR_GROWTH``). SuperLU's is fitted to the
 iteration matrices of P1 and P2 disks and squares and of a slab of two layers of tetrahedra,
-4,226 to 80,802 dofs, three runs each (its factorizations took 0.48–3.2 and its solves
-0.23–3.0 times the fit; the volume law overestimated these factorizations 6–27 times). The
+4,226 to 80,802 dofs, 34 runs (its factorizations took 0.48–3.2 and its solves 0.23–3.0
+times the fit; the volume law overestimated these factorizations 6.6–50 times from 45,602
+dofs on). The
 Cholesky path's is not measured on planar meshes: SuperLU's times the ratio of the two
 backends' volume laws at 10⁴ dofs (0.29 for a factorization, 0.70 for a solve)."""
 

@@ -8,9 +8,9 @@ tetrahedra factorizes like a 2D mesh), its graph does: the unknowns within graph
 an unknown grow like r^d on a d-dimensional mesh. :func:`graph_growth` counts them breadth
 first from one row until ``GROWTH_UNKNOWNS`` are reached and returns d from the last doubling
 of r. Measured (docs/validation/large_solids.md): 1.64–2.02 on 2D disks and squares in P1 and
-P2 and on slabs of 2 and 5 layers of tetrahedra, 2.41–3.04 on balls, cubes (tetrahedra in P1
-and P2, hexahedra) and a slab of 10 layers, from 15k to 80k unknowns, whichever row it starts
-from; a few milliseconds (10–30 products with the matrix).
+P2 and on slabs of 2 and 5 layers of tetrahedra, 2.41–3.04 on a ball, cubes (tetrahedra in P1
+and P2, hexahedra) and a slab of 10 layers, 20,577 to 66,050 unknowns, from any of four
+starting rows; a few milliseconds (2–37 products with the matrix).
 """
 
 from __future__ import annotations
@@ -22,8 +22,8 @@ import numpy as np
 __all__ = ["GROWTH_UNKNOWNS", "PLANAR_GROWTH", "graph_growth"]
 
 GROWTH_UNKNOWNS = 3000
-"""Unknowns counted breadth first: at 1,000 the balls' few levels (4) read 2.3–2.5, too near
-the planar meshes' 2.0; at 3,000 (6–9 levels in 3D) the two groups lie 0.39 apart."""
+"""Unknowns counted breadth first: at 1,000 the volume meshes' few levels (3–6) read 2.31–2.51,
+too near the planar meshes' 2.0; at 3,000 (4–9 levels in 3D) the two groups lie 0.39 apart."""
 
 PLANAR_GROWTH = 2.25
 """Growth below which a graph factorizes like a planar one: halfway between the largest reading
