@@ -68,7 +68,9 @@ class LinearSolver:
         self.choice = None
         if plan is not None:
             direct = "superlu" if self.name == "superlu" or not cholesky_available() else None
-            self.choice = SolverChoice(self.name, plan, direct or "cholesky", cg=self.cg)
+            self.choice = SolverChoice(
+                self.name, plan, direct or "cholesky", cg=self.cg, iterative=self.iterative
+            )
 
     def count_factorization(self, backend: str, seconds: float, memory_mb: float = 0.0):
         """Count a sparse factorization by ``backend`` that took ``seconds`` and whose factor
