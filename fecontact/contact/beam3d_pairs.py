@@ -318,8 +318,8 @@ class TubeBoxContact(TubeRigidContact):
     being its surface point p = ρ − s n_b nearest the segment, the tube's its section's point
     −r n moved by the sections' spin about their axis t alone, (t·ω(ξ)) t × arm (t the
     ends' section normals interpolated in ξ: one row twice at a node two segments share): a
-    rod rolls across a face. The sections' turn about t × n (which moves that point along the segment)
-    is left out: a segment along a face touches it along a line, whose one point ξ* jumps
+    rod rolls across a face. The sections' turn about t × n (which moves that point along the
+    segment) is left out: a segment along a face touches it along a line, whose one point ξ* jumps
     between the middle and the ends as the segment tilts by round-off. That turn's friction
     moment μN r tilted the segment (a rod pushed along itself on a box top: ξ* cycled 0, ½,
     1 under tilts of 2e-7 m and the first step failed), where a line's pressure, shifting
