@@ -4,7 +4,10 @@ centreline point x(ξ) = (1 − ξ) x_a + ξ x_b to the surface (−c n, c the h
 tube radius, n the partner's normal toward the beam). The section there turns with the
 nodes' sections interpolated as the centreline is, ω(ξ) = (1 − ξ) ω_a + ξ ω_b, so the
 touching point moves at ẋ(ξ) + ω(ξ) × arm: exact where the two sections turn alike (a rod
-rolling), and the node's own rows at ξ = 0 or 1 (``NodeContact``)."""
+rolling), and the node's own rows at ξ = 0 or 1 (``NodeContact``). Where only the spin
+about a unit axis t moves the point (a tube along a box's face, whose line contact cannot
+carry the moment of the other turns), it moves at ẋ(ξ) + (t·ω(ξ)) t × arm
+(:func:`segment_spins`, :func:`segment_spin_moves`)."""
 
 from __future__ import annotations
 
