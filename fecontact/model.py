@@ -76,7 +76,7 @@ class Model:
         for joint in joints:
             joint.bind(self)
         self.joints = ContactSet(joints, self.free_index, len(self.free))
-        self._check_joints_independent()
+        _check_joints_independent(self.joints, self.n)
         self.damping = _rayleigh(damping)
         self.loads = list(loads)
         for load in self.loads:
@@ -141,20 +141,6 @@ class Model:
         self._reference_extent = max(float(np.max(np.abs(X))) for X in self._reference)
         anchors = [p.obstacle.anchor for p in contacts if p.obstacle is not None]
         self._obstacle_extent = max((np.max(np.abs(a)) for a in anchors), default=0.0)
-
-    def _check_joints_independent(self) -> None:
-        """Joints must hold what no other joint or support holds: redundant rows make the
-        bordered matrices of every step singular."""
-        if self.joints.size == 0:
-            return
-        G = self.joints.jacobian(np.zeros(self.n), self.joints.all)[1]
-        G = G.toarray() if sp.issparse(G) else np.asarray(G)
-        rank = np.linalg.matrix_rank(G @ G.T) if G.size else 0
-        if rank < self.joints.size:
-            raise InputError(
-                "joints: a Pin holds what another Pin or a support (pin, clamp, fix) already "
-                "holds; remove one of them"
-            )
 
     def inverted(self, q: np.ndarray) -> bool:
         """Whether q inverts an element of a body whose material forbids it (Neo-Hookean)."""
@@ -348,3 +334,25 @@ def _rayleigh(damping) -> tuple[float, float]:
     check_positive("damping alpha", alpha, allow_zero=True)
     check_positive("damping beta", beta, allow_zero=True)
     return float(alpha), float(beta)
+
+
+def _check_joints_independent(joints, n: int) -> None:
+    """Joints must hold what no other joint or support holds: redundant rows make the
+    bordered matrices of every step singular. Those refused are named."""
+    if joints.size == 0:
+        return
+    G = joints.jacobian(np.zeros(n), joints.all)[1]
+    G = G.toarray() if sp.issparse(G) else np.asarray(G)
+    rank = np.linalg.matrix_rank(G @ G.T) if G.size else 0
+    if rank < joints.size:
+        # the rows in a combination that vanishes: the left null space of G
+        U = np.linalg.svd(G)[0]
+        rows = np.abs(U[:, rank:]).max(axis=1) > 1e-8
+        named = [f"{type(joints.pairs[i]).__name__} {i}" for i in np.unique(joints.owner[rows])]
+        raise InputError(
+            f"joints: {', '.join(named)} hold what their other rows already hold (a joint "
+            "beside a support (pin, clamp, fix) or another joint, or a closed loop that "
+            "holds one motion twice, as hinges on parallel axes all round); remove one, "
+            "or let joints of the loop hold less (BallJoint, UniversalJoint) until no row "
+            "is held twice"
+        )

@@ -35,9 +35,8 @@ partner, Θ body-frame, by the chain rule through its points' kinematics); the c
 Coulomb friction acts on the slip of the tube's touching point against the partner's material
 point at the contact, a rigid partner's rotation included. Against a sphere or a rigid body the
 tube's point is its section's, −r n from the centreline point at ξ, which the section's turn
-moves (:mod:`.section_segments`); so do two tubes' (:mod:`.tube_beam`). A box slips at the
-centreline's point: a segment along a box's face touches it along a line whose one point
-jumps as the segment tilts (:class:`TubeBoxContact`).
+moves (:mod:`.section_segments`); so do two tubes' (:mod:`.tube_beam`). Against a box the
+section's spin about the segment alone moves it (:class:`TubeBoxContact`).
 """
 
 from __future__ import annotations
@@ -55,7 +54,12 @@ from .friction import tangent_basis
 from .node_pairs import NodeContact
 from .obstacles import Circle
 from .registry import register_pair
-from .section_segments import segment_point_moves, segment_turns
+from .section_segments import (
+    segment_point_moves,
+    segment_spin_moves,
+    segment_spins,
+    segment_turns,
+)
 from .segment3d import tube_distance
 
 __all__ = ["TubeBoxContact", "TubeContact", "TubeRigidContact", "TubeSphereContact"]
@@ -100,18 +104,24 @@ class TubeContact(PairDefaults):
         if not self.section_radius:
             return dofs, GT
         qb = q[self.offset : self.offset + self.body.ndof]
-        arms = -self.section_radius * n
-        turns, B = segment_turns(self.body, qb, self.segments, xi, arms)
+        turns, B = self._turn_rows(qb, xi, -self.section_radius * n)
         GT = np.concatenate([GT, np.einsum("mti,mik->mtk", T, B)], axis=2)
         return np.concatenate([dofs, self.offset + turns], axis=1), GT
+
+    def _turn_rows(self, qb, xi, arms):
+        """The sections' rotation dofs and ∂ẋ_p/∂Ω of the touching points x(ξ) + arm."""
+        return segment_turns(self.body, qb, self.segments, xi, arms)
+
+    def _turn_moves(self, qb, qb_n, xi, arms):
+        """The touching points' motion over the step, turned back with their sections."""
+        return segment_point_moves(self.body, qb, qb_n, self.segments, xi, arms)
 
     def _tube_moves(self, q, q_n, xi, n):
         """The motion (m, 3) over the step of the tube's touching points at ξ: its section's
         point at −r n turned back with the section (the centreline's point where r = 0)."""
         s = slice(self.offset, self.offset + self.body.ndof)
         if self.section_radius:
-            arms = -self.section_radius * n
-            return segment_point_moves(self.body, q[s], q_n[s], self.segments, xi, arms)
+            return self._turn_moves(q[s], q_n[s], xi, -self.section_radius * n)
         ends = self._ends(q) - self._ends(q_n)
         return (1.0 - xi)[:, None] * ends[:, 0] + xi[:, None] * ends[:, 1]
 
@@ -305,15 +315,36 @@ class TubeBoxContact(TubeRigidContact):
     face's inside), and −n, n_b × ρ on the box's (u, Θ) (ρ = x(ξ*) in the box frame,
     δρ = ρ × δΘ). The curvature is left out (Newton's rate, not its answer), as for the rigid
     ball against a box. Friction as for :class:`TubeRigidContact`, the box's material point
-    being its surface point p = ρ − s n_b nearest the segment, at the tube's centreline: a
-    segment along a face touches it along a line, whose one point ξ* jumps between the
-    middle and the ends as the segment tilts by round-off, and the section's moment about
-    the centreline tilts it (a rod pushed along itself on a box top: ξ* cycled 0, ½, 1 under
-    tilts of 2e-7 m and the first step failed)."""
+    being its surface point p = ρ − s n_b nearest the segment, the tube's its section's point
+    −r n moved by the sections' spin about their axis t alone, (t·ω(ξ)) t × arm (t the
+    ends' section normals interpolated in ξ: one row twice at a node two segments share): a
+    rod rolls across a face. The sections' turn about t × n (which moves that point along the
+    segment) is left out: a segment along a face touches it along a line, whose one point ξ* jumps
+    between the middle and the ends as the segment tilts by round-off. That turn's friction
+    moment μN r tilted the segment (a rod pushed along itself on a box top: ξ* cycled 0, ½,
+    1 under tilts of 2e-7 m and the first step failed), where a line's pressure, shifting
+    along it, would hold the moment. The turn about n moves the point not at all."""
 
     def __init__(self, body: Beam3D, rigid: RigidBody3D, restitution=0.0, clearance=0.0):
         super().__init__(body, rigid, restitution, clearance)
-        self.section_radius = 0.0  # (the class docstring: the line contact's point jumps)
+
+    def _axes(self, qb: np.ndarray, xi: np.ndarray) -> np.ndarray:
+        """The unit axes t (m, 3) of the sections at ξ: their ends' section normals
+        interpolated as the centreline is. Two segments clipped to their shared node then
+        give it the same rows (the chords' directions differ on a bent rod: near-duplicate
+        rows, whose impulses the penalty p chose: a box struck on a held rod ended 3e-2 m
+        apart at p × 1000)."""
+        normals = self.body.section_frames(qb)[self.segments][..., 0]  # (m, 2, 3)
+        t = (1.0 - xi)[:, None] * normals[:, 0] + xi[:, None] * normals[:, 1]
+        return t / np.linalg.norm(t, axis=1)[:, None]
+
+    def _turn_rows(self, qb, xi, arms):
+        """The sections' spin about their axis alone (the class docstring)."""
+        return segment_spins(self.body, qb, self.segments, xi, arms, self._axes(qb, xi))
+
+    def _turn_moves(self, qb, qb_n, xi, arms):
+        axes = self._axes(qb, xi)
+        return segment_spin_moves(self.body, qb, qb_n, self.segments, xi, arms, axes)
 
     def _box_geometry(self, q: np.ndarray):
         o = self.rigid_offset

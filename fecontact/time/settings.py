@@ -10,6 +10,7 @@ from ..contact.contact_loops import loops_of_contacts
 from .correction import MomentumKept, momentum_kept
 from .dips import scans_dips
 from .newton import NewtonPlan
+from .spin_restart import velocity_forces
 from .state import IntegratorOptions
 from .stats import StepStats
 from .turns import TurnBound, beam_turns
@@ -30,7 +31,8 @@ class RunSettings(IntegratorOptions):
     decided once (``smooth``: persistent contacts carry a smooth force, the ``"auto"`` of
     ``smooth_contact`` resolved; ``restarts``: and the acceleration variable restarts after
     an impact, which beams do not take; ``spins``: the decoupled step's v̇ and a follow the
-    gyroscopic forces through a velocity jump (:mod:`.spin_restart`); ``settle``: on models
+    gyroscopic forces and the joints' quadratic terms through a velocity jump
+    (:mod:`.spin_restart`); ``settle``: on models
     with beams and no solid whose every pair is struck (at a beam's end, by a moving body
     that is no beam: :func:`settles`),
     a contact carries the smooth force only from the second step after the one in which it
@@ -162,7 +164,7 @@ def run_settings(
         **values,
         smooth=smooth,
         restarts=smooth and not model.slender,  # (beams: see smooth_contact, the restart)
-        spins=not smooth and bool(model.inertial_bodies),
+        spins=not smooth and velocity_forces(model),
         settle=settles(model, smooth),
         friction=friction,
         positional_friction=positional_friction(model, smooth),
