@@ -58,7 +58,7 @@ import numpy as np
 
 from ..contact.mortar_safeguard import pointwise_row, real_gaps, real_starts
 from ..errors import InputError
-from ..ledger import JoinedRecord
+from ..ledger_records import JoinedRecord
 from .constraints import StepFailure
 from .hermite import hermite_root
 from .nsga import smooth_phases
