@@ -340,10 +340,10 @@ def _warnings(self: EnergyLedger) -> list[str]:
     out = []
     if self.checked and self.created > self._limit(CREATED) and self.where is not None:
         _, t, step, phase, slip_work, contacts = (*self.where, 0.0, [])[:6]
-        share = self.created / self.scale if self.scale > 0.0 else math.inf
+        share = f"{self.created / self.scale:.2%} of" if self.scale > 0.0 else "all beyond"
         text = (
-            f"energy: the run created {self.created:.3g} J ({share:.2%}"
-            f" of its largest kinetic plus strain energy, {self.scale:.3g} J); the step "
+            f"energy: the run created {self.created:.3g} J ({share}"
+            f" its largest kinetic plus strain energy, {self.scale:.3g} J); the step "
             f"that made most of it: t = {t:.6g} s, step {step}, in the {phase}"
         )
         if phase in JUMPS and slip_work > self._limit(FRICTION):
