@@ -9,8 +9,8 @@ With E = T + V_strain + V_gravity (J) of the bodies, every step closes
 - W_obstacles (models with moving obstacles only): the work the contact forces and
   impulses do through the obstacles' motion, −Σ x_N ∂g/∂t + Σ x_T·T ḋ
   (:func:`fecontact.ledger_works.obstacle_work`): the impulses' of NSGA's velocity jump
-  and of Moreau–Jean's step, the trapezoidal rule of the power of NSGA's smooth forces and
-  of the penalty forces;
+  and of Moreau–Jean's step, the smooth forces' impulse of NSGA's step (as it moves v) and
+  the penalty forces over the gaps' change that the bodies do not make;
 - D_damping: the mean of C v at both ends of the step times h times the mean velocity,
   C = αM + βK(q) (Rayleigh);
 - D_friction: the energy the tangential forces and impulses take, as each stepper measures
@@ -52,11 +52,13 @@ from .ledger_works import (
     gripping,
     jump_gripping,
     moreau_works,
-    obstacle_power,
     obstacle_work,
+    penalty_obstacle_work,
+    smooth_obstacle_work,
     spring_step_work,
     unmeasured_motion,
 )
+from .time.generalized_alpha import alpha_coefficients
 
 __all__ = ["EnergyLedger"]
 
@@ -95,7 +97,7 @@ class EnergyLedger:
         # a creation is judged unless a moving obstacle's work escapes the ledger
         self.checked = not unmeasured_motion(model)
         self.moving = model.contacts.moving  # (the obstacles' work is a term of the run's)
-        self.power = 0.0  # W: what the contact forces of the last state take in from them
+        self.gamma = alpha_coefficients(options.rho_inf)[2]  # (the smooth step's γ)
         self.damped = any(model.damping)
         self.terms = dict.fromkeys(
             (*TERMS, "hold", "obstacle"), 0.0
@@ -130,8 +132,6 @@ class EnergyLedger:
                 _initial_jump(self, st, kinetic)
         if math.isnan(self.lost):
             self.lost = self.dissipation
-        if self.moving:
-            self.power = obstacle_power(self.model, st, self.integrator)
         if self.damped and self.Cv is None:  # (a checkpoint keeps the force v̇ carries)
             self.Cv = damping_force(self.model, st.q, st.v)
 
@@ -169,13 +169,15 @@ class EnergyLedger:
 
     def _obstacles(self, st, gains) -> tuple[float, float]:
         """The work (J) the moving obstacles did in the step ending in ``st`` through the
-        contact forces (the trapezoidal rule of their power at both ends: NSGA's smooth
-        forces, the penalty forces) and impulses (NSGA's velocity jump, Moreau–Jean's), and
-        the share of it that D_impact counts: NSGA's jump, whose energy change has it in.
-        Moreau–Jean's D_impact reads its impulses against the rates relative to the
-        obstacles already."""
-        power = obstacle_power(self.model, st, self.integrator)
-        smooth, self.power = 0.5 * st.h * (self.power + power), power
+        contact forces (NSGA's smooth forces, the penalty forces: ``smooth_obstacle_work``,
+        ``penalty_obstacle_work`` of :mod:`fecontact.ledger_works`) and impulses (NSGA's
+        velocity jump, Moreau–Jean's), and the share of it that D_impact counts: NSGA's
+        jump, whose energy change has it in. Moreau–Jean's D_impact reads its impulses
+        against the rates relative to the obstacles already."""
+        if self.integrator == "penalty":
+            smooth = penalty_obstacle_work(self.model, self.last, st)
+        else:  # (Moreau–Jean: no smooth force, 0)
+            smooth = smooth_obstacle_work(self.model, self.last, st, self.gamma)
         jump = 0.0
         if self.integrator != "penalty" and np.any(st.impulse):
             tangential = None if st.friction is None else st.friction.impulse

@@ -21,8 +21,9 @@ __all__ = [
     "joint_step_work",
     "jump_work",
     "moreau_works",
-    "obstacle_power",
     "obstacle_work",
+    "penalty_obstacle_work",
+    "smooth_obstacle_work",
     "slip_step_work",
     "unmeasured_motion",
     "spring_step_work",
@@ -112,6 +113,8 @@ def obstacle_work(model, q, normal, tangential=None) -> float:
     speed = contacts.obstacle_motion(j, velocity=True) if j.size else None
     if speed is not None:
         T = contacts.tangent_jacobian(q, j)[1]
+        if T is None:  # (no pair with friction: no tangential force)
+            return out
         out += float(np.sum(tangential[j] * np.einsum("mtd,md->mt", T, speed)))
     return out
 
@@ -127,18 +130,36 @@ def unmeasured_motion(model) -> bool:
     )
 
 
-def obstacle_power(model, st, integrator: str) -> float:
-    """The power (W) the contact forces of the state ``st`` take in from the moving
-    obstacles (:func:`obstacle_work`): NSGA's smooth forces λ, the penalty baseline's
-    forces P/h; Moreau–Jean has impulses only (0)."""
-    if integrator == "penalty":
-        if st.h <= 0.0:
-            return 0.0
-        return obstacle_work(model, st.q, np.nan_to_num(st.impulse) / st.h)
-    smooth = st.smooth
-    if integrator != "nsga" or smooth is None:
+def smooth_obstacle_work(model, last, st, gamma: float) -> float:
+    """The moving obstacles' work (J) through NSGA's smooth contact forces over the step
+    from ``last`` to ``st``: :func:`obstacle_work` of the impulse h((1 − γ) λ^a_n + γ λ^a_{n+1})
+    by which they move v, λ^a the forces a carries (``SmoothForces.in_a``), as the step's
+    v_{n+1} = v_n + h((1 − γ) a_n + γ a_{n+1}) does."""
+    forces = [None if x.smooth is None else x.smooth.in_a for x in (last, st)]
+    if forces[0] is None and forces[1] is None:
         return 0.0
-    return obstacle_work(model, st.q, smooth.normal, smooth.tangential)
+    a0, a1 = (np.zeros_like(next(f for f in forces if f is not None)) if f is None else f
+              for f in forces)  # fmt: skip
+    if a0.shape != a1.shape:
+        return 0.0
+    x = st.h * ((1.0 - gamma) * a0 + gamma * a1)
+    return obstacle_work(model, st.q, x[:, 0], x[:, 1:] if model.contacts.frictional else None)
+
+
+def penalty_obstacle_work(model, last, st) -> float:
+    """The moving obstacles' work (J) through the penalty forces over the step:
+    −½(λ_n + λ_{n+1})·(Δg − ½(G_n + G_{n+1}) Δq), the part of the gaps' change that the
+    bodies' motion does not make (0 where the obstacles stand)."""
+    if last.h <= 0.0 or last.impulse.size != st.impulse.size or last.gaps.size != st.gaps.size:
+        return 0.0
+    lam = last.impulse / last.h + st.impulse / st.h
+    both = np.isfinite(last.gaps) & np.isfinite(st.gaps)
+    j = np.flatnonzero((lam != 0.0) & both)
+    if not j.size:
+        return 0.0
+    dq = (st.q - last.q)[model.free]
+    Gdq = 0.5 * (model.contacts.jacobian(last.q, j)[1] + model.contacts.jacobian(st.q, j)[1]) @ dq
+    return -0.5 * float(lam[j] @ (st.gaps[j] - last.gaps[j] - Gdq))
 
 
 def spring_step_work(last, st) -> float:
