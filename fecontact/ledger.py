@@ -97,7 +97,9 @@ class EnergyLedger:
         # a creation is judged unless a moving obstacle's work escapes the ledger
         self.checked = not unmeasured_motion(model)
         self.moving = model.contacts.moving  # (the obstacles' work is a term of the run's)
-        self.gamma = alpha_coefficients(options.rho_inf)[2]  # (the smooth step's γ)
+        # the smooth step's γ, by which NSGA's a moves v (smooth_obstacle_work)
+        nsga = self.moving and options.integrator == "nsga"
+        self.gamma = alpha_coefficients(options.rho_inf)[2] if nsga else 0.5
         self.damped = any(model.damping)
         self.terms = dict.fromkeys(
             (*TERMS, "hold", "obstacle"), 0.0
