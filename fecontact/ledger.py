@@ -97,9 +97,8 @@ class EnergyLedger:
         # a creation is judged unless a moving obstacle's work escapes the ledger
         self.checked = not unmeasured_motion(model)
         self.moving = model.contacts.moving  # (the obstacles' work is a term of the run's)
-        # the smooth step's γ, by which NSGA's a moves v (smooth_obstacle_work)
-        nsga = self.moving and options.integrator == "nsga"
-        self.gamma = alpha_coefficients(options.rho_inf)[2] if nsga else 0.5
+        # γ of NSGA's smooth step, by which a moves v (smooth_obstacle_work)
+        self.gamma = alpha_coefficients(options.rho_inf)[2] if self.moving else 0.5
         self.damped = any(model.damping)
         self.terms = dict.fromkeys(
             (*TERMS, "hold", "obstacle"), 0.0
@@ -174,8 +173,7 @@ class EnergyLedger:
         contact forces (NSGA's smooth forces, the penalty forces: ``smooth_obstacle_work``,
         ``penalty_obstacle_work`` of :mod:`fecontact.ledger_works`) and impulses (NSGA's
         velocity jump, Moreau–Jean's), and the share of it that D_impact counts: NSGA's
-        jump, whose energy change has it in. Moreau–Jean's D_impact reads its impulses
-        against the rates relative to the obstacles already."""
+        jump's (Moreau–Jean's D_impact reads the rates relative to the obstacles)."""
         if self.integrator == "penalty":
             smooth = penalty_obstacle_work(self.model, self.last, st)
         else:  # (Moreau–Jean: no smooth force, 0)
