@@ -10,6 +10,7 @@ from fecontact import Contact, Model, Plane
 from fecontact.bodies import RigidBody2D, RigidBody3D
 from fecontact.bodies.rigid import Polygon
 from fecontact.bodies.shapes3d import Ball
+from fecontact.io.history_plot import ledger_layers
 from fecontact.io.output import COLUMN_UNITS, LEDGER_COLUMNS, read_history
 from fecontact.simulation import Simulation, run
 from fecontact.time import IntegratorOptions
@@ -93,6 +94,9 @@ def test_a_rising_floor_s_work_is_the_ball_s_energy_and_its_lift(tmp_path):
     assert ledger["impact_dissipation"] == pytest.approx(0.5 * speed**2, abs=1e-9)
     assert abs(ledger["numerical_dissipation"]) < 1e-9 and ledger["created"] < 1e-9
     assert _closure(history, summary) < 1e-9
+    # history.png's layers stack to the energy supplied, the floor's work in it
+    layers, supply = ledger_layers(history)
+    np.testing.assert_allclose(sum(y for _, y in layers), supply, rtol=0, atol=1e-12)
 
 
 def test_a_paddle_strikes_a_ball_at_e_1(tmp_path):
