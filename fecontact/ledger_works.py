@@ -8,16 +8,24 @@ import math
 
 import numpy as np
 
+from .contact.base import PairDefaults
 from .contact.restitution import impulse_work
 
 __all__ = [
+    "closing_contacts",
+    "gripping",
+    "jump_gripping",
     "damping_force",
     "damping_step_work",
     "impulse_step_work",
     "joint_step_work",
     "jump_work",
     "moreau_works",
+    "obstacle_work",
+    "penalty_obstacle_work",
+    "smooth_obstacle_work",
     "slip_step_work",
+    "unmeasured_motion",
     "spring_step_work",
 ]
 
@@ -88,6 +96,72 @@ def slip_step_work(model, last, st) -> float:
     return -float(np.sum(record.impulse[j] * slip))
 
 
+def obstacle_work(model, q, normal, tangential=None) -> float:
+    """The work (J, or W for forces) that the contact impulses (N·s, or forces in N) do
+    through the motion of the obstacles at q: −Σ x_N,j ∂g_j/∂t of the ``normal`` ones (m,)
+    and Σ x_T,j·T_j ḋ_j of the ``tangential`` ones (m, nt) or None, with ḋ_j the velocity of
+    contact j's obstacle at its current time. The bodies take x·(G v) from them; the rest of
+    x·ġ (rates relative to the obstacles) is the obstacle's."""
+    contacts, out = model.contacts, 0.0
+    if normal is not None and normal.size == contacts.size:
+        j = np.flatnonzero(normal)
+        if j.size:
+            out -= float(normal[j] @ contacts.rates(q, j))
+    if tangential is None or tangential.shape[0] != contacts.size:
+        return out
+    j = np.flatnonzero(np.any(tangential != 0.0, axis=1))
+    speed = contacts.obstacle_motion(j, velocity=True) if j.size else None
+    if speed is not None:
+        T = contacts.tangent_jacobian(q, j)[1]
+        if T is None:  # (no pair with friction: no tangential force)
+            return out
+        out += float(np.sum(tangential[j] * np.einsum("mtd,md->mt", T, speed)))
+    return out
+
+
+def unmeasured_motion(model) -> bool:
+    """True where a moving obstacle meets a pair that does not measure its ∂g/∂t (the rows of
+    a rigid disk against a plane or circle): its velocity rows do not see the obstacle move,
+    the position correction alone carries the body along, and the work it does that way
+    is no impulse's or force's that :func:`obstacle_work` could read."""
+    return any(
+        pair.obstacle is not None and pair.obstacle.moving and type(pair).rate is PairDefaults.rate
+        for pair in model.contacts.pairs
+    )
+
+
+def smooth_obstacle_work(model, last, st, gamma: float) -> float:
+    """The moving obstacles' work (J) through NSGA's smooth contact forces over the step
+    from ``last`` to ``st``: :func:`obstacle_work` of the impulse h((1 − γ) λ^a_n + γ λ^a_{n+1})
+    by which they move v, λ^a the forces a carries (``SmoothForces.in_a``), as the step's
+    v_{n+1} = v_n + h((1 − γ) a_n + γ a_{n+1}) does."""
+    forces = [None if x.smooth is None else x.smooth.in_a for x in (last, st)]
+    if forces[0] is None and forces[1] is None:
+        return 0.0
+    a0, a1 = (np.zeros_like(next(f for f in forces if f is not None)) if f is None else f
+              for f in forces)  # fmt: skip
+    if a0.shape != a1.shape:
+        return 0.0
+    x = st.h * ((1.0 - gamma) * a0 + gamma * a1)
+    return obstacle_work(model, st.q, x[:, 0], x[:, 1:] if model.contacts.frictional else None)
+
+
+def penalty_obstacle_work(model, last, st) -> float:
+    """The moving obstacles' work (J) through the penalty forces over the step:
+    −½(λ_n + λ_{n+1})·(Δg − ½(G_n + G_{n+1}) Δq), the part of the gaps' change that the
+    bodies' motion does not make (0 where the obstacles stand)."""
+    if last.h <= 0.0 or last.impulse.size != st.impulse.size or last.gaps.size != st.gaps.size:
+        return 0.0
+    lam = last.impulse / last.h + st.impulse / st.h
+    both = np.isfinite(last.gaps) & np.isfinite(st.gaps)
+    j = np.flatnonzero((lam != 0.0) & both)
+    if not j.size:
+        return 0.0
+    dq = (st.q - last.q)[model.free]
+    Gdq = 0.5 * (model.contacts.jacobian(last.q, j)[1] + model.contacts.jacobian(st.q, j)[1]) @ dq
+    return -0.5 * float(lam[j] @ (st.gaps[j] - last.gaps[j] - Gdq))
+
+
 def spring_step_work(last, st) -> float:
     """−½(λ_n + λ_{n+1})·Δg (J): what the penalty forces took from the bodies."""
     lam = st.impulse / st.h
@@ -129,3 +203,34 @@ def damping_step_work(model, last, st, last_force, smooth_end=None) -> tuple[flo
     force = damping_force(model, q_end, v_end)
     v_mid = 0.5 * (last.v + v_end)[model.free]
     return 0.5 * st.h * float(v_mid @ (last_force + force)), force
+
+
+def closing_contacts(last, st) -> list[int]:
+    """The contacts the position correction of the step ``st`` pushed out that no force
+    pressed in the step before (``last``): they closed within the step."""
+    if last is None or st.nu.size != st.impulse.size or last.impulse.size != st.nu.size:
+        return []
+    return np.flatnonzero((st.nu > 0.0) & ~last.pressed()).tolist()
+
+
+def jump_gripping(st) -> list[int]:
+    """The contacts that carried a tangential impulse in the contact phase of ``st``."""
+    record = st.friction
+    if record is None or record.impulse is None:
+        return []
+    return np.flatnonzero(np.any(record.impulse != 0.0, axis=1)).tolist()
+
+
+def gripping(st) -> list[int]:
+    """The contacts that carried a tangential force or impulse in the step ``st``."""
+    grip = np.zeros(st.impulse.size, bool)
+    friction, smooth = st.friction, st.smooth
+    arrays = (
+        None if friction is None else friction.impulse,
+        None if friction is None else friction.nu,
+        None if smooth is None else smooth.tangential,
+    )
+    for x in arrays:
+        if x is not None and x.shape[0] == grip.size:
+            grip |= np.any(x != 0.0, axis=1)
+    return np.flatnonzero(grip).tolist()

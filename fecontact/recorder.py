@@ -13,9 +13,10 @@ import numpy as np
 from .contact.watch import BOUND
 from .energy import EnergyBalance, StateEnergies
 from .io.frames import friction_totals
-from .io.output import FRICTION_COLUMNS, LEDGER_COLUMNS, STANDARD_COLUMNS
+from .io.output import FRICTION_COLUMNS, LEDGER_COLUMNS, OBSTACLE_COLUMNS, STANDARD_COLUMNS
 from .io.run_folder import jsonable
-from .ledger import EnergyLedger, smooth_end
+from .ledger import EnergyLedger
+from .ledger_records import smooth_end
 from .time import State, uses_smooth_contact
 from .time.state import deferred_ledger
 from .version import __version__
@@ -68,7 +69,8 @@ class Recorder:
         self.friction = self.model.contacts.frictional
         self.friction_work = 0.0
         extra = FRICTION_COLUMNS if self.friction else ()
-        self.columns = [*STANDARD_COLUMNS, *extra, *LEDGER_COLUMNS, *sim.probes]
+        ledger = (*LEDGER_COLUMNS, *(OBSTACLE_COLUMNS if self.model.contacts.moving else ()))
+        self.columns = [*STANDARD_COLUMNS, *extra, *ledger, *sim.probes]
         self.history = HistoryWriter(out / "history.csv", self.columns, keep_rows=keep_rows)
         self.impacts: list[dict] = []
         self.closed = np.zeros(self.model.contacts.size, dtype=bool)

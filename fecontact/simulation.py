@@ -20,7 +20,7 @@ import numpy as np
 
 from .bodies.beam3d import Beam3D
 from .errors import InputError, SolverError, check_positive
-from .io.output import FRICTION_COLUMNS, LEDGER_COLUMNS, STANDARD_COLUMNS
+from .io.output import FRICTION_COLUMNS, LEDGER_COLUMNS, OBSTACLE_COLUMNS, STANDARD_COLUMNS
 from .io.progress import RunProgress
 from .io.run_folder import (
     CHECKPOINT,
@@ -81,7 +81,10 @@ class Simulation:
         for probe in self.probes:
             # history.csv columns: no clash with the time column, no separator inside
             ok = isinstance(probe, str) and probe.replace("_", "").isalnum()
-            if not ok or probe in HISTORY_COLUMNS + FRICTION_COLUMNS + LEDGER_COLUMNS:
+            if (
+                not ok
+                or probe in HISTORY_COLUMNS + FRICTION_COLUMNS + LEDGER_COLUMNS + OBSTACLE_COLUMNS
+            ):
                 raise InputError(
                     f"probe names must be letters, digits or '_' and differ from the history "
                     f"columns ({', '.join(HISTORY_COLUMNS)}), got {probe!r}"

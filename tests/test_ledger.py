@@ -55,14 +55,15 @@ TERMS = ("damping_dissipation", "friction_dissipation", "impact_dissipation")
 
 
 def _closure(history, summary) -> float:
-    """The largest |E(t) − E(0) − W + ΣD| over the steps, relative to the energies summed in
-    it: the ledger's scale, or |E| where gravity dominates a body at rest. E(0) is the
-    run's initial energy, before an impact at t = 0 (a bar that starts against the wall
-    with the smooth contact force: its first row is after that impact, whose dissipation
-    the ledger counts)."""
+    """The largest |E(t) − E(0) − W_loads − W_obstacles + ΣD| over the steps, relative to
+    the energies summed in it: the ledger's scale, or |E| where gravity dominates a body at
+    rest. E(0) is the run's initial energy, before an impact at t = 0 (a bar that starts
+    against the wall with the smooth contact force: its first row is after that impact,
+    whose dissipation the ledger counts)."""
     E = history["total_energy"]
     D = sum(history[k] for k in (*TERMS, "numerical_dissipation"))
-    residual = np.abs(E - summary["energy_initial"] - history["load_work"] + D)
+    supplied = history["load_work"] + history.get("obstacle_work", 0.0)  # (moving obstacles)
+    residual = np.abs(E - summary["energy_initial"] - supplied + D)
     scale = max(summary["energy_ledger"]["scale"], np.max(np.abs(E)))
     return float(residual.max() / scale)
 

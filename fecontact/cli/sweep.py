@@ -36,7 +36,13 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..io.output import FRICTION_COLUMNS, LEDGER_COLUMNS, STANDARD_COLUMNS, read_history
+from ..io.output import (
+    FRICTION_COLUMNS,
+    LEDGER_COLUMNS,
+    OBSTACLE_COLUMNS,
+    STANDARD_COLUMNS,
+    read_history,
+)
 from ..io.progress import in_notebook, is_terminal
 from ..params import assignment
 from .run import RUN_OPTIONS
@@ -108,7 +114,7 @@ def _probe_extremes(out: Path) -> dict:
         return {}
     row = {}
     for name, col in history.items():
-        if name in STANDARD_COLUMNS or name in FRICTION_COLUMNS + LEDGER_COLUMNS:
+        if name in STANDARD_COLUMNS or name in FRICTION_COLUMNS + LEDGER_COLUMNS + OBSTACLE_COLUMNS:
             continue
         finite = col[np.isfinite(col)]
         if finite.size:

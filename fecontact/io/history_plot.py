@@ -10,6 +10,7 @@ import numpy as np
 from .output import (
     HISTORY_FILE,
     LEDGER_COLUMNS,
+    OBSTACLE_COLUMNS,
     STANDARD_COLUMNS,
     SUMMARY_FILE,
     read_history,
@@ -69,10 +70,11 @@ _LAYERS = (
 
 def ledger_layers(history: dict) -> tuple[list[tuple[str, np.ndarray]], np.ndarray] | None:
     """The energy ledger of a history as layers (label, J against time) that stack to the
-    energy supplied, E(0) + W_loads(t) less the least gravity energy of the run (returned
-    second): the energies the bodies hold, then what damping, friction, impacts and the
-    time integrator took since t = 0. The gravity energy is counted from its least value
-    so that every energy layer is ≥ 0. None when the history has no ledger columns."""
+    energy supplied, E(0) + W_loads(t) (+ W_obstacles(t), with moving obstacles) less the
+    least gravity energy of the run (returned second): the energies the bodies hold, then
+    what damping, friction, impacts and the time integrator took since t = 0. The gravity
+    energy is counted from its least value so that every energy layer is ≥ 0. None when the
+    history has no ledger columns."""
     if any(k not in history for k in LEDGER_COLUMNS):
         return None
     gravity = history["potential_energy"]
@@ -82,6 +84,8 @@ def ledger_layers(history: dict) -> tuple[list[tuple[str, np.ndarray]], np.ndarr
         y = history[column] - low if column == "potential_energy" else history[column]
         layers.append((label, np.asarray(y, dtype=float)))
     supply = history["total_energy"][:1] + history["load_work"] - low
+    if "obstacle_work" in history:  # (moving obstacles supply energy as the loads do)
+        supply = supply + history["obstacle_work"]
     return layers, supply
 
 
@@ -137,7 +141,8 @@ def _history_panels(folder: Path):
     summary = read_json(folder / SUMMARY_FILE) if (folder / SUMMARY_FILE).is_file() else {}
     if "t" not in history:
         raise ValueError(f"{folder / HISTORY_FILE} has no column 't'")
-    probes = [c for c in history if c not in STANDARD_COLUMNS and c not in LEDGER_COLUMNS]
+    ledger = LEDGER_COLUMNS + OBSTACLE_COLUMNS
+    probes = [c for c in history if c not in STANDARD_COLUMNS and c not in ledger]
     panels = history_panels(probes, summary.get("probes") or {})
     energy = "total_energy" in history
     if not panels and not energy:

@@ -65,6 +65,7 @@ __all__ = [
     "COLUMN_UNITS",
     "FRICTION_COLUMNS",
     "LEDGER_COLUMNS",
+    "OBSTACLE_COLUMNS",
 ]
 
 HISTORY_FILE = "history.csv"
@@ -93,6 +94,8 @@ LEDGER_COLUMNS = (
     "impact_dissipation",
     "numerical_dissipation",
 )
+# ... and, in models with moving obstacles, the work they did on the bodies since t = 0 (J)
+OBSTACLE_COLUMNS = ("obstacle_work",)
 # the units of those columns ("": a count); a probe's is in summary.json
 COLUMN_UNITS = {
     "t": "s",
@@ -107,7 +110,7 @@ COLUMN_UNITS = {
     "dt": "s",
     "tangential_impulse": "N·s",
     "friction_work": "J",
-    **dict.fromkeys(LEDGER_COLUMNS, "J"),
+    **dict.fromkeys(LEDGER_COLUMNS + OBSTACLE_COLUMNS, "J"),
 }
 
 

@@ -8,7 +8,7 @@ import dataclasses
 import numpy as np
 
 from ..contact.restitution import impulse_work
-from ..ledger import smooth_record
+from ..ledger_records import smooth_record
 from ..ledger_works import jump_work
 from ..linalg import factorize
 from .constraints import Constraints, StepFailure, constraint_columns, impact_law, pulled_held_rows

@@ -58,7 +58,7 @@ import numpy as np
 
 from ..contact.mortar_safeguard import pointwise_row, real_gaps
 from ..errors import InputError
-from ..ledger import JoinedRecord
+from ..ledger_records import JoinedRecord
 from .constraints import StepFailure
 from .crossings import closings
 from .dips import may_dip, near_dips, with_dips

@@ -35,7 +35,7 @@ import time
 import numpy as np
 
 from ..contact.contact_set import candidates, held_together, rows_held
-from ..ledger import pending_record
+from ..ledger_records import pending_record
 from .alpha_step import SmoothStep, alpha_plan, alpha_smooth_step
 from .configuration import plus
 from .constraints import StepFailure

@@ -27,7 +27,7 @@ from __future__ import annotations
 import dataclasses
 
 from ..errors import SolverError
-from ..ledger import joined_record
+from ..ledger_records import joined_record
 from .constraints import StepFailure
 from .localize import cache_keys, drop_caches, joined, localized_step
 from .state import State

@@ -269,7 +269,7 @@ class State:
     has none: ``smooth`` the smooth contact forces, ``friction`` the frictional multipliers,
     status and work, ``penalty`` the penalty law, and ``strain_increment`` the energy-decaying
     step's Δε of the elements (Σ E, 3), and ``ledger`` what the energy ledger needs of the
-    smooth step (:func:`fecontact.ledger.smooth_record`); a checkpoint of the state holds
+    smooth step (:func:`fecontact.ledger_records.smooth_record`); a checkpoint of the state holds
     all of the run.
     """
 
@@ -304,8 +304,9 @@ class State:
     friction: FrictionRecord | None = None
     penalty: PenaltyRecord | None = None
     strain_increment: np.ndarray | None = None
-    # the energy ledger's record of the smooth step (fecontact.ledger.smooth_record), or None;
-    # given as a callable (fecontact.ledger.SmoothRecord), it is made when first read
+    # the energy ledger's record of the smooth step (fecontact.ledger_records.smooth_record),
+    # or None; given as a callable (fecontact.ledger_records.SmoothRecord), it is made when
+    # first read
     ledger: np.ndarray | None = None
     # with rtol (fecontact.time.adaptive): a step between two history rows, and the step (s)
     # the control takes next (0: the run's dt)

@@ -8,7 +8,7 @@ from collections.abc import Callable
 import numpy as np
 
 from ..errors import InputError
-from ..ledger import joined_record
+from ..ledger_records import joined_record
 from ..linalg.choice import RunPlan
 from ..linalg.legacy import registered_modes
 from .alpha_step import alpha_plan

@@ -32,7 +32,7 @@ import numpy as np
 
 from ..contact.mortar_safeguard import pointwise_pairs, real_starts
 from ..errors import SolverError
-from ..ledger import joined_record
+from ..ledger_records import joined_record
 from .aside import taken_aside
 from .constraints import StepFailure
 from .localize import GRAZING, cache_keys, drop_caches, joined, localized_step
