@@ -536,3 +536,16 @@ def test_friction_left_out_by_the_penalty_baseline_is_said(capsys):
     penalty = sim.replace(options=IntegratorOptions(integrator="penalty"))
     assert not [w for w in sim.warnings() if "friction" in w]
     assert any("'penalty' has no friction" in w for w in penalty.warnings())
+
+
+@pytest.mark.parametrize("integrator", ["moreau", "penalty"])
+def test_moving_obstacles_kept_in_place_by_the_baselines_are_said(integrator):
+    # (before: a floor rising at 0.5 m/s stayed at its t = 0 place under the baselines, unsaid)
+    from fecontact import Contact, Disk, Plane, RigidBody2D
+
+    disk = RigidBody2D.uniform(1.0, (0.0, 0.1), Disk(0.1))
+    floor = Plane([0.0, 0.0], [0.0, 1.0], motion=lambda t: np.array([0.0, 0.5 * t]))
+    sim = Simulation(Model([disk], [Contact(disk, floor)]), dt=1e-3, t_end=0.01)
+    assert not [w for w in sim.warnings() if "moving obstacles" in w]
+    baseline = sim.replace(options=IntegratorOptions(integrator=integrator))
+    assert any("keeps moving obstacles where they are at t = 0" in w for w in baseline.warnings())
