@@ -34,9 +34,9 @@ its running maximum, ``scale`` the largest T + V_strain of the run: a creation a
 of the scale is a warning naming the time, step and phase of the step whose own fall of D
 was the largest (the phase: that step's with the largest gain). Friction that does
 positive work beyond 1e-6 of the scale is one too, naming the contacts. A moving obstacle
-that meets a pair that does not measure its ∂g/∂t (a rigid disk's) carries the body by the
-position correction alone, a work no impulse shows: those runs report the ledger but no
-creation warning (:func:`fecontact.ledger_works.unmeasured_motion`).
+that meets a pair that does not measure its ∂g/∂t would carry the body by the position
+correction alone, a work no impulse shows: such runs report the ledger but no creation
+warning (:func:`fecontact.ledger_works.unmeasured_motion`).
 """
 
 from __future__ import annotations

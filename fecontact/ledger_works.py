@@ -120,8 +120,8 @@ def obstacle_work(model, q, normal, tangential=None) -> float:
 
 
 def unmeasured_motion(model) -> bool:
-    """True where a moving obstacle meets a pair that does not measure its ∂g/∂t (the rows of
-    a rigid disk against a plane or circle): its velocity rows do not see the obstacle move,
+    """True where a moving obstacle meets a pair that does not measure its ∂g/∂t (a pair
+    without its own ``rate``): its velocity rows do not see the obstacle move,
     the position correction alone carries the body along, and the work it does that way
     is no impulse's or force's that :func:`obstacle_work` could read."""
     return any(

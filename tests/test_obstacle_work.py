@@ -99,6 +99,25 @@ def test_a_rising_floor_s_work_is_the_ball_s_energy_and_its_lift(tmp_path):
     np.testing.assert_allclose(sum(y for _, y in layers), supply, rtol=0, atol=1e-12)
 
 
+def test_a_rising_floor_carries_a_rigid_disk_at_its_speed(tmp_path):
+    """The planar rigid disk (1 kg, r = 0.1 m) on the floor rising at U = 0.5 m/s: its rows
+    read the floor's ∂g/∂t, so the disk rides at U (T = ½ m U²) and the ledger books the
+    same m U² + m g U t as for the ball, warning on. Before, the disk's rows had no ∂g/∂t:
+    the position correction alone lifted it with v = 0 (T = 0), a work no term showed."""
+    from fecontact.bodies.rigid import Disk
+
+    speed, t = 0.5, 0.3
+    disk = RigidBody2D.uniform(1.0, (0.0, 0.1), Disk(0.1))
+    floor = Plane([0.0, 0.0], [0.0, 1.0], motion=lambda t: np.array([0.0, speed * t]))
+    model = Model([disk], [Contact(disk, floor)], gravity=(0.0, -G))
+    summary, history = _run(Simulation(model, dt=2e-3, t_end=t), tmp_path)
+    ledger = summary["energy_ledger"]
+    # round-off of 150 steps, as for the ball: 1e-9 J anywhere
+    assert ledger["kinetic"] == pytest.approx(0.5 * speed**2, abs=1e-9)
+    assert ledger["obstacle_work"] == pytest.approx(speed**2 + G * speed * t, abs=1e-9)
+    assert ledger["created"] < 1e-9 and _closure(history, summary) < 1e-9
+
+
 def test_a_paddle_strikes_a_ball_at_e_1(tmp_path):
     """A ball (1 kg) at 1 m/s met by a paddle rising at 2 m/s, e = 1, no gravity: it leaves
     at 2·2 + 1 = 5 m/s, 12.5 J; the paddle's impulse m·6 m/s times its 2 m/s is the 12 J

@@ -104,6 +104,13 @@ class DiskObstacleContact(_Pair):
         dofs = self.offsets[0] + np.arange(2)[None, :]
         return g - disk.shape.radius, dofs, np.array(G), H
 
+    def rate(self, q: np.ndarray) -> np.ndarray:
+        """∂g/∂t = −∇φ(c)·ḋ (m/s) of a moving obstacle at its current time."""
+        if not self.obstacle.moving:
+            return np.zeros(1)
+        c = self.body.center(self._local(q, 0))[None, :]
+        return -(self.obstacle.gap(c)[1] @ self.obstacle.speed())
+
     def batch_key(self):
         """Fixed planes, with friction or without, are evaluated together."""
         if not isinstance(self.obstacle, Plane) or self.obstacle.moving:
