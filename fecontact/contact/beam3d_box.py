@@ -18,11 +18,16 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["box_signed_distance", "closest_to_box"]
+__all__ = ["box_rows", "box_signed_distance", "closest_to_box"]
 
 TIE = 1e-12
 """Signed distances within this fraction of the box's half diagonal of the least are equal
 (round-off of coordinates of the box's size)."""
+
+ALONG = np.cos(0.1)
+"""A segment whose least distance's normal lies within 0.1 rad of a face's has rows at both
+ends of its stretch over that face (tilted by 0.1 rad, the far end's row is 0.1 × the
+stretch's length apart: off the active set where the rows change)."""
 
 
 def box_signed_distance(x: np.ndarray, half: np.ndarray):
@@ -79,3 +84,87 @@ def closest_to_box(A: np.ndarray, B: np.ndarray, half: np.ndarray):
     rho = A + xi[:, None] * d
     s, nb = box_signed_distance(rho, half)
     return xi, s, rho, nb
+
+
+def _prism_planes():
+    """The axes (6, 5), signs (6, 5) and bounds' factors (6, 5) of the half-spaces
+    σ x_axis ≥ factor h_axis bounding each face's outer prism (σ x_k ≥ h_k and |x_j| ≤ h_j for
+    j ≠ k; faces ordered +x, +y, +z, −x, −y, −z)."""
+    axes, signs = [], []
+    for sigma in (1.0, -1.0):
+        for k in range(3):
+            others = [j for j in range(3) if j != k]
+            axes.append([k, others[0], others[0], others[1], others[1]])
+            signs.append([sigma, 1.0, -1.0, 1.0, -1.0])
+    factors = np.tile([1.0, -1.0, -1.0, -1.0, -1.0], (6, 1))
+    return np.array(axes), np.array(signs), factors
+
+
+PRISMS = _prism_planes()
+
+
+def _face_stretches(A: np.ndarray, d: np.ndarray, half: np.ndarray):
+    """The stretch [lo, hi] (m, 6) of each segment A + ξd in each face's outer prism (empty:
+    lo > hi) and the axes (m, 6) of the planes x_axis = ±h_axis that bound it below and above
+    (−1 where the segment's end does)."""
+    axes, signs, factors = PRISMS
+    a = signs * A[:, axes] - factors * half[axes]  # a + ξ b ≥ 0 inside each half-space
+    b = signs * d[:, axes]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        root = -a / b
+    never = (b == 0.0) & (a < 0.0)
+    lower = np.where(b > 0.0, root, np.where(never, np.inf, -np.inf))
+    upper = np.where(b < 0.0, root, np.where(never, -np.inf, np.inf))
+    lo_k, hi_k = np.argmax(lower, axis=2), np.argmin(upper, axis=2)
+    lo = np.take_along_axis(lower, lo_k[..., None], 2)[..., 0]
+    hi = np.take_along_axis(upper, hi_k[..., None], 2)[..., 0]
+    lo_axis = np.where(lo > 0.0, np.take_along_axis(axes, lo_k.T, 1).T, -1)
+    hi_axis = np.where(hi < 1.0, np.take_along_axis(axes, hi_k.T, 1).T, -1)
+    return np.maximum(lo, 0.0), np.minimum(hi, 1.0), lo_axis, hi_axis
+
+
+def box_rows(A: np.ndarray, B: np.ndarray, half: np.ndarray):
+    """Two rows per segment (A, B) (m, 3, box frame): the least signed distance over the
+    segment below and above its stretch over a face (ends included), where the distance is
+    linear in ξ; without such a stretch the least over the segment and a row left out.
+
+    Returns ξ (m, 2), s (m, 2) (+inf: left out), ρ = x(ξ) (m, 2, 3), the box's outward normals
+    n_b there (m, 2, 3) and the gradients' normals ν (m, 2, 3): δs = ν·δρ with δρ the motion of
+    the point held at ξ, ν = n_b − e_j (n_b·d)/d_j where the row's point is the stretch's end
+    on a plane x_j = ±h_j (it slides along it), else n_b."""
+    d = B - A
+    xi = _candidates(A, d, half)
+    lo, hi, lo_axis, hi_axis = _face_stretches(A, d, half)
+    empty = lo > hi
+    lo, hi = np.clip(lo, 0.0, 1.0), np.clip(hi, 0.0, 1.0)  # (empty stretches: any point)
+    # the face the least distance's normal leans on, if by less than ALONG: the rows at the
+    # stretch's ends; else the least over the segment (an edge or a corner across it)
+    whole, _, _, nb_whole = closest_to_box(A, B, half)
+    lean = np.concatenate([nb_whole, -nb_whole], axis=1)  # n_b·(±e_k), faces as the prisms
+    f = np.argmax(lean, axis=1)
+    take = np.arange(len(A)), f
+    over = (lean[take] >= ALONG) & ~empty[take]
+    ends = np.stack([lo[take], hi[take]], axis=1)
+    end_axis = np.stack([lo_axis[take], hi_axis[take]], axis=1)
+    every = np.concatenate([xi, ends], axis=1)
+    s = box_signed_distance(A[:, None] + every[..., None] * d[:, None], half)[0]
+    tie = TIE * np.linalg.norm(half)
+    rows = []
+    for side, (keep, pick) in enumerate(
+        ((every <= ends[:, :1], np.max), (every >= ends[:, 1:], np.min))
+    ):
+        sk = np.where(keep, s, np.inf)
+        tied = sk <= sk.min(axis=1)[:, None] + tie
+        # the tied candidate nearest the stretch (its end, where the distance is level there)
+        rows.append(pick(np.where(tied, every, -np.inf if side == 0 else np.inf), axis=1))
+    xi_rows = np.stack(rows, axis=1)
+    xi_rows = np.where(over[:, None], xi_rows, np.stack([whole, whole], axis=1))
+    rho = A[:, None] + xi_rows[..., None] * d[:, None]
+    s, nb = box_signed_distance(rho, half)
+    s[:, 1] = np.where(over, s[:, 1], np.inf)
+    at_end = over[:, None] & (xi_rows == ends) & (end_axis >= 0)
+    j = np.maximum(end_axis, 0)
+    dj = np.take_along_axis(d, j, axis=1)
+    slide = np.einsum("mri,mi->mr", nb, d) / np.where(at_end, dj, 1.0)
+    nu = nb - np.where(at_end, slide, 0.0)[..., None] * np.eye(3)[j]
+    return xi_rows, s, rho, nb, nu

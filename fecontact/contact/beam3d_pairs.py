@@ -49,7 +49,7 @@ from ..bodies.shapes3d import Ball, Box, Capsule
 from ..errors import InputError, check_range
 from ..rotations import cross, exp, hat
 from .base import PairDefaults
-from .beam3d_box import closest_to_box
+from .beam3d_box import box_rows
 from .friction import tangent_basis
 from .node_pairs import NodeContact
 from .obstacles import Circle
@@ -325,8 +325,13 @@ class TubeBoxContact(TubeRigidContact):
     1 under tilts of 2e-7 m and the first step failed), where a line's pressure, shifting
     along it, would hold the moment. The turn about n moves the point not at all."""
 
+    redundant_rows = True  # (a segment's two rows at one point where its stretch is one)
+
     def __init__(self, body: Beam3D, rigid: RigidBody3D, restitution=0.0, clearance=0.0):
         super().__init__(body, rigid, restitution, clearance)
+        # two rows per segment: rows [0, m) below its stretch over a face, [m, 2m) above
+        self.segments = np.concatenate([self.segments, self.segments])
+        self.size = len(self.segments)
 
     def _axes(self, qb: np.ndarray, xi: np.ndarray) -> np.ndarray:
         """The unit axes t (m, 3) of the sections at ξ: their ends' section normals
@@ -347,22 +352,40 @@ class TubeBoxContact(TubeRigidContact):
         return segment_spin_moves(self.body, qb, qb_n, self.segments, xi, arms, axes)
 
     def _box_geometry(self, q: np.ndarray):
+        """(R, ξ, s, ρ, n_b, ν) of the rows (:func:`.beam3d_box.box_rows`), rows [0, m) the
+        segments' first, [m, 2m) their second."""
         o = self.rigid_offset
         qr = q[o : o + 6]
         R = exp(qr[3:])
-        P = self._ends(q) - self.rigid.center(qr)
-        return (R, *closest_to_box(P[:, 0] @ R, P[:, 1] @ R, 0.5 * self.rigid.shape.sides))
+        m = self.size // 2
+        P = self._ends(q)[:m] - self.rigid.center(qr)
+        rows = box_rows(P[:, 0] @ R, P[:, 1] @ R, 0.5 * self.rigid.shape.sides)
+        xi, s = (a.T.ravel() for a in rows[:2])
+        rho, nb, nu = (a.transpose(1, 0, 2).reshape(-1, 3) for a in rows[2:])
+        return R, xi, s, rho, nb, nu
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         return self._box_geometry(q)[2] - self.radius
 
     def evaluate(self, q: np.ndarray):
-        """Gaps (m,), dofs (m, 12), gradients (m, 12), no curvature."""
-        R, xi, s, rho, nb = self._box_geometry(q)
-        n = nb @ R.T
-        G = np.concatenate([(1.0 - xi)[:, None] * n, xi[:, None] * n, -n, cross(nb, rho)], axis=1)
+        """Gaps (2m,), dofs (2m, 12), gradients (2m, 12) (zero on rows left out), no
+        curvature."""
+        R, xi, s, rho, _, nu = self._box_geometry(q)
+        n = nu @ R.T
+        G = np.concatenate([(1.0 - xi)[:, None] * n, xi[:, None] * n, -n, cross(nu, rho)], axis=1)
+        G[np.isinf(s)] = 0.0
         rigid = np.broadcast_to(self.rigid_offset + np.arange(6), (self.size, 6))
         return s - self.radius, np.concatenate([self._beam_dofs(), rigid], axis=1), G, None
+
+    def tangents(self, q: np.ndarray):
+        dofs, GT, T = super().tangents(q)
+        GT[np.isinf(self._box_geometry(q)[2])] = 0.0
+        return dofs, GT, T
+
+    def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
+        out = super().slips(q, q_n, T)
+        out[np.isinf(self._box_geometry(q)[2])] = 0.0
+        return out
 
     def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
         """Nothing to keep: a box has an inside, so the side is never in doubt."""
@@ -370,8 +393,8 @@ class TubeBoxContact(TubeRigidContact):
     def _contact_frame(self, q: np.ndarray):
         """(ξ*, the box's outward normals n = R n_b (m, 3), the box's contact points
         p = ρ − s n_b in its frame (on its surface), R)."""
-        R, xi, s, rho, nb = self._box_geometry(q)
-        return xi, nb @ R.T, rho - s[:, None] * nb, R
+        R, xi, s, rho, nb, _ = self._box_geometry(q)
+        return xi, nb @ R.T, rho - np.where(np.isinf(s), 0.0, s)[:, None] * nb, R
 
 
 @register_pair(Beam3D, Circle)
