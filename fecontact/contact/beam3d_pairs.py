@@ -329,8 +329,9 @@ class TubeBoxContact(TubeRigidContact):
 
     def __init__(self, body: Beam3D, rigid: RigidBody3D, restitution=0.0, clearance=0.0):
         super().__init__(body, rigid, restitution, clearance)
-        # two rows per segment: rows [0, m) below its stretch over a face, [m, 2m) above
-        self.segments = np.concatenate([self.segments, self.segments])
+        # three rows per segment: rows [0, m) below its stretch over a face or along an
+        # edge, [m, 2m) above, [2m, 3m) inside (:func:`.beam3d_box.box_rows`)
+        self.segments = np.concatenate([self.segments] * 3)
         self.size = len(self.segments)
 
     def _axes(self, qb: np.ndarray, xi: np.ndarray) -> np.ndarray:
@@ -352,12 +353,12 @@ class TubeBoxContact(TubeRigidContact):
         return segment_spin_moves(self.body, qb, qb_n, self.segments, xi, arms, axes)
 
     def _box_geometry(self, q: np.ndarray):
-        """(R, ξ, s, ρ, n_b, ν) of the rows (:func:`.beam3d_box.box_rows`), rows [0, m) the
-        segments' first, [m, 2m) their second."""
+        """(R, ξ, s, ρ, n_b, ν) of the rows (:func:`.beam3d_box.box_rows`), the segments'
+        first, second and third rows in turn."""
         o = self.rigid_offset
         qr = q[o : o + 6]
         R = exp(qr[3:])
-        m = self.size // 2
+        m = self.size // 3
         P = self._ends(q)[:m] - self.rigid.center(qr)
         rows = box_rows(P[:, 0] @ R, P[:, 1] @ R, 0.5 * self.rigid.shape.sides)
         xi, s = (a.T.ravel() for a in rows[:2])
@@ -368,7 +369,7 @@ class TubeBoxContact(TubeRigidContact):
         return self._box_geometry(q)[2] - self.radius
 
     def evaluate(self, q: np.ndarray):
-        """Gaps (2m,), dofs (2m, 12), gradients (2m, 12) (zero on rows left out), no
+        """Gaps (3m,), dofs (3m, 12), gradients (3m, 12) (zero on rows left out), no
         curvature."""
         R, xi, s, rho, _, nu = self._box_geometry(q)
         n = nu @ R.T
