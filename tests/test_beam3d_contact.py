@@ -375,21 +375,25 @@ def test_box_rows_are_the_derivatives_of_the_gaps(case):
         )
 
 
-def test_a_cube_struck_face_first_onto_a_rod_between_its_nodes_takes_no_halving():
-    """A 1 cm cube of 0.1 kg, a face parallel to a pinned rod (4 elements of 7.5 cm) over the
-    middle of an element, struck at 1 m/s from 20 µm: the segment's least distance is level
-    along its stretch under the face and moved between its ends as the rod bent (the smooth
-    step failed at step 8 after 6 halvings). With rows at both ends, 40 steps of 1e-5 s
-    (the strike and 3.8e-4 m of the cube's travel) take no halving and no row goes below
-    -1e-9 m (the gap tolerance's 1e-12 m, with round-off's margin)."""
+@pytest.mark.parametrize("edge_along", [False, True])
+def test_a_cube_struck_onto_a_rod_between_its_nodes_takes_no_halving(edge_along):
+    """A 1 cm cube of 0.1 kg, a face parallel to a pinned rod (4 elements of 7.5 cm) or
+    turned 45° about the rod's axis (an edge along it), over the middle of an element,
+    struck at 1 m/s from 20 µm: the segment's least distance is level along its stretch under
+    the face or the edge and moved between its ends as the rod bent (the smooth step failed
+    at step 8 after 6 halvings). With rows at both ends, 40 steps of 1e-5 s (the strike and
+    3.8e-4 m of the cube's travel) take no halving and no row goes below -1e-9 m (the gap
+    tolerance's 1e-12 m, with round-off's margin)."""
     bar = Beam3D.straight([0.0, 0.0, 0.0], [0.3, 0.0, 0.0], 4, STEEL, Section.circle(R_TUBE))
     bar.pin(0).pin(-1)
-    cube = RigidBody3D.uniform(0.1, [0.0375, 0.0, 2 * R_TUBE + 2e-5], Box(0.01, 0.01, 0.01))
+    half = 0.005 * (np.sqrt(2.0) if edge_along else 1.0)  # the cube's reach below its centre
+    cube = RigidBody3D.uniform(0.1, [0.0375, 0.0, R_TUBE + half + 2e-5], Box(0.01, 0.01, 0.01))
     model = Model([bar, cube], [Contact(bar, cube, clearance=R_TUBE)], gravity=(0, 0, 0))
-    v0 = np.zeros(model.n)
+    q0, v0 = np.zeros(model.n), np.zeros(model.n)
+    q0[bar.ndof + 3] = np.pi / 4 if edge_along else 0.0
     v0[bar.ndof + 2] = -1.0
     halvings, gmin = 0, np.inf
-    for st in simulate(model, 1e-5, 4e-4, IntegratorOptions(), v0=v0):
+    for st in simulate(model, 1e-5, 4e-4, IntegratorOptions(), q0=q0, v0=v0):
         halvings += st.halvings
         gmin = min(gmin, st.gaps.min())
     assert halvings == 0 and st.step == 40
