@@ -11,7 +11,8 @@ breakpoint x_k(ξ) = ±h_k, at the stationary point of the squared distance Σ (
 over the clamped axes on one piece between breakpoints, or, inside, where two of the six
 depths h_k ∓ x_k(ξ) are equal: all are candidates, and the least s among them is exact. A
 segment parallel to a face is equally near along its stretch over the face: ξ* is then the
-middle of that stretch. The gap of the segment is g = s(x(ξ*)) − r.
+middle of that stretch, and tilted it jumps to an end: :func:`box_rows` gives the contact rows
+at both ends of such a stretch, over a face or along an edge, each continuous in the segment.
 """
 
 from __future__ import annotations

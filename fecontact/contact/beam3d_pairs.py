@@ -308,22 +308,22 @@ class TubeRigidContact(TubeContact):
 
 class TubeBoxContact(TubeRigidContact):
     """The segments of a ``Beam3D`` of tube radius ``clearance`` against a ``RigidBody3D``
-    ``Box``: the segment's point of least signed distance from the box
-    (:func:`.beam3d_box.closest_to_box`). The distance is stationary in ξ there (or ξ sits at
-    an end), so the gradient is that of the point x(ξ*) held on the segment: ((1 − ξ*) n,
-    ξ* n) on the ends, n = R n_b the box's outward normal at its closest point (the nearest
-    face's inside), and −n, n_b × ρ on the box's (u, Θ) (ρ = x(ξ*) in the box frame,
-    δρ = ρ × δΘ). The curvature is left out (Newton's rate, not its answer), as for the rigid
-    ball against a box. Friction as for :class:`TubeRigidContact`, the box's material point
-    being its surface point p = ρ − s n_b nearest the segment, the tube's its section's point
-    −r n moved by the sections' spin about their axis t alone, (t·ω(ξ)) t × arm (t the
-    ends' section normals interpolated in ξ: one row twice at a node two segments share): a
-    rod rolls across a face. The sections' turn about t × n (which moves that point along the
-    segment) is left out: a segment along a face touches it along a line, whose one point ξ* jumps
-    between the middle and the ends as the segment tilts by round-off. That turn's friction
-    moment μN r tilted the segment (a rod pushed along itself on a box top: ξ* cycled 0, ½,
-    1 under tilts of 2e-7 m and the first step failed), where a line's pressure, shifting
-    along it, would hold the moment. The turn about n moves the point not at all."""
+    ``Box``: three rows per segment, its least signed distance from the box below, above and
+    inside its stretch over a face or along an edge (:func:`.beam3d_box.box_rows`; one row,
+    the least over the segment, where it has none). The gradient is that of the row's point
+    x(ξ) held on the segment with the normal ν (n_b, or n_b less its slide along the plane
+    that ends the stretch): ((1 − ξ) n, ξ n) on the ends, n = R ν, and −n, ν × ρ on the box's
+    (u, Θ) (ρ = x(ξ) in the box frame, δρ = ρ × δΘ). The curvature is left out (Newton's
+    rate, not its answer), as for the rigid ball against a box. Friction as for
+    :class:`TubeRigidContact`, the box's material point being its surface point p = ρ − s n_b
+    nearest the row's point, the tube's its section's point −r n moved by the sections' spin
+    about their axis t alone, (t·ω(ξ)) t × arm (t the ends' section normals interpolated in
+    ξ: one row twice at a node two segments share): a rod rolls across a face. The sections'
+    turn about t × n (which moves that point along the segment) is left out: with one row
+    per segment, at the middle of its stretch along a face, that turn's friction moment μN r
+    tilted the segment (a rod pushed along itself on a box top: ξ* cycled 0, ½, 1 under tilts
+    of 2e-7 m and the first step failed), where a line's pressure, shifting along it, would
+    hold the moment. The turn about n moves the point not at all."""
 
     redundant_rows = True  # (a segment's two rows at one point where its stretch is one)
 
