@@ -134,10 +134,11 @@ def _stretches(A: np.ndarray, d: np.ndarray, half: np.ndarray):
     return np.maximum(lo, 0.0), np.minimum(hi, 1.0), lo_axis, hi_axis
 
 
-def _prism(d: np.ndarray, nb: np.ndarray):
+def _prism(d: np.ndarray, nb: np.ndarray, empty: np.ndarray):
     """The prism (m,) whose stretch takes the rows: the face whose normal lies within 0.1 rad
     (``ALONG``) of n_b at the least distance, else the edge within 0.1 rad of the segment's
-    direction on n_b's side, and whether there is one (m,)."""
+    direction on n_b's side, either with a stretch (not ``empty`` (m, 18)), and whether there
+    is one (m,)."""
     lean = np.concatenate([nb, -nb], axis=1)  # n_b·(±e_k), faces as the prisms
     face = np.argmax(lean, axis=1)
     j = np.argmax(np.abs(d), axis=1)
@@ -145,7 +146,8 @@ def _prism(d: np.ndarray, nb: np.ndarray):
     rows = np.arange(len(d))
     edge = 6 + 4 * j + 2 * (nb[rows, k1] < 0.0) + (nb[rows, k2] < 0.0)
     along = np.abs(d[rows, j]) >= ALONG * np.linalg.norm(d, axis=1)
-    on_face = lean[rows, face] >= ALONG
+    on_face = (lean[rows, face] >= ALONG) & ~empty[rows, face]
+    along &= ~empty[rows, edge]
     return np.where(on_face, face, edge), on_face | along
 
 
@@ -170,9 +172,8 @@ def box_rows(A: np.ndarray, B: np.ndarray, half: np.ndarray):
     xi = _candidates(A, d, half)
     lo, hi, lo_axis, hi_axis = _stretches(A, d, half)
     whole, _, _, nb_whole = closest_to_box(A, B, half)
-    p, over = _prism(d, nb_whole)
+    p, over = _prism(d, nb_whole, lo > hi)
     take = np.arange(len(A)), p
-    over &= lo[take] <= hi[take]
     ends = np.clip(np.stack([lo[take], hi[take]], axis=1), 0.0, 1.0)
     end_axis = np.stack([lo_axis[take], hi_axis[take]], axis=1)
     every = np.concatenate([xi, ends], axis=1)
