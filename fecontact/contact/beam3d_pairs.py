@@ -49,7 +49,7 @@ from ..bodies.shapes3d import Ball, Box, Capsule
 from ..errors import InputError, check_range
 from ..rotations import cross, exp, hat
 from .base import PairDefaults
-from .beam3d_box import closest_to_box
+from .beam3d_box import box_rows
 from .friction import tangent_basis
 from .node_pairs import NodeContact
 from .obstacles import Circle
@@ -308,25 +308,31 @@ class TubeRigidContact(TubeContact):
 
 class TubeBoxContact(TubeRigidContact):
     """The segments of a ``Beam3D`` of tube radius ``clearance`` against a ``RigidBody3D``
-    ``Box``: the segment's point of least signed distance from the box
-    (:func:`.beam3d_box.closest_to_box`). The distance is stationary in ξ there (or ξ sits at
-    an end), so the gradient is that of the point x(ξ*) held on the segment: ((1 − ξ*) n,
-    ξ* n) on the ends, n = R n_b the box's outward normal at its closest point (the nearest
-    face's inside), and −n, n_b × ρ on the box's (u, Θ) (ρ = x(ξ*) in the box frame,
-    δρ = ρ × δΘ). The curvature is left out (Newton's rate, not its answer), as for the rigid
-    ball against a box. Friction as for :class:`TubeRigidContact`, the box's material point
-    being its surface point p = ρ − s n_b nearest the segment, the tube's its section's point
-    −r n moved by the sections' spin about their axis t alone, (t·ω(ξ)) t × arm (t the
-    ends' section normals interpolated in ξ: one row twice at a node two segments share): a
-    rod rolls across a face. The sections' turn about t × n (which moves that point along the
-    segment) is left out: a segment along a face touches it along a line, whose one point ξ* jumps
-    between the middle and the ends as the segment tilts by round-off. That turn's friction
-    moment μN r tilted the segment (a rod pushed along itself on a box top: ξ* cycled 0, ½,
-    1 under tilts of 2e-7 m and the first step failed), where a line's pressure, shifting
-    along it, would hold the moment. The turn about n moves the point not at all."""
+    ``Box``: three rows per segment, its least signed distance from the box below, above and
+    inside its stretch over a face or along an edge (:func:`.beam3d_box.box_rows`; one row,
+    the least over the segment, where it has none). The gradient is that of the row's point
+    x(ξ) held on the segment with the normal ν (n_b, or n_b less its slide along the plane
+    that ends the stretch): ((1 − ξ) n, ξ n) on the ends, n = R ν, and −n, ν × ρ on the box's
+    (u, Θ) (ρ = x(ξ) in the box frame, δρ = ρ × δΘ). The curvature is left out (Newton's
+    rate, not its answer), as for the rigid ball against a box. Friction as for
+    :class:`TubeRigidContact`, the box's material point being its surface point p = ρ − s n_b
+    nearest the row's point, the tube's its section's point −r n moved by the sections' spin
+    about their axis t alone, (t·ω(ξ)) t × arm (t the ends' section normals interpolated in
+    ξ: one row twice at a node two segments share): a rod rolls across a face. The sections'
+    turn about t × n (which moves that point along the segment) is left out: with one row
+    per segment, at the middle of its stretch along a face, that turn's friction moment μN r
+    tilted the segment (a rod pushed along itself on a box top: ξ* cycled 0, ½, 1 under tilts
+    of 2e-7 m and the first step failed), where a line's pressure, shifting along it, would
+    hold the moment. The turn about n moves the point not at all."""
+
+    redundant_rows = True  # (a segment's two rows at one point where its stretch is one)
 
     def __init__(self, body: Beam3D, rigid: RigidBody3D, restitution=0.0, clearance=0.0):
         super().__init__(body, rigid, restitution, clearance)
+        # three rows per segment: rows [0, m) below its stretch over a face or along an
+        # edge, [m, 2m) above, [2m, 3m) inside (:func:`.beam3d_box.box_rows`)
+        self.segments = np.concatenate([self.segments] * 3)
+        self.size = len(self.segments)
 
     def _axes(self, qb: np.ndarray, xi: np.ndarray) -> np.ndarray:
         """The unit axes t (m, 3) of the sections at ξ: their ends' section normals
@@ -347,22 +353,40 @@ class TubeBoxContact(TubeRigidContact):
         return segment_spin_moves(self.body, qb, qb_n, self.segments, xi, arms, axes)
 
     def _box_geometry(self, q: np.ndarray):
+        """(R, ξ, s, ρ, n_b, ν) of the rows (:func:`.beam3d_box.box_rows`), the segments'
+        first, second and third rows in turn."""
         o = self.rigid_offset
         qr = q[o : o + 6]
         R = exp(qr[3:])
-        P = self._ends(q) - self.rigid.center(qr)
-        return (R, *closest_to_box(P[:, 0] @ R, P[:, 1] @ R, 0.5 * self.rigid.shape.sides))
+        m = self.size // 3
+        P = self._ends(q)[:m] - self.rigid.center(qr)
+        rows = box_rows(P[:, 0] @ R, P[:, 1] @ R, 0.5 * self.rigid.shape.sides)
+        xi, s = (a.T.ravel() for a in rows[:2])
+        rho, nb, nu = (a.transpose(1, 0, 2).reshape(-1, 3) for a in rows[2:])
+        return R, xi, s, rho, nb, nu
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         return self._box_geometry(q)[2] - self.radius
 
     def evaluate(self, q: np.ndarray):
-        """Gaps (m,), dofs (m, 12), gradients (m, 12), no curvature."""
-        R, xi, s, rho, nb = self._box_geometry(q)
-        n = nb @ R.T
-        G = np.concatenate([(1.0 - xi)[:, None] * n, xi[:, None] * n, -n, cross(nb, rho)], axis=1)
+        """Gaps (3m,), dofs (3m, 12), gradients (3m, 12) (zero on rows left out), no
+        curvature."""
+        R, xi, s, rho, _, nu = self._box_geometry(q)
+        n = nu @ R.T
+        G = np.concatenate([(1.0 - xi)[:, None] * n, xi[:, None] * n, -n, cross(nu, rho)], axis=1)
+        G[np.isinf(s)] = 0.0
         rigid = np.broadcast_to(self.rigid_offset + np.arange(6), (self.size, 6))
         return s - self.radius, np.concatenate([self._beam_dofs(), rigid], axis=1), G, None
+
+    def tangents(self, q: np.ndarray):
+        dofs, GT, T = super().tangents(q)
+        GT[np.isinf(self._box_geometry(q)[2])] = 0.0
+        return dofs, GT, T
+
+    def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
+        out = super().slips(q, q_n, T)
+        out[np.isinf(self._box_geometry(q)[2])] = 0.0
+        return out
 
     def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
         """Nothing to keep: a box has an inside, so the side is never in doubt."""
@@ -370,8 +394,8 @@ class TubeBoxContact(TubeRigidContact):
     def _contact_frame(self, q: np.ndarray):
         """(ξ*, the box's outward normals n = R n_b (m, 3), the box's contact points
         p = ρ − s n_b in its frame (on its surface), R)."""
-        R, xi, s, rho, nb = self._box_geometry(q)
-        return xi, nb @ R.T, rho - s[:, None] * nb, R
+        R, xi, s, rho, nb, _ = self._box_geometry(q)
+        return xi, nb @ R.T, rho - np.where(np.isinf(s), 0.0, s)[:, None] * nb, R
 
 
 @register_pair(Beam3D, Circle)
