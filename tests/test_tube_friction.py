@@ -168,6 +168,18 @@ def slide(model, bar, v0, t_end=0.25, h=1e-3, options=None):
     return np.array(t), np.array(x), np.array(u)
 
 
+def _rolls_across(where: str, mu: float, v0: float, options) -> None:
+    """The rod on ``where`` pushed across itself at v₀ slows at μg until t* = v₀/(3μg), then
+    rolls at 2v₀/3 (a cylinder, I = mR²/2), to 1e-12 m/s at every step but the one holding
+    t* (h = 1 ms: that step rolls from inside it)."""
+    t, x, u = slide(*rod_on(where, mu), (0.0, v0, 0.0), t_end=0.1, options=options)
+    t_star = v0 / (3 * mu * G)
+    exact = np.where(t < t_star, v0 - mu * G * t, 2 * v0 / 3)
+    kept = np.abs(t - t_star) > 1e-3
+    np.testing.assert_allclose(u[kept, 1], exact[kept], atol=1e-12)
+    np.testing.assert_allclose(u[:, [0, 2]], 0.0, atol=1e-12)
+
+
 def test_a_rod_on_a_box_top_stops_along_itself_and_rolls_across_itself():
     """A rod lying on a held box (its segments, whose slip rows take the sections' spin about
     the segment) pushed at 0.5 m/s, μ = 0.3. Along itself it slows at μg and stops after
@@ -186,12 +198,7 @@ def test_a_rod_on_a_box_top_stops_along_itself_and_rolls_across_itself():
     np.testing.assert_allclose(u[:, 0], np.maximum(v0 - mu * G * t, 0.0), atol=1e-12)
     np.testing.assert_allclose(u[:, 1:], 0.0, atol=1e-12)
     assert x[-1, 0] == pytest.approx(v0**2 / (2 * mu * G), abs=1e-7)
-    t, x, u = slide(*rod_on("box", mu), (0.0, v0, 0.0), t_end=0.1, options=decoupled)
-    t_star = v0 / (3 * mu * G)
-    exact = np.where(t < t_star, v0 - mu * G * t, 2 * v0 / 3)
-    kept = np.abs(t - t_star) > 1e-3  # (h = 1 ms: the step holding t* rolls from inside it)
-    np.testing.assert_allclose(u[kept, 1], exact[kept], atol=1e-12)
-    np.testing.assert_allclose(u[:, [0, 2]], 0.0, atol=1e-12)
+    _rolls_across("box", mu, v0, decoupled)
 
 
 def test_a_rod_on_a_plane_rolls_across_itself_and_slides_along_itself():
@@ -205,12 +212,7 @@ def test_a_rod_on_a_plane_rolls_across_itself_and_slides_along_itself():
     by up to 2.0e-3 m/s and the stop by 1.3e-6 m (bound 1e-5 m, 0.02 % of the distance)."""
     mu, v0 = 0.3, 0.5
     decoupled = IntegratorOptions(smooth_contact="off")
-    t, x, u = slide(*rod_on("plane", mu), (0.0, v0, 0.0), t_end=0.1, options=decoupled)
-    t_star = v0 / (3 * mu * G)
-    exact = np.where(t < t_star, v0 - mu * G * t, 2 * v0 / 3)
-    kept = np.abs(t - t_star) > 1e-3  # (h = 1 ms: the step holding t* rolls from inside it)
-    np.testing.assert_allclose(u[kept, 1], exact[kept], atol=1e-12)
-    np.testing.assert_allclose(u[:, [0, 2]], 0.0, atol=1e-12)
+    _rolls_across("plane", mu, v0, decoupled)
     t, x, u = slide(*rod_on("plane", mu), (v0, 0.0, 0.0), options=decoupled)
     assert x[-1, 0] == pytest.approx(v0**2 / (2 * mu * G), abs=1e-5)
 
