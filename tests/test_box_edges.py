@@ -115,7 +115,8 @@ def test_rows_past_the_cone_border_have_the_exact_gradient():
         q = np.zeros(model.n)
         q[:n] = u.ravel()
         g, dofs, _, _ = edges.evaluate(q)
-        _, _, _, _, _, t, _, ramp = edges._geometry(q)
+        geometry = edges._geometry(q)
+        t, ramp = geometry[5], geometry[-1]
         rows = np.flatnonzero(np.isfinite(g))
         past += int(np.count_nonzero((ramp[rows] > 0.0) & (t[rows] > 0.0) & (t[rows] < 1.0)))
         # (central differences of O(1) slopes at h = 1e-8: h² g''' + round-off 1e-17/h; the

@@ -115,6 +115,23 @@ def _slope(u: np.ndarray) -> np.ndarray:
     return np.where(u < 0.0, -1.0, 1.0) * _soft_slope(_beyond(u))
 
 
+def _reach(gap: np.ndarray, ends: np.ndarray, A: np.ndarray, faces: np.ndarray):
+    """The lines' distances ``gap`` (K, 12) of the ridges of ends ``ends`` (K, 2, 3) to the
+    box edges through ``A`` (12, 3) of outward face normals ``faces`` (12, 2, 3), floored by
+    the reach of each ridge behind the edge's faces: max_i min_j (y_j − A)·a_i, the least
+    the ridge lies in front of face i (its deeper end: it is straight); and for each, the
+    face and end 2 i + j that give the floor (−1 where the lines' distance holds)."""
+    front = np.einsum("kjd,eid->keij", ends, faces)
+    front -= np.einsum("ed,eid->ei", A, faces)[None, :, :, None]  # (K, 12, face, end)
+    end = np.argmin(front, axis=3)
+    deepest = np.take_along_axis(front, end[..., None], axis=3)[..., 0]  # (K, 12, face)
+    face = np.argmax(deepest, axis=2)
+    floor = np.take_along_axis(deepest, face[..., None], axis=2)[..., 0]
+    reach = 2 * face + np.take_along_axis(end, face[..., None], axis=2)[..., 0]
+    floored = floor > gap
+    return np.where(floored, floor, gap), np.where(floored, reach, -1)
+
+
 def box_edges(sides: np.ndarray):
     """A box's twelve edges in its body frame (m): their ends a, b (12, 3) and the outward
     unit normals of their two faces (12, 2, 3)."""
@@ -187,13 +204,13 @@ class BoxEdges(FeatureRows):
         qr = q[ob : ob + 6]
         R, c = exp(qr[3:6]), self.rigid.center(qr)
         N = self.size
-        g, edge = np.full(N, np.inf), np.zeros(N, dtype=int)
+        g, edge, reach = np.full(N, np.inf), np.zeros(N, dtype=int), np.full(N, -1)
         s, t, n, ramp = np.zeros(N), np.zeros(N), np.zeros((N, 3)), np.zeros(N)
         near = self._near(x, R, c)
         if near.size:
             rows, found = self._crossings(x, R, c, near)
-            g[rows], edge[rows], s[rows], t[rows], n[rows], ramp[rows] = found
-        return x, R, g, edge, s, t, n, ramp
+            g[rows], edge[rows], s[rows], t[rows], n[rows], reach[rows], ramp[rows] = found
+        return x, R, g, edge, s, t, n, reach, ramp
 
     def _crossings(self, x, R, c, near):
         """For the ridges ``near``: those with a row, and their (gap, box edge, s, t, n,
@@ -232,6 +249,7 @@ class BoxEdges(FeatureRows):
         # a penetration deeper than the ridge is long is no crossing of this edge: nearly
         # parallel lines of a ridge and a far edge of the box meet across the box's width
         ok &= gap > -np.sqrt(ee)
+        gap, reach = _reach(gap, np.stack([y0, y1], axis=1), A, faces)
         ramp = RAMP * np.sqrt(ee) * beyond
         gap = np.where(ok, gap + ramp - self.clearance, np.inf)
         # the first SLOTS box edges (in their own order, so that a row keeps its edge) with a
@@ -242,7 +260,7 @@ class BoxEdges(FeatureRows):
         keep = np.isfinite(gap[k, first])
         k, e, slot = k[keep], first[keep], slot[keep]
         rows = slot * len(self.ridges) + near[k]
-        return rows, (gap[k, e], e, s[k, e], t[k, e], n[k, e], ramp[k, e])
+        return rows, (gap[k, e], e, s[k, e], t[k, e], n[k, e], reach[k, e], ramp[k, e])
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         return self._geometry(q)[2]
@@ -250,34 +268,62 @@ class BoxEdges(FeatureRows):
     def evaluate(self, q: np.ndarray):
         """Gaps (N,), dofs (N, 12): the box's six then the ridge's two nodes', gradients
         (N, 12), no curvature."""
-        x, R, g, edge, s, t, n, ramp = self._geometry(q)
+        x, R, g, edge, s, t, n, reach, ramp = self._geometry(q)
         G = np.zeros((self.size, 12))
         on = np.flatnonzero(np.isfinite(g))
         if on.size == 0:
             return g, self.dofs, G, None
-        e = edge[on]
-        r = self.a[e] + s[on, None] * (self.b[e] - self.a[e])
-        G[on, :3] = n[on]
-        G[on, 3:6] = cross(r, n[on] @ R)  # r × (Rᵀ n)
-        G[on, 6:9] = -(1.0 - t[on, None]) * n[on]
-        G[on, 9:] = -t[on, None] * n[on]
+        c = self.rigid.center(q[self.offsets[1] : self.offsets[1] + 6])
+        normal, r, weight = self._points(x, R, c, edge, s, t, n, reach, on)
+        G[on, :3] = normal
+        G[on, 3:6] = cross(r, normal @ R)  # r × (Rᵀ ν)
+        G[on, 6:9] = -weight[:, :1] * normal
+        G[on, 9:] = -weight[:, 1:] * normal
         ramped = on[ramp[on] > 0.0]
         if ramped.size:
-            G[ramped] += self._ramp_gradient(x, R, g, edge, s, t, n, ramp, ramped)
+            w = g[ramped] - ramp[ramped] + self.clearance  # n·(p − y) where no reach is read
+            floored = reach[ramped] >= 0
+            if floored.any():
+                w[floored] = self._line_distance(x, R, c, edge, s, t, n, ramped[floored])
+            G[ramped] += self._ramp_gradient(x, R, w, edge, s, t, n, ramped)
         return g, self.dofs, G, None
 
-    def _ramp_gradient(self, x, R, g, edge, s, t, n, ramp, rows):
+    def _points(self, x, R, c, edge, s, t, n, reach, rows):
+        """For the ``rows``: the normal ν (k, 3) of their gap, the box's point r (k, 3) in its
+        frame and the weights (k, 2) of the ridge's two nodes; ∂g = ν·(δu − R r̃ δΘ − w₀ δy₀
+        − w₁ δy₁). The lines' distance: ν = n, r at p, w = (1 − t, t); the reach of the
+        ridge's end behind the box edge's face i (:func:`_reach`): ν = −a_i, r at the end,
+        w = (1, 0) or (0, 1)."""
+        e = edge[rows]
+        normal = n[rows].copy()
+        r = self.a[e] + s[rows, None] * (self.b[e] - self.a[e])
+        weight = np.stack([1.0 - t[rows], t[rows]], axis=1)
+        floored = reach[rows] >= 0
+        if floored.any():
+            face, end = np.divmod(reach[rows[floored]], 2)
+            normal[floored] = -(self.faces[e[floored], face] @ R.T)
+            r[floored] = (x[self.ridges[self._ridge[rows[floored]], end]] - c) @ R
+            weight[floored] = np.eye(2)[end]
+        return normal, r, weight
+
+    def _line_distance(self, x, R, c, edge, s, t, n, rows):
+        """n·(p − y) (k,) of the ``rows``: the lines' signed distance, whatever the gap reads."""
+        e, ridge = edge[rows], self.ridges[self._ridge[rows]]
+        p = (self.a[e] + s[rows, None] * (self.b[e] - self.a[e])) @ R.T + c
+        y = x[ridge[:, 0]] + t[rows, None] * (x[ridge[:, 1]] - x[ridge[:, 0]])
+        return np.einsum("kd,kd->k", n[rows], p - y)
+
+    def _ramp_gradient(self, x, R, w, edge, s, t, n, rows):
         """The gradient (k, 12) of the ramp RAMP ℓ (σ(φ(s)) + σ(φ(t)) + σ(ψ)) of the ``rows``, ℓ the
         ridge's length: the closest points' parameters move by (∂s, ∂t) = −M⁻¹ (d₁·δ + w
         n·∂d₁, d₂·δ + w n·∂d₂), from the derivative of (p − y)·d₁ = (p − y)·d₂ = 0, with
         M = [[d₁·d₁, −d₁·d₂], [d₁·d₂, −d₂·d₂]], δ the motion of the material points at p
-        and y, and w = n·(p − y)."""
+        and y, and w = n·(p − y) (k,)."""
         e, k = edge[rows], len(rows)
         d1b = self.b[e] - self.a[e]  # (k, 3) body frame
         d1 = d1b @ R.T
         y0, y1 = x[self.ridges[self._ridge[rows], 0]], x[self.ridges[self._ridge[rows], 1]]
         d2 = y1 - y0
-        w = g[rows] - ramp[rows] + self.clearance  # n·(p − y)
         rb = self.a[e] + s[rows, None] * d1b
         J = np.zeros((k, 3, 12))  # δ over the local dofs
         J[:, :, :3] = np.eye(3)
@@ -327,22 +373,24 @@ class BoxEdges(FeatureRows):
 
     def _relative_motion(self, q: np.ndarray):
         """Rows with a gap (N,) bool, the tangents T (N, 2, 3) of their contact planes (along
-        the box edge, which is normal to n, and n × it: no basis switch as n turns) and the
-        motion of the box's point p relative to the ridge's point y over the local dofs
-        (N, 3, 12) (zero where no row)."""
-        _, R, g, edge, s, t, n, _ = self._geometry(q)
-        on = np.isfinite(g)
+        the box edge, which is normal to the row's normal ν, and ν × it: no basis switch as ν
+        turns) and the motion of the box's point relative to the ridge's over the local dofs
+        (N, 3, 12) (zero where no row): p against y, or the box's point at the ridge's end
+        against that end where the row reads its reach (:meth:`_points`)."""
+        x, R, g, edge, s, t, n, reach, _ = self._geometry(q)
+        on = np.flatnonzero(np.isfinite(g))
         T = np.broadcast_to(tangent_basis(np.array([[0.0, 0.0, 1.0]])), (self.size, 2, 3)).copy()
         W = np.zeros((self.size, 3, 12))
-        if on.any():
+        if on.size:
+            c = self.rigid.center(q[self.offsets[1] : self.offsets[1] + 6])
+            normal, r, weight = self._points(x, R, c, edge, s, t, n, reach, on)
             along = (self.b[edge[on]] - self.a[edge[on]]) @ R.T
             along /= np.linalg.norm(along, axis=1)[:, None]
-            T[on] = np.stack([along, cross(n[on], along)], axis=1)
-            r = self.a[edge[on]] + s[on, None] * (self.b[edge[on]] - self.a[edge[on]])
+            T[on] = np.stack([along, cross(normal, along)], axis=1)
             W[on, :, :3] = np.eye(3)
             W[on, :, 3:6] = -R @ hat(r)  # ∂p/∂Θ = −R r̃
-            W[on, :, 6:9] = -(1.0 - t[on, None, None]) * np.eye(3)
-            W[on, :, 9:] = -t[on, None, None] * np.eye(3)
+            W[on, :, 6:9] = -weight[:, :1, None] * np.eye(3)
+            W[on, :, 9:] = -weight[:, 1:, None] * np.eye(3)
         return on, T, W
 
     def tangents(self, q: np.ndarray):
