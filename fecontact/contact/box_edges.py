@@ -89,6 +89,13 @@ REACH = 0.5
 ramp reaches before the row ends."""
 
 
+TIE = 1e-6
+"""How far (in the ridge's length) the ridge's reach behind a face must exceed the lines'
+distance before the row reads it, over as far again (:func:`_reach`): a ridge flat on a face
+or a node on the edge has the two equal up to round-off and to the gaps' tolerance, where
+the row keeps the lines' distance and its gradient (the ties' two gradients made a box sliding
+flat on a cube's face fail Newton)."""
+
 SOFT = 0.05
 """How far (in the units of φ and ψ) the ramp grows quadratically before it grows linearly:
 its gradient then starts from zero (module docstring), and a tenth of ``REACH`` leaves the
@@ -115,21 +122,28 @@ def _slope(u: np.ndarray) -> np.ndarray:
     return np.where(u < 0.0, -1.0, 1.0) * _soft_slope(_beyond(u))
 
 
-def _reach(gap: np.ndarray, ends: np.ndarray, A: np.ndarray, faces: np.ndarray):
-    """The lines' distances ``gap`` (K, 12) of the ridges of ends ``ends`` (K, 2, 3) to the
-    box edges through ``A`` (12, 3) of outward face normals ``faces`` (12, 2, 3), floored by
-    the reach of each ridge behind the edge's faces: max_i min_j (y_j − A)·a_i, the least
-    the ridge lies in front of face i (its deeper end: it is straight); and for each, the
-    face and end 2 i + j that give the floor (−1 where the lines' distance holds)."""
+def _reach(gap, ends, A, faces, length):
+    """The lines' distances ``gap`` (K, 12) of the ridges of ends ``ends`` (K, 2, 3) and
+    lengths ``length`` (K, 1) to the box edges through ``A`` (12, 3) of outward face normals
+    ``faces`` (12, 2, 3), floored by the reach of each ridge behind the edge's faces,
+    f = max_i min_j (y_j − A)·a_i (how far the ridge lies in front of face i, at its deeper
+    end: it is straight), where f exceeds the gap by more than ``TIE`` ℓ (module
+    docstring): the gap + x S((x − m)/m), x = f − gap, m = TIE ℓ, S the C¹ step
+    u²(3 − 2u) on [0, 1]. Returns the gaps, the face and end 2 i + j of f (−1 where the gap
+    is the lines' distance) and the weight ∂gap/∂f of f in the gradient (K, 12)."""
     front = np.einsum("kjd,eid->keij", ends, faces)
     front -= np.einsum("ed,eid->ei", A, faces)[None, :, :, None]  # (K, 12, face, end)
     end = np.argmin(front, axis=3)
     deepest = np.take_along_axis(front, end[..., None], axis=3)[..., 0]  # (K, 12, face)
     face = np.argmax(deepest, axis=2)
-    floor = np.take_along_axis(deepest, face[..., None], axis=2)[..., 0]
+    x = np.take_along_axis(deepest, face[..., None], axis=2)[..., 0] - gap
+    m = TIE * length
+    u = np.clip((x - m) / m, 0.0, 1.0)
+    step = u * u * (3.0 - 2.0 * u)
+    weight = step + x * 6.0 * u * (1.0 - u) / m
     reach = 2 * face + np.take_along_axis(end, face[..., None], axis=2)[..., 0]
-    floored = floor > gap
-    return np.where(floored, floor, gap), np.where(floored, reach, -1)
+    read = np.where(u < 1.0, gap + x * step, gap + x)  # (the reach itself, past the blend)
+    return read, np.where(u > 0.0, reach, -1), weight
 
 
 def box_edges(sides: np.ndarray):
@@ -159,6 +173,16 @@ def _ridges(facets: np.ndarray):
         )
     order = np.argsort(inverse.ravel(), kind="stable")
     return ridges, (order // 3).reshape(-1, 2)
+
+
+def _gradient(R, normal, r, weight):
+    """The gradient (k, 12) ν·(δu − R r̃ δΘ − w₀ δy₀ − w₁ δy₁) (:meth:`BoxEdges._points`)."""
+    G = np.empty((len(normal), 12))
+    G[:, :3] = normal
+    G[:, 3:6] = cross(r, normal @ R)  # r × (Rᵀ ν)
+    G[:, 6:9] = -weight[:, :1] * normal
+    G[:, 9:] = -weight[:, 1:] * normal
+    return G
 
 
 class BoxEdges(FeatureRows):
@@ -206,11 +230,13 @@ class BoxEdges(FeatureRows):
         N = self.size
         g, edge, reach = np.full(N, np.inf), np.zeros(N, dtype=int), np.full(N, -1)
         s, t, n, ramp = np.zeros(N), np.zeros(N), np.zeros((N, 3)), np.zeros(N)
+        blend = np.zeros(N)
         near = self._near(x, R, c)
         if near.size:
             rows, found = self._crossings(x, R, c, near)
-            g[rows], edge[rows], s[rows], t[rows], n[rows], reach[rows], ramp[rows] = found
-        return x, R, g, edge, s, t, n, reach, ramp
+            g[rows], edge[rows], s[rows], t[rows], n[rows] = found[:5]
+            reach[rows], blend[rows], ramp[rows] = found[5:]
+        return x, R, g, edge, s, t, n, reach, blend, ramp
 
     def _crossings(self, x, R, c, near):
         """For the ridges ``near``: those with a row, and their (gap, box edge, s, t, n,
@@ -249,7 +275,7 @@ class BoxEdges(FeatureRows):
         # a penetration deeper than the ridge is long is no crossing of this edge: nearly
         # parallel lines of a ridge and a far edge of the box meet across the box's width
         ok &= gap > -np.sqrt(ee)
-        gap, reach = _reach(gap, np.stack([y0, y1], axis=1), A, faces)
+        gap, reach, blend = _reach(gap, np.stack([y0, y1], axis=1), A, faces, np.sqrt(ee))
         ramp = RAMP * np.sqrt(ee) * beyond
         gap = np.where(ok, gap + ramp - self.clearance, np.inf)
         # the first SLOTS box edges (in their own order, so that a row keeps its edge) with a
@@ -260,7 +286,7 @@ class BoxEdges(FeatureRows):
         keep = np.isfinite(gap[k, first])
         k, e, slot = k[keep], first[keep], slot[keep]
         rows = slot * len(self.ridges) + near[k]
-        return rows, (gap[k, e], e, s[k, e], t[k, e], n[k, e], reach[k, e], ramp[k, e])
+        return rows, (gap[k, e], e, s[k, e], t[k, e], n[k, e], reach[k, e], blend[k, e], ramp[k, e])
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         return self._geometry(q)[2]
@@ -268,23 +294,24 @@ class BoxEdges(FeatureRows):
     def evaluate(self, q: np.ndarray):
         """Gaps (N,), dofs (N, 12): the box's six then the ridge's two nodes', gradients
         (N, 12), no curvature."""
-        x, R, g, edge, s, t, n, reach, ramp = self._geometry(q)
+        x, R, g, edge, s, t, n, reach, blend, ramp = self._geometry(q)
         G = np.zeros((self.size, 12))
         on = np.flatnonzero(np.isfinite(g))
         if on.size == 0:
             return g, self.dofs, G, None
         c = self.rigid.center(q[self.offsets[1] : self.offsets[1] + 6])
-        normal, r, weight = self._points(x, R, c, edge, s, t, n, reach, on)
-        G[on, :3] = normal
-        G[on, 3:6] = cross(r, normal @ R)  # r × (Rᵀ ν)
-        G[on, 6:9] = -weight[:, :1] * normal
-        G[on, 9:] = -weight[:, 1:] * normal
+        G[on] = _gradient(R, *self._points(x, R, c, edge, s, t, n, np.full(len(g), -1), on))
+        floored = on[reach[on] >= 0]
+        if floored.size:
+            f = blend[floored, None]
+            G[floored] *= 1.0 - f
+            G[floored] += f * _gradient(R, *self._points(x, R, c, edge, s, t, n, reach, floored))
         ramped = on[ramp[on] > 0.0]
         if ramped.size:
             w = g[ramped] - ramp[ramped] + self.clearance  # n·(p − y) where no reach is read
-            floored = reach[ramped] >= 0
-            if floored.any():
-                w[floored] = self._line_distance(x, R, c, edge, s, t, n, ramped[floored])
+            read = reach[ramped] >= 0
+            if read.any():
+                w[read] = self._line_distance(x, R, c, edge, s, t, n, ramped[read])
             G[ramped] += self._ramp_gradient(x, R, w, edge, s, t, n, ramped)
         return g, self.dofs, G, None
 
@@ -377,7 +404,8 @@ class BoxEdges(FeatureRows):
         turns) and the motion of the box's point relative to the ridge's over the local dofs
         (N, 3, 12) (zero where no row): p against y, or the box's point at the ridge's end
         against that end where the row reads its reach (:meth:`_points`)."""
-        x, R, g, edge, s, t, n, reach, _ = self._geometry(q)
+        x, R, g, edge, s, t, n, reach, blend, _ = self._geometry(q)
+        reach = np.where(blend > 0.5, reach, -1)  # the points of the nearer reading
         on = np.flatnonzero(np.isfinite(g))
         T = np.broadcast_to(tangent_basis(np.array([[0.0, 0.0, 1.0]])), (self.size, 2, 3)).copy()
         W = np.zeros((self.size, 3, 12))
