@@ -25,6 +25,19 @@ cycle); a row reads +inf without its edge, and where the ridge's midpoint lies f
 the box than the search distance plus half the ridge's length. Lines nearer
 parallel than ``PARALLEL`` have no common normal: their ends hold the contact.
 
+The lines' distance is no depth where the ridge does not reach that far: the lines of a
+ridge on a solid's face over the box, 1 cm from a box edge and parallel to its side face,
+have their common normal along that face's normal and read −1 cm though the ridge lies in
+front of the top face (a rubber box laid over a box's edge was refused at t = 0). The
+ridge's penetration into the box edge's wedge (two half-spaces, in the plane normal to the
+edge) is the least of its depths along n and behind either face, the latter at its deeper
+end (it is straight): the row reads max(n·(p − y), f), f = max_i min_j (y_j − a)·a_i, a
+ridge wholly in front of face i reading how far its nearer end lies. Where f exceeds the
+lines' distance by less than ``TIE`` ℓ the row keeps the lines' distance (a ridge flat on a
+face, or a node on the edge, has the two equal to round-off, and the choice between their
+gradients failed Newton); it blends to f over as far again (C¹), whose gradient is that of
+the end node against face i and whose friction acts at that node.
+
 A row that holds must not vanish within a Newton iteration (the smooth step's active set
 cycles between an iterate with the row, pushed out, and one without, falling back in). Where
 the closest point leaves the ridge, or −n leaves the box edge's cone, the row goes on as the
