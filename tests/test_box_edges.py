@@ -71,13 +71,14 @@ def test_edge_rows_have_the_exact_gradient():
     """Central differences of the rows over their 12 dofs (the box's translations and
     body-frame rotation increments, the boundary edge's two nodes) against G, over a ball
     pressed on a box edge at random poses, the release ramps included (rows whose closest
-    points lie beyond a segment's end or whose normal lies outside the box edge's cone)."""
+    points lie beyond a segment's end or whose normal lies outside the box edge's cone) and
+    the rows that read the ridge's reach behind a face (14 of the 27)."""
     ball = Solid.ball([0.0, 0.0, 0.0], 0.05, 1, RUBBER)
     box = RigidBody3D.uniform(1.0, [0.0, 0.0, 0.0], Box(0.1, 0.08, 0.06))
     model = Model([ball, box], [Contact(ball, box, method="node-to-surface")], (0, 0, 0))
     edges, n = _edge_rows(model), ball.ndof
     rng = np.random.default_rng(1)
-    h, checked, ramped = 1e-7, 0, 0
+    h, checked, ramped, reached = 1e-7, 0, 0, 0
     for _ in range(40):
         psi = rng.normal(size=3)
         q = np.zeros(model.n)
@@ -87,13 +88,15 @@ def test_edge_rows_have_the_exact_gradient():
         points = box_features(box.shape) @ exp(psi).T  # a box edge at the sphere along d
         q[n:] = [*(d * 0.05 - points[np.argmin(points @ d)] + d * rng.uniform(-3e-3, 3e-3)), *psi]
         g, dofs, G, _ = edges.evaluate(q)
-        ramped += int(np.count_nonzero(edges._geometry(q)[-1][np.isfinite(g)] > 0.0))
+        geometry = edges._geometry(q)
+        ramped += int(np.count_nonzero(geometry[-1][np.isfinite(g)] > 0.0))
+        reached += int(np.count_nonzero(geometry[7][np.isfinite(g)] >= 0))
 
         rows = np.flatnonzero(np.isfinite(g))
         # (central differences of O(1) slopes: h² g''' + round-off 1e-17/h)
         assert group_gradient_error(edges, model, q, np.unique(dofs[rows]), h) < 1e-7
         checked += rows.size
-    assert checked > 25 and ramped > 10, (checked, ramped)
+    assert checked > 25 and ramped > 10 and reached > 5, (checked, ramped, reached)
 
 
 def test_rows_past_the_cone_border_have_the_exact_gradient():
