@@ -3,6 +3,7 @@ once in the run's localization statistics, however the calls that count it nest:
 steps inside sub-steps, inside a split at a release, inside steps taken aside (which put the
 ladder's deciding counts back so the run decides as without them)."""
 
+import dataclasses
 from collections import Counter
 from types import SimpleNamespace
 
@@ -123,11 +124,15 @@ def test_nested_calls_and_steps_aside_count_each_factorization_once(tally):
 
 
 def test_a_run_counts_the_ladder_work_it_did(tally):
-    """The coarse two balls at 10 m/s (1,122 dofs: PCG from rungs) to 0.45 ms: their located
-    impacts, and a step retaken in localized sub-steps at 0.41 ms."""
+    """The coarse two balls at 10 m/s (1,122 dofs: PCG from rungs) to 0.25 ms with
+    ``localize=True``, whose chattering contacts are taken in localized sub-steps: located
+    impacts inside sub-steps inside retaken steps (measured: 24 located, 6 steps subdivided).
+    (Under "auto" the run took one retake in sub-steps until the 3D mortar pairs' facing
+    weight; with it the coarse balls need none.)"""
     sim = case("two_balls").build(velocity=10.0, spacing=0.2, base=1)
+    options = dataclasses.replace(sim.options, localize=True)
     stats = StepStats()
-    for _ in simulate(sim.model, sim.dt, 4.5e-4, sim.options, q0=sim.q0, v0=sim.v0, stats=stats):
+    for _ in simulate(sim.model, sim.dt, 2.5e-4, options, q0=sim.q0, v0=sim.v0, stats=stats):
         pass
-    assert stats.localization.subdivided == 1  # (the nesting this test is about)
+    assert stats.localization.subdivided >= 1  # (the nesting this test is about)
     assert counted(stats.localization) == {key: tally[key] for key in counted(stats.localization)}
