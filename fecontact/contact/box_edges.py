@@ -25,19 +25,6 @@ cycle); a row reads +inf without its edge, and where the ridge's midpoint lies f
 the box than the search distance plus half the ridge's length. Lines nearer
 parallel than ``PARALLEL`` have no common normal: their ends hold the contact.
 
-The lines' distance is no depth where the ridge does not reach that far: the lines of a
-ridge on a solid's face over the box, 1 cm from a box edge and parallel to its side face,
-have their common normal along that face's normal and read −1 cm though the ridge lies in
-front of the top face (a rubber box laid over a box's edge was refused at t = 0). The
-ridge's penetration into the box edge's wedge (two half-spaces, in the plane normal to the
-edge) is the least of its depths along n and behind either face, the latter at its deeper
-end (it is straight): the row reads max(n·(p − y), f), f = max_i min_j (y_j − a)·a_i, a
-ridge wholly in front of face i reading how far its nearer end lies. Where f exceeds the
-lines' distance by less than ``TIE`` ℓ the row keeps the lines' distance (a ridge flat on a
-face, or a node on the edge, has the two equal to round-off, and the choice between their
-gradients failed Newton); it blends to f over as far again (C¹), whose gradient is that of
-the end node against face i and whose friction acts at that node.
-
 A row that holds must not vanish within a Newton iteration (the smooth step's active set
 cycles between an iterate with the row, pushed out, and one without, falling back in). Where
 the closest point leaves the ridge, or −n leaves the box edge's cone, the row goes on as the
@@ -102,13 +89,6 @@ REACH = 0.5
 ramp reaches before the row ends."""
 
 
-TIE = 1e-6
-"""How far (in the ridge's length) the ridge's reach behind a face must exceed the lines'
-distance before the row reads it, over as far again (:func:`_reach`): a ridge flat on a face
-or a node on the edge has the two equal up to round-off and to the gaps' tolerance, where
-the row keeps the lines' distance and its gradient (the ties' two gradients made a box sliding
-flat on a cube's face fail Newton)."""
-
 SOFT = 0.05
 """How far (in the units of φ and ψ) the ramp grows quadratically before it grows linearly:
 its gradient then starts from zero (module docstring), and a tenth of ``REACH`` leaves the
@@ -133,30 +113,6 @@ def _beyond(u: np.ndarray) -> np.ndarray:
 def _slope(u: np.ndarray) -> np.ndarray:
     """d(:func:`_soft` φ)/du: 0 inside [0, 1], growing from 0 at its ends to ∓1."""
     return np.where(u < 0.0, -1.0, 1.0) * _soft_slope(_beyond(u))
-
-
-def _reach(gap, ends, A, faces, length):
-    """The lines' distances ``gap`` (K, 12) of the ridges of ends ``ends`` (K, 2, 3) and
-    lengths ``length`` (K, 1) to the box edges through ``A`` (12, 3) of outward face normals
-    ``faces`` (12, 2, 3), floored by the reach of each ridge behind the edge's faces,
-    f = max_i min_j (y_j − A)·a_i (how far the ridge lies in front of face i, at its deeper
-    end: it is straight), where f exceeds the gap by more than ``TIE`` ℓ (module
-    docstring): the gap + x S((x − m)/m), x = f − gap, m = TIE ℓ, S the C¹ step
-    u²(3 − 2u) on [0, 1]. Returns the gaps, the face and end 2 i + j of f (−1 where the gap
-    is the lines' distance) and the weight ∂gap/∂f of f in the gradient (K, 12)."""
-    front = np.einsum("kjd,eid->keij", ends, faces)
-    front -= np.einsum("ed,eid->ei", A, faces)[None, :, :, None]  # (K, 12, face, end)
-    end = np.argmin(front, axis=3)
-    deepest = np.take_along_axis(front, end[..., None], axis=3)[..., 0]  # (K, 12, face)
-    face = np.argmax(deepest, axis=2)
-    x = np.take_along_axis(deepest, face[..., None], axis=2)[..., 0] - gap
-    m = TIE * length
-    u = np.clip((x - m) / m, 0.0, 1.0)
-    step = u * u * (3.0 - 2.0 * u)
-    weight = step + x * 6.0 * u * (1.0 - u) / m
-    reach = 2 * face + np.take_along_axis(end, face[..., None], axis=2)[..., 0]
-    read = np.where(u < 1.0, gap + x * step, gap + x)  # (the reach itself, past the blend)
-    return read, np.where(u > 0.0, reach, -1), weight
 
 
 def box_edges(sides: np.ndarray):
@@ -186,16 +142,6 @@ def _ridges(facets: np.ndarray):
         )
     order = np.argsort(inverse.ravel(), kind="stable")
     return ridges, (order // 3).reshape(-1, 2)
-
-
-def _gradient(R, normal, r, weight):
-    """The gradient (k, 12) ν·(δu − R r̃ δΘ − w₀ δy₀ − w₁ δy₁) (:meth:`BoxEdges._points`)."""
-    G = np.empty((len(normal), 12))
-    G[:, :3] = normal
-    G[:, 3:6] = cross(r, normal @ R)  # r × (Rᵀ ν)
-    G[:, 6:9] = -weight[:, :1] * normal
-    G[:, 9:] = -weight[:, 1:] * normal
-    return G
 
 
 class BoxEdges(FeatureRows):
@@ -241,15 +187,13 @@ class BoxEdges(FeatureRows):
         qr = q[ob : ob + 6]
         R, c = exp(qr[3:6]), self.rigid.center(qr)
         N = self.size
-        g, edge, reach = np.full(N, np.inf), np.zeros(N, dtype=int), np.full(N, -1)
+        g, edge = np.full(N, np.inf), np.zeros(N, dtype=int)
         s, t, n, ramp = np.zeros(N), np.zeros(N), np.zeros((N, 3)), np.zeros(N)
-        blend = np.zeros(N)
         near = self._near(x, R, c)
         if near.size:
             rows, found = self._crossings(x, R, c, near)
-            g[rows], edge[rows], s[rows], t[rows], n[rows] = found[:5]
-            reach[rows], blend[rows], ramp[rows] = found[5:]
-        return x, R, g, edge, s, t, n, reach, blend, ramp
+            g[rows], edge[rows], s[rows], t[rows], n[rows], ramp[rows] = found
+        return x, R, g, edge, s, t, n, ramp
 
     def _crossings(self, x, R, c, near):
         """For the ridges ``near``: those with a row, and their (gap, box edge, s, t, n,
@@ -288,7 +232,6 @@ class BoxEdges(FeatureRows):
         # a penetration deeper than the ridge is long is no crossing of this edge: nearly
         # parallel lines of a ridge and a far edge of the box meet across the box's width
         ok &= gap > -np.sqrt(ee)
-        gap, reach, blend = _reach(gap, np.stack([y0, y1], axis=1), A, faces, np.sqrt(ee))
         ramp = RAMP * np.sqrt(ee) * beyond
         gap = np.where(ok, gap + ramp - self.clearance, np.inf)
         # the first SLOTS box edges (in their own order, so that a row keeps its edge) with a
@@ -299,7 +242,7 @@ class BoxEdges(FeatureRows):
         keep = np.isfinite(gap[k, first])
         k, e, slot = k[keep], first[keep], slot[keep]
         rows = slot * len(self.ridges) + near[k]
-        return rows, (gap[k, e], e, s[k, e], t[k, e], n[k, e], reach[k, e], blend[k, e], ramp[k, e])
+        return rows, (gap[k, e], e, s[k, e], t[k, e], n[k, e], ramp[k, e])
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         return self._geometry(q)[2]
@@ -307,63 +250,34 @@ class BoxEdges(FeatureRows):
     def evaluate(self, q: np.ndarray):
         """Gaps (N,), dofs (N, 12): the box's six then the ridge's two nodes', gradients
         (N, 12), no curvature."""
-        x, R, g, edge, s, t, n, reach, blend, ramp = self._geometry(q)
+        x, R, g, edge, s, t, n, ramp = self._geometry(q)
         G = np.zeros((self.size, 12))
         on = np.flatnonzero(np.isfinite(g))
         if on.size == 0:
             return g, self.dofs, G, None
-        c = self.rigid.center(q[self.offsets[1] : self.offsets[1] + 6])
-        G[on] = _gradient(R, *self._points(x, R, c, edge, s, t, n, np.full(len(g), -1), on))
-        floored = on[reach[on] >= 0]
-        if floored.size:
-            f = blend[floored, None]
-            G[floored] *= 1.0 - f
-            G[floored] += f * _gradient(R, *self._points(x, R, c, edge, s, t, n, reach, floored))
+        e = edge[on]
+        r = self.a[e] + s[on, None] * (self.b[e] - self.a[e])
+        G[on, :3] = n[on]
+        G[on, 3:6] = cross(r, n[on] @ R)  # r × (Rᵀ n)
+        G[on, 6:9] = -(1.0 - t[on, None]) * n[on]
+        G[on, 9:] = -t[on, None] * n[on]
         ramped = on[ramp[on] > 0.0]
         if ramped.size:
-            w = g[ramped] - ramp[ramped] + self.clearance  # n·(p − y) where no reach is read
-            read = reach[ramped] >= 0
-            if read.any():
-                w[read] = self._line_distance(x, R, c, edge, s, t, n, ramped[read])
-            G[ramped] += self._ramp_gradient(x, R, w, edge, s, t, n, ramped)
+            G[ramped] += self._ramp_gradient(x, R, g, edge, s, t, n, ramp, ramped)
         return g, self.dofs, G, None
 
-    def _points(self, x, R, c, edge, s, t, n, reach, rows):
-        """For the ``rows``: the normal ν (k, 3) of their gap, the box's point r (k, 3) in its
-        frame and the weights (k, 2) of the ridge's two nodes; ∂g = ν·(δu − R r̃ δΘ − w₀ δy₀
-        − w₁ δy₁). The lines' distance: ν = n, r at p, w = (1 − t, t); the reach of the
-        ridge's end behind the box edge's face i (:func:`_reach`): ν = −a_i, r at the end,
-        w = (1, 0) or (0, 1)."""
-        e = edge[rows]
-        normal = n[rows].copy()
-        r = self.a[e] + s[rows, None] * (self.b[e] - self.a[e])
-        weight = np.stack([1.0 - t[rows], t[rows]], axis=1)
-        floored = reach[rows] >= 0
-        if floored.any():
-            face, end = np.divmod(reach[rows[floored]], 2)
-            normal[floored] = -(self.faces[e[floored], face] @ R.T)
-            r[floored] = (x[self.ridges[self._ridge[rows[floored]], end]] - c) @ R
-            weight[floored] = np.eye(2)[end]
-        return normal, r, weight
-
-    def _line_distance(self, x, R, c, edge, s, t, n, rows):
-        """n·(p − y) (k,) of the ``rows``: the lines' signed distance, whatever the gap reads."""
-        e, ridge = edge[rows], self.ridges[self._ridge[rows]]
-        p = (self.a[e] + s[rows, None] * (self.b[e] - self.a[e])) @ R.T + c
-        y = x[ridge[:, 0]] + t[rows, None] * (x[ridge[:, 1]] - x[ridge[:, 0]])
-        return np.einsum("kd,kd->k", n[rows], p - y)
-
-    def _ramp_gradient(self, x, R, w, edge, s, t, n, rows):
+    def _ramp_gradient(self, x, R, g, edge, s, t, n, ramp, rows):
         """The gradient (k, 12) of the ramp RAMP ℓ (σ(φ(s)) + σ(φ(t)) + σ(ψ)) of the ``rows``, ℓ the
         ridge's length: the closest points' parameters move by (∂s, ∂t) = −M⁻¹ (d₁·δ + w
         n·∂d₁, d₂·δ + w n·∂d₂), from the derivative of (p − y)·d₁ = (p − y)·d₂ = 0, with
         M = [[d₁·d₁, −d₁·d₂], [d₁·d₂, −d₂·d₂]], δ the motion of the material points at p
-        and y, and w = n·(p − y) (k,)."""
+        and y, and w = n·(p − y)."""
         e, k = edge[rows], len(rows)
         d1b = self.b[e] - self.a[e]  # (k, 3) body frame
         d1 = d1b @ R.T
         y0, y1 = x[self.ridges[self._ridge[rows], 0]], x[self.ridges[self._ridge[rows], 1]]
         d2 = y1 - y0
+        w = g[rows] - ramp[rows] + self.clearance  # n·(p − y)
         rb = self.a[e] + s[rows, None] * d1b
         J = np.zeros((k, 3, 12))  # δ over the local dofs
         J[:, :, :3] = np.eye(3)
@@ -413,25 +327,22 @@ class BoxEdges(FeatureRows):
 
     def _relative_motion(self, q: np.ndarray):
         """Rows with a gap (N,) bool, the tangents T (N, 2, 3) of their contact planes (along
-        the box edge, which is normal to the row's normal ν, and ν × it: no basis switch as ν
-        turns) and the motion of the box's point relative to the ridge's over the local dofs
-        (N, 3, 12) (zero where no row): p against y, or the box's point at the ridge's end
-        against that end where the row reads its reach (:meth:`_points`)."""
-        x, R, g, edge, s, t, n, reach, blend, _ = self._geometry(q)
-        reach = np.where(blend > 0.5, reach, -1)  # the points of the nearer reading
-        on = np.flatnonzero(np.isfinite(g))
+        the box edge, which is normal to n, and n × it: no basis switch as n turns) and the
+        motion of the box's point p relative to the ridge's point y over the local dofs
+        (N, 3, 12) (zero where no row)."""
+        _, R, g, edge, s, t, n, _ = self._geometry(q)
+        on = np.isfinite(g)
         T = np.broadcast_to(tangent_basis(np.array([[0.0, 0.0, 1.0]])), (self.size, 2, 3)).copy()
         W = np.zeros((self.size, 3, 12))
-        if on.size:
-            c = self.rigid.center(q[self.offsets[1] : self.offsets[1] + 6])
-            normal, r, weight = self._points(x, R, c, edge, s, t, n, reach, on)
+        if on.any():
             along = (self.b[edge[on]] - self.a[edge[on]]) @ R.T
             along /= np.linalg.norm(along, axis=1)[:, None]
-            T[on] = np.stack([along, cross(normal, along)], axis=1)
+            T[on] = np.stack([along, cross(n[on], along)], axis=1)
+            r = self.a[edge[on]] + s[on, None] * (self.b[edge[on]] - self.a[edge[on]])
             W[on, :, :3] = np.eye(3)
             W[on, :, 3:6] = -R @ hat(r)  # ∂p/∂Θ = −R r̃
-            W[on, :, 6:9] = -weight[:, :1, None] * np.eye(3)
-            W[on, :, 9:] = -weight[:, 1:, None] * np.eye(3)
+            W[on, :, 6:9] = -(1.0 - t[on, None, None]) * np.eye(3)
+            W[on, :, 9:] = -t[on, None, None] * np.eye(3)
         return on, T, W
 
     def tangents(self, q: np.ndarray):
