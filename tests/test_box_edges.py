@@ -13,7 +13,7 @@ from fecontact.bodies import LinearElastic, RigidBody3D, Solid
 from fecontact.bodies.shapes3d import Box
 from fecontact.contact import Contact
 from fecontact.contact.box_edges import BoxEdges
-from fecontact.contact.rigid_distance import FeatureDepths, box_features
+from fecontact.contact.rigid_distance import FeatureDepths, box_features, shape_distance
 from fecontact.rotations import exp
 from fecontact.scenes import wave_step
 from fecontact.testing import group_gradient_error
@@ -71,7 +71,9 @@ def test_edge_rows_have_the_exact_gradient():
     """Central differences of the rows over their 12 dofs (the box's translations and
     body-frame rotation increments, the boundary edge's two nodes) against G, over a ball
     pressed on a box edge at random poses, the release ramps included (rows whose closest
-    points lie beyond a segment's end or whose normal lies outside the box edge's cone)."""
+    points lie beyond a segment's end or whose normal lies outside the box edge's cone), the
+    wedge's test lifted (every pair admitted, as while held: the test chooses rows, not their
+    gradient, and most rows beyond a ridge's end here clear the wedge)."""
     ball = Solid.ball([0.0, 0.0, 0.0], 0.05, 1, RUBBER)
     box = RigidBody3D.uniform(1.0, [0.0, 0.0, 0.0], Box(0.1, 0.08, 0.06))
     model = Model([ball, box], [Contact(ball, box, method="node-to-surface")], (0, 0, 0))
@@ -86,6 +88,7 @@ def test_edge_rows_have_the_exact_gradient():
         d /= np.linalg.norm(d)
         points = box_features(box.shape) @ exp(psi).T  # a box edge at the sphere along d
         q[n:] = [*(d * 0.05 - points[np.argmin(points @ d)] + d * rng.uniform(-3e-3, 3e-3)), *psi]
+        edges._held = np.ones((len(edges.ridges), len(edges.a)), dtype=bool)
         g, dofs, G, _ = edges.evaluate(q)
         ramped += int(np.count_nonzero(edges._geometry(q)[-1][np.isfinite(g)] > 0.0))
 
@@ -93,6 +96,7 @@ def test_edge_rows_have_the_exact_gradient():
         # (central differences of O(1) slopes: h² g''' + round-off 1e-17/h)
         assert group_gradient_error(edges, model, q, np.unique(dofs[rows]), h) < 1e-7
         checked += rows.size
+        edges.release_rows()
     assert checked > 25 and ramped > 10, (checked, ramped)
 
 
@@ -216,3 +220,77 @@ def test_a_ball_pressed_by_a_box_edge_reads_neither_p_nor_k(inside, steps):
         drift = max(np.max(np.abs(a - b)) for a, b in zip(runs[0], other, strict=True))
         # (the solves' round-off, ≤ 6.5e-16 R measured; a different path is 1e-5 R or more)
         assert drift <= 1e-12 * 0.05
+
+
+def _overhang(lift):
+    """The 2 × 2 × 1 cm rubber box (2 × 2 × 1 cells) ``lift`` (m) over a fixed rigid box
+    12 × 8 × 1 cm whose top edge runs under it at x = −2.5 mm, between two lines of its
+    bottom nodes (the box overhanging it by 7.5 mm)."""
+    box = Solid.box([-0.01, -0.01, lift], [0.01, 0.01, lift + 0.01], (2, 2, 1), RUBBER)
+    base = RigidBody3D.uniform(1.0, [0.0575, 0.0, -0.005], Box(0.12, 0.08, 0.01)).fix()
+    model = Model([box, base], [Contact(box, base, method="mortar")], (0.0, 0.0, -9.81))
+    return box, base, model
+
+
+def test_a_far_ridge_reads_no_penetration_over_a_box_edge():
+    """The boundary edges of the box's face over the rigid box (x = +1 cm) have lines whose
+    common normal with the rigid edge's is x, 1.25 cm behind the face: their rows read that
+    distance, −1.18e-2 m with the release ramp 0.5 mm above (the closest point 5 % beyond
+    the ridge's lower end), −1.25e-2 m laid on it. The ridge lies wholly in front of the
+    rigid box's top face (it clears the edge's wedge along its normal with less motion than
+    along the lines' normal) and has no row: the least gap is its lower node's."""
+    for lift in (5e-4, 0.0):
+        box, _, model = _overhang(lift)
+        q = np.zeros(model.n)
+        g = _edge_rows(model).gaps(q)
+        # (the gaps of nodes at z = lift: a few ulps of the coordinates, 0.06 m)
+        assert np.min(g) == pytest.approx(lift, abs=1e-16)
+        assert np.min(model.contacts.gaps(q)) == pytest.approx(lift, abs=1e-16)
+
+
+def test_a_box_laid_over_a_box_edge_rests_on_it():
+    """The box laid on the rigid box at rest under gravity (refused at t = 0 before: a far
+    ridge's row read −1.25e-2 m), 10 steps of 0.5 ms: the rows of its bottom ridges that
+    cross the rigid edge hold it, and the depth the run reports at each step is the one read
+    from the states, the box's nodes in the rigid box and the rigid edge's points in the
+    box's facets."""
+    box, base, model = _overhang(0.0)
+    edges = _edge_rows(model)
+    watch = FeatureDepths(model.contacts.pairs[0])
+    rows = np.flatnonzero(model.contacts.owner == model.contacts.pairs.index(edges))
+    R, c = exp(np.zeros(3)), base.center(np.zeros(6))
+    pressed, steps = 0, 0
+    for st in simulate(model, 5e-4, 5e-3, IntegratorOptions()):
+        x = box.positions(st.q[: box.ndof])
+        nodes = -np.min(shape_distance(base.shape, (x - c) @ R, False)[0])
+        depth = max(nodes, watch.depth(st.q)[0], 0.0)
+        # (both read the same coordinates: a few ulps of them, 0.06 m)
+        assert st.penetration == pytest.approx(depth, abs=1e-16)
+        # held as any gap, to the correction's tolerance on the gaps (tol_gap)
+        assert depth < 1e-12
+        pressed += bool(st.pressed()[rows].any())
+        steps += 1
+    assert steps == 11 and pressed == steps
+
+
+def test_a_pair_the_wedge_admits_is_held_through_a_loop():
+    """The rubber box moved 1 cm toward the rigid box's edge and sunk 3.5 mm: its face
+    x = +1 cm lies 2.5 mm beyond the edge and 2.5 mm below the top face, and the ridges of
+    that face cross the edge, reading −2.5 mm. Held from there (a Newton loop's start), the
+    rows stay with the box back over the edge, where the wedge's test alone leaves the
+    face's diagonals out (their lines read −1.18e-2 m there)."""
+    box, _, model = _overhang(5e-4)
+    edges = _edge_rows(model)
+    crossing, over = np.zeros(model.n), np.zeros(model.n)
+    crossing[0 : box.ndof : 3], crossing[2 : box.ndof : 3] = -0.01, -0.003
+    g = edges.gaps(crossing)
+    far = np.isfinite(g) & ~np.isfinite(edges.gaps(over))
+    # (coordinates of 0.06 m: a few ulps of them)
+    assert far.sum() == 5 and g[far] == pytest.approx(-0.0025, abs=1e-15)
+    edges.hold_rows(crossing)
+    held = edges.gaps(over)
+    edges.release_rows()
+    # the face's two diagonals (the other three ridges have no row there by the other tests)
+    kept = np.isfinite(held) & ~np.isfinite(edges.gaps(over))
+    assert kept.sum() == 2 and np.all(far[kept])
+    assert held[kept] == pytest.approx(-0.01179289, abs=1e-8)  # (printed to 7 digits)

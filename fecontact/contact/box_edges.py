@@ -25,6 +25,27 @@ cycle); a row reads +inf without its edge, and where the ridge's midpoint lies f
 the box than the search distance plus half the ridge's length. Lines nearer
 parallel than ``PARALLEL`` have no common normal: their ends hold the contact.
 
+The lines' distance is the depth of the ridge in the box edge's wedge (two half-spaces, in
+the plane normal to the edge) only where the ridge does not clear the wedge along one of its
+faces' normals with less motion: f = max_i min_j (y_j − a)·a_i, how far the ridge lies in
+front of face i at its deeper end (it is straight). A ridge crossing the wedge with both its
+ends outside has f ≤ n·(p − y) (the apex's distance to its line is no more than either end's
+reach); where f exceeds the lines' distance by more than ``TIE`` ℓ, either a ridge's end is
+in the box (its node's own row holds it) or the ridge misses the edge, and the pair has no
+row: the lines of a ridge on a face of a solid laid over a box edge, 1 cm from the edge and
+parallel to the box's side face, read −1 cm with the ridge wholly in front of the top face
+(a rubber box laid over a box's edge was refused at t = 0). The tie keeps the row where the
+two are nearly equal: a ridge flat on a face or a node on the edge has them equal up to
+round-off, and a ridge from a node on a face by the edge has its line pass under the edge by
+the node's distance from it times the ridge's slope, the lines' distance reading that small
+false depth until it exceeds the tie (the elastic ball closing on a box's corner at 3 m/s
+reads up to 2.3e-6 ℓ; with the tie at 1e-6 its closing took another path and created
+1.4e-4 of its scale, none with the rows, and at Δt/2 and Δt/4 the two paths are the same:
+``docs/validation/solid_sweep.md``). Within a Newton loop the pairs admitted at its start,
+and those admitted at an iterate, are held to its end (:meth:`BoxEdges.hold_rows`): a pair
+that came and went between the iterates, as f and the lines' distance cross, would make the
+active set cycle.
+
 A row that holds must not vanish within a Newton iteration (the smooth step's active set
 cycles between an iterate with the row, pushed out, and one without, falling back in). Where
 the closest point leaves the ridge, or −n leaves the box edge's cone, the row goes on as the
@@ -64,7 +85,7 @@ from .box_corners import FeatureRows
 from .friction import tangent_basis
 from .rigid_distance import shape_distance
 
-__all__ = ["CONE", "PARALLEL", "RAMP", "REACH", "SLOTS", "SOFT", "BoxEdges", "box_edges"]
+__all__ = ["CONE", "PARALLEL", "RAMP", "REACH", "SLOTS", "SOFT", "TIE", "BoxEdges", "box_edges"]
 
 PARALLEL = 1e-6
 """Smallest |sin| of the angle between a box edge and a ridge for a row: nearer parallel the
@@ -88,6 +109,14 @@ REACH = 0.5
 """How far beyond the ridge's end (in its length), or outside the box edge's cone (n·a_i), the
 ramp reaches before the row ends."""
 
+
+TIE = 1e-4
+"""How far (in the ridge's length) the ridge's reach in front of a face of the box edge must
+exceed the lines' distance before the pair has no row (module docstring): the false depth a
+row may read. A ridge flat on a face, or a node on the edge, has the two equal up to
+round-off; a ridge from a node on a face by the edge differs by the node's distance from the
+edge times its slope, 2.3e-6 ℓ at most in the ball's closing on a box corner at 3 m/s, whose
+path these rows set (44 times below the tie); the far ridge over a box edge reads 0.7 ℓ."""
 
 SOFT = 0.05
 """How far (in the units of φ and ψ) the ramp grows quadratically before it grows linearly:
@@ -113,6 +142,15 @@ def _beyond(u: np.ndarray) -> np.ndarray:
 def _slope(u: np.ndarray) -> np.ndarray:
     """d(:func:`_soft` φ)/du: 0 inside [0, 1], growing from 0 at its ends to ∓1."""
     return np.where(u < 0.0, -1.0, 1.0) * _soft_slope(_beyond(u))
+
+
+def _reach(ends: np.ndarray, A: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """How far (K, 12) the ridges of ends ``ends`` (K, 2, 3) lie in front of the box edges
+    through ``A`` (12, 3), of outward face normals ``faces`` (12, 2, 3): f = max_i min_j
+    (y_j − A)·a_i, the reach of the deeper end in front of the face it clears most."""
+    front = np.einsum("kjd,eid->keij", ends, faces)
+    front -= np.einsum("ed,eid->ei", A, faces)[None, :, :, None]  # (K, 12, face, end)
+    return front.min(axis=3).max(axis=2)
 
 
 def box_edges(sides: np.ndarray):
@@ -153,6 +191,7 @@ class BoxEdges(FeatureRows):
     # normal, as their own rows and the mortar rows do: rows redundant up to round-off, whose
     # LU split the force by round-off amplified by k (minimum-norm μ instead)
     redundant_rows = True
+    holds_rows = True  # (the wedge's test, held within a Newton loop: hold_rows)
 
     def __init__(self, owner, body, rigid, clearance=0.0, margin=None):
         super().__init__(owner, body, rigid, clearance, margin)
@@ -163,6 +202,7 @@ class BoxEdges(FeatureRows):
         self._ridge_dofs = body.node_translation_dofs(self.ridges.ravel()).reshape(-1, 6)
         self._ridge_dofs = np.tile(self._ridge_dofs, (SLOTS, 1))
         self.dofs = np.zeros((self.size, 12), dtype=int)
+        self._held = None  # the pairs held by hold_rows (ridges, box edges) bool
 
     def bind(self, model) -> None:
         super().bind(model)
@@ -232,6 +272,10 @@ class BoxEdges(FeatureRows):
         # a penetration deeper than the ridge is long is no crossing of this edge: nearly
         # parallel lines of a ridge and a far edge of the box meet across the box's width
         ok &= gap > -np.sqrt(ee)
+        # a ridge that clears the wedge along a face's normal with less motion than along n
+        # has no row (module docstring): its end in the box is held by its node, or it misses
+        own = _reach(np.stack([y0, y1], axis=1), A, faces) <= gap + TIE * np.sqrt(ee)
+        ok &= self._admitted(near, own)
         ramp = RAMP * np.sqrt(ee) * beyond
         gap = np.where(ok, gap + ramp - self.clearance, np.inf)
         # the first SLOTS box edges (in their own order, so that a row keeps its edge) with a
@@ -243,6 +287,25 @@ class BoxEdges(FeatureRows):
         k, e, slot = k[keep], first[keep], slot[keep]
         rows = slot * len(self.ridges) + near[k]
         return rows, (gap[k, e], e, s[k, e], t[k, e], n[k, e], ramp[k, e])
+
+    def _admitted(self, near: np.ndarray, own: np.ndarray) -> np.ndarray:
+        """The pairs (K, 12) of the ridges ``near`` with a row: those the wedge admits
+        (``own``), and while held those admitted since :meth:`hold_rows`."""
+        if self._held is None:
+            return own
+        self._held[near] |= own
+        return self._held[near]
+
+    def hold_rows(self, q: np.ndarray) -> None:
+        """Hold the pairs (ridge, box edge) the wedge admits at q, and those it admits at
+        any later evaluation, until :meth:`release_rows`: no row of a Newton loop's iterates
+        vanishes by the wedge's test (module docstring)."""
+        self._held = np.zeros((len(self.ridges), len(self.a)), dtype=bool)
+        self._geometry(q)
+
+    def release_rows(self) -> None:
+        """Decide the pairs at each evaluation again."""
+        self._held = None
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
         return self._geometry(q)[2]
