@@ -219,8 +219,6 @@ def test_the_turn_bound_is_one_rule_in_the_plane_and_in_space():
             "cut_updates": 1,
             "velocity_predictors": 0,
             "damped_steps": 0,
-            "coasted_steps": 0,
-            "coasted_failures": 0,
         }
     disk = RigidBody2D.uniform(0.1, [0.0, 0.0], Disk(RADIUS))
     assert beam_turns(Model([disk], gravity=(0.0, 0.0))) is None
