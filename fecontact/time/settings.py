@@ -51,9 +51,7 @@ class RunSettings(IntegratorOptions):
     rotations, whose turn the smooth step bounds over the step and over each update that
     rows border (:class:`~fecontact.time.turns.TurnBound`; None without beams), and
     ``coasts``: a predictor that turns a beam node too far starts Newton at constant
-    velocity instead (the energy guard's steps at ρ∞ = 0, :mod:`.turns`), and ``coast_first``
-    every smooth step of the attempt does (a failed step taken again before it is halved,
-    :class:`~fecontact.time.stepper.Stepper`); ``dips``: a localized
+    velocity instead (the energy guard's steps at ρ∞ = 0, :mod:`.turns`); ``dips``: a localized
     step also locates a gap that closes and opens again inside it (:mod:`.dips`)."""
 
     smooth: bool = False
@@ -68,7 +66,6 @@ class RunSettings(IntegratorOptions):
     depth_check: bool = field(default=True, repr=False, compare=False)
     turns: TurnBound | None = field(default=None, repr=False, compare=False)
     coasts: bool = field(default=False, repr=False, compare=False)
-    coast_first: bool = field(default=False, repr=False, compare=False)
     dips: bool = field(default=False, repr=False, compare=False)
 
     def __post_init__(self):

@@ -126,8 +126,6 @@ class TurnCounts:
     cut_updates: int = 0
     velocity_predictors: int = 0
     damped_steps: int = 0
-    coasted_steps: int = 0  # failed steps taken again at constant velocity
-    coasted_failures: int = 0  # ... and failed again (halved)
 
 
 @dataclass

@@ -3,7 +3,6 @@ when the run starts (:func:`make_stepper`), not again in every step."""
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Callable
 
 import numpy as np
@@ -56,11 +55,6 @@ class Stepper:
         self.model, self.settings, self.kind = model, settings, kind
         self.guard = guard
         self.turned: State | None = None  # the last step taken whole at ρ∞ = 0 for a turn
-        # (decided once: beams' generalized-α steps, whose predictor extrapolates v̇_n: a
-        # failed step is taken again from the predictor at constant velocity, module turns)
-        alpha = settings.integrator == "nsga" and settings.scheme == "generalized-alpha"
-        coasts = alpha and settings.turns is not None
-        self.coasting = dataclasses.replace(settings, coast_first=True) if coasts else None
         contacts = model.contacts
         # (decided once: pairs that search ahead of a step; a model without contacts has no
         # penetration to record)
@@ -106,16 +100,13 @@ class Stepper:
         try:
             return self._attempt(model, st, h, settings, timer, kind)
         except StepFailure as err:
-            failure = err
-        turn = isinstance(failure, TurnFailure)
-        retake = isinstance(failure, PenetrationFailure)
-        if not (turn or retake) and (coasted := self._coasted(st, h, timer, damped, kind)):
-            return coasted
-        failure.shortest = min(failure.shortest, h)
-        # (a step refused for a turn, in a run the guard checks: taken at ρ∞ = 0 first)
-        damps = turn and not damped and self.guard is not None
-        if depth >= self.settings.max_halvings and not damps:
-            raise failure
+            turn = isinstance(err, TurnFailure)
+            err.shortest = min(err.shortest, h)
+            # (a step refused for a turn, in a run the guard checks: taken at ρ∞ = 0 first)
+            damps = turn and not damped and self.guard is not None
+            if depth >= self.settings.max_halvings and not damps:
+                raise
+            retake = isinstance(err, PenetrationFailure)
         if damps:  # (the undamped modes that turned the node taken out: module turns)
             self.stats.turns.damped_steps += 1
             # (the whole step at ρ∞ = 0 is the guard's retake of it: kept, not taken again)
@@ -130,20 +121,6 @@ class Stepper:
         second.retakes += retake
         second.turn_halvings += turn
         return second
-
-    def _coasted(self, st: State, h: float, timer: PhaseTimer, damped: bool, kind):
-        """The failed step from ``st`` over ``h`` taken again with every smooth step started
-        from the predictor at constant velocity (:mod:`.turns`: the generalized-α predictor
-        extrapolates v̇_n, whose beam rotations ring far above the step), counted in
-        ``coasted_steps``; None where the run's steps do not coast or it fails too."""
-        if self.coasting is None or damped:
-            return None
-        self.stats.turns.coasted_steps += 1
-        try:
-            return self._attempt(self.model, st, h, self.coasting, timer, kind)
-        except StepFailure:
-            self.stats.turns.coasted_failures += 1
-            return None
 
     def _attempt(self, model, st: State, h: float, settings, timer: PhaseTimer, kind) -> State:
         """One try of the step; a LAPACK error in it (a decomposition that did not converge,

@@ -83,14 +83,11 @@ class TurnBound:
         :mod:`~fecontact.time.acceleration_form` from the positions ``q``): its predictor, or,
         where that turns a beam node by more than :data:`TURN_BOUND` and the run's settings
         ``opts`` coast (the energy guard's), the predictor at constant velocity
-        (``form.coast()``, counted in ``opts.stats``), as in every step of an attempt whose
-        ``opts`` coast first (a failed step taken again); the step fails where the one kept
+        (``form.coast()``, counted in ``opts.stats``); the step fails where the one kept
         turns a node too far (module docstring)."""
         dofs = self._dofs
         x = form.step.X[0]
-        if opts.coast_first:  # (a failed step taken again: Stepper)
-            form.coast()
-        elif opts.coasts and self._largest(x[dofs] if group else x[dofs] - q[dofs]) > TURN_BOUND:
+        if opts.coasts and self._largest(x[dofs] if group else x[dofs] - q[dofs]) > TURN_BOUND:
             opts.stats.turns.velocity_predictors += 1
             form.coast()
         self.check(form.step.X[0], q, group, "the predictor", opts.stats)
