@@ -35,8 +35,7 @@ partner, Θ body-frame, by the chain rule through its points' kinematics); the c
 Coulomb friction acts on the slip of the tube's touching point against the partner's material
 point at the contact, a rigid partner's rotation included. Against a sphere or a rigid body the
 tube's point is its section's, −r n from the centreline point at ξ, which the section's turn
-moves (:mod:`.section_segments`); so do two tubes' (:mod:`.tube_beam`). Against a box the
-section's spin about the segment alone moves it (:class:`TubeBoxContact`).
+moves (:mod:`.section_segments`); so do two tubes' (:mod:`.tube_beam`).
 """
 
 from __future__ import annotations
@@ -54,12 +53,7 @@ from .friction import tangent_basis
 from .node_pairs import NodeContact
 from .obstacles import Circle
 from .registry import register_pair
-from .section_segments import (
-    segment_point_moves,
-    segment_spin_moves,
-    segment_spins,
-    segment_turns,
-)
+from .section_segments import segment_point_moves, segment_turns
 from .segment3d import tube_distance
 
 __all__ = ["TubeBoxContact", "TubeContact", "TubeRigidContact", "TubeSphereContact"]
@@ -104,24 +98,17 @@ class TubeContact(PairDefaults):
         if not self.section_radius:
             return dofs, GT
         qb = q[self.offset : self.offset + self.body.ndof]
-        turns, B = self._turn_rows(qb, xi, -self.section_radius * n)
+        turns, B = segment_turns(self.body, qb, self.segments, xi, -self.section_radius * n)
         GT = np.concatenate([GT, np.einsum("mti,mik->mtk", T, B)], axis=2)
         return np.concatenate([dofs, self.offset + turns], axis=1), GT
-
-    def _turn_rows(self, qb, xi, arms):
-        """The sections' rotation dofs and ∂ẋ_p/∂Ω of the touching points x(ξ) + arm."""
-        return segment_turns(self.body, qb, self.segments, xi, arms)
-
-    def _turn_moves(self, qb, qb_n, xi, arms):
-        """The touching points' motion over the step, turned back with their sections."""
-        return segment_point_moves(self.body, qb, qb_n, self.segments, xi, arms)
 
     def _tube_moves(self, q, q_n, xi, n):
         """The motion (m, 3) over the step of the tube's touching points at ξ: its section's
         point at −r n turned back with the section (the centreline's point where r = 0)."""
         s = slice(self.offset, self.offset + self.body.ndof)
         if self.section_radius:
-            return self._turn_moves(q[s], q_n[s], xi, -self.section_radius * n)
+            arms = -self.section_radius * n
+            return segment_point_moves(self.body, q[s], q_n[s], self.segments, xi, arms)
         ends = self._ends(q) - self._ends(q_n)
         return (1.0 - xi)[:, None] * ends[:, 0] + xi[:, None] * ends[:, 1]
 
@@ -316,14 +303,12 @@ class TubeBoxContact(TubeRigidContact):
     (u, Θ) (ρ = x(ξ) in the box frame, δρ = ρ × δΘ). The curvature is left out (Newton's
     rate, not its answer), as for the rigid ball against a box. Friction as for
     :class:`TubeRigidContact`, the box's material point being its surface point p = ρ − s n_b
-    nearest the row's point, the tube's its section's point −r n moved by the sections' spin
-    about their axis t alone, (t·ω(ξ)) t × arm (t the ends' section normals interpolated in
-    ξ: one row twice at a node two segments share): a rod rolls across a face. The sections'
-    turn about t × n (which moves that point along the segment) is left out: with one row
-    per segment, at the middle of its stretch along a face, that turn's friction moment μN r
-    tilted the segment (a rod pushed along itself on a box top: ξ* cycled 0, ½, 1 under tilts
-    of 2e-7 m and the first step failed), where a line's pressure, shifting along it, would
-    hold the moment. The turn about n moves the point not at all."""
+    nearest the row's point, the tube's its section's point −r n moved by the sections' turn
+    ω(ξ) × arm (:mod:`.section_segments`), as against a ball or a capsule: a rod rolls across
+    a face, and the friction's moment μN r about t × n bends it as on a plane. A segment
+    lying along a face has its rows at both ends of its stretch, its nodes' sections' points,
+    where two segments sharing a node give it one row twice: a rod on a box's top is the rod
+    on a plane (the nodes' rows of :class:`.NodeContact`)."""
 
     redundant_rows = True  # (a segment's two rows at one point where its stretch is one)
 
@@ -333,24 +318,6 @@ class TubeBoxContact(TubeRigidContact):
         # edge, [m, 2m) above, [2m, 3m) inside (:func:`.beam3d_box.box_rows`)
         self.segments = np.concatenate([self.segments] * 3)
         self.size = len(self.segments)
-
-    def _axes(self, qb: np.ndarray, xi: np.ndarray) -> np.ndarray:
-        """The unit axes t (m, 3) of the sections at ξ: their ends' section normals
-        interpolated as the centreline is. Two segments clipped to their shared node then
-        give it the same rows (the chords' directions differ on a bent rod: near-duplicate
-        rows, whose impulses the penalty p chose: a box struck on a held rod ended 3e-2 m
-        apart at p × 1000)."""
-        normals = self.body.section_frames(qb)[self.segments][..., 0]  # (m, 2, 3)
-        t = (1.0 - xi)[:, None] * normals[:, 0] + xi[:, None] * normals[:, 1]
-        return t / np.linalg.norm(t, axis=1)[:, None]
-
-    def _turn_rows(self, qb, xi, arms):
-        """The sections' spin about their axis alone (the class docstring)."""
-        return segment_spins(self.body, qb, self.segments, xi, arms, self._axes(qb, xi))
-
-    def _turn_moves(self, qb, qb_n, xi, arms):
-        axes = self._axes(qb, xi)
-        return segment_spin_moves(self.body, qb, qb_n, self.segments, xi, arms, axes)
 
     def _box_geometry(self, q: np.ndarray):
         """(R, ξ, s, ρ, n_b, ν) of the rows (:func:`.beam3d_box.box_rows`), the segments'
