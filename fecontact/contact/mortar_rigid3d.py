@@ -121,6 +121,33 @@ def _local_rows(lam, node, other, turn) -> np.ndarray:
     return J
 
 
+def _end_gradients(wphi, lam, normal, moment, groups) -> np.ndarray:
+    """Each triangle's sums Σ_p w_p Φ_i ∂g over its points (T, 3, 15), ∂g = n_bᵀ ∂ρ = [λ_k n,
+    −n, n_b × ρ] with n = R n_b the world ``normal`` (P, 3) and ``moment`` = n_b × ρ (P, 3),
+    ``wphi`` = w_p Φ_i (P, 3). The points come as :meth:`BoundaryRows.rule_points` orders
+    them: ``groups`` (triangles, points per triangle) on each rule in turn, every triangle of
+    a rule with the same λ and weights, so that the coefficients w_p Φ_i λ_k and w_p Φ_i of
+    one triangle serve all of the rule's triangles in one matrix product. (Point by point,
+    ∂g (P, 15) and its products with Φ (P, 3, 15) took 12 of an evaluation's 15 ms for a box
+    on a slab, 10⁴ points.)"""
+    out, start = [], 0
+    for T, n in groups:
+        first, points = slice(start, start + n), slice(start, start + T * n)
+        start += T * n
+        if T == 0:
+            continue
+        coef = (wphi[first, :, None] * lam[first, None, :]).reshape(n, 9)
+        coef = np.concatenate([coef, wphi[first]], axis=1)  # (n, 12): (i, k) then i
+        f = np.concatenate([normal[points], moment[points]], axis=1).reshape(T, n, 6)
+        s = np.tensordot(coef, f, axes=([0], [1])).transpose(1, 0, 2)  # (T, 12, 6)
+        g = np.empty((T, 3, 15))
+        g[:, :, :9] = s[:, :9, :3].reshape(T, 3, 9)
+        g[:, :, 9:12] = -s[:, 9:, :3]
+        g[:, :, 12:] = s[:, 9:, 3:]
+        out.append(g)
+    return np.concatenate(out) if out else np.zeros((0, 3, 15))
+
+
 def _rotation_terms(R, nb, rho, lam) -> np.ndarray:
     """The curvature's terms (P, 15, 15) from R turning n_b and from ρ̃ (module
     docstring)."""
@@ -212,7 +239,10 @@ class RigidMortarGeometry(BoundaryRows):
         """The triangles and their points (:meth:`rule_points`), those a box's region plane
         cuts on the subdivided rule."""
         rho = (x[self.facets[tris]] - c) @ R
-        return self.rule_points(tris, straddles(self.rigid.shape, rho))
+        cut = straddles(self.rigid.shape, rho)
+        sizes = [len(w) for _, w in self.rules]
+        groups = ((len(tris) - int(cut.sum()), sizes[0]), (int(cut.sum()), sizes[1]))
+        return self.rule_points(tris, cut), groups
 
     def _integrals(self, q: np.ndarray, order: int, tris=None):
         """The triangles' end integrals ∫ Φ_i g dA₀ (T, 3), and with ``order`` ≥ 1 their
@@ -223,7 +253,7 @@ class RigidMortarGeometry(BoundaryRows):
         tris = found if tris is None else tris
         if len(tris) == 0:
             return near, tris, np.zeros((0, 3)), np.zeros((0, 3, 15)), np.zeros((0, 3, 15, 15))
-        tris, which, lam, w, starts = self._points(tris, x, R, c)
+        (tris, which, lam, w, starts), groups = self._points(tris, x, R, c)
         t = x[self.facets[tris]]
         xp = (lam[:, None, :] @ t[which])[:, 0]
         rho = (xp - c) @ R
@@ -234,16 +264,14 @@ class RigidMortarGeometry(BoundaryRows):
         values = A[:, None] * s
         if order == 0:
             return near, tris, values, None, None
-        # ∂ρ/∂(x_1, x_2, x_3, u, Θ) (P, 3, 15) and ∂g = n_bᵀ ∂ρ
-        Jr = _local_rows(lam, R.T, -R.T, hat(rho))
-        gp = (nb[:, None, :] @ Jr)[:, 0]
-        gs = np.add.reduceat(wphi[:, :, None] * gp[:, None, :], starts, axis=0)  # (T, 3, 15)
+        gs = _end_gradients(wphi, lam, nb @ R.T, np.cross(nb, rho), groups)
         grads = A[:, None, None] * gs
         if order == 1:
             return near, tris, values, grads, None
         Hp = _rotation_terms(R, nb, rho, lam)
         curved = np.flatnonzero(K.any(axis=(1, 2)))  # a box face's points have ∇²D = 0
-        Jc = Jr[curved]
+        # ∂ρ/∂(x_1, x_2, x_3, u, Θ) (P, 3, 15) of the curved points
+        Jc = _local_rows(lam[curved], R.T, -R.T, hat(rho[curved]))
         Hp[curved] += Jc.transpose(0, 2, 1) @ (K[curved] @ Jc)
         Hs = np.add.reduceat(wphi[:, :, None, None] * Hp[:, None], starts, axis=0)
         return near, tris, values, grads, A[:, None, None, None] * Hs
@@ -316,10 +344,12 @@ class MortarRigid3D(RigidMortarGeometry):
         near, tris, values, grads, _ = self._integrals(q, 1)
         g, w, Gn, Gw = self._nodal(q, 1)
         m = self.weighted_rows(tris, values)
-        Gm = np.zeros(self.dofs.shape)
-        for k in range(3):
-            r = self.element_rows[tris, k]
-            np.add.at(Gm, (r[:, None], self._cols[tris, k]), grads[:, k] / self.length[r, None])
+        # Σ over the triangles' ends into their rows' columns: one bincount over the ends in
+        # turn adds in np.add.at's order (the same sums to the bit), at a fifth of its cost
+        r = self.element_rows[tris].T  # (3, T)
+        at = r[..., None] * self.dofs.shape[1] + self._cols[tris].transpose(1, 0, 2)
+        scaled = grads.transpose(1, 0, 2) / self.length[r, None]
+        Gm = np.bincount(at.ravel(), scaled.ravel(), self.dofs.size).reshape(self.dofs.shape)
         every = np.arange(self.size)
         G = w[:, None] * Gm + self._on_rows((1.0 - w[:, None]) * Gn + (m - g)[:, None] * Gw, every)
         G[~near] = 0.0
@@ -374,7 +404,7 @@ class MortarRigid3D(RigidMortarGeometry):
         at = (np.arange(self.size)[:, None, None], np.arange(3)[None, :, None])
         W[at + (self._own_cols[:, None, :],)] = (1.0 - w[:, None, None]) * Wn
         if len(tris):
-            tris, which, lam, wq, starts = self._points(tris, x, R, c)
+            (tris, which, lam, wq, starts), _ = self._points(tris, x, R, c)
             t = x[self.facets[tris]]
             rho = ((lam[:, None, :] @ t[which])[:, 0] - c) @ R
             Jx = _local_rows(lam, _EYE, -_EYE, R @ hat(rho))  # ∂(x − y)/∂(local dofs)
