@@ -88,8 +88,19 @@ class FeatureRows(PairDefaults):
         if self.kept is not None and np.array_equal(self.kept[0], q):
             return self.kept[1]
         out = self._geometry(q)
-        self.kept = (q.copy(), out)
+        self.kept = (q.copy(), out, None)
         return out
+
+    def evaluate(self, q: np.ndarray):
+        """Gaps, dofs, gradients (read-only) and no curvature (the subclass's ``_rows``),
+        kept with the geometry for the next call at the same q."""
+        self.measured(q)
+        if self.kept[2] is None:
+            g, dofs, G, _ = self._rows(q)
+            G.flags.writeable = False
+            self.kept = (*self.kept[:2], (g, dofs, G))
+        g, dofs, G = self.kept[2]
+        return g.copy(), dofs, G, None
 
 
 class RigidPoints(FeatureRows):
@@ -173,11 +184,10 @@ class RigidPoints(FeatureRows):
     def gaps(self, q: np.ndarray) -> np.ndarray:
         return self.measured(q)[-2].copy()
 
-    def evaluate(self, q: np.ndarray):
+    def _rows(self, q: np.ndarray):
         """Gaps (k,), dofs (k, 15): the body's six then the triangle's nine, gradients (k, 15),
         no curvature."""
         p, R, f, t, n, g, y = self.measured(q)
-        g = g.copy()
         oa, ob = self.offsets
         dofs = np.concatenate(
             [np.broadcast_to(ob + np.arange(6), (self.size, 6)),

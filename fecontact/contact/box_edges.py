@@ -247,11 +247,10 @@ class BoxEdges(FeatureRows):
     def gaps(self, q: np.ndarray) -> np.ndarray:
         return self.measured(q)[2].copy()
 
-    def evaluate(self, q: np.ndarray):
+    def _rows(self, q: np.ndarray):
         """Gaps (N,), dofs (N, 12): the box's six then the ridge's two nodes', gradients
         (N, 12), no curvature."""
         x, R, g, edge, s, t, n, ramp = self.measured(q)
-        g = g.copy()
         G = np.zeros((self.size, 12))
         on = np.flatnonzero(np.isfinite(g))
         if on.size == 0:
