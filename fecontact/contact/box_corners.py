@@ -66,41 +66,15 @@ class FeatureRows(PairDefaults):
         self.own_margin = margin is not None
         self.margin = margin if margin is not None else 0.05 * body.characteristic_length
         self.offsets = (0, 0)
-        self.kept = None  # (q, the geometry at q) of the last measurement
 
     @property
     def friction(self) -> float:
         """Coulomb's μ of the pair that brings the rows (``Contact`` sets it there)."""
         return self.owner.friction
 
-    def reset(self) -> None:
-        self.kept = None
-
     def detect_within(self, distance: float) -> None:
-        if not self.own_margin and distance > 0.0 and distance != self.margin:
+        if not self.own_margin and distance > 0.0:
             self.margin = distance
-            self.reset()
-
-    def measured(self, q: np.ndarray) -> tuple:
-        """The subclass's ``_geometry`` at q, kept for the next call at the same q: the
-        gaps, the gradients and the slip rows of one state are asked for in turn (a box on
-        a slab: 2572 measurements, of 1403 states)."""
-        if self.kept is not None and np.array_equal(self.kept[0], q):
-            return self.kept[1]
-        out = self._geometry(q)
-        self.kept = (q.copy(), out, None)
-        return out
-
-    def evaluate(self, q: np.ndarray):
-        """Gaps, dofs, gradients (read-only) and no curvature (the subclass's ``_rows``),
-        kept with the geometry for the next call at the same q."""
-        self.measured(q)
-        if self.kept[2] is None:
-            g, dofs, G, _ = self._rows(q)
-            G.flags.writeable = False
-            self.kept = (*self.kept[:2], (g, dofs, G))
-        g, dofs, G = self.kept[2]
-        return g.copy(), dofs, G, None
 
 
 class RigidPoints(FeatureRows):
@@ -116,6 +90,36 @@ class RigidPoints(FeatureRows):
         self.points, self.radii = np.asarray(points, float), np.asarray(radii, float)
         self.size = len(self.points)
         self._facet_dofs = body.node_translation_dofs(self.facets.ravel()).reshape(-1, 9)
+        self.kept = None  # (q, the geometry at q, the rows at q or None): the last state
+
+    def reset(self) -> None:
+        self.kept = None
+
+    def detect_within(self, distance: float) -> None:
+        if distance != self.margin:
+            self.reset()
+        super().detect_within(distance)
+
+    def measured(self, q: np.ndarray) -> tuple:
+        """``_geometry`` at q, kept for the next call at the same q: the gaps, the gradients
+        and the slip rows of one state are asked for in turn (a box's corners on a slab:
+        2572 measurements, of 1403 states). (Its geometry is a function of q alone.)"""
+        if self.kept is not None and np.array_equal(self.kept[0], q):
+            return self.kept[1]
+        out = self._geometry(q)
+        self.kept = (q.copy(), out, None)
+        return out
+
+    def evaluate(self, q: np.ndarray):
+        """Gaps, dofs, gradients (read-only) and no curvature (:meth:`_rows`), kept with the
+        geometry for the next call at the same q."""
+        self.measured(q)
+        if self.kept[2] is None:
+            g, dofs, G, _ = self._rows(q)
+            G.flags.writeable = False
+            self.kept = (*self.kept[:2], (g, dofs, G))
+        g, dofs, G = self.kept[2]
+        return g.copy(), dofs, G, None
 
     def _geometry(self, q: np.ndarray):
         """Points p (k, 3), R, their closest triangles (k,) (−1: none near), the triangles'

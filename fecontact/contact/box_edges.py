@@ -245,12 +245,12 @@ class BoxEdges(FeatureRows):
         return rows, (gap[k, e], e, s[k, e], t[k, e], n[k, e], ramp[k, e])
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
-        return self.measured(q)[2].copy()
+        return self._geometry(q)[2]
 
-    def _rows(self, q: np.ndarray):
+    def evaluate(self, q: np.ndarray):
         """Gaps (N,), dofs (N, 12): the box's six then the ridge's two nodes', gradients
         (N, 12), no curvature."""
-        x, R, g, edge, s, t, n, ramp = self.measured(q)
+        x, R, g, edge, s, t, n, ramp = self._geometry(q)
         G = np.zeros((self.size, 12))
         on = np.flatnonzero(np.isfinite(g))
         if on.size == 0:
@@ -330,7 +330,7 @@ class BoxEdges(FeatureRows):
         the box edge, which is normal to n, and n × it: no basis switch as n turns) and the
         motion of the box's point p relative to the ridge's point y over the local dofs
         (N, 3, 12) (zero where no row)."""
-        _, R, g, edge, s, t, n, _ = self.measured(q)
+        _, R, g, edge, s, t, n, _ = self._geometry(q)
         on = np.isfinite(g)
         T = np.broadcast_to(tangent_basis(np.array([[0.0, 0.0, 1.0]])), (self.size, 2, 3)).copy()
         W = np.zeros((self.size, 3, 12))
