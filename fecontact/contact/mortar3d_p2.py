@@ -16,7 +16,13 @@ import numpy as np
 
 from ..errors import InputError
 from .mortar3d import MortarContact3D
-from .mortar_p2 import QuadraticFacePairs, covered_part_gaps, reference_rule, shape_functions
+from .mortar_p2 import (
+    QuadraticFacePairs,
+    counted_weights,
+    covered_part_gaps,
+    reference_rule,
+    shape_functions,
+)
 from .mortar_p2_triangles import DUALS, TRANSFORM, p2_triangle_integrals
 
 __all__ = ["MortarContact3DP2", "quadratic_triangles", "triangle_shares"]
@@ -76,6 +82,7 @@ class MortarContact3DP2(QuadraticFacePairs, MortarContact3D):
         (with each entry's dual coefficients) of the entries."""
         moments, mass_of, coverage, covered, quad = p2_triangle_integrals(z, hessian, self.margin)
         jets, A = covered_part_gaps(e, moments, mass_of, coverage, len(self.facets), DUALS)
+        covered = counted_weights(e, coverage, covered, len(self.facets))
         return jets, coverage, covered, (*quad, A)
 
     def _slip_weights(self, quad, k: int) -> np.ndarray:

@@ -47,6 +47,7 @@ __all__ = [
     "ALPHA",
     "QuadraticFacePairs",
     "SMALLEST",
+    "counted_weights",
     "covered_part_gaps",
     "dual_coefficients",
     "reference_rule",
@@ -138,6 +139,16 @@ SMALLEST = 1e-6
 covered (its covered-part moment matrix would be near singular)."""
 
 _FULL = 1e-9  # a face covered to within this fraction is covered fully
+
+
+def counted_weights(e, coverage, covered, n_faces: int) -> np.ndarray:
+    """The entries' covered weights ``covered`` (P, n), zero on the slave faces covered by
+    less than :data:`SMALLEST` in all (``coverage`` (P,) the fractions the entries cover):
+    those faces contribute nothing to the weighted gaps (:func:`covered_part_gaps`), and a
+    node that took part from their weight alone had a row of gap 0 and gradient 0, which
+    Newton's method cannot hold (a P2 box laid on a slab, its side faces at 90°)."""
+    fraction = np.bincount(e, coverage, n_faces)[e]
+    return np.where((fraction >= SMALLEST)[:, None], covered, 0.0)
 
 
 def covered_part_gaps(e, moments, mass_of, coverage, n_faces: int, duals: np.ndarray):

@@ -55,7 +55,7 @@ import numpy as np
 
 from .dual_numbers import Jet
 from .mortar import MortarContact
-from .mortar_p2 import QuadraticFacePairs, covered_part_gaps, dual_coefficients
+from .mortar_p2 import QuadraticFacePairs, counted_weights, covered_part_gaps, dual_coefficients
 from .mortar_p2_curves import curve_at, curve_foot, curve_meet, quadratic_curve, quadratic_segments
 from .mortar_p2_curves import dot as _dot
 from .mortar_p2_safeguard import DeepNodeRowsP2
@@ -267,6 +267,7 @@ class MortarContactP2(QuadraticFacePairs, MortarContact):
         entry's dual coefficients)."""
         moments, mass_of, coverage, covered, quad = p2_segment_integrals(z, hessian, self.margin)
         jets, A = covered_part_gaps(e, moments, mass_of, coverage, len(self.facets), DUALS)
+        covered = counted_weights(e, coverage, covered, len(self.facets))
         return jets, coverage, covered, (*quad, A)
 
     def _slip_weights(self, quad, k: int) -> np.ndarray:

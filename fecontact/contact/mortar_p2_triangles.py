@@ -5,6 +5,11 @@ the P2 shape functions of :func:`fecontact.contact.mortar_p2.shape_functions` (c
 the edge nodes m12, m23, m31) over the reference triangle s, t ≥ 0, s + t ≤ 1, written once as
 x = c_0 + c_s s + c_t t + c_ss s² + c_st s t + c_tt t².
 
+Pairs face each other when their corner planes' normals stand at more than 90°; up to 104.5°
+their integration weights are scaled by φ(c) = t²(3 − 2t), t = −n_s·n_m / ``mortar3d.TURNED``
+(:func:`_facing_weight`), as on linear triangles, so that a pair enters the weighted gaps
+continuously as its faces turn.
+
 The gap is measured along the slave face's own normal n = x_s × x_t (outward): the master
 point y(μ) = x + α n solves three equations in (μ₂, μ₃, α), and g_N dA = α |n|² ds dt (no
 square root). The overlap is integrated in the slave face's parameter plane: the master's
@@ -38,6 +43,7 @@ from __future__ import annotations
 import numpy as np
 
 from .dual_numbers import Jet
+from .mortar3d import TURNED
 from .mortar_facets import FACING
 from .mortar_p2 import dual_coefficients
 from .mortar_p2_overlap import polygon, vertex_jets
@@ -334,6 +340,8 @@ def p2_triangle_integrals(z: np.ndarray, hessian=None, depth: float = np.inf):
     feet = [_foot_jets(cs, nodes[6 + i], F[:, i], order) for i in range(3)]
     s, t, w = _cells(vertex_jets(feet, index, points), count, P)
     cells = index.shape[1] - 2
+    if (phi := _facing_weight(nodes)) is not None:
+        w = w * _spread(phi, G, cells)
     cm_v = np.tile(
         np.repeat(_value_coefficients(z[:, 18:36].reshape(P, 6, 3)), G, 0), (cells, 1, 1)
     )
@@ -363,6 +371,21 @@ def p2_triangle_integrals(z: np.ndarray, hessian=None, depth: float = np.inf):
 
     quad = (per_pair(np.stack([s.v, t.v], 1)), per_pair(mu[:, :2]), per_pair(dA))
     return moments, mass_of, coverage, covered, quad
+
+
+def _facing_weight(nodes):
+    """The pairs' weights φ = t²(3 − 2t), t = min(c / ``mortar3d.TURNED``, 1), as Jets, of the
+    cosine c = −n_s·n_m between the unit normals of the two faces' corner planes (those the
+    facing cut of :func:`_feet` reads, so that φ → 0 where a pair stops facing): a box's side
+    faces stand at 90° to the face it rests on, and with the cut alone their pairs entered and
+    left the weighted gaps with the round-off of the normals. None where every pair faces by
+    more than 104.5° (the weights as they were)."""
+    ns = _cross(_sub(nodes[1], nodes[0]), _sub(nodes[2], nodes[0]))
+    nm = _cross(_sub(nodes[7], nodes[6]), _sub(nodes[8], nodes[6]))
+    t = -_dot(ns, nm) * ((_dot(ns, ns) * _dot(nm, nm)).sqrt() * TURNED).reciprocal()
+    if np.all(t.v >= 1.0):
+        return None
+    return (t * t * (3.0 - t * 2.0)).where(t.v < 1.0, 1.0)
 
 
 def _projection(cs, cm, cm_v, s, t, order: int, spread):
