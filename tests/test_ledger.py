@@ -119,6 +119,39 @@ def test_loads_damping_friction_and_a_moving_floor(integrator, tmp_path):
     assert not [w for w in summary["warnings"] if w.startswith("energy: the run created")]
 
 
+@pytest.mark.parametrize("rho_inf", [0.5, 1.0])
+def test_a_box_held_by_friction_under_a_rising_load_books_no_friction_work(rho_inf, tmp_path):
+    """A box (1 kg, μ = 0.3) on a floor dragged by a force rising at 10 N/s sticks until
+    t_s = μmg/k = 0.294 s, then slides. The decoupled step's correction reads the loads
+    where their work through the predictor's drift is the energy of its rate: friction's
+    reading of a held step is 0 at ρ∞ = 1 and k²h⁴(θ − ½)²/2m ≥ 0 at ρ∞ = ½ (θ = 5/9), and
+    no step books positive work. Read against the loads at t_{n+1}, each held step booked
+    2.8e-11 n J of positive work at h = 1 ms (1.21e-6 J by t_s), a warning."""
+    sim = case("sliding_block").build(incline=0.0, friction=0.3)
+    box = sim.model.bodies[0]
+    load = NodalLoad(box, 0, lambda t: np.array([10.0 * t, 0.0, 0.0]))
+    model = Model([box], list(sim.model.contacts.pairs), (0.0, -9.81), loads=[load])
+    options = IntegratorOptions(rho_inf=rho_inf)
+    drag = Simulation(model, dt=2e-3, t_end=0.36, probes=sim.probes, options=options)
+    summary, history = _ledger(drag, tmp_path)
+    held = history["t"] <= 0.28 + 1e-9
+    assert held.sum() == 141  # (every step is a row)
+    assert np.max(np.abs(history["s"][held])) <= 1e-12  # m: (1e-17 m measured) it stays
+    # k²h⁴(θ − ½)²/2m a held step, 140 steps: 3.47e-10 J at ρ∞ = ½ (3.79e-10 measured: a
+    # starts at v̇_0, not lagging it, the first steps read more; 15 % holds that), 0 at ρ∞ = 1
+    # to the round-off of the ½mṽ² each step reads (~1e-5 J: 1e-17 J measured)
+    theta = {0.5: 5.0 / 9.0, 1.0: 0.5}[rho_inf]
+    expected = 140 * 100.0 * 2e-3**4 * (theta - 0.5) ** 2 / 2.0
+    friction = history["friction_dissipation"][held][-1]
+    assert friction == pytest.approx(expected, rel=0.15, abs=1e-15)
+    assert not [w for w in summary["warnings"] if "friction did positive work" in w]
+    # sliding, friction takes μ m g times the slip (0.47 mm): measured to 2.9e-7 of it at
+    # ρ∞ = ½ (the held steps' reading above), 4e-15 at ρ∞ = 1; 1e-5 leaves a margin of 30
+    slip_work = 0.3 * 9.81 * history["s"][-1]
+    assert summary["energy_ledger"]["friction_dissipation"] == pytest.approx(slip_work, rel=1e-5)
+    assert _closure(history, summary) <= 1e-9
+
+
 @pytest.mark.parametrize("damping", [(0.0, 1e-5), (20.0, 0.0)])
 def test_damping_is_the_trapezoidal_rules_work(damping, tmp_path):
     """A disk falling at 1 m/s and ringing (random nodal velocities) with Rayleigh damping, at

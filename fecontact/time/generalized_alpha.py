@@ -51,6 +51,13 @@ class Coefficients:
             ]
         )
         self.w = np.array([1.0, self.gp, self.bp, self.da])
+        # of a v̇ rising linearly (a lags it by (α_m − α_f)h) the step makes the drift
+        # q − q_n − h v_n = ½h² v̇(t_n + θh) and the rate v − v_n = h v̇(t_n + h/2): the force
+        # M v̇(t_n + (1 − θ)h) through that drift does the work ½h² v̇ᵀM v̇ at t_n + h/2 that
+        # the rate carries, to O(h⁴) per step, so the correction reads the loads there
+        # (θ = ½ for ρ∞ = 1, 5/9 for ρ∞ = ½; docs/explanation/energy_ledger.md)
+        theta = 2.0 * ((0.5 - be / (1.0 - am)) * (am - af) + be * (1.0 - af) / (1.0 - am))
+        self.drift_load = 1.0 - theta  # (a fraction of the step)
 
 
 @functools.lru_cache(maxsize=64)

@@ -202,10 +202,10 @@ class _Phases:
         if friction is not None:
             nu_t, U_t = friction
             self.record.nu[work] = nu_t
-            # the work of the positional friction against the forces at q̃ (exact for the
-            # constant forces of rigid bodies under gravity)
-            f = model.external(self.t) - model.internal(q_tilde, tangent=False)[1]
-            self.record.work += f[model.free] @ U_t
+            # the work of the positional friction against the forces at q̃, the loads at the
+            # instant their work through the drift is its rate's (``Coefficients.drift_load``)
+            f = model.external(st.t + self.c.drift_load * self.h)
+            self.record.work += (f - model.internal(q_tilde, tangent=False)[1])[model.free] @ U_t
         self.Gb = None  # the joints' gradient moved with q
         self.corrected = None if opts.restarts else (q_tilde, metric[1])
         self.closed = _closed(cand, self.gaps, self.tol_gap, self.together)
