@@ -23,6 +23,7 @@ import numpy as np
 from ..errors import InputError, check_positive, check_range
 from .base import PairDefaults, check_solid_pair
 from .friction import tangent_basis
+from .mortar_held import HeldRows
 from .mortar_safeguard import safeguard_rows
 
 __all__ = [
@@ -185,7 +186,7 @@ class _Layout:
         return out
 
 
-class MortarInterface(PairDefaults):
+class MortarInterface(HeldRows, PairDefaults):
     """The rows of a dual mortar interface between the boundary of a :class:`~fecontact.Solid`
     (the slave ``body``) and the boundary of another (the ``master``); subclasses give the
     entries and their integrals (2D: :class:`~fecontact.contact.mortar.MortarContact`)."""
@@ -314,7 +315,7 @@ class MortarInterface(PairDefaults):
         if not self.partial:
             part = covered & (fraction < 1.0 - 1e-9)
             valid[self.element_rows[part].ravel()] = False
-        return valid
+        return self.held_valid(valid, W)
 
     def _key(self, q):
         """The two bodies' dofs of q as bytes (the same bytes: the same q to the bit)."""

@@ -1,0 +1,51 @@
+"""The rows of a mortar interface held through a Newton loop.
+
+A mortar interface decides at each evaluation which of its slave nodes take part: those
+whose covered weight carries at least the share ``taking_part`` of their covered elements'
+(:mod:`.mortar_interface`). A node whose share sits at that threshold crosses it between the
+iterates of a Newton loop with the motion the loop itself makes: its row read a finite gap
+at one iterate and +inf (no row) at the next, and came back at the one after. Two P1 cubes
+thrown at each other with their edges crossed stopped so: the node at the crossing held a
+share of 0.250 (the threshold ¼), and the position correction's active set cycled between
+none and that row (docs/explanation/mortar.md, *Rows held through a Newton loop*).
+
+Held from the loop's first configuration (:meth:`HeldRows.hold_rows`), a row that takes
+part there, or at any later iterate, keeps its row while it keeps a covered weight: its
+weighted gap g̃_j = ∫ Φ_j g_N dA is continuous in q and falls to 0 with the covered weight,
+so the row releases continuously instead of jumping to +inf.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["HeldRows"]
+
+
+class HeldRows:
+    """What a mortar interface adds to hold its rows: ``size`` rows, the gap caches
+    ``_last`` and ``_last_gaps``, ``gaps(q)``."""
+
+    holds_rows = True  # (ContactSet holds them through its Newton loops: rows_held)
+    _held = None  # (m,) bool: the rows held since hold_rows (None: decided at each evaluation)
+
+    def hold_rows(self, q: np.ndarray) -> None:
+        """Hold the rows that take part at q, and those that take part at any later
+        evaluation while they keep a covered weight, until :meth:`release_rows`."""
+        self._last = self._last_gaps = None  # (decided without the hold)
+        self._held = np.zeros(self.size, dtype=bool)
+        self.gaps(q)
+
+    def release_rows(self) -> None:
+        """Decide the rows at each evaluation again."""
+        self._held = self._last = self._last_gaps = None  # (those kept were of held rows)
+
+    def held_valid(self, valid: np.ndarray, weight: np.ndarray) -> np.ndarray:
+        """The rows (m,) that take part: ``valid`` as decided at this evaluation, and while
+        held those held with a covered ``weight`` (m,) W_j > 0."""
+        if self._held is None:
+            return valid
+        if (valid & ~self._held).any():  # (a row gained: the gaps kept at another q lack it)
+            self._held |= valid
+            self._last = self._last_gaps = None
+        return self._held & (weight > 0.0)
