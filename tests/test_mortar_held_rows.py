@@ -1,4 +1,4 @@
-"""Mortar rows held through a Newton loop (:mod:`fecontact.contact.mortar_held`): two P1
+"""Mortar rows held through a Newton loop (:mod:`fecontact.contact.mortar_hold`): two P1
 cubes thrown at each other with their edges crossed, whose node at the crossing holds a
 share of its covered weight at the taking-part threshold ¼."""
 

@@ -23,8 +23,8 @@ __all__ = ["HeldRows"]
 
 
 class HeldRows:
-    """What a mortar interface adds to hold its rows: ``size`` rows, the gap caches
-    ``_last`` and ``_last_gaps``, ``gaps(q)``."""
+    """What a mortar interface adds to hold its rows; it has ``size`` rows, ``gaps(q)``, and
+    keeps the gaps of one q in ``_last`` and ``_last_gaps`` (q's bytes first, ``_same``)."""
 
     holds_rows = True  # (ContactSet holds them through its Newton loops: rows_held)
     _held = None  # (m,) bool: the rows held since hold_rows (None: decided at each evaluation)
@@ -32,9 +32,12 @@ class HeldRows:
     def hold_rows(self, q: np.ndarray) -> None:
         """Hold the rows that take part at q, and those that take part at any later
         evaluation while they keep a covered weight, until :meth:`release_rows`."""
-        self._last = self._last_gaps = None  # (decided without the hold)
-        self._held = np.zeros(self.size, dtype=bool)
-        self.gaps(q)
+        self._held = None
+        self._held = np.isfinite(self.gaps(q))  # (the gaps kept at q, if any, hold there)
+        if self._last is not None and not self._same(q, self._last[0]):
+            self._last = None  # (decided without the hold at another q)
+        if self._last_gaps is not None and not self._same(q, self._last_gaps[0]):
+            self._last_gaps = None
 
     def release_rows(self) -> None:
         """Decide the rows at each evaluation again."""
