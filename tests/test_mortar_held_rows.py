@@ -58,3 +58,30 @@ def test_cubes_meeting_edge_on_edge_pass_the_crossing():
     # the cubes met: cube a slowed (the contact acted)
     va = model.translation(a, (1.0, 0.0, 0.0)) @ M @ steps[-1].v / mass
     assert va < 3.0 - 0.1
+
+
+def test_a_held_row_reads_on_continuously_where_its_share_falls_below_a_quarter():
+    """Cube b, 0.8 mm into cube a, slid along y: the crossing leaves a's node, whose share
+    falls below ¼ between 0.59 and 0.58 mm (+inf there). Held from 0.8 mm, its row reads on,
+    the same to the bit where it took part, continuous beyond; released, +inf again. Unheld,
+    it read +1.5 mm at 0.59 mm (its triangles counted covered by less than
+    ``mortar_cover.SMALLEST`` in whether they keep their covered part's dual functions)."""
+    model, q0, _, pair = crossed_cubes(0.0)
+    a, b = model.bodies
+
+    def slid(dy):
+        return q0 + model.translation(a, (8e-4, 0.0, 0.0)) + model.translation(b, (-8e-4, dy, 0.0))
+
+    path = np.linspace(8e-4, 2e-4, 61)
+    free = np.array([pair.gaps(slid(dy)) for dy in path])
+    (row,) = np.flatnonzero(np.isfinite(free[0]))
+    taking = np.isfinite(free[:, row])
+    assert taking[0] and not taking[-1]
+    pair.hold_rows(slid(path[0]))
+    held = np.array([pair.gaps(slid(dy))[row] for dy in path])
+    pair.release_rows()
+    assert np.all(held[taking] == free[taking, row])
+    # the row's slope along the path is 0.07 (−133 to −172 µm over 0.6 mm): a step of 10 µm
+    # moves it by 0.7 µm, a jump (the +1.5 mm) by far more than 1 µm
+    assert np.abs(np.diff(held)).max() < 1e-6
+    assert np.isinf(pair.gaps(slid(path[-1]))[row])
