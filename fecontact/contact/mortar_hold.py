@@ -28,11 +28,12 @@ class HeldRows:
 
     holds_rows = True  # (ContactSet holds them through its Newton loops: rows_held)
     _held = None  # (m,) bool: the rows held since hold_rows (None: decided at each evaluation)
+    _beyond = False  # whether an evaluation since hold_rows kept a row the rule would not
 
     def hold_rows(self, q: np.ndarray) -> None:
         """Hold the rows that take part at q, and those that take part at any later
         evaluation while they keep a covered weight, until :meth:`release_rows`."""
-        self._held = None
+        self._held, self._beyond = None, False
         self._held = np.isfinite(self.gaps(q))  # (the gaps kept at q, if any, hold there)
         if self._last is not None and not self._same(q, self._last[0]):
             self._last = None  # (decided without the hold at another q)
@@ -40,8 +41,11 @@ class HeldRows:
             self._last_gaps = None
 
     def release_rows(self) -> None:
-        """Decide the rows at each evaluation again."""
-        self._held = self._last = self._last_gaps = None  # (those kept were of held rows)
+        """Decide the rows at each evaluation again; the gaps kept stand where the hold kept
+        no row beyond the rule (the next step's first evaluation is at the same q)."""
+        self._held = None
+        if self._beyond:
+            self._last = self._last_gaps = None  # (they may have held rows)
 
     def held_valid(self, valid: np.ndarray, weight: np.ndarray) -> np.ndarray:
         """The rows (m,) that take part: ``valid`` as decided at this evaluation, and while
@@ -51,4 +55,6 @@ class HeldRows:
         if (valid & ~self._held).any():  # (a row gained: the gaps kept at another q lack it)
             self._held |= valid
             self._last = self._last_gaps = None
-        return self._held & (weight > 0.0)
+        out = self._held & (weight > 0.0)
+        self._beyond = self._beyond or bool(np.any(out != valid))
+        return out
