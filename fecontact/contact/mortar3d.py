@@ -146,6 +146,8 @@ class MortarContact3D(MortarInterface):
         needed = triangles_taking_part(
             self.element_rows, e, weight, covered, area, self.taking_part
         )
+        if self._held is not None:  # (a held row keeps its covered part's dual functions)
+            needed = needed | self._held[self.element_rows].any(axis=1)
         part, A, extra, drop = covered_duals(
             e, ts, tm, u, v, plane, weight, needed, derivatives, (fade, dfade)
         )

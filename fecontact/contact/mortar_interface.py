@@ -12,7 +12,8 @@ W_j ≥ s Σ_e |e|/n_e, W_j the covered weight the subclass reports (2D: of the 
 N_j; 3D: of the dual functions Φ_j, equal to that of N_j since the dual functions of a partly
 covered element are those of its covered part, ∫_C Φ_j dA = ∫_C N_j dA); a linear segment
 counts from the node to the farthest point of its covered part (:func:`segment_reach`). The
-others report g = +inf and a zero gradient. The gaps of the last q are kept: the time loop
+others report g = +inf and a zero gradient; within a Newton loop the rows that took part are
+held (:mod:`.mortar_hold`). The gaps of the last q are kept: the time loop
 asks for them again at the same q (the correction, the probes, the summary).
 """
 
@@ -23,6 +24,7 @@ import numpy as np
 from ..errors import InputError, check_positive, check_range
 from .base import PairDefaults, check_solid_pair
 from .friction import tangent_basis
+from .mortar_hold import HeldRows
 from .mortar_safeguard import safeguard_rows
 
 __all__ = [
@@ -185,7 +187,7 @@ class _Layout:
         return out
 
 
-class MortarInterface(PairDefaults):
+class MortarInterface(HeldRows, PairDefaults):
     """The rows of a dual mortar interface between the boundary of a :class:`~fecontact.Solid`
     (the slave ``body``) and the boundary of another (the ``master``); subclasses give the
     entries and their integrals (2D: :class:`~fecontact.contact.mortar.MortarContact`)."""
@@ -314,7 +316,7 @@ class MortarInterface(PairDefaults):
         if not self.partial:
             part = covered & (fraction < 1.0 - 1e-9)
             valid[self.element_rows[part].ravel()] = False
-        return valid
+        return self.held_valid(valid, W)
 
     def _key(self, q):
         """The two bodies' dofs of q as bytes (the same bytes: the same q to the bit)."""

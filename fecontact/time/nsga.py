@@ -332,11 +332,11 @@ class _Phases:
         if self.m == 0 and self.model.joints.size == 0:
             return _end_state(self)
         self.v_tilde = self.v  # ṽ, the smooth step's velocity (a correction replaces self.v)
-        with rows_held(self.model.contacts, self.q):  # (the correction's rows: from q̃)
+        with rows_held(self.model.contacts, self.q):  # (from q̃; a closed row stays in 3.)
             self.correct()  # 2., only if a contact candidate penetrates (joints already hold)
-        if self.closed.size or self.model.joints.size:  # (else nothing to jump or follow)
-            self.jump()  # 3.
-            self.follow()
+            if self.closed.size or self.model.joints.size:  # (else nothing to jump or follow)
+                self.jump()  # 3.
+                self.follow()
         if (self.opts.settle or not self.opts.positional_friction) and self.m:  # (below)
             _mark_closing(self)
         self.timer.add("contact", clock)
