@@ -38,9 +38,7 @@ parallel to the box's side face, read −1 cm with the ridge wholly in front of 
 two are nearly equal: a ridge flat on a face or a node on the edge has them equal up to
 round-off, and a ridge from a node on a face by the edge has its line pass under the edge by
 the node's distance from it times the ridge's slope, the lines' distance reading that small
-false depth until it exceeds the tie (the elastic ball closing on a box's corner at 3 m/s
-reads up to 2.3e-6 ℓ; with the tie at 1e-6 its closing took another path and created
-1.4e-4 of its scale, none with the rows, and at Δt/2 and Δt/4 the two paths are the same:
+false depth until it exceeds the tie (the measured margins of the tie:
 ``docs/validation/solid_sweep.md``). Within a Newton loop the pairs admitted at its start,
 and those admitted at an iterate, are held to its end (:meth:`BoxEdges.hold_rows`): a pair
 that came and went between the iterates, as f and the lines' distance cross, would make the
@@ -115,8 +113,7 @@ TIE = 1e-4
 exceed the lines' distance before the pair has no row (module docstring): the false depth a
 row may read. A ridge flat on a face, or a node on the edge, has the two equal up to
 round-off; a ridge from a node on a face by the edge differs by the node's distance from the
-edge times its slope, 2.3e-6 ℓ at most in the ball's closing on a box corner at 3 m/s, whose
-path these rows set (44 times below the tie); the far ridge over a box edge reads 0.7 ℓ."""
+edge times its slope (a few 1e-6 ℓ measured), the far ridge over a box edge by 0.7 ℓ."""
 
 SOFT = 0.05
 """How far (in the units of φ and ψ) the ramp grows quadratically before it grows linearly:
