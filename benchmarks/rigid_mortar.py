@@ -25,7 +25,8 @@ Both methods side by side in one process, on the same meshes and steps:
    degree-5 rule on s² sub-triangles, against s = 256.
 5. ``box laid on slab``: a rigid box 2 × 2 × 1 cm laid at rest on a clamped slab 12 × 8 × 1
    cm (6 × 4 × 1 cells) under gravity, 20 steps (5 with ``--quick``): the CPU time per step,
-   Newton's iterations, the located trials and release probes (docs/validation/solid_sweep.md).
+   Newton's iterations, the located trials and release probes (docs/validation/solid_sweep.md);
+   the same box thrown along the slab at 0.5 m/s with μ 0.3, and the Coulomb solver's work.
 
     python benchmarks/rigid_mortar.py           # refinements 2 and 3, divisions 8 and 16
     python benchmarks/rigid_mortar.py --quick   # refinement 1, divisions 8, short runs
@@ -156,31 +157,39 @@ def rigid_ball_on_slab(method: str, divisions: int, t_end: float):
     return row
 
 
-def box_laid_on_slab(method: str, steps: int):
+def box_laid_on_slab(method: str, steps: int, friction: float = 0.0, v: float = 0.0):
     """A rigid box 2 × 2 × 1 cm (1000 kg/m³) laid at rest on a rubber slab 12 × 8 × 1 cm
     (Neo-Hookean, 6 × 4 × 1 cells, clamped at its base) under gravity, ``steps`` steps of Δx/c
     of the same box in rubber (86 µs), as in docs/validation/solid_sweep.md: the slab's
     triangles around the box are cut by the box's region planes (112 points each), and the
-    contact forces ring, so that the steps are located and release probes run."""
+    contact forces ring, so that the steps are located and release probes run. With
+    ``friction`` and ``v`` (m/s, along x): the box thrown along the slab, and the Coulomb
+    solver's work (its Newton iterations, line-search cuts and Gauss–Seidel solves)."""
     slab = Solid.box([-0.06, -0.04, -0.01], [0.06, 0.04, 0.0], (6, 4, 1), NEO_HOOKEAN)
     slab.fix(slab.nodes_where(lambda x: x[2] <= -0.01 + 1e-9))
     like = Solid.box([-0.01, -0.01, 0.0], [0.01, 0.01, 0.01], (2, 2, 1), NEO_HOOKEAN)
     box = RigidBody3D.of_density(1000.0, [0.0, 0.0, 0.005], Box(0.02, 0.02, 0.01))
-    model = Model([slab, box], [Contact(slab, box, method=method)], (0.0, 0.0, -9.81))
+    contact = Contact(slab, box, method=method, friction=friction)
+    model = Model([slab, box], [contact], (0.0, 0.0, -9.81))
     dt = wave_step(like, 1.0)
+    v0 = model.translation(box, (v, 0.0, 0.0)) if v else None
     sim = Simulation(model, dt=dt, t_end=steps * dt, name="box_laid_on_slab",
-                     output_interval=steps * dt)  # fmt: skip
+                     output_interval=steps * dt, v0=v0)  # fmt: skip
     with tempfile.TemporaryDirectory(prefix="fecontact_rigid_mortar_") as tmp:
         cpu = time.process_time()
         summary = run(sim, tmp, frames=False, checkpoint_every=0)
         cpu = time.process_time() - cpu
-    cost = summary["localization_cost"]
+    cost, coulomb = summary["localization_cost"], summary.get("friction_solver") or {}
+    case = f"box thrown at {v:g} m/s, mu {friction:g}" if v else "box laid on slab"
     return {
-        "case": "box laid on slab", "method": method, "status": summary["status"],
+        "case": case, "method": method, "status": summary["status"],
         "steps": summary["steps"], "CPU ms per step": 1e3 * cpu / max(summary["steps"], 1),
         "Newton iterations": summary["newton_iterations_total"],
         "located trials": cost["smooth_steps"], "release probes": cost.get("release_probes"),
         "max_penetration (m)": float(summary["max_penetration"]),
+        "Coulomb iterations": coulomb.get("iterations", 0),
+        "line-search cuts": coulomb.get("line_search_cuts", 0),
+        "Gauss-Seidel solves": coulomb.get("gauss_seidel_solves", 0),
     }  # fmt: skip
 
 
@@ -222,7 +231,9 @@ def main() -> None:
         for method in METHODS:
             slabs.append(rigid_ball_on_slab(method, div, t_slab))
             print(slabs[-1], flush=True)
-    laid = [box_laid_on_slab(m, 5 if args.quick else 20) for m in METHODS]
+    steps = 5 if args.quick else 20
+    laid = [box_laid_on_slab(m, steps) for m in METHODS]
+    laid += [box_laid_on_slab(m, steps, friction=0.3, v=0.5) for m in METHODS]
     print(*laid, sep="\n", flush=True)
     pressed = [pressed_block(m) for m in METHODS]
     rule = integration_rows()
@@ -231,7 +242,7 @@ def main() -> None:
         "Mortar and node-to-surface between a 3D solid and a RigidBody3D", boxes + slabs,
         ("An elastic ball onto a heavy box (face centre, and 0-2 cm inside an edge)", boxes),
         ("A rigid ball onto an elastic slab", slabs),
-        ("A rigid box laid on an elastic slab: the cost of a step", laid),
+        ("A rigid box laid on an elastic slab, and thrown along it: the cost of a step", laid),
         ("A block pressed by 1 kPa on a box: max |z/p - 1| at rest", pressed),
         ("One triangle across a box edge: the rule on s^2 sub-triangles", rule),
     )  # fmt: skip

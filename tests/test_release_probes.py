@@ -150,3 +150,45 @@ def test_a_safeguard_row_unloading_reads_no_release():
         releases._releasing(MeanForces(before), READ_RELEASE, releases._aside())
         reads = releases._releasing(MeanForces(after), READ_RELEASE, releases._aside())
         assert reads is not safeguard
+
+
+def laid_box(stats, steps=5):
+    """A rigid box 2 × 2 × 1 cm laid on a clamped rubber slab under gravity (the row of
+    benchmarks/rigid_mortar.py): its ringing forces start probes of all the contacts, and
+    then, where the pair's total force falls, of the pair's rows."""
+    from fecontact import Model
+    from fecontact.bodies import RigidBody3D, Solid
+    from fecontact.bodies.materials import NeoHookean
+    from fecontact.bodies.shapes3d import Box
+    from fecontact.contact import Contact
+    from fecontact.time.settings import IntegratorOptions
+
+    rubber = NeoHookean(1e7, 0.3, 1000.0)
+    slab = Solid.box([-0.06, -0.04, -0.01], [0.06, 0.04, 0.0], (6, 4, 1), rubber)
+    slab.fix(slab.nodes_where(lambda x: x[2] <= -0.01 + 1e-9))
+    box = RigidBody3D.of_density(1000.0, [0.0, 0.0, 0.005], Box(0.02, 0.02, 0.01))
+    model = Model([slab, box], [Contact(slab, box, method="mortar")], (0.0, 0.0, -9.81))
+    dt = 8.61892e-5  # (Δx/c of the box in rubber)
+    return model, simulate(model, dt, steps * dt, IntegratorOptions(), stats=stats)
+
+
+def test_a_pending_probe_of_other_contacts_is_replaced_untaken(monkeypatch):
+    """Where a step's pair lets go while a probe of all contacts is pending, that probe's
+    reading would be replaced unread: it is not taken, and the run is the run that took it
+    (bit for bit), with fewer probes."""
+    stats = StepStats()
+    states = [np.concatenate([st.q, st.v, st.impulse]) for st in laid_box(stats)[1]]
+    falling = Releases._falling
+
+    def taken_first(self, model, st, h, opts, timer):  # (every pending probe taken)
+        self._reading(model, opts, timer)
+        return falling(self, model, st, h, opts, timer)
+
+    monkeypatch.setattr(Releases, "_falling", taken_first)
+    every = StepStats()
+    taken = [np.concatenate([st.q, st.v, st.impulse]) for st in laid_box(every)[1]]
+    assert stats.localization.release_splits == every.localization.release_splits == 1
+    assert 0 < stats.localization.release_probes < every.localization.release_probes
+    assert len(states) == len(taken)
+    for a, b in zip(states, taken, strict=True):
+        np.testing.assert_array_equal(a, b)

@@ -174,11 +174,10 @@ class Releases(Localizer):
     a force that falls and rises again, or a run that ends pressed, costs none; nor does a
     frictional contact lasting for over ``CHATTER_WINDOW`` steps (``settled``: a floor
     under a ringing block, whose forces fall again and again; ``elastic_block`` 26 → 2
-    probes, the run the same to the bit). With
-    ``split`` (solids whose acceleration restarts, decided once by
-    :func:`localized_stepper`), a step whose total force falls so and in which the reading
-    falls is split there (:meth:`_falling`). A whole step that leaves a closing unrefined
-    is retaken in sub-steps (:meth:`_retaken`)."""
+    probes, the run the same to the bit). With ``split`` (solids whose acceleration
+    restarts, decided once by :func:`localized_stepper`), a step whose total force falls so
+    and in which the reading falls is split there (:meth:`_falling`). A whole step that
+    leaves a closing unrefined is retaken in sub-steps (:meth:`_retaken`)."""
 
     def __init__(self, model, split: bool = False):
         super().__init__(model)
@@ -291,15 +290,17 @@ class Releases(Localizer):
         where ``split`` is on and the total mean force of the contacts reaches zero within
         ``LET_GO`` steps (:func:`~.release_split.split_at_release`); None for the step as
         it is. A probe starts from ``st`` where a contact's force (:meth:`_releasing`), or
-        that total, is falling to zero and no reading covers ``st``."""
+        that total, is falling to zero and no reading covers ``st``; a pending probe of
+        other contacts is replaced untaken (its reading would go unread)."""
         before = self.force  # (the step before's mean forces; st's after _releasing)
         falling = self._releasing(st, READ_RELEASE, self._aside())
         rows = self._letting_go(model, before) if self.split else None
         if not falling and rows is None:
             return None
         self._drop_spent(st.t)
-        until = self._reading(model, opts, timer)[1]
-        if st.t > until or not _same(rows, self.read_rows):
+        if self.pending is not None and not _same(rows, self.watched):
+            self.pending, self.watched = (st, h), rows
+        elif st.t > self._reading(model, opts, timer)[1] or not _same(rows, self.read_rows):
             self.pending, self.watched = (st, h), rows
         if rows is None:
             return None
