@@ -277,6 +277,33 @@ def test_a_node_held_under_an_edge_of_a_shallow_dent_is_not_pushed_sideways():
     assert err_g < 1e-6 and err_h < 1e-4  # as for the pole above: truncation (h/ε)²
 
 
+def test_a_coarse_ball_pressed_into_a_fine_slab_takes_no_halving(tmp_path):
+    """A rubber ball of refinements 1 thrown at 10 m/s onto a clamped slab of 1 cm cells
+    (6 × 6 × 1, 6 cm square): its pole sinks into the dent it makes and is held by its own
+    row under a shared edge of the dent's facets. With the excess ramp ε wide the smooth
+    step's Newton loop did not converge there: step 22 halved and the located impact of step
+    23 was taken whole (``failed``); the 12 × 12 × 2 slab of docs/validation/solid_sweep.md
+    took 17 halvings."""
+    from fecontact import run
+    from fecontact.bodies.materials import NeoHookean
+    from fecontact.scenes import wave_step
+    from fecontact.simulation import Simulation
+
+    rubber = NeoHookean(1e7, 0.3, 1000.0)
+    slab = Solid.box([-0.03, -0.03, -0.02], [0.03, 0.03, 0.0], (6, 6, 1), rubber)
+    slab.fix(slab.nodes_where(lambda x: x[2] <= -0.02 + 1e-9))
+    ball = Solid.ball([0.0, 0.0, 0.051], 0.05, 1, rubber)
+    model = Model([ball, slab], [Contact(ball, slab)], gravity=(0.0, 0.0, 0.0))
+    dt = min(wave_step(b, 1.0) for b in (ball, slab))
+    v0 = model.translation(ball, (0.0, 0.0, -10.0))
+    sim = Simulation(model, dt, 24 * dt, output_interval=24 * dt, v0=v0, name="ball")
+    summary = run(sim, tmp_path / "ball", progress=False, frames=False)
+    assert summary["status"] == "completed" and summary["steps"] == 24
+    assert summary["step_halvings"] == 0
+    assert summary["localization_fallbacks"]["failed"] == 0
+    assert summary["mortar_held_steps"] > 0  # (the pole held by its own row: the case above)
+
+
 def test_k_does_not_move_the_balls_whose_rows_close_picoseconds_apart():
     """``two_balls`` through its first 0.45 ms at k and k ÷ 100. At 0.404 ms two master nodes'
     rows cross half their allowance 2e-11 s apart and are taken together at the later
