@@ -237,7 +237,7 @@ class DeepNodeRows3D(DeepNodeRows):
     """:class:`DeepNodeRows` of 3D solids: a deep node's row is the smooth maximum of the
     plane gaps g_k of the master facets around the vertex v (of its closest facet) nearest
     to it, each less the excess P_k of the node's foot beyond its facet's edges
-    (:func:`edge_excess`, zero on the facet),
+    (:func:`edge_excess` with a ramp of width δ, ``reach``; zero on the facet),
 
         g_s = ε ln Σ_k exp((g_k − P_k) / ε) + δ,   ε = ``SMOOTHING`` δ,
 
@@ -260,6 +260,12 @@ class DeepNodeRows3D(DeepNodeRows):
         self.around[ends[order], slot] = order // 3
         self.width = 3 + 9 * self.around.shape[1]
         self.smoothing = SMOOTHING * self.allowance
+        self.reach = self.allowance
+        """The width (m) of the ramp of a plane's excess (:func:`edge_excess`): δ, not ε. A
+        foot e beyond its facet puts the node √(g² + e²) − |g| farther from the facet than
+        from its plane, a ramp of width |g|, and a held node lies δ deep; at ε the row's
+        gradient turned sideways by e/ε, its force λ with it, and Newton's iterates crossed
+        a shared edge of two facets back and forth (docs/explanation/mortar.md)."""
         self.vertex = np.full(self.size, -1)
         """The master vertex each deep row reads (−1: none), at the last evaluation."""
 
@@ -282,7 +288,7 @@ class DeepNodeRows3D(DeepNodeRows):
         if H is not None:
             H = H.reshape(n, K, 12, 12) * real[:, :, None, None]
         # each plane read deeper by how far the node's foot lies outside its facet
-        excess = np.where(real, edge_excess(xk, t, self.smoothing).reshape(n, K), 0.0)
+        excess = np.where(real, edge_excess(xk, t, self.reach).reshape(n, K), 0.0)
         g = g - excess
         # (its derivatives where they count: on a row deeper than δ/2, whose maximum is
         # below −δ/2, and on a plane within 50 ε of that maximum, the others' weights
@@ -290,7 +296,7 @@ class DeepNodeRows3D(DeepNodeRows):
         top = g.max(axis=1, keepdims=True)
         need = (excess > 0.0) & (g > top - 50.0 * self.smoothing) & (top < -0.5 * self.allowance)
         if need.any():
-            _, dP, d2P = edge_excess_jet(xk[need.ravel()], t[need.ravel()], self.smoothing)
+            _, dP, d2P = edge_excess_jet(xk[need.ravel()], t[need.ravel()], self.reach)
             G[need] -= dP
             if H is not None:
                 H[need] -= d2P
