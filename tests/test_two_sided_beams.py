@@ -232,3 +232,15 @@ def test_a_strip_falling_end_first_onto_a_coarse_block_is_held(tmp_path):
     summary = run(sim, tmp_path, progress=False, frames=False)
     assert summary["max_penetration"] < 1e-12
     assert not summary["warnings"]
+
+
+def test_a_solid_and_a_beam_take_the_energy_retakes():
+    # decided once per run: a strip's node closing on a solid's face, corrected at the
+    # step's end, strains it as a closing on a floor does (docs/validation/stress_2d.md)
+    from fecontact.time import IntegratorOptions, make_stepper
+
+    block = Solid.rectangle([0.0, -0.1], [0.4, 0.0], (2, 1), LinearElastic(1e8, 0.3, 1e3))
+    strip = Beam2D.straight([0.1, 0.2], [0.1, 0.0051], 4, STEEL, Section.rectangle(0.02, 0.01))
+    model = Model([block, strip], [Contact(block, strip, clearance=0.005)], gravity=(0, 0))
+    assert make_stepper(model, IntegratorOptions()).guard is not None
+    assert make_stepper(model, IntegratorOptions(energy_retakes=False)).guard is None
