@@ -180,9 +180,8 @@ class Recorder:
     def penetration_warnings(self) -> list[str]:
         """A warning when a watched body went deeper into another than the discretization's
         own amount (:data:`fecontact.contact.watch.BOUND`): a node of a mortar interface in
-        the other solid, a rigid circle between a solid's boundary nodes or a beam's, a
-        beam's node between a solid's boundary nodes, or a strip's node in a strip pair
-        declared one way."""
+        the other solid, a rigid circle between a solid's boundary nodes or a beam's, or a
+        strip's node in a strip pair declared one way."""
         if self.mortar_depth <= BOUND:
             return []
         t, step = self.mortar_deepest
@@ -190,8 +189,8 @@ class Recorder:
             f"penetration: a watched body ends {100 * self.mortar_depth:.2g} % of the "
             f"shortest boundary edge inside another at t = {t:.6g} s (step {step}) (a node of "
             "a mortar interface in the other solid, a rigid circle between a solid's "
-            "boundary nodes or a beam's, a beam's node between a solid's boundary nodes, or "
-            "a strip's node that only the reversed strip pair would hold), "
+            "boundary nodes or a beam's, or a strip's node that only the reversed strip pair "
+            "would hold), "
             f"beyond the {100 * BOUND:.0f} % the contact rows allow; refine the "
             "mesh or the step, or declare the reversed pair"
         ]

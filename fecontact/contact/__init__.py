@@ -6,6 +6,7 @@ from . import (  # noqa: F401
     beam3d_edges,
     beam3d_pairs,
     beam3d_solid,
+    beam_on_solid,
     beam_sides,
     body_pairs,
     rigid3d_pairs,

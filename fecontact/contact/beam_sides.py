@@ -51,11 +51,9 @@ from ..bodies.solid import Solid
 from ..errors import InputError, check_positive, check_range
 from .base import PairDefaults
 from .geometry import point_line_distance
-from .inside import Surface
 from .registry import register_pair
 
 __all__ = [
-    "BeamNodeDepths",
     "PointBeamContact",
     "StripNodeDepths",
     "closest_rows",
@@ -144,9 +142,9 @@ class PointBeamContact(PairDefaults):
 
     def watch(self):
         """What these rows do not hold: two strips, the second's nodes against the first's
-        surface (:class:`StripNodeDepths`); a solid's nodes, the beam's nodes against the
-        solid's boundary (:class:`BeamNodeDepths`)."""
-        return StripNodeDepths(self) if isinstance(self.body, Beam2D) else BeamNodeDepths(self)
+        surface (:class:`StripNodeDepths`); a solid's boundary against a beam holds the beam's
+        nodes by rows of their own (:mod:`.beam_on_solid`)."""
+        return StripNodeDepths(self) if isinstance(self.body, Beam2D) else None
 
     def _coordinates(self, q: np.ndarray):
         (oa, ob), (a, b) = self.offsets, self.bodies
@@ -291,49 +289,10 @@ class StripNodeDepths:
         return "a strip's node that no row holds"
 
 
-class BeamNodeDepths:
-    """The beam's nodes against the solid's boundary, in a pair of a solid's nodes and a
-    beam: the rows hold the solid's boundary nodes out of the beam's two-sided surface, not
-    the beam out of the solid, so a beam node between two boundary nodes of a coarser solid
-    enters its face unseen (a strip falling end-first onto a block, a fine strip sagging
-    between a coarse face's nodes). ``depth(q)``: the deepest beam node's depth into the
-    solid, the clearance c less its signed distance to the solid's boundary (negative
-    inside), m ≥ 0, and that depth over the solid's shortest boundary edge; reported and
-    warned, not retaken (no row holds it, and a smaller step does not take it out).
-
-    With the solid's rows this measures the whole beam: two segments that do not cross
-    are closest at an end of one of them (a beam node, measured here, or a solid node, whose
-    row's gap is its distance to the beam less c), and a beam segment that crosses the
-    boundary has a beam node inside, or a solid node across the beam's centreline, whose
-    row's gap is negative."""
-
-    def __init__(self, pair: PointBeamContact):
-        self.pair = pair
-        facets = pair.body.contact_facets()
-        self.surface = Surface(facets)
-        X = pair.body.X[facets]
-        self.edge = float(np.linalg.norm(X[:, 1] - X[:, 0], axis=1).min())
-
-    def depth(self, q: np.ndarray) -> tuple[float, float]:
-        """(depth in m ≥ 0, depth over the solid's shortest boundary edge) at q."""
-        (oa, ob), (a, b) = self.pair.offsets, self.pair.bodies
-        xs = a.positions(q[oa : oa + a.ndof])
-        x = b.positions(q[ob : ob + b.ndof])
-        c = self.pair.clearance
-        # nodes farther than c outside the solid's box are +inf: no depth (a free flight
-        # costs the box test only)
-        s, _ = self.surface.signed_distance(xs, x, pad=c)
-        depth = max(c - float(s.min()), 0.0)
-        return depth, depth / self.edge
-
-    def entering(self, q: np.ndarray) -> str:
-        """What enters the solid (for a message)."""
-        return "a beam's node between a solid's boundary nodes"
-
-
 @register_pair(object, Beam2D)
 def _points_on_beam(body, beam, nodes, restitution, clearance):
-    """A solid's boundary nodes (or ``nodes``) against the beam's two-sided surface."""
+    """A body's ``nodes`` against the beam's two-sided surface (a 2D solid's pair, which holds
+    the beam's nodes too, is :mod:`.beam_on_solid`'s)."""
     return PointBeamContact(body, beam, nodes, restitution, clearance)
 
 

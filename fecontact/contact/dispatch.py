@@ -51,10 +51,9 @@ def Contact(
     strips: the sum of their half thicknesses), meet the beam's two-sided surface, its
     centreline offset by ± ``clearance`` (:mod:`fecontact.contact.beam_sides`; add the reversed
     pair for two strips: declared one way, the second strip's nodes are not held, and their
-    depth in the first is reported in ``max_penetration`` and warned; a beam's nodes are not
-    held against a solid either, and their depth into it is reported and warned the same
-    way). ``restitution`` is
-    Newton's e_N in [0, 1].
+    depth in the first is reported in ``max_penetration`` and warned); a solid against a
+    beam holds the beam's nodes out of the solid's boundary too
+    (:mod:`fecontact.contact.beam_on_solid`). ``restitution`` is Newton's e_N in [0, 1].
 
     ``friction`` is Coulomb's coefficient μ ≥ 0 of every contact of the pair (0: frictionless,
     today's path at no cost): the tangential impulse stays in |Λ_T| ≤ μ Λ_N and opposes the

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .beam_sides import BeamNodeDepths, StripNodeDepths
+from .beam_sides import StripNodeDepths
 from .circle_watch import CircleSegmentDepths
 from .facet_search import FacetSearch
 from .inside import bounding_box
@@ -174,10 +174,10 @@ def entry_depth(watches, q: np.ndarray, q_start: np.ndarray | None = None) -> fl
 
 
 def _entry(watch, q: np.ndarray, q_start: np.ndarray | None = None) -> float:
-    if isinstance(watch, (CircleSegmentDepths, StripNodeDepths, BeamNodeDepths)):
-        # no row holds a circle between two nodes, a strip's nodes that only the reversed
-        # pair would hold, or a beam's nodes against a solid, and a smaller step does not
-        # take them out: they are reported (the run's record and warning), not retaken
+    if isinstance(watch, (CircleSegmentDepths, StripNodeDepths)):
+        # no row holds a circle between two nodes or a strip's nodes that only the reversed
+        # pair would hold, and a smaller step does not take them out: they are reported (the
+        # run's record and warning), not retaken
         return 0.0
     return watch.entry(q, q_start) if isinstance(watch, SolidWatch) else watch.depth(q)[1]
 
