@@ -46,7 +46,6 @@ class SmoothStep(NamedTuple):
     friction_force: np.ndarray | None  # λ_T (m, nt) (N), None without persistent friction
     friction_work: float  # the energy λ_T dissipated over the step's slip (J)
     fint: np.ndarray | None = None
-    reversing: np.ndarray | None = None  # contacts whose slip turned against λ_T,n
 
 
 def alpha_plan(model, smooth: bool, friction: bool, extra=()) -> NewtonPlan:
@@ -113,20 +112,18 @@ def alpha_smooth_step(model, st, t, c, opts, timer, P=None) -> SmoothStep:
         turns.check(step.X[0], st.q, group, "the smooth step", opts.stats)
     Gb = None if stale or joints is None else joints.Gb
     q, (_, v, vd, a) = step.q, step.X  # (on a group the first row of X is the increment D)
-    force, force_t, work, turned = None, None, 0.0, None
+    force, force_t, work = None, None, 0.0
     if newton.rowed:  # (the persistent contacts' forces, where they are a term)
-        force, force_t, work, turned = _contact_forces(newton.rowed, model.contacts.size)
+        force, force_t, work = _contact_forces(newton.rowed, model.contacts.size)
     form = newton.form
     fint = None if stale else newton.elastic.fint
-    args = (q, v, vd, a, form.lam(), form.metric(), it, Gb, force, force_t, work, fint)
-    return SmoothStep(*args, turned)
+    return SmoothStep(q, v, vd, a, form.lam(), form.metric(), it, Gb, force, force_t, work, fint)
 
 
 def _contact_forces(rowed, m: int):
-    """(λ (m,), λ_T (m, nt), the work of λ_T (J), the contacts whose slip turned against
-    λ_T,n) of the persistent contacts among the terms with rows (None, None, 0, None without
-    them; λ_T and the turned contacts None without friction)."""
+    """(λ (m,), λ_T (m, nt), the work of λ_T (J)) of the persistent contacts among the
+    terms with rows (None, None, 0 without them; λ_T None without friction)."""
     for term in rowed:
         if isinstance(term, PersistentContacts):
             return term.forces(m)
-    return None, None, 0.0, None
+    return None, None, 0.0

@@ -46,13 +46,14 @@ from .impacts import velocity_jump
 from .penetration import check_predictor
 from .position_jump import acceleration_jump, velocity_follows
 from .records import FrictionRecord, SmoothForces
-from .retake import retaken
 from .settings import RunSettings, run_settings
 from .smooth_contact import (
     force_shares,
     held_shares,
     persistent_contacts,
+    released,
     restarted_acceleration,
+    without_released,
 )
 from .spin_restart import jumped
 from .state import IntegratorOptions, PhaseTimer, State, length_scale
@@ -126,7 +127,7 @@ class _Phases:
         self.st_s = st  # the state the smooth step starts from
         step = (self.smooth_step or alpha_smooth_step)(model, st, t, c, opts, self.timer, P)
         if opts.smooth:  # (taken again without the contacts it releases)
-            self.st_s, step, self.release = retaken(model, st, step, P, opts, (t, c, self.timer))
+            self.st_s, step, self.release = _releases(model, st, step, P, opts, (t, c, self.timer))
         self.P, self.step, self.Gb, self.force = P, step, step.Gb, step.force
         self.q, self.v, self.vd, self.a, self.lam = step.q, step.v, step.vd, step.a, step.lam
         self.iters = {"smooth": step.iterations, "position": 0, "velocity": 0}
@@ -412,6 +413,39 @@ def _end_state(step: _Phases) -> State:
         friction=step.record,
         ledger=record,
     )
+
+
+def _releases(model, st, step, P, opts, at):
+    """(start state, ``step``, energy put in (J)): taken again (:func:`_retake`, ``at`` = (t,
+    c, timer)) without the contacts of ``P`` it releases (redundant ones closed are held)."""
+    closed = (step.q, opts.tol_gap * model.length) if opts.stats.contact.minimum_norm else None
+    rows = released(model, st, P, step.force, opts.tol_residual, closed)
+    if not rows.size:
+        return st, step, 0.0
+    t, c, timer = at
+    return _retake(model, st, step, rows, opts, (t, c, P, timer))
+
+
+def _retake(model, st, step, rows, opts, at):
+    """The smooth step from ``st`` taken again without the forces of the contacts ``rows``
+    it released (:func:`without_released`; ``at`` = (t_{n+1}, coefficients, P, timer)): the
+    state it starts from, the step, and the energy (J) it ends with over the first ``step``."""
+    t, c, P, timer = at
+    # S_t at the step's end, as its Newton's own factors are where they are a metric (on a
+    # group, or with bordered rows, they are not): S_t at its start takes another share of
+    # the released force out of a (the floor pendulum in space left its planar twin by
+    # 3e-4 m at the first release, measured)
+    solve_H = correction_metric(model, step.q, step.S, c, "stiffness")[1]
+    st_s = without_released(model, st, rows, solve_H)
+    opts.stats.releases += 1
+    retake = alpha_smooth_step(model, st_s, t, c, opts, timer, P)
+    retake = retake._replace(iterations=retake.iterations + step.iterations)
+    return st_s, retake, _energy(model, retake.q, retake.v) - _energy(model, step.q, step.v)
+
+
+def _energy(model, q, v) -> float:
+    """T + V_strain + V_gravity (J) at (q, v)."""
+    return model.kinetic_energy(v) + model.strain_energy(q) + model.potential_energy(q)
 
 
 def _closed(cand, gaps, tol_gap: float, together) -> np.ndarray:

@@ -165,7 +165,6 @@ class StepStats:
     follow_ups: FollowUps = field(default_factory=FollowUps)
     control: StepControl = field(default_factory=StepControl)  # rtol's rejections
     releases: int = 0  # smooth steps taken again without the force of a contact they released
-    slip_reversals: int = 0  # ... without the friction force of a contact whose slip turned
     energy_retakes: int = 0  # beam steps that created energy, taken again (.energy_guard)
     energy_retake_halves: int = 0  # of those, retakes taken again in two halves
     turns: TurnCounts = field(default_factory=TurnCounts)
@@ -215,8 +214,6 @@ class StepStats:
             # the velocity's follow-ups of an impact's correction (fecontact.time.position_jump)
             "velocity_follow_ups": asdict(self.follow_ups),
             "contact_releases": self.releases,
-            # ... and without the tangential force a turning slip ran along (.slip_reversal)
-            "slip_reversals": self.slip_reversals,
             # steps of beams that raised the energy, taken again at rho_inf = 0, located
             "energy_retakes": self.energy_retakes,
             "energy_retake_halves": self.energy_retake_halves,

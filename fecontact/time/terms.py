@@ -31,7 +31,6 @@ from .correction import curved_factors, unit_columns
 from .coulomb import SmoothFriction
 from .held_curvature import held_curvature, hold
 from .lie import InertialForces
-from .slip_reversal import reversing
 from .smooth_contact import SmoothContacts
 from .state import JointTolerance
 
@@ -431,13 +430,12 @@ class PersistentContacts(ForceTerm):
         self.sc.retreat(s)
 
     def forces(self, m: int):
-        """(λ (m,), λ_T (m, nt) or None without friction, the work of λ_T over the step (J),
-        the contacts whose slip turned against λ_T,n (:func:`.slip_reversal.reversing`) or
-        None) of every contact (N), zero outside the persistent ones."""
+        """(λ (m,), λ_T (m, nt) or None without friction, the work of λ_T over the step (J))
+        of every contact (N), zero outside the persistent ones."""
         sc = self.sc
         if isinstance(sc, SmoothFriction):
-            return (*sc.forces(m), sc.work(), reversing(sc))
-        return sc.forces(m), None, 0.0, None
+            return (*sc.forces(m), sc.work())
+        return sc.forces(m), None, 0.0
 
     def schur_update(self, step, r, solve, constant: bool, residual: float) -> np.ndarray:
         """The update with these rows alone, through S_t's own factors ``solve``
