@@ -11,7 +11,9 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from .bodies.base import BodyDefaults
 from .contact import ContactSet
+from .contact.base import PairDefaults
 from .errors import InputError, check_finite, check_positive, check_vector
 from .linalg import DENSE_LIMIT, LinearSolver, Pattern, factorize
 from .linalg.ladder import Ladder, iteration_solver, passing_matrix
@@ -59,7 +61,11 @@ class Model:
     """
 
     def __init__(self, bodies, contacts=(), gravity=None, joints=(), damping=(0.0, 0.0), loads=()):
-        self.bodies = _distinct_bodies(bodies)
+        self.bodies = _distinct_bodies(_listed("bodies", bodies, BodyDefaults, "a body"))
+        pair = "a pair made by Contact(body, partner)"
+        contacts = _listed("contacts", contacts, PairDefaults, pair)
+        joints = _listed("joints", joints, PairDefaults, "a joint (Pin, BallJoint, ...)")
+        loads = _listed("loads", loads, NodalLoad, "a NodalLoad")
         self.dim = dim = _common_dimension(self.bodies)
         self.gravity = _gravity(gravity, dim)
         self.continuum = any(b.continuum for b in self.bodies)
@@ -301,8 +307,26 @@ def _rotation_dofs(model):
     return np.concatenate(triples).astype(int), inertial
 
 
-def _distinct_bodies(bodies) -> list:
-    bodies = list(bodies)
+_ONE = (str, bytes, BodyDefaults, PairDefaults, NodalLoad)
+
+
+def _listed(name: str, values, kind: type, one: str) -> list:
+    """``values`` as a list whose every entry is a ``kind``; else one ``InputError`` naming
+    the argument and the entry: a lone body or pair where a list is due, an obstacle among
+    the contacts (a Plane is a partner of a pair, not a pair), a number among the loads."""
+    try:
+        items = None if isinstance(values, _ONE) else list(values)
+    except TypeError:
+        items = None
+    if items is None:
+        raise InputError(f"{name} must be a list, each entry {one}; got {type(values).__name__}")
+    for i, item in enumerate(items):
+        if not isinstance(item, kind):
+            raise InputError(f"{name}[{i}] must be {one}, got {type(item).__name__}")
+    return items
+
+
+def _distinct_bodies(bodies: list) -> list:
     if not bodies:
         raise InputError("bodies must contain at least one body")
     if len({id(b) for b in bodies}) < len(bodies):

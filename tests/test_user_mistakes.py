@@ -6,11 +6,13 @@ from conftest import ROOT
 
 from fecontact import (
     Beam2D,
+    Contact,
     InputError,
     IntegratorOptions,
     LinearElastic,
     Material,
     Model,
+    Plane,
     Probe,
     Section,
     Simulation,
@@ -126,6 +128,27 @@ def test_the_same_body_twice():
     b = beam()
     with pytest.raises(InputError, match="twice"):
         Model([b, b])
+
+
+def model_arguments():
+    b = beam().pin(0)
+    plane = Plane([0, -1], [0, 1])
+    return [
+        ({"bodies": b}, "bodies must be a list, each entry a body; got Beam2D"),
+        ({"bodies": [b, plane]}, r"bodies\[1\] must be a body, got Plane"),
+        ({"bodies": [b], "contacts": [plane]}, r"contacts\[0\] must be a pair made by Contact"),
+        ({"bodies": [b], "contacts": Contact(b, plane)}, "contacts must be a list"),
+        ({"bodies": [b], "joints": [b]}, r"joints\[0\] must be a joint .*, got Beam2D"),
+        ({"bodies": [b], "loads": [np.zeros(3)]}, r"loads\[0\] must be a NodalLoad"),
+        ({"bodies": 5}, "bodies must be a list, each entry a body; got int"),
+    ]
+
+
+@pytest.mark.parametrize("k", range(7))
+def test_model_arguments_of_the_wrong_kind_name_the_argument_and_entry(k):
+    keywords, words = model_arguments()[k]
+    with pytest.raises(InputError, match=words):
+        Model(**keywords)
 
 
 @pytest.mark.parametrize("name", ["t", "a,b", "total_energy", ""])
