@@ -4,7 +4,10 @@ A file's cells of the body's dimension make the mesh; its gmsh physical groups (
 cell data named by ``field_data``, as gmsh and meshio write them) and meshio cell sets become the
 mesh's named ``subdomains`` (groups of cells) and ``boundaries`` (groups of boundary facets), the
 scikit-fem names a :class:`~fecontact.bodies.Solid` then looks up: ``body.nodes_of("top")``,
-``body.fix("bottom")``, ``Contact(body, plane, nodes="top")``.
+``body.fix("bottom")``, ``Contact(body, plane, nodes="top")``. Groups of gmsh points (and,
+in 3D, of edges) name the nodes they hold: :func:`read_mesh_and_points` gives their
+coordinates, which :meth:`Solid.from_file <fecontact.bodies.Solid.from_file>` turns into the
+body's ``node_groups``.
 
 Coincident nodes that no cell joins are two surfaces, not one: the mesh checks refuse them, and
 :func:`merge_nodes` (or ``read_mesh(..., merge_nodes=True)``) merges them.
@@ -22,7 +25,7 @@ import skfem
 from ..errors import InputError, check_positive
 from .meshes import ELEMENTS, check_point, coincident_nodes
 
-__all__ = ["group_nodes", "merge_nodes", "read_mesh"]
+__all__ = ["group_nodes", "merge_nodes", "nodes_at", "read_mesh", "read_mesh_and_points"]
 
 _VOLUME = {names[k]: cell for cell, names in ELEMENTS.items() for k in (2, 3)}
 _DIM = {"tri": 2, "quad": 2, "tet": 3, "hex": 3}
@@ -45,6 +48,14 @@ def read_mesh(path, scale: float = 1.0, offset=None, merge_nodes: bool = False):
     ``merge_nodes`` merges coincident points (closer than 1e-8 of the diagonal of their bounding
     box) first: a mesh made of parts meshed apart, whose shared faces were not merged.
     """
+    return read_mesh_and_points(path, scale, offset, merge_nodes)[0]
+
+
+def read_mesh_and_points(path, scale: float = 1.0, offset=None, merge_nodes: bool = False):
+    """(mesh, points) of a mesh file: the mesh of :func:`read_mesh`, and the groups of gmsh
+    points (``vertex`` cells) and, in 3D, of edges (``line``, ``line3`` cells) as {name:
+    coordinates (m, d) in m, scaled and shifted as the mesh}: a pinned corner, a loaded edge,
+    which are neither facets nor cells of the body."""
     import meshio  # lazily: mesh I/O only when a file is read
 
     data = _read(Path(path))
@@ -55,10 +66,25 @@ def read_mesh(path, scale: float = 1.0, offset=None, merge_nodes: bool = False):
     _check_plane(points, _DIM[cell], Path(path).name)
     groups = _groups(data, blocks, cell)
     renumbered = meshio.Mesh(points, [(kind, index[conn]) for kind, conn in volume])
-    mesh = _from_meshio(renumbered, cell).scaled(check_positive("scale", scale))
+    scale = check_positive("scale", scale)
+    mesh = _from_meshio(renumbered, cell).scaled(scale)
+    shift = np.zeros(mesh.dim())
     if offset is not None:
-        mesh = mesh.translated(check_point("offset", offset, mesh.dim()))
-    return _named(mesh, groups, index, blocks, kind)
+        shift = check_point("offset", offset, mesh.dim())
+        mesh = mesh.translated(shift)
+    places = {
+        name: _places(name, members, blocks, index, points[:, : mesh.dim()]) * scale + shift
+        for name, members in groups["points"].items()
+    }  # scaled, then shifted, as scikit-fem does it to the mesh: the same coordinates
+    return _named(mesh, groups, index, blocks, kind), places
+
+
+def _places(name: str, members, blocks, index, points) -> np.ndarray:
+    """The coordinates, as read, of the points of a group of points or edges."""
+    ids = np.unique(np.concatenate([blocks[b][1][rows].ravel() for b, rows in members]))
+    if np.any(index[ids] < 0):
+        raise InputError(f"point group {name!r} has points that no cell of the body uses")
+    return points[index[ids]]
 
 
 def _volume_blocks(blocks, name: str):
@@ -107,20 +133,37 @@ def merge_nodes(mesh, tol: float | None = None):
     return type(mesh)(mesh.p[:, used], index[first[mesh.t]])
 
 
-def group_nodes(mesh, basis, name: str) -> np.ndarray:
-    """The nodes (dofs of the scalar ``basis``) of the group ``name`` of the mesh: those on its
-    facets for a boundary (``mesh.boundaries``), those of its cells for a subdomain
-    (``mesh.subdomains``)."""
+def group_nodes(mesh, basis, name: str, node_groups=None) -> np.ndarray:
+    """The nodes (dofs of the scalar ``basis``) of the group ``name``: those listed in
+    ``node_groups`` ({name: nodes}), else those on the mesh's facets for a boundary
+    (``mesh.boundaries``), those of its cells for a subdomain (``mesh.subdomains``)."""
+    node_groups = node_groups or {}
+    if name in node_groups:
+        return np.asarray(node_groups[name], dtype=int)
     boundaries, subdomains = mesh.boundaries or {}, mesh.subdomains or {}
     if name in boundaries:
         return np.unique(basis.get_dofs(boundaries[name]).all())
     if name in subdomains:
         return np.unique(basis.element_dofs[:, subdomains[name]])
-    names = sorted(boundaries) + sorted(subdomains)
+    names = sorted(boundaries) + sorted(subdomains) + sorted(node_groups)
     raise InputError(
         f"nodes: the mesh has no group named {name!r} (its groups: "
         f"{', '.join(map(repr, names)) or 'none'})"
     )
+
+
+def nodes_at(X: np.ndarray, places: np.ndarray, name: str) -> np.ndarray:
+    """The nodes, among those at ``X`` (n, d), at the coordinates ``places`` (m, d), sorted;
+    ``InputError`` naming the group ``name`` where no node is within 1e-9 of the bounding
+    box's diagonal (coordinates of the same file, scaled alike: equal to round-off)."""
+    from scipy.spatial import cKDTree
+
+    size = float(np.linalg.norm(np.ptp(X, axis=0)))
+    gap, nodes = cKDTree(X).query(places)
+    if np.any(gap > 1e-9 * size):
+        far = places[np.argmax(gap)]
+        raise InputError(f"group {name!r}: no node at ({', '.join(f'{c:g}' for c in far)})")
+    return np.unique(nodes)
 
 
 def _read(path: Path):
@@ -203,21 +246,29 @@ def _from_meshio(data, cell: str):
 
 
 def _groups(data, blocks, cell: str) -> dict[str, dict[str, list]]:
-    """Named groups of the file's cells: {"boundaries"|"subdomains": {name: [(block, rows)]}},
-    from gmsh physical tags (named by ``field_data``) and meshio cell sets."""
-    tagged = _physical_groups(data, len(blocks))
+    """Named groups of the file's cells: {"boundaries"|"subdomains"|"points": {name:
+    [(block, rows)]}}, from gmsh physical tags (named by ``field_data``) and meshio cell sets;
+    a group mixing these kinds (facets with cells) is left out."""
+    tagged = _tagged(data, len(blocks))
+    volume = {k for k, c in _VOLUME.items() if c == cell}
+    lines = ("line", "line3") if _DIM[cell] == 3 else ()
+    sorts = {"boundaries": set(_FACETS[cell]), "subdomains": volume, "points": {"vertex", *lines}}
+    groups = {key: {} for key in sorts}
+    for name, members in tagged.items():
+        kinds = {blocks[b][0] for b, rows in members if len(rows)}
+        key = next((key for key, allowed in sorts.items() if kinds and kinds <= allowed), None)
+        if key is not None:
+            groups[key][name] = members
+    return groups
+
+
+def _tagged(data, n_blocks: int) -> dict[str, list]:
+    """{name: [(block, rows)]} of the gmsh physical groups and the meshio cell sets."""
+    tagged = _physical_groups(data, n_blocks)
     for name, rows in (data.cell_sets or {}).items():
         if not name.startswith("gmsh:") and name not in tagged:
             tagged[name] = [(b, np.asarray(r, int)) for b, r in _present(rows)]
-    volume = {k for k, c in _VOLUME.items() if c == cell}
-    groups = {"boundaries": {}, "subdomains": {}}
-    for name, members in tagged.items():
-        kinds = {blocks[b][0] for b, rows in members if len(rows)}
-        if kinds and kinds <= set(_FACETS[cell]):
-            groups["boundaries"][name] = members
-        elif kinds and kinds <= volume:
-            groups["subdomains"][name] = members
-    return groups
+    return tagged
 
 
 def _present(rows):
