@@ -11,10 +11,10 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from .bodies.base import BodyDefaults
+from .bodies.base import BODY, BodyDefaults
 from .contact import ContactSet
 from .contact.base import PairDefaults
-from .errors import InputError, check_finite, check_positive, check_vector
+from .errors import InputError, check_finite, check_kind, check_positive, check_vector
 from .linalg import DENSE_LIMIT, LinearSolver, Pattern, factorize
 from .linalg.ladder import Ladder, iteration_solver, passing_matrix
 
@@ -61,7 +61,7 @@ class Model:
     """
 
     def __init__(self, bodies, contacts=(), gravity=None, joints=(), damping=(0.0, 0.0), loads=()):
-        self.bodies = _distinct_bodies(_listed("bodies", bodies, BodyDefaults, "a body"))
+        self.bodies = _distinct_bodies(_listed("bodies", bodies, BodyDefaults, BODY))
         pair = "a pair made by Contact(body, partner)"
         contacts = _listed("contacts", contacts, PairDefaults, pair)
         joints = _listed("joints", joints, PairDefaults, "a joint (Pin, BallJoint, ...)")
@@ -321,8 +321,7 @@ def _listed(name: str, values, kind: type, one: str) -> list:
     if items is None:
         raise InputError(f"{name} must be a list, each entry {one}; got {type(values).__name__}")
     for i, item in enumerate(items):
-        if not isinstance(item, kind):
-            raise InputError(f"{name}[{i}] must be {one}, got {type(item).__name__}")
+        check_kind(f"{name}[{i}]", item, kind, one)
     return items
 
 

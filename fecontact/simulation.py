@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from .bodies.beam3d import Beam3D
-from .errors import InputError, SolverError, check_positive
+from .errors import InputError, SolverError, check_kind, check_positive
 from .io.output import FRICTION_COLUMNS, LEDGER_COLUMNS, OBSTACLE_COLUMNS, STANDARD_COLUMNS
 from .io.progress import RunProgress
 from .io.run_folder import (
@@ -31,6 +31,7 @@ from .io.run_folder import (
 from .io.run_frames import RunFrames
 from .io.run_lock import hold_folder
 from .io.termination import Terminated, terminate_as_interrupt
+from .model import Model
 from .probes import Probe, node_probe
 from .recorder import Recorder, halving_warnings
 from .threads import blas_threads
@@ -72,6 +73,8 @@ class Simulation:
     origin: dict = field(default_factory=dict)
 
     def __post_init__(self):
+        check_kind("model", self.model, Model, "a Model(bodies, contacts, ...)")
+        check_kind("options", self.options, IntegratorOptions, "an IntegratorOptions(...)")
         self.dt = check_positive("dt", self.dt)
         self.t_end = check_positive("t_end", self.t_end)
         self.output_interval = check_positive("output_interval", self.output_interval)

@@ -5,13 +5,18 @@ import pytest
 from conftest import ROOT
 
 from fecontact import (
+    Ball,
     Beam2D,
+    Beam3D,
     Contact,
+    ConvexMesh,
+    Disk,
     InputError,
     IntegratorOptions,
     LinearElastic,
     Material,
     Model,
+    Pin,
     Plane,
     Probe,
     Section,
@@ -134,13 +139,13 @@ def model_arguments():
     b = beam().pin(0)
     plane = Plane([0, -1], [0, 1])
     return [
-        ({"bodies": b}, "bodies must be a list, each entry a body; got Beam2D"),
-        ({"bodies": [b, plane]}, r"bodies\[1\] must be a body, got Plane"),
+        ({"bodies": b}, "bodies must be a list, each entry a body .*; got Beam2D"),
+        ({"bodies": [b, plane]}, r"bodies\[1\] must be a body .*, got Plane"),
         ({"bodies": [b], "contacts": [plane]}, r"contacts\[0\] must be a pair made by Contact"),
         ({"bodies": [b], "contacts": Contact(b, plane)}, "contacts must be a list"),
         ({"bodies": [b], "joints": [b]}, r"joints\[0\] must be a joint .*, got Beam2D"),
         ({"bodies": [b], "loads": [np.zeros(3)]}, r"loads\[0\] must be a NodalLoad"),
-        ({"bodies": 5}, "bodies must be a list, each entry a body; got int"),
+        ({"bodies": 5}, "bodies must be a list, each entry a body .*; got int"),
     ]
 
 
@@ -149,6 +154,32 @@ def test_model_arguments_of_the_wrong_kind_name_the_argument_and_entry(k):
     keywords, words = model_arguments()[k]
     with pytest.raises(InputError, match=words):
         Model(**keywords)
+
+
+def arguments_of_the_wrong_kind():
+    solid = LinearElastic(E=1e6, nu=0.3, rho=1e3)
+    model = Model([beam().pin(0)])
+    steel, tube = Material(E=2e11, rho=7800.0), Section.circle(0.01)
+    options = {"rho_inf": 0.5}
+    return [
+        (lambda: Beam2D.straight([0, 0], [1, 0], 2, solid, tube), "material must be a beam Mat"),
+        (lambda: Beam3D.straight([0, 0, 0], [1, 0, 0], 2, steel, 1.0), "section must be a Sec"),
+        (lambda: Beam2D.straight(5.0, [1, 0], 2, steel, tube), "start must have 2 components"),
+        (lambda: Contact(0.5, Plane([0, 0], [0, 1])), "body must be a body .*, got float"),
+        (lambda: Pin(None, [0, 0]), "body must be a body .*, got NoneType"),
+        (lambda: Simulation(beam(), dt=1e-3, t_end=0.01), "model must be a Model"),
+        (lambda: Simulation(model, 1e-3, 0.01, options=options), "options must be an Integ"),
+        (lambda: Ball(0.1, n_rim=float("nan")), r"n_rim must be an integer in \[8, "),
+        (lambda: Disk(0.1, n_outline="48"), r"n_outline must be an integer in \[8, "),
+        (lambda: ConvexMesh("x"), "points must be real numbers"),
+    ]  # fmt: skip
+
+
+@pytest.mark.parametrize("k", range(10))
+def test_arguments_of_the_wrong_kind_are_named_with_what_they_take(k):
+    make, words = arguments_of_the_wrong_kind()[k]
+    with pytest.raises(InputError, match=words):
+        make()
 
 
 @pytest.mark.parametrize("name", ["t", "a,b", "total_energy", ""])
