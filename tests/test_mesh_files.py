@@ -246,3 +246,20 @@ def test_a_p2_edge_group_holds_its_middle_nodes_and_a_2d_point_group_its_node(tm
     mesh.write(tmp_path / "square.msh", file_format="gmsh22")
     body = Solid.from_file(tmp_path / "square.msh", MAT)
     assert body.nodes_of("tip").tolist() == [8] and body.X[8].tolist() == [1.0, 1.0]
+
+
+@pytest.mark.parametrize("kind", ["wedge", "quad8"])
+def test_cells_a_solid_cannot_take_are_refused_not_dropped(tmp_path, kind):
+    """Prisms under tetrahedra (a gmsh boundary layer), serendipity quad8 beside triangles:
+    left out, the body had a hole (the tetrahedron alone, 1/6 of the volume, was the body)."""
+    if kind == "wedge":
+        points = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [0, 1, 1.0]])
+        cells = [("tetra", np.array([[0, 1, 2, 3]])), ("wedge", np.array([[0, 1, 2, 3, 4, 5]]))]
+    else:
+        x = [0, 1, 1, 0, 2, 2, 1.5, 2, 1.5, 1]
+        points = np.column_stack([x, [0, 0, 1, 1, 0, 1, 0, 0.5, 1, 0.5], np.zeros(10)])
+        quad8 = np.array([[1, 4, 5, 2, 6, 7, 8, 9]])
+        cells = [("triangle", np.array([[0, 1, 2], [0, 2, 3]])), ("quad8", quad8)]
+    meshio.write(tmp_path / "mixed.msh", meshio.Mesh(points, cells), file_format="gmsh22")
+    with pytest.raises(InputError, match=f"mixed.msh has {kind} cells, which a Solid does not"):
+        Solid.from_file(tmp_path / "mixed.msh", MAT)

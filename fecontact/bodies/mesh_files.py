@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import re
 from pathlib import Path
 
 import numpy as np
@@ -29,6 +30,9 @@ __all__ = ["group_nodes", "merge_nodes", "nodes_at", "read_mesh", "read_mesh_and
 
 _VOLUME = {names[k]: cell for cell, names in ELEMENTS.items() for k in (2, 3)}
 _DIM = {"tri": 2, "quad": 2, "tet": 3, "hex": 3}
+# the dimension of meshio's cell kinds, by the name before the node count ("wedge15": wedge)
+_KIND_DIM = {"vertex": 0, "line": 1, "triangle": 2, "quad": 2, "polygon": 2}
+_KIND_DIM |= {k: 3 for k in ("tetra", "hexahedron", "wedge", "pyramid", "polyhedron")}
 # the facet cells meshio names for each kind of cell: boundary groups are made of these
 _FACETS = {
     "tri": ("line", "line3"),
@@ -89,6 +93,7 @@ def _places(name: str, members, blocks, index, points) -> np.ndarray:
 
 def _volume_blocks(blocks, name: str):
     """The kind of the body's cells (the highest dimension found) and the blocks of them."""
+    _check_cell_kinds(blocks, name)
     volume = [(kind, conn) for kind, conn in blocks if kind in _VOLUME]
     if not volume:
         raise InputError(
@@ -100,6 +105,21 @@ def _volume_blocks(blocks, name: str):
     if mixed:
         raise InputError(f"{name} mixes {kind} cells with {', '.join(sorted(mixed))}")
     return kind, [(k, conn) for k, conn in volume if k == kind]
+
+
+def _check_cell_kinds(blocks, name: str) -> None:
+    """``InputError`` for cells of a kind a Solid cannot take (prisms, pyramids, serendipity
+    quad8 and hexahedron20, cubic cells, polygons) of the body's dimension or above: left out,
+    they would leave holes in the body (boundary-layer prisms under tetrahedra, say)."""
+    dims = {kind: _KIND_DIM.get(re.match(r"[a-z]*", kind).group(), 0) for kind, _ in blocks}
+    top = max((dims[kind] for kind, _ in blocks if kind in _VOLUME), default=2)
+    other = sorted({kind for kind, _ in blocks if dims[kind] >= top and kind not in _VOLUME})
+    if other:
+        raise InputError(
+            f"{name} has {', '.join(other)} cells, which a Solid does not take (it takes "
+            f"{', '.join(_VOLUME)}): mesh with those alone (in gmsh, no prisms or pyramids, "
+            "Mesh.SecondOrderIncomplete = 0)"
+        )
 
 
 def _check_plane(points: np.ndarray, dim: int, name: str) -> None:
