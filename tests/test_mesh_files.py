@@ -263,3 +263,21 @@ def test_cells_a_solid_cannot_take_are_refused_not_dropped(tmp_path, kind):
     meshio.write(tmp_path / "mixed.msh", meshio.Mesh(points, cells), file_format="gmsh22")
     with pytest.raises(InputError, match=f"mixed.msh has {kind} cells, which a Solid does not"):
         Solid.from_file(tmp_path / "mixed.msh", MAT)
+
+
+@pytest.mark.parametrize("faces", [(0.0,), (0.0, 1.0)])
+def test_a_3d_mesh_saved_without_its_volume_is_not_read_as_2d(tmp_path, faces):
+    """gmsh saves only the elements of physical groups: a cube whose groups are its bottom
+    (and top) faces gives triangles alone, and the bottom alone would read as a 2D square."""
+    m = skfem.MeshTet.init_tensor(*[np.linspace(0, 1, 3)] * 3)
+    triangles = np.vstack([sides(m, 2, z) for z in faces])
+    tags = [np.ones(len(triangles), int)]
+    data = meshio.Mesh(
+        m.p.T,
+        [("triangle", triangles)],
+        cell_data={"gmsh:physical": tags, "gmsh:geometrical": tags},
+        field_data={"faces": np.array([1, 2])},
+    )
+    data.write(tmp_path / "cube.msh", file_format="gmsh22")
+    with pytest.raises(InputError, match=r"cube.msh: .* 3D mesh saved without its volume"):
+        Solid.from_file(tmp_path / "cube.msh", MAT)

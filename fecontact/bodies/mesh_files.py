@@ -67,7 +67,7 @@ def read_mesh_and_points(path, scale: float = 1.0, offset=None, merge_nodes: boo
     kind, volume = _volume_blocks(blocks, Path(path).name)
     cell = _VOLUME[kind]
     points, index = _used_points(data.points, volume, merge_nodes)
-    _check_plane(points, _DIM[cell], Path(path).name)
+    _check_plane(points, _DIM[cell], Path(path).name, data.points)
     groups = _groups(data, blocks, cell)
     renumbered = meshio.Mesh(points, [(kind, index[conn]) for kind, conn in volume])
     scale = check_positive("scale", scale)
@@ -122,10 +122,19 @@ def _check_cell_kinds(blocks, name: str) -> None:
         )
 
 
-def _check_plane(points: np.ndarray, dim: int, name: str) -> None:
+# gmsh writes only the elements of physical groups (unless Mesh.SaveAll = 1): a 3D model whose
+# groups are surfaces alone gives a file of triangles, which would read as a 2D body
+_NO_VOLUME = (
+    "a 3D mesh saved without its volume? (gmsh saves only the elements of physical groups: "
+    "add one of the volume, or set Mesh.SaveAll = 1)"
+)
+
+
+def _check_plane(points: np.ndarray, dim: int, name: str, every: np.ndarray) -> None:
     """``InputError`` for a 2D mesh (triangles, quadrilaterals) whose points do not share one
     z, to 1e-8 of their bounding box's diagonal: the body is planar, in x and y, and its z
-    would be dropped (a surface in space flattened, a mesh drawn in the xz plane collapsed)."""
+    would be dropped (a surface in space flattened, a mesh drawn in the xz plane collapsed);
+    or whose file holds points, unused, off that plane (``every``: all the file's points)."""
     if dim != 2 or points.shape[1] < 3:
         return
     z = points[:, 2]
@@ -133,8 +142,14 @@ def _check_plane(points: np.ndarray, dim: int, name: str) -> None:
     if np.ptp(z) > 1e-8 * size:
         raise InputError(
             f"{name}: a 2D mesh (triangles, quadrilaterals) lies in the xy plane, but its "
-            f"points' z spans [{z.min():g}, {z.max():g}] m: a surface in space, or a mesh "
-            "drawn in another plane (draw it in x and y)"
+            f"points' z spans [{z.min():g}, {z.max():g}] m: a surface in space, a mesh "
+            f"drawn in another plane (draw it in x and y), or {_NO_VOLUME}"
+        )
+    off = np.abs(np.asarray(every, dtype=float)[:, 2] - z[0])
+    if off.max() > 1e-8 * size:
+        raise InputError(
+            f"{name}: its cells are triangles or quadrilaterals in the plane z = {z[0]:g} m, "
+            f"but other points of the file lie {off.max():g} m from it: {_NO_VOLUME}"
         )
 
 
