@@ -42,8 +42,14 @@ class NodalLoad:
 
     def __call__(self, t: float) -> np.ndarray:
         f = np.zeros(self.n)
-        f[self.dofs] = self.value(t) if callable(self.value) else self.value
+        f[self.dofs] = self._at(t) if callable(self.value) else self.value
         return f
+
+    def _at(self, t: float) -> np.ndarray:
+        """The function's value at t, checked: a NaN or a wrong size would surface as a
+        diverged step (an element said to invert) or a numpy broadcast error."""
+        name = f"the load on node {self.node} at t = {t:g} s"
+        return check_vector(name, self.value(t), self.body.dofs_per_node)
 
 
 class Model:

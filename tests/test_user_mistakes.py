@@ -16,6 +16,7 @@ from fecontact import (
     LinearElastic,
     Material,
     Model,
+    NodalLoad,
     Pin,
     Plane,
     Probe,
@@ -178,6 +179,36 @@ def arguments_of_the_wrong_kind():
 @pytest.mark.parametrize("k", range(10))
 def test_arguments_of_the_wrong_kind_are_named_with_what_they_take(k):
     make, words = arguments_of_the_wrong_kind()[k]
+    with pytest.raises(InputError, match=words):
+        make()
+
+
+def run_mistakes(tmp_path):
+    def loaded(value):
+        b = beam().pin(0)
+        return Simulation(Model([b], loads=[NodalLoad(b, 2, value)]), dt=1e-3, t_end=0.003)
+
+    def probed(fn):
+        return Simulation(Model([beam().pin(0)]), 1e-3, 0.003, probes={"p": Probe(fn, "m")})
+
+    sim, out = loaded(lambda t: [0.0, -1.0, 0.0]), tmp_path / "out"
+    return [
+        (lambda: run(loaded(lambda t: [np.nan * t, 0.0, 0.0]), out), "load on node 2 at t = 0 s"),
+        (lambda: run(loaded(lambda t: [1.0, 0.0]), out), "load on node 2 .* 3 components"),
+        (lambda: run(probed(lambda m, st: "abc"), out), "probe 'p' must return a number"),
+        (lambda: run(probed(lambda m, st: [1.0, 2.0]), out), "probe 'p' must return a number"),
+        (lambda: Probe(3.0, "m"), "fn must be a function"),
+        (lambda: Simulation(sim.model, 1e-3, 0.01, probes={"p": 3.0}), r"probes\['p'\] must be"),
+        (lambda: run(sim, None), "out_dir must be a folder path, got NoneType"),
+        (lambda: run(sim, out, progress="no"), "progress must be True or False, got str"),
+        (lambda: run(sim, out, checkpoint_every=-1), "checkpoint_every must be an integer in"),
+    ]
+
+
+@pytest.mark.parametrize("k", range(9))
+def test_loads_probes_and_run_arguments_of_the_wrong_kind_are_named(tmp_path, k):
+    # a NaN load diverged as "an element inverts", a string probe failed in the csv writer
+    make, words = run_mistakes(tmp_path)[k]
     with pytest.raises(InputError, match=words):
         make()
 
