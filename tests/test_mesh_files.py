@@ -281,3 +281,14 @@ def test_a_3d_mesh_saved_without_its_volume_is_not_read_as_2d(tmp_path, faces):
     data.write(tmp_path / "cube.msh", file_format="gmsh22")
     with pytest.raises(InputError, match=r"cube.msh: .* 3D mesh saved without its volume"):
         Solid.from_file(tmp_path / "cube.msh", MAT)
+
+
+def test_an_abaqus_node_set_names_its_nodes(tmp_path):
+    """meshio's point sets (Abaqus *NSET) are groups of nodes as gmsh points are."""
+    m = skfem.MeshTet.init_tensor(*[np.linspace(0, 1, 3)] * 3)
+    base = np.flatnonzero(m.p[2] < 1e-9)
+    sets = {"BASE": base, "TIP": np.array([26])}
+    meshio.write(tmp_path / "cube.inp", meshio.Mesh(m.p.T, [("tetra", m.t.T)], point_sets=sets))
+    body = Solid.from_file(tmp_path / "cube.inp", MAT)
+    np.testing.assert_array_equal(body.nodes_of("BASE"), body.nodes_where(lambda x: x[2] < 1e-9))
+    assert body.X[body.nodes_of("TIP")].tolist() == [[1.0, 1.0, 1.0]]

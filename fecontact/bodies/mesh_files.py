@@ -57,9 +57,9 @@ def read_mesh(path, scale: float = 1.0, offset=None, merge_nodes: bool = False):
 
 def read_mesh_and_points(path, scale: float = 1.0, offset=None, merge_nodes: bool = False):
     """(mesh, points) of a mesh file: the mesh of :func:`read_mesh`, and the groups of gmsh
-    points (``vertex`` cells) and, in 3D, of edges (``line``, ``line3`` cells) as {name:
-    coordinates (m, d) in m, scaled and shifted as the mesh}: a pinned corner, a loaded edge,
-    which are neither facets nor cells of the body."""
+    points (``vertex`` cells), in 3D of edges (``line``, ``line3`` cells), and meshio's point
+    sets (an Abaqus NSET) as {name: coordinates (m, d) in m, scaled and shifted as the mesh}:
+    a pinned corner, a loaded edge, which are neither facets nor cells of the body."""
     import meshio  # lazily: mesh I/O only when a file is read
 
     data = _read(Path(path))
@@ -77,15 +77,31 @@ def read_mesh_and_points(path, scale: float = 1.0, offset=None, merge_nodes: boo
         shift = check_point("offset", offset, mesh.dim())
         mesh = mesh.translated(shift)
     places = {
-        name: _places(name, members, blocks, index, points[:, : mesh.dim()]) * scale + shift
-        for name, members in groups["points"].items()
+        name: _places(name, ids, index, points[:, : mesh.dim()]) * scale + shift
+        for name, ids in _point_ids(data, groups, blocks).items()
     }  # scaled, then shifted, as scikit-fem does it to the mesh: the same coordinates
     return _named(mesh, groups, index, blocks, kind), places
 
 
-def _places(name: str, members, blocks, index, points) -> np.ndarray:
-    """The coordinates, as read, of the points of a group of points or edges."""
-    ids = np.unique(np.concatenate([blocks[b][1][rows].ravel() for b, rows in members]))
+def _point_ids(data, groups, blocks) -> dict[str, np.ndarray]:
+    """{name: the file's point indices} of the groups of points and edges, and of the point
+    sets whose names no other group takes."""
+    ids = {
+        name: np.concatenate([blocks[b][1][rows].ravel() for b, rows in members])
+        for name, members in groups["points"].items()
+    }
+    taken = set(ids) | set(groups["boundaries"]) | set(groups["subdomains"])
+    for name, rows in (data.point_sets or {}).items():
+        if not name.startswith("gmsh:") and name not in taken:
+            ids[name] = np.asarray(rows, dtype=int).ravel()
+    return ids
+
+
+def _places(name: str, ids, index, points) -> np.ndarray:
+    """The coordinates, as read, of the file's points ``ids`` of a group."""
+    ids = np.unique(ids)
+    if ids.size and (ids.min() < 0 or ids.max() >= len(index)):
+        raise InputError(f"point group {name!r} refers to points the file does not have")
     if np.any(index[ids] < 0):
         raise InputError(f"point group {name!r} has points that no cell of the body uses")
     return points[index[ids]]
