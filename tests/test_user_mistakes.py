@@ -8,6 +8,7 @@ from fecontact import (
     Ball,
     Beam2D,
     Beam3D,
+    Circle,
     Contact,
     ConvexMesh,
     Disk,
@@ -173,10 +174,12 @@ def arguments_of_the_wrong_kind():
         (lambda: Ball(0.1, n_rim=float("nan")), r"n_rim must be an integer in \[8, "),
         (lambda: Disk(0.1, n_outline="48"), r"n_outline must be an integer in \[8, "),
         (lambda: ConvexMesh("x"), "points must be real numbers"),
+        (lambda: Circle([0, 0], 1.0, inside="no"), "inside must be True or False, got str"),
+        (lambda: Plane([0, 0], [0, 1], velocity=lambda t: [0, 1]), "give motion"),
     ]  # fmt: skip
 
 
-@pytest.mark.parametrize("k", range(10))
+@pytest.mark.parametrize("k", range(12))
 def test_arguments_of_the_wrong_kind_are_named_with_what_they_take(k):
     make, words = arguments_of_the_wrong_kind()[k]
     with pytest.raises(InputError, match=words):
