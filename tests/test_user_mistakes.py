@@ -176,10 +176,12 @@ def arguments_of_the_wrong_kind():
         (lambda: ConvexMesh("x"), "points must be real numbers"),
         (lambda: Circle([0, 0], 1.0, inside="no"), "inside must be True or False, got str"),
         (lambda: Plane([0, 0], [0, 1], velocity=lambda t: [0, 1]), "give motion"),
+        (lambda: Solid("block.msh", solid), "got str; read a mesh file with Solid.from_file"),
+        (lambda: Solid.rectangle([0, 0], [1, 1], 1, steel), "material must be a solid's mat"),
     ]  # fmt: skip
 
 
-@pytest.mark.parametrize("k", range(12))
+@pytest.mark.parametrize("k", range(14))
 def test_arguments_of_the_wrong_kind_are_named_with_what_they_take(k):
     make, words = arguments_of_the_wrong_kind()[k]
     with pytest.raises(InputError, match=words):

@@ -38,7 +38,7 @@ import scipy.sparse as sp
 from skfem.helpers import det
 from skfem.models.poisson import mass as _mass_form
 
-from ..errors import InputError, check_finite, check_positive
+from ..errors import InputError, check_finite, check_kind, check_positive
 from .elasticity import (
     Quadrature,
     deformation,
@@ -89,8 +89,8 @@ class Solid(SolidOutput, NodalTranslations):
 
     def __init__(self, mesh, material, element: str = "P1", plane: str = "strain", thickness=1.0):
         cell = cell_kind(mesh)
-        if not isinstance(material, SolidMaterial):
-            raise InputError(f"material must be a fecontact material, got {material!r}")
+        what = "a solid's material (LinearElastic, StVenantKirchhoff, NeoHookean)"
+        check_kind("material", material, SolidMaterial, what)
         if not isinstance(element, str) or element not in ("P1", "P2"):
             raise InputError(f"element must be 'P1' or 'P2', got {element!r}")
         if element == "P1" and mesh.doflocs.shape[1] != mesh.nvertices:
