@@ -292,3 +292,20 @@ def test_an_abaqus_node_set_names_its_nodes(tmp_path):
     body = Solid.from_file(tmp_path / "cube.inp", MAT)
     np.testing.assert_array_equal(body.nodes_of("BASE"), body.nodes_where(lambda x: x[2] < 1e-9))
     assert body.X[body.nodes_of("TIP")].tolist() == [[1.0, 1.0, 1.0]]
+
+
+def test_physical_tags_are_numbered_per_dimension_as_gmsh_numbers_them(tmp_path):
+    """``Physical Line(1) = ...; Physical Surface(1) = ...;`` in a .geo file: two groups of
+    tag 1, told apart by their dimension (one name took both, mixed, and both were lost)."""
+    m = skfem.MeshTri.init_tensor(np.linspace(0, 0.2, 5), np.linspace(0.0, 0.1, 3))
+    bottom = sides(m, 1, 0.0)
+    lines = ["$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$PhysicalNames", "2"]
+    lines += ['1 1 "bottom"', '2 1 "block"', "$EndPhysicalNames", "$Nodes", str(m.p.shape[1])]
+    lines += [f"{i + 1} {x:.17g} {y:.17g} 0" for i, (x, y) in enumerate(m.p.T)]
+    lines += ["$EndNodes", "$Elements", str(len(bottom) + m.t.shape[1])]
+    cells = [(1, c) for c in bottom] + [(2, c) for c in m.t.T]  # gmsh types: line, triangle
+    lines += [f"{k + 1} {t} 2 1 1 {' '.join(map(str, c + 1))}" for k, (t, c) in enumerate(cells)]
+    (tmp_path / "plate.msh").write_text("\n".join([*lines, "$EndElements", ""]))
+    body = Solid.from_file(tmp_path / "plate.msh", MAT)
+    assert list(body.mesh.boundaries) == ["bottom"] and list(body.mesh.subdomains) == ["block"]
+    np.testing.assert_array_equal(body.nodes_of("bottom"), body.nodes_where(lambda x: x[1] < 1e-9))

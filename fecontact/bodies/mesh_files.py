@@ -300,7 +300,7 @@ def _groups(data, blocks, cell: str) -> dict[str, dict[str, list]]:
     """Named groups of the file's cells: {"boundaries"|"subdomains"|"points": {name:
     [(block, rows)]}}, from gmsh physical tags (named by ``field_data``) and meshio cell sets;
     a group mixing these kinds (facets with cells) is left out."""
-    tagged = _tagged(data, len(blocks))
+    tagged = _tagged(data, [kind for kind, _ in blocks])
     volume = {k for k, c in _VOLUME.items() if c == cell}
     lines = ("line", "line3") if _DIM[cell] == 3 else ()
     sorts = {"boundaries": set(_FACETS[cell]), "subdomains": volume, "points": {"vertex", *lines}}
@@ -313,9 +313,9 @@ def _groups(data, blocks, cell: str) -> dict[str, dict[str, list]]:
     return groups
 
 
-def _tagged(data, n_blocks: int) -> dict[str, list]:
+def _tagged(data, kinds: list[str]) -> dict[str, list]:
     """{name: [(block, rows)]} of the gmsh physical groups and the meshio cell sets."""
-    tagged = _physical_groups(data, n_blocks)
+    tagged = _physical_groups(data, kinds)
     for name, rows in (data.cell_sets or {}).items():
         if not name.startswith("gmsh:") and name not in tagged:
             tagged[name] = [(b, np.asarray(r, int)) for b, r in _present(rows)]
@@ -326,15 +326,28 @@ def _present(rows):
     return [(b, r) for b, r in enumerate(rows) if r is not None]
 
 
-def _physical_groups(data, n_blocks: int) -> dict[str, list]:
-    """{name: [(block, rows)]} of the gmsh physical tags (unnamed: "physical<tag>")."""
-    names = {int(v[0]): k for k, v in (data.field_data or {}).items() if len(v) >= 1}
+def _physical_groups(data, kinds: list[str]) -> dict[str, list]:
+    """{name: [(block, rows)]} of the gmsh physical tags (unnamed: "physical<tag>") of the
+    blocks of cells of ``kinds``. A tag is a name in its dimension only: gmsh numbers each
+    dimension's groups apart (``Physical Line(1)`` and ``Physical Surface(1)``), and meshio's
+    ``field_data`` gives each name its (tag, dimension)."""
+    named = [(int(v[0]), int(v[1]) if len(v) > 1 else -1, k) for k, v in _fields(data)]
+    by_tag = {tag: name for tag, _, name in named}  # a name without its dimension
+    names = {(tag, dim): name for tag, dim, name in named}
     tagged: dict[str, list] = {}
-    for b, tags in enumerate(data.cell_data.get("gmsh:physical", [None] * n_blocks)):
+    blocks = data.cell_data.get("gmsh:physical", [None] * len(kinds))
+    for b, (kind, tags) in enumerate(zip(kinds, blocks, strict=True)):
+        dim = _KIND_DIM.get(re.match(r"[a-z]*", kind).group(), -1)
         for tag in np.unique(tags) if tags is not None else ():
-            name = names.get(int(tag), f"physical{int(tag)}")
+            tag = int(tag)
+            name = names.get((tag, dim), by_tag.get(tag, f"physical{tag}"))
             tagged.setdefault(name, []).append((b, np.flatnonzero(tags == tag)))
     return tagged
+
+
+def _fields(data) -> list:
+    """meshio's ``field_data`` items that are gmsh's named groups: [tag, dimension]."""
+    return [(k, v) for k, v in (data.field_data or {}).items() if np.size(v) >= 1]
 
 
 def _named(mesh, groups, index, blocks, volume_kind: str):
