@@ -327,22 +327,36 @@ def _present(rows):
 
 
 def _physical_groups(data, kinds: list[str]) -> dict[str, list]:
-    """{name: [(block, rows)]} of the gmsh physical tags (unnamed: "physical<tag>") of the
-    blocks of cells of ``kinds``. A tag is a name in its dimension only: gmsh numbers each
-    dimension's groups apart (``Physical Line(1)`` and ``Physical Surface(1)``), and meshio's
-    ``field_data`` gives each name its (tag, dimension)."""
+    """{name: [(block, rows)]} of the gmsh physical tags of the blocks of cells of ``kinds``.
+    A tag is a name in its dimension only: gmsh numbers each dimension's groups apart
+    (``Physical Line(1)`` and ``Physical Surface(1)``), and meshio's ``field_data`` gives
+    each name its (tag, dimension). Unnamed: "physical<tag>", or "physical<tag>_<dim>d"
+    where two dimensions use the tag."""
     named = [(int(v[0]), int(v[1]) if len(v) > 1 else -1, k) for k, v in _fields(data)]
-    by_tag = {tag: name for tag, _, name in named}  # a name without its dimension
+    by_tag = {tag: name for tag, dim, name in named if dim < 0}  # given without a dimension
     names = {(tag, dim): name for tag, dim, name in named}
-    tagged: dict[str, list] = {}
     blocks = data.cell_data.get("gmsh:physical", [None] * len(kinds))
-    for b, (kind, tags) in enumerate(zip(kinds, blocks, strict=True)):
-        dim = _KIND_DIM.get(re.match(r"[a-z]*", kind).group(), -1)
-        for tag in np.unique(tags) if tags is not None else ():
-            tag = int(tag)
-            name = names.get((tag, dim), by_tag.get(tag, f"physical{tag}"))
+    dims = [_KIND_DIM.get(re.match(r"[a-z]*", kind).group(), -1) for kind in kinds]
+    shared = _shared_tags(dims, blocks)
+    tagged: dict[str, list] = {}
+    for b, (dim, tags) in enumerate(zip(dims, blocks, strict=True)):
+        for tag in _tags(tags):
+            unnamed = f"physical{tag}_{dim}d" if tag in shared else f"physical{tag}"
+            name = names.get((tag, dim), by_tag.get(tag, unnamed))
             tagged.setdefault(name, []).append((b, np.flatnonzero(tags == tag)))
     return tagged
+
+
+def _shared_tags(dims: list[int], blocks) -> set[int]:
+    """The physical tags that cells of more than one dimension carry."""
+    used = {(t, d) for d, tags in zip(dims, blocks, strict=True) for t in _tags(tags)}
+    tags = [t for t, _ in used]
+    return {t for t in tags if tags.count(t) > 1}
+
+
+def _tags(tags) -> list[int]:
+    """The distinct physical tags of a block (none when it has no tags)."""
+    return [] if tags is None else [int(t) for t in np.unique(tags)]
 
 
 def _fields(data) -> list:
