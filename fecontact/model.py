@@ -180,10 +180,20 @@ class Model:
         self.solver = solver
 
     def offset_of(self, body) -> int:
+        """The first global dof of ``body``; ``InputError`` if it is not among the bodies
+        (a contact, load, joint, probe or initial velocity of a body left out of the list)."""
         for b, o in zip(self.bodies, self.offsets, strict=False):
             if b is body:
                 return int(o)
-        raise InputError("a contact refers to a body that is not in the model")
+        raise InputError(
+            f"a {type(body).__name__} that is not among the model's bodies: list it in "
+            "Model([...], ...)"
+        )
+
+    def slice_of(self, body) -> slice:
+        """The global dofs of ``body`` (checked as in :meth:`offset_of`)."""
+        o = self.offset_of(body)
+        return slice(o, o + body.ndof)
 
     def body_slice(self, i: int) -> slice:
         return slice(int(self.offsets[i]), int(self.offsets[i + 1]))
@@ -205,7 +215,7 @@ class Model:
         initial velocity, say) and zero elsewhere."""
         x = np.zeros(self.n)
         o = self.offset_of(body)
-        x[o : o + body.ndof] = body.translation_field(check_finite("vector", vector))
+        x[o : o + body.ndof] = body.translation_field(check_vector("vector", vector, self.dim))
         return x
 
     def internal(self, q: np.ndarray, tangent: bool = True):

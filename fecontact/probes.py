@@ -63,7 +63,7 @@ def node_probe(model, body, node: int, quantity: str) -> Probe:
         raise InputError(f"quantity 'rotation': a {kind} node has none; use x, y, ux, uy, vx, vy")
     unit, text, get = _NODE_QUANTITIES[quantity]
     i = body.node_index(node)
-    s = model.body_slice(model.bodies.index(body))
+    s = model.slice_of(body)
     read = _dof_reader(body, s.start, i, quantity) if body.linear_kinematics else None
     return Probe(read or _array_reader(body, s, i, get), unit, f"{text} of node {i}")
 

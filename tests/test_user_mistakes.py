@@ -188,6 +188,20 @@ def test_arguments_of_the_wrong_kind_are_named_with_what_they_take(k):
         make()
 
 
+def test_a_body_left_out_of_the_model_is_named_whatever_refers_to_it():
+    b, other = beam().pin(0), beam()
+    model = Model([b])
+    for refer in (
+        lambda: node_probe(model, other, 0, "x"),  # a ValueError of list.index
+        lambda: model.translation(other, [0.0, 1.0]),  # said "a contact refers to ..."
+        lambda: Model([b], loads=[NodalLoad(other, 0, [0.0, 1.0, 0.0])]),
+    ):
+        with pytest.raises(InputError, match="a Beam2D that is not among the model's bodies"):
+            refer()
+    with pytest.raises(InputError, match=r"^vector must have 2 components, got 3$"):
+        model.translation(b, [0.0, 0.0, 1.0])
+
+
 def run_mistakes(tmp_path):
     def loaded(value):
         b = beam().pin(0)
