@@ -314,13 +314,14 @@ def test_physical_tags_are_numbered_per_dimension_as_gmsh_numbers_them(tmp_path)
 def test_unnamed_physical_tags_of_two_dimensions_are_two_groups(tmp_path):
     m = skfem.MeshTri.init_tensor(np.linspace(0, 0.2, 5), np.linspace(0.0, 0.1, 3))
     bottom = sides(m, 1, 0.0)
-    tags = [np.ones(len(bottom), int), np.ones(m.t.shape[1], int)]
+    tags = [np.ones(len(bottom), int), np.ones(m.t.shape[1], int), np.zeros(1, int)]
     data = meshio.Mesh(
         np.column_stack([m.p.T, np.zeros(m.p.shape[1])]),
-        [("line", bottom), ("triangle", m.t.T)],
+        [("line", bottom), ("triangle", m.t.T), ("vertex", np.array([[0]]))],
         cell_data={"gmsh:physical": tags, "gmsh:geometrical": tags},
     )
     data.write(tmp_path / "plate.msh", file_format="gmsh22")
     body = Solid.from_file(tmp_path / "plate.msh", MAT)
-    assert list(body.mesh.boundaries) == ["physical1_1d"]
+    # tag 0, a cell of no group that gmsh saves with Mesh.SaveAll, names no group
+    assert list(body.mesh.boundaries) == ["physical1_1d"] and body.node_groups == {}
     assert list(body.mesh.subdomains) == ["physical1_2d"]

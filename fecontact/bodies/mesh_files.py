@@ -355,8 +355,9 @@ def _shared_tags(dims: list[int], blocks) -> set[int]:
 
 
 def _tags(tags) -> list[int]:
-    """The distinct physical tags of a block (none when it has no tags)."""
-    return [] if tags is None else [int(t) for t in np.unique(tags)]
+    """The distinct physical tags of a block (none when it has no tags); 0 is none: what
+    gmsh writes for the cells of no physical group when it saves them all (Mesh.SaveAll)."""
+    return [] if tags is None else [int(t) for t in np.unique(tags) if t != 0]
 
 
 def _fields(data) -> list:
