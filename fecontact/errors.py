@@ -21,6 +21,7 @@ __all__ = [
     "SolverError",
     "check_count",
     "check_finite",
+    "check_kind",
     "check_positive",
     "check_vector",
     "check_range",
@@ -76,6 +77,15 @@ def check_finite(name: str, value) -> np.ndarray:
             f"{name} must be at most {MAX_MAGNITUDE:g} in magnitude, got {_shown(value)}"
         )
     return arr
+
+
+def check_kind(name: str, value, kind, what: str):
+    """Return ``value`` if it is an instance of ``kind`` (a class or a tuple of them), else
+    raise ``InputError`` naming ``name``, ``what`` it takes and the type it got: a material of
+    a solid given to a beam, a number where a body is due."""
+    if not isinstance(value, kind):
+        raise InputError(f"{name} must be {what}, got {type(value).__name__}")
+    return value
 
 
 def check_vector(name: str, value, size: int) -> np.ndarray:

@@ -13,8 +13,9 @@ import math
 
 import numpy as np
 
+from .bodies.base import BODY, BodyDefaults
 from .contact.base import PairDefaults
-from .errors import InputError, check_vector
+from .errors import InputError, check_kind, check_vector
 
 __all__ = ["Pin", "newton_remainder"]
 
@@ -31,8 +32,8 @@ class Pin(PairDefaults):
     size = 2
 
     def __init__(self, body, point, other=None):
-        self.body = body
-        self.other = other
+        self.body = check_kind("body", body, BodyDefaults, BODY)
+        self.other = other if other is None else check_kind("other", other, BodyDefaults, BODY)
         self.point = check_vector("point", point, 2)
         self.kin_a = _material_point(body, self.point)
         self.kin_b = None if other is None else _material_point(other, self.point)

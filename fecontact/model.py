@@ -11,8 +11,10 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from .bodies.base import BODY, BodyDefaults
 from .contact import ContactSet
-from .errors import InputError, check_finite, check_positive, check_vector
+from .contact.base import PairDefaults
+from .errors import InputError, check_finite, check_kind, check_positive, check_vector
 from .linalg import DENSE_LIMIT, LinearSolver, Pattern, factorize
 from .linalg.ladder import Ladder, iteration_solver, passing_matrix
 
@@ -40,8 +42,14 @@ class NodalLoad:
 
     def __call__(self, t: float) -> np.ndarray:
         f = np.zeros(self.n)
-        f[self.dofs] = self.value(t) if callable(self.value) else self.value
+        f[self.dofs] = self._at(t) if callable(self.value) else self.value
         return f
+
+    def _at(self, t: float) -> np.ndarray:
+        """The function's value at t, checked: a NaN or a wrong size would surface as a
+        diverged step (an element said to invert) or a numpy broadcast error."""
+        name = f"the load on node {self.node} at t = {t:g} s"
+        return check_vector(name, self.value(t), self.body.dofs_per_node)
 
 
 class Model:
@@ -59,7 +67,11 @@ class Model:
     """
 
     def __init__(self, bodies, contacts=(), gravity=None, joints=(), damping=(0.0, 0.0), loads=()):
-        self.bodies = _distinct_bodies(bodies)
+        self.bodies = _distinct_bodies(_listed("bodies", bodies, BodyDefaults, BODY))
+        pair = "a pair made by Contact(body, partner)"
+        contacts = _listed("contacts", contacts, PairDefaults, pair)
+        joints = _listed("joints", joints, PairDefaults, "a joint (Pin, BallJoint, ...)")
+        loads = _listed("loads", loads, NodalLoad, "a NodalLoad")
         self.dim = dim = _common_dimension(self.bodies)
         self.gravity = _gravity(gravity, dim)
         self.continuum = any(b.continuum for b in self.bodies)
@@ -168,10 +180,20 @@ class Model:
         self.solver = solver
 
     def offset_of(self, body) -> int:
+        """The first global dof of ``body``; ``InputError`` if it is not among the bodies
+        (a contact, load, joint, probe or initial velocity of a body left out of the list)."""
         for b, o in zip(self.bodies, self.offsets, strict=False):
             if b is body:
                 return int(o)
-        raise InputError("a contact refers to a body that is not in the model")
+        raise InputError(
+            f"a {type(body).__name__} that is not among the model's bodies: list it in "
+            "Model([...], ...)"
+        )
+
+    def slice_of(self, body) -> slice:
+        """The global dofs of ``body`` (checked as in :meth:`offset_of`)."""
+        o = self.offset_of(body)
+        return slice(o, o + body.ndof)
 
     def body_slice(self, i: int) -> slice:
         return slice(int(self.offsets[i]), int(self.offsets[i + 1]))
@@ -193,7 +215,7 @@ class Model:
         initial velocity, say) and zero elsewhere."""
         x = np.zeros(self.n)
         o = self.offset_of(body)
-        x[o : o + body.ndof] = body.translation_field(check_finite("vector", vector))
+        x[o : o + body.ndof] = body.translation_field(check_vector("vector", vector, self.dim))
         return x
 
     def internal(self, q: np.ndarray, tangent: bool = True):
@@ -301,8 +323,25 @@ def _rotation_dofs(model):
     return np.concatenate(triples).astype(int), inertial
 
 
-def _distinct_bodies(bodies) -> list:
-    bodies = list(bodies)
+_ONE = (str, bytes, BodyDefaults, PairDefaults, NodalLoad)
+
+
+def _listed(name: str, values, kind: type, one: str) -> list:
+    """``values`` as a list whose every entry is a ``kind``; else one ``InputError`` naming
+    the argument and the entry: a lone body or pair where a list is due, an obstacle among
+    the contacts (a Plane is a partner of a pair, not a pair), a number among the loads."""
+    try:
+        items = None if isinstance(values, _ONE) else list(values)
+    except TypeError:
+        items = None
+    if items is None:
+        raise InputError(f"{name} must be a list, each entry {one}; got {type(values).__name__}")
+    for i, item in enumerate(items):
+        check_kind(f"{name}[{i}]", item, kind, one)
+    return items
+
+
+def _distinct_bodies(bodies: list) -> list:
     if not bodies:
         raise InputError("bodies must contain at least one body")
     if len({id(b) for b in bodies}) < len(bodies):

@@ -9,7 +9,7 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["Probe", "node_probe"]
+__all__ = ["Probe", "node_probe", "probe_value"]
 
 
 @dataclass(frozen=True)
@@ -19,6 +19,23 @@ class Probe:
     fn: Callable
     unit: str
     description: str = ""
+
+    def __post_init__(self):
+        if not callable(self.fn):
+            raise InputError(f"fn must be a function (model, state) -> number, got {self.fn!r}")
+        for name, text in (("unit", self.unit), ("description", self.description)):
+            if not isinstance(text, str):
+                raise InputError(f"{name} must be a string, got {text!r}")
+
+
+def probe_value(name: str, probe: Probe, model, st):
+    """The value of ``probe`` (named ``name``) at the state ``st``, as it returned it (an
+    int, float or bool: booleans go to history.csv as 0/1); ``InputError`` for anything else,
+    which would fail in the history's writer with no probe named."""
+    value = probe.fn(model, st)
+    if np.ndim(value) != 0 or np.asarray(value).dtype.kind not in "biuf":
+        raise InputError(f"probe {name!r} must return a number, got {value!r} at t = {st.t:g} s")
+    return value
 
 
 _NODE_QUANTITIES = {
@@ -46,7 +63,7 @@ def node_probe(model, body, node: int, quantity: str) -> Probe:
         raise InputError(f"quantity 'rotation': a {kind} node has none; use x, y, ux, uy, vx, vy")
     unit, text, get = _NODE_QUANTITIES[quantity]
     i = body.node_index(node)
-    s = model.body_slice(model.bodies.index(body))
+    s = model.slice_of(body)
     read = _dof_reader(body, s.start, i, quantity) if body.linear_kinematics else None
     return Probe(read or _array_reader(body, s, i, get), unit, f"{text} of node {i}")
 

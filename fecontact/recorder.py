@@ -17,6 +17,7 @@ from .io.output import FRICTION_COLUMNS, LEDGER_COLUMNS, OBSTACLE_COLUMNS, STAND
 from .io.run_folder import jsonable
 from .ledger import EnergyLedger
 from .ledger_records import smooth_end
+from .probes import probe_value
 from .time import State, uses_smooth_contact
 from .time.state import deferred_ledger
 from .version import __version__
@@ -99,7 +100,7 @@ class Recorder:
         self.dt_substep_min = math.inf  # s: the shortest sub-step of a halved step
         # what every row uses, resolved once: the gaps' reach (m) and the probes
         self.reach = self.model.length * sim.options.detection_margin
-        self.probes = list(sim.probes.values())
+        self.probes = list(sim.probes.items())
 
     def count_failed(self, failed) -> None:
         """Count the halvings of the step that stopped the run (a
@@ -144,7 +145,7 @@ class Recorder:
             self.friction_work = row[-1]
         if not st.substep:
             row += self.ledger.row()
-            row += [p.fn(m, st) for p in self.probes]
+            row += [probe_value(name, p, m, st) for name, p in self.probes]
             self.history.write(row)
         if st.step == 0:
             self.energy_initial = self.ledger.initial  # (before an impact at t = 0)

@@ -89,7 +89,7 @@ def centre_of_mass_probes(model, body, axis: int, start: float = 0.0, name: str 
     coordinate ``axis``, as probes ``<x|y|z>_<name>`` and ``v<x|y|z>_<name>``."""
     e = np.eye(body.dim)[axis]
     w = body.mass_matrix() @ body.translation_field(e)  # momentum weights along the axis
-    s, letter = model.body_slice(model.bodies.index(body)), "xyz"[axis]
+    s, letter = model.slice_of(body), "xyz"[axis]
     return {
         f"{letter}_{name}": Probe(
             lambda m, st: start + w @ st.q[s] / body.mass, "m", "centre of mass position"
@@ -104,7 +104,7 @@ def spin_probe(model, body) -> Probe:
     """Angular velocity ω = L/I (rad/s, counter-clockwise) of a 2D solid about its centre of
     mass c: L = Σ_a r_a × (M v)_a and I = Σ_a r_a·(M r)_a, r = x − c, with the consistent
     mass M (∫ρ N_a N_b = M_ab: exact for the interpolated motion)."""
-    s = model.body_slice(model.bodies.index(body))
+    s = model.slice_of(body)
     M = body.mass_matrix()
 
     def omega(m, st):
@@ -120,7 +120,7 @@ def spin_probe(model, body) -> Probe:
 def lowest_point_probe(model, body, axis: int) -> Probe:
     """The smallest coordinate (m) along ``axis`` of the body's nodes: its height above a
     floor through the origin."""
-    s = model.body_slice(model.bodies.index(body))
+    s = model.slice_of(body)
     return Probe(
         lambda m, st: float(body.positions(st.q[s])[:, axis].min()), "m", "lowest point height"
     )

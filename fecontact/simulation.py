@@ -11,6 +11,7 @@ so that it then lists every frame written so far.
 from __future__ import annotations
 
 import dataclasses
+import os
 import time
 import warnings
 from dataclasses import dataclass, field
@@ -19,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from .bodies.beam3d import Beam3D
-from .errors import InputError, SolverError, check_positive
+from .errors import InputError, SolverError, check_count, check_kind, check_positive
 from .io.output import FRICTION_COLUMNS, LEDGER_COLUMNS, OBSTACLE_COLUMNS, STANDARD_COLUMNS
 from .io.progress import RunProgress
 from .io.run_folder import (
@@ -31,6 +32,7 @@ from .io.run_folder import (
 from .io.run_frames import RunFrames
 from .io.run_lock import hold_folder
 from .io.termination import Terminated, terminate_as_interrupt
+from .model import Model
 from .probes import Probe, node_probe
 from .recorder import Recorder, halving_warnings
 from .threads import blas_threads
@@ -72,6 +74,11 @@ class Simulation:
     origin: dict = field(default_factory=dict)
 
     def __post_init__(self):
+        check_kind("model", self.model, Model, "a Model(bodies, contacts, ...)")
+        check_kind("options", self.options, IntegratorOptions, "an IntegratorOptions(...)")
+        check_kind("probes", self.probes, dict, "a dict {name: Probe}")
+        for key, probe in self.probes.items():
+            check_kind(f"probes[{key!r}]", probe, Probe, "a Probe(fn, unit) or node_probe(...)")
         self.dt = check_positive("dt", self.dt)
         self.t_end = check_positive("t_end", self.t_end)
         self.output_interval = check_positive("output_interval", self.output_interval)
@@ -211,9 +218,23 @@ def run(
     "auto" VTKHDF for 3D models where it writes faster (:func:`fecontact.io.output.
     frame_format`), else VTU. A resumed run keeps the format of the run it continues.
     """
+    options = (progress, frames, checkpoint_every, resume, overwrite, frame_format)
+    _check_run_arguments(sim, out_dir, options)
     with blas_threads(), hold_folder(out_dir, sim.name), terminate_as_interrupt():
-        options = (progress, frames, checkpoint_every, resume, overwrite, frame_format)
         return _run(sim, Path(out_dir), *options)
+
+
+def _check_run_arguments(sim, out_dir, options) -> None:
+    """``InputError`` for an argument of ``run`` of the wrong kind, before the folder is
+    touched: a string "no" for a flag would read as True, a negative checkpoint interval as
+    never, a missing folder as a TypeError from pathlib."""
+    check_kind("sim", sim, Simulation, "a Simulation(model, dt, t_end, ...)")
+    check_kind("out_dir", out_dir, (str, os.PathLike), "a folder path")
+    progress, frames, checkpoint_every, resume, overwrite, _ = options
+    flags = {"progress": progress, "frames": frames, "resume": resume, "overwrite": overwrite}
+    for name, flag in flags.items():
+        check_kind(name, flag, (bool, np.bool_), "True or False")
+    check_count("checkpoint_every", checkpoint_every, 0, 10**9)
 
 
 def _run(sim, out, progress, frames, checkpoint_every, resume, overwrite, frame_format) -> dict:

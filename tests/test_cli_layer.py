@@ -64,6 +64,15 @@ def test_t_end_given_twice_is_refused(tmp_path, capsys):
     assert not any(tmp_path.iterdir())
 
 
+@pytest.mark.parametrize("name", ["friction", "max_iterations"])
+def test_a_set_name_given_twice_is_refused_as_a_sweep_refuses_it(tmp_path, capsys, name):
+    argv = ["run", "flexible_pendulum", "--quiet", "--out", str(tmp_path)]
+    assert main([*argv, "--set", f"{name}=3", "--set", f"{name}=2"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and f"--set {name} is given twice" in err
+    assert not any(tmp_path.iterdir())
+
+
 def test_the_summary_records_the_end_time_that_ran(tmp_path):
     """two_disks takes t_end as a parameter; --t-end replaces it, and the record says so."""
     argv = ["run", "two_disks", "--quiet", "--out", str(tmp_path), "--set", "refinements=0"]

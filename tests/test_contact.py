@@ -244,3 +244,14 @@ def test_a_non_finite_update_fails_the_correction():
             1.0, 1e-9, 1e-10,
         )  # fmt: skip
     assert len(met) == 1 and np.all(met[0] == 0.0)  # (the first iterate only)
+
+
+def test_a_jump_that_did_not_settle_says_its_law_residual():
+    """Both rows taken active first: Λ = (G Gᵀ)⁻¹(−c) = (23.5, −22.5) N·s, so the second
+    row pulls, |kΛ₂ − [kΛ₂ − p ġ₂]_+| = 22.5 N·s, and one iteration cannot mend it."""
+    G, c = np.array([[1.0, 0.0], [1.0, 0.2]]), np.array([-1.0, -0.1])
+    with pytest.raises(RuntimeError, match=r"in 1 iterations \(law residual 2\.250e\+01 N·s\)"):
+        solve_velocity_jump(G, c, lambda b: b, 1.0, 1.0, max_iter=1)
+    W, Lam, _ = solve_velocity_jump(G, c, lambda b: b, 1.0, 1.0, max_iter=3)
+    # row 1 alone: Λ₁ = −c₁ / (G₁ G₁ᵀ) = 1 / 1, exact in floating point on any machine
+    np.testing.assert_allclose(Lam, [1.0, 0.0], atol=1e-15)

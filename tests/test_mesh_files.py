@@ -80,7 +80,13 @@ def write_msh41(path, points, groups):
     lines += [f'{d} {i + 1} "{name}"' for i, (name, d, _, _) in enumerate(groups)]
     lines += ["$EndPhysicalNames", "$Entities", " ".join(map(str, counts))]
     ids = [i for d in range(4) for i, g in enumerate(groups) if g[1] == d]
-    lines += [f"{i + 1} {box} 1 {i + 1} 0" for i in ids]
+    # a point entity is its point and physical tag; the others a box, a tag and no boundary
+    lines += [
+        f"{i + 1} {' '.join(map(repr, map(float, points[groups[i][2][0, 0]])))} 1 {i + 1}"
+        if groups[i][1] == 0
+        else f"{i + 1} {box} 1 {i + 1} 0"
+        for i in ids
+    ]
     lines += ["$EndEntities", "$Nodes", f"1 {n} 1 {n}", f"{dim} 1 0 {n}"]
     lines += [str(i + 1) for i in range(n)] + [" ".join(map(repr, map(float, x))) for x in points]
     lines += ["$EndNodes", "$Elements", f"{len(groups)} {total} 1 {total}"]
@@ -183,3 +189,139 @@ def test_a_2d_mesh_off_the_xy_plane_is_refused_by_its_z(tmp_path, z):
     points[:, 1:] = np.c_[y, np.full_like(x, 0.3)]  # the same mesh in the plane z = 0.3
     meshio.write(path, meshio.Mesh(points, [("triangle", mesh.t.T)]), file_format="gmsh22")
     np.testing.assert_array_equal(read_mesh(path).p, mesh.p)
+
+
+def test_groups_of_points_and_3d_edges_name_their_nodes(tmp_path):
+    """gmsh point and edge physical groups (a corner to pin, an edge to hold) in a 4.1 file
+    of the body scaled from mm and shifted: nodes found by place, listed with the others."""
+    m = skfem.MeshTet.init_tensor(*[np.linspace(0, 10, 3)] * 3)
+    corner = np.flatnonzero(np.all(m.p.T == [10, 0, 0], axis=1))[:, None]
+    edge = m.edges[:, np.all(m.p[1:, m.edges].max(axis=1) < 1e-9, axis=0)].T  # y = z = 0
+    groups = [("cube", 3, m.t.T, 4), ("corner", 0, corner, 15), ("edge", 1, edge, 1)]
+    write_msh41(tmp_path / "cube.msh", m.p.T, groups)
+    body = Solid.from_file(tmp_path / "cube.msh", MAT, scale=1e-3, offset=[0, 0, 1])
+    np.testing.assert_array_equal(
+        body.nodes_of("corner"),
+        body.nodes_where(
+            lambda x: (np.abs(x[0] - 0.01) < 1e-12) & (x[1] < 1e-12) & (np.abs(x[2] - 1) < 1e-12)
+        ),
+    )
+    along = body.nodes_where(lambda x: (x[1] < 1e-12) & (np.abs(x[2] - 1) < 1e-12))
+    np.testing.assert_array_equal(body.nodes_of("edge"), along)
+    assert len(along) == 3 and body.fix("corner").fixed == {
+        3 * body.nodes_of("corner")[0] + k for k in range(3)
+    }
+    with pytest.raises(
+        InputError, match=r"no group named 'tip' \(its groups: 'cube', 'corner', 'edge'"
+    ):
+        body.nodes_of("tip")
+
+
+def test_a_p2_edge_group_holds_its_middle_nodes_and_a_2d_point_group_its_node(tmp_path):
+    m = skfem.MeshTet2.from_mesh(skfem.MeshTet.init_tensor(*[np.linspace(0, 1, 2)] * 3))
+    on_x = np.all(m.doflocs[1:, m.edges].max(axis=1) < 1e-9, axis=0)  # the edge y = z = 0
+    line3 = np.column_stack([m.edges[:, on_x].T, m.nvertices + np.flatnonzero(on_x)])
+    tetra10 = to_meshio(m).cells[0].data
+    tags = [np.full(len(tetra10), 1), np.full(len(line3), 2)]
+    mesh = meshio.Mesh(
+        m.doflocs.T,
+        [("tetra10", tetra10), ("line3", line3)],
+        cell_data={"gmsh:physical": tags, "gmsh:geometrical": tags},
+        field_data={"body": np.array([1, 3]), "edge": np.array([2, 1])},
+    )
+    mesh.write(tmp_path / "p2.msh", file_format="gmsh22", binary=True)
+    body = Solid.from_file(tmp_path / "p2.msh", MAT, element="P2")
+    along = body.nodes_where(lambda x: (x[1] < 1e-9) & (x[2] < 1e-9))
+    assert len(along) == 3 and np.array_equal(body.nodes_of("edge"), along)
+    # 2D: a point group (gmsh writes a vertex cell); lines stay boundaries there
+    square = skfem.MeshTri.init_tensor(np.linspace(0, 1, 3), np.linspace(0, 1, 3))
+    points = np.column_stack([square.p.T, np.zeros(9)])
+    tags = [np.full(8, 1), np.array([2])]
+    mesh = meshio.Mesh(
+        points,
+        [("triangle", square.t.T), ("vertex", np.array([[8]]))],
+        cell_data={"gmsh:physical": tags, "gmsh:geometrical": tags},
+        field_data={"body": np.array([1, 2]), "tip": np.array([2, 0])},
+    )
+    mesh.write(tmp_path / "square.msh", file_format="gmsh22")
+    body = Solid.from_file(tmp_path / "square.msh", MAT)
+    assert body.nodes_of("tip").tolist() == [8] and body.X[8].tolist() == [1.0, 1.0]
+
+
+@pytest.mark.parametrize("kind", ["wedge", "quad8"])
+def test_cells_a_solid_cannot_take_are_refused_not_dropped(tmp_path, kind):
+    """Prisms under tetrahedra (a gmsh boundary layer), serendipity quad8 beside triangles:
+    left out, the body had a hole (the tetrahedron alone, 1/6 of the volume, was the body)."""
+    if kind == "wedge":
+        points = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [0, 1, 1.0]])
+        cells = [("tetra", np.array([[0, 1, 2, 3]])), ("wedge", np.array([[0, 1, 2, 3, 4, 5]]))]
+    else:
+        x = [0, 1, 1, 0, 2, 2, 1.5, 2, 1.5, 1]
+        points = np.column_stack([x, [0, 0, 1, 1, 0, 1, 0, 0.5, 1, 0.5], np.zeros(10)])
+        quad8 = np.array([[1, 4, 5, 2, 6, 7, 8, 9]])
+        cells = [("triangle", np.array([[0, 1, 2], [0, 2, 3]])), ("quad8", quad8)]
+    meshio.write(tmp_path / "mixed.msh", meshio.Mesh(points, cells), file_format="gmsh22")
+    with pytest.raises(InputError, match=f"mixed.msh has {kind} cells, which a Solid does not"):
+        Solid.from_file(tmp_path / "mixed.msh", MAT)
+
+
+@pytest.mark.parametrize("faces", [(0.0,), (0.0, 1.0)])
+def test_a_3d_mesh_saved_without_its_volume_is_not_read_as_2d(tmp_path, faces):
+    """gmsh saves only the elements of physical groups: a cube whose groups are its bottom
+    (and top) faces gives triangles alone, and the bottom alone would read as a 2D square."""
+    m = skfem.MeshTet.init_tensor(*[np.linspace(0, 1, 3)] * 3)
+    triangles = np.vstack([sides(m, 2, z) for z in faces])
+    tags = [np.ones(len(triangles), int)]
+    data = meshio.Mesh(
+        m.p.T,
+        [("triangle", triangles)],
+        cell_data={"gmsh:physical": tags, "gmsh:geometrical": tags},
+        field_data={"faces": np.array([1, 2])},
+    )
+    data.write(tmp_path / "cube.msh", file_format="gmsh22")
+    with pytest.raises(InputError, match=r"cube.msh: .* 3D mesh saved without its volume"):
+        Solid.from_file(tmp_path / "cube.msh", MAT)
+
+
+def test_an_abaqus_node_set_names_its_nodes(tmp_path):
+    """meshio's point sets (Abaqus *NSET) are groups of nodes as gmsh points are."""
+    m = skfem.MeshTet.init_tensor(*[np.linspace(0, 1, 3)] * 3)
+    base = np.flatnonzero(m.p[2] < 1e-9)
+    sets = {"BASE": base, "TIP": np.array([26])}
+    meshio.write(tmp_path / "cube.inp", meshio.Mesh(m.p.T, [("tetra", m.t.T)], point_sets=sets))
+    body = Solid.from_file(tmp_path / "cube.inp", MAT)
+    np.testing.assert_array_equal(body.nodes_of("BASE"), body.nodes_where(lambda x: x[2] < 1e-9))
+    assert body.X[body.nodes_of("TIP")].tolist() == [[1.0, 1.0, 1.0]]
+
+
+def test_physical_tags_are_numbered_per_dimension_as_gmsh_numbers_them(tmp_path):
+    """``Physical Line(1) = ...; Physical Surface(1) = ...;`` in a .geo file: two groups of
+    tag 1, told apart by their dimension (one name took both, mixed, and both were lost)."""
+    m = skfem.MeshTri.init_tensor(np.linspace(0, 0.2, 5), np.linspace(0.0, 0.1, 3))
+    bottom = sides(m, 1, 0.0)
+    lines = ["$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$PhysicalNames", "2"]
+    lines += ['1 1 "bottom"', '2 1 "block"', "$EndPhysicalNames", "$Nodes", str(m.p.shape[1])]
+    lines += [f"{i + 1} {x:.17g} {y:.17g} 0" for i, (x, y) in enumerate(m.p.T)]
+    lines += ["$EndNodes", "$Elements", str(len(bottom) + m.t.shape[1])]
+    cells = [(1, c) for c in bottom] + [(2, c) for c in m.t.T]  # gmsh types: line, triangle
+    lines += [f"{k + 1} {t} 2 1 1 {' '.join(map(str, c + 1))}" for k, (t, c) in enumerate(cells)]
+    (tmp_path / "plate.msh").write_text("\n".join([*lines, "$EndElements", ""]))
+    body = Solid.from_file(tmp_path / "plate.msh", MAT)
+    assert list(body.mesh.boundaries) == ["bottom"] and list(body.mesh.subdomains) == ["block"]
+    np.testing.assert_array_equal(body.nodes_of("bottom"), body.nodes_where(lambda x: x[1] < 1e-9))
+
+
+def test_unnamed_physical_tags_of_two_dimensions_are_two_groups(tmp_path):
+    m = skfem.MeshTri.init_tensor(np.linspace(0, 0.2, 5), np.linspace(0.0, 0.1, 3))
+    bottom = sides(m, 1, 0.0)
+    tags = [np.ones(len(bottom), int), np.ones(m.t.shape[1], int), np.zeros(1, int)]
+    data = meshio.Mesh(
+        np.column_stack([m.p.T, np.zeros(m.p.shape[1])]),
+        [("line", bottom), ("triangle", m.t.T), ("vertex", np.array([[0]]))],
+        cell_data={"gmsh:physical": tags, "gmsh:geometrical": tags},
+    )
+    data.write(tmp_path / "plate.msh", file_format="gmsh22")
+    body = Solid.from_file(tmp_path / "plate.msh", MAT)
+    # tag 0, a cell of no group that gmsh saves with Mesh.SaveAll, names no group
+    assert list(body.mesh.boundaries) == ["physical1_1d"] and body.node_groups == {}
+    assert list(body.mesh.subdomains) == ["physical1_2d"]

@@ -5,12 +5,21 @@ import pytest
 from conftest import ROOT
 
 from fecontact import (
+    Ball,
     Beam2D,
+    Beam3D,
+    Circle,
+    Contact,
+    ConvexMesh,
+    Disk,
     InputError,
     IntegratorOptions,
     LinearElastic,
     Material,
     Model,
+    NodalLoad,
+    Pin,
+    Plane,
     Probe,
     Section,
     Simulation,
@@ -126,6 +135,101 @@ def test_the_same_body_twice():
     b = beam()
     with pytest.raises(InputError, match="twice"):
         Model([b, b])
+
+
+def model_arguments():
+    b = beam().pin(0)
+    plane = Plane([0, -1], [0, 1])
+    return [
+        ({"bodies": b}, "bodies must be a list, each entry a body .*; got Beam2D"),
+        ({"bodies": [b, plane]}, r"bodies\[1\] must be a body .*, got Plane"),
+        ({"bodies": [b], "contacts": [plane]}, r"contacts\[0\] must be a pair made by Contact"),
+        ({"bodies": [b], "contacts": Contact(b, plane)}, "contacts must be a list"),
+        ({"bodies": [b], "joints": [b]}, r"joints\[0\] must be a joint .*, got Beam2D"),
+        ({"bodies": [b], "loads": [np.zeros(3)]}, r"loads\[0\] must be a NodalLoad"),
+        ({"bodies": 5}, "bodies must be a list, each entry a body .*; got int"),
+    ]
+
+
+@pytest.mark.parametrize("k", range(7))
+def test_model_arguments_of_the_wrong_kind_name_the_argument_and_entry(k):
+    keywords, words = model_arguments()[k]
+    with pytest.raises(InputError, match=words):
+        Model(**keywords)
+
+
+def arguments_of_the_wrong_kind():
+    solid = LinearElastic(E=1e6, nu=0.3, rho=1e3)
+    model = Model([beam().pin(0)])
+    steel, tube = Material(E=2e11, rho=7800.0), Section.circle(0.01)
+    options = {"rho_inf": 0.5}
+    return [
+        (lambda: Beam2D.straight([0, 0], [1, 0], 2, solid, tube), "material must be a beam Mat"),
+        (lambda: Beam3D.straight([0, 0, 0], [1, 0, 0], 2, steel, 1.0), "section must be a Sec"),
+        (lambda: Beam2D.straight(5.0, [1, 0], 2, steel, tube), "start must have 2 components"),
+        (lambda: Contact(0.5, Plane([0, 0], [0, 1])), "body must be a body .*, got float"),
+        (lambda: Pin(None, [0, 0]), "body must be a body .*, got NoneType"),
+        (lambda: Simulation(beam(), dt=1e-3, t_end=0.01), "model must be a Model"),
+        (lambda: Simulation(model, 1e-3, 0.01, options=options), "options must be an Integ"),
+        (lambda: Ball(0.1, n_rim=float("nan")), r"n_rim must be an integer in \[8, "),
+        (lambda: Disk(0.1, n_outline="48"), r"n_outline must be an integer in \[8, "),
+        (lambda: ConvexMesh("x"), "points must be real numbers"),
+        (lambda: Circle([0, 0], 1.0, inside="no"), "inside must be True or False, got str"),
+        (lambda: Plane([0, 0], [0, 1], velocity=lambda t: [0, 1]), "give motion"),
+        (lambda: Solid("block.msh", solid), "got str; read a mesh file with Solid.from_file"),
+        (lambda: Solid.rectangle([0, 0], [1, 1], 1, steel), "material must be a solid's mat"),
+    ]  # fmt: skip
+
+
+@pytest.mark.parametrize("k", range(14))
+def test_arguments_of_the_wrong_kind_are_named_with_what_they_take(k):
+    make, words = arguments_of_the_wrong_kind()[k]
+    with pytest.raises(InputError, match=words):
+        make()
+
+
+def test_a_body_left_out_of_the_model_is_named_whatever_refers_to_it():
+    b, other = beam().pin(0), beam()
+    model = Model([b])
+    for refer in (
+        lambda: node_probe(model, other, 0, "x"),  # a ValueError of list.index
+        lambda: model.translation(other, [0.0, 1.0]),  # said "a contact refers to ..."
+        lambda: Model([b], loads=[NodalLoad(other, 0, [0.0, 1.0, 0.0])]),
+    ):
+        with pytest.raises(InputError, match="a Beam2D that is not among the model's bodies"):
+            refer()
+    with pytest.raises(InputError, match=r"^vector must have 2 components, got 3$"):
+        model.translation(b, [0.0, 0.0, 1.0])
+
+
+def run_mistakes(tmp_path):
+    def loaded(value):
+        b = beam().pin(0)
+        return Simulation(Model([b], loads=[NodalLoad(b, 2, value)]), dt=1e-3, t_end=0.003)
+
+    def probed(fn):
+        return Simulation(Model([beam().pin(0)]), 1e-3, 0.003, probes={"p": Probe(fn, "m")})
+
+    sim, out = loaded(lambda t: [0.0, -1.0, 0.0]), tmp_path / "out"
+    return [
+        (lambda: run(loaded(lambda t: [np.nan * t, 0.0, 0.0]), out), "load on node 2 at t = 0 s"),
+        (lambda: run(loaded(lambda t: [1.0, 0.0]), out), "load on node 2 .* 3 components"),
+        (lambda: run(probed(lambda m, st: "abc"), out), "probe 'p' must return a number"),
+        (lambda: run(probed(lambda m, st: [1.0, 2.0]), out), "probe 'p' must return a number"),
+        (lambda: Probe(3.0, "m"), "fn must be a function"),
+        (lambda: Simulation(sim.model, 1e-3, 0.01, probes={"p": 3.0}), r"probes\['p'\] must be"),
+        (lambda: run(sim, None), "out_dir must be a folder path, got NoneType"),
+        (lambda: run(sim, out, progress="no"), "progress must be True or False, got str"),
+        (lambda: run(sim, out, checkpoint_every=-1), "checkpoint_every must be an integer in"),
+    ]
+
+
+@pytest.mark.parametrize("k", range(9))
+def test_loads_probes_and_run_arguments_of_the_wrong_kind_are_named(tmp_path, k):
+    # a NaN load diverged as "an element inverts", a string probe failed in the csv writer
+    make, words = run_mistakes(tmp_path)[k]
+    with pytest.raises(InputError, match=words):
+        make()
 
 
 @pytest.mark.parametrize("name", ["t", "a,b", "total_energy", ""])

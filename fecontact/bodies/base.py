@@ -14,7 +14,10 @@ import numpy as np
 
 from ..errors import InputError, check_count
 
-__all__ = ["Body", "BodyDefaults", "EnergyConsistentBody", "RigidDefaults"]
+__all__ = ["BODY", "Body", "BodyDefaults", "EnergyConsistentBody", "RigidDefaults"]
+
+BODY = "a body (Solid, Beam2D, Beam3D, RigidBody2D, RigidBody3D, PointMass, ...)"
+"""What an argument that takes a body is, as its error names it."""
 
 
 @runtime_checkable

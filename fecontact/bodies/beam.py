@@ -34,7 +34,15 @@ import numpy as np
 import scipy.sparse as sp
 import skfem
 
-from ..errors import InputError, check_count, check_finite, check_positive, check_range
+from ..errors import (
+    InputError,
+    check_count,
+    check_finite,
+    check_kind,
+    check_positive,
+    check_range,
+    check_vector,
+)
 from .beam_energy import beam_energy_force, element_strains
 from .beam_kernels import BeamElements, beam_internal, beam_strains
 from .centreline import Centreline, centreline_nodes
@@ -48,6 +56,11 @@ _EYE2 = np.eye(2)[None]
 @skfem.BilinearForm
 def _mass_form(u, v, _):
     return u * v
+
+
+# what a beam's material and section are, as an error names them
+BEAM_MATERIAL = "a beam Material(E, nu=..., rho=...) (LinearElastic and the others are solids')"
+BEAM_SECTION = "a Section (Section.circle(radius), Section.rectangle(width, thickness), ...)"
 
 
 @dataclass(frozen=True)
@@ -159,8 +172,8 @@ class Beam2D(Centreline):
             raise InputError(f"linear must be True or False, got {linear!r}")
         X, seg = centreline_nodes(nodes, 2)
         self.X = X
-        self.material = material
-        self.section = section
+        self.material = check_kind("material", material, Material, BEAM_MATERIAL)
+        self.section = check_kind("section", section, Section, BEAM_SECTION)
         self.mesh = skfem.MeshLine(np.concatenate([[0.0], np.cumsum(seg)]))
         self.length = float(seg.sum())
         self.fixed: set[int] = set()
@@ -188,7 +201,8 @@ class Beam2D(Centreline):
     ):
         """Straight beam from ``start`` to ``end`` (m) with ``n_elements`` equal elements."""
         n = check_count("n_elements", n_elements)
-        a, b = check_finite("start", start), check_finite("end", end)
+        # a number would broadcast to the point (x, x)
+        a, b = check_vector("start", start, 2), check_vector("end", end, 2)
         if np.linalg.norm(b - a) == 0.0:
             raise InputError("length must be > 0: start and end coincide")
         s = np.linspace(0.0, 1.0, n + 1)[:, None]

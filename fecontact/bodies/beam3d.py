@@ -28,9 +28,9 @@ import os
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import InputError, check_count, check_finite, check_positive
+from ..errors import InputError, check_count, check_finite, check_kind, check_positive
 from ..linalg import DENSE_LIMIT
-from .beam import Material, Section
+from .beam import BEAM_MATERIAL, BEAM_SECTION, Material, Section
 from .beam3d_inertia import Gyroscopic, consistent_mass, lumped_inertias
 from .beam3d_kernels import (
     Beam3DElements,
@@ -114,6 +114,8 @@ class Beam3D(Centreline):
         kernel: str | None = None,
     ):
         X, seg = centreline_nodes(nodes, 3)
+        check_kind("material", material, Material, BEAM_MATERIAL)
+        check_kind("section", section, Section, BEAM_SECTION)
         if orientation is not None:
             orientation = check_finite("orientation", orientation)
             if orientation.shape != (3,) or not np.linalg.norm(orientation) > 0:

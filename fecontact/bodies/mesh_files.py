@@ -4,7 +4,10 @@ A file's cells of the body's dimension make the mesh; its gmsh physical groups (
 cell data named by ``field_data``, as gmsh and meshio write them) and meshio cell sets become the
 mesh's named ``subdomains`` (groups of cells) and ``boundaries`` (groups of boundary facets), the
 scikit-fem names a :class:`~fecontact.bodies.Solid` then looks up: ``body.nodes_of("top")``,
-``body.fix("bottom")``, ``Contact(body, plane, nodes="top")``.
+``body.fix("bottom")``, ``Contact(body, plane, nodes="top")``. Groups of gmsh points (and,
+in 3D, of edges) name the nodes they hold: :func:`read_mesh_and_points` gives their
+coordinates, which :meth:`Solid.from_file <fecontact.bodies.Solid.from_file>` turns into the
+body's ``node_groups``.
 
 Coincident nodes that no cell joins are two surfaces, not one: the mesh checks refuse them, and
 :func:`merge_nodes` (or ``read_mesh(..., merge_nodes=True)``) merges them.
@@ -14,6 +17,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import re
 from pathlib import Path
 
 import numpy as np
@@ -22,10 +26,13 @@ import skfem
 from ..errors import InputError, check_positive
 from .meshes import ELEMENTS, check_point, coincident_nodes
 
-__all__ = ["group_nodes", "merge_nodes", "read_mesh"]
+__all__ = ["group_nodes", "merge_nodes", "nodes_at", "read_mesh", "read_mesh_and_points"]
 
 _VOLUME = {names[k]: cell for cell, names in ELEMENTS.items() for k in (2, 3)}
 _DIM = {"tri": 2, "quad": 2, "tet": 3, "hex": 3}
+# the dimension of meshio's cell kinds, by the name before the node count ("wedge15": wedge)
+_KIND_DIM = {"vertex": 0, "line": 1, "triangle": 2, "quad": 2, "polygon": 2}
+_KIND_DIM |= {k: 3 for k in ("tetra", "hexahedron", "wedge", "pyramid", "polyhedron")}
 # the facet cells meshio names for each kind of cell: boundary groups are made of these
 _FACETS = {
     "tri": ("line", "line3"),
@@ -45,6 +52,14 @@ def read_mesh(path, scale: float = 1.0, offset=None, merge_nodes: bool = False):
     ``merge_nodes`` merges coincident points (closer than 1e-8 of the diagonal of their bounding
     box) first: a mesh made of parts meshed apart, whose shared faces were not merged.
     """
+    return read_mesh_and_points(path, scale, offset, merge_nodes)[0]
+
+
+def read_mesh_and_points(path, scale: float = 1.0, offset=None, merge_nodes: bool = False):
+    """(mesh, points) of a mesh file: the mesh of :func:`read_mesh`, and the groups of gmsh
+    points (``vertex`` cells), in 3D of edges (``line``, ``line3`` cells), and meshio's point
+    sets (an Abaqus NSET) as {name: coordinates (m, d) in m, scaled and shifted as the mesh}:
+    a pinned corner, a loaded edge, which are neither facets nor cells of the body."""
     import meshio  # lazily: mesh I/O only when a file is read
 
     data = _read(Path(path))
@@ -52,17 +67,49 @@ def read_mesh(path, scale: float = 1.0, offset=None, merge_nodes: bool = False):
     kind, volume = _volume_blocks(blocks, Path(path).name)
     cell = _VOLUME[kind]
     points, index = _used_points(data.points, volume, merge_nodes)
-    _check_plane(points, _DIM[cell], Path(path).name)
+    _check_plane(points, _DIM[cell], Path(path).name, data.points)
     groups = _groups(data, blocks, cell)
     renumbered = meshio.Mesh(points, [(kind, index[conn]) for kind, conn in volume])
-    mesh = _from_meshio(renumbered, cell).scaled(check_positive("scale", scale))
+    scale = check_positive("scale", scale)
+    mesh = _from_meshio(renumbered, cell).scaled(scale)
+    shift = np.zeros(mesh.dim())
     if offset is not None:
-        mesh = mesh.translated(check_point("offset", offset, mesh.dim()))
-    return _named(mesh, groups, index, blocks, kind)
+        shift = check_point("offset", offset, mesh.dim())
+        mesh = mesh.translated(shift)
+    places = {
+        name: _places(name, ids, index, points[:, : mesh.dim()]) * scale + shift
+        for name, ids in _point_ids(data, groups, blocks).items()
+    }  # scaled, then shifted, as scikit-fem does it to the mesh: the same coordinates
+    return _named(mesh, groups, index, blocks, kind), places
+
+
+def _point_ids(data, groups, blocks) -> dict[str, np.ndarray]:
+    """{name: the file's point indices} of the groups of points and edges, and of the point
+    sets whose names no other group takes."""
+    ids = {
+        name: np.concatenate([blocks[b][1][rows].ravel() for b, rows in members])
+        for name, members in groups["points"].items()
+    }
+    taken = set(ids) | set(groups["boundaries"]) | set(groups["subdomains"])
+    for name, rows in (data.point_sets or {}).items():
+        if not name.startswith("gmsh:") and name not in taken:
+            ids[name] = np.asarray(rows, dtype=int).ravel()
+    return ids
+
+
+def _places(name: str, ids, index, points) -> np.ndarray:
+    """The coordinates, as read, of the file's points ``ids`` of a group."""
+    ids = np.unique(ids)
+    if ids.size and (ids.min() < 0 or ids.max() >= len(index)):
+        raise InputError(f"point group {name!r} refers to points the file does not have")
+    if np.any(index[ids] < 0):
+        raise InputError(f"point group {name!r} has points that no cell of the body uses")
+    return points[index[ids]]
 
 
 def _volume_blocks(blocks, name: str):
     """The kind of the body's cells (the highest dimension found) and the blocks of them."""
+    _check_cell_kinds(blocks, name)
     volume = [(kind, conn) for kind, conn in blocks if kind in _VOLUME]
     if not volume:
         raise InputError(
@@ -76,10 +123,34 @@ def _volume_blocks(blocks, name: str):
     return kind, [(k, conn) for k, conn in volume if k == kind]
 
 
-def _check_plane(points: np.ndarray, dim: int, name: str) -> None:
+def _check_cell_kinds(blocks, name: str) -> None:
+    """``InputError`` for cells of a kind a Solid cannot take (prisms, pyramids, serendipity
+    quad8 and hexahedron20, cubic cells, polygons) of the body's dimension or above: left out,
+    they would leave holes in the body (boundary-layer prisms under tetrahedra, say)."""
+    dims = {kind: _KIND_DIM.get(re.match(r"[a-z]*", kind).group(), 0) for kind, _ in blocks}
+    top = max((dims[kind] for kind, _ in blocks if kind in _VOLUME), default=2)
+    other = sorted({kind for kind, _ in blocks if dims[kind] >= top and kind not in _VOLUME})
+    if other:
+        raise InputError(
+            f"{name} has {', '.join(other)} cells, which a Solid does not take (it takes "
+            f"{', '.join(_VOLUME)}): mesh with those alone (in gmsh, no prisms or pyramids, "
+            "Mesh.SecondOrderIncomplete = 0)"
+        )
+
+
+# gmsh writes only the elements of physical groups (unless Mesh.SaveAll = 1): a 3D model whose
+# groups are surfaces alone gives a file of triangles, which would read as a 2D body
+_NO_VOLUME = (
+    "a 3D mesh saved without its volume? (gmsh saves only the elements of physical groups: "
+    "add one of the volume, or set Mesh.SaveAll = 1)"
+)
+
+
+def _check_plane(points: np.ndarray, dim: int, name: str, every: np.ndarray) -> None:
     """``InputError`` for a 2D mesh (triangles, quadrilaterals) whose points do not share one
     z, to 1e-8 of their bounding box's diagonal: the body is planar, in x and y, and its z
-    would be dropped (a surface in space flattened, a mesh drawn in the xz plane collapsed)."""
+    would be dropped (a surface in space flattened, a mesh drawn in the xz plane collapsed);
+    or whose file holds points, unused, off that plane (``every``: all the file's points)."""
     if dim != 2 or points.shape[1] < 3:
         return
     z = points[:, 2]
@@ -87,8 +158,14 @@ def _check_plane(points: np.ndarray, dim: int, name: str) -> None:
     if np.ptp(z) > 1e-8 * size:
         raise InputError(
             f"{name}: a 2D mesh (triangles, quadrilaterals) lies in the xy plane, but its "
-            f"points' z spans [{z.min():g}, {z.max():g}] m: a surface in space, or a mesh "
-            "drawn in another plane (draw it in x and y)"
+            f"points' z spans [{z.min():g}, {z.max():g}] m: a surface in space, a mesh "
+            f"drawn in another plane (draw it in x and y), or {_NO_VOLUME}"
+        )
+    off = np.abs(np.asarray(every, dtype=float)[:, 2] - z[0])
+    if off.max() > 1e-8 * size:
+        raise InputError(
+            f"{name}: its cells are triangles or quadrilaterals in the plane z = {z[0]:g} m, "
+            f"but other points of the file lie {off.max():g} m from it: {_NO_VOLUME}"
         )
 
 
@@ -107,20 +184,37 @@ def merge_nodes(mesh, tol: float | None = None):
     return type(mesh)(mesh.p[:, used], index[first[mesh.t]])
 
 
-def group_nodes(mesh, basis, name: str) -> np.ndarray:
-    """The nodes (dofs of the scalar ``basis``) of the group ``name`` of the mesh: those on its
-    facets for a boundary (``mesh.boundaries``), those of its cells for a subdomain
-    (``mesh.subdomains``)."""
+def group_nodes(mesh, basis, name: str, node_groups=None) -> np.ndarray:
+    """The nodes (dofs of the scalar ``basis``) of the group ``name``: those listed in
+    ``node_groups`` ({name: nodes}), else those on the mesh's facets for a boundary
+    (``mesh.boundaries``), those of its cells for a subdomain (``mesh.subdomains``)."""
+    node_groups = node_groups or {}
+    if name in node_groups:
+        return np.asarray(node_groups[name], dtype=int)
     boundaries, subdomains = mesh.boundaries or {}, mesh.subdomains or {}
     if name in boundaries:
         return np.unique(basis.get_dofs(boundaries[name]).all())
     if name in subdomains:
         return np.unique(basis.element_dofs[:, subdomains[name]])
-    names = sorted(boundaries) + sorted(subdomains)
+    names = sorted(boundaries) + sorted(subdomains) + sorted(node_groups)
     raise InputError(
         f"nodes: the mesh has no group named {name!r} (its groups: "
         f"{', '.join(map(repr, names)) or 'none'})"
     )
+
+
+def nodes_at(X: np.ndarray, places: np.ndarray, name: str) -> np.ndarray:
+    """The nodes, among those at ``X`` (n, d), at the coordinates ``places`` (m, d), sorted;
+    ``InputError`` naming the group ``name`` where no node is within 1e-9 of the bounding
+    box's diagonal (coordinates of the same file, scaled alike: equal to round-off)."""
+    from scipy.spatial import cKDTree
+
+    size = float(np.linalg.norm(np.ptp(X, axis=0)))
+    gap, nodes = cKDTree(X).query(places)
+    if np.any(gap > 1e-9 * size):
+        far = places[np.argmax(gap)]
+        raise InputError(f"group {name!r}: no node at ({', '.join(f'{c:g}' for c in far)})")
+    return np.unique(nodes)
 
 
 def _read(path: Path):
@@ -203,36 +297,72 @@ def _from_meshio(data, cell: str):
 
 
 def _groups(data, blocks, cell: str) -> dict[str, dict[str, list]]:
-    """Named groups of the file's cells: {"boundaries"|"subdomains": {name: [(block, rows)]}},
-    from gmsh physical tags (named by ``field_data``) and meshio cell sets."""
-    tagged = _physical_groups(data, len(blocks))
+    """Named groups of the file's cells: {"boundaries"|"subdomains"|"points": {name:
+    [(block, rows)]}}, from gmsh physical tags (named by ``field_data``) and meshio cell sets;
+    a group mixing these kinds (facets with cells) is left out."""
+    tagged = _tagged(data, [kind for kind, _ in blocks])
+    volume = {k for k, c in _VOLUME.items() if c == cell}
+    lines = ("line", "line3") if _DIM[cell] == 3 else ()
+    sorts = {"boundaries": set(_FACETS[cell]), "subdomains": volume, "points": {"vertex", *lines}}
+    groups = {key: {} for key in sorts}
+    for name, members in tagged.items():
+        kinds = {blocks[b][0] for b, rows in members if len(rows)}
+        key = next((key for key, allowed in sorts.items() if kinds and kinds <= allowed), None)
+        if key is not None:
+            groups[key][name] = members
+    return groups
+
+
+def _tagged(data, kinds: list[str]) -> dict[str, list]:
+    """{name: [(block, rows)]} of the gmsh physical groups and the meshio cell sets."""
+    tagged = _physical_groups(data, kinds)
     for name, rows in (data.cell_sets or {}).items():
         if not name.startswith("gmsh:") and name not in tagged:
             tagged[name] = [(b, np.asarray(r, int)) for b, r in _present(rows)]
-    volume = {k for k, c in _VOLUME.items() if c == cell}
-    groups = {"boundaries": {}, "subdomains": {}}
-    for name, members in tagged.items():
-        kinds = {blocks[b][0] for b, rows in members if len(rows)}
-        if kinds and kinds <= set(_FACETS[cell]):
-            groups["boundaries"][name] = members
-        elif kinds and kinds <= volume:
-            groups["subdomains"][name] = members
-    return groups
+    return tagged
 
 
 def _present(rows):
     return [(b, r) for b, r in enumerate(rows) if r is not None]
 
 
-def _physical_groups(data, n_blocks: int) -> dict[str, list]:
-    """{name: [(block, rows)]} of the gmsh physical tags (unnamed: "physical<tag>")."""
-    names = {int(v[0]): k for k, v in (data.field_data or {}).items() if len(v) >= 1}
+def _physical_groups(data, kinds: list[str]) -> dict[str, list]:
+    """{name: [(block, rows)]} of the gmsh physical tags of the blocks of cells of ``kinds``.
+    A tag is a name in its dimension only: gmsh numbers each dimension's groups apart
+    (``Physical Line(1)`` and ``Physical Surface(1)``), and meshio's ``field_data`` gives
+    each name its (tag, dimension). Unnamed: "physical<tag>", or "physical<tag>_<dim>d"
+    where two dimensions use the tag."""
+    named = [(int(v[0]), int(v[1]) if len(v) > 1 else -1, k) for k, v in _fields(data)]
+    by_tag = {tag: name for tag, dim, name in named if dim < 0}  # given without a dimension
+    names = {(tag, dim): name for tag, dim, name in named}
+    blocks = data.cell_data.get("gmsh:physical", [None] * len(kinds))
+    dims = [_KIND_DIM.get(re.match(r"[a-z]*", kind).group(), -1) for kind in kinds]
+    shared = _shared_tags(dims, blocks)
     tagged: dict[str, list] = {}
-    for b, tags in enumerate(data.cell_data.get("gmsh:physical", [None] * n_blocks)):
-        for tag in np.unique(tags) if tags is not None else ():
-            name = names.get(int(tag), f"physical{int(tag)}")
+    for b, (dim, tags) in enumerate(zip(dims, blocks, strict=True)):
+        for tag in _tags(tags):
+            unnamed = f"physical{tag}_{dim}d" if tag in shared else f"physical{tag}"
+            name = names.get((tag, dim), by_tag.get(tag, unnamed))
             tagged.setdefault(name, []).append((b, np.flatnonzero(tags == tag)))
     return tagged
+
+
+def _shared_tags(dims: list[int], blocks) -> set[int]:
+    """The physical tags that cells of more than one dimension carry."""
+    used = {(t, d) for d, tags in zip(dims, blocks, strict=True) for t in _tags(tags)}
+    tags = [t for t, _ in used]
+    return {t for t in tags if tags.count(t) > 1}
+
+
+def _tags(tags) -> list[int]:
+    """The distinct physical tags of a block (none when it has no tags); 0 is none: what
+    gmsh writes for the cells of no physical group when it saves them all (Mesh.SaveAll)."""
+    return [] if tags is None else [int(t) for t in np.unique(tags) if t != 0]
+
+
+def _fields(data) -> list:
+    """meshio's ``field_data`` items that are gmsh's named groups: [tag, dimension]."""
+    return [(k, v) for k, v in (data.field_data or {}).items() if np.size(v) >= 1]
 
 
 def _named(mesh, groups, index, blocks, volume_kind: str):

@@ -56,7 +56,9 @@ def cell_kind(mesh) -> str:
     diagonal) of at least ``MIN_MAGNITUDE``, every node in a cell,
     no coincident vertices left unmerged."""
     if not isinstance(mesh, skfem.Mesh):
-        raise InputError(f"mesh must be a scikit-fem Mesh, got {type(mesh).__name__}")
+        # a file's path or a meshio.Mesh is the common slip: say where those go
+        hint = "; read a mesh file with Solid.from_file(path, material)"
+        raise InputError(f"mesh must be a scikit-fem Mesh, got {type(mesh).__name__}{hint}")
     cell = _REFDOMS.get(mesh.elem.refdom.__name__)
     if cell is None:
         raise InputError(

@@ -73,9 +73,8 @@ class Disk:
 
     def __init__(self, radius: float, n_outline: int = 48):
         self.radius = check_positive("radius", radius)
-        if isinstance(n_outline, bool) or int(n_outline) != n_outline or n_outline < 8:
-            raise InputError(f"n_outline must be an integer >= 8, got {n_outline!r}")
-        s = np.linspace(0.0, 2.0 * np.pi, int(n_outline), endpoint=False)
+        n_outline = check_count("n_outline", n_outline, 8)
+        s = np.linspace(0.0, 2.0 * np.pi, n_outline, endpoint=False)
         self._rim = self.radius * np.column_stack([np.cos(s), np.sin(s)])
 
     @property

@@ -27,7 +27,7 @@ import math
 
 import numpy as np
 
-from ..errors import InputError, check_positive
+from ..errors import InputError, check_count, check_finite, check_positive
 
 __all__ = ["Ball", "Box", "Capsule", "ConvexMesh", "Cylinder"]
 
@@ -38,9 +38,8 @@ def _ring(radius: float, z: float, n: int) -> np.ndarray:
 
 
 def _count(n) -> int:
-    if isinstance(n, bool) or int(n) != n or n < 8:
-        raise InputError(f"n_rim must be an integer >= 8, got {n!r}")
-    return int(n)
+    # at least 8 points draw a rim that reads as round (they are for output only)
+    return check_count("n_rim", n, 8)
 
 
 def _tube(rings: list[np.ndarray], caps=True):
@@ -226,8 +225,8 @@ class ConvexMesh:
     def __init__(self, points):
         from scipy.spatial import ConvexHull, QhullError
 
-        P = np.asarray(points, dtype=float)
-        if P.ndim != 2 or P.shape[1] != 3 or len(P) < 4 or not np.all(np.isfinite(P)):
+        P = check_finite("points", points)
+        if P.ndim != 2 or P.shape[1] != 3 or len(P) < 4:
             raise InputError(f"points must be a finite (n, 3) array with n >= 4, got {P.shape}")
         try:
             hull = ConvexHull(P)

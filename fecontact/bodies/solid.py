@@ -38,7 +38,7 @@ import scipy.sparse as sp
 from skfem.helpers import det
 from skfem.models.poisson import mass as _mass_form
 
-from ..errors import InputError, check_finite, check_positive
+from ..errors import InputError, check_finite, check_kind, check_positive
 from .elasticity import (
     Quadrature,
     deformation,
@@ -47,7 +47,7 @@ from .elasticity import (
     internal_force,
 )
 from .materials import PLANES, SolidMaterial
-from .mesh_files import group_nodes, read_mesh
+from .mesh_files import group_nodes, nodes_at, read_mesh_and_points
 from .meshes import (
     ball_mesh,
     box_mesh,
@@ -81,14 +81,16 @@ class Solid(SolidOutput, NodalTranslations):
         those of the slab.
 
     Supports (``fix``) are chainable. Node indices may be negative (−1 is the last node).
+    ``node_groups`` ({name: node indices}) names nodes beside the mesh's boundaries and
+    subdomains: a mesh file's groups of points and 3D edges (:meth:`from_file`).
     """
 
     continuum = True
 
     def __init__(self, mesh, material, element: str = "P1", plane: str = "strain", thickness=1.0):
         cell = cell_kind(mesh)
-        if not isinstance(material, SolidMaterial):
-            raise InputError(f"material must be a fecontact material, got {material!r}")
+        what = "a solid's material (LinearElastic, StVenantKirchhoff, NeoHookean)"
+        check_kind("material", material, SolidMaterial, what)
         if not isinstance(element, str) or element not in ("P1", "P2"):
             raise InputError(f"element must be 'P1' or 'P2', got {element!r}")
         if element == "P1" and mesh.doflocs.shape[1] != mesh.nvertices:
@@ -113,6 +115,7 @@ class Solid(SolidOutput, NodalTranslations):
         self.linear = bool(material.linear)
         """Constant stiffness (linear material): internal(q) = K q; factor once."""
         self.fixed: set[int] = set()
+        self.node_groups: dict[str, np.ndarray] = {}
 
         self._basis, self._mass_basis = mesh_bases(mesh, cell, element)
         check_cells(mesh, self._basis, cell)
@@ -136,8 +139,12 @@ class Solid(SolidOutput, NodalTranslations):
         """Solid on a mesh file read with meshio (:func:`fecontact.bodies.mesh_files.read_mesh`:
         coordinates times ``scale`` (> 0), then shifted by ``offset`` (m); ``merge_nodes``
         merges coincident points first); ``options`` are those of :class:`Solid` (element,
-        plane, thickness). The file's named groups (gmsh physical groups) name nodes."""
-        return cls(read_mesh(path, scale, offset, merge_nodes), material, **options)
+        plane, thickness). The file's named groups (gmsh physical groups) name nodes: those of
+        facets and cells through the mesh, those of points and 3D edges as ``node_groups``."""
+        mesh, places = read_mesh_and_points(path, scale, offset, merge_nodes)
+        body = cls(mesh, material, **options)
+        body.node_groups = {name: nodes_at(body.X, x, name) for name, x in places.items()}
+        return body
 
     @classmethod
     def disk(cls, center, radius: float, refinements: int, material, **options) -> Solid:
@@ -273,7 +280,9 @@ class Solid(SolidOutput, NodalTranslations):
         """Validated node indices of one node, a sequence of them, or the name of a group of
         the mesh (:func:`~fecontact.bodies.mesh_files.group_nodes`: a gmsh physical group)."""
         if isinstance(nodes, str):
-            return group_nodes(self.mesh, self._basis, nodes)
+            if nodes in self.node_groups:  # set by hand too: checked as any node list
+                return super().nodes_of(self.node_groups[nodes])
+            return group_nodes(self.mesh, self._basis, nodes, self.node_groups)
         return super().nodes_of(nodes)
 
     def contact_nodes(self, nodes=None) -> np.ndarray:

@@ -79,6 +79,8 @@ def split_overrides(build, args) -> tuple[dict, dict]:
     case_kw, option_kw = {}, {}
     for item in args.set:
         name, text = assignment(item)
+        if name in case_kw or name in option_kw:  # which would win is no user's guess
+            raise InputError(f"--set {name} is given twice; give it once")
         if name in params:
             case_kw[name] = parse_value(text)
         elif name in option_names:

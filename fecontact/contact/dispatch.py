@@ -3,10 +3,11 @@ with the factory registered for their kinds (:mod:`fecontact.contact.registry`).
 
 from __future__ import annotations
 
+from ..bodies.base import BODY, BodyDefaults
 from ..bodies.beam3d import Beam3D
 from ..bodies.rigid3d import RigidBody3D
 from ..bodies.solid import Solid
-from ..errors import InputError, check_positive
+from ..errors import InputError, check_kind, check_positive
 from .mortar import MortarContact, finer_first
 from .mortar3d import MortarContact3D
 from .mortar_p2_segments import MortarContactP2
@@ -88,6 +89,7 @@ def Contact(
     The pair comes from the factory registered for the classes of ``body`` and ``obstacle``
     (:func:`fecontact.contact.registry.register_pair`): a new body type registers its own.
     """
+    check_kind("body", body, BodyDefaults, BODY)
     friction = check_positive("friction", friction, allow_zero=True)
     clearance = check_positive("clearance", clearance, allow_zero=True)
     pair = _mortar_pair(body, obstacle, nodes, restitution, clearance, method)

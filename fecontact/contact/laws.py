@@ -409,7 +409,20 @@ def solve_velocity_jump(
         A_prev = A
     if redundant:  # (an active set cycling between redundant rows)
         return _cycling_jump(Gd, c, Y_all, (W, Lam, gd), law, stats, max_iter)
-    raise RuntimeError(f"velocity jump: active set did not settle in {max_iter} iterations")
+    raise RuntimeError(_unsettled_jump(Lam, gd, law, max_iter))
+
+
+def _unsettled_jump(Lam, gd, law, max_iter: int) -> str:
+    """Why the jump stopped, with the law's residual where it stopped (N·s): the largest
+    |k Λ_j − [k Λ_j − p ġ_j]_+| of the contacts, |p ġ_j| of the equalities. (The run's
+    failure message takes it: the time and step it names then come with a residual.)"""
+    p, k, eq, _, _ = law
+    r = np.where(eq, p * gd, k * Lam - np.maximum(k * Lam - p * gd, 0.0))
+    worst = float(np.max(np.abs(r), initial=0.0))
+    return (
+        f"velocity jump: active set did not settle in {max_iter} iterations "
+        f"(law residual {worst:.3e} N·s)"
+    )
 
 
 def _held_jump(Gd, c, Y, law, stats):
@@ -437,7 +450,7 @@ def _cycling_jump(Gd, c, Y, jump, law, stats, max_iter: int):
     if tol > 0 and _settled(Lam, gd, p, k, eq, tol, scale):
         _record(stats, "velocity", Lam, gd, p, k, eq, tol, scale)
         return W, Lam, max_iter
-    raise RuntimeError(f"velocity jump: active set did not settle in {max_iter} iterations")
+    raise RuntimeError(_unsettled_jump(Lam, gd, law, max_iter))
 
 
 def _redundant_jump(Gd, c, Y, jump, law, stats):

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InputError, check_finite, check_positive, check_vector
+from ..errors import InputError, check_finite, check_kind, check_positive, check_vector
 
 __all__ = ["Plane", "Circle", "Sphere", "Point"]
 
@@ -33,6 +33,8 @@ class _Motion:
             raise InputError("motion must be a function of time t (s) returning a displacement")
         if velocity is not None and not callable(velocity):
             raise InputError("velocity must be a function of time t (s)")
+        if velocity is not None and motion is None:  # a velocity alone would be ignored
+            raise InputError("velocity is the rate of motion: give motion(t) too")
         self.motion, self.velocity = motion, velocity
 
     @property
@@ -128,7 +130,8 @@ class Circle(_Motion):
         self.center = _vector("center", center)
         self.dim = len(self.center)
         self.radius = check_positive("radius", radius)
-        self.inside = bool(inside)
+        # a string such as "no" would read as a cavity
+        self.inside = bool(check_kind("inside", inside, (bool, np.bool_), "True or False"))
         self.sign = -1.0 if inside else 1.0
 
     def gap(self, x: np.ndarray):
