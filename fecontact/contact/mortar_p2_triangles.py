@@ -31,9 +31,10 @@ faces), so that Σ_j Φ_j = 1 and a uniform pressure gives every node its consis
 
 Linearisation: everything above is written in :class:`~fecontact.contact.dual_numbers.Jet`
 arithmetic over the 36 coordinates z = (x_1..x_6, y_1..y_6). The projections' values come
-from Newton's method; two Newton steps in Jet arithmetic from the converged values give
-their exact first and second derivatives (the error of the first step is second order in a
-change of z, of the second fourth order). The polygon's vertices are rebuilt in Jets from
+from Newton's method. The feet take two Newton steps in Jet arithmetic from the converged
+values (the error of the first step is second order in a change of z, of the second fourth
+order); the master points at the integration points, the most numerous, are differentiated
+implicitly (:func:`_master_alpha`), the same derivatives at a tenth of the products. The polygon's vertices are rebuilt in Jets from
 what each one is (a foot, a corner, a crossing), so the gradients and Hessians include the
 motion of the overlap's boundary: the linearisation is consistent.
 """
@@ -200,21 +201,36 @@ def _spread(jet, G: int, cells: int):
     return _gather([r] * cells) if cells > 1 else r
 
 
-def _master_jets(cm, x, n, mu, order):
-    """(μ₂, μ₃, α) Jets of y(μ) = x + α n on the master faces (coefficients cm) from their
-    values mu (B, 3): ``order`` Newton steps in Jet arithmetic."""
-    u = [x[0].constant_like(mu[:, k]) for k in range(3)]
-    for _ in range(order):
-        y, ys, yt, _ = _surface(cm, u[0], u[1])
-        F = tuple(y[d] - x[d] - u[2] * n[d] for d in range(3))
-        a, b, c = ys, yt, tuple(-v for v in n)
-        det = _dot(a, _cross(b, c))
-        inv = det.where(np.abs(det.v) > 0.0, 1.0).reciprocal()
-        u = [u[0] - _dot(F, _cross(b, c)) * inv, u[1] - _dot(a, _cross(F, c)) * inv,
-             u[2] - _dot(a, _cross(b, F)) * inv]  # fmt: skip
-    for k in range(3):
-        u[k].v = mu[:, k]
-    return u
+def _master_alpha(cm, x, n, mu, order):
+    """The Jet of α of y(μ) = x + α n on the master faces (coefficients cm, Jets affine in z)
+    from the converged values mu (B, 3), by implicit differentiation of F(μ, z) = y(μ) − x −
+    α n = 0 with J = ∂F/∂μ = (y_s, y_t, −n): ∂μ = −J⁻¹ ∂F/∂z at fixed μ and, μ carrying these
+    exact gradients and no curvature, ∂²μ = −J⁻¹ ∂²F (F and its gradient vanish along the
+    solution, so what is left of F's curvature is −J ∂²μ). The same derivatives as Newton
+    steps in Jet arithmetic from the converged values, at a fraction of their products."""
+    if order == 0:
+        return x[0].constant_like(mu[:, 2])
+    s, t, a = mu.T
+    m = [None, s, t, s * s, s * t, t * t]
+    ys = tuple(cm[1][d].v + 2.0 * s * cm[3][d].v + t * cm[4][d].v for d in range(3))
+    yt = tuple(cm[2][d].v + s * cm[4][d].v + 2.0 * t * cm[5][d].v for d in range(3))
+    J = np.stack([np.stack(ys, 1), np.stack(yt, 1), -np.stack([v.v for v in n], 1)], axis=2)
+    det = np.linalg.det(J)
+    singular = ~(np.isfinite(det) & (det != 0.0))
+    inv = np.linalg.inv(np.where(singular[:, None, None], np.eye(3), J))
+    Fz = np.stack([cm[0][d].g + sum(m[k][:, None] * cm[k][d].g for k in range(1, 6))
+                   - x[d].g - a[:, None] * n[d].g for d in range(3)], axis=1)  # fmt: skip
+    du = -np.einsum("bkd,bdz->bkz", inv, Fz)
+    if order == 1:
+        return Jet(a, du[:, 2], None)
+    zero = np.zeros_like(x[0].h)  # (exact zeros, never written: the Jets below are flat)
+    u = [Jet(mu[:, k], du[:, k], zero, True) for k in range(3)]
+    w = inv[:, 2]  # α'' = −w·∂²F: F's components combined first, on the affine coefficients
+    c = [sum(cm[k][d] * w[:, d] for d in range(3)) for k in range(6)]
+    y = c[0] + u[0] * (c[1] + u[0] * c[3] + u[1] * c[4]) + u[1] * (c[2] + u[1] * c[5])
+    wx = sum(x[d] * w[:, d] for d in range(3))
+    wn = sum(n[d] * w[:, d] for d in range(3))
+    return Jet(a, du[:, 2], -(y - wx - u[2] * wn).h)
 
 
 def _master_values(cm, x, n):
@@ -396,7 +412,7 @@ def _projection(cs, cm, cm_v, s, t, order: int, spread):
     n = _cross(xs, xt)
     mu = _master_values(cm_v, np.stack([v.v for v in x], 1), np.stack([v.v for v in n], 1))
     cmr = [[_spread(v, *spread) for v in cv] for cv in cm]
-    return n, mu, _master_jets(cmr, x, n, mu, order)[2]
+    return n, mu, _master_alpha(cmr, x, n, mu, order)
 
 
 def _mass(Nt, dA, shape_):
