@@ -33,7 +33,7 @@ def _monomials(s, t):
 def _close(a, b):
     # the two evaluations sum the same terms in other orders: round-off of the largest term
     # (entries of order 1 here, 36 × 36 Hessians of products of a few factors; measured
-    # 1.8e-15, a margin of 50 for other BLAS and summation orders)
+    # 6.8e-16, a margin of 150 for other BLAS and summation orders)
     return np.max(np.abs(a - b)) <= 1e-13 * max(np.max(np.abs(b)), 1.0)
 
 
