@@ -31,11 +31,15 @@ faces), so that Σ_j Φ_j = 1 and a uniform pressure gives every node its consis
 
 Linearisation: everything above is written in :class:`~fecontact.contact.dual_numbers.Jet`
 arithmetic over the 36 coordinates z = (x_1..x_6, y_1..y_6). The projections' values come
-from Newton's method; two Newton steps in Jet arithmetic from the converged values give
-their exact first and second derivatives (the error of the first step is second order in a
-change of z, of the second fourth order). The polygon's vertices are rebuilt in Jets from
-what each one is (a foot, a corner, a crossing), so the gradients and Hessians include the
-motion of the overlap's boundary: the linearisation is consistent.
+from Newton's method. The feet take two Newton steps in Jet arithmetic from the converged
+values (the error of the first step is second order in a change of z, of the second fourth
+order); the master points at the integration points, the most numerous, are differentiated
+implicitly (:func:`_master_alpha`), the same derivatives at a tenth of the products. The
+polygon's vertices are rebuilt in Jets from what each one is (a foot, a corner, a crossing),
+so the gradients and Hessians include the motion of the overlap's boundary: the
+linearisation is consistent. The derivatives of the polynomials of the points (shape
+functions, the slave surface) come by the chain rule from their own partials
+(:mod:`fecontact.contact.mortar_p2_points`).
 """
 
 from __future__ import annotations
@@ -46,7 +50,9 @@ from .dual_numbers import Jet
 from .mortar3d import TURNED
 from .mortar_facets import FACING
 from .mortar_p2 import dual_coefficients
+from .mortar_p2_groups import merge
 from .mortar_p2_overlap import polygon, vertex_jets
+from .mortar_p2_points import polynomials, slave_surface
 
 __all__ = [
     "DUALS",
@@ -83,12 +89,6 @@ _RULE, _RULE_W = quadratic_rule()
 def monomials(s, t):
     """(1, s, t, s², s t, t²) of values or Jets."""
     return [s * 0.0 + 1.0, s, t, s * s, s * t, t * t]
-
-
-def shape(s, t):
-    """The six P2 shape functions at (s, t) (values or Jets)."""
-    m = monomials(s, t)
-    return [sum(m[i] * _C[i, k] for i in range(6) if _C[i, k] != 0.0) for k in range(6)]
 
 
 # -- vectors of Jets ------------------------------------------------------------------------
@@ -194,27 +194,36 @@ def _gather(jets):
     return Jet(v, g, h)
 
 
-def _spread(jet, G: int, cells: int):
-    """Each batch entry G times in a row, the whole batch ``cells`` times."""
-    r = jet.repeat(G)
-    return _gather([r] * cells) if cells > 1 else r
-
-
-def _master_jets(cm, x, n, mu, order):
-    """(μ₂, μ₃, α) Jets of y(μ) = x + α n on the master faces (coefficients cm) from their
-    values mu (B, 3): ``order`` Newton steps in Jet arithmetic."""
-    u = [x[0].constant_like(mu[:, k]) for k in range(3)]
-    for _ in range(order):
-        y, ys, yt, _ = _surface(cm, u[0], u[1])
-        F = tuple(y[d] - x[d] - u[2] * n[d] for d in range(3))
-        a, b, c = ys, yt, tuple(-v for v in n)
-        det = _dot(a, _cross(b, c))
-        inv = det.where(np.abs(det.v) > 0.0, 1.0).reciprocal()
-        u = [u[0] - _dot(F, _cross(b, c)) * inv, u[1] - _dot(a, _cross(F, c)) * inv,
-             u[2] - _dot(a, _cross(b, F)) * inv]  # fmt: skip
-    for k in range(3):
-        u[k].v = mu[:, k]
-    return u
+def _master_alpha(cm, x, n, mu, order):
+    """The Jet of α of y(μ) = x + α n on the master faces (coefficients cm, Jets affine in z)
+    from the converged values mu (B, 3), by implicit differentiation of F(μ, z) = y(μ) − x −
+    α n = 0 with J = ∂F/∂μ = (y_s, y_t, −n): ∂μ = −J⁻¹ ∂F/∂z at fixed μ and, μ carrying these
+    exact gradients and no curvature, ∂²μ = −J⁻¹ ∂²F (F and its gradient vanish along the
+    solution, so what is left of F's curvature is −J ∂²μ). The same derivatives as Newton
+    steps in Jet arithmetic from the converged values, at a fraction of their products."""
+    if order == 0:
+        return x[0].constant_like(mu[:, 2])
+    s, t, a = mu.T
+    m = [None, s, t, s * s, s * t, t * t]
+    ys = tuple(cm[1][d].v + 2.0 * s * cm[3][d].v + t * cm[4][d].v for d in range(3))
+    yt = tuple(cm[2][d].v + s * cm[4][d].v + 2.0 * t * cm[5][d].v for d in range(3))
+    J = np.stack([np.stack(ys, 1), np.stack(yt, 1), -np.stack([v.v for v in n], 1)], axis=2)
+    det = np.linalg.det(J)
+    singular = ~(np.isfinite(det) & (det != 0.0))
+    inv = np.linalg.inv(np.where(singular[:, None, None], np.eye(3), J))
+    Fz = np.stack([cm[0][d].g + sum(m[k][:, None] * cm[k][d].g for k in range(1, 6))
+                   - x[d].g - a[:, None] * n[d].g for d in range(3)], axis=1)  # fmt: skip
+    du = -np.einsum("bkd,bdz->bkz", inv, Fz)
+    if order == 1:
+        return Jet(a, du[:, 2], None)
+    zero = np.zeros_like(x[0].h)  # (exact zeros, never written: the Jets below are flat)
+    u = [Jet(mu[:, k], du[:, k], zero, True) for k in range(3)]
+    w = inv[:, 2]  # α'' = −w·∂²F: F's components combined first, on the affine coefficients
+    c = [sum(cm[k][d] * w[:, d] for d in range(3)) for k in range(6)]
+    y = c[0] + u[0] * (c[1] + u[0] * c[3] + u[1] * c[4]) + u[1] * (c[2] + u[1] * c[5])
+    wx = sum(x[d] * w[:, d] for d in range(3))
+    wn = sum(n[d] * w[:, d] for d in range(3))
+    return Jet(a, du[:, 2], -(y - wx - u[2] * wn).h)
 
 
 def _master_values(cm, x, n):
@@ -288,12 +297,6 @@ def _feet(z):
     return np.where(np.isfinite(F), F, 10.0), facing
 
 
-def _live(z) -> np.ndarray:
-    """The pairs whose faces face each other and whose overlap has an area."""
-    F, facing = _feet(z)
-    return facing & (polygon(F)[1] >= 3)
-
-
 def _scatter(result, live, n: int, hessian):
     """The results of the live pairs placed among all (zeros elsewhere)."""
     moments, mass_of, coverage, covered, quad = result
@@ -327,16 +330,19 @@ def p2_triangle_integrals(z: np.ndarray, hessian=None, depth: float = np.inf):
     quadrature as values for the slip rows: (s, t) (P, Q, 2), μ (P, Q, 2) and the weights
     of dA (P, Q). The weighted gaps are g̃ = A m with the dual coefficients A of the
     covered part (:func:`fecontact.contact.mortar3d_p2.weighted_gaps`)."""
-    live = _live(z)
+    F, facing = _feet(z)
+    index, count, points = polygon(F)
+    live = facing & (count >= 3)  # the pairs that face each other with an overlap of area
     if not live.all():
         return _scatter(p2_triangle_integrals(z[live], hessian, depth), live, z.shape[1], hessian)
+    if count.min() < count.max():  # the same number of cells in a pass (mortar_p2_groups)
+        groups = [np.flatnonzero(count == c) for c in np.unique(count)]
+        return merge([p2_triangle_integrals(z[i], hessian, depth) for i in groups], groups, len(z))
     P, G = len(z), len(_RULE_W)
     order = 0 if hessian is None else (2 if hessian else 1)
     c = Jet.variables(z, hessian)
     nodes = [(c[3 * k], c[3 * k + 1], c[3 * k + 2]) for k in range(12)]
     cs, cm = _coefficients(nodes[:6]), _coefficients(nodes[6:])
-    F, _ = _feet(z)
-    index, count, points = polygon(F)
     feet = [_foot_jets(cs, nodes[6 + i], F[:, i], order) for i in range(3)]
     s, t, w = _cells(vertex_jets(feet, index, points), count, P)
     cells = index.shape[1] - 2
@@ -345,7 +351,8 @@ def p2_triangle_integrals(z: np.ndarray, hessian=None, depth: float = np.inf):
     cm_v = np.tile(
         np.repeat(_value_coefficients(z[:, 18:36].reshape(P, 6, 3)), G, 0), (cells, 1, 1)
     )
-    n, mu, alpha = _projection(cs, cm, cm_v, s, t, order, (G, cells))
+    X = np.tile(np.repeat(z[:, :18].reshape(P, 6, 3), G, 0), (cells, 1, 1))
+    n, mu, alpha = _projection(X, cm, cm_v, s, t, order, (G, cells))
     nn = _dot(n, n)
     dA = np.sqrt(nn.v) * w.v
     gap = ((mu[:, 2] * nn.v * w.v).reshape(cells, P, G).sum((0, 2)),
@@ -353,7 +360,7 @@ def p2_triangle_integrals(z: np.ndarray, hessian=None, depth: float = np.inf):
     behind = np.tile(np.repeat(gap[0] < -depth * gap[1], G), cells)  # deeper than depth
     w, dA = w.where(~behind, 0.0), np.where(behind, 0.0, dA)
     f = (alpha * nn * w).where(w.v != 0.0, 0.0)
-    Nt = [sum(Nk * TRANSFORM[j, k] for k, Nk in enumerate(shape(s, t))) for j in range(6)]
+    Nt = _jets(*polynomials(_C @ TRANSFORM.T, s, t))
     moments = [_per_pair(Nt[k] * f, cells, P, G) for k in range(6)]
 
     def mass_of(part):  # M_kl of the pairs ``part``: their points alone
@@ -388,15 +395,21 @@ def _facing_weight(nodes):
     return (t * t * (3.0 - t * 2.0)).where(t.v < 1.0, 1.0)
 
 
-def _projection(cs, cm, cm_v, s, t, order: int, spread):
-    """The slave normal n = x_s × x_t at the points (s, t), the values (μ₂, μ₃, α) of the
-    master points y(μ) = x + α n and the Jet of α; ``cm_v`` the master faces' coefficients
-    at the points."""
-    x, xs, xt, _ = _surface([[_spread(v, *spread) for v in cv] for cv in cs], s, t)
+def _projection(X, cm, cm_v, s, t, order: int, spread):
+    """The slave normal n = x_s × x_t at the points (s, t) of the slave faces with nodes X
+    (B, 6, 3), the values (μ₂, μ₃, α) of the master points y(μ) = x + α n and the Jet of
+    α; ``cm_v`` the master faces' coefficients at the points."""
+    x, xs, xt = slave_surface(_C, X, s, t)
     n = _cross(xs, xt)
     mu = _master_values(cm_v, np.stack([v.v for v in x], 1), np.stack([v.v for v in n], 1))
     cmr = [[_spread(v, *spread) for v in cv] for cv in cm]
-    return n, mu, _master_jets(cmr, x, n, mu, order)[2]
+    return n, mu, _master_alpha(cmr, x, n, mu, order)
+
+
+def _jets(v, g, h):
+    """The columns of values (B, J), gradients (B, J, n) and Hessians (B, J, n, n) as J Jets."""
+    return [Jet(v[:, j], None if g is None else g[:, j], None if h is None else h[:, j])
+            for j in range(v.shape[1])]  # fmt: skip
 
 
 def _mass(Nt, dA, shape_):
