@@ -21,6 +21,16 @@ turn of the boundary there); the vertex's own row on the beam holds the round pa
 Where a beam node meets a solid node the two rows hold one relative motion: the pair declares
 ``redundant_rows`` and the run takes minimum-norm multipliers (decided once per model;
 docs/validation/redundant_rows.md).
+
+With ``friction`` μ both families slip as the point of the beam's surface that touches: the
+section's point at the arm c n from the centreline (n the row's unit normal toward the solid),
+which the section's turn moves by θ̇ e_z × c n. A solid node's row slips as the node against
+the beam's material point at the row's ξ, ẋ − ((1 − ξ) ẋ_a + ξ ẋ_b + ω(ξ) e_z × c n), the
+section's turn interpolated as the centreline (:mod:`.section_segments`); a beam node's row as
+its section's point x − c n (n out of the solid) against the segment's material point under
+it, ẋ + θ̇ e_z × (−c n) − ((1 − ξ) ẋ₁ + ξ ẋ₂): the turn adds c θ̇ along the row's tangent.
+Over a step both take the sections' turns exactly (each section point turned back with its
+section), so that a rigid motion of both bodies slips nothing.
 """
 
 from __future__ import annotations
@@ -30,9 +40,11 @@ import numpy as np
 from ..bodies.beam import Beam2D
 from ..bodies.solid import Solid
 from ..errors import InputError
-from .beam_sides import PointBeamContact
+from .beam_sides import PointBeamContact, closest_rows
 from .body_pairs import NodeSurfaceContact
+from .friction import tangent_basis
 from .registry import register_pair
+from .section_segments import segment_point_moves, segment_turns
 
 __all__ = ["BeamNodeSurface", "SolidBeamContact"]
 
@@ -40,17 +52,53 @@ __all__ = ["BeamNodeSurface", "SolidBeamContact"]
 class BeamNodeSurface(NodeSurfaceContact):
     """Every node of a ``Beam2D`` against the boundary segments of a 2D ``Solid``, kept the
     ``clearance`` c (m, half the section height) outside it: g = n·(x − x₁) − c (module
-    docstring). Frictionless: the companion of a :class:`SolidBeamContact`, which has no
-    friction."""
+    docstring). The companion of a :class:`SolidBeamContact` ``owner``, whose μ it takes."""
 
     redundant_rows = True  # a beam node's row and the solid node's row it meets
     meets_back = False  # (its counterpart is a PointBeamContact, not a pass of its kind)
-    frictional = False
+    frictional = True
 
-    def __init__(self, beam, solid, restitution: float = 0.0, clearance: float = 0.0):
+    def __init__(self, beam, solid, restitution: float = 0.0, clearance: float = 0.0, owner=None):
         super().__init__(beam, solid, None, restitution)
         self.clearance = float(clearance)
         self.margin = self.base_margin + self.clearance
+        self.owner = owner
+
+    @property
+    def friction(self) -> float:
+        """Coulomb's μ of the pair that brings the rows (``Contact`` sets it there)."""
+        return 0.0 if self.owner is None else self.owner.friction
+
+    def _sections(self, q: np.ndarray):
+        """The rows' dofs (m, k) and slip rows (m, 1, k) of the translations
+        (:meth:`NodeSurfaceContact.tangents`), their tangents T (m, 1, 2), the beam's local
+        dofs, the nodes (m,) and the arms −c n (m, 2) from the nodes to their touching points."""
+        dofs, GT, T = super().tangents(q)
+        n = np.stack([-T[:, 0, 1], T[:, 0, 0]], axis=1)  # (T = (n_y, −n_x); zero: no facet)
+        oa = self.offsets[0]
+        qb = q[oa : oa + self.body.ndof]
+        return dofs, GT, T, qb, self.nodes[self._row_node], -self.clearance * n
+
+    def tangents(self, q: np.ndarray):
+        """Dofs (m, k + 1), slip rows (m, 1, k + 1) and tangents T (m, 1, 2): the node's
+        section point x − c n against the segment's point under it (module docstring); the
+        last column is the node's rotation."""
+        dofs, GT, T, qb, nodes, arms = self._sections(q)
+        turns, B = self.body.section_turns(qb, nodes, arms)
+        GT = np.concatenate([GT, np.einsum("mti,mik->mtk", T, B)], axis=2)
+        return np.concatenate([dofs, self.offsets[0] + turns], axis=1), GT, T
+
+    def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
+        """The step's slip (m, 1): the translations' linear form (exact) and the section
+        point's arm against where its section held it at q_n, arm − R(θ_n − θ) arm (exact
+        for any turn)."""
+        dofs, GT, _, qb, nodes, arms = self._sections(q)
+        slip = np.einsum("mtk,mk->mt", GT, (q - q_n)[dofs])
+        oa = self.offsets[0]
+        qb_n = q_n[oa : oa + self.body.ndof]
+        back = self.body.section_points_before(qb, qb_n, nodes, arms)
+        back = back - self.body.positions(qb_n)[nodes]
+        return slip + np.einsum("mtd,md->mt", T, arms - back)
 
     @staticmethod
     def check_bodies(body, master) -> None:
@@ -83,7 +131,53 @@ class SolidBeamContact(PointBeamContact):
 
     def __init__(self, body, beam, nodes=None, restitution: float = 0.0, clearance=0.0):
         super().__init__(body, beam, nodes, restitution, clearance)
-        self.companions = (BeamNodeSurface(beam, body, restitution, clearance),)
+        self.companions = (BeamNodeSurface(beam, body, restitution, clearance, self),)
+
+    frictional = True
+
+    def _touching(self, q: np.ndarray):
+        """Each row's element (2n,), its parameter ξ, the nodes' positions (2n, 2), the
+        row's unit normal n toward the node (2n, 2) and whether the row is used (2n,); the
+        touching point lies at the arm c n from the centreline."""
+        x, x1, x2, t, f = self._coordinates(q)
+        e, side, line, xi, used = closest_rows(self.segments, self._start, x, x1, x2, t, f)
+        x = np.concatenate([x, x])
+        d = x2[e] - x1[e]
+        across = np.stack([-d[:, 1], d[:, 0]], axis=1) / np.linalg.norm(d, axis=1)[:, None]
+        rel = x - x1[e] - xi[:, None] * d
+        r = np.linalg.norm(rel, axis=1)
+        caps = rel / np.where(r > 0.0, r, 1.0)[:, None]
+        n = np.where(line[:, None], side[:, None] * across, caps)
+        return e, xi, x, n, used
+
+    def tangents(self, q: np.ndarray):
+        """Dofs (2n, 8), slip rows (2n, 1, 8) and tangents T (2n, 1, 2): the node against the
+        beam's section point at the row's ξ (module docstring); the last two columns are the
+        element's end rotations. Unused rows slip nothing."""
+        e, xi, _, n, used = self._touching(q)
+        T = tangent_basis(n) * used[:, None, None]
+        arms = self.clearance * n
+        ob = self.offsets[1]
+        turns, B = segment_turns(self.beam, q[ob : ob + self.beam.ndof], self.segments[e], xi, arms)
+        W = np.zeros((len(e), 2, 8))
+        W[:, :, :2] = np.eye(2)
+        W[:, :, 2:4] = -(1.0 - xi)[:, None, None] * np.eye(2)
+        W[:, :, 4:6] = -xi[:, None, None] * np.eye(2)
+        W[:, :, 6:] = -B
+        dofs = np.concatenate([self.row_dofs(e), ob + turns], axis=1)
+        return dofs, np.einsum("mti,mik->mtk", T, W), T
+
+    def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
+        """The step's slip (2n, 1): the node's travel against the beam's section point's,
+        each end's section point turned back with its section (exact for sections turning
+        alike)."""
+        e, xi, x, n, _ = self._touching(q)
+        arms = self.clearance * n
+        (oa, ob), body, beam = self.offsets, self.body, self.beam
+        x_n = body.positions(q_n[oa : oa + body.ndof])[self.nodes]
+        qb, qb_n = q[ob : ob + beam.ndof], q_n[ob : ob + beam.ndof]
+        moves = segment_point_moves(beam, qb, qb_n, self.segments[e], xi, arms)
+        return np.einsum("mtd,md->mt", T, x - np.concatenate([x_n, x_n]) - moves)
 
     def bind(self, model) -> None:
         super().bind(model)

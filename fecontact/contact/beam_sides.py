@@ -177,9 +177,13 @@ class PointBeamContact(PairDefaults):
             k = np.where(xe[end] == 0.0, 0, 1)
             node = np.where(k[:, None] == 0, x1[e[end]], x2[e[end]])
             g[end] = _end_caps(x[end] - node, k, np.flatnonzero(end), G, H)
-        (oa, ob) = self.offsets
-        dofs = np.hstack([oa + np.tile(self._point_dofs, (2, 1)), ob + self._segment_dofs[e]])
-        return g - self.clearance, dofs, G, H
+        return g - self.clearance, self.row_dofs(e), G, H
+
+    def row_dofs(self, e: np.ndarray) -> np.ndarray:
+        """Global dofs (2n, 6) of the rows on the elements e (2n,): the node's (x, y), then
+        the element's two nodes'."""
+        oa, ob = self.offsets
+        return np.hstack([oa + np.tile(self._point_dofs, (2, 1)), ob + self._segment_dofs[e]])
 
 
 def closest_rows(segments, start, x, x1, x2, t, f):
