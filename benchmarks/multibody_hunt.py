@@ -6,6 +6,7 @@ Rows (``docs/validation/multibody.md``, "Beyond the cases"):
 - a spherical pendulum (a bar on a ball joint, swung about the vertical): L_z about the
   pivot, which gravity and the joint's force never change, at three steps;
 - a free chain of six bars on ball joints, no gravity: total P and L;
+- a chain of ten bars hanging on hinges of random axes, thrown: the joints' drift;
 - a double pendulum of two bars on hinges against the same bars on planar ``Pin`` joints,
   in the x–y plane and turned by a rotation Q (bodies, axes and gravity);
 - two boxes welded by a ``FixedJoint``, tumbling free, against one body of their combined
@@ -119,6 +120,27 @@ def free_chain(h: float = 2e-3, t_end: float = 5.0) -> dict:
     also += f"joint gap {hist['gap'].max():.1e} m; "
     also += f"dE/E {np.ptp(hist['kinetic_energy']) / hist['kinetic_energy'][0]:.1e}"
     return compared(row, "|dL| / |L|", 0.0, dH, also)
+
+
+def hinge_chain(n: int = 10, h: float = 2e-3, t_end: float = 2.0) -> dict:
+    L = 0.2
+    tops = [np.array([0.0, 0.0, -i * L]) for i in range(n + 1)]
+    bars = [RigidBody3D.uniform(0.5, 0.5 * (tops[i] + tops[i + 1]), Box(0.02, 0.02, L))
+            for i in range(n)]  # fmt: skip
+    axes = [a / np.linalg.norm(a) for a in np.random.default_rng(2).normal(size=(n, 3))]
+    joints = [HingeJoint(b, tops[i], axes[i], bars[i - 1] if i else None)
+              for i, b in enumerate(bars)]  # fmt: skip
+    model = Model(bars, gravity=(0.0, 0.0, -G), joints=joints)
+    v0, vj, w = np.zeros(model.n), np.zeros(3), np.zeros(3)
+    for i, b in enumerate(bars):  # each hinge turning at 2 rad/s
+        o, w = model.offset_of(b), w + 2.0 * axes[i]
+        v0[o : o + 3], v0[o + 3 : o + 6] = vj + np.cross(w, b.position - tops[i]), w
+        vj = vj + np.cross(w, tops[i + 1] - tops[i])
+    probes = {"gap": Probe(lambda m, st: max(float(np.abs(j.gaps(st.q)).max()) for j in joints),
+                           "m", "")}  # fmt: skip
+    sim = Simulation(model, dt=h, t_end=t_end, probes=probes, v0=v0, name="hunt_hinges")
+    row, hist = measured("joints", f"{n} bars on hinges of random axes, thrown, 2 s", sim)
+    return compared(row, "largest joint gap (m)", 0.0, float(hist["gap"].max()))
 
 
 def double_pendulum_planar(h: float = 1e-3, t_end: float = 1.0) -> dict:
@@ -312,7 +334,7 @@ def pendulum_on_rod(mu: float = 0.3, e: float = 0.5, h: float = 2e-4, t_end: flo
                     f"changes {moved[0]:.1e}, {moved[1]:.1e}")  # fmt: skip
 
 
-FULL = [spherical_pendulum, free_chain, double_pendulum_planar, welded_pair, prismatic,
+FULL = [spherical_pendulum, free_chain, hinge_chain, double_pendulum_planar, welded_pair, prismatic,
         lambda: spinning_drop(100.0, 0.3), lambda: spinning_drop(10.0, 1.0),
         rolling_beside_pendulum, turned_pendulum, pendulum_on_rod]  # fmt: skip
 QUICK = [lambda: prismatic(t_end=0.1), lambda: spinning_drop(100.0, 0.3)]
