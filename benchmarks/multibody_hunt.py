@@ -3,6 +3,8 @@ answers or invariants.
 
 Rows (``docs/validation/multibody.md``, "Beyond the cases"):
 
+- a torque-free brick flipping about its intermediate axis for 30 s (15 000 steps): E and
+  the spatial H = R J Ω, at two steps;
 - a spherical pendulum (a bar on a ball joint, swung about the vertical): L_z about the
   pivot, which gravity and the joint's force never change, at three steps;
 - a free chain of six bars on ball joints, no gravity: total P and L;
@@ -60,6 +62,26 @@ def vector_probes(name: str, f) -> dict:
 
 def last(hist, name: str) -> np.ndarray:
     return np.array([hist[f"{name}{k}"][-1] for k in range(3)])
+
+
+def long_flip(steps=(2e-3, 1e-3), t_end: float = 30.0) -> dict:
+    drifts, energies = [], []
+    for h in steps:
+        body = RigidBody3D.uniform(2.0, [0.0, 0.0, 0.0], Box(0.3, 0.2, 0.1))
+        probes = vector_probes("H", lambda st, b=body: b.rotation(st.q) @ (b.J @ st.v[3:]))
+        model, v0 = Model([body], gravity=(0.0, 0.0, 0.0)), np.r_[0, 0, 0, 0, 6.0, 0.3]
+        sim = Simulation(model, dt=h, t_end=t_end, probes=probes, v0=v0, name="hunt_flip")
+        row, hist = measured("free", "", sim)
+        H = np.column_stack([hist[f"H{k}"] for k in range(3)])
+        E = hist["kinetic_energy"]
+        drifts.append(float(np.linalg.norm(H[-1] - H[0]) / np.linalg.norm(H[0])))
+        energies.append(float(np.abs(E - E[0]).max() / E[0]))
+    row["run"] = "brick 0.3x0.2x0.1 spun at (0, 6, 0.3) rad/s, 30 s, rho_inf 0.5"
+    compared(row, "|H(30 s) - H0| / |H0| at h 2, 1 ms", 0.0, drifts[-1],
+             ", ".join(f"{d:.2e}" for d in drifts) + "; max |E - E0| / E0 "
+             + ", ".join(f"{e:.1e}" for e in energies))  # fmt: skip
+    row["order"] = order(drifts)
+    return row
 
 
 def spherical_pendulum(steps=(2e-3, 1e-3, 5e-4), t_end: float = 2.0) -> dict:
@@ -334,7 +356,8 @@ def pendulum_on_rod(mu: float = 0.3, e: float = 0.5, h: float = 2e-4, t_end: flo
                     f"changes {moved[0]:.1e}, {moved[1]:.1e}")  # fmt: skip
 
 
-FULL = [spherical_pendulum, free_chain, hinge_chain, double_pendulum_planar, welded_pair, prismatic,
+FULL = [long_flip, spherical_pendulum, free_chain, hinge_chain, double_pendulum_planar,
+        welded_pair, prismatic,
         lambda: spinning_drop(100.0, 0.3), lambda: spinning_drop(10.0, 1.0),
         rolling_beside_pendulum, turned_pendulum, pendulum_on_rod]  # fmt: skip
 QUICK = [lambda: prismatic(t_end=0.1), lambda: spinning_drop(100.0, 0.3)]
