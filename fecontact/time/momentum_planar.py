@@ -20,15 +20,16 @@ kinetic energy that keeps P: a rigid rotation of the group about its centre of m
 q, δω = ℓ / I_G, δu̇_a = δω e_z × (c_a − c_G), δω_a = δω, with I_G = Σ m_a |c_a − c_G|² + I_a
 the group's locked inertia (the planar case of :mod:`.momentum_rigid`).
 
-Decided once per model: the free ``RigidBody2D`` bodies (no support), in a model without
-joints (a joint's force on one body of a pair is external to it).
+Decided once per model: the free ``RigidBody2D`` bodies (no support) that no joint holds (a
+joint's force on one body of a pair is external to it); a jointed body is left alone like
+another kind of body, so that a group it touches is left alone too.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .momentum_rigid import body_groups
+from .momentum_rigid import body_groups, jointed
 
 __all__ = ["PlanarMomentum", "planar_momentum"]
 
@@ -46,12 +47,12 @@ class PlanarMomentum:
         # (body, global slice) of each free RigidBody2D, its free dofs (3 a column)
         self.bodies = []
         columns = []
-        if not model.joints.size:
-            for i, b in enumerate(model.bodies):
-                if b.rigid_frame and b.dim == 2 and not b.fixed:
-                    s = model.body_slice(i)
-                    self.bodies.append((b, s))
-                    columns.append(model.free_index[s])
+        held = jointed(model)
+        for i, b in enumerate(model.bodies):
+            if b.rigid_frame and b.dim == 2 and not b.fixed and id(b) not in held:
+                s = model.body_slice(i)
+                self.bodies.append((b, s))
+                columns.append(model.free_index[s])
         self.columns = np.concatenate(columns) if columns else None
 
     def __call__(self, q_tilde, q, v, G) -> np.ndarray:
