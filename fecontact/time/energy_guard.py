@@ -48,11 +48,13 @@ such strain.
 So is a beam's node closing on a solid's face: a steel strip pressed by an elastic disk onto
 a block of 10 cm cells rocks on the two segments of its face, and the corrections of its
 nodes' closings created 0.90 % of the run's scale; retaken, 1.9e-4
-(docs/validation/stress_2d.md).
+(docs/validation/stress_2d.md). In space, solids beside beams are left as they were: a block
+settling from rest on two clamped rods took 5 retakes, and its slide along them afterwards
+dissipated its launch energy to 1.5e-3 instead of 1.5e-6 (docs/explanation/energy_ledger.md).
 
 Decided once (:func:`guards`, option ``energy_retakes``): models with beams (planar or in
 space: the strip struck against a floor as a ``Beam3D`` takes the planar one's path, and
-its retakes; solids beside them or not), contacts on fixed obstacles or between the bodies,
+its retakes; planar solids beside them or not), contacts on fixed obstacles or between the bodies,
 no loads besides gravity, the generalized-α scheme at any ρ∞ (at ρ∞ = 0 the retake is the
 step located at its closing, and its halves); under "auto" (the default) also the smooth
 contact force (the default of beams; the decoupled step is left as it is, for comparison);
@@ -99,7 +101,7 @@ def guards(model, settings: RunSettings) -> bool:
         return False
     # (ρ∞ = 0 too: its retake differs from the step by locating the closing, and the
     # founding pendulum at h = 1e-2 creates 11 times its peak kinetic energy without it)
-    if not model.slender:  # (with solids or not: a beam's closings are the steps it judges)
+    if not model.slender or _solids_in_space(model):
         return False
     contacts = model.contacts
     if not contacts.size or contacts.moving or model.loads:
@@ -113,18 +115,24 @@ def guards(model, settings: RunSettings) -> bool:
     return settings.smooth
 
 
+def _solids_in_space(model) -> bool:
+    # a beam's closings on a planar solid are judged (the strip on a coarse block); in space
+    # the block settling on rods is not improved by them (module docstring)
+    return model.continuum and model.dim == 3
+
+
 def check_retakes(model, options) -> None:
     """``InputError`` where ``energy_retakes`` is true (on) but the rule cannot judge the
     steps of ``model`` with ``options``: another integrator or scheme, a model without
-    beams, moving obstacles or loads (whose work raises the energy). "auto" and
-    off are taken as they are: "auto" decides for the model (:func:`guards`)."""
+    beams or with solids in space, moving obstacles or loads (whose work raises the
+    energy). "auto" and off are taken as they are: "auto" decides for the model (:func:`guards`)."""
     if options.energy_retakes is not True:
         return
     why = None
     if options.integrator != "nsga" or options.scheme != "generalized-alpha":
         why = f"not integrator {options.integrator!r} with scheme {options.scheme!r}"
-    elif not model.slender:
-        why = "the model must have beams"
+    elif not model.slender or _solids_in_space(model):
+        why = "the model must have beams, and no solid unless it is planar"
     elif model.contacts.moving or model.loads:
         why = "moving obstacles and loads do work that raises the energy"
     if why:

@@ -136,7 +136,7 @@ class IntegratorOptions:
         tolerance of rtol times the model size, from dt (the first and largest) down to
         dt/1024 (:mod:`fecontact.time.adaptive`); nsga and penalty, generalized-alpha only.
     energy_retakes : NSGA with generalized-α, beams. "auto" (default): on models with beams
-        (struck at an end or met along their length; solids beside them or not) with the
+        (struck at an end or met along their length; planar solids beside them or not) with the
         smooth contact force, contacts
         on fixed obstacles or between the bodies and no loads, a step whose energy T + V
         rises by more than 1e-3 of the run's scale is taken again at ρ∞ = 0, located at its
