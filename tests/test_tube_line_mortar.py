@@ -138,6 +138,7 @@ def test_a_rod_dropped_on_a_coarse_block_stays_out_and_creates_no_energy(tmp_pat
     dent = max(-s.q[: block.ndof].reshape(-1, 3)[:, 2].min() for s in states)
     deepest = 0.0
     for s in states:
+        pair.reset()  # (the points' triangles of this state, not those held over a step)
         x, c, f = pair.points(s.q)
         ok = f >= 0
         gap = facet_plane_gap(c[ok], x[pair.facets[f[ok]]], hessian=False)[0] - R
@@ -145,6 +146,33 @@ def test_a_rod_dropped_on_a_coarse_block_stays_out_and_creates_no_energy(tmp_pat
     bound = 2.0 * dent / 0.15 * pair.ell.max() / 4.0
     assert deepest <= bound
     assert 0.5 * deepest <= record <= bound
+
+
+def test_a_rod_laid_flat_over_a_blocks_corner_and_cell_diagonals_lands_without_halving(
+    tmp_path,
+):
+    """A rod (r = 5 mm, 0.5 m, 10 elements) level along the diagonals of a block's 4 × 4
+    cells of 5 cm, across its corner (its middle beyond it), 0.2 mm above, falling at 1 m/s
+    under gravity, 1 ms at h = 0.1 ms: every segment over the face closes in one step, on
+    the edge two triangles share, and the corner's three edges are as near to one segment.
+    Completes without a halving and with solver gaps ≥ −1e-12 m (measured −1.3e-15 m; the
+    correction's stop is in nanometres). Before, its first correction cycled and the run
+    stopped after 6 halvings: the corner's edge row read −1.0 µm, then +inf (outside the
+    top edge's cone by 2e-7 rad), the closest of the corner's edges and the line points'
+    triangles switched between iterates, the rod turning by 2e-8 rad one way and back."""
+    half, a = 0.1, np.array([1.0, 1.0, 0.0]) / np.sqrt(2.0)
+    block = Solid.box([-half, -half, -0.04], [half, half, 0.0], (4, 4, 2), RUBBER)
+    block.fix(block.nodes_where(lambda x: x[2] <= -0.04 * (1.0 - 1e-9)))
+    low = np.array([0.0, 0.0, R + 2e-4])
+    rod = Beam3D.straight(low, low + 0.5 * a, 10, STEEL, Section.circle(R))
+    model = Model([block, rod], [Contact(block, rod, clearance=R)], (0.0, 0.0, -9.81))
+    assert isinstance(model.contacts.pairs[0], TubeLineMortar)
+    v0 = model.translation(rod, (0.0, 0.0, -1.0))
+    sim = Simulation(model, dt=1e-4, t_end=1e-3, name="rod_flat_on_corner", v0=v0,
+                     output_interval=1e-3)  # fmt: skip
+    summary = run(sim, tmp_path, progress=False, frames=False, checkpoint_every=0)
+    assert summary["status"] == "completed" and summary["step_halvings"] == 0
+    assert summary["min_gap"] >= -1e-12
 
 
 @pytest.fixture(scope="module")

@@ -27,8 +27,11 @@ length squared.
 Derivatives: at a point with facet f, ∂φ/∂(c, x_f) and ∂²φ are those of the plane gap
 (:func:`~fecontact.contact.body_pairs.facet_plane_gap`), chained through c. A row's columns
 are every beam node's translation and, per rule point of its segments, its triangle's three
-nodes (the solid's columns change with the triangles the points lie over, as a node-to-surface
-pair's do).
+nodes. Each point's triangle is chosen at the step's start and held over the step: chosen at
+every iterate, a point over the edge two triangles share took either, as near, with their
+planes tilted apart by the dent under the tube, and a rod laid flat along the diagonals of a
+block's cells was pushed sideways one way and the other at alternate iterates of its position
+correction, which never settled (explanation/contact_search.md in the docs).
 
 Friction: one slip row per beam node, the tube's material point facing the solid at the
 node, c_i − r n + (its section's turn), against the solid's material point under it (the
@@ -141,7 +144,7 @@ class TubeLineMortar(PairDefaults):
         self._facet_cols = (self.beam_cols + 9 * (P * self.slot[:, None, :] +
                             np.arange(P)[None, :, None]))[..., None] + np.arange(9)  # fmt: skip
         self.offsets = (0, 0)
-        self.cached = None
+        self.cached = self.held = None  # (held: each rule point's triangle over the step)
         self.companions = _edge_rows(self)
 
     @property
@@ -153,17 +156,16 @@ class TubeLineMortar(PairDefaults):
             pair.bind(model)
 
     def reset(self) -> None:
-        self.cached = None
+        self.cached = self.held = None
         self.search.reset()
         self.node_search.reset()
         self.rule.reset()
 
     def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
-        """Before a step (or a placement's first evaluation): its rule (:class:`StepRule`)."""
-        x, c = _centreline(self, q, np.broadcast_to(self.xi, self.rule.t.shape))
-        f = self.closest(self.rule.search, c.reshape(-1, 3), x)
-        if self.rule.choose(f.reshape(c.shape[:2])):
-            self.cached = None
+        """Before a step (or a placement's first evaluation): its rule (:class:`StepRule`)
+        and each point's triangle, held over the step (module docstring)."""
+        self.rule.choose(_triangles(self, q, np.broadcast_to(self.xi, self.rule.t.shape)))
+        self.held, self.cached = _triangles(self, q, self.rule.t, self.search), None
 
     def detect_within(self, distance: float) -> None:
         """Rows within ``distance`` (m, the integrator's detection distance) are evaluated."""
@@ -184,7 +186,7 @@ class TubeLineMortar(PairDefaults):
         if not self.rule.decided:
             self.look_ahead(q, q, 0.0)
         x, c = _centreline(self, q, self.rule.t)
-        return x, c, self.closest(self.search, c.reshape(-1, 3), x).reshape(c.shape[:2])
+        return x, c, self.held
 
     def closest(self, search, points: np.ndarray, x: np.ndarray) -> np.ndarray:
         """The closest boundary triangle (P,) of each of ``points`` (−1: none within the
@@ -359,6 +361,14 @@ def _edge_rows(pair: TubeLineMortar) -> tuple:
         return ()
     edges = SolidEdges(pair.body)
     return (TubeEdgeContact(pair.beam, edges, pair.restitution, pair.clearance),)
+
+
+def _triangles(pair: TubeLineMortar, q: np.ndarray, t: np.ndarray, search=None) -> np.ndarray:
+    """The closest boundary triangle (S, P; −1: none) of the centreline points at ``t``
+    (S, P) at q, by ``search`` (default: the rule's)."""
+    x, c = _centreline(pair, q, t)
+    search = pair.rule.search if search is None else search
+    return pair.closest(search, c.reshape(-1, 3), x).reshape(c.shape[:2])
 
 
 def _centreline(pair: TubeLineMortar, q: np.ndarray, t: np.ndarray):
