@@ -211,13 +211,7 @@ def test_a_node_behind_a_dented_vertex_reads_the_facet_it_is_under():
     surface, with exact derivatives."""
     from fecontact.contact.inside import Surface
 
-    mat = solid_material("linear", 1e7, 0.3, 1e3)
-    block = Solid.box([-0.05, -0.05, -0.02], [0.05, 0.05, 0.0], (4, 4, 1), mat)
-    cube = Solid.box([-0.005, -0.005, 0.001], [0.005, 0.005, 0.011], 1, mat)
-    pair = Contact(cube, block, method="mortar")
-    model = Model([cube, block], [pair], gravity=(0.0, 0.0, 0.0))
-    pair.detect_within(0.005)
-    rows = pair.pointwise
+    block, cube, model, rows = cube_over_block()
     q = np.zeros(model.n)
     centre = int(np.argmin(np.linalg.norm(block.X, axis=1)))  # (0, 0, 0): the top's centre
     dofs = model.offset_of(block) + block.node_translation_dofs(np.array([centre]))[0]
@@ -248,13 +242,7 @@ def test_a_node_held_under_an_edge_of_a_shallow_dent_is_not_pushed_sideways():
     Newton iterates crossed the edge back and forth without converging (17 halvings of the
     ball on the slab, docs/validation/solid_sweep.md). The ramp is δ wide, as the excess of
     a node's distance from its facet over that from its plane is at a depth of δ."""
-    mat = solid_material("linear", 1e7, 0.3, 1e3)
-    block = Solid.box([-0.05, -0.05, -0.02], [0.05, 0.05, 0.0], (4, 4, 1), mat)
-    cube = Solid.box([-0.005, -0.005, 0.001], [0.005, 0.005, 0.011], 1, mat)
-    pair = Contact(cube, block, method="mortar")
-    model = Model([cube, block], [pair], gravity=(0.0, 0.0, 0.0))
-    pair.detect_within(0.005)
-    rows = pair.pointwise
+    block, cube, model, rows = cube_over_block()
     delta, eps = rows.allowance, SMOOTHING * rows.allowance
     q = np.zeros(model.n)
     centre = int(np.argmin(np.linalg.norm(block.X, axis=1)))  # dented 0.5 mm: 2 % slopes
@@ -326,3 +314,15 @@ def test_k_does_not_move_the_balls_whose_rows_close_picoseconds_apart():
     # speed), far below the 1e-6 by which p and k may move a case at most; 6.5e-3 in v before
     assert np.abs(a.q - b.q).max() <= 1e-9 * sim.model.length
     assert np.abs(a.v - b.v).max() <= 1e-9 * np.abs(a.v).max()
+
+
+def cube_over_block():
+    """A small cube 1 mm over a block of 4 × 4 × 1 cells (mortar, detection 5 mm): the block,
+    the cube, the model and the pair's pointwise safeguard rows."""
+    mat = solid_material("linear", 1e7, 0.3, 1e3)
+    block = Solid.box([-0.05, -0.05, -0.02], [0.05, 0.05, 0.0], (4, 4, 1), mat)
+    cube = Solid.box([-0.005, -0.005, 0.001], [0.005, 0.005, 0.011], 1, mat)
+    pair = Contact(cube, block, method="mortar")
+    model = Model([cube, block], [pair], gravity=(0.0, 0.0, 0.0))
+    pair.detect_within(0.005)
+    return block, cube, model, pair.pointwise
