@@ -117,6 +117,27 @@ def test_a_beam_hung_by_a_ball_joint_swings_as_the_pinned_beam():
     assert max(np.abs(joint.gaps(s.q)).max() for s in a) < 1e-15
 
 
+def test_two_half_strips_welded_at_their_common_node_move_as_the_whole_strip():
+    """Two strips of 2 elements meeting at x = 0.15 m, welded there (beam to beam, the
+    point by its coordinates), against the 4-element strip: the weld's node pair is the
+    whole strip's middle node, its mass the two halves' shares. 3.1e-15 m over 0.3 s (the
+    welded body's margin above); the weld's rows 7.7e-16, within tol_gap 1e-12 of 0.3 m."""
+    material, section = STRIP
+    turned = [0.0, 0.3, 1.0]
+    first = Beam3D.straight([0, 0, 0], [0.15, 0, 0], 2, material, section, turned).pin(0)
+    second = Beam3D.straight([0.15, 0, 0], [0.3, 0, 0], 2, material, section, turned)
+    second.add_mass(-1, 0.14)
+    weld = FixedJoint(second, [0.15, 0.0, 0.0], first)
+    halves = Model([first, second], gravity=GRAVITY, joints=[weld])
+    whole = strip().pin(0).add_mass(-1, 0.14)
+    alone = Model([whole], gravity=GRAVITY)
+    a = list(simulate(halves, 1e-3, 0.3, v0=swing(halves, [first, second])))
+    b = list(simulate(alone, 1e-3, 0.3, v0=swing(alone, [whole])))
+    nodes = np.r_[0:18, 24:36]  # (the second half's first node is the weld's twin)
+    assert max(np.abs(s.q[nodes] - t.q).max() for s, t in zip(a, b, strict=True)) < 1e-10
+    assert max(np.abs(weld.gaps(s.q)).max() for s in a) < 1e-12 * 0.3
+
+
 def arm(material=STRIP[0], section=STRIP[1], rotary_inertia=None):
     """A flexible arm on a ball joint to the ground at its first node, carrying a box
     (0.14 kg, its centre 5 cm beyond the tip) on a hinge about y at its tip, swung out of
