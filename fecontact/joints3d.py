@@ -1,4 +1,4 @@
-r"""Joints in space between rigid bodies, or between a rigid body and the ground.
+r"""Joints in space between rigid bodies, beam nodes and the ground.
 
 Each joint is a set of bilateral position constraints g_b(q) = 0 with the interface of a
 contact pair, enforced like the planar ``Pin`` (a multiplier in the smooth step, equalities in
@@ -21,6 +21,13 @@ joint               rows                                         rows  free moti
 ``FixedJoint``      the point, three right angles                6     none
 ==================  ===========================================  ====  ======================
 
+A side of a joint is a ``RigidBody3D`` or a node of a ``Beam3D``. A beam node is a frame too: its
+centre is the node, x = X + u, and its rotation the section's, R = exp(ψ̃) with increments
+composed on the right as a rigid body's (:mod:`fecontact.bodies.beam3d`); R = I in the
+reference, so a direction given in the pose q = 0 is one fixed in the section (the section
+frame is R Λ₀). The joint's point must be the node (its arm r is zero: the point rows are
+x_node − x_b, linear on that side, and a right angle or a line turns with R alone).
+
 Gradients are taken along body-frame rotations δΘ (R ⊕ δΘ = R exp(δΘ̃)): ∂(R d)/∂Θ = −R d̃.
 The curvature given with them is the derivative of the force Gᵀλ along the group, which Newton
 needs: for a right angle with w = R_aᵀR_b d_b, the blocks d̃_a w̃ (a, a), −d̃_a R_aᵀR_b d̃_b (a, b)
@@ -32,6 +39,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .bodies.beam3d import Beam3D
 from .bodies.rigid3d import RigidBody3D
 from .contact.base import PairDefaults
 from .errors import InputError, check_finite
@@ -63,28 +71,95 @@ def _perpendiculars(axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return p1, cross(axis, p1)
 
 
+class _NodeFrame:
+    """A ``Beam3D`` node as the frame of a joint's side: centre X + u, rotation exp(ψ̃),
+    the joint's point on the node (the interface of ``RigidBody3D`` that a joint uses)."""
+
+    def __init__(self, beam: Beam3D, node: int):
+        self.position = beam.X[node]
+        self.dofs = np.arange(6)[None]
+        self.dofs.flags.writeable = False
+        self.J = np.zeros((1, 3, 6))
+        self.J[0, :, :3] = np.eye(3)
+
+    def center(self, q: np.ndarray) -> np.ndarray:
+        return self.position + q[:3]
+
+    def to_frame(self, point) -> np.ndarray:
+        """The node's arm to ``point``: zero, the point being the node."""
+        return np.zeros(3)
+
+    def point_positions_frame(self, q: np.ndarray, r: np.ndarray) -> np.ndarray:
+        return self.center(q)[None]
+
+    def frame_point_function(self, r):
+        """q ↦ (x, dofs, ∂x/∂(u, Θ), curvature) of the node: [I | 0], no curvature."""
+
+        def kinematics(q: np.ndarray):
+            return self.center(q)[None], self.dofs, self.J.copy(), np.zeros((1, 3, 6, 6))
+
+        return kinematics
+
+
+def _side(name: str, body, point: np.ndarray):
+    """(the frame, the node or 0) of ``body`` (None: the ground) at ``point`` (m)."""
+    if body is None or isinstance(body, RigidBody3D):
+        return body, 0
+    if not isinstance(body, Beam3D):
+        kind = type(body).__name__
+        raise InputError(f"{name} must be a RigidBody3D or a Beam3D, got {kind}")
+    d = np.linalg.norm(body.X - point, axis=1)
+    node = int(np.argmin(d))
+    if d[node] > 1e-9 * body.length:  # (the tolerance of Beam2D.locate, a Pin's on a beam)
+        raise InputError(
+            f"point {point.tolist()} is not a node of the Beam3D {name}: a joint holds a "
+            f"beam at a node (the nearest, {node}, is {d[node]:.3g} m away)"
+        )
+    return _NodeFrame(body, node), node
+
+
+def _joint_point(body, other, point) -> np.ndarray:
+    """The joint's point (m, pose q = 0): ``point``, or where it is a node index (an integer,
+    negative from the end), that node of the joint's one Beam3D."""
+    if isinstance(point, (int, np.integer)) and not isinstance(point, bool):
+        beams = [b for b in (body, other) if isinstance(b, Beam3D)]
+        if len(beams) != 1:
+            raise InputError(
+                "point: a node index names a node of the joint's one Beam3D; give the "
+                "point's coordinates (m)"
+            )
+        return beams[0].X[beams[0].node_index(point)].copy()
+    return _vector3("point", point)
+
+
 class _Joint(PairDefaults):
     """The rows of a joint between ``body`` and ``other`` (None: the ground) at ``point``
-    (m, in the pose q = 0 of both bodies), with the right angles ``pairs`` of (direction of
-    a, direction of b) given in the pose q = 0 (both body frames are then the world frame)."""
+    (m, in the pose q = 0 of both bodies; on a Beam3D a node, or its index), with the right
+    angles ``pairs`` of (direction of a, direction of b) given in the pose q = 0 (both body
+    frames are then the world frame)."""
 
     restitution = 0.0
     linear = False
     arms = None  # the remainder bound's arms (:func:`fecontact.joints.newton_remainder`)
 
     def __init__(self, body, point, other=None, pairs=(), lines=None):
-        for name, b in (("body", body), ("other", other)):
-            if b is not None and not isinstance(b, RigidBody3D):
-                raise InputError(f"{name} must be a RigidBody3D, got {type(b).__name__}")
+        if body is None:
+            raise InputError("body must be a RigidBody3D or a Beam3D, got None")
         if other is body:
             raise InputError("other: a body cannot be joined to itself")
         self.body, self.other = body, other
-        self.point = _vector3("point", point)
-        self.r_a = body.to_frame(self.point)[None]
-        self.r_b = None if other is None else other.to_frame(self.point)[None]
-        # the pivot's kinematics on each body, with what does not change made once
-        self.kin_a = body.frame_point_function(self.r_a)
-        self.kin_b = None if other is None else other.frame_point_function(self.r_b)
+        self.point = _joint_point(body, other, point)
+        (fa, na), (fb, nb) = _side("body", body, self.point), _side("other", other, self.point)
+        self.frames, self.nodes = (fa, fb), (na, nb)
+        for frame in self.frames:  # on a beam's node exactly (located within 1e-9 of it)
+            if isinstance(frame, _NodeFrame):
+                self.point = frame.position.copy()
+                break
+        self.r_a = fa.to_frame(self.point)[None]
+        self.r_b = None if other is None else fb.to_frame(self.point)[None]
+        # the pivot's kinematics on each side, with what does not change made once
+        self.kin_a = fa.frame_point_function(self.r_a)
+        self.kin_b = None if other is None else fb.frame_point_function(self.r_b)
         # the pivots' skew matrices, kept: every Newton iteration evaluates the joint
         self.hats = (hat(self.r_a), None if other is None else hat(self.r_b))
         self.pairs = [(np.asarray(a, float), np.asarray(b, float)) for a, b in pairs]
@@ -96,8 +171,10 @@ class _Joint(PairDefaults):
         self.k = 6 if other is None else 12
 
     def bind(self, model) -> None:
-        ob = 0 if self.other is None else model.offset_of(self.other)
-        self.offsets = (model.offset_of(self.body), ob)
+        # a side's six dofs: a rigid body's, or (u, ψ) of the beam node
+        oa = model.offset_of(self.body) + 6 * self.nodes[0]
+        ob = 0 if self.other is None else model.offset_of(self.other) + 6 * self.nodes[1]
+        self.offsets = (oa, ob)
         if self.lines is None and not self.pairs:  # point rows alone: a ball joint
             self.arms = self._arms(model.free_index)
 
@@ -107,7 +184,7 @@ class _Joint(PairDefaults):
         second derivatives of length at most |r| |d|², as exp's of skew matrices (the
         bound of :func:`fecontact.joints.newton_remainder`)."""
         arms = []
-        sides = ((self.body, self.r_a), (self.other, self.r_b))
+        sides = ((self.body, self.r_a), (self.other, self.r_b))  # (a node's arm is zero)
         for (body, r), offset in zip(sides, self.offsets, strict=True):
             if body is not None:
                 dofs = free_index[offset + np.arange(3, 6)]
@@ -151,10 +228,11 @@ class _Joint(PairDefaults):
         if self.lines is not None or self.pairs:
             return self.evaluate(q)[0]
         qa, qb = self._frames(q)
-        x = self.body.point_positions_frame(qa, self.r_a)[0]
+        fa, fb = self.frames
+        x = fa.point_positions_frame(qa, self.r_a)[0]
         if qb is None:
             return x - self.point
-        return x - self.other.point_positions_frame(qb, self.r_b)[0]
+        return x - fb.point_positions_frame(qb, self.r_b)[0]
 
     def _dofs(self, qb) -> np.ndarray:
         """The rows' dofs (size, k): the bodies' twelve (or six), fixed once bound."""
@@ -183,14 +261,14 @@ class _Joint(PairDefaults):
         """(R_b e)·(x_a(r_a) − x_b(r_b)): body a's point off the line of b (or of the ground)
         along e, its gradient and curvature (the frame F = b, the point P = a)."""
         k, ra, Ea = self.k, self.r_a[0], self.hats[0][0]
-        xa = self.body.center(qa) + Ra @ ra
+        xa = self.frames[0].center(qa) + Ra @ ra
         w = Rb @ e
         G, H = np.zeros(k), np.zeros((k, k))
         G[:3], G[3:6] = w, cross(ra, Ra.T @ w)
         H[3:6, 3:6] = Ea @ hat(Ra.T @ w)
         if qb is None:
             return float(w @ (xa - self.point)), G, H
-        cb = self.other.center(qb)
+        cb = self.frames[1].center(qb)
         E, rel = hat(e), Rb.T @ (xa - cb)
         G[6:9], G[9:12] = -w, cross(e, rel)
         H[6:9, 9:12], H[:3, 9:12] = Rb @ E, -Rb @ E
@@ -219,7 +297,11 @@ class _Joint(PairDefaults):
 
 class BallJoint(_Joint):
     """Spherical joint: the material point at ``point`` (m, pose q = 0) of ``body`` stays on
-    the same material point of ``other``, or fixed in space when ``other`` is None. 3 rows."""
+    the same material point of ``other``, or fixed in space when ``other`` is None. 3 rows.
+
+    Either side may be a ``Beam3D``: ``point`` is then one of its nodes (its coordinates, or
+    its index), whose section turns freely (a beam hung at a node, a payload on a flexible
+    arm's tip)."""
 
     def __init__(self, body, point, other=None):
         super().__init__(body, point, other)
@@ -227,7 +309,10 @@ class BallJoint(_Joint):
 
 class HingeJoint(_Joint):
     """Revolute joint: a ball joint at ``point`` whose bodies turn relative to each other only
-    about ``axis`` (a direction fixed in both, given in the pose q = 0). 5 rows."""
+    about ``axis`` (a direction fixed in both, given in the pose q = 0). 5 rows.
+
+    On a ``Beam3D`` side the axis is fixed in the node's section: it turns with the section's
+    rotation R = exp(ψ̃) (its frame R Λ₀)."""
 
     def __init__(self, body, point, axis, other=None):
         n = _unit("axis", axis)
@@ -260,7 +345,10 @@ class PrismaticJoint(_Joint):
 
 class FixedJoint(_Joint):
     """Fixed joint: ``body`` moves with ``other`` (or is held in space) as one rigid body,
-    the point ``point`` (m, pose q = 0) and the relative orientation held. 6 rows."""
+    the point ``point`` (m, pose q = 0) and the relative orientation held. 6 rows.
+
+    On a ``Beam3D`` side the weld holds the node and its section: a rigid body welded at a
+    beam's node moves as its mass and rotary inertia added there (``Beam3D.add_mass``)."""
 
     def __init__(self, body, point, other=None):
         e = np.eye(3)
