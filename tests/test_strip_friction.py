@@ -4,7 +4,9 @@ turn. Checked against the slips' derivatives and a rigid motion, and against a s
 sliding on a clamped long one under gravity: a stop at μg with friction's work μ m g s, an
 incline held for tan α < μ and slid down at g(sin α − μ cos α) above, the same under
 Moreau–Jean and without the smooth-contact path, and p, k moving nothing but the solves'
-round-off."""
+round-off; a tilted strip landing on a clamped strip as on a plane. Two bars end to end
+slip across their axis: on a clamped bar as on a plane, on a free one keeping momentum with
+a tangential impulse μ times the normal one."""
 
 import numpy as np
 import pytest

@@ -26,7 +26,8 @@ With ``friction`` μ both families slip as the point of the beam's surface that 
 section's point at the arm c n from the centreline (n the row's unit normal toward the solid),
 which the section's turn moves by θ̇ e_z × c n. A solid node's row slips as the node against
 the beam's material point at the row's ξ, ẋ − ((1 − ξ) ẋ_a + ξ ẋ_b + ω(ξ) e_z × c n), the
-section's turn interpolated as the centreline (:mod:`.section_segments`); a beam node's row as
+section's turn interpolated as the centreline (:class:`~.beam_sides.PointBeamContact`'s rows,
+whose node arm c_a is 0 here); a beam node's row as
 its section's point x − c n (n out of the solid) against the segment's material point under
 it, ẋ + θ̇ e_z × (−c n) − ((1 − ξ) ẋ₁ + ξ ẋ₂): the turn adds c θ̇ along the row's tangent.
 Over a step both take the sections' turns exactly (each section point turned back with its

@@ -40,6 +40,16 @@ keeps ġ = 0, an equality), the other, closing in that step, is held with it. Tw
 parallel lines cannot give one node ġ = 0 along one and Newton's ġ⁺ = −e_N ġ⁻ > 0 along the
 other: the jump met the two targets with impulses of ±2.2e4 N·s and the run blew up (a
 re-strike of the node, 0.5 m/s, in a localized sub-step, at e_N = 0.5).
+
+With ``friction`` μ a row slips as the point that touches: c_b n from the beam's centreline
+(n the row's unit normal toward the node), on the section there, and −c_a n from the node,
+on the node's section where the node is a strip's (c_a + c_b = c; a solid's node: c_a = 0).
+The beam's point at the row's ξ on the element (a, b) moves at (1 − ξ) ẋ_a + ξ ẋ_b +
+ω(ξ) e_z × c_b n, the sections' turns interpolated as the centreline
+(:mod:`.section_segments`); the node's at ẋ + θ̇ e_z × (−c_a n). Between two strips the
+clearance is split in proportion to the sections' thicknesses √(12 I/A) (:func:`strip_share`:
+each rectangle's half thickness when c is their sum). Over a step each section point is
+turned back with its section, so that a rigid motion of both bodies slips nothing.
 """
 
 from __future__ import annotations

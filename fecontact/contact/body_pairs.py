@@ -48,7 +48,10 @@ same q only those the evaluation did not test already (it tests every watched no
 a facet within the margin, and keeps its positions and search for the record).
 
 Bar ends (:class:`NodeNodeContact`): node i of body a against node j of body b along a fixed
-unit axis n (from a towards b): g = (x_j − x_i)·n, linear in q.
+unit axis n (from a towards b): g = (x_j − x_i)·n, linear in q. With ``friction`` μ the two
+nodes slip across the axis, T·(ẋ_i − ẋ_j) with T ⊥ n: two bars' end faces touch at their
+centres, the nodes, which their sections' turns do not move, so the linear form is the exact
+slip of a step.
 """
 
 from __future__ import annotations
