@@ -14,7 +14,6 @@ from fecontact import Beam2D, Contact, Material, Model, Probe, Section, Simulati
 from fecontact.bodies import Solid
 from fecontact.bodies.materials import LinearElastic
 from fecontact.contact import Plane
-from fecontact.errors import InputError
 from fecontact.testing import slip_derivative_errors
 from fecontact.time import IntegratorOptions
 
@@ -102,13 +101,6 @@ def test_slip_rows_are_the_derivatives_of_the_slips_and_a_rigid_motion_slips_not
         expected = -g[held] * np.einsum("md,md->m", T[held, 0], n @ R)
         # round-off on coordinates of order 0.3 m
         assert np.abs(p.slips(q, q_n, T)[held, 0] - expected).max() < 1e-15
-
-
-def test_friction_between_two_strips_is_refused():
-    strip = clamped_strip()
-    other = Beam2D.straight([-0.1, 0.02], [0.1, 0.02], 2, STEEL, Section.rectangle(0.02, 0.01))
-    with pytest.raises(InputError, match="friction"):
-        Contact(other, strip, clearance=0.01, friction=MU)
 
 
 # -- closed forms ----------------------------------------------------------------------------

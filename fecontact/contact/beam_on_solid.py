@@ -26,7 +26,8 @@ With ``friction`` μ both families slip as the point of the beam's surface that 
 section's point at the arm c n from the centreline (n the row's unit normal toward the solid),
 which the section's turn moves by θ̇ e_z × c n. A solid node's row slips as the node against
 the beam's material point at the row's ξ, ẋ − ((1 − ξ) ẋ_a + ξ ẋ_b + ω(ξ) e_z × c n), the
-section's turn interpolated as the centreline (:mod:`.section_segments`); a beam node's row as
+section's turn interpolated as the centreline (:class:`~.beam_sides.PointBeamContact`'s rows,
+whose node arm c_a is 0 here); a beam node's row as
 its section's point x − c n (n out of the solid) against the segment's material point under
 it, ẋ + θ̇ e_z × (−c n) − ((1 − ξ) ẋ₁ + ξ ẋ₂): the turn adds c θ̇ along the row's tangent.
 Over a step both take the sections' turns exactly (each section point turned back with its
@@ -40,11 +41,9 @@ import numpy as np
 from ..bodies.beam import Beam2D
 from ..bodies.solid import Solid
 from ..errors import InputError
-from .beam_sides import PointBeamContact, closest_rows
+from .beam_sides import PointBeamContact
 from .body_pairs import NodeSurfaceContact
-from .friction import tangent_basis
 from .registry import register_pair
-from .section_segments import segment_point_moves, segment_turns
 
 __all__ = ["BeamNodeSurface", "SolidBeamContact"]
 
@@ -132,52 +131,6 @@ class SolidBeamContact(PointBeamContact):
     def __init__(self, body, beam, nodes=None, restitution: float = 0.0, clearance=0.0):
         super().__init__(body, beam, nodes, restitution, clearance)
         self.companions = (BeamNodeSurface(beam, body, restitution, clearance, self),)
-
-    frictional = True
-
-    def _touching(self, q: np.ndarray):
-        """Each row's element (2n,), its parameter ξ, the nodes' positions (2n, 2), the
-        row's unit normal n toward the node (2n, 2) and whether the row is used (2n,); the
-        touching point lies at the arm c n from the centreline."""
-        x, x1, x2, t, f = self._coordinates(q)
-        e, side, line, xi, used = closest_rows(self.segments, self._start, x, x1, x2, t, f)
-        x = np.concatenate([x, x])
-        d = x2[e] - x1[e]
-        across = np.stack([-d[:, 1], d[:, 0]], axis=1) / np.linalg.norm(d, axis=1)[:, None]
-        rel = x - x1[e] - xi[:, None] * d
-        r = np.linalg.norm(rel, axis=1)
-        caps = rel / np.where(r > 0.0, r, 1.0)[:, None]
-        n = np.where(line[:, None], side[:, None] * across, caps)
-        return e, xi, x, n, used
-
-    def tangents(self, q: np.ndarray):
-        """Dofs (2n, 8), slip rows (2n, 1, 8) and tangents T (2n, 1, 2): the node against the
-        beam's section point at the row's ξ (module docstring); the last two columns are the
-        element's end rotations. Unused rows slip nothing."""
-        e, xi, _, n, used = self._touching(q)
-        T = tangent_basis(n) * used[:, None, None]
-        arms = self.clearance * n
-        ob = self.offsets[1]
-        turns, B = segment_turns(self.beam, q[ob : ob + self.beam.ndof], self.segments[e], xi, arms)
-        W = np.zeros((len(e), 2, 8))
-        W[:, :, :2] = np.eye(2)
-        W[:, :, 2:4] = -(1.0 - xi)[:, None, None] * np.eye(2)
-        W[:, :, 4:6] = -xi[:, None, None] * np.eye(2)
-        W[:, :, 6:] = -B
-        dofs = np.concatenate([self.row_dofs(e), ob + turns], axis=1)
-        return dofs, np.einsum("mti,mik->mtk", T, W), T
-
-    def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
-        """The step's slip (2n, 1): the node's travel against the beam's section point's,
-        each end's section point turned back with its section (exact for sections turning
-        alike)."""
-        e, xi, x, n, _ = self._touching(q)
-        arms = self.clearance * n
-        (oa, ob), body, beam = self.offsets, self.body, self.beam
-        x_n = body.positions(q_n[oa : oa + body.ndof])[self.nodes]
-        qb, qb_n = q[ob : ob + beam.ndof], q_n[ob : ob + beam.ndof]
-        moves = segment_point_moves(beam, qb, qb_n, self.segments[e], xi, arms)
-        return np.einsum("mtd,md->mt", T, x - np.concatenate([x_n, x_n]) - moves)
 
     def bind(self, model) -> None:
         super().bind(model)

@@ -40,6 +40,16 @@ keeps ġ = 0, an equality), the other, closing in that step, is held with it. Tw
 parallel lines cannot give one node ġ = 0 along one and Newton's ġ⁺ = −e_N ġ⁻ > 0 along the
 other: the jump met the two targets with impulses of ±2.2e4 N·s and the run blew up (a
 re-strike of the node, 0.5 m/s, in a localized sub-step, at e_N = 0.5).
+
+With ``friction`` μ a row slips as the point that touches: c_b n from the beam's centreline
+(n the row's unit normal toward the node), on the section there, and −c_a n from the node,
+on the node's section where the node is a strip's (c_a + c_b = c; a solid's node: c_a = 0).
+The beam's point at the row's ξ on the element (a, b) moves at (1 − ξ) ẋ_a + ξ ẋ_b +
+ω(ξ) e_z × c_b n, the sections' turns interpolated as the centreline
+(:mod:`.section_segments`); the node's at ẋ + θ̇ e_z × (−c_a n). Between two strips the
+clearance is split in proportion to the sections' thicknesses √(12 I/A) (:func:`strip_share`:
+each rectangle's half thickness when c is their sum). Over a step each section point is
+turned back with its section, so that a rigid motion of both bodies slips nothing.
 """
 
 from __future__ import annotations
@@ -50,8 +60,10 @@ from ..bodies.beam import Beam2D
 from ..bodies.solid import Solid
 from ..errors import InputError, check_positive, check_range
 from .base import PairDefaults
+from .friction import tangent_basis
 from .geometry import point_line_distance
 from .registry import register_pair
+from .section_segments import segment_point_moves, segment_turns
 
 __all__ = [
     "PointBeamContact",
@@ -108,6 +120,7 @@ class PointBeamContact(PairDefaults):
     linear = False
     looks_ahead = True
     shared_points = True  # rows i and i + n hold node i
+    frictional = True
 
     def points(self) -> np.ndarray:
         """Node i's number for its rows i and i + n: they take one impact law (module
@@ -132,6 +145,9 @@ class PointBeamContact(PairDefaults):
         self._segment_dofs = beam.node_translation_dofs(self.segments.ravel()).reshape(-1, 4)
         self.offsets = (0, 0)
         self._start = None  # (t₀, f₀) of every (node, element) at the start of the step
+        # the arms of the touching point from the node and from the beam's centreline (m)
+        self.node_arm = strip_share(body, beam, self.clearance)
+        self.beam_arm = self.clearance - self.node_arm
 
     @property
     def size(self) -> int:
@@ -179,11 +195,77 @@ class PointBeamContact(PairDefaults):
             g[end] = _end_caps(x[end] - node, k, np.flatnonzero(end), G, H)
         return g - self.clearance, self.row_dofs(e), G, H
 
+    def _touching(self, q: np.ndarray):
+        """Each row's element (2n,), its parameter ξ, the nodes' positions (2n, 2), the
+        row's unit normal n toward the node (2n, 2) and whether the row is used (2n,); the
+        touching point lies at c_b n from the beam's centreline, −c_a n from a strip's node."""
+        x, x1, x2, t, f = self._coordinates(q)
+        e, side, line, xi, used = closest_rows(self.segments, self._start, x, x1, x2, t, f)
+        x = np.concatenate([x, x])
+        d = x2[e] - x1[e]
+        across = np.stack([-d[:, 1], d[:, 0]], axis=1) / np.linalg.norm(d, axis=1)[:, None]
+        rel = x - x1[e] - xi[:, None] * d
+        r = np.linalg.norm(rel, axis=1)
+        caps = rel / np.where(r > 0.0, r, 1.0)[:, None]
+        n = np.where(line[:, None], side[:, None] * across, caps)
+        return e, xi, x, n, used
+
+    def tangents(self, q: np.ndarray):
+        """Dofs (2n, k), slip rows (2n, 1, k) and tangents T (2n, 1, 2): the node's touching
+        point against the beam's section point at the row's ξ (module docstring); columns 7
+        and 8 are the element's end rotations, a strip's node's rotation the ninth (k = 9;
+        a solid's node, k = 8). Unused rows slip nothing."""
+        e, xi, _, n, used = self._touching(q)
+        T = tangent_basis(n) * used[:, None, None]
+        ob = self.offsets[1]
+        qb = q[ob : ob + self.beam.ndof]
+        turns, B = segment_turns(self.beam, qb, self.segments[e], xi, self.beam_arm * n)
+        W = np.zeros((len(e), 2, 8))
+        W[:, :, :2] = np.eye(2)
+        W[:, :, 2:4] = -(1.0 - xi)[:, None, None] * np.eye(2)
+        W[:, :, 4:6] = -xi[:, None, None] * np.eye(2)
+        W[:, :, 6:] = -B
+        dofs = np.concatenate([self.row_dofs(e), ob + turns], axis=1)
+        if self.node_arm:  # a strip's node: its section's turn moves its touching point
+            oa, nodes = self.offsets[0], np.tile(self.nodes, 2)
+            qa = q[oa : oa + self.body.ndof]
+            turn, Ba = self.body.section_turns(qa, nodes, -self.node_arm * n)
+            W, dofs = np.concatenate([W, Ba], axis=2), np.concatenate([dofs, oa + turn], axis=1)
+        return dofs, np.einsum("mti,mik->mtk", T, W), T
+
+    def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
+        """The step's slip (2n, 1): the node's touching point's travel against the beam's
+        section point's, each section point turned back with its section (exact for the
+        beam's sections turning alike)."""
+        e, xi, x, n, _ = self._touching(q)
+        (oa, ob), body, beam = self.offsets, self.body, self.beam
+        qa, qa_n = q[oa : oa + body.ndof], q_n[oa : oa + body.ndof]
+        qb, qb_n = q[ob : ob + beam.ndof], q_n[ob : ob + beam.ndof]
+        moves = segment_point_moves(beam, qb, qb_n, self.segments[e], xi, self.beam_arm * n)
+        if self.node_arm:
+            arms, nodes = -self.node_arm * n, np.tile(self.nodes, 2)
+            travel = x + arms - body.section_points_before(qa, qa_n, nodes, arms)
+        else:
+            x_n = body.positions(qa_n)[self.nodes]
+            travel = x - np.concatenate([x_n, x_n])
+        return np.einsum("mtd,md->mt", T, travel - moves)
+
     def row_dofs(self, e: np.ndarray) -> np.ndarray:
         """Global dofs (2n, 6) of the rows on the elements e (2n,): the node's (x, y), then
         the element's two nodes'."""
         oa, ob = self.offsets
         return np.hstack([oa + np.tile(self._point_dofs, (2, 1)), ob + self._segment_dofs[e]])
+
+
+def strip_share(body, beam, clearance: float) -> float:
+    """The part c_a (m) of the ``clearance`` on the side of ``body``'s nodes: 0 for a body
+    without sections, for a ``Beam2D`` the clearance split in proportion to the two sections'
+    thicknesses √(12 I/A) (a rectangle's own: exact for two rectangular strips whose
+    clearance is the sum of their half thicknesses; half each for equal sections)."""
+    if not isinstance(body, Beam2D):
+        return 0.0
+    ta, tb = (np.sqrt(12.0 * b.section.inertia / b.section.area) for b in (body, beam))
+    return float(clearance * ta / (ta + tb))
 
 
 def closest_rows(segments, start, x, x1, x2, t, f):

@@ -48,7 +48,10 @@ same q only those the evaluation did not test already (it tests every watched no
 a facet within the margin, and keeps its positions and search for the record).
 
 Bar ends (:class:`NodeNodeContact`): node i of body a against node j of body b along a fixed
-unit axis n (from a towards b): g = (x_j − x_i)·n, linear in q.
+unit axis n (from a towards b): g = (x_j − x_i)·n, linear in q. With ``friction`` μ the two
+nodes slip across the axis, T·(ẋ_i − ẋ_j) with T ⊥ n: two bars' end faces touch at their
+centres, the nodes, which their sections' turns do not move, so the linear form is the exact
+slip of a step.
 """
 
 from __future__ import annotations
@@ -333,6 +336,7 @@ class NodeNodeContact(PairDefaults):
     linear = True
     obstacle = None
     size = 1
+    frictional = True
 
     def __init__(self, a, b, nodes=None, restitution: float = 0.0, axis=None):
         if a is b:
@@ -387,6 +391,13 @@ class NodeNodeContact(PairDefaults):
         xa = a.X[i] + q[dofs[:d]]
         xb = b.X[j] + q[dofs[d:]]
         return np.array([(xb - xa) @ self.axis]), dofs[None, :], self._G.copy(), None
+
+    def tangents(self, q: np.ndarray):
+        """Slip rows of node i against node j across the axis: T·(ẋ_i − ẋ_j), T ⊥ n (two bars'
+        end faces touch at their centres, which their sections' turns do not move)."""
+        _, dofs, G, _ = self.evaluate(q)
+        GT = point_tangents(G, len(self.axis))
+        return dofs, GT, GT[:, :, : len(self.axis)]
 
 
 def body_pair(body, other, nodes=None, restitution: float = 0.0):

@@ -61,9 +61,9 @@ def Contact(
     slip of the contact points (:mod:`fecontact.contact.friction`); a beam slips at its
     section's surface, which the section's turn moves (its nodes against a ``Plane`` or
     ``Circle``, a tube's segments against a ``Sphere``, ``Ball`` or ``Capsule``, a ``Beam2D``
-    under a rigid disk or ``Point``; against a ``Box`` or another tube at the centreline).
-    Every pair but the end-to-end beam pair and a beam's nodes against another
-    beam's sides takes it.
+    under a rigid disk or ``Point``, a 2D ``Solid`` or another ``Beam2D``'s nodes, the
+    ``clearance`` of two strips split between their sections by their thicknesses; against a
+    ``Box`` or another tube at the centreline). Two bars end to end slip across their axis.
 
     ``method`` chooses the discretization of a contact between two solids: ``"mortar"`` (the
     default, None: dual mortar, weighted gaps integrated over the first body's boundary in
