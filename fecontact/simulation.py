@@ -74,6 +74,12 @@ class Simulation:
     origin: dict = field(default_factory=dict)
 
     def __post_init__(self):
+        self.check()
+
+    def check(self) -> None:
+        """``InputError`` for a field of the wrong kind or range: at construction, and again
+        when :func:`run` starts (fields set after construction, in a notebook, are checked
+        before the folder is touched)."""
         check_kind("model", self.model, Model, "a Model(bodies, contacts, ...)")
         check_kind("options", self.options, IntegratorOptions, "an IntegratorOptions(...)")
         check_kind("probes", self.probes, dict, "a dict {name: Probe}")
@@ -229,6 +235,7 @@ def _check_run_arguments(sim, out_dir, options) -> None:
     touched: a string "no" for a flag would read as True, a negative checkpoint interval as
     never, a missing folder as a TypeError from pathlib."""
     check_kind("sim", sim, Simulation, "a Simulation(model, dt, t_end, ...)")
+    sim.check()
     check_kind("out_dir", out_dir, (str, os.PathLike), "a folder path")
     progress, frames, checkpoint_every, resume, overwrite, _ = options
     flags = {"progress": progress, "frames": frames, "resume": resume, "overwrite": overwrite}

@@ -1,0 +1,38 @@
+"""What a user meets from a notebook, a mesh file and the command line: each mistake is one
+InputError naming it, raised before any work."""
+
+import pytest
+
+from fecontact import Beam2D, InputError, Material, Model, Probe, Section, Simulation, run
+
+
+def pendulum_sim():
+    b = Beam2D.straight([0, 0], [1, 0], 2, Material(E=1e9, rho=1e3), Section.circle(0.01))
+    return Simulation(Model([b.pin(0)]), dt=1e-3, t_end=0.003)
+
+
+@pytest.mark.parametrize(
+    "field, value, words",
+    [
+        ("probes", {"tip": lambda model, st: 0.0}, r"probes\['tip'\] must be a Probe"),
+        ("t_end", -1.0, "t_end must be > 0"),
+        ("dt", "1e-3", "dt must be"),
+        ("name", "my run", "name must be letters"),
+    ],
+)
+def test_fields_set_after_construction_are_checked_before_the_folder(tmp_path, field, value, words):
+    """In a notebook a Simulation is changed in place and run again: a bare function given as
+    a probe went unchecked and failed as an AttributeError after history.csv and the first
+    frame were written, leaving no summary.json and no .pvd."""
+    sim = pendulum_sim()
+    setattr(sim, field, value)
+    with pytest.raises(InputError, match=words):
+        run(sim, tmp_path / "out")
+    assert not (tmp_path / "out").exists()
+    sim.probes, sim.t_end, sim.dt, sim.name = (
+        {"tip": Probe(lambda m, st: 0.0, "m")},
+        3e-3,
+        1e-3,
+        "a",
+    )
+    assert run(sim, tmp_path / "out")["status"] == "completed"
