@@ -68,7 +68,7 @@ def read_mesh_and_points(path, scale: float = 1.0, offset=None, merge_nodes: boo
     cell = _VOLUME[kind]
     points, index = _used_points(data.points, volume, merge_nodes)
     _check_plane(points, _DIM[cell], Path(path).name, data.points)
-    groups = _groups(data, blocks, cell)
+    groups = _groups(data, blocks, cell, _group_names(Path(path), data), Path(path).name)
     renumbered = meshio.Mesh(points, [(kind, index[conn]) for kind, conn in volume])
     scale = check_positive("scale", scale)
     mesh = _from_meshio(renumbered, cell).scaled(scale)
@@ -296,11 +296,13 @@ def _from_meshio(data, cell: str):
         raise InputError(f"cannot build a {cell} mesh from the file's cells: {err}") from None
 
 
-def _groups(data, blocks, cell: str) -> dict[str, dict[str, list]]:
+def _groups(data, blocks, cell: str, names, file: str) -> dict[str, dict[str, list]]:
     """Named groups of the file's cells: {"boundaries"|"subdomains"|"points": {name:
-    [(block, rows)]}}, from gmsh physical tags (named by ``field_data``) and meshio cell sets;
-    a group mixing these kinds (facets with cells) is left out."""
-    tagged = _tagged(data, [kind for kind, _ in blocks])
+    [(block, rows)]}}, from gmsh physical tags (named by ``names``: (tag, dimension, name))
+    and meshio cell sets. ``InputError`` for a name given to cells of two of these kinds
+    (facets and cells, say: gmsh lets one name a group of each dimension): the name would mean
+    either, and a boundary's nodes, a contact's, are not a subdomain's."""
+    tagged = _tagged(data, [kind for kind, _ in blocks], names)
     volume = {k for k, c in _VOLUME.items() if c == cell}
     lines = ("line", "line3") if _DIM[cell] == 3 else ()
     sorts = {"boundaries": set(_FACETS[cell]), "subdomains": volume, "points": {"vertex", *lines}}
@@ -310,12 +312,26 @@ def _groups(data, blocks, cell: str) -> dict[str, dict[str, list]]:
         key = next((key for key, allowed in sorts.items() if kinds and kinds <= allowed), None)
         if key is not None:
             groups[key][name] = members
+        elif kinds:
+            _refuse_mixed(file, name, kinds, sorts)
     return groups
 
 
-def _tagged(data, kinds: list[str]) -> dict[str, list]:
+def _refuse_mixed(file: str, name: str, kinds: set, sorts: dict) -> None:
+    """``InputError`` for the group ``name`` whose cells (of ``kinds``) are of no one kind of
+    ``sorts``, saying which kinds a group can be made of."""
+    said = {"boundaries": "facets", "subdomains": "cells of the body", "points": "points"}
+    kinds_of = "; ".join(f"{said[key]}: {', '.join(sorted(k))}" for key, k in sorts.items())
+    raise InputError(
+        f"{file}: group {name!r} holds {', '.join(sorted(kinds))} cells, which are not of one "
+        f"kind of group ({kinds_of}): give each kind its own name (in gmsh, one name per "
+        "physical group's dimension)"
+    )
+
+
+def _tagged(data, kinds: list[str], names) -> dict[str, list]:
     """{name: [(block, rows)]} of the gmsh physical groups and the meshio cell sets."""
-    tagged = _physical_groups(data, kinds)
+    tagged = _physical_groups(data, kinds, names)
     for name, rows in (data.cell_sets or {}).items():
         if not name.startswith("gmsh:") and name not in tagged:
             tagged[name] = [(b, np.asarray(r, int)) for b, r in _present(rows)]
@@ -326,13 +342,12 @@ def _present(rows):
     return [(b, r) for b, r in enumerate(rows) if r is not None]
 
 
-def _physical_groups(data, kinds: list[str]) -> dict[str, list]:
+def _physical_groups(data, kinds: list[str], named) -> dict[str, list]:
     """{name: [(block, rows)]} of the gmsh physical tags of the blocks of cells of ``kinds``.
     A tag is a name in its dimension only: gmsh numbers each dimension's groups apart
-    (``Physical Line(1)`` and ``Physical Surface(1)``), and meshio's ``field_data`` gives
-    each name its (tag, dimension). Unnamed: "physical<tag>", or "physical<tag>_<dim>d"
-    where two dimensions use the tag."""
-    named = [(int(v[0]), int(v[1]) if len(v) > 1 else -1, k) for k, v in _fields(data)]
+    (``Physical Line(1)`` and ``Physical Surface(1)``), and ``named`` gives each name its
+    (tag, dimension) (−1: any). Unnamed: "physical<tag>", or "physical<tag>_<dim>d" where two
+    dimensions use the tag."""
     by_tag = {tag: name for tag, dim, name in named if dim < 0}  # given without a dimension
     names = {(tag, dim): name for tag, dim, name in named}
     blocks = data.cell_data.get("gmsh:physical", [None] * len(kinds))
@@ -360,9 +375,35 @@ def _tags(tags) -> list[int]:
     return [] if tags is None else [int(t) for t in np.unique(tags) if t != 0]
 
 
-def _fields(data) -> list:
-    """meshio's ``field_data`` items that are gmsh's named groups: [tag, dimension]."""
-    return [(k, v) for k, v in (data.field_data or {}).items() if np.size(v) >= 1]
+def _group_names(path: Path, data) -> list[tuple[int, int, str]]:
+    """(tag, dimension, name) of the gmsh physical groups: a .msh file's ``$PhysicalNames``
+    as written, else meshio's ``field_data`` (dimension −1 where it gives none). meshio keys
+    ``field_data`` by name, so of two groups of one name in two dimensions (gmsh allows it) it
+    keeps the last, and the other group went on unnamed, as "physical<tag>"."""
+    if path.suffix.lower() == ".msh":
+        return _physical_names(path)
+    fields = [(k, v) for k, v in (data.field_data or {}).items() if np.size(v) >= 1]
+    return [(int(v[0]), int(v[1]) if np.size(v) > 1 else -1, k) for k, v in fields]
+
+
+# a line of $PhysicalNames: dimension, tag, "name" (which may hold spaces)
+_NAME_LINE = re.compile(rb'\s*(\d+)\s+(\d+)\s+"(.*)"\s*$')
+
+
+def _physical_names(path: Path) -> list[tuple[int, int, str]]:
+    """The ``$PhysicalNames`` of a gmsh file (MSH 2.2 or 4.1, ASCII or binary: the section is
+    text in both, and comes before the binary sections, where the scan stops)."""
+    names, inside = [], False
+    with open(path, "rb") as f:
+        for line in f:
+            if line.startswith((b"$Entities", b"$Nodes", b"$Elements", b"$EndPhysicalNames")):
+                break
+            found = _NAME_LINE.match(line) if inside else None
+            if found:
+                dim, tag, name = found.groups()
+                names.append((int(tag), int(dim), name.decode("utf-8", "replace")))
+            inside = inside or line.startswith(b"$PhysicalNames")
+    return names
 
 
 def _named(mesh, groups, index, blocks, volume_kind: str):
@@ -381,13 +422,16 @@ def _named(mesh, groups, index, blocks, volume_kind: str):
         conn = index[np.concatenate([blocks[b][1][rows, :corners] for b, rows in members])]
         if np.any(conn < 0):
             raise InputError(f"boundary {name!r} has points that no cell of the body uses")
-        boundaries[name] = _facet_indices(mesh.facets, conn, name)
+        boundaries[name] = _facet_indices(mesh, conn, name)
     return mesh.with_boundaries(boundaries).with_subdomains(subdomains)
 
 
-def _facet_indices(facets: np.ndarray, conn: np.ndarray, name: str) -> np.ndarray:
-    """Indices among the mesh's ``facets`` (k, F) of the facet cells ``conn`` (m, k), whatever
-    their vertex order."""
+def _facet_indices(mesh, conn: np.ndarray, name: str) -> np.ndarray:
+    """Indices among the ``mesh``'s facets (k, F) of the facet cells ``conn`` (m, k), whatever
+    their vertex order. Where some are not faces of the cells because the file holds copies
+    of nodes (parts meshed apart: a facet on one copy, the cells on the other), the error says
+    so, as the mesh checks would have."""
+    facets = mesh.facets
     both = np.concatenate([np.sort(facets.T, axis=1), np.sort(conn, axis=1)])
     _, ids = np.unique(both, axis=0, return_inverse=True)
     ids = ids.ravel()
@@ -395,5 +439,12 @@ def _facet_indices(facets: np.ndarray, conn: np.ndarray, name: str) -> np.ndarra
     of_id[ids[: facets.shape[1]]] = np.arange(facets.shape[1])
     found = of_id[ids[facets.shape[1] :]]
     if np.any(found < 0):
-        raise InputError(f"boundary {name!r} has facets that are not faces of the cells")
+        copies = len(coincident_nodes(mesh.p.T)[1])
+        why = (
+            f": the mesh has {copies} pair(s) of coincident nodes (parts meshed apart, not "
+            "merged): read it with merge_nodes=True"
+            if copies
+            else ""
+        )
+        raise InputError(f"boundary {name!r} has facets that are not faces of the cells{why}")
     return np.unique(found)
