@@ -398,3 +398,10 @@ def test_a_boundary_on_copies_of_nodes_says_merge_nodes(tmp_path):
     body = Solid.from_file(tmp_path / "squares.msh", MAT, merge_nodes=True)
     assert body.volume == pytest.approx(2.0, rel=1e-14)
     assert len(body.nodes_of("bottom")) == 6
+
+
+@pytest.mark.parametrize("path", [None, 3, ["a.msh"]])
+def test_a_path_of_the_wrong_kind_is_named(path):
+    # (a TypeError from pathlib before)
+    with pytest.raises(InputError, match=r"^path must be a mesh file's path, got"):
+        Solid.from_file(path, MAT)

@@ -17,13 +17,14 @@ from __future__ import annotations
 
 import contextlib
 import io
+import os
 import re
 from pathlib import Path
 
 import numpy as np
 import skfem
 
-from ..errors import InputError, check_positive
+from ..errors import InputError, check_kind, check_positive
 from .meshes import ELEMENTS, check_point, coincident_nodes
 
 __all__ = ["group_nodes", "merge_nodes", "nodes_at", "read_mesh", "read_mesh_and_points"]
@@ -62,6 +63,7 @@ def read_mesh_and_points(path, scale: float = 1.0, offset=None, merge_nodes: boo
     a pinned corner, a loaded edge, which are neither facets nor cells of the body."""
     import meshio  # lazily: mesh I/O only when a file is read
 
+    check_kind("path", path, (str, os.PathLike), "a mesh file's path")
     data = _read(Path(path))
     blocks = [(c.type, _integer_cells(c.data, c.type)) for c in data.cells]
     kind, volume = _volume_blocks(blocks, Path(path).name)
