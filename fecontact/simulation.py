@@ -31,6 +31,7 @@ from .io.run_folder import (
 )
 from .io.run_frames import RunFrames
 from .io.run_lock import hold_folder
+from .io.run_summary import RunSummary
 from .io.termination import Terminated, terminate_as_interrupt
 from .model import Model
 from .probes import Probe, node_probe
@@ -204,7 +205,8 @@ def run(
     overwrite: bool = False,
     frame_format: str = "auto",
 ) -> dict:
-    """Run ``sim`` and write its results into ``out_dir``; return the summary.
+    """Run ``sim`` and write its results into ``out_dir``; return the summary (a dict, the
+    contents of ``summary.json``; a notebook shows it as a few lines: ``RunSummary``).
 
     ``progress`` shows a progress bar with the step, time and Newton iterations (on a
     terminal). Every ``checkpoint_every`` steps (0: never) the state is saved to
@@ -289,7 +291,7 @@ def _run(sim, out, progress, frames, checkpoint_every, resume, overwrite, frame_
         wall = time.perf_counter() - t_start
         rec.history.close()
         _show(bar, None, status, stop)
-        summary = _summary(sim, rec, stats, status, message, wall, timer)
+        summary = RunSummary(_summary(sim, rec, stats, status, message, wall, timer), out)
         _write_summary(out, summary, status)
     said = sim.warnings() if start is None else []  # (warned before the run)
     for text in summary["warnings"]:

@@ -36,3 +36,19 @@ def test_fields_set_after_construction_are_checked_before_the_folder(tmp_path, f
         "a",
     )
     assert run(sim, tmp_path / "out")["status"] == "completed"
+
+
+def test_the_summary_run_returns_is_a_dict_shown_in_a_few_lines(tmp_path):
+    """A notebook cell ending in ``run(...)`` printed the summary's hundred keys."""
+    import pickle
+
+    from fecontact.io.output import read_json
+
+    summary = run(pendulum_sim(), tmp_path / "out")
+    assert isinstance(summary, dict) and summary["status"] == "completed"
+    assert summary == read_json(tmp_path / "out" / "summary.json")
+    text = repr(summary)
+    assert text.startswith("simulation (t_end = 0.003 s): completed, 3 steps of dt 0.001 s")
+    assert str(tmp_path / "out") in text and len(text.splitlines()) == 3
+    again = pickle.loads(pickle.dumps(summary))  # (a sweep's workers return it)
+    assert again == summary and again.out_dir == summary.out_dir
