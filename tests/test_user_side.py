@@ -52,3 +52,30 @@ def test_the_summary_run_returns_is_a_dict_shown_in_a_few_lines(tmp_path):
     assert str(tmp_path / "out") in text and len(text.splitlines()) == 3
     again = pickle.loads(pickle.dumps(summary))  # (a sweep's workers return it)
     assert again == summary and again.out_dir == summary.out_dir
+
+
+@pytest.mark.parametrize(
+    "argv, words",
+    [
+        (["run", "bouncing_bal"], "case not found: bouncing_bal (did you mean 'bouncing_ball'?)"),
+        (["info", "two_disk"], "(did you mean 'two_disks'?)"),
+        (["run", "bouncing_ball.py"], "bouncing_ball.py (did you mean 'bouncing_ball'?)"),
+        (["run", "bouncing_ball", "--set", "restitutoin=0.5"], "(did you mean 'restitution'?)"),
+        (["run", "bouncing_ball", "--set", "rhoinf=0"], "(did you mean 'rho_inf'?)"),
+        (["sweep", "bouncing_ball", "--set", "hieght=1,2"], "(did you mean 'height'?)"),
+    ],
+)
+def test_a_misspelt_case_or_parameter_is_given_the_name_meant(tmp_path, capsys, argv, words):
+    from fecontact.cli.commands import main
+
+    assert main([*argv, "--out", str(tmp_path / "out")] if argv[0] != "info" else argv) == 2
+    err = capsys.readouterr().err
+    assert words in err and "\n" not in err.strip()
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_name_far_from_every_known_one_gets_no_suggestion(tmp_path, capsys):
+    from fecontact.cli.commands import main
+
+    assert main(["run", "bouncing_ball", "--set", "xyzzy=1", "--out", str(tmp_path)]) == 2
+    assert "did you mean" not in capsys.readouterr().err
