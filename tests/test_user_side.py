@@ -1,6 +1,7 @@
 """What a user meets from a notebook, a mesh file and the command line: each mistake is one
 InputError naming it, raised before any work."""
 
+import numpy as np
 import pytest
 
 from fecontact import Beam2D, InputError, Material, Model, Probe, Section, Simulation, run
@@ -79,3 +80,22 @@ def test_a_name_far_from_every_known_one_gets_no_suggestion(tmp_path, capsys):
 
     assert main(["run", "bouncing_ball", "--set", "xyzzy=1", "--out", str(tmp_path)]) == 2
     assert "did you mean" not in capsys.readouterr().err
+
+
+def test_beams_carry_their_section_radius_for_paraviews_tube_filter(tmp_path):
+    """A beam's frames are line cells; ParaView's Tube filter (*Vary Radius: By Absolute
+    Scalar*) draws the section from ``section_radius``, which the frames lacked."""
+    import math
+
+    import fecontact
+
+    pyvista = pytest.importorskip("pyvista")
+    run(pendulum_sim(), tmp_path / "out")
+    beam = fecontact.load_run(tmp_path / "out").frames()[0][1]["beam2d0"]
+    np.testing.assert_allclose(beam.point_data["section_radius"], 0.01, rtol=1e-15)
+    line = pyvista.wrap(beam).extract_surface()
+    tube = line.tube(scalars="section_radius", absolute=True, n_sides=64)
+    # the tube is a 64-gon about the x axis: its y extent lies between r cos(π/64) and r
+    # (1e-12 m: the round-off of VTK's vertices, ~1e-18 m at r = 1 cm, far below it)
+    y = max(abs(tube.bounds[2]), abs(tube.bounds[3]))
+    assert 0.01 * math.cos(math.pi / 64) - 1e-12 <= y <= 0.01 + 1e-12
