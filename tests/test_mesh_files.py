@@ -405,3 +405,26 @@ def test_a_path_of_the_wrong_kind_is_named(path):
     # (a TypeError from pathlib before)
     with pytest.raises(InputError, match=r"^path must be a mesh file's path, got"):
         Solid.from_file(path, MAT)
+
+
+def test_cells_listed_once_per_physical_group_are_one_cell(tmp_path):
+    """MSH 2.2 lists a cell once per physical group that holds it: with ``Physical
+    Surface("plate")`` and ``Physical Surface("left")`` over the same surface, the left half's
+    triangles come twice. The copies were refused as overlapping cells ("element 1 ... is
+    inverted"); read as one, the body is the plate and "left" its left half."""
+    m = skfem.MeshTri.init_tensor(np.linspace(0, 0.2, 5), np.linspace(0.0, 0.1, 3))
+    left = m.t.T[m.p[0, m.t].mean(axis=0) < 0.1]
+    lines = ["$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$PhysicalNames", "2"]
+    lines += ['2 1 "plate"', '2 2 "left"', "$EndPhysicalNames", "$Nodes", str(m.p.shape[1])]
+    lines += [f"{i + 1} {x:.17g} {y:.17g} 0" for i, (x, y) in enumerate(m.p.T)]
+    cells = [(1, c) for c in m.t.T] + [(2, c) for c in left]
+    lines += ["$EndNodes", "$Elements", str(len(cells))]
+    lines += [f"{k + 1} 2 2 {t} 1 {' '.join(map(str, c + 1))}" for k, (t, c) in enumerate(cells)]
+    (tmp_path / "plate.msh").write_text("\n".join([*lines, "$EndElements", ""]))
+    body = Solid.from_file(tmp_path / "plate.msh", MAT)
+    assert body.n_elements == m.t.shape[1] and body.volume == pytest.approx(0.02, rel=1e-14)
+    assert body.mass == pytest.approx(1e3 * 0.02, rel=1e-14)
+    plate, half = body.mesh.subdomains["plate"], body.mesh.subdomains["left"]
+    assert len(plate) == m.t.shape[1] and len(half) == len(left)
+    centres = body.mesh.p[:, body.mesh.t[:, half]].mean(axis=1)
+    assert np.all(centres[0] < 0.1)

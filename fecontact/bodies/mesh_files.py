@@ -71,7 +71,8 @@ def read_mesh_and_points(path, scale: float = 1.0, offset=None, merge_nodes: boo
     points, index = _used_points(data.points, volume, merge_nodes)
     _check_plane(points, _DIM[cell], Path(path).name, data.points)
     groups = _groups(data, blocks, cell, _group_names(Path(path), data), Path(path).name)
-    renumbered = meshio.Mesh(points, [(kind, index[conn]) for kind, conn in volume])
+    conn, cell_of = _unique_cells(index[np.concatenate([c for _, c in volume])])
+    renumbered = meshio.Mesh(points, [(kind, conn)])
     scale = check_positive("scale", scale)
     mesh = _from_meshio(renumbered, cell).scaled(scale)
     shift = np.zeros(mesh.dim())
@@ -82,7 +83,20 @@ def read_mesh_and_points(path, scale: float = 1.0, offset=None, merge_nodes: boo
         name: _places(name, ids, index, points[:, : mesh.dim()]) * scale + shift
         for name, ids in _point_ids(data, groups, blocks).items()
     }  # scaled, then shifted, as scikit-fem does it to the mesh: the same coordinates
-    return _named(mesh, groups, index, blocks, kind), places
+    return _named(mesh, groups, index, blocks, (kind, cell_of)), places
+
+
+def _unique_cells(conn: np.ndarray):
+    """(cells, cell_of): each cell of ``conn`` (m, k) once, in the order of their first
+    listing, and each listed cell's index among them. MSH 2.2 lists a cell once per physical
+    group holding it (a subdomain inside the body's group): read twice, its mass and stiffness
+    were counted twice (the mesh checks refused the copies as overlapping cells)."""
+    _, first, same = np.unique(
+        np.sort(conn, axis=1), axis=0, return_index=True, return_inverse=True
+    )
+    rank = np.empty(len(first), dtype=int)
+    rank[np.argsort(first)] = np.arange(len(first))
+    return conn[np.sort(first)], rank[same.ravel()]
 
 
 def _point_ids(data, groups, blocks) -> dict[str, np.ndarray]:
@@ -408,14 +422,16 @@ def _physical_names(path: Path) -> list[tuple[int, int, str]]:
     return names
 
 
-def _named(mesh, groups, index, blocks, volume_kind: str):
+def _named(mesh, groups, index, blocks, volume):
     """``mesh`` with the file's groups as scikit-fem boundaries (facet indices) and subdomains
-    (cell indices: the cells of ``volume_kind`` numbered in file order, as meshio joins them)."""
+    (cell indices: ``volume`` = (kind, cell_of), the cells of that kind numbered in file order,
+    as meshio joins them, are the mesh's cells ``cell_of``)."""
     if not groups["boundaries"] and not groups["subdomains"]:
         return mesh
+    volume_kind, cell_of = volume
     start = np.cumsum([0] + [len(c) if k == volume_kind else 0 for k, c in blocks])
     subdomains = {
-        name: np.concatenate([start[b] + rows for b, rows in members])
+        name: np.unique(cell_of[np.concatenate([start[b] + rows for b, rows in members])])
         for name, members in groups["subdomains"].items()
     }
     corners = mesh.facets.shape[0]
