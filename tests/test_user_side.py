@@ -99,3 +99,15 @@ def test_beams_carry_their_section_radius_for_paraviews_tube_filter(tmp_path):
     # (1e-12 m: the round-off of VTK's vertices, ~1e-18 m at r = 1 cm, far below it)
     y = max(abs(tube.bounds[2]), abs(tube.bounds[3]))
     assert 0.01 * math.cos(math.pi / 64) - 1e-12 <= y <= 0.01 + 1e-12
+
+
+@pytest.mark.parametrize("name", ["localize", "energy_retakes"])
+def test_the_words_true_and_false_the_switch_error_offers_are_taken(name):
+    """``--set localize=true`` gives the string "true": the error said "must be true, false
+    (1, 0, on, off) or auto" and refused it."""
+    from fecontact import IntegratorOptions
+
+    for word, value in [("true", True), ("False", False), ("ON", True), ("auto", "auto")]:
+        assert getattr(IntegratorOptions(**{name: word}), name) == value
+    with pytest.raises(InputError, match=f"{name} must be true, false"):
+        IntegratorOptions(**{name: "yes"})
