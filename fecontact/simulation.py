@@ -104,6 +104,18 @@ class Simulation:
                     f"columns ({', '.join(HISTORY_COLUMNS)}), got {probe!r}"
                 )
 
+    def __repr__(self) -> str:
+        # (a notebook shows it: what runs, not the probes' functions and the model's address)
+        m = self.model
+        kinds = ", ".join(sorted({type(b).__name__ for b in m.bodies}))
+        return (
+            f"Simulation({self.name!r}: dt = {self.dt:g} s, t_end = {self.t_end:g} s, "
+            f"integrator {self.options.integrator}; {_count(m.bodies, 'body', 'bodies')} "
+            f"({kinds}), {_count(m.contacts.pairs, 'contact')}, {_count(m.joints.pairs, 'joint')}, "
+            f"{m.n} dofs; "
+            f"probes: {', '.join(self.probes) or 'none'})"
+        )
+
     def warnings(self) -> list[str]:
         """Settings that the stability study (benchmarks/stability.py) found unsafe here, a
         step that the run cannot take, friction that the penalty baseline leaves out, and moving
@@ -230,6 +242,10 @@ def run(
     _check_run_arguments(sim, out_dir, options)
     with blas_threads(), hold_folder(out_dir, sim.name), terminate_as_interrupt():
         return _run(sim, Path(out_dir), *options)
+
+
+def _count(items, one: str, many: str = "") -> str:
+    return f"{len(items)} {one if len(items) == 1 else many or one + 's'}"
 
 
 def _check_run_arguments(sim, out_dir, options) -> None:

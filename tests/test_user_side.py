@@ -93,7 +93,7 @@ def test_beams_carry_their_section_radius_for_paraviews_tube_filter(tmp_path):
     run(pendulum_sim(), tmp_path / "out")
     beam = fecontact.load_run(tmp_path / "out").frames()[0][1]["beam2d0"]
     np.testing.assert_allclose(beam.point_data["section_radius"], 0.01, rtol=1e-15)
-    line = pyvista.wrap(beam).extract_surface()
+    line = pyvista.wrap(beam).extract_surface(algorithm="dataset_surface")
     tube = line.tube(scalars="section_radius", absolute=True, n_sides=64)
     # the tube is a 64-gon about the x axis: its y extent lies between r cos(π/64) and r
     # (1e-12 m: the round-off of VTK's vertices, ~1e-18 m at r = 1 cm, far below it)
@@ -111,3 +111,14 @@ def test_the_words_true_and_false_the_switch_error_offers_are_taken(name):
         assert getattr(IntegratorOptions(**{name: word}), name) == value
     with pytest.raises(InputError, match=f"{name} must be true, false"):
         IntegratorOptions(**{name: "yes"})
+
+
+def test_a_simulation_shows_what_runs_not_its_functions():
+    """A notebook showed ``Simulation(model=<fecontact.model.Model object at 0x...>,
+    probes={'tip': Probe(fn=<function ...>, ...)}, ...)``."""
+    sim = pendulum_sim()
+    sim.probes = {"tip": Probe(lambda m, st: 0.0, "m")}
+    assert repr(sim) == (
+        "Simulation('simulation': dt = 0.001 s, t_end = 0.003 s, integrator nsga; 1 body "
+        "(Beam2D), 0 contacts, 0 joints, 9 dofs; probes: tip)"
+    )
