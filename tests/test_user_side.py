@@ -122,3 +122,20 @@ def test_a_simulation_shows_what_runs_not_its_functions():
         "Simulation('simulation': dt = 0.001 s, t_end = 0.003 s, integrator nsga; 1 body "
         "(Beam2D), 0 contacts, 0 joints, 9 dofs; probes: tip)"
     )
+
+
+def test_paraview_names_the_stress_components(tmp_path):
+    """The planar stress has four components, which ParaView labelled 0, 1, 2, 3: they carry
+    their names (xx, yy, zz, xy) in the VTU, as the docs list them."""
+    from fecontact import LinearElastic, Solid
+
+    vtk = pytest.importorskip("vtk")
+    body = Solid.rectangle([0, 0], [0.2, 0.1], 2, LinearElastic(E=1e6, nu=0.3, rho=1e3))
+    sim = Simulation(Model([body], gravity=(0.0, -9.81)), dt=1e-3, t_end=0.002, name="plate")
+    run(sim, tmp_path / "out", frame_format="vtu")
+    reader = vtk.vtkXMLUnstructuredGridReader()
+    reader.SetFileName(str(tmp_path / "out" / "plate_solid0_00001.vtu"))
+    reader.Update()
+    stress = reader.GetOutput().GetCellData().GetArray("stress")
+    names = [stress.GetComponentName(i) for i in range(stress.GetNumberOfComponents())]
+    assert names == ["xx", "yy", "zz", "xy"]
