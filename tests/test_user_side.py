@@ -139,3 +139,26 @@ def test_paraview_names_the_stress_components(tmp_path):
     stress = reader.GetOutput().GetCellData().GetArray("stress")
     names = [stress.GetComponentName(i) for i in range(stress.GetNumberOfComponents())]
     assert names == ["xx", "yy", "zz", "xy"]
+
+
+def test_a_solid_read_from_a_file_shows_what_the_file_gave(tmp_path):
+    """A notebook showed ``<fecontact.bodies.solid.Solid object at 0x...>``: now the cells,
+    volume, mass and groups, to check a file (its unit, its groups) before a run."""
+    import meshio
+    import skfem
+
+    from fecontact import LinearElastic, Solid
+
+    m = skfem.MeshTri.init_tensor(np.linspace(0, 200.0, 3), np.linspace(0.0, 100.0, 2))  # mm
+    tags = [np.full(m.t.shape[1], 1)]
+    meshio.Mesh(
+        np.column_stack([m.p.T, np.zeros(m.p.shape[1])]),
+        [("triangle", m.t.T)],
+        cell_data={"gmsh:physical": tags, "gmsh:geometrical": tags},
+        field_data={"plate": np.array([1, 2])},
+    ).write(tmp_path / "plate.msh", file_format="gmsh22")
+    body = Solid.from_file(tmp_path / "plate.msh", LinearElastic(E=1e6, nu=0.3, rho=1e3), 1e-3)
+    assert repr(body) == (
+        "Solid(2D, plane strain, thickness 1 m, 6 nodes, 4 cells (P1 tri), volume 0.02 m³, "
+        "mass 20 kg; groups: plate)"
+    )
