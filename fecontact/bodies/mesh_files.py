@@ -86,17 +86,33 @@ def read_mesh_and_points(path, scale: float = 1.0, offset=None, merge_nodes: boo
     return _named(mesh, groups, index, blocks, (kind, cell_of)), places
 
 
+# odd 63-bit weights of a row hash (fixed: a file reads the same every time); 27 nodes at most
+_ROW_WEIGHTS = np.random.default_rng(2026).integers(1, 2**62, size=27, dtype=np.int64) | 1
+
+
 def _unique_cells(conn: np.ndarray):
     """(cells, cell_of): each cell of ``conn`` (m, k) once, in the order of their first
     listing, and each listed cell's index among them. MSH 2.2 lists a cell once per physical
     group holding it (a subdomain inside the body's group): read twice, its mass and stiffness
     were counted twice (the mesh checks refused the copies as overlapping cells)."""
-    _, first, same = np.unique(
-        np.sort(conn, axis=1), axis=0, return_index=True, return_inverse=True
-    )
+    key = np.sort(conn, axis=1)
+    # rows of distinct hashes are distinct: a file without copies costs one 1D sort (0.6 s
+    # for 1e6 tetrahedra, against 2.6 s for the rows' sort below and 5.7 s for np.unique's),
+    # and only a file with equal hashes goes on to the exact comparison
+    hashed = np.sort(key @ _ROW_WEIGHTS[: key.shape[1]])  # (int64, wrapping)
+    if not np.any(hashed[1:] == hashed[:-1]):
+        return conn, np.arange(len(conn))
+    order = np.lexsort(key.T[::-1])
+    new = np.ones(len(conn), dtype=bool)
+    new[1:] = np.any(key[order[1:]] != key[order[:-1]], axis=1)
+    group = np.cumsum(new) - 1  # of each row in sorted order: its cell
+    first = np.full(group[-1] + 1, len(conn))
+    np.minimum.at(first, group, order)
+    same = np.empty(len(conn), dtype=int)
+    same[order] = group
     rank = np.empty(len(first), dtype=int)
     rank[np.argsort(first)] = np.arange(len(first))
-    return conn[np.sort(first)], rank[same.ravel()]
+    return conn[np.sort(first)], rank[same]
 
 
 def _point_ids(data, groups, blocks) -> dict[str, np.ndarray]:
