@@ -428,3 +428,13 @@ def test_cells_listed_once_per_physical_group_are_one_cell(tmp_path):
     assert len(plate) == m.t.shape[1] and len(half) == len(left)
     centres = body.mesh.p[:, body.mesh.t[:, half]].mean(axis=1)
     assert np.all(centres[0] < 0.1)
+
+
+def test_a_flat_3d_mesh_is_refused_as_flat(tmp_path):
+    """Tetrahedra all in the plane z = 0.5: the mesh check named "element 0 ... degenerate"."""
+    m = skfem.MeshTri.init_tensor(np.linspace(0, 1, 3), np.linspace(0, 1, 3))
+    points = np.column_stack([m.p.T, np.full(m.p.shape[1], 0.5)])
+    tets = np.column_stack([m.t.T, np.roll(m.t.T, 1, axis=0)[:, :1]])
+    meshio.write(tmp_path / "flat.msh", meshio.Mesh(points, [("tetra", tets)]), "gmsh22")
+    with pytest.raises(InputError, match=r"flat.msh: its tetra cells all lie in the plane z = 0.5"):
+        Solid.from_file(tmp_path / "flat.msh", MAT)

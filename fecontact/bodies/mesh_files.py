@@ -70,6 +70,7 @@ def read_mesh_and_points(path, scale: float = 1.0, offset=None, merge_nodes: boo
     cell = _VOLUME[kind]
     points, index = _used_points(data.points, volume, merge_nodes)
     _check_plane(points, _DIM[cell], Path(path).name, data.points)
+    _check_thickness(points, kind, Path(path).name)
     groups = _groups(data, blocks, cell, _group_names(Path(path), data), Path(path).name)
     conn, cell_of = _unique_cells(index[np.concatenate([c for _, c in volume])])
     renumbered = meshio.Mesh(points, [(kind, conn)])
@@ -110,8 +111,7 @@ def _unique_cells(conn: np.ndarray):
     np.minimum.at(first, group, order)
     same = np.empty(len(conn), dtype=int)
     same[order] = group
-    rank = np.empty(len(first), dtype=int)
-    rank[np.argsort(first)] = np.arange(len(first))
+    rank = np.argsort(np.argsort(first))  # the rank of each cell's first listing
     return conn[np.sort(first)], rank[same]
 
 
@@ -198,6 +198,21 @@ def _check_plane(points: np.ndarray, dim: int, name: str, every: np.ndarray) -> 
         raise InputError(
             f"{name}: its cells are triangles or quadrilaterals in the plane z = {z[0]:g} m, "
             f"but other points of the file lie {off.max():g} m from it: {_NO_VOLUME}"
+        )
+
+
+def _check_thickness(points: np.ndarray, kind: str, name: str) -> None:
+    """``InputError`` for 3D cells whose points share one x, y or z (to 1e-8 of the mesh's
+    size): a flat body, whose every cell is degenerate (the mesh check would name cell 0)."""
+    if _DIM[_VOLUME[kind]] != 3:
+        return
+    span = np.ptp(points, axis=0)
+    flat = np.flatnonzero(span <= 1e-8 * float(np.linalg.norm(span)))
+    if flat.size:
+        raise InputError(
+            f"{name}: its {kind} cells all lie in the plane {'xyz'[flat[0]]} = "
+            f"{points[0, flat[0]]:g} m: a 3D body needs a thickness (a planar body is meshed "
+            "with triangles or quadrilaterals in the xy plane)"
         )
 
 
