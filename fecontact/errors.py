@@ -25,6 +25,7 @@ __all__ = [
     "check_positive",
     "check_vector",
     "check_range",
+    "did_you_mean",
     "MAX_MAGNITUDE",
     "MIN_MAGNITUDE",
 ]
@@ -35,6 +36,15 @@ MIN_MAGNITUDE = 1e-30
 
 class InputError(ValueError):
     """A parameter is outside its allowed range (raised before any computation)."""
+
+
+def did_you_mean(name: str, known) -> str:
+    """' (did you mean "x"?)' for the name of ``known`` closest to a misspelt ``name``
+    (difflib's ratio ≥ 0.6, its default), else ""."""
+    import difflib
+
+    close = difflib.get_close_matches(str(name), [str(k) for k in known], n=1)
+    return f" (did you mean {close[0]!r}?)" if close else ""
 
 
 class SolverError(RuntimeError):

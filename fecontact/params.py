@@ -33,7 +33,7 @@ import math
 from dataclasses import dataclass, replace
 from typing import Any
 
-from .errors import InputError, check_count, check_positive, check_range
+from .errors import InputError, check_count, check_positive, check_range, did_you_mean
 
 __all__ = ["Param", "assignment", "case", "declared_parameters"]
 
@@ -132,7 +132,8 @@ def _wrap(build, groups):
     def wrapper(**values):
         unknown = sorted(set(values) - names)
         if unknown:
-            raise InputError(f"unknown parameter {unknown[0]!r}; known: {', '.join(names)}")
+            hint = did_you_mean(unknown[0], names)
+            raise InputError(f"unknown parameter {unknown[0]!r}{hint}; known: {', '.join(names)}")
         used = {n: p.check(n, values.get(n, p.default)) for n, p in params.items()}
         sim = build(**{**values, **used})
         from .simulation import Simulation  # the case layer sits above the simulation

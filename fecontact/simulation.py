@@ -31,6 +31,7 @@ from .io.run_folder import (
 )
 from .io.run_frames import RunFrames
 from .io.run_lock import hold_folder
+from .io.run_summary import RunSummary
 from .io.termination import Terminated, terminate_as_interrupt
 from .model import Model
 from .probes import Probe, node_probe
@@ -74,6 +75,12 @@ class Simulation:
     origin: dict = field(default_factory=dict)
 
     def __post_init__(self):
+        self.check()
+
+    def check(self) -> None:
+        """``InputError`` for a field of the wrong kind or range: at construction, and again
+        when :func:`run` starts (fields set after construction, in a notebook, are checked
+        before the folder is touched)."""
         check_kind("model", self.model, Model, "a Model(bodies, contacts, ...)")
         check_kind("options", self.options, IntegratorOptions, "an IntegratorOptions(...)")
         check_kind("probes", self.probes, dict, "a dict {name: Probe}")
@@ -96,6 +103,18 @@ class Simulation:
                     f"probe names must be letters, digits or '_' and differ from the history "
                     f"columns ({', '.join(HISTORY_COLUMNS)}), got {probe!r}"
                 )
+
+    def __repr__(self) -> str:
+        # (a notebook shows it: what runs, not the probes' functions and the model's address)
+        m = self.model
+        kinds = ", ".join(sorted({type(b).__name__ for b in m.bodies}))
+        return (
+            f"Simulation({self.name!r}: dt = {self.dt:g} s, t_end = {self.t_end:g} s, "
+            f"integrator {self.options.integrator}; {_count(m.bodies, 'body', 'bodies')} "
+            f"({kinds}), {_count(m.contacts.pairs, 'contact')}, {_count(m.joints.pairs, 'joint')}, "
+            f"{m.n} dofs; "
+            f"probes: {', '.join(self.probes) or 'none'})"
+        )
 
     def warnings(self) -> list[str]:
         """Settings that the stability study (benchmarks/stability.py) found unsafe here, a
@@ -198,7 +217,8 @@ def run(
     overwrite: bool = False,
     frame_format: str = "auto",
 ) -> dict:
-    """Run ``sim`` and write its results into ``out_dir``; return the summary.
+    """Run ``sim`` and write its results into ``out_dir``; return the summary (a dict, the
+    contents of ``summary.json``; a notebook shows it as a few lines: ``RunSummary``).
 
     ``progress`` shows a progress bar with the step, time and Newton iterations (on a
     terminal). Every ``checkpoint_every`` steps (0: never) the state is saved to
@@ -224,11 +244,16 @@ def run(
         return _run(sim, Path(out_dir), *options)
 
 
+def _count(items, one: str, many: str = "") -> str:
+    return f"{len(items)} {one if len(items) == 1 else many or one + 's'}"
+
+
 def _check_run_arguments(sim, out_dir, options) -> None:
     """``InputError`` for an argument of ``run`` of the wrong kind, before the folder is
     touched: a string "no" for a flag would read as True, a negative checkpoint interval as
     never, a missing folder as a TypeError from pathlib."""
     check_kind("sim", sim, Simulation, "a Simulation(model, dt, t_end, ...)")
+    sim.check()
     check_kind("out_dir", out_dir, (str, os.PathLike), "a folder path")
     progress, frames, checkpoint_every, resume, overwrite, _ = options
     flags = {"progress": progress, "frames": frames, "resume": resume, "overwrite": overwrite}
@@ -282,7 +307,7 @@ def _run(sim, out, progress, frames, checkpoint_every, resume, overwrite, frame_
         wall = time.perf_counter() - t_start
         rec.history.close()
         _show(bar, None, status, stop)
-        summary = _summary(sim, rec, stats, status, message, wall, timer)
+        summary = RunSummary(_summary(sim, rec, stats, status, message, wall, timer), out)
         _write_summary(out, summary, status)
     said = sim.warnings() if start is None else []  # (warned before the run)
     for text in summary["warnings"]:

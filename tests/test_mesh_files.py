@@ -325,3 +325,116 @@ def test_unnamed_physical_tags_of_two_dimensions_are_two_groups(tmp_path):
     # tag 0, a cell of no group that gmsh saves with Mesh.SaveAll, names no group
     assert list(body.mesh.boundaries) == ["physical1_1d"] and body.node_groups == {}
     assert list(body.mesh.subdomains) == ["physical1_2d"]
+
+
+def plate_msh(path, physical_names, tags=(1, 1)):
+    """A 0.2 × 0.1 m plate of triangles in MSH 2.2 ASCII, written as gmsh writes it: its
+    bottom lines carry the physical tag ``tags[0]``, its triangles ``tags[1]``."""
+    m = skfem.MeshTri.init_tensor(np.linspace(0, 0.2, 5), np.linspace(0.0, 0.1, 3))
+    bottom = sides(m, 1, 0.0)
+    lines = ["$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$PhysicalNames"]
+    lines += [str(len(physical_names)), *physical_names, "$EndPhysicalNames"]
+    lines += ["$Nodes", str(m.p.shape[1])]
+    lines += [f"{i + 1} {x:.17g} {y:.17g} 0" for i, (x, y) in enumerate(m.p.T)]
+    lines += ["$EndNodes", "$Elements", str(len(bottom) + m.t.shape[1])]
+    cells = [(1, tags[0], c) for c in bottom] + [(2, tags[1], c) for c in m.t.T]
+    lines += [
+        f"{k + 1} {t} 2 {tag} 1 {' '.join(map(str, c + 1))}" for k, (t, tag, c) in enumerate(cells)
+    ]
+    path.write_text("\n".join([*lines, "$EndElements", ""]))
+    return path
+
+
+def test_a_name_given_to_groups_of_two_dimensions_is_refused_by_name(tmp_path):
+    """gmsh lets one name a physical group of each dimension: ``Physical Curve("plate")`` and
+    ``Physical Surface("plate")``. meshio keys the names by name, so one of the two groups
+    went on unnamed ("physical2") and "plate" named the other alone; were both kept, the name
+    would mean a boundary or a subdomain, whose nodes differ. Refused, naming the group."""
+    names = ['1 1 "plate"', '2 2 "plate"']
+    path = plate_msh(tmp_path / "plate.msh", names, tags=(1, 2))
+    with pytest.raises(InputError, match=r"plate.msh: group 'plate' holds line, triangle cells"):
+        Solid.from_file(path, MAT)
+    # one name per dimension, with a space in it: both groups as they are named
+    path = plate_msh(tmp_path / "plate.msh", ['1 1 "bottom edge"', '2 2 "plate"'], tags=(1, 2))
+    body = Solid.from_file(path, MAT)
+    assert list(body.mesh.boundaries) == ["bottom edge"] and list(body.mesh.subdomains) == ["plate"]
+
+
+def test_physical_names_of_a_binary_file_are_read(tmp_path):
+    """A binary MSH 2.2 file: ``$PhysicalNames`` is text before the binary sections."""
+    m = skfem.MeshTri.init_tensor(np.linspace(0, 0.2, 5), np.linspace(0.0, 0.1, 3))
+    bottom = sides(m, 1, 0.0)
+    tags = [np.full(len(bottom), 3), np.full(m.t.shape[1], 7)]
+    data = meshio.Mesh(
+        np.column_stack([m.p.T, np.zeros(m.p.shape[1])]),
+        [("line", bottom), ("triangle", m.t.T)],
+        cell_data={"gmsh:physical": tags, "gmsh:geometrical": tags},
+        field_data={"bottom": np.array([3, 1]), "plate": np.array([7, 2])},
+    )
+    data.write(tmp_path / "plate.msh", file_format="gmsh22", binary=True)
+    body = Solid.from_file(tmp_path / "plate.msh", MAT)
+    assert list(body.mesh.boundaries) == ["bottom"] and list(body.mesh.subdomains) == ["plate"]
+    np.testing.assert_array_equal(body.nodes_of("bottom"), body.nodes_where(lambda x: x[1] < 1e-9))
+
+
+def test_a_boundary_on_copies_of_nodes_says_merge_nodes(tmp_path):
+    """Two squares meshed apart with a bottom line group: the group's facet joining them lies
+    on one copy of a shared node, the cells on the other. Its error named the facets alone."""
+    m = two_unmerged_squares()
+    p = np.column_stack([m.p.T, np.zeros(m.p.shape[1])])
+    first_bottom = sides(skfem.MeshTri(m.p[:, :25], m.t[:, :32]), 1, 0.0)
+    at = [int(np.flatnonzero(np.hypot(*(m.p - [[x], [0.0]])) < 1e-12)[0]) for x in (1.0, 1.25)]
+    across = np.array([at])  # from the left square's (1, 0) to the right's (1.25, 0)
+    bottom = np.vstack([first_bottom, across])
+    tags = [np.ones(len(bottom), int), np.full(m.t.shape[1], 2)]
+    meshio.Mesh(
+        p,
+        [("line", bottom), ("triangle", m.t.T)],
+        cell_data={"gmsh:physical": tags, "gmsh:geometrical": tags},
+        field_data={"bottom": np.array([1, 1]), "squares": np.array([2, 2])},
+    ).write(tmp_path / "squares.msh", file_format="gmsh22")
+    with pytest.raises(InputError, match=r"5 pair\(s\) of coincident nodes .* merge_nodes=True"):
+        Solid.from_file(tmp_path / "squares.msh", MAT)
+    body = Solid.from_file(tmp_path / "squares.msh", MAT, merge_nodes=True)
+    assert body.volume == pytest.approx(2.0, rel=1e-14)
+    assert len(body.nodes_of("bottom")) == 6
+
+
+@pytest.mark.parametrize("path", [None, 3, ["a.msh"]])
+def test_a_path_of_the_wrong_kind_is_named(path):
+    # (a TypeError from pathlib before)
+    with pytest.raises(InputError, match=r"^path must be a mesh file's path, got"):
+        Solid.from_file(path, MAT)
+
+
+def test_cells_listed_once_per_physical_group_are_one_cell(tmp_path):
+    """MSH 2.2 lists a cell once per physical group that holds it: with ``Physical
+    Surface("plate")`` and ``Physical Surface("left")`` over the same surface, the left half's
+    triangles come twice. The copies were refused as overlapping cells ("element 1 ... is
+    inverted"); read as one, the body is the plate and "left" its left half."""
+    m = skfem.MeshTri.init_tensor(np.linspace(0, 0.2, 5), np.linspace(0.0, 0.1, 3))
+    left = m.t.T[m.p[0, m.t].mean(axis=0) < 0.1]
+    lines = ["$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$PhysicalNames", "2"]
+    lines += ['2 1 "plate"', '2 2 "left"', "$EndPhysicalNames", "$Nodes", str(m.p.shape[1])]
+    lines += [f"{i + 1} {x:.17g} {y:.17g} 0" for i, (x, y) in enumerate(m.p.T)]
+    cells = [(1, c) for c in m.t.T] + [(2, c) for c in left]
+    lines += ["$EndNodes", "$Elements", str(len(cells))]
+    lines += [f"{k + 1} 2 2 {t} 1 {' '.join(map(str, c + 1))}" for k, (t, c) in enumerate(cells)]
+    (tmp_path / "plate.msh").write_text("\n".join([*lines, "$EndElements", ""]))
+    body = Solid.from_file(tmp_path / "plate.msh", MAT)
+    assert body.n_elements == m.t.shape[1] and body.volume == pytest.approx(0.02, rel=1e-14)
+    assert body.mass == pytest.approx(1e3 * 0.02, rel=1e-14)
+    plate, half = body.mesh.subdomains["plate"], body.mesh.subdomains["left"]
+    assert len(plate) == m.t.shape[1] and len(half) == len(left)
+    centres = body.mesh.p[:, body.mesh.t[:, half]].mean(axis=1)
+    assert np.all(centres[0] < 0.1)
+
+
+def test_a_flat_3d_mesh_is_refused_as_flat(tmp_path):
+    """Tetrahedra all in the plane z = 0.5: the mesh check named "element 0 ... degenerate"."""
+    m = skfem.MeshTri.init_tensor(np.linspace(0, 1, 3), np.linspace(0, 1, 3))
+    points = np.column_stack([m.p.T, np.full(m.p.shape[1], 0.5)])
+    tets = np.column_stack([m.t.T, np.roll(m.t.T, 1, axis=0)[:, :1]])
+    meshio.write(tmp_path / "flat.msh", meshio.Mesh(points, [("tetra", tets)]), "gmsh22")
+    with pytest.raises(InputError, match=r"flat.msh: its tetra cells all lie in the plane z = 0.5"):
+        Solid.from_file(tmp_path / "flat.msh", MAT)

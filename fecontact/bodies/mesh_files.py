@@ -17,13 +17,14 @@ from __future__ import annotations
 
 import contextlib
 import io
+import os
 import re
 from pathlib import Path
 
 import numpy as np
 import skfem
 
-from ..errors import InputError, check_positive
+from ..errors import InputError, check_kind, check_positive
 from .meshes import ELEMENTS, check_point, coincident_nodes
 
 __all__ = ["group_nodes", "merge_nodes", "nodes_at", "read_mesh", "read_mesh_and_points"]
@@ -62,14 +63,17 @@ def read_mesh_and_points(path, scale: float = 1.0, offset=None, merge_nodes: boo
     a pinned corner, a loaded edge, which are neither facets nor cells of the body."""
     import meshio  # lazily: mesh I/O only when a file is read
 
+    check_kind("path", path, (str, os.PathLike), "a mesh file's path")
     data = _read(Path(path))
     blocks = [(c.type, _integer_cells(c.data, c.type)) for c in data.cells]
     kind, volume = _volume_blocks(blocks, Path(path).name)
     cell = _VOLUME[kind]
     points, index = _used_points(data.points, volume, merge_nodes)
     _check_plane(points, _DIM[cell], Path(path).name, data.points)
-    groups = _groups(data, blocks, cell)
-    renumbered = meshio.Mesh(points, [(kind, index[conn]) for kind, conn in volume])
+    _check_thickness(points, kind, Path(path).name)
+    groups = _groups(data, blocks, cell, _group_names(Path(path), data), Path(path).name)
+    conn, cell_of = _unique_cells(index[np.concatenate([c for _, c in volume])])
+    renumbered = meshio.Mesh(points, [(kind, conn)])
     scale = check_positive("scale", scale)
     mesh = _from_meshio(renumbered, cell).scaled(scale)
     shift = np.zeros(mesh.dim())
@@ -80,7 +84,35 @@ def read_mesh_and_points(path, scale: float = 1.0, offset=None, merge_nodes: boo
         name: _places(name, ids, index, points[:, : mesh.dim()]) * scale + shift
         for name, ids in _point_ids(data, groups, blocks).items()
     }  # scaled, then shifted, as scikit-fem does it to the mesh: the same coordinates
-    return _named(mesh, groups, index, blocks, kind), places
+    return _named(mesh, groups, index, blocks, (kind, cell_of)), places
+
+
+# odd 63-bit weights of a row hash (fixed: a file reads the same every time); 27 nodes at most
+_ROW_WEIGHTS = np.random.default_rng(2026).integers(1, 2**62, size=27, dtype=np.int64) | 1
+
+
+def _unique_cells(conn: np.ndarray):
+    """(cells, cell_of): each cell of ``conn`` (m, k) once, in the order of their first
+    listing, and each listed cell's index among them. MSH 2.2 lists a cell once per physical
+    group holding it (a subdomain inside the body's group): read twice, its mass and stiffness
+    were counted twice (the mesh checks refused the copies as overlapping cells)."""
+    key = np.sort(conn, axis=1)
+    # rows of distinct hashes are distinct: a file without copies costs one 1D sort (0.6 s
+    # for 1e6 tetrahedra, against 2.6 s for the rows' sort below and 5.7 s for np.unique's),
+    # and only a file with equal hashes goes on to the exact comparison
+    hashed = np.sort(key @ _ROW_WEIGHTS[: key.shape[1]])  # (int64, wrapping)
+    if not np.any(hashed[1:] == hashed[:-1]):
+        return conn, np.arange(len(conn))
+    order = np.lexsort(key.T[::-1])
+    new = np.ones(len(conn), dtype=bool)
+    new[1:] = np.any(key[order[1:]] != key[order[:-1]], axis=1)
+    group = np.cumsum(new) - 1  # of each row in sorted order: its cell
+    first = np.full(group[-1] + 1, len(conn))
+    np.minimum.at(first, group, order)
+    same = np.empty(len(conn), dtype=int)
+    same[order] = group
+    rank = np.argsort(np.argsort(first))  # the rank of each cell's first listing
+    return conn[np.sort(first)], rank[same]
 
 
 def _point_ids(data, groups, blocks) -> dict[str, np.ndarray]:
@@ -166,6 +198,21 @@ def _check_plane(points: np.ndarray, dim: int, name: str, every: np.ndarray) -> 
         raise InputError(
             f"{name}: its cells are triangles or quadrilaterals in the plane z = {z[0]:g} m, "
             f"but other points of the file lie {off.max():g} m from it: {_NO_VOLUME}"
+        )
+
+
+def _check_thickness(points: np.ndarray, kind: str, name: str) -> None:
+    """``InputError`` for 3D cells whose points share one x, y or z (to 1e-8 of the mesh's
+    size): a flat body, whose every cell is degenerate (the mesh check would name cell 0)."""
+    if _DIM[_VOLUME[kind]] != 3:
+        return
+    span = np.ptp(points, axis=0)
+    flat = np.flatnonzero(span <= 1e-8 * float(np.linalg.norm(span)))
+    if flat.size:
+        raise InputError(
+            f"{name}: its {kind} cells all lie in the plane {'xyz'[flat[0]]} = "
+            f"{points[0, flat[0]]:g} m: a 3D body needs a thickness (a planar body is meshed "
+            "with triangles or quadrilaterals in the xy plane)"
         )
 
 
@@ -296,11 +343,13 @@ def _from_meshio(data, cell: str):
         raise InputError(f"cannot build a {cell} mesh from the file's cells: {err}") from None
 
 
-def _groups(data, blocks, cell: str) -> dict[str, dict[str, list]]:
+def _groups(data, blocks, cell: str, names, file: str) -> dict[str, dict[str, list]]:
     """Named groups of the file's cells: {"boundaries"|"subdomains"|"points": {name:
-    [(block, rows)]}}, from gmsh physical tags (named by ``field_data``) and meshio cell sets;
-    a group mixing these kinds (facets with cells) is left out."""
-    tagged = _tagged(data, [kind for kind, _ in blocks])
+    [(block, rows)]}}, from gmsh physical tags (named by ``names``: (tag, dimension, name))
+    and meshio cell sets. ``InputError`` for a name given to cells of two of these kinds
+    (facets and cells, say: gmsh lets one name a group of each dimension): the name would mean
+    either, and a boundary's nodes, a contact's, are not a subdomain's."""
+    tagged = _tagged(data, [kind for kind, _ in blocks], names)
     volume = {k for k, c in _VOLUME.items() if c == cell}
     lines = ("line", "line3") if _DIM[cell] == 3 else ()
     sorts = {"boundaries": set(_FACETS[cell]), "subdomains": volume, "points": {"vertex", *lines}}
@@ -310,12 +359,26 @@ def _groups(data, blocks, cell: str) -> dict[str, dict[str, list]]:
         key = next((key for key, allowed in sorts.items() if kinds and kinds <= allowed), None)
         if key is not None:
             groups[key][name] = members
+        elif kinds:
+            _refuse_mixed(file, name, kinds, sorts)
     return groups
 
 
-def _tagged(data, kinds: list[str]) -> dict[str, list]:
+def _refuse_mixed(file: str, name: str, kinds: set, sorts: dict) -> None:
+    """``InputError`` for the group ``name`` whose cells (of ``kinds``) are of no one kind of
+    ``sorts``, saying which kinds a group can be made of."""
+    said = {"boundaries": "facets", "subdomains": "cells of the body", "points": "points"}
+    kinds_of = "; ".join(f"{said[key]}: {', '.join(sorted(k))}" for key, k in sorts.items())
+    raise InputError(
+        f"{file}: group {name!r} holds {', '.join(sorted(kinds))} cells, which are not of one "
+        f"kind of group ({kinds_of}): give each kind its own name (in gmsh, one name per "
+        "physical group's dimension)"
+    )
+
+
+def _tagged(data, kinds: list[str], names) -> dict[str, list]:
     """{name: [(block, rows)]} of the gmsh physical groups and the meshio cell sets."""
-    tagged = _physical_groups(data, kinds)
+    tagged = _physical_groups(data, kinds, names)
     for name, rows in (data.cell_sets or {}).items():
         if not name.startswith("gmsh:") and name not in tagged:
             tagged[name] = [(b, np.asarray(r, int)) for b, r in _present(rows)]
@@ -326,13 +389,12 @@ def _present(rows):
     return [(b, r) for b, r in enumerate(rows) if r is not None]
 
 
-def _physical_groups(data, kinds: list[str]) -> dict[str, list]:
+def _physical_groups(data, kinds: list[str], named) -> dict[str, list]:
     """{name: [(block, rows)]} of the gmsh physical tags of the blocks of cells of ``kinds``.
     A tag is a name in its dimension only: gmsh numbers each dimension's groups apart
-    (``Physical Line(1)`` and ``Physical Surface(1)``), and meshio's ``field_data`` gives
-    each name its (tag, dimension). Unnamed: "physical<tag>", or "physical<tag>_<dim>d"
-    where two dimensions use the tag."""
-    named = [(int(v[0]), int(v[1]) if len(v) > 1 else -1, k) for k, v in _fields(data)]
+    (``Physical Line(1)`` and ``Physical Surface(1)``), and ``named`` gives each name its
+    (tag, dimension) (−1: any). Unnamed: "physical<tag>", or "physical<tag>_<dim>d" where two
+    dimensions use the tag."""
     by_tag = {tag: name for tag, dim, name in named if dim < 0}  # given without a dimension
     names = {(tag, dim): name for tag, dim, name in named}
     blocks = data.cell_data.get("gmsh:physical", [None] * len(kinds))
@@ -360,19 +422,47 @@ def _tags(tags) -> list[int]:
     return [] if tags is None else [int(t) for t in np.unique(tags) if t != 0]
 
 
-def _fields(data) -> list:
-    """meshio's ``field_data`` items that are gmsh's named groups: [tag, dimension]."""
-    return [(k, v) for k, v in (data.field_data or {}).items() if np.size(v) >= 1]
+def _group_names(path: Path, data) -> list[tuple[int, int, str]]:
+    """(tag, dimension, name) of the gmsh physical groups: a .msh file's ``$PhysicalNames``
+    as written, else meshio's ``field_data`` (dimension −1 where it gives none). meshio keys
+    ``field_data`` by name, so of two groups of one name in two dimensions (gmsh allows it) it
+    keeps the last, and the other group went on unnamed, as "physical<tag>"."""
+    if path.suffix.lower() == ".msh":
+        return _physical_names(path)
+    fields = [(k, v) for k, v in (data.field_data or {}).items() if np.size(v) >= 1]
+    return [(int(v[0]), int(v[1]) if np.size(v) > 1 else -1, k) for k, v in fields]
 
 
-def _named(mesh, groups, index, blocks, volume_kind: str):
+# a line of $PhysicalNames: dimension, tag, "name" (which may hold spaces)
+_NAME_LINE = re.compile(rb'\s*(\d+)\s+(\d+)\s+"(.*)"\s*$')
+
+
+def _physical_names(path: Path) -> list[tuple[int, int, str]]:
+    """The ``$PhysicalNames`` of a gmsh file (MSH 2.2 or 4.1, ASCII or binary: the section is
+    text in both, and comes before the binary sections, where the scan stops)."""
+    names, inside = [], False
+    with open(path, "rb") as f:
+        for line in f:
+            if line.startswith((b"$Entities", b"$Nodes", b"$Elements", b"$EndPhysicalNames")):
+                break
+            found = _NAME_LINE.match(line) if inside else None
+            if found:
+                dim, tag, name = found.groups()
+                names.append((int(tag), int(dim), name.decode("utf-8", "replace")))
+            inside = inside or line.startswith(b"$PhysicalNames")
+    return names
+
+
+def _named(mesh, groups, index, blocks, volume):
     """``mesh`` with the file's groups as scikit-fem boundaries (facet indices) and subdomains
-    (cell indices: the cells of ``volume_kind`` numbered in file order, as meshio joins them)."""
+    (cell indices: ``volume`` = (kind, cell_of), the cells of that kind numbered in file order,
+    as meshio joins them, are the mesh's cells ``cell_of``)."""
     if not groups["boundaries"] and not groups["subdomains"]:
         return mesh
+    volume_kind, cell_of = volume
     start = np.cumsum([0] + [len(c) if k == volume_kind else 0 for k, c in blocks])
     subdomains = {
-        name: np.concatenate([start[b] + rows for b, rows in members])
+        name: np.unique(cell_of[np.concatenate([start[b] + rows for b, rows in members])])
         for name, members in groups["subdomains"].items()
     }
     corners = mesh.facets.shape[0]
@@ -381,13 +471,16 @@ def _named(mesh, groups, index, blocks, volume_kind: str):
         conn = index[np.concatenate([blocks[b][1][rows, :corners] for b, rows in members])]
         if np.any(conn < 0):
             raise InputError(f"boundary {name!r} has points that no cell of the body uses")
-        boundaries[name] = _facet_indices(mesh.facets, conn, name)
+        boundaries[name] = _facet_indices(mesh, conn, name)
     return mesh.with_boundaries(boundaries).with_subdomains(subdomains)
 
 
-def _facet_indices(facets: np.ndarray, conn: np.ndarray, name: str) -> np.ndarray:
-    """Indices among the mesh's ``facets`` (k, F) of the facet cells ``conn`` (m, k), whatever
-    their vertex order."""
+def _facet_indices(mesh, conn: np.ndarray, name: str) -> np.ndarray:
+    """Indices among the ``mesh``'s facets (k, F) of the facet cells ``conn`` (m, k), whatever
+    their vertex order. Where some are not faces of the cells because the file holds copies
+    of nodes (parts meshed apart: a facet on one copy, the cells on the other), the error says
+    so, as the mesh checks would have."""
+    facets = mesh.facets
     both = np.concatenate([np.sort(facets.T, axis=1), np.sort(conn, axis=1)])
     _, ids = np.unique(both, axis=0, return_inverse=True)
     ids = ids.ravel()
@@ -395,5 +488,12 @@ def _facet_indices(facets: np.ndarray, conn: np.ndarray, name: str) -> np.ndarra
     of_id[ids[: facets.shape[1]]] = np.arange(facets.shape[1])
     found = of_id[ids[facets.shape[1] :]]
     if np.any(found < 0):
-        raise InputError(f"boundary {name!r} has facets that are not faces of the cells")
+        copies = len(coincident_nodes(mesh.p.T)[1])
+        why = (
+            f": the mesh has {copies} pair(s) of coincident nodes (parts meshed apart, not "
+            "merged): read it with merge_nodes=True"
+            if copies
+            else ""
+        )
+        raise InputError(f"boundary {name!r} has facets that are not faces of the cells{why}")
     return np.unique(found)

@@ -21,6 +21,16 @@ _INDEX = {"x": 0, "y": 1, "z": 2}
 class SolidOutput:
     """Output of a :class:`~fecontact.bodies.Solid` (mixed into it)."""
 
+    def __repr__(self) -> str:
+        # (a notebook shows it: what the mesh file gave, to check before a run)
+        planar = f" plane {self.plane}, thickness {self.thickness:g} m," if self.dim == 2 else ""
+        groups = [*(self.mesh.boundaries or {}), *(self.mesh.subdomains or {}), *self.node_groups]
+        return (
+            f"Solid({self.dim}D,{planar} {self.n_nodes} nodes, {self.n_elements} cells "
+            f"({self.element} {self.cell}), volume {self.volume:.6g} m³, mass {self.mass:.6g} kg; "
+            f"groups: {', '.join(groups) or 'none'})"
+        )
+
     def stress(self, q: np.ndarray) -> np.ndarray:
         """Cauchy stress σ (Pa, tension positive) at the quadrature points, (E, Q, 3, 3).
 

@@ -12,7 +12,7 @@ import importlib.util
 import inspect
 from pathlib import Path
 
-from ..errors import InputError
+from ..errors import InputError, did_you_mean
 
 __all__ = ["bundled_cases", "case_origin", "cases_folder", "find_case", "load_case"]
 
@@ -54,8 +54,13 @@ def find_case(name_or_path) -> Path:
         if p.name in known:
             return known[p.name]
         listed = ", ".join(known) or "none found"
-        raise InputError(f"case not found: {name_or_path} (no such file; bundled: {listed})")
-    raise InputError(f"case file not found: {name_or_path}")
+        hint = did_you_mean(p.name, known)
+        raise InputError(
+            f"case not found: {name_or_path}{hint}: no such file, nor a bundled case ({listed})"
+        )
+    # "ball_drop.py" typed in another folder than cases/: the bundled case of that name
+    hint = did_you_mean(p.stem, bundled_cases()) if p.suffix == ".py" else ""
+    raise InputError(f"case file not found: {name_or_path}{hint}")
 
 
 def load_case(path) -> object:

@@ -11,7 +11,7 @@ import sys
 import warnings
 from pathlib import Path
 
-from ..errors import InputError, SolverError
+from ..errors import InputError, SolverError, did_you_mean
 from ..extras import need
 from ..io.output import SUMMARY_FILE
 from ..io.run_lock import hold_folder
@@ -87,7 +87,8 @@ def split_overrides(build, args) -> tuple[dict, dict]:
             option_kw[name] = parse_value(text)
         else:
             known = ", ".join(list(params) + sorted(option_names - set(params)))
-            raise InputError(f"--set: unknown parameter {name!r}; known: {known}")
+            hint = did_you_mean(name, [*params, *option_names])
+            raise InputError(f"--set: unknown parameter {name!r}{hint}; known: {known}")
         if getattr(args, name, None) is not None and name in RUN_OPTIONS:
             raise InputError(f"{RUN_OPTIONS[name]} and --set {name}: give one of them")
     if getattr(args, "rtol", None) is not None:

@@ -1,7 +1,8 @@
 """What a run writes at its frames: every body's mesh in its reference configuration with its
 point data (displacement, velocity, contact and friction impulses and forces, the contact
-pressure of solids) and cell data (stress), and the outlines of the rigid obstacles, drawn
-under the bodies' motion. The deformed shape is the points plus ``displacement``."""
+pressure of solids, the section radius of beams) and cell data (stress), and the outlines of
+the rigid obstacles, drawn under the bodies' motion. The deformed shape is the points plus
+``displacement``."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ import math
 
 import numpy as np
 
+from ..bodies.centreline import Centreline
 from ..time import State
 from .vtu import body_mesh, line_mesh
 
@@ -18,6 +20,7 @@ __all__ = [
     "frame_parts",
     "friction_totals",
     "grown",
+    "section_radius",
     "static_parts",
 ]
 
@@ -51,12 +54,21 @@ def frame_parts(model, state: State):
             data["friction_state"] = np.max(np.abs(_point_impulse(body, flag[s])), axis=1)
         if body.continuum:
             data["contact_pressure"] = contact_pressure(data["contact_force"], body)
+        if isinstance(body, Centreline):
+            # a beam is a line: ParaView's Tube filter draws its section from this scalar
+            data["section_radius"] = np.full(body.n_nodes, section_radius(body.section))
         cell_data = {k: [v] for k, v in body.cell_data(q).items()} or None
         reference = body.positions(np.zeros_like(q))
         parts[_part_name(body, i)] = body_mesh(reference, body.cells(), data, cell_data)
     if model.contacts.moving:
         parts.update(_obstacle_parts(model, True, bodies_box(model, state.q)))
     return parts
+
+
+def section_radius(section) -> float:
+    """The radius (m) of the circle of the ``section``'s area, √(A/π): that of
+    ``Section.circle`` (to round-off), the circle of the same area for other sections."""
+    return math.sqrt(section.area / math.pi)
 
 
 def contact_pressure(force: np.ndarray, body) -> np.ndarray:

@@ -13,6 +13,7 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
+from ..bodies.solid_output import STRESS_COMPONENTS
 from .files import atomic_write
 
 __all__ = ["VTK_TYPES", "body_mesh", "line_mesh", "write_vtu"]
@@ -35,19 +36,26 @@ VTK_TYPES = {
     "hexahedron27": 29,
 }
 _VTK_DTYPES = {"f": "Float64", "i": "Int64", "u": "UInt64"}
+# the components' names ParaView shows (ComponentName attributes) for arrays it would
+# otherwise label 0, 1, 2, 3: the planar stress's xx, yy, zz, xy (and the 3D stress's six)
+_COMPONENTS = {("stress", len(c)): c for c in STRESS_COMPONENTS.values()}
 
 
 def _data_array(name: str, a: np.ndarray, ncomp: int = 1) -> str:
-    """A binary (base64, zlib-compressed) VTK DataArray; header of UInt64 block sizes."""
+    """A binary (base64, zlib-compressed) VTK DataArray; header of UInt64 block sizes; its
+    components named where :data:`_COMPONENTS` names them."""
     a = np.ascontiguousarray(a, dtype=a.dtype.newbyteorder("<"))
     a = a.astype("<f8") if a.dtype.kind == "f" else a.astype("<i8")
     raw = a.tobytes()
     packed = zlib.compress(raw, 6)
     header = np.array([1, len(raw), len(raw), len(packed)], dtype="<u8").tobytes()
     payload = base64.b64encode(header).decode() + base64.b64encode(packed).decode()
+    names = "".join(
+        f' ComponentName{i}="{c}"' for i, c in enumerate(_COMPONENTS.get((name, ncomp), ()))
+    )
     return (
         f'<DataArray type="{_VTK_DTYPES[a.dtype.kind]}" Name={quoteattr(name)} '
-        f'NumberOfComponents="{ncomp}" format="binary">{payload}</DataArray>\n'
+        f'NumberOfComponents="{ncomp}"{names} format="binary">{payload}</DataArray>\n'
     )
 
 

@@ -251,9 +251,12 @@ def _check_readers(opts: IntegratorOptions) -> None:
 
 
 def _switch(name: str, value) -> bool | str:
-    """An on/off option that may also be "auto": True, False or "auto"."""
-    if isinstance(value, str) and value in SWITCH:
-        return {"on": True, "off": False}.get(value, "auto")
+    """An on/off option that may also be "auto": True, False or "auto". The words "true" and
+    "false" count as the booleans: ``--set localize=true`` gives a string, which the error
+    offered ("must be true, false ...") and then refused."""
+    words = {"on": True, "true": True, "off": False, "false": False, "auto": "auto"}
+    if isinstance(value, str) and value.lower() in words:
+        return words[value.lower()]
     if isinstance(value, bool | int | np.integer) and value in (0, 1):
         return bool(value)
     raise InputError(f"{name} must be true, false (1, 0, on, off) or auto, got {value!r}")
