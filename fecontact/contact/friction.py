@@ -28,6 +28,7 @@ import numpy as np
 
 from ..rotations import cross
 from .coulomb_newton import NotConverged, coulomb_projection, newton
+from .friction_cases import planar_cases
 from .friction_redundant import grazing_closed, least_norm, one_open, proximal, without_round_off
 from .stats import CoulombStats
 
@@ -108,6 +109,7 @@ def solve_coulomb(
     # converges from a warm start is its path's (a box on a box, 27 rows on 12 dofs:
     # from the last step's impulses it failed at the default p and converged at p × 1e3,
     # and from zero at every p, to the same rates)
+    cases = stats.case_solves
     for start in (x0,) if x0 is None or len(mu) == 1 else (x0, None):
         if start is None and found and not cold_start:
             break
@@ -118,6 +120,8 @@ def solve_coulomb(
             continue
         if start is None and failure is not None:
             stats.cold_restarts += 1
+        # (a solve by the law's cases has them all: a cold start finds none of lower norm)
+        cold_start &= stats.case_solves == cases
         x, status = least_norm(c, D, p, k, mu, nt, x, tol, stats)
         found.append(without_round_off(x, status, len(mu), nt) + (its,))
     if not found:
@@ -141,13 +145,9 @@ def _solve(c, D, p, k, mu, nt, x0, tol, max_iter, stats, redundant=False):
         return newton(c, D, p, k, mu, nt, x0, tol, max_iter, stats)
     except NotConverged:
         pass
-    if redundant and len(mu) > 1:
-        found = proximal(c, D, p, k, mu, nt, x0, tol, max_iter, stats)
-        if found is not None:
-            return found[0], _settled(c, D, k, np.asarray(mu, float), nt, found[0])[1], found[1]
-        found = one_open(c, D, p, k, mu, nt, x0, tol, max_iter, stats)
-        if found is not None:
-            return found[0], _settled(c, D, k, np.asarray(mu, float), nt, found[0])[1], found[1]
+    found = _exact_fallbacks(c, D, p, k, mu, nt, x0, tol, max_iter, stats, redundant)
+    if found is not None:
+        return found
     stats.gauss_seidel_solves += 1
     x, sweeps = _gauss_seidel(c, D, p, k, np.asarray(mu, dtype=float), nt, x0, tol, stats)
     try:
@@ -159,6 +159,26 @@ def _solve(c, D, p, k, mu, nt, x0, tol, max_iter, stats, redundant=False):
         msg = f"frictional contact: {err} (after {sweeps} Gauss-Seidel sweeps)"
         raise RuntimeError(msg) from None
     return x, status, its + sweeps
+
+
+def _exact_fallbacks(c, D, p, k, mu, nt, x0, tol, max_iter, stats, redundant):
+    """Where Newton did not converge, the solves that end on the law without Gauss–Seidel:
+    a few planar contacts by the law's cases (:func:`.friction_cases.planar_cases`), and
+    on redundant rows the proximal point method, then one contact left out. Returns
+    (x, status, iterations) or None."""
+    mu = np.asarray(mu, dtype=float)
+    if nt == 1:
+        x = planar_cases(c, D, p, k, mu, tol)
+        if x is not None:
+            stats.case_solves += 1
+            return x, _settled(c, D, k, mu, nt, x)[1], 1
+    if not redundant or len(mu) == 1:
+        return None
+    for fallback in (proximal, one_open):
+        found = fallback(c, D, p, k, mu, nt, x0, tol, max_iter, stats)
+        if found is not None:
+            return found[0], _settled(c, D, k, mu, nt, found[0])[1], found[1]
+    return None
 
 
 def _settled(c, D, k, mu, nt, x):
