@@ -35,7 +35,7 @@ def disk_throw(mu: float, t_end: float) -> dict:
     strip = Beam2D.straight([-0.5, 0.0], [0.5, 0.0], 20, steel, Section.rectangle(0.02, 0.01))
     for i in range(strip.n_nodes):
         strip.clamp(i)
-    disk = Solid.disk([0.0, 0.0551], 0.05, 2, LinearElastic(1e7, 0.3, 1e3))
+    disk = Solid.disk([0.0, 0.005 + 0.0501], 0.05, 2, LinearElastic(1e7, 0.3, 1e3))
     pair = Contact(disk, strip, clearance=0.005, friction=mu)
     model = Model([disk, strip], [pair], gravity=(0.0, 0.0))
     sim = Simulation(model, 1e-4, t_end, v0=model.translation(disk, (2.0, -1.0)), name="throw")
