@@ -4,12 +4,15 @@ In the plane each contact's law has four branches: open (x = 0, w_N ≥ 0), stic
 |x_T| ≤ μ x_N), and slip either way (w_N = 0, x_T = ±μ x_N, ±w_T ≤ 0). On each combination
 of branches the law is a linear system in x; its solutions whose inequalities hold are the
 law's solutions, all of them. Semi-smooth Newton can stop short of them where two contacts
-hold nearly one motion: a beam node meeting a solid node (rows at one point, normals 11°
-apart) left |R/p| at a local minimum of 6.5e-6 with the one contact that had to carry the
-load slipping past zero, and the other slipping on (docs/explanation/friction.md). With
+hold nearly one motion under different laws: a strip node's row and a disk node's row a
+fraction of a cell apart, normals 11° apart, one with slip rows and one without, left the
+law's error at a local minimum of |R/p|², 6.6e-6, the multiplier of the row that had to
+carry the load negative and the other contact slipping on (docs/explanation/friction.md). With
 m ≤ ``MOST`` contacts the 4^m systems are solved at once, and of the solutions the one of
 least norm is kept: the choice that neither p nor k enters, as ``least_norm`` makes it
-within a family of solutions (a singular system: the family's least-norm member)."""
+within a family of solutions (a singular system: the member of least norm in the
+multipliers it leaves free, a slipping contact's x_N standing for its x_T too; in runs
+with redundant rows ``least_norm`` then moves it to the least |x|)."""
 
 from __future__ import annotations
 
