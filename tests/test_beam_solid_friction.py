@@ -188,6 +188,9 @@ def test_an_oblique_throw_takes_a_tangential_impulse_inside_the_cone(mu, tmp_pat
     assert summary["friction_work"] > 0.0  # (dissipated: friction's work is its negative)
     assert ledger["friction_dissipation"] == pytest.approx(summary["friction_work"])
     assert not summary["warnings"]
+    # the strip's nodes' rows and the disk's nodes' rows meet under the disk: at μ = 1
+    # Newton stopped short on two solves, which the law's cases solved (Gauss–Seidel before)
+    assert summary["friction_solver"]["gauss_seidel_solves"] == 0
     # measured 0.0168 J created of 19.1 J at μ = 0.1, 0 at μ = 1; the frictionless throw
     # creates 0.0149 J (the pair's impact without friction, as before)
     assert ledger["created"] < 1e-3 * ledger["scale"]

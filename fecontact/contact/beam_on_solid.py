@@ -53,12 +53,14 @@ class BeamNodeSurface(NodeSurfaceContact):
     ``clearance`` c (m, half the section height) outside it: g = n·(x − x₁) − c (module
     docstring). The companion of a :class:`SolidBeamContact` ``owner``, whose μ it takes."""
 
-    redundant_rows = True  # a beam node's row and the solid node's row it meets
     meets_back = False  # (its counterpart is a PointBeamContact, not a pass of its kind)
     frictional = True
 
     def __init__(self, beam, solid, restitution: float = 0.0, clearance: float = 0.0, owner=None):
         super().__init__(beam, solid, None, restitution)
+        # a beam node's row and the solid node's row it meets (set after the base's
+        # __init__, which sets its own: a class attribute here was shadowed by it)
+        self.redundant_rows = True
         self.clearance = float(clearance)
         self.margin = self.base_margin + self.clearance
         self.owner = owner

@@ -28,6 +28,7 @@ import numpy as np
 
 from ..rotations import cross
 from .coulomb_newton import NotConverged, coulomb_projection, newton
+from .friction_cases import planar_cases
 from .friction_redundant import grazing_closed, least_norm, one_open, proximal, without_round_off
 from .stats import CoulombStats
 
@@ -108,6 +109,7 @@ def solve_coulomb(
     # converges from a warm start is its path's (a box on a box, 27 rows on 12 dofs:
     # from the last step's impulses it failed at the default p and converged at p × 1e3,
     # and from zero at every p, to the same rates)
+    cases = stats.case_solves
     for start in (x0,) if x0 is None or len(mu) == 1 else (x0, None):
         if start is None and found and not cold_start:
             break
@@ -118,6 +120,8 @@ def solve_coulomb(
             continue
         if start is None and failure is not None:
             stats.cold_restarts += 1
+        # (a solve by the law's cases has them all: a cold start finds none of lower norm)
+        cold_start &= stats.case_solves == cases
         x, status = least_norm(c, D, p, k, mu, nt, x, tol, stats)
         found.append(without_round_off(x, status, len(mu), nt) + (its,))
     if not found:
@@ -141,13 +145,9 @@ def _solve(c, D, p, k, mu, nt, x0, tol, max_iter, stats, redundant=False):
         return newton(c, D, p, k, mu, nt, x0, tol, max_iter, stats)
     except NotConverged:
         pass
-    if redundant and len(mu) > 1:
-        found = proximal(c, D, p, k, mu, nt, x0, tol, max_iter, stats)
-        if found is not None:
-            return found[0], _settled(c, D, k, np.asarray(mu, float), nt, found[0])[1], found[1]
-        found = one_open(c, D, p, k, mu, nt, x0, tol, max_iter, stats)
-        if found is not None:
-            return found[0], _settled(c, D, k, np.asarray(mu, float), nt, found[0])[1], found[1]
+    found = _exact_fallbacks(c, D, p, k, mu, nt, x0, tol, max_iter, stats, redundant)
+    if found is not None:
+        return found
     stats.gauss_seidel_solves += 1
     x, sweeps = _gauss_seidel(c, D, p, k, np.asarray(mu, dtype=float), nt, x0, tol, stats)
     try:
@@ -159,6 +159,26 @@ def _solve(c, D, p, k, mu, nt, x0, tol, max_iter, stats, redundant=False):
         msg = f"frictional contact: {err} (after {sweeps} Gauss-Seidel sweeps)"
         raise RuntimeError(msg) from None
     return x, status, its + sweeps
+
+
+def _exact_fallbacks(c, D, p, k, mu, nt, x0, tol, max_iter, stats, redundant):
+    """Where Newton did not converge, the solves that end on the law without Gauss–Seidel:
+    a few planar contacts by the law's cases (:func:`.friction_cases.planar_cases`), and
+    on redundant rows the proximal point method, then one contact left out. Returns
+    (x, status, iterations) or None."""
+    mu = np.asarray(mu, dtype=float)
+    if nt == 1:
+        x = planar_cases(c, D, p, k, mu, tol)
+        if x is not None:
+            stats.case_solves += 1
+            return x, _settled(c, D, k, mu, nt, x)[1], 1
+    if not redundant or len(mu) == 1:
+        return None
+    for fallback in (proximal, one_open):
+        found = fallback(c, D, p, k, mu, nt, x0, tol, max_iter, stats)
+        if found is not None:
+            return found[0], _settled(c, D, k, mu, nt, found[0])[1], found[1]
+    return None
 
 
 def _settled(c, D, k, mu, nt, x):
@@ -229,26 +249,31 @@ def _gauss_seidel(c, D, p, k, mu, nt, x0, tol, stats, max_sweeps=2000):
     m, b = len(mu), 1 + nt
     N = len(c)
     x = np.zeros(N) if x0 is None else np.asarray(x0, dtype=float).copy()
-    blocks = [np.arange(j * b, (j + 1) * b) for j in range(m)]
     eq = np.arange(m * b, N)
     kD = k * D
+    # each contact's rows and diagonal block, and the joints' block, taken once: views of
+    # the values the sweeps read (the same products, bit for bit)
+    rows = [slice(j * b, (j + 1) * b) for j in range(m)]
+    idx = np.arange(m * b).reshape(m, b)
+    blocks = D[idx[:, :, None], idx[:, None, :]]
+    kD_eq = kD[np.ix_(eq, eq)]
     sweep = 0
     while sweep < max_sweeps:
         sweep += 1
         change, stuck = 0.0, 0
-        for j, rows in enumerate(blocks):
-            Djj = D[np.ix_(rows, rows)]
-            local = c[rows] + kD[rows] @ x - k * (Djj @ x[rows])
-            xj = _local(local, Djj, p[rows], k, mu[j], nt, x[rows], tol, stats)
+        for j, r in enumerate(rows):
+            Djj = blocks[j]
+            local = c[r] + kD[r] @ x - k * (Djj @ x[r])
+            xj = _local(local, Djj, p[r], k, mu[j], nt, x[r], tol, stats)
             if xj is None:
                 stuck += 1  # kept for this sweep; the others move on
                 continue
-            change = max(change, float(np.max(np.abs(k * (Djj @ (xj - x[rows]))))))
-            x[rows] = xj
+            change = max(change, float(np.max(np.abs(k * (Djj @ (xj - x[r]))))))
+            x[r] = xj
         if eq.size:
-            rhs = c[eq] + kD[eq] @ x - kD[np.ix_(eq, eq)] @ x[eq]
-            xe = np.linalg.lstsq(kD[np.ix_(eq, eq)], -rhs, rcond=None)[0]
-            change = max(change, float(np.max(np.abs(kD[np.ix_(eq, eq)] @ (xe - x[eq])))))
+            rhs = c[eq] + kD[eq] @ x - kD_eq @ x[eq]
+            xe = np.linalg.lstsq(kD_eq, -rhs, rcond=None)[0]
+            change = max(change, float(np.max(np.abs(kD_eq @ (xe - x[eq])))))
             x[eq] = xe
         if change <= tol and not stuck:
             break
@@ -292,6 +317,10 @@ def _local(c, D, p, k, mu, nt, x0, tol, stats):
         return None
 
 
+_ANGLES = np.linspace(0.0, 2.0 * np.pi, 73)
+"""The angles on which :func:`_slip_direction` brackets its roots by default."""
+
+
 def _slip_direction(c, D, mu, samples=72):
     """Slip of one 3D contact with w = c + D x and c_N < 0: x = x_N (1, −μu) with
     u = (cos θ, sin θ) the direction of the slip, w_N = 0, and the slip w_T = s u, s ≥ 0.
@@ -312,10 +341,23 @@ def _slip_direction(c, D, mu, samples=72):
         along = d * (u.T @ c[1:]) - c[0] * np.sum(u * b, axis=0)
         return cross, along, d, u
 
-    theta = np.linspace(0.0, 2.0 * np.pi, samples + 1)
+    # F at one angle in floats, the products in the order of ``parts``: Brent's method
+    # calls it some 10 times per root, where numpy's calls on 2-vectors cost more than the
+    # arithmetic (a Gauss–Seidel solve of eight 3D contacts spent 60 % of its time there)
+    (c_n, c_1, c_2), d00 = c.tolist(), float(D[0, 0])
+    (d01, d02), (d10, d20) = D[0, 1:].tolist(), D[1:, 0].tolist()
+    (d11, d12), (d21, d22) = D[1:, 1:].tolist()
+
+    def cross_at(a):
+        u0, u1 = np.cos(a), np.sin(a)
+        d = d00 - mu * (d01 * u0 + d02 * u1)
+        b0, b1 = d10 - mu * (d11 * u0 + d12 * u1), d20 - mu * (d21 * u0 + d22 * u1)
+        return d * (u0 * c_2 - u1 * c_1) - c_n * (u0 * b1 - u1 * b0)
+
+    theta = _ANGLES if samples == 72 else np.linspace(0.0, 2.0 * np.pi, samples + 1)
     f = parts(theta)[0]
     for i in np.flatnonzero(np.sign(f[:-1]) != np.sign(f[1:])):
-        root = brentq(lambda a: parts(np.array([a]))[0][0], theta[i], theta[i + 1], xtol=1e-15)
+        root = brentq(cross_at, theta[i], theta[i + 1], xtol=1e-15)
         _, along, d, u = parts(np.array([root]))
         if d[0] > 0.0 and along[0] >= 0.0:
             xn = -c[0] / d[0]

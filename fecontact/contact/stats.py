@@ -45,6 +45,10 @@ class CoulombStats:
     # solves (in runs with redundant rows) where Newton stalled with every contact closed
     # and the law was solved with one contact left out, which separates
     opened_contact_solves: int = 0
+    # solves of at most four planar contacts where Newton did not converge and the law was
+    # solved by its cases, each contact's four branches a linear system
+    # (:mod:`fecontact.contact.friction_cases`)
+    case_solves: int = 0
     # solves (in runs with redundant rows) where Newton stalled on a singular Delassus
     # matrix and the law was solved by the proximal point method (each step on D + εI), and
     # those proximal steps
