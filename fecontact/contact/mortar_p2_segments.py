@@ -45,8 +45,8 @@ the 12 coordinates z = (x_a, x_b, x_m, y_1, y_2, y_m). The projections' values a
 Newton's method (ξ) or in closed form (η); one step of Chebyshev's method in Jet arithmetic
 from the converged value gives their exact first and second derivatives (those of the
 implicit function), so the gradients and Hessians of g̃ are exact and Newton's method keeps
-its quadratic rate; on a segment covered in part the gradients are exact and the Hessians
-exact in each pair's own coordinates (the coupling of two pairs of a segment left out).
+its quadratic rate; on a segment covered in part too, the Hessians with the terms coupling
+two pairs of the segment (:func:`~fecontact.contact.mortar_p2.covered_part_gaps`).
 """
 
 from __future__ import annotations
