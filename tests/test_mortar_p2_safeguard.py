@@ -79,7 +79,7 @@ def test_fast_off_centre_p2_disks_pass_their_first_contact(tmp_path):
     0.86 ms, held nodes at steps 3-5): it completes, no node deeper than 1 % of the shortest
     edge (the run's own watch; held nodes end at the allowance, measured 0.50 %), no energy
     created (measured 2.8e-16 of the scale; 1e-6 leaves room for round-off of the ledger's
-    sums, far below the 0.1 % a failed correction creates). About 40 CPU s (20 halvings)."""
+    sums, far below the 0.1 % a failed correction creates). About 40 CPU s (16 halvings)."""
     disk = Solid.disk([0.0, 0.0], 0.05, 2, RUBBER)
     h = wave_step(disk, 8.0)
     speed = disk.min_edge_length / h  # one boundary cell a step

@@ -79,16 +79,17 @@ class MortarContact3DP2(QuadraticFacePairs, MortarContact3D):
 
     def _integrate(self, e, z, hessian):
         """Jets of the faces' weighted gaps, coverage, covered weights and the quadrature
-        (with each entry's dual coefficients) of the entries."""
+        (with each entry's dual coefficients and the coupled Hessians of faces covered in
+        part) of the entries."""
         moments, mass_of, coverage, covered, quad = p2_triangle_integrals(z, hessian, self.margin)
-        jets, A = covered_part_gaps(e, moments, mass_of, coverage, len(self.facets), DUALS)
+        jets, A, coupled = covered_part_gaps(e, moments, mass_of, coverage, len(self.facets), DUALS)
         covered = counted_weights(e, coverage, covered, len(self.facets))
-        return jets, coverage, covered, (*quad, A)
+        return jets, coverage, covered, (*quad, A, coupled)
 
     def _slip_weights(self, quad, k: int) -> np.ndarray:
         """Weights (P, 12) of the local nodes' motion in node k's slip: ∫ Φ_k N_i dA on the
         slave face's nodes, −∫ Φ_k N_i(μ) dA on the master's (the projections frozen)."""
-        st, mu, dA, A = quad
+        st, mu, dA, A, _ = quad
         P, Q = dA.shape
         Ns = shape_functions("triangle", st.reshape(-1, 2)).reshape(P, Q, 6)
         Nm = shape_functions("triangle", mu.reshape(-1, 2)).reshape(P, Q, 6)

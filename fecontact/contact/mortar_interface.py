@@ -196,6 +196,7 @@ class MortarInterface(HeldRows, PairDefaults):
     faces_of, shares_of = staticmethod(linear_faces), staticmethod(linear_shares)
     """The elements a body's boundary is integrated over and their nodes' ∫_e N_k dA."""
     lazy_hessians = True
+    coupled = False  # (Hessians coupling two entries of an element: _integrate's quad[-1])
     frictional = True
     partial = True
     """Whether a node whose elements the master covers in part may take part (2D and 3D: the
@@ -398,13 +399,15 @@ class MortarInterface(HeldRows, PairDefaults):
         use = np.flatnonzero(r["counts"] & np.any([where[x] >= 0 for x in ends], axis=0))
         if use.size == 0:
             return H
-        jets = self._integrate(e[use], r["z"][use], True)[0]
+        jets, _, _, quad = self._integrate(e[use], r["z"][use], True)
         for end, cols, jet in zip(ends, layout.cols, jets, strict=True):
             rr = end[use]
             sel = where[rr] >= 0
             c = cols[use][sel]
             values = jet.h[sel] * scale[rr[sel], None, None]
             np.add.at(H, (where[rr[sel]][:, None, None], c[:, :, None], c[:, None, :]), values)
+        if self.coupled and quad[-1] is not None:
+            _add_coupled(H, quad[-1], (ends, layout.cols, use), (where, scale))
         return H
 
     def tangents(self, q: np.ndarray):
@@ -432,6 +435,20 @@ class MortarInterface(HeldRows, PairDefaults):
         if forces.shape != (self.size,):
             raise InputError(f"forces must have {self.size} entries, got {forces.shape}")
         return self.nodes, forces / self.area
+
+
+def _add_coupled(H, coupled, entries, at) -> None:
+    """Add the Hessians C (K, n, z, z) coupling the entries a and b of one element (over a's
+    coordinates and b's; indices among ``use``) to the rows' Hessians H: ``entries`` the
+    rows of the elements' ends, their columns and ``use``, the entries integrated; ``at``:
+    the rows' places in H (−1: not asked) and their scales."""
+    (where, scale), (a, b, C), (ends, cols, use) = at, coupled, entries
+    for k, (end, col) in enumerate(zip(ends, cols, strict=True)):
+        rr = end[use][a]
+        sel = where[rr] >= 0
+        ca, cb = col[use][a][sel], col[use][b][sel]
+        values = C[sel, k] * scale[rr[sel], None, None]
+        np.add.at(H, (where[rr[sel]][:, None, None], ca[:, :, None], cb[:, None, :]), values)
 
 
 def merge_interfaces(pairs):

@@ -162,8 +162,11 @@ def covered_part_gaps(e, moments, mass_of, coverage, n_faces: int, duals: np.nda
     Gee & Wall, CMAME 2013). A depends on every pair of the face; with t = M⁻¹ S, S = Σ m_p,
     its derivative splits over the pairs, ∂(A S)_j ⊃ t_j Σ_l ∂M_p,jl − Σ_i A_ji (∂M_p t)_i,
     so the gradients stay exact in the pairs' own coordinates, and so do the Hessians
-    (:func:`_covered_hessians`; the terms coupling two pairs of a face are left out). A
-    face covered by less than :data:`SMALLEST` contributes nothing."""
+    (:func:`_covered_hessians`), with the terms coupling two pairs of a face apart
+    (:func:`_coupled_hessians`). A face covered by less than :data:`SMALLEST` contributes
+    nothing. Returns (jets, A, coupled): ``coupled`` None, or with Hessians (a, b, C), the
+    ordered pairs of entries a ≠ b on one face covered in part and C (K, n, z, z) the
+    second derivatives of their face's g̃ over a's coordinates and b's."""
     fraction = np.bincount(e, coverage, n_faces)[e]
     part = (fraction >= SMALLEST) & (fraction < 1.0 - _FULL) & (coverage > 0.0)
     n = len(duals)
@@ -181,15 +184,19 @@ def covered_part_gaps(e, moments, mass_of, coverage, n_faces: int, duals: np.nda
         A[part] = (M.sum(axis=2)[:, :, None] * inv)[local]
         t[part] = np.einsum("fkl,fl->fk", inv, S)[local]
     jets = [sum(moments[k] * A[:, j, k] for k in range(n)) for j in range(n)]
+    coupled = None
     if part.any() and moments[0].g is not None:
-        _differentiate_covered(jets, moments, mass, part, (M[local], inv[local], A[part], t[part]))
-    return jets, A
+        face = (M[local], inv[local], A[part], t[part], local)
+        coupled = _differentiate_covered(jets, moments, mass, part, face)
+    return jets, A, coupled
 
 
 def _differentiate_covered(jets, moments, mass, part, face):
     """The derivatives of the Jets ``jets`` on the entries ``part`` (faces covered in part)
-    through their dual coefficients: ``face`` the face's M, M⁻¹, A and t = M⁻¹ S per entry."""
-    M, inv, Ap, tp = face
+    through their dual coefficients: ``face`` the face's M, M⁻¹, A and t = M⁻¹ S per entry
+    and the entry's face (an index). Returns the coupled Hessians of
+    :func:`covered_part_gaps` (None without Hessians or where no face has two such pairs)."""
+    M, inv, Ap, tp, local = face
     dM = np.stack([np.stack([j.g for j in row], 1) for row in mass], 1)  # (Pp, n, n, z)
     own = dM.sum(axis=2) * tp[:, :, None]  # t_j Σ_l ∂M_jl
     other = np.einsum("pji,pilz,pl->pjz", Ap, dM, tp)
@@ -198,26 +205,31 @@ def _differentiate_covered(jets, moments, mass, part, face):
         g[part] += own[:, j] - other[:, j]
         jet.g = g
     if moments[0].h is None:
-        return
+        return None
     ddM = np.stack([np.stack([j.h for j in row], 1) for row in mass], 1)
     dS = np.stack([m.g[part] for m in moments], 1)  # (Pp, n, z)
     ddS = np.stack([m.h[part] for m in moments], 1)
-    hess = _covered_hessians(M, inv, tp, (dM, ddM), (dS, ddS))
+    dt = np.einsum("pki,piz->pkz", inv, dS - np.einsum("pilz,pl->piz", dM, tp))
+    hess = _covered_hessians(M, inv, tp, (dM, ddM), (dt, ddS))
     for j, jet in enumerate(jets):
         jet.h = jet.h.copy()
         jet.h[part] = hess[:, j]
         jet.flat = False
+    coupled = _coupled_hessians(M, inv, dM, dt, local)
+    if coupled is None:
+        return None
+    entries = np.flatnonzero(part)
+    return entries[coupled[0]], entries[coupled[1]], coupled[2]
 
 
 def _covered_hessians(M, inv, t, dM, dS):
     """∂²(A S)_j over one pair's coordinates (Pp, n, z, z) on faces covered in part, the
-    pair's own M_p and m_p varying and the face's other pairs fixed (their cross terms are
-    not pair-local): with t = M⁻¹ S and r = M 1 (A = diag(r) M⁻¹), (A S)_j = r_j t_j,
-    ∂t = M⁻¹(∂S − ∂M t), ∂²t = M⁻¹(∂²S − ∂²M t − ∂M ∂t − (∂M ∂t)ᵀ). At fixed A (A ∂²m
-    alone) a segment covered by a sliver had 50 times its curvature along a Newton update
-    (two P2 disks at 29 m/s, ``docs/explanation/mortar.md``)."""
-    (dM, ddM), (dS, ddS) = dM, dS
-    dt = np.einsum("pki,piz->pkz", inv, dS - np.einsum("pilz,pl->piz", dM, t))
+    pair's own M_p and m_p varying and the face's other pairs fixed (their cross terms:
+    :func:`_coupled_hessians`): with t = M⁻¹ S and r = M 1 (A = diag(r) M⁻¹), (A S)_j =
+    r_j t_j, ∂t = M⁻¹(∂S − ∂M t), ∂²t = M⁻¹(∂²S − ∂²M t − ∂M ∂t − (∂M ∂t)ᵀ); ``dS`` holds
+    ∂t and ∂²S. At fixed A (A ∂²m alone) a segment covered by a sliver had 50 times its
+    curvature along a Newton update (two P2 disks at 29 m/s, ``docs/explanation/mortar.md``)."""
+    (dM, ddM), (dt, ddS) = dM, dS
     mix = np.einsum("pilz,ply->pizy", dM, dt)
     inner = ddS - np.einsum("pilzy,pl->pizy", ddM, t) - mix - mix.transpose(0, 1, 3, 2)
     ddt = np.einsum("pki,pizy->pkzy", inv, inner)
@@ -227,10 +239,31 @@ def _covered_hessians(M, inv, t, dM, dS):
             + ddt * r[:, :, None, None])  # fmt: skip
 
 
+def _coupled_hessians(M, inv, dM, dt, local):
+    """∂²(A S)_j/∂z_a ∂z_b (K, n, z, z) of the ordered pairs (a, b), a ≠ b, of entries on
+    one face covered in part (``local``: each entry's face; M, M⁻¹ its face's, ∂M and
+    ∂t = M⁻¹(∂S − ∂M t) its own): the pairs' M_p and S_p are sums, so ∂_a ∂_b M = ∂_a ∂_b S
+    = ∂_a ∂_b r = 0 and ∂_a ∂_b t = −M⁻¹(∂_a M ∂_b t + ∂_b M ∂_a t); (a, b, C), or None
+    where no face has two entries. Left out, a box's side face tilted 5° over a slab, covered
+    by slivers of four of its faces, had rows' Hessians 2.8e4 /m off their differences by
+    as much (docs/explanation/mortar.md, *A face covered by several pairs*)."""
+    a, b = np.nonzero((local[:, None] == local[None, :]) & ~np.eye(len(local), dtype=bool))
+    if a.size == 0:
+        return None
+    r, dr = M.sum(axis=2), dM.sum(axis=2)
+    mix = np.einsum("kilz,kly->kizy", dM[a], dt[b])
+    mix += np.einsum("kily,klz->kizy", dM[b], dt[a])
+    ddt = -np.einsum("kji,kizy->kjzy", inv[a], mix)
+    C = dr[a][..., :, None] * dt[b][..., None, :] + dt[a][..., :, None] * dr[b][..., None, :]
+    return a, b, C + r[a][:, :, None, None] * ddt
+
+
 class QuadraticFacePairs:
     """The candidate pairs of a mortar interface on quadratic faces (segments or triangles),
     shared by the 2D and 3D interfaces: their overlap found by the value pass of the
     interface's own ``_integrate``, the pairs whose slave face it covers kept."""
+
+    coupled = True  # (the dual functions of a covered part couple the face's pairs)
 
     def _overlapping(self, q: np.ndarray):
         """The slave nodes' positions and the candidate pairs that overlap: slave faces e,

@@ -45,8 +45,8 @@ the 12 coordinates z = (x_a, x_b, x_m, y_1, y_2, y_m). The projections' values a
 Newton's method (ξ) or in closed form (η); one step of Chebyshev's method in Jet arithmetic
 from the converged value gives their exact first and second derivatives (those of the
 implicit function), so the gradients and Hessians of g̃ are exact and Newton's method keeps
-its quadratic rate; on a segment covered in part the gradients are exact and the Hessians
-exact in each pair's own coordinates (the coupling of two pairs of a segment left out).
+its quadratic rate; on a segment covered in part too, the Hessians with the terms coupling
+two pairs of the segment (:func:`~fecontact.contact.mortar_p2.covered_part_gaps`).
 """
 
 from __future__ import annotations
@@ -264,16 +264,16 @@ class MortarContactP2(QuadraticFacePairs, MortarContact):
     def _integrate(self, e, z, hessian):
         """Jets of the segments' weighted gaps (the dual functions of the covered part on a
         segment covered in part), coverage, covered weights and the quadrature (with each
-        entry's dual coefficients)."""
+        entry's dual coefficients and the coupled Hessians of segments covered in part)."""
         moments, mass_of, coverage, covered, quad = p2_segment_integrals(z, hessian, self.margin)
-        jets, A = covered_part_gaps(e, moments, mass_of, coverage, len(self.facets), DUALS)
+        jets, A, coupled = covered_part_gaps(e, moments, mass_of, coverage, len(self.facets), DUALS)
         covered = counted_weights(e, coverage, covered, len(self.facets))
-        return jets, coverage, covered, (*quad, A)
+        return jets, coverage, covered, (*quad, A, coupled)
 
     def _slip_weights(self, quad, k: int) -> np.ndarray:
         """Weights (P, 6) of the local nodes' motion in end k's slip: ∫ Φ_k N_i ds on the
         slave's nodes, −∫ Φ_k N_i(η) ds on the master's (the projections frozen)."""
-        xi, eta, ds, A = quad
+        xi, eta, ds, A, _ = quad
         Ns, Nm = np.stack(_shape(xi), axis=2), np.stack(_shape(eta), axis=2)  # (P, G, 3)
         w = np.einsum("pgl,pl->pg", Ns, A[:, k]) * ds
         return np.concatenate([np.einsum("pg,pgi->pi", w, Ns), -np.einsum("pg,pgi->pi", w, Nm)], 1)
