@@ -68,6 +68,7 @@ __all__ = [
     "edge_excess_jet",
     "pointwise_pairs",
     "pointwise_row",
+    "ramp",
     "real_gaps",
     "real_starts",
     "safeguard_rows",
@@ -88,7 +89,7 @@ at a vertex where n planes tie the row reads the node ε ln n shallower (0.35 δ
 the planes' weights trade over a sideways shift of about 2ε / sin θ (θ the planes' tilt)."""
 
 
-def _ramp(e: np.ndarray, eps: float):
+def ramp(e: np.ndarray, eps: float):
     """r(e) = 0 (e ≤ 0), e²/2ε (0 < e < ε), e − ε/2 (e ≥ ε), with r′ and r″: a ramp with a
     continuous slope."""
     band = (e > 0.0) & (e < eps)
@@ -107,7 +108,7 @@ def edge_excess(x: np.ndarray, tri: np.ndarray, eps: float) -> np.ndarray:
     total = np.zeros(len(x))
     for p, q in ((a, b), (b, c), (c, a)):
         m = np.cross(q - p, n) / np.linalg.norm(q - p, axis=1)[:, None]  # (outward)
-        total += _ramp(np.einsum("mk,mk->m", x - p, m), eps)[0]
+        total += ramp(np.einsum("mk,mk->m", x - p, m), eps)[0]
     return total
 
 
@@ -129,7 +130,7 @@ def edge_excess_jet(x: np.ndarray, tri: np.ndarray, eps: float):
     for p, q in ((A, B), (B, C), (C, A)):
         u = q - p
         e = dot(X - p, _cross(u, n)) / dot(u, u).sqrt()
-        r = e.apply(*_ramp(e.val, eps))
+        r = e.apply(*ramp(e.val, eps))
         total = r if total is None else total + r
     return total.val, total.grad, total.hess
 
@@ -257,8 +258,8 @@ class DeepNodeRows3D(DeepNodeRows):
         order = np.argsort(ends, kind="stable")
         start = np.cumsum(count) - count
         slot = np.arange(len(ends)) - np.repeat(start, count)
-        self.around[ends[order], slot] = order // 3
-        self.width = 3 + 9 * self.around.shape[1]
+        self.around[ends[order], slot] = order // self.facets.shape[1]
+        self.width = self.dim + self._facet_dofs.shape[1] * self.around.shape[1]
         self.smoothing = SMOOTHING * self.allowance
         self.reach = self.allowance
         """The width (m) of the ramp of a plane's excess (:func:`edge_excess`): δ, not ε. A
@@ -279,16 +280,17 @@ class DeepNodeRows3D(DeepNodeRows):
         facets = self.around[vertex]
         n, K = facets.shape
         real = facets >= 0
-        tri = xm[self.facets[np.where(real, facets, 0)]]  # (n, K, 3, 3)
+        tri = xm[self.facets[np.where(real, facets, 0)]]  # (n, K, corners, d)
         xk = np.repeat(x, K, axis=0)
-        t = tri.reshape(-1, 3, 3)
-        g, G, H = triangle_plane_distance(xk, t[:, 0], t[:, 1], t[:, 2], hessian)
+        t = tri.reshape(n * K, *tri.shape[2:])
+        g, G, H = self.plane_gaps(xk, t, hessian)
+        w = G.shape[1]
         g = np.where(real, g.reshape(n, K), -np.inf)
-        G = G.reshape(n, K, 12) * real[:, :, None]
+        G = G.reshape(n, K, w) * real[:, :, None]
         if H is not None:
-            H = H.reshape(n, K, 12, 12) * real[:, :, None, None]
+            H = H.reshape(n, K, w, w) * real[:, :, None, None]
         # each plane read deeper by how far the node's foot lies outside its facet
-        excess = np.where(real, edge_excess(xk, t, self.reach).reshape(n, K), 0.0)
+        excess = np.where(real, self.excess(xk, t, self.reach).reshape(n, K), 0.0)
         g = g - excess
         # (its derivatives where they count: on a row deeper than δ/2, whose maximum is
         # below −δ/2, and on a plane within 50 ε of that maximum, the others' weights
@@ -296,11 +298,20 @@ class DeepNodeRows3D(DeepNodeRows):
         top = g.max(axis=1, keepdims=True)
         need = (excess > 0.0) & (g > top - 50.0 * self.smoothing) & (top < -0.5 * self.allowance)
         if need.any():
-            _, dP, d2P = edge_excess_jet(xk[need.ravel()], t[need.ravel()], self.reach)
+            _, dP, d2P = self.excess_jet(xk[need.ravel()], t[need.ravel()], self.reach)
             G[need] -= dP
             if H is not None:
                 H[need] -= d2P
         return g, G, H, facets
+
+    @staticmethod
+    def plane_gaps(x, tri, hessian: bool):
+        """The plane gaps (m,) of points x (m, 3) from the triangles ``tri`` (m, 3, 3), their
+        gradients (m, 12) and Hessians (m, 12, 12; None unless ``hessian``)."""
+        return triangle_plane_distance(x, tri[:, 0], tri[:, 1], tri[:, 2], hessian)
+
+    excess = staticmethod(edge_excess)
+    excess_jet = staticmethod(edge_excess_jet)
 
     def _soft(self, g):
         """The smooth maximum (n,) of the plane gaps g (n, K) and the weights (n, K)."""
@@ -310,20 +321,22 @@ class DeepNodeRows3D(DeepNodeRows):
         return top + self.smoothing * np.log(total), e / total[:, None]
 
     def _spread(self, w, G):
-        """The row vectors (n, width) Σ_k w_k G_k of the planes' gradients G (n, K, 12)."""
+        """The row vectors (n, width) Σ_k w_k G_k of the planes' gradients G (n, K, d + facet's)."""
         n, K = w.shape
+        d = self.dim
         out = np.zeros((n, self.width))
-        out[:, :3] = np.einsum("nk,nkd->nd", w, G[:, :, :3])
-        out[:, 3:] = (w[:, :, None] * G[:, :, 3:]).reshape(n, -1)
+        out[:, :d] = np.einsum("nk,nkd->nd", w, G[:, :, :d])
+        out[:, d:] = (w[:, :, None] * G[:, :, d:]).reshape(n, -1)
         return out
 
     def _shifted(self, q):
         xs, xm = self.positions(q)
         m, (oa, ob) = self.size, self.offsets
         g = np.full(m, np.inf)
+        d = self.dim
         dofs = np.empty((m, self.width), dtype=int)
-        dofs[:, :3] = oa + self._slave_dofs
-        dofs[:, 3:] = ob + np.tile(self._facet_dofs[0], self.around.shape[1])
+        dofs[:, :d] = oa + self._slave_dofs
+        dofs[:, d:] = ob + np.tile(self._facet_dofs[0], self.around.shape[1])
         G = np.zeros((m, self.width))
         s, f, _ = self.closest_facets(xs, xm)
         self.selected = np.full(m, -1)
@@ -336,7 +349,7 @@ class DeepNodeRows3D(DeepNodeRows):
             self.vertex[s] = v = corners[np.arange(len(s)), near]
             facets = self.around[v]
             used = np.where(facets >= 0, facets, facets[:, :1])
-            dofs[s, 3:] = ob + self._facet_dofs[used].reshape(len(s), -1)
+            dofs[s, d:] = ob + self._facet_dofs[used].reshape(len(s), -1)
             # the planes of the rows that may be deep (the others keep g = +inf: shallow)
             deep = s[self._may_be_deep(xs[s], xm[corners])]
             if deep.size:
@@ -356,7 +369,8 @@ class DeepNodeRows3D(DeepNodeRows):
         round-off of the two computations of g (|δ|/4 for a δ set negative)."""
         d, g = closest_facet_distance(x, tri)
         bound = -0.5 * self.allowance + 0.25 * abs(self.allowance)
-        return g - 3.0 * np.sqrt(np.maximum(d * d - g * g, 0.0)) < bound
+        edges = tri.shape[1]  # (a segment's two ends)
+        return g - edges * np.sqrt(np.maximum(d * d - g * g, 0.0)) < bound
 
     def hessians(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
         """∇²g_s of the rows at q: Σ_k w_k ∇²g_k + (Σ_k w_k ∇g_k ∇g_kᵀ − ∇g_s ∇g_sᵀ) / ε."""
@@ -371,27 +385,27 @@ class DeepNodeRows3D(DeepNodeRows):
         gk, Gk, Hk, _ = self._planes(xs[held], xm, self.vertex[held], hessian=True)
         _, w = self._soft(gk)
         n, K = w.shape
+        d, f = self.dim, self._facet_dofs.shape[1]
         big = np.zeros((n, K, self.width))  # each plane's gradient in the row's columns
-        big[:, :, :3] = Gk[:, :, :3]
+        big[:, :, :d] = Gk[:, :, :d]
         for k in range(K):
-            big[:, k, 3 + 9 * k : 12 + 9 * k] = Gk[:, k, 3:]
+            big[:, k, d + f * k : d + f * (k + 1)] = Gk[:, k, d:]
         mean = np.einsum("nk,nki->ni", w, big)
         Hs = np.einsum("nk,nki,nkj->nij", w, big, big) - mean[:, :, None] * mean[:, None, :]
         Hs /= self.smoothing
         for k in range(K):
-            cols = np.r_[0:3, 3 + 9 * k : 12 + 9 * k]
+            cols = np.r_[0:d, d + f * k : d + f * (k + 1)]
             Hs[:, cols[:, None], cols] += w[:, k, None, None] * Hk[:, k]
         H[mask] = Hs
         return H
 
 
-def safeguard_rows(interface, kind=None):
+def safeguard_rows(interface, kind):
     """The pointwise rows of a mortar ``interface``: those of its slave's nodes against the
     master's surface (row j the twin of the interface's row j, the same node), and those of
     the master's nodes against the slave's (module docstring); ``kind`` the rows' class
-    (None: :class:`DeepNodeRows` in 2D, :class:`DeepNodeRows3D` in 3D)."""
+    (:class:`DeepNodeRows3D` in 3D, its 2D form for P1 segments, a P2 interface's own)."""
     body, master, restitution = interface.body, interface.master, interface.restitution
-    kind = kind or (DeepNodeRows if body.dim == 2 else DeepNodeRows3D)
     rows = kind(body, master, restitution)
     if not np.array_equal(rows.nodes, interface.nodes):
         raise ValueError("the mortar rows' nodes must be the slave body's boundary nodes")
