@@ -12,11 +12,11 @@ of its own, the node-to-surface gap of
     g_s = g_N(x) + δ ≥ 0,   δ = ``ALLOWANCE`` × the shortest boundary edge of the surface,
 
 g_N the signed plane gap of the node from its closest facet (−distance inside a convex
-surface). In 3D g_N is a smooth maximum of the plane gaps of the facets around the master
-vertex nearest the node (:class:`DeepNodeRows3D`): at the coarse pole of a ball, the apex of
-four facets tilted 30°, one facet's plane gap pushes the node along that facet's normal,
-sideways by half the force (the turned coarsest balls then left the axis at 32 % of the
-impact speed); the facets' weighted mean normal pushes it along the apex's axis. Each plane
+surface). g_N is a smooth maximum of the plane gaps of the facets around the master vertex
+nearest the node (:class:`DeepNodeRows3D`, in 2D :mod:`.mortar_safeguard2d`): at a ball's
+coarse pole, the apex of four facets tilted 30°, one facet's plane gap pushes the node along
+its normal, sideways by half the force (the turned coarsest balls then left the axis at 32 %
+of the impact speed); the facets' weighted mean normal pushes it along the apex's axis. Each plane
 gap is read deeper by how far the node's foot on the plane lies outside its facet: a master
 node pressed into the slave's surface dents it, the vertices around the node are concave,
 and there the largest plane gap is a neighbour's plane that the node is not behind (the

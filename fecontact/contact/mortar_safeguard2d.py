@@ -1,12 +1,12 @@
 r"""The pointwise safeguard rows of 2D solids: a smooth maximum of the segments around a vertex.
 
 A 2D node held by its safeguard row (:mod:`fecontact.contact.mortar_safeguard`) read the
-plane gap of its closest master segment alone. Where a corner of one solid is pressed onto a
-vertex of the other's face, it dents that face into a V whose two segments tie for the
-closest; one was taken, and its tilted normal pushed the corner sideways for as long as the
-row held it: a square turned 45° landing corner first at 2 m/s on a finer block (10 × 10
-cells of 8 mm, the corner a master node over a block vertex) left at 0.109 m/s sideways,
-5.4 % of the impact speed, over 26 held steps; ±2 % with the corner 0.1 mm to either side.
+line gap of its closest master segment alone. Under a vertex where the two segments tie (a
+corner of one solid pressed onto a vertex of the other's face, which it dents into a V) one
+of them was taken, by the search's order, and its tilted normal pushed the node sideways:
+the corner of a square 0.1 mm under the vertex of a 0.3 mm dent of 8 mm segments was pushed
+by 0.0375 of its force, the sign flipping across the vertex
+(``tests/test_mortar_safeguard2d.py``).
 
 :class:`DeepNodeRows2D` is the 2D form of
 :class:`~fecontact.contact.mortar_safeguard.DeepNodeRows3D`: the row of a deep node is the
@@ -16,9 +16,12 @@ it, each less the excess of the node's foot beyond its segment's ends,
     g_s = ε ln Σ_k exp((g_k − P_k) / ε) + δ,   P_k = r(e_a) + r(e_b),
 
 e_a, e_b the distances of the foot beyond the ends a, b of segment k along its line
-(negative within), r the continuous-slope ramp of width δ. Where the V's two segments tie
-the row's gradient is their weighted mean normal, along the V's axis; 0.1 mm off the
-vertex (12 ε) the nearer segment's weight is e⁻¹² of the other's at the same depth.
+(negative within), r the continuous-slope ramp of width δ. Under the tie the row's gradient
+is the segments' mean normal, along the V's axis; off it the push turns continuously toward
+the vertex (at most 0.15 of the force, 10 µm off in the case above, where the excess's
+ramp weighs the segment the node has passed the end of), and a node under one segment reads
+that segment's line gap, as before. Measured runs: docs/validation/stress_2d.md ("Corners,
+rings, rotated scenes and rolling").
 """
 
 from __future__ import annotations
