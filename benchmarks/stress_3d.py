@@ -10,7 +10,8 @@ Groups (each row one run, at the step given in its ``step`` column):
 - ``slab``: an elastic ball on an elastic slab clamped at its base (``cases/ball_on_slab.py``)
   at speeds and offsets, mortar and node-to-surface; a rigid ball (``RigidBody3D``) on the
   slab, and a rigid box dropped on it corner first and edge first; the elastic ball on a
-  fixed ``RigidBody3D`` box: face, 5 mm inside an edge, on an edge, a corner.
+  fixed ``RigidBody3D`` box: face, 5 mm inside an edge, on an edge, a corner; an elastic box
+  sliding with friction over the slab, its mesh aligned with the motion and turned 17°.
 - ``rigid``: ``RigidBody3D`` boxes and balls tumbling and bouncing on a plane and on each
   other with Coulomb friction, and free pairs in space.
 - ``rod``: a ``Beam3D`` steel rod (``cases/rod_drop.py``) dropped obliquely on an elastic
@@ -458,6 +459,32 @@ def box_on_slab(v=1.0, tilt=(0.4, 0.3, 0.0), friction=0.0, divisions=8, method="
     return Spec("slab", label, sim, 0.02, slab.min_edge_length, v, pk=pk, step="dx/c")
 
 
+def box_slide(angle: float, v=1.0, friction=0.3, t_end=0.05):
+    """An elastic box 4 × 4 × 2 cm (2 cells a side) sliding at ``v`` (m/s) along x with
+    Coulomb ``friction`` over an elastic slab 0.3 × 0.3 × 0.02 m (8 × 8 × 1 cells, clamped
+    at its base) whose mesh is turned by ``angle`` (deg) about z, the box 0.3 mm above it."""
+    slab = Solid.box([-0.15, -0.15, -0.02], [0.15, 0.15, 0.0], (8, 8, 1), RUBBER)
+    base = slab.nodes_where(lambda x: x[2] <= -0.02 + 1e-9)
+    a = np.radians(angle)
+    turn = np.array([[np.cos(a), -np.sin(a), 0.0], [np.sin(a), np.cos(a), 0.0], [0, 0, 1.0]])
+    slab = Solid(dataclasses.replace(slab.mesh, doflocs=turn @ slab.mesh.doflocs), RUBBER)
+    slab.fix(base)
+    box = Solid.box([-0.06, -0.02, 0.0003], [-0.02, 0.02, 0.0203], 2, RUBBER)
+    model = Model([box, slab], [Contact(box, slab, friction=friction)], (0.0, 0.0, -9.81))
+    probes = centre_probes(model, box, "b")
+    probes |= depth_probes(
+        solid_depth(box, slab, model.body_slice(0), model.body_slice(1)), local=True
+    )
+    v0 = model.translation(box, (v, 0.0, 0.0))
+    dt = min(wave_step(box, 1.0), wave_step(slab, 1.0))
+    sim = Simulation(model, dt=dt, t_end=t_end, probes=probes, v0=v0, name="box_slide",
+                     output_interval=t_end)  # fmt: skip
+    edge = min(box.min_edge_length, slab.min_edge_length)
+    label = f"elastic box sliding {v:g} m/s over a slab whose mesh is turned {angle:g} deg"
+    label += f", mu {friction:g}"
+    return Spec("slab", label, sim, 0.02, edge, v, step="dx/c")
+
+
 BALL_ON_BOX = {"refinements": 2}  # the ball's mesh in the ball-on-box rows (--refinements)
 
 
@@ -674,6 +701,7 @@ FULL = [
         for t, m in ((EDGE_DOWN, "mortar"), (EDGE_SKEW, "mortar"), (EDGE_SKEW, "node-to-surface"))
     ),
     lambda: box_on_slab(1.0, tilt=EDGE_DOWN, friction=0.3, first="edge"),
+    *(lambda a=a: box_slide(a) for a in (0.0, 17.0)),
     lambda: ball_on_box(1.0, "face"),
     lambda: ball_on_box(1.0, "edge"),
     lambda: ball_on_box(1.0, "corner"),

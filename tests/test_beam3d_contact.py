@@ -104,8 +104,10 @@ def test_tube_rows_are_the_derivatives_of_the_gaps(name):
     for triple in model.rotations:
         q[triple] = [0.3, -0.5, 0.8]
     g, dofs, G, H = pair.evaluate(q)
-    held = np.isfinite(g)  # (two tubes: the second rows outside a valley are left out, +inf)
-    assert held.any() and not G[~held].any()
+    # (two tubes: the second rows outside a valley are left out, +inf, with the gradient of
+    # the valley's row, which a correction that bends the valley takes)
+    held = np.isfinite(g)
+    assert held.any() and np.all(np.any(G[~held] != 0.0, axis=1))
     lam = rng.uniform(0.5, 1.0, size=pair.size)
     for j in np.unique(dofs):
         d = np.zeros(model.n)

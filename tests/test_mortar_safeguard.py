@@ -265,6 +265,32 @@ def test_a_node_held_under_an_edge_of_a_shallow_dent_is_not_pushed_sideways():
     assert err_g < 1e-6 and err_h < 1e-4  # as for the pole above: truncation (h/ε)²
 
 
+def test_a_node_beside_a_corner_in_front_of_every_plane_has_no_row():
+    """A node of a cube beside a corner of a box (2 × 2 × 2 cells, the four facets around
+    that corner), 2 cm below its bottom and 0.7 and 1.6 cm beyond its sides: in front of
+    every plane around the corner, outside. Each plane gap, less its foot's excess beyond its
+    facet (2.0-2.7 cm), read it inside, and their smooth maximum 3.0 mm deep: a row that
+    pushed the box from a node nowhere near it (an elastic box sliding over a slab whose mesh
+    is turned 17°: a node of the clamped base beside the box's corner, whose row came and
+    went at each relinearization of the position correction until the run stopped). The row
+    is never deeper than the deepest plane gap itself: here 7 mm out, no row."""
+    from fecontact.contact.inside import Surface
+
+    mat = solid_material("linear", 1e7, 0.3, 1e3)
+    box = Solid.box([-0.04, -0.02, 0.0], [0.0, 0.02, 0.02], 2, mat)
+    node = np.array([0.007, -0.036, -0.02])  # (the corner (0, −0.02, 0) + (7, −16, −20) mm)
+    cube = Solid.box(node + [0.0, -0.01, -0.01], node + [0.01, 0.0, 0.0], 1, mat)
+    pair = Contact(cube, box, method="mortar")
+    model = Model([cube, box], [pair], gravity=(0.0, 0.0, 0.0))
+    pair.detect_within(0.03)  # (the node's closest facet within reach)
+    rows = pair.pointwise
+    j = int(np.flatnonzero(np.all(np.isclose(cube.X[rows.nodes], node), axis=1))[0])
+    g, _, G, _ = rows.evaluate(np.zeros(model.n))
+    assert Surface(box.contact_facets()).signed_distance(box.X, node[None])[0][0] > 0.02
+    assert np.array_equal(box.X[rows.vertex[j]], [0.0, -0.02, 0.0])
+    assert g[j] == 2.0 * rows.base_margin and not G[j].any()  # (g_s = −2.9 mm before)
+
+
 def test_a_coarse_ball_pressed_into_a_fine_slab_takes_no_halving(tmp_path):
     """A rubber ball of refinements 1 thrown at 10 m/s onto a clamped slab of 1 cm cells
     (6 × 6 × 1, 6 cm square): its pole sinks into the dent it makes and is held by its own

@@ -57,9 +57,9 @@ from __future__ import annotations
 import numpy as np
 
 from .body_pairs import NodeSurfaceContact, triangle_plane_distance
+from .facet_excess import edge_excess, edge_excess_jet
 from .geometry import closest_facet_distance
 from .inside import bounding_box
-from .jets import Jet, dot, variables
 from .safeguard_slip import SafeguardSlip
 
 __all__ = [
@@ -89,52 +89,6 @@ SMOOTHING = 0.1
 """ε over δ: the smoothing length of the 3D rows' maximum of plane gaps (:class:`DeepNodeRows3D`):
 at a vertex where n planes tie the row reads the node ε ln n shallower (0.35 δ at four), and
 the planes' weights trade over a sideways shift of about 2ε / sin θ (θ the planes' tilt)."""
-
-
-def _ramp(e: np.ndarray, eps: float):
-    """r(e) = 0 (e ≤ 0), e²/2ε (0 < e < ε), e − ε/2 (e ≥ ε), with r′ and r″: a ramp with a
-    continuous slope."""
-    band = (e > 0.0) & (e < eps)
-    r = np.where(e >= eps, e - 0.5 * eps, np.where(band, 0.5 * e * e / eps, 0.0))
-    first = np.where(e >= eps, 1.0, np.where(band, e / eps, 0.0))
-    return r, first, np.where(band, 1.0 / eps, 0.0)
-
-
-def edge_excess(x: np.ndarray, tri: np.ndarray, eps: float) -> np.ndarray:
-    """Σ over the three edges of the triangles ``tri`` (m, 3, 3) of r(e), e (m) the distance
-    of the foot of x (m, 3) on the triangle's plane beyond the edge's line (negative inside),
-    r the ramp of width ``eps`` (m): zero where the foot lies in the triangle."""
-    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
-    n = np.cross(b - a, c - a)
-    n /= np.linalg.norm(n, axis=1)[:, None]
-    total = np.zeros(len(x))
-    for p, q in ((a, b), (b, c), (c, a)):
-        m = np.cross(q - p, n) / np.linalg.norm(q - p, axis=1)[:, None]  # (outward)
-        total += _ramp(np.einsum("mk,mk->m", x - p, m), eps)[0]
-    return total
-
-
-def _cross(u: Jet, v: Jet) -> Jet:
-    """u × v of two vector jets (m, 3)."""
-    parts = [
-        u.column(j) * v.column(k) - u.column(k) * v.column(j) for j, k in ((1, 2), (2, 0), (0, 1))
-    ]
-    return Jet(*(np.stack([getattr(p, f) for p in parts], axis=1) for f in ("val", "grad", "hess")))
-
-
-def edge_excess_jet(x: np.ndarray, tri: np.ndarray, eps: float):
-    """:func:`edge_excess` with its gradient (m, 12) and Hessian (m, 12, 12) over
-    (x, a, b, c)."""
-    X, A, B, C = variables([x, tri[:, 0], tri[:, 1], tri[:, 2]], 12)
-    N = _cross(B - A, C - A)
-    n = N / dot(N, N).sqrt().scalar()
-    total = None
-    for p, q in ((A, B), (B, C), (C, A)):
-        u = q - p
-        e = dot(X - p, _cross(u, n)) / dot(u, u).sqrt()
-        r = e.apply(*_ramp(e.val, eps))
-        total = r if total is None else total + r
-    return total.val, total.grad, total.hess
 
 
 def shortest_edge(body, facets: np.ndarray) -> float:
@@ -279,7 +233,9 @@ class DeepNodeRows3D(DeepNodeRows):
         """The plane gaps (n, K) of points x (n, 3) from the facets around ``vertex`` (n,),
         their gradients (n, K, 12) and Hessians (n, K, 12, 12; None unless ``hessian``) over
         (x, facet vertices), and the facets (n, K; −1 pads: gap −inf, zero derivatives); each
-        gap less the excess of the point's foot beyond its facet (:func:`edge_excess`)."""
+        gap less the excess of the point's foot beyond its facet (:func:`edge_excess`). Last,
+        the floor of :meth:`_reading`: the deepest plane gap itself (n,), its plane (n,), its
+        gradient (n, 12) and Hessian (n, 12, 12; None unless ``hessian``)."""
         facets = self.around[vertex]
         n, K = facets.shape
         real = facets >= 0
@@ -291,6 +247,9 @@ class DeepNodeRows3D(DeepNodeRows):
         G = G.reshape(n, K, 12) * real[:, :, None]
         if H is not None:
             H = H.reshape(n, K, 12, 12) * real[:, :, None, None]
+        k = np.where(real, g, np.inf).argmin(axis=1)
+        rows = np.arange(n)
+        floor = (g[rows, k], k, G[rows, k], None if H is None else H[rows, k])
         # each plane read deeper by how far the node's foot lies outside its facet
         excess = np.where(real, edge_excess(xk, t, self.reach).reshape(n, K), 0.0)
         g = g - excess
@@ -304,7 +263,27 @@ class DeepNodeRows3D(DeepNodeRows):
             G[need] -= dP
             if H is not None:
                 H[need] -= d2P
-        return g, G, H, facets
+        return g, G, H, facets, floor
+
+    def _reading(self, gk, Gk, Hk, floor):
+        """The row's reading g_s − δ (n,) of the planes ``gk`` (less their excess) and their
+        weights (n, K): their smooth maximum, but never deeper than the deepest plane gap
+        itself (``floor``, :meth:`_planes`), whose plane then alone carries the row (its
+        gradient and Hessian put in ``Gk``, ``Hk``). A node in front of every plane around
+        its vertex is outside the solid there, convex or concave; the excesses, larger than
+        the plane gaps where the node's feet lie far beyond the facets (a node beside a
+        box's corner, a few cm out), read it deep inside."""
+        value, w = self._soft(gk)
+        low, k, G_low, H_low = floor
+        on = low > value
+        if on.any():  # (elsewhere the reading is the smooth maximum to the bit)
+            value = np.where(on, low, value)
+            w[on] = 0.0
+            w[on, k[on]] = 1.0
+            Gk[on, k[on]] = G_low[on]
+            if Hk is not None:
+                Hk[on, k[on]] = H_low[on]
+        return value, w
 
     def _soft(self, g):
         """The smooth maximum (n,) of the plane gaps g (n, K) and the weights (n, K)."""
@@ -344,8 +323,8 @@ class DeepNodeRows3D(DeepNodeRows):
             # the planes of the rows that may be deep (the others keep g = +inf: shallow)
             deep = s[self._may_be_deep(xs[s], xm[corners])]
             if deep.size:
-                gk, Gk, _, _ = self._planes(xs[deep], xm, self.vertex[deep], hessian=False)
-                g[deep], w = self._soft(gk)
+                gk, Gk, _, _, floor = self._planes(xs[deep], xm, self.vertex[deep], False)
+                g[deep], w = self._reading(gk, Gk, None, floor)
                 g[deep] += self.allowance
                 G[deep] = self._spread(w, Gk)
         return g, dofs, G, None
@@ -372,8 +351,8 @@ class DeepNodeRows3D(DeepNodeRows):
             return H
         held = rows[mask]
         xs, xm = self.positions(q)
-        gk, Gk, Hk, _ = self._planes(xs[held], xm, self.vertex[held], hessian=True)
-        _, w = self._soft(gk)
+        gk, Gk, Hk, _, floor = self._planes(xs[held], xm, self.vertex[held], hessian=True)
+        _, w = self._reading(gk, Gk, Hk, floor)
         n, K = w.shape
         big = np.zeros((n, K, self.width))  # each plane's gradient in the row's columns
         big[:, :, :3] = Gk[:, :, :3]

@@ -24,6 +24,11 @@ node take one impact law in the velocity jump (``points``). At a valley under a 
 rows of the segments and of the nodes there hold nearly one motion: the pair declares
 ``redundant_rows`` (least-norm multipliers), without which the scale k chose their split
 (k ÷ 100 turned the sections by 4.8e-5 rad more in the first step of such a contact).
+A second row left out keeps the gradient of the row its valley would make, against the
+neighbour segment at the end its closest point is nearer (``hidden_partners``), and is a
+candidate of the correction when its first row is (``reach``): a correction that itself
+bends the valley (a thin rod struck over the node of a held one at 10 m/s) then holds it;
+before, the row read +inf at the predictor, was no candidate, and ended 2.6e-7 m inside.
 
 **Friction.** Each contact slips at its two touching points, P's at −r_P e from its
 centreline point and Q's at +r_Q e (e from Q's point to P's), each moved by its section's
@@ -46,7 +51,7 @@ from .registry import register_pair
 from .section_segments import segment_point_moves, segment_turns
 from .segment3d import closest_parameters, closest_segments, tube_distance
 
-__all__ = ["LINE", "TubeBeamContact", "valley_partners"]
+__all__ = ["LINE", "TubeBeamContact", "hidden_partners", "valley_partners"]
 
 LINE = 1e-6
 """sin² of the angle below which two segments touch along a line (about 1 mrad): their
@@ -63,6 +68,7 @@ class TubeBeamContact(TubeContact):
     frictional = True
     shared_points = True  # rows i and i + first hold one segment or node
     redundant_rows = True  # (the rows of a valley and of the nodes there hold nearly one motion)
+    hides_rows = True  # (a second row outside a valley: ``reach``)
 
     def __init__(self, body: Beam3D, other: Beam3D, restitution=0.0, clearance=0.0):
         if other is body:
@@ -110,6 +116,7 @@ class TubeBeamContact(TubeContact):
             return eta, np.linalg.norm(x1 - x2, axis=1)
 
         wb = valley_partners(self.other_segments, closest_segments(A, B, self.tie), crossing)
+        wb = (wb[0], hidden_partners(self.other_segments, *wb, crossing), wb[2])
         firsts = [(A, B[wb[0]], wb[0], np.concatenate([a_dofs, b_dofs[wb[0]]], axis=1))]
         seconds = [(A, B[wb[1]], wb[1], np.concatenate([a_dofs, b_dofs[wb[1]]], axis=1))]
         absent = [np.zeros(len(A), bool)]
@@ -124,6 +131,7 @@ class TubeBeamContact(TubeContact):
                 return closest_on_segments(x, segs[j, 0], segs[j, 1])
 
             which = valley_partners(nodes, _closest_to_points(x, segs, self.tie), along)
+            which = (which[0], hidden_partners(nodes, *which, along), which[2])
             for rows, k in ((firsts, 0), (seconds, 1)):
                 dofs = np.concatenate([seg_dofs[which[k]], own, own], axis=1)
                 rows.append((segs[which[k]], x[:, None], which[k], dofs))
@@ -136,23 +144,26 @@ class TubeBeamContact(TubeContact):
         G (m, 12), H (m, 12, 12) or None; group 0 a segment pair (η on the partner segment),
         1 and 2 a node of the first beam, of the second; left out: a segment pair near
         parallel, or a second row outside a valley."""
-        out = [[] for _ in range(9)]
+        out = [[] for _ in range(10)]
         for k, (P, Q, which, dofs, absent) in enumerate(self._groups(q)):
             f, e, params, G, H = tube_distance(P, Q, hessian)
             # (group 0: a segment pair; 1, 2: a node of the first, of the second; its number)
             pair = np.stack([np.full(len(f), k % 3), np.arange(len(f))])
-            out_ = absent | _near_parallel(P, Q) if k % 3 == 0 else absent
+            flat = _near_parallel(P, Q) if k % 3 == 0 else np.zeros(len(f), bool)
+            out_ = absent | flat
             if k % 3:  # a node: pad its columns to the segment pair's 12
                 G = np.concatenate([G, np.zeros((len(G), 3))], axis=1)
                 H = None if H is None else np.pad(H, ((0, 0), (0, 3), (0, 3)))
-            for part, value in zip(out, (f, e, params, which, dofs, G, H, out_, pair), strict=True):
+            for part, value in zip(
+                out, (f, e, params, which, dofs, G, H, out_, pair, flat), strict=True
+            ):
                 part.append(value)
-        f, e, which, dofs, G, line = (np.concatenate(out[i]) for i in (0, 1, 3, 4, 5, 7))
+        f, e, which, dofs, G, line, flat = (np.concatenate(out[i]) for i in (0, 1, 3, 4, 5, 7, 9))
         pair = np.concatenate(out[8], axis=1)
         xi = np.concatenate([p[0] for p in out[2]])
         eta = np.concatenate([p[1] for p in out[2]])
         H = None if not hessian else np.concatenate(out[6])
-        return f, e, (xi, eta, line, pair), which, dofs, G, H
+        return f, e, (xi, eta, line, pair, flat), which, dofs, G, H
 
     def look_ahead(self, q: np.ndarray, v: np.ndarray, h: float) -> None:
         """Keep the normals at the start of the coming step (the sides follow the motion)."""
@@ -160,14 +171,24 @@ class TubeBeamContact(TubeContact):
         self._start = (e * self._sides(e, which)[:, None], which)
 
     def gaps(self, q: np.ndarray) -> np.ndarray:
-        f, e, (_, _, line, _), which, _, _, _ = self._distances(q, False)
+        f, e, (_, _, line, _, _), which, _, _, _ = self._distances(q, False)
         return np.where(line, np.inf, self._sides(e, which) * f - self.radius)
+
+    def reach(self, q: np.ndarray) -> np.ndarray:
+        """The rows' gaps (m,), a second row left out outside a valley taking its first
+        row's: the position correction can bend the partner into a valley under the feature
+        (a rod struck over a node), and the second row, a candidate, is then held."""
+        g = self.gaps(q)
+        first, second = g[: self.first], g[self.first :]
+        return np.concatenate([first, np.where(np.isinf(second), first, second)])
 
     def evaluate(self, q: np.ndarray):
         """Gaps (m,), dofs (m, 12), gradients (m, 12) and curvatures (m, 12, 12)."""
-        f, e, (_, _, line, _), which, dofs, G, H = self._distances(q, True)
+        f, e, (_, _, line, _, flat), which, dofs, G, H = self._distances(q, True)
         sigma = self._sides(e, which)
-        scale = np.where(line, 0.0, sigma)
+        # (a second row outside a valley keeps its gradient at g = +inf: should a position
+        # correction bend a valley under it, the row enters with the effective mass there)
+        scale = np.where(flat, 0.0, sigma)
         g = np.where(line, np.inf, sigma * f - self.radius)
         return g, dofs, scale[:, None] * G, scale[:, None, None] * H
 
@@ -175,7 +196,7 @@ class TubeBeamContact(TubeContact):
         """Slip rows of the two touching points of each contact, T (ẋ_P − ẋ_Q), each point
         on its tube's surface (P's at −r_P e from its centreline, Q's at +r_Q e) and moved by
         its section's turn (:mod:`.section_segments`)."""
-        _, e, (xi, eta, line, group), which, dofs, _, _ = self._distances(q, False)
+        _, e, (xi, eta, line, group, _), which, dofs, _, _ = self._distances(q, False)
         T = tangent_basis(e)
         pair = group[0] == 0
         w = np.zeros((len(e), 4))
@@ -194,7 +215,7 @@ class TubeBeamContact(TubeContact):
     def slips(self, q: np.ndarray, q_n: np.ndarray, T: np.ndarray):
         """T·(Δx_P − Δx_Q) of the two touching points over the step, each turned back with
         its section (the linear form is not exact for a turn)."""
-        _, e, (xi, eta, line, group), which, _, _, _ = self._distances(q, False)
+        _, e, (xi, eta, line, group, _), which, _, _, _ = self._distances(q, False)
         P, Q = (self._moves(q, q_n, *p) for p in self._touching(e, group, which, xi, eta))
         return np.where(line[:, None], 0.0, np.einsum("mtd,md->mt", T, P - Q))
 
@@ -265,6 +286,21 @@ def valley_partners(segs: np.ndarray, closest: np.ndarray, near):
     first = np.where(take_lo, lo, closest)
     second = np.where(take_lo, closest, np.where(valley_hi, hi, closest))
     return first, second, ~(take_lo | valley_hi)
+
+
+def hidden_partners(segs, first, second, lost, near) -> np.ndarray:
+    """``second`` (of :func:`valley_partners`) with each row ``lost`` outside a valley given
+    the neighbour of its ``first`` segment that shares the end its closest point is nearer
+    (η < ½: the start): the segment its valley would take, whose gradient the row keeps at
+    g = +inf (:meth:`TubeBeamContact.evaluate`)."""
+    n = len(segs)
+    eta, _ = near(first)
+    lo, hi = np.maximum(first - 1, 0), np.minimum(first + 1, n - 1)
+    lo_ok = (first > 0) & (segs[lo, 1] == segs[first, 0])
+    hi_ok = (first < n - 1) & (segs[hi, 0] == segs[first, 1])
+    toward_lo = np.where(lo_ok, lo, np.where(hi_ok, hi, first))
+    toward_hi = np.where(hi_ok, hi, np.where(lo_ok, lo, first))
+    return np.where(lost, np.where(eta < 0.5, toward_lo, toward_hi), second)
 
 
 def _near_parallel(P: np.ndarray, Q: np.ndarray) -> np.ndarray:
