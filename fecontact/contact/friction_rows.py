@@ -46,7 +46,7 @@ class FrictionRows:
             T[rows] = Tv
         if GT is None and self.frictional:
             # none of ``select`` has friction, but the set does: the callers' arrays still
-            # need their shape (a mortar interface's frictionless safeguard rows, released)
+            # need their shape (a frictionless pair's rows, released)
             _, Gv, Tv = next(p for p in self.pairs if p.friction).tangents(q)
             GT = np.zeros((len(select), Gv.shape[1], self.n_free))
             T = np.zeros((len(select), *Tv.shape[1:]))

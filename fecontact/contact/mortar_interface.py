@@ -475,5 +475,10 @@ def merge_interfaces(pairs):
         out.append(pair)
     companions = [c for p in out for c in p.companions]
     # (the master's rows first: the order before the slave's had rows of their own)
-    deep = [r for p in seen.values() for r in (p.master_rows, p.pointwise) if r is not None]
+    deep = []
+    for p in seen.values():
+        for rows in (p.master_rows, p.pointwise):
+            if rows is not None:
+                rows.friction = p.friction  # (a held node's normal force rubs as any contact's)
+                deep.append(rows)
     return out + deep + companions

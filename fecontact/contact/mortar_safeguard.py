@@ -29,8 +29,10 @@ or let in by their usual few tenths of a per cent of an edge, never sees it, so 
 run in which no node sinks deeper is unchanged bit for bit, its symmetry included. A node
 deeper than δ makes the row active at both levels of the step, as any contact: Signorini at
 the position correction (g_s ≥ 0 with the Alart–Curnier multiplier), Newton's impact law on
-the velocity jump (with the interface's e_N; frictionless: the rows only stop a node
-sinking, the interface's weighted slip rows carry the friction).
+the velocity jump (with the interface's e_N), and Coulomb's law with the interface's μ on
+slip rows along the row's own normal (:mod:`fecontact.contact.safeguard_slip`): the normal
+force a held node carries is a contact force as any other (frictionless, a rolling disk
+whose master nodes these rows held kept that part of its weight without friction).
 
 A slave node's weighted row and its own row are two constraints, g̃_j ≥ 0 and g_s ≥ 0,
 each with its multiplier. Their minimum as one row describes the same admissible set, but
@@ -58,6 +60,7 @@ from .body_pairs import NodeSurfaceContact, triangle_plane_distance
 from .facet_excess import edge_excess, edge_excess_jet
 from .geometry import closest_facet_distance
 from .inside import bounding_box
+from .safeguard_slip import SafeguardSlip
 
 __all__ = [
     "ALLOWANCE",
@@ -97,12 +100,13 @@ def shortest_edge(body, facets: np.ndarray) -> float:
     return float(np.sqrt((edges**2).sum(-1)).min())
 
 
-class DeepNodeRows(NodeSurfaceContact):
+class DeepNodeRows(SafeguardSlip, NodeSurfaceContact):
     """Every boundary node of the solid ``body`` against the surface of the solid ``master``,
     g_s = g_N + δ ≥ 0 for a node deeper than δ/2; the others report a gap ``far`` beyond any
     detection distance (twice the pair's), with a zero gradient: never a candidate, and
     finite, so that a row that a correction's iterate lifts out stays a number
-    (module docstring). ``restitution``: e_N, as the interface's; frictionless."""
+    (module docstring). ``restitution``: e_N, as the interface's; the interface's μ on slip rows
+    along the row's normal (:mod:`.safeguard_slip`)."""
 
     meets_back = False  # (the rows of one interface's nodes deep inside, each way)
     inside_test = False  # g_s is held to round-off like a signed distance
