@@ -1,6 +1,7 @@
 """The excess of a point's foot on a triangle's plane beyond the triangle's edges, with its
 derivatives: how far a point lies beside a facet rather than over it (the pointwise rows of
-:mod:`fecontact.contact.mortar_safeguard` read each plane gap deeper by it)."""
+:mod:`fecontact.contact.mortar_safeguard` read each plane gap deeper by it); in 2D, of the
+foot on a segment's line beyond the segment's ends."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import numpy as np
 
 from .jets import Jet, dot, variables
 
-__all__ = ["edge_excess", "edge_excess_jet"]
+__all__ = ["edge_excess", "edge_excess_jet", "end_excess", "end_excess_jet"]
 
 
 def _ramp(e: np.ndarray, eps: float):
@@ -55,3 +56,31 @@ def edge_excess_jet(x: np.ndarray, tri: np.ndarray, eps: float):
         r = e.apply(*_ramp(e.val, eps))
         total = r if total is None else total + r
     return total.val, total.grad, total.hess
+
+
+def end_excess(x: np.ndarray, seg: np.ndarray, eps: float) -> np.ndarray:
+    """r(e_a) + r(e_b) (m) of points x (m, 2) and segments ``seg`` (m, 2, 2): e_a, e_b the
+    distances of the foot of x on the segment's line beyond its ends a and b (negative
+    within), r the ramp of width ``eps`` (m): zero where the foot lies on the segment."""
+    a, b = seg[:, 0], seg[:, 1]
+    u = b - a
+    t = u / np.linalg.norm(u, axis=1)[:, None]
+    beyond_a = np.einsum("mk,mk->m", a - x, t)
+    beyond_b = np.einsum("mk,mk->m", x - b, t)
+    return _ramp(beyond_a, eps)[0] + _ramp(beyond_b, eps)[0]
+
+
+_PLANAR = np.array([0, 1, 3, 4, 6, 7])  # (x, a, b) in the plane among their 3D jets' columns
+
+
+def end_excess_jet(x: np.ndarray, seg: np.ndarray, eps: float):
+    """:func:`end_excess` with its gradient (m, 6) and Hessian (m, 6, 6) over (x, a, b)."""
+    lift = [np.pad(p, ((0, 0), (0, 1))) for p in (x, seg[:, 0], seg[:, 1])]
+    X, A, B = variables(lift, 9)  # (the plane z = 0 of 3-vector jets)
+    u = B - A
+    length = dot(u, u).sqrt()
+    total = None
+    for e in (dot(A - X, u) / length, dot(X - B, u) / length):
+        r = e.apply(*_ramp(e.val, eps))
+        total = r if total is None else total + r
+    return total.val, total.grad[:, _PLANAR], total.hess[:, _PLANAR][:, :, _PLANAR]

@@ -25,7 +25,8 @@ from ..errors import InputError, check_positive, check_range
 from .base import PairDefaults, check_solid_pair
 from .friction import tangent_basis
 from .mortar_hold import HeldRows
-from .mortar_safeguard import safeguard_rows
+from .mortar_safeguard import DeepNodeRows3D, safeguard_rows
+from .mortar_safeguard2d import DeepNodeRows2D
 
 __all__ = [
     "MortarInterface",
@@ -231,7 +232,8 @@ class MortarInterface(HeldRows, PairDefaults):
         self._dofs_m = master.node_translation_dofs(np.arange(master.n_nodes))
         self.offsets = (0, 0)
         self._last = self._last_gaps = self._search = self._layout_of = None
-        self.pointwise, self.master_rows = safeguard_rows(self)
+        kind = DeepNodeRows2D if self.dim == 2 else DeepNodeRows3D
+        self.pointwise, self.master_rows = safeguard_rows(self, kind)
         """The rows of the slave's and (2D) of the master's nodes deep inside the other solid,
         contacts of the model after its declared pairs (:mod:`.mortar_safeguard`; None:
         none)."""

@@ -12,11 +12,11 @@ of its own, the node-to-surface gap of
     g_s = g_N(x) + δ ≥ 0,   δ = ``ALLOWANCE`` × the shortest boundary edge of the surface,
 
 g_N the signed plane gap of the node from its closest facet (−distance inside a convex
-surface). In 3D g_N is a smooth maximum of the plane gaps of the facets around the master
-vertex nearest the node (:class:`DeepNodeRows3D`): at the coarse pole of a ball, the apex of
-four facets tilted 30°, one facet's plane gap pushes the node along that facet's normal,
-sideways by half the force (the turned coarsest balls then left the axis at 32 % of the
-impact speed); the facets' weighted mean normal pushes it along the apex's axis. Each plane
+surface). g_N is a smooth maximum of the plane gaps of the facets around the master vertex
+nearest the node (:class:`DeepNodeRows3D`, in 2D :mod:`.mortar_safeguard2d`): at a ball's
+coarse pole, the apex of four facets tilted 30°, one facet's plane gap pushes the node along
+its normal, sideways by half the force (the turned coarsest balls then left the axis at 32 %
+of the impact speed); the facets' weighted mean normal pushes it along the apex's axis. Each plane
 gap is read deeper by how far the node's foot on the plane lies outside its facet: a master
 node pressed into the slave's surface dents it, the vertices around the node are concave,
 and there the largest plane gap is a neighbour's plane that the node is not behind (the
@@ -215,8 +215,8 @@ class DeepNodeRows3D(DeepNodeRows):
         order = np.argsort(ends, kind="stable")
         start = np.cumsum(count) - count
         slot = np.arange(len(ends)) - np.repeat(start, count)
-        self.around[ends[order], slot] = order // 3
-        self.width = 3 + 9 * self.around.shape[1]
+        self.around[ends[order], slot] = order // self.facets.shape[1]
+        self.width = self.dim + self._facet_dofs.shape[1] * self.around.shape[1]
         self.smoothing = SMOOTHING * self.allowance
         self.reach = self.allowance
         """The width (m) of the ramp of a plane's excess (:func:`edge_excess`): δ, not ε. A
@@ -239,19 +239,20 @@ class DeepNodeRows3D(DeepNodeRows):
         facets = self.around[vertex]
         n, K = facets.shape
         real = facets >= 0
-        tri = xm[self.facets[np.where(real, facets, 0)]]  # (n, K, 3, 3)
+        tri = xm[self.facets[np.where(real, facets, 0)]]  # (n, K, corners, d)
         xk = np.repeat(x, K, axis=0)
-        t = tri.reshape(-1, 3, 3)
-        g, G, H = triangle_plane_distance(xk, t[:, 0], t[:, 1], t[:, 2], hessian)
+        t = tri.reshape(n * K, *tri.shape[2:])
+        g, G, H = self.plane_gaps(xk, t, hessian)
+        w = G.shape[1]
         g = np.where(real, g.reshape(n, K), -np.inf)
-        G = G.reshape(n, K, 12) * real[:, :, None]
+        G = G.reshape(n, K, w) * real[:, :, None]
         if H is not None:
-            H = H.reshape(n, K, 12, 12) * real[:, :, None, None]
+            H = H.reshape(n, K, w, w) * real[:, :, None, None]
         k = np.where(real, g, np.inf).argmin(axis=1)
         rows = np.arange(n)
         floor = (g[rows, k], k, G[rows, k], None if H is None else H[rows, k])
         # each plane read deeper by how far the node's foot lies outside its facet
-        excess = np.where(real, edge_excess(xk, t, self.reach).reshape(n, K), 0.0)
+        excess = np.where(real, self.excess(xk, t, self.reach).reshape(n, K), 0.0)
         g = g - excess
         # (its derivatives where they count: on a row deeper than δ/2, whose maximum is
         # below −δ/2, and on a plane within 50 ε of that maximum, the others' weights
@@ -259,7 +260,7 @@ class DeepNodeRows3D(DeepNodeRows):
         top = g.max(axis=1, keepdims=True)
         need = (excess > 0.0) & (g > top - 50.0 * self.smoothing) & (top < -0.5 * self.allowance)
         if need.any():
-            _, dP, d2P = edge_excess_jet(xk[need.ravel()], t[need.ravel()], self.reach)
+            _, dP, d2P = self.excess_jet(xk[need.ravel()], t[need.ravel()], self.reach)
             G[need] -= dP
             if H is not None:
                 H[need] -= d2P
@@ -285,6 +286,15 @@ class DeepNodeRows3D(DeepNodeRows):
                 Hk[on, k[on]] = H_low[on]
         return value, w
 
+    @staticmethod
+    def plane_gaps(x, tri, hessian: bool):
+        """The plane gaps (m,) of points x (m, 3) from the triangles ``tri`` (m, 3, 3), their
+        gradients (m, 12) and Hessians (m, 12, 12; None unless ``hessian``)."""
+        return triangle_plane_distance(x, tri[:, 0], tri[:, 1], tri[:, 2], hessian)
+
+    excess = staticmethod(edge_excess)
+    excess_jet = staticmethod(edge_excess_jet)
+
     def _soft(self, g):
         """The smooth maximum (n,) of the plane gaps g (n, K) and the weights (n, K)."""
         top = g.max(axis=1)
@@ -293,20 +303,22 @@ class DeepNodeRows3D(DeepNodeRows):
         return top + self.smoothing * np.log(total), e / total[:, None]
 
     def _spread(self, w, G):
-        """The row vectors (n, width) Σ_k w_k G_k of the planes' gradients G (n, K, 12)."""
+        """The row vectors (n, width) Σ_k w_k G_k of the planes' gradients G (n, K, d + facet's)."""
         n, K = w.shape
+        d = self.dim
         out = np.zeros((n, self.width))
-        out[:, :3] = np.einsum("nk,nkd->nd", w, G[:, :, :3])
-        out[:, 3:] = (w[:, :, None] * G[:, :, 3:]).reshape(n, -1)
+        out[:, :d] = np.einsum("nk,nkd->nd", w, G[:, :, :d])
+        out[:, d:] = (w[:, :, None] * G[:, :, d:]).reshape(n, -1)
         return out
 
     def _shifted(self, q):
         xs, xm = self.positions(q)
         m, (oa, ob) = self.size, self.offsets
         g = np.full(m, np.inf)
+        d = self.dim
         dofs = np.empty((m, self.width), dtype=int)
-        dofs[:, :3] = oa + self._slave_dofs
-        dofs[:, 3:] = ob + np.tile(self._facet_dofs[0], self.around.shape[1])
+        dofs[:, :d] = oa + self._slave_dofs
+        dofs[:, d:] = ob + np.tile(self._facet_dofs[0], self.around.shape[1])
         G = np.zeros((m, self.width))
         s, f, _ = self.closest_facets(xs, xm)
         self.selected = np.full(m, -1)
@@ -319,7 +331,7 @@ class DeepNodeRows3D(DeepNodeRows):
             self.vertex[s] = v = corners[np.arange(len(s)), near]
             facets = self.around[v]
             used = np.where(facets >= 0, facets, facets[:, :1])
-            dofs[s, 3:] = ob + self._facet_dofs[used].reshape(len(s), -1)
+            dofs[s, d:] = ob + self._facet_dofs[used].reshape(len(s), -1)
             # the planes of the rows that may be deep (the others keep g = +inf: shallow)
             deep = s[self._may_be_deep(xs[s], xm[corners])]
             if deep.size:
@@ -339,7 +351,8 @@ class DeepNodeRows3D(DeepNodeRows):
         round-off of the two computations of g (|δ|/4 for a δ set negative)."""
         d, g = closest_facet_distance(x, tri)
         bound = -0.5 * self.allowance + 0.25 * abs(self.allowance)
-        return g - 3.0 * np.sqrt(np.maximum(d * d - g * g, 0.0)) < bound
+        edges = tri.shape[1]  # (a segment's two ends)
+        return g - edges * np.sqrt(np.maximum(d * d - g * g, 0.0)) < bound
 
     def hessians(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
         """∇²g_s of the rows at q: Σ_k w_k ∇²g_k + (Σ_k w_k ∇g_k ∇g_kᵀ − ∇g_s ∇g_sᵀ) / ε."""
@@ -354,27 +367,27 @@ class DeepNodeRows3D(DeepNodeRows):
         gk, Gk, Hk, _, floor = self._planes(xs[held], xm, self.vertex[held], hessian=True)
         _, w = self._reading(gk, Gk, Hk, floor)
         n, K = w.shape
+        d, f = self.dim, self._facet_dofs.shape[1]
         big = np.zeros((n, K, self.width))  # each plane's gradient in the row's columns
-        big[:, :, :3] = Gk[:, :, :3]
+        big[:, :, :d] = Gk[:, :, :d]
         for k in range(K):
-            big[:, k, 3 + 9 * k : 12 + 9 * k] = Gk[:, k, 3:]
+            big[:, k, d + f * k : d + f * (k + 1)] = Gk[:, k, d:]
         mean = np.einsum("nk,nki->ni", w, big)
         Hs = np.einsum("nk,nki,nkj->nij", w, big, big) - mean[:, :, None] * mean[:, None, :]
         Hs /= self.smoothing
         for k in range(K):
-            cols = np.r_[0:3, 3 + 9 * k : 12 + 9 * k]
+            cols = np.r_[0:d, d + f * k : d + f * (k + 1)]
             Hs[:, cols[:, None], cols] += w[:, k, None, None] * Hk[:, k]
         H[mask] = Hs
         return H
 
 
-def safeguard_rows(interface, kind=None):
+def safeguard_rows(interface, kind):
     """The pointwise rows of a mortar ``interface``: those of its slave's nodes against the
     master's surface (row j the twin of the interface's row j, the same node), and those of
     the master's nodes against the slave's (module docstring); ``kind`` the rows' class
-    (None: :class:`DeepNodeRows` in 2D, :class:`DeepNodeRows3D` in 3D)."""
+    (:class:`DeepNodeRows3D` in 3D, its 2D form for P1 segments, a P2 interface's own)."""
     body, master, restitution = interface.body, interface.master, interface.restitution
-    kind = kind or (DeepNodeRows if body.dim == 2 else DeepNodeRows3D)
     rows = kind(body, master, restitution)
     if not np.array_equal(rows.nodes, interface.nodes):
         raise ValueError("the mortar rows' nodes must be the slave body's boundary nodes")
