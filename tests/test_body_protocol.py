@@ -107,7 +107,13 @@ def test_beam_mass_counts_its_point_masses():
 # (a beam's centreline segments, a solid's boundary facets, a rigid body's frame), and that the
 # frames use on continua (the boundary area each node carries, for the contact pressure).
 KIND_MEMBERS = {
-    Beam2D: {"X", "segments", "node_translation_dofs", "locate"},
+    Beam2D: {
+        "X",
+        "segments",
+        "node_translation_dofs",
+        "locate",
+        "section",  # two strips share their clearance by their sections' thickness
+    },
     Solid: {
         "X",
         "material",

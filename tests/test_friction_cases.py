@@ -6,14 +6,15 @@ beam-node rows meet the solid's nodes, takes minimum-norm multipliers."""
 import numpy as np
 import pytest
 
-from fecontact import Beam2D, Contact, Model, Section
+from fecontact import Beam2D, Contact, Material, Model, Section
 from fecontact.bodies import Solid
 from fecontact.bodies.materials import LinearElastic
 from fecontact.contact.coulomb_newton import NotConverged, newton
 from fecontact.contact.friction import coulomb_residual
 from fecontact.contact.friction_cases import planar_cases
 from fecontact.contact.stats import CoulombStats
-from tests.test_beam_solid_friction import STEEL
+
+STEEL = Material(210e9, rho=7850.0)
 
 
 def near_pairs(rng, m, tilt=0.2):

@@ -26,6 +26,8 @@ rings, rotated scenes and rolling").
 
 from __future__ import annotations
 
+import numpy as np
+
 from .facet_excess import end_excess, end_excess_jet
 from .geometry import facet_plane_gap
 from .mortar_safeguard import DeepNodeRows3D
@@ -43,3 +45,9 @@ class DeepNodeRows2D(DeepNodeRows3D):
     plane_gaps = staticmethod(facet_plane_gap)
     excess = staticmethod(end_excess)
     excess_jet = staticmethod(end_excess_jet)
+
+    def _may_be_deep(self, x: np.ndarray, tri: np.ndarray) -> np.ndarray:
+        # every node with a facet in reach reads its real row, not only those the 3D bound
+        # lets through: a located closing brackets the row's gap from the step's start, where
+        # the node was still shallow (in 2D the two segments around a vertex cost little)
+        return np.ones(len(x), dtype=bool)
