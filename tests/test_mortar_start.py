@@ -51,6 +51,21 @@ def test_a_coarse_slave_under_a_fine_ball_starts_with_a_warning(pole, element):
         initial_state(model, accelerate=False)
 
 
+def test_2d_two_coarse_disks_closer_than_their_stand_off_start_with_a_warning():
+    """Two disks (R = 5 cm, refinements 2) 0.5 mm apart, vertex to vertex: the left disk's
+    vertex row reads −6.2e-5 m (the stand-off on coarse polygons), no node inside: admitted,
+    warned (it was refused, "contact 0 penetrates by 6.238e-05 m")."""
+    left = Solid.disk([-R - 0.00025, 0.0], R, 2, RUBBER)
+    right = Solid.disk([R + 0.00025, 0.0], R, 2, RUBBER)
+    model = Model([left, right], [Contact(left, right, method="mortar")], gravity=(0.0, 0.0))
+    q = np.zeros(model.n)
+    g = model.contacts.gaps(q)
+    assert g.min() < -6e-5
+    np.testing.assert_array_equal(admissible_gaps(model.contacts, q, g), np.maximum(g, 0.0))
+    with pytest.warns(UserWarning, match="stand-off"):
+        initial_state(model, accelerate=False)
+
+
 def refused_depth(model, q) -> tuple[int, float]:
     """The contact and the depth (m) that ``initial_state`` names in refusing q."""
     with pytest.raises(InputError, match=r"contact \d+ penetrates by") as info:
