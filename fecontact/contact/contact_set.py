@@ -473,7 +473,8 @@ def _add(A: np.ndarray, index, values: np.ndarray, unique: bool, assign=False) -
 
 def admissible_gaps(contacts: ContactSet, q: np.ndarray, g: np.ndarray) -> np.ndarray:
     """The gaps (m) by which a state at t = 0 is admitted, from the rows g of ``contacts`` at q
-    (each pair's ``admissible_gaps``)."""
+    (each pair's ``admissible_gaps``; a solid–solid mortar interface's by its watch,
+    :meth:`~fecontact.contact.watch.SolidWatch.admissible_gaps`)."""
     owner = contacts.owner
     # a mortar interface between two solids: by its watch's nodes of either body
     judges = {id(w.pair): w for w in contacts.watches if isinstance(w, SolidWatch)}

@@ -140,7 +140,7 @@ class SolidWatch:
         depth = np.zeros(pair.size)
         for i, nodes, d, f, _ in self.inside(q):
             if i == 0:
-                at, d = row_of[self.nodes[0][nodes]], d
+                at = row_of[self.nodes[0][nodes]]
             else:
                 corners = self.searches[1].facets[f]
                 at, d = row_of[corners].ravel(), np.repeat(d, corners.shape[1])
