@@ -13,7 +13,7 @@ from .friction_rows import FrictionRows
 from .mortar_interface import merge_interfaces
 from .mortar_safeguard import twin_rows
 from .pair_batches import evaluation_units
-from .watch import solid_watches
+from .watch import SolidWatch, solid_watches
 
 __all__ = [
     "ContactSet",
@@ -473,7 +473,13 @@ def _add(A: np.ndarray, index, values: np.ndarray, unique: bool, assign=False) -
 
 def admissible_gaps(contacts: ContactSet, q: np.ndarray, g: np.ndarray) -> np.ndarray:
     """The gaps (m) by which a state at t = 0 is admitted, from the rows g of ``contacts`` at q
-    (each pair's ``admissible_gaps``)."""
+    (each pair's ``admissible_gaps``; a solid–solid mortar interface's by its watch,
+    :meth:`~fecontact.contact.watch.SolidWatch.admissible_gaps`)."""
     owner = contacts.owner
-    parts = [pair.admissible_gaps(q, g[owner == i]) for i, pair in enumerate(contacts.pairs)]
+    # a mortar interface between two solids: by its watch's nodes of either body
+    judges = {id(w.pair): w for w in contacts.watches if isinstance(w, SolidWatch)}
+    parts = [
+        judges.get(id(pair), pair).admissible_gaps(q, g[owner == i])
+        for i, pair in enumerate(contacts.pairs)
+    ]
     return np.concatenate([np.zeros(0), *parts])

@@ -96,31 +96,58 @@ class SolidWatch:
         """(deepest node's depth in m, the largest depth over the shortest boundary edge of
         the surface entered, the largest over the shortest edge of each node's closest
         facet, less its depth at ``q_start`` if given), 0 when no node is inside."""
-        pair = self.pair
-        x = self._positions(q)
         deepest = relative = entered = 0.0
-        # no node lies inside a closed surface from outside its bounding box: two bodies
-        # whose boxes are apart (a free flight) need no test
-        (lo_a, hi_a), (lo_b, hi_b) = (bounding_box(y) for y in x)
-        if np.any(hi_a < lo_b) or np.any(hi_b < lo_a):
-            return deepest, relative, entered
-        for i, search in enumerate(self.searches):
-            xs, xm = x[i][self.nodes[i]], x[1 - i]
-            watched = search.watched(xs, xm, pair.margin)
-            s, f = search.surface.signed_distance(xm, xs[watched], outside=False)
-            inside = s < 0.0
-            if not inside.any():
-                continue
-            d = self._depths(i, xs[watched][inside], xm, -s[inside], f[inside])
-            t = xm[search.facets[f[inside]]]
+        for i, nodes, d, f, xm in self.inside(q):
+            t = xm[self.searches[i].facets[f]]
             edge = np.linalg.norm(t - np.roll(t, 1, axis=1), axis=2).min(axis=1)
             deepest = max(deepest, float(d.max()))
             relative = max(relative, float(d.max()) / self.edges[i])
             if q_start is not None:  # (beyond twice the allowance: what the step adds)
-                start = self._start_depth(q_start, i, np.flatnonzero(watched)[inside])
+                start = self._start_depth(q_start, i, nodes)
                 d = d - np.maximum(start - 2.0 * BOUND * edge, 0.0)
             entered = max(entered, float(np.max(d / edge)))
         return deepest, relative, entered
+
+    def inside(self, q: np.ndarray):
+        """For each body i with boundary nodes inside the other at q: (i, those nodes as
+        indices into ``self.nodes[i]``, their depths (m, > 0), the closest facet of each
+        among the other body's, the other body's node positions)."""
+        x = self._positions(q)
+        # no node lies inside a closed surface from outside its bounding box: two bodies
+        # whose boxes are apart (a free flight) need no test
+        (lo_a, hi_a), (lo_b, hi_b) = (bounding_box(y) for y in x)
+        if np.any(hi_a < lo_b) or np.any(hi_b < lo_a):
+            return
+        for i, search in enumerate(self.searches):
+            xs, xm = x[i][self.nodes[i]], x[1 - i]
+            watched = search.watched(xs, xm, self.pair.margin)
+            s, f = search.surface.signed_distance(xm, xs[watched], outside=False)
+            inside = s < 0.0
+            if inside.any():
+                d = self._depths(i, xs[watched][inside], xm, -s[inside], f[inside])
+                yield i, np.flatnonzero(watched)[inside], d, f[inside], xm
+
+    def admissible_gaps(self, q: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        """The gaps (m) that admit a state at t = 0, from the interface's ``rows`` at q (one
+        per slave node): a state is admitted unless a node of either body lies inside the
+        other. A row reads −depth of the deepest node it answers for inside the other body
+        (its own slave node; a master node inside the slave, by the corners of the slave
+        facet closest to it), else its own reading where that is not negative, 0 where it
+        is: the weighted gaps' stand-off under a fine curved master, with no node inside."""
+        pair = self.pair
+        row_of = np.full(pair.body.n_nodes, -1)
+        row_of[pair.nodes] = np.arange(pair.size)
+        depth = np.zeros(pair.size)
+        for i, nodes, d, f, _ in self.inside(q):
+            if i == 0:
+                at = row_of[self.nodes[0][nodes]]
+            else:
+                corners = self.searches[1].facets[f]
+                at, d = row_of[corners].ravel(), np.repeat(d, corners.shape[1])
+            if np.any(at < 0):
+                raise ValueError("the watched slave nodes must be the interface's row nodes")
+            np.maximum.at(depth, at, d)
+        return np.where(depth > 0.0, -depth, np.maximum(rows, 0.0))
 
     def _start_depth(self, q_start: np.ndarray, i: int, nodes: np.ndarray) -> np.ndarray:
         """The depth (m, ≥ 0) at ``q_start`` of the boundary nodes ``nodes`` (indices into
